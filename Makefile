@@ -1,0 +1,88 @@
+# mote build. `make` builds the library and the program (optimised); `make check` installs what
+# a fresh machine lacks, then builds with warnings as errors and runs the whole test suite, plain
+# and under AddressSanitizer + UndefinedBehaviorSanitizer; `make example` runs the main example.
+CC      ?= cc
+BUILD   ?= build
+OPT     ?= -O2
+WERROR  ?= 0
+SAN     ?=
+CAIRO_CFLAGS := $(shell pkg-config --cflags cairo 2>/dev/null)
+CAIRO_LIBS   := $(shell pkg-config --libs cairo 2>/dev/null || echo -lcairo)
+
+WARN    := -Wall -Wextra -Wpedantic -Wshadow -Wstrict-prototypes -Wmissing-prototypes \
+           -Wno-unused-parameter -Wformat=2
+ifeq ($(WERROR),1)
+WARN    += -Werror
+endif
+CFLAGS  ?= $(OPT) -g
+ALL_CFLAGS := -std=c11 -D_POSIX_C_SOURCE=200809L -Iinclude $(WARN) $(CFLAGS) $(SAN) $(CAIRO_CFLAGS)
+LDLIBS  := $(CAIRO_LIBS) -lm
+
+LIB_SRC  := $(sort $(wildcard src/core/*.c src/event/*.c src/hardspheres/*.c src/script/*.c src/render/*.c))
+LIB_OBJ  := $(LIB_SRC:%.c=$(BUILD)/%.o)
+CLI_SRC  := $(wildcard src/cli/*.c)
+CLI_OBJ  := $(CLI_SRC:%.c=$(BUILD)/%.o)
+TEST_SRC := $(sort $(wildcard tests/test_*.c))
+TEST_BIN := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
+BENCH_SRC := $(sort $(wildcard bench/*.c))
+BENCH_BIN := $(BENCH_SRC:bench/%.c=$(BUILD)/bench/%)
+HDRS     := $(wildcard include/mote/*.h src/*/*.h src/*/*.inc tests/*.h)
+
+.PHONY: all lib tests bench check test test-plain test-san example setup clean slow
+
+all: $(BUILD)/mote
+
+lib: $(BUILD)/libmote.a
+
+$(BUILD)/%.o: %.c $(HDRS)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) -c $< -o $@
+
+$(BUILD)/libmote.a: $(LIB_OBJ)
+	@mkdir -p $(dir $@)
+	rm -f $@
+	ar rcs $@ $^
+
+$(BUILD)/mote: $(CLI_OBJ) $(BUILD)/libmote.a
+	$(CC) $(ALL_CFLAGS) $(CLI_OBJ) $(BUILD)/libmote.a $(LDLIBS) -o $@
+
+$(BUILD)/tests/%: tests/%.c $(BUILD)/libmote.a $(HDRS)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) -Itests $< $(BUILD)/libmote.a $(LDLIBS) -o $@
+
+$(BUILD)/bench/%: bench/%.c $(BUILD)/libmote.a $(HDRS)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) $< $(BUILD)/libmote.a $(LDLIBS) -o $@
+
+tests: $(BUILD)/mote $(TEST_BIN)
+bench: $(BUILD)/mote $(BENCH_BIN)
+
+# Install missing Debian packages (a no-op when everything is present).
+setup:
+	@sh scripts/setup.sh
+
+# The test command of the README: plain optimised build, then ASan+UBSan build, both -Werror.
+check: setup
+	$(MAKE) --no-print-directory test-plain
+	$(MAKE) --no-print-directory test-san
+
+test-plain:
+	$(MAKE) --no-print-directory WERROR=1 BUILD=build tests
+	sh tests/run.sh build
+
+test-san:
+	$(MAKE) --no-print-directory WERROR=1 BUILD=build-san OPT=-O1 \
+	    SAN="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer" tests
+	MOTE_SANITIZED=1 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 sh tests/run.sh build-san
+
+# Long validation runs (not part of `make check`).
+slow: setup
+	$(MAKE) --no-print-directory WERROR=1 BUILD=build tests
+	MOTE_SLOW=1 sh tests/run.sh build
+
+example: setup
+	$(MAKE) --no-print-directory all
+	cd examples && ../$(BUILD)/mote run crystallization.mote
+
+clean:
+	rm -rf build build-san

@@ -1,0 +1,117 @@
+/* command.h: the contract between models and the script language.
+ *
+ * A model describes its commands in a constant table of mote_cmd (name, aliases, argument types,
+ * documentation, and two functions: `check`, run on a dry model during validation, and `run`).
+ * The script layer (src/script) lexes and parses a whole script, converts arguments to the types
+ * the table asks for, runs every `check` on a dry model, and only then runs the commands. These
+ * types live in the core layer so that models need not include anything from the layers above. */
+#ifndef MOTE_COMMAND_H
+#define MOTE_COMMAND_H
+
+#include "mote/core.h"
+
+#include <stdint.h>
+#include <stdio.h>
+
+/* One argument of a parsed command. `text` is the token with quotes and escapes removed. The
+ * numeric fields hold the value converted according to the command's type letter. */
+typedef struct {
+    const char *text;
+    int line, col; /* 1-based position of the token in the script */
+    int quoted;
+    int64_t i;     /* type 'i' */
+    uint64_t u;    /* type 'u' */
+    double r;      /* type 'r' */
+} mote_arg;
+
+struct mote_cmd;
+struct mote_context;
+
+/* One command line of a script, after parsing. */
+typedef struct {
+    const char *file;           /* script path as given on the command line */
+    int line, col;              /* position of the command name */
+    const char *name;           /* canonical command name */
+    const char *written;        /* the command name as written (may be an alias) */
+    const char *source;         /* the line as written, without comment and surrounding blanks */
+    int nargs;
+    const mote_arg *args;
+    const struct mote_cmd *def;
+    struct mote_context *ctx;   /* run-wide settings (output directory, terminal, streams) */
+} mote_call;
+
+/* Argument type letters used in mote_cmd.args:
+ *   'i'  non-negative decimal integer that fits in int64 (an optional leading '+')
+ *   'u'  unsigned 64-bit decimal integer (0 ... 2^64-1)
+ *   'r'  finite real in decimal notation (strtod syntax without hex, inf or nan)
+ *   'f'  file name: one bare token or a double-quoted string (escapes \" and \\)
+ *   's'  any single token (string)
+ *   '*'  as the only letter: any number of tokens of any kind; the command checks them itself
+ * Ranges ("K >= 1", "eta > 0") are checked by the command's own `check`. */
+typedef struct mote_cmd {
+    const char *name;
+    const char *aliases;  /* space-separated alternative names, or NULL */
+    const char *args;     /* type letters, one per argument, e.g. "ir" */
+    const char *synopsis; /* e.g. "compress_left_wall eta dLmax K" */
+    const char *summary;  /* one line for `mote help` */
+    const char *help;     /* full documentation for `mote help CMD` */
+    /* Validation on a dry model: must not touch files or run dynamics. NULL = always valid. */
+    int (*check)(void *model, const mote_call *c, mote_err *err);
+    int (*run)(void *model, const mote_call *c, mote_err *err);
+    int needs_system;     /* documentary: 1 if a system must exist first (checked by `check`) */
+} mote_cmd;
+
+/* Run-wide settings shared by the script layer and the model's commands. */
+typedef struct mote_context {
+    const char *script_path;
+    char output_dir[4096];  /* "" = current directory; set by the `output_dir` command */
+    char pending_dirs[8][4096]; /* during validation: directories `output_dir` will create */
+    int npending_dirs;
+    int terminal;           /* stdout is a terminal: show progress */
+    FILE *out;              /* status lines (stdout) */
+    FILE *diag;             /* warnings and errors (stderr) */
+} mote_context;
+
+/* A model: its name as used by `model NAME`, its command table, and its lifetime functions.
+ * `create(ctx, dry)` makes an empty model; with dry != 0 it will only receive `check` calls. */
+typedef struct mote_model {
+    const char *name;
+    const char *summary;
+    const mote_cmd *cmds;
+    size_t ncmds;
+    void *(*create)(mote_context *ctx, int dry);
+    void (*destroy)(void *model);
+    /* Print the one-line key=value status after each command (NULL: none). */
+    void (*status)(void *model, FILE *out);
+} mote_model;
+
+/* Resolve a file name given to a command: relative names are taken relative to ctx->output_dir
+ * when one is set. Returns a malloc'ed string (NULL on allocation failure). */
+char *mote_ctx_path(const mote_context *ctx, const char *name);
+
+/* Validation helper: does the directory that will hold `path` exist now, or will `output_dir`
+ * create it earlier in the script? */
+int mote_ctx_dir_ok(const mote_context *ctx, const char *path);
+
+/* Format an error located at argument `argi` of the call (argi < 0: the command name):
+ * "FILE:LINE:COL: error: <message>". Returns code. */
+int mote_call_fail(mote_err *err, const mote_call *c, int argi, mote_status code, const char *fmt,
+                   ...) __attribute__((format(printf, 5, 6)));
+
+/* Print a warning located at the call to ctx->diag: "FILE:LINE:COL: warning: <message>". */
+void mote_call_warn(const mote_call *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+/* ---- progress on a terminal ---------------------------------------------------------------- */
+
+typedef struct {
+    int enabled;
+    double start, last;
+    char label[64];
+} mote_progress;
+
+void mote_progress_begin(mote_progress *p, const mote_context *ctx, const char *label);
+/* fraction in [0, 1]; prints "\rlabel  42.0%  eta 12 s" at most a few times per second. */
+void mote_progress_update(mote_progress *p, double fraction);
+void mote_progress_end(mote_progress *p);
+
+#endif

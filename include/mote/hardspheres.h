@@ -1,0 +1,77 @@
+/* hardspheres.h: the hard-spheres-near-a-wall model (specs/hard-spheres.md): seeding, the original
+ * program's commands (new, save, load, step, compress_*, image, profile) and their file formats,
+ * built on the event engine. Also fully periodic boxes and 2D disks. */
+#ifndef MOTE_HARDSPHERES_H
+#define MOTE_HARDSPHERES_H
+
+#include "mote/command.h"
+#include "mote/event.h"
+
+enum { MOTE_HS_SLIT = 0, MOTE_HS_PERIODIC = 1 };
+enum { MOTE_HS_LEFT = 0, MOTE_HS_RIGHT = 1, MOTE_HS_BOTH = 2 };
+
+typedef struct {
+    mote_ev ev;
+    int has_system;
+    int geometry;        /* MOTE_HS_SLIT or MOTE_HS_PERIODIC */
+    mote_rng rng;        /* the run's single random stream */
+    uint64_t seed;       /* last seed given (default 1) */
+    uint64_t rng_draws;  /* uniform draws since the last seed (informative) */
+    int rng_from_file;   /* the stream was restored from a state file */
+    mote_context *ctx;   /* may be NULL when used as a library */
+    FILE *log;           /* progress/status messages; NULL = quiet */
+} mote_hs;
+
+/* The model as registered with the script language. */
+extern const mote_model mote_model_hardspheres;
+
+void mote_hs_init(mote_hs *hs, mote_context *ctx);
+void mote_hs_free(mote_hs *hs);
+
+/* ---- seeding (spec 5) ---- */
+int mote_hs_new_slit(mote_hs *hs, int64_t nn, double eta, mote_err *err);
+int mote_hs_bulk(mote_hs *hs, int64_t n, double eta, mote_err *err);
+int mote_hs_new_disks(mote_hs *hs, int64_t nx, int64_t ny, double eta, mote_err *err);
+int mote_hs_bulk_disks(mote_hs *hs, int64_t n, double eta, mote_err *err);
+/* Checks without building (for validation); return MOTE_OK or an error naming the limits. */
+int mote_hs_new_slit_ok(int64_t nn, double eta, mote_err *err);
+int mote_hs_bulk_ok(int64_t n, double eta, mote_err *err);
+int mote_hs_new_disks_ok(int64_t nx, int64_t ny, double eta, mote_err *err);
+int mote_hs_bulk_disks_ok(int64_t n, double eta, mote_err *err);
+/* N(NN) = (4NN-1)(2NN-1)^2 + 1 and eta_max(NN) of `new`. */
+uint64_t mote_hs_new_count(int64_t nn);
+double mote_hs_new_eta_max(int64_t nn);
+void mote_hs_seed(mote_hs *hs, uint64_t seed);
+
+/* ---- state ---- */
+double mote_hs_eta(const mote_hs *hs);   /* relative density (spec 2.4) */
+double mote_hs_phi(const mote_hs *hs);   /* plain packing fraction */
+double mote_hs_cross_section(const mote_hs *hs); /* A_y A_z (3D) or A_y (2D) */
+double mote_hs_particle_volume_sum(const mote_hs *hs);
+double mote_hs_mean_radius(const mote_hs *hs);
+int mote_hs_temperature(mote_hs *hs, double kt, mote_err *err);
+int mote_hs_check(mote_hs *hs, mote_err *err);
+
+/* ---- dynamics ---- */
+/* step K: floor(K N / 2) pair collisions, with a progress display when hs->ctx->terminal. */
+int mote_hs_step(mote_hs *hs, uint64_t k, mote_err *err);
+int mote_hs_compress(mote_hs *hs, int which, double eta, double dlmax, uint64_t k, mote_err *err);
+/* The wall position L* for a target eta (slit). */
+double mote_hs_target_length(const mote_hs *hs, double eta);
+
+/* ---- files ---- */
+int mote_hs_save(mote_hs *hs, const char *path, mote_err *err);
+int mote_hs_load(mote_hs *hs, const char *path, mote_err *err);
+/* Read just enough of a state file (either format) to know its geometry, dimension and N. */
+int mote_hs_peek(const char *path, int *geometry, int *dim, uint64_t *n, mote_err *err);
+
+/* ---- measurements (spec 8); `origin` names the generating command for file headers ---- */
+int mote_hs_image(mote_hs *hs, uint64_t k, int64_t p, const char *path, const char *origin,
+                  mote_err *err);
+int mote_hs_profile(mote_hs *hs, double x1, double x2, int64_t dots, uint64_t k,
+                    const char *path, const char *origin, mote_err *err);
+
+/* Print the key=value status line. */
+void mote_hs_status(const mote_hs *hs, FILE *out);
+
+#endif

@@ -1,0 +1,17 @@
+#!/bin/sh
+# Install the Debian packages mote needs to build and test, if any is missing. Safe to re-run:
+# it does nothing when everything is present. Needs root (or sudo) only when installing.
+set -e
+need=""
+command -v cc >/dev/null 2>&1 || need="$need gcc"
+command -v make >/dev/null 2>&1 || need="$need make"
+command -v pkg-config >/dev/null 2>&1 || need="$need pkg-config"
+pkg-config --exists cairo 2>/dev/null || need="$need libcairo2-dev"
+[ -z "$need" ] && exit 0
+echo "setup: installing Debian packages:$need"
+SUDO=""
+[ "$(id -u)" -ne 0 ] && SUDO="sudo"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+# shellcheck disable=SC2086
+$SUDO apt-get install -y -qq --no-install-recommends $need

@@ -1,0 +1,125 @@
+/* afile.c: atomic output files. Data is written to a unique temporary file in the target's own
+ * directory (so rename is atomic on POSIX file systems), flushed and synced, then renamed over
+ * the target. Any failure removes the temporary file: an earlier result is never destroyed. */
+#include "mote/core.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+static char *dup_str(const char *s)
+{
+    size_t n = strlen(s) + 1;
+    char *d = malloc(n);
+    if (d)
+        memcpy(d, s, n);
+    return d;
+}
+
+int mote_afile_open(mote_afile *af, const char *path, mote_err *err)
+{
+    af->f = NULL;
+    af->path = dup_str(path);
+    size_t n = strlen(path) + 32;
+    af->tmp = malloc(n);
+    if (!af->path || !af->tmp) {
+        free(af->path);
+        free(af->tmp);
+        af->path = af->tmp = NULL;
+        return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", path);
+    }
+    snprintf(af->tmp, n, "%s.tmp.XXXXXX", path);
+    int fd = mkstemp(af->tmp);
+    if (fd < 0) {
+        int e = errno;
+        free(af->path);
+        free(af->tmp);
+        af->path = af->tmp = NULL;
+        return mote_fail(err, MOTE_EIO, "cannot write '%s': %s", path, strerror(e));
+    }
+    fchmod(fd, 0644);
+    af->f = fdopen(fd, "w");
+    if (!af->f) {
+        int e = errno;
+        close(fd);
+        unlink(af->tmp);
+        free(af->path);
+        free(af->tmp);
+        af->path = af->tmp = NULL;
+        return mote_fail(err, MOTE_EIO, "cannot write '%s': %s", path, strerror(e));
+    }
+    return MOTE_OK;
+}
+
+static void afile_release(mote_afile *af)
+{
+    free(af->path);
+    free(af->tmp);
+    af->path = af->tmp = NULL;
+    af->f = NULL;
+}
+
+void mote_afile_abort(mote_afile *af)
+{
+    if (!af->tmp)
+        return;
+    if (af->f)
+        fclose(af->f);
+    unlink(af->tmp);
+    afile_release(af);
+}
+
+int mote_afile_commit(mote_afile *af, mote_err *err)
+{
+    if (!af->f || !af->tmp)
+        return mote_fail(err, MOTE_EIO, "internal: commit of a file that is not open");
+    int bad = ferror(af->f) != 0;
+    int e = 0;
+    if (fflush(af->f) != 0) {
+        bad = 1;
+        e = errno;
+    }
+    if (!bad && fsync(fileno(af->f)) != 0 && errno != EINVAL && errno != EROFS) {
+        bad = 1;
+        e = errno;
+    }
+    if (fclose(af->f) != 0 && !bad) {
+        bad = 1;
+        e = errno;
+    }
+    af->f = NULL;
+    if (!bad && rename(af->tmp, af->path) != 0) {
+        bad = 1;
+        e = errno;
+    }
+    if (bad) {
+        unlink(af->tmp);
+        int rc = mote_fail(err, MOTE_EIO, "failed to write '%s': %s; earlier content kept",
+                           af->path, e ? strerror(e) : "write error");
+        afile_release(af);
+        return rc;
+    }
+    afile_release(af);
+    return MOTE_OK;
+}
+
+int mote_dir_of_exists(const char *path)
+{
+    const char *slash = strrchr(path, '/');
+    if (!slash)
+        return 1;
+    size_t n = (size_t)(slash - path);
+    if (n == 0)
+        return 1;
+    char *dir = malloc(n + 1);
+    if (!dir)
+        return 0;
+    memcpy(dir, path, n);
+    dir[n] = '\0';
+    struct stat st;
+    int ok = stat(dir, &st) == 0 && S_ISDIR(st.st_mode);
+    free(dir);
+    return ok;
+}
