@@ -122,8 +122,13 @@ void mote_ev_set_kt(mote_ev *ev, double kt);
  * err->msg (truncated if very long). O(N) with the cell grid. */
 int mote_ev_check(const mote_ev *ev, mote_err *err);
 
-/* Smallest pair distance ratio |r_ij| / sigma_ij over all pairs (uses the cells; O(N)). */
-double mote_ev_min_gap_ratio(const mote_ev *ev);
+/* Smallest pair distance ratio |r_ij| / sigma_ij over all pairs (uses the cells; O(N)); the
+ * pair is stored in *wi, *wj when those are not NULL (both set to 0 when N < 2). */
+double mote_ev_min_gap_ratio(const mote_ev *ev, uint32_t *wi, uint32_t *wj);
+
+/* List the pairs with |r_ij| < sigma_ij (1 - tol), ordered by (i, j) with i < j; stores at most
+ * `max` of them and returns how many there are in all. Needs a rebuilt system (cells). */
+size_t mote_ev_overlaps(const mote_ev *ev, double tol, uint32_t (*pairs)[2], size_t max);
 
 /* Bytes of heap memory held per particle (for benchmarks). */
 double mote_ev_bytes_per_particle(const mote_ev *ev);

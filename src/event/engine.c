@@ -441,11 +441,50 @@ static void gap_visit(void *ctx, uint32_t i, uint32_t j, double dist, double sig
         g->overlaps++;
 }
 
-double mote_ev_min_gap_ratio(const mote_ev *ev)
+double mote_ev_min_gap_ratio(const mote_ev *ev, uint32_t *wi, uint32_t *wj)
 {
     gap_acc g = {INFINITY, 0, 0, 0};
     for_near_pairs(ev, gap_visit, &g);
+    if (wi)
+        *wi = g.worst_i;
+    if (wj)
+        *wj = g.worst_j;
     return g.min_ratio;
+}
+
+typedef struct {
+    double tol;
+    uint32_t (*pairs)[2];
+    size_t max, count;
+} overlap_acc;
+
+static void overlap_visit(void *ctx, uint32_t i, uint32_t j, double dist, double sigma)
+{
+    overlap_acc *o = ctx;
+    if (dist < sigma * (1 - o->tol)) {
+        if (o->count < o->max) {
+            o->pairs[o->count][0] = i;
+            o->pairs[o->count][1] = j;
+        }
+        o->count++;
+    }
+}
+
+static int pair_cmp(const void *a, const void *b)
+{
+    const uint32_t *x = a, *y = b;
+    if (x[0] != y[0])
+        return x[0] < y[0] ? -1 : 1;
+    return x[1] < y[1] ? -1 : (x[1] > y[1]);
+}
+
+size_t mote_ev_overlaps(const mote_ev *ev, double tol, uint32_t (*pairs)[2], size_t max)
+{
+    overlap_acc o = {tol, pairs, max, 0};
+    for_near_pairs(ev, overlap_visit, &o);
+    if (pairs)
+        qsort(pairs, o.count < max ? o.count : max, sizeof *pairs, pair_cmp);
+    return o.count;
 }
 
 /* Append a formatted failure to the message buffer, keeping it bounded. */

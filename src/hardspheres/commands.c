@@ -1,0 +1,523 @@
+/* commands.c: the hard-spheres model's script commands: the table the script language reads, the
+ * validation of each command on a dry model (what system will exist, which files earlier commands
+ * will write), and the calls into the model when the script runs. */
+#include "mote/hardspheres.h"
+
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "help.inc"
+#include "plot.h"
+
+/* The model as the script layer sees it: the system plus, in a dry (validation) run, what is
+ * known about the system each command will meet. */
+typedef struct {
+    mote_hs hs;
+    int dry;
+    /* dry state */
+    int d_has, d_geometry, d_dim;
+    uint64_t d_n; /* 0 = unknown */
+    char **written;
+    int *written_kind; /* 0 = state file, 1 = image data, 2 = profile data, 3 = png */
+    size_t nwritten, capwritten;
+} hs_model;
+
+enum { W_STATE, W_IMAGE, W_PROFILE, W_PNG };
+
+static void *model_create(mote_context *ctx, int dry)
+{
+    hs_model *m = calloc(1, sizeof *m);
+    if (!m)
+        return NULL;
+    mote_hs_init(&m->hs, ctx);
+    m->dry = dry;
+    if (dry)
+        m->hs.log = NULL;
+    return m;
+}
+
+static void model_destroy(void *vm)
+{
+    hs_model *m = vm;
+    if (!m)
+        return;
+    mote_hs_free(&m->hs);
+    for (size_t k = 0; k < m->nwritten; k++)
+        free(m->written[k]);
+    free(m->written);
+    free(m->written_kind);
+    free(m);
+}
+
+static void model_status(void *vm, FILE *out) { mote_hs_status(&((hs_model *)vm)->hs, out); }
+
+/* ---- validation helpers ------------------------------------------------------------------------ */
+
+static int need_system(hs_model *m, const mote_call *c, mote_err *err)
+{
+    if (!m->d_has)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL,
+                              "%s: no system exists yet; create one first with new, bulk, "
+                              "new_disks, bulk_disks or load",
+                              c->name);
+    return MOTE_OK;
+}
+
+static int find_written(const hs_model *m, const char *path)
+{
+    for (size_t k = m->nwritten; k-- > 0;)
+        if (strcmp(m->written[k], path) == 0)
+            return m->written_kind[k];
+    return -1;
+}
+
+/* Record an output file; warn when a script writes the same path twice. */
+static int note_output(hs_model *m, const mote_call *c, int argi, int kind, mote_err *err)
+{
+    char *path = mote_ctx_path(c->ctx, c->args[argi].text);
+    if (!path)
+        return mote_call_fail(err, c, argi, MOTE_ENOMEM, "out of memory");
+    if (!mote_ctx_dir_ok(c->ctx, path)) {
+        int rc = mote_call_fail(err, c, argi, MOTE_EIO,
+                                "%s: the directory of output file '%s' does not exist", c->name,
+                                path);
+        free(path);
+        return rc;
+    }
+    if (find_written(m, path) >= 0)
+        mote_call_warn(c, "%s: '%s' is written more than once in this script; the last one wins",
+                       c->name, path);
+    if (m->nwritten == m->capwritten) {
+        size_t cap = m->capwritten ? 2 * m->capwritten : 16;
+        char **w = realloc(m->written, cap * sizeof *w);
+        if (w)
+            m->written = w;
+        int *wk = realloc(m->written_kind, cap * sizeof *wk);
+        if (wk)
+            m->written_kind = wk;
+        if (!w || !wk) {
+            free(path);
+            return mote_call_fail(err, c, argi, MOTE_ENOMEM, "out of memory");
+        }
+        m->capwritten = cap;
+    }
+    m->written[m->nwritten] = path;
+    m->written_kind[m->nwritten++] = kind;
+    return MOTE_OK;
+}
+
+static int check_collisions(const hs_model *m, const mote_call *c, int argi, uint64_t k,
+                            mote_err *err)
+{
+    if (m->d_n && k > 0 && k > ((1ull << 62) - 1) / m->d_n)
+        return mote_call_fail(err, c, argi, MOTE_EINVAL,
+                              "%s: K = %llu is too large for N = %llu (K*N must be below 2^62)",
+                              c->name, (unsigned long long)k, (unsigned long long)m->d_n);
+    return MOTE_OK;
+}
+
+static int located(mote_err *err, const mote_call *c, int argi, int rc)
+{
+    /* turn a model error message into a located validation error */
+    if (rc) {
+        char msg[sizeof err->msg];
+        snprintf(msg, sizeof msg, "%s", err->msg);
+        mote_call_fail(err, c, argi, (mote_status)rc, "%s", msg);
+    }
+    return rc;
+}
+
+static char *origin_of(const mote_call *c)
+{
+    size_t n = strlen(c->source) + strlen(c->file) + 64;
+    char *s = malloc(n);
+    if (s)
+        snprintf(s, n, "%s   (%s:%d)", c->source, c->file, c->line);
+    return s;
+}
+
+/* Resolve argument argi as a path and run fn on it. */
+#define WITH_PATH(c, argi, path, err, body)                                                      \
+    do {                                                                                         \
+        char *path = mote_ctx_path((c)->ctx, (c)->args[argi].text);                              \
+        if (!path)                                                                               \
+            return mote_fail(err, MOTE_ENOMEM, "out of memory");                                 \
+        int rc_ = (body);                                                                        \
+        free(path);                                                                              \
+        return rc_;                                                                              \
+    } while (0)
+
+/* ---- seeding -------------------------------------------------------------------------------------- */
+
+static void dry_system(hs_model *m, int geometry, int dim, uint64_t n)
+{
+    m->d_has = 1;
+    m->d_geometry = geometry;
+    m->d_dim = dim;
+    m->d_n = n;
+}
+
+static int check_new(void *vm, const mote_call *c, mote_err *err)
+{
+    hs_model *m = vm;
+    int rc = mote_hs_new_slit_ok(c->args[0].i, c->args[1].r, err);
+    if (rc)
+        return located(err, c, c->args[0].i < 2 ? 0 : 1, rc);
+    dry_system(m, MOTE_HS_SLIT, 3, mote_hs_new_count(c->args[0].i));
+    return MOTE_OK;
+}
+static int run_new(void *vm, const mote_call *c, mote_err *err)
+{
+    return mote_hs_new_slit(&((hs_model *)vm)->hs, c->args[0].i, c->args[1].r, err);
+}
+
+static int check_bulk(void *vm, const mote_call *c, mote_err *err)
+{
+    hs_model *m = vm;
+    int rc = mote_hs_bulk_ok(c->args[0].i, c->args[1].r, err);
+    if (rc)
+        return located(err, c, strstr(err->msg, "eta = ") ? 1 : 0, rc);
+    dry_system(m, MOTE_HS_PERIODIC, 3, (uint64_t)c->args[0].i);
+    return MOTE_OK;
+}
+static int run_bulk(void *vm, const mote_call *c, mote_err *err)
+{
+    return mote_hs_bulk(&((hs_model *)vm)->hs, c->args[0].i, c->args[1].r, err);
+}
+
+static int check_new_disks(void *vm, const mote_call *c, mote_err *err)
+{
+    hs_model *m = vm;
+    int rc = mote_hs_new_disks_ok(c->args[0].i, c->args[1].i, c->args[2].r, err);
+    if (rc)
+        return located(err, c, c->args[0].i < 2 ? 0 : c->args[1].i < 3 ? 1 : 2, rc);
+    dry_system(m, MOTE_HS_SLIT, 2, (uint64_t)(c->args[0].i * c->args[1].i));
+    return MOTE_OK;
+}
+static int run_new_disks(void *vm, const mote_call *c, mote_err *err)
+{
+    return mote_hs_new_disks(&((hs_model *)vm)->hs, c->args[0].i, c->args[1].i, c->args[2].r,
+                             err);
+}
+
+static int check_bulk_disks(void *vm, const mote_call *c, mote_err *err)
+{
+    hs_model *m = vm;
+    int rc = mote_hs_bulk_disks_ok(c->args[0].i, c->args[1].r, err);
+    if (rc)
+        return located(err, c, strstr(err->msg, "eta = ") ? 1 : 0, rc);
+    dry_system(m, MOTE_HS_PERIODIC, 2, (uint64_t)c->args[0].i);
+    return MOTE_OK;
+}
+static int run_bulk_disks(void *vm, const mote_call *c, mote_err *err)
+{
+    return mote_hs_bulk_disks(&((hs_model *)vm)->hs, c->args[0].i, c->args[1].r, err);
+}
+
+static int run_seed(void *vm, const mote_call *c, mote_err *err)
+{
+    hs_model *m = vm;
+    mote_hs_seed(&m->hs, c->args[0].u);
+    if (m->hs.log)
+        fprintf(m->hs.log, "seed: %llu\n", (unsigned long long)c->args[0].u);
+    return MOTE_OK;
+}
+
+/* ---- files ------------------------------------------------------------------------------------------ */
+
+static int check_save(void *vm, const mote_call *c, mote_err *err)
+{
+    hs_model *m = vm;
+    int rc = need_system(m, c, err);
+    return rc ? rc : note_output(m, c, 0, W_STATE, err);
+}
+static int run_save(void *vm, const mote_call *c, mote_err *err)
+{
+    hs_model *m = vm;
+    WITH_PATH(c, 0, path, err, mote_hs_save(&m->hs, path, err));
+}
+
+static int check_load(void *vm, const mote_call *c, mote_err *err)
+{
+    hs_model *m = vm;
+    char *path = mote_ctx_path(c->ctx, c->args[0].text);
+    if (!path)
+        return mote_call_fail(err, c, 0, MOTE_ENOMEM, "out of memory");
+    int kind = find_written(m, path);
+    int rc = MOTE_OK;
+    if (kind == W_STATE) {
+        /* written by an earlier save of this script: same system as then */
+        m->d_has = 1;
+    } else if (kind >= 0) {
+        rc = mote_call_fail(err, c, 0, MOTE_EINVAL,
+                            "load: '%s' is written earlier in this script by a measurement, not by "
+                            "save; it is not a state file",
+                            path);
+    } else {
+        int geometry, dim;
+        uint64_t n;
+        rc = mote_hs_peek(path, &geometry, &dim, &n, err);
+        if (rc)
+            rc = located(err, c, 0, rc);
+        else
+            dry_system(m, geometry, dim, n);
+    }
+    free(path);
+    return rc;
+}
+static int run_load(void *vm, const mote_call *c, mote_err *err)
+{
+    hs_model *m = vm;
+    WITH_PATH(c, 0, path, err, mote_hs_load(&m->hs, path, err));
+}
+
+/* ---- dynamics --------------------------------------------------------------------------------------- */
+
+static int check_temperature(void *vm, const mote_call *c, mote_err *err)
+{
+    int rc = need_system(vm, c, err);
+    if (rc)
+        return rc;
+    if (!(c->args[0].r > 0))
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "temperature: T must be > 0, found %s",
+                              c->args[0].text);
+    return MOTE_OK;
+}
+static int run_temperature(void *vm, const mote_call *c, mote_err *err)
+{
+    return mote_hs_temperature(&((hs_model *)vm)->hs, c->args[0].r, err);
+}
+
+static int check_step(void *vm, const mote_call *c, mote_err *err)
+{
+    hs_model *m = vm;
+    int rc = need_system(m, c, err);
+    if (rc)
+        return rc;
+    if (c->args[0].i < 1)
+        return mote_call_fail(err, c, 0, MOTE_EINVAL,
+                              "step: K (collisions per particle) must be >= 1, found %s",
+                              c->args[0].text);
+    return check_collisions(m, c, 0, (uint64_t)c->args[0].i, err);
+}
+static int run_step(void *vm, const mote_call *c, mote_err *err)
+{
+    return mote_hs_step(&((hs_model *)vm)->hs, (uint64_t)c->args[0].i, err);
+}
+
+static int check_compress_any(void *vm, const mote_call *c, mote_err *err)
+{
+    hs_model *m = vm;
+    int rc = need_system(m, c, err);
+    if (rc)
+        return rc;
+    if (m->d_geometry == MOTE_HS_PERIODIC)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL,
+                              "%s: the system here is periodic (from bulk or bulk_disks); only a "
+                              "slit has walls to move",
+                              c->name);
+    double cp = m->d_dim == 2 ? 0.90689968211710892 : 0.74048048969306104;
+    if (!(c->args[0].r > 0) || !(c->args[0].r < cp))
+        return mote_call_fail(err, c, 0, MOTE_EINVAL,
+                              "%s: eta must be in (0, %.5f) (close packing), found %s", c->name,
+                              cp, c->args[0].text);
+    if (!(c->args[1].r > 0))
+        return mote_call_fail(err, c, 1, MOTE_EINVAL, "%s: dLmax must be > 0, found %s", c->name,
+                              c->args[1].text);
+    if (c->args[2].i < 1)
+        return mote_call_fail(err, c, 2, MOTE_EINVAL,
+                              "%s: K (collisions per particle after each move) must be >= 1, "
+                              "found %s",
+                              c->name, c->args[2].text);
+    return check_collisions(m, c, 2, (uint64_t)c->args[2].i, err);
+}
+static int run_compress_which(void *vm, const mote_call *c, int which, mote_err *err)
+{
+    return mote_hs_compress(&((hs_model *)vm)->hs, which, c->args[0].r, c->args[1].r,
+                            (uint64_t)c->args[2].i, err);
+}
+static int run_compress_left(void *vm, const mote_call *c, mote_err *err)
+{
+    return run_compress_which(vm, c, MOTE_HS_LEFT, err);
+}
+static int run_compress_right(void *vm, const mote_call *c, mote_err *err)
+{
+    return run_compress_which(vm, c, MOTE_HS_RIGHT, err);
+}
+static int run_compress_both(void *vm, const mote_call *c, mote_err *err)
+{
+    return run_compress_which(vm, c, MOTE_HS_BOTH, err);
+}
+
+static int check_compress(void *vm, const mote_call *c, mote_err *err)
+{
+    return mote_call_fail(err, c, -1, MOTE_EINVAL,
+                          "'compress' is not a command: say which wall moves: "
+                          "compress_left_wall (compressl), compress_right_wall (compressr) or "
+                          "compress_two_walls (compresst, compress_both_walls), each with "
+                          "arguments eta dLmax K");
+}
+static int run_compress(void *vm, const mote_call *c, mote_err *err)
+{
+    return check_compress(vm, c, err);
+}
+
+/* ---- measurements ------------------------------------------------------------------------------- */
+
+static int check_image(void *vm, const mote_call *c, mote_err *err)
+{
+    hs_model *m = vm;
+    int rc = need_system(m, c, err);
+    if (rc)
+        return rc;
+    if (c->args[1].i < 1)
+        return mote_call_fail(err, c, 1, MOTE_EINVAL,
+                              "image: points per radius must be >= 1, found %s", c->args[1].text);
+    if ((rc = check_collisions(m, c, 0, (uint64_t)c->args[0].i, err)))
+        return rc;
+    return note_output(m, c, 2, W_IMAGE, err);
+}
+static int run_image(void *vm, const mote_call *c, mote_err *err)
+{
+    hs_model *m = vm;
+    char *origin = origin_of(c);
+    char *path = mote_ctx_path(c->ctx, c->args[2].text);
+    int rc = path ? mote_hs_image(&m->hs, (uint64_t)c->args[0].i, c->args[1].i, path, origin, err)
+                  : mote_fail(err, MOTE_ENOMEM, "out of memory");
+    if (!rc && m->hs.log)
+        fprintf(m->hs.log, "image: wrote %s\n", path);
+    free(origin);
+    free(path);
+    return rc;
+}
+
+static int check_profile(void *vm, const mote_call *c, mote_err *err)
+{
+    hs_model *m = vm;
+    int rc = need_system(m, c, err);
+    if (rc)
+        return rc;
+    if (!(c->args[0].r <= c->args[1].r))
+        return mote_call_fail(err, c, 1, MOTE_EINVAL, "profile: x2 must not be below x1 (%s > %s)",
+                              c->args[0].text, c->args[1].text);
+    if (c->args[2].i < 1)
+        return mote_call_fail(err, c, 2, MOTE_EINVAL, "profile: dots must be >= 1, found %s",
+                              c->args[2].text);
+    if (c->args[3].i == 0 && c->args[2].i != 1)
+        return mote_call_fail(err, c, 3, MOTE_EINVAL,
+                              "profile: K = 0 samples the current state once, so dots must be 1");
+    if ((rc = check_collisions(m, c, 3, (uint64_t)c->args[3].i, err)))
+        return rc;
+    return note_output(m, c, 4, W_PROFILE, err);
+}
+static int run_profile(void *vm, const mote_call *c, mote_err *err)
+{
+    hs_model *m = vm;
+    char *origin = origin_of(c);
+    char *path = mote_ctx_path(c->ctx, c->args[4].text);
+    int rc = path ? mote_hs_profile(&m->hs, c->args[0].r, c->args[1].r, c->args[2].i,
+                                    (uint64_t)c->args[3].i, path, origin, err)
+                  : mote_fail(err, MOTE_ENOMEM, "out of memory");
+    if (!rc && m->hs.log)
+        fprintf(m->hs.log, "profile: wrote %s\n", path);
+    free(origin);
+    free(path);
+    return rc;
+}
+
+static int check_check(void *vm, const mote_call *c, mote_err *err) { return need_system(vm, c, err); }
+static int run_check(void *vm, const mote_call *c, mote_err *err)
+{
+    hs_model *m = vm;
+    int rc = mote_hs_check(&m->hs, err);
+    if (!rc && m->hs.log)
+        fprintf(m->hs.log, "check: all invariants hold\n");
+    return rc;
+}
+
+static int check_plot(void *vm, const mote_call *c, mote_err *err)
+{
+    hs_model *m = vm;
+    char *path = mote_ctx_path(c->ctx, c->args[0].text);
+    if (!path)
+        return mote_call_fail(err, c, 0, MOTE_ENOMEM, "out of memory");
+    int kind = find_written(m, path);
+    struct stat st;
+    int rc = MOTE_OK;
+    if (kind == W_STATE || kind == W_PNG)
+        rc = mote_call_fail(err, c, 0, MOTE_EINVAL,
+                            "plot: '%s' is not a data file of image or profile", path);
+    else if (kind < 0 && stat(path, &st) != 0)
+        rc = mote_call_fail(err, c, 0, MOTE_EIO,
+                            "plot: data file '%s' does not exist and no earlier command writes it",
+                            path);
+    free(path);
+    return rc ? rc : note_output(m, c, 1, W_PNG, err);
+}
+static int run_plot(void *vm, const mote_call *c, mote_err *err)
+{
+    hs_model *m = vm;
+    char *in = mote_ctx_path(c->ctx, c->args[0].text);
+    char *out = mote_ctx_path(c->ctx, c->args[1].text);
+    int rc = in && out ? hs_plot_file(in, out, err) : mote_fail(err, MOTE_ENOMEM, "out of memory");
+    if (!rc && m->hs.log)
+        fprintf(m->hs.log, "plot: wrote %s\n", out);
+    free(in);
+    free(out);
+    return rc;
+}
+
+/* ---- the table ----------------------------------------------------------------------------------- */
+
+static const mote_cmd hs_commands[] = {
+    {"new", NULL, "ir", "new NN eta", "seed a 3D slit: N = (4NN-1)(2NN-1)^2+1 spheres at density eta",
+     HS_HELP_NEW, check_new, run_new, 0},
+    {"bulk", NULL, "ir", "bulk N eta", "seed a periodic FCC cube of N = 4n^3 spheres", HS_HELP_BULK,
+     check_bulk, run_bulk, 0},
+    {"new_disks", NULL, "iir", "new_disks nx ny eta", "seed a 2D slit of nx*ny disks",
+     HS_HELP_NEW_DISKS, check_new_disks, run_new_disks, 0},
+    {"bulk_disks", NULL, "ir", "bulk_disks N eta", "seed a periodic 2D triangular lattice of N = n^2 disks",
+     HS_HELP_BULK_DISKS, check_bulk_disks, run_bulk_disks, 0},
+    {"seed", NULL, "u", "seed S", "re-seed the random stream (default 1)", HS_HELP_SEED, NULL,
+     run_seed, 0},
+    {"save", NULL, "f", "save FILE", "write the exact state to FILE", HS_HELP_SAVE, check_save,
+     run_save, 1},
+    {"load", NULL, "f", "load FILE", "read a state (mote or original-program format)", HS_HELP_LOAD,
+     check_load, run_load, 0},
+    {"temperature", NULL, "r", "temperature T", "rescale velocities so that kT_kin = T",
+     HS_HELP_TEMPERATURE, check_temperature, run_temperature, 1},
+    {"step", NULL, "i", "step K", "run K collisions per particle (floor(K N / 2) pair collisions)",
+     HS_HELP_STEP, check_step, run_step, 1},
+    {"compress_left_wall", "compressl", "rri", "compress_left_wall eta dLmax K",
+     "move the left wall until the density is eta", HS_HELP_COMPRESS_LEFT, check_compress_any,
+     run_compress_left, 1},
+    {"compress_right_wall", "compressr", "rri", "compress_right_wall eta dLmax K",
+     "move the right wall until the density is eta", HS_HELP_COMPRESS_RIGHT, check_compress_any,
+     run_compress_right, 1},
+    {"compress_two_walls", "compresst compress_both_walls", "rri", "compress_two_walls eta dLmax K",
+     "move both walls symmetrically until the density is eta", HS_HELP_COMPRESS_BOTH,
+     check_compress_any, run_compress_both, 1},
+    {"compress", NULL, "*", "compress ...", "always an error: name the wall to move",
+     HS_HELP_COMPRESS, check_compress, run_compress, 0},
+    {"image", NULL, "iif", "image K p FILE", "density profile along x (p bins per radius)",
+     HS_HELP_IMAGE, check_image, run_image, 1},
+    {"profile", NULL, "rriif", "profile x1 x2 dots K FILE",
+     "layer cut: centres with x1 <= x <= x2, projected on the y-z plane", HS_HELP_PROFILE,
+     check_profile, run_profile, 1},
+    {"check", NULL, "", "check", "verify every invariant of the simulation", HS_HELP_CHECK,
+     check_check, run_check, 1},
+    {"plot", NULL, "ff", "plot DATAFILE PNGFILE",
+     "render a data file of image or profile as a PNG picture", HS_HELP_PLOT, check_plot,
+     run_plot, 0},
+};
+
+const mote_model mote_model_hardspheres = {
+    "hard-spheres",
+    "hard spheres (or disks) between two walls or in a periodic box; event-driven",
+    hs_commands,
+    sizeof hs_commands / sizeof hs_commands[0],
+    model_create,
+    model_destroy,
+    model_status,
+};

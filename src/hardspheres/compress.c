@@ -1,0 +1,108 @@
+/* compress.c: slow compression or expansion of the slit by moving one wall or both (spec 7.6).
+ * Each move is limited by dLmax and, when compressing, by the gap of the moving wall divided by a
+ * safety factor, so no sphere ever overlaps a wall; K collisions per particle follow every move.
+ * The final move lands exactly on L* = 2 R + sum v_i / (eta A^2). */
+#include "mote/hardspheres.h"
+
+#include <math.h>
+
+static void wall_gaps(const mote_ev *ev, double *gl, double *gr)
+{
+    double l = INFINITY, r = INFINITY;
+    for (uint32_t i = 0; i < ev->n; i++) {
+        double R = mote_ev_radius(ev, i), x = ev->p[i].r[0];
+        if (x - R < l)
+            l = x - R;
+        if (ev->len[0] - R - x < r)
+            r = ev->len[0] - R - x;
+    }
+    *gl = l;
+    *gr = r;
+}
+
+int mote_hs_compress(mote_hs *hs, int which, double eta, double dlmax, uint64_t k, mote_err *err)
+{
+    static const char *const names[3] = {"compress_left_wall", "compress_right_wall",
+                                   "compress_two_walls"};
+    const char *name = names[which];
+    if (!hs->has_system)
+        return mote_fail(err, MOTE_EINVAL, "%s: no system (use new or load first)", name);
+    if (hs->geometry != MOTE_HS_SLIT)
+        return mote_fail(err, MOTE_EINVAL, "%s: the system is periodic; there is no wall to move",
+                         name);
+    mote_ev *ev = &hs->ev;
+    const double eta_cp = ev->dim == 3 ? 0.74048048969306104 : 0.90689968211710892;
+    if (!(eta > 0) || !(eta < eta_cp))
+        return mote_fail(err, MOTE_EINVAL, "%s: eta must be in (0, %.5f), got %.17g", name,
+                         eta_cp, eta);
+    if (!(dlmax > 0))
+        return mote_fail(err, MOTE_EINVAL, "%s: dLmax must be > 0, got %g", name, dlmax);
+
+    const double target = mote_hs_target_length(hs, eta);
+    const double safety = 1.1;
+    const uint64_t per_move = k * ev->n / 2;
+    if (ev->len[0] == target) {
+        if (hs->log)
+            fprintf(hs->log, "%s: already at target eta=%.15g; nothing to do\n", name, eta);
+        return MOTE_OK;
+    }
+    uint64_t moves = 0, zero_moves = 0, c0 = ev->collisions;
+    double L_start = ev->len[0];
+    mote_progress prog;
+    mote_progress_begin(&prog, hs->ctx, name);
+    int final = 0, rc = MOTE_OK;
+    while (!final) {
+        if ((rc = mote_ev_rebuild(ev, err)))
+            break;
+        double gl, gr, delta;
+        wall_gaps(ev, &gl, &gr);
+        double L = ev->len[0];
+        if (L > target) {
+            double D = L - target;
+            double cap = which == MOTE_HS_LEFT    ? gl / safety
+                         : which == MOTE_HS_RIGHT ? gr / safety
+                                                  : 2 * fmin(gl, gr) / safety;
+            delta = fmin(cap, dlmax);
+            final = delta >= D;
+            if (final)
+                delta = D;
+            else if (delta < 1e-13 * L)
+                delta = 0;
+        } else {
+            double D = target - L;
+            delta = -fmin(D, dlmax);
+            final = D <= dlmax;
+        }
+        double shift = which == MOTE_HS_LEFT ? delta : which == MOTE_HS_BOTH ? 0.5 * delta : 0;
+        if (shift != 0)
+            for (uint32_t i = 0; i < ev->n; i++)
+                ev->p[i].r[0] -= shift;
+        ev->len[0] = final ? target : L - delta;
+        moves++;
+        zero_moves = delta == 0 ? zero_moves + 1 : 0;
+        if (zero_moves >= 10000) {
+            rc = mote_fail(err, MOTE_ERUNTIME,
+                           "%s: stalled: 10000 moves in a row could not move the wall (a sphere "
+                           "stays in contact); eta=%.12g, target %.12g",
+                           name, mote_hs_eta(hs), eta);
+            break;
+        }
+        if ((rc = mote_ev_rebuild(ev, err)))
+            break;
+        if ((rc = mote_ev_run(ev, per_move, err)))
+            break;
+        if (moves % 1000 == 0 && hs->log && !(hs->ctx && hs->ctx->terminal))
+            fprintf(hs->log, "%s: %llu moves, eta=%.12g\n", name, (unsigned long long)moves,
+                    mote_hs_eta(hs));
+        double span = fabs(L_start - target);
+        mote_progress_update(&prog, span > 0 ? 1 - fabs(ev->len[0] - target) / span : 1);
+    }
+    mote_progress_end(&prog);
+    if (rc)
+        return rc;
+    if (hs->log)
+        fprintf(hs->log, "%s: done: moves=%llu collisions=%llu eta=%.15g (target %.15g)\n", name,
+                (unsigned long long)moves, (unsigned long long)(ev->collisions - c0),
+                mote_hs_eta(hs), eta);
+    return MOTE_OK;
+}

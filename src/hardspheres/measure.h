@@ -1,0 +1,32 @@
+/* measure.h: internal to the hard-spheres model: the sampling driver (spec 8.1), block errors and
+ * the common data-file header (spec 9.3), shared by every measuring command. */
+#ifndef MOTE_HS_MEASURE_H
+#define MOTE_HS_MEASURE_H
+
+#include "mote/hardspheres.h"
+
+#define HS_BLOCKS 10
+
+typedef struct {
+    double time;
+    uint64_t collisions, wall_collisions;
+} hs_snap;
+
+/* Called at each sample s (0-based) of nsamples, with positions available at the sample instant
+ * through mote_ev_position. */
+typedef void (*hs_sample_fn)(void *ctx, mote_hs *hs, uint64_t s, uint64_t nsamples);
+
+void hs_snapshot(const mote_hs *hs, hs_snap *s);
+/* Run floor(k N / 2) collisions taking nsamples samples right after collision floor(s C / S);
+ * k == 0 takes one sample of the current state. tau = simulated time of the run. */
+int hs_run_samples(mote_hs *hs, uint64_t k, uint64_t nsamples, hs_sample_fn fn, void *ctx,
+                   const char *label, double *tau, mote_err *err);
+int hs_nblocks(uint64_t nsamples);
+int hs_block_of(uint64_t s, uint64_t nsamples);
+uint64_t hs_block_size(int b, uint64_t nsamples);
+/* Standard error of the mean from block means (NaN with fewer than two blocks). */
+double hs_block_error(const double *block_means, int nblocks);
+void hs_write_header(FILE *f, const mote_hs *hs, const char *format, const char *origin,
+                     const hs_snap *start, const hs_snap *end);
+
+#endif

@@ -1,0 +1,683 @@
+/* state.c: exact save and load of hard-sphere states (spec 9.1), import of the original program's
+ * save format with overlap repair (spec 9.2), and a cheap header peek for script validation.
+ * Loading is strict: every malformed, truncated or inconsistent file is an error that names the
+ * file and line; the current system is replaced only when the whole file was read and checked. */
+#include "mote/hardspheres.h"
+
+#include <errno.h>
+#include <inttypes.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- save ---------------------------------------------------------------------------------------- */
+
+int mote_hs_save(mote_hs *hs, const char *path, mote_err *err)
+{
+    if (!hs->has_system)
+        return mote_fail(err, MOTE_EINVAL, "save: no system to save");
+    mote_ev *ev = &hs->ev;
+    int rc = mote_ev_rebuild(ev, err); /* synchronise: local times 0, coordinates wrapped */
+    if (rc)
+        return rc;
+    mote_afile af;
+    if ((rc = mote_afile_open(&af, path, err)))
+        return rc;
+    FILE *f = af.f;
+    char b[8][32];
+    fprintf(f, "mote-state 1\nmodel hard-spheres\ndim %d\ngeometry %s\n", ev->dim,
+            hs->geometry == MOTE_HS_SLIT ? "slit" : "periodic");
+    mote_fmt_exact(b[0], ev->len[0]);
+    mote_fmt_exact(b[1], ev->len[1]);
+    mote_fmt_exact(b[2], ev->len[2]);
+    if (ev->dim == 3)
+        fprintf(f, "box %s %s %s\n", b[0], b[1], b[2]);
+    else
+        fprintf(f, "box %s %s\n", b[0], b[1]);
+    mote_fmt_exact(b[3], ev->time_total);
+    fprintf(f, "n %" PRIu32 "\ntime %s\ncollisions %" PRIu64 "\nwall_collisions %" PRIu64 "\n",
+            ev->n, b[3], ev->collisions, ev->wall_collisions);
+    fprintf(f, "rng %016" PRIx64 " %016" PRIx64 " %016" PRIx64 " %016" PRIx64 "\n", hs->rng.s[0],
+            hs->rng.s[1], hs->rng.s[2], hs->rng.s[3]);
+    fprintf(f, ev->dim == 3 ? "particles x y z vx vy vz radius mass\n"
+                            : "particles x y vx vy radius mass\n");
+    for (uint32_t i = 0; i < ev->n; i++) {
+        const mote_particle *p = &ev->p[i];
+        int k = 0;
+        for (int a = 0; a < ev->dim; a++)
+            mote_fmt_exact(b[k++], p->r[a]);
+        for (int a = 0; a < ev->dim; a++)
+            mote_fmt_exact(b[k++], p->v[a]);
+        mote_fmt_exact(b[k++], mote_ev_radius(ev, i));
+        mote_fmt_exact(b[k++], mote_ev_mass(ev, i));
+        for (int m = 0; m < k; m++)
+            fprintf(f, m ? " %s" : "%s", b[m]);
+        fputc('\n', f);
+    }
+    fprintf(f, "end\n");
+    return mote_afile_commit(&af, err);
+}
+
+/* ---- a strict line reader ------------------------------------------------------------------------ */
+
+typedef struct {
+    FILE *f;
+    const char *path;
+    long line;
+    char *buf;
+    size_t cap;
+} reader;
+
+/* Next line without its LF/CRLF; returns 0 at end of file. */
+static int next_line(reader *r)
+{
+    ssize_t n = getline(&r->buf, &r->cap, r->f);
+    if (n < 0)
+        return 0;
+    r->line++;
+    while (n > 0 && (r->buf[n - 1] == '\n' || r->buf[n - 1] == '\r'))
+        r->buf[--n] = '\0';
+    return 1;
+}
+
+/* Split the current line into at most `max` whitespace-separated tokens; returns the count (a
+ * count above max means too many). */
+static int split(char *s, char **tok, int max)
+{
+    int n = 0;
+    for (char *p = s;;) {
+        while (*p == ' ' || *p == '\t')
+            p++;
+        if (!*p)
+            break;
+        if (n < max)
+            tok[n] = p;
+        n++;
+        while (*p && *p != ' ' && *p != '\t')
+            p++;
+        if (*p)
+            *p++ = '\0';
+    }
+    return n;
+}
+
+static int parse_real(const char *s, double *out)
+{
+    if (!*s || strchr(s, 'x') || strchr(s, 'X'))
+        return 0;
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (*end || !isfinite(v))
+        return 0;
+    *out = v;
+    return 1;
+}
+
+static int parse_u64(const char *s, uint64_t *out, int base)
+{
+    if (!*s || *s == '-' || *s == '+')
+        return 0;
+    char *end;
+    errno = 0;
+    unsigned long long v = strtoull(s, &end, base);
+    if (*end || errno)
+        return 0;
+    *out = v;
+    return 1;
+}
+
+static int rd_fail(reader *r, mote_err *err, const char *fmt, const char *found)
+{
+    char what[256];
+    snprintf(what, sizeof what, "%s", found ? found : "");
+    return mote_fail(err, MOTE_EFORMAT, "%s:%ld: %s%s%s%s", r->path, r->line, fmt,
+                     found ? " (found '" : "", what, found ? "')" : "");
+}
+
+/* Read the next line and require `key` followed by `nval` values; returns token count. */
+static int expect_key(reader *r, const char *key, char **tok, int nval, mote_err *err)
+{
+    if (!next_line(r)) {
+        r->line++;
+        char msg[128];
+        snprintf(msg, sizeof msg, "file ends early: expected '%s'", key);
+        return -rd_fail(r, err, msg, NULL);
+    }
+    char *all[12];
+    int n = split(r->buf, all, 12);
+    if (n < 1 || strcmp(all[0], key) != 0) {
+        char msg[128];
+        snprintf(msg, sizeof msg, "expected a '%s' line", key);
+        return -rd_fail(r, err, msg, n > 0 ? all[0] : "an empty line");
+    }
+    if (n - 1 != nval) {
+        char msg[128];
+        snprintf(msg, sizeof msg, "'%s' needs %d value%s, found %d", key, nval, nval == 1 ? "" : "s",
+                 n - 1);
+        return -rd_fail(r, err, msg, NULL);
+    }
+    for (int k = 1; k < n; k++)
+        tok[k - 1] = all[k];
+    return n - 1;
+}
+
+/* ---- load: the mote format ----------------------------------------------------------------------- */
+
+/* Check containment, periodic lengths and overlaps of a freshly read system (rebuilt). */
+static int validate_loaded(mote_hs *hs, const char *path, long first_line, mote_err *err)
+{
+    mote_ev *ev = &hs->ev;
+    for (uint32_t i = 0; i < ev->n; i++) {
+        double R = mote_ev_radius(ev, i);
+        for (int a = 0; a < ev->dim; a++) {
+            double x = ev->p[i].r[a];
+            if (!ev->periodic[a] && (x < R * (1 - 1e-10) || x > ev->len[a] - R * (1 - 1e-10)))
+                return mote_fail(err, MOTE_EFORMAT,
+                                 "%s:%ld: particle %u: %c = %.17g is outside the walls [%.17g, "
+                                 "%.17g]",
+                                 path, first_line + i, i, "xyz"[a], x, R, ev->len[a] - R);
+        }
+    }
+    uint32_t wi, wj;
+    double ratio = mote_ev_min_gap_ratio(ev, &wi, &wj);
+    if (ratio < 1 - 1e-10)
+        return mote_fail(err, MOTE_EFORMAT,
+                         "%s:%ld: particles %u and %u (lines %ld and %ld) overlap: distance is "
+                         "%.12g of contact",
+                         path, first_line + wi, wi, wj, first_line + wi, first_line + wj, ratio);
+    return MOTE_OK;
+}
+
+static int load_mote(mote_hs *hs, reader *r, mote_err *err)
+{
+    char *tok[12];
+    char *all[12];
+    /* line 1 already checked to be "mote-state ..." */
+    int n = split(r->buf, all, 12);
+    if (n != 2 || strcmp(all[1], "1") != 0)
+        return rd_fail(r, err, "unsupported state file version (this mote reads 'mote-state 1')",
+                       n > 1 ? all[1] : NULL);
+    if (expect_key(r, "model", tok, 1, err) < 0)
+        return err->code;
+    if (strcmp(tok[0], "hard-spheres") != 0)
+        return rd_fail(r, err, "this is not a hard-spheres state", tok[0]);
+    if (expect_key(r, "dim", tok, 1, err) < 0)
+        return err->code;
+    int dim;
+    if (!strcmp(tok[0], "2"))
+        dim = 2;
+    else if (!strcmp(tok[0], "3"))
+        dim = 3;
+    else
+        return rd_fail(r, err, "dim must be 2 or 3", tok[0]);
+    if (expect_key(r, "geometry", tok, 1, err) < 0)
+        return err->code;
+    int geometry;
+    if (!strcmp(tok[0], "slit"))
+        geometry = MOTE_HS_SLIT;
+    else if (!strcmp(tok[0], "periodic"))
+        geometry = MOTE_HS_PERIODIC;
+    else
+        return rd_fail(r, err, "geometry must be 'slit' or 'periodic'", tok[0]);
+    if (expect_key(r, "box", tok, dim, err) < 0)
+        return err->code;
+    double box[3] = {0, 0, 1};
+    for (int a = 0; a < dim; a++)
+        if (!parse_real(tok[a], &box[a]) || !(box[a] > 0))
+            return rd_fail(r, err, "box lengths must be positive real numbers", tok[a]);
+    if (expect_key(r, "n", tok, 1, err) < 0)
+        return err->code;
+    uint64_t n64;
+    if (!parse_u64(tok[0], &n64, 10) || n64 < 2 || n64 > 0xFFFFFFF0ull)
+        return rd_fail(r, err, "n must be an integer >= 2", tok[0]);
+    if (expect_key(r, "time", tok, 1, err) < 0)
+        return err->code;
+    double time_total;
+    if (!parse_real(tok[0], &time_total) || time_total < 0)
+        return rd_fail(r, err, "time must be a real number >= 0", tok[0]);
+    uint64_t coll, wcoll;
+    if (expect_key(r, "collisions", tok, 1, err) < 0)
+        return err->code;
+    if (!parse_u64(tok[0], &coll, 10))
+        return rd_fail(r, err, "collisions must be a non-negative integer", tok[0]);
+    if (expect_key(r, "wall_collisions", tok, 1, err) < 0)
+        return err->code;
+    if (!parse_u64(tok[0], &wcoll, 10))
+        return rd_fail(r, err, "wall_collisions must be a non-negative integer", tok[0]);
+    if (expect_key(r, "rng", tok, 4, err) < 0)
+        return err->code;
+    mote_rng rng;
+    for (int k = 0; k < 4; k++)
+        if (strlen(tok[k]) != 16 || !parse_u64(tok[k], &rng.s[k], 16))
+            return rd_fail(r, err, "rng needs four 16-digit hexadecimal words", tok[k]);
+    if (!(rng.s[0] | rng.s[1] | rng.s[2] | rng.s[3]))
+        return rd_fail(r, err, "rng state must not be all zero", NULL);
+    if (!next_line(r))
+        return r->line++, rd_fail(r, err, "file ends early: expected the 'particles' line", NULL);
+    const char *want3 = "particles x y z vx vy vz radius mass";
+    const char *want2 = "particles x y vx vy radius mass";
+    {
+        char *ptok[12];
+        char copy[256];
+        snprintf(copy, sizeof copy, "%s", r->buf);
+        int np = split(copy, ptok, 12);
+        char joined[256] = "";
+        for (int k = 0; k < np && k < 12; k++) {
+            if (k)
+                strcat(joined, " ");
+            strncat(joined, ptok[k], sizeof joined - strlen(joined) - 2);
+        }
+        if (strcmp(joined, dim == 3 ? want3 : want2) != 0) {
+            char msg[128];
+            snprintf(msg, sizeof msg, "expected '%s'", dim == 3 ? want3 : want2);
+            return rd_fail(r, err, msg, r->buf);
+        }
+    }
+
+    mote_ev ev;
+    int rc = mote_ev_init(&ev, (uint32_t)n64, dim, 1, err);
+    if (rc)
+        return rc;
+    long first_line = r->line + 1;
+    const int ncol = 2 * dim + 2;
+    for (uint32_t i = 0; i < ev.n; i++) {
+        if (!next_line(r)) {
+            r->line++;
+            char msg[160];
+            snprintf(msg, sizeof msg, "file ends early: expected particle %u of %u", i, ev.n);
+            mote_ev_free(&ev);
+            return rd_fail(r, err, msg, NULL);
+        }
+        int nt = split(r->buf, tok, 12);
+        if (nt != ncol) {
+            char msg[160];
+            snprintf(msg, sizeof msg, "particle %u: expected %d numbers, found %d", i, ncol, nt);
+            mote_ev_free(&ev);
+            return rd_fail(r, err, msg, strcmp(r->buf, "end") == 0 ? "end" : NULL);
+        }
+        double val[8];
+        for (int k = 0; k < ncol; k++)
+            if (!parse_real(tok[k], &val[k])) {
+                char msg[160];
+                snprintf(msg, sizeof msg, "particle %u: column %d is not a finite real number", i,
+                         k + 1);
+                mote_ev_free(&ev);
+                return rd_fail(r, err, msg, tok[k]);
+            }
+        for (int a = 0; a < dim; a++) {
+            ev.p[i].r[a] = val[a];
+            ev.p[i].v[a] = val[dim + a];
+        }
+        ev.radius[i] = val[2 * dim];
+        ev.mass[i] = val[2 * dim + 1];
+        if (!(ev.radius[i] > 0) || !(ev.mass[i] > 0)) {
+            mote_ev_free(&ev);
+            return rd_fail(r, err, "radius and mass must be > 0", NULL);
+        }
+    }
+    if (!next_line(r)) {
+        r->line++;
+        mote_ev_free(&ev);
+        return rd_fail(r, err, "file ends early: expected 'end' (truncated file?)", NULL);
+    }
+    {
+        char *et[2];
+        if (split(r->buf, et, 2) != 1 || strcmp(et[0], "end") != 0) {
+            mote_ev_free(&ev);
+            return rd_fail(r, err, "expected 'end' after the particles", r->buf);
+        }
+    }
+    while (next_line(r)) {
+        char *et[1];
+        if (split(r->buf, et, 1) != 0) {
+            mote_ev_free(&ev);
+            return rd_fail(r, err, "unexpected text after 'end'", r->buf);
+        }
+    }
+
+    /* monodisperse systems use the fast equal-mass path */
+    int mono = 1;
+    for (uint32_t i = 1; i < ev.n; i++)
+        if (ev.radius[i] != ev.radius[0] || ev.mass[i] != ev.mass[0])
+            mono = 0;
+    if (mono) {
+        ev.radius0 = ev.radius[0];
+        ev.mass0 = ev.mass[0];
+        free(ev.radius);
+        free(ev.mass);
+        ev.radius = ev.mass = NULL;
+    }
+    for (int a = 0; a < 3; a++) {
+        ev.len[a] = box[a];
+        ev.periodic[a] = a < dim && (geometry == MOTE_HS_PERIODIC || a > 0);
+    }
+    ev.time_total = time_total;
+    ev.collisions = coll;
+    ev.wall_collisions = wcoll;
+
+    mote_hs tmp = *hs;
+    tmp.ev = ev;
+    tmp.geometry = geometry;
+    tmp.has_system = 1;
+    rc = mote_ev_rebuild(&tmp.ev, err);
+    if (rc) {
+        mote_fail(err, rc, "%s: %s", r->path, err->msg);
+        mote_ev_free(&tmp.ev);
+        return rc;
+    }
+    if ((rc = validate_loaded(&tmp, r->path, first_line, err))) {
+        mote_ev_free(&tmp.ev);
+        return rc;
+    }
+    mote_ev_set_reference(&tmp.ev);
+    mote_hs_free(hs);
+    *hs = tmp;
+    hs->rng = rng;
+    hs->rng_from_file = 1;
+    hs->rng_draws = 0;
+    return MOTE_OK;
+}
+
+/* ---- load: the original program's format (spec 9.2) --------------------------------------------- */
+
+static int read_numbers(reader *r, double *v, int want, const char *what, mote_err *err)
+{
+    if (!next_line(r)) {
+        r->line++;
+        char msg[160];
+        snprintf(msg, sizeof msg, "file ends early: expected %s", what);
+        return rd_fail(r, err, msg, NULL);
+    }
+    char *tok[8];
+    int n = split(r->buf, tok, 8);
+    if (n != want) {
+        char msg[160];
+        snprintf(msg, sizeof msg, "expected %s (%d number%s), found %d", what, want,
+                 want == 1 ? "" : "s", n);
+        return rd_fail(r, err, msg, NULL);
+    }
+    for (int k = 0; k < n; k++)
+        if (!parse_real(tok[k], &v[k])) {
+            char msg[160];
+            snprintf(msg, sizeof msg, "expected %s", what);
+            return rd_fail(r, err, msg, tok[k]);
+        }
+    return MOTE_OK;
+}
+
+/* Push overlapping pairs apart symmetrically to sigma (1 + 1e-9), sweeps in index order. */
+static int repair_overlaps(mote_hs *hs, const char *path, mote_err *err)
+{
+    mote_ev *ev = &hs->ev;
+    size_t cap = ev->n;
+    uint32_t(*pairs)[2] = malloc(cap * sizeof *pairs);
+    double *moved = calloc(ev->n, sizeof *moved);
+    if (!pairs || !moved) {
+        free(pairs);
+        free(moved);
+        return mote_fail(err, MOTE_ENOMEM, "%s: out of memory while repairing overlaps", path);
+    }
+    const double tol = 1e-10;
+    int sweeps = 0;
+    size_t count;
+    int rc = MOTE_OK;
+    while ((count = mote_ev_overlaps(ev, tol, pairs, cap)) > 0 && sweeps < 1000) {
+        size_t k = count < cap ? count : cap;
+        for (size_t q = 0; q < k; q++) {
+            uint32_t i = pairs[q][0], j = pairs[q][1];
+            double d[3] = {0, 0, 0}, r2 = 0;
+            for (int a = 0; a < ev->dim; a++) {
+                d[a] = ev->p[i].r[a] - ev->p[j].r[a];
+                if (ev->periodic[a]) {
+                    if (d[a] > 0.5 * ev->len[a])
+                        d[a] -= ev->len[a];
+                    else if (d[a] < -0.5 * ev->len[a])
+                        d[a] += ev->len[a];
+                }
+                r2 += d[a] * d[a];
+            }
+            double dist = sqrt(r2);
+            if (dist == 0) {
+                d[1] = 1;
+                dist = 1;
+                r2 = 0;
+            }
+            double sig = mote_ev_radius(ev, i) + mote_ev_radius(ev, j);
+            double push = 0.5 * (sig * (1 + 1e-9) - sqrt(r2));
+            if (push <= 0)
+                continue;
+            for (int a = 0; a < ev->dim; a++) {
+                double s = push * d[a] / dist;
+                ev->p[i].r[a] += s;
+                ev->p[j].r[a] -= s;
+            }
+            uint32_t ij[2] = {i, j};
+            for (int m = 0; m < 2; m++) {
+                mote_particle *p = &ev->p[ij[m]];
+                double R = mote_ev_radius(ev, ij[m]);
+                if (p->r[0] < R)
+                    p->r[0] = R;
+                if (p->r[0] > ev->len[0] - R)
+                    p->r[0] = ev->len[0] - R;
+                moved[ij[m]] += push;
+            }
+        }
+        sweeps++;
+        if ((rc = mote_ev_rebuild(ev, err)))
+            break;
+    }
+    if (!rc) {
+        size_t nmoved = 0;
+        double maxd = 0;
+        for (uint32_t i = 0; i < ev->n; i++)
+            if (moved[i] > 0) {
+                nmoved++;
+                if (moved[i] > maxd)
+                    maxd = moved[i];
+            }
+        if (count > 0)
+            rc = mote_fail(err, MOTE_EFORMAT,
+                           "%s: %zu overlapping pairs remain after 1000 repair sweeps", path,
+                           count);
+        else if (nmoved && hs->log)
+            fprintf(hs->log,
+                    "load: repaired overlaps of the original format: moved %zu particles, largest "
+                    "displacement %.3g R, in %d sweeps\n",
+                    nmoved, maxd, sweeps);
+    }
+    free(pairs);
+    free(moved);
+    return rc;
+}
+
+static int load_original(mote_hs *hs, reader *r, mote_err *err)
+{
+    char *tok[4];
+    uint64_t n64, nimg;
+    if (split(r->buf, tok, 4) != 1 || !parse_u64(tok[0], &n64, 10) || n64 < 2 ||
+        n64 > 0xFFFFFFF0ull)
+        return rd_fail(r, err, "expected the number of particles N >= 2", r->buf);
+    if (!next_line(r))
+        return r->line++, rd_fail(r, err, "file ends early: expected the number of images", NULL);
+    if (split(r->buf, tok, 4) != 1 || !parse_u64(tok[0], &nimg, 10))
+        return rd_fail(r, err, "expected the number of images (an integer >= 0)", r->buf);
+    double A, L;
+    int rc;
+    if ((rc = read_numbers(r, &A, 1, "the box width A", err)))
+        return rc;
+    if ((rc = read_numbers(r, &L, 1, "the box length L", err)))
+        return rc;
+    if (!(A > 4) || !(L >= 2))
+        return rd_fail(r, err, "box sizes must satisfy A > 4 R and L >= 2 R", NULL);
+
+    mote_ev ev;
+    if ((rc = mote_ev_init(&ev, (uint32_t)n64, 3, 0, err)))
+        return rc;
+    long first_line = r->line + 1;
+    for (uint64_t rec = 0; rec < n64 + nimg; rec++) {
+        double idx[2], x[3], v[3];
+        int is_img = rec >= n64;
+        char what[96];
+        snprintf(what, sizeof what, "the indices 'i i_copy' of %s %llu", is_img ? "image" : "particle",
+                 (unsigned long long)(is_img ? rec - n64 : rec));
+        if ((rc = read_numbers(r, idx, 2, what, err)) ||
+            (rc = read_numbers(r, x, 3, "a position 'x y z'", err)) ||
+            (rc = read_numbers(r, v, 3, "a velocity 'vx vy vz'", err))) {
+            mote_ev_free(&ev);
+            return rc;
+        }
+        if (is_img)
+            continue;
+        if (idx[0] != (double)rec) {
+            r->line -= 2;
+            mote_ev_free(&ev);
+            char msg[96];
+            snprintf(msg, sizeof msg, "particle records must be numbered 0 ... N-1: expected %llu",
+                     (unsigned long long)rec);
+            return rd_fail(r, err, msg, NULL);
+        }
+        mote_particle *p = &ev.p[rec];
+        p->r[0] = x[0];
+        p->r[1] = fmod(x[1], A);
+        if (p->r[1] < 0)
+            p->r[1] += A;
+        p->r[2] = fmod(x[2], A);
+        if (p->r[2] < 0)
+            p->r[2] += A;
+        for (int a = 0; a < 3; a++)
+            p->v[a] = v[a];
+        if (x[0] < 1 - 1e-10 || x[0] > L - 1 + 1e-10) {
+            r->line -= 1;
+            mote_ev_free(&ev);
+            return rd_fail(r, err, "x is outside the walls [1, L-1]", NULL);
+        }
+        if (p->r[0] < 1)
+            p->r[0] = 1;
+        if (p->r[0] > L - 1)
+            p->r[0] = L - 1;
+    }
+    while (next_line(r)) {
+        char *et[1];
+        if (split(r->buf, et, 1) != 0) {
+            mote_ev_free(&ev);
+            return rd_fail(r, err, "unexpected text after the last record", r->buf);
+        }
+    }
+    ev.periodic[0] = 0;
+    ev.periodic[1] = ev.periodic[2] = 1;
+    ev.len[0] = L;
+    ev.len[1] = ev.len[2] = A;
+
+    mote_hs tmp = *hs;
+    tmp.ev = ev;
+    tmp.geometry = MOTE_HS_SLIT;
+    tmp.has_system = 1;
+    if ((rc = mote_ev_rebuild(&tmp.ev, err)) || (rc = repair_overlaps(&tmp, r->path, err)) ||
+        (rc = validate_loaded(&tmp, r->path, first_line, err))) {
+        mote_ev_free(&tmp.ev);
+        return rc;
+    }
+    mote_ev_set_reference(&tmp.ev);
+    if (hs->log)
+        fprintf(hs->log,
+                "load: imported the original program's format: N=%u, %llu image records skipped, "
+                "kT_kin=%.6g (use 'temperature 1' to rescale)\n",
+                tmp.ev.n, (unsigned long long)nimg, mote_ev_kt(&tmp.ev));
+    mote_hs_free(hs);
+    *hs = tmp; /* the random stream is left unchanged */
+    return MOTE_OK;
+}
+
+/* ---- entry points ------------------------------------------------------------------------------------ */
+
+static int open_reader(reader *r, const char *path, mote_err *err)
+{
+    memset(r, 0, sizeof *r);
+    r->path = path;
+    r->f = fopen(path, "r");
+    if (!r->f)
+        return mote_fail(err, MOTE_EIO, "cannot read '%s': %s", path, strerror(errno));
+    return MOTE_OK;
+}
+
+static void close_reader(reader *r)
+{
+    if (r->f)
+        fclose(r->f);
+    free(r->buf);
+}
+
+static int is_single_integer(char *line)
+{
+    char copy[64];
+    if (strlen(line) >= sizeof copy)
+        return 0;
+    strcpy(copy, line);
+    char *tok[2];
+    uint64_t v;
+    return split(copy, tok, 2) == 1 && parse_u64(tok[0], &v, 10);
+}
+
+int mote_hs_load(mote_hs *hs, const char *path, mote_err *err)
+{
+    reader r;
+    int rc = open_reader(&r, path, err);
+    if (rc)
+        return rc;
+    if (!next_line(&r)) {
+        close_reader(&r);
+        return mote_fail(err, MOTE_EFORMAT, "%s:1: the file is empty", path);
+    }
+    if (strncmp(r.buf, "mote-state", 10) == 0 && (r.buf[10] == ' ' || r.buf[10] == '\t'))
+        rc = load_mote(hs, &r, err);
+    else if (is_single_integer(r.buf))
+        rc = load_original(hs, &r, err);
+    else
+        rc = rd_fail(&r, err,
+                     "not a state file: expected 'mote-state 1' or, for the original program's "
+                     "format, the particle count",
+                     r.buf);
+    close_reader(&r);
+    return rc;
+}
+
+int mote_hs_peek(const char *path, int *geometry, int *dim, uint64_t *n, mote_err *err)
+{
+    reader r;
+    int rc = open_reader(&r, path, err);
+    if (rc)
+        return rc;
+    char *tok[4];
+    rc = MOTE_OK;
+    if (!next_line(&r)) {
+        rc = mote_fail(err, MOTE_EFORMAT, "%s:1: the file is empty", path);
+    } else if (strncmp(r.buf, "mote-state", 10) == 0) {
+        *geometry = MOTE_HS_SLIT;
+        *dim = 3;
+        *n = 0;
+        if (expect_key(&r, "model", tok, 1, err) < 0 || expect_key(&r, "dim", tok, 1, err) < 0) {
+            rc = err->code;
+        } else {
+            *dim = atoi(tok[0]);
+            if (expect_key(&r, "geometry", tok, 1, err) < 0) {
+                rc = err->code;
+            } else {
+                *geometry = strcmp(tok[0], "periodic") == 0 ? MOTE_HS_PERIODIC : MOTE_HS_SLIT;
+                if (!next_line(&r) || expect_key(&r, "n", tok, 1, err) < 0 ||
+                    !parse_u64(tok[0], n, 10))
+                    rc = err->code ? (int)err->code
+                                   : mote_fail(err, MOTE_EFORMAT, "%s: bad header", path);
+            }
+        }
+    } else if (is_single_integer(r.buf)) {
+        *geometry = MOTE_HS_SLIT;
+        *dim = 3;
+        split(r.buf, tok, 4);
+        parse_u64(tok[0], n, 10);
+    } else {
+        rc = rd_fail(&r, err, "not a state file", r.buf);
+    }
+    close_reader(&r);
+    return rc;
+}
