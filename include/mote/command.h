@@ -110,7 +110,7 @@ typedef struct {
 } mote_progress;
 
 void mote_progress_begin(mote_progress *p, const mote_context *ctx, const char *label);
-/* fraction in [0, 1]; prints "\rlabel  42.0%  eta 12 s" at most a few times per second. */
+/* fraction in [0, 1]; prints "\rlabel 42.0%  ~12 s left" to stdout at most 4 times a second. */
 void mote_progress_update(mote_progress *p, double fraction);
 void mote_progress_end(mote_progress *p);
 

@@ -9,38 +9,53 @@
 #include <stddef.h>
 
 typedef struct {
-    const double *x, *y; /* n points */
+    const double *x, *y; /* n points; a point with a NaN or infinite coordinate is skipped and
+                          * breaks the line there */
     size_t n;
-    const char *label;   /* legend text, or NULL */
+    const char *label;   /* legend text, or NULL (or "") to leave the series out of the legend */
     int style;           /* 0 = line, 1 = points, 2 = line with points */
 } mote_series;
 
 typedef struct {
     const char *title;
     const char *xlabel, *ylabel;
-    int width, height;   /* pixels; 0 = defaults (1000 x 650) */
-    /* Axis ranges; when lo == hi the range is taken from the data with a small margin. */
+    int width, height;   /* pixels, 16 .. 16384; 0 = defaults (1000 x 650) */
+    /* Axis ranges; when lo == hi the range is taken from the data with a small margin (the
+     * automatic y range covers the points inside the x range, and the reference line).
+     * xmin > xmax draws a reversed axis. Values beyond 1e300 cannot be drawn. */
     double xmin, xmax, ymin, ymax;
-    /* Optional horizontal reference line (e.g. the mean density); drawn when has_yref. */
+    /* Optional horizontal reference line (e.g. the mean density), dashed, with its label at the
+     * right end; drawn when has_yref and yref is finite. */
     int has_yref;
     double yref;
     const char *yref_label;
 } mote_plot_opts;
 
-/* Line plot of one or more series with axes, ticks, labels, title and a legend. */
+/* Line plot of one or more series with axes, ticks, labels, title and a legend (placed in the
+ * corner of the frame that hides the least data). opts may be NULL for all defaults; any text may
+ * be NULL. Empty series, single points and constant data are fine. Fails with MOTE_EINVAL for
+ * zero series, n > 0 without x or y, an unknown style, a bad size or range, or text that is not
+ * UTF-8; with MOTE_EIO when the file cannot be written. The PNG is written atomically. */
 int mote_plot_png(const char *path, const mote_plot_opts *opts, const mote_series *series,
                   size_t nseries, mote_err *err);
 
 typedef struct {
     const char *title;
     const char *xlabel, *ylabel;
-    int width;                 /* pixels of the longer side; 0 = 900 */
-    double xmin, xmax, ymin, ymax; /* the frame shown (e.g. 0..A by 0..A) */
-    int periodic;              /* 1: disks crossing the frame are also drawn wrapped */
+    int width;                 /* pixels of the picture's longer side, 16 .. 16384; 0 = 900 */
+    /* The frame shown (e.g. 0..A by 0..A); on an axis with lo == hi it is taken from the disks'
+     * extent. Disks are clipped to the frame. */
+    double xmin, xmax, ymin, ymax;
+    int periodic;              /* 1: positions are wrapped into the frame, and disks crossing
+                                * its edges are also drawn at their wrapped positions */
 } mote_scatter_opts;
 
 /* Disks of radius r[i] (in data units) at (x[i], y[i]), filled with colour class c[i]
- * (0 .. 7, a fixed distinct palette; c may be NULL). Equal aspect ratio, a frame, axes labels. */
+ * (0 .. 7, a fixed colour-blind-safe palette, taken modulo 8; c may be NULL for class 0), with a
+ * thin darker outline when they are large enough to show one. Disks are drawn class by class,
+ * so where disks overlap a higher class lies on top. Disks with a non-finite coordinate or a
+ * radius <= 0 are skipped. Equal aspect ratio, a frame, axes labels. opts may be NULL. Errors
+ * as for mote_plot_png; the PNG is written atomically. */
 int mote_disks_png(const char *path, const mote_scatter_opts *opts, const double *x,
                    const double *y, const double *r, const int *c, size_t n, mote_err *err);
 

@@ -1,0 +1,188 @@
+/* command.c: the helpers that command.h promises to models: resolving file names against the
+ * script's output directory, checking during validation that an output file's directory will
+ * exist, located error and warning messages for a command, and a progress line on a terminal.
+ * Everything works on the values passed in; nothing is kept between calls. */
+#include "mote/command.h"
+
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+
+char *mote_ctx_path(const mote_context *ctx, const char *name)
+{
+    const char *dir = ctx ? ctx->output_dir : "";
+    size_t nd = strlen(dir), nn = strlen(name);
+    if (nd == 0 || name[0] == '/') {
+        char *p = malloc(nn + 1);
+        if (p)
+            memcpy(p, name, nn + 1);
+        return p;
+    }
+    int slash = dir[nd - 1] != '/';
+    char *p = malloc(nd + (size_t)slash + nn + 1);
+    if (!p)
+        return NULL;
+    memcpy(p, dir, nd);
+    if (slash)
+        p[nd] = '/';
+    memcpy(p + nd + (size_t)slash, name, nn + 1);
+    return p;
+}
+
+/* Append component s[0..n) to out[0..*k), separated by '/' after `base`. */
+static int push_component(char *out, size_t *k, size_t base, size_t cap, const char *s, size_t n)
+{
+    size_t sep = *k > base;
+    if (*k + sep + n >= cap)
+        return -1;
+    if (sep)
+        out[(*k)++] = '/';
+    memcpy(out + *k, s, n);
+    *k += n;
+    return 0;
+}
+
+/* Lexical normal form of a directory name: no empty or "." components, "x/.." removed, no
+ * trailing slash; "" is the current directory. Returns 0, or -1 if it does not fit. */
+static int normalize_dir(const char *in, size_t len, char *out, size_t cap)
+{
+    size_t k = 0;
+    if (cap < 2)
+        return -1;
+    int absolute = len > 0 && in[0] == '/';
+    if (absolute)
+        out[k++] = '/';
+    const size_t base = k;
+    for (size_t i = 0; i < len;) {
+        while (i < len && in[i] == '/')
+            i++;
+        size_t j = i;
+        while (j < len && in[j] != '/')
+            j++;
+        size_t n = j - i;
+        if (n == 2 && in[i] == '.' && in[i + 1] == '.') {
+            size_t last = k; /* start of the last component */
+            while (last > base && out[last - 1] != '/')
+                last--;
+            int last_is_up = k - last == 2 && out[last] == '.' && out[last + 1] == '.';
+            if (k > base && !last_is_up)
+                k = last > base ? last - 1 : base;
+            else if (!absolute && push_component(out, &k, base, cap, "..", 2))
+                return -1;
+        } else if (n > 0 && !(n == 1 && in[i] == '.')) {
+            if (push_component(out, &k, base, cap, in + i, n))
+                return -1;
+        }
+        i = j;
+    }
+    out[k] = '\0';
+    return 0;
+}
+
+int mote_ctx_dir_ok(const mote_context *ctx, const char *path)
+{
+    if (mote_dir_of_exists(path))
+        return 1;
+    if (!ctx)
+        return 0;
+    const char *slash = strrchr(path, '/');
+    char dir[4096], pending[4096];
+    if (normalize_dir(path, slash ? (size_t)(slash - path) + (slash == path) : 0, dir,
+                      sizeof dir))
+        return 0;
+    size_t n = strlen(dir);
+    for (int i = 0; i < ctx->npending_dirs && i < 8; i++) {
+        if (normalize_dir(ctx->pending_dirs[i], strlen(ctx->pending_dirs[i]), pending,
+                          sizeof pending))
+            continue;
+        /* `output_dir` creates the directory and all its parents. */
+        if (strncmp(pending, dir, n) == 0 && (pending[n] == '\0' || pending[n] == '/'))
+            return 1;
+    }
+    return 0;
+}
+
+int mote_call_fail(mote_err *err, const mote_call *c, int argi, mote_status code, const char *fmt,
+                   ...)
+{
+    if (!err)
+        return (int)code;
+    int line = c->line, col = c->col;
+    if (argi >= 0 && argi < c->nargs) {
+        line = c->args[argi].line;
+        col = c->args[argi].col;
+    }
+    err->code = code;
+    err->located = 1;
+    int n = snprintf(err->msg, sizeof err->msg, "%s:%d:%d: error: ", c->file ? c->file : "?",
+                     line, col);
+    if (n < 0)
+        n = 0;
+    if ((size_t)n < sizeof err->msg) {
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(err->msg + n, sizeof err->msg - (size_t)n, fmt, ap);
+        va_end(ap);
+    }
+    return (int)code;
+}
+
+void mote_call_warn(const mote_call *c, const char *fmt, ...)
+{
+    FILE *diag = c->ctx && c->ctx->diag ? c->ctx->diag : stderr;
+    fprintf(diag, "%s:%d:%d: warning: ", c->file ? c->file : "?", c->line, c->col);
+    va_list ap;
+    va_start(ap, fmt);
+    vfprintf(diag, fmt, ap);
+    va_end(ap);
+    fputc('\n', diag);
+}
+
+/* ---- progress ------------------------------------------------------------------------------- */
+
+enum { PROGRESS_PAD = 40 }; /* room for the percentage and time after the label */
+
+void mote_progress_begin(mote_progress *p, const mote_context *ctx, const char *label)
+{
+    p->enabled = ctx && ctx->terminal;
+    p->start = p->last = p->enabled ? mote_wall_seconds() : 0.0;
+    snprintf(p->label, sizeof p->label, "%s", label ? label : "");
+}
+
+void mote_progress_update(mote_progress *p, double fraction)
+{
+    if (!p->enabled)
+        return;
+    double now = mote_wall_seconds();
+    if (now - p->last < 0.25) /* at most four lines a second */
+        return;
+    p->last = now;
+    if (!(fraction >= 0.0))
+        fraction = 0.0;
+    if (fraction > 1.0)
+        fraction = 1.0;
+    double elapsed = now - p->start;
+    if (fraction > 0.0) {
+        double left = elapsed * (1.0 - fraction) / fraction;
+        if (left < 120.0)
+            printf("\r%s %.1f%%  ~%.0f s left   ", p->label, 100.0 * fraction, left);
+        else if (left < 7200.0)
+            printf("\r%s %.1f%%  ~%.0f min left   ", p->label, 100.0 * fraction, left / 60.0);
+        else
+            printf("\r%s %.1f%%  ~%.1f h left   ", p->label, 100.0 * fraction, left / 3600.0);
+    } else {
+        printf("\r%s %.1f%%", p->label, 0.0);
+    }
+    fflush(stdout);
+}
+
+void mote_progress_end(mote_progress *p)
+{
+    /* last moves past start only when a line was printed; then wipe it so the next output
+     * starts on a clean line. */
+    if (p->enabled && p->last > p->start) {
+        printf("\r%*s\r", (int)strlen(p->label) + PROGRESS_PAD, "");
+        fflush(stdout);
+    }
+    p->enabled = 0;
+}

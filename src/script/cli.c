@@ -1,0 +1,116 @@
+/* cli.c: the `mote` program's argument handling (run, check, help, --version), kept in the
+ * library so that main() is a few lines naming the models and tests can drive the whole program
+ * with their own registry and streams. */
+#include "script_internal.h"
+
+#include <stdarg.h>
+#include <string.h>
+#include <unistd.h>
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+            "Usage: mote run [--check] [SCRIPT]  run a script (default: " MOTE_DEFAULT_SCRIPT ")\n"
+            "       mote check [SCRIPT]          check a script; run nothing\n"
+            "       mote help [CMD | MODEL]      list the commands, or document one\n"
+            "       mote help --markdown         the command reference in Markdown\n"
+            "       mote --version\n"
+            "Exit status: 0 success, 1 usage or script error (nothing ran), 2 runtime error.\n");
+}
+
+__attribute__((format(printf, 2, 3))) static int usage_error(FILE *diag, const char *fmt, ...)
+{
+    fputs("mote: error: ", diag);
+    va_list ap;
+    va_start(ap, fmt);
+    vfprintf(diag, fmt, ap);
+    va_end(ap);
+    fputc('\n', diag);
+    usage(diag);
+    return 1;
+}
+
+static int run_or_check(int argc, char **argv, const mote_model *const *models, size_t nmodels,
+                        FILE *out, FILE *diag, int terminal)
+{
+    mote_script_options opt = {out, diag, terminal, strcmp(argv[1], "check") == 0};
+    const char *script = NULL;
+    int options_done = 0;
+    for (int i = 2; i < argc; i++) {
+        const char *a = argv[i];
+        if (!options_done && strcmp(a, "--") == 0) {
+            options_done = 1;
+        } else if (!options_done && a[0] == '-' && a[1] != '\0') {
+            if (strcmp(a, "--check") != 0)
+                return usage_error(diag, "unknown option '%s'", a);
+            opt.check_only = 1;
+        } else if (script) {
+            return usage_error(diag, "more than one script given ('%s')", a);
+        } else {
+            script = a;
+        }
+    }
+    return mote_script_run_file(script ? script : MOTE_DEFAULT_SCRIPT, models, nmodels, &opt);
+}
+
+int mote_script_main_io(int argc, char **argv, const mote_model *const *models, size_t nmodels,
+                        FILE *out, FILE *diag, int terminal)
+{
+    if (argc < 2) {
+        usage(diag);
+        return 1;
+    }
+    const char *cmd = argv[1];
+    if (strcmp(cmd, "--version") == 0) {
+        if (argc > 2)
+            return usage_error(diag, "unexpected argument '%s'", argv[2]);
+        fprintf(out, "mote %s\n", MOTE_VERSION);
+        return 0;
+    }
+    if (strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0) {
+        usage(out);
+        return 0;
+    }
+    mote_err err;
+    if (mote_models_verify(models, nmodels, &err)) {
+        fprintf(diag, "mote: internal error in a command table: %s\n", err.msg);
+        return 1;
+    }
+    if (strcmp(cmd, "run") == 0 || strcmp(cmd, "check") == 0)
+        return run_or_check(argc, argv, models, nmodels, out, diag, terminal);
+    if (strcmp(cmd, "help") == 0) {
+        if (argc == 2) {
+            mote_help_list(out, models, nmodels);
+            return 0;
+        }
+        if (argc > 3)
+            return usage_error(diag, "'help' takes one name, found also '%s'", argv[3]);
+        if (strcmp(argv[2], "--markdown") == 0) {
+            mote_help_markdown(out, models, nmodels);
+            return 0;
+        }
+        return mote_help_command(out, diag, argv[2], models, nmodels);
+    }
+    mote_suggest sg;
+    mote_suggest_init(&sg, cmd);
+    static const char *const verbs[] = {"run", "check", "help"};
+    for (size_t i = 0; i < sizeof verbs / sizeof verbs[0]; i++)
+        mote_suggest_feed(&sg, verbs[i], strlen(verbs[i]));
+    char best[16];
+    if (mote_suggest_result(&sg, best, sizeof best)) {
+        fprintf(diag, "mote: error: unknown command '%s'; did you mean '%s'?\n", cmd, best);
+    } else if (access(cmd, F_OK) == 0) {
+        fprintf(diag, "mote: error: unknown command '%s'; to run this script: mote run %s\n", cmd,
+                cmd);
+    } else {
+        fprintf(diag, "mote: error: unknown command '%s'\n", cmd);
+    }
+    usage(diag);
+    return 1;
+}
+
+int mote_script_main(int argc, char **argv, const mote_model *const *models, size_t nmodels)
+{
+    return mote_script_main_io(argc, argv, models, nmodels, stdout, stderr,
+                               isatty(fileno(stdout)));
+}

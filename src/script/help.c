@@ -1,0 +1,347 @@
+/* help.c: documentation generated from the command tables: `mote help` (one line per command),
+ * `mote help CMD` (a command's full text), `mote help --markdown` (the reference that
+ * docs/commands.md is generated from), and the check that the tables are well-formed. */
+#include "script_internal.h"
+
+#include <string.h>
+
+/* ---- one line per command ------------------------------------------------------------------- */
+
+/* "name (alias, alias)" */
+static void names_of(const mote_cmd *def, char *buf, size_t cap)
+{
+    size_t k = (size_t)snprintf(buf, cap, "%s", def->name);
+    int first = 1;
+    for (const char *p = def->aliases; p && *p && k < cap;) {
+        while (*p == ' ')
+            p++;
+        size_t n = strcspn(p, " ");
+        if (n == 0)
+            break;
+        int w = snprintf(buf + k, cap - k, "%s%.*s", first ? " (" : ", ", (int)n, p);
+        if (w < 0)
+            break;
+        k += (size_t)w;
+        first = 0;
+        p += n;
+    }
+    if (!first && k < cap)
+        snprintf(buf + k, cap - k, ")");
+}
+
+static int names_width(const mote_cmd *cmds, size_t n, int width)
+{
+    char buf[256];
+    for (size_t i = 0; i < n; i++) {
+        names_of(&cmds[i], buf, sizeof buf);
+        int w = (int)strlen(buf);
+        if (w > width)
+            width = w;
+    }
+    return width;
+}
+
+enum { NAMES_MAX_WIDTH = 32 }; /* longer names put their summary on the next line */
+
+static void list_cmds(FILE *out, const mote_cmd *cmds, size_t n, int width)
+{
+    char buf[256];
+    if (width > NAMES_MAX_WIDTH)
+        width = NAMES_MAX_WIDTH;
+    for (size_t i = 0; i < n; i++) {
+        names_of(&cmds[i], buf, sizeof buf);
+        const char *summary = cmds[i].summary ? cmds[i].summary : "";
+        if ((int)strlen(buf) > width)
+            fprintf(out, "  %s\n  %-*s  %s\n", buf, width, "", summary);
+        else
+            fprintf(out, "  %-*s  %s\n", width, buf, summary);
+    }
+}
+
+static void list_model(FILE *out, const mote_model *m, int width)
+{
+    fprintf(out, "\nModel %s: %s\n%s", m->name, m->summary ? m->summary : "",
+            strcmp(m->name, MOTE_DEFAULT_MODEL) == 0
+                ? "(the default: a script without a 'model' line uses it)\n"
+                : "");
+    list_cmds(out, m->cmds, m->ncmds, width);
+}
+
+void mote_help_list(FILE *out, const mote_model *const *models, size_t nmodels)
+{
+    int width = names_width(mote_script_common_cmds, mote_script_common_ncmds, 0);
+    for (size_t i = 0; i < nmodels; i++)
+        width = names_width(models[i]->cmds, models[i]->ncmds, width);
+    fprintf(out,
+            "mote %s: particle simulation toolkit\n"
+            "\n"
+            "A script has one command per line with its arguments separated by spaces; '#' starts a\n"
+            "comment and double quotes keep spaces in a file name. The whole script is checked\n"
+            "before anything runs.\n"
+            "\n"
+            "Commands of every model:\n",
+            MOTE_VERSION);
+    list_cmds(out, mote_script_common_cmds, mote_script_common_ncmds, width);
+    for (size_t i = 0; i < nmodels; i++)
+        list_model(out, models[i], width);
+    fprintf(out, "\n'mote help CMD' documents a command, 'mote help MODEL' lists one model.\n");
+}
+
+/* ---- one command ---------------------------------------------------------------------------- */
+
+static void print_aliases(FILE *out, const char *aliases, const char *sep)
+{
+    int first = 1;
+    for (const char *p = aliases; p && *p;) {
+        while (*p == ' ')
+            p++;
+        size_t n = strcspn(p, " ");
+        if (n == 0)
+            break;
+        fprintf(out, "%s%.*s", first ? "" : sep, (int)n, p);
+        first = 0;
+        p += n;
+    }
+}
+
+static void print_command(FILE *out, const mote_cmd *def, const char *model)
+{
+    fprintf(out, "%s\n", def->synopsis ? def->synopsis : def->name);
+    if (model)
+        fprintf(out, "  model: %s\n", model);
+    else
+        fprintf(out, "  common to every model\n");
+    if (def->aliases && def->aliases[0]) {
+        fprintf(out, "  aliases: ");
+        print_aliases(out, def->aliases, ", ");
+        fputc('\n', out);
+    }
+    fprintf(out, "\n%s\n", def->summary ? def->summary : "");
+    if (def->help && def->help[0]) {
+        size_t n = strlen(def->help);
+        fprintf(out, "\n%s%s", def->help, def->help[n - 1] == '\n' ? "" : "\n");
+    }
+}
+
+int mote_help_command(FILE *out, FILE *diag, const char *name, const mote_model *const *models,
+                      size_t nmodels)
+{
+    int found = 0;
+    const mote_cmd *def = mote_cmd_lookup(mote_script_common_cmds, mote_script_common_ncmds, name);
+    if (def) {
+        print_command(out, def, NULL);
+        found = 1;
+    }
+    for (size_t i = 0; i < nmodels; i++) {
+        def = mote_cmd_lookup(models[i]->cmds, models[i]->ncmds, name);
+        if (def) {
+            if (found)
+                fputc('\n', out);
+            print_command(out, def, models[i]->name);
+            found = 1;
+        }
+    }
+    if (found)
+        return 0;
+    const mote_model *m = mote_model_find(models, nmodels, name);
+    if (m) {
+        list_model(out, m, names_width(m->cmds, m->ncmds, 0));
+        return 0;
+    }
+    mote_suggest sg;
+    mote_suggest_init(&sg, name);
+    for (size_t i = 0; i < mote_script_common_ncmds; i++)
+        mote_suggest_feed_cmd(&sg, &mote_script_common_cmds[i]);
+    for (size_t i = 0; i < nmodels; i++) {
+        mote_suggest_feed(&sg, models[i]->name, strlen(models[i]->name));
+        for (size_t j = 0; j < models[i]->ncmds; j++)
+            mote_suggest_feed_cmd(&sg, &models[i]->cmds[j]);
+    }
+    char best[80];
+    if (mote_suggest_result(&sg, best, sizeof best))
+        fprintf(diag, "mote: error: no command or model named '%s'; did you mean '%s'?\n", name,
+                best);
+    else
+        fprintf(diag, "mote: error: no command or model named '%s' ('mote help' lists them)\n",
+                name);
+    return 1;
+}
+
+/* ---- Markdown reference --------------------------------------------------------------------- */
+
+/* Text for a table cell: '|' escaped, line breaks as spaces. */
+static void md_cell(FILE *out, const char *s)
+{
+    for (; s && *s; s++) {
+        if (*s == '|')
+            fputs("\\|", out);
+        else if (*s == '\n' || *s == '\r')
+            fputc(' ', out);
+        else
+            fputc(*s, out);
+    }
+}
+
+static void md_commands(FILE *out, const mote_cmd *cmds, size_t n)
+{
+    fprintf(out, "| Command | Aliases | Summary |\n|---|---|---|\n");
+    for (size_t i = 0; i < n; i++) {
+        fprintf(out, "| `%s` | ", cmds[i].synopsis ? cmds[i].synopsis : cmds[i].name);
+        if (cmds[i].aliases && cmds[i].aliases[0]) {
+            fputc('`', out);
+            print_aliases(out, cmds[i].aliases, "`, `");
+            fputc('`', out);
+        } else {
+            fputs("—", out);
+        }
+        fputs(" | ", out);
+        md_cell(out, cmds[i].summary);
+        fputs(" |\n", out);
+    }
+    for (size_t i = 0; i < n; i++) {
+        const mote_cmd *d = &cmds[i];
+        fprintf(out, "\n### `%s`\n\n```\n%s\n```\n\n", d->name, d->synopsis ? d->synopsis : d->name);
+        if (d->aliases && d->aliases[0]) {
+            fputs("Aliases: `", out);
+            print_aliases(out, d->aliases, "`, `");
+            fputs("`\n\n", out);
+        }
+        fprintf(out, "%s\n", d->summary ? d->summary : "");
+        if (d->help && d->help[0]) {
+            size_t len = strlen(d->help);
+            fprintf(out, "\n%s%s", d->help, d->help[len - 1] == '\n' ? "" : "\n");
+        }
+    }
+}
+
+void mote_help_markdown(FILE *out, const mote_model *const *models, size_t nmodels)
+{
+    fprintf(out,
+            "# mote command reference\n"
+            "\n"
+            "<!-- Generated by `mote help --markdown` from the command tables; do not edit. -->\n"
+            "\n"
+            "A script has one command per line: the command name, then its arguments separated by\n"
+            "spaces or tabs. Blank lines are ignored and `#` at the start of a word begins a comment.\n"
+            "A file name with spaces is written in double quotes, where `\\\"` and `\\\\` are the only\n"
+            "escapes. Integers are decimal digits with an optional `+`; real numbers are finite\n"
+            "decimal literals such as `0.49` or `1e-6`. The first command may select the model\n"
+            "(`model NAME`); a script without one is a `%s` script. The whole script is checked\n"
+            "before anything runs: `mote check SCRIPT` only checks, `mote run SCRIPT` checks and runs.\n"
+            "\n"
+            "## Commands of every model\n\n",
+            MOTE_DEFAULT_MODEL);
+    md_commands(out, mote_script_common_cmds, mote_script_common_ncmds);
+    for (size_t i = 0; i < nmodels; i++) {
+        const mote_model *m = models[i];
+        fprintf(out, "\n## Model `%s`\n\n%s\n\n", m->name, m->summary ? m->summary : "");
+        md_commands(out, m->cmds, m->ncmds);
+    }
+}
+
+/* ---- table checks --------------------------------------------------------------------------- */
+
+static int count_words(const char *s)
+{
+    int n = 0;
+    while (s && *s) {
+        while (*s == ' ')
+            s++;
+        if (!*s)
+            break;
+        n++;
+        s += strcspn(s, " ");
+    }
+    return n;
+}
+
+static int valid_name(const char *s, size_t n)
+{
+    if (n == 0 || !(s[0] >= 'a' && s[0] <= 'z'))
+        return 0;
+    for (size_t i = 0; i < n; i++)
+        if (!((s[i] >= 'a' && s[i] <= 'z') || (s[i] >= '0' && s[i] <= '9') || s[i] == '_' ||
+              s[i] == '-'))
+            return 0;
+    return 1;
+}
+
+/* Is `name` (n bytes) already used by the common commands or by the model's commands before j? */
+static int name_taken(const mote_model *m, size_t j, const char *name, size_t n, char *buf,
+                      size_t cap)
+{
+    snprintf(buf, cap, "%.*s", (int)n, name);
+    if (mote_cmd_lookup(mote_script_common_cmds, mote_script_common_ncmds, buf))
+        return 1;
+    return mote_cmd_lookup(m->cmds, j, buf) != NULL;
+}
+
+static int verify_cmd(const mote_model *m, size_t j, mote_err *err)
+{
+    const mote_cmd *d = &m->cmds[j];
+    const char *mn = m->name;
+    char buf[128];
+    if (!d->name || !valid_name(d->name, strlen(d->name)))
+        return mote_script_fail_plain(err, MOTE_EINVAL, "model %s, command %zu: bad name '%s' "
+                                      "(lower-case letters, digits, '_' and '-')", mn, j,
+                                      d->name ? d->name : "(null)");
+    if (name_taken(m, j, d->name, strlen(d->name), buf, sizeof buf))
+        return mote_script_fail_plain(err, MOTE_EINVAL, "model %s: command name '%s' is used "
+                                      "twice or clashes with a common command", mn, d->name);
+    for (const char *p = d->aliases; p && *p;) {
+        while (*p == ' ')
+            p++;
+        size_t n = strcspn(p, " ");
+        if (n == 0)
+            break;
+        if (!valid_name(p, n) || name_taken(m, j, p, n, buf, sizeof buf) ||
+            (n == strlen(d->name) && memcmp(p, d->name, n) == 0))
+            return mote_script_fail_plain(err, MOTE_EINVAL, "model %s, command %s: alias '%.*s' "
+                                          "is malformed, used twice or clashes with another "
+                                          "command", mn, d->name, (int)n, p);
+        p += n;
+    }
+    if (!d->args)
+        return mote_script_fail_plain(err, MOTE_EINVAL, "model %s, command %s: no argument "
+                                      "types (use \"\" for none)", mn, d->name);
+    int star = strcmp(d->args, "*") == 0;
+    if (!star && strspn(d->args, "iurfs") != strlen(d->args))
+        return mote_script_fail_plain(err, MOTE_EINVAL, "model %s, command %s: argument types "
+                                      "\"%s\" must be letters of \"iurfs\", or \"*\" alone", mn,
+                                      d->name, d->args);
+    if (!d->synopsis || !d->summary || !d->help)
+        return mote_script_fail_plain(err, MOTE_EINVAL, "model %s, command %s: synopsis, summary "
+                                      "and help are required", mn, d->name);
+    size_t nl = strcspn(d->synopsis, " ");
+    if (nl != strlen(d->name) || memcmp(d->synopsis, d->name, nl) != 0)
+        return mote_script_fail_plain(err, MOTE_EINVAL, "model %s, command %s: synopsis '%s' "
+                                      "must start with the command name", mn, d->name,
+                                      d->synopsis);
+    if (!star && count_words(d->synopsis) - 1 != (int)strlen(d->args))
+        return mote_script_fail_plain(err, MOTE_EINVAL, "model %s, command %s: synopsis '%s' "
+                                      "names %d arguments but the types \"%s\" give %zu", mn,
+                                      d->name, d->synopsis, count_words(d->synopsis) - 1, d->args,
+                                      strlen(d->args));
+    return 0;
+}
+
+int mote_models_verify(const mote_model *const *models, size_t nmodels, mote_err *err)
+{
+    for (size_t i = 0; i < nmodels; i++) {
+        const mote_model *m = models[i];
+        if (!m || !m->name || !valid_name(m->name, strlen(m->name)))
+            return mote_script_fail_plain(err, MOTE_EINVAL, "model %zu: missing or bad name", i);
+        if (mote_model_find(models, i, m->name))
+            return mote_script_fail_plain(err, MOTE_EINVAL, "model %s is registered twice",
+                                          m->name);
+        if (!m->create || !m->destroy || (m->ncmds > 0 && !m->cmds))
+            return mote_script_fail_plain(err, MOTE_EINVAL, "model %s: create, destroy and the "
+                                          "command table are required", m->name);
+        for (size_t j = 0; j < m->ncmds; j++) {
+            int rc = verify_cmd(m, j, err);
+            if (rc)
+                return rc;
+        }
+    }
+    return 0;
+}

@@ -1,0 +1,666 @@
+/* parse.c: turns script text into a list of mote_call. One pass over the lines: each line is cut
+ * into tokens (spaces and tabs separate, `#` at a token start begins a comment, double quotes
+ * group with \" and \\ as the only escapes), its command is looked up (common commands first,
+ * then the model's table), and its arguments are converted by the table's type letters. The first
+ * error stops the parse with a FILE:LINE:COL message naming the command, the expected form and
+ * what was found. Columns count characters (UTF-8 continuation bytes do not start a column). */
+#include "script_internal.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- lexing --------------------------------------------------------------------------------- */
+
+typedef struct {
+    const char *text;
+    int line, col, quoted;
+} token;
+
+typedef struct {
+    token *t;
+    int n, cap;
+    const char *src_begin, *src_end; /* the line without comment and surrounding blanks */
+} token_list;
+
+/* A position inside one line. */
+typedef struct {
+    const char *p, *end;
+    int line, col;
+} cursor;
+
+static int is_blank(int c) { return c == ' ' || c == '\t'; }
+static int is_control(int c) { return (c < 0x20 && c != '\t') || c == 0x7f; }
+static int is_continuation(int c) { return (c & 0xC0) == 0x80; }
+
+static void advance(cursor *c)
+{
+    c->p++;
+    if (c->p < c->end && !is_continuation((unsigned char)*c->p))
+        c->col++;
+}
+
+static int fail_control(mote_err *err, const char *file, const cursor *c)
+{
+    unsigned char ch = (unsigned char)*c->p;
+    if (ch == '\r')
+        return mote_script_fail_at(err, file, c->line, c->col, MOTE_EINVAL,
+                                   "stray carriage return (a CR not followed by LF)");
+    return mote_script_fail_at(err, file, c->line, c->col, MOTE_EINVAL,
+                               "unexpected control character (byte 0x%02x)", ch);
+}
+
+static int push_token(token_list *tl, token t)
+{
+    if (tl->n == tl->cap) {
+        int cap = tl->cap ? 2 * tl->cap : 16;
+        token *nt = realloc(tl->t, (size_t)cap * sizeof *nt);
+        if (!nt)
+            return -1;
+        tl->t = nt;
+        tl->cap = cap;
+    }
+    tl->t[tl->n++] = t;
+    return 0;
+}
+
+/* Lex a quoted string starting at the opening quote; leaves *c after the closing quote. */
+static int lex_quoted(mote_script *s, cursor *c, token *t, mote_err *err)
+{
+    const char *file = s->ctx.script_path;
+    cursor scan = *c;
+    size_t n = 0;
+    advance(&scan);
+    for (;;) {
+        if (scan.p == scan.end)
+            return mote_script_fail_at(err, file, t->line, t->col, MOTE_EINVAL,
+                                       "unterminated quoted string (no closing '\"' on this line)");
+        int ch = (unsigned char)*scan.p;
+        if (ch == '"')
+            break;
+        if (ch == '\\') {
+            cursor bs = scan;
+            advance(&scan);
+            if (scan.p == scan.end)
+                return mote_script_fail_at(err, file, t->line, t->col, MOTE_EINVAL,
+                                           "unterminated quoted string (no closing '\"' on this line)");
+            int e = (unsigned char)*scan.p;
+            if (e != '"' && e != '\\') {
+                if (e > 0x20 && e < 0x7f)
+                    return mote_script_fail_at(err, file, bs.line, bs.col, MOTE_EINVAL,
+                                               "unknown escape '\\%c' in a quoted string "
+                                               "(the only escapes are \\\" and \\\\)", e);
+                return mote_script_fail_at(err, file, bs.line, bs.col, MOTE_EINVAL,
+                                           "unknown escape in a quoted string "
+                                           "(the only escapes are \\\" and \\\\)");
+            }
+        } else if (is_control(ch)) {
+            return fail_control(err, file, &scan);
+        }
+        n++;
+        advance(&scan);
+    }
+    char *text = mote_arena_alloc(&s->arena, n + 1);
+    if (!text)
+        return mote_script_fail_plain(err, MOTE_ENOMEM, "out of memory reading the script");
+    size_t k = 0;
+    for (const char *p = c->p + 1; p < scan.p; p++) {
+        if (*p == '\\')
+            p++;
+        text[k++] = *p;
+    }
+    text[k] = '\0';
+    t->text = text;
+    t->quoted = 1;
+    advance(&scan); /* the closing quote */
+    if (scan.p < scan.end && !is_blank(*scan.p))
+        return mote_script_fail_at(err, file, scan.line, scan.col, MOTE_EINVAL,
+                                   "expected a space after the closing quote");
+    *c = scan;
+    return 0;
+}
+
+/* Cut one line (without its line end) into tokens. */
+static int lex_line(mote_script *s, cursor c, token_list *tl, mote_err *err)
+{
+    const char *file = s->ctx.script_path;
+    tl->n = 0;
+    tl->src_begin = tl->src_end = NULL;
+    for (;;) {
+        while (c.p < c.end && is_blank(*c.p))
+            advance(&c);
+        if (c.p == c.end || *c.p == '#')
+            return 0;
+        token t = {NULL, c.line, c.col, 0};
+        const char *start = c.p;
+        if (*c.p == '"') {
+            int rc = lex_quoted(s, &c, &t, err);
+            if (rc)
+                return rc;
+        } else {
+            while (c.p < c.end && !is_blank(*c.p)) {
+                if (*c.p == '"')
+                    return mote_script_fail_at(err, file, c.line, c.col, MOTE_EINVAL,
+                                               "unexpected '\"' inside a word (quote the whole "
+                                               "argument: \"like this\")");
+                if (is_control((unsigned char)*c.p))
+                    return fail_control(err, file, &c);
+                advance(&c);
+            }
+            t.text = mote_arena_strndup(&s->arena, start, (size_t)(c.p - start));
+            if (!t.text)
+                return mote_script_fail_plain(err, MOTE_ENOMEM, "out of memory reading the script");
+        }
+        if (!tl->src_begin)
+            tl->src_begin = start;
+        tl->src_end = c.p;
+        if (push_token(tl, t))
+            return mote_script_fail_plain(err, MOTE_ENOMEM, "out of memory reading the script");
+    }
+}
+
+/* ---- argument conversion -------------------------------------------------------------------- */
+
+/* The value as shown in messages: quoted as found, long values shortened. */
+static const char *shown(const token *t, char *buf, size_t cap)
+{
+    const size_t max = 60;
+    size_t n = strlen(t->text);
+    const char *ell = "";
+    if (n > max) {
+        n = max;
+        while (n > 0 && is_continuation((unsigned char)t->text[n]))
+            n--;
+        ell = "...";
+    }
+    if (t->quoted)
+        snprintf(buf, cap, "\"%.*s%s\"", (int)n, t->text, ell);
+    else
+        snprintf(buf, cap, "'%.*s%s'", (int)n, t->text, ell);
+    return buf;
+}
+
+/* The name of argument i as written in the synopsis ("eta" in "new NN eta"). */
+static void arg_name(const mote_cmd *def, int i, char *buf, size_t cap)
+{
+    const char *p = def->synopsis ? def->synopsis : "";
+    for (int w = 0; w <= i + 1; w++) {
+        while (*p == ' ')
+            p++;
+        size_t n = strcspn(p, " ");
+        if (n == 0)
+            break;
+        if (w == i + 1) {
+            snprintf(buf, cap, "%.*s", (int)n, p);
+            return;
+        }
+        p += n;
+    }
+    snprintf(buf, cap, "argument %d", i + 1);
+}
+
+static int is_digit(int c) { return c >= '0' && c <= '9'; }
+
+/* Decimal digits with an optional '+'. 0 ok, 1 not an integer, 2 negative, 3 too large. */
+static int parse_unsigned(const char *t, uint64_t max, uint64_t *out)
+{
+    const char *p = t;
+    int negative = 0;
+    if (*p == '+')
+        p++;
+    else if (*p == '-') {
+        negative = 1;
+        p++;
+    }
+    if (!*p)
+        return 1;
+    for (const char *q = p; *q; q++)
+        if (!is_digit(*q))
+            return 1;
+    if (negative)
+        return 2;
+    uint64_t v = 0;
+    for (; *p; p++) {
+        unsigned d = (unsigned)(*p - '0');
+        if (v > (max - d) / 10)
+            return 3;
+        v = v * 10 + d;
+    }
+    *out = v;
+    return 0;
+}
+
+/* A finite decimal real: [+-] (digits [. digits] | . digits) [(e|E) [+-] digits].
+ * 0 ok, 1 not a real, 2 out of range. */
+static int parse_real(const char *t, double *out)
+{
+    const char *p = t;
+    if (*p == '+' || *p == '-')
+        p++;
+    size_t mant = 0;
+    while (is_digit(*p)) {
+        p++;
+        mant++;
+    }
+    if (*p == '.') {
+        p++;
+        while (is_digit(*p)) {
+            p++;
+            mant++;
+        }
+    }
+    if (mant == 0)
+        return 1;
+    if (*p == 'e' || *p == 'E') {
+        p++;
+        if (*p == '+' || *p == '-')
+            p++;
+        if (!is_digit(*p))
+            return 1;
+        while (is_digit(*p))
+            p++;
+    }
+    if (*p)
+        return 1;
+    char *end;
+    double v = strtod(t, &end);
+    if (*end || !isfinite(v))
+        return 2;
+    *out = v;
+    return 0;
+}
+
+static int to_lower(int c) { return c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c; }
+
+/* Does s contain w, ignoring the case of s? (w is lower-case) */
+static int contains_ci(const char *s, const char *w)
+{
+    size_t n = strlen(w);
+    for (; *s; s++) {
+        size_t k = 0;
+        while (k < n && s[k] && to_lower((unsigned char)s[k]) == w[k])
+            k++;
+        if (k == n)
+            return 1;
+    }
+    return 0;
+}
+
+/* Why a token that is not a real number was rejected, when the reason is a common one. */
+static const char *real_hint(const char *t)
+{
+    if (contains_ci(t, "nan") || contains_ci(t, "inf"))
+        return " (infinities and NaN are not accepted)";
+    if (contains_ci(t, "0x"))
+        return " (hexadecimal is not accepted)";
+    if (strchr(t, ',') && !strchr(t, '.'))
+        return " (the decimal point is '.')";
+    return "";
+}
+
+static int convert_arg(mote_script *s, const mote_cmd *def, const char *written, int i,
+                       const token *t, mote_arg *a, mote_err *err)
+{
+    const char *file = s->ctx.script_path;
+    char name[64], found[80];
+    a->text = t->text;
+    a->line = t->line;
+    a->col = t->col;
+    a->quoted = t->quoted;
+    a->i = 0;
+    a->u = 0;
+    a->r = 0.0;
+    char type = def->args[0] == '*' ? '*' : def->args[i];
+    switch (type) {
+    case 'i':
+    case 'u': {
+        uint64_t max = type == 'i' ? (uint64_t)INT64_MAX : UINT64_MAX;
+        const char *what = type == 'i' ? "an integer" : "an unsigned integer";
+        uint64_t v = 0;
+        int rc = t->quoted ? 1 : parse_unsigned(t->text, max, &v);
+        if (rc == 0) {
+            a->u = v;
+            a->i = v <= (uint64_t)INT64_MAX ? (int64_t)v : 0;
+            a->r = (double)v;
+            return 0;
+        }
+        arg_name(def, i, name, sizeof name);
+        shown(t, found, sizeof found);
+        double dummy;
+        if (rc == 2)
+            return mote_script_fail_at(err, file, t->line, t->col, MOTE_EINVAL,
+                                       "%s: expected a non-negative integer for %s, found %s",
+                                       written, name, found);
+        if (rc == 3)
+            return mote_script_fail_at(err, file, t->line, t->col, MOTE_EINVAL,
+                                       "%s: %s is too large (at most %llu), found %s", written,
+                                       name, (unsigned long long)max, found);
+        return mote_script_fail_at(err, file, t->line, t->col, MOTE_EINVAL,
+                                   "%s: expected %s for %s, found %s%s", written, what, name,
+                                   found,
+                                   t->quoted ? " (numbers are written without quotes)"
+                                   : !parse_real(t->text, &dummy)
+                                       ? " (an integer is written with digits only)"
+                                       : "");
+    }
+    case 'r': {
+        int rc = t->quoted ? 1 : parse_real(t->text, &a->r);
+        if (rc == 0)
+            return 0;
+        arg_name(def, i, name, sizeof name);
+        shown(t, found, sizeof found);
+        if (rc == 2)
+            return mote_script_fail_at(err, file, t->line, t->col, MOTE_EINVAL,
+                                       "%s: %s is out of the range of real numbers, found %s",
+                                       written, name, found);
+        return mote_script_fail_at(err, file, t->line, t->col, MOTE_EINVAL,
+                                   "%s: expected a real number for %s, found %s%s", written, name,
+                                   found,
+                                   t->quoted ? " (numbers are written without quotes)"
+                                             : real_hint(t->text));
+    }
+    case 'f':
+        if (t->text[0] == '\0') {
+            arg_name(def, i, name, sizeof name);
+            return mote_script_fail_at(err, file, t->line, t->col, MOTE_EINVAL,
+                                       "%s: expected a file name for %s, found an empty string",
+                                       written, name);
+        }
+        return 0;
+    default: /* 's', '*' */
+        return 0;
+    }
+}
+
+/* ---- commands ------------------------------------------------------------------------------- */
+
+static void list_models(char *buf, size_t cap, const mote_model *const *models, size_t nmodels)
+{
+    size_t k = 0;
+    buf[0] = '\0';
+    for (size_t i = 0; i < nmodels && k < cap; i++) {
+        int n = snprintf(buf + k, cap - k, "%s%s", i ? ", " : "", models[i]->name);
+        if (n < 0)
+            break;
+        k += (size_t)n;
+    }
+}
+
+static const char *plural(int n) { return n == 1 ? "" : "s"; }
+
+static int unknown_command(mote_script *s, const token *t, mote_err *err)
+{
+    mote_suggest sg;
+    mote_suggest_init(&sg, t->text);
+    for (size_t i = 0; i < mote_script_common_ncmds; i++)
+        mote_suggest_feed_cmd(&sg, &mote_script_common_cmds[i]);
+    if (s->model)
+        for (size_t i = 0; i < s->model->ncmds; i++)
+            mote_suggest_feed_cmd(&sg, &s->model->cmds[i]);
+    char found[80], best[80];
+    shown(t, found, sizeof found);
+    if (mote_suggest_result(&sg, best, sizeof best)) {
+        int differs_in_case_only = strlen(best) == strlen(t->text) && contains_ci(t->text, best);
+        return mote_script_fail_at(err, s->ctx.script_path, t->line, t->col, MOTE_EINVAL,
+                                   "unknown command %s; did you mean '%s'?%s", found, best,
+                                   differs_in_case_only ? " (command names are lower-case)" : "");
+    }
+    return mote_script_fail_at(err, s->ctx.script_path, t->line, t->col, MOTE_EINVAL,
+                               "unknown command %s (model %s; 'mote help' lists the commands)",
+                               found, s->model ? s->model->name : "none");
+}
+
+static int select_model(mote_script *s, const mote_call *c, const mote_model *const *models,
+                        size_t nmodels, mote_err *err)
+{
+    const mote_arg *a = &c->args[0];
+    s->model = mote_model_find(models, nmodels, a->text);
+    s->model_line = c->line;
+    if (s->model)
+        return 0;
+    char known[512], best[80], found[80];
+    token t = {a->text, a->line, a->col, a->quoted};
+    shown(&t, found, sizeof found);
+    list_models(known, sizeof known, models, nmodels);
+    mote_suggest sg;
+    mote_suggest_init(&sg, a->text);
+    for (size_t i = 0; i < nmodels; i++)
+        mote_suggest_feed(&sg, models[i]->name, strlen(models[i]->name));
+    if (mote_suggest_result(&sg, best, sizeof best))
+        return mote_script_fail_at(err, s->ctx.script_path, a->line, a->col, MOTE_EINVAL,
+                                   "model: unknown model %s; did you mean '%s'? (known models: %s)",
+                                   found, best, known);
+    return mote_script_fail_at(err, s->ctx.script_path, a->line, a->col, MOTE_EINVAL,
+                               "model: unknown model %s (known models: %s)", found, known);
+}
+
+static int push_call(mote_script *s, const mote_call *c)
+{
+    if (s->ncalls == s->cap) {
+        size_t cap = s->cap ? 2 * s->cap : 32;
+        mote_call *nc = realloc(s->calls, cap * sizeof *nc);
+        if (!nc)
+            return -1;
+        s->calls = nc;
+        s->cap = cap;
+    }
+    s->calls[s->ncalls++] = *c;
+    return 0;
+}
+
+static int parse_command(mote_script *s, const token_list *tl, const mote_model *const *models,
+                         size_t nmodels, mote_err *err)
+{
+    const char *file = s->ctx.script_path;
+    const token *name = &tl->t[0];
+    char found[80];
+    if (name->quoted)
+        return mote_script_fail_at(err, file, name->line, name->col, MOTE_EINVAL,
+                                   "expected a command name, found a quoted string %s",
+                                   shown(name, found, sizeof found));
+    const mote_cmd *model_cmd = mote_script_common_model_cmd();
+    int is_model = strcmp(name->text, model_cmd->name) == 0;
+    if (s->ncalls == 0 && !is_model) {
+        s->model = mote_model_find(models, nmodels, MOTE_DEFAULT_MODEL);
+        if (!s->model) {
+            char known[512];
+            list_models(known, sizeof known, models, nmodels);
+            return mote_script_fail_at(err, file, name->line, name->col, MOTE_EINVAL,
+                                       "the first command must be 'model NAME' "
+                                       "(known models: %s)", known);
+        }
+    }
+    const mote_cmd *def = mote_cmd_lookup(mote_script_common_cmds, mote_script_common_ncmds,
+                                          name->text);
+    if (!def && s->model)
+        def = mote_cmd_lookup(s->model->cmds, s->model->ncmds, name->text);
+    if (!def)
+        return unknown_command(s, name, err);
+    if (def == model_cmd && s->ncalls != 0) {
+        if (s->model_line)
+            return mote_script_fail_at(err, file, name->line, name->col, MOTE_EINVAL,
+                                       "model: only one 'model' command is allowed, as the first "
+                                       "command (line %d already selected '%s')",
+                                       s->model_line, s->model->name);
+        return mote_script_fail_at(err, file, name->line, name->col, MOTE_EINVAL,
+                                   "model: 'model' must be the first command of the script "
+                                   "(without it, the script is a %s script)", s->model->name);
+    }
+
+    int nargs = tl->n - 1;
+    int star = def->args[0] == '*';
+    int want = star ? nargs : (int)strlen(def->args);
+    const char *syn = def->synopsis ? def->synopsis : def->name;
+    if (nargs > want) {
+        const token *extra = &tl->t[want + 1];
+        return mote_script_fail_at(err, file, extra->line, extra->col, MOTE_EINVAL,
+                                   "%s: too many arguments: expected '%s' (%d argument%s), "
+                                   "found %d", name->text, syn, want, plural(want), nargs);
+    }
+    if (nargs < want)
+        return mote_script_fail_at(err, file, name->line, name->col, MOTE_EINVAL,
+                                   "%s: too few arguments: expected '%s' (%d argument%s), "
+                                   "found %d", name->text, syn, want, plural(want), nargs);
+
+    mote_call c;
+    memset(&c, 0, sizeof c);
+    mote_arg *args = NULL;
+    if (nargs > 0) {
+        args = mote_arena_alloc(&s->arena, (size_t)nargs * sizeof *args);
+        if (!args)
+            return mote_script_fail_plain(err, MOTE_ENOMEM, "out of memory reading the script");
+        for (int i = 0; i < nargs; i++) {
+            int rc = convert_arg(s, def, name->text, i, &tl->t[i + 1], &args[i], err);
+            if (rc)
+                return rc;
+        }
+    }
+    c.file = file;
+    c.line = name->line;
+    c.col = name->col;
+    c.name = def->name;
+    c.written = name->text;
+    c.source = mote_arena_strndup(&s->arena, tl->src_begin,
+                                  (size_t)(tl->src_end - tl->src_begin));
+    c.nargs = nargs;
+    c.args = args;
+    c.def = def;
+    c.ctx = &s->ctx;
+    if (!c.source)
+        return mote_script_fail_plain(err, MOTE_ENOMEM, "out of memory reading the script");
+    if (def == model_cmd) {
+        int rc = select_model(s, &c, models, nmodels, err);
+        if (rc)
+            return rc;
+    }
+    if (push_call(s, &c))
+        return mote_script_fail_plain(err, MOTE_ENOMEM, "out of memory reading the script");
+    return 0;
+}
+
+/* ---- the whole script ----------------------------------------------------------------------- */
+
+static int parse_text(mote_script *s, const char *text, size_t len,
+                      const mote_model *const *models, size_t nmodels, mote_err *err)
+{
+    token_list tl = {NULL, 0, 0, NULL, NULL};
+    const char *p = text, *end = text + len;
+    if (len >= 3 && memcmp(p, "\xEF\xBB\xBF", 3) == 0) /* UTF-8 byte-order mark */
+        p += 3;
+    int rc = 0;
+    for (int line = 1; p <= end; line++) {
+        const char *nl = memchr(p, '\n', (size_t)(end - p));
+        const char *le = nl ? nl : end;
+        if (le > p && le[-1] == '\r')
+            le--;
+        cursor c = {p, le, line, 1};
+        rc = lex_line(s, c, &tl, err);
+        if (!rc && tl.n > 0)
+            rc = parse_command(s, &tl, models, nmodels, err);
+        if (rc || !nl)
+            break;
+        p = nl + 1;
+    }
+    free(tl.t);
+    if (!rc && !s->model) {
+        /* An empty script: it still belongs to a model, for `check` and for status output. */
+        s->model = mote_model_find(models, nmodels, MOTE_DEFAULT_MODEL);
+        if (!s->model)
+            rc = mote_script_fail_at(err, s->ctx.script_path, 1, 1, MOTE_EINVAL,
+                                     "the script is empty and has no 'model' line");
+    }
+    return rc;
+}
+
+int mote_script_parse(mote_script **out, const char *file, const char *text, size_t len,
+                      const mote_model *const *models, size_t nmodels, mote_err *err)
+{
+    *out = NULL;
+    mote_script *s = calloc(1, sizeof *s);
+    if (!s)
+        return mote_script_fail_plain(err, MOTE_ENOMEM, "out of memory reading the script");
+    s->ctx.out = stdout;
+    s->ctx.diag = stderr;
+    s->ctx.script_path = mote_arena_strndup(&s->arena, file, strlen(file));
+    if (!s->ctx.script_path) {
+        mote_script_free(s);
+        return mote_script_fail_plain(err, MOTE_ENOMEM, "out of memory reading the script");
+    }
+    int rc = parse_text(s, text, len, models, nmodels, err);
+    if (rc) {
+        mote_script_free(s);
+        return rc;
+    }
+    *out = s;
+    return 0;
+}
+
+int mote_script_load(mote_script **out, const char *path, const mote_model *const *models,
+                     size_t nmodels, mote_err *err)
+{
+    *out = NULL;
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return mote_script_fail_plain(err, MOTE_EIO, "mote: error: cannot open script '%s': %s",
+                                      path, strerror(errno));
+    size_t len = 0, cap = 65536;
+    char *buf = malloc(cap);
+    int rc = 0;
+    if (!buf)
+        rc = mote_script_fail_plain(err, MOTE_ENOMEM, "mote: error: out of memory reading '%s'",
+                                    path);
+    while (!rc) {
+        if (len == cap) {
+            char *nb = cap <= SIZE_MAX / 2 ? realloc(buf, cap * 2) : NULL;
+            if (!nb) {
+                rc = mote_script_fail_plain(err, MOTE_ENOMEM,
+                                            "mote: error: out of memory reading '%s'", path);
+                break;
+            }
+            buf = nb;
+            cap *= 2;
+        }
+        size_t n = fread(buf + len, 1, cap - len, f);
+        len += n;
+        if (n == 0) {
+            if (ferror(f))
+                rc = mote_script_fail_plain(err, MOTE_EIO, "mote: error: cannot read script "
+                                            "'%s': %s", path, strerror(errno));
+            break;
+        }
+    }
+    fclose(f);
+    if (!rc)
+        rc = mote_script_parse(out, path, buf, len, models, nmodels, err);
+    free(buf);
+    return rc;
+}
+
+void mote_script_free(mote_script *s)
+{
+    if (!s)
+        return;
+    free(s->calls);
+    mote_arena_free(&s->arena);
+    free(s);
+}
+
+mote_context *mote_script_context(mote_script *s) { return &s->ctx; }
+const mote_model *mote_script_model(const mote_script *s) { return s->model; }
+size_t mote_script_ncalls(const mote_script *s) { return s->ncalls; }
+
+const mote_call *mote_script_call(const mote_script *s, size_t i)
+{
+    return i < s->ncalls ? &s->calls[i] : NULL;
+}
+
+const mote_model *mote_model_find(const mote_model *const *models, size_t nmodels,
+                                  const char *name)
+{
+    for (size_t i = 0; i < nmodels; i++)
+        if (models[i] && strcmp(models[i]->name, name) == 0)
+            return models[i];
+    return NULL;
+}

@@ -1,0 +1,287 @@
+/* run.c: validation and execution of a parsed script, and the commands every model shares
+ * (`model`, `output_dir`, `echo`, `threads`). Validation runs every command's `check` on a dry
+ * model, so a typo on the last line is found before the first line has run for hours; execution
+ * then runs every command on a fresh model and prints the model's status line after each. */
+#include "script_internal.h"
+
+#include <errno.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+
+/* ---- common commands ------------------------------------------------------------------------ */
+
+/* DIR as stored in ctx->output_dir: trailing slashes dropped, "." meaning the current directory. */
+static int output_dir_value(const mote_call *c, char *buf, size_t cap, mote_err *err)
+{
+    const char *dir = c->args[0].text;
+    size_t n = strlen(dir);
+    while (n > 1 && dir[n - 1] == '/')
+        n--;
+    if (n >= cap)
+        return mote_call_fail(err, c, 0, MOTE_EINVAL,
+                              "output_dir: the directory name is too long (at most %zu bytes)",
+                              cap - 1);
+    memcpy(buf, dir, n);
+    buf[n] = '\0';
+    if (strcmp(buf, ".") == 0)
+        buf[0] = '\0';
+    return 0;
+}
+
+static int output_dir_check(void *model, const mote_call *c, mote_err *err)
+{
+    mote_context *ctx = c->ctx;
+    char dir[sizeof ctx->output_dir];
+    int rc = output_dir_value(c, dir, sizeof dir, err);
+    if (rc)
+        return rc;
+    if (dir[0]) {
+        struct stat st;
+        if (stat(dir, &st) == 0) {
+            if (!S_ISDIR(st.st_mode))
+                return mote_call_fail(err, c, 0, MOTE_EINVAL,
+                                      "output_dir: '%s' exists and is not a directory", dir);
+        } else if (errno != ENOENT) {
+            return mote_call_fail(err, c, 0, MOTE_EINVAL, "output_dir: cannot use '%s': %s", dir,
+                                  strerror(errno));
+        } else {
+            int known = 0;
+            for (int i = 0; i < ctx->npending_dirs; i++)
+                known |= strcmp(ctx->pending_dirs[i], dir) == 0;
+            if (!known) {
+                int cap = (int)(sizeof ctx->pending_dirs / sizeof ctx->pending_dirs[0]);
+                if (ctx->npending_dirs >= cap)
+                    return mote_call_fail(err, c, 0, MOTE_EINVAL,
+                                          "output_dir: too many new directories in one script "
+                                          "(at most %d); create '%s' beforehand", cap, dir);
+                memcpy(ctx->pending_dirs[ctx->npending_dirs++], dir, strlen(dir) + 1);
+            }
+        }
+    }
+    memcpy(ctx->output_dir, dir, strlen(dir) + 1);
+    return 0;
+}
+
+/* mkdir -p: make dir and any missing parents. Returns 0 or an errno value. */
+static int make_dirs(const char *dir)
+{
+    char buf[4096];
+    size_t n = strlen(dir);
+    if (n >= sizeof buf)
+        return ENAMETOOLONG;
+    memcpy(buf, dir, n + 1);
+    for (size_t i = 1; i <= n; i++) {
+        if (buf[i] != '/' && buf[i] != '\0')
+            continue;
+        if (buf[i - 1] == '/')
+            continue;
+        char save = buf[i];
+        buf[i] = '\0';
+        if (mkdir(buf, 0777) != 0) {
+            int e = errno;
+            struct stat st;
+            if (e != EEXIST)
+                return e;
+            if (stat(buf, &st) != 0)
+                return errno;
+            if (!S_ISDIR(st.st_mode))
+                return ENOTDIR;
+        }
+        buf[i] = save;
+    }
+    return 0;
+}
+
+static int output_dir_run(void *model, const mote_call *c, mote_err *err)
+{
+    mote_context *ctx = c->ctx;
+    char dir[sizeof ctx->output_dir];
+    int rc = output_dir_value(c, dir, sizeof dir, err);
+    if (rc)
+        return rc;
+    if (dir[0]) {
+        int e = make_dirs(dir);
+        if (e)
+            return mote_call_fail(err, c, 0, MOTE_EIO,
+                                  "output_dir: cannot create directory '%s': %s", dir,
+                                  strerror(e));
+    }
+    memcpy(ctx->output_dir, dir, strlen(dir) + 1);
+    return 0;
+}
+
+static int echo_run(void *model, const mote_call *c, mote_err *err)
+{
+    FILE *out = c->ctx->out;
+    for (int i = 0; i < c->nargs; i++)
+        fprintf(out, "%s%s", i ? " " : "", c->args[i].text);
+    fputc('\n', out);
+    return 0;
+}
+
+static int threads_check(void *model, const mote_call *c, mote_err *err)
+{
+    if (c->args[0].i < 1)
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "threads: expected N >= 1, found %lld",
+                              (long long)c->args[0].i);
+    return 0;
+}
+
+static int threads_run(void *model, const mote_call *c, mote_err *err)
+{
+    mote_script *s = model; /* common commands receive the script, not the model */
+    if (!s->threads_noted) {
+        s->threads_noted = 1;
+        fprintf(c->ctx->diag,
+                "%s:%d:%d: note: threads: the models are single-threaded for now; "
+                "'threads %lld' has no effect yet\n",
+                c->file, c->line, c->col, (long long)c->args[0].i);
+    }
+    return 0;
+}
+
+const mote_cmd mote_script_common_cmds[] = {
+    {"model", NULL, "s", "model NAME", "select the model; must be the first command",
+     "Select the model the script drives (`mote help` lists the models of this\n"
+     "build). It must be the first command of the script and may appear only once.\n"
+     "A script without a `model` line is a " MOTE_DEFAULT_MODEL " script, so the original\n"
+     "program's program.txt files run unchanged.\n",
+     NULL, NULL, 0},
+    {"output_dir", NULL, "f", "output_dir DIR",
+     "create DIR and write the files of later commands there",
+     "Create the directory DIR, with any missing parents (like `mkdir -p`), when\n"
+     "the command runs, and resolve the relative file names of all later commands\n"
+     "against it. A relative DIR is taken relative to the current directory, not to\n"
+     "an earlier `output_dir`; `output_dir .` returns to the current directory.\n"
+     "Absolute file names are not affected. Validation knows that DIR will exist,\n"
+     "so later commands may write into it.\n",
+     output_dir_check, output_dir_run, 0},
+    {"echo", NULL, "*", "echo TEXT...", "print the arguments",
+     "Print the arguments, separated by single spaces, on standard output. Quote\n"
+     "text to keep runs of spaces or a `#` in it.\n",
+     NULL, echo_run, 0},
+    {"threads", NULL, "i", "threads N", "number of threads (N >= 1); no effect yet",
+     "Set the number of threads, N >= 1. Accepted so that scripts can already say\n"
+     "it: the models are single-threaded for now, so the first `threads` command\n"
+     "prints a note and none has an effect.\n",
+     threads_check, threads_run, 0},
+};
+const size_t mote_script_common_ncmds = sizeof mote_script_common_cmds /
+                                        sizeof mote_script_common_cmds[0];
+
+int mote_script_is_common(const mote_cmd *def)
+{
+    return def >= mote_script_common_cmds && def < mote_script_common_cmds + mote_script_common_ncmds;
+}
+
+const mote_cmd *mote_script_common_model_cmd(void) { return &mote_script_common_cmds[0]; }
+
+/* ---- validation and execution --------------------------------------------------------------- */
+
+static void reset_context(mote_context *ctx)
+{
+    ctx->output_dir[0] = '\0';
+    ctx->npending_dirs = 0;
+}
+
+static void clear(mote_err *err)
+{
+    err->code = MOTE_OK;
+    err->located = 0;
+    err->msg[0] = '\0';
+}
+
+int mote_script_validate(mote_script *s, mote_err *err)
+{
+    clear(err);
+    s->validated = 0;
+    reset_context(&s->ctx);
+    void *dry = s->model->create(&s->ctx, 1);
+    if (!dry)
+        return mote_script_fail_at(err, s->ctx.script_path, 1, 1, MOTE_ENOMEM,
+                                   "cannot create the %s model (out of memory)", s->model->name);
+    int rc = 0;
+    for (size_t i = 0; i < s->ncalls && !rc; i++) {
+        const mote_call *c = &s->calls[i];
+        if (!c->def->check)
+            continue;
+        clear(err);
+        rc = c->def->check(mote_script_is_common(c->def) ? (void *)s : dry, c, err);
+        if (rc)
+            mote_script_locate(err, c);
+    }
+    s->model->destroy(dry);
+    reset_context(&s->ctx);
+    if (rc)
+        return err->code ? (int)err->code : (int)MOTE_EINVAL;
+    s->validated = 1;
+    return 0;
+}
+
+int mote_script_execute(mote_script *s, mote_err *err)
+{
+    if (!s->validated) {
+        int rc = mote_script_validate(s, err);
+        if (rc)
+            return rc;
+    }
+    clear(err);
+    reset_context(&s->ctx);
+    s->threads_noted = 0;
+    void *model = s->model->create(&s->ctx, 0);
+    if (!model)
+        return mote_script_fail_at(err, s->ctx.script_path, 1, 1, MOTE_ENOMEM,
+                                   "cannot create the %s model (out of memory)", s->model->name);
+    int rc = 0;
+    for (size_t i = 0; i < s->ncalls && !rc; i++) {
+        const mote_call *c = &s->calls[i];
+        int common = mote_script_is_common(c->def);
+        if (c->def->run) {
+            clear(err);
+            rc = c->def->run(common ? (void *)s : model, c, err);
+        }
+        if (rc) {
+            mote_script_locate(err, c);
+            rc = err->code ? (int)err->code : (int)MOTE_ERUNTIME;
+        } else if (!common && s->model->status) {
+            s->model->status(model, s->ctx.out);
+        }
+        fflush(s->ctx.out);
+    }
+    s->model->destroy(model);
+    return rc;
+}
+
+int mote_script_run_file(const char *path, const mote_model *const *models, size_t nmodels,
+                         const mote_script_options *opt)
+{
+    mote_err err;
+    clear(&err);
+    mote_script *s;
+    if (mote_script_load(&s, path, models, nmodels, &err)) {
+        fprintf(opt->diag, "%s\n", err.msg);
+        return 1;
+    }
+    mote_context *ctx = mote_script_context(s);
+    ctx->out = opt->out;
+    ctx->diag = opt->diag;
+    ctx->terminal = opt->terminal;
+    if (s->ncalls == 0)
+        fprintf(opt->diag, "%s: warning: the script has no commands\n", path);
+    int status = 0;
+    if (mote_script_validate(s, &err)) {
+        fprintf(opt->diag, "%s\n", err.msg);
+        status = 1;
+    } else if (opt->check_only) {
+        fprintf(opt->out, "%s: ok: %zu command%s for model %s\n", path, s->ncalls,
+                s->ncalls == 1 ? "" : "s", s->model->name);
+    } else if (mote_script_execute(s, &err)) {
+        fflush(opt->out);
+        fprintf(opt->diag, "%s\n", err.msg);
+        status = 2;
+    }
+    fflush(opt->out);
+    mote_script_free(s);
+    return status;
+}

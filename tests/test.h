@@ -1,0 +1,65 @@
+/* test.h: the assertions every mote test program uses. Each CHECK counts a pass or prints a
+ * failure with its file and line; test_summary() prints "N passed, M failed" on its own line and
+ * returns the exit status (non-zero when anything failed, or when nothing was checked at all,
+ * since a test that checks nothing cannot fail). Include it in one .c file per test program. */
+#ifndef MOTE_TEST_H
+#define MOTE_TEST_H
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+static int test_passed_, test_failed_;
+
+/* CHECK(cond, fmt, ...): fmt and its arguments explain a failure. */
+#define CHECK(cond, ...)                                                                      \
+    do {                                                                                      \
+        if (cond) {                                                                           \
+            test_passed_++;                                                                   \
+        } else {                                                                              \
+            test_failed_++;                                                                   \
+            printf("%s:%d: FAILED: %s: ", __FILE__, __LINE__, #cond);                         \
+            printf(__VA_ARGS__);                                                              \
+            printf("\n");                                                                     \
+            fflush(stdout);                                                                   \
+        }                                                                                     \
+    } while (0)
+
+/* Integers compared as long long, printing both values. */
+#define CHECK_INT(a, b)                                                                       \
+    do {                                                                                      \
+        long long a_ = (long long)(a), b_ = (long long)(b);                                   \
+        CHECK(a_ == b_, "%s = %lld, expected %lld", #a, a_, b_);                              \
+    } while (0)
+
+/* Strings equal (NULL counts as different from everything). */
+#define CHECK_STR(a, b)                                                                       \
+    do {                                                                                      \
+        const char *a_ = (a), *b_ = (b);                                                      \
+        CHECK(a_ && b_ && strcmp(a_, b_) == 0, "%s = \"%s\", expected \"%s\"", #a,            \
+              a_ ? a_ : "(null)", b_ ? b_ : "(null)");                                        \
+    } while (0)
+
+/* `hay` contains `needle`. */
+#define CHECK_HAS(hay, needle)                                                                \
+    do {                                                                                      \
+        const char *h_ = (hay), *n_ = (needle);                                               \
+        CHECK(h_ && n_ && strstr(h_, n_) != NULL, "%s = \"%s\" lacks \"%s\"", #hay,           \
+              h_ ? h_ : "(null)", n_ ? n_ : "(null)");                                        \
+    } while (0)
+
+/* |a - b| <= tol (fails on NaN). */
+#define CHECK_NEAR(a, b, tol)                                                                 \
+    do {                                                                                      \
+        double a_ = (a), b_ = (b), t_ = (tol);                                                \
+        CHECK(fabs(a_ - b_) <= t_, "%s = %.17g, expected %.17g within %.3g", #a, a_, b_, t_); \
+    } while (0)
+
+static inline int test_summary(void)
+{
+    printf("%d passed, %d failed\n", test_passed_, test_failed_);
+    fflush(stdout);
+    return test_failed_ > 0 || test_passed_ == 0;
+}
+
+#endif

@@ -1,0 +1,867 @@
+/* test_script.c: the script language and the `mote` program, driven with fake models: lexing
+ * (blank lines, comments, CRLF, quotes), argument conversion and its error messages (exact
+ * FILE:LINE:COL prefixes), model selection, validation before execution (nothing runs when a
+ * later line is wrong), runtime errors (exit status 2, located), output_dir, help and usage. */
+#include "mote/script.h"
+#include "test.h"
+
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+/* ---- a fake model that records what ran ------------------------------------------------------ */
+
+/* What the fake model's commands did; reset before each script. Tests may keep globals. */
+static struct {
+    int creates_dry, creates_real, destroys;
+    int checks, runs;
+    long long last_k;
+    unsigned long long last_seed;
+    int last_nargs;
+    char last_path[1024];
+} LOG;
+
+typedef struct {
+    int dry;
+    int has_system;
+} fake;
+
+static void *fake_create(mote_context *ctx, int dry)
+{
+    fake *f = calloc(1, sizeof *f);
+    if (f)
+        f->dry = dry;
+    if (dry)
+        LOG.creates_dry++;
+    else
+        LOG.creates_real++;
+    return f;
+}
+
+static void fake_destroy(void *m)
+{
+    LOG.destroys++;
+    free(m);
+}
+
+static void fake_status(void *m, FILE *out) { fprintf(out, "status runs=%d\n", LOG.runs); }
+
+static int new_check(void *m, const mote_call *c, mote_err *err)
+{
+    LOG.checks++;
+    if (c->args[0].i < 2)
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "new: NN must be >= 2, found %lld",
+                              (long long)c->args[0].i);
+    if (!(c->args[1].r > 0 && c->args[1].r < 0.74))
+        return mote_call_fail(err, c, 1, MOTE_EINVAL, "new: eta must be in (0, 0.74), found %g",
+                              c->args[1].r);
+    ((fake *)m)->has_system = 1;
+    return 0;
+}
+
+static int new_run(void *m, const mote_call *c, mote_err *err)
+{
+    LOG.runs++;
+    ((fake *)m)->has_system = 1;
+    return 0;
+}
+
+static int step_check(void *m, const mote_call *c, mote_err *err)
+{
+    LOG.checks++;
+    if (!((fake *)m)->has_system)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "step: no system yet");
+    if (c->args[0].i < 1)
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "step: K must be >= 1, found %lld",
+                              (long long)c->args[0].i);
+    return 0;
+}
+
+static int step_run(void *m, const mote_call *c, mote_err *err)
+{
+    LOG.runs++;
+    LOG.last_k = c->args[0].i;
+    return 0;
+}
+
+static int compress_run(void *m, const mote_call *c, mote_err *err)
+{
+    LOG.runs++;
+    LOG.last_k = c->args[2].i;
+    return 0;
+}
+
+static int seed_run(void *m, const mote_call *c, mote_err *err)
+{
+    LOG.runs++;
+    LOG.last_seed = c->args[0].u;
+    return 0;
+}
+
+static int save_check(void *m, const mote_call *c, mote_err *err)
+{
+    LOG.checks++;
+    char *path = mote_ctx_path(c->ctx, c->args[0].text);
+    if (!path)
+        return mote_call_fail(err, c, 0, MOTE_ENOMEM, "out of memory");
+    int ok = mote_ctx_dir_ok(c->ctx, path);
+    int rc = ok ? 0
+                : mote_call_fail(err, c, 0, MOTE_EINVAL, "save: the directory of '%s' does not "
+                                 "exist", path);
+    free(path);
+    return rc;
+}
+
+static int save_run(void *m, const mote_call *c, mote_err *err)
+{
+    LOG.runs++;
+    char *path = mote_ctx_path(c->ctx, c->args[0].text);
+    if (!path)
+        return mote_call_fail(err, c, 0, MOTE_ENOMEM, "out of memory");
+    snprintf(LOG.last_path, sizeof LOG.last_path, "%s", path);
+    FILE *f = fopen(path, "w");
+    int rc = 0;
+    if (!f)
+        rc = mote_call_fail(err, c, 0, MOTE_EIO, "save: cannot write '%s'", path);
+    else
+        fclose(f);
+    free(path);
+    return rc;
+}
+
+static int opts_run(void *m, const mote_call *c, mote_err *err)
+{
+    LOG.runs++;
+    LOG.last_nargs = c->nargs;
+    return 0;
+}
+
+/* A runtime failure whose message the command did not locate. */
+static int boom_run(void *m, const mote_call *c, mote_err *err)
+{
+    LOG.runs++;
+    err->code = MOTE_ERUNTIME;
+    err->located = 0;
+    snprintf(err->msg, sizeof err->msg, "boom: simulated failure");
+    return MOTE_ERUNTIME;
+}
+
+static int boom_at_run(void *m, const mote_call *c, mote_err *err)
+{
+    LOG.runs++;
+    return mote_call_fail(err, c, 0, MOTE_EIO, "boom_at: cannot write '%s'", c->args[0].text);
+}
+
+static const mote_cmd fake_cmds[] = {
+    {"new", NULL, "ir", "new NN eta", "make a system", "Make a system of NN x NN spheres.",
+     new_check, new_run, 0},
+    {"step", NULL, "i", "step K", "run K collisions per particle", "Run.", step_check, step_run,
+     1},
+    {"compress_left_wall", "compressl", "rri", "compress_left_wall eta dLmax K",
+     "move the left wall", "Compress.", NULL, compress_run, 1},
+    {"compress_two_walls", "compresst compress_both_walls", "rri",
+     "compress_two_walls eta dLmax K", "move both walls", "Compress both.", NULL, compress_run, 1},
+    {"seed", NULL, "u", "seed S", "re-seed", "Seed the generator.", NULL, seed_run, 0},
+    {"save", NULL, "f", "save FILE", "write the state", "Save.", save_check, save_run, 1},
+    {"opts", NULL, "*", "opts KEY=VALUE...", "any tokens", "Options.", NULL, opts_run, 0},
+    {"name", NULL, "s", "name S", "a string", "Name.", NULL, opts_run, 0},
+    {"boom", NULL, "", "boom", "fail at run time", "Fails.", NULL, boom_run, 0},
+    {"boom_at", NULL, "f", "boom_at FILE", "fail at run time, located", "Fails at FILE.", NULL,
+     boom_at_run, 0},
+};
+
+static const mote_model fake_model = {
+    "hard-spheres", "fake hard spheres", fake_cmds, sizeof fake_cmds / sizeof fake_cmds[0],
+    fake_create, fake_destroy, fake_status,
+};
+
+static const mote_cmd other_cmds[] = {
+    {"ping", NULL, "", "ping", "count a run", "Ping.", NULL, opts_run, 0},
+};
+
+static const mote_model other_model = {
+    "mixing-box", "another fake", other_cmds, 1, fake_create, fake_destroy, NULL,
+};
+
+static const mote_model *const MODELS[] = {&fake_model, &other_model};
+static const size_t NMODELS = 2;
+
+/* ---- helpers -------------------------------------------------------------------------------- */
+
+static char TMP[256]; /* the test's scratch directory, also its working directory */
+
+typedef struct {
+    int status;
+    char path[512];
+    char out[65536];
+    char err[65536];
+} result;
+
+static void slurp(FILE *f, char *buf, size_t cap)
+{
+    rewind(f);
+    size_t n = fread(buf, 1, cap - 1, f);
+    buf[n] = '\0';
+    fclose(f);
+}
+
+static void write_file(const char *path, const char *text, size_t len)
+{
+    FILE *f = fopen(path, "wb");
+    if (!f) {
+        printf("cannot write %s\n", path);
+        return;
+    }
+    fwrite(text, 1, len, f);
+    fclose(f);
+}
+
+/* Write `text` to NAME in the scratch directory and run (or check) it. */
+static result *run_text(result *r, const char *name, const char *text, int check_only)
+{
+    memset(&LOG, 0, sizeof LOG);
+    snprintf(r->path, sizeof r->path, "%s", name);
+    write_file(r->path, text, strlen(text));
+    FILE *out = tmpfile(), *diag = tmpfile();
+    mote_script_options opt = {out, diag, 0, check_only};
+    r->status = mote_script_run_file(r->path, MODELS, NMODELS, &opt);
+    slurp(out, r->out, sizeof r->out);
+    slurp(diag, r->err, sizeof r->err);
+    return r;
+}
+
+/* Does the error output start with "NAME:LINE:COL: error: " and contain each key word? */
+static void expect_error(const result *r, int status, int line, int col, const char *k1,
+                         const char *k2, const char *k3)
+{
+    char prefix[600];
+    snprintf(prefix, sizeof prefix, "%s:%d:%d: error: ", r->path, line, col);
+    CHECK_INT(r->status, status);
+    CHECK(strncmp(r->err, prefix, strlen(prefix)) == 0, "expected prefix '%s' in: %s", prefix,
+          r->err);
+    CHECK(strstr(r->err + strlen(prefix), "error:") == NULL, "location given twice: %s", r->err);
+    const char *keys[3] = {k1, k2, k3};
+    for (int i = 0; i < 3; i++)
+        if (keys[i])
+            CHECK_HAS(r->err, keys[i]);
+    /* exactly one line of diagnostics */
+    const char *nl = strchr(r->err, '\n');
+    CHECK(nl && nl[1] == '\0', "one diagnostic line expected, got: %s", r->err);
+}
+
+static mote_script *parse(const char *text, size_t len, mote_err *err)
+{
+    mote_script *s = NULL;
+    mote_script_parse(&s, "mem.mote", text, len, MODELS, NMODELS, err);
+    return s;
+}
+
+/* Run the whole program on argv, capturing both streams. */
+static int main_io(result *r, int argc, const char **argv)
+{
+    memset(&LOG, 0, sizeof LOG);
+    FILE *out = tmpfile(), *diag = tmpfile();
+    char *args[16];
+    for (int i = 0; i < argc && i < 16; i++)
+        args[i] = (char *)argv[i];
+    r->status = mote_script_main_io(argc, args, MODELS, NMODELS, out, diag, 0);
+    slurp(out, r->out, sizeof r->out);
+    slurp(diag, r->err, sizeof r->err);
+    return r->status;
+}
+
+/* ---- tests ---------------------------------------------------------------------------------- */
+
+static void test_lexing(void)
+{
+    const char *text = "# a comment line\n"
+                       "\n"
+                       "   \t  \n"
+                       "new 10 0.3   # trailing comment\n"
+                       "\tstep\t+25 \n"
+                       "save \"my file.dat\"\n"
+                       "save \"a\\\"b\\\\c\"   #\"not a string\n"
+                       "opts a=1 \"b c\" #x d\n"
+                       "name x#y\n"
+                       "save \"\xc3\xa9t\xc3\xa9.dat\"";
+    mote_err err = {0};
+    mote_script *s = parse(text, strlen(text), &err);
+    CHECK(s != NULL, "parse failed: %s", err.msg);
+    if (!s)
+        return;
+    CHECK_INT(mote_script_ncalls(s), 7);
+    CHECK_STR(mote_script_model(s)->name, "hard-spheres");
+    const mote_call *c = mote_script_call(s, 0);
+    CHECK_STR(c->name, "new");
+    CHECK_INT(c->line, 4);
+    CHECK_INT(c->col, 1);
+    CHECK_INT(c->nargs, 2);
+    CHECK_INT(c->args[0].i, 10);
+    CHECK_NEAR(c->args[1].r, 0.3, 0);
+    CHECK_INT(c->args[1].col, 8);
+    CHECK_STR(c->source, "new 10 0.3");
+    CHECK_STR(c->file, "mem.mote");
+    c = mote_script_call(s, 1);
+    CHECK_INT(c->line, 5);
+    CHECK_INT(c->col, 2);
+    CHECK_INT(c->args[0].i, 25);
+    CHECK_INT(c->args[0].col, 7);
+    CHECK_STR(c->source, "step\t+25");
+    c = mote_script_call(s, 2);
+    CHECK_STR(c->args[0].text, "my file.dat");
+    CHECK_INT(c->args[0].quoted, 1);
+    CHECK_INT(c->args[0].col, 6);
+    c = mote_script_call(s, 3);
+    CHECK_STR(c->args[0].text, "a\"b\\c");
+    CHECK_STR(c->source, "save \"a\\\"b\\\\c\"");
+    c = mote_script_call(s, 4);
+    CHECK_INT(c->nargs, 2);
+    CHECK_STR(c->args[1].text, "b c");
+    c = mote_script_call(s, 5);
+    CHECK_STR(c->args[0].text, "x#y"); /* '#' inside a word is not a comment */
+    c = mote_script_call(s, 6);
+    CHECK_STR(c->args[0].text, "\xc3\xa9t\xc3\xa9.dat");
+    CHECK_INT(c->line, 10);
+    mote_script_free(s);
+
+    /* CRLF gives the same calls; so does a byte-order mark */
+    const char *crlf = "\xEF\xBB\xBFnew 10 0.3\r\n\r\nstep 5 # c\r\nsave \"x y\"\r\n";
+    s = parse(crlf, strlen(crlf), &err);
+    CHECK(s != NULL, "CRLF parse failed: %s", err.msg);
+    if (s) {
+        CHECK_INT(mote_script_ncalls(s), 3);
+        CHECK_STR(mote_script_call(s, 1)->source, "step 5");
+        CHECK_INT(mote_script_call(s, 1)->line, 3);
+        CHECK_STR(mote_script_call(s, 2)->args[0].text, "x y");
+        CHECK_INT(mote_script_call(s, 0)->col, 1);
+        mote_script_free(s);
+    }
+
+    /* no line-length limit */
+    size_t big = 200000;
+    char *line = malloc(big + 16);
+    if (line) {
+        memcpy(line, "opts ", 5);
+        size_t k = 5;
+        while (k + 2 < big + 5) {
+            line[k++] = 'a';
+            line[k++] = ' ';
+        }
+        line[k] = '\0';
+        s = parse(line, k, &err);
+        CHECK(s != NULL, "long line: %s", err.msg);
+        if (s) {
+            CHECK_INT(mote_script_call(s, 0)->nargs, (int)((k - 5) / 2));
+            mote_script_free(s);
+        }
+        free(line);
+    }
+
+    /* an empty script and a comments-only script are valid and do nothing */
+    s = parse("", 0, &err);
+    CHECK(s && mote_script_ncalls(s) == 0, "empty script");
+    mote_script_free(s);
+    result r;
+    run_text(&r, "comments.mote", "# nothing\n\n   # here\n", 0);
+    CHECK_INT(r.status, 0);
+    CHECK_INT(LOG.creates_real, 1);
+    CHECK_HAS(r.err, "warning: the script has no commands");
+}
+
+static void test_lexical_errors(void)
+{
+    result r;
+    run_text(&r, "quote.mote", "new 10 0.3\nsave \"never closed.dat\n", 0);
+    expect_error(&r, 1, 2, 6, "unterminated quoted string", NULL, NULL);
+    CHECK_INT(LOG.runs, 0);
+
+    run_text(&r, "quote2.mote", "save \"ends with backslash\\\"\n", 0);
+    expect_error(&r, 1, 1, 6, "unterminated", NULL, NULL);
+
+    run_text(&r, "escape.mote", "save \"C:\\data\"\n", 0);
+    expect_error(&r, 1, 1, 9, "unknown escape '\\d'", NULL, NULL);
+
+    run_text(&r, "mid.mote", "save abc\"def\"\n", 0);
+    expect_error(&r, 1, 1, 9, "unexpected '\"' inside a word", NULL, NULL);
+
+    run_text(&r, "after.mote", "save \"abc\"def\n", 0);
+    expect_error(&r, 1, 1, 11, "expected a space after the closing quote", NULL, NULL);
+
+    run_text(&r, "qcmd.mote", "\"step\" 10\n", 0);
+    expect_error(&r, 1, 1, 1, "expected a command name", "\"step\"", NULL);
+
+    run_text(&r, "ctrl.mote", "new 10 0.3\nstep\f10\n", 0);
+    expect_error(&r, 1, 2, 5, "control character", "0x0c", NULL);
+
+    run_text(&r, "cr.mote", "new 10 0.3\rstep 10\n", 0);
+    expect_error(&r, 1, 1, 11, "carriage return", NULL, NULL);
+
+    char nul[] = "new 10 0.3\nstep 1\0 0\n";
+    write_file("nul.mote", nul, sizeof nul - 1);
+    memset(&LOG, 0, sizeof LOG);
+    FILE *out = tmpfile(), *diag = tmpfile();
+    mote_script_options opt = {out, diag, 0, 0};
+    r.status = mote_script_run_file("nul.mote", MODELS, NMODELS, &opt);
+    snprintf(r.path, sizeof r.path, "nul.mote");
+    slurp(out, r.out, sizeof r.out);
+    slurp(diag, r.err, sizeof r.err);
+    expect_error(&r, 1, 2, 7, "control character", "0x00", NULL);
+
+    /* columns count characters, not bytes */
+    run_text(&r, "utf8.mote", "save \"\xc3\xa9\" x\n", 0);
+    expect_error(&r, 1, 1, 10, "too many arguments", NULL, NULL);
+}
+
+static void test_commands_and_arity(void)
+{
+    result r;
+    run_text(&r, "typo.mote", "new 10 0.3\n  stpe 10\n", 0);
+    expect_error(&r, 1, 2, 3, "unknown command 'stpe'", "did you mean 'step'?", NULL);
+
+    run_text(&r, "typo2.mote", "new 10 0.3\ncompresl 0.4 0.1 10\n", 0);
+    expect_error(&r, 1, 2, 1, "unknown command 'compresl'", "did you mean 'compressl'?", NULL);
+
+    run_text(&r, "upper.mote", "new 10 0.3\nSTEP 10\n", 0);
+    expect_error(&r, 1, 2, 1, "unknown command 'STEP'", "did you mean 'step'?", "lower-case");
+
+    run_text(&r, "far.mote", "new 10 0.3\nfrobnicate 10\n", 0);
+    expect_error(&r, 1, 2, 1, "unknown command 'frobnicate'", "mote help", NULL);
+    CHECK(strstr(r.err, "did you mean") == NULL, "no suggestion expected: %s", r.err);
+
+    /* the original document's example: 4 numbers where 3 are expected */
+    run_text(&r, "many.mote", "new 10 0.3\ncompressl 0.49 0.503423 0.000001 10\n", 0);
+    expect_error(&r, 1, 2, 34, "compressl: too many arguments",
+                 "expected 'compress_left_wall eta dLmax K' (3 arguments)", "found 4");
+    CHECK_INT(LOG.runs, 0);
+
+    run_text(&r, "few.mote", "new 10 0.3\n   step\n", 0);
+    expect_error(&r, 1, 2, 4, "step: too few arguments", "expected 'step K' (1 argument)",
+                 "found 0");
+
+    run_text(&r, "none.mote", "boom now\n", 0);
+    expect_error(&r, 1, 1, 6, "boom: too many arguments", "(0 arguments)", NULL);
+
+    /* aliases resolve to the canonical name */
+    mote_err err = {0};
+    const char *text = "compresst 0.4 0.1 5\ncompress_both_walls 0.4 0.1 6\n";
+    mote_script *s = parse(text, strlen(text), &err);
+    CHECK(s != NULL, "%s", err.msg);
+    if (s) {
+        CHECK_STR(mote_script_call(s, 0)->name, "compress_two_walls");
+        CHECK_STR(mote_script_call(s, 0)->written, "compresst");
+        CHECK_STR(mote_script_call(s, 1)->name, "compress_two_walls");
+        CHECK_INT(mote_script_call(s, 1)->args[2].i, 6);
+        mote_script_free(s);
+    }
+}
+
+static void test_numbers(void)
+{
+    result r;
+    run_text(&r, "i1.mote", "new 10 0.3\nstep 1e3\n", 0);
+    expect_error(&r, 1, 2, 6, "step: expected an integer for K, found '1e3'", NULL, NULL);
+
+    run_text(&r, "i2.mote", "new 10 0.3\nstep -5\n", 0);
+    expect_error(&r, 1, 2, 6, "step: expected a non-negative integer for K, found '-5'", NULL,
+                 NULL);
+
+    run_text(&r, "i3.mote", "new 10 0.3\nstep 12x\n", 0);
+    expect_error(&r, 1, 2, 6, "step: expected an integer for K, found '12x'", NULL, NULL);
+
+    run_text(&r, "i4.mote", "new 10 0.3\nstep 9223372036854775808\n", 0);
+    expect_error(&r, 1, 2, 6, "step: K is too large", "9223372036854775807", NULL);
+
+    run_text(&r, "i5.mote", "new 10 0.3\nstep \"10\"\n", 0);
+    expect_error(&r, 1, 2, 6, "expected an integer for K", "without quotes", NULL);
+
+    run_text(&r, "i6.mote", "new 10 0.3\nstep +\n", 0);
+    expect_error(&r, 1, 2, 6, "expected an integer for K, found '+'", NULL, NULL);
+
+    run_text(&r, "u1.mote", "seed 18446744073709551616\n", 0);
+    expect_error(&r, 1, 1, 6, "seed: S is too large", "18446744073709551615", NULL);
+
+    run_text(&r, "u2.mote", "seed 18446744073709551615\nstep 1\n", 1);
+    expect_error(&r, 1, 2, 1, "step: no system yet", NULL, NULL);
+
+    run_text(&r, "u3.mote", "seed +18446744073709551615\nnew 2 0.5\nstep 9223372036854775807\n",
+             0);
+    CHECK_INT(r.status, 0);
+    CHECK(LOG.last_seed == 18446744073709551615ull, "seed %llu", LOG.last_seed);
+    CHECK(LOG.last_k == 9223372036854775807ll, "k %lld", LOG.last_k);
+
+    static const struct {
+        const char *value, *key;
+    } bad_reals[] = {
+        {"abc", "found 'abc'"},
+        {"nan", "NaN are not accepted"},
+        {"inf", "NaN are not accepted"},
+        {"-Infinity", "NaN are not accepted"},
+        {"0x10", "hexadecimal"},
+        {"1e", "found '1e'"},
+        {".", "found '.'"},
+        {"0,5", "decimal point is '.'"},
+        {"1.5.2", "found '1.5.2'"},
+        {"1e5x", "found '1e5x'"},
+        {"--1", "found '--1'"},
+    };
+    for (size_t i = 0; i < sizeof bad_reals / sizeof bad_reals[0]; i++) {
+        char text[128];
+        snprintf(text, sizeof text, "new 10 %s\n", bad_reals[i].value);
+        run_text(&r, "r.mote", text, 0);
+        expect_error(&r, 1, 1, 8, "new: expected a real number for eta", bad_reals[i].key,
+                     NULL);
+    }
+    run_text(&r, "r2.mote", "new 10 1e999\n", 0);
+    expect_error(&r, 1, 1, 8, "new: eta is out of the range", "'1e999'", NULL);
+
+    static const struct {
+        const char *value;
+        double x;
+    } good_reals[] = {{".5", 0.5}, {"5.", 5.0}, {"-1e-3", -1e-3}, {"+2.5E+1", 25.0},
+                      {"0", 0.0},  {"007", 7.0}, {"1e-400", 0.0}};
+    for (size_t i = 0; i < sizeof good_reals / sizeof good_reals[0]; i++) {
+        char text[128];
+        snprintf(text, sizeof text, "compressl %s 0.1 1\n", good_reals[i].value);
+        mote_err err = {0};
+        mote_script *s = parse(text, strlen(text), &err);
+        CHECK(s != NULL, "'%s' rejected: %s", good_reals[i].value, err.msg);
+        if (s) {
+            CHECK_NEAR(mote_script_call(s, 0)->args[0].r, good_reals[i].x, 0);
+            mote_script_free(s);
+        }
+    }
+
+    /* an empty quoted file name */
+    run_text(&r, "f.mote", "save \"\"\n", 0);
+    expect_error(&r, 1, 1, 6, "save: expected a file name for FILE", "empty", NULL);
+}
+
+static void test_models(void)
+{
+    result r;
+    run_text(&r, "m1.mote", "# choose\n\nmodel mixing-box\nping\n", 0);
+    CHECK_INT(r.status, 0);
+    CHECK_INT(LOG.runs, 1);
+    CHECK_STR(r.out, ""); /* mixing-box has no status function */
+
+    run_text(&r, "m2.mote", "model mixing-box\nstep 10\n", 0);
+    expect_error(&r, 1, 2, 1, "unknown command 'step'", NULL, NULL);
+
+    run_text(&r, "m3.mote", "new 10 0.3\nmodel hard-spheres\n", 0);
+    expect_error(&r, 1, 2, 1, "model", "first command", NULL);
+
+    run_text(&r, "m4.mote", "model hard-spheres\nnew 10 0.3\nmodel hard-spheres\n", 0);
+    expect_error(&r, 1, 3, 1, "only one 'model' command", "line 1", NULL);
+
+    run_text(&r, "m5.mote", "model hardspheres\n", 0);
+    expect_error(&r, 1, 1, 7, "unknown model 'hardspheres'", "did you mean 'hard-spheres'?",
+                 "known models: hard-spheres, mixing-box");
+
+    run_text(&r, "m6.mote", "model galaxy\n", 0);
+    expect_error(&r, 1, 1, 7, "unknown model 'galaxy'", "known models: hard-spheres, mixing-box",
+                 NULL);
+
+    run_text(&r, "m7.mote", "model\n", 0);
+    expect_error(&r, 1, 1, 1, "model: too few arguments", "'model NAME'", NULL);
+
+    /* a registry without the default model needs a model line */
+    const mote_model *const only_other[] = {&other_model};
+    mote_script *s = NULL;
+    mote_err err = {0};
+    CHECK(mote_script_parse(&s, "x.mote", "ping\n", 5, only_other, 1, &err) != 0, "accepted");
+    CHECK_HAS(err.msg, "x.mote:1:1: error: the first command must be 'model NAME'");
+    CHECK(s == NULL, "script returned on error");
+}
+
+static void test_validation_first(void)
+{
+    result r;
+    /* a range error on the last line: nothing runs, no real model is created */
+    run_text(&r, "late.mote", "new 10 0.3\nstep 10\nsave out.dat\nstep 0\n", 0);
+    expect_error(&r, 1, 4, 6, "step: K must be >= 1, found 0", NULL, NULL);
+    CHECK_INT(LOG.runs, 0);
+    CHECK_INT(LOG.creates_real, 0);
+    CHECK_INT(LOG.creates_dry, 1);
+    CHECK_INT(LOG.destroys, 1);
+    CHECK(access("out.dat", F_OK) != 0, "out.dat was written");
+    CHECK_STR(r.out, "");
+
+    /* a dependency checked on the dry model: step before any new */
+    run_text(&r, "nosys.mote", "seed 1\nstep 10\nnew 10 0.3\n", 0);
+    expect_error(&r, 1, 2, 1, "step: no system yet", NULL, NULL);
+    CHECK_INT(LOG.runs, 0);
+
+    /* a valid script runs every command in order, with a status line after each model command */
+    run_text(&r, "good.mote", "new 10 0.3\necho hello   \"big  world\"  # c\nstep 7\n", 0);
+    CHECK_INT(r.status, 0);
+    CHECK_INT(LOG.runs, 2);
+    CHECK_INT(LOG.last_k, 7);
+    CHECK_INT(LOG.creates_dry, 1);
+    CHECK_INT(LOG.creates_real, 1);
+    CHECK_INT(LOG.destroys, 2);
+    CHECK_STR(r.out, "status runs=1\nhello big  world\nstatus runs=2\n");
+    CHECK_STR(r.err, "");
+
+    /* check only: validates, runs nothing */
+    run_text(&r, "good.mote", "new 10 0.3\nstep 7\n", 1);
+    CHECK_INT(r.status, 0);
+    CHECK_INT(LOG.runs, 0);
+    CHECK_INT(LOG.creates_real, 0);
+    CHECK_HAS(r.out, "good.mote: ok: 2 commands for model hard-spheres");
+
+    /* threads */
+    run_text(&r, "t0.mote", "threads 0\n", 0);
+    expect_error(&r, 1, 1, 9, "threads: expected N >= 1, found 0", NULL, NULL);
+    run_text(&r, "t4.mote", "threads 4\nthreads 2\n", 0);
+    CHECK_INT(r.status, 0);
+    CHECK_HAS(r.err, "t4.mote:1:1: note: threads");
+    CHECK(strstr(r.err, "t4.mote:2:1") == NULL, "note printed twice: %s", r.err);
+
+    /* star arguments */
+    run_text(&r, "opts.mote", "opts\nopts a b \"c d\" 4\n", 0);
+    CHECK_INT(r.status, 0);
+    CHECK_INT(LOG.last_nargs, 4);
+}
+
+static void test_runtime_errors(void)
+{
+    result r;
+    run_text(&r, "rt.mote", "new 10 0.3\nstep 1\n  boom\nstep 2\n", 0);
+    expect_error(&r, 2, 3, 3, "boom: simulated failure", NULL, NULL);
+    CHECK_INT(LOG.runs, 3); /* new, step, boom; the last step never ran */
+    CHECK_INT(LOG.last_k, 1);
+    CHECK_INT(LOG.destroys, 2);
+    CHECK_STR(r.out, "status runs=1\nstatus runs=2\n");
+
+    run_text(&r, "rt2.mote", "new 10 0.3\nboom_at \"some file\"\n", 0);
+    expect_error(&r, 2, 2, 9, "boom_at: cannot write 'some file'", NULL, NULL);
+
+    /* unreadable script files name the file */
+    memset(&LOG, 0, sizeof LOG);
+    FILE *out = tmpfile(), *diag = tmpfile();
+    mote_script_options opt = {out, diag, 0, 0};
+    r.status = mote_script_run_file("no-such-script.mote", MODELS, NMODELS, &opt);
+    slurp(out, r.out, sizeof r.out);
+    slurp(diag, r.err, sizeof r.err);
+    CHECK_INT(r.status, 1);
+    CHECK_HAS(r.err, "cannot open script 'no-such-script.mote'");
+    CHECK_HAS(r.err, "No such file");
+    CHECK_INT(LOG.creates_dry, 0);
+
+    mkdir("adir.mote", 0777);
+    out = tmpfile();
+    diag = tmpfile();
+    mote_script_options opt2 = {out, diag, 0, 0};
+    r.status = mote_script_run_file("adir.mote", MODELS, NMODELS, &opt2);
+    slurp(out, r.out, sizeof r.out);
+    slurp(diag, r.err, sizeof r.err);
+    CHECK_INT(r.status, 1);
+    CHECK_HAS(r.err, "'adir.mote'");
+}
+
+static void test_output_dir(void)
+{
+    result r;
+    /* validation knows out/sub will exist; files land inside it */
+    run_text(&r, "od.mote",
+             "new 10 0.3\noutput_dir out/sub/\nsave x.dat\nsave /dev/null\noutput_dir .\n"
+             "save y.dat\noutput_dir out\nsave sub/z.dat\n",
+             0);
+    CHECK_INT(r.status, 0);
+    CHECK(r.status == 0, "%s", r.err);
+    CHECK(access("out/sub/x.dat", F_OK) == 0, "out/sub/x.dat missing");
+    CHECK(access("y.dat", F_OK) == 0, "y.dat missing");
+    CHECK(access("out/sub/z.dat", F_OK) == 0, "out/sub/z.dat missing");
+    CHECK_STR(LOG.last_path, "out/sub/z.dat");
+
+    /* a directory nobody creates is a validation error, and nothing is created */
+    run_text(&r, "od2.mote", "output_dir made\nnew 10 0.3\nsave nowhere/x.dat\n", 0);
+    expect_error(&r, 1, 3, 6, "save: the directory of 'made/nowhere/x.dat' does not exist", NULL,
+                 NULL);
+    CHECK(access("made", F_OK) != 0, "output_dir ran during validation");
+
+    /* parents of a pending directory exist too; ".." is understood */
+    run_text(&r, "od3.mote", "output_dir p/q/r\noutput_dir .\nsave p/q/a.dat\n"
+                             "save p/q/r/../b.dat\nsave ./p/q/r/c.dat\n", 1);
+    CHECK(r.status == 0, "%s", r.err);
+    CHECK(access("p", F_OK) != 0, "check-only created p");
+
+    /* command.h gives room for 8 new directories; the 9th is a clear error, not an overflow */
+    char many[1024] = "";
+    for (int i = 1; i <= 9; i++) {
+        char line[64];
+        snprintf(line, sizeof line, "output_dir n%d\noutput_dir n1\n", i);
+        strcat(many, line);
+    }
+    run_text(&r, "od9.mote", many, 1);
+    expect_error(&r, 1, 17, 12, "output_dir: too many new directories", "'n9'", NULL);
+
+    /* a file in the way */
+    write_file("plainfile", "x", 1);
+    run_text(&r, "od4.mote", "output_dir plainfile\n", 0);
+    expect_error(&r, 1, 1, 12, "output_dir: 'plainfile' exists and is not a directory", NULL,
+                 NULL);
+    run_text(&r, "od5.mote", "output_dir plainfile/sub\n", 0);
+    expect_error(&r, 1, 1, 12, "output_dir: cannot use 'plainfile/sub'", NULL, NULL);
+
+    /* mote_ctx_path and mote_ctx_dir_ok directly */
+    mote_context ctx;
+    memset(&ctx, 0, sizeof ctx);
+    char *p = mote_ctx_path(&ctx, "a.dat");
+    CHECK_STR(p, "a.dat");
+    free(p);
+    snprintf(ctx.output_dir, sizeof ctx.output_dir, "res");
+    p = mote_ctx_path(&ctx, "a.dat");
+    CHECK_STR(p, "res/a.dat");
+    free(p);
+    p = mote_ctx_path(&ctx, "/abs/a.dat");
+    CHECK_STR(p, "/abs/a.dat");
+    free(p);
+    snprintf(ctx.output_dir, sizeof ctx.output_dir, "/tmp/");
+    p = mote_ctx_path(&ctx, "a.dat");
+    CHECK_STR(p, "/tmp/a.dat");
+    free(p);
+    snprintf(ctx.pending_dirs[0], sizeof ctx.pending_dirs[0], "new1/new2/new3");
+    ctx.npending_dirs = 1;
+    CHECK(mote_ctx_dir_ok(&ctx, "new1/new2/new3/x"), "pending dir");
+    CHECK(mote_ctx_dir_ok(&ctx, "new1//new2/x"), "parent of pending dir");
+    CHECK(mote_ctx_dir_ok(&ctx, "./new1/x"), "parent of pending dir");
+    CHECK(mote_ctx_dir_ok(&ctx, "new1/new2/new3/../x"), "..");
+    CHECK(!mote_ctx_dir_ok(&ctx, "new1/other/x"), "sibling of pending dir accepted");
+    CHECK(!mote_ctx_dir_ok(&ctx, "new1/new2/new3/deeper/x"), "child of pending dir accepted");
+    CHECK(!mote_ctx_dir_ok(&ctx, "new1/new2/new33/x"), "prefix match accepted");
+    CHECK(!mote_ctx_dir_ok(&ctx, "new1/ne/x"), "partial component accepted");
+    CHECK(mote_ctx_dir_ok(&ctx, "x.dat"), "current directory");
+
+    /* progress is silent off a terminal */
+    mote_progress pr;
+    mote_progress_begin(&pr, &ctx, "step");
+    CHECK_INT(pr.enabled, 0);
+    mote_progress_update(&pr, 0.5);
+    mote_progress_end(&pr);
+}
+
+static void test_help_and_usage(void)
+{
+    result r;
+    const char *a1[] = {"mote"};
+    CHECK_INT(main_io(&r, 1, a1), 1);
+    CHECK_HAS(r.err, "Usage: mote run");
+
+    const char *a2[] = {"mote", "--version"};
+    CHECK_INT(main_io(&r, 2, a2), 0);
+    CHECK_STR(r.out, "mote " MOTE_VERSION "\n");
+
+    const char *a3[] = {"mote", "help"};
+    CHECK_INT(main_io(&r, 2, a3), 0);
+    CHECK_HAS(r.out, "compress_left_wall (compressl)");
+    CHECK_HAS(r.out, "compress_two_walls (compresst, compress_both_walls)");
+    CHECK_HAS(r.out, "output_dir");
+    CHECK_HAS(r.out, "Model mixing-box: another fake");
+    CHECK_HAS(r.out, "ping");
+
+    const char *a4[] = {"mote", "help", "compresst"};
+    CHECK_INT(main_io(&r, 3, a4), 0);
+    CHECK_HAS(r.out, "compress_two_walls eta dLmax K\n");
+    CHECK_HAS(r.out, "aliases: compresst, compress_both_walls");
+    CHECK_HAS(r.out, "Compress both.");
+
+    const char *a5[] = {"mote", "help", "stpe"};
+    CHECK_INT(main_io(&r, 3, a5), 1);
+    CHECK_HAS(r.err, "no command or model named 'stpe'; did you mean 'step'?");
+
+    const char *a6[] = {"mote", "help", "--markdown"};
+    CHECK_INT(main_io(&r, 3, a6), 0);
+    CHECK_HAS(r.out, "# mote command reference");
+    CHECK_HAS(r.out, "## Model `hard-spheres`");
+    CHECK_HAS(r.out, "### `compress_left_wall`\n\n```\ncompress_left_wall eta dLmax K\n```");
+    CHECK_HAS(r.out, "Aliases: `compresst`, `compress_both_walls`");
+    CHECK_HAS(r.out, "### `output_dir`");
+    CHECK_HAS(r.out, "### `ping`");
+
+    const char *a7[] = {"mote", "help", "output_dir"};
+    CHECK_INT(main_io(&r, 3, a7), 0);
+    CHECK_HAS(r.out, "mkdir -p");
+
+    const char *a7b[] = {"mote", "help", "mixing-box"};
+    CHECK_INT(main_io(&r, 3, a7b), 0);
+    CHECK_HAS(r.out, "Model mixing-box: another fake");
+    CHECK_HAS(r.out, "  ping");
+    CHECK(strstr(r.out, "compressl") == NULL, "other models listed: %s", r.out);
+
+    const char *a8[] = {"mote", "rn", "x"};
+    CHECK_INT(main_io(&r, 3, a8), 1);
+    CHECK_HAS(r.err, "did you mean 'run'?");
+
+    write_file("cli.mote", "new 4 0.2\nstep 3\n", 17);
+    const char *a9[] = {"mote", "run", "--check", "cli.mote"};
+    CHECK_INT(main_io(&r, 4, a9), 0);
+    CHECK_INT(LOG.runs, 0);
+    const char *a10[] = {"mote", "check", "cli.mote"};
+    CHECK_INT(main_io(&r, 3, a10), 0);
+    CHECK_INT(LOG.runs, 0);
+    const char *a11[] = {"mote", "run", "cli.mote"};
+    CHECK_INT(main_io(&r, 3, a11), 0);
+    CHECK_INT(LOG.runs, 2);
+    const char *a12[] = {"mote", "run", "--fast", "cli.mote"};
+    CHECK_INT(main_io(&r, 4, a12), 1);
+    CHECK_HAS(r.err, "unknown option '--fast'");
+    const char *a13[] = {"mote", "run", "a.mote", "b.mote"};
+    CHECK_INT(main_io(&r, 4, a13), 1);
+
+    /* `mote run` alone runs program.txt */
+    const char *a14[] = {"mote", "run"};
+    CHECK_INT(main_io(&r, 2, a14), 1);
+    CHECK_HAS(r.err, "'program.txt'");
+    write_file("program.txt", "new 4 0.2\r\nstep 3\r\n", 19);
+    CHECK_INT(main_io(&r, 2, a14), 0);
+    CHECK_INT(LOG.runs, 2);
+    const char *a15[] = {"mote", "run", "--", "cli.mote"};
+    CHECK_INT(main_io(&r, 4, a15), 0);
+
+    /* a broken table is caught before anything runs */
+    static const mote_cmd bad_cmds[] = {
+        {"go", NULL, "ii", "go K", "go", "Go.", NULL, opts_run, 0},
+    };
+    static const mote_model bad_model = {"bad", "bad", bad_cmds, 1, fake_create, fake_destroy,
+                                         NULL};
+    const mote_model *const bad[] = {&bad_model};
+    mote_err err = {0};
+    CHECK(mote_models_verify(bad, 1, &err) != 0, "bad synopsis accepted");
+    CHECK_HAS(err.msg, "go");
+    static const mote_cmd clash_cmds[] = {
+        {"go", "echo", "", "go", "go", "Go.", NULL, opts_run, 0},
+    };
+    static const mote_model clash_model = {"clash", "c", clash_cmds, 1, fake_create,
+                                           fake_destroy, NULL};
+    const mote_model *const clash[] = {&clash_model};
+    CHECK(mote_models_verify(clash, 1, &err) != 0, "alias clash accepted");
+    CHECK(mote_models_verify(MODELS, NMODELS, &err) == 0, "good tables rejected: %s", err.msg);
+}
+
+int main(void)
+{
+    snprintf(TMP, sizeof TMP, "/tmp/mote-test-script-XXXXXX");
+    if (!mkdtemp(TMP) || chdir(TMP) != 0) {
+        printf("cannot make a scratch directory\n");
+        printf("0 passed, 1 failed\n");
+        return 1;
+    }
+    test_lexing();
+    test_lexical_errors();
+    test_commands_and_arity();
+    test_numbers();
+    test_models();
+    test_validation_first();
+    test_runtime_errors();
+    test_output_dir();
+    test_help_and_usage();
+    if (chdir("/") == 0) {
+        char cmd[300];
+        snprintf(cmd, sizeof cmd, "rm -rf '%s'", TMP);
+        if (system(cmd) != 0)
+            printf("note: could not remove %s\n", TMP);
+    }
+    return test_summary();
+}

@@ -1,0 +1,77 @@
+#!/bin/sh
+# script_errors.sh: the `mote` program end to end with the real hard-spheres model: exit statuses
+# (0 ok, 1 usage/validation, 2 runtime), exact FILE:LINE:COL messages, nothing written when a
+# script is invalid, `mote run` defaulting to program.txt, and help output.
+# Usage: sh tests/script_errors.sh [BUILD_DIR]   (default: build)
+BUILD=${1:-build}
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+MOTE=$(cd "$(dirname "$BUILD/mote")" && pwd)/mote
+[ -x "$MOTE" ] || { echo "script_errors.sh: no $MOTE"; echo "0 passed, 1 failed"; exit 1; }
+TMP=$(mktemp -d "${TMPDIR:-/tmp}/mote-script-errors.XXXXXX") || exit 1
+trap 'rm -rf "$TMP"' EXIT
+cd "$TMP" || exit 1
+passed=0
+failed=0
+
+ok() { passed=$((passed + 1)); }
+bad() { failed=$((failed + 1)); echo "FAILED: $*"; }
+
+# expect STATUS STDERR-LINE-PREFIX SCRIPT-NAME SCRIPT-TEXT [mote-subcommand]
+expect() {
+    status=$1 want=$2 name=$3 text=$4 sub=${5:-run}
+    printf '%b' "$text" > "$name"
+    "$MOTE" "$sub" "$name" > out.txt 2> err.txt
+    got=$?
+    [ "$got" -eq "$status" ] && ok || bad "$name: exit status $got, expected $status"
+    case "$(cat err.txt)" in
+        "$want"*) ok ;;
+        *) bad "$name: stderr '$(cat err.txt)', expected it to start with '$want'" ;;
+    esac
+}
+
+expect 1 "t1.mote:2:34: error: compressl: too many arguments: expected 'compress_left_wall eta dLmax K' (3 arguments), found 4" \
+    t1.mote 'new 2 0.3\ncompressl 0.49 0.503423 0.000001 10\n'
+expect 1 "t2.mote:3:1: error: unknown command 'stpe'; did you mean 'step'?" \
+    t2.mote '# typo\nnew 2 0.3\nstpe 10\n'
+expect 1 "t3.mote:2:6: error: step: expected an integer for K, found '1e3'" \
+    t3.mote 'new 2 0.3\nstep 1e3\n'
+expect 1 "t4.mote:2:6: error: unterminated quoted string" \
+    t4.mote 'new 2 0.3\nsave "a b\n'
+expect 1 "t5.mote:2:1: error: model:" t5.mote 'new 2 0.3\nmodel hard-spheres\n'
+expect 1 "t6.mote:1:7: error: model: unknown model 'nosuch'" t6.mote 'model nosuch\n'
+
+# a bad last line: nothing runs and nothing is written
+expect 1 "t7.mote:3:6: error: step:" t7.mote 'new 2 0.3\nsave early.mote\nstep 0\n'
+[ ! -e early.mote ] && ok || bad "t7.mote: early.mote was written before validation finished"
+[ ! -s out.txt ] && ok || bad "t7.mote: something ran: $(cat out.txt)"
+
+# valid scripts, CRLF, comments, output_dir
+expect 0 "" t8.mote '# ok\r\n\r\nmodel hard-spheres\r\nnew 2 0.3   # seed\r\noutput_dir "res/a b"\r\nsave "st ate.mote"\r\necho done\r\n'
+[ -f "res/a b/st ate.mote" ] && ok || bad "t8.mote: res/a b/st ate.mote missing"
+grep -q '^done$' out.txt && ok || bad "t8.mote: echo output missing"
+
+# check only: validates, runs nothing
+expect 0 "" t9.mote 'new 2 0.3\nsave nine.mote\n' check
+[ ! -e nine.mote ] && ok || bad "t9.mote: check wrote a file"
+
+# a runtime error: located at the command, exit status 2, earlier outputs intact
+expect 2 "t10.mote:3:1: error: " t10.mote 'new 2 0.3\nsave ten.mote\nsave /proc/mote-cannot-write.mote\n'
+[ -f ten.mote ] && ok || bad "t10.mote: the output of an earlier command is missing"
+
+# `mote run` alone runs program.txt
+printf 'new 2 0.3\r\nstep 1\r\n' > program.txt
+"$MOTE" run > out.txt 2> err.txt && ok || bad "mote run (program.txt): $(cat err.txt)"
+rm -f program.txt
+"$MOTE" run > out.txt 2> err.txt
+[ $? -eq 1 ] && grep -q "program.txt" err.txt && ok || bad "mote run without program.txt"
+
+# usage and help
+"$MOTE" > out.txt 2> err.txt; [ $? -eq 1 ] && grep -q '^Usage:' err.txt && ok || bad "no arguments"
+[ "$("$MOTE" --version)" = "mote $(sed -n 's/^#define MOTE_VERSION "\(.*\)"$/\1/p' "$ROOT/include/mote/core.h" 2>/dev/null)" ] \
+    && ok || bad "--version: $("$MOTE" --version)"
+"$MOTE" help compresst > out.txt 2>&1 && grep -q '^compress_two_walls' out.txt && ok || bad "help compresst"
+"$MOTE" help stpe > out.txt 2> err.txt; [ $? -eq 1 ] && grep -q "did you mean 'step'" err.txt && ok || bad "help stpe"
+"$MOTE" help --markdown > out.txt && grep -q '^### `compress_left_wall`$' out.txt && ok || bad "help --markdown"
+
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]
