@@ -362,7 +362,9 @@ static int load_mote(mote_hs *hs, reader *r, mote_err *err)
     tmp.has_system = 1;
     rc = mote_ev_rebuild(&tmp.ev, err);
     if (rc) {
-        mote_fail(err, rc, "%s: %s", r->path, err->msg);
+        char why[sizeof err->msg];
+        snprintf(why, sizeof why, "%s", err->msg);
+        mote_fail(err, rc, "%s: %s", r->path, why);
         mote_ev_free(&tmp.ev);
         return rc;
     }
