@@ -97,12 +97,13 @@ static int spec_compress(mote_hs *hs, int which, double eta, double dlmax, uint6
         return MOTE_OK;
     int final = 0;
     while (!final) {
-        if (mote_ev_rebuild(ev, &err))
-            return MOTE_ERUNTIME;
+        /* gaps on positions projected to the clock (compress.c moves the walls in place
+         * instead of rebuilding; see its opening comment) */
         double gl = INFINITY, gr = INFINITY, L = ev->len[0], delta;
         for (uint32_t i = 0; i < ev->n; i++) {
-            gl = fmin(gl, ev->p[i].r[0] - mote_ev_radius(ev, i));
-            gr = fmin(gr, L - mote_ev_radius(ev, i) - ev->p[i].r[0]);
+            double x = ev->p[i].r[0] + ev->p[i].v[0] * (ev->clock - ev->p[i].t);
+            gl = fmin(gl, x - mote_ev_radius(ev, i));
+            gr = fmin(gr, L - mote_ev_radius(ev, i) - x);
         }
         if (L > target) {
             double D = L - target;
@@ -120,15 +121,11 @@ static int spec_compress(mote_hs *hs, int which, double eta, double dlmax, uint6
             delta = -fmin(D, dlmax);
             final = D <= dlmax;
         }
-        for (uint32_t i = 0; i < ev->n; i++) {
-            if (which == MOTE_HS_LEFT)
-                ev->p[i].r[0] -= delta;
-            else if (which == MOTE_HS_BOTH)
-                ev->p[i].r[0] -= delta / 2;
-        }
-        ev->len[0] = final ? target : L - delta;
+        double shift = which == MOTE_HS_LEFT ? delta : which == MOTE_HS_BOTH ? delta / 2 : 0;
+        if (mote_ev_move_walls(ev, 0, shift, final ? target : L - delta, &err))
+            return MOTE_ERUNTIME;
         (*nmoves)++;
-        if (mote_ev_rebuild(ev, &err) || mote_ev_run(ev, k * ev->n / 2, &err))
+        if (mote_ev_run(ev, k * ev->n / 2, &err))
             return MOTE_ERUNTIME;
     }
     return MOTE_OK;

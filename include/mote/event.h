@@ -66,6 +66,8 @@ typedef struct {
     /* ---- spatial index: cells ---- */
     int ncell[3];
     double cell_w[3];
+    double cell_lo[3];    /* grid origin: 0 after a rebuild; wall moves shift it (see below) */
+    double len_grid[3];   /* extent of the grid: the box length at the last rebuild */
     int32_t *cell_head;   /* ncell[0]*ncell[1]*ncell[2] heads */
     size_t ncells_alloc;
 
@@ -97,6 +99,14 @@ static inline double mote_ev_mass(const mote_ev *ev, uint32_t i)
  * fold the clock into time_total, rebuild cells and the calendar, predict every event.
  * Also sets sigma_max and t_rebuild. Fails if a periodic length is not > 2 sigma_max. */
 int mote_ev_rebuild(mote_ev *ev, mote_err *err);
+
+/* Move the walls of wall axis `axis` without a full rebuild: every particle is shifted by
+ * -shift along the axis (with the cell grid, so cell membership is unchanged) and the upper wall
+ * is put at new_len (the lower wall stays at 0). Only particles in the cells next to a wall are
+ * re-predicted, since no other prediction can involve a wall. When the moved grid would no longer
+ * cover [0, new_len] (expansion), this falls back to a full rebuild. The caller guarantees that
+ * no particle ends up beyond a wall. */
+int mote_ev_move_walls(mote_ev *ev, int axis, double shift, double new_len, mote_err *err);
 
 /* Record the current energy and momentum as the references the checker compares with. */
 void mote_ev_set_reference(mote_ev *ev);

@@ -225,6 +225,8 @@ int mote_ev_rebuild(mote_ev *ev, mote_err *err)
             ev->ncell[a] = 1;
             ev->cell_w[a] = ev->len[a];
         }
+        ev->cell_lo[a] = 0;
+        ev->len_grid[a] = ev->len[a];
         ncells *= (size_t)ev->ncell[a];
     }
     /* keep the grid at most a few cells per particle */
@@ -341,6 +343,42 @@ void mote_ev_set_kt(mote_ev *ev, double kt)
     for (uint32_t i = 0; i < ev->n; i++)
         for (int a = 0; a < ev->dim; a++)
             ev->p[i].v[a] *= f;
+}
+
+int mote_ev_move_walls(mote_ev *ev, int axis, double shift, double new_len, mote_err *err)
+{
+    if (axis < 0 || axis >= ev->dim || ev->periodic[axis])
+        return mote_fail(err, MOTE_EINVAL, "move_walls: axis %d has no walls", axis);
+    for (uint32_t i = 0; i < ev->n; i++)
+        ev->p[i].r[axis] -= shift;
+    ev->len[axis] = new_len;
+    double lo = ev->cell_lo[axis] - shift;
+    if (lo > 0 || lo + ev->len_grid[axis] < new_len)
+        return mote_ev_rebuild(ev, err); /* the grid no longer covers the box */
+    ev->cell_lo[axis] = lo;
+    /* re-predict the particles whose cell can hold a wall contact plane */
+    const double rmax = 0.5 * ev->sigma_max, w = ev->cell_w[axis];
+    int32_t stride = 1;
+    for (int b = 0; b < axis; b++)
+        stride *= ev->ncell[b];
+    for (uint32_t i = 0; i < ev->n; i++) {
+        mote_particle *p = &ev->p[i];
+        int k = (p->cell / stride) % ev->ncell[axis];
+        double face_lo = lo + k * w;
+        double face_hi = k + 1 == ev->ncell[axis] ? lo + ev->len_grid[axis] : face_lo + w;
+        if (face_lo < rmax || face_hi > new_len - rmax) {
+            double dt = ev->clock - p->t;
+            for (int a = 0; a < ev->dim; a++)
+                p->r[a] += p->v[a] * dt;
+            p->t = ev->clock;
+            if (ev->dim == 2)
+                predict_2d(ev, i);
+            else
+                predict_3d(ev, i);
+            heap_update(ev, i);
+        }
+    }
+    return MOTE_OK;
 }
 
 void mote_ev_set_reference(mote_ev *ev)
@@ -542,7 +580,7 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
                 (r[a] < Ri * (1 - 1e-10) || r[a] > ev->len[a] - Ri * (1 - 1e-10)))
                 add_failure(err, &nfail, "particle %u at %c = %.17g is outside the walls [%g, %g]",
                             i, "xyz"[a], r[a], Ri, ev->len[a] - Ri);
-            double lo = cc[a] * ev->cell_w[a], hi = lo + ev->cell_w[a];
+            double lo = ev->cell_lo[a] + cc[a] * ev->cell_w[a], hi = lo + ev->cell_w[a];
             if (r[a] < lo - tol || r[a] > hi + tol)
                 add_failure(err, &nfail, "particle %u at %c = %.17g is outside its cell [%g, %g]",
                             i, "xyz"[a], r[a], lo, hi);
