@@ -3,7 +3,7 @@
 # `mote help --markdown` prints, so the manual never drifts from the command tables.
 # Regenerate with: build/mote help --markdown > docs/commands.md
 # Also: every script in examples/ passes `mote check`.
-build=${1:-build}
+build=$(cd "${1:-build}" && pwd)
 top=$(cd "$(dirname "$0")/.." && pwd)
 pass=0
 fail=0
