@@ -91,7 +91,7 @@ int hs_plot_file(const char *data_path, const char *png_path, mote_err *err)
     header h;
     memset(&h, 0, sizeof h);
     h.dim = 3;
-    vec xs = {0}, ys = {0}, es = {0};
+    vec xs = {0}, ys = {0};
     char *line = NULL;
     size_t cap = 0;
     long lineno = 0;
@@ -115,7 +115,7 @@ int hs_plot_file(const char *data_path, const char *png_path, mote_err *err)
         }
         int ok = 1;
         if (!strcmp(h.format, "image")) {
-            ok = n == 7 && vec_push(&xs, v[2]) && vec_push(&ys, v[4]) && vec_push(&es, v[5]);
+            ok = n == 7 && vec_push(&xs, v[2]) && vec_push(&ys, v[4]);
         } else if (!strcmp(h.format, "profile")) {
             int want = h.dim == 3 ? 5 : 4;
             ok = n == want;
@@ -187,6 +187,5 @@ int hs_plot_file(const char *data_path, const char *png_path, mote_err *err)
     }
     free(xs.v);
     free(ys.v);
-    free(es.v);
     return rc;
 }

@@ -1,0 +1,72 @@
+#!/bin/sh
+# test_plot.sh BUILD_DIR: the `plot` command end to end: it renders the data files of `image`
+# and `profile` as PNGs of the expected size, and rejects what it cannot plot with a located
+# error (validation: exit 1, nothing written; at run time: exit 2, earlier outputs kept).
+build=$(cd "${1:-build}" && pwd)
+mote="$build/mote"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+cd "$tmp" || exit 1
+pass=0
+fail=0
+ok() { pass=$((pass + 1)); echo "ok: $1"; }
+bad() { fail=$((fail + 1)); echo "FAIL: $1"; }
+check() { if eval "$2"; then ok "$1"; else bad "$1"; fi; }
+# width and height of a PNG from its IHDR chunk (bytes 16..23, big-endian)
+png_size() { od -An -tu1 -j16 -N8 "$1" | awk '{print $1*16777216+$2*65536+$3*256+$4 "x" $5*16777216+$6*65536+$7*256+$8}'; }
+is_png() { [ "$(od -An -c -j1 -N3 "$1" | tr -d ' ')" = "PNG" ]; }
+
+cat > good.mote <<'S'
+new 2 0.4
+image 5 10 prof.dat
+profile 0.9 2.2 2 4 cut.dat
+plot prof.dat prof.png
+plot cut.dat cut.png
+new_disks 4 6 0.5
+profile 0.9 3 1 0 cut2d.dat
+plot cut2d.dat cut2d.png
+S
+"$mote" run good.mote >out.txt 2>err.txt
+check "a script plotting image and profile data runs" '[ $? -eq 0 ]'
+check "the density plot is a PNG" 'is_png prof.png'
+check "the density plot is 1000x650" '[ "$(png_size prof.png)" = 1000x650 ]'
+check "the 3D cut picture is a PNG" 'is_png cut.png'
+check "the 3D cut picture's longer side is the default 900 px" \
+    'sz=$(png_size cut.png); w=${sz%x*}; h=${sz#*x}; [ "$w" -le 900 ] && [ "$h" -le 900 ] && { [ "$w" -eq 900 ] || [ "$h" -eq 900 ]; }'
+check "the 2D cut picture is a PNG" 'is_png cut2d.png'
+check "plot reports what it wrote" 'grep -q "plot: wrote prof.png" out.txt'
+
+# a file that is not mote data: runtime error naming file and line, earlier output kept
+printf 'hello world\n' > junk.dat
+printf 'new 2 0.4\nimage 1 10 keep.dat\nplot junk.dat junk.png\n' > junk.mote
+"$mote" run junk.mote >out.txt 2>err.txt
+rc=$?
+check "plot of a non-mote file fails at run time (exit 2)" '[ $rc -eq 2 ]'
+check "the message names the data file and line" 'grep -q "junk.dat:1:" err.txt'
+check "the message is located at the plot command" 'grep -q "^junk.mote:3:1: error:" err.txt'
+check "no PNG is left behind" '[ ! -e junk.png ]'
+check "the earlier output is intact" 'grep -q "^# mote image 1" keep.dat'
+
+# a malformed data row in an image file
+{ printf '# mote image 1\n# d = 3\n'; printf '0 0.1 0.05 3 0.5 0.1\n'; } > short.dat
+printf 'plot short.dat short.png\n' > short.mote
+"$mote" run short.mote >out.txt 2>err.txt
+rc=$?
+check "a short data row is a runtime error (exit 2)" '[ $rc -eq 2 ]'
+check "the short row is named by line" 'grep -q "short.dat:3: malformed data row" err.txt'
+
+# validation: a missing data file, and a state file, are rejected before anything runs
+printf 'new 2 0.4\nsave s.txt\nplot nosuch.dat x.png\n' > missing.mote
+"$mote" run missing.mote >out.txt 2>err.txt
+rc=$?
+check "plot of a missing file is a validation error (exit 1)" '[ $rc -eq 1 ]'
+check "the missing file is named at its argument" 'grep -q "^missing.mote:3:6: error:.*nosuch.dat" err.txt'
+check "nothing ran: the earlier save was not written" '[ ! -e s.txt ]'
+printf 'new 2 0.4\nsave s2.txt\nplot s2.txt x.png\n' > state.mote
+"$mote" run state.mote >out.txt 2>err.txt
+rc=$?
+check "plot of a state file is a validation error (exit 1)" '[ $rc -eq 1 ]'
+check "the message says it is not image or profile data" 'grep -q "not a data file of image or profile" err.txt'
+
+echo "$pass passed, $fail failed"
+[ "$fail" -eq 0 ]
