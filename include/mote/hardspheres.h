@@ -20,7 +20,26 @@ typedef struct {
     int rng_from_file;   /* the stream was restored from a state file */
     mote_context *ctx;   /* may be NULL when used as a library */
     FILE *log;           /* progress/status messages; NULL = quiet */
+    int64_t bins;        /* bins per R for the pressure and chempot profiles (`bins`, default 10) */
 } mote_hs;
+
+/* The scalar results of a measuring command (pressure, chempot, order): named values with their
+ * block errors (NaN when unknown), in the order they are printed on the command's summary line. */
+#define MOTE_HS_MAX_RESULTS 48
+typedef struct {
+    int n;
+    struct {
+        char key[32];
+        double value, error;
+    } kv[MOTE_HS_MAX_RESULTS];
+} mote_hs_result;
+
+/* Append (key, value, error); silently ignored when full. */
+void mote_hs_result_add(mote_hs_result *res, const char *key, double value, double error);
+/* The entry named key, or NULL. */
+const double *mote_hs_result_get(const mote_hs_result *res, const char *key, double *error);
+/* Print "label: key=value key_err=error ..." on one line (errors only where known). */
+void mote_hs_result_print(const mote_hs_result *res, const char *label, FILE *out);
 
 /* The model as registered with the script language. */
 extern const mote_model mote_model_hardspheres;
@@ -70,6 +89,17 @@ int mote_hs_image(mote_hs *hs, uint64_t k, int64_t p, const char *path, const ch
                   mote_err *err);
 int mote_hs_profile(mote_hs *hs, double x1, double x2, int64_t dots, uint64_t k,
                     const char *path, const char *origin, mote_err *err);
+
+/* pressure K FILE (spec 8.4): wall pressures, collisional virial, pressure-tensor profiles with
+ * bins of width R/hs->bins, contact densities. res may be NULL. */
+int mote_hs_pressure(mote_hs *hs, uint64_t k, const char *path, const char *origin,
+                     mote_hs_result *res, mote_err *err);
+/* chempot K TRIALS FILE (spec 8.5): Widom test-particle insertion. */
+int mote_hs_chempot(mote_hs *hs, uint64_t k, int64_t trials, const char *path,
+                    const char *origin, mote_hs_result *res, mote_err *err);
+/* order K FILE (spec 8.6): Steinhardt q6 and in-layer psi6, per wall layer and over time. */
+int mote_hs_order(mote_hs *hs, uint64_t k, const char *path, const char *origin,
+                  mote_hs_result *res, mote_err *err);
 
 /* Print the key=value status line. */
 void mote_hs_status(const mote_hs *hs, FILE *out);

@@ -90,6 +90,42 @@ double hs_block_error(const double *block_means, int nblocks)
     return sqrt(v / ((double)nblocks * (nblocks - 1)));
 }
 
+/* ---- scalar results ---------------------------------------------------------------------------- */
+
+void mote_hs_result_add(mote_hs_result *res, const char *key, double value, double error)
+{
+    if (!res || res->n >= MOTE_HS_MAX_RESULTS)
+        return;
+    snprintf(res->kv[res->n].key, sizeof res->kv[res->n].key, "%s", key);
+    res->kv[res->n].value = value;
+    res->kv[res->n].error = error;
+    res->n++;
+}
+
+const double *mote_hs_result_get(const mote_hs_result *res, const char *key, double *error)
+{
+    for (int k = 0; k < res->n; k++)
+        if (strcmp(res->kv[k].key, key) == 0) {
+            if (error)
+                *error = res->kv[k].error;
+            return &res->kv[k].value;
+        }
+    return NULL;
+}
+
+void mote_hs_result_print(const mote_hs_result *res, const char *label, FILE *out)
+{
+    if (!out)
+        return;
+    fprintf(out, "%s:", label);
+    for (int k = 0; k < res->n; k++) {
+        fprintf(out, " %s=%.8g", res->kv[k].key, res->kv[k].value);
+        if (!isnan(res->kv[k].error))
+            fprintf(out, " %s_err=%.3g", res->kv[k].key, res->kv[k].error);
+    }
+    fputc('\n', out);
+}
+
 /* ---- the data-file header (spec 9.3) ----------------------------------------------------------- */
 
 void hs_write_header(FILE *f, const mote_hs *hs, const char *format, const char *origin,

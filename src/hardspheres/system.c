@@ -16,6 +16,7 @@ void mote_hs_init(mote_hs *hs, mote_context *ctx)
     memset(hs, 0, sizeof *hs);
     hs->ctx = ctx;
     hs->log = ctx ? ctx->out : NULL;
+    hs->bins = 10;
     mote_hs_seed(hs, 1);
 }
 
