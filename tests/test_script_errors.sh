@@ -73,5 +73,24 @@ rm -f program.txt
 "$MOTE" help stpe > out.txt 2> err.txt; [ $? -eq 1 ] && grep -q "did you mean 'step'" err.txt && ok || bad "help stpe"
 "$MOTE" help --markdown > out.txt && grep -q '^### `compress_left_wall`$' out.txt && ok || bad "help --markdown"
 
+# the measuring commands: ranges checked before anything runs, located at the argument
+expect 1 "m1.mote:2:10: error: pressure: K (collisions per particle) must be >= 1, found 0" \
+    m1.mote 'new 2 0.3\npressure 0 p.dat\n'
+expect 1 "m2.mote:2:12: error: chempot: TRIALS (insertions per sample) must be >= 1, found 0" \
+    m2.mote 'new 2 0.3\nchempot 10 0 mu.dat\n'
+expect 1 "m3.mote:1:1: error: order: no system exists yet" m3.mote 'order 5 o.dat\n'
+expect 1 "m4.mote:1:6: error: bins: p (bins per R) must be in 1 ... 10000, found 0" m4.mote 'bins 0\n'
+expect 1 "m5.mote:2:12: error: pressure: the directory of output file 'nodir/p.dat' does not exist" \
+    m5.mote 'new 2 0.3\npressure 5 nodir/p.dat\n'
+[ ! -e p.dat ] && [ ! -e mu.dat ] && ok || bad "m*.mote: a data file was written by an invalid script"
+# and a valid one prints the key=value summaries and writes its files
+expect 0 "" m6.mote 'new 2 0.35\nbins 5\npressure 5 p.dat\nchempot 2 50 mu.dat\norder 0 o.dat\n'
+grep -q "^pressure: omega=.* P_left=.* P_right=.* P_wall=" out.txt && ok || bad "m6.mote: no pressure summary"
+grep -q "^chempot: mu_ex=" out.txt && ok || bad "m6.mote: no chempot summary"
+grep -q "^order: xtal_fraction=" out.txt && ok || bad "m6.mote: no order summary"
+grep -q "^bins: 5 per R" out.txt && ok || bad "m6.mote: no bins line"
+[ -s p.dat ] && [ -s mu.dat ] && [ -s o.dat ] && ok || bad "m6.mote: data files missing"
+grep -q "^# bin_width = 0.2" p.dat && ok || bad "m6.mote: bins 5 not applied to pressure"
+
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -23,7 +23,7 @@ typedef struct {
     size_t nwritten, capwritten;
 } hs_model;
 
-enum { W_STATE, W_IMAGE, W_PROFILE, W_PNG };
+enum { W_STATE, W_IMAGE, W_PROFILE, W_PNG, W_PRESSURE, W_CHEMPOT, W_ORDER };
 
 static void *model_create(mote_context *ctx, int dry)
 {
@@ -426,6 +426,108 @@ static int run_profile(void *vm, const mote_call *c, mote_err *err)
     return rc;
 }
 
+static int check_bins(void *vm, const mote_call *c, mote_err *err)
+{
+    if (c->args[0].i < 1 || c->args[0].i > 10000)
+        return mote_call_fail(err, c, 0, MOTE_EINVAL,
+                              "bins: p (bins per R) must be in 1 ... 10000, found %s",
+                              c->args[0].text);
+    return MOTE_OK;
+}
+static int run_bins(void *vm, const mote_call *c, mote_err *err)
+{
+    hs_model *m = vm;
+    m->hs.bins = c->args[0].i;
+    if (m->hs.log)
+        fprintf(m->hs.log, "bins: %lld per R (bin width %g R) for pressure and chempot\n",
+                (long long)m->hs.bins, 1.0 / (double)m->hs.bins);
+    return MOTE_OK;
+}
+
+/* Common checks of pressure / chempot / order: a system, K within range, the output file. */
+static int check_measure(hs_model *m, const mote_call *c, int kmin, int file_arg, int kind,
+                         mote_err *err)
+{
+    int rc = need_system(m, c, err);
+    if (rc)
+        return rc;
+    if (c->args[0].i < kmin)
+        return mote_call_fail(err, c, 0, MOTE_EINVAL,
+                              "%s: K (collisions per particle) must be >= %d, found %s", c->name,
+                              kmin, c->args[0].text);
+    if ((rc = check_collisions(m, c, 0, (uint64_t)c->args[0].i, err)))
+        return rc;
+    return note_output(m, c, file_arg, kind, err);
+}
+
+typedef int (*measure_fn)(hs_model *m, const mote_call *c, const char *path, const char *origin,
+                          mote_hs_result *res, mote_err *err);
+
+/* Run a measurement writing args[file_arg], then print its key=value summary line. */
+static int run_measure(hs_model *m, const mote_call *c, int file_arg, measure_fn fn,
+                       mote_err *err)
+{
+    char *origin = origin_of(c);
+    char *path = mote_ctx_path(c->ctx, c->args[file_arg].text);
+    mote_hs_result res = {0};
+    int rc = path && origin ? fn(m, c, path, origin, &res, err)
+                            : mote_fail(err, MOTE_ENOMEM, "out of memory");
+    if (!rc && m->hs.log) {
+        mote_hs_result_print(&res, c->name, m->hs.log);
+        fprintf(m->hs.log, "%s: wrote %s\n", c->name, path);
+    }
+    free(origin);
+    free(path);
+    return rc;
+}
+
+static int check_pressure(void *vm, const mote_call *c, mote_err *err)
+{
+    return check_measure(vm, c, 1, 1, W_PRESSURE, err);
+}
+static int do_pressure(hs_model *m, const mote_call *c, const char *path, const char *origin,
+                       mote_hs_result *res, mote_err *err)
+{
+    return mote_hs_pressure(&m->hs, (uint64_t)c->args[0].i, path, origin, res, err);
+}
+static int run_pressure(void *vm, const mote_call *c, mote_err *err)
+{
+    return run_measure(vm, c, 1, do_pressure, err);
+}
+
+static int check_chempot(void *vm, const mote_call *c, mote_err *err)
+{
+    int rc = check_measure(vm, c, 0, 2, W_CHEMPOT, err);
+    if (!rc && c->args[1].i < 1)
+        rc = mote_call_fail(err, c, 1, MOTE_EINVAL,
+                            "chempot: TRIALS (insertions per sample) must be >= 1, found %s",
+                            c->args[1].text);
+    return rc;
+}
+static int do_chempot(hs_model *m, const mote_call *c, const char *path, const char *origin,
+                      mote_hs_result *res, mote_err *err)
+{
+    return mote_hs_chempot(&m->hs, (uint64_t)c->args[0].i, c->args[1].i, path, origin, res, err);
+}
+static int run_chempot(void *vm, const mote_call *c, mote_err *err)
+{
+    return run_measure(vm, c, 2, do_chempot, err);
+}
+
+static int check_order(void *vm, const mote_call *c, mote_err *err)
+{
+    return check_measure(vm, c, 0, 1, W_ORDER, err);
+}
+static int do_order(hs_model *m, const mote_call *c, const char *path, const char *origin,
+                    mote_hs_result *res, mote_err *err)
+{
+    return mote_hs_order(&m->hs, (uint64_t)c->args[0].i, path, origin, res, err);
+}
+static int run_order(void *vm, const mote_call *c, mote_err *err)
+{
+    return run_measure(vm, c, 1, do_order, err);
+}
+
 static int check_check(void *vm, const mote_call *c, mote_err *err) { return need_system(vm, c, err); }
 static int run_check(void *vm, const mote_call *c, mote_err *err)
 {
@@ -505,6 +607,17 @@ static const mote_cmd hs_commands[] = {
     {"profile", NULL, "rriif", "profile x1 x2 dots K FILE",
      "layer cut: centres with x1 <= x <= x2, projected on the y-z plane", HS_HELP_PROFILE,
      check_profile, run_profile, 1},
+    {"bins", NULL, "i", "bins p", "bins per R for the pressure and chempot profiles (default 10)",
+     HS_HELP_BINS, check_bins, run_bins, 0},
+    {"pressure", NULL, "if", "pressure K FILE",
+     "wall pressures, virial pressure and pressure-tensor profiles over K collisions per particle",
+     HS_HELP_PRESSURE, check_pressure, run_pressure, 1},
+    {"chempot", NULL, "iif", "chempot K TRIALS FILE",
+     "excess chemical potential by Widom test-particle insertion", HS_HELP_CHEMPOT, check_chempot,
+     run_chempot, 1},
+    {"order", NULL, "if", "order K FILE",
+     "crystallinity per wall layer: Steinhardt q6 and in-layer psi6", HS_HELP_ORDER, check_order,
+     run_order, 1},
     {"check", NULL, "", "check", "verify every invariant of the simulation", HS_HELP_CHECK,
      check_check, run_check, 1},
     {"plot", NULL, "ff", "plot DATAFILE PNGFILE",

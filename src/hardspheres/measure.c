@@ -150,6 +150,48 @@ void hs_write_header(FILE *f, const mote_hs *hs, const char *format, const char 
             ev->dim);
 }
 
+/* ---- bins along x -------------------------------------------------------------------------------- */
+
+void hs_xbins_init(hs_xbins *xb, const mote_hs *hs, int64_t p)
+{
+    const mote_ev *ev = &hs->ev;
+    xb->L = ev->len[0];
+    xb->periodic = ev->periodic[0];
+    double w = mote_hs_mean_radius(hs) / (double)p;
+    if (xb->periodic) {
+        xb->nb = (size_t)fmax(1.0, round(xb->L / w));
+        xb->dx = xb->L / (double)xb->nb;
+    } else {
+        xb->dx = w;
+        xb->nb = (size_t)fmax(1.0, ceil(xb->L / w));
+        if (xb->nb > 1 && (double)(xb->nb - 1) * w >= xb->L)
+            xb->nb--;
+    }
+}
+
+size_t hs_xbins_of(const hs_xbins *xb, double x)
+{
+    double b = floor(x / xb->dx);
+    if (!(b >= 0))
+        return 0;
+    if (b >= (double)xb->nb)
+        return xb->nb - 1;
+    return (size_t)b;
+}
+
+double hs_xbins_lo(const hs_xbins *xb, size_t b) { return (double)b * xb->dx; }
+
+double hs_xbins_hi(const hs_xbins *xb, size_t b)
+{
+    return b + 1 == xb->nb ? xb->L : (double)(b + 1) * xb->dx;
+}
+
+void hs_write_results(FILE *f, const mote_hs_result *res)
+{
+    for (int k = 0; k < res->n; k++)
+        fprintf(f, "# %s = %.12g ± %.6g\n", res->kv[k].key, res->kv[k].value, res->kv[k].error);
+}
+
 /* ---- image: density profile along x ------------------------------------------------------------- */
 
 typedef struct {

@@ -29,4 +29,19 @@ double hs_block_error(const double *block_means, int nblocks);
 void hs_write_header(FILE *f, const mote_hs *hs, const char *format, const char *origin,
                      const hs_snap *start, const hs_snap *end);
 
+/* Bins along x for the profiles of pressure and chempot: width R/p from x = 0 in a slit (the last
+ * bin may be narrower, as in `image`); in a periodic box nb equal bins tiling [0, L) exactly. */
+typedef struct {
+    size_t nb;
+    double dx, L;
+    int periodic;
+} hs_xbins;
+
+void hs_xbins_init(hs_xbins *xb, const mote_hs *hs, int64_t p);
+size_t hs_xbins_of(const hs_xbins *xb, double x);
+double hs_xbins_lo(const hs_xbins *xb, size_t b);
+double hs_xbins_hi(const hs_xbins *xb, size_t b);
+/* Write "# key = value ± error" lines for every result. */
+void hs_write_results(FILE *f, const mote_hs_result *res);
+
 #endif
