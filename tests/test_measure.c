@@ -11,7 +11,7 @@
  * - slit, eta 0.30: ln rho(x) + beta mu_ex(x) constant within its errors (chi-square);
  * - measuring never perturbs the trajectory; files: header, columns, atomic failure.
  *
- * Every statistical check also requires the measured standard error to be small enough (3
+ * `make slow` (MOTE_SLOW) runs the same checks ten times longer. Every statistical check also requires the measured standard error to be small enough (3
  * standard errors inside the tolerance), so a check cannot pass by being noisy. Run lengths and
  * seeds are fixed. The slits for the wall checks are thin and wide (built from a state file) so
  * that many spheres touch the walls per unit of work. */
@@ -28,6 +28,7 @@
 
 static char tmpdir[256];
 static int sanitized;
+static uint64_t scale = 1; /* MOTE_SLOW: 10 times longer runs (make slow) */
 
 static void tmp_path(char *buf, size_t n, const char *name)
 {
@@ -120,7 +121,7 @@ static void test_cs_pressure(void)
         if (!rc)
             rc = mote_hs_step(&hs, 50, &err);
         if (!rc)
-            rc = mote_hs_pressure(&hs, 400, path, "test", &r, &err);
+            rc = mote_hs_pressure(&hs, 400 * scale, path, "test", &r, &err);
         CHECK(rc == MOTE_OK, "bulk 2048 %g: %s", e, err.msg);
         if (!rc) {
             char what[64];
@@ -155,7 +156,7 @@ static void test_henderson(void)
         if (!rc)
             rc = mote_hs_step(&hs, 50, &err);
         if (!rc)
-            rc = mote_hs_pressure(&hs, 400, path, "test", &r, &err);
+            rc = mote_hs_pressure(&hs, 400 * scale, path, "test", &r, &err);
         CHECK(rc == MOTE_OK, "bulk_disks 1024 %g: %s", e, err.msg);
         if (!rc) {
             char what[64];
@@ -184,7 +185,7 @@ static void test_contact_theorem(void)
         }
         mote_err err = {0};
         mote_hs_result r = {0};
-        uint64_t K = sanitized ? 2000 : 4000;
+        uint64_t K = (sanitized ? 2000 : 4000) * scale;
         int rc = mote_hs_pressure(&hs, K, path, "test", &r, &err);
         CHECK(rc == MOTE_OK, "pressure: %s", err.msg);
         if (!rc) {
@@ -312,7 +313,7 @@ static void test_widom(void)
         if (!rc)
             rc = mote_hs_step(&hs, 200, &err);
         if (!rc)
-            rc = mote_hs_chempot(&hs, e < 0.25 ? 200 : 400, e < 0.25 ? 1000 : 4000, path, "test", &r, &err);
+            rc = mote_hs_chempot(&hs, (e < 0.25 ? 200 : 400) * scale, e < 0.25 ? 1000 : 4000, path, "test", &r, &err);
         CHECK(rc == MOTE_OK, "bulk 2048 %g: %s", e, err.msg);
         if (!rc) {
             char what[64];
@@ -486,6 +487,8 @@ static void remove_tmpdir(void)
 int main(void)
 {
     sanitized = getenv("MOTE_SANITIZED") != NULL;
+    if (getenv("MOTE_SLOW"))
+        scale = 10;
     snprintf(tmpdir, sizeof tmpdir, "/tmp/mote_test_measure.XXXXXX");
     if (!mkdtemp(tmpdir)) {
         printf("cannot create a temporary directory\n");
