@@ -1,10 +1,12 @@
 /* main.c: the `mote` program. It only names the models this build knows; everything else (run,
  * check, help) lives in the script layer (src/script). */
 #include "mote/hardspheres.h"
+#include "mote/mixingbox.h"
 #include "mote/script.h"
 
 static const mote_model *const models[] = {
     &mote_model_hardspheres,
+    &mote_model_mixingbox,
 };
 
 int main(int argc, char **argv)

@@ -1,0 +1,956 @@
+/* commands.c: the mixing-box model's script commands: the table the script language reads, the
+ * validation of each command on a dry model (parameter ranges at their arguments, the whole
+ * geometry at `place`, which files earlier commands write), and the calls into the model when
+ * the script runs, with the recording, density and frame samplers kept across runs. */
+#include "mb.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "help.inc"
+
+enum { W_RECORD, W_DENSITY, W_PNG, W_XYZ, W_FRAMES, W_MOVIE };
+
+typedef struct {
+    mote_mb sys;
+    mote_mb_params p;  /* the parameters as the commands so far have set them */
+    int dry;
+    mote_context *ctx;
+    FILE *log;         /* ctx->out when running, NULL when validating */
+    int set_line[MB_P_NGROUPS]; /* script line that last set each parameter group, 0 = default */
+
+    /* validation state */
+    int d_placed;
+    int d_place_line;
+    int64_t d_n; /* disks the last place puts */
+    double d_record_dt, d_density_dt, d_frames_dt; /* 0 = not active */
+    char **written;
+    int *written_kind;
+    size_t nwritten, capwritten;
+
+    /* samplers kept across runs */
+    mb_record rec;
+    mb_density dens;
+    mb_frames frames;
+    mote_mb_sampler rec_s, dens_s, frames_s;
+} mb_model;
+
+static void *model_create(mote_context *ctx, int dry)
+{
+    mb_model *m = calloc(1, sizeof *m);
+    if (!m)
+        return NULL;
+    mote_mb_init(&m->sys);
+    mote_mb_params_default(&m->p);
+    m->dry = dry;
+    m->ctx = ctx;
+    m->log = dry || !ctx ? NULL : ctx->out;
+    return m;
+}
+
+static void model_destroy(void *vm)
+{
+    mb_model *m = vm;
+    if (!m)
+        return;
+    mote_mb_free(&m->sys);
+    mb_record_free(&m->rec);
+    mb_density_free(&m->dens);
+    free(m->frames.prefix);
+    for (size_t k = 0; k < m->nwritten; k++)
+        free(m->written[k]);
+    free(m->written);
+    free(m->written_kind);
+    free(m);
+}
+
+static const char *integrator_name(int k) { return k == MOTE_MB_EVENT ? "event" : "timestep"; }
+static const char *rule_name(int k) { return k == MOTE_MB_SEEDRULE ? "seed" : "restitution"; }
+
+static void model_status(void *vm, FILE *out)
+{
+    mb_model *m = vm;
+    const mote_mb *s = &m->sys;
+    mote_mb_tally t = {{{0, 0}, {0, 0}}};
+    double e = 0, ek = 0;
+    if (s->placed) {
+        t = mote_mb_counts(s);
+        e = mote_mb_energy(s, &ek);
+    }
+    fprintf(out,
+            "N=%u t=%.10g m=%.6g nL0=%llu nL1=%llu nR0=%llu nR1=%llu cross_lr=%llu "
+            "cross_rl=%llu collisions=%llu wall_hits=%llu partition_hits=%llu slit_hits=%llu "
+            "E=%.10g E_kin=%.10g overlaps=%llu integrator=%s collision_rule=%s\n",
+            s->n, s->time, mote_mb_mixing_fraction(&t), (unsigned long long)t.n[0][0],
+            (unsigned long long)t.n[0][1], (unsigned long long)t.n[1][0],
+            (unsigned long long)t.n[1][1], (unsigned long long)s->cross_lr,
+            (unsigned long long)s->cross_rl, (unsigned long long)s->collisions,
+            (unsigned long long)s->wall_hits, (unsigned long long)s->partition_hits,
+            (unsigned long long)s->slit_hits, e, ek, (unsigned long long)s->overlaps_last,
+            integrator_name(m->p.integrator), rule_name(m->p.rule));
+}
+
+/* ---- validation helpers ------------------------------------------------------------------------ */
+
+static int need_placed(mb_model *m, const mote_call *c, mote_err *err)
+{
+    if (!m->d_placed)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL,
+                              "%s: no disks are placed yet; set the parameters, then 'place'",
+                              c->name);
+    return MOTE_OK;
+}
+
+static int find_written(const mb_model *m, const char *path)
+{
+    for (size_t k = m->nwritten; k-- > 0;)
+        if (strcmp(m->written[k], path) == 0)
+            return m->written_kind[k];
+    return -1;
+}
+
+/* Record an output (a file, or for W_FRAMES a prefix); warn when a file is written twice. */
+static int note_path(mb_model *m, const mote_call *c, int argi, const char *path, int kind,
+                     mote_err *err)
+{
+    if (!mote_ctx_dir_ok(c->ctx, path))
+        return mote_call_fail(err, c, argi, MOTE_EIO,
+                              "%s: the directory of output file '%s' does not exist", c->name,
+                              path);
+    int old = find_written(m, path);
+    if (old >= 0 && kind != W_FRAMES)
+        mote_call_warn(c, "%s: '%s' is written more than once in this script; the last one wins",
+                       c->name, path);
+    if (m->nwritten == m->capwritten) {
+        size_t cap = m->capwritten ? 2 * m->capwritten : 16;
+        char **w = realloc(m->written, cap * sizeof *w);
+        if (w)
+            m->written = w;
+        int *wk = realloc(m->written_kind, cap * sizeof *wk);
+        if (wk)
+            m->written_kind = wk;
+        if (!w || !wk)
+            return mote_call_fail(err, c, argi, MOTE_ENOMEM, "out of memory");
+        m->capwritten = cap;
+    }
+    size_t n = strlen(path) + 1;
+    char *copy = malloc(n);
+    if (!copy)
+        return mote_call_fail(err, c, argi, MOTE_ENOMEM, "out of memory");
+    memcpy(copy, path, n);
+    m->written[m->nwritten] = copy;
+    m->written_kind[m->nwritten++] = kind;
+    return MOTE_OK;
+}
+
+static int note_output(mb_model *m, const mote_call *c, int argi, int kind, mote_err *err)
+{
+    char *path = mote_ctx_path(c->ctx, c->args[argi].text);
+    if (!path)
+        return mote_call_fail(err, c, argi, MOTE_ENOMEM, "out of memory");
+    int rc = note_path(m, c, argi, path, kind, err);
+    free(path);
+    return rc;
+}
+
+static char *origin_of(const mote_call *c)
+{
+    size_t n = strlen(c->source) + strlen(c->file) + 64;
+    char *s = malloc(n);
+    if (s)
+        snprintf(s, n, "%s   (%s:%d)", c->source, c->file, c->line);
+    return s;
+}
+
+static int positive(const mote_call *c, int argi, const char *what, mote_err *err)
+{
+    if (!(c->args[argi].r > 0))
+        return mote_call_fail(err, c, argi, MOTE_EINVAL, "%s: %s must be > 0, found %s", c->name,
+                              what, c->args[argi].text);
+    return MOTE_OK;
+}
+
+static int non_negative(const mote_call *c, int argi, const char *what, mote_err *err)
+{
+    if (!(c->args[argi].r >= 0))
+        return mote_call_fail(err, c, argi, MOTE_EINVAL, "%s: %s must be >= 0, found %s",
+                              c->name, what, c->args[argi].text);
+    return MOTE_OK;
+}
+
+/* ---- parameters ----------------------------------------------------------------------------------- */
+
+/* Parameter commands also run during validation: they only set the dry model's parameters,
+ * which later checks (place, run_collisions) read. */
+static int run_partition(void *vm, const mote_call *c, mote_err *err);
+static int run_slit(void *vm, const mote_call *c, mote_err *err);
+static int run_radius(void *vm, const mote_call *c, mote_err *err);
+static int run_disks(void *vm, const mote_call *c, mote_err *err);
+static int run_v_init(void *vm, const mote_call *c, mote_err *err);
+static int run_kicks(void *vm, const mote_call *c, mote_err *err);
+static int run_loss(void *vm, const mote_call *c, mote_err *err);
+static int run_t_c(void *vm, const mote_call *c, mote_err *err);
+static int run_box(void *vm, const mote_call *c, mote_err *err);
+
+static const char *const group_names[MB_P_NGROUPS] = {
+    "box", "partition", "slit", "radius", "disks", "v_init", "kicks", "loss", "t_c",
+};
+
+static int group_index(int bit)
+{
+    for (int k = 0; k < MB_P_NGROUPS; k++)
+        if (bit == 1 << k)
+            return k;
+    return 0;
+}
+
+/* Note that a placement parameter was set; after a `place` it waits for the next one. */
+static void set_group(mb_model *m, const mote_call *c, int group)
+{
+    m->set_line[group_index(group)] = c->line;
+    if (m->dry && m->d_placed)
+        mote_call_warn(c,
+                       "%s: the disks placed on line %d keep their geometry; this takes effect "
+                       "at the next 'place'",
+                       c->name, m->d_place_line);
+}
+
+static int check_box(void *vm, const mote_call *c, mote_err *err)
+{
+    mb_model *m = vm;
+    if (!(c->args[0].r < c->args[1].r))
+        return mote_call_fail(err, c, 1, MOTE_EINVAL, "box: X_R must be above X_L = %s, found %s",
+                              c->args[0].text, c->args[1].text);
+    if (!(c->args[2].r < c->args[3].r))
+        return mote_call_fail(err, c, 3, MOTE_EINVAL, "box: X_T must be above X_B = %s, found %s",
+                              c->args[2].text, c->args[3].text);
+    set_group(m, c, MB_P_BOX);
+    return run_box(vm, c, err);
+}
+static int run_box(void *vm, const mote_call *c, mote_err *err)
+{
+    mb_model *m = vm;
+    m->p.x_l = c->args[0].r;
+    m->p.x_r = c->args[1].r;
+    m->p.x_b = c->args[2].r;
+    m->p.x_t = c->args[3].r;
+    return MOTE_OK;
+}
+
+static int check_partition(void *vm, const mote_call *c, mote_err *err)
+{
+    int rc = positive(c, 1, "the thickness a", err);
+    if (!rc)
+        set_group(vm, c, MB_P_PARTITION);
+    return rc ? rc : run_partition(vm, c, err);
+}
+static int run_partition(void *vm, const mote_call *c, mote_err *err)
+{
+    mb_model *m = vm;
+    m->p.x1_c = c->args[0].r;
+    m->p.a = c->args[1].r;
+    return MOTE_OK;
+}
+
+static int check_slit(void *vm, const mote_call *c, mote_err *err)
+{
+    int rc = non_negative(c, 1, "the height b", err);
+    if (!rc)
+        set_group(vm, c, MB_P_SLIT);
+    return rc ? rc : run_slit(vm, c, err);
+}
+static int run_slit(void *vm, const mote_call *c, mote_err *err)
+{
+    mb_model *m = vm;
+    m->p.x2_c = c->args[0].r;
+    m->p.b = c->args[1].r;
+    return MOTE_OK;
+}
+
+static int check_radius(void *vm, const mote_call *c, mote_err *err)
+{
+    int rc = positive(c, 0, "R", err);
+    if (!rc)
+        set_group(vm, c, MB_P_RADIUS);
+    return rc ? rc : run_radius(vm, c, err);
+}
+static int run_radius(void *vm, const mote_call *c, mote_err *err)
+{
+    ((mb_model *)vm)->p.r = c->args[0].r;
+    return MOTE_OK;
+}
+
+static int check_disks(void *vm, const mote_call *c, mote_err *err)
+{
+    int64_t l = c->args[0].i, r = c->args[1].i;
+    if (l > MB_N_MAX || r > MB_N_MAX || l + r > MB_N_MAX)
+        return mote_call_fail(err, c, l > MB_N_MAX ? 0 : 1, MOTE_EINVAL,
+                              "disks: nLeft + nRight must be at most %d, found %s + %s", MB_N_MAX,
+                              c->args[0].text, c->args[1].text);
+    if (l + r < 1)
+        return mote_call_fail(err, c, 1, MOTE_EINVAL,
+                              "disks: nLeft + nRight must be at least 1, found 0 + 0");
+    set_group(vm, c, MB_P_DISKS);
+    return run_disks(vm, c, err);
+}
+static int run_disks(void *vm, const mote_call *c, mote_err *err)
+{
+    mb_model *m = vm;
+    m->p.n_left = c->args[0].i;
+    m->p.n_right = c->args[1].i;
+    return MOTE_OK;
+}
+
+static int check_v_init(void *vm, const mote_call *c, mote_err *err)
+{
+    int rc = non_negative(c, 0, "V_init", err);
+    if (!rc)
+        set_group(vm, c, MB_P_VINIT);
+    return rc ? rc : run_v_init(vm, c, err);
+}
+static int run_v_init(void *vm, const mote_call *c, mote_err *err)
+{
+    ((mb_model *)vm)->p.v_init = c->args[0].r;
+    return MOTE_OK;
+}
+
+/* Physics parameters apply from the next run; they need no warning. */
+static void set_physics(mb_model *m, const mote_call *c, int group)
+{
+    if (group)
+        m->set_line[group_index(group)] = c->line;
+}
+
+static int check_kicks(void *vm, const mote_call *c, mote_err *err)
+{
+    static const char *const names[] = {"dV_B", "dV_T", "dV_S"};
+    for (int k = 0; k < 3; k++) {
+        int rc = non_negative(c, k, names[k], err);
+        if (rc)
+            return rc;
+    }
+    set_physics(vm, c, MB_P_KICKS);
+    return run_kicks(vm, c, err);
+}
+static int run_kicks(void *vm, const mote_call *c, mote_err *err)
+{
+    mb_model *m = vm;
+    m->p.dv_b = c->args[0].r;
+    m->p.dv_t = c->args[1].r;
+    m->p.dv_s = c->args[2].r;
+    return MOTE_OK;
+}
+
+static int check_loss(void *vm, const mote_call *c, mote_err *err)
+{
+    if (!(c->args[0].r >= 0 && c->args[0].r <= 1))
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "loss: LOSS must be in [0, 1], found %s",
+                              c->args[0].text);
+    set_physics(vm, c, MB_P_LOSS);
+    return run_loss(vm, c, err);
+}
+static int run_loss(void *vm, const mote_call *c, mote_err *err)
+{
+    ((mb_model *)vm)->p.loss = c->args[0].r;
+    return MOTE_OK;
+}
+
+static int run_gravity(void *vm, const mote_call *c, mote_err *err)
+{
+    ((mb_model *)vm)->p.g = c->args[0].r;
+    return MOTE_OK;
+}
+static int check_gravity(void *vm, const mote_call *c, mote_err *err)
+{
+    return run_gravity(vm, c, err);
+}
+
+static int check_t_c(void *vm, const mote_call *c, mote_err *err)
+{
+    int rc = non_negative(c, 0, "T", err);
+    if (!rc)
+        set_physics(vm, c, MB_P_TC);
+    return rc ? rc : run_t_c(vm, c, err);
+}
+static int run_t_c(void *vm, const mote_call *c, mote_err *err)
+{
+    ((mb_model *)vm)->p.t_c = c->args[0].r;
+    return MOTE_OK;
+}
+
+static int parse_integrator(const mote_call *c, int *out, mote_err *err)
+{
+    const char *s = c->args[0].text;
+    if (strcmp(s, "timestep") == 0) {
+        *out = MOTE_MB_TIMESTEP;
+    } else if (strcmp(s, "event") == 0) {
+        if (!mb_event_available())
+            return mote_call_fail(err, c, 0, MOTE_EINVAL,
+                                  "integrator event: not implemented yet; use 'integrator "
+                                  "timestep' (the time-stepped reference mode) for now");
+        *out = MOTE_MB_EVENT;
+    } else {
+        return mote_call_fail(err, c, 0, MOTE_EINVAL,
+                              "integrator: expected 'event' or 'timestep', found '%s'", s);
+    }
+    return MOTE_OK;
+}
+static int check_integrator(void *vm, const mote_call *c, mote_err *err)
+{
+    return parse_integrator(c, &((mb_model *)vm)->p.integrator, err);
+}
+static int run_integrator(void *vm, const mote_call *c, mote_err *err)
+{
+    return parse_integrator(c, &((mb_model *)vm)->p.integrator, err);
+}
+
+static int parse_rule(const mote_call *c, int *out, mote_err *err)
+{
+    const char *s = c->args[0].text;
+    if (strcmp(s, "restitution") == 0)
+        *out = MOTE_MB_RESTITUTION;
+    else if (strcmp(s, "seed") == 0)
+        *out = MOTE_MB_SEEDRULE;
+    else
+        return mote_call_fail(err, c, 0, MOTE_EINVAL,
+                              "collision_rule: expected 'restitution' or 'seed', found '%s'", s);
+    return MOTE_OK;
+}
+static int check_rule(void *vm, const mote_call *c, mote_err *err)
+{
+    return parse_rule(c, &((mb_model *)vm)->p.rule, err);
+}
+static int run_rule(void *vm, const mote_call *c, mote_err *err)
+{
+    return parse_rule(c, &((mb_model *)vm)->p.rule, err);
+}
+
+static int run_seed(void *vm, const mote_call *c, mote_err *err)
+{
+    mote_mb_seed(&((mb_model *)vm)->sys, c->args[0].u);
+    return MOTE_OK;
+}
+
+/* ---- placement ------------------------------------------------------------------------------------ */
+
+/* End the samplers of an earlier experiment (their files were written at its last run). */
+static void end_samplers(mb_model *m)
+{
+    mb_record_free(&m->rec);
+    mb_density_free(&m->dens);
+    m->frames.active = 0;
+    m->d_record_dt = m->d_density_dt = m->d_frames_dt = 0;
+}
+
+static int check_place(void *vm, const mote_call *c, mote_err *err)
+{
+    mb_model *m = vm;
+    int groups = 0;
+    mote_err e2 = {0};
+    if (mb_params_check(&m->p, &groups, &e2)) {
+        char where[512] = "";
+        size_t k = 0;
+        for (int g = 0; g < MB_P_NGROUPS && k < sizeof where; g++) {
+            if (!(groups & (1 << g)))
+                continue;
+            int w;
+            if (m->set_line[g])
+                w = snprintf(where + k, sizeof where - k, "%s%s on line %d", k ? ", " : "",
+                             group_names[g], m->set_line[g]);
+            else
+                w = snprintf(where + k, sizeof where - k, "%s%s (default)", k ? ", " : "",
+                             group_names[g]);
+            if (w < 0)
+                break;
+            k += (size_t)w;
+        }
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "place: %s [set by: %s]", e2.msg, where);
+    }
+    m->d_placed = 1;
+    m->d_place_line = c->line;
+    m->d_n = m->p.n_left + m->p.n_right;
+    end_samplers(m);
+    return MOTE_OK;
+}
+static int run_place(void *vm, const mote_call *c, mote_err *err)
+{
+    mb_model *m = vm;
+    int rc = mote_mb_place(&m->sys, &m->p, err);
+    if (rc)
+        return rc;
+    end_samplers(m);
+    if (m->log)
+        fprintf(m->log,
+                "place: %u disks (%lld left, %lld right), area fractions %.4g and %.4g, seed %llu, "
+                "t_c %.6g s\n",
+                m->sys.n, (long long)m->p.n_left, (long long)m->p.n_right,
+                mote_mb_area_fraction(&m->p, 0), mote_mb_area_fraction(&m->p, 1),
+                (unsigned long long)m->sys.seed, mote_mb_tc(&m->p));
+    return MOTE_OK;
+}
+
+/* ---- running ------------------------------------------------------------------------------------ */
+
+static int check_samples(const mb_model *m, const mote_call *c, int argi, double t,
+                         mote_err *err)
+{
+    if (m->d_record_dt > 0 && t / m->d_record_dt > 1e7)
+        return mote_call_fail(err, c, argi, MOTE_EINVAL,
+                              "%s: %s s with a record every %g s would take %.3g samples (at most "
+                              "10^7 per run); use a larger DT",
+                              c->name, c->args[argi].text, m->d_record_dt, t / m->d_record_dt);
+    if (m->d_density_dt > 0 && t / m->d_density_dt > 1e8)
+        return mote_call_fail(err, c, argi, MOTE_EINVAL,
+                              "%s: %s s with a density sample every %g s would take %.3g samples "
+                              "(at most 10^8 per run); use a larger DT",
+                              c->name, c->args[argi].text, m->d_density_dt, t / m->d_density_dt);
+    if (m->d_frames_dt > 0 && t / m->d_frames_dt > 1e5)
+        return mote_call_fail(err, c, argi, MOTE_EINVAL,
+                              "%s: %s s with a frame every %g s would write %.3g PNG files (at "
+                              "most 10^5 per run); use a larger DT",
+                              c->name, c->args[argi].text, m->d_frames_dt, t / m->d_frames_dt);
+    return MOTE_OK;
+}
+
+static int check_run(void *vm, const mote_call *c, mote_err *err)
+{
+    mb_model *m = vm;
+    int rc = need_placed(m, c, err);
+    if (!rc)
+        rc = positive(c, 0, "T", err);
+    if (!rc)
+        rc = check_samples(m, c, 0, c->args[0].r, err);
+    return rc;
+}
+
+static int check_run_collisions(void *vm, const mote_call *c, mote_err *err)
+{
+    mb_model *m = vm;
+    int rc = need_placed(m, c, err);
+    if (rc)
+        return rc;
+    if (c->args[0].i < 1)
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "run_collisions: K must be >= 1, found %s",
+                              c->args[0].text);
+    if (m->d_n < 2)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL,
+                              "run_collisions: there is only one disk, which never collides");
+    rc = positive(c, 1, "T_MAX", err);
+    return rc ? rc : check_samples(m, c, 1, c->args[1].r, err);
+}
+
+/* Copy the physics parameters the commands set into the placed system. */
+static void apply_physics(mb_model *m)
+{
+    mote_mb_params *s = &m->sys.p;
+    s->dv_b = m->p.dv_b;
+    s->dv_t = m->p.dv_t;
+    s->dv_s = m->p.dv_s;
+    s->loss = m->p.loss;
+    s->g = m->p.g;
+    s->t_c = m->p.t_c;
+    s->integrator = m->p.integrator;
+    s->rule = m->p.rule;
+}
+
+static int write_outputs(mb_model *m, mote_err *err)
+{
+    int rc = MOTE_OK;
+    if (m->rec.active)
+        rc = mb_record_write(&m->rec, &m->sys, err);
+    if (!rc && m->dens.active)
+        rc = mb_density_write(&m->dens, &m->sys, err);
+    return rc;
+}
+
+static int do_run(mb_model *m, const mote_call *c, double t_end, uint64_t collisions_end,
+                  mote_err *err)
+{
+    mote_mb *s = &m->sys;
+    apply_physics(m);
+    mote_mb_sampler samplers[3];
+    size_t ns = 0;
+    if (m->rec.active)
+        samplers[ns++] = m->rec_s;
+    if (m->dens.active)
+        samplers[ns++] = m->dens_s;
+    if (m->frames.active)
+        samplers[ns++] = m->frames_s;
+    mote_progress prog;
+    mote_progress_begin(&prog, c->ctx, c->name);
+    mote_mb_hooks hooks = {samplers, ns, collisions_end, &prog, 0, 0, 0};
+    double e0 = mote_mb_energy(s, NULL), t0 = s->time, wall = mote_wall_seconds();
+    mote_mb before = *s;
+    int rc = mote_mb_run(s, t_end, &hooks, err);
+    mote_progress_end(&prog);
+    /* the samplers' positions in their sequences */
+    ns = 0;
+    if (m->rec.active)
+        m->rec_s = samplers[ns++];
+    if (m->dens.active)
+        m->dens_s = samplers[ns++];
+    if (m->frames.active)
+        m->frames_s = samplers[ns++];
+    /* Rewrite the files in any case: a failing run keeps every sample taken so far. */
+    mote_err werr = {0};
+    int wrc = write_outputs(m, rc ? &werr : err);
+    if (rc || wrc)
+        return rc ? rc : wrc;
+    if (m->log) {
+        mote_mb_tally t = mote_mb_counts(s);
+        double e1 = mote_mb_energy(s, NULL);
+        double drift = e0 != 0 ? (e1 - e0) / fabs(e0) : (e1 == 0 ? 0.0 : INFINITY);
+        fprintf(m->log,
+                "%s: t=%.10g run_time=%.10g steps=%llu collisions=%llu mixing_fraction=%.6g "
+                "E=%.10g E_rel_drift=%.3e overlaps=%llu overlaps_end=%llu overlap_steps=%llu "
+                "cross_lr=%llu cross_rl=%llu wall_hits=%llu partition_hits=%llu slit_hits=%llu "
+                "corner_hits=%llu collisions_tc=%llu wall_seconds=%.3f\n",
+                c->name, s->time, s->time - t0, (unsigned long long)(s->steps - before.steps),
+                (unsigned long long)(s->collisions - before.collisions),
+                mote_mb_mixing_fraction(&t), e1, drift, (unsigned long long)s->overlaps_max,
+                (unsigned long long)s->overlaps_last, (unsigned long long)s->overlap_steps,
+                (unsigned long long)(s->cross_lr - before.cross_lr),
+                (unsigned long long)(s->cross_rl - before.cross_rl),
+                (unsigned long long)(s->wall_hits - before.wall_hits),
+                (unsigned long long)(s->partition_hits - before.partition_hits),
+                (unsigned long long)(s->slit_hits - before.slit_hits),
+                (unsigned long long)(s->corner_hits - before.corner_hits),
+                (unsigned long long)(s->collisions_tc - before.collisions_tc),
+                mote_wall_seconds() - wall);
+    }
+    return MOTE_OK;
+}
+
+static int run_run(void *vm, const mote_call *c, mote_err *err)
+{
+    mb_model *m = vm;
+    return do_run(m, c, m->sys.time + c->args[0].r, UINT64_MAX, err);
+}
+
+static int run_run_collisions(void *vm, const mote_call *c, mote_err *err)
+{
+    mb_model *m = vm;
+    uint64_t k = (uint64_t)c->args[0].i;
+    uint64_t end = m->sys.collisions > UINT64_MAX - k ? UINT64_MAX : m->sys.collisions + k;
+    return do_run(m, c, m->sys.time + c->args[1].r, end, err);
+}
+
+/* ---- measurements and pictures --------------------------------------------------------------- */
+
+static int check_record(void *vm, const mote_call *c, mote_err *err)
+{
+    mb_model *m = vm;
+    int rc = need_placed(m, c, err);
+    if (!rc)
+        rc = positive(c, 0, "DT", err);
+    if (!rc)
+        rc = note_output(m, c, 1, W_RECORD, err);
+    if (!rc)
+        m->d_record_dt = c->args[0].r;
+    return rc;
+}
+static int run_record(void *vm, const mote_call *c, mote_err *err)
+{
+    mb_model *m = vm;
+    mb_record_free(&m->rec);
+    m->rec.path = mote_ctx_path(c->ctx, c->args[1].text);
+    m->rec.origin = origin_of(c);
+    if (!m->rec.path || !m->rec.origin)
+        return mote_fail(err, MOTE_ENOMEM, "record: out of memory");
+    m->rec.dt = c->args[0].r;
+    int rc = mb_record_sample(&m->rec, &m->sys, err);
+    if (!rc)
+        rc = mb_record_write(&m->rec, &m->sys, err);
+    if (rc) {
+        mb_record_free(&m->rec);
+        return rc;
+    }
+    m->rec.active = 1;
+    m->rec_s = (mote_mb_sampler){m->sys.time, m->rec.dt, 1, &m->rec, mb_record_sample};
+    if (m->log)
+        fprintf(m->log, "record: every %g s into %s\n", m->rec.dt, m->rec.path);
+    return MOTE_OK;
+}
+
+static int check_density(void *vm, const mote_call *c, mote_err *err)
+{
+    mb_model *m = vm;
+    int rc = need_placed(m, c, err);
+    if (!rc)
+        rc = positive(c, 0, "DT", err);
+    if (!rc && (c->args[1].i < 1 || c->args[1].i > 1000000))
+        rc = mote_call_fail(err, c, 1, MOTE_EINVAL,
+                            "density_y: NBINS must be in 1 ... 1000000, found %s",
+                            c->args[1].text);
+    if (!rc)
+        rc = note_output(m, c, 2, W_DENSITY, err);
+    if (!rc)
+        m->d_density_dt = c->args[0].r;
+    return rc;
+}
+static int run_density(void *vm, const mote_call *c, mote_err *err)
+{
+    mb_model *m = vm;
+    mb_density *d = &m->dens;
+    mb_density_free(d);
+    d->path = mote_ctx_path(c->ctx, c->args[2].text);
+    d->origin = origin_of(c);
+    d->nbins = c->args[1].i;
+    d->count[0] = calloc((size_t)d->nbins, sizeof(double));
+    d->count[1] = calloc((size_t)d->nbins, sizeof(double));
+    if (!d->path || !d->origin || !d->count[0] || !d->count[1]) {
+        mb_density_free(d);
+        return mote_fail(err, MOTE_ENOMEM, "density_y: out of memory");
+    }
+    d->dt = c->args[0].r;
+    d->y0 = m->sys.p.x_b;
+    d->h = (m->sys.p.x_t - m->sys.p.x_b) / (double)d->nbins;
+    int rc = mb_density_sample(d, &m->sys, err);
+    if (!rc)
+        rc = mb_density_write(d, &m->sys, err);
+    if (rc) {
+        mb_density_free(d);
+        return rc;
+    }
+    d->active = 1;
+    m->dens_s = (mote_mb_sampler){m->sys.time, d->dt, 1, d, mb_density_sample};
+    if (m->log)
+        fprintf(m->log, "density_y: %lld bins every %g s into %s\n", (long long)d->nbins, d->dt,
+                d->path);
+    return MOTE_OK;
+}
+
+static int ends_with(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), k = strlen(suffix);
+    return n > k && strcmp(s + n - k, suffix) == 0;
+}
+
+static int check_snapshot(void *vm, const mote_call *c, mote_err *err)
+{
+    mb_model *m = vm;
+    int rc = need_placed(m, c, err);
+    if (rc)
+        return rc;
+    const char *f = c->args[0].text;
+    int png = ends_with(f, ".png"), xyz = ends_with(f, ".xyz");
+    if (!png && !xyz)
+        return mote_call_fail(err, c, 0, MOTE_EINVAL,
+                              "snapshot: FILE must end in .png (a picture) or .xyz (extended "
+                              "XYZ), found '%s'",
+                              f);
+    return note_output(m, c, 0, png ? W_PNG : W_XYZ, err);
+}
+static int run_snapshot(void *vm, const mote_call *c, mote_err *err)
+{
+    mb_model *m = vm;
+    char *path = mote_ctx_path(c->ctx, c->args[0].text);
+    char *origin = origin_of(c);
+    int rc;
+    if (!path || !origin)
+        rc = mote_fail(err, MOTE_ENOMEM, "snapshot: out of memory");
+    else if (ends_with(path, ".xyz"))
+        rc = mb_snapshot_xyz(&m->sys, path, origin, err);
+    else
+        rc = mb_snapshot_png(&m->sys, path, err);
+    if (!rc && m->log)
+        fprintf(m->log, "snapshot: wrote %s\n", path);
+    free(path);
+    free(origin);
+    return rc;
+}
+
+static int check_frames(void *vm, const mote_call *c, mote_err *err)
+{
+    mb_model *m = vm;
+    int rc = need_placed(m, c, err);
+    if (!rc)
+        rc = positive(c, 0, "DT", err);
+    if (rc)
+        return rc;
+    char *prefix = mote_ctx_path(c->ctx, c->args[1].text);
+    char *first = prefix ? mb_frame_name(prefix, 0) : NULL;
+    if (!first)
+        rc = mote_call_fail(err, c, 1, MOTE_ENOMEM, "out of memory");
+    else if (!mote_ctx_dir_ok(c->ctx, first))
+        rc = mote_call_fail(err, c, 1, MOTE_EIO,
+                            "frames: the directory of the frames '%s' does not exist", first);
+    else
+        rc = note_path(m, c, 1, prefix, W_FRAMES, err);
+    free(prefix);
+    free(first);
+    if (!rc)
+        m->d_frames_dt = c->args[0].r;
+    return rc;
+}
+static int run_frames(void *vm, const mote_call *c, mote_err *err)
+{
+    mb_model *m = vm;
+    char *prefix = mote_ctx_path(c->ctx, c->args[1].text);
+    if (!prefix)
+        return mote_fail(err, MOTE_ENOMEM, "frames: out of memory");
+    mb_frames *fr = &m->frames;
+    if (!fr->prefix || strcmp(fr->prefix, prefix) != 0) {
+        free(fr->prefix);
+        fr->prefix = prefix;
+        fr->next_index = 0;
+    } else {
+        free(prefix);
+    }
+    fr->dt = c->args[0].r;
+    int rc = mb_frames_sample(fr, &m->sys, err);
+    if (rc)
+        return rc;
+    fr->active = 1;
+    m->frames_s = (mote_mb_sampler){m->sys.time, fr->dt, 1, fr, mb_frames_sample};
+    if (m->log)
+        fprintf(m->log, "frames: every %g s as %s_NNNNNN.png from %06llu\n", fr->dt, fr->prefix,
+                (unsigned long long)(fr->next_index - 1));
+    return MOTE_OK;
+}
+
+static int check_frames_stop(void *vm, const mote_call *c, mote_err *err)
+{
+    ((mb_model *)vm)->d_frames_dt = 0;
+    return MOTE_OK;
+}
+static int run_frames_stop(void *vm, const mote_call *c, mote_err *err)
+{
+    ((mb_model *)vm)->frames.active = 0;
+    return MOTE_OK;
+}
+
+static int check_movie(void *vm, const mote_call *c, mote_err *err)
+{
+    mb_model *m = vm;
+    if (c->args[1].i < 1 || c->args[1].i > 1000)
+        return mote_call_fail(err, c, 1, MOTE_EINVAL, "movie: FPS must be in 1 ... 1000, found %s",
+                              c->args[1].text);
+    char *prefix = mote_ctx_path(c->ctx, c->args[0].text);
+    char *first = prefix ? mb_frame_name(prefix, 0) : NULL;
+    int rc = MOTE_OK;
+    struct stat st;
+    if (!first)
+        rc = mote_call_fail(err, c, 0, MOTE_ENOMEM, "out of memory");
+    else if (find_written(m, prefix) != W_FRAMES && stat(first, &st) != 0)
+        rc = mote_call_fail(err, c, 0, MOTE_EINVAL,
+                            "movie: no earlier 'frames' writes '%s' and it does not exist", first);
+    free(prefix);
+    free(first);
+    return rc ? rc : note_output(m, c, 2, W_MOVIE, err);
+}
+static int run_movie(void *vm, const mote_call *c, mote_err *err)
+{
+    mb_model *m = vm;
+    char *prefix = mote_ctx_path(c->ctx, c->args[0].text);
+    char *out = mote_ctx_path(c->ctx, c->args[2].text);
+    int ran = 0, rc;
+    if (!prefix || !out)
+        rc = mote_fail(err, MOTE_ENOMEM, "movie: out of memory");
+    else
+        rc = mb_movie(prefix, c->args[1].i, out, m->ctx ? m->ctx->diag : NULL, &ran, err);
+    if (!rc && ran && m->log)
+        fprintf(m->log, "movie: wrote %s\n", out);
+    free(prefix);
+    free(out);
+    return rc;
+}
+
+static int check_plot(void *vm, const mote_call *c, mote_err *err)
+{
+    mb_model *m = vm;
+    char *path = mote_ctx_path(c->ctx, c->args[0].text);
+    if (!path)
+        return mote_call_fail(err, c, 0, MOTE_ENOMEM, "out of memory");
+    int kind = find_written(m, path);
+    struct stat st;
+    int rc = MOTE_OK;
+    if (kind >= 0 && kind != W_RECORD && kind != W_DENSITY)
+        rc = mote_call_fail(err, c, 0, MOTE_EINVAL,
+                            "plot: '%s' is not a data file of record or density_y", path);
+    else if (kind < 0 && stat(path, &st) != 0)
+        rc = mote_call_fail(err, c, 0, MOTE_EIO,
+                            "plot: data file '%s' does not exist and no earlier command writes it",
+                            path);
+    free(path);
+    return rc ? rc : note_output(m, c, 1, W_PNG, err);
+}
+static int run_plot(void *vm, const mote_call *c, mote_err *err)
+{
+    mb_model *m = vm;
+    char *in = mote_ctx_path(c->ctx, c->args[0].text);
+    char *out = mote_ctx_path(c->ctx, c->args[1].text);
+    int rc = in && out ? mb_plot_file(in, out, err) : mote_fail(err, MOTE_ENOMEM, "out of memory");
+    if (!rc && m->log)
+        fprintf(m->log, "plot: wrote %s\n", out);
+    free(in);
+    free(out);
+    return rc;
+}
+
+/* ---- the table ----------------------------------------------------------------------------------- */
+
+static const mote_cmd mb_commands[] = {
+    {"box", NULL, "rrrr", "box X_L X_R X_B X_T", "the box walls (m)", MB_HELP_BOX, check_box,
+     run_box, 0},
+    {"partition", NULL, "rr", "partition X1_C a", "partition centre x and thickness (m)",
+     MB_HELP_PARTITION, check_partition, run_partition, 0},
+    {"slit", NULL, "rr", "slit X2_C b", "slit centre y and height (m); b = 0 closes it",
+     MB_HELP_SLIT, check_slit, run_slit, 0},
+    {"radius", NULL, "r", "radius R", "disk radius (m)", MB_HELP_RADIUS, check_radius,
+     run_radius, 0},
+    {"disks", NULL, "ii", "disks nLeft nRight", "disk counts of the left and right chamber",
+     MB_HELP_DISKS, check_disks, run_disks, 0},
+    {"v_init", NULL, "r", "v_init V", "initial speed of every disk (m/s)", MB_HELP_VINIT,
+     check_v_init, run_v_init, 0},
+    {"kicks", NULL, "rrr", "kicks dV_B dV_T dV_S",
+     "speed added on bounces off bottom, top, side walls (m/s)", MB_HELP_KICKS, check_kicks,
+     run_kicks, 0},
+    {"loss", NULL, "r", "loss LOSS", "fraction of kinetic energy lost per disk-disk collision",
+     MB_HELP_LOSS, check_loss, run_loss, 0},
+    {"gravity", NULL, "r", "gravity g", "gravitational acceleration in -y (m/s^2)",
+     MB_HELP_GRAVITY, check_gravity, run_gravity, 0},
+    {"t_c", NULL, "r", "t_c T", "TC-model time (s): collisions closer than T are elastic",
+     MB_HELP_TC, check_t_c, run_t_c, 0},
+    {"integrator", NULL, "s", "integrator NAME", "timestep (reference; default for now) or event",
+     MB_HELP_INTEGRATOR, check_integrator, run_integrator, 0},
+    {"collision_rule", NULL, "s", "collision_rule NAME",
+     "restitution (default) or seed (the document's rule)", MB_HELP_RULE, check_rule, run_rule,
+     0},
+    {"seed", NULL, "u", "seed S", "re-seed the random stream (default 1)", MB_HELP_SEED, NULL,
+     run_seed, 0},
+    {"place", NULL, "", "place", "place the disks at random in their chambers", MB_HELP_PLACE,
+     check_place, run_place, 0},
+    {"run", NULL, "r", "run T", "advance by the simulated time T (s)", MB_HELP_RUN, check_run,
+     run_run, 1},
+    {"run_collisions", NULL, "ir", "run_collisions K T_MAX",
+     "advance by K disk-disk collisions (at most T_MAX s)", MB_HELP_RUN_COLLISIONS,
+     check_run_collisions, run_run_collisions, 1},
+    {"record", NULL, "rf", "record DT FILE", "record the mixing curve every DT s into FILE",
+     MB_HELP_RECORD, check_record, run_record, 1},
+    {"density_y", NULL, "rif", "density_y DT NBINS FILE",
+     "time-averaged density profile in y, sampled every DT s", MB_HELP_DENSITY, check_density,
+     run_density, 1},
+    {"snapshot", NULL, "f", "snapshot FILE", "picture (.png) or extended XYZ (.xyz) of the state",
+     MB_HELP_SNAPSHOT, check_snapshot, run_snapshot, 1},
+    {"frames", NULL, "rf", "frames DT PREFIX", "a picture every DT s: PREFIX_000000.png ...",
+     MB_HELP_FRAMES, check_frames, run_frames, 1},
+    {"frames_stop", NULL, "", "frames_stop", "stop writing frames", MB_HELP_FRAMES_STOP,
+     check_frames_stop, run_frames_stop, 0},
+    {"movie", NULL, "fif", "movie PREFIX FPS FILE", "make a movie of the frames (needs ffmpeg)",
+     MB_HELP_MOVIE, check_movie, run_movie, 0},
+    {"plot", NULL, "ff", "plot DATAFILE PNGFILE",
+     "render a record or density_y data file as a PNG", MB_HELP_PLOT, check_plot, run_plot, 0},
+};
+
+const mote_model mote_model_mixingbox = {
+    "mixing-box",
+    "2D disks of two colours mixing through a slit in a partition (spec mixing-box)",
+    mb_commands,
+    sizeof mb_commands / sizeof mb_commands[0],
+    model_create,
+    model_destroy,
+    model_status,
+};

@@ -1,0 +1,126 @@
+/* mb.h: declarations shared inside the mixing-box model (src/mixingbox/) and with its tests:
+ * the parameter check that also says which parameter groups a failure involves, the document's
+ * wall rules of the time-stepped reference mode, one time step, the recording and picture
+ * helpers the commands use. Nothing outside src/mixingbox/ and tests/ includes it. */
+#ifndef MOTE_MB_INTERNAL_H
+#define MOTE_MB_INTERNAL_H
+
+#include "mote/mixingbox.h"
+
+#include <stdio.h>
+
+/* Parameter groups, one per command that sets them (bit masks for mb_params_check). */
+enum {
+    MB_P_BOX = 1 << 0,
+    MB_P_PARTITION = 1 << 1,
+    MB_P_SLIT = 1 << 2,
+    MB_P_RADIUS = 1 << 3,
+    MB_P_DISKS = 1 << 4,
+    MB_P_VINIT = 1 << 5,
+    MB_P_KICKS = 1 << 6,
+    MB_P_LOSS = 1 << 7,
+    MB_P_TC = 1 << 8,
+    MB_P_NGROUPS = 9
+};
+
+/* mote_mb_params_check, also reporting in *groups (may be NULL) the parameter groups the failure
+ * involves. */
+int mb_params_check(const mote_mb_params *p, int *groups, mote_err *err);
+
+/* Allocate sys->grid and lay it out for the placed system if not done yet. 0 or -1 (memory). */
+int mb_ensure_grid(mote_mb *sys);
+
+/* Largest N the model accepts. */
+#define MB_N_MAX 10000000
+
+/* ---- the time-stepped reference mode (timestep.c) -------------------------------------------- */
+
+/* The document's wall rules (spec 2.4, 2.5) for disk i, in the document's order: top, bottom,
+ * left, right walls, then the partition band. Counts wall_hits, slit_hits, partition_hits. */
+void mb_ts_walls(mote_mb *sys, uint32_t i);
+/* The disk-disk part of a step for the pair (i, j) at time t: when closer than 2R and
+ * approaching ((r_j - r_i).(v_j - v_i) < 0), collide with mote_mb_collide; then, when closer
+ * than 2R, move the upper disk (larger y; none when level) away from the lower one along the
+ * line of centres to distance 2R. Returns 1 when they collided. */
+int mb_ts_pair(mote_mb *sys, uint32_t i, uint32_t j, double t);
+/* The step length R / (8 V) from the fastest speed V (V_init when all are at rest, 0.1 when that
+ * is 0 too); NaN when a speed is not finite. */
+double mb_ts_dt(const mote_mb *sys);
+/* One whole step of length dt ending at time t_new: move, pairs, walls, chambers, overlaps. */
+int mb_ts_step(mote_mb *sys, double dt, double t_new, mote_err *err);
+
+/* ---- measurements (measure.c) ---------------------------------------------------------------- */
+
+/* One row of the mixing curve. */
+typedef struct {
+    double t;
+    mote_mb_tally c;
+    uint64_t cross_lr, cross_rl;
+    double kt[2];     /* mean kinetic energy per disk per chamber */
+    double e, e_kin;
+    uint64_t collisions, overlaps;
+} mb_row;
+
+/* The `record DT FILE` recording: rows in memory, the whole file rewritten atomically. */
+typedef struct {
+    int active;
+    char *path;
+    char *origin; /* the command line that started it (for the header) */
+    double dt;
+    mb_row *rows;
+    size_t nrows, cap;
+} mb_record;
+
+void mb_record_free(mb_record *r);
+/* Take one row from the state (counts overlaps and notes them in sys). */
+int mb_record_sample(void *ctx, mote_mb *sys, mote_err *err);
+int mb_record_write(const mb_record *r, const mote_mb *sys, mote_err *err);
+
+/* The `density_y DT NBINS FILE` profile: y histograms per chamber summed over samples. */
+typedef struct {
+    int active;
+    char *path, *origin;
+    double dt;
+    int64_t nbins;
+    double y0, h;        /* lowest bin edge (X_B) and bin height */
+    double *count[2];    /* summed counts per bin per chamber */
+    double ke[2];        /* summed kinetic energy per chamber */
+    double disks[2];     /* summed disk counts per chamber */
+    uint64_t samples;
+    double t_first, t_last;
+} mb_density;
+
+void mb_density_free(mb_density *d);
+int mb_density_sample(void *ctx, mote_mb *sys, mote_err *err);
+int mb_density_write(const mb_density *d, const mote_mb *sys, mote_err *err);
+
+/* The header lines every mixing-box data file starts with after its format line. */
+void mb_write_params(FILE *f, const mote_mb *sys, const char *origin);
+
+/* ---- pictures (picture.c) -------------------------------------------------------------------- */
+
+/* A PNG of the disks in their colours, the partition (as grey disks) and the box as the frame. */
+int mb_snapshot_png(const mote_mb *sys, const char *path, mote_err *err);
+/* Extended XYZ (OVITO, VMD): one frame with species, positions, velocities, radius, colour. */
+int mb_snapshot_xyz(const mote_mb *sys, const char *path, const char *origin, mote_err *err);
+
+typedef struct {
+    int active;
+    char *prefix;
+    double dt;
+    uint64_t next_index; /* frame number of the next PNG */
+} mb_frames;
+
+/* PREFIX_%06d.png for index k (malloc'ed). */
+char *mb_frame_name(const char *prefix, uint64_t k);
+int mb_frames_sample(void *ctx, mote_mb *sys, mote_err *err);
+
+/* Render a mixing-box data file (mixing curve or density profile) as a PNG. */
+int mb_plot_file(const char *in, const char *out, mote_err *err);
+
+/* Run ffmpeg on PREFIX_%06d.png (frames first .. ) into out at fps frames per second; when
+ * ffmpeg is not on PATH, print the command to `diag` and return MOTE_OK with *ran = 0. */
+int mb_movie(const char *prefix, int64_t fps, const char *out, FILE *diag, int *ran,
+             mote_err *err);
+
+#endif

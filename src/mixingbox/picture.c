@@ -1,0 +1,473 @@
+/* picture.c: what the user sees of the mixing box: PNG snapshots (disks in their two colours, the
+ * box as the frame, the partition drawn as a dense band of grey disks because the renderer has
+ * no rectangle primitive, the slit as the gap in it), extended XYZ snapshots for OVITO and VMD,
+ * numbered frames for a movie, the movie itself through ffmpeg when it is installed, and `plot`
+ * of the model's data files (the mixing curve, the density profile with the barometric law). */
+#include "mb.h"
+
+#include "mote/render.h"
+
+#include <errno.h>
+#include <math.h>
+#include <spawn.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+/* ---- snapshots ------------------------------------------------------------------------------- */
+
+enum { PARTITION_CLASS = 7 }; /* grey in the renderer's palette */
+
+/* Disks of radius rho covering [x0, x1] x [y0, y1] (their union stays inside it), appended at
+ * index k; returns the new count. With x == NULL it only counts. */
+static size_t band_disks(double x0, double x1, double y0, double y1, double rho, double *x,
+                         double *y, double *r, int *c, size_t k)
+{
+    if (!(x1 > x0) || !(y1 > y0))
+        return k;
+    double rx = fmin(rho, 0.5 * (x1 - x0)), ry = fmin(rho, 0.5 * (y1 - y0));
+    double rr = fmin(rx, ry), step = 0.5 * rr;
+    size_t nx = (size_t)ceil((x1 - x0 - 2 * rr) / step) + 1;
+    size_t ny = (size_t)ceil((y1 - y0 - 2 * rr) / step) + 1;
+    for (size_t a = 0; a < nx; a++)
+        for (size_t b = 0; b < ny; b++) {
+            if (x) {
+                double fx = nx > 1 ? (double)a / (double)(nx - 1) : 0.5;
+                double fy = ny > 1 ? (double)b / (double)(ny - 1) : 0.5;
+                x[k] = x0 + rr + fx * (x1 - x0 - 2 * rr);
+                y[k] = y0 + rr + fy * (y1 - y0 - 2 * rr);
+                r[k] = rr;
+                c[k] = PARTITION_CLASS;
+            }
+            k++;
+        }
+    return k;
+}
+
+static size_t partition_disks(const mote_mb_params *p, double *x, double *y, double *r, int *c,
+                              size_t k)
+{
+    double h = p->x_t - p->x_b;
+    double rho = fmax(fmin(0.5 * p->a, h / 100.0), p->a / 200.0);
+    double x1l = mote_mb_x1_l(p), x1r = mote_mb_x1_r(p);
+    if (p->b > 0) {
+        k = band_disks(x1l, x1r, p->x_b, mote_mb_x2_b(p), rho, x, y, r, c, k);
+        k = band_disks(x1l, x1r, mote_mb_x2_t(p), p->x_t, rho, x, y, r, c, k);
+    } else {
+        k = band_disks(x1l, x1r, p->x_b, p->x_t, rho, x, y, r, c, k);
+    }
+    return k;
+}
+
+/* Picture size: disks at least about 3 pixels in radius, within 600 .. 1600 pixels. */
+static int picture_width(const mote_mb_params *p)
+{
+    double longer = fmax(p->x_r - p->x_l, p->x_t - p->x_b);
+    double w = 3.0 * longer / p->r;
+    return w < 600 ? 600 : w > 1600 ? 1600 : (int)w;
+}
+
+int mb_snapshot_png(const mote_mb *sys, const char *path, mote_err *err)
+{
+    const mote_mb_params *p = &sys->p;
+    size_t extra = partition_disks(p, NULL, NULL, NULL, NULL, 0);
+    size_t n = sys->n + extra;
+    double *x = malloc(n * sizeof *x), *y = malloc(n * sizeof *y), *r = malloc(n * sizeof *r);
+    int *c = malloc(n * sizeof *c);
+    int rc;
+    if (!x || !y || !r || !c) {
+        rc = mote_fail(err, MOTE_ENOMEM, "%s: out of memory", path);
+    } else {
+        for (uint32_t i = 0; i < sys->n; i++) {
+            x[i] = sys->x[i];
+            y[i] = sys->y[i];
+            r[i] = p->r;
+            c[i] = sys->colour[i];
+        }
+        partition_disks(p, x, y, r, c, sys->n);
+        mote_mb_tally t = mote_mb_counts(sys);
+        char title[256];
+        snprintf(title, sizeof title,
+                 "t = %.6g s   m = %.3f   left %llu + %llu   right %llu + %llu (colour 0 + 1)",
+                 sys->time, mote_mb_mixing_fraction(&t), (unsigned long long)t.n[0][0],
+                 (unsigned long long)t.n[0][1], (unsigned long long)t.n[1][0],
+                 (unsigned long long)t.n[1][1]);
+        mote_scatter_opts o = {0};
+        o.title = title;
+        o.xlabel = "x (m)";
+        o.ylabel = "y (m)";
+        o.width = picture_width(p);
+        o.xmin = p->x_l;
+        o.xmax = p->x_r;
+        o.ymin = p->x_b;
+        o.ymax = p->x_t;
+        rc = mote_disks_png(path, &o, x, y, r, c, n, err);
+    }
+    free(x);
+    free(y);
+    free(r);
+    free(c);
+    return rc;
+}
+
+int mb_snapshot_xyz(const mote_mb *sys, const char *path, const char *origin, mote_err *err)
+{
+    const mote_mb_params *p = &sys->p;
+    mote_afile af;
+    int rc = mote_afile_open(&af, path, err);
+    if (rc)
+        return rc;
+    FILE *f = af.f;
+    fprintf(f, "%u\n", sys->n);
+    /* The comment line may not hold double quotes inside a value: replace them. */
+    char org[512];
+    snprintf(org, sizeof org, "%s", origin ? origin : "");
+    for (char *q = org; *q; q++)
+        if (*q == '"')
+            *q = '\'';
+    fprintf(f,
+            "Lattice=\"%.17g 0 0 0 %.17g 0 0 0 %.17g\" Origin=\"%.17g %.17g 0\" "
+            "Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1:colour:I:1 Time=%.17g "
+            "pbc=\"F F F\" model=mixing-box command=\"%s\"\n",
+            p->x_r - p->x_l, p->x_t - p->x_b, 2 * p->r, p->x_l, p->x_b, sys->time, org);
+    for (uint32_t i = 0; i < sys->n; i++)
+        fprintf(f, "%s %.17g %.17g 0 %.17g %.17g 0 %.17g %d\n", sys->colour[i] ? "B" : "A",
+                sys->x[i], sys->y[i], sys->vx[i], sys->vy[i], p->r, sys->colour[i]);
+    return mote_afile_commit(&af, err);
+}
+
+/* ---- frames and movies ----------------------------------------------------------------------- */
+
+char *mb_frame_name(const char *prefix, uint64_t k)
+{
+    size_t n = strlen(prefix) + 32;
+    char *s = malloc(n);
+    if (s)
+        snprintf(s, n, "%s_%06llu.png", prefix, (unsigned long long)k);
+    return s;
+}
+
+int mb_frames_sample(void *ctx, mote_mb *sys, mote_err *err)
+{
+    mb_frames *fr = ctx;
+    char *name = mb_frame_name(fr->prefix, fr->next_index);
+    if (!name)
+        return mote_fail(err, MOTE_ENOMEM, "frames: out of memory");
+    int rc = mb_snapshot_png(sys, name, err);
+    free(name);
+    if (!rc)
+        fr->next_index++;
+    return rc;
+}
+
+/* The first executable `name` in PATH, or NULL (malloc'ed). */
+static char *find_in_path(const char *name)
+{
+    const char *path = getenv("PATH");
+    if (!path)
+        return NULL;
+    size_t nl = strlen(name);
+    while (*path) {
+        size_t n = strcspn(path, ":");
+        char *full = malloc(n + nl + 2);
+        if (!full)
+            return NULL;
+        if (n == 0) {
+            memcpy(full, name, nl + 1);
+        } else {
+            memcpy(full, path, n);
+            full[n] = '/';
+            memcpy(full + n + 1, name, nl + 1);
+        }
+        struct stat st;
+        if (stat(full, &st) == 0 && S_ISREG(st.st_mode) && access(full, X_OK) == 0)
+            return full;
+        free(full);
+        path += n;
+        if (*path == ':')
+            path++;
+    }
+    return NULL;
+}
+
+extern char **environ;
+
+int mb_movie(const char *prefix, int64_t fps, const char *out, FILE *diag, int *ran,
+             mote_err *err)
+{
+    *ran = 0;
+    size_t pl = strlen(prefix);
+    char *pattern = malloc(pl + 16);
+    if (!pattern)
+        return mote_fail(err, MOTE_ENOMEM, "movie: out of memory");
+    snprintf(pattern, pl + 16, "%s_%%06d.png", prefix);
+    const char *slash = strrchr(out, '/');
+    const char *dot = strrchr(out, '.');
+    const char *ext = dot && (!slash || dot > slash) ? dot : "";
+    int gif = strcmp(ext, ".gif") == 0;
+    char rate[32];
+    snprintf(rate, sizeof rate, "%lld", (long long)fps);
+    char *ffmpeg = find_in_path("ffmpeg");
+    if (!ffmpeg) {
+        if (diag)
+            fprintf(diag,
+                    "note: movie: ffmpeg is not on PATH, so no movie was made; with ffmpeg "
+                    "installed, run:\n  ffmpeg -y -framerate %s -i '%s' -vf "
+                    "'pad=ceil(iw/2)*2:ceil(ih/2)*2'%s '%s'\n",
+                    rate, pattern, gif ? "" : " -pix_fmt yuv420p", out);
+        free(pattern);
+        return MOTE_OK;
+    }
+    size_t ol = strlen(out);
+    char *tmp = malloc(ol + 48);
+    if (!tmp) {
+        free(pattern);
+        free(ffmpeg);
+        return mote_fail(err, MOTE_ENOMEM, "movie: out of memory");
+    }
+    /* ffmpeg picks the container from the extension, so the temporary name keeps it. */
+    snprintf(tmp, ol + 48, "%.*s.tmp%ld%s", (int)(ol - strlen(ext)), out, (long)getpid(), ext);
+    char *argv[20];
+    int k = 0;
+    argv[k++] = "ffmpeg";
+    argv[k++] = "-y";
+    argv[k++] = "-loglevel";
+    argv[k++] = "error";
+    argv[k++] = "-framerate";
+    argv[k++] = rate;
+    argv[k++] = "-i";
+    argv[k++] = pattern;
+    argv[k++] = "-vf";
+    argv[k++] = "pad=ceil(iw/2)*2:ceil(ih/2)*2";
+    if (!gif) {
+        argv[k++] = "-pix_fmt";
+        argv[k++] = "yuv420p";
+    }
+    argv[k++] = tmp;
+    argv[k] = NULL;
+    if (diag)
+        fflush(diag);
+    pid_t pid;
+    int rc = MOTE_OK;
+    int e = posix_spawn(&pid, ffmpeg, NULL, NULL, argv, environ);
+    if (e != 0) {
+        rc = mote_fail(err, MOTE_EIO, "movie: cannot start %s: %s", ffmpeg, strerror(e));
+    } else {
+        int status = 0;
+        while (waitpid(pid, &status, 0) < 0 && errno == EINTR)
+            ;
+        if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+            rc = mote_fail(err, MOTE_ERUNTIME, "movie: ffmpeg failed (%s %d) making '%s' from '%s'",
+                           WIFEXITED(status) ? "exit status" : "signal",
+                           WIFEXITED(status) ? WEXITSTATUS(status) : WTERMSIG(status), out,
+                           pattern);
+        else if (rename(tmp, out) != 0)
+            rc = mote_fail(err, MOTE_EIO, "movie: cannot write '%s': %s", out, strerror(errno));
+        else
+            *ran = 1;
+    }
+    if (rc)
+        unlink(tmp);
+    free(tmp);
+    free(pattern);
+    free(ffmpeg);
+    return rc;
+}
+
+/* ---- plot ------------------------------------------------------------------------------------ */
+
+#define MAXCOL 64
+
+typedef struct {
+    char format[32];
+    char names[MAXCOL][32];
+    int ncol;
+    double m_eq, g;
+    double *v; /* rows * ncol */
+    size_t rows, cap;
+} table;
+
+static int col_of(const table *t, const char *name)
+{
+    for (int k = 0; k < t->ncol; k++)
+        if (strcmp(t->names[k], name) == 0)
+            return k;
+    return -1;
+}
+
+static int read_table(const char *path, table *t, mote_err *err)
+{
+    memset(t, 0, sizeof *t);
+    t->m_eq = NAN;
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return mote_fail(err, MOTE_EIO, "plot: cannot read '%s': %s", path, strerror(errno));
+    char *line = NULL;
+    size_t linecap = 0;
+    long lineno = 0;
+    int rc = MOTE_OK;
+    while (!rc && getline(&line, &linecap, f) > 0) {
+        lineno++;
+        if (line[0] == '#') {
+            double v;
+            if (lineno == 1) {
+                if (sscanf(line, "# mote %31s 1", t->format) != 1)
+                    t->format[0] = '\0';
+            } else if (strncmp(line, "# columns:", 10) == 0) {
+                char *s = line + 10;
+                t->ncol = 0;
+                for (char *tok = strtok(s, " \t\r\n"); tok && t->ncol < MAXCOL;
+                     tok = strtok(NULL, " \t\r\n"))
+                    snprintf(t->names[t->ncol++], sizeof t->names[0], "%s", tok);
+            } else if (sscanf(line, "# m_eq = %lf", &v) == 1) {
+                t->m_eq = v;
+            } else if (sscanf(line, "# g = %lf", &v) == 1) {
+                t->g = v;
+            }
+            continue;
+        }
+        if (strspn(line, " \t\r\n") == strlen(line))
+            continue;
+        if (t->ncol == 0) {
+            rc = mote_fail(err, MOTE_EFORMAT, "plot: %s:%ld: data before the '# columns:' line",
+                           path, lineno);
+            break;
+        }
+        if (t->rows == t->cap) {
+            size_t cap = t->cap ? 2 * t->cap : 256;
+            double *v = realloc(t->v, cap * (size_t)t->ncol * sizeof *v);
+            if (!v) {
+                rc = mote_fail(err, MOTE_ENOMEM, "plot: out of memory");
+                break;
+            }
+            t->v = v;
+            t->cap = cap;
+        }
+        char *p = line;
+        for (int k = 0; k < t->ncol; k++) {
+            char *end;
+            double v = strtod(p, &end);
+            if (end == p) {
+                rc = mote_fail(err, MOTE_EFORMAT,
+                               "plot: %s:%ld: expected %d numbers (columns %s ...), found %d",
+                               path, lineno, t->ncol, t->names[0], k);
+                break;
+            }
+            t->v[t->rows * (size_t)t->ncol + (size_t)k] = v;
+            p = end;
+        }
+        t->rows++;
+    }
+    free(line);
+    fclose(f);
+    if (!rc && strcmp(t->format, "mixing") != 0 && strcmp(t->format, "mixing-density") != 0)
+        rc = mote_fail(err, MOTE_EFORMAT,
+                       "plot: '%s' is not a mixing-box data file (its first line should be "
+                       "'# mote mixing 1' or '# mote mixing-density 1')",
+                       path);
+    if (rc) {
+        free(t->v);
+        t->v = NULL;
+    }
+    return rc;
+}
+
+static double *column(const table *t, int k)
+{
+    double *c = malloc((t->rows ? t->rows : 1) * sizeof *c);
+    if (c)
+        for (size_t r = 0; r < t->rows; r++)
+            c[r] = t->v[r * (size_t)t->ncol + (size_t)k];
+    return c;
+}
+
+static int need_cols(const table *t, const char *path, const char *const *names, int *idx,
+                     int n, mote_err *err)
+{
+    for (int k = 0; k < n; k++) {
+        idx[k] = col_of(t, names[k]);
+        if (idx[k] < 0)
+            return mote_fail(err, MOTE_EFORMAT, "plot: '%s' has no column '%s'", path, names[k]);
+    }
+    return MOTE_OK;
+}
+
+static int plot_mixing(const table *t, const char *in, const char *out, mote_err *err)
+{
+    static const char *const names[] = {"t", "m", "S_mix"};
+    int idx[3];
+    int rc = need_cols(t, in, names, idx, 3, err);
+    if (rc)
+        return rc;
+    double *tt = column(t, idx[0]), *m = column(t, idx[1]), *s = column(t, idx[2]);
+    if (!tt || !m || !s) {
+        rc = mote_fail(err, MOTE_ENOMEM, "plot: out of memory");
+    } else {
+        for (size_t r = 0; r < t->rows; r++)
+            s[r] /= log(2.0);
+        mote_series ser[2] = {
+            {tt, m, t->rows, "mixing fraction m", 0},
+            {tt, s, t->rows, "mixing entropy S_mix / ln 2", 0},
+        };
+        mote_plot_opts o = {0};
+        o.title = "mixing curve";
+        o.xlabel = "t (s)";
+        o.ylabel = "m,  S_mix / ln 2";
+        o.ymin = 0;
+        o.ymax = 1.05;
+        o.has_yref = isfinite(t->m_eq);
+        o.yref = t->m_eq;
+        o.yref_label = "m of a uniform mixture";
+        rc = mote_plot_png(out, &o, ser, 2, err);
+    }
+    free(tt);
+    free(m);
+    free(s);
+    return rc;
+}
+
+static int plot_density(const table *t, const char *in, const char *out, mote_err *err)
+{
+    static const char *const names[] = {"y", "n_left", "n_right", "baro_left", "baro_right"};
+    int idx[5];
+    int rc = need_cols(t, in, names, idx, 5, err);
+    if (rc)
+        return rc;
+    double *c[5] = {0};
+    for (int k = 0; k < 5; k++)
+        c[k] = column(t, idx[k]);
+    if (!c[0] || !c[1] || !c[2] || !c[3] || !c[4]) {
+        rc = mote_fail(err, MOTE_ENOMEM, "plot: out of memory");
+    } else {
+        mote_series ser[4] = {
+            {c[0], c[1], t->rows, "left chamber", 2},
+            {c[0], c[2], t->rows, "right chamber", 2},
+            {c[0], c[3], t->rows, t->g != 0 ? "barometric law, left" : "uniform, left", 0},
+            {c[0], c[4], t->rows, t->g != 0 ? "barometric law, right" : "uniform, right", 0},
+        };
+        mote_plot_opts o = {0};
+        o.title = "density profile in y";
+        o.xlabel = "y (m)";
+        o.ylabel = "number density (m^-2)";
+        rc = mote_plot_png(out, &o, ser, 4, err);
+    }
+    for (int k = 0; k < 5; k++)
+        free(c[k]);
+    return rc;
+}
+
+int mb_plot_file(const char *in, const char *out, mote_err *err)
+{
+    table t;
+    int rc = read_table(in, &t, err);
+    if (rc)
+        return rc;
+    if (strcmp(t.format, "mixing") == 0)
+        rc = plot_mixing(&t, in, out, err);
+    else
+        rc = plot_density(&t, in, out, err);
+    free(t.v);
+    return rc;
+}

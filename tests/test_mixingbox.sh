@@ -1,0 +1,150 @@
+#!/bin/sh
+# test_mixingbox.sh: the mixing-box model end to end through the `mote` program: bad parameters
+# rejected before anything runs with FILE:LINE:COLUMN at the offending argument (or, for the
+# geometry, at `place` naming the commands that set it), nothing written by an invalid script,
+# a valid run's summary line and files, frames and the movie command with and without ffmpeg,
+# a failing run that keeps every recorded sample, and a placement that does not fit.
+# Usage: sh tests/test_mixingbox.sh [BUILD_DIR]   (default: build)
+BUILD=${1:-build}
+MOTE=$(cd "$(dirname "$BUILD/mote")" && pwd)/mote
+[ -x "$MOTE" ] || { echo "test_mixingbox.sh: no $MOTE"; echo "0 passed, 1 failed"; exit 1; }
+TMP=$(mktemp -d "${TMPDIR:-/tmp}/mote-mixingbox.XXXXXX") || exit 1
+trap 'rm -rf "$TMP"' EXIT
+cd "$TMP" || exit 1
+passed=0
+failed=0
+
+ok() { passed=$((passed + 1)); }
+bad() { failed=$((failed + 1)); echo "FAILED: $*"; }
+
+# expect STATUS STDERR-PREFIX SCRIPT-NAME SCRIPT-TEXT [mote-subcommand]
+expect() {
+    status=$1 want=$2 name=$3 text=$4 sub=${5:-run}
+    printf '%b' "$text" > "$name"
+    "$MOTE" "$sub" "$name" > out.txt 2> err.txt
+    got=$?
+    [ "$got" -eq "$status" ] && ok || bad "$name: exit status $got, expected $status ($(cat err.txt))"
+    case "$(cat err.txt)" in
+        "$want"*) ok ;;
+        *) bad "$name: stderr '$(cat err.txt)', expected it to start with '$want'" ;;
+    esac
+}
+
+H='model mixing-box\n'
+
+# ranges, at the argument
+expect 1 "b1.mote:2:7: error: box: X_R must be above X_L = 0, found -1" b1.mote "${H}box 0 -1 0 1\nplace\n"
+expect 1 "b2.mote:2:6: error: loss: LOSS must be in [0, 1], found 1.5" b2.mote "${H}loss 1.5\n"
+expect 1 "b3.mote:2:12: error: integrator: expected 'event' or 'timestep', found 'fast'" b3.mote "${H}integrator fast\n"
+expect 1 "b4.mote:2:16: error: collision_rule: expected 'restitution' or 'seed', found 'soft'" b4.mote "${H}collision_rule soft\n"
+expect 1 "b5.mote:2:9: error: disks: nLeft + nRight must be at least 1, found 0 + 0" b5.mote "${H}disks 0 0\n"
+expect 1 "b6.mote:2:8: error: radius: R must be > 0, found 0" b6.mote "${H}radius 0\n"
+expect 1 "b7.mote:2:11: error: kicks: dV_S must be >= 0, found -1" b7.mote "${H}kicks 0 0 -1\n"
+expect 1 "b8.mote:2:13: error: partition: the thickness a must be > 0, found 0" b8.mote "${H}partition 1 0\n"
+expect 1 "b9.mote:2:5: error: t_c: T must be >= 0, found -0.1" b9.mote "${H}t_c -0.1\n"
+expect 1 "b10.mote:2:8: error: v_init: V_init must be >= 0, found -2" b10.mote "${H}v_init -2\n"
+# the geometry, at place, naming the commands that set the values
+expect 1 "g1.mote:3:1: error: place: slit: X2_C -/+ b/2 = 0.93, 1.03 must lie inside the box height X_B = 0 .. X_T = 1 [set by: box (default), slit on line 2]" \
+    g1.mote "${H}slit 0.98 0.1\nplace\n"
+expect 1 "g2.mote:4:1: error: place: slit: the height b = 0.015 must exceed a disk's diameter 2R = 0.02" \
+    g2.mote "${H}radius 0.01\nslit 0.5 0.015\nplace\n"
+expect 1 "g3.mote:3:1: error: place: partition: its faces X1_C -/+ a/2 = 1.99, 2.01 must lie inside the box" \
+    g3.mote "${H}partition 2 0.02\nplace\n"
+expect 1 "g4.mote:4:1: error: place: the left chamber is too dense for random placement: 5000 disks of R = 0.01 in 0.99 x 1 give the area fraction n pi R^2 / area = 1.587, above 0.54" \
+    g4.mote "${H}radius 0.01\ndisks 5000 10\nplace\n"
+expect 1 "g5.mote:4:1: error: place: the right chamber is 0.0055 wide (X_R - X1_R), less than a disk's diameter 2R = 0.01 [set by: box on line 2, partition on line 3, radius (default)]" \
+    g5.mote "${H}box 0 2 0 1\npartition 1.9845 0.02\nplace\n"
+# order and outputs
+expect 1 "o1.mote:2:1: error: run: no disks are placed yet" o1.mote "${H}run 1\n"
+expect 1 "o2.mote:3:5: error: run: T must be > 0, found 0" o2.mote "${H}place\nrun 0\n"
+expect 1 "o3.mote:3:10: error: snapshot: FILE must end in .png (a picture) or .xyz (extended XYZ), found 'x.jpg'" o3.mote "${H}place\nsnapshot x.jpg\n"
+expect 1 "o4.mote:3:12: error: record: the directory of output file 'nodir/m.dat' does not exist" o4.mote "${H}place\nrecord 0.1 nodir/m.dat\n"
+expect 1 "o5.mote:2:7: error: movie: no earlier 'frames' writes 'f_000000.png' and it does not exist" o5.mote "${H}movie f 25 m.mp4\n"
+expect 1 "o6.mote:2:6: error: plot: data file 'none.dat' does not exist and no earlier command writes it" o6.mote "${H}plot none.dat x.png\n"
+expect 1 "o7.mote:4:5: error: run: 1 s with a frame every 1e-06 s would write 1e+06 PNG files" o7.mote "${H}place\nframes 1e-6 f\nrun 1\n"
+expect 1 "o8.mote:2:1: error: record: no disks are placed yet" o8.mote "${H}record 1 m.dat\n"
+expect 1 "o9.mote:3:18: error: run_collisions: T_MAX must be > 0, found 0" o9.mote "${H}place\nrun_collisions 5 0\n"
+expect 1 "o10.mote:4:1: error: run_collisions: there is only one disk, which never collides" o10.mote "${H}disks 1 0\nplace\nrun_collisions 5 1\n"
+# an invalid last line: nothing ran, nothing was written
+expect 1 "o11.mote:5:6: error: loss:" o11.mote "${H}place\nsnapshot early.png\nrecord 0.1 early.dat\nloss 2\n"
+[ ! -e early.png ] && [ ! -e early.dat ] && ok || bad "o11.mote: a file was written by an invalid script"
+[ ! -s out.txt ] && ok || bad "o11.mote: something ran: $(cat out.txt)"
+# a geometry change after place: a warning, and the script runs
+expect 0 "w1.mote:3:1: warning: radius: the disks placed on line 2 keep their geometry; this takes effect at the next 'place'" \
+    w1.mote "${H}place\nradius 0.004\n" check
+
+# a valid run: summary line, status line, files, frames; no ffmpeg on PATH
+mkdir -p fr nopath
+cat > v1.mote <<'EOF'
+model mixing-box
+integrator timestep
+seed 3
+radius 0.01
+disks 200 200
+place
+snapshot start.png
+snapshot start.xyz
+record 0.05 mix.dat
+frames 0.05 fr/f
+run 0.2
+frames_stop
+run 0.1
+plot mix.dat mix.png
+movie fr/f 10 movie.mp4
+EOF
+PATH="$TMP/nopath" "$MOTE" run v1.mote > out.txt 2> err.txt
+st=$?
+[ "$st" -eq 0 ] && ok || bad "v1.mote: exit status $st: $(cat err.txt)"
+grep -q '^run: t=0.2 .*mixing_fraction=.* E_rel_drift=.* overlaps=[0-9]* ' out.txt && ok || bad "v1.mote: no summary line: $(grep '^run:' out.txt)"
+grep -q '^N=400 t=0.3 m=' out.txt && ok || bad "v1.mote: no status line at t = 0.3"
+[ -s start.png ] && [ -s mix.dat ] && [ -s mix.png ] && ok || bad "v1.mote: outputs missing: $(ls)"
+[ "$(sed -n 1p start.xyz)" = "400" ] && [ "$(grep -c '^[AB] ' start.xyz)" -eq 400 ] && ok || bad "v1.mote: start.xyz"
+n=$(ls fr | grep -c '^f_00000[0-4]\.png$')
+[ "$n" -eq 5 ] && [ "$(ls fr | wc -l)" -eq 5 ] && ok || bad "v1.mote: frames: $(ls fr)"
+[ "$(grep -vc '^#' mix.dat)" -eq 7 ] && ok || bad "v1.mote: mix.dat has $(grep -vc '^#' mix.dat) rows, expected 7"
+grep -q "note: movie: ffmpeg is not on PATH" err.txt && grep -q "ffmpeg -y -framerate 10 -i 'fr/f_%06d.png'" err.txt && ok || bad "v1.mote: no ffmpeg note: $(cat err.txt)"
+[ ! -e movie.mp4 ] && ok || bad "v1.mote: a movie without ffmpeg"
+
+# with an ffmpeg on PATH (a fake one that writes its last argument)
+mkdir -p fakebin
+printf '#!/bin/sh\nfor a; do last=$a; done\necho "$*" > "$last"\n' > fakebin/ffmpeg
+chmod +x fakebin/ffmpeg
+printf '%b' "${H}movie fr/f 10 movie.mp4\n" > v2.mote
+PATH="$TMP/fakebin:/usr/bin:/bin" "$MOTE" run v2.mote > out.txt 2> err.txt
+st=$?
+[ "$st" -eq 0 ] && grep -q '^movie: wrote movie.mp4' out.txt && ok || bad "v2.mote: status $st: $(cat out.txt err.txt)"
+grep -q -- "-framerate 10 -i fr/f_%06d.png .* -pix_fmt yuv420p movie.tmp[0-9]*.mp4" movie.mp4 && ok || bad "v2.mote: ffmpeg arguments: $(cat movie.mp4)"
+[ -z "$(ls | grep '\.tmp')" ] && ok || bad "v2.mote: temporary files left: $(ls)"
+
+# a run that fails at its fourth sample (a directory blocks frame 3): the record keeps the
+# samples taken so far, complete; exit status 2, located at the run
+mkdir -p fr2/f_000003.png
+cat > f1.mote <<'EOF'
+model mixing-box
+integrator timestep
+radius 0.01
+disks 100 100
+place
+record 0.05 keep.dat
+frames 0.05 fr2/f
+run 0.3
+EOF
+"$MOTE" run f1.mote > out.txt 2> err.txt
+st=$?
+[ "$st" -eq 2 ] && ok || bad "f1.mote: exit status $st, expected 2"
+grep -q '^f1.mote:8:1: error: .*fr2/f_000003.png' err.txt && ok || bad "f1.mote: error: $(cat err.txt)"
+rows=$(grep -vc '^#' keep.dat)
+[ "$rows" -eq 4 ] && ok || bad "f1.mote: keep.dat has $rows rows, expected 4"
+last=$(tail -n 1 keep.dat)
+[ "$(echo "$last" | wc -w)" -eq 21 ] && [ "$(echo "$last" | cut -d' ' -f1)" = "0.15000000000000002" ] && ok || bad "f1.mote: last row '$last'"
+grep -q '^# samples = 4$' keep.dat && ok || bad "f1.mote: header sample count"
+
+# disks that do not fit at random (the check's limit passed): exit 2, the density named
+printf '%b' "${H}box 0 0.21 0 0.1\npartition 0.105 0.01\nslit 0.05 0.03\nradius 0.01\ndisks 17 1\nplace\n" > f2.mote
+"$MOTE" run f2.mote > out.txt 2> err.txt
+st=$?
+[ "$st" -eq 2 ] && grep -q "^f2.mote:7:1: error: place: disk [0-9]* of 17 in the left chamber did not fit after 1000000 random tries: the chamber is too dense for random placement (area fraction n pi R^2 / area = 0.534" err.txt \
+    && ok || bad "f2.mote: status $st: $(cat err.txt)"
+
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]
