@@ -1,10 +1,14 @@
 /* event.h: the event-driven engine for hard particles (spheres in 3D, disks in 2D).
  *
  * Particles fly in straight lines between events; the engine jumps from one event to the next:
- * pair collisions, wall hits and cell crossings. Each axis is either periodic or bounded by two
- * hard walls at 0 and len[axis]. Every particle has exactly one scheduled event (the single-event
- * scheme with collision counters, hard-spheres spec section 6.4), kept in an indexed binary heap
- * ordered by the total key (time, particle index), so runs are deterministic. Particles are
+ * pair collisions, wall hits and neighbour-list expiries. Each axis is either periodic or bounded
+ * by two hard walls at 0 and len[axis]. Every particle has exactly one scheduled event (the
+ * single-event scheme with collision counters, hard-spheres spec section 6.4). The calendar is the
+ * two-level structure of Paul (2007) (spec 6.5): a small indexed binary heap holds the events of
+ * the current time bucket, later buckets are unsorted linked lists; the key (time, particle index)
+ * is a total order, so runs are deterministic and the event sequence does not depend on how the
+ * calendar is tuned. Pair candidates come from per-particle neighbour lists with a shell (spec
+ * 6.6, neighbour-list mode); a cell grid bins the lists' reference positions. Particles are
  * advanced lazily: a particle's stored position is valid at its own local time p.t.
  *
  * The engine knows no model: models configure the box, place particles, call mote_ev_rebuild,
@@ -16,22 +20,35 @@
 
 #include <stdint.h>
 
-enum { MOTE_EV_NONE = 0, MOTE_EV_PAIR, MOTE_EV_WALL, MOTE_EV_CELL };
+/* Event kinds. CELL is no longer scheduled (neighbour lists replaced cell crossings); the value
+ * is kept so that codes stay stable. */
+enum { MOTE_EV_NONE = 0, MOTE_EV_PAIR, MOTE_EV_WALL, MOTE_EV_CELL, MOTE_EV_NBR };
 
-/* Hot per-particle record; kept compact (96 bytes) for cache locality. */
+/* Per-particle record, 128 bytes. The first 64 bytes hold everything a neighbour's prediction
+ * reads (position, velocity, local time, counter), so that with the array 64-byte aligned each
+ * neighbour costs one cache line; the rest is touched only by the particle's own events. */
 typedef struct {
+    /* ---- hot: read for every neighbour in a prediction ---- */
     double r[3];            /* position at local time t (z unused in 2D) */
     double v[3];            /* velocity */
     double t;               /* local time of r */
-    double t_ev;            /* time of the scheduled event */
     uint32_t count;         /* collision counter: incremented whenever v changes */
-    uint32_t partner;       /* PAIR: partner index; WALL/CELL: 2*axis + (moving up ? 1 : 0) */
+    uint16_t nnbr;          /* entries in the neighbour list */
+    uint8_t kind;           /* MOTE_EV_* of the scheduled event */
+    uint8_t near_edge;      /* reference position near a periodic face: use minimum images */
+    /* ---- cold: the particle's own event, list reference, cell and calendar links ---- */
+    double t_ev;            /* time of the scheduled event */
+    double r_ref[3];        /* reference position of the neighbour list */
+    uint32_t partner;       /* PAIR: partner index; WALL: 2*axis + (upper wall ? 1 : 0) */
     uint32_t partner_count; /* PAIR: partner's counter when predicted */
-    uint32_t kind;          /* MOTE_EV_* */
-    int32_t cell;           /* linear cell index */
+    int32_t cell;           /* linear index of the cell holding r_ref */
     int32_t cnext, cprev;   /* doubly linked cell list, -1 terminated */
-    uint32_t heap_pos;      /* position in the calendar heap */
+    int32_t cal_slot;       /* calendar: -1 in the heap, 0..nbuckets-1 a bucket, nbuckets overflow */
+    uint32_t cal_next;      /* in a bucket: next in its list; in the heap: position in the heap */
+    uint32_t cal_prev;      /* in a bucket: previous in its list (MOTE_EV_NIL at the head) */
 } mote_particle;
+
+#define MOTE_EV_NIL UINT32_MAX
 
 /* Observer hooks (spec 6.9). rij = r_i - r_j at contact (minimum image), J = impulse on i. */
 typedef struct {
@@ -60,10 +77,16 @@ typedef struct {
     double time_total;    /* simulated time accumulated before the last rebuild */
     uint64_t collisions;      /* pair collisions since creation */
     uint64_t wall_collisions; /* wall hits since creation */
-    uint64_t events;          /* all processed events (including stale and cell) since creation */
+    uint64_t events;          /* all processed events (including stale and list) since creation */
     double t_rebuild;     /* the clock value that triggers an automatic rebuild */
 
-    /* ---- spatial index: cells ---- */
+    /* ---- neighbour lists (spec 6.6): pairs with |r_ref_i - r_ref_j| < sigma_ij + shell ---- */
+    double shell;         /* delta, chosen at rebuild */
+    double nbr_reach;     /* a list expires when |r - r_ref| reaches this (just under shell/2) */
+    uint32_t *nbr;        /* n * nbr_cap entries; particle i's list starts at i * nbr_cap */
+    uint32_t nbr_cap;     /* entries per particle; grows when a list would overflow */
+
+    /* ---- cell grid binning the reference positions (cells at least sigma_max + shell wide) --- */
     int ncell[3];
     double cell_w[3];
     double cell_lo[3];    /* grid origin: 0 after a rebuild; wall moves shift it (see below) */
@@ -71,8 +94,14 @@ typedef struct {
     int32_t *cell_head;   /* ncell[0]*ncell[1]*ncell[2] heads */
     size_t ncells_alloc;
 
-    /* ---- calendar: indexed binary min-heap of particle indices ---- */
-    uint32_t *heap;
+    /* ---- calendar (spec 6.5): heap of the current bucket, circular bucket lists, overflow ---- */
+    int heap_only;        /* set by the caller: 1 = one plain indexed heap (the reference) */
+    uint32_t *heap;       /* particle indices, heap ordered by (t_ev, index); capacity n */
+    uint32_t heap_n;
+    uint32_t *bucket;     /* nbuckets + 1 list heads (the last is the overflow list) */
+    uint32_t nbuckets;    /* a power of two */
+    double bucket_inv;    /* 1 / bucket width (0 when heap_only) */
+    int64_t bucket_cur;   /* absolute index of the bucket the heap holds */
 
     /* ---- conserved-quantity references for the checker ---- */
     double energy_ref;
