@@ -37,7 +37,7 @@ static int run(const char *spec, uint64_t k)
         return 1;
     }
     double setup = mote_wall_seconds() - w0;
-    uint64_t c0 = hs.ev.collisions;
+    uint64_t c0 = hs.ev.collisions, e0 = hs.ev.events;
     double t0 = mote_wall_seconds();
     rc = mote_ev_run(&hs.ev, k * hs.ev.n / 2, &err);
     double secs = mote_wall_seconds() - t0;
@@ -46,12 +46,12 @@ static int run(const char *spec, uint64_t k)
         mote_hs_free(&hs);
         return 1;
     }
-    uint64_t coll = hs.ev.collisions - c0;
+    uint64_t coll = hs.ev.collisions - c0, events = hs.ev.events - e0;
     printf("workload=%s N=%u eta=%.4g geometry=%s warmup_per_particle=20 timed_per_particle=%llu "
-           "collisions=%llu seconds=%.3f collisions_per_second=%.4g engine_bytes_per_particle=%.1f "
+           "collisions=%llu events_per_collision=%.3f seconds=%.3f collisions_per_second=%.4g engine_bytes_per_particle=%.1f "
            "peak_rss_MiB=%.1f setup_seconds=%.2f\n",
            spec, hs.ev.n, mote_hs_eta(&hs), hs.geometry == MOTE_HS_SLIT ? "slit" : "periodic",
-           (unsigned long long)k, (unsigned long long)coll, secs, (double)coll / secs,
+           (unsigned long long)k, (unsigned long long)coll, (double)events / (double)coll, secs, (double)coll / secs,
            mote_ev_bytes_per_particle(&hs.ev), mote_peak_rss_bytes() / 1048576.0, setup);
     fflush(stdout);
     mote_hs_free(&hs);

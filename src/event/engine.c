@@ -20,7 +20,7 @@
  * number of events the calendar aims to keep in its heap (spec 6.5: 10 to 50). Both only trade
  * list expiries against candidates and list moves against sifting; the first changes rounding
  * (so trajectories), the second never changes the event sequence. */
-#define SHELL_FRACTION 0.4
+#define SHELL_FRACTION 0.5
 #define HEAP_TARGET 24.0
 
 /* ---- calendar: heap part ------------------------------------------------------------------------ */
@@ -398,58 +398,6 @@ static inline int nbr_within(const mote_ev *ev, uint32_t i, uint32_t j, double r
         return r2 < reach2_mono;
     double c = ev->radius[i] + ev->radius[j] + ev->shell;
     return r2 < c * c;
-}
-
-/* New list for i around its (new) reference position: every particle whose reference lies
- * within sigma_ij + shell, entered in both lists. i's old entries must be gone already. */
-static int nbr_collect(mote_ev *ev, uint32_t i)
-{
-    const double c = 2 * ev->radius0 + ev->shell, reach2 = c * c;
-    int32_t cells[27];
-    int nc = cell_neighbours(ev, ev->p[i].cell, cells);
-    for (int q = 0; q < nc; q++)
-        for (int32_t j = ev->cell_head[cells[q]]; j >= 0; j = ev->p[j].cnext)
-            if ((uint32_t)j != i && nbr_within(ev, i, (uint32_t)j, reach2)) {
-                int rc = nbr_add_pair(ev, i, (uint32_t)j);
-                if (rc)
-                    return rc;
-            }
-    return MOTE_OK;
-}
-
-/* List expiry of i: take its position at the clock as the new reference (wrapped into the box
- * on periodic axes), leave the old neighbours' lists, move cells, collect anew. The stored
- * position and local time stay as they are (a wrap shifts the stored position by the period):
- * an expiry changes no trajectory, so it should not add rounding to one either. */
-static int nbr_refresh(mote_ev *ev, uint32_t i)
-{
-    mote_particle *p = &ev->p[i];
-    const double dt = ev->clock - p->t;
-    for (int a = 0; a < ev->dim; a++) {
-        double x = p->r[a] + p->v[a] * dt;
-        if (ev->periodic[a]) {
-            while (x < 0) {
-                x += ev->len[a];
-                p->r[a] += ev->len[a];
-            }
-            while (x >= ev->len[a]) {
-                x -= ev->len[a];
-                p->r[a] -= ev->len[a];
-            }
-        }
-        p->r_ref[a] = x;
-    }
-    const uint32_t *L = nbr_list(ev, i);
-    for (uint32_t k = 0; k < p->nnbr; k++)
-        nbr_drop(ev, L[k], i);
-    p->nnbr = 0;
-    p->near_edge = (uint8_t)near_periodic_edge(ev, p->r_ref);
-    int32_t c = cell_index(ev, p->r_ref);
-    if (c != p->cell) {
-        cell_unlink(ev, i);
-        cell_link(ev, i, c);
-    }
-    return nbr_collect(ev, i);
 }
 
 /* ---- the hot loop, instantiated for 2D and 3D --------------------------------------------------- */
