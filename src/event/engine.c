@@ -74,6 +74,7 @@ static inline void heap_push(mote_ev *ev, uint32_t i)
     uint32_t k = ev->heap_n++;
     ev->heap[k] = i;
     ev->p[i].cal_slot = -1;
+    ev->p[i].cal_prev = MOTE_EV_NIL; /* unused in the heap; kept canonical (state comparisons) */
     heap_sift_up(ev, k);
 }
 
@@ -227,6 +228,9 @@ static int cal_init(mote_ev *ev, mote_err *err)
     ev->bucket_inv = inv;
     ev->bucket_cur = cal_index(ev, ev->clock);
     ev->heap_n = 0;
+    /* the slots beyond heap_n hold leftovers of the past; clear them so that a rebuilt state is
+     * the same bytes whatever its history (save -> load must give back the saved state) */
+    memset(ev->heap, 0, (size_t)n * sizeof *ev->heap);
     for (uint32_t i = 0; i < n; i++)
         cal_insert(ev, i);
     return MOTE_OK;
