@@ -1,11 +1,14 @@
 /* bench_hs.c: collision-rate benchmark of the event engine on the hard-sphere workloads of the
- * spec (section 11): (a) a periodic FCC cube `bulk 32000 0.45` and (b) a slit `new 16 0.45`.
+ * spec (section 11) and issue 5: periodic FCC cubes `bulk N eta` and slits `new NN eta`.
  * Each workload: seed, warm up 20 collisions per particle (not timed), then time `step K`
  * (K = 200 by default), counting only sphere-sphere collisions. Prints one key=value line per
- * workload: rate, bytes per particle held by the engine, and peak resident memory.
+ * workload: the settings, the rate, events per collision, bytes per particle held by the engine,
+ * and the peak resident memory of the process so far.
  *
- * Usage: bench_hs [K] [workload...]   workloads: bulk32000 slit16 (default: both), or
- *        bulkN:ETA / slitNN:ETA for other sizes, e.g. bulk1048576:0.45 (N = 4 n^3). */
+ * Usage: bench_hs [K] [workload...]
+ *   workload: bulkN:ETA (N = 4 n^3, e.g. bulk32000:0.45, bulk1048576:0.50) or slitNN:ETA
+ *   (`new NN eta`, e.g. slit13:0.45, N = 31876), optionally @K to override K for it
+ *   (bulk1048576:0.45@20). Default: bulk32000 and slit13 at eta 0.45 and 0.50. */
 #include "mote/hardspheres.h"
 
 #include <stdlib.h>
@@ -27,6 +30,9 @@ static int run(const char *spec, uint64_t k)
     const char *colon = strchr(spec, ':');
     if (colon)
         eta = atof(colon + 1);
+    const char *at = strchr(spec, '@');
+    if (at)
+        k = strtoull(at + 1, NULL, 10);
     double w0 = mote_wall_seconds();
     int rc = is_bulk ? mote_hs_bulk(&hs, n, eta, &err) : mote_hs_new_slit(&hs, n, eta, &err);
     if (!rc)
@@ -47,12 +53,15 @@ static int run(const char *spec, uint64_t k)
         return 1;
     }
     uint64_t coll = hs.ev.collisions - c0, events = hs.ev.events - e0;
+    double rss = (double)mote_peak_rss_bytes();
     printf("workload=%s N=%u eta=%.4g geometry=%s warmup_per_particle=20 timed_per_particle=%llu "
-           "collisions=%llu events_per_collision=%.3f seconds=%.3f collisions_per_second=%.4g engine_bytes_per_particle=%.1f "
-           "peak_rss_MiB=%.1f setup_seconds=%.2f\n",
+           "collisions=%llu events_per_collision=%.3f seconds=%.3f collisions_per_second=%.4g "
+           "engine_bytes_per_particle=%.1f peak_rss_MiB=%.1f peak_rss_bytes_per_particle=%.1f "
+           "setup_seconds=%.2f\n",
            spec, hs.ev.n, mote_hs_eta(&hs), hs.geometry == MOTE_HS_SLIT ? "slit" : "periodic",
-           (unsigned long long)k, (unsigned long long)coll, (double)events / (double)coll, secs, (double)coll / secs,
-           mote_ev_bytes_per_particle(&hs.ev), mote_peak_rss_bytes() / 1048576.0, setup);
+           (unsigned long long)k, (unsigned long long)coll, (double)events / (double)coll, secs,
+           (double)coll / secs, mote_ev_bytes_per_particle(&hs.ev), rss / 1048576.0,
+           rss / hs.ev.n, setup);
     fflush(stdout);
     mote_hs_free(&hs);
     return 0;
@@ -60,6 +69,8 @@ static int run(const char *spec, uint64_t k)
 
 int main(int argc, char **argv)
 {
+    static const char *const defaults[] = {"bulk32000:0.45", "slit13:0.45", "bulk32000:0.50",
+                                           "slit13:0.50"};
     uint64_t k = 200;
     int first = 1;
     if (argc > 1 && argv[1][0] >= '0' && argv[1][0] <= '9') {
@@ -68,8 +79,8 @@ int main(int argc, char **argv)
     }
     int rc = 0;
     if (first >= argc) {
-        rc |= run("bulk32000", k);
-        rc |= run("slit16", k);
+        for (size_t w = 0; w < sizeof defaults / sizeof *defaults; w++)
+            rc |= run(defaults[w], k);
     } else {
         for (int a = first; a < argc; a++)
             rc |= run(argv[a], k);

@@ -57,8 +57,8 @@ static void heap_sift_down(mote_ev *ev, uint32_t k)
         uint32_t c = 2 * k + 1;
         if (c >= n)
             break;
-        if (c + 1 < n && ev_before(P, H[c + 1], H[c]))
-            c++;
+        if (c + 1 < n)
+            c += (uint32_t)ev_before(P, H[c + 1], H[c]); /* no branch: a coin toss */
         if (!ev_before(P, H[c], x))
             break;
         H[k] = H[c];
