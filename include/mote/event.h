@@ -125,16 +125,19 @@ static inline double mote_ev_mass(const mote_ev *ev, uint32_t i)
 }
 
 /* Full synchronisation (spec 6.7): advance all particles to the clock, wrap periodic coordinates,
- * fold the clock into time_total, rebuild cells and the calendar, predict every event.
- * Also sets sigma_max and t_rebuild. Fails if a periodic length is not > 2 sigma_max. */
+ * fold the clock into time_total, choose the shell, rebuild cells, neighbour lists and the
+ * calendar, predict every event. Also sets sigma_max and t_rebuild. Fails if a periodic length
+ * is not > 2 sigma_max. The result depends on the particles and the box only (not on history),
+ * so save -> load continues bit for bit. */
 int mote_ev_rebuild(mote_ev *ev, mote_err *err);
 
-/* Move the walls of wall axis `axis` without a full rebuild: every particle is shifted by
- * -shift along the axis (with the cell grid, so cell membership is unchanged) and the upper wall
- * is put at new_len (the lower wall stays at 0). Only particles in the cells next to a wall are
- * re-predicted, since no other prediction can involve a wall. When the moved grid would no longer
- * cover [0, new_len] (expansion), this falls back to a full rebuild. The caller guarantees that
- * no particle ends up beyond a wall. */
+/* Move the walls of wall axis `axis` without a full rebuild: every particle (and its list
+ * reference) is shifted by -shift along the axis, with the cell grid, so cells and lists stay
+ * valid, and the upper wall is put at new_len (the lower wall stays at 0). Only particles whose
+ * list reference lies within half a shell of a wall contact plane (or with a wall hit scheduled)
+ * are re-predicted, since no other prediction can involve a wall. When the moved grid would no
+ * longer cover [0, new_len] (expansion), this falls back to a full rebuild. The caller
+ * guarantees that no particle ends up beyond a wall. */
 int mote_ev_move_walls(mote_ev *ev, int axis, double shift, double new_len, mote_err *err);
 
 /* Record the current energy and momentum as the references the checker compares with. */
@@ -158,10 +161,12 @@ double mote_ev_kt(const mote_ev *ev);
 void mote_ev_set_kt(mote_ev *ev, double kt);
 
 /* Invariant checker (spec 6.10). Returns MOTE_OK or MOTE_ERUNTIME with every failure named in
- * err->msg (truncated if very long). O(N) with the cell grid. */
+ * err->msg (truncated if very long): overlaps, walls, cells, neighbour lists (symmetric, complete,
+ * every particle within half a shell of its reference), the calendar, conserved quantities.
+ * O(N) with the cell grid. */
 int mote_ev_check(const mote_ev *ev, mote_err *err);
 
-/* Smallest pair distance ratio |r_ij| / sigma_ij over all pairs (uses the cells; O(N)); the
+/* Smallest pair distance ratio |r_ij| / sigma_ij over pairs in neighbouring cells (O(N)); the
  * pair is stored in *wi, *wj when those are not NULL (both set to 0 when N < 2). */
 double mote_ev_min_gap_ratio(const mote_ev *ev, uint32_t *wi, uint32_t *wj);
 
@@ -169,7 +174,7 @@ double mote_ev_min_gap_ratio(const mote_ev *ev, uint32_t *wi, uint32_t *wj);
  * `max` of them and returns how many there are in all. Needs a rebuilt system (cells). */
 size_t mote_ev_overlaps(const mote_ev *ev, double tol, uint32_t (*pairs)[2], size_t max);
 
-/* Bytes of heap memory held per particle (for benchmarks). */
+/* Bytes of heap memory held per particle: records, neighbour lists, calendar, cells. */
 double mote_ev_bytes_per_particle(const mote_ev *ev);
 
 #endif
