@@ -22,7 +22,8 @@
 
 /* Event kinds. CELL is no longer scheduled (neighbour lists replaced cell crossings); the value
  * is kept so that codes stay stable. */
-enum { MOTE_EV_NONE = 0, MOTE_EV_PAIR, MOTE_EV_WALL, MOTE_EV_CELL, MOTE_EV_NBR };
+enum { MOTE_EV_NONE = 0, MOTE_EV_PAIR, MOTE_EV_WALL, MOTE_EV_CELL, MOTE_EV_NBR, MOTE_EV_SEG,
+       MOTE_EV_CORNER };
 
 /* Per-particle record, 128 bytes. The first 64 bytes hold everything a neighbour's prediction
  * reads (position, velocity, local time, counter), so that with the array 64-byte aligned each
@@ -50,13 +51,43 @@ typedef struct {
 
 #define MOTE_EV_NIL UINT32_MAX
 
-/* Observer hooks (spec 6.9). rij = r_i - r_j at contact (minimum image), J = impulse on i. */
+/* Observer hooks (spec 6.9). rij = r_i - r_j at contact (minimum image), J = impulse on i.
+ * on_event (field mode only, see mote_ev_field) is called after every event of particle i (both
+ * partners of a pair), once i's new velocity is set: between two calls for the same particle it
+ * flew along one parabola. */
 typedef struct {
     void *ctx;
     void (*on_pair)(void *ctx, uint32_t i, uint32_t j, const double rij[3], const double J[3],
                     double t);
     void (*on_wall)(void *ctx, uint32_t i, int axis, int side, double momentum, double t);
+    void (*on_event)(void *ctx, uint32_t i);
 } mote_ev_observer;
+
+/* ---- field mode (2D): uniform acceleration, fixed obstacles, dissipation, driven walls ----
+ * For models such as the mixing box (specs/mixing-box.md). Every axis has walls (no periodic
+ * axes). Flights are parabolas; pair collision times are unchanged by a uniform field (relative
+ * motion stays straight), wall and segment times solve quadratics, corner times quartics. */
+
+/* A flat face of a fixed obstacle: the segment a-b, hit from the side its unit normal n points
+ * to (out of the solid). On a hit the normal velocity is reversed and `kick` is added along n. */
+typedef struct {
+    double a[2], b[2], n[2];
+    double kick;
+} mote_ev_segment;
+
+typedef struct {
+    double g[2];             /* uniform acceleration */
+    double restitution;      /* e in (0, 1]: the normal relative velocity is multiplied by -e */
+    int scale_rule;          /* 1: an elastic collision, then both velocities scaled by e (the
+                              * mixing-box document's rule) instead of normal restitution */
+    double tc;               /* TC model (Luding & McNamara): a collision within tc of either
+                              * particle's previous one is elastic, so there is no collapse */
+    double kick[2][2];       /* [axis][side]: speed added away from that box wall on a hit */
+    const mote_ev_segment *seg; /* obstacle faces (copied by mote_ev_set_field) */
+    int nseg;
+    const double (*corner)[2];  /* obstacle corners: points hit like disks of radius 0 */
+    int ncorner;
+} mote_ev_field;
 
 typedef struct {
     /* ---- geometry (set by the model before mote_ev_rebuild) ---- */
@@ -108,6 +139,10 @@ typedef struct {
     double momentum_ref[3];
 
     mote_ev_observer obs;
+
+    /* ---- field mode (NULL: plain hard particles); set with mote_ev_set_field ---- */
+    mote_ev_field *field;
+    double *t_last;       /* field mode: time (since creation) of each particle's last collision */
 } mote_ev;
 
 /* Allocate storage for n particles (positions etc. zeroed). The geometry fields are set by the
@@ -123,6 +158,10 @@ static inline double mote_ev_mass(const mote_ev *ev, uint32_t i)
 {
     return ev->mass ? ev->mass[i] : ev->mass0;
 }
+
+/* Switch a 2D system with walls on both axes to field mode (copies f, its segments and
+ * corners); call before mote_ev_rebuild. */
+int mote_ev_set_field(mote_ev *ev, const mote_ev_field *f, mote_err *err);
 
 /* Full synchronisation (spec 6.7): advance all particles to the clock, wrap periodic coordinates,
  * fold the clock into time_total, choose the shell, rebuild cells, neighbour lists and the
@@ -148,6 +187,9 @@ int mote_ev_run(mote_ev *ev, uint64_t ncoll, mote_err *err);
 
 /* Position of particle i projected to the current clock (periodic axes wrapped into [0, len)). */
 void mote_ev_position(const mote_ev *ev, uint32_t i, double out[3]);
+
+/* Velocity of particle i at the current clock (differs from p[i].v only in field mode). */
+void mote_ev_velocity(const mote_ev *ev, uint32_t i, double out[3]);
 
 /* Current simulated time since creation. */
 static inline double mote_ev_time(const mote_ev *ev) { return ev->time_total + ev->clock; }

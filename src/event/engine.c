@@ -15,6 +15,8 @@
 #endif
 #include "mote/event.h"
 
+#include "roots.h"
+
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -439,6 +441,7 @@ static inline int nbr_within(const mote_ev *ev, uint32_t i, uint32_t j, double r
 
 /* ---- the hot loop, instantiated for 2D and 3D --------------------------------------------------- */
 
+#define FIELD 0
 #define D 2
 #define FN(name) name##_2d
 #include "engine_dim.inc"
@@ -449,10 +452,21 @@ static inline int nbr_within(const mote_ev *ev, uint32_t i, uint32_t j, double r
 #include "engine_dim.inc"
 #undef D
 #undef FN
+#undef FIELD
+/* field mode (2D, gravity, obstacles, dissipation): a third build of the same loop */
+#define FIELD 1
+#define D 2
+#define FN(name) name##_2f
+#include "engine_dim.inc"
+#undef D
+#undef FN
+#undef FIELD
 
 static inline void predict(mote_ev *ev, uint32_t i)
 {
-    if (ev->dim == 2)
+    if (ev->field)
+        predict_2f(ev, i);
+    else if (ev->dim == 2)
         predict_2d(ev, i);
     else
         predict_3d(ev, i);
@@ -504,7 +518,64 @@ void mote_ev_free(mote_ev *ev)
     free(ev->cell_head);
     free(ev->nbr);
     free(ev->bucket);
+    free(ev->field);
+    free(ev->t_last);
     memset(ev, 0, sizeof *ev);
+}
+
+int mote_ev_set_field(mote_ev *ev, const mote_ev_field *f, mote_err *err)
+{
+    if (ev->dim != 2 || ev->periodic[0] || ev->periodic[1])
+        return mote_fail(err, MOTE_EINVAL, "field mode needs a 2D box with walls on both axes");
+    if (!(f->restitution > 0 && f->restitution <= 1) || !(f->tc >= 0) || f->nseg < 0 ||
+        f->ncorner < 0)
+        return mote_fail(err, MOTE_EINVAL, "field mode: restitution must be in (0, 1], tc >= 0");
+    for (int k = 0; k < f->nseg; k++) {
+        const mote_ev_segment *sk = &f->seg[k];
+        double nn = sk->n[0] * sk->n[0] + sk->n[1] * sk->n[1];
+        if (fabs(nn - 1) > 1e-12 || (sk->a[0] == sk->b[0] && sk->a[1] == sk->b[1]))
+            return mote_fail(err, MOTE_EINVAL, "field mode: segment %d is empty or its normal is "
+                                               "not a unit vector", k);
+    }
+    /* one block: the struct, then its segments, then its corners */
+    size_t bytes = sizeof(mote_ev_field) + (size_t)f->nseg * sizeof(mote_ev_segment) +
+                   (size_t)f->ncorner * sizeof(double[2]);
+    mote_ev_field *copy = malloc(bytes);
+    double *tl = malloc((size_t)ev->n * sizeof *tl);
+    if (!copy || !tl) {
+        free(copy);
+        free(tl);
+        return mote_fail(err, MOTE_ENOMEM, "out of memory for the field");
+    }
+    *copy = *f;
+    mote_ev_segment *seg = (mote_ev_segment *)(copy + 1);
+    double(*corner)[2] = (double(*)[2])(seg + f->nseg);
+    if (f->nseg)
+        memcpy(seg, f->seg, (size_t)f->nseg * sizeof *seg);
+    if (f->ncorner)
+        memcpy(corner, f->corner, (size_t)f->ncorner * sizeof *corner);
+    copy->seg = seg;
+    copy->corner = (const double(*)[2])corner;
+    for (uint32_t i = 0; i < ev->n; i++)
+        tl[i] = -INFINITY;
+    free(ev->field);
+    free(ev->t_last);
+    ev->field = copy;
+    ev->t_last = tl;
+    return MOTE_OK;
+}
+
+/* Position (and velocity) of a record projected dt after its local time, along its flight
+ * (a parabola in field mode). */
+static inline void project(const mote_ev *ev, const mote_particle *p, double dt, double r[3],
+                           double v[3])
+{
+    for (int a = 0; a < 3; a++) {
+        double g = ev->field && a < 2 ? ev->field->g[a] : 0;
+        r[a] = p->r[a] + (p->v[a] + 0.5 * g * dt) * dt;
+        if (v)
+            v[a] = p->v[a] + g * dt;
+    }
 }
 
 static double wrap_coord(double x, double len)
@@ -598,11 +669,11 @@ int mote_ev_rebuild(mote_ev *ev, mote_err *err)
     /* 1-2. synchronise, wrap, fold the clock into the total time */
     for (uint32_t i = 0; i < n; i++) {
         mote_particle *p = &P[i];
-        double dt = ev->clock - p->t;
+        double dt = ev->clock - p->t, r[3], v[3];
+        project(ev, p, dt, r, v);
         for (int a = 0; a < d; a++) {
-            p->r[a] += p->v[a] * dt;
-            if (ev->periodic[a])
-                p->r[a] = wrap_coord(p->r[a], ev->len[a]);
+            p->r[a] = ev->periodic[a] ? wrap_coord(r[a], ev->len[a]) : r[a];
+            p->v[a] = v[a];
         }
         p->t = 0;
     }
@@ -695,6 +766,8 @@ int mote_ev_run(mote_ev *ev, uint64_t ncoll, mote_err *err)
 {
     if (ncoll == 0)
         return MOTE_OK;
+    if (ev->field)
+        return run_2f(ev, ncoll, err);
     return ev->dim == 2 ? run_2d(ev, ncoll, err) : run_3d(ev, ncoll, err);
 }
 
@@ -703,22 +776,30 @@ int mote_ev_run(mote_ev *ev, uint64_t ncoll, mote_err *err)
 void mote_ev_position(const mote_ev *ev, uint32_t i, double out[3])
 {
     const mote_particle *p = &ev->p[i];
-    double dt = ev->clock - p->t;
+    double r[3];
+    project(ev, p, ev->clock - p->t, r, NULL);
     out[2] = 0;
-    for (int a = 0; a < ev->dim; a++) {
-        out[a] = p->r[a] + p->v[a] * dt;
-        if (ev->periodic[a])
-            out[a] = wrap_coord(out[a], ev->len[a]);
-    }
+    for (int a = 0; a < ev->dim; a++)
+        out[a] = ev->periodic[a] ? wrap_coord(r[a], ev->len[a]) : r[a];
+}
+
+void mote_ev_velocity(const mote_ev *ev, uint32_t i, double out[3])
+{
+    const mote_particle *p = &ev->p[i];
+    double r[3];
+    project(ev, p, ev->clock - p->t, r, out);
+    if (ev->dim == 2)
+        out[2] = 0;
 }
 
 double mote_ev_energy(const mote_ev *ev)
 {
     mote_ksum e = {0, 0};
     for (uint32_t i = 0; i < ev->n; i++) {
-        double v2 = 0;
+        double v2 = 0, v[3];
+        mote_ev_velocity(ev, i, v); /* at the clock: differs from p[i].v in field mode */
         for (int a = 0; a < ev->dim; a++)
-            v2 += ev->p[i].v[a] * ev->p[i].v[a];
+            v2 += v[a] * v[a];
         mote_ksum_add(&e, 0.5 * mote_ev_mass(ev, i) * v2);
     }
     return mote_ksum_value(&e);
@@ -813,17 +894,16 @@ static void for_near_pairs(const mote_ev *ev, pair_fn fn, void *ctx)
     int32_t cells[27];
     for (uint32_t i = 0; i < ev->n; i++) {
         double ri[3];
-        double dti = ev->clock - P[i].t;
-        for (int a = 0; a < 3; a++)
-            ri[a] = P[i].r[a] + P[i].v[a] * dti;
+        project(ev, &P[i], ev->clock - P[i].t, ri, NULL);
         int nc = cell_neighbours(ev, P[i].cell, cells);
         for (int q = 0; q < nc; q++)
             for (int32_t j = ev->cell_head[cells[q]]; j >= 0; j = P[j].cnext) {
                 if ((uint32_t)j <= i)
                     continue;
-                double dtj = ev->clock - P[j].t, r2 = 0, dx[3] = {0, 0, 0};
+                double r2 = 0, dx[3] = {0, 0, 0}, rj[3];
+                project(ev, &P[j], ev->clock - P[j].t, rj, NULL);
                 for (int a = 0; a < d; a++)
-                    dx[a] = ri[a] - (P[j].r[a] + P[j].v[a] * dtj);
+                    dx[a] = ri[a] - rj[a];
                 min_image(ev, dx);
                 for (int a = 0; a < d; a++)
                     r2 += dx[a] * dx[a];
@@ -942,9 +1022,7 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
     size_t *cell_count = calloc(ev->ncells_alloc ? ev->ncells_alloc : 1, sizeof *cell_count);
     for (uint32_t i = 0; i < ev->n; i++) {
         double r[3], moved2 = 0;
-        double dt = ev->clock - P[i].t;
-        for (int a = 0; a < 3; a++)
-            r[a] = P[i].r[a] + P[i].v[a] * dt;
+        project(ev, &P[i], ev->clock - P[i].t, r, NULL);
         double Ri = mote_ev_radius(ev, i);
         int32_t c = P[i].cell;
         int cc[3] = {c % ev->ncell[0], (c / ev->ncell[0]) % ev->ncell[1],
@@ -1063,7 +1141,7 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
     }
     /* conserved quantities */
     double e = mote_ev_energy(ev);
-    if (ev->energy_ref > 0 && fabs(e - ev->energy_ref) > 1e-12 * ev->energy_ref)
+    if (!ev->field && ev->energy_ref > 0 && fabs(e - ev->energy_ref) > 1e-12 * ev->energy_ref)
         add_failure(err, &nfail, "energy %.17g differs from its reference %.17g by %.3g relative",
                     e, ev->energy_ref, (e - ev->energy_ref) / ev->energy_ref);
     double Pm[3], mabs = 0;

@@ -350,7 +350,7 @@ int mote_hs_pressure(mote_hs *hs, uint64_t k, const char *path, const char *orig
     if (!rc) {
         a.times[0] = mote_ev_time(&hs->ev);
         mote_ev_observer saved = hs->ev.obs;
-        hs->ev.obs = (mote_ev_observer){&a, on_pair, on_wall};
+        hs->ev.obs = (mote_ev_observer){&a, on_pair, on_wall, NULL};
         double tau;
         rc = hs_run_samples(hs, k, k, sample, &a, "pressure", &tau, err);
         hs->ev.obs = saved;
