@@ -1,0 +1,313 @@
+/* test_field.c: the event engine's field mode (2D: uniform acceleration, obstacle faces and
+ * corners, restitution with the TC model, wall kicks), against hand-computed motion:
+ *
+ * - one disk under gravity bouncing on the floor: hit times t = (v + sqrt(v^2 + 2 g h)) / g and
+ *   apex heights exact; energy (kinetic + potential) kept to 1e-13;
+ * - a disk meeting a face and a corner of an obstacle: reflection times and directions exact;
+ * - a face kick and a wall kick add the stated speed along the normal;
+ * - two disks head on with restitution e: relative normal velocity times -e, momentum kept; the
+ *   same within tc of a previous collision: elastic (TC model); the scaling rule;
+ * - an elastic gas under gravity with a partition and slit (the mixing-box geometry): no
+ *   overlap, the checker passes, kinetic + potential energy kept to 1e-12 over 2e5 collisions,
+ *   and the observer sees every event. */
+#include "mote/event.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "test.h"
+
+static int setup(mote_ev *ev, uint32_t n, double lx, double ly, const mote_ev_field *f)
+{
+    mote_err err = {0};
+    if (mote_ev_init(ev, n, 2, 0, &err))
+        return 0;
+    ev->len[0] = lx;
+    ev->len[1] = ly;
+    ev->radius0 = 1;
+    if (mote_ev_set_field(ev, f, &err)) {
+        printf("set_field: %s\n", err.msg);
+        return 0;
+    }
+    return 1;
+}
+
+static double energy_pot(const mote_ev *ev)
+{
+    double e = mote_ev_energy(ev);
+    for (uint32_t i = 0; i < ev->n; i++) {
+        double r[3];
+        mote_ev_position(ev, i, r);
+        e -= mote_ev_mass(ev, i) * (ev->field->g[0] * r[0] + ev->field->g[1] * r[1]);
+    }
+    return e;
+}
+
+typedef struct {
+    int events, walls;
+    double t_wall[8];
+} obs_acc;
+
+static void on_wall(void *ctx, uint32_t i, int axis, int side, double mom, double t)
+{
+    obs_acc *a = ctx;
+    if (a->walls < 8)
+        a->t_wall[a->walls] = t;
+    a->walls++;
+}
+static void on_event(void *ctx, uint32_t i) { ((obs_acc *)ctx)->events++; }
+
+static void test_bounce(void)
+{
+    printf("one disk bouncing under gravity\n");
+    mote_ev_field f = {0};
+    f.g[1] = -2;
+    f.restitution = 1;
+    mote_ev ev;
+    if (!setup(&ev, 2, 40, 40, &f))
+        return;
+    /* disk 0 at height 10, thrown up at 3; disk 1 bouncing from height 5 while drifting left
+     * meets it after many bounces (the pair collision that ends the run) */
+    ev.p[0].r[0] = 5;
+    ev.p[0].r[1] = 10;
+    ev.p[0].v[1] = 3;
+    ev.p[1].r[0] = 35;
+    ev.p[1].r[1] = 5;
+    ev.p[1].v[0] = -0.25;
+    obs_acc a = {0};
+    ev.obs = (mote_ev_observer){&a, NULL, on_wall, on_event};
+    mote_err err = {0};
+    CHECK(mote_ev_rebuild(&ev, &err) == MOTE_OK, "rebuild: %s", err.msg);
+    double e0 = energy_pot(&ev);
+    int rc = mote_ev_run(&ev, 1, &err);
+    CHECK(rc == MOTE_OK, "run: %s", err.msg);
+    /* disk 0 reaches the floor (centre at y = 1) when 10 + 3t - t^2 = 1, then returns every
+     * 2 v_hit / g: 4.854, 11.56, 18.27; disk 1 at 2, 6, 10, 14, 18 */
+    double g = 2, h = 9, v = 3;
+    double t1 = (v + sqrt(v * v + 2 * g * h)) / g, vh = sqrt(v * v + 2 * g * h);
+    int hits0 = 0, hits1 = 0;
+    double worst = 0;
+    for (int k = 0; k < a.walls && k < 8; k++) {
+        double e0k = t1 + hits0 * 2 * vh / g, e1k = 2 + 4 * hits1;
+        if (fabs(a.t_wall[k] - e0k) < 1e-6) {
+            worst = fmax(worst, fabs(a.t_wall[k] - e0k));
+            hits0++;
+        } else if (fabs(a.t_wall[k] - e1k) < 1e-6) {
+            worst = fmax(worst, fabs(a.t_wall[k] - e1k));
+            hits1++;
+        }
+    }
+    printf("  first 8 wall hits: %d + %d at the analytic times, worst error %.2e\n", hits0, hits1,
+           worst);
+    CHECK(hits0 == 3 && hits1 == 5, "floor hits at the analytic times: %d + %d of 8", hits0,
+          hits1);
+    CHECK(worst < 1e-13, "bounce time error %.3g", worst);
+    double e1 = energy_pot(&ev);
+    CHECK(fabs(e1 - e0) < 1e-13 * fabs(e0), "energy %.17g -> %.17g", e0, e1);
+    CHECK(a.events >= a.walls + 2, "on_event calls %d for %d wall hits", a.events, a.walls);
+    CHECK(mote_ev_check(&ev, &err) == MOTE_OK, "check: %s", err.msg);
+    mote_ev_free(&ev);
+}
+
+static void test_obstacles(void)
+{
+    printf("faces and corners of an obstacle, kicks\n");
+    /* a block [10, 14] x [0, 6] on the floor: faces left, top (kick 0.5), right; corners
+     * (10, 6) and (14, 6) */
+    mote_ev_segment seg[3] = {
+        {{10, 0}, {10, 6}, {-1, 0}, 0},
+        {{10, 6}, {14, 6}, {0, 1}, 0.5},
+        {{14, 6}, {14, 0}, {1, 0}, 0},
+    };
+    double corner[2][2] = {{10, 6}, {14, 6}};
+    mote_ev_field f = {0};
+    f.restitution = 1;
+    f.seg = seg;
+    f.nseg = 3;
+    f.corner = (const double(*)[2])corner;
+    f.ncorner = 2;
+    mote_ev ev;
+    if (!setup(&ev, 3, 30, 30, &f))
+        return;
+    ev.p[0].r[0] = 8.8; /* flies right into the left face: contact x = 9 at t = 0.2 */
+    ev.p[0].r[1] = 3;
+    ev.p[0].v[0] = 1;
+    ev.p[1].r[0] = 12; /* falls onto the top face: contact y = 7 at t = 0.3 */
+    ev.p[1].r[1] = 7.3;
+    ev.p[1].v[1] = -1;
+    ev.p[2].r[0] = 8.9; /* passes over the face's end: meets the corner where x = 9.2 */
+    ev.p[2].r[1] = 6.6;
+    ev.p[2].v[0] = 1;
+    mote_err err = {0};
+    CHECK(mote_ev_rebuild(&ev, &err) == MOTE_OK, "rebuild: %s", err.msg);
+    CHECK(ev.p[0].kind == MOTE_EV_SEG && ev.p[0].partner == 0, "face: kind %d partner %u",
+          ev.p[0].kind, ev.p[0].partner);
+    CHECK(fabs(ev.p[0].t_ev - 0.2) < 1e-14, "face hit at %.17g, expected 0.2", ev.p[0].t_ev);
+    CHECK(ev.p[1].kind == MOTE_EV_SEG && ev.p[1].partner == 1, "top: kind %d partner %u",
+          ev.p[1].kind, ev.p[1].partner);
+    CHECK(fabs(ev.p[1].t_ev - 0.3) < 1e-14, "top hit at %.17g, expected 0.3", ev.p[1].t_ev);
+    CHECK(ev.p[2].kind == MOTE_EV_CORNER && ev.p[2].partner == 0, "corner: kind %d partner %u",
+          ev.p[2].kind, ev.p[2].partner);
+    CHECK(fabs(ev.p[2].t_ev - 0.3) < 1e-12, "corner hit at %.17g, expected 0.3", ev.p[2].t_ev);
+    mote_ev_free(&ev);
+
+    /* the kick: a disk falling onto the top face leaves it at 1 + 0.5 and then hands its speed
+     * to a disk at rest above it (head-on, equal masses) */
+    if (!setup(&ev, 2, 30, 30, &f))
+        return;
+    ev.p[0].r[0] = 12;
+    ev.p[0].r[1] = 7.3;
+    ev.p[0].v[1] = -1;
+    ev.p[1].r[0] = 12;
+    ev.p[1].r[1] = 20;
+    CHECK(mote_ev_rebuild(&ev, &err) == MOTE_OK, "rebuild: %s", err.msg);
+    CHECK(mote_ev_run(&ev, 1, &err) == MOTE_OK, "run: %s", err.msg);
+    double v1[3];
+    mote_ev_velocity(&ev, 1, v1);
+    CHECK(fabs(v1[1] - 1.5) < 1e-14 && fabs(v1[0]) < 1e-15, "after the kick: (%.17g, %.17g)",
+          v1[0], v1[1]);
+    CHECK(fabs(mote_ev_time(&ev) - (0.3 + 11 / 1.5)) < 1e-12, "pair at %.17g, expected %.17g",
+          mote_ev_time(&ev), 0.3 + 11 / 1.5);
+    mote_ev_free(&ev);
+}
+
+static void test_restitution(void)
+{
+    printf("restitution, TC model, scaling rule\n");
+    const double e = 0.6;
+    for (int rule = 0; rule < 2; rule++) {
+        mote_ev_field f = {0};
+        f.restitution = e;
+        f.scale_rule = rule;
+        f.tc = 0.5;
+        mote_ev ev;
+        if (!setup(&ev, 2, 40, 40, &f))
+            return;
+        ev.p[0].r[0] = 10;
+        ev.p[0].r[1] = 20;
+        ev.p[0].v[0] = 1;
+        ev.p[0].v[1] = 0.5;
+        ev.p[1].r[0] = 14;
+        ev.p[1].r[1] = 20;
+        ev.p[1].v[0] = -1;
+        ev.p[1].v[1] = 0.5;
+        mote_err err = {0};
+        CHECK(mote_ev_rebuild(&ev, &err) == MOTE_OK, "rebuild: %s", err.msg);
+        CHECK(mote_ev_run(&ev, 1, &err) == MOTE_OK, "run: %s", err.msg);
+        double v0[3], v1[3];
+        mote_ev_velocity(&ev, 0, v0);
+        mote_ev_velocity(&ev, 1, v1);
+        if (rule == 0) {
+            CHECK(fabs(v0[0] + e) < 1e-15 && fabs(v1[0] - e) < 1e-15 && v0[1] == 0.5 &&
+                      v1[1] == 0.5,
+                  "restitution: v0 (%.17g %.17g) v1 (%.17g %.17g)", v0[0], v0[1], v1[0], v1[1]);
+        } else {
+            CHECK(fabs(v0[0] + e) < 1e-15 && fabs(v1[0] - e) < 1e-15 &&
+                      fabs(v0[1] - 0.5 * e) < 1e-15 && fabs(v1[1] - 0.5 * e) < 1e-15,
+                  "scaling rule: v0 (%.17g %.17g) v1 (%.17g %.17g)", v0[0], v0[1], v1[0],
+                  v1[1]);
+        }
+        mote_ev_free(&ev);
+    }
+    /* TC: disk 1 between 0 and 2; 0 hits 1, then 1 hits 2 within tc: that one is elastic */
+    mote_ev_field f = {0};
+    f.restitution = e;
+    f.tc = 1.0;
+    mote_ev ev;
+    if (!setup(&ev, 3, 60, 40, &f))
+        return;
+    ev.p[0].r[0] = 10;
+    ev.p[0].r[1] = 20;
+    ev.p[0].v[0] = 1;
+    ev.p[1].r[0] = 13;
+    ev.p[1].r[1] = 20;
+    ev.p[2].r[0] = 15.5;
+    ev.p[2].r[1] = 20;
+    mote_err err = {0};
+    CHECK(mote_ev_rebuild(&ev, &err) == MOTE_OK, "rebuild: %s", err.msg);
+    CHECK(mote_ev_run(&ev, 2, &err) == MOTE_OK, "run: %s", err.msg);
+    /* first: 0 (v=1) on 1 (v=0) with e: v0 = (1-e)/2, v1 = (1+e)/2; 1 reaches 2 after
+     * 0.5 / 0.8 = 0.625 < tc: elastic, 1 stops and 2 takes (1+e)/2 */
+    double v[3][3];
+    for (uint32_t i = 0; i < 3; i++)
+        mote_ev_velocity(&ev, i, v[i]);
+    CHECK(fabs(v[0][0] - (1 - e) / 2) < 1e-15 && fabs(v[1][0]) < 1e-15 &&
+              fabs(v[2][0] - (1 + e) / 2) < 1e-15,
+          "TC: velocities %.17g %.17g %.17g", v[0][0], v[1][0], v[2][0]);
+    mote_ev_free(&ev);
+}
+
+static void test_gas(void)
+{
+    printf("an elastic gas under gravity with a partition and a slit\n");
+    /* box 60 x 60, partition [29, 31] x [0, 60] with a slit 24 < y < 36 */
+    mote_ev_segment seg[6] = {
+        {{29, 0}, {29, 24}, {-1, 0}, 0},  {{29, 24}, {31, 24}, {0, 1}, 0},
+        {{31, 24}, {31, 0}, {1, 0}, 0},   {{29, 60}, {29, 36}, {-1, 0}, 0},
+        {{29, 36}, {31, 36}, {0, -1}, 0}, {{31, 36}, {31, 60}, {1, 0}, 0},
+    };
+    double corner[4][2] = {{29, 24}, {31, 24}, {29, 36}, {31, 36}};
+    mote_ev_field f = {0};
+    f.g[1] = -0.05;
+    f.restitution = 1;
+    f.seg = seg;
+    f.nseg = 6;
+    f.corner = (const double(*)[2])corner;
+    f.ncorner = 4;
+    const uint32_t n = 240;
+    mote_ev ev;
+    if (!setup(&ev, n, 60, 60, &f))
+        return;
+    mote_rng g;
+    mote_rng_seed(&g, 3);
+    /* a grid in each chamber, random velocities */
+    for (uint32_t i = 0; i < n; i++) {
+        uint32_t k = i / 2, side = i % 2;
+        double x = 2 + 2.6 * (k % 10) + (side ? 32 : 0), y = 2 + 2.6 * (k / 10);
+        ev.p[i].r[0] = x;
+        ev.p[i].r[1] = y;
+        double ang = 2 * MOTE_PI * mote_rng_uniform(&g);
+        ev.p[i].v[0] = cos(ang);
+        ev.p[i].v[1] = sin(ang);
+    }
+    mote_err err = {0};
+    CHECK(mote_ev_rebuild(&ev, &err) == MOTE_OK, "rebuild: %s", err.msg);
+    obs_acc a = {0};
+    ev.obs = (mote_ev_observer){&a, NULL, NULL, on_event};
+    double e0 = energy_pot(&ev);
+    uint64_t total = getenv("MOTE_SANITIZED") ? 50000 : 200000;
+    int ok = 1;
+    for (int round = 0; round < 20 && ok; round++) {
+        ok = mote_ev_run(&ev, total / 20, &err) == MOTE_OK;
+        CHECK(ok, "run: %s", err.msg);
+        if (ok) {
+            int c = mote_ev_check(&ev, &err);
+            CHECK(c == MOTE_OK, "check after round %d: %s", round, err.msg);
+            ok = c == MOTE_OK;
+        }
+    }
+    /* nothing inside the partition */
+    int inside = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        double r[3];
+        mote_ev_position(&ev, i, r);
+        int in_block = r[0] > 28 + 1e-9 && r[0] < 32 - 1e-9 && (r[1] < 25 - 1e-9 || r[1] > 35 + 1e-9);
+        inside += in_block;
+    }
+    CHECK(inside == 0, "%d disks overlap the partition", inside);
+    double e1 = energy_pot(&ev);
+    printf("  %llu collisions, energy %.17g -> %.17g (%.2e)\n",
+           (unsigned long long)ev.collisions, e0, e1, (e1 - e0) / e0);
+    CHECK(fabs(e1 - e0) < 1e-12 * fabs(e0), "energy drift %.3g", (e1 - e0) / e0);
+    CHECK(a.events > 0, "no on_event calls");
+    mote_ev_free(&ev);
+}
+
+int main(void)
+{
+    test_bounce();
+    test_obstacles();
+    test_restitution();
+    test_gas();
+    return test_summary();
+}
