@@ -87,6 +87,10 @@ typedef struct {
     int nseg;
     const double (*corner)[2];  /* obstacle corners: points hit like disks of radius 0 */
     int ncorner;
+    /* counters kept by the engine in its copy (ev->field) */
+    uint64_t *seg_hits;      /* per segment */
+    uint64_t corner_hits;
+    uint64_t tc_elastic;     /* collisions made elastic by the TC rule */
 } mote_ev_field;
 
 typedef struct {
@@ -184,6 +188,11 @@ void mote_ev_set_reference(mote_ev *ev);
 
 /* Run until `ncoll` further pair collisions have happened; stops right after the last one. */
 int mote_ev_run(mote_ev *ev, uint64_t ncoll, mote_err *err);
+
+/* Run until the time since creation reaches t_stop, or `ncoll` further pair collisions have
+ * happened, whichever comes first. At t_stop the clock is set to it, so positions project to
+ * that instant; after the ncoll-th collision it stops right there. */
+int mote_ev_run_to(mote_ev *ev, double t_stop, uint64_t ncoll, mote_err *err);
 
 /* Position of particle i projected to the current clock (periodic axes wrapped into [0, len)). */
 void mote_ev_position(const mote_ev *ev, uint32_t i, double out[3]);

@@ -539,7 +539,7 @@ int mote_ev_set_field(mote_ev *ev, const mote_ev_field *f, mote_err *err)
     }
     /* one block: the struct, then its segments, then its corners */
     size_t bytes = sizeof(mote_ev_field) + (size_t)f->nseg * sizeof(mote_ev_segment) +
-                   (size_t)f->ncorner * sizeof(double[2]);
+                   (size_t)f->ncorner * sizeof(double[2]) + (size_t)f->nseg * sizeof(uint64_t);
     mote_ev_field *copy = malloc(bytes);
     double *tl = malloc((size_t)ev->n * sizeof *tl);
     if (!copy || !tl) {
@@ -556,6 +556,10 @@ int mote_ev_set_field(mote_ev *ev, const mote_ev_field *f, mote_err *err)
         memcpy(corner, f->corner, (size_t)f->ncorner * sizeof *corner);
     copy->seg = seg;
     copy->corner = (const double(*)[2])corner;
+    copy->seg_hits = (uint64_t *)(corner + f->ncorner);
+    memset(copy->seg_hits, 0, (size_t)f->nseg * sizeof(uint64_t));
+    copy->corner_hits = 0;
+    copy->tc_elastic = 0;
     for (uint32_t i = 0; i < ev->n; i++)
         tl[i] = -INFINITY;
     free(ev->field);
@@ -767,8 +771,19 @@ int mote_ev_run(mote_ev *ev, uint64_t ncoll, mote_err *err)
     if (ncoll == 0)
         return MOTE_OK;
     if (ev->field)
-        return run_2f(ev, ncoll, err);
-    return ev->dim == 2 ? run_2d(ev, ncoll, err) : run_3d(ev, ncoll, err);
+        return run_2f(ev, ncoll, INFINITY, err);
+    return ev->dim == 2 ? run_2d(ev, ncoll, INFINITY, err) : run_3d(ev, ncoll, INFINITY, err);
+}
+
+int mote_ev_run_to(mote_ev *ev, double t_stop, uint64_t ncoll, mote_err *err)
+{
+    if (ncoll == 0 || !(t_stop > mote_ev_time(ev)))
+        return MOTE_OK;
+    if (ncoll > UINT64_MAX - ev->collisions)
+        ncoll = UINT64_MAX - ev->collisions;
+    if (ev->field)
+        return run_2f(ev, ncoll, t_stop, err);
+    return ev->dim == 2 ? run_2d(ev, ncoll, t_stop, err) : run_3d(ev, ncoll, t_stop, err);
 }
 
 /* ---- measurements of the state ---------------------------------------------------------------- */
