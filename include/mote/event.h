@@ -77,7 +77,7 @@ typedef struct {
 
 typedef struct {
     double g[2];             /* uniform acceleration */
-    double restitution;      /* e in (0, 1]: the normal relative velocity is multiplied by -e */
+    double restitution;      /* e in [0, 1]: the normal relative velocity is multiplied by -e */
     int scale_rule;          /* 1: an elastic collision, then both velocities scaled by e (the
                               * mixing-box document's rule) instead of normal restitution */
     double tc;               /* TC model (Luding & McNamara): a collision within tc of either

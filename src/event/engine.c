@@ -527,9 +527,9 @@ int mote_ev_set_field(mote_ev *ev, const mote_ev_field *f, mote_err *err)
 {
     if (ev->dim != 2 || ev->periodic[0] || ev->periodic[1])
         return mote_fail(err, MOTE_EINVAL, "field mode needs a 2D box with walls on both axes");
-    if (!(f->restitution > 0 && f->restitution <= 1) || !(f->tc >= 0) || f->nseg < 0 ||
+    if (!(f->restitution >= 0 && f->restitution <= 1) || !(f->tc >= 0) || f->nseg < 0 ||
         f->ncorner < 0)
-        return mote_fail(err, MOTE_EINVAL, "field mode: restitution must be in (0, 1], tc >= 0");
+        return mote_fail(err, MOTE_EINVAL, "field mode: restitution must be in [0, 1], tc >= 0");
     for (int k = 0; k < f->nseg; k++) {
         const mote_ev_segment *sk = &f->seg[k];
         double nn = sk->n[0] * sk->n[0] + sk->n[1] * sk->n[1];
