@@ -28,7 +28,7 @@ enum { MOTE_MB_RESTITUTION = 0, MOTE_MB_SEEDRULE = 1 }; /* mote_mb_params.rule *
 
 /* The default integrator. The spec's default is `event`; while the event integrator is not
  * written yet (src/mixingbox/event.c), the time-stepped reference mode is the default. */
-#define MOTE_MB_DEFAULT_INTEGRATOR MOTE_MB_TIMESTEP
+#define MOTE_MB_DEFAULT_INTEGRATOR MOTE_MB_EVENT
 
 /* Every parameter of the spec's table, in SI units (m, s, m/s, m/s^2, kg). */
 typedef struct {

@@ -31,6 +31,7 @@
  * (so trajectories), the second never changes the event sequence. */
 #define SHELL_FRACTION 0.5
 #define HEAP_TARGET 24.0
+#define FIELD_NEIGHBOURS 12.0
 
 /* ---- memory ----------------------------------------------------------------------------------- */
 
@@ -688,6 +689,18 @@ int mote_ev_rebuild(mote_ev *ev, mote_err *err)
      * axes that sigma_max + 2 shell < len / 2, so a listed pair is always seen through one
      * image (its minimum image) until either list expires */
     double shell = SHELL_FRACTION * ev->sigma_max;
+    if (ev->field) {
+        /* field-mode systems are often dilute (a gas in a box): there a shell of half a
+         * diameter expires dozens of times per free flight. Widen it until a list holds about
+         * FIELD_NEIGHBOURS particles at the mean density, within a quarter of the box. */
+        double area = ev->len[0] * ev->len[1];
+        double wide = sqrt(FIELD_NEIGHBOURS * area / (MOTE_PI * n)) - ev->sigma_max;
+        double cap = 0.25 * fmin(ev->len[0], ev->len[1]);
+        if (wide > cap)
+            wide = cap;
+        if (wide > shell)
+            shell = wide;
+    }
     for (int a = 0; a < d; a++)
         if (ev->periodic[a]) {
             double cap = 0.5 * (0.5 * ev->len[a] - ev->sigma_max) * (1 - 1e-6);
