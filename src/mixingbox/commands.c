@@ -914,7 +914,7 @@ static const mote_cmd mb_commands[] = {
      MB_HELP_GRAVITY, check_gravity, run_gravity, 0},
     {"t_c", NULL, "r", "t_c T", "TC-model time (s): collisions closer than T are elastic",
      MB_HELP_TC, check_t_c, run_t_c, 0},
-    {"integrator", NULL, "s", "integrator NAME", "timestep (reference; default for now) or event",
+    {"integrator", NULL, "s", "integrator NAME", "event (exact, default) or timestep (the document's scheme)",
      MB_HELP_INTEGRATOR, check_integrator, run_integrator, 0},
     {"collision_rule", NULL, "s", "collision_rule NAME",
      "restitution (default) or seed (the document's rule)", MB_HELP_RULE, check_rule, run_rule,
