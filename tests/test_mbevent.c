@@ -87,7 +87,7 @@ static void test_energy(void)
     CHECK(mote_mb_place(&s, &p, &err) == MOTE_OK, "place: %s", err.msg);
     double e0 = mote_mb_energy(&s, NULL);
     acc a = {0};
-    mote_mb_sampler smp = {0.0, 0.5, 1, &a, sampler};
+    mote_mb_sampler smp = {0.0, 0.1, 1, &a, sampler};
     uint64_t target = sanitized ? 200000 : 1000000;
     mote_mb_hooks hooks = {&smp, 1, target, NULL, 0, 0, 0};
     int rc = mote_mb_run(&s, INFINITY, &hooks, &err);
@@ -179,7 +179,7 @@ static void test_barometric(void)
     acc a = {0};
     a.hist = hist;
     a.nbins = 20;
-    double T = sanitized ? 100 : 200;
+    double T = 200;
     mote_mb_sampler smp = {s.time, 0.2, 1, &a, sampler};
     mote_mb_hooks hooks = {&smp, 1, UINT64_MAX, NULL, 0, 0, 0};
     CHECK(mote_mb_run(&s, s.time + T, &hooks, &err) == MOTE_OK, "run: %s", err.msg);
