@@ -101,6 +101,37 @@ int mote_call_fail(mote_err *err, const mote_call *c, int argi, mote_status code
 /* Print a warning located at the call to ctx->diag: "FILE:LINE:COL: warning: <message>". */
 void mote_call_warn(const mote_call *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
+/* ---- the files a script writes (validation) -------------------------------------------------- */
+
+/* The output files of a script, recorded by the models' `check` functions as validation walks
+ * the script: later commands can ask whether a path is written earlier and by what kind of
+ * command (kinds are the model's own codes), and a path written twice gets a warning. */
+typedef struct {
+    char **path;
+    int *kind;
+    size_t n, cap;
+} mote_outputs;
+
+void mote_outputs_free(mote_outputs *o);
+/* The kind of the latest record of `path`, or -1. */
+int mote_outputs_find(const mote_outputs *o, const char *path);
+/* Record `path` (already resolved with mote_ctx_path) as written by call c: fails, located at
+ * argument argi, when its directory does not exist (and no earlier `output_dir` creates it);
+ * warns when it is written for the second time unless `repeat_ok`. */
+int mote_outputs_note_path(mote_outputs *o, const mote_call *c, int argi, const char *path,
+                           int kind, int repeat_ok, mote_err *err);
+/* Record the file named by argument argi of call c. */
+int mote_outputs_note(mote_outputs *o, const mote_call *c, int argi, int kind, mote_err *err);
+/* Validate an input data file (argument argi): it must be written earlier in the script by a
+ * command whose kind satisfies ok(kind), or else exist now. `what` names the accepted kinds in
+ * the message (e.g. "image, profile, pressure, chempot or order"). */
+int mote_outputs_check_input(const mote_outputs *o, const mote_call *c, int argi,
+                             int (*ok)(int kind), const char *what, mote_err *err);
+
+/* "SOURCE   (FILE:LINE)": the command as written, for data-file headers (malloc'ed; NULL when
+ * out of memory). */
+char *mote_call_origin(const mote_call *c);
+
 /* ---- progress on a terminal ---------------------------------------------------------------- */
 
 typedef struct {

@@ -5,7 +5,6 @@
 
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 #include "help.inc"
 #include "plot.h"
@@ -18,9 +17,7 @@ typedef struct {
     /* dry state */
     int d_has, d_geometry, d_dim;
     uint64_t d_n; /* 0 = unknown */
-    char **written;
-    int *written_kind; /* 0 = state file, 1 = image data, 2 = profile data, 3 = png */
-    size_t nwritten, capwritten;
+    mote_outputs out; /* files the script writes (kinds W_*) */
 } hs_model;
 
 enum { W_STATE, W_IMAGE, W_PROFILE, W_PNG, W_PRESSURE, W_CHEMPOT, W_ORDER };
@@ -43,10 +40,7 @@ static void model_destroy(void *vm)
     if (!m)
         return;
     mote_hs_free(&m->hs);
-    for (size_t k = 0; k < m->nwritten; k++)
-        free(m->written[k]);
-    free(m->written);
-    free(m->written_kind);
+    mote_outputs_free(&m->out);
     free(m);
 }
 
@@ -61,49 +55,6 @@ static int need_system(hs_model *m, const mote_call *c, mote_err *err)
                               "%s: no system exists yet; create one first with new, bulk, "
                               "new_disks, bulk_disks or load",
                               c->name);
-    return MOTE_OK;
-}
-
-static int find_written(const hs_model *m, const char *path)
-{
-    for (size_t k = m->nwritten; k-- > 0;)
-        if (strcmp(m->written[k], path) == 0)
-            return m->written_kind[k];
-    return -1;
-}
-
-/* Record an output file; warn when a script writes the same path twice. */
-static int note_output(hs_model *m, const mote_call *c, int argi, int kind, mote_err *err)
-{
-    char *path = mote_ctx_path(c->ctx, c->args[argi].text);
-    if (!path)
-        return mote_call_fail(err, c, argi, MOTE_ENOMEM, "out of memory");
-    if (!mote_ctx_dir_ok(c->ctx, path)) {
-        int rc = mote_call_fail(err, c, argi, MOTE_EIO,
-                                "%s: the directory of output file '%s' does not exist", c->name,
-                                path);
-        free(path);
-        return rc;
-    }
-    if (find_written(m, path) >= 0)
-        mote_call_warn(c, "%s: '%s' is written more than once in this script; the last one wins",
-                       c->name, path);
-    if (m->nwritten == m->capwritten) {
-        size_t cap = m->capwritten ? 2 * m->capwritten : 16;
-        char **w = realloc(m->written, cap * sizeof *w);
-        if (w)
-            m->written = w;
-        int *wk = realloc(m->written_kind, cap * sizeof *wk);
-        if (wk)
-            m->written_kind = wk;
-        if (!w || !wk) {
-            free(path);
-            return mote_call_fail(err, c, argi, MOTE_ENOMEM, "out of memory");
-        }
-        m->capwritten = cap;
-    }
-    m->written[m->nwritten] = path;
-    m->written_kind[m->nwritten++] = kind;
     return MOTE_OK;
 }
 
@@ -126,15 +77,6 @@ static int located(mote_err *err, const mote_call *c, int argi, int rc)
         mote_call_fail(err, c, argi, (mote_status)rc, "%s", msg);
     }
     return rc;
-}
-
-static char *origin_of(const mote_call *c)
-{
-    size_t n = strlen(c->source) + strlen(c->file) + 64;
-    char *s = malloc(n);
-    if (s)
-        snprintf(s, n, "%s   (%s:%d)", c->source, c->file, c->line);
-    return s;
 }
 
 /* Resolve argument argi as a path and run fn on it. */
@@ -230,7 +172,7 @@ static int check_save(void *vm, const mote_call *c, mote_err *err)
 {
     hs_model *m = vm;
     int rc = need_system(m, c, err);
-    return rc ? rc : note_output(m, c, 0, W_STATE, err);
+    return rc ? rc : mote_outputs_note(&m->out, c, 0, W_STATE, err);
 }
 static int run_save(void *vm, const mote_call *c, mote_err *err)
 {
@@ -244,7 +186,7 @@ static int check_load(void *vm, const mote_call *c, mote_err *err)
     char *path = mote_ctx_path(c->ctx, c->args[0].text);
     if (!path)
         return mote_call_fail(err, c, 0, MOTE_ENOMEM, "out of memory");
-    int kind = find_written(m, path);
+    int kind = mote_outputs_find(&m->out, path);
     int rc = MOTE_OK;
     if (kind == W_STATE) {
         /* written by an earlier save of this script: same system as then */
@@ -376,12 +318,12 @@ static int check_image(void *vm, const mote_call *c, mote_err *err)
                               "image: points per radius must be >= 1, found %s", c->args[1].text);
     if ((rc = check_collisions(m, c, 0, (uint64_t)c->args[0].i, err)))
         return rc;
-    return note_output(m, c, 2, W_IMAGE, err);
+    return mote_outputs_note(&m->out, c, 2, W_IMAGE, err);
 }
 static int run_image(void *vm, const mote_call *c, mote_err *err)
 {
     hs_model *m = vm;
-    char *origin = origin_of(c);
+    char *origin = mote_call_origin(c);
     char *path = mote_ctx_path(c->ctx, c->args[2].text);
     int rc = path ? mote_hs_image(&m->hs, (uint64_t)c->args[0].i, c->args[1].i, path, origin, err)
                   : mote_fail(err, MOTE_ENOMEM, "out of memory");
@@ -409,12 +351,12 @@ static int check_profile(void *vm, const mote_call *c, mote_err *err)
                               "profile: K = 0 samples the current state once, so dots must be 1");
     if ((rc = check_collisions(m, c, 3, (uint64_t)c->args[3].i, err)))
         return rc;
-    return note_output(m, c, 4, W_PROFILE, err);
+    return mote_outputs_note(&m->out, c, 4, W_PROFILE, err);
 }
 static int run_profile(void *vm, const mote_call *c, mote_err *err)
 {
     hs_model *m = vm;
-    char *origin = origin_of(c);
+    char *origin = mote_call_origin(c);
     char *path = mote_ctx_path(c->ctx, c->args[4].text);
     int rc = path ? mote_hs_profile(&m->hs, c->args[0].r, c->args[1].r, c->args[2].i,
                                     (uint64_t)c->args[3].i, path, origin, err)
@@ -457,7 +399,7 @@ static int check_measure(hs_model *m, const mote_call *c, int kmin, int file_arg
                               kmin, c->args[0].text);
     if ((rc = check_collisions(m, c, 0, (uint64_t)c->args[0].i, err)))
         return rc;
-    return note_output(m, c, file_arg, kind, err);
+    return mote_outputs_note(&m->out, c, file_arg, kind, err);
 }
 
 typedef int (*measure_fn)(hs_model *m, const mote_call *c, const char *path, const char *origin,
@@ -467,7 +409,7 @@ typedef int (*measure_fn)(hs_model *m, const mote_call *c, const char *path, con
 static int run_measure(hs_model *m, const mote_call *c, int file_arg, measure_fn fn,
                        mote_err *err)
 {
-    char *origin = origin_of(c);
+    char *origin = mote_call_origin(c);
     char *path = mote_ctx_path(c->ctx, c->args[file_arg].text);
     mote_hs_result res = {0};
     int rc = path && origin ? fn(m, c, path, origin, &res, err)
@@ -538,24 +480,13 @@ static int run_check(void *vm, const mote_call *c, mote_err *err)
     return rc;
 }
 
+static int plottable(int kind) { return kind != W_STATE && kind != W_PNG; }
 static int check_plot(void *vm, const mote_call *c, mote_err *err)
 {
     hs_model *m = vm;
-    char *path = mote_ctx_path(c->ctx, c->args[0].text);
-    if (!path)
-        return mote_call_fail(err, c, 0, MOTE_ENOMEM, "out of memory");
-    int kind = find_written(m, path);
-    struct stat st;
-    int rc = MOTE_OK;
-    if (kind == W_STATE || kind == W_PNG)
-        rc = mote_call_fail(err, c, 0, MOTE_EINVAL,
-                            "plot: '%s' is not a data file of image or profile", path);
-    else if (kind < 0 && stat(path, &st) != 0)
-        rc = mote_call_fail(err, c, 0, MOTE_EIO,
-                            "plot: data file '%s' does not exist and no earlier command writes it",
-                            path);
-    free(path);
-    return rc ? rc : note_output(m, c, 1, W_PNG, err);
+    int rc = mote_outputs_check_input(&m->out, c, 0, plottable,
+                                      "image, profile, pressure, chempot or order", err);
+    return rc ? rc : mote_outputs_note(&m->out, c, 1, W_PNG, err);
 }
 static int run_plot(void *vm, const mote_call *c, mote_err *err)
 {

@@ -26,9 +26,7 @@ typedef struct {
     int d_place_line;
     int64_t d_n; /* disks the last place puts */
     double d_record_dt, d_density_dt, d_frames_dt; /* 0 = not active */
-    char **written;
-    int *written_kind;
-    size_t nwritten, capwritten;
+    mote_outputs out; /* files (and frame prefixes) the script writes, kinds W_* */
 
     /* samplers kept across runs */
     mb_record rec;
@@ -59,10 +57,7 @@ static void model_destroy(void *vm)
     mb_record_free(&m->rec);
     mb_density_free(&m->dens);
     free(m->frames.prefix);
-    for (size_t k = 0; k < m->nwritten; k++)
-        free(m->written[k]);
-    free(m->written);
-    free(m->written_kind);
+    mote_outputs_free(&m->out);
     free(m);
 }
 
@@ -101,67 +96,6 @@ static int need_placed(mb_model *m, const mote_call *c, mote_err *err)
                               "%s: no disks are placed yet; set the parameters, then 'place'",
                               c->name);
     return MOTE_OK;
-}
-
-static int find_written(const mb_model *m, const char *path)
-{
-    for (size_t k = m->nwritten; k-- > 0;)
-        if (strcmp(m->written[k], path) == 0)
-            return m->written_kind[k];
-    return -1;
-}
-
-/* Record an output (a file, or for W_FRAMES a prefix); warn when a file is written twice. */
-static int note_path(mb_model *m, const mote_call *c, int argi, const char *path, int kind,
-                     mote_err *err)
-{
-    if (!mote_ctx_dir_ok(c->ctx, path))
-        return mote_call_fail(err, c, argi, MOTE_EIO,
-                              "%s: the directory of output file '%s' does not exist", c->name,
-                              path);
-    int old = find_written(m, path);
-    if (old >= 0 && kind != W_FRAMES)
-        mote_call_warn(c, "%s: '%s' is written more than once in this script; the last one wins",
-                       c->name, path);
-    if (m->nwritten == m->capwritten) {
-        size_t cap = m->capwritten ? 2 * m->capwritten : 16;
-        char **w = realloc(m->written, cap * sizeof *w);
-        if (w)
-            m->written = w;
-        int *wk = realloc(m->written_kind, cap * sizeof *wk);
-        if (wk)
-            m->written_kind = wk;
-        if (!w || !wk)
-            return mote_call_fail(err, c, argi, MOTE_ENOMEM, "out of memory");
-        m->capwritten = cap;
-    }
-    size_t n = strlen(path) + 1;
-    char *copy = malloc(n);
-    if (!copy)
-        return mote_call_fail(err, c, argi, MOTE_ENOMEM, "out of memory");
-    memcpy(copy, path, n);
-    m->written[m->nwritten] = copy;
-    m->written_kind[m->nwritten++] = kind;
-    return MOTE_OK;
-}
-
-static int note_output(mb_model *m, const mote_call *c, int argi, int kind, mote_err *err)
-{
-    char *path = mote_ctx_path(c->ctx, c->args[argi].text);
-    if (!path)
-        return mote_call_fail(err, c, argi, MOTE_ENOMEM, "out of memory");
-    int rc = note_path(m, c, argi, path, kind, err);
-    free(path);
-    return rc;
-}
-
-static char *origin_of(const mote_call *c)
-{
-    size_t n = strlen(c->source) + strlen(c->file) + 64;
-    char *s = malloc(n);
-    if (s)
-        snprintf(s, n, "%s   (%s:%d)", c->source, c->file, c->line);
-    return s;
 }
 
 static int positive(const mote_call *c, int argi, const char *what, mote_err *err)
@@ -646,7 +580,7 @@ static int check_record(void *vm, const mote_call *c, mote_err *err)
     if (!rc)
         rc = positive(c, 0, "DT", err);
     if (!rc)
-        rc = note_output(m, c, 1, W_RECORD, err);
+        rc = mote_outputs_note(&m->out, c, 1, W_RECORD, err);
     if (!rc)
         m->d_record_dt = c->args[0].r;
     return rc;
@@ -656,7 +590,7 @@ static int run_record(void *vm, const mote_call *c, mote_err *err)
     mb_model *m = vm;
     mb_record_free(&m->rec);
     m->rec.path = mote_ctx_path(c->ctx, c->args[1].text);
-    m->rec.origin = origin_of(c);
+    m->rec.origin = mote_call_origin(c);
     if (!m->rec.path || !m->rec.origin)
         return mote_fail(err, MOTE_ENOMEM, "record: out of memory");
     m->rec.dt = c->args[0].r;
@@ -685,7 +619,7 @@ static int check_density(void *vm, const mote_call *c, mote_err *err)
                             "density_y: NBINS must be in 1 ... 1000000, found %s",
                             c->args[1].text);
     if (!rc)
-        rc = note_output(m, c, 2, W_DENSITY, err);
+        rc = mote_outputs_note(&m->out, c, 2, W_DENSITY, err);
     if (!rc)
         m->d_density_dt = c->args[0].r;
     return rc;
@@ -696,7 +630,7 @@ static int run_density(void *vm, const mote_call *c, mote_err *err)
     mb_density *d = &m->dens;
     mb_density_free(d);
     d->path = mote_ctx_path(c->ctx, c->args[2].text);
-    d->origin = origin_of(c);
+    d->origin = mote_call_origin(c);
     d->nbins = c->args[1].i;
     d->count[0] = calloc((size_t)d->nbins, sizeof(double));
     d->count[1] = calloc((size_t)d->nbins, sizeof(double));
@@ -741,13 +675,13 @@ static int check_snapshot(void *vm, const mote_call *c, mote_err *err)
                               "snapshot: FILE must end in .png (a picture) or .xyz (extended "
                               "XYZ), found '%s'",
                               f);
-    return note_output(m, c, 0, png ? W_PNG : W_XYZ, err);
+    return mote_outputs_note(&m->out, c, 0, png ? W_PNG : W_XYZ, err);
 }
 static int run_snapshot(void *vm, const mote_call *c, mote_err *err)
 {
     mb_model *m = vm;
     char *path = mote_ctx_path(c->ctx, c->args[0].text);
-    char *origin = origin_of(c);
+    char *origin = mote_call_origin(c);
     int rc;
     if (!path || !origin)
         rc = mote_fail(err, MOTE_ENOMEM, "snapshot: out of memory");
@@ -778,7 +712,7 @@ static int check_frames(void *vm, const mote_call *c, mote_err *err)
         rc = mote_call_fail(err, c, 1, MOTE_EIO,
                             "frames: the directory of the frames '%s' does not exist", first);
     else
-        rc = note_path(m, c, 1, prefix, W_FRAMES, err);
+        rc = mote_outputs_note_path(&m->out, c, 1, prefix, W_FRAMES, 1, err);
     free(prefix);
     free(first);
     if (!rc)
@@ -834,12 +768,12 @@ static int check_movie(void *vm, const mote_call *c, mote_err *err)
     struct stat st;
     if (!first)
         rc = mote_call_fail(err, c, 0, MOTE_ENOMEM, "out of memory");
-    else if (find_written(m, prefix) != W_FRAMES && stat(first, &st) != 0)
+    else if (mote_outputs_find(&m->out, prefix) != W_FRAMES && stat(first, &st) != 0)
         rc = mote_call_fail(err, c, 0, MOTE_EINVAL,
                             "movie: no earlier 'frames' writes '%s' and it does not exist", first);
     free(prefix);
     free(first);
-    return rc ? rc : note_output(m, c, 2, W_MOVIE, err);
+    return rc ? rc : mote_outputs_note(&m->out, c, 2, W_MOVIE, err);
 }
 static int run_movie(void *vm, const mote_call *c, mote_err *err)
 {
@@ -858,24 +792,12 @@ static int run_movie(void *vm, const mote_call *c, mote_err *err)
     return rc;
 }
 
+static int plottable(int kind) { return kind == W_RECORD || kind == W_DENSITY; }
 static int check_plot(void *vm, const mote_call *c, mote_err *err)
 {
     mb_model *m = vm;
-    char *path = mote_ctx_path(c->ctx, c->args[0].text);
-    if (!path)
-        return mote_call_fail(err, c, 0, MOTE_ENOMEM, "out of memory");
-    int kind = find_written(m, path);
-    struct stat st;
-    int rc = MOTE_OK;
-    if (kind >= 0 && kind != W_RECORD && kind != W_DENSITY)
-        rc = mote_call_fail(err, c, 0, MOTE_EINVAL,
-                            "plot: '%s' is not a data file of record or density_y", path);
-    else if (kind < 0 && stat(path, &st) != 0)
-        rc = mote_call_fail(err, c, 0, MOTE_EIO,
-                            "plot: data file '%s' does not exist and no earlier command writes it",
-                            path);
-    free(path);
-    return rc ? rc : note_output(m, c, 1, W_PNG, err);
+    int rc = mote_outputs_check_input(&m->out, c, 0, plottable, "record or density_y", err);
+    return rc ? rc : mote_outputs_note(&m->out, c, 1, W_PNG, err);
 }
 static int run_plot(void *vm, const mote_call *c, mote_err *err)
 {
