@@ -5,9 +5,12 @@
 #ifndef MOTE_TEST_H
 #define MOTE_TEST_H
 
+#include <dirent.h>
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 static int test_passed_, test_failed_;
 
@@ -60,6 +63,43 @@ static inline int test_summary(void)
     printf("%d passed, %d failed\n", test_passed_, test_failed_);
     fflush(stdout);
     return test_failed_ > 0 || test_passed_ == 0;
+}
+
+
+/* A fresh directory /tmp/<name>.XXXXXX for a test's files, written into buf; 0 on failure
+ * (after printing why). */
+static inline int test_tmpdir_make(char *buf, size_t n, const char *name)
+{
+    snprintf(buf, n, "/tmp/%s.XXXXXX", name);
+    if (!mkdtemp(buf)) {
+        printf("cannot create a temporary directory for %s\n", name);
+        return 0;
+    }
+    return 1;
+}
+
+/* Remove a file or a directory tree. */
+static inline void test_remove_tree(const char *p)
+{
+    DIR *d = opendir(p);
+    if (!d) {
+        remove(p);
+        return;
+    }
+    struct dirent *de;
+    while ((de = readdir(d))) {
+        if (!strcmp(de->d_name, ".") || !strcmp(de->d_name, ".."))
+            continue;
+        size_t n = strlen(p) + strlen(de->d_name) + 2;
+        char *sub = malloc(n);
+        if (!sub)
+            break;
+        snprintf(sub, n, "%s/%s", p, de->d_name);
+        test_remove_tree(sub);
+        free(sub);
+    }
+    closedir(d);
+    rmdir(p);
 }
 
 #endif

@@ -788,36 +788,17 @@ static void test_atomic(void)
     mote_hs_free(&hs);
 }
 
-static void remove_tmpdir(void)
-{
-    DIR *d = opendir(tmpdir);
-    if (!d)
-        return;
-    struct dirent *e;
-    char p[600];
-    while ((e = readdir(d)))
-        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) {
-            snprintf(p, sizeof p, "%s/%s", tmpdir, e->d_name);
-            unlink(p);
-        }
-    closedir(d);
-    rmdir(tmpdir);
-}
-
 int main(void)
 {
-    snprintf(tmpdir, sizeof tmpdir, "/tmp/mote_test_files.XXXXXX");
-    if (!mkdtemp(tmpdir)) {
-        printf("cannot create a temporary directory\n");
+    if (!test_tmpdir_make(tmpdir, sizeof tmpdir, "mote_test_files"))
         return 1;
-    }
     double w0 = mote_wall_seconds();
     test_round_trips();
     test_continuation();
     test_load_errors();
     test_original_format();
     test_atomic();
-    remove_tmpdir();
+    test_remove_tree(tmpdir);
     printf("test_files: %.1f s\n", mote_wall_seconds() - w0);
     return test_summary();
 }

@@ -681,36 +681,17 @@ static void test_no_perturbation(void)
     mote_hs_free(&b);
 }
 
-static void remove_tmpdir(void)
-{
-    DIR *d = opendir(tmpdir);
-    if (!d)
-        return;
-    struct dirent *e;
-    char p[600];
-    while ((e = readdir(d)))
-        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) {
-            snprintf(p, sizeof p, "%s/%s", tmpdir, e->d_name);
-            unlink(p);
-        }
-    closedir(d);
-    rmdir(tmpdir);
-}
-
 int main(void)
 {
     sanitized = getenv("MOTE_SANITIZED") != NULL;
-    snprintf(tmpdir, sizeof tmpdir, "/tmp/mote_test_hs.XXXXXX");
-    if (!mkdtemp(tmpdir)) {
-        printf("cannot create a temporary directory\n");
+    if (!test_tmpdir_make(tmpdir, sizeof tmpdir, "mote_test_hs"))
         return 1;
-    }
     double w0 = mote_wall_seconds();
     test_compress();
     test_image();
     test_profile();
     test_no_perturbation();
-    remove_tmpdir();
+    test_remove_tree(tmpdir);
     printf("test_hardspheres: %.1f s\n", mote_wall_seconds() - w0);
     return test_summary();
 }

@@ -472,28 +472,13 @@ static void test_files(void)
     mote_hs_free(&hs);
 }
 
-static void remove_tmpdir(void)
-{
-    const char *names[] = {"thin.state", "p.dat", "p2.dat", "pc.dat", "pn.dat", "mu.dat",
-                           "mup.dat", "np.dat", "f.dat"};
-    char p[300];
-    for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
-        tmp_path(p, sizeof p, names[k]);
-        remove(p);
-    }
-    rmdir(tmpdir);
-}
-
 int main(void)
 {
     sanitized = getenv("MOTE_SANITIZED") != NULL;
     if (getenv("MOTE_SLOW"))
         scale = 10;
-    snprintf(tmpdir, sizeof tmpdir, "/tmp/mote_test_measure.XXXXXX");
-    if (!mkdtemp(tmpdir)) {
-        printf("cannot create a temporary directory\n");
+    if (!test_tmpdir_make(tmpdir, sizeof tmpdir, "mote_test_measure"))
         return 1;
-    }
     double w0 = mote_wall_seconds();
     test_cs_pressure();
     test_henderson();
@@ -503,7 +488,7 @@ int main(void)
     test_widom_profile();
     test_no_perturbation();
     test_files();
-    remove_tmpdir();
+    test_remove_tree(tmpdir);
     printf("test_measure: %.1f s\n", mote_wall_seconds() - w0);
     return test_summary();
 }

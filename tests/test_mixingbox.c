@@ -812,32 +812,10 @@ static void test_scripts(void)
     }
 }
 
-static void remove_tree(const char *p)
-{
-    DIR *d = opendir(p);
-    if (!d) {
-        remove(p);
-        return;
-    }
-    struct dirent *de;
-    while ((de = readdir(d))) {
-        if (!strcmp(de->d_name, ".") || !strcmp(de->d_name, ".."))
-            continue;
-        char sub[1024];
-        snprintf(sub, sizeof sub, "%s/%s", p, de->d_name);
-        remove_tree(sub);
-    }
-    closedir(d);
-    rmdir(p);
-}
-
 int main(void)
 {
-    snprintf(tmpdir, sizeof tmpdir, "/tmp/mote_test_mb.XXXXXX");
-    if (!mkdtemp(tmpdir)) {
-        printf("cannot create a temporary directory\n");
+    if (!test_tmpdir_make(tmpdir, sizeof tmpdir, "mote_test_mb"))
         return 1;
-    }
     double w0 = mote_wall_seconds();
     test_rules();
     test_tc();
@@ -847,7 +825,7 @@ int main(void)
     test_measures();
     test_runs();
     test_scripts();
-    remove_tree(tmpdir);
+    test_remove_tree(tmpdir);
     printf("test_mixingbox: %.1f s\n", mote_wall_seconds() - w0);
     return test_summary();
 }

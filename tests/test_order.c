@@ -1025,31 +1025,12 @@ static void test_no_perturbation(void)
         mote_hs_free(hs[q]);
 }
 
-static void remove_tmpdir(void)
-{
-    DIR *d = opendir(tmpdir);
-    if (!d)
-        return;
-    struct dirent *e;
-    char p[600];
-    while ((e = readdir(d)))
-        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) {
-            snprintf(p, sizeof p, "%s/%s", tmpdir, e->d_name);
-            unlink(p);
-        }
-    closedir(d);
-    rmdir(tmpdir);
-}
-
 int main(void)
 {
     /* every case runs in full under the sanitizer too (MOTE_SANITIZED is not consulted): the
      * whole program takes a few seconds there */
-    snprintf(tmpdir, sizeof tmpdir, "/tmp/mote_test_order.XXXXXX");
-    if (!mkdtemp(tmpdir)) {
-        printf("cannot create a temporary directory\n");
+    if (!test_tmpdir_make(tmpdir, sizeof tmpdir, "mote_test_order"))
         return 1;
-    }
     double w0 = mote_wall_seconds();
     test_fcc();
     test_disks_lattice();
@@ -1059,7 +1040,7 @@ int main(void)
     test_layers();
     test_time_rows();
     test_no_perturbation();
-    remove_tmpdir();
+    test_remove_tree(tmpdir);
     printf("test_order: %.1f s\n", mote_wall_seconds() - w0);
     return test_summary();
 }
