@@ -68,5 +68,33 @@ rc=$?
 check "plot of a state file is a validation error (exit 1)" '[ $rc -eq 1 ]'
 check "the message names the data files plot accepts" 'grep -q "not a data file of image, profile, pressure, chempot or order" err.txt'
 
+# the measurement files: pressure (tensor profile), chempot (Widom profile), order (over time
+# and, with one sample, across x)
+cat > meas.mote <<'S'
+new 3 0.35
+step 20
+pressure 20 p.dat
+chempot 5 200 mu.dat
+order 10 o.dat
+order 0 o0.dat
+plot p.dat p.png
+plot mu.dat mu.png
+plot o.dat o.png
+plot o0.dat o0.png
+S
+"$mote" run meas.mote >out.txt 2>err.txt
+check "a script plotting pressure, chempot and order data runs" '[ $? -eq 0 ]'
+for f in p mu o o0; do
+    check "$f.png is a 1000x650 PNG" 'is_png $f.png && [ "$(png_size $f.png)" = 1000x650 ]'
+done
+# a pressure file with a short row in its first block: a located runtime error, no PNG
+sed '/^#/!{0,/^[0-9]/s/ [^ ]*$//}' p.dat > pshort.dat
+printf 'plot pshort.dat pshort.png\n' > pshort.mote
+"$mote" run pshort.mote >out.txt 2>err.txt
+rc=$?
+check "a short pressure row is a runtime error (exit 2)" '[ $rc -eq 2 ]'
+check "the short row is named by file and line" 'grep -q "pshort.dat:[0-9]*: malformed data row (9 numbers)" err.txt'
+check "no PNG is left behind" '[ ! -e pshort.png ]'
+
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]
