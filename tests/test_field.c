@@ -9,7 +9,9 @@
  *   same within tc of a previous collision: elastic (TC model); the scaling rule;
  * - an elastic gas under gravity with a partition and slit (the mixing-box geometry): no
  *   overlap, the checker passes, kinetic + potential energy kept to 1e-12 over 2e5 collisions,
- *   and the observer sees every event. */
+ *   and the observer sees every event;
+ * - an inelastic gas settling on the floor: the crowded cells outgrow their blocks mid-run and
+ *   every invariant still holds. */
 #include "mote/event.h"
 
 #include <stdlib.h>
@@ -303,11 +305,62 @@ static void test_gas(void)
     mote_ev_free(&ev);
 }
 
+/* Disks raining onto a floor crowd the bottom cells far beyond anything at the start: the cell
+ * blocks must widen during the run (before any rebuild could resize them) and every invariant
+ * must still hold. */
+static void test_crowding(void)
+{
+    printf("an inelastic gas settling on the floor (cell blocks widen in the run)\n");
+    mote_ev_field f = {0};
+    f.g[1] = -1;
+    f.restitution = 0.3;
+    f.tc = 1e-3;
+    const uint32_t n = 200;
+    mote_ev ev;
+    if (!setup(&ev, n, 40, 200, &f))
+        return;
+    mote_rng g;
+    mote_rng_seed(&g, 11);
+    for (uint32_t i = 0; i < n; i++) { /* 10 per row, rows 9.5 apart: dilute */
+        ev.p[i].r[0] = 2 + 4 * (i % 10);
+        ev.p[i].r[1] = 5 + 9.5 * (i / 10);
+        double ang = 2 * MOTE_PI * mote_rng_uniform(&g);
+        ev.p[i].v[0] = cos(ang);
+        ev.p[i].v[1] = sin(ang);
+    }
+    mote_err err = {0};
+    CHECK(mote_ev_rebuild(&ev, &err) == MOTE_OK, "rebuild: %s", err.msg);
+    const uint32_t stride0 = ev.cell_stride;
+    int ok = 1;
+    for (int round = 0; round < 10 && ok; round++) {
+        ok = mote_ev_run_to(&ev, 3.0 * (round + 1), UINT64_MAX, &err) == MOTE_OK;
+        CHECK(ok, "run: %s", err.msg);
+        if (ok) {
+            int c = mote_ev_check(&ev, &err);
+            CHECK(c == MOTE_OK, "check at t = %g: %s", mote_ev_time(&ev), err.msg);
+            ok = c == MOTE_OK;
+        }
+    }
+    double top = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        double r[3];
+        mote_ev_position(&ev, i, r);
+        top = r[1] > top ? r[1] : top;
+    }
+    printf("  %llu collisions, highest disk at y = %.1f, cell blocks %u -> %u words\n",
+           (unsigned long long)ev.collisions, top, stride0, ev.cell_stride);
+    CHECK(ev.time_total == 0, "a rebuild happened (time folded: %g)", ev.time_total);
+    CHECK(ev.cell_stride > stride0, "the cell blocks did not widen (%u words)", ev.cell_stride);
+    CHECK(top < 60, "the gas did not settle (a disk at y = %g)", top);
+    mote_ev_free(&ev);
+}
+
 int main(void)
 {
     test_bounce();
     test_obstacles();
     test_restitution();
     test_gas();
+    test_crowding();
     return test_summary();
 }

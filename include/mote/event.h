@@ -43,7 +43,7 @@ typedef struct {
     uint32_t partner;       /* PAIR: partner index; WALL: 2*axis + (upper wall ? 1 : 0) */
     uint32_t partner_count; /* PAIR: partner's counter when predicted */
     int32_t cell;           /* linear index of the cell holding r_ref */
-    int32_t cnext, cprev;   /* doubly linked cell list, -1 terminated */
+    uint32_t spare[2];      /* unused (keeps the record at 128 bytes) */
     int32_t cal_slot;       /* calendar: -1 in the heap, 0..nbuckets-1 a bucket, nbuckets overflow */
     uint32_t cal_next;      /* in a bucket: next in its list; in the heap: position in the heap */
     uint32_t cal_prev;      /* in a bucket: previous in its list (MOTE_EV_NIL at the head) */
@@ -126,8 +126,9 @@ typedef struct {
     double cell_w[3];
     double cell_lo[3];    /* grid origin: 0 after a rebuild; wall moves shift it (see below) */
     double len_grid[3];   /* extent of the grid: the box length at the last rebuild */
-    int32_t *cell_head;   /* ncell[0]*ncell[1]*ncell[2] heads */
-    size_t ncells_alloc;
+    uint32_t *cell_block; /* per cell `cell_stride` words: a count, then that many particles */
+    uint32_t cell_stride; /* a power of two; grows when a cell would overflow */
+    size_t cell_words;    /* words allocated for the blocks */
 
     /* ---- calendar (spec 6.5): heap of the current bucket, circular bucket lists, overflow ---- */
     int heap_only;        /* set by the caller: 1 = one plain indexed heap (the reference) */

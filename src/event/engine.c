@@ -287,26 +287,60 @@ static inline int32_t cell_index(const mote_ev *ev, const double x[3])
     return lin;
 }
 
-static void cell_unlink(mote_ev *ev, uint32_t i)
+/* Cells keep their members in blocks of `cell_stride` words, a count followed by the particle
+ * indices, so a list refresh reads each neighbouring cell as one contiguous run and can fetch
+ * all candidates at once, instead of following a chain of records one cache miss at a time. */
+static inline uint32_t *cell_members(const mote_ev *ev, int32_t cell)
 {
-    mote_particle *p = &ev->p[i];
-    if (p->cprev >= 0)
-        ev->p[p->cprev].cnext = p->cnext;
-    else
-        ev->cell_head[p->cell] = p->cnext;
-    if (p->cnext >= 0)
-        ev->p[p->cnext].cprev = p->cprev;
+    return ev->cell_block + (size_t)cell * ev->cell_stride;
 }
 
-static void cell_link(mote_ev *ev, uint32_t i, int32_t cell)
+/* Give the grid blocks of `stride` words for `ncells` cells; the members of the first `keep`
+ * cells move along when the stride widens. */
+static int cell_blocks(mote_ev *ev, size_t ncells, uint32_t stride, size_t keep)
 {
-    mote_particle *p = &ev->p[i];
-    p->cell = cell;
-    p->cprev = -1;
-    p->cnext = ev->cell_head[cell];
-    if (p->cnext >= 0)
-        ev->p[p->cnext].cprev = (int32_t)i;
-    ev->cell_head[cell] = (int32_t)i;
+    const uint32_t old = ev->cell_stride;
+    const size_t words = ncells * stride;
+    if (words > ev->cell_words || !ev->cell_block) {
+        uint32_t *b = realloc(ev->cell_block, words * sizeof *b);
+        if (!b)
+            return MOTE_ENOMEM;
+        ev->cell_block = b;
+        ev->cell_words = words;
+        hint_huge_pages(b, words * sizeof *b);
+    }
+    if (keep && stride > old) /* last first: a block only ever moves up */
+        for (size_t c = keep; c-- > 0;)
+            memmove(ev->cell_block + c * stride, ev->cell_block + c * old,
+                    ((size_t)ev->cell_block[c * old] + 1) * sizeof(uint32_t));
+    ev->cell_stride = stride;
+    return MOTE_OK;
+}
+
+static void cell_unlink(mote_ev *ev, uint32_t i)
+{
+    uint32_t *B = cell_members(ev, ev->p[i].cell);
+    uint32_t n = B[0];
+    for (uint32_t k = 1; k <= n; k++)
+        if (B[k] == i) {
+            B[k] = B[n];
+            B[0] = n - 1;
+            return;
+        }
+}
+
+static int cell_link(mote_ev *ev, uint32_t i, int32_t cell)
+{
+    if (cell_members(ev, cell)[0] + 1 >= ev->cell_stride) {
+        size_t ncells = (size_t)ev->ncell[0] * ev->ncell[1] * ev->ncell[2];
+        if (ev->cell_stride > UINT32_MAX / 2 ||
+            cell_blocks(ev, ncells, 2 * ev->cell_stride, ncells))
+            return MOTE_ENOMEM;
+    }
+    uint32_t *B = cell_members(ev, cell);
+    B[++B[0]] = i;
+    ev->p[i].cell = cell;
+    return MOTE_OK;
 }
 
 /* The distinct cells next to (and including) `cell`: 3 per axis, or all of them on an axis of
@@ -516,7 +550,7 @@ void mote_ev_free(mote_ev *ev)
     free(ev->heap);
     free(ev->radius);
     free(ev->mass);
-    free(ev->cell_head);
+    free(ev->cell_block);
     free(ev->nbr);
     free(ev->bucket);
     free(ev->field);
@@ -605,14 +639,18 @@ static int nbr_build_all(mote_ev *ev, mote_err *err)
     uint32_t most = 0;
     for (uint32_t i = 0; i < n; i++) {
         int nc = cell_neighbours(ev, P[i].cell, cells);
-        for (int q = 0; q < nc; q++)
-            for (int32_t j = ev->cell_head[cells[q]]; j >= 0; j = P[j].cnext)
-                if ((uint32_t)j > i && nbr_within(ev, i, (uint32_t)j, reach2)) {
+        for (int q = 0; q < nc; q++) {
+            const uint32_t *B = cell_members(ev, cells[q]);
+            for (uint32_t s = 1; s <= B[0]; s++) {
+                uint32_t j = B[s];
+                if (j > i && nbr_within(ev, i, j, reach2)) {
                     if (P[i].nnbr < UINT16_MAX)
                         P[i].nnbr++;
                     if (P[j].nnbr < UINT16_MAX)
                         P[j].nnbr++;
                 }
+            }
+        }
         if (P[i].nnbr > most)
             most = P[i].nnbr;
     }
@@ -634,11 +672,12 @@ static int nbr_build_all(mote_ev *ev, mote_err *err)
         P[i].nnbr = 0;
     for (uint32_t i = 0; i < n; i++) {
         int nc = cell_neighbours(ev, P[i].cell, cells);
-        for (int q = 0; q < nc; q++)
-            for (int32_t j = ev->cell_head[cells[q]]; j >= 0; j = P[j].cnext)
-                if ((uint32_t)j > i && nbr_within(ev, i, (uint32_t)j, reach2) &&
-                    nbr_add_pair(ev, i, (uint32_t)j))
+        for (int q = 0; q < nc; q++) {
+            const uint32_t *B = cell_members(ev, cells[q]);
+            for (uint32_t s = 1; s <= B[0]; s++)
+                if (B[s] > i && nbr_within(ev, i, B[s], reach2) && nbr_add_pair(ev, i, B[s]))
                     return mote_fail(err, MOTE_ENOMEM, "out of memory for neighbour lists");
+        }
     }
     return MOTE_OK;
 }
@@ -740,22 +779,31 @@ int mote_ev_rebuild(mote_ev *ev, mote_err *err)
         ev->cell_w[amax] = ev->len[amax] / ev->ncell[amax];
         ncells = (size_t)ev->ncell[0] * ev->ncell[1] * ev->ncell[2];
     }
-    if (ncells > ev->ncells_alloc) {
-        int32_t *h = realloc(ev->cell_head, ncells * sizeof *h);
-        if (!h)
-            return mote_fail(err, MOTE_ENOMEM, "out of memory for %zu cells", ncells);
-        ev->cell_head = h;
-        ev->ncells_alloc = ncells;
-        hint_huge_pages(h, ncells * sizeof *h);
-    }
-    for (size_t c = 0; c < ncells; c++)
-        ev->cell_head[c] = -1;
+    /* blocks wide enough for the fullest cell with room to spare (they widen if needed) */
     for (uint32_t i = 0; i < n; i++) {
         for (int a = 0; a < 3; a++)
             P[i].r_ref[a] = P[i].r[a];
         P[i].near_edge = (uint8_t)near_periodic_edge(ev, P[i].r_ref);
         P[i].count = 0;
-        cell_link(ev, i, cell_index(ev, P[i].r_ref));
+        P[i].cell = cell_index(ev, P[i].r_ref);
+    }
+    uint32_t *fill = calloc(ncells, sizeof *fill), most = 0;
+    if (!fill)
+        return mote_fail(err, MOTE_ENOMEM, "out of memory for %zu cells", ncells);
+    for (uint32_t i = 0; i < n; i++)
+        if (++fill[P[i].cell] > most)
+            most = fill[P[i].cell];
+    free(fill);
+    uint32_t stride = 8;
+    while (stride < most + most / 2 + 2)
+        stride *= 2;
+    if (cell_blocks(ev, ncells, stride, 0))
+        return mote_fail(err, MOTE_ENOMEM, "out of memory for %zu cells", ncells);
+    for (size_t c = 0; c < ncells; c++)
+        ev->cell_block[c * stride] = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        uint32_t *B = cell_members(ev, P[i].cell);
+        B[++B[0]] = i;
     }
     int rc = nbr_build_all(ev, err);
     if (rc)
@@ -902,7 +950,7 @@ double mote_ev_bytes_per_particle(const mote_ev *ev)
     if (ev->radius)
         bytes += (double)ev->n * 2 * sizeof(double);
     bytes += (double)ev->n * ev->nbr_cap * sizeof(uint32_t);
-    bytes += (double)ev->ncells_alloc * sizeof(int32_t);
+    bytes += (double)ev->cell_words * sizeof(uint32_t);
     bytes += ((double)ev->nbuckets + 1) * sizeof(uint32_t);
     return bytes / ev->n;
 }
@@ -924,9 +972,11 @@ static void for_near_pairs(const mote_ev *ev, pair_fn fn, void *ctx)
         double ri[3];
         project(ev, &P[i], ev->clock - P[i].t, ri, NULL);
         int nc = cell_neighbours(ev, P[i].cell, cells);
-        for (int q = 0; q < nc; q++)
-            for (int32_t j = ev->cell_head[cells[q]]; j >= 0; j = P[j].cnext) {
-                if ((uint32_t)j <= i)
+        for (int q = 0; q < nc; q++) {
+            const uint32_t *B = cell_members(ev, cells[q]);
+            for (uint32_t s = 1; s <= B[0]; s++) {
+                const uint32_t j = B[s];
+                if (j <= i)
                     continue;
                 double r2 = 0, dx[3] = {0, 0, 0}, rj[3];
                 project(ev, &P[j], ev->clock - P[j].t, rj, NULL);
@@ -935,10 +985,11 @@ static void for_near_pairs(const mote_ev *ev, pair_fn fn, void *ctx)
                 min_image(ev, dx);
                 for (int a = 0; a < d; a++)
                     r2 += dx[a] * dx[a];
-                double sig = mote_ev_radius(ev, i) + mote_ev_radius(ev, (uint32_t)j);
+                double sig = mote_ev_radius(ev, i) + mote_ev_radius(ev, j);
                 if (r2 < 4 * sig * sig)
-                    fn(ctx, i, (uint32_t)j, sqrt(r2), sig);
+                    fn(ctx, i, j, sqrt(r2), sig);
             }
+        }
     }
 }
 
@@ -1047,7 +1098,8 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
                     g.overlaps, g.worst_i, g.worst_j, g.min_ratio);
 
     const double tol = 1e-10 * ev->sigma_max;
-    size_t *cell_count = calloc(ev->ncells_alloc ? ev->ncells_alloc : 1, sizeof *cell_count);
+    const size_t ncells = (size_t)ev->ncell[0] * ev->ncell[1] * ev->ncell[2];
+    uint8_t *listed = calloc(ev->n, 1); /* times each particle appears in a cell block */
     for (uint32_t i = 0; i < ev->n; i++) {
         double r[3], moved2 = 0;
         project(ev, &P[i], ev->clock - P[i].t, r, NULL);
@@ -1077,25 +1129,32 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
         if (P[i].t_ev < ev->clock)
             add_failure(err, &nfail, "particle %u has an event at %.17g before the clock %.17g", i,
                         P[i].t_ev, ev->clock);
-        if (cell_count && (size_t)c < ev->ncells_alloc)
-            cell_count[c]++;
+        if (c < 0 || (size_t)c >= ncells)
+            add_failure(err, &nfail, "particle %u names cell %d of %zu", i, c, ncells);
     }
-    /* cell lists: every list holds exactly the particles that say they are in it */
-    if (cell_count) {
-        size_t ncells = (size_t)ev->ncell[0] * ev->ncell[1] * ev->ncell[2];
+    /* cell blocks: each holds exactly the particles that say they are in it, once */
+    if (listed) {
         for (size_t c = 0; c < ncells; c++) {
-            size_t k = 0;
-            int32_t prev = -1;
-            for (int32_t j = ev->cell_head[c]; j >= 0 && k <= ev->n; j = P[j].cnext, k++) {
-                if (P[j].cell != (int32_t)c || P[j].cprev != prev)
-                    add_failure(err, &nfail, "cell list %zu is inconsistent at particle %d", c, j);
-                prev = j;
+            const uint32_t *B = cell_members(ev, (int32_t)c);
+            if (B[0] >= ev->cell_stride) {
+                add_failure(err, &nfail, "cell %zu holds %u particles in a block of %u", c, B[0],
+                            ev->cell_stride);
+                continue;
             }
-            if (k != cell_count[c])
-                add_failure(err, &nfail, "cell %zu lists %zu particles but %zu belong to it", c, k,
-                            cell_count[c]);
+            for (uint32_t s = 1; s <= B[0]; s++) {
+                uint32_t j = B[s];
+                if (j >= ev->n || P[j].cell != (int32_t)c)
+                    add_failure(err, &nfail, "cell %zu lists particle %u, which is not in it", c,
+                                j);
+                else if (listed[j] < 255)
+                    listed[j]++;
+            }
         }
-        free(cell_count);
+        for (uint32_t i = 0; i < ev->n; i++)
+            if (listed[i] != 1)
+                add_failure(err, &nfail, "particle %u is listed %u times in the cells", i,
+                            listed[i]);
+        free(listed);
     }
     /* neighbour lists: symmetric, no repeats, no stale entry, none missing (spec 6.6) */
     {
@@ -1123,16 +1182,19 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
                                 i, j);
             }
             int nc = cell_neighbours(ev, P[i].cell, cells);
-            for (int q = 0; q < nc; q++)
-                for (int32_t j = ev->cell_head[cells[q]]; j >= 0; j = P[j].cnext) {
-                    if ((uint32_t)j == i || !nbr_within(ev, i, (uint32_t)j, cm * cm))
+            for (int q = 0; q < nc; q++) {
+                const uint32_t *B = cell_members(ev, cells[q]);
+                for (uint32_t s = 1; s <= B[0]; s++) {
+                    const uint32_t j = B[s];
+                    if (j == i || !nbr_within(ev, i, j, cm * cm))
                         continue;
                     uint32_t found = 0;
                     for (uint32_t k = 0; k < n; k++)
-                        found |= L[k] == (uint32_t)j;
+                        found |= L[k] == j;
                     if (!found)
-                        add_failure(err, &nfail, "neighbour list of %u misses %d", i, j);
+                        add_failure(err, &nfail, "neighbour list of %u misses %u", i, j);
                 }
+            }
         }
     }
     /* calendar: heap positions and order, bucket lists, every particle exactly once */
