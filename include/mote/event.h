@@ -138,6 +138,7 @@ typedef struct {
     uint32_t nbuckets;    /* a power of two */
     double bucket_inv;    /* 1 / bucket width (0 when heap_only) */
     int64_t bucket_cur;   /* absolute index of the bucket the heap holds */
+    uint32_t walk;        /* the record of the next bucket's list fetched last (cal_walk) */
 
     /* ---- conserved-quantity references for the checker ---- */
     double energy_ref;

@@ -180,6 +180,28 @@ static inline uint32_t cal_take(mote_ev *ev, uint32_t slot)
     return h;
 }
 
+/* Fetch the next bucket's list ahead of cal_refill, one record per event. Following a list is a
+ * chain of dependent cache misses (each record names the next); a step per event, reading the
+ * record the previous step asked for, has the whole list in cache by the time the heap runs dry
+ * (a bucket holds about as many events as the heap does). A list may change under the walk: a
+ * record that left it sends the walk back to the head. Only prefetches: nothing depends on it.
+ * ev->walk >= n means "start at the head", MOTE_EV_NIL "done". */
+static inline void cal_walk(mote_ev *ev)
+{
+    const mote_particle *P = ev->p;
+    uint32_t w = ev->walk;
+    if (w == MOTE_EV_NIL)
+        return;
+    const uint32_t slot = (uint32_t)((ev->bucket_cur + 1) & (int64_t)(ev->nbuckets - 1));
+    if (w >= ev->n || P[w].cal_slot != (int32_t)slot)
+        w = ev->bucket[slot];
+    else
+        w = P[w].cal_next;
+    if (w != MOTE_EV_NIL)
+        __builtin_prefetch(&P[w].t_ev);
+    ev->walk = w;
+}
+
 /* The heap is empty: move on bucket by bucket until one holds events, and load it into the
  * heap. Each time the circular array wraps, the overflow list is sorted out again (its events
  * were at least a full lap ahead when inserted, so none is missed). Returns -1 when no event
@@ -204,6 +226,7 @@ static int cal_refill(mote_ev *ev)
             heap_push(ev, e);
             e = next;
         }
+        ev->walk = ev->n;
         if (ev->heap_n == 0 && ++idle > ev->nbuckets) {
             /* a whole lap found nothing: jump to the lap of the earliest overflow event */
             int64_t first = INT64_MAX;
@@ -262,6 +285,7 @@ static int cal_init(mote_ev *ev, mote_err *err)
         ev->bucket[s] = MOTE_EV_NIL;
     ev->bucket_inv = inv;
     ev->bucket_cur = cal_index(ev, ev->clock);
+    ev->walk = n;
     ev->heap_n = 0;
     /* the slots beyond heap_n hold leftovers of the past; clear them so that a rebuilt state is
      * the same bytes whatever its history (save -> load must give back the saved state) */
