@@ -127,7 +127,7 @@ typedef struct {
     double cell_lo[3];    /* grid origin: 0 after a rebuild; wall moves shift it (see below) */
     double len_grid[3];   /* extent of the grid: the box length at the last rebuild */
     uint32_t *cell_block; /* per cell `cell_stride` words: a count, then that many particles */
-    uint32_t cell_stride; /* a power of two; grows when a cell would overflow */
+    uint32_t cell_stride; /* grows when a cell would overflow */
     size_t cell_words;    /* words allocated for the blocks */
 
     /* ---- calendar (spec 6.5): heap of the current bucket, circular bucket lists, overflow ---- */

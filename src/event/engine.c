@@ -29,7 +29,9 @@
  * number of events the calendar aims to keep in its heap (spec 6.5: 10 to 50). Both only trade
  * list expiries against candidates and list moves against sifting; the first changes rounding
  * (so trajectories), the second never changes the event sequence. */
+#ifndef SHELL_FRACTION
 #define SHELL_FRACTION 0.5
+#endif
 #define HEAP_TARGET 24.0
 #define FIELD_NEIGHBOURS 12.0
 
@@ -358,7 +360,7 @@ static int cell_link(mote_ev *ev, uint32_t i, int32_t cell)
     if (cell_members(ev, cell)[0] + 1 >= ev->cell_stride) {
         size_t ncells = (size_t)ev->ncell[0] * ev->ncell[1] * ev->ncell[2];
         if (ev->cell_stride > UINT32_MAX / 2 ||
-            cell_blocks(ev, ncells, 2 * ev->cell_stride, ncells))
+            cell_blocks(ev, ncells, ev->cell_stride + ev->cell_stride / 2 + 1, ncells))
             return MOTE_ENOMEM;
     }
     uint32_t *B = cell_members(ev, cell);
@@ -818,9 +820,7 @@ int mote_ev_rebuild(mote_ev *ev, mote_err *err)
         if (++fill[P[i].cell] > most)
             most = fill[P[i].cell];
     free(fill);
-    uint32_t stride = 8;
-    while (stride < most + most / 2 + 2)
-        stride *= 2;
+    const uint32_t stride = most + most / 4 + 3; /* the count, the fullest cell, a margin */
     if (cell_blocks(ev, ncells, stride, 0))
         return mote_fail(err, MOTE_ENOMEM, "out of memory for %zu cells", ncells);
     for (size_t c = 0; c < ncells; c++)
