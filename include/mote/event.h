@@ -133,6 +133,7 @@ typedef struct {
     /* ---- calendar (spec 6.5): heap of the current bucket, circular bucket lists, overflow ---- */
     int heap_only;        /* set by the caller: 1 = one plain indexed heap (the reference) */
     uint32_t *heap;       /* particle indices, heap ordered by (t_ev, index); capacity n */
+    double *heap_t;       /* their event times, side by side with heap[] */
     uint32_t heap_n;
     uint32_t *bucket;     /* nbuckets + 1 list heads (the last is the overflow list) */
     uint32_t nbuckets;    /* a power of two */

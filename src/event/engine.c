@@ -67,41 +67,56 @@ static inline int ev_before(const mote_particle *P, uint32_t a, uint32_t b)
     return ta < tb || (ta == tb && a < b);
 }
 
+/* The heap keeps a copy of each event time next to the index (heap_t), so that sifting compares
+ * within two small arrays instead of reading scattered records. */
+static inline int key_before(double ta, uint32_t a, double tb, uint32_t b)
+{
+    return ta < tb || (ta == tb && a < b);
+}
+
 static void heap_sift_up(mote_ev *ev, uint32_t k)
 {
     uint32_t *H = ev->heap;
+    double *T = ev->heap_t;
     mote_particle *P = ev->p;
-    uint32_t x = H[k];
+    const uint32_t x = H[k];
+    const double tx = T[k];
     while (k > 0) {
         uint32_t parent = (k - 1) / 2;
-        if (!ev_before(P, x, H[parent]))
+        if (!key_before(tx, x, T[parent], H[parent]))
             break;
         H[k] = H[parent];
+        T[k] = T[parent];
         P[H[k]].cal_next = k;
         k = parent;
     }
     H[k] = x;
+    T[k] = tx;
     P[x].cal_next = k;
 }
 
 static void heap_sift_down(mote_ev *ev, uint32_t k)
 {
     uint32_t *H = ev->heap;
+    double *T = ev->heap_t;
     mote_particle *P = ev->p;
-    uint32_t n = ev->heap_n, x = H[k];
+    const uint32_t n = ev->heap_n, x = H[k];
+    const double tx = T[k];
     for (;;) {
         uint32_t c = 2 * k + 1;
         if (c >= n)
             break;
-        if (c + 1 < n)
-            c += (uint32_t)ev_before(P, H[c + 1], H[c]); /* no branch: a coin toss */
-        if (!ev_before(P, H[c], x))
+        if (c + 1 < n) /* no branch: a coin toss */
+            c += (uint32_t)key_before(T[c + 1], H[c + 1], T[c], H[c]);
+        if (!key_before(T[c], H[c], tx, x))
             break;
         H[k] = H[c];
+        T[k] = T[c];
         P[H[k]].cal_next = k;
         k = c;
     }
     H[k] = x;
+    T[k] = tx;
     P[x].cal_next = k;
 }
 
@@ -109,6 +124,7 @@ static inline void heap_push(mote_ev *ev, uint32_t i)
 {
     uint32_t k = ev->heap_n++;
     ev->heap[k] = i;
+    ev->heap_t[k] = ev->p[i].t_ev;
     ev->p[i].cal_slot = -1;
     ev->p[i].cal_prev = MOTE_EV_NIL; /* unused in the heap; kept canonical (state comparisons) */
     heap_sift_up(ev, k);
@@ -116,12 +132,13 @@ static inline void heap_push(mote_ev *ev, uint32_t i)
 
 static inline void heap_remove_at(mote_ev *ev, uint32_t k)
 {
-    uint32_t last = ev->heap[--ev->heap_n];
-    if (k == ev->heap_n)
+    const uint32_t m = --ev->heap_n, last = ev->heap[m];
+    if (k == m)
         return;
     ev->heap[k] = last;
+    ev->heap_t[k] = ev->heap_t[m];
     ev->p[last].cal_next = k;
-    if (k > 0 && ev_before(ev->p, last, ev->heap[(k - 1) / 2]))
+    if (k > 0 && key_before(ev->heap_t[k], last, ev->heap_t[(k - 1) / 2], ev->heap[(k - 1) / 2]))
         heap_sift_up(ev, k);
     else
         heap_sift_down(ev, k);
@@ -292,6 +309,7 @@ static int cal_init(mote_ev *ev, mote_err *err)
     /* the slots beyond heap_n hold leftovers of the past; clear them so that a rebuilt state is
      * the same bytes whatever its history (save -> load must give back the saved state) */
     memset(ev->heap, 0, (size_t)n * sizeof *ev->heap);
+    memset(ev->heap_t, 0, (size_t)n * sizeof *ev->heap_t);
     for (uint32_t i = 0; i < n; i++)
         cal_insert(ev, i);
     return MOTE_OK;
@@ -558,12 +576,12 @@ int mote_ev_init(mote_ev *ev, uint32_t n, int dim, int polydisperse, mote_err *e
     if (ev->p)
         memset(ev->p, 0, bytes);
     ev->heap = calloc(n, sizeof *ev->heap);
-    hint_huge_pages(ev->heap, (size_t)n * sizeof *ev->heap);
+    ev->heap_t = calloc(n, sizeof *ev->heap_t);
     if (polydisperse) {
         ev->radius = calloc(n, sizeof *ev->radius);
         ev->mass = calloc(n, sizeof *ev->mass);
     }
-    if (!ev->p || !ev->heap || (polydisperse && (!ev->radius || !ev->mass))) {
+    if (!ev->p || !ev->heap || !ev->heap_t || (polydisperse && (!ev->radius || !ev->mass))) {
         mote_ev_free(ev);
         return mote_fail(err, MOTE_ENOMEM, "out of memory for %u particles", n);
     }
@@ -574,6 +592,7 @@ void mote_ev_free(mote_ev *ev)
 {
     free(ev->p);
     free(ev->heap);
+    free(ev->heap_t);
     free(ev->radius);
     free(ev->mass);
     free(ev->cell_block);
@@ -970,7 +989,7 @@ void mote_ev_set_reference(mote_ev *ev)
 
 double mote_ev_bytes_per_particle(const mote_ev *ev)
 {
-    double bytes = (double)ev->n * (sizeof(mote_particle) + sizeof(uint32_t));
+    double bytes = (double)ev->n * (sizeof(mote_particle) + sizeof(uint32_t) + sizeof(double));
     if (ev->radius)
         bytes += (double)ev->n * 2 * sizeof(double);
     bytes += (double)ev->n * ev->nbr_cap * sizeof(uint32_t);
@@ -1228,6 +1247,8 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
             uint32_t i = ev->heap[k];
             if (i >= ev->n || P[i].cal_slot != -1 || P[i].cal_next != k)
                 add_failure(err, &nfail, "calendar heap slot %u is inconsistent", k);
+            if (i < ev->n && ev->heap_t[k] != P[i].t_ev)
+                add_failure(err, &nfail, "calendar heap slot %u holds a stale time", k);
             if (k > 0 && ev_before(P, i, ev->heap[(k - 1) / 2]))
                 add_failure(err, &nfail, "calendar order broken at slot %u", k);
             if (i < ev->n && cal_index(ev, P[i].t_ev) > ev->bucket_cur)
