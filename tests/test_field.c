@@ -237,6 +237,29 @@ static void test_restitution(void)
               fabs(v[2][0] - (1 + e) / 2) < 1e-15,
           "TC: velocities %.17g %.17g %.17g", v[0][0], v[1][0], v[2][0]);
     mote_ev_free(&ev);
+
+    /* TC clocks count disk-disk collisions only: 0 bounces off the left wall at t = 1, then
+     * meets 1 (at rest) at t = 3, within tc = 5 of the wall hit: still inelastic */
+    f.tc = 5.0;
+    if (!setup(&ev, 2, 40, 40, &f))
+        return;
+    ev.p[0].r[0] = 2;
+    ev.p[0].r[1] = 20;
+    ev.p[0].v[0] = -1;
+    ev.p[1].r[0] = 5;
+    ev.p[1].r[1] = 20;
+    CHECK(mote_ev_rebuild(&ev, &err) == MOTE_OK, "rebuild: %s", err.msg);
+    CHECK(mote_ev_run(&ev, 1, &err) == MOTE_OK, "run: %s", err.msg);
+    for (uint32_t i = 0; i < 2; i++)
+        mote_ev_velocity(&ev, i, v[i]);
+    CHECK(ev.wall_collisions == 1 && fabs(mote_ev_time(&ev) - 3) < 1e-14,
+          "wall then pair: %llu wall hits, collision at t = %.17g",
+          (unsigned long long)ev.wall_collisions, mote_ev_time(&ev));
+    CHECK(fabs(v[0][0] - (1 - e) / 2) < 1e-15 && fabs(v[1][0] - (1 + e) / 2) < 1e-15 &&
+              ev.field->tc_elastic == 0,
+          "TC after a wall hit: velocities %.17g %.17g, %llu made elastic", v[0][0], v[1][0],
+          (unsigned long long)ev.field->tc_elastic);
+    mote_ev_free(&ev);
 }
 
 static void test_gas(void)

@@ -9,7 +9,12 @@
  *   one per collision) become rare list expiries.
  * - The calendar of Paul (2007): insertion is O(1) into a bucket list and the heap holds only the
  *   few dozen events of the current bucket, so sifting stays inside the cache even at N = 10^7.
- * - A 128-byte record whose first 64 bytes are all a neighbour's prediction reads. */
+ * - A 128-byte record whose first 64 bytes are all a neighbour's prediction reads.
+ * - At N ~ 10^6 the records no longer fit in any cache and the time goes into waiting for
+ *   memory, so the code avoids chains of dependent misses: cells hold their members in
+ *   contiguous blocks (a list refresh gathers all candidates, prefetches them, then tests
+ *   them), the next calendar bucket is walked one record per event ahead of its use, and the
+ *   heap keeps event times beside its indices. */
 #if defined(__linux__) && !defined(_DEFAULT_SOURCE)
 #define _DEFAULT_SOURCE /* madvise (see hint_huge_pages) */
 #endif
