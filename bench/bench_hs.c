@@ -2,7 +2,8 @@
  * spec (section 11) and issue 5: periodic FCC cubes `bulk N eta` and slits `new NN eta`.
  * Each workload: seed, warm up 20 collisions per particle (not timed), then time `step K`
  * (K = 200 by default), counting only sphere-sphere collisions. Prints one key=value line per
- * workload: the settings, the rate, events per collision, bytes per particle held by the engine,
+ * workload: the settings, the rate, events per collision (and how many of them were stale pair
+ * events, list renewals and wall hits), bytes per particle held by the engine,
  * and the peak resident memory of the process so far.
  *
  * Usage: bench_hs [K] [workload...]
@@ -43,7 +44,7 @@ static int run(const char *spec, uint64_t k)
         return 1;
     }
     double setup = mote_wall_seconds() - w0;
-    uint64_t c0 = hs.ev.collisions, e0 = hs.ev.events;
+    const mote_ev c0 = hs.ev; /* the counters before the timed run */
     double t0 = mote_wall_seconds();
     rc = mote_ev_run(&hs.ev, k * hs.ev.n / 2, &err);
     double secs = mote_wall_seconds() - t0;
@@ -52,14 +53,21 @@ static int run(const char *spec, uint64_t k)
         mote_hs_free(&hs);
         return 1;
     }
-    uint64_t coll = hs.ev.collisions - c0, events = hs.ev.events - e0;
+    uint64_t coll = hs.ev.collisions - c0.collisions;
+    double per = 1.0 / (double)coll;
     double rss = (double)mote_peak_rss_bytes();
     printf("workload=%s N=%u eta=%.4g geometry=%s warmup_per_particle=20 timed_per_particle=%llu "
-           "collisions=%llu events_per_collision=%.3f seconds=%.3f collisions_per_second=%.4g "
+           "collisions=%llu events_per_collision=%.3f stale_per_collision=%.4f "
+           "renewals_per_collision=%.4f wall_hits_per_collision=%.4f "
+           "seconds=%.3f collisions_per_second=%.4g "
            "engine_bytes_per_particle=%.1f peak_rss_MiB=%.1f peak_rss_bytes_per_particle=%.1f "
            "setup_seconds=%.2f\n",
            spec, hs.ev.n, mote_hs_eta(&hs), hs.geometry == MOTE_HS_SLIT ? "slit" : "periodic",
-           (unsigned long long)k, (unsigned long long)coll, (double)events / (double)coll, secs,
+           (unsigned long long)k, (unsigned long long)coll,
+           (double)(hs.ev.events - c0.events) * per,
+           (double)(hs.ev.stale_events - c0.stale_events) * per,
+           (double)(hs.ev.renewals - c0.renewals) * per,
+           (double)(hs.ev.wall_collisions - c0.wall_collisions) * per, secs,
            (double)coll / secs, mote_ev_bytes_per_particle(&hs.ev), rss / 1048576.0,
            rss / hs.ev.n, setup);
     fflush(stdout);

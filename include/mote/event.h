@@ -113,6 +113,8 @@ typedef struct {
     uint64_t collisions;      /* pair collisions since creation */
     uint64_t wall_collisions; /* wall hits since creation */
     uint64_t events;          /* all processed events (including stale and list) since creation */
+    uint64_t stale_events;    /* pair events found stale (the partner changed course first) */
+    uint64_t renewals;        /* neighbour-list renewals (list expiries) */
     double t_rebuild;     /* the clock value that triggers an automatic rebuild */
 
     /* ---- neighbour lists (spec 6.6): pairs with |r_ref_i - r_ref_j| < sigma_ij + shell ---- */
