@@ -298,10 +298,12 @@ static int cal_init(mote_ev *ev, mote_err *err)
         }
     }
     if (nb != ev->nbuckets || !ev->bucket) {
-        uint32_t *b = realloc(ev->bucket, ((size_t)nb + 1) * sizeof *b);
+        free(ev->bucket); /* refilled below: free first, so old and new never coexist */
+        ev->nbuckets = 0;
+        uint32_t *b = malloc(((size_t)nb + 1) * sizeof *b);
+        ev->bucket = b;
         if (!b)
             return mote_fail(err, MOTE_ENOMEM, "out of memory for %u calendar buckets", nb);
-        ev->bucket = b;
         ev->nbuckets = nb;
         hint_huge_pages(b, ((size_t)nb + 1) * sizeof *b);
     }
@@ -351,7 +353,15 @@ static int cell_blocks(mote_ev *ev, size_t ncells, uint32_t stride, size_t keep)
     const uint32_t old = ev->cell_stride;
     const size_t words = ncells * stride;
     if (words > ev->cell_words || !ev->cell_block) {
-        uint32_t *b = realloc(ev->cell_block, words * sizeof *b);
+        uint32_t *b;
+        if (keep) {
+            b = realloc(ev->cell_block, words * sizeof *b);
+        } else { /* nothing to keep: free first, so old and new never coexist (peak memory) */
+            free(ev->cell_block);
+            ev->cell_block = NULL;
+            ev->cell_words = 0;
+            b = malloc(words * sizeof *b);
+        }
         if (!b)
             return MOTE_ENOMEM;
         ev->cell_block = b;
@@ -709,12 +719,13 @@ static int nbr_build_all(mote_ev *ev, mote_err *err)
     if (cap > UINT16_MAX)
         cap = UINT16_MAX;
     if (cap != ev->nbr_cap || !ev->nbr) {
-        uint32_t *b = realloc(ev->nbr, (size_t)n * cap * sizeof *b);
-        if (!b)
+        free(ev->nbr); /* refilled below: free first, so old and new never coexist */
+        ev->nbr = malloc((size_t)n * cap * sizeof *ev->nbr);
+        ev->nbr_cap = ev->nbr ? cap : 0;
+        if (!ev->nbr)
             return mote_fail(err, MOTE_ENOMEM, "out of memory for neighbour lists (%u x %u)", n,
                              cap);
-        ev->nbr = b;
-        ev->nbr_cap = cap;
+        uint32_t *b = ev->nbr;
         hint_huge_pages(b, (size_t)n * cap * sizeof *b);
     }
     /* pass 2: fill */
