@@ -130,6 +130,7 @@ static void run_checked(mote_ev *ev, uint64_t total, int chunks, const char *lab
 {
     conserved ref;
     take_conserved(ev, &ref);
+    const mote_ev before = *ev; /* its counters */
     mote_err err = {0};
     int run_fail = 0, check_fail = 0;
     char first[sizeof err.msg + 64] = "";
@@ -156,6 +157,14 @@ static void run_checked(mote_ev *ev, uint64_t total, int chunks, const char *lab
     printf("  %s: %llu collisions in %.2f s, closest pair at %.15f of contact\n", label,
            (unsigned long long)total, mote_wall_seconds() - w0, ratio);
     check_conserved(ev, &ref, label);
+    /* every processed event is a collision, a wall hit, a stale pair event or a list renewal */
+    uint64_t ev_n = ev->events - before.events, coll = ev->collisions - before.collisions;
+    uint64_t wall = ev->wall_collisions - before.wall_collisions;
+    uint64_t stale = ev->stale_events - before.stale_events, ren = ev->renewals - before.renewals;
+    CHECK(ev_n == coll + wall + stale + ren && coll == total && stale > 0,
+          "%s: %llu events = %llu collisions + %llu wall hits + %llu stale + %llu renewals?",
+          label, (unsigned long long)ev_n, (unsigned long long)coll, (unsigned long long)wall,
+          (unsigned long long)stale, (unsigned long long)ren);
 }
 
 /* ---- 1. invariants after many collisions ----------------------------------------------------- */
