@@ -376,19 +376,9 @@ static int cell_blocks(mote_ev *ev, size_t ncells, uint32_t stride, size_t keep)
     return MOTE_OK;
 }
 
-static void cell_unlink(mote_ev *ev, uint32_t i)
-{
-    uint32_t *B = cell_members(ev, ev->p[i].cell);
-    uint32_t n = B[0];
-    for (uint32_t k = 1; k <= n; k++)
-        if (B[k] == i) {
-            B[k] = B[n];
-            B[0] = n - 1;
-            return;
-        }
-}
-
-static int cell_link(mote_ev *ev, uint32_t i, int32_t cell)
+/* Move particle i from its cell to `cell`. The blocks widen first if `cell` is full; if that
+ * fails nothing has changed. */
+static int cell_move(mote_ev *ev, uint32_t i, int32_t cell)
 {
     if (cell_members(ev, cell)[0] + 1 >= ev->cell_stride) {
         size_t ncells = (size_t)ev->ncell[0] * ev->ncell[1] * ev->ncell[2];
@@ -396,7 +386,15 @@ static int cell_link(mote_ev *ev, uint32_t i, int32_t cell)
             cell_blocks(ev, ncells, ev->cell_stride + ev->cell_stride / 2 + 1, ncells))
             return MOTE_ENOMEM;
     }
-    uint32_t *B = cell_members(ev, cell);
+    uint32_t *B = cell_members(ev, ev->p[i].cell);
+    const uint32_t n = B[0];
+    for (uint32_t k = 1; k <= n; k++)
+        if (B[k] == i) {
+            B[k] = B[n];
+            B[0] = n - 1;
+            break;
+        }
+    B = cell_members(ev, cell);
     B[++B[0]] = i;
     ev->p[i].cell = cell;
     return MOTE_OK;
