@@ -5,30 +5,9 @@
 # a valid run's summary line and files, frames and the movie command with and without ffmpeg,
 # a failing run that keeps every recorded sample, and a placement that does not fit.
 # Usage: sh tests/test_mixingbox.sh [BUILD_DIR]   (default: build)
-BUILD=${1:-build}
-MOTE=$(cd "$(dirname "$BUILD/mote")" && pwd)/mote
-[ -x "$MOTE" ] || { echo "test_mixingbox.sh: no $MOTE"; echo "0 passed, 1 failed"; exit 1; }
-TMP=$(mktemp -d "${TMPDIR:-/tmp}/mote-mixingbox.XXXXXX") || exit 1
-trap 'rm -rf "$TMP"' EXIT
-cd "$TMP" || exit 1
-passed=0
-failed=0
-
-ok() { passed=$((passed + 1)); }
-bad() { failed=$((failed + 1)); echo "FAILED: $*"; }
-
-# expect STATUS STDERR-PREFIX SCRIPT-NAME SCRIPT-TEXT [mote-subcommand]
-expect() {
-    status=$1 want=$2 name=$3 text=$4 sub=${5:-run}
-    printf '%b' "$text" > "$name"
-    "$MOTE" "$sub" "$name" > out.txt 2> err.txt
-    got=$?
-    [ "$got" -eq "$status" ] && ok || bad "$name: exit status $got, expected $status ($(cat err.txt))"
-    case "$(cat err.txt)" in
-        "$want"*) ok ;;
-        *) bad "$name: stderr '$(cat err.txt)', expected it to start with '$want'" ;;
-    esac
-}
+NAME=mixingbox
+. "$(dirname "$0")/lib.sh"
+mote_test_start "$1"
 
 H='model mixing-box\n'
 
@@ -146,5 +125,4 @@ st=$?
 [ "$st" -eq 2 ] && grep -q "^f2.mote:7:1: error: place: disk [0-9]* of 17 in the left chamber did not fit after 1000000 random tries: the chamber is too dense for random placement (area fraction n pi R^2 / area = 0.534" err.txt \
     && ok || bad "f2.mote: status $st: $(cat err.txt)"
 
-echo "$passed passed, $failed failed"
-[ "$failed" -eq 0 ]
+mote_test_end

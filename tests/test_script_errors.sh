@@ -3,31 +3,10 @@
 # (0 ok, 1 usage/validation, 2 runtime), exact FILE:LINE:COL messages, nothing written when a
 # script is invalid, `mote run` defaulting to program.txt, and help output.
 # Usage: sh tests/script_errors.sh [BUILD_DIR]   (default: build)
-BUILD=${1:-build}
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
-MOTE=$(cd "$(dirname "$BUILD/mote")" && pwd)/mote
-[ -x "$MOTE" ] || { echo "script_errors.sh: no $MOTE"; echo "0 passed, 1 failed"; exit 1; }
-TMP=$(mktemp -d "${TMPDIR:-/tmp}/mote-script-errors.XXXXXX") || exit 1
-trap 'rm -rf "$TMP"' EXIT
-cd "$TMP" || exit 1
-passed=0
-failed=0
-
-ok() { passed=$((passed + 1)); }
-bad() { failed=$((failed + 1)); echo "FAILED: $*"; }
-
-# expect STATUS STDERR-LINE-PREFIX SCRIPT-NAME SCRIPT-TEXT [mote-subcommand]
-expect() {
-    status=$1 want=$2 name=$3 text=$4 sub=${5:-run}
-    printf '%b' "$text" > "$name"
-    "$MOTE" "$sub" "$name" > out.txt 2> err.txt
-    got=$?
-    [ "$got" -eq "$status" ] && ok || bad "$name: exit status $got, expected $status"
-    case "$(cat err.txt)" in
-        "$want"*) ok ;;
-        *) bad "$name: stderr '$(cat err.txt)', expected it to start with '$want'" ;;
-    esac
-}
+NAME=script-errors
+. "$(dirname "$0")/lib.sh"
+mote_test_start "$1"
 
 expect 1 "t1.mote:2:34: error: compressl: too many arguments: expected 'compress_left_wall eta dLmax K' (3 arguments), found 4" \
     t1.mote 'new 2 0.3\ncompressl 0.49 0.503423 0.000001 10\n'
@@ -92,5 +71,4 @@ grep -q "^bins: 5 per R" out.txt && ok || bad "m6.mote: no bins line"
 [ -s p.dat ] && [ -s mu.dat ] && [ -s o.dat ] && ok || bad "m6.mote: data files missing"
 grep -q "^# bin_width = 0.2" p.dat && ok || bad "m6.mote: bins 5 not applied to pressure"
 
-echo "$passed passed, $failed failed"
-[ "$failed" -eq 0 ]
+mote_test_end

@@ -1,0 +1,36 @@
+# lib.sh: the harness shared by the shell tests that drive the `mote` program (sourced, not run).
+# The caller sets NAME and calls mote_test_start "$1"; then ok, bad, expect; mote_test_end last.
+
+# mote_test_start [BUILD_DIR]: MOTE = the absolute path of the program, a fresh temporary
+# directory (removed on exit) as the working directory, counters at zero.
+mote_test_start() {
+    MOTE=$(cd "$(dirname "${1:-build}/mote")" && pwd)/mote
+    [ -x "$MOTE" ] || { echo "$NAME: no $MOTE"; echo "0 passed, 1 failed"; exit 1; }
+    TMP=$(mktemp -d "${TMPDIR:-/tmp}/mote-$NAME.XXXXXX") || exit 1
+    trap 'rm -rf "$TMP"' EXIT
+    cd "$TMP" || exit 1
+    passed=0
+    failed=0
+}
+
+ok() { passed=$((passed + 1)); }
+bad() { failed=$((failed + 1)); echo "FAILED: $*"; }
+
+# expect STATUS STDERR-PREFIX SCRIPT-NAME SCRIPT-TEXT [mote-subcommand]: write the script, run
+# it, and check the exit status and the start of what it wrote to stderr.
+expect() {
+    status=$1 want=$2 name=$3 text=$4 sub=${5:-run}
+    printf '%b' "$text" > "$name"
+    "$MOTE" "$sub" "$name" > out.txt 2> err.txt
+    got=$?
+    [ "$got" -eq "$status" ] && ok || bad "$name: exit status $got, expected $status ($(cat err.txt))"
+    case "$(cat err.txt)" in
+        "$want"*) ok ;;
+        *) bad "$name: stderr '$(cat err.txt)', expected it to start with '$want'" ;;
+    esac
+}
+
+mote_test_end() {
+    echo "$passed passed, $failed failed"
+    [ "$failed" -eq 0 ] && [ "$passed" -gt 0 ]
+}
