@@ -43,7 +43,9 @@ typedef struct {
     uint32_t partner;       /* PAIR: partner index; WALL: 2*axis + (upper wall ? 1 : 0) */
     uint32_t partner_count; /* PAIR: partner's counter when predicted */
     int32_t cell;           /* linear index of the cell holding r_ref */
-    uint32_t spare[2];      /* unused (keeps the record at 128 bytes) */
+    uint32_t label;         /* the model's number for the particle: its index at mote_ev_init,
+                             * carried along when a rebuild reorders the records */
+    uint32_t label_slot;    /* p[k].label_slot is the index of the record labelled k */
     int32_t cal_slot;       /* calendar: -1 in the heap, 0..nbuckets-1 a bucket, nbuckets overflow */
     uint32_t cal_next;      /* in a bucket: next in its list; in the heap: position in the heap */
     uint32_t cal_prev;      /* in a bucket: previous in its list (MOTE_EV_NIL at the head) */
@@ -102,6 +104,8 @@ typedef struct {
     /* ---- particles ---- */
     uint32_t n;
     mote_particle *p;
+    int spatial_order;    /* set by the model: every rebuild renumbers the records in spatial order
+                           * (neighbours close in memory); users' numbers stay in `label` */
     double *radius;       /* NULL when monodisperse (then radius0/mass0 apply) */
     double *mass;
     double radius0, mass0;
@@ -175,8 +179,10 @@ int mote_ev_set_field(mote_ev *ev, const mote_ev_field *f, mote_err *err);
 /* Full synchronisation (spec 6.7): advance all particles to the clock, wrap periodic coordinates,
  * fold the clock into time_total, choose the shell, rebuild cells, neighbour lists and the
  * calendar, predict every event. Also sets sigma_max and t_rebuild. Fails if a periodic length
- * is not > 2 sigma_max. The result depends on the particles and the box only (not on history),
- * so save -> load continues bit for bit. */
+ * is not > 2 sigma_max. With spatial_order the records are first renumbered in Morton order of
+ * cells 1.5 contact distances wide (ties by label), every per-particle datum moving along. The
+ * result depends on the particles (with their labels) and the box only, not on history or on
+ * the records' order before, so save -> load continues bit for bit. */
 int mote_ev_rebuild(mote_ev *ev, mote_err *err);
 
 /* Move the walls of wall axis `axis` without a full rebuild: every particle (and its list
@@ -187,6 +193,13 @@ int mote_ev_rebuild(mote_ev *ev, mote_err *err);
  * longer cover [0, new_len] (expansion), this falls back to a full rebuild. The caller
  * guarantees that no particle ends up beyond a wall. */
 int mote_ev_move_walls(mote_ev *ev, int axis, double shift, double new_len, mote_err *err);
+
+/* The index of the record that carries `label` (the model's particle number). Without
+ * spatial_order the two are the same. */
+static inline uint32_t mote_ev_slot(const mote_ev *ev, uint32_t label)
+{
+    return ev->p[label].label_slot;
+}
 
 /* Record the current energy and momentum as the references the checker compares with. */
 void mote_ev_set_reference(mote_ev *ev);
@@ -219,11 +232,11 @@ void mote_ev_set_kt(mote_ev *ev, double kt);
 /* Invariant checker (spec 6.10). Returns MOTE_OK or MOTE_ERUNTIME with every failure named in
  * err->msg (truncated if very long): overlaps, walls, cells, neighbour lists (symmetric, complete,
  * every particle within half a shell of its reference), the calendar, conserved quantities.
- * O(N) with the cell grid. */
+ * Messages name particles by their labels. O(N) with the cell grid. */
 int mote_ev_check(const mote_ev *ev, mote_err *err);
 
 /* Smallest pair distance ratio |r_ij| / sigma_ij over pairs in neighbouring cells (O(N)); the
- * pair is stored in *wi, *wj when those are not NULL (both set to 0 when N < 2). */
+ * pair's record indices are stored in *wi, *wj when those are not NULL (both 0 when N < 2). */
 double mote_ev_min_gap_ratio(const mote_ev *ev, uint32_t *wi, uint32_t *wj);
 
 /* List the pairs with |r_ij| < sigma_ij (1 - tol), ordered by (i, j) with i < j; stores at most

@@ -590,6 +590,9 @@ int mote_ev_init(mote_ev *ev, uint32_t n, int dim, int polydisperse, mote_err *e
         memset(ev->p, 0, bytes);
     ev->heap = calloc(n, sizeof *ev->heap);
     ev->heap_t = calloc(n, sizeof *ev->heap_t);
+    if (ev->p)
+        for (uint32_t i = 0; i < n; i++)
+            ev->p[i].label = ev->p[i].label_slot = i;
     if (polydisperse) {
         ev->radius = calloc(n, sizeof *ev->radius);
         ev->mass = calloc(n, sizeof *ev->mass);
@@ -741,6 +744,98 @@ static int nbr_build_all(mote_ev *ev, mote_err *err)
     return MOTE_OK;
 }
 
+/* ---- spatial order of the records -------------------------------------------------------------- */
+
+/* Interleave the low 21 bits of x with two zero bits between each. */
+static uint64_t morton_spread(uint64_t x)
+{
+    uint64_t r = 0;
+    for (int b = 0; b < 21; b++)
+        r |= ((x >> b) & 1u) << (3 * b);
+    return r;
+}
+
+typedef struct {
+    uint64_t key;
+    uint32_t label, from;
+} sort_item;
+
+static int sort_item_cmp(const void *a, const void *b)
+{
+    const sort_item *x = a, *y = b;
+    if (x->key != y->key)
+        return x->key < y->key ? -1 : 1;
+    return x->label < y->label ? -1 : (x->label > y->label);
+}
+
+/* Record k takes the data of record it[k].from, applied in place cycle by cycle. */
+static void permute_records(mote_ev *ev, const sort_item *it, uint8_t *done)
+{
+    mote_particle *P = ev->p;
+    for (uint32_t s = 0; s < ev->n; s++) {
+        if (done[s >> 3] & (1u << (s & 7)) || it[s].from == s)
+            continue;
+        mote_particle tmp = P[s];
+        double rt = ev->radius ? ev->radius[s] : 0, mt = ev->mass ? ev->mass[s] : 0;
+        double lt = ev->t_last ? ev->t_last[s] : 0;
+        uint32_t k = s;
+        for (;;) {
+            done[k >> 3] |= (uint8_t)(1u << (k & 7));
+            uint32_t j = it[k].from;
+            if (j == s)
+                break;
+            P[k] = P[j];
+            if (ev->radius) {
+                ev->radius[k] = ev->radius[j];
+                ev->mass[k] = ev->mass[j];
+            }
+            if (ev->t_last)
+                ev->t_last[k] = ev->t_last[j];
+            k = j;
+        }
+        P[k] = tmp;
+        if (ev->radius) {
+            ev->radius[k] = rt;
+            ev->mass[k] = mt;
+        }
+        if (ev->t_last)
+            ev->t_last[k] = lt;
+    }
+}
+
+/* Renumber the records in Morton order of cells 3 rmax wide (positions synchronised and
+ * wrapped), ties by label, and index the labels. Called by a rebuild after it has freed the
+ * lists and cells, so the 17 bytes per particle of scratch do not raise the peak. */
+static int sort_spatial(mote_ev *ev, double rmax, mote_err *err)
+{
+    const uint32_t n = ev->n;
+    mote_particle *P = ev->p;
+    const double w = rmax > 0 ? 3.0 * rmax : 1.0;
+    sort_item *it = malloc((size_t)n * sizeof *it);
+    uint8_t *done = calloc((size_t)n / 8 + 1, 1);
+    if (!it || !done) {
+        free(it);
+        free(done);
+        return mote_fail(err, MOTE_ENOMEM, "out of memory sorting %u particles", n);
+    }
+    for (uint32_t i = 0; i < n; i++) {
+        uint64_t key = 0;
+        for (int a = 0; a < ev->dim; a++) {
+            double f = P[i].r[a] / w;
+            uint64_t c = f > 0 ? (uint64_t)fmin(f, 0x1FFFFF) : 0;
+            key |= morton_spread(c) << a;
+        }
+        it[i] = (sort_item){key, P[i].label, i};
+    }
+    qsort(it, n, sizeof *it, sort_item_cmp);
+    permute_records(ev, it, done);
+    free(it);
+    free(done);
+    for (uint32_t k = 0; k < n; k++)
+        P[P[k].label].label_slot = k;
+    return MOTE_OK;
+}
+
 int mote_ev_rebuild(mote_ev *ev, mote_err *err)
 {
     const int d = ev->dim;
@@ -782,6 +877,17 @@ int mote_ev_rebuild(mote_ev *ev, mote_err *err)
     }
     ev->time_total += ev->clock;
     ev->clock = 0;
+    if (ev->spatial_order) { /* lists and cells are rebuilt below: free them before sorting */
+        free(ev->nbr);
+        ev->nbr = NULL;
+        ev->nbr_cap = 0;
+        free(ev->cell_block);
+        ev->cell_block = NULL;
+        ev->cell_words = 0;
+        int rc = sort_spatial(ev, rmax, err);
+        if (rc)
+            return rc;
+    }
 
     /* the shell: SHELL_FRACTION of the contact distance, but small enough on short periodic
      * axes that sigma_max + 2 shell < len / 2, so a listed pair is always seen through one
@@ -1152,7 +1258,7 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
     for_near_pairs(ev, gap_visit, &g);
     if (g.overlaps)
         add_failure(err, &nfail, "%zu overlapping pairs; worst %u-%u at %.17g of contact",
-                    g.overlaps, g.worst_i, g.worst_j, g.min_ratio);
+                    g.overlaps, P[g.worst_i].label, P[g.worst_j].label, g.min_ratio);
 
     const double tol = 1e-10 * ev->sigma_max;
     const size_t ncells = (size_t)ev->ncell[0] * ev->ncell[1] * ev->ncell[2];
@@ -1168,26 +1274,29 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
             if (!ev->periodic[a] &&
                 (r[a] < Ri * (1 - 1e-10) || r[a] > ev->len[a] - Ri * (1 - 1e-10)))
                 add_failure(err, &nfail, "particle %u at %c = %.17g is outside the walls [%g, %g]",
-                            i, "xyz"[a], r[a], Ri, ev->len[a] - Ri);
+                            P[i].label, "xyz"[a], r[a], Ri, ev->len[a] - Ri);
             double lo = ev->cell_lo[a] + cc[a] * ev->cell_w[a];
             double hi = cc[a] + 1 == ev->ncell[a] ? ev->cell_lo[a] + ev->len_grid[a]
                                                   : lo + ev->cell_w[a];
             double x = P[i].r_ref[a];
             if (x < lo - tol || x > hi + tol)
                 add_failure(err, &nfail,
-                            "particle %u: reference %c = %.17g is outside its cell [%g, %g]", i,
+                            "particle %u: reference %c = %.17g is outside its cell [%g, %g]",
+                            P[i].label,
                             "xyz"[a], x, lo, hi);
             moved2 += (r[a] - x) * (r[a] - x);
         }
         if (sqrt(moved2) > 0.5 * ev->shell + tol)
             add_failure(err, &nfail,
                         "particle %u is %.17g from its list reference, beyond half the shell %g",
-                        i, sqrt(moved2), 0.5 * ev->shell);
+                        P[i].label, sqrt(moved2), 0.5 * ev->shell);
         if (P[i].t_ev < ev->clock)
-            add_failure(err, &nfail, "particle %u has an event at %.17g before the clock %.17g", i,
+            add_failure(err, &nfail, "particle %u has an event at %.17g before the clock %.17g",
+                        P[i].label,
                         P[i].t_ev, ev->clock);
         if (c < 0 || (size_t)c >= ncells)
-            add_failure(err, &nfail, "particle %u names cell %d of %zu", i, c, ncells);
+            add_failure(err, &nfail, "particle %u names cell %d of %zu", P[i].label, c,
+                        ncells);
     }
     /* cell blocks: each holds exactly the particles that say they are in it, once */
     if (listed) {
@@ -1200,16 +1309,19 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
             }
             for (uint32_t s = 1; s <= B[0]; s++) {
                 uint32_t j = B[s];
-                if (j >= ev->n || P[j].cell != (int32_t)c)
+                if (j >= ev->n)
+                    add_failure(err, &nfail, "cell %zu lists record %u of %u", c, j, ev->n);
+                else if (P[j].cell != (int32_t)c)
                     add_failure(err, &nfail, "cell %zu lists particle %u, which is not in it", c,
-                                j);
+                                P[j].label);
                 else if (listed[j] < 255)
                     listed[j]++;
             }
         }
         for (uint32_t i = 0; i < ev->n; i++)
             if (listed[i] != 1)
-                add_failure(err, &nfail, "particle %u is listed %u times in the cells", i,
+                add_failure(err, &nfail, "particle %u is listed %u times in the cells",
+                            P[i].label,
                             listed[i]);
         free(listed);
     }
@@ -1223,20 +1335,22 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
             for (uint32_t k = 0; k < n; k++) {
                 uint32_t j = L[k], back = 0;
                 if (j >= ev->n || j == i) {
-                    add_failure(err, &nfail, "neighbour list of %u holds %u", i, j);
+                    add_failure(err, &nfail, "neighbour list of particle %u holds record %u",
+                                P[i].label, j);
                     continue;
                 }
                 for (uint32_t q = 0; q < n; q++)
                     if (q != k && L[q] == j)
-                        add_failure(err, &nfail, "neighbour list of %u holds %u twice", i, j);
+                        add_failure(err, &nfail, "neighbour list of %u holds %u twice",
+                                    P[i].label, P[j].label);
                 for (uint32_t q = 0; q < P[j].nnbr; q++)
                     back += nbr_list(ev, j)[q] == i;
                 if (back != 1)
-                    add_failure(err, &nfail, "%u lists %u but %u lists %u %u times", i, j, j, i,
-                                back);
+                    add_failure(err, &nfail, "%u lists %u but %u lists %u %u times", P[i].label,
+                                P[j].label, P[j].label, P[i].label, back);
                 if (!nbr_within(ev, i, j, cm * cm))
                     add_failure(err, &nfail, "%u lists %u, whose reference is beyond the shell",
-                                i, j);
+                                P[i].label, P[j].label);
             }
             int nc = cell_neighbours(ev, P[i].cell, cells);
             for (int q = 0; q < nc; q++) {
@@ -1249,7 +1363,8 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
                     for (uint32_t k = 0; k < n; k++)
                         found |= L[k] == j;
                     if (!found)
-                        add_failure(err, &nfail, "neighbour list of %u misses %u", i, j);
+                        add_failure(err, &nfail, "neighbour list of %u misses %u",
+                                    P[i].label, P[j].label);
                 }
             }
         }
@@ -1266,7 +1381,8 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
             if (k > 0 && ev_before(P, i, ev->heap[(k - 1) / 2]))
                 add_failure(err, &nfail, "calendar order broken at slot %u", k);
             if (i < ev->n && cal_index(ev, P[i].t_ev) > ev->bucket_cur)
-                add_failure(err, &nfail, "particle %u is in the calendar heap but due later", i);
+                add_failure(err, &nfail, "particle %u is in the calendar heap but due later",
+                            P[i].label);
         }
         seen += ev->heap_n;
         for (uint32_t s = 0; ev->bucket && s <= ev->nbuckets; s++) {
@@ -1280,7 +1396,8 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
                 int64_t b = cal_index(ev, P[i].t_ev);
                 if (b <= ev->bucket_cur ||
                     (s < ev->nbuckets && (uint32_t)(b & (int64_t)(ev->nbuckets - 1)) != s))
-                    add_failure(err, &nfail, "particle %u is in the wrong calendar bucket", i);
+                    add_failure(err, &nfail, "particle %u is in the wrong calendar bucket",
+                                P[i].label);
                 prev = i;
             }
         }

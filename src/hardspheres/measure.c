@@ -300,16 +300,16 @@ static void cut_sample(void *ctx, mote_hs *hs, uint64_t s, uint64_t nsamples)
     cut_acc *c = ctx;
     const mote_ev *ev = &hs->ev;
     (void)nsamples;
-    for (uint32_t i = 0; i < ev->n; i++) {
+    for (uint32_t id = 0; id < ev->n; id++) { /* by particle number */
         double r[3];
-        mote_ev_position(ev, i, r);
+        mote_ev_position(ev, mote_ev_slot(ev, id), r);
         if (r[0] < c->x1 || r[0] > c->x2)
             continue;
         if (ev->dim == 3)
-            fprintf(c->body, "%llu %u %.12g %.12g %.12g\n", (unsigned long long)s + 1, i, r[1],
+            fprintf(c->body, "%llu %u %.12g %.12g %.12g\n", (unsigned long long)s + 1, id, r[1],
                     r[2], r[0]);
         else
-            fprintf(c->body, "%llu %u %.12g %.12g\n", (unsigned long long)s + 1, i, r[1], r[0]);
+            fprintf(c->body, "%llu %u %.12g %.12g\n", (unsigned long long)s + 1, id, r[1], r[0]);
         c->rows++;
     }
 }

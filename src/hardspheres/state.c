@@ -41,7 +41,8 @@ int mote_hs_save(mote_hs *hs, const char *path, mote_err *err)
             hs->rng.s[1], hs->rng.s[2], hs->rng.s[3]);
     fprintf(f, ev->dim == 3 ? "particles x y z vx vy vz radius mass\n"
                             : "particles x y vx vy radius mass\n");
-    for (uint32_t i = 0; i < ev->n; i++) {
+    for (uint32_t id = 0; id < ev->n; id++) { /* by particle number: the seed's or the file's */
+        const uint32_t i = mote_ev_slot(ev, id);
         const mote_particle *p = &ev->p[i];
         int k = 0;
         for (int a = 0; a < ev->dim; a++)
@@ -56,6 +57,14 @@ int mote_hs_save(mote_hs *hs, const char *path, mote_err *err)
     }
     fprintf(f, "end\n");
     return mote_afile_commit(&af, err);
+}
+
+/* After validation (whose messages name file lines, so it runs in file order): from now on the
+ * engine keeps its records in spatial order; the file's order stays the particles' numbers. */
+static int spatial_order(mote_ev *ev, mote_err *err)
+{
+    ev->spatial_order = 1;
+    return mote_ev_rebuild(ev, err);
 }
 
 /* ---- a strict line reader ------------------------------------------------------------------------ */
@@ -368,7 +377,8 @@ static int load_mote(mote_hs *hs, reader *r, mote_err *err)
         mote_ev_free(&tmp.ev);
         return rc;
     }
-    if ((rc = validate_loaded(&tmp, r->path, first_line, err))) {
+    if ((rc = validate_loaded(&tmp, r->path, first_line, err)) ||
+        (rc = spatial_order(&tmp.ev, err))) {
         mote_ev_free(&tmp.ev);
         return rc;
     }
@@ -576,7 +586,8 @@ static int load_original(mote_hs *hs, reader *r, mote_err *err)
     tmp.geometry = MOTE_HS_SLIT;
     tmp.has_system = 1;
     if ((rc = mote_ev_rebuild(&tmp.ev, err)) || (rc = repair_overlaps(&tmp, r->path, err)) ||
-        (rc = validate_loaded(&tmp, r->path, first_line, err))) {
+        (rc = validate_loaded(&tmp, r->path, first_line, err)) ||
+        (rc = spatial_order(&tmp.ev, err))) {
         mote_ev_free(&tmp.ev);
         return rc;
     }

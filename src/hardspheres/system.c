@@ -110,7 +110,8 @@ static void seed_velocities(mote_hs *hs)
 /* Common tail of every seed: velocities, rebuild, references, report. */
 static int finish_seed(mote_hs *hs, const char *what, mote_err *err)
 {
-    seed_velocities(hs);
+    seed_velocities(hs); /* in the spec's numbering, which stays the particles' numbers */
+    hs->ev.spatial_order = 1; /* from here on the engine keeps its records in space order */
     int rc = mote_ev_rebuild(&hs->ev, err);
     if (rc)
         return rc;
