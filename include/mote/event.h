@@ -36,7 +36,8 @@ typedef struct {
     uint32_t count;         /* collision counter: incremented whenever v changes */
     uint16_t nnbr;          /* entries in the neighbour list */
     uint8_t kind;           /* MOTE_EV_* of the scheduled event */
-    uint8_t near_edge;      /* reference position near a periodic face: use minimum images */
+    uint8_t flags;          /* MOTE_EV_EDGE: reference near a periodic face (minimum images);
+                             * MOTE_EV_MARK: scratch of a list renewal (clear between events) */
     /* ---- cold: the particle's own event, list reference, cell and calendar links ---- */
     double t_ev;            /* time of the scheduled event */
     double r_ref[3];        /* reference position of the neighbour list */
@@ -52,6 +53,7 @@ typedef struct {
 } mote_particle;
 
 #define MOTE_EV_NIL UINT32_MAX
+enum { MOTE_EV_EDGE = 1, MOTE_EV_MARK = 2 };
 
 /* Observer hooks (spec 6.9). rij = r_i - r_j at contact (minimum image), J = impulse on i.
  * on_event (field mode only, see mote_ev_field) is called after every event of particle i (both
@@ -126,6 +128,7 @@ typedef struct {
     double nbr_reach;     /* a list expires when |r - r_ref| reaches this (just under shell/2) */
     uint32_t *nbr;        /* n * nbr_cap entries; particle i's list starts at i * nbr_cap */
     uint32_t nbr_cap;     /* entries per particle; grows when a list would overflow */
+    uint32_t *nbr_new;    /* nbr_cap entries: a renewing particle's new list while it is built */
 
     /* ---- cell grid binning the reference positions (cells at least sigma_max + shell wide) --- */
     int ncell[3];

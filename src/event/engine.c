@@ -479,6 +479,10 @@ static int nbr_grow(mote_ev *ev)
         cap = UINT16_MAX;
     if (cap <= old)
         return MOTE_ENOMEM;
+    uint32_t *scratch = realloc(ev->nbr_new, cap * sizeof *scratch);
+    if (!scratch)
+        return MOTE_ENOMEM;
+    ev->nbr_new = scratch;
     uint32_t *b = realloc(ev->nbr, (size_t)ev->n * cap * sizeof *b);
     if (!b)
         return MOTE_ENOMEM;
@@ -503,6 +507,15 @@ static inline int nbr_add_pair(mote_ev *ev, uint32_t i, uint32_t j)
     return MOTE_OK;
 }
 
+/* Append i to j's list only. */
+static inline int nbr_push(mote_ev *ev, uint32_t j, uint32_t i)
+{
+    if (ev->p[j].nnbr >= ev->nbr_cap && nbr_grow(ev))
+        return MOTE_ENOMEM;
+    nbr_list(ev, j)[ev->p[j].nnbr++] = i;
+    return MOTE_OK;
+}
+
 /* Remove i from j's list (swap with the last entry). */
 static inline void nbr_drop(mote_ev *ev, uint32_t j, uint32_t i)
 {
@@ -514,6 +527,24 @@ static inline void nbr_drop(mote_ev *ev, uint32_t j, uint32_t i)
             ev->p[j].nnbr = (uint16_t)(n - 1);
             return;
         }
+}
+
+/* End of a renewal of i (see refresh): old neighbours still marked were not found again and
+ * i leaves their lists; the new list (ev->nbr_new, nnew entries) replaces the old. After a
+ * failed renewal this leaves symmetric lists that may lack pairs: a rebuild restores them. */
+static void nbr_renewed(mote_ev *ev, uint32_t i, uint32_t nold, uint32_t nnew)
+{
+    mote_particle *P = ev->p;
+    uint32_t *Li = nbr_list(ev, i);
+    for (uint32_t k = 0; k < nold; k++) {
+        const uint32_t j = Li[k];
+        if (P[j].flags & MOTE_EV_MARK) {
+            P[j].flags &= (uint8_t)~MOTE_EV_MARK;
+            nbr_drop(ev, j, i);
+        }
+    }
+    memcpy(Li, ev->nbr_new, nnew * sizeof *Li);
+    P[i].nnbr = (uint16_t)nnew;
 }
 
 static inline int nbr_within(const mote_ev *ev, uint32_t i, uint32_t j, double reach2_mono)
@@ -613,6 +644,7 @@ void mote_ev_free(mote_ev *ev)
     free(ev->mass);
     free(ev->cell_block);
     free(ev->nbr);
+    free(ev->nbr_new);
     free(ev->bucket);
     free(ev->field);
     free(ev->t_last);
@@ -721,9 +753,11 @@ static int nbr_build_all(mote_ev *ev, mote_err *err)
         cap = UINT16_MAX;
     if (cap != ev->nbr_cap || !ev->nbr) {
         free(ev->nbr); /* refilled below: free first, so old and new never coexist */
+        free(ev->nbr_new);
         ev->nbr = malloc((size_t)n * cap * sizeof *ev->nbr);
-        ev->nbr_cap = ev->nbr ? cap : 0;
-        if (!ev->nbr)
+        ev->nbr_new = malloc(cap * sizeof *ev->nbr_new);
+        ev->nbr_cap = ev->nbr && ev->nbr_new ? cap : 0;
+        if (!ev->nbr_cap)
             return mote_fail(err, MOTE_ENOMEM, "out of memory for neighbour lists (%u x %u)", n,
                              cap);
         uint32_t *b = ev->nbr;
@@ -948,7 +982,7 @@ int mote_ev_rebuild(mote_ev *ev, mote_err *err)
     for (uint32_t i = 0; i < n; i++) {
         for (int a = 0; a < 3; a++)
             P[i].r_ref[a] = P[i].r[a];
-        P[i].near_edge = (uint8_t)near_periodic_edge(ev, P[i].r_ref);
+        P[i].flags = near_periodic_edge(ev, P[i].r_ref) ? MOTE_EV_EDGE : 0;
         P[i].count = 0;
         P[i].cell = cell_index(ev, P[i].r_ref);
     }
