@@ -272,6 +272,23 @@ static void test_checker_fails(void)
     CHECK(mote_ev_check(&hs.ev, &err) == MOTE_ERUNTIME, "a wrong cell passed");
     CHECK_HAS(err.msg, "cell");
     mote_hs_free(&hs);
+
+    /* a renewal mark left behind, and a particle number that does not lead back to its record */
+    mote_hs_init(&hs, NULL);
+    mote_hs_new_slit(&hs, 2, 0.3, &err);
+    hs.ev.p[mote_ev_slot(&hs.ev, 4)].flags |= MOTE_EV_MARK;
+    CHECK(mote_ev_check(&hs.ev, &err) == MOTE_ERUNTIME, "a stray renewal mark passed");
+    CHECK_HAS(err.msg, "particle 4 still carries a list-renewal mark");
+    mote_hs_free(&hs);
+    mote_hs_init(&hs, NULL);
+    mote_hs_new_slit(&hs, 2, 0.3, &err);
+    {
+        mote_particle *p6 = &hs.ev.p[mote_ev_slot(&hs.ev, 6)];
+        p6->label = 7; /* two records now claim number 7 */
+    }
+    CHECK(mote_ev_check(&hs.ev, &err) == MOTE_ERUNTIME, "a duplicated particle number passed");
+    CHECK_HAS(err.msg, "does not lead back");
+    mote_hs_free(&hs);
     mote_hs_init(&hs, NULL);
     mote_hs_new_slit(&hs, 2, 0.3, &err);
     hs.ev.p[hs.ev.heap[0]].t_ev = -1;

@@ -1316,8 +1316,7 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
             if (x < lo - tol || x > hi + tol)
                 add_failure(err, &nfail,
                             "particle %u: reference %c = %.17g is outside its cell [%g, %g]",
-                            P[i].label,
-                            "xyz"[a], x, lo, hi);
+                            P[i].label, "xyz"[a], x, lo, hi);
             moved2 += (r[a] - x) * (r[a] - x);
         }
         if (sqrt(moved2) > 0.5 * ev->shell + tol)
@@ -1326,11 +1325,17 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
                         P[i].label, sqrt(moved2), 0.5 * ev->shell);
         if (P[i].t_ev < ev->clock)
             add_failure(err, &nfail, "particle %u has an event at %.17g before the clock %.17g",
-                        P[i].label,
-                        P[i].t_ev, ev->clock);
+                        P[i].label, P[i].t_ev, ev->clock);
         if (c < 0 || (size_t)c >= ncells)
             add_failure(err, &nfail, "particle %u names cell %d of %zu", P[i].label, c,
                         ncells);
+        /* numbers: a permutation whose index finds each record; no renewal mark left over */
+        if (P[i].label >= ev->n || P[P[i].label].label_slot != i)
+            add_failure(err, &nfail, "record %u carries particle number %u, which does not lead "
+                        "back to it", i, P[i].label);
+        if (P[i].flags & MOTE_EV_MARK)
+            add_failure(err, &nfail, "particle %u still carries a list-renewal mark",
+                        P[i].label);
     }
     /* cell blocks: each holds exactly the particles that say they are in it, once */
     if (listed) {
@@ -1355,8 +1360,7 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
         for (uint32_t i = 0; i < ev->n; i++)
             if (listed[i] != 1)
                 add_failure(err, &nfail, "particle %u is listed %u times in the cells",
-                            P[i].label,
-                            listed[i]);
+                            P[i].label, listed[i]);
         free(listed);
     }
     /* neighbour lists: symmetric, no repeats, no stale entry, none missing (spec 6.6) */
