@@ -839,7 +839,9 @@ static void permute_records(mote_ev *ev, const sort_item *it, uint8_t *done)
 
 /* Renumber the records in Morton order of cells 3 rmax wide (positions synchronised and
  * wrapped), ties by label, and index the labels. Called by a rebuild after it has freed the
- * lists and cells, so the 17 bytes per particle of scratch do not raise the peak. */
+ * lists and cells, so the scratch (16 bytes per particle and a bit, plus as much again that
+ * glibc's qsort may take for its merge) stays below the lists' size and does not raise the
+ * peak. */
 static int sort_spatial(mote_ev *ev, double rmax, mote_err *err)
 {
     const uint32_t n = ev->n;
