@@ -280,6 +280,28 @@ static void test_checker_fails(void)
     CHECK(mote_ev_check(&hs.ev, &err) == MOTE_ERUNTIME, "a stray renewal mark passed");
     CHECK_HAS(err.msg, "particle 4 still carries a list-renewal mark");
     mote_hs_free(&hs);
+
+    /* edge flags: only periodic axes (y, z in the slit) may ask for minimum images, and a
+     * particle near a periodic face must ask for them on that axis */
+    mote_hs_init(&hs, NULL);
+    mote_hs_new_slit(&hs, 4, 0.3, &err);
+    {
+        uint32_t near = MOTE_EV_NIL, xbits = 0;
+        for (uint32_t i = 0; i < hs.ev.n; i++) {
+            xbits += (hs.ev.p[i].flags & MOTE_EV_WRAP_X) != 0;
+            if (near == MOTE_EV_NIL && (hs.ev.p[i].flags & (MOTE_EV_WRAP_X << 1)))
+                near = i;
+        }
+        CHECK(xbits == 0, "%u particles ask for minimum images across the walls", xbits);
+        CHECK(near != MOTE_EV_NIL, "no particle near a periodic face along y");
+        CHECK(mote_ev_check(&hs.ev, &err) == MOTE_OK, "seed: %s", err.msg);
+        if (near != MOTE_EV_NIL) {
+            hs.ev.p[near].flags &= (uint8_t) ~(MOTE_EV_WRAP_X << 1);
+            CHECK(mote_ev_check(&hs.ev, &err) == MOTE_ERUNTIME, "a missing y wrap passed");
+            CHECK_HAS(err.msg, "edge flags");
+        }
+    }
+    mote_hs_free(&hs);
     mote_hs_init(&hs, NULL);
     mote_hs_new_slit(&hs, 2, 0.3, &err);
     {

@@ -451,16 +451,19 @@ static inline void min_image(const mote_ev *ev, double d[3])
         }
 }
 
-/* Whether the reference position lies so far from every periodic face that each listed
- * neighbour, and every position either of them reaches before its list expires, is seen
- * directly (no wrap): then predictions may skip the minimum-image test. */
-static inline int near_periodic_edge(const mote_ev *ev, const double x[3])
+/* The edge flags of a reference position: 0 when it lies so far from every periodic face that
+ * each listed neighbour, and every position either of them reaches before its list expires,
+ * is seen directly (no wrap), so predictions may skip the minimum-image test; otherwise
+ * MOTE_EV_EDGE, plus MOTE_EV_WRAP_X << a for each axis a on which it is that close to a face
+ * (only those axes need the test). */
+static inline uint8_t edge_flags(const mote_ev *ev, const double x[3])
 {
     const double m = ev->sigma_max + 2 * ev->shell;
+    unsigned f = 0;
     for (int a = 0; a < ev->dim; a++)
         if (ev->periodic[a] && (x[a] < m || x[a] > ev->len[a] - m))
-            return 1;
-    return 0;
+            f |= MOTE_EV_EDGE | (unsigned)MOTE_EV_WRAP_X << a;
+    return (uint8_t)f;
 }
 
 /* ---- neighbour lists ----------------------------------------------------------------------------- */
@@ -984,7 +987,7 @@ int mote_ev_rebuild(mote_ev *ev, mote_err *err)
     for (uint32_t i = 0; i < n; i++) {
         for (int a = 0; a < 3; a++)
             P[i].r_ref[a] = P[i].r[a];
-        P[i].flags = near_periodic_edge(ev, P[i].r_ref) ? MOTE_EV_EDGE : 0;
+        P[i].flags = edge_flags(ev, P[i].r_ref);
         P[i].count = 0;
         P[i].cell = cell_index(ev, P[i].r_ref);
     }
@@ -1338,6 +1341,10 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
         if (P[i].flags & MOTE_EV_MARK)
             add_failure(err, &nfail, "particle %u still carries a list-renewal mark",
                         P[i].label);
+        else if (P[i].flags != edge_flags(ev, P[i].r_ref))
+            add_failure(err, &nfail,
+                        "particle %u has edge flags %#x; its list reference needs %#x",
+                        P[i].label, P[i].flags, edge_flags(ev, P[i].r_ref));
     }
     /* cell blocks: each holds exactly the particles that say they are in it, once */
     if (listed) {
