@@ -281,6 +281,38 @@ static void test_checker_fails(void)
     CHECK_HAS(err.msg, "particle 4 still carries a list-renewal mark");
     mote_hs_free(&hs);
 
+    /* a failed rebuild leaves an engine that refuses to run until a rebuild succeeds; the gap
+     * measurement still sees every pair (same closest pair as with cells) */
+    mote_hs_init(&hs, NULL);
+    mote_hs_new_slit(&hs, 2, 0.3, &err);
+    {
+        uint32_t wi0 = 0, wj0 = 0;
+        const double ratio0 = mote_ev_min_gap_ratio(&hs.ev, &wi0, &wj0);
+        const double len = hs.ev.len[0];
+        const uint64_t coll = hs.ev.collisions;
+        hs.ev.len[0] = -1;
+        CHECK(mote_ev_rebuild(&hs.ev, &err) == MOTE_EINVAL, "a negative wall distance rebuilt");
+        hs.ev.len[0] = len;
+        CHECK(!hs.ev.ready, "the engine is ready after a failed rebuild");
+        CHECK(mote_ev_run(&hs.ev, 10, &err) == MOTE_ERUNTIME, "an unbuilt engine ran");
+        CHECK_HAS(err.msg, "rebuild it first");
+        CHECK(mote_ev_run_to(&hs.ev, 1.0, 10, &err) == MOTE_ERUNTIME, "an unbuilt engine ran");
+        CHECK(mote_ev_move_walls(&hs.ev, 0, 0.1, len - 0.2, &err) == MOTE_ERUNTIME,
+              "an unbuilt engine moved its walls");
+        CHECK(mote_ev_check(&hs.ev, &err) == MOTE_ERUNTIME, "an unbuilt engine passed the check");
+        CHECK(hs.ev.collisions == coll, "collisions counted while not ready");
+        uint32_t wi = 0, wj = 0;
+        double ratio = mote_ev_min_gap_ratio(&hs.ev, &wi, &wj);
+        CHECK(ratio == ratio0 && wi == wi0 && wj == wj0 && ratio < 2,
+              "gap ratio %.17g (%u, %u) without cells, %.17g (%u, %u) with", ratio, wi, wj,
+              ratio0, wi0, wj0);
+        CHECK(mote_ev_rebuild(&hs.ev, &err) == MOTE_OK && hs.ev.ready, "rebuild: %s", err.msg);
+        CHECK(mote_ev_run(&hs.ev, 100, &err) == MOTE_OK && hs.ev.collisions == coll + 100,
+              "run after the rebuild: %s", err.msg);
+        CHECK(mote_ev_check(&hs.ev, &err) == MOTE_OK, "check after the rebuild: %s", err.msg);
+    }
+    mote_hs_free(&hs);
+
     /* edge flags: only periodic axes (y, z in the slit) may ask for minimum images, and a
      * particle near a periodic face must ask for them on that axis */
     mote_hs_init(&hs, NULL);

@@ -123,6 +123,9 @@ typedef struct {
     uint64_t stale_events;    /* pair events found stale (the partner changed course first) */
     uint64_t renewals;        /* neighbour-list renewals (list expiries) */
     double t_rebuild;     /* the clock value that triggers an automatic rebuild */
+    int ready;            /* 1 after a successful mote_ev_rebuild; 0 before the first and after
+                           * a failed one (lists, cells or calendar may be missing): running,
+                           * moving walls and checking then fail until a rebuild succeeds */
 
     /* ---- neighbour lists (spec 6.6): pairs with |r_ref_i - r_ref_j| < sigma_ij + shell ---- */
     double shell;         /* delta, chosen at rebuild */
@@ -186,7 +189,8 @@ int mote_ev_set_field(mote_ev *ev, const mote_ev_field *f, mote_err *err);
  * is not > 2 sigma_max. With spatial_order the records are first renumbered in Morton order of
  * cells 1.5 contact distances wide (ties by label), every per-particle datum moving along. The
  * result depends on the particles (with their labels) and the box only, not on history or on
- * the records' order before, so save -> load continues bit for bit. */
+ * the records' order before, so save -> load continues bit for bit. On failure (bad geometry,
+ * out of memory) the particles keep their state but the engine is not `ready`. */
 int mote_ev_rebuild(mote_ev *ev, mote_err *err);
 
 /* Move the walls of wall axis `axis` without a full rebuild: every particle (and its list

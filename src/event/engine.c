@@ -880,6 +880,7 @@ int mote_ev_rebuild(mote_ev *ev, mote_err *err)
     const int d = ev->dim;
     const uint32_t n = ev->n;
     mote_particle *P = ev->p;
+    ev->ready = 0; /* until every step below has succeeded */
 
     double rmax = 0;
     for (uint32_t i = 0; i < n; i++) {
@@ -1026,11 +1027,23 @@ int mote_ev_rebuild(mote_ev *ev, mote_err *err)
     /* 4. predict in index order, then fill the calendar in index order */
     for (uint32_t i = 0; i < n; i++)
         predict(ev, i);
-    return cal_init(ev, err);
+    rc = cal_init(ev, err);
+    ev->ready = rc == MOTE_OK;
+    return rc;
+}
+
+/* The error of an engine that is not ready (see mote_ev_rebuild). */
+static int not_ready(mote_err *err, const char *what)
+{
+    return mote_fail(err, MOTE_ERUNTIME,
+                     "%s: the event engine has no valid neighbour lists or calendar (never "
+                     "built, or its last rebuild failed); rebuild it first", what);
 }
 
 int mote_ev_run(mote_ev *ev, uint64_t ncoll, mote_err *err)
 {
+    if (!ev->ready)
+        return not_ready(err, "run");
     if (ncoll == 0)
         return MOTE_OK;
     if (ev->field)
@@ -1040,6 +1053,8 @@ int mote_ev_run(mote_ev *ev, uint64_t ncoll, mote_err *err)
 
 int mote_ev_run_to(mote_ev *ev, double t_stop, uint64_t ncoll, mote_err *err)
 {
+    if (!ev->ready)
+        return not_ready(err, "run");
     if (ncoll == 0 || !(t_stop > mote_ev_time(ev)))
         return MOTE_OK;
     if (ncoll > UINT64_MAX - ev->collisions)
@@ -1111,6 +1126,8 @@ int mote_ev_move_walls(mote_ev *ev, int axis, double shift, double new_len, mote
 {
     if (axis < 0 || axis >= ev->dim || ev->periodic[axis])
         return mote_fail(err, MOTE_EINVAL, "move_walls: axis %d has no walls", axis);
+    if (!ev->ready)
+        return not_ready(err, "move_walls");
     for (uint32_t i = 0; i < ev->n; i++) {
         ev->p[i].r[axis] -= shift;
         ev->p[i].r_ref[axis] -= shift;
@@ -1162,35 +1179,43 @@ double mote_ev_bytes_per_particle(const mote_ev *ev)
 /* Visit every unordered pair (i < j by index, minimum image) whose reference positions lie in
  * neighbouring cells and whose distance at the clock is below 2 sigma_ij. Every pair closer than
  * sigma_ij + shell at the clock is visited, because no position is more than shell/2 from its
- * reference and cells are at least sigma_max + shell wide. */
+ * reference and cells are at least sigma_max + shell wide. An engine that is not ready may lack
+ * its cells: then every pair is tried (slow, but only after a failed rebuild). */
 typedef void (*pair_fn)(void *ctx, uint32_t i, uint32_t j, double dist, double sigma);
+
+static void near_pair_visit(const mote_ev *ev, uint32_t i, const double ri[3], uint32_t j,
+                            pair_fn fn, void *ctx)
+{
+    double r2 = 0, dx[3] = {0, 0, 0}, rj[3];
+    project(ev, &ev->p[j], ev->clock - ev->p[j].t, rj, NULL);
+    for (int a = 0; a < ev->dim; a++)
+        dx[a] = ri[a] - rj[a];
+    min_image(ev, dx);
+    for (int a = 0; a < ev->dim; a++)
+        r2 += dx[a] * dx[a];
+    double sig = mote_ev_radius(ev, i) + mote_ev_radius(ev, j);
+    if (r2 < 4 * sig * sig)
+        fn(ctx, i, j, sqrt(r2), sig);
+}
 
 static void for_near_pairs(const mote_ev *ev, pair_fn fn, void *ctx)
 {
-    const int d = ev->dim;
     const mote_particle *P = ev->p;
     int32_t cells[27];
     for (uint32_t i = 0; i < ev->n; i++) {
         double ri[3];
         project(ev, &P[i], ev->clock - P[i].t, ri, NULL);
+        if (!ev->ready) {
+            for (uint32_t j = i + 1; j < ev->n; j++)
+                near_pair_visit(ev, i, ri, j, fn, ctx);
+            continue;
+        }
         int nc = cell_neighbours(ev, P[i].cell, cells);
         for (int q = 0; q < nc; q++) {
             const uint32_t *B = cell_members(ev, cells[q]);
-            for (uint32_t s = 1; s <= B[0]; s++) {
-                const uint32_t j = B[s];
-                if (j <= i)
-                    continue;
-                double r2 = 0, dx[3] = {0, 0, 0}, rj[3];
-                project(ev, &P[j], ev->clock - P[j].t, rj, NULL);
-                for (int a = 0; a < d; a++)
-                    dx[a] = ri[a] - rj[a];
-                min_image(ev, dx);
-                for (int a = 0; a < d; a++)
-                    r2 += dx[a] * dx[a];
-                double sig = mote_ev_radius(ev, i) + mote_ev_radius(ev, j);
-                if (r2 < 4 * sig * sig)
-                    fn(ctx, i, j, sqrt(r2), sig);
-            }
+            for (uint32_t s = 1; s <= B[0]; s++)
+                if (B[s] > i)
+                    near_pair_visit(ev, i, ri, B[s], fn, ctx);
         }
     }
 }
@@ -1292,6 +1317,8 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
         err->msg[0] = '\0';
         err->located = 0;
     }
+    if (!ev->ready)
+        return not_ready(err, "check");
 
     gap_acc g = {INFINITY, 0, 0, 0};
     for_near_pairs(ev, gap_visit, &g);
