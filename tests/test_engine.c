@@ -330,8 +330,37 @@ static void test_checker_fails(void)
         if (near != MOTE_EV_NIL) {
             hs.ev.p[near].flags &= (uint8_t) ~(MOTE_EV_WRAP_X << 1);
             CHECK(mote_ev_check(&hs.ev, &err) == MOTE_ERUNTIME, "a missing y wrap passed");
-            CHECK_HAS(err.msg, "edge flags");
+            CHECK_HAS(err.msg, "has flags");
         }
+        /* near-wall flags: exactly the particles whose reference lies within half a shell of
+         * a wall's contact plane (predict looks for wall hits only for those) */
+        uint32_t nwall = 0, wrong = 0, first = MOTE_EV_NIL;
+        const double reach = 0.5 * hs.ev.shell, R = hs.ev.radius0;
+        for (uint32_t i = 0; i < hs.ev.n; i++) {
+            const double x = hs.ev.p[i].r_ref[0];
+            const int near_wall = x - R <= reach || hs.ev.len[0] - R - x <= reach;
+            const int flagged = (hs.ev.p[i].flags & MOTE_EV_NEAR_WALL) != 0;
+            nwall += flagged;
+            wrong += flagged != near_wall;
+            if (flagged && first == MOTE_EV_NIL)
+                first = i;
+        }
+        CHECK(nwall > 0 && wrong == 0, "%u near-wall flags, %u wrong", nwall, wrong);
+        if (first != MOTE_EV_NIL) {
+            hs.ev.p[first].flags &= (uint8_t)~MOTE_EV_NEAR_WALL;
+            CHECK(mote_ev_check(&hs.ev, &err) == MOTE_ERUNTIME, "a missing near-wall flag passed");
+            CHECK_HAS(err.msg, "has flags");
+        }
+    }
+    mote_hs_free(&hs);
+    /* ... and no particle of a periodic cube is near a wall */
+    mote_hs_init(&hs, NULL);
+    CHECK(mote_hs_bulk(&hs, 256, 0.3, &err) == MOTE_OK, "bulk: %s", err.msg);
+    {
+        uint32_t nwall = 0;
+        for (uint32_t i = 0; i < hs.ev.n; i++)
+            nwall += (hs.ev.p[i].flags & MOTE_EV_NEAR_WALL) != 0;
+        CHECK(nwall == 0, "%u particles of a periodic cube are flagged near a wall", nwall);
     }
     mote_hs_free(&hs);
     mote_hs_init(&hs, NULL);

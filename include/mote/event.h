@@ -38,7 +38,10 @@ typedef struct {
     uint8_t kind;           /* MOTE_EV_* of the scheduled event */
     uint8_t flags;          /* MOTE_EV_EDGE: reference near a periodic face (minimum images),
                              * with MOTE_EV_WRAP_X << a for each such axis a;
-                             * MOTE_EV_MARK: scratch of a list renewal (clear between events) */
+                             * MOTE_EV_NEAR_WALL: reference within half a shell of a wall's
+                             * contact plane (only then can a wall hit come before the list
+                             * expires); MOTE_EV_MARK: scratch of a list renewal (clear between
+                             * events) */
     /* ---- cold: the particle's own event, list reference, cell and calendar links ---- */
     double t_ev;            /* time of the scheduled event */
     double r_ref[3];        /* reference position of the neighbour list */
@@ -54,7 +57,7 @@ typedef struct {
 } mote_particle;
 
 #define MOTE_EV_NIL UINT32_MAX
-enum { MOTE_EV_EDGE = 1, MOTE_EV_MARK = 2, MOTE_EV_WRAP_X = 4 };
+enum { MOTE_EV_EDGE = 1, MOTE_EV_MARK = 2, MOTE_EV_NEAR_WALL = 4, MOTE_EV_WRAP_X = 8 };
 
 /* Observer hooks (spec 6.9). rij = r_i - r_j at contact (minimum image), J = impulse on i.
  * on_event (field mode only, see mote_ev_field) is called after every event of particle i (both

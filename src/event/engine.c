@@ -451,18 +451,26 @@ static inline void min_image(const mote_ev *ev, double d[3])
         }
 }
 
-/* The edge flags of a reference position: 0 when it lies so far from every periodic face that
- * each listed neighbour, and every position either of them reaches before its list expires,
- * is seen directly (no wrap), so predictions may skip the minimum-image test; otherwise
- * MOTE_EV_EDGE, plus MOTE_EV_WRAP_X << a for each axis a on which it is that close to a face
- * (only those axes need the test). */
-static inline uint8_t edge_flags(const mote_ev *ev, const double x[3])
+/* The flags of particle i with list reference x. Edge: 0 when x lies so far from every
+ * periodic face that each listed neighbour, and every position either of them reaches before
+ * its list expires, is seen directly (no wrap), so predictions may skip the minimum-image test;
+ * otherwise MOTE_EV_EDGE, plus MOTE_EV_WRAP_X << a for each axis a on which it is that close to
+ * a face (only those axes need the test). MOTE_EV_NEAR_WALL when x lies within half a shell of
+ * a wall's contact plane, by the test predict applies per wall: only then can i hit a wall
+ * before its list expires, so predict looks at walls only for those. */
+static inline uint8_t ref_flags(const mote_ev *ev, uint32_t i, const double x[3])
 {
-    const double m = ev->sigma_max + 2 * ev->shell;
+    const double m = ev->sigma_max + 2 * ev->shell, reach = 0.5 * ev->shell;
+    const double R = mote_ev_radius(ev, i);
     unsigned f = 0;
-    for (int a = 0; a < ev->dim; a++)
-        if (ev->periodic[a] && (x[a] < m || x[a] > ev->len[a] - m))
-            f |= MOTE_EV_EDGE | (unsigned)MOTE_EV_WRAP_X << a;
+    for (int a = 0; a < ev->dim; a++) {
+        if (ev->periodic[a]) {
+            if (x[a] < m || x[a] > ev->len[a] - m)
+                f |= MOTE_EV_EDGE | (unsigned)MOTE_EV_WRAP_X << a;
+        } else if (x[a] - R <= reach || ev->len[a] - R - x[a] <= reach) {
+            f |= MOTE_EV_NEAR_WALL;
+        }
+    }
     return (uint8_t)f;
 }
 
@@ -988,7 +996,7 @@ int mote_ev_rebuild(mote_ev *ev, mote_err *err)
     for (uint32_t i = 0; i < n; i++) {
         for (int a = 0; a < 3; a++)
             P[i].r_ref[a] = P[i].r[a];
-        P[i].flags = edge_flags(ev, P[i].r_ref);
+        P[i].flags = ref_flags(ev, i, P[i].r_ref);
         P[i].count = 0;
         P[i].cell = cell_index(ev, P[i].r_ref);
     }
@@ -1137,6 +1145,8 @@ int mote_ev_move_walls(mote_ev *ev, int axis, double shift, double new_len, mote
     if (lo > 0 || lo + ev->len_grid[axis] < new_len)
         return mote_ev_rebuild(ev, err); /* the grid no longer covers the box */
     ev->cell_lo[axis] = lo;
+    for (uint32_t i = 0; i < ev->n; i++) /* the walls' distances changed */
+        ev->p[i].flags = ref_flags(ev, i, ev->p[i].r_ref);
     /* Re-predict the particles that can reach a wall before their list expires (reference
      * within half a shell of a contact plane: predict looks at walls only for those), and any
      * whose scheduled event is a wall hit. No other prediction can involve a wall. */
@@ -1368,10 +1378,10 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
         if (P[i].flags & MOTE_EV_MARK)
             add_failure(err, &nfail, "particle %u still carries a list-renewal mark",
                         P[i].label);
-        else if (P[i].flags != edge_flags(ev, P[i].r_ref))
+        else if (P[i].flags != ref_flags(ev, i, P[i].r_ref))
             add_failure(err, &nfail,
-                        "particle %u has edge flags %#x; its list reference needs %#x",
-                        P[i].label, P[i].flags, edge_flags(ev, P[i].r_ref));
+                        "particle %u has flags %#x; its list reference needs %#x",
+                        P[i].label, P[i].flags, ref_flags(ev, i, P[i].r_ref));
     }
     /* cell blocks: each holds exactly the particles that say they are in it, once */
     if (listed) {
