@@ -2,7 +2,15 @@
 # run.sh BUILD_DIR: run every test program (BUILD_DIR/tests/test_*) and test script
 # (tests/test_*.sh, given BUILD_DIR), show their output, and finish with one summary line
 # "N passed, M failed" over all of them. Exits non-zero if any check or program failed.
+# Each program gets at most MOTE_TEST_TIMEOUT seconds (default 600, about 15 times the slowest
+# under the sanitizers; none with MOTE_SLOW; 0 = none), so a hang fails instead of running on.
 set -u
+if [ -n "${MOTE_SLOW:-}" ]; then
+    limit=${MOTE_TEST_TIMEOUT:-0}
+else
+    limit=${MOTE_TEST_TIMEOUT:-600}
+fi
+command -v timeout >/dev/null 2>&1 || limit=0
 build=${1:-build}
 here=$(cd "$(dirname "$0")" && pwd)
 top=$(cd "$here/.." && pwd)
@@ -15,10 +23,16 @@ run_one() {
     name=$1
     shift
     start=$(date +%s)
-    "$@" >"$log" 2>&1
+    if [ "$limit" -gt 0 ]; then
+        timeout "$limit" "$@" >"$log" 2>&1
+    else
+        "$@" >"$log" 2>&1
+    fi
     rc=$?
     end=$(date +%s)
     cat "$log"
+    [ "$limit" -gt 0 ] && [ "$rc" -eq 124 ] &&
+        echo "$name: stopped after $limit s (the time limit: a hang?)"
     line=$(grep -E '^[0-9]+ passed, [0-9]+ failed' "$log" | tail -n 1)
     if [ -n "$line" ]; then
         p=$(echo "$line" | sed -E 's/^([0-9]+) passed.*/\1/')
