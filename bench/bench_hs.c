@@ -6,54 +6,96 @@
  * events, list renewals and wall hits), bytes per particle held by the engine,
  * and the peak resident memory of the process so far.
  *
+ * A pair A/B of workloads is measured interleaved in one process, to compare their rates on a
+ * noisy machine: both are seeded and warmed up, then the timed K collisions per particle run in
+ * CHUNKS chunks per workload, alternating A B, B A, A B, ... so that whatever else the machine
+ * does falls on both alike. Prints each workload's line, then one line with the ratio of the
+ * rates A / B over the whole run and the median and quartiles of the per-chunk ratios.
+ *
  * Usage: bench_hs [K] [workload...]
  *   workload: bulkN:ETA (N = 4 n^3, e.g. bulk32000:0.45, bulk1048576:0.50) or slitNN:ETA
  *   (`new NN eta`, e.g. slit13:0.45, N = 31876), optionally @K to override K for it
- *   (bulk1048576:0.45@20). Default: bulk32000 and slit13 at eta 0.45 and 0.50. */
+ *   (bulk1048576:0.45@20), or A/B (slit13:0.45/bulk32000:0.45) for an interleaved pair.
+ *   Default: bulk32000 and slit13 at eta 0.45 and 0.50. */
 #include "mote/hardspheres.h"
 
 #include <stdlib.h>
 #include <string.h>
 
-static int run(const char *spec, uint64_t k)
-{
+#define CHUNKS 20
+
+typedef struct {
+    char spec[128];
+    uint64_t k; /* timed collisions per particle */
     mote_hs hs;
+    mote_ev c0; /* the counters before the timed run */
+    double setup, secs;
+} workload;
+
+/* Parse, seed and warm up w from `spec` (up to a '/' or the end). */
+static int setup(workload *w, const char *spec, size_t len, uint64_t k)
+{
     mote_err err = {0};
-    mote_hs_init(&hs, NULL);
-    int is_bulk = strncmp(spec, "bulk", 4) == 0;
-    const char *num = spec + 4;
-    double eta = 0.45;
-    if (!is_bulk && strncmp(spec, "slit", 4) != 0) {
-        fprintf(stderr, "bench_hs: unknown workload '%s'\n", spec);
+    if (len >= sizeof w->spec) {
+        fprintf(stderr, "bench_hs: workload name too long: '%.*s'\n", (int)len, spec);
         return 1;
     }
-    long long n = atoll(num);
-    const char *colon = strchr(spec, ':');
+    memcpy(w->spec, spec, len);
+    w->spec[len] = '\0';
+    w->k = k;
+    w->secs = 0;
+    mote_hs_init(&w->hs, NULL);
+    int is_bulk = strncmp(w->spec, "bulk", 4) == 0;
+    if (!is_bulk && strncmp(w->spec, "slit", 4) != 0) {
+        fprintf(stderr, "bench_hs: unknown workload '%s' (expected bulkN:ETA or slitNN:ETA)\n",
+                w->spec);
+        return 1;
+    }
+    long long n = atoll(w->spec + 4);
+    double eta = 0.45;
+    const char *colon = strchr(w->spec, ':');
     if (colon)
         eta = atof(colon + 1);
-    const char *at = strchr(spec, '@');
+    const char *at = strchr(w->spec, '@');
     if (at)
-        k = strtoull(at + 1, NULL, 10);
+        w->k = strtoull(at + 1, NULL, 10);
     double w0 = mote_wall_seconds();
-    int rc = is_bulk ? mote_hs_bulk(&hs, n, eta, &err) : mote_hs_new_slit(&hs, n, eta, &err);
+    int rc = is_bulk ? mote_hs_bulk(&w->hs, n, eta, &err)
+                     : mote_hs_new_slit(&w->hs, n, eta, &err);
     if (!rc)
-        rc = mote_ev_run(&hs.ev, 20ull * hs.ev.n / 2, &err);
+        rc = mote_ev_run(&w->hs.ev, 20ull * w->hs.ev.n / 2, &err);
     if (rc) {
-        fprintf(stderr, "bench_hs: %s: %s\n", spec, err.msg);
-        mote_hs_free(&hs);
+        fprintf(stderr, "bench_hs: %s: %s\n", w->spec, err.msg);
+        mote_hs_free(&w->hs);
         return 1;
     }
-    double setup = mote_wall_seconds() - w0;
-    const mote_ev c0 = hs.ev; /* the counters before the timed run */
+    w->setup = mote_wall_seconds() - w0;
+    w->c0 = w->hs.ev;
+    return 0;
+}
+
+/* Run `coll` more timed collisions of w; *secs gets their wall time. */
+static int timed(workload *w, uint64_t coll, double *secs)
+{
+    mote_err err = {0};
     double t0 = mote_wall_seconds();
-    rc = mote_ev_run(&hs.ev, k * hs.ev.n / 2, &err);
-    double secs = mote_wall_seconds() - t0;
-    if (rc) {
-        fprintf(stderr, "bench_hs: %s: %s\n", spec, err.msg);
-        mote_hs_free(&hs);
-        return 1;
-    }
-    uint64_t coll = hs.ev.collisions - c0.collisions;
+    int rc = mote_ev_run(&w->hs.ev, coll, &err);
+    *secs = mote_wall_seconds() - t0;
+    w->secs += *secs;
+    if (rc)
+        fprintf(stderr, "bench_hs: %s: %s\n", w->spec, err.msg);
+    return rc;
+}
+
+static double rate(const workload *w)
+{
+    return (double)(w->hs.ev.collisions - w->c0.collisions) / w->secs;
+}
+
+static void report(const workload *w)
+{
+    const mote_ev *ev = &w->hs.ev, *c0 = &w->c0;
+    uint64_t coll = ev->collisions - c0->collisions;
     double per = 1.0 / (double)coll;
     double rss = (double)mote_peak_rss_bytes();
     printf("workload=%s N=%u eta=%.4g geometry=%s warmup_per_particle=20 timed_per_particle=%llu "
@@ -62,17 +104,82 @@ static int run(const char *spec, uint64_t k)
            "seconds=%.3f collisions_per_second=%.4g "
            "engine_bytes_per_particle=%.1f peak_rss_MiB=%.1f peak_rss_bytes_per_particle=%.1f "
            "setup_seconds=%.2f\n",
-           spec, hs.ev.n, mote_hs_eta(&hs), hs.geometry == MOTE_HS_SLIT ? "slit" : "periodic",
-           (unsigned long long)k, (unsigned long long)coll,
-           (double)(hs.ev.events - c0.events) * per,
-           (double)(hs.ev.stale_events - c0.stale_events) * per,
-           (double)(hs.ev.renewals - c0.renewals) * per,
-           (double)(hs.ev.wall_collisions - c0.wall_collisions) * per, secs,
-           (double)coll / secs, mote_ev_bytes_per_particle(&hs.ev), rss / 1048576.0,
-           rss / hs.ev.n, setup);
+           w->spec, ev->n, mote_hs_eta(&w->hs), w->hs.geometry == MOTE_HS_SLIT ? "slit" : "periodic",
+           (unsigned long long)w->k, (unsigned long long)coll,
+           (double)(ev->events - c0->events) * per,
+           (double)(ev->stale_events - c0->stale_events) * per,
+           (double)(ev->renewals - c0->renewals) * per,
+           (double)(ev->wall_collisions - c0->wall_collisions) * per, w->secs, rate(w),
+           mote_ev_bytes_per_particle(ev), rss / 1048576.0, rss / ev->n, w->setup);
     fflush(stdout);
-    mote_hs_free(&hs);
-    return 0;
+}
+
+static int run(const char *spec, uint64_t k)
+{
+    workload w;
+    if (setup(&w, spec, strlen(spec), k))
+        return 1;
+    double secs;
+    int rc = timed(&w, w.k * w.hs.ev.n / 2, &secs);
+    if (!rc)
+        report(&w);
+    mote_hs_free(&w.hs);
+    return rc;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The interleaved pair A/B (see the top of the file). */
+static int run_pair(const char *spec, uint64_t k)
+{
+    const char *slash = strchr(spec, '/');
+    workload *w = calloc(2, sizeof *w);
+    if (!w) {
+        fprintf(stderr, "bench_hs: out of memory\n");
+        return 1;
+    }
+    int rc = setup(&w[0], spec, (size_t)(slash - spec), k);
+    if (!rc && setup(&w[1], slash + 1, strlen(slash + 1), k)) {
+        mote_hs_free(&w[0].hs);
+        rc = 1;
+    }
+    if (rc) {
+        free(w);
+        return 1;
+    }
+    double ratio[CHUNKS];
+    for (int c = 0; c < CHUNKS && !rc; c++) {
+        double secs[2] = {0, 0};
+        uint64_t coll[2];
+        for (int s = 0; s < 2; s++) { /* chunk c of the collisions, rounded so the total is exact */
+            uint64_t total = w[s].k * w[s].hs.ev.n / 2;
+            coll[s] = total * (uint64_t)(c + 1) / CHUNKS - total * (uint64_t)c / CHUNKS;
+        }
+        for (int q = 0; q < 2 && !rc; q++) {
+            int s = (c & 1) ? 1 - q : q; /* A B, then B A, ... */
+            rc = timed(&w[s], coll[s], &secs[s]);
+        }
+        ratio[c] = (double)coll[0] / secs[0] / ((double)coll[1] / secs[1]);
+    }
+    if (!rc) {
+        report(&w[0]);
+        report(&w[1]);
+        qsort(ratio, CHUNKS, sizeof *ratio, cmp_double);
+        printf("pair=%s chunks=%d rate_ratio=%.4f chunk_ratio_median=%.4f chunk_ratio_q1=%.4f "
+               "chunk_ratio_q3=%.4f chunk_ratio_min=%.4f chunk_ratio_max=%.4f\n",
+               spec, CHUNKS, rate(&w[0]) / rate(&w[1]),
+               0.5 * (ratio[CHUNKS / 2 - 1] + ratio[CHUNKS / 2]), ratio[CHUNKS / 4],
+               ratio[(3 * CHUNKS) / 4 - 1], ratio[0], ratio[CHUNKS - 1]);
+        fflush(stdout);
+    }
+    mote_hs_free(&w[0].hs);
+    mote_hs_free(&w[1].hs);
+    free(w);
+    return rc;
 }
 
 int main(int argc, char **argv)
@@ -91,7 +198,7 @@ int main(int argc, char **argv)
             rc |= run(defaults[w], k);
     } else {
         for (int a = first; a < argc; a++)
-            rc |= run(argv[a], k);
+            rc |= strchr(argv[a], '/') ? run_pair(argv[a], k) : run(argv[a], k);
     }
     return rc;
 }

@@ -38,6 +38,9 @@
 #define SHELL_FRACTION 0.5
 #endif
 #define HEAP_TARGET 24.0
+/* A list renewal copies a neighbouring cell's members as one block of this many words (see
+ * refresh in engine_dim.inc); cells with more take a loop. */
+#define GATHER_WORDS 8
 #define FIELD_NEIGHBOURS 12.0
 
 /* ---- memory ----------------------------------------------------------------------------------- */
@@ -79,6 +82,16 @@ static inline int key_before(double ta, uint32_t a, double tb, uint32_t b)
     return ta < tb || (ta == tb && a < b);
 }
 
+/* The same order for a coin toss (which child of a heap node comes first): the comparison
+ * becomes a flag, not a branch that fails half the time; the rare tie is the only branch. */
+static inline int key_before_flag(double ta, uint32_t a, double tb, uint32_t b)
+{
+    int before = ta < tb;
+    if (__builtin_expect(ta == tb, 0))
+        before = a < b;
+    return before;
+}
+
 static void heap_sift_up(mote_ev *ev, uint32_t k)
 {
     uint32_t *H = ev->heap;
@@ -111,8 +124,8 @@ static void heap_sift_down(mote_ev *ev, uint32_t k)
         uint32_t c = 2 * k + 1;
         if (c >= n)
             break;
-        if (c + 1 < n) /* no branch: a coin toss */
-            c += (uint32_t)key_before(T[c + 1], H[c + 1], T[c], H[c]);
+        if (c + 1 < n)
+            c += (uint32_t)key_before_flag(T[c + 1], H[c + 1], T[c], H[c]);
         if (!key_before(T[c], H[c], tx, x))
             break;
         H[k] = H[c];
@@ -351,7 +364,7 @@ static inline uint32_t *cell_members(const mote_ev *ev, int32_t cell)
 static int cell_blocks(mote_ev *ev, size_t ncells, uint32_t stride, size_t keep)
 {
     const uint32_t old = ev->cell_stride;
-    const size_t words = ncells * stride;
+    const size_t words = ncells * stride + GATHER_WORDS; /* the last block can be read whole */
     if (words > ev->cell_words || !ev->cell_block) {
         uint32_t *b;
         if (keep) {
@@ -367,6 +380,7 @@ static int cell_blocks(mote_ev *ev, size_t ncells, uint32_t stride, size_t keep)
         ev->cell_block = b;
         ev->cell_words = words;
         hint_huge_pages(b, words * sizeof *b);
+        memset(b + words - GATHER_WORDS, 0, GATHER_WORDS * sizeof *b);
     }
     if (keep && stride > old) /* last first: a block only ever moves up */
         for (size_t c = keep; c-- > 0;)
