@@ -14,7 +14,12 @@
  *   memory, so the code avoids chains of dependent misses: cells hold their members in
  *   contiguous blocks (a list refresh gathers all candidates, prefetches them, then tests
  *   them), the next calendar bucket is walked one record per event ahead of its use, and the
- *   heap keeps event times beside its indices. */
+ *   heap keeps event times beside its indices.
+ * - Mispredicted branches cost much of the time: callgrind's --branch-sim counted 40 per
+ *   collision (at ~15 cycles each, about a quarter of a collision's time), so choices that are
+ *   coin tosses are made without branches:
+ *   minimum images in the pair test, the heap's child choice, which renewal candidates are in,
+ *   and how many members a cell adds to the candidates. */
 #if defined(__linux__) && !defined(_DEFAULT_SOURCE)
 #define _DEFAULT_SOURCE /* madvise (see hint_huge_pages) */
 #endif
