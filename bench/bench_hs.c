@@ -151,6 +151,12 @@ static int run_pair(const char *spec, uint64_t k)
         free(w);
         return 1;
     }
+    for (int s = 0; s < 2; s++)
+        if (w[s].k * w[s].hs.ev.n / 2 < 100 * CHUNKS) {
+            fprintf(stderr, "bench_hs: %s: too few timed collisions to split into %d chunks\n",
+                    w[s].spec, CHUNKS);
+            rc = 1;
+        }
     double ratio[CHUNKS];
     for (int c = 0; c < CHUNKS && !rc; c++) {
         double secs[2] = {0, 0};
