@@ -17,9 +17,8 @@
  *   heap keeps event times beside its indices.
  * - Mispredicted branches cost much of the time: callgrind's --branch-sim counted 40 per
  *   collision (at ~15 cycles each, about a quarter of a collision's time), so choices that are
- *   coin tosses are made without branches:
- *   minimum images in the pair test, the heap's child choice, which renewal candidates are in,
- *   and how many members a cell adds to the candidates. */
+ *   coin tosses are made without branches: minimum images in the pair test, the heap's child
+ *   choice, which renewal candidates are in, and how many members a cell adds to them. */
 #if defined(__linux__) && !defined(_DEFAULT_SOURCE)
 #define _DEFAULT_SOURCE /* madvise (see hint_huge_pages) */
 #endif
