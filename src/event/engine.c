@@ -45,6 +45,10 @@
 /* A list renewal copies a neighbouring cell's members as one block of this many words (see
  * refresh in engine_dim.inc); cells with more take a loop. */
 #define GATHER_WORDS 8
+/* A prediction asks for the record of the list entry this many places ahead of the one it
+ * tests; the list array has this many words of padding at its end, so that read stays inside
+ * it even for the last list. */
+#define PREFETCH_AHEAD 4
 #define FIELD_NEIGHBOURS 12.0
 
 /* ---- memory ----------------------------------------------------------------------------------- */
@@ -499,6 +503,13 @@ static inline uint32_t *nbr_list(const mote_ev *ev, uint32_t i)
     return ev->nbr + (size_t)i * ev->nbr_cap;
 }
 
+/* Ask for record j. j may be a word past the end of a list, stale but still a record's index:
+ * the list array is zeroed when it is allocated and holds nothing but indices afterwards. */
+static inline void prefetch_record(const mote_particle *P, uint32_t j)
+{
+    __builtin_prefetch(&P[j]);
+}
+
 /* Make room for more entries per particle (rare: lists are sized at each rebuild). The lists
  * move to a wider stride; their content and order are unchanged, so the trajectory is too. */
 static int nbr_grow(mote_ev *ev)
@@ -512,9 +523,10 @@ static int nbr_grow(mote_ev *ev)
     if (!scratch)
         return MOTE_ENOMEM;
     ev->nbr_new = scratch;
-    uint32_t *b = realloc(ev->nbr, (size_t)ev->n * cap * sizeof *b);
+    uint32_t *b = realloc(ev->nbr, ((size_t)ev->n * cap + PREFETCH_AHEAD) * sizeof *b);
     if (!b)
         return MOTE_ENOMEM;
+    memset(b + (size_t)ev->n * old + PREFETCH_AHEAD, 0, (size_t)ev->n * (cap - old) * sizeof *b);
     for (uint32_t i = ev->n; i-- > 0;)
         memmove(b + (size_t)i * cap, b + (size_t)i * old, ev->p[i].nnbr * sizeof *b);
     ev->nbr = b;
@@ -783,7 +795,7 @@ static int nbr_build_all(mote_ev *ev, mote_err *err)
     if (cap != ev->nbr_cap || !ev->nbr) {
         free(ev->nbr); /* refilled below: free first, so old and new never coexist */
         free(ev->nbr_new);
-        ev->nbr = malloc((size_t)n * cap * sizeof *ev->nbr);
+        ev->nbr = calloc((size_t)n * cap + PREFETCH_AHEAD, sizeof *ev->nbr);
         ev->nbr_new = malloc(cap * sizeof *ev->nbr_new);
         ev->nbr_cap = ev->nbr && ev->nbr_new ? cap : 0;
         if (!ev->nbr_cap)
