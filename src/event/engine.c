@@ -477,12 +477,16 @@ static inline void min_image(const mote_ev *ev, double d[3])
  * periodic face that each listed neighbour, and every position either of them reaches before
  * its list expires, is seen directly (no wrap), so predictions may skip the minimum-image test;
  * otherwise MOTE_EV_EDGE, plus MOTE_EV_WRAP_X << a for each axis a on which it is that close to
- * a face (only those axes need the test). MOTE_EV_NEAR_WALL when x lies within half a shell of
- * a wall's contact plane, by the test predict applies per wall: only then can i hit a wall
- * before its list expires, so predict looks at walls only for those. */
+ * a face (only those axes need the test). A listed pair whose references are on opposite sides
+ * of a face has both within sigma_max + shell of it; references lie in the box and positions
+ * are stored consistently with them (a renewal shifts both by the period), so any other pair's
+ * direct difference, of references or of positions, is its true separation. MOTE_EV_NEAR_WALL
+ * when x lies within half a shell of a wall's contact plane, by the test predict applies per
+ * wall: only then can i hit a wall before its list expires, so predict looks at walls only for
+ * those. */
 static inline uint8_t ref_flags(const mote_ev *ev, uint32_t i, const double x[3])
 {
-    const double m = ev->sigma_max + 2 * ev->shell, reach = 0.5 * ev->shell;
+    const double m = ev->sigma_max + ev->shell, reach = 0.5 * ev->shell;
     const double R = mote_ev_radius(ev, i);
     unsigned f = 0;
     for (int a = 0; a < ev->dim; a++) {
