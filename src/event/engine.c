@@ -514,6 +514,13 @@ static inline void prefetch_record(const mote_particle *P, uint32_t j)
     __builtin_prefetch(&P[j]);
 }
 
+/* Words of the list array for n lists of cap entries: the lists, then the padding that the
+ * prediction's read-ahead may reach (see PREFETCH_AHEAD). */
+static inline size_t nbr_words(uint32_t n, uint32_t cap)
+{
+    return (size_t)n * cap + PREFETCH_AHEAD;
+}
+
 /* Make room for more entries per particle (rare: lists are sized at each rebuild). The lists
  * move to a wider stride; their content and order are unchanged, so the trajectory is too. */
 static int nbr_grow(mote_ev *ev)
@@ -527,10 +534,11 @@ static int nbr_grow(mote_ev *ev)
     if (!scratch)
         return MOTE_ENOMEM;
     ev->nbr_new = scratch;
-    uint32_t *b = realloc(ev->nbr, ((size_t)ev->n * cap + PREFETCH_AHEAD) * sizeof *b);
+    uint32_t *b = realloc(ev->nbr, nbr_words(ev->n, cap) * sizeof *b);
     if (!b)
         return MOTE_ENOMEM;
-    memset(b + (size_t)ev->n * old + PREFETCH_AHEAD, 0, (size_t)ev->n * (cap - old) * sizeof *b);
+    const size_t had = nbr_words(ev->n, old); /* zero what was added (see prefetch_record) */
+    memset(b + had, 0, (nbr_words(ev->n, cap) - had) * sizeof *b);
     for (uint32_t i = ev->n; i-- > 0;)
         memmove(b + (size_t)i * cap, b + (size_t)i * old, ev->p[i].nnbr * sizeof *b);
     ev->nbr = b;
@@ -799,7 +807,7 @@ static int nbr_build_all(mote_ev *ev, mote_err *err)
     if (cap != ev->nbr_cap || !ev->nbr) {
         free(ev->nbr); /* refilled below: free first, so old and new never coexist */
         free(ev->nbr_new);
-        ev->nbr = calloc((size_t)n * cap + PREFETCH_AHEAD, sizeof *ev->nbr);
+        ev->nbr = calloc(nbr_words(n, cap), sizeof *ev->nbr);
         ev->nbr_new = malloc(cap * sizeof *ev->nbr_new);
         ev->nbr_cap = ev->nbr && ev->nbr_new ? cap : 0;
         if (!ev->nbr_cap)
@@ -1393,6 +1401,8 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
                 add_failure(err, &nfail,
                             "particle %u: reference %c = %.17g is outside its cell [%g, %g]",
                             P[i].label, "xyz"[a], x, lo, hi);
+            /* the direct difference, not the minimum image: a position must be stored
+             * consistently with its reference, which the edge band relies on (ref_flags) */
             moved2 += (r[a] - x) * (r[a] - x);
         }
         if (sqrt(moved2) > 0.5 * ev->shell + tol)
