@@ -459,7 +459,9 @@ static void check_layering(const char *path, const char *label)
             double spacing = xm[m] - xm[m - 1];
             double contrast = sm[best] - sm[lo];
             double noise = sqrt(er[best] * er[best] + er[lo] * er[lo]) / sqrt(5.0);
-            CHECK(spacing >= 1.7 && spacing <= 2.3,
+            /* bin centres 0.1 R apart, mirrored from L on the right: the bounds are inclusive,
+             * up to the rounding of those differences */
+            CHECK(spacing >= 1.7 - 1e-9 && spacing <= 2.3 + 1e-9,
                   "%s, %s wall: maxima %d and %d are %.3f R apart, expected [1.7, 2.3]", label,
                   side ? "right" : "left", m, m + 1, spacing);
             CHECK(contrast > 3 * noise,
@@ -530,14 +532,16 @@ static void test_image(void)
     }
 
     /* Layering at eta 0.45 (the issue) and 0.40 (spec 10 item 7): new 4 (N = 736, L ~ 50),
-     * 100 collisions per particle of equilibration, then image with p = 10 over 200 collisions
-     * per particle (200 samples). */
+     * 100 collisions per particle of equilibration, then image with p = 10 over 600 collisions
+     * per particle (600 samples). With 200 samples the third maximum at eta 0.40 failed its
+     * 3-error test or its spacing for 3 of 20 seeds (the run is chaotic, so any change in
+     * rounding picks another realisation); with 600, none of 40 seeds failed. */
     const double etas[2] = {0.45, 0.40};
     for (int e = 0; e < 2; e++) {
         mote_hs hs;
         double w0 = mote_wall_seconds();
         make_slit(&hs, 4, etas[e], 21, 100);
-        uint64_t K = 200; /* statistical: the same run length under the sanitizer (~1 s) */
+        uint64_t K = 600; /* statistical: the same run length under the sanitizer (~3 s) */
         CHECK(mote_hs_image(&hs, K, 10, path, "image K 10 f", &err) == MOTE_OK, "%s", err.msg);
         char label[64];
         snprintf(label, sizeof label, "layering eta %.2f", etas[e]);
