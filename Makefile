@@ -28,7 +28,7 @@ BENCH_SRC := $(sort $(wildcard bench/*.c))
 BENCH_BIN := $(BENCH_SRC:bench/%.c=$(BUILD)/bench/%)
 HDRS     := $(wildcard include/mote/*.h src/*/*.h src/*/*.inc tests/*.h)
 
-.PHONY: all lib tests bench check test test-plain test-san example setup clean slow
+.PHONY: all lib tests bench check test test-plain test-san example setup clean slow seeds
 
 all: $(BUILD)/mote
 
@@ -79,6 +79,12 @@ test-san:
 slow: setup
 	$(MAKE) --no-print-directory WERROR=1 BUILD=build tests
 	MOTE_SLOW=1 sh tests/run.sh build
+
+# every test program again with SEEDS other random starts (tests/seeds.sh)
+SEEDS ?= 20
+seeds: setup
+	$(MAKE) --no-print-directory WERROR=1 BUILD=build tests
+	sh tests/seeds.sh build $(SEEDS)
 
 example: setup
 	$(MAKE) --no-print-directory all

@@ -117,7 +117,7 @@ static void test_effusion_and_mixing(void)
     small_box(&p);
     mote_mb s;
     mote_mb_init(&s);
-    mote_mb_seed(&s, 7);
+    mote_mb_seed(&s, test_seed(7));
     mote_err err = {0};
     CHECK(mote_mb_place(&s, &p, &err) == MOTE_OK, "place: %s", err.msg);
     /* equilibrate (the speeds become Maxwellian, the colours mix) */
@@ -170,7 +170,7 @@ static void test_barometric(void)
     p.g = 1.0;                  /* m g H / kT ~ 2 at kT = 0.5 */
     mote_mb s;
     mote_mb_init(&s);
-    mote_mb_seed(&s, 11);
+    mote_mb_seed(&s, test_seed(11));
     mote_err err = {0};
     CHECK(mote_mb_place(&s, &p, &err) == MOTE_OK, "place: %s", err.msg);
     double e0 = mote_mb_energy(&s, NULL);

@@ -74,7 +74,7 @@ static int thin_slit(mote_hs *hs, double L, double A, double eta, uint64_t equil
     fprintf(f, "rng 0000000000000001 0000000000000002 0000000000000003 0000000000000004\n");
     fprintf(f, "particles x y z vx vy vz radius mass\n");
     mote_rng g;
-    mote_rng_seed(&g, seed);
+    mote_rng_seed(&g, test_seed(seed));
     double(*v)[3] = malloc((size_t)n * sizeof *v), P[3] = {0, 0, 0};
     for (long i = 0; i < n; i++)
         for (int a = 0; a < 3; a++) {
@@ -92,7 +92,7 @@ static int thin_slit(mote_hs *hs, double L, double A, double eta, uint64_t equil
     free(v);
     mote_err err = {0};
     mote_hs_init(hs, NULL);
-    mote_hs_seed(hs, seed);
+    mote_hs_seed(hs, test_seed(seed));
     int rc = mote_hs_load(hs, path, &err);
     if (!rc)
         rc = mote_hs_temperature(hs, 1.0, &err);
@@ -115,7 +115,7 @@ static void test_cs_pressure(void)
         mote_hs hs;
         mote_err err = {0};
         mote_hs_init(&hs, NULL);
-        mote_hs_seed(&hs, 11 + k);
+        mote_hs_seed(&hs, test_seed(11 + k));
         mote_hs_result r = {0};
         int rc = mote_hs_bulk(&hs, 2048, e, &err);
         if (!rc)
@@ -150,7 +150,7 @@ static void test_henderson(void)
         mote_hs hs;
         mote_err err = {0};
         mote_hs_init(&hs, NULL);
-        mote_hs_seed(&hs, 21 + k);
+        mote_hs_seed(&hs, test_seed(21 + k));
         mote_hs_result r = {0};
         int rc = mote_hs_bulk_disks(&hs, 1024, e, &err);
         if (!rc)
@@ -307,7 +307,7 @@ static void test_widom(void)
         mote_hs hs;
         mote_err err = {0};
         mote_hs_init(&hs, NULL);
-        mote_hs_seed(&hs, 51 + k);
+        mote_hs_seed(&hs, test_seed(51 + k));
         mote_hs_result r = {0};
         int rc = mote_hs_bulk(&hs, 2048, e, &err);
         if (!rc)

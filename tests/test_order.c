@@ -640,7 +640,7 @@ static int build_hex_slit(mote_hs *hs, int planes, int ny, int nz, double a, dou
     ev->len[2] = nz * h;
     hs->geometry = MOTE_HS_SLIT;
     mote_rng rng;
-    mote_rng_seed(&rng, 5);
+    mote_rng_seed(&rng, test_seed(5));
     uint32_t k = 0;
     for (int p = 0; p < planes; p++) {
         /* ABC: each plane shifted by (a/2, h/3) from the one below */
@@ -733,7 +733,7 @@ static int make_polydisperse(mote_hs *hs, mote_err *err)
     char line[1024];
     int in_particles = 0;
     mote_rng rng;
-    mote_rng_seed(&rng, 77);
+    mote_rng_seed(&rng, test_seed(77));
     while (fgets(line, sizeof line, in)) {
         if (in_particles && strncmp(line, "end", 3) != 0) {
             double f[8];
@@ -763,7 +763,7 @@ static void test_brute_force(void)
         mote_hs hs;
         mote_err err = {0};
         mote_hs_init(&hs, NULL);
-        mote_hs_seed(&hs, 100 + (uint64_t)t);
+        mote_hs_seed(&hs, test_seed(100 + (uint64_t)t));
         const char *label = "";
         int rc = MOTE_OK;
         switch (t) {
@@ -823,7 +823,7 @@ static void test_melting(void)
         mote_hs hs;
         mote_err err = {0};
         mote_hs_init(&hs, NULL);
-        mote_hs_seed(&hs, 11);
+        mote_hs_seed(&hs, test_seed(11));
         CHECK(mote_hs_bulk(&hs, 2048, etas[t], &err) == MOTE_OK, "%s", err.msg);
         double w0 = mote_wall_seconds();
         /* 200 collisions per particle, as the spec says, also under the sanitizer */
@@ -868,7 +868,7 @@ static void test_layers(void)
     mote_hs hs;
     mote_err err = {0};
     mote_hs_init(&hs, NULL);
-    mote_hs_seed(&hs, 3);
+    mote_hs_seed(&hs, test_seed(3));
     CHECK(mote_hs_new_slit(&hs, 6, 0.40, &err) == MOTE_OK, "%s", err.msg);
     CHECK(mote_hs_step(&hs, 100, &err) == MOTE_OK, "%s", err.msg);
     double w0 = mote_wall_seconds();
@@ -973,7 +973,7 @@ static void test_no_perturbation(void)
     mote_hs *hs[3] = {&a, &b, &c};
     for (int q = 0; q < 3; q++) {
         mote_hs_init(hs[q], NULL);
-        mote_hs_seed(hs[q], 8);
+        mote_hs_seed(hs[q], test_seed(8));
         CHECK(mote_hs_new_slit(hs[q], 3, 0.45, &err) == MOTE_OK, "%s", err.msg);
         CHECK(mote_hs_step(hs[q], 10, &err) == MOTE_OK, "%s", err.msg);
     }
