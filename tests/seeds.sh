@@ -3,8 +3,9 @@
 # that is with K other realisations of every random start (see test_seed in tests/test.h), two
 # at a time, and list each failing check with its seed. A statistical tolerance of 3 standard
 # errors fails in about 0.3% of realisations per check, so across K seeds a check that fails
-# more than once or twice is too tight or its run too short. Not part of `make check` (about
-# 30 s per seed); `make seeds` runs it.
+# more than once or twice is too tight or its run too short. Each program gets at most 600 s (a
+# slow seed is reported as exit 124). Not part of `make check` (about a minute per seed on two
+# cores); `make seeds` runs it.
 set -u
 build=${1:-build}
 K=${2:-20}
@@ -15,7 +16,7 @@ for k in $(seq 1 "$K"); do
     for t in "$build"/tests/test_*; do
         [ -x "$t" ] && echo "$k $t"
     done
-done | xargs -P 2 -L 1 sh -c 'MOTE_TEST_SEED=$0 "$1" > "'"$out"'/$(basename "$1").$0.log" 2>&1 ||
+done | xargs -P 2 -L 1 sh -c 'MOTE_TEST_SEED=$0 timeout 600 "$1" > "'"$out"'/$(basename "$1").$0.log" 2>&1 ||
     echo "seed $0: $(basename "$1") exited $?"'
 fails=0
 for f in "$out"/*.log; do
