@@ -198,7 +198,7 @@ static void test_effusion_and_mixing(void)
      * 12000 s (seed 7) block averages of m give 2 tau_int = 16-17 s and the per-disk estimate
      * 18.8 s. With the model, the error bar was 1.35 times too small and MOTE_TEST_SEED=9 failed
      * the 3-error check. The run is 1200 s, about 60 times 2 tau_int, so that the window fits
-     * well inside it (at 300 s and the default seed it did not). */
+     * well inside it and the floor of tau_int_disks stays small (about 2 tau_int / T per lag). */
     double tau = dt * tau_int_disks(a.wrong, a.samples < a.wrong_cap ? a.samples : a.wrong_cap,
                                     s.n);
     double neff = T / (2 * tau);
