@@ -268,7 +268,7 @@ static void test_checker_fails(void)
     /* cell membership and the calendar */
     mote_hs_init(&hs, NULL);
     mote_hs_new_slit(&hs, 2, 0.3, &err);
-    hs.ev.p[9].cell = hs.ev.p[9].cell == 0 ? 1 : 0;
+    hs.ev.pc[9].cell = hs.ev.pc[9].cell == 0 ? 1 : 0;
     CHECK(mote_ev_check(&hs.ev, &err) == MOTE_ERUNTIME, "a wrong cell passed");
     CHECK_HAS(err.msg, "cell");
     mote_hs_free(&hs);
@@ -337,7 +337,7 @@ static void test_checker_fails(void)
         uint32_t nwall = 0, wrong = 0, first = MOTE_EV_NIL;
         const double reach = 0.5 * hs.ev.shell, R = hs.ev.radius0;
         for (uint32_t i = 0; i < hs.ev.n; i++) {
-            const double x = hs.ev.p[i].r_ref[0];
+            const double x = hs.ev.pc[i].r_ref[0];
             const int near_wall = x - R <= reach || hs.ev.len[0] - R - x <= reach;
             const int flagged = (hs.ev.p[i].flags & MOTE_EV_NEAR_WALL) != 0;
             nwall += flagged;
@@ -366,7 +366,7 @@ static void test_checker_fails(void)
     mote_hs_init(&hs, NULL);
     mote_hs_new_slit(&hs, 2, 0.3, &err);
     {
-        mote_particle *p6 = &hs.ev.p[mote_ev_slot(&hs.ev, 6)];
+        mote_ev_cold *p6 = &hs.ev.pc[mote_ev_slot(&hs.ev, 6)];
         p6->label = 7; /* two records now claim number 7 */
     }
     CHECK(mote_ev_check(&hs.ev, &err) == MOTE_ERUNTIME, "a duplicated particle number passed");
@@ -374,7 +374,7 @@ static void test_checker_fails(void)
     mote_hs_free(&hs);
     mote_hs_init(&hs, NULL);
     mote_hs_new_slit(&hs, 2, 0.3, &err);
-    hs.ev.p[hs.ev.heap[0]].t_ev = -1;
+    hs.ev.pc[hs.ev.heap[0]].t_ev = -1;
     CHECK(mote_ev_check(&hs.ev, &err) == MOTE_ERUNTIME, "an event before the clock passed");
     CHECK_HAS(err.msg, "before the clock");
     mote_hs_free(&hs);
@@ -1053,6 +1053,7 @@ static void test_enskog(void)
 static int same_state(const mote_ev *a, const mote_ev *b)
 {
     return a->n == b->n && memcmp(a->p, b->p, a->n * sizeof *a->p) == 0 &&
+           memcmp(a->pc, b->pc, a->n * sizeof *a->pc) == 0 &&
            memcmp(a->heap, b->heap, a->n * sizeof *a->heap) == 0 && a->clock == b->clock &&
            a->time_total == b->time_total && a->collisions == b->collisions &&
            a->wall_collisions == b->wall_collisions && a->events == b->events &&
@@ -1077,9 +1078,10 @@ static void test_spatial_order(void)
     CHECK(mote_ev_rebuild(&a.ev, &err) == MOTE_OK, "%s", err.msg);
     const uint32_t n = a.ev.n;
     const mote_particle *P = a.ev.p;
+    const mote_ev_cold *C = a.ev.pc;
     uint32_t bad_label = 0, bad_run = 0, bad_rank = 0;
     for (uint32_t k = 0; k < n; k++) {
-        bad_label += P[k].label >= n || P[P[k].label].label_slot != k;
+        bad_label += C[k].label >= n || C[C[k].label].label_slot != k;
         int c[3];
         for (int q = 0; q < 3; q++)
             c[q] = (int)floor(P[k].r[q] / (3 * a.ev.radius0));
@@ -1091,7 +1093,7 @@ static void test_spatial_order(void)
             same &= prev[q] == c[q];
         }
         if (same) {
-            bad_rank += P[k].label < P[k - 1].label;
+            bad_rank += C[k].label < C[k - 1].label;
             continue;
         }
         for (uint32_t m = 0; m + 1 < k; m++) { /* a new run: no earlier record in this cell */
@@ -1113,6 +1115,9 @@ static void test_spatial_order(void)
         mote_particle t = b.ev.p[k];
         b.ev.p[k] = b.ev.p[m];
         b.ev.p[m] = t;
+        mote_ev_cold tc = b.ev.pc[k];
+        b.ev.pc[k] = b.ev.pc[m];
+        b.ev.pc[m] = tc;
     }
     CHECK(!same_state(&a.ev, &b.ev), "the shuffle left the records in place");
     CHECK(mote_ev_rebuild(&b.ev, &err) == MOTE_OK, "%s", err.msg);

@@ -142,15 +142,15 @@ static void test_obstacles(void)
     ev.p[2].v[0] = 1;
     mote_err err = {0};
     CHECK(mote_ev_rebuild(&ev, &err) == MOTE_OK, "rebuild: %s", err.msg);
-    CHECK(ev.p[0].kind == MOTE_EV_SEG && ev.p[0].partner == 0, "face: kind %d partner %u",
-          ev.p[0].kind, ev.p[0].partner);
-    CHECK(fabs(ev.p[0].t_ev - 0.2) < 1e-14, "face hit at %.17g, expected 0.2", ev.p[0].t_ev);
-    CHECK(ev.p[1].kind == MOTE_EV_SEG && ev.p[1].partner == 1, "top: kind %d partner %u",
-          ev.p[1].kind, ev.p[1].partner);
-    CHECK(fabs(ev.p[1].t_ev - 0.3) < 1e-14, "top hit at %.17g, expected 0.3", ev.p[1].t_ev);
-    CHECK(ev.p[2].kind == MOTE_EV_CORNER && ev.p[2].partner == 0, "corner: kind %d partner %u",
-          ev.p[2].kind, ev.p[2].partner);
-    CHECK(fabs(ev.p[2].t_ev - 0.3) < 1e-12, "corner hit at %.17g, expected 0.3", ev.p[2].t_ev);
+    CHECK(ev.p[0].kind == MOTE_EV_SEG && ev.pc[0].partner == 0, "face: kind %d partner %u",
+          ev.p[0].kind, ev.pc[0].partner);
+    CHECK(fabs(ev.pc[0].t_ev - 0.2) < 1e-14, "face hit at %.17g, expected 0.2", ev.pc[0].t_ev);
+    CHECK(ev.p[1].kind == MOTE_EV_SEG && ev.pc[1].partner == 1, "top: kind %d partner %u",
+          ev.p[1].kind, ev.pc[1].partner);
+    CHECK(fabs(ev.pc[1].t_ev - 0.3) < 1e-14, "top hit at %.17g, expected 0.3", ev.pc[1].t_ev);
+    CHECK(ev.p[2].kind == MOTE_EV_CORNER && ev.pc[2].partner == 0, "corner: kind %d partner %u",
+          ev.p[2].kind, ev.pc[2].partner);
+    CHECK(fabs(ev.pc[2].t_ev - 0.3) < 1e-12, "corner hit at %.17g, expected 0.3", ev.pc[2].t_ev);
     mote_ev_free(&ev);
 
     /* the kick: a disk falling onto the top face leaves it at 1 + 0.5 and then hands its speed

@@ -128,6 +128,7 @@ static void write_variant(const char *path, const lines *base, int n, int which,
 static int same_state(const mote_ev *a, const mote_ev *b)
 {
     return a->n == b->n && memcmp(a->p, b->p, a->n * sizeof *a->p) == 0 &&
+           memcmp(a->pc, b->pc, a->n * sizeof *a->pc) == 0 &&
            memcmp(a->heap, b->heap, a->n * sizeof *a->heap) == 0 && a->clock == b->clock &&
            a->time_total == b->time_total && a->collisions == b->collisions &&
            a->wall_collisions == b->wall_collisions &&
@@ -358,6 +359,7 @@ static void test_continuation(void)
 
 typedef struct {
     mote_particle *p;
+    mote_ev_cold *pc;
     uint32_t n;
     double len[3];
     mote_rng rng;
@@ -368,6 +370,8 @@ static void snap_take(const mote_hs *hs, snapshot *s)
     s->n = hs->ev.n;
     s->p = malloc(s->n * sizeof *s->p);
     memcpy(s->p, hs->ev.p, s->n * sizeof *s->p);
+    s->pc = malloc(s->n * sizeof *s->pc);
+    memcpy(s->pc, hs->ev.pc, s->n * sizeof *s->pc);
     memcpy(s->len, hs->ev.len, sizeof s->len);
     s->rng = hs->rng;
 }
@@ -375,6 +379,7 @@ static void snap_take(const mote_hs *hs, snapshot *s)
 static int snap_same(const mote_hs *hs, const snapshot *s)
 {
     return hs->has_system && hs->ev.n == s->n && memcmp(hs->ev.p, s->p, s->n * sizeof *s->p) == 0 &&
+           memcmp(hs->ev.pc, s->pc, s->n * sizeof *s->pc) == 0 &&
            memcmp(hs->ev.len, s->len, sizeof s->len) == 0 &&
            memcmp(hs->rng.s, s->rng.s, sizeof s->rng.s) == 0;
 }
@@ -578,6 +583,7 @@ static void test_load_errors(void)
     /* finally a good load replaces the system */
     CHECK(mote_hs_load(&hs, base, &err) == MOTE_OK && hs.ev.n == 64, "good load: %s", err.msg);
     free(snap.p);
+    free(snap.pc);
     mote_hs_free(&hs);
     free(L.line);
     free(text);
@@ -707,6 +713,7 @@ static void test_original_format(void)
         expect_load_error(&hs, &snap, path, "original: outside the walls",
                           (const char *[]){"outside", NULL});
         free(snap.p);
+        free(snap.pc);
         free(t);
     }
     mote_hs_free(&hs);

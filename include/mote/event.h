@@ -25,11 +25,13 @@
 enum { MOTE_EV_NONE = 0, MOTE_EV_PAIR, MOTE_EV_WALL, MOTE_EV_CELL, MOTE_EV_NBR, MOTE_EV_SEG,
        MOTE_EV_CORNER };
 
-/* Per-particle record, 128 bytes. The first 64 bytes hold everything a neighbour's prediction
- * reads (position, velocity, local time, counter), so that with the array 64-byte aligned each
- * neighbour costs one cache line; the rest is touched only by the particle's own events. */
+/* Per-particle data, in two arrays of 64-byte records. The hot record holds everything a
+ * neighbour's prediction reads (position, velocity, local time, counter), so that with the array
+ * 64-byte aligned each neighbour costs one cache line; the cold record is touched only by the
+ * particle's own events, its calendar links and list renewals. Kept apart, the hot records of
+ * neighbours (close in memory in spatial order) share the memory system's 128-byte fetches
+ * instead of each hot line dragging its own cold line along. */
 typedef struct {
-    /* ---- hot: read for every neighbour in a prediction ---- */
     double r[3];            /* position at local time t (z unused in 2D) */
     double v[3];            /* velocity */
     double t;               /* local time of r */
@@ -42,7 +44,9 @@ typedef struct {
                              * contact plane (only then can a wall hit come before the list
                              * expires); MOTE_EV_MARK: scratch of a list renewal (clear between
                              * events) */
-    /* ---- cold: the particle's own event, list reference, cell and calendar links ---- */
+} mote_particle;
+
+typedef struct {
     double t_ev;            /* time of the scheduled event */
     double r_ref[3];        /* reference position of the neighbour list */
     uint32_t partner;       /* PAIR: partner index; WALL: 2*axis + (upper wall ? 1 : 0) */
@@ -50,11 +54,11 @@ typedef struct {
     int32_t cell;           /* linear index of the cell holding r_ref */
     uint32_t label;         /* the model's number for the particle: its index at mote_ev_init,
                              * carried along when a rebuild reorders the records */
-    uint32_t label_slot;    /* p[k].label_slot is the index of the record labelled k */
+    uint32_t label_slot;    /* pc[k].label_slot is the index of the record labelled k */
     int32_t cal_slot;       /* calendar: -1 in the heap, 0..nbuckets-1 a bucket, nbuckets overflow */
     uint32_t cal_next;      /* in a bucket: next in its list; in the heap: position in the heap */
     uint32_t cal_prev;      /* in a bucket: previous in its list (MOTE_EV_NIL at the head) */
-} mote_particle;
+} mote_ev_cold;
 
 #define MOTE_EV_NIL UINT32_MAX
 enum { MOTE_EV_EDGE = 1, MOTE_EV_MARK = 2, MOTE_EV_NEAR_WALL = 4, MOTE_EV_WRAP_X = 8 };
@@ -109,7 +113,8 @@ typedef struct {
 
     /* ---- particles ---- */
     uint32_t n;
-    mote_particle *p;
+    mote_particle *p;     /* hot records */
+    mote_ev_cold *pc;     /* cold records, same index */
     int spatial_order;    /* set by the model: every rebuild renumbers the records in spatial order
                            * (neighbours close in memory); users' numbers stay in `label` */
     double *radius;       /* NULL when monodisperse (then radius0/mass0 apply) */
@@ -209,7 +214,7 @@ int mote_ev_move_walls(mote_ev *ev, int axis, double shift, double new_len, mote
  * spatial_order the two are the same. */
 static inline uint32_t mote_ev_slot(const mote_ev *ev, uint32_t label)
 {
-    return ev->p[label].label_slot;
+    return ev->pc[label].label_slot;
 }
 
 /* Record the current energy and momentum as the references the checker compares with. */

@@ -53,7 +53,8 @@
 
 /* ---- memory ----------------------------------------------------------------------------------- */
 
-_Static_assert(sizeof(mote_particle) == 128, "the particle record must stay 128 bytes");
+_Static_assert(sizeof(mote_particle) == 64 && sizeof(mote_ev_cold) == 64,
+               "the hot and cold records must stay 64 bytes each");
 
 /* Ask for transparent huge pages on a large array. Predictions and list updates jump around
  * hundreds of MB at N ~ 10^6 and beyond, and with 4 KiB pages nearly every such access also
@@ -77,9 +78,9 @@ static void hint_huge_pages(void *p, size_t bytes)
 
 /* ---- calendar: heap part ------------------------------------------------------------------------ */
 
-static inline int ev_before(const mote_particle *P, uint32_t a, uint32_t b)
+static inline int ev_before(const mote_ev_cold *C, uint32_t a, uint32_t b)
 {
-    double ta = P[a].t_ev, tb = P[b].t_ev;
+    double ta = C[a].t_ev, tb = C[b].t_ev;
     return ta < tb || (ta == tb && a < b);
 }
 
@@ -104,7 +105,7 @@ static void heap_sift_up(mote_ev *ev, uint32_t k)
 {
     uint32_t *H = ev->heap;
     double *T = ev->heap_t;
-    mote_particle *P = ev->p;
+    mote_ev_cold *C = ev->pc;
     const uint32_t x = H[k];
     const double tx = T[k];
     while (k > 0) {
@@ -113,19 +114,19 @@ static void heap_sift_up(mote_ev *ev, uint32_t k)
             break;
         H[k] = H[parent];
         T[k] = T[parent];
-        P[H[k]].cal_next = k;
+        C[H[k]].cal_next = k;
         k = parent;
     }
     H[k] = x;
     T[k] = tx;
-    P[x].cal_next = k;
+    C[x].cal_next = k;
 }
 
 static void heap_sift_down(mote_ev *ev, uint32_t k)
 {
     uint32_t *H = ev->heap;
     double *T = ev->heap_t;
-    mote_particle *P = ev->p;
+    mote_ev_cold *C = ev->pc;
     const uint32_t n = ev->heap_n, x = H[k];
     const double tx = T[k];
     for (;;) {
@@ -138,21 +139,21 @@ static void heap_sift_down(mote_ev *ev, uint32_t k)
             break;
         H[k] = H[c];
         T[k] = T[c];
-        P[H[k]].cal_next = k;
+        C[H[k]].cal_next = k;
         k = c;
     }
     H[k] = x;
     T[k] = tx;
-    P[x].cal_next = k;
+    C[x].cal_next = k;
 }
 
 static inline void heap_push(mote_ev *ev, uint32_t i)
 {
     uint32_t k = ev->heap_n++;
     ev->heap[k] = i;
-    ev->heap_t[k] = ev->p[i].t_ev;
-    ev->p[i].cal_slot = -1;
-    ev->p[i].cal_prev = MOTE_EV_NIL; /* unused in the heap; kept canonical (state comparisons) */
+    ev->heap_t[k] = ev->pc[i].t_ev;
+    ev->pc[i].cal_slot = -1;
+    ev->pc[i].cal_prev = MOTE_EV_NIL; /* unused in the heap; kept canonical (state comparisons) */
     heap_sift_up(ev, k);
 }
 
@@ -163,7 +164,7 @@ static inline void heap_remove_at(mote_ev *ev, uint32_t k)
         return;
     ev->heap[k] = last;
     ev->heap_t[k] = ev->heap_t[m];
-    ev->p[last].cal_next = k;
+    ev->pc[last].cal_next = k;
     if (k > 0 && key_before(ev->heap_t[k], last, ev->heap_t[(k - 1) / 2], ev->heap[(k - 1) / 2]))
         heap_sift_up(ev, k);
     else
@@ -183,8 +184,8 @@ static inline int64_t cal_index(const mote_ev *ev, double t)
 
 static inline void cal_insert(mote_ev *ev, uint32_t i)
 {
-    mote_particle *P = ev->p;
-    int64_t b = cal_index(ev, P[i].t_ev);
+    mote_ev_cold *C = ev->pc;
+    int64_t b = cal_index(ev, C[i].t_ev);
     if (b <= ev->bucket_cur) {
         heap_push(ev, i);
         return;
@@ -193,28 +194,28 @@ static inline void cal_insert(mote_ev *ev, uint32_t i)
                         ? (uint32_t)(b & (int64_t)(ev->nbuckets - 1))
                         : ev->nbuckets;
     uint32_t head = ev->bucket[slot];
-    P[i].cal_slot = (int32_t)slot;
-    P[i].cal_prev = MOTE_EV_NIL;
-    P[i].cal_next = head;
+    C[i].cal_slot = (int32_t)slot;
+    C[i].cal_prev = MOTE_EV_NIL;
+    C[i].cal_next = head;
     if (head != MOTE_EV_NIL)
-        P[head].cal_prev = i;
+        C[head].cal_prev = i;
     ev->bucket[slot] = i;
 }
 
 static inline void cal_remove(mote_ev *ev, uint32_t i)
 {
-    mote_particle *P = ev->p;
-    mote_particle *p = &P[i];
+    mote_ev_cold *C = ev->pc;
+    mote_ev_cold *p = &C[i];
     if (p->cal_slot < 0) {
         heap_remove_at(ev, p->cal_next);
         return;
     }
     if (p->cal_prev != MOTE_EV_NIL)
-        P[p->cal_prev].cal_next = p->cal_next;
+        C[p->cal_prev].cal_next = p->cal_next;
     else
         ev->bucket[p->cal_slot] = p->cal_next;
     if (p->cal_next != MOTE_EV_NIL)
-        P[p->cal_next].cal_prev = p->cal_prev;
+        C[p->cal_next].cal_prev = p->cal_prev;
 }
 
 /* Detach a bucket's list and return its head. */
@@ -233,17 +234,17 @@ static inline uint32_t cal_take(mote_ev *ev, uint32_t slot)
  * ev->walk >= n means "start at the head", MOTE_EV_NIL "done". */
 static inline void cal_walk(mote_ev *ev)
 {
-    const mote_particle *P = ev->p;
+    const mote_ev_cold *C = ev->pc;
     uint32_t w = ev->walk;
     if (w == MOTE_EV_NIL)
         return;
     const uint32_t slot = (uint32_t)((ev->bucket_cur + 1) & (int64_t)(ev->nbuckets - 1));
-    if (w >= ev->n || P[w].cal_slot != (int32_t)slot)
+    if (w >= ev->n || C[w].cal_slot != (int32_t)slot)
         w = ev->bucket[slot];
     else
-        w = P[w].cal_next;
+        w = C[w].cal_next;
     if (w != MOTE_EV_NIL)
-        __builtin_prefetch(&P[w].t_ev);
+        __builtin_prefetch(&C[w].t_ev);
     ev->walk = w;
 }
 
@@ -253,7 +254,7 @@ static inline void cal_walk(mote_ev *ev)
  * with a finite time is left. */
 static int cal_refill(mote_ev *ev)
 {
-    mote_particle *P = ev->p;
+    mote_ev_cold *C = ev->pc;
     const uint32_t mask = ev->nbuckets - 1;
     uint32_t idle = 0;
     while (ev->heap_n == 0) {
@@ -261,13 +262,13 @@ static int cal_refill(mote_ev *ev)
         uint32_t slot = (uint32_t)(ev->bucket_cur & (int64_t)mask);
         if (slot == 0) {
             for (uint32_t e = cal_take(ev, ev->nbuckets); e != MOTE_EV_NIL;) {
-                uint32_t next = P[e].cal_next;
+                uint32_t next = C[e].cal_next;
                 cal_insert(ev, e);
                 e = next;
             }
         }
         for (uint32_t e = cal_take(ev, slot); e != MOTE_EV_NIL;) {
-            uint32_t next = P[e].cal_next;
+            uint32_t next = C[e].cal_next;
             heap_push(ev, e);
             e = next;
         }
@@ -275,8 +276,8 @@ static int cal_refill(mote_ev *ev)
         if (ev->heap_n == 0 && ++idle > ev->nbuckets) {
             /* a whole lap found nothing: jump to the lap of the earliest overflow event */
             int64_t first = INT64_MAX;
-            for (uint32_t e = ev->bucket[ev->nbuckets]; e != MOTE_EV_NIL; e = P[e].cal_next) {
-                int64_t b = cal_index(ev, P[e].t_ev);
+            for (uint32_t e = ev->bucket[ev->nbuckets]; e != MOTE_EV_NIL; e = C[e].cal_next) {
+                int64_t b = cal_index(ev, C[e].t_ev);
                 if (b < first)
                     first = b;
             }
@@ -296,14 +297,14 @@ static int cal_refill(mote_ev *ev)
 static int cal_init(mote_ev *ev, mote_err *err)
 {
     const uint32_t n = ev->n;
-    mote_particle *P = ev->p;
+    mote_ev_cold *C = ev->pc;
     uint32_t nb = 1;
     double inv = 0;
     if (!ev->heap_only) {
         double sum = 0;
         uint32_t cnt = 0;
         for (uint32_t i = 0; i < n; i++) {
-            double dt = P[i].t_ev - ev->clock;
+            double dt = C[i].t_ev - ev->clock;
             if (dt < ev->t_rebuild) {
                 sum += dt;
                 cnt++;
@@ -408,7 +409,7 @@ static int cell_move(mote_ev *ev, uint32_t i, int32_t cell)
             cell_blocks(ev, ncells, ev->cell_stride + ev->cell_stride / 2 + 1, ncells))
             return MOTE_ENOMEM;
     }
-    uint32_t *B = cell_members(ev, ev->p[i].cell);
+    uint32_t *B = cell_members(ev, ev->pc[i].cell);
     const uint32_t n = B[0];
     for (uint32_t k = 1; k <= n; k++)
         if (B[k] == i) {
@@ -418,7 +419,7 @@ static int cell_move(mote_ev *ev, uint32_t i, int32_t cell)
         }
     B = cell_members(ev, cell);
     B[++B[0]] = i;
-    ev->p[i].cell = cell;
+    ev->pc[i].cell = cell;
     return MOTE_OK;
 }
 
@@ -602,10 +603,10 @@ static void nbr_renewed(mote_ev *ev, uint32_t i, uint32_t nold, uint32_t nnew)
 
 static inline int nbr_within(const mote_ev *ev, uint32_t i, uint32_t j, double reach2_mono)
 {
-    const mote_particle *P = ev->p;
+    const mote_ev_cold *C = ev->pc;
     double d[3] = {0, 0, 0}, r2 = 0;
     for (int a = 0; a < ev->dim; a++)
-        d[a] = P[i].r_ref[a] - P[j].r_ref[a];
+        d[a] = C[i].r_ref[a] - C[j].r_ref[a];
     min_image(ev, d);
     for (int a = 0; a < ev->dim; a++)
         r2 += d[a] * d[a];
@@ -662,26 +663,30 @@ int mote_ev_init(mote_ev *ev, uint32_t n, int dim, int polydisperse, mote_err *e
     ev->radius0 = 1.0;
     ev->mass0 = 1.0;
     ev->len[2] = 1.0;
-    /* 64-byte alignment puts each record's hot half in one cache line (sizeof is 128) */
+    /* 64-byte alignment puts each record in one cache line (hot and cold are 64 bytes each) */
     size_t bytes = (size_t)n * sizeof(mote_particle), align = 64;
     if (bytes >= ((size_t)4 << 20)) { /* whole huge pages (see hint_huge_pages) */
         align = (size_t)2 << 20;
         bytes = (bytes + align - 1) / align * align;
     }
     ev->p = aligned_alloc(align, bytes);
+    ev->pc = aligned_alloc(align, bytes);
     hint_huge_pages(ev->p, bytes);
+    hint_huge_pages(ev->pc, bytes);
     if (ev->p)
         memset(ev->p, 0, bytes);
+    if (ev->pc)
+        memset(ev->pc, 0, bytes);
     ev->heap = calloc(n, sizeof *ev->heap);
     ev->heap_t = calloc(n, sizeof *ev->heap_t);
-    if (ev->p)
+    if (ev->pc)
         for (uint32_t i = 0; i < n; i++)
-            ev->p[i].label = ev->p[i].label_slot = i;
+            ev->pc[i].label = ev->pc[i].label_slot = i;
     if (polydisperse) {
         ev->radius = calloc(n, sizeof *ev->radius);
         ev->mass = calloc(n, sizeof *ev->mass);
     }
-    if (!ev->p || !ev->heap || !ev->heap_t || (polydisperse && (!ev->radius || !ev->mass))) {
+    if (!ev->p || !ev->pc || !ev->heap || !ev->heap_t || (polydisperse && (!ev->radius || !ev->mass))) {
         mote_ev_free(ev);
         return mote_fail(err, MOTE_ENOMEM, "out of memory for %u particles", n);
     }
@@ -691,6 +696,7 @@ int mote_ev_init(mote_ev *ev, uint32_t n, int dim, int polydisperse, mote_err *e
 void mote_ev_free(mote_ev *ev)
 {
     free(ev->p);
+    free(ev->pc);
     free(ev->heap);
     free(ev->heap_t);
     free(ev->radius);
@@ -777,6 +783,7 @@ static int nbr_build_all(mote_ev *ev, mote_err *err)
 {
     const uint32_t n = ev->n;
     mote_particle *P = ev->p;
+    mote_ev_cold *C = ev->pc;
     const double c = 2 * ev->radius0 + ev->shell, reach2 = c * c;
     int32_t cells[27];
     /* pass 1: count */
@@ -784,7 +791,7 @@ static int nbr_build_all(mote_ev *ev, mote_err *err)
         P[i].nnbr = 0;
     uint32_t most = 0;
     for (uint32_t i = 0; i < n; i++) {
-        int nc = cell_neighbours(ev, P[i].cell, cells);
+        int nc = cell_neighbours(ev, C[i].cell, cells);
         for (int q = 0; q < nc; q++) {
             const uint32_t *B = cell_members(ev, cells[q]);
             for (uint32_t s = 1; s <= B[0]; s++) {
@@ -820,7 +827,7 @@ static int nbr_build_all(mote_ev *ev, mote_err *err)
     for (uint32_t i = 0; i < n; i++)
         P[i].nnbr = 0;
     for (uint32_t i = 0; i < n; i++) {
-        int nc = cell_neighbours(ev, P[i].cell, cells);
+        int nc = cell_neighbours(ev, C[i].cell, cells);
         for (int q = 0; q < nc; q++) {
             const uint32_t *B = cell_members(ev, cells[q]);
             for (uint32_t s = 1; s <= B[0]; s++)
@@ -859,10 +866,12 @@ static int sort_item_cmp(const void *a, const void *b)
 static void permute_records(mote_ev *ev, const sort_item *it, uint8_t *done)
 {
     mote_particle *P = ev->p;
+    mote_ev_cold *C = ev->pc;
     for (uint32_t s = 0; s < ev->n; s++) {
         if (done[s >> 3] & (1u << (s & 7)) || it[s].from == s)
             continue;
         mote_particle tmp = P[s];
+        mote_ev_cold ctmp = C[s];
         double rt = ev->radius ? ev->radius[s] : 0, mt = ev->mass ? ev->mass[s] : 0;
         double lt = ev->t_last ? ev->t_last[s] : 0;
         uint32_t k = s;
@@ -872,6 +881,7 @@ static void permute_records(mote_ev *ev, const sort_item *it, uint8_t *done)
             if (j == s)
                 break;
             P[k] = P[j];
+            C[k] = C[j];
             if (ev->radius) {
                 ev->radius[k] = ev->radius[j];
                 ev->mass[k] = ev->mass[j];
@@ -881,6 +891,7 @@ static void permute_records(mote_ev *ev, const sort_item *it, uint8_t *done)
             k = j;
         }
         P[k] = tmp;
+        C[k] = ctmp;
         if (ev->radius) {
             ev->radius[k] = rt;
             ev->mass[k] = mt;
@@ -899,6 +910,7 @@ static int sort_spatial(mote_ev *ev, double rmax, mote_err *err)
 {
     const uint32_t n = ev->n;
     mote_particle *P = ev->p;
+    mote_ev_cold *C = ev->pc;
     const double w = rmax > 0 ? 3.0 * rmax : 1.0;
     sort_item *it = malloc((size_t)n * sizeof *it);
     uint8_t *done = calloc((size_t)n / 8 + 1, 1);
@@ -914,14 +926,14 @@ static int sort_spatial(mote_ev *ev, double rmax, mote_err *err)
             uint64_t c = f > 0 ? (uint64_t)fmin(f, 0x1FFFFF) : 0;
             key |= morton_spread(c) << a;
         }
-        it[i] = (sort_item){key, P[i].label, i};
+        it[i] = (sort_item){key, C[i].label, i};
     }
     qsort(it, n, sizeof *it, sort_item_cmp);
     permute_records(ev, it, done);
     free(it);
     free(done);
     for (uint32_t k = 0; k < n; k++)
-        P[P[k].label].label_slot = k;
+        C[C[k].label].label_slot = k;
     return MOTE_OK;
 }
 
@@ -930,6 +942,7 @@ int mote_ev_rebuild(mote_ev *ev, mote_err *err)
     const int d = ev->dim;
     const uint32_t n = ev->n;
     mote_particle *P = ev->p;
+    mote_ev_cold *C = ev->pc;
     ev->ready = 0; /* until every step below has succeeded */
 
     double rmax = 0;
@@ -1037,17 +1050,17 @@ int mote_ev_rebuild(mote_ev *ev, mote_err *err)
     /* blocks wide enough for the fullest cell with room to spare (they widen if needed) */
     for (uint32_t i = 0; i < n; i++) {
         for (int a = 0; a < 3; a++)
-            P[i].r_ref[a] = P[i].r[a];
-        P[i].flags = ref_flags(ev, i, P[i].r_ref);
+            C[i].r_ref[a] = P[i].r[a];
+        P[i].flags = ref_flags(ev, i, C[i].r_ref);
         P[i].count = 0;
-        P[i].cell = cell_index(ev, P[i].r_ref);
+        C[i].cell = cell_index(ev, C[i].r_ref);
     }
     uint32_t *fill = calloc(ncells, sizeof *fill), most = 0;
     if (!fill)
         return mote_fail(err, MOTE_ENOMEM, "out of memory for %zu cells", ncells);
     for (uint32_t i = 0; i < n; i++)
-        if (++fill[P[i].cell] > most)
-            most = fill[P[i].cell];
+        if (++fill[C[i].cell] > most)
+            most = fill[C[i].cell];
     free(fill);
     const uint32_t stride = most + most / 4 + 3; /* the count, the fullest cell, a margin */
     if (cell_blocks(ev, ncells, stride, 0))
@@ -1055,7 +1068,7 @@ int mote_ev_rebuild(mote_ev *ev, mote_err *err)
     for (size_t c = 0; c < ncells; c++)
         ev->cell_block[c * stride] = 0;
     for (uint32_t i = 0; i < n; i++) {
-        uint32_t *B = cell_members(ev, P[i].cell);
+        uint32_t *B = cell_members(ev, C[i].cell);
         B[++B[0]] = i;
     }
     int rc = nbr_build_all(ev, err);
@@ -1180,7 +1193,7 @@ int mote_ev_move_walls(mote_ev *ev, int axis, double shift, double new_len, mote
         return not_ready(err, "move_walls");
     for (uint32_t i = 0; i < ev->n; i++) {
         ev->p[i].r[axis] -= shift;
-        ev->p[i].r_ref[axis] -= shift;
+        ev->pc[i].r_ref[axis] -= shift;
     }
     ev->len[axis] = new_len;
     double lo = ev->cell_lo[axis] - shift;
@@ -1188,14 +1201,14 @@ int mote_ev_move_walls(mote_ev *ev, int axis, double shift, double new_len, mote
         return mote_ev_rebuild(ev, err); /* the grid no longer covers the box */
     ev->cell_lo[axis] = lo;
     for (uint32_t i = 0; i < ev->n; i++) /* the walls' distances changed */
-        ev->p[i].flags = ref_flags(ev, i, ev->p[i].r_ref);
+        ev->p[i].flags = ref_flags(ev, i, ev->pc[i].r_ref);
     /* Re-predict the particles that can reach a wall before their list expires (reference
      * within half a shell of a contact plane: predict looks at walls only for those), and any
      * whose scheduled event is a wall hit. No other prediction can involve a wall. */
     const double reach = 0.5 * ev->shell;
     for (uint32_t i = 0; i < ev->n; i++) {
         mote_particle *p = &ev->p[i];
-        double R = mote_ev_radius(ev, i), x = p->r_ref[axis];
+        double R = mote_ev_radius(ev, i), x = ev->pc[i].r_ref[axis];
         if (x - R <= reach || new_len - R - x <= reach || p->kind == MOTE_EV_WALL) {
             double dt = ev->clock - p->t;
             for (int a = 0; a < ev->dim; a++)
@@ -1217,7 +1230,7 @@ void mote_ev_set_reference(mote_ev *ev)
 
 double mote_ev_bytes_per_particle(const mote_ev *ev)
 {
-    double bytes = (double)ev->n * (sizeof(mote_particle) + sizeof(uint32_t) + sizeof(double));
+    double bytes = (double)ev->n * (sizeof(mote_particle) + sizeof(mote_ev_cold) + sizeof(uint32_t) + sizeof(double));
     if (ev->radius)
         bytes += (double)ev->n * 2 * sizeof(double);
     bytes += (double)ev->n * ev->nbr_cap * sizeof(uint32_t);
@@ -1253,6 +1266,7 @@ static void near_pair_visit(const mote_ev *ev, uint32_t i, const double ri[3], u
 static void for_near_pairs(const mote_ev *ev, pair_fn fn, void *ctx)
 {
     const mote_particle *P = ev->p;
+    const mote_ev_cold *C = ev->pc;
     int32_t cells[27];
     for (uint32_t i = 0; i < ev->n; i++) {
         double ri[3];
@@ -1262,7 +1276,7 @@ static void for_near_pairs(const mote_ev *ev, pair_fn fn, void *ctx)
                 near_pair_visit(ev, i, ri, j, fn, ctx);
             continue;
         }
-        int nc = cell_neighbours(ev, P[i].cell, cells);
+        int nc = cell_neighbours(ev, C[i].cell, cells);
         for (int q = 0; q < nc; q++) {
             const uint32_t *B = cell_members(ev, cells[q]);
             for (uint32_t s = 1; s <= B[0]; s++)
@@ -1364,6 +1378,7 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
 {
     const int d = ev->dim;
     const mote_particle *P = ev->p;
+    const mote_ev_cold *C = ev->pc;
     int nfail = 0;
     if (err) {
         err->msg[0] = '\0';
@@ -1376,7 +1391,7 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
     for_near_pairs(ev, gap_visit, &g);
     if (g.overlaps)
         add_failure(err, &nfail, "%zu overlapping pairs; worst %u-%u at %.17g of contact",
-                    g.overlaps, P[g.worst_i].label, P[g.worst_j].label, g.min_ratio);
+                    g.overlaps, C[g.worst_i].label, C[g.worst_j].label, g.min_ratio);
 
     const double tol = 1e-10 * ev->sigma_max;
     const size_t ncells = (size_t)ev->ncell[0] * ev->ncell[1] * ev->ncell[2];
@@ -1385,22 +1400,22 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
         double r[3], moved2 = 0;
         project(ev, &P[i], ev->clock - P[i].t, r, NULL);
         double Ri = mote_ev_radius(ev, i);
-        int32_t c = P[i].cell;
+        int32_t c = C[i].cell;
         int cc[3] = {c % ev->ncell[0], (c / ev->ncell[0]) % ev->ncell[1],
                      c / (ev->ncell[0] * ev->ncell[1])};
         for (int a = 0; a < d; a++) {
             if (!ev->periodic[a] &&
                 (r[a] < Ri * (1 - 1e-10) || r[a] > ev->len[a] - Ri * (1 - 1e-10)))
                 add_failure(err, &nfail, "particle %u at %c = %.17g is outside the walls [%g, %g]",
-                            P[i].label, "xyz"[a], r[a], Ri, ev->len[a] - Ri);
+                            C[i].label, "xyz"[a], r[a], Ri, ev->len[a] - Ri);
             double lo = ev->cell_lo[a] + cc[a] * ev->cell_w[a];
             double hi = cc[a] + 1 == ev->ncell[a] ? ev->cell_lo[a] + ev->len_grid[a]
                                                   : lo + ev->cell_w[a];
-            double x = P[i].r_ref[a];
+            double x = C[i].r_ref[a];
             if (x < lo - tol || x > hi + tol)
                 add_failure(err, &nfail,
                             "particle %u: reference %c = %.17g is outside its cell [%g, %g]",
-                            P[i].label, "xyz"[a], x, lo, hi);
+                            C[i].label, "xyz"[a], x, lo, hi);
             /* the direct difference, not the minimum image: a position must be stored
              * consistently with its reference, which the edge band relies on (ref_flags) */
             moved2 += (r[a] - x) * (r[a] - x);
@@ -1408,24 +1423,24 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
         if (sqrt(moved2) > 0.5 * ev->shell + tol)
             add_failure(err, &nfail,
                         "particle %u is %.17g from its list reference, beyond half the shell %g",
-                        P[i].label, sqrt(moved2), 0.5 * ev->shell);
-        if (P[i].t_ev < ev->clock)
+                        C[i].label, sqrt(moved2), 0.5 * ev->shell);
+        if (C[i].t_ev < ev->clock)
             add_failure(err, &nfail, "particle %u has an event at %.17g before the clock %.17g",
-                        P[i].label, P[i].t_ev, ev->clock);
+                        C[i].label, C[i].t_ev, ev->clock);
         if (c < 0 || (size_t)c >= ncells)
-            add_failure(err, &nfail, "particle %u names cell %d of %zu", P[i].label, c,
+            add_failure(err, &nfail, "particle %u names cell %d of %zu", C[i].label, c,
                         ncells);
         /* numbers: a permutation whose index finds each record; no renewal mark left over */
-        if (P[i].label >= ev->n || P[P[i].label].label_slot != i)
+        if (C[i].label >= ev->n || C[C[i].label].label_slot != i)
             add_failure(err, &nfail, "record %u carries particle number %u, which does not lead "
-                        "back to it", i, P[i].label);
+                        "back to it", i, C[i].label);
         if (P[i].flags & MOTE_EV_MARK)
             add_failure(err, &nfail, "particle %u still carries a list-renewal mark",
-                        P[i].label);
-        else if (P[i].flags != ref_flags(ev, i, P[i].r_ref))
+                        C[i].label);
+        else if (P[i].flags != ref_flags(ev, i, C[i].r_ref))
             add_failure(err, &nfail,
                         "particle %u has flags %#x; its list reference needs %#x",
-                        P[i].label, P[i].flags, ref_flags(ev, i, P[i].r_ref));
+                        C[i].label, P[i].flags, ref_flags(ev, i, C[i].r_ref));
     }
     /* cell blocks: each holds exactly the particles that say they are in it, once */
     if (listed) {
@@ -1440,9 +1455,9 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
                 uint32_t j = B[s];
                 if (j >= ev->n)
                     add_failure(err, &nfail, "cell %zu lists record %u of %u", c, j, ev->n);
-                else if (P[j].cell != (int32_t)c)
+                else if (C[j].cell != (int32_t)c)
                     add_failure(err, &nfail, "cell %zu lists particle %u, which is not in it", c,
-                                P[j].label);
+                                C[j].label);
                 else if (listed[j] < 255)
                     listed[j]++;
             }
@@ -1450,7 +1465,7 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
         for (uint32_t i = 0; i < ev->n; i++)
             if (listed[i] != 1)
                 add_failure(err, &nfail, "particle %u is listed %u times in the cells",
-                            P[i].label, listed[i]);
+                            C[i].label, listed[i]);
         free(listed);
     }
     /* neighbour lists: symmetric, no repeats, no stale entry, none missing (spec 6.6) */
@@ -1464,23 +1479,23 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
                 uint32_t j = L[k], back = 0;
                 if (j >= ev->n || j == i) {
                     add_failure(err, &nfail, "neighbour list of particle %u holds record %u",
-                                P[i].label, j);
+                                C[i].label, j);
                     continue;
                 }
                 for (uint32_t q = 0; q < n; q++)
                     if (q != k && L[q] == j)
                         add_failure(err, &nfail, "neighbour list of %u holds %u twice",
-                                    P[i].label, P[j].label);
+                                    C[i].label, C[j].label);
                 for (uint32_t q = 0; q < P[j].nnbr; q++)
                     back += nbr_list(ev, j)[q] == i;
                 if (back != 1)
-                    add_failure(err, &nfail, "%u lists %u but %u lists %u %u times", P[i].label,
-                                P[j].label, P[j].label, P[i].label, back);
+                    add_failure(err, &nfail, "%u lists %u but %u lists %u %u times", C[i].label,
+                                C[j].label, C[j].label, C[i].label, back);
                 if (!nbr_within(ev, i, j, cm * cm))
                     add_failure(err, &nfail, "%u lists %u, whose reference is beyond the shell",
-                                P[i].label, P[j].label);
+                                C[i].label, C[j].label);
             }
-            int nc = cell_neighbours(ev, P[i].cell, cells);
+            int nc = cell_neighbours(ev, C[i].cell, cells);
             for (int q = 0; q < nc; q++) {
                 const uint32_t *B = cell_members(ev, cells[q]);
                 for (uint32_t s = 1; s <= B[0]; s++) {
@@ -1492,7 +1507,7 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
                         found |= L[k] == j;
                     if (!found)
                         add_failure(err, &nfail, "neighbour list of %u misses %u",
-                                    P[i].label, P[j].label);
+                                    C[i].label, C[j].label);
                 }
             }
         }
@@ -1502,30 +1517,30 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
         size_t seen = 0;
         for (uint32_t k = 0; k < ev->heap_n; k++) {
             uint32_t i = ev->heap[k];
-            if (i >= ev->n || P[i].cal_slot != -1 || P[i].cal_next != k)
+            if (i >= ev->n || C[i].cal_slot != -1 || C[i].cal_next != k)
                 add_failure(err, &nfail, "calendar heap slot %u is inconsistent", k);
-            if (i < ev->n && ev->heap_t[k] != P[i].t_ev)
+            if (i < ev->n && ev->heap_t[k] != C[i].t_ev)
                 add_failure(err, &nfail, "calendar heap slot %u holds a stale time", k);
-            if (k > 0 && ev_before(P, i, ev->heap[(k - 1) / 2]))
+            if (k > 0 && ev_before(C, i, ev->heap[(k - 1) / 2]))
                 add_failure(err, &nfail, "calendar order broken at slot %u", k);
-            if (i < ev->n && cal_index(ev, P[i].t_ev) > ev->bucket_cur)
+            if (i < ev->n && cal_index(ev, C[i].t_ev) > ev->bucket_cur)
                 add_failure(err, &nfail, "particle %u is in the calendar heap but due later",
-                            P[i].label);
+                            C[i].label);
         }
         seen += ev->heap_n;
         for (uint32_t s = 0; ev->bucket && s <= ev->nbuckets; s++) {
             uint32_t prev = MOTE_EV_NIL;
             for (uint32_t i = ev->bucket[s]; i != MOTE_EV_NIL && seen <= ev->n;
-                 i = P[i].cal_next, seen++) {
-                if (i >= ev->n || P[i].cal_slot != (int32_t)s || P[i].cal_prev != prev) {
+                 i = C[i].cal_next, seen++) {
+                if (i >= ev->n || C[i].cal_slot != (int32_t)s || C[i].cal_prev != prev) {
                     add_failure(err, &nfail, "calendar bucket %u is inconsistent", s);
                     break;
                 }
-                int64_t b = cal_index(ev, P[i].t_ev);
+                int64_t b = cal_index(ev, C[i].t_ev);
                 if (b <= ev->bucket_cur ||
                     (s < ev->nbuckets && (uint32_t)(b & (int64_t)(ev->nbuckets - 1)) != s))
                     add_failure(err, &nfail, "particle %u is in the wrong calendar bucket",
-                                P[i].label);
+                                C[i].label);
                 prev = i;
             }
         }
