@@ -80,11 +80,12 @@ slow: setup
 	$(MAKE) --no-print-directory WERROR=1 BUILD=build tests
 	MOTE_SLOW=1 sh tests/run.sh build
 
-# every test program again with SEEDS other random starts (tests/seeds.sh)
+# every test program again with MOTE_TEST_SEED = SEED_FIRST .. SEEDS (tests/seeds.sh)
 SEEDS ?= 20
+SEED_FIRST ?= 1
 seeds: setup
 	$(MAKE) --no-print-directory WERROR=1 BUILD=build tests
-	sh tests/seeds.sh build $(SEEDS)
+	sh tests/seeds.sh build $(SEEDS) $(SEED_FIRST)
 
 example: setup
 	$(MAKE) --no-print-directory all
