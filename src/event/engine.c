@@ -11,8 +11,9 @@
  *   few dozen events of the current bucket, so sifting stays inside the cache even at N = 10^7.
  * - Two arrays of 64-byte records: the hot one holds all a neighbour's prediction reads, the
  *   cold one the particle's own event, list reference, cell and calendar links. (One 128-byte
- *   record with a hot and a cold half ran 2-5% slower: the memory system fetches lines in
- *   pairs, and the pair of a hot line was its own cold line instead of a neighbour's hot one.)
+ *   record with a hot and a cold half ran 2-5% slower, most likely because the processor
+ *   fetches lines in aligned pairs: the pair of a hot line was its own cold line instead of
+ *   the hot line of a neighbour.)
  * - At N ~ 10^6 the records no longer fit in any cache and the time goes into waiting for
  *   memory, so the code avoids chains of dependent misses: cells hold their members in
  *   contiguous blocks (a list refresh gathers all candidates, prefetches them, then tests
