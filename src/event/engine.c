@@ -690,7 +690,8 @@ int mote_ev_init(mote_ev *ev, uint32_t n, int dim, int polydisperse, mote_err *e
         ev->radius = calloc(n, sizeof *ev->radius);
         ev->mass = calloc(n, sizeof *ev->mass);
     }
-    if (!ev->p || !ev->pc || !ev->heap || !ev->heap_t || (polydisperse && (!ev->radius || !ev->mass))) {
+    if (!ev->p || !ev->pc || !ev->heap || !ev->heap_t ||
+        (polydisperse && (!ev->radius || !ev->mass))) {
         mote_ev_free(ev);
         return mote_fail(err, MOTE_ENOMEM, "out of memory for %u particles", n);
     }
@@ -1234,7 +1235,8 @@ void mote_ev_set_reference(mote_ev *ev)
 
 double mote_ev_bytes_per_particle(const mote_ev *ev)
 {
-    double bytes = (double)ev->n * (sizeof(mote_particle) + sizeof(mote_ev_cold) + sizeof(uint32_t) + sizeof(double));
+    double bytes = (double)ev->n * (sizeof(mote_particle) + sizeof(mote_ev_cold) +
+                                    sizeof(uint32_t) + sizeof(double));
     if (ev->radius)
         bytes += (double)ev->n * 2 * sizeof(double);
     bytes += (double)ev->n * ev->nbr_cap * sizeof(uint32_t);
