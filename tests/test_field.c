@@ -11,7 +11,9 @@
  *   overlap, the checker passes, kinetic + potential energy kept to 1e-12 over 2e5 collisions,
  *   and the observer sees every event;
  * - an inelastic gas settling on the floor: the crowded cells outgrow their blocks mid-run and
- *   every invariant still holds. */
+ *   every invariant still holds;
+ * - a list renewal whose batch of candidates is exactly full when a crowded cell comes next:
+ *   the new list is exactly the disks within the cutoff. */
 #include "mote/event.h"
 
 #include <stdlib.h>
@@ -382,6 +384,74 @@ static void test_crowding(void)
     mote_ev_free(&ev);
 }
 
+/* A list renewal gathers its candidates cell by cell into a batch of 128 and tests them each
+ * time it is full. Here the batch is exactly full when a crowded cell (more members than one
+ * block copy takes) comes next: 120 disks in the first cell, 8 in the second, 20 in the third,
+ * all in the row below the disk that renews. Before the fix the crowded cell's first member was
+ * written one past the batch (MOTE_TEST_SEED=17 of test_crowding crashed on it). The new list
+ * must be exactly the disks within the cutoff. */
+static void test_full_batch(void)
+{
+    printf("a list renewal whose candidate batch is full when a crowded cell comes\n");
+    mote_ev_field f = {0};
+    f.restitution = 1;
+    const uint32_t n = 1 + 120 + 8 + 20;
+    mote_ev ev;
+    /* 156 x 156 with 149 disks: the widened shell makes cells 26 wide, 6 x 6 of them */
+    if (!setup(&ev, n, 156, 156, &f))
+        return;
+    uint32_t k = 0;
+    ev.p[k].r[0] = 39; /* the renewing disk, alone in cell (1, 1), moving down */
+    ev.p[k].r[1] = 39;
+    ev.p[k++].v[1] = -1;
+    for (int row = 0; row < 11 && k < 121; row++) /* cell (0, 0): 120 disks 2.2 x 2.05 apart */
+        for (int col = 0; col < 11 && k < 121; col++) {
+            ev.p[k].r[0] = 1.5 + 2.2 * col;
+            ev.p[k++].r[1] = 1.5 + 2.05 * row;
+        }
+    for (int col = 0; col < 8; col++) { /* cell (1, 0): 8 disks */
+        ev.p[k].r[0] = 29 + 3 * col;
+        ev.p[k++].r[1] = 5;
+    }
+    for (int col = 0; col < 20; col++) { /* cell (2, 0): 20 disks in two rows */
+        ev.p[k].r[0] = 54 + 2.2 * (col % 10);
+        ev.p[k++].r[1] = 5 + 3 * (col / 10);
+    }
+    mote_err err = {0};
+    CHECK(mote_ev_rebuild(&ev, &err) == MOTE_OK, "rebuild: %s", err.msg);
+    CHECK(ev.ncell[0] == 6 && ev.ncell[1] == 6, "cells %d x %d, expected 6 x 6", ev.ncell[0],
+          ev.ncell[1]);
+    CHECK(ev.p[0].kind == MOTE_EV_NBR, "the first event of disk 0 is kind %d, not its list's expiry",
+          ev.p[0].kind);
+    const uint32_t *cb = ev.cell_block;
+    const size_t st = ev.cell_stride;
+    CHECK(cb[0] == 120 && cb[st] == 8 && cb[2 * st] == 20,
+          "cells (0, 0), (1, 0), (2, 0) hold %u, %u, %u disks, expected 120, 8, 20", cb[0], cb[st],
+          cb[2 * st]);
+    /* the renewal comes after a flight of half a shell (about 11.5): disk 0 stays in its cell */
+    CHECK(mote_ev_run_to(&ev, 12, UINT64_MAX, &err) == MOTE_OK, "run: %s", err.msg);
+    CHECK(ev.renewals == 1 && ev.collisions == 0, "%llu renewals, %llu collisions, expected 1 and 0",
+          (unsigned long long)ev.renewals, (unsigned long long)ev.collisions);
+    CHECK(mote_ev_check(&ev, &err) == MOTE_OK, "check: %s", err.msg);
+    const double cut = ev.sigma_max + ev.shell;
+    uint32_t want = 0, listed = 0, wrong = 0;
+    const uint32_t *L = ev.nbr + (size_t)0 * ev.nbr_cap;
+    for (uint32_t j = 1; j < n; j++) {
+        double dx = ev.pc[j].r_ref[0] - ev.pc[0].r_ref[0], dy = ev.pc[j].r_ref[1] - ev.pc[0].r_ref[1];
+        int in = dx * dx + dy * dy < cut * cut, on = 0;
+        for (uint32_t q = 0; q < ev.p[0].nnbr; q++)
+            on |= L[q] == j;
+        want += (uint32_t)in;
+        listed += (uint32_t)on;
+        wrong += (uint32_t)(in != on);
+    }
+    printf("  reference y = %.2f, cutoff %.2f: %u listed, %u expected, %u wrong\n",
+           ev.pc[0].r_ref[1], cut, listed, want, wrong);
+    CHECK(wrong == 0 && want > 0, "%u disks wrongly in or out of the new list (%u expected)", wrong,
+          want);
+    mote_ev_free(&ev);
+}
+
 int main(void)
 {
     test_bounce();
@@ -389,5 +459,6 @@ int main(void)
     test_restitution();
     test_gas();
     test_crowding();
+    test_full_batch();
     return test_summary();
 }
