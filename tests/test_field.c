@@ -336,7 +336,12 @@ static void test_gas(void)
 
 /* Disks raining onto a floor crowd the bottom cells far beyond anything at the start: the cell
  * blocks must widen during the run (before any rebuild could resize them) and every invariant
- * must still hold. */
+ * must still hold. Each of the 10 rounds (3 time units) stops after at most 500 000 collisions:
+ * once the pile forms, some starts enter a regime of millions of collisions per time unit,
+ * nearly all made elastic by the TC rule (MOTE_TEST_SEED=13: 0.36 million up to t = 20, then
+ * 15 million by t = 22), so without the cap the test's cost ranged over a factor of 300 between
+ * seeds; with it, 1 to 4 s over 21 seeds, all settled below y = 33. The default seed never
+ * reaches the cap. */
 static void test_crowding(void)
 {
     printf("an inelastic gas settling on the floor (cell blocks widen in the run)\n");
@@ -362,7 +367,7 @@ static void test_crowding(void)
     const uint32_t stride0 = ev.cell_stride;
     int ok = 1;
     for (int round = 0; round < 10 && ok; round++) {
-        ok = mote_ev_run_to(&ev, 3.0 * (round + 1), UINT64_MAX, &err) == MOTE_OK;
+        ok = mote_ev_run_to(&ev, 3.0 * (round + 1), 500000, &err) == MOTE_OK;
         CHECK(ok, "run: %s", err.msg);
         if (ok) {
             int c = mote_ev_check(&ev, &err);
