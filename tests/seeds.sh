@@ -4,8 +4,8 @@
 # tests/test.h), two at a time, and list each failing check with its seed. A statistical tolerance of 3 standard
 # errors fails in about 0.3% of realisations per check, so across K seeds a check that fails
 # more than once or twice is too tight or its run too short. Each program gets at most 600 s (a
-# slow seed is reported as exit 124). Not part of `make check` (one to two minutes per seed on
-# two cores); `make seeds` runs it.
+# slow seed is reported as exit 124). Not part of `make check` (about 20 s per seed on two
+# cores); `make seeds` runs it.
 set -u
 build=${1:-build}
 K=${2:-20}
