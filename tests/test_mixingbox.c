@@ -812,6 +812,34 @@ static void test_scripts(void)
     }
 }
 
+/* A run in which nearly every collision was made elastic by the TC rule says so (file:line),
+ * since the loss asked for then hardly acts; a run with a short t_c does not. */
+static void test_tc_warning(void)
+{
+    printf("scripts: the TC-rule warning\n");
+    char text[1024], msg[1024];
+    char *out = NULL;
+    snprintf(text, sizeof text,
+             "model mixing-box\nseed 3\noutput_dir %s/tcw\ndisks 1000 1000\nloss 0.5\n"
+             "t_c 10\nplace\nrun 3\nt_c 0.00005\nrun 3\n",
+             tmpdir);
+    int st = run_script("tcw.mote", text, &out, msg, sizeof msg);
+    CHECK(st == 0, "status %d: %s", st, msg);
+    if (!out)
+        return;
+    /* the first run: 99% of about 80 000 collisions within 10 s of a disk's previous one */
+    const char *w = strstr(out, "tcw.mote:8:1: warning: run: ");
+    CHECK(w != NULL, "no warning for the first run:\n%s", out);
+    if (w)
+        CHECK(strstr(w, "collisions were made elastic by the TC rule (t_c = 10 s)") != NULL,
+              "warning text: %.300s", w);
+    CHECK(strstr(out, "tcw.mote:10:1: warning") == NULL, "a warning for the second run");
+    double share = value_of(out, "run:", "collisions_tc") / value_of(out, "run:", "collisions");
+    CHECK(share >= 0.9, "first run: TC share %.3f", share);
+    printf("  first run: TC share %.4f, warned; second run (t_c 5e-5): no warning\n", share);
+    free(out);
+}
+
 int main(void)
 {
     if (!test_tmpdir_make(tmpdir, sizeof tmpdir, "mote_test_mb"))
@@ -825,6 +853,7 @@ int main(void)
     test_measures();
     test_runs();
     test_scripts();
+    test_tc_warning();
     test_remove_tree(tmpdir);
     printf("test_mixingbox: %.1f s\n", mote_wall_seconds() - w0);
     return test_summary();

@@ -499,6 +499,11 @@ static int write_outputs(mb_model *m, mote_err *err)
     return rc;
 }
 
+/* run and run_collisions warn when at least this share of at least this many collisions of
+ * the run were made elastic by the TC rule (with loss > 0) */
+#define TC_WARN_SHARE 0.9
+#define TC_WARN_COLLISIONS 10000
+
 static int do_run(mb_model *m, const mote_call *c, double t_end, uint64_t collisions_end,
                   mote_err *err)
 {
@@ -554,6 +559,20 @@ static int do_run(mb_model *m, const mote_call *c, double t_end, uint64_t collis
                 (unsigned long long)(s->collisions_tc - before.collisions_tc),
                 mote_wall_seconds() - wall);
     }
+    /* Nearly every collision made elastic by the TC rule: little of the loss asked for acts,
+     * and where the disks pile up the event integrator slows down by orders of magnitude
+     * (docs/mixing-box.md, "The cost of a pile"). Said once per run, after enough collisions
+     * for the share to mean something. */
+    const uint64_t nc = s->collisions - before.collisions;
+    const uint64_t ntc = s->collisions_tc - before.collisions_tc;
+    if (s->p.loss > 0 && nc >= TC_WARN_COLLISIONS && (double)ntc >= TC_WARN_SHARE * (double)nc)
+        mote_call_warn(c,
+                       "%s: %.1f%% of this run's %llu collisions were made elastic by the TC "
+                       "rule (t_c = %g s), so little of the loss acts; where disks pile up "
+                       "this also slows the event integrator down (docs/mixing-box.md, "
+                       "'The cost of a pile')",
+                       c->name, 100.0 * (double)ntc / (double)nc, (unsigned long long)nc,
+                       mote_mb_tc(&s->p));
     return MOTE_OK;
 }
 
