@@ -185,7 +185,9 @@ static void test_contact_theorem(void)
         }
         mote_err err = {0};
         mote_hs_result r = {0};
-        uint64_t K = (sanitized ? 2000 : 4000) * scale;
+        /* the same length under the sanitizers: with 2000 samples the combined error was too
+         * large for the 2% test (3 errors >= 2%) at 5 of 10 other seeds */
+        uint64_t K = 4000 * scale;
         int rc = mote_hs_pressure(&hs, K, path, "test", &r, &err);
         CHECK(rc == MOTE_OK, "pressure: %s", err.msg);
         if (!rc) {
