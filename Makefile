@@ -28,7 +28,7 @@ BENCH_SRC := $(sort $(wildcard bench/*.c))
 BENCH_BIN := $(BENCH_SRC:bench/%.c=$(BUILD)/bench/%)
 HDRS     := $(wildcard include/mote/*.h src/*/*.h src/*/*.inc tests/*.h)
 
-.PHONY: all lib tests bench check test test-plain test-san example setup clean slow seeds
+.PHONY: all lib tests bench check test test-plain test-san example setup clean slow seeds seeds-san
 
 all: $(BUILD)/mote
 
@@ -86,6 +86,12 @@ SEED_FIRST ?= 1
 seeds: setup
 	$(MAKE) --no-print-directory WERROR=1 BUILD=build tests
 	sh tests/seeds.sh build $(SEEDS) $(SEED_FIRST)
+
+# the same with the sanitizer build (shorter runs where the tests allow, as in test-san)
+seeds-san: setup
+	$(MAKE) --no-print-directory WERROR=1 BUILD=build-san OPT=-O1 \
+	    SAN="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer" tests
+	MOTE_SANITIZED=1 ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp UBSAN_OPTIONS=print_stacktrace=1 sh tests/seeds.sh build-san $(SEEDS) $(SEED_FIRST)
 
 example: setup
 	$(MAKE) --no-print-directory all
