@@ -54,7 +54,7 @@ $(BUILD)/bench/%: bench/%.c $(BUILD)/libmote.a $(HDRS)
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) $< $(BUILD)/libmote.a $(LDLIBS) -o $@
 
-tests: $(BUILD)/mote $(TEST_BIN)
+tests: $(BUILD)/mote $(TEST_BIN) $(BENCH_BIN)
 bench: $(BUILD)/mote $(BENCH_BIN)
 
 # Install missing Debian packages (a no-op when everything is present).

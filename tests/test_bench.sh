@@ -1,0 +1,43 @@
+#!/bin/sh
+# test_bench.sh BUILD_DIR: the benchmark runner's workloads on tiny systems (no timing is
+# checked): the slit's periodic twin has the slit's N and eta, no walls and no overlap; an
+# interleaved pair reports its ratio; a twin too dense to build and an unknown workload fail
+# with a message.
+build=$(cd "${1:-build}" && pwd)
+bench="$build/bench/bench_hs"
+pass=0
+fail=0
+ok() { pass=$((pass + 1)); echo "ok: $1"; }
+bad() { fail=$((fail + 1)); echo "FAIL: $1"; }
+check() { if eval "$2"; then ok "$1"; else bad "$1"; fi; }
+val() { echo "$1" | grep -o " $2=[^ ]*" | head -n 1 | cut -d= -f2; }
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+
+[ -x "$bench" ] || { echo "FAIL: no $bench"; echo "0 passed, 1 failed"; exit 1; }
+out=$("$bench" 2 slit3:0.45 twin3:0.45 2>"$tmp/err")
+check "slit3 and twin3 run" '[ $? -eq 0 ] && [ ! -s "$tmp/err" ]'
+slit=$(echo "$out" | grep '^workload=slit3')
+twin=$(echo "$out" | grep '^workload=twin3')
+check "the twin has the slit's N ($(val "$slit" N))" '[ -n "$slit" ] && [ "$(val "$twin" N)" = "$(val "$slit" N)" ]'
+check "the twin has the slit's eta ($(val "$twin" eta))" '[ "$(val "$twin" eta)" = 0.45 ] && [ "$(val "$slit" eta)" = 0.45 ]'
+check "the twin is periodic and has no wall hits" \
+    '[ "$(val "$twin" geometry)" = periodic ] && [ "$(val "$twin" wall_hits_per_collision)" = 0.0000 ]'
+check "the slit hits its walls" '[ "$(val "$slit" geometry)" = slit ] && [ "$(val "$slit" wall_hits_per_collision)" != 0.0000 ]'
+check "both count 2 collisions per particle" \
+    '[ "$(val "$twin" collisions)" = $(( $(val "$twin" N) )) ] && [ "$(val "$slit" collisions)" = $(( $(val "$slit" N) )) ]'
+
+pair=$("$bench" 4 slit5:0.45/twin5:0.45 2>"$tmp/err" | grep "^pair=")
+check "an interleaved pair reports its rate ratio" \
+    'echo "$pair" | grep -q "^pair=slit5:0.45/twin5:0.45 chunks=20 rate_ratio=[0-9]"'
+
+"$bench" 2 twin2:0.55 >/dev/null 2>"$tmp/err"
+rc=$?
+check "a twin too close to eta_max fails (exit $rc): $(head -c 80 "$tmp/err")" \
+    '[ $rc -ne 0 ] && grep -q "twin2:0.55: .*overlapping" "$tmp/err"'
+"$bench" 2 cube3:0.45 >/dev/null 2>"$tmp/err"
+rc=$?
+check "an unknown workload fails (exit $rc)" '[ $rc -ne 0 ] && grep -q "unknown workload .cube3:0.45." "$tmp/err"'
+
+echo "$pass passed, $fail failed"
+[ "$fail" -eq 0 ]
