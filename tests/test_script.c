@@ -16,6 +16,8 @@
 static struct {
     int creates_dry, creates_real, destroys;
     int checks, runs;
+    int settles, settles_at_status; /* settle calls; settles seen by the latest status line */
+    int settle_fail_at;             /* the settle call (1-based) that fails; 0 = none */
     long long last_k;
     unsigned long long last_seed;
     int last_nargs;
@@ -45,7 +47,18 @@ static void fake_destroy(void *m)
     free(m);
 }
 
-static void fake_status(void *m, FILE *out) { fprintf(out, "status runs=%d\n", LOG.runs); }
+static void fake_status(void *m, FILE *out)
+{
+    LOG.settles_at_status = LOG.settles;
+    fprintf(out, "status runs=%d\n", LOG.runs);
+}
+
+static int fake_settle(void *m, mote_err *err)
+{
+    if (++LOG.settles == LOG.settle_fail_at)
+        return mote_fail(err, MOTE_ENOMEM, "settle: simulated failure");
+    return 0;
+}
 
 static int new_check(void *m, const mote_call *c, mote_err *err)
 {
@@ -173,7 +186,7 @@ static const mote_cmd fake_cmds[] = {
 
 static const mote_model fake_model = {
     "hard-spheres", "fake hard spheres", fake_cmds, sizeof fake_cmds / sizeof fake_cmds[0],
-    fake_create, fake_destroy, fake_status,
+    fake_create, fake_destroy, fake_status, fake_settle,
 };
 
 static const mote_cmd other_cmds[] = {
@@ -181,7 +194,7 @@ static const mote_cmd other_cmds[] = {
 };
 
 static const mote_model other_model = {
-    "mixing-box", "another fake", other_cmds, 1, fake_create, fake_destroy, NULL,
+    "mixing-box", "another fake", other_cmds, 1, fake_create, fake_destroy, NULL, NULL,
 };
 
 static const mote_model *const MODELS[] = {&fake_model, &other_model};
@@ -634,6 +647,27 @@ static void test_runtime_errors(void)
     CHECK_INT(LOG.destroys, 2);
     CHECK_STR(r.out, "status runs=1\nstatus runs=2\n");
 
+    /* the model settles after every model command (not after common ones), before its
+     * status line; a failing settle stops the run there, located at its command */
+    run_text(&r, "settle.mote", "new 10 0.3\necho hi\nstep 1\nstep 2\n", 0);
+    CHECK_INT(r.status, 0);
+    CHECK_INT(LOG.settles, 3);
+    CHECK_INT(LOG.settles_at_status, 3);
+    memset(&LOG, 0, sizeof LOG);
+    LOG.settle_fail_at = 2;
+    write_file("settle2.mote", "new 10 0.3\nstep 1\nstep 2\n", 27);
+    {
+        FILE *o = tmpfile(), *d = tmpfile();
+        mote_script_options so = {o, d, 0, 0};
+        snprintf(r.path, sizeof r.path, "settle2.mote");
+        r.status = mote_script_run_file(r.path, MODELS, NMODELS, &so);
+        slurp(o, r.out, sizeof r.out);
+        slurp(d, r.err, sizeof r.err);
+    }
+    expect_error(&r, 2, 2, 1, "settle: simulated failure", NULL, NULL);
+    CHECK_INT(LOG.runs, 2); /* new, step 1; step 2 never ran */
+    CHECK_STR(r.out, "status runs=1\n");
+
     run_text(&r, "rt2.mote", "new 10 0.3\nboom_at \"some file\"\n", 0);
     expect_error(&r, 2, 2, 9, "boom_at: cannot write 'some file'", NULL, NULL);
 
@@ -825,7 +859,7 @@ static void test_help_and_usage(void)
         {"go", NULL, "ii", "go K", "go", "Go.", NULL, opts_run, 0},
     };
     static const mote_model bad_model = {"bad", "bad", bad_cmds, 1, fake_create, fake_destroy,
-                                         NULL};
+                                         NULL, NULL};
     const mote_model *const bad[] = {&bad_model};
     mote_err err = {0};
     CHECK(mote_models_verify(bad, 1, &err) != 0, "bad synopsis accepted");
@@ -834,7 +868,7 @@ static void test_help_and_usage(void)
         {"go", "echo", "", "go", "go", "Go.", NULL, opts_run, 0},
     };
     static const mote_model clash_model = {"clash", "c", clash_cmds, 1, fake_create,
-                                           fake_destroy, NULL};
+                                           fake_destroy, NULL, NULL};
     const mote_model *const clash[] = {&clash_model};
     CHECK(mote_models_verify(clash, 1, &err) != 0, "alias clash accepted");
     CHECK(mote_models_verify(MODELS, NMODELS, &err) == 0, "good tables rejected: %s", err.msg);

@@ -83,6 +83,12 @@ typedef struct mote_model {
     void (*destroy)(void *model);
     /* Print the one-line key=value status after each command (NULL: none). */
     void (*status)(void *model, FILE *out);
+    /* Bring the model to its canonical state; the script layer calls it after every model
+     * command, before the status line. The canonical state is exactly what the model's `save`
+     * writes and its `load` rebuilds, so for any commands A and B, `A; B`, `A; save F; B` and
+     * `A; save F; load F; B` run bit for bit alike. A model whose state between commands is
+     * always canonical (no lazy updates, no caches that steer the dynamics) leaves it NULL. */
+    int (*settle)(void *model, mote_err *err);
 } mote_model;
 
 /* Resolve a file name given to a command: relative names are taken relative to ctx->output_dir

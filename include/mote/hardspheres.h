@@ -79,6 +79,11 @@ int mote_hs_compress(mote_hs *hs, int which, double eta, double dlmax, uint64_t 
 double mote_hs_target_length(const mote_hs *hs, double eta);
 
 /* ---- files ---- */
+/* The canonical state (every particle at the current time, coordinates wrapped, lists, cells and
+ * calendar rebuilt): what `save` writes and `load` rebuilds bit for bit. The script layer settles
+ * after every command; a library caller who wants `A; B` to run exactly as `A; save; load; B`
+ * settles after A too. Settling a settled system changes nothing. */
+int mote_hs_settle(mote_hs *hs, mote_err *err);
 int mote_hs_save(mote_hs *hs, const char *path, mote_err *err);
 int mote_hs_load(mote_hs *hs, const char *path, mote_err *err);
 /* Read just enough of a state file (either format) to know its geometry, dimension and N. */

@@ -46,6 +46,8 @@ static void model_destroy(void *vm)
 
 static void model_status(void *vm, FILE *out) { mote_hs_status(&((hs_model *)vm)->hs, out); }
 
+static int model_settle(void *vm, mote_err *err) { return mote_hs_settle(&((hs_model *)vm)->hs, err); }
+
 /* ---- validation helpers ------------------------------------------------------------------------ */
 
 static int need_system(hs_model *m, const mote_call *c, mote_err *err)
@@ -564,4 +566,5 @@ const mote_model mote_model_hardspheres = {
     model_create,
     model_destroy,
     model_status,
+    model_settle,
 };

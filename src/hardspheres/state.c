@@ -12,12 +12,19 @@
 
 /* ---- save ---------------------------------------------------------------------------------------- */
 
+int mote_hs_settle(mote_hs *hs, mote_err *err)
+{
+    /* a rebuild depends on the particles, their labels and the box only (event.h), and a
+     * rebuild of a rebuilt system changes nothing, so this state is the one `load` makes */
+    return hs->has_system ? mote_ev_rebuild(&hs->ev, err) : MOTE_OK;
+}
+
 int mote_hs_save(mote_hs *hs, const char *path, mote_err *err)
 {
     if (!hs->has_system)
         return mote_fail(err, MOTE_EINVAL, "save: no system to save");
     mote_ev *ev = &hs->ev;
-    int rc = mote_ev_rebuild(ev, err); /* synchronise: local times 0, coordinates wrapped */
+    int rc = mote_hs_settle(hs, err); /* synchronise: local times 0, coordinates wrapped */
     if (rc)
         return rc;
     mote_afile af;

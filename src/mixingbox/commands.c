@@ -894,4 +894,5 @@ const mote_model mote_model_mixingbox = {
     model_create,
     model_destroy,
     model_status,
+    NULL, /* the arrays are the whole state after every command: each run builds its engine */
 };

@@ -240,6 +240,8 @@ int mote_script_execute(mote_script *s, mote_err *err)
         if (c->def->run) {
             clear(err);
             rc = c->def->run(common ? (void *)s : model, c, err);
+            if (!rc && !common && s->model->settle)
+                rc = s->model->settle(model, err);
         }
         if (rc) {
             mote_script_locate(err, c);
