@@ -31,6 +31,18 @@ three_ways() {
         tail -n 1 "$v/out.txt" > "$v/last_status.txt"
         rm -f "$v/out.txt" "$v/err.txt" "$v/s.mote"
     done
+    # a fresh process that loads the checkpoint and runs B ends in the same state
+    mkdir resume
+    model_line=$(printf '%b\n' "$setup" | grep '^model ' || true)
+    printf '%b\n' "$setup\n$a\nsave \"ck.state\"" > resume/s1.mote
+    printf '%b\n' "$model_line\nload \"ck.state\"\n$b\nsave \"final.state\"" > resume/s2.mote
+    (cd resume && "$MOTE" run s1.mote > /dev/null 2> err.txt && "$MOTE" run s2.mote > out.txt 2>> err.txt) ||
+        bad "$case_name/resume: mote failed: $(cat resume/err.txt)"
+    cmp -s plain/final.state resume/final.state && ok ||
+        bad "$case_name: the resumed run's final state differs"
+    [ "$(tail -n 1 resume/out.txt)" = "$(cat plain/last_status.txt)" ] && ok ||
+        bad "$case_name: the resumed run's last status differs"
+    rm -rf resume
     [ -s plain/final.state ] && ok || bad "$case_name: no final state"
     for v in save load; do
         if [ "$(ls plain)" = "$(ls $v)" ]; then ok; else
@@ -64,7 +76,11 @@ three_ways bulkdisks 'seed 9\nbulk_disks 100 0.55' 'step 25' 'step 25\npressure 
 mb='model mixing-box\nseed 4\nbox 0 0.4 0 0.2\npartition 0.2 0.01\nslit 0.1 0.04\nradius 0.004\ndisks 60 40\nv_init 1\nloss 0.1\ngravity 2\nkicks 0.05 0 0.02\nplace'
 three_ways mb_event "$mb" 'record 0.05 rec.dat\ndensity_y 0.1 10 dens.dat\nrun 0.37' \
     'run 0.4\nsnapshot end.xyz'
-three_ways mb_collisions "$mb" 'run_collisions 300 10' 'run_collisions 200 10\nrun 0.1'
-three_ways mb_timestep "$mb\nintegrator timestep" 'record 0.05 rec.dat\nrun 0.23' 'run 0.2'
+# parameters changed after the last run take effect at the next one, loaded or not
+three_ways mb_collisions "$mb" 'run_collisions 300 10\nloss 0.3\ngravity 5\nt_c 0.001' \
+    'run_collisions 200 10\nrun 0.1'
+# (in the time-stepped mode a sample time ends a step early, so the resumed script, which has
+# no sampler running, would step differently: its sampler starts after the save)
+three_ways mb_timestep "$mb\nintegrator timestep" 'run 0.23' 'record 0.05 rec.dat\nrun 0.2'
 
 mote_test_end

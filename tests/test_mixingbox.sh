@@ -125,4 +125,35 @@ st=$?
 [ "$st" -eq 2 ] && grep -q "^f2.mote:7:1: error: place: disk [0-9]* of 17 in the left chamber did not fit after 1000000 random tries: the chamber is too dense for random placement (area fraction n pi R^2 / area = 0.534" err.txt \
     && ok || bad "f2.mote: status $st: $(cat err.txt)"
 
+# state files: save and load, their faults named with FILE:LINE, nothing changed by a bad load
+printf '%b' "${H}disks 5 5\nplace\nrun 0.1\nsave good.state\n" > s0.mote
+"$MOTE" run s0.mote > out.txt 2> err.txt && ok || bad "s0.mote: $(cat err.txt)"
+grep -q '^placed loss 0$' good.state && grep -q '^next integrator event$' good.state &&
+    [ "$(grep -c '^[-0-9.e]* [-0-9.e]* [-0-9.e]* [-0-9.e]* [01] [01] ' good.state)" -eq 10 ] &&
+    ok || bad "good.state: $(head -n 12 good.state)"
+expect 1 "s1.mote:2:6: error: load: cannot open state file 'none.state'" s1.mote "${H}load none.state\n"
+expect 1 "s2.mote:2:1: error: run: no disks are placed yet" s2.mote "${H}run 1\nload good.state\n"
+expect 1 "s3.mote:2:1: error: save: no disks are placed yet" s3.mote "${H}save x.state\n"
+# a hard-sphere state is another model's
+printf 'new 2 0.3\nsave hs.state\n' > hs.mote
+"$MOTE" run hs.mote > /dev/null 2>&1
+expect 1 "s4.mote:2:6: error: load: hs.state:2: this is a state of another model" s4.mote "${H}load hs.state\n"
+# faults in the disk lines are found when the load runs: exit 2, FILE:LINE, the earlier
+# results and the system kept
+sed '/^[-0-9]/s/^\(\([^ ]* \)\{4\}\)[01] /\12 /' good.state > colour.state
+line=$(grep -n '^[-0-9][^ ]* [^ ]* [^ ]* [^ ]* 2 ' colour.state | head -n 1 | cut -d: -f1)
+printf '%b' "${H}disks 5 5\nplace\nsave before.state\nload colour.state\n" > s5.mote
+"$MOTE" run s5.mote > out.txt 2> err.txt
+st=$?
+[ "$st" -eq 2 ] && grep -q "^s5.mote:5:1: error: colour.state:$line: colour must be 0 or 1 (found '2')" err.txt &&
+    [ -s before.state ] && ok || bad "s5.mote: status $st: $(cat err.txt)"
+head -n 55 good.state > cut.state
+printf '%b' "${H}disks 5 5\nplace\nload cut.state\n" > s6.mote
+"$MOTE" run s6.mote > out.txt 2> err.txt
+grep -q "cut.state:56: file ends early: fewer disk lines than n" err.txt && ok || bad "s6.mote: $(cat err.txt)"
+sed 's/^n 10$/n 11/' good.state > count.state
+printf '%b' "${H}load count.state\nrun 0.1\n" > s7.mote
+"$MOTE" run s7.mote > out.txt 2> err.txt
+grep -q "count.state:[0-9]*: placed n_left + n_right must equal n" err.txt && ok || bad "s7.mote: $(cat err.txt)"
+
 mote_test_end

@@ -655,7 +655,8 @@ static void test_runtime_errors(void)
     CHECK_INT(LOG.settles_at_status, 3);
     memset(&LOG, 0, sizeof LOG);
     LOG.settle_fail_at = 2;
-    write_file("settle2.mote", "new 10 0.3\nstep 1\nstep 2\n", 27);
+    const char *settle2 = "new 10 0.3\nstep 1\nstep 2\n";
+    write_file("settle2.mote", settle2, strlen(settle2));
     {
         FILE *o = tmpfile(), *d = tmpfile();
         mote_script_options so = {o, d, 0, 0};

@@ -11,7 +11,7 @@
 
 #include "help.inc"
 
-enum { W_RECORD, W_DENSITY, W_PNG, W_XYZ, W_FRAMES, W_MOVIE };
+enum { W_RECORD, W_DENSITY, W_PNG, W_XYZ, W_FRAMES, W_MOVIE, W_STATE };
 
 typedef struct {
     mote_mb sys;
@@ -365,6 +365,76 @@ static int run_seed(void *vm, const mote_call *c, mote_err *err)
 {
     mote_mb_seed(&((mb_model *)vm)->sys, c->args[0].u);
     return MOTE_OK;
+}
+
+/* ---- state files ---------------------------------------------------------------------------- */
+
+static int check_save(void *vm, const mote_call *c, mote_err *err)
+{
+    mb_model *m = vm;
+    int rc = need_placed(m, c, err);
+    return rc ? rc : mote_outputs_note(&m->out, c, 0, W_STATE, err);
+}
+static int run_save(void *vm, const mote_call *c, mote_err *err)
+{
+    mb_model *m = vm;
+    char *path = mote_ctx_path(c->ctx, c->args[0].text);
+    int rc = path ? mb_save(&m->sys, &m->p, path, err)
+                  : mote_fail(err, MOTE_ENOMEM, "save: out of memory");
+    if (!rc && m->log)
+        fprintf(m->log, "save: wrote %s\n", path);
+    free(path);
+    return rc;
+}
+
+static int check_load(void *vm, const mote_call *c, mote_err *err)
+{
+    mb_model *m = vm;
+    char *path = mote_ctx_path(c->ctx, c->args[0].text);
+    if (!path)
+        return mote_call_fail(err, c, 0, MOTE_ENOMEM, "out of memory");
+    int kind = mote_outputs_find(&m->out, path), rc = MOTE_OK;
+    uint64_t n = (uint64_t)m->d_n;
+    if (kind >= 0 && kind != W_STATE)
+        rc = mote_call_fail(err, c, 0, MOTE_EINVAL,
+                            "load: '%s' is written earlier in this script by another command, "
+                            "not by save; it is not a state file", path);
+    else if (kind < 0 && mb_peek(path, &n, err)) {
+        char why[sizeof err->msg];
+        snprintf(why, sizeof why, "%s", err->msg);
+        rc = mote_call_fail(err, c, 0, err->code, "load: %s", why);
+    }
+    free(path);
+    if (rc)
+        return rc;
+    m->d_placed = 1; /* a state saved earlier in the script: the system of that save */
+    m->d_place_line = c->line;
+    m->d_n = (int64_t)n;
+    return MOTE_OK;
+}
+static int run_load(void *vm, const mote_call *c, mote_err *err)
+{
+    mb_model *m = vm;
+    char *path = mote_ctx_path(c->ctx, c->args[0].text);
+    if (!path)
+        return mote_fail(err, MOTE_ENOMEM, "load: out of memory");
+    double t_before = m->sys.time;
+    int rc = mb_load(&m->sys, &m->p, path, err);
+    if (!rc && m->sys.time != t_before) {
+        /* samplers running from an earlier time go on from the loaded one */
+        mote_mb_sampler *s[3] = {m->rec.active ? &m->rec_s : NULL,
+                                 m->dens.active ? &m->dens_s : NULL,
+                                 m->frames.active ? &m->frames_s : NULL};
+        for (int k = 0; k < 3; k++)
+            if (s[k]) {
+                s[k]->t0 = m->sys.time;
+                s[k]->k = 1;
+            }
+    }
+    if (!rc && m->log)
+        fprintf(m->log, "load: %u disks at t = %.10g s from %s\n", m->sys.n, m->sys.time, path);
+    free(path);
+    return rc;
 }
 
 /* ---- placement ------------------------------------------------------------------------------------ */
@@ -862,6 +932,10 @@ static const mote_cmd mb_commands[] = {
      0},
     {"seed", NULL, "u", "seed S", "re-seed the random stream (default 1)", MB_HELP_SEED, NULL,
      run_seed, 0},
+    {"save", NULL, "f", "save FILE", "write the exact state to FILE", MB_HELP_SAVE, check_save,
+     run_save, 1},
+    {"load", NULL, "f", "load FILE", "continue from a state written by save", MB_HELP_LOAD,
+     check_load, run_load, 0},
     {"place", NULL, "", "place", "place the disks at random in their chambers", MB_HELP_PLACE,
      check_place, run_place, 0},
     {"run", NULL, "r", "run T", "advance by the simulated time T (s)", MB_HELP_RUN, check_run,

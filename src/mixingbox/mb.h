@@ -97,6 +97,17 @@ int mb_density_write(const mb_density *d, const mote_mb *sys, mote_err *err);
 /* The header lines every mixing-box data file starts with after its format line. */
 void mb_write_params(FILE *f, const mote_mb *sys, const char *origin);
 
+/* ---- the state file (state.c) ---------------------------------------------------------------- */
+
+/* Write the placed system and `next`, the parameters the script has set for the next run or
+ * placement, exactly; atomically. */
+int mb_save(const mote_mb *sys, const mote_mb_params *next, const char *path, mote_err *err);
+/* Read a state file written by mb_save: on success *sys is the saved system and *next the
+ * saved parameters; on any failure (FILE:LINE in the message) both are untouched. */
+int mb_load(mote_mb *sys, mote_mb_params *next, const char *path, mote_err *err);
+/* The number of disks of a state file, from its header (for validation). */
+int mb_peek(const char *path, uint64_t *n, mote_err *err);
+
 /* ---- pictures (picture.c) -------------------------------------------------------------------- */
 
 /* A PNG of the disks in their colours, the partition (as grey disks) and the box as the frame. */
