@@ -31,6 +31,8 @@ typedef struct {
     mote_hs hs;
     mote_ev c0; /* the counters before the timed run */
     double setup, secs;
+    double settle; /* seconds of one mote_hs_settle after the timed run (what every script
+                    * command ends with); 0 when not measured */
 } workload;
 
 /* The slit's periodic twin: the box of `new NN eta` made periodic along x with the length the
@@ -67,6 +69,7 @@ static int setup(workload *w, const char *spec, size_t len, uint64_t k)
     w->spec[len] = '\0';
     w->k = k;
     w->secs = 0;
+    w->settle = 0;
     mote_hs_init(&w->hs, NULL);
     int is_bulk = strncmp(w->spec, "bulk", 4) == 0, is_twin = strncmp(w->spec, "twin", 4) == 0;
     if (!is_bulk && !is_twin && strncmp(w->spec, "slit", 4) != 0) {
@@ -129,14 +132,15 @@ static void report(const workload *w)
            "renewals_per_collision=%.4f wall_hits_per_collision=%.4f "
            "seconds=%.3f collisions_per_second=%.4g "
            "engine_bytes_per_particle=%.1f peak_rss_MiB=%.1f peak_rss_bytes_per_particle=%.1f "
-           "setup_seconds=%.2f\n",
+           "setup_seconds=%.2f settle_seconds=%.4f settle_per_particle_in_collisions=%.2f\n",
            w->spec, ev->n, mote_hs_eta(&w->hs), w->hs.geometry == MOTE_HS_SLIT ? "slit" : "periodic",
            (unsigned long long)w->k, (unsigned long long)coll,
            (double)(ev->events - c0->events) * per,
            (double)(ev->stale_events - c0->stale_events) * per,
            (double)(ev->renewals - c0->renewals) * per,
            (double)(ev->wall_collisions - c0->wall_collisions) * per, w->secs, rate(w),
-           mote_ev_bytes_per_particle(ev), rss / 1048576.0, rss / ev->n, w->setup);
+           mote_ev_bytes_per_particle(ev), rss / 1048576.0, rss / ev->n, w->setup, w->settle,
+           w->settle * rate(w) * 2.0 / ev->n);
     fflush(stdout);
 }
 
@@ -147,6 +151,14 @@ static int run(const char *spec, uint64_t k)
         return 1;
     double secs;
     int rc = timed(&w, w.k * w.hs.ev.n / 2, &secs);
+    if (!rc) {
+        mote_err err = {0};
+        double t0 = mote_wall_seconds();
+        rc = mote_hs_settle(&w.hs, &err);
+        w.settle = mote_wall_seconds() - t0;
+        if (rc)
+            fprintf(stderr, "bench_hs: %s: %s\n", w.spec, err.msg);
+    }
     if (!rc)
         report(&w);
     mote_hs_free(&w.hs);
