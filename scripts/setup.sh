@@ -7,6 +7,8 @@ command -v cc >/dev/null 2>&1 || need="$need gcc"
 command -v make >/dev/null 2>&1 || need="$need make"
 command -v pkg-config >/dev/null 2>&1 || need="$need pkg-config"
 pkg-config --exists cairo 2>/dev/null || need="$need libcairo2-dev"
+# ASE (Debian's python3), the independent reader of the extended XYZ files in the tests
+/usr/bin/python3 -c 'import ase.io' >/dev/null 2>&1 || need="$need python3-ase"
 [ -z "$need" ] && exit 0
 echo "setup: installing Debian packages:$need"
 SUDO=""

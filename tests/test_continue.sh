@@ -5,9 +5,10 @@
 #     A; save F; B
 #     A; save F; load F; B
 # and every file they write (states, data files with their headers, pictures), except F itself,
-# must be byte-identical, as must the status line after B. The cases cover the 3D slit, the
-# periodic cube, 2D slits and boxes, compression, every measurement, and the mixing box (both
-# integrators, with samplers running across the save).
+# must be byte-identical, as must the status line after B; and a second script that loads F and
+# runs B ends in the same state. The cases cover the 3D slit, the periodic cube, 2D slits and
+# boxes, compression, every measurement, a trajectory dumped across the save, and the mixing
+# box (both integrators, with samplers running across the save).
 # Usage: sh tests/test_continue.sh BUILD_DIR
 NAME=test_continue
 . "$(dirname "$0")/lib.sh"
@@ -66,6 +67,8 @@ three_ways compress 'seed 3\nnew 3 0.35' 'step 5\ncompress_left_wall 0.38 0.01 2
 # measurements on both sides of the save (their files must not differ either)
 three_ways measure 'seed 11\nnew 3 0.4' 'step 3\npressure 2 p1.dat\norder 2 o1.dat' \
     'pressure 3 p2.dat\nchempot 2 50 mu.dat\norder 2 o2.dat\nstep 4'
+# a trajectory being dumped across the save, and a snapshot after it
+three_ways dump 'seed 4\nnew 2 0.35' 'dump 2 t.xyz\nstep 5' 'step 5\nsnapshot s.xyz'
 # periodic cube: wrapped coordinates
 three_ways bulk 'seed 5\nbulk 108 0.45' 'step 20\ntemperature 2' 'step 20\npressure 2 p.dat'
 # 2D slit and 2D periodic box

@@ -21,6 +21,7 @@ typedef struct {
     mote_context *ctx;   /* may be NULL when used as a library */
     FILE *log;           /* progress/status messages; NULL = quiet */
     int64_t bins;        /* bins per R for the pressure and chempot profiles (`bins`, default 10) */
+    struct hs_dump *dump; /* the trajectory being written (`dump`), or NULL */
 } mote_hs;
 
 /* The scalar results of a measuring command (pressure, chempot, order): named values with their
@@ -88,6 +89,19 @@ int mote_hs_save(mote_hs *hs, const char *path, mote_err *err);
 int mote_hs_load(mote_hs *hs, const char *path, mote_err *err);
 /* Read just enough of a state file (either format) to know its geometry, dimension and N. */
 int mote_hs_peek(const char *path, int *geometry, int *dim, uint64_t *n, mote_err *err);
+
+/* ---- configurations for viewers (extended XYZ: OVITO, VMD, ASE) ---- */
+/* One frame of the current state: box as Lattice, pbc, per particle (by number) species X,
+ * position, velocity, radius, and the local order of this configuration (3D q6 and the
+ * crystal-like flag `solid`, 2D |psi6| and `ordered`, as `order` defines them). Atomic. */
+int mote_hs_snapshot(mote_hs *hs, const char *path, const char *origin, mote_err *err);
+/* Write a frame now (atomically replacing path) and then one every k collisions per particle
+ * (k N / 2 pair collisions) during every later step, compression or measurement, appended;
+ * replaces an earlier dump. Frames only read the state: the run is the same with or without. */
+int mote_hs_dump_start(mote_hs *hs, uint64_t k, const char *path, const char *origin,
+                       mote_err *err);
+void mote_hs_dump_stop(mote_hs *hs);
+uint64_t mote_hs_dump_frames(const mote_hs *hs);
 
 /* ---- measurements (spec 8); `origin` names the generating command for file headers ---- */
 int mote_hs_image(mote_hs *hs, uint64_t k, int64_t p, const char *path, const char *origin,

@@ -20,7 +20,7 @@ typedef struct {
     mote_outputs out; /* files the script writes (kinds W_*) */
 } hs_model;
 
-enum { W_STATE, W_IMAGE, W_PROFILE, W_PNG, W_PRESSURE, W_CHEMPOT, W_ORDER };
+enum { W_STATE, W_IMAGE, W_PROFILE, W_PNG, W_PRESSURE, W_CHEMPOT, W_ORDER, W_XYZ };
 
 static void *model_create(mote_context *ctx, int dry)
 {
@@ -482,7 +482,7 @@ static int run_check(void *vm, const mote_call *c, mote_err *err)
     return rc;
 }
 
-static int plottable(int kind) { return kind != W_STATE && kind != W_PNG; }
+static int plottable(int kind) { return kind != W_STATE && kind != W_PNG && kind != W_XYZ; }
 static int check_plot(void *vm, const mote_call *c, mote_err *err)
 {
     hs_model *m = vm;
@@ -501,6 +501,79 @@ static int run_plot(void *vm, const mote_call *c, mote_err *err)
     free(in);
     free(out);
     return rc;
+}
+
+/* ---- configurations for viewers ----------------------------------------------------------------- */
+
+static int check_xyz_name(const mote_call *c, int argi, mote_err *err)
+{
+    const char *f = c->args[argi].text;
+    size_t n = strlen(f);
+    if (n < 4 || strcmp(f + n - 4, ".xyz") != 0)
+        return mote_call_fail(err, c, argi, MOTE_EINVAL,
+                              "%s: FILE must end in .xyz (extended XYZ), found '%s'", c->name, f);
+    return MOTE_OK;
+}
+
+static int check_snapshot(void *vm, const mote_call *c, mote_err *err)
+{
+    hs_model *m = vm;
+    int rc = need_system(m, c, err);
+    if (!rc)
+        rc = check_xyz_name(c, 0, err);
+    return rc ? rc : mote_outputs_note(&m->out, c, 0, W_XYZ, err);
+}
+static int run_snapshot(void *vm, const mote_call *c, mote_err *err)
+{
+    hs_model *m = vm;
+    char *origin = mote_call_origin(c);
+    char *path = mote_ctx_path(c->ctx, c->args[0].text);
+    int rc = path ? mote_hs_snapshot(&m->hs, path, origin, err)
+                  : mote_fail(err, MOTE_ENOMEM, "out of memory");
+    if (!rc && m->hs.log)
+        fprintf(m->hs.log, "snapshot: wrote %s\n", path);
+    free(origin);
+    free(path);
+    return rc;
+}
+
+static int check_dump(void *vm, const mote_call *c, mote_err *err)
+{
+    hs_model *m = vm;
+    int rc = need_system(m, c, err);
+    if (rc)
+        return rc;
+    if (c->args[0].i < 1)
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "dump: K must be >= 1, found %s",
+                              c->args[0].text);
+    if ((rc = check_collisions(m, c, 0, (uint64_t)c->args[0].i, err)) ||
+        (rc = check_xyz_name(c, 1, err)))
+        return rc;
+    return mote_outputs_note(&m->out, c, 1, W_XYZ, err);
+}
+static int run_dump(void *vm, const mote_call *c, mote_err *err)
+{
+    hs_model *m = vm;
+    char *origin = mote_call_origin(c);
+    char *path = mote_ctx_path(c->ctx, c->args[1].text);
+    int rc = path ? mote_hs_dump_start(&m->hs, (uint64_t)c->args[0].i, path, origin, err)
+                  : mote_fail(err, MOTE_ENOMEM, "out of memory");
+    if (!rc && m->hs.log)
+        fprintf(m->hs.log, "dump: frame 0 in %s, then one every %lld collisions per particle\n",
+                path, (long long)c->args[0].i);
+    free(origin);
+    free(path);
+    return rc;
+}
+
+static int run_dump_stop(void *vm, const mote_call *c, mote_err *err)
+{
+    hs_model *m = vm;
+    if (m->hs.log && m->hs.dump)
+        fprintf(m->hs.log, "dump_stop: %llu frames written\n",
+                (unsigned long long)mote_hs_dump_frames(&m->hs));
+    mote_hs_dump_stop(&m->hs);
+    return MOTE_OK;
 }
 
 /* ---- the table ----------------------------------------------------------------------------------- */
@@ -551,6 +624,14 @@ static const mote_cmd hs_commands[] = {
     {"order", NULL, "if", "order K FILE",
      "crystallinity per wall layer: Steinhardt q6 and in-layer psi6", HS_HELP_ORDER, check_order,
      run_order, 1},
+    {"snapshot", NULL, "f", "snapshot FILE.xyz",
+     "the current configuration as extended XYZ (OVITO, VMD, ASE), with local order",
+     HS_HELP_SNAPSHOT, check_snapshot, run_snapshot, 1},
+    {"dump", NULL, "if", "dump K FILE.xyz",
+     "a trajectory: an XYZ frame now and every K collisions per particle of later commands",
+     HS_HELP_DUMP, check_dump, run_dump, 1},
+    {"dump_stop", NULL, "", "dump_stop", "stop writing the trajectory of `dump`",
+     HS_HELP_DUMP_STOP, NULL, run_dump_stop, 0},
     {"check", NULL, "", "check", "verify every invariant of the simulation", HS_HELP_CHECK,
      check_check, run_check, 1},
     {"plot", NULL, "ff", "plot DATAFILE PNGFILE",

@@ -14,6 +14,8 @@
 
 #include <math.h>
 
+#include "measure.h"
+
 /* Smallest distances of a sphere surface to the left and right walls, at the clock. */
 static void wall_gaps(const mote_ev *ev, double *gl, double *gr)
 {
@@ -93,7 +95,7 @@ int mote_hs_compress(mote_hs *hs, int which, double eta, double dlmax, uint64_t 
                            name, mote_hs_eta(hs), eta);
             break;
         }
-        if ((rc = mote_ev_run(ev, per_move, err)))
+        if ((rc = hs_run(hs, per_move, err)))
             break;
         if (moves % 1000 == 0 && hs->log && !(hs->ctx && hs->ctx->terminal))
         {

@@ -43,7 +43,7 @@ int hs_run_samples(mote_hs *hs, uint64_t k, uint64_t nsamples, hs_sample_fn fn, 
     mote_progress_begin(&prog, hs->ctx, label);
     for (uint64_t s = 1; s <= nsamples; s++) {
         uint64_t target = sample_target(s, C, nsamples);
-        int rc = mote_ev_run(ev, target - done, err);
+        int rc = hs_run(hs, target - done, err);
         if (rc) {
             mote_progress_end(&prog);
             return rc;

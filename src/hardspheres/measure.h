@@ -1,5 +1,6 @@
-/* measure.h: internal to the hard-spheres model: the sampling driver (spec 8.1), block errors and
- * the common data-file header (spec 9.3), shared by every measuring command. */
+/* measure.h: internal to the hard-spheres model: running the dynamics (with a dump), the sampling
+ * driver (spec 8.1), block errors and the common data-file header (spec 9.3), shared by every
+ * measuring command. */
 #ifndef MOTE_HS_MEASURE_H
 #define MOTE_HS_MEASURE_H
 
@@ -28,6 +29,15 @@ uint64_t hs_block_size(int b, uint64_t nsamples);
 double hs_block_error(const double *block_means, int nblocks);
 void hs_write_header(FILE *f, const mote_hs *hs, const char *format, const char *origin,
                      const hs_snap *start, const hs_snap *end);
+
+/* Run ncoll pair collisions (mote_ev_run), writing the frames of an active dump on the way;
+ * every command that runs the dynamics goes through here. Dumping does not change the run. */
+int hs_run(mote_hs *hs, uint64_t ncoll, mote_err *err);
+/* Free the system only (keeping settings and an active dump): for commands that replace it. */
+void hs_drop_system(mote_hs *hs);
+/* The local order of the current configuration with the `order` command's definitions, per
+ * engine record: 3D q6 and crystal-like (>= 8 solid-like bonds), 2D |psi6| and ordered. */
+int hs_local_order(const mote_hs *hs, float *local, uint8_t *flag, mote_err *err);
 
 /* Bins along x for the profiles of pressure and chempot: width R/p from x = 0 in a slit (the last
  * bin may be narrower, as in `image`); in a periodic box nb equal bins tiling [0, L) exactly. */

@@ -116,6 +116,10 @@ typedef struct {
     float *qhat;          /* [NQ n] normalised q6m, sorted (3D only) */
     uint8_t *bonds;       /* [n] solid-like bonds (saturating; 3D only) */
     double rmax;          /* largest radius */
+    /* per-particle output (hs_local_order only; NULL otherwise), by engine record */
+    uint32_t *orig;       /* [n] record of sorted particle k */
+    float *local;         /* [n] q6 (3D) or |psi6| (2D) */
+    uint8_t *flag;        /* [n] crystal-like (3D) or ordered (2D) */
     int generic;          /* a periodic axis has fewer than 3 cells: minimum image per pair */
     double ylm_c[7];      /* Y6m normalisation with the Condon-Shortley sign and the 1/16 */
     /* bins */
@@ -255,6 +259,8 @@ static void sort_particles(order_acc *a, const mote_ev *ev)
     for (uint32_t i = 0; i < a->n; i++) {
         uint32_t k = a->cstart[a->cellof[i]]++;
         mote_ev_position(ev, i, a->pos + 3 * (size_t)k);
+        if (a->orig)
+            a->orig[k] = i;
         if (a->rad)
             a->rad[k] = ev->radius[i];
     }
@@ -393,6 +399,10 @@ static void pass_local(order_acc *a)
             bin[B_ORD] += ordered;
             if (dim == 2) {
                 bin[B_XTAL] += ordered;
+                if (a->local) {
+                    a->local[a->orig[i]] = (float)psi;
+                    a->flag[a->orig[i]] = (uint8_t)ordered;
+                }
                 continue;
             }
             float *qh = a->qhat + (size_t)NQ * i;
@@ -402,6 +412,8 @@ static void pass_local(order_acc *a)
             /* q6m = sum / nq, so q6 = sqrt(4 pi / 13 * norm2) / nq */
             double q6 = nq ? sqrt(4 * MOTE_PI / 13 * norm2) / nq : 0;
             bin[B_Q6] += q6;
+            if (a->local)
+                a->local[a->orig[i]] = (float)q6;
             double inv = norm2 > 0 ? 1 / sqrt(norm2) : 0;
             qh[0] = (float)(re[0] * inv);
             for (int m = 1; m <= 6; m++) {
@@ -450,9 +462,12 @@ static void pass_bonds(order_acc *a)
             }
         }
     }
-    for (uint32_t i = 0; i < a->n; i++)
+    for (uint32_t i = 0; i < a->n; i++) {
         if (a->bonds[i] >= MIN_BONDS)
             a->cur[hs_xbins_of(&a->xb, a->pos[3 * (size_t)i]) * NB_Q + B_XTAL] += 1;
+        if (a->flag)
+            a->flag[a->orig[i]] = a->bonds[i] >= MIN_BONDS;
+    }
 }
 
 static size_t row_of(uint64_t s, uint64_t S, size_t nrows)
@@ -669,40 +684,70 @@ static void *alloc_n(size_t n, size_t size, int *fail)
 
 static void fmt_opt(FILE *f, double v) { fprintf(f, " %.12g", v); }
 
+/* The geometry, cells, bins and per-sample arrays of one order sample. Returns 1 when an
+ * allocation failed (acc_free then frees what was allocated). */
+static int acc_init(order_acc *a, const mote_hs *hs)
+{
+    const mote_ev *ev = &hs->ev;
+    memset(a, 0, sizeof *a);
+    a->dim = ev->dim;
+    a->n = ev->n;
+    a->r0 = ev->radius0;
+    for (int d = 0; d < 3; d++) {
+        a->periodic[d] = d < ev->dim ? ev->periodic[d] : 0;
+        a->len[d] = d < ev->dim ? ev->len[d] : 1;
+        a->half[d] = 0.5 * a->len[d];
+    }
+    ylm_c_init(a->ylm_c);
+    setup_cells(a, ev);
+    hs_xbins_init(&a->xb, hs, BINS_PER_R);
+    a->nb = a->xb.nb;
+    int fail = 0;
+    a->cstart = alloc_n(a->ncells + 1, sizeof *a->cstart, &fail);
+    a->cellof = alloc_n(a->n, sizeof *a->cellof, &fail);
+    a->pos = alloc_n((size_t)a->n * 3, sizeof *a->pos, &fail);
+    if (ev->radius)
+        a->rad = alloc_n(a->n, sizeof *a->rad, &fail);
+    if (a->dim == 3) {
+        a->qhat = alloc_n((size_t)a->n * NQ, sizeof *a->qhat, &fail);
+        a->bonds = alloc_n(a->n, sizeof *a->bonds, &fail);
+    }
+    a->cur = alloc_n(a->nb * NB_Q, sizeof *a->cur, &fail);
+    return fail;
+}
+
+int hs_local_order(const mote_hs *hs, float *local, uint8_t *flag, mote_err *err)
+{
+    order_acc a;
+    int fail = acc_init(&a, hs);
+    a.orig = alloc_n(a.n, sizeof *a.orig, &fail);
+    a.local = local;
+    a.flag = flag;
+    if (!fail) {
+        sort_particles(&a, &hs->ev);
+        pass_local(&a);
+        if (a.dim == 3)
+            pass_bonds(&a);
+    }
+    free(a.orig);
+    a.local = NULL;
+    a.flag = NULL;
+    acc_free(&a);
+    return fail ? mote_fail(err, MOTE_ENOMEM, "out of memory for the local order of %u particles",
+                            a.n)
+                : MOTE_OK;
+}
+
 int mote_hs_order(mote_hs *hs, uint64_t k, const char *path, const char *origin,
                   mote_hs_result *res, mote_err *err)
 {
     if (!hs->has_system)
         return mote_fail(err, MOTE_EINVAL, "order: no system");
-    const mote_ev *ev = &hs->ev;
     order_acc a;
-    memset(&a, 0, sizeof a);
-    a.dim = ev->dim;
-    a.n = ev->n;
-    a.r0 = ev->radius0;
-    for (int d = 0; d < 3; d++) {
-        a.periodic[d] = d < ev->dim ? ev->periodic[d] : 0;
-        a.len[d] = d < ev->dim ? ev->len[d] : 1;
-        a.half[d] = 0.5 * a.len[d];
-    }
-    ylm_c_init(a.ylm_c);
-    setup_cells(&a, ev);
-    hs_xbins_init(&a.xb, hs, BINS_PER_R);
-    a.nb = a.xb.nb;
+    int fail = acc_init(&a, hs);
     a.S = k == 0 ? 1 : k;
     a.B = hs_nblocks(a.S);
     a.nrows = a.S < MAX_TIME_ROWS ? (size_t)a.S : MAX_TIME_ROWS;
-    int fail = 0;
-    a.cstart = alloc_n(a.ncells + 1, sizeof *a.cstart, &fail);
-    a.cellof = alloc_n(a.n, sizeof *a.cellof, &fail);
-    a.pos = alloc_n((size_t)a.n * 3, sizeof *a.pos, &fail);
-    if (ev->radius)
-        a.rad = alloc_n(a.n, sizeof *a.rad, &fail);
-    if (a.dim == 3) {
-        a.qhat = alloc_n((size_t)a.n * NQ, sizeof *a.qhat, &fail);
-        a.bonds = alloc_n(a.n, sizeof *a.bonds, &fail);
-    }
-    a.cur = alloc_n(a.nb * NB_Q, sizeof *a.cur, &fail);
     a.blk = alloc_n((size_t)a.B * a.nb * NB_Q, sizeof *a.blk, &fail);
     size_t cells_t = a.nrows > SIZE_MAX / (a.nb ? a.nb : 1) ? SIZE_MAX : a.nrows * a.nb;
     a.row_count = alloc_n(cells_t, sizeof *a.row_count, &fail);

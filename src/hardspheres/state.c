@@ -10,6 +10,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "measure.h"
+
 /* ---- save ---------------------------------------------------------------------------------------- */
 
 int mote_hs_settle(mote_hs *hs, mote_err *err)
@@ -390,7 +392,7 @@ static int load_mote(mote_hs *hs, reader *r, mote_err *err)
         return rc;
     }
     mote_ev_set_reference(&tmp.ev);
-    mote_hs_free(hs);
+    hs_drop_system(hs); /* the rest of *hs (settings, a dump) goes on in tmp */
     *hs = tmp;
     hs->rng = rng;
     hs->rng_from_file = 1;
@@ -604,7 +606,7 @@ static int load_original(mote_hs *hs, reader *r, mote_err *err)
                 "load: imported the original program's format: N=%u, %llu image records skipped, "
                 "kT_kin=%.6g (use 'temperature 1' to rescale)\n",
                 tmp.ev.n, (unsigned long long)nimg, mote_ev_kt(&tmp.ev));
-    mote_hs_free(hs);
+    hs_drop_system(hs); /* the rest of *hs (settings, a dump) goes on in tmp */
     *hs = tmp; /* the random stream is left unchanged */
     return MOTE_OK;
 }

@@ -7,6 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "measure.h"
+
 #define SPHERE_VOLUME (4.0 / 3.0 * MOTE_PI)
 #define ETA_CP_3D 0.74048048969306104 /* pi / (3 sqrt 2) */
 #define ETA_CP_2D 0.90689968211710892 /* pi / (2 sqrt 3) */
@@ -20,11 +22,17 @@ void mote_hs_init(mote_hs *hs, mote_context *ctx)
     mote_hs_seed(hs, 1);
 }
 
-void mote_hs_free(mote_hs *hs)
+void hs_drop_system(mote_hs *hs)
 {
     if (hs->has_system)
         mote_ev_free(&hs->ev);
     hs->has_system = 0;
+}
+
+void mote_hs_free(mote_hs *hs)
+{
+    hs_drop_system(hs);
+    mote_hs_dump_stop(hs);
 }
 
 void mote_hs_seed(mote_hs *hs, uint64_t seed)
@@ -133,7 +141,7 @@ static int alloc_system(mote_hs *hs, uint64_t n, int dim, mote_err *err)
     int rc = mote_ev_init(&fresh, (uint32_t)n, dim, 0, err);
     if (rc)
         return rc;
-    mote_hs_free(hs);
+    hs_drop_system(hs);
     hs->ev = fresh;
     return MOTE_OK;
 }
@@ -440,7 +448,7 @@ int mote_hs_step(mote_hs *hs, uint64_t k, mote_err *err)
     uint64_t done = 0;
     while (done < total) {
         uint64_t now = total - done < slice ? total - done : slice;
-        int rc = mote_ev_run(ev, now, err);
+        int rc = hs_run(hs, now, err);
         if (rc) {
             mote_progress_end(&prog);
             return rc;

@@ -1,0 +1,194 @@
+/* xyz.c: configurations for viewers (OVITO, VMD, ASE) as extended XYZ: `snapshot FILE.xyz`, one
+ * frame of the current state, and `dump K FILE.xyz`, a trajectory with a frame every K
+ * collisions per particle during every later command that runs the dynamics. Each frame holds
+ * the box as Lattice, the periodic axes as pbc, and per particle (in particle-number order, as
+ * in the state file) the position, velocity and radius, and the local order of the frame's own
+ * configuration with the `order` command's definitions: q6 and the crystal-like flag in 3D,
+ * |psi6| and the ordered flag in 2D, so a viewer can colour crystalline particles.
+ *
+ * Writing a frame only reads positions projected to the clock, so dumping never changes the
+ * trajectory. A snapshot is written atomically; a trajectory's first frame too (an earlier file
+ * is replaced only by a complete frame), later frames are appended whole, and a failed append
+ * is cut off again, so the file always ends with a complete frame. */
+#include "mote/hardspheres.h"
+
+#include <errno.h>
+#include <inttypes.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "measure.h"
+
+struct hs_dump {
+    char *path, *origin;
+    uint64_t k;       /* collisions per particle between frames */
+    uint64_t next_at; /* value of ev.collisions at which the next frame is written */
+    uint64_t frames;
+};
+
+/* One frame: the two header lines and N particle lines. */
+static int write_frame(FILE *f, const mote_hs *hs, const char *origin, mote_err *err)
+{
+    const mote_ev *ev = &hs->ev;
+    const int d3 = ev->dim == 3;
+    float *local = malloc((ev->n ? ev->n : 1) * sizeof *local);
+    uint8_t *flag = malloc(ev->n ? ev->n : 1);
+    int rc = local && flag ? hs_local_order(hs, local, flag, err)
+                           : mote_fail(err, MOTE_ENOMEM, "out of memory for a frame of %u "
+                                                         "particles", ev->n);
+    if (rc) {
+        free(local);
+        free(flag);
+        return rc;
+    }
+    char org[512]; /* a value of the comment line may not hold double quotes */
+    snprintf(org, sizeof org, "%s", origin ? origin : "(library call)");
+    for (char *q = org; *q; q++)
+        if (*q == '"')
+            *q = '\'';
+    char pbc[3];
+    for (int a = 0; a < 3; a++)
+        pbc[a] = a < ev->dim && ev->periodic[a] ? 'T' : 'F';
+    fprintf(f, "%" PRIu32 "\n", ev->n);
+    fprintf(f,
+            "Lattice=\"%.17g 0 0 0 %.17g 0 0 0 %.17g\" Properties=species:S:1:pos:R:3:velo:R:3:"
+            "radius:R:1:%s Time=%.17g collisions=%" PRIu64 " pbc=\"%c %c %c\" "
+            "model=hard-spheres geometry=%s command=\"%s\"\n",
+            ev->len[0], ev->len[1], d3 ? ev->len[2] : 2 * mote_hs_mean_radius(hs),
+            d3 ? "q6:R:1:solid:I:1" : "psi6:R:1:ordered:I:1", mote_ev_time(ev), ev->collisions,
+            pbc[0], pbc[1], pbc[2], hs->geometry == MOTE_HS_SLIT ? "slit" : "periodic", org);
+    for (uint32_t id = 0; id < ev->n; id++) {
+        const uint32_t i = mote_ev_slot(ev, id);
+        double r[3], v[3];
+        mote_ev_position(ev, i, r);
+        mote_ev_velocity(ev, i, v);
+        if (!d3)
+            r[2] = v[2] = 0;
+        fprintf(f, "X %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.6g %d\n", r[0], r[1], r[2], v[0],
+                v[1], v[2], mote_ev_radius(ev, i), local[i], flag[i]);
+    }
+    free(local);
+    free(flag);
+    return MOTE_OK;
+}
+
+int mote_hs_snapshot(mote_hs *hs, const char *path, const char *origin, mote_err *err)
+{
+    if (!hs->has_system)
+        return mote_fail(err, MOTE_EINVAL, "snapshot: no system");
+    mote_afile af;
+    int rc = mote_afile_open(&af, path, err);
+    if (rc)
+        return rc;
+    if ((rc = write_frame(af.f, hs, origin, err))) {
+        mote_afile_abort(&af);
+        return rc;
+    }
+    return mote_afile_commit(&af, err);
+}
+
+/* Append one frame; on any failure the file is cut back to its previous end. */
+static int append_frame(mote_hs *hs, struct hs_dump *d, mote_err *err)
+{
+    struct stat st;
+    if (stat(d->path, &st) != 0)
+        return mote_fail(err, MOTE_EIO, "dump: '%s' is gone: %s", d->path, strerror(errno));
+    FILE *f = fopen(d->path, "a");
+    if (!f)
+        return mote_fail(err, MOTE_EIO, "dump: cannot append to '%s': %s", d->path,
+                         strerror(errno));
+    int rc = write_frame(f, hs, d->origin, err);
+    int e = 0;
+    if (fflush(f) != 0 || ferror(f))
+        e = errno ? errno : EIO;
+    if (fclose(f) != 0 && !e)
+        e = errno ? errno : EIO;
+    if (!rc && e)
+        rc = mote_fail(err, MOTE_EIO, "dump: writing frame %" PRIu64 " to '%s' failed: %s",
+                       d->frames, d->path, strerror(e));
+    if (rc) {
+        if (truncate(d->path, st.st_size) != 0) { /* keep whole frames only; nothing else to do */
+        }
+        return rc;
+    }
+    d->frames++;
+    return MOTE_OK;
+}
+
+void mote_hs_dump_stop(mote_hs *hs)
+{
+    if (!hs->dump)
+        return;
+    free(hs->dump->path);
+    free(hs->dump->origin);
+    free(hs->dump);
+    hs->dump = NULL;
+}
+
+static uint64_t dump_interval(const mote_hs *hs)
+{
+    uint64_t c = hs->dump->k * hs->ev.n / 2;
+    return c ? c : 1;
+}
+
+int mote_hs_dump_start(mote_hs *hs, uint64_t k, const char *path, const char *origin,
+                       mote_err *err)
+{
+    if (!hs->has_system)
+        return mote_fail(err, MOTE_EINVAL, "dump: no system");
+    if (k < 1)
+        return mote_fail(err, MOTE_EINVAL, "dump: K must be >= 1");
+    struct hs_dump *d = calloc(1, sizeof *d);
+    if (d) {
+        d->path = strdup(path);
+        d->origin = strdup(origin ? origin : "(library call)");
+    }
+    if (!d || !d->path || !d->origin) {
+        if (d) {
+            free(d->path);
+            free(d->origin);
+        }
+        free(d);
+        return mote_fail(err, MOTE_ENOMEM, "dump: out of memory");
+    }
+    d->k = k;
+    int rc = mote_hs_snapshot(hs, path, origin, err); /* the first frame, atomically */
+    if (rc) {
+        free(d->path);
+        free(d->origin);
+        free(d);
+        return rc;
+    }
+    mote_hs_dump_stop(hs);
+    hs->dump = d;
+    d->frames = 1;
+    d->next_at = hs->ev.collisions + dump_interval(hs);
+    return MOTE_OK;
+}
+
+uint64_t mote_hs_dump_frames(const mote_hs *hs) { return hs->dump ? hs->dump->frames : 0; }
+
+int hs_run(mote_hs *hs, uint64_t ncoll, mote_err *err)
+{
+    mote_ev *ev = &hs->ev;
+    struct hs_dump *d = hs->dump;
+    if (!d)
+        return mote_ev_run(ev, ncoll, err);
+    if (d->next_at <= ev->collisions) /* a state loaded from another point of time */
+        d->next_at = ev->collisions + dump_interval(hs);
+    const uint64_t end = ev->collisions + ncoll;
+    while (ev->collisions < end) {
+        uint64_t stop = d->next_at < end ? d->next_at : end;
+        int rc = mote_ev_run(ev, stop - ev->collisions, err);
+        if (rc)
+            return rc;
+        if (ev->collisions == d->next_at) {
+            if ((rc = append_frame(hs, d, err)))
+                return rc;
+            d->next_at += dump_interval(hs);
+        }
+    }
+    return MOTE_OK;
+}
