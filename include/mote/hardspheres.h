@@ -120,6 +120,17 @@ int mote_hs_chempot(mote_hs *hs, uint64_t k, int64_t trials, const char *path,
 int mote_hs_order(mote_hs *hs, uint64_t k, const char *path, const char *origin,
                   mote_hs_result *res, mote_err *err);
 
+/* rdf K RMAX FILE: g(r) in a periodic box (with g(sigma+) and Z = 1 + 2^(d-1) eta g(sigma+)),
+ * the lateral g(s) of the wall layer and a mid-slit layer in a slit; src/hardspheres/structure.c.
+ * mote_hs_rdf_ok checks RMAX against the box (a diameter < RMAX <= half a periodic length). */
+int mote_hs_rdf_ok(const mote_hs *hs, double rmax, mote_err *err);
+int mote_hs_rdf(mote_hs *hs, uint64_t k, double rmax, const char *path, const char *origin,
+                mote_hs_result *res, mote_err *err);
+/* msd K FILE (K >= 4): mean-squared displacement, unwrapped (in a slit parallel to the walls),
+ * and the self-diffusion coefficient D with its error (results D, fit_from, fit_to). */
+int mote_hs_msd(mote_hs *hs, uint64_t k, const char *path, const char *origin,
+                mote_hs_result *res, mote_err *err);
+
 /* Print the key=value status line. */
 void mote_hs_status(const mote_hs *hs, FILE *out);
 

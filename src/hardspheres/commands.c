@@ -20,7 +20,7 @@ typedef struct {
     mote_outputs out; /* files the script writes (kinds W_*) */
 } hs_model;
 
-enum { W_STATE, W_IMAGE, W_PROFILE, W_PNG, W_PRESSURE, W_CHEMPOT, W_ORDER, W_XYZ };
+enum { W_STATE, W_IMAGE, W_PROFILE, W_PNG, W_PRESSURE, W_CHEMPOT, W_ORDER, W_XYZ, W_RDF, W_MSD };
 
 static void *model_create(mote_context *ctx, int dry)
 {
@@ -472,6 +472,38 @@ static int run_order(void *vm, const mote_call *c, mote_err *err)
     return run_measure(vm, c, 1, do_order, err);
 }
 
+static int check_rdf(void *vm, const mote_call *c, mote_err *err)
+{
+    int rc = check_measure(vm, c, 0, 2, W_RDF, err);
+    if (!rc && !(c->args[1].r > 0))
+        rc = mote_call_fail(err, c, 1, MOTE_EINVAL, "rdf: RMAX must be > 0, found %s",
+                            c->args[1].text);
+    return rc;
+}
+static int do_rdf(hs_model *m, const mote_call *c, const char *path, const char *origin,
+                  mote_hs_result *res, mote_err *err)
+{
+    return mote_hs_rdf(&m->hs, (uint64_t)c->args[0].i, c->args[1].r, path, origin, res, err);
+}
+static int run_rdf(void *vm, const mote_call *c, mote_err *err)
+{
+    return run_measure(vm, c, 2, do_rdf, err);
+}
+
+static int check_msd(void *vm, const mote_call *c, mote_err *err)
+{
+    return check_measure(vm, c, 4, 1, W_MSD, err);
+}
+static int do_msd(hs_model *m, const mote_call *c, const char *path, const char *origin,
+                  mote_hs_result *res, mote_err *err)
+{
+    return mote_hs_msd(&m->hs, (uint64_t)c->args[0].i, path, origin, res, err);
+}
+static int run_msd(void *vm, const mote_call *c, mote_err *err)
+{
+    return run_measure(vm, c, 1, do_msd, err);
+}
+
 static int check_check(void *vm, const mote_call *c, mote_err *err) { return need_system(vm, c, err); }
 static int run_check(void *vm, const mote_call *c, mote_err *err)
 {
@@ -624,6 +656,12 @@ static const mote_cmd hs_commands[] = {
     {"order", NULL, "if", "order K FILE",
      "crystallinity per wall layer: Steinhardt q6 and in-layer psi6", HS_HELP_ORDER, check_order,
      run_order, 1},
+    {"rdf", NULL, "irf", "rdf K RMAX FILE",
+     "radial distribution function g(r) up to RMAX, its contact value and Z (slit: in-layer g)",
+     HS_HELP_RDF, check_rdf, run_rdf, 1},
+    {"msd", NULL, "if", "msd K FILE",
+     "mean-squared displacement and the self-diffusion coefficient D over K collisions per particle",
+     HS_HELP_MSD, check_msd, run_msd, 1},
     {"snapshot", NULL, "f", "snapshot FILE.xyz",
      "the current configuration as extended XYZ (OVITO, VMD, ASE), with local order",
      HS_HELP_SNAPSHOT, check_snapshot, run_snapshot, 1},

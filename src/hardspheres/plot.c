@@ -5,7 +5,9 @@
  * - pressure: P_N(x) and P_T(x) with the wall (or virial) pressure as a reference line;
  * - chempot: beta mu_ex(x) and ln rho(x) + beta mu_ex(x), with the equilibrium constant;
  * - order: the crystal-like fraction of the whole system and of each left-wall layer and the
- *   bulk against time (block 3); with a single sample, the fine profile against x instead. */
+ *   bulk against time (block 3); with a single sample, the fine profile against x instead;
+ * - rdf: g(r) (periodic box) or the wall and mid-slit layers' lateral g(s), with g = 1;
+ * - msd: the mean-squared displacement against the lag time. */
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
@@ -169,6 +171,10 @@ static int check_rows(const table *t, const header *h, const char *path, mote_er
             want = 8;
         else if (!strcmp(h->format, "order"))
             want = t->block[r] == 0 ? 14 : t->block[r] == 1 ? 10 : 0;
+        else if (!strcmp(h->format, "rdf"))
+            want = t->ncol[0] == 7 ? 7 : 5; /* slit or periodic box */
+        else if (!strcmp(h->format, "msd"))
+            want = 4;
         if (want > 0 && n != want)
             return mote_fail(err, MOTE_EFORMAT, "%s:%ld: malformed data row (%d numbers)", path,
                              h->row_line[r], n);
@@ -310,6 +316,38 @@ static int plot_chempot(const table *t, const header *h, const char *png, mote_e
     return plot_columns(t, 0, 0, yc, labels, 2, &o, png, err);
 }
 
+static int plot_rdf(const table *t, const header *h, const char *png, mote_err *err)
+{
+    const int slit = t->rows > 0 && t->ncol[0] == 7;
+    char title[320];
+    title_for(title, sizeof title, slit ? "Lateral g(s) in a layer" : "Radial distribution", h);
+    mote_plot_opts o;
+    memset(&o, 0, sizeof o);
+    o.title = title;
+    o.xlabel = slit ? "s (lateral distance)  [R]" : "r  [R]";
+    o.ylabel = "g";
+    o.has_yref = 1;
+    o.yref = 1;
+    o.yref_label = "uncorrelated (g = 1)";
+    const int yc[] = {3, 5};
+    const char *const labels[] = {slit ? "layer at the walls" : "g(r)", "layer at mid-slit"};
+    return plot_columns(t, 0, 2, yc, labels, slit ? 2 : 1, &o, png, err);
+}
+
+static int plot_msd(const table *t, const header *h, const char *png, mote_err *err)
+{
+    char title[320];
+    title_for(title, sizeof title, "Mean-squared displacement", h);
+    mote_plot_opts o;
+    memset(&o, 0, sizeof o);
+    o.title = title;
+    o.xlabel = "lag time  [sqrt(m R^2 / kT)]";
+    o.ylabel = "msd  [R^2]";
+    const int yc[] = {1};
+    const char *const labels[] = {"msd"};
+    return plot_columns(t, 0, 0, yc, labels, 1, &o, png, err);
+}
+
 static int plot_order(const table *t, const header *h, const char *png, mote_err *err)
 {
     size_t nlayers = 0, ntime = 0;
@@ -394,10 +432,10 @@ int hs_plot_file(const char *data_path, const char *png_path, mote_err *err)
         }
         if (strcmp(h.format, "image") && strcmp(h.format, "profile") &&
             strcmp(h.format, "pressure") && strcmp(h.format, "chempot") &&
-            strcmp(h.format, "order")) {
+            strcmp(h.format, "order") && strcmp(h.format, "rdf") && strcmp(h.format, "msd")) {
             rc = mote_fail(err, MOTE_EFORMAT,
-                           "%s:1: plot knows the data of image, profile, pressure, chempot and "
-                           "order, not '%s'",
+                           "%s:1: plot knows the data of image, profile, pressure, chempot, "
+                           "order, rdf and msd, not '%s'",
                            data_path, h.format);
             break;
         }
@@ -430,6 +468,10 @@ int hs_plot_file(const char *data_path, const char *png_path, mote_err *err)
             rc = plot_pressure(&t, &h, png_path, err);
         else if (!strcmp(h.format, "chempot"))
             rc = plot_chempot(&t, &h, png_path, err);
+        else if (!strcmp(h.format, "rdf"))
+            rc = plot_rdf(&t, &h, png_path, err);
+        else if (!strcmp(h.format, "msd"))
+            rc = plot_msd(&t, &h, png_path, err);
         else
             rc = plot_order(&t, &h, png_path, err);
     }
