@@ -1166,6 +1166,18 @@ static void test_determinism(void)
     /* and the mutation must be visible: one more collision differs */
     mote_ev_run(&c.ev, 1, &err);
     CHECK(!same_state(&a.ev, &c.ev), "same_state cannot tell states apart");
+    /* settling: a rebuild marks the engine canonical, anything that moves it clears the mark,
+     * and settling a settled system (which skips the rebuild) changes nothing */
+    CHECK(!c.ev.canonical, "canonical after a run");
+    CHECK(mote_hs_settle(&c, &err) == 0 && c.ev.canonical, "not canonical after settling");
+    CHECK(mote_ev_rebuild(&b.ev, &err) == 0 && b.ev.canonical, "not canonical after a rebuild");
+    mote_ev_set_kt(&b.ev, 1.0);
+    CHECK(!b.ev.canonical, "canonical after a velocity rescaling");
+    CHECK(mote_ev_rebuild(&b.ev, &err) == 0, "%s", err.msg);
+    CHECK(mote_ev_move_walls(&b.ev, 0, 0.0, b.ev.len[0], &err) == 0 && !b.ev.canonical,
+          "canonical after a wall move");
+    CHECK(mote_ev_rebuild(&b.ev, &err) == 0, "%s", err.msg);
+    CHECK(mote_ev_run(&b.ev, 0, &err) == 0 && b.ev.canonical, "a run of 0 collisions moved");
     mote_hs_free(&a);
     mote_hs_free(&b);
     mote_hs_free(&c);

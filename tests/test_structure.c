@@ -193,7 +193,7 @@ static void test_msd(void)
     mote_hs_init(&hs, NULL);
     mote_hs_seed(&hs, test_seed(34));
     const double eta = 0.05, sigma = 2;
-    const int64_t N = sanitized ? 2048 : 4000;
+    const int64_t N = 4000;
     CHECK(mote_hs_bulk(&hs, N, eta, &err) == 0, "%s", err.msg);
     CHECK(mote_hs_step(&hs, 20, &err) == 0, "%s", err.msg);
     char path[512];

@@ -134,6 +134,9 @@ typedef struct {
     int ready;            /* 1 after a successful mote_ev_rebuild; 0 before the first and after
                            * a failed one (lists, cells or calendar may be missing): running,
                            * moving walls and checking then fail until a rebuild succeeds */
+    int canonical;        /* 1 right after a successful mote_ev_rebuild, until a run, a wall move
+                           * or a velocity rescaling changes the system: a rebuild now would
+                           * change nothing (a model's settle may skip it) */
 
     /* ---- neighbour lists (spec 6.6): pairs with |r_ref_i - r_ref_j| < sigma_ij + shell ---- */
     double shell;         /* delta, chosen at rebuild */

@@ -949,6 +949,7 @@ int mote_ev_rebuild(mote_ev *ev, mote_err *err)
     mote_particle *P = ev->p;
     mote_ev_cold *C = ev->pc;
     ev->ready = 0; /* until every step below has succeeded */
+    ev->canonical = 0;
 
     double rmax = 0;
     for (uint32_t i = 0; i < n; i++) {
@@ -1096,7 +1097,7 @@ int mote_ev_rebuild(mote_ev *ev, mote_err *err)
     for (uint32_t i = 0; i < n; i++)
         predict(ev, i);
     rc = cal_init(ev, err);
-    ev->ready = rc == MOTE_OK;
+    ev->ready = ev->canonical = rc == MOTE_OK;
     return rc;
 }
 
@@ -1114,6 +1115,7 @@ int mote_ev_run(mote_ev *ev, uint64_t ncoll, mote_err *err)
         return not_ready(err, "run");
     if (ncoll == 0)
         return MOTE_OK;
+    ev->canonical = 0;
     if (ev->field)
         return run_2f(ev, ncoll, INFINITY, err);
     return ev->dim == 2 ? run_2d(ev, ncoll, INFINITY, err) : run_3d(ev, ncoll, INFINITY, err);
@@ -1127,6 +1129,7 @@ int mote_ev_run_to(mote_ev *ev, double t_stop, uint64_t ncoll, mote_err *err)
         return MOTE_OK;
     if (ncoll > UINT64_MAX - ev->collisions)
         ncoll = UINT64_MAX - ev->collisions;
+    ev->canonical = 0;
     if (ev->field)
         return run_2f(ev, ncoll, t_stop, err);
     return ev->dim == 2 ? run_2d(ev, ncoll, t_stop, err) : run_3d(ev, ncoll, t_stop, err);
@@ -1185,6 +1188,7 @@ void mote_ev_set_kt(mote_ev *ev, double kt)
     if (!(now > 0))
         return;
     double f = sqrt(kt / now);
+    ev->canonical = 0;
     for (uint32_t i = 0; i < ev->n; i++)
         for (int a = 0; a < ev->dim; a++)
             ev->p[i].v[a] *= f;
@@ -1196,6 +1200,7 @@ int mote_ev_move_walls(mote_ev *ev, int axis, double shift, double new_len, mote
         return mote_fail(err, MOTE_EINVAL, "move_walls: axis %d has no walls", axis);
     if (!ev->ready)
         return not_ready(err, "move_walls");
+    ev->canonical = 0;
     for (uint32_t i = 0; i < ev->n; i++) {
         ev->p[i].r[axis] -= shift;
         ev->pc[i].r_ref[axis] -= shift;

@@ -17,8 +17,11 @@
 int mote_hs_settle(mote_hs *hs, mote_err *err)
 {
     /* a rebuild depends on the particles, their labels and the box only (event.h), and a
-     * rebuild of a rebuilt system changes nothing, so this state is the one `load` makes */
-    return hs->has_system ? mote_ev_rebuild(&hs->ev, err) : MOTE_OK;
+     * rebuild of a rebuilt system changes nothing, so this state is the one `load` makes; when
+     * nothing has moved since the last rebuild, there is nothing to do */
+    if (!hs->has_system || hs->ev.canonical)
+        return MOTE_OK;
+    return mote_ev_rebuild(&hs->ev, err);
 }
 
 int mote_hs_save(mote_hs *hs, const char *path, mote_err *err)
