@@ -18,7 +18,7 @@
  * - msd, periodic box of 4000 spheres at eta = 0.05: D within 5% (plus 3 standard errors) of
  *   Enskog's D_E = 3/(8 n sigma^2) sqrt(kT/(pi m)) / g(sigma+) (the issue's target: Enskog's first
  *   approximation is exact only as eta -> 0, and the periodic box lowers D by about 1.2% here);
- *   the ratio is printed. Measured over seeds: 1.047 +- 0.004 (docs/measurements.md).
+ *   the ratio is printed. Measured over 12 seeds: 1.044 +- 0.002 (docs/measurements.md).
  * - msd in a slit: the displacement parallel to the walls only (2 dimensions in 3D). */
 #include "mote/hardspheres.h"
 #include "test.h"
