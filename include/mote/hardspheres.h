@@ -106,6 +106,7 @@ uint64_t mote_hs_dump_frames(const mote_hs *hs);
 /* ---- measurements (spec 8); `origin` names the generating command for file headers ---- */
 int mote_hs_image(mote_hs *hs, uint64_t k, int64_t p, const char *path, const char *origin,
                   mote_err *err);
+#define MOTE_HS_PROFILE_DOTS_MAX 1000000
 int mote_hs_profile(mote_hs *hs, double x1, double x2, int64_t dots, uint64_t k,
                     const char *path, const char *origin, mote_err *err);
 

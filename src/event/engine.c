@@ -355,9 +355,8 @@ static inline int32_t cell_index(const mote_ev *ev, const double x[3])
     int32_t lin = 0, stride = 1;
     for (int a = 0; a < ev->dim; a++) {
         double f = (x[a] - ev->cell_lo[a]) / ev->cell_w[a];
-        int k = f > 0 ? (int)f : 0;
-        if (k >= ev->ncell[a])
-            k = ev->ncell[a] - 1;
+        /* compared as doubles first: converting a value beyond int's range is undefined */
+        int k = f >= ev->ncell[a] ? ev->ncell[a] - 1 : f > 0 ? (int)f : 0;
         lin += k * stride;
         stride *= ev->ncell[a];
     }
@@ -776,6 +775,11 @@ static inline void project(const mote_ev *ev, const mote_particle *p, double dt,
 
 static double wrap_coord(double x, double len)
 {
+    if (!(fabs(x) < 4 * len)) { /* far away (or not finite): one division, not a long loop */
+        x = fmod(x, len);
+        if (!isfinite(x))
+            return 0;
+    }
     while (x < 0)
         x += len;
     while (x >= len)

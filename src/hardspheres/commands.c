@@ -345,8 +345,10 @@ static int check_profile(void *vm, const mote_call *c, mote_err *err)
     if (!(c->args[0].r <= c->args[1].r))
         return mote_call_fail(err, c, 1, MOTE_EINVAL, "profile: x2 must not be below x1 (%s > %s)",
                               c->args[0].text, c->args[1].text);
-    if (c->args[2].i < 1)
-        return mote_call_fail(err, c, 2, MOTE_EINVAL, "profile: dots must be >= 1, found %s",
+    if (c->args[2].i < 1 || c->args[2].i > MOTE_HS_PROFILE_DOTS_MAX)
+        return mote_call_fail(err, c, 2, MOTE_EINVAL,
+                              "profile: dots must be in 1 ... 1000000 (every sample's cut is kept "
+                              "in memory until the file is written), found %s",
                               c->args[2].text);
     if (c->args[3].i == 0 && c->args[2].i != 1)
         return mote_call_fail(err, c, 3, MOTE_EINVAL,

@@ -321,8 +321,8 @@ int mote_hs_profile(mote_hs *hs, double x1, double x2, int64_t dots, uint64_t k,
         return mote_fail(err, MOTE_EINVAL, "profile: no system");
     if (!(x1 <= x2))
         return mote_fail(err, MOTE_EINVAL, "profile: x1 must not exceed x2 (got %g > %g)", x1, x2);
-    if (dots < 1)
-        return mote_fail(err, MOTE_EINVAL, "profile: dots must be >= 1");
+    if (dots < 1 || dots > MOTE_HS_PROFILE_DOTS_MAX)
+        return mote_fail(err, MOTE_EINVAL, "profile: dots must be in 1 ... 1000000");
     if (k == 0 && dots != 1)
         return mote_fail(err, MOTE_EINVAL, "profile: K = 0 (no dynamics) allows only dots = 1");
     cut_acc c = {x1, x2, NULL, 0};

@@ -186,20 +186,39 @@ static int expect_key(reader *r, const char *key, char **tok, int nval, mote_err
 /* ---- load: the mote format ----------------------------------------------------------------------- */
 
 /* Check containment, periodic lengths and overlaps of a freshly read system (rebuilt). */
-static int validate_loaded(mote_hs *hs, const char *path, long first_line, mote_err *err)
+/* Before anything is built from the particles: centres inside the walls, periodic coordinates
+ * brought into [0, L) (a huge one in one step), speeds that double precision can integrate
+ * (|v| <= 1e100 per component, so the energy is finite). */
+static int validate_particles(mote_ev *ev, const char *path, long first_line, mote_err *err)
 {
-    mote_ev *ev = &hs->ev;
     for (uint32_t i = 0; i < ev->n; i++) {
         double R = mote_ev_radius(ev, i);
         for (int a = 0; a < ev->dim; a++) {
-            double x = ev->p[i].r[a];
-            if (!ev->periodic[a] && (x < R * (1 - 1e-10) || x > ev->len[a] - R * (1 - 1e-10)))
+            double x = ev->p[i].r[a], v = ev->p[i].v[a];
+            if (!ev->periodic[a] && !(x >= R * (1 - 1e-10) && x <= ev->len[a] - R * (1 - 1e-10)))
                 return mote_fail(err, MOTE_EFORMAT,
                                  "%s:%ld: particle %u: %c = %.17g is outside the walls [%.17g, "
                                  "%.17g]",
                                  path, first_line + i, i, "xyz"[a], x, R, ev->len[a] - R);
+            if (ev->periodic[a] && !(x >= 0 && x < ev->len[a])) {
+                x = fmod(x, ev->len[a]);
+                x = x < 0 ? x + ev->len[a] : x;
+                ev->p[i].r[a] = x < ev->len[a] ? x : 0;
+            }
+            if (!(fabs(v) <= 1e100))
+                return mote_fail(err, MOTE_EFORMAT,
+                                 "%s:%ld: particle %u: v%c = %.17g: speeds above 1e100 cannot be "
+                                 "integrated (the kinetic energy would overflow)",
+                                 path, first_line + i, i, "xyz"[a], v);
         }
     }
+    return MOTE_OK;
+}
+
+/* After the first rebuild (cells exist): no two particles overlap. */
+static int validate_loaded(mote_hs *hs, const char *path, long first_line, mote_err *err)
+{
+    mote_ev *ev = &hs->ev;
     uint32_t wi, wj;
     double ratio = mote_ev_min_gap_ratio(ev, &wi, &wj);
     if (ratio < 1 - 1e-10)
@@ -296,6 +315,28 @@ static int load_mote(mote_hs *hs, reader *r, mote_err *err)
         }
     }
 
+    /* the header's n is not trusted with memory: count the lines that follow first */
+    long here = ftell(r->f);
+    if (here >= 0) {
+        uint64_t lines = 0;
+        int c, last = '\n';
+        while ((c = getc(r->f)) != EOF) {
+            lines += c == '\n';
+            last = c;
+        }
+        lines += last != '\n';
+        if (fseek(r->f, here, SEEK_SET) != 0)
+            return mote_fail(err, MOTE_EIO, "%s: cannot read the particles again: %s", r->path,
+                             strerror(errno));
+        if (lines < n64) {
+            char msg[200];
+            snprintf(msg, sizeof msg,
+                     "file ends early: n = %llu, but only %llu lines follow the 'particles' line",
+                     (unsigned long long)n64, (unsigned long long)lines);
+            r->line += (long)lines + 1;
+            return rd_fail(r, err, msg, NULL);
+        }
+    }
     mote_ev ev;
     int rc = mote_ev_init(&ev, (uint32_t)n64, dim, 1, err);
     if (rc)
@@ -381,7 +422,13 @@ static int load_mote(mote_hs *hs, reader *r, mote_err *err)
     tmp.ev = ev;
     tmp.geometry = geometry;
     tmp.has_system = 1;
-    rc = mote_ev_rebuild(&tmp.ev, err);
+    rc = validate_particles(&tmp.ev, r->path, first_line, err);
+    if (!rc)
+        rc = mote_ev_rebuild(&tmp.ev, err);
+    if (rc == MOTE_EFORMAT) {
+        mote_ev_free(&tmp.ev);
+        return rc;
+    }
     if (rc) {
         char why[sizeof err->msg];
         snprintf(why, sizeof why, "%s", err->msg);
@@ -597,7 +644,8 @@ static int load_original(mote_hs *hs, reader *r, mote_err *err)
     tmp.ev = ev;
     tmp.geometry = MOTE_HS_SLIT;
     tmp.has_system = 1;
-    if ((rc = mote_ev_rebuild(&tmp.ev, err)) || (rc = repair_overlaps(&tmp, r->path, err)) ||
+    if ((rc = validate_particles(&tmp.ev, r->path, first_line, err)) ||
+        (rc = mote_ev_rebuild(&tmp.ev, err)) || (rc = repair_overlaps(&tmp, r->path, err)) ||
         (rc = validate_loaded(&tmp, r->path, first_line, err)) ||
         (rc = spatial_order(&tmp.ev, err))) {
         mote_ev_free(&tmp.ev);

@@ -12,11 +12,13 @@ int mb_grid_setup(mb_grid *g, double x0, double x1, double y0, double y1, double
     double m = n ? (double)n : 1.0;
     /* About one disk per cell in a sparse gas (measured fastest); never narrower than
      * min_w; in a long, thin box never more cells along it than about 4n. */
-    double w = fmax(min_w, sqrt(W * H / m));
+    double w = fmax(min_w, sqrt(W) * sqrt(H / m)); /* W * H could overflow */
     w = fmax(w, fmax(W, H) / (4.0 * m + 64.0));
     if (!(w > 0) || !isfinite(w))
-        w = 1.0;
-    double fx = ceil(W / w), fy = ceil(H / w);
+        return -1; /* a box the parameter check refuses (not finite) */
+    /* at most 4n + 64 cells along a side (compared as doubles: no conversion out of range) */
+    const double most = 4.0 * m + 64.0;
+    double fx = fmin(ceil(W / w), most), fy = fmin(ceil(H / w), most);
     int nx = fx < 1 ? 1 : (int)fx;
     int ny = fy < 1 ? 1 : (int)fy;
     size_t cells = (size_t)nx * (size_t)ny;

@@ -65,6 +65,12 @@ int mb_params_check(const mote_mb_params *p, int *groups, mote_err *err)
         FAIL(MB_P_BOX, "box: X_B = %g must be below X_T = %g", p->x_b, p->x_t);
     if (!(p->r > 0))
         FAIL(MB_P_RADIUS, "radius: R = %g must be > 0", p->r);
+    /* positions are doubles: a box far larger than a disk cannot resolve the disks (and its
+     * cell grid would not fit in memory) */
+    if (!(p->x_r - p->x_l <= 1e9 * 2 * p->r) || !(p->x_t - p->x_b <= 1e9 * 2 * p->r))
+        FAIL(MB_P_BOX | MB_P_RADIUS,
+             "box: %g x %g is more than 10^9 disk diameters (2R = %g) wide or high",
+             p->x_r - p->x_l, p->x_t - p->x_b, 2 * p->r);
     if (!(p->a > 0))
         FAIL(MB_P_PARTITION, "partition: the thickness a = %g must be > 0", p->a);
     double x1l = mote_mb_x1_l(p), x1r = mote_mb_x1_r(p);

@@ -1,0 +1,53 @@
+#!/bin/sh
+# test_hardening.sh: inputs that crashed or hung mote (found by fuzzing, issue 20) are clear
+# errors or work: a state file with x = 1e20 (crashed the rebuild: a cell index out of int's
+# range), a huge periodic coordinate (hung the wrapping loop), a speed of 1e300 (energy -nan,
+# then a hang), a header declaring 10^8 particles over three lines (allocated 12.5 GB first);
+# mixing boxes of 1e155 and of infinite width (passed the check, then overflowed the cell grid),
+# tiny disks in a large box (the engine rebuilt at the same instant forever); `profile` with
+# 10^9 samples (unbounded memory). Each runs under a time limit, so a hang fails.
+# Usage: sh tests/test_hardening.sh BUILD_DIR
+NAME=test_hardening
+. "$(dirname "$0")/lib.sh"
+mote_test_start "$1"
+
+# state(NAME, FIRST_PARTICLE_LINE [, N]): the two-sphere example of docs/file-formats.md
+state() {
+    printf 'mote-state 1\nmodel hard-spheres\ndim 3\ngeometry slit\nbox 10 6 6\nn %s\ntime 0\ncollisions 0\nwall_collisions 0\nrng 910a2dec89025cc1 beeb8da1658eec67 f893a2eefb32555e 71c18690ee42c90b\nparticles x y z vx vy vz radius mass\n%s\n7 3 3 -1 1 -1 1 1\nend\n' \
+        "${3:-2}" "$2" > "$1"
+}
+
+# limited STATUS PREFIX-OF-STDERR NAME TEXT: like expect, under a 60 s limit
+limited() {
+    printf '%b' "$4" > "$3"
+    timeout 60 "$MOTE" run "$3" > out.txt 2> err.txt
+    got=$?
+    [ "$got" -eq "$1" ] && ok || bad "$3: exit status $got, expected $1 ($(head -c 300 err.txt))"
+    case "$(cat err.txt)" in
+        "$2"*) ok ;;
+        *) bad "$3: stderr '$(head -c 300 err.txt)', expected it to start with '$2'" ;;
+    esac
+}
+
+state far.state "1e20 3 3 1 -1 1 1 1"
+limited 2 "far.mote:1:1: error: far.state:12: particle 0: x = 1e+20 is outside the walls" far.mote "load far.state\n"
+state farneg.state "-1e20 3 3 1 -1 1 1 1"
+limited 2 "farneg.mote:1:1: error: farneg.state:12: particle 0: x = -1e+20 is outside the walls" farneg.mote "load farneg.state\n"
+state wrap.state "3 1e15 3 1 -1 1 1 1"
+limited 0 "" wrap.mote "load wrap.state\nstep 10\nsave wrapped.state\n"
+y=$(sed -n 12p wrapped.state | cut -d' ' -f2)
+awk -v y="$y" 'BEGIN { exit !(y >= 0 && y < 6) }' && ok || bad "the huge y was not wrapped into the box: $y"
+state fast.state "3 3 3 1e300 -1 1 1 1"
+limited 2 "fast.mote:1:1: error: fast.state:12: particle 0: vx = 1.0000000000000001e+300: speeds above 1e100" fast.mote "load fast.state\n"
+state many.state "3 3 3 1 -1 1 1 1" 100000000
+limited 2 "many.mote:1:1: error: many.state:15: file ends early: n = 100000000, but only 3 lines follow" many.mote "load many.state\n"
+
+H='model mixing-box\n'
+limited 1 "huge.mote:4:1: error: place: box: 1e+155 x 1e+155 is more than 10^9 disk diameters" huge.mote "${H}box 0 1e155 0 1e155\ndisks 1 1\nplace\nrun 1\n"
+limited 1 "inf.mote:3:1: error: place: box: inf x 1 is more than 10^9 disk diameters" inf.mote "${H}box -1e308 1e308 0 1\nplace\nrun 1\n"
+limited 0 "" small.mote "${H}radius 0.001\ndisks 20 20\nplace\nrun 10\n"
+grep -q '^N=40 t=10 ' out.txt && ok || bad "small.mote did not reach t = 10: $(tail -n 1 out.txt)"
+
+limited 1 "dots.mote:2:14: error: profile: dots must be in 1 ... 1000000" dots.mote "new 2 0.3\nprofile 0 24 1000000000 1 p.dat\n"
+
+mote_test_end
