@@ -386,7 +386,7 @@ static void check_image_file(const char *path, const mote_hs *hs, uint64_t sampl
     CHECK(fabs(integral - N) <= 1e-9 * N, "%s: rho integrates to %.17g, expected N = %g", label,
           integral, N);
     CHECK(fabs(vol - N * v1) <= 1e-9 * N * v1,
-          "%s: eta_loc integrates to %.17g, expected N v = %.17g", label, vol, N * v1);
+          "%s: rho_v integrates to %.17g, expected N v = %.17g", label, vol, N * v1);
     CHECK(low_empty, "%s: a bin below x = 0.9 holds centres", label);
     CHECK(err_bad == 0 && first_bad == 0, "%s: %g bad error values, %g negative densities", label,
           err_bad, first_bad);

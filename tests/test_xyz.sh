@@ -5,7 +5,8 @@
 # (to the last bit), the trajectory has its frames at the right collision counts, a run with a
 # dump ends in the same state as without, and the local order is right where it is known
 # exactly: a perfect FCC crystal (q6 = 0.57452, every particle solid), a hexagonal disk lattice
-# (|psi6| = 1, every disk ordered), a fluid at eta 0.40 (almost no solid particle).
+# (|psi6| = 1, every disk ordered), a fluid at eta 0.40 (almost no solid particle); and a
+# mixing-box snapshot (He and Ar for the two colours) against its saved state.
 # Usage: sh tests/test_xyz.sh BUILD_DIR
 NAME=test_xyz
 . "$(dirname "$0")/lib.sh"
@@ -60,6 +61,10 @@ step 200
 snapshot fluid.xyz
 S
 run fluid.mote
+
+# a mixing-box snapshot, which ASE must read too (species are element symbols)
+printf 'model mixing-box\ndisks 30 20\nplace\nrun 0.1\nsnapshot mb.xyz\nsave mb.state\n' > mb.mote
+run mb.mote
 
 cat > check.py <<'S'
 import sys
@@ -144,6 +149,18 @@ fl = ase.io.read("fluid.xyz", format="extxyz")
 frac = fl.arrays["solid"].mean()
 check(frac < 0.05, "fluid: solid fraction %.3f" % frac)
 check(0.25 < fl.arrays["q6"].mean() < 0.5, "fluid: mean q6 %.3f" % fl.arrays["q6"].mean())
+
+# the mixing box: He for colour 0, Ar for colour 1, positions as the state file has them
+mb = ase.io.read("mb.xyz", format="extxyz")
+lines = open("mb.state").read().split("\n")
+k = lines.index("disks x y vx vy colour side t_last")
+rows = [l.split() for l in lines[k + 1:k + 51]]
+check(len(mb) == 50, "mixing box N")
+check([s == ("Ar" if int(r[4]) else "He") for s, r in zip(mb.get_chemical_symbols(), rows)] == [True] * 50,
+      "mixing box species follow the colours")
+check(np.array_equal(mb.arrays["colour"], [int(r[4]) for r in rows]), "mixing box colour column")
+check(np.array_equal(mb.positions[:, 0], [float(r[0]) for r in rows]),
+      "mixing box x differs from the state")
 
 for f in failures:
     print("FAILED:", f)

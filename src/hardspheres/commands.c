@@ -675,7 +675,8 @@ static const mote_cmd hs_commands[] = {
     {"check", NULL, "", "check", "verify every invariant of the simulation", HS_HELP_CHECK,
      check_check, run_check, 1},
     {"plot", NULL, "ff", "plot DATAFILE PNGFILE",
-     "render a data file of image or profile as a PNG picture", HS_HELP_PLOT, check_plot,
+     "render a data file (image, profile, pressure, chempot, order, rdf, msd) as a PNG",
+     HS_HELP_PLOT, check_plot,
      run_plot, 0},
 };
 

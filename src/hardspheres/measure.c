@@ -266,7 +266,7 @@ int mote_hs_image(mote_hs *hs, uint64_t k, int64_t p, const char *path, const ch
                 (unsigned long long)S, B, a.delta);
         fprintf(f, "# mean_density = %.15g\n", ev->n / (area * ev->len[0]));
         fprintf(f, "# columns: x_lo[R] x_hi[R] x_mid[R] count rho[R^-%d] rho_err[R^-%d] "
-                   "eta_loc\n",
+                   "rho_v\n",
                 ev->dim, ev->dim);
         for (size_t b = 0; b < a.nbins; b++) {
             double lo = (double)b * a.delta;

@@ -133,7 +133,7 @@ int mb_snapshot_xyz(const mote_mb *sys, const char *path, const char *origin, mo
             "pbc=\"F F F\" model=mixing-box command=\"%s\"\n",
             p->x_r - p->x_l, p->x_t - p->x_b, 2 * p->r, p->x_l, p->x_b, sys->time, org);
     for (uint32_t i = 0; i < sys->n; i++)
-        fprintf(f, "%s %.17g %.17g 0 %.17g %.17g 0 %.17g %d\n", sys->colour[i] ? "B" : "A",
+        fprintf(f, "%s %.17g %.17g 0 %.17g %.17g 0 %.17g %d\n", sys->colour[i] ? "Ar" : "He",
                 sys->x[i], sys->y[i], sys->vx[i], sys->vy[i], p->r, sys->colour[i]);
     return mote_afile_commit(&af, err);
 }
