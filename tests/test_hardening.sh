@@ -5,7 +5,8 @@
 # then a hang), a header declaring 10^8 particles over three lines (allocated 12.5 GB first);
 # mixing boxes of 1e155 and of infinite width (passed the check, then overflowed the cell grid),
 # tiny disks in a large box (the engine rebuilt at the same instant forever); `profile` with
-# 10^9 samples (unbounded memory). Each runs under a time limit, so a hang fails.
+# 10^9 samples (unbounded memory). Each runs under a time limit, so a hang fails. Then the
+# smaller faults: an unhelpful 'bad header', raw bytes echoed, a device replaced by a file.
 # Usage: sh tests/test_hardening.sh BUILD_DIR
 NAME=test_hardening
 . "$(dirname "$0")/lib.sh"
@@ -49,5 +50,13 @@ limited 0 "" small.mote "${H}radius 0.001\ndisks 20 20\nplace\nrun 10\n"
 grep -q '^N=40 t=10 ' out.txt && ok || bad "small.mote did not reach t = 10: $(tail -n 1 out.txt)"
 
 limited 1 "dots.mote:2:14: error: profile: dots must be in 1 ... 1000000" dots.mote "new 2 0.3\nprofile 0 24 1000000000 1 p.dat\n"
+
+# smaller ones: the check-time look at a state file names the bad header value; bytes that
+# are not UTF-8 are shown escaped; a device is never replaced by a file
+state neg.state "3 3 3 1 -1 1 1 1" -1
+expect 1 "neg.mote:1:6: error: neg.state:6: n must be an integer >= 2 (found '-1')" neg.mote "load neg.state\n" check
+expect 1 "utf.mote:2:1: error: unknown command '\\xFF\\xFEstep'" utf.mote "new 2 0.3\n\377\376step 1\n" check
+expect 2 "dev.mote:2:1: error: cannot write '/dev/null': it exists and is not a regular file" dev.mote "new 2 0.3\nsave /dev/null\n"
+[ -c /dev/null ] && ok || bad "/dev/null is no longer a device"
 
 mote_test_end

@@ -6,6 +6,7 @@
  * file behind. */
 #include "mote/render.h"
 
+#include <errno.h>
 #include <cairo.h>
 #include <dirent.h>
 #include <math.h>
@@ -451,6 +452,8 @@ static void test_atomic(ctx *t)
     read_all(p, now, CAP, &now_len);
     CHECK_LINE(limited && rc == MOTE_EIO, "atomic: write failing half way returns an I/O error",
           err.msg);
+    CHECK_LINE(strstr(err.msg, strerror(EFBIG)) != NULL, "the failed write names its cause",
+               err.msg);
     CHECK_LINE(now_len == old_len && memcmp(old, now, old_len) == 0,
           "atomic: failed write keeps the earlier file", "");
     snprintf(msg, sizeof msg, "%d entries before, %d after", before, count_entries(t));

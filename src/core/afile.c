@@ -21,6 +21,13 @@ static char *dup_str(const char *s)
 int mote_afile_open(mote_afile *af, const char *path, mote_err *err)
 {
     af->f = NULL;
+    af->path = af->tmp = NULL;
+    struct stat st;
+    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) /* a rename would replace a device */
+        return mote_fail(err, MOTE_EIO,
+                         "cannot write '%s': it exists and is not a regular file (mote writes a "
+                         "file by renaming a complete copy over it)",
+                         path);
     af->path = dup_str(path);
     size_t n = strlen(path) + 32;
     af->tmp = malloc(n);
@@ -96,8 +103,11 @@ int mote_afile_commit(mote_afile *af, mote_err *err)
     }
     if (bad) {
         unlink(af->tmp);
-        int rc = mote_fail(err, MOTE_EIO, "failed to write '%s': %s; earlier content kept",
-                           af->path, e ? strerror(e) : "write error");
+        struct stat st;
+        int rc = mote_fail(err, MOTE_EIO, "failed to write '%s': %s; %s", af->path,
+                           e ? strerror(e) : "write error",
+                           stat(af->path, &st) == 0 ? "its earlier content is kept"
+                                                    : "no file was written");
         afile_release(af);
         return rc;
     }

@@ -737,10 +737,12 @@ int mote_hs_peek(const char *path, int *geometry, int *dim, uint64_t *n, mote_er
                 rc = err->code;
             } else {
                 *geometry = strcmp(tok[0], "periodic") == 0 ? MOTE_HS_PERIODIC : MOTE_HS_SLIT;
-                if (!next_line(&r) || expect_key(&r, "n", tok, 1, err) < 0 ||
-                    !parse_u64(tok[0], n, 10))
-                    rc = err->code ? (int)err->code
-                                   : mote_fail(err, MOTE_EFORMAT, "%s: bad header", path);
+                if (!next_line(&r))
+                    rc = rd_fail(&r, err, "file ends early: expected the 'box' line", NULL);
+                else if (expect_key(&r, "n", tok, 1, err) < 0)
+                    rc = err->code;
+                else if (!parse_u64(tok[0], n, 10) || *n < 2)
+                    rc = rd_fail(&r, err, "n must be an integer >= 2", tok[0]);
             }
         }
     } else if (is_single_integer(r.buf)) {

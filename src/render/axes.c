@@ -5,6 +5,7 @@
  * mote_afile. All state lives in the cairo context and the structs passed in. */
 #include "draw.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -537,10 +538,21 @@ void mote_rnd_draw_axes(cairo_t *cr, const mote_rnd_style *st, const mote_rnd_la
 
 /* ---- output -------------------------------------------------------------------------------- */
 
+/* The PNG stream's sink: the file, and the errno of the first failed write (the cause). */
+typedef struct {
+    FILE *f;
+    int err;
+} png_sink;
+
 static cairo_status_t write_to_file(void *closure, const unsigned char *data, unsigned int length)
 {
-    FILE *f = closure;
-    return fwrite(data, 1, length, f) == length ? CAIRO_STATUS_SUCCESS : CAIRO_STATUS_WRITE_ERROR;
+    png_sink *k = closure;
+    errno = 0;
+    if (fwrite(data, 1, length, k->f) == length)
+        return CAIRO_STATUS_SUCCESS;
+    if (!k->err)
+        k->err = errno ? errno : EIO;
+    return CAIRO_STATUS_WRITE_ERROR;
 }
 
 static int save_png(cairo_surface_t *surface, const char *path, mote_err *err)
@@ -548,11 +560,12 @@ static int save_png(cairo_surface_t *surface, const char *path, mote_err *err)
     mote_afile af;
     int rc = mote_afile_open(&af, path, err);
     if (rc != MOTE_OK) return rc;
-    cairo_status_t s = cairo_surface_write_to_png_stream(surface, write_to_file, af.f);
+    png_sink sink = {af.f, 0};
+    cairo_status_t s = cairo_surface_write_to_png_stream(surface, write_to_file, &sink);
     if (s != CAIRO_STATUS_SUCCESS) {
         mote_afile_abort(&af);
         return mote_fail(err, MOTE_EIO, "%s: cannot write PNG: %s", path,
-                         cairo_status_to_string(s));
+                         sink.err ? strerror(sink.err) : cairo_status_to_string(s));
     }
     return mote_afile_commit(&af, err);
 }

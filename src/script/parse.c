@@ -164,21 +164,46 @@ static int lex_line(mote_script *s, cursor c, token_list *tl, mote_err *err)
 /* ---- argument conversion -------------------------------------------------------------------- */
 
 /* The value as shown in messages: quoted as found, long values shortened. */
+/* Length of the valid UTF-8 sequence at s (at most n bytes), 0 when it is not one. */
+static size_t utf8_len(const unsigned char *s, size_t n)
+{
+    size_t len = s[0] < 0x80 ? 1 : (s[0] & 0xE0) == 0xC0 ? 2 : (s[0] & 0xF0) == 0xE0 ? 3
+                                  : (s[0] & 0xF8) == 0xF0 ? 4 : 0;
+    if (!len || len > n || (len == 2 && s[0] < 0xC2))
+        return 0;
+    for (size_t k = 1; k < len; k++)
+        if (!is_continuation(s[k]))
+            return 0;
+    return len;
+}
+
+/* A token for a message: quoted as written, at most 60 bytes of it, with bytes that are not
+ * valid UTF-8 (or are control characters) written as \xNN so that a terminal shows them. */
 static const char *shown(const token *t, char *buf, size_t cap)
 {
-    const size_t max = 60;
-    size_t n = strlen(t->text);
-    const char *ell = "";
-    if (n > max) {
-        n = max;
-        while (n > 0 && is_continuation((unsigned char)t->text[n]))
-            n--;
-        ell = "...";
+    const unsigned char *p = (const unsigned char *)t->text;
+    const size_t max = 60, n = strlen(t->text);
+    const char q = t->quoted ? '"' : '\'';
+    size_t k = 0, i = 0;
+    buf[k++] = q;
+    while (i < n && i < max && k + 8 < cap) {
+        size_t len = utf8_len(p + i, n - i);
+        if (len == 1 && p[i] < 0x20)
+            len = 0;
+        if (len == 0) {
+            k += (size_t)snprintf(buf + k, cap - k, "\\x%02X", p[i]);
+            i++;
+        } else {
+            if (i + len > max || k + len + 5 >= cap)
+                break;
+            memcpy(buf + k, p + i, len);
+            k += len;
+            i += len;
+        }
     }
-    if (t->quoted)
-        snprintf(buf, cap, "\"%.*s%s\"", (int)n, t->text, ell);
-    else
-        snprintf(buf, cap, "'%.*s%s'", (int)n, t->text, ell);
+    if (i < n)
+        k += (size_t)snprintf(buf + k, cap - k, "...");
+    snprintf(buf + k, cap - k, "%c", q);
     return buf;
 }
 
