@@ -77,7 +77,7 @@ st=$?
 grep -q '^run: t=0.2 .*mixing_fraction=.* E_rel_drift=.* overlaps=[0-9]* ' out.txt && ok || bad "v1.mote: no summary line: $(grep '^run:' out.txt)"
 grep -q '^N=400 t=0.3 m=' out.txt && ok || bad "v1.mote: no status line at t = 0.3"
 [ -s start.png ] && [ -s mix.dat ] && [ -s mix.png ] && ok || bad "v1.mote: outputs missing: $(ls)"
-[ "$(sed -n 1p start.xyz)" = "400" ] && [ "$(grep -c '^[AB] ' start.xyz)" -eq 400 ] && ok || bad "v1.mote: start.xyz"
+[ "$(sed -n 1p start.xyz)" = "400" ] && [ "$(grep -Ec '^(He|Ar) ' start.xyz)" -eq 400 ] && ok || bad "v1.mote: start.xyz"
 n=$(ls fr | grep -c '^f_00000[0-4]\.png$')
 [ "$n" -eq 5 ] && [ "$(ls fr | wc -l)" -eq 5 ] && ok || bad "v1.mote: frames: $(ls fr)"
 [ "$(grep -vc '^#' mix.dat)" -eq 7 ] && ok || bad "v1.mote: mix.dat has $(grep -vc '^#' mix.dat) rows, expected 7"

@@ -333,7 +333,7 @@ static int load_mote(mote_hs *hs, reader *r, mote_err *err)
             snprintf(msg, sizeof msg,
                      "file ends early: n = %llu, but only %llu lines follow the 'particles' line",
                      (unsigned long long)n64, (unsigned long long)lines);
-            r->line += (long)lines + 1;
+            r->line += (long)lines + (last == '\n'); /* the cut line, or the first missing */
             return rd_fail(r, err, msg, NULL);
         }
     }
