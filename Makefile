@@ -28,7 +28,7 @@ BENCH_SRC := $(sort $(wildcard bench/*.c))
 BENCH_BIN := $(BENCH_SRC:bench/%.c=$(BUILD)/bench/%)
 HDRS     := $(wildcard include/mote/*.h src/*/*.h src/*/*.inc tests/*.h)
 
-.PHONY: all lib tests bench check test test-plain test-san example setup clean slow seeds seeds-san
+.PHONY: all lib tests bench check test test-plain test-san example setup clean slow seeds seeds-san fuzz
 
 all: $(BUILD)/mote
 
@@ -49,6 +49,11 @@ $(BUILD)/mote: $(CLI_OBJ) $(BUILD)/libmote.a
 $(BUILD)/tests/%: tests/%.c $(BUILD)/libmote.a $(HDRS)
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) -Itests $< $(BUILD)/libmote.a $(LDLIBS) -o $@
+
+# the corpus replay links the fuzz targets (fuzz/targets.c)
+$(BUILD)/tests/test_fuzz: tests/test_fuzz.c fuzz/targets.c fuzz/fuzz.h $(BUILD)/libmote.a $(HDRS)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) -Itests -Ifuzz tests/test_fuzz.c fuzz/targets.c $(BUILD)/libmote.a $(LDLIBS) -o $@
 
 $(BUILD)/bench/%: bench/%.c $(BUILD)/libmote.a $(HDRS)
 	@mkdir -p $(dir $@)
@@ -93,9 +98,28 @@ seeds-san: setup
 	    SAN="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer" tests
 	MOTE_SANITIZED=1 ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp UBSAN_OPTIONS=print_stacktrace=1 sh tests/seeds.sh build-san $(SEEDS) $(SEED_FIRST)
 
+# Fuzzing with libFuzzer (clang, installed by `scripts/setup.sh fuzz`): each target runs for
+# FUZZ_TIME seconds from its corpus in fuzz/corpus/<target>/, which grows with what it finds (commit
+# it); a crash or leak leaves its input as fuzz/corpus/<target>/crash-... (rename it after what it
+# did): `make check` then replays it through tests/test_fuzz.c until it is fixed.
+FUZZ_TIME ?= 60
+FUZZ_TARGETS := script hs_state mb_state plot
+FUZZ_SAN := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+fuzz:
+	@sh scripts/setup.sh fuzz
+	$(MAKE) --no-print-directory CC=clang BUILD=build-fuzz OPT=-O1 \
+	    SAN="-fsanitize=fuzzer-no-link $(FUZZ_SAN)" lib
+	@set -e; for t in $(FUZZ_TARGETS); do \
+	    clang $(ALL_CFLAGS) -fsanitize=fuzzer $(FUZZ_SAN) -Ifuzz -DMOTE_FUZZ_TARGET=\"$$t\" \
+	        fuzz/main_libfuzzer.c fuzz/targets.c build-fuzz/libmote.a $(LDLIBS) -o build-fuzz/fuzz_$$t; \
+	    echo "== fuzzing $$t for $(FUZZ_TIME) s"; \
+	    ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp build-fuzz/fuzz_$$t -max_total_time=$(FUZZ_TIME) -timeout=10 \
+	        -rss_limit_mb=2048 -max_len=4096 -artifact_prefix=fuzz/corpus/$$t/ fuzz/corpus/$$t; \
+	done
+
 example: setup
 	$(MAKE) --no-print-directory all
 	cd examples && ../$(BUILD)/mote run crystallization.mote
 
 clean:
-	rm -rf build build-san
+	rm -rf build build-san build-fuzz

@@ -9,6 +9,12 @@ command -v pkg-config >/dev/null 2>&1 || need="$need pkg-config"
 pkg-config --exists cairo 2>/dev/null || need="$need libcairo2-dev"
 # ASE (Debian's python3), the independent reader of the extended XYZ files in the tests
 /usr/bin/python3 -c 'import ase.io' >/dev/null 2>&1 || need="$need python3-ase"
+# `setup.sh fuzz`: also clang with libFuzzer, for `make fuzz`
+if [ "${1:-}" = fuzz ]; then
+    command -v clang >/dev/null 2>&1 || need="$need clang"
+    [ -n "$(find /usr/lib/llvm-*/lib/clang -name 'libclang_rt.fuzzer-x86_64.a' 2>/dev/null | head -n 1)" ] ||
+        need="$need libclang-rt-14-dev"
+fi
 [ -z "$need" ] && exit 0
 echo "setup: installing Debian packages:$need"
 SUDO=""

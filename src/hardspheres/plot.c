@@ -63,7 +63,7 @@ static void parse_header_line(header *h, const char *line)
         else if (!strcmp(key, "mean_density"))
             h->mean_density = val;
         else if (!strcmp(key, "d"))
-            h->dim = (int)val;
+            h->dim = val == 2 ? 2 : 3; /* a file of mote's has 2 or 3 (never convert others) */
         else if (!strcmp(key, "x1"))
             h->x1 = val;
         else if (!strcmp(key, "x2"))

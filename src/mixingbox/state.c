@@ -18,6 +18,7 @@
 #include <sys/types.h>
 
 #define FORMAT_LINE "mote-state 1"
+#define MB_SPEED_MAX 1e6 /* m/s; a state with a faster disk is refused */
 #define MODEL_LINE "model mixing-box"
 
 /* The real-valued parameters, by the names of the state file. */
@@ -365,6 +366,10 @@ static int read_state(reader *r, mote_mb *s, mote_mb_params *next_p, mote_err *e
             return rc;
         if (!(v[0] >= p->x_l && v[0] <= p->x_r && v[1] >= p->x_b && v[1] <= p->x_t))
             return fail(r, err, "the disk's centre is outside the box", r->tok[0]);
+        if (!(fabs(v[2]) <= MB_SPEED_MAX && fabs(v[3]) <= MB_SPEED_MAX))
+            return fail(r, err, "a velocity component above 10^6 m/s (the event integrator would "
+                                "need billions of events per simulated second)",
+                        r->tok[fabs(v[2]) > MB_SPEED_MAX ? 2 : 3]);
         if (!(v[4] <= s->time))
             return fail(r, err, "t_last is after the state's time", r->tok[6]);
         int colour = r->tok[4][0] - '0', side = r->tok[5][0] - '0';

@@ -65,6 +65,8 @@ int mb_params_check(const mote_mb_params *p, int *groups, mote_err *err)
         FAIL(MB_P_BOX, "box: X_B = %g must be below X_T = %g", p->x_b, p->x_t);
     if (!(p->r > 0))
         FAIL(MB_P_RADIUS, "radius: R = %g must be > 0", p->r);
+    if (!(p->mass > 0) || !isfinite(p->mass))
+        FAIL(0, "the disk mass = %g must be > 0 and finite", p->mass);
     /* positions are doubles: a box far larger than a disk cannot resolve the disks (and its
      * cell grid would not fit in memory) */
     if (!(p->x_r - p->x_l <= 1e9 * 2 * p->r) || !(p->x_t - p->x_b <= 1e9 * 2 * p->r))
@@ -517,6 +519,25 @@ int mote_mb_run(mote_mb *sys, double t_end, mote_mb_hooks *hooks, mote_err *err)
     if (ov == UINT64_MAX)
         return mote_fail(err, MOTE_ENOMEM, "run: out of memory");
     mote_mb_note_overlaps(sys, ov);
+    if (sys->p.integrator == MOTE_MB_EVENT) {
+        /* exact dynamics needs a start it can continue exactly: no overlap, every disk inside
+         * the walls (the time-stepped mode, and states it saved, may have either) */
+        if (ov > 0)
+            return mote_fail(err, MOTE_EINVAL,
+                             "run: the event integrator cannot start with overlapping disks (%llu "
+                             "pairs closer than 2R); use 'integrator timestep' or place them anew",
+                             (unsigned long long)ov);
+        const mote_mb_params *p = &sys->p;
+        const double in = p->r * (1 - MOTE_MB_OVERLAP_TOL);
+        for (uint32_t i = 0; i < sys->n; i++)
+            if (!(sys->x[i] - p->x_l >= in && p->x_r - sys->x[i] >= in &&
+                  sys->y[i] - p->x_b >= in && p->x_t - sys->y[i] >= in))
+                return mote_fail(err, MOTE_EINVAL,
+                                 "run: the event integrator cannot start with disk %u at (%.17g, "
+                                 "%.17g) less than R from a wall; use 'integrator timestep' or "
+                                 "place the disks anew",
+                                 i, sys->x[i], sys->y[i]);
+    }
     int rc = sys->p.integrator == MOTE_MB_EVENT ? mb_run_event(sys, t_end, hooks, err)
                                                 : mb_run_timestep(sys, t_end, hooks, err);
     ov = mote_mb_count_overlaps(sys, MOTE_MB_OVERLAP_TOL);

@@ -1,0 +1,127 @@
+/* targets.c: mote's fuzz targets (see fuzz.h). Inputs that name files go through a scratch
+ * directory of the process's own; every target writes its input to a file there first where
+ * the reader takes a path, exactly as a user's file would arrive. */
+#include "fuzz.h"
+
+#include "mote/hardspheres.h"
+#include "mote/mixingbox.h"
+#include "mote/script.h"
+
+#include "../src/hardspheres/plot.h"
+#include "../src/mixingbox/mb.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+/* A scratch directory made once per process (removed by the operating system's /tmp cleaning;
+ * each target leaves only its fixed file names in it). */
+static const char *scratch(void)
+{
+    static char dir[64]; /* set once, then only read: the targets are single-threaded */
+    if (!dir[0]) {
+        snprintf(dir, sizeof dir, "/tmp/mote-fuzz-XXXXXX");
+        if (!mkdtemp(dir))
+            snprintf(dir, sizeof dir, "/tmp");
+    }
+    return dir;
+}
+
+static int write_input(const char *name, const uint8_t *data, size_t size, char *path, size_t cap)
+{
+    snprintf(path, cap, "%s/%s", scratch(), name);
+    FILE *f = fopen(path, "wb");
+    if (!f)
+        return -1;
+    size_t w = fwrite(data, 1, size, f);
+    fclose(f);
+    return w == size ? 0 : -1;
+}
+
+static const mote_model *const MODELS[] = {&mote_model_hardspheres, &mote_model_mixingbox};
+
+/* Parse and validate a script (nothing runs: validation only reads files, never simulates). */
+static int fuzz_script(const uint8_t *data, size_t size)
+{
+    mote_err err = {0};
+    mote_script *s = NULL;
+    if (mote_script_parse(&s, "fuzz.mote", (const char *)data, size, MODELS, 2, &err) == 0) {
+        mote_context *ctx = mote_script_context(s);
+        FILE *null = fopen("/dev/null", "w");
+        if (null) {
+            ctx->out = ctx->diag = null;
+            mote_script_validate(s, &err);
+            fclose(null);
+        }
+        mote_script_free(s);
+    }
+    return 0;
+}
+
+static int fuzz_hs_state(const uint8_t *data, size_t size)
+{
+    char path[256];
+    if (write_input("in.state", data, size, path, sizeof path))
+        return 0;
+    mote_err err = {0};
+    int geometry, dim;
+    uint64_t n;
+    mote_hs_peek(path, &geometry, &dim, &n, &err);
+    mote_hs hs;
+    mote_hs_init(&hs, NULL);
+    if (mote_hs_load(&hs, path, &err) == 0) {
+        /* a loaded state must run and save */
+        mote_hs_step(&hs, 1, &err);
+        snprintf(path, sizeof path, "%s/out.state", scratch());
+        mote_hs_save(&hs, path, &err);
+    }
+    mote_hs_free(&hs);
+    return 0;
+}
+
+static int fuzz_mb_state(const uint8_t *data, size_t size)
+{
+    char path[256];
+    if (write_input("in.mbstate", data, size, path, sizeof path))
+        return 0;
+    mote_err err = {0};
+    uint64_t n;
+    mb_peek(path, &n, &err);
+    mote_mb sys;
+    mote_mb_init(&sys);
+    mote_mb_params next;
+    mote_mb_params_default(&next);
+    if (mb_load(&sys, &next, path, &err) == 0)
+        mote_mb_run(&sys, sys.time + 0.01, NULL, &err);
+    mote_mb_free(&sys);
+    return 0;
+}
+
+static int fuzz_plot(const uint8_t *data, size_t size)
+{
+    char in[256], out[256];
+    if (write_input("in.dat", data, size, in, sizeof in))
+        return 0;
+    snprintf(out, sizeof out, "%s/out.png", scratch());
+    mote_err err = {0};
+    hs_plot_file(in, out, &err);
+    mb_plot_file(in, out, &err);
+    return 0;
+}
+
+const mote_fuzz_target mote_fuzz_targets[] = {
+    {"script", fuzz_script},
+    {"hs_state", fuzz_hs_state},
+    {"mb_state", fuzz_mb_state},
+    {"plot", fuzz_plot},
+};
+const size_t mote_fuzz_ntargets = sizeof mote_fuzz_targets / sizeof mote_fuzz_targets[0];
+
+const mote_fuzz_target *mote_fuzz_find(const char *name)
+{
+    for (size_t i = 0; i < mote_fuzz_ntargets; i++)
+        if (strcmp(mote_fuzz_targets[i].name, name) == 0)
+            return &mote_fuzz_targets[i];
+    return NULL;
+}
