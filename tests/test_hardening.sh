@@ -51,6 +51,16 @@ grep -q '^N=40 t=10 ' out.txt && ok || bad "small.mote did not reach t = 10: $(t
 
 limited 1 "dots.mote:2:14: error: profile: dots must be in 1 ... 1000000" dots.mote "new 2 0.3\nprofile 0 24 1000000000 1 p.dat\n"
 
+# found by `make fuzz`: a mixing-box state with two coincident disks hung the event integrator,
+# which now refuses such a start; a disk faster than 10^6 m/s is refused at load
+printf '%b' "${H}disks 5 5\nplace\nsave good.state\n" > mbsave.mote
+"$MOTE" run mbsave.mote > /dev/null 2>&1
+awk 'NR == 52 { print prev; next } { print; prev = $0 }' good.state > twins.state
+limited 2 "twins.mote:3:1: error: run: the event integrator cannot start with overlapping disks (1 pairs" twins.mote "${H}load twins.state\nrun 0.01\n"
+limited 0 "" twins2.mote "${H}load twins.state\nintegrator timestep\nrun 0.01\n"
+awk 'NR == 52 { $3 = "2e6" } { print }' good.state > fast.mbstate
+limited 2 "fastmb.mote:2:1: error: fast.mbstate:52: a velocity component above 10^6 m/s" fastmb.mote "${H}load fast.mbstate\n"
+
 # smaller ones: the check-time look at a state file names the bad header value; bytes that
 # are not UTF-8 are shown escaped; a device is never replaced by a file
 state neg.state "3 3 3 1 -1 1 1 1" -1
