@@ -76,6 +76,10 @@ int mote_hs_check(mote_hs *hs, mote_err *err);
 /* step K: floor(K N / 2) pair collisions, with a progress display when hs->ctx->terminal. */
 int mote_hs_step(mote_hs *hs, uint64_t k, mote_err *err);
 int mote_hs_compress(mote_hs *hs, int which, double eta, double dlmax, uint64_t k, mote_err *err);
+/* compress_box eta dLmax K: a periodic box scaled affinely, centres and all, move by move (each
+ * limited by the closest pair's gap and by dLmax, K collisions per particle after each), ending at
+ * phi = eta exactly; expansion in one move. */
+int mote_hs_compress_box(mote_hs *hs, double eta, double dlmax, uint64_t k, mote_err *err);
 /* The wall position L* for a target eta (slit). */
 double mote_hs_target_length(const mote_hs *hs, double eta);
 

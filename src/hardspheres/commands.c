@@ -250,17 +250,9 @@ static int run_step(void *vm, const mote_call *c, mote_err *err)
     return mote_hs_step(&((hs_model *)vm)->hs, (uint64_t)c->args[0].i, err);
 }
 
-static int check_compress_any(void *vm, const mote_call *c, mote_err *err)
+/* eta, dLmax and K of every compression command */
+static int check_compress_args(hs_model *m, const mote_call *c, mote_err *err)
 {
-    hs_model *m = vm;
-    int rc = need_system(m, c, err);
-    if (rc)
-        return rc;
-    if (m->d_geometry == MOTE_HS_PERIODIC)
-        return mote_call_fail(err, c, -1, MOTE_EINVAL,
-                              "%s: the system here is periodic (from bulk or bulk_disks); only a "
-                              "slit has walls to move",
-                              c->name);
     double cp = m->d_dim == 2 ? 0.90689968211710892 : 0.74048048969306104;
     if (!(c->args[0].r > 0) || !(c->args[0].r < cp))
         return mote_call_fail(err, c, 0, MOTE_EINVAL,
@@ -276,6 +268,41 @@ static int check_compress_any(void *vm, const mote_call *c, mote_err *err)
                               c->name, c->args[2].text);
     return check_collisions(m, c, 2, (uint64_t)c->args[2].i, err);
 }
+
+static int check_compress_any(void *vm, const mote_call *c, mote_err *err)
+{
+    hs_model *m = vm;
+    int rc = need_system(m, c, err);
+    if (rc)
+        return rc;
+    if (m->d_geometry == MOTE_HS_PERIODIC)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL,
+                              "%s: the system here is periodic (from bulk or bulk_disks); only a "
+                              "slit has walls to move (compress a periodic box with compress_box)",
+                              c->name);
+    return check_compress_args(m, c, err);
+}
+
+static int check_compress_box(void *vm, const mote_call *c, mote_err *err)
+{
+    hs_model *m = vm;
+    int rc = need_system(m, c, err);
+    if (rc)
+        return rc;
+    if (m->d_geometry == MOTE_HS_SLIT)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL,
+                              "compress_box: the system here is a slit; move its walls with "
+                              "compress_left_wall, compress_right_wall or compress_two_walls");
+    return check_compress_args(m, c, err);
+}
+static int run_compress_box(void *vm, const mote_call *c, mote_err *err)
+{
+    hs_model *m = vm;
+    return located(err, c, -1,
+                   mote_hs_compress_box(&m->hs, c->args[0].r, c->args[1].r,
+                                        (uint64_t)c->args[2].i, err));
+}
+
 static int run_compress_which(void *vm, const mote_call *c, int which, mote_err *err)
 {
     return mote_hs_compress(&((hs_model *)vm)->hs, which, c->args[0].r, c->args[1].r,
@@ -640,6 +667,9 @@ static const mote_cmd hs_commands[] = {
     {"compress_two_walls", "compresst compress_both_walls", "rri", "compress_two_walls eta dLmax K",
      "move both walls symmetrically until the density is eta", HS_HELP_COMPRESS_BOTH,
      check_compress_any, run_compress_both, 1},
+    {"compress_box", NULL, "rri", "compress_box eta dLmax K",
+     "compress (or expand) a periodic box affinely until its packing fraction is eta",
+     HS_HELP_COMPRESS_BOX, check_compress_box, run_compress_box, 1},
     {"compress", NULL, "*", "compress ...", "always an error: name the wall to move",
      HS_HELP_COMPRESS, check_compress, run_compress, 0},
     {"image", NULL, "iif", "image K p FILE", "density profile along x (p bins per radius)",
