@@ -49,7 +49,7 @@ limited 1 "inf.mote:3:1: error: place: box: inf x 1 is more than 10^9 disk diame
 limited 0 "" small.mote "${H}radius 0.001\ndisks 20 20\nplace\nrun 10\n"
 grep -q '^N=40 t=10 ' out.txt && ok || bad "small.mote did not reach t = 10: $(tail -n 1 out.txt)"
 
-limited 1 "dots.mote:2:14: error: profile: dots must be in 1 ... 1000000" dots.mote "new 2 0.3\nprofile 0 24 1000000000 1 p.dat\n"
+limited 1 "dots.mote:2:14: error: profile: dots must be in [1, 1000000], found 1000000000" dots.mote "new 2 0.3\nprofile 0 24 1000000000 1 p.dat\n"
 
 # found by `make fuzz`: a mixing-box state with two coincident disks hung the event integrator,
 # which now refuses such a start; a disk faster than 10^6 m/s is refused at load

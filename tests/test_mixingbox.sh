@@ -19,9 +19,9 @@ expect 1 "b4.mote:2:16: error: collision_rule: expected 'restitution' or 'seed',
 expect 1 "b5.mote:2:9: error: disks: nLeft + nRight must be at least 1, found 0 + 0" b5.mote "${H}disks 0 0\n"
 expect 1 "b6.mote:2:8: error: radius: R must be > 0, found 0" b6.mote "${H}radius 0\n"
 expect 1 "b7.mote:2:11: error: kicks: dV_S must be >= 0, found -1" b7.mote "${H}kicks 0 0 -1\n"
-expect 1 "b8.mote:2:13: error: partition: the thickness a must be > 0, found 0" b8.mote "${H}partition 1 0\n"
+expect 1 "b8.mote:2:13: error: partition: a must be > 0, found 0" b8.mote "${H}partition 1 0\n"
 expect 1 "b9.mote:2:5: error: t_c: T must be >= 0, found -0.1" b9.mote "${H}t_c -0.1\n"
-expect 1 "b10.mote:2:8: error: v_init: V_init must be >= 0, found -2" b10.mote "${H}v_init -2\n"
+expect 1 "b10.mote:2:8: error: v_init: V must be >= 0, found -2" b10.mote "${H}v_init -2\n"
 # the geometry, at place, naming the commands that set the values
 expect 1 "g1.mote:3:1: error: place: slit: X2_C -/+ b/2 = 0.93, 1.03 must lie inside the box height X_B = 0 .. X_T = 1 [set by: box (default), slit on line 2]" \
     g1.mote "${H}slit 0.98 0.1\nplace\n"
@@ -39,7 +39,7 @@ expect 1 "o2.mote:3:5: error: run: T must be > 0, found 0" o2.mote "${H}place\nr
 expect 1 "o3.mote:3:10: error: snapshot: FILE must end in .png (a picture) or .xyz (extended XYZ), found 'x.jpg'" o3.mote "${H}place\nsnapshot x.jpg\n"
 expect 1 "o4.mote:3:12: error: record: the directory of output file 'nodir/m.dat' does not exist" o4.mote "${H}place\nrecord 0.1 nodir/m.dat\n"
 expect 1 "o5.mote:2:7: error: movie: no earlier 'frames' writes 'f_000000.png' and it does not exist" o5.mote "${H}movie f 25 m.mp4\n"
-expect 1 "o6.mote:2:6: error: plot: data file 'none.dat' does not exist and no earlier command writes it" o6.mote "${H}plot none.dat x.png\n"
+expect 1 "o6.mote:2:6: error: plot: 'none.dat' does not exist and no earlier command writes it" o6.mote "${H}plot none.dat x.png\n"
 expect 1 "o7.mote:4:5: error: run: 1 s with a frame every 1e-06 s would write 1e+06 PNG files" o7.mote "${H}place\nframes 1e-6 f\nrun 1\n"
 expect 1 "o8.mote:2:1: error: record: no disks are placed yet" o8.mote "${H}record 1 m.dat\n"
 expect 1 "o9.mote:3:18: error: run_collisions: T_MAX must be > 0, found 0" o9.mote "${H}place\nrun_collisions 5 0\n"
@@ -131,7 +131,7 @@ printf '%b' "${H}disks 5 5\nplace\nrun 0.1\nsave good.state\n" > s0.mote
 grep -q '^placed loss 0$' good.state && grep -q '^next integrator event$' good.state &&
     [ "$(grep -c '^[-0-9.e]* [-0-9.e]* [-0-9.e]* [-0-9.e]* [01] [01] ' good.state)" -eq 10 ] &&
     ok || bad "good.state: $(head -n 12 good.state)"
-expect 1 "s1.mote:2:6: error: load: cannot open state file 'none.state'" s1.mote "${H}load none.state\n"
+expect 1 "s1.mote:2:6: error: load: 'none.state' does not exist and no earlier command writes it" s1.mote "${H}load none.state\n"
 expect 1 "s2.mote:2:1: error: run: no disks are placed yet" s2.mote "${H}run 1\nload good.state\n"
 expect 1 "s3.mote:2:1: error: save: no disks are placed yet" s3.mote "${H}save x.state\n"
 # a hard-sphere state is another model's

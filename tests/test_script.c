@@ -22,6 +22,8 @@ static struct {
     unsigned long long last_seed;
     int last_nargs;
     char last_path[1024];
+    char plot_in[1024], plot_out[1024]; /* the paths the model's plot hook received */
+    char load_kind[32];                 /* the kind load's check found for its input ("" none) */
 } LOG;
 
 typedef struct {
@@ -62,13 +64,7 @@ static int fake_settle(void *m, mote_err *err)
 
 static int new_check(void *m, const mote_call *c, mote_err *err)
 {
-    LOG.checks++;
-    if (c->args[0].i < 2)
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "new: NN must be >= 2, found %lld",
-                              (long long)c->args[0].i);
-    if (!(c->args[1].r > 0 && c->args[1].r < 0.74))
-        return mote_call_fail(err, c, 1, MOTE_EINVAL, "new: eta must be in (0, 0.74), found %g",
-                              c->args[1].r);
+    LOG.checks++; /* the ranges of NN and eta are the table's (checked by the script layer) */
     ((fake *)m)->has_system = 1;
     return 0;
 }
@@ -85,9 +81,6 @@ static int step_check(void *m, const mote_call *c, mote_err *err)
     LOG.checks++;
     if (!((fake *)m)->has_system)
         return mote_call_fail(err, c, -1, MOTE_EINVAL, "step: no system yet");
-    if (c->args[0].i < 1)
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "step: K must be >= 1, found %lld",
-                              (long long)c->args[0].i);
     return 0;
 }
 
@@ -105,11 +98,10 @@ static int compress_run(void *m, const mote_call *c, mote_err *err)
     return 0;
 }
 
-static int seed_run(void *m, const mote_call *c, mote_err *err)
+static void fake_seed(void *m, uint64_t seed)
 {
     LOG.runs++;
-    LOG.last_seed = c->args[0].u;
-    return 0;
+    LOG.last_seed = seed;
 }
 
 static int save_check(void *m, const mote_call *c, mote_err *err)
@@ -143,6 +135,22 @@ static int save_run(void *m, const mote_call *c, mote_err *err)
     return rc;
 }
 
+static int load_check(void *m, const mote_call *c, mote_err *err)
+{
+    LOG.checks++;
+    const char *kind = mote_outputs_find(&c->ctx->outputs, c->args[0].path);
+    snprintf(LOG.load_kind, sizeof LOG.load_kind, "%s", kind ? kind : "");
+    return 0;
+}
+
+static int fake_plot(void *m, const char *in, const char *out, mote_err *err)
+{
+    LOG.runs++;
+    snprintf(LOG.plot_in, sizeof LOG.plot_in, "%s", in);
+    snprintf(LOG.plot_out, sizeof LOG.plot_out, "%s", out);
+    return 0;
+}
+
 static int opts_run(void *m, const mote_call *c, mote_err *err)
 {
     LOG.runs++;
@@ -166,17 +174,19 @@ static int boom_at_run(void *m, const mote_call *c, mote_err *err)
     return mote_call_fail(err, c, 0, MOTE_EIO, "boom_at: cannot write '%s'", c->args[0].text);
 }
 
-static const mote_cmd fake_cmds[] = {
-    {"new", NULL, "ir", "new NN eta", "make a system", "Make a system of NN x NN spheres.",
+static const mote_cmd fake_cmds[] = { /* the model every test script drives by default */
+    {"new", NULL, "i>=2 r(0,0.74)", "new NN eta", "make a system", "Make a system of NN x NN spheres.",
      new_check, new_run, 0},
-    {"step", NULL, "i", "step K", "run K collisions per particle", "Run.", step_check, step_run,
+    {"step", NULL, "i>=1", "step K", "run K collisions per particle", "Run.", step_check, step_run,
      1},
     {"compress_left_wall", "compressl", "rri", "compress_left_wall eta dLmax K",
      "move the left wall", "Compress.", NULL, compress_run, 1},
     {"compress_two_walls", "compresst compress_both_walls", "rri",
      "compress_two_walls eta dLmax K", "move both walls", "Compress both.", NULL, compress_run, 1},
-    {"seed", NULL, "u", "seed S", "re-seed", "Seed the generator.", NULL, seed_run, 0},
-    {"save", NULL, "f", "save FILE", "write the state", "Save.", save_check, save_run, 1},
+    {"save", NULL, "f>state", "save FILE", "write the state", "Save.", save_check, save_run, 1},
+    {"load", NULL, "f<state", "load FILE", "read a state", "Load.", load_check, opts_run, 0},
+    {"measure", NULL, "i r[0,1] u<=100 f>data", "measure K x u FILE", "write data", "Measure.",
+     NULL, opts_run, 0},
     {"opts", NULL, "*", "opts KEY=VALUE...", "any tokens", "Options.", NULL, opts_run, 0},
     {"name", NULL, "s", "name S", "a string", "Name.", NULL, opts_run, 0},
     {"boom", NULL, "", "boom", "fail at run time", "Fails.", NULL, boom_run, 0},
@@ -185,8 +195,19 @@ static const mote_cmd fake_cmds[] = {
 };
 
 static const mote_model fake_model = {
-    "hard-spheres", "fake hard spheres", fake_cmds, sizeof fake_cmds / sizeof fake_cmds[0],
-    fake_create, fake_destroy, fake_status, fake_settle,
+    .name = "hard-spheres",
+    .summary = "fake hard spheres",
+    .cmds = fake_cmds,
+    .ncmds = sizeof fake_cmds / sizeof fake_cmds[0],
+    .create = fake_create,
+    .destroy = fake_destroy,
+    .status = fake_status,
+    .settle = fake_settle,
+    .seed = fake_seed,
+    .seed_help = "Fake seeding.",
+    .plot_kinds = "data|other",
+    .plot = fake_plot,
+    .plot_help = "Fake pictures.",
 };
 
 static const mote_cmd other_cmds[] = {
@@ -194,7 +215,12 @@ static const mote_cmd other_cmds[] = {
 };
 
 static const mote_model other_model = {
-    "mixing-box", "another fake", other_cmds, 1, fake_create, fake_destroy, NULL, NULL,
+    .name = "mixing-box",
+    .summary = "another fake",
+    .cmds = other_cmds,
+    .ncmds = 1,
+    .create = fake_create,
+    .destroy = fake_destroy,
 };
 
 static const mote_model *const MODELS[] = {&fake_model, &other_model};
@@ -625,7 +651,7 @@ static void test_validation_first(void)
 
     /* threads */
     run_text(&r, "t0.mote", "threads 0\n", 0);
-    expect_error(&r, 1, 1, 9, "threads: expected N >= 1, found 0", NULL, NULL);
+    expect_error(&r, 1, 1, 9, "threads: N must be >= 1, found 0", NULL, NULL);
     run_text(&r, "t4.mote", "threads 4\nthreads 2\n", 0);
     CHECK_INT(r.status, 0);
     CHECK_HAS(r.err, "t4.mote:1:1: note: threads");
@@ -635,6 +661,79 @@ static void test_validation_first(void)
     run_text(&r, "opts.mote", "opts\nopts a b \"c d\" 4\n", 0);
     CHECK_INT(r.status, 0);
     CHECK_INT(LOG.last_nargs, 4);
+}
+
+/* The argument specs of the tables: ranges checked and files tracked by the script layer. */
+static void test_argument_specs(void)
+{
+    result r;
+    /* ranges: closed and open bounds, intervals, named as the synopsis names them */
+    run_text(&r, "r1.mote", "new 1 0.3\n", 0);
+    expect_error(&r, 1, 1, 5, "new: NN must be >= 2, found 1", NULL, NULL);
+    run_text(&r, "r2.mote", "new 2 0.74\n", 0);
+    expect_error(&r, 1, 1, 7, "new: eta must be in (0, 0.74), found 0.74", NULL, NULL);
+    run_text(&r, "r3.mote", "new 2 0\n", 0);
+    expect_error(&r, 1, 1, 7, "new: eta must be in (0, 0.74), found 0", NULL, NULL);
+    run_text(&r, "r4.mote", "new 2 0.7399\nmeasure 1 1.5 3 d.dat\n", 0);
+    expect_error(&r, 1, 2, 11, "measure: x must be in [0, 1], found 1.5", NULL, NULL);
+    run_text(&r, "r5.mote", "measure 1 0 101 d.dat\n", 0);
+    expect_error(&r, 1, 1, 13, "measure: u must be <= 100, found 101", NULL, NULL);
+    run_text(&r, "r6.mote", "measure 0 1 100 d.dat\nmeasure 0 0 0 e.dat\n", 1);
+    CHECK_INT(r.status, 0);
+    /* a range error comes before the command's own check, which never sees the bad value */
+    run_text(&r, "r7.mote", "new 0 0.3\n", 0);
+    CHECK_INT(LOG.checks, 0);
+
+    /* outputs: recorded with their kind; inputs must be written earlier or exist */
+    run_text(&r, "f1.mote", "save s.state\nload s.state\n", 1);
+    CHECK_INT(r.status, 0);
+    CHECK_STR(LOG.load_kind, "state");
+    run_text(&r, "f2.mote", "measure 1 0 1 d.dat\nload d.dat\n", 0);
+    expect_error(&r, 1, 2, 6, "load: 'd.dat' is written earlier in this script as a file of kind "
+                              "data; expected a file of kind state", NULL, NULL);
+    run_text(&r, "f3.mote", "load nosuch.state\n", 0);
+    expect_error(&r, 1, 1, 6, "load: 'nosuch.state' does not exist and no earlier command writes it",
+                 NULL, NULL);
+    write_file("old.state", "x", 1); /* a file that exists is accepted as it is */
+    run_text(&r, "f4.mote", "load old.state\n", 1);
+    CHECK_INT(r.status, 0);
+    CHECK_STR(LOG.load_kind, ""); /* an existing file has no kind in this script */
+    run_text(&r, "f5.mote", "measure 1 0 1 nodir/d.dat\n", 0);
+    expect_error(&r, 1, 1, 15, "measure: the directory of output file 'nodir/d.dat' does not exist",
+                 NULL, NULL);
+    run_text(&r, "f6.mote", "measure 1 0 1 d.dat\nmeasure 1 0 1 d.dat\n", 1);
+    CHECK_INT(r.status, 0);
+    CHECK_HAS(r.err, "f6.mote:2:1: warning: measure: 'd.dat' is written more than once");
+
+    /* the common plot: inputs of the model's plot kinds, paths resolved against output_dir */
+    run_text(&r, "p1.mote", "output_dir pd\nmeasure 1 0 1 d.dat\nplot d.dat d.png\n", 0);
+    CHECK_INT(r.status, 0);
+    CHECK_STR(LOG.plot_in, "pd/d.dat");
+    CHECK_STR(LOG.plot_out, "pd/d.png");
+    CHECK_HAS(r.out, "plot: wrote pd/d.png");
+    run_text(&r, "p2.mote", "save s.state\nplot s.state s.png\n", 0);
+    expect_error(&r, 1, 2, 6, "expected a file of kind data or other", NULL, NULL);
+    CHECK_INT(LOG.runs, 0);
+    run_text(&r, "p3.mote", "model mixing-box\nplot a.dat a.png\n", 0);
+    expect_error(&r, 1, 2, 1, "plot: the mixing-box model has nothing to plot", NULL, NULL);
+    run_text(&r, "p4.mote", "model mixing-box\nseed 3\n", 0);
+    expect_error(&r, 1, 2, 1, "seed: the mixing-box model draws no random numbers", NULL, NULL);
+    run_text(&r, "p5.mote", "seed 3\n", 0);
+    CHECK_INT(r.status, 0);
+    CHECK(LOG.last_seed == 3, "seed hook got %llu", LOG.last_seed);
+    CHECK_STR(r.out, "seed: 3\n");
+
+    /* malformed specs are caught by the table check */
+    static const char *const bad_specs[] = {"i>=", "r[1,0]", "f>a|b", "x", "s>0", "f>", "r(0,1",
+                                            "i>=1x", "f<A", "i>=1 f>"};
+    for (size_t k = 0; k < sizeof bad_specs / sizeof bad_specs[0]; k++) {
+        mote_cmd cmd = {"go", NULL, bad_specs[k], "go A", "go", "Go.", NULL, opts_run, 0};
+        mote_model model = {.name = "bad", .summary = "bad", .cmds = &cmd, .ncmds = 1,
+                            .create = fake_create, .destroy = fake_destroy};
+        const mote_model *const one[] = {&model};
+        mote_err err = {0};
+        CHECK(mote_models_verify(one, 1, &err) != 0, "spec \"%s\" accepted", bad_specs[k]);
+    }
 }
 
 static void test_runtime_errors(void)
@@ -859,8 +958,9 @@ static void test_help_and_usage(void)
     static const mote_cmd bad_cmds[] = {
         {"go", NULL, "ii", "go K", "go", "Go.", NULL, opts_run, 0},
     };
-    static const mote_model bad_model = {"bad", "bad", bad_cmds, 1, fake_create, fake_destroy,
-                                         NULL, NULL};
+    static const mote_model bad_model = {.name = "bad", .summary = "bad", .cmds = bad_cmds,
+                                         .ncmds = 1, .create = fake_create,
+                                         .destroy = fake_destroy};
     const mote_model *const bad[] = {&bad_model};
     mote_err err = {0};
     CHECK(mote_models_verify(bad, 1, &err) != 0, "bad synopsis accepted");
@@ -868,8 +968,9 @@ static void test_help_and_usage(void)
     static const mote_cmd clash_cmds[] = {
         {"go", "echo", "", "go", "go", "Go.", NULL, opts_run, 0},
     };
-    static const mote_model clash_model = {"clash", "c", clash_cmds, 1, fake_create,
-                                           fake_destroy, NULL, NULL};
+    static const mote_model clash_model = {.name = "clash", .summary = "c", .cmds = clash_cmds,
+                                           .ncmds = 1, .create = fake_create,
+                                           .destroy = fake_destroy};
     const mote_model *const clash[] = {&clash_model};
     CHECK(mote_models_verify(clash, 1, &err) != 0, "alias clash accepted");
     CHECK(mote_models_verify(MODELS, NMODELS, &err) == 0, "good tables rejected: %s", err.msg);
@@ -889,6 +990,7 @@ int main(void)
     test_numbers();
     test_models();
     test_validation_first();
+    test_argument_specs();
     test_runtime_errors();
     test_output_dir();
     test_help_and_usage();

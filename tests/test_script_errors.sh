@@ -53,12 +53,12 @@ rm -f program.txt
 "$MOTE" help --markdown > out.txt && grep -q '^### `compress_left_wall`$' out.txt && ok || bad "help --markdown"
 
 # the measuring commands: ranges checked before anything runs, located at the argument
-expect 1 "m1.mote:2:10: error: pressure: K (collisions per particle) must be >= 1, found 0" \
+expect 1 "m1.mote:2:10: error: pressure: K must be >= 1, found 0" \
     m1.mote 'new 2 0.3\npressure 0 p.dat\n'
-expect 1 "m2.mote:2:12: error: chempot: TRIALS (insertions per sample) must be >= 1, found 0" \
+expect 1 "m2.mote:2:12: error: chempot: TRIALS must be >= 1, found 0" \
     m2.mote 'new 2 0.3\nchempot 10 0 mu.dat\n'
 expect 1 "m3.mote:1:1: error: order: no system exists yet" m3.mote 'order 5 o.dat\n'
-expect 1 "m4.mote:1:6: error: bins: p (bins per R) must be in 1 ... 10000, found 0" m4.mote 'bins 0\n'
+expect 1 "m4.mote:1:6: error: bins: p must be in [1, 10000], found 0" m4.mote 'bins 0\n'
 expect 1 "m5.mote:2:12: error: pressure: the directory of output file 'nodir/p.dat' does not exist" \
     m5.mote 'new 2 0.3\npressure 5 nodir/p.dat\n'
 [ ! -e p.dat ] && [ ! -e mu.dat ] && ok || bad "m*.mote: a data file was written by an invalid script"

@@ -22,6 +22,8 @@ typedef struct {
     int64_t i;     /* type 'i' */
     uint64_t u;    /* type 'u' */
     double r;      /* type 'r' */
+    char *path;    /* type 'f': the name resolved against `output_dir` (set by the script layer
+                    * before the command's check and run; owned by the script) */
 } mote_arg;
 
 struct mote_cmd;
@@ -40,18 +42,25 @@ typedef struct {
     struct mote_context *ctx;   /* run-wide settings (output directory, terminal, streams) */
 } mote_call;
 
-/* Argument type letters used in mote_cmd.args:
+/* mote_cmd.args describes the arguments, one spec per argument, separated by spaces (plain
+ * letters may also be run together: "ir" is "i r"), or "*" alone:
  *   'i'  non-negative decimal integer that fits in int64 (an optional leading '+')
  *   'u'  unsigned 64-bit decimal integer (0 ... 2^64-1)
  *   'r'  finite real in decimal notation (strtod syntax without hex, inf or nan)
  *   'f'  file name: one bare token or a double-quoted string (escapes \" and \\)
  *   's'  any single token (string)
- *   '*'  as the only letter: any number of tokens of any kind; the command checks them itself
- * Ranges ("K >= 1", "eta > 0") are checked by the command's own `check`. */
+ *   '*'  as the only spec: any number of tokens of any kind; the command checks them itself
+ * A number may carry a range, checked by the script layer before the command's `check`, with a
+ * message naming the argument as the synopsis does: "i>=1", "r>0", "r<=1", "r[0,1]", "r(0,1]".
+ * A file may carry its role: "f>KIND" is an output of kind KIND (a short lower-case word such as
+ * "state" or "image"): the script layer checks that its directory will exist, warns when a script
+ * writes a file twice, and records it; "f<KIND1|KIND2" is an input that an earlier command of the
+ * script must write with one of these kinds, or else must exist now. Kinds are the models' own
+ * names; a command's `check` can ask for the kind of an input with mote_outputs_find. */
 typedef struct mote_cmd {
     const char *name;
     const char *aliases;  /* space-separated alternative names, or NULL */
-    const char *args;     /* type letters, one per argument, e.g. "ir" */
+    const char *args;     /* argument specs, e.g. "i>=1 r(0,1) f>image" (see above) */
     const char *synopsis; /* e.g. "compress_left_wall eta dLmax K" */
     const char *summary;  /* one line for `mote help` */
     const char *help;     /* full documentation for `mote help CMD` */
@@ -61,12 +70,23 @@ typedef struct mote_cmd {
     int needs_system;     /* documentary: 1 if a system must exist first (checked by `check`) */
 } mote_cmd;
 
+/* The output files of a script, recorded as validation walks the script (by the script layer for
+ * "f>KIND" arguments, by a command's `check` for files it names otherwise): later commands can
+ * ask whether a path is written earlier and by what kind of command, and a path written twice
+ * gets a warning. */
+typedef struct {
+    char **path;
+    char **kind;
+    size_t n, cap;
+} mote_outputs;
+
 /* Run-wide settings shared by the script layer and the model's commands. */
 typedef struct mote_context {
     const char *script_path;
     char output_dir[4096];  /* "" = current directory; set by the `output_dir` command */
     char pending_dirs[8][4096]; /* during validation: directories `output_dir` will create */
     int npending_dirs;
+    mote_outputs outputs;   /* during validation: the files the script writes, so far */
     int terminal;           /* stdout is a terminal: show progress */
     FILE *out;              /* status lines (stdout) */
     FILE *diag;             /* warnings and errors (stderr) */
@@ -89,6 +109,15 @@ typedef struct mote_model {
      * `A; save F; load F; B` run bit for bit alike. A model whose state between commands is
      * always canonical (no lazy updates, no caches that steer the dynamics) leaves it NULL. */
     int (*settle)(void *model, mote_err *err);
+    /* The common command `seed S`: restart the model's random stream from S (NULL: the model
+     * draws no random numbers, and `seed` is refused). */
+    void (*seed)(void *model, uint64_t seed);
+    const char *seed_help;  /* what draws from the stream in this model (for `mote help seed`) */
+    /* The common command `plot DATAFILE PNGFILE`: render a data file of one of the kinds in
+     * plot_kinds ("image|profile", as in an "f<" spec) as a PNG (NULL: nothing to plot). */
+    const char *plot_kinds;
+    int (*plot)(void *model, const char *data_path, const char *png_path, mote_err *err);
+    const char *plot_help;  /* the pictures of this model's kinds (for `mote help plot`) */
 } mote_model;
 
 /* Resolve a file name given to a command: relative names are taken relative to ctx->output_dir
@@ -109,30 +138,14 @@ void mote_call_warn(const mote_call *c, const char *fmt, ...) __attribute__((for
 
 /* ---- the files a script writes (validation) -------------------------------------------------- */
 
-/* The output files of a script, recorded by the models' `check` functions as validation walks
- * the script: later commands can ask whether a path is written earlier and by what kind of
- * command (kinds are the model's own codes), and a path written twice gets a warning. */
-typedef struct {
-    char **path;
-    int *kind;
-    size_t n, cap;
-} mote_outputs;
-
 void mote_outputs_free(mote_outputs *o);
-/* The kind of the latest record of `path`, or -1. */
-int mote_outputs_find(const mote_outputs *o, const char *path);
+/* The kind of the latest record of `path`, or NULL. */
+const char *mote_outputs_find(const mote_outputs *o, const char *path);
 /* Record `path` (already resolved with mote_ctx_path) as written by call c: fails, located at
  * argument argi, when its directory does not exist (and no earlier `output_dir` creates it);
  * warns when it is written for the second time unless `repeat_ok`. */
 int mote_outputs_note_path(mote_outputs *o, const mote_call *c, int argi, const char *path,
-                           int kind, int repeat_ok, mote_err *err);
-/* Record the file named by argument argi of call c. */
-int mote_outputs_note(mote_outputs *o, const mote_call *c, int argi, int kind, mote_err *err);
-/* Validate an input data file (argument argi): it must be written earlier in the script by a
- * command whose kind satisfies ok(kind), or else exist now. `what` names the accepted kinds in
- * the message (e.g. "image, profile, pressure, chempot or order"). */
-int mote_outputs_check_input(const mote_outputs *o, const mote_call *c, int argi,
-                             int (*ok)(int kind), const char *what, mote_err *err);
+                           const char *kind, int repeat_ok, mote_err *err);
 
 /* "SOURCE   (FILE:LINE)": the command as written, for data-file headers (malloc'ed; NULL when
  * out of memory). */

@@ -192,29 +192,40 @@ void mote_progress_end(mote_progress *p)
 
 void mote_outputs_free(mote_outputs *o)
 {
-    for (size_t k = 0; k < o->n; k++)
+    for (size_t k = 0; k < o->n; k++) {
         free(o->path[k]);
+        free(o->kind[k]);
+    }
     free(o->path);
     free(o->kind);
     memset(o, 0, sizeof *o);
 }
 
-int mote_outputs_find(const mote_outputs *o, const char *path)
+const char *mote_outputs_find(const mote_outputs *o, const char *path)
 {
     for (size_t k = o->n; k-- > 0;)
         if (strcmp(o->path[k], path) == 0)
             return o->kind[k];
-    return -1;
+    return NULL;
+}
+
+static char *copy_string(const char *s)
+{
+    size_t len = strlen(s) + 1;
+    char *copy = malloc(len);
+    if (copy)
+        memcpy(copy, s, len);
+    return copy;
 }
 
 int mote_outputs_note_path(mote_outputs *o, const mote_call *c, int argi, const char *path,
-                           int kind, int repeat_ok, mote_err *err)
+                           const char *kind, int repeat_ok, mote_err *err)
 {
     if (!mote_ctx_dir_ok(c->ctx, path))
         return mote_call_fail(err, c, argi, MOTE_EIO,
                               "%s: the directory of output file '%s' does not exist", c->name,
                               path);
-    if (!repeat_ok && mote_outputs_find(o, path) >= 0)
+    if (!repeat_ok && mote_outputs_find(o, path))
         mote_call_warn(c, "%s: '%s' is written more than once in this script; the last one wins",
                        c->name, path);
     if (o->n == o->cap) {
@@ -222,51 +233,22 @@ int mote_outputs_note_path(mote_outputs *o, const mote_call *c, int argi, const 
         char **p = realloc(o->path, cap * sizeof *p);
         if (p)
             o->path = p;
-        int *k = realloc(o->kind, cap * sizeof *k);
+        char **k = realloc(o->kind, cap * sizeof *k);
         if (k)
             o->kind = k;
         if (!p || !k)
             return mote_call_fail(err, c, argi, MOTE_ENOMEM, "out of memory");
         o->cap = cap;
     }
-    size_t len = strlen(path) + 1;
-    char *copy = malloc(len);
-    if (!copy)
+    char *pcopy = copy_string(path), *kcopy = copy_string(kind);
+    if (!pcopy || !kcopy) {
+        free(pcopy);
+        free(kcopy);
         return mote_call_fail(err, c, argi, MOTE_ENOMEM, "out of memory");
-    memcpy(copy, path, len);
-    o->path[o->n] = copy;
-    o->kind[o->n++] = kind;
+    }
+    o->path[o->n] = pcopy;
+    o->kind[o->n++] = kcopy;
     return MOTE_OK;
-}
-
-int mote_outputs_note(mote_outputs *o, const mote_call *c, int argi, int kind, mote_err *err)
-{
-    char *path = mote_ctx_path(c->ctx, c->args[argi].text);
-    if (!path)
-        return mote_call_fail(err, c, argi, MOTE_ENOMEM, "out of memory");
-    int rc = mote_outputs_note_path(o, c, argi, path, kind, 0, err);
-    free(path);
-    return rc;
-}
-
-int mote_outputs_check_input(const mote_outputs *o, const mote_call *c, int argi,
-                             int (*ok)(int kind), const char *what, mote_err *err)
-{
-    char *path = mote_ctx_path(c->ctx, c->args[argi].text);
-    if (!path)
-        return mote_call_fail(err, c, argi, MOTE_ENOMEM, "out of memory");
-    int kind = mote_outputs_find(o, path);
-    struct stat st;
-    int rc = MOTE_OK;
-    if (kind >= 0 && !ok(kind))
-        rc = mote_call_fail(err, c, argi, MOTE_EINVAL, "%s: '%s' is not a data file of %s",
-                            c->name, path, what);
-    else if (kind < 0 && stat(path, &st) != 0)
-        rc = mote_call_fail(err, c, argi, MOTE_EIO,
-                            "%s: data file '%s' does not exist and no earlier command writes it",
-                            c->name, path);
-    free(path);
-    return rc;
 }
 
 char *mote_call_origin(const mote_call *c)

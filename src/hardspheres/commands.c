@@ -17,10 +17,7 @@ typedef struct {
     /* dry state */
     int d_has, d_geometry, d_dim;
     uint64_t d_n; /* 0 = unknown */
-    mote_outputs out; /* files the script writes (kinds W_*) */
 } hs_model;
-
-enum { W_STATE, W_IMAGE, W_PROFILE, W_PNG, W_PRESSURE, W_CHEMPOT, W_ORDER, W_XYZ, W_RDF, W_MSD };
 
 static void *model_create(mote_context *ctx, int dry)
 {
@@ -40,13 +37,19 @@ static void model_destroy(void *vm)
     if (!m)
         return;
     mote_hs_free(&m->hs);
-    mote_outputs_free(&m->out);
     free(m);
 }
 
 static void model_status(void *vm, FILE *out) { mote_hs_status(&((hs_model *)vm)->hs, out); }
 
 static int model_settle(void *vm, mote_err *err) { return mote_hs_settle(&((hs_model *)vm)->hs, err); }
+
+static void model_seed(void *vm, uint64_t seed) { mote_hs_seed(&((hs_model *)vm)->hs, seed); }
+
+static int model_plot(void *vm, const char *data_path, const char *png_path, mote_err *err)
+{
+    return hs_plot_file(data_path, png_path, err);
+}
 
 /* ---- validation helpers ------------------------------------------------------------------------ */
 
@@ -80,17 +83,6 @@ static int located(mote_err *err, const mote_call *c, int argi, int rc)
     }
     return rc;
 }
-
-/* Resolve argument argi as a path and run fn on it. */
-#define WITH_PATH(c, argi, path, err, body)                                                      \
-    do {                                                                                         \
-        char *path = mote_ctx_path((c)->ctx, (c)->args[argi].text);                              \
-        if (!path)                                                                               \
-            return mote_fail(err, MOTE_ENOMEM, "out of memory");                                 \
-        int rc_ = (body);                                                                        \
-        free(path);                                                                              \
-        return rc_;                                                                              \
-    } while (0)
 
 /* ---- seeding -------------------------------------------------------------------------------------- */
 
@@ -159,113 +151,67 @@ static int run_bulk_disks(void *vm, const mote_call *c, mote_err *err)
     return mote_hs_bulk_disks(&((hs_model *)vm)->hs, c->args[0].i, c->args[1].r, err);
 }
 
-static int run_seed(void *vm, const mote_call *c, mote_err *err)
-{
-    hs_model *m = vm;
-    mote_hs_seed(&m->hs, c->args[0].u);
-    if (m->hs.log)
-        fprintf(m->hs.log, "seed: %llu\n", (unsigned long long)c->args[0].u);
-    return MOTE_OK;
-}
-
 /* ---- files ------------------------------------------------------------------------------------------ */
 
-static int check_save(void *vm, const mote_call *c, mote_err *err)
-{
-    hs_model *m = vm;
-    int rc = need_system(m, c, err);
-    return rc ? rc : mote_outputs_note(&m->out, c, 0, W_STATE, err);
-}
+static int check_save(void *vm, const mote_call *c, mote_err *err) { return need_system(vm, c, err); }
 static int run_save(void *vm, const mote_call *c, mote_err *err)
 {
-    hs_model *m = vm;
-    WITH_PATH(c, 0, path, err, mote_hs_save(&m->hs, path, err));
+    return mote_hs_save(&((hs_model *)vm)->hs, c->args[0].path, err);
 }
 
 static int check_load(void *vm, const mote_call *c, mote_err *err)
 {
     hs_model *m = vm;
-    char *path = mote_ctx_path(c->ctx, c->args[0].text);
-    if (!path)
-        return mote_call_fail(err, c, 0, MOTE_ENOMEM, "out of memory");
-    int kind = mote_outputs_find(&m->out, path);
-    int rc = MOTE_OK;
-    if (kind == W_STATE) {
-        /* written by an earlier save of this script: same system as then */
+    const char *kind = mote_outputs_find(&c->ctx->outputs, c->args[0].path);
+    if (kind) { /* written by an earlier save of this script: the system as it was then */
         m->d_has = 1;
-    } else if (kind >= 0) {
-        rc = mote_call_fail(err, c, 0, MOTE_EINVAL,
-                            "load: '%s' is written earlier in this script by a measurement, not by "
-                            "save; it is not a state file",
-                            path);
-    } else {
-        int geometry, dim;
-        uint64_t n;
-        rc = mote_hs_peek(path, &geometry, &dim, &n, err);
-        if (rc)
-            rc = located(err, c, 0, rc);
-        else
-            dry_system(m, geometry, dim, n);
+        return MOTE_OK;
     }
-    free(path);
-    return rc;
+    int geometry, dim;
+    uint64_t n;
+    int rc = mote_hs_peek(c->args[0].path, &geometry, &dim, &n, err);
+    if (rc)
+        return located(err, c, 0, rc);
+    dry_system(m, geometry, dim, n);
+    return MOTE_OK;
 }
 static int run_load(void *vm, const mote_call *c, mote_err *err)
 {
-    hs_model *m = vm;
-    WITH_PATH(c, 0, path, err, mote_hs_load(&m->hs, path, err));
+    return mote_hs_load(&((hs_model *)vm)->hs, c->args[0].path, err);
 }
 
 /* ---- dynamics --------------------------------------------------------------------------------------- */
 
 static int check_temperature(void *vm, const mote_call *c, mote_err *err)
 {
-    int rc = need_system(vm, c, err);
-    if (rc)
-        return rc;
-    if (!(c->args[0].r > 0))
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "temperature: T must be > 0, found %s",
-                              c->args[0].text);
-    return MOTE_OK;
+    return need_system(vm, c, err);
 }
 static int run_temperature(void *vm, const mote_call *c, mote_err *err)
 {
     return mote_hs_temperature(&((hs_model *)vm)->hs, c->args[0].r, err);
 }
 
-static int check_step(void *vm, const mote_call *c, mote_err *err)
+/* A command that runs K collisions per particle (argument argi): a system, and K N in range. */
+static int check_run_k(hs_model *m, const mote_call *c, int argi, mote_err *err)
 {
-    hs_model *m = vm;
     int rc = need_system(m, c, err);
-    if (rc)
-        return rc;
-    if (c->args[0].i < 1)
-        return mote_call_fail(err, c, 0, MOTE_EINVAL,
-                              "step: K (collisions per particle) must be >= 1, found %s",
-                              c->args[0].text);
-    return check_collisions(m, c, 0, (uint64_t)c->args[0].i, err);
+    return rc ? rc : check_collisions(m, c, argi, (uint64_t)c->args[argi].i, err);
 }
+
+static int check_step(void *vm, const mote_call *c, mote_err *err) { return check_run_k(vm, c, 0, err); }
 static int run_step(void *vm, const mote_call *c, mote_err *err)
 {
     return mote_hs_step(&((hs_model *)vm)->hs, (uint64_t)c->args[0].i, err);
 }
 
-/* eta, dLmax and K of every compression command */
+/* eta of every compression command: below close packing in the system's dimension */
 static int check_compress_args(hs_model *m, const mote_call *c, mote_err *err)
 {
     double cp = m->d_dim == 2 ? 0.90689968211710892 : 0.74048048969306104;
-    if (!(c->args[0].r > 0) || !(c->args[0].r < cp))
+    if (!(c->args[0].r < cp))
         return mote_call_fail(err, c, 0, MOTE_EINVAL,
                               "%s: eta must be in (0, %.5f) (close packing), found %s", c->name,
                               cp, c->args[0].text);
-    if (!(c->args[1].r > 0))
-        return mote_call_fail(err, c, 1, MOTE_EINVAL, "%s: dLmax must be > 0, found %s", c->name,
-                              c->args[1].text);
-    if (c->args[2].i < 1)
-        return mote_call_fail(err, c, 2, MOTE_EINVAL,
-                              "%s: K (collisions per particle after each move) must be >= 1, "
-                              "found %s",
-                              c->name, c->args[2].text);
     return check_collisions(m, c, 2, (uint64_t)c->args[2].i, err);
 }
 
@@ -336,77 +282,51 @@ static int run_compress(void *vm, const mote_call *c, mote_err *err)
 
 /* ---- measurements ------------------------------------------------------------------------------- */
 
-static int check_image(void *vm, const mote_call *c, mote_err *err)
+/* Report what a command wrote (the file is its last argument). */
+static void wrote(hs_model *m, const mote_call *c)
 {
-    hs_model *m = vm;
-    int rc = need_system(m, c, err);
-    if (rc)
-        return rc;
-    if (c->args[1].i < 1)
-        return mote_call_fail(err, c, 1, MOTE_EINVAL,
-                              "image: points per radius must be >= 1, found %s", c->args[1].text);
-    if ((rc = check_collisions(m, c, 0, (uint64_t)c->args[0].i, err)))
-        return rc;
-    return mote_outputs_note(&m->out, c, 2, W_IMAGE, err);
+    if (m->hs.log)
+        fprintf(m->hs.log, "%s: wrote %s\n", c->name, c->args[c->nargs - 1].path);
 }
+
+static int check_image(void *vm, const mote_call *c, mote_err *err) { return check_run_k(vm, c, 0, err); }
 static int run_image(void *vm, const mote_call *c, mote_err *err)
 {
     hs_model *m = vm;
     char *origin = mote_call_origin(c);
-    char *path = mote_ctx_path(c->ctx, c->args[2].text);
-    int rc = path ? mote_hs_image(&m->hs, (uint64_t)c->args[0].i, c->args[1].i, path, origin, err)
-                  : mote_fail(err, MOTE_ENOMEM, "out of memory");
-    if (!rc && m->hs.log)
-        fprintf(m->hs.log, "image: wrote %s\n", path);
+    int rc = origin ? mote_hs_image(&m->hs, (uint64_t)c->args[0].i, c->args[1].i,
+                                    c->args[2].path, origin, err)
+                    : mote_fail(err, MOTE_ENOMEM, "out of memory");
+    if (!rc)
+        wrote(m, c);
     free(origin);
-    free(path);
     return rc;
 }
 
 static int check_profile(void *vm, const mote_call *c, mote_err *err)
 {
     hs_model *m = vm;
-    int rc = need_system(m, c, err);
-    if (rc)
-        return rc;
     if (!(c->args[0].r <= c->args[1].r))
         return mote_call_fail(err, c, 1, MOTE_EINVAL, "profile: x2 must not be below x1 (%s > %s)",
                               c->args[0].text, c->args[1].text);
-    if (c->args[2].i < 1 || c->args[2].i > MOTE_HS_PROFILE_DOTS_MAX)
-        return mote_call_fail(err, c, 2, MOTE_EINVAL,
-                              "profile: dots must be in 1 ... 1000000 (every sample's cut is kept "
-                              "in memory until the file is written), found %s",
-                              c->args[2].text);
     if (c->args[3].i == 0 && c->args[2].i != 1)
         return mote_call_fail(err, c, 3, MOTE_EINVAL,
                               "profile: K = 0 samples the current state once, so dots must be 1");
-    if ((rc = check_collisions(m, c, 3, (uint64_t)c->args[3].i, err)))
-        return rc;
-    return mote_outputs_note(&m->out, c, 4, W_PROFILE, err);
+    return check_run_k(m, c, 3, err);
 }
 static int run_profile(void *vm, const mote_call *c, mote_err *err)
 {
     hs_model *m = vm;
     char *origin = mote_call_origin(c);
-    char *path = mote_ctx_path(c->ctx, c->args[4].text);
-    int rc = path ? mote_hs_profile(&m->hs, c->args[0].r, c->args[1].r, c->args[2].i,
-                                    (uint64_t)c->args[3].i, path, origin, err)
-                  : mote_fail(err, MOTE_ENOMEM, "out of memory");
-    if (!rc && m->hs.log)
-        fprintf(m->hs.log, "profile: wrote %s\n", path);
+    int rc = origin ? mote_hs_profile(&m->hs, c->args[0].r, c->args[1].r, c->args[2].i,
+                                      (uint64_t)c->args[3].i, c->args[4].path, origin, err)
+                    : mote_fail(err, MOTE_ENOMEM, "out of memory");
+    if (!rc)
+        wrote(m, c);
     free(origin);
-    free(path);
     return rc;
 }
 
-static int check_bins(void *vm, const mote_call *c, mote_err *err)
-{
-    if (c->args[0].i < 1 || c->args[0].i > 10000)
-        return mote_call_fail(err, c, 0, MOTE_EINVAL,
-                              "bins: p (bins per R) must be in 1 ... 10000, found %s",
-                              c->args[0].text);
-    return MOTE_OK;
-}
 static int run_bins(void *vm, const mote_call *c, mote_err *err)
 {
     hs_model *m = vm;
@@ -417,47 +337,29 @@ static int run_bins(void *vm, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
-/* Common checks of pressure / chempot / order: a system, K within range, the output file. */
-static int check_measure(hs_model *m, const mote_call *c, int kmin, int file_arg, int kind,
-                         mote_err *err)
-{
-    int rc = need_system(m, c, err);
-    if (rc)
-        return rc;
-    if (c->args[0].i < kmin)
-        return mote_call_fail(err, c, 0, MOTE_EINVAL,
-                              "%s: K (collisions per particle) must be >= %d, found %s", c->name,
-                              kmin, c->args[0].text);
-    if ((rc = check_collisions(m, c, 0, (uint64_t)c->args[0].i, err)))
-        return rc;
-    return mote_outputs_note(&m->out, c, file_arg, kind, err);
-}
-
 typedef int (*measure_fn)(hs_model *m, const mote_call *c, const char *path, const char *origin,
                           mote_hs_result *res, mote_err *err);
 
-/* Run a measurement writing args[file_arg], then print its key=value summary line. */
-static int run_measure(hs_model *m, const mote_call *c, int file_arg, measure_fn fn,
-                       mote_err *err)
+/* Run a measurement writing its last argument, then print its key=value summary line. */
+static int run_measure(hs_model *m, const mote_call *c, measure_fn fn, mote_err *err)
 {
     char *origin = mote_call_origin(c);
-    char *path = mote_ctx_path(c->ctx, c->args[file_arg].text);
     mote_hs_result res = {0};
-    int rc = path && origin ? fn(m, c, path, origin, &res, err)
-                            : mote_fail(err, MOTE_ENOMEM, "out of memory");
+    int rc = origin ? fn(m, c, c->args[c->nargs - 1].path, origin, &res, err)
+                    : mote_fail(err, MOTE_ENOMEM, "out of memory");
     if (!rc && m->hs.log) {
         mote_hs_result_print(&res, c->name, m->hs.log);
-        fprintf(m->hs.log, "%s: wrote %s\n", c->name, path);
+        wrote(m, c);
     }
     free(origin);
-    free(path);
     return rc;
 }
 
-static int check_pressure(void *vm, const mote_call *c, mote_err *err)
+static int check_measure(void *vm, const mote_call *c, mote_err *err)
 {
-    return check_measure(vm, c, 1, 1, W_PRESSURE, err);
+    return check_run_k(vm, c, 0, err);
 }
+
 static int do_pressure(hs_model *m, const mote_call *c, const char *path, const char *origin,
                        mote_hs_result *res, mote_err *err)
 {
@@ -465,18 +367,9 @@ static int do_pressure(hs_model *m, const mote_call *c, const char *path, const 
 }
 static int run_pressure(void *vm, const mote_call *c, mote_err *err)
 {
-    return run_measure(vm, c, 1, do_pressure, err);
+    return run_measure(vm, c, do_pressure, err);
 }
 
-static int check_chempot(void *vm, const mote_call *c, mote_err *err)
-{
-    int rc = check_measure(vm, c, 0, 2, W_CHEMPOT, err);
-    if (!rc && c->args[1].i < 1)
-        rc = mote_call_fail(err, c, 1, MOTE_EINVAL,
-                            "chempot: TRIALS (insertions per sample) must be >= 1, found %s",
-                            c->args[1].text);
-    return rc;
-}
 static int do_chempot(hs_model *m, const mote_call *c, const char *path, const char *origin,
                       mote_hs_result *res, mote_err *err)
 {
@@ -484,13 +377,9 @@ static int do_chempot(hs_model *m, const mote_call *c, const char *path, const c
 }
 static int run_chempot(void *vm, const mote_call *c, mote_err *err)
 {
-    return run_measure(vm, c, 2, do_chempot, err);
+    return run_measure(vm, c, do_chempot, err);
 }
 
-static int check_order(void *vm, const mote_call *c, mote_err *err)
-{
-    return check_measure(vm, c, 0, 1, W_ORDER, err);
-}
 static int do_order(hs_model *m, const mote_call *c, const char *path, const char *origin,
                     mote_hs_result *res, mote_err *err)
 {
@@ -498,17 +387,9 @@ static int do_order(hs_model *m, const mote_call *c, const char *path, const cha
 }
 static int run_order(void *vm, const mote_call *c, mote_err *err)
 {
-    return run_measure(vm, c, 1, do_order, err);
+    return run_measure(vm, c, do_order, err);
 }
 
-static int check_rdf(void *vm, const mote_call *c, mote_err *err)
-{
-    int rc = check_measure(vm, c, 0, 2, W_RDF, err);
-    if (!rc && !(c->args[1].r > 0))
-        rc = mote_call_fail(err, c, 1, MOTE_EINVAL, "rdf: RMAX must be > 0, found %s",
-                            c->args[1].text);
-    return rc;
-}
 static int do_rdf(hs_model *m, const mote_call *c, const char *path, const char *origin,
                   mote_hs_result *res, mote_err *err)
 {
@@ -516,13 +397,9 @@ static int do_rdf(hs_model *m, const mote_call *c, const char *path, const char 
 }
 static int run_rdf(void *vm, const mote_call *c, mote_err *err)
 {
-    return run_measure(vm, c, 2, do_rdf, err);
+    return run_measure(vm, c, do_rdf, err);
 }
 
-static int check_msd(void *vm, const mote_call *c, mote_err *err)
-{
-    return check_measure(vm, c, 4, 1, W_MSD, err);
-}
 static int do_msd(hs_model *m, const mote_call *c, const char *path, const char *origin,
                   mote_hs_result *res, mote_err *err)
 {
@@ -530,7 +407,7 @@ static int do_msd(hs_model *m, const mote_call *c, const char *path, const char 
 }
 static int run_msd(void *vm, const mote_call *c, mote_err *err)
 {
-    return run_measure(vm, c, 1, do_msd, err);
+    return run_measure(vm, c, do_msd, err);
 }
 
 static int check_check(void *vm, const mote_call *c, mote_err *err) { return need_system(vm, c, err); }
@@ -540,27 +417,6 @@ static int run_check(void *vm, const mote_call *c, mote_err *err)
     int rc = mote_hs_check(&m->hs, err);
     if (!rc && m->hs.log)
         fprintf(m->hs.log, "check: all invariants hold\n");
-    return rc;
-}
-
-static int plottable(int kind) { return kind != W_STATE && kind != W_PNG && kind != W_XYZ; }
-static int check_plot(void *vm, const mote_call *c, mote_err *err)
-{
-    hs_model *m = vm;
-    int rc = mote_outputs_check_input(&m->out, c, 0, plottable,
-                                      "image, profile, pressure, chempot or order", err);
-    return rc ? rc : mote_outputs_note(&m->out, c, 1, W_PNG, err);
-}
-static int run_plot(void *vm, const mote_call *c, mote_err *err)
-{
-    hs_model *m = vm;
-    char *in = mote_ctx_path(c->ctx, c->args[0].text);
-    char *out = mote_ctx_path(c->ctx, c->args[1].text);
-    int rc = in && out ? hs_plot_file(in, out, err) : mote_fail(err, MOTE_ENOMEM, "out of memory");
-    if (!rc && m->hs.log)
-        fprintf(m->hs.log, "plot: wrote %s\n", out);
-    free(in);
-    free(out);
     return rc;
 }
 
@@ -578,52 +434,37 @@ static int check_xyz_name(const mote_call *c, int argi, mote_err *err)
 
 static int check_snapshot(void *vm, const mote_call *c, mote_err *err)
 {
-    hs_model *m = vm;
-    int rc = need_system(m, c, err);
-    if (!rc)
-        rc = check_xyz_name(c, 0, err);
-    return rc ? rc : mote_outputs_note(&m->out, c, 0, W_XYZ, err);
+    int rc = need_system(vm, c, err);
+    return rc ? rc : check_xyz_name(c, 0, err);
 }
 static int run_snapshot(void *vm, const mote_call *c, mote_err *err)
 {
     hs_model *m = vm;
     char *origin = mote_call_origin(c);
-    char *path = mote_ctx_path(c->ctx, c->args[0].text);
-    int rc = path ? mote_hs_snapshot(&m->hs, path, origin, err)
-                  : mote_fail(err, MOTE_ENOMEM, "out of memory");
-    if (!rc && m->hs.log)
-        fprintf(m->hs.log, "snapshot: wrote %s\n", path);
+    int rc = origin ? mote_hs_snapshot(&m->hs, c->args[0].path, origin, err)
+                    : mote_fail(err, MOTE_ENOMEM, "out of memory");
+    if (!rc)
+        wrote(m, c);
     free(origin);
-    free(path);
     return rc;
 }
 
 static int check_dump(void *vm, const mote_call *c, mote_err *err)
 {
-    hs_model *m = vm;
-    int rc = need_system(m, c, err);
-    if (rc)
-        return rc;
-    if (c->args[0].i < 1)
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "dump: K must be >= 1, found %s",
-                              c->args[0].text);
-    if ((rc = check_collisions(m, c, 0, (uint64_t)c->args[0].i, err)) ||
-        (rc = check_xyz_name(c, 1, err)))
-        return rc;
-    return mote_outputs_note(&m->out, c, 1, W_XYZ, err);
+    int rc = check_run_k(vm, c, 0, err);
+    return rc ? rc : check_xyz_name(c, 1, err);
 }
 static int run_dump(void *vm, const mote_call *c, mote_err *err)
 {
     hs_model *m = vm;
     char *origin = mote_call_origin(c);
-    char *path = mote_ctx_path(c->ctx, c->args[1].text);
-    int rc = path ? mote_hs_dump_start(&m->hs, (uint64_t)c->args[0].i, path, origin, err)
-                  : mote_fail(err, MOTE_ENOMEM, "out of memory");
+    int rc = origin ? mote_hs_dump_start(&m->hs, (uint64_t)c->args[0].i, c->args[1].path, origin,
+                                         err)
+                    : mote_fail(err, MOTE_ENOMEM, "out of memory");
     if (!rc && m->hs.log)
         fprintf(m->hs.log, "dump: frame 0 in %s, then one every %lld collisions per particle\n",
-                path, (long long)c->args[0].i);
+                c->args[1].path, (long long)c->args[0].i);
     free(origin);
-    free(path);
     return rc;
 }
 
@@ -640,83 +481,83 @@ static int run_dump_stop(void *vm, const mote_call *c, mote_err *err)
 /* ---- the table ----------------------------------------------------------------------------------- */
 
 static const mote_cmd hs_commands[] = {
-    {"new", NULL, "ir", "new NN eta", "seed a 3D slit: N = (4NN-1)(2NN-1)^2+1 spheres at density eta",
+    {"new", NULL, "i r", "new NN eta", "seed a 3D slit: N = (4NN-1)(2NN-1)^2+1 spheres at density eta",
      HS_HELP_NEW, check_new, run_new, 0},
-    {"bulk", NULL, "ir", "bulk N eta", "seed a periodic FCC cube of N = 4n^3 spheres", HS_HELP_BULK,
+    {"bulk", NULL, "i r", "bulk N eta", "seed a periodic FCC cube of N = 4n^3 spheres", HS_HELP_BULK,
      check_bulk, run_bulk, 0},
-    {"new_disks", NULL, "iir", "new_disks nx ny eta", "seed a 2D slit of nx*ny disks",
+    {"new_disks", NULL, "i i r", "new_disks nx ny eta", "seed a 2D slit of nx*ny disks",
      HS_HELP_NEW_DISKS, check_new_disks, run_new_disks, 0},
-    {"bulk_disks", NULL, "ir", "bulk_disks N eta", "seed a periodic 2D triangular lattice of N = n^2 disks",
+    {"bulk_disks", NULL, "i r", "bulk_disks N eta", "seed a periodic 2D triangular lattice of N = n^2 disks",
      HS_HELP_BULK_DISKS, check_bulk_disks, run_bulk_disks, 0},
-    {"seed", NULL, "u", "seed S", "re-seed the random stream (default 1)", HS_HELP_SEED, NULL,
-     run_seed, 0},
-    {"save", NULL, "f", "save FILE", "write the exact state to FILE", HS_HELP_SAVE, check_save,
+    {"save", NULL, "f>state", "save FILE", "write the exact state to FILE", HS_HELP_SAVE, check_save,
      run_save, 1},
-    {"load", NULL, "f", "load FILE", "read a state (mote or original-program format)", HS_HELP_LOAD,
-     check_load, run_load, 0},
-    {"temperature", NULL, "r", "temperature T", "rescale velocities so that kT_kin = T",
+    {"load", NULL, "f<state", "load FILE", "read a state (mote or original-program format)",
+     HS_HELP_LOAD, check_load, run_load, 0},
+    {"temperature", NULL, "r>0", "temperature T", "rescale velocities so that kT_kin = T",
      HS_HELP_TEMPERATURE, check_temperature, run_temperature, 1},
-    {"step", NULL, "i", "step K", "run K collisions per particle (floor(K N / 2) pair collisions)",
+    {"step", NULL, "i>=1", "step K", "run K collisions per particle (floor(K N / 2) pair collisions)",
      HS_HELP_STEP, check_step, run_step, 1},
-    {"compress_left_wall", "compressl", "rri", "compress_left_wall eta dLmax K",
+    {"compress_left_wall", "compressl", "r>0 r>0 i>=1", "compress_left_wall eta dLmax K",
      "move the left wall until the density is eta", HS_HELP_COMPRESS_LEFT, check_compress_any,
      run_compress_left, 1},
-    {"compress_right_wall", "compressr", "rri", "compress_right_wall eta dLmax K",
+    {"compress_right_wall", "compressr", "r>0 r>0 i>=1", "compress_right_wall eta dLmax K",
      "move the right wall until the density is eta", HS_HELP_COMPRESS_RIGHT, check_compress_any,
      run_compress_right, 1},
-    {"compress_two_walls", "compresst compress_both_walls", "rri", "compress_two_walls eta dLmax K",
+    {"compress_two_walls", "compresst compress_both_walls", "r>0 r>0 i>=1",
+     "compress_two_walls eta dLmax K",
      "move both walls symmetrically until the density is eta", HS_HELP_COMPRESS_BOTH,
      check_compress_any, run_compress_both, 1},
-    {"compress_box", NULL, "rri", "compress_box eta dLmax K",
+    {"compress_box", NULL, "r>0 r>0 i>=1", "compress_box eta dLmax K",
      "compress (or expand) a periodic box affinely until its packing fraction is eta",
      HS_HELP_COMPRESS_BOX, check_compress_box, run_compress_box, 1},
     {"compress", NULL, "*", "compress ...", "always an error: name the wall to move",
      HS_HELP_COMPRESS, check_compress, run_compress, 0},
-    {"image", NULL, "iif", "image K p FILE", "density profile along x (p bins per radius)",
+    {"image", NULL, "i i>=1 f>image", "image K p FILE", "density profile along x (p bins per radius)",
      HS_HELP_IMAGE, check_image, run_image, 1},
-    {"profile", NULL, "rriif", "profile x1 x2 dots K FILE",
+    {"profile", NULL, "r r i[1,1000000] i f>profile", "profile x1 x2 dots K FILE",
      "layer cut: centres with x1 <= x <= x2, projected on the y-z plane", HS_HELP_PROFILE,
      check_profile, run_profile, 1},
-    {"bins", NULL, "i", "bins p", "bins per R for the pressure and chempot profiles (default 10)",
-     HS_HELP_BINS, check_bins, run_bins, 0},
-    {"pressure", NULL, "if", "pressure K FILE",
+    {"bins", NULL, "i[1,10000]", "bins p", "bins per R for the pressure and chempot profiles (default 10)",
+     HS_HELP_BINS, NULL, run_bins, 0},
+    {"pressure", NULL, "i>=1 f>pressure", "pressure K FILE",
      "wall pressures, virial pressure and pressure-tensor profiles over K collisions per particle",
-     HS_HELP_PRESSURE, check_pressure, run_pressure, 1},
-    {"chempot", NULL, "iif", "chempot K TRIALS FILE",
-     "excess chemical potential by Widom test-particle insertion", HS_HELP_CHEMPOT, check_chempot,
+     HS_HELP_PRESSURE, check_measure, run_pressure, 1},
+    {"chempot", NULL, "i i>=1 f>chempot", "chempot K TRIALS FILE",
+     "excess chemical potential by Widom test-particle insertion", HS_HELP_CHEMPOT, check_measure,
      run_chempot, 1},
-    {"order", NULL, "if", "order K FILE",
-     "crystallinity per wall layer: Steinhardt q6 and in-layer psi6", HS_HELP_ORDER, check_order,
+    {"order", NULL, "i f>order", "order K FILE",
+     "crystallinity per wall layer: Steinhardt q6 and in-layer psi6", HS_HELP_ORDER, check_measure,
      run_order, 1},
-    {"rdf", NULL, "irf", "rdf K RMAX FILE",
+    {"rdf", NULL, "i r>0 f>rdf", "rdf K RMAX FILE",
      "radial distribution function g(r) up to RMAX, its contact value and Z (slit: in-layer g)",
-     HS_HELP_RDF, check_rdf, run_rdf, 1},
-    {"msd", NULL, "if", "msd K FILE",
+     HS_HELP_RDF, check_measure, run_rdf, 1},
+    {"msd", NULL, "i>=4 f>msd", "msd K FILE",
      "mean-squared displacement and the self-diffusion coefficient D over K collisions per particle",
-     HS_HELP_MSD, check_msd, run_msd, 1},
-    {"snapshot", NULL, "f", "snapshot FILE.xyz",
+     HS_HELP_MSD, check_measure, run_msd, 1},
+    {"snapshot", NULL, "f>xyz", "snapshot FILE.xyz",
      "the current configuration as extended XYZ (OVITO, VMD, ASE), with local order",
      HS_HELP_SNAPSHOT, check_snapshot, run_snapshot, 1},
-    {"dump", NULL, "if", "dump K FILE.xyz",
+    {"dump", NULL, "i>=1 f>xyz", "dump K FILE.xyz",
      "a trajectory: an XYZ frame now and every K collisions per particle of later commands",
      HS_HELP_DUMP, check_dump, run_dump, 1},
     {"dump_stop", NULL, "", "dump_stop", "stop writing the trajectory of `dump`",
      HS_HELP_DUMP_STOP, NULL, run_dump_stop, 0},
     {"check", NULL, "", "check", "verify every invariant of the simulation", HS_HELP_CHECK,
      check_check, run_check, 1},
-    {"plot", NULL, "ff", "plot DATAFILE PNGFILE",
-     "render a data file (image, profile, pressure, chempot, order, rdf, msd) as a PNG",
-     HS_HELP_PLOT, check_plot,
-     run_plot, 0},
 };
 
 const mote_model mote_model_hardspheres = {
-    "hard-spheres",
-    "hard spheres (or disks) between two walls or in a periodic box; event-driven",
-    hs_commands,
-    sizeof hs_commands / sizeof hs_commands[0],
-    model_create,
-    model_destroy,
-    model_status,
-    model_settle,
+    .name = "hard-spheres",
+    .summary = "hard spheres (or disks) between two walls or in a periodic box; event-driven",
+    .cmds = hs_commands,
+    .ncmds = sizeof hs_commands / sizeof hs_commands[0],
+    .create = model_create,
+    .destroy = model_destroy,
+    .status = model_status,
+    .settle = model_settle,
+    .seed = model_seed,
+    .seed_help = HS_HELP_SEED,
+    .plot_kinds = "image|profile|pressure|chempot|order|rdf|msd",
+    .plot = model_plot,
+    .plot_help = HS_HELP_PLOT,
 };

@@ -11,8 +11,6 @@
 
 #include "help.inc"
 
-enum { W_RECORD, W_DENSITY, W_PNG, W_XYZ, W_FRAMES, W_MOVIE, W_STATE };
-
 typedef struct {
     mote_mb sys;
     mote_mb_params p;  /* the parameters as the commands so far have set them */
@@ -26,7 +24,6 @@ typedef struct {
     int d_place_line;
     int64_t d_n; /* disks the last place puts */
     double d_record_dt, d_density_dt, d_frames_dt; /* 0 = not active */
-    mote_outputs out; /* files (and frame prefixes) the script writes, kinds W_* */
 
     /* samplers kept across runs */
     mb_record rec;
@@ -57,7 +54,6 @@ static void model_destroy(void *vm)
     mb_record_free(&m->rec);
     mb_density_free(&m->dens);
     free(m->frames.prefix);
-    mote_outputs_free(&m->out);
     free(m);
 }
 
@@ -95,22 +91,6 @@ static int need_placed(mb_model *m, const mote_call *c, mote_err *err)
         return mote_call_fail(err, c, -1, MOTE_EINVAL,
                               "%s: no disks are placed yet; set the parameters, then 'place'",
                               c->name);
-    return MOTE_OK;
-}
-
-static int positive(const mote_call *c, int argi, const char *what, mote_err *err)
-{
-    if (!(c->args[argi].r > 0))
-        return mote_call_fail(err, c, argi, MOTE_EINVAL, "%s: %s must be > 0, found %s", c->name,
-                              what, c->args[argi].text);
-    return MOTE_OK;
-}
-
-static int non_negative(const mote_call *c, int argi, const char *what, mote_err *err)
-{
-    if (!(c->args[argi].r >= 0))
-        return mote_call_fail(err, c, argi, MOTE_EINVAL, "%s: %s must be >= 0, found %s",
-                              c->name, what, c->args[argi].text);
     return MOTE_OK;
 }
 
@@ -175,10 +155,8 @@ static int run_box(void *vm, const mote_call *c, mote_err *err)
 
 static int check_partition(void *vm, const mote_call *c, mote_err *err)
 {
-    int rc = positive(c, 1, "the thickness a", err);
-    if (!rc)
-        set_group(vm, c, MB_P_PARTITION);
-    return rc ? rc : run_partition(vm, c, err);
+    set_group(vm, c, MB_P_PARTITION);
+    return run_partition(vm, c, err);
 }
 static int run_partition(void *vm, const mote_call *c, mote_err *err)
 {
@@ -190,10 +168,8 @@ static int run_partition(void *vm, const mote_call *c, mote_err *err)
 
 static int check_slit(void *vm, const mote_call *c, mote_err *err)
 {
-    int rc = non_negative(c, 1, "the height b", err);
-    if (!rc)
-        set_group(vm, c, MB_P_SLIT);
-    return rc ? rc : run_slit(vm, c, err);
+    set_group(vm, c, MB_P_SLIT);
+    return run_slit(vm, c, err);
 }
 static int run_slit(void *vm, const mote_call *c, mote_err *err)
 {
@@ -205,10 +181,8 @@ static int run_slit(void *vm, const mote_call *c, mote_err *err)
 
 static int check_radius(void *vm, const mote_call *c, mote_err *err)
 {
-    int rc = positive(c, 0, "R", err);
-    if (!rc)
-        set_group(vm, c, MB_P_RADIUS);
-    return rc ? rc : run_radius(vm, c, err);
+    set_group(vm, c, MB_P_RADIUS);
+    return run_radius(vm, c, err);
 }
 static int run_radius(void *vm, const mote_call *c, mote_err *err)
 {
@@ -239,10 +213,8 @@ static int run_disks(void *vm, const mote_call *c, mote_err *err)
 
 static int check_v_init(void *vm, const mote_call *c, mote_err *err)
 {
-    int rc = non_negative(c, 0, "V_init", err);
-    if (!rc)
-        set_group(vm, c, MB_P_VINIT);
-    return rc ? rc : run_v_init(vm, c, err);
+    set_group(vm, c, MB_P_VINIT);
+    return run_v_init(vm, c, err);
 }
 static int run_v_init(void *vm, const mote_call *c, mote_err *err)
 {
@@ -259,12 +231,6 @@ static void set_physics(mb_model *m, const mote_call *c, int group)
 
 static int check_kicks(void *vm, const mote_call *c, mote_err *err)
 {
-    static const char *const names[] = {"dV_B", "dV_T", "dV_S"};
-    for (int k = 0; k < 3; k++) {
-        int rc = non_negative(c, k, names[k], err);
-        if (rc)
-            return rc;
-    }
     set_physics(vm, c, MB_P_KICKS);
     return run_kicks(vm, c, err);
 }
@@ -279,9 +245,6 @@ static int run_kicks(void *vm, const mote_call *c, mote_err *err)
 
 static int check_loss(void *vm, const mote_call *c, mote_err *err)
 {
-    if (!(c->args[0].r >= 0 && c->args[0].r <= 1))
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "loss: LOSS must be in [0, 1], found %s",
-                              c->args[0].text);
     set_physics(vm, c, MB_P_LOSS);
     return run_loss(vm, c, err);
 }
@@ -303,10 +266,8 @@ static int check_gravity(void *vm, const mote_call *c, mote_err *err)
 
 static int check_t_c(void *vm, const mote_call *c, mote_err *err)
 {
-    int rc = non_negative(c, 0, "T", err);
-    if (!rc)
-        set_physics(vm, c, MB_P_TC);
-    return rc ? rc : run_t_c(vm, c, err);
+    set_physics(vm, c, MB_P_TC);
+    return run_t_c(vm, c, err);
 }
 static int run_t_c(void *vm, const mote_call *c, mote_err *err)
 {
@@ -361,52 +322,33 @@ static int run_rule(void *vm, const mote_call *c, mote_err *err)
     return parse_rule(c, &((mb_model *)vm)->p.rule, err);
 }
 
-static int run_seed(void *vm, const mote_call *c, mote_err *err)
-{
-    mote_mb_seed(&((mb_model *)vm)->sys, c->args[0].u);
-    return MOTE_OK;
-}
-
 /* ---- state files ---------------------------------------------------------------------------- */
 
 static int check_save(void *vm, const mote_call *c, mote_err *err)
 {
     mb_model *m = vm;
-    int rc = need_placed(m, c, err);
-    return rc ? rc : mote_outputs_note(&m->out, c, 0, W_STATE, err);
+    return need_placed(m, c, err);
 }
 static int run_save(void *vm, const mote_call *c, mote_err *err)
 {
     mb_model *m = vm;
-    char *path = mote_ctx_path(c->ctx, c->args[0].text);
-    int rc = path ? mb_save(&m->sys, &m->p, path, err)
-                  : mote_fail(err, MOTE_ENOMEM, "save: out of memory");
+    const char *path = c->args[0].path;
+    int rc = mb_save(&m->sys, &m->p, path, err);
     if (!rc && m->log)
         fprintf(m->log, "save: wrote %s\n", path);
-    free(path);
     return rc;
 }
 
 static int check_load(void *vm, const mote_call *c, mote_err *err)
 {
     mb_model *m = vm;
-    char *path = mote_ctx_path(c->ctx, c->args[0].text);
-    if (!path)
-        return mote_call_fail(err, c, 0, MOTE_ENOMEM, "out of memory");
-    int kind = mote_outputs_find(&m->out, path), rc = MOTE_OK;
+    const char *path = c->args[0].path;
     uint64_t n = (uint64_t)m->d_n;
-    if (kind >= 0 && kind != W_STATE)
-        rc = mote_call_fail(err, c, 0, MOTE_EINVAL,
-                            "load: '%s' is written earlier in this script by another command, "
-                            "not by save; it is not a state file", path);
-    else if (kind < 0 && mb_peek(path, &n, err)) {
+    if (!mote_outputs_find(&c->ctx->outputs, path) && mb_peek(path, &n, err)) {
         char why[sizeof err->msg];
         snprintf(why, sizeof why, "%s", err->msg);
-        rc = mote_call_fail(err, c, 0, err->code, "load: %s", why);
+        return mote_call_fail(err, c, 0, err->code, "load: %s", why);
     }
-    free(path);
-    if (rc)
-        return rc;
     m->d_placed = 1; /* a state saved earlier in the script: the system of that save */
     m->d_place_line = c->line;
     m->d_n = (int64_t)n;
@@ -415,9 +357,7 @@ static int check_load(void *vm, const mote_call *c, mote_err *err)
 static int run_load(void *vm, const mote_call *c, mote_err *err)
 {
     mb_model *m = vm;
-    char *path = mote_ctx_path(c->ctx, c->args[0].text);
-    if (!path)
-        return mote_fail(err, MOTE_ENOMEM, "load: out of memory");
+    const char *path = c->args[0].path;
     double t_before = m->sys.time;
     int rc = mb_load(&m->sys, &m->p, path, err);
     if (!rc && m->sys.time != t_before) {
@@ -433,7 +373,6 @@ static int run_load(void *vm, const mote_call *c, mote_err *err)
     }
     if (!rc && m->log)
         fprintf(m->log, "load: %u disks at t = %.10g s from %s\n", m->sys.n, m->sys.time, path);
-    free(path);
     return rc;
 }
 
@@ -522,11 +461,7 @@ static int check_run(void *vm, const mote_call *c, mote_err *err)
 {
     mb_model *m = vm;
     int rc = need_placed(m, c, err);
-    if (!rc)
-        rc = positive(c, 0, "T", err);
-    if (!rc)
-        rc = check_samples(m, c, 0, c->args[0].r, err);
-    return rc;
+    return rc ? rc : check_samples(m, c, 0, c->args[0].r, err);
 }
 
 static int check_run_collisions(void *vm, const mote_call *c, mote_err *err)
@@ -535,14 +470,10 @@ static int check_run_collisions(void *vm, const mote_call *c, mote_err *err)
     int rc = need_placed(m, c, err);
     if (rc)
         return rc;
-    if (c->args[0].i < 1)
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "run_collisions: K must be >= 1, found %s",
-                              c->args[0].text);
     if (m->d_n < 2)
         return mote_call_fail(err, c, -1, MOTE_EINVAL,
                               "run_collisions: there is only one disk, which never collides");
-    rc = positive(c, 1, "T_MAX", err);
-    return rc ? rc : check_samples(m, c, 1, c->args[1].r, err);
+    return check_samples(m, c, 1, c->args[1].r, err);
 }
 
 /* Copy the physics parameters the commands set into the placed system. */
@@ -667,10 +598,6 @@ static int check_record(void *vm, const mote_call *c, mote_err *err)
     mb_model *m = vm;
     int rc = need_placed(m, c, err);
     if (!rc)
-        rc = positive(c, 0, "DT", err);
-    if (!rc)
-        rc = mote_outputs_note(&m->out, c, 1, W_RECORD, err);
-    if (!rc)
         m->d_record_dt = c->args[0].r;
     return rc;
 }
@@ -678,7 +605,7 @@ static int run_record(void *vm, const mote_call *c, mote_err *err)
 {
     mb_model *m = vm;
     mb_record_free(&m->rec);
-    m->rec.path = mote_ctx_path(c->ctx, c->args[1].text);
+    m->rec.path = strdup(c->args[1].path);
     m->rec.origin = mote_call_origin(c);
     if (!m->rec.path || !m->rec.origin)
         return mote_fail(err, MOTE_ENOMEM, "record: out of memory");
@@ -702,14 +629,6 @@ static int check_density(void *vm, const mote_call *c, mote_err *err)
     mb_model *m = vm;
     int rc = need_placed(m, c, err);
     if (!rc)
-        rc = positive(c, 0, "DT", err);
-    if (!rc && (c->args[1].i < 1 || c->args[1].i > 1000000))
-        rc = mote_call_fail(err, c, 1, MOTE_EINVAL,
-                            "density_y: NBINS must be in 1 ... 1000000, found %s",
-                            c->args[1].text);
-    if (!rc)
-        rc = mote_outputs_note(&m->out, c, 2, W_DENSITY, err);
-    if (!rc)
         m->d_density_dt = c->args[0].r;
     return rc;
 }
@@ -718,7 +637,7 @@ static int run_density(void *vm, const mote_call *c, mote_err *err)
     mb_model *m = vm;
     mb_density *d = &m->dens;
     mb_density_free(d);
-    d->path = mote_ctx_path(c->ctx, c->args[2].text);
+    d->path = strdup(c->args[2].path);
     d->origin = mote_call_origin(c);
     d->nbins = c->args[1].i;
     d->count[0] = calloc((size_t)d->nbins, sizeof(double));
@@ -764,15 +683,15 @@ static int check_snapshot(void *vm, const mote_call *c, mote_err *err)
                               "snapshot: FILE must end in .png (a picture) or .xyz (extended "
                               "XYZ), found '%s'",
                               f);
-    return mote_outputs_note(&m->out, c, 0, png ? W_PNG : W_XYZ, err);
+    return MOTE_OK;
 }
 static int run_snapshot(void *vm, const mote_call *c, mote_err *err)
 {
     mb_model *m = vm;
-    char *path = mote_ctx_path(c->ctx, c->args[0].text);
+    const char *path = c->args[0].path;
     char *origin = mote_call_origin(c);
     int rc;
-    if (!path || !origin)
+    if (!origin)
         rc = mote_fail(err, MOTE_ENOMEM, "snapshot: out of memory");
     else if (ends_with(path, ".xyz"))
         rc = mb_snapshot_xyz(&m->sys, path, origin, err);
@@ -780,7 +699,6 @@ static int run_snapshot(void *vm, const mote_call *c, mote_err *err)
         rc = mb_snapshot_png(&m->sys, path, err);
     if (!rc && m->log)
         fprintf(m->log, "snapshot: wrote %s\n", path);
-    free(path);
     free(origin);
     return rc;
 }
@@ -789,20 +707,17 @@ static int check_frames(void *vm, const mote_call *c, mote_err *err)
 {
     mb_model *m = vm;
     int rc = need_placed(m, c, err);
-    if (!rc)
-        rc = positive(c, 0, "DT", err);
     if (rc)
         return rc;
-    char *prefix = mote_ctx_path(c->ctx, c->args[1].text);
-    char *first = prefix ? mb_frame_name(prefix, 0) : NULL;
+    const char *prefix = c->args[1].path;
+    char *first = mb_frame_name(prefix, 0);
     if (!first)
         rc = mote_call_fail(err, c, 1, MOTE_ENOMEM, "out of memory");
     else if (!mote_ctx_dir_ok(c->ctx, first))
         rc = mote_call_fail(err, c, 1, MOTE_EIO,
                             "frames: the directory of the frames '%s' does not exist", first);
     else
-        rc = mote_outputs_note_path(&m->out, c, 1, prefix, W_FRAMES, 1, err);
-    free(prefix);
+        rc = mote_outputs_note_path(&c->ctx->outputs, c, 1, prefix, "frames", 1, err);
     free(first);
     if (!rc)
         m->d_frames_dt = c->args[0].r;
@@ -811,7 +726,7 @@ static int check_frames(void *vm, const mote_call *c, mote_err *err)
 static int run_frames(void *vm, const mote_call *c, mote_err *err)
 {
     mb_model *m = vm;
-    char *prefix = mote_ctx_path(c->ctx, c->args[1].text);
+    char *prefix = strdup(c->args[1].path);
     if (!prefix)
         return mote_fail(err, MOTE_ENOMEM, "frames: out of memory");
     mb_frames *fr = &m->frames;
@@ -845,60 +760,39 @@ static int run_frames_stop(void *vm, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
+static int frames_of(const char *kind) { return kind && strcmp(kind, "frames") == 0; }
+
 static int check_movie(void *vm, const mote_call *c, mote_err *err)
 {
-    mb_model *m = vm;
-    if (c->args[1].i < 1 || c->args[1].i > 1000)
-        return mote_call_fail(err, c, 1, MOTE_EINVAL, "movie: FPS must be in 1 ... 1000, found %s",
-                              c->args[1].text);
-    char *prefix = mote_ctx_path(c->ctx, c->args[0].text);
-    char *first = prefix ? mb_frame_name(prefix, 0) : NULL;
+    const char *prefix = c->args[0].path;
+    char *first = mb_frame_name(prefix, 0);
     int rc = MOTE_OK;
     struct stat st;
     if (!first)
         rc = mote_call_fail(err, c, 0, MOTE_ENOMEM, "out of memory");
-    else if (mote_outputs_find(&m->out, prefix) != W_FRAMES && stat(first, &st) != 0)
+    else if (!frames_of(mote_outputs_find(&c->ctx->outputs, prefix)) && stat(first, &st) != 0)
         rc = mote_call_fail(err, c, 0, MOTE_EINVAL,
                             "movie: no earlier 'frames' writes '%s' and it does not exist", first);
-    free(prefix);
     free(first);
-    return rc ? rc : mote_outputs_note(&m->out, c, 2, W_MOVIE, err);
+    return rc;
 }
 static int run_movie(void *vm, const mote_call *c, mote_err *err)
 {
     mb_model *m = vm;
-    char *prefix = mote_ctx_path(c->ctx, c->args[0].text);
-    char *out = mote_ctx_path(c->ctx, c->args[2].text);
-    int ran = 0, rc;
-    if (!prefix || !out)
-        rc = mote_fail(err, MOTE_ENOMEM, "movie: out of memory");
-    else
-        rc = mb_movie(prefix, c->args[1].i, out, m->ctx ? m->ctx->diag : NULL, &ran, err);
+    const char *out = c->args[2].path;
+    int ran = 0;
+    int rc = mb_movie(c->args[0].path, c->args[1].i, out, m->ctx ? m->ctx->diag : NULL, &ran,
+                      err);
     if (!rc && ran && m->log)
         fprintf(m->log, "movie: wrote %s\n", out);
-    free(prefix);
-    free(out);
     return rc;
 }
 
-static int plottable(int kind) { return kind == W_RECORD || kind == W_DENSITY; }
-static int check_plot(void *vm, const mote_call *c, mote_err *err)
+static void model_seed(void *vm, uint64_t seed) { mote_mb_seed(&((mb_model *)vm)->sys, seed); }
+
+static int model_plot(void *vm, const char *data_path, const char *png_path, mote_err *err)
 {
-    mb_model *m = vm;
-    int rc = mote_outputs_check_input(&m->out, c, 0, plottable, "record or density_y", err);
-    return rc ? rc : mote_outputs_note(&m->out, c, 1, W_PNG, err);
-}
-static int run_plot(void *vm, const mote_call *c, mote_err *err)
-{
-    mb_model *m = vm;
-    char *in = mote_ctx_path(c->ctx, c->args[0].text);
-    char *out = mote_ctx_path(c->ctx, c->args[1].text);
-    int rc = in && out ? mb_plot_file(in, out, err) : mote_fail(err, MOTE_ENOMEM, "out of memory");
-    if (!rc && m->log)
-        fprintf(m->log, "plot: wrote %s\n", out);
-    free(in);
-    free(out);
-    return rc;
+    return mb_plot_file(data_path, png_path, err);
 }
 
 /* ---- the table ----------------------------------------------------------------------------------- */
@@ -906,67 +800,69 @@ static int run_plot(void *vm, const mote_call *c, mote_err *err)
 static const mote_cmd mb_commands[] = {
     {"box", NULL, "rrrr", "box X_L X_R X_B X_T", "the box walls (m)", MB_HELP_BOX, check_box,
      run_box, 0},
-    {"partition", NULL, "rr", "partition X1_C a", "partition centre x and thickness (m)",
+    {"partition", NULL, "r r>0", "partition X1_C a", "partition centre x and thickness (m)",
      MB_HELP_PARTITION, check_partition, run_partition, 0},
-    {"slit", NULL, "rr", "slit X2_C b", "slit centre y and height (m); b = 0 closes it",
+    {"slit", NULL, "r r>=0", "slit X2_C b", "slit centre y and height (m); b = 0 closes it",
      MB_HELP_SLIT, check_slit, run_slit, 0},
-    {"radius", NULL, "r", "radius R", "disk radius (m)", MB_HELP_RADIUS, check_radius,
+    {"radius", NULL, "r>0", "radius R", "disk radius (m)", MB_HELP_RADIUS, check_radius,
      run_radius, 0},
     {"disks", NULL, "ii", "disks nLeft nRight", "disk counts of the left and right chamber",
      MB_HELP_DISKS, check_disks, run_disks, 0},
-    {"v_init", NULL, "r", "v_init V", "initial speed of every disk (m/s)", MB_HELP_VINIT,
+    {"v_init", NULL, "r>=0", "v_init V", "initial speed of every disk (m/s)", MB_HELP_VINIT,
      check_v_init, run_v_init, 0},
-    {"kicks", NULL, "rrr", "kicks dV_B dV_T dV_S",
+    {"kicks", NULL, "r>=0 r>=0 r>=0", "kicks dV_B dV_T dV_S",
      "speed added on bounces off bottom, top, side walls (m/s)", MB_HELP_KICKS, check_kicks,
      run_kicks, 0},
-    {"loss", NULL, "r", "loss LOSS", "fraction of kinetic energy lost per disk-disk collision",
+    {"loss", NULL, "r[0,1]", "loss LOSS", "fraction of kinetic energy lost per disk-disk collision",
      MB_HELP_LOSS, check_loss, run_loss, 0},
     {"gravity", NULL, "r", "gravity g", "gravitational acceleration in -y (m/s^2)",
      MB_HELP_GRAVITY, check_gravity, run_gravity, 0},
-    {"t_c", NULL, "r", "t_c T", "TC-model time (s): collisions closer than T are elastic",
+    {"t_c", NULL, "r>=0", "t_c T", "TC-model time (s): collisions closer than T are elastic",
      MB_HELP_TC, check_t_c, run_t_c, 0},
     {"integrator", NULL, "s", "integrator NAME", "event (exact, default) or timestep (the document's scheme)",
      MB_HELP_INTEGRATOR, check_integrator, run_integrator, 0},
     {"collision_rule", NULL, "s", "collision_rule NAME",
      "restitution (default) or seed (the document's rule)", MB_HELP_RULE, check_rule, run_rule,
      0},
-    {"seed", NULL, "u", "seed S", "re-seed the random stream (default 1)", MB_HELP_SEED, NULL,
-     run_seed, 0},
-    {"save", NULL, "f", "save FILE", "write the exact state to FILE", MB_HELP_SAVE, check_save,
+    {"save", NULL, "f>state", "save FILE", "write the exact state to FILE", MB_HELP_SAVE, check_save,
      run_save, 1},
-    {"load", NULL, "f", "load FILE", "continue from a state written by save", MB_HELP_LOAD,
+    {"load", NULL, "f<state", "load FILE", "continue from a state written by save", MB_HELP_LOAD,
      check_load, run_load, 0},
     {"place", NULL, "", "place", "place the disks at random in their chambers", MB_HELP_PLACE,
      check_place, run_place, 0},
-    {"run", NULL, "r", "run T", "advance by the simulated time T (s)", MB_HELP_RUN, check_run,
+    {"run", NULL, "r>0", "run T", "advance by the simulated time T (s)", MB_HELP_RUN, check_run,
      run_run, 1},
-    {"run_collisions", NULL, "ir", "run_collisions K T_MAX",
+    {"run_collisions", NULL, "i>=1 r>0", "run_collisions K T_MAX",
      "advance by K disk-disk collisions (at most T_MAX s)", MB_HELP_RUN_COLLISIONS,
      check_run_collisions, run_run_collisions, 1},
-    {"record", NULL, "rf", "record DT FILE", "record the mixing curve every DT s into FILE",
+    {"record", NULL, "r>0 f>record", "record DT FILE", "record the mixing curve every DT s into FILE",
      MB_HELP_RECORD, check_record, run_record, 1},
-    {"density_y", NULL, "rif", "density_y DT NBINS FILE",
+    {"density_y", NULL, "r>0 i[1,1000000] f>density_y", "density_y DT NBINS FILE",
      "time-averaged density profile in y, sampled every DT s", MB_HELP_DENSITY, check_density,
      run_density, 1},
-    {"snapshot", NULL, "f", "snapshot FILE", "picture (.png) or extended XYZ (.xyz) of the state",
+    {"snapshot", NULL, "f>snapshot", "snapshot FILE", "picture (.png) or extended XYZ (.xyz) of the state",
      MB_HELP_SNAPSHOT, check_snapshot, run_snapshot, 1},
-    {"frames", NULL, "rf", "frames DT PREFIX", "a picture every DT s: PREFIX_000000.png ...",
+    {"frames", NULL, "r>0 f", "frames DT PREFIX", "a picture every DT s: PREFIX_000000.png ...",
      MB_HELP_FRAMES, check_frames, run_frames, 1},
     {"frames_stop", NULL, "", "frames_stop", "stop writing frames", MB_HELP_FRAMES_STOP,
      check_frames_stop, run_frames_stop, 0},
-    {"movie", NULL, "fif", "movie PREFIX FPS FILE", "make a movie of the frames (needs ffmpeg)",
+    {"movie", NULL, "f i[1,1000] f>movie", "movie PREFIX FPS FILE", "make a movie of the frames (needs ffmpeg)",
      MB_HELP_MOVIE, check_movie, run_movie, 0},
-    {"plot", NULL, "ff", "plot DATAFILE PNGFILE",
-     "render a record or density_y data file as a PNG", MB_HELP_PLOT, check_plot, run_plot, 0},
 };
 
+/* No settle: the arrays are the whole state after every command, and each run builds its engine
+ * afresh. */
 const mote_model mote_model_mixingbox = {
-    "mixing-box",
-    "2D disks of two colours mixing through a slit in a partition (spec mixing-box)",
-    mb_commands,
-    sizeof mb_commands / sizeof mb_commands[0],
-    model_create,
-    model_destroy,
-    model_status,
-    NULL, /* the arrays are the whole state after every command: each run builds its engine */
+    .name = "mixing-box",
+    .summary = "2D disks of two colours mixing through a slit in a partition (spec mixing-box)",
+    .cmds = mb_commands,
+    .ncmds = sizeof mb_commands / sizeof mb_commands[0],
+    .create = model_create,
+    .destroy = model_destroy,
+    .status = model_status,
+    .seed = model_seed,
+    .seed_help = MB_HELP_SEED,
+    .plot_kinds = "record|density_y",
+    .plot = model_plot,
+    .plot_help = MB_HELP_PLOT,
 };

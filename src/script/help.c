@@ -104,6 +104,31 @@ static void print_aliases(FILE *out, const char *aliases, const char *sep)
     }
 }
 
+/* What a model adds to a common command's text (`seed`, `plot`), or NULL. */
+static const char *model_addendum(const mote_model *m, const mote_cmd *def)
+{
+    if (strcmp(def->name, "seed") == 0)
+        return m->seed ? m->seed_help : NULL;
+    if (strcmp(def->name, "plot") == 0)
+        return m->plot ? m->plot_help : NULL;
+    return NULL;
+}
+
+/* markdown: headings name the model in backquotes */
+static void print_addenda(FILE *out, const mote_cmd *def, const mote_model *const *models,
+                          size_t nmodels, int markdown)
+{
+    for (size_t i = 0; i < nmodels; i++) {
+        const char *add = model_addendum(models[i], def);
+        if (!add || !add[0])
+            continue;
+        size_t n = strlen(add);
+        fprintf(out, markdown ? "\nIn the `%s` model:\n\n" : "\nIn the %s model:\n\n",
+                models[i]->name);
+        fprintf(out, "%s%s", add, add[n - 1] == '\n' ? "" : "\n");
+    }
+}
+
 static void print_command(FILE *out, const mote_cmd *def, const char *model)
 {
     fprintf(out, "%s\n", def->synopsis ? def->synopsis : def->name);
@@ -130,6 +155,7 @@ int mote_help_command(FILE *out, FILE *diag, const char *name, const mote_model 
     const mote_cmd *def = mote_cmd_lookup(mote_script_common_cmds, mote_script_common_ncmds, name);
     if (def) {
         print_command(out, def, NULL);
+        print_addenda(out, def, models, nmodels, 0);
         found = 1;
     }
     for (size_t i = 0; i < nmodels; i++) {
@@ -182,7 +208,9 @@ static void md_cell(FILE *out, const char *s)
     }
 }
 
-static void md_commands(FILE *out, const mote_cmd *cmds, size_t n)
+/* models: for the common commands, whose text the models add to (NULL otherwise) */
+static void md_commands(FILE *out, const mote_cmd *cmds, size_t n, const mote_model *const *models,
+                        size_t nmodels)
 {
     fprintf(out, "| Command | Aliases | Summary |\n|---|---|---|\n");
     for (size_t i = 0; i < n; i++) {
@@ -211,6 +239,8 @@ static void md_commands(FILE *out, const mote_cmd *cmds, size_t n)
             size_t len = strlen(d->help);
             fprintf(out, "\n%s%s", d->help, d->help[len - 1] == '\n' ? "" : "\n");
         }
+        if (models)
+            print_addenda(out, d, models, nmodels, 1);
     }
 }
 
@@ -231,11 +261,11 @@ void mote_help_markdown(FILE *out, const mote_model *const *models, size_t nmode
             "\n"
             "## Commands of every model\n\n",
             MOTE_DEFAULT_MODEL);
-    md_commands(out, mote_script_common_cmds, mote_script_common_ncmds);
+    md_commands(out, mote_script_common_cmds, mote_script_common_ncmds, models, nmodels);
     for (size_t i = 0; i < nmodels; i++) {
         const mote_model *m = models[i];
         fprintf(out, "\n## Model `%s`\n\n%s\n\n", m->name, m->summary ? m->summary : "");
-        md_commands(out, m->cmds, m->ncmds);
+        md_commands(out, m->cmds, m->ncmds, NULL, 0);
     }
 }
 
@@ -304,11 +334,13 @@ static int verify_cmd(const mote_model *m, size_t j, mote_err *err)
     if (!d->args)
         return mote_script_fail_plain(err, MOTE_EINVAL, "model %s, command %s: no argument "
                                       "types (use \"\" for none)", mn, d->name);
-    int star = strcmp(d->args, "*") == 0;
-    if (!star && strspn(d->args, "iurfs") != strlen(d->args))
+    int nspec = mote_argspec_count(d->args);
+    int star = nspec == -2;
+    if (nspec == -1)
         return mote_script_fail_plain(err, MOTE_EINVAL, "model %s, command %s: argument types "
-                                      "\"%s\" must be letters of \"iurfs\", or \"*\" alone", mn,
-                                      d->name, d->args);
+                                      "\"%s\" are malformed: specs of \"iurfs\" with a range "
+                                      "(\"i>=1\", \"r(0,1]\") or a file role (\"f>kind\", "
+                                      "\"f<kind|kind\"), or \"*\" alone", mn, d->name, d->args);
     if (!d->synopsis || !d->summary || !d->help)
         return mote_script_fail_plain(err, MOTE_EINVAL, "model %s, command %s: synopsis, summary "
                                       "and help are required", mn, d->name);
@@ -317,11 +349,11 @@ static int verify_cmd(const mote_model *m, size_t j, mote_err *err)
         return mote_script_fail_plain(err, MOTE_EINVAL, "model %s, command %s: synopsis '%s' "
                                       "must start with the command name", mn, d->name,
                                       d->synopsis);
-    if (!star && count_words(d->synopsis) - 1 != (int)strlen(d->args))
+    if (!star && count_words(d->synopsis) - 1 != nspec)
         return mote_script_fail_plain(err, MOTE_EINVAL, "model %s, command %s: synopsis '%s' "
-                                      "names %d arguments but the types \"%s\" give %zu", mn,
+                                      "names %d arguments but the types \"%s\" give %d", mn,
                                       d->name, d->synopsis, count_words(d->synopsis) - 1, d->args,
-                                      strlen(d->args));
+                                      nspec);
     return 0;
 }
 

@@ -207,25 +207,6 @@ static const char *shown(const token *t, char *buf, size_t cap)
     return buf;
 }
 
-/* The name of argument i as written in the synopsis ("eta" in "new NN eta"). */
-static void arg_name(const mote_cmd *def, int i, char *buf, size_t cap)
-{
-    const char *p = def->synopsis ? def->synopsis : "";
-    for (int w = 0; w <= i + 1; w++) {
-        while (*p == ' ')
-            p++;
-        size_t n = strcspn(p, " ");
-        if (n == 0)
-            break;
-        if (w == i + 1) {
-            snprintf(buf, cap, "%.*s", (int)n, p);
-            return;
-        }
-        p += n;
-    }
-    snprintf(buf, cap, "argument %d", i + 1);
-}
-
 static int is_digit(int c) { return c >= '0' && c <= '9'; }
 
 /* Decimal digits with an optional '+'. 0 ok, 1 not an integer, 2 negative, 3 too large. */
@@ -337,7 +318,13 @@ static int convert_arg(mote_script *s, const mote_cmd *def, const char *written,
     a->i = 0;
     a->u = 0;
     a->r = 0.0;
-    char type = def->args[0] == '*' ? '*' : def->args[i];
+    a->path = NULL;
+    mote_argspec sp = {.type = '*'};
+    if (def->args[0] != '*' && mote_argspec_get(def->args, i, &sp))
+        return mote_script_fail_at(err, file, t->line, t->col, MOTE_EINVAL,
+                                   "%s: internal: malformed argument types \"%s\"", written,
+                                   def->args);
+    char type = sp.type;
     switch (type) {
     case 'i':
     case 'u': {
@@ -351,7 +338,7 @@ static int convert_arg(mote_script *s, const mote_cmd *def, const char *written,
             a->r = (double)v;
             return 0;
         }
-        arg_name(def, i, name, sizeof name);
+        mote_arg_name(def, i, name, sizeof name);
         shown(t, found, sizeof found);
         double dummy;
         if (rc == 2)
@@ -374,7 +361,7 @@ static int convert_arg(mote_script *s, const mote_cmd *def, const char *written,
         int rc = t->quoted ? 1 : parse_real(t->text, &a->r);
         if (rc == 0)
             return 0;
-        arg_name(def, i, name, sizeof name);
+        mote_arg_name(def, i, name, sizeof name);
         shown(t, found, sizeof found);
         if (rc == 2)
             return mote_script_fail_at(err, file, t->line, t->col, MOTE_EINVAL,
@@ -388,7 +375,7 @@ static int convert_arg(mote_script *s, const mote_cmd *def, const char *written,
     }
     case 'f':
         if (t->text[0] == '\0') {
-            arg_name(def, i, name, sizeof name);
+            mote_arg_name(def, i, name, sizeof name);
             return mote_script_fail_at(err, file, t->line, t->col, MOTE_EINVAL,
                                        "%s: expected a file name for %s, found an empty string",
                                        written, name);
@@ -516,7 +503,7 @@ static int parse_command(mote_script *s, const token_list *tl, const mote_model 
 
     int nargs = tl->n - 1;
     int star = def->args[0] == '*';
-    int want = star ? nargs : (int)strlen(def->args);
+    int want = star ? nargs : mote_argspec_count(def->args);
     const char *syn = def->synopsis ? def->synopsis : def->name;
     if (nargs > want) {
         const token *extra = &tl->t[want + 1];
@@ -667,6 +654,10 @@ void mote_script_free(mote_script *s)
 {
     if (!s)
         return;
+    for (size_t i = 0; i < s->ncalls; i++)
+        for (int k = 0; k < s->calls[i].nargs; k++)
+            free(((mote_arg *)s->calls[i].args)[k].path);
+    mote_outputs_free(&s->ctx.outputs);
     free(s->calls);
     mote_arena_free(&s->arena);
     free(s);

@@ -120,14 +120,6 @@ static int echo_run(void *model, const mote_call *c, mote_err *err)
     return 0;
 }
 
-static int threads_check(void *model, const mote_call *c, mote_err *err)
-{
-    if (c->args[0].i < 1)
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "threads: expected N >= 1, found %lld",
-                              (long long)c->args[0].i);
-    return 0;
-}
-
 static int threads_run(void *model, const mote_call *c, mote_err *err)
 {
     mote_script *s = model; /* common commands receive the script, not the model */
@@ -139,6 +131,41 @@ static int threads_run(void *model, const mote_call *c, mote_err *err)
                 c->file, c->line, c->col, (long long)c->args[0].i);
     }
     return 0;
+}
+
+static int seed_check(void *model, const mote_call *c, mote_err *err)
+{
+    mote_script *s = model;
+    if (!s->model->seed)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL,
+                              "seed: the %s model draws no random numbers", s->model->name);
+    return 0;
+}
+
+static int seed_run(void *model, const mote_call *c, mote_err *err)
+{
+    mote_script *s = model;
+    s->model->seed(s->instance, c->args[0].u);
+    fprintf(c->ctx->out, "seed: %llu\n", (unsigned long long)c->args[0].u);
+    return 0;
+}
+
+static int plot_check(void *model, const mote_call *c, mote_err *err)
+{
+    mote_script *s = model;
+    if (!s->model->plot || !s->model->plot_kinds)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "plot: the %s model has nothing to plot",
+                              s->model->name);
+    return mote_args_check_input(c, 0, s->model->plot_kinds, err);
+}
+
+static int plot_run(void *model, const mote_call *c, mote_err *err)
+{
+    mote_script *s = model;
+    int rc = s->model->plot(s->instance, c->args[0].path, c->args[1].path, err);
+    if (!rc)
+        fprintf(c->ctx->out, "plot: wrote %s\n", c->args[1].path);
+    return rc;
 }
 
 const mote_cmd mote_script_common_cmds[] = {
@@ -161,11 +188,31 @@ const mote_cmd mote_script_common_cmds[] = {
      "Print the arguments, separated by single spaces, on standard output. Quote\n"
      "text to keep runs of spaces or a `#` in it.\n",
      NULL, echo_run, 0},
-    {"threads", NULL, "i", "threads N", "number of threads (N >= 1); no effect yet",
+    {"threads", NULL, "i>=1", "threads N", "number of threads (N >= 1); no effect yet",
      "Set the number of threads, N >= 1. Accepted so that scripts can already say\n"
      "it: the models are single-threaded for now, so the first `threads` command\n"
      "prints a note and none has an effect.\n",
-     threads_check, threads_run, 0},
+     NULL, threads_run, 0},
+    {"seed", NULL, "u", "seed S", "restart the random stream from S (default 1)",
+     "Restart the run's random stream from the unsigned 64-bit integer S\n"
+     "(0 <= S <= 2^64 - 1). The default is 1: a script without `seed` behaves as if\n"
+     "it began with `seed 1`. The generator is xoshiro256** (Blackman & Vigna), its\n"
+     "four state words the first four outputs of SplitMix64 started from S; there is\n"
+     "one stream per run, and `seed` acts at its place in the script, so a second\n"
+     "`seed 7` restarts the same stream. A model's `load` restores the stream saved\n"
+     "in the state file, so a continued run draws what the uninterrupted run would\n"
+     "have drawn. Runs are bit-for-bit reproducible for a given seed on the same\n"
+     "build and machine type; on another platform (another libm) they agree\n"
+     "statistically. Prints `seed: S`.\n",
+     seed_check, seed_run, 0},
+    {"plot", NULL, "f f>png", "plot DATAFILE PNGFILE",
+     "render a data file written by a measuring command as a PNG",
+     "Draw a data file written earlier (by this script or another) by one of the\n"
+     "model's measuring commands as a PNG picture. The kind of picture follows from\n"
+     "the file's first header line, so any data file of the model can be given.\n"
+     "DATAFILE must be written earlier in the script by such a command, or exist.\n"
+     "The PNG is written atomically. Prints `plot: wrote PNGFILE`.\n",
+     plot_check, plot_run, 0},
 };
 const size_t mote_script_common_ncmds = sizeof mote_script_common_cmds /
                                         sizeof mote_script_common_cmds[0];
@@ -183,6 +230,7 @@ static void reset_context(mote_context *ctx)
 {
     ctx->output_dir[0] = '\0';
     ctx->npending_dirs = 0;
+    mote_outputs_free(&ctx->outputs);
 }
 
 static void clear(mote_err *err)
@@ -201,16 +249,22 @@ int mote_script_validate(mote_script *s, mote_err *err)
     if (!dry)
         return mote_script_fail_at(err, s->ctx.script_path, 1, 1, MOTE_ENOMEM,
                                    "cannot create the %s model (out of memory)", s->model->name);
+    s->instance = dry;
     int rc = 0;
     for (size_t i = 0; i < s->ncalls && !rc; i++) {
-        const mote_call *c = &s->calls[i];
-        if (!c->def->check)
-            continue;
+        mote_call *c = &s->calls[i];
         clear(err);
-        rc = c->def->check(mote_script_is_common(c->def) ? (void *)s : dry, c, err);
+        rc = mote_args_resolve(c, err);
+        if (!rc)
+            rc = mote_args_check_before(c, err);
+        if (!rc && c->def->check)
+            rc = c->def->check(mote_script_is_common(c->def) ? (void *)s : dry, c, err);
+        if (!rc)
+            rc = mote_args_check_after(c, err);
         if (rc)
             mote_script_locate(err, c);
     }
+    s->instance = NULL;
     s->model->destroy(dry);
     reset_context(&s->ctx);
     if (rc)
@@ -233,12 +287,14 @@ int mote_script_execute(mote_script *s, mote_err *err)
     if (!model)
         return mote_script_fail_at(err, s->ctx.script_path, 1, 1, MOTE_ENOMEM,
                                    "cannot create the %s model (out of memory)", s->model->name);
+    s->instance = model;
     int rc = 0;
     for (size_t i = 0; i < s->ncalls && !rc; i++) {
-        const mote_call *c = &s->calls[i];
+        mote_call *c = &s->calls[i];
         int common = mote_script_is_common(c->def);
-        if (c->def->run) {
-            clear(err);
+        clear(err);
+        rc = mote_args_resolve(c, err);
+        if (!rc && c->def->run) {
             rc = c->def->run(common ? (void *)s : model, c, err);
             if (!rc && !common && s->model->settle)
                 rc = s->model->settle(model, err);
@@ -251,6 +307,8 @@ int mote_script_execute(mote_script *s, mote_err *err)
         }
         fflush(s->ctx.out);
     }
+    s->instance = NULL;
+    reset_context(&s->ctx);
     s->model->destroy(model);
     return rc;
 }

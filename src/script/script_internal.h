@@ -31,6 +31,7 @@ struct mote_script {
     mote_arena arena;
     int validated;
     int threads_noted;    /* the "threads has no effect yet" note was printed */
+    void *instance;       /* the model the commands act on while validating or running */
 };
 
 /* ---- common commands (handled by the script layer; their `model` argument is the script) ----- */
@@ -45,6 +46,34 @@ const mote_cmd *mote_script_common_model_cmd(void);
 int mote_cmd_matches(const mote_cmd *def, const char *name);
 /* The command of the table called `name` (by name or alias), or NULL. */
 const mote_cmd *mote_cmd_lookup(const mote_cmd *cmds, size_t n, const char *name);
+
+/* ---- argument specs (mote_cmd.args, see command.h) ------------------------------------------ */
+
+typedef struct {
+    char type;                  /* 'i' 'u' 'r' 'f' 's' */
+    char role;                  /* files: '>' output, '<' input, 0 neither */
+    unsigned char lo_set, hi_set, lo_open, hi_open;
+    double lo, hi;
+    char lo_text[24], hi_text[24]; /* the bounds as written in the table */
+    char kinds[96];             /* files: the output's kind, or the input's kinds "a|b" */
+} mote_argspec;
+
+/* The number of specs in `args`: -2 for "*", -1 when malformed. */
+int mote_argspec_count(const char *args);
+/* Spec number `index` of `args` (0-based). Returns 0, or -1 when there is none or it is
+ * malformed. */
+int mote_argspec_get(const char *args, int index, mote_argspec *out);
+/* The name of argument i as the command's synopsis gives it ("argument 3" if none). */
+void mote_arg_name(const mote_cmd *def, int i, char *buf, size_t cap);
+/* Resolve every file argument of c against the context's current `output_dir` (args[i].path). */
+int mote_args_resolve(mote_call *c, mote_err *err);
+/* Before a command's `check`: ranges, and input files ("f<"). */
+int mote_args_check_before(const mote_call *c, mote_err *err);
+/* After a successful `check`: record the outputs ("f>"). */
+int mote_args_check_after(const mote_call *c, mote_err *err);
+/* Argument i must be written earlier in the script by a command of one of `kinds` ("a|b"), or
+ * else exist now. */
+int mote_args_check_input(const mote_call *c, int i, const char *kinds, mote_err *err);
 
 /* ---- suggestions ---------------------------------------------------------------------------- */
 

@@ -1,0 +1,290 @@
+/* args.c: the argument descriptions of command tables (mote_cmd.args, see command.h) and what the
+ * script layer does with them: it reads each argument's type, range and file role, checks the
+ * range and the files during validation (with messages that name the argument as the synopsis
+ * does), and resolves file names against `output_dir`. A command's own `check` is left with what
+ * depends on state that crosses commands. */
+#include "script_internal.h"
+
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+static int is_type(int ch) { return ch && strchr("iurfs", ch) != NULL; }
+
+/* A number of a range bound: strtod syntax, at most 23 characters. */
+static int read_bound(const char **pp, double *v, char *text, size_t cap)
+{
+    const char *p = *pp;
+    size_t n = strcspn(p, ",]) ");
+    char *end;
+    if (n == 0 || n >= cap)
+        return -1;
+    memcpy(text, p, n);
+    text[n] = '\0';
+    *v = strtod(text, &end);
+    if (end != text + n)
+        return -1;
+    *pp = p + n;
+    return 0;
+}
+
+/* Parse the spec at *pp (one token: a type letter and its qualifier) into sp; leaves *pp after
+ * it. Returns 0, or -1 when malformed. */
+static int parse_one(const char **pp, mote_argspec *sp)
+{
+    const char *p = *pp;
+    memset(sp, 0, sizeof *sp);
+    if (!is_type(*p))
+        return -1;
+    sp->type = *p++;
+    if (*p == '\0' || *p == ' ' || is_type(*p)) { /* plain letter */
+        *pp = p;
+        return 0;
+    }
+    size_t n = strcspn(p, " ");
+    const char *end = p + n;
+    if (sp->type == 'f' && (*p == '>' || *p == '<')) {
+        sp->role = *p++;
+        size_t k = (size_t)(end - p);
+        if (k == 0 || k >= sizeof sp->kinds || strspn(p, "abcdefghijklmnopqrstuvwxyz0123456789_|")
+                                                    < k)
+            return -1;
+        memcpy(sp->kinds, p, k);
+        sp->kinds[k] = '\0';
+        if (sp->role == '>' && strchr(sp->kinds, '|'))
+            return -1; /* an output has one kind */
+        *pp = end;
+        return 0;
+    }
+    if (sp->type == 'f' || sp->type == 's')
+        return -1;
+    if (*p == '[' || *p == '(') {
+        sp->lo_set = sp->hi_set = 1;
+        sp->lo_open = *p++ == '(';
+        if (read_bound(&p, &sp->lo, sp->lo_text, sizeof sp->lo_text) || *p++ != ',')
+            return -1;
+        if (read_bound(&p, &sp->hi, sp->hi_text, sizeof sp->hi_text))
+            return -1;
+        if (*p != ']' && *p != ')')
+            return -1;
+        sp->hi_open = *p++ == ')';
+        if (!(sp->lo <= sp->hi))
+            return -1;
+    } else if (*p == '>' || *p == '<') {
+        int lower = *p++ == '>';
+        int open = 1;
+        if (*p == '=') {
+            open = 0;
+            p++;
+        }
+        double v;
+        char text[sizeof sp->lo_text];
+        if (read_bound(&p, &v, text, sizeof text))
+            return -1;
+        if (lower) {
+            sp->lo_set = 1, sp->lo_open = open, sp->lo = v;
+            memcpy(sp->lo_text, text, sizeof text);
+        } else {
+            sp->hi_set = 1, sp->hi_open = open, sp->hi = v;
+            memcpy(sp->hi_text, text, sizeof text);
+        }
+    } else {
+        return -1;
+    }
+    if (p != end)
+        return -1;
+    *pp = end;
+    return 0;
+}
+
+int mote_argspec_count(const char *args)
+{
+    if (!args)
+        return -1;
+    if (strcmp(args, "*") == 0)
+        return -2;
+    int n = 0;
+    const char *p = args;
+    for (;;) {
+        while (*p == ' ')
+            p++;
+        if (!*p)
+            return n;
+        mote_argspec sp;
+        if (parse_one(&p, &sp))
+            return -1;
+        n++;
+    }
+}
+
+int mote_argspec_get(const char *args, int index, mote_argspec *out)
+{
+    const char *p = args;
+    for (int n = 0;; n++) {
+        while (*p == ' ')
+            p++;
+        if (!*p)
+            return -1;
+        if (parse_one(&p, out))
+            return -1;
+        if (n == index)
+            return 0;
+    }
+}
+
+/* The name of argument i as the synopsis gives it ("argument 3" when it has none). */
+void mote_arg_name(const mote_cmd *def, int i, char *buf, size_t cap)
+{
+    const char *p = def->synopsis ? def->synopsis : "";
+    p += strcspn(p, " ");
+    for (int k = 0; *p; k++) {
+        p += strspn(p, " ");
+        size_t n = strcspn(p, " ");
+        if (k == i && n > 0) {
+            snprintf(buf, cap, "%.*s", (int)n, p);
+            return;
+        }
+        p += n;
+    }
+    snprintf(buf, cap, "argument %d", i + 1);
+}
+
+/* ---- validation of one call ---------------------------------------------------------------- */
+
+static int range_fail(mote_err *err, const mote_call *c, int i, const mote_argspec *sp)
+{
+    char name[64];
+    mote_arg_name(c->def, i, name, sizeof name);
+    const char *found = c->args[i].text;
+    if (sp->lo_set && sp->hi_set)
+        return mote_call_fail(err, c, i, MOTE_EINVAL, "%s: %s must be in %c%s, %s%c, found %s",
+                              c->name, name, sp->lo_open ? '(' : '[', sp->lo_text, sp->hi_text,
+                              sp->hi_open ? ')' : ']', found);
+    if (sp->lo_set)
+        return mote_call_fail(err, c, i, MOTE_EINVAL, "%s: %s must be %s %s, found %s", c->name,
+                              name, sp->lo_open ? ">" : ">=", sp->lo_text, found);
+    return mote_call_fail(err, c, i, MOTE_EINVAL, "%s: %s must be %s %s, found %s", c->name, name,
+                          sp->hi_open ? "<" : "<=", sp->hi_text, found);
+}
+
+static int in_range(const mote_argspec *sp, const mote_arg *a)
+{
+    /* integers compare exactly where a double could round: bounds of integer specs are whole
+     * numbers far below 2^53 in practice, and a value beyond 2^53 is compared as a double */
+    double v = sp->type == 'r' ? a->r : sp->type == 'i' ? (double)a->i : (double)a->u;
+    if (sp->lo_set && (sp->lo_open ? !(v > sp->lo) : !(v >= sp->lo)))
+        return 0;
+    if (sp->hi_set && (sp->hi_open ? !(v < sp->hi) : !(v <= sp->hi)))
+        return 0;
+    return 1;
+}
+
+/* "a, b or c" from "a|b|c" */
+static void kinds_text(const char *kinds, char *buf, size_t cap)
+{
+    size_t k = 0;
+    buf[0] = '\0';
+    int total = 1;
+    for (const char *q = kinds; *q; q++)
+        total += *q == '|';
+    int idx = 0;
+    for (const char *p = kinds; *p && k < cap; idx++) {
+        size_t n = strcspn(p, "|");
+        int w = snprintf(buf + k, cap - k, "%s%.*s",
+                         idx == 0 ? "" : idx == total - 1 ? " or " : ", ", (int)n, p);
+        if (w < 0)
+            break;
+        k += (size_t)w;
+        p += n;
+        if (*p == '|')
+            p++;
+    }
+}
+
+static int kind_listed(const char *kinds, const char *kind)
+{
+    size_t n = strlen(kind);
+    for (const char *p = kinds; *p;) {
+        size_t k = strcspn(p, "|");
+        if (k == n && memcmp(p, kind, n) == 0)
+            return 1;
+        p += k;
+        if (*p == '|')
+            p++;
+    }
+    return 0;
+}
+
+int mote_args_resolve(mote_call *c, mote_err *err)
+{
+    if (c->def->args[0] == '*')
+        return MOTE_OK;
+    for (int i = 0; i < c->nargs; i++) {
+        mote_argspec sp;
+        if (mote_argspec_get(c->def->args, i, &sp) || sp.type != 'f')
+            continue;
+        mote_arg *a = (mote_arg *)&c->args[i];
+        free(a->path);
+        a->path = mote_ctx_path(c->ctx, a->text);
+        if (!a->path)
+            return mote_call_fail(err, c, i, MOTE_ENOMEM, "out of memory");
+    }
+    return MOTE_OK;
+}
+
+int mote_args_check_input(const mote_call *c, int i, const char *kinds, mote_err *err)
+{
+    const char *path = c->args[i].path ? c->args[i].path : c->args[i].text;
+    const char *kind = mote_outputs_find(&c->ctx->outputs, path);
+    struct stat st;
+    if (kind && !kind_listed(kinds, kind)) {
+        char what[160];
+        kinds_text(kinds, what, sizeof what);
+        return mote_call_fail(err, c, i, MOTE_EINVAL,
+                              "%s: '%s' is written earlier in this script as a file of kind %s; "
+                              "expected a file of kind %s",
+                              c->name, path, kind, what);
+    }
+    if (!kind && stat(path, &st) != 0)
+        return mote_call_fail(err, c, i, MOTE_EIO,
+                              "%s: '%s' does not exist and no earlier command writes it", c->name,
+                              path);
+    return MOTE_OK;
+}
+
+int mote_args_check_before(const mote_call *c, mote_err *err)
+{
+    if (c->def->args[0] == '*')
+        return MOTE_OK;
+    for (int i = 0; i < c->nargs; i++) {
+        mote_argspec sp;
+        if (mote_argspec_get(c->def->args, i, &sp))
+            return mote_call_fail(err, c, i, MOTE_EINVAL, "internal: bad argument types");
+        if ((sp.lo_set || sp.hi_set) && !in_range(&sp, &c->args[i]))
+            return range_fail(err, c, i, &sp);
+        if (sp.role == '<') {
+            int rc = mote_args_check_input(c, i, sp.kinds, err);
+            if (rc)
+                return rc;
+        }
+    }
+    return MOTE_OK;
+}
+
+int mote_args_check_after(const mote_call *c, mote_err *err)
+{
+    if (c->def->args[0] == '*')
+        return MOTE_OK;
+    for (int i = 0; i < c->nargs; i++) {
+        mote_argspec sp;
+        if (mote_argspec_get(c->def->args, i, &sp))
+            return mote_call_fail(err, c, i, MOTE_EINVAL, "internal: bad argument types");
+        if (sp.role == '>') {
+            int rc = mote_outputs_note_path(&c->ctx->outputs, c, i, c->args[i].path, sp.kinds, 0,
+                                            err);
+            if (rc)
+                return rc;
+        }
+    }
+    return MOTE_OK;
+}
