@@ -93,7 +93,7 @@ static void test_energy(void)
     CHECK(mote_mb_place(&s, &p, &err) == MOTE_OK, "place: %s", err.msg);
     double e0 = mote_mb_energy(&s, NULL);
     acc a = {0};
-    mote_mb_sampler smp = {0.0, 0.1, 1, &a, sampler};
+    mote_mb_sampler smp = {{0.0, 0.1, 1}, &a, sampler};
     uint64_t target = sanitized ? 200000 : 1000000;
     mote_mb_hooks hooks = {&smp, 1, target, NULL, 0, 0, 0};
     int rc = mote_mb_run(&s, INFINITY, &hooks, &err);
@@ -170,7 +170,7 @@ static void test_effusion_and_mixing(void)
         mote_mb_free(&s);
         return;
     }
-    mote_mb_sampler smp = {t0, dt, 1, &a, sampler};
+    mote_mb_sampler smp = {{t0, dt, 1}, &a, sampler};
     mote_mb_hooks hooks = {&smp, 1, UINT64_MAX, NULL, 0, 0, 0};
     CHECK(mote_mb_run(&s, t0 + T, &hooks, &err) == MOTE_OK, "run: %s", err.msg);
     double crossings = (double)(s.cross_lr - lr0 + s.cross_rl - rl0);
@@ -235,7 +235,7 @@ static void test_barometric(void)
     a.hist = hist;
     a.nbins = 20;
     double T = 200;
-    mote_mb_sampler smp = {s.time, 0.2, 1, &a, sampler};
+    mote_mb_sampler smp = {{s.time, 0.2, 1}, &a, sampler};
     mote_mb_hooks hooks = {&smp, 1, UINT64_MAX, NULL, 0, 0, 0};
     CHECK(mote_mb_run(&s, s.time + T, &hooks, &err) == MOTE_OK, "run: %s", err.msg);
     double e1 = mote_mb_energy(&s, NULL);

@@ -35,9 +35,9 @@ static void tmp_path(char *buf, size_t n, const char *name)
     snprintf(buf, n, "%s/%s", tmpdir, name);
 }
 
-static double result(const mote_hs_result *r, const char *key, double *err)
+static double result(const mote_result *r, const char *key, double *err)
 {
-    const double *v = mote_hs_result_get(r, key, err);
+    const double *v = mote_result_get(r, key, err);
     CHECK(v != NULL, "result %s missing", key);
     return v ? *v : NAN;
 }
@@ -116,7 +116,7 @@ static void test_cs_pressure(void)
         mote_err err = {0};
         mote_hs_init(&hs, NULL);
         mote_hs_seed(&hs, test_seed(11 + k));
-        mote_hs_result r = {0};
+        mote_result r = {0};
         int rc = mote_hs_bulk(&hs, 2048, e, &err);
         if (!rc)
             rc = mote_hs_step(&hs, 50, &err);
@@ -151,7 +151,7 @@ static void test_henderson(void)
         mote_err err = {0};
         mote_hs_init(&hs, NULL);
         mote_hs_seed(&hs, test_seed(21 + k));
-        mote_hs_result r = {0};
+        mote_result r = {0};
         int rc = mote_hs_bulk_disks(&hs, 1024, e, &err);
         if (!rc)
             rc = mote_hs_step(&hs, 50, &err);
@@ -184,7 +184,7 @@ static void test_contact_theorem(void)
             continue;
         }
         mote_err err = {0};
-        mote_hs_result r = {0};
+        mote_result r = {0};
         /* the same length under the sanitizers: with 2000 samples the combined error was too
          * large for the 2% test (3 errors >= 2%) at 5 of 10 other seeds */
         uint64_t K = 4000 * scale;
@@ -258,7 +258,7 @@ static void test_normal_pressure(void)
     char path[300];
     tmp_path(path, sizeof path, "pn.dat");
     mote_err err = {0};
-    mote_hs_result r = {0};
+    mote_result r = {0};
     hs.bins = 2;
     int rc = mote_hs_pressure(&hs, sanitized ? 1000 : 2000, path, "test", &r, &err);
     CHECK(rc == MOTE_OK, "pressure: %s", err.msg);
@@ -310,7 +310,7 @@ static void test_widom(void)
         mote_err err = {0};
         mote_hs_init(&hs, NULL);
         mote_hs_seed(&hs, test_seed(51 + k));
-        mote_hs_result r = {0};
+        mote_result r = {0};
         int rc = mote_hs_bulk(&hs, 2048, e, &err);
         if (!rc)
             rc = mote_hs_step(&hs, 200, &err);
@@ -340,7 +340,7 @@ static void test_widom_profile(void)
     char path[300];
     tmp_path(path, sizeof path, "mup.dat");
     mote_err err = {0};
-    mote_hs_result r = {0};
+    mote_result r = {0};
     hs.bins = 4;
     int rc = mote_hs_chempot(&hs, sanitized ? 300 : 600, 2000, path, "test", &r, &err);
     CHECK(rc == MOTE_OK, "chempot: %s", err.msg);
@@ -465,7 +465,7 @@ static void test_files(void)
     CHECK(t && strcmp(t, before) == 0, "earlier file changed");
     /* K = 0 chempot: one sample, nothing runs */
     uint64_t c0 = hs.ev.collisions;
-    mote_hs_result r = {0};
+    mote_result r = {0};
     rc = mote_hs_chempot(&hs, 0, 100, path, "t", &r, &err);
     CHECK(rc == 0 && hs.ev.collisions == c0, "chempot 0: rc %d, %llu collisions", rc,
           (unsigned long long)(hs.ev.collisions - c0));

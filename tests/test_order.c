@@ -193,7 +193,7 @@ enum { C_SIDE, C_INDEX, C_XFROM, C_XTO, C_NMEAN, C_RHOA, C_Q6, C_Q6E, C_XTAL, C_
 enum { F_LO, F_HI, F_MID, F_COUNT, F_RHO, F_RHOS, F_Q6, F_XTAL, F_PSI, F_ORD, NC2 };
 
 /* Structural checks every order file must pass; returns 1 if it could be read. */
-static int check_file(const char *path, const mote_hs *hs, uint64_t S, const mote_hs_result *res,
+static int check_file(const char *path, const mote_hs *hs, uint64_t S, const mote_result *res,
                       ofile *o, const char *label)
 {
     if (ofile_read(path, o)) {
@@ -310,7 +310,7 @@ static int check_file(const char *path, const mote_hs *hs, uint64_t S, const mot
         wsum += f1 - f0 + 1;
     }
     CHECK(seq && next == (double)S + 1, "%s: block 3 samples are not 1 ... S in order", label);
-    const double *xf = mote_hs_result_get(res, "xtal_fraction", NULL);
+    const double *xf = mote_result_get(res, "xtal_fraction", NULL);
     CHECK(xf && fabs(fsum / wsum - *xf) < 1e-9, "%s: time series mean %.12g, xtal_fraction %.12g",
           label, fsum / wsum, xf ? *xf : NAN);
     /* with a single sample, block 3's region values are block 1's (psi6 sums are kept in single
@@ -326,15 +326,15 @@ static int check_file(const char *path, const mote_hs *hs, uint64_t S, const mot
         CHECK(ok, "%s: block 3 differs from block 1 with one sample", label);
     }
     /* the results are the file's: whole system and left layers */
-    const double *q6 = mote_hs_result_get(res, "q6_mean", NULL);
+    const double *q6 = mote_result_get(res, "q6_mean", NULL);
     CHECK(d3 ? q6 != NULL : q6 == NULL, "%s: q6_mean %s", label, q6 ? "present" : "absent");
     if (slit && nl >= 1) {
-        const double *x1 = mote_hs_result_get(res, "xtal_layer1", NULL);
-        const double *p1 = mote_hs_result_get(res, "psi6_layer1", NULL);
+        const double *x1 = mote_result_get(res, "xtal_layer1", NULL);
+        const double *p1 = mote_result_get(res, "psi6_layer1", NULL);
         CHECK(x1 && p1 && fabs(*x1 - num(o, 0, 0, C_XTAL)) < 1e-9 &&
                   fabs(*p1 - num(o, 0, 0, C_PSI)) < 1e-9,
               "%s: layer 1 results differ from block 1", label);
-        const double *xb = mote_hs_result_get(res, "xtal_bulk", NULL);
+        const double *xb = mote_result_get(res, "xtal_bulk", NULL);
         CHECK(xb && (isnan(*xb) ? isnan(num(o, 0, nl, C_XTAL))
                                 : fabs(*xb - num(o, 0, nl, C_XTAL)) < 1e-9),
               "%s: xtal_bulk differs from block 1", label);
@@ -504,7 +504,7 @@ static void brute_compare(const mote_hs *hs, const ofile *o, brute_stats *st, co
 }
 
 /* Run order into path, check its structure; the caller frees o. */
-static int run_order(mote_hs *hs, uint64_t k, const char *path, mote_hs_result *res, ofile *o,
+static int run_order(mote_hs *hs, uint64_t k, const char *path, mote_result *res, ofile *o,
                      const char *label)
 {
     mote_err err = {0};
@@ -518,9 +518,9 @@ static int run_order(mote_hs *hs, uint64_t k, const char *path, mote_hs_result *
     return check_file(path, hs, k ? k : 1, res, o, label);
 }
 
-static double result(const mote_hs_result *res, const char *key)
+static double result(const mote_result *res, const char *key)
 {
-    const double *v = mote_hs_result_get(res, key, NULL);
+    const double *v = mote_result_get(res, key, NULL);
     return v ? *v : NAN;
 }
 
@@ -560,7 +560,7 @@ static void test_fcc(void)
         CHECK(mote_hs_bulk(&hs, n, etas[t], &err) == MOTE_OK, "%s", err.msg);
         char label[64];
         snprintf(label, sizeof label, "FCC N=%lld eta=%.2f", (long long)n, etas[t]);
-        mote_hs_result res;
+        mote_result res;
         ofile o;
         if (run_order(&hs, 0, path, &res, &o, label)) {
             double q6 = result(&res, "q6_mean");
@@ -600,7 +600,7 @@ static void test_disks_lattice(void)
         CHECK(mote_hs_bulk_disks(&hs, 400, etas[t], &err) == MOTE_OK, "%s", err.msg);
         char label[64];
         snprintf(label, sizeof label, "bulk_disks 400 %.2f", etas[t]);
-        mote_hs_result res;
+        mote_result res;
         ofile o;
         if (run_order(&hs, 0, path, &res, &o, label)) {
             double p = result(&res, "psi6_mean");
@@ -676,7 +676,7 @@ static void test_hex_slit(void)
     CHECK(mote_hs_check(&hs, &err) == MOTE_OK, "hand-built slit fails the checker: %s", err.msg);
     char path[512];
     tmp_path(path, sizeof path, "hex.dat");
-    mote_hs_result res;
+    mote_result res;
     ofile o;
     const char *label = "hex slit";
     if (run_order(&hs, 0, path, &res, &o, label)) {
@@ -800,7 +800,7 @@ static void test_brute_force(void)
             CHECK(rc == MOTE_OK && hs.ev.radius != NULL, "polydisperse: %s", err.msg);
         }
         CHECK(rc == MOTE_OK, "%s: %s", label, err.msg);
-        mote_hs_result res;
+        mote_result res;
         ofile o;
         if (!rc && run_order(&hs, 0, path, &res, &o, label)) {
             brute_stats st;
@@ -830,7 +830,7 @@ static void test_melting(void)
         CHECK(mote_hs_step(&hs, 200, &err) == MOTE_OK, "%s", err.msg);
         char label[64];
         snprintf(label, sizeof label, "bulk 2048 eta %.2f after step 200", etas[t]);
-        mote_hs_result res;
+        mote_result res;
         ofile o;
         if (run_order(&hs, 0, path, &res, &o, label)) {
             double f = result(&res, "xtal_fraction");
@@ -848,7 +848,7 @@ static void test_melting(void)
         /* averaged over 10 more collisions per particle: the same verdict, with errors */
         snprintf(label, sizeof label, "bulk 2048 eta %.2f, order 10", etas[t]);
         if (run_order(&hs, 10, path, &res, &o, label)) {
-            double e = 0, f = *mote_hs_result_get(&res, "xtal_fraction", &e);
+            double e = 0, f = *mote_result_get(&res, "xtal_fraction", &e);
             CHECK(t == 0 ? f < 0.05 : f > 0.90, "%s: crystal-like fraction %.4f", label, f);
             CHECK(e >= 0 && !isnan(e), "%s: no error with 10 samples", label);
             printf("  %s: crystal-like fraction %.4f +- %.4f\n", label, f, e);
@@ -872,7 +872,7 @@ static void test_layers(void)
     CHECK(mote_hs_new_slit(&hs, 6, 0.40, &err) == MOTE_OK, "%s", err.msg);
     CHECK(mote_hs_step(&hs, 100, &err) == MOTE_OK, "%s", err.msg);
     double w0 = mote_wall_seconds();
-    mote_hs_result res;
+    mote_result res;
     ofile o;
     const char *label = "new 6 0.40, order 400";
     /* K = 400: a second boundary counts only once the density rises again by 3 block errors
@@ -926,7 +926,7 @@ static void test_time_rows(void)
     mote_err err = {0};
     mote_hs_init(&hs, NULL);
     CHECK(mote_hs_bulk(&hs, 32, 0.50, &err) == MOTE_OK, "%s", err.msg);
-    mote_hs_result res;
+    mote_result res;
     ofile o;
     if (run_order(&hs, 1001, path, &res, &o, "bulk 32, order 1001")) {
         /* rows group the samples s (0-based) with floor(s 1000 / 1001) equal: the first two
@@ -999,7 +999,7 @@ static void test_no_perturbation(void)
     int files = count_files();
     char bad[600];
     tmp_path(bad, sizeof bad, "nodir/order.dat");
-    mote_hs_result res = {0};
+    mote_result res = {0};
     CHECK(mote_hs_order(&a, 5, bad, NULL, &res, &err) != MOTE_OK, "order into a missing dir");
     CHECK_HAS(err.msg, "nodir/order.dat");
     CHECK(res.n == 0, "a failed order returned %d results", res.n);

@@ -32,9 +32,9 @@ static void path_in(char *buf, size_t n, const char *name)
     snprintf(buf, n, "%s/%s", DIR_, name);
 }
 
-static const double *get(const mote_hs_result *r, const char *key, double *err)
+static const double *get(const mote_result *r, const char *key, double *err)
 {
-    const double *v = mote_hs_result_get(r, key, err);
+    const double *v = mote_result_get(r, key, err);
     CHECK(v != NULL, "result %s missing", key);
     return v;
 }
@@ -97,7 +97,7 @@ static void test_rdf_bulk3d(void)
     CHECK(mote_hs_step(&hs, 100, &err) == 0, "%s", err.msg); /* melt the seed lattice */
     char path[512];
     path_in(path, sizeof path, "gr.dat");
-    mote_hs_result r = {0}, p = {0};
+    mote_result r = {0}, p = {0};
     const uint64_t k = sanitized ? 500 : 1500;
     int rc = mote_hs_rdf(&hs, k, 5, path, "test", &r, &err);
     CHECK(rc == 0, "rdf: %s", err.msg);
@@ -138,7 +138,7 @@ static void test_rdf_disks(void)
     CHECK(mote_hs_step(&hs, 100, &err) == 0, "%s", err.msg);
     char path[512];
     path_in(path, sizeof path, "gr2.dat");
-    mote_hs_result r = {0}, p = {0};
+    mote_result r = {0}, p = {0};
     const uint64_t k = sanitized ? 500 : 1500;
     CHECK(mote_hs_rdf(&hs, k, 12, path, "test", &r, &err) == 0, "rdf: %s", err.msg);
     /* beyond 4.5 sigma the oscillations of g are below 1% at this density */
@@ -167,9 +167,9 @@ static void test_rdf_slit(void)
     CHECK(mote_hs_step(&hs, 50, &err) == 0, "%s", err.msg);
     char path[512];
     path_in(path, sizeof path, "grs.dat");
-    mote_hs_result r = {0};
+    mote_result r = {0};
     CHECK(mote_hs_rdf(&hs, sanitized ? 100 : 300, 7, path, "test", &r, &err) == 0, "%s", err.msg);
-    CHECK(mote_hs_result_get(&r, "g_contact", NULL) == NULL, "a slit has no bulk contact value");
+    CHECK(mote_result_get(&r, "g_contact", NULL) == NULL, "a slit has no bulk contact value");
     double mid = column_mean(path, 5, 5.5, 7.0), wall = column_mean(path, 3, 5.5, 7.0);
     printf("rdf slit: lateral g over s in [5.5, 7] R: mid layer %.4f, wall layer %.4f; wall "
            "peak at s = %.3f R\n",
@@ -199,7 +199,7 @@ static void test_msd(void)
     CHECK(mote_hs_step(&hs, 20, &err) == 0, "%s", err.msg);
     char path[512];
     path_in(path, sizeof path, "msd.dat");
-    mote_hs_result r = {0};
+    mote_result r = {0};
     CHECK(mote_hs_msd(&hs, 400, path, "test", &r, &err) == 0, "msd: %s", err.msg);
     double de;
     const double *D = get(&r, "D", &de);
@@ -248,7 +248,7 @@ static void test_compress_box(void)
     CHECK(mote_ev_check(&hs.ev, &err) == 0, "invariants after compress_box: %s", err.msg);
     char path[512];
     path_in(path, sizeof path, "o.dat");
-    mote_hs_result o = {0}, p = {0};
+    mote_result o = {0}, p = {0};
     CHECK(mote_hs_order(&hs, 20, path, "test", &o, &err) == 0, "order: %s", err.msg);
     const double *x = get(&o, "xtal_fraction", NULL);
     path_in(path, sizeof path, "p.dat");

@@ -5,6 +5,7 @@
 #define MOTE_HARDSPHERES_H
 
 #include "mote/command.h"
+#include "mote/datafile.h"
 #include "mote/event.h"
 
 enum { MOTE_HS_SLIT = 0, MOTE_HS_PERIODIC = 1 };
@@ -24,23 +25,8 @@ typedef struct {
     struct hs_dump *dump; /* the trajectory being written (`dump`), or NULL */
 } mote_hs;
 
-/* The scalar results of a measuring command (pressure, chempot, order): named values with their
- * block errors (NaN when unknown), in the order they are printed on the command's summary line. */
-#define MOTE_HS_MAX_RESULTS 48
-typedef struct {
-    int n;
-    struct {
-        char key[32];
-        double value, error;
-    } kv[MOTE_HS_MAX_RESULTS];
-} mote_hs_result;
-
-/* Append (key, value, error); silently ignored when full. */
-void mote_hs_result_add(mote_hs_result *res, const char *key, double value, double error);
-/* The entry named key, or NULL. */
-const double *mote_hs_result_get(const mote_hs_result *res, const char *key, double *error);
-/* Print "label: key=value key_err=error ..." on one line (errors only where known). */
-void mote_hs_result_print(const mote_hs_result *res, const char *label, FILE *out);
+/* The scalar results of a measuring command (pressure, chempot, order, ...) are a mote_result
+ * (datafile.h): named values with their block errors, in the order of the summary line. */
 
 /* The model as registered with the script language. */
 extern const mote_model mote_model_hardspheres;
@@ -117,24 +103,24 @@ int mote_hs_profile(mote_hs *hs, double x1, double x2, int64_t dots, uint64_t k,
 /* pressure K FILE (spec 8.4): wall pressures, collisional virial, pressure-tensor profiles with
  * bins of width R/hs->bins, contact densities. res may be NULL. */
 int mote_hs_pressure(mote_hs *hs, uint64_t k, const char *path, const char *origin,
-                     mote_hs_result *res, mote_err *err);
+                     mote_result *res, mote_err *err);
 /* chempot K TRIALS FILE (spec 8.5): Widom test-particle insertion. */
 int mote_hs_chempot(mote_hs *hs, uint64_t k, int64_t trials, const char *path,
-                    const char *origin, mote_hs_result *res, mote_err *err);
+                    const char *origin, mote_result *res, mote_err *err);
 /* order K FILE (spec 8.6): Steinhardt q6 and in-layer psi6, per wall layer and over time. */
 int mote_hs_order(mote_hs *hs, uint64_t k, const char *path, const char *origin,
-                  mote_hs_result *res, mote_err *err);
+                  mote_result *res, mote_err *err);
 
 /* rdf K RMAX FILE: g(r) in a periodic box (with g(sigma+) and Z = 1 + 2^(d-1) eta g(sigma+)),
  * the lateral g(s) of the wall layer and a mid-slit layer in a slit; src/hardspheres/structure.c.
  * mote_hs_rdf_ok checks RMAX against the box (a diameter < RMAX <= half a periodic length). */
 int mote_hs_rdf_ok(const mote_hs *hs, double rmax, mote_err *err);
 int mote_hs_rdf(mote_hs *hs, uint64_t k, double rmax, const char *path, const char *origin,
-                mote_hs_result *res, mote_err *err);
+                mote_result *res, mote_err *err);
 /* msd K FILE (K >= 4): mean-squared displacement, unwrapped (in a slit parallel to the walls),
  * and the self-diffusion coefficient D with its error (results D, fit_from, fit_to). */
 int mote_hs_msd(mote_hs *hs, uint64_t k, const char *path, const char *origin,
-                mote_hs_result *res, mote_err *err);
+                mote_result *res, mote_err *err);
 
 /* Print the key=value status line. */
 void mote_hs_status(const mote_hs *hs, FILE *out);

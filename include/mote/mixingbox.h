@@ -18,6 +18,7 @@
 
 #include "mote/command.h"
 #include "mote/core.h"
+#include "mote/stats.h"
 
 #include <stdint.h>
 
@@ -223,8 +224,7 @@ void mote_mb_note_overlaps(mote_mb *sys, uint64_t count);
 /* A sampler: fn is called at the times t0 + k dt for k = 1, 2, ... (k = 0, the start, is taken
  * by the command that installs the sampler). k counts the calls so far. */
 typedef struct {
-    double t0, dt;
-    uint64_t k;
+    mote_schedule at; /* sample k at at.t0 + k at.dt */
     void *ctx;
     int (*fn)(void *ctx, mote_mb *sys, mote_err *err);
 } mote_mb_sampler;

@@ -153,7 +153,7 @@ static double mean_density(const mote_hs *hs)
 }
 
 static int write_file(const wacc *a, const char *path, const char *origin, const hs_snap *start,
-                      uint64_t S, const mote_hs_result *res, double tau, mote_err *err)
+                      uint64_t S, const mote_result *res, double tau, mote_err *err)
 {
     const mote_hs *hs = a->hs;
     const int B = a->B, d = hs->ev.dim;
@@ -174,7 +174,7 @@ static int write_file(const wacc *a, const char *path, const char *origin, const
     fprintf(f, "# errors: standard error of the %d block values (nan with fewer than 2 blocks); "
                "mu_ex errors propagated from the success fraction\n",
             B);
-    hs_write_results(f, res);
+    mote_result_write(res, f);
     fprintf(f, "# in equilibrium column 8 is constant and equal to ln_n_plus_mu_ex\n");
     fprintf(f, "# columns: x_mid[R] trials successes p mu_ex[kT] rho[R^-%d] ln_rho_plus_mu_ex "
                "ln_rho_plus_mu_ex_err\n",
@@ -210,7 +210,7 @@ static int write_file(const wacc *a, const char *path, const char *origin, const
 }
 
 int mote_hs_chempot(mote_hs *hs, uint64_t k, int64_t trials, const char *path,
-                    const char *origin, mote_hs_result *res, mote_err *err)
+                    const char *origin, mote_result *res, mote_err *err)
 {
     if (!hs->has_system)
         return mote_fail(err, MOTE_EINVAL, "chempot: no system");
@@ -261,7 +261,7 @@ int mote_hs_chempot(mote_hs *hs, uint64_t k, int64_t trials, const char *path,
     if (!rc)
         rc = hs_run_samples(hs, k, S, sample, &a, "chempot", &tau, err);
     if (!rc) {
-        mote_hs_result r = {0};
+        mote_result r = {0};
         double tr = 0, ok = 0, bp[HS_BLOCKS];
         for (int b = 0; b < a.B; b++) {
             tr += a.tr[b];
@@ -270,14 +270,14 @@ int mote_hs_chempot(mote_hs *hs, uint64_t k, int64_t trials, const char *path,
         }
         double p = ok / tr, ep = hs_block_error(bp, a.B);
         double mu = ok > 0 ? -log(p) : INFINITY;
-        mote_hs_result_add(&r, "mu_ex", mu, ok > 0 ? ep / p : NAN);
-        mote_hs_result_add(&r, "p_insert", p, ep);
-        mote_hs_result_add(&r, "successes", ok, NAN);
-        mote_hs_result_add(&r, "ln_n_plus_mu_ex", log(mean_density(hs)) + mu,
+        mote_result_add(&r, "mu_ex", mu, ok > 0 ? ep / p : NAN);
+        mote_result_add(&r, "p_insert", p, ep);
+        mote_result_add(&r, "successes", ok, NAN);
+        mote_result_add(&r, "ln_n_plus_mu_ex", log(mean_density(hs)) + mu,
                            ok > 0 ? ep / p : NAN);
         if (hs->geometry == MOTE_HS_PERIODIC && ev->dim == 3) {
             double e = mote_hs_eta(hs);
-            mote_hs_result_add(&r, "mu_ex_CS",
+            mote_result_add(&r, "mu_ex_CS",
                                (8 * e - 9 * e * e + 3 * e * e * e) / pow(1 - e, 3), NAN);
         }
         if (ok == 0 && hs->log)

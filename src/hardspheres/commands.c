@@ -338,17 +338,17 @@ static int run_bins(void *vm, const mote_call *c, mote_err *err)
 }
 
 typedef int (*measure_fn)(hs_model *m, const mote_call *c, const char *path, const char *origin,
-                          mote_hs_result *res, mote_err *err);
+                          mote_result *res, mote_err *err);
 
 /* Run a measurement writing its last argument, then print its key=value summary line. */
 static int run_measure(hs_model *m, const mote_call *c, measure_fn fn, mote_err *err)
 {
     char *origin = mote_call_origin(c);
-    mote_hs_result res = {0};
+    mote_result res = {0};
     int rc = origin ? fn(m, c, c->args[c->nargs - 1].path, origin, &res, err)
                     : mote_fail(err, MOTE_ENOMEM, "out of memory");
     if (!rc && m->hs.log) {
-        mote_hs_result_print(&res, c->name, m->hs.log);
+        mote_result_print(&res, c->name, m->hs.log);
         wrote(m, c);
     }
     free(origin);
@@ -361,7 +361,7 @@ static int check_measure(void *vm, const mote_call *c, mote_err *err)
 }
 
 static int do_pressure(hs_model *m, const mote_call *c, const char *path, const char *origin,
-                       mote_hs_result *res, mote_err *err)
+                       mote_result *res, mote_err *err)
 {
     return mote_hs_pressure(&m->hs, (uint64_t)c->args[0].i, path, origin, res, err);
 }
@@ -371,7 +371,7 @@ static int run_pressure(void *vm, const mote_call *c, mote_err *err)
 }
 
 static int do_chempot(hs_model *m, const mote_call *c, const char *path, const char *origin,
-                      mote_hs_result *res, mote_err *err)
+                      mote_result *res, mote_err *err)
 {
     return mote_hs_chempot(&m->hs, (uint64_t)c->args[0].i, c->args[1].i, path, origin, res, err);
 }
@@ -381,7 +381,7 @@ static int run_chempot(void *vm, const mote_call *c, mote_err *err)
 }
 
 static int do_order(hs_model *m, const mote_call *c, const char *path, const char *origin,
-                    mote_hs_result *res, mote_err *err)
+                    mote_result *res, mote_err *err)
 {
     return mote_hs_order(&m->hs, (uint64_t)c->args[0].i, path, origin, res, err);
 }
@@ -391,7 +391,7 @@ static int run_order(void *vm, const mote_call *c, mote_err *err)
 }
 
 static int do_rdf(hs_model *m, const mote_call *c, const char *path, const char *origin,
-                  mote_hs_result *res, mote_err *err)
+                  mote_result *res, mote_err *err)
 {
     return mote_hs_rdf(&m->hs, (uint64_t)c->args[0].i, c->args[1].r, path, origin, res, err);
 }
@@ -401,7 +401,7 @@ static int run_rdf(void *vm, const mote_call *c, mote_err *err)
 }
 
 static int do_msd(hs_model *m, const mote_call *c, const char *path, const char *origin,
-                  mote_hs_result *res, mote_err *err)
+                  mote_result *res, mote_err *err)
 {
     return mote_hs_msd(&m->hs, (uint64_t)c->args[0].i, path, origin, res, err);
 }

@@ -19,15 +19,6 @@ void hs_snapshot(const mote_hs *hs, hs_snap *s)
     s->wall_collisions = hs->ev.wall_collisions;
 }
 
-/* floor(s C / S) without overflow for any s <= S. */
-static uint64_t sample_target(uint64_t s, uint64_t C, uint64_t S)
-{
-    uint64_t q = C / S, r = C % S;
-    if (S < (1ull << 32))
-        return s * q + (s * r) / S;
-    return s * q + (uint64_t)floorl((long double)s * (long double)r / (long double)S);
-}
-
 int hs_run_samples(mote_hs *hs, uint64_t k, uint64_t nsamples, hs_sample_fn fn, void *ctx,
                    const char *label, double *tau, mote_err *err)
 {
@@ -42,7 +33,7 @@ int hs_run_samples(mote_hs *hs, uint64_t k, uint64_t nsamples, hs_sample_fn fn, 
     mote_progress prog;
     mote_progress_begin(&prog, hs->ctx, label);
     for (uint64_t s = 1; s <= nsamples; s++) {
-        uint64_t target = sample_target(s, C, nsamples);
+        uint64_t target = mote_schedule_count_at(s, nsamples, C);
         int rc = hs_run(hs, target - done, err);
         if (rc) {
             mote_progress_end(&prog);
@@ -57,84 +48,13 @@ int hs_run_samples(mote_hs *hs, uint64_t k, uint64_t nsamples, hs_sample_fn fn, 
     return MOTE_OK;
 }
 
-int hs_block_of(uint64_t s, uint64_t nsamples)
-{
-    uint64_t B = nsamples < HS_BLOCKS ? nsamples : HS_BLOCKS;
-    return (int)((long double)s * (long double)B / (long double)nsamples);
-}
-
-int hs_nblocks(uint64_t nsamples) { return (int)(nsamples < HS_BLOCKS ? nsamples : HS_BLOCKS); }
-
-uint64_t hs_block_size(int b, uint64_t nsamples)
-{
-    uint64_t n = 0;
-    /* count the samples whose block is b (exactly the inverse of hs_block_of) */
-    int B = hs_nblocks(nsamples);
-    uint64_t lo = (uint64_t)ceill((long double)b * (long double)nsamples / (long double)B);
-    uint64_t hi = (uint64_t)ceill((long double)(b + 1) * (long double)nsamples / (long double)B);
-    n = hi - lo;
-    return n;
-}
-
-double hs_block_error(const double *block_means, int nblocks)
-{
-    if (nblocks < 2)
-        return NAN;
-    double m = 0;
-    for (int b = 0; b < nblocks; b++)
-        m += block_means[b];
-    m /= nblocks;
-    double v = 0;
-    for (int b = 0; b < nblocks; b++)
-        v += (block_means[b] - m) * (block_means[b] - m);
-    return sqrt(v / ((double)nblocks * (nblocks - 1)));
-}
-
-/* ---- scalar results ---------------------------------------------------------------------------- */
-
-void mote_hs_result_add(mote_hs_result *res, const char *key, double value, double error)
-{
-    if (!res || res->n >= MOTE_HS_MAX_RESULTS)
-        return;
-    snprintf(res->kv[res->n].key, sizeof res->kv[res->n].key, "%s", key);
-    res->kv[res->n].value = value;
-    res->kv[res->n].error = error;
-    res->n++;
-}
-
-const double *mote_hs_result_get(const mote_hs_result *res, const char *key, double *error)
-{
-    for (int k = 0; k < res->n; k++)
-        if (strcmp(res->kv[k].key, key) == 0) {
-            if (error)
-                *error = res->kv[k].error;
-            return &res->kv[k].value;
-        }
-    return NULL;
-}
-
-void mote_hs_result_print(const mote_hs_result *res, const char *label, FILE *out)
-{
-    if (!out)
-        return;
-    fprintf(out, "%s:", label);
-    for (int k = 0; k < res->n; k++) {
-        fprintf(out, " %s=%.8g", res->kv[k].key, res->kv[k].value);
-        if (!isnan(res->kv[k].error))
-            fprintf(out, " %s_err=%.3g", res->kv[k].key, res->kv[k].error);
-    }
-    fputc('\n', out);
-}
-
 /* ---- the data-file header (spec 9.3) ----------------------------------------------------------- */
 
 void hs_write_header(FILE *f, const mote_hs *hs, const char *format, const char *origin,
                      const hs_snap *start, const hs_snap *end)
 {
     const mote_ev *ev = &hs->ev;
-    fprintf(f, "# mote %s 1\n", format);
-    fprintf(f, "# command: %s\n", origin ? origin : "(library call)");
-    fprintf(f, "# program: mote %s; seed = %llu\n", MOTE_VERSION, (unsigned long long)hs->seed);
+    mote_datafile_preamble(f, format, origin, hs->seed);
     fprintf(f, "# N = %u\n# d = %d\n# geometry = %s\n", ev->n, ev->dim,
             hs->geometry == MOTE_HS_SLIT ? "slit" : "periodic");
     fprintf(f, "# A = %.17g\n# L = %.17g\n", ev->len[1], ev->len[0]);
@@ -186,11 +106,6 @@ double hs_xbins_hi(const hs_xbins *xb, size_t b)
     return b + 1 == xb->nb ? xb->L : (double)(b + 1) * xb->dx;
 }
 
-void hs_write_results(FILE *f, const mote_hs_result *res)
-{
-    for (int k = 0; k < res->n; k++)
-        fprintf(f, "# %s = %.12g ± %.6g\n", res->kv[k].key, res->kv[k].value, res->kv[k].error);
-}
 
 /* ---- image: density profile along x ------------------------------------------------------------- */
 

@@ -5,6 +5,7 @@
 #define MOTE_HS_MEASURE_H
 
 #include "mote/hardspheres.h"
+#include "mote/stats.h"
 
 #define HS_BLOCKS 10
 
@@ -22,11 +23,20 @@ void hs_snapshot(const mote_hs *hs, hs_snap *s);
  * k == 0 takes one sample of the current state. tau = simulated time of the run. */
 int hs_run_samples(mote_hs *hs, uint64_t k, uint64_t nsamples, hs_sample_fn fn, void *ctx,
                    const char *label, double *tau, mote_err *err);
-int hs_nblocks(uint64_t nsamples);
-int hs_block_of(uint64_t s, uint64_t nsamples);
-uint64_t hs_block_size(int b, uint64_t nsamples);
-/* Standard error of the mean from block means (NaN with fewer than two blocks). */
-double hs_block_error(const double *block_means, int nblocks);
+/* The model's blocks: HS_BLOCKS of them (fewer with fewer samples), statistics from stats.h. */
+static inline int hs_nblocks(uint64_t nsamples) { return mote_blocks_count(nsamples, HS_BLOCKS); }
+static inline int hs_block_of(uint64_t s, uint64_t nsamples)
+{
+    return mote_block_of(s, nsamples, HS_BLOCKS);
+}
+static inline uint64_t hs_block_size(int b, uint64_t nsamples)
+{
+    return mote_block_size(b, nsamples, HS_BLOCKS);
+}
+static inline double hs_block_error(const double *block_means, int nblocks)
+{
+    return mote_block_error(block_means, nblocks);
+}
 void hs_write_header(FILE *f, const mote_hs *hs, const char *format, const char *origin,
                      const hs_snap *start, const hs_snap *end);
 
@@ -51,7 +61,5 @@ void hs_xbins_init(hs_xbins *xb, const mote_hs *hs, int64_t p);
 size_t hs_xbins_of(const hs_xbins *xb, double x);
 double hs_xbins_lo(const hs_xbins *xb, size_t b);
 double hs_xbins_hi(const hs_xbins *xb, size_t b);
-/* Write "# key = value ± error" lines for every result. */
-void hs_write_results(FILE *f, const mote_hs_result *res);
 
 #endif

@@ -70,7 +70,7 @@
  *   sample and fine bin the count, crystal-like count (32-bit) and sum |psi6| (single precision)
  *   are kept, so that the layers found at the end can be evaluated at every sample.
  *
- * Results (mote_hs_result, with block errors): xtal_fraction, q6_mean (3D only), psi6_mean
+ * Results (mote_result, with block errors): xtal_fraction, q6_mean (3D only), psi6_mean
  * (whole system); in a slit also layers_left, layers_right, xtal_layerK and psi6_layerK for the
  * left wall's layers K = 1 ... layers_left, xtal_bulk and psi6_bulk. The function prints
  * nothing; it advances the system exactly as `step K` would. */
@@ -739,7 +739,7 @@ int hs_local_order(const mote_hs *hs, float *local, uint8_t *flag, mote_err *err
 }
 
 int mote_hs_order(mote_hs *hs, uint64_t k, const char *path, const char *origin,
-                  mote_hs_result *res, mote_err *err)
+                  mote_result *res, mote_err *err)
 {
     if (!hs->has_system)
         return mote_fail(err, MOTE_EINVAL, "order: no system");
@@ -852,34 +852,34 @@ int mote_hs_order(mote_hs *hs, uint64_t k, const char *path, const char *origin,
     /* results (kept here too, so the file has them when res is NULL) */
     region all = {"all", 0, 0, nb};
     double e, v;
-    mote_hs_result loc;
+    mote_result loc;
     memset(&loc, 0, sizeof loc);
     {
-        mote_hs_result *res_ = &loc;
+        mote_result *res_ = &loc;
         v = region_mean(&a, tot, &all, B_XTAL, &e, bm);
-        mote_hs_result_add(res_, "xtal_fraction", v, e);
+        mote_result_add(res_, "xtal_fraction", v, e);
         if (d3) {
             v = region_mean(&a, tot, &all, B_Q6, &e, bm);
-            mote_hs_result_add(res_, "q6_mean", v, e);
+            mote_result_add(res_, "q6_mean", v, e);
         }
         v = region_mean(&a, tot, &all, B_PSI, &e, bm);
-        mote_hs_result_add(res_, "psi6_mean", v, e);
+        mote_result_add(res_, "psi6_mean", v, e);
         if (slit) {
-            mote_hs_result_add(res_, "layers_left", nl, NAN);
-            mote_hs_result_add(res_, "layers_right", nr, NAN);
+            mote_result_add(res_, "layers_left", nl, NAN);
+            mote_result_add(res_, "layers_right", nr, NAN);
             for (int q = 0; q < nl; q++) {
                 char key[32];
                 snprintf(key, sizeof key, "xtal_layer%d", q + 1);
                 v = region_mean(&a, tot, &reg[q], B_XTAL, &e, bm);
-                mote_hs_result_add(res_, key, v, e);
+                mote_result_add(res_, key, v, e);
                 snprintf(key, sizeof key, "psi6_layer%d", q + 1);
                 v = region_mean(&a, tot, &reg[q], B_PSI, &e, bm);
-                mote_hs_result_add(res_, key, v, e);
+                mote_result_add(res_, key, v, e);
             }
             v = region_mean(&a, tot, &reg[nl], B_XTAL, &e, bm);
-            mote_hs_result_add(res_, "xtal_bulk", v, e);
+            mote_result_add(res_, "xtal_bulk", v, e);
             v = region_mean(&a, tot, &reg[nl], B_PSI, &e, bm);
-            mote_hs_result_add(res_, "psi6_bulk", v, e);
+            mote_result_add(res_, "psi6_bulk", v, e);
         }
     }
 
@@ -893,7 +893,7 @@ int mote_hs_order(mote_hs *hs, uint64_t k, const char *path, const char *origin,
                 S / (double)a.nrows);
         if (slit)
             fprintf(f, "# layers_left = %d\n# layers_right = %d\n", nl, nr);
-        hs_write_results(f, &loc);
+        mote_result_write(&loc, f);
         if (d3) {
             fprintf(f, "# thresholds: q6 neighbours |r_ij| < %.1f sigma_ij (sigma_ij = R_i + R_j, "
                        "minimum image); q6m(i) = mean over neighbours of Y6m(r_ij/|r_ij|); "
@@ -1008,7 +1008,7 @@ int mote_hs_order(mote_hs *hs, uint64_t k, const char *path, const char *origin,
     }
     if (!rc)
         for (int q = 0; q < loc.n; q++)
-            mote_hs_result_add(res, loc.kv[q].key, loc.kv[q].value, loc.kv[q].error);
+            mote_result_add(res, loc.kv[q].key, loc.kv[q].value, loc.kv[q].error);
     free(tot);
     free(rho);
     free(sm);

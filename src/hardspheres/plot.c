@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mote/datafile.h"
 #include "mote/render.h"
 #include "plot.h"
 
@@ -35,116 +36,26 @@ static int vec_push(vec *a, double x)
     return 1;
 }
 
+/* What the pictures use of a data file's header. */
 typedef struct {
-    char format[32];
+    const char *format;
     double A, L, mean_density, x1, x2;
     double p_wall, p_virial, mu_level; /* NaN unless in the header */
     int dim;
-    char command[256];
-    long *row_line;                    /* file line of each data row (for messages) */
+    const char *command;
+    const long *row_line;              /* file line of each data row (for messages) */
 } header;
 
-static void parse_header_line(header *h, const char *line)
+typedef mote_table table;
+
+static double cell(const table *t, size_t row, int col) { return mote_table_at(t, row, col); }
+
+/* A geometric header value: 0 when absent (a malformed file then fails its checks, never draws
+ * from NaN). */
+static double key0(const table *t, const char *key)
 {
-    char key[64];
-    double val;
-    if (sscanf(line, "# mote %31s 1", h->format) == 1 && h->format[0])
-        return;
-    if (strncmp(line, "# command: ", 11) == 0) {
-        snprintf(h->command, sizeof h->command, "%s", line + 11);
-        h->command[strcspn(h->command, "\r\n")] = '\0';
-        return;
-    }
-    if (sscanf(line, "# %63s = %lf", key, &val) == 2) {
-        if (!strcmp(key, "A"))
-            h->A = val;
-        else if (!strcmp(key, "L"))
-            h->L = val;
-        else if (!strcmp(key, "mean_density"))
-            h->mean_density = val;
-        else if (!strcmp(key, "d"))
-            h->dim = val == 2 ? 2 : 3; /* a file of mote's has 2 or 3 (never convert others) */
-        else if (!strcmp(key, "x1"))
-            h->x1 = val;
-        else if (!strcmp(key, "x2"))
-            h->x2 = val;
-        else if (!strcmp(key, "P_wall"))
-            h->p_wall = val;
-        else if (!strcmp(key, "P_virial"))
-            h->p_virial = val;
-        else if (!strcmp(key, "ln_n_plus_mu_ex"))
-            h->mu_level = val;
-    }
-}
-
-/* A data file's rows: numbers per row (text tokens read as NaN), the block each row is in
- * (blocks are separated by blank lines), and the first token of each row as text. */
-typedef struct {
-    vec num;          /* rows * MAXCOL numbers */
-    int *ncol, *block;
-    char (*first)[16];
-    size_t rows, cap;
-} table;
-
-#define MAXCOL 64
-
-static int table_add(table *t, char *line, int block)
-{
-    if (t->rows == t->cap) {
-        size_t cap = t->cap ? 2 * t->cap : 256;
-        int *nc = realloc(t->ncol, cap * sizeof *nc);
-        if (nc)
-            t->ncol = nc;
-        int *bl = realloc(t->block, cap * sizeof *bl);
-        if (bl)
-            t->block = bl;
-        char(*fi)[16] = realloc(t->first, cap * sizeof *fi);
-        if (fi)
-            t->first = fi;
-        if (!nc || !bl || !fi)
-            return 0;
-        t->cap = cap;
-    }
-    int n = 0;
-    char *p = line;
-    sscanf(line, "%15s", t->first[t->rows]);
-    for (;;) {
-        while (*p == ' ' || *p == '\t' || *p == '\r' || *p == '\n')
-            p++;
-        if (!*p)
-            break;
-        char *end;
-        double v = strtod(p, &end);
-        if (end == p) { /* a text token */
-            v = NAN;
-            while (*end && *end != ' ' && *end != '\t' && *end != '\r' && *end != '\n')
-                end++;
-        }
-        if (n < MAXCOL && !vec_push(&t->num, v))
-            return 0;
-        n++;
-        p = end;
-    }
-    for (int k = n; k < MAXCOL; k++)
-        if (!vec_push(&t->num, NAN))
-            return 0;
-    t->ncol[t->rows] = n;
-    t->block[t->rows] = block;
-    t->rows++;
-    return 1;
-}
-
-static double cell(const table *t, size_t row, int col)
-{
-    return col < MAXCOL ? t->num.v[row * MAXCOL + (size_t)col] : NAN;
-}
-
-static void table_free(table *t)
-{
-    free(t->num.v);
-    free(t->ncol);
-    free(t->block);
-    free(t->first);
+    double v = mote_table_key(t, key);
+    return isnan(v) && !mote_table_has(t, key) ? 0.0 : v;
 }
 
 /* Columns (x_col, y_col) of the rows of one block as a series. */
@@ -400,63 +311,36 @@ static int plot_order(const table *t, const header *h, const char *png, mote_err
 
 int hs_plot_file(const char *data_path, const char *png_path, mote_err *err)
 {
-    FILE *f = fopen(data_path, "r");
-    if (!f)
-        return mote_fail(err, MOTE_EIO, "plot: cannot read '%s': %s", data_path, strerror(errno));
-    header h;
-    memset(&h, 0, sizeof h);
-    h.dim = 3;
-    h.p_wall = h.p_virial = h.mu_level = NAN;
     table t;
-    memset(&t, 0, sizeof t);
-    char *line = NULL;
-    size_t cap = 0;
-    long lineno = 0;
-    int rc = MOTE_OK, block = 0, blank = 0;
-    while (getline(&line, &cap, f) >= 0) {
-        lineno++;
-        if (line[0] == '#') {
-            parse_header_line(&h, line);
-            continue;
-        }
-        if (line[strspn(line, " \t\r\n")] == '\0') {
-            blank = t.rows > 0;
-            continue;
-        }
-        if (!h.format[0]) {
-            rc = mote_fail(err, MOTE_EFORMAT,
-                           "%s:%ld: not a mote data file (expected a '# mote image 1' or similar "
-                           "header first)",
-                           data_path, lineno);
-            break;
-        }
-        if (strcmp(h.format, "image") && strcmp(h.format, "profile") &&
-            strcmp(h.format, "pressure") && strcmp(h.format, "chempot") &&
-            strcmp(h.format, "order") && strcmp(h.format, "rdf") && strcmp(h.format, "msd")) {
-            rc = mote_fail(err, MOTE_EFORMAT,
-                           "%s:1: plot knows the data of image, profile, pressure, chempot, "
-                           "order, rdf and msd, not '%s'",
-                           data_path, h.format);
-            break;
-        }
-        if (blank) {
-            block++;
-            blank = 0;
-        }
-        long *rl = realloc(h.row_line, (t.rows + 1) * sizeof *rl);
-        if (!rl || !table_add(&t, line, block)) {
-            if (rl)
-                h.row_line = rl;
-            rc = mote_fail(err, MOTE_ENOMEM, "plot: out of memory");
-            break;
-        }
-        h.row_line = rl;
-        h.row_line[t.rows - 1] = lineno;
-    }
-    free(line);
-    fclose(f);
-    if (!rc && !h.format[0])
-        rc = mote_fail(err, MOTE_EFORMAT, "%s: no mote data header found", data_path);
+    int rc = mote_table_read(&t, data_path, err);
+    if (rc)
+        return rc;
+    header h = {
+        .format = t.format,
+        .A = key0(&t, "A"),
+        .L = key0(&t, "L"),
+        .mean_density = key0(&t, "mean_density"),
+        .x1 = key0(&t, "x1"),
+        .x2 = key0(&t, "x2"),
+        .p_wall = mote_table_key(&t, "P_wall"),
+        .p_virial = mote_table_key(&t, "P_virial"),
+        .mu_level = mote_table_key(&t, "ln_n_plus_mu_ex"),
+        .dim = mote_table_key(&t, "d") == 2 ? 2 : 3, /* mote writes 2 or 3 (never convert others) */
+        .command = t.command,
+        .row_line = t.line,
+    };
+    if (!t.format[0])
+        rc = mote_fail(err, MOTE_EFORMAT,
+                       "%s:1: not a mote data file (expected a '# mote image 1' or similar "
+                       "header first)",
+                       data_path);
+    else if (strcmp(h.format, "image") && strcmp(h.format, "profile") &&
+             strcmp(h.format, "pressure") && strcmp(h.format, "chempot") &&
+             strcmp(h.format, "order") && strcmp(h.format, "rdf") && strcmp(h.format, "msd"))
+        rc = mote_fail(err, MOTE_EFORMAT,
+                       "%s:1: plot knows the data of image, profile, pressure, chempot, "
+                       "order, rdf and msd, not '%s'",
+                       data_path, h.format);
     if (!rc)
         rc = check_rows(&t, &h, data_path, err);
     if (!rc) {
@@ -475,7 +359,6 @@ int hs_plot_file(const char *data_path, const char *png_path, mote_err *err)
         else
             rc = plot_order(&t, &h, png_path, err);
     }
-    free(h.row_line);
-    table_free(&t);
+    mote_table_free(&t);
     return rc;
 }

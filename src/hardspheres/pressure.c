@@ -164,7 +164,7 @@ static double contact_density(const double *hist, double samples, double area)
 
 /* The scalars of spec 8.4 from the accumulators of blocks [b0, b1). Keys are fixed per geometry
  * so that whole-run and block values line up. */
-static void scalars(const pacc *a, int b0, int b1, mote_hs_result *out)
+static void scalars(const pacc *a, int b0, int b1, mote_result *out)
 {
     const mote_hs *hs = a->hs;
     const mote_ev *ev = &hs->ev;
@@ -191,18 +191,18 @@ static void scalars(const pacc *a, int b0, int b1, mote_hs_result *out)
     }
     double kt = mote_ev_kt(ev), mv2 = d * (double)ev->n * kt;
     out->n = 0;
-    mote_hs_result_add(out, "omega", 2 * coll / ((double)ev->n * tau), NAN);
+    mote_result_add(out, "omega", 2 * coll / ((double)ev->n * tau), NAN);
     if (hs->geometry == MOTE_HS_PERIODIC) {
         double V = L * area;
-        mote_hs_result_add(out, "P_virial", (mv2 + W / tau) / (d * V), NAN);
-        mote_hs_result_add(out, "Z", 1 + W / (tau * mv2), NAN);
-        mote_hs_result_add(out, "rho", ev->n / V, NAN);
+        mote_result_add(out, "P_virial", (mv2 + W / tau) / (d * V), NAN);
+        mote_result_add(out, "Z", 1 + W / (tau * mv2), NAN);
+        mote_result_add(out, "rho", ev->n / V, NAN);
         return;
     }
     double P[2] = {mom[0] / (area * tau), mom[1] / (area * tau)};
-    mote_hs_result_add(out, "P_left", P[0], NAN);
-    mote_hs_result_add(out, "P_right", P[1], NAN);
-    mote_hs_result_add(out, "P_wall", 0.5 * (P[0] + P[1]), NAN);
+    mote_result_add(out, "P_left", P[0], NAN);
+    mote_result_add(out, "P_right", P[1], NAN);
+    mote_result_add(out, "P_wall", 0.5 * (P[0] + P[1]), NAN);
     /* bulk values: bins whose centre lies in the central half */
     double pmid = 0, rmid = 0, nmid = 0;
     for (size_t k = 0; k < nb; k++) {
@@ -227,22 +227,22 @@ static void scalars(const pacc *a, int b0, int b1, mote_hs_result *out)
     pmid /= nmid;
     rmid /= nmid;
     double vmean = mote_hs_particle_volume_sum(hs) / ev->n;
-    mote_hs_result_add(out, "P_mid", pmid, NAN);
-    mote_hs_result_add(out, "rho_mid", rmid, NAN);
-    mote_hs_result_add(out, "eta_mid", rmid * vmean, NAN);
-    mote_hs_result_add(out, "Z_mid", pmid / (rmid * kt), NAN);
+    mote_result_add(out, "P_mid", pmid, NAN);
+    mote_result_add(out, "rho_mid", rmid, NAN);
+    mote_result_add(out, "eta_mid", rmid * vmean, NAN);
+    mote_result_add(out, "Z_mid", pmid / (rmid * kt), NAN);
     double rc[2];
     for (int s = 0; s < 2; s++)
         rc[s] = contact_density(gap[s], ns, area);
-    mote_hs_result_add(out, "kTrho_c_left", kt * rc[0], NAN);
-    mote_hs_result_add(out, "kTrho_c_right", kt * rc[1], NAN);
-    mote_hs_result_add(out, "contact_left", P[0] / (kt * rc[0]), NAN);
-    mote_hs_result_add(out, "contact_right", P[1] / (kt * rc[1]), NAN);
-    mote_hs_result_add(out, "wall_rate", (hits[0] + hits[1]) / (2 * area * tau), NAN);
+    mote_result_add(out, "kTrho_c_left", kt * rc[0], NAN);
+    mote_result_add(out, "kTrho_c_right", kt * rc[1], NAN);
+    mote_result_add(out, "contact_left", P[0] / (kt * rc[0]), NAN);
+    mote_result_add(out, "contact_right", P[1] / (kt * rc[1]), NAN);
+    mote_result_add(out, "wall_rate", (hits[0] + hits[1]) / (2 * area * tau), NAN);
 }
 
 static int write_file(const pacc *a, const char *path, const char *origin, const hs_snap *start,
-                      const mote_hs_result *res, mote_err *err)
+                      const mote_result *res, mote_err *err)
 {
     const mote_hs *hs = a->hs;
     const int d = hs->ev.dim, B = a->B;
@@ -261,7 +261,7 @@ static int write_file(const pacc *a, const char *path, const char *origin, const
             (unsigned long long)a->S, B, tau_all, a->xb.dx);
     fprintf(f, "# errors: standard error of the %d block values (nan with fewer than 2 blocks)\n",
             B);
-    hs_write_results(f, res);
+    mote_result_write(res, f);
     fprintf(f, "# pressure in kT_unit R^-%d (units of m = R = 1, time sqrt(m R^2/kT)); "
                "P_N = P_xx, P_T = %s\n",
             d, d == 3 ? "(P_yy + P_zz)/2" : "P_yy");
@@ -316,7 +316,7 @@ static int write_file(const pacc *a, const char *path, const char *origin, const
 }
 
 int mote_hs_pressure(mote_hs *hs, uint64_t k, const char *path, const char *origin,
-                     mote_hs_result *res, mote_err *err)
+                     mote_result *res, mote_err *err)
 {
     if (!hs->has_system)
         return mote_fail(err, MOTE_EINVAL, "pressure: no system");
@@ -356,7 +356,7 @@ int mote_hs_pressure(mote_hs *hs, uint64_t k, const char *path, const char *orig
         hs->ev.obs = saved;
     }
     if (!rc) {
-        mote_hs_result all, blk[HS_BLOCKS];
+        mote_result all, blk[HS_BLOCKS];
         scalars(&a, 0, a.B, &all);
         for (int b = 0; b < a.B; b++)
             scalars(&a, b, b + 1, &blk[b]);

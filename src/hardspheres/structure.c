@@ -272,7 +272,7 @@ int mote_hs_rdf_ok(const mote_hs *hs, double rmax, mote_err *err)
 }
 
 int mote_hs_rdf(mote_hs *hs, uint64_t k, double rmax, const char *path, const char *origin,
-                mote_hs_result *res, mote_err *err)
+                mote_result *res, mote_err *err)
 {
     if (!hs->has_system)
         return mote_fail(err, MOTE_EINVAL, "rdf: no system");
@@ -320,20 +320,20 @@ int mote_hs_rdf(mote_hs *hs, uint64_t k, double rmax, const char *path, const ch
     double tau = 0;
     if (!rc)
         rc = hs_run_samples(hs, k, a.S, rdf_sample, &a, "rdf", &tau, err);
-    mote_hs_result out = {0};
+    mote_result out = {0};
     double *gerr = NULL;
     if (!rc) {
         hs_snapshot(hs, &end);
         const double eta = mote_hs_phi(hs);
-        mote_hs_result_add(&out, "samples", (double)a.S, NAN);
+        mote_result_add(&out, "samples", (double)a.S, NAN);
         if (!a.slit && !ev->radius) {
             double bv[HS_BLOCKS];
             for (int b = 0; b < a.B; b++)
                 bv[b] = rdf_contact(&a, sigma, b, b + 1);
             double g = rdf_contact(&a, sigma, 0, a.B), ge = hs_block_error(bv, a.B);
             double f = a.dim == 3 ? 4 * eta : 2 * eta;
-            mote_hs_result_add(&out, "g_contact", g, ge);
-            mote_hs_result_add(&out, "Z_contact", 1 + f * g, f * ge);
+            mote_result_add(&out, "g_contact", g, ge);
+            mote_result_add(&out, "Z_contact", 1 + f * g, f * ge);
         }
         gerr = calloc(a.nbins * (size_t)a.nlayer, sizeof *gerr);
         if (!gerr)
@@ -354,7 +354,7 @@ int mote_hs_rdf(mote_hs *hs, uint64_t k, double rmax, const char *path, const ch
             hs_write_header(f, hs, "rdf", origin, &start, &end);
             fprintf(f, "# K = %llu\n# samples = %llu\n# RMAX = %.17g\n# bin width = %.17g\n",
                     (unsigned long long)k, (unsigned long long)a.S, rmax, a.dr);
-            hs_write_results(f, &out);
+            mote_result_write(&out, f);
             if (a.slit)
                 fprintf(f,
                         "# pairs in one layer parallel to the walls, lateral distance s: wall = "
@@ -496,7 +496,7 @@ static double msd_slope(const msd_acc *a, uint64_t l0, uint64_t l1, int g)
 }
 
 int mote_hs_msd(mote_hs *hs, uint64_t k, const char *path, const char *origin,
-                mote_hs_result *res, mote_err *err)
+                mote_result *res, mote_err *err)
 {
     if (!hs->has_system)
         return mote_fail(err, MOTE_EINVAL, "msd: no system");
@@ -545,7 +545,7 @@ int mote_hs_msd(mote_hs *hs, uint64_t k, const char *path, const char *origin,
                        "msd: a particle moved %.2g half box lengths between two samples; the "
                        "unwrapped paths cannot be trusted (the box is too small for this "
                        "density)", a.max_jump);
-    mote_hs_result out = {0};
+    mote_result out = {0};
     if (!rc) {
         hs_snapshot(hs, &end);
         const uint64_t l0 = a.lags / 2, l1 = a.lags;
@@ -553,12 +553,12 @@ int mote_hs_msd(mote_hs *hs, uint64_t k, const char *path, const char *origin,
         for (int g = 0; g < MSD_GROUPS; g++)
             bv[g] = msd_slope(&a, l0, l1, g) / (2 * dfree);
         double De = a.n >= MSD_GROUPS ? hs_block_error(bv, MSD_GROUPS) : NAN;
-        mote_hs_result_add(&out, "D", D, De);
-        mote_hs_result_add(&out, "fit_from", a.nlag[l0] ? a.tlag[l0] / (double)a.nlag[l0] : NAN,
+        mote_result_add(&out, "D", D, De);
+        mote_result_add(&out, "fit_from", a.nlag[l0] ? a.tlag[l0] / (double)a.nlag[l0] : NAN,
                            NAN);
-        mote_hs_result_add(&out, "fit_to", a.nlag[l1] ? a.tlag[l1] / (double)a.nlag[l1] : NAN,
+        mote_result_add(&out, "fit_to", a.nlag[l1] ? a.tlag[l1] / (double)a.nlag[l1] : NAN,
                            NAN);
-        mote_hs_result_add(&out, "dimensions", dfree, NAN);
+        mote_result_add(&out, "dimensions", dfree, NAN);
         mote_afile af;
         rc = mote_afile_open(&af, path, err);
         if (!rc) {
@@ -575,7 +575,7 @@ int mote_hs_msd(mote_hs *hs, uint64_t k, const char *path, const char *origin,
             fprintf(f, "# D = slope / (2 * %d), least squares over the lags from fit_from to "
                        "fit_to; D_err from %d groups of particles\n",
                     dfree, MSD_GROUPS);
-            hs_write_results(f, &out);
+            mote_result_write(&out, f);
             fprintf(f, "# columns: lag_time msd[R^2] msd_err[R^2] origins\n");
             for (uint64_t l = 1; l <= a.lags; l++) {
                 if (!a.nlag[l])

@@ -367,8 +367,8 @@ static int run_load(void *vm, const mote_call *c, mote_err *err)
                                  m->frames.active ? &m->frames_s : NULL};
         for (int k = 0; k < 3; k++)
             if (s[k]) {
-                s[k]->t0 = m->sys.time;
-                s[k]->k = 1;
+                s[k]->at.t0 = m->sys.time;
+                s[k]->at.k = 1;
             }
     }
     if (!rc && m->log)
@@ -618,7 +618,7 @@ static int run_record(void *vm, const mote_call *c, mote_err *err)
         return rc;
     }
     m->rec.active = 1;
-    m->rec_s = (mote_mb_sampler){m->sys.time, m->rec.dt, 1, &m->rec, mb_record_sample};
+    m->rec_s = (mote_mb_sampler){{m->sys.time, m->rec.dt, 1}, &m->rec, mb_record_sample};
     if (m->log)
         fprintf(m->log, "record: every %g s into %s\n", m->rec.dt, m->rec.path);
     return MOTE_OK;
@@ -657,7 +657,7 @@ static int run_density(void *vm, const mote_call *c, mote_err *err)
         return rc;
     }
     d->active = 1;
-    m->dens_s = (mote_mb_sampler){m->sys.time, d->dt, 1, d, mb_density_sample};
+    m->dens_s = (mote_mb_sampler){{m->sys.time, d->dt, 1}, d, mb_density_sample};
     if (m->log)
         fprintf(m->log, "density_y: %lld bins every %g s into %s\n", (long long)d->nbins, d->dt,
                 d->path);
@@ -742,7 +742,7 @@ static int run_frames(void *vm, const mote_call *c, mote_err *err)
     if (rc)
         return rc;
     fr->active = 1;
-    m->frames_s = (mote_mb_sampler){m->sys.time, fr->dt, 1, fr, mb_frames_sample};
+    m->frames_s = (mote_mb_sampler){{m->sys.time, fr->dt, 1}, fr, mb_frames_sample};
     if (m->log)
         fprintf(m->log, "frames: every %g s as %s_NNNNNN.png from %06llu\n", fr->dt, fr->prefix,
                 (unsigned long long)(fr->next_index - 1));

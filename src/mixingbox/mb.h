@@ -94,8 +94,9 @@ void mb_density_free(mb_density *d);
 int mb_density_sample(void *ctx, mote_mb *sys, mote_err *err);
 int mb_density_write(const mb_density *d, const mote_mb *sys, mote_err *err);
 
-/* The header lines every mixing-box data file starts with after its format line. */
-void mb_write_params(FILE *f, const mote_mb *sys, const char *origin);
+/* The header lines every mixing-box data file starts with: the common preamble (datafile.h) of
+ * `format`, then the parameters. */
+void mb_write_params(FILE *f, const mote_mb *sys, const char *format, const char *origin);
 
 /* ---- the state file (state.c) ---------------------------------------------------------------- */
 

@@ -6,6 +6,8 @@
  * never leaves a half-written file. */
 #include "mb.h"
 
+#include "mote/datafile.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -15,11 +17,10 @@
 static const char *integrator_name(int k) { return k == MOTE_MB_EVENT ? "event" : "timestep"; }
 static const char *rule_name(int k) { return k == MOTE_MB_SEEDRULE ? "seed" : "restitution"; }
 
-void mb_write_params(FILE *f, const mote_mb *sys, const char *origin)
+void mb_write_params(FILE *f, const mote_mb *sys, const char *format, const char *origin)
 {
     const mote_mb_params *p = &sys->p;
-    fprintf(f, "# command: %s\n", origin ? origin : "(library call)");
-    fprintf(f, "# program: mote %s; seed = %llu\n", MOTE_VERSION, (unsigned long long)sys->seed);
+    mote_datafile_preamble(f, format, origin, sys->seed);
     fprintf(f, "# parameters as of the last write (SI units):\n");
     fprintf(f, "# integrator = %s\n# collision_rule = %s\n", integrator_name(p->integrator),
             rule_name(p->rule));
@@ -93,8 +94,7 @@ int mb_record_write(const mb_record *r, const mote_mb *sys, mote_err *err)
     if (rc)
         return rc;
     FILE *f = af.f;
-    fprintf(f, "# mote mixing 1\n");
-    mb_write_params(f, sys, r->origin);
+    mb_write_params(f, sys, "mixing", r->origin);
     fprintf(f, "# DT = %.17g\n# samples = %zu\n", r->dt, r->nrows);
     fprintf(f,
             "# A row per sample: t (s, exact sample time); disks per chamber and colour (nL0 =\n"
@@ -195,8 +195,7 @@ int mb_density_write(const mb_density *d, const mote_mb *sys, mote_err *err)
         lambda[c] = p->mass * p->g / kt[c];
         mean_n[c] = d->disks[c] / s;
     }
-    fprintf(f, "# mote mixing-density 1\n");
-    mb_write_params(f, sys, d->origin);
+    mb_write_params(f, sys, "mixing-density", d->origin);
     fprintf(f, "# DT = %.17g\n# samples = %llu\n# t_first = %.17g\n# t_last = %.17g\n", d->dt,
             (unsigned long long)d->samples, d->t_first, d->t_last);
     fprintf(f, "# bins = %lld\n# bin_height = %.17g\n# width_left = %.17g\n# width_right = %.17g\n",

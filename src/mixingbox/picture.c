@@ -5,6 +5,7 @@
  * of the model's data files (the mixing curve, the density profile with the barometric law). */
 #include "mb.h"
 
+#include "mote/datafile.h"
 #include "mote/render.h"
 
 #include <errno.h>
@@ -278,99 +279,34 @@ int mb_movie(const char *prefix, int64_t fps, const char *out, FILE *diag, int *
 
 /* ---- plot ------------------------------------------------------------------------------------ */
 
-#define MAXCOL 64
+typedef mote_table table;
 
-typedef struct {
-    char format[32];
-    char names[MAXCOL][32];
-    int ncol;
-    double m_eq, g;
-    double *v; /* rows * ncol */
-    size_t rows, cap;
-} table;
-
-static int col_of(const table *t, const char *name)
-{
-    for (int k = 0; k < t->ncol; k++)
-        if (strcmp(t->names[k], name) == 0)
-            return k;
-    return -1;
-}
-
+/* Read a data file of this model: the format is one of ours, there is a '# columns:' line, and
+ * every row holds a number for each column (named by file and line otherwise). */
 static int read_table(const char *path, table *t, mote_err *err)
 {
-    memset(t, 0, sizeof *t);
-    t->m_eq = NAN;
-    FILE *f = fopen(path, "r");
-    if (!f)
-        return mote_fail(err, MOTE_EIO, "plot: cannot read '%s': %s", path, strerror(errno));
-    char *line = NULL;
-    size_t linecap = 0;
-    long lineno = 0;
-    int rc = MOTE_OK;
-    while (!rc && getline(&line, &linecap, f) > 0) {
-        lineno++;
-        if (line[0] == '#') {
-            double v;
-            if (lineno == 1) {
-                if (sscanf(line, "# mote %31s 1", t->format) != 1)
-                    t->format[0] = '\0';
-            } else if (strncmp(line, "# columns:", 10) == 0) {
-                char *s = line + 10;
-                t->ncol = 0;
-                for (char *tok = strtok(s, " \t\r\n"); tok && t->ncol < MAXCOL;
-                     tok = strtok(NULL, " \t\r\n"))
-                    snprintf(t->names[t->ncol++], sizeof t->names[0], "%s", tok);
-            } else if (sscanf(line, "# m_eq = %lf", &v) == 1) {
-                t->m_eq = v;
-            } else if (sscanf(line, "# g = %lf", &v) == 1) {
-                t->g = v;
-            }
-            continue;
-        }
-        if (strspn(line, " \t\r\n") == strlen(line))
-            continue;
-        if (t->ncol == 0) {
-            rc = mote_fail(err, MOTE_EFORMAT, "plot: %s:%ld: data before the '# columns:' line",
-                           path, lineno);
-            break;
-        }
-        if (t->rows == t->cap) {
-            size_t cap = t->cap ? 2 * t->cap : 256;
-            double *v = realloc(t->v, cap * (size_t)t->ncol * sizeof *v);
-            if (!v) {
-                rc = mote_fail(err, MOTE_ENOMEM, "plot: out of memory");
-                break;
-            }
-            t->v = v;
-            t->cap = cap;
-        }
-        char *p = line;
-        for (int k = 0; k < t->ncol; k++) {
-            char *end;
-            double v = strtod(p, &end);
-            if (end == p) {
-                rc = mote_fail(err, MOTE_EFORMAT,
-                               "plot: %s:%ld: expected %d numbers (columns %s ...), found %d",
-                               path, lineno, t->ncol, t->names[0], k);
-                break;
-            }
-            t->v[t->rows * (size_t)t->ncol + (size_t)k] = v;
-            p = end;
-        }
-        t->rows++;
+    int rc = mote_table_read(t, path, err);
+    if (rc) {
+        char why[sizeof err->msg];
+        snprintf(why, sizeof why, "%s", err->msg);
+        return mote_fail(err, (mote_status)rc, "plot: %s", why);
     }
-    free(line);
-    fclose(f);
-    if (!rc && strcmp(t->format, "mixing") != 0 && strcmp(t->format, "mixing-density") != 0)
+    if (strcmp(t->format, "mixing") != 0 && strcmp(t->format, "mixing-density") != 0)
         rc = mote_fail(err, MOTE_EFORMAT,
                        "plot: '%s' is not a mixing-box data file (its first line should be "
                        "'# mote mixing 1' or '# mote mixing-density 1')",
                        path);
-    if (rc) {
-        free(t->v);
-        t->v = NULL;
+    else if (t->rows && t->ncolnames == 0)
+        rc = mote_fail(err, MOTE_EFORMAT, "plot: %s:%ld: data before the '# columns:' line",
+                       path, t->line[0]);
+    for (size_t r = 0; !rc && r < t->rows; r++) {
+        if (t->ncol[r] < t->ncolnames) /* a word where a number belongs reads as NaN */
+            rc = mote_fail(err, MOTE_EFORMAT,
+                           "plot: %s:%ld: expected %d numbers (columns %s ...), found %d", path,
+                           t->line[r], t->ncolnames, t->colname[0], t->ncol[r]);
     }
+    if (rc)
+        mote_table_free(t);
     return rc;
 }
 
@@ -379,7 +315,7 @@ static double *column(const table *t, int k)
     double *c = malloc((t->rows ? t->rows : 1) * sizeof *c);
     if (c)
         for (size_t r = 0; r < t->rows; r++)
-            c[r] = t->v[r * (size_t)t->ncol + (size_t)k];
+            c[r] = mote_table_at(t, r, k);
     return c;
 }
 
@@ -387,7 +323,7 @@ static int need_cols(const table *t, const char *path, const char *const *names,
                      int n, mote_err *err)
 {
     for (int k = 0; k < n; k++) {
-        idx[k] = col_of(t, names[k]);
+        idx[k] = mote_table_col(t, names[k]);
         if (idx[k] < 0)
             return mote_fail(err, MOTE_EFORMAT, "plot: '%s' has no column '%s'", path, names[k]);
     }
@@ -417,8 +353,9 @@ static int plot_mixing(const table *t, const char *in, const char *out, mote_err
         o.ylabel = "m,  S_mix / ln 2";
         o.ymin = 0;
         o.ymax = 1.05;
-        o.has_yref = isfinite(t->m_eq);
-        o.yref = t->m_eq;
+        double m_eq = mote_table_key(t, "m_eq");
+        o.has_yref = isfinite(m_eq);
+        o.yref = m_eq;
         o.yref_label = "m of a uniform mixture";
         rc = mote_plot_png(out, &o, ser, 2, err);
     }
@@ -435,6 +372,7 @@ static int plot_density(const table *t, const char *in, const char *out, mote_er
     int rc = need_cols(t, in, names, idx, 5, err);
     if (rc)
         return rc;
+    const double g = mote_table_has(t, "g") ? mote_table_key(t, "g") : 0.0;
     double *c[5] = {0};
     for (int k = 0; k < 5; k++)
         c[k] = column(t, idx[k]);
@@ -444,8 +382,8 @@ static int plot_density(const table *t, const char *in, const char *out, mote_er
         mote_series ser[4] = {
             {c[0], c[1], t->rows, "left chamber", 2},
             {c[0], c[2], t->rows, "right chamber", 2},
-            {c[0], c[3], t->rows, t->g != 0 ? "barometric law, left" : "uniform, left", 0},
-            {c[0], c[4], t->rows, t->g != 0 ? "barometric law, right" : "uniform, right", 0},
+            {c[0], c[3], t->rows, g != 0 ? "barometric law, left" : "uniform, left", 0},
+            {c[0], c[4], t->rows, g != 0 ? "barometric law, right" : "uniform, right", 0},
         };
         mote_plot_opts o = {0};
         o.title = "density profile in y";
@@ -468,6 +406,6 @@ int mb_plot_file(const char *in, const char *out, mote_err *err)
         rc = plot_mixing(&t, in, out, err);
     else
         rc = plot_density(&t, in, out, err);
-    free(t.v);
+    mote_table_free(&t);
     return rc;
 }

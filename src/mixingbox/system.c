@@ -442,7 +442,7 @@ void mote_mb_note_overlaps(mote_mb *sys, uint64_t count)
 
 /* ---- hooks ----------------------------------------------------------------------------------- */
 
-static double sample_time(const mote_mb_sampler *s) { return s->t0 + (double)s->k * s->dt; }
+static double sample_time(const mote_mb_sampler *s) { return mote_schedule_next(&s->at); }
 
 double mote_mb_hooks_next(const mote_mb_hooks *h)
 {
@@ -462,7 +462,7 @@ double mote_mb_hooks_stop(const mote_mb_hooks *h, double t_end)
         const mote_mb_sampler *s = &h->samplers[k];
         double t = sample_time(s);
         /* a sample a hair before the end is taken at the end */
-        if (t < stop && t <= t_end - 1e-9 * s->dt)
+        if (t < stop && t <= t_end - 1e-9 * s->at.dt)
             stop = t;
     }
     return stop;
@@ -472,9 +472,9 @@ int mote_mb_hooks_fire(mote_mb_hooks *h, mote_mb *sys, mote_err *err)
 {
     for (size_t k = 0; h && k < h->nsamplers; k++) {
         mote_mb_sampler *s = &h->samplers[k];
-        while (sample_time(s) <= sys->time + 1e-9 * s->dt) {
+        while (sample_time(s) <= sys->time + 1e-9 * s->at.dt) {
             int rc = s->fn(s->ctx, sys, err);
-            s->k++;
+            s->at.k++;
             if (rc)
                 return rc;
         }

@@ -1,0 +1,269 @@
+/* datafile.c: results, and the writing and reading of mote's text data files (datafile.h). The
+ * reader is what `plot` stands on in every model: it keeps the header's numbers by name, the
+ * column names, and every row with its file line and block, and leaves the meaning of the rows
+ * to the format's own code. It reads untrusted files: any byte sequence gives a table or an
+ * error, never a crash, and memory grows with the file, never with a number inside it. */
+#include "mote/datafile.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- results ---------------------------------------------------------------------------------- */
+
+void mote_result_add(mote_result *res, const char *key, double value, double error)
+{
+    if (!res || res->n >= MOTE_RESULT_MAX)
+        return;
+    snprintf(res->kv[res->n].key, sizeof res->kv[0].key, "%s", key);
+    res->kv[res->n].value = value;
+    res->kv[res->n].error = error;
+    res->n++;
+}
+
+const double *mote_result_get(const mote_result *res, const char *key, double *error)
+{
+    for (int k = 0; k < res->n; k++)
+        if (strcmp(res->kv[k].key, key) == 0) {
+            if (error)
+                *error = res->kv[k].error;
+            return &res->kv[k].value;
+        }
+    return NULL;
+}
+
+void mote_result_print(const mote_result *res, const char *label, FILE *out)
+{
+    if (!out)
+        return;
+    fprintf(out, "%s:", label);
+    for (int k = 0; k < res->n; k++) {
+        fprintf(out, " %s=%.8g", res->kv[k].key, res->kv[k].value);
+        if (!isnan(res->kv[k].error))
+            fprintf(out, " %s_err=%.3g", res->kv[k].key, res->kv[k].error);
+    }
+    fputc('\n', out);
+}
+
+void mote_result_write(const mote_result *res, FILE *f)
+{
+    for (int k = 0; k < res->n; k++)
+        fprintf(f, "# %s = %.12g ± %.6g\n", res->kv[k].key, res->kv[k].value, res->kv[k].error);
+}
+
+/* ---- writing ---------------------------------------------------------------------------------- */
+
+void mote_datafile_preamble(FILE *f, const char *format, const char *origin, uint64_t seed)
+{
+    fprintf(f, "# mote %s 1\n", format);
+    fprintf(f, "# command: %s\n", origin ? origin : "(library call)");
+    fprintf(f, "# program: mote %s; seed = %llu\n", MOTE_VERSION, (unsigned long long)seed);
+}
+
+int mote_datafile_open(mote_datafile *d, const char *path, const char *format, const char *origin,
+                       uint64_t seed, mote_err *err)
+{
+    int rc = mote_afile_open(&d->af, path, err);
+    if (rc) {
+        d->f = NULL;
+        return rc;
+    }
+    d->f = d->af.f;
+    mote_datafile_preamble(d->f, format, origin, seed);
+    return MOTE_OK;
+}
+
+void mote_datafile_columns(mote_datafile *d, const char *names)
+{
+    fprintf(d->f, "# columns: %s\n", names);
+}
+
+int mote_datafile_commit(mote_datafile *d, mote_err *err)
+{
+    d->f = NULL;
+    return mote_afile_commit(&d->af, err);
+}
+
+void mote_datafile_abort(mote_datafile *d)
+{
+    d->f = NULL;
+    mote_afile_abort(&d->af);
+}
+
+/* ---- reading ---------------------------------------------------------------------------------- */
+
+#define TABLE_MAX_BYTES ((long)1 << 30)
+
+void mote_table_free(mote_table *t)
+{
+    free(t->key);
+    free(t->keyval);
+    free(t->num);
+    free(t->ncol);
+    free(t->block);
+    free(t->line);
+    free(t->first);
+    memset(t, 0, sizeof *t);
+}
+
+double mote_table_key(const mote_table *t, const char *key)
+{
+    for (size_t k = t->nkeys; k-- > 0;) /* the last of repeated keys */
+        if (strcmp(t->key[k], key) == 0)
+            return t->keyval[k];
+    return NAN;
+}
+
+int mote_table_has(const mote_table *t, const char *key)
+{
+    for (size_t k = 0; k < t->nkeys; k++)
+        if (strcmp(t->key[k], key) == 0)
+            return 1;
+    return 0;
+}
+
+int mote_table_col(const mote_table *t, const char *name)
+{
+    for (int k = 0; k < t->ncolnames; k++)
+        if (strcmp(t->colname[k], name) == 0)
+            return k;
+    return -1;
+}
+
+static int grow(void **p, size_t count, size_t size)
+{
+    void *q = realloc(*p, count * size);
+    if (!q)
+        return -1;
+    *p = q;
+    return 0;
+}
+
+/* "# key = number" (also "# key = number ± error": the value counts) */
+static int add_key(mote_table *t, const char *line)
+{
+    char key[32];
+    double v;
+    int used = 0;
+    if (sscanf(line, "# %31s = %lf%n", key, &v, &used) != 2 || strcmp(key, "columns:") == 0)
+        return 0;
+    if ((t->nkeys & (t->nkeys + 1)) == 0 || t->nkeys == 0) { /* capacity: powers of two */
+        size_t cap = t->nkeys ? 2 * (t->nkeys + 1) : 16;
+        if (grow((void **)&t->key, cap, sizeof *t->key) ||
+            grow((void **)&t->keyval, cap, sizeof *t->keyval))
+            return -1;
+    }
+    memcpy(t->key[t->nkeys], key, sizeof key);
+    t->keyval[t->nkeys++] = v;
+    return 0;
+}
+
+static void read_columns(mote_table *t, char *s)
+{
+    t->ncolnames = 0;
+    for (char *tok = strtok(s, " \t\r\n"); tok && t->ncolnames < MOTE_TABLE_MAXCOL;
+         tok = strtok(NULL, " \t\r\n"))
+        snprintf(t->colname[t->ncolnames++], sizeof t->colname[0], "%s", tok);
+}
+
+static int add_row(mote_table *t, const char *line, int block, long lineno)
+{
+    if (t->rows == t->cap) {
+        size_t cap = t->cap ? 2 * t->cap : 256;
+        if (grow((void **)&t->num, cap * MOTE_TABLE_MAXCOL, sizeof *t->num) ||
+            grow((void **)&t->ncol, cap, sizeof *t->ncol) ||
+            grow((void **)&t->block, cap, sizeof *t->block) ||
+            grow((void **)&t->line, cap, sizeof *t->line) ||
+            grow((void **)&t->first, cap, sizeof *t->first))
+            return -1;
+        t->cap = cap;
+    }
+    double *row = t->num + t->rows * MOTE_TABLE_MAXCOL;
+    int n = 0;
+    const char *p = line;
+    t->first[t->rows][0] = '\0';
+    sscanf(line, "%15s", t->first[t->rows]);
+    for (;;) {
+        p += strspn(p, " \t\r\n");
+        if (!*p)
+            break;
+        char *end;
+        double v = strtod(p, &end);
+        if (end == p || (*end && !strchr(" \t\r\n", *end))) { /* a text token */
+            v = NAN;
+            end = (char *)p + strcspn(p, " \t\r\n");
+        }
+        if (n < MOTE_TABLE_MAXCOL)
+            row[n] = v;
+        n++;
+        p = end;
+    }
+    for (int k = n; k < MOTE_TABLE_MAXCOL; k++)
+        row[k] = NAN;
+    t->ncol[t->rows] = n;
+    t->block[t->rows] = block;
+    t->line[t->rows] = lineno;
+    t->rows++;
+    return 0;
+}
+
+int mote_table_read(mote_table *t, const char *path, mote_err *err)
+{
+    memset(t, 0, sizeof *t);
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return mote_fail(err, MOTE_EIO, "cannot read '%s': %s", path, strerror(errno));
+    char *line = NULL;
+    size_t cap = 0;
+    long lineno = 0, bytes = 0;
+    int rc = MOTE_OK, block = 0, blank = 0;
+    ssize_t len;
+    while ((len = getline(&line, &cap, f)) >= 0) {
+        lineno++;
+        bytes += (long)len;
+        if (bytes > TABLE_MAX_BYTES) {
+            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: the file is larger than 1 GiB", path,
+                           lineno);
+            break;
+        }
+        if (strlen(line) != (size_t)len) {
+            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: a NUL byte in the line (not a text file)",
+                           path, lineno);
+            break;
+        }
+        if (line[0] == '#') {
+            if (lineno == 1 && sscanf(line, "# mote %31s 1", t->format) != 1)
+                t->format[0] = '\0';
+            else if (strncmp(line, "# command: ", 11) == 0) {
+                snprintf(t->command, sizeof t->command, "%s", line + 11);
+                t->command[strcspn(t->command, "\r\n")] = '\0';
+            } else if (strncmp(line, "# columns:", 10) == 0)
+                read_columns(t, line + 10);
+            else if (add_key(t, line)) {
+                rc = mote_fail(err, MOTE_ENOMEM, "out of memory reading '%s'", path);
+                break;
+            }
+            continue;
+        }
+        if (line[strspn(line, " \t\r\n")] == '\0') {
+            blank = t->rows > 0;
+            continue;
+        }
+        if (blank) {
+            block++;
+            blank = 0;
+        }
+        if (add_row(t, line, block, lineno)) {
+            rc = mote_fail(err, MOTE_ENOMEM, "out of memory reading '%s'", path);
+            break;
+        }
+    }
+    if (!rc && ferror(f))
+        rc = mote_fail(err, MOTE_EIO, "cannot read '%s': %s", path, strerror(errno));
+    free(line);
+    fclose(f);
+    if (rc)
+        mote_table_free(t);
+    return rc;
+}
