@@ -176,22 +176,21 @@ static int boom_at_run(void *m, const mote_call *c, mote_err *err)
 
 static const mote_cmd fake_cmds[] = { /* the model every test script drives by default */
     {"new", NULL, "i>=2 r(0,0.74)", "new NN eta", "make a system", "Make a system of NN x NN spheres.",
-     new_check, new_run, 0},
-    {"step", NULL, "i>=1", "step K", "run K collisions per particle", "Run.", step_check, step_run,
-     1},
+     new_check, new_run},
+    {"step", NULL, "i>=1", "step K", "run K collisions per particle", "Run.", step_check, step_run},
     {"compress_left_wall", "compressl", "rri", "compress_left_wall eta dLmax K",
-     "move the left wall", "Compress.", NULL, compress_run, 1},
+     "move the left wall", "Compress.", NULL, compress_run},
     {"compress_two_walls", "compresst compress_both_walls", "rri",
-     "compress_two_walls eta dLmax K", "move both walls", "Compress both.", NULL, compress_run, 1},
-    {"save", NULL, "f>state", "save FILE", "write the state", "Save.", save_check, save_run, 1},
-    {"load", NULL, "f<state", "load FILE", "read a state", "Load.", load_check, opts_run, 0},
+     "compress_two_walls eta dLmax K", "move both walls", "Compress both.", NULL, compress_run},
+    {"save", NULL, "f>state", "save FILE", "write the state", "Save.", save_check, save_run},
+    {"load", NULL, "f<state", "load FILE", "read a state", "Load.", load_check, opts_run},
     {"measure", NULL, "i r[0,1] u<=100 f>data", "measure K x u FILE", "write data", "Measure.",
-     NULL, opts_run, 0},
-    {"opts", NULL, "*", "opts KEY=VALUE...", "any tokens", "Options.", NULL, opts_run, 0},
-    {"name", NULL, "s", "name S", "a string", "Name.", NULL, opts_run, 0},
-    {"boom", NULL, "", "boom", "fail at run time", "Fails.", NULL, boom_run, 0},
+     NULL, opts_run},
+    {"opts", NULL, "*", "opts KEY=VALUE...", "any tokens", "Options.", NULL, opts_run},
+    {"name", NULL, "s", "name S", "a string", "Name.", NULL, opts_run},
+    {"boom", NULL, "", "boom", "fail at run time", "Fails.", NULL, boom_run},
     {"boom_at", NULL, "f", "boom_at FILE", "fail at run time, located", "Fails at FILE.", NULL,
-     boom_at_run, 0},
+     boom_at_run},
 };
 
 static const mote_model fake_model = {
@@ -211,7 +210,7 @@ static const mote_model fake_model = {
 };
 
 static const mote_cmd other_cmds[] = {
-    {"ping", NULL, "", "ping", "count a run", "Ping.", NULL, opts_run, 0},
+    {"ping", NULL, "", "ping", "count a run", "Ping.", NULL, opts_run},
 };
 
 static const mote_model other_model = {
@@ -727,7 +726,7 @@ static void test_argument_specs(void)
     static const char *const bad_specs[] = {"i>=", "r[1,0]", "f>a|b", "x", "s>0", "f>", "r(0,1",
                                             "i>=1x", "f<A", "i>=1 f>"};
     for (size_t k = 0; k < sizeof bad_specs / sizeof bad_specs[0]; k++) {
-        mote_cmd cmd = {"go", NULL, bad_specs[k], "go A", "go", "Go.", NULL, opts_run, 0};
+        mote_cmd cmd = {"go", NULL, bad_specs[k], "go A", "go", "Go.", NULL, opts_run};
         mote_model model = {.name = "bad", .summary = "bad", .cmds = &cmd, .ncmds = 1,
                             .create = fake_create, .destroy = fake_destroy};
         const mote_model *const one[] = {&model};
@@ -956,7 +955,7 @@ static void test_help_and_usage(void)
 
     /* a broken table is caught before anything runs */
     static const mote_cmd bad_cmds[] = {
-        {"go", NULL, "ii", "go K", "go", "Go.", NULL, opts_run, 0},
+        {"go", NULL, "ii", "go K", "go", "Go.", NULL, opts_run},
     };
     static const mote_model bad_model = {.name = "bad", .summary = "bad", .cmds = bad_cmds,
                                          .ncmds = 1, .create = fake_create,
@@ -966,7 +965,7 @@ static void test_help_and_usage(void)
     CHECK(mote_models_verify(bad, 1, &err) != 0, "bad synopsis accepted");
     CHECK_HAS(err.msg, "go");
     static const mote_cmd clash_cmds[] = {
-        {"go", "echo", "", "go", "go", "Go.", NULL, opts_run, 0},
+        {"go", "echo", "", "go", "go", "Go.", NULL, opts_run},
     };
     static const mote_model clash_model = {.name = "clash", .summary = "c", .cmds = clash_cmds,
                                            .ncmds = 1, .create = fake_create,

@@ -67,7 +67,6 @@ typedef struct mote_cmd {
     /* Validation on a dry model: must not touch files or run dynamics. NULL = always valid. */
     int (*check)(void *model, const mote_call *c, mote_err *err);
     int (*run)(void *model, const mote_call *c, mote_err *err);
-    int needs_system;     /* documentary: 1 if a system must exist first (checked by `check`) */
 } mote_cmd;
 
 /* The output files of a script, recorded as validation walks the script (by the script layer for

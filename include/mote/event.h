@@ -20,10 +20,9 @@
 
 #include <stdint.h>
 
-/* Event kinds. CELL is no longer scheduled (neighbour lists replaced cell crossings); the value
- * is kept so that codes stay stable. */
-enum { MOTE_EV_NONE = 0, MOTE_EV_PAIR, MOTE_EV_WALL, MOTE_EV_CELL, MOTE_EV_NBR, MOTE_EV_SEG,
-       MOTE_EV_CORNER };
+/* Event kinds: a pair collision, a wall hit, a neighbour-list expiry, and in field mode a hit on
+ * an obstacle's face or corner. */
+enum { MOTE_EV_NONE = 0, MOTE_EV_PAIR, MOTE_EV_WALL, MOTE_EV_NBR, MOTE_EV_SEG, MOTE_EV_CORNER };
 
 /* Per-particle data, in two arrays of 64-byte records. The hot record holds everything a
  * neighbour's prediction reads (position, velocity, local time, counter), so that with the array

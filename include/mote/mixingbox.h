@@ -269,8 +269,6 @@ void mote_mb_hooks_progress(mote_mb_hooks *h, const mote_mb *sys);
 /* The two integrators. mb_run_event lives in src/mixingbox/event.c on the event engine. */
 int mb_run_timestep(mote_mb *sys, double t_end, mote_mb_hooks *hooks, mote_err *err);
 int mb_run_event(mote_mb *sys, double t_end, mote_mb_hooks *hooks, mote_err *err);
-/* 1 when mb_run_event is implemented (validation rejects `integrator event` otherwise). */
-int mb_event_available(void);
 
 /* Run to t_end (or the collision limit) with the integrator of sys->p.integrator: resets the
  * per-run overlap bookkeeping and counts overlaps at the start and at the end. hooks may be

@@ -19,7 +19,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-int mb_event_available(void) { return 1; }
 
 typedef struct {
     mote_mb *sys;

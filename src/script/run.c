@@ -174,7 +174,7 @@ const mote_cmd mote_script_common_cmds[] = {
      "build). It must be the first command of the script and may appear only once.\n"
      "A script without a `model` line is a " MOTE_DEFAULT_MODEL " script, so the original\n"
      "program's program.txt files run unchanged.\n",
-     NULL, NULL, 0},
+     NULL, NULL},
     {"output_dir", NULL, "f", "output_dir DIR",
      "create DIR and write the files of later commands there",
      "Create the directory DIR, with any missing parents (like `mkdir -p`), when\n"
@@ -183,16 +183,16 @@ const mote_cmd mote_script_common_cmds[] = {
      "an earlier `output_dir`; `output_dir .` returns to the current directory.\n"
      "Absolute file names are not affected. Validation knows that DIR will exist,\n"
      "so later commands may write into it.\n",
-     output_dir_check, output_dir_run, 0},
+     output_dir_check, output_dir_run},
     {"echo", NULL, "*", "echo TEXT...", "print the arguments",
      "Print the arguments, separated by single spaces, on standard output. Quote\n"
      "text to keep runs of spaces or a `#` in it.\n",
-     NULL, echo_run, 0},
+     NULL, echo_run},
     {"threads", NULL, "i>=1", "threads N", "number of threads (N >= 1); no effect yet",
      "Set the number of threads, N >= 1. Accepted so that scripts can already say\n"
      "it: the models are single-threaded for now, so the first `threads` command\n"
      "prints a note and none has an effect.\n",
-     NULL, threads_run, 0},
+     NULL, threads_run},
     {"seed", NULL, "u", "seed S", "restart the random stream from S (default 1)",
      "Restart the run's random stream from the unsigned 64-bit integer S\n"
      "(0 <= S <= 2^64 - 1). The default is 1: a script without `seed` behaves as if\n"
@@ -204,7 +204,7 @@ const mote_cmd mote_script_common_cmds[] = {
      "have drawn. Runs are bit-for-bit reproducible for a given seed on the same\n"
      "build and machine type; on another platform (another libm) they agree\n"
      "statistically. Prints `seed: S`.\n",
-     seed_check, seed_run, 0},
+     seed_check, seed_run},
     {"plot", NULL, "f f>png", "plot DATAFILE PNGFILE",
      "render a data file written by a measuring command as a PNG",
      "Draw a data file written earlier (by this script or another) by one of the\n"
@@ -212,7 +212,7 @@ const mote_cmd mote_script_common_cmds[] = {
      "the file's first header line, so any data file of the model can be given.\n"
      "DATAFILE must be written earlier in the script by such a command, or exist.\n"
      "The PNG is written atomically. Prints `plot: wrote PNGFILE`.\n",
-     plot_check, plot_run, 0},
+     plot_check, plot_run},
 };
 const size_t mote_script_common_ncmds = sizeof mote_script_common_cmds /
                                         sizeof mote_script_common_cmds[0];
