@@ -2,8 +2,10 @@
  * keys, results, columns, blocks, file lines, words among numbers, hostile files), results,
  * block statistics and sampling schedules. */
 #include "mote/datafile.h"
+#include "mote/grid.h"
 #include "mote/stats.h"
 #include "test.h"
+#include "mote/core.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -163,6 +165,129 @@ static void test_blocks_and_schedules(void)
     CHECK(mote_schedule_next(&sch) == 0.1 + 1e6 * 0.1, "t0 + k dt");
 }
 
+/* ---- the cell grid against brute force ---------------------------------------------------------- */
+
+typedef struct {
+    uint32_t n;
+    unsigned char *seen; /* n * n: the pair (i, j) reported */
+    double (*d)[3];      /* n * n: its separation */
+    int bad;             /* order or duplicates wrong */
+    uint32_t stop_after;
+    uint64_t calls;
+} pair_log;
+
+static int log_pair(void *ctx, uint32_t i, uint32_t j, const double d[3], double r2)
+{
+    pair_log *L = ctx;
+    if (!(i < j) || j >= L->n || L->seen[(size_t)i * L->n + j])
+        L->bad = 1;
+    else {
+        L->seen[(size_t)i * L->n + j] = 1;
+        memcpy(L->d[(size_t)i * L->n + j], d, sizeof L->d[0]);
+    }
+    L->calls++;
+    return L->stop_after && L->calls >= L->stop_after;
+}
+
+static double min_image(double d, double len, int periodic)
+{
+    if (periodic)
+        d -= len * round(d / len);
+    return d;
+}
+
+/* One configuration: n particles in a box lo + [0, len), some of them outside it. */
+static void grid_case(const char *what, int dim, const double len[3], const int periodic[3],
+                      double s, uint32_t n, uint64_t seed)
+{
+    mote_rng rng;
+    mote_rng_seed(&rng, seed);
+    const double lo[3] = {-1.5, 2.0, 0.25};
+    double *x = malloc(3 * (size_t)n * sizeof *x);
+    for (uint32_t i = 0; i < n; i++)
+        for (int a = 0; a < 3; a++) {
+            double u = mote_rng_uniform(&rng);
+            if (i % 17 == 3) /* a few outside the region (wall axes: clamped; periodic: wrapped) */
+                u = u * 1.4 - 0.2;
+            x[3 * (size_t)i + a] = lo[a] + u * len[a];
+        }
+    mote_grid g = {0};
+    CHECK_INT(mote_grid_setup(&g, dim, lo, len, periodic, s, n), 0);
+    const double *coord[3] = {x, x + 1, x + 2};
+    mote_grid_build(&g, n, coord, 3);
+    pair_log L = {n, calloc((size_t)n * n, 1), malloc((size_t)n * n * sizeof *L.d), 0, 0, 0};
+    uint64_t count = mote_grid_pairs(&g, s, log_pair, &L);
+    uint64_t expect = 0, missing = 0, wrong_d = 0;
+    for (uint32_t i = 0; i < n; i++)
+        for (uint32_t j = i + 1; j < n; j++) {
+            double d[3] = {0, 0, 0}, r2 = 0;
+            for (int a = 0; a < dim; a++) {
+                d[a] = min_image(x[3 * (size_t)j + a] - x[3 * (size_t)i + a], len[a],
+                                 periodic[a]);
+                r2 += d[a] * d[a];
+            }
+            int close = r2 < s * s, seen = L.seen[(size_t)i * n + j];
+            expect += close;
+            /* the boundary is a rounding decision: only pairs clearly inside or out count */
+            if (close != seen && fabs(sqrt(r2) - s) > 1e-9 * s)
+                missing++;
+            if (seen)
+                for (int a = 0; a < 3; a++)
+                    wrong_d += fabs(L.d[(size_t)i * n + j][a] - d[a]) > 1e-9 * (len[a] + 1);
+        }
+    CHECK(!L.bad && missing == 0 && wrong_d == 0 && count == L.calls,
+          "%s: %llu pairs, %llu expected, %llu wrong, %llu separations wrong, bad %d", what,
+          (unsigned long long)count, (unsigned long long)expect, (unsigned long long)missing,
+          (unsigned long long)wrong_d, L.bad);
+    /* the cell of every particle holds it */
+    int held = 1;
+    for (uint32_t k = 0; k < n; k++) {
+        uint32_t i = g.order[k];
+        held &= k >= g.start[g.cell[i]] && k < g.start[g.cell[i] + 1];
+    }
+    CHECK(held, "%s: every particle in its cell", what);
+    /* a stop from the callback ends the sweep */
+    if (count > 3) {
+        memset(L.seen, 0, (size_t)n * n);
+        L.calls = 0;
+        L.stop_after = 3;
+        CHECK(mote_grid_pairs(&g, s, log_pair, &L) == UINT64_MAX && L.calls == 3,
+              "%s: stop after 3", what);
+    }
+    printf("  %s: %llu close pairs, cells %d x %d x %d%s\n", what, (unsigned long long)count,
+           g.nc[0], g.nc[1], g.nc[2], g.generic ? " (minimum image per pair)" : "");
+    free(L.seen);
+    free(L.d);
+    free(x);
+    mote_grid_free(&g);
+}
+
+static void test_grid(void)
+{
+    printf("cell grid against brute force\n");
+    const int walls[3] = {0, 0, 0}, per[3] = {1, 1, 1}, mixed[3] = {0, 1, 1};
+    const double cube[3] = {10, 10, 10}, flat[3] = {30, 7, 1}, tiny[3] = {2.5, 3.7, 9};
+    grid_case("3D walls", 3, cube, walls, 1.1, 900, 1);
+    grid_case("3D periodic", 3, cube, per, 1.1, 900, 2);
+    grid_case("3D slit", 3, cube, mixed, 1.1, 900, 3);
+    grid_case("3D periodic, 2 and 3 cells", 3, tiny, per, 1.2, 300, 4);
+    grid_case("3D dilute (cells merged)", 3, cube, per, 2.5, 60, 5);
+    grid_case("2D walls", 2, flat, walls, 0.6, 800, 6);
+    grid_case("2D periodic", 2, flat, per, 0.6, 800, 7);
+    grid_case("2D periodic, one cell across", 2, tiny, per, 1.2, 200, 8);
+    grid_case("2D mixed", 2, flat, mixed, 0.6, 800, 9);
+    /* refusals */
+    mote_grid g = {0};
+    const double bad[3] = {1, NAN, 1}, zero[3] = {1, 0, 1}, lo[3] = {0, 0, 0};
+    CHECK(mote_grid_setup(&g, 3, lo, bad, per, 1, 10) != 0, "NaN length refused");
+    CHECK(mote_grid_setup(&g, 3, lo, zero, per, 1, 10) != 0, "zero length refused");
+    CHECK(mote_grid_setup(&g, 3, lo, cube, per, 0, 10) != 0, "zero width refused");
+    const double huge[3] = {1e300, 1e300, 1e300};
+    CHECK(mote_grid_setup(&g, 3, lo, huge, walls, 1e-300, 10) == 0 && g.ncells <= 37,
+          "a huge region with few particles gets few cells (%zu)", g.ncells);
+    mote_grid_free(&g);
+}
+
 int main(void)
 {
     if (!test_tmpdir_make(tmpdir, sizeof tmpdir, "mote_test_core"))
@@ -170,6 +295,7 @@ int main(void)
     test_datafile_round_trip();
     test_datafile_hostile();
     test_blocks_and_schedules();
+    test_grid();
     test_remove_tree(tmpdir);
     return test_summary();
 }

@@ -18,6 +18,7 @@
 
 #include "mote/command.h"
 #include "mote/core.h"
+#include "mote/grid.h"
 #include "mote/stats.h"
 
 #include <stdint.h>
@@ -76,7 +77,6 @@ int mote_mb_params_check(const mote_mb_params *p, mote_err *err);
 
 /* ---- the system ------------------------------------------------------------------------------ */
 
-struct mb_grid; /* private cell grid (src/mixingbox/grid.h) */
 
 typedef struct mote_mb {
     mote_mb_params p;  /* geometry fixed at placement; the physics fields are updated by the
@@ -119,7 +119,7 @@ typedef struct mote_mb {
     uint64_t integrator_cache_generation;
     void (*integrator_cache_free)(void *cache);
 
-    struct mb_grid *grid; /* scratch cell grid for overlap counts and the timestep integrator */
+    mote_grid *grid;      /* scratch cell grid for overlap counts and the timestep integrator */
     int grid_ready;       /* its layout fits the placed system (reset by placement) */
 } mote_mb;
 

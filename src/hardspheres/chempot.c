@@ -7,6 +7,7 @@
  * Insertion uses a cell grid built from the sample's positions (cells at least R_t + R_max wide),
  * so a trial costs O(1). The trials draw from the run's random stream; the trajectory does not
  * depend on it, so measuring never changes the dynamics. */
+#include "mote/grid.h"
 #include "mote/hardspheres.h"
 
 #include <math.h>
@@ -25,96 +26,49 @@ typedef struct {
     /* per block: [B] totals and [B][nb] profiles */
     double *tr, *ok;        /* trials, successes */
     double *ptr, *pok, *pn; /* per bin: trials, successes, centres counted */
-    /* the sample's cell grid */
+    /* the sample's positions and radii (by particle) and their cell grid */
     double *pos;            /* [N][3] */
     double *rad;            /* [N] */
-    uint32_t *order;        /* particle indices sorted by cell */
-    uint32_t *start;        /* [ncell + 1] */
-    uint32_t *fill;         /* [ncell] scratch for the sort */
-    int nc[3];
-    double cw[3];
+    mote_grid grid;
 } wacc;
 
-static int cell_coord(const wacc *a, int axis, double x)
-{
-    int c = (int)floor(x / a->cw[axis]);
-    return c < 0 ? 0 : c >= a->nc[axis] ? a->nc[axis] - 1 : c;
-}
-
-static size_t cell_index(const wacc *a, const int c[3])
-{
-    return ((size_t)c[2] * (size_t)a->nc[1] + (size_t)c[1]) * (size_t)a->nc[0] + (size_t)c[0];
-}
-
-/* Counting sort of the particles into the cells. */
+/* The positions at the sample instant, sorted into the grid. */
 static void build_cells(wacc *a, const mote_ev *ev)
 {
-    size_t ncell = (size_t)a->nc[0] * (size_t)a->nc[1] * (size_t)a->nc[2];
-    memset(a->start, 0, (ncell + 1) * sizeof *a->start);
     for (uint32_t i = 0; i < ev->n; i++) {
-        double *r = a->pos + 3 * (size_t)i;
-        mote_ev_position(ev, i, r);
+        mote_ev_position(ev, i, a->pos + 3 * (size_t)i);
         a->rad[i] = mote_ev_radius(ev, i);
-        int c[3] = {0, 0, 0};
-        for (int ax = 0; ax < ev->dim; ax++)
-            c[ax] = cell_coord(a, ax, r[ax]);
-        a->start[cell_index(a, c) + 1]++;
     }
-    for (size_t k = 0; k < ncell; k++)
-        a->start[k + 1] += a->start[k];
-    memcpy(a->fill, a->start, ncell * sizeof *a->fill);
-    for (uint32_t i = 0; i < ev->n; i++) {
-        int c[3] = {0, 0, 0};
-        for (int ax = 0; ax < ev->dim; ax++)
-            c[ax] = cell_coord(a, ax, a->pos[3 * (size_t)i + ax]);
-        a->order[a->fill[cell_index(a, c)]++] = i;
-    }
+    const double *coord[3] = {a->pos, a->pos + 1, a->pos + 2};
+    mote_grid_build(&a->grid, ev->n, coord, 3);
 }
 
 /* Does a test sphere at t overlap any sphere? */
 static int overlaps(const wacc *a, const mote_ev *ev, const double t[3])
 {
-    int c0[3] = {0, 0, 0}, lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
-    for (int ax = 0; ax < ev->dim; ax++) {
-        c0[ax] = cell_coord(a, ax, t[ax]);
-        if (ev->periodic[ax] && a->nc[ax] >= 3) {
-            lo[ax] = c0[ax] - 1;
-            hi[ax] = c0[ax] + 1;
-        } else if (ev->periodic[ax]) { /* fewer than 3 cells: scan each once */
-            lo[ax] = 0;
-            hi[ax] = a->nc[ax] - 1;
-        } else {
-            lo[ax] = c0[ax] > 0 ? c0[ax] - 1 : 0;
-            hi[ax] = c0[ax] + 1 < a->nc[ax] ? c0[ax] + 1 : a->nc[ax] - 1;
-        }
-    }
-    int c[3];
-    for (c[2] = lo[2]; c[2] <= hi[2]; c[2]++)
-        for (c[1] = lo[1]; c[1] <= hi[1]; c[1]++)
-            for (c[0] = lo[0]; c[0] <= hi[0]; c[0]++) {
-                int w[3];
-                for (int ax = 0; ax < 3; ax++)
-                    w[ax] = (c[ax] % a->nc[ax] + a->nc[ax]) % a->nc[ax];
-                size_t k = cell_index(a, w);
-                for (uint32_t q = a->start[k]; q < a->start[k + 1]; q++) {
-                    uint32_t j = a->order[q];
-                    const double *r = a->pos + 3 * (size_t)j;
-                    double d2 = 0;
-                    for (int ax = 0; ax < ev->dim; ax++) {
-                        double d = t[ax] - r[ax];
-                        if (ev->periodic[ax]) {
-                            if (d > 0.5 * ev->len[ax])
-                                d -= ev->len[ax];
-                            else if (d < -0.5 * ev->len[ax])
-                                d += ev->len[ax];
-                        }
-                        d2 += d * d;
-                    }
-                    double s = R_TEST + a->rad[j];
-                    if (d2 < s * s)
-                        return 1;
+    const mote_grid *g = &a->grid;
+    size_t cells[27];
+    double shift[27][3];
+    int nn = mote_grid_neighbours(g, mote_grid_cell_of(g, t), cells, shift);
+    for (int q = 0; q < nn; q++)
+        for (uint32_t k = g->start[cells[q]]; k < g->start[cells[q] + 1]; k++) {
+            uint32_t j = g->order[k];
+            const double *r = a->pos + 3 * (size_t)j;
+            double d2 = 0;
+            for (int ax = 0; ax < ev->dim; ax++) {
+                double d = t[ax] - r[ax];
+                if (ev->periodic[ax]) {
+                    if (d > 0.5 * ev->len[ax])
+                        d -= ev->len[ax];
+                    else if (d < -0.5 * ev->len[ax])
+                        d += ev->len[ax];
                 }
+                d2 += d * d;
             }
+            double sr = R_TEST + a->rad[j];
+            if (d2 < sr * sr)
+                return 1;
+        }
     return 0;
 }
 
@@ -229,18 +183,10 @@ int mote_hs_chempot(mote_hs *hs, uint64_t k, int64_t trials, const char *path,
     uint64_t S = k == 0 ? 1 : k;
     a.B = hs_nblocks(S);
     size_t B = (size_t)a.B, nb = a.xb.nb;
-    double wmin = R_TEST + 0.5 * ev->sigma_max;
-    size_t ncell = 1;
-    for (int ax = 0; ax < 3; ax++) {
-        a.nc[ax] = 1;
-        a.cw[ax] = ax < ev->dim ? ev->len[ax] : 1;
-        if (ax < ev->dim) {
-            double q = floor(ev->len[ax] / wmin);
-            a.nc[ax] = q < 1 ? 1 : q > 1024 ? 1024 : (int)q;
-            a.cw[ax] = ev->len[ax] / a.nc[ax];
-        }
-        ncell *= (size_t)a.nc[ax];
-    }
+    /* cells at least the largest test-sphere contact distance wide */
+    const double origin0[3] = {0, 0, 0};
+    int grid_rc = mote_grid_setup(&a.grid, ev->dim, origin0, ev->len, ev->periodic,
+                                  R_TEST + 0.5 * ev->sigma_max, ev->n);
     a.tr = calloc(B, sizeof *a.tr);
     a.ok = calloc(B, sizeof *a.ok);
     a.ptr = calloc(B * nb, sizeof *a.ptr);
@@ -248,12 +194,8 @@ int mote_hs_chempot(mote_hs *hs, uint64_t k, int64_t trials, const char *path,
     a.pn = calloc(B * nb, sizeof *a.pn);
     a.pos = malloc(3 * (size_t)ev->n * sizeof *a.pos);
     a.rad = malloc((size_t)ev->n * sizeof *a.rad);
-    a.order = malloc((size_t)ev->n * sizeof *a.order);
-    a.start = malloc((ncell + 1) * sizeof *a.start);
-    a.fill = malloc(ncell * sizeof *a.fill);
     int rc = MOTE_OK;
-    if (!a.tr || !a.ok || !a.ptr || !a.pok || !a.pn || !a.pos || !a.rad || !a.order || !a.start ||
-        !a.fill)
+    if (grid_rc || !a.tr || !a.ok || !a.ptr || !a.pok || !a.pn || !a.pos || !a.rad)
         rc = mote_fail(err, MOTE_ENOMEM, "chempot: out of memory");
     hs_snap start;
     hs_snapshot(hs, &start);
@@ -295,8 +237,6 @@ int mote_hs_chempot(mote_hs *hs, uint64_t k, int64_t trials, const char *path,
     free(a.pn);
     free(a.pos);
     free(a.rad);
-    free(a.order);
-    free(a.start);
-    free(a.fill);
+    mote_grid_free(&a.grid);
     return rc;
 }

@@ -18,7 +18,7 @@
  *   |psi6| > 0.7; no neighbours: psi6 = 0, not ordered. In 2D psi6 uses every neighbour within
  *   1.4 sigma_ij and the angle of (dx, dy), q6 is not computed (NaN in the file, no q6 results)
  *   and crystal-like means ordered.
- * Neighbours come from a cell grid of its own (cells >= 1.4 sigma_max on every axis; the psi6
+ * Neighbours come from the shared cell grid (grid.h; cells >= 1.4 sigma_max on every axis; the psi6
  * neighbourhood fits in it too, since it needs |dx| < 0.4 sigma and |dy|, |dz| < 1.4 sigma).
  * Particles are sorted by cell at each sample for locality; results are sums per x bin, so the
  * order of summation is fixed by the state and the output is deterministic.
@@ -74,6 +74,7 @@
  * (whole system); in a slit also layers_left, layers_right, xtal_layerK and psi6_layerK for the
  * left wall's layers K = 1 ... layers_left, xtal_bulk and psi6_bulk. The function prints
  * nothing; it advances the system exactly as `step K` would. */
+#include "mote/grid.h"
 #include "mote/hardspheres.h"
 
 #include <math.h>
@@ -103,24 +104,19 @@ typedef struct {
     int dim;
     uint32_t n;
     int periodic[3];
-    double len[3], half[3];
+    double len[3];
     double r0;            /* radius when monodisperse */
-    /* cell grid */
-    int nc[3];
-    double cw[3];
-    size_t ncells;
-    uint32_t *cstart;     /* [ncells + 1] */
-    uint32_t *cellof;     /* [n] cell of particle i (index order) */
-    double *pos;          /* [3n] positions sorted by cell */
+    /* the particles sorted into cells (positions in cell order in grid.pos; grid.order[k] is
+     * the engine record at place k); everything per particle below is in cell order */
+    mote_grid grid;
+    double *raw;          /* [3n] positions by engine record, for the build */
     double *rad;          /* [n] sorted radii (polydisperse only) */
     float *qhat;          /* [NQ n] normalised q6m, sorted (3D only) */
     uint8_t *bonds;       /* [n] solid-like bonds (saturating; 3D only) */
     double rmax;          /* largest radius */
     /* per-particle output (hs_local_order only; NULL otherwise), by engine record */
-    uint32_t *orig;       /* [n] record of sorted particle k */
     float *local;         /* [n] q6 (3D) or |psi6| (2D) */
     uint8_t *flag;        /* [n] crystal-like (3D) or ordered (2D) */
-    int generic;          /* a periodic axis has fewer than 3 cells: minimum image per pair */
     double ylm_c[7];      /* Y6m normalisation with the Condon-Shortley sign and the 1/16 */
     /* bins */
     hs_xbins xb;
@@ -191,7 +187,8 @@ static inline void psi6_add(double a, double b, double *pr, double *pi)
 
 /* ---- cells -------------------------------------------------------------------------------------- */
 
-static void setup_cells(order_acc *a, const mote_ev *ev)
+/* Cells at least the neighbour cut-off of the largest pair wide (grid.h sizes them). */
+static int setup_cells(order_acc *a, const mote_ev *ev)
 {
     double rmax = ev->radius0;
     if (ev->radius) {
@@ -200,151 +197,26 @@ static void setup_cells(order_acc *a, const mote_ev *ev)
             rmax = fmax(rmax, ev->radius[i]);
     }
     a->rmax = rmax;
-    double cut = NEIGH_CUT * 2 * rmax;
-    a->ncells = 1;
-    for (int d = 0; d < 3; d++) {
-        a->nc[d] = 1;
-        if (d < a->dim) {
-            double q = floor(a->len[d] / cut);
-            a->nc[d] = q < 1 ? 1 : q > 1e6 ? 1000000 : (int)q;
-        }
-    }
-    /* no more cells than particles (+ a few): dilute systems get larger cells */
-    for (;;) {
-        size_t tot = (size_t)a->nc[0] * (size_t)a->nc[1] * (size_t)a->nc[2];
-        if (tot <= (size_t)a->n + 27)
-            break;
-        int big = 0;
-        for (int d = 1; d < 3; d++)
-            if (a->nc[d] > a->nc[big])
-                big = d;
-        a->nc[big] = a->nc[big] / 2 > 1 ? a->nc[big] / 2 : 1;
-    }
-    a->ncells = (size_t)a->nc[0] * (size_t)a->nc[1] * (size_t)a->nc[2];
-    a->generic = 0;
-    for (int d = 0; d < a->dim; d++)
-        a->generic |= a->periodic[d] && a->nc[d] < 3;
-    for (int d = 0; d < 3; d++)
-        a->cw[d] = d < a->dim ? a->len[d] / a->nc[d] : 1;
+    const double origin[3] = {0, 0, 0};
+    return mote_grid_setup(&a->grid, a->dim, origin, a->len, a->periodic, NEIGH_CUT * 2 * rmax,
+                           a->n);
 }
 
-static inline int cell_coord(const order_acc *a, int d, double x)
-{
-    if (d >= a->dim)
-        return 0;
-    double q = floor(x / a->cw[d]);
-    if (!(q >= 0))
-        return 0;
-    if (q >= a->nc[d])
-        return a->nc[d] - 1;
-    return (int)q;
-}
-
-/* Sort the particles (positions at the sample instant) by cell: counting sort, stable in index. */
+/* Sort the particles (positions at the sample instant) into the cells. */
 static void sort_particles(order_acc *a, const mote_ev *ev)
 {
-    memset(a->cstart, 0, (a->ncells + 1) * sizeof *a->cstart);
-    for (uint32_t i = 0; i < a->n; i++) {
-        double r[3];
-        mote_ev_position(ev, i, r);
-        size_t c = ((size_t)cell_coord(a, 2, r[2]) * (size_t)a->nc[1] +
-                    (size_t)cell_coord(a, 1, r[1])) * (size_t)a->nc[0] +
-                   (size_t)cell_coord(a, 0, r[0]);
-        a->cellof[i] = (uint32_t)c;
-        a->cstart[c + 1]++;
-    }
-    for (size_t c = 0; c < a->ncells; c++)
-        a->cstart[c + 1] += a->cstart[c];
-    /* scatter; cstart[c] is advanced as the cell fills, then restored */
-    for (uint32_t i = 0; i < a->n; i++) {
-        uint32_t k = a->cstart[a->cellof[i]]++;
-        mote_ev_position(ev, i, a->pos + 3 * (size_t)k);
-        if (a->orig)
-            a->orig[k] = i;
-        if (a->rad)
-            a->rad[k] = ev->radius[i];
-    }
-    for (size_t c = a->ncells; c > 0; c--)
-        a->cstart[c] = a->cstart[c - 1];
-    a->cstart[0] = 0;
-}
-
-/* The distinct neighbour cells (the cell itself included) of cell (cx, cy, cz), with the shift
- * that takes a particle of that cell to the image next to this one (a wrap across a periodic
- * face). On a periodic axis with only one or two cells the wrapped offsets coincide: they are
- * listed once, with no shift, and the minimum image is then taken pair by pair (a->generic). On
- * a wall axis offsets outside the grid are dropped. Returns the count (<= 27). */
-static int neighbour_cells(const order_acc *a, const int cc[3], size_t out[27],
-                           double shift[27][3])
-{
-    int list[3][3], cnt[3];
-    double sh[3][3];
-    for (int d = 0; d < 3; d++) {
-        int n = a->nc[d], c = cc[d];
-        cnt[d] = 0;
-        if (n == 1) {
-            sh[d][cnt[d]] = 0;
-            list[d][cnt[d]++] = 0;
-        } else if (a->periodic[d] && n == 2) {
-            sh[d][cnt[d]] = 0;
-            list[d][cnt[d]++] = c;
-            sh[d][cnt[d]] = 0;
-            list[d][cnt[d]++] = 1 - c;
-        } else {
-            for (int o = -1; o <= 1; o++) {
-                int t = c + o;
-                double s = 0;
-                if (t < 0 || t >= n) {
-                    if (!a->periodic[d])
-                        continue;
-                    s = t < 0 ? -a->len[d] : a->len[d];
-                    t = t < 0 ? t + n : t - n;
-                }
-                sh[d][cnt[d]] = s;
-                list[d][cnt[d]++] = t;
-            }
-        }
-    }
-    int k = 0;
-    for (int z = 0; z < cnt[2]; z++)
-        for (int y = 0; y < cnt[1]; y++)
-            for (int x = 0; x < cnt[0]; x++) {
-                out[k] = ((size_t)list[2][z] * (size_t)a->nc[1] + (size_t)list[1][y]) *
-                             (size_t)a->nc[0] +
-                         (size_t)list[0][x];
-                shift[k][0] = sh[0][x];
-                shift[k][1] = sh[1][y];
-                shift[k][2] = sh[2][z];
-                k++;
-            }
-    return k;
+    for (uint32_t i = 0; i < a->n; i++)
+        mote_ev_position(ev, i, a->raw + 3 * (size_t)i);
+    const double *coord[3] = {a->raw, a->raw + 1, a->raw + 2};
+    mote_grid_build(&a->grid, a->n, coord, 3);
+    if (a->rad)
+        for (uint32_t k = 0; k < a->n; k++)
+            a->rad[k] = ev->radius[a->grid.order[k]];
 }
 
 static inline double radius_of(const order_acc *a, uint32_t k)
 {
     return a->rad ? a->rad[k] : a->r0;
-}
-
-/* d = r_j - r_i for the image of j next to i; returns |d|^2. With cells of at least the cut-off
- * on every periodic axis (three or more cells), the cell shift gives the minimum image of every
- * pair within the cut-off (any other image is more than L - cut-off > cut-off away); otherwise
- * the minimum image is taken here. */
-static inline double separation(const order_acc *a, uint32_t i, uint32_t j, const double sh[3],
-                                double d[3])
-{
-    const double *pi = a->pos + 3 * (size_t)i, *pj = a->pos + 3 * (size_t)j;
-    d[0] = pj[0] - pi[0] + sh[0];
-    d[1] = pj[1] - pi[1] + sh[1];
-    d[2] = pj[2] - pi[2] + sh[2];
-    if (a->generic)
-        for (int ax = 0; ax < a->dim; ax++)
-            if (a->periodic[ax]) {
-                if (d[ax] > a->half[ax])
-                    d[ax] -= a->len[ax];
-                else if (d[ax] < -a->half[ax])
-                    d[ax] += a->len[ax];
-            }
-    return d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
 }
 
 /* ---- one sample ------------------------------------------------------------------------------- */
@@ -353,25 +225,24 @@ static inline double separation(const order_acc *a, uint32_t i, uint32_t j, cons
 static void pass_local(order_acc *a)
 {
     const int dim = a->dim;
-    for (size_t c = 0; c < a->ncells; c++) {
-        if (a->cstart[c] == a->cstart[c + 1])
+    const mote_grid *g = &a->grid;
+    for (size_t c = 0; c < g->ncells; c++) {
+        if (g->start[c] == g->start[c + 1])
             continue;
-        int cc[3] = {(int)(c % (size_t)a->nc[0]), (int)(c / (size_t)a->nc[0] % (size_t)a->nc[1]),
-                     (int)(c / ((size_t)a->nc[0] * (size_t)a->nc[1]))};
         size_t nbr[27];
         double shift[27][3];
-        int nn = neighbour_cells(a, cc, nbr, shift);
-        for (uint32_t i = a->cstart[c]; i < a->cstart[c + 1]; i++) {
+        int nn = mote_grid_neighbours(g, c, nbr, shift);
+        for (uint32_t i = g->start[c]; i < g->start[c + 1]; i++) {
             double re[7] = {0}, im[7] = {0}, pr = 0, pi = 0, ri = radius_of(a, i);
             /* neighbours of either kind are closer than sqrt(0.4^2 + 1.4^2) sigma < 1.46 sigma */
             double far = 1.46 * (ri + a->rmax), far2 = far * far;
             uint32_t nq = 0, np = 0;
             for (int q = 0; q < nn; q++)
-                for (uint32_t j = a->cstart[nbr[q]]; j < a->cstart[nbr[q] + 1]; j++) {
+                for (uint32_t j = g->start[nbr[q]]; j < g->start[nbr[q] + 1]; j++) {
                     if (j == i)
                         continue;
                     double d[3];
-                    double r2 = separation(a, i, j, shift[q], d);
+                    double r2 = mote_grid_sep(g, i, j, shift[q], d);
                     if (r2 >= far2 || !(r2 > 0))
                         continue;
                     double sig = ri + radius_of(a, j), cut2 = NEIGH_CUT * NEIGH_CUT * sig * sig;
@@ -393,15 +264,15 @@ static void pass_local(order_acc *a)
                 }
             double psi = np ? sqrt(pr * pr + pi * pi) / np : 0;
             int ordered = psi > PSI_ORDERED;
-            double *bin = a->cur + hs_xbins_of(&a->xb, a->pos[3 * (size_t)i]) * NB_Q;
+            double *bin = a->cur + hs_xbins_of(&a->xb, a->grid.pos[3 * (size_t)i]) * NB_Q;
             bin[B_COUNT] += 1;
             bin[B_PSI] += psi;
             bin[B_ORD] += ordered;
             if (dim == 2) {
                 bin[B_XTAL] += ordered;
                 if (a->local) {
-                    a->local[a->orig[i]] = (float)psi;
-                    a->flag[a->orig[i]] = (uint8_t)ordered;
+                    a->local[a->grid.order[i]] = (float)psi;
+                    a->flag[a->grid.order[i]] = (uint8_t)ordered;
                 }
                 continue;
             }
@@ -413,7 +284,7 @@ static void pass_local(order_acc *a)
             double q6 = nq ? sqrt(4 * MOTE_PI / 13 * norm2) / nq : 0;
             bin[B_Q6] += q6;
             if (a->local)
-                a->local[a->orig[i]] = (float)q6;
+                a->local[a->grid.order[i]] = (float)q6;
             double inv = norm2 > 0 ? 1 / sqrt(norm2) : 0;
             qh[0] = (float)(re[0] * inv);
             for (int m = 1; m <= 6; m++) {
@@ -429,23 +300,22 @@ static void pass_local(order_acc *a)
 static void pass_bonds(order_acc *a)
 {
     memset(a->bonds, 0, a->n * sizeof *a->bonds);
-    for (size_t c = 0; c < a->ncells; c++) {
-        if (a->cstart[c] == a->cstart[c + 1])
+    const mote_grid *g = &a->grid;
+    for (size_t c = 0; c < g->ncells; c++) {
+        if (g->start[c] == g->start[c + 1])
             continue;
-        int cc[3] = {(int)(c % (size_t)a->nc[0]), (int)(c / (size_t)a->nc[0] % (size_t)a->nc[1]),
-                     (int)(c / ((size_t)a->nc[0] * (size_t)a->nc[1]))};
         size_t nbr[27];
         double shift[27][3];
-        int nn = neighbour_cells(a, cc, nbr, shift);
-        for (uint32_t i = a->cstart[c]; i < a->cstart[c + 1]; i++) {
+        int nn = mote_grid_neighbours(g, c, nbr, shift);
+        for (uint32_t i = g->start[c]; i < g->start[c + 1]; i++) {
             const float *qi = a->qhat + (size_t)NQ * i;
             double ri = radius_of(a, i);
             double far = NEIGH_CUT * (ri + a->rmax), far2 = far * far;
             for (int q = 0; q < nn; q++) {
-                uint32_t j0 = a->cstart[nbr[q]] > i + 1 ? a->cstart[nbr[q]] : i + 1;
-                for (uint32_t j = j0; j < a->cstart[nbr[q] + 1]; j++) {
+                uint32_t j0 = g->start[nbr[q]] > i + 1 ? g->start[nbr[q]] : i + 1;
+                for (uint32_t j = j0; j < g->start[nbr[q] + 1]; j++) {
                     double d[3];
-                    double r2 = separation(a, i, j, shift[q], d);
+                    double r2 = mote_grid_sep(g, i, j, shift[q], d);
                     double sig = ri + radius_of(a, j);
                     if (r2 >= far2 || !(r2 > 0) || !(r2 < NEIGH_CUT * NEIGH_CUT * sig * sig))
                         continue;
@@ -464,9 +334,9 @@ static void pass_bonds(order_acc *a)
     }
     for (uint32_t i = 0; i < a->n; i++) {
         if (a->bonds[i] >= MIN_BONDS)
-            a->cur[hs_xbins_of(&a->xb, a->pos[3 * (size_t)i]) * NB_Q + B_XTAL] += 1;
+            a->cur[hs_xbins_of(&a->xb, a->grid.pos[3 * (size_t)i]) * NB_Q + B_XTAL] += 1;
         if (a->flag)
-            a->flag[a->orig[i]] = a->bonds[i] >= MIN_BONDS;
+            a->flag[a->grid.order[i]] = a->bonds[i] >= MIN_BONDS;
     }
 }
 
@@ -651,9 +521,8 @@ static double region_mean(const order_acc *a, const double *tot, const region *r
 
 static void acc_free(order_acc *a)
 {
-    free(a->cstart);
-    free(a->cellof);
-    free(a->pos);
+    mote_grid_free(&a->grid);
+    free(a->raw);
     free(a->rad);
     free(a->qhat);
     free(a->bonds);
@@ -696,16 +565,12 @@ static int acc_init(order_acc *a, const mote_hs *hs)
     for (int d = 0; d < 3; d++) {
         a->periodic[d] = d < ev->dim ? ev->periodic[d] : 0;
         a->len[d] = d < ev->dim ? ev->len[d] : 1;
-        a->half[d] = 0.5 * a->len[d];
     }
     ylm_c_init(a->ylm_c);
-    setup_cells(a, ev);
     hs_xbins_init(&a->xb, hs, BINS_PER_R);
     a->nb = a->xb.nb;
-    int fail = 0;
-    a->cstart = alloc_n(a->ncells + 1, sizeof *a->cstart, &fail);
-    a->cellof = alloc_n(a->n, sizeof *a->cellof, &fail);
-    a->pos = alloc_n((size_t)a->n * 3, sizeof *a->pos, &fail);
+    int fail = setup_cells(a, ev) != 0;
+    a->raw = alloc_n((size_t)a->n * 3, sizeof *a->raw, &fail);
     if (ev->radius)
         a->rad = alloc_n(a->n, sizeof *a->rad, &fail);
     if (a->dim == 3) {
@@ -720,7 +585,6 @@ int hs_local_order(const mote_hs *hs, float *local, uint8_t *flag, mote_err *err
 {
     order_acc a;
     int fail = acc_init(&a, hs);
-    a.orig = alloc_n(a.n, sizeof *a.orig, &fail);
     a.local = local;
     a.flag = flag;
     if (!fail) {
@@ -729,7 +593,6 @@ int hs_local_order(const mote_hs *hs, float *local, uint8_t *flag, mote_err *err
         if (a.dim == 3)
             pass_bonds(&a);
     }
-    free(a.orig);
     a.local = NULL;
     a.flag = NULL;
     acc_free(&a);

@@ -19,6 +19,7 @@
  * half of that range, with its error from 10 groups of particles (by number) fitted alike. The
  * origins' positions are kept as floats (their error, 1e-7 of a coordinate, is far below the
  * statistical error of any msd). */
+#include "mote/grid.h"
 #include "mote/hardspheres.h"
 
 #include <math.h>
@@ -48,11 +49,9 @@ typedef struct {
     int B;
     double *count; /* [B][nlayer][nbins] pair counts (each pair once) */
     double *ideal; /* [B][nlayer] ideal pair counts per unit "shell measure" */
-    /* per sample scratch: wrapped positions sorted by cell */
-    int nc[3];
-    size_t ncells;
-    uint32_t *cstart, *cellof;
-    double *pos;
+    /* per sample scratch: the positions sorted into cells (grid.pos, in cell order) */
+    mote_grid grid;
+    double *raw;    /* [3 N] positions by engine record, for the build */
     double *rad;    /* per sorted particle: radius */
     uint8_t *layer; /* per sorted particle: layer + 1, 0 = none (slit) */
 } rdf_acc;
@@ -85,35 +84,20 @@ static void rdf_sample(void *ctx, mote_hs *hs, uint64_t s, uint64_t nsamples)
     const mote_ev *ev = &hs->ev;
     const uint32_t n = ev->n;
     const double R = mote_hs_mean_radius(hs);
-    /* counting sort by cell of the positions at the sample instant */
-    memset(a->cstart, 0, (a->ncells + 1) * sizeof *a->cstart);
-    for (uint32_t i = 0; i < n; i++) {
-        double r[3];
-        mote_ev_position(ev, i, r);
-        size_t c = 0;
-        for (int d = a->dim - 1; d >= 0; d--) {
-            int q = (int)floor(r[d] / a->len[d] * a->nc[d]);
-            q = q < 0 ? 0 : q >= a->nc[d] ? a->nc[d] - 1 : q;
-            c = c * (size_t)a->nc[d] + (size_t)q;
-        }
-        a->cellof[i] = (uint32_t)c;
-        a->cstart[c + 1]++;
-    }
-    for (size_t c = 0; c < a->ncells; c++)
-        a->cstart[c + 1] += a->cstart[c];
+    /* the positions at the sample instant, sorted by cell */
+    for (uint32_t i = 0; i < n; i++)
+        mote_ev_position(ev, i, a->raw + 3 * (size_t)i);
+    const double *coord[3] = {a->raw, a->raw + 1, a->raw + 2};
+    mote_grid_build(&a->grid, n, coord, 3);
+    const mote_grid *g = &a->grid;
     uint64_t in_layer[12] = {0};
-    for (uint32_t i = 0; i < n; i++) {
-        uint32_t k = a->cstart[a->cellof[i]]++;
-        mote_ev_position(ev, i, a->pos + 3 * (size_t)k);
-        a->rad[k] = mote_ev_radius(ev, i);
+    for (uint32_t k = 0; k < n; k++) {
+        a->rad[k] = mote_ev_radius(ev, g->order[k]);
         if (a->slit) {
-            a->layer[k] = (uint8_t)layer_of(a, a->pos[3 * (size_t)k], R);
+            a->layer[k] = (uint8_t)layer_of(a, g->pos[3 * (size_t)k], R);
             in_layer[a->layer[k]]++;
         }
     }
-    for (size_t c = a->ncells; c > 0; c--)
-        a->cstart[c] = a->cstart[c - 1];
-    a->cstart[0] = 0;
 
     const int b = hs_block_of(s, nsamples);
     double *cnt = a->count + (size_t)b * (size_t)a->nlayer * a->nbins;
@@ -133,54 +117,25 @@ static void rdf_sample(void *ctx, mote_hs *hs, uint64_t s, uint64_t nsamples)
     }
 
     const double rmax2 = a->rmax * a->rmax, inv_dr = 1 / a->dr;
-    for (size_t c = 0; c < a->ncells; c++) {
-        if (a->cstart[c] == a->cstart[c + 1])
+    for (size_t c = 0; c < g->ncells; c++) {
+        if (g->start[c] == g->start[c + 1])
             continue;
-        int cc[3] = {0, 0, 0};
-        size_t rest = c;
-        for (int d = 0; d < a->dim; d++) {
-            cc[d] = (int)(rest % (size_t)a->nc[d]);
-            rest /= (size_t)a->nc[d];
-        }
-        /* the distinct neighbour cells (they coincide when an axis has fewer than 3 cells) */
+        /* the distinct neighbour cells; separations take the minimum image below */
         size_t nb[27];
-        int nn = 0;
-        int span[3];
-        for (int d = 0; d < 3; d++)
-            span[d] = d < a->dim ? 1 : 0;
-        for (int oz = -span[2]; oz <= span[2]; oz++)
-            for (int oy = -span[1]; oy <= span[1]; oy++)
-                for (int ox = -span[0]; ox <= span[0]; ox++) {
-                    int o[3] = {ox, oy, oz}, ok = 1;
-                    size_t idx = 0;
-                    for (int d = a->dim - 1; d >= 0; d--) {
-                        int t = cc[d] + o[d];
-                        int periodic = hs->ev.periodic[d];
-                        if (t < 0 || t >= a->nc[d]) {
-                            if (!periodic)
-                                ok = 0;
-                            t = (t + a->nc[d]) % a->nc[d];
-                        }
-                        idx = idx * (size_t)a->nc[d] + (size_t)t;
-                    }
-                    int dup = 0;
-                    for (int q = 0; q < nn; q++)
-                        dup |= nb[q] == idx;
-                    if (ok && !dup)
-                        nb[nn++] = idx;
-                }
-        for (uint32_t i = a->cstart[c]; i < a->cstart[c + 1]; i++) {
-            const double *pi = a->pos + 3 * (size_t)i;
+        double shift[27][3];
+        int nn = mote_grid_neighbours(g, c, nb, shift);
+        for (uint32_t i = g->start[c]; i < g->start[c + 1]; i++) {
+            const double *pi = g->pos + 3 * (size_t)i;
             const int li = a->slit ? a->layer[i] : 1;
             if (!li)
                 continue;
             for (int q = 0; q < nn; q++)
-                for (uint32_t j = a->cstart[nb[q]]; j < a->cstart[nb[q] + 1]; j++) {
+                for (uint32_t j = g->start[nb[q]]; j < g->start[nb[q] + 1]; j++) {
                     if (j <= i) /* each pair once: ordered by sorted index */
                         continue;
                     if (a->slit && a->layer[j] != li)
                         continue;
-                    const double *pj = a->pos + 3 * (size_t)j;
+                    const double *pj = g->pos + 3 * (size_t)j;
                     double r2 = 0;
                     for (int d = a->slit ? 1 : 0; d < a->dim; d++) {
                         double dx = pj[d] - pi[d];
@@ -292,30 +247,18 @@ int mote_hs_rdf(mote_hs *hs, uint64_t k, double rmax, const char *path, const ch
     a.nbins = (size_t)ceil(rmax / a.dr);
     a.S = k == 0 ? 1 : k;
     a.B = hs_nblocks(a.S);
-    a.ncells = 1;
-    for (int d = 0; d < 3; d++) {
+    for (int d = 0; d < 3; d++)
         a.len[d] = d < a.dim ? ev->len[d] : 1;
-        double q = d < a.dim ? floor(a.len[d] / rmax) : 1;
-        a.nc[d] = q < 1 ? 1 : q > 1000 ? 1000 : (int)q;
-    }
-    while ((size_t)a.nc[0] * (size_t)a.nc[1] * (size_t)a.nc[2] > (size_t)ev->n + 27) {
-        int big = 0;
-        for (int d = 1; d < 3; d++)
-            if (a.nc[d] > a.nc[big])
-                big = d;
-        a.nc[big] = a.nc[big] / 2 > 1 ? a.nc[big] / 2 : 1;
-    }
-    a.ncells = (size_t)a.nc[0] * (size_t)a.nc[1] * (size_t)a.nc[2];
+    const double zero[3] = {0, 0, 0};
+    int grid_fail = mote_grid_setup(&a.grid, a.dim, zero, a.len, ev->periodic, rmax, ev->n);
     a.count = calloc((size_t)a.B * (size_t)a.nlayer * a.nbins, sizeof *a.count);
     a.ideal = calloc((size_t)a.B * (size_t)a.nlayer, sizeof *a.ideal);
-    a.cstart = calloc(a.ncells + 1, sizeof *a.cstart);
-    a.cellof = calloc(ev->n + 1, sizeof *a.cellof);
-    a.pos = calloc(3 * (size_t)ev->n + 3, sizeof *a.pos);
+    a.raw = calloc(3 * (size_t)ev->n + 3, sizeof *a.raw);
     a.layer = calloc(ev->n + 1, 1);
     a.rad = calloc(ev->n + 1, sizeof *a.rad);
     hs_snap start, end;
     hs_snapshot(hs, &start);
-    if (!a.count || !a.ideal || !a.cstart || !a.cellof || !a.pos || !a.layer || !a.rad)
+    if (grid_fail || !a.count || !a.ideal || !a.raw || !a.layer || !a.rad)
         rc = mote_fail(err, MOTE_ENOMEM, "rdf: out of memory (%zu bins, N = %u)", a.nbins, ev->n);
     double tau = 0;
     if (!rc)
@@ -382,9 +325,8 @@ int mote_hs_rdf(mote_hs *hs, uint64_t k, double rmax, const char *path, const ch
     free(gerr);
     free(a.count);
     free(a.ideal);
-    free(a.cstart);
-    free(a.cellof);
-    free(a.pos);
+    mote_grid_free(&a.grid);
+    free(a.raw);
     free(a.layer);
     free(a.rad);
     return rc;

@@ -29,6 +29,10 @@ int mb_params_check(const mote_mb_params *p, int *groups, mote_err *err);
 
 /* Allocate sys->grid and lay it out for the placed system if not done yet. 0 or -1 (memory). */
 int mb_ensure_grid(mote_mb *sys);
+/* Lay a grid over the box for n disks (cells at least 2R wide). 0 or -1 (memory). */
+int mb_grid_setup(mote_grid *g, const mote_mb_params *p, uint32_t n);
+/* Sort disks 0 .. n-1 of the arrays x, y into the grid. */
+void mb_grid_build(mote_grid *g, uint32_t n, const double *x, const double *y);
 
 /* Largest N the model accepts. */
 #define MB_N_MAX 10000000

@@ -4,7 +4,6 @@
  * which dispatches a run to the time-stepped or the event-driven integrator. */
 #include "mb.h"
 
-#include "grid.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -179,12 +178,25 @@ void mote_mb_free(mote_mb *sys)
     free_arrays(sys);
     drop_cache(sys);
     if (sys->grid) {
-        mb_grid_free(sys->grid);
+        mote_grid_free(sys->grid);
         free(sys->grid);
         sys->grid = NULL;
     }
     sys->placed = 0;
     sys->n = 0;
+}
+
+int mb_grid_setup(mote_grid *g, const mote_mb_params *p, uint32_t n)
+{
+    const double lo[3] = {p->x_l, p->x_b, 0}, len[3] = {p->x_r - p->x_l, p->x_t - p->x_b, 0};
+    const int walls[3] = {0, 0, 0};
+    return mote_grid_setup(g, 2, lo, len, walls, 2 * p->r, n);
+}
+
+void mb_grid_build(mote_grid *g, uint32_t n, const double *x, const double *y)
+{
+    const double *coord[3] = {x, y, NULL};
+    mote_grid_build(g, n, coord, 1);
 }
 
 int mb_ensure_grid(mote_mb *sys)
@@ -198,37 +210,29 @@ int mb_ensure_grid(mote_mb *sys)
     }
     /* The layout depends only on the box, R and N, which are fixed from placement on. */
     if (!sys->grid_ready) {
-        if (mb_grid_setup(sys->grid, p->x_l, p->x_r, p->x_b, p->x_t, 2 * p->r, sys->n))
+        if (mb_grid_setup(sys->grid, p, sys->n))
             return -1;
         sys->grid_ready = 1;
     }
     return 0;
 }
 
-/* A linked-list grid for placement, where disks arrive one at a time. */
+/* Placement, where disks arrive one at a time: the shared grid's cells, with a linked list of
+ * the disks placed so far in each. */
 typedef struct {
-    double x0, y0, w, inv_w;
-    int nx, ny;
+    mote_grid cells;
     int32_t *head, *next;
 } place_grid;
 
 static int place_grid_init(place_grid *g, const mote_mb_params *p, uint32_t n)
 {
-    double W = p->x_r - p->x_l, H = p->x_t - p->x_b, m = n ? (double)n : 1.0;
-    double w = fmax(2 * p->r, sqrt(2.0 * W * H / m));
-    w = fmax(w, fmax(W, H) / (4.0 * m + 64.0));
-    g->x0 = p->x_l;
-    g->y0 = p->x_b;
-    g->w = w;
-    g->inv_w = 1.0 / w;
-    g->nx = (int)fmax(1.0, ceil(W / w));
-    g->ny = (int)fmax(1.0, ceil(H / w));
-    size_t cells = (size_t)g->nx * (size_t)g->ny;
-    g->head = malloc(cells * sizeof *g->head);
+    if (mb_grid_setup(&g->cells, p, n))
+        return -1;
+    g->head = malloc(g->cells.ncells * sizeof *g->head);
     g->next = malloc((n ? n : 1) * sizeof *g->next);
     if (!g->head || !g->next)
         return -1;
-    for (size_t k = 0; k < cells; k++)
+    for (size_t k = 0; k < g->cells.ncells; k++)
         g->head[k] = -1;
     return 0;
 }
@@ -243,7 +247,7 @@ static int place_chamber(mote_mb *sys, place_grid *g, uint32_t first, uint32_t c
         uint32_t i = first + k;
         double x = 0, y = 0;
         long tries = 0;
-        int cx, cy;
+        size_t c = 0;
         for (;;) {
             if (tries++ >= MOTE_MB_PLACE_TRIES) {
                 const mote_mb_params *p = &sys->p;
@@ -258,24 +262,19 @@ static int place_chamber(mote_mb *sys, place_grid *g, uint32_t first, uint32_t c
             }
             x = xlo + (xhi - xlo) * mote_rng_uniform(&sys->rng);
             y = ylo + (yhi - ylo) * mote_rng_uniform(&sys->rng);
-            cx = mb_grid_coord(x, g->x0, g->inv_w, g->nx);
-            cy = mb_grid_coord(y, g->y0, g->inv_w, g->ny);
-            int free_spot = 1;
-            for (int jy = cy - 1; jy <= cy + 1 && free_spot; jy++) {
-                if (jy < 0 || jy >= g->ny)
-                    continue;
-                for (int jx = cx - 1; jx <= cx + 1 && free_spot; jx++) {
-                    if (jx < 0 || jx >= g->nx)
-                        continue;
-                    for (int32_t j = g->head[jy * g->nx + jx]; j >= 0; j = g->next[j]) {
-                        double dx = sys->x[j] - x, dy = sys->y[j] - y;
-                        if (dx * dx + dy * dy < d2) {
-                            free_spot = 0;
-                            break;
-                        }
+            const double at[3] = {x, y, 0};
+            c = mote_grid_cell_of(&g->cells, at);
+            size_t near[27];
+            double shift[27][3];
+            int nn = mote_grid_neighbours(&g->cells, c, near, shift), free_spot = 1;
+            for (int q = 0; q < nn && free_spot; q++)
+                for (int32_t j = g->head[near[q]]; j >= 0; j = g->next[j]) {
+                    double dx = sys->x[j] - x, dy = sys->y[j] - y;
+                    if (dx * dx + dy * dy < d2) {
+                        free_spot = 0;
+                        break;
                     }
                 }
-            }
             if (free_spot)
                 break;
         }
@@ -287,7 +286,6 @@ static int place_chamber(mote_mb *sys, place_grid *g, uint32_t first, uint32_t c
         sys->colour[i] = colour;
         sys->side[i] = (uint8_t)mote_mb_chamber(sys, x);
         sys->t_last[i] = -INFINITY;
-        int c = cy * g->nx + cx;
         g->next[i] = g->head[c];
         g->head[c] = (int32_t)i;
     }
@@ -335,6 +333,7 @@ int mote_mb_place(mote_mb *sys, const mote_mb_params *p, mote_err *err)
     }
     free(g.head);
     free(g.next);
+    mote_grid_free(&g.cells);
     if (rc) {
         free_arrays(&fresh);
         sys->rng = fresh.rng;
@@ -430,7 +429,7 @@ uint64_t mote_mb_count_overlaps(mote_mb *sys, double tol)
     if (mb_ensure_grid(sys))
         return UINT64_MAX;
     mb_grid_build(sys->grid, sys->n, sys->x, sys->y);
-    return mb_grid_close_pairs(sys->grid, 2 * p->r * (1 - tol), NULL);
+    return mote_grid_pairs(sys->grid, 2 * p->r * (1 - tol), NULL, NULL);
 }
 
 void mote_mb_note_overlaps(mote_mb *sys, uint64_t count)

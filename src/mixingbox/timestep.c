@@ -8,7 +8,6 @@
  * step O(N). */
 #include "mb.h"
 
-#include "grid.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -123,6 +122,33 @@ void mb_ts_walls(mote_mb *sys, uint32_t i)
     sys->vy[i] = vy;
 }
 
+/* Pairs (i < j) packed as (uint64_t)i << 32 | j. */
+typedef struct {
+    uint64_t *p;
+    size_t n, cap;
+} mb_pairs;
+
+static int push_pair(void *ctx, uint32_t i, uint32_t j, const double d[3], double r2)
+{
+    mb_pairs *out = ctx;
+    if (out->n == out->cap) {
+        size_t cap = out->cap ? 2 * out->cap : 256;
+        uint64_t *p = realloc(out->p, cap * sizeof *p);
+        if (!p)
+            return 1;
+        out->p = p;
+        out->cap = cap;
+    }
+    out->p[out->n++] = (uint64_t)i << 32 | j;
+    return 0;
+}
+
+static int cmp_u64(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return (x > y) - (x < y);
+}
+
 /* Working memory of the steps of one run. */
 typedef struct {
     mb_pairs pairs;   /* pairs closer than 2R after the move, sorted */
@@ -130,7 +156,7 @@ typedef struct {
     uint32_t *list;   /* the moved disks */
     size_t nlist;
     double *mx, *my;  /* their positions, for the moved-moved pairs */
-    mb_grid sub;      /* grid over the moved disks */
+    mote_grid sub;    /* grid over the moved disks */
 } ts_work;
 
 static int work_init(ts_work *w, uint32_t n)
@@ -146,12 +172,12 @@ static int work_init(ts_work *w, uint32_t n)
 
 static void work_free(ts_work *w)
 {
-    mb_pairs_free(&w->pairs);
+    free(w->pairs.p);
     free(w->moved);
     free(w->list);
     free(w->mx);
     free(w->my);
-    mb_grid_free(&w->sub);
+    mote_grid_free(&w->sub);
 }
 
 static void mark_moved(ts_work *w, uint32_t i)
@@ -170,9 +196,10 @@ static int pair_pass(mote_mb *sys, ts_work *w, double t, mote_err *err)
 {
     mb_grid_build(sys->grid, sys->n, sys->x, sys->y);
     w->pairs.n = 0;
-    if (mb_grid_close_pairs(sys->grid, 2 * sys->p.r, &w->pairs) == UINT64_MAX)
+    if (mote_grid_pairs(sys->grid, 2 * sys->p.r, push_pair, &w->pairs) == UINT64_MAX)
         return mote_fail(err, MOTE_ENOMEM, "run: out of memory");
-    mb_pairs_sort(&w->pairs);
+    if (w->pairs.n > 1)
+        qsort(w->pairs.p, w->pairs.n, sizeof *w->pairs.p, cmp_u64);
     for (size_t k = 0; k < w->pairs.n; k++) {
         uint32_t i = (uint32_t)(w->pairs.p[k] >> 32), j = (uint32_t)w->pairs.p[k];
         double xi = sys->x[i], yi = sys->y[i], xj = sys->x[j], yj = sys->y[j];
@@ -203,33 +230,29 @@ static uint64_t step_overlaps(mote_mb *sys, ts_work *w)
     }
     if (w->nlist == 0)
         return count;
-    const mb_grid *g = sys->grid;
+    const mote_grid *g = sys->grid;
     for (size_t k = 0; k < w->nlist; k++) {
         uint32_t i = w->list[k];
-        int cx = mb_grid_coord(x[i], g->x0, g->inv_w, g->nx);
-        int cy = mb_grid_coord(y[i], g->y0, g->inv_w, g->ny);
-        for (int jy = cy - 1; jy <= cy + 1; jy++) {
-            if (jy < 0 || jy >= g->ny)
-                continue;
-            int c0 = jy * g->nx + (cx > 0 ? cx - 1 : cx);
-            int c1 = jy * g->nx + (cx + 1 < g->nx ? cx + 1 : cx);
-            for (int32_t b = g->start[c0]; b < g->start[c1 + 1]; b++) {
-                if (w->moved[g->idx[b]])
+        const double xi[3] = {x[i], y[i], 0};
+        size_t cells[27];
+        double shift[27][3];
+        int nn = mote_grid_neighbours(g, mote_grid_cell_of(g, xi), cells, shift);
+        for (int q = 0; q < nn; q++)
+            for (uint32_t b = g->start[cells[q]]; b < g->start[cells[q] + 1]; b++) {
+                if (w->moved[g->order[b]])
                     continue;
-                double dx = g->xs[b] - x[i], dy = g->ys[b] - y[i];
+                double dx = g->pos[3 * (size_t)b] - x[i], dy = g->pos[3 * (size_t)b + 1] - y[i];
                 count += dx * dx + dy * dy < s2;
             }
-        }
         w->mx[k] = x[i];
         w->my[k] = y[i];
     }
     if (w->nlist > 1) {
         const mote_mb_params *p = &sys->p;
-        if (mb_grid_setup(&w->sub, p->x_l, p->x_r, p->x_b, p->x_t, 2 * p->r,
-                          (uint32_t)w->nlist))
+        if (mb_grid_setup(&w->sub, p, (uint32_t)w->nlist))
             return UINT64_MAX;
         mb_grid_build(&w->sub, (uint32_t)w->nlist, w->mx, w->my);
-        uint64_t c = mb_grid_close_pairs(&w->sub, s, NULL);
+        uint64_t c = mote_grid_pairs(&w->sub, s, NULL, NULL);
         if (c == UINT64_MAX)
             return c;
         count += c;
