@@ -1,5 +1,6 @@
 /* test_field.c: the event engine's field mode (2D: uniform acceleration, obstacle faces and
- * corners, restitution with the TC model, wall kicks), against hand-computed motion:
+ * corners, the model's collision rules: elastic without them, and the mixing box's restitution
+ * with the TC model and kicks, mote_mb_event_rules), against hand-computed motion:
  *
  * - one disk under gravity bouncing on the floor: hit times t = (v + sqrt(v^2 + 2 g h)) / g and
  *   apex heights exact; energy (kinetic + potential) kept to 1e-13;
@@ -15,6 +16,7 @@
  * - a list renewal whose batch of candidates is exactly full when a crowded cell comes next:
  *   the new list is exactly the disks within the cutoff. */
 #include "mote/event.h"
+#include "mote/mixingbox.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -64,9 +66,8 @@ static void on_event(void *ctx, uint32_t i) { ((obs_acc *)ctx)->events++; }
 static void test_bounce(void)
 {
     printf("one disk bouncing under gravity\n");
-    mote_ev_field f = {0};
+    mote_ev_field f = {0}; /* no rules: elastic */
     f.g[1] = -2;
-    f.restitution = 1;
     mote_ev ev;
     if (!setup(&ev, 2, 40, 40, &f))
         return;
@@ -119,13 +120,16 @@ static void test_obstacles(void)
     /* a block [10, 14] x [0, 6] on the floor: faces left, top (kick 0.5), right; corners
      * (10, 6) and (14, 6) */
     mote_ev_segment seg[3] = {
-        {{10, 0}, {10, 6}, {-1, 0}, 0},
-        {{10, 6}, {14, 6}, {0, 1}, 0.5},
-        {{14, 6}, {14, 0}, {1, 0}, 0},
+        {{10, 0}, {10, 6}, {-1, 0}},
+        {{10, 6}, {14, 6}, {0, 1}},
+        {{14, 6}, {14, 0}, {1, 0}},
     };
-    double corner[2][2] = {{10, 6}, {14, 6}};
+    double corner[2][2] = {{10, 6}, {14, 6}}, face_kick[3] = {0, 0.5, 0}, t_last[3] = {0, 0, 0};
+    uint64_t face_hits[3] = {0, 0, 0};
+    mote_mb_rules rules = {.e = 1, .face_kick = face_kick, .t_last = t_last,
+                           .face_hits = face_hits};
     mote_ev_field f = {0};
-    f.restitution = 1;
+    f.rules = mote_mb_event_rules(&rules);
     f.seg = seg;
     f.nseg = 3;
     f.corner = (const double(*)[2])corner;
@@ -172,6 +176,10 @@ static void test_obstacles(void)
           v1[0], v1[1]);
     CHECK(fabs(mote_ev_time(&ev) - (0.3 + 11 / 1.5)) < 1e-12, "pair at %.17g, expected %.17g",
           mote_ev_time(&ev), 0.3 + 11 / 1.5);
+    CHECK(face_hits[1] == 1 && face_hits[0] == 0 && rules.corner_hits == 0,
+          "the rules counted face hits %llu %llu and %llu corner hits",
+          (unsigned long long)face_hits[0], (unsigned long long)face_hits[1],
+          (unsigned long long)rules.corner_hits);
     mote_ev_free(&ev);
 }
 
@@ -179,11 +187,12 @@ static void test_restitution(void)
 {
     printf("restitution, TC model, scaling rule\n");
     const double e = 0.6;
+    double t_last[3];
     for (int rule = 0; rule < 2; rule++) {
+        t_last[0] = t_last[1] = -INFINITY;
+        mote_mb_rules rules = {.e = e, .scale_rule = rule, .tc = 0.5, .t_last = t_last};
         mote_ev_field f = {0};
-        f.restitution = e;
-        f.scale_rule = rule;
-        f.tc = 0.5;
+        f.rules = mote_mb_event_rules(&rules);
         mote_ev ev;
         if (!setup(&ev, 2, 40, 40, &f))
             return;
@@ -214,9 +223,10 @@ static void test_restitution(void)
         mote_ev_free(&ev);
     }
     /* TC: disk 1 between 0 and 2; 0 hits 1, then 1 hits 2 within tc: that one is elastic */
+    t_last[0] = t_last[1] = t_last[2] = -INFINITY;
+    mote_mb_rules rules = {.e = e, .tc = 1.0, .t_last = t_last};
     mote_ev_field f = {0};
-    f.restitution = e;
-    f.tc = 1.0;
+    f.rules = mote_mb_event_rules(&rules);
     mote_ev ev;
     if (!setup(&ev, 3, 60, 40, &f))
         return;
@@ -236,13 +246,16 @@ static void test_restitution(void)
     for (uint32_t i = 0; i < 3; i++)
         mote_ev_velocity(&ev, i, v[i]);
     CHECK(fabs(v[0][0] - (1 - e) / 2) < 1e-15 && fabs(v[1][0]) < 1e-15 &&
-              fabs(v[2][0] - (1 + e) / 2) < 1e-15,
-          "TC: velocities %.17g %.17g %.17g", v[0][0], v[1][0], v[2][0]);
+              fabs(v[2][0] - (1 + e) / 2) < 1e-15 && rules.tc_elastic == 1,
+          "TC: velocities %.17g %.17g %.17g, %llu made elastic", v[0][0], v[1][0], v[2][0],
+          (unsigned long long)rules.tc_elastic);
     mote_ev_free(&ev);
 
     /* TC clocks count disk-disk collisions only: 0 bounces off the left wall at t = 1, then
      * meets 1 (at rest) at t = 3, within tc = 5 of the wall hit: still inelastic */
-    f.tc = 5.0;
+    t_last[0] = t_last[1] = -INFINITY;
+    rules = (mote_mb_rules){.e = e, .tc = 5.0, .t_last = t_last};
+    f.rules = mote_mb_event_rules(&rules);
     if (!setup(&ev, 2, 40, 40, &f))
         return;
     ev.p[0].r[0] = 2;
@@ -258,9 +271,9 @@ static void test_restitution(void)
           "wall then pair: %llu wall hits, collision at t = %.17g",
           (unsigned long long)ev.wall_collisions, mote_ev_time(&ev));
     CHECK(fabs(v[0][0] - (1 - e) / 2) < 1e-15 && fabs(v[1][0] - (1 + e) / 2) < 1e-15 &&
-              ev.field->tc_elastic == 0,
+              rules.tc_elastic == 0,
           "TC after a wall hit: velocities %.17g %.17g, %llu made elastic", v[0][0], v[1][0],
-          (unsigned long long)ev.field->tc_elastic);
+          (unsigned long long)rules.tc_elastic);
     mote_ev_free(&ev);
 }
 
@@ -269,14 +282,13 @@ static void test_gas(void)
     printf("an elastic gas under gravity with a partition and a slit\n");
     /* box 60 x 60, partition [29, 31] x [0, 60] with a slit 24 < y < 36 */
     mote_ev_segment seg[6] = {
-        {{29, 0}, {29, 24}, {-1, 0}, 0},  {{29, 24}, {31, 24}, {0, 1}, 0},
-        {{31, 24}, {31, 0}, {1, 0}, 0},   {{29, 60}, {29, 36}, {-1, 0}, 0},
-        {{29, 36}, {31, 36}, {0, -1}, 0}, {{31, 36}, {31, 60}, {1, 0}, 0},
+        {{29, 0}, {29, 24}, {-1, 0}},  {{29, 24}, {31, 24}, {0, 1}},
+        {{31, 24}, {31, 0}, {1, 0}},   {{29, 60}, {29, 36}, {-1, 0}},
+        {{29, 36}, {31, 36}, {0, -1}}, {{31, 36}, {31, 60}, {1, 0}},
     };
     double corner[4][2] = {{29, 24}, {31, 24}, {29, 36}, {31, 36}};
-    mote_ev_field f = {0};
+    mote_ev_field f = {0}; /* no rules: elastic */
     f.g[1] = -0.05;
-    f.restitution = 1;
     f.seg = seg;
     f.nseg = 6;
     f.corner = (const double(*)[2])corner;
@@ -340,16 +352,18 @@ static void test_gas(void)
  * once the pile forms, some starts enter a regime of millions of collisions per time unit,
  * nearly all made elastic by the TC rule (MOTE_TEST_SEED=13: 0.36 million up to t = 20, then
  * 15 million by t = 22), so without the cap the test's cost ranged over a factor of 300 between
- * seeds; with it, 1 to 4 s over 21 seeds, all settled below y = 33. The default seed never
- * reaches the cap. */
+ * seeds; with it, 1 to 4 s over 21 seeds, all settled below y = 33. */
 static void test_crowding(void)
 {
     printf("an inelastic gas settling on the floor (cell blocks widen in the run)\n");
+    const uint32_t n = 200;
+    double t_last[200];
+    for (uint32_t i = 0; i < n; i++)
+        t_last[i] = -INFINITY;
+    mote_mb_rules rules = {.e = 0.3, .tc = 1e-3, .g = {0, -1}, .t_last = t_last};
     mote_ev_field f = {0};
     f.g[1] = -1;
-    f.restitution = 0.3;
-    f.tc = 1e-3;
-    const uint32_t n = 200;
+    f.rules = mote_mb_event_rules(&rules);
     mote_ev ev;
     if (!setup(&ev, n, 40, 200, &f))
         return;
@@ -398,8 +412,7 @@ static void test_crowding(void)
 static void test_full_batch(void)
 {
     printf("a list renewal whose candidate batch is full when a crowded cell comes\n");
-    mote_ev_field f = {0};
-    f.restitution = 1;
+    mote_ev_field f = {0}; /* no rules: elastic */
     const uint32_t n = 1 + 120 + 8 + 20;
     mote_ev ev;
     /* 156 x 156 with 149 disks: the widened shell makes cells 26 wide, 6 x 6 of them */

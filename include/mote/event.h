@@ -74,34 +74,47 @@ typedef struct {
     void (*on_event)(void *ctx, uint32_t i);
 } mote_ev_observer;
 
-/* ---- field mode (2D): uniform acceleration, fixed obstacles, dissipation, driven walls ----
+/* ---- field mode (2D): uniform acceleration, fixed obstacles, the model's collision rules ----
  * For models such as the mixing box (specs/mixing-box.md). Every axis has walls (no periodic
  * axes). Flights are parabolas; pair collision times are unchanged by a uniform field (relative
- * motion stays straight), wall and segment times solve quadratics, corner times quartics. */
+ * motion stays straight), wall and segment times solve quadratics, corner times quartics.
+ *
+ * The engine finds the events; what happens at one is the model's (REBOUND's split between
+ * finding and resolving collisions): at each event the engine brings the particles to the event
+ * time and calls the model's rule, which sets the velocities after it. */
 
 /* A flat face of a fixed obstacle: the segment a-b, hit from the side its unit normal n points
- * to (out of the solid). On a hit the normal velocity is reversed and `kick` is added along n. */
+ * to (out of the solid). */
 typedef struct {
     double a[2], b[2], n[2];
-    double kick;
 } mote_ev_segment;
+
+/* The model's collision rules. Particles are named by their labels (the model's numbers), t is
+ * the time since the engine's creation, velocities are updated in place. NULL members (or NULL
+ * rules) are elastic: equal and opposite impulses along the line of centres; specular walls and
+ * faces. */
+typedef struct {
+    void *ctx;
+    /* two particles at contact, dr = r_i - r_j (their velocities approach: dr . (vi - vj) < 0) */
+    void (*pair)(void *ctx, uint32_t i, uint32_t j, const double dr[2], double vi[2],
+                 double vj[2], double t);
+    /* particle i at the box wall of axis `axis` (side 0 at 0, 1 at len), moving into it or just
+     * reflected by rounding */
+    void (*wall)(void *ctx, uint32_t i, int axis, int side, double v[2], double t);
+    /* particle i at obstacle face `which` (kind MOTE_EV_SEG) or corner `which` (MOTE_EV_CORNER),
+     * n the unit normal out of the obstacle (at a corner, from the corner to the centre); called
+     * only when it moves in (v . n < 0). Returns 1 when the velocity changed. */
+    int (*face)(void *ctx, uint32_t i, int kind, uint32_t which, const double n[2], double v[2],
+                double t);
+} mote_ev_rules;
 
 typedef struct {
     double g[2];             /* uniform acceleration */
-    double restitution;      /* e in [0, 1]: the normal relative velocity is multiplied by -e */
-    int scale_rule;          /* 1: an elastic collision, then both velocities scaled by e (the
-                              * mixing-box document's rule) instead of normal restitution */
-    double tc;               /* TC model (Luding & McNamara): a collision within tc of either
-                              * particle's previous one is elastic, so there is no collapse */
-    double kick[2][2];       /* [axis][side]: speed added away from that box wall on a hit */
     const mote_ev_segment *seg; /* obstacle faces (copied by mote_ev_set_field) */
     int nseg;
     const double (*corner)[2];  /* obstacle corners: points hit like disks of radius 0 */
     int ncorner;
-    /* counters kept by the engine in its copy (ev->field) */
-    uint64_t *seg_hits;      /* per segment */
-    uint64_t corner_hits;
-    uint64_t tc_elastic;     /* collisions made elastic by the TC rule */
+    mote_ev_rules rules;
 } mote_ev_field;
 
 typedef struct {
@@ -172,7 +185,6 @@ typedef struct {
 
     /* ---- field mode (NULL: plain hard particles); set with mote_ev_set_field ---- */
     mote_ev_field *field;
-    double *t_last;       /* field mode: time (since creation) of each particle's last collision */
 } mote_ev;
 
 /* Allocate storage for n particles (positions etc. zeroed). The geometry fields are set by the

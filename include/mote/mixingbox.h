@@ -18,6 +18,7 @@
 
 #include "mote/command.h"
 #include "mote/core.h"
+#include "mote/event.h"
 #include "mote/grid.h"
 #include "mote/stats.h"
 
@@ -160,6 +161,29 @@ int mote_mb_rule_restitution(double x1, double y1, double x2, double y2, double 
  * Luding & McNamara). Updates vx, vy, t_last, collisions and collisions_tc. The caller has
  * decided that the pair collides now (in contact and approaching). */
 void mote_mb_collide(mote_mb *sys, uint32_t i, uint32_t j, double t);
+
+/* The rules of the event integrator (spec 3), as the event engine calls them in field mode
+ * (mote_ev_rules, event.h), in the engine's frame (box from the origin, time from the engine's
+ * start): disk-disk collisions with normal restitution e, or with `scale_rule` (collision_rule
+ * seed) an elastic collision after which both velocities are scaled by e, both elastic within
+ * tc of either disk's previous collision (the TC model); box walls and obstacle faces reflect
+ * and add their kick along the normal, and a wall or face the field pulls towards sends a disk
+ * off at no less than g tc (a bounce lasts at least tc, so a disk settling on a floor does not
+ * bounce ever faster); corners reflect without a kick. The counters count what happened. */
+typedef struct {
+    double e;                /* restitution, sqrt(1 - loss) */
+    int scale_rule;          /* 1: collision_rule seed (elastic, then both scaled by e) */
+    double tc;               /* TC model time */
+    double g[2];             /* the field, as the engine has it */
+    double kick[2][2];       /* [axis][side]: speed added away from that box wall */
+    const double *face_kick; /* per obstacle face: speed added along its normal */
+    double *t_last;          /* per disk: time of its last disk-disk collision */
+    uint64_t *face_hits;     /* per obstacle face */
+    uint64_t corner_hits, tc_elastic;
+} mote_mb_rules;
+
+/* The engine's view of r (which must outlive the engine's runs). */
+mote_ev_rules mote_mb_event_rules(mote_mb_rules *r);
 
 /* Bounce off a wall with a kick: the velocity component normal to the wall, v, moving into it,
  * becomes -(v + dv) when moving in +axis direction (top, right, partition left face, slit top

@@ -710,7 +710,6 @@ void mote_ev_free(mote_ev *ev)
     free(ev->nbr_new);
     free(ev->bucket);
     free(ev->field);
-    free(ev->t_last);
     memset(ev, 0, sizeof *ev);
 }
 
@@ -718,9 +717,8 @@ int mote_ev_set_field(mote_ev *ev, const mote_ev_field *f, mote_err *err)
 {
     if (ev->dim != 2 || ev->periodic[0] || ev->periodic[1])
         return mote_fail(err, MOTE_EINVAL, "field mode needs a 2D box with walls on both axes");
-    if (!(f->restitution >= 0 && f->restitution <= 1) || !(f->tc >= 0) || f->nseg < 0 ||
-        f->ncorner < 0)
-        return mote_fail(err, MOTE_EINVAL, "field mode: restitution must be in [0, 1], tc >= 0");
+    if (f->nseg < 0 || f->ncorner < 0 || !isfinite(f->g[0]) || !isfinite(f->g[1]))
+        return mote_fail(err, MOTE_EINVAL, "field mode: bad field (counts or acceleration)");
     for (int k = 0; k < f->nseg; k++) {
         const mote_ev_segment *sk = &f->seg[k];
         double nn = sk->n[0] * sk->n[0] + sk->n[1] * sk->n[1];
@@ -730,14 +728,10 @@ int mote_ev_set_field(mote_ev *ev, const mote_ev_field *f, mote_err *err)
     }
     /* one block: the struct, then its segments, then its corners */
     size_t bytes = sizeof(mote_ev_field) + (size_t)f->nseg * sizeof(mote_ev_segment) +
-                   (size_t)f->ncorner * sizeof(double[2]) + (size_t)f->nseg * sizeof(uint64_t);
+                   (size_t)f->ncorner * sizeof(double[2]);
     mote_ev_field *copy = malloc(bytes);
-    double *tl = malloc((size_t)ev->n * sizeof *tl);
-    if (!copy || !tl) {
-        free(copy);
-        free(tl);
+    if (!copy)
         return mote_fail(err, MOTE_ENOMEM, "out of memory for the field");
-    }
     *copy = *f;
     mote_ev_segment *seg = (mote_ev_segment *)(copy + 1);
     double(*corner)[2] = (double(*)[2])(seg + f->nseg);
@@ -747,16 +741,8 @@ int mote_ev_set_field(mote_ev *ev, const mote_ev_field *f, mote_err *err)
         memcpy(corner, f->corner, (size_t)f->ncorner * sizeof *corner);
     copy->seg = seg;
     copy->corner = (const double(*)[2])corner;
-    copy->seg_hits = (uint64_t *)(corner + f->ncorner);
-    memset(copy->seg_hits, 0, (size_t)f->nseg * sizeof(uint64_t));
-    copy->corner_hits = 0;
-    copy->tc_elastic = 0;
-    for (uint32_t i = 0; i < ev->n; i++)
-        tl[i] = -INFINITY;
     free(ev->field);
-    free(ev->t_last);
     ev->field = copy;
-    ev->t_last = tl;
     return MOTE_OK;
 }
 
@@ -882,7 +868,6 @@ static void permute_records(mote_ev *ev, const sort_item *it, uint8_t *done)
         mote_particle tmp = P[s];
         mote_ev_cold ctmp = C[s];
         double rt = ev->radius ? ev->radius[s] : 0, mt = ev->mass ? ev->mass[s] : 0;
-        double lt = ev->t_last ? ev->t_last[s] : 0;
         uint32_t k = s;
         for (;;) {
             done[k >> 3] |= (uint8_t)(1u << (k & 7));
@@ -895,8 +880,6 @@ static void permute_records(mote_ev *ev, const sort_item *it, uint8_t *done)
                 ev->radius[k] = ev->radius[j];
                 ev->mass[k] = ev->mass[j];
             }
-            if (ev->t_last)
-                ev->t_last[k] = ev->t_last[j];
             k = j;
         }
         P[k] = tmp;
@@ -905,8 +888,6 @@ static void permute_records(mote_ev *ev, const sort_item *it, uint8_t *done)
             ev->radius[k] = rt;
             ev->mass[k] = mt;
         }
-        if (ev->t_last)
-            ev->t_last[k] = lt;
     }
 }
 

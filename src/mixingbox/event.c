@@ -11,7 +11,8 @@
  * disk's x moves linearly (gravity acts along y), so its centre passes X1_C at most once; the
  * chamber is compared at each event. Decisions: `collision_rule seed` in this mode is an exact
  * elastic collision followed by scaling both velocities by sqrt(1 - loss) (the document's
- * formula with its absolute values is kept for the timestep mode); corner hits add no kick. */
+ * formula with its absolute values is kept for the timestep mode); corner hits add no kick.
+ * The engine finds the events; the rules applied at them are rules.c's (mote_mb_event_rules). */
 #include "mote/event.h"
 #include "mote/mixingbox.h"
 
@@ -38,7 +39,7 @@ static void on_event(void *ctx, uint32_t i)
 
 /* Segments of the partition (engine frame), with their kicks; returns how many. The lower block
  * spans y in [0, X2_B], the upper [X2_T, H]; with no slit (b = 0) one block spans the height. */
-static int partition_segments(const mote_mb_params *p, mote_ev_segment seg[6],
+static int partition_segments(const mote_mb_params *p, mote_ev_segment seg[6], double kick[6],
                               double corner[4][2], int *ncorner, int kinds[6])
 {
     double xl = mote_mb_x1_l(p) - p->x_l, xr = mote_mb_x1_r(p) - p->x_l;
@@ -46,19 +47,24 @@ static int partition_segments(const mote_mb_params *p, mote_ev_segment seg[6],
     int n = 0;
     *ncorner = 0;
     if (!(p->b > 0)) {
-        seg[n] = (mote_ev_segment){{xl, 0}, {xl, h}, {-1, 0}, p->dv_s};
+        kick[n] = p->dv_s;
+        seg[n] = (mote_ev_segment){{xl, 0}, {xl, h}, {-1, 0}};
         kinds[n++] = 0;
-        seg[n] = (mote_ev_segment){{xr, h}, {xr, 0}, {1, 0}, p->dv_s};
+        kick[n] = p->dv_s;
+        seg[n] = (mote_ev_segment){{xr, h}, {xr, 0}, {1, 0}};
         kinds[n++] = 0;
         return n;
     }
     double yb = mote_mb_x2_b(p) - p->x_b, yt = mote_mb_x2_t(p) - p->x_b;
     if (yb > 0) { /* lower block: left face, slit floor (a bottom for the disk), right face */
-        seg[n] = (mote_ev_segment){{xl, 0}, {xl, yb}, {-1, 0}, p->dv_s};
+        kick[n] = p->dv_s;
+        seg[n] = (mote_ev_segment){{xl, 0}, {xl, yb}, {-1, 0}};
         kinds[n++] = 0;
-        seg[n] = (mote_ev_segment){{xl, yb}, {xr, yb}, {0, 1}, p->dv_b};
+        kick[n] = p->dv_b;
+        seg[n] = (mote_ev_segment){{xl, yb}, {xr, yb}, {0, 1}};
         kinds[n++] = 1;
-        seg[n] = (mote_ev_segment){{xr, yb}, {xr, 0}, {1, 0}, p->dv_s};
+        kick[n] = p->dv_s;
+        seg[n] = (mote_ev_segment){{xr, yb}, {xr, 0}, {1, 0}};
         kinds[n++] = 0;
         corner[(*ncorner)][0] = xl;
         corner[(*ncorner)++][1] = yb;
@@ -66,11 +72,14 @@ static int partition_segments(const mote_mb_params *p, mote_ev_segment seg[6],
         corner[(*ncorner)++][1] = yb;
     }
     if (yt < h) { /* upper block: left face, slit ceiling (a top), right face */
-        seg[n] = (mote_ev_segment){{xl, h}, {xl, yt}, {-1, 0}, p->dv_s};
+        kick[n] = p->dv_s;
+        seg[n] = (mote_ev_segment){{xl, h}, {xl, yt}, {-1, 0}};
         kinds[n++] = 0;
-        seg[n] = (mote_ev_segment){{xl, yt}, {xr, yt}, {0, -1}, p->dv_t};
+        kick[n] = p->dv_t;
+        seg[n] = (mote_ev_segment){{xl, yt}, {xr, yt}, {0, -1}};
         kinds[n++] = 1;
-        seg[n] = (mote_ev_segment){{xr, yt}, {xr, h}, {1, 0}, p->dv_s};
+        kick[n] = p->dv_s;
+        seg[n] = (mote_ev_segment){{xr, yt}, {xr, h}, {1, 0}};
         kinds[n++] = 0;
         corner[(*ncorner)][0] = xl;
         corner[(*ncorner)++][1] = yt;
@@ -97,13 +106,13 @@ static void sync_back(mb_link *l, double t)
     sys->time = t;
 }
 
-/* Add the engine's counters since the last call to the model's. */
-static void sync_counters(mote_mb *sys, const mote_ev *ev, const int kinds[6], uint64_t last[9])
+/* Add the engine's and the rules' counters since the last call to the model's. */
+static void sync_counters(mote_mb *sys, const mote_ev *ev, const mote_mb_rules *r,
+                          const int kinds[6], uint64_t last[9])
 {
-    const mote_ev_field *f = ev->field;
-    uint64_t now[9] = {ev->collisions, f->tc_elastic, ev->wall_collisions, 0, 0, f->corner_hits};
-    for (int k = 0; k < f->nseg; k++)
-        now[kinds[k] ? 4 : 3] += f->seg_hits[k];
+    uint64_t now[9] = {ev->collisions, r->tc_elastic, ev->wall_collisions, 0, 0, r->corner_hits};
+    for (int k = 0; k < ev->field->nseg; k++)
+        now[kinds[k] ? 4 : 3] += r->face_hits[k];
     sys->collisions += now[0] - last[0];
     sys->collisions_tc += now[1] - last[1];
     sys->wall_hits += now[2] - last[2];
@@ -154,28 +163,37 @@ int mb_run_event(mote_mb *sys, double t_end, mote_mb_hooks *hooks, mote_err *err
         ev.p[i].v[1] = sys->vy[i];
     }
     mote_ev_segment seg[6];
-    double corner[4][2];
+    double corner[4][2], kick[6];
     int kinds[6], ncorner = 0;
-    int nseg = partition_segments(p, seg, corner, &ncorner, kinds);
-    mote_ev_field f;
-    memset(&f, 0, sizeof f);
-    f.g[1] = -p->g;
-    f.restitution = sqrt(1 - p->loss);
-    f.scale_rule = p->rule == MOTE_MB_SEEDRULE;
-    f.tc = mote_mb_tc(p);
-    f.kick[0][0] = f.kick[0][1] = p->dv_s;
-    f.kick[1][0] = p->dv_b;
-    f.kick[1][1] = p->dv_t;
-    f.seg = seg;
-    f.nseg = nseg;
-    f.corner = (const double(*)[2])corner;
-    f.ncorner = ncorner;
-    rc = mote_ev_set_field(&ev, &f, err);
-    if (!rc) {
-        for (uint32_t i = 0; i < sys->n; i++)
-            ev.t_last[i] = sys->t_last[i] - t_offset;
-        rc = mote_ev_rebuild(&ev, err);
+    int nseg = partition_segments(p, seg, kick, corner, &ncorner, kinds);
+    uint64_t face_hits[6] = {0};
+    mote_mb_rules rules = {
+        .e = sqrt(1 - p->loss),
+        .scale_rule = p->rule == MOTE_MB_SEEDRULE,
+        .tc = mote_mb_tc(p),
+        .g = {0, -p->g},
+        .kick = {{p->dv_s, p->dv_s}, {p->dv_b, p->dv_t}},
+        .face_kick = kick,
+        .t_last = malloc((size_t)sys->n * sizeof(double)),
+        .face_hits = face_hits,
+    };
+    if (!rules.t_last) {
+        mote_ev_free(&ev);
+        return mote_fail(err, MOTE_ENOMEM, "run: out of memory");
     }
+    for (uint32_t i = 0; i < sys->n; i++) /* the rules keep the engine's clock */
+        rules.t_last[i] = sys->t_last[i] - t_offset;
+    mote_ev_field f = {
+        .g = {0, -p->g},
+        .seg = seg,
+        .nseg = nseg,
+        .corner = (const double(*)[2])corner,
+        .ncorner = ncorner,
+        .rules = mote_mb_event_rules(&rules),
+    };
+    rc = mote_ev_set_field(&ev, &f, err);
+    if (!rc)
+        rc = mote_ev_rebuild(&ev, err);
     ev.obs = (mote_ev_observer){&l, NULL, NULL, on_event};
     uint64_t last[9] = {0};
     while (!rc) {
@@ -184,7 +202,7 @@ int mb_run_event(mote_mb *sys, double t_end, mote_mb_hooks *hooks, mote_err *err
         if (sys->collisions >= limit)
             break;
         rc = mote_ev_run_to(&ev, t_stop - t_offset, limit - sys->collisions, err);
-        sync_counters(sys, &ev, kinds, last);
+        sync_counters(sys, &ev, &rules, kinds, last);
         if (rc)
             break;
         int at_limit = sys->collisions >= limit;
@@ -203,7 +221,8 @@ int mb_run_event(mote_mb *sys, double t_end, mote_mb_hooks *hooks, mote_err *err
     if (rc) /* leave the arrays at the engine's last consistent state */
         sync_back(&l, t_offset + mote_ev_time(&ev));
     for (uint32_t i = 0; i < sys->n; i++)
-        sys->t_last[i] = ev.t_last ? ev.t_last[i] + t_offset : sys->t_last[i];
+        sys->t_last[i] = rules.t_last[i] + t_offset;
+    free(rules.t_last);
     sys->generation++;
     mote_ev_free(&ev);
     return rc;
