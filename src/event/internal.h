@@ -24,7 +24,7 @@
 #endif
 #define HEAP_TARGET 24.0
 /* A list renewal copies a neighbouring cell's members as one block of this many words (see
- * refresh in engine_dim.inc); cells with more take a loop. */
+ * refresh in step.c); cells with more take a loop. */
 #define GATHER_WORDS 8
 /* A prediction asks for the record of the list entry this many places ahead of the one it
  * tests; the list array has this many words of padding at its end, so that read stays inside
