@@ -18,7 +18,8 @@ CFLAGS  ?= $(OPT) -g
 ALL_CFLAGS := -std=c11 -D_POSIX_C_SOURCE=200809L -Iinclude $(WARN) $(CFLAGS) $(SAN) $(CAIRO_CFLAGS)
 LDLIBS  := $(CAIRO_LIBS) -lm
 
-LIB_SRC  := $(sort $(wildcard src/core/*.c src/event/*.c src/hardspheres/*.c src/mixingbox/*.c src/script/*.c src/render/*.c))
+# every folder of src/ but the program's: a new model's folder is built without naming it here
+LIB_SRC  := $(sort $(filter-out src/cli/%,$(wildcard src/*/*.c)))
 LIB_OBJ  := $(LIB_SRC:%.c=$(BUILD)/%.o)
 CLI_SRC  := $(wildcard src/cli/*.c)
 CLI_OBJ  := $(CLI_SRC:%.c=$(BUILD)/%.o)

@@ -88,7 +88,7 @@ static int setup(workload *w, const char *spec, size_t len, uint64_t k)
         w->k = strtoull(at + 1, NULL, 10);
     double w0 = mote_wall_seconds();
     int rc = is_bulk ? mote_hs_bulk(&w->hs, n, eta, &err)
-                     : mote_hs_new_slit(&w->hs, n, eta, &err);
+                     : mote_hs_new(&w->hs, n, eta, &err);
     if (!rc && is_twin)
         rc = make_twin(&w->hs, &err);
     if (!rc)

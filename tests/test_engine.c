@@ -177,7 +177,7 @@ static void test_invariants(void)
 
     /* Slit at eta 0.45 (spec 10 item 5 asks 10^7 collisions; that is the MOTE_SLOW run). */
     mote_hs_init(&hs, NULL);
-    CHECK(mote_hs_new_slit(&hs, 4, 0.45, &err) == MOTE_OK, "%s", err.msg);
+    CHECK(mote_hs_new(&hs, 4, 0.45, &err) == MOTE_OK, "%s", err.msg);
     uint64_t ncoll = slow ? 10000000ull : sanitized ? 150000ull : 600000ull;
     run_checked(&hs.ev, ncoll, 20, "slit new 4 0.45");
     mote_hs_free(&hs);
@@ -220,7 +220,7 @@ static void test_checker_fails(void)
 
     /* overlap */
     mote_hs_init(&hs, NULL);
-    mote_hs_new_slit(&hs, 2, 0.3, &err);
+    mote_hs_new(&hs, 2, 0.3, &err);
     mote_ev_run(&hs.ev, 500, &err);
     mote_ev_rebuild(&hs.ev, &err);
     CHECK(mote_ev_check(&hs.ev, &err) == MOTE_OK, "%s", err.msg);
@@ -241,7 +241,7 @@ static void test_checker_fails(void)
 
     /* outside a wall */
     mote_hs_init(&hs, NULL);
-    mote_hs_new_slit(&hs, 2, 0.3, &err);
+    mote_hs_new(&hs, 2, 0.3, &err);
     hs.ev.p[mote_ev_slot(&hs.ev, 5)].r[0] = 0.999;
     CHECK(mote_ev_check(&hs.ev, &err) == MOTE_ERUNTIME, "a sphere at x = 0.999 passed");
     CHECK_HAS(err.msg, "particle 5");
@@ -250,7 +250,7 @@ static void test_checker_fails(void)
 
     /* energy (1e-12 relative is the limit; change it by 1e-11) */
     mote_hs_init(&hs, NULL);
-    mote_hs_new_slit(&hs, 2, 0.3, &err);
+    mote_hs_new(&hs, 2, 0.3, &err);
     for (int a = 0; a < 3; a++)
         hs.ev.p[3].v[a] *= 1 + 1e-9;
     CHECK(mote_ev_check(&hs.ev, &err) == MOTE_ERUNTIME, "an energy change passed");
@@ -259,7 +259,7 @@ static void test_checker_fails(void)
 
     /* momentum along a periodic axis (reflected sign keeps the energy) */
     mote_hs_init(&hs, NULL);
-    mote_hs_new_slit(&hs, 2, 0.3, &err);
+    mote_hs_new(&hs, 2, 0.3, &err);
     hs.ev.p[7].v[2] = -hs.ev.p[7].v[2];
     CHECK(mote_ev_check(&hs.ev, &err) == MOTE_ERUNTIME, "a momentum change along z passed");
     CHECK_HAS(err.msg, "momentum along z");
@@ -267,7 +267,7 @@ static void test_checker_fails(void)
 
     /* cell membership and the calendar */
     mote_hs_init(&hs, NULL);
-    mote_hs_new_slit(&hs, 2, 0.3, &err);
+    mote_hs_new(&hs, 2, 0.3, &err);
     hs.ev.pc[9].cell = hs.ev.pc[9].cell == 0 ? 1 : 0;
     CHECK(mote_ev_check(&hs.ev, &err) == MOTE_ERUNTIME, "a wrong cell passed");
     CHECK_HAS(err.msg, "cell");
@@ -275,7 +275,7 @@ static void test_checker_fails(void)
 
     /* a renewal mark left behind, and a particle number that does not lead back to its record */
     mote_hs_init(&hs, NULL);
-    mote_hs_new_slit(&hs, 2, 0.3, &err);
+    mote_hs_new(&hs, 2, 0.3, &err);
     hs.ev.p[mote_ev_slot(&hs.ev, 4)].flags |= MOTE_EV_MARK;
     CHECK(mote_ev_check(&hs.ev, &err) == MOTE_ERUNTIME, "a stray renewal mark passed");
     CHECK_HAS(err.msg, "particle 4 still carries a list-renewal mark");
@@ -284,7 +284,7 @@ static void test_checker_fails(void)
     /* a failed rebuild leaves an engine that refuses to run until a rebuild succeeds; the gap
      * measurement still sees every pair (same closest pair as with cells) */
     mote_hs_init(&hs, NULL);
-    mote_hs_new_slit(&hs, 2, 0.3, &err);
+    mote_hs_new(&hs, 2, 0.3, &err);
     {
         uint32_t wi0 = 0, wj0 = 0;
         const double ratio0 = mote_ev_min_gap_ratio(&hs.ev, &wi0, &wj0);
@@ -316,7 +316,7 @@ static void test_checker_fails(void)
     /* edge flags: only periodic axes (y, z in the slit) may ask for minimum images, and a
      * particle near a periodic face must ask for them on that axis */
     mote_hs_init(&hs, NULL);
-    mote_hs_new_slit(&hs, 4, 0.3, &err);
+    mote_hs_new(&hs, 4, 0.3, &err);
     {
         uint32_t near = MOTE_EV_NIL, xbits = 0;
         for (uint32_t i = 0; i < hs.ev.n; i++) {
@@ -364,7 +364,7 @@ static void test_checker_fails(void)
     }
     mote_hs_free(&hs);
     mote_hs_init(&hs, NULL);
-    mote_hs_new_slit(&hs, 2, 0.3, &err);
+    mote_hs_new(&hs, 2, 0.3, &err);
     {
         mote_ev_cold *p6 = &hs.ev.pc[mote_ev_slot(&hs.ev, 6)];
         p6->label = 7; /* two records now claim number 7 */
@@ -373,7 +373,7 @@ static void test_checker_fails(void)
     CHECK_HAS(err.msg, "does not lead back");
     mote_hs_free(&hs);
     mote_hs_init(&hs, NULL);
-    mote_hs_new_slit(&hs, 2, 0.3, &err);
+    mote_hs_new(&hs, 2, 0.3, &err);
     hs.ev.pc[hs.ev.heap[0]].t_ev = -1;
     CHECK(mote_ev_check(&hs.ev, &err) == MOTE_ERUNTIME, "an event before the clock passed");
     CHECK_HAS(err.msg, "before the clock");
@@ -972,7 +972,7 @@ static void test_reference(void)
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
         mote_hs_init(&hs, NULL);
         mote_hs_seed(&hs, test_seed(7 + c));
-        int rc = cases[c].kind == 0   ? mote_hs_new_slit(&hs, cases[c].a, cases[c].eta, &err)
+        int rc = cases[c].kind == 0   ? mote_hs_new(&hs, cases[c].a, cases[c].eta, &err)
                  : cases[c].kind == 1 ? mote_hs_bulk(&hs, cases[c].a, cases[c].eta, &err)
                  : cases[c].kind == 2
                      ? mote_hs_new_disks(&hs, cases[c].a, cases[c].b, cases[c].eta, &err)
@@ -1071,8 +1071,8 @@ static void test_spatial_order(void)
     mote_hs a, b;
     mote_hs_init(&a, NULL);
     mote_hs_init(&b, NULL);
-    mote_hs_new_slit(&a, 3, 0.45, &err);
-    mote_hs_new_slit(&b, 3, 0.45, &err);
+    mote_hs_new(&a, 3, 0.45, &err);
+    mote_hs_new(&b, 3, 0.45, &err);
     mote_hs_step(&a, 20, &err);
     mote_hs_step(&b, 20, &err);
     CHECK(mote_ev_rebuild(&a.ev, &err) == MOTE_OK, "%s", err.msg);
@@ -1146,9 +1146,9 @@ static void test_determinism(void)
     mote_hs_seed(&a, test_seed(99));
     mote_hs_seed(&b, test_seed(99));
     mote_hs_seed(&c, test_seed(99));
-    mote_hs_new_slit(&a, 3, 0.45, &err);
-    mote_hs_new_slit(&b, 3, 0.45, &err);
-    mote_hs_new_slit(&c, 3, 0.45, &err);
+    mote_hs_new(&a, 3, 0.45, &err);
+    mote_hs_new(&b, 3, 0.45, &err);
+    mote_hs_new(&c, 3, 0.45, &err);
     CHECK(a.ev.n % 2 == 0, "N is odd");
     CHECK(same_state(&a.ev, &b.ev), "two seedings with the same seed differ");
     mote_hs_step(&a, 300, &err);
@@ -1292,7 +1292,7 @@ static void test_seeding(void)
             continue;
         /* at eta_max the spheres touch: L/A = 2 L0/A0 and the checker passes */
         mote_hs_init(&hs, NULL);
-        CHECK(mote_hs_new_slit(&hs, nn, emax, &err) == MOTE_OK, "NN=%d at eta_max: %s", nn,
+        CHECK(mote_hs_new(&hs, nn, emax, &err) == MOTE_OK, "NN=%d at eta_max: %s", nn,
               err.msg);
         CHECK(hs.ev.n == table[k].n, "NN=%d: N = %u", nn, hs.ev.n);
         double la = hs.ev.len[0] / hs.ev.len[1];
@@ -1314,7 +1314,7 @@ static void test_seeding(void)
                 continue;
             mote_hs_init(&hs, NULL);
             mote_hs_seed(&hs, test_seed(1000 + (uint64_t)nn));
-            CHECK(mote_hs_new_slit(&hs, nn, etas[e], &err) == MOTE_OK, "%s", err.msg);
+            CHECK(mote_hs_new(&hs, nn, etas[e], &err) == MOTE_OK, "%s", err.msg);
             char label[64];
             snprintf(label, sizeof label, "new %d %.2f", nn, etas[e]);
             double eta = mote_hs_eta(&hs);
@@ -1340,22 +1340,22 @@ static void test_seeding(void)
 
     /* rejections name eta_max; a failed seed leaves the previous system */
     mote_hs_init(&hs, NULL);
-    mote_hs_new_slit(&hs, 2, 0.3, &err);
+    mote_hs_new(&hs, 2, 0.3, &err);
     double x5 = hs.ev.p[5].r[0];
     char want[64];
     snprintf(want, sizeof want, "%.6f", mote_hs_new_eta_max(2));
-    CHECK(mote_hs_new_slit(&hs, 2, 0.61, &err) == MOTE_EINVAL, "eta 0.61 > 0.6061 accepted");
+    CHECK(mote_hs_new(&hs, 2, 0.61, &err) == MOTE_EINVAL, "eta 0.61 > 0.6061 accepted");
     CHECK_HAS(err.msg, "eta_max");
     CHECK_HAS(err.msg, want);
-    CHECK(mote_hs_new_slit(&hs, 2, mote_hs_new_eta_max(2) * (1 + 1e-12), &err) == MOTE_EINVAL,
+    CHECK(mote_hs_new(&hs, 2, mote_hs_new_eta_max(2) * (1 + 1e-12), &err) == MOTE_EINVAL,
           "eta just above eta_max accepted");
-    CHECK(mote_hs_new_slit(&hs, 2, 0.0, &err) == MOTE_EINVAL, "eta 0 accepted");
+    CHECK(mote_hs_new(&hs, 2, 0.0, &err) == MOTE_EINVAL, "eta 0 accepted");
     CHECK_HAS(err.msg, "eta_max");
-    CHECK(mote_hs_new_slit(&hs, 2, -0.1, &err) == MOTE_EINVAL, "eta -0.1 accepted");
-    CHECK(mote_hs_new_slit(&hs, 1, 0.3, &err) == MOTE_EINVAL, "NN 1 accepted");
-    CHECK(mote_hs_new_slit_ok(8, 0.709, &err) == MOTE_EINVAL, "NN 8 eta 0.709 accepted");
+    CHECK(mote_hs_new(&hs, 2, -0.1, &err) == MOTE_EINVAL, "eta -0.1 accepted");
+    CHECK(mote_hs_new(&hs, 1, 0.3, &err) == MOTE_EINVAL, "NN 1 accepted");
+    CHECK(mote_hs_new_ok(8, 0.709, &err) == MOTE_EINVAL, "NN 8 eta 0.709 accepted");
     CHECK_HAS(err.msg, "0.708");
-    CHECK(mote_hs_new_slit_ok(8, 0.708, &err) == MOTE_OK, "NN 8 eta 0.708 rejected: %s", err.msg);
+    CHECK(mote_hs_new_ok(8, 0.708, &err) == MOTE_OK, "NN 8 eta 0.708 rejected: %s", err.msg);
     CHECK(hs.has_system && hs.ev.n == 64 && hs.ev.p[5].r[0] == x5,
           "a rejected new damaged the previous system");
     mote_hs_free(&hs);
@@ -1368,9 +1368,9 @@ static void test_seeding(void)
         mote_hs_init(&c, NULL);
         mote_hs_seed(&b, 1);
         mote_hs_seed(&c, 2);
-        mote_hs_new_slit(&a, 3, 0.4, &err);
-        mote_hs_new_slit(&b, 3, 0.4, &err);
-        mote_hs_new_slit(&c, 3, 0.4, &err);
+        mote_hs_new(&a, 3, 0.4, &err);
+        mote_hs_new(&b, 3, 0.4, &err);
+        mote_hs_new(&c, 3, 0.4, &err);
         CHECK(same_state(&a.ev, &b.ev) && memcmp(a.rng.s, b.rng.s, sizeof a.rng.s) == 0,
               "default seed and seed 1 differ");
         int differ = 0;
@@ -1379,7 +1379,7 @@ static void test_seeding(void)
         CHECK(differ > (int)a.ev.n / 2, "seeds 1 and 2 give %d different v_x of %u", differ,
               a.ev.n);
         /* a second new continues the stream: different velocities, same positions */
-        mote_hs_new_slit(&a, 3, 0.4, &err);
+        mote_hs_new(&a, 3, 0.4, &err);
         CHECK(a.ev.p[0].v[0] != b.ev.p[0].v[0] && a.ev.p[0].r[0] == b.ev.p[0].r[0],
               "a second new should continue the random stream");
         mote_hs_free(&a);
@@ -1502,9 +1502,9 @@ static void test_calendars(void)
         mote_hs a, b;
         mote_hs_init(&a, NULL);
         mote_hs_init(&b, NULL);
-        int rc = bulk ? mote_hs_bulk(&a, 500, 0.45, &err) : mote_hs_new_slit(&a, 3, 0.45, &err);
+        int rc = bulk ? mote_hs_bulk(&a, 500, 0.45, &err) : mote_hs_new(&a, 3, 0.45, &err);
         CHECK(rc == MOTE_OK, "%s", err.msg);
-        rc = bulk ? mote_hs_bulk(&b, 500, 0.45, &err) : mote_hs_new_slit(&b, 3, 0.45, &err);
+        rc = bulk ? mote_hs_bulk(&b, 500, 0.45, &err) : mote_hs_new(&b, 3, 0.45, &err);
         CHECK(rc == MOTE_OK, "%s", err.msg);
         b.ev.heap_only = 1; /* then both rebuild once more, at the same state */
         CHECK(mote_ev_rebuild(&a.ev, &err) == MOTE_OK && mote_ev_rebuild(&b.ev, &err) == MOTE_OK,

@@ -226,7 +226,7 @@ static void test_round_trips(void)
 
     mote_hs_init(&hs, NULL);
     mote_hs_seed(&hs, test_seed(17));
-    mote_hs_new_slit(&hs, 3, 0.45, &err);
+    mote_hs_new(&hs, 3, 0.45, &err);
     round_trip(&hs, "fresh slit", 1);
     mote_hs_step(&hs, 37, &err);
     round_trip(&hs, "slit after step", 1);
@@ -261,7 +261,7 @@ static void test_round_trips(void)
         tmp_path(base, sizeof base, "mono.state");
         tmp_path(poly, sizeof poly, "poly.state");
         mote_hs_init(&hs, NULL);
-        mote_hs_new_slit(&hs, 2, 0.4, &err);
+        mote_hs_new(&hs, 2, 0.4, &err);
         mote_hs_step(&hs, 10, &err);
         mote_hs_save(&hs, base, &err);
         mote_hs_free(&hs);
@@ -329,7 +329,7 @@ static void test_continuation(void)
         if (cases[c].bulk)
             mote_hs_bulk(&A, 256, 0.45, &err);
         else
-            mote_hs_new_slit(&A, 3, 0.45, &err);
+            mote_hs_new(&A, 3, 0.45, &err);
         mote_hs_step(&A, cases[c].a, &err);
         CHECK(mote_hs_save(&A, f, &err) == MOTE_OK, "%s", err.msg);
         double t_f = mote_ev_time(&A.ev), t_rb = A.ev.t_rebuild;
@@ -346,8 +346,8 @@ static void test_continuation(void)
         CHECK(t_end - t_f > t_rb, "%s: the continuation (%.1f) does not cross an automatic "
               "rebuild (%.1f)", cases[c].label, t_end - t_f, t_rb);
         /* the random stream continues identically */
-        mote_hs_new_slit(&A, 2, 0.3, &err);
-        mote_hs_new_slit(&B, 2, 0.3, &err);
+        mote_hs_new(&A, 2, 0.3, &err);
+        mote_hs_new(&B, 2, 0.3, &err);
         CHECK(same_state(&A.ev, &B.ev), "%s: the random stream was not restored", cases[c].label);
         printf("  %s: identical (t = %.2f)\n", cases[c].label, t_end);
         mote_hs_free(&A);
@@ -410,7 +410,7 @@ static void test_load_errors(void)
     /* base: N = 64, header lines 1-11, particles on lines 12..75, end on 76 */
     mote_hs src;
     mote_hs_init(&src, NULL);
-    mote_hs_new_slit(&src, 2, 0.40, &err);
+    mote_hs_new(&src, 2, 0.40, &err);
     mote_hs_step(&src, 5, &err);
     mote_hs_save(&src, base, &err);
     mote_hs_free(&src);
@@ -422,7 +422,7 @@ static void test_load_errors(void)
     mote_hs hs;
     mote_hs_init(&hs, NULL);
     mote_hs_seed(&hs, test_seed(3));
-    mote_hs_new_slit(&hs, 3, 0.3, &err);
+    mote_hs_new(&hs, 3, 0.3, &err);
     snapshot snap;
     snap_take(&hs, &snap);
 
@@ -633,7 +633,7 @@ static void test_original_format(void)
     mote_hs hs;
     mote_hs_init(&hs, NULL);
     mote_hs_seed(&hs, test_seed(77));
-    mote_hs_new_slit(&hs, 2, 0.3, &err); /* a system and a used stream before the import */
+    mote_hs_new(&hs, 2, 0.3, &err); /* a system and a used stream before the import */
     mote_rng before = hs.rng;
     FILE *log = fopen(logpath, "w");
     hs.log = log;
@@ -727,7 +727,7 @@ static void test_atomic(void)
     mote_err err = {0};
     mote_hs hs;
     mote_hs_init(&hs, NULL);
-    mote_hs_new_slit(&hs, 3, 0.4, &err);
+    mote_hs_new(&hs, 3, 0.4, &err);
 
     /* a missing directory: error naming the path, nothing created */
     char path[512];

@@ -77,7 +77,7 @@ static void make_slit(mote_hs *hs, int64_t nn, double eta, uint64_t seed, uint64
     mote_err err = {0};
     mote_hs_init(hs, NULL);
     mote_hs_seed(hs, test_seed(seed));
-    CHECK(mote_hs_new_slit(hs, nn, eta, &err) == MOTE_OK, "new %lld %g: %s", (long long)nn, eta,
+    CHECK(mote_hs_new(hs, nn, eta, &err) == MOTE_OK, "new %lld %g: %s", (long long)nn, eta,
           err.msg);
     if (equil)
         CHECK(mote_hs_step(hs, equil, &err) == MOTE_OK, "step: %s", err.msg);

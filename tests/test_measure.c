@@ -382,8 +382,8 @@ static void test_no_perturbation(void)
     mote_hs_init(&a, NULL);
     mote_hs_init(&b, NULL);
     mote_hs_init(&c, NULL);
-    int rc = mote_hs_new_slit(&a, 4, 0.40, &err) || mote_hs_new_slit(&b, 4, 0.40, &err) ||
-             mote_hs_new_slit(&c, 4, 0.40, &err);
+    int rc = mote_hs_new(&a, 4, 0.40, &err) || mote_hs_new(&b, 4, 0.40, &err) ||
+             mote_hs_new(&c, 4, 0.40, &err);
     CHECK(rc == 0, "new: %s", err.msg);
     if (!rc) {
         rc = mote_hs_step(&a, 37, &err) || mote_hs_pressure(&b, 37, path, "t", NULL, &err) ||
@@ -429,7 +429,7 @@ static void test_files(void)
     mote_err err = {0};
     mote_hs_init(&hs, NULL);
     CHECK(mote_hs_pressure(&hs, 5, path, "t", NULL, &err) == MOTE_EINVAL, "no system accepted");
-    int rc = mote_hs_new_slit(&hs, 3, 0.35, &err);
+    int rc = mote_hs_new(&hs, 3, 0.35, &err);
     CHECK(rc == 0, "new: %s", err.msg);
     if (rc)
         return;

@@ -777,7 +777,7 @@ static void test_brute_force(void)
             break;
         case 2:
             label = "slit new 3 eta 0.45";
-            rc = mote_hs_new_slit(&hs, 3, 0.45, &err);
+            rc = mote_hs_new(&hs, 3, 0.45, &err);
             break;
         case 3:
             label = "polydisperse bulk 256 eta 0.40";
@@ -869,7 +869,7 @@ static void test_layers(void)
     mote_err err = {0};
     mote_hs_init(&hs, NULL);
     mote_hs_seed(&hs, test_seed(3));
-    CHECK(mote_hs_new_slit(&hs, 6, 0.40, &err) == MOTE_OK, "%s", err.msg);
+    CHECK(mote_hs_new(&hs, 6, 0.40, &err) == MOTE_OK, "%s", err.msg);
     CHECK(mote_hs_step(&hs, 100, &err) == MOTE_OK, "%s", err.msg);
     double w0 = mote_wall_seconds();
     mote_result res;
@@ -977,7 +977,7 @@ static void test_no_perturbation(void)
     for (int q = 0; q < 3; q++) {
         mote_hs_init(hs[q], NULL);
         mote_hs_seed(hs[q], test_seed(8));
-        CHECK(mote_hs_new_slit(hs[q], 3, 0.45, &err) == MOTE_OK, "%s", err.msg);
+        CHECK(mote_hs_new(hs[q], 3, 0.45, &err) == MOTE_OK, "%s", err.msg);
         CHECK(mote_hs_step(hs[q], 10, &err) == MOTE_OK, "%s", err.msg);
     }
     CHECK(same_state(&a.ev, &b.ev), "identical seeds differ");

@@ -163,7 +163,7 @@ static void test_rdf_slit(void)
     mote_err err = {0};
     mote_hs_init(&hs, NULL);
     mote_hs_seed(&hs, test_seed(33));
-    CHECK(mote_hs_new_slit(&hs, 6, 0.40, &err) == 0, "%s", err.msg);
+    CHECK(mote_hs_new(&hs, 6, 0.40, &err) == 0, "%s", err.msg);
     CHECK(mote_hs_step(&hs, 50, &err) == 0, "%s", err.msg);
     char path[512];
     path_in(path, sizeof path, "grs.dat");
@@ -223,7 +223,7 @@ static void test_msd(void)
     /* a slit: only y and z */
     mote_hs_init(&hs, NULL);
     mote_hs_seed(&hs, test_seed(35));
-    CHECK(mote_hs_new_slit(&hs, 3, 0.30, &err) == 0, "%s", err.msg);
+    CHECK(mote_hs_new(&hs, 3, 0.30, &err) == 0, "%s", err.msg);
     CHECK(mote_hs_msd(&hs, 40, path, "test", &r, &err) == 0, "msd slit: %s", err.msg);
     dims = get(&r, "dimensions", NULL);
     CHECK(dims && *dims == 2, "slit dimensions");
@@ -267,7 +267,7 @@ static void test_compress_box(void)
     CHECK(fabs(mote_hs_phi(&hs) - 0.40) < 1e-13, "eta after expansion %.17g", mote_hs_phi(&hs));
     mote_hs_free(&hs);
     mote_hs_init(&hs, NULL);
-    CHECK(mote_hs_new_slit(&hs, 2, 0.3, &err) == 0, "%s", err.msg);
+    CHECK(mote_hs_new(&hs, 2, 0.3, &err) == 0, "%s", err.msg);
     CHECK(mote_hs_compress_box(&hs, 0.35, 0.05, 1, &err) != 0, "a slit compressed as a box");
     CHECK_HAS(err.msg, "compress_left_wall");
     mote_hs_free(&hs);

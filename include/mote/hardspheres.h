@@ -35,12 +35,12 @@ void mote_hs_init(mote_hs *hs, mote_context *ctx);
 void mote_hs_free(mote_hs *hs);
 
 /* ---- seeding (spec 5) ---- */
-int mote_hs_new_slit(mote_hs *hs, int64_t nn, double eta, mote_err *err);
+int mote_hs_new(mote_hs *hs, int64_t nn, double eta, mote_err *err);
 int mote_hs_bulk(mote_hs *hs, int64_t n, double eta, mote_err *err);
 int mote_hs_new_disks(mote_hs *hs, int64_t nx, int64_t ny, double eta, mote_err *err);
 int mote_hs_bulk_disks(mote_hs *hs, int64_t n, double eta, mote_err *err);
 /* Checks without building (for validation); return MOTE_OK or an error naming the limits. */
-int mote_hs_new_slit_ok(int64_t nn, double eta, mote_err *err);
+int mote_hs_new_ok(int64_t nn, double eta, mote_err *err);
 int mote_hs_bulk_ok(int64_t n, double eta, mote_err *err);
 int mote_hs_new_disks_ok(int64_t nx, int64_t ny, double eta, mote_err *err);
 int mote_hs_bulk_disks_ok(int64_t n, double eta, mote_err *err);

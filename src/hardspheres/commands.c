@@ -97,7 +97,7 @@ static void dry_system(hs_model *m, int geometry, int dim, uint64_t n)
 static int check_new(void *vm, const mote_call *c, mote_err *err)
 {
     hs_model *m = vm;
-    int rc = mote_hs_new_slit_ok(c->args[0].i, c->args[1].r, err);
+    int rc = mote_hs_new_ok(c->args[0].i, c->args[1].r, err);
     if (rc)
         return located(err, c, c->args[0].i < 2 ? 0 : 1, rc);
     dry_system(m, MOTE_HS_SLIT, 3, mote_hs_new_count(c->args[0].i));
@@ -105,7 +105,7 @@ static int check_new(void *vm, const mote_call *c, mote_err *err)
 }
 static int run_new(void *vm, const mote_call *c, mote_err *err)
 {
-    return mote_hs_new_slit(&((hs_model *)vm)->hs, c->args[0].i, c->args[1].r, err);
+    return mote_hs_new(&((hs_model *)vm)->hs, c->args[0].i, c->args[1].r, err);
 }
 
 static int check_bulk(void *vm, const mote_call *c, mote_err *err)

@@ -173,7 +173,7 @@ double mote_hs_new_eta_max(int64_t nn)
     return new_density((double)mote_hs_new_count(nn), A0, L0, 1.0);
 }
 
-int mote_hs_new_slit_ok(int64_t nn, double eta, mote_err *err)
+int mote_hs_new_ok(int64_t nn, double eta, mote_err *err)
 {
     if (nn < 2)
         return mote_fail(err, MOTE_EINVAL, "new: NN must be at least 2, got %lld", (long long)nn);
@@ -223,9 +223,9 @@ static double new_solve_beta(double n, double A0, double L0, double eta)
     return beta;
 }
 
-int mote_hs_new_slit(mote_hs *hs, int64_t nn, double eta, mote_err *err)
+int mote_hs_new(mote_hs *hs, int64_t nn, double eta, mote_err *err)
 {
-    int rc = mote_hs_new_slit_ok(nn, eta, err);
+    int rc = mote_hs_new_ok(nn, eta, err);
     if (rc)
         return rc;
     uint64_t n = mote_hs_new_count(nn);
