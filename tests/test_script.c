@@ -24,6 +24,9 @@ static struct {
     char last_path[1024];
     char plot_in[1024], plot_out[1024]; /* the paths the model's plot hook received */
     char load_kind[32];                 /* the kind load's check found for its input ("" none) */
+    char variant[32];                   /* ctx->model_variant when the model was created */
+    double opt_mass, opt_x;             /* the options `place` received (NAN: not given) */
+    int opt_n;
 } LOG;
 
 typedef struct {
@@ -33,6 +36,7 @@ typedef struct {
 
 static void *fake_create(mote_context *ctx, int dry)
 {
+    snprintf(LOG.variant, sizeof LOG.variant, "%s", ctx ? ctx->model_variant : "");
     fake *f = calloc(1, sizeof *f);
     if (f)
         f->dry = dry;
@@ -151,6 +155,16 @@ static int fake_plot(void *m, const char *in, const char *out, mote_err *err)
     return 0;
 }
 
+static int place_run(void *m, const mote_call *c, mote_err *err)
+{
+    LOG.runs++;
+    LOG.opt_mass = mote_call_opt_r(c, "mass", NAN);
+    LOG.opt_x = mote_call_opt_r(c, "x", NAN);
+    LOG.opt_n = c->nopts;
+    LOG.last_nargs = c->nargs;
+    return 0;
+}
+
 static int opts_run(void *m, const mote_call *c, mote_err *err)
 {
     LOG.runs++;
@@ -186,6 +200,8 @@ static const mote_cmd fake_cmds[] = { /* the model every test script drives by d
     {"load", NULL, "f<state", "load FILE", "read a state", "Load.", load_check, opts_run},
     {"measure", NULL, "i r[0,1] u<=100 f>data", "measure K x u FILE", "write data", "Measure.",
      NULL, opts_run},
+    {"place", NULL, "s mass=r>0! x=r file=f>data", "place NAME mass=M [x=X] [file=F]",
+     "place a body", "Place.", NULL, place_run},
     {"opts", NULL, "*", "opts KEY=VALUE...", "any tokens", "Options.", NULL, opts_run},
     {"name", NULL, "s", "name S", "a string", "Name.", NULL, opts_run},
     {"boom", NULL, "", "boom", "fail at run time", "Fails.", NULL, boom_run},
@@ -216,6 +232,7 @@ static const mote_cmd other_cmds[] = {
 static const mote_model other_model = {
     .name = "mixing-box",
     .summary = "another fake",
+    .variants = "alpha|beta",
     .cmds = other_cmds,
     .ncmds = 1,
     .create = fake_create,
@@ -601,7 +618,25 @@ static void test_models(void)
                  NULL);
 
     run_text(&r, "m7.mote", "model\n", 0);
-    expect_error(&r, 1, 1, 1, "model: too few arguments", "'model NAME'", NULL);
+    expect_error(&r, 1, 1, 1, "model: expected 'model NAME [VARIANT]', found 0 arguments", NULL,
+                 NULL);
+
+    /* variants: the default is the first; others are checked against the model's list */
+    run_text(&r, "v1.mote", "model mixing-box\nping\n", 0);
+    CHECK_INT(r.status, 0);
+    CHECK_STR(LOG.variant, "alpha");
+    run_text(&r, "v2.mote", "model mixing-box beta\nping\n", 0);
+    CHECK_INT(r.status, 0);
+    CHECK_STR(LOG.variant, "beta");
+    run_text(&r, "v3.mote", "model mixing-box gamma\n", 0);
+    expect_error(&r, 1, 1, 18, "model: the mixing-box model's variant is one of alpha|beta, found 'gamma'",
+                 NULL, NULL);
+    run_text(&r, "v4.mote", "model hard-spheres beta\n", 0);
+    expect_error(&r, 1, 1, 20, "model: the hard-spheres model has no variants, found 'beta'", NULL,
+                 NULL);
+    run_text(&r, "v5.mote", "model mixing-box beta extra\n", 0);
+    expect_error(&r, 1, 1, 23, "model: expected 'model NAME [VARIANT]', found 3 arguments", NULL,
+                 NULL);
 
     /* a registry without the default model needs a model line */
     const mote_model *const only_other[] = {&other_model};
@@ -722,9 +757,38 @@ static void test_argument_specs(void)
     CHECK(LOG.last_seed == 3, "seed hook got %llu", LOG.last_seed);
     CHECK_STR(r.out, "seed: 3\n");
 
+    /* options: key=value in any order, converted and range-checked by their specs */
+    run_text(&r, "o1.mote", "place sun x=-2.5 mass=3\nplace moon mass=1e-3\n", 0);
+    CHECK_INT(r.status, 0);
+    CHECK(LOG.opt_mass == 1e-3 && isnan(LOG.opt_x) && LOG.opt_n == 1 && LOG.last_nargs == 1,
+          "options: mass %g x %g n %d nargs %d", LOG.opt_mass, LOG.opt_x, LOG.opt_n,
+          LOG.last_nargs);
+    run_text(&r, "o2.mote", "place sun x=1\n", 0);
+    expect_error(&r, 1, 1, 1, "place: option mass= is required", NULL, NULL);
+    run_text(&r, "o3.mote", "place sun mass=0\n", 0);
+    expect_error(&r, 1, 1, 16, "place: mass must be > 0, found 0", NULL, NULL);
+    run_text(&r, "o4.mote", "place sun mass=1 mas=2\n", 0);
+    expect_error(&r, 1, 1, 18, "place: unknown option 'mas'; did you mean 'mass'?",
+                 "(options: mass, x, file)", NULL);
+    run_text(&r, "o5.mote", "place sun mass=1 mass=2\n", 0);
+    expect_error(&r, 1, 1, 18, "place: option 'mass' given twice", NULL, NULL);
+    run_text(&r, "o6.mote", "place sun mass=heavy\n", 0);
+    expect_error(&r, 1, 1, 16, "place: expected a real number for mass, found 'heavy'", NULL,
+                 NULL);
+    run_text(&r, "o7.mote", "place sun moon mass=1\n", 0);
+    expect_error(&r, 1, 1, 11, "place: too many arguments", NULL, NULL);
+    run_text(&r, "o8.mote", "place \"mass=1\" mass=2\n", 0); /* a quoted token is positional */
+    CHECK_INT(r.status, 0);
+    run_text(&r, "o9.mote", "place sun mass=1 file=nodir/p.dat\n", 0);
+    expect_error(&r, 1, 1, 23, "place: the directory of output file 'nodir/p.dat' does not exist",
+                 NULL, NULL);
+    run_text(&r, "o10.mote", "place sun mass=1 file=p.dat\nplot p.dat p.png\n", 1);
+    CHECK_INT(r.status, 0); /* an option's output is tracked like an argument's */
+
     /* malformed specs are caught by the table check */
     static const char *const bad_specs[] = {"i>=", "r[1,0]", "f>a|b", "x", "s>0", "f>", "r(0,1",
-                                            "i>=1x", "f<A", "i>=1 f>"};
+                                            "i>=1x", "f<A", "i>=1 f>", "k=r i", "k=r k=i",
+                                            "k=", "k=q", "K=r"};
     for (size_t k = 0; k < sizeof bad_specs / sizeof bad_specs[0]; k++) {
         mote_cmd cmd = {"go", NULL, bad_specs[k], "go A", "go", "Go.", NULL, opts_run};
         mote_model model = {.name = "bad", .summary = "bad", .cmds = &cmd, .ncmds = 1,

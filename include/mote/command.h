@@ -26,6 +26,12 @@ typedef struct {
                     * before the command's check and run; owned by the script) */
 } mote_arg;
 
+/* One key=value option of a parsed command; value.text is what follows the '='. */
+typedef struct {
+    const char *key;
+    mote_arg value;
+} mote_opt;
+
 struct mote_cmd;
 struct mote_context;
 
@@ -37,7 +43,9 @@ typedef struct {
     const char *written;        /* the command name as written (may be an alias) */
     const char *source;         /* the line as written, without comment and surrounding blanks */
     int nargs;
-    const mote_arg *args;
+    const mote_arg *args;       /* the positional arguments */
+    int nopts;
+    const mote_opt *opts;       /* the key=value options given, in the order written */
     const struct mote_cmd *def;
     struct mote_context *ctx;   /* run-wide settings (output directory, terminal, streams) */
 } mote_call;
@@ -56,7 +64,10 @@ typedef struct {
  * "state" or "image"): the script layer checks that its directory will exist, warns when a script
  * writes a file twice, and records it; "f<KIND1|KIND2" is an input that an earlier command of the
  * script must write with one of these kinds, or else must exist now. Kinds are the models' own
- * names; a command's `check` can ask for the kind of an input with mote_outputs_find. */
+ * names; a command's `check` can ask for the kind of an input with mote_outputs_find.
+ * Options follow the positional specs as KEY=SPEC, e.g. "f>image mass=r>0! x=r name=s": a call
+ * gives them as key=value tokens in any order after or among its positional arguments; each
+ * key at most once; a trailing '!' makes one required. mote_call_opt finds one. */
 typedef struct mote_cmd {
     const char *name;
     const char *aliases;  /* space-separated alternative names, or NULL */
@@ -86,6 +97,7 @@ typedef struct mote_context {
     char pending_dirs[8][4096]; /* during validation: directories `output_dir` will create */
     int npending_dirs;
     mote_outputs outputs;   /* during validation: the files the script writes, so far */
+    char model_variant[32]; /* the variant the `model` line chose ("" when the model has none) */
     int terminal;           /* stdout is a terminal: show progress */
     FILE *out;              /* status lines (stdout) */
     FILE *diag;             /* warnings and errors (stderr) */
@@ -96,6 +108,9 @@ typedef struct mote_context {
 typedef struct mote_model {
     const char *name;
     const char *summary;
+    /* Variants the `model NAME VARIANT` line may choose, as "a|b" (the first is the default), or
+     * NULL; the choice is in ctx->model_variant when create is called. */
+    const char *variants;
     const mote_cmd *cmds;
     size_t ncmds;
     void *(*create)(mote_context *ctx, int dry);
@@ -119,6 +134,11 @@ typedef struct mote_model {
     const char *plot_help;  /* the pictures of this model's kinds (for `mote help plot`) */
 } mote_model;
 
+/* The option `key` of a call (its converted value), or NULL when not given. */
+const mote_arg *mote_call_opt(const mote_call *c, const char *key);
+/* Its real value, or `dflt` when not given. */
+double mote_call_opt_r(const mote_call *c, const char *key, double dflt);
+
 /* Resolve a file name given to a command: relative names are taken relative to ctx->output_dir
  * when one is set. Returns a malloc'ed string (NULL on allocation failure). */
 char *mote_ctx_path(const mote_context *ctx, const char *name);
@@ -127,7 +147,11 @@ char *mote_ctx_path(const mote_context *ctx, const char *name);
  * create it earlier in the script? */
 int mote_ctx_dir_ok(const mote_context *ctx, const char *path);
 
-/* Format an error located at argument `argi` of the call (argi < 0: the command name):
+/* The argi of option `key` for mote_call_fail (-1 when it was not given). */
+int mote_call_opt_index(const mote_call *c, const char *key);
+
+/* Format an error located at argument `argi` of the call (argi < 0: the command name; nargs + k:
+ * the value of option k, see mote_call_opt_index):
  * "FILE:LINE:COL: error: <message>". Returns code. */
 int mote_call_fail(mote_err *err, const mote_call *c, int argi, mote_status code, const char *fmt,
                    ...) __attribute__((format(printf, 5, 6)));

@@ -112,6 +112,9 @@ int mote_call_fail(mote_err *err, const mote_call *c, int argi, mote_status code
     if (argi >= 0 && argi < c->nargs) {
         line = c->args[argi].line;
         col = c->args[argi].col;
+    } else if (argi >= c->nargs && argi < c->nargs + c->nopts) { /* an option's value */
+        line = c->opts[argi - c->nargs].value.line;
+        col = c->opts[argi - c->nargs].value.col;
     }
     err->code = code;
     err->located = 1;
@@ -258,4 +261,26 @@ char *mote_call_origin(const mote_call *c)
     if (s)
         snprintf(s, n, "%s   (%s:%d)", c->source, c->file, c->line);
     return s;
+}
+
+const mote_arg *mote_call_opt(const mote_call *c, const char *key)
+{
+    for (int k = 0; k < c->nopts; k++)
+        if (strcmp(c->opts[k].key, key) == 0)
+            return &c->opts[k].value;
+    return NULL;
+}
+
+double mote_call_opt_r(const mote_call *c, const char *key, double dflt)
+{
+    const mote_arg *a = mote_call_opt(c, key);
+    return a ? a->r : dflt;
+}
+
+int mote_call_opt_index(const mote_call *c, const char *key)
+{
+    for (int k = 0; k < c->nopts; k++)
+        if (strcmp(c->opts[k].key, key) == 0)
+            return c->nargs + k;
+    return -1;
 }

@@ -28,9 +28,55 @@ static int read_bound(const char **pp, double *v, char *text, size_t cap)
     return 0;
 }
 
-/* Parse the spec at *pp (one token: a type letter and its qualifier) into sp; leaves *pp after
- * it. Returns 0, or -1 when malformed. */
+static int is_key_start(int ch) { return (ch >= 'a' && ch <= 'z') || ch == '_'; }
+static int is_key_char(int ch) { return is_key_start(ch) || (ch >= '0' && ch <= '9'); }
+
+/* The length of the option key at p ("mass" in "mass=r>0"), or 0 when p does not start one. */
+size_t mote_option_key_len(const char *p)
+{
+    size_t n = 0;
+    if (!is_key_start((unsigned char)p[0]))
+        return 0;
+    while (is_key_char((unsigned char)p[n]))
+        n++;
+    return p[n] == '=' ? n : 0;
+}
+
+static int parse_spec(const char **pp, mote_argspec *sp);
+
+/* Parse the spec at *pp (one token: an optional KEY=, a type letter and its qualifier, for an
+ * option an optional trailing '!') into sp; leaves *pp after it. Returns 0, or -1 when
+ * malformed. */
 static int parse_one(const char **pp, mote_argspec *sp)
+{
+    const char *p = *pp;
+    size_t k = mote_option_key_len(p);
+    if (!k)
+        return parse_spec(pp, sp);
+    if (k >= sizeof sp->key)
+        return -1;
+    char tok[160];
+    const char *v = p + k + 1;
+    size_t n = strcspn(v, " ");
+    if (n == 0 || n >= sizeof tok)
+        return -1;
+    memcpy(tok, v, n);
+    tok[n] = '\0';
+    int required = tok[n - 1] == '!';
+    if (required)
+        tok[n - 1] = '\0';
+    const char *q = tok;
+    if (parse_spec(&q, sp) || *q)
+        return -1;
+    memcpy(sp->key, p, k);
+    sp->key[k] = '\0';
+    sp->required = required;
+    *pp = v + n;
+    return 0;
+}
+
+/* A positional spec (no key). */
+static int parse_spec(const char **pp, mote_argspec *sp)
 {
     const char *p = *pp;
     memset(sp, 0, sizeof *sp);
@@ -97,39 +143,75 @@ static int parse_one(const char **pp, mote_argspec *sp)
     return 0;
 }
 
-int mote_argspec_count(const char *args)
+/* Walk the specs: positional ones (opt = 0) or options (opt = 1). With index >= 0, the spec of
+ * that index of its kind goes to *out; with key, the option of that key. Returns the number of
+ * specs of the kind (index < 0 and no key), 0 when found, or -1 (malformed, or not found). */
+static int walk(const char *args, int opt, int index, const char *key, mote_argspec *out)
 {
     if (!args)
         return -1;
     if (strcmp(args, "*") == 0)
-        return -2;
-    int n = 0;
+        return index < 0 && !key ? -2 : -1;
+    int n = 0, seen_opt = 0;
     const char *p = args;
     for (;;) {
         while (*p == ' ')
             p++;
         if (!*p)
-            return n;
+            return index < 0 && !key ? n : -1;
         mote_argspec sp;
         if (parse_one(&p, &sp))
             return -1;
+        int is_opt = sp.key[0] != '\0';
+        if (!is_opt && seen_opt)
+            return -1; /* positional specs come first */
+        seen_opt |= is_opt;
+        if (is_opt != opt)
+            continue;
+        if ((index >= 0 && n == index) || (key && strcmp(sp.key, key) == 0)) {
+            *out = sp;
+            return 0;
+        }
         n++;
     }
 }
 
+int mote_argspec_count(const char *args) { return walk(args, 0, -1, NULL, NULL); }
+
 int mote_argspec_get(const char *args, int index, mote_argspec *out)
 {
-    const char *p = args;
-    for (int n = 0;; n++) {
-        while (*p == ' ')
-            p++;
-        if (!*p)
-            return -1;
-        if (parse_one(&p, out))
-            return -1;
-        if (n == index)
-            return 0;
-    }
+    return walk(args, 0, index, NULL, out);
+}
+
+int mote_argspec_noptions(const char *args)
+{
+    int n = walk(args, 1, -1, NULL, NULL);
+    return n == -2 ? 0 : n;
+}
+
+int mote_argspec_option_at(const char *args, int index, mote_argspec *out)
+{
+    return walk(args, 1, index, NULL, out);
+}
+
+int mote_argspec_option(const char *args, const char *key, mote_argspec *out)
+{
+    return walk(args, 1, -1, key, out);
+}
+
+int mote_argspec_valid(const char *args)
+{
+    if (mote_argspec_count(args) == -1 || mote_argspec_noptions(args) < 0)
+        return 0;
+    /* no key twice */
+    mote_argspec a, b;
+    int n = mote_argspec_noptions(args);
+    for (int i = 0; i < n; i++)
+        for (int j = i + 1; j < n; j++)
+            if (!mote_argspec_option_at(args, i, &a) && !mote_argspec_option_at(args, j, &b) &&
+                strcmp(a.key, b.key) == 0)
+                return 0;
+    return 1;
 }
 
 /* The name of argument i as the synopsis gives it ("argument 3" when it has none). */
@@ -151,11 +233,34 @@ void mote_arg_name(const mote_cmd *def, int i, char *buf, size_t cap)
 
 /* ---- validation of one call ---------------------------------------------------------------- */
 
+/* A call's arguments and options as one sequence of slots: slot u < nargs is positional argument
+ * u, slot nargs + k is option k (the argi mote_call_fail locates). */
+static int nslots(const mote_call *c) { return c->nargs + c->nopts; }
+
+static mote_arg *slot_arg(const mote_call *c, int u)
+{
+    return (mote_arg *)(u < c->nargs ? &c->args[u] : &c->opts[u - c->nargs].value);
+}
+
+static int slot_spec(const mote_call *c, int u, mote_argspec *sp)
+{
+    return u < c->nargs ? mote_argspec_get(c->def->args, u, sp)
+                        : mote_argspec_option(c->def->args, c->opts[u - c->nargs].key, sp);
+}
+
+static void slot_name(const mote_call *c, int u, char *buf, size_t cap)
+{
+    if (u < c->nargs)
+        mote_arg_name(c->def, u, buf, cap);
+    else
+        snprintf(buf, cap, "%s", c->opts[u - c->nargs].key);
+}
+
 static int range_fail(mote_err *err, const mote_call *c, int i, const mote_argspec *sp)
 {
     char name[64];
-    mote_arg_name(c->def, i, name, sizeof name);
-    const char *found = c->args[i].text;
+    slot_name(c, i, name, sizeof name);
+    const char *found = slot_arg(c, i)->text;
     if (sp->lo_set && sp->hi_set)
         return mote_call_fail(err, c, i, MOTE_EINVAL, "%s: %s must be in %c%s, %s%c, found %s",
                               c->name, name, sp->lo_open ? '(' : '[', sp->lo_text, sp->hi_text,
@@ -219,22 +324,23 @@ int mote_args_resolve(mote_call *c, mote_err *err)
 {
     if (c->def->args[0] == '*')
         return MOTE_OK;
-    for (int i = 0; i < c->nargs; i++) {
+    for (int u = 0; u < nslots(c); u++) {
         mote_argspec sp;
-        if (mote_argspec_get(c->def->args, i, &sp) || sp.type != 'f')
+        if (slot_spec(c, u, &sp) || sp.type != 'f')
             continue;
-        mote_arg *a = (mote_arg *)&c->args[i];
+        mote_arg *a = slot_arg(c, u);
         free(a->path);
         a->path = mote_ctx_path(c->ctx, a->text);
         if (!a->path)
-            return mote_call_fail(err, c, i, MOTE_ENOMEM, "out of memory");
+            return mote_call_fail(err, c, u, MOTE_ENOMEM, "out of memory");
     }
     return MOTE_OK;
 }
 
 int mote_args_check_input(const mote_call *c, int i, const char *kinds, mote_err *err)
 {
-    const char *path = c->args[i].path ? c->args[i].path : c->args[i].text;
+    const mote_arg *a = slot_arg(c, i);
+    const char *path = a->path ? a->path : a->text;
     const char *kind = mote_outputs_find(&c->ctx->outputs, path);
     struct stat st;
     if (kind && !kind_listed(kinds, kind)) {
@@ -256,14 +362,14 @@ int mote_args_check_before(const mote_call *c, mote_err *err)
 {
     if (c->def->args[0] == '*')
         return MOTE_OK;
-    for (int i = 0; i < c->nargs; i++) {
+    for (int u = 0; u < nslots(c); u++) {
         mote_argspec sp;
-        if (mote_argspec_get(c->def->args, i, &sp))
-            return mote_call_fail(err, c, i, MOTE_EINVAL, "internal: bad argument types");
-        if ((sp.lo_set || sp.hi_set) && !in_range(&sp, &c->args[i]))
-            return range_fail(err, c, i, &sp);
+        if (slot_spec(c, u, &sp))
+            return mote_call_fail(err, c, u, MOTE_EINVAL, "internal: bad argument types");
+        if ((sp.lo_set || sp.hi_set) && !in_range(&sp, slot_arg(c, u)))
+            return range_fail(err, c, u, &sp);
         if (sp.role == '<') {
-            int rc = mote_args_check_input(c, i, sp.kinds, err);
+            int rc = mote_args_check_input(c, u, sp.kinds, err);
             if (rc)
                 return rc;
         }
@@ -275,13 +381,13 @@ int mote_args_check_after(const mote_call *c, mote_err *err)
 {
     if (c->def->args[0] == '*')
         return MOTE_OK;
-    for (int i = 0; i < c->nargs; i++) {
+    for (int u = 0; u < nslots(c); u++) {
         mote_argspec sp;
-        if (mote_argspec_get(c->def->args, i, &sp))
-            return mote_call_fail(err, c, i, MOTE_EINVAL, "internal: bad argument types");
+        if (slot_spec(c, u, &sp))
+            return mote_call_fail(err, c, u, MOTE_EINVAL, "internal: bad argument types");
         if (sp.role == '>') {
-            int rc = mote_outputs_note_path(&c->ctx->outputs, c, i, c->args[i].path, sp.kinds, 0,
-                                            err);
+            int rc = mote_outputs_note_path(&c->ctx->outputs, c, u, slot_arg(c, u)->path,
+                                            sp.kinds, 0, err);
             if (rc)
                 return rc;
         }

@@ -271,16 +271,20 @@ void mote_help_markdown(FILE *out, const mote_model *const *models, size_t nmode
 
 /* ---- table checks --------------------------------------------------------------------------- */
 
-static int count_words(const char *s)
+/* The words of a synopsis that name positional arguments (the command name included): options
+ * ("key=VALUE", "[key=VALUE]") are not counted. */
+static int count_positional(const char *syn)
 {
     int n = 0;
-    while (s && *s) {
-        while (*s == ' ')
-            s++;
-        if (!*s)
+    for (const char *p = syn; p && *p;) {
+        while (*p == ' ')
+            p++;
+        size_t len = strcspn(p, " ");
+        if (len == 0)
             break;
-        n++;
-        s += strcspn(s, " ");
+        if (p[0] != '[' && memchr(p, '=', len) == NULL)
+            n++;
+        p += len;
     }
     return n;
 }
@@ -336,11 +340,12 @@ static int verify_cmd(const mote_model *m, size_t j, mote_err *err)
                                       "types (use \"\" for none)", mn, d->name);
     int nspec = mote_argspec_count(d->args);
     int star = nspec == -2;
-    if (nspec == -1)
+    if (nspec == -1 || !mote_argspec_valid(d->args))
         return mote_script_fail_plain(err, MOTE_EINVAL, "model %s, command %s: argument types "
                                       "\"%s\" are malformed: specs of \"iurfs\" with a range "
                                       "(\"i>=1\", \"r(0,1]\") or a file role (\"f>kind\", "
-                                      "\"f<kind|kind\"), or \"*\" alone", mn, d->name, d->args);
+                                      "\"f<kind|kind\"), then options KEY=SPEC[!] with distinct "
+                                      "keys, or \"*\" alone", mn, d->name, d->args);
     if (!d->synopsis || !d->summary || !d->help)
         return mote_script_fail_plain(err, MOTE_EINVAL, "model %s, command %s: synopsis, summary "
                                       "and help are required", mn, d->name);
@@ -349,10 +354,10 @@ static int verify_cmd(const mote_model *m, size_t j, mote_err *err)
         return mote_script_fail_plain(err, MOTE_EINVAL, "model %s, command %s: synopsis '%s' "
                                       "must start with the command name", mn, d->name,
                                       d->synopsis);
-    if (!star && count_words(d->synopsis) - 1 != nspec)
+    if (!star && count_positional(d->synopsis) - 1 != nspec)
         return mote_script_fail_plain(err, MOTE_EINVAL, "model %s, command %s: synopsis '%s' "
                                       "names %d arguments but the types \"%s\" give %d", mn,
-                                      d->name, d->synopsis, count_words(d->synopsis) - 1, d->args,
+                                      d->name, d->synopsis, count_positional(d->synopsis) - 1, d->args,
                                       nspec);
     return 0;
 }

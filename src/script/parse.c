@@ -207,6 +207,15 @@ static const char *shown(const token *t, char *buf, size_t cap)
     return buf;
 }
 
+/* The name of a positional argument (from the synopsis) or an option (its key). */
+static void arg_label(const mote_cmd *def, int i, const char *optkey, char *buf, size_t cap)
+{
+    if (optkey)
+        snprintf(buf, cap, "%s", optkey);
+    else
+        mote_arg_name(def, i, buf, cap);
+}
+
 static int is_digit(int c) { return c >= '0' && c <= '9'; }
 
 /* Decimal digits with an optional '+'. 0 ok, 1 not an integer, 2 negative, 3 too large. */
@@ -306,8 +315,9 @@ static const char *real_hint(const char *t)
     return "";
 }
 
+/* Convert token t by spec sp (optkey: the option's key, NULL for positional argument i). */
 static int convert_arg(mote_script *s, const mote_cmd *def, const char *written, int i,
-                       const token *t, mote_arg *a, mote_err *err)
+                       const char *optkey, const token *t, mote_arg *a, mote_err *err)
 {
     const char *file = s->ctx.script_path;
     char name[64], found[80];
@@ -320,7 +330,8 @@ static int convert_arg(mote_script *s, const mote_cmd *def, const char *written,
     a->r = 0.0;
     a->path = NULL;
     mote_argspec sp = {.type = '*'};
-    if (def->args[0] != '*' && mote_argspec_get(def->args, i, &sp))
+    if (def->args[0] != '*' && (optkey ? mote_argspec_option(def->args, optkey, &sp)
+                                       : mote_argspec_get(def->args, i, &sp)))
         return mote_script_fail_at(err, file, t->line, t->col, MOTE_EINVAL,
                                    "%s: internal: malformed argument types \"%s\"", written,
                                    def->args);
@@ -338,7 +349,7 @@ static int convert_arg(mote_script *s, const mote_cmd *def, const char *written,
             a->r = (double)v;
             return 0;
         }
-        mote_arg_name(def, i, name, sizeof name);
+        arg_label(def, i, optkey, name, sizeof name);
         shown(t, found, sizeof found);
         double dummy;
         if (rc == 2)
@@ -361,7 +372,7 @@ static int convert_arg(mote_script *s, const mote_cmd *def, const char *written,
         int rc = t->quoted ? 1 : parse_real(t->text, &a->r);
         if (rc == 0)
             return 0;
-        mote_arg_name(def, i, name, sizeof name);
+        arg_label(def, i, optkey, name, sizeof name);
         shown(t, found, sizeof found);
         if (rc == 2)
             return mote_script_fail_at(err, file, t->line, t->col, MOTE_EINVAL,
@@ -375,7 +386,7 @@ static int convert_arg(mote_script *s, const mote_cmd *def, const char *written,
     }
     case 'f':
         if (t->text[0] == '\0') {
-            mote_arg_name(def, i, name, sizeof name);
+            arg_label(def, i, optkey, name, sizeof name);
             return mote_script_fail_at(err, file, t->line, t->col, MOTE_EINVAL,
                                        "%s: expected a file name for %s, found an empty string",
                                        written, name);
@@ -424,14 +435,57 @@ static int unknown_command(mote_script *s, const token *t, mote_err *err)
                                found, s->model ? s->model->name : "none");
 }
 
+/* The variant of `model NAME VARIANT` (argument 1), checked against the model's list. */
+static int select_variant(mote_script *s, const mote_call *c, mote_err *err)
+{
+    const mote_model *m = s->model;
+    const char *list = m->variants ? m->variants : "";
+    s->ctx.model_variant[0] = '\0';
+    if (c->nargs < 2) { /* the default: the first of the list */
+        size_t n = strcspn(list, "|");
+        if (n < sizeof s->ctx.model_variant) {
+            memcpy(s->ctx.model_variant, list, n);
+            s->ctx.model_variant[n] = '\0';
+        }
+        return 0;
+    }
+    const mote_arg *a = &c->args[1];
+    if (!m->variants)
+        return mote_script_fail_at(err, s->ctx.script_path, a->line, a->col, MOTE_EINVAL,
+                                   "model: the %s model has no variants, found '%s'", m->name,
+                                   a->text);
+    size_t want = strlen(a->text);
+    for (const char *p = list; *p;) {
+        size_t n = strcspn(p, "|");
+        if (n == want && memcmp(p, a->text, n) == 0 && n < sizeof s->ctx.model_variant) {
+            memcpy(s->ctx.model_variant, p, n + 1);
+            s->ctx.model_variant[n] = '\0';
+            return 0;
+        }
+        p += n;
+        if (*p == '|')
+            p++;
+    }
+    return mote_script_fail_at(err, s->ctx.script_path, a->line, a->col, MOTE_EINVAL,
+                               "model: the %s model's variant is one of %s, found '%s'", m->name,
+                               list, a->text);
+}
+
 static int select_model(mote_script *s, const mote_call *c, const mote_model *const *models,
                         size_t nmodels, mote_err *err)
 {
+    if (c->nargs < 1 || c->nargs > 2) {
+        const mote_arg *x = c->nargs ? &c->args[2] : NULL;
+        return mote_script_fail_at(err, s->ctx.script_path, x ? x->line : c->line,
+                                   x ? x->col : c->col, MOTE_EINVAL,
+                                   "model: expected 'model NAME [VARIANT]', found %d argument%s",
+                                   c->nargs, c->nargs == 1 ? "" : "s");
+    }
     const mote_arg *a = &c->args[0];
     s->model = mote_model_find(models, nmodels, a->text);
     s->model_line = c->line;
     if (s->model)
-        return 0;
+        return select_variant(s, c, err);
     char known[512], best[80], found[80];
     token t = {a->text, a->line, a->col, a->quoted};
     shown(&t, found, sizeof found);
@@ -460,6 +514,79 @@ static int push_call(mote_script *s, const mote_call *c)
     }
     s->calls[s->ncalls++] = *c;
     return 0;
+}
+
+/* The options of a call: each key declared, given at most once, its value converted by its spec
+ * (the token after the '='); every required option given. */
+static int convert_options(mote_script *s, const mote_cmd *def, const token *name,
+                           const token *const *opt, int nopts, mote_opt **out, mote_err *err)
+{
+    const char *file = s->ctx.script_path;
+    mote_opt *opts = NULL;
+    if (nopts > 0) {
+        opts = mote_arena_alloc(&s->arena, (size_t)nopts * sizeof *opts);
+        if (!opts)
+            return mote_script_fail_plain(err, MOTE_ENOMEM, "out of memory reading the script");
+    }
+    for (int k = 0; k < nopts; k++) {
+        const token *t = opt[k];
+        size_t klen = mote_option_key_len(t->text);
+        char *key = mote_arena_strndup(&s->arena, t->text, klen);
+        if (!key)
+            return mote_script_fail_plain(err, MOTE_ENOMEM, "out of memory reading the script");
+        mote_argspec sp;
+        if (mote_argspec_option(def->args, key, &sp)) {
+            mote_suggest sg;
+            mote_suggest_init(&sg, key);
+            char keys[512];
+            size_t used = 0;
+            keys[0] = '\0';
+            for (int q = 0; q < mote_argspec_noptions(def->args); q++) {
+                mote_argspec o;
+                if (mote_argspec_option_at(def->args, q, &o))
+                    continue;
+                int w = snprintf(keys + used, sizeof keys - used, "%s%s", used ? ", " : "", o.key);
+                if (w > 0 && (size_t)w < sizeof keys - used) {
+                    /* the suggestion points into keys, which stays put */
+                    mote_suggest_feed(&sg, keys + used + (used ? 2 : 0), strlen(o.key));
+                    used += (size_t)w;
+                }
+            }
+            char best[80];
+            if (mote_suggest_result(&sg, best, sizeof best))
+                return mote_script_fail_at(err, file, t->line, t->col, MOTE_EINVAL,
+                                           "%s: unknown option '%s'; did you mean '%s'? (options: %s)",
+                                           name->text, key, best, keys);
+            return mote_script_fail_at(err, file, t->line, t->col, MOTE_EINVAL,
+                                       "%s: unknown option '%s' (options: %s)", name->text, key,
+                                       keys);
+        }
+        for (int q = 0; q < k; q++)
+            if (strcmp(opts[q].key, key) == 0)
+                return mote_script_fail_at(err, file, t->line, t->col, MOTE_EINVAL,
+                                           "%s: option '%s' given twice", name->text, key);
+        token v = *t;
+        v.text = t->text + klen + 1;
+        v.col = t->col + (int)klen + 1;
+        opts[k].key = key;
+        int rc = convert_arg(s, def, name->text, -1, key, &v, &opts[k].value, err);
+        if (rc)
+            return rc;
+    }
+    for (int q = 0; q < mote_argspec_noptions(def->args); q++) {
+        mote_argspec o;
+        if (mote_argspec_option_at(def->args, q, &o) || !o.required)
+            continue;
+        int given = 0;
+        for (int k = 0; k < nopts; k++)
+            given |= strcmp(opts[k].key, o.key) == 0;
+        if (!given)
+            return mote_script_fail_at(err, file, name->line, name->col, MOTE_EINVAL,
+                                       "%s: option %s= is required (%s)", name->text, o.key,
+                                       def->synopsis ? def->synopsis : def->name);
+    }
+    *out = opts;
+    return MOTE_OK;
 }
 
 static int parse_command(mote_script *s, const token_list *tl, const mote_model *const *models,
@@ -501,12 +628,29 @@ static int parse_command(mote_script *s, const token_list *tl, const mote_model 
                                    "(without it, the script is a %s script)", s->model->name);
     }
 
-    int nargs = tl->n - 1;
+    /* key=value tokens are options when the command declares options */
+    const int nopt_specs = def->args[0] == '*' ? 0 : mote_argspec_noptions(def->args);
+    int ntok = tl->n - 1, nopts = 0;
+    const token **pos = NULL, **opt = NULL;
+    int nargs = 0;
+    if (ntok > 0) {
+        pos = mote_arena_alloc(&s->arena, (size_t)ntok * sizeof *pos);
+        opt = mote_arena_alloc(&s->arena, (size_t)ntok * sizeof *opt);
+        if (!pos || !opt)
+            return mote_script_fail_plain(err, MOTE_ENOMEM, "out of memory reading the script");
+    }
+    for (int k = 1; k <= ntok; k++) {
+        const token *t = &tl->t[k];
+        if (nopt_specs > 0 && !t->quoted && mote_option_key_len(t->text) > 0)
+            opt[nopts++] = t;
+        else
+            pos[nargs++] = t;
+    }
     int star = def->args[0] == '*';
     int want = star ? nargs : mote_argspec_count(def->args);
     const char *syn = def->synopsis ? def->synopsis : def->name;
     if (nargs > want) {
-        const token *extra = &tl->t[want + 1];
+        const token *extra = pos[want];
         return mote_script_fail_at(err, file, extra->line, extra->col, MOTE_EINVAL,
                                    "%s: too many arguments: expected '%s' (%d argument%s), "
                                    "found %d", name->text, syn, want, plural(want), nargs);
@@ -524,10 +668,16 @@ static int parse_command(mote_script *s, const token_list *tl, const mote_model 
         if (!args)
             return mote_script_fail_plain(err, MOTE_ENOMEM, "out of memory reading the script");
         for (int i = 0; i < nargs; i++) {
-            int rc = convert_arg(s, def, name->text, i, &tl->t[i + 1], &args[i], err);
+            int rc = convert_arg(s, def, name->text, i, NULL, pos[i], &args[i], err);
             if (rc)
                 return rc;
         }
+    }
+    mote_opt *opts = NULL;
+    if (nopts > 0 || nopt_specs > 0) {
+        int rc = convert_options(s, def, name, opt, nopts, &opts, err);
+        if (rc)
+            return rc;
     }
     c.file = file;
     c.line = name->line;
@@ -538,6 +688,8 @@ static int parse_command(mote_script *s, const token_list *tl, const mote_model 
                                   (size_t)(tl->src_end - tl->src_begin));
     c.nargs = nargs;
     c.args = args;
+    c.nopts = nopts;
+    c.opts = opts;
     c.def = def;
     c.ctx = &s->ctx;
     if (!c.source)
@@ -657,6 +809,9 @@ void mote_script_free(mote_script *s)
     for (size_t i = 0; i < s->ncalls; i++)
         for (int k = 0; k < s->calls[i].nargs; k++)
             free(((mote_arg *)s->calls[i].args)[k].path);
+    for (size_t i = 0; i < s->ncalls; i++)
+        for (int k = 0; k < s->calls[i].nopts; k++)
+            free(((mote_opt *)s->calls[i].opts)[k].value.path);
     mote_outputs_free(&s->ctx.outputs);
     free(s->calls);
     mote_arena_free(&s->arena);

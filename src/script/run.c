@@ -169,9 +169,11 @@ static int plot_run(void *model, const mote_call *c, mote_err *err)
 }
 
 const mote_cmd mote_script_common_cmds[] = {
-    {"model", NULL, "s", "model NAME", "select the model; must be the first command",
+    {"model", NULL, "*", "model NAME [VARIANT]", "select the model; must be the first command",
      "Select the model the script drives (`mote help` lists the models of this\n"
-     "build). It must be the first command of the script and may appear only once.\n"
+     "build), and for a model that has variants (nbody: gravity or coulomb) the\n"
+     "variant; without one, the model's first. It must be the first command of the\n"
+     "script and may appear only once.\n"
      "A script without a `model` line is a " MOTE_DEFAULT_MODEL " script, so the original\n"
      "program's program.txt files run unchanged.\n",
      NULL, NULL},

@@ -56,13 +56,24 @@ typedef struct {
     double lo, hi;
     char lo_text[24], hi_text[24]; /* the bounds as written in the table */
     char kinds[96];             /* files: the output's kind, or the input's kinds "a|b" */
+    char key[32];               /* options: the key ("" for a positional argument) */
+    int required;               /* options: must be given */
 } mote_argspec;
 
-/* The number of specs in `args`: -2 for "*", -1 when malformed. */
+/* The number of positional specs in `args`: -2 for "*", -1 when malformed. */
 int mote_argspec_count(const char *args);
-/* Spec number `index` of `args` (0-based). Returns 0, or -1 when there is none or it is
- * malformed. */
+/* Positional spec number `index` of `args` (0-based). Returns 0, or -1 when there is none or it
+ * is malformed. */
 int mote_argspec_get(const char *args, int index, mote_argspec *out);
+/* The number of option specs (KEY=SPEC), -1 when malformed; option number `index`; the option
+ * of `key` (0, or -1 when there is none). */
+int mote_argspec_noptions(const char *args);
+int mote_argspec_option_at(const char *args, int index, mote_argspec *out);
+int mote_argspec_option(const char *args, const char *key, mote_argspec *out);
+/* Are the specs well formed (positional before options, no key twice)? */
+int mote_argspec_valid(const char *args);
+/* The length of the option key that starts p (a token "key=..."), or 0. */
+size_t mote_option_key_len(const char *p);
 /* The name of argument i as the command's synopsis gives it ("argument 3" if none). */
 void mote_arg_name(const mote_cmd *def, int i, char *buf, size_t cap);
 /* Resolve every file argument of c against the context's current `output_dir` (args[i].path). */
