@@ -1,0 +1,150 @@
+/* nbody.h: the N-body model (specs/nbody-galactica.md): material points under Newtonian gravity
+ * or the Coulomb law, in Galactica's dimensionless form (G = 1, total mass 1), integrated by
+ * Galactica's sixth-order Taylor scheme (spec 4.2, and its truncated orders 4.3) with
+ * compensated summation (4.6); the exact axisymmetric rings of spec 9.1 and 9.2 as generators
+ * and as references; the conserved quantities of spec 3.7. Every array is sized at run time;
+ * the state lives in one struct (no globals). */
+#ifndef MOTE_NBODY_H
+#define MOTE_NBODY_H
+
+#include "mote/command.h"
+#include "mote/core.h"
+
+#include <stdint.h>
+
+typedef enum { MOTE_NB_GRAVITY = 0, MOTE_NB_COULOMB = 1 } mote_nb_interaction;
+
+/* ---- constants and scales (spec 3.5, 3.6) ------------------------------------------------- */
+
+/* The constants of the Galactica-compatible unit sets (spec 3.6). */
+#define MOTE_NB_G 6.67259e-11              /* m^3 kg^-1 s^-2 */
+#define MOTE_NB_AU 1.49597870691e11        /* m */
+#define MOTE_NB_SIDEREAL_YEAR_DAYS 365.25636042
+#define MOTE_NB_EARTH_MASS 5.9742e24       /* kg */
+#define MOTE_NB_SUN_EARTHS 332951.3        /* Sun mass in Earth masses */
+#define MOTE_NB_SOLAR_SYSTEM_MASS 1.991787350282e30 /* kg */
+#define MOTE_NB_E_CGSE 4.80298e-10         /* elementary charge, CGSE */
+#define MOTE_NB_ME 9.1091e-31              /* kg */
+#define MOTE_NB_MP 1.67252e-27
+#define MOTE_NB_MN 1.67482e-27
+#define MOTE_NB_R0 1.5e-15                 /* nuclear radius base, m */
+#define MOTE_NB_RE 1.5e-15                 /* electron radius, m */
+#define MOTE_NB_BOHR 5.29167e-11           /* m */
+
+/* The scales of a run: x = x_m / Am, m_o = m / M, v = v_m kv, T = t kt (spec 3.5). */
+typedef struct {
+    double M;    /* mass scale M_Ss (kg) */
+    double Am;   /* length scale (m) */
+    double kv;   /* velocity scale (s/m) */
+    double kt;   /* time scale (1/s) */
+    double G;    /* gravitational constant used */
+    double e2;   /* Coulomb constant e^2 / eps_d in kg m^3 s^-2 (with the 1e-9 of spec 3.2) */
+    double eps;  /* relative permittivity */
+    double Am_first; /* Am before the refinement Am := 1 / (kt kv) */
+    int set;     /* 0: dimensionless (no physical scales) */
+} mote_nb_units;
+
+/* Scales with the time unit chosen first (spec 3.5, eq. 8 and 27), refined so that
+ * Am = 1 / (kt kv) exactly: gravity with G, Coulomb with e2 = e^2 (SI) and eps. */
+void mote_nb_units_from_time(mote_nb_units *u, mote_nb_interaction kind, double M, double kt,
+                             double G, double e2, double eps);
+
+/* ---- the system ----------------------------------------------------------------------------- */
+
+typedef struct {
+    mote_nb_interaction kind;
+    uint32_t n, cap;
+    double *m, *q;          /* dimensionless mass and charge */
+    double *c, *w;          /* kernel coefficients (spec 3.3): a_i = c_i sum w_k r_ik / r^3 */
+    double *x, *v;          /* [3n] positions and velocities */
+    double *xc, *vc;        /* [3n] their compensation terms (Kahan) */
+    double *ra;             /* radius */
+    double *sp;             /* [3n] spin */
+    uint8_t *active;
+    double *d5p;            /* [3n] fifth derivative at the start of the previous step */
+    double *acc, *jerk, *d4, *d5; /* [3n] this step's derivatives (scratch) */
+    double T, Tc;           /* time and its compensation */
+    double dt;              /* nominal step */
+    double dtp;             /* length of the previous step; 0 = no valid previous fifth derivative */
+    int restart;            /* the next step is a restart step (first_step * dt): a fresh start */
+    uint64_t steps;
+    int order;              /* Galactica scheme order K, 2 ... 6 */
+    double first_step;      /* the restart step is first_step * dt (spec 4.2: 0.001) */
+    int compensated;        /* compensated summation of x, v and T (default on) */
+    mote_nb_units u;
+    /* monitor references (spec 3.7), from the state at the start of the run */
+    int ref_set;
+    double E0, Mza1, Lnorm1;
+} mote_nb;
+
+void mote_nb_init(mote_nb *nb, mote_nb_interaction kind);
+void mote_nb_free(mote_nb *nb);
+/* Add a body (dimensionless values). Fails on non-finite values or a mass <= 0. */
+int mote_nb_add(mote_nb *nb, double m, double q, const double x[3], const double v[3], double ra,
+                mote_err *err);
+/* Fill the kernel coefficients from masses and charges; fails when a Coulomb run has no
+ * charge or two active bodies share a point. Called by the integrator before a run. */
+int mote_nb_prepare(mote_nb *nb, mote_err *err);
+
+/* Shift to the barycentre (spec 3.4): the centre of mass position and velocity before the
+ * shift go to xc and vc (may be NULL). */
+void mote_nb_barycentric(mote_nb *nb, double xc[3], double vc[3]);
+
+/* ---- the Galactica scheme (spec 4.2, 4.3) --------------------------------------------------- */
+
+/* Take `steps` steps of the nominal length dt; a step without a valid previous fifth
+ * derivative (a fresh start) is first_step * dt long. */
+int mote_nb_galactica(mote_nb *nb, uint64_t steps, mote_err *err);
+
+/* ---- conserved quantities (spec 3.7) -------------------------------------------------------- */
+
+typedef struct {
+    double ekin, u, etot;
+    double P[3], L[3], S[3], R[3];  /* momentum, orbital and spin angular momentum, m-weighted position */
+    double mtot;
+    double dE;      /* (E - E0) / |E0| */
+    double dMz;     /* (Mz + Sz - Mza1) / Mza1 (or over the normalisation of spec 3.7) */
+} mote_nb_monitor;
+
+void mote_nb_measure(const mote_nb *nb, mote_nb_monitor *mon);
+/* Take the current energy and aggregated z moment as the references of dE and dMz. */
+void mote_nb_set_reference(mote_nb *nb);
+
+/* ---- the exact rings (spec 9.1, 9.2) -------------------------------------------------------- */
+
+typedef struct {
+    /* parameters */
+    int nb;               /* bodies, central one included */
+    double ka, e, tilt;   /* a = ka AU (gravity) or ka r_m (Coulomb); eccentricity; tilt (rad) */
+    double dt;            /* nominal step */
+    /* gravity */
+    double central_mass, total_mass, density;
+    /* Coulomb */
+    int A, Z, nq, lq;     /* mass number, nuclear charge, quantum numbers n and l */
+    double time_unit, permittivity;
+    /* results (SI unless stated) */
+    double a, alpha1, rp, fN, mu1, vp, m0, m1, ra0, ra1, d, rn;
+    double mo0, mo1, mu;       /* dimensionless masses and the Kepler parameter */
+    double a_o, rp_o, vp_o;    /* a / Am, Rp / Am, vp kv */
+    double period;             /* dimensionless */
+    double M00;                /* N m_o1 (Rp/Am)(vp kv) */
+    double xc[3], vc[3];       /* centre of mass before the barycentric shift */
+} mote_nb_ring;
+
+/* The defaults of Appendix 1 (gravity) and Appendix 3 (Coulomb) of the seed document. */
+void mote_nb_ring_defaults(mote_nb_ring *r, mote_nb_interaction kind);
+/* Build the ring into an empty system (its scales included); fills the results of r. */
+int mote_nb_ring_build(mote_nb *nb, mote_nb_ring *r, mote_err *err);
+/* f_N = 1/4 sum_{j=1}^{N-1} 1 / sin(j pi / N). */
+double mote_nb_ring_fN(int N);
+/* The exact position of ring body b (1 ... nb-1) at dimensionless time T. */
+void mote_nb_ring_exact(const mote_nb_ring *r, int b, double T, double x[3]);
+/* The largest |x - x_exact| / |x_exact| over the ring bodies, and the largest distance from the
+ * tilted orbit plane over a (out_of_plane, may be NULL). */
+double mote_nb_ring_error(const mote_nb *nb, const mote_nb_ring *r, double *out_of_plane);
+
+/* ---- the model as registered with the script language ---------------------------------------- */
+
+extern const mote_model mote_model_nbody;
+
+#endif

@@ -1,0 +1,236 @@
+/* system.c: the N-body system: its arrays (structure of arrays, grown as bodies are added), the
+ * kernel coefficients of spec 3.3 (one code path for gravity and Coulomb), the scales of spec
+ * 3.5, the barycentric reduction of 3.4 and the conserved quantities of 3.7. */
+#include "mote/nbody.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+void mote_nb_units_from_time(mote_nb_units *u, mote_nb_interaction kind, double M, double kt,
+                             double G, double e2, double eps)
+{
+    memset(u, 0, sizeof *u);
+    u->M = M;
+    u->kt = kt;
+    u->G = G;
+    u->e2 = e2;
+    u->eps = eps;
+    if (kind == MOTE_NB_GRAVITY) {
+        u->Am_first = cbrt(G * M / (kt * kt));
+        u->kv = sqrt(u->Am_first / (G * M));
+    } else {
+        u->Am_first = cbrt(e2 / (eps * M * kt * kt));
+        u->kv = sqrt(eps * M * u->Am_first / e2);
+    }
+    u->Am = 1.0 / (kt * u->kv); /* the refinement: the three scales agree to the last bit */
+    u->set = 1;
+}
+
+void mote_nb_init(mote_nb *nb, mote_nb_interaction kind)
+{
+    memset(nb, 0, sizeof *nb);
+    nb->kind = kind;
+    nb->order = 6;
+    nb->first_step = 0.001;
+    nb->compensated = 1;
+    nb->dt = 1e-6;
+}
+
+static void free_arrays(mote_nb *nb)
+{
+    void *arr[] = {nb->m,  nb->q,  nb->c,      nb->w,    nb->x,  nb->v,  nb->xc, nb->vc,
+                   nb->ra, nb->sp, nb->active, nb->d5p, nb->acc, nb->jerk, nb->d4, nb->d5};
+    for (size_t k = 0; k < sizeof arr / sizeof arr[0]; k++)
+        free(arr[k]);
+}
+
+void mote_nb_free(mote_nb *nb)
+{
+    free_arrays(nb);
+    mote_nb_interaction kind = nb->kind;
+    memset(nb, 0, sizeof *nb);
+    nb->kind = kind;
+}
+
+/* Grow every array to hold cap bodies (new entries zero). */
+static int grow(mote_nb *nb, uint32_t cap)
+{
+    double **d1[] = {&nb->m, &nb->q, &nb->c, &nb->w, &nb->ra};
+    double **d3[] = {&nb->x, &nb->v, &nb->xc, &nb->vc, &nb->sp, &nb->d5p, &nb->acc, &nb->jerk,
+                     &nb->d4, &nb->d5};
+    for (size_t k = 0; k < sizeof d1 / sizeof d1[0]; k++) {
+        double *p = realloc(*d1[k], cap * sizeof *p);
+        if (!p)
+            return -1;
+        memset(p + nb->cap, 0, (cap - nb->cap) * sizeof *p);
+        *d1[k] = p;
+    }
+    for (size_t k = 0; k < sizeof d3 / sizeof d3[0]; k++) {
+        double *p = realloc(*d3[k], 3 * (size_t)cap * sizeof *p);
+        if (!p)
+            return -1;
+        memset(p + 3 * (size_t)nb->cap, 0, 3 * (size_t)(cap - nb->cap) * sizeof *p);
+        *d3[k] = p;
+    }
+    uint8_t *a = realloc(nb->active, cap);
+    if (!a)
+        return -1;
+    memset(a + nb->cap, 0, cap - nb->cap);
+    nb->active = a;
+    nb->cap = cap;
+    return 0;
+}
+
+int mote_nb_add(mote_nb *nb, double m, double q, const double x[3], const double v[3], double ra,
+                mote_err *err)
+{
+    int finite = isfinite(m) && isfinite(q) && isfinite(ra);
+    for (int a = 0; a < 3; a++)
+        finite &= isfinite(x[a]) && isfinite(v[a]);
+    if (!finite)
+        return mote_fail(err, MOTE_EINVAL, "body %u: every value must be finite", nb->n + 1);
+    if (!(m > 0))
+        return mote_fail(err, MOTE_EINVAL, "body %u: the mass must be > 0 (found %g)", nb->n + 1,
+                         m);
+    if (!(ra >= 0))
+        return mote_fail(err, MOTE_EINVAL, "body %u: the radius must be >= 0 (found %g)",
+                         nb->n + 1, ra);
+    if (nb->n == UINT32_MAX - 1)
+        return mote_fail(err, MOTE_EINVAL, "too many bodies");
+    if (nb->n == nb->cap && grow(nb, nb->cap ? 2 * nb->cap : 16))
+        return mote_fail(err, MOTE_ENOMEM, "out of memory adding body %u", nb->n + 1);
+    uint32_t i = nb->n++;
+    nb->m[i] = m;
+    nb->q[i] = q;
+    nb->ra[i] = ra;
+    nb->active[i] = 1;
+    for (int a = 0; a < 3; a++) {
+        nb->x[3 * i + a] = x[a];
+        nb->v[3 * i + a] = v[a];
+        nb->xc[3 * i + a] = nb->vc[3 * i + a] = 0;
+    }
+    nb->dtp = 0; /* a new body: no valid previous fifth derivative, the next step restarts */
+    nb->restart = 1;
+    nb->ref_set = 0;
+    return MOTE_OK;
+}
+
+int mote_nb_prepare(mote_nb *nb, mote_err *err)
+{
+    if (nb->n == 0)
+        return mote_fail(err, MOTE_EINVAL, "there are no bodies");
+    int charged = 0;
+    for (uint32_t i = 0; i < nb->n; i++) {
+        if (nb->kind == MOTE_NB_GRAVITY) {
+            nb->c[i] = -1;
+            nb->w[i] = nb->m[i];
+        } else {
+            nb->c[i] = nb->q[i] / nb->m[i];
+            nb->w[i] = nb->q[i];
+            charged |= nb->q[i] != 0;
+        }
+    }
+    if (nb->kind == MOTE_NB_COULOMB && !charged)
+        return mote_fail(err, MOTE_EINVAL, "a Coulomb run needs charged bodies: every charge is 0");
+    for (uint32_t i = 0; i < nb->n; i++)
+        for (uint32_t k = i + 1; k < nb->n; k++) {
+            if (!nb->active[i] || !nb->active[k])
+                continue;
+            const double *xi = nb->x + 3 * (size_t)i, *xk = nb->x + 3 * (size_t)k;
+            if (xi[0] == xk[0] && xi[1] == xk[1] && xi[2] == xk[2])
+                return mote_fail(err, MOTE_EINVAL, "bodies %u and %u are at the same point", i + 1,
+                                 k + 1);
+        }
+    return MOTE_OK;
+}
+
+void mote_nb_barycentric(mote_nb *nb, double xc[3], double vc[3])
+{
+    double M = 0, X[3] = {0, 0, 0}, V[3] = {0, 0, 0};
+    for (uint32_t i = 0; i < nb->n; i++) {
+        if (!nb->active[i])
+            continue;
+        M += nb->m[i];
+        for (int a = 0; a < 3; a++) {
+            X[a] += nb->m[i] * nb->x[3 * i + a];
+            V[a] += nb->m[i] * nb->v[3 * i + a];
+        }
+    }
+    for (int a = 0; a < 3; a++) {
+        X[a] /= M;
+        V[a] /= M;
+    }
+    for (uint32_t i = 0; i < nb->n; i++)
+        for (int a = 0; a < 3; a++) {
+            nb->x[3 * i + a] -= X[a];
+            nb->v[3 * i + a] -= V[a];
+        }
+    for (int a = 0; a < 3; a++) {
+        if (xc)
+            xc[a] = X[a];
+        if (vc)
+            vc[a] = V[a];
+    }
+    nb->ref_set = 0;
+}
+
+void mote_nb_measure(const mote_nb *nb, mote_nb_monitor *mon)
+{
+    memset(mon, 0, sizeof *mon);
+    mote_ksum ek = {0, 0}, u = {0, 0};
+    for (uint32_t i = 0; i < nb->n; i++) {
+        if (!nb->active[i])
+            continue;
+        const double *x = nb->x + 3 * (size_t)i, *v = nb->v + 3 * (size_t)i, m = nb->m[i];
+        mote_ksum_add(&ek, 0.5 * m * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));
+        mon->mtot += m;
+        for (int a = 0; a < 3; a++) {
+            mon->P[a] += m * v[a];
+            mon->R[a] += m * x[a];
+            mon->S[a] += nb->sp[3 * i + a];
+        }
+        mon->L[0] += m * (x[1] * v[2] - x[2] * v[1]);
+        mon->L[1] += m * (x[2] * v[0] - x[0] * v[2]);
+        mon->L[2] += m * (x[0] * v[1] - x[1] * v[0]);
+        for (uint32_t k = i + 1; k < nb->n; k++) {
+            if (!nb->active[k])
+                continue;
+            const double *y = nb->x + 3 * (size_t)k;
+            double d0 = x[0] - y[0], d1 = x[1] - y[1], d2 = x[2] - y[2];
+            double r = sqrt(d0 * d0 + d1 * d1 + d2 * d2);
+            if (nb->kind == MOTE_NB_GRAVITY)
+                mote_ksum_add(&u, -m * nb->m[k] / r);
+            else
+                mote_ksum_add(&u, nb->q[i] * nb->q[k] / r);
+        }
+    }
+    mon->ekin = mote_ksum_value(&ek);
+    mon->u = mote_ksum_value(&u);
+    mon->etot = mon->ekin + mon->u;
+    if (nb->ref_set) {
+        mon->dE = (mon->etot - nb->E0) / fabs(nb->E0);
+        mon->dMz = (mon->L[2] + mon->S[2] - nb->Mza1) / nb->Lnorm1;
+    }
+}
+
+void mote_nb_set_reference(mote_nb *nb)
+{
+    nb->ref_set = 0;
+    mote_nb_monitor mon;
+    mote_nb_measure(nb, &mon);
+    nb->E0 = mon.etot;
+    nb->Mza1 = mon.L[2] + mon.S[2];
+    /* spec 3.7: normalise by Mza1 unless it is below 1e-14 of sum m |x x v| */
+    double sum = 0;
+    for (uint32_t i = 0; i < nb->n; i++) {
+        if (!nb->active[i])
+            continue;
+        const double *x = nb->x + 3 * (size_t)i, *v = nb->v + 3 * (size_t)i;
+        double c0 = x[1] * v[2] - x[2] * v[1], c1 = x[2] * v[0] - x[0] * v[2],
+               c2 = x[0] * v[1] - x[1] * v[0];
+        sum += nb->m[i] * sqrt(c0 * c0 + c1 * c1 + c2 * c2);
+    }
+    nb->Lnorm1 = fabs(nb->Mza1) >= 1e-14 * sum ? nb->Mza1 : sum;
+    nb->ref_set = 1;
+}

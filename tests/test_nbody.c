@@ -1,0 +1,304 @@
+/* test_nbody.c: the N-body model against the numbers of specs/nbody-galactica.md section 11:
+ * the ring generators' check values (T01, T02), the neutral ring's net force F(N) (T03), the
+ * first-step rule and exact time bookkeeping (T04), the gravity ring over one period against
+ * the exact solution with its invariants (T05), a coarser step (T06), the Coulomb ring (T07),
+ * the accuracy gained per added derivative (T08), the Coulomb sign (T23) and the scales (T24). */
+#include "mote/nbody.h"
+#include "test.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define REL(a, b) (fabs((a) - (b)) / fabs(b))
+#define CHECK_REL(a, b, tol)                                                                    \
+    CHECK(REL(a, b) <= (tol), "%s = %.17g, expected %.17g (relative %.2e > %.0e)", #a,        \
+          (double)(a), (double)(b), REL(a, b), (double)(tol))
+
+/* Half a unit of the last digit of a number as printed ("0.010823751785177", "4.6e-5"). */
+static double half_unit(const char *printed)
+{
+    const char *e = strpbrk(printed, "eE"), *dot = strchr(printed, '.');
+    int exp10 = e ? atoi(e + 1) : 0;
+    int decimals = 0;
+    if (dot)
+        for (const char *q = dot + 1; *q >= '0' && *q <= '9'; q++)
+            decimals++;
+    return 0.5 * pow(10.0, exp10 - decimals);
+}
+
+/* A value against a check value of the seed document: within the spec's relative tolerance, or
+ * where the document prints fewer digits than that tolerance needs, within half a unit of its
+ * last printed digit (the printed number carries no more). */
+#define CHECK_PRINTED(a, printed, tol)                                                          \
+    do {                                                                                        \
+        double p_ = strtod(printed, NULL), a_ = (a);                                            \
+        double t_ = fmax((tol) * fabs(p_), half_unit(printed));                                 \
+        CHECK(fabs(a_ - p_) <= t_, "%s = %.17g, printed %s (allowed %.2e)", #a, a_, printed, t_); \
+    } while (0)
+
+static void test_ring_values(void)
+{
+    printf("T01: gravity ring generator (spec 9.1)\n");
+    mote_nb nb;
+    mote_nb_init(&nb, MOTE_NB_GRAVITY);
+    mote_nb_ring r;
+    mote_nb_ring_defaults(&r, MOTE_NB_GRAVITY);
+    mote_err err = {0};
+    CHECK(mote_nb_ring_build(&nb, &r, &err) == MOTE_OK, "build: %s", err.msg);
+    CHECK_REL(r.alpha1, -0.829462508294625, 1e-15);
+    CHECK_REL(r.fN, 16.12083740509405, 1e-14);
+    CHECK_REL(r.mu1, -1.32824690980362e20, 1e-14);
+    CHECK_REL(r.d, 784.3895396357486, 1e-12);
+    CHECK_REL(nb.u.Am_first, 1.097960770309581e13, 2e-15);
+    CHECK_REL(nb.u.Am, 1.097960770309582e13, 2e-15);
+    CHECK_REL(nb.u.kv, 2.874251102012488e-4, 2e-15);
+    CHECK(nb.u.Am - 1 / (nb.u.kt * nb.u.kv) == 0, "(Am - 1/(kt kv)) / Am = %g",
+          (nb.u.Am - 1 / (nb.u.kt * nb.u.kv)) / nb.u.Am);
+    mote_ksum ms = {0, 0}; /* the exact sum of the stored masses */
+    for (uint32_t i = 0; i < nb.n; i++)
+        mote_ksum_add(&ms, nb.m[i]);
+    double msum = mote_ksum_value(&ms);
+    CHECK(fabs(msum - 1) <= 4.5e-16, "sum m_o - 1 = %g", msum - 1);
+    CHECK(fabs(r.xc[0]) <= 1e-20 && fabs(r.xc[1]) <= 1e-20 && fabs(r.xc[2]) <= 1e-20 &&
+              fabs(r.vc[0]) <= 1e-17 && fabs(r.vc[1]) <= 1e-17 && fabs(r.vc[2]) <= 1e-17,
+          "residual centre of mass %g %g %g, %g %g %g", r.xc[0], r.xc[1], r.xc[2], r.vc[0],
+          r.vc[1], r.vc[2]);
+    mote_nb_monitor mon;
+    mote_nb_measure(&nb, &mon);
+    double M0 = sqrt(mon.L[0] * mon.L[0] + mon.L[1] * mon.L[1] + mon.L[2] * mon.L[2]);
+    CHECK(fabs((M0 - r.M00) / M0) <= 1e-14, "(M0 - M00)/M0 = %g", (M0 - r.M00) / M0);
+    CHECK(fabs(mon.L[1] - -6.087427365523565e-5) <= 5e-5 && fabs(mon.L[2] - 1.404436095090305e-4) <= 5e-5,
+          "My %.17g Mz %.17g", mon.L[1], mon.L[2]);
+    CHECK_REL(r.M00, 1.530663479694117e-4, 1e-14);
+    CHECK_PRINTED(r.rp_o, "0.010823751785177", 1e-14);
+    CHECK_PRINTED(r.a_o, "0.013625065187786", 1e-14);
+    CHECK_REL(r.vp_o, 10.55075187031951, 1e-14);
+    CHECK_REL(r.mo0, 0.99865964917308, 1e-13);
+    CHECK_REL(r.mo1, 4.6218994031734e-5, 1e-13);
+    CHECK_REL(r.mu, 0.99940473806089, 1e-13);
+    CHECK_REL(r.ra0 / nb.u.Am, 4.1554092e-5, 1e-7);
+    CHECK_REL(r.ra1 / nb.u.Am, 1.4919289e-6, 1e-7);
+    CHECK_REL(mon.ekin, 0.0746028313090509, 1e-13);
+    CHECK_REL(mon.etot, -0.0491576718579219, 1e-13);
+    CHECK_REL(r.period, 0.009995788296740863, 1e-14);
+    printf("  Am %.16e m, kv %.16e s/m, period %.17g, E_tot %.16g\n", nb.u.Am, nb.u.kv, r.period,
+           mon.etot);
+    /* T24: the scales invert (eq. 7) */
+    double xm = nb.x[3] * nb.u.Am, vm = nb.v[4] / nb.u.kv;
+    CHECK_REL(xm / nb.u.Am, nb.x[3], 1e-15);
+    CHECK_REL(vm * nb.u.kv, nb.v[4], 1e-15);
+    mote_nb_free(&nb);
+}
+
+static void test_coulomb_values(void)
+{
+    printf("T02: Coulomb ring generator (spec 9.2)\n");
+    mote_nb nb;
+    mote_nb_init(&nb, MOTE_NB_COULOMB);
+    mote_nb_ring r;
+    mote_nb_ring_defaults(&r, MOTE_NB_COULOMB);
+    mote_err err = {0};
+    CHECK(mote_nb_ring_build(&nb, &r, &err) == MOTE_OK, "build: %s", err.msg);
+    CHECK_REL(r.a, 3.30729375e-11, 1e-14);
+    CHECK_REL(r.rn, 3.77976314968462e-15, 1e-14);
+    CHECK_REL(r.alpha1, -0.869565217391304, 1e-15);
+    CHECK_REL(r.fN, 2.804865846209121, 1e-14);
+    CHECK_REL(r.mu1, -1.315657523093202e3, 1e-14);
+    CHECK_REL(r.d, 7171.996969841117, 1e-12);
+    CHECK_REL(nb.u.Am_first, 2.049767130503777e-11, 2e-15);
+    CHECK_REL(nb.u.Am, 2.049767130503774e-11, 2e-15);
+    CHECK_REL(nb.u.kv, 4.878602964787661e-5, 2e-15);
+    CHECK_REL(2 * r.a_o, 3.226994618834738, 1e-14);
+    CHECK_REL(r.rp_o, 1.371472713004765, 1e-14);
+    CHECK_REL(r.vp_o, 357.9068202230957, 1e-14);
+    CHECK_REL(r.mo0, 0.99972794452253, 1e-13);
+    mote_nb_monitor mon;
+    mote_nb_measure(&nb, &mon);
+    CHECK(fabs(mon.L[1] - -0.053108187925464) <= 1e-14 * 0.2 && fabs(mon.L[2] - 0.122526400051667) <= 1e-14 * 0.2 &&
+              fabs(mon.L[0]) <= 1e-16,
+          "Mx %.3g My %.17g Mz %.17g", mon.L[0], mon.L[1], mon.L[2]);
+    double M0 = sqrt(mon.L[0] * mon.L[0] + mon.L[1] * mon.L[1] + mon.L[2] * mon.L[2]);
+    CHECK(fabs((M0 - r.M00) / M0) <= 1e-14, "(M0 - M00)/M0 = %g", (M0 - r.M00) / M0);
+    CHECK_REL(mon.ekin, 17.4247849635, 1e-11);
+    CHECK_REL(mon.etot, -12.8791888861, 1e-11);
+    CHECK_REL(r.period, 0.032947130559790413, 1e-14);
+    CHECK(fabs(r.xc[0]) <= 1e-18 && fabs(r.xc[1]) <= 1e-18 && fabs(r.xc[2]) <= 1e-18 &&
+              fabs(r.vc[0]) <= 5e-17 && fabs(r.vc[1]) <= 5e-17 && fabs(r.vc[2]) <= 5e-17,
+          "residual centre of mass %g %g %g, %g %g %g", r.xc[0], r.xc[1], r.xc[2], r.vc[0],
+          r.vc[1], r.vc[2]);
+    printf("  Am %.16e m, kv %.16e s/m, period %.17g, E_tot %.12g\n", nb.u.Am, nb.u.kv, r.period,
+           mon.etot);
+    mote_nb_free(&nb);
+}
+
+static void test_fN(void)
+{
+    printf("T03: the neutral ring's net central force F(N) = N - f_N(N)\n");
+    int best = 0;
+    double fmax = -INFINITY, f[601];
+    int positive_below = 1;
+    for (int N = 2; N <= 600; N++) {
+        f[N] = N - mote_nb_ring_fN(N);
+        if (f[N] > fmax) {
+            fmax = f[N];
+            best = N;
+        }
+        if (N < 473)
+            positive_below &= f[N] > 0;
+    }
+    CHECK_INT(best, 174);
+    CHECK(fabs(f[174] - 27.6515) < 5e-5 && fabs(f[173] - 27.65125) < 5e-6 &&
+              fabs(f[175] - 27.65077) < 5e-6,
+          "F(173..175) = %.6f %.6f %.6f", f[173], f[174], f[175]);
+    CHECK(fabs(f[472] - 0.04312) < 5e-6 && f[472] > 0, "F(472) = %.6f", f[472]);
+    CHECK(fabs(f[473] - -0.11611) < 5e-6 && f[473] < 0, "F(473) = %.6f", f[473]);
+    CHECK(positive_below, "F(N) > 0 for all N < 473");
+    printf("  maximum F(174) = %.5f; F(472) = %.5f; F(473) = %.5f\n", f[174], f[472], f[473]);
+}
+
+/* A ring run: `steps` steps of dt with the Galactica scheme of order K. */
+static double ring_run(mote_nb_interaction kind, double dt, uint64_t steps, int K, mote_nb *nb,
+                       mote_nb_ring *r, double *plane)
+{
+    mote_nb_init(nb, kind);
+    mote_nb_ring_defaults(r, kind);
+    mote_err err = {0};
+    CHECK(mote_nb_ring_build(nb, r, &err) == MOTE_OK, "build: %s", err.msg);
+    nb->dt = dt;
+    nb->order = K;
+    CHECK(mote_nb_galactica(nb, steps, &err) == MOTE_OK, "galactica: %s", err.msg);
+    return mote_nb_ring_error(nb, r, plane);
+}
+
+static void test_gravity_ring(void)
+{
+    printf("T04, T05: gravity ring, dT = 1e-6, 10 000 steps from a fresh start\n");
+    mote_nb nb;
+    mote_nb_ring r;
+    double plane;
+    double err = ring_run(MOTE_NB_GRAVITY, 1e-6, 10000, 6, &nb, &r, &plane);
+    CHECK(nb.T == 0.009999000999999999, "T = %.17g, expected 0.009999000999999999 exactly", nb.T);
+    mote_nb_monitor mon;
+    mote_nb_measure(&nb, &mon);
+    double pabs = 0, sum_mv = 0;
+    for (uint32_t i = 0; i < nb.n; i++)
+        sum_mv += nb.m[i] * sqrt(nb.v[3 * i] * nb.v[3 * i] + nb.v[3 * i + 1] * nb.v[3 * i + 1] +
+                                 nb.v[3 * i + 2] * nb.v[3 * i + 2]);
+    pabs = sqrt(mon.P[0] * mon.P[0] + mon.P[1] * mon.P[1] + mon.P[2] * mon.P[2]);
+    double cm = sqrt(mon.R[0] * mon.R[0] + mon.R[1] * mon.R[1] + mon.R[2] * mon.R[2]);
+    printf("  T = %.17g (%.4f periods): error %.3e, out of plane %.3e of a, dE %.3e, dMz %.3e, "
+           "|P| %.2e of sum m|v|, CM %.2e of a\n",
+           nb.T, nb.T / r.period, err, plane / r.a_o, mon.dE, mon.dMz, pabs / sum_mv, cm / r.a_o);
+    CHECK(err <= 1e-12, "error %.3g after one period", err);
+    CHECK(plane <= 1e-12 * r.a_o, "out of plane %.3g", plane / r.a_o);
+    CHECK(fabs(mon.dE) <= 1e-13, "dE %.3g", mon.dE);
+    CHECK(fabs(mon.dMz) <= 1e-14, "dMz %.3g", mon.dMz);
+    CHECK(pabs <= 1e-15 * sum_mv && cm <= 1e-15 * r.a_o, "momentum %.3g, CM %.3g", pabs / sum_mv,
+          cm / r.a_o);
+    mote_nb_free(&nb);
+
+    printf("T06: dT = 1e-5, 1000 steps\n");
+    err = ring_run(MOTE_NB_GRAVITY, 1e-5, 1000, 6, &nb, &r, NULL);
+    printf("  error %.3e\n", err);
+    CHECK(err <= 1e-10, "error %.3g", err);
+    mote_nb_free(&nb);
+}
+
+static void test_orders(void)
+{
+    printf("T08: accuracy per added derivative (truncated scheme, one period)\n");
+    double e[7] = {0};
+    mote_nb nb;
+    mote_nb_ring r;
+    for (int K = 2; K <= 6; K++) {
+        e[K] = ring_run(MOTE_NB_GRAVITY, 1e-6, 10000, K, &nb, &r, NULL);
+        mote_nb_free(&nb);
+    }
+    printf("  dT 1e-6: errors K=2..6: %.2e %.2e %.2e %.2e %.2e\n", e[2], e[3], e[4], e[5], e[6]);
+    for (int K = 2; K <= 4; K++) {
+        double g = log10(e[K] / e[K + 1]);
+        CHECK(g >= 2.5 && g <= 4.5, "err(%d)/err(%d) = 10^%.2f, expected 10^2.5 ... 10^4.5", K,
+              K + 1, g);
+    }
+    double e5 = ring_run(MOTE_NB_GRAVITY, 1e-5, 1000, 5, &nb, &r, NULL);
+    mote_nb_free(&nb);
+    double e6 = ring_run(MOTE_NB_GRAVITY, 1e-5, 1000, 6, &nb, &r, NULL);
+    mote_nb_free(&nb);
+    double g = log10(e5 / e6);
+    printf("  dT 1e-5: err(5) %.2e, err(6) %.2e: 10^%.2f\n", e5, e6, g);
+    CHECK(g >= 2 && g <= 3.5, "err(5)/err(6) = 10^%.2f, expected 10^2 ... 10^3.5", g);
+}
+
+static void test_coulomb_ring(void)
+{
+    printf("T04, T07: Coulomb ring\n");
+    mote_nb nb;
+    mote_nb_ring r;
+    double err = ring_run(MOTE_NB_COULOMB, 1e-6, 30000, 6, &nb, &r, NULL);
+    mote_nb_monitor mon;
+    mote_nb_measure(&nb, &mon);
+    printf("  dT 1e-6, 30 000 steps: T = %.17g (%.3f periods), error %.3e, dE %.3e\n", nb.T,
+           nb.T / r.period, err, mon.dE);
+    CHECK(err <= 1e-11, "error %.3g", err);
+    CHECK(fabs(mon.dE) <= 1e-13, "dE %.3g", mon.dE);
+    mote_nb_free(&nb);
+    if (!getenv("MOTE_SANITIZED")) {
+        ring_run(MOTE_NB_COULOMB, 1e-7, 300000, 6, &nb, &r, NULL);
+        CHECK(nb.T == 0.029999900099999997, "T = %.17g, expected 0.029999900099999997", nb.T);
+        mote_nb_free(&nb);
+    }
+}
+
+static void test_coulomb_sign(void)
+{
+    printf("T23: like charges repel, opposite charges attract\n");
+    for (int like = 0; like < 2; like++) {
+        mote_nb nb;
+        mote_nb_init(&nb, MOTE_NB_COULOMB);
+        mote_err err = {0};
+        double x0[3] = {-0.5, 0, 0}, x1[3] = {0.5, 0, 0}, v[3] = {0, 0, 0};
+        mote_nb_add(&nb, 0.5, 1, x0, v, 0, &err);
+        mote_nb_add(&nb, 0.5, like ? 1 : -1, x1, v, 0, &err);
+        nb.dt = 1e-3;
+        CHECK(mote_nb_galactica(&nb, 10, &err) == MOTE_OK, "run: %s", err.msg);
+        double gap = nb.x[3] - nb.x[0];
+        CHECK(like ? gap > 1 : gap < 1, "%s charges: separation 1 -> %.17g",
+              like ? "like" : "opposite", gap);
+        mote_nb_free(&nb);
+    }
+    /* bad input */
+    mote_nb nb;
+    mote_nb_init(&nb, MOTE_NB_COULOMB);
+    mote_err err = {0};
+    double x[3] = {0, 0, 0}, y[3] = {1, 0, 0}, v[3] = {0, 0, 0}, bad[3] = {NAN, 0, 0};
+    CHECK(mote_nb_add(&nb, 1, 0, bad, v, 0, &err) != 0, "NaN position accepted");
+    CHECK(mote_nb_add(&nb, 0, 0, x, v, 0, &err) != 0, "zero mass accepted");
+    CHECK(mote_nb_add(&nb, -1, 0, x, v, 0, &err) != 0, "negative mass accepted");
+    mote_nb_add(&nb, 1, 0, x, v, 0, &err);
+    mote_nb_add(&nb, 1, 0, y, v, 0, &err);
+    CHECK(mote_nb_galactica(&nb, 1, &err) != 0 && strstr(err.msg, "charge"),
+          "an uncharged Coulomb run: %s", err.msg);
+    mote_nb_free(&nb);
+    mote_nb_init(&nb, MOTE_NB_GRAVITY);
+    CHECK(mote_nb_galactica(&nb, 1, &err) != 0, "a run without bodies");
+    mote_nb_add(&nb, 1, 0, x, v, 0, &err);
+    mote_nb_add(&nb, 1, 0, x, v, 0, &err);
+    CHECK(mote_nb_galactica(&nb, 1, &err) != 0 && strstr(err.msg, "same point"),
+          "two bodies at one point: %s", err.msg);
+    mote_nb_free(&nb);
+}
+
+int main(void)
+{
+    double w0 = mote_wall_seconds();
+    test_ring_values();
+    test_coulomb_values();
+    test_fN();
+    test_gravity_ring();
+    test_coulomb_ring();
+    test_orders();
+    test_coulomb_sign();
+    printf("test_nbody: %.1f s\n", mote_wall_seconds() - w0);
+    return test_summary();
+}
