@@ -788,7 +788,7 @@ static void test_argument_specs(void)
     /* malformed specs are caught by the table check */
     static const char *const bad_specs[] = {"i>=", "r[1,0]", "f>a|b", "x", "s>0", "f>", "r(0,1",
                                             "i>=1x", "f<A", "i>=1 f>", "k=r i", "k=r k=i",
-                                            "k=", "k=q", "K=r"};
+                                            "k=", "k=q", "9=r"};
     for (size_t k = 0; k < sizeof bad_specs / sizeof bad_specs[0]; k++) {
         mote_cmd cmd = {"go", NULL, bad_specs[k], "go A", "go", "Go.", NULL, opts_run};
         mote_model model = {.name = "bad", .summary = "bad", .cmds = &cmd, .ncmds = 1,

@@ -2,11 +2,13 @@
  * check, help) lives in the script layer (src/script). */
 #include "mote/hardspheres.h"
 #include "mote/mixingbox.h"
+#include "mote/nbody.h"
 #include "mote/script.h"
 
 static const mote_model *const models[] = {
     &mote_model_hardspheres,
     &mote_model_mixingbox,
+    &mote_model_nbody,
 };
 
 int main(int argc, char **argv)

@@ -28,7 +28,10 @@ static int read_bound(const char **pp, double *v, char *text, size_t cap)
     return 0;
 }
 
-static int is_key_start(int ch) { return (ch >= 'a' && ch <= 'z') || ch == '_'; }
+static int is_key_start(int ch)
+{
+    return (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || ch == '_';
+}
 static int is_key_char(int ch) { return is_key_start(ch) || (ch >= '0' && ch <= '9'); }
 
 /* The length of the option key at p ("mass" in "mass=r>0"), or 0 when p does not start one. */

@@ -1,0 +1,56 @@
+#!/bin/sh
+# test_nbody.sh: the N-body model through the `mote` program: the one-period ring script of spec
+# section 8 (its check line within the T05 bounds, the monitor file's header and columns), and
+# bad input (spec issue 21): every malformed command a located error before anything runs, or a
+# runtime error at its line with nothing written.
+# Usage: sh tests/test_nbody.sh [BUILD_DIR]   (default: build)
+NAME=nbody
+. "$(dirname "$0")/lib.sh"
+mote_test_start "$1"
+
+G='model nbody gravity\n'
+C='model nbody coulomb\n'
+
+# the ring over one period
+printf '%bgenerate ring nb=30\nintegrator galactica dt=1e-6\nmonitor 1000 ring.mon\nintegrate 10000\ncheck ring\n' "$G" > ring.mote
+"$MOTE" run ring.mote > out.txt 2> err.txt && ok || bad "ring.mote failed: $(cat err.txt)"
+line=$(grep '^check ring:' out.txt)
+err=$(echo "$line" | sed -n 's/.*error \([^,]*\),.*/\1/p')
+awk -v e="$err" 'BEGIN { exit !(e + 0 <= 1e-12 && e != "") }' && ok || bad "check ring error '$err' ($line)"
+grep -q 'T = 0.0099990009999999987 ' out.txt && ok || bad "T after 10000 steps: $line"
+grep -q '^# mote nbody-monitor 1$' ring.mon && ok || bad "monitor format line"
+grep -q '^# columns: step T h E_kin U E_tot dE Px Py Pz Lx Ly Lz dMz Xcm Ycm Zcm$' ring.mon && ok || bad "monitor columns"
+rows=$(grep -vc '^#' ring.mon)
+[ "$rows" -eq 11 ] && ok || bad "monitor rows: $rows, expected 11 (step 0 and every 1000)"
+awk '!/^#/ { if ($7 > 1e-13 || $7 < -1e-13) bad = 1 } END { exit bad }' ring.mon && ok || bad "monitor dE above 1e-13"
+
+# the Coulomb ring
+printf '%bgenerate atom_ring\nintegrator galactica dt=1e-6\nintegrate 30000\ncheck ring\n' "$C" > atom.mote
+"$MOTE" run atom.mote > out.txt 2> err.txt && ok || bad "atom.mote failed: $(cat err.txt)"
+err=$(sed -n 's/^check ring:.*error \([^,]*\),.*/\1/p' out.txt)
+awk -v e="$err" 'BEGIN { exit !(e + 0 <= 1e-11 && e != "") }' && ok || bad "Coulomb ring error '$err'"
+
+# bad input: located, before anything runs
+expect 1 "v1.mote:1:13: error: model: the nbody model's variant is one of gravity|coulomb, found 'newton'" v1.mote "model nbody newton\n"
+expect 1 "b1.mote:2:1: error: integrate: there are no bodies yet" b1.mote "${G}integrate 10\n"
+expect 1 "b2.mote:2:11: error: body: expected a real number for mass, found 'nan'" b2.mote "${G}body mass=nan\n"
+expect 1 "b3.mote:2:11: error: body: mass must be > 0, found 0" b3.mote "${G}body mass=0\n"
+expect 1 "b4.mote:2:11: error: body: mass must be > 0, found -1" b4.mote "${G}body mass=-1\n"
+expect 1 "b5.mote:2:1: error: body: option mass= is required" b5.mote "${G}body x=1\n"
+expect 1 "b6.mote:2:15: error: body: x is out of the range of real numbers, found '1e999'" b6.mote "${G}body mass=1 x=1e999\n"
+expect 1 "b7.mote:2:28: error: integrator: order must be in [2, 6], found 7" b7.mote "${G}integrator galactica order=7\n"
+expect 1 "b8.mote:2:25: error: integrator: dt must be > 0, found 0" b8.mote "${G}integrator galactica dt=0\n"
+expect 1 "b9.mote:2:12: error: integrator: expected galactica, found 'leapfrog'" b9.mote "${G}integrator leapfrog\n"
+expect 1 "b10.mote:2:10: error: generate atom_ring: this is a gravity run" b10.mote "${G}generate atom_ring\n"
+expect 1 "b11.mote:2:17: error: generate ring: option Z= belongs to the other ring" b11.mote "${G}generate ring Z=3\n"
+expect 1 "b12.mote:2:20: error: body: charge= is for the coulomb variant" b12.mote "${G}body mass=1 charge=1\n"
+expect 1 "b13.mote:3:1: error: check ring: no ring was generated" b13.mote "${G}body mass=1\ncheck ring\n"
+expect 1 "b14.mote:3:1: error: generate: the system already has bodies" b14.mote "${G}body mass=1\ngenerate ring\n"
+expect 1 "b15.mote:2:18: error: generate: nb must be >= 2, found 1" b15.mote "${G}generate ring nb=1\n"
+# runtime: at the line, with the monitor's earlier file kept
+expect 2 "r1.mote:4:1: error: a Coulomb run needs charged bodies" r1.mote "${C}body mass=1 x=1\nbody mass=1\nintegrate 5\n"
+expect 2 "r2.mote:5:1: error: bodies 1 and 2 are at the same point" r2.mote "${G}body mass=1\nbody mass=1\nmonitor 1 m.mon\nintegrate 5\n"
+grep -vc '^#' m.mon | grep -qx 1 && ok || bad "the monitor file written before the failure lost its sample"
+expect 2 "r3.mote:2:1: error: ring: neighbours are only" r3.mote "${G}generate ring ka=0.001\n"
+
+mote_test_end
