@@ -110,6 +110,28 @@ static void test_datafile_hostile(void)
     CHECK_INT(t.ncol[1], 200);
     CHECK(isinf(mote_table_key(&t, "k")), "an overflowing key value reads as inf");
     mote_table_free(&t);
+
+    /* rows of growing width: earlier rows padded with NaN; beyond MOTE_TABLE_MAXCOL counted only */
+    path_in(path, sizeof path, "wide.dat");
+    f = fopen(path, "wb");
+    fputs("1 2 3\n", f);
+    for (int k = 0; k < 100; k++)
+        fprintf(f, "%d ", k);
+    fputs("\n", f);
+    for (int k = 0; k < MOTE_TABLE_MAXCOL + 10; k++)
+        fprintf(f, "%d ", k);
+    fputs("\n", f);
+    fclose(f);
+    CHECK_INT(mote_table_read(&t, path, &err), 0);
+    CHECK(t.rows == 3 && t.ncol[1] == 100 && t.ncol[2] == MOTE_TABLE_MAXCOL + 10 &&
+              t.width == MOTE_TABLE_MAXCOL,
+          "wide rows: %zu rows, widths %d %d, kept %zu", t.rows, t.ncol[1], t.ncol[2], t.width);
+    CHECK(mote_table_at(&t, 0, 2) == 3 && isnan(mote_table_at(&t, 0, 3)) &&
+              mote_table_at(&t, 1, 99) == 99 && mote_table_at(&t, 2, MOTE_TABLE_MAXCOL - 1) ==
+                                                    MOTE_TABLE_MAXCOL - 1 &&
+              isnan(mote_table_at(&t, 2, MOTE_TABLE_MAXCOL)),
+          "wide rows: values after widening");
+    mote_table_free(&t);
 }
 
 static void test_blocks_and_schedules(void)

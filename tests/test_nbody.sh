@@ -24,6 +24,21 @@ rows=$(grep -vc '^#' ring.mon)
 [ "$rows" -eq 11 ] && ok || bad "monitor rows: $rows, expected 11 (step 0 and every 1000)"
 awk '!/^#/ { if ($7 > 1e-13 || $7 < -1e-13) bad = 1 } END { exit bad }' ring.mon && ok || bad "monitor dE above 1e-13"
 
+# the orbits and drifts as pictures (the common plot)
+printf '%bgenerate ring\ntrajectory 20 ring.traj\nmonitor 500 ring.mon\nintegrate 10000\nplot ring.traj orbits.png\nplot ring.mon drift.png\n' "$G" > plots.mote
+"$MOTE" run plots.mote > out.txt 2> err.txt && ok || bad "plots.mote failed: $(cat err.txt)"
+png_size() { od -An -tu1 -j16 -N8 "$1" | awk '{ printf "%d %d", $1*16777216+$2*65536+$3*256+$4, $5*16777216+$6*65536+$7*256+$8 }'; }
+[ "$(od -An -c -N4 orbits.png | tr -d ' ')" = "211PNG" ] && ok || bad "orbits.png is not a PNG"
+set -- $(png_size orbits.png)
+[ "$2" -eq 1000 ] && [ "$1" -ge 900 ] && [ "$1" -le 1000 ] && ok || bad "orbits.png is $1 x $2, expected 1000 high and nearly as wide (equal axes, a square frame)"
+[ "$(od -An -c -N4 drift.png | tr -d ' ')" = "211PNG" ] && ok || bad "drift.png is not a PNG"
+grep -q '^# columns: T E_kin E_tot x1 y1 z1 x2 y2 z2 ' ring.traj && ok || bad "trajectory columns"
+[ "$(grep -vc '^#' ring.traj)" -eq 501 ] && ok || bad "trajectory rows: $(grep -vc '^#' ring.traj), expected 501"
+printf '# mote image 1\n1 2 3\n' > other.dat
+expect 2 "p1.mote:2:1: error: plot: 'other.dat' is not an N-body data file" p1.mote "${G}plot other.dat x.png\n"
+[ ! -e x.png ] && ok || bad "a failed plot left x.png"
+expect 1 "p2.mote:2:1: error: trajectory: there are no bodies yet" p2.mote "${G}trajectory 1 t.dat\n"
+
 # the Coulomb ring
 printf '%bgenerate atom_ring\nintegrator galactica dt=1e-6\nintegrate 30000\ncheck ring\n' "$C" > atom.mote
 "$MOTE" run atom.mote > out.txt 2> err.txt && ok || bad "atom.mote failed: $(cat err.txt)"

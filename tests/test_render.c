@@ -177,6 +177,38 @@ static void test_plot(ctx *t)
     CHECK_LINE(is_png && w == 1000 && h == 650, "plot: default size 1000 x 650", msg);
 }
 
+/* Equal axes: a range twice as tall as wide gives a picture taller than wide. */
+static void test_plot_equal(ctx *t)
+{
+    char p[512], msg[1200];
+    mote_err err = {0};
+    double x[65], y[65];
+    for (int k = 0; k <= 64; k++) {
+        x[k] = cos(2 * 3.14159265358979 * k / 64);
+        y[k] = 2 * sin(2 * 3.14159265358979 * k / 64);
+    }
+    mote_series s = {x, y, 65, "ellipse", 0};
+    mote_plot_opts o;
+    memset(&o, 0, sizeof o);
+    o.equal_axes = 1;
+    o.width = 600;
+    o.xmin = -1;
+    o.xmax = 1;
+    o.ymin = -2;
+    o.ymax = 2;
+    path_in(t, p, sizeof p, "equal.png");
+    int rc = mote_plot_png(p, &o, &s, 1, &err);
+    long w = 0, h = 0;
+    int is_png = rc == MOTE_OK && png_size(p, &w, &h);
+    snprintf(msg, sizeof msg, "got %ld x %ld (%s)", w, h, rc ? err.msg : "");
+    CHECK_LINE(is_png && h == 600 && w < h && w > h / 3, "plot: equal axes, 1 x 2 range", msg);
+    o.ymin = -1e6;
+    o.ymax = 1e6;
+    rc = mote_plot_png(p, &o, &s, 1, &err);
+    CHECK_LINE(rc == MOTE_EINVAL && strstr(err.msg, "equal axes"),
+               "plot: equal axes refuse a 1 : 10^6 range", err.msg);
+}
+
 /* Data that have no natural scale must still give a picture. */
 static void test_plot_awkward(ctx *t)
 {
@@ -488,6 +520,7 @@ int main(void)
         return test_summary();
     }
     test_plot(&t);
+    test_plot_equal(&t);
     test_plot_awkward(&t);
     test_plot_errors(&t);
     test_disks(&t);

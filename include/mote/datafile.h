@@ -63,7 +63,10 @@ void mote_datafile_abort(mote_datafile *d);
 
 /* ---- reading ---------------------------------------------------------------------------------- */
 
-#define MOTE_TABLE_MAXCOL 64
+/* Columns kept per row (tokens beyond are counted in ncol, not stored), and the most numbers a
+ * table holds (rows times its widest row): a larger file is refused, not allocated. */
+#define MOTE_TABLE_MAXCOL 4096
+#define MOTE_TABLE_MAXCELLS ((size_t)1 << 27)
 
 typedef struct {
     char format[32];          /* from "# mote FORMAT 1" ("" when the first line is not that) */
@@ -72,9 +75,11 @@ typedef struct {
     char (*key)[32];
     double *keyval;
     int ncolnames;            /* from "# columns:" (0 when absent) */
-    char colname[MOTE_TABLE_MAXCOL][32];
+    char (*colname)[32];      /* their names */
     size_t rows;              /* data rows: */
-    double *num;              /* rows * MOTE_TABLE_MAXCOL numbers (a text token reads as NaN) */
+    size_t width;             /* numbers kept per row: the widest row (at most MOTE_TABLE_MAXCOL) */
+    double *num;              /* rows * width numbers (a text token reads as NaN, a short row is
+                               * padded with NaN) */
     int *ncol;                /* tokens on each row */
     int *block;               /* 0, 1, ...: blocks are separated by blank lines */
     long *line;               /* the file line of each row */
@@ -97,7 +102,7 @@ int mote_table_col(const mote_table *t, const char *name);
 /* Row r, column c (NaN beyond the row). */
 static inline double mote_table_at(const mote_table *t, size_t r, int c)
 {
-    return c >= 0 && c < MOTE_TABLE_MAXCOL ? t->num[r * MOTE_TABLE_MAXCOL + (size_t)c] : NAN;
+    return c >= 0 && (size_t)c < t->width ? t->num[r * t->width + (size_t)c] : NAN;
 }
 
 #endif

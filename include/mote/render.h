@@ -29,6 +29,9 @@ typedef struct {
     int has_yref;
     double yref;
     const char *yref_label;
+    /* 1: one data unit is as long on both axes (orbits, paths); the frame takes the shape of
+     * the ranges and the picture's longer side is `width` pixels */
+    int equal_axes;
 } mote_plot_opts;
 
 /* Line plot of one or more series with axes, ticks, labels, title and a legend (placed in the

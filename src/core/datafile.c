@@ -104,6 +104,7 @@ void mote_table_free(mote_table *t)
     free(t->block);
     free(t->line);
     free(t->first);
+    free(t->colname);
     memset(t, 0, sizeof *t);
 }
 
@@ -159,19 +160,70 @@ static int add_key(mote_table *t, const char *line)
     return 0;
 }
 
-static void read_columns(mote_table *t, char *s)
+static int read_columns(mote_table *t, char *s)
 {
     t->ncolnames = 0;
+    if (!t->colname && !(t->colname = malloc(MOTE_TABLE_MAXCOL * sizeof *t->colname)))
+        return -1;
     for (char *tok = strtok(s, " \t\r\n"); tok && t->ncolnames < MOTE_TABLE_MAXCOL;
          tok = strtok(NULL, " \t\r\n"))
         snprintf(t->colname[t->ncolnames++], sizeof t->colname[0], "%s", tok);
+    return 0;
 }
 
+/* Make rows hold `width` numbers (moving the rows read so far; new places NaN). */
+static int widen(mote_table *t, size_t width)
+{
+    if (t->cap && width * t->cap > MOTE_TABLE_MAXCELLS)
+        return -2;
+    double *p = malloc((t->cap ? t->cap : 1) * width * sizeof *p);
+    if (!p)
+        return -1;
+    for (size_t r = 0; r < t->rows; r++)
+        for (size_t c = 0; c < width; c++)
+            p[r * width + c] = c < t->width ? t->num[r * t->width + c] : NAN;
+    free(t->num);
+    t->num = p;
+    t->width = width;
+    return 0;
+}
+
+/* Tokens of a row (the first MOTE_TABLE_MAXCOL of them count towards the width). */
+static size_t count_tokens(const char *p)
+{
+    size_t n = 0;
+    for (;;) {
+        p += strspn(p, " \t\r\n");
+        if (!*p)
+            return n;
+        n++;
+        p += strcspn(p, " \t\r\n");
+    }
+}
+
+/* Returns 0, -1 (out of memory) or -2 (beyond MOTE_TABLE_MAXCELLS). */
 static int add_row(mote_table *t, const char *line, int block, long lineno)
 {
+    size_t ntok = count_tokens(line);
+    size_t want = ntok < MOTE_TABLE_MAXCOL ? ntok : MOTE_TABLE_MAXCOL;
+    if (want < 1)
+        want = 1;
+    if (want > t->width) {
+        size_t w = t->width ? t->width : 1;
+        while (w < want)
+            w *= 2;
+        int rc = widen(t, w < MOTE_TABLE_MAXCOL ? w : MOTE_TABLE_MAXCOL);
+        if (rc)
+            return rc;
+    }
     if (t->rows == t->cap) {
         size_t cap = t->cap ? 2 * t->cap : 256;
-        if (grow((void **)&t->num, cap * MOTE_TABLE_MAXCOL, sizeof *t->num) ||
+        if (cap * t->width > MOTE_TABLE_MAXCELLS) {
+            cap = MOTE_TABLE_MAXCELLS / t->width;
+            if (cap <= t->rows)
+                return -2;
+        }
+        if (grow((void **)&t->num, cap * t->width, sizeof *t->num) ||
             grow((void **)&t->ncol, cap, sizeof *t->ncol) ||
             grow((void **)&t->block, cap, sizeof *t->block) ||
             grow((void **)&t->line, cap, sizeof *t->line) ||
@@ -179,7 +231,7 @@ static int add_row(mote_table *t, const char *line, int block, long lineno)
             return -1;
         t->cap = cap;
     }
-    double *row = t->num + t->rows * MOTE_TABLE_MAXCOL;
+    double *row = t->num + t->rows * t->width;
     int n = 0;
     const char *p = line;
     t->first[t->rows][0] = '\0';
@@ -194,12 +246,12 @@ static int add_row(mote_table *t, const char *line, int block, long lineno)
             v = NAN;
             end = (char *)p + strcspn(p, " \t\r\n");
         }
-        if (n < MOTE_TABLE_MAXCOL)
+        if ((size_t)n < t->width)
             row[n] = v;
         n++;
         p = end;
     }
-    for (int k = n; k < MOTE_TABLE_MAXCOL; k++)
+    for (size_t k = (size_t)n; k < t->width; k++)
         row[k] = NAN;
     t->ncol[t->rows] = n;
     t->block[t->rows] = block;
@@ -238,9 +290,12 @@ int mote_table_read(mote_table *t, const char *path, mote_err *err)
             else if (strncmp(line, "# command: ", 11) == 0) {
                 snprintf(t->command, sizeof t->command, "%s", line + 11);
                 t->command[strcspn(t->command, "\r\n")] = '\0';
-            } else if (strncmp(line, "# columns:", 10) == 0)
-                read_columns(t, line + 10);
-            else if (add_key(t, line)) {
+            } else if (strncmp(line, "# columns:", 10) == 0) {
+                if (read_columns(t, line + 10)) {
+                    rc = mote_fail(err, MOTE_ENOMEM, "out of memory reading '%s'", path);
+                    break;
+                }
+            } else if (add_key(t, line)) {
                 rc = mote_fail(err, MOTE_ENOMEM, "out of memory reading '%s'", path);
                 break;
             }
@@ -254,8 +309,12 @@ int mote_table_read(mote_table *t, const char *path, mote_err *err)
             block++;
             blank = 0;
         }
-        if (add_row(t, line, block, lineno)) {
-            rc = mote_fail(err, MOTE_ENOMEM, "out of memory reading '%s'", path);
+        int ar = add_row(t, line, block, lineno);
+        if (ar) {
+            rc = ar == -2 ? mote_fail(err, MOTE_EFORMAT,
+                                      "%s:%ld: too many numbers for a plot (more than %zu)", path,
+                                      lineno, MOTE_TABLE_MAXCELLS)
+                          : mote_fail(err, MOTE_ENOMEM, "out of memory reading '%s'", path);
             break;
         }
     }

@@ -8,6 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "nb.h"
+
 typedef struct {
     mote_nb nb;
     mote_context *ctx;
@@ -19,12 +21,17 @@ typedef struct {
     /* the ring generated last (the reference of `check ring`) */
     mote_nb_ring ring;
     int have_ring;
-    /* the monitor: a sample every `every` steps of integrate into `path` */
-    uint64_t every;
-    char *path, *origin;
-    double *rows;       /* MON_COLS per sample */
-    size_t nrows, cap;
+    /* the monitor and the trajectory: a sample every `every` steps of integrate into `path` */
+    struct nb_sampler {
+        uint64_t every;     /* 0: off */
+        char *path, *origin;
+        double *rows;       /* cols per sample */
+        size_t nrows, cap, cols;
+        double L0[3];       /* trajectory: L + S when it started (the invariable plane) */
+    } mon, traj;
 } nb_model;
+
+typedef struct nb_sampler nb_sampler;
 
 static mote_nb_interaction variant_kind(const mote_context *ctx)
 {
@@ -49,9 +56,12 @@ static void model_destroy(void *vm)
     if (!m)
         return;
     mote_nb_free(&m->nb);
-    free(m->path);
-    free(m->origin);
-    free(m->rows);
+    nb_sampler *smp[2] = {&m->mon, &m->traj};
+    for (int k = 0; k < 2; k++) {
+        free(smp[k]->path);
+        free(smp[k]->origin);
+        free(smp[k]->rows);
+    }
     free(m);
 }
 
@@ -238,20 +248,28 @@ enum { MON_COLS = 17 };
 static const char MON_NAMES[] =
     "step T h E_kin U E_tot dE Px Py Pz Lx Ly Lz dMz Xcm Ycm Zcm";
 
+/* Room for one more sample row; returns it or NULL (out of memory). */
+static double *sampler_row(nb_sampler *s)
+{
+    if (s->nrows == s->cap) {
+        size_t cap = s->cap ? 2 * s->cap : 256;
+        double *p = realloc(s->rows, cap * s->cols * sizeof *p);
+        if (!p)
+            return NULL;
+        s->rows = p;
+        s->cap = cap;
+    }
+    return s->rows + s->nrows++ * s->cols;
+}
+
 static int monitor_sample(nb_model *m, mote_err *err)
 {
-    if (m->nrows == m->cap) {
-        size_t cap = m->cap ? 2 * m->cap : 256;
-        double *p = realloc(m->rows, cap * MON_COLS * sizeof *p);
-        if (!p)
-            return mote_fail(err, MOTE_ENOMEM, "monitor: out of memory");
-        m->rows = p;
-        m->cap = cap;
-    }
+    double *r = sampler_row(&m->mon);
+    if (!r)
+        return mote_fail(err, MOTE_ENOMEM, "monitor: out of memory");
     const mote_nb *nb = &m->nb;
     mote_nb_monitor mon;
     mote_nb_measure(nb, &mon);
-    double *r = m->rows + m->nrows++ * MON_COLS;
     double row[MON_COLS] = {(double)nb->steps, nb->T, nb->dtp, mon.ekin, mon.u, mon.etot, mon.dE,
                             mon.P[0], mon.P[1], mon.P[2], mon.L[0], mon.L[1], mon.L[2], mon.dMz,
                             mon.R[0] / mon.mtot, mon.R[1] / mon.mtot, mon.R[2] / mon.mtot};
@@ -259,56 +277,127 @@ static int monitor_sample(nb_model *m, mote_err *err)
     return MOTE_OK;
 }
 
-static int monitor_write(nb_model *m, mote_err *err)
+static int trajectory_sample(nb_model *m, mote_err *err)
+{
+    nb_sampler *s = &m->traj;
+    if (s->cols != 3 + 3 * (size_t)m->nb.n)
+        return mote_fail(err, MOTE_EINVAL, "trajectory: the number of bodies changed (%u now)",
+                         m->nb.n);
+    double *r = sampler_row(s);
+    if (!r)
+        return mote_fail(err, MOTE_ENOMEM, "trajectory: out of memory");
+    mote_nb_monitor mon;
+    mote_nb_measure(&m->nb, &mon);
+    r[0] = m->nb.T;
+    r[1] = mon.ekin;
+    r[2] = mon.etot;
+    memcpy(r + 3, m->nb.x, 3 * (size_t)m->nb.n * sizeof *r);
+    return MOTE_OK;
+}
+
+/* The header lines both files share after the preamble. */
+static void run_header(FILE *f, const mote_nb *nb, uint64_t every)
+{
+    fprintf(f, "# interaction = %s\n# N = %u\n# integrator = galactica\n# order = %d\n",
+            nb->kind == MOTE_NB_GRAVITY ? "gravity" : "coulomb", nb->n, nb->order);
+    fprintf(f, "# dt = %.17g\n# compensated = %d\n# every = %llu\n", nb->dt, nb->compensated,
+            (unsigned long long)every);
+    if (nb->u.set)
+        fprintf(f, "# M_Ss = %.17g\n# Am = %.17g\n# kv = %.17g\n# kt = %.17g\n", nb->u.M,
+                nb->u.Am, nb->u.kv, nb->u.kt);
+    fprintf(f, "# units: dimensionless (G = 1 or the Coulomb constant 1, total mass 1; spec "
+               "3.5)\n");
+}
+
+static int sampler_write(nb_model *m, nb_sampler *s, int traj, mote_err *err)
 {
     mote_datafile d;
-    int rc = mote_datafile_open(&d, m->path, "nbody-monitor", m->origin, 0, err);
+    int rc = mote_datafile_open(&d, s->path, traj ? "nbody-trajectory" : "nbody-monitor",
+                                s->origin, 0, err);
     if (rc)
         return rc;
-    const mote_nb *nb = &m->nb;
-    fprintf(d.f, "# interaction = %s\n# N = %u\n# integrator = galactica\n# order = %d\n",
-            nb->kind == MOTE_NB_GRAVITY ? "gravity" : "coulomb", nb->n, nb->order);
-    fprintf(d.f, "# dt = %.17g\n# compensated = %d\n# every = %llu\n", nb->dt, nb->compensated,
-            (unsigned long long)m->every);
-    if (nb->u.set)
-        fprintf(d.f, "# M_Ss = %.17g\n# Am = %.17g\n# kv = %.17g\n# kt = %.17g\n", nb->u.M,
-                nb->u.Am, nb->u.kv, nb->u.kt);
-    fprintf(d.f, "# units: dimensionless (G = 1 or the Coulomb constant 1, total mass 1); dE is "
-                 "(E - E0)/|E0| and dMz the aggregated z moment's relative change from the run's "
-                 "start\n");
-    mote_datafile_columns(&d, MON_NAMES);
-    for (size_t k = 0; k < m->nrows; k++) {
-        const double *r = m->rows + k * MON_COLS;
-        fprintf(d.f, "%.0f", r[0]);
-        for (int c = 1; c < MON_COLS; c++)
-            fprintf(d.f, " %.17g", r[c]);
+    run_header(d.f, &m->nb, s->every);
+    if (traj) {
+        fprintf(d.f, "# Lx0 = %.17g\n# Ly0 = %.17g\n# Lz0 = %.17g\n", s->L0[0], s->L0[1],
+                s->L0[2]);
+        fprintf(d.f, "# a row per sample: T, E_kin, E_tot, then x y z of each body\n# columns: "
+                     "T E_kin E_tot");
+        for (size_t b = 1; 3 + 3 * (b - 1) < s->cols; b++)
+            fprintf(d.f, " x%zu y%zu z%zu", b, b, b);
+        fputc('\n', d.f);
+    } else {
+        fprintf(d.f, "# dE is (E - E0)/|E0| and dMz the aggregated z moment's relative change "
+                     "from the run's start\n");
+        mote_datafile_columns(&d, MON_NAMES);
+    }
+    for (size_t k = 0; k < s->nrows; k++) {
+        const double *r = s->rows + k * s->cols;
+        for (size_t c = 0; c < s->cols; c++)
+            fprintf(d.f, c == 0 && !traj ? "%.0f" : c ? " %.17g" : "%.17g", r[c]);
         fputc('\n', d.f);
     }
     return mote_datafile_commit(&d, err);
 }
 
-static int check_monitor(void *vm, const mote_call *c, mote_err *err) { return MOTE_OK; }
+/* Start a sampler for the call (K FILE): now, then every K steps of integrate. */
+static int sampler_start(nb_model *m, nb_sampler *s, const mote_call *c, size_t cols,
+                         mote_err *err)
+{
+    free(s->path);
+    free(s->origin);
+    s->path = strdup(c->args[1].path);
+    s->origin = mote_call_origin(c);
+    s->every = (uint64_t)c->args[0].i;
+    s->nrows = 0;
+    s->cols = cols;
+    if (!s->path || !s->origin)
+        return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", c->name);
+    if (!m->nb.ref_set && m->nb.n)
+        mote_nb_set_reference(&m->nb);
+    return MOTE_OK;
+}
+
 static int run_monitor(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
-    free(m->path);
-    free(m->origin);
-    m->path = strdup(c->args[1].path);
-    m->origin = mote_call_origin(c);
-    m->every = (uint64_t)c->args[0].i;
-    m->nrows = 0;
-    if (!m->path || !m->origin)
-        return mote_fail(err, MOTE_ENOMEM, "monitor: out of memory");
-    if (!m->nb.ref_set && m->nb.n)
-        mote_nb_set_reference(&m->nb);
-    int rc = m->nb.n ? monitor_sample(m, err) : MOTE_OK;
-    return rc ? rc : monitor_write(m, err);
+    int rc = sampler_start(m, &m->mon, c, MON_COLS, err);
+    if (!rc && m->nb.n)
+        rc = monitor_sample(m, err);
+    return rc ? rc : sampler_write(m, &m->mon, 0, err);
+}
+
+static int check_trajectory(void *vm, const mote_call *c, mote_err *err)
+{
+    return need_bodies(vm, c, err);
+}
+static int run_trajectory(void *vm, const mote_call *c, mote_err *err)
+{
+    nb_model *m = vm;
+    int rc = sampler_start(m, &m->traj, c, 3 + 3 * (size_t)m->nb.n, err);
+    if (rc)
+        return rc;
+    mote_nb_monitor mon;
+    mote_nb_measure(&m->nb, &mon);
+    for (int a = 0; a < 3; a++)
+        m->traj.L0[a] = mon.L[a] + mon.S[a];
+    rc = trajectory_sample(m, err);
+    return rc ? rc : sampler_write(m, &m->traj, 1, err);
 }
 
 static int check_integrate(void *vm, const mote_call *c, mote_err *err)
 {
     return need_bodies(vm, c, err);
 }
+
+/* Steps to the next sample of s (at most `left`). */
+static uint64_t until_sample(const nb_sampler *s, uint64_t steps, uint64_t left)
+{
+    if (!s->path)
+        return left;
+    uint64_t next = (steps / s->every + 1) * s->every - steps;
+    return next < left ? next : left;
+}
+
 static int run_integrate(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
@@ -317,24 +406,26 @@ static int run_integrate(void *vm, const mote_call *c, mote_err *err)
     mote_progress_begin(&prog, c->ctx, "integrate");
     int rc = MOTE_OK;
     while (done < steps && !rc) {
-        uint64_t chunk = steps - done;
-        if (m->path) { /* stop at the monitor's samples */
-            uint64_t next = (m->nb.steps / m->every + 1) * m->every;
-            if (next - m->nb.steps < chunk)
-                chunk = next - m->nb.steps;
-        }
+        uint64_t chunk = until_sample(&m->mon, m->nb.steps, steps - done);
+        chunk = until_sample(&m->traj, m->nb.steps, chunk);
         if (chunk > 1000)
             chunk = 1000;
         rc = mote_nb_galactica(&m->nb, chunk, err);
         done += chunk;
-        if (!rc && m->path && m->nb.steps % m->every == 0)
+        if (!rc && m->mon.path && m->nb.steps % m->mon.every == 0)
             rc = monitor_sample(m, err);
+        if (!rc && m->traj.path && m->nb.steps % m->traj.every == 0)
+            rc = trajectory_sample(m, err);
         mote_progress_update(&prog, (double)done / (double)steps);
     }
     mote_progress_end(&prog);
-    if (m->path) { /* the samples so far, even after a failure */
+    /* the samples so far, even after a failure */
+    nb_sampler *smp[2] = {&m->mon, &m->traj};
+    for (int k = 0; k < 2; k++) {
+        if (!smp[k]->path)
+            continue;
         mote_err werr = {0};
-        int wrc = monitor_write(m, rc ? &werr : err);
+        int wrc = sampler_write(m, smp[k], k, rc ? &werr : err);
         rc = rc ? rc : wrc;
     }
     return rc;
@@ -427,6 +518,15 @@ static const char HELP_MONITOR[] =
     "aggregated z moment's relative change since the start of the run). The file\n"
     "is rewritten, atomically, at the end of every integrate.\n";
 
+static const char HELP_TRAJECTORY[] =
+    "    trajectory K FILE\n"
+    "\n"
+    "Record T, E_kin, E_tot and the position of every body now and every K steps\n"
+    "of later `integrate` commands into the data file FILE (spec 10.3), rewritten\n"
+    "atomically at the end of every integrate. Its header keeps the total angular\n"
+    "momentum at the start, so `plot FILE orbits.png` draws the orbits in the\n"
+    "invariable plane.\n";
+
 static const char HELP_INTEGRATE[] =
     "    integrate K\n"
     "\n"
@@ -438,6 +538,19 @@ static const char HELP_CHECK[] =
     "Print the deviation from the exact ring solution (spec 9.1, 9.2): the largest\n"
     "|x - x_exact| / |x_exact| over the ring bodies, the largest distance from the\n"
     "orbit plane (in units of a), and the energy and moment drifts.\n";
+
+static const char HELP_PLOT[] =
+    "Data files of `trajectory` and `monitor`: a trajectory as the orbits of every\n"
+    "body projected on the invariable plane (perpendicular to the total angular\n"
+    "momentum when the recording started; a tilted ring shows its true ellipses),\n"
+    "equal scales on both axes, one colour per body, the first body with its\n"
+    "points; a monitor file as the relative drifts of the energy and of the\n"
+    "aggregated z moment against time.\n";
+
+static int model_plot(void *vm, const char *data_path, const char *png_path, mote_err *err)
+{
+    return nb_plot_file(data_path, png_path, err);
+}
 
 static const mote_cmd nb_commands[] = {
     {"body", NULL,
@@ -458,7 +571,10 @@ static const mote_cmd nb_commands[] = {
      HELP_COMPENSATED, check_compensated, run_compensated},
     {"monitor", NULL, "i>=1 f>monitor", "monitor K FILE",
      "record energy, momentum, moment and centre of mass every K steps", HELP_MONITOR,
-     check_monitor, run_monitor},
+     NULL, run_monitor},
+    {"trajectory", NULL, "i>=1 f>trajectory", "trajectory K FILE",
+     "record the positions of every body every K steps (plot draws the orbits)", HELP_TRAJECTORY,
+     check_trajectory, run_trajectory},
     {"integrate", NULL, "i>=1", "integrate K", "take K steps", HELP_INTEGRATE, check_integrate,
      run_integrate},
     {"check", NULL, "s", "check ring", "compare with the exact ring solution", HELP_CHECK,
@@ -474,4 +590,7 @@ const mote_model mote_model_nbody = {
     .create = model_create,
     .destroy = model_destroy,
     .status = model_status,
+    .plot_kinds = "monitor|trajectory",
+    .plot = model_plot,
+    .plot_help = HELP_PLOT,
 };

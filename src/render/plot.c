@@ -485,6 +485,14 @@ int mote_plot_png(const char *path, const mote_plot_opts *opts, const mote_serie
 
     mote_rnd_style st = mote_rnd_style_for(fmin(W / 1000.0, H / 650.0));
     mote_rnd_layout_in in = {opts->title, opts->xlabel, opts->ylabel, x0, x1, y0, y1, W, H, 0.0, 0};
+    if (opts->equal_axes) {
+        in.aspect = fabs(y1 - y0) / fabs(x1 - x0);
+        if (!(in.aspect >= 1e-3 && in.aspect <= 1e3))
+            return mote_fail(err, MOTE_EINVAL,
+                             "%s: equal axes need comparable ranges (height/width %g)", path,
+                             in.aspect);
+        in.longer_side = W; /* (width, default 1000) */
+    }
     mote_rnd_layout lay;
     rc = mote_rnd_layout_compute(&in, &st, &lay, err);
     if (rc != MOTE_OK) return rc;
