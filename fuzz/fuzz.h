@@ -1,6 +1,6 @@
 /* fuzz.h: the entry points of mote's fuzz targets, one per input the program reads from users:
  * scripts (parse and validate), hard-sphere state files (mote's and the original program's),
- * mixing-box state files, and the data files `plot` reads (both models). Each takes arbitrary
+ * mixing-box and N-body state files, and the data files `plot` reads (every model). Each takes arbitrary
  * bytes and must return without crashing, hanging or leaking, whatever they are.
  *
  * They are built two ways: with libFuzzer (`make fuzz`, clang -fsanitize=fuzzer,address,undefined:

@@ -5,10 +5,12 @@
 
 #include "mote/hardspheres.h"
 #include "mote/mixingbox.h"
+#include "mote/nbody.h"
 #include "mote/script.h"
 
 #include "../src/hardspheres/plot.h"
 #include "../src/mixingbox/mb.h"
+#include "../src/nbody/nb.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -39,14 +41,16 @@ static int write_input(const char *name, const uint8_t *data, size_t size, char 
     return w == size ? 0 : -1;
 }
 
-static const mote_model *const MODELS[] = {&mote_model_hardspheres, &mote_model_mixingbox};
+static const mote_model *const MODELS[] = {&mote_model_hardspheres, &mote_model_mixingbox,
+                                           &mote_model_nbody};
 
 /* Parse and validate a script (nothing runs: validation only reads files, never simulates). */
 static int fuzz_script(const uint8_t *data, size_t size)
 {
     mote_err err = {0};
     mote_script *s = NULL;
-    if (mote_script_parse(&s, "fuzz.mote", (const char *)data, size, MODELS, 2, &err) == 0) {
+    if (mote_script_parse(&s, "fuzz.mote", (const char *)data, size, MODELS,
+                          sizeof MODELS / sizeof MODELS[0], &err) == 0) {
         mote_context *ctx = mote_script_context(s);
         FILE *null = fopen("/dev/null", "w");
         if (null) {
@@ -98,6 +102,28 @@ static int fuzz_mb_state(const uint8_t *data, size_t size)
     return 0;
 }
 
+static int fuzz_nb_state(const uint8_t *data, size_t size)
+{
+    char path[256];
+    if (write_input("in.nbstate", data, size, path, sizeof path))
+        return 0;
+    mote_err err = {0};
+    uint32_t n;
+    nb_state_peek(path, &n, &err);
+    for (int kind = 0; kind < 2; kind++) {
+        mote_nb nb;
+        mote_nb_init(&nb, kind ? MOTE_NB_COULOMB : MOTE_NB_GRAVITY);
+        if (nb_state_load(&nb, path, &err) == 0) {
+            /* a loaded state must run and save */
+            mote_nb_galactica(&nb, 2, &err);
+            snprintf(path, sizeof path, "%s/out.nbstate", scratch());
+            nb_state_save(&nb, path, &err);
+        }
+        mote_nb_free(&nb);
+    }
+    return 0;
+}
+
 static int fuzz_plot(const uint8_t *data, size_t size)
 {
     char in[256], out[256];
@@ -107,6 +133,7 @@ static int fuzz_plot(const uint8_t *data, size_t size)
     mote_err err = {0};
     hs_plot_file(in, out, &err);
     mb_plot_file(in, out, &err);
+    nb_plot_file(in, out, &err);
     return 0;
 }
 
@@ -114,6 +141,7 @@ const mote_fuzz_target mote_fuzz_targets[] = {
     {"script", fuzz_script},
     {"hs_state", fuzz_hs_state},
     {"mb_state", fuzz_mb_state},
+    {"nb_state", fuzz_nb_state},
     {"plot", fuzz_plot},
 };
 const size_t mote_fuzz_ntargets = sizeof mote_fuzz_targets / sizeof mote_fuzz_targets[0];

@@ -39,6 +39,27 @@ expect 2 "p1.mote:2:1: error: plot: 'other.dat' is not an N-body data file" p1.m
 [ ! -e x.png ] && ok || bad "a failed plot left x.png"
 expect 1 "p2.mote:2:1: error: trajectory: there are no bodies yet" p2.mote "${G}trajectory 1 t.dat\n"
 
+# save and load: A; B, A; save; load; B and a new script from the file give the same state
+printf '%bgenerate ring\nintegrate 300\nintegrate 300\nsave c1.state\n' "$G" > s1.mote
+printf '%bgenerate ring\nintegrate 300\nsave x.state\nload x.state\nintegrate 300\nsave c2.state\nload c2.state\nsave c2b.state\n' "$G" > s2.mote
+printf '%bload x.state\nintegrate 300\nsave c3.state\n' "$G" > s3.mote
+for k in 1 2 3; do "$MOTE" run s$k.mote > out$k.txt 2> err.txt || bad "s$k.mote failed: $(cat err.txt)"; done
+cmp -s c1.state c2.state && ok || bad "save; load in the middle changed the run"
+cmp -s c1.state c3.state && ok || bad "a new script from the saved state differs"
+cmp -s c2.state c2b.state && ok || bad "save -> load -> save is not byte-identical"
+[ "$(tail -1 out1.txt)" = "$(tail -1 out3.txt)" ] && ok || bad "status lines differ: $(tail -1 out1.txt) / $(tail -1 out3.txt)"
+printf '%bgenerate atom_ring\nsave a.state\n' "$C" > s4.mote
+"$MOTE" run s4.mote > /dev/null 2>&1 || bad "s4.mote failed"
+expect 2 "s5.mote:2:1: error: a.state:3: the state is a Coulomb run, this script is a gravity run" s5.mote "${G}load a.state\n"
+sed 's/^mote-state 1$/mote-state 7/' c1.state > v7.state
+expect 1 "s6.mote:2:6: error: load: v7.state:1: unsupported state file version 7" s6.mote "${G}load v7.state\n"
+head -n 12 c1.state > cut.state
+expect 2 "s7.mote:2:1: error: cut.state:13: file ends early: n = 30, but only 2 body lines follow" s7.mote "${G}load cut.state\n"
+awk 'NR == 11 { $5 = "nan" } { print }' c1.state > nan.state
+expect 2 "s8.mote:2:1: error: nan.state:11: body 1: expected 22 numbers" s8.mote "${G}load nan.state\n"
+sed 's/^n 30$/n -1/' c1.state > neg.state
+expect 1 "s9.mote:2:6: error: load: neg.state:4: expected 'n N' with 0 <= N <= 10^8 (found 'n -1')" s9.mote "${G}load neg.state\n"
+
 # the Coulomb ring
 printf '%bgenerate atom_ring\nintegrator galactica dt=1e-6\nintegrate 30000\ncheck ring\n' "$C" > atom.mote
 "$MOTE" run atom.mote > out.txt 2> err.txt && ok || bad "atom.mote failed: $(cat err.txt)"

@@ -2,9 +2,15 @@
 #ifndef MOTE_NB_INTERNAL_H
 #define MOTE_NB_INTERNAL_H
 
-#include "mote/core.h"
+#include "mote/nbody.h"
 
 /* Render an N-body data file (trajectory: orbits; monitor: drifts) as a PNG (plot.c). */
 int nb_plot_file(const char *data_path, const char *png_path, mote_err *err);
+
+/* The state file (state.c): save, load (replacing nb on success only, which must have the
+ * file's interaction), and the body count of a file's header (for validation). */
+int nb_state_save(const mote_nb *nb, const char *path, mote_err *err);
+int nb_state_load(mote_nb *nb, const char *path, mote_err *err);
+int nb_state_peek(const char *path, uint32_t *n, mote_err *err);
 
 #endif

@@ -1,0 +1,309 @@
+/* state.c: the N-body model's state file (save / load): everything a continuation needs, every
+ * number to 17 significant digits so it reads back to the same double, the compensation terms,
+ * the previous fifth derivative and step of the Galactica scheme and the monitor references
+ * included, so `A; save F; load F; B` runs bit for bit like `A; B`. The reader is strict: a
+ * malformed file is refused with FILE:LINE and what was expected, and nothing is allocated for
+ * bodies before their lines are counted. */
+#include "mote/nbody.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define NB_STATE_VERSION 1
+
+static void put(FILE *f, double v) { fprintf(f, " %.17g", v); }
+
+#include "nb.h"
+
+int nb_state_save(const mote_nb *nb, const char *path, mote_err *err)
+{
+    mote_afile af;
+    int rc = mote_afile_open(&af, path, err);
+    if (rc)
+        return rc;
+    FILE *f = af.f;
+    fprintf(f, "mote-state %d\nmodel nbody\ninteraction %s\nn %u\n", NB_STATE_VERSION,
+            nb->kind == MOTE_NB_GRAVITY ? "gravity" : "coulomb", nb->n);
+    fprintf(f, "time");
+    put(f, nb->T);
+    put(f, nb->Tc);
+    fprintf(f, "\nstep");
+    put(f, nb->dt);
+    put(f, nb->dtp);
+    put(f, nb->first_step);
+    fprintf(f, "\nscheme %d %d %d %llu\n", nb->order, nb->compensated, nb->restart,
+            (unsigned long long)nb->steps);
+    fprintf(f, "reference %d", nb->ref_set);
+    put(f, nb->E0);
+    put(f, nb->Mza1);
+    put(f, nb->Lnorm1);
+    fprintf(f, "\nunits %d", nb->u.set);
+    const double *u = &nb->u.M;
+    for (int k = 0; k < 8; k++)
+        put(f, u[k]);
+    fprintf(f, "\nbodies: m q active radius x y z vx vy vz cx cy cz cvx cvy cvz sx sy sz d5x d5y "
+               "d5z\n");
+    for (uint32_t i = 0; i < nb->n; i++) {
+        fprintf(f, "%.17g", nb->m[i]);
+        put(f, nb->q[i]);
+        fprintf(f, " %d", nb->active[i]);
+        put(f, nb->ra[i]);
+        const double *blocks[6] = {nb->x, nb->v, nb->xc, nb->vc, nb->sp, nb->d5p};
+        for (int b = 0; b < 6; b++)
+            for (int a = 0; a < 3; a++)
+                put(f, blocks[b][3 * (size_t)i + a]);
+        fputc('\n', f);
+    }
+    fprintf(f, "end\n");
+    return mote_afile_commit(&af, err);
+}
+
+/* ---- reading ------------------------------------------------------------------------------------ */
+
+typedef struct {
+    FILE *f;
+    const char *path;
+    long line;
+    char *buf;
+    size_t cap;
+    mote_err *err;
+} reader;
+
+/* The next line (without its newline), or NULL at the end. */
+static char *next_line(reader *r)
+{
+    ssize_t len = getline(&r->buf, &r->cap, r->f);
+    if (len < 0)
+        return NULL;
+    r->line++;
+    if ((size_t)len != strlen(r->buf)) {
+        r->buf[0] = '\0'; /* a NUL byte: not a text file */
+        return r->buf;
+    }
+    r->buf[strcspn(r->buf, "\r\n")] = '\0';
+    return r->buf;
+}
+
+static int fail(reader *r, const char *what, const char *found)
+{
+    return mote_fail(r->err, MOTE_EFORMAT, "%s:%ld: expected %s (found '%.60s')", r->path, r->line,
+                     what, found ? found : "end of file");
+}
+
+/* Read `n` finite reals after the keyword `key` (NULL: none) from line s. */
+static int reals(reader *r, char *s, const char *key, double *out, int n)
+{
+    char *p = s;
+    if (key) {
+        size_t k = strlen(key);
+        if (strncmp(p, key, k) != 0 || (p[k] != ' ' && p[k] != '\0'))
+            return fail(r, key, s);
+        p += k;
+    }
+    for (int i = 0; i < n; i++) {
+        char *end;
+        errno = 0;
+        out[i] = strtod(p, &end);
+        if (end == p || !isfinite(out[i]) || (*end && *end != ' '))
+            return mote_fail(r->err, MOTE_EFORMAT, "%s:%ld: value %d is not a finite real number",
+                             r->path, r->line, i + 1);
+        p = end;
+    }
+    while (*p == ' ')
+        p++;
+    if (*p)
+        return mote_fail(r->err, MOTE_EFORMAT, "%s:%ld: unexpected text after %d numbers ('%.40s')",
+                         r->path, r->line, n, p);
+    return MOTE_OK;
+}
+
+/* The header up to the `n` line: version, model, interaction, n. */
+static int read_head(reader *r, mote_nb_interaction *kind, uint32_t *n)
+{
+    char *s = next_line(r);
+    int v;
+    if (!s || sscanf(s, "mote-state %d", &v) != 1)
+        return fail(r, "'mote-state 1'", s);
+    if (v != NB_STATE_VERSION)
+        return mote_fail(r->err, MOTE_EFORMAT, "%s:%ld: unsupported state file version %d (this "
+                                               "mote reads %d)", r->path, r->line, v,
+                         NB_STATE_VERSION);
+    s = next_line(r);
+    if (!s || strcmp(s, "model nbody") != 0)
+        return fail(r, "'model nbody' (a state of the N-body model)", s);
+    s = next_line(r);
+    if (s && strcmp(s, "interaction gravity") == 0)
+        *kind = MOTE_NB_GRAVITY;
+    else if (s && strcmp(s, "interaction coulomb") == 0)
+        *kind = MOTE_NB_COULOMB;
+    else
+        return fail(r, "'interaction gravity' or 'interaction coulomb'", s);
+    s = next_line(r);
+    unsigned long long nn;
+    char extra;
+    if (!s || sscanf(s, "n %llu %c", &nn, &extra) != 1 || nn > 100000000ull || s[2] == '-')
+        return fail(r, "'n N' with 0 <= N <= 10^8", s);
+    *n = (uint32_t)nn;
+    return MOTE_OK;
+}
+
+int nb_state_peek(const char *path, uint32_t *n, mote_err *err)
+{
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return mote_fail(err, MOTE_EIO, "cannot read '%s': %s", path, strerror(errno));
+    reader r = {f, path, 0, NULL, 0, err};
+    mote_nb_interaction kind;
+    int rc = read_head(&r, &kind, n);
+    free(r.buf);
+    fclose(f);
+    return rc;
+}
+
+int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
+{
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return mote_fail(err, MOTE_EIO, "cannot read '%s': %s", path, strerror(errno));
+    reader r = {f, path, 0, NULL, 0, err};
+    mote_nb_interaction kind;
+    uint32_t n = 0;
+    mote_nb t;
+    mote_nb_init(&t, MOTE_NB_GRAVITY);
+    int rc = read_head(&r, &kind, &n);
+    if (!rc && kind != nb->kind)
+        rc = mote_fail(err, MOTE_EINVAL, "%s:3: the state is a %s run, this script is a %s run",
+                       path, kind == MOTE_NB_GRAVITY ? "gravity" : "Coulomb",
+                       nb->kind == MOTE_NB_GRAVITY ? "gravity" : "Coulomb");
+    t.kind = kind;
+    double v[8];
+    char *s;
+    if (!rc) {
+        s = next_line(&r);
+        rc = s ? reals(&r, s, "time", v, 2) : fail(&r, "'time T Tc'", s);
+        t.T = v[0];
+        t.Tc = v[1];
+    }
+    if (!rc) {
+        s = next_line(&r);
+        rc = s ? reals(&r, s, "step", v, 3) : fail(&r, "'step dt dtp first_step'", s);
+        t.dt = v[0];
+        t.dtp = v[1];
+        t.first_step = v[2];
+        if (!rc && (!(t.dt > 0) || !(t.dtp >= 0) || !(t.first_step > 0 && t.first_step <= 1)))
+            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: need dt > 0, dtp >= 0, 0 < first_step <= 1",
+                           path, r.line);
+    }
+    if (!rc) {
+        s = next_line(&r);
+        int order, comp, restart;
+        unsigned long long steps;
+        char extra;
+        if (!s || sscanf(s, "scheme %d %d %d %llu %c", &order, &comp, &restart, &steps, &extra) != 4 ||
+            order < 2 || order > 6 || (comp != 0 && comp != 1) || (restart != 0 && restart != 1))
+            rc = fail(&r, "'scheme ORDER(2..6) COMPENSATED(0|1) RESTART(0|1) STEPS'", s);
+        t.order = order;
+        t.compensated = comp;
+        t.restart = restart;
+        t.steps = steps;
+    }
+    if (!rc) {
+        s = next_line(&r);
+        if (!s || strncmp(s, "reference ", 10) != 0 || (s[10] != '0' && s[10] != '1') ||
+            s[11] != ' ')
+            rc = fail(&r, "'reference SET(0|1) E0 Mza1 Lnorm1'", s);
+        else {
+            t.ref_set = s[10] == '1';
+            rc = reals(&r, s + 11, NULL, v, 3);
+            t.E0 = v[0];
+            t.Mza1 = v[1];
+            t.Lnorm1 = v[2];
+        }
+    }
+    if (!rc) {
+        s = next_line(&r);
+        if (!s || strncmp(s, "units ", 6) != 0 || (s[6] != '0' && s[6] != '1') || s[7] != ' ')
+            rc = fail(&r, "'units SET(0|1)' and 8 numbers", s);
+        else {
+            rc = reals(&r, s + 8, NULL, v, 8);
+            t.u.set = s[6] == '1';
+            memcpy(&t.u.M, v, 8 * sizeof(double));
+        }
+    }
+    if (!rc) {
+        s = next_line(&r);
+        if (!s || strncmp(s, "bodies:", 7) != 0)
+            rc = fail(&r, "'bodies: ...' (the column names)", s);
+    }
+    /* the bodies, counted as read: nothing is allocated for lines that are not there */
+    /* mote_nb_add marks a restart and drops the reference: the file's values are put back after */
+    const int file_restart = t.restart, file_ref = t.ref_set;
+    const double file_dtp = t.dtp;
+    for (uint32_t i = 0; i < n && !rc; i++) {
+        s = next_line(&r);
+        if (!s || strcmp(s, "end") == 0) {
+            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: file ends early: n = %u, but only %u body "
+                                              "lines follow", path, s ? r.line : r.line + 1, n, i);
+            break;
+        }
+        double w[22];
+        char *p = s;
+        int ok = 1, act = 0;
+        for (int k = 0; k < 22 && ok; k++) {
+            char *end;
+            if (k == 2) { /* the active flag */
+                long a = strtol(p, &end, 10);
+                ok = end != p && (a == 0 || a == 1) && (*end == ' ');
+                act = (int)a;
+                w[k] = 0;
+            } else {
+                w[k] = strtod(p, &end);
+                ok = end != p && isfinite(w[k]) && (*end == ' ' || (*end == '\0' && k == 21));
+            }
+            p = end;
+        }
+        if (!ok || *p) {
+            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: body %u: expected 22 numbers (m q active "
+                                              "radius x y z vx vy vz cx cy cz cvx cvy cvz sx sy "
+                                              "sz d5x d5y d5z), all finite",
+                           path, r.line, i + 1);
+            break;
+        }
+        rc = mote_nb_add(&t, w[0], w[1], w + 4, w + 7, w[3], err);
+        if (rc) {
+            char why[sizeof err->msg];
+            snprintf(why, sizeof why, "%s", err->msg);
+            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: %s", path, r.line, why);
+            break;
+        }
+        t.active[i] = (uint8_t)act;
+        for (int a = 0; a < 3; a++) {
+            t.xc[3 * i + a] = w[10 + a];
+            t.vc[3 * i + a] = w[13 + a];
+            t.sp[3 * i + a] = w[16 + a];
+            t.d5p[3 * i + a] = w[19 + a];
+        }
+    }
+    if (!rc) {
+        s = next_line(&r);
+        if (!s || strcmp(s, "end") != 0)
+            rc = fail(&r, "'end' after the bodies", s);
+        else if ((s = next_line(&r)) != NULL)
+            rc = fail(&r, "nothing after 'end'", s);
+    }
+    free(r.buf);
+    fclose(f);
+    if (rc) {
+        mote_nb_free(&t);
+        return rc;
+    }
+    t.restart = file_restart;
+    t.ref_set = file_ref;
+    t.dtp = file_dtp;
+    mote_nb_free(nb);
+    *nb = t;
+    return MOTE_OK;
+}
