@@ -15,7 +15,9 @@ ifeq ($(WERROR),1)
 WARN    += -Werror
 endif
 CFLAGS  ?= $(OPT) -g
-ALL_CFLAGS := -std=c11 -D_POSIX_C_SOURCE=200809L -Iinclude $(WARN) $(CFLAGS) $(SAN) $(CAIRO_CFLAGS)
+# OpenMP (the N-body model's pair passes); OPENMP= builds without it
+OPENMP  ?= -fopenmp
+ALL_CFLAGS := -std=c11 -D_POSIX_C_SOURCE=200809L -Iinclude $(WARN) $(CFLAGS) $(SAN) $(OPENMP) $(CAIRO_CFLAGS)
 LDLIBS  := $(CAIRO_LIBS) -lm
 
 # every folder of src/ but the program's: a new model's folder is built without naming it here

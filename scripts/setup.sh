@@ -14,6 +14,9 @@ if [ "${1:-}" = fuzz ]; then
     command -v clang >/dev/null 2>&1 || need="$need clang"
     [ -n "$(find /usr/lib/llvm-*/lib/clang -name 'libclang_rt.fuzzer-x86_64.a' 2>/dev/null | head -n 1)" ] ||
         need="$need libclang-rt-14-dev"
+    # OpenMP for clang (the build uses -fopenmp; gcc brings its own libgomp)
+    [ -n "$(find /usr/lib/llvm-*/lib -name 'libomp.so' 2>/dev/null | head -n 1)" ] ||
+        need="$need libomp-14-dev"
 fi
 [ -z "$need" ] && exit 0
 echo "setup: installing Debian packages:$need"

@@ -289,6 +289,44 @@ static void test_coulomb_sign(void)
     mote_nb_free(&nb);
 }
 
+/* T17: 1, 2 and 4 threads give the same bits (a cluster large enough to be split). */
+static void test_threads(void)
+{
+    printf("T17: 1, 2 and 4 threads bit-identical\n");
+    const uint32_t n = 300;
+    double *ref = NULL;
+    for (int t = 1; t <= 4; t *= 2) {
+        mote_nb nb;
+        mote_nb_init(&nb, MOTE_NB_GRAVITY);
+        mote_rng g;
+        mote_rng_seed(&g, 5);
+        mote_err err = {0};
+        for (uint32_t i = 0; i < n; i++) {
+            double x[3], v[3];
+            for (int a = 0; a < 3; a++) {
+                x[a] = mote_rng_uniform(&g) - 0.5;
+                v[a] = 0.1 * (mote_rng_uniform(&g) - 0.5);
+            }
+            mote_nb_add(&nb, 1.0 / n, 0, x, v, 0, &err);
+        }
+        nb.dt = 1e-5;
+        nb.threads = t;
+        CHECK(mote_nb_galactica(&nb, getenv("MOTE_SANITIZED") ? 10 : 50, &err) == MOTE_OK, "run: %s",
+              err.msg);
+        if (!ref) {
+            ref = malloc(6 * (size_t)n * sizeof *ref);
+            memcpy(ref, nb.x, 3 * (size_t)n * sizeof *ref);
+            memcpy(ref + 3 * (size_t)n, nb.v, 3 * (size_t)n * sizeof *ref);
+        } else {
+            CHECK(memcmp(ref, nb.x, 3 * (size_t)n * sizeof *ref) == 0 &&
+                      memcmp(ref + 3 * (size_t)n, nb.v, 3 * (size_t)n * sizeof *ref) == 0,
+                  "%d threads differ from one", t);
+        }
+        mote_nb_free(&nb);
+    }
+    free(ref);
+}
+
 int main(void)
 {
     double w0 = mote_wall_seconds();
@@ -299,6 +337,7 @@ int main(void)
     test_coulomb_ring();
     test_orders();
     test_coulomb_sign();
+    test_threads();
     printf("test_nbody: %.1f s\n", mote_wall_seconds() - w0);
     return test_summary();
 }

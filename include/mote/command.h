@@ -98,6 +98,7 @@ typedef struct mote_context {
     int npending_dirs;
     mote_outputs outputs;   /* during validation: the files the script writes, so far */
     char model_variant[32]; /* the variant the `model` line chose ("" when the model has none) */
+    int threads;            /* set by the common `threads` command (0 = not set: one thread) */
     int terminal;           /* stdout is a terminal: show progress */
     FILE *out;              /* status lines (stdout) */
     FILE *diag;             /* warnings and errors (stderr) */
@@ -111,6 +112,9 @@ typedef struct mote_model {
     /* Variants the `model NAME VARIANT` line may choose, as "a|b" (the first is the default), or
      * NULL; the choice is in ctx->model_variant when create is called. */
     const char *variants;
+    /* 1: the model's commands use ctx->threads (the common `threads` command); 0: it runs on
+     * one thread, and `threads` prints a note saying so */
+    int threaded;
     const mote_cmd *cmds;
     size_t ncmds;
     void *(*create)(mote_context *ctx, int dry);

@@ -71,6 +71,8 @@ typedef struct {
     int order;              /* Galactica scheme order K, 2 ... 6 */
     double first_step;      /* the restart step is first_step * dt (spec 4.2: 0.001) */
     int compensated;        /* compensated summation of x, v and T (default on) */
+    int threads;            /* OpenMP threads of the pair passes (<= 1: one); results do not
+                             * depend on it (every target sums its sources in index order) */
     mote_nb_units u;
     /* monitor references (spec 3.7), from the state at the start of the run */
     int ref_set;

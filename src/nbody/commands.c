@@ -401,6 +401,7 @@ static uint64_t until_sample(const nb_sampler *s, uint64_t steps, uint64_t left)
 static int run_integrate(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
+    m->nb.threads = c->ctx->threads;
     uint64_t steps = (uint64_t)c->args[0].i, done = 0;
     mote_progress prog;
     mote_progress_begin(&prog, c->ctx, "integrate");
@@ -647,6 +648,7 @@ const mote_model mote_model_nbody = {
     .name = "nbody",
     .summary = "gravitational or Coulomb N-body integration with Galactica's Taylor scheme",
     .variants = "gravity|coulomb",
+    .threaded = 1,
     .cmds = nb_commands,
     .ncmds = sizeof nb_commands / sizeof nb_commands[0],
     .create = model_create,

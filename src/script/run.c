@@ -123,12 +123,13 @@ static int echo_run(void *model, const mote_call *c, mote_err *err)
 static int threads_run(void *model, const mote_call *c, mote_err *err)
 {
     mote_script *s = model; /* common commands receive the script, not the model */
-    if (!s->threads_noted) {
+    c->ctx->threads = c->args[0].i > 4096 ? 4096 : (int)c->args[0].i;
+    if (!s->model->threaded && !s->threads_noted) {
         s->threads_noted = 1;
         fprintf(c->ctx->diag,
-                "%s:%d:%d: note: threads: the models are single-threaded for now; "
-                "'threads %lld' has no effect yet\n",
-                c->file, c->line, c->col, (long long)c->args[0].i);
+                "%s:%d:%d: note: threads: the %s model runs on one thread; 'threads %lld' has "
+                "no effect on it\n",
+                c->file, c->line, c->col, s->model->name, (long long)c->args[0].i);
     }
     return 0;
 }
@@ -190,9 +191,11 @@ const mote_cmd mote_script_common_cmds[] = {
      "Print the arguments, separated by single spaces, on standard output. Quote\n"
      "text to keep runs of spaces or a `#` in it.\n",
      NULL, echo_run},
-    {"threads", NULL, "i>=1", "threads N", "number of threads (N >= 1); no effect yet",
-     "Set the number of threads, N >= 1. Accepted so that scripts can already say\n"
-     "it: the models are single-threaded for now, so the first `threads` command\n"
+    {"threads", NULL, "i>=1", "threads N", "number of threads for the commands that follow",
+     "Set the number of threads (OpenMP) for the commands that follow, N >= 1\n"
+     "(default 1). Results never depend on it: the nbody model sums in a fixed order\n"
+     "for any number of threads, so they are bit-identical. The hard-spheres and\n"
+     "mixing-box models run on one thread; for them the first `threads` command\n"
      "prints a note and none has an effect.\n",
      NULL, threads_run},
     {"seed", NULL, "u", "seed S", "restart the random stream from S (default 1)",
@@ -230,6 +233,7 @@ const mote_cmd *mote_script_common_model_cmd(void) { return &mote_script_common_
 
 static void reset_context(mote_context *ctx)
 {
+    ctx->threads = 0;
     ctx->output_dir[0] = '\0';
     ctx->npending_dirs = 0;
     mote_outputs_free(&ctx->outputs);
