@@ -289,6 +289,101 @@ static void test_coulomb_sign(void)
     mote_nb_free(&nb);
 }
 
+/* T09: the Taylor recurrences against the explicit derivatives, store = recompute, and the
+ * error falling with the order at a fixed step. */
+static void test_taylor(void)
+{
+    printf("T09: Taylor recurrences (spec 4.4)\n");
+    for (int kind = 0; kind < 2; kind++) {
+        double worst = 0;
+        for (int trial = 0; trial < 5; trial++) {
+            mote_nb nb;
+            mote_nb_init(&nb, kind ? MOTE_NB_COULOMB : MOTE_NB_GRAVITY);
+            mote_rng g;
+            mote_rng_seed(&g, (uint64_t)(100 + 10 * kind + trial));
+            mote_err err = {0};
+            for (int b = 0; b < 4; b++) {
+                double x[3], v[3];
+                for (int a = 0; a < 3; a++) {
+                    x[a] = 2 * mote_rng_uniform(&g) - 1;
+                    v[a] = mote_rng_uniform(&g) - 0.5;
+                }
+                mote_nb_add(&nb, 0.1 + mote_rng_uniform(&g), kind ? (b % 2 ? 1 : -1) : 0, x, v, 0,
+                            &err);
+            }
+            CHECK(mote_nb_derivatives(&nb, &err) == MOTE_OK, "derivatives: %s", err.msg);
+            double X[8 * 12];
+            mote_nb_taylor_coefficients(&nb, 7, 0, X);
+            const double *ref[4] = {nb.acc, nb.jerk, nb.d4, nb.d5};
+            const double fact[4] = {2, 6, 24, 120};
+            for (int o = 0; o < 4; o++)
+                for (int q = 0; q < 12; q++) {
+                    double want = ref[o][q] / fact[o], got = X[(o + 2) * 12 + q];
+                    double scale = 0;
+                    for (int r = 0; r < 12; r++)
+                        scale = fmax(scale, fabs(ref[o][r] / fact[o]));
+                    worst = fmax(worst, fabs(got - want) / scale);
+                }
+            mote_nb_free(&nb);
+        }
+        printf("  %s: x^[2..5] from the recurrences against the explicit formulas: %.2e\n",
+               kind ? "Coulomb" : "gravity", worst);
+        CHECK(worst <= 1e-13, "%s: recurrences differ by %.3g", kind ? "Coulomb" : "gravity",
+              worst);
+    }
+    /* store and recompute: the same bits */
+    double *ref = NULL;
+    for (int mem = 1; mem <= 2; mem++) {
+        mote_nb nb;
+        mote_nb_ring r;
+        mote_nb_init(&nb, MOTE_NB_GRAVITY);
+        mote_nb_ring_defaults(&r, MOTE_NB_GRAVITY);
+        mote_err err = {0};
+        mote_nb_ring_build(&nb, &r, &err);
+        nb.taylor_order = 12;
+        nb.taylor_memory = mem;
+        nb.dt = 1e-4;
+        CHECK(mote_nb_taylor(&nb, 20, &err) == MOTE_OK, "taylor: %s", err.msg);
+        CHECK(mote_nb_taylor_memory_store(&nb, 12) == (mem == 1), "memory mode %d", mem);
+        if (!ref) {
+            ref = malloc(6 * (size_t)nb.n * sizeof *ref);
+            memcpy(ref, nb.x, 3 * (size_t)nb.n * sizeof *ref);
+            memcpy(ref + 3 * (size_t)nb.n, nb.v, 3 * (size_t)nb.n * sizeof *ref);
+        } else {
+            CHECK(memcmp(ref, nb.x, 3 * (size_t)nb.n * sizeof *ref) == 0 &&
+                      memcmp(ref + 3 * (size_t)nb.n, nb.v, 3 * (size_t)nb.n * sizeof *ref) == 0,
+                  "store and recompute differ");
+        }
+        mote_nb_free(&nb);
+    }
+    free(ref);
+    /* fixed step 1e-4 (100 steps per period) on the ring: the error against the order */
+    double e[11] = {0};
+    for (int p = 4; p <= 10; p += 2) {
+        mote_nb nb;
+        mote_nb_ring r;
+        mote_nb_init(&nb, MOTE_NB_GRAVITY);
+        mote_nb_ring_defaults(&r, MOTE_NB_GRAVITY);
+        mote_err err = {0};
+        mote_nb_ring_build(&nb, &r, &err);
+        nb.taylor_order = p;
+        nb.dt = 1e-4;
+        mote_nb_taylor(&nb, 100, &err);
+        e[p] = mote_nb_ring_error(&nb, &r, NULL);
+        mote_nb_free(&nb);
+    }
+    printf("  ring, h = 1e-4, 100 steps: error p=4 %.2e, 6 %.2e, 8 %.2e, 10 %.2e\n", e[4], e[6],
+           e[8], e[10]);
+    for (int p = 4; p <= 8; p += 2)
+        CHECK(e[p + 2] <= 1e-12 || e[p] / e[p + 2] >= pow(10, 2.5),
+              "p %d -> %d: error %.3g -> %.3g (less than 10^2.5 better, above 1e-12)", p, p + 2,
+              e[p], e[p + 2]);
+    CHECK(mote_nb_taylor_auto_order(1e-16) == 20 && mote_nb_taylor_auto_order(1e-19) == 23 &&
+              mote_nb_taylor_auto_order(1e-34) == 41,
+          "order=auto: %d %d %d", mote_nb_taylor_auto_order(1e-16),
+          mote_nb_taylor_auto_order(1e-19), mote_nb_taylor_auto_order(1e-34));
+}
+
 /* T17: 1, 2 and 4 threads give the same bits (a cluster large enough to be split). */
 static void test_threads(void)
 {
@@ -338,6 +433,7 @@ int main(void)
     test_orders();
     test_coulomb_sign();
     test_threads();
+    test_taylor();
     printf("test_nbody: %.1f s\n", mote_wall_seconds() - w0);
     return test_summary();
 }

@@ -53,12 +53,27 @@ printf '%bgenerate atom_ring\nsave a.state\n' "$C" > s4.mote
 expect 2 "s5.mote:2:1: error: a.state:3: the state is a Coulomb run, this script is a gravity run" s5.mote "${G}load a.state\n"
 sed 's/^mote-state 1$/mote-state 7/' c1.state > v7.state
 expect 1 "s6.mote:2:6: error: load: v7.state:1: unsupported state file version 7" s6.mote "${G}load v7.state\n"
-head -n 12 c1.state > cut.state
-expect 2 "s7.mote:2:1: error: cut.state:13: file ends early: n = 30, but only 2 body lines follow" s7.mote "${G}load cut.state\n"
-awk 'NR == 11 { $5 = "nan" } { print }' c1.state > nan.state
-expect 2 "s8.mote:2:1: error: nan.state:11: body 1: expected 22 numbers" s8.mote "${G}load nan.state\n"
+head -n 13 c1.state > cut.state
+expect 2 "s7.mote:2:1: error: cut.state:14: file ends early: n = 30, but only 2 body lines follow" s7.mote "${G}load cut.state\n"
+awk 'NR == 12 { $5 = "nan" } { print }' c1.state > nan.state
+expect 2 "s8.mote:2:1: error: nan.state:12: body 1: expected 22 numbers" s8.mote "${G}load nan.state\n"
 sed 's/^n 30$/n -1/' c1.state > neg.state
 expect 1 "s9.mote:2:6: error: load: neg.state:4: expected 'n N' with 0 <= N <= 10^8 (found 'n -1')" s9.mote "${G}load neg.state\n"
+
+# the general Taylor integrator: one period of the ring in 100 steps, and its continuation
+printf '%bgenerate ring\nintegrator taylor order=auto tol=1e-16 dt=1e-4\nintegrate 100\ncheck ring\n' "$G" > t1.mote
+"$MOTE" run t1.mote > out.txt 2> err.txt && ok || bad "t1.mote failed: $(cat err.txt)"
+err=$(sed -n 's/^check ring:.*error \([^,]*\),.*/\1/p' out.txt)
+awk -v e="$err" 'BEGIN { exit !(e + 0 <= 1e-12 && e != "") }' && ok || bad "Taylor p = 20, h = 1e-4: ring error '$err'"
+printf '%bgenerate ring\nintegrator taylor order=12 dt=1e-4 memory=recompute\nintegrate 20\nintegrate 20\nsave k1.state\n' "$G" > t2.mote
+printf '%bgenerate ring\nintegrator taylor order=12 dt=1e-4 memory=store\nintegrate 20\nsave ky.state\nload ky.state\nintegrate 20\nsave k2.state\n' "$G" > t3.mote
+"$MOTE" run t2.mote > /dev/null 2>&1 && "$MOTE" run t3.mote > /dev/null 2>&1 && ok || bad "t2/t3 failed"
+grep -v '^taylor ' k1.state > k1s; grep -v '^taylor ' k2.state > k2s
+cmp -s k1s k2s && ok || bad "Taylor: recompute straight through and store with save/load in the middle differ"
+expect 1 "t4.mote:2:25: error: integrator taylor: order must be an integer in [2, 60] or auto, found '61'" t4.mote "${G}integrator taylor order=61\n"
+expect 1 "t5.mote:2:28: error: integrator galactica: order must be an integer in [2, 6], found 'auto'" t5.mote "${G}integrator galactica order=auto\n"
+expect 1 "t6.mote:2:30: error: integrator taylor: no option first_step=" t6.mote "${G}integrator taylor first_step=0.5\n"
+expect 1 "t7.mote:2:26: error: integrator taylor: memory must be store, recompute or auto, found 'disk'" t7.mote "${G}integrator taylor memory=disk\n"
 
 # the Coulomb ring
 printf '%bgenerate atom_ring\nintegrator galactica dt=1e-6\nintegrate 30000\ncheck ring\n' "$C" > atom.mote
@@ -74,9 +89,9 @@ expect 1 "b3.mote:2:11: error: body: mass must be > 0, found 0" b3.mote "${G}bod
 expect 1 "b4.mote:2:11: error: body: mass must be > 0, found -1" b4.mote "${G}body mass=-1\n"
 expect 1 "b5.mote:2:1: error: body: option mass= is required" b5.mote "${G}body x=1\n"
 expect 1 "b6.mote:2:15: error: body: x is out of the range of real numbers, found '1e999'" b6.mote "${G}body mass=1 x=1e999\n"
-expect 1 "b7.mote:2:28: error: integrator: order must be in [2, 6], found 7" b7.mote "${G}integrator galactica order=7\n"
+expect 1 "b7.mote:2:28: error: integrator galactica: order must be an integer in [2, 6], found '7'" b7.mote "${G}integrator galactica order=7\n"
 expect 1 "b8.mote:2:25: error: integrator: dt must be > 0, found 0" b8.mote "${G}integrator galactica dt=0\n"
-expect 1 "b9.mote:2:12: error: integrator: expected galactica, found 'leapfrog'" b9.mote "${G}integrator leapfrog\n"
+expect 1 "b9.mote:2:12: error: integrator: expected galactica or taylor, found 'leapfrog'" b9.mote "${G}integrator leapfrog\n"
 expect 1 "b10.mote:2:10: error: generate atom_ring: this is a gravity run" b10.mote "${G}generate atom_ring\n"
 expect 1 "b11.mote:2:17: error: generate ring: option Z= belongs to the other ring" b11.mote "${G}generate ring Z=3\n"
 expect 1 "b12.mote:2:20: error: body: charge= is for the coulomb variant" b12.mote "${G}body mass=1 charge=1\n"

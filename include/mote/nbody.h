@@ -13,6 +13,8 @@
 #include <stdint.h>
 
 typedef enum { MOTE_NB_GRAVITY = 0, MOTE_NB_COULOMB = 1 } mote_nb_interaction;
+enum { MOTE_NB_GALACTICA = 0, MOTE_NB_TAYLOR = 1 };
+#define MOTE_NB_TAYLOR_MAX 60
 
 /* ---- constants and scales (spec 3.5, 3.6) ------------------------------------------------- */
 
@@ -73,6 +75,14 @@ typedef struct {
     int compensated;        /* compensated summation of x, v and T (default on) */
     int threads;            /* OpenMP threads of the pair passes (<= 1: one); results do not
                              * depend on it (every target sums its sources in index order) */
+    /* the general Taylor integrator (spec 4.4) */
+    int integrator;         /* MOTE_NB_GALACTICA or MOTE_NB_TAYLOR */
+    int taylor_order;       /* p, 2 ... MOTE_NB_TAYLOR_MAX */
+    int taylor_memory;      /* 0 automatic, 1 store, 2 recompute */
+    double *tx;             /* (p + 1) blocks of 3n coefficients x^[n] */
+    size_t tx_cap;
+    double *ts, *tf;        /* store mode: s^[j], f^[j] of every ordered pair */
+    size_t tsf_cap;
     mote_nb_units u;
     /* monitor references (spec 3.7), from the state at the start of the run */
     int ref_set;
@@ -97,6 +107,22 @@ void mote_nb_barycentric(mote_nb *nb, double xc[3], double vc[3]);
 /* Take `steps` steps of the nominal length dt; a step without a valid previous fifth
  * derivative (a fresh start) is first_step * dt long. */
 int mote_nb_galactica(mote_nb *nb, uint64_t steps, mote_err *err);
+
+/* Acceleration, jerk and the fourth and fifth derivatives at the current state, by the
+ * Galactica scheme's two passes (into nb->acc, jerk, d4, d5); prepares the kernel first. */
+int mote_nb_derivatives(mote_nb *nb, mote_err *err);
+
+/* ---- the general Taylor integrator (spec 4.4) ------------------------------------------------ */
+
+/* Take `steps` fixed steps of dt with the Taylor series of order taylor_order. */
+int mote_nb_taylor(mote_nb *nb, uint64_t steps, mote_err *err);
+/* The normalized coefficients x^[0 .. p] of every body at the current state into X ((p + 1)
+ * blocks of 3n); store != 0 keeps the pair histories in nb (sized by mote_nb_taylor). */
+int mote_nb_taylor_coefficients(mote_nb *nb, int p, int store, double *X);
+/* Jorba and Zou's order for a tolerance: ceil(1 - ln(tol)/2) (20 for 1e-16). */
+int mote_nb_taylor_auto_order(double tol);
+/* Does a run of order p keep the pair histories (store) or recompute them? */
+int mote_nb_taylor_memory_store(const mote_nb *nb, int p);
 
 /* ---- conserved quantities (spec 3.7) -------------------------------------------------------- */
 

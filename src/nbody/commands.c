@@ -208,23 +208,69 @@ static int run_generate(void *vm, const mote_call *c, mote_err *err)
 
 /* ---- the integrator ---------------------------------------------------------------------------- */
 
+/* The order option: an integer in [lo, hi], or for taylor `auto` (then from tol=). */
+static int parse_order(const mote_call *c, int taylor, int *order, mote_err *err)
+{
+    const mote_arg *a = mote_call_opt(c, "order");
+    int argi = mote_call_opt_index(c, "order");
+    if (!a)
+        return MOTE_OK;
+    if (taylor && strcmp(a->text, "auto") == 0) {
+        *order = mote_nb_taylor_auto_order(mote_call_opt_r(c, "tol", 1e-16));
+        return MOTE_OK;
+    }
+    char *end;
+    long v = strtol(a->text, &end, 10);
+    int lo = 2, hi = taylor ? MOTE_NB_TAYLOR_MAX : 6;
+    if (end == a->text || *end || v < lo || v > hi)
+        return mote_call_fail(err, c, argi, MOTE_EINVAL,
+                              "integrator %s: order must be an integer in [%d, %d]%s, found '%s'",
+                              taylor ? "taylor" : "galactica", lo, hi, taylor ? " or auto" : "",
+                              a->text);
+    *order = (int)v;
+    return MOTE_OK;
+}
+
+static const char *const GALACTICA_OPTS[] = {"dt", "order", "first_step", NULL};
+static const char *const TAYLOR_OPTS[] = {"dt", "order", "tol", "memory", NULL};
+
 static int check_integrator(void *vm, const mote_call *c, mote_err *err)
 {
-    if (strcmp(c->args[0].text, "galactica") != 0)
+    const char *name = c->args[0].text;
+    int taylor = strcmp(name, "taylor") == 0;
+    if (!taylor && strcmp(name, "galactica") != 0)
         return mote_call_fail(err, c, 0, MOTE_EINVAL,
-                              "integrator: expected galactica, found '%s' (the general Taylor "
-                              "integrator of spec 4.4 is not in this build yet)",
-                              c->args[0].text);
-    return MOTE_OK;
+                              "integrator: expected galactica or taylor, found '%s'", name);
+    for (int k = 0; k < c->nopts; k++)
+        if (!listed(taylor ? TAYLOR_OPTS : GALACTICA_OPTS, c->opts[k].key))
+            return mote_call_fail(err, c, c->nargs + k, MOTE_EINVAL,
+                                  "integrator %s: no option %s= (options: %s)", name,
+                                  c->opts[k].key,
+                                  taylor ? "dt, order, tol, memory" : "dt, order, first_step");
+    const mote_arg *mem = mote_call_opt(c, "memory");
+    if (mem && strcmp(mem->text, "store") != 0 && strcmp(mem->text, "recompute") != 0 &&
+        strcmp(mem->text, "auto") != 0)
+        return mote_call_fail(err, c, mote_call_opt_index(c, "memory"), MOTE_EINVAL,
+                              "integrator taylor: memory must be store, recompute or auto, "
+                              "found '%s'", mem->text);
+    int order = 0;
+    return parse_order(c, taylor, &order, err);
 }
 static int run_integrator(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
+    int taylor = strcmp(c->args[0].text, "taylor") == 0;
+    m->nb.integrator = taylor ? MOTE_NB_TAYLOR : MOTE_NB_GALACTICA;
     m->nb.dt = mote_call_opt_r(c, "dt", m->nb.dt);
-    const mote_arg *a = mote_call_opt(c, "order");
-    if (a)
-        m->nb.order = (int)a->i;
+    int rc = parse_order(c, taylor, taylor ? &m->nb.taylor_order : &m->nb.order, err);
+    if (rc)
+        return rc;
     m->nb.first_step = mote_call_opt_r(c, "first_step", m->nb.first_step);
+    const mote_arg *mem = mote_call_opt(c, "memory");
+    if (mem)
+        m->nb.taylor_memory = strcmp(mem->text, "store") == 0       ? 1
+                              : strcmp(mem->text, "recompute") == 0 ? 2
+                                                                    : 0;
     return MOTE_OK;
 }
 
@@ -411,7 +457,8 @@ static int run_integrate(void *vm, const mote_call *c, mote_err *err)
         chunk = until_sample(&m->traj, m->nb.steps, chunk);
         if (chunk > 1000)
             chunk = 1000;
-        rc = mote_nb_galactica(&m->nb, chunk, err);
+        rc = m->nb.integrator == MOTE_NB_TAYLOR ? mote_nb_taylor(&m->nb, chunk, err)
+                                                : mote_nb_galactica(&m->nb, chunk, err);
         done += chunk;
         if (!rc && m->mon.path && m->nb.steps % m->mon.every == 0)
             rc = monitor_sample(m, err);
@@ -536,13 +583,22 @@ static const char HELP_GENERATE[] =
 
 static const char HELP_INTEGRATOR[] =
     "    integrator galactica [dt=H] [order=K] [first_step=F]\n"
+    "    integrator taylor [dt=H] [order=P|auto] [tol=E] [memory=store|recompute|auto]\n"
     "\n"
-    "Galactica's Taylor scheme (spec 4.2): two passes over all ordered pairs give\n"
-    "the acceleration, jerk and the fourth and fifth derivatives; the sixth is the\n"
-    "difference of fifth derivatives over the previous step. order=K (2 ... 6,\n"
-    "default 6) keeps the terms up to x^(K) (spec 4.3). A start without a previous\n"
-    "fifth derivative takes a first step of F dt (default 0.001). The general\n"
-    "Taylor integrator of spec 4.4 is not in this build yet.\n";
+    "`galactica`: Galactica's Taylor scheme (spec 4.2): two passes over all\n"
+    "ordered pairs give the acceleration, jerk and the fourth and fifth\n"
+    "derivatives; the sixth is the difference of fifth derivatives over the\n"
+    "previous step. order=K (2 ... 6, default 6) keeps the terms up to x^(K) (spec\n"
+    "4.3). A start without a previous fifth derivative takes a first step of F dt\n"
+    "(default 0.001).\n"
+    "\n"
+    "`taylor`: the general Taylor integrator (spec 4.4): every coefficient up to\n"
+    "order P (2 ... 60, default 20) from exact recurrences (automatic\n"
+    "differentiation), ceil((P-1)/2) passes over the pairs per step, fixed step H.\n"
+    "order=auto takes P = ceil(1 - ln(E)/2) from tol=E (default 1e-16: P = 20).\n"
+    "memory=store keeps the pairs' histories between passes (2 (P-1) N^2 reals),\n"
+    "recompute does without them; auto (default) stores up to 1 GiB. Both give the\n"
+    "same bits. The adaptive step of spec 4.5 is not in this build yet.\n";
 
 static const char HELP_COMPENSATED[] =
     "    compensated on|off\n"
@@ -623,8 +679,9 @@ static const mote_cmd nb_commands[] = {
      "A=i>=1 Z=i>=1 n=i>=1 l=i permittivity=r>0 time_unit=r>0",
      "generate KIND [options]", "the exact gravity ring or Coulomb ring of the seed document",
      HELP_GENERATE, check_generate, run_generate},
-    {"integrator", NULL, "s dt=r>0 order=i[2,6] first_step=r(0,1]",
-     "integrator NAME [dt=H] [order=K] [first_step=F]", "choose and set the integrator",
+    {"integrator", NULL, "s dt=r>0 order=s first_step=r(0,1] tol=r(0,1) memory=s",
+     "integrator NAME [dt=H] [order=K] [first_step=F] [tol=E] [memory=M]",
+     "choose and set the integrator (galactica or taylor)",
      HELP_INTEGRATOR, check_integrator, run_integrator},
     {"compensated", NULL, "s", "compensated on|off", "compensated summation (default on)",
      HELP_COMPENSATED, check_compensated, run_compensated},

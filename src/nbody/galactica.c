@@ -156,6 +156,16 @@ static void step(mote_nb *nb, double h)
     nb->steps++;
 }
 
+int mote_nb_derivatives(mote_nb *nb, mote_err *err)
+{
+    int rc = mote_nb_prepare(nb, err);
+    if (rc)
+        return rc;
+    pass1(nb);
+    pass2(nb);
+    return MOTE_OK;
+}
+
 int mote_nb_galactica(mote_nb *nb, uint64_t steps, mote_err *err)
 {
     if (nb->order < 2 || nb->order > 6)

@@ -36,6 +36,7 @@ int nb_state_save(const mote_nb *nb, const char *path, mote_err *err)
     put(f, nb->first_step);
     fprintf(f, "\nscheme %d %d %d %llu\n", nb->order, nb->compensated, nb->restart,
             (unsigned long long)nb->steps);
+    fprintf(f, "taylor %d %d %d\n", nb->integrator, nb->taylor_order, nb->taylor_memory);
     fprintf(f, "reference %d", nb->ref_set);
     put(f, nb->E0);
     put(f, nb->Mza1);
@@ -209,6 +210,18 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
         t.compensated = comp;
         t.restart = restart;
         t.steps = steps;
+    }
+    if (!rc) {
+        s = next_line(&r);
+        int integ, order, mem;
+        char extra;
+        if (!s || sscanf(s, "taylor %d %d %d %c", &integ, &order, &mem, &extra) != 3 ||
+            (integ != MOTE_NB_GALACTICA && integ != MOTE_NB_TAYLOR) || order < 2 ||
+            order > MOTE_NB_TAYLOR_MAX || mem < 0 || mem > 2)
+            rc = fail(&r, "'taylor INTEGRATOR(0|1) ORDER(2..60) MEMORY(0..2)'", s);
+        t.integrator = integ;
+        t.taylor_order = order;
+        t.taylor_memory = mem;
     }
     if (!rc) {
         s = next_line(&r);

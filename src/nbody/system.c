@@ -35,12 +35,14 @@ void mote_nb_init(mote_nb *nb, mote_nb_interaction kind)
     nb->first_step = 0.001;
     nb->compensated = 1;
     nb->dt = 1e-6;
+    nb->taylor_order = 20;
 }
 
 static void free_arrays(mote_nb *nb)
 {
-    void *arr[] = {nb->m,  nb->q,  nb->c,      nb->w,    nb->x,  nb->v,  nb->xc, nb->vc,
-                   nb->ra, nb->sp, nb->active, nb->d5p, nb->acc, nb->jerk, nb->d4, nb->d5};
+    void *arr[] = {nb->m,   nb->q,  nb->c,      nb->w,   nb->x,   nb->v,    nb->xc,
+                   nb->vc,  nb->ra, nb->sp,     nb->active, nb->d5p, nb->acc, nb->jerk,
+                   nb->d4,  nb->d5, nb->tx,     nb->ts,  nb->tf};
     for (size_t k = 0; k < sizeof arr / sizeof arr[0]; k++)
         free(arr[k]);
 }

@@ -1,0 +1,205 @@
+/* taylor.c: the general Taylor integrator of spec 4.4 (after Jorba & Zou 2005 and TIDES): every
+ * Taylor coefficient of every body's trajectory comes exactly from the recurrences of automatic
+ * differentiation, none from differences. In normalized coefficients u^[n] = u^(n)/n!, for each
+ * ordered pair (i, k):
+ *
+ *     R^[n] = x_i^[n] - x_k^[n],   s^[n] = sum_j R^[j] . R^[n-j]          (s = |R|^2)
+ *     f^[0] = s^[0]^(-3/2),  f^[n] = 1/(n s^[0]) sum_{j<n} (j/2 - 3n/2) s^[n-j] f^[j]
+ *     G^[n] = sum_j f^[j] R^[n-j],   a_i^[n] = c_i sum_k w_k G^[n],   x^[n+2] = a^[n]/((n+1)(n+2))
+ *
+ * Order n of the acceleration needs x^[n] and x^[n+1], so one pass over all pairs yields two
+ * orders: a step of order p takes ceil((p-1)/2) passes. The per-pair histories s^[j], f^[j] are
+ * either kept from pass to pass (`store`, 2 (p-1) N (N-1) reals) or computed again in every pass
+ * (`recompute`, no pair memory): both run the same arithmetic in the same order, so they give the
+ * same bits. The step sums x(T+h) and v(T+h) by Horner's rule as increments, added with
+ * compensation like the Galactica scheme. Targets are shared among OpenMP threads; each sums its
+ * sources in index order. */
+#include "mote/nbody.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "nb.h"
+
+/* s^[n] and f^[n] of one pair from R^[0..n] and the lower orders (s, f hold orders 0 .. n-1). */
+static inline void sf_order(int n, double (*R)[3], double *s, double *f)
+{
+    double sn = 0;
+    for (int j = 0; j <= n; j++)
+        sn += R[j][0] * R[n - j][0] + R[j][1] * R[n - j][1] + R[j][2] * R[n - j][2];
+    s[n] = sn;
+    if (n == 0) {
+        f[0] = 1.0 / (sn * sqrt(sn));
+        return;
+    }
+    double acc = 0;
+    for (int j = 0; j < n; j++)
+        acc += (0.5 * j - 1.5 * n) * s[n - j] * f[j];
+    f[n] = acc / (n * s[0]);
+}
+
+/* One pass: orders n0 and n0 + 1 (the latter when <= top) of every active body's acceleration,
+ * into x^[n+2]. X: (p + 1) blocks of 3 n_bodies coefficients. */
+static void pass(mote_nb *nb, double *X, int n0, int top, int store)
+{
+    const uint32_t N = nb->n;
+    const size_t blk = 3 * (size_t)N;
+    const int n1 = n0 + 1 <= top ? n0 + 1 : n0;
+    const int nt = nb->threads > 1 ? nb->threads : 1;
+    (void)nt;
+#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1 && N >= 64)
+    for (uint32_t i = 0; i < N; i++) {
+        if (!nb->active[i])
+            continue;
+        double sum[2][3] = {{0, 0, 0}, {0, 0, 0}};
+        double R[64][3], s[64], f[64];
+        for (uint32_t k = 0; k < N; k++) {
+            if (k == i || !nb->active[k])
+                continue;
+            for (int j = 0; j <= n1; j++)
+                for (int a = 0; a < 3; a++)
+                    R[j][a] = X[j * blk + 3 * i + a] - X[j * blk + 3 * k + a];
+            const size_t pair = (size_t)i * N + k;
+            int from = 0;
+            if (store && n0 > 0) { /* the histories of the earlier passes */
+                for (int j = 0; j < n0; j++) {
+                    s[j] = nb->ts[(size_t)j * N * N + pair];
+                    f[j] = nb->tf[(size_t)j * N * N + pair];
+                }
+                from = n0;
+            }
+            for (int n = from; n <= n1; n++)
+                sf_order(n, R, s, f);
+            if (store)
+                for (int n = n0; n <= n1; n++) {
+                    nb->ts[(size_t)n * N * N + pair] = s[n];
+                    nb->tf[(size_t)n * N * N + pair] = f[n];
+                }
+            const double wk = nb->w[k];
+            for (int n = n0; n <= n1; n++) {
+                double G[3] = {0, 0, 0};
+                for (int j = 0; j <= n; j++)
+                    for (int a = 0; a < 3; a++)
+                        G[a] += f[j] * R[n - j][a];
+                for (int a = 0; a < 3; a++)
+                    sum[n - n0][a] += wk * G[a];
+            }
+        }
+        for (int n = n0; n <= n1; n++)
+            for (int a = 0; a < 3; a++)
+                X[(size_t)(n + 2) * blk + 3 * i + a] =
+                    nb->c[i] * sum[n - n0][a] / ((double)(n + 1) * (n + 2));
+    }
+}
+
+int mote_nb_taylor_coefficients(mote_nb *nb, int p, int store, double *X)
+{
+    const size_t blk = 3 * (size_t)nb->n;
+    memcpy(X, nb->x, blk * sizeof *X);
+    memcpy(X + blk, nb->v, blk * sizeof *X);
+    for (int n0 = 0; n0 <= p - 2; n0 += 2)
+        pass(nb, X, n0, p - 2, store);
+    return MOTE_OK;
+}
+
+static inline void kahan_add(double *y, double *cs, double d, int on)
+{
+    if (!on) {
+        *y += d;
+        return;
+    }
+    double t = d - *cs, s = *y + t;
+    *cs = (s - *y) - t;
+    *y = s;
+}
+
+/* Room for the coefficients and, in store mode, the pair histories. */
+static int scratch(mote_nb *nb, int p, int store, mote_err *err)
+{
+    size_t need = (size_t)(p + 1) * 3 * nb->n;
+    if (need > nb->tx_cap) {
+        double *q = realloc(nb->tx, need * sizeof *q);
+        if (!q)
+            return mote_fail(err, MOTE_ENOMEM, "taylor: out of memory for the coefficients");
+        nb->tx = q;
+        nb->tx_cap = need;
+    }
+    if (store) {
+        size_t pairs = (size_t)(p - 1) * nb->n * nb->n;
+        if (pairs > nb->tsf_cap) {
+            double *a = realloc(nb->ts, pairs * sizeof *a);
+            if (a)
+                nb->ts = a;
+            double *b = realloc(nb->tf, pairs * sizeof *b);
+            if (b)
+                nb->tf = b;
+            if (!a || !b)
+                return mote_fail(err, MOTE_ENOMEM,
+                                 "taylor: out of memory for the pair histories (use "
+                                 "memory=recompute)");
+            nb->tsf_cap = pairs;
+        }
+    }
+    return MOTE_OK;
+}
+
+int mote_nb_taylor_memory_store(const mote_nb *nb, int p)
+{
+    if (nb->taylor_memory == 1)
+        return 1;
+    if (nb->taylor_memory == 2)
+        return 0;
+    /* automatic: store while the histories fit in the budget (1 GiB) */
+    double bytes = 2.0 * (p - 1) * (double)nb->n * (double)nb->n * sizeof(double);
+    return bytes <= (double)(1u << 30);
+}
+
+int mote_nb_taylor(mote_nb *nb, uint64_t steps, mote_err *err)
+{
+    const int p = nb->taylor_order;
+    if (p < 2 || p > MOTE_NB_TAYLOR_MAX)
+        return mote_fail(err, MOTE_EINVAL, "taylor: order must be in 2 ... %d (found %d)",
+                         MOTE_NB_TAYLOR_MAX, p);
+    if (!(nb->dt > 0) || !isfinite(nb->dt))
+        return mote_fail(err, MOTE_EINVAL, "taylor: the step dt must be > 0");
+    int rc = mote_nb_prepare(nb, err);
+    if (rc)
+        return rc;
+    const int store = mote_nb_taylor_memory_store(nb, p);
+    if ((rc = scratch(nb, p, store, err)))
+        return rc;
+    if (!nb->ref_set)
+        mote_nb_set_reference(nb);
+    const size_t blk = 3 * (size_t)nb->n;
+    const double h = nb->dt;
+    for (uint64_t st = 0; st < steps; st++) {
+        double *X = nb->tx;
+        mote_nb_taylor_coefficients(nb, p, store, X);
+        for (uint32_t i = 0; i < nb->n; i++) {
+            if (!nb->active[i])
+                continue;
+            for (int a = 0; a < 3; a++) {
+                const size_t o = 3 * (size_t)i + a;
+                double dx = 0, dv = 0;
+                for (int n = p; n >= 1; n--)
+                    dx = dx * h + X[n * blk + o];
+                for (int n = p; n >= 2; n--)
+                    dv = dv * h + n * X[n * blk + o];
+                kahan_add(&nb->x[o], &nb->xc[o], dx * h, nb->compensated);
+                kahan_add(&nb->v[o], &nb->vc[o], dv * h, nb->compensated);
+            }
+        }
+        kahan_add(&nb->T, &nb->Tc, h, nb->compensated);
+        nb->steps++;
+        nb->dtp = 0; /* a Galactica step after this one restarts */
+        nb->restart = 1;
+    }
+    return MOTE_OK;
+}
+
+int mote_nb_taylor_auto_order(double tol)
+{
+    int p = (int)ceil(1 - 0.5 * log(tol));
+    return p < 2 ? 2 : p > MOTE_NB_TAYLOR_MAX ? MOTE_NB_TAYLOR_MAX : p;
+}
