@@ -384,6 +384,39 @@ static void test_taylor(void)
           mote_nb_taylor_auto_order(1e-19), mote_nb_taylor_auto_order(1e-34));
 }
 
+/* T10: the adaptive Taylor integrator on the ring, one and ten periods, ending exactly. */
+static void test_adaptive(void)
+{
+    printf("T10: adaptive Taylor, p = 20, tol = 1e-16\n");
+    for (int periods = 1; periods <= 10; periods += 9) {
+        mote_nb nb;
+        mote_nb_ring r;
+        mote_nb_init(&nb, MOTE_NB_GRAVITY);
+        mote_nb_ring_defaults(&r, MOTE_NB_GRAVITY);
+        mote_err err = {0};
+        mote_nb_ring_build(&nb, &r, &err);
+        nb.integrator = MOTE_NB_TAYLOR;
+        nb.taylor_order = 20;
+        nb.adaptive = 1;
+        nb.tol = 1e-16;
+        double t_end = periods * r.period;
+        CHECK(mote_nb_integrate(&nb, UINT64_MAX, t_end, &err) == MOTE_OK, "run: %s", err.msg);
+        double e = mote_nb_ring_error(&nb, &r, NULL);
+        mote_nb_monitor mon;
+        mote_nb_measure(&nb, &mon);
+        printf("  %d period%s: %llu steps, error %.3e, dE %.3e, T exact: %s\n", periods,
+               periods > 1 ? "s" : "", (unsigned long long)nb.steps, e, mon.dE,
+               nb.T == t_end ? "yes" : "no");
+        CHECK(nb.T == t_end, "T = %.17g, expected %.17g", nb.T, t_end);
+        CHECK(e <= (periods == 1 ? 1e-12 : 1e-11), "%d periods: error %.3g", periods, e);
+        CHECK(fabs(mon.dE) <= 1e-14, "%d periods: dE %.3g", periods, mon.dE);
+        if (periods == 1)
+            CHECK(nb.steps <= 50, "one period took %llu steps (at most 50)",
+                  (unsigned long long)nb.steps);
+        mote_nb_free(&nb);
+    }
+}
+
 /* T17: 1, 2 and 4 threads give the same bits (a cluster large enough to be split). */
 static void test_threads(void)
 {
@@ -434,6 +467,7 @@ int main(void)
     test_coulomb_sign();
     test_threads();
     test_taylor();
+    test_adaptive();
     printf("test_nbody: %.1f s\n", mote_wall_seconds() - w0);
     return test_summary();
 }

@@ -12,7 +12,7 @@ G='model nbody gravity\n'
 C='model nbody coulomb\n'
 
 # the ring over one period
-printf '%bgenerate ring nb=30\nintegrator galactica dt=1e-6\nmonitor 1000 ring.mon\nintegrate 10000\ncheck ring\n' "$G" > ring.mote
+printf '%bgenerate ring nb=30\nintegrator galactica dt=1e-6\nmonitor 1000 ring.mon\nintegrate steps=10000\ncheck ring\n' "$G" > ring.mote
 "$MOTE" run ring.mote > out.txt 2> err.txt && ok || bad "ring.mote failed: $(cat err.txt)"
 line=$(grep '^check ring:' out.txt)
 err=$(echo "$line" | sed -n 's/.*error \([^,]*\),.*/\1/p')
@@ -25,7 +25,7 @@ rows=$(grep -vc '^#' ring.mon)
 awk '!/^#/ { if ($7 > 1e-13 || $7 < -1e-13) bad = 1 } END { exit bad }' ring.mon && ok || bad "monitor dE above 1e-13"
 
 # the orbits and drifts as pictures (the common plot)
-printf '%bgenerate ring\ntrajectory 20 ring.traj\nmonitor 500 ring.mon\nintegrate 10000\nplot ring.traj orbits.png\nplot ring.mon drift.png\n' "$G" > plots.mote
+printf '%bgenerate ring\ntrajectory 20 ring.traj\nmonitor 500 ring.mon\nintegrate steps=10000\nplot ring.traj orbits.png\nplot ring.mon drift.png\n' "$G" > plots.mote
 "$MOTE" run plots.mote > out.txt 2> err.txt && ok || bad "plots.mote failed: $(cat err.txt)"
 png_size() { od -An -tu1 -j16 -N8 "$1" | awk '{ printf "%d %d", $1*16777216+$2*65536+$3*256+$4, $5*16777216+$6*65536+$7*256+$8 }'; }
 [ "$(od -An -c -N4 orbits.png | tr -d ' ')" = "211PNG" ] && ok || bad "orbits.png is not a PNG"
@@ -40,9 +40,9 @@ expect 2 "p1.mote:2:1: error: plot: 'other.dat' is not an N-body data file" p1.m
 expect 1 "p2.mote:2:1: error: trajectory: there are no bodies yet" p2.mote "${G}trajectory 1 t.dat\n"
 
 # save and load: A; B, A; save; load; B and a new script from the file give the same state
-printf '%bgenerate ring\nintegrate 300\nintegrate 300\nsave c1.state\n' "$G" > s1.mote
-printf '%bgenerate ring\nintegrate 300\nsave x.state\nload x.state\nintegrate 300\nsave c2.state\nload c2.state\nsave c2b.state\n' "$G" > s2.mote
-printf '%bload x.state\nintegrate 300\nsave c3.state\n' "$G" > s3.mote
+printf '%bgenerate ring\nintegrate steps=300\nintegrate steps=300\nsave c1.state\n' "$G" > s1.mote
+printf '%bgenerate ring\nintegrate steps=300\nsave x.state\nload x.state\nintegrate steps=300\nsave c2.state\nload c2.state\nsave c2b.state\n' "$G" > s2.mote
+printf '%bload x.state\nintegrate steps=300\nsave c3.state\n' "$G" > s3.mote
 for k in 1 2 3; do "$MOTE" run s$k.mote > out$k.txt 2> err.txt || bad "s$k.mote failed: $(cat err.txt)"; done
 cmp -s c1.state c2.state && ok || bad "save; load in the middle changed the run"
 cmp -s c1.state c3.state && ok || bad "a new script from the saved state differs"
@@ -61,29 +61,40 @@ sed 's/^n 30$/n -1/' c1.state > neg.state
 expect 1 "s9.mote:2:6: error: load: neg.state:4: expected 'n N' with 0 <= N <= 10^8 (found 'n -1')" s9.mote "${G}load neg.state\n"
 
 # the general Taylor integrator: one period of the ring in 100 steps, and its continuation
-printf '%bgenerate ring\nintegrator taylor order=auto tol=1e-16 dt=1e-4\nintegrate 100\ncheck ring\n' "$G" > t1.mote
+printf '%bgenerate ring\nintegrator taylor order=auto tol=1e-16 dt=1e-4\nintegrate steps=100\ncheck ring\n' "$G" > t1.mote
 "$MOTE" run t1.mote > out.txt 2> err.txt && ok || bad "t1.mote failed: $(cat err.txt)"
 err=$(sed -n 's/^check ring:.*error \([^,]*\),.*/\1/p' out.txt)
 awk -v e="$err" 'BEGIN { exit !(e + 0 <= 1e-12 && e != "") }' && ok || bad "Taylor p = 20, h = 1e-4: ring error '$err'"
-printf '%bgenerate ring\nintegrator taylor order=12 dt=1e-4 memory=recompute\nintegrate 20\nintegrate 20\nsave k1.state\n' "$G" > t2.mote
-printf '%bgenerate ring\nintegrator taylor order=12 dt=1e-4 memory=store\nintegrate 20\nsave ky.state\nload ky.state\nintegrate 20\nsave k2.state\n' "$G" > t3.mote
+printf '%bgenerate ring\nintegrator taylor order=12 dt=1e-4 memory=recompute\nintegrate steps=20\nintegrate steps=20\nsave k1.state\n' "$G" > t2.mote
+printf '%bgenerate ring\nintegrator taylor order=12 dt=1e-4 memory=store\nintegrate steps=20\nsave ky.state\nload ky.state\nintegrate steps=20\nsave k2.state\n' "$G" > t3.mote
 "$MOTE" run t2.mote > /dev/null 2>&1 && "$MOTE" run t3.mote > /dev/null 2>&1 && ok || bad "t2/t3 failed"
 grep -v '^taylor ' k1.state > k1s; grep -v '^taylor ' k2.state > k2s
 cmp -s k1s k2s && ok || bad "Taylor: recompute straight through and store with save/load in the middle differ"
+# adaptive steps to an exact end time: one period in at most 50 steps, T exactly the period
+printf '%bgenerate ring\nintegrator taylor order=auto tol=1e-16\nmonitor 1000 a.mon\nintegrate to=0.0099957882967408613\ncheck ring\nintegrate for=0.001\n' "$G" > ad.mote
+"$MOTE" run ad.mote > out.txt 2> err.txt && ok || bad "ad.mote failed: $(cat err.txt)"
+grep -q '^check ring: T = 0.0099957882967408613 (1 periods): error [0-9.]*e-1[4-5],' out.txt && ok || bad "adaptive period: $(grep '^check ring' out.txt)"
+steps=$(grep '^check ring' -B1 out.txt | sed -n 's/.*steps=\([0-9]*\) .*/\1/p' | head -1)
+[ -n "$steps" ] && [ "$steps" -le 50 ] && ok || bad "adaptive period took '$steps' steps"
+awk '$2 == "0.0099957882967408613" { found = 1 } END { exit !found }' a.mon && ok || bad "the monitor did not sample the end time"
+tail -1 out.txt | grep -q 'T=0.01099578829674086 ' && ok || bad "integrate for=: $(tail -1 out.txt)"
+expect 1 "i1.mote:3:1: error: integrate: give exactly one of steps=N, to=T and for=D (found 2)" i1.mote "${G}body mass=1\nintegrate steps=3 to=1\n"
+expect 1 "i2.mote:3:1: error: integrate: give exactly one of steps=N, to=T and for=D (found 0)" i2.mote "${G}body mass=1\nintegrate\n"
+expect 1 "i3.mote:2:31: error: integrator taylor: dt= fixes the step and tol= makes it adaptive" i3.mote "${G}integrator taylor dt=1e-4 tol=1e-12\n"
 expect 1 "t4.mote:2:25: error: integrator taylor: order must be an integer in [2, 60] or auto, found '61'" t4.mote "${G}integrator taylor order=61\n"
 expect 1 "t5.mote:2:28: error: integrator galactica: order must be an integer in [2, 6], found 'auto'" t5.mote "${G}integrator galactica order=auto\n"
 expect 1 "t6.mote:2:30: error: integrator taylor: no option first_step=" t6.mote "${G}integrator taylor first_step=0.5\n"
 expect 1 "t7.mote:2:26: error: integrator taylor: memory must be store, recompute or auto, found 'disk'" t7.mote "${G}integrator taylor memory=disk\n"
 
 # the Coulomb ring
-printf '%bgenerate atom_ring\nintegrator galactica dt=1e-6\nintegrate 30000\ncheck ring\n' "$C" > atom.mote
+printf '%bgenerate atom_ring\nintegrator galactica dt=1e-6\nintegrate steps=30000\ncheck ring\n' "$C" > atom.mote
 "$MOTE" run atom.mote > out.txt 2> err.txt && ok || bad "atom.mote failed: $(cat err.txt)"
 err=$(sed -n 's/^check ring:.*error \([^,]*\),.*/\1/p' out.txt)
 awk -v e="$err" 'BEGIN { exit !(e + 0 <= 1e-11 && e != "") }' && ok || bad "Coulomb ring error '$err'"
 
 # bad input: located, before anything runs
 expect 1 "v1.mote:1:13: error: model: the nbody model's variant is one of gravity|coulomb, found 'newton'" v1.mote "model nbody newton\n"
-expect 1 "b1.mote:2:1: error: integrate: there are no bodies yet" b1.mote "${G}integrate 10\n"
+expect 1 "b1.mote:2:1: error: integrate: there are no bodies yet" b1.mote "${G}integrate steps=10\n"
 expect 1 "b2.mote:2:11: error: body: expected a real number for mass, found 'nan'" b2.mote "${G}body mass=nan\n"
 expect 1 "b3.mote:2:11: error: body: mass must be > 0, found 0" b3.mote "${G}body mass=0\n"
 expect 1 "b4.mote:2:11: error: body: mass must be > 0, found -1" b4.mote "${G}body mass=-1\n"
@@ -99,8 +110,8 @@ expect 1 "b13.mote:3:1: error: check ring: no ring was generated" b13.mote "${G}
 expect 1 "b14.mote:3:1: error: generate: the system already has bodies" b14.mote "${G}body mass=1\ngenerate ring\n"
 expect 1 "b15.mote:2:18: error: generate: nb must be >= 2, found 1" b15.mote "${G}generate ring nb=1\n"
 # runtime: at the line, with the monitor's earlier file kept
-expect 2 "r1.mote:4:1: error: a Coulomb run needs charged bodies" r1.mote "${C}body mass=1 x=1\nbody mass=1\nintegrate 5\n"
-expect 2 "r2.mote:5:1: error: bodies 1 and 2 are at the same point" r2.mote "${G}body mass=1\nbody mass=1\nmonitor 1 m.mon\nintegrate 5\n"
+expect 2 "r1.mote:4:1: error: a Coulomb run needs charged bodies" r1.mote "${C}body mass=1 x=1\nbody mass=1\nintegrate steps=5\n"
+expect 2 "r2.mote:5:1: error: bodies 1 and 2 are at the same point" r2.mote "${G}body mass=1\nbody mass=1\nmonitor 1 m.mon\nintegrate steps=5\n"
 grep -vc '^#' m.mon | grep -qx 1 && ok || bad "the monitor file written before the failure lost its sample"
 expect 2 "r3.mote:2:1: error: ring: neighbours are only" r3.mote "${G}generate ring ka=0.001\n"
 

@@ -69,6 +69,7 @@ typedef struct {
     double dt;              /* nominal step */
     double dtp;             /* length of the previous step; 0 = no valid previous fifth derivative */
     int restart;            /* the next step is a restart step (first_step * dt): a fresh start */
+    double hlast;           /* the last step taken, by either integrator (for the monitor) */
     uint64_t steps;
     int order;              /* Galactica scheme order K, 2 ... 6 */
     double first_step;      /* the restart step is first_step * dt (spec 4.2: 0.001) */
@@ -79,6 +80,9 @@ typedef struct {
     int integrator;         /* MOTE_NB_GALACTICA or MOTE_NB_TAYLOR */
     int taylor_order;       /* p, 2 ... MOTE_NB_TAYLOR_MAX */
     int taylor_memory;      /* 0 automatic, 1 store, 2 recompute */
+    int adaptive;           /* 1: the step from the Taylor terms (spec 4.5), else dt */
+    double tol, safety, hmin, hmax; /* its tolerance, safety factor, bounds (0: none) */
+    double hprev;           /* the last adaptive step (0: none yet) */
     double *tx;             /* (p + 1) blocks of 3n coefficients x^[n] */
     size_t tx_cap;
     double *ts, *tf;        /* store mode: s^[j], f^[j] of every ordered pair */
@@ -114,7 +118,10 @@ int mote_nb_derivatives(mote_nb *nb, mote_err *err);
 
 /* ---- the general Taylor integrator (spec 4.4) ------------------------------------------------ */
 
-/* Take `steps` fixed steps of dt with the Taylor series of order taylor_order. */
+/* Run the chosen integrator (nb->integrator) for at most max_steps steps and up to the time
+ * t_end (INFINITY: none), which is hit exactly. */
+int mote_nb_integrate(mote_nb *nb, uint64_t max_steps, double t_end, mote_err *err);
+/* Take `steps` steps with the Taylor series of order taylor_order (fixed or adaptive). */
 int mote_nb_taylor(mote_nb *nb, uint64_t steps, mote_err *err);
 /* The normalized coefficients x^[0 .. p] of every body at the current state into X ((p + 1)
  * blocks of 3n); store != 0 keeps the pair histories in nb (sized by mote_nb_taylor). */

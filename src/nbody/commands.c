@@ -232,7 +232,8 @@ static int parse_order(const mote_call *c, int taylor, int *order, mote_err *err
 }
 
 static const char *const GALACTICA_OPTS[] = {"dt", "order", "first_step", NULL};
-static const char *const TAYLOR_OPTS[] = {"dt", "order", "tol", "memory", NULL};
+static const char *const TAYLOR_OPTS[] = {"dt",     "order", "tol",  "memory",
+                                          "safety", "hmin",  "hmax", NULL};
 
 static int check_integrator(void *vm, const mote_call *c, mote_err *err)
 {
@@ -246,7 +247,13 @@ static int check_integrator(void *vm, const mote_call *c, mote_err *err)
             return mote_call_fail(err, c, c->nargs + k, MOTE_EINVAL,
                                   "integrator %s: no option %s= (options: %s)", name,
                                   c->opts[k].key,
-                                  taylor ? "dt, order, tol, memory" : "dt, order, first_step");
+                                  taylor ? "dt, order, tol, memory, safety, hmin, hmax"
+                                         : "dt, order, first_step");
+    if (taylor && mote_call_opt(c, "dt") && mote_call_opt(c, "tol") &&
+        strcmp(mote_call_opt(c, "order") ? mote_call_opt(c, "order")->text : "", "auto") != 0)
+        return mote_call_fail(err, c, mote_call_opt_index(c, "tol"), MOTE_EINVAL,
+                              "integrator taylor: dt= fixes the step and tol= makes it adaptive; "
+                              "give one (tol= may come with order=auto)");
     const mote_arg *mem = mote_call_opt(c, "memory");
     if (mem && strcmp(mem->text, "store") != 0 && strcmp(mem->text, "recompute") != 0 &&
         strcmp(mem->text, "auto") != 0)
@@ -271,6 +278,14 @@ static int run_integrator(void *vm, const mote_call *c, mote_err *err)
         m->nb.taylor_memory = strcmp(mem->text, "store") == 0       ? 1
                               : strcmp(mem->text, "recompute") == 0 ? 2
                                                                     : 0;
+    if (taylor) {
+        m->nb.adaptive = mote_call_opt(c, "dt") == NULL;
+        m->nb.tol = mote_call_opt_r(c, "tol", m->nb.tol);
+        m->nb.safety = mote_call_opt_r(c, "safety", m->nb.safety);
+        m->nb.hmin = mote_call_opt_r(c, "hmin", m->nb.hmin);
+        m->nb.hmax = mote_call_opt_r(c, "hmax", m->nb.hmax);
+        m->nb.hprev = 0;
+    }
     return MOTE_OK;
 }
 
@@ -316,7 +331,7 @@ static int monitor_sample(nb_model *m, mote_err *err)
     const mote_nb *nb = &m->nb;
     mote_nb_monitor mon;
     mote_nb_measure(nb, &mon);
-    double row[MON_COLS] = {(double)nb->steps, nb->T, nb->dtp, mon.ekin, mon.u, mon.etot, mon.dE,
+    double row[MON_COLS] = {(double)nb->steps, nb->T, nb->hlast, mon.ekin, mon.u, mon.etot, mon.dE,
                             mon.P[0], mon.P[1], mon.P[2], mon.L[0], mon.L[1], mon.L[2], mon.dMz,
                             mon.R[0] / mon.mtot, mon.R[1] / mon.mtot, mon.R[2] / mon.mtot};
     memcpy(r, row, sizeof row);
@@ -432,6 +447,12 @@ static int run_trajectory(void *vm, const mote_call *c, mote_err *err)
 
 static int check_integrate(void *vm, const mote_call *c, mote_err *err)
 {
+    int given = (mote_call_opt(c, "steps") != NULL) + (mote_call_opt(c, "to") != NULL) +
+                (mote_call_opt(c, "for") != NULL);
+    if (given != 1)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL,
+                              "integrate: give exactly one of steps=N, to=T and for=D (found %d)",
+                              given);
     return need_bodies(vm, c, err);
 }
 
@@ -448,23 +469,33 @@ static int run_integrate(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
     m->nb.threads = c->ctx->threads;
-    uint64_t steps = (uint64_t)c->args[0].i, done = 0;
+    const mote_arg *a = mote_call_opt(c, "steps");
+    uint64_t steps = a ? (uint64_t)a->i : UINT64_MAX, done = 0;
+    const double t0 = m->nb.T;
+    double t_end = INFINITY;
+    if ((a = mote_call_opt(c, "to")))
+        t_end = a->r;
+    else if ((a = mote_call_opt(c, "for")))
+        t_end = m->nb.T + a->r;
     mote_progress prog;
     mote_progress_begin(&prog, c->ctx, "integrate");
     int rc = MOTE_OK;
-    while (done < steps && !rc) {
+    while (done < steps && !rc && m->nb.T < t_end) {
         uint64_t chunk = until_sample(&m->mon, m->nb.steps, steps - done);
         chunk = until_sample(&m->traj, m->nb.steps, chunk);
         if (chunk > 1000)
             chunk = 1000;
-        rc = m->nb.integrator == MOTE_NB_TAYLOR ? mote_nb_taylor(&m->nb, chunk, err)
-                                                : mote_nb_galactica(&m->nb, chunk, err);
-        done += chunk;
-        if (!rc && m->mon.path && m->nb.steps % m->mon.every == 0)
+        uint64_t before = m->nb.steps;
+        rc = mote_nb_integrate(&m->nb, chunk, t_end, err);
+        done += m->nb.steps - before;
+        if (!rc && m->mon.path && (m->nb.steps % m->mon.every == 0 || m->nb.T == t_end))
             rc = monitor_sample(m, err);
-        if (!rc && m->traj.path && m->nb.steps % m->traj.every == 0)
+        if (!rc && m->traj.path && (m->nb.steps % m->traj.every == 0 || m->nb.T == t_end))
             rc = trajectory_sample(m, err);
-        mote_progress_update(&prog, (double)done / (double)steps);
+        if (!rc && m->nb.steps == before) /* no step could be taken: the end is reached */
+            break;
+        mote_progress_update(&prog, t_end < INFINITY ? (m->nb.T - t0) / (t_end - t0)
+                                                     : (double)done / (double)steps);
     }
     mote_progress_end(&prog);
     /* the samples so far, even after a failure */
@@ -594,11 +625,15 @@ static const char HELP_INTEGRATOR[] =
     "\n"
     "`taylor`: the general Taylor integrator (spec 4.4): every coefficient up to\n"
     "order P (2 ... 60, default 20) from exact recurrences (automatic\n"
-    "differentiation), ceil((P-1)/2) passes over the pairs per step, fixed step H.\n"
-    "order=auto takes P = ceil(1 - ln(E)/2) from tol=E (default 1e-16: P = 20).\n"
+    "differentiation), ceil((P-1)/2) passes over the pairs per step. With dt=H the\n"
+    "step is fixed; without it the step is adaptive (spec 4.5): for each body the\n"
+    "step at which its two highest Taylor terms stay below tol=E (default 1e-16)\n"
+    "times the distance to its nearest neighbour, the smallest of them times\n"
+    "safety=S (default 1), at most twice the previous step, within [hmin, hmax].\n"
+    "order=auto takes P = ceil(1 - ln(E)/2) (E = 1e-16: P = 20).\n"
     "memory=store keeps the pairs' histories between passes (2 (P-1) N^2 reals),\n"
     "recompute does without them; auto (default) stores up to 1 GiB. Both give the\n"
-    "same bits. The adaptive step of spec 4.5 is not in this build yet.\n";
+    "same bits.\n";
 
 static const char HELP_COMPENSATED[] =
     "    compensated on|off\n"
@@ -626,9 +661,14 @@ static const char HELP_TRAJECTORY[] =
     "invariable plane.\n";
 
 static const char HELP_INTEGRATE[] =
-    "    integrate K\n"
+    "    integrate steps=N\n"
+    "    integrate to=T\n"
+    "    integrate for=D\n"
     "\n"
-    "Take K steps with the integrator.\n";
+    "Advance with the chosen integrator: N steps, or up to the dimensionless time T\n"
+    "(or for the time D from now), shortening the last step so that T is reached\n"
+    "exactly (the monitor and the trajectory then also sample at T). Exactly one of\n"
+    "the three is given.\n";
 
 static const char HELP_SAVE[] =
     "    save FILE\n"
@@ -679,8 +719,10 @@ static const mote_cmd nb_commands[] = {
      "A=i>=1 Z=i>=1 n=i>=1 l=i permittivity=r>0 time_unit=r>0",
      "generate KIND [options]", "the exact gravity ring or Coulomb ring of the seed document",
      HELP_GENERATE, check_generate, run_generate},
-    {"integrator", NULL, "s dt=r>0 order=s first_step=r(0,1] tol=r(0,1) memory=s",
-     "integrator NAME [dt=H] [order=K] [first_step=F] [tol=E] [memory=M]",
+    {"integrator", NULL,
+     "s dt=r>0 order=s first_step=r(0,1] tol=r(0,1) memory=s safety=r>0 hmin=r>=0 hmax=r>0",
+     "integrator NAME [dt=H] [order=K] [first_step=F] [tol=E] [memory=M] [safety=S] "
+     "[hmin=A] [hmax=B]",
      "choose and set the integrator (galactica or taylor)",
      HELP_INTEGRATOR, check_integrator, run_integrator},
     {"compensated", NULL, "s", "compensated on|off", "compensated summation (default on)",
@@ -691,8 +733,9 @@ static const mote_cmd nb_commands[] = {
     {"trajectory", NULL, "i>=1 f>trajectory", "trajectory K FILE",
      "record the positions of every body every K steps (plot draws the orbits)", HELP_TRAJECTORY,
      check_trajectory, run_trajectory},
-    {"integrate", NULL, "i>=1", "integrate K", "take K steps", HELP_INTEGRATE, check_integrate,
-     run_integrate},
+    {"integrate", NULL, "steps=i>=1 to=r for=r>0", "integrate [steps=N] [to=T] [for=D]",
+     "advance by N steps, to the time T, or for the time D (ends exactly)", HELP_INTEGRATE,
+     check_integrate, run_integrate},
     {"save", NULL, "f>state", "save FILE", "write the exact state to FILE", HELP_SAVE, check_save,
      run_save},
     {"load", NULL, "f<state", "load FILE", "continue from a state written by save", HELP_LOAD,

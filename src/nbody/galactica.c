@@ -15,6 +15,8 @@
 #include <math.h>
 #include <string.h>
 
+#include "nb.h"
+
 /* Pass 1: a_i = c_i sum A0, j_i = c_i sum A1 (spec 4.2 step 1). */
 static void pass1(mote_nb *nb)
 {
@@ -166,19 +168,30 @@ int mote_nb_derivatives(mote_nb *nb, mote_err *err)
     return MOTE_OK;
 }
 
-int mote_nb_galactica(mote_nb *nb, uint64_t steps, mote_err *err)
+int nb_galactica_check(const mote_nb *nb, mote_err *err)
 {
     if (nb->order < 2 || nb->order > 6)
         return mote_fail(err, MOTE_EINVAL, "galactica: order must be in 2 ... 6 (found %d)",
                          nb->order);
     if (!(nb->dt > 0) || !isfinite(nb->dt))
         return mote_fail(err, MOTE_EINVAL, "galactica: the step dt must be > 0");
-    int rc = mote_nb_prepare(nb, err);
-    if (rc)
-        return rc;
-    if (!nb->ref_set)
-        mote_nb_set_reference(nb);
-    for (uint64_t s = 0; s < steps; s++)
-        step(nb, nb->restart || nb->dtp == 0 ? nb->first_step * nb->dt : nb->dt);
     return MOTE_OK;
+}
+
+double nb_galactica_step(mote_nb *nb, double rest)
+{
+    double h = nb->restart || nb->dtp == 0 ? nb->first_step * nb->dt : nb->dt;
+    if (h > rest)
+        h = rest;
+    step(nb, h);
+    return h;
+}
+
+int mote_nb_galactica(mote_nb *nb, uint64_t steps, mote_err *err)
+{
+    int was = nb->integrator;
+    nb->integrator = MOTE_NB_GALACTICA;
+    int rc = mote_nb_integrate(nb, steps, INFINITY, err);
+    nb->integrator = was;
+    return rc;
 }

@@ -13,4 +13,11 @@ int nb_state_save(const mote_nb *nb, const char *path, mote_err *err);
 int nb_state_load(mote_nb *nb, const char *path, mote_err *err);
 int nb_state_peek(const char *path, uint32_t *n, mote_err *err);
 
+/* The integrators' parts (galactica.c, taylor.c): the settings checked (and scratch sized),
+ * and one step of at most `rest` (returns the step taken). */
+int nb_galactica_check(const mote_nb *nb, mote_err *err);
+double nb_galactica_step(mote_nb *nb, double rest);
+int nb_taylor_check(mote_nb *nb, mote_err *err);
+double nb_taylor_step(mote_nb *nb, double rest);
+
 #endif

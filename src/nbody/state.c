@@ -34,9 +34,17 @@ int nb_state_save(const mote_nb *nb, const char *path, mote_err *err)
     put(f, nb->dt);
     put(f, nb->dtp);
     put(f, nb->first_step);
+    put(f, nb->hlast);
     fprintf(f, "\nscheme %d %d %d %llu\n", nb->order, nb->compensated, nb->restart,
             (unsigned long long)nb->steps);
-    fprintf(f, "taylor %d %d %d\n", nb->integrator, nb->taylor_order, nb->taylor_memory);
+    fprintf(f, "taylor %d %d %d %d", nb->integrator, nb->taylor_order, nb->taylor_memory,
+            nb->adaptive);
+    put(f, nb->tol);
+    put(f, nb->safety);
+    put(f, nb->hmin);
+    put(f, nb->hmax);
+    put(f, nb->hprev);
+    fputc('\n', f);
     fprintf(f, "reference %d", nb->ref_set);
     put(f, nb->E0);
     put(f, nb->Mza1);
@@ -190,10 +198,11 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
     }
     if (!rc) {
         s = next_line(&r);
-        rc = s ? reals(&r, s, "step", v, 3) : fail(&r, "'step dt dtp first_step'", s);
+        rc = s ? reals(&r, s, "step", v, 4) : fail(&r, "'step dt dtp first_step hlast'", s);
         t.dt = v[0];
         t.dtp = v[1];
         t.first_step = v[2];
+        t.hlast = v[3];
         if (!rc && (!(t.dt > 0) || !(t.dtp >= 0) || !(t.first_step > 0 && t.first_step <= 1)))
             rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: need dt > 0, dtp >= 0, 0 < first_step <= 1",
                            path, r.line);
@@ -213,15 +222,23 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
     }
     if (!rc) {
         s = next_line(&r);
-        int integ, order, mem;
-        char extra;
-        if (!s || sscanf(s, "taylor %d %d %d %c", &integ, &order, &mem, &extra) != 3 ||
+        int integ, order, mem, adapt, used = 0;
+        if (!s || sscanf(s, "taylor %d %d %d %d%n", &integ, &order, &mem, &adapt, &used) != 4 ||
             (integ != MOTE_NB_GALACTICA && integ != MOTE_NB_TAYLOR) || order < 2 ||
-            order > MOTE_NB_TAYLOR_MAX || mem < 0 || mem > 2)
-            rc = fail(&r, "'taylor INTEGRATOR(0|1) ORDER(2..60) MEMORY(0..2)'", s);
+            order > MOTE_NB_TAYLOR_MAX || mem < 0 || mem > 2 || (adapt != 0 && adapt != 1))
+            rc = fail(&r, "'taylor INTEGRATOR(0|1) ORDER(2..60) MEMORY(0..2) ADAPTIVE(0|1)' and "
+                          "tol safety hmin hmax hprev", s);
+        else
+            rc = reals(&r, s + used, NULL, v, 5);
         t.integrator = integ;
         t.taylor_order = order;
         t.taylor_memory = mem;
+        t.adaptive = adapt;
+        t.tol = v[0];
+        t.safety = v[1];
+        t.hmin = v[2];
+        t.hmax = v[3];
+        t.hprev = v[4];
     }
     if (!rc) {
         s = next_line(&r);

@@ -36,6 +36,8 @@ void mote_nb_init(mote_nb *nb, mote_nb_interaction kind)
     nb->compensated = 1;
     nb->dt = 1e-6;
     nb->taylor_order = 20;
+    nb->tol = 1e-16;
+    nb->safety = 1.0;
 }
 
 static void free_arrays(mote_nb *nb)

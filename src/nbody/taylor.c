@@ -155,47 +155,98 @@ int mote_nb_taylor_memory_store(const mote_nb *nb, int p)
     return bytes <= (double)(1u << 30);
 }
 
-int mote_nb_taylor(mote_nb *nb, uint64_t steps, mote_err *err)
+int nb_taylor_check(mote_nb *nb, mote_err *err)
 {
     const int p = nb->taylor_order;
     if (p < 2 || p > MOTE_NB_TAYLOR_MAX)
         return mote_fail(err, MOTE_EINVAL, "taylor: order must be in 2 ... %d (found %d)",
                          MOTE_NB_TAYLOR_MAX, p);
-    if (!(nb->dt > 0) || !isfinite(nb->dt))
-        return mote_fail(err, MOTE_EINVAL, "taylor: the step dt must be > 0");
-    int rc = mote_nb_prepare(nb, err);
-    if (rc)
-        return rc;
-    const int store = mote_nb_taylor_memory_store(nb, p);
-    if ((rc = scratch(nb, p, store, err)))
-        return rc;
-    if (!nb->ref_set)
-        mote_nb_set_reference(nb);
-    const size_t blk = 3 * (size_t)nb->n;
-    const double h = nb->dt;
-    for (uint64_t st = 0; st < steps; st++) {
-        double *X = nb->tx;
-        mote_nb_taylor_coefficients(nb, p, store, X);
-        for (uint32_t i = 0; i < nb->n; i++) {
-            if (!nb->active[i])
+    if (nb->adaptive ? !(nb->tol > 0 && nb->tol < 1) : !(nb->dt > 0) || !isfinite(nb->dt))
+        return mote_fail(err, MOTE_EINVAL, nb->adaptive ? "taylor: tol must be in (0, 1)"
+                                                        : "taylor: the step dt must be > 0");
+    return scratch(nb, p, mote_nb_taylor_memory_store(nb, p), err);
+}
+
+/* The adaptive step of spec 4.5: for each body the step at which its two highest terms stay
+ * below tol times the distance to its nearest neighbour, h_i = min_{j = p-1, p}
+ * (tol l_i / |x_i^[j]|_inf)^(1/j); then h = safety min_i h_i, at most twice the previous step,
+ * clamped to [hmin, hmax]. */
+static double adaptive_step(const mote_nb *nb, const double *X, int p)
+{
+    const uint32_t N = nb->n;
+    const size_t blk = 3 * (size_t)N;
+    double h = INFINITY;
+    for (uint32_t i = 0; i < N; i++) {
+        if (!nb->active[i])
+            continue;
+        double l2 = INFINITY;
+        for (uint32_t k = 0; k < N; k++) {
+            if (k == i || !nb->active[k])
                 continue;
-            for (int a = 0; a < 3; a++) {
-                const size_t o = 3 * (size_t)i + a;
-                double dx = 0, dv = 0;
-                for (int n = p; n >= 1; n--)
-                    dx = dx * h + X[n * blk + o];
-                for (int n = p; n >= 2; n--)
-                    dv = dv * h + n * X[n * blk + o];
-                kahan_add(&nb->x[o], &nb->xc[o], dx * h, nb->compensated);
-                kahan_add(&nb->v[o], &nb->vc[o], dv * h, nb->compensated);
-            }
+            double d0 = X[3 * i] - X[3 * k], d1 = X[3 * i + 1] - X[3 * k + 1],
+                   d2 = X[3 * i + 2] - X[3 * k + 2];
+            l2 = fmin(l2, d0 * d0 + d1 * d1 + d2 * d2);
         }
-        kahan_add(&nb->T, &nb->Tc, h, nb->compensated);
-        nb->steps++;
-        nb->dtp = 0; /* a Galactica step after this one restarts */
-        nb->restart = 1;
+        double l = isfinite(l2) ? sqrt(l2) : 1.0; /* a single body: its own scale */
+        for (int j = p - 1; j <= p; j++) {
+            const double *c = X + (size_t)j * blk + 3 * i;
+            double nrm = fmax(fabs(c[0]), fmax(fabs(c[1]), fabs(c[2])));
+            if (nrm > 0)
+                h = fmin(h, pow(nb->tol * l / nrm, 1.0 / j));
+        }
     }
-    return MOTE_OK;
+    h *= nb->safety > 0 ? nb->safety : 1.0;
+    if (nb->hprev > 0 && h > 2 * nb->hprev)
+        h = 2 * nb->hprev;
+    if (nb->hmax > 0 && h > nb->hmax)
+        h = nb->hmax;
+    if (h < nb->hmin)
+        h = nb->hmin;
+    if (!isfinite(h)) /* nothing moves */
+        h = nb->hmax > 0 ? nb->hmax : 1.0;
+    return h;
+}
+
+double nb_taylor_step(mote_nb *nb, double rest)
+{
+    const int p = nb->taylor_order;
+    const int store = mote_nb_taylor_memory_store(nb, p);
+    const size_t blk = 3 * (size_t)nb->n;
+    double *X = nb->tx;
+    mote_nb_taylor_coefficients(nb, p, store, X);
+    double h = nb->adaptive ? adaptive_step(nb, X, p) : nb->dt;
+    if (h > rest)
+        h = rest;
+    for (uint32_t i = 0; i < nb->n; i++) {
+        if (!nb->active[i])
+            continue;
+        for (int a = 0; a < 3; a++) {
+            const size_t o = 3 * (size_t)i + a;
+            double dx = 0, dv = 0;
+            for (int n = p; n >= 1; n--)
+                dx = dx * h + X[n * blk + o];
+            for (int n = p; n >= 2; n--)
+                dv = dv * h + n * X[n * blk + o];
+            kahan_add(&nb->x[o], &nb->xc[o], dx * h, nb->compensated);
+            kahan_add(&nb->v[o], &nb->vc[o], dv * h, nb->compensated);
+        }
+    }
+    kahan_add(&nb->T, &nb->Tc, h, nb->compensated);
+    nb->steps++;
+    if (h < rest) /* a step shortened to an end time says nothing about the next one */
+        nb->hprev = h;
+    nb->dtp = 0; /* a Galactica step after this one restarts */
+    nb->restart = 1;
+    return h;
+}
+
+int mote_nb_taylor(mote_nb *nb, uint64_t steps, mote_err *err)
+{
+    int was = nb->integrator;
+    nb->integrator = MOTE_NB_TAYLOR;
+    int rc = mote_nb_integrate(nb, steps, INFINITY, err);
+    nb->integrator = was;
+    return rc;
 }
 
 int mote_nb_taylor_auto_order(double tol)

@@ -1,0 +1,34 @@
+/* integrate.c: the run of either integrator: steps up to a count and/or to an end time that is
+ * hit exactly (the last step is shortened to it and the time set to it, spec 4.5). */
+#include "mote/nbody.h"
+
+#include <math.h>
+
+#include "nb.h"
+
+int mote_nb_integrate(mote_nb *nb, uint64_t max_steps, double t_end, mote_err *err)
+{
+    const int taylor = nb->integrator == MOTE_NB_TAYLOR;
+    int rc = taylor ? nb_taylor_check(nb, err) : nb_galactica_check(nb, err);
+    if (!rc)
+        rc = mote_nb_prepare(nb, err);
+    if (rc)
+        return rc;
+    if (!(t_end > nb->T) && t_end < INFINITY)
+        return MOTE_OK;
+    if (!nb->ref_set)
+        mote_nb_set_reference(nb);
+    for (uint64_t s = 0; s < max_steps; s++) {
+        double rest = t_end < INFINITY ? t_end - nb->T : INFINITY;
+        if (!(rest > 0))
+            break;
+        double h = taylor ? nb_taylor_step(nb, rest) : nb_galactica_step(nb, rest);
+        nb->hlast = h;
+        if (h >= rest) { /* the end time, exactly */
+            nb->T = t_end;
+            nb->Tc = 0;
+            break;
+        }
+    }
+    return MOTE_OK;
+}
