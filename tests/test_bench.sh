@@ -39,5 +39,17 @@ check "a twin too close to eta_max fails (exit $rc): $(head -c 80 "$tmp/err")" \
 rc=$?
 check "an unknown workload fails (exit $rc)" '[ $rc -ne 0 ] && grep -q "unknown workload .cube3:0.45." "$tmp/err"'
 
+# the N-body benchmark: its workloads run and report (no timing is checked)
+nbench="$(dirname "$bench")/bench_nbody"
+b1=$("$nbench" b1 12 1e-12 2>"$tmp/err")
+check "bench_nbody b1 reports steps, CPU time and the ring error: $(head -c 80 "$tmp/err")" \
+    'echo "$b1" | grep -q "^workload=b1 integrator=taylor order=12 tol=1e-12 steps=[0-9]* cpu_seconds_median=[0-9.]* cpu_seconds_min=[0-9.]* error=[0-9.e+-]* abs_dE="'
+pairs=$("$nbench" pairs 100 2 2>"$tmp/err")
+check "bench_nbody pairs reports pair evaluations per second" \
+    'echo "$pairs" | grep -q "^workload=pairs N=100 threads=2 steps=3 wall_seconds=[0-9.]* pair_evaluations_per_second="'
+"$nbench" nosuch >/dev/null 2>"$tmp/err"
+rc=$?
+check "bench_nbody: an unknown workload fails (exit $rc)" '[ $rc -ne 0 ] && grep -q "usage: bench_nbody" "$tmp/err"'
+
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

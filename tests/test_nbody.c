@@ -420,7 +420,7 @@ static void test_adaptive(void)
 /* T17: 1, 2 and 4 threads give the same bits (a cluster large enough to be split). */
 static void test_threads(void)
 {
-    printf("T17: 1, 2 and 4 threads bit-identical\n");
+    printf("T17: 1, 2 and 4 threads bit-identical (Galactica scheme, then Taylor)\n");
     const uint32_t n = 300;
     double *ref = NULL;
     for (int t = 1; t <= 4; t *= 2) {
@@ -441,6 +441,10 @@ static void test_threads(void)
         nb.threads = t;
         CHECK(mote_nb_galactica(&nb, getenv("MOTE_SANITIZED") ? 10 : 50, &err) == MOTE_OK, "run: %s",
               err.msg);
+        /* then the Taylor integrator, whose pairs are shared among the threads */
+        nb.taylor_order = 8;
+        nb.dt = 1e-4;
+        CHECK(mote_nb_taylor(&nb, 3, &err) == MOTE_OK, "taylor: %s", err.msg);
         if (!ref) {
             ref = malloc(6 * (size_t)n * sizeof *ref);
             memcpy(ref, nb.x, 3 * (size_t)n * sizeof *ref);

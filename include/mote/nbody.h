@@ -85,8 +85,10 @@ typedef struct {
     double hprev;           /* the last adaptive step (0: none yet) */
     double *tx;             /* (p + 1) blocks of 3n coefficients x^[n] */
     size_t tx_cap;
-    double *ts, *tf;        /* store mode: s^[j], f^[j] of every ordered pair */
+    double *ts, *tf;        /* store mode: s^[j], f^[j] of every unordered pair */
     size_t tsf_cap;
+    double *tg;             /* a pass's G^[n] of every unordered pair (6 reals each) */
+    size_t tg_cap;
     mote_nb_units u;
     /* monitor references (spec 3.7), from the state at the start of the run */
     int ref_set;
@@ -124,7 +126,8 @@ int mote_nb_integrate(mote_nb *nb, uint64_t max_steps, double t_end, mote_err *e
 /* Take `steps` steps with the Taylor series of order taylor_order (fixed or adaptive). */
 int mote_nb_taylor(mote_nb *nb, uint64_t steps, mote_err *err);
 /* The normalized coefficients x^[0 .. p] of every body at the current state into X ((p + 1)
- * blocks of 3n); store != 0 keeps the pair histories in nb (sized by mote_nb_taylor). */
+ * blocks of 3n); store != 0 keeps the pair histories in nb. Returns MOTE_ENOMEM when the pair
+ * scratch cannot be allocated. */
 int mote_nb_taylor_coefficients(mote_nb *nb, int p, int store, double *X);
 /* Jorba and Zou's order for a tolerance: ceil(1 - ln(tol)/2) (20 for 1e-16). */
 int mote_nb_taylor_auto_order(double tol);

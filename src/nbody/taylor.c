@@ -39,52 +39,83 @@ static inline void sf_order(int n, double (*R)[3], double *s, double *f)
     f[n] = acc / (n * s[0]);
 }
 
+/* The index of the unordered pair i < k among N bodies. */
+static inline size_t upair(uint32_t i, uint32_t k, uint32_t N)
+{
+    return (size_t)i * N - (size_t)i * (i + 1) / 2 + (k - i - 1);
+}
+
+/* The pair (i, k)'s G^[n0 .. n1] (i < k) into G, its s, f histories kept or restored. */
+static inline void pair_G(mote_nb *nb, const double *X, size_t blk, uint32_t i, uint32_t k,
+                          size_t q, size_t npairs, int n0, int n1, int store, double G[2][3])
+{
+    double R[64][3], s[64], f[64];
+    for (int j = 0; j <= n1; j++)
+        for (int a = 0; a < 3; a++)
+            R[j][a] = X[j * blk + 3 * i + a] - X[j * blk + 3 * k + a];
+    int from = 0;
+    if (store && n0 > 0) { /* the histories of the earlier passes */
+        for (int j = 0; j < n0; j++) {
+            s[j] = nb->ts[(size_t)j * npairs + q];
+            f[j] = nb->tf[(size_t)j * npairs + q];
+        }
+        from = n0;
+    }
+    for (int n = from; n <= n1; n++)
+        sf_order(n, R, s, f);
+    if (store)
+        for (int n = n0; n <= n1; n++) {
+            nb->ts[(size_t)n * npairs + q] = s[n];
+            nb->tf[(size_t)n * npairs + q] = f[n];
+        }
+    for (int n = n0; n <= n1; n++) {
+        double g[3] = {0, 0, 0};
+        for (int j = 0; j <= n; j++)
+            for (int a = 0; a < 3; a++)
+                g[a] += f[j] * R[n - j][a];
+        for (int a = 0; a < 3; a++)
+            G[n - n0][a] = g[a];
+    }
+}
+
 /* One pass: orders n0 and n0 + 1 (the latter when <= top) of every active body's acceleration,
- * into x^[n+2]. X: (p + 1) blocks of 3 n_bodies coefficients. */
+ * into x^[n+2]. X: (p + 1) blocks of 3 n_bodies coefficients.
+ *
+ * Each unordered pair is solved once (phase 1): for (k, i) every quantity is that of (i, k)
+ * with R negated, which IEEE arithmetic does exactly (a - b = -(b - a), and a sum of negated
+ * terms is the negated sum), so s and f are the same and G is exactly -G. Then each target sums
+ * w_k G over its sources in index order (phase 2), exactly the sums a pass over ordered pairs
+ * would form: the result is the same bits, with half the pair work, for any number of threads. */
 static void pass(mote_nb *nb, double *X, int n0, int top, int store)
 {
     const uint32_t N = nb->n;
-    const size_t blk = 3 * (size_t)N;
+    const size_t blk = 3 * (size_t)N, npairs = (size_t)N * (N - 1) / 2;
     const int n1 = n0 + 1 <= top ? n0 + 1 : n0;
     const int nt = nb->threads > 1 ? nb->threads : 1;
+    double (*Gb)[2][3] = (double (*)[2][3])nb->tg;
     (void)nt;
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 16) if (nt > 1 && N >= 64)
+    for (uint32_t i = 0; i < N; i++) {
+        if (!nb->active[i])
+            continue;
+        for (uint32_t k = i + 1; k < N; k++)
+            if (nb->active[k])
+                pair_G(nb, X, blk, i, k, upair(i, k, N), npairs, n0, n1, store, Gb[upair(i, k, N)]);
+    }
 #pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1 && N >= 64)
     for (uint32_t i = 0; i < N; i++) {
         if (!nb->active[i])
             continue;
         double sum[2][3] = {{0, 0, 0}, {0, 0, 0}};
-        double R[64][3], s[64], f[64];
         for (uint32_t k = 0; k < N; k++) {
             if (k == i || !nb->active[k])
                 continue;
-            for (int j = 0; j <= n1; j++)
-                for (int a = 0; a < 3; a++)
-                    R[j][a] = X[j * blk + 3 * i + a] - X[j * blk + 3 * k + a];
-            const size_t pair = (size_t)i * N + k;
-            int from = 0;
-            if (store && n0 > 0) { /* the histories of the earlier passes */
-                for (int j = 0; j < n0; j++) {
-                    s[j] = nb->ts[(size_t)j * N * N + pair];
-                    f[j] = nb->tf[(size_t)j * N * N + pair];
-                }
-                from = n0;
-            }
-            for (int n = from; n <= n1; n++)
-                sf_order(n, R, s, f);
-            if (store)
-                for (int n = n0; n <= n1; n++) {
-                    nb->ts[(size_t)n * N * N + pair] = s[n];
-                    nb->tf[(size_t)n * N * N + pair] = f[n];
-                }
             const double wk = nb->w[k];
-            for (int n = n0; n <= n1; n++) {
-                double G[3] = {0, 0, 0};
-                for (int j = 0; j <= n; j++)
-                    for (int a = 0; a < 3; a++)
-                        G[a] += f[j] * R[n - j][a];
+            double (*G)[3] = k > i ? Gb[upair(i, k, N)] : Gb[upair(k, i, N)];
+            const double sg = k > i ? 1.0 : -1.0;
+            for (int n = n0; n <= n1; n++)
                 for (int a = 0; a < 3; a++)
-                    sum[n - n0][a] += wk * G[a];
-            }
+                    sum[n - n0][a] += wk * (sg * G[n - n0][a]);
         }
         for (int n = n0; n <= n1; n++)
             for (int a = 0; a < 3; a++)
@@ -93,8 +124,14 @@ static void pass(mote_nb *nb, double *X, int n0, int top, int store)
     }
 }
 
+static int scratch(mote_nb *nb, int p, int store, mote_err *err);
+
 int mote_nb_taylor_coefficients(mote_nb *nb, int p, int store, double *X)
 {
+    mote_err e = {0};
+    int rc = scratch(nb, p, store, &e); /* (a no-op when a run has sized it) */
+    if (rc)
+        return rc;
     const size_t blk = 3 * (size_t)nb->n;
     memcpy(X, nb->x, blk * sizeof *X);
     memcpy(X + blk, nb->v, blk * sizeof *X);
@@ -114,7 +151,7 @@ static inline void kahan_add(double *y, double *cs, double d, int on)
     *y = s;
 }
 
-/* Room for the coefficients and, in store mode, the pair histories. */
+/* Room for the coefficients, the pairs' G of a pass and, in store mode, the pair histories. */
 static int scratch(mote_nb *nb, int p, int store, mote_err *err)
 {
     size_t need = (size_t)(p + 1) * 3 * nb->n;
@@ -125,8 +162,17 @@ static int scratch(mote_nb *nb, int p, int store, mote_err *err)
         nb->tx = q;
         nb->tx_cap = need;
     }
+    const size_t npairs = (size_t)nb->n * (nb->n ? nb->n - 1 : 0) / 2;
+    if (6 * npairs > nb->tg_cap) {
+        double *g = realloc(nb->tg, (npairs > 0 ? 6 * npairs : 1) * sizeof *g);
+        if (!g)
+            return mote_fail(err, MOTE_ENOMEM, "taylor: out of memory for the pairs (%zu)",
+                             npairs);
+        nb->tg = g;
+        nb->tg_cap = 6 * npairs;
+    }
     if (store) {
-        size_t pairs = (size_t)(p - 1) * nb->n * nb->n;
+        size_t pairs = (size_t)(p - 1) * npairs;
         if (pairs > nb->tsf_cap) {
             double *a = realloc(nb->ts, pairs * sizeof *a);
             if (a)
@@ -151,7 +197,7 @@ int mote_nb_taylor_memory_store(const mote_nb *nb, int p)
     if (nb->taylor_memory == 2)
         return 0;
     /* automatic: store while the histories fit in the budget (1 GiB) */
-    double bytes = 2.0 * (p - 1) * (double)nb->n * (double)nb->n * sizeof(double);
+    double bytes = (p - 1) * (double)nb->n * (double)nb->n * sizeof(double);
     return bytes <= (double)(1u << 30);
 }
 

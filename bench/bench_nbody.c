@@ -1,0 +1,131 @@
+/* bench_nbody.c: the N-body model's benchmarks (specs/nbody-galactica.md section 12):
+ *
+ *   b1 [P [TOL]]   the 30-body exact ring (spec 9.1) over one period with the adaptive Taylor
+ *                  integrator of order P (default 20) and tolerance TOL (default 1e-16): CPU
+ *                  time of the integration only (median of 5 runs), steps, the error against
+ *                  the exact solution and |dE| at the end;
+ *   galactica      the same period with Galactica's scheme, dT = 1e-6 (10 000 steps);
+ *   pairs N [T]    ordered-pair evaluations per second of the Galactica scheme's passes for N
+ *                  random bodies on T threads (default 1).
+ *
+ * One `key=value` line per run. Compare with the reference (REBOUND's IAS15) as bench/README.md
+ * describes: same machine, same compiler and flags, one thread, median of 5. */
+#include "mote/nbody.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+static double cpu_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static int ring_period(int integrator, int P, double tol)
+{
+    double t[5], err = 0, dE = 0;
+    unsigned long long steps = 0;
+    for (int run = 0; run < 5; run++) {
+        mote_nb nb;
+        mote_nb_ring r;
+        mote_nb_init(&nb, MOTE_NB_GRAVITY);
+        mote_nb_ring_defaults(&r, MOTE_NB_GRAVITY);
+        mote_err e = {0};
+        if (mote_nb_ring_build(&nb, &r, &e)) {
+            fprintf(stderr, "bench_nbody: %s\n", e.msg);
+            return 1;
+        }
+        nb.integrator = integrator;
+        nb.taylor_order = P;
+        nb.adaptive = 1;
+        nb.tol = tol;
+        nb.dt = 1e-6;
+        if (integrator == MOTE_NB_TAYLOR && mote_nb_integrate(&nb, 0, INFINITY, &e)) {
+            fprintf(stderr, "bench_nbody: %s\n", e.msg); /* sizes the scratch, takes no step */
+            return 1;
+        }
+        mote_nb_set_reference(&nb);
+        double c0 = cpu_seconds();
+        int rc = integrator == MOTE_NB_TAYLOR ? mote_nb_integrate(&nb, UINT64_MAX, r.period, &e)
+                                              : mote_nb_integrate(&nb, 10000, INFINITY, &e);
+        t[run] = cpu_seconds() - c0;
+        if (rc) {
+            fprintf(stderr, "bench_nbody: %s\n", e.msg);
+            return 1;
+        }
+        err = mote_nb_ring_error(&nb, &r, NULL);
+        mote_nb_monitor mon;
+        mote_nb_measure(&nb, &mon);
+        dE = mon.dE;
+        steps = (unsigned long long)nb.steps;
+        mote_nb_free(&nb);
+    }
+    qsort(t, 5, sizeof t[0], cmp_double);
+    if (integrator == MOTE_NB_TAYLOR)
+        printf("workload=b1 integrator=taylor order=%d tol=%g steps=%llu cpu_seconds_median=%.6f "
+               "cpu_seconds_min=%.6f error=%.3e abs_dE=%.3e\n",
+               P, tol, steps, t[2], t[0], err, fabs(dE));
+    else
+        printf("workload=b1 integrator=galactica dt=1e-6 steps=%llu cpu_seconds_median=%.6f "
+               "cpu_seconds_min=%.6f error=%.3e abs_dE=%.3e\n",
+               steps, t[2], t[0], err, fabs(dE));
+    return 0;
+}
+
+static int pairs(uint32_t n, int threads)
+{
+    mote_nb nb;
+    mote_nb_init(&nb, MOTE_NB_GRAVITY);
+    mote_rng g;
+    mote_rng_seed(&g, 1);
+    mote_err e = {0};
+    for (uint32_t i = 0; i < n; i++) {
+        double x[3], v[3] = {0, 0, 0};
+        for (int a = 0; a < 3; a++)
+            x[a] = mote_rng_uniform(&g) - 0.5;
+        mote_nb_add(&nb, 1.0 / n, 0, x, v, 0, &e);
+    }
+    nb.dt = 1e-6;
+    nb.threads = threads;
+    mote_nb_galactica(&nb, 1, &e);
+    const int steps = 3;
+    double w0 = mote_wall_seconds();
+    int rc = mote_nb_galactica(&nb, steps, &e);
+    double w = mote_wall_seconds() - w0;
+    if (rc) {
+        fprintf(stderr, "bench_nbody: %s\n", e.msg);
+        return 1;
+    }
+    double evals = 2.0 * steps * (double)n * (n - 1);
+    printf("workload=pairs N=%u threads=%d steps=%d wall_seconds=%.3f "
+           "pair_evaluations_per_second=%.3e per_thread=%.3e bytes_per_body=%.0f\n",
+           n, threads, steps, w, evals / w, evals / w / threads,
+           (double)mote_peak_rss_bytes() / n);
+    mote_nb_free(&nb);
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2 || strcmp(argv[1], "b1") == 0) {
+        int P = argc > 2 ? atoi(argv[2]) : 20;
+        double tol = argc > 3 ? atof(argv[3]) : 1e-16;
+        return ring_period(MOTE_NB_TAYLOR, P, tol);
+    }
+    if (strcmp(argv[1], "galactica") == 0)
+        return ring_period(MOTE_NB_GALACTICA, 6, 0);
+    if (strcmp(argv[1], "pairs") == 0 && argc > 2)
+        return pairs((uint32_t)atoi(argv[2]), argc > 3 ? atoi(argv[3]) : 1);
+    fprintf(stderr, "usage: bench_nbody [b1 [P [TOL]] | galactica | pairs N [THREADS]]\n");
+    return 2;
+}
