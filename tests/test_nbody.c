@@ -459,6 +459,190 @@ static void test_threads(void)
     free(ref);
 }
 
+/* ---- T13: merging (spec 5) ---- */
+
+typedef struct {
+    double m, q, vol, P[3], L[3], pnorm, lnorm;
+} conserved;
+
+static conserved conserved_of(const mote_nb *nb)
+{
+    conserved c = {0};
+    mote_nb_monitor mon;
+    mote_nb_measure(nb, &mon);
+    for (uint32_t i = 0; i < nb->n; i++) {
+        c.m += nb->m[i];
+        c.q += nb->q[i];
+        c.vol += nb->ra[i] * nb->ra[i] * nb->ra[i];
+        const double *x = nb->x + 3 * (size_t)i, *v = nb->v + 3 * (size_t)i;
+        double l[3] = {x[1] * v[2] - x[2] * v[1], x[2] * v[0] - x[0] * v[2], x[0] * v[1] - x[1] * v[0]};
+        c.pnorm += nb->m[i] * sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        c.lnorm += nb->m[i] * sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
+        const double *sp = nb->sp + 3 * (size_t)i;
+        c.lnorm += sqrt(sp[0] * sp[0] + sp[1] * sp[1] + sp[2] * sp[2]);
+    }
+    for (int a = 0; a < 3; a++) {
+        c.P[a] = mon.P[a];
+        c.L[a] = mon.L[a] + mon.S[a];
+    }
+    return c;
+}
+
+/* Mass, charge, momentum and L + S to 1e-15 relative; the volume to rounding (a cube root and a
+ * cube per merge: a few ulps). */
+static void check_conserved(const char *what, const conserved *a, const conserved *b)
+{
+    CHECK(fabs(b->m - a->m) <= 1e-15 * a->m, "%s: mass %.17g -> %.17g", what, a->m, b->m);
+    CHECK(fabs(b->q - a->q) <= 1e-15 * (fabs(a->q) + a->m), "%s: charge %.17g -> %.17g", what, a->q,
+          b->q);
+    CHECK(fabs(b->vol - a->vol) <= 2e-15 * a->vol, "%s: volume %.17g -> %.17g", what, a->vol, b->vol);
+    for (int k = 0; k < 3; k++) {
+        CHECK(fabs(b->P[k] - a->P[k]) <= 1e-15 * a->pnorm, "%s: P[%d] %.17g -> %.17g", what, k,
+              a->P[k], b->P[k]);
+        CHECK(fabs(b->L[k] - a->L[k]) <= 1e-15 * a->lnorm, "%s: (L+S)[%d] %.17g -> %.17g", what, k,
+              a->L[k], b->L[k]);
+    }
+}
+
+/* Eq. 11 for bodies i, k as they are now. */
+static double eq11(const mote_nb *nb, uint32_t i, uint32_t k)
+{
+    double r[3], u[3];
+    for (int a = 0; a < 3; a++) {
+        r[a] = nb->x[3 * k + a] - nb->x[3 * i + a];
+        u[a] = nb->v[3 * k + a] - nb->v[3 * i + a];
+    }
+    double rr = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+    double vr = (r[0] * u[0] + r[1] * u[1] + r[2] * u[2]) / rr;
+    return nb->m[i] * nb->m[k] * vr * vr / (2 * (nb->m[i] + nb->m[k]));
+}
+
+static void test_merging(void)
+{
+    printf("T13: merging (spec 5)\n");
+    mote_err err = {0};
+    /* head-on and grazing: A (m 2, q 1, Ra 0.2) meets B (m 1, q -0.5, Ra 0.1) */
+    for (int graze = 0; graze < 2; graze++) {
+        mote_nb nb;
+        mote_nb_init(&nb, MOTE_NB_GRAVITY);
+        double xa[3] = {0.3, -0.1, 0.2}, va[3] = {0.1, 0.02, 0};
+        double xb[3] = {0.55, graze ? 0.05 : -0.1, 0.2}, vb[3] = {-0.3, graze ? 0.05 : 0.02, 0};
+        mote_nb_add(&nb, 2, 1, xa, va, 0.2, &err);
+        mote_nb_add(&nb, 1, -0.5, xb, vb, 0.1, &err);
+        conserved c0 = conserved_of(&nb);
+        double heat = eq11(&nb, 0, 1);
+        CHECK(mote_nb_merge(&nb, &err) == MOTE_OK, "merge: %s", err.msg);
+        const char *what = graze ? "grazing" : "head-on";
+        conserved c1 = conserved_of(&nb);
+        check_conserved(what, &c0, &c1);
+        CHECK(nb.merges == 1 && nb.active[0] && !nb.active[1] && nb.m[0] == 3 && nb.m[1] == 0 &&
+                  nb.q[0] == 0.5 && nb.ra[1] == 0,
+              "%s: merges %llu, survivor m %g q %g, lost m %g", what, (unsigned long long)nb.merges,
+              nb.m[0], nb.q[0], nb.m[1]);
+        CHECK(nb.et[0] == heat && nb.e_heat == heat, "%s: E_t %.17g, eq. 11 gives %.17g", what,
+              nb.et[0], heat);
+        double s2 = nb.sp[0] * nb.sp[0] + nb.sp[1] * nb.sp[1] + nb.sp[2] * nb.sp[2];
+        CHECK(graze ? s2 > 0 && nb.e_spin > 0 : s2 == 0 && nb.e_spin == 0,
+              "%s: spin %.3g, E_spin %.3g", what, sqrt(s2), nb.e_spin);
+        /* the merged body moves on with the pair's centre of mass velocity */
+        CHECK(fabs(nb.v[0] - (2 * va[0] + vb[0]) / 3) <= 1e-16, "%s: vx %.17g", what, nb.v[0]);
+        mote_nb_free(&nb);
+    }
+    /* a chain: A touches B, B touches C; the closer pair (A, B) merges first, B is then taken
+     * for this sweep, and the grown body reaches C in a second sweep */
+    {
+        mote_nb nb;
+        mote_nb_init(&nb, MOTE_NB_GRAVITY);
+        double v[3] = {0, 0, 0}, x0[3] = {0.06, 0, 0}, x1[3] = {0.19, 0, 0}, x2[3] = {0.36, 0, 0};
+        mote_nb_add(&nb, 1, 0, x0, v, 0.1, &err);
+        mote_nb_add(&nb, 1.5, 0, x1, v, 0.1, &err);
+        mote_nb_add(&nb, 1, 0, x2, v, 0.1, &err);
+        conserved c0 = conserved_of(&nb);
+        CHECK(mote_nb_merge(&nb, &err) == MOTE_OK, "merge: %s", err.msg);
+        conserved c1 = conserved_of(&nb);
+        check_conserved("chain", &c0, &c1);
+        CHECK(nb.merges == 2 && !nb.active[0] && nb.active[1] && !nb.active[2] && nb.m[1] == 3.5,
+              "chain: merges %llu, active %d %d %d, m %g", (unsigned long long)nb.merges,
+              nb.active[0], nb.active[1], nb.active[2], nb.m[1]);
+        mote_nb_free(&nb);
+    }
+    /* in flight: two bodies fall together under gravity (adaptive Taylor). E_corr is continuous
+     * through the merge: its jump over the merging step is no larger than the integration error
+     * of a step (about 1e-14 here), well within the spec's 1e-13. The pair's internal energy
+     * E_rel = mu u^2 / 2 - m1 m2 / r, conserved along the orbit, is what the merge takes out:
+     * dE_merge = -E_rel, to the integration error. */
+    {
+        mote_nb nb;
+        mote_nb_init(&nb, MOTE_NB_GRAVITY);
+        double x0[3] = {-0.5, 0, 0}, x1[3] = {0.5, 0, 0}, v0[3] = {0, -0.04, 0}, v1[3] = {0, 0.06, 0};
+        mote_nb_add(&nb, 0.6, 0, x0, v0, 0.05, &err);
+        mote_nb_add(&nb, 0.4, 0, x1, v1, 0.04, &err);
+        const double erel = 0.5 * 0.24 * 0.1 * 0.1 - 0.24;
+        nb.integrator = MOTE_NB_TAYLOR;
+        nb.adaptive = 1;
+        nb.tol = 1e-16;
+        double prev = 0, jump = 0;
+        uint64_t s = 0;
+        for (; s < 1000 && nb.merges == 0; s++) {
+            CHECK(mote_nb_integrate(&nb, 1, INFINITY, &err) == MOTE_OK, "run: %s", err.msg);
+            mote_nb_monitor mon;
+            mote_nb_measure(&nb, &mon);
+            jump = fabs(mon.dE - prev);
+            prev = mon.dE;
+        }
+        CHECK(nb.merges == 1, "no merge after %llu steps", (unsigned long long)s);
+        CHECK(mote_nb_integrate(&nb, 5, INFINITY, &err) == MOTE_OK, "after: %s", err.msg);
+        mote_nb_monitor mon;
+        mote_nb_measure(&nb, &mon);
+        printf("  two bodies fall together: merged at step %llu, dE jump there %.3e, after %.3e, "
+               "dE_merge %.17g (-E_rel %.17g)\n", (unsigned long long)s, jump, mon.dE, nb.de_merge,
+               -erel);
+        CHECK(jump <= 1e-13, "E_corr jumped by %.3g over the merging step", jump);
+        CHECK(mon.dE == prev, "E_corr changed after the merge: %.3g -> %.3g", prev, mon.dE);
+        CHECK(fabs(nb.de_merge + erel) <= 1e-12 * fabs(erel), "dE_merge %.17g, expected %.17g",
+              nb.de_merge, -erel);
+        mote_nb_free(&nb);
+    }
+    /* a cluster with many merges: 1 and 4 threads give the same bits */
+    double *ref = NULL;
+    uint64_t ref_merges = 0;
+    for (int t = 1; t <= 4; t *= 4) {
+        mote_nb nb;
+        mote_nb_init(&nb, MOTE_NB_GRAVITY);
+        mote_rng g;
+        mote_rng_seed(&g, 13);
+        const uint32_t n = 200;
+        for (uint32_t i = 0; i < n; i++) {
+            double x[3], v[3] = {0, 0, 0};
+            for (int a = 0; a < 3; a++)
+                x[a] = mote_rng_uniform(&g) - 0.5;
+            mote_nb_add(&nb, 1.0 / n, 0, x, v, 0.02, &err);
+        }
+        conserved c0 = conserved_of(&nb);
+        nb.dt = 1e-3;
+        nb.threads = t;
+        CHECK(mote_nb_galactica(&nb, getenv("MOTE_SANITIZED") ? 20 : 100, &err) == MOTE_OK,
+              "cluster: %s", err.msg);
+        conserved c1 = conserved_of(&nb);
+        CHECK(fabs(c1.m - c0.m) <= 1e-15 * c0.m && fabs(c1.vol - c0.vol) <= 1e-14 * c0.vol,
+              "cluster: mass %.17g -> %.17g, volume %.17g -> %.17g", c0.m, c1.m, c0.vol, c1.vol);
+        if (!ref) {
+            printf("  cluster of %u: %llu merges\n", n, (unsigned long long)nb.merges);
+            CHECK(nb.merges >= 5, "cluster: only %llu merges", (unsigned long long)nb.merges);
+            ref_merges = nb.merges;
+            ref = malloc(6 * (size_t)n * sizeof *ref);
+            memcpy(ref, nb.x, 3 * (size_t)n * sizeof *ref);
+            memcpy(ref + 3 * (size_t)n, nb.v, 3 * (size_t)n * sizeof *ref);
+        } else {
+            CHECK(nb.merges == ref_merges && memcmp(ref, nb.x, 3 * (size_t)n * sizeof *ref) == 0 &&
+                      memcmp(ref + 3 * (size_t)n, nb.v, 3 * (size_t)n * sizeof *ref) == 0,
+                  "cluster: %d threads differ from one", t);
+        }
+        mote_nb_free(&nb);
+    }
+    free(ref);
+}
+
 int main(void)
 {
     double w0 = mote_wall_seconds();
@@ -472,6 +656,7 @@ int main(void)
     test_threads();
     test_taylor();
     test_adaptive();
+    test_merging();
     printf("test_nbody: %.1f s\n", mote_wall_seconds() - w0);
     return test_summary();
 }

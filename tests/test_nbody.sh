@@ -19,7 +19,7 @@ err=$(echo "$line" | sed -n 's/.*error \([^,]*\),.*/\1/p')
 awk -v e="$err" 'BEGIN { exit !(e + 0 <= 1e-12 && e != "") }' && ok || bad "check ring error '$err' ($line)"
 grep -q 'T = 0.0099990009999999987 ' out.txt && ok || bad "T after 10000 steps: $line"
 grep -q '^# mote nbody-monitor 1$' ring.mon && ok || bad "monitor format line"
-grep -q '^# columns: step T h E_kin U E_tot dE Px Py Pz Lx Ly Lz dMz Xcm Ycm Zcm$' ring.mon && ok || bad "monitor columns"
+grep -q '^# columns: step T h E_kin U E_tot dE Px Py Pz Lx Ly Lz Sx Sy Sz dMz Xcm Ycm Zcm E_corr E_heat E_spin merges N_active$' ring.mon && ok || bad "monitor columns"
 rows=$(grep -vc '^#' ring.mon)
 [ "$rows" -eq 11 ] && ok || bad "monitor rows: $rows, expected 11 (step 0 and every 1000)"
 awk '!/^#/ { if ($7 > 1e-13 || $7 < -1e-13) bad = 1 } END { exit bad }' ring.mon && ok || bad "monitor dE above 1e-13"
@@ -53,10 +53,10 @@ printf '%bgenerate atom_ring\nsave a.state\n' "$C" > s4.mote
 expect 2 "s5.mote:2:1: error: a.state:3: the state is a Coulomb run, this script is a gravity run" s5.mote "${G}load a.state\n"
 sed 's/^mote-state 1$/mote-state 7/' c1.state > v7.state
 expect 1 "s6.mote:2:6: error: load: v7.state:1: unsupported state file version 7" s6.mote "${G}load v7.state\n"
-head -n 13 c1.state > cut.state
-expect 2 "s7.mote:2:1: error: cut.state:14: file ends early: n = 30, but only 2 body lines follow" s7.mote "${G}load cut.state\n"
-awk 'NR == 12 { $5 = "nan" } { print }' c1.state > nan.state
-expect 2 "s8.mote:2:1: error: nan.state:12: body 1: expected 22 numbers" s8.mote "${G}load nan.state\n"
+head -n 14 c1.state > cut.state
+expect 2 "s7.mote:2:1: error: cut.state:15: file ends early: n = 30, but only 2 body lines follow" s7.mote "${G}load cut.state\n"
+awk 'NR == 13 { $5 = "nan" } { print }' c1.state > nan.state
+expect 2 "s8.mote:2:1: error: nan.state:13: body 1: expected 23 numbers" s8.mote "${G}load nan.state\n"
 sed 's/^n 30$/n -1/' c1.state > neg.state
 expect 1 "s9.mote:2:6: error: load: neg.state:4: expected 'n N' with 0 <= N <= 10^8 (found 'n -1')" s9.mote "${G}load neg.state\n"
 
@@ -109,6 +109,18 @@ expect 1 "b12.mote:2:20: error: body: charge= is for the coulomb variant" b12.mo
 expect 1 "b13.mote:3:1: error: check ring: no ring was generated" b13.mote "${G}body mass=1\ncheck ring\n"
 expect 1 "b14.mote:3:1: error: generate: the system already has bodies" b14.mote "${G}body mass=1\ngenerate ring\n"
 expect 1 "b15.mote:2:18: error: generate: nb must be >= 2, found 1" b15.mote "${G}generate ring nb=1\n"
+# merging (spec 5): two bodies fall together and merge; the state keeps the count; 'merge off'
+B2='body mass=0.6 x=-0.5 vy=-0.04 radius=0.05\nbody mass=0.4 x=0.5 vy=0.06 radius=0.04\nintegrator taylor tol=1e-16\n'
+printf '%b' "${G}${B2}monitor 1 mg.mon\nintegrate to=2\nsave mg.state\n" > mg.mote
+"$MOTE" run mg.mote > out.txt 2> err.txt && ok || bad "mg.mote failed: $(cat err.txt)"
+grep -q 'T=2 .* merges=1$' out.txt && ok || bad "merging run: $(tail -1 out.txt)"
+tail -1 mg.mon | awk '{ exit !($24 == 1 && $25 == 1 && $22 > 0 && $23 > 0) }' && ok || bad "monitor after the merge: $(tail -1 mg.mon)"
+grep -q '^merging -1 1 ' mg.state && ok || bad "state file merging line: $(grep merging mg.state)"
+printf '%b' "${G}load mg.state\nintegrate steps=2\n" > mgl.mote
+"$MOTE" run mgl.mote > out.txt 2> err.txt && grep -q 'merges=1$' out.txt && ok || bad "continuing a merged run: $(cat out.txt err.txt)"
+printf '%b' "${G}merge off\n${B2}integrate to=2\n" > mgo.mote
+"$MOTE" run mgo.mote > out.txt 2> err.txt && grep -q 'T=2 .* merges=0$' out.txt && ok || bad "merge off: $(cat out.txt err.txt)"
+expect 1 "b16.mote:2:7: error: merge: expected on or off, found 'maybe'" b16.mote "${G}merge maybe\n"
 # runtime: at the line, with the monitor's earlier file kept
 expect 2 "r1.mote:4:1: error: a Coulomb run needs charged bodies" r1.mote "${C}body mass=1 x=1\nbody mass=1\nintegrate steps=5\n"
 expect 2 "r2.mote:5:1: error: bodies 1 and 2 are at the same point" r2.mote "${G}body mass=1\nbody mass=1\nmonitor 1 m.mon\nintegrate steps=5\n"

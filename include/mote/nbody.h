@@ -62,6 +62,7 @@ typedef struct {
     double *xc, *vc;        /* [3n] their compensation terms (Kahan) */
     double *ra;             /* radius */
     double *sp;             /* [3n] spin */
+    double *et;             /* thermal energy (from merges) */
     uint8_t *active;
     double *d5p;            /* [3n] fifth derivative at the start of the previous step */
     double *acc, *jerk, *d4, *d5; /* [3n] this step's derivatives (scratch) */
@@ -70,6 +71,11 @@ typedef struct {
     double dtp;             /* length of the previous step; 0 = no valid previous fifth derivative */
     int restart;            /* the next step is a restart step (first_step * dt): a fresh start */
     double hlast;           /* the last step taken, by either integrator (for the monitor) */
+    /* merging (spec 5) */
+    int merging;            /* -1: when any body has a radius (default), 0 off, 1 on */
+    uint64_t merges;        /* Galactica's Lsls */
+    double e_heat, e_spin;  /* energy into heat (eq. 11) and into spin by all merges */
+    double de_merge;        /* sum of E_tot(after) - E_tot(before) over merges */
     uint64_t steps;
     int order;              /* Galactica scheme order K, 2 ... 6 */
     double first_step;      /* the restart step is first_step * dt (spec 4.2: 0.001) */
@@ -123,6 +129,9 @@ int mote_nb_derivatives(mote_nb *nb, mote_err *err);
 /* Run the chosen integrator (nb->integrator) for at most max_steps steps and up to the time
  * t_end (INFINITY: none), which is hit exactly. */
 int mote_nb_integrate(mote_nb *nb, uint64_t max_steps, double t_end, mote_err *err);
+/* Merge every pair of active bodies closer than the sum of their radii (spec 5), repeating until
+ * none touch; mote_nb_integrate calls it after every step when merging is on. */
+int mote_nb_merge(mote_nb *nb, mote_err *err);
 /* Take `steps` steps with the Taylor series of order taylor_order (fixed or adaptive). */
 int mote_nb_taylor(mote_nb *nb, uint64_t steps, mote_err *err);
 /* The normalized coefficients x^[0 .. p] of every body at the current state into X ((p + 1)
@@ -140,7 +149,8 @@ typedef struct {
     double ekin, u, etot;
     double P[3], L[3], S[3], R[3];  /* momentum, orbital and spin angular momentum, m-weighted position */
     double mtot;
-    double dE;      /* (E - E0) / |E0| */
+    double ecorr;   /* E_tot - sum dE_merge (conserved through merges) */
+    double dE;      /* (E_corr - E0) / |E0| */
     double dMz;     /* (Mz + Sz - Mza1) / Mza1 (or over the normalisation of spec 3.7) */
 } mote_nb_monitor;
 

@@ -18,12 +18,15 @@ int mote_nb_integrate(mote_nb *nb, uint64_t max_steps, double t_end, mote_err *e
         return MOTE_OK;
     if (!nb->ref_set)
         mote_nb_set_reference(nb);
+    const int merge = nb_merging_on(nb);
     for (uint64_t s = 0; s < max_steps; s++) {
         double rest = t_end < INFINITY ? t_end - nb->T : INFINITY;
         if (!(rest > 0))
             break;
         double h = taylor ? nb_taylor_step(nb, rest) : nb_galactica_step(nb, rest);
         nb->hlast = h;
+        if (merge && (rc = mote_nb_merge(nb, err)) != MOTE_OK)
+            return rc;
         if (h >= rest) { /* the end time, exactly */
             nb->T = t_end;
             nb->Tc = 0;
@@ -31,4 +34,14 @@ int mote_nb_integrate(mote_nb *nb, uint64_t max_steps, double t_end, mote_err *e
         }
     }
     return MOTE_OK;
+}
+
+int nb_merging_on(const mote_nb *nb)
+{
+    if (nb->merging >= 0)
+        return nb->merging;
+    for (uint32_t i = 0; i < nb->n; i++)
+        if (nb->active[i] && nb->ra[i] > 0)
+            return 1;
+    return 0;
 }

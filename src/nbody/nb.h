@@ -20,4 +20,7 @@ double nb_galactica_step(mote_nb *nb, double rest);
 int nb_taylor_check(mote_nb *nb, mote_err *err);
 double nb_taylor_step(mote_nb *nb, double rest);
 
+/* Is merging on for this system (the default: when any active body has a radius)? */
+int nb_merging_on(const mote_nb *nb);
+
 #endif

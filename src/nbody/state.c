@@ -45,7 +45,11 @@ int nb_state_save(const mote_nb *nb, const char *path, mote_err *err)
     put(f, nb->hmax);
     put(f, nb->hprev);
     fputc('\n', f);
-    fprintf(f, "reference %d", nb->ref_set);
+    fprintf(f, "merging %d %llu", nb->merging, (unsigned long long)nb->merges);
+    put(f, nb->e_heat);
+    put(f, nb->e_spin);
+    put(f, nb->de_merge);
+    fprintf(f, "\nreference %d", nb->ref_set);
     put(f, nb->E0);
     put(f, nb->Mza1);
     put(f, nb->Lnorm1);
@@ -54,7 +58,7 @@ int nb_state_save(const mote_nb *nb, const char *path, mote_err *err)
     for (int k = 0; k < 8; k++)
         put(f, u[k]);
     fprintf(f, "\nbodies: m q active radius x y z vx vy vz cx cy cz cvx cvy cvz sx sy sz d5x d5y "
-               "d5z\n");
+               "d5z Et\n");
     for (uint32_t i = 0; i < nb->n; i++) {
         fprintf(f, "%.17g", nb->m[i]);
         put(f, nb->q[i]);
@@ -64,6 +68,7 @@ int nb_state_save(const mote_nb *nb, const char *path, mote_err *err)
         for (int b = 0; b < 6; b++)
             for (int a = 0; a < 3; a++)
                 put(f, blocks[b][3 * (size_t)i + a]);
+        put(f, nb->et[i]);
         fputc('\n', f);
     }
     fprintf(f, "end\n");
@@ -242,6 +247,21 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
     }
     if (!rc) {
         s = next_line(&r);
+        int mode, used = 0;
+        unsigned long long merges;
+        if (!s || sscanf(s, "merging %d %llu%n", &mode, &merges, &used) != 2 || mode < -1 ||
+            mode > 1)
+            rc = fail(&r, "'merging MODE(-1..1) MERGES' and E_heat E_spin dE_merge", s);
+        else
+            rc = reals(&r, s + used, NULL, v, 3);
+        t.merging = mode;
+        t.merges = merges;
+        t.e_heat = v[0];
+        t.e_spin = v[1];
+        t.de_merge = v[2];
+    }
+    if (!rc) {
+        s = next_line(&r);
         if (!s || strncmp(s, "reference ", 10) != 0 || (s[10] != '0' && s[10] != '1') ||
             s[11] != ' ')
             rc = fail(&r, "'reference SET(0|1) E0 Mza1 Lnorm1'", s);
@@ -279,10 +299,10 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
                                               "lines follow", path, s ? r.line : r.line + 1, n, i);
             break;
         }
-        double w[22];
+        double w[23];
         char *p = s;
         int ok = 1, act = 0;
-        for (int k = 0; k < 22 && ok; k++) {
+        for (int k = 0; k < 23 && ok; k++) {
             char *end;
             if (k == 2) { /* the active flag */
                 long a = strtol(p, &end, 10);
@@ -291,18 +311,24 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
                 w[k] = 0;
             } else {
                 w[k] = strtod(p, &end);
-                ok = end != p && isfinite(w[k]) && (*end == ' ' || (*end == '\0' && k == 21));
+                ok = end != p && isfinite(w[k]) && (*end == ' ' || (*end == '\0' && k == 22));
             }
             p = end;
         }
         if (!ok || *p) {
-            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: body %u: expected 22 numbers (m q active "
+            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: body %u: expected 23 numbers (m q active "
                                               "radius x y z vx vy vz cx cy cz cvx cvy cvz sx sy "
-                                              "sz d5x d5y d5z), all finite",
+                                              "sz d5x d5y d5z Et), all finite",
                            path, r.line, i + 1);
             break;
         }
-        rc = mote_nb_add(&t, w[0], w[1], w + 4, w + 7, w[3], err);
+        /* a merged-away body has mass 0: added with mass 1, then set (it stays inactive) */
+        rc = act == 0 && w[0] == 0 ? mote_nb_add(&t, 1, 0, w + 4, w + 7, 0, err)
+                                   : mote_nb_add(&t, w[0], w[1], w + 4, w + 7, w[3], err);
+        if (!rc && act == 0 && w[0] == 0)
+            t.m[i] = t.q[i] = 0;
+        if (!rc)
+            t.et[i] = w[22];
         if (rc) {
             char why[sizeof err->msg];
             snprintf(why, sizeof why, "%s", err->msg);

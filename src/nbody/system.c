@@ -36,6 +36,7 @@ void mote_nb_init(mote_nb *nb, mote_nb_interaction kind)
     nb->compensated = 1;
     nb->dt = 1e-6;
     nb->taylor_order = 20;
+    nb->merging = -1;
     nb->tol = 1e-16;
     nb->safety = 1.0;
 }
@@ -44,7 +45,7 @@ static void free_arrays(mote_nb *nb)
 {
     void *arr[] = {nb->m,   nb->q,  nb->c,      nb->w,   nb->x,   nb->v,    nb->xc,
                    nb->vc,  nb->ra, nb->sp,     nb->active, nb->d5p, nb->acc, nb->jerk,
-                   nb->d4,  nb->d5, nb->tx,     nb->ts,  nb->tf, nb->tg};
+                   nb->d4,  nb->d5, nb->tx,     nb->ts,  nb->tf, nb->tg,  nb->et};
     for (size_t k = 0; k < sizeof arr / sizeof arr[0]; k++)
         free(arr[k]);
 }
@@ -60,7 +61,7 @@ void mote_nb_free(mote_nb *nb)
 /* Grow every array to hold cap bodies (new entries zero). */
 static int grow(mote_nb *nb, uint32_t cap)
 {
-    double **d1[] = {&nb->m, &nb->q, &nb->c, &nb->w, &nb->ra};
+    double **d1[] = {&nb->m, &nb->q, &nb->c, &nb->w, &nb->ra, &nb->et};
     double **d3[] = {&nb->x, &nb->v, &nb->xc, &nb->vc, &nb->sp, &nb->d5p, &nb->acc, &nb->jerk,
                      &nb->d4, &nb->d5};
     for (size_t k = 0; k < sizeof d1 / sizeof d1[0]; k++) {
@@ -212,8 +213,9 @@ void mote_nb_measure(const mote_nb *nb, mote_nb_monitor *mon)
     mon->ekin = mote_ksum_value(&ek);
     mon->u = mote_ksum_value(&u);
     mon->etot = mon->ekin + mon->u;
+    mon->ecorr = mon->etot - nb->de_merge;
     if (nb->ref_set) {
-        mon->dE = (mon->etot - nb->E0) / fabs(nb->E0);
+        mon->dE = (mon->ecorr - nb->E0) / fabs(nb->E0);
         mon->dMz = (mon->L[2] + mon->S[2] - nb->Mza1) / nb->Lnorm1;
     }
 }
@@ -223,7 +225,7 @@ void mote_nb_set_reference(mote_nb *nb)
     nb->ref_set = 0;
     mote_nb_monitor mon;
     mote_nb_measure(nb, &mon);
-    nb->E0 = mon.etot;
+    nb->E0 = mon.ecorr;
     nb->Mza1 = mon.L[2] + mon.S[2];
     /* spec 3.7: normalise by Mza1 unless it is below 1e-14 of sum m |x x v| */
     double sum = 0;
