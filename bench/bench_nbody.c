@@ -4,6 +4,11 @@
  *                  integrator of order P (default 20) and tolerance TOL (default 1e-16): CPU
  *                  time of the integration only (median of 5 runs), steps, the error against
  *                  the exact solution and |dE| at the end;
+ *   b2 FILE [P [TOL]]  the outer Solar System of the data file FILE (data/outer_solar_system.dat,
+ *                  Hairer, Lubich & Wanner) over 10^4 sidereal years (T = 100 in units of the
+ *                  sidereal century) with the adaptive Taylor integrator, stopping exactly at 1000
+ *                  equally spaced samples: CPU time of the integration only (median of 5), steps,
+ *                  max |dE| over the samples, |dE| and |dL/L| at the end;
  *   galactica      the same period with Galactica's scheme, dT = 1e-6 (10 000 steps);
  *   pairs N [T]    ordered-pair evaluations per second of the Galactica scheme's passes for N
  *                  random bodies on T threads (default 1).
@@ -82,6 +87,66 @@ static int ring_period(int integrator, int P, double tol)
     return 0;
 }
 
+static int solar(const char *path, int P, double tol)
+{
+    double t[5], worst = 0, dE = 0, dL = 0;
+    unsigned long long steps = 0;
+    const int samples = 1000;
+    const double t_end = 100;
+    for (int run = 0; run < 5; run++) {
+        mote_nb nb;
+        mote_nb_solar s;
+        mote_err e = {0};
+        mote_nb_init(&nb, MOTE_NB_GRAVITY);
+        if (mote_nb_solar_read(path, &s, &e) || mote_nb_solar_build(&nb, &s, NULL, 0, &e)) {
+            fprintf(stderr, "bench_nbody: %s\n", e.msg);
+            return 1;
+        }
+        mote_nb_solar_free(&s);
+        nb.integrator = MOTE_NB_TAYLOR;
+        nb.taylor_order = P;
+        nb.adaptive = 1;
+        nb.tol = tol;
+        if (mote_nb_integrate(&nb, 0, INFINITY, &e)) {
+            fprintf(stderr, "bench_nbody: %s\n", e.msg);
+            return 1;
+        }
+        mote_nb_set_reference(&nb);
+        mote_nb_monitor mon;
+        mote_nb_measure(&nb, &mon);
+        double L0[3] = {mon.L[0] + mon.S[0], mon.L[1] + mon.S[1], mon.L[2] + mon.S[2]};
+        double cpu = 0;
+        worst = 0;
+        for (int k = 1; k <= samples; k++) {
+            double c0 = cpu_seconds();
+            int rc = mote_nb_integrate(&nb, UINT64_MAX, t_end * k / samples, &e);
+            cpu += cpu_seconds() - c0;
+            if (rc) {
+                fprintf(stderr, "bench_nbody: %s\n", e.msg);
+                return 1;
+            }
+            mote_nb_measure(&nb, &mon);
+            worst = fmax(worst, fabs(mon.dE));
+        }
+        t[run] = cpu;
+        dE = fabs(mon.dE);
+        double d2 = 0, l2 = 0;
+        for (int a = 0; a < 3; a++) {
+            double d = mon.L[a] + mon.S[a] - L0[a];
+            d2 += d * d;
+            l2 += L0[a] * L0[a];
+        }
+        dL = sqrt(d2 / l2);
+        steps = (unsigned long long)nb.steps;
+        mote_nb_free(&nb);
+    }
+    qsort(t, 5, sizeof t[0], cmp_double);
+    printf("workload=b2 integrator=taylor order=%d tol=%g steps=%llu cpu_seconds_median=%.6f "
+           "cpu_seconds_min=%.6f max_abs_dE=%.3e abs_dE_end=%.3e abs_dL_end=%.3e\n",
+           P, tol, steps, t[2], t[0], worst, dE, dL);
+    return 0;
+}
+
 static int pairs(uint32_t n, int threads)
 {
     mote_nb nb;
@@ -122,10 +187,12 @@ int main(int argc, char **argv)
         double tol = argc > 3 ? atof(argv[3]) : 1e-16;
         return ring_period(MOTE_NB_TAYLOR, P, tol);
     }
+    if (strcmp(argv[1], "b2") == 0 && argc > 2)
+        return solar(argv[2], argc > 3 ? atoi(argv[3]) : 20, argc > 4 ? atof(argv[4]) : 1e-16);
     if (strcmp(argv[1], "galactica") == 0)
         return ring_period(MOTE_NB_GALACTICA, 6, 0);
     if (strcmp(argv[1], "pairs") == 0 && argc > 2)
         return pairs((uint32_t)atoi(argv[2]), argc > 3 ? atoi(argv[3]) : 1);
-    fprintf(stderr, "usage: bench_nbody [b1 [P [TOL]] | galactica | pairs N [THREADS]]\n");
+    fprintf(stderr, "usage: bench_nbody [b1 [P [TOL]] | b2 FILE [P [TOL]] | galactica | pairs N [THREADS]]\n");
     return 2;
 }

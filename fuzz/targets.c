@@ -124,6 +124,24 @@ static int fuzz_nb_state(const uint8_t *data, size_t size)
     return 0;
 }
 
+static int fuzz_nb_solar(const uint8_t *data, size_t size)
+{
+    char path[256];
+    if (write_input("in.solar", data, size, path, sizeof path))
+        return 0;
+    mote_err err = {0};
+    mote_nb_solar s;
+    if (mote_nb_solar_read(path, &s, &err) == 0) {
+        mote_nb nb;
+        mote_nb_init(&nb, MOTE_NB_GRAVITY);
+        if (mote_nb_solar_build(&nb, &s, NULL, 1, &err) == 0)
+            mote_nb_galactica(&nb, 2, &err); /* a built system must run */
+        mote_nb_free(&nb);
+        mote_nb_solar_free(&s);
+    }
+    return 0;
+}
+
 static int fuzz_plot(const uint8_t *data, size_t size)
 {
     char in[256], out[256];
@@ -142,6 +160,7 @@ const mote_fuzz_target mote_fuzz_targets[] = {
     {"hs_state", fuzz_hs_state},
     {"mb_state", fuzz_mb_state},
     {"nb_state", fuzz_nb_state},
+    {"nb_solar", fuzz_nb_solar},
     {"plot", fuzz_plot},
 };
 const size_t mote_fuzz_ntargets = sizeof mote_fuzz_targets / sizeof mote_fuzz_targets[0];

@@ -643,6 +643,84 @@ static void test_merging(void)
     free(ref);
 }
 
+/* Spec 9.3: the Solar-System builder on the shipped outer-Solar-System file (Hairer, Lubich &
+ * Wanner): units, the barycentre, the relative positions in AU recovered, and ten centuries of
+ * motion with the adaptive Taylor integrator. */
+static void test_solar(void)
+{
+    printf("Solar System builder (spec 9.3), data/outer_solar_system.dat\n");
+    mote_nb_solar s;
+    mote_err err = {0};
+    if (mote_nb_solar_read("data/outer_solar_system.dat", &s, &err)) {
+        CHECK(0, "read: %s", err.msg);
+        return;
+    }
+    CHECK(s.n == 6 && strcmp(s.b[1].name, "Jupiter") == 0, "%d bodies", s.n);
+    /* Pluto's mass is written 1/1.3e8 */
+    CHECK(fabs(s.b[5].gm / s.b[0].gm - 1 / 1.3e8 / 1.00000597682) <= 1e-15 / 1.3e8,
+          "Pluto / Sun mass %.17g", s.b[5].gm / s.b[0].gm);
+    mote_nb nb;
+    mote_nb_init(&nb, MOTE_NB_GRAVITY);
+    CHECK(mote_nb_solar_build(&nb, &s, NULL, 0, &err) == MOTE_OK, "build: %s", err.msg);
+    double mt = 0, P[3] = {0, 0, 0}, R[3] = {0, 0, 0};
+    for (uint32_t i = 0; i < nb.n; i++) {
+        mt += nb.m[i];
+        for (int a = 0; a < 3; a++) {
+            P[a] += nb.m[i] * nb.v[3 * i + a];
+            R[a] += nb.m[i] * nb.x[3 * i + a];
+        }
+    }
+    CHECK(fabs(mt - 1) <= 4e-16, "total mass %.17g", mt);
+    CHECK(fabs(P[0]) + fabs(P[1]) + fabs(P[2]) <= 1e-17 && fabs(R[0]) + fabs(R[1]) + fabs(R[2]) <= 1e-15,
+          "not barycentric: P %.3g, R %.3g", fabs(P[0]) + fabs(P[1]) + fabs(P[2]),
+          fabs(R[0]) + fabs(R[1]) + fabs(R[2]));
+    CHECK(nb.u.Am == 1.0 / (nb.u.kt * nb.u.kv), "Am not refined");
+    /* Jupiter relative to the Sun, back in AU and AU/day, as in the file */
+    const double xj[3] = {-3.5023653, -3.8169847, -1.5507963}, vj[3] = {0.00565429, -0.00412490, -0.00190589};
+    double worst = 0;
+    for (int a = 0; a < 3; a++) {
+        double x = (nb.x[3 + a] - nb.x[a]) * nb.u.Am / MOTE_NB_AU;
+        double v = (nb.v[3 + a] - nb.v[a]) / nb.u.kv / MOTE_NB_AU * 86400;
+        worst = fmax(worst, fmax(fabs(x - xj[a]) / 5.5, fabs(v - vj[a]) / 0.0076));
+    }
+    CHECK(worst <= 1e-14, "Jupiter's heliocentric state back-converted: relative error %.3g", worst);
+    /* bodies= and a missing name */
+    mote_nb sub;
+    mote_nb_init(&sub, MOTE_NB_GRAVITY);
+    CHECK(mote_nb_solar_build(&sub, &s, "Sun,Jupiter", 0, &err) == MOTE_OK && sub.n == 2,
+          "bodies=Sun,Jupiter: %u bodies (%s)", sub.n, err.msg);
+    mote_nb_free(&sub);
+    mote_nb_init(&sub, MOTE_NB_GRAVITY);
+    CHECK(mote_nb_solar_build(&sub, &s, "Sun,Vulcan", 0, &err) != MOTE_OK && strstr(err.msg, "Vulcan"),
+          "an unknown body accepted");
+    mote_nb_free(&sub);
+    mote_nb_solar_free(&s);
+    /* ten centuries: Jupiter stays between its perihelion and aphelion (4.95 and 5.46 AU),
+     * energy and angular momentum are kept */
+    nb.integrator = MOTE_NB_TAYLOR;
+    nb.adaptive = 1;
+    nb.taylor_order = 22;
+    nb.tol = 1e-18;
+    double rmin = 1e9, rmax = 0;
+    for (int k = 1; k <= 100; k++) {
+        CHECK(mote_nb_integrate(&nb, UINT64_MAX, 0.1 * k, &err) == MOTE_OK, "run: %s", err.msg);
+        double r2 = 0;
+        for (int a = 0; a < 3; a++)
+            r2 += (nb.x[3 + a] - nb.x[a]) * (nb.x[3 + a] - nb.x[a]);
+        double r = sqrt(r2) * nb.u.Am / MOTE_NB_AU;
+        rmin = fmin(rmin, r);
+        rmax = fmax(rmax, r);
+    }
+    mote_nb_monitor mon;
+    mote_nb_measure(&nb, &mon);
+    printf("  1000 years: %llu steps, Jupiter at %.4f .. %.4f AU, dE %.3e, dMz %.3e\n",
+           (unsigned long long)nb.steps, rmin, rmax, mon.dE, mon.dMz);
+    CHECK(rmin > 4.9 && rmin < 5.0 && rmax > 5.4 && rmax < 5.5, "Jupiter between %.4f and %.4f AU",
+          rmin, rmax);
+    CHECK(fabs(mon.dE) <= 1e-14 && fabs(mon.dMz) <= 1e-14, "dE %.3g, dMz %.3g", mon.dE, mon.dMz);
+    mote_nb_free(&nb);
+}
+
 int main(void)
 {
     double w0 = mote_wall_seconds();
@@ -657,6 +735,7 @@ int main(void)
     test_taylor();
     test_adaptive();
     test_merging();
+    test_solar();
     printf("test_nbody: %.1f s\n", mote_wall_seconds() - w0);
     return test_summary();
 }

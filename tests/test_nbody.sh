@@ -5,6 +5,7 @@
 # runtime error at its line with nothing written.
 # Usage: sh tests/test_nbody.sh [BUILD_DIR]   (default: build)
 NAME=nbody
+DATA=$(cd "$(dirname "$0")/.." && pwd)/data/outer_solar_system.dat
 . "$(dirname "$0")/lib.sh"
 mote_test_start "$1"
 
@@ -121,6 +122,22 @@ printf '%b' "${G}load mg.state\nintegrate steps=2\n" > mgl.mote
 printf '%b' "${G}merge off\n${B2}integrate to=2\n" > mgo.mote
 "$MOTE" run mgo.mote > out.txt 2> err.txt && grep -q 'T=2 .* merges=0$' out.txt && ok || bad "merge off: $(cat out.txt err.txt)"
 expect 1 "b16.mote:2:7: error: merge: expected on or off, found 'maybe'" b16.mote "${G}merge maybe\n"
+# the Solar-System builder (spec 9.3): the shipped data file, and bad data files at their line
+printf '%b' "${G}generate solar_system data=$DATA bodies=Sun,Jupiter,Saturn\nintegrator taylor tol=1e-17\nintegrate to=1\n" > so.mote
+"$MOTE" run so.mote > out.txt 2> err.txt && grep -q '^generate solar_system: 3 bodies; M 1.99' out.txt && grep -q '^N=3 .*T=1 ' out.txt && ok || bad "so.mote: $(cat out.txt err.txt)"
+expect 1 "s1.mote:2:10: error: generate solar_system: data=FILE is required" s1.mote "${G}generate solar_system\n"
+expect 1 "s2.mote:2:10: error: generate solar_system: this is a Coulomb run" s2.mote "${C}generate solar_system data=$DATA\n"
+expect 1 "s3.mote:2:1: error: solar_system: no body 'Vulcan' in the data file" s3.mote "${G}generate solar_system data=$DATA bodies=Sun,Vulcan\n"
+sed 's/^Saturn   0.000285583733151/Saturn   heavy/' "$DATA" > bad1.dat
+expect 1 "s4.mote:2:1: error: bad1.dat:13: Saturn: column 2: expected a number, found 'heavy'" s4.mote "${G}generate solar_system data=bad1.dat\n"
+grep -v '^Uranus' "$DATA" | sed 's/-1.5507963    0.00565429/-1.5507963/' > bad2.dat
+expect 1 "s5.mote:2:1: error: bad2.dat:12: Jupiter: expected 8 numbers (mass x y z vx vy vz radius_km)" s5.mote "${G}generate solar_system data=bad2.dat\n"
+sed 's/^# units:.*/# units: furlongs fortnight/' "$DATA" > bad3.dat
+expect 1 "s6.mote:2:1: error: bad3.dat:9: expected '# units: km s GM' or '# units: AU day Msun G=<value>'" s6.mote "${G}generate solar_system data=bad3.dat\n"
+cp "$(dirname "$DATA")/../fuzz/corpus/nb_solar/seed-km.dat" km.dat
+printf '%b' "${G}generate solar_system data=km.dat merge_inner=on\n" > mi.mote
+"$MOTE" run mi.mote > out.txt 2> err.txt && grep -q '^generate solar_system: 2 bodies' out.txt && ok || bad "merge_inner=on: $(cat out.txt err.txt)"
+expect 1 "s7.mote:2:1: error: generate solar_system: merge_inner: expected on or off, found 'yes'" s7.mote "${G}generate solar_system data=km.dat merge_inner=yes\n"
 # runtime: at the line, with the monitor's earlier file kept
 expect 2 "r1.mote:4:1: error: a Coulomb run needs charged bodies" r1.mote "${C}body mass=1 x=1\nbody mass=1\nintegrate steps=5\n"
 expect 2 "r2.mote:5:1: error: bodies 1 and 2 are at the same point" r2.mote "${G}body mass=1\nbody mass=1\nmonitor 1 m.mon\nintegrate steps=5\n"

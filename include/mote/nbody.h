@@ -158,6 +158,29 @@ void mote_nb_measure(const mote_nb *nb, mote_nb_monitor *mon);
 /* Take the current energy and aggregated z moment as the references of dE and dMz. */
 void mote_nb_set_reference(mote_nb *nb);
 
+/* ---- Solar-System data files (spec 9.3) ---------------------------------------------------- */
+
+/* One body of a data file, converted to SI: GM (m^3/s^2), position (m), velocity (m/s), radius (m). */
+typedef struct {
+    char name[32];
+    double gm, x[3], v[3], ra;
+    long line;
+} mote_nb_sbody;
+
+typedef struct {
+    mote_nb_sbody *b;
+    int n;
+} mote_nb_solar;
+
+/* Read a 'mote solar-system 1' data file (format in docs/nbody.md); errors name file and line. */
+int mote_nb_solar_read(const char *path, mote_nb_solar *s, mote_err *err);
+void mote_nb_solar_free(mote_nb_solar *s);
+/* Add the bodies named in the comma-separated list (NULL: all, in the file's order); with
+ * merge_inner the masses of Mercury, Venus, Earth, Moon and Mars go to the Sun. Units: total mass,
+ * the sidereal century and Am from eq. 8 refined (spec 3.5); then the barycentric frame. */
+int mote_nb_solar_build(mote_nb *nb, const mote_nb_solar *s, const char *bodies, int merge_inner,
+                        mote_err *err);
+
 /* ---- the exact rings (spec 9.1, 9.2) -------------------------------------------------------- */
 
 typedef struct {

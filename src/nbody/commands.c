@@ -7,6 +7,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "nb.h"
 
@@ -134,7 +135,6 @@ static const char *const RING_OPTS[] = {"nb", "ka", "e", "tilt", "central_mass",
                                         "density", "dt", NULL};
 static const char *const ATOM_OPTS[] = {"nb", "ka", "e", "tilt", "A", "Z", "n", "l",
                                         "permittivity", "time_unit", "dt", NULL};
-
 static int listed(const char *const *list, const char *key)
 {
     for (; *list; list++)
@@ -143,14 +143,104 @@ static int listed(const char *const *list, const char *key)
     return 0;
 }
 
+static const char *const SOLAR_OPTS[] = {"data", "bodies", "merge_inner", NULL};
+
+static int merge_inner_opt(const mote_call *c, int *on, mote_err *err)
+{
+    const mote_arg *a = mote_call_opt(c, "merge_inner");
+    *on = 0;
+    if (!a)
+        return MOTE_OK;
+    if (strcmp(a->text, "on") == 0 || strcmp(a->text, "off") == 0) {
+        *on = a->text[1] == 'n';
+        return MOTE_OK;
+    }
+    return mote_call_fail(err, c, -1, MOTE_EINVAL,
+                          "generate solar_system: merge_inner: expected on or off, found '%s'",
+                          a->text);
+}
+
+/* `generate solar_system`: read the data file now (its errors are the script's), count bodies. */
+static int check_solar(nb_model *m, const mote_call *c, mote_err *err)
+{
+    for (int k = 0; k < c->nopts; k++)
+        if (!listed(SOLAR_OPTS, c->opts[k].key))
+            return mote_call_fail(err, c, c->nargs + k, MOTE_EINVAL,
+                                  "generate solar_system: option %s= belongs to a ring",
+                                  c->opts[k].key);
+    const mote_arg *d = mote_call_opt(c, "data");
+    if (!d)
+        return mote_call_fail(err, c, 0, MOTE_EINVAL,
+                              "generate solar_system: data=FILE is required (for example "
+                              "data/outer_solar_system.dat)");
+    if (m->d_bodies)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL,
+                              "generate: the system already has bodies; a generator starts empty");
+    int inner;
+    int rc = merge_inner_opt(c, &inner, err);
+    if (rc)
+        return rc;
+    m->d_bodies = 2;
+    m->d_ring = 0;
+    if (access(d->path, R_OK) != 0)
+        return MOTE_OK; /* written by an earlier command: read when it runs */
+    mote_nb_solar s;
+    char msg[sizeof err->msg];
+    if ((rc = mote_nb_solar_read(d->path, &s, err)) != MOTE_OK) {
+        snprintf(msg, sizeof msg, "%s", err->msg);
+        return mote_call_fail(err, c, -1, rc, "%s", msg);
+    }
+    mote_nb t;
+    mote_nb_init(&t, MOTE_NB_GRAVITY);
+    const mote_arg *b = mote_call_opt(c, "bodies");
+    rc = mote_nb_solar_build(&t, &s, b ? b->text : NULL, inner, err);
+    if (!rc)
+        m->d_bodies = t.n;
+    mote_nb_free(&t);
+    mote_nb_solar_free(&s);
+    if (!rc)
+        return MOTE_OK;
+    snprintf(msg, sizeof msg, "%s", err->msg);
+    return mote_call_fail(err, c, -1, rc, "%s", msg);
+}
+
+static int run_solar(nb_model *m, const mote_call *c, mote_err *err)
+{
+    int inner;
+    int rc = merge_inner_opt(c, &inner, err);
+    mote_nb_solar s;
+    if (!rc)
+        rc = mote_nb_solar_read(mote_call_opt(c, "data")->path, &s, err);
+    if (rc)
+        return rc;
+    const mote_arg *b = mote_call_opt(c, "bodies");
+    rc = mote_nb_solar_build(&m->nb, &s, b ? b->text : NULL, inner, err);
+    mote_nb_solar_free(&s);
+    if (!rc && m->log)
+        fprintf(m->log,
+                "generate solar_system: %u bodies; M %.16e kg, Am %.16e m, kv %.16e s/m, "
+                "kt %.16e 1/s (time unit: the sidereal century)\n",
+                m->nb.n, m->nb.u.M, m->nb.u.Am, m->nb.u.kv, m->nb.u.kt);
+    m->have_ring = 0;
+    return rc;
+}
+
+
 static int check_generate(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
     const char *what = c->args[0].text;
     int ring = strcmp(what, "ring") == 0, atom = strcmp(what, "atom_ring") == 0;
+    if (strcmp(what, "solar_system") == 0) {
+        if (m->nb.kind != MOTE_NB_GRAVITY)
+            return mote_call_fail(err, c, 0, MOTE_EINVAL,
+                                  "generate solar_system: this is a Coulomb run; it needs 'model "
+                                  "nbody gravity'");
+        return check_solar(m, c, err);
+    }
     if (!ring && !atom)
         return mote_call_fail(err, c, 0, MOTE_EINVAL,
-                              "generate: expected ring or atom_ring, found '%s'", what);
+                              "generate: expected ring, atom_ring or solar_system, found '%s'", what);
     if (ring != (m->nb.kind == MOTE_NB_GRAVITY))
         return mote_call_fail(err, c, 0, MOTE_EINVAL,
                               "generate %s: this is a %s run; the %s needs 'model nbody %s'", what,
@@ -172,6 +262,8 @@ static int check_generate(void *vm, const mote_call *c, mote_err *err)
 static int run_generate(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
+    if (strcmp(c->args[0].text, "solar_system") == 0)
+        return run_solar(m, c, err);
     mote_nb_ring *r = &m->ring;
     mote_nb_ring_defaults(r, m->nb.kind);
     const mote_arg *a;
@@ -620,6 +712,7 @@ static const char HELP_FRAME[] =
 static const char HELP_GENERATE[] =
     "    generate ring [nb= ka= e= tilt= central_mass= total_mass= density= dt=]\n"
     "    generate atom_ring [nb= A= Z= n= l= ka= e= tilt= permittivity= time_unit= dt=]\n"
+    "    generate solar_system data=FILE [bodies=Sun,Jupiter,...] [merge_inner=on|off]\n"
     "\n"
     "The exact axisymmetric rings of the seed document (spec 9.1 and 9.2): a\n"
     "central body and nb - 1 equal bodies at the vertices of a regular polygon,\n"
@@ -633,7 +726,13 @@ static const char HELP_GENERATE[] =
     "The scales follow spec 3.5 (time unit first, Am refined so that\n"
     "Am = 1/(kt kv) exactly); the system is reduced to the barycentre. Prints the\n"
     "scales, the pericentre distance and speed, the period and the centre of mass\n"
-    "before the shift. Fails when neighbours are less than 50 diameters apart.\n";
+    "before the shift. Fails when neighbours are less than 50 diameters apart.\n"
+    "`solar_system` (spec 9.3): the bodies of a Solar-System data file (format in\n"
+    "docs/nbody.md; data/outer_solar_system.dat holds the outer Solar System of\n"
+    "Hairer, Lubich & Wanner), all or those listed in `bodies=`, in the file's\n"
+    "order; merge_inner=on adds Mercury, Venus, Earth, Moon and Mars to the Sun.\n"
+    "Masses relative to the total, time unit the sidereal century, Am from eq. 8\n"
+    "refined, barycentric.\n";
 
 static const char HELP_INTEGRATOR[] =
     "    integrator galactica [dt=H] [order=K] [first_step=F]\n"
@@ -756,7 +855,8 @@ static const mote_cmd nb_commands[] = {
      HELP_FRAME, check_frame, run_frame},
     {"generate", NULL,
      "s nb=i>=2 ka=r>0 e=r[0,1) tilt=r central_mass=r>0 total_mass=r>0 density=r>0 dt=r>0 "
-     "A=i>=1 Z=i>=1 n=i>=1 l=i permittivity=r>0 time_unit=r>0",
+     "A=i>=1 Z=i>=1 n=i>=1 l=i permittivity=r>0 time_unit=r>0 data=f<solar bodies=s "
+     "merge_inner=s",
      "generate KIND [options]", "the exact gravity ring or Coulomb ring of the seed document",
      HELP_GENERATE, check_generate, run_generate},
     {"integrator", NULL,

@@ -151,6 +151,17 @@ static inline void kahan_add(double *y, double *cs, double d, int on)
     *y = s;
 }
 
+/* y += d with the compensation term of kahan_add (cs = y - the true sum), the sum formed in
+ * long double: the increment's rounding and the Horner sums' roundings are 2^-11 of a double's,
+ * which keeps the energy drift of long runs at the level of the force's rounding. */
+static inline void ext_add(double *y, double *cs, long double d)
+{
+    long double t = (long double)*y - *cs + d;
+    double r = (double)t;
+    *cs = (double)((long double)r - t);
+    *y = r;
+}
+
 /* Room for the coefficients, the pairs' G of a pass and, in store mode, the pair histories. */
 static int scratch(mote_nb *nb, int p, int store, mote_err *err)
 {
@@ -268,13 +279,18 @@ double nb_taylor_step(mote_nb *nb, double rest)
             continue;
         for (int a = 0; a < 3; a++) {
             const size_t o = 3 * (size_t)i + a;
-            double dx = 0, dv = 0;
+            long double dx = 0, dv = 0;
             for (int n = p; n >= 1; n--)
                 dx = dx * h + X[n * blk + o];
             for (int n = p; n >= 2; n--)
                 dv = dv * h + n * X[n * blk + o];
-            kahan_add(&nb->x[o], &nb->xc[o], dx * h, nb->compensated);
-            kahan_add(&nb->v[o], &nb->vc[o], dv * h, nb->compensated);
+            if (nb->compensated) {
+                ext_add(&nb->x[o], &nb->xc[o], dx * h);
+                ext_add(&nb->v[o], &nb->vc[o], dv * h);
+            } else {
+                nb->x[o] += (double)(dx * h);
+                nb->v[o] += (double)(dv * h);
+            }
         }
     }
     kahan_add(&nb->T, &nb->Tc, h, nb->compensated);

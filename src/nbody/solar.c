@@ -1,0 +1,240 @@
+/* solar.c: Solar-System data files and the builder (spec 9.3). A data file is text: a format line
+ * '# mote solar-system 1', header lines '# source:', '# epoch:', '# frame:', '# centre:', and
+ * '# units:' which is either 'km s GM' (the second column is GM in km^3/s^2, lengths in km,
+ * velocities in km/s) or 'AU day Msun G=<value>' (the second column is the mass in solar masses,
+ * written as a number or as 1/<number>, with G in AU^3 Msun^-1 day^-2); then one row per body:
+ * name, GM or mass, x, y, z, vx, vy, vz, mean radius in km. Values are converted to SI on
+ * reading; the builder makes the dimensionless system with the sidereal century as time unit. */
+#include "mote/nbody.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#define SOLAR_FORMAT "# mote solar-system 1"
+
+static int parse_real(const char *tok, double *out)
+{
+    char *end;
+    errno = 0;
+    double v;
+    if (strncmp(tok, "1/", 2) == 0) {
+        double d = strtod(tok + 2, &end);
+        v = 1.0 / d;
+    } else {
+        v = strtod(tok, &end);
+    }
+    if (end == tok || *end || errno == ERANGE || !isfinite(v))
+        return -1;
+    *out = v;
+    return 0;
+}
+
+void mote_nb_solar_free(mote_nb_solar *s)
+{
+    free(s->b);
+    s->b = NULL;
+    s->n = 0;
+}
+
+int mote_nb_solar_read(const char *path, mote_nb_solar *s, mote_err *err)
+{
+    memset(s, 0, sizeof *s);
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return mote_fail(err, MOTE_EIO, "%s: cannot open: %s", path, strerror(errno));
+    char line[1024];
+    long ln = 0;
+    int rc = MOTE_OK, have_units = 0, mass_form = 0, cap = 0;
+    double L = 0, T = 0, G = 0; /* length (m) and time (s) of the file, G for the mass form */
+    while (!rc && fgets(line, sizeof line, f)) {
+        ln++;
+        size_t len = strlen(line);
+        if (len == sizeof line - 1 && line[len - 1] != '\n') {
+            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: line longer than %d characters", path, ln,
+                           (int)sizeof line - 2);
+            break;
+        }
+        line[strcspn(line, "\r\n")] = 0;
+        if (ln == 1) {
+            if (strcmp(line, SOLAR_FORMAT) != 0)
+                rc = mote_fail(err, MOTE_EFORMAT, "%s:1: expected '%s', found '%.60s'", path,
+                               SOLAR_FORMAT, line);
+            continue;
+        }
+        if (line[0] == '#') {
+            if (strncmp(line, "# units:", 8) == 0) {
+                char a[32], b[32], c[32], d[64], extra;
+                int k = sscanf(line + 8, "%31s %31s %31s %63s %c", a, b, c, d, &extra);
+                if (k == 3 && !strcmp(a, "km") && !strcmp(b, "s") && !strcmp(c, "GM")) {
+                    L = 1e3;
+                    T = 1;
+                    have_units = 1;
+                } else if (k == 4 && !strcmp(a, "AU") && !strcmp(b, "day") && !strcmp(c, "Msun") &&
+                           !strncmp(d, "G=", 2) && !parse_real(d + 2, &G) && G > 0) {
+                    L = MOTE_NB_AU;
+                    T = 86400;
+                    mass_form = have_units = 1;
+                } else {
+                    rc = mote_fail(err, MOTE_EFORMAT,
+                                   "%s:%ld: expected '# units: km s GM' or '# units: AU day Msun "
+                                   "G=<value>'",
+                                   path, ln);
+                }
+            }
+            continue;
+        }
+        char *save = NULL, *tok = strtok_r(line, " \t", &save);
+        if (!tok)
+            continue;
+        if (!have_units) {
+            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: a body before the '# units:' line", path, ln);
+            break;
+        }
+        if (s->n == cap) {
+            cap = cap ? 2 * cap : 16;
+            mote_nb_sbody *p = realloc(s->b, (size_t)cap * sizeof *p);
+            if (!p) {
+                rc = mote_fail(err, MOTE_ENOMEM, "%s: out of memory", path);
+                break;
+            }
+            s->b = p;
+        }
+        mote_nb_sbody *b = &s->b[s->n];
+        memset(b, 0, sizeof *b);
+        if (strlen(tok) >= sizeof b->name) {
+            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: body name longer than %d characters", path,
+                           ln, (int)sizeof b->name - 1);
+            break;
+        }
+        strcpy(b->name, tok);
+        b->line = ln;
+        double v[8];
+        int k = 0;
+        for (; k < 8 && (tok = strtok_r(NULL, " \t", &save)); k++)
+            if (parse_real(tok, &v[k])) {
+                rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: %s: column %d: expected a number, found "
+                               "'%.40s'", path, ln, b->name, k + 2, tok);
+                break;
+            }
+        if (rc)
+            break;
+        if (k < 8 || strtok_r(NULL, " \t", &save)) {
+            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: %s: expected 8 numbers (%s x y z vx vy vz "
+                           "radius_km)", path, ln, b->name, mass_form ? "mass" : "GM");
+            break;
+        }
+        if (!(v[0] > 0) || v[7] < 0) {
+            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: %s: need %s > 0 and radius >= 0", path, ln,
+                           b->name, mass_form ? "mass" : "GM");
+            break;
+        }
+        for (int j = 0; j < s->n; j++)
+            if (strcmp(s->b[j].name, b->name) == 0) {
+                rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: %s is also on line %ld", path, ln,
+                               b->name, s->b[j].line);
+                break;
+            }
+        if (rc)
+            break;
+        b->gm = (mass_form ? G * v[0] : v[0]) * L * L * L / (T * T);
+        for (int a = 0; a < 3; a++) {
+            b->x[a] = v[1 + a] * L;
+            b->v[a] = v[4 + a] * L / T;
+        }
+        b->ra = v[7] * 1e3;
+        s->n++;
+    }
+    if (!rc && ferror(f))
+        rc = mote_fail(err, MOTE_EIO, "%s: read error", path);
+    if (!rc && ln == 0)
+        rc = mote_fail(err, MOTE_EFORMAT, "%s: empty file (expected '%s')", path, SOLAR_FORMAT);
+    if (!rc && s->n == 0)
+        rc = mote_fail(err, MOTE_EFORMAT, "%s: no bodies", path);
+    fclose(f);
+    if (rc)
+        mote_nb_solar_free(s);
+    return rc;
+}
+
+static int inner(const char *name)
+{
+    static const char *const list[] = {"Mercury", "Venus", "Earth", "Moon", "Mars"};
+    for (size_t k = 0; k < sizeof list / sizeof list[0]; k++)
+        if (strcasecmp(name, list[k]) == 0)
+            return 1;
+    return 0;
+}
+
+int mote_nb_solar_build(mote_nb *nb, const mote_nb_solar *s, const char *bodies, int merge_inner,
+                        mote_err *err)
+{
+    if (nb->kind != MOTE_NB_GRAVITY)
+        return mote_fail(err, MOTE_EINVAL, "solar_system: this is a Coulomb run");
+    uint8_t *take = calloc((size_t)s->n, 1);
+    if (!take)
+        return mote_fail(err, MOTE_ENOMEM, "solar_system: out of memory");
+    int rc = MOTE_OK, sun = -1;
+    for (int i = 0; i < s->n; i++)
+        if (strcasecmp(s->b[i].name, "Sun") == 0)
+            sun = i;
+    if (bodies) {
+        const char *p = bodies;
+        while (!rc && *p) {
+            size_t len = strcspn(p, ",");
+            int found = 0;
+            for (int i = 0; i < s->n; i++)
+                if (strlen(s->b[i].name) == len && strncasecmp(s->b[i].name, p, len) == 0) {
+                    take[i] = 1;
+                    found = 1;
+                }
+            if (!found)
+                rc = mote_fail(err, MOTE_EINVAL, "solar_system: no body '%.*s' in the data file",
+                               (int)len, p);
+            p += len + (p[len] == ',');
+        }
+    } else {
+        memset(take, 1, (size_t)s->n);
+    }
+    if (!rc && merge_inner && (sun < 0 || !take[sun]))
+        rc = mote_fail(err, MOTE_EINVAL, "solar_system: merge_inner needs the Sun");
+    double gm_sun = sun >= 0 ? s->b[sun].gm : 0, total = 0;
+    int count = 0;
+    for (int i = 0; !rc && i < s->n; i++) {
+        if (merge_inner && inner(s->b[i].name)) {
+            gm_sun += s->b[i].gm;
+            take[i] = 0;
+        }
+    }
+    for (int i = 0; !rc && i < s->n; i++)
+        if (take[i]) {
+            total += i == sun ? gm_sun : s->b[i].gm;
+            count++;
+        }
+    if (!rc && count < 2)
+        rc = mote_fail(err, MOTE_EINVAL, "solar_system: need at least 2 bodies, have %d", count);
+    if (!rc) {
+        const double kt = 1.0 / (100 * MOTE_NB_SIDEREAL_YEAR_DAYS * 86400);
+        mote_nb_units_from_time(&nb->u, MOTE_NB_GRAVITY, total / MOTE_NB_G, kt, MOTE_NB_G, 0, 1);
+        const mote_nb_units *u = &nb->u;
+        for (int i = 0; !rc && i < s->n; i++) {
+            if (!take[i])
+                continue;
+            const mote_nb_sbody *b = &s->b[i];
+            double x[3], v[3];
+            for (int a = 0; a < 3; a++) {
+                x[a] = b->x[a] / u->Am;
+                v[a] = b->v[a] * u->kv;
+            }
+            rc = mote_nb_add(nb, (i == sun ? gm_sun : b->gm) / total, 0, x, v, b->ra / u->Am, err);
+        }
+        if (!rc)
+            mote_nb_barycentric(nb, NULL, NULL);
+    }
+    free(take);
+    return rc;
+}
