@@ -138,6 +138,14 @@ cp "$(dirname "$DATA")/../fuzz/corpus/nb_solar/seed-km.dat" km.dat
 printf '%b' "${G}generate solar_system data=km.dat merge_inner=on\n" > mi.mote
 "$MOTE" run mi.mote > out.txt 2> err.txt && grep -q '^generate solar_system: 2 bodies' out.txt && ok || bad "merge_inner=on: $(cat out.txt err.txt)"
 expect 1 "s7.mote:2:1: error: generate solar_system: merge_inner: expected on or off, found 'yes'" s7.mote "${G}generate solar_system data=km.dat merge_inner=yes\n"
+# close approaches (spec 4.7): a shortest step too long for the meeting speed gives the warning
+HB='body mass=0.5 x=-0.5 vx=10 radius=0.01\nbody mass=0.5 x=0.5 vx=-10 radius=0.01\nintegrator galactica dt=1e-2\n'
+printf '%b' "${G}merge on hmin=0.5\n${HB}integrate steps=20\nsave ap.state\n" > ap.mote
+"$MOTE" run ap.mote > out.txt 2> err.txt && grep -q '^integrate: warning: 1 merge overlapped by more than 10% of the radii' out.txt && grep -q 'merges=1$' out.txt && ok || bad "approach warning: $(cat out.txt err.txt)"
+awk '$1 == "merging" { exit !($4 == 1) }' ap.state && ok || bad "the warning count in the state: $(grep merging ap.state)"
+printf '%b' "${G}merge on\n${HB}integrate steps=40\n" > ap2.mote
+"$MOTE" run ap2.mote > out.txt 2> err.txt && ! grep -q 'warning' out.txt && grep -q 'merges=1$' out.txt && ok || bad "approach control: $(cat out.txt err.txt)"
+expect 1 "b17.mote:2:13: error: merge: bt must be in (0, 1]" b17.mote "${G}merge on bt=0\n"
 # runtime: at the line, with the monitor's earlier file kept
 expect 2 "r1.mote:4:1: error: a Coulomb run needs charged bodies" r1.mote "${C}body mass=1 x=1\nbody mass=1\nintegrate steps=5\n"
 expect 2 "r2.mote:5:1: error: bodies 1 and 2 are at the same point" r2.mote "${G}body mass=1\nbody mass=1\nmonitor 1 m.mon\nintegrate steps=5\n"

@@ -76,6 +76,12 @@ typedef struct {
     uint64_t merges;        /* Galactica's Lsls */
     double e_heat, e_spin;  /* energy into heat (eq. 11) and into spin by all merges */
     double de_merge;        /* sum of E_tot(after) - E_tot(before) over merges */
+    /* close approaches (spec 4.7, Galactica's bt), Galactica scheme while merging is on */
+    double bt;              /* step factor while a pair approaches contact (default 0.5; 1: off) */
+    double bt_hmin;         /* the shortest step, as a fraction of dt (default 1e-6) */
+    double happ;            /* the last step shortened by an approach (0: none) */
+    double max_overlap;     /* largest 1 - r / (Ra_i + Ra_k) of a merging pair */
+    uint64_t approach_warnings; /* merges with an overlap above 10% after a step at bt_hmin dt */
     uint64_t steps;
     int order;              /* Galactica scheme order K, 2 ... 6 */
     double first_step;      /* the restart step is first_step * dt (spec 4.2: 0.001) */

@@ -117,12 +117,72 @@ static inline void kahan_add(double *y, double *cs, double d, int on)
     *y = s;
 }
 
-/* One step of length h. */
-static void step(mote_nb *nb, double h)
+/* Does a pair approach contact within h (spec 4.7)? |r| - |v| h - |a| h^2 / 2 < Ra_i + Ra_k,
+ * with the relative position, velocity and acceleration. */
+static int approaching(const mote_nb *nb, double h)
+{
+    /* a bound for every pair first: no pair can come closer than |r| - D */
+    double vmax = 0, amax = 0, rmax = 0;
+    for (uint32_t i = 0; i < nb->n; i++) {
+        if (!nb->active[i] || !(nb->ra[i] > 0))
+            continue;
+        const double *v = nb->v + 3 * (size_t)i, *a = nb->acc + 3 * (size_t)i;
+        vmax = fmax(vmax, v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        amax = fmax(amax, a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+        rmax = fmax(rmax, nb->ra[i]);
+    }
+    const double D = 2 * rmax + 2 * sqrt(vmax) * h + sqrt(amax) * h * h;
+    for (uint32_t i = 0; i < nb->n; i++) {
+        if (!nb->active[i] || !(nb->ra[i] > 0))
+            continue;
+        for (uint32_t k = i + 1; k < nb->n; k++) {
+            if (!nb->active[k] || !(nb->ra[k] > 0))
+                continue;
+            double r2 = 0, v2 = 0, a2 = 0;
+            for (int c = 0; c < 3; c++) {
+                double dr = nb->x[3 * i + c] - nb->x[3 * k + c];
+                r2 += dr * dr;
+            }
+            if (r2 >= D * D)
+                continue;
+            for (int c = 0; c < 3; c++) {
+                double dv = nb->v[3 * i + c] - nb->v[3 * k + c];
+                double da = nb->acc[3 * i + c] - nb->acc[3 * k + c];
+                v2 += dv * dv;
+                a2 += da * da;
+            }
+            if (sqrt(r2) - sqrt(v2) * h - 0.5 * sqrt(a2) * h * h < nb->ra[i] + nb->ra[k])
+                return 1;
+        }
+    }
+    return 0;
+}
+
+/* The step after the close-approach control (spec 4.7): while a pair approaches contact the
+ * step is multiplied by bt, not below bt_hmin dt; after an approach it grows by 1/bt per step
+ * back to the nominal h. */
+static double approach_step(mote_nb *nb, double h)
+{
+    const double nominal = h, hmin = nb->bt_hmin * nb->dt;
+    if (nb->happ > 0 && nb->happ / nb->bt < h)
+        h = nb->happ / nb->bt;
+    while (h > hmin && approaching(nb, h))
+        h = fmax(h * nb->bt, hmin);
+    nb->happ = h < nominal ? h : 0;
+    return h;
+}
+
+/* One step of length h (nominal: the close-approach control may shorten it), not beyond rest;
+ * returns the length taken. */
+static double step(mote_nb *nb, double h, double rest)
 {
     pass1(nb);
     if (nb->order >= 4)
         pass2(nb);
+    if (nb->bt < 1 && nb_merging_on(nb))
+        h = approach_step(nb, h);
+    if (h > rest)
+        h = rest;
     const int K = nb->order;
     const int have6 = K >= 6 && nb->dtp > 0;
     for (uint32_t i = 0; i < nb->n; i++) {
@@ -156,6 +216,7 @@ static void step(mote_nb *nb, double h)
     nb->restart = 0;
     kahan_add(&nb->T, &nb->Tc, h, nb->compensated);
     nb->steps++;
+    return h;
 }
 
 int mote_nb_derivatives(mote_nb *nb, mote_err *err)
@@ -181,10 +242,7 @@ int nb_galactica_check(const mote_nb *nb, mote_err *err)
 double nb_galactica_step(mote_nb *nb, double rest)
 {
     double h = nb->restart || nb->dtp == 0 ? nb->first_step * nb->dt : nb->dt;
-    if (h > rest)
-        h = rest;
-    step(nb, h);
-    return h;
+    return step(nb, h, rest);
 }
 
 int mote_nb_galactica(mote_nb *nb, uint64_t steps, mote_err *err)

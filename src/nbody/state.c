@@ -45,10 +45,15 @@ int nb_state_save(const mote_nb *nb, const char *path, mote_err *err)
     put(f, nb->hmax);
     put(f, nb->hprev);
     fputc('\n', f);
-    fprintf(f, "merging %d %llu", nb->merging, (unsigned long long)nb->merges);
+    fprintf(f, "merging %d %llu %llu", nb->merging, (unsigned long long)nb->merges,
+            (unsigned long long)nb->approach_warnings);
     put(f, nb->e_heat);
     put(f, nb->e_spin);
     put(f, nb->de_merge);
+    put(f, nb->bt);
+    put(f, nb->bt_hmin);
+    put(f, nb->happ);
+    put(f, nb->max_overlap);
     fprintf(f, "\nreference %d", nb->ref_set);
     put(f, nb->E0);
     put(f, nb->Mza1);
@@ -248,17 +253,27 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
     if (!rc) {
         s = next_line(&r);
         int mode, used = 0;
-        unsigned long long merges;
-        if (!s || sscanf(s, "merging %d %llu%n", &mode, &merges, &used) != 2 || mode < -1 ||
-            mode > 1)
-            rc = fail(&r, "'merging MODE(-1..1) MERGES' and E_heat E_spin dE_merge", s);
+        unsigned long long merges, warns;
+        if (!s || sscanf(s, "merging %d %llu %llu%n", &mode, &merges, &warns, &used) != 3 ||
+            mode < -1 || mode > 1)
+            rc = fail(&r, "'merging MODE(-1..1) MERGES WARNINGS' and E_heat E_spin dE_merge bt "
+                          "hmin happ max_overlap", s);
         else
-            rc = reals(&r, s + used, NULL, v, 3);
+            rc = reals(&r, s + used, NULL, v, 7);
+        if (!rc && (!(v[3] > 0 && v[3] <= 1) || !(v[4] > 0 && v[4] <= 1) || !(v[5] >= 0) ||
+                    !(v[6] >= 0 && v[6] <= 1)))
+            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: merging: need 0 < bt <= 1, 0 < hmin <= 1, "
+                           "happ >= 0, 0 <= max_overlap <= 1", path, r.line);
         t.merging = mode;
         t.merges = merges;
+        t.approach_warnings = warns;
         t.e_heat = v[0];
         t.e_spin = v[1];
         t.de_merge = v[2];
+        t.bt = v[3];
+        t.bt_hmin = v[4];
+        t.happ = v[5];
+        t.max_overlap = v[6];
     }
     if (!rc) {
         s = next_line(&r);

@@ -37,6 +37,8 @@ void mote_nb_init(mote_nb *nb, mote_nb_interaction kind)
     nb->dt = 1e-6;
     nb->taylor_order = 20;
     nb->merging = -1;
+    nb->bt = 0.5;
+    nb->bt_hmin = 1e-6;
     nb->tol = 1e-16;
     nb->safety = 1.0;
 }
