@@ -69,6 +69,7 @@ static int plot_orbits(const mote_table *t, const char *in, const char *png, mot
         return mote_fail(err, MOTE_ENOMEM, "plot: out of memory");
     }
     double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    char labels[8][16];
     for (int b = 0; b < nbod; b++) {
         for (size_t r = 0; r < t->rows; r++) {
             double x[3] = {mote_table_at(t, r, 3 + 3 * b), mote_table_at(t, r, 4 + 3 * b),
@@ -88,7 +89,13 @@ static int plot_orbits(const mote_table *t, const char *in, const char *png, mot
         s[b].y = py + (size_t)b * rows;
         s[b].n = t->rows;
         s[b].style = b == 0 ? 2 : 0; /* the first body (a ring's centre) with its points */
-        s[b].label = b == 0 ? "body 1" : b == 1 ? "bodies 2 ..." : NULL;
+        /* up to 8 bodies each has its own colour and legend entry; beyond, colours repeat */
+        if (nbod <= 8) {
+            snprintf(labels[b], sizeof labels[b], "body %d", b + 1);
+            s[b].label = labels[b];
+        } else {
+            s[b].label = b == 0 ? "body 1" : b == 1 ? "bodies 2 ... (colours repeat)" : NULL;
+        }
     }
     /* a square frame around everything, so one unit is as long on both axes */
     double cx = 0.5 * (lo[0] + hi[0]), cy = 0.5 * (lo[1] + hi[1]);
