@@ -69,7 +69,7 @@ static int plot_orbits(const mote_table *t, const char *in, const char *png, mot
         return mote_fail(err, MOTE_ENOMEM, "plot: out of memory");
     }
     double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
-    char labels[8][16];
+    char labels[8][24];
     for (int b = 0; b < nbod; b++) {
         for (size_t r = 0; r < t->rows; r++) {
             double x[3] = {mote_table_at(t, r, 3 + 3 * b), mote_table_at(t, r, 4 + 3 * b),
