@@ -146,6 +146,13 @@ awk '$1 == "merging" { exit !($4 == 1) }' ap.state && ok || bad "the warning cou
 printf '%b' "${G}merge on\n${HB}integrate steps=40\n" > ap2.mote
 "$MOTE" run ap2.mote > out.txt 2> err.txt && ! grep -q 'warning' out.txt && grep -q 'merges=1$' out.txt && ok || bad "approach control: $(cat out.txt err.txt)"
 expect 1 "b17.mote:2:13: error: merge: bt must be in (0, 1]" b17.mote "${G}merge on bt=0\n"
+awk '$1 == "merging" { $8 = 0 } { print }' ap.state > apbad.state
+expect 2 "s8.mote:2:1: error: apbad.state:9: merging: need 0 < bt <= 1" s8.mote "${G}load apbad.state\n"
+expect 1 "s9.mote:2:1: error: solar_system: merge_inner needs the Sun" s9.mote "${G}generate solar_system data=km.dat bodies=Earth,Jupiter merge_inner=on\n"
+: > empty.dat
+expect 1 "s10.mote:2:1: error: empty.dat: empty file" s10.mote "${G}generate solar_system data=empty.dat\n"
+sed 's/^Moon /Earth /' km.dat > dup.dat
+expect 1 "s11.mote:2:1: error: dup.dat:6: Earth is also on line 5" s11.mote "${G}generate solar_system data=dup.dat\n"
 # runtime: at the line, with the monitor's earlier file kept
 expect 2 "r1.mote:4:1: error: a Coulomb run needs charged bodies" r1.mote "${C}body mass=1 x=1\nbody mass=1\nintegrate steps=5\n"
 expect 2 "r2.mote:5:1: error: bodies 1 and 2 are at the same point" r2.mote "${G}body mass=1\nbody mass=1\nmonitor 1 m.mon\nintegrate steps=5\n"

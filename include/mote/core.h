@@ -97,6 +97,25 @@ void mote_afile_abort(mote_afile *af);
 /* Does the directory that would hold `path` exist? (used by script validation) */
 int mote_dir_of_exists(const char *path);
 
+/* ---- text input, line by line -------------------------------------------------------------- */
+
+/* A text file read one line at a time, any length, with the line number for messages. */
+typedef struct {
+    FILE *f;
+    const char *path; /* as given to mote_lines_open (not copied) */
+    long line;        /* number of the line last returned, from 1 */
+    char *buf;
+    size_t cap;
+} mote_lines;
+
+/* Open path for reading; fails with "PATH: cannot open: REASON". */
+int mote_lines_open(mote_lines *r, const char *path, mote_err *err);
+/* The next line without its LF or CRLF, or NULL at the end of the file (or on a read error, which
+ * mote_lines_close reports). A line holding a NUL byte comes back empty: not a text file. */
+char *mote_lines_next(mote_lines *r);
+/* Close; MOTE_EIO with "PATH: read error" if reading failed, else MOTE_OK. */
+int mote_lines_close(mote_lines *r, mote_err *err);
+
 /* ---- small helpers -------------------------------------------------------------------------- */
 
 /* Wall-clock seconds from a monotonic clock (for progress and rates only; never for results). */

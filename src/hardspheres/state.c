@@ -81,25 +81,10 @@ static int spatial_order(mote_ev *ev, mote_err *err)
 
 /* ---- a strict line reader ------------------------------------------------------------------------ */
 
-typedef struct {
-    FILE *f;
-    const char *path;
-    long line;
-    char *buf;
-    size_t cap;
-} reader;
+typedef mote_lines reader;
 
-/* Next line without its LF/CRLF; returns 0 at end of file. */
-static int next_line(reader *r)
-{
-    ssize_t n = getline(&r->buf, &r->cap, r->f);
-    if (n < 0)
-        return 0;
-    r->line++;
-    while (n > 0 && (r->buf[n - 1] == '\n' || r->buf[n - 1] == '\r'))
-        r->buf[--n] = '\0';
-    return 1;
-}
+/* Next line without its LF/CRLF (in r->buf); returns 0 at end of file. */
+static int next_line(reader *r) { return mote_lines_next(r) != NULL; }
 
 /* Split the current line into at most `max` whitespace-separated tokens; returns the count (a
  * count above max means too many). */
@@ -666,20 +651,10 @@ static int load_original(mote_hs *hs, reader *r, mote_err *err)
 
 static int open_reader(reader *r, const char *path, mote_err *err)
 {
-    memset(r, 0, sizeof *r);
-    r->path = path;
-    r->f = fopen(path, "r");
-    if (!r->f)
-        return mote_fail(err, MOTE_EIO, "cannot read '%s': %s", path, strerror(errno));
-    return MOTE_OK;
+    return mote_lines_open(r, path, err);
 }
 
-static void close_reader(reader *r)
-{
-    if (r->f)
-        fclose(r->f);
-    free(r->buf);
-}
+static void close_reader(reader *r) { mote_lines_close(r, NULL); }
 
 static int is_single_integer(char *line)
 {

@@ -104,19 +104,6 @@ static void pass2(mote_nb *nb)
     }
 }
 
-/* y += d with the compensation term *cs (Kahan: the rounding error of one addition is carried
- * into the next). */
-static inline void kahan_add(double *y, double *cs, double d, int on)
-{
-    if (!on) {
-        *y += d;
-        return;
-    }
-    double t = d - *cs, s = *y + t;
-    *cs = (s - *y) - t;
-    *y = s;
-}
-
 /* Does a pair approach contact within h (spec 4.7)? |r| - |v| h - |a| h^2 / 2 < Ra_i + Ra_k,
  * with the relative position, velocity and acceleration. */
 static int approaching(const mote_nb *nb, double h)
@@ -247,9 +234,5 @@ double nb_galactica_step(mote_nb *nb, double rest)
 
 int mote_nb_galactica(mote_nb *nb, uint64_t steps, mote_err *err)
 {
-    int was = nb->integrator;
-    nb->integrator = MOTE_NB_GALACTICA;
-    int rc = mote_nb_integrate(nb, steps, INFINITY, err);
-    nb->integrator = was;
-    return rc;
+    return nb_run_as(nb, MOTE_NB_GALACTICA, steps, err);
 }

@@ -45,3 +45,12 @@ int nb_merging_on(const mote_nb *nb)
             return 1;
     return 0;
 }
+
+int nb_run_as(mote_nb *nb, int integrator, uint64_t steps, mote_err *err)
+{
+    int was = nb->integrator;
+    nb->integrator = integrator;
+    int rc = mote_nb_integrate(nb, steps, INFINITY, err);
+    nb->integrator = was;
+    return rc;
+}

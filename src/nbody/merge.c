@@ -127,7 +127,7 @@ int mote_nb_merge(mote_nb *nb, mote_err *err)
             double ovl = 1 - t[q].ratio;
             if (ovl > nb->max_overlap)
                 nb->max_overlap = ovl;
-            if (ovl > 0.1 && nb->bt < 1 && nb->hlast <= nb->bt_hmin * nb->dt)
+            if (ovl > 0.1 && nb->happ > 0 && nb->happ <= nb->bt_hmin * nb->dt)
                 nb->approach_warnings++; /* spec 4.7: merge accuracy not ensured */
             used[t[q].i] = used[t[q].k] = 1;
             merge_pair(nb, t[q].i, t[q].k);

@@ -20,6 +20,22 @@ double nb_galactica_step(mote_nb *nb, double rest);
 int nb_taylor_check(mote_nb *nb, mote_err *err);
 double nb_taylor_step(mote_nb *nb, double rest);
 
+/* y += d with the compensation term *cs (Kahan: the rounding error of one addition is carried
+ * into the next; cs = y - the true sum). `on` = 0: a plain addition. */
+static inline void kahan_add(double *y, double *cs, double d, int on)
+{
+    if (!on) {
+        *y += d;
+        return;
+    }
+    double t = d - *cs, s = *y + t;
+    *cs = (s - *y) - t;
+    *y = s;
+}
+
+/* Run nb's integrator as `integrator` for at most `steps` steps (integrate.c). */
+int nb_run_as(mote_nb *nb, int integrator, uint64_t steps, mote_err *err);
+
 /* Is merging on for this system (the default: when any active body has a radius)? */
 int nb_merging_on(const mote_nb *nb);
 

@@ -44,22 +44,15 @@ void mote_nb_solar_free(mote_nb_solar *s)
 int mote_nb_solar_read(const char *path, mote_nb_solar *s, mote_err *err)
 {
     memset(s, 0, sizeof *s);
-    FILE *f = fopen(path, "r");
-    if (!f)
-        return mote_fail(err, MOTE_EIO, "%s: cannot open: %s", path, strerror(errno));
-    char line[1024];
-    long ln = 0;
-    int rc = MOTE_OK, have_units = 0, mass_form = 0, cap = 0;
+    mote_lines in;
+    int rc = mote_lines_open(&in, path, err);
+    if (rc)
+        return rc;
+    char *line;
+    int have_units = 0, mass_form = 0, cap = 0;
     double L = 0, T = 0, G = 0; /* length (m) and time (s) of the file, G for the mass form */
-    while (!rc && fgets(line, sizeof line, f)) {
-        ln++;
-        size_t len = strlen(line);
-        if (len == sizeof line - 1 && line[len - 1] != '\n') {
-            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: line longer than %d characters", path, ln,
-                           (int)sizeof line - 2);
-            break;
-        }
-        line[strcspn(line, "\r\n")] = 0;
+    while (!rc && (line = mote_lines_next(&in)) != NULL) {
+        const long ln = in.line;
         if (ln == 1) {
             if (strcmp(line, SOLAR_FORMAT) != 0)
                 rc = mote_fail(err, MOTE_EFORMAT, "%s:1: expected '%s', found '%.60s'", path,
@@ -149,13 +142,13 @@ int mote_nb_solar_read(const char *path, mote_nb_solar *s, mote_err *err)
         b->ra = v[7] * 1e3;
         s->n++;
     }
-    if (!rc && ferror(f))
-        rc = mote_fail(err, MOTE_EIO, "%s: read error", path);
-    if (!rc && ln == 0)
+    const long lines = in.line;
+    int crc = mote_lines_close(&in, rc ? NULL : err);
+    rc = rc ? rc : crc;
+    if (!rc && lines == 0)
         rc = mote_fail(err, MOTE_EFORMAT, "%s: empty file (expected '%s')", path, SOLAR_FORMAT);
     if (!rc && s->n == 0)
         rc = mote_fail(err, MOTE_EFORMAT, "%s: no bodies", path);
-    fclose(f);
     if (rc)
         mote_nb_solar_free(s);
     return rc;

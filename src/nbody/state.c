@@ -83,32 +83,15 @@ int nb_state_save(const mote_nb *nb, const char *path, mote_err *err)
 /* ---- reading ------------------------------------------------------------------------------------ */
 
 typedef struct {
-    FILE *f;
-    const char *path;
-    long line;
-    char *buf;
-    size_t cap;
+    mote_lines l;
     mote_err *err;
 } reader;
 
-/* The next line (without its newline), or NULL at the end. */
-static char *next_line(reader *r)
-{
-    ssize_t len = getline(&r->buf, &r->cap, r->f);
-    if (len < 0)
-        return NULL;
-    r->line++;
-    if ((size_t)len != strlen(r->buf)) {
-        r->buf[0] = '\0'; /* a NUL byte: not a text file */
-        return r->buf;
-    }
-    r->buf[strcspn(r->buf, "\r\n")] = '\0';
-    return r->buf;
-}
+static char *next_line(reader *r) { return mote_lines_next(&r->l); }
 
 static int fail(reader *r, const char *what, const char *found)
 {
-    return mote_fail(r->err, MOTE_EFORMAT, "%s:%ld: expected %s (found '%.60s')", r->path, r->line,
+    return mote_fail(r->err, MOTE_EFORMAT, "%s:%ld: expected %s (found '%.60s')", r->l.path, r->l.line,
                      what, found ? found : "end of file");
 }
 
@@ -128,14 +111,14 @@ static int reals(reader *r, char *s, const char *key, double *out, int n)
         out[i] = strtod(p, &end);
         if (end == p || !isfinite(out[i]) || (*end && *end != ' '))
             return mote_fail(r->err, MOTE_EFORMAT, "%s:%ld: value %d is not a finite real number",
-                             r->path, r->line, i + 1);
+                             r->l.path, r->l.line, i + 1);
         p = end;
     }
     while (*p == ' ')
         p++;
     if (*p)
         return mote_fail(r->err, MOTE_EFORMAT, "%s:%ld: unexpected text after %d numbers ('%.40s')",
-                         r->path, r->line, n, p);
+                         r->l.path, r->l.line, n, p);
     return MOTE_OK;
 }
 
@@ -148,7 +131,7 @@ static int read_head(reader *r, mote_nb_interaction *kind, uint32_t *n)
         return fail(r, "'mote-state 1'", s);
     if (v != NB_STATE_VERSION)
         return mote_fail(r->err, MOTE_EFORMAT, "%s:%ld: unsupported state file version %d (this "
-                                               "mote reads %d)", r->path, r->line, v,
+                                               "mote reads %d)", r->l.path, r->l.line, v,
                          NB_STATE_VERSION);
     s = next_line(r);
     if (!s || strcmp(s, "model nbody") != 0)
@@ -171,28 +154,27 @@ static int read_head(reader *r, mote_nb_interaction *kind, uint32_t *n)
 
 int nb_state_peek(const char *path, uint32_t *n, mote_err *err)
 {
-    FILE *f = fopen(path, "r");
-    if (!f)
-        return mote_fail(err, MOTE_EIO, "cannot read '%s': %s", path, strerror(errno));
-    reader r = {f, path, 0, NULL, 0, err};
+    reader r = {.err = err};
+    int rc = mote_lines_open(&r.l, path, err);
+    if (rc)
+        return rc;
     mote_nb_interaction kind;
-    int rc = read_head(&r, &kind, n);
-    free(r.buf);
-    fclose(f);
+    rc = read_head(&r, &kind, n);
+    mote_lines_close(&r.l, NULL);
     return rc;
 }
 
 int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
 {
-    FILE *f = fopen(path, "r");
-    if (!f)
-        return mote_fail(err, MOTE_EIO, "cannot read '%s': %s", path, strerror(errno));
-    reader r = {f, path, 0, NULL, 0, err};
+    reader r = {.err = err};
+    int rc = mote_lines_open(&r.l, path, err);
+    if (rc)
+        return rc;
     mote_nb_interaction kind;
     uint32_t n = 0;
     mote_nb t;
     mote_nb_init(&t, MOTE_NB_GRAVITY);
-    int rc = read_head(&r, &kind, &n);
+    rc = read_head(&r, &kind, &n);
     if (!rc && kind != nb->kind)
         rc = mote_fail(err, MOTE_EINVAL, "%s:3: the state is a %s run, this script is a %s run",
                        path, kind == MOTE_NB_GRAVITY ? "gravity" : "Coulomb",
@@ -215,7 +197,7 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
         t.hlast = v[3];
         if (!rc && (!(t.dt > 0) || !(t.dtp >= 0) || !(t.first_step > 0 && t.first_step <= 1)))
             rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: need dt > 0, dtp >= 0, 0 < first_step <= 1",
-                           path, r.line);
+                           path, r.l.line);
     }
     if (!rc) {
         s = next_line(&r);
@@ -263,7 +245,7 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
         if (!rc && (!(v[3] > 0 && v[3] <= 1) || !(v[4] > 0 && v[4] <= 1) || !(v[5] >= 0) ||
                     !(v[6] >= 0 && v[6] <= 1)))
             rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: merging: need 0 < bt <= 1, 0 < hmin <= 1, "
-                           "happ >= 0, 0 <= max_overlap <= 1", path, r.line);
+                           "happ >= 0, 0 <= max_overlap <= 1", path, r.l.line);
         t.merging = mode;
         t.merges = merges;
         t.approach_warnings = warns;
@@ -311,7 +293,7 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
         s = next_line(&r);
         if (!s || strcmp(s, "end") == 0) {
             rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: file ends early: n = %u, but only %u body "
-                                              "lines follow", path, s ? r.line : r.line + 1, n, i);
+                                              "lines follow", path, s ? r.l.line : r.l.line + 1, n, i);
             break;
         }
         double w[23];
@@ -334,7 +316,7 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
             rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: body %u: expected 23 numbers (m q active "
                                               "radius x y z vx vy vz cx cy cz cvx cvy cvz sx sy "
                                               "sz d5x d5y d5z Et), all finite",
-                           path, r.line, i + 1);
+                           path, r.l.line, i + 1);
             break;
         }
         /* a merged-away body has mass 0: added with mass 1, then set (it stays inactive) */
@@ -347,7 +329,7 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
         if (rc) {
             char why[sizeof err->msg];
             snprintf(why, sizeof why, "%s", err->msg);
-            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: %s", path, r.line, why);
+            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: %s", path, r.l.line, why);
             break;
         }
         t.active[i] = (uint8_t)act;
@@ -365,8 +347,8 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
         else if ((s = next_line(&r)) != NULL)
             rc = fail(&r, "nothing after 'end'", s);
     }
-    free(r.buf);
-    fclose(f);
+    int crc = mote_lines_close(&r.l, err);
+    rc = rc ? rc : crc;
     if (rc) {
         mote_nb_free(&t);
         return rc;

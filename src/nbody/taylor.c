@@ -140,17 +140,6 @@ int mote_nb_taylor_coefficients(mote_nb *nb, int p, int store, double *X)
     return MOTE_OK;
 }
 
-static inline void kahan_add(double *y, double *cs, double d, int on)
-{
-    if (!on) {
-        *y += d;
-        return;
-    }
-    double t = d - *cs, s = *y + t;
-    *cs = (s - *y) - t;
-    *y = s;
-}
-
 /* y += d with the compensation term of kahan_add (cs = y - the true sum), the sum formed in
  * long double: the increment's rounding and the Horner sums' roundings are 2^-11 of a double's,
  * which keeps the energy drift of long runs at the level of the force's rounding. */
@@ -304,11 +293,7 @@ double nb_taylor_step(mote_nb *nb, double rest)
 
 int mote_nb_taylor(mote_nb *nb, uint64_t steps, mote_err *err)
 {
-    int was = nb->integrator;
-    nb->integrator = MOTE_NB_TAYLOR;
-    int rc = mote_nb_integrate(nb, steps, INFINITY, err);
-    nb->integrator = was;
-    return rc;
+    return nb_run_as(nb, MOTE_NB_TAYLOR, steps, err);
 }
 
 int mote_nb_taylor_auto_order(double tol)
