@@ -13,20 +13,20 @@ G='model nbody gravity\n'
 C='model nbody coulomb\n'
 
 # the ring over one period
-printf '%bgenerate ring nb=30\nintegrator galactica dt=1e-6\nmonitor 1000 ring.mon\nintegrate steps=10000\ncheck ring\n' "$G" > ring.mote
+printf '%bgenerate ring nb=30\nintegrator galactica dt=1e-6\nmonitor every=1000 file=ring.mon\nintegrate steps=10000\ncheck ring\n' "$G" > ring.mote
 "$MOTE" run ring.mote > out.txt 2> err.txt && ok || bad "ring.mote failed: $(cat err.txt)"
 line=$(grep '^check ring:' out.txt)
 err=$(echo "$line" | sed -n 's/.*error \([^,]*\),.*/\1/p')
 awk -v e="$err" 'BEGIN { exit !(e + 0 <= 1e-12 && e != "") }' && ok || bad "check ring error '$err' ($line)"
 grep -q 'T = 0.0099990009999999987 ' out.txt && ok || bad "T after 10000 steps: $line"
 grep -q '^# mote nbody-monitor 1$' ring.mon && ok || bad "monitor format line"
-grep -q '^# columns: step T h E_kin U E_tot dE Px Py Pz Lx Ly Lz Sx Sy Sz dMz Xcm Ycm Zcm E_corr E_heat E_spin merges N_active$' ring.mon && ok || bad "monitor columns"
+grep -q '^# columns: step T h dT N_active E_kin U E_tot dE Px Py Pz Lx Ly Lz Sx Sy Sz dMz dL Xcm Ycm Zcm Vxcm Vycm Vzcm m_max v_max E_kin_max T_E_kin_max E_heat E_spin merges cpu_s wall_s E_corr$' ring.mon && ok || bad "monitor columns"
 rows=$(grep -vc '^#' ring.mon)
 [ "$rows" -eq 11 ] && ok || bad "monitor rows: $rows, expected 11 (step 0 and every 1000)"
-awk '!/^#/ { if ($7 > 1e-13 || $7 < -1e-13) bad = 1 } END { exit bad }' ring.mon && ok || bad "monitor dE above 1e-13"
+awk '!/^#/ { if ($9 > 1e-13 || $9 < -1e-13) bad = 1 } END { exit bad }' ring.mon && ok || bad "monitor dE above 1e-13"
 
 # the orbits and drifts as pictures (the common plot)
-printf '%bgenerate ring\ntrajectory 20 ring.traj\nmonitor 500 ring.mon\nintegrate steps=10000\nplot ring.traj orbits.png\nplot ring.mon drift.png\n' "$G" > plots.mote
+printf '%bgenerate ring\ntrajectory every=20 file=ring.traj\nmonitor every=500 file=ring.mon\nintegrate steps=10000\nplot ring.traj orbits.png\nplot ring.mon drift.png\n' "$G" > plots.mote
 "$MOTE" run plots.mote > out.txt 2> err.txt && ok || bad "plots.mote failed: $(cat err.txt)"
 png_size() { od -An -tu1 -j16 -N8 "$1" | awk '{ printf "%d %d", $1*16777216+$2*65536+$3*256+$4, $5*16777216+$6*65536+$7*256+$8 }'; }
 [ "$(od -An -c -N4 orbits.png | tr -d ' ')" = "211PNG" ] && ok || bad "orbits.png is not a PNG"
@@ -38,7 +38,7 @@ grep -q '^# columns: T E_kin E_tot x1 y1 z1 x2 y2 z2 ' ring.traj && ok || bad "t
 printf '# mote image 1\n1 2 3\n' > other.dat
 expect 2 "p1.mote:2:1: error: plot: 'other.dat' is not an N-body data file" p1.mote "${G}plot other.dat x.png\n"
 [ ! -e x.png ] && ok || bad "a failed plot left x.png"
-expect 1 "p2.mote:2:1: error: trajectory: there are no bodies yet" p2.mote "${G}trajectory 1 t.dat\n"
+expect 1 "p2.mote:2:1: error: trajectory: there are no bodies yet" p2.mote "${G}trajectory every=1 file=t.dat\n"
 
 # save and load: A; B, A; save; load; B and a new script from the file give the same state
 printf '%bgenerate ring\nintegrate steps=300\nintegrate steps=300\nsave c1.state\n' "$G" > s1.mote
@@ -72,7 +72,7 @@ printf '%bgenerate ring\nintegrator taylor order=12 dt=1e-4 memory=store\nintegr
 grep -v '^taylor ' k1.state > k1s; grep -v '^taylor ' k2.state > k2s
 cmp -s k1s k2s && ok || bad "Taylor: recompute straight through and store with save/load in the middle differ"
 # adaptive steps to an exact end time: one period in at most 50 steps, T exactly the period
-printf '%bgenerate ring\nintegrator taylor order=auto tol=1e-16\nmonitor 1000 a.mon\nintegrate to=0.0099957882967408613\ncheck ring\nintegrate for=0.001\n' "$G" > ad.mote
+printf '%bgenerate ring\nintegrator taylor order=auto tol=1e-16\nmonitor every=1000 file=a.mon\nintegrate to=0.0099957882967408613\ncheck ring\nintegrate for=0.001\n' "$G" > ad.mote
 "$MOTE" run ad.mote > out.txt 2> err.txt && ok || bad "ad.mote failed: $(cat err.txt)"
 grep -q '^check ring: T = 0.0099957882967408613 (1 periods): error [0-9.]*e-1[4-5],' out.txt && ok || bad "adaptive period: $(grep '^check ring' out.txt)"
 steps=$(grep '^check ring' -B1 out.txt | sed -n 's/.*steps=\([0-9]*\) .*/\1/p' | head -1)
@@ -112,10 +112,10 @@ expect 1 "b14.mote:3:1: error: generate: the system already has bodies" b14.mote
 expect 1 "b15.mote:2:18: error: generate: nb must be >= 2, found 1" b15.mote "${G}generate ring nb=1\n"
 # merging (spec 5): two bodies fall together and merge; the state keeps the count; 'merge off'
 B2='body mass=0.6 x=-0.5 vy=-0.04 radius=0.05\nbody mass=0.4 x=0.5 vy=0.06 radius=0.04\nintegrator taylor tol=1e-16\n'
-printf '%b' "${G}${B2}monitor 1 mg.mon\nintegrate to=2\nsave mg.state\n" > mg.mote
+printf '%b' "${G}${B2}monitor every=1 file=mg.mon\nintegrate to=2\nsave mg.state\n" > mg.mote
 "$MOTE" run mg.mote > out.txt 2> err.txt && ok || bad "mg.mote failed: $(cat err.txt)"
 grep -q 'T=2 .* merges=1$' out.txt && ok || bad "merging run: $(tail -1 out.txt)"
-tail -1 mg.mon | awk '{ exit !($24 == 1 && $25 == 1 && $22 > 0 && $23 > 0) }' && ok || bad "monitor after the merge: $(tail -1 mg.mon)"
+tail -1 mg.mon | awk '{ exit !($33 == 1 && $5 == 1 && $31 > 0 && $32 > 0) }' && ok || bad "monitor after the merge: $(tail -1 mg.mon)"
 grep -q '^merging -1 1 ' mg.state && ok || bad "state file merging line: $(grep merging mg.state)"
 printf '%b' "${G}load mg.state\nintegrate steps=2\n" > mgl.mote
 "$MOTE" run mgl.mote > out.txt 2> err.txt && grep -q 'merges=1$' out.txt && ok || bad "continuing a merged run: $(cat out.txt err.txt)"
@@ -155,8 +155,99 @@ sed 's/^Moon /Earth /' km.dat > dup.dat
 expect 1 "s11.mote:2:1: error: dup.dat:6: Earth is also on line 5" s11.mote "${G}generate solar_system data=dup.dat\n"
 # runtime: at the line, with the monitor's earlier file kept
 expect 2 "r1.mote:4:1: error: a Coulomb run needs charged bodies" r1.mote "${C}body mass=1 x=1\nbody mass=1\nintegrate steps=5\n"
-expect 2 "r2.mote:5:1: error: bodies 1 and 2 are at the same point" r2.mote "${G}body mass=1\nbody mass=1\nmonitor 1 m.mon\nintegrate steps=5\n"
+expect 2 "r2.mote:5:1: error: bodies 1 and 2 are at the same point" r2.mote "${G}body mass=1\nbody mass=1\nmonitor every=1 file=m.mon\nintegrate steps=5\n"
 grep -vc '^#' m.mon | grep -qx 1 && ok || bad "the monitor file written before the failure lost its sample"
 expect 2 "r3.mote:2:1: error: ring: neighbours are only" r3.mote "${G}generate ring ka=0.001\n"
 
+
+# ---- units and constants (spec 3.5, 3.6, 8; T24) ----
+# `units solar` with dimensionless input: the Solar-System mass, the sidereal century, Am of T24
+printf '%bunits solar input=dimensionless\nbody mass=0.999\nbody mass=0.001 x=1 vy=1\nintegrate for=1 unit=year\n' "$G" > u1.mote
+"$MOTE" run u1.mote > u1.out 2>&1 && ok || bad "units solar: $(cat u1.out)"
+awk '/^units: M/ { am = $6; r = (am - 1.097960770309582e13) / 1.097960770309582e13; exit !(r < 2e-15 && r > -2e-15) }' u1.out && ok || bad "units solar: Am not 1.097960770309582e13 m: $(grep '^units' u1.out)"
+# one Julian year in sidereal centuries: 365.25 / 36525.636042
+tail -1 u1.out | awk '{ sub("T=", "", $3); r = ($3 - 365.25 / 36525.636042) / $3; exit !(r < 1e-15 && r > -1e-15) }' && ok || bad "integrate for=1 unit=year: $(tail -1 u1.out)"
+# SI input with mass=auto: the total is the mass unit, the scales are fixed by the first command after the bodies
+printf '%bunits time=86400\nbody mass=3e30 x=-1e11\nbody mass=1e30 x=3e11 vy=1e4 radius=7e8\nsave u2.state\n' "$G" > u2.mote
+"$MOTE" run u2.mote > u2.out 2>&1 && ok || bad "units SI: $(cat u2.out)"
+grep -Eq '^units: mass unit 4\.0*1?e\+30 kg \(the total of 2 bodies\)' u2.out && ok || bad "units mass=auto: $(grep '^units' u2.out)"
+# masses 3/4 and 1/4; x = x_m / Am, v = v_m kv, radius / Am with the printed scales
+am=$(awk '/^units: mass unit/ { print $12 }' u2.out); kv=$(awk '/^units: mass unit/ { print $15 }' u2.out)
+awk -v am="$am" -v kv="$kv" 'f == 1 && n == 0 { m1 = $1; x1 = $5; n++; next }
+     f == 1 && n == 1 { ok = ($1 - 0.25 < 1e-16 && $1 - 0.25 > -1e-16 && m1 - 0.75 < 2e-16 && m1 - 0.75 > -2e-16 && (x1 * am + 1e11) < 1e-4 && (x1 * am + 1e11) > -1e-4 &&
+                        ($5 * am - 3e11) < 1e-4 && ($5 * am - 3e11) > -1e-4 && ($9 / kv - 1e4) < 1e-11 && ($9 / kv - 1e4) > -1e-11 &&
+                        ($4 * am - 7e8) < 1e-6 && ($4 * am - 7e8) > -1e-6); exit !ok }
+     /^bodies:/ { f = 1 }' u2.state && ok || bad "units SI: the bodies are not converted with the printed scales (Am $am, kv $kv)"
+# length= gives Am itself, and kt = 1/(Am kv)
+printf '%bunits mass=2e30 length=1.5e11\nbody mass=2e30\nbody mass=1e24 x=1.5e11 vy=3e4\nintegrate for=1 unit=day\n' "$G" > u3.mote
+"$MOTE" run u3.mote > u3.out 2>&1 && ok || bad "units length: $(cat u3.out)"
+grep -q '^units: M 2e+30 kg, Am 150000000000 m' u3.out && ok || bad "units length=: $(grep '^units' u3.out)"
+# constant G= changes the scales (kv ~ 1/sqrt(G))
+printf '%bconstant G=6.6743e-11\nunits mass=2e30 length=1.5e11\n' "$G" > u4.mote
+"$MOTE" run u4.mote > u4.out 2>&1 && ok || bad "constant: $(cat u4.out)"
+awk -v a="$(awk '/^units: M/ { print $9 }' u3.out)" '/^units: M/ { r = $9 / a - sqrt(6.67259 / 6.6743); exit !(r < 1e-15 && r > -1e-15) }' u4.out && ok || bad "constant G=: kv $(grep '^units' u4.out)"
+expect 1 "e1.mote:3:1: error: units: comes before the bodies" e1.mote "${G}body mass=1\nunits solar\n"
+expect 1 "e2.mote:2:7: error: units atomic: is for Coulomb runs" e2.mote "${G}units atomic\n"
+expect 1 "e3.mote:2:1: error: units: mass=auto (the total of the bodies) needs input=si" e3.mote "${G}units time=1 input=dimensionless\n"
+expect 1 "e4.mote:2:7: error: units: expected solar, atomic or dimensionless first" e4.mote "${G}units metric\n"
+expect 1 "e5.mote:2:14: error: units: give length= or time=, not both" e5.mote "${G}units time=1 length=2\n"
+expect 1 "e6.mote:4:22: error: integrate: unit= needs physical scales" e6.mote "${G}body mass=1\nbody mass=1 x=1\nintegrate for=1 unit=year\n"
+expect 1 "e7.mote:3:22: error: integrate: unit must be s, day, year or century, found 'week'" e7.mote "${G}generate ring\nintegrate for=1 unit=week\n"
+expect 1 "e8.mote:3:1: error: constant: comes before units" e8.mote "${G}units solar\nconstant G=1\n"
+expect 1 "e9.mote:2:17: error: constant: e= and e2= set the same constant" e9.mote "${C}constant e=1 e2=1\n"
+
+# ---- monitor and trajectory: formats, the terminal, samples in time (spec 10.1, 4.5) ----
+printf '%bgenerate ring\nmonitor every=5000 file=m.csv format=csv\ntrajectory every=5000 file=t.csv format=csv\nintegrate steps=10000\n' "$G" > f1.mote
+printf '%bgenerate ring\nmonitor every=5000 file=m.jsonl format=jsonl\nintegrate steps=10000\n' "$G" > f1b.mote
+"$MOTE" run f1.mote > f1.out 2>&1 && "$MOTE" run f1b.mote >> f1.out 2>&1 && ok || bad "monitor formats: $(cat f1.out)"
+grep -v '^#' m.jsonl | wc -l | grep -qx 3 && ok || bad "jsonl: $(wc -l < m.jsonl) lines, expected 3 (steps 0, 5000, 10000)"
+grep -q '^#' m.jsonl && bad "jsonl: a comment line" || ok
+if command -v python3 >/dev/null 2>&1; then
+    python3 -c '
+import csv, json, sys
+rows = [json.loads(l) for l in open("m.jsonl")]
+assert [r["step"] for r in rows] == [0, 5000, 10000], rows
+assert all(abs(r["dE"]) < 1e-13 and r["N_active"] == 30 for r in rows)
+data = [l for l in open("m.csv") if not l.startswith("#")]
+c = list(csv.reader(data))
+assert len(c[0]) == 36 and c[0][0] == "step" and c[0][-1] == "E_corr", c[0]
+assert len(c) == 4 and all(len(r) == 36 for r in c)
+assert float(c[2][c[0].index("E_tot")]) == rows[1]["E_tot"]
+t = [l for l in open("t.csv") if not l.startswith("#")]
+assert len(t) == 4 and len(t[0].split(",")) == 93, t[0]
+' && ok || bad "csv/jsonl files do not parse as expected"
+fi
+# the terminal: a header and a line per sample
+printf '%bgenerate ring\nmonitor every=5000\nintegrate steps=10000\n' "$G" > f2.mote
+"$MOTE" run f2.mote > f2.out 2>&1 && ok || bad "monitor on the terminal: $(cat f2.out)"
+grep -cE '^ +(0|5000|10000) +[0-9.e+-]+ ' f2.out | grep -qx 3 && ok || bad "monitor on the terminal: $(cat f2.out)"
+grep -q '^ *step  *T  *h  *N_active  *E_tot  *dE  *dMz  *dL  *merges$' f2.out && ok || bad "monitor terminal header"
+# dense output: samples at exact times, inside adaptive Taylor steps that they do not change
+printf '%bgenerate ring\nintegrator taylor order=20 tol=1e-16\nmonitor dt=0.0005 file=d.mon\nintegrate to=0.0099957882967408613\nsave d1.state\n' "$G" > d1.mote
+printf '%bgenerate ring\nintegrator taylor order=20 tol=1e-16\nintegrate to=0.0099957882967408613\nsave d2.state\n' "$G" > d2.mote
+"$MOTE" run d1.mote > d1.out 2>&1 && "$MOTE" run d2.mote > d2.out 2>&1 && ok || bad "dense output runs: $(cat d1.out d2.out)"
+cmp -s d1.state d2.state && ok || bad "monitor dt= changed the adaptive steps"
+[ "$(grep -vc '^#' d.mon)" -eq 20 ] && ok || bad "dense output: $(grep -vc '^#' d.mon) samples, expected 20 (T = 0 ... 0.0095)"
+awk '!/^#/ { k = NR0++; if ($2 != k * 0.0005 && ($2 - k * 0.0005) * ($2 - k * 0.0005) > 1e-36) bad = 1; if ($9 > 1e-14 || $9 < -1e-14) bad = 1 } END { exit bad }' d.mon && ok || bad "dense output: sample times or energies off: $(grep -v '^#' d.mon | awk '{ print $2, $9 }' | tr '\n' ';')"
+# the Galactica scheme samples at the first step end at or after each time
+printf '%bgenerate ring\nmonitor dt=0.001 file=g.mon\nintegrate steps=5000\n' "$G" > d3.mote
+"$MOTE" run d3.mote > d3.out 2>&1 && ok || bad "monitor dt= galactica: $(cat d3.out)"
+awk '!/^#/ { k = NR0++; if ($2 < k * 0.001 || $2 > k * 0.001 + 1.1e-6) bad = 1 } END { exit bad || NR0 != 5 }' g.mon && ok || bad "monitor dt= galactica: $(grep -v '^#' g.mon | awk '{ print $1, $2 }' | tr '\n' ';')"
+expect 1 "s1.mote:3:1: error: monitor: give one of every=K (steps) and dt=T (time)" s1.mote "${G}generate ring\nmonitor every=1 dt=1\n"
+expect 1 "s2.mote:3:24: error: monitor: format= is for a file" s2.mote "${G}generate ring\nmonitor every=1 format=csv\n"
+expect 1 "s3.mote:3:33: error: monitor: format must be table, csv or jsonl" s3.mote "${G}generate ring\nmonitor every=1 file=m.x format=xml\n"
+
+# ---- checkpoint and restart (T16, native part): 2n steps = n + checkpoint + restart + n, bit for bit ----
+for integ in "integrator galactica dt=1e-6" "integrator taylor order=16 tol=1e-15"; do
+    printf '%bgenerate ring\n%s\nintegrate steps=20\nsave c0.state\n' "$G" "$integ" > k0.mote
+    printf '%bgenerate ring\n%s\ncheckpoint file=ck.state every=7\nintegrate steps=10\n' "$G" "$integ" > k1.mote
+    printf '%brestart file=ck.state\n%s\nintegrate steps=10\nsave c2.state\n' "$G" "$integ" > k2.mote
+    "$MOTE" run k0.mote > k.out 2>&1 && "$MOTE" run k1.mote >> k.out 2>&1 && ok || bad "checkpoint runs ($integ): $(cat k.out)"
+    awk '/^scheme / { exit !($NF == 10) }' ck.state && ok || bad "checkpoint: not written at the end of integrate"
+    "$MOTE" run k2.mote > k.out 2>&1 && ok || bad "restart ($integ): $(cat k.out)"
+    grep -q '^restart: 30 bodies at T = .* (step 10) from ' k.out && ok || bad "restart line: $(head -1 k.out)"
+    cmp -s c0.state c2.state && ok || bad "$integ: 20 steps differ from 10 + checkpoint + restart + 10"
+done
+expect 1 "k3.mote:2:14: error: restart: 'none.state' does not exist" k3.mote "${G}restart file=none.state\n"
+expect 1 "k4.mote:2:1: error: checkpoint: there are no bodies yet" k4.mote "${G}checkpoint file=c.state every=1\n"
 mote_test_end

@@ -50,6 +50,12 @@ typedef struct {
  * Am = 1 / (kt kv) exactly: gravity with G, Coulomb with e2 = e^2 (SI) and eps. */
 void mote_nb_units_from_time(mote_nb_units *u, mote_nb_interaction kind, double M, double kt,
                              double G, double e2, double eps);
+/* Scales with the length unit Am chosen: kv from eq. 6 and kt = 1 / (Am kv). */
+void mote_nb_units_from_length(mote_nb_units *u, mote_nb_interaction kind, double M, double Am,
+                               double G, double e2, double eps);
+/* Seconds in a named time unit: s, day, year (Julian, 365.25 d), century (the sidereal century
+ * of spec 3.5); 0 for another name. */
+double mote_nb_time_unit(const char *name);
 
 /* ---- the system ----------------------------------------------------------------------------- */
 
@@ -102,9 +108,13 @@ typedef struct {
     double *tg;             /* a pass's G^[n] of every unordered pair (6 reals each) */
     size_t tg_cap;
     mote_nb_units u;
+    /* the constants in use (spec 3.6; the `constant` command replaces them): G (m^3 kg^-1 s^-2),
+     * e2 = e^2 in kg m^3 s^-2 (with the 1e-9 of spec 3.2), the relative permittivity */
+    double G, e2, eps;
     /* monitor references (spec 3.7), from the state at the start of the run */
     int ref_set;
     double E0, Mza1, Lnorm1;
+    double L1[3];           /* L + S at the start (the reference of dL) */
 } mote_nb;
 
 void mote_nb_init(mote_nb *nb, mote_nb_interaction kind);
@@ -115,6 +125,10 @@ int mote_nb_add(mote_nb *nb, double m, double q, const double x[3], const double
 /* Fill the kernel coefficients from masses and charges; fails when a Coulomb run has no
  * charge or two active bodies share a point. Called by the integrator before a run. */
 int mote_nb_prepare(mote_nb *nb, mote_err *err);
+
+/* Convert every body from SI (kg, m, m/s; charges in elementary charges) to the dimensionless
+ * variables of u (spec 3.5, eq. 6). */
+void mote_nb_from_si(mote_nb *nb, const mote_nb_units *u);
 
 /* Shift to the barycentre (spec 3.4): the centre of mass position and velocity before the
  * shift go to xc and vc (may be NULL). */
@@ -138,6 +152,9 @@ int mote_nb_integrate(mote_nb *nb, uint64_t max_steps, double t_end, mote_err *e
 /* Merge every pair of active bodies closer than the sum of their radii (spec 5), repeating until
  * none touch; mote_nb_integrate calls it after every step when merging is on. */
 int mote_nb_merge(mote_nb *nb, mote_err *err);
+/* Dense output (spec 4.5): positions and velocities (3n each) at the time T_prev + s inside the
+ * Taylor step just taken from T_prev, from that step's coefficients. */
+void mote_nb_taylor_dense(const mote_nb *nb, double s, double *x, double *v);
 /* Take `steps` steps with the Taylor series of order taylor_order (fixed or adaptive). */
 int mote_nb_taylor(mote_nb *nb, uint64_t steps, mote_err *err);
 /* The normalized coefficients x^[0 .. p] of every body at the current state into X ((p + 1)
@@ -158,6 +175,7 @@ typedef struct {
     double ecorr;   /* E_tot - sum dE_merge (conserved through merges) */
     double dE;      /* (E_corr - E0) / |E0| */
     double dMz;     /* (Mz + Sz - Mza1) / Mza1 (or over the normalisation of spec 3.7) */
+    double dL;      /* |L + S - (L + S)_0| / |(L + S)_0| */
 } mote_nb_monitor;
 
 void mote_nb_measure(const mote_nb *nb, mote_nb_monitor *mon);

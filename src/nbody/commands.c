@@ -7,6 +7,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "nb.h"
@@ -19,6 +20,15 @@ typedef struct {
     /* what validation knows */
     uint32_t d_bodies;
     int d_ring;
+    int d_scales;       /* are physical scales known (units or a generator)? */
+    /* units (spec 3.5): body values in SI, and while `raw`, held in SI until the total mass is
+     * known (mass=auto): the scales then come from `req` */
+    int input_si, raw;
+    struct nb_units_req {
+        int preset;       /* UNITS_CUSTOM, UNITS_SOLAR, UNITS_ATOMIC, UNITS_NONE */
+        int mass_auto, input_si;
+        double mass, length, time; /* kg, m, s (length or time: the other is 0) */
+    } req;
     /* the ring generated last (the reference of `check ring`) */
     mote_nb_ring ring;
     int have_ring;
@@ -29,10 +39,23 @@ typedef struct {
         double *rows;       /* cols per sample */
         size_t nrows, cap, cols;
         double L0[3];       /* trajectory: L + S when it started (the invariable plane) */
+        int on, format;     /* format: FMT_TABLE, FMT_CSV, FMT_JSONL (path NULL: the terminal) */
+        double dt, t0;      /* by time: samples at t0 + k dt (dt 0: every `every` steps) */
+        uint64_t k;
+        double ekmax, t_ekmax; /* monitor: the largest kinetic energy of a body so far */
+        double cpu0, wall0;    /* monitor: clocks when it started */
     } mon, traj;
+    mote_err *err;      /* the running command's */
+    /* checkpoints: the exact state into `path` every `every` steps and at the end of integrate */
+    struct {
+        char *path;
+        uint64_t every;
+    } ckpt;
 } nb_model;
 
 typedef struct nb_sampler nb_sampler;
+typedef struct nb_units_req nb_units_req;
+enum { UNITS_CUSTOM, UNITS_SOLAR, UNITS_ATOMIC, UNITS_NONE };
 
 static mote_nb_interaction variant_kind(const mote_context *ctx)
 {
@@ -57,6 +80,7 @@ static void model_destroy(void *vm)
     if (!m)
         return;
     mote_nb_free(&m->nb);
+    free(m->ckpt.path);
     nb_sampler *smp[2] = {&m->mon, &m->traj};
     for (int k = 0; k < 2; k++) {
         free(smp[k]->path);
@@ -66,10 +90,44 @@ static void model_destroy(void *vm)
     free(m);
 }
 
+/* Scales from a request and the total mass M (kg). */
+static void units_make(const mote_nb *nb, const nb_units_req *q, double M, mote_nb_units *u)
+{
+    if (q->time > 0)
+        mote_nb_units_from_time(u, nb->kind, M, 1.0 / q->time, nb->G, nb->e2, nb->eps);
+    else
+        mote_nb_units_from_length(u, nb->kind, M, q->length, nb->G, nb->e2, nb->eps);
+}
+
+/* Bodies given in SI under mass=auto become dimensionless once a command needs the scales: the
+ * mass unit is their total (spec 8). */
+static void settle_units(nb_model *m)
+{
+    if (!m->raw || !m->nb.n)
+        return;
+    double M = 0;
+    for (uint32_t i = 0; i < m->nb.n; i++)
+        M += m->nb.m[i];
+    mote_nb_units u;
+    units_make(&m->nb, &m->req, M, &u);
+    mote_nb_from_si(&m->nb, &u);
+    m->raw = 0;
+    if (m->log)
+        fprintf(m->log,
+                "units: mass unit %.17g kg (the total of %u bodies), Am %.17g m, kv %.17g s/m, "
+                "kt %.17g 1/s\n",
+                u.M, m->nb.n, u.Am, u.kv, u.kt);
+}
+
 static void model_status(void *vm, FILE *out)
 {
     nb_model *m = vm;
     const mote_nb *nb = &m->nb;
+    if (m->raw) { /* SI values: the scales wait for the total mass */
+        fprintf(out, "N=%u interaction=%s (bodies in SI until the scales are fixed)\n", nb->n,
+                nb->kind == MOTE_NB_GRAVITY ? "gravity" : "coulomb");
+        return;
+    }
     mote_nb_monitor mon;
     mote_nb_measure(nb, &mon);
     fprintf(out,
@@ -105,8 +163,176 @@ static int run_body(void *vm, const mote_call *c, mote_err *err)
     double x[3] = {mote_call_opt_r(c, "x", 0), mote_call_opt_r(c, "y", 0), mote_call_opt_r(c, "z", 0)};
     double v[3] = {mote_call_opt_r(c, "vx", 0), mote_call_opt_r(c, "vy", 0),
                    mote_call_opt_r(c, "vz", 0)};
-    return mote_nb_add(&m->nb, mote_call_opt_r(c, "mass", 0), mote_call_opt_r(c, "charge", 0), x,
-                       v, mote_call_opt_r(c, "radius", 0), err);
+    double mass = mote_call_opt_r(c, "mass", 0), ra = mote_call_opt_r(c, "radius", 0);
+    if (m->input_si && !m->raw) { /* SI with the scales known: convert now (eq. 6) */
+        const mote_nb_units *u = &m->nb.u;
+        mass /= u->M;
+        ra /= u->Am;
+        for (int a = 0; a < 3; a++) {
+            x[a] /= u->Am;
+            v[a] *= u->kv;
+        }
+    }
+    return mote_nb_add(&m->nb, mass, mote_call_opt_r(c, "charge", 0), x, v, ra, err);
+}
+
+/* ---- units and constants ------------------------------------------------------------------------ */
+
+/* Read `units` tokens: a preset and/or KEY=VALUE (mass=KG|auto length=M time=S
+ * input=si|dimensionless). */
+static int units_parse(const nb_model *m, const mote_call *c, nb_units_req *q, mote_err *err)
+{
+    memset(q, 0, sizeof *q);
+    q->preset = UNITS_CUSTOM;
+    q->mass_auto = 1;
+    int input = -1, have_mass = 0;
+    for (int k = 0; k < c->nargs; k++) {
+        const char *t = c->args[k].text, *eq = strchr(t, '=');
+        if (!eq) {
+            static const char *const presets[] = {"", "solar", "atomic", "dimensionless"};
+            int p = 1;
+            while (p < 4 && strcmp(t, presets[p]) != 0)
+                p++;
+            if (p == 4 || k > 0)
+                return mote_call_fail(err, c, k, MOTE_EINVAL,
+                                      "units: expected solar, atomic or dimensionless first, or "
+                                      "KEY=VALUE (mass=, length=, time=, input=), found '%s'", t);
+            q->preset = p;
+            continue;
+        }
+        size_t kl = (size_t)(eq - t);
+        const char *val = eq + 1;
+        char *end;
+        double x = strtod(val, &end);
+        int num = end != val && !*end && isfinite(x) && x > 0;
+        if (kl == 5 && strncmp(t, "input", 5) == 0) {
+            if (strcmp(val, "si") != 0 && strcmp(val, "dimensionless") != 0)
+                return mote_call_fail(err, c, k, MOTE_EINVAL,
+                                      "units: input must be si or dimensionless, found '%s'", val);
+            input = val[0] == 's';
+        } else if (kl == 4 && strncmp(t, "mass", 4) == 0) {
+            if (strcmp(val, "auto") != 0 && !num)
+                return mote_call_fail(err, c, k, MOTE_EINVAL,
+                                      "units: mass must be a number > 0 (kg) or auto, found '%s'",
+                                      val);
+            q->mass_auto = !num;
+            q->mass = num ? x : 0;
+            have_mass = 1;
+        } else if ((kl == 6 && strncmp(t, "length", 6) == 0) ||
+                   (kl == 4 && strncmp(t, "time", 4) == 0)) {
+            if (!num)
+                return mote_call_fail(err, c, k, MOTE_EINVAL,
+                                      "units: %.*s must be a number > 0 (%s), found '%s'", (int)kl,
+                                      t, kl == 4 ? "s" : "m", val);
+            if (q->length > 0 || q->time > 0)
+                return mote_call_fail(err, c, k, MOTE_EINVAL,
+                                      "units: give length= or time=, not both (the other follows "
+                                      "from eq. 6)");
+            *(kl == 4 ? &q->time : &q->length) = x;
+        } else
+            return mote_call_fail(err, c, k, MOTE_EINVAL,
+                                  "units: no option '%.*s' (mass=, length=, time=, input=)",
+                                  (int)kl, t);
+    }
+    if (q->preset == UNITS_NONE) {
+        if (c->nargs > 1)
+            return mote_call_fail(err, c, 1, MOTE_EINVAL,
+                                  "units dimensionless: takes no options");
+        return MOTE_OK;
+    }
+    if (q->preset != UNITS_CUSTOM && (q->length > 0 || q->time > 0))
+        return mote_call_fail(err, c, 0, MOTE_EINVAL,
+                              "units %s: the preset fixes the time unit; leave out length= and "
+                              "time=", c->args[0].text);
+    if (q->preset == UNITS_SOLAR)
+        q->time = 100 * MOTE_NB_SIDEREAL_YEAR_DAYS * 86400;
+    if (q->preset == UNITS_ATOMIC) {
+        if (m->nb.kind != MOTE_NB_COULOMB)
+            return mote_call_fail(err, c, 0, MOTE_EINVAL,
+                                  "units atomic: is for Coulomb runs (model nbody coulomb)");
+        q->time = 1e-15;
+    }
+    if (!(q->length > 0 || q->time > 0))
+        return mote_call_fail(err, c, -1, MOTE_EINVAL,
+                              "units: give length=M or time=S (or a preset: solar, atomic)");
+    q->input_si = input != 0;
+    if (q->mass_auto && !q->input_si) {
+        if (q->preset == UNITS_SOLAR && !have_mass) { /* the Solar-System mass of spec 3.6 */
+            q->mass_auto = 0;
+            q->mass = MOTE_NB_SOLAR_SYSTEM_MASS;
+        } else
+            return mote_call_fail(err, c, -1, MOTE_EINVAL,
+                                  "units: mass=auto (the total of the bodies) needs input=si; "
+                                  "with dimensionless input give mass=KG");
+    }
+    return MOTE_OK;
+}
+
+static int check_units(void *vm, const mote_call *c, mote_err *err)
+{
+    nb_model *m = vm;
+    nb_units_req q;
+    int rc = units_parse(m, c, &q, err);
+    if (rc)
+        return rc;
+    if (m->d_bodies)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL,
+                              "units: comes before the bodies (they are read in its units)");
+    m->d_scales = q.preset != UNITS_NONE;
+    return MOTE_OK;
+}
+static int run_units(void *vm, const mote_call *c, mote_err *err)
+{
+    nb_model *m = vm;
+    int rc = units_parse(m, c, &m->req, err);
+    if (rc)
+        return rc;
+    m->raw = 0;
+    m->input_si = m->req.input_si;
+    if (m->req.preset == UNITS_NONE) {
+        memset(&m->nb.u, 0, sizeof m->nb.u);
+        return MOTE_OK;
+    }
+    if (m->req.mass_auto) { /* the scales wait for the bodies */
+        m->raw = 1;
+        if (m->log)
+            fprintf(m->log, "units: bodies in SI; the mass unit will be their total\n");
+        return MOTE_OK;
+    }
+    units_make(&m->nb, &m->req, m->req.mass, &m->nb.u);
+    const mote_nb_units *u = &m->nb.u;
+    if (m->log)
+        fprintf(m->log,
+                "units: M %.17g kg, Am %.17g m, kv %.17g s/m, kt %.17g 1/s; body values in %s\n",
+                u->M, u->Am, u->kv, u->kt, m->input_si ? "SI" : "dimensionless units");
+    return MOTE_OK;
+}
+
+static int check_constant(void *vm, const mote_call *c, mote_err *err)
+{
+    nb_model *m = vm;
+    if (!c->nopts)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL,
+                              "constant: give at least one of G=, e=, e2=, permittivity=");
+    if (mote_call_opt(c, "e") && mote_call_opt(c, "e2"))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "e2"), MOTE_EINVAL,
+                              "constant: e= and e2= set the same constant; give one");
+    if (m->d_bodies || m->d_scales)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL,
+                              "constant: comes before units, the generators and the bodies");
+    return MOTE_OK;
+}
+static int run_constant(void *vm, const mote_call *c, mote_err *err)
+{
+    (void)err;
+    mote_nb *nb = &((nb_model *)vm)->nb;
+    nb->G = mote_call_opt_r(c, "G", nb->G);
+    const mote_arg *e = mote_call_opt(c, "e");
+    if (e)
+        nb->e2 = 1e-9 * e->r * e->r; /* CGSE to kg m^3 s^-2 (spec 3.2) */
+    nb->e2 = mote_call_opt_r(c, "e2", nb->e2);
+    nb->eps = mote_call_opt_r(c, "permittivity", nb->eps);
+    return MOTE_OK;
 }
 
 static int check_frame(void *vm, const mote_call *c, mote_err *err)
@@ -120,6 +346,7 @@ static int run_frame(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
     double xc[3], vc[3];
+    settle_units(m);
     mote_nb_barycentric(&m->nb, xc, vc);
     if (m->log)
         fprintf(m->log,
@@ -182,6 +409,7 @@ static int check_solar(nb_model *m, const mote_call *c, mote_err *err)
         return rc;
     m->d_bodies = 2;
     m->d_ring = 0;
+    m->d_scales = 1;
     if (access(d->path, R_OK) != 0)
         return MOTE_OK; /* written by an earlier command: read when it runs */
     mote_nb_solar s;
@@ -257,11 +485,13 @@ static int check_generate(void *vm, const mote_call *c, mote_err *err)
     const mote_arg *nbo = mote_call_opt(c, "nb");
     m->d_bodies = nbo ? (uint32_t)nbo->i : ring ? 30 : 9;
     m->d_ring = 1;
+    m->d_scales = 1;
     return MOTE_OK;
 }
 static int run_generate(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
+    m->raw = 0; /* a generator sets its own scales */
     if (strcmp(c->args[0].text, "solar_system") == 0)
         return run_solar(m, c, err);
     mote_nb_ring *r = &m->ring;
@@ -415,9 +645,20 @@ static int run_compensated(void *vm, const mote_call *c, mote_err *err)
 
 /* ---- monitor and integrate ------------------------------------------------------------------- */
 
-enum { MON_COLS = 25 };
-static const char MON_NAMES[] = "step T h E_kin U E_tot dE Px Py Pz Lx Ly Lz Sx Sy Sz dMz Xcm Ycm "
-                                "Zcm E_corr E_heat E_spin merges N_active";
+/* The monitor's columns (spec 10.1; E_corr last). cpu_s and wall_s, the processor and wall
+ * seconds since the monitor started, are the only ones that differ between identical runs. */
+enum { MON_COLS = 36 };
+static const char *const MON_NAME[MON_COLS] = {
+    "step", "T",     "h",      "dT",     "N_active", "E_kin",  "U",      "E_tot",
+    "dE",   "Px",    "Py",     "Pz",     "Lx",       "Ly",     "Lz",     "Sx",
+    "Sy",   "Sz",    "dMz",    "dL",     "Xcm",      "Ycm",    "Zcm",    "Vxcm",
+    "Vycm", "Vzcm",  "m_max",  "v_max",  "E_kin_max", "T_E_kin_max", "E_heat", "E_spin",
+    "merges", "cpu_s", "wall_s", "E_corr"};
+/* integer columns; and the columns the monitor prints on the terminal */
+static int mon_integer(int c) { return c == 0 || c == 4 || c == 32; }
+static const int MON_TERM[] = {0, 1, 2, 4, 7, 8, 18, 19, 32};
+
+enum { FMT_TABLE, FMT_CSV, FMT_JSONL };
 
 /* Room for one more sample row; returns it or NULL (out of memory). */
 static double *sampler_row(nb_sampler *s)
@@ -433,103 +674,261 @@ static double *sampler_row(nb_sampler *s)
     return s->rows + s->nrows++ * s->cols;
 }
 
-static int monitor_sample(nb_model *m, mote_err *err)
+static double now_seconds(clockid_t id)
 {
-    double *r = sampler_row(&m->mon);
+    struct timespec ts;
+    return clock_gettime(id, &ts) == 0 ? (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec : 0;
+}
+
+static void print_terminal_row(FILE *f, const double *r)
+{
+    for (size_t k = 0; k < sizeof MON_TERM / sizeof MON_TERM[0]; k++) {
+        int c = MON_TERM[k];
+        if (mon_integer(c))
+            fprintf(f, k ? " %10.0f" : "%12.0f", r[c]);
+        else
+            fprintf(f, " %23.16e", r[c]);
+    }
+    fputc('\n', f);
+}
+
+/* A monitor row of the state nb (the current one, or a dense-output view). */
+static int monitor_sample(nb_model *m, const mote_nb *nb, mote_err *err)
+{
+    nb_sampler *s = &m->mon;
+    double *r = sampler_row(s);
     if (!r)
         return mote_fail(err, MOTE_ENOMEM, "monitor: out of memory");
-    const mote_nb *nb = &m->nb;
     mote_nb_monitor mon;
     mote_nb_measure(nb, &mon);
     uint32_t active = 0;
-    for (uint32_t i = 0; i < nb->n; i++)
-        active += nb->active[i];
-    double row[MON_COLS] = {(double)nb->steps, nb->T,       nb->hlast,   mon.ekin,
-                            mon.u,             mon.etot,    mon.dE,      mon.P[0],
-                            mon.P[1],          mon.P[2],    mon.L[0],    mon.L[1],
-                            mon.L[2],          mon.S[0],    mon.S[1],    mon.S[2],
-                            mon.dMz,           mon.R[0] / mon.mtot,      mon.R[1] / mon.mtot,
-                            mon.R[2] / mon.mtot, mon.ecorr, nb->e_heat,  nb->e_spin,
-                            (double)nb->merges, (double)active};
+    double mmax = 0, vmax = 0;
+    for (uint32_t i = 0; i < nb->n; i++) {
+        if (!nb->active[i])
+            continue;
+        active++;
+        const double *v = nb->v + 3 * (size_t)i;
+        double v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+        mmax = fmax(mmax, nb->m[i]);
+        vmax = fmax(vmax, sqrt(v2));
+        if (0.5 * nb->m[i] * v2 > s->ekmax) {
+            s->ekmax = 0.5 * nb->m[i] * v2;
+            s->t_ekmax = nb->T;
+        }
+    }
+    double row[MON_COLS] = {(double)nb->steps, nb->T, nb->hlast, nb->dt, (double)active,
+                            mon.ekin, mon.u, mon.etot, mon.dE, mon.P[0], mon.P[1], mon.P[2],
+                            mon.L[0], mon.L[1], mon.L[2], mon.S[0], mon.S[1], mon.S[2], mon.dMz,
+                            mon.dL, mon.R[0] / mon.mtot, mon.R[1] / mon.mtot,
+                            mon.R[2] / mon.mtot, mon.P[0] / mon.mtot, mon.P[1] / mon.mtot,
+                            mon.P[2] / mon.mtot, mmax, vmax, s->ekmax, s->t_ekmax, nb->e_heat,
+                            nb->e_spin, (double)nb->merges,
+                            now_seconds(CLOCK_PROCESS_CPUTIME_ID) - s->cpu0,
+                            now_seconds(CLOCK_MONOTONIC) - s->wall0, mon.ecorr};
     memcpy(r, row, sizeof row);
+    if (!s->path && m->log) { /* the terminal: one aligned line now */
+        print_terminal_row(m->log, r);
+        s->nrows = 0;
+    }
     return MOTE_OK;
 }
 
-static int trajectory_sample(nb_model *m, mote_err *err)
+static int trajectory_sample(nb_model *m, const mote_nb *nb, mote_err *err)
 {
     nb_sampler *s = &m->traj;
-    if (s->cols != 3 + 3 * (size_t)m->nb.n)
+    if (s->cols != 3 + 3 * (size_t)nb->n)
         return mote_fail(err, MOTE_EINVAL, "trajectory: the number of bodies changed (%u now)",
-                         m->nb.n);
+                         nb->n);
     double *r = sampler_row(s);
     if (!r)
         return mote_fail(err, MOTE_ENOMEM, "trajectory: out of memory");
     mote_nb_monitor mon;
-    mote_nb_measure(&m->nb, &mon);
-    r[0] = m->nb.T;
+    mote_nb_measure(nb, &mon);
+    r[0] = nb->T;
     r[1] = mon.ekin;
     r[2] = mon.etot;
-    memcpy(r + 3, m->nb.x, 3 * (size_t)m->nb.n * sizeof *r);
+    memcpy(r + 3, nb->x, 3 * (size_t)nb->n * sizeof *r);
     return MOTE_OK;
 }
 
-/* The header lines both files share after the preamble. */
-static void run_header(FILE *f, const mote_nb *nb, uint64_t every)
+static int sample(nb_model *m, int traj, const mote_nb *nb, mote_err *err)
 {
-    fprintf(f, "# interaction = %s\n# N = %u\n# integrator = galactica\n# order = %d\n",
-            nb->kind == MOTE_NB_GRAVITY ? "gravity" : "coulomb", nb->n, nb->order);
-    fprintf(f, "# dt = %.17g\n# compensated = %d\n# every = %llu\n", nb->dt, nb->compensated,
-            (unsigned long long)every);
+    return traj ? trajectory_sample(m, nb, err) : monitor_sample(m, nb, err);
+}
+
+/* The header lines every output shares after the preamble (spec 10). */
+static void run_header(FILE *f, const mote_nb *nb, const nb_sampler *s)
+{
+    fprintf(f, "# interaction = %s\n# N = %u\n", nb->kind == MOTE_NB_GRAVITY ? "gravity" : "coulomb",
+            nb->n);
+    if (nb->integrator == MOTE_NB_TAYLOR) {
+        fprintf(f, "# integrator = taylor\n# order = %d\n", nb->taylor_order);
+        if (nb->adaptive)
+            fprintf(f, "# tol = %.17g\n# safety = %.17g\n", nb->tol, nb->safety);
+        else
+            fprintf(f, "# dt = %.17g\n", nb->dt);
+    } else
+        fprintf(f, "# integrator = galactica\n# order = %d\n# dt = %.17g\n", nb->order, nb->dt);
+    fprintf(f, "# compensated = %d\n# forces = direct\n# precision = double\n", nb->compensated);
+    if (s->dt > 0)
+        fprintf(f, "# sample_dt = %.17g\n", s->dt);
+    else
+        fprintf(f, "# every = %llu\n", (unsigned long long)s->every);
     if (nb->u.set)
         fprintf(f, "# M_Ss = %.17g\n# Am = %.17g\n# kv = %.17g\n# kt = %.17g\n", nb->u.M,
                 nb->u.Am, nb->u.kv, nb->u.kt);
+    fprintf(f, "# G = %.17g\n# e2 = %.17g\n# permittivity = %.17g\n", nb->G, nb->e2, nb->eps);
     fprintf(f, "# units: dimensionless (G = 1 or the Coulomb constant 1, total mass 1; spec "
                "3.5)\n");
 }
 
+static void put_json(FILE *f, double x)
+{
+    if (isfinite(x))
+        fprintf(f, "%.17g", x);
+    else
+        fputs("null", f);
+}
+
+/* Rewrite the sampler's file (atomically) with every sample so far. */
 static int sampler_write(nb_model *m, nb_sampler *s, int traj, mote_err *err)
 {
+    if (!s->path)
+        return MOTE_OK;
+    const char *kind = traj ? "nbody-trajectory" : "nbody-monitor";
     mote_datafile d;
-    int rc = mote_datafile_open(&d, s->path, traj ? "nbody-trajectory" : "nbody-monitor",
-                                s->origin, 0, err);
+    int rc;
+    if (s->format == FMT_JSONL) {
+        rc = mote_afile_open(&d.af, s->path, err);
+        d.f = d.af.f;
+    } else
+        rc = mote_datafile_open(&d, s->path, kind, s->origin, 0, err);
     if (rc)
         return rc;
-    run_header(d.f, &m->nb, s->every);
-    if (traj) {
-        fprintf(d.f, "# Lx0 = %.17g\n# Ly0 = %.17g\n# Lz0 = %.17g\n", s->L0[0], s->L0[1],
-                s->L0[2]);
-        fprintf(d.f, "# a row per sample: T, E_kin, E_tot, then x y z of each body\n# columns: "
-                     "T E_kin E_tot");
-        for (size_t b = 1; 3 + 3 * (b - 1) < s->cols; b++)
-            fprintf(d.f, " x%zu y%zu z%zu", b, b, b);
-        fputc('\n', d.f);
-    } else {
-        fprintf(d.f, "# dE is (E_corr - E0)/|E0| with E_corr = E_tot minus the energy changes of "
-                     "merges, dMz the aggregated z moment's (Lz + Sz) relative change from the "
-                     "run's start\n");
-        mote_datafile_columns(&d, MON_NAMES);
+    FILE *f = d.f;
+    const char sep = s->format == FMT_CSV ? ',' : ' ';
+    if (s->format != FMT_JSONL) {
+        run_header(f, &m->nb, s);
+        if (traj) {
+            fprintf(f, "# Lx0 = %.17g\n# Ly0 = %.17g\n# Lz0 = %.17g\n", s->L0[0], s->L0[1],
+                    s->L0[2]);
+            fprintf(f, "# a row per sample: T, E_kin, E_tot, then x y z of each body\n");
+        } else
+            fprintf(f, "# dE is (E_corr - E0)/|E0| with E_corr = E_tot minus the energy changes "
+                       "of merges, dMz the aggregated z moment's (Lz + Sz) relative change and dL "
+                       "|L + S - (L + S)0| / |(L + S)0| from the run's start\n");
+        fputs(s->format == FMT_CSV ? "" : "# columns: ", f);
+        if (traj) {
+            fprintf(f, "T%cE_kin%cE_tot", sep, sep);
+            for (size_t b = 1; 3 + 3 * (b - 1) < s->cols; b++)
+                fprintf(f, "%cx%zu%cy%zu%cz%zu", sep, b, sep, b, sep, b);
+        } else
+            for (int c = 0; c < MON_COLS; c++) {
+                if (c)
+                    fputc(sep, f);
+                fputs(MON_NAME[c], f);
+            }
+        fputc('\n', f);
     }
     for (size_t k = 0; k < s->nrows; k++) {
         const double *r = s->rows + k * s->cols;
-        for (size_t c = 0; c < s->cols; c++)
-            fprintf(d.f, c == 0 && !traj ? "%.0f" : c ? " %.17g" : "%.17g", r[c]);
-        fputc('\n', d.f);
+        if (s->format == FMT_JSONL) {
+            fprintf(f, "{\"format\":\"%s\"", kind);
+            for (size_t c = 0; c < s->cols; c++) {
+                if (traj && c >= 3)
+                    fprintf(f, ",\"%c%zu\":", "xyz"[(c - 3) % 3], (c - 3) / 3 + 1);
+                else
+                    fprintf(f, ",\"%s\":", traj ? (c == 0 ? "T" : c == 1 ? "E_kin" : "E_tot")
+                                                : MON_NAME[c]);
+                put_json(f, r[c]);
+            }
+            fputs("}\n", f);
+            continue;
+        }
+        for (size_t c = 0; c < s->cols; c++) {
+            if (c)
+                fputc(sep, f);
+            fprintf(f, !traj && mon_integer((int)c) ? "%.0f" : "%.17g", r[c]);
+        }
+        fputc('\n', f);
     }
+    if (s->format == FMT_JSONL)
+        return mote_afile_commit(&d.af, err);
     return mote_datafile_commit(&d, err);
 }
 
-/* Start a sampler for the call (K FILE): now, then every K steps of integrate. */
+/* unit=NAME: a known unit, and physical scales to convert with. */
+static int check_time_unit(nb_model *m, const mote_call *c, mote_err *err)
+{
+    const mote_arg *u = mote_call_opt(c, "unit");
+    if (!u)
+        return MOTE_OK;
+    int k = mote_call_opt_index(c, "unit");
+    if (!(mote_nb_time_unit(u->text) > 0))
+        return mote_call_fail(err, c, k, MOTE_EINVAL,
+                              "%s: unit must be s, day, year or century, found '%s'", c->name,
+                              u->text);
+    if (!m->d_scales)
+        return mote_call_fail(err, c, k, MOTE_EINVAL,
+                              "%s: unit= needs physical scales: set them with units (or a "
+                              "generator) first", c->name);
+    return MOTE_OK;
+}
+
+/* The sampler options: every=K or dt=T [unit=U], format=, file=. */
+static int check_sampler(void *vm, const mote_call *c, mote_err *err)
+{
+    nb_model *m = vm;
+    int every = mote_call_opt(c, "every") != NULL, dt = mote_call_opt(c, "dt") != NULL;
+    if (every + dt != 1)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL,
+                              "%s: give one of every=K (steps) and dt=T (time)", c->name);
+    int rc = check_time_unit(m, c, err);
+    if (rc)
+        return rc;
+    const mote_arg *f = mote_call_opt(c, "format");
+    if (f && strcmp(f->text, "table") != 0 && strcmp(f->text, "csv") != 0 &&
+        strcmp(f->text, "jsonl") != 0)
+        return mote_call_fail(err, c, mote_call_opt_index(c, "format"), MOTE_EINVAL,
+                              "%s: format must be table, csv or jsonl, found '%s'", c->name,
+                              f->text);
+    if (f && !mote_call_opt(c, "file"))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "format"), MOTE_EINVAL,
+                              "%s: format= is for a file: give file=FILE", c->name);
+    return MOTE_OK;
+}
+
+/* Start a sampler: a sample now, then every K steps or every T of time during integrate. */
 static int sampler_start(nb_model *m, nb_sampler *s, const mote_call *c, size_t cols,
                          mote_err *err)
 {
+    settle_units(m);
     free(s->path);
     free(s->origin);
-    s->path = strdup(c->args[1].path);
+    const mote_arg *a = mote_call_opt(c, "file"), *f = mote_call_opt(c, "format");
+    s->path = a ? strdup(a->path) : NULL;
     s->origin = mote_call_origin(c);
-    s->every = (uint64_t)c->args[0].i;
+    const mote_arg *ev = mote_call_opt(c, "every");
+    s->every = ev ? (uint64_t)ev->i : 0;
+    s->dt = mote_call_opt_r(c, "dt", 0);
+    if (s->dt > 0 && mote_call_opt(c, "unit")) {
+        if (!m->nb.u.set)
+            return mote_call_fail(err, c, mote_call_opt_index(c, "unit"), MOTE_EINVAL,
+                                  "%s: unit= needs physical scales (units or a generator)",
+                                  c->name);
+        s->dt *= mote_nb_time_unit(mote_call_opt(c, "unit")->text) * m->nb.u.kt;
+    }
+    s->t0 = m->nb.T;
+    s->k = 0;
+    s->format = !f ? FMT_TABLE : f->text[0] == 'c' ? FMT_CSV : f->text[0] == 'j' ? FMT_JSONL
+                                                                                 : FMT_TABLE;
+    s->on = 1;
     s->nrows = 0;
     s->cols = cols;
-    if (!s->path || !s->origin)
+    s->ekmax = s->t_ekmax = 0;
+    s->cpu0 = now_seconds(CLOCK_PROCESS_CPUTIME_ID);
+    s->wall0 = now_seconds(CLOCK_MONOTONIC);
+    if ((a && !s->path) || !s->origin)
         return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", c->name);
     if (!m->nb.ref_set && m->nb.n)
         mote_nb_set_reference(&m->nb);
@@ -540,14 +939,21 @@ static int run_monitor(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
     int rc = sampler_start(m, &m->mon, c, MON_COLS, err);
+    if (!rc && !m->mon.path && m->log) {
+        for (size_t k = 0; k < sizeof MON_TERM / sizeof MON_TERM[0]; k++)
+            fprintf(m->log, k == 0 ? "%12s" : mon_integer(MON_TERM[k]) ? " %10s" : " %23s",
+                    MON_NAME[MON_TERM[k]]);
+        fputc('\n', m->log);
+    }
     if (!rc && m->nb.n)
-        rc = monitor_sample(m, err);
+        rc = monitor_sample(m, &m->nb, err);
     return rc ? rc : sampler_write(m, &m->mon, 0, err);
 }
 
 static int check_trajectory(void *vm, const mote_call *c, mote_err *err)
 {
-    return need_bodies(vm, c, err);
+    int rc = check_sampler(vm, c, err);
+    return rc ? rc : need_bodies(vm, c, err);
 }
 static int run_trajectory(void *vm, const mote_call *c, mote_err *err)
 {
@@ -559,7 +965,7 @@ static int run_trajectory(void *vm, const mote_call *c, mote_err *err)
     mote_nb_measure(&m->nb, &mon);
     for (int a = 0; a < 3; a++)
         m->traj.L0[a] = mon.L[a] + mon.S[a];
-    rc = trajectory_sample(m, err);
+    rc = trajectory_sample(m, &m->nb, err);
     return rc ? rc : sampler_write(m, &m->traj, 1, err);
 }
 
@@ -571,30 +977,80 @@ static int check_integrate(void *vm, const mote_call *c, mote_err *err)
         return mote_call_fail(err, c, -1, MOTE_EINVAL,
                               "integrate: give exactly one of steps=N, to=T and for=D (found %d)",
                               given);
-    return need_bodies(vm, c, err);
+    int rc = check_time_unit(vm, c, err);
+    return rc ? rc : need_bodies(vm, c, err);
 }
 
-/* Steps to the next sample of s (at most `left`). */
+/* Steps to the next sample of a step sampler s (at most `left`); time samplers step singly. */
 static uint64_t until_sample(const nb_sampler *s, uint64_t steps, uint64_t left)
 {
-    if (!s->path)
+    if (!s->on)
         return left;
+    if (s->dt > 0)
+        return left < 1 ? left : 1;
     uint64_t next = (steps / s->every + 1) * s->every - steps;
     return next < left ? next : left;
+}
+
+/* After a step from Tb: a step sampler samples on its step counts and at the end time; a time
+ * sampler at every t0 + k dt passed, from the Taylor step's dense output (spec 4.5) or, for the
+ * Galactica scheme, at the first step end at or after it (spec 10.3). */
+static int after_step(nb_model *m, nb_sampler *s, int traj, double Tb, double t_end, double *xv)
+{
+    mote_err *err = m->err;
+    if (!s->on)
+        return MOTE_OK;
+    mote_nb *nb = &m->nb;
+    if (!(s->dt > 0))
+        return nb->steps % s->every == 0 || nb->T == t_end ? sample(m, traj, nb, err) : MOTE_OK;
+    int rc = MOTE_OK;
+    for (;;) {
+        double ts = s->t0 + (double)(s->k + 1) * s->dt;
+        if (!(ts <= nb->T) || rc)
+            break;
+        s->k++;
+        if (nb->integrator == MOTE_NB_TAYLOR && ts < nb->T && ts > Tb) {
+            mote_nb view = *nb; /* the state at ts, from the step's polynomial */
+            view.x = xv;
+            view.v = xv + 3 * (size_t)nb->n;
+            mote_nb_taylor_dense(nb, ts - Tb, view.x, view.v);
+            view.T = ts;
+            rc = sample(m, traj, &view, err);
+        } else {
+            rc = sample(m, traj, nb, err);
+            while (s->t0 + (double)(s->k + 1) * s->dt <= nb->T) /* one sample per step end */
+                s->k++;
+        }
+    }
+    return rc;
 }
 
 static int run_integrate(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
+    settle_units(m);
+    m->err = err;
     m->nb.threads = c->ctx->threads;
     const mote_arg *a = mote_call_opt(c, "steps");
     uint64_t steps = a ? (uint64_t)a->i : UINT64_MAX, done = 0;
     const double t0 = m->nb.T;
-    double t_end = INFINITY;
+    double t_end = INFINITY, scale = 1;
+    if (mote_call_opt(c, "unit")) {
+        if (!m->nb.u.set)
+            return mote_call_fail(err, c, mote_call_opt_index(c, "unit"), MOTE_EINVAL,
+                                  "integrate: unit= needs physical scales (units or a generator)");
+        scale = mote_nb_time_unit(mote_call_opt(c, "unit")->text) * m->nb.u.kt;
+    }
     if ((a = mote_call_opt(c, "to")))
-        t_end = a->r;
+        t_end = a->r * scale;
     else if ((a = mote_call_opt(c, "for")))
-        t_end = m->nb.T + a->r;
+        t_end = m->nb.T + a->r * scale;
+    double *xv = NULL;
+    if ((m->mon.on && m->mon.dt > 0) || (m->traj.on && m->traj.dt > 0)) {
+        xv = malloc(6 * (size_t)(m->nb.n ? m->nb.n : 1) * sizeof *xv);
+        if (!xv)
+            return mote_fail(err, MOTE_ENOMEM, "integrate: out of memory");
+    }
     mote_progress prog;
     mote_progress_begin(&prog, c->ctx, "integrate");
     int rc = MOTE_OK;
@@ -602,21 +1058,31 @@ static int run_integrate(void *vm, const mote_call *c, mote_err *err)
     while (done < steps && !rc && m->nb.T < t_end) {
         uint64_t chunk = until_sample(&m->mon, m->nb.steps, steps - done);
         chunk = until_sample(&m->traj, m->nb.steps, chunk);
+        if (m->ckpt.path) {
+            uint64_t next = (m->nb.steps / m->ckpt.every + 1) * m->ckpt.every - m->nb.steps;
+            chunk = next < chunk ? next : chunk;
+        }
         if (chunk > 1000)
             chunk = 1000;
         uint64_t before = m->nb.steps;
+        const double Tb = m->nb.T;
         rc = mote_nb_integrate(&m->nb, chunk, t_end, err);
         done += m->nb.steps - before;
-        if (!rc && m->mon.path && (m->nb.steps % m->mon.every == 0 || m->nb.T == t_end))
-            rc = monitor_sample(m, err);
-        if (!rc && m->traj.path && (m->nb.steps % m->traj.every == 0 || m->nb.T == t_end))
-            rc = trajectory_sample(m, err);
         if (!rc && m->nb.steps == before) /* no step could be taken: the end is reached */
             break;
+        if (!rc)
+            rc = after_step(m, &m->mon, 0, Tb, t_end, xv);
+        if (!rc)
+            rc = after_step(m, &m->traj, 1, Tb, t_end, xv);
+        if (!rc && m->ckpt.path && m->nb.steps % m->ckpt.every == 0)
+            rc = nb_state_save(&m->nb, m->ckpt.path, err);
         mote_progress_update(&prog, t_end < INFINITY ? (m->nb.T - t0) / (t_end - t0)
                                                      : (double)done / (double)steps);
     }
     mote_progress_end(&prog);
+    free(xv);
+    if (!rc && m->ckpt.path)
+        rc = nb_state_save(&m->nb, m->ckpt.path, err);
     if (m->nb.approach_warnings > warned && m->log)
         fprintf(m->log,
                 "integrate: warning: %llu merge%s overlapped by more than 10%% of the radii after "
@@ -627,8 +1093,6 @@ static int run_integrate(void *vm, const mote_call *c, mote_err *err)
     /* the samples so far, even after a failure */
     nb_sampler *smp[2] = {&m->mon, &m->traj};
     for (int k = 0; k < 2; k++) {
-        if (!smp[k]->path)
-            continue;
         mote_err werr = {0};
         int wrc = sampler_write(m, smp[k], k, rc ? &werr : err);
         rc = rc ? rc : wrc;
@@ -642,39 +1106,75 @@ static int check_save(void *vm, const mote_call *c, mote_err *err) { return need
 static int run_save(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
+    settle_units(m);
     int rc = nb_state_save(&m->nb, c->args[0].path, err);
     if (!rc && m->log)
         fprintf(m->log, "save: wrote %s\n", c->args[0].path);
     return rc;
 }
 
-static int check_load(void *vm, const mote_call *c, mote_err *err)
+static int check_state_input(nb_model *m, const mote_call *c, const char *path, int argi,
+                             mote_err *err)
 {
-    nb_model *m = vm;
     uint32_t n = 1;
-    if (!mote_outputs_find(&c->ctx->outputs, c->args[0].path)) {
-        int rc = nb_state_peek(c->args[0].path, &n, err);
+    if (!mote_outputs_find(&c->ctx->outputs, path)) {
+        int rc = nb_state_peek(path, &n, err);
         if (rc) {
             char why[sizeof err->msg];
             snprintf(why, sizeof why, "%s", err->msg);
-            return mote_call_fail(err, c, 0, (mote_status)rc, "load: %s", why);
+            return mote_call_fail(err, c, argi, (mote_status)rc, "%s: %s",
+                                  c->name, why);
         }
     }
     m->d_bodies = n;
     m->d_ring = 0;
+    m->d_scales = 1;
     return MOTE_OK;
+}
+static int load_state(nb_model *m, const mote_call *c, const char *path, mote_err *err)
+{
+    int rc = nb_state_load(&m->nb, path, err);
+    if (!rc) {
+        m->have_ring = 0;
+        m->raw = 0;
+        if (m->log)
+            fprintf(m->log, "%s: %u bodies at T = %.17g (step %llu) from %s\n", c->name, m->nb.n,
+                    m->nb.T, (unsigned long long)m->nb.steps, path);
+    }
+    return rc;
+}
+static int check_load(void *vm, const mote_call *c, mote_err *err)
+{
+    return check_state_input(vm, c, c->args[0].path, 0, err);
 }
 static int run_load(void *vm, const mote_call *c, mote_err *err)
 {
+    return load_state(vm, c, c->args[0].path, err);
+}
+static int check_restart(void *vm, const mote_call *c, mote_err *err)
+{
+    return check_state_input(vm, c, mote_call_opt(c, "file")->path,
+                             mote_call_opt_index(c, "file"), err);
+}
+static int run_restart(void *vm, const mote_call *c, mote_err *err)
+{
+    return load_state(vm, c, mote_call_opt(c, "file")->path, err);
+}
+
+static int check_checkpoint(void *vm, const mote_call *c, mote_err *err)
+{
+    return need_bodies(vm, c, err);
+}
+static int run_checkpoint(void *vm, const mote_call *c, mote_err *err)
+{
     nb_model *m = vm;
-    int rc = nb_state_load(&m->nb, c->args[0].path, err);
-    if (!rc) {
-        m->have_ring = 0;
-        if (m->log)
-            fprintf(m->log, "load: %u bodies at T = %.17g from %s\n", m->nb.n, m->nb.T,
-                    c->args[0].path);
-    }
-    return rc;
+    settle_units(m);
+    free(m->ckpt.path);
+    m->ckpt.path = strdup(mote_call_opt(c, "file")->path);
+    if (!m->ckpt.path)
+        return mote_fail(err, MOTE_ENOMEM, "checkpoint: out of memory");
+    m->ckpt.every = (uint64_t)mote_call_opt(c, "every")->i;
+    return nb_state_save(&m->nb, m->ckpt.path, err);
 }
 
 static int check_check(void *vm, const mote_call *c, mote_err *err)
@@ -691,6 +1191,7 @@ static int check_check(void *vm, const mote_call *c, mote_err *err)
 static int run_check(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
+    settle_units(m);
     double plane;
     double e = mote_nb_ring_error(&m->nb, &m->ring, &plane);
     mote_nb_monitor mon;
@@ -713,6 +1214,38 @@ static const char HELP_BODY[] =
     "its charge in elementary charges. Unset values are 0. Bad values (NaN,\n"
     "infinite, a mass <= 0) stop the run at this line; two bodies at one point are\n"
     "refused when the integrator starts.\n";
+
+static const char HELP_UNITS[] =
+    "    units solar|atomic|dimensionless [input=si|dimensionless]\n"
+    "    units [mass=KG|auto] length=M|time=S [input=si|dimensionless]\n"
+    "\n"
+    "The physical scales of the run (spec 3.5): the mass unit M, the length unit\n"
+    "Am, kv = sqrt(Am/(G M)) (Coulomb: sqrt(eps M Am / e^2)) and kt = 1/(Am kv),\n"
+    "so that G = 1 (or the Coulomb constant 1) inside. With time=S the time unit\n"
+    "is S seconds and Am follows from eq. 8, refined so that Am = 1/(kt kv)\n"
+    "exactly, as Galactica's generators do; with length=M, Am = M.\n"
+    "`solar`: the time unit is the sidereal century (100 x 365.25636042 days);\n"
+    "`atomic` (Coulomb only): 1e-15 s; `dimensionless`: no scales (the default).\n"
+    "input=si (the default with scales) reads the values of later `body`\n"
+    "commands in kg, m, m/s (radius in m, charge in elementary charges) and\n"
+    "converts them; input=dimensionless reads them as they are. mass=auto (the\n"
+    "default with input=si) takes the total mass of the bodies, fixed when the\n"
+    "first command after them needs the scales; `units solar` with dimensionless\n"
+    "input takes the Solar-System mass 1.991787350282e30 kg. Scales are written\n"
+    "in every output file's header and let `integrate` and `monitor` take times\n"
+    "with unit=s|day|year|century (year: Julian, 365.25 days). Comes before the\n"
+    "bodies; the generators set their own scales.\n";
+
+static const char HELP_CONSTANT[] =
+    "    constant [G=X] [e=X | e2=X] [permittivity=X]\n"
+    "\n"
+    "Replace a physical constant of the unit conversions and generators (spec\n"
+    "3.6): G in m^3 kg^-1 s^-2 (default the seed document's 6.67259e-11), the\n"
+    "elementary charge e in CGSE (default 4.80298e-10) or e2 = e^2 in\n"
+    "kg m^3 s^-2 (SI, with the 1e-9 of spec 3.2), the relative permittivity\n"
+    "(default 1). For example `constant G=6.6743e-11` for CODATA 2018. Comes\n"
+    "before `units`, the generators and the bodies; output headers record the\n"
+    "constants in use.\n";
 
 static const char HELP_FRAME[] =
     "    frame barycentric\n"
@@ -801,23 +1334,39 @@ static const char HELP_MERGE[] =
     "error scale is the distance to the nearest neighbour.\n";
 
 static const char HELP_MONITOR[] =
-    "    monitor K FILE\n"
+    "    monitor every=K [file=FILE [format=table|csv|jsonl]]\n"
+    "    monitor dt=T [unit=s|day|year|century] [file=FILE [format=...]]\n"
     "\n"
-    "Record the conserved quantities (spec 3.7) now and every K steps of later\n"
-    "`integrate` commands into the data file FILE (columns: step T h E_kin U E_tot\n"
-    "dE Px Py Pz Lx Ly Lz Sx Sy Sz dMz Xcm Ycm Zcm E_corr E_heat E_spin merges\n"
-    "N_active; dE = (E_corr - E0)/|E0| and dMz the aggregated z moment's relative\n"
-    "change since the start of the run). The file is rewritten, atomically, at the\n"
-    "end of every integrate.\n";
+    "Record the conserved quantities (spec 3.7, 10.1) now and then every K steps\n"
+    "of later `integrate` commands (and at an end time given by to= or for=), or\n"
+    "at the times T0 + k T (T0 now): the adaptive Taylor integrator samples these\n"
+    "inside its steps by dense output, without shortening them; the Galactica\n"
+    "scheme samples at the first step end at or after each. Columns: step T h dT\n"
+    "N_active E_kin U E_tot dE Px Py Pz Lx Ly Lz Sx Sy Sz dMz dL Xcm Ycm Zcm\n"
+    "Vxcm Vycm Vzcm m_max v_max E_kin_max T_E_kin_max E_heat E_spin merges cpu_s\n"
+    "wall_s E_corr, where dE = (E_corr - E0)/|E0| (E_corr: E_tot less the energy\n"
+    "changes of merges), dMz the aggregated z moment's relative change and dL =\n"
+    "|L + S - (L + S)0| / |(L + S)0| since the start of the run, h the last step\n"
+    "and dT the nominal one, E_kin_max the largest kinetic energy of a body over\n"
+    "the samples and its time, cpu_s and wall_s the processor and wall seconds\n"
+    "since the monitor started (the only columns that differ between identical\n"
+    "runs). Without file= each sample prints a line on the terminal (step T h\n"
+    "N_active E_tot dE dMz dL merges). With file= every column goes to FILE,\n"
+    "rewritten atomically at the end of every integrate: `table` (default) is a\n"
+    "mote data file (# header lines: the model, N, integrator, units and\n"
+    "constants; `plot` draws its drifts), `csv` the same header then a row of\n"
+    "column names and comma-separated rows, `jsonl` one JSON object per sample.\n"
+    "Numbers are written to 17 significant digits.\n";
 
 static const char HELP_TRAJECTORY[] =
-    "    trajectory K FILE\n"
+    "    trajectory every=K file=FILE [format=table|csv|jsonl]\n"
+    "    trajectory dt=T [unit=U] file=FILE [format=...]\n"
     "\n"
-    "Record T, E_kin, E_tot and the position of every body now and every K steps\n"
-    "of later `integrate` commands into the data file FILE (spec 10.3), rewritten\n"
-    "atomically at the end of every integrate. Its header keeps the total angular\n"
-    "momentum at the start, so `plot FILE orbits.png` draws the orbits in the\n"
-    "invariable plane.\n";
+    "Record T, E_kin, E_tot and the position of every body now and then every K\n"
+    "steps or at the times T0 + k T (dense output of the Taylor integrator, as\n"
+    "for `monitor`) into FILE (spec 10.3), rewritten atomically at the end of\n"
+    "every integrate. Its header keeps the total angular momentum at the start,\n"
+    "so `plot FILE orbits.png` draws the orbits in the invariable plane.\n";
 
 static const char HELP_INTEGRATE[] =
     "    integrate steps=N\n"
@@ -846,6 +1395,23 @@ static const char HELP_LOAD[] =
     "read strictly: a malformed line is reported with its number and nothing of the\n"
     "current system changes.\n";
 
+static const char HELP_CHECKPOINT[] =
+    "    checkpoint file=FILE every=K\n"
+    "\n"
+    "Write the exact state (as `save` does) into FILE now, every K steps of later\n"
+    "`integrate` commands and at the end of each, each time atomically, so that a\n"
+    "run killed at any moment leaves the last complete checkpoint (spec 10.2).\n"
+    "`restart file=FILE` in a new script continues bit for bit: n steps,\n"
+    "checkpoint, restart, n steps give the same numbers as 2n steps in one run.\n";
+
+static const char HELP_RESTART[] =
+    "    restart file=FILE\n"
+    "\n"
+    "Continue from a checkpoint (or any state written by `save`); the same as\n"
+    "`load FILE`. The step count, the time, the scales and the monitor references\n"
+    "(E0, the initial moments) come from the file, so drifts stay relative to the\n"
+    "original start.\n";
+
 static const char HELP_CHECK[] =
     "    check ring\n"
     "\n"
@@ -871,6 +1437,12 @@ static const mote_cmd nb_commands[] = {
      "mass=r>0! x=r y=r z=r vx=r vy=r vz=r radius=r>=0 charge=r",
      "body mass=M [x=X] [y=Y] [z=Z] [vx=VX] [vy=VY] [vz=VZ] [radius=R] [charge=Q]",
      "add a body (dimensionless units)", HELP_BODY, check_body, run_body},
+    {"units", NULL, "*", "units [solar|atomic|dimensionless] [mass=KG|auto] [length=M] [time=S] "
+     "[input=si|dimensionless]", "physical scales, and the units of body values", HELP_UNITS,
+     check_units, run_units},
+    {"constant", NULL, "G=r>0 e=r>0 e2=r>0 permittivity=r>0",
+     "constant [G=X] [e=X] [e2=X] [permittivity=X]", "replace a physical constant",
+     HELP_CONSTANT, check_constant, run_constant},
     {"frame", NULL, "s", "frame barycentric", "shift to the barycentre (centre of mass at rest)",
      HELP_FRAME, check_frame, run_frame},
     {"generate", NULL,
@@ -889,19 +1461,27 @@ static const mote_cmd nb_commands[] = {
      HELP_COMPENSATED, check_compensated, run_compensated},
     {"merge", NULL, "s bt=r(0,1] hmin=r(0,1]", "merge on|off [bt=F] [hmin=H]", "merge bodies that touch (default: on when any has a radius)",
      HELP_MERGE, check_merge, run_merge},
-    {"monitor", NULL, "i>=1 f>monitor", "monitor K FILE",
-     "record energy, momentum, moment and centre of mass every K steps", HELP_MONITOR,
-     NULL, run_monitor},
-    {"trajectory", NULL, "i>=1 f>trajectory", "trajectory K FILE",
-     "record the positions of every body every K steps (plot draws the orbits)", HELP_TRAJECTORY,
+    {"monitor", NULL, "every=i>=1 dt=r>0 unit=s format=s file=f>monitor",
+     "monitor every=K|dt=T [unit=U] [format=table|csv|jsonl] [file=FILE]",
+     "record energy, momenta and centre of mass every K steps or every T of time", HELP_MONITOR,
+     check_sampler, run_monitor},
+    {"trajectory", NULL, "every=i>=1 dt=r>0 unit=s format=s file=f>trajectory!",
+     "trajectory every=K|dt=T file=FILE [unit=U] [format=table|csv|jsonl]",
+     "record the positions of every body (plot draws the orbits)", HELP_TRAJECTORY,
      check_trajectory, run_trajectory},
-    {"integrate", NULL, "steps=i>=1 to=r for=r>0", "integrate [steps=N] [to=T] [for=D]",
+    {"integrate", NULL, "steps=i>=1 to=r for=r>0 unit=s",
+     "integrate [steps=N] [to=T] [for=D] [unit=U]",
      "advance by N steps, to the time T, or for the time D (ends exactly)", HELP_INTEGRATE,
      check_integrate, run_integrate},
     {"save", NULL, "f>state", "save FILE", "write the exact state to FILE", HELP_SAVE, check_save,
      run_save},
     {"load", NULL, "f<state", "load FILE", "continue from a state written by save", HELP_LOAD,
      check_load, run_load},
+    {"checkpoint", NULL, "file=f>state! every=i>=1!", "checkpoint file=FILE every=K",
+     "keep the exact state in FILE every K steps (restart continues from it)", HELP_CHECKPOINT,
+     check_checkpoint, run_checkpoint},
+    {"restart", NULL, "file=f<state!", "restart file=FILE",
+     "continue from a checkpoint (or a saved state)", HELP_RESTART, check_restart, run_restart},
     {"check", NULL, "s", "check ring", "compare with the exact ring solution", HELP_CHECK,
      check_check, run_check},
 };

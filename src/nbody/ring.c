@@ -63,7 +63,7 @@ int mote_nb_ring_build(mote_nb *nb, mote_nb_ring *r, mote_err *err)
     if (nb->n != 0)
         return mote_fail(err, MOTE_EINVAL, "ring: the system already has %u bodies", nb->n);
     const int N = r->nb - 1;
-    double e2 = 1e-9 * MOTE_NB_E_CGSE * MOTE_NB_E_CGSE; /* e^2 in kg m^3 s^-2 (spec 3.2) */
+    const double e2 = nb->e2, G = nb->G; /* the constants in use (spec 3.6) */
     double M;
     if (!coulomb) {
         r->a = r->ka * MOTE_NB_AU;
@@ -91,7 +91,7 @@ int mote_nb_ring_build(mote_nb *nb, mote_nb_ring *r, mote_err *err)
     r->rp = r->a * (2 * r->alpha1 + 1) / r->alpha1;
     r->fN = mote_nb_ring_fN(N);
     if (!coulomb)
-        r->mu1 = -MOTE_NB_G * (r->m0 + r->m1 * r->fN);
+        r->mu1 = -G * (r->m0 + r->m1 * r->fN);
     else
         r->mu1 = -(e2 / (r->m1 * r->permittivity)) * (N - r->fN);
     r->vp = sqrt(r->mu1 / (r->alpha1 * r->rp));
@@ -105,7 +105,7 @@ int mote_nb_ring_build(mote_nb *nb, mote_nb_ring *r, mote_err *err)
         return mote_fail(err, MOTE_EINVAL,
                          "ring: neighbours are only %.3g diameters apart (at least 50): use a "
                          "larger ka", r->d);
-    mote_nb_units_from_time(&nb->u, nb->kind, M, 1.0 / r->time_unit, MOTE_NB_G, e2,
+    mote_nb_units_from_time(&nb->u, nb->kind, M, 1.0 / r->time_unit, G, e2,
                             r->permittivity);
     const mote_nb_units *u = &nb->u;
     const double ct = cos(r->tilt), st = sin(r->tilt);

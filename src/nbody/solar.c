@@ -212,7 +212,7 @@ int mote_nb_solar_build(mote_nb *nb, const mote_nb_solar *s, const char *bodies,
         rc = mote_fail(err, MOTE_EINVAL, "solar_system: need at least 2 bodies, have %d", count);
     if (!rc) {
         const double kt = 1.0 / (100 * MOTE_NB_SIDEREAL_YEAR_DAYS * 86400);
-        mote_nb_units_from_time(&nb->u, MOTE_NB_GRAVITY, total / MOTE_NB_G, kt, MOTE_NB_G, 0, 1);
+        mote_nb_units_from_time(&nb->u, MOTE_NB_GRAVITY, total / nb->G, kt, nb->G, nb->e2, 1);
         const mote_nb_units *u = &nb->u;
         for (int i = 0; !rc && i < s->n; i++) {
             if (!take[i])

@@ -58,6 +58,8 @@ int nb_state_save(const mote_nb *nb, const char *path, mote_err *err)
     put(f, nb->E0);
     put(f, nb->Mza1);
     put(f, nb->Lnorm1);
+    for (int a = 0; a < 3; a++)
+        put(f, nb->L1[a]);
     fprintf(f, "\nunits %d", nb->u.set);
     const double *u = &nb->u.M;
     for (int k = 0; k < 8; k++)
@@ -261,13 +263,14 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
         s = next_line(&r);
         if (!s || strncmp(s, "reference ", 10) != 0 || (s[10] != '0' && s[10] != '1') ||
             s[11] != ' ')
-            rc = fail(&r, "'reference SET(0|1) E0 Mza1 Lnorm1'", s);
+            rc = fail(&r, "'reference SET(0|1) E0 Mza1 Lnorm1 L1x L1y L1z'", s);
         else {
             t.ref_set = s[10] == '1';
-            rc = reals(&r, s + 11, NULL, v, 3);
+            rc = reals(&r, s + 11, NULL, v, 6);
             t.E0 = v[0];
             t.Mza1 = v[1];
             t.Lnorm1 = v[2];
+            memcpy(t.L1, v + 3, sizeof t.L1);
         }
     }
     if (!rc) {
@@ -356,6 +359,9 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
     t.restart = file_restart;
     t.ref_set = file_ref;
     t.dtp = file_dtp;
+    t.G = t.u.set && t.u.G > 0 ? t.u.G : nb->G; /* the constants of the file's scales */
+    t.e2 = t.u.set && t.u.e2 > 0 ? t.u.e2 : nb->e2;
+    t.eps = t.u.set && t.u.eps > 0 ? t.u.eps : nb->eps;
     mote_nb_free(nb);
     *nb = t;
     return MOTE_OK;

@@ -27,6 +27,50 @@ void mote_nb_units_from_time(mote_nb_units *u, mote_nb_interaction kind, double 
     u->set = 1;
 }
 
+void mote_nb_units_from_length(mote_nb_units *u, mote_nb_interaction kind, double M, double Am,
+                               double G, double e2, double eps)
+{
+    memset(u, 0, sizeof *u);
+    u->M = M;
+    u->Am = u->Am_first = Am;
+    u->G = G;
+    u->e2 = e2;
+    u->eps = eps;
+    u->kv = kind == MOTE_NB_GRAVITY ? sqrt(Am / (G * M)) : sqrt(eps * M * Am / e2);
+    u->kt = 1.0 / (Am * u->kv);
+    u->set = 1;
+}
+
+double mote_nb_time_unit(const char *name)
+{
+    static const struct {
+        const char *name;
+        double s;
+    } units[] = {{"s", 1},
+                 {"day", 86400},
+                 {"year", 365.25 * 86400},
+                 {"century", 100 * MOTE_NB_SIDEREAL_YEAR_DAYS * 86400}};
+    for (size_t k = 0; k < sizeof units / sizeof units[0]; k++)
+        if (strcmp(name, units[k].name) == 0)
+            return units[k].s;
+    return 0;
+}
+
+void mote_nb_from_si(mote_nb *nb, const mote_nb_units *u)
+{
+    for (uint32_t i = 0; i < nb->n; i++) {
+        nb->m[i] /= u->M;
+        nb->ra[i] /= u->Am;
+        for (int a = 0; a < 3; a++) {
+            nb->x[3 * i + a] /= u->Am;
+            nb->v[3 * i + a] *= u->kv;
+        }
+    }
+    nb->u = *u;
+    nb->dtp = 0;
+    nb->ref_set = 0;
+}
+
 void mote_nb_init(mote_nb *nb, mote_nb_interaction kind)
 {
     memset(nb, 0, sizeof *nb);
@@ -41,6 +85,9 @@ void mote_nb_init(mote_nb *nb, mote_nb_interaction kind)
     nb->bt_hmin = 1e-6;
     nb->tol = 1e-16;
     nb->safety = 1.0;
+    nb->G = MOTE_NB_G;
+    nb->e2 = 1e-9 * MOTE_NB_E_CGSE * MOTE_NB_E_CGSE;
+    nb->eps = 1;
 }
 
 static void free_arrays(mote_nb *nb)
@@ -56,8 +103,12 @@ void mote_nb_free(mote_nb *nb)
 {
     free_arrays(nb);
     mote_nb_interaction kind = nb->kind;
+    const double G = nb->G, e2 = nb->e2, eps = nb->eps;
     memset(nb, 0, sizeof *nb);
     nb->kind = kind;
+    nb->G = G;
+    nb->e2 = e2;
+    nb->eps = eps;
 }
 
 /* Grow every array to hold cap bodies (new entries zero). */
@@ -219,6 +270,13 @@ void mote_nb_measure(const mote_nb *nb, mote_nb_monitor *mon)
     if (nb->ref_set) {
         mon->dE = (mon->ecorr - nb->E0) / fabs(nb->E0);
         mon->dMz = (mon->L[2] + mon->S[2] - nb->Mza1) / nb->Lnorm1;
+        double d2 = 0, l2 = 0;
+        for (int a = 0; a < 3; a++) {
+            double d = mon->L[a] + mon->S[a] - nb->L1[a];
+            d2 += d * d;
+            l2 += nb->L1[a] * nb->L1[a];
+        }
+        mon->dL = l2 > 0 ? sqrt(d2 / l2) : 0;
     }
 }
 
@@ -229,6 +287,8 @@ void mote_nb_set_reference(mote_nb *nb)
     mote_nb_measure(nb, &mon);
     nb->E0 = mon.ecorr;
     nb->Mza1 = mon.L[2] + mon.S[2];
+    for (int a = 0; a < 3; a++)
+        nb->L1[a] = mon.L[a] + mon.S[a];
     /* spec 3.7: normalise by Mza1 unless it is below 1e-14 of sum m |x x v| */
     double sum = 0;
     for (uint32_t i = 0; i < nb->n; i++) {

@@ -291,6 +291,27 @@ double nb_taylor_step(mote_nb *nb, double rest)
     return h;
 }
 
+void mote_nb_taylor_dense(const mote_nb *nb, double s, double *x, double *v)
+{
+    const int p = nb->taylor_order;
+    const size_t blk = 3 * (size_t)nb->n;
+    const double *X = nb->tx;
+    for (size_t o = 0; o < blk; o++) {
+        if (!nb->active[o / 3]) {
+            x[o] = nb->x[o];
+            v[o] = nb->v[o];
+            continue;
+        }
+        long double dx = 0, dv = 0;
+        for (int n = p; n >= 1; n--)
+            dx = dx * s + X[n * blk + o];
+        for (int n = p; n >= 2; n--)
+            dv = dv * s + n * X[n * blk + o];
+        x[o] = (double)(X[o] + dx * s);
+        v[o] = (double)(X[blk + o] + dv * s);
+    }
+}
+
 int mote_nb_taylor(mote_nb *nb, uint64_t steps, mote_err *err)
 {
     return nb_run_as(nb, MOTE_NB_TAYLOR, steps, err);
