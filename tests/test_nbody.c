@@ -6,6 +6,10 @@
 #include "mote/nbody.h"
 #include "test.h"
 
+#include <cairo.h>
+
+#include "../src/nbody/nb.h" /* nb_plot_file */
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -762,6 +766,112 @@ static void test_approach(void)
           ovl[0]);
 }
 
+/* T26: the orbit picture. A body on a circle of radius 1 about the origin (a trajectory file
+ * written exactly), plotted: a valid PNG (signature, IHDR first with the size plot.c asks for,
+ * IEND last), and the coloured pixels that are not the legend or the centre lie on one circle
+ * (equal scales on both axes), with a coloured pixel within 3 px of it in at least 355 of 360
+ * directions. */
+static int coloured(const unsigned char *p) /* cairo ARGB32: B G R A in memory (little endian) */
+{
+    int mx = p[0] > p[1] ? (p[0] > p[2] ? p[0] : p[2]) : (p[1] > p[2] ? p[1] : p[2]);
+    int mn = p[0] < p[1] ? (p[0] < p[2] ? p[0] : p[2]) : (p[1] < p[2] ? p[1] : p[2]);
+    return mx - mn > 60;
+}
+static void test_png(void)
+{
+    char dir[256], data[320], png[320];
+    if (!test_tmpdir_make(dir, sizeof dir, "mote_nbpng"))
+        return;
+    snprintf(data, sizeof data, "%s/t.dat", dir);
+    snprintf(png, sizeof png, "%s/o.png", dir);
+    FILE *f = fopen(data, "w");
+    CHECK(f != NULL, "cannot write %s", data);
+    if (!f)
+        return;
+    fprintf(f, "# mote nbody-trajectory 1\n# Lx0 = 0\n# Ly0 = 0\n# Lz0 = 1\n"
+               "# columns: T E_kin E_tot x1 y1 z1 x2 y2 z2\n");
+    for (int k = 0; k <= 2000; k++) {
+        double a = 2 * MOTE_PI * k / 2000.0;
+        fprintf(f, "%.17g 0 0 0 0 0 %.17g %.17g 0\n", a, cos(a), sin(a));
+    }
+    fclose(f);
+    mote_err err = {0};
+    CHECK(nb_plot_file(data, png, &err) == MOTE_OK, "plot: %s", err.msg);
+    /* the file: signature, IHDR first, IEND last */
+    unsigned char b[33] = {0}, tail[12] = {0};
+    f = fopen(png, "rb");
+    CHECK(f != NULL, "no %s", png);
+    if (!f)
+        return;
+    size_t got = fread(b, 1, sizeof b, f);
+    fseek(f, -12, SEEK_END);
+    size_t got2 = fread(tail, 1, sizeof tail, f);
+    fclose(f);
+    CHECK(got == sizeof b && memcmp(b, "\x89PNG\r\n\x1a\n", 8) == 0 && memcmp(b + 12, "IHDR", 4) == 0,
+          "not a PNG with IHDR first");
+    CHECK(got2 == sizeof tail && memcmp(tail + 4, "IEND", 4) == 0, "no IEND chunk at the end");
+    long w = (long)b[16] << 24 | b[17] << 16 | b[18] << 8 | b[19];
+    cairo_surface_t *s = cairo_image_surface_create_from_png(png);
+    CHECK(cairo_surface_status(s) == CAIRO_STATUS_SUCCESS, "cairo cannot read %s", png);
+    if (cairo_surface_status(s) != CAIRO_STATUS_SUCCESS) {
+        cairo_surface_destroy(s);
+        return;
+    }
+    int W = cairo_image_surface_get_width(s), H = cairo_image_surface_get_height(s);
+    int stride = cairo_image_surface_get_stride(s);
+    const unsigned char *px = cairo_image_surface_get_data(s);
+    /* plot.c asks for a 1000 px longer side around a square frame */
+    CHECK((W > H ? W : H) == 1000 && (W < H ? W : H) > 900 && w == W, "size %d x %d (IHDR width %ld)",
+          W, H, w);
+    /* robust circle: the centroid of the coloured pixels, then again over those near the median
+     * radius only (dropping the legend's swatches and the centre body) */
+    double cx = 0, cy = 0, r = 0;
+    for (int pass = 0; pass < 3; pass++) {
+        double sx = 0, sy = 0, sr = 0;
+        long n = 0;
+        for (int y = 0; y < H; y++)
+            for (int x = 0; x < W; x++) {
+                if (!coloured(px + (size_t)y * stride + 4 * (size_t)x))
+                    continue;
+                double d = hypot(x - cx, y - cy);
+                if (pass > 0 && fabs(d - r) > 0.1 * r)
+                    continue;
+                sx += x;
+                sy += y;
+                sr += d;
+                n++;
+            }
+        CHECK(n > 1000, "pass %d: only %ld coloured pixels", pass, n);
+        if (n <= 1000)
+            break;
+        if (pass == 0) {
+            cx = sx / n;
+            cy = sy / n;
+            r = 0.4 * W; /* a first guess of the radius: the frame is about 0.8 W wide */
+        } else {
+            cx = sx / n;
+            cy = sy / n;
+            r = sr / n;
+        }
+    }
+    int hit = 0;
+    for (int k = 0; k < 360; k++) {
+        double a = 2 * MOTE_PI * k / 360.0;
+        int found = 0;
+        for (double d = r - 3; d <= r + 3 && !found; d += 0.5) {
+            int x = (int)lround(cx + d * cos(a)), y = (int)lround(cy + d * sin(a));
+            found = x >= 0 && y >= 0 && x < W && y < H &&
+                    coloured(px + (size_t)y * stride + 4 * (size_t)x);
+        }
+        hit += found;
+    }
+    CHECK(hit >= 355, "the orbit: coloured pixels in %d of 360 directions on the circle of radius "
+                      "%.1f px about (%.1f, %.1f)", hit, r, cx, cy);
+    CHECK(r > 0.3 * W && r < 0.5 * W, "the orbit's radius %.1f px in a %d px picture", r, W);
+    cairo_surface_destroy(s);
+    test_remove_tree(dir);
+}
+
 int main(void)
 {
     double w0 = mote_wall_seconds();
@@ -778,6 +888,7 @@ int main(void)
     test_merging();
     test_solar();
     test_approach();
+    test_png();
     printf("test_nbody: %.1f s\n", mote_wall_seconds() - w0);
     return test_summary();
 }
