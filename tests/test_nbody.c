@@ -7,6 +7,8 @@
 #include "test.h"
 
 #include <cairo.h>
+#include <sys/resource.h>
+#include <time.h>
 
 #include "../src/nbody/nb.h" /* nb_plot_file */
 
@@ -872,6 +874,120 @@ static void test_png(void)
     test_remove_tree(dir);
 }
 
+/* T11: long runs. The ring over 10 periods with the Galactica scheme, and the outer Solar System
+ * (Hairer, Lubich & Wanner's data) over 10^4 Julian years with the adaptive Taylor integrator. */
+static void test_longrun(void)
+{
+    printf("T11: gravity ring, Galactica scheme, 10 periods (100 000 steps)\n");
+    mote_nb nb;
+    mote_nb_ring r;
+    double plane;
+    double e = ring_run(MOTE_NB_GRAVITY, 1e-6, 100000, 6, &nb, &r, &plane);
+    mote_nb_monitor mon;
+    mote_nb_measure(&nb, &mon);
+    printf("  T = %.6g periods: error %.3e, dE %.3e, dMz %.3e\n", nb.T / r.period, e, mon.dE,
+           mon.dMz);
+    CHECK(e <= 1e-11, "error %.3g after 10 periods", e);
+    CHECK(fabs(mon.dE) <= 1e-13, "dE %.3g", mon.dE);
+    CHECK(fabs(mon.dMz) <= 1e-14, "dMz %.3g", mon.dMz);
+    mote_nb_free(&nb);
+
+    printf("T11: outer Solar System, adaptive Taylor (order 20, tol 1e-16), 10^4 years\n");
+    mote_nb_solar s;
+    mote_err err = {0};
+    if (mote_nb_solar_read("data/outer_solar_system.dat", &s, &err)) {
+        CHECK(0, "read: %s", err.msg);
+        return;
+    }
+    mote_nb_init(&nb, MOTE_NB_GRAVITY);
+    CHECK(mote_nb_solar_build(&nb, &s, NULL, 0, &err) == MOTE_OK, "build: %s", err.msg);
+    mote_nb_solar_free(&s);
+    nb.integrator = MOTE_NB_TAYLOR;
+    nb.taylor_order = 20;
+    nb.adaptive = 1;
+    nb.tol = 1e-16;
+    mote_nb_set_reference(&nb);
+    const double t_end = 1e4 * 365.25 * 86400 * nb.u.kt;
+    double worst = 0;
+    for (int k = 1; k <= 100; k++) { /* |dE| sampled 100 times on the way */
+        CHECK(mote_nb_integrate(&nb, UINT64_MAX, t_end * k / 100, &err) == MOTE_OK, "%s", err.msg);
+        mote_nb_measure(&nb, &mon);
+        worst = fmax(worst, fabs(mon.dE));
+    }
+    printf("  %llu steps to T = %.17g: max |dE| %.3e, end dE %.3e, dL %.3e\n",
+           (unsigned long long)nb.steps, nb.T, worst, mon.dE, mon.dL);
+    CHECK(nb.T == t_end, "T %.17g, expected %.17g", nb.T, t_end);
+    CHECK(worst <= 1e-12, "max |dE| %.3g", worst);
+    CHECK(fabs(mon.dL) <= 1e-12, "dL %.3g", mon.dL);
+    mote_nb_free(&nb);
+}
+
+/* T19 (slow: MOTE_SLOW): N = 30 000, a Plummer sphere of equal masses (G = 1, total mass 1,
+ * Plummer radius 1; Aarseth, Henon & Wielen 1974), zero radii, dT = 1e-6: 3 Galactica-scheme
+ * steps and 1 Taylor step of order 10 in recompute mode; memory below 200 MB, energy and angular
+ * momentum kept to 1e-10; prints the pair rate. */
+static void test_scale(void)
+{
+    if (!getenv("MOTE_SLOW")) {
+        printf("T19 (N = 30 000): in make slow\n");
+        return;
+    }
+    const uint32_t N = 30000;
+    printf("T19: N = %u Plummer sphere\n", N);
+    mote_nb nb;
+    mote_nb_init(&nb, MOTE_NB_GRAVITY);
+    mote_rng rng;
+    mote_rng_seed(&rng, 19);
+    mote_err err = {0};
+    for (uint32_t i = 0; i < N; i++) {
+        double x[3], v[3], rr, q, g;
+        do
+            rr = 1 / sqrt(pow(mote_rng_uniform(&rng) * 0.999 + 1e-9, -2.0 / 3) - 1);
+        while (rr > 30);
+        do { /* q^2 (1 - q^2)^3.5, whose largest value is below 0.1 */
+            q = mote_rng_uniform(&rng);
+            g = 0.1 * mote_rng_uniform(&rng);
+        } while (g > q * q * pow(1 - q * q, 3.5));
+        double ve = q * sqrt(2.0) * pow(1 + rr * rr, -0.25);
+        for (int pass = 0; pass < 2; pass++) { /* isotropic directions */
+            double z = 2 * mote_rng_uniform(&rng) - 1, ph = 2 * MOTE_PI * mote_rng_uniform(&rng);
+            double sxy = sqrt(1 - z * z), len = pass ? ve : rr, *o = pass ? v : x;
+            o[0] = len * sxy * cos(ph);
+            o[1] = len * sxy * sin(ph);
+            o[2] = len * z;
+        }
+        CHECK(mote_nb_add(&nb, 1.0 / N, 0, x, v, 0, &err) == MOTE_OK, "%s", err.msg);
+    }
+    mote_nb_barycentric(&nb, NULL, NULL);
+    nb.dt = 1e-6;
+    nb.threads = 2;
+    mote_nb_set_reference(&nb);
+    mote_nb_monitor m0, m1;
+    mote_nb_measure(&nb, &m0);
+    struct timespec t0, t1;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+    CHECK(mote_nb_galactica(&nb, 3, &err) == MOTE_OK, "%s", err.msg);
+    clock_gettime(CLOCK_MONOTONIC, &t1);
+    double sg = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+    nb.taylor_order = 10;
+    nb.taylor_memory = 2;
+    nb.adaptive = 0;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+    CHECK(mote_nb_taylor(&nb, 1, &err) == MOTE_OK, "%s", err.msg);
+    clock_gettime(CLOCK_MONOTONIC, &t1);
+    double st = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+    mote_nb_measure(&nb, &m1);
+    struct rusage ru;
+    getrusage(RUSAGE_SELF, &ru);
+    double pairs = (double)N * (N - 1);
+    printf("  3 Galactica steps %.2f s (%.3g ordered pairs/s per pass, 2 passes a step), 1 Taylor "
+           "step (p = 10, recompute) %.2f s; peak memory %.1f MB; dE %.3e, dL %.3e\n",
+           sg, 3 * 2 * pairs / sg, st, ru.ru_maxrss / 1024.0, m1.dE, m1.dL);
+    CHECK(ru.ru_maxrss < 200 * 1024, "peak memory %.1f MB", ru.ru_maxrss / 1024.0);
+    CHECK(fabs(m1.dE) <= 1e-10 && fabs(m1.dL) <= 1e-10, "dE %.3g, dL %.3g", m1.dE, m1.dL);
+    mote_nb_free(&nb);
+}
+
 int main(void)
 {
     double w0 = mote_wall_seconds();
@@ -889,6 +1005,8 @@ int main(void)
     test_solar();
     test_approach();
     test_png();
+    test_longrun();
+    test_scale();
     printf("test_nbody: %.1f s\n", mote_wall_seconds() - w0);
     return test_summary();
 }

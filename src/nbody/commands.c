@@ -1298,8 +1298,9 @@ static const char HELP_INTEGRATOR[] =
     "safety=S (default 1), at most twice the previous step, within [hmin, hmax].\n"
     "order=auto takes P = ceil(1 - ln(E)/2) (E = 1e-16: P = 20).\n"
     "memory=store keeps the pairs' histories between passes (2 (P-1) N^2 reals),\n"
-    "recompute does without them; auto (default) stores up to 1 GiB. Both give the\n"
-    "same bits.\n";
+    "and each pair solved once; recompute keeps memory proportional to N (each\n"
+    "body solves all its pairs, twice the pair work); auto (default) stores up to\n"
+    "1 GiB. Both give the same bits.\n";
 
 static const char HELP_COMPENSATED[] =
     "    compensated on|off\n"

@@ -85,15 +85,43 @@ static inline void pair_G(mote_nb *nb, const double *X, size_t blk, uint32_t i, 
  * with R negated, which IEEE arithmetic does exactly (a - b = -(b - a), and a sum of negated
  * terms is the negated sum), so s and f are the same and G is exactly -G. Then each target sums
  * w_k G over its sources in index order (phase 2), exactly the sums a pass over ordered pairs
- * would form: the result is the same bits, with half the pair work, for any number of threads. */
+ * would form: the result is the same bits, with half the pair work, for any number of threads.
+ * That needs the G of every pair (6 reals each): store mode only. Recompute mode keeps memory
+ * O(N): each target solves all its pairs itself (twice the pair work), in the same order and
+ * with the same negation, so both modes give the same bits. */
 static void pass(mote_nb *nb, double *X, int n0, int top, int store)
 {
     const uint32_t N = nb->n;
     const size_t blk = 3 * (size_t)N, npairs = (size_t)N * (N - 1) / 2;
     const int n1 = n0 + 1 <= top ? n0 + 1 : n0;
     const int nt = nb->threads > 1 ? nb->threads : 1;
-    double (*Gb)[2][3] = (double (*)[2][3])nb->tg;
     (void)nt;
+    if (!store) { /* recompute: every target solves its pairs itself, in O(N) memory; the pair
+                   * (k, i) with k < i is solved as (k, i) and negated, the bits of phase 1 */
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 16) if (nt > 1 && N >= 64)
+        for (uint32_t i = 0; i < N; i++) {
+            if (!nb->active[i])
+                continue;
+            double sum[2][3] = {{0, 0, 0}, {0, 0, 0}};
+            for (uint32_t k = 0; k < N; k++) {
+                if (k == i || !nb->active[k])
+                    continue;
+                const uint32_t lo = k > i ? i : k, hi = k > i ? k : i;
+                double G[2][3];
+                pair_G(nb, X, blk, lo, hi, upair(lo, hi, N), npairs, n0, n1, 0, G);
+                const double wk = nb->w[k], sg = k > i ? 1.0 : -1.0;
+                for (int n = n0; n <= n1; n++)
+                    for (int a = 0; a < 3; a++)
+                        sum[n - n0][a] += wk * (sg * G[n - n0][a]);
+            }
+            for (int n = n0; n <= n1; n++)
+                for (int a = 0; a < 3; a++)
+                    X[(size_t)(n + 2) * blk + 3 * i + a] =
+                        nb->c[i] * sum[n - n0][a] / ((double)(n + 1) * (n + 2));
+        }
+        return;
+    }
+    double (*Gb)[2][3] = (double (*)[2][3])nb->tg;
 #pragma omp parallel for num_threads(nt) schedule(dynamic, 16) if (nt > 1 && N >= 64)
     for (uint32_t i = 0; i < N; i++) {
         if (!nb->active[i])
@@ -151,7 +179,7 @@ static inline void ext_add(double *y, double *cs, long double d)
     *y = r;
 }
 
-/* Room for the coefficients, the pairs' G of a pass and, in store mode, the pair histories. */
+/* Room for the coefficients and, in store mode, the pairs' G of a pass and their histories. */
 static int scratch(mote_nb *nb, int p, int store, mote_err *err)
 {
     size_t need = (size_t)(p + 1) * 3 * nb->n;
@@ -163,7 +191,7 @@ static int scratch(mote_nb *nb, int p, int store, mote_err *err)
         nb->tx_cap = need;
     }
     const size_t npairs = (size_t)nb->n * (nb->n ? nb->n - 1 : 0) / 2;
-    if (6 * npairs > nb->tg_cap) {
+    if (store && 6 * npairs > nb->tg_cap) {
         double *g = realloc(nb->tg, (npairs > 0 ? 6 * npairs : 1) * sizeof *g);
         if (!g)
             return mote_fail(err, MOTE_ENOMEM, "taylor: out of memory for the pairs (%zu)",
