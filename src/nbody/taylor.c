@@ -89,6 +89,34 @@ static inline void pair_G(mote_nb *nb, const double *X, size_t blk, uint32_t i, 
  * That needs the G of every pair (6 reals each): store mode only. Recompute mode keeps memory
  * O(N): each target solves all its pairs itself (twice the pair work), in the same order and
  * with the same negation, so both modes give the same bits. */
+/* Phase 2 for target i: sum w_k G over the sources in index order into x^[n+2] (n = n0 .. n1),
+ * with each pair's G from Gb (store mode) or solved here (recompute mode). */
+static void target(mote_nb *nb, double *X, size_t blk, uint32_t i, int n0, int n1,
+                   double (*Gb)[2][3])
+{
+    const uint32_t N = nb->n;
+    const size_t npairs = (size_t)N * (N - 1) / 2;
+    double sum[2][3] = {{0, 0, 0}, {0, 0, 0}};
+    for (uint32_t k = 0; k < N; k++) {
+        if (k == i || !nb->active[k])
+            continue;
+        const uint32_t lo = k > i ? i : k, hi = k > i ? k : i;
+        double Gk[2][3], (*G)[3] = Gk;
+        if (Gb)
+            G = Gb[upair(lo, hi, N)];
+        else
+            pair_G(nb, X, blk, lo, hi, upair(lo, hi, N), npairs, n0, n1, 0, Gk);
+        const double wk = nb->w[k], sg = k > i ? 1.0 : -1.0;
+        for (int n = n0; n <= n1; n++)
+            for (int a = 0; a < 3; a++)
+                sum[n - n0][a] += wk * (sg * G[n - n0][a]);
+    }
+    for (int n = n0; n <= n1; n++)
+        for (int a = 0; a < 3; a++)
+            X[(size_t)(n + 2) * blk + 3 * i + a] =
+                nb->c[i] * sum[n - n0][a] / ((double)(n + 1) * (n + 2));
+}
+
 static void pass(mote_nb *nb, double *X, int n0, int top, int store)
 {
     const uint32_t N = nb->n;
@@ -96,60 +124,22 @@ static void pass(mote_nb *nb, double *X, int n0, int top, int store)
     const int n1 = n0 + 1 <= top ? n0 + 1 : n0;
     const int nt = nb->threads > 1 ? nb->threads : 1;
     (void)nt;
-    if (!store) { /* recompute: every target solves its pairs itself, in O(N) memory; the pair
-                   * (k, i) with k < i is solved as (k, i) and negated, the bits of phase 1 */
+    double (*Gb)[2][3] = store ? (double (*)[2][3])nb->tg : NULL;
+    if (store) { /* phase 1: each unordered pair once */
 #pragma omp parallel for num_threads(nt) schedule(dynamic, 16) if (nt > 1 && N >= 64)
         for (uint32_t i = 0; i < N; i++) {
             if (!nb->active[i])
                 continue;
-            double sum[2][3] = {{0, 0, 0}, {0, 0, 0}};
-            for (uint32_t k = 0; k < N; k++) {
-                if (k == i || !nb->active[k])
-                    continue;
-                const uint32_t lo = k > i ? i : k, hi = k > i ? k : i;
-                double G[2][3];
-                pair_G(nb, X, blk, lo, hi, upair(lo, hi, N), npairs, n0, n1, 0, G);
-                const double wk = nb->w[k], sg = k > i ? 1.0 : -1.0;
-                for (int n = n0; n <= n1; n++)
-                    for (int a = 0; a < 3; a++)
-                        sum[n - n0][a] += wk * (sg * G[n - n0][a]);
-            }
-            for (int n = n0; n <= n1; n++)
-                for (int a = 0; a < 3; a++)
-                    X[(size_t)(n + 2) * blk + 3 * i + a] =
-                        nb->c[i] * sum[n - n0][a] / ((double)(n + 1) * (n + 2));
+            for (uint32_t k = i + 1; k < N; k++)
+                if (nb->active[k])
+                    pair_G(nb, X, blk, i, k, upair(i, k, N), npairs, n0, n1, 1,
+                           Gb[upair(i, k, N)]);
         }
-        return;
     }
-    double (*Gb)[2][3] = (double (*)[2][3])nb->tg;
 #pragma omp parallel for num_threads(nt) schedule(dynamic, 16) if (nt > 1 && N >= 64)
-    for (uint32_t i = 0; i < N; i++) {
-        if (!nb->active[i])
-            continue;
-        for (uint32_t k = i + 1; k < N; k++)
-            if (nb->active[k])
-                pair_G(nb, X, blk, i, k, upair(i, k, N), npairs, n0, n1, store, Gb[upair(i, k, N)]);
-    }
-#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1 && N >= 64)
-    for (uint32_t i = 0; i < N; i++) {
-        if (!nb->active[i])
-            continue;
-        double sum[2][3] = {{0, 0, 0}, {0, 0, 0}};
-        for (uint32_t k = 0; k < N; k++) {
-            if (k == i || !nb->active[k])
-                continue;
-            const double wk = nb->w[k];
-            double (*G)[3] = k > i ? Gb[upair(i, k, N)] : Gb[upair(k, i, N)];
-            const double sg = k > i ? 1.0 : -1.0;
-            for (int n = n0; n <= n1; n++)
-                for (int a = 0; a < 3; a++)
-                    sum[n - n0][a] += wk * (sg * G[n - n0][a]);
-        }
-        for (int n = n0; n <= n1; n++)
-            for (int a = 0; a < 3; a++)
-                X[(size_t)(n + 2) * blk + 3 * i + a] =
-                    nb->c[i] * sum[n - n0][a] / ((double)(n + 1) * (n + 2));
-    }
+    for (uint32_t i = 0; i < N; i++)
+        if (nb->active[i])
+            target(nb, X, blk, i, n0, n1, Gb);
 }
 
 static int scratch(mote_nb *nb, int p, int store, mote_err *err);
