@@ -250,4 +250,27 @@ for integ in "integrator galactica dt=1e-6" "integrator taylor order=16 tol=1e-1
 done
 expect 1 "k3.mote:2:14: error: restart: 'none.state' does not exist" k3.mote "${G}restart file=none.state\n"
 expect 1 "k4.mote:2:1: error: checkpoint: there are no bodies yet" k4.mote "${G}checkpoint file=c.state every=1\n"
+
+# dense output across a merge: a sample time inside the merging step (T = 1.1042 ... 1.1071) is
+# taken at the step end, from the merged state (E_corr kept), not from the step's polynomial
+printf '%b' "${G}${B2}monitor dt=0.1105 file=dm.mon\nintegrate to=2\n" > dm.mote
+"$MOTE" run dm.mote > dm.out 2>&1 && ok || bad "dense output with a merge: $(cat dm.out)"
+awk '!/^#/ { n++; if ($9 > 1e-11 || $9 < -1e-11) bad = 1; if ($5 == 1) merged = 1 } END { exit bad || !merged || n != 19 }' dm.mon && ok || bad "dense output with a merge: $(grep -v '^#' dm.mon | awk '{ print $2, $5, $9 }' | tr '\n' ';')"
+
+# a state file of the first version (no L1 on its reference line) still loads; dL is then
+# measured from the loaded state
+printf '%bgenerate ring\nintegrate steps=10\nsave v1.state\n' "$G" > v1.mote
+"$MOTE" run v1.mote > v1.out 2>&1 && ok || bad "v1 save: $(cat v1.out)"
+sed -i 's/^\(reference [01] [^ ]* [^ ]* [^ ]*\) .*$/\1/' v1.state
+grep -Eq '^reference [01]( [^ ]+){3}$' v1.state && ok || bad "could not make a first-version state"
+printf '%bload v1.state\nmonitor every=10 file=v1.mon\nintegrate steps=10\n' "$G" > v2.mote
+"$MOTE" run v2.mote > v2.out 2>&1 && ok || bad "a first-version state does not load: $(cat v2.out)"
+tail -1 v1.mon | awk '{ exit !($20 < 1e-14 && $20 >= 0 && $20 != "") }' && ok || bad "dL after a first-version state: $(tail -1 v1.mon | cut -d' ' -f20)"
+
+# a state without scales after units: later bodies are read dimensionless, and the run says so
+printf '%bbody mass=1\nbody mass=1 x=1 vy=1\nsave ns.state\n' "$G" > ns1.mote
+printf '%bunits time=86400\nload ns.state\nbody mass=1 x=5\nsave ns2.state\n' "$G" > ns2.mote
+"$MOTE" run ns1.mote > ns.out 2>&1 && "$MOTE" run ns2.mote >> ns.out 2>&1 && ok || bad "units then load: $(cat ns.out)"
+grep -q '^load: the state has no physical scales; later bodies are read in dimensionless units' ns.out && ok || bad "no note on the missing scales: $(cat ns.out)"
+awk '/^bodies:/ { f = 1; next } f && ++n == 3 { exit !($1 == 1 && $5 == 5) }' ns2.state && ok || bad "the body after load was converted: $(grep -A3 '^bodies:' ns2.state | tail -1)"
 mote_test_end

@@ -45,7 +45,6 @@ typedef struct {
         double ekmax, t_ekmax; /* monitor: the largest kinetic energy of a body so far */
         double cpu0, wall0;    /* monitor: clocks when it started */
     } mon, traj;
-    mote_err *err;      /* the running command's */
     /* checkpoints: the exact state into `path` every `every` steps and at the end of integrate */
     struct {
         char *path;
@@ -875,6 +874,21 @@ static int check_time_unit(nb_model *m, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
+/* The dimensionless time of one unit= (1 without it); fails at run time when the scales are
+ * unknown (a loaded state without them). */
+static int time_scale(const nb_model *m, const mote_call *c, double *scale, mote_err *err)
+{
+    const mote_arg *u = mote_call_opt(c, "unit");
+    *scale = 1;
+    if (!u)
+        return MOTE_OK;
+    if (!m->nb.u.set)
+        return mote_call_fail(err, c, mote_call_opt_index(c, "unit"), MOTE_EINVAL,
+                              "%s: unit= needs physical scales (units or a generator)", c->name);
+    *scale = mote_nb_time_unit(u->text) * m->nb.u.kt;
+    return MOTE_OK;
+}
+
 /* The sampler options: every=K or dt=T [unit=U], format=, file=. */
 static int check_sampler(void *vm, const mote_call *c, mote_err *err)
 {
@@ -910,14 +924,11 @@ static int sampler_start(nb_model *m, nb_sampler *s, const mote_call *c, size_t 
     s->origin = mote_call_origin(c);
     const mote_arg *ev = mote_call_opt(c, "every");
     s->every = ev ? (uint64_t)ev->i : 0;
-    s->dt = mote_call_opt_r(c, "dt", 0);
-    if (s->dt > 0 && mote_call_opt(c, "unit")) {
-        if (!m->nb.u.set)
-            return mote_call_fail(err, c, mote_call_opt_index(c, "unit"), MOTE_EINVAL,
-                                  "%s: unit= needs physical scales (units or a generator)",
-                                  c->name);
-        s->dt *= mote_nb_time_unit(mote_call_opt(c, "unit")->text) * m->nb.u.kt;
-    }
+    double scale;
+    int rc = time_scale(m, c, &scale, err);
+    if (rc)
+        return rc;
+    s->dt = mote_call_opt_r(c, "dt", 0) * scale;
     s->t0 = m->nb.T;
     s->k = 0;
     s->format = !f ? FMT_TABLE : f->text[0] == 'c' ? FMT_CSV : f->text[0] == 'j' ? FMT_JSONL
@@ -995,9 +1006,9 @@ static uint64_t until_sample(const nb_sampler *s, uint64_t steps, uint64_t left)
 /* After a step from Tb: a step sampler samples on its step counts and at the end time; a time
  * sampler at every t0 + k dt passed, from the Taylor step's dense output (spec 4.5) or, for the
  * Galactica scheme, at the first step end at or after it (spec 10.3). */
-static int after_step(nb_model *m, nb_sampler *s, int traj, double Tb, double t_end, double *xv)
+static int after_step(nb_model *m, nb_sampler *s, int traj, double Tb, uint64_t merges,
+                      double t_end, double *xv, mote_err *err)
 {
-    mote_err *err = m->err;
     if (!s->on)
         return MOTE_OK;
     mote_nb *nb = &m->nb;
@@ -1009,7 +1020,8 @@ static int after_step(nb_model *m, nb_sampler *s, int traj, double Tb, double t_
         if (!(ts <= nb->T) || rc)
             break;
         s->k++;
-        if (nb->integrator == MOTE_NB_TAYLOR && ts < nb->T && ts > Tb) {
+        /* (after a merge the step's polynomial no longer matches the bodies: the step end) */
+        if (nb->integrator == MOTE_NB_TAYLOR && ts < nb->T && ts > Tb && nb->merges == merges) {
             mote_nb view = *nb; /* the state at ts, from the step's polynomial */
             view.x = xv;
             view.v = xv + 3 * (size_t)nb->n;
@@ -1029,18 +1041,14 @@ static int run_integrate(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
     settle_units(m);
-    m->err = err;
     m->nb.threads = c->ctx->threads;
     const mote_arg *a = mote_call_opt(c, "steps");
     uint64_t steps = a ? (uint64_t)a->i : UINT64_MAX, done = 0;
     const double t0 = m->nb.T;
-    double t_end = INFINITY, scale = 1;
-    if (mote_call_opt(c, "unit")) {
-        if (!m->nb.u.set)
-            return mote_call_fail(err, c, mote_call_opt_index(c, "unit"), MOTE_EINVAL,
-                                  "integrate: unit= needs physical scales (units or a generator)");
-        scale = mote_nb_time_unit(mote_call_opt(c, "unit")->text) * m->nb.u.kt;
-    }
+    double t_end = INFINITY, scale;
+    int rc = time_scale(m, c, &scale, err);
+    if (rc)
+        return rc;
     if ((a = mote_call_opt(c, "to")))
         t_end = a->r * scale;
     else if ((a = mote_call_opt(c, "for")))
@@ -1053,7 +1061,6 @@ static int run_integrate(void *vm, const mote_call *c, mote_err *err)
     }
     mote_progress prog;
     mote_progress_begin(&prog, c->ctx, "integrate");
-    int rc = MOTE_OK;
     const uint64_t warned = m->nb.approach_warnings;
     while (done < steps && !rc && m->nb.T < t_end) {
         uint64_t chunk = until_sample(&m->mon, m->nb.steps, steps - done);
@@ -1066,14 +1073,15 @@ static int run_integrate(void *vm, const mote_call *c, mote_err *err)
             chunk = 1000;
         uint64_t before = m->nb.steps;
         const double Tb = m->nb.T;
+        const uint64_t merges = m->nb.merges;
         rc = mote_nb_integrate(&m->nb, chunk, t_end, err);
         done += m->nb.steps - before;
         if (!rc && m->nb.steps == before) /* no step could be taken: the end is reached */
             break;
         if (!rc)
-            rc = after_step(m, &m->mon, 0, Tb, t_end, xv);
+            rc = after_step(m, &m->mon, 0, Tb, merges, t_end, xv, err);
         if (!rc)
-            rc = after_step(m, &m->traj, 1, Tb, t_end, xv);
+            rc = after_step(m, &m->traj, 1, Tb, merges, t_end, xv, err);
         if (!rc && m->ckpt.path && m->nb.steps % m->ckpt.every == 0)
             rc = nb_state_save(&m->nb, m->ckpt.path, err);
         mote_progress_update(&prog, t_end < INFINITY ? (m->nb.T - t0) / (t_end - t0)
@@ -1137,6 +1145,12 @@ static int load_state(nb_model *m, const mote_call *c, const char *path, mote_er
     if (!rc) {
         m->have_ring = 0;
         m->raw = 0;
+        if (!m->nb.u.set && m->input_si) { /* nothing to convert SI values with */
+            m->input_si = 0;
+            if (m->log)
+                fprintf(m->log, "%s: the state has no physical scales; later bodies are read "
+                                "in dimensionless units\n", c->name);
+        }
         if (m->log)
             fprintf(m->log, "%s: %u bodies at T = %.17g (step %llu) from %s\n", c->name, m->nb.n,
                     m->nb.T, (unsigned long long)m->nb.steps, path);
@@ -1341,8 +1355,9 @@ static const char HELP_MONITOR[] =
     "Record the conserved quantities (spec 3.7, 10.1) now and then every K steps\n"
     "of later `integrate` commands (and at an end time given by to= or for=), or\n"
     "at the times T0 + k T (T0 now): the adaptive Taylor integrator samples these\n"
-    "inside its steps by dense output, without shortening them; the Galactica\n"
-    "scheme samples at the first step end at or after each. Columns: step T h dT\n"
+    "inside its steps by dense output, without shortening them (in a step in\n"
+    "which bodies merged, at its end); the Galactica scheme samples at the first\n"
+    "step end at or after each. Columns: step T h dT\n"
     "N_active E_kin U E_tot dE Px Py Pz Lx Ly Lz Sx Sy Sz dMz dL Xcm Ycm Zcm\n"
     "Vxcm Vycm Vzcm m_max v_max E_kin_max T_E_kin_max E_heat E_spin merges cpu_s\n"
     "wall_s E_corr, where dE = (E_corr - E0)/|E0| (E_corr: E_tot less the energy\n"

@@ -176,6 +176,7 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
     uint32_t n = 0;
     mote_nb t;
     mote_nb_init(&t, MOTE_NB_GRAVITY);
+    int l1_missing = 0;
     rc = read_head(&r, &kind, &n);
     if (!rc && kind != nb->kind)
         rc = mote_fail(err, MOTE_EINVAL, "%s:3: the state is a %s run, this script is a %s run",
@@ -266,11 +267,17 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
             rc = fail(&r, "'reference SET(0|1) E0 Mza1 Lnorm1 L1x L1y L1z'", s);
         else {
             t.ref_set = s[10] == '1';
-            rc = reals(&r, s + 11, NULL, v, 6);
+            /* files of the first version have no L1: it is taken from the loaded state */
+            int words = 0;
+            for (const char *p = s + 11; *p; p++)
+                words += *p != ' ' && (p == s + 11 || p[-1] == ' ');
+            l1_missing = words == 3;
+            rc = reals(&r, s + 11, NULL, v, l1_missing ? 3 : 6);
             t.E0 = v[0];
             t.Mza1 = v[1];
             t.Lnorm1 = v[2];
-            memcpy(t.L1, v + 3, sizeof t.L1);
+            if (!l1_missing)
+                memcpy(t.L1, v + 3, sizeof t.L1);
         }
     }
     if (!rc) {
@@ -358,6 +365,12 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
     }
     t.restart = file_restart;
     t.ref_set = file_ref;
+    if (l1_missing) {
+        mote_nb_monitor mon;
+        mote_nb_measure(&t, &mon);
+        for (int a = 0; a < 3; a++)
+            t.L1[a] = mon.L[a] + mon.S[a];
+    }
     t.dtp = file_dtp;
     t.G = t.u.set && t.u.G > 0 ? t.u.G : nb->G; /* the constants of the file's scales */
     t.e2 = t.u.set && t.u.e2 > 0 ? t.u.e2 : nb->e2;
