@@ -727,6 +727,76 @@ static void test_solar(void)
     mote_nb_free(&nb);
 }
 
+
+/* T12 (spec 11): the Solar-System builder on the shipped J2000 state (JPL Horizons, DE441): the
+ * total mass is the unit, the centre of mass rests at the origin, the Earth, the Moon and Jupiter
+ * are where they should be, and the invariable plane is tilted by the obliquity from the equator
+ * of the ICRF axes. The bounds are the spec's. */
+static void test_t12(void)
+{
+    printf("T12 Solar-System builder, data/solar_system_j2000.dat\n");
+    FILE *f = fopen("data/solar_system_j2000.dat", "r");
+    char line[256];
+    int source = 0;
+    while (f && fgets(line, sizeof line, f) && line[0] == '#')
+        source |= strncmp(line, "# source: ", 10) == 0 && strlen(line) > 40;
+    if (f)
+        fclose(f);
+    CHECK(source, "no '# source:' line");
+    mote_nb_solar s;
+    mote_err err = {0};
+    if (mote_nb_solar_read("data/solar_system_j2000.dat", &s, &err)) {
+        CHECK(0, "read: %s", err.msg);
+        return;
+    }
+    mote_nb nb;
+    mote_nb_init(&nb, MOTE_NB_GRAVITY);
+    CHECK(mote_nb_solar_build(&nb, &s, NULL, 0, &err) == MOTE_OK, "build: %s", err.msg);
+    int sun = -1, earth = -1, moon = -1, jupiter = -1;
+    for (int i = 0; i < s.n; i++) {
+        sun = strcmp(s.b[i].name, "Sun") ? sun : i;
+        earth = strcmp(s.b[i].name, "Earth") ? earth : i;
+        moon = strcmp(s.b[i].name, "Moon") ? moon : i;
+        jupiter = strcmp(s.b[i].name, "Jupiter") ? jupiter : i;
+    }
+    CHECK(nb.n == 10 && sun == 0 && earth == 3 && moon == 4 && jupiter == 6,
+          "%u bodies, order Sun %d Earth %d Moon %d Jupiter %d", nb.n, sun, earth, moon, jupiter);
+    mote_nb_solar_free(&s);
+    if (nb.n != 10) {
+        mote_nb_free(&nb);
+        return;
+    }
+    double mt = 0, R[3] = {0, 0, 0}, L[3] = {0, 0, 0};
+    for (uint32_t i = 0; i < nb.n; i++) {
+        const double *x = &nb.x[3 * i], *v = &nb.v[3 * i];
+        mt += nb.m[i];
+        for (int a = 0; a < 3; a++)
+            R[a] += nb.m[i] * x[a];
+        L[0] += nb.m[i] * (x[1] * v[2] - x[2] * v[1]);
+        L[1] += nb.m[i] * (x[2] * v[0] - x[0] * v[2]);
+        L[2] += nb.m[i] * (x[0] * v[1] - x[1] * v[0]);
+    }
+    CHECK(fabs(mt - 1) <= 4.5e-16, "sum of masses %.17g", mt);
+    const double rcm = sqrt(R[0] * R[0] + R[1] * R[1] + R[2] * R[2]);
+    CHECK(rcm <= 1e-17, "centre of mass at %.3g", rcm);
+    double d[3][3];
+    const int pair[3][2] = {{earth, sun}, {moon, earth}, {jupiter, sun}};
+    for (int k = 0; k < 3; k++)
+        for (int a = 0; a < 3; a++)
+            d[k][a] = (nb.x[3 * pair[k][0] + a] - nb.x[3 * pair[k][1] + a]) * nb.u.Am;
+    const double es = sqrt(d[0][0] * d[0][0] + d[0][1] * d[0][1] + d[0][2] * d[0][2]) / MOTE_NB_AU;
+    const double em = sqrt(d[1][0] * d[1][0] + d[1][1] * d[1][1] + d[1][2] * d[1][2]) / 1e3;
+    const double js = sqrt(d[2][0] * d[2][0] + d[2][1] * d[2][1] + d[2][2] * d[2][2]) / MOTE_NB_AU;
+    CHECK(es >= 0.983 && es <= 1.017, "Earth-Sun %.6f AU", es);
+    CHECK(em >= 356000 && em <= 407000, "Earth-Moon %.1f km", em);
+    CHECK(js >= 4.95 && js <= 5.46, "Jupiter-Sun %.6f AU", js);
+    const double tilt = acos(L[2] / sqrt(L[0] * L[0] + L[1] * L[1] + L[2] * L[2])) * 45 / atan(1.0);
+    CHECK(tilt >= 22.8 && tilt <= 23.2, "invariable plane tilted %.4f deg from the equator", tilt);
+    printf("  sum m - 1 = %.2g, |R_cm| = %.2g, Earth-Sun %.5f AU, Earth-Moon %.0f km, "
+           "Jupiter-Sun %.4f AU, tilt %.4f deg\n", mt - 1, rcm, es, em, js, tilt);
+    mote_nb_free(&nb);
+}
+
 /* Spec 4.7: the close-approach control of the Galactica scheme. Two bodies (radii 0.01) meet
  * head-on at a closing speed of about 20 while dt = 1e-2: a step moves them 0.2, ten times the
  * sum of their radii. Without the control (bt = 1) they merge deeply overlapped or pass
@@ -1003,6 +1073,7 @@ int main(void)
     test_adaptive();
     test_merging();
     test_solar();
+    test_t12();
     test_approach();
     test_png();
     test_longrun();

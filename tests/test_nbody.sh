@@ -153,6 +153,12 @@ expect 1 "s9.mote:2:1: error: solar_system: merge_inner needs the Sun" s9.mote "
 expect 1 "s10.mote:2:1: error: empty.dat: empty file" s10.mote "${G}generate solar_system data=empty.dat\n"
 sed 's/^Moon /Earth /' km.dat > dup.dat
 expect 1 "s11.mote:2:1: error: dup.dat:6: Earth is also on line 5" s11.mote "${G}generate solar_system data=dup.dat\n"
+sed 's/^Moon /Moon@Mars /' km.dat > at.dat
+expect 1 "s12.mote:2:1: error: at.dat:6: Moon@Mars: expected NAME@CENTRE with the centre on an earlier line" s12.mote "${G}generate solar_system data=at.dat\n"
+# the shipped J2000 state: the geocentric Moon is put back around the Earth
+SS=$(dirname "$DATA")/solar_system_j2000.dat
+printf '%b' "${G}generate solar_system data=$SS bodies=Sun,Earth,Moon\n" > j2k.mote
+"$MOTE" run j2k.mote > out.txt 2> err.txt && grep -q '^generate solar_system: 3 bodies' out.txt && ok || bad "J2000 set: $(cat out.txt err.txt)"
 # runtime: at the line, with the monitor's earlier file kept
 expect 2 "r1.mote:4:1: error: a Coulomb run needs charged bodies" r1.mote "${C}body mass=1 x=1\nbody mass=1\nintegrate steps=5\n"
 expect 2 "r2.mote:5:1: error: bodies 1 and 2 are at the same point" r2.mote "${G}body mass=1\nbody mass=1\nmonitor every=1 file=m.mon\nintegrate steps=5\n"

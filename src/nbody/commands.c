@@ -1287,7 +1287,8 @@ static const char HELP_GENERATE[] =
     "before the shift. Fails when neighbours are less than 50 diameters apart.\n"
     "`solar_system` (spec 9.3): the bodies of a Solar-System data file (format in\n"
     "docs/nbody.md; data/outer_solar_system.dat holds the outer Solar System of\n"
-    "Hairer, Lubich & Wanner), all or those listed in `bodies=`, in the file's\n"
+    "Hairer, Lubich & Wanner, data/solar_system_j2000.dat the Sun, planets and\n"
+    "Moon at J2000 from JPL Horizons), all or those listed in `bodies=`, in the file's\n"
     "order; merge_inner=on adds Mercury, Venus, Earth, Moon and Mars to the Sun.\n"
     "Masses relative to the total, time unit the sidereal century, Am from eq. 8\n"
     "refined, barycentric.\n";

@@ -3,8 +3,9 @@
  * '# units:' which is either 'km s GM' (the second column is GM in km^3/s^2, lengths in km,
  * velocities in km/s) or 'AU day Msun G=<value>' (the second column is the mass in solar masses,
  * written as a number or as 1/<number>, with G in AU^3 Msun^-1 day^-2); then one row per body:
- * name, GM or mass, x, y, z, vx, vy, vz, mean radius in km. Values are converted to SI on
- * reading; the builder makes the dimensionless system with the sidereal century as time unit. */
+ * name, GM or mass, x, y, z, vx, vy, vz, mean radius in km. A name NAME@CENTRE gives the state
+ * relative to the body CENTRE of an earlier line (the geocentric Moon). Values are converted to SI
+ * on reading; the builder makes the dimensionless system with the sidereal century as time unit. */
 #include "mote/nbody.h"
 
 #include <ctype.h>
@@ -106,6 +107,19 @@ int mote_nb_solar_read(const char *path, mote_nb_solar *s, mote_err *err)
         }
         strcpy(b->name, tok);
         b->line = ln;
+        int centre = -1; /* 'Moon@Earth': the state is relative to an earlier body */
+        char *at = strchr(b->name, '@');
+        if (at) {
+            *at++ = '\0';
+            for (int j = 0; j < s->n; j++)
+                if (strcmp(s->b[j].name, at) == 0)
+                    centre = j;
+            if (!b->name[0] || centre < 0) {
+                rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: %s@%s: expected NAME@CENTRE with the "
+                               "centre on an earlier line", path, ln, b->name, at);
+                break;
+            }
+        }
         double v[8];
         int k = 0;
         for (; k < 8 && (tok = strtok_r(NULL, " \t", &save)); k++)
@@ -140,6 +154,11 @@ int mote_nb_solar_read(const char *path, mote_nb_solar *s, mote_err *err)
             b->v[a] = v[4 + a] * L / T;
         }
         b->ra = v[7] * 1e3;
+        if (centre >= 0)
+            for (int a = 0; a < 3; a++) {
+                b->x[a] += s->b[centre].x[a];
+                b->v[a] += s->b[centre].v[a];
+            }
         s->n++;
     }
     const long lines = in.line;
