@@ -17,7 +17,16 @@ endif
 CFLAGS  ?= $(OPT) -g
 # OpenMP (the N-body model's pair passes); OPENMP= builds without it
 OPENMP  ?= -fopenmp
-ALL_CFLAGS := -std=c11 -D_POSIX_C_SOURCE=200809L -Iinclude $(WARN) $(CFLAGS) $(SAN) $(OPENMP) $(CAIRO_CFLAGS)
+# The N-body model's real type (spec 4.6): double, long (long double) or quad (__float128, with
+# glibc's _Float128 functions); build each in its own BUILD folder.
+PRECISION ?= double
+PREC_FLAGS_double :=
+PREC_FLAGS_long   := -DMOTE_NB_PRECISION=2
+PREC_FLAGS_quad   := -DMOTE_NB_PRECISION=4 -D__STDC_WANT_IEC_60559_TYPES_EXT__=1
+ifeq ($(filter $(PRECISION),double long quad),)
+$(error PRECISION must be double, long or quad (found '$(PRECISION)'))
+endif
+ALL_CFLAGS := -std=c11 -D_POSIX_C_SOURCE=200809L $(PREC_FLAGS_$(PRECISION)) -Iinclude $(WARN) $(CFLAGS) $(SAN) $(OPENMP) $(CAIRO_CFLAGS)
 LDLIBS  := $(CAIRO_LIBS) -lm
 
 # every folder of src/ but the program's: a new model's folder is built without naming it here

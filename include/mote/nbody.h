@@ -12,6 +12,30 @@
 
 #include <stdint.h>
 
+/* ---- the real type (spec 4.6), chosen at build time: make PRECISION=double|long|quad ---------- */
+
+#ifndef MOTE_NB_PRECISION
+#define MOTE_NB_PRECISION 1
+#endif
+#if MOTE_NB_PRECISION == 2
+typedef long double mote_real;
+#define MOTE_REAL_DIG 21 /* significant digits that make a text round trip exact */
+#define MOTE_REAL_NAME "long double"
+#elif MOTE_NB_PRECISION == 4
+__extension__ typedef _Float128 mote_real; /* __float128 on x86-64; glibc's libm functions */
+#define MOTE_REAL_DIG 36
+#define MOTE_REAL_NAME "quad"
+#else
+typedef double mote_real;
+#define MOTE_REAL_DIG 17
+#define MOTE_REAL_NAME "double"
+#endif
+#define MOTE_REAL_BUF 48
+/* v written with MOTE_REAL_DIG significant digits (%.Ng) into buf, which is returned. */
+const char *mote_real_str(mote_real v, char buf[MOTE_REAL_BUF]);
+/* Parse a real at s (strtod's syntax) to the full precision; *end as strtod's. */
+mote_real mote_real_parse(const char *s, char **end);
+
 typedef enum { MOTE_NB_GRAVITY = 0, MOTE_NB_COULOMB = 1 } mote_nb_interaction;
 enum { MOTE_NB_GALACTICA = 0, MOTE_NB_TAYLOR = 1 };
 #define MOTE_NB_TAYLOR_MAX 60
@@ -62,35 +86,35 @@ double mote_nb_time_unit(const char *name);
 typedef struct {
     mote_nb_interaction kind;
     uint32_t n, cap;
-    double *m, *q;          /* dimensionless mass and charge */
-    double *c, *w;          /* kernel coefficients (spec 3.3): a_i = c_i sum w_k r_ik / r^3 */
-    double *x, *v;          /* [3n] positions and velocities */
-    double *xc, *vc;        /* [3n] their compensation terms (Kahan) */
-    double *ra;             /* radius */
-    double *sp;             /* [3n] spin */
-    double *et;             /* thermal energy (from merges) */
+    mote_real *m, *q;          /* dimensionless mass and charge */
+    mote_real *c, *w;          /* kernel coefficients (spec 3.3): a_i = c_i sum w_k r_ik / r^3 */
+    mote_real *x, *v;          /* [3n] positions and velocities */
+    mote_real *xc, *vc;        /* [3n] their compensation terms (Kahan) */
+    mote_real *ra;             /* radius */
+    mote_real *sp;             /* [3n] spin */
+    mote_real *et;             /* thermal energy (from merges) */
     uint8_t *active;
-    double *d5p;            /* [3n] fifth derivative at the start of the previous step */
-    double *acc, *jerk, *d4, *d5; /* [3n] this step's derivatives (scratch) */
-    double T, Tc;           /* time and its compensation */
-    double dt;              /* nominal step */
-    double dtp;             /* length of the previous step; 0 = no valid previous fifth derivative */
+    mote_real *d5p;            /* [3n] fifth derivative at the start of the previous step */
+    mote_real *acc, *jerk, *d4, *d5; /* [3n] this step's derivatives (scratch) */
+    mote_real T, Tc;           /* time and its compensation */
+    mote_real dt;              /* nominal step */
+    mote_real dtp;             /* length of the previous step; 0 = no valid previous fifth derivative */
     int restart;            /* the next step is a restart step (first_step * dt): a fresh start */
-    double hlast;           /* the last step taken, by either integrator (for the monitor) */
+    mote_real hlast;           /* the last step taken, by either integrator (for the monitor) */
     /* merging (spec 5) */
     int merging;            /* -1: when any body has a radius (default), 0 off, 1 on */
     uint64_t merges;        /* Galactica's Lsls */
-    double e_heat, e_spin;  /* energy into heat (eq. 11) and into spin by all merges */
-    double de_merge;        /* sum of E_tot(after) - E_tot(before) over merges */
+    mote_real e_heat, e_spin;  /* energy into heat (eq. 11) and into spin by all merges */
+    mote_real de_merge;        /* sum of E_tot(after) - E_tot(before) over merges */
     /* close approaches (spec 4.7, Galactica's bt), Galactica scheme while merging is on */
-    double bt;              /* step factor while a pair approaches contact (default 0.5; 1: off) */
-    double bt_hmin;         /* the shortest step, as a fraction of dt (default 1e-6) */
-    double happ;            /* the last step shortened by an approach (0: none) */
-    double max_overlap;     /* largest 1 - r / (Ra_i + Ra_k) of a merging pair */
+    mote_real bt;              /* step factor while a pair approaches contact (default 0.5; 1: off) */
+    mote_real bt_hmin;         /* the shortest step, as a fraction of dt (default 1e-6) */
+    mote_real happ;            /* the last step shortened by an approach (0: none) */
+    mote_real max_overlap;     /* largest 1 - r / (Ra_i + Ra_k) of a merging pair */
     uint64_t approach_warnings; /* merges with an overlap above 10% after a step at bt_hmin dt */
     uint64_t steps;
     int order;              /* Galactica scheme order K, 2 ... 6 */
-    double first_step;      /* the restart step is first_step * dt (spec 4.2: 0.001) */
+    mote_real first_step;      /* the restart step is first_step * dt (spec 4.2: 0.001) */
     int compensated;        /* compensated summation of x, v and T (default on) */
     int threads;            /* OpenMP threads of the pair passes (<= 1: one); results do not
                              * depend on it (every target sums its sources in index order) */
@@ -99,13 +123,13 @@ typedef struct {
     int taylor_order;       /* p, 2 ... MOTE_NB_TAYLOR_MAX */
     int taylor_memory;      /* 0 automatic, 1 store, 2 recompute */
     int adaptive;           /* 1: the step from the Taylor terms (spec 4.5), else dt */
-    double tol, safety, hmin, hmax; /* its tolerance, safety factor, bounds (0: none) */
-    double hprev;           /* the last adaptive step (0: none yet) */
-    double *tx;             /* (p + 1) blocks of 3n coefficients x^[n] */
+    mote_real tol, safety, hmin, hmax; /* its tolerance, safety factor, bounds (0: none) */
+    mote_real hprev;           /* the last adaptive step (0: none yet) */
+    mote_real *tx;             /* (p + 1) blocks of 3n coefficients x^[n] */
     size_t tx_cap;
-    double *ts, *tf;        /* store mode: s^[j], f^[j] of every unordered pair */
+    mote_real *ts, *tf;        /* store mode: s^[j], f^[j] of every unordered pair */
     size_t tsf_cap;
-    double *tg;             /* a pass's G^[n] of every unordered pair (6 reals each) */
+    mote_real *tg;             /* a pass's G^[n] of every unordered pair (6 reals each) */
     size_t tg_cap;
     mote_nb_units u;
     /* the constants in use (spec 3.6; the `constant` command replaces them): G (m^3 kg^-1 s^-2),
@@ -113,14 +137,15 @@ typedef struct {
     double G, e2, eps;
     /* monitor references (spec 3.7), from the state at the start of the run */
     int ref_set;
-    double E0, Mza1, Lnorm1;
-    double L1[3];           /* L + S at the start (the reference of dL) */
+    mote_real E0, Mza1, Lnorm1;
+    mote_real L1[3];           /* L + S at the start (the reference of dL) */
 } mote_nb;
 
 void mote_nb_init(mote_nb *nb, mote_nb_interaction kind);
 void mote_nb_free(mote_nb *nb);
 /* Add a body (dimensionless values). Fails on non-finite values or a mass <= 0. */
-int mote_nb_add(mote_nb *nb, double m, double q, const double x[3], const double v[3], double ra,
+int mote_nb_add(mote_nb *nb, mote_real m, mote_real q, const mote_real x[3], const mote_real v[3],
+                mote_real ra,
                 mote_err *err);
 /* Fill the kernel coefficients from masses and charges; fails when a Coulomb run has no
  * charge or two active bodies share a point. Called by the integrator before a run. */
@@ -132,7 +157,7 @@ void mote_nb_from_si(mote_nb *nb, const mote_nb_units *u);
 
 /* Shift to the barycentre (spec 3.4): the centre of mass position and velocity before the
  * shift go to xc and vc (may be NULL). */
-void mote_nb_barycentric(mote_nb *nb, double xc[3], double vc[3]);
+void mote_nb_barycentric(mote_nb *nb, mote_real xc[3], mote_real vc[3]);
 
 /* ---- the Galactica scheme (spec 4.2, 4.3) --------------------------------------------------- */
 
@@ -148,19 +173,19 @@ int mote_nb_derivatives(mote_nb *nb, mote_err *err);
 
 /* Run the chosen integrator (nb->integrator) for at most max_steps steps and up to the time
  * t_end (INFINITY: none), which is hit exactly. */
-int mote_nb_integrate(mote_nb *nb, uint64_t max_steps, double t_end, mote_err *err);
+int mote_nb_integrate(mote_nb *nb, uint64_t max_steps, mote_real t_end, mote_err *err);
 /* Merge every pair of active bodies closer than the sum of their radii (spec 5), repeating until
  * none touch; mote_nb_integrate calls it after every step when merging is on. */
 int mote_nb_merge(mote_nb *nb, mote_err *err);
 /* Dense output (spec 4.5): positions and velocities (3n each) at the time T_prev + s inside the
  * Taylor step just taken from T_prev, from that step's coefficients. */
-void mote_nb_taylor_dense(const mote_nb *nb, double s, double *x, double *v);
+void mote_nb_taylor_dense(const mote_nb *nb, mote_real s, mote_real *x, mote_real *v);
 /* Take `steps` steps with the Taylor series of order taylor_order (fixed or adaptive). */
 int mote_nb_taylor(mote_nb *nb, uint64_t steps, mote_err *err);
 /* The normalized coefficients x^[0 .. p] of every body at the current state into X ((p + 1)
  * blocks of 3n); store != 0 keeps the pair histories in nb. Returns MOTE_ENOMEM when the pair
  * scratch cannot be allocated. */
-int mote_nb_taylor_coefficients(mote_nb *nb, int p, int store, double *X);
+int mote_nb_taylor_coefficients(mote_nb *nb, int p, int store, mote_real *X);
 /* Jorba and Zou's order for a tolerance: ceil(1 - ln(tol)/2) (20 for 1e-16). */
 int mote_nb_taylor_auto_order(double tol);
 /* Does a run of order p keep the pair histories (store) or recompute them? */
@@ -169,13 +194,13 @@ int mote_nb_taylor_memory_store(const mote_nb *nb, int p);
 /* ---- conserved quantities (spec 3.7) -------------------------------------------------------- */
 
 typedef struct {
-    double ekin, u, etot;
-    double P[3], L[3], S[3], R[3];  /* momentum, orbital and spin angular momentum, m-weighted position */
-    double mtot;
-    double ecorr;   /* E_tot - sum dE_merge (conserved through merges) */
-    double dE;      /* (E_corr - E0) / |E0| */
-    double dMz;     /* (Mz + Sz - Mza1) / Mza1 (or over the normalisation of spec 3.7) */
-    double dL;      /* |L + S - (L + S)_0| / |(L + S)_0| */
+    mote_real ekin, u, etot;
+    mote_real P[3], L[3], S[3], R[3];  /* momentum, orbital and spin angular momentum, m-weighted position */
+    mote_real mtot;
+    mote_real ecorr;   /* E_tot - sum dE_merge (conserved through merges) */
+    mote_real dE;      /* (E_corr - E0) / |E0| */
+    mote_real dMz;     /* (Mz + Sz - Mza1) / Mza1 (or over the normalisation of spec 3.7) */
+    mote_real dL;      /* |L + S - (L + S)_0| / |(L + S)_0| */
 } mote_nb_monitor;
 
 void mote_nb_measure(const mote_nb *nb, mote_nb_monitor *mon);
@@ -219,11 +244,12 @@ typedef struct {
     double time_unit, permittivity;
     /* results (SI unless stated) */
     double a, alpha1, rp, fN, mu1, vp, m0, m1, ra0, ra1, d, rn;
-    double mo0, mo1, mu;       /* dimensionless masses and the Kepler parameter */
-    double a_o, rp_o, vp_o;    /* a / Am, Rp / Am, vp kv */
-    double period;             /* dimensionless */
-    double M00;                /* N m_o1 (Rp/Am)(vp kv) */
-    double xc[3], vc[3];       /* centre of mass before the barycentric shift */
+    /* dimensionless, in the build's real type */
+    mote_real mo0, mo1, mu;    /* dimensionless masses and the Kepler parameter */
+    mote_real a_o, rp_o, vp_o; /* a / Am, Rp / Am, vp kv */
+    mote_real period;          /* dimensionless */
+    mote_real M00;             /* N m_o1 (Rp/Am)(vp kv) */
+    mote_real xc[3], vc[3];    /* centre of mass before the barycentric shift */
 } mote_nb_ring;
 
 /* The defaults of Appendix 1 (gravity) and Appendix 3 (Coulomb) of the seed document. */
@@ -231,12 +257,12 @@ void mote_nb_ring_defaults(mote_nb_ring *r, mote_nb_interaction kind);
 /* Build the ring into an empty system (its scales included); fills the results of r. */
 int mote_nb_ring_build(mote_nb *nb, mote_nb_ring *r, mote_err *err);
 /* f_N = 1/4 sum_{j=1}^{N-1} 1 / sin(j pi / N). */
-double mote_nb_ring_fN(int N);
+mote_real mote_nb_ring_fN(int N);
 /* The exact position of ring body b (1 ... nb-1) at dimensionless time T. */
-void mote_nb_ring_exact(const mote_nb_ring *r, int b, double T, double x[3]);
+void mote_nb_ring_exact(const mote_nb_ring *r, int b, mote_real T, mote_real x[3]);
 /* The largest |x - x_exact| / |x_exact| over the ring bodies, and the largest distance from the
  * tilted orbit plane over a (out_of_plane, may be NULL). */
-double mote_nb_ring_error(const mote_nb *nb, const mote_nb_ring *r, double *out_of_plane);
+mote_real mote_nb_ring_error(const mote_nb *nb, const mote_nb_ring *r, mote_real *out_of_plane);
 
 /* ---- the model as registered with the script language ---------------------------------------- */
 

@@ -12,7 +12,7 @@
  * threads give the same bits. */
 #include "mote/nbody.h"
 
-#include <math.h>
+#include <tgmath.h>
 #include <string.h>
 
 #include "nb.h"
@@ -21,25 +21,25 @@
 static void pass1(mote_nb *nb)
 {
     const uint32_t n = nb->n;
-    const double *x = nb->x, *v = nb->v, *w = nb->w;
+    const mote_real *x = nb->x, *v = nb->v, *w = nb->w;
     const int nt = nb->threads > 1 ? nb->threads : 1;
     (void)nt;
 #pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1 && n >= 64)
     for (uint32_t i = 0; i < n; i++) {
-        double a[3] = {0, 0, 0}, j[3] = {0, 0, 0};
+        mote_real a[3] = {0, 0, 0}, j[3] = {0, 0, 0};
         if (nb->active[i]) {
-            const double *xi = x + 3 * (size_t)i, *vi = v + 3 * (size_t)i;
+            const mote_real *xi = x + 3 * (size_t)i, *vi = v + 3 * (size_t)i;
             for (uint32_t k = 0; k < n; k++) {
                 if (k == i || !nb->active[k])
                     continue;
-                const double *xk = x + 3 * (size_t)k, *vk = v + 3 * (size_t)k;
-                double r[3] = {xi[0] - xk[0], xi[1] - xk[1], xi[2] - xk[2]};
-                double u[3] = {vi[0] - vk[0], vi[1] - vk[1], vi[2] - vk[2]};
-                double r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
-                double rinv = 1.0 / sqrt(r2), wr3 = w[k] * rinv * rinv * rinv;
-                double alpha = (r[0] * u[0] + r[1] * u[1] + r[2] * u[2]) / r2;
+                const mote_real *xk = x + 3 * (size_t)k, *vk = v + 3 * (size_t)k;
+                mote_real r[3] = {xi[0] - xk[0], xi[1] - xk[1], xi[2] - xk[2]};
+                mote_real u[3] = {vi[0] - vk[0], vi[1] - vk[1], vi[2] - vk[2]};
+                mote_real r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+                mote_real rinv = 1.0 / sqrt(r2), wr3 = w[k] * rinv * rinv * rinv;
+                mote_real alpha = (r[0] * u[0] + r[1] * u[1] + r[2] * u[2]) / r2;
                 for (int c = 0; c < 3; c++) {
-                    double A0 = wr3 * r[c];
+                    mote_real A0 = wr3 * r[c];
                     a[c] += A0;
                     j[c] += wr3 * u[c] - 3 * alpha * A0;
                 }
@@ -57,41 +57,41 @@ static void pass1(mote_nb *nb)
 static void pass2(mote_nb *nb)
 {
     const uint32_t n = nb->n;
-    const double *x = nb->x, *v = nb->v, *w = nb->w, *A = nb->acc, *J = nb->jerk;
+    const mote_real *x = nb->x, *v = nb->v, *w = nb->w, *A = nb->acc, *J = nb->jerk;
     const int nt = nb->threads > 1 ? nb->threads : 1;
     (void)nt;
 #pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1 && n >= 64)
     for (uint32_t i = 0; i < n; i++) {
-        double s4[3] = {0, 0, 0}, s5[3] = {0, 0, 0};
+        mote_real s4[3] = {0, 0, 0}, s5[3] = {0, 0, 0};
         if (nb->active[i]) {
-            const double *xi = x + 3 * (size_t)i, *vi = v + 3 * (size_t)i;
-            const double *ai = A + 3 * (size_t)i, *ji = J + 3 * (size_t)i;
+            const mote_real *xi = x + 3 * (size_t)i, *vi = v + 3 * (size_t)i;
+            const mote_real *ai = A + 3 * (size_t)i, *ji = J + 3 * (size_t)i;
             for (uint32_t k = 0; k < n; k++) {
                 if (k == i || !nb->active[k])
                     continue;
                 const size_t o = 3 * (size_t)k;
-                double r[3], u[3], ac[3], jc[3];
+                mote_real r[3], u[3], ac[3], jc[3];
                 for (int c = 0; c < 3; c++) {
                     r[c] = xi[c] - x[o + c];
                     u[c] = vi[c] - v[o + c];
                     ac[c] = ai[c] - A[o + c];
                     jc[c] = ji[c] - J[o + c];
                 }
-                double r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
-                double rinv = 1.0 / sqrt(r2), wr3 = w[k] * rinv * rinv * rinv;
-                double rv = r[0] * u[0] + r[1] * u[1] + r[2] * u[2];
-                double vv = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
-                double ra = r[0] * ac[0] + r[1] * ac[1] + r[2] * ac[2];
-                double va = u[0] * ac[0] + u[1] * ac[1] + u[2] * ac[2];
-                double rj = r[0] * jc[0] + r[1] * jc[1] + r[2] * jc[2];
-                double alpha = rv / r2;
-                double beta = (vv + ra) / r2 + alpha * alpha;
-                double gamma = (3 * va + rj) / r2 + alpha * (3 * beta - 4 * alpha * alpha);
+                mote_real r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+                mote_real rinv = 1.0 / sqrt(r2), wr3 = w[k] * rinv * rinv * rinv;
+                mote_real rv = r[0] * u[0] + r[1] * u[1] + r[2] * u[2];
+                mote_real vv = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+                mote_real ra = r[0] * ac[0] + r[1] * ac[1] + r[2] * ac[2];
+                mote_real va = u[0] * ac[0] + u[1] * ac[1] + u[2] * ac[2];
+                mote_real rj = r[0] * jc[0] + r[1] * jc[1] + r[2] * jc[2];
+                mote_real alpha = rv / r2;
+                mote_real beta = (vv + ra) / r2 + alpha * alpha;
+                mote_real gamma = (3 * va + rj) / r2 + alpha * (3 * beta - 4 * alpha * alpha);
                 for (int c = 0; c < 3; c++) {
-                    double A0 = wr3 * r[c];
-                    double A1 = wr3 * u[c] - 3 * alpha * A0;
-                    double A2 = wr3 * ac[c] - 6 * alpha * A1 - 3 * beta * A0;
-                    double A3 = wr3 * jc[c] - 9 * alpha * A2 - 9 * beta * A1 - 3 * gamma * A0;
+                    mote_real A0 = wr3 * r[c];
+                    mote_real A1 = wr3 * u[c] - 3 * alpha * A0;
+                    mote_real A2 = wr3 * ac[c] - 6 * alpha * A1 - 3 * beta * A0;
+                    mote_real A3 = wr3 * jc[c] - 9 * alpha * A2 - 9 * beta * A1 - 3 * gamma * A0;
                     s4[c] += A2;
                     s5[c] += A3;
                 }
@@ -106,35 +106,35 @@ static void pass2(mote_nb *nb)
 
 /* Does a pair approach contact within h (spec 4.7)? |r| - |v| h - |a| h^2 / 2 < Ra_i + Ra_k,
  * with the relative position, velocity and acceleration. */
-static int approaching(const mote_nb *nb, double h)
+static int approaching(const mote_nb *nb, mote_real h)
 {
     /* a bound for every pair first: no pair can come closer than |r| - D */
-    double vmax = 0, amax = 0, rmax = 0;
+    mote_real vmax = 0, amax = 0, rmax = 0;
     for (uint32_t i = 0; i < nb->n; i++) {
         if (!nb->active[i] || !(nb->ra[i] > 0))
             continue;
-        const double *v = nb->v + 3 * (size_t)i, *a = nb->acc + 3 * (size_t)i;
+        const mote_real *v = nb->v + 3 * (size_t)i, *a = nb->acc + 3 * (size_t)i;
         vmax = fmax(vmax, v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
         amax = fmax(amax, a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
         rmax = fmax(rmax, nb->ra[i]);
     }
-    const double D = 2 * rmax + 2 * sqrt(vmax) * h + sqrt(amax) * h * h;
+    const mote_real D = 2 * rmax + 2 * sqrt(vmax) * h + sqrt(amax) * h * h;
     for (uint32_t i = 0; i < nb->n; i++) {
         if (!nb->active[i] || !(nb->ra[i] > 0))
             continue;
         for (uint32_t k = i + 1; k < nb->n; k++) {
             if (!nb->active[k] || !(nb->ra[k] > 0))
                 continue;
-            double r2 = 0, v2 = 0, a2 = 0;
+            mote_real r2 = 0, v2 = 0, a2 = 0;
             for (int c = 0; c < 3; c++) {
-                double dr = nb->x[3 * i + c] - nb->x[3 * k + c];
+                mote_real dr = nb->x[3 * i + c] - nb->x[3 * k + c];
                 r2 += dr * dr;
             }
             if (r2 >= D * D)
                 continue;
             for (int c = 0; c < 3; c++) {
-                double dv = nb->v[3 * i + c] - nb->v[3 * k + c];
-                double da = nb->acc[3 * i + c] - nb->acc[3 * k + c];
+                mote_real dv = nb->v[3 * i + c] - nb->v[3 * k + c];
+                mote_real da = nb->acc[3 * i + c] - nb->acc[3 * k + c];
                 v2 += dv * dv;
                 a2 += da * da;
             }
@@ -148,9 +148,9 @@ static int approaching(const mote_nb *nb, double h)
 /* The step after the close-approach control (spec 4.7): while a pair approaches contact the
  * step is multiplied by bt, not below bt_hmin dt; after an approach it grows by 1/bt per step
  * back to the nominal h. */
-static double approach_step(mote_nb *nb, double h)
+static mote_real approach_step(mote_nb *nb, mote_real h)
 {
-    const double nominal = h, hmin = nb->bt_hmin * nb->dt;
+    const mote_real nominal = h, hmin = nb->bt_hmin * nb->dt;
     if (nb->happ > 0 && nb->happ / nb->bt < h)
         h = nb->happ / nb->bt;
     while (h > hmin && approaching(nb, h))
@@ -161,7 +161,7 @@ static double approach_step(mote_nb *nb, double h)
 
 /* One step of length h (nominal: the close-approach control may shorten it), not beyond rest;
  * returns the length taken. */
-static double step(mote_nb *nb, double h, double rest)
+static mote_real step(mote_nb *nb, mote_real h, mote_real rest)
 {
     pass1(nb);
     if (nb->order >= 4)
@@ -177,7 +177,7 @@ static double step(mote_nb *nb, double h, double rest)
             continue;
         for (int c = 0; c < 3; c++) {
             const size_t o = 3 * (size_t)i + c;
-            double d[7] = {0, nb->v[o], nb->acc[o], nb->jerk[o], 0, 0, 0};
+            mote_real d[7] = {0, nb->v[o], nb->acc[o], nb->jerk[o], 0, 0, 0};
             if (K >= 4) {
                 d[4] = nb->d4[o];
                 d[5] = nb->d5[o];
@@ -186,7 +186,7 @@ static double step(mote_nb *nb, double h, double rest)
                 d[6] = (nb->d5[o] - nb->d5p[o]) / nb->dtp;
             /* from the highest term down: dx = sum_{k=1..K} d_k h^k / k!, dv = sum_{k=2..K}
              * d_k h^(k-1) / (k-1)! */
-            double dx = 0, dv = 0;
+            mote_real dx = 0, dv = 0;
             for (int k = K; k >= 1; k--) {
                 dx = dx * h / (k + 1) + d[k];
                 if (k >= 2)
@@ -226,9 +226,9 @@ int nb_galactica_check(const mote_nb *nb, mote_err *err)
     return MOTE_OK;
 }
 
-double nb_galactica_step(mote_nb *nb, double rest)
+mote_real nb_galactica_step(mote_nb *nb, mote_real rest)
 {
-    double h = nb->restart || nb->dtp == 0 ? nb->first_step * nb->dt : nb->dt;
+    mote_real h = nb->restart || nb->dtp == 0 ? nb->first_step * nb->dt : nb->dt;
     return step(nb, h, rest);
 }
 

@@ -2,11 +2,11 @@
  * hit exactly (the last step is shortened to it and the time set to it, spec 4.5). */
 #include "mote/nbody.h"
 
-#include <math.h>
+#include <tgmath.h>
 
 #include "nb.h"
 
-int mote_nb_integrate(mote_nb *nb, uint64_t max_steps, double t_end, mote_err *err)
+int mote_nb_integrate(mote_nb *nb, uint64_t max_steps, mote_real t_end, mote_err *err)
 {
     const int taylor = nb->integrator == MOTE_NB_TAYLOR;
     int rc = taylor ? nb_taylor_check(nb, err) : nb_galactica_check(nb, err);
@@ -20,10 +20,10 @@ int mote_nb_integrate(mote_nb *nb, uint64_t max_steps, double t_end, mote_err *e
         mote_nb_set_reference(nb);
     const int merge = nb_merging_on(nb);
     for (uint64_t s = 0; s < max_steps; s++) {
-        double rest = t_end < INFINITY ? t_end - nb->T : INFINITY;
+        mote_real rest = t_end < INFINITY ? t_end - nb->T : INFINITY;
         if (!(rest > 0))
             break;
-        double h = taylor ? nb_taylor_step(nb, rest) : nb_galactica_step(nb, rest);
+        mote_real h = taylor ? nb_taylor_step(nb, rest) : nb_galactica_step(nb, rest);
         nb->hlast = h;
         if (merge && (rc = mote_nb_merge(nb, err)) != MOTE_OK)
             return rc;

@@ -12,14 +12,14 @@
  * restarts (no valid previous derivatives). */
 #include "mote/nbody.h"
 
-#include <math.h>
+#include <tgmath.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "nb.h"
 
 typedef struct {
-    double ratio;
+    mote_real ratio;
     uint32_t i, k;
 } touch;
 
@@ -41,22 +41,22 @@ static void merge_pair(mote_nb *nb, uint32_t i, uint32_t k)
         s = k;
         l = i;
     }
-    const double ms = nb->m[s], ml = nb->m[l], M = ms + ml, mu = ms * ml / M;
-    double *xs = nb->x + 3 * (size_t)s, *vs = nb->v + 3 * (size_t)s;
-    const double *xl = nb->x + 3 * (size_t)l, *vl = nb->v + 3 * (size_t)l;
-    double r[3], u[3];
+    const mote_real ms = nb->m[s], ml = nb->m[l], M = ms + ml, mu = ms * ml / M;
+    mote_real *xs = nb->x + 3 * (size_t)s, *vs = nb->v + 3 * (size_t)s;
+    const mote_real *xl = nb->x + 3 * (size_t)l, *vl = nb->v + 3 * (size_t)l;
+    mote_real r[3], u[3];
     for (int a = 0; a < 3; a++) {
         r[a] = xl[a] - xs[a];
         u[a] = vl[a] - vs[a];
     }
-    double rr = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
-    double uu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
-    double vr = rr > 0 ? (r[0] * u[0] + r[1] * u[1] + r[2] * u[2]) / rr : 0;
+    mote_real rr = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+    mote_real uu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+    mote_real vr = rr > 0 ? (r[0] * u[0] + r[1] * u[1] + r[2] * u[2]) / rr : 0;
     /* spin: the pair's orbital moment about its centre of mass */
     nb->sp[3 * s + 0] += nb->sp[3 * l + 0] + mu * (r[1] * u[2] - r[2] * u[1]);
     nb->sp[3 * s + 1] += nb->sp[3 * l + 1] + mu * (r[2] * u[0] - r[0] * u[2]);
     nb->sp[3 * s + 2] += nb->sp[3 * l + 2] + mu * (r[0] * u[1] - r[1] * u[0]);
-    double heat = ms * ml * vr * vr / (2 * M); /* eq. 11 */
+    mote_real heat = ms * ml * vr * vr / (2 * M); /* eq. 11 */
     nb->et[s] += nb->et[l] + heat;
     nb->e_heat += heat;
     nb->e_spin += 0.5 * mu * (uu - vr * vr);
@@ -82,16 +82,16 @@ int mote_nb_merge(mote_nb *nb, mote_err *err)
         for (uint32_t i = 0; i < nb->n; i++) {
             if (!nb->active[i] || !(nb->ra[i] > 0))
                 continue;
-            const double *xi = nb->x + 3 * (size_t)i;
+            const mote_real *xi = nb->x + 3 * (size_t)i;
             for (uint32_t k = i + 1; k < nb->n; k++) {
                 if (!nb->active[k] || !(nb->ra[k] > 0))
                     continue;
-                const double *xk = nb->x + 3 * (size_t)k;
-                double d0 = xi[0] - xk[0], d1 = xi[1] - xk[1], d2 = xi[2] - xk[2];
-                double sum = nb->ra[i] + nb->ra[k], d2sum = d0 * d0 + d1 * d1 + d2 * d2;
+                const mote_real *xk = nb->x + 3 * (size_t)k;
+                mote_real d0 = xi[0] - xk[0], d1 = xi[1] - xk[1], d2 = xi[2] - xk[2];
+                mote_real sum = nb->ra[i] + nb->ra[k], d2sum = d0 * d0 + d1 * d1 + d2 * d2;
                 if (!(d2sum < sum * sum)) /* the common case, without a square root */
                     continue;
-                double d = sqrt(d2sum);
+                mote_real d = sqrt(d2sum);
                 if (!(d < sum))
                     continue;
                 if (nt == cap) {
@@ -124,7 +124,7 @@ int mote_nb_merge(mote_nb *nb, mote_err *err)
         for (size_t q = 0; q < nt; q++) {
             if (used[t[q].i] || used[t[q].k])
                 continue;
-            double ovl = 1 - t[q].ratio;
+            mote_real ovl = 1 - t[q].ratio;
             if (ovl > nb->max_overlap)
                 nb->max_overlap = ovl;
             if (ovl > 0.1 && nb->happ > 0 && nb->happ <= nb->bt_hmin * nb->dt)

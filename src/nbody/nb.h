@@ -16,22 +16,44 @@ int nb_state_peek(const char *path, uint32_t *n, mote_err *err);
 /* The integrators' parts (galactica.c, taylor.c): the settings checked (and scratch sized),
  * and one step of at most `rest` (returns the step taken). */
 int nb_galactica_check(const mote_nb *nb, mote_err *err);
-double nb_galactica_step(mote_nb *nb, double rest);
+mote_real nb_galactica_step(mote_nb *nb, mote_real rest);
 int nb_taylor_check(mote_nb *nb, mote_err *err);
-double nb_taylor_step(mote_nb *nb, double rest);
+mote_real nb_taylor_step(mote_nb *nb, mote_real rest);
 
 /* y += d with the compensation term *cs (Kahan: the rounding error of one addition is carried
  * into the next; cs = y - the true sum). `on` = 0: a plain addition. */
-static inline void kahan_add(double *y, double *cs, double d, int on)
+static inline void kahan_add(mote_real *y, mote_real *cs, mote_real d, int on)
 {
     if (!on) {
         *y += d;
         return;
     }
-    double t = d - *cs, s = *y + t;
+    mote_real t = d - *cs, s = *y + t;
     *cs = (s - *y) - t;
     *y = s;
 }
+
+/* A type at least as wide as long double: the Taylor update's sums, Kepler's equation */
+#if MOTE_NB_PRECISION == 4
+typedef mote_real nb_wide;
+#else
+typedef long double nb_wide;
+#endif
+
+/* Compensated (Neumaier) sum in the real type, for the energies */
+typedef struct {
+    mote_real sum, comp;
+} nb_ksum;
+static inline void nb_ksum_add(nb_ksum *k, mote_real x)
+{
+    mote_real t = k->sum + x;
+    if ((k->sum >= 0 ? k->sum : -k->sum) >= (x >= 0 ? x : -x))
+        k->comp += (k->sum - t) + x;
+    else
+        k->comp += (x - t) + k->sum;
+    k->sum = t;
+}
+static inline mote_real nb_ksum_value(const nb_ksum *k) { return k->sum + k->comp; }
 
 /* Run nb's integrator as `integrator` for at most `steps` steps (integrate.c). */
 int nb_run_as(mote_nb *nb, int integrator, uint64_t steps, mote_err *err);

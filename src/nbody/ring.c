@@ -2,19 +2,23 @@
  * Coulomb, Appendix 3): a central body and N = nb - 1 equal bodies at the vertices of a regular
  * polygon, all at pericentre of identical Kepler ellipses, which stay a regular polygon for all
  * time (Smulsky 2003). The generator follows the document's algorithm step by step, in SI units,
- * then scales (time unit first, refined); the exact solution (Kepler's equation in long double)
- * is the reference of the integrator tests. */
-#include "mote/nbody.h"
-
-#include <math.h>
+ * then scales (time unit first, refined); the dimensionless state and the exact solution (Kepler's
+ * equation in long double, or quad in the quad build) are computed in the build's real type from
+ * the same dimensionless values, so that the reference is exact to that precision. */
 #include <string.h>
+#include <tgmath.h>
 
-double mote_nb_ring_fN(int N)
+#include "nb.h"
+
+static mote_real real_pi(void) { return 4 * atan((mote_real)1); }
+
+mote_real mote_nb_ring_fN(int N)
 {
-    double s = 0;
+    const mote_real pi = real_pi();
+    mote_real s = 0;
     for (int j = 1; j <= N - 1; j++)
-        s += 1.0 / sin(j * MOTE_PI / N);
-    return 0.25 * s;
+        s += 1 / sin(j * pi / N);
+    return s / 4;
 }
 
 void mote_nb_ring_defaults(mote_nb_ring *r, mote_nb_interaction kind)
@@ -44,9 +48,9 @@ void mote_nb_ring_defaults(mote_nb_ring *r, mote_nb_interaction kind)
 }
 
 /* Rotate (y, z) about x by the tilt. */
-static void tilt(double c, double s, double p[3])
+static void tilt(mote_real c, mote_real s, mote_real p[3])
 {
-    double y = p[1] * c - p[2] * s, z = p[1] * s + p[2] * c;
+    mote_real y = p[1] * c - p[2] * s, z = p[1] * s + p[2] * c;
     p[1] = y;
     p[2] = z;
 }
@@ -89,7 +93,8 @@ int mote_nb_ring_build(mote_nb *nb, mote_nb_ring *r, mote_err *err)
     }
     r->alpha1 = -1.0 / (1.0 + r->e);
     r->rp = r->a * (2 * r->alpha1 + 1) / r->alpha1;
-    r->fN = mote_nb_ring_fN(N);
+    const mote_real fN = mote_nb_ring_fN(N);
+    r->fN = (double)fN;
     if (!coulomb)
         r->mu1 = -G * (r->m0 + r->m1 * r->fN);
     else
@@ -108,29 +113,30 @@ int mote_nb_ring_build(mote_nb *nb, mote_nb_ring *r, mote_err *err)
     mote_nb_units_from_time(&nb->u, nb->kind, M, 1.0 / r->time_unit, G, e2,
                             r->permittivity);
     const mote_nb_units *u = &nb->u;
-    const double ct = cos(r->tilt), st = sin(r->tilt);
-    r->mo0 = r->m0 / M;
-    r->mo1 = r->m1 / M;
-    r->a_o = r->a / u->Am;
-    r->rp_o = r->rp / u->Am;
-    r->vp_o = r->vp * u->kv;
-    r->M00 = N * r->mo1 * r->rp_o * r->vp_o;
+    /* the dimensionless ring, every value from mo0, mo1, rp_o and e in the real type, so that
+     * the initial state and the exact solution agree to its last digit */
+    const mote_real pi = real_pi(), e = r->e;
+    const mote_real ct = cos((mote_real)r->tilt), st = sin((mote_real)r->tilt);
+    r->mo0 = (mote_real)r->m0 / (mote_real)M;
+    r->mo1 = (mote_real)r->m1 / (mote_real)M;
+    r->rp_o = (mote_real)r->rp / (mote_real)u->Am;
+    r->a_o = r->rp_o / (1 - e);
     /* the Kepler parameter of a ring body in dimensionless units */
-    r->mu = coulomb ? (N - r->fN) / r->mo1 : r->mo0 + r->mo1 * r->fN;
-    r->period = 2 * MOTE_PI * sqrt(r->a_o * r->a_o * r->a_o / r->mu);
-    const double zero[3] = {0, 0, 0};
-    int rc = mote_nb_add(nb, r->mo0, coulomb ? r->Z : 0, zero, zero, r->ra0 / u->Am, err);
+    r->mu = coulomb ? (N - fN) / r->mo1 : r->mo0 + r->mo1 * fN;
+    r->vp_o = sqrt(r->mu * (1 + e) / r->rp_o);
+    r->M00 = N * r->mo1 * r->rp_o * r->vp_o;
+    r->period = 2 * pi * sqrt(r->a_o * r->a_o * r->a_o / r->mu);
+    const mote_real zero[3] = {0, 0, 0};
+    int rc = mote_nb_add(nb, r->mo0, coulomb ? r->Z : 0, zero, zero,
+                         (mote_real)r->ra0 / (mote_real)u->Am, err);
     for (int k = 1; k <= N && !rc; k++) {
-        double phi = (k - 1) * phi1;
-        double x[3] = {r->rp * cos(phi), r->rp * sin(phi), 0};
-        double v[3] = {-r->vp * sin(phi), r->vp * cos(phi), 0};
+        const mote_real phi = (k - 1) * 2 * pi / N;
+        mote_real x[3] = {r->rp_o * cos(phi), r->rp_o * sin(phi), 0};
+        mote_real v[3] = {-r->vp_o * sin(phi), r->vp_o * cos(phi), 0};
         tilt(ct, st, x);
         tilt(ct, st, v);
-        for (int a = 0; a < 3; a++) {
-            x[a] /= u->Am;
-            v[a] *= u->kv;
-        }
-        rc = mote_nb_add(nb, r->mo1, coulomb ? -1 : 0, x, v, r->ra1 / u->Am, err);
+        rc = mote_nb_add(nb, r->mo1, coulomb ? -1 : 0, x, v, (mote_real)r->ra1 / (mote_real)u->Am,
+                         err);
     }
     if (rc)
         return rc;
@@ -139,38 +145,41 @@ int mote_nb_ring_build(mote_nb *nb, mote_nb_ring *r, mote_err *err)
     return MOTE_OK;
 }
 
-void mote_nb_ring_exact(const mote_nb_ring *r, int b, double T, double x[3])
+/* Kepler's equation is solved in nb_wide, at least as wide as long double */
+typedef nb_wide wide;
+
+void mote_nb_ring_exact(const mote_nb_ring *r, int b, mote_real T, mote_real x[3])
 {
-    const long double a = r->a_o, e = r->e, mu = r->mu;
-    const long double n = sqrtl(mu / (a * a * a));
-    long double Mm = fmodl(n * T, 2 * 3.14159265358979323846264338327950288L);
-    long double E = Mm + e * sinl(Mm); /* Newton on E - e sin E = M */
-    for (int it = 0; it < 50; it++) {
-        long double f = E - e * sinl(E) - Mm, d = f / (1 - e * cosl(E));
+    const wide a = r->a_o, e = r->e, mu = r->mu, pi = 4 * atan((wide)1);
+    const wide n = sqrt(mu / (a * a * a));
+    wide Mm = fmod(n * (wide)T, 2 * pi);
+    wide E = Mm + e * sin(Mm); /* Newton on E - e sin E = M */
+    for (int it = 0; it < 60; it++) {
+        wide f = E - e * sin(E) - Mm, d = f / (1 - e * cos(E));
         E -= d;
-        if (fabsl(d) < 1e-30L)
+        if (fabs(d) < (wide)1e-40)
             break;
     }
-    long double xo = a * (cosl(E) - e), yo = a * sqrtl(1 - e * e) * sinl(E);
-    long double phi = (b - 1) * 2 * 3.14159265358979323846264338327950288L / (r->nb - 1);
-    long double c = cosl(phi), s = sinl(phi);
-    long double p[3] = {xo * c - yo * s, xo * s + yo * c, 0};
-    long double ct = cosl(r->tilt), st = sinl(r->tilt);
-    x[0] = (double)p[0];
-    x[1] = (double)(p[1] * ct - p[2] * st);
-    x[2] = (double)(p[1] * st + p[2] * ct);
+    wide xo = a * (cos(E) - e), yo = a * sqrt(1 - e * e) * sin(E);
+    wide phi = (b - 1) * 2 * pi / (r->nb - 1);
+    wide c = cos(phi), s = sin(phi);
+    wide p[3] = {xo * c - yo * s, xo * s + yo * c, 0};
+    wide ct = cos((wide)r->tilt), st = sin((wide)r->tilt);
+    x[0] = (mote_real)p[0];
+    x[1] = (mote_real)(p[1] * ct - p[2] * st);
+    x[2] = (mote_real)(p[1] * st + p[2] * ct);
 }
 
-double mote_nb_ring_error(const mote_nb *nb, const mote_nb_ring *r, double *out_of_plane)
+mote_real mote_nb_ring_error(const mote_nb *nb, const mote_nb_ring *r, mote_real *out_of_plane)
 {
-    double worst = 0, plane = 0;
-    const double ct = cos(r->tilt), st = sin(r->tilt);
-    const double nrm[3] = {0, -st, ct}; /* the tilted orbit plane's normal */
+    mote_real worst = 0, plane = 0;
+    const mote_real ct = cos((mote_real)r->tilt), st = sin((mote_real)r->tilt);
+    const mote_real nrm[3] = {0, -st, ct}; /* the tilted orbit plane's normal */
     for (uint32_t b = 1; b < nb->n && (int)b < r->nb; b++) {
-        double xe[3];
+        mote_real xe[3];
         mote_nb_ring_exact(r, (int)b, nb->T, xe);
-        const double *xn = nb->x + 3 * (size_t)b;
-        double d2 = 0, e2 = 0, h = 0;
+        const mote_real *xn = nb->x + 3 * (size_t)b;
+        mote_real d2 = 0, e2 = 0, h = 0;
         for (int a = 0; a < 3; a++) {
             d2 += (xn[a] - xe[a]) * (xn[a] - xe[a]);
             e2 += xe[a] * xe[a];

@@ -1,11 +1,12 @@
 /* system.c: the N-body system: its arrays (structure of arrays, grown as bodies are added), the
  * kernel coefficients of spec 3.3 (one code path for gravity and Coulomb), the scales of spec
  * 3.5, the barycentric reduction of 3.4 and the conserved quantities of 3.7. */
-#include "mote/nbody.h"
-
-#include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <tgmath.h>
+
+#include "nb.h"
 
 void mote_nb_units_from_time(mote_nb_units *u, mote_nb_interaction kind, double M, double kt,
                              double G, double e2, double eps)
@@ -76,7 +77,7 @@ void mote_nb_init(mote_nb *nb, mote_nb_interaction kind)
     memset(nb, 0, sizeof *nb);
     nb->kind = kind;
     nb->order = 6;
-    nb->first_step = 0.001;
+    nb->first_step = (mote_real)1 / 1000;
     nb->compensated = 1;
     nb->dt = 1e-6;
     nb->taylor_order = 20;
@@ -114,18 +115,18 @@ void mote_nb_free(mote_nb *nb)
 /* Grow every array to hold cap bodies (new entries zero). */
 static int grow(mote_nb *nb, uint32_t cap)
 {
-    double **d1[] = {&nb->m, &nb->q, &nb->c, &nb->w, &nb->ra, &nb->et};
-    double **d3[] = {&nb->x, &nb->v, &nb->xc, &nb->vc, &nb->sp, &nb->d5p, &nb->acc, &nb->jerk,
+    mote_real **d1[] = {&nb->m, &nb->q, &nb->c, &nb->w, &nb->ra, &nb->et};
+    mote_real **d3[] = {&nb->x, &nb->v, &nb->xc, &nb->vc, &nb->sp, &nb->d5p, &nb->acc, &nb->jerk,
                      &nb->d4, &nb->d5};
     for (size_t k = 0; k < sizeof d1 / sizeof d1[0]; k++) {
-        double *p = realloc(*d1[k], cap * sizeof *p);
+        mote_real *p = realloc(*d1[k], cap * sizeof *p);
         if (!p)
             return -1;
         memset(p + nb->cap, 0, (cap - nb->cap) * sizeof *p);
         *d1[k] = p;
     }
     for (size_t k = 0; k < sizeof d3 / sizeof d3[0]; k++) {
-        double *p = realloc(*d3[k], 3 * (size_t)cap * sizeof *p);
+        mote_real *p = realloc(*d3[k], 3 * (size_t)cap * sizeof *p);
         if (!p)
             return -1;
         memset(p + 3 * (size_t)nb->cap, 0, 3 * (size_t)(cap - nb->cap) * sizeof *p);
@@ -140,8 +141,8 @@ static int grow(mote_nb *nb, uint32_t cap)
     return 0;
 }
 
-int mote_nb_add(mote_nb *nb, double m, double q, const double x[3], const double v[3], double ra,
-                mote_err *err)
+int mote_nb_add(mote_nb *nb, mote_real m, mote_real q, const mote_real x[3], const mote_real v[3],
+                mote_real ra, mote_err *err)
 {
     int finite = isfinite(m) && isfinite(q) && isfinite(ra);
     for (int a = 0; a < 3; a++)
@@ -195,7 +196,7 @@ int mote_nb_prepare(mote_nb *nb, mote_err *err)
         for (uint32_t k = i + 1; k < nb->n; k++) {
             if (!nb->active[i] || !nb->active[k])
                 continue;
-            const double *xi = nb->x + 3 * (size_t)i, *xk = nb->x + 3 * (size_t)k;
+            const mote_real *xi = nb->x + 3 * (size_t)i, *xk = nb->x + 3 * (size_t)k;
             if (xi[0] == xk[0] && xi[1] == xk[1] && xi[2] == xk[2])
                 return mote_fail(err, MOTE_EINVAL, "bodies %u and %u are at the same point", i + 1,
                                  k + 1);
@@ -203,9 +204,9 @@ int mote_nb_prepare(mote_nb *nb, mote_err *err)
     return MOTE_OK;
 }
 
-void mote_nb_barycentric(mote_nb *nb, double xc[3], double vc[3])
+void mote_nb_barycentric(mote_nb *nb, mote_real xc[3], mote_real vc[3])
 {
-    double M = 0, X[3] = {0, 0, 0}, V[3] = {0, 0, 0};
+    mote_real M = 0, X[3] = {0, 0, 0}, V[3] = {0, 0, 0};
     for (uint32_t i = 0; i < nb->n; i++) {
         if (!nb->active[i])
             continue;
@@ -236,12 +237,12 @@ void mote_nb_barycentric(mote_nb *nb, double xc[3], double vc[3])
 void mote_nb_measure(const mote_nb *nb, mote_nb_monitor *mon)
 {
     memset(mon, 0, sizeof *mon);
-    mote_ksum ek = {0, 0}, u = {0, 0};
+    nb_ksum ek = {0, 0}, u = {0, 0};
     for (uint32_t i = 0; i < nb->n; i++) {
         if (!nb->active[i])
             continue;
-        const double *x = nb->x + 3 * (size_t)i, *v = nb->v + 3 * (size_t)i, m = nb->m[i];
-        mote_ksum_add(&ek, 0.5 * m * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));
+        const mote_real *x = nb->x + 3 * (size_t)i, *v = nb->v + 3 * (size_t)i, m = nb->m[i];
+        nb_ksum_add(&ek, 0.5 * m * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));
         mon->mtot += m;
         for (int a = 0; a < 3; a++) {
             mon->P[a] += m * v[a];
@@ -254,25 +255,25 @@ void mote_nb_measure(const mote_nb *nb, mote_nb_monitor *mon)
         for (uint32_t k = i + 1; k < nb->n; k++) {
             if (!nb->active[k])
                 continue;
-            const double *y = nb->x + 3 * (size_t)k;
-            double d0 = x[0] - y[0], d1 = x[1] - y[1], d2 = x[2] - y[2];
-            double r = sqrt(d0 * d0 + d1 * d1 + d2 * d2);
+            const mote_real *y = nb->x + 3 * (size_t)k;
+            mote_real d0 = x[0] - y[0], d1 = x[1] - y[1], d2 = x[2] - y[2];
+            mote_real r = sqrt(d0 * d0 + d1 * d1 + d2 * d2);
             if (nb->kind == MOTE_NB_GRAVITY)
-                mote_ksum_add(&u, -m * nb->m[k] / r);
+                nb_ksum_add(&u, -m * nb->m[k] / r);
             else
-                mote_ksum_add(&u, nb->q[i] * nb->q[k] / r);
+                nb_ksum_add(&u, nb->q[i] * nb->q[k] / r);
         }
     }
-    mon->ekin = mote_ksum_value(&ek);
-    mon->u = mote_ksum_value(&u);
+    mon->ekin = nb_ksum_value(&ek);
+    mon->u = nb_ksum_value(&u);
     mon->etot = mon->ekin + mon->u;
     mon->ecorr = mon->etot - nb->de_merge;
     if (nb->ref_set) {
         mon->dE = (mon->ecorr - nb->E0) / fabs(nb->E0);
         mon->dMz = (mon->L[2] + mon->S[2] - nb->Mza1) / nb->Lnorm1;
-        double d2 = 0, l2 = 0;
+        mote_real d2 = 0, l2 = 0;
         for (int a = 0; a < 3; a++) {
-            double d = mon->L[a] + mon->S[a] - nb->L1[a];
+            mote_real d = mon->L[a] + mon->S[a] - nb->L1[a];
             d2 += d * d;
             l2 += nb->L1[a] * nb->L1[a];
         }
@@ -290,15 +291,38 @@ void mote_nb_set_reference(mote_nb *nb)
     for (int a = 0; a < 3; a++)
         nb->L1[a] = mon.L[a] + mon.S[a];
     /* spec 3.7: normalise by Mza1 unless it is below 1e-14 of sum m |x x v| */
-    double sum = 0;
+    mote_real sum = 0;
     for (uint32_t i = 0; i < nb->n; i++) {
         if (!nb->active[i])
             continue;
-        const double *x = nb->x + 3 * (size_t)i, *v = nb->v + 3 * (size_t)i;
-        double c0 = x[1] * v[2] - x[2] * v[1], c1 = x[2] * v[0] - x[0] * v[2],
+        const mote_real *x = nb->x + 3 * (size_t)i, *v = nb->v + 3 * (size_t)i;
+        mote_real c0 = x[1] * v[2] - x[2] * v[1], c1 = x[2] * v[0] - x[0] * v[2],
                c2 = x[0] * v[1] - x[1] * v[0];
         sum += nb->m[i] * sqrt(c0 * c0 + c1 * c1 + c2 * c2);
     }
     nb->Lnorm1 = fabs(nb->Mza1) >= 1e-14 * sum ? nb->Mza1 : sum;
     nb->ref_set = 1;
+}
+
+const char *mote_real_str(mote_real v, char buf[MOTE_REAL_BUF])
+{
+#if MOTE_NB_PRECISION == 4
+    strfromf128(buf, MOTE_REAL_BUF, "%.36g", v);
+#elif MOTE_NB_PRECISION == 2
+    snprintf(buf, MOTE_REAL_BUF, "%.21Lg", v);
+#else
+    snprintf(buf, MOTE_REAL_BUF, "%.17g", v);
+#endif
+    return buf;
+}
+
+mote_real mote_real_parse(const char *s, char **end)
+{
+#if MOTE_NB_PRECISION == 4
+    return strtof128(s, end);
+#elif MOTE_NB_PRECISION == 2
+    return strtold(s, end);
+#else
+    return strtod(s, end);
+#endif
 }

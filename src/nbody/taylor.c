@@ -16,16 +16,16 @@
  * sources in index order. */
 #include "mote/nbody.h"
 
-#include <math.h>
+#include <tgmath.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "nb.h"
 
 /* s^[n] and f^[n] of one pair from R^[0..n] and the lower orders (s, f hold orders 0 .. n-1). */
-static inline void sf_order(int n, double (*R)[3], double *s, double *f)
+static inline void sf_order(int n, mote_real (*R)[3], mote_real *s, mote_real *f)
 {
-    double sn = 0;
+    mote_real sn = 0;
     for (int j = 0; j <= n; j++)
         sn += R[j][0] * R[n - j][0] + R[j][1] * R[n - j][1] + R[j][2] * R[n - j][2];
     s[n] = sn;
@@ -33,7 +33,7 @@ static inline void sf_order(int n, double (*R)[3], double *s, double *f)
         f[0] = 1.0 / (sn * sqrt(sn));
         return;
     }
-    double acc = 0;
+    mote_real acc = 0;
     for (int j = 0; j < n; j++)
         acc += (0.5 * j - 1.5 * n) * s[n - j] * f[j];
     f[n] = acc / (n * s[0]);
@@ -46,10 +46,10 @@ static inline size_t upair(uint32_t i, uint32_t k, uint32_t N)
 }
 
 /* The pair (i, k)'s G^[n0 .. n1] (i < k) into G, its s, f histories kept or restored. */
-static inline void pair_G(mote_nb *nb, const double *X, size_t blk, uint32_t i, uint32_t k,
-                          size_t q, size_t npairs, int n0, int n1, int store, double G[2][3])
+static inline void pair_G(mote_nb *nb, const mote_real *X, size_t blk, uint32_t i, uint32_t k,
+                          size_t q, size_t npairs, int n0, int n1, int store, mote_real G[2][3])
 {
-    double R[64][3], s[64], f[64];
+    mote_real R[64][3], s[64], f[64];
     for (int j = 0; j <= n1; j++)
         for (int a = 0; a < 3; a++)
             R[j][a] = X[j * blk + 3 * i + a] - X[j * blk + 3 * k + a];
@@ -69,7 +69,7 @@ static inline void pair_G(mote_nb *nb, const double *X, size_t blk, uint32_t i, 
             nb->tf[(size_t)n * npairs + q] = f[n];
         }
     for (int n = n0; n <= n1; n++) {
-        double g[3] = {0, 0, 0};
+        mote_real g[3] = {0, 0, 0};
         for (int j = 0; j <= n; j++)
             for (int a = 0; a < 3; a++)
                 g[a] += f[j] * R[n - j][a];
@@ -91,22 +91,22 @@ static inline void pair_G(mote_nb *nb, const double *X, size_t blk, uint32_t i, 
  * with the same negation, so both modes give the same bits. */
 /* Phase 2 for target i: sum w_k G over the sources in index order into x^[n+2] (n = n0 .. n1),
  * with each pair's G from Gb (store mode) or solved here (recompute mode). */
-static void target(mote_nb *nb, double *X, size_t blk, uint32_t i, int n0, int n1,
-                   double (*Gb)[2][3])
+static void target(mote_nb *nb, mote_real *X, size_t blk, uint32_t i, int n0, int n1,
+                   mote_real (*Gb)[2][3])
 {
     const uint32_t N = nb->n;
     const size_t npairs = (size_t)N * (N - 1) / 2;
-    double sum[2][3] = {{0, 0, 0}, {0, 0, 0}};
+    mote_real sum[2][3] = {{0, 0, 0}, {0, 0, 0}};
     for (uint32_t k = 0; k < N; k++) {
         if (k == i || !nb->active[k])
             continue;
         const uint32_t lo = k > i ? i : k, hi = k > i ? k : i;
-        double Gk[2][3], (*G)[3] = Gk;
+        mote_real Gk[2][3], (*G)[3] = Gk;
         if (Gb)
             G = Gb[upair(lo, hi, N)];
         else
             pair_G(nb, X, blk, lo, hi, upair(lo, hi, N), npairs, n0, n1, 0, Gk);
-        const double wk = nb->w[k], sg = k > i ? 1.0 : -1.0;
+        const mote_real wk = nb->w[k], sg = k > i ? 1.0 : -1.0;
         for (int n = n0; n <= n1; n++)
             for (int a = 0; a < 3; a++)
                 sum[n - n0][a] += wk * (sg * G[n - n0][a]);
@@ -114,17 +114,17 @@ static void target(mote_nb *nb, double *X, size_t blk, uint32_t i, int n0, int n
     for (int n = n0; n <= n1; n++)
         for (int a = 0; a < 3; a++)
             X[(size_t)(n + 2) * blk + 3 * i + a] =
-                nb->c[i] * sum[n - n0][a] / ((double)(n + 1) * (n + 2));
+                nb->c[i] * sum[n - n0][a] / ((mote_real)(n + 1) * (n + 2));
 }
 
-static void pass(mote_nb *nb, double *X, int n0, int top, int store)
+static void pass(mote_nb *nb, mote_real *X, int n0, int top, int store)
 {
     const uint32_t N = nb->n;
     const size_t blk = 3 * (size_t)N, npairs = (size_t)N * (N - 1) / 2;
     const int n1 = n0 + 1 <= top ? n0 + 1 : n0;
     const int nt = nb->threads > 1 ? nb->threads : 1;
     (void)nt;
-    double (*Gb)[2][3] = store ? (double (*)[2][3])nb->tg : NULL;
+    mote_real (*Gb)[2][3] = store ? (mote_real (*)[2][3])nb->tg : NULL;
     if (store) { /* phase 1: each unordered pair once */
 #pragma omp parallel for num_threads(nt) schedule(dynamic, 16) if (nt > 1 && N >= 64)
         for (uint32_t i = 0; i < N; i++) {
@@ -144,7 +144,7 @@ static void pass(mote_nb *nb, double *X, int n0, int top, int store)
 
 static int scratch(mote_nb *nb, int p, int store, mote_err *err);
 
-int mote_nb_taylor_coefficients(mote_nb *nb, int p, int store, double *X)
+int mote_nb_taylor_coefficients(mote_nb *nb, int p, int store, mote_real *X)
 {
     mote_err e = {0};
     int rc = scratch(nb, p, store, &e); /* (a no-op when a run has sized it) */
@@ -159,13 +159,14 @@ int mote_nb_taylor_coefficients(mote_nb *nb, int p, int store, double *X)
 }
 
 /* y += d with the compensation term of kahan_add (cs = y - the true sum), the sum formed in
- * long double: the increment's rounding and the Horner sums' roundings are 2^-11 of a double's,
- * which keeps the energy drift of long runs at the level of the force's rounding. */
-static inline void ext_add(double *y, double *cs, long double d)
+ * nb_wide (long double; quad in the quad build): in the double build the increment's rounding
+ * and the Horner sums' roundings are 2^-11 of a double's, which keeps the energy drift of long
+ * runs at the level of the force's rounding. */
+static inline void ext_add(mote_real *y, mote_real *cs, nb_wide d)
 {
-    long double t = (long double)*y - *cs + d;
-    double r = (double)t;
-    *cs = (double)((long double)r - t);
+    nb_wide t = (nb_wide)*y - *cs + d;
+    mote_real r = (mote_real)t;
+    *cs = (mote_real)((nb_wide)r - t);
     *y = r;
 }
 
@@ -174,7 +175,7 @@ static int scratch(mote_nb *nb, int p, int store, mote_err *err)
 {
     size_t need = (size_t)(p + 1) * 3 * nb->n;
     if (need > nb->tx_cap) {
-        double *q = realloc(nb->tx, need * sizeof *q);
+        mote_real *q = realloc(nb->tx, need * sizeof *q);
         if (!q)
             return mote_fail(err, MOTE_ENOMEM, "taylor: out of memory for the coefficients");
         nb->tx = q;
@@ -182,7 +183,7 @@ static int scratch(mote_nb *nb, int p, int store, mote_err *err)
     }
     const size_t npairs = (size_t)nb->n * (nb->n ? nb->n - 1 : 0) / 2;
     if (store && 6 * npairs > nb->tg_cap) {
-        double *g = realloc(nb->tg, (npairs > 0 ? 6 * npairs : 1) * sizeof *g);
+        mote_real *g = realloc(nb->tg, (npairs > 0 ? 6 * npairs : 1) * sizeof *g);
         if (!g)
             return mote_fail(err, MOTE_ENOMEM, "taylor: out of memory for the pairs (%zu)",
                              npairs);
@@ -192,10 +193,10 @@ static int scratch(mote_nb *nb, int p, int store, mote_err *err)
     if (store) {
         size_t pairs = (size_t)(p - 1) * npairs;
         if (pairs > nb->tsf_cap) {
-            double *a = realloc(nb->ts, pairs * sizeof *a);
+            mote_real *a = realloc(nb->ts, pairs * sizeof *a);
             if (a)
                 nb->ts = a;
-            double *b = realloc(nb->tf, pairs * sizeof *b);
+            mote_real *b = realloc(nb->tf, pairs * sizeof *b);
             if (b)
                 nb->tf = b;
             if (!a || !b)
@@ -215,8 +216,8 @@ int mote_nb_taylor_memory_store(const mote_nb *nb, int p)
     if (nb->taylor_memory == 2)
         return 0;
     /* automatic: store while the histories fit in the budget (1 GiB) */
-    double bytes = (p - 1) * (double)nb->n * (double)nb->n * sizeof(double);
-    return bytes <= (double)(1u << 30);
+    mote_real bytes = (p - 1) * (mote_real)nb->n * (mote_real)nb->n * sizeof(mote_real);
+    return bytes <= (mote_real)(1u << 30);
 }
 
 int nb_taylor_check(mote_nb *nb, mote_err *err)
@@ -235,26 +236,26 @@ int nb_taylor_check(mote_nb *nb, mote_err *err)
  * below tol times the distance to its nearest neighbour, h_i = min_{j = p-1, p}
  * (tol l_i / |x_i^[j]|_inf)^(1/j); then h = safety min_i h_i, at most twice the previous step,
  * clamped to [hmin, hmax]. */
-static double adaptive_step(const mote_nb *nb, const double *X, int p)
+static mote_real adaptive_step(const mote_nb *nb, const mote_real *X, int p)
 {
     const uint32_t N = nb->n;
     const size_t blk = 3 * (size_t)N;
-    double h = INFINITY;
+    mote_real h = INFINITY;
     for (uint32_t i = 0; i < N; i++) {
         if (!nb->active[i])
             continue;
-        double l2 = INFINITY;
+        mote_real l2 = INFINITY;
         for (uint32_t k = 0; k < N; k++) {
             if (k == i || !nb->active[k])
                 continue;
-            double d0 = X[3 * i] - X[3 * k], d1 = X[3 * i + 1] - X[3 * k + 1],
+            mote_real d0 = X[3 * i] - X[3 * k], d1 = X[3 * i + 1] - X[3 * k + 1],
                    d2 = X[3 * i + 2] - X[3 * k + 2];
             l2 = fmin(l2, d0 * d0 + d1 * d1 + d2 * d2);
         }
-        double l = isfinite(l2) ? sqrt(l2) : 1.0; /* a single body: its own scale */
+        mote_real l = isfinite(l2) ? sqrt(l2) : 1.0; /* a single body: its own scale */
         for (int j = p - 1; j <= p; j++) {
-            const double *c = X + (size_t)j * blk + 3 * i;
-            double nrm = fmax(fabs(c[0]), fmax(fabs(c[1]), fabs(c[2])));
+            const mote_real *c = X + (size_t)j * blk + 3 * i;
+            mote_real nrm = fmax(fabs(c[0]), fmax(fabs(c[1]), fabs(c[2])));
             if (nrm > 0)
                 h = fmin(h, pow(nb->tol * l / nrm, 1.0 / j));
         }
@@ -271,14 +272,14 @@ static double adaptive_step(const mote_nb *nb, const double *X, int p)
     return h;
 }
 
-double nb_taylor_step(mote_nb *nb, double rest)
+mote_real nb_taylor_step(mote_nb *nb, mote_real rest)
 {
     const int p = nb->taylor_order;
     const int store = mote_nb_taylor_memory_store(nb, p);
     const size_t blk = 3 * (size_t)nb->n;
-    double *X = nb->tx;
+    mote_real *X = nb->tx;
     mote_nb_taylor_coefficients(nb, p, store, X);
-    double h = nb->adaptive ? adaptive_step(nb, X, p) : nb->dt;
+    mote_real h = nb->adaptive ? adaptive_step(nb, X, p) : nb->dt;
     if (h > rest)
         h = rest;
     for (uint32_t i = 0; i < nb->n; i++) {
@@ -286,7 +287,7 @@ double nb_taylor_step(mote_nb *nb, double rest)
             continue;
         for (int a = 0; a < 3; a++) {
             const size_t o = 3 * (size_t)i + a;
-            long double dx = 0, dv = 0;
+            nb_wide dx = 0, dv = 0;
             for (int n = p; n >= 1; n--)
                 dx = dx * h + X[n * blk + o];
             for (int n = p; n >= 2; n--)
@@ -295,8 +296,8 @@ double nb_taylor_step(mote_nb *nb, double rest)
                 ext_add(&nb->x[o], &nb->xc[o], dx * h);
                 ext_add(&nb->v[o], &nb->vc[o], dv * h);
             } else {
-                nb->x[o] += (double)(dx * h);
-                nb->v[o] += (double)(dv * h);
+                nb->x[o] += (mote_real)(dx * h);
+                nb->v[o] += (mote_real)(dv * h);
             }
         }
     }
@@ -309,24 +310,24 @@ double nb_taylor_step(mote_nb *nb, double rest)
     return h;
 }
 
-void mote_nb_taylor_dense(const mote_nb *nb, double s, double *x, double *v)
+void mote_nb_taylor_dense(const mote_nb *nb, mote_real s, mote_real *x, mote_real *v)
 {
     const int p = nb->taylor_order;
     const size_t blk = 3 * (size_t)nb->n;
-    const double *X = nb->tx;
+    const mote_real *X = nb->tx;
     for (size_t o = 0; o < blk; o++) {
         if (!nb->active[o / 3]) {
             x[o] = nb->x[o];
             v[o] = nb->v[o];
             continue;
         }
-        long double dx = 0, dv = 0;
+        nb_wide dx = 0, dv = 0;
         for (int n = p; n >= 1; n--)
             dx = dx * s + X[n * blk + o];
         for (int n = p; n >= 2; n--)
             dv = dv * s + n * X[n * blk + o];
-        x[o] = (double)(X[o] + dx * s);
-        v[o] = (double)(X[blk + o] + dv * s);
+        x[o] = (mote_real)(X[o] + dx * s);
+        v[o] = (mote_real)(X[blk + o] + dv * s);
     }
 }
 
@@ -335,7 +336,7 @@ int mote_nb_taylor(mote_nb *nb, uint64_t steps, mote_err *err)
     return nb_run_as(nb, MOTE_NB_TAYLOR, steps, err);
 }
 
-int mote_nb_taylor_auto_order(double tol)
+int mote_nb_taylor_auto_order(mote_real tol)
 {
     int p = (int)ceil(1 - 0.5 * log(tol));
     return p < 2 ? 2 : p > MOTE_NB_TAYLOR_MAX ? MOTE_NB_TAYLOR_MAX : p;
