@@ -71,7 +71,25 @@ $(BUILD)/bench/%: bench/%.c $(BUILD)/libmote.a $(HDRS)
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) $< $(BUILD)/libmote.a $(LDLIBS) -o $@
 
-tests: $(BUILD)/mote $(TEST_BIN) $(BENCH_BIN)
+# The N-body model again in long double and in quad, for test_precision_long and _quad (spec
+# 4.6; only from a double build): its objects in $(BUILD)/long and $(BUILD)/quad, linked before
+# the library so that they replace its double ones.
+NB_SRC := $(sort $(wildcard src/nbody/*.c))
+ifeq ($(PRECISION),double)
+PREC_BIN := $(BUILD)/tests/test_precision_long $(BUILD)/tests/test_precision_quad
+endif
+$(BUILD)/long/%.o: %.c $(HDRS)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) $(PREC_FLAGS_long) -c $< -o $@
+$(BUILD)/quad/%.o: %.c $(HDRS)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) $(PREC_FLAGS_quad) -c $< -o $@
+.SECONDEXPANSION:
+$(BUILD)/tests/test_precision_%: tests/test_precision.c $(NB_SRC:%.c=$(BUILD)/$$*/%.o) $(BUILD)/libmote.a $(HDRS)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) $(PREC_FLAGS_$*) -Itests $< $(NB_SRC:%.c=$(BUILD)/$*/%.o) $(BUILD)/libmote.a $(LDLIBS) -o $@
+
+tests: $(BUILD)/mote $(TEST_BIN) $(BENCH_BIN) $(PREC_BIN)
 bench: $(BUILD)/mote $(BENCH_BIN)
 
 # Install missing Debian packages (a no-op when everything is present).

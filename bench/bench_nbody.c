@@ -23,6 +23,9 @@
 #include <string.h>
 #include <time.h>
 
+/* the build's real type (make PRECISION=), as a word */
+#define PREC (MOTE_NB_PRECISION == 4 ? "quad" : MOTE_NB_PRECISION == 2 ? "long" : "double")
+
 static double cpu_seconds(void)
 {
     struct timespec ts;
@@ -77,13 +80,14 @@ static int ring_period(int integrator, int P, double tol)
     }
     qsort(t, 5, sizeof t[0], cmp_double);
     if (integrator == MOTE_NB_TAYLOR)
-        printf("workload=b1 integrator=taylor order=%d tol=%g steps=%llu cpu_seconds_median=%.6f "
+        printf("workload=b1 precision=%s integrator=taylor order=%d tol=%g steps=%llu cpu_seconds_median=%.6f "
                "cpu_seconds_min=%.6f error=%.3e abs_dE=%.3e\n",
-               P, tol, steps, t[2], t[0], err, fabs(dE));
+               PREC, P, tol, steps, t[2], t[0], err, fabs(dE));
     else
-        printf("workload=b1 integrator=galactica dt=1e-6 steps=%llu cpu_seconds_median=%.6f "
+        printf("workload=b1 precision=%s integrator=galactica dt=1e-6 steps=%llu "
+               "cpu_seconds_median=%.6f "
                "cpu_seconds_min=%.6f error=%.3e abs_dE=%.3e\n",
-               steps, t[2], t[0], err, fabs(dE));
+               PREC, steps, t[2], t[0], err, fabs(dE));
     return 0;
 }
 
@@ -114,7 +118,7 @@ static int solar(const char *path, int P, double tol)
         mote_nb_set_reference(&nb);
         mote_nb_monitor mon;
         mote_nb_measure(&nb, &mon);
-        double L0[3] = {mon.L[0] + mon.S[0], mon.L[1] + mon.S[1], mon.L[2] + mon.S[2]};
+        mote_real L0[3] = {mon.L[0] + mon.S[0], mon.L[1] + mon.S[1], mon.L[2] + mon.S[2]};
         double cpu = 0;
         worst = 0;
         for (int k = 1; k <= samples; k++) {
@@ -126,24 +130,24 @@ static int solar(const char *path, int P, double tol)
                 return 1;
             }
             mote_nb_measure(&nb, &mon);
-            worst = fmax(worst, fabs(mon.dE));
+            worst = fmax(worst, fabs((double)mon.dE));
         }
         t[run] = cpu;
-        dE = fabs(mon.dE);
+        dE = fabs((double)mon.dE);
         double d2 = 0, l2 = 0;
         for (int a = 0; a < 3; a++) {
-            double d = mon.L[a] + mon.S[a] - L0[a];
+            double d = (double)(mon.L[a] + mon.S[a] - L0[a]);
             d2 += d * d;
-            l2 += L0[a] * L0[a];
+            l2 += (double)(L0[a] * L0[a]);
         }
         dL = sqrt(d2 / l2);
         steps = (unsigned long long)nb.steps;
         mote_nb_free(&nb);
     }
     qsort(t, 5, sizeof t[0], cmp_double);
-    printf("workload=b2 integrator=taylor order=%d tol=%g steps=%llu cpu_seconds_median=%.6f "
+    printf("workload=b2 precision=%s integrator=taylor order=%d tol=%g steps=%llu cpu_seconds_median=%.6f "
            "cpu_seconds_min=%.6f max_abs_dE=%.3e abs_dE_end=%.3e abs_dL_end=%.3e\n",
-           P, tol, steps, t[2], t[0], worst, dE, dL);
+           PREC, P, tol, steps, t[2], t[0], worst, dE, dL);
     return 0;
 }
 
@@ -155,10 +159,10 @@ static int pairs(uint32_t n, int threads)
     mote_rng_seed(&g, 1);
     mote_err e = {0};
     for (uint32_t i = 0; i < n; i++) {
-        double x[3], v[3] = {0, 0, 0};
+        mote_real x[3], v[3] = {0, 0, 0};
         for (int a = 0; a < 3; a++)
             x[a] = mote_rng_uniform(&g) - 0.5;
-        mote_nb_add(&nb, 1.0 / n, 0, x, v, 0, &e);
+        mote_nb_add(&nb, (mote_real)1 / n, 0, x, v, 0, &e);
     }
     nb.dt = 1e-6;
     nb.threads = threads;
@@ -172,9 +176,9 @@ static int pairs(uint32_t n, int threads)
         return 1;
     }
     double evals = 2.0 * steps * (double)n * (n - 1);
-    printf("workload=pairs N=%u threads=%d steps=%d wall_seconds=%.3f "
+    printf("workload=pairs precision=%s N=%u threads=%d steps=%d wall_seconds=%.3f "
            "pair_evaluations_per_second=%.3e per_thread=%.3e bytes_per_body=%.0f\n",
-           n, threads, steps, w, evals / w, evals / w / threads,
+           PREC, n, threads, steps, w, evals / w, evals / w / threads,
            (double)mote_peak_rss_bytes() / n);
     mote_nb_free(&nb);
     return 0;

@@ -21,14 +21,17 @@
 typedef long double mote_real;
 #define MOTE_REAL_DIG 21 /* significant digits that make a text round trip exact */
 #define MOTE_REAL_NAME "long double"
+#define MOTE_REAL_TOL 1e-19 /* the adaptive Taylor step's default tolerance (spec 4.5) */
 #elif MOTE_NB_PRECISION == 4
 __extension__ typedef _Float128 mote_real; /* __float128 on x86-64; glibc's libm functions */
 #define MOTE_REAL_DIG 36
 #define MOTE_REAL_NAME "quad"
+#define MOTE_REAL_TOL 1e-33
 #else
 typedef double mote_real;
 #define MOTE_REAL_DIG 17
 #define MOTE_REAL_NAME "double"
+#define MOTE_REAL_TOL 1e-16
 #endif
 #define MOTE_REAL_BUF 48
 /* v written with MOTE_REAL_DIG significant digits (%.Ng) into buf, which is returned. */
@@ -187,7 +190,7 @@ int mote_nb_taylor(mote_nb *nb, uint64_t steps, mote_err *err);
  * scratch cannot be allocated. */
 int mote_nb_taylor_coefficients(mote_nb *nb, int p, int store, mote_real *X);
 /* Jorba and Zou's order for a tolerance: ceil(1 - ln(tol)/2) (20 for 1e-16). */
-int mote_nb_taylor_auto_order(double tol);
+int mote_nb_taylor_auto_order(mote_real tol);
 /* Does a run of order p keep the pair histories (store) or recompute them? */
 int mote_nb_taylor_memory_store(const mote_nb *nb, int p);
 
@@ -236,7 +239,7 @@ typedef struct {
     /* parameters */
     int nb;               /* bodies, central one included */
     double ka, e, tilt;   /* a = ka AU (gravity) or ka r_m (Coulomb); eccentricity; tilt (rad) */
-    double dt;            /* nominal step */
+    mote_real dt;         /* nominal step */
     /* gravity */
     double central_mass, total_mass, density;
     /* Coulomb */

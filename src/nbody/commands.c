@@ -40,7 +40,7 @@ typedef struct {
         size_t nrows, cap, cols;
         double L0[3];       /* trajectory: L + S when it started (the invariable plane) */
         int on, format;     /* format: FMT_TABLE, FMT_CSV, FMT_JSONL (path NULL: the terminal) */
-        double dt, t0;      /* by time: samples at t0 + k dt (dt 0: every `every` steps) */
+        mote_real dt, t0;   /* by time: samples at t0 + k dt (dt 0: every `every` steps) */
         uint64_t k;
         double ekmax, t_ekmax; /* monitor: the largest kinetic energy of a body so far */
         double cpu0, wall0;    /* monitor: clocks when it started */
@@ -129,12 +129,20 @@ static void model_status(void *vm, FILE *out)
     }
     mote_nb_monitor mon;
     mote_nb_measure(nb, &mon);
-    fprintf(out,
-            "N=%u interaction=%s T=%.17g steps=%llu dt=%.17g E=%.17g dE=%.3e dMz=%.3e merges=%llu\n",
-            nb->n, nb->kind == MOTE_NB_GRAVITY ? "gravity" : "coulomb", nb->T,
-            (unsigned long long)nb->steps, nb->dt, mon.etot, mon.dE, mon.dMz,
-            (unsigned long long)nb->merges);
+    char t[MOTE_REAL_BUF], h[MOTE_REAL_BUF], e[MOTE_REAL_BUF];
+    fprintf(out, "N=%u interaction=%s T=%s steps=%llu dt=%s E=%s dE=%.3e dMz=%.3e merges=%llu\n",
+            nb->n, nb->kind == MOTE_NB_GRAVITY ? "gravity" : "coulomb", mote_real_str(nb->T, t),
+            (unsigned long long)nb->steps, mote_real_str(nb->dt, h), mote_real_str(mon.etot, e),
+            (double)mon.dE, (double)mon.dMz, (unsigned long long)nb->merges);
 }
+
+/* A real option to the build's full precision (its text read again), or dflt when not given. */
+static mote_real opt_real_or(const mote_call *c, const char *key, mote_real dflt)
+{
+    const mote_arg *a = mote_call_opt(c, key);
+    return a ? mote_real_parse(a->text, NULL) : dflt;
+}
+static mote_real opt_real(const mote_call *c, const char *key) { return opt_real_or(c, key, 0); }
 
 static int need_bodies(nb_model *m, const mote_call *c, mote_err *err)
 {
@@ -159,10 +167,9 @@ static int check_body(void *vm, const mote_call *c, mote_err *err)
 static int run_body(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
-    double x[3] = {mote_call_opt_r(c, "x", 0), mote_call_opt_r(c, "y", 0), mote_call_opt_r(c, "z", 0)};
-    double v[3] = {mote_call_opt_r(c, "vx", 0), mote_call_opt_r(c, "vy", 0),
-                   mote_call_opt_r(c, "vz", 0)};
-    double mass = mote_call_opt_r(c, "mass", 0), ra = mote_call_opt_r(c, "radius", 0);
+    mote_real x[3] = {opt_real(c, "x"), opt_real(c, "y"), opt_real(c, "z")};
+    mote_real v[3] = {opt_real(c, "vx"), opt_real(c, "vy"), opt_real(c, "vz")};
+    mote_real mass = opt_real(c, "mass"), ra = opt_real(c, "radius");
     if (m->input_si && !m->raw) { /* SI with the scales known: convert now (eq. 6) */
         const mote_nb_units *u = &m->nb.u;
         mass /= u->M;
@@ -172,7 +179,7 @@ static int run_body(void *vm, const mote_call *c, mote_err *err)
             v[a] *= u->kv;
         }
     }
-    return mote_nb_add(&m->nb, mass, mote_call_opt_r(c, "charge", 0), x, v, ra, err);
+    return mote_nb_add(&m->nb, mass, opt_real(c, "charge"), x, v, ra, err);
 }
 
 /* ---- units and constants ------------------------------------------------------------------------ */
@@ -344,15 +351,24 @@ static int check_frame(void *vm, const mote_call *c, mote_err *err)
 static int run_frame(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
-    double xc[3], vc[3];
+    mote_real xc[3], vc[3];
     settle_units(m);
     mote_nb_barycentric(&m->nb, xc, vc);
+    char b[6][MOTE_REAL_BUF];
     if (m->log)
-        fprintf(m->log,
-                "frame: barycentric; centre of mass before: x %.17g %.17g %.17g, v %.17g %.17g "
-                "%.17g\n",
-                xc[0], xc[1], xc[2], vc[0], vc[1], vc[2]);
+        fprintf(m->log, "frame: barycentric; centre of mass before: x %s %s %s, v %s %s %s\n",
+                mote_real_str(xc[0], b[0]), mote_real_str(xc[1], b[1]), mote_real_str(xc[2], b[2]),
+                mote_real_str(vc[0], b[3]), mote_real_str(vc[1], b[4]), mote_real_str(vc[2], b[5]));
     return MOTE_OK;
+}
+
+/* max |v[a]| as a double (for the log) */
+static double max_abs3(const mote_real v[3])
+{
+    double w = 0;
+    for (int a = 0; a < 3; a++)
+        w = fmax(w, fabs((double)v[a]));
+    return w;
 }
 
 /* ---- generators -------------------------------------------------------------------------------- */
@@ -504,7 +520,7 @@ static int run_generate(void *vm, const mote_call *c, mote_err *err)
     r->central_mass = mote_call_opt_r(c, "central_mass", r->central_mass);
     r->total_mass = mote_call_opt_r(c, "total_mass", r->total_mass);
     r->density = mote_call_opt_r(c, "density", r->density);
-    r->dt = mote_call_opt_r(c, "dt", r->dt);
+    r->dt = opt_real_or(c, "dt", r->dt);
     if ((a = mote_call_opt(c, "A")))
         r->A = (int)a->i;
     if ((a = mote_call_opt(c, "Z")))
@@ -519,13 +535,13 @@ static int run_generate(void *vm, const mote_call *c, mote_err *err)
     if (rc)
         return rc;
     m->have_ring = 1;
+    char per[MOTE_REAL_BUF];
     if (m->log)
         fprintf(m->log,
                 "generate: %d bodies; Am %.16e m, kv %.16e s/m, kt %.16e 1/s; Rp/Am %.16g, "
-                "vp kv %.16g, period %.17g; centre of mass before the shift: %.3e (x), %.3e (v)\n",
-                r->nb, m->nb.u.Am, m->nb.u.kv, m->nb.u.kt, r->rp_o, r->vp_o, r->period,
-                fmax(fabs(r->xc[0]), fmax(fabs(r->xc[1]), fabs(r->xc[2]))),
-                fmax(fabs(r->vc[0]), fmax(fabs(r->vc[1]), fabs(r->vc[2]))));
+                "vp kv %.16g, period %s; centre of mass before the shift: %.3e (x), %.3e (v)\n",
+                r->nb, m->nb.u.Am, m->nb.u.kv, m->nb.u.kt, (double)r->rp_o, (double)r->vp_o,
+                mote_real_str(r->period, per), max_abs3(r->xc), max_abs3(r->vc));
     return MOTE_OK;
 }
 
@@ -539,7 +555,7 @@ static int parse_order(const mote_call *c, int taylor, int *order, mote_err *err
     if (!a)
         return MOTE_OK;
     if (taylor && strcmp(a->text, "auto") == 0) {
-        *order = mote_nb_taylor_auto_order(mote_call_opt_r(c, "tol", 1e-16));
+        *order = mote_nb_taylor_auto_order(opt_real_or(c, "tol", MOTE_REAL_TOL));
         return MOTE_OK;
     }
     char *end;
@@ -591,11 +607,11 @@ static int run_integrator(void *vm, const mote_call *c, mote_err *err)
     nb_model *m = vm;
     int taylor = strcmp(c->args[0].text, "taylor") == 0;
     m->nb.integrator = taylor ? MOTE_NB_TAYLOR : MOTE_NB_GALACTICA;
-    m->nb.dt = mote_call_opt_r(c, "dt", m->nb.dt);
+    m->nb.dt = opt_real_or(c, "dt", m->nb.dt);
     int rc = parse_order(c, taylor, taylor ? &m->nb.taylor_order : &m->nb.order, err);
     if (rc)
         return rc;
-    m->nb.first_step = mote_call_opt_r(c, "first_step", m->nb.first_step);
+    m->nb.first_step = opt_real_or(c, "first_step", m->nb.first_step);
     const mote_arg *mem = mote_call_opt(c, "memory");
     if (mem)
         m->nb.taylor_memory = strcmp(mem->text, "store") == 0       ? 1
@@ -603,10 +619,10 @@ static int run_integrator(void *vm, const mote_call *c, mote_err *err)
                                                                     : 0;
     if (taylor) {
         m->nb.adaptive = mote_call_opt(c, "dt") == NULL;
-        m->nb.tol = mote_call_opt_r(c, "tol", m->nb.tol);
-        m->nb.safety = mote_call_opt_r(c, "safety", m->nb.safety);
-        m->nb.hmin = mote_call_opt_r(c, "hmin", m->nb.hmin);
-        m->nb.hmax = mote_call_opt_r(c, "hmax", m->nb.hmax);
+        m->nb.tol = opt_real_or(c, "tol", m->nb.tol);
+        m->nb.safety = opt_real_or(c, "safety", m->nb.safety);
+        m->nb.hmin = opt_real_or(c, "hmin", m->nb.hmin);
+        m->nb.hmax = opt_real_or(c, "hmax", m->nb.hmax);
         m->nb.hprev = 0;
     }
     return MOTE_OK;
@@ -623,8 +639,8 @@ static int run_merge(void *vm, const mote_call *c, mote_err *err)
 {
     mote_nb *nb = &((nb_model *)vm)->nb;
     nb->merging = strcmp(c->args[0].text, "on") == 0;
-    nb->bt = mote_call_opt_r(c, "bt", nb->bt);
-    nb->bt_hmin = mote_call_opt_r(c, "hmin", nb->bt_hmin);
+    nb->bt = opt_real_or(c, "bt", nb->bt);
+    nb->bt_hmin = opt_real_or(c, "hmin", nb->bt_hmin);
     return MOTE_OK;
 }
 
@@ -706,8 +722,8 @@ static int monitor_sample(nb_model *m, const mote_nb *nb, mote_err *err)
         if (!nb->active[i])
             continue;
         active++;
-        const double *v = nb->v + 3 * (size_t)i;
-        double v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+        const mote_real *v = nb->v + 3 * (size_t)i;
+        mote_real v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
         mmax = fmax(mmax, nb->m[i]);
         vmax = fmax(vmax, sqrt(v2));
         if (0.5 * nb->m[i] * v2 > s->ekmax) {
@@ -746,7 +762,8 @@ static int trajectory_sample(nb_model *m, const mote_nb *nb, mote_err *err)
     r[0] = nb->T;
     r[1] = mon.ekin;
     r[2] = mon.etot;
-    memcpy(r + 3, nb->x, 3 * (size_t)nb->n * sizeof *r);
+    for (size_t k = 0; k < 3 * (size_t)nb->n; k++) /* (double samples of the real positions) */
+        r[3 + k] = (double)nb->x[k];
     return MOTE_OK;
 }
 
@@ -758,19 +775,23 @@ static int sample(nb_model *m, int traj, const mote_nb *nb, mote_err *err)
 /* The header lines every output shares after the preamble (spec 10). */
 static void run_header(FILE *f, const mote_nb *nb, const nb_sampler *s)
 {
+    char b[2][MOTE_REAL_BUF];
     fprintf(f, "# interaction = %s\n# N = %u\n", nb->kind == MOTE_NB_GRAVITY ? "gravity" : "coulomb",
             nb->n);
     if (nb->integrator == MOTE_NB_TAYLOR) {
         fprintf(f, "# integrator = taylor\n# order = %d\n", nb->taylor_order);
         if (nb->adaptive)
-            fprintf(f, "# tol = %.17g\n# safety = %.17g\n", nb->tol, nb->safety);
+            fprintf(f, "# tol = %s\n# safety = %s\n", mote_real_str(nb->tol, b[0]),
+                    mote_real_str(nb->safety, b[1]));
         else
-            fprintf(f, "# dt = %.17g\n", nb->dt);
+            fprintf(f, "# dt = %s\n", mote_real_str(nb->dt, b[0]));
     } else
-        fprintf(f, "# integrator = galactica\n# order = %d\n# dt = %.17g\n", nb->order, nb->dt);
-    fprintf(f, "# compensated = %d\n# forces = direct\n# precision = double\n", nb->compensated);
+        fprintf(f, "# integrator = galactica\n# order = %d\n# dt = %s\n", nb->order,
+                mote_real_str(nb->dt, b[0]));
+    fprintf(f, "# compensated = %d\n# forces = direct\n# precision = %s\n", nb->compensated,
+            MOTE_REAL_NAME);
     if (s->dt > 0)
-        fprintf(f, "# sample_dt = %.17g\n", s->dt);
+        fprintf(f, "# sample_dt = %s\n", mote_real_str(s->dt, b[0]));
     else
         fprintf(f, "# every = %llu\n", (unsigned long long)s->every);
     if (nb->u.set)
@@ -928,7 +949,7 @@ static int sampler_start(nb_model *m, nb_sampler *s, const mote_call *c, size_t 
     int rc = time_scale(m, c, &scale, err);
     if (rc)
         return rc;
-    s->dt = mote_call_opt_r(c, "dt", 0) * scale;
+    s->dt = opt_real_or(c, "dt", 0) * scale;
     s->t0 = m->nb.T;
     s->k = 0;
     s->format = !f ? FMT_TABLE : f->text[0] == 'c' ? FMT_CSV : f->text[0] == 'j' ? FMT_JSONL
@@ -1006,8 +1027,8 @@ static uint64_t until_sample(const nb_sampler *s, uint64_t steps, uint64_t left)
 /* After a step from Tb: a step sampler samples on its step counts and at the end time; a time
  * sampler at every t0 + k dt passed, from the Taylor step's dense output (spec 4.5) or, for the
  * Galactica scheme, at the first step end at or after it (spec 10.3). */
-static int after_step(nb_model *m, nb_sampler *s, int traj, double Tb, uint64_t merges,
-                      double t_end, double *xv, mote_err *err)
+static int after_step(nb_model *m, nb_sampler *s, int traj, mote_real Tb, uint64_t merges,
+                      mote_real t_end, mote_real *xv, mote_err *err)
 {
     if (!s->on)
         return MOTE_OK;
@@ -1016,7 +1037,7 @@ static int after_step(nb_model *m, nb_sampler *s, int traj, double Tb, uint64_t 
         return nb->steps % s->every == 0 || nb->T == t_end ? sample(m, traj, nb, err) : MOTE_OK;
     int rc = MOTE_OK;
     for (;;) {
-        double ts = s->t0 + (double)(s->k + 1) * s->dt;
+        mote_real ts = s->t0 + (mote_real)(s->k + 1) * s->dt;
         if (!(ts <= nb->T) || rc)
             break;
         s->k++;
@@ -1030,7 +1051,7 @@ static int after_step(nb_model *m, nb_sampler *s, int traj, double Tb, uint64_t 
             rc = sample(m, traj, &view, err);
         } else {
             rc = sample(m, traj, nb, err);
-            while (s->t0 + (double)(s->k + 1) * s->dt <= nb->T) /* one sample per step end */
+            while (s->t0 + (mote_real)(s->k + 1) * s->dt <= nb->T) /* one sample per step end */
                 s->k++;
         }
     }
@@ -1044,16 +1065,17 @@ static int run_integrate(void *vm, const mote_call *c, mote_err *err)
     m->nb.threads = c->ctx->threads;
     const mote_arg *a = mote_call_opt(c, "steps");
     uint64_t steps = a ? (uint64_t)a->i : UINT64_MAX, done = 0;
-    const double t0 = m->nb.T;
-    double t_end = INFINITY, scale;
+    const mote_real t0 = m->nb.T;
+    mote_real t_end = INFINITY;
+    double scale;
     int rc = time_scale(m, c, &scale, err);
     if (rc)
         return rc;
     if ((a = mote_call_opt(c, "to")))
-        t_end = a->r * scale;
+        t_end = mote_real_parse(a->text, NULL) * scale;
     else if ((a = mote_call_opt(c, "for")))
-        t_end = m->nb.T + a->r * scale;
-    double *xv = NULL;
+        t_end = m->nb.T + mote_real_parse(a->text, NULL) * scale;
+    mote_real *xv = NULL;
     if ((m->mon.on && m->mon.dt > 0) || (m->traj.on && m->traj.dt > 0)) {
         xv = malloc(6 * (size_t)(m->nb.n ? m->nb.n : 1) * sizeof *xv);
         if (!xv)
@@ -1072,7 +1094,7 @@ static int run_integrate(void *vm, const mote_call *c, mote_err *err)
         if (chunk > 1000)
             chunk = 1000;
         uint64_t before = m->nb.steps;
-        const double Tb = m->nb.T;
+        const mote_real Tb = m->nb.T;
         const uint64_t merges = m->nb.merges;
         rc = mote_nb_integrate(&m->nb, chunk, t_end, err);
         done += m->nb.steps - before;
@@ -1084,7 +1106,7 @@ static int run_integrate(void *vm, const mote_call *c, mote_err *err)
             rc = after_step(m, &m->traj, 1, Tb, merges, t_end, xv, err);
         if (!rc && m->ckpt.path && m->nb.steps % m->ckpt.every == 0)
             rc = nb_state_save(&m->nb, m->ckpt.path, err);
-        mote_progress_update(&prog, t_end < INFINITY ? (m->nb.T - t0) / (t_end - t0)
+        mote_progress_update(&prog, t_end < INFINITY ? (double)((m->nb.T - t0) / (t_end - t0))
                                                      : (double)done / (double)steps);
     }
     mote_progress_end(&prog);
@@ -1097,7 +1119,7 @@ static int run_integrate(void *vm, const mote_call *c, mote_err *err)
                 "a step at the shortest length (merge accuracy not ensured; largest overlap "
                 "%.3g): lower hmin= or bt= of 'merge'\n",
                 (unsigned long long)(m->nb.approach_warnings - warned),
-                m->nb.approach_warnings - warned > 1 ? "s" : "", m->nb.max_overlap);
+                m->nb.approach_warnings - warned > 1 ? "s" : "", (double)m->nb.max_overlap);
     /* the samples so far, even after a failure */
     nb_sampler *smp[2] = {&m->mon, &m->traj};
     for (int k = 0; k < 2; k++) {
@@ -1151,9 +1173,10 @@ static int load_state(nb_model *m, const mote_call *c, const char *path, mote_er
                 fprintf(m->log, "%s: the state has no physical scales; later bodies are read "
                                 "in dimensionless units\n", c->name);
         }
+        char t[MOTE_REAL_BUF];
         if (m->log)
-            fprintf(m->log, "%s: %u bodies at T = %.17g (step %llu) from %s\n", c->name, m->nb.n,
-                    m->nb.T, (unsigned long long)m->nb.steps, path);
+            fprintf(m->log, "%s: %u bodies at T = %s (step %llu) from %s\n", c->name, m->nb.n,
+                    mote_real_str(m->nb.T, t), (unsigned long long)m->nb.steps, path);
     }
     return rc;
 }
@@ -1206,15 +1229,17 @@ static int run_check(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
     settle_units(m);
-    double plane;
-    double e = mote_nb_ring_error(&m->nb, &m->ring, &plane);
+    mote_real plane;
+    mote_real e = mote_nb_ring_error(&m->nb, &m->ring, &plane);
     mote_nb_monitor mon;
     mote_nb_measure(&m->nb, &mon);
+    char t[MOTE_REAL_BUF];
     if (m->log)
         fprintf(m->log,
-                "check ring: T = %.17g (%.6g periods): error %.3e, out of the orbit plane %.3e "
+                "check ring: T = %s (%.6g periods): error %.3e, out of the orbit plane %.3e "
                 "of a, dE %.3e, dMz %.3e\n",
-                m->nb.T, m->nb.T / m->ring.period, e, plane / m->ring.a_o, mon.dE, mon.dMz);
+                mote_real_str(m->nb.T, t), (double)(m->nb.T / m->ring.period), (double)e,
+                (double)(plane / m->ring.a_o), (double)mon.dE, (double)mon.dMz);
     return MOTE_OK;
 }
 
@@ -1308,7 +1333,8 @@ static const char HELP_INTEGRATOR[] =
     "order P (2 ... 60, default 20) from exact recurrences (automatic\n"
     "differentiation), ceil((P-1)/2) passes over the pairs per step. With dt=H the\n"
     "step is fixed; without it the step is adaptive (spec 4.5): for each body the\n"
-    "step at which its two highest Taylor terms stay below tol=E (default 1e-16)\n"
+    "step at which its two highest Taylor terms stay below tol=E (default 1e-16;\n"
+    "1e-19 and 1e-33 in the long-double and quad builds)\n"
     "times the distance to its nearest neighbour, the smallest of them times\n"
     "safety=S (default 1), at most twice the previous step, within [hmin, hmax].\n"
     "order=auto takes P = ceil(1 - ln(E)/2) (E = 1e-16: P = 20).\n"

@@ -237,12 +237,13 @@ int mote_nb_solar_build(mote_nb *nb, const mote_nb_solar *s, const char *bodies,
             if (!take[i])
                 continue;
             const mote_nb_sbody *b = &s->b[i];
-            double x[3], v[3];
+            mote_real x[3], v[3];
             for (int a = 0; a < 3; a++) {
-                x[a] = b->x[a] / u->Am;
-                v[a] = b->v[a] * u->kv;
+                x[a] = (mote_real)b->x[a] / (mote_real)u->Am;
+                v[a] = (mote_real)b->v[a] * (mote_real)u->kv;
             }
-            rc = mote_nb_add(nb, (i == sun ? gm_sun : b->gm) / total, 0, x, v, b->ra / u->Am, err);
+            rc = mote_nb_add(nb, (mote_real)(i == sun ? gm_sun : b->gm) / (mote_real)total, 0, x, v,
+                             (mote_real)b->ra / (mote_real)u->Am, err);
         }
         if (!rc)
             mote_nb_barycentric(nb, NULL, NULL);

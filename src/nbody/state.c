@@ -1,5 +1,6 @@
 /* state.c: the N-body model's state file (save / load): everything a continuation needs, every
- * number to 17 significant digits so it reads back to the same double, the compensation terms,
+ * number to the digits that read back to the same value (17 for double, 21 for long double, 36
+ * for quad: MOTE_REAL_DIG; the SI scales to 17), the compensation terms,
  * the previous fifth derivative and step of the Galactica scheme and the monitor references
  * included, so `A; save F; load F; B` runs bit for bit like `A; B`. The reader is strict: a
  * malformed file is refused with FILE:LINE and what was expected, and nothing is allocated for
@@ -7,14 +8,18 @@
 #include "mote/nbody.h"
 
 #include <errno.h>
-#include <math.h>
+#include <tgmath.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #define NB_STATE_VERSION 1
 
-static void put(FILE *f, double v) { fprintf(f, " %.17g", v); }
+static void put(FILE *f, mote_real v)
+{
+    char b[MOTE_REAL_BUF];
+    fprintf(f, " %s", mote_real_str(v, b));
+}
 
 #include "nb.h"
 
@@ -63,15 +68,16 @@ int nb_state_save(const mote_nb *nb, const char *path, mote_err *err)
     fprintf(f, "\nunits %d", nb->u.set);
     const double *u = &nb->u.M;
     for (int k = 0; k < 8; k++)
-        put(f, u[k]);
+        fprintf(f, " %.17g", u[k]);
     fprintf(f, "\nbodies: m q active radius x y z vx vy vz cx cy cz cvx cvy cvz sx sy sz d5x d5y "
                "d5z Et\n");
     for (uint32_t i = 0; i < nb->n; i++) {
-        fprintf(f, "%.17g", nb->m[i]);
+        char mb[MOTE_REAL_BUF];
+        fputs(mote_real_str(nb->m[i], mb), f);
         put(f, nb->q[i]);
         fprintf(f, " %d", nb->active[i]);
         put(f, nb->ra[i]);
-        const double *blocks[6] = {nb->x, nb->v, nb->xc, nb->vc, nb->sp, nb->d5p};
+        const mote_real *blocks[6] = {nb->x, nb->v, nb->xc, nb->vc, nb->sp, nb->d5p};
         for (int b = 0; b < 6; b++)
             for (int a = 0; a < 3; a++)
                 put(f, blocks[b][3 * (size_t)i + a]);
@@ -98,7 +104,7 @@ static int fail(reader *r, const char *what, const char *found)
 }
 
 /* Read `n` finite reals after the keyword `key` (NULL: none) from line s. */
-static int reals(reader *r, char *s, const char *key, double *out, int n)
+static int reals(reader *r, char *s, const char *key, mote_real *out, int n)
 {
     char *p = s;
     if (key) {
@@ -110,7 +116,7 @@ static int reals(reader *r, char *s, const char *key, double *out, int n)
     for (int i = 0; i < n; i++) {
         char *end;
         errno = 0;
-        out[i] = strtod(p, &end);
+        out[i] = mote_real_parse(p, &end);
         if (end == p || !isfinite(out[i]) || (*end && *end != ' '))
             return mote_fail(r->err, MOTE_EFORMAT, "%s:%ld: value %d is not a finite real number",
                              r->l.path, r->l.line, i + 1);
@@ -183,7 +189,7 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
                        path, kind == MOTE_NB_GRAVITY ? "gravity" : "Coulomb",
                        nb->kind == MOTE_NB_GRAVITY ? "gravity" : "Coulomb");
     t.kind = kind;
-    double v[8];
+    mote_real v[8];
     char *s;
     if (!rc) {
         s = next_line(&r);
@@ -287,7 +293,9 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
         else {
             rc = reals(&r, s + 8, NULL, v, 8);
             t.u.set = s[6] == '1';
-            memcpy(&t.u.M, v, 8 * sizeof(double));
+            double *u = &t.u.M;
+            for (int k = 0; k < 8; k++)
+                u[k] = (double)v[k];
         }
     }
     if (!rc) {
@@ -298,7 +306,7 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
     /* the bodies, counted as read: nothing is allocated for lines that are not there */
     /* mote_nb_add marks a restart and drops the reference: the file's values are put back after */
     const int file_restart = t.restart, file_ref = t.ref_set;
-    const double file_dtp = t.dtp;
+    const mote_real file_dtp = t.dtp;
     for (uint32_t i = 0; i < n && !rc; i++) {
         s = next_line(&r);
         if (!s || strcmp(s, "end") == 0) {
@@ -306,7 +314,7 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
                                               "lines follow", path, s ? r.l.line : r.l.line + 1, n, i);
             break;
         }
-        double w[23];
+        mote_real w[23];
         char *p = s;
         int ok = 1, act = 0;
         for (int k = 0; k < 23 && ok; k++) {
@@ -317,7 +325,7 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
                 act = (int)a;
                 w[k] = 0;
             } else {
-                w[k] = strtod(p, &end);
+                w[k] = mote_real_parse(p, &end);
                 ok = end != p && isfinite(w[k]) && (*end == ' ' || (*end == '\0' && k == 22));
             }
             p = end;

@@ -84,7 +84,7 @@ void mote_nb_init(mote_nb *nb, mote_nb_interaction kind)
     nb->merging = -1;
     nb->bt = 0.5;
     nb->bt_hmin = 1e-6;
-    nb->tol = 1e-16;
+    nb->tol = MOTE_REAL_TOL;
     nb->safety = 1.0;
     nb->G = MOTE_NB_G;
     nb->e2 = 1e-9 * MOTE_NB_E_CGSE * MOTE_NB_E_CGSE;
@@ -151,10 +151,10 @@ int mote_nb_add(mote_nb *nb, mote_real m, mote_real q, const mote_real x[3], con
         return mote_fail(err, MOTE_EINVAL, "body %u: every value must be finite", nb->n + 1);
     if (!(m > 0))
         return mote_fail(err, MOTE_EINVAL, "body %u: the mass must be > 0 (found %g)", nb->n + 1,
-                         m);
+                         (double)m);
     if (!(ra >= 0))
         return mote_fail(err, MOTE_EINVAL, "body %u: the radius must be >= 0 (found %g)",
-                         nb->n + 1, ra);
+                         nb->n + 1, (double)ra);
     if (nb->n == UINT32_MAX - 1)
         return mote_fail(err, MOTE_EINVAL, "too many bodies");
     if (nb->n == nb->cap && grow(nb, nb->cap ? 2 * nb->cap : 16))
