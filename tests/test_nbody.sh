@@ -244,7 +244,7 @@ expect 1 "s2.mote:3:24: error: monitor: format= is for a file" s2.mote "${G}gene
 expect 1 "s3.mote:3:33: error: monitor: format must be table, csv or jsonl" s3.mote "${G}generate ring\nmonitor every=1 file=m.x format=xml\n"
 
 # ---- checkpoint and restart (T16, native part): 2n steps = n + checkpoint + restart + n, bit for bit ----
-for integ in "integrator galactica dt=1e-6" "integrator taylor order=16 tol=1e-15"; do
+for integ in "integrator galactica dt=1e-6" "integrator taylor order=16 tol=1e-15" "integrator galactica dt=1e-6 tol=1e-14"; do
     printf '%bgenerate ring\n%s\nintegrate steps=20\nsave c0.state\n' "$G" "$integ" > k0.mote
     printf '%bgenerate ring\n%s\ncheckpoint file=ck.state every=7\nintegrate steps=10\n' "$G" "$integ" > k1.mote
     printf '%brestart file=ck.state\n%s\nintegrate steps=10\nsave c2.state\n' "$G" "$integ" > k2.mote
@@ -254,6 +254,14 @@ for integ in "integrator galactica dt=1e-6" "integrator taylor order=16 tol=1e-1
     grep -q '^restart: 30 bodies at T = .* (step 10) from ' k.out && ok || bad "restart line: $(head -1 k.out)"
     cmp -s c0.state c2.state && ok || bad "$integ: 20 steps differ from 10 + checkpoint + restart + 10"
 done
+# Galactica's scheme with the adaptive step (spec 4.5, Kl4 = 2/3): one ring period within T05's
+# bounds (error <= 1e-12, |dE| <= 1e-13) in fewer than a third of the fixed step's 10 000 steps
+printf '%bgenerate ring\nintegrator galactica dt=1e-6 tol=1e-14\nintegrate to=0.009995788296740863\ncheck ring\n' "$G" > ga.mote
+"$MOTE" run ga.mote > out.txt 2>&1 && ok || bad "adaptive Galactica run: $(cat out.txt)"
+awk '/^check ring:/ { e = $9 + 0; d = $19 + 0; if (d < 0) d = -d } /^N=30 / { split($4, s, "="); n = s[2] }
+     END { exit !(e <= 1e-12 && d <= 1e-13 && n > 0 && n < 3334) }' out.txt && ok || bad "adaptive Galactica: $(grep -E '^(check|N=30)' out.txt | tail -2)"
+grep -q '^check ring: T = 0.009995788296740863 ' out.txt && ok || bad "adaptive Galactica: the end time is not exact"
+expect 1 "ga2.mote:3:34: error: integrator galactica: the adaptive step (tol=) needs order=6" ga2.mote "${G}generate ring\nintegrator galactica order=5 tol=1e-14\n"
 expect 1 "k3.mote:2:14: error: restart: 'none.state' does not exist" k3.mote "${G}restart file=none.state\n"
 expect 1 "k4.mote:2:1: error: checkpoint: there are no bodies yet" k4.mote "${G}checkpoint file=c.state every=1\n"
 

@@ -570,7 +570,8 @@ static int parse_order(const mote_call *c, int taylor, int *order, mote_err *err
     return MOTE_OK;
 }
 
-static const char *const GALACTICA_OPTS[] = {"dt", "order", "first_step", NULL};
+static const char *const GALACTICA_OPTS[] = {"dt",     "order", "first_step", "tol",
+                                             "safety", "hmin",  "hmax",       NULL};
 static const char *const TAYLOR_OPTS[] = {"dt",     "order", "tol",  "memory",
                                           "safety", "hmin",  "hmax", NULL};
 
@@ -587,7 +588,7 @@ static int check_integrator(void *vm, const mote_call *c, mote_err *err)
                                   "integrator %s: no option %s= (options: %s)", name,
                                   c->opts[k].key,
                                   taylor ? "dt, order, tol, memory, safety, hmin, hmax"
-                                         : "dt, order, first_step");
+                                         : "dt, order, first_step, tol, safety, hmin, hmax");
     if (taylor && mote_call_opt(c, "dt") && mote_call_opt(c, "tol") &&
         strcmp(mote_call_opt(c, "order") ? mote_call_opt(c, "order")->text : "", "auto") != 0)
         return mote_call_fail(err, c, mote_call_opt_index(c, "tol"), MOTE_EINVAL,
@@ -599,8 +600,11 @@ static int check_integrator(void *vm, const mote_call *c, mote_err *err)
         return mote_call_fail(err, c, mote_call_opt_index(c, "memory"), MOTE_EINVAL,
                               "integrator taylor: memory must be store, recompute or auto, "
                               "found '%s'", mem->text);
-    int order = 0;
-    return parse_order(c, taylor, &order, err);
+    int order = 6, rc = parse_order(c, taylor, &order, err);
+    if (!rc && !taylor && mote_call_opt(c, "tol") && mote_call_opt(c, "order") && order != 6)
+        return mote_call_fail(err, c, mote_call_opt_index(c, "tol"), MOTE_EINVAL,
+                              "integrator galactica: the adaptive step (tol=) needs order=6");
+    return rc;
 }
 static int run_integrator(void *vm, const mote_call *c, mote_err *err)
 {
@@ -617,15 +621,13 @@ static int run_integrator(void *vm, const mote_call *c, mote_err *err)
         m->nb.taylor_memory = strcmp(mem->text, "store") == 0       ? 1
                               : strcmp(mem->text, "recompute") == 0 ? 2
                                                                     : 0;
-    if (taylor) {
-        m->nb.adaptive = mote_call_opt(c, "dt") == NULL;
-        m->nb.tol = opt_real_or(c, "tol", m->nb.tol);
-        m->nb.safety = opt_real_or(c, "safety", m->nb.safety);
-        m->nb.hmin = opt_real_or(c, "hmin", m->nb.hmin);
-        m->nb.hmax = opt_real_or(c, "hmax", m->nb.hmax);
-        m->nb.hprev = 0;
-    }
-    return MOTE_OK;
+    /* adaptive: a Taylor run without dt=, a Galactica run with tol= */
+    m->nb.adaptive = taylor ? mote_call_opt(c, "dt") == NULL : mote_call_opt(c, "tol") != NULL;
+    m->nb.tol = opt_real_or(c, "tol", m->nb.tol);
+    m->nb.safety = opt_real_or(c, "safety", m->nb.safety);
+    m->nb.hmin = opt_real_or(c, "hmin", m->nb.hmin);
+    m->nb.hmax = opt_real_or(c, "hmax", m->nb.hmax);
+    return MOTE_OK; /* (the previous step stays: a restart continues as the run would have) */
 }
 
 static int check_merge(void *vm, const mote_call *c, mote_err *err)
@@ -1319,7 +1321,7 @@ static const char HELP_GENERATE[] =
     "refined, barycentric.\n";
 
 static const char HELP_INTEGRATOR[] =
-    "    integrator galactica [dt=H] [order=K] [first_step=F]\n"
+    "    integrator galactica [dt=H] [order=K] [first_step=F] [tol=E]\n"
     "    integrator taylor [dt=H] [order=P|auto] [tol=E] [memory=store|recompute|auto]\n"
     "\n"
     "`galactica`: Galactica's Taylor scheme (spec 4.2): two passes over all\n"
@@ -1327,7 +1329,11 @@ static const char HELP_INTEGRATOR[] =
     "derivatives; the sixth is the difference of fifth derivatives over the\n"
     "previous step. order=K (2 ... 6, default 6) keeps the terms up to x^(K) (spec\n"
     "4.3). A start without a previous fifth derivative takes a first step of F dt\n"
-    "(default 0.001).\n"
+    "(default 0.001). With tol=E the step is adaptive (Galactica's step\n"
+    "correction, Kl4 = 2/3; spec 4.5): after the first step of F dt, the step at\n"
+    "which x^[5] = d5/120 and x^[6] = p/720 of every body stay below E times the\n"
+    "distance to its nearest neighbour, times safety=S, at most twice the\n"
+    "previous step, within [hmin, hmax] (order 6 only).\n"
     "\n"
     "`taylor`: the general Taylor integrator (spec 4.4): every coefficient up to\n"
     "order P (2 ... 60, default 20) from exact recurrences (automatic\n"

@@ -5,7 +5,9 @@
  * and velocities advance by their Taylor series summed from the highest term down and added with
  * compensation (Kahan), as is the time. A start without a valid previous fifth derivative takes
  * a first step of first_step * dt (0.001 dt), which the seed document's read-back times confirm.
- * The truncated orders of spec 4.3 drop the terms above x^(K).
+ * The truncated orders of spec 4.3 drop the terms above x^(K). With a tolerance the step is
+ * adaptive (spec 4.5; Galactica's step correction, Kl4 = 2 or 3), dt then being the first step's
+ * nominal length.
  *
  * Sums over sources run in increasing index for every target, and each target is one thread's
  * (OpenMP over targets, spec 6.1), so a result depends on nothing but the state: 1, 2 or 4
@@ -159,13 +161,60 @@ static mote_real approach_step(mote_nb *nb, mote_real h)
     return h;
 }
 
-/* One step of length h (nominal: the close-approach control may shorten it), not beyond rest;
- * returns the length taken. */
+/* The adaptive step (spec 4.5, Galactica's Kl4 = 2 or 3): for each body the step at which its
+ * two highest terms, x^[5] = d5/120 and x^[6] = p/720 (p the sixth derivative from the last two
+ * fifth derivatives), stay below tol times the distance to its nearest neighbour; the smallest
+ * times safety, at most twice the previous step, within [hmin, hmax]. */
+static mote_real adaptive_step(const mote_nb *nb)
+{
+    const uint32_t n = nb->n;
+    mote_real h = INFINITY;
+    for (uint32_t i = 0; i < n; i++) {
+        if (!nb->active[i])
+            continue;
+        const mote_real *xi = nb->x + 3 * (size_t)i;
+        mote_real l2 = INFINITY;
+        for (uint32_t k = 0; k < n; k++) {
+            if (k == i || !nb->active[k])
+                continue;
+            const mote_real *xk = nb->x + 3 * (size_t)k;
+            const mote_real d0 = xi[0] - xk[0], d1 = xi[1] - xk[1], d2 = xi[2] - xk[2];
+            l2 = fmin(l2, d0 * d0 + d1 * d1 + d2 * d2);
+        }
+        const mote_real l = isfinite(l2) ? sqrt(l2) : 1;
+        mote_real n5 = 0, n6 = 0;
+        for (int c = 0; c < 3; c++) {
+            const size_t o = 3 * (size_t)i + c;
+            n5 = fmax(n5, fabs(nb->d5[o]) / 120);
+            n6 = fmax(n6, fabs((nb->d5[o] - nb->d5p[o]) / nb->dtp) / 720);
+        }
+        if (n5 > 0)
+            h = fmin(h, pow(nb->tol * l / n5, (mote_real)1 / 5));
+        if (n6 > 0)
+            h = fmin(h, pow(nb->tol * l / n6, (mote_real)1 / 6));
+    }
+    h *= nb->safety > 0 ? nb->safety : 1;
+    if (nb->hprev > 0 && h > 2 * nb->hprev)
+        h = 2 * nb->hprev;
+    if (nb->hmax > 0 && h > nb->hmax)
+        h = nb->hmax;
+    if (h < nb->hmin)
+        h = nb->hmin;
+    if (!isfinite(h)) /* nothing moves */
+        h = nb->dt;
+    return h;
+}
+
+/* One step of length h (nominal: the close-approach control may shorten it; 0: the adaptive
+ * step), not beyond rest; returns the length taken. */
 static mote_real step(mote_nb *nb, mote_real h, mote_real rest)
 {
     pass1(nb);
     if (nb->order >= 4)
         pass2(nb);
+    const int adaptive = h == 0;
+    if (adaptive)
+        h = adaptive_step(nb);
     if (nb->bt < 1 && nb_merging_on(nb))
         h = approach_step(nb, h);
     if (h > rest)
@@ -200,6 +249,8 @@ static mote_real step(mote_nb *nb, mote_real h, mote_real rest)
     }
     memcpy(nb->d5p, nb->d5, 3 * (size_t)nb->n * sizeof *nb->d5p);
     nb->dtp = h;
+    if (nb->adaptive && h < rest) /* a step shortened to an end time says nothing of the next */
+        nb->hprev = h;
     nb->restart = 0;
     kahan_add(&nb->T, &nb->Tc, h, nb->compensated);
     nb->steps++;
@@ -223,12 +274,20 @@ int nb_galactica_check(const mote_nb *nb, mote_err *err)
                          nb->order);
     if (!(nb->dt > 0) || !isfinite(nb->dt))
         return mote_fail(err, MOTE_EINVAL, "galactica: the step dt must be > 0");
+    if (nb->adaptive && nb->order != 6)
+        return mote_fail(err, MOTE_EINVAL, "galactica: the adaptive step (tol=) needs order 6 "
+                                           "(found %d)", nb->order);
+    if (nb->adaptive && !(nb->tol > 0 && nb->tol < 1))
+        return mote_fail(err, MOTE_EINVAL, "galactica: tol must be in (0, 1)");
     return MOTE_OK;
 }
 
 mote_real nb_galactica_step(mote_nb *nb, mote_real rest)
 {
-    mote_real h = nb->restart || nb->dtp == 0 ? nb->first_step * nb->dt : nb->dt;
+    const int fresh = nb->restart || nb->dtp == 0;
+    if (fresh)
+        nb->hprev = 0;
+    mote_real h = fresh ? nb->first_step * nb->dt : nb->adaptive ? 0 : nb->dt;
     return step(nb, h, rest);
 }
 
