@@ -243,6 +243,26 @@ expect 1 "s1.mote:3:1: error: monitor: give one of every=K (steps) and dt=T (tim
 expect 1 "s2.mote:3:24: error: monitor: format= is for a file" s2.mote "${G}generate ring\nmonitor every=1 format=csv\n"
 expect 1 "s3.mote:3:33: error: monitor: format must be table, csv or jsonl" s3.mote "${G}generate ring\nmonitor every=1 file=m.x format=xml\n"
 
+# ---- body density= and spin= (spec 8): SI input converted with the scales, before and after
+# they are known (mass=auto), and the dimensionless formula
+for u in "units solar" "units mass=auto time=3155815200"; do
+    printf '%b%s\nbody mass=1.989e30 density=1408\nbody mass=5.97e24 x=1.496e11 vy=29780 density=5514 spin=0,0,7.07e33\nsave sd.state\n' "$G" "$u" > bd.mote
+    "$MOTE" run bd.mote > out.txt 2>&1 && ok || bad "density/spin ($u): $(cat out.txt)"
+    # radius = (3 m / (4 pi rho))^(1/3) / Am, spin = S kv / (M Am), Am, kv, M from the units line
+    awk '$1 == "units" { M = $3; Am = $4; kv = $5 } /^bodies:/ { b = 1; next }
+         b && NF == 23 { k++; r[k] = $4; s[k] = $19 }
+         END { pi = atan2(0, -1);
+               r1 = exp(log(3 * 1.989e30 / (4 * pi * 1408)) / 3) / Am; r2 = exp(log(3 * 5.97e24 / (4 * pi * 5514)) / 3) / Am;
+               s2 = 7.07e33 * kv / (M * Am);
+               d1 = (r[1] - r1) / r1; d2 = (r[2] - r2) / r2; d3 = (s[2] - s2) / s2;
+               exit !(d1 * d1 < 1e-26 && d2 * d2 < 1e-26 && d3 * d3 < 1e-26 && s[1] == 0) }' sd.state && ok || bad "density/spin values ($u): $(tail -3 sd.state)"
+done
+printf '%bbody mass=8 density=0.238732414637843\nsave sd.state\n' "$G" > bd.mote
+"$MOTE" run bd.mote > out.txt 2>&1 && awk '/^bodies:/ { b = 1; next } b && NF == 23 { r = $4 - 2; exit !(r * r < 1e-26) }' sd.state && ok || bad "dimensionless density: $(tail -2 sd.state)"
+expect 1 "bd1.mote:2:32: error: body: give radius= or density=, not both" bd1.mote "${G}body mass=1 radius=0.1 density=2\n"
+expect 1 "bd2.mote:2:18: error: body: spin: expected three finite numbers SX,SY,SZ, found '1,2'" bd2.mote "${G}body mass=1 spin=1,2\n"
+expect 1 "bd3.mote:2:18: error: body: spin: expected three finite numbers SX,SY,SZ, found '1,nan,3'" bd3.mote "${G}body mass=1 spin=1,nan,3\n"
+
 # ---- checkpoint and restart (T16, native part): 2n steps = n + checkpoint + restart + n, bit for bit ----
 for integ in "integrator galactica dt=1e-6" "integrator taylor order=16 tol=1e-15" "integrator galactica dt=1e-6 tol=1e-14"; do
     printf '%bgenerate ring\n%s\nintegrate steps=20\nsave c0.state\n' "$G" "$integ" > k0.mote

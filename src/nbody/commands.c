@@ -4,7 +4,7 @@
 #include "mote/datafile.h"
 #include "mote/nbody.h"
 
-#include <math.h>
+#include <tgmath.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -155,9 +155,30 @@ static int need_bodies(nb_model *m, const mote_call *c, mote_err *err)
 
 /* ---- bodies ------------------------------------------------------------------------------------ */
 
+/* spin=SX,SY,SZ: three finite reals */
+static int parse_spin(const char *t, mote_real sp[3])
+{
+    for (int a = 0; a < 3; a++) {
+        char *end;
+        sp[a] = mote_real_parse(t, &end);
+        if (end == t || !isfinite(sp[a]) || *end != (a < 2 ? ',' : '\0'))
+            return -1;
+        t = end + 1;
+    }
+    return 0;
+}
+
 static int check_body(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
+    mote_real sp[3];
+    if (mote_call_opt(c, "radius") && mote_call_opt(c, "density"))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "density"), MOTE_EINVAL,
+                              "body: give radius= or density=, not both");
+    if (mote_call_opt(c, "spin") && parse_spin(mote_call_opt(c, "spin")->text, sp))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "spin"), MOTE_EINVAL,
+                              "body: spin: expected three finite numbers SX,SY,SZ, found '%s'",
+                              mote_call_opt(c, "spin")->text);
     if (m->nb.kind == MOTE_NB_GRAVITY && mote_call_opt(c, "charge"))
         return mote_call_fail(err, c, mote_call_opt_index(c, "charge"), MOTE_EINVAL,
                               "body: charge= is for the coulomb variant (model nbody coulomb)");
@@ -169,7 +190,11 @@ static int run_body(void *vm, const mote_call *c, mote_err *err)
     nb_model *m = vm;
     mote_real x[3] = {opt_real(c, "x"), opt_real(c, "y"), opt_real(c, "z")};
     mote_real v[3] = {opt_real(c, "vx"), opt_real(c, "vy"), opt_real(c, "vz")};
-    mote_real mass = opt_real(c, "mass"), ra = opt_real(c, "radius");
+    mote_real mass = opt_real(c, "mass"), ra = opt_real(c, "radius"), sp[3] = {0, 0, 0};
+    if (mote_call_opt(c, "density")) /* a sphere of that mass, in the input's units */
+        ra = cbrt(3 * mass / (16 * atan((mote_real)1) * opt_real(c, "density")));
+    if (mote_call_opt(c, "spin"))
+        parse_spin(mote_call_opt(c, "spin")->text, sp);
     if (m->input_si && !m->raw) { /* SI with the scales known: convert now (eq. 6) */
         const mote_nb_units *u = &m->nb.u;
         mass /= u->M;
@@ -177,9 +202,14 @@ static int run_body(void *vm, const mote_call *c, mote_err *err)
         for (int a = 0; a < 3; a++) {
             x[a] /= u->Am;
             v[a] *= u->kv;
+            sp[a] *= u->kv / (u->M * u->Am); /* m x v */
         }
     }
-    return mote_nb_add(&m->nb, mass, opt_real(c, "charge"), x, v, ra, err);
+    int rc = mote_nb_add(&m->nb, mass, opt_real(c, "charge"), x, v, ra, err);
+    if (!rc)
+        for (int a = 0; a < 3; a++)
+            m->nb.sp[3 * (size_t)(m->nb.n - 1) + a] = sp[a];
+    return rc;
 }
 
 /* ---- units and constants ------------------------------------------------------------------------ */
@@ -1248,11 +1278,14 @@ static int run_check(void *vm, const mote_call *c, mote_err *err)
 /* ---- the table ---------------------------------------------------------------------------------- */
 
 static const char HELP_BODY[] =
-    "    body mass=M [x= y= z= vx= vy= vz= radius= charge=]\n"
+    "    body mass=M [x= y= z= vx= vy= vz= radius=|density= charge= spin=SX,SY,SZ]\n"
     "\n"
     "Add a body, in dimensionless units (G = 1 or the Coulomb constant 1; spec\n"
     "3.5): mass > 0, position, velocity, radius >= 0, and for `model nbody coulomb`\n"
-    "its charge in elementary charges. Unset values are 0. Bad values (NaN,\n"
+    "its charge in elementary charges. density=RHO > 0 gives the radius of a\n"
+    "sphere of that mass, (3 M / (4 pi RHO))^(1/3) (kg/m^3 with SI input).\n"
+    "spin= is its spin angular momentum (kg m^2/s with SI input), counted in S and\n"
+    "L + S like the spins merges make (spec 5). Unset values are 0. Bad values (NaN,\n"
     "infinite, a mass <= 0) stop the run at this line; two bodies at one point are\n"
     "refused when the integrator starts.\n";
 
@@ -1483,8 +1516,9 @@ static int model_plot(void *vm, const char *data_path, const char *png_path, mot
 
 static const mote_cmd nb_commands[] = {
     {"body", NULL,
-     "mass=r>0! x=r y=r z=r vx=r vy=r vz=r radius=r>=0 charge=r",
-     "body mass=M [x=X] [y=Y] [z=Z] [vx=VX] [vy=VY] [vz=VZ] [radius=R] [charge=Q]",
+     "mass=r>0! x=r y=r z=r vx=r vy=r vz=r radius=r>=0 density=r>0 charge=r spin=s",
+     "body mass=M [x=X] [y=Y] [z=Z] [vx=VX] [vy=VY] [vz=VZ] [radius=R|density=RHO] [charge=Q] "
+     "[spin=SX,SY,SZ]",
      "add a body (dimensionless units)", HELP_BODY, check_body, run_body},
     {"units", NULL, "*", "units [solar|atomic|dimensionless] [mass=KG|auto] [length=M] [time=S] "
      "[input=si|dimensionless]", "physical scales, and the units of body values", HELP_UNITS,

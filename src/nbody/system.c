@@ -65,6 +65,7 @@ void mote_nb_from_si(mote_nb *nb, const mote_nb_units *u)
         for (int a = 0; a < 3; a++) {
             nb->x[3 * i + a] /= u->Am;
             nb->v[3 * i + a] *= u->kv;
+            nb->sp[3 * i + a] *= u->kv / (u->M * u->Am); /* m x v */
         }
     }
     nb->u = *u;
