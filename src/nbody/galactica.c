@@ -193,16 +193,7 @@ static mote_real adaptive_step(const mote_nb *nb)
         if (n6 > 0)
             h = fmin(h, pow(nb->tol * l / n6, (mote_real)1 / 6));
     }
-    h *= nb->safety > 0 ? nb->safety : 1;
-    if (nb->hprev > 0 && h > 2 * nb->hprev)
-        h = 2 * nb->hprev;
-    if (nb->hmax > 0 && h > nb->hmax)
-        h = nb->hmax;
-    if (h < nb->hmin)
-        h = nb->hmin;
-    if (!isfinite(h)) /* nothing moves */
-        h = nb->dt;
-    return h;
+    return nb_step_bounds(nb, h, nb->dt);
 }
 
 /* One step of length h (nominal: the close-approach control may shorten it; 0: the adaptive

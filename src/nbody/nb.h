@@ -3,6 +3,7 @@
 #define MOTE_NB_INTERNAL_H
 
 #include "mote/nbody.h"
+#include <math.h> /* isfinite */
 
 /* Render an N-body data file (trajectory: orbits; monitor: drifts) as a PNG (plot.c). */
 int nb_plot_file(const char *data_path, const char *png_path, mote_err *err);
@@ -54,6 +55,20 @@ static inline void nb_ksum_add(nb_ksum *k, mote_real x)
     k->sum = t;
 }
 static inline mote_real nb_ksum_value(const nb_ksum *k) { return k->sum + k->comp; }
+
+/* The adaptive step's bounds (spec 4.5, both integrators): h times safety, at most twice the
+ * previous step, within [hmin, hmax]; `idle` when nothing moves (h infinite). */
+static inline mote_real nb_step_bounds(const mote_nb *nb, mote_real h, mote_real idle)
+{
+    h *= nb->safety > 0 ? nb->safety : 1;
+    if (nb->hprev > 0 && h > 2 * nb->hprev)
+        h = 2 * nb->hprev;
+    if (nb->hmax > 0 && h > nb->hmax)
+        h = nb->hmax;
+    if (h < nb->hmin)
+        h = nb->hmin;
+    return isfinite(h) ? h : idle;
+}
 
 /* Run nb's integrator as `integrator` for at most `steps` steps (integrate.c). */
 int nb_run_as(mote_nb *nb, int integrator, uint64_t steps, mote_err *err);

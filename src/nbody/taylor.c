@@ -260,16 +260,7 @@ static mote_real adaptive_step(const mote_nb *nb, const mote_real *X, int p)
                 h = fmin(h, pow(nb->tol * l / nrm, 1.0 / j));
         }
     }
-    h *= nb->safety > 0 ? nb->safety : 1.0;
-    if (nb->hprev > 0 && h > 2 * nb->hprev)
-        h = 2 * nb->hprev;
-    if (nb->hmax > 0 && h > nb->hmax)
-        h = nb->hmax;
-    if (h < nb->hmin)
-        h = nb->hmin;
-    if (!isfinite(h)) /* nothing moves */
-        h = nb->hmax > 0 ? nb->hmax : 1.0;
-    return h;
+    return nb_step_bounds(nb, h, nb->hmax > 0 ? nb->hmax : 1);
 }
 
 mote_real nb_taylor_step(mote_nb *nb, mote_real rest)
