@@ -40,13 +40,20 @@ BENCH_SRC := $(sort $(wildcard bench/*.c))
 BENCH_BIN := $(BENCH_SRC:bench/%.c=$(BUILD)/bench/%)
 HDRS     := $(wildcard include/mote/*.h src/*/*.h src/*/*.inc tests/*.h)
 
-.PHONY: all lib tests bench check test test-plain test-san example setup clean slow seeds seeds-san fuzz
+.PHONY: all lib tests bench check test test-plain test-san example setup clean slow seeds seeds-san fuzz FORCE
 
 all: $(BUILD)/mote
 
 lib: $(BUILD)/libmote.a
 
-$(BUILD)/%.o: %.c $(HDRS)
+# The folder's precision, rewritten only when it changes: objects built for another PRECISION in
+# the same BUILD folder are rebuilt instead of linked as they are.
+$(BUILD)/precision.stamp: FORCE
+	@mkdir -p $(dir $@)
+	@echo '$(PRECISION)' | cmp -s - $@ || echo '$(PRECISION)' > $@
+FORCE:
+
+$(BUILD)/%.o: %.c $(HDRS) $(BUILD)/precision.stamp
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) -c $< -o $@
 

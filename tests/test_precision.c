@@ -8,9 +8,11 @@
  *        r = eps(type) / eps(double) (2^-11 for long double, 2^-60 for quad);
  *   T06: the same ring with Galactica's scheme at dT = 1e-5 (truncation-limited: the same
  *        error, <= 1e-10, in every type; not run in quad, where it takes minutes);
- *   the state file written with the type's digits reads back to the same bits.
+ *   the state file written with the type's digits reads back to the same bits;
+ *   script values (dt=, x=) reach the model at the type's full precision.
  * No timings: the slowdown of each type is measured by bench/bench_nbody.c. */
 #include "mote/nbody.h"
+#include "mote/script.h"
 #include "test.h"
 
 #include <float.h>
@@ -57,10 +59,17 @@ static void test_taylor(double scale)
     CHECK(e <= 1e-12 * scale, "error %.3e > %.1e", e, 1e-12 * scale);
     CHECK(fabs((double)mon.dE) <= 1e-14 * scale, "dE %.3e > %.1e", (double)mon.dE, 1e-14 * scale);
     /* the state file round trip: every value back to the same bits */
-    CHECK(nb_state_save(&nb, "precision.state", &err) == MOTE_OK, "save: %s", err.msg);
+    char dir[64], path[96];
+    if (!test_tmpdir_make(dir, sizeof dir, "mote_precision")) {
+        CHECK(0, "no temporary directory");
+        mote_nb_free(&nb);
+        return;
+    }
+    snprintf(path, sizeof path, "%s/ring.state", dir);
+    CHECK(nb_state_save(&nb, path, &err) == MOTE_OK, "save: %s", err.msg);
     mote_nb back;
     mote_nb_init(&back, MOTE_NB_GRAVITY);
-    CHECK(nb_state_load(&back, "precision.state", &err) == MOTE_OK, "load: %s", err.msg);
+    CHECK(nb_state_load(&back, path, &err) == MOTE_OK, "load: %s", err.msg);
     int same = back.n == nb.n && back.T == nb.T && back.Tc == nb.Tc;
     for (uint32_t i = 0; same && i < 3 * nb.n; i++)
         same = back.x[i] == nb.x[i] && back.v[i] == nb.v[i] && back.xc[i] == nb.xc[i] &&
@@ -68,9 +77,64 @@ static void test_taylor(double scale)
     for (uint32_t i = 0; same && i < nb.n; i++)
         same = back.m[i] == nb.m[i] && back.ra[i] == nb.ra[i];
     CHECK(same, "the state file does not read back to the same bits");
-    remove("precision.state");
+    test_remove_tree(dir);
     mote_nb_free(&back);
     mote_nb_free(&nb);
+}
+
+/* Script values reach the model at the type's full precision: a body's x=0.1 and dt=1e-6 are
+ * the real type's nearest values, not double's widened (they differ in long double and quad). */
+static void test_script_values(void)
+{
+    char dir[64], path[96], text[512];
+    if (!test_tmpdir_make(dir, sizeof dir, "mote_precision_script")) {
+        CHECK(0, "no temporary directory");
+        return;
+    }
+    snprintf(path, sizeof path, "%s/s.state", dir);
+    snprintf(text, sizeof text,
+             "model nbody gravity\nbody mass=1\nbody mass=1e-3 x=0.1 vy=3.1\n"
+             "integrator galactica dt=1e-6\nintegrate steps=3\nsave %s\n", path);
+    const mote_model *models[] = {&mote_model_nbody};
+    mote_script *sc = NULL;
+    mote_err err = {0};
+    int rc = mote_script_parse(&sc, "precision.mote", text, strlen(text), models, 1, &err);
+    FILE *sink = tmpfile();
+    if (!rc && sink)
+        mote_script_context(sc)->out = sink;
+    if (!rc)
+        rc = mote_script_execute(sc, &err);
+    CHECK(rc == MOTE_OK, "script: %s", err.msg);
+    mote_script_free(sc);
+    if (sink)
+        fclose(sink);
+    mote_nb nb;
+    mote_nb_init(&nb, MOTE_NB_GRAVITY);
+    CHECK(nb_state_load(&nb, path, &err) == MOTE_OK, "load: %s", err.msg);
+    const mote_real dt = mote_real_parse("1e-6", NULL), x = mote_real_parse("0.1", NULL);
+    CHECK(nb.n == 2 && nb.dt == dt, "dt= not read to full precision");
+    /* three steps from a fresh start: T = (0.001 + 2) dt, summed in the type */
+    CHECK(nb.n == 2 && fabs((double)((nb.T - (mote_real)2.001 * dt) / dt)) < 1e-10,
+          "T after three steps");
+    mote_nb_free(&nb);
+    /* the body's x before any step: read again without integrating */
+    snprintf(text, sizeof text, "model nbody gravity\nbody mass=1\nbody mass=1e-3 x=0.1\nsave %s\n",
+             path);
+    rc = mote_script_parse(&sc, "precision.mote", text, strlen(text), models, 1, &err);
+    sink = tmpfile();
+    if (!rc && sink)
+        mote_script_context(sc)->out = sink;
+    if (!rc)
+        rc = mote_script_execute(sc, &err);
+    CHECK(rc == MOTE_OK, "script: %s", err.msg);
+    mote_script_free(sc);
+    if (sink)
+        fclose(sink);
+    mote_nb_init(&nb, MOTE_NB_GRAVITY);
+    CHECK(nb_state_load(&nb, path, &err) == MOTE_OK, "load: %s", err.msg);
+    CHECK(nb.n == 2 && nb.x[3] == x, "x= not read to full precision");
+    mote_nb_free(&nb);
+    test_remove_tree(dir);
 }
 
 static void test_galactica(void)
@@ -101,6 +165,7 @@ int main(void)
     CHECK(one + half == one && one + full != one, "the real type's epsilon is not %.3e",
           REAL_EPS);
     test_taylor(scale);
+    test_script_values();
     if (MOTE_NB_PRECISION != 4)
         test_galactica();
     return test_summary();
