@@ -151,7 +151,7 @@ static int fuzz_plot(const uint8_t *data, size_t size)
     mote_err err = {0};
     hs_plot_file(in, out, &err);
     mb_plot_file(in, out, &err);
-    nb_plot_file(in, out, &err);
+    nb_plot_file(in, out, NULL, &err);
     return 0;
 }
 

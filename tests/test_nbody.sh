@@ -31,7 +31,7 @@ printf '%bgenerate ring\ntrajectory every=20 file=ring.traj\nmonitor every=500 f
 png_size() { od -An -tu1 -j16 -N8 "$1" | awk '{ printf "%d %d", $1*16777216+$2*65536+$3*256+$4, $5*16777216+$6*65536+$7*256+$8 }'; }
 [ "$(od -An -c -N4 orbits.png | tr -d ' ')" = "211PNG" ] && ok || bad "orbits.png is not a PNG"
 set -- $(png_size orbits.png)
-[ "$2" -eq 1000 ] && [ "$1" -ge 900 ] && [ "$1" -le 1000 ] && ok || bad "orbits.png is $1 x $2, expected 1000 high and nearly as wide (equal axes, a square frame)"
+[ "$2" -eq 1024 ] && [ "$1" -ge 920 ] && [ "$1" -le 1024 ] && ok || bad "orbits.png is $1 x $2, expected 1024 high and nearly as wide (equal axes, a square frame)"
 [ "$(od -An -c -N4 drift.png | tr -d ' ')" = "211PNG" ] && ok || bad "drift.png is not a PNG"
 grep -q '^# columns: T E_kin E_tot x1 y1 z1 x2 y2 z2 ' ring.traj && ok || bad "trajectory columns"
 [ "$(grep -vc '^#' ring.traj)" -eq 501 ] && ok || bad "trajectory rows: $(grep -vc '^#' ring.traj), expected 501"
@@ -52,12 +52,18 @@ cmp -s c2.state c2b.state && ok || bad "save -> load -> save is not byte-identic
 printf '%bgenerate atom_ring\nsave a.state\n' "$C" > s4.mote
 "$MOTE" run s4.mote > /dev/null 2>&1 || bad "s4.mote failed"
 expect 2 "s5.mote:2:1: error: a.state:3: the state is a Coulomb run, this script is a gravity run" s5.mote "${G}load a.state\n"
-sed 's/^mote-state 1$/mote-state 7/' c1.state > v7.state
+sed 's/^mote-state 2$/mote-state 7/' c1.state > v7.state
 expect 1 "s6.mote:2:6: error: load: v7.state:1: unsupported state file version 7" s6.mote "${G}load v7.state\n"
 head -n 14 c1.state > cut.state
 expect 2 "s7.mote:2:1: error: cut.state:15: file ends early: n = 30, but only 2 body lines follow" s7.mote "${G}load cut.state\n"
 awk 'NR == 13 { $5 = "nan" } { print }' c1.state > nan.state
 expect 2 "s8.mote:2:1: error: nan.state:13: body 1: expected 23 numbers" s8.mote "${G}load nan.state\n"
+awk 'NR == 13 { $24 = "9lives" } { print }' c1.state > badname.state
+expect 2 "s8b.mote:2:1: error: badname.state:13: body 1: expected 23 numbers (m q active radius x y z vx vy vz cx cy cz cvx cvy cvz sx sy sz d5x d5y d5z Et), all finite, and a name or -" s8b.mote "${G}load badname.state\n"
+# a state file of the first version (no names) still loads, to the same run
+awk '/^mote-state/ { print "mote-state 1"; next } / -$/ { sub(/ -$/, "") } { print }' c1.state > v1.state
+printf '%bload v1.state\nsave v1b.state\n' "$G" > s8c.mote
+"$MOTE" run s8c.mote > /dev/null 2>&1 && cmp -s c1.state v1b.state && ok || bad "a version-1 state did not load to the same state"
 sed 's/^n 30$/n -1/' c1.state > neg.state
 expect 1 "s9.mote:2:6: error: load: neg.state:4: expected 'n N' with 0 <= N <= 10^8 (found 'n -1')" s9.mote "${G}load neg.state\n"
 
@@ -250,7 +256,7 @@ for u in "units solar" "units mass=auto time=3155815200"; do
     "$MOTE" run bd.mote > out.txt 2>&1 && ok || bad "density/spin ($u): $(cat out.txt)"
     # radius = (3 m / (4 pi rho))^(1/3) / Am, spin = S kv / (M Am), Am, kv, M from the units line
     awk '$1 == "units" { M = $3; Am = $4; kv = $5 } /^bodies:/ { b = 1; next }
-         b && NF == 23 { k++; r[k] = $4; s[k] = $19 }
+         b && NF == 24 { k++; r[k] = $4; s[k] = $19 }
          END { pi = atan2(0, -1);
                r1 = exp(log(3 * 1.989e30 / (4 * pi * 1408)) / 3) / Am; r2 = exp(log(3 * 5.97e24 / (4 * pi * 5514)) / 3) / Am;
                s2 = 7.07e33 * kv / (M * Am);
@@ -258,7 +264,7 @@ for u in "units solar" "units mass=auto time=3155815200"; do
                exit !(d1 * d1 < 1e-26 && d2 * d2 < 1e-26 && d3 * d3 < 1e-26 && s[1] == 0) }' sd.state && ok || bad "density/spin values ($u): $(tail -3 sd.state)"
 done
 printf '%bbody mass=8 density=0.238732414637843\nsave sd.state\n' "$G" > bd.mote
-"$MOTE" run bd.mote > out.txt 2>&1 && awk '/^bodies:/ { b = 1; next } b && NF == 23 { r = $4 - 2; exit !(r * r < 1e-26) }' sd.state && ok || bad "dimensionless density: $(tail -2 sd.state)"
+"$MOTE" run bd.mote > out.txt 2>&1 && awk '/^bodies:/ { b = 1; next } b && NF == 24 { r = $4 - 2; found = 1; exit } END { exit !(found && r * r < 1e-26) }' sd.state && ok || bad "dimensionless density: $(tail -2 sd.state)"
 expect 1 "bd1.mote:2:32: error: body: give radius= or density=, not both" bd1.mote "${G}body mass=1 radius=0.1 density=2\n"
 expect 1 "bd2.mote:2:18: error: body: spin: expected three finite numbers SX,SY,SZ, found '1,2'" bd2.mote "${G}body mass=1 spin=1,2\n"
 expect 1 "bd3.mote:2:18: error: body: spin: expected three finite numbers SX,SY,SZ, found '1,nan,3'" bd3.mote "${G}body mass=1 spin=1,nan,3\n"
@@ -307,4 +313,34 @@ printf '%bunits time=86400\nload ns.state\nbody mass=1 x=5\nsave ns2.state\n' "$
 "$MOTE" run ns1.mote > ns.out 2>&1 && "$MOTE" run ns2.mote >> ns.out 2>&1 && ok || bad "units then load: $(cat ns.out)"
 grep -q '^load: the state has no physical scales; later bodies are read in dimensionless units' ns.out && ok || bad "no note on the missing scales: $(cat ns.out)"
 awk '/^bodies:/ { f = 1; next } f && ++n == 3 { exit !($1 == 1 && $5 == 5) }' ns2.state && ok || bad "the body after load was converted: $(grep -A3 '^bodies:' ns2.state | tail -1)"
+# ---- body names, trajectory bodies= and velocities=, plot options (spec 8, 10.3, 10.5)
+N3='body mass=1 name=Sun\nbody mass=1e-3 x=1 vy=1 name=Jupiter\nbody mass=1e-6 x=1.05 vy=1.2\n'
+printf '%b%btrajectory every=10 file=n.traj bodies=Jupiter,3 velocities=on\nintegrate steps=1000\nsave n.state\nplot n.traj n1.png plane=xy relative_to=Jupiter size=300\nplot n.traj n2.png bodies=3,Jupiter plane=xz\n' "$G" "$N3" > nm.mote
+"$MOTE" run nm.mote > out.txt 2> err.txt && ok || bad "nm.mote failed: $(cat err.txt)"
+[ "$(grep '^# columns:' n.traj)" = "# columns: T E_kin E_tot x_Jupiter y_Jupiter z_Jupiter vx_Jupiter vy_Jupiter vz_Jupiter x3 y3 z3 vx3 vy3 vz3" ] && ok || bad "trajectory columns: $(grep '^# columns:' n.traj)"
+grep -q '^# body_Jupiter = 2$' n.traj && ok || bad "trajectory header lacks '# body_Jupiter = 2'"
+# the recorded velocity is the derivative of the recorded position: (x(t+h) - x(t-h)) / 2h
+awk '!/^#/ { n++; T[n] = $1; x[n] = $4; vx[n] = $7 } END { d = (x[3] - x[1]) / (T[3] - T[1]) - vx[2]; exit !(n == 101 && d * d < 1e-8 * vx[2] * vx[2] + 1e-12) }' n.traj && ok || bad "trajectory velocities do not match the positions"
+awk '/^bodies:/ { b = 1; next } /^end/ { b = 0 } b { s = s $NF " " } END { exit !(s == "Sun Jupiter - ") }' n.state && ok || bad "state file names: $(awk '/^bodies:/{b=1;next} b{print $NF}' n.state | tr '\n' ' ')"
+set -- $(png_size n1.png)
+[ "$1" -le 300 ] && [ "$2" -le 300 ] && { [ "$1" -eq 300 ] || [ "$2" -eq 300 ]; } && ok || bad "plot size=300 gave $1 x $2"
+[ -s n2.png ] && ok || bad "plot bodies=3,Jupiter wrote nothing"
+# relative_to a body the file holds draws it at the origin: Jupiter's path relative to itself
+# is not drawn, body 3's ring around it is small compared with the barycentric view
+expect 2 "nm2.mote:2:31: error: plot: relative_to: n.traj holds no body 'Sun'" nm2.mote "${G}plot n.traj x.png relative_to=Sun\n"
+[ ! -e x.png ] && ok || bad "a failed plot left x.png"
+expect 2 "nm3.mote:2:26: error: plot: bodies: n.traj holds no body '7'" nm3.mote "${G}plot n.traj x.png bodies=7\n"
+expect 1 "nm4.mote:2:25: error: plot: plane must be invariable, xy, xz or yz, found 'ab'" nm4.mote "${G}plot n.traj x.png plane=ab\n"
+expect 1 "nm5.mote:2:24: error: plot: size must be in [64, 8192], found 20" nm5.mote "${G}plot n.traj x.png size=20\n"
+expect 2 "nm6.mote:3:24: error: plot: plane= is for trajectory files" nm6.mote "${G}monitor every=1 file=m.mon\nplot m.mon x.png plane=xy\n"
+expect 1 "nm7.mote:2:18: error: body: name: expected 1 to 23 characters, a letter first" nm7.mote "${G}body mass=1 name=3rd\n"
+expect 2 "nm8.mote:3:18: error: body: the name 'Sun' is taken by body 1" nm8.mote "${G}body mass=1 name=Sun\nbody mass=1 name=Sun x=1\n"
+expect 1 "nm9.mote:5:38: error: trajectory: bodies: there is no body 4 (there are 3)" nm9.mote "${G}${N3}trajectory every=1 file=t.dat bodies=4\n"
+expect 2 "nm10.mote:5:38: error: trajectory: bodies: no body is named 'Pluto'" nm10.mote "${G}${N3}trajectory every=1 file=t.dat bodies=Pluto\n"
+expect 2 "nm11.mote:5:38: error: trajectory: bodies: body 2 is listed twice" nm11.mote "${G}${N3}trajectory every=1 file=t.dat bodies=2,Jupiter\n"
+expect 1 "nm12.mote:5:42: error: trajectory: velocities must be on or off, found 'yes'" nm12.mote "${G}${N3}trajectory every=1 file=t.dat velocities=yes\n"
+# the Solar-System generator names its bodies
+printf '%bgenerate solar_system data=%s bodies=Sun,Jupiter\nsave ss.state\n' "$G" "$DATA" > ssn.mote
+"$MOTE" run ssn.mote > /dev/null 2>&1 && awk '/^bodies:/ { b = 1; next } /^end/ { b = 0 } b { s = s $NF " " } END { exit !(s == "Sun Jupiter ") }' ss.state && ok || bad "generate solar_system did not name its bodies"
+
 mote_test_end

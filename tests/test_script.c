@@ -147,7 +147,7 @@ static int load_check(void *m, const mote_call *c, mote_err *err)
     return 0;
 }
 
-static int fake_plot(void *m, const char *in, const char *out, mote_err *err)
+static int fake_plot(void *m, const char *in, const char *out, const mote_call *c, mote_err *err)
 {
     LOG.runs++;
     snprintf(LOG.plot_in, sizeof LOG.plot_in, "%s", in);

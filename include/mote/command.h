@@ -131,11 +131,17 @@ typedef struct mote_model {
      * draws no random numbers, and `seed` is refused). */
     void (*seed)(void *model, uint64_t seed);
     const char *seed_help;  /* what draws from the stream in this model (for `mote help seed`) */
-    /* The common command `plot DATAFILE PNGFILE`: render a data file of one of the kinds in
-     * plot_kinds ("image|profile", as in an "f<" spec) as a PNG (NULL: nothing to plot). */
+    /* The common command `plot DATAFILE PNGFILE [options]`: render a data file of one of the
+     * kinds in plot_kinds ("image|profile", as in an "f<" spec) as a PNG (NULL: nothing to
+     * plot). The call c carries the options plot_opts declares (an options-only spec such as
+     * "plane=s size=i>=64", or NULL: none); plot_check (NULL: none) checks them before the
+     * run, on the dry model. */
     const char *plot_kinds;
-    int (*plot)(void *model, const char *data_path, const char *png_path, mote_err *err);
+    int (*plot)(void *model, const char *data_path, const char *png_path, const mote_call *c,
+                mote_err *err);
     const char *plot_help;  /* the pictures of this model's kinds (for `mote help plot`) */
+    const char *plot_opts;
+    int (*plot_check)(void *model, const mote_call *c, mote_err *err);
 } mote_model;
 
 /* The option `key` of a call (its converted value), or NULL when not given. */

@@ -60,6 +60,8 @@ enum { MOTE_NB_GALACTICA = 0, MOTE_NB_TAYLOR = 1 };
 #define MOTE_NB_RE 1.5e-15                 /* electron radius, m */
 #define MOTE_NB_BOHR 5.29167e-11           /* m */
 
+#define MOTE_NB_NAME 24 /* room for a body name and its terminating zero */
+
 /* The scales of a run: x = x_m / Am, m_o = m / M, v = v_m kv, T = t kt (spec 3.5). */
 typedef struct {
     double M;    /* mass scale M_Ss (kg) */
@@ -97,6 +99,7 @@ typedef struct {
     mote_real *sp;             /* [3n] spin */
     mote_real *et;             /* thermal energy (from merges) */
     uint8_t *active;
+    char (*name)[MOTE_NB_NAME]; /* body names ("" unnamed; see mote_nb_set_name) */
     mote_real *d5p;            /* [3n] fifth derivative at the start of the previous step */
     mote_real *acc, *jerk, *d4, *d5; /* [3n] this step's derivatives (scratch) */
     mote_real T, Tc;           /* time and its compensation */
@@ -150,6 +153,14 @@ void mote_nb_free(mote_nb *nb);
 int mote_nb_add(mote_nb *nb, mote_real m, mote_real q, const mote_real x[3], const mote_real v[3],
                 mote_real ra,
                 mote_err *err);
+/* Name body i: 1 to MOTE_NB_NAME - 1 characters, a letter first, then letters, digits and
+ * _ . + - (so a name is never a body number), and no other body of that name. */
+int mote_nb_set_name(mote_nb *nb, uint32_t i, const char *name, mote_err *err);
+/* The body a token names: a body's name, or its number 1 ... n; -1 when none. */
+long mote_nb_find(const mote_nb *nb, const char *token);
+/* Is the text a valid body name (mote_nb_set_name's rule)? */
+int mote_nb_name_ok(const char *name);
+
 /* Fill the kernel coefficients from masses and charges; fails when a Coulomb run has no
  * charge or two active bodies share a point. Called by the integrator before a run. */
 int mote_nb_prepare(mote_nb *nb, mote_err *err);

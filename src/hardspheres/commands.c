@@ -46,7 +46,8 @@ static int model_settle(void *vm, mote_err *err) { return mote_hs_settle(&((hs_m
 
 static void model_seed(void *vm, uint64_t seed) { mote_hs_seed(&((hs_model *)vm)->hs, seed); }
 
-static int model_plot(void *vm, const char *data_path, const char *png_path, mote_err *err)
+static int model_plot(void *vm, const char *data_path, const char *png_path,
+                      const mote_call *c, mote_err *err)
 {
     return hs_plot_file(data_path, png_path, err);
 }

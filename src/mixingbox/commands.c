@@ -786,7 +786,8 @@ static int run_movie(void *vm, const mote_call *c, mote_err *err)
 
 static void model_seed(void *vm, uint64_t seed) { mote_mb_seed(&((mb_model *)vm)->sys, seed); }
 
-static int model_plot(void *vm, const char *data_path, const char *png_path, mote_err *err)
+static int model_plot(void *vm, const char *data_path, const char *png_path,
+                      const mote_call *c, mote_err *err)
 {
     return mb_plot_file(data_path, png_path, err);
 }

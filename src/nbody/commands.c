@@ -44,6 +44,9 @@ typedef struct {
         uint64_t k;
         double ekmax, t_ekmax; /* monitor: the largest kinetic energy of a body so far */
         double cpu0, wall0;    /* monitor: clocks when it started */
+        uint32_t *sel, nsel;   /* trajectory: the bodies recorded (0-based), and how many */
+        uint32_t n0;           /* trajectory: the number of bodies when it started */
+        int vel;               /* trajectory: velocities too */
     } mon, traj;
     /* checkpoints: the exact state into `path` every `every` steps and at the end of integrate */
     struct {
@@ -85,6 +88,7 @@ static void model_destroy(void *vm)
         free(smp[k]->path);
         free(smp[k]->origin);
         free(smp[k]->rows);
+        free(smp[k]->sel);
     }
     free(m);
 }
@@ -179,6 +183,12 @@ static int check_body(void *vm, const mote_call *c, mote_err *err)
         return mote_call_fail(err, c, mote_call_opt_index(c, "spin"), MOTE_EINVAL,
                               "body: spin: expected three finite numbers SX,SY,SZ, found '%s'",
                               mote_call_opt(c, "spin")->text);
+    const mote_arg *nm = mote_call_opt(c, "name");
+    if (nm && !mote_nb_name_ok(nm->text))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "name"), MOTE_EINVAL,
+                              "body: name: expected 1 to %d characters, a letter first, then "
+                              "letters, digits and _ . + - (found '%s')", MOTE_NB_NAME - 1,
+                              nm->text);
     if (m->nb.kind == MOTE_NB_GRAVITY && mote_call_opt(c, "charge"))
         return mote_call_fail(err, c, mote_call_opt_index(c, "charge"), MOTE_EINVAL,
                               "body: charge= is for the coulomb variant (model nbody coulomb)");
@@ -205,10 +215,17 @@ static int run_body(void *vm, const mote_call *c, mote_err *err)
             sp[a] *= u->kv / (u->M * u->Am); /* m x v */
         }
     }
+    const mote_arg *nm = mote_call_opt(c, "name");
+    if (nm && mote_nb_find(&m->nb, nm->text) >= 0)
+        return mote_call_fail(err, c, mote_call_opt_index(c, "name"), MOTE_EINVAL,
+                              "body: the name '%s' is taken by body %ld", nm->text,
+                              mote_nb_find(&m->nb, nm->text) + 1);
     int rc = mote_nb_add(&m->nb, mass, opt_real(c, "charge"), x, v, ra, err);
     if (!rc)
         for (int a = 0; a < 3; a++)
             m->nb.sp[3 * (size_t)(m->nb.n - 1) + a] = sp[a];
+    if (!rc && nm)
+        rc = mote_nb_set_name(&m->nb, m->nb.n - 1, nm->text, err);
     return rc;
 }
 
@@ -783,9 +800,9 @@ static int monitor_sample(nb_model *m, const mote_nb *nb, mote_err *err)
 static int trajectory_sample(nb_model *m, const mote_nb *nb, mote_err *err)
 {
     nb_sampler *s = &m->traj;
-    if (s->cols != 3 + 3 * (size_t)nb->n)
-        return mote_fail(err, MOTE_EINVAL, "trajectory: the number of bodies changed (%u now)",
-                         nb->n);
+    if (nb->n != s->n0)
+        return mote_fail(err, MOTE_EINVAL, "trajectory: the number of bodies changed (%u now, "
+                         "%u when it started)", nb->n, s->n0);
     double *r = sampler_row(s);
     if (!r)
         return mote_fail(err, MOTE_ENOMEM, "trajectory: out of memory");
@@ -794,8 +811,14 @@ static int trajectory_sample(nb_model *m, const mote_nb *nb, mote_err *err)
     r[0] = nb->T;
     r[1] = mon.ekin;
     r[2] = mon.etot;
-    for (size_t k = 0; k < 3 * (size_t)nb->n; k++) /* (double samples of the real positions) */
-        r[3 + k] = (double)nb->x[k];
+    r += 3;
+    for (uint32_t k = 0; k < s->nsel; k++) { /* (double samples of the real values) */
+        size_t i = 3 * (size_t)s->sel[k];
+        for (int a = 0; a < 3; a++)
+            *r++ = (double)nb->x[i + a];
+        for (int a = 0; a < 3 * s->vel; a++)
+            *r++ = (double)nb->v[i + a];
+    }
     return MOTE_OK;
 }
 
@@ -842,6 +865,23 @@ static void put_json(FILE *f, double x)
         fputs("null", f);
 }
 
+/* The name of trajectory column c: T, E_kin, E_tot, then x_NAME ... or x3 ... per body. */
+static const char *traj_column(const nb_model *m, size_t c, char name[40])
+{
+    static const char *const head[3] = {"T", "E_kin", "E_tot"};
+    static const char *const q[6] = {"x", "y", "z", "vx", "vy", "vz"};
+    if (c < 3)
+        return head[c];
+    const nb_sampler *s = &m->traj;
+    size_t per = s->vel ? 6 : 3, k = (c - 3) / per;
+    uint32_t i = s->sel[k];
+    if (m->nb.name[i][0])
+        snprintf(name, 40, "%s_%s", q[(c - 3) % per], m->nb.name[i]);
+    else
+        snprintf(name, 40, "%s%u", q[(c - 3) % per], i + 1);
+    return name;
+}
+
 /* Rewrite the sampler's file (atomically) with every sample so far. */
 static int sampler_write(nb_model *m, nb_sampler *s, int traj, mote_err *err)
 {
@@ -864,16 +904,20 @@ static int sampler_write(nb_model *m, nb_sampler *s, int traj, mote_err *err)
         if (traj) {
             fprintf(f, "# Lx0 = %.17g\n# Ly0 = %.17g\n# Lz0 = %.17g\n", s->L0[0], s->L0[1],
                     s->L0[2]);
-            fprintf(f, "# a row per sample: T, E_kin, E_tot, then x y z of each body\n");
+            for (uint32_t k = 0; k < s->nsel; k++) /* the numbers of the named bodies */
+                if (m->nb.name[s->sel[k]][0])
+                    fprintf(f, "# body_%s = %u\n", m->nb.name[s->sel[k]], s->sel[k] + 1);
+            fprintf(f, "# a row per sample: T, E_kin, E_tot, then x y z%s of each recorded body "
+                       "(columns x_NAME or xK, K its number)\n", s->vel ? " vx vy vz" : "");
         } else
             fprintf(f, "# dE is (E_corr - E0)/|E0| with E_corr = E_tot minus the energy changes "
                        "of merges, dMz the aggregated z moment's (Lz + Sz) relative change and dL "
                        "|L + S - (L + S)0| / |(L + S)0| from the run's start\n");
         fputs(s->format == FMT_CSV ? "" : "# columns: ", f);
         if (traj) {
-            fprintf(f, "T%cE_kin%cE_tot", sep, sep);
-            for (size_t b = 1; 3 + 3 * (b - 1) < s->cols; b++)
-                fprintf(f, "%cx%zu%cy%zu%cz%zu", sep, b, sep, b, sep, b);
+            char name[40];
+            for (size_t c = 0; c < s->cols; c++)
+                fprintf(f, "%s%s", c ? (char[2]){sep, 0} : "", traj_column(m, c, name));
         } else
             for (int c = 0; c < MON_COLS; c++) {
                 if (c)
@@ -887,11 +931,8 @@ static int sampler_write(nb_model *m, nb_sampler *s, int traj, mote_err *err)
         if (s->format == FMT_JSONL) {
             fprintf(f, "{\"format\":\"%s\"", kind);
             for (size_t c = 0; c < s->cols; c++) {
-                if (traj && c >= 3)
-                    fprintf(f, ",\"%c%zu\":", "xyz"[(c - 3) % 3], (c - 3) / 3 + 1);
-                else
-                    fprintf(f, ",\"%s\":", traj ? (c == 0 ? "T" : c == 1 ? "E_kin" : "E_tot")
-                                                : MON_NAME[c]);
+                char name[40];
+                fprintf(f, ",\"%s\":", traj ? traj_column(m, c, name) : MON_NAME[c]);
                 put_json(f, r[c]);
             }
             fputs("}\n", f);
@@ -1014,15 +1055,94 @@ static int run_monitor(void *vm, const mote_call *c, mote_err *err)
     return rc ? rc : sampler_write(m, &m->mon, 0, err);
 }
 
+/* on|off option: 1, 0, or -1 when it is neither (dflt when not given) */
+static int opt_on_off(const mote_call *c, const char *key, int dflt)
+{
+    const mote_arg *a = mote_call_opt(c, key);
+    return !a ? dflt : strcmp(a->text, "on") == 0 ? 1 : strcmp(a->text, "off") == 0 ? 0 : -1;
+}
+
+/* A list of bodies LIST (names or numbers, comma-separated) into sel (0-based; NULL: only
+ * check the syntax, and numbers against nmax); the count, or -1 after a located error. */
+static long body_list(const mote_call *c, const char *key, const mote_nb *nb, uint32_t nmax,
+                      uint32_t *sel, mote_err *err)
+{
+    const char *p = mote_call_opt(c, key)->text;
+    int argi = mote_call_opt_index(c, key);
+    long k = 0;
+    for (;;) {
+        char tok[64];
+        size_t len = strcspn(p, ",");
+        snprintf(tok, sizeof tok, "%.*s", (int)(len < 63 ? len : 63), p);
+        int number = len > 0 && strspn(tok, "0123456789") == len;
+        if (!(number || mote_nb_name_ok(tok)) || len > 63) {
+            mote_call_fail(err, c, argi, MOTE_EINVAL, "%s: %s: expected body names or numbers "
+                           "separated by commas, found '%s'", c->name, key, tok);
+            return -1;
+        }
+        long i = number ? (long)strtoul(tok, NULL, 10) - 1 : -1;
+        if (number && (i < 0 || i >= (long)nmax)) {
+            mote_call_fail(err, c, argi, MOTE_EINVAL, "%s: %s: there is no body %s (there are "
+                           "%u)", c->name, key, tok, nmax);
+            return -1;
+        }
+        if (nb) {
+            i = mote_nb_find(nb, tok);
+            if (i < 0) {
+                mote_call_fail(err, c, argi, MOTE_EINVAL, "%s: %s: no body is named '%s'",
+                               c->name, key, tok);
+                return -1;
+            }
+            for (long j = 0; j < k; j++)
+                if (sel[j] == (uint32_t)i) {
+                    mote_call_fail(err, c, argi, MOTE_EINVAL, "%s: %s: body %ld is listed "
+                                   "twice", c->name, key, i + 1);
+                    return -1;
+                }
+            sel[k] = (uint32_t)i;
+        }
+        k++;
+        if (!p[len])
+            return k;
+        p += len + 1;
+    }
+}
+
 static int check_trajectory(void *vm, const mote_call *c, mote_err *err)
 {
+    nb_model *m = vm;
     int rc = check_sampler(vm, c, err);
-    return rc ? rc : need_bodies(vm, c, err);
+    if (!rc)
+        rc = need_bodies(vm, c, err);
+    if (!rc && opt_on_off(c, "velocities", 0) < 0)
+        return mote_call_fail(err, c, mote_call_opt_index(c, "velocities"), MOTE_EINVAL,
+                              "trajectory: velocities must be on or off, found '%s'",
+                              mote_call_opt(c, "velocities")->text);
+    if (!rc && mote_call_opt(c, "bodies") && body_list(c, "bodies", NULL, m->d_bodies, NULL, err) < 0)
+        return err->code;
+    return rc;
 }
 static int run_trajectory(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
-    int rc = sampler_start(m, &m->traj, c, 3 + 3 * (size_t)m->nb.n, err);
+    nb_sampler *s = &m->traj;
+    settle_units(m);
+    free(s->sel);
+    s->sel = malloc((m->nb.n ? m->nb.n : 1) * sizeof *s->sel);
+    if (!s->sel)
+        return mote_fail(err, MOTE_ENOMEM, "trajectory: out of memory");
+    s->nsel = m->nb.n;
+    for (uint32_t i = 0; i < m->nb.n; i++)
+        s->sel[i] = i;
+    if (mote_call_opt(c, "bodies")) {
+        long k = body_list(c, "bodies", &m->nb, m->nb.n, s->sel, err);
+        if (k < 0)
+            return err->code;
+        s->nsel = (uint32_t)k;
+    }
+    s->vel = opt_on_off(c, "velocities", 0);
+    s->n0 = m->nb.n;
+    int rc = sampler_start(m, s, c, 3 + (s->vel ? 6 : 3) * (size_t)s->nsel, err);
     if (rc)
         return rc;
     mote_nb_monitor mon;
@@ -1279,6 +1399,7 @@ static int run_check(void *vm, const mote_call *c, mote_err *err)
 
 static const char HELP_BODY[] =
     "    body mass=M [x= y= z= vx= vy= vz= radius=|density= charge= spin=SX,SY,SZ]\n"
+    "         [name=NAME]\n"
     "\n"
     "Add a body, in dimensionless units (G = 1 or the Coulomb constant 1; spec\n"
     "3.5): mass > 0, position, velocity, radius >= 0, and for `model nbody coulomb`\n"
@@ -1287,7 +1408,11 @@ static const char HELP_BODY[] =
     "spin= is its spin angular momentum (kg m^2/s with SI input), counted in S and\n"
     "L + S like the spins merges make (spec 5). Unset values are 0. Bad values (NaN,\n"
     "infinite, a mass <= 0) stop the run at this line; two bodies at one point are\n"
-    "refused when the integrator starts.\n";
+    "refused when the integrator starts.\n"
+    "name=NAME names the body (a letter first, then letters, digits and _ . + -; at\n"
+    "most 23 characters; unique): `trajectory bodies=` and `plot relative_to=` take\n"
+    "a name or a body number (1 = the first body), and files show the names.\n"
+    "`generate solar_system` names its bodies as the data file does.\n";
 
 static const char HELP_UNITS[] =
     "    units solar|atomic|dimensionless [input=si|dimensionless]\n"
@@ -1441,14 +1566,19 @@ static const char HELP_MONITOR[] =
     "Numbers are written to 17 significant digits.\n";
 
 static const char HELP_TRAJECTORY[] =
-    "    trajectory every=K file=FILE [format=table|csv|jsonl]\n"
-    "    trajectory dt=T [unit=U] file=FILE [format=...]\n"
+    "    trajectory every=K file=FILE [format=table|csv|jsonl] [bodies=LIST]\n"
+    "               [velocities=on|off]\n"
+    "    trajectory dt=T [unit=U] file=FILE [format=...] [bodies=...] [velocities=...]\n"
     "\n"
     "Record T, E_kin, E_tot and the position of every body now and then every K\n"
     "steps or at the times T0 + k T (dense output of the Taylor integrator, as\n"
     "for `monitor`) into FILE (spec 10.3), rewritten atomically at the end of\n"
     "every integrate. Its header keeps the total angular momentum at the start,\n"
-    "so `plot FILE orbits.png` draws the orbits in the invariable plane.\n";
+    "so `plot FILE orbits.png` draws the orbits in the invariable plane.\n"
+    "bodies=LIST records only the bodies listed (names or numbers, 1 = the first\n"
+    "body, separated by commas, in the order given); velocities=on adds vx vy vz\n"
+    "after x y z of each. Columns are named x_NAME y_NAME z_NAME for a named body\n"
+    "and x3 y3 z3 for an unnamed body 3.\n";
 
 static const char HELP_INTEGRATE[] =
     "    integrate steps=N\n"
@@ -1502,23 +1632,37 @@ static const char HELP_CHECK[] =
     "orbit plane (in units of a), and the energy and moment drifts.\n";
 
 static const char HELP_PLOT[] =
-    "Data files of `trajectory` and `monitor`: a trajectory as the orbits of every\n"
-    "body projected on the invariable plane (perpendicular to the total angular\n"
-    "momentum when the recording started; a tilted ring shows its true ellipses),\n"
-    "equal scales on both axes, one colour per body, the first body with its\n"
-    "points; a monitor file as the relative drifts of the energy and of the\n"
-    "aggregated z moment against time.\n";
+    "    plot TRAJECTORY PNG [bodies=LIST] [relative_to=BODY] [plane=P] [size=PX]\n"
+    "    plot MONITOR PNG\n"
+    "\n"
+    "A trajectory file (`trajectory`) as the orbits of its bodies, projected on\n"
+    "the plane P: `invariable` (the default: perpendicular to the total angular\n"
+    "momentum L + S when the recording started, so a tilted ring shows its true\n"
+    "ellipses), `xy`, `xz` or `yz`. Equal scales on both axes, in AU (m when the\n"
+    "picture spans less than 0.001 AU) when the run has physical scales, else in\n"
+    "dimensionless length; one colour and legend entry per body up to 8 bodies;\n"
+    "the first body drawn with its points. bodies=LIST draws only those bodies\n"
+    "(names or body numbers, separated by commas); relative_to=BODY draws the\n"
+    "others relative to that body (a geocentric view: relative_to=Earth); size=PX\n"
+    "is the picture's side in pixels (64 to 8192, default 1024).\n"
+    "A monitor file (`monitor`) as the relative drifts of the energy and of the\n"
+    "aggregated z moment against time; it takes no options.\n";
 
-static int model_plot(void *vm, const char *data_path, const char *png_path, mote_err *err)
+static int model_plot(void *vm, const char *data_path, const char *png_path, const mote_call *c,
+                      mote_err *err)
 {
-    return nb_plot_file(data_path, png_path, err);
+    return nb_plot_file(data_path, png_path, c, err);
+}
+static int model_plot_check(void *vm, const mote_call *c, mote_err *err)
+{
+    return nb_plot_check(c, err);
 }
 
 static const mote_cmd nb_commands[] = {
     {"body", NULL,
-     "mass=r>0! x=r y=r z=r vx=r vy=r vz=r radius=r>=0 density=r>0 charge=r spin=s",
+     "mass=r>0! x=r y=r z=r vx=r vy=r vz=r radius=r>=0 density=r>0 charge=r spin=s name=s",
      "body mass=M [x=X] [y=Y] [z=Z] [vx=VX] [vy=VY] [vz=VZ] [radius=R|density=RHO] [charge=Q] "
-     "[spin=SX,SY,SZ]",
+     "[spin=SX,SY,SZ] [name=NAME]",
      "add a body (dimensionless units)", HELP_BODY, check_body, run_body},
     {"units", NULL, "*", "units [solar|atomic|dimensionless] [mass=KG|auto] [length=M] [time=S] "
      "[input=si|dimensionless]", "physical scales, and the units of body values", HELP_UNITS,
@@ -1548,8 +1692,10 @@ static const mote_cmd nb_commands[] = {
      "monitor every=K|dt=T [unit=U] [format=table|csv|jsonl] [file=FILE]",
      "record energy, momenta and centre of mass every K steps or every T of time", HELP_MONITOR,
      check_sampler, run_monitor},
-    {"trajectory", NULL, "every=i>=1 dt=r>0 unit=s format=s file=f>trajectory!",
-     "trajectory every=K|dt=T file=FILE [unit=U] [format=table|csv|jsonl]",
+    {"trajectory", NULL,
+     "every=i>=1 dt=r>0 unit=s format=s file=f>trajectory! bodies=s velocities=s",
+     "trajectory every=K|dt=T file=FILE [unit=U] [format=table|csv|jsonl] [bodies=LIST] "
+     "[velocities=on|off]",
      "record the positions of every body (plot draws the orbits)", HELP_TRAJECTORY,
      check_trajectory, run_trajectory},
     {"integrate", NULL, "steps=i>=1 to=r for=r>0 unit=s",
@@ -1582,4 +1728,6 @@ const mote_model mote_model_nbody = {
     .plot_kinds = "monitor|trajectory",
     .plot = model_plot,
     .plot_help = HELP_PLOT,
+    .plot_opts = "bodies=s relative_to=s plane=s size=i[64,8192]",
+    .plot_check = model_plot_check,
 };

@@ -6,7 +6,9 @@
 #include <math.h> /* isfinite */
 
 /* Render an N-body data file (trajectory: orbits; monitor: drifts) as a PNG (plot.c). */
-int nb_plot_file(const char *data_path, const char *png_path, mote_err *err);
+int nb_plot_file(const char *data_path, const char *png_path, const mote_call *c, mote_err *err);
+/* The options of `plot` (plane=) before the run. */
+int nb_plot_check(const mote_call *c, mote_err *err);
 
 /* The state file (state.c): save, load (replacing nb on success only, which must have the
  * file's interaction), and the body count of a file's header (for validation). */

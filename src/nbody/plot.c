@@ -7,7 +7,9 @@
 #include "mote/nbody.h"
 #include "mote/render.h"
 
+#include <ctype.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -38,46 +40,178 @@ static void plane_basis(const double n[3], double e1[3], double e2[3])
     e2[2] = n[0] * e1[1] - n[1] * e1[0];
 }
 
-static int plot_orbits(const mote_table *t, const char *in, const char *png, mote_err *err)
+/* One body of a trajectory file: its x column (y and z follow) and its legend label. */
+typedef struct {
+    int col;
+    char label[40];
+} traj_body;
+
+/* The bodies of a trajectory file, from the column names x_NAME / xK (y and z after them; vx vy
+ * vz may follow); returns the count, or -1 when the columns do not have that shape. */
+static int traj_bodies(const mote_table *t, traj_body *b)
 {
-    int nbod = (t->ncolnames - 3) / 3;
-    if (t->ncolnames < 6 || (t->ncolnames - 3) % 3 != 0)
-        return mote_fail(err, MOTE_EFORMAT, "plot: %s: expected columns T E_kin E_tot and x y z "
-                                            "per body", in);
-    for (size_t r = 0; r < t->rows; r++)
-        if (t->ncol[r] != t->ncolnames)
-            return mote_fail(err, MOTE_EFORMAT, "plot: %s:%ld: expected %d numbers, found %d", in,
-                             t->line[r], t->ncolnames, t->ncol[r]);
-    double n[3] = {mote_table_key(t, "Lx0"), mote_table_key(t, "Ly0"), mote_table_key(t, "Lz0")};
-    double nn = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    if (!(nn > 0) || !isfinite(nn)) { /* no angular momentum: the xy plane */
-        n[0] = n[1] = 0;
-        n[2] = 1;
-    } else {
-        unit(n);
+    int n = 0;
+    for (int c = 3; c < t->ncolnames; c++) {
+        const char *x = t->colname[c];
+        if (x[0] != 'x')
+            continue;
+        char y[40], z[40];
+        snprintf(y, sizeof y, "y%s", x + 1);
+        snprintf(z, sizeof z, "z%s", x + 1);
+        if (c + 2 >= t->ncolnames || strcmp(t->colname[c + 1], y) != 0 ||
+            strcmp(t->colname[c + 2], z) != 0)
+            return -1;
+        b[n].col = c;
+        if (x[1] == '_')
+            snprintf(b[n].label, sizeof b[n].label, "%s", x + 2);
+        else
+            snprintf(b[n].label, sizeof b[n].label, "body %s", x + 1);
+        n++;
     }
-    double e1[3], e2[3];
-    plane_basis(n, e1, e2);
+    return n;
+}
+
+/* The body of a file a token names (a name, or the body's number in the run); -1: none. */
+static int traj_find(const mote_table *t, const traj_body *b, int n, const char *tok)
+{
+    char key[40];
+    snprintf(key, sizeof key, "body_%s", tok);
+    for (int k = 0; k < n; k++) {
+        const char *x = t->colname[b[k].col];
+        if (x[1] == '_' ? strcmp(x + 2, tok) == 0 ||
+                              (isdigit((unsigned char)tok[0]) &&
+                               (snprintf(key, sizeof key, "body_%s", x + 2),
+                                mote_table_has(t, key) && mote_table_key(t, key) == atof(tok)))
+                        : strcmp(x + 1, tok) == 0)
+            return k;
+    }
+    return -1;
+}
+
+static const char *const PLANES[] = {"invariable", "xy", "xz", "yz", NULL};
+
+int nb_plot_check(const mote_call *c, mote_err *err)
+{
+    const mote_arg *a = mote_call_opt(c, "plane");
+    if (a) {
+        int k = 0;
+        while (PLANES[k] && strcmp(PLANES[k], a->text) != 0)
+            k++;
+        if (!PLANES[k])
+            return mote_call_fail(err, c, mote_call_opt_index(c, "plane"), MOTE_EINVAL,
+                                  "plot: plane must be invariable, xy, xz or yz, found '%s'",
+                                  a->text);
+    }
+    return MOTE_OK;
+}
+
+static int plot_orbits(const mote_table *t, const char *in, const char *png, const mote_call *c,
+                       mote_err *err)
+{
+    traj_body *all = malloc((size_t)(t->ncolnames + 1) * sizeof *all);
+    int *pick = malloc((size_t)(t->ncolnames + 1) * sizeof *pick);
+    double *px = NULL, *py = NULL;
+    mote_series *s = NULL;
+    int rc = MOTE_OK, nall = all ? traj_bodies(t, all) : 0, nbod = 0, rel = -1;
+    if (!all || !pick) {
+        rc = mote_fail(err, MOTE_ENOMEM, "plot: out of memory");
+        goto done;
+    }
+    if (t->ncolnames < 6 || nall <= 0 || strcmp(t->colname[0], "T") != 0) {
+        rc = mote_fail(err, MOTE_EFORMAT, "plot: %s: expected columns T E_kin E_tot, then x y z "
+                                          "per body", in);
+        goto done;
+    }
+    for (size_t r = 0; r < t->rows; r++)
+        if (t->ncol[r] != t->ncolnames) {
+            rc = mote_fail(err, MOTE_EFORMAT, "plot: %s:%ld: expected %d numbers, found %d", in,
+                           t->line[r], t->ncolnames, t->ncol[r]);
+            goto done;
+        }
+    /* bodies=LIST and relative_to=BODY: names or numbers of bodies the file holds */
+    const mote_arg *sel = c ? mote_call_opt(c, "bodies") : NULL;
+    const mote_arg *ra = c ? mote_call_opt(c, "relative_to") : NULL;
+    if (ra && (rel = traj_find(t, all, nall, ra->text)) < 0) {
+        rc = mote_call_fail(err, c, mote_call_opt_index(c, "relative_to"), MOTE_EINVAL,
+                            "plot: relative_to: %s holds no body '%s'", in, ra->text);
+        goto done;
+    }
+    if (sel) {
+        for (const char *p = sel->text;;) {
+            char tok[64];
+            size_t len = strcspn(p, ",");
+            snprintf(tok, sizeof tok, "%.*s", (int)(len < 63 ? len : 63), p);
+            int k = traj_find(t, all, nall, tok);
+            if (k < 0) {
+                rc = mote_call_fail(err, c, mote_call_opt_index(c, "bodies"), MOTE_EINVAL,
+                                    "plot: bodies: %s holds no body '%s'", in, tok);
+                goto done;
+            }
+            pick[nbod++] = k;
+            if (!p[len] || nbod == nall)
+                break;
+            p += len + 1;
+        }
+    } else {
+        for (int k = 0; k < nall; k++)
+            if (k != rel) /* the body the view is centred on stays at the origin */
+                pick[nbod++] = k;
+        if (!nbod)
+            pick[nbod++] = rel;
+    }
+    /* the plane: its two unit vectors */
+    const char *plane = c && mote_call_opt(c, "plane") ? mote_call_opt(c, "plane")->text
+                                                        : "invariable";
+    double e1[3] = {1, 0, 0}, e2[3] = {0, 1, 0};
+    const char *lx = "x", *ly = "y";
+    if (strcmp(plane, "xz") == 0) {
+        e2[1] = 0;
+        e2[2] = 1;
+        ly = "z";
+    } else if (strcmp(plane, "yz") == 0) {
+        e1[0] = 0;
+        e1[1] = 1;
+        e2[1] = 0;
+        e2[2] = 1;
+        lx = "y";
+        ly = "z";
+    } else if (strcmp(plane, "invariable") == 0) {
+        double n[3] = {mote_table_key(t, "Lx0"), mote_table_key(t, "Ly0"),
+                       mote_table_key(t, "Lz0")};
+        double nn = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        if (!(nn > 0) || !isfinite(nn)) { /* no angular momentum: the xy plane */
+            n[0] = n[1] = 0;
+            n[2] = 1;
+        } else {
+            unit(n);
+        }
+        plane_basis(n, e1, e2);
+        lx = "x'";
+        ly = "y'";
+    }
+    /* lengths in AU (or m) when the file carries the length scale */
+    double Am = mote_table_has(t, "Am") ? mote_table_key(t, "Am") : 0, scale = 1;
+    const char *unit_name = "dimensionless length";
     size_t rows = t->rows ? t->rows : 1;
-    double *px = malloc((size_t)nbod * rows * sizeof *px);
-    double *py = malloc((size_t)nbod * rows * sizeof *py);
-    mote_series *s = calloc((size_t)nbod, sizeof *s);
+    px = malloc((size_t)nbod * rows * sizeof *px);
+    py = malloc((size_t)nbod * rows * sizeof *py);
+    s = calloc((size_t)nbod, sizeof *s);
     if (!px || !py || !s) {
-        free(px);
-        free(py);
-        free(s);
-        return mote_fail(err, MOTE_ENOMEM, "plot: out of memory");
+        rc = mote_fail(err, MOTE_ENOMEM, "plot: out of memory");
+        goto done;
     }
     double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
-    char labels[8][24];
-    for (int b = 0; b < nbod; b++) {
+    for (int j = 0; j < nbod; j++) {
+        int col = all[pick[j]].col;
         for (size_t r = 0; r < t->rows; r++) {
-            double x[3] = {mote_table_at(t, r, 3 + 3 * b), mote_table_at(t, r, 4 + 3 * b),
-                           mote_table_at(t, r, 5 + 3 * b)};
+            double x[3];
+            for (int a = 0; a < 3; a++)
+                x[a] = mote_table_at(t, r, col + a) -
+                       (rel >= 0 ? mote_table_at(t, r, all[rel].col + a) : 0);
             double u = x[0] * e1[0] + x[1] * e1[1] + x[2] * e1[2];
             double v = x[0] * e2[0] + x[1] * e2[1] + x[2] * e2[2];
-            px[(size_t)b * rows + r] = u;
-            py[(size_t)b * rows + r] = v;
+            px[(size_t)j * rows + r] = u;
+            py[(size_t)j * rows + r] = v;
             if (isfinite(u) && isfinite(v)) {
                 lo[0] = fmin(lo[0], u);
                 hi[0] = fmax(hi[0], u);
@@ -85,39 +219,65 @@ static int plot_orbits(const mote_table *t, const char *in, const char *png, mot
                 hi[1] = fmax(hi[1], v);
             }
         }
-        s[b].x = px + (size_t)b * rows;
-        s[b].y = py + (size_t)b * rows;
-        s[b].n = t->rows;
-        s[b].style = b == 0 ? 2 : 0; /* the first body (a ring's centre) with its points */
+        s[j].x = px + (size_t)j * rows;
+        s[j].y = py + (size_t)j * rows;
+        s[j].n = t->rows;
+        s[j].style = j == 0 && rel < 0 ? 2 : 0; /* the first body (a ring's centre) as points */
         /* up to 8 bodies each has its own colour and legend entry; beyond, colours repeat */
-        if (nbod <= 8) {
-            snprintf(labels[b], sizeof labels[b], "body %d", b + 1);
-            s[b].label = labels[b];
-        } else {
-            s[b].label = b == 0 ? "body 1" : b == 1 ? "bodies 2 ... (colours repeat)" : NULL;
-        }
+        if (nbod <= 8)
+            s[j].label = all[pick[j]].label;
+        else
+            s[j].label = j == 0 ? all[pick[0]].label : j == 1 ? "the others (colours repeat)"
+                                                               : NULL;
     }
     /* a square frame around everything, so one unit is as long on both axes */
     double cx = 0.5 * (lo[0] + hi[0]), cy = 0.5 * (lo[1] + hi[1]);
     double half = 0.55 * fmax(hi[0] - lo[0], hi[1] - lo[1]);
     if (!(half > 0) || !isfinite(half))
         half = 1;
-    char title[400];
+    if (Am > 0 && isfinite(Am)) {
+        const double au = 149597870700.0; /* m (IAU 2012 Resolution B2) */
+        int in_au = half * Am >= 1e-3 * au;
+        scale = in_au ? Am / au : Am;
+        unit_name = in_au ? "AU" : "m";
+        for (size_t k = 0; k < (size_t)nbod * rows; k++) {
+            px[k] *= scale;
+            py[k] *= scale;
+        }
+        cx *= scale;
+        cy *= scale;
+        half *= scale;
+    }
+    char title[400], xl[64], yl[64];
     double t0 = t->rows ? mote_table_at(t, 0, 0) : 0, t1 = t->rows ? mote_table_at(t, t->rows - 1, 0) : 0;
-    snprintf(title, sizeof title, "orbits of %d bodies, T = %.6g to %.6g (invariable plane)", nbod,
-             t0, t1);
+    /* the time span in years (Julian) when the file carries the time scale */
+    double kt = mote_table_has(t, "kt") ? mote_table_key(t, "kt") : 0;
+    char span[96];
+    if (kt > 0 && isfinite(kt))
+        snprintf(span, sizeof span, "t = %.6g to %.6g years", t0 / (kt * 31557600.0),
+                 t1 / (kt * 31557600.0));
+    else
+        snprintf(span, sizeof span, "T = %.6g to %.6g", t0, t1);
+    snprintf(title, sizeof title, "orbits of %d bod%s, %s (%s plane)%s%s", nbod,
+             nbod == 1 ? "y" : "ies", span, plane, rel >= 0 ? ", relative to " : "",
+             rel >= 0 ? all[rel].label : "");
+    snprintf(xl, sizeof xl, "%s (%s)", lx, unit_name);
+    snprintf(yl, sizeof yl, "%s (%s)", ly, unit_name);
     mote_plot_opts o;
     memset(&o, 0, sizeof o);
     o.title = title;
-    o.xlabel = "x' (dimensionless length)";
-    o.ylabel = "y' (dimensionless length)";
-    o.width = 1000;
+    o.xlabel = xl;
+    o.ylabel = yl;
+    o.width = c && mote_call_opt(c, "size") ? (int)mote_call_opt(c, "size")->i : 1024;
     o.equal_axes = 1;
     o.xmin = cx - half;
     o.xmax = cx + half;
     o.ymin = cy - half;
     o.ymax = cy + half;
-    int rc = mote_plot_png(png, &o, s, (size_t)nbod, err);
+    rc = mote_plot_png(png, &o, s, (size_t)nbod, err);
+done:
+    free(all);
+    free(pick);
     free(px);
     free(py);
     free(s);
@@ -159,14 +319,17 @@ static int plot_monitor(const mote_table *t, const char *in, const char *png, mo
     return rc;
 }
 
-int nb_plot_file(const char *data_path, const char *png_path, mote_err *err)
+int nb_plot_file(const char *data_path, const char *png_path, const mote_call *c, mote_err *err)
 {
     mote_table t;
     int rc = mote_table_read(&t, data_path, err);
     if (rc)
         return rc;
     if (strcmp(t.format, "nbody-trajectory") == 0)
-        rc = plot_orbits(&t, data_path, png_path, err);
+        rc = plot_orbits(&t, data_path, png_path, c, err);
+    else if (strcmp(t.format, "nbody-monitor") == 0 && c && c->nopts)
+        rc = mote_call_fail(err, c, c->nargs, MOTE_EINVAL, "plot: %s= is for trajectory files "
+                            "(%s is a monitor file)", c->opts[0].key, data_path);
     else if (strcmp(t.format, "nbody-monitor") == 0)
         rc = plot_monitor(&t, data_path, png_path, err);
     else

@@ -120,6 +120,12 @@ int mote_nb_solar_read(const char *path, mote_nb_solar *s, mote_err *err)
                 break;
             }
         }
+        if (!mote_nb_name_ok(b->name)) {
+            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: '%s' is not a valid body name (a letter "
+                           "first, then letters, digits and _ . + -; at most %d characters)",
+                           path, ln, b->name, MOTE_NB_NAME - 1);
+            break;
+        }
         double v[8];
         int k = 0;
         for (; k < 8 && (tok = strtok_r(NULL, " \t", &save)); k++)
@@ -244,6 +250,8 @@ int mote_nb_solar_build(mote_nb *nb, const mote_nb_solar *s, const char *bodies,
             }
             rc = mote_nb_add(nb, (mote_real)(i == sun ? gm_sun : b->gm) / (mote_real)total, 0, x, v,
                              (mote_real)b->ra / (mote_real)u->Am, err);
+            if (!rc)
+                rc = mote_nb_set_name(nb, nb->n - 1, b->name, err);
         }
         if (!rc)
             mote_nb_barycentric(nb, NULL, NULL);

@@ -13,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define NB_STATE_VERSION 1
+#define NB_STATE_VERSION 2 /* 2: a name ends each body line (1: no names) */
 
 static void put(FILE *f, mote_real v)
 {
@@ -70,7 +70,7 @@ int nb_state_save(const mote_nb *nb, const char *path, mote_err *err)
     for (int k = 0; k < 8; k++)
         fprintf(f, " %.17g", u[k]);
     fprintf(f, "\nbodies: m q active radius x y z vx vy vz cx cy cz cvx cvy cvz sx sy sz d5x d5y "
-               "d5z Et\n");
+               "d5z Et name\n");
     for (uint32_t i = 0; i < nb->n; i++) {
         char mb[MOTE_REAL_BUF];
         fputs(mote_real_str(nb->m[i], mb), f);
@@ -82,7 +82,7 @@ int nb_state_save(const mote_nb *nb, const char *path, mote_err *err)
             for (int a = 0; a < 3; a++)
                 put(f, blocks[b][3 * (size_t)i + a]);
         put(f, nb->et[i]);
-        fputc('\n', f);
+        fprintf(f, " %s\n", nb->name[i][0] ? nb->name[i] : "-");
     }
     fprintf(f, "end\n");
     return mote_afile_commit(&af, err);
@@ -131,16 +131,17 @@ static int reals(reader *r, char *s, const char *key, mote_real *out, int n)
 }
 
 /* The header up to the `n` line: version, model, interaction, n. */
-static int read_head(reader *r, mote_nb_interaction *kind, uint32_t *n)
+static int read_head(reader *r, mote_nb_interaction *kind, uint32_t *n, int *version)
 {
     char *s = next_line(r);
     int v;
     if (!s || sscanf(s, "mote-state %d", &v) != 1)
-        return fail(r, "'mote-state 1'", s);
-    if (v != NB_STATE_VERSION)
+        return fail(r, "'mote-state 2'", s);
+    if (v < 1 || v > NB_STATE_VERSION)
         return mote_fail(r->err, MOTE_EFORMAT, "%s:%ld: unsupported state file version %d (this "
-                                               "mote reads %d)", r->l.path, r->l.line, v,
+                                               "mote reads 1 to %d)", r->l.path, r->l.line, v,
                          NB_STATE_VERSION);
+    *version = v;
     s = next_line(r);
     if (!s || strcmp(s, "model nbody") != 0)
         return fail(r, "'model nbody' (a state of the N-body model)", s);
@@ -167,7 +168,8 @@ int nb_state_peek(const char *path, uint32_t *n, mote_err *err)
     if (rc)
         return rc;
     mote_nb_interaction kind;
-    rc = read_head(&r, &kind, n);
+    int version;
+    rc = read_head(&r, &kind, n, &version);
     mote_lines_close(&r.l, NULL);
     return rc;
 }
@@ -182,8 +184,8 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
     uint32_t n = 0;
     mote_nb t;
     mote_nb_init(&t, MOTE_NB_GRAVITY);
-    int l1_missing = 0;
-    rc = read_head(&r, &kind, &n);
+    int l1_missing = 0, version = NB_STATE_VERSION;
+    rc = read_head(&r, &kind, &n, &version);
     if (!rc && kind != nb->kind)
         rc = mote_fail(err, MOTE_EINVAL, "%s:3: the state is a %s run, this script is a %s run",
                        path, kind == MOTE_NB_GRAVITY ? "gravity" : "Coulomb",
@@ -326,15 +328,22 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
                 w[k] = 0;
             } else {
                 w[k] = mote_real_parse(p, &end);
-                ok = end != p && isfinite(w[k]) && (*end == ' ' || (*end == '\0' && k == 22));
+                ok = end != p && isfinite(w[k]) &&
+                     (*end == ' ' || (*end == '\0' && k == 22 && version == 1));
             }
             p = end;
+        }
+        const char *name = "-";
+        if (ok && version >= 2) { /* the name, "-" when unnamed */
+            name = p + 1;
+            ok = strchr(name, ' ') == NULL && (strcmp(name, "-") == 0 || mote_nb_name_ok(name));
+            p += strlen(p);
         }
         if (!ok || *p) {
             rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: body %u: expected 23 numbers (m q active "
                                               "radius x y z vx vy vz cx cy cz cvx cvy cvz sx sy "
-                                              "sz d5x d5y d5z Et), all finite",
-                           path, r.l.line, i + 1);
+                                              "sz d5x d5y d5z Et), all finite%s",
+                           path, r.l.line, i + 1, version >= 2 ? ", and a name or -" : "");
             break;
         }
         /* a merged-away body has mass 0: added with mass 1, then set (it stays inactive) */
@@ -344,6 +353,8 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
             t.m[i] = t.q[i] = 0;
         if (!rc)
             t.et[i] = w[22];
+        if (!rc && strcmp(name, "-") != 0)
+            rc = mote_nb_set_name(&t, i, name, err);
         if (rc) {
             char why[sizeof err->msg];
             snprintf(why, sizeof why, "%s", err->msg);

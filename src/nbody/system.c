@@ -1,6 +1,7 @@
 /* system.c: the N-body system: its arrays (structure of arrays, grown as bodies are added), the
  * kernel coefficients of spec 3.3 (one code path for gravity and Coulomb), the scales of spec
  * 3.5, the barycentric reduction of 3.4 and the conserved quantities of 3.7. */
+#include <ctype.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -96,7 +97,7 @@ static void free_arrays(mote_nb *nb)
 {
     void *arr[] = {nb->m,   nb->q,  nb->c,      nb->w,   nb->x,   nb->v,    nb->xc,
                    nb->vc,  nb->ra, nb->sp,     nb->active, nb->d5p, nb->acc, nb->jerk,
-                   nb->d4,  nb->d5, nb->tx,     nb->ts,  nb->tf, nb->tg,  nb->et};
+                   nb->d4,  nb->d5, nb->tx,     nb->ts,  nb->tf, nb->tg,  nb->et, nb->name};
     for (size_t k = 0; k < sizeof arr / sizeof arr[0]; k++)
         free(arr[k]);
 }
@@ -138,6 +139,11 @@ static int grow(mote_nb *nb, uint32_t cap)
         return -1;
     memset(a + nb->cap, 0, cap - nb->cap);
     nb->active = a;
+    char(*nm)[MOTE_NB_NAME] = realloc(nb->name, (size_t)cap * sizeof *nm);
+    if (!nm)
+        return -1;
+    memset(nm + nb->cap, 0, (size_t)(cap - nb->cap) * sizeof *nm);
+    nb->name = nm;
     nb->cap = cap;
     return 0;
 }
@@ -173,6 +179,44 @@ int mote_nb_add(mote_nb *nb, mote_real m, mote_real q, const mote_real x[3], con
     nb->dtp = 0; /* a new body: no valid previous fifth derivative, the next step restarts */
     nb->restart = 1;
     nb->ref_set = 0;
+    return MOTE_OK;
+}
+
+int mote_nb_name_ok(const char *name)
+{
+    size_t len = strlen(name);
+    if (len == 0 || len >= MOTE_NB_NAME || !isalpha((unsigned char)name[0]))
+        return 0;
+    for (size_t k = 1; k < len; k++)
+        if (!isalnum((unsigned char)name[k]) && !strchr("_.+-", name[k]))
+            return 0;
+    return 1;
+}
+
+long mote_nb_find(const mote_nb *nb, const char *token)
+{
+    if (isdigit((unsigned char)token[0])) {
+        char *end;
+        unsigned long k = strtoul(token, &end, 10);
+        return *end || k < 1 || k > nb->n ? -1 : (long)k - 1;
+    }
+    for (uint32_t i = 0; i < nb->n; i++)
+        if (strcmp(nb->name[i], token) == 0)
+            return (long)i;
+    return -1;
+}
+
+int mote_nb_set_name(mote_nb *nb, uint32_t i, const char *name, mote_err *err)
+{
+    if (!mote_nb_name_ok(name))
+        return mote_fail(err, MOTE_EINVAL, "body %u: the name '%.40s' is not valid: 1 to %d "
+                         "characters, a letter first, then letters, digits and _ . + -", i + 1,
+                         name, MOTE_NB_NAME - 1);
+    long k = mote_nb_find(nb, name);
+    if (k >= 0 && (uint32_t)k != i)
+        return mote_fail(err, MOTE_EINVAL, "body %u: the name '%s' is taken by body %ld", i + 1,
+                         name, k + 1);
+    strcpy(nb->name[i], name);
     return MOTE_OK;
 }
 

@@ -617,6 +617,9 @@ static int parse_command(mote_script *s, const token_list *tl, const mote_model 
         def = mote_cmd_lookup(s->model->cmds, s->model->ncmds, name->text);
     if (!def)
         return unknown_command(s, name, err);
+    if (strcmp(def->name, "plot") == 0 && mote_script_is_common(s, def) &&
+        !(def = mote_script_plot_def(s)))
+        return mote_script_fail_plain(err, MOTE_ENOMEM, "out of memory reading the script");
     if (def == model_cmd && s->ncalls != 0) {
         if (s->model_line)
             return mote_script_fail_at(err, file, name->line, name->col, MOTE_EINVAL,

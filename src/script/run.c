@@ -157,13 +157,16 @@ static int plot_check(void *model, const mote_call *c, mote_err *err)
     if (!s->model->plot || !s->model->plot_kinds)
         return mote_call_fail(err, c, -1, MOTE_EINVAL, "plot: the %s model has nothing to plot",
                               s->model->name);
-    return mote_args_check_input(c, 0, s->model->plot_kinds, err);
+    int rc = mote_args_check_input(c, 0, s->model->plot_kinds, err);
+    if (!rc && s->model->plot_check)
+        rc = s->model->plot_check(s->instance, c, err);
+    return rc;
 }
 
 static int plot_run(void *model, const mote_call *c, mote_err *err)
 {
     mote_script *s = model;
-    int rc = s->model->plot(s->instance, c->args[0].path, c->args[1].path, err);
+    int rc = s->model->plot(s->instance, c->args[0].path, c->args[1].path, c, err);
     if (!rc)
         fprintf(c->ctx->out, "plot: wrote %s\n", c->args[1].path);
     return rc;
@@ -210,11 +213,12 @@ const mote_cmd mote_script_common_cmds[] = {
      "build and machine type; on another platform (another libm) they agree\n"
      "statistically. Prints `seed: S`.\n",
      seed_check, seed_run},
-    {"plot", NULL, "f f>png", "plot DATAFILE PNGFILE",
+    {"plot", NULL, "f f>png", "plot DATAFILE PNGFILE [options]",
      "render a data file written by a measuring command as a PNG",
      "Draw a data file written earlier (by this script or another) by one of the\n"
      "model's measuring commands as a PNG picture. The kind of picture follows from\n"
      "the file's first header line, so any data file of the model can be given.\n"
+     "Some models take key=value options that shape the picture (below).\n"
      "DATAFILE must be written earlier in the script by such a command, or exist.\n"
      "The PNG is written atomically. Prints `plot: wrote PNGFILE`.\n",
      plot_check, plot_run},
@@ -222,9 +226,29 @@ const mote_cmd mote_script_common_cmds[] = {
 const size_t mote_script_common_ncmds = sizeof mote_script_common_cmds /
                                         sizeof mote_script_common_cmds[0];
 
-int mote_script_is_common(const mote_cmd *def)
+int mote_script_is_common(const mote_script *s, const mote_cmd *def)
 {
-    return def >= mote_script_common_cmds && def < mote_script_common_cmds + mote_script_common_ncmds;
+    return (def >= mote_script_common_cmds &&
+            def < mote_script_common_cmds + mote_script_common_ncmds) ||
+           def == &s->plot_def;
+}
+
+const mote_cmd *mote_script_plot_def(mote_script *s)
+{
+    const mote_cmd *common = mote_cmd_lookup(mote_script_common_cmds, mote_script_common_ncmds,
+                                             "plot");
+    if (!s->model || !s->model->plot_opts)
+        return common;
+    if (!s->plot_def.name) {
+        size_t len = strlen(common->args) + strlen(s->model->plot_opts) + 2;
+        char *args = mote_arena_alloc(&s->arena, len);
+        if (!args)
+            return NULL;
+        snprintf(args, len, "%s %s", common->args, s->model->plot_opts);
+        s->plot_def = *common;
+        s->plot_def.args = args;
+    }
+    return &s->plot_def;
 }
 
 const mote_cmd *mote_script_common_model_cmd(void) { return &mote_script_common_cmds[0]; }
@@ -264,7 +288,7 @@ int mote_script_validate(mote_script *s, mote_err *err)
         if (!rc)
             rc = mote_args_check_before(c, err);
         if (!rc && c->def->check)
-            rc = c->def->check(mote_script_is_common(c->def) ? (void *)s : dry, c, err);
+            rc = c->def->check(mote_script_is_common(s, c->def) ? (void *)s : dry, c, err);
         if (!rc)
             rc = mote_args_check_after(c, err);
         if (rc)
@@ -297,7 +321,7 @@ int mote_script_execute(mote_script *s, mote_err *err)
     int rc = 0;
     for (size_t i = 0; i < s->ncalls && !rc; i++) {
         mote_call *c = &s->calls[i];
-        int common = mote_script_is_common(c->def);
+        int common = mote_script_is_common(s, c->def);
         clear(err);
         rc = mote_args_resolve(c, err);
         if (!rc && c->def->run) {

@@ -32,6 +32,7 @@ struct mote_script {
     int validated;
     int threads_noted;    /* the "threads has no effect yet" note was printed */
     void *instance;       /* the model the commands act on while validating or running */
+    mote_cmd plot_def;    /* `plot` with the model's plot options (name NULL until needed) */
 };
 
 /* ---- common commands (handled by the script layer; their `model` argument is the script) ----- */
@@ -39,7 +40,9 @@ struct mote_script {
 extern const mote_cmd mote_script_common_cmds[];
 extern const size_t mote_script_common_ncmds;
 
-int mote_script_is_common(const mote_cmd *def);
+int mote_script_is_common(const mote_script *s, const mote_cmd *def);
+/* The definition of `plot` for the script's model: the common one, or with its options. */
+const mote_cmd *mote_script_plot_def(mote_script *s);
 const mote_cmd *mote_script_common_model_cmd(void);
 
 /* Does `name` equal the command's name or one of its aliases? */
