@@ -124,6 +124,26 @@ static int fuzz_nb_state(const uint8_t *data, size_t size)
     return 0;
 }
 
+static int fuzz_nb_snapshot(const uint8_t *data, size_t size)
+{
+    char path[256];
+    if (write_input("in.snap", data, size, path, sizeof path))
+        return 0;
+    mote_err err = {0};
+    for (int kind = 0; kind < 2; kind++) {
+        mote_nb nb;
+        mote_nb_init(&nb, kind ? MOTE_NB_COULOMB : MOTE_NB_GRAVITY);
+        if (nb_snapshot_read(&nb, path, &err) == 0) {
+            /* a snapshot read must run and be written again */
+            mote_nb_galactica(&nb, 2, &err);
+            snprintf(path, sizeof path, "%s/out.snap", scratch());
+            nb_snapshot_write(&nb, path, "fuzz", &err);
+        }
+        mote_nb_free(&nb);
+    }
+    return 0;
+}
+
 static int fuzz_nb_solar(const uint8_t *data, size_t size)
 {
     char path[256];
@@ -160,6 +180,7 @@ const mote_fuzz_target mote_fuzz_targets[] = {
     {"hs_state", fuzz_hs_state},
     {"mb_state", fuzz_mb_state},
     {"nb_state", fuzz_nb_state},
+    {"nb_snapshot", fuzz_nb_snapshot},
     {"nb_solar", fuzz_nb_solar},
     {"plot", fuzz_plot},
 };

@@ -849,7 +849,9 @@ static int coloured(const unsigned char *p) /* cairo ARGB32: B G R A in memory (
     int mn = p[0] < p[1] ? (p[0] < p[2] ? p[0] : p[2]) : (p[1] < p[2] ? p[1] : p[2]);
     return mx - mn > 60;
 }
-static void test_png(void)
+/* The orbit picture: a circle of coloured pixels. drift = 1: body 1 moves along x while body 2
+ * circles it, drawn with relative_to=1, which must give the same circle. */
+static void test_png_case(int drift)
 {
     char dir[256], data[320], png[320];
     if (!test_tmpdir_make(dir, sizeof dir, "mote_nbpng"))
@@ -863,12 +865,15 @@ static void test_png(void)
     fprintf(f, "# mote nbody-trajectory 1\n# Lx0 = 0\n# Ly0 = 0\n# Lz0 = 1\n"
                "# columns: T E_kin E_tot x1 y1 z1 x2 y2 z2\n");
     for (int k = 0; k <= 2000; k++) {
-        double a = 2 * MOTE_PI * k / 2000.0;
-        fprintf(f, "%.17g 0 0 0 0 0 %.17g %.17g 0\n", a, cos(a), sin(a));
+        double a = 2 * MOTE_PI * k / 2000.0, x1 = drift ? 0.8 * a : 0;
+        fprintf(f, "%.17g 0 0 %.17g 0 0 %.17g %.17g 0\n", a, x1, x1 + cos(a), sin(a));
     }
     fclose(f);
     mote_err err = {0};
-    CHECK(nb_plot_file(data, png, NULL, &err) == MOTE_OK, "plot: %s", err.msg);
+    mote_opt opt = {.key = "relative_to", .value = {.text = "1"}};
+    mote_call call = {.file = "t.mote", .line = 1, .col = 1, .name = "plot", .nopts = 1,
+                      .opts = &opt};
+    CHECK(nb_plot_file(data, png, drift ? &call : NULL, &err) == MOTE_OK, "plot: %s", err.msg);
     /* the file: signature, IHDR first, IEND last */
     unsigned char b[33] = {0}, tail[12] = {0};
     f = fopen(png, "rb");
@@ -942,6 +947,11 @@ static void test_png(void)
     CHECK(r > 0.3 * W && r < 0.5 * W, "the orbit's radius %.1f px in a %d px picture", r, W);
     cairo_surface_destroy(s);
     test_remove_tree(dir);
+}
+static void test_png(void)
+{
+    test_png_case(0);
+    test_png_case(1);
 }
 
 /* T11: long runs. The ring over 10 periods with the Galactica scheme, and the outer Solar System

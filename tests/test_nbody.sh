@@ -343,4 +343,37 @@ expect 1 "nm12.mote:5:42: error: trajectory: velocities must be on or off, found
 printf '%bgenerate solar_system data=%s bodies=Sun,Jupiter\nsave ss.state\n' "$G" "$DATA" > ssn.mote
 "$MOTE" run ssn.mote > /dev/null 2>&1 && awk '/^bodies:/ { b = 1; next } /^end/ { b = 0 } b { s = s $NF " " } END { exit !(s == "Sun Jupiter ") }' ss.state && ok || bad "generate solar_system did not name its bodies"
 
+# ---- snapshots (spec 10.2): write/read continue the Galactica scheme without a restart step,
+# bit for bit with compensated summation off, to rounding with it on; periodic files; bad files
+printf '%bgenerate ring\ncompensated off\nintegrate steps=300\nintegrate steps=300\nsave sa.state\n' "$G" > sa.mote
+printf '%bgenerate ring\ncompensated off\nsnapshot every=150 prefix=snp_\nintegrate steps=300\nwrite snapshot file=x.snap\nread snapshot file=x.snap\nintegrate steps=300\nsave sb.state\n' "$G" > sb.mote
+printf '%bgenerate ring\nintegrate steps=300\nwrite snapshot file=y.snap\nread snapshot file=y.snap\nintegrate steps=300\nsave sc.state\n' "$G" > sc.mote
+printf '%bgenerate ring\nintegrate steps=600\nsave sd.state\n' "$G" > sd.mote
+for k in a b c d; do "$MOTE" run s$k.mote > outs$k.txt 2> err.txt || bad "s$k.mote failed: $(cat err.txt)"; done
+# (the units line differs only in Am before its refinement, which a snapshot does not carry)
+[ "$(grep -v '^units' sa.state)" = "$(grep -v '^units' sb.state)" ] && ok || bad "compensated off: write/read snapshot in the middle changed the run"
+[ "$(tail -1 outsc.txt)" = "$(tail -1 outsd.txt)" ] && ok || bad "snapshot continuation (compensated on): status differs: $(tail -1 outsc.txt) / $(tail -1 outsd.txt)"
+awk 'FNR == 1 { f++ } /^bodies:/ { b = 1; next } /^end/ { b = 0 } b { for (k = 5; k <= 10; k++) v[f, FNR, k] = $k; n[f] = FNR }
+     END { m = 0; for (r = 1; r <= n[1]; r++) for (k = 5; k <= 10; k++) { a = v[1, r, k]; d = a - v[2, r, k]; if (a * a > 1e-6 && d * d > m * a * a) m = d * d / (a * a) } exit !(n[1] > 30 && m < 1e-28) }' sc.state sd.state && ok || bad "snapshot continuation (compensated on) differs from the straight run by more than 1e-14"
+ls snp_0000000150.snap snp_0000000300.snap snp_0000000450.snap snp_0000000600.snap > /dev/null 2>&1 && [ ! -e snp_0000000000.snap ] && ok || bad "snapshot every=150: files $(ls snp_* 2>/dev/null | tr '\n' ' ')"
+cmp -s x.snap snp_0000000300.snap || [ "$(grep -v '^# command' x.snap)" = "$(grep -v '^# command' snp_0000000300.snap)" ] && ok || bad "the periodic snapshot at step 300 differs from write snapshot"
+[ "$(sed -n 's/^# columns: //p' x.snap)" = "id name active mass charge x y z vx vy vz radius sx sy sz Et d5x d5y d5z" ] && ok || bad "snapshot columns: $(grep '^# columns' x.snap)"
+# a snapshot written by hand: N and the rows; the first step is then a restart step
+printf '# N = 2\n1 A 1 1 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0\n2 B 1 1e-3 0 1 0 0 0 1 0 0 0 0 0 0 0 0 0\n' > hand.snap
+printf '%bread snapshot file=hand.snap\nintegrator galactica dt=1e-3\nintegrate steps=2\nwrite snapshot file=h2.snap\n' "$G" > sh.mote
+"$MOTE" run sh.mote > out.txt 2> err.txt && ok || bad "a hand-written snapshot: $(cat err.txt)"
+grep -Eq '^# T = 0.00100(1|09999999999999)$' h2.snap && grep -q '^2 B 1 ' h2.snap && ok || bad "hand-written snapshot: T after a restart step and a full step: $(grep '^# T' h2.snap)"
+sed 's/^3 - 1 \([^ ]*\) 0 .*/3 - 1 \1 0 1 2/' x.snap > short.snap
+expect 1 "sx1.mote:2:20: error: read: short.snap:40: body 3: expected 19 fields" sx1.mote "${G}read snapshot file=short.snap\n"
+sed 's/^# N = 30$/# N = 31/' x.snap > n31.snap
+expect 1 "sx2.mote:2:20: error: read: n31.snap:68: file ends early: N = 31, but only 30 body rows" sx2.mote "${G}read snapshot file=n31.snap\n"
+expect 1 "sx3.mote:2:20: error: read: x.snap:4: the snapshot is a gravity run, this script is a Coulomb run" sx3.mote "${C}read snapshot file=x.snap\n"
+expect 1 "sx4.mote:2:20: error: read: 'nothere.snap' does not exist and no earlier command writes it" sx4.mote "${G}read snapshot file=nothere.snap\n"
+expect 1 "sx5.mote:3:7: error: write: expected 'snapshot' (the native snapshot of spec 10.2), found 'galactica'" sx5.mote "${G}body mass=1\nwrite galactica file=g.dat\n"
+expect 1 "sx6.mote:2:1: error: write: there are no bodies yet" sx6.mote "${G}write snapshot file=e.snap\n"
+expect 1 "sx7.mote:3:26: error: snapshot: the directory of prefix 'nodir/s_' does not exist" sx7.mote "${G}body mass=1\nsnapshot every=10 prefix=nodir/s_\n"
+sed 's/^# h_prev = .*/# h_prev = -1/' x.snap > hp.snap
+expect 1 "sx8.mote:2:20: error: read: hp.snap: h_prev must be >= 0" sx8.mote "${G}read snapshot file=hp.snap\n"
+[ ! -e e.snap ] && [ ! -e g.dat ] && ok || bad "a failed script wrote a snapshot"
+
 mote_test_end

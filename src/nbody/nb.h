@@ -16,6 +16,14 @@ int nb_state_save(const mote_nb *nb, const char *path, mote_err *err);
 int nb_state_load(mote_nb *nb, const char *path, mote_err *err);
 int nb_state_peek(const char *path, uint32_t *n, mote_err *err);
 
+/* The snapshot (snapshot.c, spec 10.2): the header every output shares (interaction, N,
+ * integrator, precision) and the scales and constants; write; read (replacing nb on success
+ * only; the file's interaction must be nb's). */
+void nb_write_header(FILE *f, const mote_nb *nb);
+void nb_write_units(FILE *f, const mote_nb *nb);
+int nb_snapshot_write(const mote_nb *nb, const char *path, const char *origin, mote_err *err);
+int nb_snapshot_read(mote_nb *nb, const char *path, mote_err *err);
+
 /* The integrators' parts (galactica.c, taylor.c): the settings checked (and scratch sized),
  * and one step of at most `rest` (returns the step taken). */
 int nb_galactica_check(const mote_nb *nb, mote_err *err);

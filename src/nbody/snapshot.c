@@ -1,0 +1,368 @@
+/* snapshot.c: the N-body model's snapshot (spec 10.2), a data file of the run's state that people
+ * and programs read: `#` header lines (the run header every output shares, then the fields a
+ * Galactica-scheme continuation needs: T, dT, h_prev, the references E_corr,0 and Mza1, the merge
+ * count Lsls and heat Ett), then one row per body
+ *     id name active mass charge x y z vx vy vz radius sx sy sz Et d5x d5y d5z
+ * with every number to the digits that read back to the same value (MOTE_REAL_DIG).
+ * Reading restores bodies, time, step history and references; the Kahan compensation terms are
+ * not part of a snapshot, so a continuation agrees with the uninterrupted run to rounding (bit
+ * for bit when compensated summation is off); `save`/`load` keep everything. Only N and the
+ * rows are required, so a snapshot can also be written by hand or by another program. */
+#include "mote/datafile.h"
+#include "mote/nbody.h"
+
+#include <ctype.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <tgmath.h>
+
+#include "nb.h"
+
+void nb_write_header(FILE *f, const mote_nb *nb)
+{
+    char b[2][MOTE_REAL_BUF];
+    fprintf(f, "# interaction = %s\n# N = %u\n", nb->kind == MOTE_NB_GRAVITY ? "gravity" : "coulomb",
+            nb->n);
+    if (nb->integrator == MOTE_NB_TAYLOR) {
+        fprintf(f, "# integrator = taylor\n# order = %d\n", nb->taylor_order);
+        if (nb->adaptive)
+            fprintf(f, "# tol = %s\n# safety = %s\n", mote_real_str(nb->tol, b[0]),
+                    mote_real_str(nb->safety, b[1]));
+        else
+            fprintf(f, "# dt = %s\n", mote_real_str(nb->dt, b[0]));
+    } else
+        fprintf(f, "# integrator = galactica\n# order = %d\n# dt = %s\n", nb->order,
+                mote_real_str(nb->dt, b[0]));
+    fprintf(f, "# compensated = %d\n# forces = direct\n# precision = %s\n", nb->compensated,
+            MOTE_REAL_NAME);
+}
+
+void nb_write_units(FILE *f, const mote_nb *nb)
+{
+    if (nb->u.set)
+        fprintf(f, "# M_Ss = %.17g\n# Am = %.17g\n# kv = %.17g\n# kt = %.17g\n", nb->u.M,
+                nb->u.Am, nb->u.kv, nb->u.kt);
+    fprintf(f, "# G = %.17g\n# e2 = %.17g\n# permittivity = %.17g\n", nb->G, nb->e2, nb->eps);
+    fprintf(f, "# units: dimensionless (G = 1 or the Coulomb constant 1, total mass 1; spec "
+               "3.5)\n");
+}
+
+/* The real-valued header fields a snapshot carries (after the shared header), in order. */
+enum { K_T, K_DTP, K_FIRST, K_E0, K_MZA1, K_LNORM1, K_L1X, K_L1Y, K_L1Z, K_EHEAT, K_ESPIN,
+       K_DEMERGE, K_NREAL };
+static const char *const KEY[K_NREAL] = {"T",      "h_prev", "first_step", "E_corr0",
+                                         "Mza1",   "Lnorm1", "L1x",        "L1y",
+                                         "L1z",    "Ett",    "E_spin",     "dE_merge"};
+
+int nb_snapshot_write(const mote_nb *nb, const char *path, const char *origin, mote_err *err)
+{
+    mote_datafile d;
+    int rc = mote_datafile_open(&d, path, "nbody-snapshot", origin, 0, err);
+    if (rc)
+        return rc;
+    FILE *f = d.f;
+    nb_write_header(f, nb);
+    nb_write_units(f, nb);
+    const mote_real v[K_NREAL] = {nb->T,      nb->dtp,   nb->first_step, nb->E0,
+                                  nb->Mza1,   nb->Lnorm1, nb->L1[0],     nb->L1[1],
+                                  nb->L1[2],  nb->e_heat, nb->e_spin,    nb->de_merge};
+    char b[MOTE_REAL_BUF];
+    for (int k = 0; k < K_NREAL; k++)
+        fprintf(f, "# %s = %s\n", KEY[k], mote_real_str(v[k], b));
+    fprintf(f, "# steps = %llu\n# restart = %d\n# reference = %d\n# Lsls = %llu\n",
+            (unsigned long long)nb->steps, nb->restart, nb->ref_set,
+            (unsigned long long)nb->merges);
+    fprintf(f, "# h_prev is the last step of the Galactica scheme (0: the next step restarts); "
+               "d5 its fifth derivative at that step's start; Et the heat of merges per body\n");
+    fputs("# columns: id name active mass charge x y z vx vy vz radius sx sy sz Et d5x d5y d5z\n",
+          f);
+    for (uint32_t i = 0; i < nb->n; i++) {
+        fprintf(f, "%u %s %d", i + 1, nb->name[i][0] ? nb->name[i] : "-", nb->active[i]);
+        const mote_real one[2] = {nb->m[i], nb->q[i]};
+        for (int k = 0; k < 2; k++)
+            fprintf(f, " %s", mote_real_str(one[k], b));
+        for (int a = 0; a < 6; a++)
+            fprintf(f, " %s", mote_real_str(a < 3 ? nb->x[3 * i + a] : nb->v[3 * i + a - 3], b));
+        fprintf(f, " %s", mote_real_str(nb->ra[i], b));
+        for (int a = 0; a < 3; a++)
+            fprintf(f, " %s", mote_real_str(nb->sp[3 * i + a], b));
+        fprintf(f, " %s", mote_real_str(nb->et[i], b));
+        for (int a = 0; a < 3; a++)
+            fprintf(f, " %s", mote_real_str(nb->d5p[3 * i + a], b));
+        fputc('\n', f);
+    }
+    return mote_datafile_commit(&d, err);
+}
+
+/* ---- reading ---------------------------------------------------------------------------------- */
+
+typedef struct {
+    mote_lines l;
+    mote_err *err;
+} rd;
+
+static int bad(rd *r, const char *fmt, const char *what)
+{
+    return mote_fail(r->err, MOTE_EFORMAT, "%s:%ld: %s%.60s%s", r->l.path, r->l.line, fmt,
+                     what ? what : "", what ? "'" : "");
+}
+
+/* One finite real from text that must hold nothing else; 0 on success. */
+static int real_of(const char *t, mote_real *v)
+{
+    char *end;
+    *v = mote_real_parse(t, &end);
+    while (*end == ' ' || *end == '\t')
+        end++;
+    return end == t || *end || !isfinite(*v) ? -1 : 0;
+}
+
+/* One unsigned integer from text that must hold nothing else; 0 on success. */
+static int count_of(const char *t, unsigned long long *v)
+{
+    char *end;
+    if (!isdigit((unsigned char)*t))
+        return -1;
+    *v = strtoull(t, &end, 10);
+    while (*end == ' ' || *end == '\t')
+        end++;
+    return *end ? -1 : 0;
+}
+
+int nb_snapshot_read(mote_nb *nb, const char *path, mote_err *err)
+{
+    rd r = {.err = err};
+    int rc = mote_lines_open(&r.l, path, err);
+    if (rc)
+        return rc;
+    mote_nb t;
+    mote_nb_init(&t, nb->kind);
+    t.G = nb->G;
+    t.e2 = nb->e2;
+    t.eps = nb->eps;
+    mote_real v[K_NREAL] = {0}, dt = nb->dt, tol = nb->tol, safety = nb->safety;
+    int have[K_NREAL] = {0}, integ = MOTE_NB_GALACTICA, order = -1, taylor_adaptive = 0;
+    unsigned long long n = 0, steps = 0, restart = 1, ref = 0, lsls = 0;
+    int have_n = 0, have_ref = 0, compensated = nb->compensated;
+    double units[7] = {0}; /* M_Ss Am kv kt G e2 permittivity */
+    static const char *const UKEY[7] = {"M_Ss", "Am", "kv", "kt", "G", "e2", "permittivity"};
+    char *s;
+    uint32_t row = 0;
+    while (!rc && (s = mote_lines_next(&r.l)) != NULL) {
+        if (s[0] == '#') { /* "# key = value": the keys a continuation needs; others are notes */
+            char key[40];
+            int used = 0;
+            if (sscanf(s, "# %39[A-Za-z0-9_] =%n", key, &used) != 1 || !used)
+                continue;
+            const char *val = s + used;
+            while (*val == ' ')
+                val++;
+            int k = 0;
+            while (k < K_NREAL && strcmp(KEY[k], key) != 0)
+                k++;
+            mote_real x;
+            unsigned long long u;
+            if (k < K_NREAL) {
+                if (real_of(val, &v[k]))
+                    rc = bad(&r, "expected a finite number after '# ", key);
+                have[k] = 1;
+            } else if (strcmp(key, "interaction") == 0) {
+                int grav = strcmp(val, "gravity") == 0;
+                if (!grav && strcmp(val, "coulomb") != 0)
+                    rc = bad(&r, "expected gravity or coulomb after '# ", "interaction");
+                else if ((grav ? MOTE_NB_GRAVITY : MOTE_NB_COULOMB) != nb->kind)
+                    rc = mote_fail(err, MOTE_EINVAL, "%s:%ld: the snapshot is a %s run, this "
+                                   "script is a %s run", path, r.l.line, grav ? "gravity" :
+                                   "Coulomb", nb->kind == MOTE_NB_GRAVITY ? "gravity" : "Coulomb");
+            } else if (strcmp(key, "integrator") == 0) {
+                if (strcmp(val, "taylor") == 0)
+                    integ = MOTE_NB_TAYLOR;
+                else if (strcmp(val, "galactica") != 0)
+                    rc = bad(&r, "expected galactica or taylor after '# ", "integrator");
+            } else if (strcmp(key, "N") == 0 || strcmp(key, "steps") == 0 ||
+                       strcmp(key, "restart") == 0 || strcmp(key, "Lsls") == 0 ||
+                       strcmp(key, "reference") == 0 || strcmp(key, "order") == 0 ||
+                       strcmp(key, "compensated") == 0) {
+                if (count_of(val, &u))
+                    rc = bad(&r, "expected a whole number >= 0 after '# ", key);
+                else if (key[0] == 'N') {
+                    n = u;
+                    have_n = 1;
+                    if (n > 100000000ull)
+                        rc = bad(&r, "expected N <= 10^8", NULL);
+                } else if (key[0] == 's')
+                    steps = u;
+                else if (strcmp(key, "restart") == 0)
+                    restart = u;
+                else if (key[0] == 'L')
+                    lsls = u;
+                else if (key[0] == 'r') {
+                    ref = u;
+                    have_ref = 1;
+                } else if (key[0] == 'o')
+                    order = u > 1000 ? 1000 : (int)u;
+                else
+                    compensated = u != 0;
+                if (!rc && (restart > 1 || ref > 1))
+                    rc = bad(&r, "expected 0 or 1 after '# ", key);
+            } else if (strcmp(key, "dt") == 0 || strcmp(key, "tol") == 0 ||
+                       strcmp(key, "safety") == 0) {
+                if (real_of(val, &x) || !(x > 0))
+                    rc = bad(&r, "expected a number > 0 after '# ", key);
+                else if (key[0] == 'd')
+                    dt = x;
+                else if (key[0] == 't') {
+                    tol = x;
+                    taylor_adaptive = 1;
+                } else
+                    safety = x;
+            } else {
+                for (int j = 0; j < 7; j++)
+                    if (strcmp(key, UKEY[j]) == 0 && (real_of(val, &x) || !(x > 0)))
+                        rc = bad(&r, "expected a number > 0 after '# ", key);
+                    else if (strcmp(key, UKEY[j]) == 0)
+                        units[j] = (double)x;
+            }
+            continue;
+        }
+        /* a body row */
+        if (!have_n) {
+            rc = bad(&r, "expected the header line '# N = COUNT' before the bodies", NULL);
+            break;
+        }
+        if (row == n) {
+            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: more body rows than N = %llu", path,
+                           r.l.line, n);
+            break;
+        }
+        char *tok[20], *save = NULL;
+        int nt = 0;
+        for (char *p = strtok_r(s, " \t", &save); p && nt < 20; p = strtok_r(NULL, " \t", &save))
+            tok[nt++] = p;
+        unsigned long long id, act;
+        mote_real w[16];
+        int ok = nt == 19 && !count_of(tok[0], &id) && id == row + 1 &&
+                 !count_of(tok[2], &act) && act <= 1 &&
+                 (strcmp(tok[1], "-") == 0 || mote_nb_name_ok(tok[1]));
+        for (int k = 0; ok && k < 16; k++)
+            ok = !real_of(tok[3 + k], &w[k]);
+        if (!ok) {
+            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: body %u: expected 19 fields: id (%u) name "
+                           "(or -) active (0 or 1) mass charge x y z vx vy vz radius sx sy sz Et "
+                           "d5x d5y d5z, all finite", path, r.l.line, row + 1, row + 1);
+            break;
+        }
+        /* a merged-away body has mass 0: added with mass 1, then set (it stays inactive) */
+        int gone = act == 0 && w[0] == 0;
+        rc = mote_nb_add(&t, gone ? 1 : w[0], gone ? 0 : w[1], w + 2, w + 5, gone ? 0 : w[8], err);
+        if (!rc && strcmp(tok[1], "-") != 0)
+            rc = mote_nb_set_name(&t, row, tok[1], err);
+        if (rc) {
+            char why[sizeof err->msg];
+            snprintf(why, sizeof why, "%s", err->msg);
+            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: %s", path, r.l.line, why);
+            break;
+        }
+        if (gone)
+            t.m[row] = t.q[row] = 0;
+        t.active[row] = (uint8_t)act;
+        t.et[row] = w[12];
+        for (int a = 0; a < 3; a++) {
+            t.sp[3 * row + a] = w[9 + a];
+            t.d5p[3 * row + a] = w[13 + a];
+        }
+        row++;
+    }
+    mote_err ignored;
+    int crc = mote_lines_close(&r.l, rc ? &ignored : err);
+    rc = rc ? rc : crc;
+    if (!rc && !have_n)
+        rc = mote_fail(err, MOTE_EFORMAT, "%s: no header line '# N = COUNT' (not a snapshot)",
+                       path);
+    if (!rc && row != n)
+        rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: file ends early: N = %llu, but only %u body "
+                       "rows", path, r.l.line + 1, n, row);
+    if (!rc && n == 0)
+        rc = mote_fail(err, MOTE_EFORMAT, "%s: the snapshot has no bodies", path);
+    if (!rc && have[K_DTP] && !(v[K_DTP] >= 0))
+        rc = mote_fail(err, MOTE_EFORMAT, "%s: h_prev must be >= 0", path);
+    if (!rc && have[K_FIRST] && !(v[K_FIRST] > 0 && v[K_FIRST] <= 1))
+        rc = mote_fail(err, MOTE_EFORMAT, "%s: first_step must be in (0, 1]", path);
+    int lo = 2, hi = integ == MOTE_NB_TAYLOR ? MOTE_NB_TAYLOR_MAX : 6;
+    if (!rc && order >= 0 && (order < lo || order > hi))
+        rc = mote_fail(err, MOTE_EFORMAT, "%s: order must be %d to %d for the %s integrator",
+                       path, lo, hi, integ == MOTE_NB_TAYLOR ? "taylor" : "galactica");
+    if (rc) {
+        mote_nb_free(&t);
+        return rc;
+    }
+    /* the integrator and its settings (the rest as they are in the script now) */
+    t.integrator = integ;
+    t.order = nb->order;
+    t.taylor_order = nb->taylor_order;
+    if (order >= 0 && integ == MOTE_NB_TAYLOR)
+        t.taylor_order = order;
+    else if (order >= 0)
+        t.order = order;
+    t.dt = dt;
+    t.adaptive = integ == MOTE_NB_TAYLOR ? taylor_adaptive : nb->adaptive;
+    t.tol = tol;
+    t.safety = safety;
+    t.hmin = nb->hmin;
+    t.hmax = nb->hmax;
+    t.taylor_memory = nb->taylor_memory;
+    t.compensated = compensated;
+    t.merging = nb->merging;
+    t.bt = nb->bt;
+    t.bt_hmin = nb->bt_hmin;
+    t.first_step = have[K_FIRST] ? v[K_FIRST] : nb->first_step;
+    /* time, step history and references */
+    t.T = v[K_T];
+    t.steps = steps;
+    t.merges = lsls;
+    t.e_heat = v[K_EHEAT];
+    t.e_spin = v[K_ESPIN];
+    t.de_merge = v[K_DEMERGE];
+    t.dtp = v[K_DTP];
+    t.restart = !(t.dtp > 0) || restart;
+    if (t.restart)
+        t.dtp = 0;
+    t.ref_set = have_ref ? (int)ref : have[K_E0] && have[K_MZA1];
+    t.E0 = v[K_E0];
+    t.Mza1 = v[K_MZA1];
+    t.Lnorm1 = v[K_LNORM1];
+    for (int a = 0; a < 3; a++)
+        t.L1[a] = v[K_L1X + a];
+    if (t.ref_set && !(have[K_LNORM1] && have[K_L1X] && have[K_L1Y] && have[K_L1Z])) {
+        mote_nb_monitor mon;
+        mote_nb_measure(&t, &mon);
+        mote_real l2 = 0;
+        for (int a = 0; a < 3; a++) {
+            t.L1[a] = mon.L[a] + mon.S[a];
+            l2 += t.L1[a] * t.L1[a];
+        }
+        if (!have[K_LNORM1])
+            t.Lnorm1 = sqrt(l2);
+    }
+    /* the scales, when the file has them all */
+    if (units[0] > 0 && units[1] > 0 && units[2] > 0 && units[3] > 0) {
+        t.u.M = units[0];
+        t.u.Am = t.u.Am_first = units[1];
+        t.u.kv = units[2];
+        t.u.kt = units[3];
+        t.u.G = units[4] > 0 ? units[4] : nb->G;
+        t.u.e2 = units[5] > 0 ? units[5] : nb->e2;
+        t.u.eps = units[6] > 0 ? units[6] : nb->eps;
+        t.u.set = 1;
+    }
+    if (units[4] > 0)
+        t.G = units[4];
+    if (units[5] > 0)
+        t.e2 = units[5];
+    if (units[6] > 0)
+        t.eps = units[6];
+    mote_nb_free(nb);
+    *nb = t;
+    return MOTE_OK;
+}
