@@ -9,9 +9,10 @@
  * adaptive (spec 4.5; Galactica's step correction, Kl4 = 2 or 3), dt then being the first step's
  * nominal length.
  *
- * Sums over sources run in increasing index for every target, and each target is one thread's
- * (OpenMP over targets, spec 6.1), so a result depends on nothing but the state: 1, 2 or 4
- * threads give the same bits. */
+ * Sums over sources run in a fixed order for every target (increasing index; in double
+ * precision with SSE2, two lanes taking alternate sources, each in increasing index, added at the
+ * end), and each target is one thread's (OpenMP over targets, spec 6.1), so a result depends on
+ * nothing but the state: 1, 2 or 4 threads give the same bits. */
 #include "mote/nbody.h"
 
 #include <tgmath.h>
@@ -19,32 +20,118 @@
 
 #include "nb.h"
 
-/* Pass 1: a_i = c_i sum A0, j_i = c_i sum A1 (spec 4.2 step 1). */
+/* Are all bodies active? (the pair loops then skip the test) */
+static int all_active(const mote_nb *nb)
+{
+    for (uint32_t i = 0; i < nb->n; i++)
+        if (!nb->active[i])
+            return 0;
+    return 1;
+}
+
+/* Pass 1 for target i over the sources k0 <= k < k1 (not i): the sums of A0 and A1. */
+static inline void pass1_range(const mote_nb *nb, int all, uint32_t i, uint32_t k0, uint32_t k1,
+                               mote_real a[3], mote_real j[3])
+{
+    const mote_real *x = nb->x, *v = nb->v, *w = nb->w;
+    const mote_real *xi = x + 3 * (size_t)i, *vi = v + 3 * (size_t)i;
+    for (uint32_t k = k0; k < k1; k++) {
+        if (!all && !nb->active[k])
+            continue;
+        const mote_real *xk = x + 3 * (size_t)k, *vk = v + 3 * (size_t)k;
+        mote_real r[3] = {xi[0] - xk[0], xi[1] - xk[1], xi[2] - xk[2]};
+        mote_real u[3] = {vi[0] - vk[0], vi[1] - vk[1], vi[2] - vk[2]};
+        mote_real r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+        mote_real i2 = 1 / r2, wr3 = w[k] * i2 * sqrt(i2);
+        mote_real alpha = (r[0] * u[0] + r[1] * u[1] + r[2] * u[2]) * i2;
+        for (int c = 0; c < 3; c++) {
+            mote_real A0 = wr3 * r[c];
+            a[c] += A0;
+            j[c] += wr3 * u[c] - 3 * alpha * A0;
+        }
+    }
+}
+
+#if MOTE_NB_PRECISION == 1 && defined(__SSE2__)
+#define NB_SSE2 1
+#include <emmintrin.h>
+
+/* Two lanes of three coordinates of sources k and k + 1 (AoS) */
+static inline void load2(const double *p, __m128d out[3])
+{
+    for (int c = 0; c < 3; c++)
+        out[c] = _mm_set_pd(p[3 + c], p[c]); /* lane 0: k, lane 1: k + 1 */
+}
+static inline double hsum(__m128d v) /* lane 0 + lane 1 */
+{
+    return _mm_cvtsd_f64(_mm_add_sd(v, _mm_unpackhi_pd(v, v)));
+}
+
+/* pass1_range for double with SSE2 (every body active): two sources per iteration, k in lane
+ * 0 and k + 1 in lane 1, each lane summed in index order and the lanes added at the end (a fixed
+ * order: the result depends on nothing but the state). The same arithmetic as the scalar loop. */
+static inline void pass1_sse2(const mote_nb *nb, uint32_t i, uint32_t k0, uint32_t k1,
+                              mote_real a[3], mote_real j[3])
+{
+    const double *x = nb->x, *v = nb->v, *w = nb->w;
+    const double *xi = x + 3 * (size_t)i, *vi = v + 3 * (size_t)i;
+    __m128d XI[3], VI[3], SA[3], SJ[3];
+    for (int c = 0; c < 3; c++) {
+        XI[c] = _mm_set1_pd(xi[c]);
+        VI[c] = _mm_set1_pd(vi[c]);
+        SA[c] = SJ[c] = _mm_setzero_pd();
+    }
+    const __m128d one = _mm_set1_pd(1), three = _mm_set1_pd(3);
+    uint32_t k = k0;
+    for (; k + 1 < k1; k += 2) {
+        __m128d r[3], u[3];
+        load2(x + 3 * (size_t)k, r);
+        load2(v + 3 * (size_t)k, u);
+        for (int c = 0; c < 3; c++) {
+            r[c] = _mm_sub_pd(XI[c], r[c]);
+            u[c] = _mm_sub_pd(VI[c], u[c]);
+        }
+        __m128d r2 = _mm_add_pd(_mm_add_pd(_mm_mul_pd(r[0], r[0]), _mm_mul_pd(r[1], r[1])),
+                                _mm_mul_pd(r[2], r[2]));
+        __m128d i2 = _mm_div_pd(one, r2);
+        __m128d wr3 = _mm_mul_pd(_mm_mul_pd(_mm_loadu_pd(w + k), i2), _mm_sqrt_pd(i2));
+        __m128d ru = _mm_add_pd(_mm_add_pd(_mm_mul_pd(r[0], u[0]), _mm_mul_pd(r[1], u[1])),
+                                _mm_mul_pd(r[2], u[2]));
+        __m128d al3 = _mm_mul_pd(three, _mm_mul_pd(ru, i2));
+        for (int c = 0; c < 3; c++) {
+            __m128d A0 = _mm_mul_pd(wr3, r[c]);
+            SA[c] = _mm_add_pd(SA[c], A0);
+            SJ[c] = _mm_add_pd(SJ[c], _mm_sub_pd(_mm_mul_pd(wr3, u[c]), _mm_mul_pd(al3, A0)));
+        }
+    }
+    for (int c = 0; c < 3; c++) {
+        a[c] += hsum(SA[c]);
+        j[c] += hsum(SJ[c]);
+    }
+    if (k < k1)
+        pass1_range(nb, 1, i, k, k1, a, j);
+}
+#endif
+
+/* Pass 1: a_i = c_i sum A0, j_i = c_i sum A1 (spec 4.2 step 1), the sources in index order. */
 static void pass1(mote_nb *nb)
 {
     const uint32_t n = nb->n;
-    const mote_real *x = nb->x, *v = nb->v, *w = nb->w;
-    const int nt = nb->threads > 1 ? nb->threads : 1;
+    const int nt = nb->threads > 1 ? nb->threads : 1, all = all_active(nb);
     (void)nt;
 #pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1 && n >= 64)
     for (uint32_t i = 0; i < n; i++) {
         mote_real a[3] = {0, 0, 0}, j[3] = {0, 0, 0};
         if (nb->active[i]) {
-            const mote_real *xi = x + 3 * (size_t)i, *vi = v + 3 * (size_t)i;
-            for (uint32_t k = 0; k < n; k++) {
-                if (k == i || !nb->active[k])
-                    continue;
-                const mote_real *xk = x + 3 * (size_t)k, *vk = v + 3 * (size_t)k;
-                mote_real r[3] = {xi[0] - xk[0], xi[1] - xk[1], xi[2] - xk[2]};
-                mote_real u[3] = {vi[0] - vk[0], vi[1] - vk[1], vi[2] - vk[2]};
-                mote_real r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
-                mote_real rinv = 1.0 / sqrt(r2), wr3 = w[k] * rinv * rinv * rinv;
-                mote_real alpha = (r[0] * u[0] + r[1] * u[1] + r[2] * u[2]) / r2;
-                for (int c = 0; c < 3; c++) {
-                    mote_real A0 = wr3 * r[c];
-                    a[c] += A0;
-                    j[c] += wr3 * u[c] - 3 * alpha * A0;
-                }
+#ifdef NB_SSE2
+            if (all) {
+                pass1_sse2(nb, i, 0, i, a, j);
+                pass1_sse2(nb, i, i + 1, n, a, j);
+            } else
+#endif
+            {
+                pass1_range(nb, all, i, 0, i, a, j);
+                pass1_range(nb, all, i, i + 1, n, a, j);
             }
         }
         for (int c = 0; c < 3; c++) {
@@ -54,49 +141,138 @@ static void pass1(mote_nb *nb)
     }
 }
 
+/* Pass 2 for target i over the sources k0 <= k < k1 (not i): the sums of A2 and A3. */
+static inline void pass2_range(const mote_nb *nb, int all, uint32_t i, uint32_t k0, uint32_t k1,
+                               mote_real s4[3], mote_real s5[3])
+{
+    const mote_real *x = nb->x, *v = nb->v, *w = nb->w, *A = nb->acc, *J = nb->jerk;
+    const mote_real *xi = x + 3 * (size_t)i, *vi = v + 3 * (size_t)i;
+    const mote_real *ai = A + 3 * (size_t)i, *ji = J + 3 * (size_t)i;
+    for (uint32_t k = k0; k < k1; k++) {
+        if (!all && !nb->active[k])
+            continue;
+        const size_t o = 3 * (size_t)k;
+        mote_real r[3], u[3], ac[3], jc[3];
+        for (int c = 0; c < 3; c++) {
+            r[c] = xi[c] - x[o + c];
+            u[c] = vi[c] - v[o + c];
+            ac[c] = ai[c] - A[o + c];
+            jc[c] = ji[c] - J[o + c];
+        }
+        mote_real r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+        mote_real i2 = 1 / r2, wr3 = w[k] * i2 * sqrt(i2);
+        mote_real rv = r[0] * u[0] + r[1] * u[1] + r[2] * u[2];
+        mote_real vv = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+        mote_real ra = r[0] * ac[0] + r[1] * ac[1] + r[2] * ac[2];
+        mote_real va = u[0] * ac[0] + u[1] * ac[1] + u[2] * ac[2];
+        mote_real rj = r[0] * jc[0] + r[1] * jc[1] + r[2] * jc[2];
+        mote_real alpha = rv * i2;
+        mote_real beta = (vv + ra) * i2 + alpha * alpha;
+        mote_real gamma = (3 * va + rj) * i2 + alpha * (3 * beta - 4 * alpha * alpha);
+        for (int c = 0; c < 3; c++) {
+            mote_real A0 = wr3 * r[c];
+            mote_real A1 = wr3 * u[c] - 3 * alpha * A0;
+            mote_real A2 = wr3 * ac[c] - 6 * alpha * A1 - 3 * beta * A0;
+            mote_real A3 = wr3 * jc[c] - 9 * alpha * A2 - 9 * beta * A1 - 3 * gamma * A0;
+            s4[c] += A2;
+            s5[c] += A3;
+        }
+    }
+}
+
+#ifdef NB_SSE2
+static inline __m128d dot3(const __m128d p[3], const __m128d q[3])
+{
+    return _mm_add_pd(_mm_add_pd(_mm_mul_pd(p[0], q[0]), _mm_mul_pd(p[1], q[1])),
+                      _mm_mul_pd(p[2], q[2]));
+}
+
+/* pass2_range for double with SSE2, lanes as in pass1_sse2. */
+static inline void pass2_sse2(const mote_nb *nb, uint32_t i, uint32_t k0, uint32_t k1,
+                              mote_real s4[3], mote_real s5[3])
+{
+    const double *x = nb->x, *v = nb->v, *w = nb->w, *A = nb->acc, *J = nb->jerk;
+    const size_t oi = 3 * (size_t)i;
+    __m128d XI[3], VI[3], AI[3], JI[3], S4[3], S5[3];
+    for (int c = 0; c < 3; c++) {
+        XI[c] = _mm_set1_pd(x[oi + c]);
+        VI[c] = _mm_set1_pd(v[oi + c]);
+        AI[c] = _mm_set1_pd(A[oi + c]);
+        JI[c] = _mm_set1_pd(J[oi + c]);
+        S4[c] = S5[c] = _mm_setzero_pd();
+    }
+    const __m128d one = _mm_set1_pd(1), three = _mm_set1_pd(3), four = _mm_set1_pd(4),
+                  six = _mm_set1_pd(6), nine = _mm_set1_pd(9);
+    uint32_t k = k0;
+    for (; k + 1 < k1; k += 2) {
+        const size_t o = 3 * (size_t)k;
+        __m128d r[3], u[3], ac[3], jc[3];
+        load2(x + o, r);
+        load2(v + o, u);
+        load2(A + o, ac);
+        load2(J + o, jc);
+        for (int c = 0; c < 3; c++) {
+            r[c] = _mm_sub_pd(XI[c], r[c]);
+            u[c] = _mm_sub_pd(VI[c], u[c]);
+            ac[c] = _mm_sub_pd(AI[c], ac[c]);
+            jc[c] = _mm_sub_pd(JI[c], jc[c]);
+        }
+        __m128d r2 = dot3(r, r);
+        __m128d i2 = _mm_div_pd(one, r2);
+        __m128d wr3 = _mm_mul_pd(_mm_mul_pd(_mm_loadu_pd(w + k), i2), _mm_sqrt_pd(i2));
+        __m128d rv = dot3(r, u), vv = dot3(u, u), ra = dot3(r, ac), va = dot3(u, ac),
+                rj = dot3(r, jc);
+        __m128d alpha = _mm_mul_pd(rv, i2);
+        __m128d beta = _mm_add_pd(_mm_mul_pd(_mm_add_pd(vv, ra), i2), _mm_mul_pd(alpha, alpha));
+        __m128d gamma = _mm_add_pd(
+            _mm_mul_pd(_mm_add_pd(_mm_mul_pd(three, va), rj), i2),
+            _mm_mul_pd(alpha, _mm_sub_pd(_mm_mul_pd(three, beta),
+                                         _mm_mul_pd(_mm_mul_pd(four, alpha), alpha))));
+        const __m128d a3 = _mm_mul_pd(three, alpha), a6 = _mm_mul_pd(six, alpha),
+                      a9 = _mm_mul_pd(nine, alpha), b3 = _mm_mul_pd(three, beta),
+                      b9 = _mm_mul_pd(nine, beta), g3 = _mm_mul_pd(three, gamma);
+        for (int c = 0; c < 3; c++) {
+            __m128d A0 = _mm_mul_pd(wr3, r[c]);
+            __m128d A1 = _mm_sub_pd(_mm_mul_pd(wr3, u[c]), _mm_mul_pd(a3, A0));
+            __m128d A2 = _mm_sub_pd(_mm_sub_pd(_mm_mul_pd(wr3, ac[c]), _mm_mul_pd(a6, A1)),
+                                    _mm_mul_pd(b3, A0));
+            __m128d A3 = _mm_sub_pd(
+                _mm_sub_pd(_mm_sub_pd(_mm_mul_pd(wr3, jc[c]), _mm_mul_pd(a9, A2)),
+                           _mm_mul_pd(b9, A1)),
+                _mm_mul_pd(g3, A0));
+            S4[c] = _mm_add_pd(S4[c], A2);
+            S5[c] = _mm_add_pd(S5[c], A3);
+        }
+    }
+    for (int c = 0; c < 3; c++) {
+        s4[c] += hsum(S4[c]);
+        s5[c] += hsum(S5[c]);
+    }
+    if (k < k1)
+        pass2_range(nb, 1, i, k, k1, s4, s5);
+}
+#endif
+
 /* Pass 2: d4_i = c_i sum A2, d5_i = c_i sum A3 from the relative acceleration and jerk of pass 1
  * (spec 4.2 step 2); r, alpha and r^3 are recomputed, not stored. */
 static void pass2(mote_nb *nb)
 {
     const uint32_t n = nb->n;
-    const mote_real *x = nb->x, *v = nb->v, *w = nb->w, *A = nb->acc, *J = nb->jerk;
-    const int nt = nb->threads > 1 ? nb->threads : 1;
+    const int nt = nb->threads > 1 ? nb->threads : 1, all = all_active(nb);
     (void)nt;
 #pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1 && n >= 64)
     for (uint32_t i = 0; i < n; i++) {
         mote_real s4[3] = {0, 0, 0}, s5[3] = {0, 0, 0};
         if (nb->active[i]) {
-            const mote_real *xi = x + 3 * (size_t)i, *vi = v + 3 * (size_t)i;
-            const mote_real *ai = A + 3 * (size_t)i, *ji = J + 3 * (size_t)i;
-            for (uint32_t k = 0; k < n; k++) {
-                if (k == i || !nb->active[k])
-                    continue;
-                const size_t o = 3 * (size_t)k;
-                mote_real r[3], u[3], ac[3], jc[3];
-                for (int c = 0; c < 3; c++) {
-                    r[c] = xi[c] - x[o + c];
-                    u[c] = vi[c] - v[o + c];
-                    ac[c] = ai[c] - A[o + c];
-                    jc[c] = ji[c] - J[o + c];
-                }
-                mote_real r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
-                mote_real rinv = 1.0 / sqrt(r2), wr3 = w[k] * rinv * rinv * rinv;
-                mote_real rv = r[0] * u[0] + r[1] * u[1] + r[2] * u[2];
-                mote_real vv = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
-                mote_real ra = r[0] * ac[0] + r[1] * ac[1] + r[2] * ac[2];
-                mote_real va = u[0] * ac[0] + u[1] * ac[1] + u[2] * ac[2];
-                mote_real rj = r[0] * jc[0] + r[1] * jc[1] + r[2] * jc[2];
-                mote_real alpha = rv / r2;
-                mote_real beta = (vv + ra) / r2 + alpha * alpha;
-                mote_real gamma = (3 * va + rj) / r2 + alpha * (3 * beta - 4 * alpha * alpha);
-                for (int c = 0; c < 3; c++) {
-                    mote_real A0 = wr3 * r[c];
-                    mote_real A1 = wr3 * u[c] - 3 * alpha * A0;
-                    mote_real A2 = wr3 * ac[c] - 6 * alpha * A1 - 3 * beta * A0;
-                    mote_real A3 = wr3 * jc[c] - 9 * alpha * A2 - 9 * beta * A1 - 3 * gamma * A0;
-                    s4[c] += A2;
-                    s5[c] += A3;
-                }
+#ifdef NB_SSE2
+            if (all) {
+                pass2_sse2(nb, i, 0, i, s4, s5);
+                pass2_sse2(nb, i, i + 1, n, s4, s5);
+            } else
+#endif
+            {
+                pass2_range(nb, all, i, 0, i, s4, s5);
+                pass2_range(nb, all, i, i + 1, n, s4, s5);
             }
         }
         for (int c = 0; c < 3; c++) {
