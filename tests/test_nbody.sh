@@ -376,4 +376,19 @@ sed 's/^# h_prev = .*/# h_prev = -1/' x.snap > hp.snap
 expect 1 "sx8.mote:2:20: error: read: hp.snap: h_prev must be >= 0" sx8.mote "${G}read snapshot file=hp.snap\n"
 [ ! -e e.snap ] && [ ! -e g.dat ] && ok || bad "a failed script wrote a snapshot"
 
+# ---- norm=global (spec 4.5): the Jorba-Zou step, one norm for all bodies; kept by save/load
+for nm in nearest global; do
+    printf '%bgenerate ring\nintegrator taylor order=auto tol=1e-16 norm=%s\nintegrate to=0.0099957882967408613\ncheck ring\nsave n_%s.state\n' "$G" "$nm" "$nm" > ng.mote
+    "$MOTE" run ng.mote > ng_$nm.txt 2> err.txt || bad "norm=$nm failed: $(cat err.txt)"
+done
+sn=$(sed -n 's/.* steps=\([0-9]*\) .*/\1/p' ng_nearest.txt | tail -1); sg=$(sed -n 's/.* steps=\([0-9]*\) .*/\1/p' ng_global.txt | tail -1)
+eg=$(sed -n 's/^check ring:.*error \([^,]*\),.*/\1/p' ng_global.txt)
+[ -n "$sg" ] && [ "$sg" -ne "$sn" ] && awk -v e="$eg" 'BEGIN { exit !(e != "" && e + 0 <= 1e-12) }' && ok || bad "norm=global: $sg steps (nearest $sn), error '$eg'"
+grep -q '^taylor 1 20 0 2 ' n_global.state && grep -q '^taylor 1 20 0 1 ' n_nearest.state && ok || bad "the state file does not keep norm= ($(grep '^taylor' n_global.state))"
+printf '%bload n_global.state\nsave n_g2.state\n' "$G" > ng2.mote
+"$MOTE" run ng2.mote > /dev/null 2>&1 && cmp -s n_global.state n_g2.state && ok || bad "norm=global: load; save changed the state"
+expect 1 "ng3.mote:3:45: error: integrator taylor: norm must be nearest or global, found 'max'" ng3.mote "${G}generate ring\nintegrator taylor order=auto tol=1e-16 norm=max\n"
+expect 1 "ng4.mote:3:32: error: integrator taylor: norm= is for the adaptive step (tol=), not with dt=" ng4.mote "${G}generate ring\nintegrator taylor dt=1e-4 norm=global\n"
+expect 1 "ng5.mote:3:35: error: integrator galactica: no option norm=" ng5.mote "${G}generate ring\nintegrator galactica dt=1e-6 norm=global\n"
+
 mote_test_end

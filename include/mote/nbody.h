@@ -60,6 +60,7 @@ enum { MOTE_NB_GALACTICA = 0, MOTE_NB_TAYLOR = 1 };
 #define MOTE_NB_RE 1.5e-15                 /* electron radius, m */
 #define MOTE_NB_BOHR 5.29167e-11           /* m */
 
+#define MOTE_NB_NORM_GLOBAL 2 /* mote_nb.adaptive: the Jorba-Zou global norm (spec 4.5) */
 #define MOTE_NB_NAME 24 /* room for a body name and its terminating zero */
 
 /* The scales of a run: x = x_m / Am, m_o = m / M, v = v_m kv, T = t kt (spec 3.5). */
@@ -128,7 +129,9 @@ typedef struct {
     int integrator;         /* MOTE_NB_GALACTICA or MOTE_NB_TAYLOR */
     int taylor_order;       /* p, 2 ... MOTE_NB_TAYLOR_MAX */
     int taylor_memory;      /* 0 automatic, 1 store, 2 recompute */
-    int adaptive;           /* 1: the step from the Taylor terms (spec 4.5), else dt */
+    int adaptive;           /* 1: the step from the Taylor terms (spec 4.5), each body against
+                             * its nearest neighbour; MOTE_NB_NORM_GLOBAL: one global norm
+                             * (Taylor only); 0: dt */
     mote_real tol, safety, hmin, hmax; /* its tolerance, safety factor, bounds (0: none) */
     mote_real hprev;           /* the last adaptive step (0: none yet) */
     mote_real *tx;             /* (p + 1) blocks of 3n coefficients x^[n] */

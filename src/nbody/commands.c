@@ -626,8 +626,8 @@ static int parse_order(const mote_call *c, int taylor, int *order, mote_err *err
 
 static const char *const GALACTICA_OPTS[] = {"dt",     "order", "first_step", "tol",
                                              "safety", "hmin",  "hmax",       NULL};
-static const char *const TAYLOR_OPTS[] = {"dt",     "order", "tol",  "memory",
-                                          "safety", "hmin",  "hmax", NULL};
+static const char *const TAYLOR_OPTS[] = {"dt",   "order", "tol",  "memory", "safety",
+                                          "hmin", "hmax",  "norm", NULL};
 
 static int check_integrator(void *vm, const mote_call *c, mote_err *err)
 {
@@ -641,8 +641,17 @@ static int check_integrator(void *vm, const mote_call *c, mote_err *err)
             return mote_call_fail(err, c, c->nargs + k, MOTE_EINVAL,
                                   "integrator %s: no option %s= (options: %s)", name,
                                   c->opts[k].key,
-                                  taylor ? "dt, order, tol, memory, safety, hmin, hmax"
+                                  taylor ? "dt, order, tol, memory, safety, hmin, hmax, norm"
                                          : "dt, order, first_step, tol, safety, hmin, hmax");
+    const mote_arg *norm = mote_call_opt(c, "norm");
+    if (norm && strcmp(norm->text, "nearest") != 0 && strcmp(norm->text, "global") != 0)
+        return mote_call_fail(err, c, mote_call_opt_index(c, "norm"), MOTE_EINVAL,
+                              "integrator taylor: norm must be nearest or global, found '%s'",
+                              norm->text);
+    if (norm && mote_call_opt(c, "dt"))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "norm"), MOTE_EINVAL,
+                              "integrator taylor: norm= is for the adaptive step (tol=), not "
+                              "with dt=");
     if (taylor && mote_call_opt(c, "dt") && mote_call_opt(c, "tol") &&
         strcmp(mote_call_opt(c, "order") ? mote_call_opt(c, "order")->text : "", "auto") != 0)
         return mote_call_fail(err, c, mote_call_opt_index(c, "tol"), MOTE_EINVAL,
@@ -677,6 +686,9 @@ static int run_integrator(void *vm, const mote_call *c, mote_err *err)
                                                                     : 0;
     /* adaptive: a Taylor run without dt=, a Galactica run with tol= */
     m->nb.adaptive = taylor ? mote_call_opt(c, "dt") == NULL : mote_call_opt(c, "tol") != NULL;
+    const mote_arg *norm = mote_call_opt(c, "norm");
+    if (taylor && m->nb.adaptive && norm && strcmp(norm->text, "global") == 0)
+        m->nb.adaptive = MOTE_NB_NORM_GLOBAL;
     m->nb.tol = opt_real_or(c, "tol", m->nb.tol);
     m->nb.safety = opt_real_or(c, "safety", m->nb.safety);
     m->nb.hmin = opt_real_or(c, "hmin", m->nb.hmin);
@@ -1620,6 +1632,11 @@ static const char HELP_INTEGRATOR[] =
     "1e-19 and 1e-33 in the long-double and quad builds)\n"
     "times the distance to its nearest neighbour, the smallest of them times\n"
     "safety=S (default 1), at most twice the previous step, within [hmin, hmax].\n"
+    "norm=global takes instead one scale for all bodies (Jorba and Zou): h from\n"
+    "the largest |x^[j]| over every coordinate, j = P-1 and P, against\n"
+    "max(E, E |x|_inf); the default norm=nearest lets each body's nearest\n"
+    "neighbour set its own scale (satellites and close pairs control their own\n"
+    "accuracy, which one global norm does not).\n"
     "order=auto takes P = ceil(1 - ln(E)/2) (E = 1e-16: P = 20).\n"
     "memory=store keeps the pairs' histories between passes (2 (P-1) N^2 reals),\n"
     "and each pair solved once; recompute keeps memory proportional to N (each\n"
@@ -1834,9 +1851,10 @@ static const mote_cmd nb_commands[] = {
      "generate KIND [options]", "the exact gravity ring or Coulomb ring of the seed document",
      HELP_GENERATE, check_generate, run_generate},
     {"integrator", NULL,
-     "s dt=r>0 order=s first_step=r(0,1] tol=r(0,1) memory=s safety=r>0 hmin=r>=0 hmax=r>0",
+     "s dt=r>0 order=s first_step=r(0,1] tol=r(0,1) memory=s safety=r>0 hmin=r>=0 hmax=r>0 "
+     "norm=s",
      "integrator NAME [dt=H] [order=K] [first_step=F] [tol=E] [memory=M] [safety=S] "
-     "[hmin=A] [hmax=B]",
+     "[hmin=A] [hmax=B] [norm=nearest|global]",
      "choose and set the integrator (galactica or taylor)",
      HELP_INTEGRATOR, check_integrator, run_integrator},
     {"compensated", NULL, "s", "compensated on|off", "compensated summation (default on)",

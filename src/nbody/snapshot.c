@@ -27,8 +27,9 @@ void nb_write_header(FILE *f, const mote_nb *nb)
     if (nb->integrator == MOTE_NB_TAYLOR) {
         fprintf(f, "# integrator = taylor\n# order = %d\n", nb->taylor_order);
         if (nb->adaptive)
-            fprintf(f, "# tol = %s\n# safety = %s\n", mote_real_str(nb->tol, b[0]),
-                    mote_real_str(nb->safety, b[1]));
+            fprintf(f, "# tol = %s\n# safety = %s\n# norm = %s\n", mote_real_str(nb->tol, b[0]),
+                    mote_real_str(nb->safety, b[1]),
+                    nb->adaptive == MOTE_NB_NORM_GLOBAL ? "global" : "nearest");
         else
             fprintf(f, "# dt = %s\n", mote_real_str(nb->dt, b[0]));
     } else
@@ -144,7 +145,7 @@ int nb_snapshot_read(mote_nb *nb, const char *path, mote_err *err)
     mote_real v[K_NREAL] = {0}, dt = nb->dt, tol = nb->tol, safety = nb->safety;
     int have[K_NREAL] = {0}, integ = MOTE_NB_GALACTICA, order = -1, taylor_adaptive = 0;
     unsigned long long n = 0, steps = 0, restart = 1, ref = 0, lsls = 0;
-    int have_n = 0, have_ref = 0, compensated = nb->compensated;
+    int have_n = 0, have_ref = 0, compensated = nb->compensated, norm_global = 0;
     double units[7] = {0}; /* M_Ss Am kv kt G e2 permittivity */
     static const char *const UKEY[7] = {"M_Ss", "Am", "kv", "kt", "G", "e2", "permittivity"};
     char *s;
@@ -175,6 +176,11 @@ int nb_snapshot_read(mote_nb *nb, const char *path, mote_err *err)
                     rc = mote_fail(err, MOTE_EINVAL, "%s:%ld: the snapshot is a %s run, this "
                                    "script is a %s run", path, r.l.line, grav ? "gravity" :
                                    "Coulomb", nb->kind == MOTE_NB_GRAVITY ? "gravity" : "Coulomb");
+            } else if (strcmp(key, "norm") == 0) {
+                if (strcmp(val, "global") == 0)
+                    norm_global = 1;
+                else if (strcmp(val, "nearest") != 0)
+                    rc = bad(&r, "expected nearest or global after '# ", "norm");
             } else if (strcmp(key, "integrator") == 0) {
                 if (strcmp(val, "taylor") == 0)
                     integ = MOTE_NB_TAYLOR;
@@ -306,7 +312,8 @@ int nb_snapshot_read(mote_nb *nb, const char *path, mote_err *err)
     else if (order >= 0)
         t.order = order;
     t.dt = dt;
-    t.adaptive = integ == MOTE_NB_TAYLOR ? taylor_adaptive : nb->adaptive;
+    t.adaptive = integ == MOTE_NB_TAYLOR ? taylor_adaptive * (norm_global ? MOTE_NB_NORM_GLOBAL : 1)
+                                         : nb->adaptive;
     t.tol = tol;
     t.safety = safety;
     t.hmin = nb->hmin;

@@ -228,8 +228,9 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
         int integ, order, mem, adapt, used = 0;
         if (!s || sscanf(s, "taylor %d %d %d %d%n", &integ, &order, &mem, &adapt, &used) != 4 ||
             (integ != MOTE_NB_GALACTICA && integ != MOTE_NB_TAYLOR) || order < 2 ||
-            order > MOTE_NB_TAYLOR_MAX || mem < 0 || mem > 2 || (adapt != 0 && adapt != 1))
-            rc = fail(&r, "'taylor INTEGRATOR(0|1) ORDER(2..60) MEMORY(0..2) ADAPTIVE(0|1)' and "
+            order > MOTE_NB_TAYLOR_MAX || mem < 0 || mem > 2 || adapt < 0 ||
+            adapt > MOTE_NB_NORM_GLOBAL)
+            rc = fail(&r, "'taylor INTEGRATOR(0|1) ORDER(2..60) MEMORY(0..2) ADAPTIVE(0..2)' and "
                           "tol safety hmin hmax hprev", s);
         else
             rc = reals(&r, s + used, NULL, v, 5);

@@ -241,6 +241,23 @@ static mote_real adaptive_step(const mote_nb *nb, const mote_real *X, int p)
     const uint32_t N = nb->n;
     const size_t blk = 3 * (size_t)N;
     mote_real h = INFINITY;
+    if (nb->adaptive == MOTE_NB_NORM_GLOBAL) { /* Jorba-Zou: one infinity norm over all bodies */
+        mote_real x0 = 0, nj[2] = {0, 0};
+        for (uint32_t i = 0; i < N; i++) {
+            if (!nb->active[i])
+                continue;
+            for (int c = 0; c < 3; c++) {
+                x0 = fmax(x0, fabs(X[3 * i + c]));
+                for (int j = p - 1; j <= p; j++)
+                    nj[j - p + 1] = fmax(nj[j - p + 1], fabs(X[(size_t)j * blk + 3 * i + c]));
+            }
+        }
+        const mote_real eps = fmax(nb->tol, nb->tol * x0);
+        for (int j = p - 1; j <= p; j++)
+            if (nj[j - p + 1] > 0)
+                h = fmin(h, pow(eps / nj[j - p + 1], (mote_real)1 / j));
+        return nb_step_bounds(nb, h, nb->hmax > 0 ? nb->hmax : 1);
+    }
     for (uint32_t i = 0; i < N; i++) {
         if (!nb->active[i])
             continue;
