@@ -113,31 +113,42 @@ static inline void pass1_sse2(const mote_nb *nb, uint32_t i, uint32_t k0, uint32
 }
 #endif
 
-/* Pass 1: a_i = c_i sum A0, j_i = c_i sum A1 (spec 4.2 step 1), the sources in index order. */
+/* Pass 1 for target i: a_i = c_i sum A0, j_i = c_i sum A1. */
+static void pass1_target(mote_nb *nb, int all, uint32_t i)
+{
+    const uint32_t n = nb->n;
+    mote_real a[3] = {0, 0, 0}, j[3] = {0, 0, 0};
+    if (nb->active[i]) {
+#ifdef NB_SSE2
+        if (all) {
+            pass1_sse2(nb, i, 0, i, a, j);
+            pass1_sse2(nb, i, i + 1, n, a, j);
+        } else
+#endif
+        {
+            pass1_range(nb, all, i, 0, i, a, j);
+            pass1_range(nb, all, i, i + 1, n, a, j);
+        }
+    }
+    for (int c = 0; c < 3; c++) {
+        nb->acc[3 * i + c] = nb->c[i] * a[c];
+        nb->jerk[3 * i + c] = nb->c[i] * j[c];
+    }
+}
+
+/* Pass 1 (spec 4.2 step 1) over every target; OpenMP only where it pays (an OpenMP region costs
+ * an allocation and a wake-up even on one thread), with the same bits either way. */
 static void pass1(mote_nb *nb)
 {
     const uint32_t n = nb->n;
     const int nt = nb->threads > 1 ? nb->threads : 1, all = all_active(nb);
-    (void)nt;
-#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1 && n >= 64)
-    for (uint32_t i = 0; i < n; i++) {
-        mote_real a[3] = {0, 0, 0}, j[3] = {0, 0, 0};
-        if (nb->active[i]) {
-#ifdef NB_SSE2
-            if (all) {
-                pass1_sse2(nb, i, 0, i, a, j);
-                pass1_sse2(nb, i, i + 1, n, a, j);
-            } else
-#endif
-            {
-                pass1_range(nb, all, i, 0, i, a, j);
-                pass1_range(nb, all, i, i + 1, n, a, j);
-            }
-        }
-        for (int c = 0; c < 3; c++) {
-            nb->acc[3 * i + c] = nb->c[i] * a[c];
-            nb->jerk[3 * i + c] = nb->c[i] * j[c];
-        }
+    if (nt > 1 && n >= 64) {
+#pragma omp parallel for num_threads(nt) schedule(static)
+        for (uint32_t i = 0; i < n; i++)
+            pass1_target(nb, all, i);
+    } else {
+        for (uint32_t i = 0; i < n; i++)
+            pass1_target(nb, all, i);
     }
 }
 
@@ -253,32 +264,41 @@ static inline void pass2_sse2(const mote_nb *nb, uint32_t i, uint32_t k0, uint32
 }
 #endif
 
-/* Pass 2: d4_i = c_i sum A2, d5_i = c_i sum A3 from the relative acceleration and jerk of pass 1
- * (spec 4.2 step 2); r, alpha and r^3 are recomputed, not stored. */
+/* Pass 2 for target i: d4_i = c_i sum A2, d5_i = c_i sum A3 from the relative acceleration and
+ * jerk of pass 1 (spec 4.2 step 2); r, alpha and r^3 are recomputed, not stored. */
+static void pass2_target(mote_nb *nb, int all, uint32_t i)
+{
+    const uint32_t n = nb->n;
+    mote_real s4[3] = {0, 0, 0}, s5[3] = {0, 0, 0};
+    if (nb->active[i]) {
+#ifdef NB_SSE2
+        if (all) {
+            pass2_sse2(nb, i, 0, i, s4, s5);
+            pass2_sse2(nb, i, i + 1, n, s4, s5);
+        } else
+#endif
+        {
+            pass2_range(nb, all, i, 0, i, s4, s5);
+            pass2_range(nb, all, i, i + 1, n, s4, s5);
+        }
+    }
+    for (int c = 0; c < 3; c++) {
+        nb->d4[3 * i + c] = nb->c[i] * s4[c];
+        nb->d5[3 * i + c] = nb->c[i] * s5[c];
+    }
+}
+
 static void pass2(mote_nb *nb)
 {
     const uint32_t n = nb->n;
     const int nt = nb->threads > 1 ? nb->threads : 1, all = all_active(nb);
-    (void)nt;
-#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1 && n >= 64)
-    for (uint32_t i = 0; i < n; i++) {
-        mote_real s4[3] = {0, 0, 0}, s5[3] = {0, 0, 0};
-        if (nb->active[i]) {
-#ifdef NB_SSE2
-            if (all) {
-                pass2_sse2(nb, i, 0, i, s4, s5);
-                pass2_sse2(nb, i, i + 1, n, s4, s5);
-            } else
-#endif
-            {
-                pass2_range(nb, all, i, 0, i, s4, s5);
-                pass2_range(nb, all, i, i + 1, n, s4, s5);
-            }
-        }
-        for (int c = 0; c < 3; c++) {
-            nb->d4[3 * i + c] = nb->c[i] * s4[c];
-            nb->d5[3 * i + c] = nb->c[i] * s5[c];
-        }
+    if (nt > 1 && n >= 64) {
+#pragma omp parallel for num_threads(nt) schedule(static)
+        for (uint32_t i = 0; i < n; i++)
+            pass2_target(nb, all, i);
+    } else {
+        for (uint32_t i = 0; i < n; i++)
+            pass2_target(nb, all, i);
     }
 }
 

@@ -22,21 +22,39 @@
 
 #include "nb.h"
 
-/* s^[n] and f^[n] of one pair from R^[0..n] and the lower orders (s, f hold orders 0 .. n-1). */
-static inline void sf_order(int n, mote_real (*R)[3], mote_real *s, mote_real *f)
+/* s^[n] and f^[n] of one pair from R^[0..n] and the lower orders (s, f hold orders 0 .. n-1).
+ * s^[n] = sum_j R^[j] . R^[n-j] is symmetric in j <-> n - j, so half of it is formed and
+ * doubled; the sums run on two accumulators (even and odd j), which shortens the chain of
+ * dependent additions. */
+static inline void sf_order(int n, mote_real (*R)[3], mote_real *s, mote_real *f,
+                            mote_real f0inv)
 {
-    mote_real sn = 0;
-    for (int j = 0; j <= n; j++)
-        sn += R[j][0] * R[n - j][0] + R[j][1] * R[n - j][1] + R[j][2] * R[n - j][2];
+    mote_real s0 = 0, s1 = 0;
+    int j = 0;
+    for (; 2 * j + 2 < n; j += 2) { /* pairs (j, n - j) with j < n - j, two at a time */
+        s0 += R[j][0] * R[n - j][0] + R[j][1] * R[n - j][1] + R[j][2] * R[n - j][2];
+        s1 += R[j + 1][0] * R[n - j - 1][0] + R[j + 1][1] * R[n - j - 1][1] +
+              R[j + 1][2] * R[n - j - 1][2];
+    }
+    for (; 2 * j < n; j++)
+        s0 += R[j][0] * R[n - j][0] + R[j][1] * R[n - j][1] + R[j][2] * R[n - j][2];
+    mote_real sn = 2 * (s0 + s1);
+    if (n % 2 == 0) /* the middle term j = n/2 once */
+        sn += R[n / 2][0] * R[n / 2][0] + R[n / 2][1] * R[n / 2][1] + R[n / 2][2] * R[n / 2][2];
     s[n] = sn;
     if (n == 0) {
         f[0] = 1.0 / (sn * sqrt(sn));
         return;
     }
-    mote_real acc = 0;
-    for (int j = 0; j < n; j++)
-        acc += (0.5 * j - 1.5 * n) * s[n - j] * f[j];
-    f[n] = acc / (n * s[0]);
+    mote_real a0 = 0, a1 = 0;
+    j = 0;
+    for (; j + 1 < n; j += 2) {
+        a0 += (0.5 * j - 1.5 * n) * s[n - j] * f[j];
+        a1 += (0.5 * (j + 1) - 1.5 * n) * s[n - j - 1] * f[j + 1];
+    }
+    if (j < n)
+        a0 += (0.5 * j - 1.5 * n) * s[n - j] * f[j];
+    f[n] = (a0 + a1) * (f0inv / n); /* f0inv = 1 / s^[0], so f^[n] = sum / (n s^[0]) */
 }
 
 /* The index of the unordered pair i < k among N bodies. */
@@ -61,8 +79,11 @@ static inline void pair_G(mote_nb *nb, const mote_real *X, size_t blk, uint32_t 
         }
         from = n0;
     }
-    for (int n = from; n <= n1; n++)
-        sf_order(n, R, s, f);
+    if (from == 0)
+        sf_order(0, R, s, f, 0);
+    const mote_real f0inv = 1 / s[0];
+    for (int n = from > 0 ? from : 1; n <= n1; n++)
+        sf_order(n, R, s, f, f0inv);
     if (store)
         for (int n = n0; n <= n1; n++) {
             nb->ts[(size_t)n * npairs + q] = s[n];
@@ -117,26 +138,125 @@ static void target(mote_nb *nb, mote_real *X, size_t blk, uint32_t i, int n0, in
                 nb->c[i] * sum[n - n0][a] / ((mote_real)(n + 1) * (n + 2));
 }
 
+#if MOTE_NB_PRECISION == 1 && defined(__SSE2__)
+#include <emmintrin.h>
+#define NB_SSE2_PAIRS 1
+
+static inline __m128d dot3v(const __m128d a[3], const __m128d b[3])
+{
+    return _mm_add_pd(_mm_add_pd(_mm_mul_pd(a[0], b[0]), _mm_mul_pd(a[1], b[1])),
+                      _mm_mul_pd(a[2], b[2]));
+}
+
+/* pair_G for the two pairs (i, k) and (i, k + 1) (store mode, indices q and q + 1) in the two
+ * lanes of SSE2 registers: every lane does exactly the arithmetic of pair_G and sf_order, in
+ * the same order, so the results are the same bits as two calls of pair_G. */
+static void pair_G2(mote_nb *nb, const double *X, size_t blk, uint32_t i, uint32_t k, size_t q,
+                    size_t npairs, int n0, int n1, double (*G0)[3], double (*G1)[3])
+{
+    __m128d R[64][3], s[64], f[64];
+    for (int j = 0; j <= n1; j++) {
+        const double *xi = X + j * blk + 3 * (size_t)i, *xk = X + j * blk + 3 * (size_t)k;
+        for (int a = 0; a < 3; a++)
+            R[j][a] = _mm_sub_pd(_mm_set1_pd(xi[a]), _mm_set_pd(xk[3 + a], xk[a]));
+    }
+    for (int j = 0; j < n0; j++) { /* the histories of the earlier passes */
+        s[j] = _mm_loadu_pd(nb->ts + (size_t)j * npairs + q);
+        f[j] = _mm_loadu_pd(nb->tf + (size_t)j * npairs + q);
+    }
+    const __m128d zero = _mm_setzero_pd(), two = _mm_set1_pd(2), one = _mm_set1_pd(1);
+    if (n0 == 0) { /* order 0: s = R.R, f = s^(-3/2) */
+        __m128d sn = _mm_add_pd(_mm_mul_pd(two, _mm_add_pd(zero, zero)), dot3v(R[0], R[0]));
+        s[0] = sn;
+        f[0] = _mm_div_pd(one, _mm_mul_pd(sn, _mm_sqrt_pd(sn)));
+    }
+    const __m128d f0inv = _mm_div_pd(one, s[0]);
+    for (int n = n0 > 0 ? n0 : 1; n <= n1; n++) {
+        __m128d s0 = zero, s1 = zero;
+        int j = 0;
+        for (; 2 * j + 2 < n; j += 2) {
+            s0 = _mm_add_pd(s0, dot3v(R[j], R[n - j]));
+            s1 = _mm_add_pd(s1, dot3v(R[j + 1], R[n - j - 1]));
+        }
+        for (; 2 * j < n; j++)
+            s0 = _mm_add_pd(s0, dot3v(R[j], R[n - j]));
+        __m128d sn = _mm_mul_pd(two, _mm_add_pd(s0, s1));
+        if (n % 2 == 0)
+            sn = _mm_add_pd(sn, dot3v(R[n / 2], R[n / 2]));
+        s[n] = sn;
+        __m128d a0 = zero, a1 = zero;
+        j = 0;
+        for (; j + 1 < n; j += 2) {
+            a0 = _mm_add_pd(a0, _mm_mul_pd(_mm_mul_pd(_mm_set1_pd(0.5 * j - 1.5 * n), s[n - j]),
+                                           f[j]));
+            a1 = _mm_add_pd(a1, _mm_mul_pd(_mm_mul_pd(_mm_set1_pd(0.5 * (j + 1) - 1.5 * n),
+                                                      s[n - j - 1]),
+                                           f[j + 1]));
+        }
+        if (j < n)
+            a0 = _mm_add_pd(a0, _mm_mul_pd(_mm_mul_pd(_mm_set1_pd(0.5 * j - 1.5 * n), s[n - j]),
+                                           f[j]));
+        f[n] = _mm_mul_pd(_mm_add_pd(a0, a1), _mm_div_pd(f0inv, _mm_set1_pd((double)n)));
+    }
+    for (int n = n0; n <= n1; n++) {
+        _mm_storeu_pd(nb->ts + (size_t)n * npairs + q, s[n]);
+        _mm_storeu_pd(nb->tf + (size_t)n * npairs + q, f[n]);
+        __m128d g[3] = {zero, zero, zero};
+        for (int j = 0; j <= n; j++)
+            for (int a = 0; a < 3; a++)
+                g[a] = _mm_add_pd(g[a], _mm_mul_pd(f[j], R[n - j][a]));
+        for (int a = 0; a < 3; a++) {
+            _mm_storel_pd(&G0[n - n0][a], g[a]);
+            _mm_storeh_pd(&G1[n - n0][a], g[a]);
+        }
+    }
+}
+#endif
+
+/* Phase 1 for the pairs (i, k > i) of body i (store mode). */
+static void pairs_of(mote_nb *nb, mote_real *X, size_t blk, uint32_t i, int n0, int n1,
+                     mote_real (*Gb)[2][3])
+{
+    const uint32_t N = nb->n;
+    const size_t npairs = (size_t)N * (N - 1) / 2;
+    if (!nb->active[i])
+        return;
+    uint32_t k = i + 1;
+#ifdef NB_SSE2_PAIRS
+    for (; k + 1 < N && nb->active[k] && nb->active[k + 1]; k += 2) { /* two pairs at a time */
+        const size_t q = upair(i, k, N);
+        pair_G2(nb, X, blk, i, k, q, npairs, n0, n1, Gb[q], Gb[q + 1]);
+    }
+#endif
+    for (; k < N; k++)
+        if (nb->active[k])
+            pair_G(nb, X, blk, i, k, upair(i, k, N), npairs, n0, n1, 1, Gb[upair(i, k, N)]);
+}
+
+/* One pass over every body; OpenMP only where it pays (an OpenMP region costs an allocation and
+ * a wake-up even on one thread), with the same bits either way. */
 static void pass(mote_nb *nb, mote_real *X, int n0, int top, int store)
 {
     const uint32_t N = nb->n;
-    const size_t blk = 3 * (size_t)N, npairs = (size_t)N * (N - 1) / 2;
+    const size_t blk = 3 * (size_t)N;
     const int n1 = n0 + 1 <= top ? n0 + 1 : n0;
     const int nt = nb->threads > 1 ? nb->threads : 1;
-    (void)nt;
     mote_real (*Gb)[2][3] = store ? (mote_real (*)[2][3])nb->tg : NULL;
-    if (store) { /* phase 1: each unordered pair once */
-#pragma omp parallel for num_threads(nt) schedule(dynamic, 16) if (nt > 1 && N >= 64)
-        for (uint32_t i = 0; i < N; i++) {
-            if (!nb->active[i])
-                continue;
-            for (uint32_t k = i + 1; k < N; k++)
-                if (nb->active[k])
-                    pair_G(nb, X, blk, i, k, upair(i, k, N), npairs, n0, n1, 1,
-                           Gb[upair(i, k, N)]);
+    if (nt > 1 && N >= 64) {
+        if (store) { /* phase 1: each unordered pair once */
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 16)
+            for (uint32_t i = 0; i < N; i++)
+                pairs_of(nb, X, blk, i, n0, n1, Gb);
         }
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 16)
+        for (uint32_t i = 0; i < N; i++)
+            if (nb->active[i])
+                target(nb, X, blk, i, n0, n1, Gb);
+        return;
     }
-#pragma omp parallel for num_threads(nt) schedule(dynamic, 16) if (nt > 1 && N >= 64)
+    if (store)
+        for (uint32_t i = 0; i < N; i++)
+            pairs_of(nb, X, blk, i, n0, n1, Gb);
     for (uint32_t i = 0; i < N; i++)
         if (nb->active[i])
             target(nb, X, blk, i, n0, n1, Gb);
@@ -258,6 +378,8 @@ static mote_real adaptive_step(const mote_nb *nb, const mote_real *X, int p)
                 h = fmin(h, pow(eps / nj[j - p + 1], (mote_real)1 / j));
         return nb_step_bounds(nb, h, nb->hmax > 0 ? nb->hmax : 1);
     }
+    /* min_i (tol l_i / |x_i^[j]|)^(1/j) = (min_i tol l_i / |x_i^[j]|)^(1/j): one pow per order */
+    mote_real ratio[2] = {INFINITY, INFINITY};
     for (uint32_t i = 0; i < N; i++) {
         if (!nb->active[i])
             continue;
@@ -267,16 +389,20 @@ static mote_real adaptive_step(const mote_nb *nb, const mote_real *X, int p)
                 continue;
             mote_real d0 = X[3 * i] - X[3 * k], d1 = X[3 * i + 1] - X[3 * k + 1],
                    d2 = X[3 * i + 2] - X[3 * k + 2];
-            l2 = fmin(l2, d0 * d0 + d1 * d1 + d2 * d2);
+            const mote_real r2 = d0 * d0 + d1 * d1 + d2 * d2;
+            l2 = r2 < l2 ? r2 : l2; /* (not fmin: a libm call per pair) */
         }
         mote_real l = isfinite(l2) ? sqrt(l2) : 1.0; /* a single body: its own scale */
         for (int j = p - 1; j <= p; j++) {
             const mote_real *c = X + (size_t)j * blk + 3 * i;
             mote_real nrm = fmax(fabs(c[0]), fmax(fabs(c[1]), fabs(c[2])));
-            if (nrm > 0)
-                h = fmin(h, pow(nb->tol * l / nrm, 1.0 / j));
+            if (nrm > 0 && nb->tol * l / nrm < ratio[j - p + 1])
+                ratio[j - p + 1] = nb->tol * l / nrm;
         }
     }
+    for (int j = p - 1; j <= p; j++)
+        if (ratio[j - p + 1] < INFINITY)
+            h = fmin(h, pow(ratio[j - p + 1], (mote_real)1 / j));
     return nb_step_bounds(nb, h, nb->hmax > 0 ? nb->hmax : 1);
 }
 
