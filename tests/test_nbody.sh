@@ -54,14 +54,14 @@ printf '%bgenerate atom_ring\nsave a.state\n' "$C" > s4.mote
 expect 2 "s5.mote:2:1: error: a.state:3: the state is a Coulomb run, this script is a gravity run" s5.mote "${G}load a.state\n"
 sed 's/^mote-state 2$/mote-state 7/' c1.state > v7.state
 expect 1 "s6.mote:2:6: error: load: v7.state:1: unsupported state file version 7" s6.mote "${G}load v7.state\n"
-head -n 14 c1.state > cut.state
-expect 2 "s7.mote:2:1: error: cut.state:15: file ends early: n = 30, but only 2 body lines follow" s7.mote "${G}load cut.state\n"
-awk 'NR == 13 { $5 = "nan" } { print }' c1.state > nan.state
-expect 2 "s8.mote:2:1: error: nan.state:13: body 1: expected 23 numbers" s8.mote "${G}load nan.state\n"
-awk 'NR == 13 { $24 = "9lives" } { print }' c1.state > badname.state
-expect 2 "s8b.mote:2:1: error: badname.state:13: body 1: expected 23 numbers (m q active radius x y z vx vy vz cx cy cz cvx cvy cvz sx sy sz d5x d5y d5z Et), all finite, and a name or -" s8b.mote "${G}load badname.state\n"
+head -n 15 c1.state > cut.state
+expect 2 "s7.mote:2:1: error: cut.state:16: file ends early: n = 30, but only 2 body lines follow" s7.mote "${G}load cut.state\n"
+awk 'NR == 14 { $5 = "nan" } { print }' c1.state > nan.state
+expect 2 "s8.mote:2:1: error: nan.state:14: body 1: expected 23 numbers" s8.mote "${G}load nan.state\n"
+awk 'NR == 14 { $24 = "9lives" } { print }' c1.state > badname.state
+expect 2 "s8b.mote:2:1: error: badname.state:14: body 1: expected 23 numbers (m q active radius x y z vx vy vz cx cy cz cvx cvy cvz sx sy sz d5x d5y d5z Et), all finite, and a name or -" s8b.mote "${G}load badname.state\n"
 # a state file of the first version (no names) still loads, to the same run
-awk '/^mote-state/ { print "mote-state 1"; next } / -$/ { sub(/ -$/, "") } { print }' c1.state > v1.state
+awk '/^mote-state/ { print "mote-state 1"; next } /^doubling / { next } / -$/ { sub(/ -$/, "") } { print }' c1.state > v1.state
 printf '%bload v1.state\nsave v1b.state\n' "$G" > s8c.mote
 "$MOTE" run s8c.mote > /dev/null 2>&1 && cmp -s c1.state v1b.state && ok || bad "a version-1 state did not load to the same state"
 sed 's/^n 30$/n -1/' c1.state > neg.state
@@ -153,7 +153,7 @@ printf '%b' "${G}merge on\n${HB}integrate steps=40\n" > ap2.mote
 "$MOTE" run ap2.mote > out.txt 2> err.txt && ! grep -q 'warning' out.txt && grep -q 'merges=1$' out.txt && ok || bad "approach control: $(cat out.txt err.txt)"
 expect 1 "b17.mote:2:13: error: merge: bt must be in (0, 1]" b17.mote "${G}merge on bt=0\n"
 awk '$1 == "merging" { $8 = 0 } { print }' ap.state > apbad.state
-expect 2 "s8.mote:2:1: error: apbad.state:9: merging: need 0 < bt <= 1" s8.mote "${G}load apbad.state\n"
+expect 2 "s8.mote:2:1: error: apbad.state:10: merging: need 0 < bt <= 1" s8.mote "${G}load apbad.state\n"
 expect 1 "s9.mote:2:1: error: solar_system: merge_inner needs the Sun" s9.mote "${G}generate solar_system data=km.dat bodies=Earth,Jupiter merge_inner=on\n"
 : > empty.dat
 expect 1 "s10.mote:2:1: error: empty.dat: empty file" s10.mote "${G}generate solar_system data=empty.dat\n"
@@ -390,5 +390,20 @@ printf '%bload n_global.state\nsave n_g2.state\n' "$G" > ng2.mote
 expect 1 "ng3.mote:3:45: error: integrator taylor: norm must be nearest or global, found 'max'" ng3.mote "${G}generate ring\nintegrator taylor order=auto tol=1e-16 norm=max\n"
 expect 1 "ng4.mote:3:32: error: integrator taylor: norm= is for the adaptive step (tol=), not with dt=" ng4.mote "${G}generate ring\nintegrator taylor dt=1e-4 norm=global\n"
 expect 1 "ng5.mote:3:35: error: integrator galactica: no option norm=" ng5.mote "${G}generate ring\nintegrator galactica dt=1e-6 norm=global\n"
+
+# ---- step=doubling (spec 7.4, Galactica's literal rule): dt doubles on the dMz blocks, never
+# above dt_max; the rule's state goes through save/load bit for bit
+printf '%bgenerate ring\nintegrator galactica dt=1e-7 step=doubling dt_max=1.6e-6\nintegrate steps=600\nintegrate steps=600\nsave db1.state\n' "$G" > db1.mote
+printf '%bgenerate ring\nintegrator galactica dt=1e-7 step=doubling dt_max=1.6e-6\nintegrate steps=600\nsave dbx.state\nload dbx.state\nintegrate steps=600\nsave db2.state\n' "$G" > db2.mote
+"$MOTE" run db1.mote > out1.txt 2> err.txt && "$MOTE" run db2.mote > out2.txt 2>> err.txt && ok || bad "step=doubling runs failed: $(cat err.txt)"
+cmp -s db1.state db2.state && ok || bad "step=doubling: save/load in the middle changed the run"
+# the nominal step grew (1e-7 -> the cap), and T is the sum of the steps taken (below 1200 x cap)
+awk '$1 == "step" { dt = $2 } $1 == "time" { T = $2 } END { exit !(dt == 1.6e-6 && T > 1200 * 2e-7 && T < 1200 * 1.6e-6) }' db1.state && ok || bad "step=doubling: $(grep -E '^(step|time)' db1.state | tr '\n' ' ')"
+grep -q '^doubling 1 ' db1.state && ok || bad "the state file lacks the doubling line"
+expect 1 "db3.mote:3:35: error: integrator galactica: step=doubling needs dt_max=" db3.mote "${G}generate ring\nintegrator galactica dt=1e-7 step=doubling\n"
+expect 1 "db4.mote:3:37: error: integrator galactica: tol= is for step=adaptive (found step=fixed)" db4.mote "${G}generate ring\nintegrator galactica step=fixed tol=1e-15\n"
+expect 1 "db5.mote:3:27: error: integrator galactica: step must be fixed, adaptive or doubling, found 'halving'" db5.mote "${G}generate ring\nintegrator galactica step=halving\n"
+expect 1 "db6.mote:3:48: error: integrator galactica: dt_max= is for step=adaptive or doubling" db6.mote "${G}generate ring\nintegrator galactica dt=1e-6 step=fixed dt_max=1e-5\n"
+expect 2 "db7.mote:4:1: error: galactica: step=doubling needs dt_max >= dt" db7.mote "${G}generate ring\nintegrator galactica dt=1e-6 step=doubling dt_max=1e-7\nintegrate steps=1\n"
 
 mote_test_end

@@ -133,6 +133,16 @@ typedef struct {
                              * its nearest neighbour; MOTE_NB_NORM_GLOBAL: one global norm
                              * (Taylor only); 0: dt */
     mote_real tol, safety, hmin, hmax; /* its tolerance, safety factor, bounds (0: none) */
+    /* Galactica's literal step rule (spec 7.4, `step=doubling`): dt doubles, up to dt_max, when
+     * the mean of D = |dMz_n - dMz_(n-1)| over a block of 5 steps exceeds 1.1 times the previous
+     * block's; the block after a change is not compared */
+    int doubling;
+    mote_real dt_max;
+    int dbl_have;              /* is dbl_prev set? */
+    mote_real dbl_prev;        /* dMz after the previous step */
+    mote_real dbl_sum;         /* the sum of D in the current block */
+    int dbl_count;             /* steps in the current block */
+    mote_real dbl_mean;        /* the previous block's mean (-1: not to be compared) */
     mote_real hprev;           /* the last adaptive step (0: none yet) */
     mote_real *tx;             /* (p + 1) blocks of 3n coefficients x^[n] */
     size_t tx_cap;
@@ -177,6 +187,9 @@ void mote_nb_from_si(mote_nb *nb, const mote_nb_units *u);
 void mote_nb_barycentric(mote_nb *nb, mote_real xc[3], mote_real vc[3]);
 
 /* ---- the Galactica scheme (spec 4.2, 4.3) --------------------------------------------------- */
+
+/* The aggregated z moment's relative change dMz (spec 3.7) of the current state, in O(N). */
+mote_real mote_nb_dmz(const mote_nb *nb);
 
 /* Take `steps` steps of the nominal length dt; a step without a valid previous fifth
  * derivative (a fresh start) is first_step * dt long. */

@@ -624,8 +624,8 @@ static int parse_order(const mote_call *c, int taylor, int *order, mote_err *err
     return MOTE_OK;
 }
 
-static const char *const GALACTICA_OPTS[] = {"dt",     "order", "first_step", "tol",
-                                             "safety", "hmin",  "hmax",       NULL};
+static const char *const GALACTICA_OPTS[] = {"dt",   "order", "first_step", "tol",    "safety",
+                                             "hmin", "hmax",  "step",       "dt_max", NULL};
 static const char *const TAYLOR_OPTS[] = {"dt",   "order", "tol",  "memory", "safety",
                                           "hmin", "hmax",  "norm", NULL};
 
@@ -642,7 +642,8 @@ static int check_integrator(void *vm, const mote_call *c, mote_err *err)
                                   "integrator %s: no option %s= (options: %s)", name,
                                   c->opts[k].key,
                                   taylor ? "dt, order, tol, memory, safety, hmin, hmax, norm"
-                                         : "dt, order, first_step, tol, safety, hmin, hmax");
+                                         : "dt, order, first_step, tol, safety, hmin, hmax, step, "
+                                           "dt_max");
     const mote_arg *norm = mote_call_opt(c, "norm");
     if (norm && strcmp(norm->text, "nearest") != 0 && strcmp(norm->text, "global") != 0)
         return mote_call_fail(err, c, mote_call_opt_index(c, "norm"), MOTE_EINVAL,
@@ -663,8 +664,25 @@ static int check_integrator(void *vm, const mote_call *c, mote_err *err)
         return mote_call_fail(err, c, mote_call_opt_index(c, "memory"), MOTE_EINVAL,
                               "integrator taylor: memory must be store, recompute or auto, "
                               "found '%s'", mem->text);
+    const mote_arg *st = mote_call_opt(c, "step");
+    const char *mode = st ? st->text : mote_call_opt(c, "tol") ? "adaptive" : "fixed";
+    if (st && strcmp(mode, "fixed") != 0 && strcmp(mode, "adaptive") != 0 &&
+        strcmp(mode, "doubling") != 0)
+        return mote_call_fail(err, c, mote_call_opt_index(c, "step"), MOTE_EINVAL,
+                              "integrator galactica: step must be fixed, adaptive or doubling, "
+                              "found '%s'", mode);
+    if (strcmp(mode, "adaptive") != 0 && mote_call_opt(c, "tol"))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "tol"), MOTE_EINVAL,
+                              "integrator galactica: tol= is for step=adaptive (found step=%s)",
+                              mode);
+    if (strcmp(mode, "doubling") == 0 && !mote_call_opt(c, "dt_max"))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "step"), MOTE_EINVAL,
+                              "integrator galactica: step=doubling needs dt_max=");
+    if (strcmp(mode, "fixed") == 0 && mote_call_opt(c, "dt_max"))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "dt_max"), MOTE_EINVAL,
+                              "integrator galactica: dt_max= is for step=adaptive or doubling");
     int order = 6, rc = parse_order(c, taylor, &order, err);
-    if (!rc && !taylor && mote_call_opt(c, "tol") && mote_call_opt(c, "order") && order != 6)
+    if (!rc && !taylor && strcmp(mode, "adaptive") == 0 && mote_call_opt(c, "order") && order != 6)
         return mote_call_fail(err, c, mote_call_opt_index(c, "tol"), MOTE_EINVAL,
                               "integrator galactica: the adaptive step (tol=) needs order=6");
     return rc;
@@ -685,7 +703,18 @@ static int run_integrator(void *vm, const mote_call *c, mote_err *err)
                               : strcmp(mem->text, "recompute") == 0 ? 2
                                                                     : 0;
     /* adaptive: a Taylor run without dt=, a Galactica run with tol= */
-    m->nb.adaptive = taylor ? mote_call_opt(c, "dt") == NULL : mote_call_opt(c, "tol") != NULL;
+    const mote_arg *st = mote_call_opt(c, "step");
+    m->nb.adaptive = taylor ? mote_call_opt(c, "dt") == NULL
+                            : st ? strcmp(st->text, "adaptive") == 0
+                                 : mote_call_opt(c, "tol") != NULL;
+    m->nb.doubling = !taylor && st && strcmp(st->text, "doubling") == 0;
+    m->nb.dt_max = opt_real_or(c, "dt_max", 0);
+    if (!taylor && m->nb.adaptive && mote_call_opt(c, "dt_max") && !mote_call_opt(c, "hmax"))
+        m->nb.hmax = m->nb.dt_max; /* dt_max bounds the adaptive step too */
+    m->nb.dbl_have = 0; /* the rule's blocks start afresh */
+    m->nb.dbl_count = 0;
+    m->nb.dbl_sum = 0;
+    m->nb.dbl_mean = -1;
     const mote_arg *norm = mote_call_opt(c, "norm");
     if (taylor && m->nb.adaptive && norm && strcmp(norm->text, "global") == 0)
         m->nb.adaptive = MOTE_NB_NORM_GLOBAL;
@@ -1611,7 +1640,9 @@ static const char HELP_GENERATE[] =
 
 static const char HELP_INTEGRATOR[] =
     "    integrator galactica [dt=H] [order=K] [first_step=F] [tol=E]\n"
+    "                         [step=fixed|adaptive|doubling] [dt_max=D]\n"
     "    integrator taylor [dt=H] [order=P|auto] [tol=E] [memory=store|recompute|auto]\n"
+    "                      [norm=nearest|global]\n"
     "\n"
     "`galactica`: Galactica's Taylor scheme (spec 4.2): two passes over all\n"
     "ordered pairs give the acceleration, jerk and the fourth and fifth\n"
@@ -1622,7 +1653,14 @@ static const char HELP_INTEGRATOR[] =
     "correction, Kl4 = 2/3; spec 4.5): after the first step of F dt, the step at\n"
     "which x^[5] = d5/120 and x^[6] = p/720 of every body stay below E times the\n"
     "distance to its nearest neighbour, times safety=S, at most twice the\n"
-    "previous step, within [hmin, hmax] (order 6 only).\n"
+    "previous step, within [hmin, hmax] (order 6 only); step=adaptive says the\n"
+    "same without tol= (then E = 1e-16), and dt_max=D bounds it like hmax.\n"
+    "step=doubling dt_max=D is Galactica's literal rule, for experiments (spec\n"
+    "7.4): D_n = |dMz_n - dMz_(n-1)| is averaged over blocks of 5 steps, and when\n"
+    "a block's mean exceeds 1.1 times the previous block's the nominal step\n"
+    "doubles, never above D; the block after a change, and a block with a step\n"
+    "shortened by a close approach, are not compared. step=fixed (the default\n"
+    "without tol=) keeps dt.\n"
     "\n"
     "`taylor`: the general Taylor integrator (spec 4.4): every coefficient up to\n"
     "order P (2 ... 60, default 20) from exact recurrences (automatic\n"
@@ -1852,9 +1890,9 @@ static const mote_cmd nb_commands[] = {
      HELP_GENERATE, check_generate, run_generate},
     {"integrator", NULL,
      "s dt=r>0 order=s first_step=r(0,1] tol=r(0,1) memory=s safety=r>0 hmin=r>=0 hmax=r>0 "
-     "norm=s",
+     "norm=s step=s dt_max=r>0",
      "integrator NAME [dt=H] [order=K] [first_step=F] [tol=E] [memory=M] [safety=S] "
-     "[hmin=A] [hmax=B] [norm=nearest|global]",
+     "[hmin=A] [hmax=B] [norm=nearest|global] [step=fixed|adaptive|doubling] [dt_max=D]",
      "choose and set the integrator (galactica or taylor)",
      HELP_INTEGRATOR, check_integrator, run_integrator},
     {"compensated", NULL, "s", "compensated on|off", "compensated summation (default on)",

@@ -466,7 +466,37 @@ int nb_galactica_check(const mote_nb *nb, mote_err *err)
                                            "(found %d)", nb->order);
     if (nb->adaptive && !(nb->tol > 0 && nb->tol < 1))
         return mote_fail(err, MOTE_EINVAL, "galactica: tol must be in (0, 1)");
+    if (nb->doubling && !(nb->dt_max >= nb->dt))
+        return mote_fail(err, MOTE_EINVAL, "galactica: step=doubling needs dt_max >= dt");
     return MOTE_OK;
+}
+
+/* Galactica's literal step rule (spec 7.4, step=doubling) after a step: D = |dMz_n - dMz_(n-1)|
+ * summed over non-overlapping blocks of 5 steps; when a block's mean exceeds 1.1 times the
+ * previous block's, dt doubles (never above dt_max) and the next block is not compared; blocks
+ * with a step shortened by a close approach (bt) are not compared either. */
+static void doubling_rule(mote_nb *nb)
+{
+    const mote_real dmz = mote_nb_dmz(nb);
+    if (nb->dbl_have) {
+        nb->dbl_sum += fabs(dmz - nb->dbl_prev);
+        nb->dbl_count++;
+    }
+    nb->dbl_prev = dmz;
+    nb->dbl_have = 1;
+    if (nb->happ > 0)
+        nb->dbl_mean = -2; /* this block has an approach step: not compared */
+    if (nb->dbl_count < 5)
+        return;
+    const mote_real mean = nb->dbl_sum / 5;
+    nb->dbl_sum = 0;
+    nb->dbl_count = 0;
+    if (nb->dbl_mean >= 0 && mean > (mote_real)1.1 * nb->dbl_mean && nb->dt < nb->dt_max) {
+        nb->dt = 2 * nb->dt < nb->dt_max ? 2 * nb->dt : nb->dt_max;
+        nb->dbl_mean = -1; /* the first block after a change is not compared */
+    } else {
+        nb->dbl_mean = nb->dbl_mean == -2 ? -1 : mean;
+    }
 }
 
 mote_real nb_galactica_step(mote_nb *nb, mote_real rest)
@@ -475,7 +505,10 @@ mote_real nb_galactica_step(mote_nb *nb, mote_real rest)
     if (fresh)
         nb->hprev = 0;
     mote_real h = fresh ? nb->first_step * nb->dt : nb->adaptive ? 0 : nb->dt;
-    return step(nb, h, rest);
+    h = step(nb, h, rest);
+    if (nb->doubling)
+        doubling_rule(nb);
+    return h;
 }
 
 int mote_nb_galactica(mote_nb *nb, uint64_t steps, mote_err *err)

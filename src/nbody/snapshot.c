@@ -324,6 +324,8 @@ int nb_snapshot_read(mote_nb *nb, const char *path, mote_err *err)
     t.bt = nb->bt;
     t.bt_hmin = nb->bt_hmin;
     t.first_step = have[K_FIRST] ? v[K_FIRST] : nb->first_step;
+    t.doubling = nb->doubling; /* (the rule's blocks start afresh) */
+    t.dt_max = nb->dt_max;
     /* time, step history and references */
     t.T = v[K_T];
     t.steps = steps;

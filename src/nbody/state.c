@@ -13,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define NB_STATE_VERSION 2 /* 2: a name ends each body line (1: no names) */
+#define NB_STATE_VERSION 2 /* 2: a name ends each body line, a doubling line (1: neither) */
 
 static void put(FILE *f, mote_real v)
 {
@@ -49,6 +49,11 @@ int nb_state_save(const mote_nb *nb, const char *path, mote_err *err)
     put(f, nb->hmin);
     put(f, nb->hmax);
     put(f, nb->hprev);
+    fprintf(f, "\ndoubling %d %d %d", nb->doubling, nb->dbl_have, nb->dbl_count);
+    put(f, nb->dt_max);
+    put(f, nb->dbl_prev);
+    put(f, nb->dbl_sum);
+    put(f, nb->dbl_mean);
     fputc('\n', f);
     fprintf(f, "merging %d %llu %llu", nb->merging, (unsigned long long)nb->merges,
             (unsigned long long)nb->approach_warnings);
@@ -243,6 +248,26 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
         t.hmin = v[2];
         t.hmax = v[3];
         t.hprev = v[4];
+    }
+    if (!rc && version >= 2) { /* Galactica's literal step rule (step=doubling) */
+        s = next_line(&r);
+        int on, have, count, used = 0;
+        if (!s || sscanf(s, "doubling %d %d %d%n", &on, &have, &count, &used) != 3 ||
+            (on != 0 && on != 1) || (have != 0 && have != 1) || count < 0 || count > 4)
+            rc = fail(&r, "'doubling ON(0|1) HAVE(0|1) COUNT(0..4)' and dt_max dMz_prev sum mean",
+                      s);
+        else
+            rc = reals(&r, s + used, NULL, v, 4);
+        if (!rc && (!(v[0] >= 0) || !(v[2] >= 0) || !(v[3] >= -2)))
+            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: doubling: need dt_max >= 0, sum >= 0, "
+                           "mean >= -2", path, r.l.line);
+        t.doubling = on;
+        t.dbl_have = have;
+        t.dbl_count = count;
+        t.dt_max = v[0];
+        t.dbl_prev = v[1];
+        t.dbl_sum = v[2];
+        t.dbl_mean = v[3];
     }
     if (!rc) {
         s = next_line(&r);

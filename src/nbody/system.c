@@ -88,6 +88,7 @@ void mote_nb_init(mote_nb *nb, mote_nb_interaction kind)
     nb->bt_hmin = 1e-6;
     nb->tol = MOTE_REAL_TOL;
     nb->safety = 1.0;
+    nb->dbl_mean = -1;
     nb->G = MOTE_NB_G;
     nb->e2 = 1e-9 * MOTE_NB_E_CGSE * MOTE_NB_E_CGSE;
     nb->eps = 1;
@@ -277,6 +278,19 @@ void mote_nb_barycentric(mote_nb *nb, mote_real xc[3], mote_real vc[3])
             vc[a] = V[a];
     }
     nb->ref_set = 0;
+}
+
+mote_real mote_nb_dmz(const mote_nb *nb)
+{
+    nb_ksum mz = {0, 0};
+    for (uint32_t i = 0; i < nb->n; i++) {
+        if (!nb->active[i])
+            continue;
+        const mote_real *x = nb->x + 3 * (size_t)i, *v = nb->v + 3 * (size_t)i;
+        nb_ksum_add(&mz, nb->m[i] * (x[0] * v[1] - x[1] * v[0]));
+        nb_ksum_add(&mz, nb->sp[3 * (size_t)i + 2]);
+    }
+    return (nb_ksum_value(&mz) - nb->Mza1) / nb->Lnorm1;
 }
 
 void mote_nb_measure(const mote_nb *nb, mote_nb_monitor *mon)
