@@ -755,6 +755,24 @@ static int run_compensated(void *vm, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
+/* forces direct (spec 6.1); the tree of spec 6.2 belongs to the large-N work */
+static int check_forces(void *vm, const mote_call *c, mote_err *err)
+{
+    const char *s = c->args[0].text;
+    if (strcmp(s, "tree") == 0)
+        return mote_call_fail(err, c, 0, MOTE_EINVAL,
+                              "forces: the Barnes-Hut tree (spec 6.2) is not in this version; "
+                              "forces are summed directly over all pairs (forces direct)");
+    if (strcmp(s, "direct") != 0)
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "forces: expected direct or tree, found '%s'",
+                              s);
+    if (mote_call_opt(c, "theta"))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "theta"), MOTE_EINVAL,
+                              "forces: theta= is for forces tree");
+    return MOTE_OK;
+}
+static int run_forces(void *vm, const mote_call *c, mote_err *err) { return MOTE_OK; }
+
 /* ---- monitor and integrate ------------------------------------------------------------------- */
 
 /* The monitor's columns (spec 10.1; E_corr last). cpu_s and wall_s, the processor and wall
@@ -1681,6 +1699,15 @@ static const char HELP_INTEGRATOR[] =
     "body solves all its pairs, twice the pair work); auto (default) stores up to\n"
     "1 GiB. Both give the same bits.\n";
 
+static const char HELP_FORCES[] =
+    "    forces direct\n"
+    "\n"
+    "Sum the forces directly over every pair of bodies (spec 6.1), in a fixed order\n"
+    "for each target, so that results do not depend on the number of threads. This\n"
+    "is the default and, in this version, the only method: `forces tree theta=`\n"
+    "(the approximate Barnes-Hut tree of spec 6.2, for very large N) is refused\n"
+    "with a message. Output headers record the method (`# forces = direct`).\n";
+
 static const char HELP_COMPENSATED[] =
     "    compensated on|off\n"
     "\n"
@@ -1897,6 +1924,8 @@ static const mote_cmd nb_commands[] = {
      HELP_INTEGRATOR, check_integrator, run_integrator},
     {"compensated", NULL, "s", "compensated on|off", "compensated summation (default on)",
      HELP_COMPENSATED, check_compensated, run_compensated},
+    {"forces", NULL, "s theta=r>0", "forces direct", "how forces are summed (direct: every pair)",
+     HELP_FORCES, check_forces, run_forces},
     {"merge", NULL, "s bt=r(0,1] hmin=r(0,1]", "merge on|off [bt=F] [hmin=H]", "merge bodies that touch (default: on when any has a radius)",
      HELP_MERGE, check_merge, run_merge},
     {"monitor", NULL, "every=i>=1 dt=r>0 unit=s format=s file=f>monitor",
