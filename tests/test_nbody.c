@@ -732,10 +732,10 @@ static void test_solar(void)
  * total mass is the unit, the centre of mass rests at the origin, the Earth, the Moon and Jupiter
  * are where they should be, and the invariable plane is tilted by the obliquity from the equator
  * of the ICRF axes. The bounds are the spec's. */
-static void test_t12(void)
+static void test_t12_file(const char *path, uint32_t nbodies)
 {
-    printf("T12 Solar-System builder, data/solar_system_j2000.dat\n");
-    FILE *f = fopen("data/solar_system_j2000.dat", "r");
+    printf("T12 Solar-System builder, %s\n", path);
+    FILE *f = fopen(path, "r");
     char line[256];
     int source = 0;
     while (f && fgets(line, sizeof line, f) && line[0] == '#')
@@ -745,7 +745,7 @@ static void test_t12(void)
     CHECK(source, "no '# source:' line");
     mote_nb_solar s;
     mote_err err = {0};
-    if (mote_nb_solar_read("data/solar_system_j2000.dat", &s, &err)) {
+    if (mote_nb_solar_read(path, &s, &err)) {
         CHECK(0, "read: %s", err.msg);
         return;
     }
@@ -759,10 +759,10 @@ static void test_t12(void)
         moon = strcmp(s.b[i].name, "Moon") ? moon : i;
         jupiter = strcmp(s.b[i].name, "Jupiter") ? jupiter : i;
     }
-    CHECK(nb.n == 10 && sun == 0 && earth == 3 && moon == 4 && jupiter == 6,
+    CHECK(nb.n == nbodies && sun == 0 && earth == 3 && moon == 4 && jupiter == 6,
           "%u bodies, order Sun %d Earth %d Moon %d Jupiter %d", nb.n, sun, earth, moon, jupiter);
     mote_nb_solar_free(&s);
-    if (nb.n != 10) {
+    if (nb.n != nbodies) {
         mote_nb_free(&nb);
         return;
     }
@@ -795,6 +795,48 @@ static void test_t12(void)
     printf("  sum m - 1 = %.2g, |R_cm| = %.2g, Earth-Sun %.5f AU, Earth-Moon %.0f km, "
            "Jupiter-Sun %.4f AU, tilt %.4f deg\n", mt - 1, rcm, es, em, js, tilt);
     mote_nb_free(&nb);
+}
+
+/* The DE405 file gives the Earth-Moon barycentre and the geocentric Moon (spec 9.3): the reader
+ * splits them with EMRAT, so the Earth and the Moon have the EMB's mass and barycentre and the
+ * Moon's geocentric offset, and their mass ratio is EMRAT. */
+static void test_emb_split(void)
+{
+    mote_nb_solar s;
+    mote_err err = {0};
+    if (mote_nb_solar_read("data/solar_system_de405.dat", &s, &err)) {
+        CHECK(0, "read: %s", err.msg);
+        return;
+    }
+    const double au = MOTE_NB_AU, day = 86400, gmu = au * au * au / (day * day);
+    const double emb[6] = {0.12051741729540039, -0.9258384789394528, -0.401540220801811,
+                           0.016811268303992644, 0.0017483093133816164, 0.0007582028689905378};
+    const double moon[3] = {-0.0008081773279114842, -0.0019946300016203994, -0.0010872626608381018};
+    const mote_nb_sbody *e = &s.b[3], *m = &s.b[4];
+    CHECK(s.n == 11 && !strcmp(e->name, "Earth") && !strcmp(m->name, "Moon"), "bodies 4, 5: %s %s",
+          s.n > 4 ? e->name : "?", s.n > 4 ? m->name : "?");
+    double worst = 0;
+    for (int a = 0; a < 3; a++) {
+        double xb = (e->gm * e->x[a] + m->gm * m->x[a]) / (e->gm + m->gm) / au;
+        double vb = (e->gm * e->v[a] + m->gm * m->v[a]) / (e->gm + m->gm) / au * day;
+        worst = fmax(worst, fabs(xb - emb[a]) / fabs(emb[a]));
+        worst = fmax(worst, fabs(vb - emb[3 + a]) / fabs(emb[3 + a]));
+        worst = fmax(worst, fabs((m->x[a] - e->x[a]) / au - moon[a]) / fabs(moon[a]));
+    }
+    const double ratio = e->gm / m->gm, gmb = (e->gm + m->gm) / gmu;
+    CHECK(worst < 1e-12, "EMB and the geocentric Moon back from the split: %.3g", worst);
+    CHECK(fabs(ratio / 81.30056 - 1) < 1e-13 && fabs(gmb / 8.997011346712499e-10 - 1) < 1e-14,
+          "Earth/Moon %.15g, GM(EMB) %.17g AU^3/day^2", ratio, gmb);
+    printf("  DE405 EMB split: Earth/Moon mass ratio %.10g, EMB and Moon back to %.2g\n", ratio,
+           worst);
+    mote_nb_solar_free(&s);
+}
+
+static void test_t12(void)
+{
+    test_t12_file("data/solar_system_j2000.dat", 10);
+    test_t12_file("data/solar_system_de405.dat", 11);
+    test_emb_split();
 }
 
 /* Spec 4.7: the close-approach control of the Galactica scheme. Two bodies (radii 0.01) meet

@@ -139,7 +139,7 @@ expect 1 "s4.mote:2:1: error: bad1.dat:13: Saturn: column 2: expected a number, 
 grep -v '^Uranus' "$DATA" | sed 's/-1.5507963    0.00565429/-1.5507963/' > bad2.dat
 expect 1 "s5.mote:2:1: error: bad2.dat:12: Jupiter: expected 8 numbers (mass x y z vx vy vz radius_km)" s5.mote "${G}generate solar_system data=bad2.dat\n"
 sed 's/^# units:.*/# units: furlongs fortnight/' "$DATA" > bad3.dat
-expect 1 "s6.mote:2:1: error: bad3.dat:9: expected '# units: km s GM' or '# units: AU day Msun G=<value>'" s6.mote "${G}generate solar_system data=bad3.dat\n"
+expect 1 "s6.mote:2:1: error: bad3.dat:9: expected '# units: km s GM', '# units: AU day GM' or '# units: AU day Msun G=<value>'" s6.mote "${G}generate solar_system data=bad3.dat\n"
 cp "$(dirname "$DATA")/../fuzz/corpus/nb_solar/seed-km.dat" km.dat
 printf '%b' "${G}generate solar_system data=km.dat merge_inner=on\n" > mi.mote
 "$MOTE" run mi.mote > out.txt 2> err.txt && grep -q '^generate solar_system: 2 bodies' out.txt && ok || bad "merge_inner=on: $(cat out.txt err.txt)"
@@ -162,6 +162,14 @@ expect 1 "s11.mote:2:1: error: dup.dat:6: Earth is also on line 5" s11.mote "${G
 sed 's/^Moon /Moon@Mars /' km.dat > at.dat
 expect 1 "s12.mote:2:1: error: at.dat:6: Moon@Mars: expected NAME@CENTRE with the centre on an earlier line" s12.mote "${G}generate solar_system data=at.dat\n"
 # the shipped J2000 state: the geocentric Moon is put back around the Earth
+# the DE405 set (spec 9.3's default): the EMB row and the geocentric Moon are split with EMRAT
+D405=$(dirname "$DATA")/solar_system_de405.dat
+printf '%b' "${G}generate solar_system data=$D405\nsave d405.state\n" > d405.mote
+"$MOTE" run d405.mote > out.txt 2> err.txt && grep -q '^generate solar_system: 11 bodies' out.txt && awk '/^bodies:/ { b = 1; next } /^end/ { b = 0 } b { s = s $NF " " } END { exit !(s == "Sun Mercury Venus Earth Moon Mars Jupiter Saturn Uranus Neptune Pluto ") }' d405.state && ok || bad "DE405 set: $(cat out.txt err.txt)"
+grep -v '^# emrat' "$D405" > noemrat.dat
+expect 1 "s13.mote:2:1: error: noemrat.dat:21: Moon@Earth after an EMB row needs the Earth/Moon mass ratio ('# emrat: R') before it" s13.mote "${G}generate solar_system data=noemrat.dat\n"
+sed 's/^Venus       [^ ]*/Venus       -/' "$D405" > dash.dat
+expect 1 "s14.mote:2:1: error: dash.dat:20: Venus: column 2: expected a number, found '-'" s14.mote "${G}generate solar_system data=dash.dat\n"
 SS=$(dirname "$DATA")/solar_system_j2000.dat
 printf '%b' "${G}generate solar_system data=$SS bodies=Sun,Earth,Moon\n" > j2k.mote
 "$MOTE" run j2k.mote > out.txt 2> err.txt && grep -q '^generate solar_system: 3 bodies' out.txt && ok || bad "J2000 set: $(cat out.txt err.txt)"

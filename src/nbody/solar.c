@@ -1,10 +1,12 @@
 /* solar.c: Solar-System data files and the builder (spec 9.3). A data file is text: a format line
  * '# mote solar-system 1', header lines '# source:', '# epoch:', '# frame:', '# centre:', and
- * '# units:' which is either 'km s GM' (the second column is GM in km^3/s^2, lengths in km,
- * velocities in km/s) or 'AU day Msun G=<value>' (the second column is the mass in solar masses,
+ * '# units:' which is 'km s GM' (the second column is GM in km^3/s^2, lengths in km,
+ * velocities in km/s), 'AU day GM' (GM in AU^3/day^2, AU of DE405) or 'AU day Msun G=<value>' (the second column is the mass in solar masses,
  * written as a number or as 1/<number>, with G in AU^3 Msun^-1 day^-2); then one row per body:
  * name, GM or mass, x, y, z, vx, vy, vz, mean radius in km. A name NAME@CENTRE gives the state
- * relative to the body CENTRE of an earlier line (the geocentric Moon). Values are converted to SI
+ * relative to the body CENTRE of an earlier line (the geocentric Moon). A row 'EMB' (the Earth-Moon
+ * barycentre with the GM of both) and a later 'Moon@Earth' with GM '-' are split with the mass
+ * ratio of a '# emrat: R' line into the Earth and the Moon (spec 9.3). Values are converted to SI
  * on reading; the builder makes the dimensionless system with the sidereal century as time unit. */
 #include "mote/nbody.h"
 
@@ -52,6 +54,7 @@ int mote_nb_solar_read(const char *path, mote_nb_solar *s, mote_err *err)
     char *line;
     int have_units = 0, mass_form = 0, cap = 0;
     double L = 0, T = 0, G = 0; /* length (m) and time (s) of the file, G for the mass form */
+    double emrat = 0;           /* '# emrat:': the Earth/Moon mass ratio of an EMB row's split */
     while (!rc && (line = mote_lines_next(&in)) != NULL) {
         const long ln = in.line;
         if (ln == 1) {
@@ -68,6 +71,10 @@ int mote_nb_solar_read(const char *path, mote_nb_solar *s, mote_err *err)
                     L = 1e3;
                     T = 1;
                     have_units = 1;
+                } else if (k == 3 && !strcmp(a, "AU") && !strcmp(b, "day") && !strcmp(c, "GM")) {
+                    L = MOTE_NB_AU;
+                    T = 86400;
+                    have_units = 1;
                 } else if (k == 4 && !strcmp(a, "AU") && !strcmp(b, "day") && !strcmp(c, "Msun") &&
                            !strncmp(d, "G=", 2) && !parse_real(d + 2, &G) && G > 0) {
                     L = MOTE_NB_AU;
@@ -75,10 +82,16 @@ int mote_nb_solar_read(const char *path, mote_nb_solar *s, mote_err *err)
                     mass_form = have_units = 1;
                 } else {
                     rc = mote_fail(err, MOTE_EFORMAT,
-                                   "%s:%ld: expected '# units: km s GM' or '# units: AU day Msun "
-                                   "G=<value>'",
+                                   "%s:%ld: expected '# units: km s GM', '# units: AU day GM' or "
+                                   "'# units: AU day Msun G=<value>'",
                                    path, ln);
                 }
+            } else if (strncmp(line, "# emrat:", 8) == 0) {
+                char extra;
+                if (sscanf(line + 8, "%lf %c", &emrat, &extra) != 1 || !(emrat > 0) ||
+                    !isfinite(emrat))
+                    rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: expected '# emrat: R' with the "
+                                   "Earth/Moon mass ratio R > 0", path, ln);
             }
             continue;
         }
@@ -108,13 +121,24 @@ int mote_nb_solar_read(const char *path, mote_nb_solar *s, mote_err *err)
         strcpy(b->name, tok);
         b->line = ln;
         int centre = -1; /* 'Moon@Earth': the state is relative to an earlier body */
+        int split = -1;  /* 'Moon@Earth' after an 'EMB' row: the barycentre is split (spec 9.3) */
         char *at = strchr(b->name, '@');
         if (at) {
             *at++ = '\0';
             for (int j = 0; j < s->n; j++)
                 if (strcmp(s->b[j].name, at) == 0)
                     centre = j;
-            if (!b->name[0] || centre < 0) {
+            for (int j = 0; j < s->n && centre < 0 && !strcmp(b->name, "Moon") &&
+                            !strcmp(at, "Earth");
+                 j++)
+                if (strcmp(s->b[j].name, "EMB") == 0)
+                    split = j;
+            if (split >= 0 && !(emrat > 0)) {
+                rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: Moon@Earth after an EMB row needs the "
+                               "Earth/Moon mass ratio ('# emrat: R') before it", path, ln);
+                break;
+            }
+            if (!b->name[0] || (centre < 0 && split < 0)) {
                 rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: %s@%s: expected NAME@CENTRE with the "
                                "centre on an earlier line", path, ln, b->name, at);
                 break;
@@ -129,7 +153,9 @@ int mote_nb_solar_read(const char *path, mote_nb_solar *s, mote_err *err)
         double v[8];
         int k = 0;
         for (; k < 8 && (tok = strtok_r(NULL, " \t", &save)); k++)
-            if (parse_real(tok, &v[k])) {
+            if (k == 0 && split >= 0 && strcmp(tok, "-") == 0) /* the GM from the split */
+                v[0] = s->b[split].gm / (1 + emrat) / (L * L * L / (T * T));
+            else if (parse_real(tok, &v[k])) {
                 rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: %s: column %d: expected a number, found "
                                "'%.40s'", path, ln, b->name, k + 2, tok);
                 break;
@@ -165,6 +191,26 @@ int mote_nb_solar_read(const char *path, mote_nb_solar *s, mote_err *err)
                 b->x[a] += s->b[centre].x[a];
                 b->v[a] += s->b[centre].v[a];
             }
+        if (split >= 0) { /* EMB and the geocentric Moon r: Earth = EMB - r/(1+R), Moon = Earth + r */
+            mote_nb_sbody *e = &s->b[split];
+            const double f = 1 / (1 + emrat);
+            for (int a = 0; a < 3; a++) {
+                e->x[a] -= f * b->x[a];
+                e->v[a] -= f * b->v[a];
+                b->x[a] += e->x[a];
+                b->v[a] += e->v[a];
+            }
+            e->gm -= b->gm;
+            strcpy(e->name, "Earth");
+            for (int j = 0; j < s->n; j++)
+                if (j != split && strcmp(s->b[j].name, "Earth") == 0) {
+                    rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: an EMB row and an Earth row",
+                                   path, ln);
+                    break;
+                }
+            if (rc)
+                break;
+        }
         s->n++;
     }
     const long lines = in.line;
