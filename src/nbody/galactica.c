@@ -136,21 +136,24 @@ static void pass1_target(mote_nb *nb, int all, uint32_t i)
     }
 }
 
-/* Pass 1 (spec 4.2 step 1) over every target; OpenMP only where it pays (an OpenMP region costs
- * an allocation and a wake-up even on one thread), with the same bits either way. */
-static void pass1(mote_nb *nb)
+/* Every target through fn; OpenMP only where it pays (an OpenMP region costs an allocation and
+ * a wake-up even on one thread), with the same bits either way. */
+static void over_targets(mote_nb *nb, void (*fn)(mote_nb *, int, uint32_t))
 {
     const uint32_t n = nb->n;
     const int nt = nb->threads > 1 ? nb->threads : 1, all = all_active(nb);
     if (nt > 1 && n >= 64) {
 #pragma omp parallel for num_threads(nt) schedule(static)
         for (uint32_t i = 0; i < n; i++)
-            pass1_target(nb, all, i);
+            fn(nb, all, i);
     } else {
         for (uint32_t i = 0; i < n; i++)
-            pass1_target(nb, all, i);
+            fn(nb, all, i);
     }
 }
+
+/* Pass 1 (spec 4.2 step 1) over every target. */
+static void pass1(mote_nb *nb) { over_targets(nb, pass1_target); }
 
 /* Pass 2 for target i over the sources k0 <= k < k1 (not i): the sums of A2 and A3. */
 static inline void pass2_range(const mote_nb *nb, int all, uint32_t i, uint32_t k0, uint32_t k1,
@@ -288,19 +291,7 @@ static void pass2_target(mote_nb *nb, int all, uint32_t i)
     }
 }
 
-static void pass2(mote_nb *nb)
-{
-    const uint32_t n = nb->n;
-    const int nt = nb->threads > 1 ? nb->threads : 1, all = all_active(nb);
-    if (nt > 1 && n >= 64) {
-#pragma omp parallel for num_threads(nt) schedule(static)
-        for (uint32_t i = 0; i < n; i++)
-            pass2_target(nb, all, i);
-    } else {
-        for (uint32_t i = 0; i < n; i++)
-            pass2_target(nb, all, i);
-    }
-}
+static void pass2(mote_nb *nb) { over_targets(nb, pass2_target); }
 
 /* Does a pair approach contact within h (spec 4.7)? |r| - |v| h - |a| h^2 / 2 < Ra_i + Ra_k,
  * with the relative position, velocity and acceleration. */
