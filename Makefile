@@ -27,7 +27,9 @@ ifeq ($(filter $(PRECISION),double long quad),)
 $(error PRECISION must be double, long or quad (found '$(PRECISION)'))
 endif
 ALL_CFLAGS := -std=c11 -D_POSIX_C_SOURCE=200809L $(PREC_FLAGS_$(PRECISION)) -Iinclude $(WARN) $(CFLAGS) $(SAN) $(OPENMP) $(CAIRO_CFLAGS)
-LDLIBS  := $(CAIRO_LIBS) -lm
+# the charging model: Embree (ray tracing; no pkg-config file in Debian) and Assimp (mesh files)
+ASSIMP_LIBS := $(shell pkg-config --libs assimp 2>/dev/null || echo -lassimp)
+LDLIBS  := $(CAIRO_LIBS) -lembree3 $(ASSIMP_LIBS) -lm
 
 # every folder of src/ but the program's: a new model's folder is built without naming it here
 LIB_SRC  := $(sort $(filter-out src/cli/%,$(wildcard src/*/*.c)))

@@ -7,6 +7,9 @@ command -v cc >/dev/null 2>&1 || need="$need gcc"
 command -v make >/dev/null 2>&1 || need="$need make"
 command -v pkg-config >/dev/null 2>&1 || need="$need pkg-config"
 pkg-config --exists cairo 2>/dev/null || need="$need libcairo2-dev"
+# the charging model: Embree (ray tracing) and Assimp (mesh files)
+[ -f /usr/include/embree3/rtcore.h ] || need="$need libembree-dev" # (no pkg-config file)
+pkg-config --exists assimp 2>/dev/null || need="$need libassimp-dev"
 # ASE (Debian's python3), the independent reader of the extended XYZ files in the tests
 /usr/bin/python3 -c 'import ase.io' >/dev/null 2>&1 || need="$need python3-ase"
 # `setup.sh fuzz`: also clang with libFuzzer, for `make fuzz`

@@ -1,0 +1,120 @@
+/* charging.h: the spacecraft-charging model (specs/spacecraft-charging.md): a plasma of
+ * Maxwellian components, a spacecraft body of triangles (or an exact sphere), and Monte Carlo
+ * estimates of the current each surface collects, traced with Embree. SI units throughout;
+ * temperatures as kT in eV. */
+#ifndef MOTE_CHARGING_H
+#define MOTE_CHARGING_H
+
+#include "mote/command.h"
+#include "mote/core.h"
+
+#include <stdint.h>
+
+/* CODATA 2018 (spec 1.3) */
+#define MOTE_CH_E 1.602176634e-19      /* C */
+#define MOTE_CH_ME 9.1093837015e-31    /* kg */
+#define MOTE_CH_MP 1.67262192369e-27   /* kg */
+#define MOTE_CH_EPS0 8.8541878128e-12  /* F/m */
+#define MOTE_CH_AMU 1.66053906660e-27  /* kg */
+#define MOTE_CH_PI 3.14159265358979323846
+
+/* ---- plasma (spec 3) ------------------------------------------------------------------------ */
+
+enum { MOTE_CH_MAX_SPECIES = 16, MOTE_CH_MAX_COMPONENTS = 8 };
+
+typedef struct {
+    char name[16];
+    int Z;                 /* charge number: q = Z e */
+    double m;              /* kg */
+    int ncomp;
+    double n[MOTE_CH_MAX_COMPONENTS];  /* m^-3 */
+    double kT[MOTE_CH_MAX_COMPONENTS]; /* eV */
+} mote_ch_species;
+
+typedef struct {
+    int nsp;
+    mote_ch_species sp[MOTE_CH_MAX_SPECIES];
+} mote_ch_plasma;
+
+/* The presets of spec 3.2: "geo-worst-case", "thesis-hot", or "single" (n, kT for both). */
+int mote_ch_plasma_preset(mote_ch_plasma *p, const char *name, double n, double kT,
+                          mote_err *err);
+/* One-sided thermal current density e n sqrt(kT / (2 pi m)) (A/m^2, magnitude; kT in eV). */
+double mote_ch_j0(double n, double kT, double m, int Z);
+/* Mean speed sqrt(8 kT / (pi m)) (m/s). */
+double mote_ch_mean_speed(double kT, double m);
+/* The multi-temperature Debye length of spec 3.3 (m). */
+double mote_ch_debye(const mote_ch_plasma *p);
+
+/* ---- body (spec 4) -------------------------------------------------------------------------- */
+
+typedef struct {
+    uint32_t ntri, cap;
+    double (*v)[3][3];     /* vertices of each triangle */
+    double (*nrm)[3];      /* outward unit normals */
+    double *area;
+    uint8_t *closed;       /* 1: of a closed component (one outer side); 0: a two-sided sheet */
+    int sphere;            /* 1: the exact analytic sphere (no triangles) */
+    double sphere_r, sphere_c[3];
+} mote_ch_body;
+
+void mote_ch_body_free(mote_ch_body *b);
+/* Generated bodies (spec 4.4), added to b: the exact sphere, an icosphere (20 4^level
+ * triangles), a UV sphere (2 nlon (nlat - 1) triangles), a box (12 subdiv^2 triangles), two
+ * cubes of side `side` facing each other across `gap` along x. */
+int mote_ch_body_sphere(mote_ch_body *b, double r, mote_err *err);
+int mote_ch_body_icosphere(mote_ch_body *b, double r, int level, mote_err *err);
+int mote_ch_body_uvsphere(mote_ch_body *b, double r, int nlon, int nlat, mote_err *err);
+int mote_ch_body_box(mote_ch_body *b, const double size[3], const double centre[3], int subdiv,
+                     mote_err *err);
+int mote_ch_body_twocubes(mote_ch_body *b, double side, double gap, mote_err *err);
+
+/* Spec 4.3: the area (sheets counted twice), the area-weighted centre, R_bound, R_eq, C. */
+typedef struct {
+    double area, centre[3], r_bound, r_eq, capacitance;
+} mote_ch_geometry;
+void mote_ch_body_geometry(const mote_ch_body *b, mote_ch_geometry *g);
+
+/* ---- tracing and Monte Carlo (spec 5) ------------------------------------------------------- */
+
+typedef struct mote_ch_tracer mote_ch_tracer;
+/* Build the ray-tracing structure of b (Embree, robust mode); NULL with err on failure. */
+mote_ch_tracer *mote_ch_tracer_new(const mote_ch_body *b, mote_err *err);
+void mote_ch_tracer_free(mote_ch_tracer *t);
+/* The first triangle the ray org + s dir (s > tmin) meets, or -1; *side 0 front, 1 back; *s. */
+long mote_ch_trace(const mote_ch_tracer *t, const double org[3], const double dir[3], double tmin,
+                   int *side, double *s);
+
+/* Counter-based Philox4x32-10 (Salmon et al. 2011): 4 words from a 128-bit counter and a
+ * 64-bit key; every history has its own stream (spec 5.7). */
+void mote_ch_philox(const uint32_t ctr[4], const uint32_t key[2], uint32_t out[4]);
+
+/* A straight-line run (spec 5.1-5.3, 5.6): per component N histories from the injection sphere
+ * of radius r_gen about the body's centre; tallies per triangle, side and species. */
+typedef struct {
+    uint64_t seed;
+    uint64_t particles;    /* histories per component */
+    double r_gen;          /* injection radius (m) */
+    int threads;
+} mote_ch_run_opts;
+
+typedef struct {
+    int nsp;
+    uint32_t ntri;
+    uint64_t histories;               /* per component */
+    uint64_t hits[MOTE_CH_MAX_SPECIES][MOTE_CH_MAX_COMPONENTS];
+    double weight[MOTE_CH_MAX_SPECIES][MOTE_CH_MAX_COMPONENTS]; /* A per history */
+    double current[MOTE_CH_MAX_SPECIES];  /* collected, A (signed, spec 1.3) */
+    double sigma[MOTE_CH_MAX_SPECIES];    /* its standard error */
+    uint64_t *tri_hits;               /* [species][triangle][side] */
+    uint64_t backface_hits;
+    double seconds, traces_per_s;
+} mote_ch_result;
+
+int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tracer *t,
+                const mote_ch_run_opts *o, mote_ch_result *r, mote_err *err);
+void mote_ch_result_free(mote_ch_result *r);
+
+extern const mote_model mote_model_charging;
+
+#endif

@@ -1,0 +1,249 @@
+/* body.c: the charging model's spacecraft body (spec 4): a list of triangles with outward normals
+ * and areas, each of a closed component (one outer side) or of a two-sided sheet, or the exact
+ * analytic sphere; the generated bodies of spec 4.4 (icosphere, UV sphere, box, two cubes); and
+ * the derived quantities of spec 4.3 (area with sheets counted twice, area-weighted centre,
+ * R_bound, R_eq and the capacitance of the sphere of equal area). */
+#include "mote/charging.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+void mote_ch_body_free(mote_ch_body *b)
+{
+    free(b->v);
+    free(b->nrm);
+    free(b->area);
+    free(b->closed);
+    memset(b, 0, sizeof *b);
+}
+
+static void cross(const double a[3], const double b[3], double c[3])
+{
+    c[0] = a[1] * b[2] - a[2] * b[1];
+    c[1] = a[2] * b[0] - a[0] * b[2];
+    c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* Add the triangle (p, q, r), turned so that its normal points away from `inside` when that is
+ * given (convex generated bodies); a degenerate triangle is dropped. */
+static int add_tri(mote_ch_body *b, const double p[3], const double q[3], const double r[3],
+                   const double *inside, int closed, mote_err *err)
+{
+    if (b->ntri == b->cap) {
+        uint32_t cap = b->cap ? 2 * b->cap : 256;
+        double(*v)[3][3] = realloc(b->v, cap * sizeof *v);
+        if (v)
+            b->v = v;
+        double(*n)[3] = realloc(b->nrm, cap * sizeof *n);
+        if (n)
+            b->nrm = n;
+        double *a = realloc(b->area, cap * sizeof *a);
+        if (a)
+            b->area = a;
+        uint8_t *c = realloc(b->closed, cap);
+        if (c)
+            b->closed = c;
+        if (!v || !n || !a || !c)
+            return mote_fail(err, MOTE_ENOMEM, "body: out of memory (%u triangles)", b->ntri);
+        b->cap = cap;
+    }
+    double e1[3], e2[3], nn[3];
+    for (int k = 0; k < 3; k++) {
+        e1[k] = q[k] - p[k];
+        e2[k] = r[k] - p[k];
+    }
+    cross(e1, e2, nn);
+    double len = sqrt(nn[0] * nn[0] + nn[1] * nn[1] + nn[2] * nn[2]);
+    if (!(len > 0))
+        return MOTE_OK;
+    const double *pts[3] = {p, q, r};
+    if (inside) {
+        double d = 0;
+        for (int k = 0; k < 3; k++)
+            d += nn[k] * ((p[k] + q[k] + r[k]) / 3 - inside[k]);
+        if (d < 0) { /* reverse the winding */
+            pts[1] = r;
+            pts[2] = q;
+            for (int k = 0; k < 3; k++)
+                nn[k] = -nn[k];
+        }
+    }
+    uint32_t i = b->ntri++;
+    for (int j = 0; j < 3; j++)
+        memcpy(b->v[i][j], pts[j], sizeof b->v[i][j]);
+    for (int k = 0; k < 3; k++)
+        b->nrm[i][k] = nn[k] / len;
+    b->area[i] = 0.5 * len;
+    b->closed[i] = (uint8_t)closed;
+    return MOTE_OK;
+}
+
+int mote_ch_body_sphere(mote_ch_body *b, double r, mote_err *err)
+{
+    if (!(r > 0))
+        return mote_fail(err, MOTE_EINVAL, "body sphere: radius must be > 0");
+    if (b->ntri || b->sphere)
+        return mote_fail(err, MOTE_EINVAL, "body sphere: the exact sphere is a body on its own "
+                         "(no other parts)");
+    b->sphere = 1;
+    b->sphere_r = r;
+    memset(b->sphere_c, 0, sizeof b->sphere_c);
+    return MOTE_OK;
+}
+
+static int no_sphere(const mote_ch_body *b, const char *what, mote_err *err)
+{
+    return b->sphere ? mote_fail(err, MOTE_EINVAL, "body %s: the body is the exact sphere, which "
+                                 "takes no other parts", what)
+                     : MOTE_OK;
+}
+
+static void unit_scale(double p[3], double r)
+{
+    double n = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+    for (int k = 0; k < 3; k++)
+        p[k] *= r / n;
+}
+
+/* One icosahedron face subdivided `level` times, every vertex on the sphere of radius r. */
+static int ico_face(mote_ch_body *b, const double a[3], const double c[3], const double d[3],
+                    int level, double r, mote_err *err)
+{
+    static const double origin[3] = {0, 0, 0};
+    if (level == 0)
+        return add_tri(b, a, c, d, origin, 1, err);
+    double ac[3], cd[3], da[3];
+    for (int k = 0; k < 3; k++) {
+        ac[k] = 0.5 * (a[k] + c[k]);
+        cd[k] = 0.5 * (c[k] + d[k]);
+        da[k] = 0.5 * (d[k] + a[k]);
+    }
+    unit_scale(ac, r);
+    unit_scale(cd, r);
+    unit_scale(da, r);
+    int rc = ico_face(b, a, ac, da, level - 1, r, err);
+    if (!rc)
+        rc = ico_face(b, ac, c, cd, level - 1, r, err);
+    if (!rc)
+        rc = ico_face(b, da, cd, d, level - 1, r, err);
+    if (!rc)
+        rc = ico_face(b, ac, cd, da, level - 1, r, err);
+    return rc;
+}
+
+int mote_ch_body_icosphere(mote_ch_body *b, double r, int level, mote_err *err)
+{
+    int rc = no_sphere(b, "icosphere", err);
+    if (rc)
+        return rc;
+    if (!(r > 0) || level < 0 || level > 8)
+        return mote_fail(err, MOTE_EINVAL, "body icosphere: need radius > 0 and 0 <= level <= 8");
+    const double f = (1 + sqrt(5.0)) / 2; /* the icosahedron (0, +-1, +-f) and its cyclic turns */
+    double v[12][3] = {{-1, f, 0}, {1, f, 0},  {-1, -f, 0}, {1, -f, 0}, {0, -1, f}, {0, 1, f},
+                       {0, -1, -f}, {0, 1, -f}, {f, 0, -1}, {f, 0, 1},  {-f, 0, -1}, {-f, 0, 1}};
+    static const int F[20][3] = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                 {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                 {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                 {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+    for (int i = 0; i < 12; i++)
+        unit_scale(v[i], r);
+    for (int k = 0; k < 20 && !rc; k++)
+        rc = ico_face(b, v[F[k][0]], v[F[k][1]], v[F[k][2]], level, r, err);
+    return rc;
+}
+
+int mote_ch_body_uvsphere(mote_ch_body *b, double r, int nlon, int nlat, mote_err *err)
+{
+    int rc = no_sphere(b, "uvsphere", err);
+    if (rc)
+        return rc;
+    if (!(r > 0) || nlon < 3 || nlat < 2)
+        return mote_fail(err, MOTE_EINVAL, "body uvsphere: need radius > 0, nlon >= 3, nlat >= 2");
+    static const double origin[3] = {0, 0, 0};
+    /* rings at polar angles pi j / nlat, j = 0 (north pole) ... nlat (south pole) */
+    for (int j = 0; j < nlat && !rc; j++)
+        for (int i = 0; i < nlon && !rc; i++) {
+            double p[4][3];
+            for (int c = 0; c < 4; c++) {
+                const int jj = j + (c >= 2), ii = i + (c == 1 || c == 2);
+                const double th = MOTE_CH_PI * jj / nlat, ph = 2 * MOTE_CH_PI * ii / nlon;
+                p[c][0] = r * sin(th) * cos(ph);
+                p[c][1] = r * sin(th) * sin(ph);
+                p[c][2] = r * cos(th);
+            }
+            if (j > 0) /* (the cap at the north pole has one triangle per column) */
+                rc = add_tri(b, p[0], p[1], p[2], origin, 1, err);
+            if (!rc && j < nlat - 1)
+                rc = add_tri(b, p[0], p[2], p[3], origin, 1, err);
+        }
+    return rc;
+}
+
+int mote_ch_body_box(mote_ch_body *b, const double size[3], const double centre[3], int subdiv,
+                     mote_err *err)
+{
+    int rc = no_sphere(b, "box", err);
+    if (rc)
+        return rc;
+    if (!(size[0] > 0 && size[1] > 0 && size[2] > 0) || subdiv < 1 || subdiv > 1000)
+        return mote_fail(err, MOTE_EINVAL, "body box: need sizes > 0 and 1 <= subdiv <= 1000");
+    for (int ax = 0; ax < 3 && !rc; ax++) /* the faces normal to axis ax, at -s/2 and +s/2 */
+        for (int sgn = -1; sgn <= 1 && !rc; sgn += 2) {
+            const int u = (ax + 1) % 3, w = (ax + 2) % 3;
+            for (int i = 0; i < subdiv && !rc; i++)
+                for (int j = 0; j < subdiv && !rc; j++) {
+                    double p[4][3];
+                    for (int c = 0; c < 4; c++) {
+                        const int ii = i + (c == 1 || c == 2), jj = j + (c >= 2);
+                        p[c][ax] = centre[ax] + sgn * 0.5 * size[ax];
+                        p[c][u] = centre[u] + size[u] * ((double)ii / subdiv - 0.5);
+                        p[c][w] = centre[w] + size[w] * ((double)jj / subdiv - 0.5);
+                    }
+                    rc = add_tri(b, p[0], p[1], p[2], centre, 1, err);
+                    if (!rc)
+                        rc = add_tri(b, p[0], p[2], p[3], centre, 1, err);
+                }
+        }
+    return rc;
+}
+
+int mote_ch_body_twocubes(mote_ch_body *b, double side, double gap, mote_err *err)
+{
+    if (!(side > 0) || !(gap >= 0))
+        return mote_fail(err, MOTE_EINVAL, "body twocubes: need side > 0 and gap >= 0");
+    const double s[3] = {side, side, side};
+    const double c1[3] = {-0.5 * (gap + side), 0, 0}, c2[3] = {0.5 * (gap + side), 0, 0};
+    int rc = mote_ch_body_box(b, s, c1, 1, err);
+    return rc ? rc : mote_ch_body_box(b, s, c2, 1, err);
+}
+
+void mote_ch_body_geometry(const mote_ch_body *b, mote_ch_geometry *g)
+{
+    memset(g, 0, sizeof *g);
+    if (b->sphere) {
+        g->area = 4 * MOTE_CH_PI * b->sphere_r * b->sphere_r;
+        memcpy(g->centre, b->sphere_c, sizeof g->centre);
+        g->r_bound = b->sphere_r;
+    } else {
+        double wsum = 0;
+        for (uint32_t i = 0; i < b->ntri; i++) {
+            const double a = b->area[i] * (b->closed[i] ? 1 : 2);
+            g->area += a;
+            wsum += b->area[i];
+            for (int k = 0; k < 3; k++)
+                g->centre[k] += b->area[i] * (b->v[i][0][k] + b->v[i][1][k] + b->v[i][2][k]) / 3;
+        }
+        for (int k = 0; k < 3; k++)
+            g->centre[k] = wsum > 0 ? g->centre[k] / wsum : 0;
+        for (uint32_t i = 0; i < b->ntri; i++)
+            for (int j = 0; j < 3; j++) {
+                double d2 = 0;
+                for (int k = 0; k < 3; k++)
+                    d2 += (b->v[i][j][k] - g->centre[k]) * (b->v[i][j][k] - g->centre[k]);
+                g->r_bound = fmax(g->r_bound, sqrt(d2));
+            }
+    }
+    g->r_eq = sqrt(g->area / (4 * MOTE_CH_PI));
+    g->capacitance = 4 * MOTE_CH_PI * MOTE_CH_EPS0 * g->r_eq;
+}

@@ -1,0 +1,67 @@
+/* plasma.c: the charging model's plasma (spec 3): species of Maxwellian components, the presets of
+ * spec 3.2 (the thesis's Table 1, the NASA worst-case geostationary environment), and the derived
+ * quantities of spec 3.3: thermal current density, mean speed, the Debye length. */
+#include "mote/charging.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+static void add(mote_ch_plasma *p, const char *name, int Z, double m, double n1, double kT1,
+                double n2, double kT2)
+{
+    mote_ch_species *s = &p->sp[p->nsp++];
+    memset(s, 0, sizeof *s);
+    snprintf(s->name, sizeof s->name, "%s", name);
+    s->Z = Z;
+    s->m = m;
+    s->n[s->ncomp] = n1;
+    s->kT[s->ncomp++] = kT1;
+    if (n2 > 0) {
+        s->n[s->ncomp] = n2;
+        s->kT[s->ncomp++] = kT2;
+    }
+}
+
+int mote_ch_plasma_preset(mote_ch_plasma *p, const char *name, double n, double kT,
+                          mote_err *err)
+{
+    memset(p, 0, sizeof *p);
+    if (strcmp(name, "geo-worst-case") == 0) { /* Table 1: cm^-3 and keV */
+        add(p, "e", -1, MOTE_CH_ME, 0.2e6, 400, 1.2e6, 27500);
+        add(p, "H+", 1, MOTE_CH_MP, 0.6e6, 200, 1.3e6, 28000);
+    } else if (strcmp(name, "thesis-hot") == 0) {
+        add(p, "e", -1, MOTE_CH_ME, 1.2e6, 27500, 0, 0);
+        add(p, "H+", 1, MOTE_CH_MP, 1.3e6, 28000, 0, 0);
+    } else if (strcmp(name, "single") == 0) {
+        if (!(n > 0) || !(kT > 0))
+            return mote_fail(err, MOTE_EINVAL, "plasma single: need n > 0 and kT > 0");
+        add(p, "e", -1, MOTE_CH_ME, n, kT, 0, 0);
+        add(p, "H+", 1, MOTE_CH_MP, n, kT, 0, 0);
+    } else {
+        return mote_fail(err, MOTE_EINVAL, "plasma: no preset '%s' (geo-worst-case, thesis-hot, "
+                         "single)", name);
+    }
+    return MOTE_OK;
+}
+
+double mote_ch_j0(double n, double kT, double m, int Z)
+{
+    return fabs((double)Z) * MOTE_CH_E * n * sqrt(kT * MOTE_CH_E / (2 * MOTE_CH_PI * m));
+}
+
+double mote_ch_mean_speed(double kT, double m)
+{
+    return sqrt(8 * kT * MOTE_CH_E / (MOTE_CH_PI * m));
+}
+
+double mote_ch_debye(const mote_ch_plasma *p)
+{
+    double inv2 = 0; /* lambda^-2 = sum n q^2 / (eps0 kT) */
+    for (int s = 0; s < p->nsp; s++)
+        for (int k = 0; k < p->sp[s].ncomp; k++) {
+            const double q = p->sp[s].Z * MOTE_CH_E;
+            inv2 += p->sp[s].n[k] * q * q / (MOTE_CH_EPS0 * p->sp[s].kT[k] * MOTE_CH_E);
+        }
+    return inv2 > 0 ? 1 / sqrt(inv2) : INFINITY;
+}

@@ -1,0 +1,145 @@
+/* trace.c: rays against the spacecraft body (spec 5.5). Triangles are traced with Embree (its
+ * robust, watertight mode: no ray slips through a shared edge of a closed mesh), which returns
+ * the nearest intersection; the side comes from the sign of the direction against mote's own
+ * double-precision normal. The exact sphere is intersected analytically. */
+#include "mote/charging.h"
+
+#include <embree3/rtcore.h>
+#include <math.h>
+#include <stdlib.h>
+
+struct mote_ch_tracer {
+    const mote_ch_body *body;
+    RTCDevice dev;
+    RTCScene scene;
+};
+
+void mote_ch_tracer_free(mote_ch_tracer *t)
+{
+    if (!t)
+        return;
+    if (t->scene)
+        rtcReleaseScene(t->scene);
+    if (t->dev)
+        rtcReleaseDevice(t->dev);
+    free(t);
+}
+
+mote_ch_tracer *mote_ch_tracer_new(const mote_ch_body *b, mote_err *err)
+{
+    mote_ch_tracer *t = calloc(1, sizeof *t);
+    if (!t) {
+        mote_fail(err, MOTE_ENOMEM, "tracer: out of memory");
+        return NULL;
+    }
+    t->body = b;
+    if (b->sphere)
+        return t;
+    if (b->ntri == 0) {
+        free(t);
+        mote_fail(err, MOTE_EINVAL, "there is no body: add one with body (sphere, icosphere, ...)");
+        return NULL;
+    }
+    /* one thread for the build: the tracer is shared read-only by mote's own threads */
+    t->dev = rtcNewDevice("threads=1");
+    if (!t->dev) {
+        free(t);
+        mote_fail(err, MOTE_EINVAL, "tracer: Embree could not start (error %d)",
+                  (int)rtcGetDeviceError(NULL));
+        return NULL;
+    }
+    t->scene = rtcNewScene(t->dev);
+    rtcSetSceneFlags(t->scene, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(t->scene, RTC_BUILD_QUALITY_HIGH);
+    RTCGeometry g = rtcNewGeometry(t->dev, RTC_GEOMETRY_TYPE_TRIANGLE);
+    float *vb = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                        3 * sizeof(float), 3 * (size_t)b->ntri);
+    unsigned *ib = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                           3 * sizeof(unsigned), b->ntri);
+    if (!vb || !ib) {
+        rtcReleaseGeometry(g);
+        mote_ch_tracer_free(t);
+        mote_fail(err, MOTE_ENOMEM, "tracer: out of memory for %u triangles", b->ntri);
+        return NULL;
+    }
+    for (uint32_t i = 0; i < b->ntri; i++)
+        for (int j = 0; j < 3; j++) {
+            for (int k = 0; k < 3; k++)
+                vb[9 * (size_t)i + 3 * j + k] = (float)b->v[i][j][k];
+            ib[3 * (size_t)i + j] = 3 * i + (unsigned)j;
+        }
+    rtcCommitGeometry(g);
+    rtcAttachGeometry(t->scene, g);
+    rtcReleaseGeometry(g);
+    rtcCommitScene(t->scene);
+    if (rtcGetDeviceError(t->dev) != RTC_ERROR_NONE) {
+        mote_ch_tracer_free(t);
+        mote_fail(err, MOTE_EINVAL, "tracer: Embree could not build the scene");
+        return NULL;
+    }
+    return t;
+}
+
+/* The exact sphere: the smaller root s > tmin of |org + s dir - c|^2 = r^2 (dir a unit vector). */
+static long trace_sphere(const mote_ch_body *b, const double o[3], const double d[3], double tmin,
+                         int *side, double *s)
+{
+    double oc[3], bq = 0, cq = 0;
+    for (int k = 0; k < 3; k++) {
+        oc[k] = o[k] - b->sphere_c[k];
+        bq += oc[k] * d[k];
+        cq += oc[k] * oc[k];
+    }
+    cq -= b->sphere_r * b->sphere_r;
+    const double disc = bq * bq - cq;
+    if (disc < 0)
+        return -1;
+    const double sq = sqrt(disc);
+    /* the nearer root computed without cancellation */
+    const double q = bq > 0 ? -bq - sq : -bq + sq;
+    double r1 = q, r2 = q != 0 ? cq / q : 0;
+    if (r1 > r2) {
+        double x = r1;
+        r1 = r2;
+        r2 = x;
+    }
+    const double hit = r1 > tmin ? r1 : r2 > tmin ? r2 : -1;
+    if (hit < 0)
+        return -1;
+    *s = hit;
+    *side = hit == r1 && cq > 0 ? 0 : 1; /* from outside: the front face */
+    return 0;
+}
+
+long mote_ch_trace(const mote_ch_tracer *t, const double org[3], const double dir[3], double tmin,
+                   int *side, double *s)
+{
+    const mote_ch_body *b = t->body;
+    if (b->sphere)
+        return trace_sphere(b, org, dir, tmin, side, s);
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    struct RTCRayHit rh;
+    rh.ray.org_x = (float)org[0];
+    rh.ray.org_y = (float)org[1];
+    rh.ray.org_z = (float)org[2];
+    rh.ray.dir_x = (float)dir[0];
+    rh.ray.dir_y = (float)dir[1];
+    rh.ray.dir_z = (float)dir[2];
+    rh.ray.tnear = (float)tmin;
+    rh.ray.tfar = INFINITY;
+    rh.ray.time = 0;
+    rh.ray.mask = 0xFFFFFFFFu;
+    rh.ray.id = 0;
+    rh.ray.flags = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(t->scene, &ctx, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID)
+        return -1;
+    const long i = (long)rh.hit.primID;
+    const double *n = b->nrm[i];
+    *side = dir[0] * n[0] + dir[1] * n[1] + dir[2] * n[2] < 0 ? 0 : 1;
+    *s = rh.ray.tfar;
+    return i;
+}

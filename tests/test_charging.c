@@ -1,0 +1,244 @@
+/* test_charging.c: the charging model against specs/spacecraft-charging.md section 10, the part
+ * written so far. C1-C3 (the reference numbers of spec 3.3), M1 (the current to a sphere, exact
+ * and meshed), M3 (hit probabilities, Cauchy-Crofton), M4 (shadowing between two cubes, per
+ * face), F1 (the thesis's constant-current charging), G2 (no back-face hits on closed generated
+ * bodies), S5 (the same tallies on 1 and 2 threads), Philox's known answer, and the generated
+ * meshes' triangle counts and areas. Statistical tests pass when |estimate - exact| <= 3 sigma. */
+#include "mote/charging.h"
+
+#include "test.h"
+
+static void near4(double got, double want, const char *what)
+{
+    /* "to 4 significant digits": the rounding of got to 5 digits agrees with want's */
+    CHECK(fabs(got - want) <= 0.5e-4 * fabs(want), "%s: %.6e, expected %.5e", what, got, want);
+}
+
+static void test_constants(void)
+{
+    printf("C1-C3: thermal current densities, Debye lengths, mean speeds\n");
+    near4(mote_ch_j0(1.2e6, 27500, MOTE_CH_ME, -1), 5.3343e-6, "j0 hot e");
+    near4(mote_ch_j0(1.3e6, 28000, MOTE_CH_MP, 1), 1.3608e-7, "j0 hot H+");
+    near4(mote_ch_j0(0.2e6, 400, MOTE_CH_ME, -1), 1.0722e-7, "j0 cold e");
+    near4(mote_ch_j0(0.6e6, 200, MOTE_CH_MP, 1), 5.3081e-9, "j0 cold H+");
+    mote_ch_plasma p = {0};
+    p.nsp = 1;
+    p.sp[0].Z = 1;
+    p.sp[0].m = MOTE_CH_MP;
+    p.sp[0].ncomp = 1;
+    p.sp[0].n[0] = 0.8e6;
+    p.sp[0].kT[0] = 250;
+    CHECK(fabs(mote_ch_debye(&p) - 131.41) < 0.005, "thesis Debye length %.5f", mote_ch_debye(&p));
+    mote_err err = {0};
+    mote_ch_plasma_preset(&p, "geo-worst-case", 0, 0, &err);
+    CHECK(fabs(mote_ch_debye(&p) - 124.07) < 0.005, "geo-worst-case %.5f", mote_ch_debye(&p));
+    mote_ch_plasma_preset(&p, "thesis-hot", 0, 0, &err);
+    CHECK(fabs(mote_ch_debye(&p) - 783.3) < 0.05, "thesis-hot %.4f", mote_ch_debye(&p));
+    near4(mote_ch_mean_speed(27500, MOTE_CH_ME), 1.1098e8, "mean speed hot e");
+    near4(mote_ch_mean_speed(28000, MOTE_CH_MP), 2.6134e6, "mean speed hot H+");
+    CHECK(mote_ch_plasma_preset(&p, "leo", 0, 0, &err) != 0, "an unknown preset was accepted");
+    CHECK(mote_ch_plasma_preset(&p, "single", -1, 10, &err) != 0, "a negative density accepted");
+    CHECK(mote_ch_plasma_preset(&p, "single", 1e6, 0, &err) != 0, "a zero temperature accepted");
+}
+
+static void test_philox(void)
+{
+    /* the known-answer vector of Random123 (kat_vectors: philox4x32 10, counter and key 0) */
+    const uint32_t zero[4] = {0, 0, 0, 0}, key[2] = {0, 0};
+    uint32_t out[4];
+    mote_ch_philox(zero, key, out);
+    CHECK(out[0] == 0x6627e8d5u && out[1] == 0xe169c58du && out[2] == 0xbc57ac4cu &&
+              out[3] == 0x9b00dbd8u,
+          "philox4x32-10(0, 0) = %08x %08x %08x %08x", out[0], out[1], out[2], out[3]);
+}
+
+static void test_meshes(void)
+{
+    printf("generated bodies (spec 4.4)\n");
+    mote_err err = {0};
+    mote_ch_body b = {0};
+    mote_ch_geometry g;
+    CHECK(mote_ch_body_icosphere(&b, 1, 4, &err) == MOTE_OK && b.ntri == 5120, "level 4: %u", b.ntri);
+    mote_ch_body_geometry(&b, &g);
+    CHECK(fabs(1 - g.area / (4 * MOTE_CH_PI)) > 0.0011 && fabs(1 - g.area / (4 * MOTE_CH_PI)) < 0.0013,
+          "level 4 area deficit %.5f (spec: 0.12%%)", 1 - g.area / (4 * MOTE_CH_PI));
+    mote_ch_body_free(&b);
+    CHECK(mote_ch_body_icosphere(&b, 1, 5, &err) == MOTE_OK && b.ntri == 20480, "level 5: %u", b.ntri);
+    mote_ch_body_geometry(&b, &g);
+    CHECK(fabs(1 - g.area / (4 * MOTE_CH_PI)) < 0.00035, "level 5 area deficit %.5f (spec: 0.03%%)",
+          1 - g.area / (4 * MOTE_CH_PI));
+    mote_ch_body_free(&b);
+    CHECK(mote_ch_body_uvsphere(&b, 1, 100, 50, &err) == MOTE_OK && b.ntri == 9800, "uvsphere %u",
+          b.ntri);
+    mote_ch_body_free(&b);
+    const double size[3] = {1, 2, 3}, c0[3] = {0, 0, 0};
+    CHECK(mote_ch_body_box(&b, size, c0, 2, &err) == MOTE_OK && b.ntri == 48, "box %u", b.ntri);
+    mote_ch_body_geometry(&b, &g);
+    CHECK(fabs(g.area - 22) < 1e-12, "box area %.15g", g.area);
+    /* every normal points away from the centre */
+    int outward = 1;
+    for (uint32_t i = 0; i < b.ntri; i++) {
+        double d = 0;
+        for (int k = 0; k < 3; k++)
+            d += b.nrm[i][k] * (b.v[i][0][k] + b.v[i][1][k] + b.v[i][2][k]);
+        outward &= d > 0;
+    }
+    CHECK(outward, "a box normal points inward");
+    mote_ch_body_free(&b);
+    CHECK(mote_ch_body_sphere(&b, 1, &err) == MOTE_OK && mote_ch_body_box(&b, size, c0, 1, &err) != 0,
+          "the exact sphere took another part");
+    mote_ch_body_free(&b);
+    CHECK(mote_ch_body_icosphere(&b, -1, 2, &err) != 0, "a negative radius was accepted");
+    mote_ch_body_free(&b);
+}
+
+/* One run: the plasma, a body, histories per component, injection radius, threads. */
+static int run(const mote_ch_plasma *p, const mote_ch_body *b, double particles, double R,
+               int threads, mote_ch_result *r)
+{
+    mote_err err = {0};
+    mote_ch_tracer *t = mote_ch_tracer_new(b, &err);
+    CHECK(t != NULL, "tracer: %s", err.msg);
+    if (!t)
+        return -1;
+    mote_ch_run_opts o = {.seed = 1, .particles = (uint64_t)particles, .r_gen = R,
+                          .threads = threads};
+    int rc = mote_ch_run(p, b, t, &o, r, &err);
+    CHECK(rc == MOTE_OK, "run: %s", err.msg);
+    mote_ch_tracer_free(t);
+    return rc;
+}
+
+/* M1 and F1: thesis-hot on a 1 m sphere, exact and the level-5 icosphere (its own area). */
+static void test_sphere_current(void)
+{
+    printf("M1, F1: thesis-hot on a 1 m sphere\n");
+    mote_err err = {0};
+    mote_ch_plasma p;
+    mote_ch_plasma_preset(&p, "thesis-hot", 0, 0, &err);
+    for (int mesh = 0; mesh < 2; mesh++) {
+        mote_ch_body b = {0};
+        if (mesh)
+            mote_ch_body_icosphere(&b, 1, 5, &err);
+        else
+            mote_ch_body_sphere(&b, 1, &err);
+        mote_ch_geometry g;
+        mote_ch_body_geometry(&b, &g);
+        mote_ch_result r;
+        if (run(&p, &b, mesh ? 1e6 : 4e6, 1.05, 2, &r) == MOTE_OK) {
+            const double je = mote_ch_j0(1.2e6, 27500, MOTE_CH_ME, -1) * g.area;
+            const double jp = mote_ch_j0(1.3e6, 28000, MOTE_CH_MP, 1) * g.area;
+            printf("  %s: I_e %.6e +- %.2e (exact %.6e), I_p %.6e +- %.2e (exact %.6e), back-face "
+                   "hits %llu\n", mesh ? "icosphere 5" : "exact sphere", r.current[0], r.sigma[0],
+                   -je, r.current[1], r.sigma[1], jp, (unsigned long long)r.backface_hits);
+            CHECK(fabs(r.current[0] + je) <= 3 * r.sigma[0], "I_e %.6e, exact %.6e, sigma %.2e",
+                  r.current[0], -je, r.sigma[0]);
+            CHECK(fabs(r.current[1] - jp) <= 3 * r.sigma[1], "I_p %.6e, exact %.6e, sigma %.2e",
+                  r.current[1], jp, r.sigma[1]);
+            CHECK(r.backface_hits == 0, "G2: %llu back-face hits", (unsigned long long)r.backface_hits);
+            if (!mesh) { /* F1: the spec's figures for the 1 m sphere */
+                const double I = r.current[0] + r.current[1];
+                const double sI = sqrt(r.sigma[0] * r.sigma[0] + r.sigma[1] * r.sigma[1]);
+                CHECK(fabs(-6.7033e-5 - r.current[0]) <= 3 * r.sigma[0] + 0.5e-9, "I_e %.6e",
+                      r.current[0]);
+                CHECK(fabs(1.7100e-6 - r.current[1]) <= 3 * r.sigma[1] + 0.5e-10, "I_p %.6e",
+                      r.current[1]);
+                const double U = I * 2.5e-4 / g.capacitance, sU = sI * 2.5e-4 / g.capacitance;
+                CHECK(fabs(g.capacitance / 1.11265e-10 - 1) < 5e-6, "C %.6e", g.capacitance);
+                CHECK(fabs(U + 146.77) <= 3 * sU + 0.005, "U(0.25 ms) %.4f V +- %.3f (-146.77)", U, sU);
+                printf("  F1: U(0.25 ms) = %.3f V +- %.3f, dU/dt %.5e V/s\n", U, sU,
+                       I / g.capacitance);
+            }
+            mote_ch_result_free(&r);
+        }
+        mote_ch_body_free(&b);
+    }
+}
+
+/* M3: the share of histories that hit a convex body is A / (4 pi R^2). */
+static void test_hit_probability(void)
+{
+    printf("M3: hit probabilities (Cauchy-Crofton)\n");
+    mote_err err = {0};
+    mote_ch_plasma p;
+    mote_ch_plasma_preset(&p, "single", 1e6, 1000, &err);
+    p.nsp = 1; /* electrons only */
+    struct {
+        int cube;
+        double R, want, N;
+    } cases[] = {{0, 2, 0.25, 4e5}, {1, 2, 6 / (16 * MOTE_CH_PI), 4e5},
+                 {0, 131.41, 5.7909e-5, 4e6}};
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        mote_ch_body b = {0};
+        const double one[3] = {1, 1, 1}, c0[3] = {0, 0, 0};
+        if (cases[k].cube)
+            mote_ch_body_box(&b, one, c0, 1, &err);
+        else
+            mote_ch_body_sphere(&b, 1, &err);
+        mote_ch_result r;
+        if (run(&p, &b, cases[k].N, cases[k].R, 1, &r) == MOTE_OK) {
+            const double f = (double)r.hits[0][0] / cases[k].N;
+            const double s = sqrt(cases[k].want * (1 - cases[k].want) / cases[k].N);
+            printf("  %s in R = %g m: %.6g (expected %.6g +- %.2g)\n", cases[k].cube ? "unit cube" :
+                   "1 m sphere", cases[k].R, f, cases[k].want, s);
+            CHECK(fabs(f - cases[k].want) <= 3 * s, "hit fraction %.6g, expected %.6g", f,
+                  cases[k].want);
+            mote_ch_result_free(&r);
+        }
+        mote_ch_body_free(&b);
+    }
+}
+
+/* M4: two unit cubes 1 m apart: each facing face collects j0 (1 - F), F = 0.19982, the others j0
+ * (per face, 3 sigma). S5: the same tallies on 1 and 2 threads. */
+static void test_shadow(void)
+{
+    printf("M4: two cubes 1 m apart; S5: 1 and 2 threads\n");
+    mote_err err = {0};
+    mote_ch_plasma p;
+    mote_ch_plasma_preset(&p, "single", 1e6, 1000, &err);
+    p.nsp = 1;
+    mote_ch_body b = {0};
+    mote_ch_body_twocubes(&b, 1, 1, &err);
+    mote_ch_result r1, r2;
+    const double N = 2e6;
+    if (run(&p, &b, N, 4, 1, &r1) || run(&p, &b, N, 4, 2, &r2))
+        return;
+    CHECK(memcmp(r1.tri_hits, r2.tri_hits, (size_t)b.ntri * 2 * sizeof *r1.tri_hits) == 0 &&
+              r1.hits[0][0] == r2.hits[0][0],
+          "S5: the tallies differ between 1 and 2 threads");
+    const double w = r1.weight[0][0], j0 = mote_ch_j0(1e6, 1000, MOTE_CH_ME, -1);
+    int bad = 0;
+    double facing = 0;
+    for (uint32_t f = 0; f < b.ntri; f += 2) { /* the two triangles of each face */
+        const double h = (double)(r1.tri_hits[2 * f] + r1.tri_hits[2 * (f + 1)]);
+        const double I = -w * h, s = fabs(w) * sqrt(h * (1 - h / N));
+        const double cx = (b.v[f][0][0] + b.v[f][1][0] + b.v[f][2][0]) / 3;
+        const int faces_other = fabs(cx) < 0.6 && fabs(b.nrm[f][0]) > 0.9; /* at x = +-0.5 */
+        const double want = j0 * (faces_other ? 1 - 0.19982 : 1);
+        if (faces_other)
+            facing += I / 2;
+        if (!(fabs(I - want) <= 3 * s)) {
+            bad++;
+            printf("  face at x %.2f n (%g %g %g): %.5e A, expected %.5e +- %.2e\n", cx,
+                   b.nrm[f][0], b.nrm[f][1], b.nrm[f][2], I, want, s);
+        }
+    }
+    CHECK(bad <= 0, "%d of 12 faces outside 3 sigma", bad);
+    printf("  facing faces: %.5e A each (j0 (1 - F) = %.5e), others j0 = %.5e\n", facing,
+           j0 * (1 - 0.19982), j0);
+    mote_ch_result_free(&r1);
+    mote_ch_result_free(&r2);
+    mote_ch_body_free(&b);
+}
+
+int main(void)
+{
+    test_constants();
+    test_philox();
+    test_meshes();
+    test_sphere_current();
+    test_hit_probability();
+    test_shadow();
+    return test_summary();
+}

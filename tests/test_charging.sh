@@ -1,0 +1,42 @@
+#!/bin/sh
+# test_charging.sh: the charging model through the `mote` program: the thesis's faithful run
+# (spec 10 F1: U = -146.77 V at 0.25 ms, within 3 sigma, from the time-series file), and bad input
+# (spec issue 22): each malformed command a located error before anything runs, nothing written.
+# Usage: sh tests/test_charging.sh [BUILD_DIR]   (default: build)
+NAME=charging
+. "$(dirname "$0")/lib.sh"
+mote_test_start "$1"
+
+F='model charging faithful\n'
+printf '%bbody sphere radius=1\nrun particles=2e6\nevolve time=2.5e-4 dt_out=2.5e-5 file=ts.csv\n' "$F" > f1.mote
+"$MOTE" run f1.mote > out.txt 2> err.txt && ok || bad "f1.mote failed: $(cat err.txt)"
+grep -q '^# columns: t_s Q_C U_V sigma_U_V I_net_A I_e_A Nreal_e I_H+_A Nreal_H+$' ts.csv && ok || bad "time-series columns: $(grep columns ts.csv)"
+[ "$(grep -vc '^#' ts.csv)" -eq 11 ] && ok || bad "time series: $(grep -vc '^#' ts.csv) rows, expected 11 (t = 0 ... 0.25 ms)"
+# U(0.25 ms) within 3 sigma of -146.77 V, and U exactly linear in t: U(t) / t the same on every row
+awk '!/^#/ { n++; t[n] = $1; U[n] = $3; s[n] = $4 } END { d = U[n] + 146.77; ok = n == 11 && d * d <= 9 * s[n] * s[n] + 1e-6;
+     for (k = 2; k <= n; k++) { r = U[k] / t[k] - U[n] / t[n]; if (r * r > 1e-16 * (U[n] / t[n]) ^ 2) ok = 0 } exit !ok }' ts.csv && ok || bad "U(0.25 ms): $(tail -1 ts.csv)"
+grep -q '^run: e    I = -6.70' out.txt && ok || bad "run line: $(grep '^run: e' out.txt)"
+
+# threads give the same file (spec 5.7, S5)
+printf '%bbody icosphere radius=1 level=3\nthreads 2\nrun particles=2e5\nevolve time=1e-4 file=ts2.csv\n' "$F" > t2.mote
+printf '%bbody icosphere radius=1 level=3\nrun particles=2e5\nevolve time=1e-4 file=ts1.csv\n' "$F" > t1.mote
+"$MOTE" run t1.mote > /dev/null 2>&1 && "$MOTE" run t2.mote > /dev/null 2>&1 && [ "$(grep -v '^# command' ts1.csv)" = "$(grep -v '^# command' ts2.csv)" ] && ok || bad "1 and 2 threads give different time series"
+
+# bad input: located errors before anything runs
+G='model charging\n'
+expect 1 "b1.mote:2:15: error: plasma preset: expected geo-worst-case, thesis-hot or single, found 'leo'" b1.mote "${G}plasma preset leo\n"
+expect 1 "b2.mote:2:15: error: plasma preset single: give n= (m^-3) and kT= (eV)" b2.mote "${G}plasma preset single n=1e6\n"
+expect 1 "b3.mote:2:24: error: plasma: n must be > 0, found -1" b3.mote "${G}plasma preset single n=-1 kT=10\n"
+expect 1 "b4.mote:2:6: error: body box: give size=SX,SY,SZ (three lengths > 0, m)" b4.mote "${G}body box\n"
+expect 1 "b5.mote:2:15: error: body box: give size=SX,SY,SZ (three lengths > 0, m)" b5.mote "${G}body box size=1,nan,1\n"
+expect 1 "b6.mote:3:1: error: run: there is no body yet" b6.mote "${G}plasma preset thesis-hot\nrun\n"
+expect 1 "b7.mote:3:1: error: run: there is no plasma yet (plasma preset ...)" b7.mote "${G}body sphere radius=1\nrun\n"
+expect 1 "b8.mote:4:1: error: evolve: the charged body's U(t) needs the field model" b8.mote "${G}plasma preset thesis-hot\nbody sphere radius=1\nevolve time=1\n"
+expect 1 "b9.mote:4:15: error: run: a charged body (potential != 0) needs the field model" b9.mote "${G}plasma preset thesis-hot\nbody sphere radius=1\nrun potential=-100\n"
+expect 1 "b10.mote:2:24: error: injector sphere: radius must be auto, debye, thesis or a length > 0 (m), found 'big'" b10.mote "${G}injector sphere radius=big\n"
+expect 1 "b11.mote:3:6: error: body sphere: the exact sphere is a body on its own" b11.mote "${G}body sphere radius=1\nbody sphere radius=2\n"
+expect 1 "b12.mote:2:6: error: body: expected sphere, icosphere, uvsphere, box or twocubes, found 'cone'" b12.mote "${G}body cone\n"
+expect 1 "b13.mote:3:1: error: evolve: no currents yet: run first" b13.mote "${F}body sphere radius=1\nevolve time=1 file=x.csv\n"
+[ ! -e x.csv ] && ok || bad "a failed script wrote x.csv"
+expect 2 "b14.mote:4:1: error: run: the injection radius 0.5 m must exceed the body's bounding radius 1 m" b14.mote "${F}body sphere radius=1\ninjector sphere radius=0.5\nrun particles=10\n"
+mote_test_end
