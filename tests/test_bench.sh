@@ -50,6 +50,13 @@ check "bench_nbody b2 reports steps, CPU time and the energy and moment errors: 
 pairs=$("$nbench" pairs 100 2 2>"$tmp/err")
 check "bench_nbody pairs reports pair evaluations per second" \
     'echo "$pairs" | grep -q "^workload=pairs precision=double N=100 threads=2 steps=3 wall_seconds=[0-9.]* pair_evaluations_per_second="'
+cbench="$(dirname "$bench")/bench_charging"
+cb=$("$cbench" b1 2e4 2 2>"$tmp/err")
+check "bench_charging b1 reports traces per second and the hit fraction: $(head -c 80 "$tmp/err")" \
+    'echo "$cb" | grep -q "^workload=b1 triangles=9800 R_gen=3 histories=20000 threads=2 seconds=[0-9.]* traces_per_s=[0-9.e+]* per_thread=[0-9.e+]* hit_fraction=0.1"'
+"$cbench" nosuch >/dev/null 2>"$tmp/err"
+rc=$?
+check "bench_charging: an unknown workload fails (exit $rc)" '[ $rc -ne 0 ] && grep -q "usage: bench_charging" "$tmp/err"'
 "$nbench" nosuch >/dev/null 2>"$tmp/err"
 rc=$?
 check "bench_nbody: an unknown workload fails (exit $rc)" '[ $rc -ne 0 ] && grep -q "usage: bench_nbody" "$tmp/err"'

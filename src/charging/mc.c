@@ -38,17 +38,14 @@ void mote_ch_philox(const uint32_t ctr[4], const uint32_t key[2], uint32_t out[4
     memcpy(out, c, sizeof c);
 }
 
-/* Two uniforms in (0, 1) (53 bits each, never 0) from one Philox block. */
-static void uniforms2(const uint32_t key[2], uint64_t history, uint32_t comp, uint32_t draw,
-                      double u[2])
+/* Four uniforms in (0, 1) (32 bits each, never 0 or 1) from one Philox block. */
+static void uniforms4(const uint32_t key[2], uint64_t history, uint32_t comp, double u[4])
 {
-    const uint32_t ctr[4] = {(uint32_t)history, (uint32_t)(history >> 32), comp, draw};
+    const uint32_t ctr[4] = {(uint32_t)history, (uint32_t)(history >> 32), comp, 0};
     uint32_t w[4];
     mote_ch_philox(ctr, key, w);
-    for (int j = 0; j < 2; j++) {
-        const uint64_t bits = ((uint64_t)w[2 * j] << 21) ^ (w[2 * j + 1] >> 11);
-        u[j] = ((double)(bits & ((1ull << 53) - 1)) + 0.5) / 9007199254740992.0;
-    }
+    for (int j = 0; j < 4; j++)
+        u[j] = ((double)w[j] + 0.5) * (1.0 / 4294967296.0);
 }
 
 void mote_ch_result_free(mote_ch_result *r)
@@ -82,6 +79,8 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
         return mote_fail(err, MOTE_ENOMEM, "run: out of memory for the tallies");
     const uint32_t key[2] = {(uint32_t)o->seed, (uint32_t)(o->seed >> 32)};
     const double tmin = 1e-9 * (2 * g.r_bound);
+    /* the bounding sphere about the centre, a little enlarged for rounding */
+    const double rb = g.r_bound * (1 + 1e-9) / R, miss_below = rb < 1 ? 1 - rb * rb : 0;
     const int nt = o->threads > 1 ? o->threads : 1;
     struct timespec t0, t1;
     clock_gettime(CLOCK_MONOTONIC, &t0);
@@ -115,16 +114,19 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                     const uint64_t h1 = (blk + 1) * BLOCK < o->particles ? (blk + 1) * BLOCK
                                                                            : o->particles;
                     for (uint64_t h = blk * BLOCK; h < h1; h++) {
-                        double u[2], v[2];
-                        uniforms2(key, h, (uint32_t)comp, 0, u);
-                        uniforms2(key, h, (uint32_t)comp, 1, v);
+                        double u[4];
+                        uniforms4(key, h, (uint32_t)comp, u);
+                        /* the direction's cos^2(theta) is uniform (the cosine law): a path
+                         * with cos^2 < 1 - (R_bound/R)^2 passes the body's bounding sphere */
+                        if (u[2] < miss_below)
+                            continue;
                         /* the position: z uniform in [-1, 1], azimuth uniform (spec 5.2) */
                         const double z = 2 * u[0] - 1, rho = sqrt(fmax(0, 1 - z * z));
                         const double ph = 2 * MOTE_CH_PI * u[1];
                         const double nrm[3] = {rho * cos(ph), rho * sin(ph), z};
-                        /* the direction: cos(theta) = sqrt(v0) about the inward normal -nrm */
-                        const double ct = sqrt(v[0]), st = sqrt(fmax(0, 1 - v[0]));
-                        const double ps = 2 * MOTE_CH_PI * v[1];
+                        /* the direction: cos(theta) = sqrt(u2) about the inward normal -nrm */
+                        const double ct = sqrt(u[2]), st = sqrt(fmax(0, 1 - u[2]));
+                        const double ps = 2 * MOTE_CH_PI * u[3];
                         double e1[3], e2[3]; /* a basis perpendicular to nrm */
                         if (fabs(nrm[2]) < 0.9) {
                             const double l = sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1]);
