@@ -232,6 +232,190 @@ static void test_shadow(void)
     mote_ch_body_free(&b);
 }
 
+/* ---- mesh files (spec 7.1, 7.2, 4.2: G3, G4) ---------------------------------------------- */
+
+/* Write the triangles of b as ASCII STL, binary STL, OBJ or the plain format; `flip` reverses the
+ * triangles whose bit is set (by index). Coordinates are rounded to floats, as binary STL holds
+ * them (and Assimp reads every format), so all four files describe the same triangles. */
+static int write_mesh(const mote_ch_body *b, const char *path, int kind, const uint8_t *flip)
+{
+    FILE *f = fopen(path, kind == 1 ? "wb" : "w");
+    if (!f)
+        return -1;
+    if (kind == 1) { /* binary STL: 80-byte header, count, 50 bytes a triangle */
+        char head[80] = "mote test";
+        uint32_t n = b->ntri;
+        fwrite(head, 1, 80, f);
+        fwrite(&n, 4, 1, f);
+    } else if (kind == 0) {
+        fprintf(f, "solid hull\n");
+    }
+    for (uint32_t i = 0; i < b->ntri; i++) {
+        const int o[3] = {0, flip && flip[i] ? 2 : 1, flip && flip[i] ? 1 : 2};
+        if (kind == 0) {
+            fprintf(f, "facet normal 0 0 0\nouter loop\n");
+            for (int j = 0; j < 3; j++)
+                fprintf(f, "vertex %.17g %.17g %.17g\n", (double)(float)b->v[i][o[j]][0],
+                        (double)(float)b->v[i][o[j]][1], (double)(float)b->v[i][o[j]][2]);
+            fprintf(f, "endloop\nendfacet\n");
+        } else if (kind == 1) {
+            float w[12] = {0};
+            for (int j = 0; j < 3; j++)
+                for (int a = 0; a < 3; a++)
+                    w[3 + 3 * j + a] = (float)b->v[i][o[j]][a];
+            uint16_t attr = 0;
+            fwrite(w, 4, 12, f);
+            fwrite(&attr, 2, 1, f);
+        } else if (kind == 2) {
+            for (int j = 0; j < 3; j++)
+                fprintf(f, "v %.17g %.17g %.17g\n", (double)(float)b->v[i][o[j]][0],
+                        (double)(float)b->v[i][o[j]][1], (double)(float)b->v[i][o[j]][2]);
+            fprintf(f, "f -3 -2 -1\n");
+        } else {
+            for (int j = 0; j < 3; j++)
+                fprintf(f, "%.17g %.17g %.17g%s", (double)(float)b->v[i][o[j]][0],
+                        (double)(float)b->v[i][o[j]][1], (double)(float)b->v[i][o[j]][2],
+                        j < 2 ? " " : "\n");
+        }
+    }
+    if (kind == 0)
+        fprintf(f, "endsolid hull\n");
+    return fclose(f);
+}
+
+static int outward(const mote_ch_body *b)
+{
+    for (uint32_t i = 0; i < b->ntri; i++) {
+        double d = 0;
+        for (int k = 0; k < 3; k++)
+            d += b->nrm[i][k] * (b->v[i][0][k] + b->v[i][1][k] + b->v[i][2][k]);
+        if (!(d > 0))
+            return 0;
+    }
+    return 1;
+}
+
+static void test_mesh_files(void)
+{
+    printf("G3, G4: mesh files and repairs\n");
+    char dir[256], path[320];
+    if (!test_tmpdir_make(dir, sizeof dir, "mote_chmesh"))
+        return;
+    mote_err err = {0};
+    mote_ch_body cube = {0}, ico = {0};
+    const double one[3] = {1, 1, 1}, c0[3] = {0, 0, 0};
+    mote_ch_body_box(&cube, one, c0, 1, &err);
+    mote_ch_body_icosphere(&ico, 1, 3, &err);
+    static const char *const ext[4] = {"stl", "bin.stl", "obj", "txt"};
+    mote_ch_load_opts o = {.format = "auto", .scale = 1, .rot_axis = -1};
+    for (int body = 0; body < 2; body++) {
+        const mote_ch_body *src = body ? &ico : &cube;
+        double area0 = 0; /* the area of the first file read: all four must agree */
+        for (int kind = 0; kind < 4; kind++) {
+            snprintf(path, sizeof path, "%s/m%d.%s", dir, body, ext[kind]);
+            CHECK(write_mesh(src, path, kind, NULL) == 0, "cannot write %s", path);
+            mote_ch_body b = {0};
+            mote_ch_load_report r;
+            CHECK(mote_ch_body_load(&b, path, &o, &r, &err) == MOTE_OK, "load %s: %s", path, err.msg);
+            mote_ch_geometry g;
+            mote_ch_body_geometry(&b, &g);
+            if (kind == 0)
+                area0 = g.area;
+            CHECK(b.ntri == src->ntri && fabs(g.area / area0 - 1) <= 1e-12 && r.flipped == 0 &&
+                      r.closed_components == 1 && r.open_components == 0 && outward(&b),
+                  "%s: %u triangles (%u), area %.15g (%.15g), flipped %u, components %u+%u", path,
+                  b.ntri, src->ntri, g.area, area0, r.flipped, r.closed_components,
+                  r.open_components);
+            mote_ch_body_free(&b);
+        }
+    }
+    /* units=mm: the area times 1e-6 */
+    mote_ch_load_opts mm = o;
+    mm.scale = 0.001;
+    snprintf(path, sizeof path, "%s/m0.obj", dir);
+    mote_ch_body b = {0};
+    mote_ch_load_report r;
+    mote_ch_geometry g;
+    CHECK(mote_ch_body_load(&b, path, &mm, &r, &err) == MOTE_OK, "mm: %s", err.msg);
+    mote_ch_body_geometry(&b, &g);
+    CHECK(fabs(g.area / 6e-6 - 1) < 1e-12, "units=mm: area %.15g", g.area);
+    mote_ch_body_free(&b);
+    /* G3: one face flipped, then all; a degenerate and a duplicate triangle */
+    uint8_t flip[12] = {1, 1};
+    for (int all = 0; all < 2; all++) {
+        if (all)
+            memset(flip, 1, sizeof flip);
+        snprintf(path, sizeof path, "%s/flip%d.stl", dir, all);
+        write_mesh(&cube, path, 0, flip);
+        CHECK(mote_ch_body_load(&b, path, &o, &r, &err) == MOTE_OK, "flip: %s", err.msg);
+        CHECK(outward(&b) && r.flipped == (all ? 12u : 2u) && b.ntri == 12, "G3 %s: flipped %u, "
+              "outward %d", all ? "all faces" : "one face", r.flipped, outward(&b));
+        mote_ch_body_free(&b);
+    }
+    snprintf(path, sizeof path, "%s/dirty.txt", dir);
+    FILE *f = fopen(path, "w");
+    if (f) {
+        for (uint32_t i = 0; i < cube.ntri; i++)
+            for (int j = 0; j < 3; j++)
+                fprintf(f, "%.17g %.17g %.17g%s", cube.v[i][j][0], cube.v[i][j][1],
+                        cube.v[i][j][2], j < 2 ? " " : "\n");
+        fprintf(f, "# a duplicate, a degenerate triangle, an abandoned line\n");
+        fprintf(f, "%.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n", cube.v[0][0][0],
+                cube.v[0][0][1], cube.v[0][0][2], cube.v[0][1][0], cube.v[0][1][1],
+                cube.v[0][1][2], cube.v[0][2][0], cube.v[0][2][1], cube.v[0][2][2]);
+        fprintf(f, "0 0 0  1 1 1  2 2 2\n1 2 three 4\n");
+        fclose(f);
+    }
+    CHECK(mote_ch_body_load(&b, path, &o, &r, &err) == MOTE_OK, "dirty: %s", err.msg);
+    CHECK(b.ntri == 12 && r.degenerate == 1 && r.duplicates == 1 && r.abandoned_lines == 1,
+          "G3: %u triangles, %u degenerate, %u duplicates, %u abandoned", b.ntri, r.degenerate,
+          r.duplicates, r.abandoned_lines);
+    mote_ch_body_free(&b);
+    mote_ch_load_opts strict = o;
+    strict.strict = 1;
+    CHECK(mote_ch_body_load(&b, path, &strict, &r, &err) != MOTE_OK &&
+              strstr(err.msg, "dirty.txt:16: expected a number, found 'three 4'"),
+          "strict=yes: %s", err.msg);
+    mote_ch_body_free(&b);
+    /* a sheet: one square, open, two-sided, its area counted twice */
+    snprintf(path, sizeof path, "%s/sheet.obj", dir);
+    if ((f = fopen(path, "w"))) {
+        fprintf(f, "o panel\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n");
+        fclose(f);
+    }
+    CHECK(mote_ch_body_load(&b, path, &o, &r, &err) == MOTE_OK, "sheet: %s", err.msg);
+    mote_ch_body_geometry(&b, &g);
+    CHECK(b.ntri == 2 && r.open_components == 1 && !b.closed[0] && fabs(g.area - 2) < 1e-12,
+          "sheet: %u triangles, %u open, area %.15g", b.ntri, r.open_components, g.area);
+    CHECK(b.nparts == 1 && strcmp(b.part_name[0], "panel") == 0, "sheet part '%s'",
+          b.nparts ? b.part_name[0] : "");
+    mote_ch_body_free(&b);
+    /* bad files: missing, empty, NaN, only degenerate triangles, a truncated binary STL */
+    snprintf(path, sizeof path, "%s/none.stl", dir);
+    CHECK(mote_ch_body_load(&b, path, &o, &r, &err) != MOTE_OK && strstr(err.msg, "none.stl"),
+          "missing file: %s", err.msg);
+    mote_ch_body_free(&b);
+    const char *bad[4][2] = {{"empty.txt", ""},
+                             {"nan.txt", "0 0 0 1 0 0 0 nan 0\n"},  /* nan.txt:1: not finite */
+                             {"flat.txt", "0 0 0 1 1 1 2 2 2\n0 0 0 0 0 0 1 1 1\n"},
+                             {"cut.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n"}};
+    for (int k = 0; k < 4; k++) {
+        snprintf(path, sizeof path, "%s/%s", dir, bad[k][0]);
+        if ((f = fopen(path, "w"))) {
+            fputs(bad[k][1], f);
+            fclose(f);
+        }
+        int rc = mote_ch_body_load(&b, path, &o, &r, &err);
+        CHECK(rc != MOTE_OK && strstr(err.msg, bad[k][0]) && b.ntri == 0, "%s: rc %d, %u "
+              "triangles, '%s'", bad[k][0], rc, b.ntri, err.msg);
+        printf("  %s: %s\n", bad[k][0], err.msg);
+        mote_ch_body_free(&b);
+    }
+    mote_ch_body_free(&cube);
+    mote_ch_body_free(&ico);
+    test_remove_tree(dir);
+}
+
 int main(void)
 {
     test_constants();
@@ -240,5 +424,6 @@ int main(void)
     test_sphere_current();
     test_hit_probability();
     test_shadow();
+    test_mesh_files();
     return test_summary();
 }

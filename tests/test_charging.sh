@@ -35,8 +35,22 @@ expect 1 "b8.mote:4:1: error: evolve: the charged body's U(t) needs the field mo
 expect 1 "b9.mote:4:15: error: run: a charged body (potential != 0) needs the field model" b9.mote "${G}plasma preset thesis-hot\nbody sphere radius=1\nrun potential=-100\n"
 expect 1 "b10.mote:2:24: error: injector sphere: radius must be auto, debye, thesis or a length > 0 (m), found 'big'" b10.mote "${G}injector sphere radius=big\n"
 expect 1 "b11.mote:3:6: error: body sphere: the exact sphere is a body on its own" b11.mote "${G}body sphere radius=1\nbody sphere radius=2\n"
-expect 1 "b12.mote:2:6: error: body: expected sphere, icosphere, uvsphere, box or twocubes, found 'cone'" b12.mote "${G}body cone\n"
+expect 1 "b12.mote:2:6: error: body: expected sphere, icosphere, uvsphere, box, twocubes or load, found 'cone'" b12.mote "${G}body cone\n"
 expect 1 "b13.mote:3:1: error: evolve: no currents yet: run first" b13.mote "${F}body sphere radius=1\nevolve time=1 file=x.csv\n"
 [ ! -e x.csv ] && ok || bad "a failed script wrote x.csv"
 expect 2 "b14.mote:4:1: error: run: the injection radius 0.5 m must exceed the body's bounding radius 1 m" b14.mote "${F}body sphere radius=1\ninjector sphere radius=0.5\nrun particles=10\n"
+# body load (spec 7.1-7.3): an OBJ with two groups, repaired and run; errors name file and line
+printf 'o craft\nv -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\ng bus\nf 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\ng panel\nv 1 -0.5 0\nv 4 -0.5 0\nv 4 0.5 0\nv 1 0.5 0\nf 9 10 11\nf 9 11 12\n' > craft.obj
+printf '%bplasma preset geo-worst-case\nbody load file=craft.obj units=m\nrun particles=1e5\n' "$G" > ld.mote
+"$MOTE" run ld.mote > out.txt 2> err.txt && ok || bad "ld.mote failed: $(cat err.txt)"
+grep -q '^body load: 14 triangles read; 0 degenerate and 0 duplicate dropped, [0-9]* vertices welded, 0 turned to face outward; 1 closed and 1 open components' out.txt && ok || bad "body load report: $(grep '^body load' out.txt)"
+grep -q '^mode=full species=2 triangles=14 area=30 ' out.txt && ok || bad "the cube (24 m^2) and the two-sided panel (2 x 3 m^2): $(grep triangles=14 out.txt | head -1)"
+printf '0 0 0 1 0 0 0 nan 0\n' > nan.txt
+expect 2 "b15.mote:2:16: error: body load: nan.txt:1: a coordinate that is not a finite number ('nan')" b15.mote "${G}body load file=nan.txt\n"
+expect 1 "b16.mote:2:16: error: body: 'missing.stl' does not exist and no earlier command writes it" b16.mote "${G}body load file=missing.stl\n"
+expect 1 "b17.mote:2:6: error: body load: give file=FILE" b17.mote "${G}body load\n"
+expect 1 "b18.mote:2:32: error: body load: units must be m, cm, mm or in, found 'ft'" b18.mote "${G}body load file=craft.obj units=ft\n"
+expect 1 "b19.mote:2:33: error: body load: rotate: expected AXIS,DEGREES (x, y or z), found 'w,90'" b19.mote "${G}body load file=craft.obj rotate=w,90\n"
+printf 'solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n' > cut.stl
+expect 2 "b20.mote:2:16: error: body load: cut.stl: not a mesh file Assimp reads" b20.mote "${G}body load file=cut.stl\n"
 mote_test_end

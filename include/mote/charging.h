@@ -54,6 +54,9 @@ typedef struct {
     double (*nrm)[3];      /* outward unit normals */
     double *area;
     uint8_t *closed;       /* 1: of a closed component (one outer side); 0: a two-sided sheet */
+    uint16_t *part;        /* the part each triangle belongs to (spec 4.1) */
+    char (*part_name)[32];
+    int nparts;
     int sphere;            /* 1: the exact analytic sphere (no triangles) */
     double sphere_r, sphere_c[3];
 } mote_ch_body;
@@ -68,6 +71,28 @@ int mote_ch_body_uvsphere(mote_ch_body *b, double r, int nlon, int nlat, mote_er
 int mote_ch_body_box(mote_ch_body *b, const double size[3], const double centre[3], int subdiv,
                      mote_err *err);
 int mote_ch_body_twocubes(mote_ch_body *b, double side, double gap, mote_err *err);
+
+/* Mesh files (spec 7.1-7.3, 4.2): STL, OBJ, PLY, glTF and the rest through Assimp, or the
+ * original program's plain format (9 numbers per triangle); scaled, turned about an axis and
+ * moved, then checked and repaired (degenerate and duplicate triangles dropped, vertices welded,
+ * closed components oriented outward, open ones kept as two-sided sheets). */
+typedef struct {
+    const char *format;    /* "auto", "plain" or "assimp" */
+    double scale;          /* length of one file unit in m */
+    double offset[3];      /* m, added after scaling and turning */
+    int rot_axis;          /* -1: none; 0, 1, 2: x, y, z */
+    double rot_deg;
+    const char *part;      /* the part name when the file gives none (NULL: the file name) */
+    int strict;            /* plain format: an abandoned line is an error */
+} mote_ch_load_opts;
+
+typedef struct {
+    uint32_t read, degenerate, duplicates, welded, flipped, closed_components, open_components;
+    uint32_t abandoned_lines;
+} mote_ch_load_report;
+
+int mote_ch_body_load(mote_ch_body *b, const char *path, const mote_ch_load_opts *o,
+                      mote_ch_load_report *rep, mote_err *err);
 
 /* Spec 4.3: the area (sheets counted twice), the area-weighted centre, R_bound, R_eq, C. */
 typedef struct {

@@ -5,7 +5,10 @@
  * R_bound, R_eq and the capacitance of the sphere of equal area). */
 #include "mote/charging.h"
 
+#include "ch.h"
+
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -15,6 +18,8 @@ void mote_ch_body_free(mote_ch_body *b)
     free(b->nrm);
     free(b->area);
     free(b->closed);
+    free(b->part);
+    free(b->part_name);
     memset(b, 0, sizeof *b);
 }
 
@@ -27,8 +32,23 @@ static void cross(const double a[3], const double b[3], double c[3])
 
 /* Add the triangle (p, q, r), turned so that its normal points away from `inside` when that is
  * given (convex generated bodies); a degenerate triangle is dropped. */
-static int add_tri(mote_ch_body *b, const double p[3], const double q[3], const double r[3],
-                   const double *inside, int closed, mote_err *err)
+int ch_body_part(mote_ch_body *b, const char *name, mote_err *err)
+{
+    for (int k = 0; k < b->nparts; k++)
+        if (strcmp(b->part_name[k], name) == 0)
+            return k;
+    if (b->nparts == 65535)
+        return mote_fail(err, MOTE_EINVAL, "body: too many parts"), -1;
+    char(*pn)[32] = realloc(b->part_name, (size_t)(b->nparts + 1) * sizeof *pn);
+    if (!pn)
+        return mote_fail(err, MOTE_ENOMEM, "body: out of memory"), -1;
+    b->part_name = pn;
+    snprintf(b->part_name[b->nparts], sizeof b->part_name[0], "%s", name);
+    return b->nparts++;
+}
+
+int ch_add_tri(mote_ch_body *b, const double p[3], const double q[3], const double r[3],
+               const double *inside, int closed, int part, mote_err *err)
 {
     if (b->ntri == b->cap) {
         uint32_t cap = b->cap ? 2 * b->cap : 256;
@@ -44,7 +64,10 @@ static int add_tri(mote_ch_body *b, const double p[3], const double q[3], const 
         uint8_t *c = realloc(b->closed, cap);
         if (c)
             b->closed = c;
-        if (!v || !n || !a || !c)
+        uint16_t *pt = realloc(b->part, cap * sizeof *pt);
+        if (pt)
+            b->part = pt;
+        if (!v || !n || !a || !c || !pt)
             return mote_fail(err, MOTE_ENOMEM, "body: out of memory (%u triangles)", b->ntri);
         b->cap = cap;
     }
@@ -76,6 +99,7 @@ static int add_tri(mote_ch_body *b, const double p[3], const double q[3], const 
         b->nrm[i][k] = nn[k] / len;
     b->area[i] = 0.5 * len;
     b->closed[i] = (uint8_t)closed;
+    b->part[i] = (uint16_t)part;
     return MOTE_OK;
 }
 
@@ -108,11 +132,11 @@ static void unit_scale(double p[3], double r)
 
 /* One icosahedron face subdivided `level` times, every vertex on the sphere of radius r. */
 static int ico_face(mote_ch_body *b, const double a[3], const double c[3], const double d[3],
-                    int level, double r, mote_err *err)
+                    int level, double r, int part, mote_err *err)
 {
     static const double origin[3] = {0, 0, 0};
     if (level == 0)
-        return add_tri(b, a, c, d, origin, 1, err);
+        return ch_add_tri(b, a, c, d, origin, 1, part, err);
     double ac[3], cd[3], da[3];
     for (int k = 0; k < 3; k++) {
         ac[k] = 0.5 * (a[k] + c[k]);
@@ -122,13 +146,13 @@ static int ico_face(mote_ch_body *b, const double a[3], const double c[3], const
     unit_scale(ac, r);
     unit_scale(cd, r);
     unit_scale(da, r);
-    int rc = ico_face(b, a, ac, da, level - 1, r, err);
+    int rc = ico_face(b, a, ac, da, level - 1, r, part, err);
     if (!rc)
-        rc = ico_face(b, ac, c, cd, level - 1, r, err);
+        rc = ico_face(b, ac, c, cd, level - 1, r, part, err);
     if (!rc)
-        rc = ico_face(b, da, cd, d, level - 1, r, err);
+        rc = ico_face(b, da, cd, d, level - 1, r, part, err);
     if (!rc)
-        rc = ico_face(b, ac, cd, da, level - 1, r, err);
+        rc = ico_face(b, ac, cd, da, level - 1, r, part, err);
     return rc;
 }
 
@@ -148,8 +172,11 @@ int mote_ch_body_icosphere(mote_ch_body *b, double r, int level, mote_err *err)
                                  {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
     for (int i = 0; i < 12; i++)
         unit_scale(v[i], r);
+    const int part = ch_body_part(b, "icosphere", err);
+    if (part < 0)
+        return err->code;
     for (int k = 0; k < 20 && !rc; k++)
-        rc = ico_face(b, v[F[k][0]], v[F[k][1]], v[F[k][2]], level, r, err);
+        rc = ico_face(b, v[F[k][0]], v[F[k][1]], v[F[k][2]], level, r, part, err);
     return rc;
 }
 
@@ -161,6 +188,9 @@ int mote_ch_body_uvsphere(mote_ch_body *b, double r, int nlon, int nlat, mote_er
     if (!(r > 0) || nlon < 3 || nlat < 2)
         return mote_fail(err, MOTE_EINVAL, "body uvsphere: need radius > 0, nlon >= 3, nlat >= 2");
     static const double origin[3] = {0, 0, 0};
+    const int part = ch_body_part(b, "uvsphere", err);
+    if (part < 0)
+        return err->code;
     /* rings at polar angles pi j / nlat, j = 0 (north pole) ... nlat (south pole) */
     for (int j = 0; j < nlat && !rc; j++)
         for (int i = 0; i < nlon && !rc; i++) {
@@ -173,21 +203,24 @@ int mote_ch_body_uvsphere(mote_ch_body *b, double r, int nlon, int nlat, mote_er
                 p[c][2] = r * cos(th);
             }
             if (j > 0) /* (the cap at the north pole has one triangle per column) */
-                rc = add_tri(b, p[0], p[1], p[2], origin, 1, err);
+                rc = ch_add_tri(b, p[0], p[1], p[2], origin, 1, part, err);
             if (!rc && j < nlat - 1)
-                rc = add_tri(b, p[0], p[2], p[3], origin, 1, err);
+                rc = ch_add_tri(b, p[0], p[2], p[3], origin, 1, part, err);
         }
     return rc;
 }
 
-int mote_ch_body_box(mote_ch_body *b, const double size[3], const double centre[3], int subdiv,
-                     mote_err *err)
+static int box_part(mote_ch_body *b, const double size[3], const double centre[3], int subdiv,
+                    const char *name, mote_err *err)
 {
     int rc = no_sphere(b, "box", err);
     if (rc)
         return rc;
     if (!(size[0] > 0 && size[1] > 0 && size[2] > 0) || subdiv < 1 || subdiv > 1000)
         return mote_fail(err, MOTE_EINVAL, "body box: need sizes > 0 and 1 <= subdiv <= 1000");
+    const int part = ch_body_part(b, name, err);
+    if (part < 0)
+        return err->code;
     for (int ax = 0; ax < 3 && !rc; ax++) /* the faces normal to axis ax, at -s/2 and +s/2 */
         for (int sgn = -1; sgn <= 1 && !rc; sgn += 2) {
             const int u = (ax + 1) % 3, w = (ax + 2) % 3;
@@ -200,12 +233,18 @@ int mote_ch_body_box(mote_ch_body *b, const double size[3], const double centre[
                         p[c][u] = centre[u] + size[u] * ((double)ii / subdiv - 0.5);
                         p[c][w] = centre[w] + size[w] * ((double)jj / subdiv - 0.5);
                     }
-                    rc = add_tri(b, p[0], p[1], p[2], centre, 1, err);
+                    rc = ch_add_tri(b, p[0], p[1], p[2], centre, 1, part, err);
                     if (!rc)
-                        rc = add_tri(b, p[0], p[2], p[3], centre, 1, err);
+                        rc = ch_add_tri(b, p[0], p[2], p[3], centre, 1, part, err);
                 }
         }
     return rc;
+}
+
+int mote_ch_body_box(mote_ch_body *b, const double size[3], const double centre[3], int subdiv,
+                     mote_err *err)
+{
+    return box_part(b, size, centre, subdiv, "box", err);
 }
 
 int mote_ch_body_twocubes(mote_ch_body *b, double side, double gap, mote_err *err)
@@ -214,8 +253,8 @@ int mote_ch_body_twocubes(mote_ch_body *b, double side, double gap, mote_err *er
         return mote_fail(err, MOTE_EINVAL, "body twocubes: need side > 0 and gap >= 0");
     const double s[3] = {side, side, side};
     const double c1[3] = {-0.5 * (gap + side), 0, 0}, c2[3] = {0.5 * (gap + side), 0, 0};
-    int rc = mote_ch_body_box(b, s, c1, 1, err);
-    return rc ? rc : mote_ch_body_box(b, s, c2, 1, err);
+    int rc = box_part(b, s, c1, 1, "cube1", err);
+    return rc ? rc : box_part(b, s, c2, 1, "cube2", err);
 }
 
 void mote_ch_body_geometry(const mote_ch_body *b, mote_ch_geometry *g)

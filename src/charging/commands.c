@@ -13,7 +13,7 @@ typedef struct {
     mote_context *ctx;
     FILE *log;
     int dry, faithful;
-    int have_plasma, have_body; /* what validation knows */
+    int have_plasma, have_body, have_sphere; /* what validation knows */
     mote_ch_plasma plasma;
     mote_ch_body body;
     char radius[32];            /* injector sphere radius= (auto, debye, thesis or metres) */
@@ -108,7 +108,74 @@ static int run_plasma(void *vm, const mote_call *c, mote_err *err)
 /* ---- body ----------------------------------------------------------------------------------- */
 
 static const char *const BODY_KINDS[] = {"sphere", "icosphere", "uvsphere", "box", "twocubes",
-                                         NULL};
+                                         "load", NULL};
+
+/* three numbers X,Y,Z (any sign) */
+static int parse3any(const char *t, double v[3])
+{
+    for (int a = 0; a < 3; a++) {
+        char *end;
+        v[a] = strtod(t, &end);
+        if (end == t || !isfinite(v[a]) || *end != (a < 2 ? ',' : '\0'))
+            return -1;
+        t = end + 1;
+    }
+    return 0;
+}
+
+/* The options of `body load` (spec 7.1-7.3) into o; -1 and a located error when one is bad. */
+static int load_opts(const mote_call *c, mote_ch_load_opts *o, mote_err *err)
+{
+    memset(o, 0, sizeof *o);
+    o->format = "auto";
+    o->scale = 1;
+    o->rot_axis = -1;
+    const mote_arg *a;
+    if ((a = mote_call_opt(c, "format"))) {
+        if (strcmp(a->text, "auto") && strcmp(a->text, "plain") && strcmp(a->text, "assimp"))
+            return mote_call_fail(err, c, mote_call_opt_index(c, "format"), MOTE_EINVAL,
+                                  "body load: format must be auto, plain or assimp, found '%s'",
+                                  a->text);
+        o->format = a->text;
+    }
+    if ((a = mote_call_opt(c, "units"))) {
+        static const char *const U[] = {"m", "cm", "mm", "in"};
+        static const double F[] = {1, 0.01, 0.001, 0.0254};
+        int k = 0;
+        while (k < 4 && strcmp(U[k], a->text))
+            k++;
+        if (k == 4)
+            return mote_call_fail(err, c, mote_call_opt_index(c, "units"), MOTE_EINVAL,
+                                  "body load: units must be m, cm, mm or in, found '%s'", a->text);
+        if (mote_call_opt(c, "scale"))
+            return mote_call_fail(err, c, mote_call_opt_index(c, "scale"), MOTE_EINVAL,
+                                  "body load: give units= or scale=, not both");
+        o->scale = F[k];
+    }
+    o->scale = mote_call_opt_r(c, "scale", o->scale);
+    if ((a = mote_call_opt(c, "offset")) && parse3any(a->text, o->offset))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "offset"), MOTE_EINVAL,
+                              "body load: offset: expected X,Y,Z (m), found '%s'", a->text);
+    if ((a = mote_call_opt(c, "rotate"))) {
+        char *end;
+        const char ax = a->text[0];
+        double deg = a->text[0] && a->text[1] == ',' ? strtod(a->text + 2, &end) : NAN;
+        if ((ax != 'x' && ax != 'y' && ax != 'z') || !isfinite(deg) || *end)
+            return mote_call_fail(err, c, mote_call_opt_index(c, "rotate"), MOTE_EINVAL,
+                                  "body load: rotate: expected AXIS,DEGREES (x, y or z), found "
+                                  "'%s'", a->text);
+        o->rot_axis = ax - 'x';
+        o->rot_deg = deg;
+    }
+    if ((a = mote_call_opt(c, "strict"))) {
+        if (strcmp(a->text, "yes") && strcmp(a->text, "no"))
+            return mote_call_fail(err, c, mote_call_opt_index(c, "strict"), MOTE_EINVAL,
+                                  "body load: strict must be yes or no, found '%s'", a->text);
+        o->strict = a->text[0] == 'y';
+    }
+    o->part = (a = mote_call_opt(c, "part")) ? a->text : NULL;
+    return MOTE_OK;
+}
 
 /* size=SX,SY,SZ */
 static int parse3(const char *t, double v[3])
@@ -132,16 +199,33 @@ static int check_body(void *vm, const mote_call *c, mote_err *err)
         k++;
     if (!BODY_KINDS[k])
         return mote_call_fail(err, c, 0, MOTE_EINVAL, "body: expected sphere, icosphere, "
-                              "uvsphere, box or twocubes, found '%s'", kind);
+                              "uvsphere, box, twocubes or load, found '%s'", kind);
+    if (k == 5) {
+        mote_ch_load_opts o;
+        if (!mote_call_opt(c, "file"))
+            return mote_call_fail(err, c, 0, MOTE_EINVAL, "body load: give file=FILE");
+        if (m->have_sphere)
+            return mote_call_fail(err, c, 0, MOTE_EINVAL, "body load: the body is the exact "
+                                  "sphere, which takes no other parts");
+        int rc = load_opts(c, &o, err);
+        if (rc)
+            return rc;
+        m->have_body = 1;
+        return MOTE_OK;
+    }
+    if (mote_call_opt(c, "file"))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "file"), MOTE_EINVAL,
+                              "body %s: file= is for body load", kind);
     double v[3];
     if (k == 3 && (!mote_call_opt(c, "size") || parse3(mote_call_opt(c, "size")->text, v)))
         return mote_call_fail(err, c, mote_call_opt(c, "size") ? mote_call_opt_index(c, "size") : 0,
                               MOTE_EINVAL, "body box: give size=SX,SY,SZ (three lengths > 0, m)");
     if (k <= 2 && !mote_call_opt(c, "radius"))
         return mote_call_fail(err, c, 0, MOTE_EINVAL, "body %s: give radius= (m)", kind);
-    if (k == 0 && m->have_body)
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "body sphere: the exact sphere is a body "
-                              "on its own (no other parts)");
+    if ((k == 0 && m->have_body) || (k > 0 && m->have_sphere))
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "body %s: the exact sphere is a body "
+                              "on its own (no other parts)", kind);
+    m->have_sphere |= k == 0;
     if (k == 1 && mote_call_opt(c, "level") && mote_call_opt(c, "level")->i > 8)
         return mote_call_fail(err, c, mote_call_opt_index(c, "level"), MOTE_EINVAL,
                               "body icosphere: level must be 0 ... 8");
@@ -167,7 +251,26 @@ static int run_body(void *vm, const mote_call *c, mote_err *err)
         const int nlon = OPT_I("nlon", 100), nlat = OPT_I("nlat", 50);
         rc = mote_ch_body_uvsphere(&m->body, r, nlon, nlat, err);
     }
-    else if (strcmp(kind, "box") == 0) {
+    else if (strcmp(kind, "load") == 0) {
+        mote_ch_load_opts o;
+        mote_ch_load_report rep;
+        rc = load_opts(c, &o, err);
+        if (!rc)
+            rc = mote_ch_body_load(&m->body, mote_call_opt(c, "file")->path, &o, &rep, err);
+        if (rc) { /* the file's name and line are in the message; the command's place too */
+            char why[sizeof err->msg];
+            snprintf(why, sizeof why, "%s", err->msg);
+            return mote_call_fail(err, c, mote_call_opt_index(c, "file"), (mote_status)rc,
+                                  "body load: %s", why);
+        }
+        if (m->log)
+            fprintf(m->log, "body load: %u triangles read; %u degenerate and %u duplicate dropped, "
+                            "%u vertices welded, %u turned to face outward; %u closed and %u "
+                            "open components (open ones are two-sided sheets)%s\n",
+                    rep.read, rep.degenerate, rep.duplicates, rep.welded, rep.flipped,
+                    rep.closed_components, rep.open_components,
+                    rep.abandoned_lines ? "; some lines abandoned (see strict=yes)" : "");
+    } else if (strcmp(kind, "box") == 0) {
         double size[3], centre[3] = {0, 0, 0};
         parse3(mote_call_opt(c, "size")->text, size);
         rc = mote_ch_body_box(&m->body, size, centre, OPT_I("subdiv", 1), err);
@@ -389,6 +492,8 @@ static const char HELP_BODY[] =
     "    body uvsphere radius=A [nlon=100] [nlat=50]\n"
     "    body box size=SX,SY,SZ [subdiv=1]\n"
     "    body twocubes [side=1] [gap=1]\n"
+    "    body load file=FILE [format=auto|plain|assimp] [units=m|cm|mm|in] [scale=S]\n"
+    "              [part=NAME] [offset=X,Y,Z] [rotate=AXIS,DEG] [strict=no|yes]\n"
     "\n"
     "Add a generated body (spec 4.4; lengths in m): the exact analytic sphere (a\n"
     "body on its own), an icosphere of 20 4^L triangles (level 4: 5 120; 5: 20 480),\n"
@@ -396,7 +501,21 @@ static const char HELP_BODY[] =
     "centred at the origin with each face cut into subdiv^2 squares, or two cubes\n"
     "of side `side` whose facing faces are `gap` apart along x (the shadowing\n"
     "test). Normals point outward. Prints the triangle count, the area, R_eq,\n"
-    "R_bound and the capacitance C = 4 pi eps0 R_eq of the sphere of equal area.\n";
+    "R_bound and the capacitance C = 4 pi eps0 R_eq of the sphere of equal area.\n"
+    "\n"
+    "`body load` adds the triangles of a mesh file (spec 7.1): STL (ASCII or\n"
+    "binary), OBJ, PLY, glTF and the other formats of Assimp, or the original\n"
+    "program's plain format (numbers as a stream, 9 per triangle; taken for the\n"
+    "extensions .txt, .dat, .tri and none, or with format=plain; `#` comments; a\n"
+    "word that is not a number abandons the partial triangle and its line, an\n"
+    "error with strict=yes). Coordinates are scaled (units= or scale=, the length\n"
+    "of one file unit in m), turned about an axis and moved, then repaired (spec\n"
+    "4.2): triangles below 1e-12 L^2 dropped, vertices closer than 1e-9 L welded\n"
+    "(L the bounding-box diagonal), duplicate triangles dropped, closed components\n"
+    "turned to face outward, open components kept as two-sided sheets; the counts\n"
+    "are printed. Parts come from OBJ groups, STL solid names and Assimp mesh or\n"
+    "material names, else part=, else the file name. The file may be given again\n"
+    "to assemble a body from several files.\n";
 
 static const char HELP_INJECTOR[] =
     "    injector sphere [radius=auto|debye|thesis|R]\n"
@@ -435,8 +554,10 @@ static const mote_cmd ch_commands[] = {
     {"plasma", NULL, "s s n=r>0 kT=r>0", "plasma preset NAME [n=N] [kT=T]",
      "the plasma environment (a preset of spec 3.2)", HELP_PLASMA, check_plasma, run_plasma},
     {"body", NULL,
-     "s radius=r>0 level=i nlon=i>=3 nlat=i>=2 size=s subdiv=i>=1 side=r>0 gap=r>=0",
-     "body KIND [options]", "add a generated body (sphere, icosphere, uvsphere, box, twocubes)",
+     "s radius=r>0 level=i nlon=i>=3 nlat=i>=2 size=s subdiv=i>=1 side=r>0 gap=r>=0 "
+     "file=f<mesh format=s units=s scale=r>0 part=s offset=s rotate=s strict=s",
+     "body KIND [options]",
+     "add a generated body (sphere, icosphere, uvsphere, box, twocubes) or a mesh file (load)",
      HELP_BODY, check_body, run_body},
     {"injector", NULL, "s radius=s", "injector sphere [radius=auto|debye|thesis|R]",
      "where histories start", HELP_INJECTOR, check_injector, run_injector},

@@ -1,0 +1,612 @@
+/* mesh.c: the charging model's mesh files (spec 7.1-7.3) and their checks and repairs (spec
+ * 4.2). Files are read through Assimp (STL ASCII and binary, OBJ, PLY, glTF and the rest; the
+ * node tree is walked so that OBJ groups and STL solids become parts), or in the original
+ * program's plain format: numbers as a stream, 9 per triangle, the rest of a line dropped after a
+ * triangle's ninth number, a non-numeric token abandoning the partial triangle and its line,
+ * `#` starting a comment. The triangles are scaled, turned and moved, then repaired as a whole:
+ * triangles below 1e-12 L^2 dropped (L the bounding-box diagonal), vertices closer than 1e-9 L
+ * welded, triangles with the same three vertices dropped, components formed across shared
+ * edges, closed components (every edge shared by exactly two triangles) oriented consistently
+ * and outward (positive signed volume, the right-hand rule), open ones kept as two-sided
+ * sheets. Every count is reported. */
+#include "mote/charging.h"
+
+#include <assimp/cimport.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "ch.h"
+
+/* The triangles of one file before repair: vertices and part names. */
+typedef struct {
+    size_t n, cap;
+    double (*v)[3][3];
+    int *part;              /* index into names */
+    char (*names)[32];
+    int nnames;
+} soup;
+
+static void soup_free(soup *s)
+{
+    free(s->v);
+    free(s->part);
+    free(s->names);
+}
+
+static int soup_name(soup *s, const char *name)
+{
+    for (int k = 0; k < s->nnames; k++)
+        if (strcmp(s->names[k], name) == 0)
+            return k;
+    char(*p)[32] = realloc(s->names, (size_t)(s->nnames + 1) * sizeof *p);
+    if (!p)
+        return -1;
+    s->names = p;
+    snprintf(s->names[s->nnames], sizeof s->names[0], "%s", name);
+    return s->nnames++;
+}
+
+static int soup_add(soup *s, const double t[3][3], int part)
+{
+    if (s->n == s->cap) {
+        size_t cap = s->cap ? 2 * s->cap : 1024;
+        double(*v)[3][3] = realloc(s->v, cap * sizeof *v);
+        if (v)
+            s->v = v;
+        int *p = realloc(s->part, cap * sizeof *p);
+        if (p)
+            s->part = p;
+        if (!v || !p)
+            return -1;
+        s->cap = cap;
+    }
+    memcpy(s->v[s->n], t, sizeof s->v[0]);
+    s->part[s->n++] = part;
+    return 0;
+}
+
+/* ---- the plain format (spec 7.2) ------------------------------------------------------------ */
+
+static int read_plain(const char *path, soup *s, int part, int strict, uint32_t *abandoned,
+                      mote_err *err)
+{
+    mote_lines in;
+    int rc = mote_lines_open(&in, path, err);
+    if (rc)
+        return rc;
+    double t[9];
+    int k = 0; /* numbers of the current triangle so far */
+    char *line;
+    while (!rc && (line = mote_lines_next(&in)) != NULL) {
+        char *hash = strchr(line, '#');
+        if (hash)
+            *hash = '\0';
+        char *p = line;
+        for (;;) {
+            while (isspace((unsigned char)*p))
+                p++;
+            if (!*p)
+                break;
+            char *end;
+            errno = 0;
+            double v = strtod(p, &end);
+            if (end != p && !isfinite(v) && (!*end || isspace((unsigned char)*end))) {
+                rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: a coordinate that is not a finite "
+                               "number ('%.*s')", path, in.line, (int)(end - p), p);
+                break;
+            }
+            if (end == p || (*end && !isspace((unsigned char)*end))) {
+                /* a non-numeric token: the partial triangle and the rest of the line go */
+                (*abandoned)++;
+                if (strict)
+                    rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: expected a number, found '%.40s'",
+                                   path, in.line, p);
+                k = 0;
+                break;
+            }
+            t[k++] = v;
+            p = end;
+            if (k == 9) { /* a triangle: the rest of its line is dropped */
+                double tri[3][3];
+                memcpy(tri, t, sizeof tri);
+                if (soup_add(s, (const double(*)[3])tri, part))
+                    rc = mote_fail(err, MOTE_ENOMEM, "%s: out of memory", path);
+                k = 0;
+                break;
+            }
+        }
+    }
+    int crc = mote_lines_close(&in, err);
+    rc = rc ? rc : crc;
+    if (!rc && k != 0 && strict)
+        rc = mote_fail(err, MOTE_EFORMAT, "%s: the file ends inside a triangle (%d of 9 numbers)",
+                       path, k);
+    return rc;
+}
+
+/* ---- Assimp --------------------------------------------------------------------------------- */
+
+typedef struct {
+    double m[4][4];
+} xform;
+
+static void xmul(const xform *a, const struct aiMatrix4x4 *b, xform *out)
+{
+    const double B[4][4] = {{b->a1, b->a2, b->a3, b->a4},
+                            {b->b1, b->b2, b->b3, b->b4},
+                            {b->c1, b->c2, b->c3, b->c4},
+                            {b->d1, b->d2, b->d3, b->d4}};
+    for (int i = 0; i < 4; i++)
+        for (int j = 0; j < 4; j++) {
+            double x = 0;
+            for (int k = 0; k < 4; k++)
+                x += a->m[i][k] * B[k][j];
+            out->m[i][j] = x;
+        }
+}
+
+static int walk(const struct aiScene *sc, const struct aiNode *node, const xform *parent, soup *s,
+                const char *fallback, int depth, mote_err *err)
+{
+    if (depth > 256)
+        return mote_fail(err, MOTE_EFORMAT, "mesh: the node tree is deeper than 256");
+    xform x;
+    xmul(parent, &node->mTransformation, &x);
+    for (unsigned i = 0; i < node->mNumMeshes; i++) {
+        const struct aiMesh *me = sc->mMeshes[node->mMeshes[i]];
+        /* the part: the mesh (OBJ group, STL solid) name, else the material's, else fallback */
+        const char *name = me->mName.length ? me->mName.data
+                           : node != sc->mRootNode && node->mName.length ? node->mName.data
+                                                                          : NULL;
+        struct aiString mat;
+        if (!name && me->mMaterialIndex < sc->mNumMaterials &&
+            aiGetMaterialString(sc->mMaterials[me->mMaterialIndex], AI_MATKEY_NAME, &mat) ==
+                aiReturn_SUCCESS &&
+            mat.length && strcmp(mat.data, "DefaultMaterial") != 0)
+            name = mat.data;
+        const int part = soup_name(s, name ? name : fallback);
+        if (part < 0)
+            return mote_fail(err, MOTE_ENOMEM, "mesh: out of memory");
+        for (unsigned f = 0; f < me->mNumFaces; f++) {
+            const struct aiFace *face = &me->mFaces[f];
+            if (face->mNumIndices != 3)
+                continue; /* points and lines */
+            double t[3][3];
+            for (int j = 0; j < 3; j++) {
+                if (face->mIndices[j] >= me->mNumVertices)
+                    return mote_fail(err, MOTE_EFORMAT, "mesh: a face refers to vertex %u of %u",
+                                     face->mIndices[j], me->mNumVertices);
+                const struct aiVector3D *p = &me->mVertices[face->mIndices[j]];
+                const double q[3] = {p->x, p->y, p->z};
+                for (int a = 0; a < 3; a++)
+                    t[j][a] = x.m[a][0] * q[0] + x.m[a][1] * q[1] + x.m[a][2] * q[2] + x.m[a][3];
+            }
+            if (soup_add(s, (const double(*)[3])t, part))
+                return mote_fail(err, MOTE_ENOMEM, "mesh: out of memory");
+        }
+    }
+    for (unsigned c = 0; c < node->mNumChildren; c++) {
+        int rc = walk(sc, node->mChildren[c], &x, s, fallback, depth + 1, err);
+        if (rc)
+            return rc;
+    }
+    return MOTE_OK;
+}
+
+static int read_assimp(const char *path, soup *s, const char *fallback, mote_err *err)
+{
+    FILE *probe = fopen(path, "rb");
+    if (!probe)
+        return mote_fail(err, MOTE_EIO, "%s: cannot open (%s)", path, strerror(errno));
+    fclose(probe);
+    const struct aiScene *sc =
+        aiImportFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);
+    if (!sc || !sc->mRootNode)
+        return mote_fail(err, MOTE_EFORMAT, "%s: not a mesh file Assimp reads (%s)", path,
+                         aiGetErrorString());
+    xform id = {{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}}};
+    int rc = walk(sc, sc->mRootNode, &id, s, fallback, 0, err);
+    aiReleaseImport(sc);
+    return rc;
+}
+
+/* ---- repairs (spec 4.2) --------------------------------------------------------------------- */
+
+typedef struct {
+    uint32_t a, b;          /* a < b: the welded vertex ids of an edge */
+    uint32_t tri;
+    int8_t forward;         /* 1: the triangle runs a -> b */
+} edge;
+
+static int cmp_edge(const void *x, const void *y)
+{
+    const edge *p = x, *q = y;
+    if (p->a != q->a)
+        return p->a < q->a ? -1 : 1;
+    if (p->b != q->b)
+        return p->b < q->b ? -1 : 1;
+    return p->tri < q->tri ? -1 : p->tri > q->tri;
+}
+
+typedef struct {
+    double x[3];
+    uint32_t id;
+    int64_t cell[3];
+} vkey;
+
+static int cmp_vkey(const void *x, const void *y)
+{
+    const vkey *p = x, *q = y;
+    for (int a = 0; a < 3; a++)
+        if (p->cell[a] != q->cell[a])
+            return p->cell[a] < q->cell[a] ? -1 : 1;
+    return 0;
+}
+
+static uint32_t find(uint32_t *up, uint32_t i)
+{
+    while (up[i] != i) {
+        up[i] = up[up[i]];
+        i = up[i];
+    }
+    return i;
+}
+
+/* Weld the soup's vertices (ids into vid[3 n]); the welded positions go to pos. */
+static int weld(const soup *s, double eps, uint32_t *vid, double (**pos)[3], uint32_t *npos,
+                uint32_t *welded)
+{
+    const size_t nv = 3 * s->n;
+    vkey *k = malloc((nv ? nv : 1) * sizeof *k);
+    uint32_t *up = malloc((nv ? nv : 1) * sizeof *up);
+    if (!k || !up) {
+        free(k);
+        free(up);
+        return -1;
+    }
+    for (size_t i = 0; i < nv; i++) {
+        memcpy(k[i].x, s->v[i / 3][i % 3], sizeof k[i].x);
+        k[i].id = (uint32_t)i;
+        for (int a = 0; a < 3; a++)
+            k[i].cell[a] = (int64_t)floor(k[i].x[a] / eps);
+        up[i] = (uint32_t)i;
+    }
+    qsort(k, nv, sizeof *k, cmp_vkey);
+    /* vertices within eps lie in the same or a neighbouring cell: for each vertex, the 27 cells
+     * around it are found by binary search in the sorted order */
+    for (size_t i = 0; i < nv; i++)
+        for (int d = 0; d < 27; d++) {
+            vkey probe;
+            probe.cell[0] = k[i].cell[0] + d % 3 - 1;
+            probe.cell[1] = k[i].cell[1] + (d / 3) % 3 - 1;
+            probe.cell[2] = k[i].cell[2] + d / 9 - 1;
+            if (cmp_vkey(&probe, &k[i]) < 0)
+                continue; /* (that pair is examined from the other side) */
+            size_t lo = 0, hi = nv;
+            while (lo < hi) {
+                size_t mid = (lo + hi) / 2;
+                if (cmp_vkey(&k[mid], &probe) < 0)
+                    lo = mid + 1;
+                else
+                    hi = mid;
+            }
+            for (size_t j = lo; j < nv && cmp_vkey(&k[j], &probe) == 0; j++) {
+                if (j == i)
+                    continue;
+                double d2 = 0;
+                for (int a = 0; a < 3; a++)
+                    d2 += (k[i].x[a] - k[j].x[a]) * (k[i].x[a] - k[j].x[a]);
+                if (d2 <= eps * eps) {
+                    uint32_t ri = find(up, k[i].id), rj = find(up, k[j].id);
+                    if (ri != rj)
+                        up[ri > rj ? ri : rj] = ri < rj ? ri : rj;
+                }
+            }
+        }
+    /* number the roots in first-appearance order */
+    uint32_t *num = malloc((nv ? nv : 1) * sizeof *num);
+    *pos = malloc((nv ? nv : 1) * sizeof **pos);
+    if (!num || !*pos) {
+        free(k);
+        free(up);
+        free(num);
+        return -1;
+    }
+    uint32_t n = 0, distinct = 0;
+    for (size_t i = 0; i < nv; i++)
+        num[i] = UINT32_MAX;
+    for (size_t i = 0; i < nv; i++) {
+        uint32_t r = find(up, (uint32_t)i);
+        if (num[r] == UINT32_MAX) {
+            num[r] = n;
+            memcpy((*pos)[n++], s->v[r / 3][r % 3], sizeof (*pos)[0]);
+        }
+        vid[i] = num[r];
+    }
+    /* welded: vertices that were distinct points and became one */
+    for (size_t i = 0; i < nv; i++) {
+        const double *p = s->v[i / 3][i % 3], *q = (*pos)[vid[i]];
+        distinct += p[0] != q[0] || p[1] != q[1] || p[2] != q[2];
+    }
+    *npos = n;
+    *welded = distinct;
+    free(k);
+    free(up);
+    free(num);
+    return 0;
+}
+
+static int cmp_u32x3(const void *x, const void *y)
+{
+    const uint32_t *p = x, *q = y;
+    for (int a = 0; a < 4; a++)
+        if (p[a] != q[a])
+            return p[a] < q[a] ? -1 : 1;
+    return 0;
+}
+
+/* Repair the soup and add it to the body. */
+static int repair_add(mote_ch_body *b, soup *s, mote_ch_load_report *rep, mote_err *err)
+{
+    rep->read = (uint32_t)s->n;
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (size_t i = 0; i < s->n; i++)
+        for (int j = 0; j < 3; j++)
+            for (int a = 0; a < 3; a++) {
+                lo[a] = fmin(lo[a], s->v[i][j][a]);
+                hi[a] = fmax(hi[a], s->v[i][j][a]);
+            }
+    double L = 0;
+    for (int a = 0; a < 3; a++)
+        L += (hi[a] - lo[a]) * (hi[a] - lo[a]);
+    L = sqrt(L);
+    if (!(L > 0) || !isfinite(L))
+        return mote_fail(err, MOTE_EFORMAT, "mesh: no triangle with a non-zero extent");
+    uint32_t *vid = malloc((s->n ? 3 * s->n : 1) * sizeof *vid), npos = 0;
+    double(*pos)[3] = NULL;
+    if (!vid || weld(s, 1e-9 * L, vid, &pos, &npos, &rep->welded)) {
+        free(vid);
+        return mote_fail(err, MOTE_ENOMEM, "mesh: out of memory");
+    }
+    /* keep: not degenerate, not a duplicate (same vertex set) */
+    uint8_t *keep = calloc(s->n ? s->n : 1, 1);
+    uint32_t(*key)[4] = malloc((s->n ? s->n : 1) * sizeof *key);
+    int rc = keep && key ? MOTE_OK : mote_fail(err, MOTE_ENOMEM, "mesh: out of memory");
+    size_t nk = 0;
+    for (size_t i = 0; !rc && i < s->n; i++) {
+        const uint32_t *t = vid + 3 * i;
+        double e1[3], e2[3], c[3];
+        for (int a = 0; a < 3; a++) {
+            e1[a] = pos[t[1]][a] - pos[t[0]][a];
+            e2[a] = pos[t[2]][a] - pos[t[0]][a];
+        }
+        c[0] = e1[1] * e2[2] - e1[2] * e2[1];
+        c[1] = e1[2] * e2[0] - e1[0] * e2[2];
+        c[2] = e1[0] * e2[1] - e1[1] * e2[0];
+        const double area = 0.5 * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+        if (!(area >= 1e-12 * L * L) || t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) {
+            rep->degenerate++;
+            continue;
+        }
+        uint32_t q[3] = {t[0], t[1], t[2]}; /* sorted ids, then the index */
+        for (int x = 0; x < 2; x++)
+            for (int y = 0; y < 2 - x; y++)
+                if (q[y] > q[y + 1]) {
+                    uint32_t z = q[y];
+                    q[y] = q[y + 1];
+                    q[y + 1] = z;
+                }
+        key[nk][0] = q[0];
+        key[nk][1] = q[1];
+        key[nk][2] = q[2];
+        key[nk++][3] = (uint32_t)i;
+    }
+    if (!rc) {
+        qsort(key, nk, sizeof *key, cmp_u32x3);
+        for (size_t k = 0; k < nk; k++) {
+            if (k > 0 && !memcmp(key[k], key[k - 1], 3 * sizeof key[k][0])) {
+                rep->duplicates++;
+                continue;
+            }
+            keep[key[k][3]] = 1;
+        }
+    }
+    free(key);
+    /* the kept triangles, their edges, components and orientation */
+    size_t nt = 0;
+    uint32_t *tri = malloc((s->n ? s->n : 1) * sizeof *tri); /* kept -> soup index */
+    for (size_t i = 0; !rc && tri && i < s->n; i++)
+        if (keep[i])
+            tri[nt++] = (uint32_t)i;
+    edge *e = malloc((nt ? 3 * nt : 1) * sizeof *e);
+    uint32_t *up = malloc((nt ? nt : 1) * sizeof *up);
+    int8_t *flip = calloc(nt ? nt : 1, 1);
+    uint8_t *open = calloc(nt ? nt : 1, 1), *seen = calloc(nt ? nt : 1, 1);
+    uint32_t *queue = malloc((nt ? nt : 1) * sizeof *queue);
+    if (!rc && (!tri || !e || !up || !flip || !open || !seen || !queue))
+        rc = mote_fail(err, MOTE_ENOMEM, "mesh: out of memory");
+    if (!rc) {
+        for (size_t k = 0; k < nt; k++) {
+            const uint32_t *t = vid + 3 * (size_t)tri[k];
+            for (int j = 0; j < 3; j++) {
+                uint32_t p = t[j], q = t[(j + 1) % 3];
+                edge *x = &e[3 * k + (size_t)j];
+                x->a = p < q ? p : q;
+                x->b = p < q ? q : p;
+                x->tri = (uint32_t)k;
+                x->forward = p < q;
+            }
+            up[k] = (uint32_t)k;
+        }
+        qsort(e, 3 * nt, sizeof *e, cmp_edge);
+        /* components across shared edges; an edge not shared by exactly two opens its component */
+        for (size_t i = 0; i < 3 * nt;) {
+            size_t j = i;
+            while (j < 3 * nt && e[j].a == e[i].a && e[j].b == e[i].b)
+                j++;
+            for (size_t k = i + 1; k < j; k++) {
+                uint32_t r1 = find(up, e[i].tri), r2 = find(up, e[k].tri);
+                if (r1 != r2)
+                    up[r1 > r2 ? r1 : r2] = r1 < r2 ? r1 : r2;
+            }
+            if (j - i != 2)
+                for (size_t k = i; k < j; k++)
+                    open[e[k].tri] = 1;
+            i = j;
+        }
+        for (size_t k = 0; k < nt; k++)
+            if (open[k])
+                open[find(up, (uint32_t)k)] = 1;
+        /* orientation: across each edge shared by two triangles the directions must differ;
+         * walk each component breadth first from its first triangle */
+        for (size_t start = 0; start < nt; start++) {
+            if (seen[start])
+                continue;
+            size_t head = 0, tail = 0;
+            queue[tail++] = (uint32_t)start;
+            seen[start] = 1;
+            while (head < tail) {
+                const uint32_t t = queue[head++];
+                const uint32_t *v = vid + 3 * (size_t)tri[t];
+                for (int j = 0; j < 3; j++) {
+                    uint32_t p = v[j], q = v[(j + 1) % 3];
+                    edge probe = {p < q ? p : q, p < q ? q : p, 0, 0};
+                    /* the edge's group: the first record with these ends */
+                    size_t lo2 = 0, hi2 = 3 * nt;
+                    while (lo2 < hi2) {
+                        size_t mid = (lo2 + hi2) / 2;
+                        if (e[mid].a < probe.a || (e[mid].a == probe.a && e[mid].b < probe.b))
+                            lo2 = mid + 1;
+                        else
+                            hi2 = mid;
+                    }
+                    size_t end = lo2;
+                    while (end < 3 * nt && e[end].a == probe.a && e[end].b == probe.b)
+                        end++;
+                    if (end - lo2 != 2)
+                        continue;
+                    const edge *mine = e[lo2].tri == t ? &e[lo2] : &e[lo2 + 1];
+                    const edge *other = e[lo2].tri == t ? &e[lo2 + 1] : &e[lo2];
+                    if (seen[other->tri])
+                        continue;
+                    /* consistent when the two run the edge in opposite directions */
+                    const int mine_fwd = mine->forward ^ flip[t];
+                    flip[other->tri] = (int8_t)(other->forward == mine_fwd);
+                    seen[other->tri] = 1;
+                    queue[tail++] = other->tri;
+                }
+            }
+            /* a closed component with negative signed volume is turned inside out */
+            const uint32_t root = find(up, (uint32_t)start);
+            if (!open[root]) {
+                double vol = 0;
+                for (size_t h = 0; h < tail; h++) {
+                    const uint32_t *v = vid + 3 * (size_t)tri[queue[h]];
+                    const double *p0 = pos[v[0]], *p1 = pos[v[flip[queue[h]] ? 2 : 1]],
+                                 *p2 = pos[v[flip[queue[h]] ? 1 : 2]];
+                    vol += p0[0] * (p1[1] * p2[2] - p1[2] * p2[1]) -
+                           p0[1] * (p1[0] * p2[2] - p1[2] * p2[0]) +
+                           p0[2] * (p1[0] * p2[1] - p1[1] * p2[0]);
+                }
+                if (vol < 0)
+                    for (size_t h = 0; h < tail; h++)
+                        flip[queue[h]] ^= 1;
+                rep->closed_components++;
+            } else {
+                rep->open_components++;
+            }
+        }
+        /* the triangles as repaired; the parts by name */
+        int *pmap = malloc((size_t)(s->nnames ? s->nnames : 1) * sizeof *pmap);
+        if (!pmap)
+            rc = mote_fail(err, MOTE_ENOMEM, "mesh: out of memory");
+        for (int k = 0; !rc && k < s->nnames; k++)
+            pmap[k] = -1; /* parts are made when a kept triangle needs them */
+        for (size_t k = 0; !rc && k < nt; k++) {
+            const uint32_t *v = vid + 3 * (size_t)tri[k];
+            int *pm = &pmap[s->part[tri[k]]];
+            if (*pm < 0 && (*pm = ch_body_part(b, s->names[s->part[tri[k]]], err)) < 0) {
+                rc = err->code;
+                break;
+            }
+            const double *p0 = pos[v[0]], *p1 = pos[v[flip[k] ? 2 : 1]], *p2 = pos[v[flip[k] ? 1 : 2]];
+            const uint32_t before = b->ntri;
+            rc = ch_add_tri(b, p0, p1, p2, NULL, !open[find(up, (uint32_t)k)],
+                            pmap[s->part[tri[k]]], err);
+            if (!rc && b->ntri == before)
+                rep->degenerate++;
+            /* flipped: against the file's own winding */
+            if (!rc && flip[k] && b->ntri > before)
+                rep->flipped++;
+        }
+        free(pmap);
+    }
+    free(vid);
+    free(pos);
+    free(keep);
+    free(tri);
+    free(e);
+    free(up);
+    free(flip);
+    free(open);
+    free(seen);
+    free(queue);
+    return rc;
+}
+
+int mote_ch_body_load(mote_ch_body *b, const char *path, const mote_ch_load_opts *o,
+                      mote_ch_load_report *rep, mote_err *err)
+{
+    memset(rep, 0, sizeof *rep);
+    if (b->sphere)
+        return mote_fail(err, MOTE_EINVAL, "body load: the body is the exact sphere, which takes "
+                         "no other parts");
+    /* the part name when the file gives none: part= or the file's base name */
+    const char *base = strrchr(path, '/');
+    base = base ? base + 1 : path;
+    soup s = {0};
+    int fallback = soup_name(&s, o->part ? o->part : base);
+    if (fallback < 0)
+        return mote_fail(err, MOTE_ENOMEM, "body load: out of memory");
+    int plain = strcmp(o->format, "plain") == 0;
+    if (strcmp(o->format, "auto") == 0) { /* extensions Assimp does not know: the plain format */
+        const char *dot = strrchr(base, '.');
+        plain = !dot || !strcmp(dot, ".txt") || !strcmp(dot, ".dat") || !strcmp(dot, ".tri");
+    }
+    int rc = plain ? read_plain(path, &s, fallback, o->strict, &rep->abandoned_lines, err)
+                   : read_assimp(path, &s, s.names[fallback], err);
+    if (!rc && s.n == 0)
+        rc = mote_fail(err, MOTE_EFORMAT, "%s: no triangles", path);
+    /* scale, turn about the axis, move (spec 7.3) */
+    const double th = o->rot_deg * MOTE_CH_PI / 180, c = cos(th), sn = sin(th);
+    for (size_t i = 0; !rc && i < s.n; i++)
+        for (int j = 0; j < 3; j++) {
+            double *p = s.v[i][j];
+            for (int a = 0; a < 3; a++) {
+                p[a] *= o->scale;
+                if (!isfinite(p[a]))
+                    rc = mote_fail(err, MOTE_EFORMAT, "%s: triangle %zu has a coordinate that is "
+                                   "not a finite number", path, i + 1);
+            }
+            if (o->rot_axis >= 0) {
+                const int u = (o->rot_axis + 1) % 3, w = (o->rot_axis + 2) % 3;
+                const double pu = p[u], pw = p[w];
+                p[u] = c * pu - sn * pw;
+                p[w] = sn * pu + c * pw;
+            }
+            for (int a = 0; a < 3; a++)
+                p[a] += o->offset[a];
+        }
+    if (!rc)
+        rc = repair_add(b, &s, rep, err);
+    if (!rc && rep->read == rep->degenerate + rep->duplicates)
+        rc = mote_fail(err, MOTE_EFORMAT, "%s: every triangle is degenerate or a duplicate", path);
+    soup_free(&s);
+    return rc;
+}
