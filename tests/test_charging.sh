@@ -53,4 +53,28 @@ expect 1 "b18.mote:2:32: error: body load: units must be m, cm, mm or in, found 
 expect 1 "b19.mote:2:33: error: body load: rotate: expected AXIS,DEGREES (x, y or z), found 'w,90'" b19.mote "${G}body load file=craft.obj rotate=w,90\n"
 printf 'solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n' > cut.stl
 expect 2 "b20.mote:2:16: error: body load: cut.stl: not a mesh file Assimp reads" b20.mote "${G}body load file=cut.stl\n"
+# output (spec 8): the tables add up to the run's currents; VTK, JSON and PNG are well formed; the
+# same inputs give the same files, on 1 or 2 threads
+mkdir -p o1 o2
+printf '%bplasma preset geo-worst-case\nbody load file=craft.obj\noutput prefix=o1/craft png_size=400x300\nrun particles=1e5\n' "$G" > out1.mote
+printf '%bplasma preset geo-worst-case\nbody load file=craft.obj\noutput prefix=o2/craft png_size=400x300\nthreads 2\nrun particles=1e5\n' "$G" > out2.mote
+"$MOTE" run out1.mote > outa.txt 2> err.txt && "$MOTE" run out2.mote > outb.txt 2>> err.txt && ok || bad "output runs failed: $(cat err.txt)"
+for f in triangles.csv parts.csv summary.txt summary.json surface.vtk surface.png; do
+    [ -s "o1/craft_$f" ] && ok || bad "no o1/craft_$f"
+done
+net=$(sed -n 's/^run: net I = \([^ ]*\) A.*/\1/p' outa.txt)
+awk -v net="$net" '!/^#/ { s += $19; n++ } END { d = s - net; exit !(n == 16 && d * d <= 1e-18 * net * net) }' o1/craft_triangles.csv && ok || bad "the triangle rows (16: 12 closed, 2 sheets x 2 sides) do not add up to the net current $net"
+awk -v net="$net" '!/^#/ { s += $8 } END { d = s - net; exit !(d * d <= 1e-18 * net * net) }' o1/craft_parts.csv && ok || bad "the parts do not add up to the net current"
+grep -q '^POINTS 42 double$' o1/craft_surface.vtk && grep -q '^POLYGONS 14 56$' o1/craft_surface.vtk && grep -q '^CELL_DATA 14$' o1/craft_surface.vtk && grep -q '^SCALARS J_net_back double 1$' o1/craft_surface.vtk && ok || bad "VTK structure"
+/usr/bin/python3 -c "
+import json, sys
+d = json.load(open('o1/craft_summary.json'))
+net = sum(s['I_A'] for s in d['species'])
+sys.exit(not (d['mode'] == 'full' and d['area_m2'] == 30 and abs(net - d['I_net_A']) <= 1e-9 * abs(net) and len(d['species'][0]['components']) == 2))
+" && ok || bad "summary.json: $(head -c 300 o1/craft_summary.json)"
+[ "$(od -An -tu1 -j16 -N8 o1/craft_surface.png | awk '{ print $1*16777216+$2*65536+$3*256+$4, $5*16777216+$6*65536+$7*256+$8 }')" = "400 300" ] && ok || bad "the PNG is not 400 x 300"
+cmp -s o1/craft_surface.png o2/craft_surface.png && cmp -s o1/craft_surface.vtk o2/craft_surface.vtk && [ "$(grep -v '^# command' o1/craft_triangles.csv)" = "$(grep -v '^# command' o2/craft_triangles.csv)" ] && ok || bad "1 and 2 threads give different files"
+expect 1 "b21.mote:2:15: error: output: the directory of prefix 'nodir/x' does not exist" b21.mote "${G}output prefix=nodir/x\n"
+expect 1 "b22.mote:2:26: error: output: png_view must be iso, +x, -x, +y, -y, +z, -z or X,Y,Z, found 'top'" b22.mote "${G}output prefix=x png_view=top\n"
+expect 1 "b23.mote:2:26: error: output: png_size must be WxH, 64 to 8192 pixels each, found '10x10'" b23.mote "${G}output prefix=x png_size=10x10\n"
 mote_test_end

@@ -131,7 +131,8 @@ typedef struct {
     double weight[MOTE_CH_MAX_SPECIES][MOTE_CH_MAX_COMPONENTS]; /* A per history */
     double current[MOTE_CH_MAX_SPECIES];  /* collected, A (signed, spec 1.3) */
     double sigma[MOTE_CH_MAX_SPECIES];    /* its standard error */
-    uint64_t *tri_hits;               /* [species][triangle][side] */
+    int ncomp;                        /* components of all species, in order */
+    uint64_t *tri_hits;               /* [component][triangle][side] */
     uint64_t backface_hits;
     double seconds, traces_per_s;
 } mote_ch_result;

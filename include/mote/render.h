@@ -62,4 +62,23 @@ typedef struct {
 int mote_disks_png(const char *path, const mote_scatter_opts *opts, const double *x,
                    const double *y, const double *r, const int *c, size_t n, mote_err *err);
 
+typedef struct {
+    const char *title;
+    const char *bar_label;     /* above the colour bar, e.g. "J_net (A/m^2)" */
+    int width, height;         /* pixels (0: 1024 x 768) */
+    double vmin, vmax;         /* the colour bar's range (vmax <= vmin: that of the values) */
+    int log_scale;             /* colour by log10 |value| */
+} mote_surface_opts;
+
+/* A surface of n triangles seen orthographically: xy holds each triangle's three projected
+ * vertices (x, y, 6 numbers a triangle, in any length unit: the picture scales them equally),
+ * depth its distance toward the viewer (larger: nearer), value what colours it (viridis), shade
+ * a factor in [0, 1] for its brightness (NULL: 1). Drawn back to front, with a colour bar and
+ * title; written atomically. */
+int mote_surface_png(const char *path, const mote_surface_opts *o, const double *xy,
+                     const double *depth, const double *value, const double *shade, size_t n,
+                     mote_err *err);
+/* The viridis colour of t in [0, 1] (clamped). */
+void mote_viridis(double t, double rgb[3]);
+
 #endif

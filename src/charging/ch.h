@@ -4,11 +4,30 @@
 
 #include "mote/charging.h"
 
+#include <stdio.h>
+
 /* The index of the part called name, added when new; -1 with err when out of room. */
 int ch_body_part(mote_ch_body *b, const char *name, mote_err *err);
 /* Add the triangle (p, q, r) of part `part`, turned so that its normal points away from `inside`
  * when that is given; a triangle of zero area is dropped. */
 int ch_add_tri(mote_ch_body *b, const double p[3], const double q[3], const double r[3],
                const double *inside, int closed, int part, mote_err *err);
+
+/* What the output files of spec 8 are written from (output.c). */
+typedef struct {
+    const char *prefix, *origin, *mode;
+    uint64_t seed;
+    const mote_ch_plasma *plasma;
+    const mote_ch_body *body;
+    const mote_ch_result *res;
+    mote_ch_geometry geom;
+    double r_gen;
+    int threads;
+    int triangles, vtk, png;      /* which files (the parts table and summaries always) */
+    int png_w, png_h, png_log;
+    double view[3];               /* unit vector toward the viewer */
+} ch_output;
+
+int ch_write_outputs(const ch_output *o, FILE *log, mote_err *err);
 
 #endif

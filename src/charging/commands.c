@@ -4,6 +4,8 @@
 #include "mote/charging.h"
 #include "mote/datafile.h"
 
+#include "ch.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -20,6 +22,11 @@ typedef struct {
     mote_ch_result res;         /* the last run */
     int have_run;
     uint64_t seed;
+    double r_gen_used;          /* the injection radius of the last run */
+    /* `output`: the files of spec 8 after each run (prefix NULL: none) */
+    char *prefix, *origin;
+    int out_triangles, out_vtk, out_png, png_w, png_h, png_log;
+    double view[3];
 } ch_model;
 
 static void *model_create(mote_context *ctx, int dry)
@@ -48,6 +55,8 @@ static void model_destroy(void *vm)
         return;
     mote_ch_body_free(&m->body);
     mote_ch_result_free(&m->res);
+    free(m->prefix);
+    free(m->origin);
     free(m);
 }
 
@@ -380,6 +389,16 @@ static int run_run(void *vm, const mote_call *c, mote_err *err)
     if (rc)
         return rc;
     m->have_run = 1;
+    m->r_gen_used = o.r_gen;
+    if (m->prefix) {
+        ch_output out = {m->prefix, m->origin, m->faithful ? "faithful" : "full", m->seed,
+                         &m->plasma, &m->body, &m->res, g, o.r_gen, o.threads > 1 ? o.threads : 1,
+                         m->out_triangles, m->out_vtk, m->out_png, m->png_w, m->png_h,
+                         m->png_log, {m->view[0], m->view[1], m->view[2]}};
+        rc = ch_write_outputs(&out, m->log, err);
+        if (rc)
+            return rc;
+    }
     if (!m->log)
         return MOTE_OK;
     double inet = 0, var = 0;
@@ -471,6 +490,99 @@ static int run_evolve(void *vm, const mote_call *c, mote_err *err)
     return f ? mote_datafile_commit(&d, err) : MOTE_OK;
 }
 
+/* ---- output (spec 8) ------------------------------------------------------------------------ */
+
+static int on_off(const mote_call *c, const char *key, int dflt, int *out, mote_err *err)
+{
+    const mote_arg *a = mote_call_opt(c, key);
+    *out = dflt;
+    if (!a)
+        return MOTE_OK;
+    if (strcmp(a->text, "on") && strcmp(a->text, "off"))
+        return mote_call_fail(err, c, mote_call_opt_index(c, key), MOTE_EINVAL,
+                              "output: %s must be on or off, found '%s'", key, a->text);
+    *out = a->text[1] == 'n';
+    return MOTE_OK;
+}
+
+/* png_view=iso|+x|-x|+y|-y|+z|-z|X,Y,Z: the unit vector toward the viewer */
+static int parse_view(const char *t, double v[3])
+{
+    if (strcmp(t, "iso") == 0) {
+        v[0] = v[1] = v[2] = 1 / sqrt(3.0);
+        return 0;
+    }
+    if ((t[0] == '+' || t[0] == '-') && t[1] >= 'x' && t[1] <= 'z' && !t[2]) {
+        v[0] = v[1] = v[2] = 0;
+        v[t[1] - 'x'] = t[0] == '+' ? 1 : -1;
+        return 0;
+    }
+    if (parse3any(t, v))
+        return -1;
+    const double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (!(l > 0))
+        return -1;
+    for (int a = 0; a < 3; a++)
+        v[a] /= l;
+    return 0;
+}
+
+static int check_output(void *vm, const mote_call *c, mote_err *err)
+{
+    int x;
+    double v[3];
+    const mote_arg *a;
+    int rc = on_off(c, "triangles", 1, &x, err);
+    if (!rc)
+        rc = on_off(c, "vtk", 1, &x, err);
+    if (!rc)
+        rc = on_off(c, "png", 1, &x, err);
+    if (rc)
+        return rc;
+    if ((a = mote_call_opt(c, "png_view")) && parse_view(a->text, v))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "png_view"), MOTE_EINVAL,
+                              "output: png_view must be iso, +x, -x, +y, -y, +z, -z or X,Y,Z, "
+                              "found '%s'", a->text);
+    int w, h;
+    char extra;
+    if ((a = mote_call_opt(c, "png_size")) &&
+        (sscanf(a->text, "%dx%d%c", &w, &h, &extra) != 2 || w < 64 || h < 64 || w > 8192 ||
+         h > 8192))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "png_size"), MOTE_EINVAL,
+                              "output: png_size must be WxH, 64 to 8192 pixels each, found '%s'",
+                              a->text);
+    if ((a = mote_call_opt(c, "png_scale")) && strcmp(a->text, "linear") && strcmp(a->text, "log"))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "png_scale"), MOTE_EINVAL,
+                              "output: png_scale must be linear or log, found '%s'", a->text);
+    const mote_arg *p = mote_call_opt(c, "prefix");
+    if (!mote_ctx_dir_ok(c->ctx, p->path))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "prefix"), MOTE_EINVAL,
+                              "output: the directory of prefix '%s' does not exist", p->text);
+    return MOTE_OK;
+}
+
+static int run_output(void *vm, const mote_call *c, mote_err *err)
+{
+    ch_model *m = vm;
+    free(m->prefix);
+    free(m->origin);
+    m->prefix = strdup(mote_call_opt(c, "prefix")->path);
+    m->origin = mote_call_origin(c);
+    if (!m->prefix || !m->origin)
+        return mote_fail(err, MOTE_ENOMEM, "output: out of memory");
+    on_off(c, "triangles", 1, &m->out_triangles, err);
+    on_off(c, "vtk", 1, &m->out_vtk, err);
+    on_off(c, "png", 1, &m->out_png, err);
+    const mote_arg *a = mote_call_opt(c, "png_view");
+    parse_view(a ? a->text : "iso", m->view);
+    m->png_w = 1024;
+    m->png_h = 768;
+    if ((a = mote_call_opt(c, "png_size")))
+        sscanf(a->text, "%dx%d", &m->png_w, &m->png_h);
+    m->png_log = (a = mote_call_opt(c, "png_scale")) && strcmp(a->text, "log") == 0;
+    return MOTE_OK;
+}
+
 /* ---- the table ------------------------------------------------------------------------------ */
 
 static const char HELP_PLASMA[] =
@@ -550,6 +662,26 @@ static const char HELP_EVOLVE[] =
     "them to FILE (columns t_s Q_C U_V sigma_U_V I_net_A, then per species I_s_A\n"
     "and Nreal_s, the real particles collected so far), atomically.\n";
 
+static const char HELP_OUTPUT[] =
+    "    output prefix=P [triangles=on] [vtk=on] [png=on] [png_view=iso]\n"
+    "           [png_size=1024x768] [png_scale=linear|log]\n"
+    "\n"
+    "After every later `run`, write the files of spec 8 (P may name a directory):\n"
+    "P_triangles.csv, one row per triangle and side that collects (the front of a\n"
+    "closed surface, both sides of a sheet): part, material, side, area, centre,\n"
+    "normal, per species the hits and the current, then the net current, its\n"
+    "density J_net and standard error; P_parts.csv, the currents summed per part;\n"
+    "P_summary.txt and P_summary.json, the body, the plasma and the currents per\n"
+    "species and component; P_surface.vtk, legacy VTK POLYDATA for ParaView with\n"
+    "cell arrays J_net (both sides of a sheet), J_net_front, J_net_back, sigma_J,\n"
+    "J_<species>, hits_total and part_id; P_surface.png, the body seen\n"
+    "orthographically from png_view (iso: from (1, 1, 1); +x, -x, ... or a vector\n"
+    "X,Y,Z), each triangle filled with the viridis colour of its J_net (or of\n"
+    "log10 |J_net| with png_scale=log) times a shading 0.35 + 0.65 |n . view|,\n"
+    "back faces of closed surfaces culled, with a colour bar. The exact sphere has\n"
+    "no triangles: no VTK or PNG for it. Headers give the mode, seed, histories,\n"
+    "the body's measures and the plasma; files are written atomically.\n";
+
 static const mote_cmd ch_commands[] = {
     {"plasma", NULL, "s s n=r>0 kT=r>0", "plasma preset NAME [n=N] [kT=T]",
      "the plasma environment (a preset of spec 3.2)", HELP_PLASMA, check_plasma, run_plasma},
@@ -563,6 +695,12 @@ static const mote_cmd ch_commands[] = {
      "where histories start", HELP_INJECTOR, check_injector, run_injector},
     {"run", NULL, "particles=r>=1 potential=r", "run [particles=N] [potential=0]",
      "Monte Carlo currents to the uncharged body", HELP_RUN, check_run, run_run},
+    {"output", NULL,
+     "prefix=f! triangles=s vtk=s png=s png_view=s png_size=s png_scale=s",
+     "output prefix=P [triangles=on] [vtk=on] [png=on] [png_view=V] [png_size=WxH] "
+     "[png_scale=linear|log]",
+     "the files of spec 8 after each run (tables, VTK, summary, surface picture)", HELP_OUTPUT,
+     check_output, run_output},
     {"evolve", NULL, "time=r>0! dt_out=r>0 file=f>timeseries", "evolve time=T [dt_out=D] [file=FILE]",
      "U(t) of faithful mode (constant currents)", HELP_EVOLVE, check_evolve, run_evolve},
 };

@@ -74,7 +74,9 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
     r->nsp = p->nsp;
     r->ntri = ntri;
     r->histories = o->particles;
-    r->tri_hits = calloc((size_t)p->nsp * ntri * 2, sizeof *r->tri_hits);
+    for (int s = 0; s < p->nsp; s++)
+        r->ncomp += p->sp[s].ncomp;
+    r->tri_hits = calloc((size_t)r->ncomp * ntri * 2, sizeof *r->tri_hits);
     if (!r->tri_hits)
         return mote_fail(err, MOTE_ENOMEM, "run: out of memory for the tallies");
     const uint32_t key[2] = {(uint32_t)o->seed, (uint32_t)(o->seed >> 32)};
@@ -93,7 +95,7 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
             r->weight[s][k] = sp->Z * MOTE_CH_E * gamma / (double)o->particles;
             const uint64_t nblocks = (o->particles + BLOCK - 1) / BLOCK;
             uint64_t hits = 0, back = 0;
-            uint64_t *tally = r->tri_hits + (size_t)s * ntri * 2;
+            uint64_t *tally = r->tri_hits + (size_t)comp * ntri * 2;
             /* each thread tallies into its own copy; integer sums merge exactly */
             uint64_t *priv = nt > 1 ? calloc((size_t)nt * ntri * 2, sizeof *priv) : NULL;
             if (nt > 1 && !priv) {

@@ -1,0 +1,386 @@
+/* output.c: the charging model's files (spec 8), written after a `run` when `output prefix=P`
+ * was given: P_triangles.csv (one row per triangle and side that can be hit), P_parts.csv (the
+ * currents summed per part), P_surface.vtk (legacy VTK POLYDATA for ParaView, cell arrays),
+ * P_summary.txt and P_summary.json, and P_surface.png (the body coloured by the net current
+ * density, drawn through the render layer). Every file starts with '#' header lines (the JSON
+ * and VTK formats have their own headers); numbers have 10 significant digits; every file is
+ * written atomically. */
+#include "mote/charging.h"
+#include "mote/datafile.h"
+#include "mote/render.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "ch.h"
+
+/* The current of species s on triangle i, side side, and its variance. */
+static double tri_current(const mote_ch_plasma *p, const mote_ch_result *r, int s, uint32_t i,
+                          int side, double *var)
+{
+    int comp = 0;
+    for (int q = 0; q < s; q++)
+        comp += p->sp[q].ncomp;
+    double I = 0, v = 0;
+    const double N = (double)r->histories;
+    for (int k = 0; k < p->sp[s].ncomp; k++) {
+        const double h = (double)r->tri_hits[((size_t)(comp + k) * r->ntri + i) * 2 + (size_t)side];
+        const double w = r->weight[s][k];
+        I += w * h;
+        v += w * w * h * (1 - h / N);
+    }
+    *var = v;
+    return I;
+}
+
+static uint64_t tri_hits(const mote_ch_result *r, int comp0, int ncomp, uint32_t i, int side)
+{
+    uint64_t h = 0;
+    for (int k = 0; k < ncomp; k++)
+        h += r->tri_hits[((size_t)(comp0 + k) * r->ntri + i) * 2 + (size_t)side];
+    return h;
+}
+
+/* The sides of triangle i that are surfaces: the front of a closed triangle, both of a sheet. */
+static int nsides(const mote_ch_body *b, uint32_t i) { return b->sphere || b->closed[i] ? 1 : 2; }
+
+static void header(FILE *f, const ch_output *o)
+{
+    const mote_ch_geometry *g = &o->geom;
+    fprintf(f, "# mode = %s\n# seed = %llu\n# histories_per_component = %llu\n", o->mode,
+            (unsigned long long)o->seed, (unsigned long long)o->res->histories);
+    fprintf(f, "# triangles = %u\n# area_m2 = %.10g\n# R_eq_m = %.10g\n# C_F = %.10g\n"
+               "# R_bound_m = %.10g\n# R_gen_m = %.10g\n# potential_V = 0\n",
+            o->body->sphere ? 0 : o->body->ntri, g->area, g->r_eq, g->capacitance, g->r_bound,
+            o->r_gen);
+    for (int s = 0; s < o->plasma->nsp; s++) {
+        const mote_ch_species *sp = &o->plasma->sp[s];
+        for (int k = 0; k < sp->ncomp; k++)
+            fprintf(f, "# species %s Z = %d m_kg = %.10g component %d n_m3 = %.10g kT_eV = %.10g\n",
+                    sp->name, sp->Z, sp->m, k + 1, sp->n[k], sp->kT[k]);
+    }
+}
+
+static int write_triangles(const ch_output *o, const char *path, mote_err *err)
+{
+    mote_datafile d;
+    int rc = mote_datafile_open(&d, path, "charging-triangles", o->origin, o->seed, err);
+    if (rc)
+        return rc;
+    FILE *f = d.f;
+    const mote_ch_body *b = o->body;
+    const mote_ch_plasma *p = o->plasma;
+    header(f, o);
+    fprintf(f, "# columns: index part material side area_m2 cx cy cz nx ny nz sunlit_fraction");
+    for (int s = 0; s < p->nsp; s++)
+        fprintf(f, " hits_%s I_%s_A", p->sp[s].name, p->sp[s].name);
+    fprintf(f, " I_see_A I_photo_A I_net_A J_net_A_m2 sigma_J_A_m2 relerr\n");
+    const uint32_t n = b->sphere ? 1 : b->ntri;
+    for (uint32_t i = 0; i < n; i++)
+        for (int side = 0; side < nsides(b, i); side++) {
+            double c[3] = {0, 0, 0}, nrm[3] = {0, 0, 0}, area;
+            if (b->sphere) {
+                area = o->geom.area;
+                memcpy(c, b->sphere_c, sizeof c);
+            } else {
+                area = b->area[i];
+                for (int a = 0; a < 3; a++) {
+                    c[a] = (b->v[i][0][a] + b->v[i][1][a] + b->v[i][2][a]) / 3;
+                    nrm[a] = side ? -b->nrm[i][a] : b->nrm[i][a];
+                }
+            }
+            fprintf(f, "%u %s bare %s %.10g %.10g %.10g %.10g %.10g %.10g %.10g 0", i,
+                    b->sphere ? "sphere" : b->part_name[b->part[i]], side ? "back" : "front",
+                    area, c[0], c[1], c[2], nrm[0], nrm[1], nrm[2]);
+            double inet = 0, var = 0;
+            int comp0 = 0;
+            for (int s = 0; s < p->nsp; s++) {
+                double v;
+                const double I = tri_current(p, o->res, s, i, side, &v);
+                fprintf(f, " %llu %.10g",
+                        (unsigned long long)tri_hits(o->res, comp0, p->sp[s].ncomp, i, side), I);
+                comp0 += p->sp[s].ncomp;
+                inet += I;
+                var += v;
+            }
+            const double J = inet / area, sJ = sqrt(var) / area;
+            fprintf(f, " 0 0 %.10g %.10g %.10g %.10g\n", inet, J, sJ,
+                    inet != 0 ? fabs(sqrt(var) / inet) : 0);
+        }
+    return mote_datafile_commit(&d, err);
+}
+
+static int write_parts(const ch_output *o, const char *path, mote_err *err)
+{
+    const mote_ch_body *b = o->body;
+    const mote_ch_plasma *p = o->plasma;
+    const int np = b->sphere ? 1 : b->nparts;
+    double *I = calloc((size_t)np * (size_t)(p->nsp + 1), sizeof *I);
+    double *V = calloc((size_t)np * (size_t)(p->nsp + 1), sizeof *V);
+    double *A = calloc((size_t)np, sizeof *A);
+    if (!I || !V || !A) {
+        free(I);
+        free(V);
+        free(A);
+        return mote_fail(err, MOTE_ENOMEM, "output: out of memory");
+    }
+    const uint32_t n = b->sphere ? 1 : b->ntri;
+    for (uint32_t i = 0; i < n; i++) {
+        const int part = b->sphere ? 0 : b->part[i];
+        A[part] += b->sphere ? o->geom.area : b->area[i] * nsides(b, i);
+        for (int side = 0; side < nsides(b, i); side++)
+            for (int s = 0; s < p->nsp; s++) {
+                double v;
+                const double c = tri_current(p, o->res, s, i, side, &v);
+                I[part * (p->nsp + 1) + s] += c;
+                V[part * (p->nsp + 1) + s] += v;
+                I[part * (p->nsp + 1) + p->nsp] += c;
+                V[part * (p->nsp + 1) + p->nsp] += v;
+            }
+    }
+    mote_datafile d;
+    int rc = mote_datafile_open(&d, path, "charging-parts", o->origin, o->seed, err);
+    if (!rc) {
+        FILE *f = d.f;
+        header(f, o);
+        fprintf(f, "# columns: part material area_m2");
+        for (int s = 0; s < p->nsp; s++)
+            fprintf(f, " I_%s_A sigma_%s_A", p->sp[s].name, p->sp[s].name);
+        fprintf(f, " I_net_A sigma_net_A J_net_A_m2\n");
+        for (int k = 0; k < np; k++) {
+            fprintf(f, "%s bare %.10g", b->sphere ? "sphere" : b->part_name[k], A[k]);
+            for (int s = 0; s <= p->nsp; s++)
+                fprintf(f, " %.10g %.10g", I[k * (p->nsp + 1) + s], sqrt(V[k * (p->nsp + 1) + s]));
+            fprintf(f, " %.10g\n", A[k] > 0 ? I[k * (p->nsp + 1) + p->nsp] / A[k] : 0);
+        }
+        rc = mote_datafile_commit(&d, err);
+    }
+    free(I);
+    free(V);
+    free(A);
+    return rc;
+}
+
+/* J of triangle i, side side (all species), in A/m^2. */
+static double tri_j(const ch_output *o, uint32_t i, int side)
+{
+    double J = 0, v;
+    for (int s = 0; s < o->plasma->nsp; s++)
+        J += tri_current(o->plasma, o->res, s, i, side, &v);
+    return J / o->body->area[i];
+}
+
+static int write_vtk(const ch_output *o, const char *path, mote_err *err)
+{
+    const mote_ch_body *b = o->body;
+    const mote_ch_plasma *p = o->plasma;
+    mote_afile af;
+    int rc = mote_afile_open(&af, path, err);
+    if (rc)
+        return rc;
+    FILE *f = af.f;
+    fprintf(f, "# vtk DataFile Version 3.0\nmote charging: currents at U = 0 V, seed %llu, %llu "
+               "histories per component\nASCII\nDATASET POLYDATA\nPOINTS %u double\n",
+            (unsigned long long)o->seed, (unsigned long long)o->res->histories, 3 * b->ntri);
+    for (uint32_t i = 0; i < b->ntri; i++)
+        for (int j = 0; j < 3; j++)
+            fprintf(f, "%.10g %.10g %.10g\n", b->v[i][j][0], b->v[i][j][1], b->v[i][j][2]);
+    fprintf(f, "POLYGONS %u %u\n", b->ntri, 4 * b->ntri);
+    for (uint32_t i = 0; i < b->ntri; i++)
+        fprintf(f, "3 %u %u %u\n", 3 * i, 3 * i + 1, 3 * i + 2);
+    fprintf(f, "CELL_DATA %u\n", b->ntri);
+    /* J_net: both sides of a sheet together; then each side, each species, sigma, hits, part */
+    const char *arrays[4] = {"J_net", "J_net_front", "J_net_back", "sigma_J"};
+    for (int a = 0; a < 4; a++) {
+        fprintf(f, "SCALARS %s double 1\nLOOKUP_TABLE default\n", arrays[a]);
+        for (uint32_t i = 0; i < b->ntri; i++) {
+            double v = 0;
+            if (a == 0)
+                v = tri_j(o, i, 0) + (nsides(b, i) == 2 ? tri_j(o, i, 1) : 0);
+            else if (a < 3)
+                v = a == 2 && nsides(b, i) == 1 ? 0 : tri_j(o, i, a - 1);
+            else {
+                double var = 0, x;
+                for (int side = 0; side < nsides(b, i); side++)
+                    for (int s = 0; s < p->nsp; s++) {
+                        tri_current(p, o->res, s, i, side, &x);
+                        var += x;
+                    }
+                v = sqrt(var) / b->area[i];
+            }
+            fprintf(f, "%.10g\n", v);
+        }
+    }
+    for (int s = 0; s < p->nsp; s++) {
+        fprintf(f, "SCALARS J_%s double 1\nLOOKUP_TABLE default\n", p->sp[s].name);
+        for (uint32_t i = 0; i < b->ntri; i++) {
+            double J = 0, x;
+            for (int side = 0; side < nsides(b, i); side++)
+                J += tri_current(p, o->res, s, i, side, &x);
+            fprintf(f, "%.10g\n", J / b->area[i]);
+        }
+    }
+    fprintf(f, "SCALARS hits_total double 1\nLOOKUP_TABLE default\n");
+    for (uint32_t i = 0; i < b->ntri; i++)
+        fprintf(f, "%llu\n", (unsigned long long)(tri_hits(o->res, 0, o->res->ncomp, i, 0) +
+                                                  tri_hits(o->res, 0, o->res->ncomp, i, 1)));
+    fprintf(f, "SCALARS part_id int 1\nLOOKUP_TABLE default\n");
+    for (uint32_t i = 0; i < b->ntri; i++)
+        fprintf(f, "%d\n", b->part[i]);
+    return mote_afile_commit(&af, err);
+}
+
+static int write_summary(const ch_output *o, const char *path, int json, mote_err *err)
+{
+    const mote_ch_plasma *p = o->plasma;
+    const mote_ch_geometry *g = &o->geom;
+    mote_afile af;
+    int rc = mote_afile_open(&af, path, err);
+    if (rc)
+        return rc;
+    FILE *f = af.f;
+    double inet = 0, var = 0;
+    uint64_t hits = 0;
+    for (int s = 0; s < p->nsp; s++) {
+        inet += o->res->current[s];
+        var += o->res->sigma[s] * o->res->sigma[s];
+        for (int k = 0; k < p->sp[s].ncomp; k++)
+            hits += o->res->hits[s][k];
+    }
+    const double hitf = (double)hits / ((double)o->res->ncomp * (double)o->res->histories);
+    if (json) {
+        fprintf(f, "{\"model\":\"charging\",\"mode\":\"%s\",\"seed\":%llu,\"potential_V\":0,"
+                   "\"histories_per_component\":%llu,\"area_m2\":%.10g,\"R_eq_m\":%.10g,"
+                   "\"R_bound_m\":%.10g,\"R_gen_m\":%.10g,\"C_F\":%.10g,\"debye_m\":%.10g,"
+                   "\"species\":[",
+                o->mode, (unsigned long long)o->seed, (unsigned long long)o->res->histories,
+                g->area, g->r_eq, g->r_bound, o->r_gen, g->capacitance, mote_ch_debye(p));
+        for (int s = 0; s < p->nsp; s++) {
+            fprintf(f, "%s{\"name\":\"%s\",\"I_A\":%.10g,\"sigma_A\":%.10g,\"components\":[",
+                    s ? "," : "", p->sp[s].name, o->res->current[s], o->res->sigma[s]);
+            for (int k = 0; k < p->sp[s].ncomp; k++)
+                fprintf(f, "%s{\"n_m3\":%.10g,\"kT_eV\":%.10g,\"I_A\":%.10g,\"hits\":%llu}",
+                        k ? "," : "", p->sp[s].n[k], p->sp[s].kT[k],
+                        o->res->weight[s][k] * (double)o->res->hits[s][k],
+                        (unsigned long long)o->res->hits[s][k]);
+            fprintf(f, "]}");
+        }
+        fprintf(f, "],\"I_net_A\":%.10g,\"sigma_net_A\":%.10g,\"dU_dt_V_s\":%.10g,"
+                   "\"hit_fraction\":%.10g,\"backface_hits\":%llu,\"traces_per_s\":%.4g,"
+                   "\"threads\":%d}\n",
+                inet, sqrt(var), inet / g->capacitance, hitf,
+                (unsigned long long)o->res->backface_hits, o->res->traces_per_s, o->threads);
+    } else {
+        fprintf(f, "mote charging: summary (%s mode, seed %llu)\n\n", o->mode,
+                (unsigned long long)o->seed);
+        fprintf(f, "body: %u triangles, area %.10g m^2, R_eq %.10g m, R_bound %.10g m, C %.10g F\n",
+                o->body->sphere ? 0 : o->body->ntri, g->area, g->r_eq, g->r_bound, g->capacitance);
+        fprintf(f, "plasma: Debye length %.6g m; injection sphere R %.6g m\n\n", mote_ch_debye(p),
+                o->r_gen);
+        fprintf(f, "currents at U = 0 V (%llu histories per component):\n",
+                (unsigned long long)o->res->histories);
+        for (int s = 0; s < p->nsp; s++) {
+            fprintf(f, "  %-4s %.10g A +- %.3g\n", p->sp[s].name, o->res->current[s],
+                    o->res->sigma[s]);
+            for (int k = 0; k < p->sp[s].ncomp; k++)
+                fprintf(f, "       component %d (n %.4g m^-3, kT %.6g eV): %.10g A\n", k + 1,
+                        p->sp[s].n[k], p->sp[s].kT[k],
+                        o->res->weight[s][k] * (double)o->res->hits[s][k]);
+        }
+        fprintf(f, "  net  %.10g A +- %.3g\n\n", inet, sqrt(var));
+        fprintf(f, "charging with these currents held constant (the thesis's model): dU/dt = "
+                   "I / C = %.10g V/s\n", inet / g->capacitance);
+        fprintf(f, "hit fraction %.6g, back-face hits %llu, %.4g traces/s on %d thread%s\n", hitf,
+                (unsigned long long)o->res->backface_hits, o->res->traces_per_s, o->threads,
+                o->threads == 1 ? "" : "s");
+    }
+    return mote_afile_commit(&af, err);
+}
+
+/* The body seen from view (a unit vector toward the viewer), coloured by J_net of the visible
+ * side, shaded 0.35 + 0.65 |n . view| (spec 8.4); back faces of closed components culled. */
+static int write_png(const ch_output *o, const char *path, mote_err *err)
+{
+    const mote_ch_body *b = o->body;
+    const double *c = o->view;
+    /* the screen basis: x = up x view (up = z, or y when looking along z), y = view x x */
+    double up[3] = {0, 0, 1};
+    if (fabs(c[2]) > 0.99) {
+        up[1] = 1;
+        up[2] = 0;
+    }
+    double ex[3] = {up[1] * c[2] - up[2] * c[1], up[2] * c[0] - up[0] * c[2],
+                    up[0] * c[1] - up[1] * c[0]};
+    const double l = sqrt(ex[0] * ex[0] + ex[1] * ex[1] + ex[2] * ex[2]);
+    for (int a = 0; a < 3; a++)
+        ex[a] /= l;
+    const double ey[3] = {c[1] * ex[2] - c[2] * ex[1], c[2] * ex[0] - c[0] * ex[2],
+                          c[0] * ex[1] - c[1] * ex[0]};
+    double *xy = malloc((b->ntri ? b->ntri : 1) * 6 * sizeof *xy);
+    double *depth = malloc((b->ntri ? b->ntri : 1) * sizeof *depth);
+    double *val = malloc((b->ntri ? b->ntri : 1) * sizeof *val);
+    double *shade = malloc((b->ntri ? b->ntri : 1) * sizeof *shade);
+    if (!xy || !depth || !val || !shade) {
+        free(xy);
+        free(depth);
+        free(val);
+        free(shade);
+        return mote_fail(err, MOTE_ENOMEM, "output: out of memory");
+    }
+    size_t n = 0;
+    for (uint32_t i = 0; i < b->ntri; i++) {
+        const double nv = b->nrm[i][0] * c[0] + b->nrm[i][1] * c[1] + b->nrm[i][2] * c[2];
+        if (b->closed[i] && nv <= 0)
+            continue; /* a back face */
+        for (int j = 0; j < 3; j++) {
+            const double *v = b->v[i][j];
+            xy[6 * n + 2 * j] = v[0] * ex[0] + v[1] * ex[1] + v[2] * ex[2];
+            xy[6 * n + 2 * j + 1] = v[0] * ey[0] + v[1] * ey[1] + v[2] * ey[2];
+        }
+        depth[n] = 0;
+        for (int j = 0; j < 3; j++)
+            depth[n] += (b->v[i][j][0] * c[0] + b->v[i][j][1] * c[1] + b->v[i][j][2] * c[2]) / 3;
+        val[n] = tri_j(o, i, b->closed[i] || nv > 0 ? 0 : 1);
+        shade[n] = 0.35 + 0.65 * fabs(nv);
+        n++;
+    }
+    char title[160];
+    snprintf(title, sizeof title, "net current density at U = 0 V (%s mode, %llu histories)",
+             o->mode, (unsigned long long)o->res->histories);
+    mote_surface_opts so = {title, "J_net (A/m^2)", o->png_w, o->png_h, 0, 0, o->png_log};
+    int rc = mote_surface_png(path, &so, xy, depth, val, shade, n, err);
+    free(xy);
+    free(depth);
+    free(val);
+    free(shade);
+    return rc;
+}
+
+int ch_write_outputs(const ch_output *o, FILE *log, mote_err *err)
+{
+    const size_t len = strlen(o->prefix) + 32;
+    char *path = malloc(len);
+    if (!path)
+        return mote_fail(err, MOTE_ENOMEM, "output: out of memory");
+    int rc = MOTE_OK;
+    static const char *const name[6] = {"_triangles.csv", "_parts.csv", "_summary.txt",
+                                        "_summary.json", "_surface.vtk", "_surface.png"};
+    for (int k = 0; k < 6 && !rc; k++) {
+        if ((k == 0 && !o->triangles) || (k == 4 && !o->vtk) || (k == 5 && !o->png))
+            continue;
+        if (k >= 4 && o->body->sphere)
+            continue; /* the exact sphere has no triangles to draw */
+        snprintf(path, len, "%s%s", o->prefix, name[k]);
+        rc = k == 0   ? write_triangles(o, path, err)
+             : k == 1 ? write_parts(o, path, err)
+             : k <= 3 ? write_summary(o, path, k == 3, err)
+             : k == 4 ? write_vtk(o, path, err)
+                      : write_png(o, path, err);
+        if (!rc && log)
+            fprintf(log, "output: wrote %s\n", path);
+    }
+    free(path);
+    return rc;
+}
