@@ -132,6 +132,12 @@ static int parse3any(const char *t, double v[3])
     return 0;
 }
 
+/* size=SX,SY,SZ: three lengths > 0 */
+static int parse3(const char *t, double v[3])
+{
+    return parse3any(t, v) || !(v[0] > 0 && v[1] > 0 && v[2] > 0) ? -1 : 0;
+}
+
 /* The options of `body load` (spec 7.1-7.3) into o; -1 and a located error when one is bad. */
 static int load_opts(const mote_call *c, mote_ch_load_opts *o, mote_err *err)
 {
@@ -184,19 +190,6 @@ static int load_opts(const mote_call *c, mote_ch_load_opts *o, mote_err *err)
     }
     o->part = (a = mote_call_opt(c, "part")) ? a->text : NULL;
     return MOTE_OK;
-}
-
-/* size=SX,SY,SZ */
-static int parse3(const char *t, double v[3])
-{
-    for (int a = 0; a < 3; a++) {
-        char *end;
-        v[a] = strtod(t, &end);
-        if (end == t || !(v[a] > 0) || !isfinite(v[a]) || *end != (a < 2 ? ',' : '\0'))
-            return -1;
-        t = end + 1;
-    }
-    return 0;
 }
 
 static int check_body(void *vm, const mote_call *c, mote_err *err)
