@@ -416,6 +416,91 @@ static void test_mesh_files(void)
     test_remove_tree(dir);
 }
 
+/* Q1: OML currents of the charged exact sphere (spec 6.4, 10): I/I0 = 6, 2, e^-1, e^-5 at
+ * qU/kT = -5, -1, +1, +5, within 1% (and 3 sigma at most a third of that). */
+static void test_oml(void)
+{
+    printf("Q1: OML currents of the charged sphere\n");
+    mote_err err = {0};
+    mote_ch_plasma p;
+    mote_ch_plasma_preset(&p, "single", 1e6, 1000, &err);
+    mote_ch_body b = {0};
+    mote_ch_body_sphere(&b, 1, &err);
+    mote_ch_tracer *t = mote_ch_tracer_new(&b, &err);
+    const double x[4] = {-5, -1, 1, 5}, want[4] = {6, 2, 0.36788, 0.0067379};
+    for (int k = 0; k < 4 && t; k++) {
+        for (int s = 0; s < 2; s++) { /* electrons and protons: qU/kT = Z U / kT */
+            const int Z = p.sp[s].Z;
+            mote_ch_run_opts o = {.seed = 1, .particles = 1000000, .r_gen = 1.05, .threads = 2,
+                                  .potential = x[k] * 1000 / Z, .field = 1};
+            mote_ch_result r;
+            if (mote_ch_run(&p, &b, t, &o, &r, &err)) {
+                CHECK(0, "run: %s", err.msg);
+                break;
+            }
+            const double I0 = Z * MOTE_CH_E * 4 * MOTE_CH_PI * 1e6 *
+                              sqrt(1000 * MOTE_CH_E / (2 * MOTE_CH_PI * p.sp[s].m));
+            const double ratio = r.current[s] / I0, sr = r.sigma[s] / fabs(I0);
+            const double oml = mote_ch_oml(4 * MOTE_CH_PI, o.potential, 1e6, 1000, p.sp[s].m, Z);
+            printf("  %s at qU/kT = %+g: I/I0 = %.5f +- %.5f (OML %.5g)\n", p.sp[s].name, x[k],
+                   ratio, sr, want[k]);
+            CHECK(fabs(ratio / want[k] - 1) <= 0.01 && 3 * sr <= 0.01 / 3 * want[k],
+                  "%s qU/kT %g: %.5f +- %.5f, want %.5g", p.sp[s].name, x[k], ratio, sr, want[k]);
+            CHECK(fabs(oml / I0 / want[k] - 1) < 1e-4, "mote_ch_oml %.6g", oml / I0);
+            mote_ch_result_free(&r);
+        }
+    }
+    mote_ch_tracer_free(t);
+    mote_ch_body_free(&b);
+}
+
+/* Q2, Q3: floating potentials of the charged exact sphere (spec 10): single e/H+ at 1 keV,
+ * U_f = -2503.9 V within 1%; geo-worst-case -38.06 kV and thesis-hot -67.23 kV within 2%, with
+ * the hot-electron and proton currents per m^2 at U_f. */
+static void test_float(void)
+{
+    printf("Q2, Q3: floating potentials of the exact sphere\n");
+    mote_err err = {0};
+    mote_ch_body b = {0};
+    mote_ch_body_sphere(&b, 1, &err);
+    mote_ch_tracer *t = mote_ch_tracer_new(&b, &err);
+    const char *pre[3] = {"single", "geo-worst-case", "thesis-hot"};
+    const double want[3] = {-2503.9, -38060, -67230}, tol[3] = {0.01, 0.02, 0.02};
+    for (int k = 0; k < 3 && t; k++) {
+        mote_ch_plasma p;
+        mote_ch_plasma_preset(&p, pre[k], 1e6, 1000, &err);
+        mote_ch_run_opts o = {.seed = 1, .particles = 1000000, .r_gen = 1.05, .threads = 2,
+                              .field = 1};
+        double U, sU, oml;
+        int evals;
+        mote_ch_result r;
+        if (mote_ch_float(&p, &b, t, &o, 1e-4, &U, &sU, &oml, &evals, &r, &err)) {
+            CHECK(0, "float %s: %s", pre[k], err.msg);
+            continue;
+        }
+        printf("  %s: U_f = %.2f V +- %.2f (spec %.5g; OML %.2f; %d runs)\n", pre[k], U, sU,
+               want[k], oml, evals);
+        CHECK(fabs(U / want[k] - 1) <= tol[k] && 3 * sU <= tol[k] / 3 * fabs(want[k]),
+              "%s: U_f %.2f +- %.2f, want %.5g within %g", pre[k], U, sU, want[k], tol[k]);
+        if (k == 1) { /* per m^2 at U_f: the currents of spec 10 Q3 */
+            const double A = 4 * MOTE_CH_PI;
+            const double he = mote_ch_oml(A, U, 1.2e6, 27500, MOTE_CH_ME, -1) / A;
+            const double cp = mote_ch_oml(A, U, 0.6e6, 200, MOTE_CH_MP, 1) / A;
+            const double hp = mote_ch_oml(A, U, 1.3e6, 28000, MOTE_CH_MP, 1) / A;
+            CHECK(fabs(he / -1.3366e-6 - 1) < 0.01 && fabs(cp / 1.0155e-6 - 1) < 0.02 &&
+                      fabs(hp / 3.2106e-7 - 1) < 0.01,
+                  "at U_f per m^2: hot e %.5g, cold H+ %.5g, hot H+ %.5g", he, cp, hp);
+            CHECK(fabs(r.current[0] + r.current[1]) <= 3 * sqrt(r.sigma[0] * r.sigma[0] +
+                                                                r.sigma[1] * r.sigma[1]),
+                  "the net current at U_f %.3g is not zero within 3 sigma",
+                  r.current[0] + r.current[1]);
+        }
+        mote_ch_result_free(&r);
+    }
+    mote_ch_tracer_free(t);
+    mote_ch_body_free(&b);
+}
+
 int main(void)
 {
     test_constants();
@@ -425,5 +510,7 @@ int main(void)
     test_hit_probability();
     test_shadow();
     test_mesh_files();
+    test_oml();
+    test_float();
     return test_summary();
 }

@@ -32,7 +32,11 @@ expect 1 "b5.mote:2:15: error: body box: give size=SX,SY,SZ (three lengths > 0, 
 expect 1 "b6.mote:3:1: error: run: there is no body yet" b6.mote "${G}plasma preset thesis-hot\nrun\n"
 expect 1 "b7.mote:3:1: error: run: there is no plasma yet (plasma preset ...)" b7.mote "${G}body sphere radius=1\nrun\n"
 expect 1 "b8.mote:4:1: error: evolve: the charged body's U(t) needs the field model" b8.mote "${G}plasma preset thesis-hot\nbody sphere radius=1\nevolve time=1\n"
-expect 1 "b9.mote:4:15: error: run: a charged body (potential != 0) needs the field model" b9.mote "${G}plasma preset thesis-hot\nbody sphere radius=1\nrun potential=-100\n"
+expect 1 "b9.mote:4:15: error: run: a charged mesh (potential != 0) needs curved paths" b9.mote "${G}plasma preset thesis-hot\nbody icosphere radius=1\nrun potential=-100\n"
+expect 1 "b9b.mote:4:1: error: float: in faithful mode the currents do not depend on U" b9b.mote "${F}body sphere radius=1\nrun particles=10\nfloat\n"
+expect 1 "b9c.mote:4:1: error: float: a charged mesh needs curved paths" b9c.mote "${G}plasma preset thesis-hot\nbody icosphere radius=1\nfloat\n"
+printf '%bplasma preset single n=1e6 kT=1000\nbody sphere radius=1\nfloat particles=1e5\n' "$G" > fl.mote
+"$MOTE" run fl.mote > out.txt 2> err.txt && awk '/^float: U_f/ { u = $4 } END { d = u / -2503.9 - 1; exit !(d * d < 1e-4) }' out.txt && ok || bad "float (single, 1 keV): $(grep U_f out.txt) $(cat err.txt)"
 expect 1 "b10.mote:2:24: error: injector sphere: radius must be auto, debye, thesis or a length > 0 (m), found 'big'" b10.mote "${G}injector sphere radius=big\n"
 expect 1 "b11.mote:3:6: error: body sphere: the exact sphere is a body on its own" b11.mote "${G}body sphere radius=1\nbody sphere radius=2\n"
 expect 1 "b12.mote:2:6: error: body: expected sphere, icosphere, uvsphere, box, twocubes or load, found 'cone'" b12.mote "${G}body cone\n"

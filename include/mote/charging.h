@@ -121,7 +121,17 @@ typedef struct {
     uint64_t particles;    /* histories per component */
     double r_gen;          /* injection radius (m) */
     int threads;
+    /* the charged body (spec 6.1-6.3): the potential U (V) of the body and, with field = 1, the
+     * Coulomb field of the equivalent sphere (R_f = the exact sphere's radius); field = 0 keeps
+     * straight paths whatever U (faithful mode). Meshes with the field need curved paths, which
+     * this version does not have. */
+    double potential;
+    int field;
 } mote_ch_run_opts;
+
+/* OML current (spec 6.4) of one Maxwellian component (n, kT eV, m, Z) to a sphere of area A at
+ * potential U (A, signed as collected: Z e times the particle rate). */
+double mote_ch_oml(double A, double U, double n, double kT, double m, int Z);
 
 typedef struct {
     int nsp;
@@ -140,6 +150,16 @@ typedef struct {
 int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tracer *t,
                 const mote_ch_run_opts *o, mote_ch_result *r, mote_err *err);
 void mote_ch_result_free(mote_ch_result *r);
+
+/* The floating potential (spec 6.5): the root U_f of the net collected current I(U), each I a
+ * run of o (its potential replaced) with the same seed and histories (common random numbers),
+ * bracketed from the analytic OML root of the equivalent sphere and refined until the bracket
+ * is below max(0.1 sigma_U, tol |U|); sigma_U = sigma_I(U_f) / |dI/dU| from the final bracket.
+ * r receives the run at U_f; *oml the analytic root; *evals the runs made. */
+int mote_ch_float(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tracer *t,
+                  const mote_ch_run_opts *o, double tol, double *U_f, double *sigma_U,
+                  double *oml, int *evals, mote_ch_result *r, mote_err *err);
+
 
 extern const mote_model mote_model_charging;
 

@@ -350,10 +350,10 @@ static int check_run(void *vm, const mote_call *c, mote_err *err)
 {
     ch_model *m = vm;
     const mote_arg *u = mote_call_opt(c, "potential");
-    if (u && u->r != 0)
+    if (u && u->r != 0 && !m->faithful && m->have_body && !m->have_sphere)
         return mote_call_fail(err, c, mote_call_opt_index(c, "potential"), MOTE_EINVAL,
-                              "run: a charged body (potential != 0) needs the field model, which "
-                              "is not in this version; currents are for U = 0");
+                              "run: a charged mesh (potential != 0) needs curved paths, which "
+                              "are not in this version; the field model works on body sphere");
     const mote_arg *n = mote_call_opt(c, "particles");
     if (n && (n->r != floor(n->r) || n->r > 1e15))
         return mote_call_fail(err, c, mote_call_opt_index(c, "particles"), MOTE_EINVAL,
@@ -372,7 +372,9 @@ static int run_run(void *vm, const mote_call *c, mote_err *err)
     mote_ch_run_opts o = {.seed = m->seed,
                           .particles = (uint64_t)mote_call_opt_r(c, "particles", 1e6),
                           .r_gen = injection_radius(m, &g),
-                          .threads = c->ctx->threads};
+                          .threads = c->ctx->threads,
+                          .potential = mote_call_opt_r(c, "potential", 0),
+                          .field = !m->faithful};
     mote_ch_tracer *t = mote_ch_tracer_new(&m->body, err);
     if (!t)
         return err->code;
@@ -411,6 +413,56 @@ static int run_run(void *vm, const mote_call *c, mote_err *err)
             inet, sqrt(var), (unsigned long long)o.particles, o.r_gen,
             (double)hits / ((double)ncomp * (double)o.particles),
             (unsigned long long)m->res.backface_hits, m->res.traces_per_s);
+    return MOTE_OK;
+}
+
+static int check_float(void *vm, const mote_call *c, mote_err *err)
+{
+    ch_model *m = vm;
+    if (m->faithful)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "float: in faithful mode the currents do "
+                              "not depend on U, so no floating potential exists");
+    if (m->have_body && !m->have_sphere)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "float: a charged mesh needs curved paths, "
+                              "which are not in this version; use body sphere");
+    const mote_arg *n = mote_call_opt(c, "particles");
+    if (n && (n->r != floor(n->r) || n->r > 1e15))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "particles"), MOTE_EINVAL,
+                              "float: particles must be a whole number (1 ... 1e15)");
+    return need_setup(m, c, err);
+}
+
+static int run_float(void *vm, const mote_call *c, mote_err *err)
+{
+    ch_model *m = vm;
+    mote_ch_geometry g;
+    mote_ch_body_geometry(&m->body, &g);
+    mote_ch_run_opts o = {.seed = m->seed,
+                          .particles = (uint64_t)mote_call_opt_r(c, "particles", 1e6),
+                          .r_gen = injection_radius(m, &g),
+                          .threads = c->ctx->threads,
+                          .field = 1};
+    mote_ch_tracer *t = mote_ch_tracer_new(&m->body, err);
+    if (!t)
+        return err->code;
+    double U, sU, oml;
+    int evals;
+    mote_ch_result_free(&m->res);
+    int rc = mote_ch_float(&m->plasma, &m->body, t, &o, mote_call_opt_r(c, "tolerance", 1e-4),
+                           &U, &sU, &oml, &evals, &m->res, err);
+    mote_ch_tracer_free(t);
+    if (rc)
+        return rc;
+    m->have_run = 1;
+    if (m->log) {
+        fprintf(m->log, "float: U_f = %.6g V +- %.3g (OML estimate for the equivalent sphere "
+                        "%.6g V; %d runs of %llu histories per component, common random "
+                        "numbers)\n", U, sU, oml, evals, (unsigned long long)o.particles);
+        for (int s = 0; s < m->plasma.nsp; s++)
+            fprintf(m->log, "float: %-4s I = %.6g A +- %.3g at U_f (%.6g A/m^2)\n",
+                    m->plasma.sp[s].name, m->res.current[s], m->res.sigma[s],
+                    m->res.current[s] / g.area);
+    }
     return MOTE_OK;
 }
 
@@ -643,8 +695,10 @@ static const char HELP_RUN[] =
     "current of each species with its standard error |w| sqrt(h (1 - h/N)), the\n"
     "hit fraction and back-face hits. Random numbers are Philox4x32-10 keyed by\n"
     "`seed`, one stream per history, so the tallies do not depend on `threads`.\n"
-    "A charged body (potential != 0) needs the field model of spec 6, which is not\n"
-    "in this version.\n";
+    "potential=U (V) charges the body: on the exact sphere (body sphere) the\n"
+    "histories move in its Coulomb field and hit by the OML test (see `float`);\n"
+    "charged meshes need curved paths, which are not in this version. In faithful\n"
+    "mode the field is off and U changes nothing.\n";
 
 static const char HELP_EVOLVE[] =
     "    evolve time=T [dt_out=D] [file=FILE]\n"
@@ -654,6 +708,22 @@ static const char HELP_EVOLVE[] =
     "from the last `run`, at t = 0, D, 2D, ... and T. Prints the lines, or writes\n"
     "them to FILE (columns t_s Q_C U_V sigma_U_V I_net_A, then per species I_s_A\n"
     "and Nreal_s, the real particles collected so far), atomically.\n";
+
+static const char HELP_FLOAT[] =
+    "    float [particles=1e6] [tolerance=1e-4]\n"
+    "\n"
+    "The floating potential U_f, where the net collected current is zero (spec\n"
+    "6.5), of the charged exact sphere (body sphere) in its Coulomb field (spec\n"
+    "6.1): every history starts with the exact injection of spec 6.2 (the rate\n"
+    "times exp(-chi) or 1 - chi, the energy law of the repelled or attracted\n"
+    "component) and hits when it passes the OML test E - qU >= L^2/(2 m a^2). Each\n"
+    "I(U) is a run with the same seed and histories (common random numbers); the\n"
+    "root is bracketed from the analytic OML root of the equivalent sphere and\n"
+    "refined until the bracket is below max(0.1 sigma_U, tolerance |U|). Prints U_f\n"
+    "with sigma_U = sigma_I / |dI/dU|, the analytic estimate, and each species'\n"
+    "current at U_f. Charged meshes need curved paths, which are not in this\n"
+    "version; faithful mode has no floating potential (its currents do not depend\n"
+    "on U).\n";
 
 static const char HELP_OUTPUT[] =
     "    output prefix=P [triangles=on] [vtk=on] [png=on] [png_view=iso]\n"
@@ -688,6 +758,9 @@ static const mote_cmd ch_commands[] = {
      "where histories start", HELP_INJECTOR, check_injector, run_injector},
     {"run", NULL, "particles=r>=1 potential=r", "run [particles=N] [potential=0]",
      "Monte Carlo currents to the uncharged body", HELP_RUN, check_run, run_run},
+    {"float", NULL, "particles=r>=1 tolerance=r(0,0.1]", "float [particles=N] [tolerance=1e-4]",
+     "the floating potential of the charged body (exact sphere)", HELP_FLOAT, check_float,
+     run_float},
     {"output", NULL,
      "prefix=f! triangles=s vtk=s png=s png_view=s png_size=s png_scale=s",
      "output prefix=P [triangles=on] [vtk=on] [png=on] [png_view=V] [png_size=WxH] "

@@ -38,10 +38,12 @@ void mote_ch_philox(const uint32_t ctr[4], const uint32_t key[2], uint32_t out[4
     memcpy(out, c, sizeof c);
 }
 
-/* Four uniforms in (0, 1) (32 bits each, never 0 or 1) from one Philox block. */
-static void uniforms4(const uint32_t key[2], uint64_t history, uint32_t comp, double u[4])
+/* Four uniforms in (0, 1) (32 bits each, never 0 or 1) from one Philox block (block `draw` of
+ * the history's stream). */
+static void uniforms4(const uint32_t key[2], uint64_t history, uint32_t comp, uint32_t draw,
+                      double u[4])
 {
-    const uint32_t ctr[4] = {(uint32_t)history, (uint32_t)(history >> 32), comp, 0};
+    const uint32_t ctr[4] = {(uint32_t)history, (uint32_t)(history >> 32), comp, draw};
     uint32_t w[4];
     mote_ch_philox(ctr, key, w);
     for (int j = 0; j < 4; j++)
@@ -70,7 +72,14 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
     if (!(R > g.r_bound))
         return mote_fail(err, MOTE_EINVAL, "run: the injection radius %.6g m must exceed the "
                          "body's bounding radius %.6g m", R, g.r_bound);
+    const int field = o->field && o->potential != 0;
+    if (field && !b->sphere)
+        return mote_fail(err, MOTE_EINVAL, "run: a charged mesh needs curved paths, which are not "
+                         "in this version; the field model works on the exact sphere (body "
+                         "sphere) or with field none");
     const uint32_t ntri = b->sphere ? 1 : b->ntri;
+    /* the field (spec 6.1, 6.2): the potential on the generation sphere */
+    const double a_f = b->sphere ? b->sphere_r : 0, phi_g = field ? o->potential * a_f / R : 0;
     r->nsp = p->nsp;
     r->ntri = ntri;
     r->histories = o->particles;
@@ -90,8 +99,15 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
     for (int s = 0; s < p->nsp; s++)
         for (int k = 0; k < p->sp[s].ncomp; k++, comp++) {
             const mote_ch_species *sp = &p->sp[s];
+            /* chi = q phi_g / kT; the inward rate times g(chi) (spec 6.2, Liouville) */
+            const double chi = sp->Z * phi_g / sp->kT[k];
             const double gamma = 4 * MOTE_CH_PI * R * R * sp->n[k] *
-                                 sqrt(sp->kT[k] * MOTE_CH_E / (2 * MOTE_CH_PI * sp->m));
+                                 sqrt(sp->kT[k] * MOTE_CH_E / (2 * MOTE_CH_PI * sp->m)) *
+                                 (chi >= 0 ? exp(-chi) : 1 - chi);
+            /* the OML test (spec 6.3) in units of kT: hit when K + q phi_g - q U >= K sin^2
+             * (R/a)^2, K the kinetic energy at injection */
+            const double dq = field ? sp->Z * (phi_g - o->potential) / sp->kT[k] : 0;
+            const double ra2 = field ? (R / a_f) * (R / a_f) : 0;
             r->weight[s][k] = sp->Z * MOTE_CH_E * gamma / (double)o->particles;
             const uint64_t nblocks = (o->particles + BLOCK - 1) / BLOCK;
             uint64_t hits = 0, back = 0;
@@ -117,7 +133,23 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                                                                            : o->particles;
                     for (uint64_t h = blk * BLOCK; h < h1; h++) {
                         double u[4];
-                        uniforms4(key, h, (uint32_t)comp, u);
+                        uniforms4(key, h, (uint32_t)comp, 0, u);
+                        if (field) { /* the exact sphere in its own field: the OML test */
+                            double e[4];
+                            uniforms4(key, h, (uint32_t)comp, 1, e);
+                            double K = -log(e[0] * e[1]); /* Gamma(2, 1): K / kT */
+                            if (chi < 0) { /* attracted: |chi| + Gamma(2) or Exp(1) */
+                                if (e[2] >= 1 / (1 - chi))
+                                    K = -log(e[0]);
+                                K += -chi;
+                            }
+                            /* sin^2(theta) = 1 - u2 by the cosine law */
+                            if (K + dq >= K * (1 - u[2]) * ra2) {
+                                hits++;
+                                mine[0]++;
+                            }
+                            continue;
+                        }
                         /* the direction's cos^2(theta) is uniform (the cosine law): a path
                          * with cos^2 < 1 - (R_bound/R)^2 passes the body's bounding sphere */
                         if (u[2] < miss_below)
@@ -181,4 +213,140 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
         r->sigma[s] = sqrt(var);
     }
     return MOTE_OK;
+}
+
+/* ---- the floating potential (spec 6.5) ------------------------------------------------------ */
+
+/* The net OML current of the plasma to a sphere of area A at U. */
+static double oml_net(const mote_ch_plasma *p, double A, double U)
+{
+    double I = 0;
+    for (int s = 0; s < p->nsp; s++)
+        for (int k = 0; k < p->sp[s].ncomp; k++)
+            I += mote_ch_oml(A, U, p->sp[s].n[k], p->sp[s].kT[k], p->sp[s].m, p->sp[s].Z);
+    return I;
+}
+
+static double net_of(const mote_ch_result *r, double *sigma)
+{
+    double I = 0, v = 0;
+    for (int s = 0; s < r->nsp; s++) {
+        I += r->current[s];
+        v += r->sigma[s] * r->sigma[s];
+    }
+    if (sigma)
+        *sigma = sqrt(v);
+    return I;
+}
+
+int mote_ch_float(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tracer *t,
+                  const mote_ch_run_opts *o, double tol, double *U_f, double *sigma_U,
+                  double *oml, int *evals, mote_ch_result *r, mote_err *err)
+{
+    memset(r, 0, sizeof *r);
+    *evals = 0;
+    mote_ch_geometry g;
+    mote_ch_body_geometry(b, &g);
+    /* the analytic root: I_net(U) falls with U (electrons gain, ions lose) */
+    double lo = -1e7, hi = 1e7;
+    if (!(oml_net(p, g.area, lo) > 0 && oml_net(p, g.area, hi) < 0))
+        return mote_fail(err, MOTE_EINVAL, "float: the net current does not change sign between "
+                         "-10 MV and +10 MV (a plasma of one sign?)");
+    for (int it = 0; it < 200; it++) {
+        const double mid = 0.5 * (lo + hi);
+        if (oml_net(p, g.area, mid) > 0)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    *oml = 0.5 * (lo + hi);
+    double kTmin = INFINITY;
+    for (int s = 0; s < p->nsp; s++)
+        for (int k = 0; k < p->sp[s].ncomp; k++)
+            kTmin = fmin(kTmin, p->sp[s].kT[k] / abs(p->sp[s].Z));
+    mote_ch_run_opts q = *o;
+    mote_ch_result ra, rb;
+    double Ia, Ib, sa;
+    /* the Monte Carlo bracket: from the analytic root, steps growing geometrically */
+    double Ua = *oml, step = 0.1 * kTmin;
+    q.potential = Ua;
+    int rc = mote_ch_run(p, b, t, &q, &ra, err);
+    ++*evals;
+    if (rc)
+        return rc;
+    Ia = net_of(&ra, &sa);
+    double Ub = Ua;
+    Ib = Ia;
+    rb = ra;
+    memset(&ra, 0, sizeof ra);
+    for (int it = 0; it < 60 && !rc; it++) {
+        mote_ch_result_free(&ra);
+        ra = rb; /* the last point becomes the other end */
+        Ua = Ub;
+        Ia = Ib;
+        Ub = Ua + (Ia > 0 ? step : -step); /* I > 0: U must rise */
+        q.potential = Ub;
+        rc = mote_ch_run(p, b, t, &q, &rb, err);
+        ++*evals;
+        if (rc)
+            break;
+        Ib = net_of(&rb, NULL);
+        if ((Ia > 0) != (Ib > 0))
+            break;
+        step *= 2;
+    }
+    if (!rc && (Ia > 0) == (Ib > 0))
+        rc = mote_fail(err, MOTE_EINVAL, "float: no sign change of the net current found");
+    /* refine: regula falsi with the Illinois weights, bisection when it stalls */
+    int side = 0;
+    for (int it = 0; it < 100 && !rc; it++) {
+        double s_now;
+        const double Ibest = fabs(Ia) < fabs(Ib) ? net_of(&ra, &s_now) : net_of(&rb, &s_now);
+        const double slope = (Ib - Ia) / (Ub - Ua);
+        const double sU = slope != 0 ? s_now / fabs(slope) : INFINITY;
+        (void)Ibest;
+        if (fabs(Ub - Ua) <= fmax(0.1 * sU, tol * fmax(fabs(Ua), fabs(Ub))))
+            break;
+        double Um = (Ua * Ib - Ub * Ia) / (Ib - Ia);
+        if (!(Um > fmin(Ua, Ub) && Um < fmax(Ua, Ub)) || it % 4 == 3)
+            Um = 0.5 * (Ua + Ub);
+        q.potential = Um;
+        mote_ch_result rm;
+        rc = mote_ch_run(p, b, t, &q, &rm, err);
+        ++*evals;
+        if (rc)
+            break;
+        const double Im = net_of(&rm, NULL);
+        if ((Im > 0) == (Ia > 0)) {
+            mote_ch_result_free(&ra);
+            ra = rm;
+            Ua = Um;
+            Ia = Im;
+            if (side == -1)
+                Ib *= 0.5;
+            side = -1;
+        } else {
+            mote_ch_result_free(&rb);
+            rb = rm;
+            Ub = Um;
+            Ib = Im;
+            if (side == 1)
+                Ia *= 0.5;
+            side = 1;
+        }
+    }
+    if (!rc) {
+        /* the root by linear interpolation of the (unweighted) end currents */
+        double sI;
+        const double Ia0 = net_of(&ra, &sI), Ib0 = net_of(&rb, NULL);
+        const double slope = (Ib0 - Ia0) / (Ub - Ua);
+        *U_f = Ib0 != Ia0 ? (Ua * Ib0 - Ub * Ia0) / (Ib0 - Ia0) : 0.5 * (Ua + Ub);
+        *sigma_U = slope != 0 ? sI / fabs(slope) : INFINITY;
+        q.potential = *U_f;
+        rc = mote_ch_run(p, b, t, &q, r, err);
+        ++*evals;
+    }
+    mote_ch_result_free(&ra);
+    mote_ch_result_free(&rb);
+    return rc;
 }

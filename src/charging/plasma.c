@@ -65,3 +65,10 @@ double mote_ch_debye(const mote_ch_plasma *p)
         }
     return inv2 > 0 ? 1 / sqrt(inv2) : INFINITY;
 }
+
+double mote_ch_oml(double A, double U, double n, double kT, double m, int Z)
+{
+    const double x = Z * U / kT; /* qU / kT */
+    const double I0 = Z * MOTE_CH_E * A * n * sqrt(kT * MOTE_CH_E / (2 * MOTE_CH_PI * m));
+    return I0 * (x >= 0 ? exp(-x) : 1 - x);
+}
