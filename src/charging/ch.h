@@ -21,7 +21,7 @@ typedef struct {
     const mote_ch_body *body;
     const mote_ch_result *res;
     mote_ch_geometry geom;
-    double r_gen;
+    double r_gen, potential;
     int threads;
     int triangles, vtk, png;      /* which files (the parts table and summaries always) */
     int png_w, png_h, png_log;

@@ -387,7 +387,8 @@ static int run_run(void *vm, const mote_call *c, mote_err *err)
     m->r_gen_used = o.r_gen;
     if (m->prefix) {
         ch_output out = {m->prefix, m->origin, m->faithful ? "faithful" : "full", m->seed,
-                         &m->plasma, &m->body, &m->res, g, o.r_gen, o.threads > 1 ? o.threads : 1,
+                         &m->plasma, &m->body, &m->res, g, o.r_gen, o.field ? o.potential : 0,
+                         o.threads > 1 ? o.threads : 1,
                          m->out_triangles, m->out_vtk, m->out_png, m->png_w, m->png_h,
                          m->png_log, {m->view[0], m->view[1], m->view[2]}};
         rc = ch_write_outputs(&out, m->log, err);
@@ -454,6 +455,15 @@ static int run_float(void *vm, const mote_call *c, mote_err *err)
     if (rc)
         return rc;
     m->have_run = 1;
+    if (m->prefix) { /* the files at U_f (spec 8.2) */
+        ch_output out = {m->prefix, m->origin, "full", m->seed, &m->plasma, &m->body, &m->res,
+                         g, o.r_gen, U, o.threads > 1 ? o.threads : 1, m->out_triangles,
+                         m->out_vtk, m->out_png, m->png_w, m->png_h, m->png_log,
+                         {m->view[0], m->view[1], m->view[2]}};
+        rc = ch_write_outputs(&out, m->log, err);
+        if (rc)
+            return rc;
+    }
     if (m->log) {
         fprintf(m->log, "float: U_f = %.6g V +- %.3g (OML estimate for the equivalent sphere "
                         "%.6g V; %d runs of %llu histories per component, common random "
@@ -729,7 +739,8 @@ static const char HELP_OUTPUT[] =
     "    output prefix=P [triangles=on] [vtk=on] [png=on] [png_view=iso]\n"
     "           [png_size=1024x768] [png_scale=linear|log]\n"
     "\n"
-    "After every later `run`, write the files of spec 8 (P may name a directory):\n"
+    "After every later `run` (at its potential) and `float` (at U_f), write the\n"
+    "files of spec 8 (P may name a directory):\n"
     "P_triangles.csv, one row per triangle and side that collects (the front of a\n"
     "closed surface, both sides of a sheet): part, material, side, area, centre,\n"
     "normal, per species the hits and the current, then the net current, its\n"

@@ -52,9 +52,9 @@ static void header(FILE *f, const ch_output *o)
     fprintf(f, "# mode = %s\n# seed = %llu\n# histories_per_component = %llu\n", o->mode,
             (unsigned long long)o->seed, (unsigned long long)o->res->histories);
     fprintf(f, "# triangles = %u\n# area_m2 = %.10g\n# R_eq_m = %.10g\n# C_F = %.10g\n"
-               "# R_bound_m = %.10g\n# R_gen_m = %.10g\n# potential_V = 0\n",
+               "# R_bound_m = %.10g\n# R_gen_m = %.10g\n# potential_V = %.10g\n",
             o->body->sphere ? 0 : o->body->ntri, g->area, g->r_eq, g->capacitance, g->r_bound,
-            o->r_gen);
+            o->r_gen, o->potential);
     for (int s = 0; s < o->plasma->nsp; s++) {
         const mote_ch_species *sp = &o->plasma->sp[s];
         for (int k = 0; k < sp->ncomp; k++)
@@ -181,9 +181,9 @@ static int write_vtk(const ch_output *o, const char *path, mote_err *err)
     if (rc)
         return rc;
     FILE *f = af.f;
-    fprintf(f, "# vtk DataFile Version 3.0\nmote charging: currents at U = 0 V, seed %llu, %llu "
+    fprintf(f, "# vtk DataFile Version 3.0\nmote charging: currents at U = %.6g V, seed %llu, %llu "
                "histories per component\nASCII\nDATASET POLYDATA\nPOINTS %u double\n",
-            (unsigned long long)o->seed, (unsigned long long)o->res->histories, 3 * b->ntri);
+            o->potential, (unsigned long long)o->seed, (unsigned long long)o->res->histories, 3 * b->ntri);
     for (uint32_t i = 0; i < b->ntri; i++)
         for (int j = 0; j < 3; j++)
             fprintf(f, "%.10g %.10g %.10g\n", b->v[i][j][0], b->v[i][j][1], b->v[i][j][2]);
@@ -251,12 +251,12 @@ static int write_summary(const ch_output *o, const char *path, int json, mote_er
     }
     const double hitf = (double)hits / ((double)o->res->ncomp * (double)o->res->histories);
     if (json) {
-        fprintf(f, "{\"model\":\"charging\",\"mode\":\"%s\",\"seed\":%llu,\"potential_V\":0,"
+        fprintf(f, "{\"model\":\"charging\",\"mode\":\"%s\",\"seed\":%llu,\"potential_V\":%.10g,"
                    "\"histories_per_component\":%llu,\"area_m2\":%.10g,\"R_eq_m\":%.10g,"
                    "\"R_bound_m\":%.10g,\"R_gen_m\":%.10g,\"C_F\":%.10g,\"debye_m\":%.10g,"
                    "\"species\":[",
-                o->mode, (unsigned long long)o->seed, (unsigned long long)o->res->histories,
-                g->area, g->r_eq, g->r_bound, o->r_gen, g->capacitance, mote_ch_debye(p));
+                o->mode, (unsigned long long)o->seed, o->potential,
+                (unsigned long long)o->res->histories, g->area, g->r_eq, g->r_bound, o->r_gen, g->capacitance, mote_ch_debye(p));
         for (int s = 0; s < p->nsp; s++) {
             fprintf(f, "%s{\"name\":\"%s\",\"I_A\":%.10g,\"sigma_A\":%.10g,\"components\":[",
                     s ? "," : "", p->sp[s].name, o->res->current[s], o->res->sigma[s]);
@@ -279,7 +279,7 @@ static int write_summary(const ch_output *o, const char *path, int json, mote_er
                 o->body->sphere ? 0 : o->body->ntri, g->area, g->r_eq, g->r_bound, g->capacitance);
         fprintf(f, "plasma: Debye length %.6g m; injection sphere R %.6g m\n\n", mote_ch_debye(p),
                 o->r_gen);
-        fprintf(f, "currents at U = 0 V (%llu histories per component):\n",
+        fprintf(f, "currents at U = %.6g V (%llu histories per component):\n", o->potential,
                 (unsigned long long)o->res->histories);
         for (int s = 0; s < p->nsp; s++) {
             fprintf(f, "  %-4s %.10g A +- %.3g\n", p->sp[s].name, o->res->current[s],
@@ -347,8 +347,8 @@ static int write_png(const ch_output *o, const char *path, mote_err *err)
         n++;
     }
     char title[160];
-    snprintf(title, sizeof title, "net current density at U = 0 V (%s mode, %llu histories)",
-             o->mode, (unsigned long long)o->res->histories);
+    snprintf(title, sizeof title, "net current density at U = %.6g V (%s mode, %llu histories)",
+             o->potential, o->mode, (unsigned long long)o->res->histories);
     mote_surface_opts so = {title, "J_net (A/m^2)", o->png_w, o->png_h, 0, 0, o->png_log};
     int rc = mote_surface_png(path, &so, xy, depth, val, shade, n, err);
     free(xy);
