@@ -6,6 +6,8 @@
  * meshes' triangle counts and areas. Statistical tests pass when |estimate - exact| <= 3 sigma. */
 #include "mote/charging.h"
 
+#include "../src/charging/ch.h" /* the characteristic I(U) (evolve.c) */
+
 #include "test.h"
 
 static void near4(double got, double want, const char *what)
@@ -501,6 +503,44 @@ static void test_float(void)
     mote_ch_body_free(&b);
 }
 
+/* Q4: charging in time of the 1 m sphere in geo-worst-case from U0 = 0 (spec 10), within 2%:
+ * U(0.25 ms) = -148.68 V, U(1 ms) = -585.4 V, U(10 ms) = -5219 V, U(0.1 s) = -26.57 kV; 50% of
+ * U_f at 53.5 ms and 90% at 212.9 ms; tau at U_f 0.1107 s. */
+static void test_evolve(void)
+{
+    printf("Q4: U(t) of the 1 m sphere in geo-worst-case\n");
+    mote_err err = {0};
+    mote_ch_plasma p;
+    mote_ch_plasma_preset(&p, "geo-worst-case", 0, 0, &err);
+    mote_ch_body b = {0};
+    mote_ch_body_sphere(&b, 1, &err);
+    mote_ch_tracer *tr = mote_ch_tracer_new(&b, &err);
+    mote_ch_run_opts o = {.seed = 1, .particles = 200000, .r_gen = 1.05, .threads = 2, .field = 1};
+    ch_table t;
+    if (!tr || ch_table_build(&p, &b, tr, &o, 0, &t, &err) ||
+        ch_table_times(&t, 4 * MOTE_CH_PI * MOTE_CH_EPS0, &err)) {
+        CHECK(0, "evolve: %s", err.msg);
+        mote_ch_tracer_free(tr);
+        mote_ch_body_free(&b);
+        return;
+    }
+    const double times[4] = {2.5e-4, 1e-3, 1e-2, 0.1}, want[4] = {-148.68, -585.4, -5219, -26570};
+    for (int k = 0; k < 4; k++) {
+        const double U = ch_table_u_at(&t, times[k]);
+        printf("  U(%g s) = %.2f V (spec %g)\n", times[k], U, want[k]);
+        CHECK(fabs(U / want[k] - 1) <= 0.02, "U(%g) %.2f, want %g", times[k], U, want[k]);
+    }
+    const double t50 = ch_table_t_at(&t, 0.5 * t.Uf), t90 = ch_table_t_at(&t, 0.9 * t.Uf);
+    printf("  U_f %.1f V, 50%% at %.4f s, 90%% at %.4f s, tau %.4f s (%d potentials)\n", t.Uf, t50,
+           t90, t.tau, t.n);
+    CHECK(fabs(t50 / 0.0535 - 1) <= 0.02 && fabs(t90 / 0.2129 - 1) <= 0.02 &&
+              fabs(t.tau / 0.1107 - 1) <= 0.02 && fabs(t.Uf / -38060 - 1) <= 0.02,
+          "t50 %.4f, t90 %.4f, tau %.4f, U_f %.1f", t50, t90, t.tau, t.Uf);
+    ch_table_free(&t);
+    mote_ch_tracer_free(tr);
+    mote_ch_body_free(&b);
+}
+
 int main(void)
 {
     test_constants();
@@ -512,5 +552,6 @@ int main(void)
     test_mesh_files();
     test_oml();
     test_float();
+    test_evolve();
     return test_summary();
 }

@@ -31,7 +31,7 @@ expect 1 "b4.mote:2:6: error: body box: give size=SX,SY,SZ (three lengths > 0, m
 expect 1 "b5.mote:2:15: error: body box: give size=SX,SY,SZ (three lengths > 0, m)" b5.mote "${G}body box size=1,nan,1\n"
 expect 1 "b6.mote:3:1: error: run: there is no body yet" b6.mote "${G}plasma preset thesis-hot\nrun\n"
 expect 1 "b7.mote:3:1: error: run: there is no plasma yet (plasma preset ...)" b7.mote "${G}body sphere radius=1\nrun\n"
-expect 1 "b8.mote:4:1: error: evolve: the charged body's U(t) needs the field model" b8.mote "${G}plasma preset thesis-hot\nbody sphere radius=1\nevolve time=1\n"
+expect 1 "b8.mote:4:1: error: evolve: a charged mesh needs curved paths" b8.mote "${G}plasma preset thesis-hot\nbody icosphere radius=1\nevolve time=1\n"
 expect 1 "b9.mote:4:15: error: run: a charged mesh (potential != 0) needs curved paths" b9.mote "${G}plasma preset thesis-hot\nbody icosphere radius=1\nrun potential=-100\n"
 expect 1 "b9b.mote:4:1: error: float: in faithful mode the currents do not depend on U" b9b.mote "${F}body sphere radius=1\nrun particles=10\nfloat\n"
 expect 1 "b9c.mote:4:1: error: float: a charged mesh needs curved paths" b9c.mote "${G}plasma preset thesis-hot\nbody icosphere radius=1\nfloat\n"

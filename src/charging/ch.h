@@ -30,4 +30,22 @@ typedef struct {
 
 int ch_write_outputs(const ch_output *o, FILE *log, mote_err *err);
 
+/* The net current's characteristic I(U) and the charging law it gives (evolve.c, spec 6.6). */
+typedef struct {
+    int n, down;                /* points; down: U falls from U0 (the net current is negative) */
+    double *U, *I, *d;          /* the grid along the path, the currents, the Hermite slopes */
+    double Uf;                  /* the root (floating potential) */
+    int nt;
+    double *tt, *tu;            /* t(U) on a fine grid */
+    double tau;                 /* C / |dI/dU| at U_f */
+} ch_table;
+
+int ch_table_build(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tracer *tr,
+                   const mote_ch_run_opts *o, double U0, ch_table *t, mote_err *err);
+double ch_table_eval(const ch_table *t, double U);
+int ch_table_times(ch_table *t, double C, mote_err *err);
+double ch_table_u_at(const ch_table *t, double time);
+double ch_table_t_at(const ch_table *t, double U);
+void ch_table_free(ch_table *t);
+
 #endif

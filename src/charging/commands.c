@@ -479,11 +479,15 @@ static int run_float(void *vm, const mote_call *c, mote_err *err)
 static int check_evolve(void *vm, const mote_call *c, mote_err *err)
 {
     ch_model *m = vm;
-    if (!m->faithful)
-        return mote_call_fail(err, c, -1, MOTE_EINVAL, "evolve: the charged body's U(t) needs the "
-                              "field model, which is not in this version; use model charging "
-                              "faithful for constant-current charging");
-    if (!m->have_run)
+    if (!m->faithful) {
+        if (m->have_body && !m->have_sphere)
+            return mote_call_fail(err, c, -1, MOTE_EINVAL, "evolve: a charged mesh needs curved "
+                                  "paths, which are not in this version; use body sphere, or "
+                                  "model charging faithful for constant currents");
+        int rc = need_setup(m, c, err);
+        if (rc)
+            return rc;
+    } else if (!m->have_run)
         return mote_call_fail(err, c, -1, MOTE_EINVAL, "evolve: no currents yet: run first");
     const mote_arg *dt = mote_call_opt(c, "dt_out");
     if (dt && dt->r > mote_call_opt(c, "time")->r)
@@ -492,10 +496,72 @@ static int check_evolve(void *vm, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
+/* Full mode (spec 6.6): C dU/dt = I_net(U) from the tabulated characteristic. */
+static int evolve_full(ch_model *m, const mote_call *c, mote_err *err)
+{
+    mote_ch_geometry g;
+    mote_ch_body_geometry(&m->body, &g);
+    const double T = mote_call_opt(c, "time")->r, dt = mote_call_opt_r(c, "dt_out", T);
+    const double U0 = mote_call_opt_r(c, "U0", 0), C = g.capacitance;
+    mote_ch_run_opts o = {.seed = m->seed,
+                          .particles = (uint64_t)mote_call_opt_r(c, "particles", 1e6),
+                          .r_gen = injection_radius(m, &g),
+                          .threads = c->ctx->threads,
+                          .field = 1};
+    mote_ch_tracer *tr = mote_ch_tracer_new(&m->body, err);
+    if (!tr)
+        return err->code;
+    ch_table t;
+    int rc = ch_table_build(&m->plasma, &m->body, tr, &o, U0, &t, err);
+    mote_ch_tracer_free(tr);
+    if (!rc)
+        rc = ch_table_times(&t, C, err);
+    if (rc) {
+        ch_table_free(&t);
+        return rc;
+    }
+    const mote_arg *f = mote_call_opt(c, "file");
+    mote_datafile d;
+    FILE *out = m->log;
+    if (f) {
+        char *origin = mote_call_origin(c);
+        rc = mote_datafile_open(&d, f->path, "charging-timeseries", origin ? origin : "evolve",
+                                m->seed, err);
+        free(origin);
+        if (rc) {
+            ch_table_free(&t);
+            return rc;
+        }
+        out = d.f;
+        fprintf(out, "# mode = full (C dU/dt = I_net(U), the characteristic tabulated at %d "
+                     "potentials, %llu histories per component each)\n# C_F = %.10g\n"
+                     "# U_f_V = %.10g\n# tau_s = %.10g\n# columns: t_s Q_C U_V I_net_A\n",
+                t.n, (unsigned long long)o.particles, C, t.Uf, t.tau);
+    }
+    if (m->log)
+        fprintf(m->log, "evolve: I(U) tabulated at %d potentials from %g V to %g V; U_f = %.6g V, "
+                        "tau = C/|dI/dU| = %.4g s; 50%% of U_f at %.4g s, 90%% at %.4g s\n",
+                t.n, t.U[0], t.U[t.n - 1], t.Uf, t.tau, ch_table_t_at(&t, U0 + 0.5 * (t.Uf - U0)),
+                ch_table_t_at(&t, U0 + 0.9 * (t.Uf - U0)));
+    const long nout = (long)floor(T / dt + 1e-9);
+    for (long k = 0; k <= nout + (fabs(nout * dt - T) > 1e-12 * T) && out; k++) {
+        const double time = k <= nout ? k * dt : T, U = ch_table_u_at(&t, time);
+        if (f)
+            fprintf(out, "%.10g %.10g %.10g %.10g\n", time, C * U, U, ch_table_eval(&t, U));
+        else
+            fprintf(out, "evolve: t %.10g s Q %.10g C U %.10g V I %.10g A\n", time, C * U, U,
+                    ch_table_eval(&t, U));
+    }
+    ch_table_free(&t);
+    return f ? mote_datafile_commit(&d, err) : MOTE_OK;
+}
+
 /* Faithful mode (spec 1.2): constant currents, Q = I t and U = Q / C. */
 static int run_evolve(void *vm, const mote_call *c, mote_err *err)
 {
     ch_model *m = vm;
+    if (!m->faithful)
+        return evolve_full(m, c, err);
     mote_ch_geometry g;
     mote_ch_body_geometry(&m->body, &g);
     const double T = mote_call_opt(c, "time")->r;
@@ -713,6 +779,13 @@ static const char HELP_RUN[] =
 static const char HELP_EVOLVE[] =
     "    evolve time=T [dt_out=D] [file=FILE]\n"
     "\n"
+    "Full mode (the charged exact sphere): C dU/dt = I_net(U) from U0 (default\n"
+    "0 V). The net current is tabulated by runs of N histories per component\n"
+    "(default 1e6, common random numbers) on an adaptive grid of potentials (spec\n"
+    "6.6), interpolated monotonically, and t(U) = C integral dU / I_net(U) is\n"
+    "integrated and inverted; prints U_f, tau = C/|dI/dU| there and the times to\n"
+    "50% and 90% of U_f, then the lines (or FILE: t_s Q_C U_V I_net_A).\n"
+    "\n"
     "Faithful mode (model charging faithful): the thesis's charging with\n"
     "constant currents, Q = I t and U = Q / C with C of the sphere of equal area,\n"
     "from the last `run`, at t = 0, D, 2D, ... and T. Prints the lines, or writes\n"
@@ -778,7 +851,8 @@ static const mote_cmd ch_commands[] = {
      "[png_scale=linear|log]",
      "the files of spec 8 after each run (tables, VTK, summary, surface picture)", HELP_OUTPUT,
      check_output, run_output},
-    {"evolve", NULL, "time=r>0! dt_out=r>0 file=f>timeseries", "evolve time=T [dt_out=D] [file=FILE]",
+    {"evolve", NULL, "time=r>0! dt_out=r>0 file=f>timeseries U0=r particles=r>=1",
+     "evolve time=T [dt_out=D] [file=FILE] [U0=0] [particles=N]",
      "U(t) of faithful mode (constant currents)", HELP_EVOLVE, check_evolve, run_evolve},
 };
 
