@@ -165,6 +165,30 @@ static void test_hit_probability(void)
     mote_ch_plasma p;
     mote_ch_plasma_preset(&p, "single", 1e6, 1000, &err);
     p.nsp = 1; /* electrons only */
+    /* the box injector: a 1 m sphere in a cube of side 2.2 m (margin_m = 0.1): 4 pi / 29.04 */
+    {
+        mote_ch_body b = {0};
+        mote_ch_body_sphere(&b, 1, &err);
+        mote_ch_tracer *t = mote_ch_tracer_new(&b, &err);
+        mote_ch_run_opts o = {.seed = 1, .particles = 400000, .threads = 1, .box = 1,
+                              .margin_m = 0.1};
+        mote_ch_result r;
+        if (t && mote_ch_run(&p, &b, t, &o, &r, &err) == MOTE_OK) {
+            const double want = 4 * MOTE_CH_PI / 29.04, f = (double)r.hits[0][0] / 4e5;
+            const double s = sqrt(want * (1 - want) / 4e5);
+            const double j = mote_ch_j0(1e6, 1000, MOTE_CH_ME, -1) * 4 * MOTE_CH_PI;
+            printf("  1 m sphere, box injector (margin 0.1 m): %.6g (expected %.6g +- %.2g), "
+                   "I %.5e (exact %.5e)\n", f, want, s, r.current[0], -j);
+            CHECK(fabs(f - want) <= 3 * s, "box hit fraction %.6g, expected %.6g", f, want);
+            CHECK(fabs(r.current[0] + j) <= 3 * r.sigma[0], "box: I %.6e, exact %.6e", r.current[0],
+                  -j);
+            mote_ch_result_free(&r);
+        } else {
+            CHECK(0, "box run: %s", err.msg);
+        }
+        mote_ch_tracer_free(t);
+        mote_ch_body_free(&b);
+    }
     struct {
         int cube;
         double R, want, N;

@@ -38,6 +38,9 @@ expect 1 "b9c.mote:4:1: error: float: a charged mesh needs curved paths" b9c.mot
 printf '%bplasma preset single n=1e6 kT=1000\nbody sphere radius=1\nfloat particles=1e5\n' "$G" > fl.mote
 "$MOTE" run fl.mote > out.txt 2> err.txt && awk '/^float: U_f/ { u = $4 } END { d = u / -2503.9 - 1; exit !(d * d < 1e-4) }' out.txt && ok || bad "float (single, 1 keV): $(grep U_f out.txt) $(cat err.txt)"
 expect 1 "b10.mote:2:24: error: injector sphere: radius must be auto, debye, thesis or a length > 0 (m), found 'big'" b10.mote "${G}injector sphere radius=big\n"
+expect 1 "b10b.mote:2:10: error: injector: expected sphere or box, found 'cone'" b10b.mote "${G}injector cone\n"
+expect 1 "b10c.mote:2:21: error: injector box: radius= is for the sphere" b10c.mote "${G}injector box radius=3\n"
+expect 2 "b10d.mote:5:1: error: run: the box injector is for straight paths" b10d.mote "${G}plasma preset thesis-hot\nbody sphere radius=1\ninjector box\nrun potential=-10 particles=10\n"
 expect 1 "b11.mote:3:6: error: body sphere: the exact sphere is a body on its own" b11.mote "${G}body sphere radius=1\nbody sphere radius=2\n"
 expect 1 "b12.mote:2:6: error: body: expected sphere, icosphere, uvsphere, box, twocubes or load, found 'cone'" b12.mote "${G}body cone\n"
 expect 1 "b13.mote:3:1: error: evolve: no currents yet: run first" b13.mote "${F}body sphere radius=1\nevolve time=1 file=x.csv\n"

@@ -127,6 +127,10 @@ typedef struct {
      * this version does not have. */
     double potential;
     int field;
+    /* the box injector (spec 5.2, straight paths only): the bounding box enlarged on each side
+     * by margin times its diagonal, or by margin_m metres when that is > 0 */
+    int box;
+    double margin, margin_m;
 } mote_ch_run_opts;
 
 /* OML current (spec 6.4) of one Maxwellian component (n, kT eV, m, Z) to a sphere of area A at

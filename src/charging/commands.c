@@ -23,6 +23,8 @@ typedef struct {
     int have_run;
     uint64_t seed;
     double r_gen_used;          /* the injection radius of the last run */
+    int box;                    /* the box injector (spec 5.2) */
+    double margin, margin_m;
     /* `output`: the files of spec 8 after each run (prefix NULL: none) */
     char *prefix, *origin;
     int out_triangles, out_vtk, out_png, png_w, png_h, png_log;
@@ -298,9 +300,16 @@ static int run_body(void *vm, const mote_call *c, mote_err *err)
 
 static int check_injector(void *vm, const mote_call *c, mote_err *err)
 {
-    if (strcmp(c->args[0].text, "sphere") != 0)
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "injector: expected sphere (the box "
-                              "injector is not in this version), found '%s'", c->args[0].text);
+    const int box = strcmp(c->args[0].text, "box") == 0;
+    if (!box && strcmp(c->args[0].text, "sphere") != 0)
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "injector: expected sphere or box, found "
+                              "'%s'", c->args[0].text);
+    if (box && mote_call_opt(c, "radius"))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "radius"), MOTE_EINVAL,
+                              "injector box: radius= is for the sphere (give margin= or margin_m=)");
+    if (!box && (mote_call_opt(c, "margin") || mote_call_opt(c, "margin_m")))
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "injector sphere: margin= and margin_m= "
+                              "are for the box");
     const mote_arg *r = mote_call_opt(c, "radius");
     if (r && strcmp(r->text, "auto") && strcmp(r->text, "debye") && strcmp(r->text, "thesis")) {
         char *end;
@@ -317,6 +326,9 @@ static int run_injector(void *vm, const mote_call *c, mote_err *err)
     ch_model *m = vm;
     const mote_arg *r = mote_call_opt(c, "radius");
     snprintf(m->radius, sizeof m->radius, "%s", r ? r->text : "auto");
+    m->box = strcmp(c->args[0].text, "box") == 0;
+    m->margin = mote_call_opt_r(c, "margin", 0.05);
+    m->margin_m = mote_call_opt_r(c, "margin_m", 0);
     return MOTE_OK;
 }
 
@@ -374,7 +386,10 @@ static int run_run(void *vm, const mote_call *c, mote_err *err)
                           .r_gen = injection_radius(m, &g),
                           .threads = c->ctx->threads,
                           .potential = mote_call_opt_r(c, "potential", 0),
-                          .field = !m->faithful};
+                          .field = !m->faithful,
+                          .box = m->box,
+                          .margin = m->margin,
+                          .margin_m = m->margin_m};
     mote_ch_tracer *t = mote_ch_tracer_new(&m->body, err);
     if (!t)
         return err->code;
@@ -752,12 +767,20 @@ static const char HELP_BODY[] =
 
 static const char HELP_INJECTOR[] =
     "    injector sphere [radius=auto|debye|thesis|R]\n"
+    "    injector box [margin=0.05] [margin_m=M]\n"
     "\n"
     "Histories start on a sphere about the body's area-weighted centre (spec 5.2):\n"
     "radius=auto (default) is 1.05 times the larger of R_bound and R_eq; debye the\n"
     "plasma's Debye length; thesis the thesis's 131.41 m; or R metres. Without a\n"
     "field the collected current does not depend on the radius, only the share of\n"
-    "histories that hit does.\n";
+    "histories that hit does.\n"
+    "\n"
+    "`injector box` starts them on the body's bounding box enlarged on each side by\n"
+    "margin times its diagonal (default 0.05), or by margin_m metres: a face chosen\n"
+    "in proportion to its area, a point uniform on it, the cosine law about its\n"
+    "inward normal, Gamma = A_box n sqrt(kT/(2 pi m)). It suits long thin bodies;\n"
+    "with the field on it is refused (a particle leaving a box in a central field\n"
+    "can come back).\n";
 
 static const char HELP_RUN[] =
     "    run [particles=1e6] [potential=0]\n"
@@ -838,7 +861,8 @@ static const mote_cmd ch_commands[] = {
      "body KIND [options]",
      "add a generated body (sphere, icosphere, uvsphere, box, twocubes) or a mesh file (load)",
      HELP_BODY, check_body, run_body},
-    {"injector", NULL, "s radius=s", "injector sphere [radius=auto|debye|thesis|R]",
+    {"injector", NULL, "s radius=s margin=r>0 margin_m=r>0",
+     "injector sphere|box [options]",
      "where histories start", HELP_INJECTOR, check_injector, run_injector},
     {"run", NULL, "particles=r>=1 potential=r", "run [particles=N] [potential=0]",
      "Monte Carlo currents to the uncharged body", HELP_RUN, check_run, run_run},

@@ -69,7 +69,44 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
     mote_ch_geometry g;
     mote_ch_body_geometry(b, &g);
     const double R = o->r_gen;
-    if (!(R > g.r_bound))
+    /* the box injector: its faces (lo/hi along each axis) and their areas */
+    double blo[3], bhi[3], farea[6], fcum[7] = {0};
+    if (o->box) {
+        if (o->field && o->potential != 0)
+            return mote_fail(err, MOTE_EINVAL, "run: the box injector is for straight paths: a "
+                             "particle leaving a box in a central field can come back (spec 5.2)");
+        for (int a = 0; a < 3; a++) {
+            blo[a] = INFINITY;
+            bhi[a] = -INFINITY;
+        }
+        if (b->sphere)
+            for (int a = 0; a < 3; a++) {
+                blo[a] = b->sphere_c[a] - b->sphere_r;
+                bhi[a] = b->sphere_c[a] + b->sphere_r;
+            }
+        for (uint32_t i = 0; i < (b->sphere ? 0 : b->ntri); i++)
+            for (int j = 0; j < 3; j++)
+                for (int a = 0; a < 3; a++) {
+                    blo[a] = fmin(blo[a], b->v[i][j][a]);
+                    bhi[a] = fmax(bhi[a], b->v[i][j][a]);
+                }
+        double diag = 0;
+        for (int a = 0; a < 3; a++)
+            diag += (bhi[a] - blo[a]) * (bhi[a] - blo[a]);
+        const double pad = o->margin_m > 0 ? o->margin_m : o->margin * sqrt(diag);
+        if (!(pad > 0))
+            return mote_fail(err, MOTE_EINVAL, "run: the box injector needs a margin > 0");
+        for (int a = 0; a < 3; a++) {
+            blo[a] -= pad;
+            bhi[a] += pad;
+        }
+        for (int f = 0; f < 6; f++) {
+            const int ax = f / 2, u = (ax + 1) % 3, w = (ax + 2) % 3;
+            farea[f] = (bhi[u] - blo[u]) * (bhi[w] - blo[w]);
+            fcum[f + 1] = fcum[f] + farea[f];
+        }
+    }
+    if (!o->box && !(R > g.r_bound))
         return mote_fail(err, MOTE_EINVAL, "run: the injection radius %.6g m must exceed the "
                          "body's bounding radius %.6g m", R, g.r_bound);
     const int field = o->field && o->potential != 0;
@@ -101,7 +138,7 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
             const mote_ch_species *sp = &p->sp[s];
             /* chi = q phi_g / kT; the inward rate times g(chi) (spec 6.2, Liouville) */
             const double chi = sp->Z * phi_g / sp->kT[k];
-            const double gamma = 4 * MOTE_CH_PI * R * R * sp->n[k] *
+            const double gamma = (o->box ? fcum[6] : 4 * MOTE_CH_PI * R * R) * sp->n[k] *
                                  sqrt(sp->kT[k] * MOTE_CH_E / (2 * MOTE_CH_PI * sp->m)) *
                                  (chi >= 0 ? exp(-chi) : 1 - chi);
             /* the OML test (spec 6.3) in units of kT: hit when K + q phi_g - q U >= K sin^2
@@ -147,6 +184,34 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                             if (K + dq >= K * (1 - u[2]) * ra2) {
                                 hits++;
                                 mine[0]++;
+                            }
+                            continue;
+                        }
+                        if (o->box) { /* a face by area, a point on it, the cosine law */
+                            double e[4];
+                            uniforms4(key, h, (uint32_t)comp, 1, e);
+                            int f = 0;
+                            while (f < 5 && u[0] * fcum[6] >= fcum[f + 1])
+                                f++;
+                            const int ax = f / 2, ua = (ax + 1) % 3, wa = (ax + 2) % 3;
+                            const double inward = f % 2 ? -1 : 1; /* lo face: +axis is inward */
+                            double org[3], dir[3];
+                            org[ax] = f % 2 ? bhi[ax] : blo[ax];
+                            org[ua] = blo[ua] + u[1] * (bhi[ua] - blo[ua]);
+                            org[wa] = blo[wa] + e[0] * (bhi[wa] - blo[wa]);
+                            const double ct = sqrt(u[2]), st = sqrt(fmax(0, 1 - u[2]));
+                            const double ps = 2 * MOTE_CH_PI * u[3];
+                            dir[ax] = inward * ct;
+                            dir[ua] = st * cos(ps);
+                            dir[wa] = st * sin(ps);
+                            int side;
+                            double dist;
+                            const long tri = mote_ch_trace(t, org, dir, tmin, &side, &dist);
+                            if (tri >= 0) {
+                                hits++;
+                                if (side && (b->sphere || b->closed[tri]))
+                                    back++;
+                                mine[2 * (size_t)tri + (size_t)side]++;
                             }
                             continue;
                         }
