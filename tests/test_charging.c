@@ -565,6 +565,43 @@ static void test_evolve(void)
     mote_ch_body_free(&b);
 }
 
+/* M5: a sphere in a drifting Maxwellian collects q n pi a^2 <|v|>, <|v|> = 1.8493 sigma for
+ * u / sigma = 1 (1.5958 sigma without drift); in general sqrt(2) sigma ((s + 1/(2s)) erf(s) +
+ * exp(-s^2)/sqrt(pi)), s = u / (sqrt(2) sigma). 3 sigma, exact sphere and the level-4 icosphere. */
+static void test_drift(void)
+{
+    printf("M5: drift\n");
+    mote_err err = {0};
+    mote_ch_plasma p;
+    mote_ch_plasma_preset(&p, "single", 1e6, 1000, &err);
+    p.nsp = 1;
+    const double sigma = sqrt(1000 * MOTE_CH_E / MOTE_CH_ME);
+    p.sp[0].drift[0] = sigma; /* u / sigma = 1 along x */
+    const double sq = 1 / sqrt(2.0);
+    const double vmean = sqrt(2.0) * sigma * ((sq + 1 / (2 * sq)) * erf(sq) + exp(-0.5) / sqrt(MOTE_CH_PI));
+    CHECK(fabs(vmean / sigma - 1.8493) < 5e-5, "<|v|> %.5f sigma", vmean / sigma);
+    for (int mesh = 0; mesh < 2; mesh++) {
+        mote_ch_body b = {0};
+        if (mesh)
+            mote_ch_body_icosphere(&b, 1, 4, &err);
+        else
+            mote_ch_body_sphere(&b, 1, &err);
+        mote_ch_geometry g;
+        mote_ch_body_geometry(&b, &g);
+        mote_ch_result r;
+        if (run(&p, &b, 1e6, 1.5, 2, &r) == MOTE_OK) {
+            /* the cross-section of the mesh: pi a^2 scaled by its own area */
+            const double I = -MOTE_CH_E * 1e6 * g.area / 4 * vmean;
+            printf("  %s: I %.6e +- %.2e (exact %.6e)\n", mesh ? "icosphere 4" : "exact sphere",
+                   r.current[0], r.sigma[0], I);
+            CHECK(fabs(r.current[0] - I) <= 3 * r.sigma[0], "drift: I %.6e, exact %.6e +- %.2e",
+                  r.current[0], I, r.sigma[0]);
+            mote_ch_result_free(&r);
+        }
+        mote_ch_body_free(&b);
+    }
+}
+
 int main(void)
 {
     test_constants();
@@ -577,5 +614,6 @@ int main(void)
     test_oml();
     test_float();
     test_evolve();
+    test_drift();
     return test_summary();
 }

@@ -84,4 +84,9 @@ cmp -s o1/craft_surface.png o2/craft_surface.png && cmp -s o1/craft_surface.vtk 
 expect 1 "b21.mote:2:15: error: output: the directory of prefix 'nodir/x' does not exist" b21.mote "${G}output prefix=nodir/x\n"
 expect 1 "b22.mote:2:26: error: output: png_view must be iso, +x, -x, +y, -y, +z, -z or X,Y,Z, found 'top'" b22.mote "${G}output prefix=x png_view=top\n"
 expect 1 "b23.mote:2:26: error: output: png_size must be WxH, 64 to 8192 pixels each, found '10x10'" b23.mote "${G}output prefix=x png_size=10x10\n"
+# drift (spec 5.4, M5): a 1 m sphere in a plasma flowing at u = sigma collects q n pi a^2 <|v|>,
+# <|v|> = 1.8493 sigma; the electron sigma at 1 keV is sqrt(kT/m)
+printf '%bplasma preset single n=1e6 kT=1000 drift=13262051.164,0,0\nbody sphere radius=1\ninjector sphere radius=1.5\nrun particles=1e6\n' "$G" > dr.mote
+"$MOTE" run dr.mote > out.txt 2> err.txt && awk '/^run: e / { I = $5; s = $8 } END { sig = sqrt(1000 * 1.602176634e-19 / 9.1093837015e-31); want = -1.602176634e-19 * 1e6 * 3.14159265358979 * 1.8493 * sig; d = I - want; exit !(d * d <= 9 * s * s + (1e-4 * want) ^ 2) }' out.txt && ok || bad "drift: $(grep '^run: e' out.txt) $(cat err.txt)"
+expect 1 "b24.mote:2:32: error: plasma: drift: expected VX,VY,VZ (m/s), found 'fast'" b24.mote "${G}plasma preset thesis-hot drift=fast\n"
 mote_test_end

@@ -26,6 +26,7 @@ typedef struct {
     char name[16];
     int Z;                 /* charge number: q = Z e */
     double m;              /* kg */
+    double drift[3];       /* drift velocity relative to the body, m/s (straight paths only) */
     int ncomp;
     double n[MOTE_CH_MAX_COMPONENTS];  /* m^-3 */
     double kT[MOTE_CH_MAX_COMPONENTS]; /* eV */

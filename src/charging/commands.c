@@ -74,6 +74,25 @@ static void model_status(void *vm, FILE *out)
             m->body.sphere ? 0 : m->body.ntri, g.area, g.capacitance);
 }
 
+/* three numbers X,Y,Z (any sign) */
+static int parse3any(const char *t, double v[3])
+{
+    for (int a = 0; a < 3; a++) {
+        char *end;
+        v[a] = strtod(t, &end);
+        if (end == t || !isfinite(v[a]) || *end != (a < 2 ? ',' : '\0'))
+            return -1;
+        t = end + 1;
+    }
+    return 0;
+}
+
+/* size=SX,SY,SZ: three lengths > 0 */
+static int parse3(const char *t, double v[3])
+{
+    return parse3any(t, v) || !(v[0] > 0 && v[1] > 0 && v[2] > 0) ? -1 : 0;
+}
+
 /* ---- plasma --------------------------------------------------------------------------------- */
 
 static int check_plasma(void *vm, const mote_call *c, mote_err *err)
@@ -93,6 +112,11 @@ static int check_plasma(void *vm, const mote_call *c, mote_err *err)
     if (!single && (mote_call_opt(c, "n") || mote_call_opt(c, "kT")))
         return mote_call_fail(err, c, 1, MOTE_EINVAL, "plasma preset %s: n= and kT= are for "
                               "single", name);
+    double d[3];
+    const mote_arg *dr = mote_call_opt(c, "drift");
+    if (dr && parse3any(dr->text, d))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "drift"), MOTE_EINVAL,
+                              "plasma: drift: expected VX,VY,VZ (m/s), found '%s'", dr->text);
     m->have_plasma = 1;
     return MOTE_OK;
 }
@@ -102,6 +126,13 @@ static int run_plasma(void *vm, const mote_call *c, mote_err *err)
     ch_model *m = vm;
     int rc = mote_ch_plasma_preset(&m->plasma, c->args[1].text, mote_call_opt_r(c, "n", 0),
                                    mote_call_opt_r(c, "kT", 0), err);
+    const mote_arg *dr = mote_call_opt(c, "drift");
+    if (!rc && dr) { /* the plasma flows past the body: every species drifts alike */
+        double d[3];
+        parse3any(dr->text, d);
+        for (int s = 0; s < m->plasma.nsp; s++)
+            memcpy(m->plasma.sp[s].drift, d, sizeof d);
+    }
     if (rc || !m->log)
         return rc;
     for (int s = 0; s < m->plasma.nsp; s++) {
@@ -120,25 +151,6 @@ static int run_plasma(void *vm, const mote_call *c, mote_err *err)
 
 static const char *const BODY_KINDS[] = {"sphere", "icosphere", "uvsphere", "box", "twocubes",
                                          "load", NULL};
-
-/* three numbers X,Y,Z (any sign) */
-static int parse3any(const char *t, double v[3])
-{
-    for (int a = 0; a < 3; a++) {
-        char *end;
-        v[a] = strtod(t, &end);
-        if (end == t || !isfinite(v[a]) || *end != (a < 2 ? ',' : '\0'))
-            return -1;
-        t = end + 1;
-    }
-    return 0;
-}
-
-/* size=SX,SY,SZ: three lengths > 0 */
-static int parse3(const char *t, double v[3])
-{
-    return parse3any(t, v) || !(v[0] > 0 && v[1] > 0 && v[2] > 0) ? -1 : 0;
-}
 
 /* The options of `body load` (spec 7.1-7.3) into o; -1 and a located error when one is bad. */
 static int load_opts(const mote_call *c, mote_ch_load_opts *o, mote_err *err)
@@ -724,6 +736,7 @@ static int run_output(void *vm, const mote_call *c, mote_err *err)
 static const char HELP_PLASMA[] =
     "    plasma preset geo-worst-case|thesis-hot\n"
     "    plasma preset single n=N kT=T\n"
+    "    ... [drift=VX,VY,VZ]\n"
     "\n"
     "Replace the plasma by a preset (spec 3.2): `geo-worst-case`, the thesis's\n"
     "Table 1 (the NASA worst-case geostationary environment: electrons 0.2 cm^-3 at\n"
@@ -732,7 +745,13 @@ static const char HELP_PLASMA[] =
     "setting and the default of faithful mode); `single`, one electron and one\n"
     "proton Maxwellian with density N (m^-3) and temperature T (eV). Prints each\n"
     "component's thermal current density j0 = e n sqrt(kT/(2 pi m)), its mean speed\n"
-    "and the Debye length of the whole plasma.\n";
+    "and the Debye length of the whole plasma.\n"
+    "drift=VX,VY,VZ (m/s) makes the plasma flow past the body at that velocity\n"
+    "(every species alike, e.g. the ram flow of an orbit; spec 5.4): histories then\n"
+    "start where the local inward flux n (sigma phi(s) + u_n Phi(s)) is, with the\n"
+    "normal speed drawn from w N(w; u_n, sigma) and the tangential ones from\n"
+    "N(u_t, sigma). Straight paths only: with the field on, or with the box\n"
+    "injector, the drift is ignored.\n";
 
 static const char HELP_BODY[] =
     "    body sphere radius=A\n"
@@ -853,7 +872,7 @@ static const char HELP_OUTPUT[] =
     "the body's measures and the plasma; files are written atomically.\n";
 
 static const mote_cmd ch_commands[] = {
-    {"plasma", NULL, "s s n=r>0 kT=r>0", "plasma preset NAME [n=N] [kT=T]",
+    {"plasma", NULL, "s s n=r>0 kT=r>0 drift=s", "plasma preset NAME [n=N] [kT=T] [drift=V]",
      "the plasma environment (a preset of spec 3.2)", HELP_PLASMA, check_plasma, run_plasma},
     {"body", NULL,
      "s radius=r>0 level=i nlon=i>=3 nlat=i>=2 size=s subdiv=i>=1 side=r>0 gap=r>=0 "

@@ -50,6 +50,48 @@ static void uniforms4(const uint32_t key[2], uint64_t history, uint32_t comp, ui
         u[j] = ((double)w[j] + 0.5) * (1.0 / 4294967296.0);
 }
 
+/* ---- drift (spec 5.4) ----------------------------------------------------------------------- */
+
+static double phi_n(double x) { return exp(-0.5 * x * x) / sqrt(2 * MOTE_CH_PI); }
+static double Phi_n(double x) { return 0.5 * erfc(-x / sqrt(2.0)); }
+
+/* The mean over the sphere of the local inward flux per unit density, for a drift of speed ud
+ * and thermal speed sigma: sigma/(2 s0) ((s0^2 + 1) erf(s0/sqrt 2) + 2 s0 phi(s0))/2, s0 = ud /
+ * sigma; sigma / sqrt(2 pi) without drift. */
+static double mean_flux(double ud, double sigma)
+{
+    const double s0 = ud / sigma;
+    if (s0 < 1e-8)
+        return sigma / sqrt(2 * MOTE_CH_PI);
+    return sigma / (2 * s0) * ((s0 * s0 + 1) * erf(s0 / sqrt(2.0)) + 2 * s0 * phi_n(s0)) / 2;
+}
+
+/* A normal speed w > 0 with density proportional to w N(w; un, sigma), by inverting its
+ * distribution function at the uniform x: Newton steps kept inside a shrinking bracket. */
+static double drift_normal_speed(double un, double sigma, double x)
+{
+    const double s = un / sigma, Z = sigma * phi_n(s) + un * Phi_n(s);
+    const double F0 = un * Phi_n(-s) - sigma * phi_n(-s);
+    double lo = 0, hi = fmax(un, 0) + 12 * sigma;
+    double w = fmax(un, 0) + sigma; /* a start near the bulk */
+    for (int it = 0; it < 100; it++) {
+        const double z = (w - un) / sigma;
+        const double F = (un * Phi_n(z) - sigma * phi_n(z) - F0) / Z - x;
+        if (F < 0)
+            lo = w;
+        else
+            hi = w;
+        const double f = w * phi_n(z) / (sigma * Z); /* the density */
+        double next = f > 0 ? w - F / f : 0.5 * (lo + hi);
+        if (!(next > lo && next < hi))
+            next = 0.5 * (lo + hi);
+        if (fabs(next - w) <= 1e-13 * (sigma + fabs(un)) || hi - lo <= 1e-13 * (sigma + fabs(un)))
+            return next;
+        w = next;
+    }
+    return w;
+}
+
 void mote_ch_result_free(mote_ch_result *r)
 {
     free(r->tri_hits);
@@ -138,9 +180,15 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
             const mote_ch_species *sp = &p->sp[s];
             /* chi = q phi_g / kT; the inward rate times g(chi) (spec 6.2, Liouville) */
             const double chi = sp->Z * phi_g / sp->kT[k];
+            const double sigma = sqrt(sp->kT[k] * MOTE_CH_E / sp->m);
+            const double ud = sqrt(sp->drift[0] * sp->drift[0] + sp->drift[1] * sp->drift[1] +
+                                   sp->drift[2] * sp->drift[2]);
+            const int drift = ud > 0 && !field && !o->box;
             const double gamma = (o->box ? fcum[6] : 4 * MOTE_CH_PI * R * R) * sp->n[k] *
-                                 sqrt(sp->kT[k] * MOTE_CH_E / (2 * MOTE_CH_PI * sp->m)) *
+                                 (drift ? mean_flux(ud, sigma)
+                                        : sqrt(sp->kT[k] * MOTE_CH_E / (2 * MOTE_CH_PI * sp->m))) *
                                  (chi >= 0 ? exp(-chi) : 1 - chi);
+            const double fmax_d = drift ? sigma * phi_n(ud / sigma) + ud * Phi_n(ud / sigma) : 0;
             /* the OML test (spec 6.3) in units of kT: hit when K + q phi_g - q U >= K sin^2
              * (R/a)^2, K the kinetic energy at injection */
             const double dq = field ? sp->Z * (phi_g - o->potential) / sp->kT[k] : 0;
@@ -204,6 +252,72 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                             dir[ax] = inward * ct;
                             dir[ua] = st * cos(ps);
                             dir[wa] = st * sin(ps);
+                            int side;
+                            double dist;
+                            const long tri = mote_ch_trace(t, org, dir, tmin, &side, &dist);
+                            if (tri >= 0) {
+                                hits++;
+                                if (side && (b->sphere || b->closed[tri]))
+                                    back++;
+                                mine[2 * (size_t)tri + (size_t)side]++;
+                            }
+                            continue;
+                        }
+                        if (drift) { /* spec 5.4: points by rejection on the local flux */
+                            double nrm[3], un = 0;
+                            uint32_t draw = 1;
+                            for (;; draw++) {
+                                double e[4];
+                                uniforms4(key, h, (uint32_t)comp, draw, e);
+                                const double z = 2 * e[0] - 1, rho = sqrt(fmax(0, 1 - z * z));
+                                const double ph = 2 * MOTE_CH_PI * e[1];
+                                nrm[0] = rho * cos(ph);
+                                nrm[1] = rho * sin(ph);
+                                nrm[2] = z;
+                                un = -(sp->drift[0] * nrm[0] + sp->drift[1] * nrm[1] +
+                                       sp->drift[2] * nrm[2]); /* along the inward normal */
+                                const double fl = sigma * phi_n(un / sigma) + un * Phi_n(un / sigma);
+                                if (e[2] * fmax_d <= fl || draw > 1000)
+                                    break;
+                            }
+                            /* the velocity: normal part from w N(w; un, sigma), tangential ones
+                             * N(u_t, sigma) */
+                            double e1[3], e2[3];
+                            if (fabs(nrm[2]) < 0.9) {
+                                const double l = sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1]);
+                                e1[0] = -nrm[1] / l;
+                                e1[1] = nrm[0] / l;
+                                e1[2] = 0;
+                            } else {
+                                const double l = sqrt(nrm[1] * nrm[1] + nrm[2] * nrm[2]);
+                                e1[0] = 0;
+                                e1[1] = -nrm[2] / l;
+                                e1[2] = nrm[1] / l;
+                            }
+                            e2[0] = nrm[1] * e1[2] - nrm[2] * e1[1];
+                            e2[1] = nrm[2] * e1[0] - nrm[0] * e1[2];
+                            e2[2] = nrm[0] * e1[1] - nrm[1] * e1[0];
+                            double e[4];
+                            uniforms4(key, h, (uint32_t)comp, draw + 1, e);
+                            const double w = drift_normal_speed(un, sigma, e[0]);
+                            double ut1 = 0, ut2 = 0;
+                            for (int a = 0; a < 3; a++) {
+                                ut1 += sp->drift[a] * e1[a];
+                                ut2 += sp->drift[a] * e2[a];
+                            }
+                            /* two normals by Box and Muller */
+                            const double rr = sigma * sqrt(-2 * log(e[1]));
+                            const double v1 = ut1 + rr * cos(2 * MOTE_CH_PI * e[2]);
+                            const double v2 = ut2 + rr * sin(2 * MOTE_CH_PI * e[2]);
+                            double org[3], dir[3], len = 0;
+                            for (int a = 0; a < 3; a++) {
+                                org[a] = g.centre[a] + R * nrm[a];
+                                dir[a] = -w * nrm[a] + v1 * e1[a] + v2 * e2[a];
+                                len += dir[a] * dir[a];
+                            }
+                            len = sqrt(len);
+                            for (int a = 0; a < 3; a++)
+                                dir[a] /= len;
                             int side;
                             double dist;
                             const long tri = mote_ch_trace(t, org, dir, tmin, &side, &dist);
