@@ -30,7 +30,7 @@ expect 1 "b3.mote:2:24: error: plasma: n must be > 0, found -1" b3.mote "${G}pla
 expect 1 "b4.mote:2:6: error: body box: give size=SX,SY,SZ (three lengths > 0, m)" b4.mote "${G}body box\n"
 expect 1 "b5.mote:2:15: error: body box: give size=SX,SY,SZ (three lengths > 0, m)" b5.mote "${G}body box size=1,nan,1\n"
 expect 1 "b6.mote:3:1: error: run: there is no body yet" b6.mote "${G}plasma preset thesis-hot\nrun\n"
-expect 1 "b7.mote:3:1: error: run: there is no plasma yet (plasma preset ...)" b7.mote "${G}body sphere radius=1\nrun\n"
+expect 1 "b7.mote:3:1: error: run: there is no plasma yet (plasma preset ..., or species and maxwellian)" b7.mote "${G}body sphere radius=1\nrun\n"
 expect 1 "b8.mote:4:1: error: evolve: a charged mesh needs curved paths" b8.mote "${G}plasma preset thesis-hot\nbody icosphere radius=1\nevolve time=1\n"
 expect 1 "b9.mote:4:15: error: run: a charged mesh (potential != 0) needs curved paths" b9.mote "${G}plasma preset thesis-hot\nbody icosphere radius=1\nrun potential=-100\n"
 expect 1 "b9b.mote:4:1: error: float: in faithful mode the currents do not depend on U" b9b.mote "${F}body sphere radius=1\nrun particles=10\nfloat\n"
@@ -89,4 +89,16 @@ expect 1 "b23.mote:2:26: error: output: png_size must be WxH, 64 to 8192 pixels 
 printf '%bplasma preset single n=1e6 kT=1000 drift=13262051.164,0,0\nbody sphere radius=1\ninjector sphere radius=1.5\nrun particles=1e6\n' "$G" > dr.mote
 "$MOTE" run dr.mote > out.txt 2> err.txt && awk '/^run: e / { I = $5; s = $8 } END { sig = sqrt(1000 * 1.602176634e-19 / 9.1093837015e-31); want = -1.602176634e-19 * 1e6 * 3.14159265358979 * 1.8493 * sig; d = I - want; exit !(d * d <= 9 * s * s + (1e-4 * want) ^ 2) }' out.txt && ok || bad "drift: $(grep '^run: e' out.txt) $(cat err.txt)"
 expect 1 "b24.mote:2:32: error: plasma: drift: expected VX,VY,VZ (m/s), found 'fast'" b24.mote "${G}plasma preset thesis-hot drift=fast\n"
+# species and maxwellian (spec 3.1, 7.4): the thesis-hot preset written out gives the same run
+printf '%bspecies clear\nspecies name=e charge=-1 mass=electron\nmaxwellian species=e density=1.2e6 temperature=27500\nspecies name=H+ charge=1 mass=proton\nmaxwellian species=H+ density=1.3e6 temperature=28000\nbody sphere radius=1\nrun particles=1e5\n' "$G" > sp1.mote
+printf '%bplasma preset thesis-hot\nbody sphere radius=1\nrun particles=1e5\n' "$G" > sp2.mote
+"$MOTE" run sp1.mote > o1.txt 2> err.txt && "$MOTE" run sp2.mote > o2.txt 2>> err.txt && [ -n "$(grep '^run:' o1.txt)" ] && [ "$(grep '^run:' o1.txt | sed 's/ [0-9.e+]* traces.s//')" = "$(grep '^run:' o2.txt | sed 's/ [0-9.e+]* traces.s//')" ] && ok || bad "species/maxwellian differ from the preset: $(grep '^run: net' o1.txt) / $(grep '^run: net' o2.txt) $(cat err.txt)"
+printf '%bspecies name=O+ charge=1 mass=amu:16\nmaxwellian species=O+ density=1e6 temperature=1000\nbody sphere radius=1\nrun particles=1e5\n' "$G" > sp3.mote
+"$MOTE" run sp3.mote > o3.txt 2> err.txt && awk '/^run: O\+/ { I = $5; s = $8 } END { want = 1.602176634e-19 * 1e6 * 4 * 3.14159265358979 * sqrt(1000 * 1.602176634e-19 / (2 * 3.14159265358979 * 16 * 1.66053906660e-27)); d = I - want; exit !(d * d <= 9 * s * s) }' o3.txt && ok || bad "O+ current: $(grep '^run: O' o3.txt) $(cat err.txt)"
+expect 1 "sp4.mote:2:20: error: maxwellian: no species 'Xe'" sp4.mote "${G}maxwellian species=Xe density=1 temperature=1\n"
+expect 1 "sp5.mote:2:1: error: species: give name=, charge= and mass=" sp5.mote "${G}species name=Xe charge=1\n"
+expect 1 "sp6.mote:2:16: error: species: charge must be a whole number of elementary charges, not 0" sp6.mote "${G}species name=n charge=0 mass=proton\n"
+expect 1 "sp7.mote:2:25: error: species: mass must be electron, proton, amu:A or a mass in kg > 0, found 'heavy'" sp7.mote "${G}species name=X charge=1 mass=heavy\n"
+expect 1 "sp8.mote:4:1: error: run: species 'X' has no component" sp8.mote "${G}species name=X charge=1 mass=proton\nbody sphere radius=1\nrun\n"
+expect 1 "sp9.mote:3:1: error: species: 'e' exists already" sp9.mote "${G}plasma preset thesis-hot\nspecies name=e charge=-1 mass=electron\n"
 mote_test_end

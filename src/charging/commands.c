@@ -118,7 +118,140 @@ static int check_plasma(void *vm, const mote_call *c, mote_err *err)
         return mote_call_fail(err, c, mote_call_opt_index(c, "drift"), MOTE_EINVAL,
                               "plasma: drift: expected VX,VY,VZ (m/s), found '%s'", dr->text);
     m->have_plasma = 1;
+    mote_err ignored;
+    mote_ch_plasma_preset(&m->plasma, name, mote_call_opt_r(c, "n", 1), mote_call_opt_r(c, "kT", 1),
+                          &ignored);
     return MOTE_OK;
+}
+
+/* ---- species and maxwellian (spec 3.1, 7.4) ------------------------------------------------- */
+
+/* `species clear` or `species name=S charge=Z mass=electron|proton|amu:A|KG [drift=VX,VY,VZ]`
+ * (the tokens come as written: the command takes "*"). */
+static int parse_species(const mote_call *c, mote_ch_species *sp, int *clear, mote_err *err)
+{
+    memset(sp, 0, sizeof *sp);
+    *clear = c->nargs == 1 && strcmp(c->args[0].text, "clear") == 0;
+    if (*clear)
+        return MOTE_OK;
+    int have[3] = {0, 0, 0};
+    for (int k = 0; k < c->nargs; k++) {
+        const char *t = c->args[k].text, *eq = strchr(t, '=');
+        if (!eq)
+            return mote_call_fail(err, c, k, MOTE_EINVAL, "species: expected 'clear' or KEY=VALUE "
+                                  "(name=, charge=, mass=, drift=), found '%s'", t);
+        const size_t kl = (size_t)(eq - t);
+        const char *v = eq + 1;
+        char *end;
+        if (kl == 4 && !strncmp(t, "name", 4)) {
+            if (!*v || strlen(v) >= sizeof sp->name || strpbrk(v, " ,=#"))
+                return mote_call_fail(err, c, k, MOTE_EINVAL, "species: name must be 1 to %d "
+                                      "characters without spaces, commas or '=', found '%s'",
+                                      (int)sizeof sp->name - 1, v);
+            snprintf(sp->name, sizeof sp->name, "%s", v);
+            have[0] = 1;
+        } else if (kl == 6 && !strncmp(t, "charge", 6)) {
+            long z = strtol(v, &end, 10);
+            if (end == v || *end || z == 0 || z < -100 || z > 100)
+                return mote_call_fail(err, c, k, MOTE_EINVAL, "species: charge must be a whole "
+                                      "number of elementary charges, not 0 (e.g. -1, 1, 2), found "
+                                      "'%s'", v);
+            sp->Z = (int)z;
+            have[1] = 1;
+        } else if (kl == 4 && !strncmp(t, "mass", 4)) {
+            if (!strcmp(v, "electron"))
+                sp->m = MOTE_CH_ME;
+            else if (!strcmp(v, "proton"))
+                sp->m = MOTE_CH_MP;
+            else if (!strncmp(v, "amu:", 4)) {
+                double a = strtod(v + 4, &end);
+                sp->m = end != v + 4 && !*end && a > 0 && isfinite(a) ? a * MOTE_CH_AMU : -1;
+            } else {
+                double kg = strtod(v, &end);
+                sp->m = end != v && !*end && kg > 0 && isfinite(kg) ? kg : -1;
+            }
+            if (!(sp->m > 0))
+                return mote_call_fail(err, c, k, MOTE_EINVAL, "species: mass must be electron, "
+                                      "proton, amu:A or a mass in kg > 0, found '%s'", v);
+            have[2] = 1;
+        } else if (kl == 5 && !strncmp(t, "drift", 5)) {
+            if (parse3any(v, sp->drift))
+                return mote_call_fail(err, c, k, MOTE_EINVAL, "species: drift: expected "
+                                      "VX,VY,VZ (m/s), found '%s'", v);
+        } else {
+            return mote_call_fail(err, c, k, MOTE_EINVAL, "species: unknown option '%.*s' "
+                                  "(name, charge, mass, drift)", (int)kl, t);
+        }
+    }
+    if (!have[0] || !have[1] || !have[2])
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "species: give name=, charge= and mass= "
+                              "(or 'species clear')");
+    return MOTE_OK;
+}
+
+/* Apply `species` to the plasma p (the dry model's during validation, the real one after). */
+static int apply_species(mote_ch_plasma *p, const mote_call *c, mote_err *err)
+{
+    mote_ch_species sp;
+    int clear;
+    int rc = parse_species(c, &sp, &clear, err);
+    if (rc)
+        return rc;
+    if (clear) {
+        memset(p, 0, sizeof *p);
+        return MOTE_OK;
+    }
+    for (int s = 0; s < p->nsp; s++)
+        if (!strcmp(p->sp[s].name, sp.name))
+            return mote_call_fail(err, c, -1, MOTE_EINVAL, "species: '%s' exists already",
+                                  sp.name);
+    if (p->nsp == MOTE_CH_MAX_SPECIES)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "species: at most %d species",
+                              MOTE_CH_MAX_SPECIES);
+    p->sp[p->nsp++] = sp;
+    return MOTE_OK;
+}
+
+static int check_species(void *vm, const mote_call *c, mote_err *err)
+{
+    ch_model *m = vm;
+    int rc = apply_species(&m->plasma, c, err);
+    if (!rc)
+        m->have_plasma = m->plasma.nsp > 0;
+    return rc;
+}
+static int run_species(void *vm, const mote_call *c, mote_err *err)
+{
+    return apply_species(&((ch_model *)vm)->plasma, c, err);
+}
+
+static int apply_maxwellian(mote_ch_plasma *p, const mote_call *c, mote_err *err)
+{
+    const char *name = mote_call_opt(c, "species")->text;
+    for (int s = 0; s < p->nsp; s++)
+        if (!strcmp(p->sp[s].name, name)) {
+            mote_ch_species *sp = &p->sp[s];
+            if (sp->ncomp == MOTE_CH_MAX_COMPONENTS)
+                return mote_call_fail(err, c, -1, MOTE_EINVAL, "maxwellian: at most %d "
+                                      "components a species", MOTE_CH_MAX_COMPONENTS);
+            sp->n[sp->ncomp] = mote_call_opt(c, "density")->r;
+            sp->kT[sp->ncomp++] = mote_call_opt(c, "temperature")->r;
+            return MOTE_OK;
+        }
+    return mote_call_fail(err, c, mote_call_opt_index(c, "species"), MOTE_EINVAL,
+                          "maxwellian: no species '%s' (add it with species name=...)", name);
+}
+static int check_maxwellian(void *vm, const mote_call *c, mote_err *err)
+{
+    ch_model *m = vm;
+    int rc = apply_maxwellian(&m->plasma, c, err);
+    if (!rc)
+        m->have_plasma = 1;
+    return rc;
+}
+static int run_maxwellian(void *vm, const mote_call *c, mote_err *err)
+{
+    return apply_maxwellian(&((ch_model *)vm)->plasma, c, err);
 }
 
 static int run_plasma(void *vm, const mote_call *c, mote_err *err)
@@ -364,9 +497,14 @@ static int need_setup(ch_model *m, const mote_call *c, mote_err *err)
     if (!m->have_body)
         return mote_call_fail(err, c, -1, MOTE_EINVAL, "%s: there is no body yet (body sphere, "
                               "icosphere, uvsphere, box or twocubes)", c->name);
-    if (!m->have_plasma)
+    if (!m->have_plasma || m->plasma.nsp == 0)
         return mote_call_fail(err, c, -1, MOTE_EINVAL, "%s: there is no plasma yet (plasma "
-                              "preset ...)", c->name);
+                              "preset ..., or species and maxwellian)", c->name);
+    for (int s = 0; s < m->plasma.nsp; s++)
+        if (m->plasma.sp[s].ncomp == 0)
+            return mote_call_fail(err, c, -1, MOTE_EINVAL, "%s: species '%s' has no component "
+                                  "(maxwellian species=%s density= temperature=)", c->name,
+                                  m->plasma.sp[s].name, m->plasma.sp[s].name);
     return MOTE_OK;
 }
 
@@ -753,6 +891,21 @@ static const char HELP_PLASMA[] =
     "N(u_t, sigma). Straight paths only: with the field on, or with the box\n"
     "injector, the drift is ignored.\n";
 
+static const char HELP_SPECIES[] =
+    "    species name=S charge=Z mass=electron|proton|amu:A|KG [drift=VX,VY,VZ]\n"
+    "    species clear\n"
+    "\n"
+    "Add a species of charge Z e (a whole number, not 0) and mass m: electron,\n"
+    "proton, A atomic mass units (amu:16 for O+) or kilograms (spec 3.1); its\n"
+    "components come from `maxwellian`. drift= as for `plasma` (spec 5.4).\n"
+    "`species clear` empties the list (a preset replaces it too).\n";
+
+static const char HELP_MAXWELLIAN[] =
+    "    maxwellian species=S density=N temperature=T\n"
+    "\n"
+    "Add a Maxwellian component of density N (m^-3) and temperature T (kT in eV)\n"
+    "to species S (at most 8 components a species, 16 species).\n";
+
 static const char HELP_BODY[] =
     "    body sphere radius=A\n"
     "    body icosphere radius=A [level=4]\n"
@@ -874,6 +1027,11 @@ static const char HELP_OUTPUT[] =
 static const mote_cmd ch_commands[] = {
     {"plasma", NULL, "s s n=r>0 kT=r>0 drift=s", "plasma preset NAME [n=N] [kT=T] [drift=V]",
      "the plasma environment (a preset of spec 3.2)", HELP_PLASMA, check_plasma, run_plasma},
+    {"species", NULL, "*", "species name=S charge=Z mass=M [drift=V] | species clear",
+     "add a species (or empty the list)", HELP_SPECIES, check_species, run_species},
+    {"maxwellian", NULL, "species=s! density=r>0! temperature=r>0!",
+     "maxwellian species=S density=N temperature=T", "add a Maxwellian component to a species",
+     HELP_MAXWELLIAN, check_maxwellian, run_maxwellian},
     {"body", NULL,
      "s radius=r>0 level=i nlon=i>=3 nlat=i>=2 size=s subdiv=i>=1 side=r>0 gap=r>=0 "
      "file=f<mesh format=s units=s scale=r>0 part=s offset=s rotate=s strict=s",
