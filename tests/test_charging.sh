@@ -101,4 +101,12 @@ expect 1 "sp6.mote:2:16: error: species: charge must be a whole number of elemen
 expect 1 "sp7.mote:2:25: error: species: mass must be electron, proton, amu:A or a mass in kg > 0, found 'heavy'" sp7.mote "${G}species name=X charge=1 mass=heavy\n"
 expect 1 "sp8.mote:4:1: error: run: species 'X' has no component" sp8.mote "${G}species name=X charge=1 mass=proton\nbody sphere radius=1\nrun\n"
 expect 1 "sp9.mote:3:1: error: species: 'e' exists already" sp9.mote "${G}plasma preset thesis-hot\nspecies name=e charge=-1 mass=electron\n"
+# float writes the files at U_f, the summary with the root, its error and the OML estimate
+mkdir -p of
+printf '%bplasma preset geo-worst-case\nbody sphere radius=1\noutput prefix=of/s\nfloat particles=1e5\n' "$G" > fo.mote
+"$MOTE" run fo.mote > out.txt 2> err.txt && /usr/bin/python3 -c "
+import json, sys
+d = json.load(open('of/s_summary.json'))
+sys.exit(not (abs(d['U_f_V'] / -38060 - 1) < 0.02 and d['sigma_U_V'] > 0 and abs(d['U_f_OML_V'] / -38061.7 - 1) < 1e-4 and d['potential_V'] == d['U_f_V']))
+" && grep -q '^floating potential: U_f = -3' of/s_summary.txt && ok || bad "float summary: $(head -c 300 of/s_summary.json) $(cat err.txt)"
 mote_test_end

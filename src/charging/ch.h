@@ -26,6 +26,8 @@ typedef struct {
     int triangles, vtk, png;      /* which files (the parts table and summaries always) */
     int png_w, png_h, png_log;
     double view[3];               /* unit vector toward the viewer */
+    int have_float;               /* written by `float`: its root, error and the OML estimate */
+    double sigma_U, oml;
 } ch_output;
 
 int ch_write_outputs(const ch_output *o, FILE *log, mote_err *err);

@@ -555,7 +555,7 @@ static int run_run(void *vm, const mote_call *c, mote_err *err)
                          &m->plasma, &m->body, &m->res, g, o.r_gen, o.field ? o.potential : 0,
                          o.threads > 1 ? o.threads : 1,
                          m->out_triangles, m->out_vtk, m->out_png, m->png_w, m->png_h,
-                         m->png_log, {m->view[0], m->view[1], m->view[2]}};
+                         m->png_log, {m->view[0], m->view[1], m->view[2]}, 0, 0, 0};
         rc = ch_write_outputs(&out, m->log, err);
         if (rc)
             return rc;
@@ -624,7 +624,7 @@ static int run_float(void *vm, const mote_call *c, mote_err *err)
         ch_output out = {m->prefix, m->origin, "full", m->seed, &m->plasma, &m->body, &m->res,
                          g, o.r_gen, U, o.threads > 1 ? o.threads : 1, m->out_triangles,
                          m->out_vtk, m->out_png, m->png_w, m->png_h, m->png_log,
-                         {m->view[0], m->view[1], m->view[2]}};
+                         {m->view[0], m->view[1], m->view[2]}, 1, sU, oml};
         rc = ch_write_outputs(&out, m->log, err);
         if (rc)
             return rc;

@@ -267,7 +267,12 @@ static int write_summary(const ch_output *o, const char *path, int json, mote_er
                         (unsigned long long)o->res->hits[s][k]);
             fprintf(f, "]}");
         }
-        fprintf(f, "],\"I_net_A\":%.10g,\"sigma_net_A\":%.10g,\"dU_dt_V_s\":%.10g,"
+        if (o->have_float)
+            fprintf(f, "],\"U_f_V\":%.10g,\"sigma_U_V\":%.10g,\"U_f_OML_V\":%.10g", o->potential,
+                    o->sigma_U, o->oml);
+        else
+            fputc(']', f);
+        fprintf(f, ",\"I_net_A\":%.10g,\"sigma_net_A\":%.10g,\"dU_dt_V_s\":%.10g,"
                    "\"hit_fraction\":%.10g,\"backface_hits\":%llu,\"traces_per_s\":%.4g,"
                    "\"threads\":%d}\n",
                 inet, sqrt(var), inet / g->capacitance, hitf,
@@ -275,6 +280,9 @@ static int write_summary(const ch_output *o, const char *path, int json, mote_er
     } else {
         fprintf(f, "mote charging: summary (%s mode, seed %llu)\n\n", o->mode,
                 (unsigned long long)o->seed);
+        if (o->have_float)
+            fprintf(f, "floating potential: U_f = %.10g V +- %.3g (the analytic OML estimate for "
+                       "the equivalent sphere: %.10g V)\n\n", o->potential, o->sigma_U, o->oml);
         fprintf(f, "body: %u triangles, area %.10g m^2, R_eq %.10g m, R_bound %.10g m, C %.10g F\n",
                 o->body->sphere ? 0 : o->body->ntri, g->area, g->r_eq, g->r_bound, g->capacitance);
         fprintf(f, "plasma: Debye length %.6g m; injection sphere R %.6g m\n\n", mote_ch_debye(p),
