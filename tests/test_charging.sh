@@ -81,6 +81,26 @@ sys.exit(not (d['mode'] == 'full' and d['area_m2'] == 30 and abs(net - d['I_net_
 " && ok || bad "summary.json: $(head -c 300 o1/craft_summary.json)"
 [ "$(od -An -tu1 -j16 -N8 o1/craft_surface.png | awk '{ print $1*16777216+$2*65536+$3*256+$4, $5*16777216+$6*65536+$7*256+$8 }')" = "400 300" ] && ok || bad "the PNG is not 400 x 300"
 cmp -s o1/craft_surface.png o2/craft_surface.png && cmp -s o1/craft_surface.vtk o2/craft_surface.vtk && [ "$(grep -v '^# command' o1/craft_triangles.csv)" = "$(grep -v '^# command' o2/craft_triangles.csv)" ] && ok || bad "1 and 2 threads give different files"
+# ply=on: binary little-endian PLY with the vertices, coloured faces and J_net (spec 8.3),
+# read back here with Python's struct: the counts, and J_net as the triangle table's (front side)
+mkdir -p op
+printf '%bplasma preset geo-worst-case\nbody load file=craft.obj\noutput prefix=op/c png=off vtk=off ply=on\nrun particles=1e5\n' "$G" > ply.mote
+"$MOTE" run ply.mote > out.txt 2> err.txt && /usr/bin/python3 -c "
+import struct, sys
+b = open('op/c_surface.ply', 'rb').read()
+head, body = b.split(b'end_header\n', 1)
+h = head.decode().split('\n')
+nv = int([l for l in h if l.startswith('element vertex')][0].split()[2])
+nf = int([l for l in h if l.startswith('element face')][0].split()[2])
+assert h[1] == 'format binary_little_endian 1.0' and nv == 42 and nf == 14
+assert len(body) == 12 * nv + 20 * nf
+J = [struct.unpack_from('<f', body, 12 * nv + 20 * k + 16)[0] for k in range(nf)]
+idx = [struct.unpack_from('<3i', body, 12 * nv + 20 * k + 1) for k in range(nf)]
+assert all(body[12 * nv + 20 * k] == 3 and idx[k] == (3 * k, 3 * k + 1, 3 * k + 2) for k in range(nf))
+rows = [l.split() for l in open('op/c_triangles.csv') if not l.startswith('#')]
+front = {int(r[0]): float(r[19]) for r in rows if r[3] == 'front'}
+sys.exit(not all(abs(J[k] - front[k]) <= 1e-6 * abs(front[k]) for k in range(nf)))
+" && [ ! -e op/c_surface.png ] && ok || bad "PLY: $(cat err.txt)"
 expect 1 "b21.mote:2:15: error: output: the directory of prefix 'nodir/x' does not exist" b21.mote "${G}output prefix=nodir/x\n"
 expect 1 "b22.mote:2:26: error: output: png_view must be iso, +x, -x, +y, -y, +z, -z or X,Y,Z, found 'top'" b22.mote "${G}output prefix=x png_view=top\n"
 expect 1 "b23.mote:2:26: error: output: png_size must be WxH, 64 to 8192 pixels each, found '10x10'" b23.mote "${G}output prefix=x png_size=10x10\n"

@@ -23,7 +23,7 @@ typedef struct {
     mote_ch_geometry geom;
     double r_gen, potential;
     int threads;
-    int triangles, vtk, png;      /* which files (the parts table and summaries always) */
+    int triangles, vtk, png, ply; /* which files (the parts table and summaries always) */
     int png_w, png_h, png_log;
     double view[3];               /* unit vector toward the viewer */
     int have_float;               /* written by `float`: its root, error and the OML estimate */

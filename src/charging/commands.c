@@ -27,7 +27,7 @@ typedef struct {
     double margin, margin_m;
     /* `output`: the files of spec 8 after each run (prefix NULL: none) */
     char *prefix, *origin;
-    int out_triangles, out_vtk, out_png, png_w, png_h, png_log;
+    int out_triangles, out_vtk, out_png, out_ply, png_w, png_h, png_log;
     double view[3];
 } ch_model;
 
@@ -554,8 +554,8 @@ static int run_run(void *vm, const mote_call *c, mote_err *err)
         ch_output out = {m->prefix, m->origin, m->faithful ? "faithful" : "full", m->seed,
                          &m->plasma, &m->body, &m->res, g, o.r_gen, o.field ? o.potential : 0,
                          o.threads > 1 ? o.threads : 1,
-                         m->out_triangles, m->out_vtk, m->out_png, m->png_w, m->png_h,
-                         m->png_log, {m->view[0], m->view[1], m->view[2]}, 0, 0, 0};
+                         m->out_triangles, m->out_vtk, m->out_png, m->out_ply, m->png_w,
+                         m->png_h, m->png_log, {m->view[0], m->view[1], m->view[2]}, 0, 0, 0};
         rc = ch_write_outputs(&out, m->log, err);
         if (rc)
             return rc;
@@ -623,7 +623,7 @@ static int run_float(void *vm, const mote_call *c, mote_err *err)
     if (m->prefix) { /* the files at U_f (spec 8.2) */
         ch_output out = {m->prefix, m->origin, "full", m->seed, &m->plasma, &m->body, &m->res,
                          g, o.r_gen, U, o.threads > 1 ? o.threads : 1, m->out_triangles,
-                         m->out_vtk, m->out_png, m->png_w, m->png_h, m->png_log,
+                         m->out_vtk, m->out_png, m->out_ply, m->png_w, m->png_h, m->png_log,
                          {m->view[0], m->view[1], m->view[2]}, 1, sU, oml};
         rc = ch_write_outputs(&out, m->log, err);
         if (rc)
@@ -823,6 +823,8 @@ static int check_output(void *vm, const mote_call *c, mote_err *err)
         rc = on_off(c, "vtk", 1, &x, err);
     if (!rc)
         rc = on_off(c, "png", 1, &x, err);
+    if (!rc)
+        rc = on_off(c, "ply", 0, &x, err);
     if (rc)
         return rc;
     if ((a = mote_call_opt(c, "png_view")) && parse_view(a->text, v))
@@ -859,6 +861,7 @@ static int run_output(void *vm, const mote_call *c, mote_err *err)
     on_off(c, "triangles", 1, &m->out_triangles, err);
     on_off(c, "vtk", 1, &m->out_vtk, err);
     on_off(c, "png", 1, &m->out_png, err);
+    on_off(c, "ply", 0, &m->out_ply, err);
     const mote_arg *a = mote_call_opt(c, "png_view");
     parse_view(a ? a->text : "iso", m->view);
     m->png_w = 1024;
@@ -1021,7 +1024,9 @@ static const char HELP_OUTPUT[] =
     "X,Y,Z), each triangle filled with the viridis colour of its J_net (or of\n"
     "log10 |J_net| with png_scale=log) times a shading 0.35 + 0.65 |n . view|,\n"
     "back faces of closed surfaces culled, with a colour bar. The exact sphere has\n"
-    "no triangles: no VTK or PNG for it. Headers give the mode, seed, histories,\n"
+    "no triangles: no VTK or PNG for it. With ply=on also P_surface.ply (binary\n"
+    "little-endian: the vertices, faces with the picture's viridis colour and a\n"
+    "float J_net). Headers give the mode, seed, histories,\n"
     "the body's measures and the plasma; files are written atomically.\n";
 
 static const mote_cmd ch_commands[] = {
@@ -1047,8 +1052,8 @@ static const mote_cmd ch_commands[] = {
      "the floating potential of the charged body (exact sphere)", HELP_FLOAT, check_float,
      run_float},
     {"output", NULL,
-     "prefix=f! triangles=s vtk=s png=s png_view=s png_size=s png_scale=s",
-     "output prefix=P [triangles=on] [vtk=on] [png=on] [png_view=V] [png_size=WxH] "
+     "prefix=f! triangles=s vtk=s png=s ply=s png_view=s png_size=s png_scale=s",
+     "output prefix=P [triangles=on] [vtk=on] [png=on] [ply=off] [png_view=V] [png_size=WxH] "
      "[png_scale=linear|log]",
      "the files of spec 8 after each run (tables, VTK, summary, surface picture)", HELP_OUTPUT,
      check_output, run_output},

@@ -366,6 +366,70 @@ static int write_png(const ch_output *o, const char *path, mote_err *err)
     return rc;
 }
 
+/* The body as binary little-endian PLY (spec 8.3): the vertices of each triangle, the faces
+ * with the colour of the surface picture (viridis over the same range: the visible J_net of the
+ * front side) and J_net as a float property. */
+static int write_ply(const ch_output *o, const char *path, mote_err *err)
+{
+    const mote_ch_body *b = o->body;
+    double vmin = INFINITY, vmax = -INFINITY;
+    for (uint32_t i = 0; i < b->ntri; i++) {
+        double J = tri_j(o, i, 0);
+        if (o->png_log)
+            J = log10(fabs(J));
+        if (isfinite(J)) {
+            vmin = fmin(vmin, J);
+            vmax = fmax(vmax, J);
+        }
+    }
+    if (!(vmax > vmin)) {
+        vmin -= 0.5;
+        vmax += 0.5;
+    }
+    mote_afile af;
+    int rc = mote_afile_open(&af, path, err);
+    if (rc)
+        return rc;
+    FILE *f = af.f;
+    fprintf(f, "ply\nformat binary_little_endian 1.0\ncomment mote charging: J_net at U = %.6g V, "
+               "seed %llu\nelement vertex %u\nproperty float x\nproperty float y\nproperty float "
+               "z\nelement face %u\nproperty list uchar int vertex_indices\nproperty uchar red\n"
+               "property uchar green\nproperty uchar blue\nproperty float J_net\nend_header\n",
+            o->potential, (unsigned long long)o->seed, 3 * b->ntri, b->ntri);
+    /* little-endian words, whatever the machine */
+    for (uint32_t i = 0; i < b->ntri; i++)
+        for (int j = 0; j < 3; j++)
+            for (int a = 0; a < 3; a++) {
+                float x = (float)b->v[i][j][a];
+                uint32_t w;
+                memcpy(&w, &x, 4);
+                const unsigned char by[4] = {(unsigned char)w, (unsigned char)(w >> 8),
+                                             (unsigned char)(w >> 16), (unsigned char)(w >> 24)};
+                fwrite(by, 1, 4, f);
+            }
+    for (uint32_t i = 0; i < b->ntri; i++) {
+        unsigned char rec[1 + 12 + 3 + 4];
+        rec[0] = 3;
+        for (int j = 0; j < 3; j++) {
+            const uint32_t idx = 3 * i + (uint32_t)j;
+            for (int k = 0; k < 4; k++)
+                rec[1 + 4 * j + k] = (unsigned char)(idx >> (8 * k));
+        }
+        const double J = tri_j(o, i, 0), val = o->png_log ? log10(fabs(J)) : J;
+        double rgb[3];
+        mote_viridis(isfinite(val) ? (val - vmin) / (vmax - vmin) : 0, rgb);
+        for (int c = 0; c < 3; c++)
+            rec[13 + c] = (unsigned char)lround(255 * rgb[c]);
+        float jf = (float)J;
+        uint32_t w;
+        memcpy(&w, &jf, 4);
+        for (int k = 0; k < 4; k++)
+            rec[16 + k] = (unsigned char)(w >> (8 * k));
+        fwrite(rec, 1, sizeof rec, f);
+    }
+    return mote_afile_commit(&af, err);
+}
+
 int ch_write_outputs(const ch_output *o, FILE *log, mote_err *err)
 {
     const size_t len = strlen(o->prefix) + 32;
@@ -373,10 +437,12 @@ int ch_write_outputs(const ch_output *o, FILE *log, mote_err *err)
     if (!path)
         return mote_fail(err, MOTE_ENOMEM, "output: out of memory");
     int rc = MOTE_OK;
-    static const char *const name[6] = {"_triangles.csv", "_parts.csv", "_summary.txt",
-                                        "_summary.json", "_surface.vtk", "_surface.png"};
-    for (int k = 0; k < 6 && !rc; k++) {
-        if ((k == 0 && !o->triangles) || (k == 4 && !o->vtk) || (k == 5 && !o->png))
+    static const char *const name[7] = {"_triangles.csv", "_parts.csv",   "_summary.txt",
+                                        "_summary.json",  "_surface.vtk", "_surface.png",
+                                        "_surface.ply"};
+    for (int k = 0; k < 7 && !rc; k++) {
+        if ((k == 0 && !o->triangles) || (k == 4 && !o->vtk) || (k == 5 && !o->png) ||
+            (k == 6 && !o->ply))
             continue;
         if (k >= 4 && o->body->sphere)
             continue; /* the exact sphere has no triangles to draw */
@@ -385,7 +451,8 @@ int ch_write_outputs(const ch_output *o, FILE *log, mote_err *err)
              : k == 1 ? write_parts(o, path, err)
              : k <= 3 ? write_summary(o, path, k == 3, err)
              : k == 4 ? write_vtk(o, path, err)
-                      : write_png(o, path, err);
+             : k == 5 ? write_png(o, path, err)
+                      : write_ply(o, path, err);
         if (!rc && log)
             fprintf(log, "output: wrote %s\n", path);
     }
