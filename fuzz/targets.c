@@ -5,6 +5,7 @@
 
 #include "mote/hardspheres.h"
 #include "mote/mixingbox.h"
+#include "mote/charging.h"
 #include "mote/nbody.h"
 #include "mote/script.h"
 
@@ -144,6 +145,28 @@ static int fuzz_nb_snapshot(const uint8_t *data, size_t size)
     return 0;
 }
 
+static int fuzz_ch_plain(const uint8_t *data, size_t size)
+{
+    char path[256];
+    if (write_input("in.tri", data, size, path, sizeof path))
+        return 0;
+    mote_err err = {0};
+    for (int strict = 0; strict < 2; strict++) {
+        mote_ch_body b = {0};
+        mote_ch_load_opts o = {.format = "plain", .scale = 1, .rot_axis = -1, .strict = strict};
+        mote_ch_load_report r;
+        if (mote_ch_body_load(&b, path, &o, &r, &err) == 0) {
+            /* a loaded mesh must have outward-consistent data and a finite geometry */
+            mote_ch_geometry g;
+            mote_ch_body_geometry(&b, &g);
+            if (!(g.area > 0))
+                __builtin_trap();
+        }
+        mote_ch_body_free(&b);
+    }
+    return 0;
+}
+
 static int fuzz_nb_solar(const uint8_t *data, size_t size)
 {
     char path[256];
@@ -182,6 +205,7 @@ const mote_fuzz_target mote_fuzz_targets[] = {
     {"nb_state", fuzz_nb_state},
     {"nb_snapshot", fuzz_nb_snapshot},
     {"nb_solar", fuzz_nb_solar},
+    {"ch_plain", fuzz_ch_plain},
     {"plot", fuzz_plot},
 };
 const size_t mote_fuzz_ntargets = sizeof mote_fuzz_targets / sizeof mote_fuzz_targets[0];
