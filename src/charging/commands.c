@@ -492,6 +492,20 @@ static double injection_radius(const ch_model *m, const mote_ch_geometry *g)
 
 /* ---- run and evolve ------------------------------------------------------------------------- */
 
+/* The run options of a command: the seed, its particles= (default 1e6), the injector, threads. */
+static mote_ch_run_opts run_opts(const ch_model *m, const mote_call *c, const mote_ch_geometry *g)
+{
+    mote_ch_run_opts o = {.seed = m->seed,
+                          .particles = (uint64_t)mote_call_opt_r(c, "particles", 1e6),
+                          .r_gen = injection_radius(m, g),
+                          .threads = c->ctx->threads,
+                          .field = !m->faithful,
+                          .box = m->box,
+                          .margin = m->margin,
+                          .margin_m = m->margin_m};
+    return o;
+}
+
 static int need_setup(ch_model *m, const mote_call *c, mote_err *err)
 {
     if (!m->have_body)
@@ -531,15 +545,8 @@ static int run_run(void *vm, const mote_call *c, mote_err *err)
     ch_model *m = vm;
     mote_ch_geometry g;
     mote_ch_body_geometry(&m->body, &g);
-    mote_ch_run_opts o = {.seed = m->seed,
-                          .particles = (uint64_t)mote_call_opt_r(c, "particles", 1e6),
-                          .r_gen = injection_radius(m, &g),
-                          .threads = c->ctx->threads,
-                          .potential = mote_call_opt_r(c, "potential", 0),
-                          .field = !m->faithful,
-                          .box = m->box,
-                          .margin = m->margin,
-                          .margin_m = m->margin_m};
+    mote_ch_run_opts o = run_opts(m, c, &g);
+    o.potential = mote_call_opt_r(c, "potential", 0);
     mote_ch_tracer *t = mote_ch_tracer_new(&m->body, err);
     if (!t)
         return err->code;
@@ -603,11 +610,7 @@ static int run_float(void *vm, const mote_call *c, mote_err *err)
     ch_model *m = vm;
     mote_ch_geometry g;
     mote_ch_body_geometry(&m->body, &g);
-    mote_ch_run_opts o = {.seed = m->seed,
-                          .particles = (uint64_t)mote_call_opt_r(c, "particles", 1e6),
-                          .r_gen = injection_radius(m, &g),
-                          .threads = c->ctx->threads,
-                          .field = 1};
+    mote_ch_run_opts o = run_opts(m, c, &g); /* (the field on: full mode) */
     mote_ch_tracer *t = mote_ch_tracer_new(&m->body, err);
     if (!t)
         return err->code;
@@ -668,11 +671,7 @@ static int evolve_full(ch_model *m, const mote_call *c, mote_err *err)
     mote_ch_body_geometry(&m->body, &g);
     const double T = mote_call_opt(c, "time")->r, dt = mote_call_opt_r(c, "dt_out", T);
     const double U0 = mote_call_opt_r(c, "U0", 0), C = g.capacitance;
-    mote_ch_run_opts o = {.seed = m->seed,
-                          .particles = (uint64_t)mote_call_opt_r(c, "particles", 1e6),
-                          .r_gen = injection_radius(m, &g),
-                          .threads = c->ctx->threads,
-                          .field = 1};
+    mote_ch_run_opts o = run_opts(m, c, &g); /* (the field on: full mode) */
     mote_ch_tracer *tr = mote_ch_tracer_new(&m->body, err);
     if (!tr)
         return err->code;

@@ -92,6 +92,25 @@ static double drift_normal_speed(double un, double sigma, double x)
     return w;
 }
 
+/* Two unit vectors e1, e2 perpendicular to the unit vector n (and to each other). */
+static void perp_basis(const double n[3], double e1[3], double e2[3])
+{
+    if (fabs(n[2]) < 0.9) {
+        const double l = sqrt(n[0] * n[0] + n[1] * n[1]);
+        e1[0] = -n[1] / l;
+        e1[1] = n[0] / l;
+        e1[2] = 0;
+    } else {
+        const double l = sqrt(n[1] * n[1] + n[2] * n[2]);
+        e1[0] = 0;
+        e1[1] = -n[2] / l;
+        e1[2] = n[1] / l;
+    }
+    e2[0] = n[1] * e1[2] - n[2] * e1[1];
+    e2[1] = n[2] * e1[0] - n[0] * e1[2];
+    e2[2] = n[0] * e1[1] - n[1] * e1[0];
+}
+
 void mote_ch_result_free(mote_ch_result *r)
 {
     free(r->tri_hits);
@@ -283,20 +302,7 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                             /* the velocity: normal part from w N(w; un, sigma), tangential ones
                              * N(u_t, sigma) */
                             double e1[3], e2[3];
-                            if (fabs(nrm[2]) < 0.9) {
-                                const double l = sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1]);
-                                e1[0] = -nrm[1] / l;
-                                e1[1] = nrm[0] / l;
-                                e1[2] = 0;
-                            } else {
-                                const double l = sqrt(nrm[1] * nrm[1] + nrm[2] * nrm[2]);
-                                e1[0] = 0;
-                                e1[1] = -nrm[2] / l;
-                                e1[2] = nrm[1] / l;
-                            }
-                            e2[0] = nrm[1] * e1[2] - nrm[2] * e1[1];
-                            e2[1] = nrm[2] * e1[0] - nrm[0] * e1[2];
-                            e2[2] = nrm[0] * e1[1] - nrm[1] * e1[0];
+                            perp_basis(nrm, e1, e2);
                             double e[4];
                             uniforms4(key, h, (uint32_t)comp, draw + 1, e);
                             const double w = drift_normal_speed(un, sigma, e[0]);
@@ -341,20 +347,7 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                         const double ct = sqrt(u[2]), st = sqrt(fmax(0, 1 - u[2]));
                         const double ps = 2 * MOTE_CH_PI * u[3];
                         double e1[3], e2[3]; /* a basis perpendicular to nrm */
-                        if (fabs(nrm[2]) < 0.9) {
-                            const double l = sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1]);
-                            e1[0] = -nrm[1] / l;
-                            e1[1] = nrm[0] / l;
-                            e1[2] = 0;
-                        } else {
-                            const double l = sqrt(nrm[1] * nrm[1] + nrm[2] * nrm[2]);
-                            e1[0] = 0;
-                            e1[1] = -nrm[2] / l;
-                            e1[2] = nrm[1] / l;
-                        }
-                        e2[0] = nrm[1] * e1[2] - nrm[2] * e1[1];
-                        e2[1] = nrm[2] * e1[0] - nrm[0] * e1[2];
-                        e2[2] = nrm[0] * e1[1] - nrm[1] * e1[0];
+                        perp_basis(nrm, e1, e2);
                         double org[3], dir[3];
                         for (int a = 0; a < 3; a++) {
                             org[a] = g.centre[a] + R * nrm[a];
