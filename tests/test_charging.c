@@ -602,6 +602,53 @@ static void test_drift(void)
     }
 }
 
+/* Q5: secondary emission, geo-worst-case on aluminium (universal yield, no angle factor, no ion
+ * SEE): at U = 0 the hot electrons' secondary current over their collected current is 0.2000
+ * within 1% (the flux-averaged yield; 0.7788 for the cold ones); U_f = -34.40 kV within 2%. */
+static void test_see(void)
+{
+    printf("Q5: secondary emission from aluminium\n");
+    mote_err err = {0};
+    mote_ch_material al;
+    CHECK(mote_ch_material_preset("aluminium", &al) == 0 && mote_ch_material_preset("unobtainium", &al) != 0,
+          "material presets");
+    mote_ch_material_preset("aluminium", &al);
+    const mote_ch_material *mats[1] = {&al};
+    mote_ch_plasma p;
+    mote_ch_plasma_preset(&p, "geo-worst-case", 0, 0, &err);
+    mote_ch_body b = {0};
+    mote_ch_body_sphere(&b, 1, &err);
+    mote_ch_tracer *t = mote_ch_tracer_new(&b, &err);
+    mote_ch_run_opts o = {.seed = 1, .particles = 1000000, .r_gen = 1.05, .threads = 2,
+                          .field = 1, .tri_material = mats};
+    mote_ch_result r;
+    if (t && mote_ch_run(&p, &b, t, &o, &r, &err) == MOTE_OK) {
+        const double want[2] = {0.7788, 0.2000};
+        for (int k = 0; k < 2; k++) {
+            const double coll = fabs(r.weight[0][k] * (double)r.hits[0][k]);
+            const double ratio = r.see[0][k] / coll, sr = r.see_sigma[0][k] / coll;
+            printf("  component %d: secondary / collected = %.5f +- %.5f (spec %.4f)\n", k + 1,
+                   ratio, sr, want[k]);
+            CHECK(fabs(ratio / want[k] - 1) <= 0.01 && 3 * sr <= 0.01 / 3 * want[k],
+                  "component %d: %.5f +- %.5f, want %.4f", k + 1, ratio, sr, want[k]);
+        }
+        mote_ch_result_free(&r);
+    } else {
+        CHECK(0, "run: %s", err.msg);
+    }
+    double U, sU, oml;
+    int evals;
+    if (t && mote_ch_float(&p, &b, t, &o, 1e-4, &U, &sU, &oml, &evals, &r, &err) == MOTE_OK) {
+        printf("  U_f = %.1f V +- %.1f (spec -34400)\n", U, sU);
+        CHECK(fabs(U / -34400 - 1) <= 0.02, "U_f with aluminium SEE %.1f", U);
+        mote_ch_result_free(&r);
+    } else {
+        CHECK(0, "float: %s", err.msg);
+    }
+    mote_ch_tracer_free(t);
+    mote_ch_body_free(&b);
+}
+
 int main(void)
 {
     test_constants();
@@ -615,5 +662,6 @@ int main(void)
     test_float();
     test_evolve();
     test_drift();
+    test_see();
     return test_summary();
 }

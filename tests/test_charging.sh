@@ -71,7 +71,7 @@ for f in triangles.csv parts.csv summary.txt summary.json surface.vtk surface.pn
 done
 net=$(sed -n 's/^run: net I = \([^ ]*\) A.*/\1/p' outa.txt)
 awk -v net="$net" '!/^#/ { s += $19; n++ } END { d = s - net; exit !(n == 16 && d * d <= 1e-18 * net * net) }' o1/craft_triangles.csv && ok || bad "the triangle rows (16: 12 closed, 2 sheets x 2 sides) do not add up to the net current $net"
-awk -v net="$net" '!/^#/ { s += $8 } END { d = s - net; exit !(d * d <= 1e-18 * net * net) }' o1/craft_parts.csv && ok || bad "the parts do not add up to the net current"
+awk -v net="$net" '!/^#/ { s += $9 } END { d = s - net; exit !(d * d <= 1e-18 * net * net) }' o1/craft_parts.csv && ok || bad "the parts do not add up to the net current"
 grep -q '^POINTS 42 double$' o1/craft_surface.vtk && grep -q '^POLYGONS 14 56$' o1/craft_surface.vtk && grep -q '^CELL_DATA 14$' o1/craft_surface.vtk && grep -q '^SCALARS J_net_back double 1$' o1/craft_surface.vtk && ok || bad "VTK structure"
 /usr/bin/python3 -c "
 import json, sys
@@ -101,6 +101,26 @@ rows = [l.split() for l in open('op/c_triangles.csv') if not l.startswith('#')]
 front = {int(r[0]): float(r[19]) for r in rows if r[3] == 'front'}
 sys.exit(not all(abs(J[k] - front[k]) <= 1e-6 * abs(front[k]) for k in range(nf)))
 " && [ ! -e op/c_surface.png ] && ok || bad "PLY: $(cat err.txt)"
+# materials (spec 6.7, 6.9): kapton on the panel; its secondaries leave it, the bus stays bare;
+# the net current (printed, the parts, the triangles) is the primaries' plus the secondaries'
+mkdir -p om
+printf '%bplasma preset geo-worst-case\nbody load file=craft.obj\nmaterial assign part=panel material=kapton\noutput prefix=om/c png=off vtk=off\nrun particles=1e5\n' "$G" > mat.mote
+"$MOTE" run mat.mote > out.txt 2> err.txt && ok || bad "mat.mote failed: $(cat err.txt)"
+awk '/^run: e / { e = $5; see = $14 } /^run: H\+/ { h = $5 } /^run: net/ { net = $5 }
+     END { d = e + h + see - net; exit !(see > 0 && d * d <= 1e-18 * net * net) }' out.txt && ok || bad "run lines: $(grep '^run:' out.txt)"
+net=$(sed -n 's/^run: net I = \([^ ]*\) A.*/\1/p' out.txt)
+awk -v net="$net" '!/^#/ { s += $9; see[$1] = $8; mat[$1] = $2 } END { d = s - net
+     exit !(mat["panel"] == "kapton" && mat["bus"] == "bare" && see["bus"] == 0 && see["panel"] > 0 && d * d <= 1e-18 * net * net) }' om/c_parts.csv && ok || bad "parts with kapton: $(grep -v '^#' om/c_parts.csv)"
+awk -v net="$net" '!/^#/ { s += $19; if ($2 == "bus" && $17 != 0) bus = 1 } END { d = s - net; exit !(bus == 0 && d * d <= 1e-18 * net * net) }' om/c_triangles.csv && ok || bad "the triangle rows with secondaries do not add up to $net"
+expect 1 "m1.mote:3:33: error: material assign: no material 'steel'" m1.mote "${G}body sphere radius=1\nmaterial assign part=* material=steel\n"
+expect 1 "m2.mote:3:10: error: material assign: give part=NAME|* and material=NAME" m2.mote "${G}body sphere radius=1\nmaterial assign material=gold\n"
+expect 1 "m3.mote:2:10: error: material assign: give the body first" m3.mote "${G}material assign part=* material=gold\n"
+expect 2 "m4.mote:4:22: error: material assign: the body has no part 'pannel'" m4.mote "${G}plasma preset geo-worst-case\nbody load file=craft.obj\nmaterial assign part=pannel material=kapton\n"
+expect 1 "m5.mote:2:10: error: material: expected define or assign, found 'set'" m5.mote "${G}material set\n"
+expect 1 "m6.mote:2:33: error: material: see_dmax must be >= 0, found -1" m6.mote "${G}material define name=x see_dmax=-1\n"
+# a defined material, then assigned: a yield curve of the user's own
+printf '%bplasma preset geo-worst-case\nbody sphere radius=1\nmaterial define name=mine see_dmax=3 see_emax=0.3\nmaterial assign part=sphere material=mine\nrun particles=1e5\n' "$G" > md.mote
+"$MOTE" run md.mote > out.txt 2> err.txt && grep -q '^run: e .*secondaries it knocks out: +' out.txt && ok || bad "a defined material: $(grep '^run: e' out.txt) $(cat err.txt)"
 expect 1 "b21.mote:2:15: error: output: the directory of prefix 'nodir/x' does not exist" b21.mote "${G}output prefix=nodir/x\n"
 expect 1 "b22.mote:2:26: error: output: png_view must be iso, +x, -x, +y, -y, +z, -z or X,Y,Z, found 'top'" b22.mote "${G}output prefix=x png_view=top\n"
 expect 1 "b23.mote:2:26: error: output: png_size must be WxH, 64 to 8192 pixels each, found '10x10'" b23.mote "${G}output prefix=x png_size=10x10\n"

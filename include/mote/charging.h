@@ -115,6 +115,20 @@ long mote_ch_trace(const mote_ch_tracer *t, const double org[3], const double di
  * 64-bit key; every history has its own stream (spec 5.7). */
 void mote_ch_philox(const uint32_t ctr[4], const uint32_t key[2], uint32_t out[4]);
 
+/* ---- materials and secondary emission (spec 6.7, 6.9) ---------------------------------------- */
+
+typedef struct {
+    char name[24];
+    double see_dmax, see_emax;  /* the universal yield curve: its peak and where (keV) */
+    double photo_j;             /* photoemission current density at normal incidence, A/m^2 */
+    double kT_s;                /* secondaries' temperature, eV */
+} mote_ch_material;
+
+/* The presets of spec 6.9 (bare, aluminium, gold, kapton, teflon, cover-glass); -1 if unknown. */
+int mote_ch_material_preset(const char *name, mote_ch_material *m);
+/* The universal secondary yield at impact energy E (keV), normalised to dmax at emax. */
+double mote_ch_see_yield(const mote_ch_material *m, double E_keV);
+
 /* A straight-line run (spec 5.1-5.3, 5.6): per component N histories from the injection sphere
  * of radius r_gen about the body's centre; tallies per triangle, side and species. */
 typedef struct {
@@ -132,6 +146,9 @@ typedef struct {
      * by margin times its diagonal, or by margin_m metres when that is > 0 */
     int box;
     double margin, margin_m;
+    /* secondary emission by electron impact (spec 6.7): the material of each triangle (of the
+     * exact sphere: one), or NULL for none */
+    const mote_ch_material *const *tri_material;
 } mote_ch_run_opts;
 
 /* OML current (spec 6.4) of one Maxwellian component (n, kT eV, m, Z) to a sphere of area A at
@@ -145,9 +162,14 @@ typedef struct {
     uint64_t hits[MOTE_CH_MAX_SPECIES][MOTE_CH_MAX_COMPONENTS];
     double weight[MOTE_CH_MAX_SPECIES][MOTE_CH_MAX_COMPONENTS]; /* A per history */
     double current[MOTE_CH_MAX_SPECIES];  /* collected, A (signed, spec 1.3) */
+    /* secondary electrons emitted by the species' impacts (A, positive: they leave), per
+     * component, and their standard errors */
+    double see[MOTE_CH_MAX_SPECIES][MOTE_CH_MAX_COMPONENTS];
+    double see_sigma[MOTE_CH_MAX_SPECIES][MOTE_CH_MAX_COMPONENTS];
     double sigma[MOTE_CH_MAX_SPECIES];    /* its standard error */
     int ncomp;                        /* components of all species, in order */
     uint64_t *tri_hits;               /* [component][triangle][side] */
+    double *tri_see;                  /* the same for the secondary current, A (NULL: none) */
     uint64_t backface_hits;
     double seconds, traces_per_s;
 } mote_ch_result;

@@ -28,6 +28,7 @@ typedef struct {
     double view[3];               /* unit vector toward the viewer */
     int have_float;               /* written by `float`: its root, error and the OML estimate */
     double sigma_U, oml;
+    const mote_ch_material *const *tri_mat; /* per triangle (NULL: all bare) */
 } ch_output;
 
 int ch_write_outputs(const ch_output *o, FILE *log, mote_err *err);

@@ -25,6 +25,16 @@ typedef struct {
     double r_gen_used;          /* the injection radius of the last run */
     int box;                    /* the box injector (spec 5.2) */
     double margin, margin_m;
+    /* materials (spec 6.9): the defined ones (presets are found by name) and the assignments,
+     * in order (a later one wins) */
+    mote_ch_material defined[32];
+    int ndefined;
+    struct {
+        char part[32];
+        mote_ch_material m;
+    } assign[64];
+    int nassign;
+    const mote_ch_material **tri_mat; /* per triangle, built for a run (NULL: none emits) */
     /* `output`: the files of spec 8 after each run (prefix NULL: none) */
     char *prefix, *origin;
     int out_triangles, out_vtk, out_png, out_ply, png_w, png_h, png_log;
@@ -59,6 +69,7 @@ static void model_destroy(void *vm)
     mote_ch_result_free(&m->res);
     free(m->prefix);
     free(m->origin);
+    free(m->tri_mat);
     free(m);
 }
 
@@ -490,6 +501,137 @@ static double injection_radius(const ch_model *m, const mote_ch_geometry *g)
     return strtod(m->radius, NULL);
 }
 
+/* ---- materials (spec 6.7, 6.9) ----------------------------------------------------------------- */
+
+/* The material called name: a defined one, else a preset; 0 when found. */
+static int find_material(const ch_model *m, const char *name, mote_ch_material *out)
+{
+    for (int k = m->ndefined - 1; k >= 0; k--)
+        if (!strcmp(m->defined[k].name, name)) {
+            *out = m->defined[k];
+            return 0;
+        }
+    return mote_ch_material_preset(name, out);
+}
+
+/* Whether the body has a part called name. */
+static int has_part(const ch_model *m, const char *name)
+{
+    if (m->body.sphere)
+        return strcmp(name, "sphere") == 0;
+    for (int k = 0; k < m->body.nparts; k++)
+        if (strcmp(m->body.part_name[k], name) == 0)
+            return 1;
+    return 0;
+}
+
+static int apply_material(ch_model *m, const mote_call *c, mote_err *err)
+{
+    const char *what = c->args[0].text;
+    if (!strcmp(what, "define")) {
+        const mote_arg *n = mote_call_opt(c, "name");
+        if (!n || !*n->text || strlen(n->text) >= sizeof m->defined[0].name)
+            return mote_call_fail(err, c, 0, MOTE_EINVAL, "material define: give name= (1 to %d "
+                                  "characters)", (int)sizeof m->defined[0].name - 1);
+        if (m->ndefined == (int)(sizeof m->defined / sizeof m->defined[0]))
+            return mote_call_fail(err, c, 0, MOTE_EINVAL, "material define: at most %d materials",
+                                  m->ndefined);
+        mote_ch_material x;
+        if (find_material(m, n->text, &x)) { /* new: no emission unless given */
+            memset(&x, 0, sizeof x);
+            x.see_emax = 1;
+            x.kT_s = 2;
+        }
+        snprintf(x.name, sizeof x.name, "%s", n->text);
+        x.see_dmax = mote_call_opt_r(c, "see_dmax", x.see_dmax);
+        x.see_emax = mote_call_opt_r(c, "see_emax", x.see_emax);
+        x.photo_j = mote_call_opt_r(c, "photo_j", x.photo_j);
+        x.kT_s = mote_call_opt_r(c, "see_kT", x.kT_s);
+        m->defined[m->ndefined++] = x;
+        return MOTE_OK;
+    }
+    if (strcmp(what, "assign"))
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "material: expected define or assign, found "
+                              "'%s'", what);
+    const mote_arg *part = mote_call_opt(c, "part"), *mat = mote_call_opt(c, "material");
+    if (!part || !mat)
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "material assign: give part=NAME|* and "
+                              "material=NAME");
+    if (m->dry && !m->have_body)
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "material assign: give the body first "
+                              "(the parts are its parts)");
+    if (!m->dry && strcmp(part->text, "*") && !has_part(m, part->text))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "part"), MOTE_EINVAL,
+                              "material assign: the body has no part '%s' (%s)", part->text,
+                              m->body.sphere ? "the exact sphere's part is sphere"
+                                             : "the parts are listed by body load");
+    mote_ch_material x;
+    if (find_material(m, mat->text, &x))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "material"), MOTE_EINVAL,
+                              "material assign: no material '%s' (bare, aluminium, gold, kapton, "
+                              "teflon, cover-glass, or one made with material define)",
+                              mat->text);
+    if (m->nassign == (int)(sizeof m->assign / sizeof m->assign[0]))
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "material assign: at most %d assignments",
+                              m->nassign);
+    snprintf(m->assign[m->nassign].part, sizeof m->assign[0].part, "%s", part->text);
+    m->assign[m->nassign++].m = x;
+    return MOTE_OK;
+}
+static int check_material(void *vm, const mote_call *c, mote_err *err)
+{
+    return apply_material(vm, c, err);
+}
+static int run_material(void *vm, const mote_call *c, mote_err *err)
+{
+    return apply_material(vm, c, err);
+}
+
+/* The material of a part (the last assignment that names it or *), or NULL when bare. */
+static const mote_ch_material *part_material(const ch_model *m, const char *part)
+{
+    for (int k = m->nassign - 1; k >= 0; k--)
+        if (!strcmp(m->assign[k].part, "*") || !strcmp(m->assign[k].part, part))
+            return m->assign[k].m.see_dmax > 0 ? &m->assign[k].m : NULL;
+    return NULL;
+}
+
+/* Per triangle (the exact sphere: one), for a run; NULL when nothing emits. */
+static int build_tri_materials(ch_model *m, mote_err *err)
+{
+    free(m->tri_mat);
+    m->tri_mat = NULL;
+    const uint32_t n = m->body.sphere ? 1 : m->body.ntri;
+#define PART_OF(i) (m->body.sphere ? "sphere" : m->body.part_name[m->body.part[i]])
+    int any = 0;
+    for (uint32_t i = 0; i < n && !any; i++)
+        any = part_material(m, PART_OF(i)) != NULL;
+    if (!any)
+        return MOTE_OK;
+    m->tri_mat = malloc((size_t)n * sizeof *m->tri_mat);
+    if (!m->tri_mat)
+        return mote_fail(err, MOTE_ENOMEM, "out of memory for the materials");
+    static const mote_ch_material bare = {"bare", 0, 1, 0, 2};
+    for (uint32_t i = 0; i < n; i++) {
+        const mote_ch_material *x = part_material(m, PART_OF(i));
+        m->tri_mat[i] = x ? x : &bare;
+    }
+#undef PART_OF
+    return MOTE_OK;
+}
+
+/* The secondary current (A) the impacts of species s knock out, with its variance. */
+static double species_see(const mote_ch_result *r, int s, double *var)
+{
+    double see = 0;
+    *var = 0;
+    for (int k = 0; k < MOTE_CH_MAX_COMPONENTS; k++) {
+        see += r->see[s][k];
+        *var += r->see_sigma[s][k] * r->see_sigma[s][k];
+    }
+    return see;
+}
+
 /* ---- run and evolve ------------------------------------------------------------------------- */
 
 /* The run options of a command: the seed, its particles= (default 1e6), the injector, threads. */
@@ -502,7 +644,8 @@ static mote_ch_run_opts run_opts(const ch_model *m, const mote_call *c, const mo
                           .field = !m->faithful,
                           .box = m->box,
                           .margin = m->margin,
-                          .margin_m = m->margin_m};
+                          .margin_m = m->margin_m,
+                          .tri_material = m->tri_mat};
     return o;
 }
 
@@ -545,6 +688,8 @@ static int run_run(void *vm, const mote_call *c, mote_err *err)
     ch_model *m = vm;
     mote_ch_geometry g;
     mote_ch_body_geometry(&m->body, &g);
+    if (build_tri_materials(m, err))
+        return err->code;
     mote_ch_run_opts o = run_opts(m, c, &g);
     o.potential = mote_call_opt_r(c, "potential", 0);
     mote_ch_tracer *t = mote_ch_tracer_new(&m->body, err);
@@ -562,7 +707,8 @@ static int run_run(void *vm, const mote_call *c, mote_err *err)
                          &m->plasma, &m->body, &m->res, g, o.r_gen, o.field ? o.potential : 0,
                          o.threads > 1 ? o.threads : 1,
                          m->out_triangles, m->out_vtk, m->out_png, m->out_ply, m->png_w,
-                         m->png_h, m->png_log, {m->view[0], m->view[1], m->view[2]}, 0, 0, 0};
+                         m->png_h, m->png_log, {m->view[0], m->view[1], m->view[2]}, 0, 0, 0,
+                         m->tri_mat};
         rc = ch_write_outputs(&out, m->log, err);
         if (rc)
             return rc;
@@ -573,11 +719,16 @@ static int run_run(void *vm, const mote_call *c, mote_err *err)
     uint64_t hits = 0;
     int ncomp = 0;
     for (int s = 0; s < m->plasma.nsp; s++) {
-        fprintf(m->log, "run: %-4s I = %.10g A +- %.3g (%.3g%%)\n", m->plasma.sp[s].name,
+        double see_v;
+        const double see = species_see(&m->res, s, &see_v);
+        fprintf(m->log, "run: %-4s I = %.10g A +- %.3g (%.3g%%)", m->plasma.sp[s].name,
                 m->res.current[s], m->res.sigma[s],
                 100 * m->res.sigma[s] / fmax(fabs(m->res.current[s]), 1e-300));
-        inet += m->res.current[s];
-        var += m->res.sigma[s] * m->res.sigma[s];
+        if (see > 0)
+            fprintf(m->log, "; secondaries it knocks out: %+.10g A +- %.3g", see, sqrt(see_v));
+        fputc('\n', m->log);
+        inet += m->res.current[s] + see;
+        var += m->res.sigma[s] * m->res.sigma[s] + see_v;
         for (int k = 0; k < m->plasma.sp[s].ncomp; k++, ncomp++)
             hits += m->res.hits[s][k];
     }
@@ -610,6 +761,8 @@ static int run_float(void *vm, const mote_call *c, mote_err *err)
     ch_model *m = vm;
     mote_ch_geometry g;
     mote_ch_body_geometry(&m->body, &g);
+    if (build_tri_materials(m, err))
+        return err->code;
     mote_ch_run_opts o = run_opts(m, c, &g); /* (the field on: full mode) */
     mote_ch_tracer *t = mote_ch_tracer_new(&m->body, err);
     if (!t)
@@ -627,19 +780,25 @@ static int run_float(void *vm, const mote_call *c, mote_err *err)
         ch_output out = {m->prefix, m->origin, "full", m->seed, &m->plasma, &m->body, &m->res,
                          g, o.r_gen, U, o.threads > 1 ? o.threads : 1, m->out_triangles,
                          m->out_vtk, m->out_png, m->out_ply, m->png_w, m->png_h, m->png_log,
-                         {m->view[0], m->view[1], m->view[2]}, 1, sU, oml};
+                         {m->view[0], m->view[1], m->view[2]}, 1, sU, oml, m->tri_mat};
         rc = ch_write_outputs(&out, m->log, err);
         if (rc)
             return rc;
     }
     if (m->log) {
-        fprintf(m->log, "float: U_f = %.6g V +- %.3g (OML estimate for the equivalent sphere "
-                        "%.6g V; %d runs of %llu histories per component, common random "
-                        "numbers)\n", U, sU, oml, evals, (unsigned long long)o.particles);
-        for (int s = 0; s < m->plasma.nsp; s++)
-            fprintf(m->log, "float: %-4s I = %.6g A +- %.3g at U_f (%.6g A/m^2)\n",
+        fprintf(m->log, "float: U_f = %.6g V +- %.3g (OML estimate, no emission, for the "
+                        "equivalent sphere %.6g V; %d runs of %llu histories per component, "
+                        "common random numbers)\n", U, sU, oml, evals, (unsigned long long)o.particles);
+        for (int s = 0; s < m->plasma.nsp; s++) {
+            double see_v;
+            const double see = species_see(&m->res, s, &see_v);
+            fprintf(m->log, "float: %-4s I = %.6g A +- %.3g at U_f (%.6g A/m^2)",
                     m->plasma.sp[s].name, m->res.current[s], m->res.sigma[s],
                     m->res.current[s] / g.area);
+            if (see > 0)
+                fprintf(m->log, "; secondaries it knocks out: %+.6g A +- %.3g", see, sqrt(see_v));
+            fputc('\n', m->log);
+        }
     }
     return MOTE_OK;
 }
@@ -671,6 +830,8 @@ static int evolve_full(ch_model *m, const mote_call *c, mote_err *err)
     mote_ch_body_geometry(&m->body, &g);
     const double T = mote_call_opt(c, "time")->r, dt = mote_call_opt_r(c, "dt_out", T);
     const double U0 = mote_call_opt_r(c, "U0", 0), C = g.capacitance;
+    if (build_tri_materials(m, err))
+        return err->code;
     mote_ch_run_opts o = run_opts(m, c, &g); /* (the field on: full mode) */
     mote_ch_tracer *tr = mote_ch_tracer_new(&m->body, err);
     if (!tr)
@@ -1005,6 +1166,23 @@ static const char HELP_FLOAT[] =
     "version; faithful mode has no floating potential (its currents do not depend\n"
     "on U).\n";
 
+static const char HELP_MATERIAL[] =
+    "    material assign part=NAME|* material=NAME\n"
+    "    material define name=NAME [see_dmax=D] [see_emax=E] [photo_j=J] [see_kT=T]\n"
+    "\n"
+    "Give a part (or every part: *) a material (spec 6.9); later assignments win.\n"
+    "The presets: bare (the default: no emission), aluminium (secondary yield peak\n"
+    "0.97 at 0.30 keV), gold (0.88, 0.80), kapton (2.1, 0.15), teflon (3.0, 0.30),\n"
+    "cover-glass (2.4, 0.40); all with secondaries at see_kT = 2 eV. The exact\n"
+    "sphere's part is called sphere. `material define` makes a material (or changes\n"
+    "one) with the universal yield curve's peak see_dmax at see_emax keV.\n"
+    "Each electron that hits a surface of a material scores the expected number of\n"
+    "secondaries (spec 6.7): delta(E) = D K (E/E)^-0.35 (1 - exp(-2.28 (E/E)^1.35)),\n"
+    "K = 1/(1 - e^-2.28), at its impact energy, times the fraction that escapes\n"
+    "((1 + eU/kT_s) exp(-eU/kT_s) above U = 0, else 1); the emitted current is a\n"
+    "gain (electrons leave), printed by `run` and counted in `float` and `evolve`.\n"
+    "Photoemission (photo_j, sun) is not in this version.\n";
+
 static const char HELP_OUTPUT[] =
     "    output prefix=P [triangles=on] [vtk=on] [png=on] [png_view=iso]\n"
     "           [png_size=1024x768] [png_scale=linear|log]\n"
@@ -1050,6 +1228,9 @@ static const mote_cmd ch_commands[] = {
     {"float", NULL, "particles=r>=1 tolerance=r(0,0.1]", "float [particles=N] [tolerance=1e-4]",
      "the floating potential of the charged body (exact sphere)", HELP_FLOAT, check_float,
      run_float},
+    {"material", NULL, "s name=s see_dmax=r>=0 see_emax=r>0 photo_j=r>=0 see_kT=r>0 part=s material=s",
+     "material define|assign [options]", "define a material, or give a part one (spec 6.9)",
+     HELP_MATERIAL, check_material, run_material},
     {"output", NULL,
      "prefix=f! triangles=s vtk=s png=s ply=s png_view=s png_size=s png_scale=s",
      "output prefix=P [triangles=on] [vtk=on] [png=on] [ply=off] [png_view=V] [png_size=WxH] "

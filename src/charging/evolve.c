@@ -66,7 +66,10 @@ static int eval(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
     *I = 0;
     *Imax = 0;
     for (int s = 0; s < r.nsp; s++) {
-        *I += r.current[s];
+        double see = 0;
+        for (int k = 0; k < MOTE_CH_MAX_COMPONENTS; k++)
+            see += r.see[s][k];
+        *I += r.current[s] + see;
         *Imax = fmax(*Imax, fabs(r.current[s]));
     }
     mote_ch_result_free(&r);

@@ -114,10 +114,15 @@ static void perp_basis(const double n[3], double e1[3], double e2[3])
 void mote_ch_result_free(mote_ch_result *r)
 {
     free(r->tri_hits);
+    free(r->tri_see);
     memset(r, 0, sizeof *r);
 }
 
 enum { BLOCK = 4096 };
+
+/* 128-bit integers for the fixed-point secondary tallies (a GCC and Clang extension) */
+__extension__ typedef __int128 ch_i128;
+#define FIX 1099511627776.0 /* 2^40 */
 
 int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tracer *t,
                 const mote_ch_run_opts *o, mote_ch_result *r, mote_err *err)
@@ -215,6 +220,26 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
             r->weight[s][k] = sp->Z * MOTE_CH_E * gamma / (double)o->particles;
             const uint64_t nblocks = (o->particles + BLOCK - 1) / BLOCK;
             uint64_t hits = 0, back = 0;
+            /* secondary emission by electron impacts (spec 6.7): each hit scores the expected
+             * yield times the escape fraction; sums per block, added in block order (the same
+             * bits on any number of threads) */
+            const int see = o->tri_material && sp->Z < 0;
+            const double U_s = field ? o->potential : 0;
+            /* scores in fixed point (2^-40) with 128-bit integers: sums that do not depend on
+             * the order of addition (spec 5.6); per thread, per triangle and side, then the
+             * total and the sum of squares */
+            const size_t nsee = (size_t)ntri * 2 + 2;
+            ch_i128 *psee = see ? calloc((size_t)nt * nsee, sizeof *psee) : NULL;
+            if (see && !psee) {
+                mote_ch_result_free(r);
+                return mote_fail(err, MOTE_ENOMEM, "run: out of memory for the secondary tallies");
+            }
+            if (see && !r->tri_see &&
+                !(r->tri_see = calloc((size_t)r->ncomp * ntri * 2, sizeof *r->tri_see))) {
+                free(psee);
+                mote_ch_result_free(r);
+                return mote_fail(err, MOTE_ENOMEM, "run: out of memory for the secondary tallies");
+            }
             uint64_t *tally = r->tri_hits + (size_t)comp * ntri * 2;
             /* each thread tallies into its own copy; integer sums merge exactly */
             uint64_t *priv = nt > 1 ? calloc((size_t)nt * ntri * 2, sizeof *priv) : NULL;
@@ -235,6 +260,23 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                 for (uint64_t blk = 0; blk < nblocks; blk++) {
                     const uint64_t h1 = (blk + 1) * BLOCK < o->particles ? (blk + 1) * BLOCK
                                                                            : o->particles;
+                    ch_i128 *msee = see ? psee + (size_t)tid * nsee : NULL;
+#define SEE_SCORE(TRI, SIDE, E_EV)                                                                \
+    do {                                                                                          \
+        if (see) {                                                                                \
+            const mote_ch_material *mat_ = o->tri_material[(TRI)];                                \
+            const double esc_ = U_s > 0 ? (1 + U_s / mat_->kT_s) * exp(-U_s / mat_->kT_s) : 1;    \
+            const double sc_ = mote_ch_see_yield(mat_, (E_EV) / 1000) * esc_;                     \
+            const ch_i128 q_ = (ch_i128)llround(sc_ * FIX);                                      \
+            msee[2 * (size_t)(TRI) + (size_t)(SIDE)] += q_;                                       \
+            msee[nsee - 2] += q_;                                                                 \
+            msee[nsee - 1] += (ch_i128)llround(sc_ * sc_ * FIX);                                  \
+        }                                                                                         \
+    } while (0)
+/* a straight path's impact energy: the flux's kinetic energy law, Gamma(2, kT) (eV) */
+#define STRAIGHT_E()                                                                              \
+    (see ? (uniforms4(key, h, (uint32_t)comp, 7, ee_), -sp->kT[k] * log(ee_[0] * ee_[1])) : 0)
+                    double ee_[4];
                     for (uint64_t h = blk * BLOCK; h < h1; h++) {
                         double u[4];
                         uniforms4(key, h, (uint32_t)comp, 0, u);
@@ -251,6 +293,7 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                             if (K + dq >= K * (1 - u[2]) * ra2) {
                                 hits++;
                                 mine[0]++;
+                                SEE_SCORE(0, 0, sp->kT[k] * K + sp->Z * (phi_g - o->potential));
                             }
                             continue;
                         }
@@ -279,6 +322,7 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                                 if (side && (b->sphere || b->closed[tri]))
                                     back++;
                                 mine[2 * (size_t)tri + (size_t)side]++;
+                                SEE_SCORE(tri, side, STRAIGHT_E());
                             }
                             continue;
                         }
@@ -332,6 +376,7 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                                 if (side && (b->sphere || b->closed[tri]))
                                     back++;
                                 mine[2 * (size_t)tri + (size_t)side]++;
+                                SEE_SCORE(tri, side, 0.5 * sp->m * len * len / MOTE_CH_E);
                             }
                             continue;
                         }
@@ -362,8 +407,24 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                         if (side && (b->sphere || b->closed[tri]))
                             back++;
                         mine[2 * (size_t)tri + (size_t)side]++;
+                        SEE_SCORE(tri, side, STRAIGHT_E());
                     }
+#undef SEE_SCORE
+#undef STRAIGHT_E
                 }
+            }
+            if (see) { /* the emitted current |w| sum, its error from the scores' spread */
+                for (int th = 1; th < nt; th++) /* integers: any order gives the same sums */
+                    for (size_t q = 0; q < nsee; q++)
+                        psee[q] += psee[(size_t)th * nsee + q];
+                const double w = fabs(sp->Z * MOTE_CH_E * gamma / (double)o->particles);
+                const double N = (double)o->particles;
+                const double sum = (double)psee[nsee - 2] / FIX, sq = (double)psee[nsee - 1] / FIX;
+                r->see[s][k] = w * sum;
+                r->see_sigma[s][k] = w * sqrt(fmax(0, sq - sum * sum / N));
+                for (size_t q = 0; q < (size_t)ntri * 2; q++)
+                    r->tri_see[(size_t)comp * ntri * 2 + q] = w * (double)psee[q] / FIX;
+                free(psee);
             }
             for (int th = 0; priv && th < nt; th++)
                 for (size_t q = 0; q < (size_t)ntri * 2; q++)
@@ -405,6 +466,10 @@ static double net_of(const mote_ch_result *r, double *sigma)
     for (int s = 0; s < r->nsp; s++) {
         I += r->current[s];
         v += r->sigma[s] * r->sigma[s];
+        for (int k = 0; k < MOTE_CH_MAX_COMPONENTS; k++) { /* secondaries leave: a gain */
+            I += r->see[s][k];
+            v += r->see_sigma[s][k] * r->see_sigma[s][k];
+        }
     }
     if (sigma)
         *sigma = sqrt(v);

@@ -35,6 +35,25 @@ static double tri_current(const mote_ch_plasma *p, const mote_ch_result *r, int 
     return I;
 }
 
+/* The secondary-electron current (A, > 0: electrons leaving) of triangle i, side side: all
+ * components. */
+static double tri_see(const mote_ch_result *r, uint32_t i, int side)
+{
+    double see = 0;
+    for (int q = 0; r->tri_see && q < r->ncomp; q++)
+        see += r->tri_see[((size_t)q * r->ntri + i) * 2 + (size_t)side];
+    return see;
+}
+
+/* J of triangle i, side side (all species and the secondaries), in A/m^2. */
+static double tri_j(const ch_output *o, uint32_t i, int side)
+{
+    double J = tri_see(o->res, i, side), v;
+    for (int s = 0; s < o->plasma->nsp; s++)
+        J += tri_current(o->plasma, o->res, s, i, side, &v);
+    return J / o->body->area[i];
+}
+
 static uint64_t tri_hits(const mote_ch_result *r, int comp0, int ncomp, uint32_t i, int side)
 {
     uint64_t h = 0;
@@ -91,9 +110,10 @@ static int write_triangles(const ch_output *o, const char *path, mote_err *err)
                     nrm[a] = side ? -b->nrm[i][a] : b->nrm[i][a];
                 }
             }
-            fprintf(f, "%u %s bare %s %.10g %.10g %.10g %.10g %.10g %.10g %.10g 0", i,
-                    b->sphere ? "sphere" : b->part_name[b->part[i]], side ? "back" : "front",
-                    area, c[0], c[1], c[2], nrm[0], nrm[1], nrm[2]);
+            fprintf(f, "%u %s %s %s %.10g %.10g %.10g %.10g %.10g %.10g %.10g 0", i,
+                    b->sphere ? "sphere" : b->part_name[b->part[i]],
+                    o->tri_mat ? o->tri_mat[i]->name : "bare", side ? "back" : "front", area, c[0],
+                    c[1], c[2], nrm[0], nrm[1], nrm[2]);
             double inet = 0, var = 0;
             int comp0 = 0;
             for (int s = 0; s < p->nsp; s++) {
@@ -105,8 +125,10 @@ static int write_triangles(const ch_output *o, const char *path, mote_err *err)
                 inet += I;
                 var += v;
             }
+            const double see = tri_see(o->res, i, side);
+            inet += see;
             const double J = inet / area, sJ = sqrt(var) / area;
-            fprintf(f, " 0 0 %.10g %.10g %.10g %.10g\n", inet, J, sJ,
+            fprintf(f, " %.10g 0 %.10g %.10g %.10g %.10g\n", see, inet, J, sJ,
                     inet != 0 ? fabs(sqrt(var) / inet) : 0);
         }
     return mote_datafile_commit(&d, err);
@@ -119,18 +141,25 @@ static int write_parts(const ch_output *o, const char *path, mote_err *err)
     const int np = b->sphere ? 1 : b->nparts;
     double *I = calloc((size_t)np * (size_t)(p->nsp + 1), sizeof *I);
     double *V = calloc((size_t)np * (size_t)(p->nsp + 1), sizeof *V);
-    double *A = calloc((size_t)np, sizeof *A);
-    if (!I || !V || !A) {
+    double *A = calloc((size_t)np, sizeof *A), *S = calloc((size_t)np, sizeof *S);
+    const char **mat = calloc((size_t)np, sizeof *mat);
+    if (!I || !V || !A || !S || !mat) {
         free(I);
         free(V);
         free(A);
+        free(S);
+        free(mat);
         return mote_fail(err, MOTE_ENOMEM, "output: out of memory");
     }
     const uint32_t n = b->sphere ? 1 : b->ntri;
     for (uint32_t i = 0; i < n; i++) {
         const int part = b->sphere ? 0 : b->part[i];
         A[part] += b->sphere ? o->geom.area : b->area[i] * nsides(b, i);
-        for (int side = 0; side < nsides(b, i); side++)
+        mat[part] = o->tri_mat ? o->tri_mat[i]->name : "bare"; /* a part has one material */
+        for (int side = 0; side < nsides(b, i); side++) {
+            const double see = tri_see(o->res, i, side);
+            S[part] += see;
+            I[part * (p->nsp + 1) + p->nsp] += see;
             for (int s = 0; s < p->nsp; s++) {
                 double v;
                 const double c = tri_current(p, o->res, s, i, side, &v);
@@ -139,6 +168,7 @@ static int write_parts(const ch_output *o, const char *path, mote_err *err)
                 I[part * (p->nsp + 1) + p->nsp] += c;
                 V[part * (p->nsp + 1) + p->nsp] += v;
             }
+        }
     }
     mote_datafile d;
     int rc = mote_datafile_open(&d, path, "charging-parts", o->origin, o->seed, err);
@@ -148,11 +178,15 @@ static int write_parts(const ch_output *o, const char *path, mote_err *err)
         fprintf(f, "# columns: part material area_m2");
         for (int s = 0; s < p->nsp; s++)
             fprintf(f, " I_%s_A sigma_%s_A", p->sp[s].name, p->sp[s].name);
-        fprintf(f, " I_net_A sigma_net_A J_net_A_m2\n");
+        fprintf(f, " I_see_A I_net_A sigma_net_A J_net_A_m2\n");
         for (int k = 0; k < np; k++) {
-            fprintf(f, "%s bare %.10g", b->sphere ? "sphere" : b->part_name[k], A[k]);
-            for (int s = 0; s <= p->nsp; s++)
+            fprintf(f, "%s %s %.10g", b->sphere ? "sphere" : b->part_name[k],
+                    mat[k] ? mat[k] : "bare", A[k]);
+            for (int s = 0; s < p->nsp; s++)
                 fprintf(f, " %.10g %.10g", I[k * (p->nsp + 1) + s], sqrt(V[k * (p->nsp + 1) + s]));
+            fprintf(f, " %.10g", S[k]);
+            fprintf(f, " %.10g %.10g", I[k * (p->nsp + 1) + p->nsp],
+                    sqrt(V[k * (p->nsp + 1) + p->nsp]));
             fprintf(f, " %.10g\n", A[k] > 0 ? I[k * (p->nsp + 1) + p->nsp] / A[k] : 0);
         }
         rc = mote_datafile_commit(&d, err);
@@ -160,17 +194,12 @@ static int write_parts(const ch_output *o, const char *path, mote_err *err)
     free(I);
     free(V);
     free(A);
+    free(S);
+    free(mat);
     return rc;
 }
 
-/* J of triangle i, side side (all species), in A/m^2. */
-static double tri_j(const ch_output *o, uint32_t i, int side)
-{
-    double J = 0, v;
-    for (int s = 0; s < o->plasma->nsp; s++)
-        J += tri_current(o->plasma, o->res, s, i, side, &v);
-    return J / o->body->area[i];
-}
+
 
 static int write_vtk(const ch_output *o, const char *path, mote_err *err)
 {
@@ -222,6 +251,11 @@ static int write_vtk(const ch_output *o, const char *path, mote_err *err)
             fprintf(f, "%.10g\n", J / b->area[i]);
         }
     }
+    if (o->res->tri_see) { /* the secondaries leaving, both sides (A/m^2, > 0) */
+        fprintf(f, "SCALARS J_see double 1\nLOOKUP_TABLE default\n");
+        for (uint32_t i = 0; i < b->ntri; i++)
+            fprintf(f, "%.10g\n", (tri_see(o->res, i, 0) + tri_see(o->res, i, 1)) / b->area[i]);
+    }
     fprintf(f, "SCALARS hits_total double 1\nLOOKUP_TABLE default\n");
     for (uint32_t i = 0; i < b->ntri; i++)
         fprintf(f, "%llu\n", (unsigned long long)(tri_hits(o->res, 0, o->res->ncomp, i, 0) +
@@ -241,13 +275,18 @@ static int write_summary(const ch_output *o, const char *path, int json, mote_er
     if (rc)
         return rc;
     FILE *f = af.f;
-    double inet = 0, var = 0;
+    double inet = 0, var = 0, see[MOTE_CH_MAX_SPECIES] = {0}, see_var[MOTE_CH_MAX_SPECIES] = {0};
     uint64_t hits = 0;
     for (int s = 0; s < p->nsp; s++) {
         inet += o->res->current[s];
         var += o->res->sigma[s] * o->res->sigma[s];
-        for (int k = 0; k < p->sp[s].ncomp; k++)
+        for (int k = 0; k < p->sp[s].ncomp; k++) { /* the secondaries a species knocks out */
             hits += o->res->hits[s][k];
+            see[s] += o->res->see[s][k];
+            see_var[s] += o->res->see_sigma[s][k] * o->res->see_sigma[s][k];
+        }
+        inet += see[s];
+        var += see_var[s];
     }
     const double hitf = (double)hits / ((double)o->res->ncomp * (double)o->res->histories);
     if (json) {
@@ -258,8 +297,10 @@ static int write_summary(const ch_output *o, const char *path, int json, mote_er
                 o->mode, (unsigned long long)o->seed, o->potential,
                 (unsigned long long)o->res->histories, g->area, g->r_eq, g->r_bound, o->r_gen, g->capacitance, mote_ch_debye(p));
         for (int s = 0; s < p->nsp; s++) {
-            fprintf(f, "%s{\"name\":\"%s\",\"I_A\":%.10g,\"sigma_A\":%.10g,\"components\":[",
-                    s ? "," : "", p->sp[s].name, o->res->current[s], o->res->sigma[s]);
+            fprintf(f, "%s{\"name\":\"%s\",\"I_A\":%.10g,\"sigma_A\":%.10g,\"I_see_A\":%.10g,"
+                       "\"sigma_see_A\":%.10g,\"components\":[",
+                    s ? "," : "", p->sp[s].name, o->res->current[s], o->res->sigma[s], see[s],
+                    sqrt(see_var[s]));
             for (int k = 0; k < p->sp[s].ncomp; k++)
                 fprintf(f, "%s{\"n_m3\":%.10g,\"kT_eV\":%.10g,\"I_A\":%.10g,\"hits\":%llu}",
                         k ? "," : "", p->sp[s].n[k], p->sp[s].kT[k],
@@ -296,8 +337,12 @@ static int write_summary(const ch_output *o, const char *path, int json, mote_er
                 fprintf(f, "       component %d (n %.4g m^-3, kT %.6g eV): %.10g A\n", k + 1,
                         p->sp[s].n[k], p->sp[s].kT[k],
                         o->res->weight[s][k] * (double)o->res->hits[s][k]);
+            if (see[s] != 0)
+                fprintf(f, "       secondary electrons it knocks out: +%.10g A +- %.3g\n", see[s],
+                        sqrt(see_var[s]));
         }
-        fprintf(f, "  net  %.10g A +- %.3g\n\n", inet, sqrt(var));
+        fprintf(f, "  net  %.10g A +- %.3g%s\n\n", inet, sqrt(var),
+                o->tri_mat ? " (with the secondaries)" : "");
         fprintf(f, "charging with these currents held constant (the thesis's model): dU/dt = "
                    "I / C = %.10g V/s\n", inet / g->capacitance);
         fprintf(f, "hit fraction %.6g, back-face hits %llu, %.4g traces/s on %d thread%s\n", hitf,

@@ -72,3 +72,33 @@ double mote_ch_oml(double A, double U, double n, double kT, double m, int Z)
     const double I0 = Z * MOTE_CH_E * A * n * sqrt(kT * MOTE_CH_E / (2 * MOTE_CH_PI * m));
     return I0 * (x >= 0 ? exp(-x) : 1 - x);
 }
+
+int mote_ch_material_preset(const char *name, mote_ch_material *m)
+{
+    /* spec 6.9: indicative values as in NASCAP-type material tables (the spec's test values) */
+    static const struct {
+        const char *name;
+        double dmax, emax, jph;
+    } T[] = {{"bare", 0, 1, 0},          {"aluminium", 0.97, 0.30, 4.0e-5},
+             {"gold", 0.88, 0.80, 2.9e-5}, {"kapton", 2.1, 0.15, 2.0e-5},
+             {"teflon", 3.0, 0.30, 2.0e-5}, {"cover-glass", 2.4, 0.40, 2.0e-5}};
+    for (size_t k = 0; k < sizeof T / sizeof T[0]; k++)
+        if (strcmp(T[k].name, name) == 0) {
+            memset(m, 0, sizeof *m);
+            snprintf(m->name, sizeof m->name, "%s", name);
+            m->see_dmax = T[k].dmax;
+            m->see_emax = T[k].emax;
+            m->photo_j = T[k].jph;
+            m->kT_s = 2;
+            return 0;
+        }
+    return -1;
+}
+
+double mote_ch_see_yield(const mote_ch_material *m, double E_keV)
+{
+    if (!(m->see_dmax > 0) || !(E_keV > 0))
+        return 0;
+    const double x = E_keV / m->see_emax, K = 1 / (1 - exp(-2.28));
+    return m->see_dmax * K * pow(x, -0.35) * (1 - exp(-2.28 * pow(x, 1.35)));
+}
