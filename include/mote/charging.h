@@ -110,6 +110,9 @@ void mote_ch_tracer_free(mote_ch_tracer *t);
 /* The first triangle the ray org + s dir (s > tmin) meets, or -1; *side 0 front, 1 back; *s. */
 long mote_ch_trace(const mote_ch_tracer *t, const double org[3], const double dir[3], double tmin,
                    int *side, double *s);
+/* The same for the segment tmin < s <= tmax. */
+long mote_ch_trace_seg(const mote_ch_tracer *t, const double org[3], const double dir[3],
+                       double tmin, double tmax, int *side, double *s);
 
 /* Counter-based Philox4x32-10 (Salmon et al. 2011): 4 words from a 128-bit counter and a
  * 64-bit key; every history has its own stream (spec 5.7). */
@@ -137,11 +140,14 @@ typedef struct {
     double r_gen;          /* injection radius (m) */
     int threads;
     /* the charged body (spec 6.1-6.3): the potential U (V) of the body and, with field = 1, the
-     * Coulomb field of the equivalent sphere (R_f = the exact sphere's radius); field = 0 keeps
-     * straight paths whatever U (faithful mode). Meshes with the field need curved paths, which
-     * this version does not have. */
+     * Coulomb field of the equivalent sphere (R_f: the exact sphere's radius, or the mesh's
+     * R_eq); field = 0 keeps straight paths whatever U (faithful mode). A mesh in the field is
+     * met by curved paths (spec 6.3): RK4 with steps dt = eta rho / |v| (eta 0 means 0.01), at
+     * most max_steps (0 means 1e5) before a history counts as lost. */
     double potential;
     int field;
+    double eta;
+    long max_steps;
     /* the box injector (spec 5.2, straight paths only): the bounding box enlarged on each side
      * by margin times its diagonal, or by margin_m metres when that is > 0 */
     int box;
@@ -172,6 +178,10 @@ typedef struct {
     double *tri_see;                  /* the same for the secondary current, A (NULL: none) */
     uint64_t backface_hits;
     double seconds, traces_per_s;
+    /* curved paths (spec 6.3): histories that ran out of steps, the steps taken, and the
+     * largest relative energy error |dE| / (K0 + |q phi_g|) of a path */
+    uint64_t lost, steps;
+    double max_energy_err;
 } mote_ch_result;
 
 int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tracer *t,

@@ -13,6 +13,29 @@ int ch_body_part(mote_ch_body *b, const char *name, mote_err *err);
 int ch_add_tri(mote_ch_body *b, const double p[3], const double q[3], const double r[3],
                const double *inside, int closed, int part, mote_err *err);
 
+/* A curved path in the field of a charged mesh (path.c, spec 6.3). */
+typedef struct {
+    const mote_ch_tracer *t;
+    double c[3];           /* the field's centre */
+    double k;              /* q U R_f / m (m^3/s^2): the acceleration is k r / |r|^3 outside */
+    double rf, R;          /* the field radius, the injection radius */
+    double eta;            /* dt = eta |r| / |v| */
+    long max_steps;
+    double overlap;        /* the chords' overlap (m), for Embree's single precision */
+    double lo[3], hi[3];   /* the body's bounding box: rays only for chords that meet it */
+} ch_path;
+
+typedef struct {
+    long tri;              /* the triangle hit, -1 out through the injection sphere, -2 lost */
+    int side;
+    double v2;             /* the speed squared at the hit (m^2/s^2) */
+    double eerr;           /* |E_end - E_0| / (K_0 + |q phi_0|) at the last integrated point */
+    long steps;
+} ch_hit;
+
+/* Follow the particle at r (from c) with velocity v (m/s). */
+void ch_path_follow(const ch_path *P, const double r[3], const double v[3], ch_hit *out);
+
 /* What the output files of spec 8 are written from (output.c). */
 typedef struct {
     const char *prefix, *origin, *mode;

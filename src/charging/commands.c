@@ -25,6 +25,8 @@ typedef struct {
     double r_gen_used;          /* the injection radius of the last run */
     int box;                    /* the box injector (spec 5.2) */
     double margin, margin_m;
+    double eta;                 /* `integrator` (spec 6.3): curved paths' step and limit */
+    long max_steps;
     /* materials (spec 6.9): the defined ones (presets are found by name) and the assignments,
      * in order (a later one wins) */
     mote_ch_material defined[32];
@@ -501,6 +503,25 @@ static double injection_radius(const ch_model *m, const mote_ch_geometry *g)
     return strtod(m->radius, NULL);
 }
 
+/* ---- integrator (spec 6.3) ---- */
+
+static int check_integrator(void *vm, const mote_call *c, mote_err *err)
+{
+    const mote_arg *n = mote_call_opt(c, "max_steps");
+    if (n && (n->r != floor(n->r) || n->r > 1e12))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "max_steps"), MOTE_EINVAL,
+                              "integrator: max_steps must be a whole number (1 ... 1e12)");
+    return MOTE_OK;
+}
+
+static int run_integrator(void *vm, const mote_call *c, mote_err *err)
+{
+    ch_model *m = vm;
+    m->eta = mote_call_opt_r(c, "eta", 0.01);
+    m->max_steps = (long)mote_call_opt_r(c, "max_steps", 1e5);
+    return MOTE_OK;
+}
+
 /* ---- materials (spec 6.7, 6.9) ----------------------------------------------------------------- */
 
 /* The material called name: a defined one, else a preset; 0 when found. */
@@ -632,6 +653,22 @@ static double species_see(const mote_ch_result *r, int s, double *var)
     return see;
 }
 
+/* The curved paths of the last run (spec 6.3): steps, losses, the energy error. */
+static void report_paths(const ch_model *m, const char *cmd)
+{
+    const mote_ch_result *r = &m->res;
+    if (!m->log || r->steps == 0)
+        return;
+    const double total = (double)r->ncomp * (double)r->histories;
+    fprintf(m->log, "%s: curved paths: %.4g steps per history, %llu lost, largest relative "
+                    "energy error %.3g\n", cmd, (double)r->steps / total,
+            (unsigned long long)r->lost, r->max_energy_err);
+    if ((double)r->lost > 1e-6 * total)
+        fprintf(m->log, "%s: warning: %llu of %.0f histories ran out of steps (more than 1e-6; "
+                        "raise integrator max_steps=)\n", cmd, (unsigned long long)r->lost,
+                total);
+}
+
 /* ---- run and evolve ------------------------------------------------------------------------- */
 
 /* The run options of a command: the seed, its particles= (default 1e6), the injector, threads. */
@@ -645,7 +682,9 @@ static mote_ch_run_opts run_opts(const ch_model *m, const mote_call *c, const mo
                           .box = m->box,
                           .margin = m->margin,
                           .margin_m = m->margin_m,
-                          .tri_material = m->tri_mat};
+                          .tri_material = m->tri_mat,
+                          .eta = m->eta,
+                          .max_steps = m->max_steps};
     return o;
 }
 
@@ -668,11 +707,6 @@ static int need_setup(ch_model *m, const mote_call *c, mote_err *err)
 static int check_run(void *vm, const mote_call *c, mote_err *err)
 {
     ch_model *m = vm;
-    const mote_arg *u = mote_call_opt(c, "potential");
-    if (u && u->r != 0 && !m->faithful && m->have_body && !m->have_sphere)
-        return mote_call_fail(err, c, mote_call_opt_index(c, "potential"), MOTE_EINVAL,
-                              "run: a charged mesh (potential != 0) needs curved paths, which "
-                              "are not in this version; the field model works on body sphere");
     const mote_arg *n = mote_call_opt(c, "particles");
     if (n && (n->r != floor(n->r) || n->r > 1e15))
         return mote_call_fail(err, c, mote_call_opt_index(c, "particles"), MOTE_EINVAL,
@@ -737,6 +771,7 @@ static int run_run(void *vm, const mote_call *c, mote_err *err)
             inet, sqrt(var), (unsigned long long)o.particles, o.r_gen,
             (double)hits / ((double)ncomp * (double)o.particles),
             (unsigned long long)m->res.backface_hits, m->res.traces_per_s);
+    report_paths(m, "run");
     return MOTE_OK;
 }
 
@@ -746,9 +781,6 @@ static int check_float(void *vm, const mote_call *c, mote_err *err)
     if (m->faithful)
         return mote_call_fail(err, c, -1, MOTE_EINVAL, "float: in faithful mode the currents do "
                               "not depend on U, so no floating potential exists");
-    if (m->have_body && !m->have_sphere)
-        return mote_call_fail(err, c, -1, MOTE_EINVAL, "float: a charged mesh needs curved paths, "
-                              "which are not in this version; use body sphere");
     const mote_arg *n = mote_call_opt(c, "particles");
     if (n && (n->r != floor(n->r) || n->r > 1e15))
         return mote_call_fail(err, c, mote_call_opt_index(c, "particles"), MOTE_EINVAL,
@@ -799,6 +831,7 @@ static int run_float(void *vm, const mote_call *c, mote_err *err)
                 fprintf(m->log, "; secondaries it knocks out: %+.6g A +- %.3g", see, sqrt(see_v));
             fputc('\n', m->log);
         }
+        report_paths(m, "float");
     }
     return MOTE_OK;
 }
@@ -807,10 +840,6 @@ static int check_evolve(void *vm, const mote_call *c, mote_err *err)
 {
     ch_model *m = vm;
     if (!m->faithful) {
-        if (m->have_body && !m->have_sphere)
-            return mote_call_fail(err, c, -1, MOTE_EINVAL, "evolve: a charged mesh needs curved "
-                                  "paths, which are not in this version; use body sphere, or "
-                                  "model charging faithful for constant currents");
         int rc = need_setup(m, c, err);
         if (rc)
             return rc;
@@ -1129,15 +1158,18 @@ static const char HELP_RUN[] =
     "current of each species with its standard error |w| sqrt(h (1 - h/N)), the\n"
     "hit fraction and back-face hits. Random numbers are Philox4x32-10 keyed by\n"
     "`seed`, one stream per history, so the tallies do not depend on `threads`.\n"
-    "potential=U (V) charges the body: on the exact sphere (body sphere) the\n"
-    "histories move in its Coulomb field and hit by the OML test (see `float`);\n"
-    "charged meshes need curved paths, which are not in this version. In faithful\n"
-    "mode the field is off and U changes nothing.\n";
+    "potential=U (V) charges the body: the histories move in the Coulomb field of\n"
+    "the equivalent sphere (spec 6.1; radius R_eq, or the exact sphere's), injected\n"
+    "exactly (spec 6.2). On the exact sphere they hit by the OML test (see\n"
+    "`float`); on a mesh each path is integrated (spec 6.3, see `integrator`) and\n"
+    "its chords traced, and run prints the steps per history, the histories lost\n"
+    "and the largest relative energy error. In faithful mode the field is off and\n"
+    "U changes nothing.\n";
 
 static const char HELP_EVOLVE[] =
     "    evolve time=T [dt_out=D] [file=FILE]\n"
     "\n"
-    "Full mode (the charged exact sphere): C dU/dt = I_net(U) from U0 (default\n"
+    "Full mode (the charged body): C dU/dt = I_net(U) from U0 (default\n"
     "0 V). The net current is tabulated by runs of N histories per component\n"
     "(default 1e6, common random numbers) on an adaptive grid of potentials (spec\n"
     "6.6), interpolated monotonically, and t(U) = C integral dU / I_net(U) is\n"
@@ -1154,17 +1186,30 @@ static const char HELP_FLOAT[] =
     "    float [particles=1e6] [tolerance=1e-4]\n"
     "\n"
     "The floating potential U_f, where the net collected current is zero (spec\n"
-    "6.5), of the charged exact sphere (body sphere) in its Coulomb field (spec\n"
+    "6.5), of the charged body in the Coulomb field of its equivalent sphere (spec\n"
     "6.1): every history starts with the exact injection of spec 6.2 (the rate\n"
     "times exp(-chi) or 1 - chi, the energy law of the repelled or attracted\n"
-    "component) and hits when it passes the OML test E - qU >= L^2/(2 m a^2). Each\n"
+    "component) and, on the exact sphere, hits when it passes the OML test\n"
+    "E - qU >= L^2/(2 m a^2); on a mesh its path is followed (see `integrator`). Each\n"
     "I(U) is a run with the same seed and histories (common random numbers); the\n"
     "root is bracketed from the analytic OML root of the equivalent sphere and\n"
     "refined until the bracket is below max(0.1 sigma_U, tolerance |U|). Prints U_f\n"
     "with sigma_U = sigma_I / |dI/dU|, the analytic estimate, and each species'\n"
-    "current at U_f. Charged meshes need curved paths, which are not in this\n"
-    "version; faithful mode has no floating potential (its currents do not depend\n"
-    "on U).\n";
+    "current at U_f. Faithful mode has no floating potential (its currents do not\n"
+    "depend on U).\n";
+
+static const char HELP_INTEGRATOR[] =
+    "    integrator [eta=0.01] [max_steps=1e5]\n"
+    "\n"
+    "Curved paths on a charged mesh (spec 6.3): outside the equivalent sphere\n"
+    "(radius R_f = R_eq about the body's centre c) a particle accelerates by\n"
+    "q U R_f (r - c) / (m |r - c|^3), inside it moves straight. Each path is\n"
+    "integrated by the classical fourth-order Runge-Kutta method with steps\n"
+    "dt = eta |r - c| / |v|, a step entering R_f being cut where it meets the\n"
+    "sphere; each step's chord is traced against the mesh, and the nearest hit\n"
+    "ends the history. A path leaving the injection sphere outward is gone; one\n"
+    "still going after max_steps steps is counted as lost (run warns when more\n"
+    "than 1e-6 of the histories are). The impact energy is K = E - q phi(x_hit).\n";
 
 static const char HELP_MATERIAL[] =
     "    material assign part=NAME|* material=NAME\n"
@@ -1223,6 +1268,9 @@ static const mote_cmd ch_commands[] = {
     {"injector", NULL, "s radius=s margin=r>0 margin_m=r>0",
      "injector sphere|box [options]",
      "where histories start", HELP_INJECTOR, check_injector, run_injector},
+    {"integrator", NULL, "eta=r(0,1) max_steps=r>=1", "integrator [eta=0.01] [max_steps=1e5]",
+     "the curved paths' step and limit (spec 6.3)", HELP_INTEGRATOR, check_integrator,
+     run_integrator},
     {"run", NULL, "particles=r>=1 potential=r", "run [particles=N] [potential=0]",
      "Monte Carlo currents to the uncharged body", HELP_RUN, check_run, run_run},
     {"float", NULL, "particles=r>=1 tolerance=r(0,0.1]", "float [particles=N] [tolerance=1e-4]",

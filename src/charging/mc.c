@@ -7,7 +7,7 @@
  * depend on the speed, so none is drawn. Random numbers are Philox4x32-10 keyed by the seed with
  * the counter (history, component, draw): every history has its own stream, so the tallies
  * (integers) are the same for any number of threads. */
-#include "mote/charging.h"
+#include "ch.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -176,13 +176,35 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
         return mote_fail(err, MOTE_EINVAL, "run: the injection radius %.6g m must exceed the "
                          "body's bounding radius %.6g m", R, g.r_bound);
     const int field = o->field && o->potential != 0;
-    if (field && !b->sphere)
-        return mote_fail(err, MOTE_EINVAL, "run: a charged mesh needs curved paths, which are not "
-                         "in this version; the field model works on the exact sphere (body "
-                         "sphere) or with field none");
+    /* a charged mesh: curved paths (spec 6.3) */
+    const int curved = field && !b->sphere;
+    if (curved && !(o->eta >= 0 && o->eta < 1))
+        return mote_fail(err, MOTE_EINVAL, "run: eta must be in (0, 1), found %g", o->eta);
     const uint32_t ntri = b->sphere ? 1 : b->ntri;
-    /* the field (spec 6.1, 6.2): the potential on the generation sphere */
-    const double a_f = b->sphere ? b->sphere_r : 0, phi_g = field ? o->potential * a_f / R : 0;
+    /* the field (spec 6.1, 6.2): the equivalent sphere's radius, the potential on the
+     * generation sphere */
+    const double a_f = b->sphere ? b->sphere_r : g.r_eq, phi_g = field ? o->potential * a_f / R : 0;
+    if (curved && !(R > a_f))
+        return mote_fail(err, MOTE_EINVAL, "run: the injection radius %.6g m must exceed the "
+                         "field radius R_eq = %.6g m", R, a_f);
+    ch_path path = {.t = t,
+                    .rf = a_f,
+                    .R = R,
+                    .eta = o->eta > 0 ? o->eta : 0.01,
+                    .max_steps = o->max_steps > 0 ? o->max_steps : 100000,
+                    .overlap = 1e-6 * (g.r_bound + fabs(g.centre[0]) + fabs(g.centre[1]) +
+                                       fabs(g.centre[2]))};
+    for (int a = 0; a < 3; a++) {
+        path.c[a] = g.centre[a];
+        path.lo[a] = INFINITY;
+        path.hi[a] = -INFINITY;
+    }
+    for (uint32_t i = 0; curved && i < b->ntri; i++)
+        for (int j = 0; j < 3; j++)
+            for (int a = 0; a < 3; a++) {
+                path.lo[a] = fmin(path.lo[a], b->v[i][j][a] - 4 * path.overlap);
+                path.hi[a] = fmax(path.hi[a], b->v[i][j][a] + 4 * path.overlap);
+            }
     r->nsp = p->nsp;
     r->ntri = ntri;
     r->histories = o->particles;
@@ -219,7 +241,11 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
             const double ra2 = field ? (R / a_f) * (R / a_f) : 0;
             r->weight[s][k] = sp->Z * MOTE_CH_E * gamma / (double)o->particles;
             const uint64_t nblocks = (o->particles + BLOCK - 1) / BLOCK;
-            uint64_t hits = 0, back = 0;
+            uint64_t hits = 0, back = 0, lost = 0, steps = 0;
+            double eerr = 0;
+            ch_path pk = path; /* this component's charge to mass */
+            pk.k = sp->Z * MOTE_CH_E * o->potential * a_f / sp->m;
+            const double vscale = sqrt(2 * sp->kT[k] * MOTE_CH_E / sp->m); /* K = 1 kT */
             /* secondary emission by electron impacts (spec 6.7): each hit scores the expected
              * yield times the escape fraction; sums per block, added in block order (the same
              * bits on any number of threads) */
@@ -248,7 +274,8 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                 return mote_fail(err, MOTE_ENOMEM, "run: out of memory for %d threads' tallies",
                                  nt);
             }
-#pragma omp parallel num_threads(nt) if (nt > 1) reduction(+ : hits, back)
+#pragma omp parallel num_threads(nt) if (nt > 1) reduction(+ : hits, back, lost, steps)          \
+    reduction(max : eerr)
             {
 #ifdef _OPENMP
                 const int tid = omp_get_thread_num();
@@ -280,7 +307,7 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                     for (uint64_t h = blk * BLOCK; h < h1; h++) {
                         double u[4];
                         uniforms4(key, h, (uint32_t)comp, 0, u);
-                        if (field) { /* the exact sphere in its own field: the OML test */
+                        if (field) { /* the kinetic energy at injection (spec 6.2) */
                             double e[4];
                             uniforms4(key, h, (uint32_t)comp, 1, e);
                             double K = -log(e[0] * e[1]); /* Gamma(2, 1): K / kT */
@@ -288,6 +315,34 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                                 if (e[2] >= 1 / (1 - chi))
                                     K = -log(e[0]);
                                 K += -chi;
+                            }
+                            if (curved) { /* a mesh: follow the path (spec 6.3) */
+                                const double z = 2 * u[0] - 1, rho = sqrt(fmax(0, 1 - z * z));
+                                const double ph = 2 * MOTE_CH_PI * u[1];
+                                const double nrm[3] = {rho * cos(ph), rho * sin(ph), z};
+                                const double ct = sqrt(u[2]), st = sqrt(fmax(0, 1 - u[2]));
+                                const double ps = 2 * MOTE_CH_PI * u[3], speed = vscale * sqrt(K);
+                                double e1[3], e2[3], r0[3], v0[3];
+                                perp_basis(nrm, e1, e2);
+                                for (int a = 0; a < 3; a++) {
+                                    r0[a] = R * nrm[a];
+                                    v0[a] = speed * (-ct * nrm[a] +
+                                                     st * (cos(ps) * e1[a] + sin(ps) * e2[a]));
+                                }
+                                ch_hit hit;
+                                ch_path_follow(&pk, r0, v0, &hit);
+                                steps += (uint64_t)hit.steps;
+                                eerr = fmax(eerr, hit.eerr);
+                                if (hit.tri == -2)
+                                    lost++;
+                                if (hit.tri < 0)
+                                    continue;
+                                hits++;
+                                if (hit.side && b->closed[hit.tri])
+                                    back++;
+                                mine[2 * (size_t)hit.tri + (size_t)hit.side]++;
+                                SEE_SCORE(hit.tri, hit.side, 0.5 * sp->m * hit.v2 / MOTE_CH_E);
+                                continue;
                             }
                             /* sin^2(theta) = 1 - u2 by the cosine law */
                             if (K + dq >= K * (1 - u[2]) * ra2) {
@@ -432,6 +487,9 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
             free(priv);
             r->hits[s][k] = hits;
             r->backface_hits += back;
+            r->lost += lost;
+            r->steps += steps;
+            r->max_energy_err = fmax(r->max_energy_err, eerr);
         }
     clock_gettime(CLOCK_MONOTONIC, &t1);
     r->seconds = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);

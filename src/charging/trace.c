@@ -114,9 +114,17 @@ static long trace_sphere(const mote_ch_body *b, const double o[3], const double 
 long mote_ch_trace(const mote_ch_tracer *t, const double org[3], const double dir[3], double tmin,
                    int *side, double *s)
 {
+    return mote_ch_trace_seg(t, org, dir, tmin, INFINITY, side, s);
+}
+
+long mote_ch_trace_seg(const mote_ch_tracer *t, const double org[3], const double dir[3],
+                       double tmin, double tmax, int *side, double *s)
+{
     const mote_ch_body *b = t->body;
-    if (b->sphere)
-        return trace_sphere(b, org, dir, tmin, side, s);
+    if (b->sphere) {
+        const long k = trace_sphere(b, org, dir, tmin, side, s);
+        return k >= 0 && *s <= tmax ? k : -1;
+    }
     struct RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     struct RTCRayHit rh;
@@ -127,7 +135,7 @@ long mote_ch_trace(const mote_ch_tracer *t, const double org[3], const double di
     rh.ray.dir_y = (float)dir[1];
     rh.ray.dir_z = (float)dir[2];
     rh.ray.tnear = (float)tmin;
-    rh.ray.tfar = INFINITY;
+    rh.ray.tfar = (float)tmax;
     rh.ray.time = 0;
     rh.ray.mask = 0xFFFFFFFFu;
     rh.ray.id = 0;

@@ -1,0 +1,169 @@
+/* path.c: curved paths in the field of a charged mesh (spec 6.1, 6.3). Outside the equivalent
+ * sphere of radius R_f about the centre c the potential is U R_f / |r - c|, so a particle of
+ * charge q and mass m accelerates by k r / |r|^3 with k = q U R_f / m (r from c); inside it
+ * moves straight. The path is integrated by the classical fourth-order Runge-Kutta method with
+ * steps dt = eta |r| / max(|v|, sqrt(|k| / |r|)) (the spec's eta |r| / |v|, with the free-fall
+ * speed as a floor so that a particle turning back takes small steps); each step's chord is traced against the mesh (the nearest hit ends
+ * the history). A step that would end inside R_f is cut where it meets the sphere (a few
+ * regula falsi iterations on the step length), so no step straddles the kink of the field, and
+ * the straight part inside ends exactly on the sphere again. */
+#include "ch.h"
+
+#include <math.h>
+
+static double dot3(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static void accel(double k, const double r[3], double a[3])
+{
+    const double r2 = dot3(r, r), f = k / (r2 * sqrt(r2));
+    for (int i = 0; i < 3; i++)
+        a[i] = f * r[i];
+}
+
+/* One RK4 step of r'' = k r / |r|^3 (the exterior field everywhere: smooth). */
+static void rk4(double k, const double r[3], const double v[3], double dt, double r1[3],
+                double v1[3])
+{
+    double a1[3], a2[3], a3[3], a4[3], x[3], v2[3], v3[3], v4[3];
+    accel(k, r, a1);
+    for (int i = 0; i < 3; i++) {
+        x[i] = r[i] + 0.5 * dt * v[i];
+        v2[i] = v[i] + 0.5 * dt * a1[i];
+    }
+    accel(k, x, a2);
+    for (int i = 0; i < 3; i++) {
+        x[i] = r[i] + 0.5 * dt * v2[i];
+        v3[i] = v[i] + 0.5 * dt * a2[i];
+    }
+    accel(k, x, a3);
+    for (int i = 0; i < 3; i++) {
+        x[i] = r[i] + dt * v3[i];
+        v4[i] = v[i] + dt * a3[i];
+    }
+    accel(k, x, a4);
+    for (int i = 0; i < 3; i++) {
+        r1[i] = r[i] + dt / 6 * (v[i] + 2 * v2[i] + 2 * v3[i] + v4[i]);
+        v1[i] = v[i] + dt / 6 * (a1[i] + 2 * a2[i] + 2 * a3[i] + a4[i]);
+    }
+}
+
+/* Whether the segment from a to b (absolute) can meet the box lo..hi. */
+static int seg_meets_box(const double a[3], const double b[3], const double lo[3],
+                         const double hi[3])
+{
+    for (int i = 0; i < 3; i++)
+        if (fmax(a[i], b[i]) < lo[i] || fmin(a[i], b[i]) > hi[i])
+            return 0;
+    return 1;
+}
+
+/* Trace the chord from c + r0 to c + r1; the hit's triangle (and *side, the hit point in x) or
+ * -1. */
+static long chord(const ch_path *P, const double r0[3], const double r1[3], int *side,
+                  double x[3])
+{
+    double a[3], b[3], d[3], len = 0;
+    for (int i = 0; i < 3; i++) {
+        a[i] = P->c[i] + r0[i];
+        b[i] = P->c[i] + r1[i];
+        d[i] = b[i] - a[i];
+        len += d[i] * d[i];
+    }
+    len = sqrt(len);
+    if (!(len > 0) || !seg_meets_box(a, b, P->lo, P->hi))
+        return -1;
+    /* chords overlap by P->overlap at both ends: Embree's rays are in single precision, and a
+     * surface crossed at a joint must not fall between two chords (a hit ends the history, so
+     * no surface behind the start can have been crossed already) */
+    for (int i = 0; i < 3; i++) {
+        d[i] /= len;
+        a[i] -= P->overlap * d[i];
+    }
+    double s;
+    const long tri = mote_ch_trace_seg(P->t, a, d, 0, len + 2 * P->overlap, side, &s);
+    if (tri >= 0)
+        for (int i = 0; i < 3; i++)
+            x[i] = a[i] + s * d[i] - P->c[i];
+    return tri;
+}
+
+/* Specific energy (J/kg): kinetic plus the potential's q phi / m. */
+static double energy(const ch_path *P, const double r[3], const double v[3])
+{
+    const double rho = sqrt(dot3(r, r));
+    return 0.5 * dot3(v, v) + P->k / fmax(rho, P->rf);
+}
+
+void ch_path_follow(const ch_path *P, const double r_in[3], const double v_in[3], ch_hit *out)
+{
+    double r[3] = {r_in[0], r_in[1], r_in[2]}, v[3] = {v_in[0], v_in[1], v_in[2]};
+    const double e0 = energy(P, r, v), scale = 0.5 * dot3(v, v) + fabs(P->k) / sqrt(dot3(r, r));
+    const double rf2 = P->rf * P->rf, R2 = P->R * P->R;
+    out->tri = -1;
+    out->side = 0;
+    out->v2 = 0;
+    out->steps = 0;
+    double x[3];
+    for (long n = 0; n < P->max_steps; n++) {
+        out->steps = n + 1;
+        const double rho2 = dot3(r, r);
+        double r1[3], v1[3];
+        if (rho2 <= rf2 * (1 + 1e-12) && dot3(r, v) < 0) { /* into R_f: straight across */
+            const double sp = sqrt(dot3(v, v)), b = dot3(r, v) / sp;
+            const double s = -b + sqrt(fmax(0, b * b - (rho2 - rf2)));
+            const double rr = sqrt(dot3(r, r) + 2 * s * b + s * s);
+            for (int i = 0; i < 3; i++)
+                r1[i] = (r[i] + s * v[i] / sp) * (P->rf / rr);
+            for (int i = 0; i < 3; i++)
+                v1[i] = v[i];
+        } else {
+            /* dt = eta rho / |v|, bounded by eta times the time to fall rho from rest where
+             * the particle is slow (a repelled one turning back) */
+            const double rho = sqrt(rho2);
+            const double dt = P->eta * rho / fmax(sqrt(dot3(v, v)), sqrt(fabs(P->k) / rho));
+            rk4(P->k, r, v, dt, r1, v1);
+            double f1 = dot3(r1, r1) - rf2;
+            if (f1 < 0) { /* the step enters R_f: cut it where it meets the sphere (Illinois) */
+                double ta = 0, fa = rho2 - rf2, tb = dt, fb = f1;
+                for (int it = 0; it < 60; it++) {
+                    const double tau = tb - fb * (tb - ta) / (fb - fa);
+                    rk4(P->k, r, v, tau, r1, v1);
+                    const double f = dot3(r1, r1) - rf2;
+                    if (fabs(f) <= 1e-13 * rf2)
+                        break;
+                    if ((f < 0) != (fb < 0)) {
+                        ta = tb;
+                        fa = fb;
+                    } else {
+                        fa *= 0.5;
+                    }
+                    tb = tau;
+                    fb = f;
+                }
+                const double rr = sqrt(dot3(r1, r1));
+                for (int i = 0; i < 3; i++)
+                    r1[i] *= P->rf / rr;
+            }
+        }
+        const long tri = chord(P, r, r1, &out->side, x);
+        if (tri >= 0) { /* the speed at the hit from the energy (spec 6.7: phi(x_hit)) */
+            out->tri = tri;
+            out->v2 = fmax(0, 2 * (e0 - P->k / fmax(sqrt(dot3(x, x)), P->rf)));
+            out->eerr = scale > 0 ? fabs(energy(P, r, v) - e0) / scale : 0;
+            return;
+        }
+        for (int i = 0; i < 3; i++) {
+            r[i] = r1[i];
+            v[i] = v1[i];
+        }
+        if (dot3(r, r) > R2 && dot3(r, v) > 0) { /* out through the injection sphere: gone */
+            out->eerr = scale > 0 ? fabs(energy(P, r, v) - e0) / scale : 0;
+            return;
+        }
+    }
+    out->tri = -2; /* lost */
+    out->eerr = scale > 0 ? fabs(energy(P, r, v) - e0) / scale : 0;
+}
