@@ -7,6 +7,8 @@
  *   b2near [N [T]] the same with R = 1.05 R_bound (deep traversals dominate)
  *   b2far [N [T]]  the same with R = 131.41 m (early misses dominate)
  *   mesh K [N [T]] the icosphere of level K (20 4^K triangles, K = 8: 1.3e6) from R = 3 m
+ *   b3 [N [T]]     curved paths (spec 6.3, eta = 0.01): the B1 sphere at U = -10 kV in the
+ *                  geo-worst-case plasma (four components, N histories each) from R = 3 m
  *
  * One key=value line per run: traces_per_s (per second, all threads), per_thread, the hit
  * fraction, the build time and the peak memory. Never a timed test; bench/README.md keeps the
@@ -29,8 +31,13 @@ static int bench(const char *name, mote_ch_body *b, double R, double n, int thre
 {
     mote_err err = {0};
     mote_ch_plasma p;
-    mote_ch_plasma_preset(&p, "single", 1e6, 1000, &err);
-    p.nsp = 1; /* electrons only */
+    const int curved = strcmp(name, "b3") == 0;
+    if (curved) {
+        mote_ch_plasma_preset(&p, "geo-worst-case", 0, 0, &err);
+    } else {
+        mote_ch_plasma_preset(&p, "single", 1e6, 1000, &err);
+        p.nsp = 1; /* electrons only */
+    }
     mote_ch_geometry g;
     mote_ch_body_geometry(b, &g);
     if (R <= 0)
@@ -42,7 +49,8 @@ static int bench(const char *name, mote_ch_body *b, double R, double n, int thre
         fprintf(stderr, "bench_charging: %s\n", err.msg);
         return 1;
     }
-    mote_ch_run_opts o = {.seed = 1, .particles = (uint64_t)n, .r_gen = R, .threads = threads};
+    mote_ch_run_opts o = {.seed = 1, .particles = (uint64_t)n, .r_gen = R, .threads = threads,
+                          .field = curved, .potential = curved ? -1e4 : 0, .eta = 0.01};
     mote_ch_result r;
     int rc = mote_ch_run(&p, b, t, &o, &r, &err);
     if (rc) {
@@ -50,11 +58,20 @@ static int bench(const char *name, mote_ch_body *b, double R, double n, int thre
         mote_ch_tracer_free(t);
         return 1;
     }
+    uint64_t hits = 0;
+    for (int s = 0; s < p.nsp; s++)
+        for (int k = 0; k < p.sp[s].ncomp; k++)
+            hits += r.hits[s][k];
     printf("workload=%s triangles=%u R_gen=%g histories=%.0f threads=%d seconds=%.3f "
            "traces_per_s=%.4g per_thread=%.4g hit_fraction=%.5f build_seconds=%.3f "
-           "peak_rss_mb=%.1f\n",
-           name, b->ntri, R, n, threads, r.seconds, r.traces_per_s, r.traces_per_s / threads,
-           (double)r.hits[0][0] / n, build, (double)mote_peak_rss_bytes() / 1048576.0);
+           "peak_rss_mb=%.1f",
+           name, b->ntri, R, n * r.ncomp, threads, r.seconds, r.traces_per_s,
+           r.traces_per_s / threads, (double)hits / (n * r.ncomp), build,
+           (double)mote_peak_rss_bytes() / 1048576.0);
+    if (curved)
+        printf(" steps_per_history=%.2f lost=%llu max_energy_err=%.3g",
+               (double)r.steps / (n * r.ncomp), (unsigned long long)r.lost, r.max_energy_err);
+    putchar('\n');
     mote_ch_result_free(&r);
     mote_ch_tracer_free(t);
     return 0;
@@ -78,14 +95,14 @@ int main(int argc, char **argv)
         R = 3;
     } else {
         mote_ch_body_uvsphere(&b, 1, 100, 50, &err);
-        if (strcmp(w, "b1") == 0)
+        if (strcmp(w, "b1") == 0 || strcmp(w, "b3") == 0)
             R = 3;
         else if (strcmp(w, "b2near") == 0)
             R = 0; /* 1.05 R_bound */
         else if (strcmp(w, "b2far") == 0)
             R = 131.41;
         else {
-            fprintf(stderr, "usage: bench_charging [b1|b2near|b2far [N [THREADS]] | mesh K [N "
+            fprintf(stderr, "usage: bench_charging [b1|b2near|b2far|b3 [N [THREADS]] | mesh K [N "
                             "[THREADS]]]\n");
             return 2;
         }

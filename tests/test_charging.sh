@@ -31,10 +31,16 @@ expect 1 "b4.mote:2:6: error: body box: give size=SX,SY,SZ (three lengths > 0, m
 expect 1 "b5.mote:2:15: error: body box: give size=SX,SY,SZ (three lengths > 0, m)" b5.mote "${G}body box size=1,nan,1\n"
 expect 1 "b6.mote:3:1: error: run: there is no body yet" b6.mote "${G}plasma preset thesis-hot\nrun\n"
 expect 1 "b7.mote:3:1: error: run: there is no plasma yet (plasma preset ..., or species and maxwellian)" b7.mote "${G}body sphere radius=1\nrun\n"
-expect 1 "b8.mote:4:1: error: evolve: a charged mesh needs curved paths" b8.mote "${G}plasma preset thesis-hot\nbody icosphere radius=1\nevolve time=1\n"
-expect 1 "b9.mote:4:15: error: run: a charged mesh (potential != 0) needs curved paths" b9.mote "${G}plasma preset thesis-hot\nbody icosphere radius=1\nrun potential=-100\n"
+# a charged mesh (spec 6.3): curved paths; float on a level-3 icosphere in the single 1 keV
+# plasma lands within 1% of the OML root -2503.9 V, with nothing lost and energy kept to 1e-6
+printf '%bplasma preset single n=1e6 kT=1000\nbody icosphere radius=1 level=3\nintegrator eta=0.01 max_steps=1e5\nfloat particles=1e5\n' "$G" > fm.mote
+"$MOTE" run fm.mote > out.txt 2> err.txt && awk '/^float: U_f/ { u = $4 } /^float: curved paths/ { lost = $8; e = $14 }
+     END { d = u / -2503.9 - 1; exit !(d * d < 1e-4 && lost == 0 && e < 1e-6) }' out.txt && ok || bad "float on a mesh: $(grep '^float' out.txt) $(cat err.txt)"
+printf '%bplasma preset single n=1e6 kT=1000\nbody icosphere radius=1 level=2\nintegrator max_steps=2\nrun particles=1000 potential=-3000\n' "$G" > ms.mote
+"$MOTE" run ms.mote > out.txt 2> err.txt && grep -q '^run: warning: [1-9][0-9]* of 2000 histories ran out of steps' out.txt && ok || bad "max_steps=2: $(grep '^run:' out.txt) $(cat err.txt)"
+expect 1 "b8.mote:2:16: error: integrator: eta must be" b8.mote "${G}integrator eta=2\n"
+expect 1 "b9.mote:2:22: error: integrator: max_steps must be a whole number" b9.mote "${G}integrator max_steps=1.5\n"
 expect 1 "b9b.mote:4:1: error: float: in faithful mode the currents do not depend on U" b9b.mote "${F}body sphere radius=1\nrun particles=10\nfloat\n"
-expect 1 "b9c.mote:4:1: error: float: a charged mesh needs curved paths" b9c.mote "${G}plasma preset thesis-hot\nbody icosphere radius=1\nfloat\n"
 printf '%bplasma preset single n=1e6 kT=1000\nbody sphere radius=1\nfloat particles=1e5\n' "$G" > fl.mote
 "$MOTE" run fl.mote > out.txt 2> err.txt && awk '/^float: U_f/ { u = $4 } END { d = u / -2503.9 - 1; exit !(d * d < 1e-4) }' out.txt && ok || bad "float (single, 1 keV): $(grep U_f out.txt) $(cat err.txt)"
 expect 1 "b10.mote:2:24: error: injector sphere: radius must be auto, debye, thesis or a length > 0 (m), found 'big'" b10.mote "${G}injector sphere radius=big\n"

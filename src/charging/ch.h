@@ -19,6 +19,7 @@ typedef struct {
     double c[3];           /* the field's centre */
     double k;              /* q U R_f / m (m^3/s^2): the acceleration is k r / |r|^3 outside */
     double rf, R;          /* the field radius, the injection radius */
+    double rj;             /* beyond it, conics in closed form (0: integrate all the way) */
     double eta;            /* dt = eta |r| / |v| */
     long max_steps;
     double overlap;        /* the chords' overlap (m), for Embree's single precision */

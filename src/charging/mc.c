@@ -190,6 +190,7 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
     ch_path path = {.t = t,
                     .rf = a_f,
                     .R = R,
+                    .rj = fmax(g.r_bound, a_f) * (1 + 1e-6),
                     .eta = o->eta > 0 ? o->eta : 0.01,
                     .max_steps = o->max_steps > 0 ? o->max_steps : 100000,
                     .overlap = 1e-6 * (g.r_bound + fabs(g.centre[0]) + fabs(g.centre[1]) +

@@ -6,7 +6,9 @@
  * speed as a floor so that a particle turning back takes small steps); each step's chord is traced against the mesh (the nearest hit ends
  * the history). A step that would end inside R_f is cut where it meets the sphere (a few
  * regula falsi iterations on the step length), so no step straddles the kink of the field, and
- * the straight part inside ends exactly on the sphere again. */
+ * the straight part inside ends exactly on the sphere again. Outside the sphere that holds
+ * both the body and R_f the path is a conic, taken in closed form (conic_to): no steps until
+ * the particle comes near the body, and none at all for one that passes it by. */
 #include "ch.h"
 
 #include <math.h>
@@ -97,6 +99,47 @@ static double energy(const ch_path *P, const double r[3], const double v[3])
     return 0.5 * dot3(v, v) + P->k / fmax(rho, P->rf);
 }
 
+/* Outside P->rj (at least R_f and the body's bounding radius) the path is a conic section of
+ * the Coulomb field, known in closed form: move an inbound particle (r, v) to where it first
+ * reaches rj; 1 when it never comes that close (its periapsis is beyond rj). */
+static int conic_to(const ch_path *P, double r[3], double v[3])
+{
+    const double k = P->k, rj = P->rj, rho0 = sqrt(dot3(r, r));
+    const double eps = 0.5 * dot3(v, v) + k / rho0; /* > 0, or 0: the injection is exact */
+    const double h[3] = {r[1] * v[2] - r[2] * v[1], r[2] * v[0] - r[0] * v[2],
+                         r[0] * v[1] - r[1] * v[0]};
+    const double L2 = dot3(h, h), L = sqrt(L2), D = sqrt(k * k + 2 * eps * L2);
+    /* the periapsis: the larger root of eps rho^2 - k rho - L^2/2, without cancellation */
+    const double rp = k > 0 ? (k + D) / (2 * eps) : L2 / (D - k);
+    if (rp >= rj)
+        return 1;
+    const double vr = -sqrt(fmax(0, 2 * (eps - k / rj) - L2 / (rj * rj))); /* inbound */
+    double rh[3], th[3];
+    for (int i = 0; i < 3; i++)
+        rh[i] = r[i] / rho0;
+    if (!(L > 0)) { /* radial */
+        for (int i = 0; i < 3; i++) {
+            r[i] = rj * rh[i];
+            v[i] = vr * rh[i];
+        }
+        return 0;
+    }
+    /* the true anomaly nu(rho) from rho = p / (1 + e cos nu) (attracted) or p / (e cos nu - 1)
+     * (repelled), p = L^2 / |k|, e = D / |k|; the angle swept is |nu(rho0)| - |nu(rj)| */
+    const double p = L2 / fabs(k), e = D / fabs(k), sg = k > 0 ? 1 : -1;
+    const double c0 = fmax(-1, fmin(1, (p / rho0 + sg) / e));
+    const double c1 = fmax(-1, fmin(1, (p / rj + sg) / e));
+    const double dth = acos(c0) - acos(c1), cs = cos(dth), sn = sin(dth);
+    for (int i = 0; i < 3; i++) /* the direction of motion about h: h x r / |h x r| */
+        th[i] = (h[(i + 1) % 3] * rh[(i + 2) % 3] - h[(i + 2) % 3] * rh[(i + 1) % 3]) / L;
+    for (int i = 0; i < 3; i++) {
+        const double nr = cs * rh[i] + sn * th[i], nt = cs * th[i] - sn * rh[i];
+        r[i] = rj * nr;
+        v[i] = vr * nr + L / rj * nt;
+    }
+    return 0;
+}
+
 void ch_path_follow(const ch_path *P, const double r_in[3], const double v_in[3], ch_hit *out)
 {
     double r[3] = {r_in[0], r_in[1], r_in[2]}, v[3] = {v_in[0], v_in[1], v_in[2]};
@@ -106,6 +149,9 @@ void ch_path_follow(const ch_path *P, const double r_in[3], const double v_in[3]
     out->side = 0;
     out->v2 = 0;
     out->steps = 0;
+    out->eerr = 0;
+    if (P->rj > 0 && dot3(r, r) > P->rj * P->rj && dot3(r, v) < 0 && conic_to(P, r, v))
+        return; /* passes the body by */
     double x[3];
     for (long n = 0; n < P->max_steps; n++) {
         out->steps = n + 1;
