@@ -205,7 +205,10 @@ void ch_path_follow(const ch_path *P, const double r_in[3], const double v_in[3]
             r[i] = r1[i];
             v[i] = v1[i];
         }
-        if (dot3(r, r) > R2 && dot3(r, v) > 0) { /* out through the injection sphere: gone */
+        /* outward beyond the body (rj), or through the injection sphere: gone (with E > 0 in
+         * a central field the distance from c has a single minimum, spec 6.2) */
+        const double rr2 = dot3(r, r);
+        if ((rr2 > R2 || (P->rj > 0 && rr2 > P->rj * P->rj)) && dot3(r, v) > 0) {
             out->eerr = scale > 0 ? fabs(energy(P, r, v) - e0) / scale : 0;
             return;
         }
