@@ -726,6 +726,100 @@ static void test_see(void)
     mote_ch_body_free(&b);
 }
 
+/* Q6: photoemission (spec 6.8, 10), j_ph = 2e-5 A/m^2, kT_ph = 2 eV, no SEE: at U = 0 the sunlit
+ * sphere emits j_ph pi a^2 (the exact sphere exactly, the level-5 icosphere within 0.1%);
+ * geo-worst-case floats at U_f = -917 V within 2%; with aluminium's SEE as well, near +1.3 V
+ * (informative; checked within 2%). Shadowing: two cubes in a row, the sun along the row: the
+ * far cube's face toward the sun is dark, the near one's lit, nothing else. */
+static void test_photo(void)
+{
+    printf("Q6: photoemission\n");
+    mote_err err = {0};
+    mote_ch_material ph = {"ph", 0, 1, 2e-5, 2};
+    const mote_ch_material *one[1] = {&ph};
+    mote_ch_plasma p;
+    mote_ch_plasma_preset(&p, "geo-worst-case", 0, 0, &err);
+    mote_ch_body sph = {0}, ico = {0}, two = {0};
+    mote_ch_body_sphere(&sph, 1, &err);
+    mote_ch_body_icosphere(&ico, 1, 5, &err);
+    mote_ch_body_twocubes(&two, 1, 1, &err);
+    mote_ch_tracer *ts = mote_ch_tracer_new(&sph, &err), *ti = mote_ch_tracer_new(&ico, &err);
+    mote_ch_tracer *tt = mote_ch_tracer_new(&two, &err);
+    const mote_ch_material **many = calloc(ico.ntri + two.ntri, sizeof *many);
+    for (uint32_t i = 0; many && i < ico.ntri + two.ntri; i++)
+        many[i] = &ph;
+    const double want = 2e-5 * MOTE_CH_PI;
+    mote_ch_run_opts o = {.seed = 1, .particles = 1000, .r_gen = 1.05, .threads = 2,
+                          .field = 1, .tri_material = one, .sun = 1,
+                          .sun_dir = {0.436436, 0.872872, 0.218218}, .sun_intensity = 1};
+    mote_ch_result r;
+    if (ts && mote_ch_run(&p, &sph, ts, &o, &r, &err) == MOTE_OK) {
+        printf("  exact sphere: I_ph = %.10g A (j pi a^2 = %.10g)\n", r.photo, want);
+        CHECK(fabs(r.photo / want - 1) < 1e-12, "exact sphere I_ph %.10g", r.photo);
+        CHECK(fabs(mote_ch_net(&r, NULL) - r.photo - r.current[0] - r.current[1]) <=
+                  1e-12 * fabs(r.photo), "the net current includes the photocurrent");
+        mote_ch_result_free(&r);
+    }
+    o.tri_material = many;
+    o.r_gen = 1.1;
+    if (ti && many && mote_ch_run(&p, &ico, ti, &o, &r, &err) == MOTE_OK) {
+        printf("  level-5 icosphere: I_ph = %.10g A (%.4f%% from j pi a^2)\n", r.photo,
+               100 * (r.photo / want - 1));
+        CHECK(fabs(r.photo / want - 1) < 1e-3, "icosphere I_ph %.10g", r.photo);
+        mote_ch_result_free(&r);
+    }
+    const double east[3] = {1, 0, 0};
+    memcpy(o.sun_dir, east, sizeof east);
+    o.r_gen = 3;
+    if (tt && many && mote_ch_run(&p, &two, tt, &o, &r, &err) == MOTE_OK) {
+        int ok = 1;
+        double lit_area = 0;
+        for (uint32_t i = 0; i < two.ntri; i++) {
+            const double f = r.tri_sunlit[2 * i], c = two.nrm[i][0];
+            const double cx = (two.v[i][0][0] + two.v[i][1][0] + two.v[i][2][0]) / 3;
+            const int facing = c > 0.5, near = cx > 0;
+            if ((facing && near && f != 1) || (facing && !near && f != 0) || (!facing && f != 0))
+                ok = 0;
+            lit_area += f * two.area[i];
+        }
+        printf("  two cubes, sun along the row: lit area %.6g m^2, I_ph %.6g A\n", lit_area,
+               r.photo);
+        CHECK(ok && fabs(lit_area - 1) < 1e-12 && fabs(r.photo - 2e-5) < 1e-17,
+              "two cubes: lit area %.6g", lit_area);
+        mote_ch_result_free(&r);
+    }
+    /* the floating potentials on the exact sphere */
+    o.tri_material = one;
+    o.r_gen = 1.05;
+    o.particles = 1000000;
+    for (int k = 0; k < 2 && ts; k++) {
+        mote_ch_material mat = ph;
+        if (k) { /* aluminium's secondary yield as well */
+            mat.see_dmax = 0.97;
+            mat.see_emax = 0.30;
+        }
+        const mote_ch_material *mm[1] = {&mat};
+        o.tri_material = mm;
+        double U, sU, oml;
+        int evals;
+        if (mote_ch_float(&p, &sph, ts, &o, 1e-4, &U, &sU, &oml, &evals, &r, &err) == MOTE_OK) {
+            const double w = k ? 1.3 : -917;
+            printf("  %s: U_f = %.4g V +- %.2g (spec %g)\n", k ? "with SEE" : "no SEE", U, sU, w);
+            CHECK(fabs(U / w - 1) <= 0.02, "U_f %.4g, want %g", U, w);
+            mote_ch_result_free(&r);
+        } else {
+            CHECK(0, "float: %s", err.msg);
+        }
+    }
+    free(many);
+    mote_ch_tracer_free(ts);
+    mote_ch_tracer_free(ti);
+    mote_ch_tracer_free(tt);
+    mote_ch_body_free(&sph);
+    mote_ch_body_free(&ico);
+    mote_ch_body_free(&two);
+}
+
 int main(void)
 {
     test_constants();
@@ -741,5 +835,6 @@ int main(void)
     test_evolve();
     test_drift();
     test_see();
+    test_photo();
     return test_summary();
 }

@@ -77,7 +77,7 @@ for f in triangles.csv parts.csv summary.txt summary.json surface.vtk surface.pn
 done
 net=$(sed -n 's/^run: net I = \([^ ]*\) A.*/\1/p' outa.txt)
 awk -v net="$net" '!/^#/ { s += $19; n++ } END { d = s - net; exit !(n == 16 && d * d <= 1e-18 * net * net) }' o1/craft_triangles.csv && ok || bad "the triangle rows (16: 12 closed, 2 sheets x 2 sides) do not add up to the net current $net"
-awk -v net="$net" '!/^#/ { s += $9 } END { d = s - net; exit !(d * d <= 1e-18 * net * net) }' o1/craft_parts.csv && ok || bad "the parts do not add up to the net current"
+awk -v net="$net" '!/^#/ { s += $10 } END { d = s - net; exit !(d * d <= 1e-18 * net * net) }' o1/craft_parts.csv && ok || bad "the parts do not add up to the net current"
 grep -q '^POINTS 42 double$' o1/craft_surface.vtk && grep -q '^POLYGONS 14 56$' o1/craft_surface.vtk && grep -q '^CELL_DATA 14$' o1/craft_surface.vtk && grep -q '^SCALARS J_net_back double 1$' o1/craft_surface.vtk && ok || bad "VTK structure"
 /usr/bin/python3 -c "
 import json, sys
@@ -115,9 +115,24 @@ printf '%bplasma preset geo-worst-case\nbody load file=craft.obj\nmaterial assig
 awk '/^run: e / { e = $5; see = $14 } /^run: H\+/ { h = $5 } /^run: net/ { net = $5 }
      END { d = e + h + see - net; exit !(see > 0 && d * d <= 1e-18 * net * net) }' out.txt && ok || bad "run lines: $(grep '^run:' out.txt)"
 net=$(sed -n 's/^run: net I = \([^ ]*\) A.*/\1/p' out.txt)
-awk -v net="$net" '!/^#/ { s += $9; see[$1] = $8; mat[$1] = $2 } END { d = s - net
+awk -v net="$net" '!/^#/ { s += $10; see[$1] = $8; mat[$1] = $2 } END { d = s - net
      exit !(mat["panel"] == "kapton" && mat["bus"] == "bare" && see["bus"] == 0 && see["panel"] > 0 && d * d <= 1e-18 * net * net) }' om/c_parts.csv && ok || bad "parts with kapton: $(grep -v '^#' om/c_parts.csv)"
 awk -v net="$net" '!/^#/ { s += $19; if ($2 == "bus" && $17 != 0) bus = 1 } END { d = s - net; exit !(bus == 0 && d * d <= 1e-18 * net * net) }' om/c_triangles.csv && ok || bad "the triangle rows with secondaries do not add up to $net"
+# photoemission (spec 6.8): the sun on the craft; the photocurrent printed is the triangles'
+# and the parts' I_photo, and it is in the net current
+mkdir -p os
+printf '%bplasma preset geo-worst-case\nbody load file=craft.obj\nmaterial assign part=* material=kapton\nsun direction=0.3,0.2,1\noutput prefix=os/c png=off vtk=off\nrun particles=1e5\n' "$G" > sun.mote
+"$MOTE" run sun.mote > out.txt 2> err.txt && ok || bad "sun.mote failed: $(cat err.txt)"
+ph=$(sed -n 's/^run: photoelectrons I = +\([^ ]*\) A.*/\1/p' out.txt)
+net=$(sed -n 's/^run: net I = \([^ ]*\) A.*/\1/p' out.txt)
+awk -v ph="$ph" -v net="$net" '!/^#/ { p += $18; s += $19; if ($12 > 0) lit++ } END { d = p - ph; e = s - net
+     exit !(ph > 0 && lit > 0 && d * d <= 1e-18 * ph * ph && e * e <= 1e-18 * net * net) }' os/c_triangles.csv && ok || bad "photocurrent $ph: the triangles do not add up"
+awk -v ph="$ph" '!/^#/ { p += $9 } END { d = p - ph; exit !(d * d <= 1e-18 * ph * ph) }' os/c_parts.csv && ok || bad "photocurrent $ph: the parts do not add up"
+expect 1 "s1.mote:2:5: error: sun: direction: expected X,Y,Z (toward the sun, not all 0), found '0,0,0'" s1.mote "${G}sun direction=0,0,0\n"
+expect 1 "s2.mote:2:5: error: sun: intensity must be a number >= 0 (1: 1 AU), found '-1'" s2.mote "${G}sun intensity=-1 direction=1,0,0\n"
+expect 1 "s3.mote:2:1: error: sun: give direction=X,Y,Z (or 'sun off')" s3.mote "${G}sun intensity=2\n"
+expect 1 "s4.mote:2:1: error: sun: faithful mode has no emission" s4.mote "${F}sun direction=1,0,0\n"
+expect 1 "s5.mote:3:10: error: material assign: faithful mode has no emission" s5.mote "${F}body sphere radius=1\nmaterial assign part=* material=gold\n"
 expect 1 "m1.mote:3:33: error: material assign: no material 'steel'" m1.mote "${G}body sphere radius=1\nmaterial assign part=* material=steel\n"
 expect 1 "m2.mote:3:10: error: material assign: give part=NAME|* and material=NAME" m2.mote "${G}body sphere radius=1\nmaterial assign material=gold\n"
 expect 1 "m3.mote:2:10: error: material assign: give the body first" m3.mote "${G}material assign part=* material=gold\n"

@@ -114,6 +114,11 @@ long mote_ch_trace(const mote_ch_tracer *t, const double org[3], const double di
 long mote_ch_trace_seg(const mote_ch_tracer *t, const double org[3], const double dir[3],
                        double tmin, double tmax, int *side, double *s);
 
+/* Whether anything lies on the segment org + s dir, tmin < s < tmax (any hit; Embree's
+ * occlusion query). The exact sphere: its analytic test. */
+int mote_ch_occluded(const mote_ch_tracer *t, const double org[3], const double dir[3],
+                     double tmin, double tmax);
+
 /* Counter-based Philox4x32-10 (Salmon et al. 2011): 4 words from a 128-bit counter and a
  * 64-bit key; every history has its own stream (spec 5.7). */
 void mote_ch_philox(const uint32_t ctr[4], const uint32_t key[2], uint32_t out[4]);
@@ -155,6 +160,10 @@ typedef struct {
     /* secondary emission by electron impact (spec 6.7): the material of each triangle (of the
      * exact sphere: one), or NULL for none */
     const mote_ch_material *const *tri_material;
+    /* photoemission (spec 6.8): with sun = 1, light from the unit vector sun_dir at intensity
+     * sun_intensity (1: 1 AU at normal incidence) on the materials' photo_j */
+    int sun;
+    double sun_dir[3], sun_intensity;
 } mote_ch_run_opts;
 
 /* OML current (spec 6.4) of one Maxwellian component (n, kT eV, m, Z) to a sphere of area A at
@@ -178,6 +187,10 @@ typedef struct {
     double *tri_see;                  /* the same for the secondary current, A (NULL: none) */
     uint64_t backface_hits;
     double seconds, traces_per_s;
+    /* photoemission (spec 6.8; positive: electrons leave): the total, and per triangle and
+     * side [triangle][side] the current and the sunlit fraction (NULL: the sun is off) */
+    double photo;
+    double *tri_photo, *tri_sunlit;
     /* curved paths (spec 6.3): histories that ran out of steps, the steps taken, and the
      * largest relative energy error |dE| / (K0 + |q phi_g|) of a path */
     uint64_t lost, steps;
@@ -186,6 +199,17 @@ typedef struct {
 
 int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tracer *t,
                 const mote_ch_run_opts *o, mote_ch_result *r, mote_err *err);
+/* The net current of a run (A): the species' collected currents, the secondaries and the
+ * photoelectrons that leave; its standard error in *sigma when that is not NULL. */
+double mote_ch_net(const mote_ch_result *r, double *sigma);
+/* The sunlit fraction of each triangle (frac[ntri]) and the side lit (side[ntri]: 0 front, 1
+ * back, -1 none), from 16 stratified points per triangle, each casting a shadow ray toward sun
+ * (a unit vector): a triangle is lit when its normal (a sheet: either side's) faces the sun. */
+int mote_ch_sunlit(const mote_ch_body *b, const mote_ch_tracer *t, const double sun[3],
+                   double *frac, int *side, int threads);
+/* The escape fraction of emitted electrons of temperature kT (eV) from a body at U (V): 1 for
+ * U <= 0, else (1 + U/kT) exp(-U/kT) (spec 6.7, 6.8). */
+double mote_ch_escape(double U, double kT);
 void mote_ch_result_free(mote_ch_result *r);
 
 /* The floating potential (spec 6.5): the root U_f of the net collected current I(U), each I a

@@ -63,15 +63,10 @@ static int eval(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
     int rc = mote_ch_run(p, b, tr, &q, &r, err);
     if (rc)
         return rc;
-    *I = 0;
+    *I = mote_ch_net(&r, NULL);
     *Imax = 0;
-    for (int s = 0; s < r.nsp; s++) {
-        double see = 0;
-        for (int k = 0; k < MOTE_CH_MAX_COMPONENTS; k++)
-            see += r.see[s][k];
-        *I += r.current[s] + see;
+    for (int s = 0; s < r.nsp; s++)
         *Imax = fmax(*Imax, fabs(r.current[s]));
-    }
     mote_ch_result_free(&r);
     return MOTE_OK;
 }

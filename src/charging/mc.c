@@ -115,6 +115,8 @@ void mote_ch_result_free(mote_ch_result *r)
 {
     free(r->tri_hits);
     free(r->tri_see);
+    free(r->tri_photo);
+    free(r->tri_sunlit);
     memset(r, 0, sizeof *r);
 }
 
@@ -293,7 +295,7 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
     do {                                                                                          \
         if (see) {                                                                                \
             const mote_ch_material *mat_ = o->tri_material[(TRI)];                                \
-            const double esc_ = U_s > 0 ? (1 + U_s / mat_->kT_s) * exp(-U_s / mat_->kT_s) : 1;    \
+            const double esc_ = mote_ch_escape(U_s, mat_->kT_s);                                  \
             const double sc_ = mote_ch_see_yield(mat_, (E_EV) / 1000) * esc_;                     \
             const ch_i128 q_ = (ch_i128)llround(sc_ * FIX);                                      \
             msee[2 * (size_t)(TRI) + (size_t)(SIDE)] += q_;                                       \
@@ -492,6 +494,43 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
             r->steps += steps;
             r->max_energy_err = fmax(r->max_energy_err, eerr);
         }
+    if (o->sun && o->tri_material) { /* photoemission (spec 6.8): no random numbers */
+        r->tri_photo = calloc((size_t)ntri * 2, sizeof *r->tri_photo);
+        r->tri_sunlit = calloc((size_t)ntri * 2, sizeof *r->tri_sunlit);
+        int *side = b->sphere ? NULL : malloc((size_t)ntri * sizeof *side);
+        double *frac = b->sphere ? NULL : malloc((size_t)ntri * sizeof *frac);
+        if (!r->tri_photo || !r->tri_sunlit || (!b->sphere && (!side || !frac))) {
+            free(side);
+            free(frac);
+            mote_ch_result_free(r);
+            return mote_fail(err, MOTE_ENOMEM, "run: out of memory for the photoemission");
+        }
+        const double U_s = field ? o->potential : 0, inten = o->sun_intensity;
+        if (b->sphere) { /* the lit half: the projected disc */
+            const mote_ch_material *mat = o->tri_material[0];
+            r->tri_sunlit[0] = 0.5;
+            r->tri_photo[0] = mat->photo_j * inten * MOTE_CH_PI * b->sphere_r * b->sphere_r *
+                              mote_ch_escape(U_s, mat->kT_s);
+            r->photo = r->tri_photo[0];
+        } else {
+            mote_ch_sunlit(b, t, o->sun_dir, frac, side, o->threads);
+            for (uint32_t i = 0; i < ntri; i++) {
+                if (side[i] < 0)
+                    continue;
+                r->tri_sunlit[2 * (size_t)i + (size_t)side[i]] = frac[i];
+                const mote_ch_material *mat = o->tri_material[i];
+                const double *nr = b->nrm[i];
+                const double cs = fabs(nr[0] * o->sun_dir[0] + nr[1] * o->sun_dir[1] +
+                                       nr[2] * o->sun_dir[2]);
+                const double I = mat->photo_j * inten * b->area[i] * cs * frac[i] *
+                                 mote_ch_escape(U_s, mat->kT_s);
+                r->tri_photo[2 * (size_t)i + (size_t)side[i]] = I;
+                r->photo += I;
+            }
+        }
+        free(side);
+        free(frac);
+    }
     clock_gettime(CLOCK_MONOTONIC, &t1);
     r->seconds = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
     r->traces_per_s = r->seconds > 0 ? (double)comp * (double)o->particles / r->seconds : 0;
@@ -519,9 +558,9 @@ static double oml_net(const mote_ch_plasma *p, double A, double U)
     return I;
 }
 
-static double net_of(const mote_ch_result *r, double *sigma)
+double mote_ch_net(const mote_ch_result *r, double *sigma)
 {
-    double I = 0, v = 0;
+    double I = r->photo, v = 0;
     for (int s = 0; s < r->nsp; s++) {
         I += r->current[s];
         v += r->sigma[s] * r->sigma[s];
@@ -570,7 +609,7 @@ int mote_ch_float(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_
     ++*evals;
     if (rc)
         return rc;
-    Ia = net_of(&ra, &sa);
+    Ia = mote_ch_net(&ra, &sa);
     double Ub = Ua;
     Ib = Ia;
     rb = ra;
@@ -586,7 +625,7 @@ int mote_ch_float(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_
         ++*evals;
         if (rc)
             break;
-        Ib = net_of(&rb, NULL);
+        Ib = mote_ch_net(&rb, NULL);
         if ((Ia > 0) != (Ib > 0))
             break;
         step *= 2;
@@ -597,7 +636,7 @@ int mote_ch_float(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_
     int side = 0;
     for (int it = 0; it < 100 && !rc; it++) {
         double s_now;
-        const double Ibest = fabs(Ia) < fabs(Ib) ? net_of(&ra, &s_now) : net_of(&rb, &s_now);
+        const double Ibest = fabs(Ia) < fabs(Ib) ? mote_ch_net(&ra, &s_now) : mote_ch_net(&rb, &s_now);
         const double slope = (Ib - Ia) / (Ub - Ua);
         const double sU = slope != 0 ? s_now / fabs(slope) : INFINITY;
         (void)Ibest;
@@ -612,7 +651,7 @@ int mote_ch_float(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_
         ++*evals;
         if (rc)
             break;
-        const double Im = net_of(&rm, NULL);
+        const double Im = mote_ch_net(&rm, NULL);
         if ((Im > 0) == (Ia > 0)) {
             mote_ch_result_free(&ra);
             ra = rm;
@@ -634,7 +673,7 @@ int mote_ch_float(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_
     if (!rc) {
         /* the root by linear interpolation of the (unweighted) end currents */
         double sI;
-        const double Ia0 = net_of(&ra, &sI), Ib0 = net_of(&rb, NULL);
+        const double Ia0 = mote_ch_net(&ra, &sI), Ib0 = mote_ch_net(&rb, NULL);
         const double slope = (Ib0 - Ia0) / (Ub - Ua);
         *U_f = Ib0 != Ia0 ? (Ua * Ib0 - Ub * Ia0) / (Ib0 - Ia0) : 0.5 * (Ua + Ub);
         *sigma_U = slope != 0 ? sI / fabs(slope) : INFINITY;

@@ -45,10 +45,16 @@ static double tri_see(const mote_ch_result *r, uint32_t i, int side)
     return see;
 }
 
-/* J of triangle i, side side (all species and the secondaries), in A/m^2. */
+/* The photoemission current (A, > 0) of triangle i, side side. */
+static double tri_photo(const mote_ch_result *r, uint32_t i, int side)
+{
+    return r->tri_photo ? r->tri_photo[2 * (size_t)i + (size_t)side] : 0;
+}
+
+/* J of triangle i, side side (all species, the secondaries, the photoelectrons), in A/m^2. */
 static double tri_j(const ch_output *o, uint32_t i, int side)
 {
-    double J = tri_see(o->res, i, side), v;
+    double J = tri_see(o->res, i, side) + tri_photo(o->res, i, side), v;
     for (int s = 0; s < o->plasma->nsp; s++)
         J += tri_current(o->plasma, o->res, s, i, side, &v);
     return J / o->body->area[i];
@@ -110,10 +116,12 @@ static int write_triangles(const ch_output *o, const char *path, mote_err *err)
                     nrm[a] = side ? -b->nrm[i][a] : b->nrm[i][a];
                 }
             }
-            fprintf(f, "%u %s %s %s %.10g %.10g %.10g %.10g %.10g %.10g %.10g 0", i,
+            const size_t q = 2 * (size_t)i + (size_t)side;
+            fprintf(f, "%u %s %s %s %.10g %.10g %.10g %.10g %.10g %.10g %.10g %.10g", i,
                     b->sphere ? "sphere" : b->part_name[b->part[i]],
                     o->tri_mat ? o->tri_mat[i]->name : "bare", side ? "back" : "front", area, c[0],
-                    c[1], c[2], nrm[0], nrm[1], nrm[2]);
+                    c[1], c[2], nrm[0], nrm[1], nrm[2],
+                    o->res->tri_sunlit ? o->res->tri_sunlit[q] : 0);
             double inet = 0, var = 0;
             int comp0 = 0;
             for (int s = 0; s < p->nsp; s++) {
@@ -125,10 +133,10 @@ static int write_triangles(const ch_output *o, const char *path, mote_err *err)
                 inet += I;
                 var += v;
             }
-            const double see = tri_see(o->res, i, side);
-            inet += see;
+            const double see = tri_see(o->res, i, side), ph = tri_photo(o->res, i, side);
+            inet += see + ph;
             const double J = inet / area, sJ = sqrt(var) / area;
-            fprintf(f, " %.10g 0 %.10g %.10g %.10g %.10g\n", see, inet, J, sJ,
+            fprintf(f, " %.10g %.10g %.10g %.10g %.10g %.10g\n", see, ph, inet, J, sJ,
                     inet != 0 ? fabs(sqrt(var) / inet) : 0);
         }
     return mote_datafile_commit(&d, err);
@@ -142,12 +150,14 @@ static int write_parts(const ch_output *o, const char *path, mote_err *err)
     double *I = calloc((size_t)np * (size_t)(p->nsp + 1), sizeof *I);
     double *V = calloc((size_t)np * (size_t)(p->nsp + 1), sizeof *V);
     double *A = calloc((size_t)np, sizeof *A), *S = calloc((size_t)np, sizeof *S);
+    double *P = calloc((size_t)np, sizeof *P);
     const char **mat = calloc((size_t)np, sizeof *mat);
-    if (!I || !V || !A || !S || !mat) {
+    if (!I || !V || !A || !S || !P || !mat) {
         free(I);
         free(V);
         free(A);
         free(S);
+        free(P);
         free(mat);
         return mote_fail(err, MOTE_ENOMEM, "output: out of memory");
     }
@@ -157,9 +167,10 @@ static int write_parts(const ch_output *o, const char *path, mote_err *err)
         A[part] += b->sphere ? o->geom.area : b->area[i] * nsides(b, i);
         mat[part] = o->tri_mat ? o->tri_mat[i]->name : "bare"; /* a part has one material */
         for (int side = 0; side < nsides(b, i); side++) {
-            const double see = tri_see(o->res, i, side);
+            const double see = tri_see(o->res, i, side), ph = tri_photo(o->res, i, side);
             S[part] += see;
-            I[part * (p->nsp + 1) + p->nsp] += see;
+            P[part] += ph;
+            I[part * (p->nsp + 1) + p->nsp] += see + ph;
             for (int s = 0; s < p->nsp; s++) {
                 double v;
                 const double c = tri_current(p, o->res, s, i, side, &v);
@@ -178,13 +189,13 @@ static int write_parts(const ch_output *o, const char *path, mote_err *err)
         fprintf(f, "# columns: part material area_m2");
         for (int s = 0; s < p->nsp; s++)
             fprintf(f, " I_%s_A sigma_%s_A", p->sp[s].name, p->sp[s].name);
-        fprintf(f, " I_see_A I_net_A sigma_net_A J_net_A_m2\n");
+        fprintf(f, " I_see_A I_photo_A I_net_A sigma_net_A J_net_A_m2\n");
         for (int k = 0; k < np; k++) {
             fprintf(f, "%s %s %.10g", b->sphere ? "sphere" : b->part_name[k],
                     mat[k] ? mat[k] : "bare", A[k]);
             for (int s = 0; s < p->nsp; s++)
                 fprintf(f, " %.10g %.10g", I[k * (p->nsp + 1) + s], sqrt(V[k * (p->nsp + 1) + s]));
-            fprintf(f, " %.10g", S[k]);
+            fprintf(f, " %.10g %.10g", S[k], P[k]);
             fprintf(f, " %.10g %.10g", I[k * (p->nsp + 1) + p->nsp],
                     sqrt(V[k * (p->nsp + 1) + p->nsp]));
             fprintf(f, " %.10g\n", A[k] > 0 ? I[k * (p->nsp + 1) + p->nsp] / A[k] : 0);
@@ -195,6 +206,7 @@ static int write_parts(const ch_output *o, const char *path, mote_err *err)
     free(V);
     free(A);
     free(S);
+    free(P);
     free(mat);
     return rc;
 }
@@ -256,6 +268,12 @@ static int write_vtk(const ch_output *o, const char *path, mote_err *err)
         for (uint32_t i = 0; i < b->ntri; i++)
             fprintf(f, "%.10g\n", (tri_see(o->res, i, 0) + tri_see(o->res, i, 1)) / b->area[i]);
     }
+    if (o->res->tri_photo) { /* the photoelectrons leaving, both sides (A/m^2, > 0) */
+        fprintf(f, "SCALARS J_photo double 1\nLOOKUP_TABLE default\n");
+        for (uint32_t i = 0; i < b->ntri; i++)
+            fprintf(f, "%.10g\n",
+                    (tri_photo(o->res, i, 0) + tri_photo(o->res, i, 1)) / b->area[i]);
+    }
     fprintf(f, "SCALARS hits_total double 1\nLOOKUP_TABLE default\n");
     for (uint32_t i = 0; i < b->ntri; i++)
         fprintf(f, "%llu\n", (unsigned long long)(tri_hits(o->res, 0, o->res->ncomp, i, 0) +
@@ -288,6 +306,7 @@ static int write_summary(const ch_output *o, const char *path, int json, mote_er
         inet += see[s];
         var += see_var[s];
     }
+    inet += o->res->photo;
     const double hitf = (double)hits / ((double)o->res->ncomp * (double)o->res->histories);
     if (json) {
         fprintf(f, "{\"model\":\"charging\",\"mode\":\"%s\",\"seed\":%llu,\"potential_V\":%.10g,"
@@ -313,6 +332,7 @@ static int write_summary(const ch_output *o, const char *path, int json, mote_er
                     o->sigma_U, o->oml);
         else
             fputc(']', f);
+        fprintf(f, ",\"I_photo_A\":%.10g", o->res->photo);
         fprintf(f, ",\"I_net_A\":%.10g,\"sigma_net_A\":%.10g,\"dU_dt_V_s\":%.10g,"
                    "\"hit_fraction\":%.10g,\"backface_hits\":%llu,\"traces_per_s\":%.4g,"
                    "\"threads\":%d}\n",
@@ -341,8 +361,10 @@ static int write_summary(const ch_output *o, const char *path, int json, mote_er
                 fprintf(f, "       secondary electrons it knocks out: +%.10g A +- %.3g\n", see[s],
                         sqrt(see_var[s]));
         }
+        if (o->res->tri_photo)
+            fprintf(f, "  photoelectrons %+.10g A\n", o->res->photo);
         fprintf(f, "  net  %.10g A +- %.3g%s\n\n", inet, sqrt(var),
-                o->tri_mat ? " (with the secondaries)" : "");
+                o->tri_mat ? " (with the emitted electrons)" : "");
         fprintf(f, "charging with these currents held constant (the thesis's model): dU/dt = "
                    "I / C = %.10g V/s\n", inet / g->capacitance);
         fprintf(f, "hit fraction %.6g, back-face hits %llu, %.4g traces/s on %d thread%s\n", hitf,

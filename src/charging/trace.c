@@ -151,3 +151,31 @@ long mote_ch_trace_seg(const mote_ch_tracer *t, const double org[3], const doubl
     *s = rh.ray.tfar;
     return i;
 }
+
+int mote_ch_occluded(const mote_ch_tracer *t, const double org[3], const double dir[3],
+                     double tmin, double tmax)
+{
+    const mote_ch_body *b = t->body;
+    if (b->sphere) {
+        int side;
+        double s;
+        return trace_sphere(b, org, dir, tmin, &side, &s) >= 0 && s < tmax;
+    }
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    struct RTCRay ray;
+    ray.org_x = (float)org[0];
+    ray.org_y = (float)org[1];
+    ray.org_z = (float)org[2];
+    ray.dir_x = (float)dir[0];
+    ray.dir_y = (float)dir[1];
+    ray.dir_z = (float)dir[2];
+    ray.tnear = (float)tmin;
+    ray.tfar = (float)tmax;
+    ray.time = 0;
+    ray.mask = 0xFFFFFFFFu;
+    ray.id = 0;
+    ray.flags = 0;
+    rtcOccluded1(t->scene, &ctx, &ray);
+    return ray.tfar < 0; /* Embree marks an occluded ray with tfar = -inf */
+}
