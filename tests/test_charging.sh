@@ -36,8 +36,9 @@ expect 1 "b7.mote:3:1: error: run: there is no plasma yet (plasma preset ..., or
 printf '%bplasma preset single n=1e6 kT=1000\nbody icosphere radius=1 level=3\nintegrator eta=0.01 max_steps=1e5\nfloat particles=1e5\n' "$G" > fm.mote
 "$MOTE" run fm.mote > out.txt 2> err.txt && awk '/^float: U_f/ { u = $4 } /^float: curved paths/ { lost = $8; e = $14 }
      END { d = u / -2503.9 - 1; exit !(d * d < 1e-4 && lost == 0 && e < 1e-6) }' out.txt && ok || bad "float on a mesh: $(grep '^float' out.txt) $(cat err.txt)"
-printf '%bplasma preset single n=1e6 kT=1000\nbody icosphere radius=1 level=2\nintegrator max_steps=2\nrun particles=1000 potential=-3000\n' "$G" > ms.mote
-"$MOTE" run ms.mote > out.txt 2> err.txt && grep -q '^run: warning: [1-9][0-9]* of 2000 histories ran out of steps' out.txt && ok || bad "max_steps=2: $(grep '^run:' out.txt) $(cat err.txt)"
+mkdir -p oms
+expect 2 "ms.mote:6:1: error: run: " ms.mote "${G}plasma preset single n=1e6 kT=1000\nbody icosphere radius=1 level=2\noutput prefix=oms/x\nintegrator max_steps=2\nrun particles=1000 potential=-3000\n"
+grep -q 'histories still going after 2 steps (at U = -3000 V; the spec allows 1e-6 of them): raise integrator max_steps= or eta=' err.txt && [ -z "$(ls oms)" ] && ok || bad "max_steps=2: $(cat err.txt); $(ls oms)"
 expect 1 "b8.mote:2:16: error: integrator: eta must be" b8.mote "${G}integrator eta=2\n"
 expect 1 "b9.mote:2:22: error: integrator: max_steps must be a whole number" b9.mote "${G}integrator max_steps=1.5\n"
 expect 1 "b9b.mote:4:1: error: float: in faithful mode the currents do not depend on U" b9b.mote "${F}body sphere radius=1\nrun particles=10\nfloat\n"

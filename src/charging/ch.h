@@ -13,6 +13,14 @@ int ch_body_part(mote_ch_body *b, const char *name, mote_err *err);
 int ch_add_tri(mote_ch_body *b, const double p[3], const double q[3], const double r[3],
                const double *inside, int closed, int part, mote_err *err);
 
+/* The Monte Carlo draws (mc.c): four uniforms in (0, 1) from block `draw` of a history's
+ * Philox stream; the injection point's outward normal and the direction (cosine law) from
+ * four uniforms; the kinetic energy at injection in units of kT for chi = q phi_g / kT. */
+void ch_uniforms4(const uint32_t key[2], uint64_t history, uint32_t comp, uint32_t draw,
+                  double u[4]);
+void ch_inject_dir(const double u[4], double nrm[3], double dir[3]);
+double ch_inject_energy(const double e[4], double chi);
+
 /* A curved path in the field of a charged mesh (path.c, spec 6.3). */
 typedef struct {
     const mote_ch_tracer *t;

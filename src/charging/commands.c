@@ -720,10 +720,6 @@ static void report_paths(const ch_model *m, const char *cmd)
     fprintf(m->log, "%s: curved paths: %.4g steps per history, %llu lost, largest relative "
                     "energy error %.3g\n", cmd, (double)r->steps / total,
             (unsigned long long)r->lost, r->max_energy_err);
-    if ((double)r->lost > 1e-6 * total)
-        fprintf(m->log, "%s: warning: %llu of %.0f histories ran out of steps (more than 1e-6; "
-                        "raise integrator max_steps=)\n", cmd, (unsigned long long)r->lost,
-                total);
 }
 
 /* ---- run and evolve ------------------------------------------------------------------------- */
@@ -1287,8 +1283,9 @@ static const char HELP_INTEGRATOR[] =
     "dt = eta |r - c| / |v|, a step entering R_f being cut where it meets the\n"
     "sphere; each step's chord is traced against the mesh, and the nearest hit\n"
     "ends the history. A path leaving the injection sphere outward is gone; one\n"
-    "still going after max_steps steps is counted as lost (run warns when more\n"
-    "than 1e-6 of the histories are). The impact energy is K = E - q phi(x_hit).\n";
+    "still going after max_steps steps is counted as lost; more than 1e-6 of the\n"
+    "histories lost is an error (nothing is written). The impact energy is\n"
+    "K = E - q phi(x_hit).\n";
 
 static const char HELP_MATERIAL[] =
     "    material assign part=NAME|* material=NAME\n"

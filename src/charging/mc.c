@@ -40,8 +40,8 @@ void mote_ch_philox(const uint32_t ctr[4], const uint32_t key[2], uint32_t out[4
 
 /* Four uniforms in (0, 1) (32 bits each, never 0 or 1) from one Philox block (block `draw` of
  * the history's stream). */
-static void uniforms4(const uint32_t key[2], uint64_t history, uint32_t comp, uint32_t draw,
-                      double u[4])
+void ch_uniforms4(const uint32_t key[2], uint64_t history, uint32_t comp, uint32_t draw,
+                  double u[4])
 {
     const uint32_t ctr[4] = {(uint32_t)history, (uint32_t)(history >> 32), comp, draw};
     uint32_t w[4];
@@ -109,6 +109,38 @@ static void perp_basis(const double n[3], double e1[3], double e2[3])
     e2[0] = n[1] * e1[2] - n[2] * e1[1];
     e2[1] = n[2] * e1[0] - n[0] * e1[2];
     e2[2] = n[0] * e1[1] - n[1] * e1[0];
+}
+
+/* The injection point and direction from four uniforms (spec 5.2): nrm the outward unit
+ * normal of the point on the sphere (z = 2 u0 - 1 uniform, azimuth 2 pi u1), dir the unit
+ * direction, cos(theta) = sqrt(u2) about the inward normal (the cosine law), azimuth 2 pi u3. */
+void ch_inject_dir(const double u[4], double nrm[3], double dir[3])
+{
+    const double z = 2 * u[0] - 1, rho = sqrt(fmax(0, 1 - z * z));
+    const double ph = 2 * MOTE_CH_PI * u[1];
+    nrm[0] = rho * cos(ph);
+    nrm[1] = rho * sin(ph);
+    nrm[2] = z;
+    const double ct = sqrt(u[2]), st = sqrt(fmax(0, 1 - u[2]));
+    const double ps = 2 * MOTE_CH_PI * u[3];
+    double e1[3], e2[3]; /* a basis perpendicular to nrm */
+    perp_basis(nrm, e1, e2);
+    for (int a = 0; a < 3; a++)
+        dir[a] = -ct * nrm[a] + st * (cos(ps) * e1[a] + sin(ps) * e2[a]);
+}
+
+/* The kinetic energy at injection in units of kT (spec 6.2) from four uniforms: Gamma(2, 1)
+ * when repelled or uncharged (chi >= 0); attracted, |chi| plus Gamma(2, 1) with probability
+ * 1/(1 + |chi|), else plus Exp(1). */
+double ch_inject_energy(const double e[4], double chi)
+{
+    double K = -log(e[0] * e[1]);
+    if (chi < 0) {
+        if (e[2] >= 1 / (1 - chi))
+            K = -log(e[0]);
+        K += -chi;
+    }
+    return K;
 }
 
 void mote_ch_result_free(mote_ch_result *r)
@@ -305,32 +337,22 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
     } while (0)
 /* a straight path's impact energy: the flux's kinetic energy law, Gamma(2, kT) (eV) */
 #define STRAIGHT_E()                                                                              \
-    (see ? (uniforms4(key, h, (uint32_t)comp, 7, ee_), -sp->kT[k] * log(ee_[0] * ee_[1])) : 0)
+    (see ? (ch_uniforms4(key, h, (uint32_t)comp, 7, ee_), -sp->kT[k] * log(ee_[0] * ee_[1])) : 0)
                     double ee_[4];
                     for (uint64_t h = blk * BLOCK; h < h1; h++) {
                         double u[4];
-                        uniforms4(key, h, (uint32_t)comp, 0, u);
+                        ch_uniforms4(key, h, (uint32_t)comp, 0, u);
                         if (field) { /* the kinetic energy at injection (spec 6.2) */
                             double e[4];
-                            uniforms4(key, h, (uint32_t)comp, 1, e);
-                            double K = -log(e[0] * e[1]); /* Gamma(2, 1): K / kT */
-                            if (chi < 0) { /* attracted: |chi| + Gamma(2) or Exp(1) */
-                                if (e[2] >= 1 / (1 - chi))
-                                    K = -log(e[0]);
-                                K += -chi;
-                            }
+                            ch_uniforms4(key, h, (uint32_t)comp, 1, e);
+                            const double K = ch_inject_energy(e, chi); /* K / kT */
                             if (curved) { /* a mesh: follow the path (spec 6.3) */
-                                const double z = 2 * u[0] - 1, rho = sqrt(fmax(0, 1 - z * z));
-                                const double ph = 2 * MOTE_CH_PI * u[1];
-                                const double nrm[3] = {rho * cos(ph), rho * sin(ph), z};
-                                const double ct = sqrt(u[2]), st = sqrt(fmax(0, 1 - u[2]));
-                                const double ps = 2 * MOTE_CH_PI * u[3], speed = vscale * sqrt(K);
-                                double e1[3], e2[3], r0[3], v0[3];
-                                perp_basis(nrm, e1, e2);
+                                double nrm[3], dir[3], r0[3], v0[3];
+                                ch_inject_dir(u, nrm, dir);
+                                const double speed = vscale * sqrt(K);
                                 for (int a = 0; a < 3; a++) {
                                     r0[a] = R * nrm[a];
-                                    v0[a] = speed * (-ct * nrm[a] +
-                                                     st * (cos(ps) * e1[a] + sin(ps) * e2[a]));
+                                    v0[a] = speed * dir[a];
                                 }
                                 ch_hit hit;
                                 ch_path_follow(&pk, r0, v0, &hit);
@@ -357,7 +379,7 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                         }
                         if (o->box) { /* a face by area, a point on it, the cosine law */
                             double e[4];
-                            uniforms4(key, h, (uint32_t)comp, 1, e);
+                            ch_uniforms4(key, h, (uint32_t)comp, 1, e);
                             int f = 0;
                             while (f < 5 && u[0] * fcum[6] >= fcum[f + 1])
                                 f++;
@@ -389,7 +411,7 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                             uint32_t draw = 1;
                             for (;; draw++) {
                                 double e[4];
-                                uniforms4(key, h, (uint32_t)comp, draw, e);
+                                ch_uniforms4(key, h, (uint32_t)comp, draw, e);
                                 const double z = 2 * e[0] - 1, rho = sqrt(fmax(0, 1 - z * z));
                                 const double ph = 2 * MOTE_CH_PI * e[1];
                                 nrm[0] = rho * cos(ph);
@@ -406,7 +428,7 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                             double e1[3], e2[3];
                             perp_basis(nrm, e1, e2);
                             double e[4];
-                            uniforms4(key, h, (uint32_t)comp, draw + 1, e);
+                            ch_uniforms4(key, h, (uint32_t)comp, draw + 1, e);
                             const double w = drift_normal_speed(un, sigma, e[0]);
                             double ut1 = 0, ut2 = 0;
                             for (int a = 0; a < 3; a++) {
@@ -442,20 +464,12 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                          * with cos^2 < 1 - (R_bound/R)^2 passes the body's bounding sphere */
                         if (u[2] < miss_below)
                             continue;
-                        /* the position: z uniform in [-1, 1], azimuth uniform (spec 5.2) */
-                        const double z = 2 * u[0] - 1, rho = sqrt(fmax(0, 1 - z * z));
-                        const double ph = 2 * MOTE_CH_PI * u[1];
-                        const double nrm[3] = {rho * cos(ph), rho * sin(ph), z};
-                        /* the direction: cos(theta) = sqrt(u2) about the inward normal -nrm */
-                        const double ct = sqrt(u[2]), st = sqrt(fmax(0, 1 - u[2]));
-                        const double ps = 2 * MOTE_CH_PI * u[3];
-                        double e1[3], e2[3]; /* a basis perpendicular to nrm */
-                        perp_basis(nrm, e1, e2);
-                        double org[3], dir[3];
-                        for (int a = 0; a < 3; a++) {
+                        /* the position uniform on the sphere, the direction by the cosine
+                         * law (spec 5.2) */
+                        double nrm[3], org[3], dir[3];
+                        ch_inject_dir(u, nrm, dir);
+                        for (int a = 0; a < 3; a++)
                             org[a] = g.centre[a] + R * nrm[a];
-                            dir[a] = -ct * nrm[a] + st * (cos(ps) * e1[a] + sin(ps) * e2[a]);
-                        }
                         int side;
                         double dist;
                         const long tri = mote_ch_trace(t, org, dir, tmin, &side, &dist);
@@ -494,6 +508,15 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
             r->steps += steps;
             r->max_energy_err = fmax(r->max_energy_err, eerr);
         }
+    if ((double)r->lost > 1e-6 * (double)r->ncomp * (double)o->particles) {
+        const uint64_t lost = r->lost;
+        const double total = (double)o->particles * (double)r->ncomp;
+        mote_ch_result_free(r);
+        return mote_fail(err, MOTE_ERUNTIME, "run: %llu of %.0f histories still going after "
+                         "%ld steps (at U = %g V; the spec allows 1e-6 of them): raise "
+                         "integrator max_steps= or eta=", (unsigned long long)lost, total,
+                         path.max_steps, o->potential);
+    }
     if (o->sun && o->tri_material) { /* photoemission (spec 6.8): no random numbers */
         r->tri_photo = calloc((size_t)ntri * 2, sizeof *r->tri_photo);
         r->tri_sunlit = calloc((size_t)ntri * 2, sizeof *r->tri_sunlit);
