@@ -26,7 +26,13 @@ PREC_FLAGS_quad   := -DMOTE_NB_PRECISION=4 -D__STDC_WANT_IEC_60559_TYPES_EXT__=1
 ifeq ($(filter $(PRECISION),double long quad),)
 $(error PRECISION must be double, long or quad (found '$(PRECISION)'))
 endif
-ALL_CFLAGS := -std=c11 -D_POSIX_C_SOURCE=200809L $(PREC_FLAGS_$(PRECISION)) -Iinclude $(WARN) $(CFLAGS) $(SAN) $(OPENMP) $(CAIRO_CFLAGS)
+# MPI=1: the MPI build (Open MPI's mpicc; the charging model shares histories among ranks)
+MPI ?= 0
+ifeq ($(MPI),1)
+CC := mpicc
+MPI_FLAGS := -DMOTE_MPI
+endif
+ALL_CFLAGS := -std=c11 $(MPI_FLAGS) -D_POSIX_C_SOURCE=200809L $(PREC_FLAGS_$(PRECISION)) -Iinclude $(WARN) $(CFLAGS) $(SAN) $(OPENMP) $(CAIRO_CFLAGS)
 # the charging model: Embree (ray tracing; no pkg-config file in Debian) and Assimp (mesh files)
 ASSIMP_LIBS := $(shell pkg-config --libs assimp 2>/dev/null || echo -lassimp)
 LDLIBS  := $(CAIRO_LIBS) -lembree3 $(ASSIMP_LIBS) -lm
@@ -112,7 +118,8 @@ check: setup
 
 test-plain:
 	$(MAKE) --no-print-directory WERROR=1 BUILD=build tests
-	sh tests/run.sh build
+	$(MAKE) --no-print-directory WERROR=1 BUILD=build-mpi MPI=1 build-mpi/mote
+	MOTE_MPI_BIN=$(CURDIR)/build-mpi/mote sh tests/run.sh build
 
 test-san:
 	$(MAKE) --no-print-directory WERROR=1 BUILD=build-san OPT=-O1 \

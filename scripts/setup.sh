@@ -10,6 +10,9 @@ pkg-config --exists cairo 2>/dev/null || need="$need libcairo2-dev"
 # the charging model: Embree (ray tracing) and Assimp (mesh files)
 [ -f /usr/include/embree3/rtcore.h ] || need="$need libembree-dev" # (no pkg-config file)
 pkg-config --exists assimp 2>/dev/null || need="$need libassimp-dev"
+# Open MPI: the charging model's MPI build (make MPI=1), built and run with 2 ranks by make check
+command -v mpicc >/dev/null 2>&1 || need="$need libopenmpi-dev"
+command -v mpirun >/dev/null 2>&1 || need="$need openmpi-bin"
 # ASE (Debian's python3), the independent reader of the extended XYZ files in the tests
 /usr/bin/python3 -c 'import ase.io' >/dev/null 2>&1 || need="$need python3-ase"
 # `setup.sh fuzz`: also clang with libFuzzer, for `make fuzz`

@@ -13,6 +13,9 @@ int ch_body_part(mote_ch_body *b, const char *name, mote_err *err);
 int ch_add_tri(mote_ch_body *b, const double p[3], const double q[3], const double r[3],
                const double *inside, int closed, int part, mote_err *err);
 
+/* This process's MPI rank (0 without MPI, mc.c): only rank 0 writes files. */
+int ch_mpi_rank(void);
+
 /* The Monte Carlo draws (mc.c): four uniforms in (0, 1) from block `draw` of a history's
  * Philox stream; the injection point's outward normal and the direction (cosine law) from
  * four uniforms; the kinetic energy at injection in units of kT for chi = q phi_g / kT. */

@@ -935,7 +935,8 @@ static int evolve_full(ch_model *m, const mote_call *c, mote_err *err)
         ch_table_free(&t);
         return rc;
     }
-    const mote_arg *f = mote_call_opt(c, "file");
+    /* the file from the first MPI rank only (the others have the same numbers) */
+    const mote_arg *f = ch_mpi_rank() == 0 ? mote_call_opt(c, "file") : NULL;
     mote_datafile d;
     FILE *out = m->log;
     if (f) {
@@ -987,7 +988,8 @@ static int run_evolve(void *vm, const mote_call *c, mote_err *err)
         var += m->res.sigma[s] * m->res.sigma[s];
     }
     const double C = g.capacitance, sig = sqrt(var);
-    const mote_arg *f = mote_call_opt(c, "file");
+    /* the file from the first MPI rank only (the others have the same numbers) */
+    const mote_arg *f = ch_mpi_rank() == 0 ? mote_call_opt(c, "file") : NULL;
     mote_datafile d;
     FILE *out = m->log;
     if (f) {

@@ -16,6 +16,9 @@
 #ifdef _OPENMP
 #include <omp.h>
 #endif
+#ifdef MOTE_MPI
+#include <mpi.h>
+#endif
 
 /* ---- Philox4x32-10 (J. K. Salmon, M. A. Moraes, R. O. Dror, D. E. Shaw, SC11) ---------------- */
 
@@ -158,6 +161,78 @@ enum { BLOCK = 4096 };
 __extension__ typedef __int128 ch_i128;
 #define FIX 1099511627776.0 /* 2^40 */
 
+/* ---- MPI (spec 5.6): ranks share the blocks of histories, block b on rank b mod size; the
+ * integer tallies are summed across ranks, so the result is the single process's ---------- */
+
+static void mpi_layout(int *rank, int *size)
+{
+    *rank = 0;
+    *size = 1;
+#ifdef MOTE_MPI
+    int init = 0;
+    MPI_Initialized(&init);
+    if (init) {
+        MPI_Comm_rank(MPI_COMM_WORLD, rank);
+        MPI_Comm_size(MPI_COMM_WORLD, size);
+    }
+#endif
+}
+
+int ch_mpi_rank(void)
+{
+    int rank, size;
+    mpi_layout(&rank, &size);
+    return rank;
+}
+
+#ifdef MOTE_MPI
+/* an MPI reduction: the sum of 128-bit integers (copied, for buffers of any alignment) */
+static void sum_i128(void *in, void *inout, int *len, MPI_Datatype *type)
+{
+    (void)type;
+    for (int i = 0; i < *len; i++) {
+        ch_i128 a, b;
+        memcpy(&a, (char *)in + 16 * (size_t)i, 16);
+        memcpy(&b, (char *)inout + 16 * (size_t)i, 16);
+        b += a;
+        memcpy((char *)inout + 16 * (size_t)i, &b, 16);
+    }
+}
+#endif
+
+/* Sum the tallies of one component over the ranks: the hit counts per triangle and side, the
+ * counters, the largest energy error, the secondary scores (n128 128-bit integers). */
+static void mpi_merge(uint64_t *tally, size_t ntally, uint64_t cnt[4], double *eerr,
+                      ch_i128 *see, size_t n128)
+{
+#ifdef MOTE_MPI
+    int rank, size;
+    mpi_layout(&rank, &size);
+    if (size < 2)
+        return;
+    MPI_Allreduce(MPI_IN_PLACE, tally, (int)ntally, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
+    MPI_Allreduce(MPI_IN_PLACE, cnt, 4, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
+    MPI_Allreduce(MPI_IN_PLACE, eerr, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+    if (see) {
+        MPI_Datatype t128;
+        MPI_Op op;
+        MPI_Type_contiguous(16, MPI_BYTE, &t128);
+        MPI_Type_commit(&t128);
+        MPI_Op_create(sum_i128, 1, &op);
+        MPI_Allreduce(MPI_IN_PLACE, see, (int)n128, t128, op, MPI_COMM_WORLD);
+        MPI_Op_free(&op);
+        MPI_Type_free(&t128);
+    }
+#else
+    (void)tally;
+    (void)ntally;
+    (void)cnt;
+    (void)eerr;
+    (void)see;
+    (void)n128;
+#endif
+}
+
 int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tracer *t,
                 const mote_ch_run_opts *o, mote_ch_result *r, mote_err *err)
 {
@@ -253,6 +328,8 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
     /* the bounding sphere about the centre, a little enlarged for rounding */
     const double rb = g.r_bound * (1 + 1e-9) / R, miss_below = rb < 1 ? 1 - rb * rb : 0;
     const int nt = o->threads > 1 ? o->threads : 1;
+    int mrank, msize;
+    mpi_layout(&mrank, &msize);
     struct timespec t0, t1;
     clock_gettime(CLOCK_MONOTONIC, &t0);
     int comp = 0;
@@ -276,6 +353,11 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
             const double ra2 = field ? (R / a_f) * (R / a_f) : 0;
             r->weight[s][k] = sp->Z * MOTE_CH_E * gamma / (double)o->particles;
             const uint64_t nblocks = (o->particles + BLOCK - 1) / BLOCK;
+            /* this MPI rank's blocks: rank, rank + size, ... */
+            const uint64_t nmine = nblocks > (uint64_t)mrank
+                                       ? (nblocks - (uint64_t)mrank + (uint64_t)msize - 1) /
+                                             (uint64_t)msize
+                                       : 0;
             uint64_t hits = 0, back = 0, lost = 0, steps = 0;
             double eerr = 0;
             ch_path pk = path; /* this component's charge to mass */
@@ -319,7 +401,8 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
 #endif
                 uint64_t *mine = nt > 1 ? priv + (size_t)tid * ntri * 2 : tally;
 #pragma omp for schedule(dynamic, 1)
-                for (uint64_t blk = 0; blk < nblocks; blk++) {
+                for (uint64_t jb = 0; jb < nmine; jb++) {
+                    const uint64_t blk = (uint64_t)mrank + jb * (uint64_t)msize;
                     const uint64_t h1 = (blk + 1) * BLOCK < o->particles ? (blk + 1) * BLOCK
                                                                            : o->particles;
                     ch_i128 *msee = see ? psee + (size_t)tid * nsee : NULL;
@@ -485,10 +568,20 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
 #undef STRAIGHT_E
                 }
             }
+            for (int th = 1; see && th < nt; th++) /* integers: any order gives the same sums */
+                for (size_t q = 0; q < nsee; q++)
+                    psee[q] += psee[(size_t)th * nsee + q];
+            for (int th = 0; priv && th < nt; th++)
+                for (size_t q = 0; q < (size_t)ntri * 2; q++)
+                    tally[q] += priv[(size_t)th * ntri * 2 + q];
+            free(priv);
+            uint64_t cnt[4] = {hits, back, lost, steps};
+            mpi_merge(tally, (size_t)ntri * 2, cnt, &eerr, psee, nsee);
+            hits = cnt[0];
+            back = cnt[1];
+            lost = cnt[2];
+            steps = cnt[3];
             if (see) { /* the emitted current |w| sum, its error from the scores' spread */
-                for (int th = 1; th < nt; th++) /* integers: any order gives the same sums */
-                    for (size_t q = 0; q < nsee; q++)
-                        psee[q] += psee[(size_t)th * nsee + q];
                 const double w = fabs(sp->Z * MOTE_CH_E * gamma / (double)o->particles);
                 const double N = (double)o->particles;
                 const double sum = (double)psee[nsee - 2] / FIX, sq = (double)psee[nsee - 1] / FIX;
@@ -498,10 +591,6 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                     r->tri_see[(size_t)comp * ntri * 2 + q] = w * (double)psee[q] / FIX;
                 free(psee);
             }
-            for (int th = 0; priv && th < nt; th++)
-                for (size_t q = 0; q < (size_t)ntri * 2; q++)
-                    tally[q] += priv[(size_t)th * ntri * 2 + q];
-            free(priv);
             r->hits[s][k] = hits;
             r->backface_hits += back;
             r->lost += lost;

@@ -499,6 +499,8 @@ static int write_ply(const ch_output *o, const char *path, mote_err *err)
 
 int ch_write_outputs(const ch_output *o, FILE *log, mote_err *err)
 {
+    if (ch_mpi_rank() != 0) /* the first MPI rank writes; the others have the same numbers */
+        return MOTE_OK;
     const size_t len = strlen(o->prefix) + 32;
     char *path = malloc(len);
     if (!path)

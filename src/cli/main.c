@@ -1,10 +1,20 @@
 /* main.c: the `mote` program. It only names the models this build knows; everything else (run,
- * check, help) lives in the script layer (src/script). */
+ * check, help) lives in the script layer (src/script).
+ *
+ * The MPI build (make MPI=1) starts MPI here. With more than one rank every rank runs the same
+ * script: the charging model shares each run's histories among the ranks and sums their
+ * tallies, so every rank holds the single process's numbers; rank 0 prints and writes the
+ * files, the others are silent. The other models have no use for ranks and are not offered. */
 #include "mote/charging.h"
 #include "mote/hardspheres.h"
 #include "mote/mixingbox.h"
 #include "mote/nbody.h"
 #include "mote/script.h"
+
+#ifdef MOTE_MPI
+#include <mpi.h>
+#include <stdio.h>
+#endif
 
 static const mote_model *const models[] = {
     &mote_model_hardspheres,
@@ -15,5 +25,28 @@ static const mote_model *const models[] = {
 
 int main(int argc, char **argv)
 {
+#ifdef MOTE_MPI
+    MPI_Init(&argc, &argv);
+    int rank = 0, size = 1;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &size);
+    int rc;
+    if (size > 1) {
+        static const mote_model *const mpi_models[] = {&mote_model_charging};
+        if (rank != 0) {
+            if (!freopen("/dev/null", "w", stdout) || !freopen("/dev/null", "w", stderr))
+                MPI_Abort(MPI_COMM_WORLD, 1);
+        } else {
+            fprintf(stderr, "mote: %d MPI ranks share the charging model's histories (the other "
+                            "models do not run under MPI)\n", size);
+        }
+        rc = mote_script_main(argc, argv, mpi_models, 1);
+    } else {
+        rc = mote_script_main(argc, argv, models, sizeof models / sizeof models[0]);
+    }
+    MPI_Finalize();
+    return rc;
+#else
     return mote_script_main(argc, argv, models, sizeof models / sizeof models[0]);
+#endif
 }

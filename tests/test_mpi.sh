@@ -1,0 +1,49 @@
+#!/bin/sh
+# test_mpi.sh: the charging model's MPI build (make MPI=1; spec 5.6 and S5): a script of run
+# (straight paths, materials, sun), float and evolve (curved paths) gives the same files on 1
+# process of the plain build, 1 rank and 2 ranks of the MPI build (timing lines excepted), and
+# only rank 0 writes; a model other than charging is refused under MPI. `make check` builds
+# build-mpi/mote and names it in MOTE_MPI_BIN for its plain pass; without it this test says so
+# and checks nothing (the sanitizer pass).
+# Usage: MOTE_MPI_BIN=build-mpi/mote sh tests/test_mpi.sh [BUILD_DIR]
+NAME=mpi
+. "$(dirname "$0")/lib.sh"
+mote_test_start "$1"
+if [ -z "${MOTE_MPI_BIN:-}" ]; then
+    echo "test_mpi.sh: MOTE_MPI_BIN is not set (the plain pass of make check sets it): nothing checked"
+    mote_test_end
+    exit 0
+fi
+MPI_MOTE=$MOTE_MPI_BIN
+[ -x "$MPI_MOTE" ] && ok || bad "no MPI build at $MPI_MOTE"
+# Open MPI refuses root unless told (CI machines run as root); --oversubscribe for small machines
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+MPIRUN="mpirun --oversubscribe -np 2"
+
+printf 'o craft\nv -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\ng bus\nf 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\ng panel\nv 1 -0.5 0\nv 4 -0.5 0\nv 4 0.5 0\nv 1 0.5 0\nf 9 10 11\nf 9 11 12\n' > craft.obj
+printf 'model charging\nplasma preset geo-worst-case\nbody load file=../craft.obj\nmaterial assign part=* material=kapton\nsun direction=0.3,0.2,1\noutput prefix=c png_size=400x300\nrun particles=1e5\nintegrator eta=0.05\nfloat particles=2e4\nevolve time=0.2 dt_out=0.05 particles=1e4 file=ts.csv\n' > t.mote
+mkdir -p p1 r1 r2
+cp t.mote p1/ && cp t.mote r1/ && cp t.mote r2/
+(cd p1 && "$MOTE" run t.mote > out.txt 2> err.txt) && ok || bad "plain build: $(cat p1/err.txt)"
+(cd r1 && "$MPI_MOTE" run t.mote > out.txt 2> err.txt) && ok || bad "MPI build, 1 rank: $(cat r1/err.txt)"
+(cd r2 && $MPIRUN "$MPI_MOTE" run t.mote > out.txt 2> err.txt) && ok || bad "MPI build, 2 ranks: $(cat r2/err.txt)"
+grep -q '^mote: 2 MPI ranks share' r2/err.txt && ok || bad "no note of the ranks: $(cat r2/err.txt)"
+# the same files; the summaries without their timing (traces/s)
+untimed() { sed -e 's/"traces_per_s":[^,]*,//' -e 's/, [0-9.e+]* traces\/s on .*//' "$1"; }
+for f in c_triangles.csv c_parts.csv c_surface.vtk c_surface.png ts.csv; do
+    [ -s "p1/$f" ] && cmp -s "p1/$f" "r1/$f" && cmp -s "p1/$f" "r2/$f" && ok || bad "$f differs between 1 process, 1 rank and 2 ranks"
+done
+for f in c_summary.txt c_summary.json; do
+    [ -s "p1/$f" ] && [ "$(untimed p1/$f)" = "$(untimed r2/$f)" ] && ok || bad "$f differs beyond its timing"
+done
+# the numbers printed, without speeds
+nums() { grep -E '^(run|float|evolve):' "$1" | sed -e 's/[0-9.e+]* traces\/s//'; }
+[ -n "$(nums p1/out.txt)" ] && [ "$(nums p1/out.txt)" = "$(nums r2/out.txt)" ] && ok || bad "the printed results differ: $(nums r2/out.txt | head -3)"
+grep -q '^float: U_f = ' r2/out.txt && ok || bad "2 ranks: no float line"
+# only rank 0 writes: no temporary or second copies
+[ "$(ls r2 | sort | tr '\n' ' ')" = "$(ls p1 | sort | tr '\n' ' ')" ] && ok || bad "files of 2 ranks: $(ls r2)"
+# another model under MPI: refused, nothing run
+printf 'model nbody gravity\n' > nb.mote
+$MPIRUN "$MPI_MOTE" run nb.mote > out.txt 2> err.txt
+[ $? -ne 0 ] && grep -q "nb.mote:1:7: error: model: unknown model 'nbody' (known models: charging)" err.txt && ok || bad "nbody under MPI: $(cat err.txt)"
+mote_test_end
