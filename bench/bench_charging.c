@@ -78,11 +78,10 @@ static int bench(const char *name, mote_ch_body *b, double R, double n, int thre
         mote_ch_tracer_free(t);
         return 0;
     }
-    printf("ranks=%d ", ranks);
-    printf("workload=%s triangles=%u R_gen=%g histories=%.0f threads=%d seconds=%.3f "
+    printf("workload=%s triangles=%u R_gen=%g histories=%.0f threads=%d ranks=%d seconds=%.3f "
            "traces_per_s=%.4g per_thread=%.4g hit_fraction=%.5f build_seconds=%.3f "
            "peak_rss_mb=%.1f",
-           name, b->ntri, R, n * r.ncomp, threads, r.seconds, r.traces_per_s,
+           name, b->ntri, R, n * r.ncomp, threads, ranks, r.seconds, r.traces_per_s,
            r.traces_per_s / threads, (double)hits / (n * r.ncomp), build,
            (double)mote_peak_rss_bytes() / 1048576.0);
     if (curved)

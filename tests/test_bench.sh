@@ -53,7 +53,10 @@ check "bench_nbody pairs reports pair evaluations per second" \
 cbench="$(dirname "$bench")/bench_charging"
 cb=$("$cbench" b1 2e4 2 2>"$tmp/err")
 check "bench_charging b1 reports traces per second and the hit fraction: $(head -c 80 "$tmp/err")" \
-    'echo "$cb" | grep -q "^workload=b1 triangles=9800 R_gen=3 histories=20000 threads=2 seconds=[0-9.]* traces_per_s=[0-9.e+]* per_thread=[0-9.e+]* hit_fraction=0.1"'
+    'echo "$cb" | grep -q "^workload=b1 triangles=9800 R_gen=3 histories=20000 threads=2 ranks=1 seconds=[0-9.]* traces_per_s=[0-9.e+]* per_thread=[0-9.e+]* hit_fraction=0.1"'
+cb=$("$cbench" b3 2e3 2 2>"$tmp/err")
+check "bench_charging b3 reports curved paths: $(head -c 80 "$tmp/err")" \
+    'echo "$cb" | grep -q "^workload=b3 triangles=9800 R_gen=3 histories=8000 threads=2 ranks=1 .* steps_per_history=[0-9.]* lost=0 max_energy_err="'
 "$cbench" nosuch >/dev/null 2>"$tmp/err"
 rc=$?
 check "bench_charging: an unknown workload fails (exit $rc)" '[ $rc -ne 0 ] && grep -q "usage: bench_charging" "$tmp/err"'
