@@ -157,6 +157,8 @@ printf '%bplasma preset thesis-hot\nbody sphere radius=1\nrun particles=1e5\n' "
 "$MOTE" run sp1.mote > o1.txt 2> err.txt && "$MOTE" run sp2.mote > o2.txt 2>> err.txt && [ -n "$(grep '^run:' o1.txt)" ] && [ "$(grep '^run:' o1.txt | sed 's/ [0-9.e+]* traces.s//')" = "$(grep '^run:' o2.txt | sed 's/ [0-9.e+]* traces.s//')" ] && ok || bad "species/maxwellian differ from the preset: $(grep '^run: net' o1.txt) / $(grep '^run: net' o2.txt) $(cat err.txt)"
 printf '%bspecies name=O+ charge=1 mass=amu:16\nmaxwellian species=O+ density=1e6 temperature=1000\nbody sphere radius=1\nrun particles=1e5\n' "$G" > sp3.mote
 "$MOTE" run sp3.mote > o3.txt 2> err.txt && awk '/^run: O\+/ { I = $5; s = $8 } END { want = 1.602176634e-19 * 1e6 * 4 * 3.14159265358979 * sqrt(1000 * 1.602176634e-19 / (2 * 3.14159265358979 * 16 * 1.66053906660e-27)); d = I - want; exit !(d * d <= 9 * s * s) }' o3.txt && ok || bad "O+ current: $(grep '^run: O' o3.txt) $(cat err.txt)"
+expect 1 "sp4b.mote:3:46: error: maxwellian: temperature must be > 0" sp4b.mote "${G}species name=X charge=1 mass=proton\nmaxwellian species=X density=1e6 temperature=-5\n"
+expect 1 "sp4c.mote:5:1: error: run: there is no plasma yet" sp4c.mote "${G}plasma preset thesis-hot\nspecies clear\nbody sphere radius=1\nrun\n"
 expect 1 "sp4.mote:2:20: error: maxwellian: no species 'Xe'" sp4.mote "${G}maxwellian species=Xe density=1 temperature=1\n"
 expect 1 "sp5.mote:2:1: error: species: give name=, charge= and mass=" sp5.mote "${G}species name=Xe charge=1\n"
 expect 1 "sp6.mote:2:16: error: species: charge must be a whole number of elementary charges, not 0" sp6.mote "${G}species name=n charge=0 mass=proton\n"
