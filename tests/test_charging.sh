@@ -47,12 +47,12 @@ printf '%bplasma preset single n=1e6 kT=1000\nbody sphere radius=1\nfloat partic
 expect 1 "b10.mote:2:24: error: injector sphere: radius must be auto, debye, thesis or a length > 0 (m), found 'big'" b10.mote "${G}injector sphere radius=big\n"
 expect 1 "b10b.mote:2:10: error: injector: expected sphere or box, found 'cone'" b10b.mote "${G}injector cone\n"
 expect 1 "b10c.mote:2:21: error: injector box: radius= is for the sphere" b10c.mote "${G}injector box radius=3\n"
-expect 2 "b10d.mote:5:1: error: run: the box injector is for straight paths" b10d.mote "${G}plasma preset thesis-hot\nbody sphere radius=1\ninjector box\nrun potential=-10 particles=10\n"
+expect 2 "b10d.mote:5:1: error: run: the box injector is for straight paths" b10d.mote "${G}plasma preset single n=1e6 kT=1000\nbody sphere radius=1\ninjector box\nrun potential=-10 particles=10\n"
 expect 1 "b11.mote:3:6: error: body sphere: the exact sphere is a body on its own" b11.mote "${G}body sphere radius=1\nbody sphere radius=2\n"
 expect 1 "b12.mote:2:6: error: body: expected sphere, icosphere, uvsphere, box, twocubes or load, found 'cone'" b12.mote "${G}body cone\n"
 expect 1 "b13.mote:3:1: error: evolve: no currents yet: run first" b13.mote "${F}body sphere radius=1\nevolve time=1 file=x.csv\n"
 [ ! -e x.csv ] && ok || bad "a failed script wrote x.csv"
-expect 2 "b14.mote:4:1: error: run: the injection radius 0.5 m must exceed the body's bounding radius 1 m" b14.mote "${F}body sphere radius=1\ninjector sphere radius=0.5\nrun particles=10\n"
+expect 2 "b14.mote:5:1: error: run: the injection radius 0.5 m must exceed the body's bounding radius 1 m" b14.mote "${F}plasma preset single n=1e6 kT=1000\nbody sphere radius=1\ninjector sphere radius=0.5\nrun particles=10\n"
 # body load (spec 7.1-7.3): an OBJ with two groups, repaired and run; errors name file and line
 printf 'o craft\nv -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\ng bus\nf 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\ng panel\nv 1 -0.5 0\nv 4 -0.5 0\nv 4 0.5 0\nv 1 0.5 0\nf 9 10 11\nf 9 11 12\n' > craft.obj
 printf '%bplasma preset geo-worst-case\nbody load file=craft.obj units=m\nrun particles=1e5\n' "$G" > ld.mote
@@ -134,6 +134,18 @@ expect 1 "s2.mote:2:5: error: sun: intensity must be a number >= 0 (1: 1 AU), fo
 expect 1 "s3.mote:2:1: error: sun: give direction=X,Y,Z (or 'sun off')" s3.mote "${G}sun intensity=2\n"
 expect 1 "s4.mote:2:1: error: sun: faithful mode has no emission" s4.mote "${F}sun direction=1,0,0\n"
 expect 1 "s5.mote:3:10: error: material assign: faithful mode has no emission" s5.mote "${F}body sphere radius=1\nmaterial assign part=* material=gold\n"
+# validity warnings (spec 3.4): a thin sheath, Larmor radii with bfield, relativistic electrons;
+# field none: straight paths whatever U, and no floating potential
+printf '%bplasma preset single n=1e12 kT=1\nbody sphere radius=1\nbfield B=1e-3\nrun particles=1000\n' "$G" > vw.mote
+"$MOTE" run vw.mote > out.txt 2> err.txt && grep -q '^run: warning: the Debye length 0.005257 m is below 5 R_bound = 5 m: a thin sheath' err.txt &&
+    grep -q '^run: warning: e component 1: Larmor radius 0.003372 m in B = 0.001 T is below 10 R_bound = 10 m' err.txt && ok || bad "validity warnings: $(cat err.txt)"
+printf '%bplasma preset geo-worst-case\nbody sphere radius=1\nrun particles=1000\n' "$G" > vr.mote
+"$MOTE" run vr.mote > out.txt 2> err.txt && [ "$(grep -c warning err.txt)" -eq 1 ] && grep -q '^run: warning: e component 2: kT/(m c^2) = 0.0538 > 0.02' err.txt && ok || bad "relativity warning: $(cat err.txt)"
+printf '%bplasma preset geo-worst-case\nbody sphere radius=1\nfield none\nrun particles=1e4\nrun particles=1e4 potential=-5000\n' "$G" > fn.mote
+"$MOTE" run fn.mote > out.txt 2> err.txt && [ "$(grep '^run: e ' out.txt | sort -u | wc -l)" -eq 1 ] && ok || bad "field none: $(grep '^run: e' out.txt)"
+expect 1 "fn2.mote:5:1: error: float: with field none the currents do not depend on U" fn2.mote "${G}plasma preset geo-worst-case\nbody sphere radius=1\nfield none\nfloat\n"
+expect 1 "fn3.mote:2:7: error: field: expected none or sphere, found 'dipole'" fn3.mote "${G}field dipole\n"
+expect 1 "fn4.mote:2:7: error: field sphere: faithful mode has no field" fn4.mote "${F}field sphere\n"
 expect 1 "m1.mote:3:33: error: material assign: no material 'steel'" m1.mote "${G}body sphere radius=1\nmaterial assign part=* material=steel\n"
 expect 1 "m2.mote:3:10: error: material assign: give part=NAME|* and material=NAME" m2.mote "${G}body sphere radius=1\nmaterial assign material=gold\n"
 expect 1 "m3.mote:2:10: error: material assign: give the body first" m3.mote "${G}material assign part=* material=gold\n"

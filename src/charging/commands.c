@@ -25,6 +25,9 @@ typedef struct {
     double r_gen_used;          /* the injection radius of the last run */
     int box;                    /* the box injector (spec 5.2) */
     double margin, margin_m;
+    int field_off;              /* `field none` (spec 6.1): straight paths whatever U */
+    double bfield;              /* `bfield B=` (spec 3.4, diagnostics only), T */
+    int diagnosed;              /* the warnings of spec 3.4 printed for this plasma and body */
     int sun;                    /* `sun` (spec 6.8): on, the unit vector toward it, intensity */
     double sun_dir[3], sun_int;
     double eta;                 /* `integrator` (spec 6.3): curved paths' step and limit */
@@ -237,6 +240,7 @@ static int check_species(void *vm, const mote_call *c, mote_err *err)
 }
 static int run_species(void *vm, const mote_call *c, mote_err *err)
 {
+    ((ch_model *)vm)->diagnosed = 0;
     return apply_species(&((ch_model *)vm)->plasma, c, err);
 }
 
@@ -266,6 +270,7 @@ static int check_maxwellian(void *vm, const mote_call *c, mote_err *err)
 }
 static int run_maxwellian(void *vm, const mote_call *c, mote_err *err)
 {
+    ((ch_model *)vm)->diagnosed = 0;
     return apply_maxwellian(&((ch_model *)vm)->plasma, c, err);
 }
 
@@ -274,6 +279,7 @@ static int run_plasma(void *vm, const mote_call *c, mote_err *err)
     ch_model *m = vm;
     int rc = mote_ch_plasma_preset(&m->plasma, c->args[1].text, mote_call_opt_r(c, "n", 0),
                                    mote_call_opt_r(c, "kT", 0), err);
+    m->diagnosed = 0;
     const mote_arg *dr = mote_call_opt(c, "drift");
     if (!rc && dr) { /* the plasma flows past the body: every species drifts alike */
         double d[3];
@@ -446,6 +452,7 @@ static int run_body(void *vm, const mote_call *c, mote_err *err)
         return rc;
     mote_ch_result_free(&m->res);
     m->have_run = 0;
+    m->diagnosed = 0;
     if (m->log) {
         mote_ch_geometry g;
         mote_ch_body_geometry(&m->body, &g);
@@ -503,6 +510,69 @@ static double injection_radius(const ch_model *m, const mote_ch_geometry *g)
     if (strcmp(m->radius, "thesis") == 0)
         return 131.41;
     return strtod(m->radius, NULL);
+}
+
+/* ---- field and bfield (spec 6.1, 3.4) ---- */
+
+static int apply_field(ch_model *m, const mote_call *c, mote_err *err)
+{
+    const char *w = c->args[0].text;
+    if (strcmp(w, "none") && strcmp(w, "sphere"))
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "field: expected none or sphere, found "
+                              "'%s'", w);
+    if (m->faithful && !strcmp(w, "sphere"))
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "field sphere: faithful mode has no field "
+                              "(the thesis's scope, spec 1.2); use model charging");
+    m->field_off = !strcmp(w, "none");
+    return MOTE_OK;
+}
+static int check_field(void *vm, const mote_call *c, mote_err *err)
+{
+    return apply_field(vm, c, err);
+}
+static int run_field(void *vm, const mote_call *c, mote_err *err)
+{
+    return apply_field(vm, c, err);
+}
+
+static int run_bfield(void *vm, const mote_call *c, mote_err *err)
+{
+    ((ch_model *)vm)->bfield = mote_call_opt_r(c, "B", 0);
+    ((ch_model *)vm)->diagnosed = 0;
+    return MOTE_OK;
+}
+
+/* The validity diagnostics of spec 3.4 (warnings only): a thin sheath (Debye length below
+ * 5 R_bound), Larmor radii below 10 R_bound (with `bfield`), kT/(m c^2) above 0.02. Printed on
+ * the diagnostic stream before the first run, float or evolve of a plasma and body. */
+static void diagnose(ch_model *m, const char *cmd)
+{
+    FILE *w = m->dry || !m->ctx ? NULL : m->ctx->diag;
+    if (!w || ch_mpi_rank() != 0 || m->diagnosed)
+        return;
+    m->diagnosed = 1; /* once, until the plasma, the body or bfield change */
+    mote_ch_geometry g;
+    mote_ch_body_geometry(&m->body, &g);
+    const double ld = mote_ch_debye(&m->plasma), c2 = 299792458.0 * 299792458.0;
+    if (ld < 5 * g.r_bound)
+        fprintf(w, "%s: warning: the Debye length %.4g m is below 5 R_bound = %.4g m: a thin "
+                   "sheath, where the vacuum-field (OML) model of spec 6 does not hold\n",
+                cmd, ld, 5 * g.r_bound);
+    for (int s = 0; s < m->plasma.nsp; s++) {
+        const mote_ch_species *sp = &m->plasma.sp[s];
+        for (int k = 0; k < sp->ncomp; k++) {
+            const double E = sp->kT[k] * MOTE_CH_E, v = sqrt(2 * E / sp->m);
+            const double rl = m->bfield > 0 ? sp->m * v / (abs(sp->Z) * MOTE_CH_E * m->bfield) : 0;
+            if (m->bfield > 0 && rl < 10 * g.r_bound)
+                fprintf(w, "%s: warning: %s component %d: Larmor radius %.4g m in B = %g T is "
+                           "below 10 R_bound = %.4g m (the model has no magnetic field)\n",
+                        cmd, sp->name, k + 1, rl, m->bfield, 10 * g.r_bound);
+            if (E / (sp->m * c2) > 0.02)
+                fprintf(w, "%s: warning: %s component %d: kT/(m c^2) = %.3g > 0.02 (the model is "
+                           "not relativistic; expect errors of a few per cent)\n",
+                        cmd, sp->name, k + 1, E / (sp->m * c2));
+        }
+    }
 }
 
 /* ---- sun (spec 6.8) ---- */
@@ -731,7 +801,7 @@ static mote_ch_run_opts run_opts(const ch_model *m, const mote_call *c, const mo
                           .particles = (uint64_t)mote_call_opt_r(c, "particles", 1e6),
                           .r_gen = injection_radius(m, g),
                           .threads = c->ctx->threads,
-                          .field = !m->faithful,
+                          .field = !m->faithful && !m->field_off,
                           .box = m->box,
                           .margin = m->margin,
                           .margin_m = m->margin_m,
@@ -780,6 +850,7 @@ static int run_run(void *vm, const mote_call *c, mote_err *err)
     mote_ch_body_geometry(&m->body, &g);
     if (build_tri_materials(m, err))
         return err->code;
+    diagnose(m, "run");
     mote_ch_run_opts o = run_opts(m, c, &g);
     o.potential = mote_call_opt_r(c, "potential", 0);
     mote_ch_tracer *t = mote_ch_tracer_new(&m->body, err);
@@ -840,6 +911,9 @@ static int check_float(void *vm, const mote_call *c, mote_err *err)
     if (m->faithful)
         return mote_call_fail(err, c, -1, MOTE_EINVAL, "float: in faithful mode the currents do "
                               "not depend on U, so no floating potential exists");
+    if (m->field_off)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "float: with field none the currents do "
+                              "not depend on U, so no floating potential exists");
     const mote_arg *n = mote_call_opt(c, "particles");
     if (n && (n->r != floor(n->r) || n->r > 1e15))
         return mote_call_fail(err, c, mote_call_opt_index(c, "particles"), MOTE_EINVAL,
@@ -854,6 +928,7 @@ static int run_float(void *vm, const mote_call *c, mote_err *err)
     mote_ch_body_geometry(&m->body, &g);
     if (build_tri_materials(m, err))
         return err->code;
+    diagnose(m, "float");
     mote_ch_run_opts o = run_opts(m, c, &g); /* (the field on: full mode) */
     mote_ch_tracer *t = mote_ch_tracer_new(&m->body, err);
     if (!t)
@@ -901,6 +976,10 @@ static int check_evolve(void *vm, const mote_call *c, mote_err *err)
 {
     ch_model *m = vm;
     if (!m->faithful) {
+        if (m->field_off)
+            return mote_call_fail(err, c, -1, MOTE_EINVAL, "evolve: with field none the currents "
+                                  "do not depend on U (use model charging faithful for constant "
+                                  "currents)");
         int rc = need_setup(m, c, err);
         if (rc)
             return rc;
@@ -976,8 +1055,10 @@ static int evolve_full(ch_model *m, const mote_call *c, mote_err *err)
 static int run_evolve(void *vm, const mote_call *c, mote_err *err)
 {
     ch_model *m = vm;
-    if (!m->faithful)
+    if (!m->faithful) {
+        diagnose(m, "evolve");
         return evolve_full(m, c, err);
+    }
     mote_ch_geometry g;
     mote_ch_body_geometry(&m->body, &g);
     const double T = mote_call_opt(c, "time")->r;
@@ -1261,6 +1342,24 @@ static const char HELP_FLOAT[] =
     "current at U_f. Faithful mode has no floating potential (its currents do not\n"
     "depend on U).\n";
 
+static const char HELP_FIELD[] =
+    "    field none|sphere\n"
+    "\n"
+    "sphere (the default in full mode): a charged body's particles move in the\n"
+    "Coulomb field of its equivalent sphere (spec 6.1), phi = U R_f / |r - c| outside\n"
+    "R_f = R_eq (the exact sphere: its radius). none: straight paths whatever the\n"
+    "potential, as in faithful mode (which has no field).\n";
+
+static const char HELP_BFIELD[] =
+    "    bfield B=T\n"
+    "\n"
+    "A magnetic field strength (tesla) for the validity warnings of spec 3.4 only:\n"
+    "run, float and evolve warn when a component's Larmor radius m v / (|q| B),\n"
+    "v = sqrt(2 kT / m), is below 10 R_bound. The model itself has no magnetic\n"
+    "field. They also warn, always, when the Debye length is below 5 R_bound (a thin\n"
+    "sheath) and when kT/(m c^2) > 0.02 (relativistic speeds). At GEO (B about\n"
+    "100 nT) the radii are kilometres.\n";
+
 static const char HELP_SUN[] =
     "    sun direction=X,Y,Z [intensity=1]\n"
     "    sun off\n"
@@ -1347,6 +1446,10 @@ static const mote_cmd ch_commands[] = {
     {"injector", NULL, "s radius=s margin=r>0 margin_m=r>0",
      "injector sphere|box [options]",
      "where histories start", HELP_INJECTOR, check_injector, run_injector},
+    {"field", NULL, "s", "field none|sphere", "straight paths, or the equivalent sphere's field",
+     HELP_FIELD, check_field, run_field},
+    {"bfield", NULL, "B=r>=0!", "bfield B=T", "a magnetic field for the validity warnings only",
+     HELP_BFIELD, NULL, run_bfield},
     {"sun", NULL, "*", "sun direction=X,Y,Z [intensity=1] | sun off",
      "light for photoemission (spec 6.8)", HELP_SUN, check_sun, run_sun},
     {"integrator", NULL, "eta=r(0,1) max_steps=r>=1", "integrator [eta=0.01] [max_steps=1e5]",
