@@ -156,7 +156,13 @@ expect 1 "m6.mote:2:33: error: material: see_dmax must be >= 0, found -1" m6.mot
 printf '%bplasma preset geo-worst-case\nbody sphere radius=1\nmaterial define name=mine see_dmax=3 see_emax=0.3\nmaterial assign part=sphere material=mine\nrun particles=1e5\n' "$G" > md.mote
 "$MOTE" run md.mote > out.txt 2> err.txt && grep -q '^run: e .*secondaries it knocks out: +' out.txt && ok || bad "a defined material: $(grep '^run: e' out.txt) $(cat err.txt)"
 expect 1 "b21.mote:2:15: error: output: the directory of prefix 'nodir/x' does not exist" b21.mote "${G}output prefix=nodir/x\n"
-expect 1 "b22.mote:2:26: error: output: png_view must be iso, +x, -x, +y, -y, +z, -z or X,Y,Z, found 'top'" b22.mote "${G}output prefix=x png_view=top\n"
+expect 1 "b22.mote:2:26: error: output: png_view must be iso, +x, -x, +y, -y, +z, -z or X,Y,Z, or up to 8 of them as V1/V2/..., found 'top'" b22.mote "${G}output prefix=x png_view=top\n"
+expect 1 "b22b.mote:2:26: error: output: png_view must be iso, +x, -x, +y, -y, +z, -z or X,Y,Z, or up to 8 of them as V1/V2/..., found '0,0,0'" b22b.mote "${G}output prefix=x png_view=iso/0,0,0\n"
+# several views: one picture each, named by the view (spec 8.4)
+mkdir -p mv
+printf '%bplasma preset geo-worst-case\nbody load file=craft.obj\noutput prefix=mv/c png_view=iso/+z/-x/1,-1,0.5 png_size=200x150 vtk=off\nrun particles=1e4\n' "$G" > mv.mote
+"$MOTE" run mv.mote > out.txt 2> err.txt && [ "$(ls mv/*.png | tr '\n' ' ')" = "mv/c_surface_iso.png mv/c_surface_mx.png mv/c_surface_pz.png mv/c_surface_view4.png " ] &&
+    ! cmp -s mv/c_surface_iso.png mv/c_surface_pz.png && ok || bad "several views: $(ls mv) $(cat err.txt)"
 expect 1 "b23.mote:2:26: error: output: png_size must be WxH, 64 to 8192 pixels each, found '10x10'" b23.mote "${G}output prefix=x png_size=10x10\n"
 # drift (spec 5.4, M5): a 1 m sphere in a plasma flowing at u = sigma collects q n pi a^2 <|v|>,
 # <|v|> = 1.8493 sigma; the electron sigma at 1 keV is sqrt(kT/m)

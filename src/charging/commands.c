@@ -45,7 +45,9 @@ typedef struct {
     /* `output`: the files of spec 8 after each run (prefix NULL: none) */
     char *prefix, *origin;
     int out_triangles, out_vtk, out_png, out_ply, png_w, png_h, png_log;
-    double view[3];
+    double view[8][3];          /* png_view: the views, and their names for the file names */
+    char view_name[8][16];
+    int nviews;
 } ch_model;
 
 static void *model_create(mote_context *ctx, int dry)
@@ -868,8 +870,8 @@ static int run_run(void *vm, const mote_call *c, mote_err *err)
                          &m->plasma, &m->body, &m->res, g, o.r_gen, o.field ? o.potential : 0,
                          o.threads > 1 ? o.threads : 1,
                          m->out_triangles, m->out_vtk, m->out_png, m->out_ply, m->png_w,
-                         m->png_h, m->png_log, {m->view[0], m->view[1], m->view[2]}, 0, 0, 0,
-                         m->tri_mat};
+                         m->png_h, m->png_log, {m->view[0][0], m->view[0][1], m->view[0][2]}, 0, 0, 0,
+                         m->tri_mat, m->nviews, m->view, m->view_name};
         rc = ch_write_outputs(&out, m->log, err);
         if (rc)
             return rc;
@@ -946,7 +948,8 @@ static int run_float(void *vm, const mote_call *c, mote_err *err)
         ch_output out = {m->prefix, m->origin, "full", m->seed, &m->plasma, &m->body, &m->res,
                          g, o.r_gen, U, o.threads > 1 ? o.threads : 1, m->out_triangles,
                          m->out_vtk, m->out_png, m->out_ply, m->png_w, m->png_h, m->png_log,
-                         {m->view[0], m->view[1], m->view[2]}, 1, sU, oml, m->tri_mat};
+                         {m->view[0][0], m->view[0][1], m->view[0][2]}, 1, sU, oml, m->tri_mat,
+                         m->nviews, m->view, m->view_name};
         rc = ch_write_outputs(&out, m->log, err);
         if (rc)
             return rc;
@@ -1124,7 +1127,7 @@ static int on_off(const mote_call *c, const char *key, int dflt, int *out, mote_
     return MOTE_OK;
 }
 
-/* png_view=iso|+x|-x|+y|-y|+z|-z|X,Y,Z: the unit vector toward the viewer */
+/* one view of png_view: iso|+x|-x|+y|-y|+z|-z|X,Y,Z: the unit vector toward the viewer */
 static int parse_view(const char *t, double v[3])
 {
     if (strcmp(t, "iso") == 0) {
@@ -1146,10 +1149,34 @@ static int parse_view(const char *t, double v[3])
     return 0;
 }
 
+/* png_view=V1/V2/...: up to 8 views, each with a name for its file (iso, px, mz, ...; a
+ * vector: viewK); the count, or -1 (*bad: the view that is not one). */
+static int parse_views(const char *t, double v[8][3], char name[8][16], char bad[64])
+{
+    int n = 0;
+    for (const char *p = t;; n++) {
+        const char *e = strchr(p, '/');
+        const size_t l = e ? (size_t)(e - p) : strlen(p);
+        snprintf(bad, 64, "%.*s", (int)(l < 63 ? l : 63), p);
+        if (n == 8 || l == 0 || l >= 64 || parse_view(bad, v[n]))
+            return -1;
+        if (bad[0] == '+' || bad[0] == '-')
+            snprintf(name[n], 16, "%c%c", bad[0] == '+' ? 'p' : 'm', bad[1]);
+        else if (!strcmp(bad, "iso"))
+            snprintf(name[n], 16, "iso");
+        else
+            snprintf(name[n], 16, "view%d", n + 1);
+        if (!e)
+            return n + 1;
+        p = e + 1;
+    }
+}
+
 static int check_output(void *vm, const mote_call *c, mote_err *err)
 {
     int x;
-    double v[3];
+    double v[8][3];
+    char names[8][16], bad[64];
     const mote_arg *a;
     int rc = on_off(c, "triangles", 1, &x, err);
     if (!rc)
@@ -1160,10 +1187,10 @@ static int check_output(void *vm, const mote_call *c, mote_err *err)
         rc = on_off(c, "ply", 0, &x, err);
     if (rc)
         return rc;
-    if ((a = mote_call_opt(c, "png_view")) && parse_view(a->text, v))
+    if ((a = mote_call_opt(c, "png_view")) && parse_views(a->text, v, names, bad) < 0)
         return mote_call_fail(err, c, mote_call_opt_index(c, "png_view"), MOTE_EINVAL,
                               "output: png_view must be iso, +x, -x, +y, -y, +z, -z or X,Y,Z, "
-                              "found '%s'", a->text);
+                              "or up to 8 of them as V1/V2/..., found '%s'", bad);
     int w, h;
     char extra;
     if ((a = mote_call_opt(c, "png_size")) &&
@@ -1196,7 +1223,8 @@ static int run_output(void *vm, const mote_call *c, mote_err *err)
     on_off(c, "png", 1, &m->out_png, err);
     on_off(c, "ply", 0, &m->out_ply, err);
     const mote_arg *a = mote_call_opt(c, "png_view");
-    parse_view(a ? a->text : "iso", m->view);
+    char bad[64];
+    m->nviews = parse_views(a ? a->text : "iso", m->view, m->view_name, bad);
     m->png_w = 1024;
     m->png_h = 768;
     if ((a = mote_call_opt(c, "png_size")))
@@ -1414,14 +1442,16 @@ static const char HELP_OUTPUT[] =
     "files of spec 8 (P may name a directory):\n"
     "P_triangles.csv, one row per triangle and side that collects (the front of a\n"
     "closed surface, both sides of a sheet): part, material, side, area, centre,\n"
-    "normal, per species the hits and the current, then the net current, its\n"
-    "density J_net and standard error; P_parts.csv, the currents summed per part;\n"
+    "normal, sunlit fraction, per species the hits and the current, the secondary\n"
+    "and photoelectron currents, then the net current, its density J_net and\n"
+    "standard error; P_parts.csv, the currents summed per part;\n"
     "P_summary.txt and P_summary.json, the body, the plasma and the currents per\n"
     "species and component; P_surface.vtk, legacy VTK POLYDATA for ParaView with\n"
     "cell arrays J_net (both sides of a sheet), J_net_front, J_net_back, sigma_J,\n"
-    "J_<species>, hits_total and part_id; P_surface.png, the body seen\n"
-    "orthographically from png_view (iso: from (1, 1, 1); +x, -x, ... or a vector\n"
-    "X,Y,Z), each triangle filled with the viridis colour of its J_net (or of\n"
+    "J_<species>, J_see, J_photo, hits_total and part_id; P_surface.png, the body\n"
+    "seen orthographically from png_view (iso: from (1, 1, 1); +x, -x, ... or a\n"
+    "vector X,Y,Z; several as V1/V2/... give one file each, P_surface_iso.png,\n"
+    "P_surface_pz.png, P_surface_mx.png, P_surface_view4.png ...), each triangle filled with the viridis colour of its J_net (or of\n"
     "log10 |J_net| with png_scale=log) times a shading 0.35 + 0.65 |n . view|,\n"
     "back faces of closed surfaces culled, with a colour bar. The exact sphere has\n"
     "no triangles: no VTK or PNG for it. With ply=on also P_surface.ply (binary\n"

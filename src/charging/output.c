@@ -501,7 +501,7 @@ int ch_write_outputs(const ch_output *o, FILE *log, mote_err *err)
 {
     if (ch_mpi_rank() != 0) /* the first MPI rank writes; the others have the same numbers */
         return MOTE_OK;
-    const size_t len = strlen(o->prefix) + 32;
+    const size_t len = strlen(o->prefix) + 48;
     char *path = malloc(len);
     if (!path)
         return mote_fail(err, MOTE_ENOMEM, "output: out of memory");
@@ -515,6 +515,17 @@ int ch_write_outputs(const ch_output *o, FILE *log, mote_err *err)
             continue;
         if (k >= 4 && o->body->sphere)
             continue; /* the exact sphere has no triangles to draw */
+        if (k == 5 && o->nviews > 1) { /* several views: a file each, named by the view */
+            for (int v = 0; v < o->nviews && !rc; v++) {
+                ch_output ov = *o;
+                memcpy(ov.view, o->views[v], sizeof ov.view);
+                snprintf(path, len, "%s_surface_%s.png", o->prefix, o->view_names[v]);
+                rc = write_png(&ov, path, err);
+                if (!rc && log)
+                    fprintf(log, "output: wrote %s\n", path);
+            }
+            continue;
+        }
         snprintf(path, len, "%s%s", o->prefix, name[k]);
         rc = k == 0   ? write_triangles(o, path, err)
              : k == 1 ? write_parts(o, path, err)
