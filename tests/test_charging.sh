@@ -146,6 +146,12 @@ printf '%bplasma preset geo-worst-case\nbody sphere radius=1\nfield none\nrun pa
 expect 1 "fn2.mote:5:1: error: float: with field none the currents do not depend on U" fn2.mote "${G}plasma preset geo-worst-case\nbody sphere radius=1\nfield none\nfloat\n"
 expect 1 "fn3.mote:2:7: error: field: expected none or sphere, found 'dipole'" fn3.mote "${G}field dipole\n"
 expect 1 "fn4.mote:2:7: error: field sphere: faithful mode has no field" fn4.mote "${F}field sphere\n"
+# relerr (spec 5.3): histories added until every species' relative error is below it, or the
+# limit; the count is whole blocks of 4096
+printf '%bplasma preset thesis-hot\nbody icosphere radius=1 level=3\ninjector sphere radius=20\nrun relerr=0.005\nrun relerr=0.01 max_particles=1000\n' "$G" > re.mote
+"$MOTE" run re.mote > out.txt 2> err.txt && awk '/^run: relerr 0.005 reached with/ { n = $6; ok1 = n % 4096 == 0 && n > 1e5 } /^run: [eH]/ { c++; if (c <= 2) { r = $8 / ($5 < 0 ? -$5 : $5); if (r > 0.005) bad = 1 } }
+     /^run: relerr 0.01 NOT reached: max_particles with 1000 histories/ { ok2 = 1 } END { exit !(ok1 && ok2 && !bad) }' out.txt && ok || bad "relerr: $(grep '^run:' out.txt)"
+expect 1 "re2.mote:4:19: error: run: max_particles is the limit of relerr=; give relerr too" re2.mote "${G}plasma preset thesis-hot\nbody sphere radius=1\nrun max_particles=10\n"
 expect 1 "m1.mote:3:33: error: material assign: no material 'steel'" m1.mote "${G}body sphere radius=1\nmaterial assign part=* material=steel\n"
 expect 1 "m2.mote:3:10: error: material assign: give part=NAME|* and material=NAME" m2.mote "${G}body sphere radius=1\nmaterial assign material=gold\n"
 expect 1 "m3.mote:2:10: error: material assign: give the body first" m3.mote "${G}material assign part=* material=gold\n"

@@ -839,6 +839,13 @@ static int check_run(void *vm, const mote_call *c, mote_err *err)
     if (n && (n->r != floor(n->r) || n->r > 1e15))
         return mote_call_fail(err, c, mote_call_opt_index(c, "particles"), MOTE_EINVAL,
                               "run: particles must be a whole number (1 ... 1e15)");
+    const mote_arg *mp = mote_call_opt(c, "max_particles");
+    if (mp && (mp->r != floor(mp->r) || mp->r > 1e15))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "max_particles"), MOTE_EINVAL,
+                              "run: max_particles must be a whole number (1 ... 1e15)");
+    if (mp && !mote_call_opt(c, "relerr"))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "max_particles"), MOTE_EINVAL,
+                              "run: max_particles is the limit of relerr=; give relerr too");
     int rc = need_setup(m, c, err);
     if (!rc)
         m->have_run = 1;
@@ -859,10 +866,43 @@ static int run_run(void *vm, const mote_call *c, mote_err *err)
     if (!t)
         return err->code;
     mote_ch_result_free(&m->res);
-    int rc = mote_ch_run(&m->plasma, &m->body, t, &o, &m->res, err);
+    /* relerr=: more histories until every species' relative error is below it (spec 5.3): the
+     * count for it from the last run's errors (they fall as 1/sqrt(N)), in whole blocks of 4096,
+     * at most max_particles; the histories are the same streams, so the runs are nested */
+    const mote_arg *re = mote_call_opt(c, "relerr");
+    const double maxp = mote_call_opt_r(c, "max_particles", 1e8);
+    if (re && !mote_call_opt(c, "particles"))
+        o.particles = 100000;
+    if (re && (double)o.particles > maxp)
+        o.particles = (uint64_t)maxp;
+    int rc, reached = 0;
+    double worst = 0;
+    for (int pass = 0;; pass++) {
+        mote_ch_result_free(&m->res);
+        rc = mote_ch_run(&m->plasma, &m->body, t, &o, &m->res, err);
+        if (rc || !re)
+            break;
+        worst = 0;
+        for (int s = 0; s < m->plasma.nsp; s++)
+            worst = fmax(worst, m->res.current[s] != 0
+                                    ? m->res.sigma[s] / fabs(m->res.current[s]) : INFINITY);
+        reached = worst <= re->r;
+        if (reached || (double)o.particles >= maxp || pass == 8)
+            break;
+        double want = isfinite(worst) ? (double)o.particles * (worst / re->r) * (worst / re->r) * 1.05
+                                      : 16.0 * (double)o.particles;
+        want = fmin(maxp, fmax(want, 1.25 * (double)o.particles));
+        o.particles = (uint64_t)(ceil(want / 4096) * 4096);
+        if ((double)o.particles > maxp)
+            o.particles = (uint64_t)maxp;
+    }
     mote_ch_tracer_free(t);
     if (rc)
         return rc;
+    if (re && m->log)
+        fprintf(m->log, "run: relerr %g %s with %llu histories per component (largest relative "
+                        "error %.3g)\n", re->r, reached ? "reached" : "NOT reached: max_particles",
+                (unsigned long long)o.particles, worst);
     m->have_run = 1;
     m->r_gen_used = o.r_gen;
     if (m->prefix) {
@@ -1320,6 +1360,12 @@ static const char HELP_INJECTOR[] =
 
 static const char HELP_RUN[] =
     "    run [particles=1e6] [potential=0]\n"
+    "    run relerr=E [particles=1e5] [max_particles=1e8] [potential=0]\n"
+    "\n"
+    "With relerr, histories are added until every species' current has a relative\n"
+    "standard error <= E (spec 5.3), from particles (1e5) up to max_particles: the\n"
+    "count for E is estimated from the last run's errors (they fall as 1/sqrt(N))\n"
+    "and rounded up to whole blocks of 4096; run prints the count reached.\n"
     "\n"
     "Estimate the current each species brings to the uncharged body (spec 5):\n"
     "for every Maxwellian component, N histories start on the injection sphere,\n"
@@ -1485,7 +1531,8 @@ static const mote_cmd ch_commands[] = {
     {"integrator", NULL, "eta=r(0,1) max_steps=r>=1", "integrator [eta=0.01] [max_steps=1e5]",
      "the curved paths' step and limit (spec 6.3)", HELP_INTEGRATOR, check_integrator,
      run_integrator},
-    {"run", NULL, "particles=r>=1 potential=r", "run [particles=N] [potential=0]",
+    {"run", NULL, "particles=r>=1 potential=r relerr=r(0,1) max_particles=r>=1",
+     "run [particles=N] [relerr=E [max_particles=M]] [potential=0]",
      "Monte Carlo currents to the uncharged body", HELP_RUN, check_run, run_run},
     {"float", NULL, "particles=r>=1 tolerance=r(0,0.1]", "float [particles=N] [tolerance=1e-4]",
      "the floating potential of the charged body (exact sphere)", HELP_FLOAT, check_float,
