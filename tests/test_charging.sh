@@ -152,6 +152,10 @@ printf '%bplasma preset thesis-hot\nbody icosphere radius=1 level=3\ninjector sp
 "$MOTE" run re.mote > out.txt 2> err.txt && awk '/^run: relerr 0.005 reached with/ { n = $6; ok1 = n % 4096 == 0 && n > 1e5 } /^run: [eH]/ { c++; if (c <= 2) { r = $8 / ($5 < 0 ? -$5 : $5); if (r > 0.005) bad = 1 } }
      /^run: relerr 0.01 NOT reached: max_particles with 1000 histories/ { ok2 = 1 } END { exit !(ok1 && ok2 && !bad) }' out.txt && ok || bad "relerr: $(grep '^run:' out.txt)"
 expect 1 "re2.mote:4:19: error: run: max_particles is the limit of relerr=; give relerr too" re2.mote "${G}plasma preset thesis-hot\nbody sphere radius=1\nrun max_particles=10\n"
+# float replicas (spec 6.5): the spread of the roots over 8 seeds agrees with sigma_U (the sample
+# standard deviation of 8 normal values lies within 0.35 ... 1.75 sigma with 99% probability)
+printf '%bplasma preset single n=1e6 kT=1000\nbody sphere radius=1\nfloat particles=1e5 replicas=8 U0=-5000\n' "$G" > rp.mote
+"$MOTE" run rp.mote > out.txt 2> err.txt && awk '/^float: 8 replicas/ { m = $7; sd = $11; s = $17 } END { r = sd / s; exit !(r >= 0.35 && r <= 1.75 && m < -2490 && m > -2520) }' out.txt && ok || bad "replicas: $(grep '^float: 8' out.txt) $(cat err.txt)"
 expect 1 "m1.mote:3:33: error: material assign: no material 'steel'" m1.mote "${G}body sphere radius=1\nmaterial assign part=* material=steel\n"
 expect 1 "m2.mote:3:10: error: material assign: give part=NAME|* and material=NAME" m2.mote "${G}body sphere radius=1\nmaterial assign material=gold\n"
 expect 1 "m3.mote:2:10: error: material assign: give the body first" m3.mote "${G}material assign part=* material=gold\n"

@@ -164,6 +164,9 @@ typedef struct {
      * sun_intensity (1: 1 AU at normal incidence) on the materials' photo_j */
     int sun;
     double sun_dir[3], sun_intensity;
+    /* float (spec 6.5): the potential its search starts from (the root found is the one time
+     * evolution from U0 reaches: the first sign change of I_net walking from U0 along it) */
+    double U0;
 } mote_ch_run_opts;
 
 /* OML current (spec 6.4) of one Maxwellian component (n, kT eV, m, Z) to a sphere of area A at
@@ -214,9 +217,10 @@ void mote_ch_result_free(mote_ch_result *r);
 
 /* The floating potential (spec 6.5): the root U_f of the net collected current I(U), each I a
  * run of o (its potential replaced) with the same seed and histories (common random numbers),
- * bracketed from the analytic OML root of the equivalent sphere and refined until the bracket
- * is below max(0.1 sigma_U, tol |U|); sigma_U = sigma_I(U_f) / |dI/dU| from the final bracket.
- * r receives the run at U_f; *oml the analytic root; *evals the runs made. */
+ * bracketed by steps from o->U0 in the direction the current drives U (0.1 kT_min/e, doubling)
+ * and refined until the bracket is below max(0.1 sigma_U, tol |U|); sigma_U =
+ * sigma_I(U_f) / |dI/dU| from the final bracket. r receives the run at U_f; *oml the analytic
+ * OML root of the equivalent sphere (no emission); *evals the runs made. */
 int mote_ch_float(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tracer *t,
                   const mote_ch_run_opts *o, double tol, double *U_f, double *sigma_U,
                   double *oml, int *evals, mote_ch_result *r, mote_err *err);

@@ -972,17 +972,42 @@ static int run_float(void *vm, const mote_call *c, mote_err *err)
         return err->code;
     diagnose(m, "float");
     mote_ch_run_opts o = run_opts(m, c, &g); /* (the field on: full mode) */
+    o.U0 = mote_call_opt_r(c, "U0", 0);
     mote_ch_tracer *t = mote_ch_tracer_new(&m->body, err);
     if (!t)
         return err->code;
     double U, sU, oml;
     int evals;
+    const double tol = mote_call_opt_r(c, "tolerance", 1e-4);
     mote_ch_result_free(&m->res);
-    int rc = mote_ch_float(&m->plasma, &m->body, t, &o, mote_call_opt_r(c, "tolerance", 1e-4),
-                           &U, &sU, &oml, &evals, &m->res, err);
+    int rc = mote_ch_float(&m->plasma, &m->body, t, &o, tol, &U, &sU, &oml, &evals, &m->res, err);
+    /* replicas=k (spec 6.5): the roots for seeds seed+1 ... seed+k-1 as well, their spread */
+    const int reps = (int)mote_call_opt_r(c, "replicas", 1);
+    double sum = rc ? 0 : U, sq = rc ? 0 : U * U;
+    for (int k = 1; k < reps && !rc; k++) {
+        mote_ch_run_opts ok = o;
+        ok.seed = o.seed + (uint64_t)k;
+        double Uk, sUk, omk;
+        int ek;
+        mote_ch_result rk;
+        rc = mote_ch_float(&m->plasma, &m->body, t, &ok, tol, &Uk, &sUk, &omk, &ek, &rk, err);
+        if (!rc) {
+            mote_ch_result_free(&rk);
+            sum += Uk;
+            sq += Uk * Uk;
+            if (m->log)
+                fprintf(m->log, "float: replica %d (seed %llu): U_f = %.6g V +- %.3g\n", k + 1,
+                        (unsigned long long)ok.seed, Uk, sUk);
+        }
+    }
     mote_ch_tracer_free(t);
     if (rc)
         return rc;
+    if (reps > 1 && m->log) {
+        const double mean = sum / reps, sd = sqrt(fmax(0, (sq - reps * mean * mean) / (reps - 1)));
+        fprintf(m->log, "float: %d replicas: mean U_f = %.6g V, standard deviation %.3g V (the "
+                        "single run's sigma_U %.3g V)\n", reps, mean, sd, sU);
+    }
     m->have_run = 1;
     if (m->prefix) { /* the files at U_f (spec 8.2) */
         ch_output out = {m->prefix, m->origin, "full", m->seed, &m->plasma, &m->body, &m->res,
@@ -1401,7 +1426,7 @@ static const char HELP_EVOLVE[] =
     "and Nreal_s, the real particles collected so far), atomically.\n";
 
 static const char HELP_FLOAT[] =
-    "    float [particles=1e6] [tolerance=1e-4]\n"
+    "    float [particles=1e6] [tolerance=1e-4] [U0=0] [replicas=1]\n"
     "\n"
     "The floating potential U_f, where the net collected current is zero (spec\n"
     "6.5), of the charged body in the Coulomb field of its equivalent sphere (spec\n"
@@ -1410,11 +1435,15 @@ static const char HELP_FLOAT[] =
     "component) and, on the exact sphere, hits when it passes the OML test\n"
     "E - qU >= L^2/(2 m a^2); on a mesh its path is followed (see `integrator`). Each\n"
     "I(U) is a run with the same seed and histories (common random numbers); the\n"
-    "root is bracketed from the analytic OML root of the equivalent sphere and\n"
-    "refined until the bracket is below max(0.1 sigma_U, tolerance |U|). Prints U_f\n"
-    "with sigma_U = sigma_I / |dI/dU|, the analytic estimate, and each species'\n"
-    "current at U_f. Faithful mode has no floating potential (its currents do not\n"
-    "depend on U).\n";
+    "root is bracketed by steps from U0 (0.1 kT_min/e, doubling) the way the net\n"
+    "current drives U, so it is the root time evolution from U0 reaches (with\n"
+    "emission there can be several), and refined until the bracket is below\n"
+    "max(0.1 sigma_U, tolerance |U|). Prints U_f with sigma_U = sigma_I / |dI/dU|,\n"
+    "the analytic OML estimate for the equivalent sphere without emission, and each\n"
+    "species' current at U_f. replicas=k repeats the search with the seeds\n"
+    "seed+1 ... seed+k-1 and prints the roots' mean and standard deviation (the\n"
+    "files and U_f stay the first seed's). Faithful mode has no floating potential\n"
+    "(its currents do not depend on U).\n";
 
 static const char HELP_FIELD[] =
     "    field none|sphere\n"
@@ -1534,8 +1563,9 @@ static const mote_cmd ch_commands[] = {
     {"run", NULL, "particles=r>=1 potential=r relerr=r(0,1) max_particles=r>=1",
      "run [particles=N] [relerr=E [max_particles=M]] [potential=0]",
      "Monte Carlo currents to the uncharged body", HELP_RUN, check_run, run_run},
-    {"float", NULL, "particles=r>=1 tolerance=r(0,0.1]", "float [particles=N] [tolerance=1e-4]",
-     "the floating potential of the charged body (exact sphere)", HELP_FLOAT, check_float,
+    {"float", NULL, "particles=r>=1 tolerance=r(0,0.1] U0=r replicas=i>=1",
+     "float [particles=N] [tolerance=1e-4] [U0=0] [replicas=1]",
+     "the floating potential of the charged body", HELP_FLOAT, check_float,
      run_float},
     {"material", NULL, "s name=s see_dmax=r>=0 see_emax=r>0 photo_j=r>=0 see_kT=r>0 part=s material=s",
      "material define|assign [options]", "define a material, or give a part one (spec 6.9)",

@@ -714,8 +714,9 @@ int mote_ch_float(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_
     mote_ch_run_opts q = *o;
     mote_ch_result ra, rb;
     double Ia, Ib, sa;
-    /* the Monte Carlo bracket: from the analytic root, steps growing geometrically */
-    double Ua = *oml, step = 0.1 * kTmin;
+    /* the Monte Carlo bracket: from U0, steps growing geometrically the way the current drives
+     * U, so the root found is the one time evolution from U0 reaches */
+    double Ua = o->U0, step = 0.1 * kTmin;
     q.potential = Ua;
     int rc = mote_ch_run(p, b, t, &q, &ra, err);
     ++*evals;
