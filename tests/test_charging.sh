@@ -49,7 +49,7 @@ expect 1 "b10b.mote:2:10: error: injector: expected sphere or box, found 'cone'"
 expect 1 "b10c.mote:2:21: error: injector box: radius= is for the sphere" b10c.mote "${G}injector box radius=3\n"
 expect 2 "b10d.mote:5:1: error: run: the box injector is for straight paths" b10d.mote "${G}plasma preset single n=1e6 kT=1000\nbody sphere radius=1\ninjector box\nrun potential=-10 particles=10\n"
 expect 1 "b11.mote:3:6: error: body sphere: the exact sphere is a body on its own" b11.mote "${G}body sphere radius=1\nbody sphere radius=2\n"
-expect 1 "b12.mote:2:6: error: body: expected sphere, icosphere, uvsphere, box, twocubes or load, found 'cone'" b12.mote "${G}body cone\n"
+expect 1 "b12.mote:2:6: error: body: expected sphere, icosphere, uvsphere, box, twocubes, load or capacitance, found 'cone'" b12.mote "${G}body cone\n"
 expect 1 "b13.mote:3:1: error: evolve: no currents yet: run first" b13.mote "${F}body sphere radius=1\nevolve time=1 file=x.csv\n"
 [ ! -e x.csv ] && ok || bad "a failed script wrote x.csv"
 expect 2 "b14.mote:5:1: error: run: the injection radius 0.5 m must exceed the body's bounding radius 1 m" b14.mote "${F}plasma preset single n=1e6 kT=1000\nbody sphere radius=1\ninjector sphere radius=0.5\nrun particles=10\n"
@@ -156,6 +156,16 @@ expect 1 "re2.mote:4:19: error: run: max_particles is the limit of relerr=; give
 # standard deviation of 8 normal values lies within 0.35 ... 1.75 sigma with 99% probability)
 printf '%bplasma preset single n=1e6 kT=1000\nbody sphere radius=1\nfloat particles=1e5 replicas=8 U0=-5000\n' "$G" > rp.mote
 "$MOTE" run rp.mote > out.txt 2> err.txt && awk '/^float: 8 replicas/ { m = $7; sd = $11; s = $17 } END { r = sd / s; exit !(r >= 0.35 && r <= 1.75 && m < -2490 && m > -2520) }' out.txt && ok || bad "replicas: $(grep '^float: 8' out.txt) $(cat err.txt)"
+# body capacitance (spec 4.3): C and the field's radius R_f = C/(4 pi eps0); attracted
+# electrons (qU/kT = -1) still collect 2 I0 when the body sits inside a larger R_f (the flux
+# inside the equipotential sphere is isotropic with j0 (1 - qU/kT))
+printf '%bplasma preset single n=1e6 kT=1000\nbody icosphere radius=1 level=3\nbody capacitance value=2.2253e-10\nrun particles=2e5 potential=1000\nbody capacitance value=auto\n' "$G" > cap.mote
+"$MOTE" run cap.mote > out.txt 2> err.txt && grep -q '^body: capacitance 2.2253e-10 F (given), field radius R_f 1.9999999' out.txt &&
+    grep -q '^body: capacitance 1.10999604e-10 F (auto: 4 pi eps0 R_eq), field radius R_f 0.99761469' out.txt &&
+    awk '/^mode=full/ { a = $4 } /^run: e / { I = $5; s = $8 } END { sub("area=", "", a); i0 = -1.602176634e-19 * a * 1e6 * sqrt(1000 * 1.602176634e-19 / (2 * 3.14159265358979 * 9.1093837015e-31)); d = I - 2 * i0; exit !(d * d <= 9 * s * s + (0.003 * i0) ^ 2) }' out.txt && ok || bad "capacitance: $(grep '^body: cap\|^run: e' out.txt) $(cat err.txt)"
+expect 1 "cp1.mote:3:24: error: body capacitance: give value=auto or a capacitance in F > 0" cp1.mote "${G}body icosphere radius=1\nbody capacitance value=-1\n"
+expect 1 "cp2.mote:2:6: error: body capacitance: give the body first" cp2.mote "${G}body capacitance value=auto\n"
+expect 1 "cp3.mote:3:6: error: body capacitance: the exact sphere's capacitance is 4 pi eps0 a" cp3.mote "${G}body sphere radius=1\nbody capacitance value=1e-10\n"
 expect 1 "m1.mote:3:33: error: material assign: no material 'steel'" m1.mote "${G}body sphere radius=1\nmaterial assign part=* material=steel\n"
 expect 1 "m2.mote:3:10: error: material assign: give part=NAME|* and material=NAME" m2.mote "${G}body sphere radius=1\nmaterial assign material=gold\n"
 expect 1 "m3.mote:2:10: error: material assign: give the body first" m3.mote "${G}material assign part=* material=gold\n"

@@ -60,6 +60,7 @@ typedef struct {
     int nparts;
     int sphere;            /* 1: the exact analytic sphere (no triangles) */
     double sphere_r, sphere_c[3];
+    double capacitance;    /* `body capacitance` (F, spec 4.3); 0: auto, 4 pi eps0 R_eq */
 } mote_ch_body;
 
 void mote_ch_body_free(mote_ch_body *b);
@@ -98,6 +99,7 @@ int mote_ch_body_load(mote_ch_body *b, const char *path, const mote_ch_load_opts
 /* Spec 4.3: the area (sheets counted twice), the area-weighted centre, R_bound, R_eq, C. */
 typedef struct {
     double area, centre[3], r_bound, r_eq, capacitance;
+    double r_field;        /* the field's radius R_f = C / (4 pi eps0) (spec 6.1) */
 } mote_ch_geometry;
 void mote_ch_body_geometry(const mote_ch_body *b, mote_ch_geometry *g);
 

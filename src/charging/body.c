@@ -284,5 +284,7 @@ void mote_ch_body_geometry(const mote_ch_body *b, mote_ch_geometry *g)
             }
     }
     g->r_eq = sqrt(g->area / (4 * MOTE_CH_PI));
-    g->capacitance = 4 * MOTE_CH_PI * MOTE_CH_EPS0 * g->r_eq;
+    g->capacitance = b->capacitance > 0 && !b->sphere ? b->capacitance
+                                                      : 4 * MOTE_CH_PI * MOTE_CH_EPS0 * g->r_eq;
+    g->r_field = g->capacitance / (4 * MOTE_CH_PI * MOTE_CH_EPS0);
 }

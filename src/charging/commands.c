@@ -306,7 +306,20 @@ static int run_plasma(void *vm, const mote_call *c, mote_err *err)
 /* ---- body ----------------------------------------------------------------------------------- */
 
 static const char *const BODY_KINDS[] = {"sphere", "icosphere", "uvsphere", "box", "twocubes",
-                                         "load", NULL};
+                                         "load", "capacitance", NULL};
+
+/* `body capacitance value=auto|F` (spec 4.3): the capacitance, F > 0, or 0 for auto; -1 bad */
+static double capacitance_value(const mote_call *c)
+{
+    const mote_arg *a = mote_call_opt(c, "value");
+    if (!a)
+        return -1;
+    if (!strcmp(a->text, "auto"))
+        return 0;
+    char *end;
+    const double C = strtod(a->text, &end);
+    return end != a->text && !*end && C > 0 && isfinite(C) ? C : -1;
+}
 
 /* The options of `body load` (spec 7.1-7.3) into o; -1 and a located error when one is bad. */
 static int load_opts(const mote_call *c, mote_ch_load_opts *o, mote_err *err)
@@ -371,7 +384,23 @@ static int check_body(void *vm, const mote_call *c, mote_err *err)
         k++;
     if (!BODY_KINDS[k])
         return mote_call_fail(err, c, 0, MOTE_EINVAL, "body: expected sphere, icosphere, "
-                              "uvsphere, box, twocubes or load, found '%s'", kind);
+                              "uvsphere, box, twocubes, load or capacitance, found '%s'", kind);
+    if (k == 6) { /* the capacitance of the body there is (spec 4.3) */
+        if (capacitance_value(c) < 0)
+            return mote_call_fail(err, c, mote_call_opt(c, "value") ? mote_call_opt_index(c, "value")
+                                                                    : 0,
+                                  MOTE_EINVAL, "body capacitance: give value=auto or a "
+                                  "capacitance in F > 0");
+        if (!m->have_body)
+            return mote_call_fail(err, c, 0, MOTE_EINVAL, "body capacitance: give the body first");
+        if (m->have_sphere && capacitance_value(c) > 0)
+            return mote_call_fail(err, c, 0, MOTE_EINVAL, "body capacitance: the exact sphere's "
+                                  "capacitance is 4 pi eps0 a (its field is exact)");
+        return MOTE_OK;
+    }
+    if (mote_call_opt(c, "value"))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "value"), MOTE_EINVAL,
+                              "body %s: value= is for body capacitance", kind);
     if (k == 5) {
         mote_ch_load_opts o;
         if (!mote_call_opt(c, "file"))
@@ -414,6 +443,17 @@ static int run_body(void *vm, const mote_call *c, mote_err *err)
     int rc;
     /* an integer option, or its default */
 #define OPT_I(key, dflt) ((a = mote_call_opt(c, key)) != NULL ? (int)a->i : (dflt))
+    if (strcmp(kind, "capacitance") == 0) {
+        m->body.capacitance = capacitance_value(c);
+        if (m->log) {
+            mote_ch_geometry g;
+            mote_ch_body_geometry(&m->body, &g);
+            fprintf(m->log, "body: capacitance %.10g F (%s), field radius R_f %.10g m\n",
+                    g.capacitance, m->body.capacitance > 0 ? "given" : "auto: 4 pi eps0 R_eq",
+                    g.r_field);
+        }
+        return MOTE_OK;
+    }
     if (strcmp(kind, "sphere") == 0)
         rc = mote_ch_body_sphere(&m->body, r, err);
     else if (strcmp(kind, "icosphere") == 0)
@@ -506,7 +546,7 @@ static int run_injector(void *vm, const mote_call *c, mote_err *err)
 static double injection_radius(const ch_model *m, const mote_ch_geometry *g)
 {
     if (strcmp(m->radius, "auto") == 0)
-        return 1.05 * fmax(g->r_bound, g->r_eq);
+        return 1.05 * fmax(g->r_bound, g->r_field);
     if (strcmp(m->radius, "debye") == 0)
         return mote_ch_debye(&m->plasma);
     if (strcmp(m->radius, "thesis") == 0)
@@ -1343,6 +1383,12 @@ static const char HELP_BODY[] =
     "    body twocubes [side=1] [gap=1]\n"
     "    body load file=FILE [format=auto|plain|assimp] [units=m|cm|mm|in] [scale=S]\n"
     "              [part=NAME] [offset=X,Y,Z] [rotate=AXIS,DEG] [strict=no|yes]\n"
+    "    body capacitance value=auto|F\n"
+    "\n"
+    "`body capacitance` replaces the body's capacitance C (default auto: 4 pi eps0\n"
+    "R_eq) by F farads, and with it the field's radius R_f = C/(4 pi eps0) (spec\n"
+    "4.3, 6.1); not for the exact sphere, whose field is exact. (Decision: the value\n"
+    "is the option value= rather than a second word.)\n"
     "\n"
     "Add a generated body (spec 4.4; lengths in m): the exact analytic sphere (a\n"
     "body on its own), an icosphere of 20 4^L triangles (level 4: 5 120; 5: 20 480),\n"
@@ -1544,7 +1590,7 @@ static const mote_cmd ch_commands[] = {
      HELP_MAXWELLIAN, check_maxwellian, run_maxwellian},
     {"body", NULL,
      "s radius=r>0 level=i nlon=i>=3 nlat=i>=2 size=s subdiv=i>=1 side=r>0 gap=r>=0 "
-     "file=f<mesh format=s units=s scale=r>0 part=s offset=s rotate=s strict=s",
+     "file=f<mesh format=s units=s scale=r>0 part=s offset=s rotate=s strict=s value=s",
      "body KIND [options]",
      "add a generated body (sphere, icosphere, uvsphere, box, twocubes) or a mesh file (load)",
      HELP_BODY, check_body, run_body},

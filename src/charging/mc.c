@@ -292,10 +292,10 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
     const uint32_t ntri = b->sphere ? 1 : b->ntri;
     /* the field (spec 6.1, 6.2): the equivalent sphere's radius, the potential on the
      * generation sphere */
-    const double a_f = b->sphere ? b->sphere_r : g.r_eq, phi_g = field ? o->potential * a_f / R : 0;
+    const double a_f = b->sphere ? b->sphere_r : g.r_field, phi_g = field ? o->potential * a_f / R : 0;
     if (curved && !(R > a_f))
         return mote_fail(err, MOTE_EINVAL, "run: the injection radius %.6g m must exceed the "
-                         "field radius R_eq = %.6g m", R, a_f);
+                         "field radius R_f = C/(4 pi eps0) = %.6g m", R, a_f);
     ch_path path = {.t = t,
                     .rf = a_f,
                     .R = R,
