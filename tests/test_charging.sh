@@ -166,6 +166,12 @@ printf '%bplasma preset single n=1e6 kT=1000\nbody icosphere radius=1 level=3\nb
 expect 1 "cp1.mote:3:24: error: body capacitance: give value=auto or a capacitance in F > 0" cp1.mote "${G}body icosphere radius=1\nbody capacitance value=-1\n"
 expect 1 "cp2.mote:2:6: error: body capacitance: give the body first" cp2.mote "${G}body capacitance value=auto\n"
 expect 1 "cp3.mote:3:6: error: body capacitance: the exact sphere's capacitance is 4 pi eps0 a" cp3.mote "${G}body sphere radius=1\nbody capacitance value=1e-10\n"
+# test hitprob (spec 10 M3, the original's -t): a unit cube from R = 2 m, 6/(16 pi) = 0.119366,
+# and in a box of margin 0.5 m, 6/24
+printf '%bbody box size=1,1,1\ninjector sphere radius=2\ntest hitprob particles=1e6\ninjector box margin_m=0.5\ntest hitprob\n' "$G" > hp.mote
+"$MOTE" run hp.mote > out.txt 2> err.txt && awk '/^test hitprob/ { n++; s = $NF == "sigma" ? $(NF - 1) : 99; sub("sigma", "", s); if (s * s > 9) bad = 1; w[n] = $(NF - 7) }
+     END { exit !(n == 2 && !bad && w[1] == "0.119366" && w[2] == "0.25") }' out.txt && ok || bad "test hitprob: $(grep '^test' out.txt) $(cat err.txt)"
+expect 1 "hp2.mote:2:6: error: test: expected hitprob, found 'speed'" hp2.mote "${G}test speed\n"
 expect 1 "m1.mote:3:33: error: material assign: no material 'steel'" m1.mote "${G}body sphere radius=1\nmaterial assign part=* material=steel\n"
 expect 1 "m2.mote:3:10: error: material assign: give part=NAME|* and material=NAME" m2.mote "${G}body sphere radius=1\nmaterial assign material=gold\n"
 expect 1 "m3.mote:2:10: error: material assign: give the body first" m3.mote "${G}material assign part=* material=gold\n"

@@ -872,6 +872,63 @@ static int need_setup(ch_model *m, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
+/* ---- test hitprob (spec 10 M3; the original's -t) ---- */
+
+static int check_test(void *vm, const mote_call *c, mote_err *err)
+{
+    ch_model *m = vm;
+    if (strcmp(c->args[0].text, "hitprob"))
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "test: expected hitprob, found '%s'",
+                              c->args[0].text);
+    const mote_arg *n = mote_call_opt(c, "particles");
+    if (n && (n->r != floor(n->r) || n->r > 1e15))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "particles"), MOTE_EINVAL,
+                              "test: particles must be a whole number (1 ... 1e15)");
+    if (!m->have_body)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "test hitprob: there is no body yet");
+    return MOTE_OK;
+}
+
+/* Straight paths from the injector (the plasma does not matter): the share of histories that
+ * hit, against A / (4 pi R^2) (Cauchy-Crofton: exact for a convex body) or A / A_box. */
+static int run_test(void *vm, const mote_call *c, mote_err *err)
+{
+    ch_model *m = vm;
+    mote_ch_geometry g;
+    mote_ch_body_geometry(&m->body, &g);
+    mote_ch_plasma p;
+    mote_ch_plasma_preset(&p, "single", 1e6, 1000, err);
+    p.nsp = 1;
+    mote_ch_run_opts o = run_opts(m, c, &g);
+    o.field = 0;
+    o.tri_material = NULL;
+    o.sun = 0;
+    mote_ch_tracer *t = mote_ch_tracer_new(&m->body, err);
+    if (!t)
+        return err->code;
+    mote_ch_result r;
+    int rc = mote_ch_run(&p, &m->body, t, &o, &r, err);
+    mote_ch_tracer_free(t);
+    if (rc)
+        return rc;
+    const double N = (double)o.particles, h = (double)r.hits[0][0], f = h / N;
+    const double sf = sqrt(f * (1 - f) / N);
+    double want = g.area / (4 * MOTE_CH_PI * o.r_gen * o.r_gen);
+    if (m->box) { /* the box injector's area, as mote_ch_run builds it: A / A_box */
+        const double A_box = (double)r.histories > 0 ? r.weight[0][0] * N /
+                             (MOTE_CH_E * p.sp[0].Z * p.sp[0].n[0] *
+                              sqrt(p.sp[0].kT[0] * MOTE_CH_E / (2 * MOTE_CH_PI * p.sp[0].m)))
+                                                     : 0;
+        want = g.area / fabs(A_box);
+    }
+    if (m->log)
+        fprintf(m->log, "test hitprob: %.0f histories, %.0f hits: P = %.6g +- %.2g; A/%s = %.6g "
+                        "(exact for a convex body): %+.2f sigma\n", N, h, f, sf,
+                m->box ? "A_box" : "(4 pi R^2)", want, sf > 0 ? (f - want) / sf : 0);
+    mote_ch_result_free(&r);
+    return MOTE_OK;
+}
+
 static int check_run(void *vm, const mote_call *c, mote_err *err)
 {
     ch_model *m = vm;
@@ -1523,6 +1580,15 @@ static const char HELP_SUN[] =
     "leaves the body. The exact sphere emits photo_j intensity pi a^2. No random\n"
     "numbers are used. run prints the photocurrent; float and evolve include it.\n";
 
+static const char HELP_TEST[] =
+    "    test hitprob [particles=1e6]\n"
+    "\n"
+    "The original program's -t self-test, done right (spec 10 M3): straight paths\n"
+    "from the injector (sphere or box; the plasma does not matter), and the share P\n"
+    "of them that hit the body with its binomial error, against A/(4 pi R^2) for\n"
+    "the sphere injector (Cauchy-Crofton) or A/A_box for the box, exact for a convex\n"
+    "body (a concave one is hit less often), and their difference in sigmas.\n";
+
 static const char HELP_INTEGRATOR[] =
     "    integrator [eta=0.01] [max_steps=1e5]\n"
     "\n"
@@ -1603,6 +1669,8 @@ static const mote_cmd ch_commands[] = {
      HELP_BFIELD, NULL, run_bfield},
     {"sun", NULL, "*", "sun direction=X,Y,Z [intensity=1] | sun off",
      "light for photoemission (spec 6.8)", HELP_SUN, check_sun, run_sun},
+    {"test", NULL, "s particles=r>=1", "test hitprob [particles=1e6]",
+     "the hit-probability self-test (spec 10 M3)", HELP_TEST, check_test, run_test},
     {"integrator", NULL, "eta=r(0,1) max_steps=r>=1", "integrator [eta=0.01] [max_steps=1e5]",
      "the curved paths' step and limit (spec 6.3)", HELP_INTEGRATOR, check_integrator,
      run_integrator},
