@@ -728,6 +728,81 @@ static void test_see(void)
     mote_ch_body_free(&b);
 }
 
+/* The flux-averaged yield over a Gamma(2, kT) impact energy law (straight paths at U = 0) and,
+ * for see_angle=sec, the cosine law of impact angles on a convex body (density 2 cos): Simpson
+ * quadrature, against which the Monte Carlo scores are checked. */
+static double avg_yield(const mote_ch_material *m, double kT_keV, int ion)
+{
+    const int nE = 20000, nc = ion || !m->see_angle ? 1 : 400;
+    const double Emax = 60 * kT_keV, hE = Emax / nE;
+    double sum = 0;
+    for (int i = 0; i <= nE; i++) {
+        const double E = i * hE, wE = (i == 0 || i == nE) ? 1 : (i % 2 ? 4 : 2);
+        const double f = E / (kT_keV * kT_keV) * exp(-E / kT_keV);
+        double y = 0;
+        if (ion)
+            y = mote_ch_ion_yield(m, E);
+        else if (nc == 1)
+            y = mote_ch_see_yield(m, E, 1);
+        else
+            for (int j = 0; j <= nc; j++) {
+                const double c = (double)j / nc, wc = (j == 0 || j == nc) ? 1 : (j % 2 ? 4 : 2);
+                y += wc * 2 * c * (c > 0 ? mote_ch_see_yield(m, E, c) : 0) / (3.0 * nc);
+            }
+        sum += wE * f * y;
+    }
+    return sum * hE / 3;
+}
+
+/* The yield options of spec 6.7 on the exact sphere at U = 0, electrons and protons at
+ * 27.5 keV: Sternglass's law (aluminium's peak; the spec: a flux-averaged yield of 0.003), the
+ * universal law with see_angle=sec, and the ion yield; each Monte Carlo ratio of emitted to
+ * collected current within 3 sigma of the quadrature. */
+static void test_see_options(void)
+{
+    printf("SEE options: Sternglass, sec, ions\n");
+    mote_err err = {0};
+    mote_ch_plasma p;
+    mote_ch_plasma_preset(&p, "single", 1e6, 27500, &err);
+    mote_ch_body b = {0};
+    mote_ch_body_sphere(&b, 1, &err);
+    mote_ch_tracer *t = mote_ch_tracer_new(&b, &err);
+    mote_ch_material al;
+    mote_ch_material_preset("aluminium", &al);
+    mote_ch_material m[3] = {al, al, al};
+    m[0].see_law = 1;
+    m[1].see_angle = 1;
+    m[2].ion_dmax = 0.5;
+    m[2].ion_emax = 50;
+    const char *what[3] = {"Sternglass", "universal, sec", "ions (0.5 at 50 keV)"};
+    for (int k = 0; k < 3 && t; k++) {
+        const mote_ch_material *mm[1] = {&m[k]};
+        mote_ch_run_opts o = {.seed = 3, .particles = 1000000, .r_gen = 1.05, .threads = 2,
+                              .field = 1, .tri_material = mm};
+        mote_ch_result r;
+        if (mote_ch_run(&p, &b, t, &o, &r, &err)) {
+            CHECK(0, "run: %s", err.msg);
+            continue;
+        }
+        const int s = k == 2 ? 1 : 0; /* protons for the ion yield */
+        const double coll = fabs(r.weight[s][0] * (double)r.hits[s][0]);
+        const double ratio = r.see[s][0] / coll, sr = r.see_sigma[s][0] / coll;
+        const double want = avg_yield(&m[k], 27.5, k == 2);
+        printf("  %s: emitted / collected = %.6f +- %.6f (quadrature %.6f)\n", what[k], ratio, sr,
+               want);
+        CHECK(fabs(ratio - want) <= 3 * sr && sr < 0.02 * want, "%s: %.6f +- %.6f against %.6f",
+              what[k], ratio, sr, want);
+        if (k == 0)
+            CHECK(fabs(want - 0.003) < 0.0005, "Sternglass at 27.5 keV: %.5f, the spec's 0.003",
+                  want);
+        if (k != 2)
+            CHECK(r.see[1][0] == 0, "protons scored secondaries without ion parameters");
+        mote_ch_result_free(&r);
+    }
+    mote_ch_tracer_free(t);
+    mote_ch_body_free(&b);
+}
+
 /* Q6: photoemission (spec 6.8, 10), j_ph = 2e-5 A/m^2, kT_ph = 2 eV, no SEE: at U = 0 the sunlit
  * sphere emits j_ph pi a^2 (the exact sphere exactly, the level-5 icosphere within 0.1%);
  * geo-worst-case floats at U_f = -917 V within 2%; with aluminium's SEE as well, near +1.3 V
@@ -737,7 +812,7 @@ static void test_photo(void)
 {
     printf("Q6: photoemission\n");
     mote_err err = {0};
-    mote_ch_material ph = {"ph", 0, 1, 2e-5, 2};
+    mote_ch_material ph = {"ph", 0, 1, 2e-5, 2, 0, 0, 0, 1, 2};
     const mote_ch_material *one[1] = {&ph};
     mote_ch_plasma p;
     mote_ch_plasma_preset(&p, "geo-worst-case", 0, 0, &err);
@@ -1051,6 +1126,7 @@ int main(void)
     test_evolve();
     test_drift();
     test_see();
+    test_see_options();
     test_photo();
     return test_summary();
 }

@@ -172,6 +172,9 @@ printf '%bbody box size=1,1,1\ninjector sphere radius=2\ntest hitprob particles=
 "$MOTE" run hp.mote > out.txt 2> err.txt && awk '/^test hitprob/ { n++; s = $NF == "sigma" ? $(NF - 1) : 99; sub("sigma", "", s); if (s * s > 9) bad = 1; w[n] = $(NF - 7) }
      END { exit !(n == 2 && !bad && w[1] == "0.119366" && w[2] == "0.25") }' out.txt && ok || bad "test hitprob: $(grep '^test' out.txt) $(cat err.txt)"
 expect 1 "hp2.mote:2:6: error: test: expected hitprob, found 'speed'" hp2.mote "${G}test speed\n"
+expect 1 "m7.mote:2:32: error: material define: see_law must be universal or sternglass, found 'linear'" m7.mote "${G}material define name=x see_law=linear\n"
+expect 1 "m8.mote:2:34: error: material define: see_angle must be none or sec, found 'cos'" m8.mote "${G}material define name=x see_angle=cos\n"
+expect 1 "m9.mote:2:10: error: material define: see_angle=sec is the universal law's angular form" m9.mote "${G}material define name=x see_law=sternglass see_angle=sec\n"
 expect 1 "m1.mote:3:33: error: material assign: no material 'steel'" m1.mote "${G}body sphere radius=1\nmaterial assign part=* material=steel\n"
 expect 1 "m2.mote:3:10: error: material assign: give part=NAME|* and material=NAME" m2.mote "${G}body sphere radius=1\nmaterial assign material=gold\n"
 expect 1 "m3.mote:2:10: error: material assign: give the body first" m3.mote "${G}material assign part=* material=gold\n"

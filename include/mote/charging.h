@@ -129,15 +129,25 @@ void mote_ch_philox(const uint32_t ctr[4], const uint32_t key[2], uint32_t out[4
 
 typedef struct {
     char name[24];
-    double see_dmax, see_emax;  /* the universal yield curve: its peak and where (keV) */
+    double see_dmax, see_emax;  /* the electron yield curve: its peak and where (keV) */
     double photo_j;             /* photoemission current density at normal incidence, A/m^2 */
     double kT_s;                /* secondaries' temperature, eV */
+    int see_law;                /* 0 universal, 1 Sternglass */
+    int see_angle;              /* 0 none, 1 sec (the universal law's angular form) */
+    double ion_dmax, ion_emax;  /* the ion-impact yield (0: none), keV */
+    double kT_ph;               /* photoelectrons' temperature, eV */
 } mote_ch_material;
 
 /* The presets of spec 6.9 (bare, aluminium, gold, kapton, teflon, cover-glass); -1 if unknown. */
 int mote_ch_material_preset(const char *name, mote_ch_material *m);
-/* The universal secondary yield at impact energy E (keV), normalised to dmax at emax. */
-double mote_ch_see_yield(const mote_ch_material *m, double E_keV);
+/* The secondary yield of an electron of impact energy E (keV) at angle theta from the normal
+ * (cos_t = cos theta), spec 6.7: the universal curve normalised to dmax at emax,
+ * dmax K x^-0.35 (1 - exp(-2.28 x^1.35)), x = E/emax, K = 1/(1 - e^-2.28) (with see_angle=sec
+ * 2.28 cos_t x^1.35 in the exponent and the whole divided by cos_t), or Sternglass's
+ * dmax x exp(2 - 2 sqrt(x)). */
+double mote_ch_see_yield(const mote_ch_material *m, double E_keV, double cos_t);
+/* The ion-impact yield 2 dmax_i sqrt(x) / (1 + x), x = E/emax_i (0 without ion parameters). */
+double mote_ch_ion_yield(const mote_ch_material *m, double E_keV);
 
 /* A straight-line run (spec 5.1-5.3, 5.6): per component N histories from the injection sphere
  * of radius r_gen about the body's centre; tallies per triangle, side and species. */

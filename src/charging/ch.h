@@ -42,6 +42,7 @@ typedef struct {
     int side;
     double v2;             /* the speed squared at the hit (m^2/s^2) */
     double eerr;           /* |E_end - E_0| / (K_0 + |q phi_0|) at the last integrated point */
+    double dir[3];         /* the last chord's unit direction (the impact direction) */
     long steps;
 } ch_hit;
 

@@ -726,13 +726,36 @@ static int apply_material(ch_model *m, const mote_call *c, mote_err *err)
         if (find_material(m, n->text, &x)) { /* new: no emission unless given */
             memset(&x, 0, sizeof x);
             x.see_emax = 1;
+            x.ion_emax = 1;
             x.kT_s = 2;
+            x.kT_ph = 2;
         }
         snprintf(x.name, sizeof x.name, "%s", n->text);
         x.see_dmax = mote_call_opt_r(c, "see_dmax", x.see_dmax);
         x.see_emax = mote_call_opt_r(c, "see_emax", x.see_emax);
         x.photo_j = mote_call_opt_r(c, "photo_j", x.photo_j);
         x.kT_s = mote_call_opt_r(c, "see_kT", x.kT_s);
+        x.kT_ph = mote_call_opt_r(c, "photo_kT", x.kT_ph);
+        x.ion_dmax = mote_call_opt_r(c, "ion_dmax", x.ion_dmax);
+        x.ion_emax = mote_call_opt_r(c, "ion_emax", x.ion_emax);
+        const mote_arg *a;
+        if ((a = mote_call_opt(c, "see_law"))) {
+            if (strcmp(a->text, "universal") && strcmp(a->text, "sternglass"))
+                return mote_call_fail(err, c, mote_call_opt_index(c, "see_law"), MOTE_EINVAL,
+                                      "material define: see_law must be universal or sternglass, "
+                                      "found '%s'", a->text);
+            x.see_law = !strcmp(a->text, "sternglass");
+        }
+        if ((a = mote_call_opt(c, "see_angle"))) {
+            if (strcmp(a->text, "none") && strcmp(a->text, "sec"))
+                return mote_call_fail(err, c, mote_call_opt_index(c, "see_angle"), MOTE_EINVAL,
+                                      "material define: see_angle must be none or sec, found '%s'",
+                                      a->text);
+            x.see_angle = !strcmp(a->text, "sec");
+        }
+        if (x.see_angle && x.see_law)
+            return mote_call_fail(err, c, 0, MOTE_EINVAL, "material define: see_angle=sec is the "
+                                  "universal law's angular form, not Sternglass's");
         m->defined[m->ndefined++] = x;
         return MOTE_OK;
     }
@@ -781,8 +804,10 @@ static const mote_ch_material *part_material(const ch_model *m, const char *part
 {
     for (int k = m->nassign - 1; k >= 0; k--)
         if (!strcmp(m->assign[k].part, "*") || !strcmp(m->assign[k].part, part))
-            return m->assign[k].m.see_dmax > 0 || m->assign[k].m.photo_j > 0 ? &m->assign[k].m
-                                                                               : NULL;
+            return m->assign[k].m.see_dmax > 0 || m->assign[k].m.photo_j > 0 ||
+                           m->assign[k].m.ion_dmax > 0
+                       ? &m->assign[k].m
+                       : NULL;
     return NULL;
 }
 
@@ -801,7 +826,7 @@ static int build_tri_materials(ch_model *m, mote_err *err)
     m->tri_mat = malloc((size_t)n * sizeof *m->tri_mat);
     if (!m->tri_mat)
         return mote_fail(err, MOTE_ENOMEM, "out of memory for the materials");
-    static const mote_ch_material bare = {"bare", 0, 1, 0, 2};
+    static const mote_ch_material bare = {"bare", 0, 1, 0, 2, 0, 0, 0, 1, 2};
     for (uint32_t i = 0; i < n; i++) {
         const mote_ch_material *x = part_material(m, PART_OF(i));
         m->tri_mat[i] = x ? x : &bare;
@@ -1605,21 +1630,28 @@ static const char HELP_INTEGRATOR[] =
 
 static const char HELP_MATERIAL[] =
     "    material assign part=NAME|* material=NAME\n"
-    "    material define name=NAME [see_dmax=D] [see_emax=E] [photo_j=J] [see_kT=T]\n"
+    "    material define name=NAME [see_dmax=D] [see_emax=E] [see_law=universal]\n"
+    "             [see_angle=none] [see_kT=2] [ion_dmax=DI] [ion_emax=EI]\n"
+    "             [photo_j=J] [photo_kT=2]\n"
     "\n"
     "Give a part (or every part: *) a material (spec 6.9); later assignments win.\n"
     "The presets: bare (the default: no emission), aluminium (secondary yield peak\n"
     "0.97 at 0.30 keV), gold (0.88, 0.80), kapton (2.1, 0.15), teflon (3.0, 0.30),\n"
-    "cover-glass (2.4, 0.40); all with secondaries at see_kT = 2 eV. The exact\n"
-    "sphere's part is called sphere. `material define` makes a material (or changes\n"
-    "one) with the universal yield curve's peak see_dmax at see_emax keV.\n"
+    "cover-glass (2.4, 0.40); all with secondaries and photoelectrons at 2 eV and\n"
+    "no ion yield. The exact sphere's part is called sphere. `material define`\n"
+    "makes a material (or changes one, a preset included, keeping what is not given).\n"
     "Each electron that hits a surface of a material scores the expected number of\n"
-    "secondaries (spec 6.7): delta(E) = D K (E/E)^-0.35 (1 - exp(-2.28 (E/E)^1.35)),\n"
-    "K = 1/(1 - e^-2.28), at its impact energy, times the fraction that escapes\n"
-    "((1 + eU/kT_s) exp(-eU/kT_s) above U = 0, else 1); the emitted current is a\n"
-    "gain (electrons leave), printed by `run` and counted in `float` and `evolve`.\n"
-    "photo_j (A/m^2 at normal incidence; presets: aluminium 4e-5, gold 2.9e-5, the\n"
-    "others 2e-5) is the photoemission of a sunlit surface (see `sun`).\n";
+    "secondaries (spec 6.7) at its impact energy E (keV), x = E/see_emax:\n"
+    "universal (the default): D K x^-0.35 (1 - exp(-2.28 x^1.35)), K = 1/(1 - e^-2.28);\n"
+    "with see_angle=sec, 2.28 cos(theta) x^1.35 in the exponent and the whole divided\n"
+    "by cos(theta), theta the impact angle from the normal; see_law=sternglass:\n"
+    "D x exp(2 - 2 sqrt(x)) (it falls far too steeply above a few keV). Ions score\n"
+    "2 DI sqrt(y) / (1 + y), y = E/ion_emax, when ion_dmax is given. The score is\n"
+    "times the fraction that escapes ((1 + eU/kT) exp(-eU/kT) above U = 0, else 1;\n"
+    "kT = see_kT); the emitted current is a gain (electrons leave), printed by `run`\n"
+    "and counted in `float` and `evolve`. photo_j (A/m^2 at normal incidence;\n"
+    "presets: aluminium 4e-5, gold 2.9e-5, the others 2e-5) is the photoemission of\n"
+    "a sunlit surface (see `sun`), its electrons at photo_kT.\n";
 
 static const char HELP_OUTPUT[] =
     "    output prefix=P [triangles=on] [vtk=on] [png=on] [png_view=iso]\n"
@@ -1681,7 +1713,9 @@ static const mote_cmd ch_commands[] = {
      "float [particles=N] [tolerance=1e-4] [U0=0] [replicas=1]",
      "the floating potential of the charged body", HELP_FLOAT, check_float,
      run_float},
-    {"material", NULL, "s name=s see_dmax=r>=0 see_emax=r>0 photo_j=r>=0 see_kT=r>0 part=s material=s",
+    {"material", NULL,
+     "s name=s see_dmax=r>=0 see_emax=r>0 see_law=s see_angle=s see_kT=r>0 ion_dmax=r>=0 "
+     "ion_emax=r>0 photo_j=r>=0 photo_kT=r>0 part=s material=s",
      "material define|assign [options]", "define a material, or give a part one (spec 6.9)",
      HELP_MATERIAL, check_material, run_material},
     {"output", NULL,

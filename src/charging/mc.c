@@ -146,6 +146,24 @@ double ch_inject_energy(const double e[4], double chi)
     return K;
 }
 
+static double dot3(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* |cos| of the angle between a straight path and the normal where it hits (the exact sphere:
+ * the radius at the hit point) */
+static double hit_cos(const mote_ch_body *b, long tri, const double org[3], const double dir[3],
+                      double dist)
+{
+    if (!b->sphere)
+        return fabs(dot3(dir, b->nrm[tri]));
+    double p[3];
+    for (int a = 0; a < 3; a++)
+        p[a] = org[a] + dist * dir[a] - b->sphere_c[a];
+    return fabs(dot3(dir, p)) / b->sphere_r;
+}
+
 void mote_ch_result_free(mote_ch_result *r)
 {
     free(r->tri_hits);
@@ -366,7 +384,10 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
             /* secondary emission by electron impacts (spec 6.7): each hit scores the expected
              * yield times the escape fraction; sums per block, added in block order (the same
              * bits on any number of threads) */
-            const int see = o->tri_material && sp->Z < 0;
+            /* (ions: when some material has ion-impact parameters) */
+            int see = o->tri_material && sp->Z < 0;
+            for (uint32_t i = 0; o->tri_material && sp->Z > 0 && !see && i < ntri; i++)
+                see = o->tri_material[i]->ion_dmax > 0;
             const double U_s = field ? o->potential : 0;
             /* scores in fixed point (2^-40) with 128-bit integers: sums that do not depend on
              * the order of addition (spec 5.6); per thread, per triangle and side, then the
@@ -406,12 +427,14 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                     const uint64_t h1 = (blk + 1) * BLOCK < o->particles ? (blk + 1) * BLOCK
                                                                            : o->particles;
                     ch_i128 *msee = see ? psee + (size_t)tid * nsee : NULL;
-#define SEE_SCORE(TRI, SIDE, E_EV)                                                                \
+#define SEE_SCORE(TRI, SIDE, E_EV, COS)                                                           \
     do {                                                                                          \
         if (see) {                                                                                \
             const mote_ch_material *mat_ = o->tri_material[(TRI)];                                \
             const double esc_ = mote_ch_escape(U_s, mat_->kT_s);                                  \
-            const double sc_ = mote_ch_see_yield(mat_, (E_EV) / 1000) * esc_;                     \
+            const double sc_ = (sp->Z < 0 ? mote_ch_see_yield(mat_, (E_EV) / 1000, (COS))         \
+                                          : mote_ch_ion_yield(mat_, (E_EV) / 1000)) *             \
+                               esc_;                                                              \
             const ch_i128 q_ = (ch_i128)llround(sc_ * FIX);                                      \
             msee[2 * (size_t)(TRI) + (size_t)(SIDE)] += q_;                                       \
             msee[nsee - 2] += q_;                                                                 \
@@ -449,14 +472,18 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                                 if (hit.side && b->closed[hit.tri])
                                     back++;
                                 mine[2 * (size_t)hit.tri + (size_t)hit.side]++;
-                                SEE_SCORE(hit.tri, hit.side, 0.5 * sp->m * hit.v2 / MOTE_CH_E);
+                                SEE_SCORE(hit.tri, hit.side, 0.5 * sp->m * hit.v2 / MOTE_CH_E,
+                                          fabs(dot3(hit.dir, b->nrm[hit.tri])));
                                 continue;
                             }
                             /* sin^2(theta) = 1 - u2 by the cosine law */
                             if (K + dq >= K * (1 - u[2]) * ra2) {
                                 hits++;
                                 mine[0]++;
-                                SEE_SCORE(0, 0, sp->kT[k] * K + sp->Z * (phi_g - o->potential));
+                                /* the impact angle: L kept, sin^2 = K sin0^2 (R/a)^2 / (K + dq) */
+                                const double s2 = K + dq > 0 ? K * (1 - u[2]) * ra2 / (K + dq) : 0;
+                                SEE_SCORE(0, 0, sp->kT[k] * K + sp->Z * (phi_g - o->potential),
+                                          sqrt(fmax(0, 1 - s2)));
                             }
                             continue;
                         }
@@ -485,7 +512,7 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                                 if (side && (b->sphere || b->closed[tri]))
                                     back++;
                                 mine[2 * (size_t)tri + (size_t)side]++;
-                                SEE_SCORE(tri, side, STRAIGHT_E());
+                                SEE_SCORE(tri, side, STRAIGHT_E(), hit_cos(b, tri, org, dir, dist));
                             }
                             continue;
                         }
@@ -539,7 +566,8 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                                 if (side && (b->sphere || b->closed[tri]))
                                     back++;
                                 mine[2 * (size_t)tri + (size_t)side]++;
-                                SEE_SCORE(tri, side, 0.5 * sp->m * len * len / MOTE_CH_E);
+                                SEE_SCORE(tri, side, 0.5 * sp->m * len * len / MOTE_CH_E,
+                                          hit_cos(b, tri, org, dir, dist));
                             }
                             continue;
                         }
@@ -562,7 +590,7 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                         if (side && (b->sphere || b->closed[tri]))
                             back++;
                         mine[2 * (size_t)tri + (size_t)side]++;
-                        SEE_SCORE(tri, side, STRAIGHT_E());
+                        SEE_SCORE(tri, side, STRAIGHT_E(), hit_cos(b, tri, org, dir, dist));
                     }
 #undef SEE_SCORE
 #undef STRAIGHT_E
@@ -622,7 +650,7 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
             const mote_ch_material *mat = o->tri_material[0];
             r->tri_sunlit[0] = 0.5;
             r->tri_photo[0] = mat->photo_j * inten * MOTE_CH_PI * b->sphere_r * b->sphere_r *
-                              mote_ch_escape(U_s, mat->kT_s);
+                              mote_ch_escape(U_s, mat->kT_ph);
             r->photo = r->tri_photo[0];
         } else {
             mote_ch_sunlit(b, t, o->sun_dir, frac, side, o->threads);
@@ -635,7 +663,7 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                 const double cs = fabs(nr[0] * o->sun_dir[0] + nr[1] * o->sun_dir[1] +
                                        nr[2] * o->sun_dir[2]);
                 const double I = mat->photo_j * inten * b->area[i] * cs * frac[i] *
-                                 mote_ch_escape(U_s, mat->kT_s);
+                                 mote_ch_escape(U_s, mat->kT_ph);
                 r->tri_photo[2 * (size_t)i + (size_t)side[i]] = I;
                 r->photo += I;
             }

@@ -65,7 +65,7 @@ static int seg_meets_box(const double a[3], const double b[3], const double lo[3
 /* Trace the chord from c + r0 to c + r1; the hit's triangle (and *side, the hit point in x) or
  * -1. */
 static long chord(const ch_path *P, const double r0[3], const double r1[3], int *side,
-                  double x[3])
+                  double x[3], double dir[3])
 {
     double a[3], b[3], d[3], len = 0;
     for (int i = 0; i < 3; i++) {
@@ -87,8 +87,10 @@ static long chord(const ch_path *P, const double r0[3], const double r1[3], int 
     double s;
     const long tri = mote_ch_trace_seg(P->t, a, d, 0, len + 2 * P->overlap, side, &s);
     if (tri >= 0)
-        for (int i = 0; i < 3; i++)
+        for (int i = 0; i < 3; i++) {
             x[i] = a[i] + s * d[i] - P->c[i];
+            dir[i] = d[i];
+        }
     return tri;
 }
 
@@ -194,7 +196,7 @@ void ch_path_follow(const ch_path *P, const double r_in[3], const double v_in[3]
                     r1[i] *= P->rf / rr;
             }
         }
-        const long tri = chord(P, r, r1, &out->side, x);
+        const long tri = chord(P, r, r1, &out->side, x, out->dir);
         if (tri >= 0) { /* the speed at the hit from the energy (spec 6.7: phi(x_hit)) */
             out->tri = tri;
             out->v2 = fmax(0, 2 * (e0 - P->k / fmax(sqrt(dot3(x, x)), P->rf)));

@@ -90,15 +90,31 @@ int mote_ch_material_preset(const char *name, mote_ch_material *m)
             m->see_emax = T[k].emax;
             m->photo_j = T[k].jph;
             m->kT_s = 2;
+            m->kT_ph = 2;
             return 0;
         }
     return -1;
 }
 
-double mote_ch_see_yield(const mote_ch_material *m, double E_keV)
+double mote_ch_see_yield(const mote_ch_material *m, double E_keV, double cos_t)
 {
     if (!(m->see_dmax > 0) || !(E_keV > 0))
         return 0;
-    const double x = E_keV / m->see_emax, K = 1 / (1 - exp(-2.28));
+    const double x = E_keV / m->see_emax;
+    if (m->see_law == 1)
+        return m->see_dmax * x * exp(2 - 2 * sqrt(x));
+    const double K = 1 / (1 - exp(-2.28));
+    if (m->see_angle == 1) {
+        const double c = fmax(cos_t, 1e-6); /* grazing: the limit dmax K x^0.65 2.28 */
+        return m->see_dmax * K * pow(x, -0.35) * -expm1(-2.28 * c * pow(x, 1.35)) / c;
+    }
     return m->see_dmax * K * pow(x, -0.35) * (1 - exp(-2.28 * pow(x, 1.35)));
+}
+
+double mote_ch_ion_yield(const mote_ch_material *m, double E_keV)
+{
+    if (!(m->ion_dmax > 0) || !(E_keV > 0))
+        return 0;
+    const double x = E_keV / m->ion_emax;
+    return 2 * m->ion_dmax * sqrt(x) / (1 + x);
 }
