@@ -13,6 +13,8 @@ pkg-config --exists assimp 2>/dev/null || need="$need libassimp-dev"
 # Open MPI: the charging model's MPI build (make MPI=1), built and run with 2 ranks by make check
 command -v mpicc >/dev/null 2>&1 || need="$need libopenmpi-dev"
 command -v mpirun >/dev/null 2>&1 || need="$need openmpi-bin"
+# VTK's Python reader (Debian's python3), tests only: the charging model's VTK files read back
+/usr/bin/python3 -c 'import vtkmodules.vtkIOLegacy' >/dev/null 2>&1 || need="$need python3-vtk9"
 # ASE (Debian's python3), the independent reader of the extended XYZ files in the tests
 /usr/bin/python3 -c 'import ase.io' >/dev/null 2>&1 || need="$need python3-ase"
 # `setup.sh fuzz`: also clang with libFuzzer, for `make fuzz`

@@ -184,6 +184,33 @@ expect 1 "m6.mote:2:33: error: material: see_dmax must be >= 0, found -1" m6.mot
 # a defined material, then assigned: a yield curve of the user's own
 printf '%bplasma preset geo-worst-case\nbody sphere radius=1\nmaterial define name=mine see_dmax=3 see_emax=0.3\nmaterial assign part=sphere material=mine\nrun particles=1e5\n' "$G" > md.mote
 "$MOTE" run md.mote > out.txt 2> err.txt && grep -q '^run: e .*secondaries it knocks out: +' out.txt && ok || bad "a defined material: $(grep '^run: e' out.txt) $(cat err.txt)"
+# the VTK files read back by VTK itself (python3-vtk9, ParaView's library): ASCII and binary
+# give the same mesh and arrays
+mkdir -p ov
+printf '%bplasma preset geo-worst-case\nbody load file=craft.obj\nmaterial assign part=panel material=kapton\nsun direction=0,0,1\noutput prefix=ov/a png=off\nrun particles=1e4\noutput prefix=ov/b png=off vtk_format=binary\nrun particles=1e4\n' "$G" > vtk.mote
+"$MOTE" run vtk.mote > out.txt 2> err.txt && /usr/bin/python3 -c "
+import sys
+from vtkmodules.vtkIOLegacy import vtkPolyDataReader
+def load(path):
+    r = vtkPolyDataReader()
+    r.SetFileName(path)
+    r.ReadAllScalarsOn()
+    r.Update()
+    d = r.GetOutput()
+    cd = d.GetCellData()
+    arr = {cd.GetArrayName(k): [cd.GetArray(k).GetValue(i) for i in range(d.GetNumberOfCells())] for k in range(cd.GetNumberOfArrays())}
+    pts = [d.GetPoint(i) for i in range(d.GetNumberOfPoints())]
+    return d.GetNumberOfPoints(), d.GetNumberOfCells(), arr, pts
+na, ca, A, pa = load('ov/a_surface.vtk')
+nb, cb, B, pb = load('ov/b_surface.vtk')
+want = {'J_net', 'J_net_front', 'J_net_back', 'sigma_J', 'relerr', 'J_e', 'J_H+', 'J_see', 'J_photo', 'sunlit_fraction', 'hits_total', 'part_id'}
+ok = na == nb == 42 and ca == cb == 14 and set(A) == want and set(B) == want
+ok = ok and all(abs(x - y) <= 1e-9 * max(abs(x), abs(y), 1e-30) for k in want for x, y in zip(A[k], B[k]))
+ok = ok and all(abs(p - q) <= 1e-9 for u, v in zip(pa, pb) for p, q in zip(u, v))
+ok = ok and sum(A['J_photo']) > 0 and max(A['sunlit_fraction']) == 1 and sorted(set(A['part_id'])) == [0, 1]
+sys.exit(not ok)
+" && ok || bad "VTK read back: $(cat err.txt)"
+expect 1 "b21b.mote:2:28: error: output: vtk_format must be ascii or binary, found 'xml'" b21b.mote "${G}output prefix=x vtk_format=xml\n"
 expect 1 "b21.mote:2:15: error: output: the directory of prefix 'nodir/x' does not exist" b21.mote "${G}output prefix=nodir/x\n"
 expect 1 "b22.mote:2:26: error: output: png_view must be iso, +x, -x, +y, -y, +z, -z or X,Y,Z, or up to 8 of them as V1/V2/..., found 'top'" b22.mote "${G}output prefix=x png_view=top\n"
 expect 1 "b22b.mote:2:26: error: output: png_view must be iso, +x, -x, +y, -y, +z, -z or X,Y,Z, or up to 8 of them as V1/V2/..., found '0,0,0'" b22b.mote "${G}output prefix=x png_view=iso/0,0,0\n"

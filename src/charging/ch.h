@@ -60,6 +60,7 @@ typedef struct {
     double r_gen, potential;
     int threads;
     int triangles, vtk, png, ply; /* which files (the parts table and summaries always) */
+    int vtk_binary;               /* vtk_format=binary */
     int png_w, png_h, png_log;
     double view[3];               /* unit vector toward the viewer */
     int have_float;               /* written by `float`: its root, error and the OML estimate */

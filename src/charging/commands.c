@@ -44,7 +44,7 @@ typedef struct {
     const mote_ch_material **tri_mat; /* per triangle, built for a run (NULL: none emits) */
     /* `output`: the files of spec 8 after each run (prefix NULL: none) */
     char *prefix, *origin;
-    int out_triangles, out_vtk, out_png, out_ply, png_w, png_h, png_log;
+    int out_triangles, out_vtk, out_png, out_ply, png_w, png_h, png_log, vtk_binary;
     double view[8][3];          /* png_view: the views, and their names for the file names */
     char view_name[8][16];
     int nviews;
@@ -859,6 +859,37 @@ static void report_paths(const ch_model *m, const char *cmd)
             (unsigned long long)r->lost, r->max_energy_err);
 }
 
+/* What the output files are written from: the last run at the potential U. */
+static ch_output output_of(ch_model *m, const mote_ch_geometry *g, const mote_ch_run_opts *o,
+                           double U)
+{
+    ch_output out = {.prefix = m->prefix,
+                     .origin = m->origin,
+                     .mode = m->faithful ? "faithful" : "full",
+                     .seed = m->seed,
+                     .plasma = &m->plasma,
+                     .body = &m->body,
+                     .res = &m->res,
+                     .geom = *g,
+                     .r_gen = o->r_gen,
+                     .potential = U,
+                     .threads = o->threads > 1 ? o->threads : 1,
+                     .triangles = m->out_triangles,
+                     .vtk = m->out_vtk,
+                     .png = m->out_png,
+                     .ply = m->out_ply,
+                     .vtk_binary = m->vtk_binary,
+                     .png_w = m->png_w,
+                     .png_h = m->png_h,
+                     .png_log = m->png_log,
+                     .tri_mat = m->tri_mat,
+                     .nviews = m->nviews,
+                     .views = m->view,
+                     .view_names = m->view_name};
+    memcpy(out.view, m->view[0], sizeof out.view);
+    return out;
+}
+
 /* ---- run and evolve ------------------------------------------------------------------------- */
 
 /* The run options of a command: the seed, its particles= (default 1e6), the injector, threads. */
@@ -1028,12 +1059,7 @@ static int run_run(void *vm, const mote_call *c, mote_err *err)
     m->have_run = 1;
     m->r_gen_used = o.r_gen;
     if (m->prefix) {
-        ch_output out = {m->prefix, m->origin, m->faithful ? "faithful" : "full", m->seed,
-                         &m->plasma, &m->body, &m->res, g, o.r_gen, o.field ? o.potential : 0,
-                         o.threads > 1 ? o.threads : 1,
-                         m->out_triangles, m->out_vtk, m->out_png, m->out_ply, m->png_w,
-                         m->png_h, m->png_log, {m->view[0][0], m->view[0][1], m->view[0][2]}, 0, 0, 0,
-                         m->tri_mat, m->nviews, m->view, m->view_name};
+        const ch_output out = output_of(m, &g, &o, o.field ? o.potential : 0);
         rc = ch_write_outputs(&out, m->log, err);
         if (rc)
             return rc;
@@ -1132,11 +1158,10 @@ static int run_float(void *vm, const mote_call *c, mote_err *err)
     }
     m->have_run = 1;
     if (m->prefix) { /* the files at U_f (spec 8.2) */
-        ch_output out = {m->prefix, m->origin, "full", m->seed, &m->plasma, &m->body, &m->res,
-                         g, o.r_gen, U, o.threads > 1 ? o.threads : 1, m->out_triangles,
-                         m->out_vtk, m->out_png, m->out_ply, m->png_w, m->png_h, m->png_log,
-                         {m->view[0][0], m->view[0][1], m->view[0][2]}, 1, sU, oml, m->tri_mat,
-                         m->nviews, m->view, m->view_name};
+        ch_output out = output_of(m, &g, &o, U);
+        out.have_float = 1;
+        out.sigma_U = sU;
+        out.oml = oml;
         rc = ch_write_outputs(&out, m->log, err);
         if (rc)
             return rc;
@@ -1386,6 +1411,9 @@ static int check_output(void *vm, const mote_call *c, mote_err *err)
         return mote_call_fail(err, c, mote_call_opt_index(c, "png_size"), MOTE_EINVAL,
                               "output: png_size must be WxH, 64 to 8192 pixels each, found '%s'",
                               a->text);
+    if ((a = mote_call_opt(c, "vtk_format")) && strcmp(a->text, "ascii") && strcmp(a->text, "binary"))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "vtk_format"), MOTE_EINVAL,
+                              "output: vtk_format must be ascii or binary, found '%s'", a->text);
     if ((a = mote_call_opt(c, "png_scale")) && strcmp(a->text, "linear") && strcmp(a->text, "log"))
         return mote_call_fail(err, c, mote_call_opt_index(c, "png_scale"), MOTE_EINVAL,
                               "output: png_scale must be linear or log, found '%s'", a->text);
@@ -1417,6 +1445,7 @@ static int run_output(void *vm, const mote_call *c, mote_err *err)
     if ((a = mote_call_opt(c, "png_size")))
         sscanf(a->text, "%dx%d", &m->png_w, &m->png_h);
     m->png_log = (a = mote_call_opt(c, "png_scale")) && strcmp(a->text, "log") == 0;
+    m->vtk_binary = (a = mote_call_opt(c, "vtk_format")) && strcmp(a->text, "binary") == 0;
     return MOTE_OK;
 }
 
@@ -1654,8 +1683,8 @@ static const char HELP_MATERIAL[] =
     "a sunlit surface (see `sun`), its electrons at photo_kT.\n";
 
 static const char HELP_OUTPUT[] =
-    "    output prefix=P [triangles=on] [vtk=on] [png=on] [png_view=iso]\n"
-    "           [png_size=1024x768] [png_scale=linear|log]\n"
+    "    output prefix=P [triangles=on] [vtk=on] [vtk_format=ascii|binary] [png=on]\n"
+    "           [png_view=iso] [png_size=1024x768] [png_scale=linear|log] [ply=off]\n"
     "\n"
     "After every later `run` (at its potential) and `float` (at U_f), write the\n"
     "files of spec 8 (P may name a directory):\n"
@@ -1665,9 +1694,10 @@ static const char HELP_OUTPUT[] =
     "and photoelectron currents, then the net current, its density J_net and\n"
     "standard error; P_parts.csv, the currents summed per part;\n"
     "P_summary.txt and P_summary.json, the body, the plasma and the currents per\n"
-    "species and component; P_surface.vtk, legacy VTK POLYDATA for ParaView with\n"
-    "cell arrays J_net (both sides of a sheet), J_net_front, J_net_back, sigma_J,\n"
-    "J_<species>, J_see, J_photo, hits_total and part_id; P_surface.png, the body\n"
+    "species and component; P_surface.vtk, legacy VTK POLYDATA for ParaView (ASCII\n"
+    "or big-endian binary) with cell arrays J_net (both sides of a sheet),\n"
+    "J_net_front, J_net_back, sigma_J, relerr, J_<species>, J_see, J_photo,\n"
+    "sunlit_fraction, hits_total and part_id; P_surface.png, the body\n"
     "seen orthographically from png_view (iso: from (1, 1, 1); +x, -x, ... or a\n"
     "vector X,Y,Z; several as V1/V2/... give one file each, P_surface_iso.png,\n"
     "P_surface_pz.png, P_surface_mx.png, P_surface_view4.png ...), each triangle filled with the viridis colour of its J_net (or of\n"
@@ -1719,7 +1749,7 @@ static const mote_cmd ch_commands[] = {
      "material define|assign [options]", "define a material, or give a part one (spec 6.9)",
      HELP_MATERIAL, check_material, run_material},
     {"output", NULL,
-     "prefix=f! triangles=s vtk=s png=s ply=s png_view=s png_size=s png_scale=s",
+     "prefix=f! triangles=s vtk=s vtk_format=s png=s ply=s png_view=s png_size=s png_scale=s",
      "output prefix=P [triangles=on] [vtk=on] [png=on] [ply=off] [png_view=V] [png_size=WxH] "
      "[png_scale=linear|log]",
      "the files of spec 8 after each run (tables, VTK, summary, surface picture)", HELP_OUTPUT,

@@ -213,74 +213,140 @@ static int write_parts(const ch_output *o, const char *path, mote_err *err)
 
 
 
+/* Legacy VTK data: n values, as text or (vtk_format=binary) big-endian doubles or 32-bit ints
+ * (is_int 1), followed by a newline; is_int 2: whole numbers kept as doubles (counts). */
+static void vtk_put(FILE *f, const double *v, size_t n, int binary, int is_int)
+{
+    for (size_t k = 0; k < n; k++) {
+        if (!binary) {
+            if (is_int)
+                fprintf(f, "%.0f\n", v[k]);
+            else
+                fprintf(f, "%.10g\n", v[k]);
+            continue;
+        }
+        unsigned char be[8];
+        if (is_int == 1) {
+            const uint32_t x = (uint32_t)(int32_t)v[k];
+            for (int q = 0; q < 4; q++)
+                be[q] = (unsigned char)(x >> (24 - 8 * q));
+            fwrite(be, 1, 4, f);
+        } else {
+            uint64_t x;
+            memcpy(&x, &v[k], 8);
+            for (int q = 0; q < 8; q++)
+                be[q] = (unsigned char)(x >> (56 - 8 * q));
+            fwrite(be, 1, 8, f);
+        }
+    }
+    if (binary)
+        fputc('\n', f);
+}
+
+static void vtk_scalars(FILE *f, const char *name, const double *v, size_t n, int binary,
+                        int is_int)
+{
+    fprintf(f, "SCALARS %s %s 1\nLOOKUP_TABLE default\n", name, is_int == 1 ? "int" : "double");
+    vtk_put(f, v, n, binary, is_int);
+}
+
 static int write_vtk(const ch_output *o, const char *path, mote_err *err)
 {
     const mote_ch_body *b = o->body;
     const mote_ch_plasma *p = o->plasma;
+    const uint32_t n = b->ntri;
+    double *v = malloc((size_t)(9 * (size_t)n + 1) * sizeof *v);
+    if (!v)
+        return mote_fail(err, MOTE_ENOMEM, "output: out of memory for the VTK file");
     mote_afile af;
     int rc = mote_afile_open(&af, path, err);
-    if (rc)
+    if (rc) {
+        free(v);
         return rc;
+    }
     FILE *f = af.f;
+    const int bin = o->vtk_binary;
     fprintf(f, "# vtk DataFile Version 3.0\nmote charging: currents at U = %.6g V, seed %llu, %llu "
-               "histories per component\nASCII\nDATASET POLYDATA\nPOINTS %u double\n",
-            o->potential, (unsigned long long)o->seed, (unsigned long long)o->res->histories, 3 * b->ntri);
-    for (uint32_t i = 0; i < b->ntri; i++)
+               "histories per component\n%s\nDATASET POLYDATA\nPOINTS %u double\n",
+            o->potential, (unsigned long long)o->seed, (unsigned long long)o->res->histories,
+            bin ? "BINARY" : "ASCII", 3 * n);
+    for (uint32_t i = 0; i < n; i++)
         for (int j = 0; j < 3; j++)
-            fprintf(f, "%.10g %.10g %.10g\n", b->v[i][j][0], b->v[i][j][1], b->v[i][j][2]);
-    fprintf(f, "POLYGONS %u %u\n", b->ntri, 4 * b->ntri);
-    for (uint32_t i = 0; i < b->ntri; i++)
-        fprintf(f, "3 %u %u %u\n", 3 * i, 3 * i + 1, 3 * i + 2);
-    fprintf(f, "CELL_DATA %u\n", b->ntri);
-    /* J_net: both sides of a sheet together; then each side, each species, sigma, hits, part */
-    const char *arrays[4] = {"J_net", "J_net_front", "J_net_back", "sigma_J"};
-    for (int a = 0; a < 4; a++) {
-        fprintf(f, "SCALARS %s double 1\nLOOKUP_TABLE default\n", arrays[a]);
-        for (uint32_t i = 0; i < b->ntri; i++) {
-            double v = 0;
-            if (a == 0)
-                v = tri_j(o, i, 0) + (nsides(b, i) == 2 ? tri_j(o, i, 1) : 0);
-            else if (a < 3)
-                v = a == 2 && nsides(b, i) == 1 ? 0 : tri_j(o, i, a - 1);
-            else {
-                double var = 0, x;
+            for (int a = 0; a < 3; a++)
+                v[9 * (size_t)i + 3 * (size_t)j + (size_t)a] = b->v[i][j][a];
+    if (bin) {
+        vtk_put(f, v, 9 * (size_t)n, 1, 0);
+    } else { /* three to a line */
+        for (uint32_t i = 0; i < 3 * n; i++)
+            fprintf(f, "%.10g %.10g %.10g\n", v[3 * (size_t)i], v[3 * (size_t)i + 1],
+                    v[3 * (size_t)i + 2]);
+    }
+    fprintf(f, "POLYGONS %u %u\n", n, 4 * n);
+    if (bin) {
+        for (uint32_t i = 0; i < n; i++) {
+            v[4 * (size_t)i] = 3;
+            for (int j = 0; j < 3; j++)
+                v[4 * (size_t)i + 1 + (size_t)j] = 3.0 * i + j;
+        }
+        vtk_put(f, v, 4 * (size_t)n, 1, 1);
+    } else {
+        for (uint32_t i = 0; i < n; i++)
+            fprintf(f, "3 %u %u %u\n", 3 * i, 3 * i + 1, 3 * i + 2);
+    }
+    fprintf(f, "CELL_DATA %u\n", n);
+    /* J_net: both sides of a sheet together; then each side, sigma, relerr, each species, the
+     * emission, the sunlit fraction, hits, part */
+    for (int a = 0; a < 5; a++) {
+        static const char *const name[5] = {"J_net", "J_net_front", "J_net_back", "sigma_J",
+                                            "relerr"};
+        for (uint32_t i = 0; i < n; i++) {
+            const double Jn = tri_j(o, i, 0) + (nsides(b, i) == 2 ? tri_j(o, i, 1) : 0);
+            double var = 0, x;
+            if (a >= 3)
                 for (int side = 0; side < nsides(b, i); side++)
-                    for (int s = 0; s < p->nsp; s++) {
-                        tri_current(p, o->res, s, i, side, &x);
+                    for (int sp = 0; sp < p->nsp; sp++) {
+                        tri_current(p, o->res, sp, i, side, &x);
                         var += x;
                     }
-                v = sqrt(var) / b->area[i];
-            }
-            fprintf(f, "%.10g\n", v);
+            v[i] = a == 0   ? Jn
+                   : a < 3  ? (a == 2 && nsides(b, i) == 1 ? 0 : tri_j(o, i, a - 1))
+                   : a == 3 ? sqrt(var) / b->area[i]
+                            : (Jn != 0 ? sqrt(var) / b->area[i] / fabs(Jn) : 0);
         }
+        vtk_scalars(f, name[a], v, n, bin, 0);
     }
-    for (int s = 0; s < p->nsp; s++) {
-        fprintf(f, "SCALARS J_%s double 1\nLOOKUP_TABLE default\n", p->sp[s].name);
-        for (uint32_t i = 0; i < b->ntri; i++) {
+    for (int sp = 0; sp < p->nsp; sp++) {
+        char name[48];
+        snprintf(name, sizeof name, "J_%s", p->sp[sp].name);
+        for (uint32_t i = 0; i < n; i++) {
             double J = 0, x;
             for (int side = 0; side < nsides(b, i); side++)
-                J += tri_current(p, o->res, s, i, side, &x);
-            fprintf(f, "%.10g\n", J / b->area[i]);
+                J += tri_current(p, o->res, sp, i, side, &x);
+            v[i] = J / b->area[i];
         }
+        vtk_scalars(f, name, v, n, bin, 0);
     }
-    if (o->res->tri_see) { /* the secondaries leaving, both sides (A/m^2, > 0) */
-        fprintf(f, "SCALARS J_see double 1\nLOOKUP_TABLE default\n");
-        for (uint32_t i = 0; i < b->ntri; i++)
-            fprintf(f, "%.10g\n", (tri_see(o->res, i, 0) + tri_see(o->res, i, 1)) / b->area[i]);
-    }
-    if (o->res->tri_photo) { /* the photoelectrons leaving, both sides (A/m^2, > 0) */
-        fprintf(f, "SCALARS J_photo double 1\nLOOKUP_TABLE default\n");
-        for (uint32_t i = 0; i < b->ntri; i++)
-            fprintf(f, "%.10g\n",
-                    (tri_photo(o->res, i, 0) + tri_photo(o->res, i, 1)) / b->area[i]);
-    }
-    fprintf(f, "SCALARS hits_total double 1\nLOOKUP_TABLE default\n");
-    for (uint32_t i = 0; i < b->ntri; i++)
-        fprintf(f, "%llu\n", (unsigned long long)(tri_hits(o->res, 0, o->res->ncomp, i, 0) +
-                                                  tri_hits(o->res, 0, o->res->ncomp, i, 1)));
-    fprintf(f, "SCALARS part_id int 1\nLOOKUP_TABLE default\n");
-    for (uint32_t i = 0; i < b->ntri; i++)
-        fprintf(f, "%d\n", b->part[i]);
+    /* the secondaries and photoelectrons leaving, both sides (A/m^2, > 0), the sunlit fraction
+     * (the lit side's) */
+    for (uint32_t i = 0; i < n; i++)
+        v[i] = (tri_see(o->res, i, 0) + tri_see(o->res, i, 1)) / b->area[i];
+    vtk_scalars(f, "J_see", v, n, bin, 0);
+    for (uint32_t i = 0; i < n; i++)
+        v[i] = (tri_photo(o->res, i, 0) + tri_photo(o->res, i, 1)) / b->area[i];
+    vtk_scalars(f, "J_photo", v, n, bin, 0);
+    for (uint32_t i = 0; i < n; i++)
+        v[i] = o->res->tri_sunlit ? fmax(o->res->tri_sunlit[2 * (size_t)i],
+                                         o->res->tri_sunlit[2 * (size_t)i + 1])
+                                  : 0;
+    vtk_scalars(f, "sunlit_fraction", v, n, bin, 0);
+    for (uint32_t i = 0; i < n; i++)
+        v[i] = (double)(tri_hits(o->res, 0, o->res->ncomp, i, 0) +
+                        tri_hits(o->res, 0, o->res->ncomp, i, 1));
+    vtk_scalars(f, "hits_total", v, n, bin, 2);
+    for (uint32_t i = 0; i < n; i++)
+        v[i] = b->part[i];
+    vtk_scalars(f, "part_id", v, n, bin, 1);
+    free(v);
     return mote_afile_commit(&af, err);
 }
 
