@@ -10,7 +10,7 @@ mote_test_start "$1"
 F='model charging faithful\n'
 printf '%bbody sphere radius=1\nrun particles=2e6\nevolve time=2.5e-4 dt_out=2.5e-5 file=ts.csv\n' "$F" > f1.mote
 "$MOTE" run f1.mote > out.txt 2> err.txt && ok || bad "f1.mote failed: $(cat err.txt)"
-grep -q '^# columns: t_s Q_C U_V sigma_U_V I_net_A I_e_A Nreal_e I_H+_A Nreal_H+$' ts.csv && ok || bad "time-series columns: $(grep columns ts.csv)"
+grep -q '^# columns: t_s Q_C U_V sigma_U_V I_net_A I_e_A Nreal_e I_H+_A Nreal_H+ I_see_A I_photo_A$' ts.csv && ok || bad "time-series columns: $(grep columns ts.csv)"
 [ "$(grep -vc '^#' ts.csv)" -eq 11 ] && ok || bad "time series: $(grep -vc '^#' ts.csv) rows, expected 11 (t = 0 ... 0.25 ms)"
 # U(0.25 ms) within 3 sigma of -146.77 V, and U exactly linear in t: U(t) / t the same on every row
 awk '!/^#/ { n++; t[n] = $1; U[n] = $3; s[n] = $4 } END { d = U[n] + 146.77; ok = n == 11 && d * d <= 9 * s[n] * s[n] + 1e-6;
@@ -239,6 +239,14 @@ expect 1 "sp6.mote:2:16: error: species: charge must be a whole number of elemen
 expect 1 "sp7.mote:2:25: error: species: mass must be electron, proton, amu:A or a mass in kg > 0, found 'heavy'" sp7.mote "${G}species name=X charge=1 mass=heavy\n"
 expect 1 "sp8.mote:4:1: error: run: species 'X' has no component" sp8.mote "${G}species name=X charge=1 mass=proton\nbody sphere radius=1\nrun\n"
 expect 1 "sp9.mote:3:1: error: species: 'e' exists already" sp9.mote "${G}plasma preset thesis-hot\nspecies name=e charge=-1 mass=electron\n"
+# evolve in full mode writes P_timeseries.csv after `output prefix=P` (spec 8.1): the species',
+# secondary and photo currents add up to the net current (their interpolations agree within 1%
+# of the largest current), Nreal grows, Q = C U
+mkdir -p ots
+printf '%bplasma preset geo-worst-case\nbody sphere radius=1\nmaterial assign part=* material=aluminium\nsun direction=1,0,0 intensity=0.05\noutput prefix=ots/s\nevolve time=0.5 dt_out=0.1 particles=1e5\n' "$G" > tsf.mote
+"$MOTE" run tsf.mote > out.txt 2> err.txt && grep -q '^# columns: t_s Q_C U_V sigma_U_V I_net_A I_e_A Nreal_e I_H+_A Nreal_H+ I_see_A I_photo_A$' ots/s_timeseries.csv &&
+    awk '!/^#/ { n++; d = $6 + $8 + $10 + $11 - $5; m = ($6 < 0 ? -$6 : $6); if (d * d > (0.01 * m) ^ 2 || $7 < n7 || $9 < n9 || $11 <= 0) bad = 1; n7 = $7; n9 = $9
+         q = $2 - 1.112650055e-10 * $3; if (q * q > 1e-18 * $2 * $2) bad = 1 } END { exit !(n == 6 && !bad) }' ots/s_timeseries.csv && ok || bad "full-mode time series: $(tail -2 ots/s_timeseries.csv) $(cat err.txt)"
 # float writes the files at U_f, the summary with the root, its error and the OML estimate
 mkdir -p of
 printf '%bplasma preset geo-worst-case\nbody sphere radius=1\noutput prefix=of/s\nfloat particles=1e5\n' "$G" > fo.mote

@@ -81,6 +81,8 @@ typedef struct {
     int nt;
     double *tt, *tu;            /* t(U) on a fine grid */
     double tau;                 /* C / |dI/dU| at U_f */
+    int ncol;                   /* per point: each species' current, the secondaries', the */
+    double *col;                /* photoelectrons', the net current's error: [n][ncol] */
 } ch_table;
 
 int ch_table_build(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tracer *tr,
@@ -89,6 +91,8 @@ double ch_table_eval(const ch_table *t, double U);
 int ch_table_times(ch_table *t, double C, mote_err *err);
 double ch_table_u_at(const ch_table *t, double time);
 double ch_table_t_at(const ch_table *t, double U);
+/* Column j of the table at U, interpolated linearly between the points. */
+double ch_table_col(const ch_table *t, double U, int j);
 void ch_table_free(ch_table *t);
 
 #endif

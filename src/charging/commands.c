@@ -45,6 +45,7 @@ typedef struct {
     /* `output`: the files of spec 8 after each run (prefix NULL: none) */
     char *prefix, *origin;
     int out_triangles, out_vtk, out_png, out_ply, png_w, png_h, png_log, vtk_binary;
+    int out_timeseries;
     double view[8][3];          /* png_view: the views, and their names for the file names */
     char view_name[8][16];
     int nviews;
@@ -1207,6 +1208,45 @@ static int check_evolve(void *vm, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
+/* The time-series file of evolve (spec 8.1): file= if given, else P_timeseries.csv after
+ * `output prefix=P` (unless timeseries=off); only MPI rank 0 writes. 1 when one is open. */
+static int open_timeseries(ch_model *m, const mote_call *c, mote_datafile *d, mote_err *err,
+                           int *rc)
+{
+    *rc = MOTE_OK;
+    if (ch_mpi_rank() != 0)
+        return 0;
+    const mote_arg *f = mote_call_opt(c, "file");
+    char *path = NULL;
+    if (!f && (!m->prefix || !m->out_timeseries))
+        return 0;
+    if (!f) {
+        const size_t len = strlen(m->prefix) + 32;
+        if (!(path = malloc(len))) {
+            *rc = mote_fail(err, MOTE_ENOMEM, "evolve: out of memory");
+            return 0;
+        }
+        snprintf(path, len, "%s_timeseries.csv", m->prefix);
+    }
+    char *origin = mote_call_origin(c);
+    *rc = mote_datafile_open(d, f ? f->path : path, "charging-timeseries",
+                             origin ? origin : "evolve", m->seed, err);
+    free(origin);
+    if (!*rc && m->log && !f)
+        fprintf(m->log, "output: writing %s\n", path);
+    free(path);
+    return *rc == MOTE_OK;
+}
+
+/* The columns of the time series after t_s Q_C U_V sigma_U_V I_net_A (spec 8.1). */
+static void timeseries_columns(const ch_model *m, FILE *out)
+{
+    fprintf(out, "# columns: t_s Q_C U_V sigma_U_V I_net_A");
+    for (int s = 0; s < m->plasma.nsp; s++)
+        fprintf(out, " I_%s_A Nreal_%s", m->plasma.sp[s].name, m->plasma.sp[s].name);
+    fprintf(out, " I_see_A I_photo_A\n");
+}
+
 /* Full mode (spec 6.6): C dU/dt = I_net(U) from the tabulated characteristic. */
 static int evolve_full(ch_model *m, const mote_call *c, mote_err *err)
 {
@@ -1229,24 +1269,21 @@ static int evolve_full(ch_model *m, const mote_call *c, mote_err *err)
         ch_table_free(&t);
         return rc;
     }
-    /* the file from the first MPI rank only (the others have the same numbers) */
-    const mote_arg *f = ch_mpi_rank() == 0 ? mote_call_opt(c, "file") : NULL;
     mote_datafile d;
-    FILE *out = m->log;
+    const int f = open_timeseries(m, c, &d, err, &rc);
+    if (rc) {
+        ch_table_free(&t);
+        return rc;
+    }
+    FILE *out = f ? d.f : m->log;
+    const int nsp = m->plasma.nsp;
     if (f) {
-        char *origin = mote_call_origin(c);
-        rc = mote_datafile_open(&d, f->path, "charging-timeseries", origin ? origin : "evolve",
-                                m->seed, err);
-        free(origin);
-        if (rc) {
-            ch_table_free(&t);
-            return rc;
-        }
-        out = d.f;
         fprintf(out, "# mode = full (C dU/dt = I_net(U), the characteristic tabulated at %d "
-                     "potentials, %llu histories per component each)\n# C_F = %.10g\n"
-                     "# U_f_V = %.10g\n# tau_s = %.10g\n# columns: t_s Q_C U_V I_net_A\n",
+                     "potentials, %llu histories per component each; the species' and emission "
+                     "currents interpolated linearly between them; sigma_U = sigma_I min(t, tau) "
+                     "/ C, an estimate)\n# C_F = %.10g\n# U_f_V = %.10g\n# tau_s = %.10g\n",
                 t.n, (unsigned long long)o.particles, C, t.Uf, t.tau);
+        timeseries_columns(m, out);
     }
     if (m->log)
         fprintf(m->log, "evolve: I(U) tabulated at %d potentials from %g V to %g V; U_f = %.6g V, "
@@ -1254,13 +1291,29 @@ static int evolve_full(ch_model *m, const mote_call *c, mote_err *err)
                 t.n, t.U[0], t.U[t.n - 1], t.Uf, t.tau, ch_table_t_at(&t, U0 + 0.5 * (t.Uf - U0)),
                 ch_table_t_at(&t, U0 + 0.9 * (t.Uf - U0)));
     const long nout = (long)floor(T / dt + 1e-9);
+    double nreal[MOTE_CH_MAX_SPECIES] = {0}, tprev = 0;
     for (long k = 0; k <= nout + (fabs(nout * dt - T) > 1e-12 * T) && out; k++) {
         const double time = k <= nout ? k * dt : T, U = ch_table_u_at(&t, time);
-        if (f)
-            fprintf(out, "%.10g %.10g %.10g %.10g\n", time, C * U, U, ch_table_eval(&t, U));
-        else
+        /* the real particles collected since the last row: 32 trapezoids */
+        for (int q = 0; q < 32 && time > tprev; q++) {
+            const double ta = tprev + (time - tprev) * q / 32, tb = tprev + (time - tprev) * (q + 1) / 32;
+            const double ua = ch_table_u_at(&t, ta), ub = ch_table_u_at(&t, tb);
+            for (int s = 0; s < nsp; s++)
+                nreal[s] += 0.5 * (tb - ta) *
+                            (fabs(ch_table_col(&t, ua, s)) + fabs(ch_table_col(&t, ub, s))) /
+                            (abs(m->plasma.sp[s].Z) * MOTE_CH_E);
+        }
+        tprev = time;
+        const double sU = ch_table_col(&t, U, nsp + 2) * fmin(time, t.tau) / C;
+        if (f) {
+            fprintf(out, "%.10g %.10g %.10g %.10g %.10g", time, C * U, U, sU, ch_table_eval(&t, U));
+            for (int s = 0; s < nsp; s++)
+                fprintf(out, " %.10g %.10g", ch_table_col(&t, U, s), nreal[s]);
+            fprintf(out, " %.10g %.10g\n", ch_table_col(&t, U, nsp), ch_table_col(&t, U, nsp + 1));
+        } else {
             fprintf(out, "evolve: t %.10g s Q %.10g C U %.10g V I %.10g A\n", time, C * U, U,
                     ch_table_eval(&t, U));
+        }
     }
     ch_table_free(&t);
     return f ? mote_datafile_commit(&d, err) : MOTE_OK;
@@ -1284,25 +1337,17 @@ static int run_evolve(void *vm, const mote_call *c, mote_err *err)
         var += m->res.sigma[s] * m->res.sigma[s];
     }
     const double C = g.capacitance, sig = sqrt(var);
-    /* the file from the first MPI rank only (the others have the same numbers) */
-    const mote_arg *f = ch_mpi_rank() == 0 ? mote_call_opt(c, "file") : NULL;
     mote_datafile d;
-    FILE *out = m->log;
+    int rc;
+    const int f = open_timeseries(m, c, &d, err, &rc);
+    if (rc)
+        return rc;
+    FILE *out = f ? d.f : m->log;
     if (f) {
-        char *origin = mote_call_origin(c);
-        int rc = mote_datafile_open(&d, f->path, "charging-timeseries", origin ? origin : "evolve",
-                                    m->seed, err);
-        free(origin);
-        if (rc)
-            return rc;
-        out = d.f;
         fprintf(out, "# mode = faithful (constant currents, Q = I t, U = Q / C)\n# C_F = %.10g\n"
                      "# area_m2 = %.10g\n# histories = %llu\n", C, g.area,
                 (unsigned long long)m->res.histories);
-        fprintf(out, "# columns: t_s Q_C U_V sigma_U_V I_net_A");
-        for (int s = 0; s < m->plasma.nsp; s++)
-            fprintf(out, " I_%s_A Nreal_%s", m->plasma.sp[s].name, m->plasma.sp[s].name);
-        fputc('\n', out);
+        timeseries_columns(m, out);
     } else if (out) {
         fprintf(out, "evolve: dU/dt = %.10g V/s (I = %.10g A, C = %.10g F)\n", inet / C, inet, C);
     }
@@ -1313,13 +1358,13 @@ static int run_evolve(void *vm, const mote_call *c, mote_err *err)
                                                               "+- %.3g I %.10g A",
                 t, inet * t, inet * t / C, sig * t / C, inet);
         for (int s = 0; s < m->plasma.nsp; s++) {
-            const double nreal = fabs(m->res.current[s]) * t / MOTE_CH_E;
+            const double nreal = fabs(m->res.current[s]) * t / (abs(m->plasma.sp[s].Z) * MOTE_CH_E);
             if (f)
                 fprintf(out, " %.10g %.10g", m->res.current[s], nreal);
             else
                 fprintf(out, " N_%s %.10g", m->plasma.sp[s].name, nreal);
         }
-        fputc('\n', out);
+        fputs(f ? " 0 0\n" : "\n", out); /* (faithful: no emission) */
     }
     return f ? mote_datafile_commit(&d, err) : MOTE_OK;
 }
@@ -1392,6 +1437,8 @@ static int check_output(void *vm, const mote_call *c, mote_err *err)
     const mote_arg *a;
     int rc = on_off(c, "triangles", 1, &x, err);
     if (!rc)
+        rc = on_off(c, "timeseries", 1, &x, err);
+    if (!rc)
         rc = on_off(c, "vtk", 1, &x, err);
     if (!rc)
         rc = on_off(c, "png", 1, &x, err);
@@ -1446,6 +1493,7 @@ static int run_output(void *vm, const mote_call *c, mote_err *err)
         sscanf(a->text, "%dx%d", &m->png_w, &m->png_h);
     m->png_log = (a = mote_call_opt(c, "png_scale")) && strcmp(a->text, "log") == 0;
     m->vtk_binary = (a = mote_call_opt(c, "vtk_format")) && strcmp(a->text, "binary") == 0;
+    on_off(c, "timeseries", 1, &m->out_timeseries, err);
     return MOTE_OK;
 }
 
@@ -1567,20 +1615,26 @@ static const char HELP_RUN[] =
     "U changes nothing.\n";
 
 static const char HELP_EVOLVE[] =
-    "    evolve time=T [dt_out=D] [file=FILE]\n"
+    "    evolve time=T [dt_out=D] [file=FILE] [U0=0] [particles=1e6]\n"
     "\n"
     "Full mode (the charged body): C dU/dt = I_net(U) from U0 (default\n"
     "0 V). The net current is tabulated by runs of N histories per component\n"
     "(default 1e6, common random numbers) on an adaptive grid of potentials (spec\n"
     "6.6), interpolated monotonically, and t(U) = C integral dU / I_net(U) is\n"
     "integrated and inverted; prints U_f, tau = C/|dI/dU| there and the times to\n"
-    "50% and 90% of U_f, then the lines (or FILE: t_s Q_C U_V I_net_A).\n"
+    "50% and 90% of U_f, then a line every D to T.\n"
     "\n"
     "Faithful mode (model charging faithful): the thesis's charging with\n"
     "constant currents, Q = I t and U = Q / C with C of the sphere of equal area,\n"
-    "from the last `run`, at t = 0, D, 2D, ... and T. Prints the lines, or writes\n"
-    "them to FILE (columns t_s Q_C U_V sigma_U_V I_net_A, then per species I_s_A\n"
-    "and Nreal_s, the real particles collected so far), atomically.\n";
+    "from the last `run`, at t = 0, D, 2D, ... and T.\n"
+    "\n"
+    "The lines go to FILE, or without file= to P_timeseries.csv after `output\n"
+    "prefix=P` (unless timeseries=off), else to the screen. The file (spec 8.1,\n"
+    "written atomically) has the columns t_s Q_C U_V sigma_U_V I_net_A, per species\n"
+    "I_s_A and Nreal_s (the real particles collected so far), I_see_A and\n"
+    "I_photo_A; in full mode the species' and emission currents are interpolated\n"
+    "linearly between the tabulated potentials and sigma_U = sigma_I min(t, tau)/C\n"
+    "is an estimate.\n";
 
 static const char HELP_FLOAT[] =
     "    float [particles=1e6] [tolerance=1e-4] [U0=0] [replicas=1]\n"
@@ -1683,11 +1737,12 @@ static const char HELP_MATERIAL[] =
     "a sunlit surface (see `sun`), its electrons at photo_kT.\n";
 
 static const char HELP_OUTPUT[] =
-    "    output prefix=P [triangles=on] [vtk=on] [vtk_format=ascii|binary] [png=on]\n"
-    "           [png_view=iso] [png_size=1024x768] [png_scale=linear|log] [ply=off]\n"
+    "    output prefix=P [timeseries=on] [triangles=on] [vtk=on]\n"
+    "           [vtk_format=ascii|binary] [png=on] [png_view=iso] [png_size=1024x768]\n"
+    "           [png_scale=linear|log] [ply=off]\n"
     "\n"
     "After every later `run` (at its potential) and `float` (at U_f), write the\n"
-    "files of spec 8 (P may name a directory):\n"
+    "files of spec 8 (P may name a directory; `evolve` writes P_timeseries.csv):\n"
     "P_triangles.csv, one row per triangle and side that collects (the front of a\n"
     "closed surface, both sides of a sheet): part, material, side, area, centre,\n"
     "normal, sunlit fraction, per species the hits and the current, the secondary\n"
@@ -1749,7 +1804,8 @@ static const mote_cmd ch_commands[] = {
      "material define|assign [options]", "define a material, or give a part one (spec 6.9)",
      HELP_MATERIAL, check_material, run_material},
     {"output", NULL,
-     "prefix=f! triangles=s vtk=s vtk_format=s png=s ply=s png_view=s png_size=s png_scale=s",
+     "prefix=f! timeseries=s triangles=s vtk=s vtk_format=s png=s ply=s png_view=s png_size=s "
+     "png_scale=s",
      "output prefix=P [triangles=on] [vtk=on] [png=on] [ply=off] [png_view=V] [png_size=WxH] "
      "[png_scale=linear|log]",
      "the files of spec 8 after each run (tables, VTK, summary, surface picture)", HELP_OUTPUT,

@@ -23,11 +23,16 @@ void ch_table_free(ch_table *t)
     free(t->d);
     free(t->tt);
     free(t->tu);
+    free(t->col);
     memset(t, 0, sizeof *t);
 }
 
-static int table_put(ch_table *t, double U, double I, double Imax)
+static int table_put(ch_table *t, double U, double I, double Imax, const double *col)
 {
+    double *nc = realloc(t->col, (size_t)(t->n + 1) * (size_t)t->ncol * sizeof *nc);
+    if (!nc)
+        return -1;
+    t->col = nc;
     double *nu = realloc(t->U, (size_t)(t->n + 1) * sizeof *nu);
     if (!nu)
         return -1;
@@ -41,21 +46,36 @@ static int table_put(ch_table *t, double U, double I, double Imax)
         return -1;
     t->d = nm; /* (holds the largest species current until the slopes replace it) */
     int k = t->n++;
+    const size_t w = (size_t)t->ncol;
     while (k > 0 && ((t->U[k - 1] > U) != t->down)) { /* keep U ordered along the path */
         t->U[k] = t->U[k - 1];
         t->I[k] = t->I[k - 1];
         t->d[k] = t->d[k - 1];
+        memcpy(t->col + (size_t)k * w, t->col + (size_t)(k - 1) * w, w * sizeof *t->col);
         k--;
     }
     t->U[k] = U;
     t->I[k] = I;
     t->d[k] = Imax;
+    memcpy(t->col + (size_t)k * w, col, w * sizeof *t->col);
     return 0;
 }
 
-/* One Monte Carlo evaluation: the net current and the largest species current at U. */
+double ch_table_col(const ch_table *t, double U, int j)
+{
+    int k = 0;
+    while (k + 2 < t->n && (t->down ? U < t->U[k + 1] : U > t->U[k + 1]))
+        k++;
+    const double s = fmax(0, fmin(1, (U - t->U[k]) / (t->U[k + 1] - t->U[k])));
+    const size_t w = (size_t)t->ncol;
+    return (1 - s) * t->col[(size_t)k * w + (size_t)j] + s * t->col[(size_t)(k + 1) * w + (size_t)j];
+}
+
+/* One Monte Carlo evaluation: the net current, the largest species current and the columns
+ * (each species, secondaries, photoelectrons, the net current's error) at U. */
 static int eval(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tracer *tr,
-                const mote_ch_run_opts *o, double U, double *I, double *Imax, mote_err *err)
+                const mote_ch_run_opts *o, double U, double *I, double *Imax, double *col,
+                mote_err *err)
 {
     mote_ch_run_opts q = *o;
     q.potential = U;
@@ -63,10 +83,19 @@ static int eval(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
     int rc = mote_ch_run(p, b, tr, &q, &r, err);
     if (rc)
         return rc;
-    *I = mote_ch_net(&r, NULL);
+    double sig;
+    *I = mote_ch_net(&r, &sig);
     *Imax = 0;
-    for (int s = 0; s < r.nsp; s++)
+    double see = 0;
+    for (int s = 0; s < r.nsp; s++) {
         *Imax = fmax(*Imax, fabs(r.current[s]));
+        col[s] = r.current[s];
+        for (int k = 0; k < MOTE_CH_MAX_COMPONENTS; k++)
+            see += r.see[s][k];
+    }
+    col[r.nsp] = see;
+    col[r.nsp + 1] = r.photo;
+    col[r.nsp + 2] = sig;
     mote_ch_result_free(&r);
     return MOTE_OK;
 }
@@ -75,27 +104,29 @@ int ch_table_build(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch
                    const mote_ch_run_opts *o, double U0, ch_table *t, mote_err *err)
 {
     memset(t, 0, sizeof *t);
+    t->ncol = p->nsp + 3;
+    double col[MOTE_CH_MAX_SPECIES + 3];
     double kTmin = INFINITY;
     for (int s = 0; s < p->nsp; s++)
         for (int k = 0; k < p->sp[s].ncomp; k++)
             kTmin = fmin(kTmin, p->sp[s].kT[k] / abs(p->sp[s].Z));
     double I0, M0;
-    int rc = eval(p, b, tr, o, U0, &I0, &M0, err);
+    int rc = eval(p, b, tr, o, U0, &I0, &M0, col, err);
     if (rc)
         return rc;
     if (I0 == 0)
         return mote_fail(err, MOTE_EINVAL, "evolve: the net current at U0 is zero: the body "
                          "floats already");
     t->down = I0 < 0; /* the potential falls while the net current is negative */
-    if (table_put(t, U0, I0, M0))
+    if (table_put(t, U0, I0, M0, col))
         return mote_fail(err, MOTE_ENOMEM, "evolve: out of memory");
     double step = 0.1 * kTmin, U = U0;
     for (int it = 0; it < 60; it++) { /* march until the sign changes */
         U += t->down ? -step : step;
         double I, M;
-        if ((rc = eval(p, b, tr, o, U, &I, &M, err)) != 0)
+        if ((rc = eval(p, b, tr, o, U, &I, &M, col, err)) != 0)
             return rc;
-        if (table_put(t, U, I, M))
+        if (table_put(t, U, I, M, col))
             return mote_fail(err, MOTE_ENOMEM, "evolve: out of memory");
         if ((I < 0) != (I0 < 0))
             break;
@@ -113,9 +144,9 @@ int ch_table_build(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch
                 continue;
             const double Um = 0.5 * (t->U[k] + t->U[k + 1]);
             double I, M;
-            if ((rc = eval(p, b, tr, o, Um, &I, &M, err)) != 0)
+            if ((rc = eval(p, b, tr, o, Um, &I, &M, col, err)) != 0)
                 return rc;
-            if (table_put(t, Um, I, M))
+            if (table_put(t, Um, I, M, col))
                 return mote_fail(err, MOTE_ENOMEM, "evolve: out of memory");
             added++;
             k++; /* (the new point is between k and k + 1) */
