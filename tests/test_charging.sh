@@ -84,7 +84,8 @@ grep -q '^POINTS 42 double$' o1/craft_surface.vtk && grep -q '^POLYGONS 14 56$' 
 import json, sys
 d = json.load(open('o1/craft_summary.json'))
 net = sum(s['I_A'] for s in d['species'])
-sys.exit(not (d['mode'] == 'full' and d['area_m2'] == 30 and abs(net - d['I_net_A']) <= 1e-9 * abs(net) and len(d['species'][0]['components']) == 2))
+sys.exit(not (d['mode'] == 'full' and d['area_m2'] == 30 and abs(net - d['I_net_A']) <= 1e-9 * abs(net) and len(d['species'][0]['components']) == 2
+              and d['lost'] == 0 and d['ranks'] == 1 and len(d['warnings']) == 1 and 'kT/(m c^2) = 0.0538 > 0.02' in d['warnings'][0]))
 " && ok || bad "summary.json: $(head -c 300 o1/craft_summary.json)"
 [ "$(od -An -tu1 -j16 -N8 o1/craft_surface.png | awk '{ print $1*16777216+$2*65536+$3*256+$4, $5*16777216+$6*65536+$7*256+$8 }')" = "400 300" ] && ok || bad "the PNG is not 400 x 300"
 cmp -s o1/craft_surface.png o2/craft_surface.png && cmp -s o1/craft_surface.vtk o2/craft_surface.vtk && [ "$(grep -v '^# command' o1/craft_triangles.csv)" = "$(grep -v '^# command' o2/craft_triangles.csv)" ] && ok || bad "1 and 2 threads give different files"

@@ -28,8 +28,9 @@ cp t.mote p1/ && cp t.mote r1/ && cp t.mote r2/
 (cd r1 && "$MPI_MOTE" run t.mote > out.txt 2> err.txt) && ok || bad "MPI build, 1 rank: $(cat r1/err.txt)"
 (cd r2 && $MPIRUN "$MPI_MOTE" run t.mote > out.txt 2> err.txt) && ok || bad "MPI build, 2 ranks: $(cat r2/err.txt)"
 grep -q '^mote: 2 MPI ranks share' r2/err.txt && ok || bad "no note of the ranks: $(cat r2/err.txt)"
+grep -q '"ranks":2,' r2/c_summary.json && grep -q 'on 1 thread and 2 MPI ranks' r2/c_summary.txt && ok || bad "the summaries do not give the ranks"
 # the same files; the summaries without their timing (traces/s)
-untimed() { sed -e 's/"traces_per_s":[^,]*,//' -e 's/, [0-9.e+]* traces\/s on .*//' "$1"; }
+untimed() { sed -e 's/"traces_per_s":[^,]*,//' -e 's/"ranks":[0-9]*,//' -e 's/, [0-9.e+]* traces\/s on .*//' "$1"; }
 for f in c_triangles.csv c_parts.csv c_surface.vtk c_surface.png ts.csv; do
     [ -s "p1/$f" ] && cmp -s "p1/$f" "r1/$f" && cmp -s "p1/$f" "r2/$f" && ok || bad "$f differs between 1 process, 1 rank and 2 ranks"
 done

@@ -15,6 +15,7 @@ int ch_add_tri(mote_ch_body *b, const double p[3], const double q[3], const doub
 
 /* This process's MPI rank (0 without MPI, mc.c): only rank 0 writes files. */
 int ch_mpi_rank(void);
+int ch_mpi_size(void);
 
 /* The Monte Carlo draws (mc.c): four uniforms in (0, 1) from block `draw` of a history's
  * Philox stream; the injection point's outward normal and the direction (cosine law) from
@@ -69,6 +70,7 @@ typedef struct {
     int nviews;                   /* png_view: one file per view (P_surface.png for one view, */
     double (*views)[3];           /* else P_surface_NAME.png) */
     char (*view_names)[16];
+    const char *warnings;         /* the validity warnings (spec 3.4), lines; NULL: none */
 } ch_output;
 
 int ch_write_outputs(const ch_output *o, FILE *log, mote_err *err);

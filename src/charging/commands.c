@@ -28,6 +28,7 @@ typedef struct {
     int field_off;              /* `field none` (spec 6.1): straight paths whatever U */
     double bfield;              /* `bfield B=` (spec 3.4, diagnostics only), T */
     int diagnosed;              /* the warnings of spec 3.4 printed for this plasma and body */
+    char *warnings;             /* their text, for the summary files */
     int sun;                    /* `sun` (spec 6.8): on, the unit vector toward it, intensity */
     double sun_dir[3], sun_int;
     double eta;                 /* `integrator` (spec 6.3): curved paths' step and limit */
@@ -80,6 +81,7 @@ static void model_destroy(void *vm)
     free(m->prefix);
     free(m->origin);
     free(m->tri_mat);
+    free(m->warnings);
     free(m);
 }
 
@@ -590,10 +592,16 @@ static int run_bfield(void *vm, const mote_call *c, mote_err *err)
  * the diagnostic stream before the first run, float or evolve of a plasma and body. */
 static void diagnose(ch_model *m, const char *cmd)
 {
-    FILE *w = m->dry || !m->ctx ? NULL : m->ctx->diag;
-    if (!w || ch_mpi_rank() != 0 || m->diagnosed)
+    if (m->dry || m->diagnosed)
         return;
     m->diagnosed = 1; /* once, until the plasma, the body or bfield change */
+    /* the lines go to a memory stream (kept for the summary files), then to the diagnostics */
+    free(m->warnings);
+    m->warnings = NULL;
+    size_t wlen = 0;
+    FILE *w = open_memstream(&m->warnings, &wlen);
+    if (!w)
+        return;
     mote_ch_geometry g;
     mote_ch_body_geometry(&m->body, &g);
     const double ld = mote_ch_debye(&m->plasma), c2 = 299792458.0 * 299792458.0;
@@ -616,6 +624,9 @@ static void diagnose(ch_model *m, const char *cmd)
                         cmd, sp->name, k + 1, E / (sp->m * c2));
         }
     }
+    fclose(w);
+    if (m->ctx && m->ctx->diag && ch_mpi_rank() == 0 && m->warnings)
+        fputs(m->warnings, m->ctx->diag);
 }
 
 /* ---- sun (spec 6.8) ---- */
@@ -886,7 +897,8 @@ static ch_output output_of(ch_model *m, const mote_ch_geometry *g, const mote_ch
                      .tri_mat = m->tri_mat,
                      .nviews = m->nviews,
                      .views = m->view,
-                     .view_names = m->view_name};
+                     .view_names = m->view_name,
+                     .warnings = m->warnings};
     memcpy(out.view, m->view[0], sizeof out.view);
     return out;
 }

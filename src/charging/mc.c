@@ -196,6 +196,13 @@ static void mpi_layout(int *rank, int *size)
 #endif
 }
 
+int ch_mpi_size(void)
+{
+    int rank, size;
+    mpi_layout(&rank, &size);
+    return size;
+}
+
 int ch_mpi_rank(void)
 {
     int rank, size;

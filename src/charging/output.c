@@ -398,7 +398,24 @@ static int write_summary(const ch_output *o, const char *path, int json, mote_er
                     o->sigma_U, o->oml);
         else
             fputc(']', f);
-        fprintf(f, ",\"I_photo_A\":%.10g", o->res->photo);
+        fprintf(f, ",\"I_photo_A\":%.10g,\"lost\":%llu,\"steps_per_history\":%.6g,"
+                   "\"ranks\":%d,\"warnings\":[",
+                o->res->photo, (unsigned long long)o->res->lost,
+                (double)o->res->steps / ((double)o->res->ncomp * (double)o->res->histories),
+                ch_mpi_size());
+        for (const char *w = o->warnings; w && *w;) { /* one string a line, escaped */
+            const char *e = strchr(w, '\n');
+            const size_t l = e ? (size_t)(e - w) : strlen(w);
+            fputs(w == o->warnings ? "\"" : ",\"", f);
+            for (size_t q = 0; q < l; q++) {
+                if (w[q] == '"' || w[q] == '\\')
+                    fputc('\\', f);
+                fputc(w[q], f);
+            }
+            fputc('"', f);
+            w += l + (e != NULL);
+        }
+        fputc(']', f);
         fprintf(f, ",\"I_net_A\":%.10g,\"sigma_net_A\":%.10g,\"dU_dt_V_s\":%.10g,"
                    "\"hit_fraction\":%.10g,\"backface_hits\":%llu,\"traces_per_s\":%.4g,"
                    "\"threads\":%d}\n",
@@ -433,9 +450,17 @@ static int write_summary(const ch_output *o, const char *path, int json, mote_er
                 o->tri_mat ? " (with the emitted electrons)" : "");
         fprintf(f, "charging with these currents held constant (the thesis's model): dU/dt = "
                    "I / C = %.10g V/s\n", inet / g->capacitance);
-        fprintf(f, "hit fraction %.6g, back-face hits %llu, %.4g traces/s on %d thread%s\n", hitf,
-                (unsigned long long)o->res->backface_hits, o->res->traces_per_s, o->threads,
-                o->threads == 1 ? "" : "s");
+        fprintf(f, "hit fraction %.6g, back-face hits %llu, %.4g traces/s on %d thread%s and %d "
+                   "MPI rank%s\n", hitf, (unsigned long long)o->res->backface_hits,
+                o->res->traces_per_s, o->threads, o->threads == 1 ? "" : "s", ch_mpi_size(),
+                ch_mpi_size() == 1 ? "" : "s");
+        if (o->res->steps > 0)
+            fprintf(f, "curved paths: %.4g steps per history, %llu lost, largest relative energy "
+                       "error %.3g\n",
+                    (double)o->res->steps / ((double)o->res->ncomp * (double)o->res->histories),
+                    (unsigned long long)o->res->lost, o->res->max_energy_err);
+        if (o->warnings && *o->warnings)
+            fprintf(f, "\nwarnings:\n%s", o->warnings);
     }
     return mote_afile_commit(&af, err);
 }
