@@ -1111,6 +1111,10 @@ static int run_run(void *vm, const mote_call *c, mote_err *err)
 static int check_float(void *vm, const mote_call *c, mote_err *err)
 {
     ch_model *m = vm;
+    const mote_arg *ra = mote_call_opt(c, "roots");
+    if (ra && strcmp(ra->text, "one") && strcmp(ra->text, "all"))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "roots"), MOTE_EINVAL,
+                              "float: roots must be one or all, found '%s'", ra->text);
     if (m->faithful)
         return mote_call_fail(err, c, -1, MOTE_EINVAL, "float: in faithful mode the currents do "
                               "not depend on U, so no floating potential exists");
@@ -1160,6 +1164,54 @@ static int run_float(void *vm, const mote_call *c, mote_err *err)
                 fprintf(m->log, "float: replica %d (seed %llu): U_f = %.6g V +- %.3g\n", k + 1,
                         (unsigned long long)ok.seed, Uk, sUk);
         }
+    }
+    /* roots=all (spec 6.5): the characteristic on a grid from 0 by 0.1 kT_min/e doubling, both
+     * ways, to twice the farthest of U_f, U0 and the OML root; each sign change is a root
+     * (interpolated linearly), stable where dI/dU < 0 */
+    const mote_arg *ra = mote_call_opt(c, "roots");
+    if (!rc && ra && !strcmp(ra->text, "all")) {
+        double kTmin = INFINITY;
+        for (int sp = 0; sp < m->plasma.nsp; sp++)
+            for (int k = 0; k < m->plasma.sp[sp].ncomp; k++)
+                kTmin = fmin(kTmin, m->plasma.sp[sp].kT[k] / abs(m->plasma.sp[sp].Z));
+        const double far = 2 * fmax(fmax(fabs(U), fabs(o.U0)), fabs(oml));
+        double grid[200];
+        int ng = 0, nr = 0;
+        for (double step = 0.1 * kTmin; step < far && ng < 90; step *= 2)
+            grid[ng++] = -step;
+        for (int k = 0; k < ng / 2; k++) { /* ascending */
+            const double x = grid[k];
+            grid[k] = grid[ng - 1 - k];
+            grid[ng - 1 - k] = x;
+        }
+        grid[ng++] = 0;
+        for (double step = 0.1 * kTmin; step < far && ng < 190; step *= 2)
+            grid[ng++] = step;
+        double Iprev = 0;
+        for (int k = 0; k < ng && !rc; k++) {
+            mote_ch_run_opts ok = o;
+            ok.potential = grid[k];
+            mote_ch_result rk;
+            rc = mote_ch_run(&m->plasma, &m->body, t, &ok, &rk, err);
+            if (rc)
+                break;
+            const double I = mote_ch_net(&rk, NULL);
+            mote_ch_result_free(&rk);
+            if (k > 0 && (I < 0) != (Iprev < 0)) {
+                const int here = U >= grid[k - 1] && U <= grid[k]; /* U_f's interval: U_f */
+                const double Ur = here ? U : (grid[k - 1] * I - grid[k] * Iprev) / (I - Iprev);
+                if (m->log)
+                    fprintf(m->log, "float: a root of I(U) between %g and %g V: %s %.6g V, %s "
+                                    "(dI/dU %s 0)\n", grid[k - 1], grid[k],
+                            here ? "U_f =" : "about (linear)", Ur,
+                            I < Iprev ? "stable" : "unstable", I < Iprev ? "<" : ">");
+                nr++;
+            }
+            Iprev = I;
+        }
+        if (!rc && m->log)
+            fprintf(m->log, "float: %d sign change%s of I(U) at %d potentials from %g to %g V\n",
+                    nr, nr == 1 ? "" : "s", ng, grid[0], grid[ng - 1]);
     }
     mote_ch_tracer_free(t);
     if (rc)
@@ -1649,7 +1701,7 @@ static const char HELP_EVOLVE[] =
     "is an estimate.\n";
 
 static const char HELP_FLOAT[] =
-    "    float [particles=1e6] [tolerance=1e-4] [U0=0] [replicas=1]\n"
+    "    float [particles=1e6] [tolerance=1e-4] [U0=0] [replicas=1] [roots=one|all]\n"
     "\n"
     "The floating potential U_f, where the net collected current is zero (spec\n"
     "6.5), of the charged body in the Coulomb field of its equivalent sphere (spec\n"
@@ -1665,8 +1717,11 @@ static const char HELP_FLOAT[] =
     "the analytic OML estimate for the equivalent sphere without emission, and each\n"
     "species' current at U_f. replicas=k repeats the search with the seeds\n"
     "seed+1 ... seed+k-1 and prints the roots' mean and standard deviation (the\n"
-    "files and U_f stay the first seed's). Faithful mode has no floating potential\n"
-    "(its currents do not depend on U).\n";
+    "files and U_f stay the first seed's). roots=all also tabulates I(U) from 0 V\n"
+    "both ways (steps of 0.1 kT_min/e, doubling, to twice the farthest of U_f, U0\n"
+    "and the OML root) and prints every sign change, flagged stable where\n"
+    "dI/dU < 0 (two roots in one interval are not seen). Faithful mode has no\n"
+    "floating potential (its currents do not depend on U).\n";
 
 static const char HELP_FIELD[] =
     "    field none|sphere\n"
@@ -1806,8 +1861,8 @@ static const mote_cmd ch_commands[] = {
     {"run", NULL, "particles=r>=1 potential=r relerr=r(0,1) max_particles=r>=1",
      "run [particles=N] [relerr=E [max_particles=M]] [potential=0]",
      "Monte Carlo currents to the uncharged body", HELP_RUN, check_run, run_run},
-    {"float", NULL, "particles=r>=1 tolerance=r(0,0.1] U0=r replicas=i>=1",
-     "float [particles=N] [tolerance=1e-4] [U0=0] [replicas=1]",
+    {"float", NULL, "particles=r>=1 tolerance=r(0,0.1] U0=r replicas=i>=1 roots=s",
+     "float [particles=N] [tolerance=1e-4] [U0=0] [replicas=1] [roots=one|all]",
      "the floating potential of the charged body", HELP_FLOAT, check_float,
      run_float},
     {"material", NULL,
