@@ -220,6 +220,12 @@ ok = ok and sum(A['J_photo']) > 0 and max(A['sunlit_fraction']) == 1 and sorted(
 sys.exit(not ok)
 " && ok || bad "VTK read back: $(cat err.txt)"
 expect 1 "b21b.mote:2:28: error: output: vtk_format must be ascii or binary, found 'xml'" b21b.mote "${G}output prefix=x vtk_format=xml\n"
+# png_quantity (spec 8.4): another quantity in the picture; a species of the plasma or an error
+mkdir -p opq
+printf '%bplasma preset geo-worst-case\nbody load file=craft.obj\nsun direction=0.3,0.2,1\nmaterial assign part=* material=kapton\noutput prefix=opq/a png_quantity=J_net png_size=200x150 vtk=off\nrun particles=1e4\noutput prefix=opq/b png_quantity=J_H+ png_size=200x150 vtk=off\nrun particles=1e4\noutput prefix=opq/c png_quantity=sunlit_fraction png_size=200x150 vtk=off\nrun particles=1e4\n' "$G" > pq.mote
+"$MOTE" run pq.mote > out.txt 2> err.txt && [ -s opq/a_surface.png ] && [ -s opq/b_surface.png ] && [ -s opq/c_surface.png ] &&
+    ! cmp -s opq/a_surface.png opq/b_surface.png && ! cmp -s opq/b_surface.png opq/c_surface.png && ok || bad "png_quantity: $(cat err.txt)"
+expect 1 "b21c.mote:3:30: error: output: png_quantity must be J_net, J_<species> (of the plasma so far), J_see, J_photo, sigma_J, relerr, sunlit_fraction or hits, found 'J_O+'" b21c.mote "${G}plasma preset thesis-hot\noutput prefix=x png_quantity=J_O+\n"
 expect 1 "b21.mote:2:15: error: output: the directory of prefix 'nodir/x' does not exist" b21.mote "${G}output prefix=nodir/x\n"
 expect 1 "b22.mote:2:26: error: output: png_view must be iso, +x, -x, +y, -y, +z, -z or X,Y,Z, or up to 8 of them as V1/V2/..., found 'top'" b22.mote "${G}output prefix=x png_view=top\n"
 expect 1 "b22b.mote:2:26: error: output: png_view must be iso, +x, -x, +y, -y, +z, -z or X,Y,Z, or up to 8 of them as V1/V2/..., found '0,0,0'" b22b.mote "${G}output prefix=x png_view=iso/0,0,0\n"

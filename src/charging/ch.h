@@ -71,7 +71,12 @@ typedef struct {
     double (*views)[3];           /* else P_surface_NAME.png) */
     char (*view_names)[16];
     const char *warnings;         /* the validity warnings (spec 3.4), lines; NULL: none */
+    int png_q, png_sp;            /* png_quantity: CH_Q_*, and the species of CH_Q_SPECIES */
 } ch_output;
+
+/* png_quantity (spec 8.4) */
+enum { CH_Q_JNET, CH_Q_SPECIES, CH_Q_SEE, CH_Q_PHOTO, CH_Q_SIGMA, CH_Q_RELERR, CH_Q_SUNLIT,
+       CH_Q_HITS };
 
 int ch_write_outputs(const ch_output *o, FILE *log, mote_err *err);
 

@@ -47,6 +47,7 @@ typedef struct {
     char *prefix, *origin;
     int out_triangles, out_vtk, out_png, out_ply, png_w, png_h, png_log, vtk_binary;
     int out_timeseries;
+    int png_q, png_sp;          /* png_quantity */
     double view[8][3];          /* png_view: the views, and their names for the file names */
     char view_name[8][16];
     int nviews;
@@ -898,7 +899,9 @@ static ch_output output_of(ch_model *m, const mote_ch_geometry *g, const mote_ch
                      .nviews = m->nviews,
                      .views = m->view,
                      .view_names = m->view_name,
-                     .warnings = m->warnings};
+                     .warnings = m->warnings,
+                     .png_q = m->png_q,
+                     .png_sp = m->png_sp};
     memcpy(out.view, m->view[0], sizeof out.view);
     return out;
 }
@@ -1493,6 +1496,24 @@ static int parse_views(const char *t, double v[8][3], char name[8][16], char bad
     }
 }
 
+/* png_quantity=J_net|J_<species>|J_see|J_photo|sigma_J|relerr|sunlit_fraction|hits: the code and
+ * species, or -1 */
+static int parse_quantity(const ch_model *m, const char *t, int *sp)
+{
+    static const char *const names[] = {"J_net", "", "J_see", "J_photo", "sigma_J", "relerr",
+                                        "sunlit_fraction", "hits"};
+    *sp = 0;
+    for (int q = 0; q < 8; q++)
+        if (q != CH_Q_SPECIES && !strcmp(t, names[q]))
+            return q;
+    for (int s = 0; s < m->plasma.nsp; s++)
+        if (!strncmp(t, "J_", 2) && !strcmp(t + 2, m->plasma.sp[s].name)) {
+            *sp = s;
+            return CH_Q_SPECIES;
+        }
+    return -1;
+}
+
 static int check_output(void *vm, const mote_call *c, mote_err *err)
 {
     int x;
@@ -1522,6 +1543,12 @@ static int check_output(void *vm, const mote_call *c, mote_err *err)
         return mote_call_fail(err, c, mote_call_opt_index(c, "png_size"), MOTE_EINVAL,
                               "output: png_size must be WxH, 64 to 8192 pixels each, found '%s'",
                               a->text);
+    int sp;
+    if ((a = mote_call_opt(c, "png_quantity")) && parse_quantity(vm, a->text, &sp) < 0)
+        return mote_call_fail(err, c, mote_call_opt_index(c, "png_quantity"), MOTE_EINVAL,
+                              "output: png_quantity must be J_net, J_<species> (of the plasma so "
+                              "far), J_see, J_photo, sigma_J, relerr, sunlit_fraction or hits, "
+                              "found '%s'", a->text);
     if ((a = mote_call_opt(c, "vtk_format")) && strcmp(a->text, "ascii") && strcmp(a->text, "binary"))
         return mote_call_fail(err, c, mote_call_opt_index(c, "vtk_format"), MOTE_EINVAL,
                               "output: vtk_format must be ascii or binary, found '%s'", a->text);
@@ -1558,6 +1585,11 @@ static int run_output(void *vm, const mote_call *c, mote_err *err)
     m->png_log = (a = mote_call_opt(c, "png_scale")) && strcmp(a->text, "log") == 0;
     m->vtk_binary = (a = mote_call_opt(c, "vtk_format")) && strcmp(a->text, "binary") == 0;
     on_off(c, "timeseries", 1, &m->out_timeseries, err);
+    m->png_q = (a = mote_call_opt(c, "png_quantity")) ? parse_quantity(m, a->text, &m->png_sp)
+                                                      : CH_Q_JNET;
+    if (m->png_q < 0) /* (a species since removed) */
+        return mote_call_fail(err, c, mote_call_opt_index(c, "png_quantity"), MOTE_EINVAL,
+                              "output: png_quantity: no species '%s'", a->text + 2);
     return MOTE_OK;
 }
 
@@ -1806,7 +1838,7 @@ static const char HELP_MATERIAL[] =
 static const char HELP_OUTPUT[] =
     "    output prefix=P [timeseries=on] [triangles=on] [vtk=on]\n"
     "           [vtk_format=ascii|binary] [png=on] [png_view=iso] [png_size=1024x768]\n"
-    "           [png_scale=linear|log] [ply=off]\n"
+    "           [png_scale=linear|log] [png_quantity=J_net] [ply=off]\n"
     "\n"
     "After every later `run` (at its potential) and `float` (at U_f), write the\n"
     "files of spec 8 (P may name a directory; `evolve` writes P_timeseries.csv):\n"
@@ -1822,8 +1854,10 @@ static const char HELP_OUTPUT[] =
     "sunlit_fraction, hits_total and part_id; P_surface.png, the body\n"
     "seen orthographically from png_view (iso: from (1, 1, 1); +x, -x, ... or a\n"
     "vector X,Y,Z; several as V1/V2/... give one file each, P_surface_iso.png,\n"
-    "P_surface_pz.png, P_surface_mx.png, P_surface_view4.png ...), each triangle filled with the viridis colour of its J_net (or of\n"
-    "log10 |J_net| with png_scale=log) times a shading 0.35 + 0.65 |n . view|,\n"
+    "P_surface_pz.png, P_surface_mx.png, P_surface_view4.png ...), each triangle\n"
+    "filled with the viridis colour of its png_quantity (J_net, the default;\n"
+    "J_<species>, J_see, J_photo, sigma_J, relerr, sunlit_fraction or hits; its\n"
+    "log10 |.| with png_scale=log) times a shading 0.35 + 0.65 |n . view|,\n"
     "back faces of closed surfaces culled, with a colour bar. The exact sphere has\n"
     "no triangles: no VTK or PNG for it. With ply=on also P_surface.ply (binary\n"
     "little-endian: the vertices, faces with the picture's viridis colour and a\n"
@@ -1872,7 +1906,7 @@ static const mote_cmd ch_commands[] = {
      HELP_MATERIAL, check_material, run_material},
     {"output", NULL,
      "prefix=f! timeseries=s triangles=s vtk=s vtk_format=s png=s ply=s png_view=s png_size=s "
-     "png_scale=s",
+     "png_scale=s png_quantity=s",
      "output prefix=P [triangles=on] [vtk=on] [png=on] [ply=off] [png_view=V] [png_size=WxH] "
      "[png_scale=linear|log]",
      "the files of spec 8 after each run (tables, VTK, summary, surface picture)", HELP_OUTPUT,

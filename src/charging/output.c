@@ -51,6 +51,17 @@ static double tri_photo(const mote_ch_result *r, uint32_t i, int side)
     return r->tri_photo ? r->tri_photo[2 * (size_t)i + (size_t)side] : 0;
 }
 
+static uint64_t tri_hits(const mote_ch_result *r, int comp0, int ncomp, uint32_t i, int side)
+{
+    uint64_t h = 0;
+    for (int k = 0; k < ncomp; k++)
+        h += r->tri_hits[((size_t)(comp0 + k) * r->ntri + i) * 2 + (size_t)side];
+    return h;
+}
+
+/* The quantity the picture shows for triangle i, side side (png_quantity, spec 8.4). */
+static double tri_quantity(const ch_output *o, uint32_t i, int side);
+
 /* J of triangle i, side side (all species, the secondaries, the photoelectrons), in A/m^2. */
 static double tri_j(const ch_output *o, uint32_t i, int side)
 {
@@ -60,12 +71,75 @@ static double tri_j(const ch_output *o, uint32_t i, int side)
     return J / o->body->area[i];
 }
 
-static uint64_t tri_hits(const mote_ch_result *r, int comp0, int ncomp, uint32_t i, int side)
+static double tri_quantity(const ch_output *o, uint32_t i, int side)
 {
-    uint64_t h = 0;
-    for (int k = 0; k < ncomp; k++)
-        h += r->tri_hits[((size_t)(comp0 + k) * r->ntri + i) * 2 + (size_t)side];
-    return h;
+    const mote_ch_result *r = o->res;
+    const double A = o->body->area[i];
+    double v = 0, x;
+    switch (o->png_q) {
+    case CH_Q_SPECIES:
+        return tri_current(o->plasma, r, o->png_sp, i, side, &x) / A;
+    case CH_Q_SEE:
+        return tri_see(r, i, side) / A;
+    case CH_Q_PHOTO:
+        return tri_photo(r, i, side) / A;
+    case CH_Q_SIGMA:
+    case CH_Q_RELERR:
+        for (int s = 0; s < o->plasma->nsp; s++) {
+            tri_current(o->plasma, r, s, i, side, &x);
+            v += x;
+        }
+        v = sqrt(v) / A;
+        if (o->png_q == CH_Q_SIGMA)
+            return v;
+        x = tri_j(o, i, side);
+        return x != 0 ? v / fabs(x) : 0;
+    case CH_Q_SUNLIT:
+        return r->tri_sunlit ? r->tri_sunlit[2 * (size_t)i + (size_t)side] : 0;
+    case CH_Q_HITS:
+        return (double)tri_hits(r, 0, r->ncomp, i, side);
+    default:
+        return tri_j(o, i, side);
+    }
+}
+
+/* The picture's title and colour-bar label for the quantity. */
+static void quantity_names(const ch_output *o, char *title, size_t nt, char *label, size_t nl)
+{
+    const char *sp = o->png_q == CH_Q_SPECIES ? o->plasma->sp[o->png_sp].name : "";
+    switch (o->png_q) {
+    case CH_Q_SPECIES:
+        snprintf(title, nt, "%s current density", sp);
+        snprintf(label, nl, "J_%s (A/m^2)", sp);
+        break;
+    case CH_Q_SEE:
+        snprintf(title, nt, "secondary-electron current density");
+        snprintf(label, nl, "J_see (A/m^2)");
+        break;
+    case CH_Q_PHOTO:
+        snprintf(title, nt, "photoelectron current density");
+        snprintf(label, nl, "J_photo (A/m^2)");
+        break;
+    case CH_Q_SIGMA:
+        snprintf(title, nt, "standard error of the current density");
+        snprintf(label, nl, "sigma_J (A/m^2)");
+        break;
+    case CH_Q_RELERR:
+        snprintf(title, nt, "relative error of the current density");
+        snprintf(label, nl, "relerr");
+        break;
+    case CH_Q_SUNLIT:
+        snprintf(title, nt, "sunlit fraction");
+        snprintf(label, nl, "sunlit fraction");
+        break;
+    case CH_Q_HITS:
+        snprintf(title, nt, "hits");
+        snprintf(label, nl, "hits (all components)");
+        break;
+    default:
+        snprintf(title, nt, "net current density");
+        snprintf(label, nl, "J_net (A/m^2)");
+    }
 }
 
 /* The sides of triangle i that are surfaces: the front of a closed triangle, both of a sheet. */
@@ -508,14 +582,15 @@ static int write_png(const ch_output *o, const char *path, mote_err *err)
         depth[n] = 0;
         for (int j = 0; j < 3; j++)
             depth[n] += (b->v[i][j][0] * c[0] + b->v[i][j][1] * c[1] + b->v[i][j][2] * c[2]) / 3;
-        val[n] = tri_j(o, i, b->closed[i] || nv > 0 ? 0 : 1);
+        val[n] = tri_quantity(o, i, b->closed[i] || nv > 0 ? 0 : 1);
         shade[n] = 0.35 + 0.65 * fabs(nv);
         n++;
     }
-    char title[160];
-    snprintf(title, sizeof title, "net current density at U = %.6g V (%s mode, %llu histories)",
+    char title[200], what[96], label[96];
+    quantity_names(o, what, sizeof what, label, sizeof label);
+    snprintf(title, sizeof title, "%s at U = %.6g V (%s mode, %llu histories)", what,
              o->potential, o->mode, (unsigned long long)o->res->histories);
-    mote_surface_opts so = {title, "J_net (A/m^2)", o->png_w, o->png_h, 0, 0, o->png_log};
+    mote_surface_opts so = {title, label, o->png_w, o->png_h, 0, 0, o->png_log};
     int rc = mote_surface_png(path, &so, xy, depth, val, shade, n, err);
     free(xy);
     free(depth);
@@ -525,14 +600,14 @@ static int write_png(const ch_output *o, const char *path, mote_err *err)
 }
 
 /* The body as binary little-endian PLY (spec 8.3): the vertices of each triangle, the faces
- * with the colour of the surface picture (viridis over the same range: the visible J_net of the
- * front side) and J_net as a float property. */
+ * with the colour of the surface picture (viridis over the same range: the picture's quantity
+ * on the front side) and J_net as a float property. */
 static int write_ply(const ch_output *o, const char *path, mote_err *err)
 {
     const mote_ch_body *b = o->body;
     double vmin = INFINITY, vmax = -INFINITY;
     for (uint32_t i = 0; i < b->ntri; i++) {
-        double J = tri_j(o, i, 0);
+        double J = tri_quantity(o, i, 0);
         if (o->png_log)
             J = log10(fabs(J));
         if (isfinite(J)) {
@@ -573,7 +648,8 @@ static int write_ply(const ch_output *o, const char *path, mote_err *err)
             for (int k = 0; k < 4; k++)
                 rec[1 + 4 * j + k] = (unsigned char)(idx >> (8 * k));
         }
-        const double J = tri_j(o, i, 0), val = o->png_log ? log10(fabs(J)) : J;
+        const double J = tri_j(o, i, 0), q = tri_quantity(o, i, 0);
+        const double val = o->png_log ? log10(fabs(q)) : q;
         double rgb[3];
         mote_viridis(isfinite(val) ? (val - vmin) / (vmax - vmin) : 0, rgb);
         for (int c = 0; c < 3; c++)
