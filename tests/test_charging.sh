@@ -17,6 +17,13 @@ awk '!/^#/ { n++; t[n] = $1; U[n] = $3; s[n] = $4 } END { d = U[n] + 146.77; ok 
      for (k = 2; k <= n; k++) { r = U[k] / t[k] - U[n] / t[n]; if (r * r > 1e-16 * (U[n] / t[n]) ^ 2) ok = 0 } exit !ok }' ts.csv && ok || bad "U(0.25 ms): $(tail -1 ts.csv)"
 grep -q '^run: e    I = -6.70' out.txt && ok || bad "run line: $(grep '^run: e' out.txt)"
 
+# legacy_stdout=on (spec 8.1): the original's four columns Q U t collisions on stdout, the same
+# numbers as the time series (P_timeseries.csv after output prefix)
+printf '%bbody sphere radius=1\noutput prefix=lg legacy_stdout=on png=off vtk=off triangles=off\nrun particles=1e5\nevolve time=2.5e-4 dt_out=5e-5\n' "$F" > lg.mote
+"$MOTE" run lg.mote > out.txt 2> err.txt && grep -E '^-?[0-9.e+-]+ -?[0-9.e+-]+ [0-9.e+-]+ [0-9.e+-]+$' out.txt > legacy.txt &&
+    awk 'NR == FNR { q[NR] = $1; u[NR] = $2; t[NR] = $3; c[NR] = $4; n = NR; next } !/^#/ { k++; d = u[k] - $3; e = c[k] - $7 - $9; if (d * d > 1e-16 * $3 * $3 || t[k] != $1 || e * e > 1e-16 * c[k] * c[k]) bad = 1 }
+         END { exit !(n == 6 && k == 6 && !bad && q[1] == 0) }' legacy.txt lg_timeseries.csv && ok || bad "legacy_stdout: $(cat legacy.txt) $(cat err.txt)"
+
 # threads give the same file (spec 5.7, S5)
 printf '%bbody icosphere radius=1 level=3\nthreads 2\nrun particles=2e5\nevolve time=1e-4 file=ts2.csv\n' "$F" > t2.mote
 printf '%bbody icosphere radius=1 level=3\nrun particles=2e5\nevolve time=1e-4 file=ts1.csv\n' "$F" > t1.mote

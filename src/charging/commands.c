@@ -48,6 +48,7 @@ typedef struct {
     int out_triangles, out_vtk, out_png, out_ply, png_w, png_h, png_log, vtk_binary;
     int out_timeseries;
     int png_q, png_sp;          /* png_quantity */
+    int legacy_stdout;          /* the original's four columns from evolve (spec 8.1) */
     double view[8][3];          /* png_view: the views, and their names for the file names */
     char view_name[8][16];
     int nviews;
@@ -1381,6 +1382,12 @@ static int evolve_full(ch_model *m, const mote_call *c, mote_err *err)
             fprintf(out, "evolve: t %.10g s Q %.10g C U %.10g V I %.10g A\n", time, C * U, U,
                     ch_table_eval(&t, U));
         }
+        if (m->legacy_stdout && m->log) { /* the original's columns: Q U t collisions */
+            double ntot = 0;
+            for (int s = 0; s < nsp; s++)
+                ntot += nreal[s];
+            fprintf(m->log, "%.10g %.10g %.10g %.10g\n", C * U, U, time, ntot);
+        }
     }
     ch_table_free(&t);
     return f ? mote_datafile_commit(&d, err) : MOTE_OK;
@@ -1432,6 +1439,12 @@ static int run_evolve(void *vm, const mote_call *c, mote_err *err)
                 fprintf(out, " N_%s %.10g", m->plasma.sp[s].name, nreal);
         }
         fputs(f ? " 0 0\n" : "\n", out); /* (faithful: no emission) */
+        if (m->legacy_stdout && m->log) { /* the original's columns: Q U t collisions */
+            double ntot = 0;
+            for (int s = 0; s < m->plasma.nsp; s++)
+                ntot += fabs(m->res.current[s]) * t / (abs(m->plasma.sp[s].Z) * MOTE_CH_E);
+            fprintf(m->log, "%.10g %.10g %.10g %.10g\n", inet * t + 0.0, inet * t / C + 0.0, t, ntot);
+        }
     }
     return f ? mote_datafile_commit(&d, err) : MOTE_OK;
 }
@@ -1524,6 +1537,8 @@ static int check_output(void *vm, const mote_call *c, mote_err *err)
     if (!rc)
         rc = on_off(c, "timeseries", 1, &x, err);
     if (!rc)
+        rc = on_off(c, "legacy_stdout", 0, &x, err);
+    if (!rc)
         rc = on_off(c, "vtk", 1, &x, err);
     if (!rc)
         rc = on_off(c, "png", 1, &x, err);
@@ -1585,6 +1600,7 @@ static int run_output(void *vm, const mote_call *c, mote_err *err)
     m->png_log = (a = mote_call_opt(c, "png_scale")) && strcmp(a->text, "log") == 0;
     m->vtk_binary = (a = mote_call_opt(c, "vtk_format")) && strcmp(a->text, "binary") == 0;
     on_off(c, "timeseries", 1, &m->out_timeseries, err);
+    on_off(c, "legacy_stdout", 0, &m->legacy_stdout, err);
     m->png_q = (a = mote_call_opt(c, "png_quantity")) ? parse_quantity(m, a->text, &m->png_sp)
                                                       : CH_Q_JNET;
     if (m->png_q < 0) /* (a species since removed) */
@@ -1839,6 +1855,7 @@ static const char HELP_OUTPUT[] =
     "    output prefix=P [timeseries=on] [triangles=on] [vtk=on]\n"
     "           [vtk_format=ascii|binary] [png=on] [png_view=iso] [png_size=1024x768]\n"
     "           [png_scale=linear|log] [png_quantity=J_net] [ply=off]\n"
+    "           [legacy_stdout=off]\n"
     "\n"
     "After every later `run` (at its potential) and `float` (at U_f), write the\n"
     "files of spec 8 (P may name a directory; `evolve` writes P_timeseries.csv):\n"
@@ -1861,7 +1878,9 @@ static const char HELP_OUTPUT[] =
     "back faces of closed surfaces culled, with a colour bar. The exact sphere has\n"
     "no triangles: no VTK or PNG for it. With ply=on also P_surface.ply (binary\n"
     "little-endian: the vertices, faces with the picture's viridis colour and a\n"
-    "float J_net). Headers give the mode, seed, histories,\n"
+    "float J_net). legacy_stdout=on makes `evolve` also print the original\n"
+    "program's four columns: Q (C), U (V), t (s) and the real particles collected.\n"
+    "Headers give the mode, seed, histories,\n"
     "the body's measures and the plasma; files are written atomically.\n";
 
 static const mote_cmd ch_commands[] = {
@@ -1906,7 +1925,7 @@ static const mote_cmd ch_commands[] = {
      HELP_MATERIAL, check_material, run_material},
     {"output", NULL,
      "prefix=f! timeseries=s triangles=s vtk=s vtk_format=s png=s ply=s png_view=s png_size=s "
-     "png_scale=s png_quantity=s",
+     "png_scale=s png_quantity=s legacy_stdout=s",
      "output prefix=P [triangles=on] [vtk=on] [png=on] [ply=off] [png_view=V] [png_size=WxH] "
      "[png_scale=linear|log]",
      "the files of spec 8 after each run (tables, VTK, summary, surface picture)", HELP_OUTPUT,
