@@ -106,39 +106,23 @@ static double tri_quantity(const ch_output *o, uint32_t i, int side)
 /* The picture's title and colour-bar label for the quantity. */
 static void quantity_names(const ch_output *o, char *title, size_t nt, char *label, size_t nl)
 {
-    const char *sp = o->png_q == CH_Q_SPECIES ? o->plasma->sp[o->png_sp].name : "";
-    switch (o->png_q) {
-    case CH_Q_SPECIES:
+    static const char *const name[8][2] = {
+        {"net current density", "J_net (A/m^2)"},
+        {"", ""}, /* a species: below */
+        {"secondary-electron current density", "J_see (A/m^2)"},
+        {"photoelectron current density", "J_photo (A/m^2)"},
+        {"standard error of the current density", "sigma_J (A/m^2)"},
+        {"relative error of the current density", "relerr"},
+        {"sunlit fraction", "sunlit fraction"},
+        {"hits", "hits (all components)"}};
+    const int q = o->png_q >= 0 && o->png_q < 8 ? o->png_q : CH_Q_JNET;
+    if (q == CH_Q_SPECIES) {
+        const char *sp = o->plasma->sp[o->png_sp].name;
         snprintf(title, nt, "%s current density", sp);
         snprintf(label, nl, "J_%s (A/m^2)", sp);
-        break;
-    case CH_Q_SEE:
-        snprintf(title, nt, "secondary-electron current density");
-        snprintf(label, nl, "J_see (A/m^2)");
-        break;
-    case CH_Q_PHOTO:
-        snprintf(title, nt, "photoelectron current density");
-        snprintf(label, nl, "J_photo (A/m^2)");
-        break;
-    case CH_Q_SIGMA:
-        snprintf(title, nt, "standard error of the current density");
-        snprintf(label, nl, "sigma_J (A/m^2)");
-        break;
-    case CH_Q_RELERR:
-        snprintf(title, nt, "relative error of the current density");
-        snprintf(label, nl, "relerr");
-        break;
-    case CH_Q_SUNLIT:
-        snprintf(title, nt, "sunlit fraction");
-        snprintf(label, nl, "sunlit fraction");
-        break;
-    case CH_Q_HITS:
-        snprintf(title, nt, "hits");
-        snprintf(label, nl, "hits (all components)");
-        break;
-    default:
-        snprintf(title, nt, "net current density");
-        snprintf(label, nl, "J_net (A/m^2)");
+    } else {
+        snprintf(title, nt, "%s", name[q][0]);
+        snprintf(label, nl, "%s", name[q][1]);
     }
 }
 
