@@ -10,6 +10,7 @@
 #include "mote/mixingbox.h"
 #include "mote/nbody.h"
 #include "mote/script.h"
+#include "mote/separator.h"
 
 #ifdef MOTE_MPI
 #include <mpi.h>
@@ -21,6 +22,7 @@ static const mote_model *const models[] = {
     &mote_model_mixingbox,
     &mote_model_nbody,
     &mote_model_charging,
+    &mote_model_separator,
 };
 
 int main(int argc, char **argv)

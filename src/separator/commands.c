@@ -1,0 +1,539 @@
+/* commands.c: the separator model's script commands (specs/separator.md 2.13): the channel,
+ * gas, species and sizes, the feed, the run, and the Tromp table. Every value is checked before
+ * anything runs, on a dry model that follows the script's settings. (Decision: the optional
+ * positional arguments of the spec's table are options here, e.g. `feed z=0.5 rate=0.01`,
+ * as in the toolkit's other models.) */
+#include "mote/separator.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mote/datafile.h"
+
+typedef struct {
+    mote_context *ctx;
+    int dry;
+    FILE *log;
+    mote_sep_system sys;
+    int have_channel, have_gas;
+    uint64_t seed;
+} sep_model;
+
+static void *model_create(mote_context *ctx, int dry)
+{
+    sep_model *m = calloc(1, sizeof *m);
+    if (!m)
+        return NULL;
+    m->ctx = ctx;
+    m->dry = dry;
+    m->log = dry || !ctx ? NULL : ctx->out;
+    mote_sep_init(&m->sys);
+    m->seed = 1;
+    return m;
+}
+
+static void model_destroy(void *vm)
+{
+    sep_model *m = vm;
+    if (!m)
+        return;
+    mote_sep_free(&m->sys);
+    free(m);
+}
+
+static void model_seed(void *vm, uint64_t seed)
+{
+    ((sep_model *)vm)->seed = seed;
+    mote_rng_seed(&((sep_model *)vm)->sys.rng, seed);
+}
+
+/* The species called name, or -1. */
+static int find_species(const mote_sep_system *s, const char *name)
+{
+    for (int k = 0; k < s->nsp; k++)
+        if (!strcmp(s->sp[k].name, name))
+            return k;
+    return -1;
+}
+
+/* ---- the commands ----------------------------------------------------------------------------
+ * Each applies its setting to the model it is given: the dry one during validation, the real
+ * one when the script runs, so the same checks see the same state. */
+
+static int do_dim(void *vm, const mote_call *c, mote_err *err)
+{
+    sep_model *m = vm;
+    const long d = (long)c->args[0].i;
+    if (d != 2 && d != 3)
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "dim: expected 2 or 3, found %ld", d);
+    if (m->sys.n)
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "dim: give it before any particle");
+    m->sys.dim = (int)d;
+    return MOTE_OK;
+}
+
+static int do_channel(void *vm, const mote_call *c, mote_err *err)
+{
+    sep_model *m = vm;
+    const mote_arg *D = mote_call_opt(c, "D");
+    if (m->sys.dim == 3 && !D)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "channel: a 3D channel needs its depth "
+                              "D= (m)");
+    if (m->sys.dim == 2 && D)
+        return mote_call_fail(err, c, mote_call_opt_index(c, "D"), MOTE_EINVAL,
+                              "channel: D= is the depth of a 3D channel (dim 3)");
+    m->sys.W = c->args[0].r;
+    m->sys.H = c->args[1].r;
+    m->sys.D = D ? D->r : 0;
+    m->have_channel = 1;
+    return MOTE_OK;
+}
+
+static int do_depth2d(void *vm, const mote_call *c, mote_err *err)
+{
+    ((sep_model *)vm)->sys.D2 = c->args[0].r;
+    return MOTE_OK;
+}
+
+static int do_ends(void *vm, const mote_call *c, mote_err *err)
+{
+    sep_model *m = vm;
+    for (int k = 0; k < 2; k++)
+        if (strcmp(c->args[k].text, "open") && strcmp(c->args[k].text, "closed"))
+            return mote_call_fail(err, c, k, MOTE_EINVAL, "ends: expected open or closed, found "
+                                  "'%s'", c->args[k].text);
+    m->sys.open_bottom = !strcmp(c->args[0].text, "open");
+    m->sys.open_top = !strcmp(c->args[1].text, "open");
+    return MOTE_OK;
+}
+
+static int do_gas(void *vm, const mote_call *c, mote_err *err)
+{
+    sep_model *m = vm;
+    m->sys.U0 = c->args[0].r;
+    m->sys.rho_g = mote_call_opt_r(c, "rho", m->sys.rho_g);
+    m->sys.mu_g = mote_call_opt_r(c, "mu", m->sys.mu_g);
+    m->have_gas = 1;
+    return MOTE_OK;
+}
+
+static int do_gravity(void *vm, const mote_call *c, mote_err *err)
+{
+    ((sep_model *)vm)->sys.g = c->args[0].r;
+    return MOTE_OK;
+}
+
+static int do_coupling(void *vm, const mote_call *c, mote_err *err)
+{
+    const char *w = c->args[0].text;
+    if (strcmp(w, "on") && strcmp(w, "off"))
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "coupling: expected on or off, found '%s'",
+                              w);
+    ((sep_model *)vm)->sys.coupling = !strcmp(w, "on");
+    return MOTE_OK;
+}
+
+static int do_slices(void *vm, const mote_call *c, mote_err *err)
+{
+    ((sep_model *)vm)->sys.K = (int)c->args[0].i;
+    return MOTE_OK;
+}
+
+static int do_eps_gas_min(void *vm, const mote_call *c, mote_err *err)
+{
+    ((sep_model *)vm)->sys.eps_gas_min = c->args[0].r;
+    return MOTE_OK;
+}
+
+static int do_hindered(void *vm, const mote_call *c, mote_err *err)
+{
+    ((sep_model *)vm)->sys.chi = c->args[0].r;
+    return MOTE_OK;
+}
+
+static int do_species(void *vm, const mote_call *c, mote_err *err)
+{
+    sep_model *m = vm;
+    mote_sep_system *s = &m->sys;
+    const char *name = c->args[0].text;
+    if (find_species(s, name) >= 0)
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "species: '%s' exists already", name);
+    if (strlen(name) >= sizeof s->sp[0].name)
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "species: the name is longer than %d "
+                              "characters", (int)sizeof s->sp[0].name - 1);
+    if (s->nsp == MOTE_SEP_MAX_SPECIES)
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "species: at most %d species",
+                              MOTE_SEP_MAX_SPECIES);
+    mote_sep_species *sp = &s->sp[s->nsp++];
+    memset(sp, 0, sizeof *sp);
+    snprintf(sp->name, sizeof sp->name, "%s", name);
+    sp->rho = c->args[1].r;
+    sp->w = s->nsp == 1 ? 1 : 0; /* one species: all the feed */
+    if (s->nsp == 2)
+        s->sp[0].w = 0; /* several: the fractions must be given */
+    return MOTE_OK;
+}
+
+static const char *const DIST_NAMES[] = {"mono", "lognormal", "rosin_rammler", "loguniform", NULL};
+
+static int do_size(void *vm, const mote_call *c, mote_err *err)
+{
+    sep_model *m = vm;
+    mote_sep_system *s = &m->sys;
+    const int k = find_species(s, c->args[0].text);
+    if (k < 0)
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "size: no species '%s' (species NAME RHO "
+                              "first)", c->args[0].text);
+    int type = 0;
+    while (DIST_NAMES[type] && strcmp(DIST_NAMES[type], c->args[1].text))
+        type++;
+    if (!DIST_NAMES[type])
+        return mote_call_fail(err, c, 1, MOTE_EINVAL, "size: expected mono, lognormal, "
+                              "rosin_rammler or loguniform, found '%s'", c->args[1].text);
+    static const char *const need[4][2] = {{"d", NULL}, {"d50", "sigma"}, {"d", "n"}, {NULL, NULL}};
+    for (int q = 0; q < 2; q++)
+        if (need[type][q] && !mote_call_opt(c, need[type][q]))
+            return mote_call_fail(err, c, 1, MOTE_EINVAL, "size %s: give %s=", DIST_NAMES[type],
+                                  need[type][q]);
+    if (type != MOTE_SEP_MONO && (!mote_call_opt(c, "min") || !mote_call_opt(c, "max")))
+        return mote_call_fail(err, c, 1, MOTE_EINVAL, "size %s: give the truncation min= and "
+                              "max= (m)", DIST_NAMES[type]);
+    const mote_arg *b = mote_call_opt(c, "basis");
+    if (b && strcmp(b->text, "mass") && strcmp(b->text, "number"))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "basis"), MOTE_EINVAL,
+                              "size: basis must be mass or number, found '%s'", b->text);
+    mote_sep_dist *dd = &s->sp[k].dist;
+    mote_sep_dist_free(dd);
+    memset(dd, 0, sizeof *dd);
+    dd->type = type;
+    dd->a = mote_call_opt_r(c, type == MOTE_SEP_LOGNORMAL ? "d50" : "d", 0);
+    dd->b = mote_call_opt_r(c, type == MOTE_SEP_LOGNORMAL ? "sigma" : "n", 0);
+    dd->lo = mote_call_opt_r(c, "min", 0);
+    dd->hi = mote_call_opt_r(c, "max", 0);
+    dd->number_basis = b && !strcmp(b->text, "number");
+    mote_err e2 = {0};
+    if (mote_sep_dist_build(dd, &e2))
+        return mote_call_fail(err, c, 1, MOTE_EINVAL, "%s", e2.msg);
+    s->sp[k].have_dist = 1;
+    return MOTE_OK;
+}
+
+static int do_feed(void *vm, const mote_call *c, mote_err *err)
+{
+    sep_model *m = vm;
+    mote_sep_system *s = &m->sys;
+    if (!m->have_channel)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "feed: give the channel first");
+    const double z = mote_call_opt(c, "z")->r;
+    if (!(z > 0 && z < s->H))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "z"), MOTE_EINVAL,
+                              "feed: z must lie inside the channel (0 < z < H = %g m), found %g",
+                              s->H, z);
+    s->zf = z;
+    s->hf = mote_call_opt_r(c, "hf", 0);
+    s->rate = mote_call_opt_r(c, "rate", 0);
+    s->t_start = mote_call_opt_r(c, "start", 0);
+    s->t_stop = mote_call_opt_r(c, "stop", INFINITY);
+    if (!(s->t_stop > s->t_start))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "stop"), MOTE_EINVAL,
+                              "feed: stop must come after start");
+    return MOTE_OK;
+}
+
+static int do_feed_window(void *vm, const mote_call *c, mote_err *err)
+{
+    mote_sep_system *s = &((sep_model *)vm)->sys;
+    s->fx1 = c->args[0].r;
+    s->fx2 = c->args[1].r;
+    if (!(s->fx2 > s->fx1) || s->fx1 < 0 || s->fx2 > s->W)
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "feed_window: need 0 <= X1 < X2 <= W = %g "
+                              "m", s->W);
+    return MOTE_OK;
+}
+
+static int do_feed_velocity(void *vm, const mote_call *c, mote_err *err)
+{
+    mote_sep_system *s = &((sep_model *)vm)->sys;
+    s->vf[0] = c->args[0].r;
+    s->vf[2] = c->args[1].r;
+    return MOTE_OK;
+}
+
+static int do_feed_fraction(void *vm, const mote_call *c, mote_err *err)
+{
+    mote_sep_system *s = &((sep_model *)vm)->sys;
+    const int k = find_species(s, c->args[0].text);
+    if (k < 0)
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "feed_fraction: no species '%s'",
+                              c->args[0].text);
+    s->sp[k].w = c->args[1].r;
+    return MOTE_OK;
+}
+
+static int do_collisions(void *vm, const mote_call *c, mote_err *err)
+{
+    const char *w = c->args[0].text;
+    if (!strcmp(w, "dem"))
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "collisions dem: the contact model is not "
+                              "in this version; use collisions off (the dilute limit)");
+    if (strcmp(w, "off"))
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "collisions: expected dem or off, found "
+                              "'%s'", w);
+    return MOTE_OK;
+}
+
+static int do_restitution_wall(void *vm, const mote_call *c, mote_err *err)
+{
+    ((sep_model *)vm)->sys.e_pw = c->args[0].r;
+    return MOTE_OK;
+}
+
+static int do_timestep(void *vm, const mote_call *c, mote_err *err)
+{
+    mote_sep_system *s = &((sep_model *)vm)->sys;
+    const char *w = c->args[0].text;
+    if (!strcmp(w, "auto")) {
+        s->dt = 0;
+        return MOTE_OK;
+    }
+    char *end;
+    const double dt = strtod(w, &end);
+    if (end == w || *end || !(dt > 0) || !isfinite(dt))
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "timestep: expected auto or a step > 0 "
+                              "(s), found '%s'", w);
+    s->dt = dt;
+    return MOTE_OK;
+}
+
+static int do_classes(void *vm, const mote_call *c, mote_err *err)
+{
+    mote_sep_system *s = &((sep_model *)vm)->sys;
+    const int K = (int)c->args[0].i;
+    const double lo = mote_call_opt_r(c, "min", 0), hi = mote_call_opt_r(c, "max", 0);
+    if ((lo > 0) != (hi > 0) || (lo > 0 && !(hi > lo)))
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "classes: give both min= and max= with "
+                              "min < max, or neither");
+    free(s->class_edge);
+    free(s->cl_mf);
+    free(s->cl_mc);
+    free(s->cl_nf);
+    free(s->cl_nc);
+    s->class_edge = NULL;
+    s->cl_mf = s->cl_mc = NULL;
+    s->cl_nf = s->cl_nc = NULL;
+    s->nclass = K;
+    if (lo > 0) {
+        s->class_edge = malloc((size_t)(K + 1) * sizeof *s->class_edge);
+        if (!s->class_edge)
+            return mote_fail(err, MOTE_ENOMEM, "classes: out of memory");
+        for (int k = 0; k <= K; k++)
+            s->class_edge[k] = exp(log(lo) + (log(hi) - log(lo)) * k / K);
+    }
+    return MOTE_OK;
+}
+
+/* the checks every command that moves or adds particles needs */
+static int need_ready(sep_model *m, const mote_call *c, mote_err *err)
+{
+    mote_err e2 = {0};
+    if (mote_sep_prepare(&m->sys, &e2))
+        return mote_call_fail(err, c, -1, e2.code, "%s: %s", c->name,
+                              e2.msg + (strncmp(e2.msg, "separator: ", 11) ? 0 : 11));
+    return MOTE_OK;
+}
+
+static int do_insert(void *vm, const mote_call *c, mote_err *err)
+{
+    sep_model *m = vm;
+    const int k = find_species(&m->sys, c->args[0].text);
+    if (k < 0)
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "%s: no species '%s'", c->name,
+                              c->args[0].text);
+    if (!(m->sys.zf > 0))
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "%s: give the feed zone first (feed z=)",
+                              c->name);
+    int rc = need_ready(m, c, err);
+    if (rc || m->dry)
+        return rc;
+    const int by_mass = !strcmp(c->name, "insert_mass");
+    rc = mote_sep_insert(&m->sys, k, by_mass ? 0 : (uint64_t)c->args[1].i,
+                         by_mass ? c->args[1].r : 0, err);
+    if (!rc)
+        mote_sep_gas_update(&m->sys);
+    return rc;
+}
+
+/* The status of spec 2.13 after a run. */
+static void print_status(sep_model *m)
+{
+    const mote_sep_system *s = &m->sys;
+    uint64_t fed = 0, fines = 0, coarse = 0, lost = 0;
+    for (int k = 0; k < s->nsp; k++) {
+        fed += s->cnt[k].fed;
+        fines += s->cnt[k].fines;
+        coarse += s->cnt[k].coarse;
+        lost += s->cnt[k].lost;
+    }
+    double *T = malloc((size_t)(s->nclass > 0 ? s->nclass : 1) * sizeof *T);
+    mote_sep_cut cut = {NAN, NAN, NAN, NAN, NAN, NAN, 0};
+    if (T && s->class_edge)
+        mote_sep_tromp(s, T, &cut);
+    free(T);
+    double eps_max = 0;
+    for (int k = 0; k < s->K; k++)
+        eps_max = fmax(eps_max, s->eps_s[k]);
+    fprintf(m->log, "t=%.10g steps=%llu dt=%.6g N=%zu fed=%llu fines=%llu coarse=%llu lost=%llu "
+                    "backlog=0 d50=%.6g kappa=%.4g eps_max=%.4g\n",
+            s->t, (unsigned long long)s->steps, s->dt, s->n, (unsigned long long)fed,
+            (unsigned long long)fines, (unsigned long long)coarse, (unsigned long long)lost,
+            cut.d50, cut.kappa, eps_max);
+}
+
+static int do_run(void *vm, const mote_call *c, mote_err *err)
+{
+    sep_model *m = vm;
+    int rc = need_ready(m, c, err);
+    if (rc || m->dry)
+        return rc;
+    rc = mote_sep_run(&m->sys, c->args[0].r, err);
+    if (!rc && m->log)
+        print_status(m);
+    return rc;
+}
+
+/* `tromp FILE`: the grade-efficiency table (spec 3.1). */
+static int do_tromp(void *vm, const mote_call *c, mote_err *err)
+{
+    sep_model *m = vm;
+    int rc = need_ready(m, c, err);
+    if (rc || m->dry)
+        return rc;
+    const mote_sep_system *s = &m->sys;
+    double *T = malloc((size_t)s->nclass * sizeof *T);
+    if (!T)
+        return mote_fail(err, MOTE_ENOMEM, "tromp: out of memory");
+    mote_sep_cut cut;
+    mote_sep_tromp(s, T, &cut);
+    char *origin = mote_call_origin(c);
+    mote_datafile d;
+    rc = mote_datafile_open(&d, c->args[0].path, "separator-tromp", origin ? origin : "tromp",
+                            m->seed, err);
+    free(origin);
+    if (rc) {
+        free(T);
+        return rc;
+    }
+    FILE *f = d.f;
+    /* the reference cut of each species: the still-gas terminal velocity equal to the gas
+     * velocity without particles at the feed height, G / rho_g */
+    for (int k = 0; k < s->nsp; k++)
+        fprintf(f, "# d0_star_m %s = %.10g\n", s->sp[k].name,
+                mote_sep_cut_size(s->U0, s->sp[k].rho, s->rho_g, s->mu_g, s->g));
+    fprintf(f, "# d25_m = %.10g\n# d50_m = %.10g\n# d75_m = %.10g\n# kappa = %.10g\n"
+               "# Ep_m = %.10g\n# imperfection = %.10g\n# crossings_of_one_half = %d\n",
+            cut.d25, cut.d50, cut.d75, cut.kappa, cut.Ep, cut.I, cut.crossings50);
+    fprintf(f, "# columns: d_lo_m d_hi_m d_mean_m T_mass sigma_T n_fines n_coarse m_fines_kg "
+               "m_coarse_kg T_number\n");
+    for (int i = 0; i < s->nclass; i++) {
+        const double n = (double)(s->cl_nf[i] + s->cl_nc[i]);
+        const double se = n > 0 && !isnan(T[i]) ? sqrt(T[i] * (1 - T[i]) / n) : NAN;
+        fprintf(f, "%.10g %.10g %.10g %.10g %.6g %llu %llu %.10g %.10g %.10g\n",
+                s->class_edge[i], s->class_edge[i + 1],
+                sqrt(s->class_edge[i] * s->class_edge[i + 1]), T[i], se,
+                (unsigned long long)s->cl_nf[i], (unsigned long long)s->cl_nc[i], s->cl_mf[i],
+                s->cl_mc[i], n > 0 ? (double)s->cl_nc[i] / n : NAN);
+    }
+    free(T);
+    rc = mote_datafile_commit(&d, err);
+    if (!rc && m->log)
+        fprintf(m->log, "tromp: wrote %s: d50 %.6g m, kappa %.4g\n", c->args[0].text, cut.d50,
+                cut.kappa);
+    return rc;
+}
+
+/* ---- the table ------------------------------------------------------------------------------ */
+
+static const char HELP_DIM[] = "    dim 2|3\n\nThe dimension (spec 2.2; default 2). In 2D each particle is a sphere whose\ncentre moves in the vertical x-z plane; a nominal depth (depth2d, default the\nlargest feed diameter) turns volumes into fractions. Give it first.\n";
+static const char HELP_CHANNEL[] = "    channel W H [D=DEPTH]\n\nThe channel: 0 <= x <= W, 0 <= z <= H (m), and in 3D 0 <= y <= D (spec 2.3).\nThe side walls are solid; the ends are open unless `ends` closes them.\n";
+static const char HELP_DEPTH2D[] = "    depth2d D2\n\nThe nominal depth of a 2D run (m), for volume fractions and the cross-section\nW D2 (default: the largest feed diameter, a monolayer).\n";
+static const char HELP_ENDS[] = "    ends BOTTOM TOP\n\nEach end open (an outlet: fines leave at the top, coarse at the bottom) or\nclosed (a wall; a closed bottom still lets the gas in). Default open open.\n";
+static const char HELP_GAS[] = "    gas U0 [rho=1.204] [mu=1.81e-5]\n\nThe gas (spec 2.6): superficial upflow U0 (m/s, required), density (kg/m^3)\nand viscosity (Pa s); air at 20 C by default. The gas moves as a plug flow\nu_g(z) = G / (rho_g eps_g(z)), G = rho_g U0, with eps_g = 1 - eps_s from the\nparticles' volume on slices (cloud in cell), clamped at eps_gas_min.\n";
+static const char HELP_GRAVITY[] = "    gravity g\n\ng (m/s^2, default 9.81), along -z.\n";
+static const char HELP_COUPLING[] = "    coupling on|off\n\nWhether the solids fraction slows or speeds the gas (on, the default) or the\ngas ignores the particles (off: u_g = U0, the dilute limit).\n";
+static const char HELP_SLICES[] = "    slices K\n\nThe axial resolution of the gas model: K slices (default about 4 d_max high,\n10 ... 1000).\n";
+static const char HELP_EPSMIN[] = "    eps_gas_min V\n\nThe smallest gas fraction the gas model uses (default 0.35).\n";
+static const char HELP_HINDERED[] = "    hindered CHI\n\nDrag multiplied by eps_g^-CHI (default 0; 2.65 is the usual choice).\n";
+static const char HELP_SPECIES[] = "    species NAME RHO\n\nA species of particles with material density RHO (kg/m^3). With one species\nit is the whole feed; with several give each a feed_fraction.\n";
+static const char HELP_SIZE[] = "    size NAME mono d=D\n    size NAME lognormal d50=D sigma=S min=A max=B [basis=mass|number]\n    size NAME rosin_rammler d=D n=N min=A max=B [basis=...]\n    size NAME loguniform min=A max=B [basis=...]\n\nThe size distribution of a species (spec 2.5; metres): log-normal with median\nd50 and geometric standard deviation sigma >= 1, Rosin-Rammler with d' (63.2%\nfiner) and n, or ln d uniform; truncated to [min, max] and renormalised; mass\nbasis by default (as sieve analyses). Particles are drawn one by one from the\nnumber-basis distribution, tabulated on 4096 nodes in ln d.\n(Decision: the parameters are options, not positions.)\n";
+static const char HELP_FEED[] = "    feed z=Z [hf=H] [rate=KG_S] [start=T] [stop=T]\n\nThe feed band z - hf/2 ... z + hf/2 (hf default 2 d_max) across the feed\nwindow, and a continuous mass rate (kg/s) from start to stop: each species'\nmass account keeps its share of the feed exact. Particles start at rest unless\nfeed_velocity says otherwise, uniformly placed in the band, clear of walls.\n";
+static const char HELP_FEED_WINDOW[] = "    feed_window X1 X2\n\nThe feed's extent across the channel (default the whole width).\n";
+static const char HELP_FEED_VELOCITY[] = "    feed_velocity VX VZ\n\nThe velocity new particles start with (m/s; default 0).\n";
+static const char HELP_FEED_FRACTION[] = "    feed_fraction NAME W\n\nThe mass fraction of the feed a species makes (the fractions must sum to 1).\n";
+static const char HELP_INSERT[] = "    insert NAME COUNT\n    insert_mass NAME KG\n\nAdd a batch of a species in the feed band now: COUNT particles, or particles\nuntil their mass reaches KG.\n";
+static const char HELP_COLLISIONS[] = "    collisions dem|off\n\noff: particles ignore each other and reflect from walls and closed ends\n(position mirrored by (1 + e) times the overlap, normal velocity times -e;\nspec 2.8), the dilute limit. dem (soft-sphere contacts) is not in this\nversion.\n";
+static const char HELP_RESTITUTION_WALL[] = "    restitution_wall E\n\nThe restitution e at walls and closed ends (default 0.5).\n";
+static const char HELP_TIMESTEP[] = "    timestep auto|DT\n\nThe time step (s). auto (the default) in the dilute mode: half a slice per\nreference speed U0 + v_t(d_max) + |v_f|. The drift under drag, gravity and\nbuoyancy is exact for any step (spec 2.10); only the exits and reflections\nneed it small.\n";
+static const char HELP_CLASSES[] = "    classes K [min=A max=B]\n\nThe Tromp size classes: K log-spaced between min and max (default 20 over the\nfeed's d_min ... d_max).\n";
+static const char HELP_RUN[] = "    run T\n\nAdvance T seconds of simulated time: the exact drag drift, reflections, exits\n(fines above H, coarse below 0) with their tallies per size class, the feed,\nthe gas profile; then the status line t steps dt N fed fines coarse lost\nbacklog d50 kappa eps_max. The mass balance fed = in channel + fines + coarse +\nlost is checked after every run.\n";
+static const char HELP_TROMP[] = "    tromp FILE\n\nWrite the grade-efficiency curve (spec 3.1): per size class the partition\nnumber T (mass to coarse over mass exited, mass basis; nan where nothing\nexited) with its standard error sqrt(T (1 - T)/n), the counts and masses and T\non a number basis; in the header d25, d50, d75 (first crossings from the fine\nside, interpolated in ln d), kappa = d25/d75, Ep and the imperfection, and each\nspecies' reference cut d0* (the still-gas terminal velocity equal to U0).\n";
+
+static const mote_cmd sep_commands[] = {
+    {"dim", NULL, "i", "dim 2|3", "the dimension", HELP_DIM, do_dim, do_dim},
+    {"channel", NULL, "r>0 r>0 D=r>0", "channel W H [D=DEPTH]", "the channel", HELP_CHANNEL,
+     do_channel, do_channel},
+    {"depth2d", NULL, "r>0", "depth2d D2", "the nominal 2D depth", HELP_DEPTH2D, do_depth2d,
+     do_depth2d},
+    {"ends", NULL, "s s", "ends BOTTOM TOP", "open or closed ends", HELP_ENDS, do_ends, do_ends},
+    {"gas", NULL, "r>=0 rho=r>=0 mu=r>=0", "gas U0 [rho=R] [mu=M]", "the gas upflow", HELP_GAS,
+     do_gas, do_gas},
+    {"gravity", NULL, "r>=0", "gravity g", "gravity", HELP_GRAVITY, do_gravity, do_gravity},
+    {"coupling", NULL, "s", "coupling on|off", "the solids' feedback on the gas", HELP_COUPLING,
+     do_coupling, do_coupling},
+    {"slices", NULL, "i[10,1000]", "slices K", "the gas model's slices", HELP_SLICES, do_slices,
+     do_slices},
+    {"eps_gas_min", NULL, "r(0,1]", "eps_gas_min V", "the clamp on the gas fraction",
+     HELP_EPSMIN, do_eps_gas_min, do_eps_gas_min},
+    {"hindered", NULL, "r>=0", "hindered CHI", "hindered-drag exponent", HELP_HINDERED,
+     do_hindered, do_hindered},
+    {"species", NULL, "s r>0", "species NAME RHO", "a species", HELP_SPECIES, do_species,
+     do_species},
+    {"size", NULL, "s s d=r>0 d50=r>0 sigma=r>=1 n=r>0 min=r>0 max=r>0 basis=s",
+     "size NAME TYPE [options]", "a species' size distribution", HELP_SIZE, do_size, do_size},
+    {"feed", NULL, "z=r! hf=r>0 rate=r>=0 start=r>=0 stop=r>0", "feed z=Z [hf=] [rate=]",
+     "the feed band and rate", HELP_FEED, do_feed, do_feed},
+    {"feed_window", NULL, "r>=0 r>0", "feed_window X1 X2", "the feed's extent",
+     HELP_FEED_WINDOW, do_feed_window, do_feed_window},
+    {"feed_velocity", NULL, "r r", "feed_velocity VX VZ", "new particles' velocity",
+     HELP_FEED_VELOCITY, do_feed_velocity, do_feed_velocity},
+    {"feed_fraction", NULL, "s r[0,1]", "feed_fraction NAME W", "a species' share of the feed",
+     HELP_FEED_FRACTION, do_feed_fraction, do_feed_fraction},
+    {"insert", NULL, "s i>=1", "insert NAME COUNT", "a batch of particles", HELP_INSERT,
+     do_insert, do_insert},
+    {"insert_mass", NULL, "s r>0", "insert_mass NAME KG", "a batch by mass", HELP_INSERT,
+     do_insert, do_insert},
+    {"collisions", NULL, "s", "collisions dem|off", "the collision model", HELP_COLLISIONS,
+     do_collisions, do_collisions},
+    {"restitution_wall", NULL, "r(0,1]", "restitution_wall E", "restitution at walls",
+     HELP_RESTITUTION_WALL, do_restitution_wall, do_restitution_wall},
+    {"timestep", NULL, "s", "timestep auto|DT", "the time step", HELP_TIMESTEP, do_timestep,
+     do_timestep},
+    {"classes", NULL, "i[2,1000] min=r>0 max=r>0", "classes K [min=A max=B]",
+     "the Tromp size classes", HELP_CLASSES, do_classes, do_classes},
+    {"run", NULL, "r>0", "run T", "advance the simulated time", HELP_RUN, do_run, do_run},
+    {"tromp", NULL, "f>tromp", "tromp FILE", "write the grade-efficiency curve", HELP_TROMP,
+     do_tromp, do_tromp},
+};
+
+const mote_model mote_model_separator = {
+    .name = "separator",
+    .summary = "gravitational separator: particles in a gas upflow, the grade-efficiency curve",
+    .threaded = 0,
+    .cmds = sep_commands,
+    .ncmds = sizeof sep_commands / sizeof sep_commands[0],
+    .create = model_create,
+    .destroy = model_destroy,
+    .seed = model_seed,
+    .seed_help = "The feed draws from the stream: each particle's species and size, then its\n"
+                 "position tries.\n",
+};

@@ -1,0 +1,523 @@
+/* system.c: the separator's particles in time (specs/separator.md 2.3, 2.5, 2.6, 2.8, 2.10,
+ * 2.11, 3.1): the feed, the exact drag drift, the dilute mode's reflections at walls and closed
+ * ends, exits and bookkeeping, the one-dimensional gas profile with solids-fraction coupling,
+ * and the Tromp curve. */
+#include "mote/separator.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define SEP_PI 3.14159265358979323846
+
+void mote_sep_init(mote_sep_system *s)
+{
+    memset(s, 0, sizeof *s);
+    s->dim = 2;
+    s->open_bottom = s->open_top = 1;
+    s->U0 = -1; /* required */
+    s->rho_g = 1.204;
+    s->mu_g = 1.81e-5;
+    s->g = 9.81;
+    s->coupling = 1;
+    s->eps_gas_min = 0.35;
+    s->e_pw = 0.5;
+    s->t_stop = INFINITY;
+    mote_rng_seed(&s->rng, 1);
+}
+
+void mote_sep_free(mote_sep_system *s)
+{
+    free(s->x);
+    free(s->y);
+    free(s->z);
+    free(s->vx);
+    free(s->vy);
+    free(s->vz);
+    free(s->d);
+    free(s->m);
+    free(s->s);
+    free(s->id);
+    free(s->eps_s);
+    free(s->u_g);
+    free(s->class_edge);
+    free(s->cl_mf);
+    free(s->cl_mc);
+    free(s->cl_nf);
+    free(s->cl_nc);
+    for (int k = 0; k < s->nsp; k++)
+        mote_sep_dist_free(&s->sp[k].dist);
+    memset(s, 0, sizeof *s);
+}
+
+void mote_sep_size_range(const mote_sep_system *s, double *dmin, double *dmax)
+{
+    *dmin = INFINITY;
+    *dmax = 0;
+    for (int k = 0; k < s->nsp; k++)
+        if (s->sp[k].have_dist) {
+            *dmin = fmin(*dmin, mote_sep_dist_min(&s->sp[k].dist));
+            *dmax = fmax(*dmax, mote_sep_dist_max(&s->sp[k].dist));
+        }
+}
+
+/* The cross-section area (spec 2.3). */
+static double cross_section(const mote_sep_system *s)
+{
+    double dmin, dmax;
+    mote_sep_size_range(s, &dmin, &dmax);
+    return s->dim == 3 ? s->W * s->D : s->W * (s->D2 > 0 ? s->D2 : dmax);
+}
+
+int mote_sep_prepare(mote_sep_system *s, mote_err *err)
+{
+    if (!(s->W > 0) || !(s->H > 0) || (s->dim == 3 && !(s->D > 0)))
+        return mote_fail(err, MOTE_EINVAL, "separator: no channel (channel W H%s)",
+                         s->dim == 3 ? " D" : "");
+    if (!(s->U0 >= 0))
+        return mote_fail(err, MOTE_EINVAL, "separator: no gas upflow (gas U0 [rho_g mu_g])");
+    if (s->nsp == 0)
+        return mote_fail(err, MOTE_EINVAL, "separator: no species (species NAME RHO)");
+    double wsum = 0;
+    for (int k = 0; k < s->nsp; k++) {
+        if (!s->sp[k].have_dist)
+            return mote_fail(err, MOTE_EINVAL, "separator: species %s has no size distribution "
+                             "(size %s TYPE ...)", s->sp[k].name, s->sp[k].name);
+        wsum += s->sp[k].w;
+    }
+    if (s->rate > 0 && fabs(wsum - 1) > 1e-9) {
+        char list[512] = "";
+        for (int k = 0; k < s->nsp; k++) {
+            const size_t l = strlen(list);
+            snprintf(list + l, sizeof list - l, "%s%s %g", k ? ", " : "", s->sp[k].name,
+                     s->sp[k].w);
+        }
+        return mote_fail(err, MOTE_EINVAL, "separator: the feed fractions must sum to 1, found "
+                         "%.10g (%s)", wsum, list);
+    }
+    double dmin, dmax;
+    mote_sep_size_range(s, &dmin, &dmax);
+    const double wmin = s->dim == 3 ? fmin(s->W, s->D) : s->W;
+    if (dmax >= wmin)
+        return mote_fail(err, MOTE_EINVAL, "separator: the largest particle (%g m) does not fit "
+                         "the channel (%g m across)", dmax, wmin);
+    /* slices: about 4 d_max each, 10 ... 1000 */
+    int K = s->K;
+    if (K <= 0)
+        K = (int)fmin(1000, fmax(10, floor(s->H / (4 * dmax) + 0.5)));
+    if (K != s->K || !s->eps_s) {
+        free(s->eps_s);
+        free(s->u_g);
+        s->eps_s = calloc((size_t)K, sizeof *s->eps_s);
+        s->u_g = calloc((size_t)K, sizeof *s->u_g);
+        if (!s->eps_s || !s->u_g)
+            return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for %d slices", K);
+        s->K = K;
+    }
+    s->dz = s->H / K;
+    /* Tromp classes: 20 log-spaced over [d_min, d_max] unless given */
+    if (!s->class_edge) {
+        if (s->nclass <= 0)
+            s->nclass = 20;
+        s->class_edge = malloc((size_t)(s->nclass + 1) * sizeof *s->class_edge);
+        if (!s->class_edge)
+            return mote_fail(err, MOTE_ENOMEM, "separator: out of memory");
+        const double lo = dmin, hi = dmax > dmin ? dmax : dmin * 1.0001;
+        for (int k = 0; k <= s->nclass; k++)
+            s->class_edge[k] = exp(log(lo) + (log(hi) - log(lo)) * k / s->nclass);
+    }
+    if (!s->cl_mf) {
+        s->cl_mf = calloc((size_t)s->nclass, sizeof *s->cl_mf);
+        s->cl_mc = calloc((size_t)s->nclass, sizeof *s->cl_mc);
+        s->cl_nf = calloc((size_t)s->nclass, sizeof *s->cl_nf);
+        s->cl_nc = calloc((size_t)s->nclass, sizeof *s->cl_nc);
+        if (!s->cl_mf || !s->cl_mc || !s->cl_nf || !s->cl_nc)
+            return mote_fail(err, MOTE_ENOMEM, "separator: out of memory");
+    }
+    /* the time step of the dilute mode: half a slice (the narrowest feature) per reference
+     * speed U0 + v_t(d_max) + |v_f| (spec 2.8) */
+    if (!(s->dt > 0)) {
+        double vt = 0;
+        for (int k = 0; k < s->nsp; k++)
+            vt = fmax(vt, mote_sep_terminal_velocity(mote_sep_dist_max(&s->sp[k].dist),
+                                                     s->sp[k].rho, s->rho_g, s->mu_g, s->g,
+                                                     NULL));
+        const double vref = s->U0 + (isfinite(vt) ? vt : 0) +
+                            sqrt(s->vf[0] * s->vf[0] + s->vf[1] * s->vf[1] + s->vf[2] * s->vf[2]);
+        s->dt = vref > 0 ? 0.5 * s->dz / vref : 1e-3;
+    }
+    mote_sep_gas_update(s);
+    return MOTE_OK;
+}
+
+/* ---- particles ------------------------------------------------------------------------------ */
+
+static int grow(mote_sep_system *s, size_t need, mote_err *err)
+{
+    if (need <= s->cap)
+        return MOTE_OK;
+    size_t cap = s->cap ? s->cap : 256;
+    while (cap < need)
+        cap *= 2;
+#define GROW(f)                                                                                   \
+    do {                                                                                          \
+        void *p_ = realloc(s->f, cap * sizeof *s->f);                                             \
+        if (!p_)                                                                                  \
+            return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for %zu particles", cap); \
+        s->f = p_;                                                                                \
+    } while (0)
+    GROW(x);
+    GROW(y);
+    GROW(z);
+    GROW(vx);
+    GROW(vy);
+    GROW(vz);
+    GROW(d);
+    GROW(m);
+    GROW(s);
+    GROW(id);
+#undef GROW
+    s->cap = cap;
+    return MOTE_OK;
+}
+
+/* One new particle of species k: its size drawn first, then a position in the feed zone clear
+ * of the walls (up to 100 tries; spec 2.5). 1 placed, 0 not (it is dropped: the dilute mode has
+ * no backlog, since only walls can refuse it, which a zone wider than the particle never does). */
+static int add_particle(mote_sep_system *s, int k, double *mass, mote_err *err)
+{
+    const double d = mote_sep_dist_sample(&s->sp[k].dist, mote_rng_uniform(&s->rng));
+    const double r = 0.5 * d, m = s->sp[k].rho * SEP_PI * d * d * d / 6;
+    double dmin, dmax;
+    mote_sep_size_range(s, &dmin, &dmax);
+    const double hf = s->hf > 0 ? s->hf : 2 * dmax;
+    const double x1 = s->fx2 > s->fx1 ? s->fx1 : 0, x2 = s->fx2 > s->fx1 ? s->fx2 : s->W;
+    const double y1 = s->fy2 > s->fy1 ? s->fy1 : 0, y2 = s->fy2 > s->fy1 ? s->fy2 : s->D;
+    *mass = m;
+    for (int tr = 0; tr < 100; tr++) {
+        const double px = x1 + (x2 - x1) * mote_rng_uniform(&s->rng);
+        const double py = s->dim == 3 ? y1 + (y2 - y1) * mote_rng_uniform(&s->rng) : 0;
+        const double pz = s->zf - 0.5 * hf + hf * mote_rng_uniform(&s->rng);
+        if (px < r || px > s->W - r || (s->dim == 3 && (py < r || py > s->D - r)) || pz < 0 ||
+            pz > s->H)
+            continue;
+        if (grow(s, s->n + 1, err))
+            return -1;
+        const size_t i = s->n++;
+        s->x[i] = px;
+        s->y[i] = py;
+        s->z[i] = pz;
+        s->vx[i] = s->vf[0];
+        s->vy[i] = s->dim == 3 ? s->vf[1] : 0;
+        s->vz[i] = s->vf[2];
+        s->d[i] = d;
+        s->m[i] = m;
+        s->s[i] = k;
+        s->id[i] = s->next_id++;
+        s->cnt[k].fed++;
+        s->cnt[k].m_fed += m;
+        return 1;
+    }
+    return 0;
+}
+
+int mote_sep_insert(mote_sep_system *s, int sp, uint64_t count, double mass, mote_err *err)
+{
+    double done = 0, m;
+    for (uint64_t k = 0; count ? k < count : done < mass; k++) {
+        const int rc = add_particle(s, sp, &m, err);
+        if (rc < 0)
+            return err->code;
+        done += m;
+    }
+    return MOTE_OK;
+}
+
+/* ---- gas (spec 2.6) ------------------------------------------------------------------------- */
+
+void mote_sep_gas_update(mote_sep_system *s)
+{
+    const int K = s->K;
+    if (K <= 0)
+        return;
+    for (int k = 0; k < K; k++)
+        s->eps_s[k] = 0;
+    /* cloud in cell between the two nearest slice centres; beyond the end centres, the end */
+    for (size_t i = 0; i < s->n; i++) {
+        const double vol = SEP_PI * s->d[i] * s->d[i] * s->d[i] / 6;
+        const double q = s->z[i] / s->dz - 0.5;
+        if (q <= 0) {
+            s->eps_s[0] += vol;
+        } else if (q >= K - 1) {
+            s->eps_s[K - 1] += vol;
+        } else {
+            const int k = (int)q;
+            const double f = q - k;
+            s->eps_s[k] += (1 - f) * vol;
+            s->eps_s[k + 1] += f * vol;
+        }
+    }
+    const double Ac = cross_section(s), G = s->rho_g * s->U0;
+    s->clamped = 0;
+    for (int k = 0; k < K; k++) {
+        s->eps_s[k] /= Ac * s->dz;
+        double eg = 1 - s->eps_s[k];
+        if (eg < s->eps_gas_min) {
+            eg = s->eps_gas_min;
+            s->clamped++;
+        }
+        s->u_g[k] = s->rho_g > 0 ? G / (s->rho_g * (s->coupling ? eg : 1)) : s->U0;
+    }
+}
+
+double mote_sep_gas_at(const mote_sep_system *s, double z)
+{
+    const double q = z / s->dz - 0.5;
+    if (q <= 0)
+        return s->u_g[0];
+    if (q >= s->K - 1)
+        return s->u_g[s->K - 1];
+    const int k = (int)q;
+    const double f = q - k;
+    return (1 - f) * s->u_g[k] + f * s->u_g[k + 1];
+}
+
+/* The voidage at z (for hindered drag). */
+static double eps_gas_at(const mote_sep_system *s, double z)
+{
+    const double q = fmin(fmax(z / s->dz - 0.5, 0), s->K - 1);
+    const int k = (int)fmin(q, s->K - 2 >= 0 ? s->K - 2 : 0);
+    const double f = s->K > 1 ? q - k : 0;
+    const double e = 1 - ((1 - f) * s->eps_s[k] + f * s->eps_s[s->K > 1 ? k + 1 : k]);
+    return fmax(e, s->eps_gas_min);
+}
+
+/* ---- one step (spec 2.10, the dilute mode) ---------------------------------------------------- */
+
+/* The exact drift of one velocity component over dt with relaxation time tau toward the gas
+ * velocity u under the acceleration a: (x, v) updated in place. */
+static void drift1(double *x, double *v, double u, double a, double tau, double dt)
+{
+    if (!isfinite(tau)) { /* vacuum: constant acceleration */
+        *x += *v * dt + 0.5 * a * dt * dt;
+        *v += a * dt;
+        return;
+    }
+    const double h = dt / tau, omE = -expm1(-h), E = 1 - omE;
+    /* h - 1 + E without cancellation for small h */
+    const double hm = h < 1e-4 ? h * h / 2 - h * h * h / 6 + h * h * h * h / 24 : h - omE;
+    const double dv0 = *v - u;
+    *x += u * dt + tau * dv0 * omE + tau * tau * a * hm;
+    *v = u + dv0 * E + tau * a * omE;
+}
+
+/* Reflect particle i from the walls and closed ends (spec 2.8, collisions off). */
+static void reflect(mote_sep_system *s, size_t i)
+{
+    const double r = 0.5 * s->d[i], e = s->e_pw;
+    double *pos[3] = {&s->x[i], &s->y[i], &s->z[i]}, *vel[3] = {&s->vx[i], &s->vy[i], &s->vz[i]};
+    const double hi[3] = {s->W, s->D, s->H};
+    for (int a = 0; a < 3; a++) {
+        if (a == 1 && s->dim == 2)
+            continue;
+        if (a == 2 && s->open_bottom && s->open_top)
+            continue;
+        const int lo_wall = a < 2 || !s->open_bottom, hi_wall = a < 2 || !s->open_top;
+        double delta = r - *pos[a]; /* the low wall, normal +a */
+        if (lo_wall && delta > 0) {
+            *pos[a] += (1 + e) * delta;
+            if (*vel[a] < 0)
+                *vel[a] = -e * *vel[a];
+        }
+        delta = *pos[a] + r - hi[a]; /* the high wall, normal -a */
+        if (hi_wall && delta > 0) {
+            *pos[a] -= (1 + e) * delta;
+            if (*vel[a] > 0)
+                *vel[a] = -e * *vel[a];
+        }
+    }
+}
+
+/* The class of diameter d (-1 outside the classes). */
+static int class_of(const mote_sep_system *s, double d)
+{
+    if (!(d >= s->class_edge[0]) || d > s->class_edge[s->nclass])
+        return -1;
+    int lo = 0, hi = s->nclass;
+    while (hi - lo > 1) {
+        const int mid = (lo + hi) / 2;
+        if (s->class_edge[mid] <= d)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+/* Remove particle i (the last one takes its place). */
+static void remove_particle(mote_sep_system *s, size_t i)
+{
+    const size_t l = --s->n;
+    s->x[i] = s->x[l];
+    s->y[i] = s->y[l];
+    s->z[i] = s->z[l];
+    s->vx[i] = s->vx[l];
+    s->vy[i] = s->vy[l];
+    s->vz[i] = s->vz[l];
+    s->d[i] = s->d[l];
+    s->m[i] = s->m[l];
+    s->s[i] = s->s[l];
+    s->id[i] = s->id[l];
+}
+
+static int step(mote_sep_system *s, double dt, mote_err *err)
+{
+    /* drift: exact under drag, gravity and buoyancy with the gas of the last profile */
+    for (size_t i = 0; i < s->n; i++) {
+        const mote_sep_species *sp = &s->sp[s->s[i]];
+        const double d = s->d[i];
+        const double u = mote_sep_gas_at(s, s->z[i]);
+        const double a = -s->g * (1 - s->rho_g / sp->rho);
+        double tau = INFINITY;
+        if (s->mu_g > 0 && s->rho_g > 0) {
+            const double wx = -s->vx[i], wy = -s->vy[i], wz = u - s->vz[i];
+            const double Re = s->rho_g * sqrt(wx * wx + wy * wy + wz * wz) * d / s->mu_g;
+            double f = mote_sep_drag_f(Re);
+            if (s->chi != 0)
+                f *= pow(eps_gas_at(s, s->z[i]), -s->chi);
+            tau = sp->rho * d * d / (18 * s->mu_g * f);
+        }
+        drift1(&s->x[i], &s->vx[i], 0, 0, tau, dt);
+        if (s->dim == 3)
+            drift1(&s->y[i], &s->vy[i], 0, 0, tau, dt);
+        drift1(&s->z[i], &s->vz[i], u, a, tau, dt);
+        reflect(s, i);
+    }
+    s->t += dt;
+    s->steps++;
+    /* exits and losses (spec 2.11) */
+    for (size_t i = 0; i < s->n;) {
+        const int k = s->s[i];
+        const double r = 0.5 * s->d[i];
+        int out = 0; /* 1 fines, 2 coarse, 3 lost */
+        if (!isfinite(s->x[i]) || !isfinite(s->y[i]) || !isfinite(s->z[i]) ||
+            s->x[i] < -r || s->x[i] > s->W + r || (s->dim == 3 && (s->y[i] < -r || s->y[i] > s->D + r)))
+            out = 3;
+        else if (s->open_top && s->z[i] > s->H)
+            out = 1;
+        else if (s->open_bottom && s->z[i] < 0)
+            out = 2;
+        if (!out) {
+            i++;
+            continue;
+        }
+        const double m = s->m[i];
+        const int c = class_of(s, s->d[i]);
+        if (out == 1) {
+            s->cnt[k].fines++;
+            s->cnt[k].m_fines += m;
+            if (c >= 0) {
+                s->cl_nf[c]++;
+                s->cl_mf[c] += m;
+            }
+        } else if (out == 2) {
+            s->cnt[k].coarse++;
+            s->cnt[k].m_coarse += m;
+            if (c >= 0) {
+                s->cl_nc[c]++;
+                s->cl_mc[c] += m;
+            }
+        } else {
+            s->cnt[k].lost++;
+            s->cnt[k].m_lost += m;
+        }
+        remove_particle(s, i);
+    }
+    /* the feed: each species' account keeps its mass share exact (spec 2.5) */
+    if (s->rate > 0 && s->t > s->t_start) {
+        const double te = fmin(s->t, s->t_stop) - s->t_start;
+        for (int k = 0; k < s->nsp; k++) {
+            int guard = 0;
+            while (s->cnt[k].m_gen < s->sp[k].w * s->rate * te && guard++ < 1000000) {
+                double m;
+                const int rc = add_particle(s, k, &m, err);
+                if (rc < 0)
+                    return err->code;
+                s->cnt[k].m_gen += m;
+            }
+        }
+    }
+    mote_sep_gas_update(s);
+    return MOTE_OK;
+}
+
+int mote_sep_run(mote_sep_system *s, double T, mote_err *err)
+{
+    int rc = mote_sep_prepare(s, err);
+    const double t_end = s->t + T;
+    while (!rc && s->t < t_end) {
+        const double dt = fmin(s->dt, t_end - s->t);
+        if (!(dt > 1e-15 * fmax(1, s->t)))
+            break;
+        rc = step(s, dt, err);
+    }
+    if (!rc && mote_sep_check_balance(s))
+        rc = mote_fail(err, MOTE_ERUNTIME, "separator: the mass balance does not hold (fed = in "
+                       "channel + fines + coarse + lost)");
+    return rc;
+}
+
+int mote_sep_check_balance(const mote_sep_system *s)
+{
+    uint64_t in[MOTE_SEP_MAX_SPECIES] = {0};
+    double min[MOTE_SEP_MAX_SPECIES] = {0};
+    for (size_t i = 0; i < s->n; i++) {
+        in[s->s[i]]++;
+        min[s->s[i]] += s->m[i];
+    }
+    for (int k = 0; k < s->nsp; k++) {
+        const mote_sep_count *c = &s->cnt[k];
+        if (c->fed != in[k] + c->fines + c->coarse + c->lost)
+            return -1;
+        const double sum = min[k] + c->m_fines + c->m_coarse + c->m_lost;
+        if (fabs(sum - c->m_fed) > 1e-12 * fmax(c->m_fed, 1e-300))
+            return -1;
+    }
+    return 0;
+}
+
+/* ---- the Tromp curve (spec 3.1) ------------------------------------------------------------- */
+
+void mote_sep_tromp(const mote_sep_system *s, double *T, mote_sep_cut *cut)
+{
+    for (int i = 0; i < s->nclass; i++) {
+        const double tot = s->cl_mf[i] + s->cl_mc[i];
+        T[i] = tot > 0 ? s->cl_mc[i] / tot : NAN;
+    }
+    const double x[3] = {0.25, 0.5, 0.75};
+    double dx[3];
+    cut->crossings50 = 0;
+    for (int q = 0; q < 3; q++) {
+        dx[q] = NAN;
+        int prev = -1;
+        for (int i = 0; i < s->nclass; i++) {
+            if (isnan(T[i]))
+                continue;
+            if (prev >= 0 && (T[prev] < x[q]) != (T[i] < x[q])) {
+                const double l0 = 0.5 * (log(s->class_edge[prev]) + log(s->class_edge[prev + 1]));
+                const double l1 = 0.5 * (log(s->class_edge[i]) + log(s->class_edge[i + 1]));
+                if (isnan(dx[q]))
+                    dx[q] = exp(l0 + (x[q] - T[prev]) / (T[i] - T[prev]) * (l1 - l0));
+                if (q == 1)
+                    cut->crossings50++;
+            }
+            prev = i;
+        }
+    }
+    cut->d25 = dx[0];
+    cut->d50 = dx[1];
+    cut->d75 = dx[2];
+    cut->kappa = dx[0] / dx[2];
+    cut->Ep = 0.5 * (dx[2] - dx[0]);
+    cut->I = cut->Ep / dx[1];
+}

@@ -1,0 +1,242 @@
+/* test_separator.c: the separator model against specs/separator.md section 4: the reference
+ * terminal velocities and cut sizes, V1 (terminal velocity) and V1b (the transient against an
+ * RK4 solution), V2 (the dilute cut size), V5 (the mass balance), V6 (size sampling), V8 (gas
+ * continuity). */
+#include "mote/separator.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+#include "test.h"
+
+static const double RHO_G = 1.204, MU_G = 1.81e-5, G = 9.81;
+
+/* Spec 4, the reference values (rho_p = 2500, buoyancy included), to their printed digits. */
+static void test_reference(void)
+{
+    printf("reference terminal velocities and cut sizes\n");
+    const double d[4] = {50e-6, 200e-6, 1e-3, 2e-3};
+    const double Re[4] = {0.5679, 18.83, 453.7, 1478}, vt[4] = {0.17074, 1.41508, 6.82116, 11.1082};
+    for (int k = 0; k < 4; k++) {
+        double re;
+        const double v = mote_sep_terminal_velocity(d[k], 2500, RHO_G, MU_G, G, &re);
+        printf("  d %g m: Re_t %.5g, v_t %.6g m/s\n", d[k], re, v);
+        CHECK(fabs(v / vt[k] - 1) < 5e-5 && fabs(re / Re[k] - 1) < 1e-3, "d %g: v_t %.6g Re %.5g",
+              d[k], v, re);
+    }
+    const double U[2] = {1, 2}, ds[2] = {151.84e-6, 270.87e-6};
+    for (int k = 0; k < 2; k++) {
+        const double c = mote_sep_cut_size(U[k], 2500, RHO_G, MU_G, G);
+        printf("  U0 %g m/s: d* %.5g um\n", U[k], c * 1e6);
+        CHECK(fabs(c / ds[k] - 1) < 5e-5, "cut size at U0 %g: %.6g", U[k], c);
+    }
+}
+
+/* A system with one species of mono size d in still gas, one particle from rest high up. */
+static void one_particle(mote_sep_system *s, double d, double dt)
+{
+    mote_err err = {0};
+    mote_sep_init(s);
+    s->W = 0.1;
+    s->H = 1000;
+    s->U0 = 0;
+    s->coupling = 0;
+    s->nsp = 1;
+    snprintf(s->sp[0].name, sizeof s->sp[0].name, "p");
+    s->sp[0].rho = 2500;
+    s->sp[0].w = 1;
+    s->sp[0].dist.type = MOTE_SEP_MONO;
+    s->sp[0].dist.a = d;
+    s->sp[0].have_dist = 1;
+    s->zf = 900;
+    s->hf = 1e-3;
+    s->dt = dt;
+    CHECK(mote_sep_prepare(s, &err) == MOTE_OK, "prepare: %s", err.msg);
+    CHECK(mote_sep_insert(s, 0, 1, 0, &err) == MOTE_OK, "insert: %s", err.msg);
+}
+
+/* m dv/dt = -m g' + 3 pi mu d f(Re) (u - v), by RK4 with steps h, from rest, to time T. */
+static double rk4_speed(double d, double T, double h)
+{
+    const double gp = G * (1 - RHO_G / 2500);
+    double v = 0, t = 0;
+#define ACC(w) (-gp + 18 * MU_G * mote_sep_drag_f(RHO_G * fabs(w) * d / MU_G) * (-(w)) / (2500 * d * d))
+    while (t < T - 1e-15) {
+        const double hh = fmin(h, T - t);
+        const double k1 = ACC(v), k2 = ACC(v + 0.5 * hh * k1), k3 = ACC(v + 0.5 * hh * k2),
+                     k4 = ACC(v + hh * k3);
+        v += hh / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
+        t += hh;
+    }
+#undef ACC
+    return v;
+}
+
+/* V1: after 20 v_t/g' from rest the speed is v_t within 0.5%; V1b: v(t) at v_t/g' and
+ * 3 v_t/g' within 0.5% of RK4 with steps of tau/1000; dt <= tau/50 at the terminal state. */
+static void test_terminal(void)
+{
+    printf("V1, V1b: terminal velocity and transient\n");
+    const double d[4] = {50e-6, 200e-6, 1e-3, 2e-3};
+    const double gp = G * (1 - RHO_G / 2500);
+    for (int k = 0; k < 4; k++) {
+        const double vt = mote_sep_terminal_velocity(d[k], 2500, RHO_G, MU_G, G, NULL);
+        const double tau = vt / gp; /* the relaxation time at the terminal state */
+        mote_sep_system s;
+        one_particle(&s, d[k], tau / 50);
+        mote_err err = {0};
+        double v1 = 0, v3 = 0;
+        const int ok = mote_sep_run(&s, tau, &err) == MOTE_OK && (v1 = -s.vz[0], 1) &&
+                       mote_sep_run(&s, 2 * tau, &err) == MOTE_OK && (v3 = -s.vz[0], 1) &&
+                       mote_sep_run(&s, 17 * tau, &err) == MOTE_OK;
+        CHECK(ok && s.n == 1, "run: %s", err.msg);
+        const double v20 = s.n ? -s.vz[0] : 0;
+        const double r1 = -rk4_speed(d[k], tau, tau / 1000), r3 = -rk4_speed(d[k], 3 * tau, tau / 1000);
+        printf("  d %g m: v(20 tau) / v_t - 1 = %.2e; v(tau) %.6g against RK4 %.6g; v(3 tau) "
+               "%.6g against %.6g\n", d[k], v20 / vt - 1, v1, r1, v3, r3);
+        CHECK(fabs(v20 / vt - 1) <= 0.005, "V1 d %g: %.6g against %.6g", d[k], v20, vt);
+        CHECK(fabs(v1 / r1 - 1) <= 0.005 && fabs(v3 / r3 - 1) <= 0.005, "V1b d %g", d[k]);
+        mote_sep_free(&s);
+    }
+}
+
+/* V2: the dilute cut size. 2D, W 0.05 m, H 1 m, U0 1 m/s, rho_p 2500, loguniform 75-300 um
+ * (number basis), 4000 particles fed at 0.5 m at rest, collisions off, coupling off, dt 1 ms,
+ * 30 s, 40 classes per decade: d50 within 2% of 151.84 um, kappa within one class-width ratio
+ * of 1. Also V5: the balance holds, nothing lost. */
+static void test_dilute_cut(void)
+{
+    printf("V2, V5: the dilute cut size, the balance\n");
+    mote_err err = {0};
+    mote_sep_system s;
+    mote_sep_init(&s);
+    s.W = 0.05;
+    s.H = 1;
+    s.U0 = 1;
+    s.coupling = 0;
+    s.nsp = 1;
+    snprintf(s.sp[0].name, sizeof s.sp[0].name, "quartz");
+    s.sp[0].rho = 2500;
+    s.sp[0].w = 1;
+    s.sp[0].dist = (mote_sep_dist){.type = MOTE_SEP_LOGUNIFORM, .lo = 75e-6, .hi = 300e-6,
+                                   .number_basis = 1};
+    CHECK(mote_sep_dist_build(&s.sp[0].dist, &err) == MOTE_OK, "dist: %s", err.msg);
+    s.sp[0].have_dist = 1;
+    s.zf = 0.5;
+    s.dt = 1e-3;
+    /* 40 classes per decade from 75 um */
+    s.nclass = (int)ceil(40 * log10(300.0 / 75));
+    s.class_edge = malloc((size_t)(s.nclass + 1) * sizeof *s.class_edge);
+    for (int k = 0; k <= s.nclass; k++)
+        s.class_edge[k] = 75e-6 * pow(10, k / 40.0);
+    int ok = mote_sep_prepare(&s, &err) == MOTE_OK && mote_sep_insert(&s, 0, 4000, 0, &err) == MOTE_OK &&
+             mote_sep_run(&s, 30, &err) == MOTE_OK;
+    CHECK(ok, "run: %s", err.msg);
+    double *T = malloc((size_t)s.nclass * sizeof *T);
+    mote_sep_cut cut;
+    mote_sep_tromp(&s, T, &cut);
+    printf("  d50 %.5g um (151.84), kappa %.4f (>= %.4f), %zu still in the channel, %llu lost\n",
+           cut.d50 * 1e6, cut.kappa, pow(10, -1 / 40.0), s.n, (unsigned long long)s.cnt[0].lost);
+    CHECK(fabs(cut.d50 / 151.84e-6 - 1) <= 0.02, "V2 d50 %.5g", cut.d50);
+    CHECK(cut.kappa >= pow(10, -1 / 40.0) && cut.kappa <= 1, "V2 kappa %.4f", cut.kappa);
+    CHECK(mote_sep_check_balance(&s) == 0 && s.cnt[0].lost == 0 && s.cnt[0].fed == 4000,
+          "V5: the balance");
+    free(T);
+    mote_sep_free(&s);
+}
+
+/* V6: 1e6 draws of lognormal d50 100 um, sigma_g 1.5, mass basis, wide truncation: the mass
+ * median 100 um and the number median 61.07 um (Hatch-Choate), each within 0.5%. */
+static int cmp_d(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static void test_sampling(void)
+{
+    printf("V6: size sampling\n");
+    mote_err err = {0};
+    mote_sep_dist ds = {.type = MOTE_SEP_LOGNORMAL, .a = 100e-6, .b = 1.5, .lo = 5e-6, .hi = 2e-3};
+    CHECK(mote_sep_dist_build(&ds, &err) == MOTE_OK, "dist: %s", err.msg);
+    const size_t n = 1000000;
+    double *d = malloc(n * sizeof *d);
+    mote_rng rng;
+    mote_rng_seed(&rng, 11);
+    double mtot = 0;
+    for (size_t i = 0; i < n; i++) {
+        d[i] = mote_sep_dist_sample(&ds, mote_rng_uniform(&rng));
+        mtot += d[i] * d[i] * d[i];
+    }
+    qsort(d, n, sizeof *d, cmp_d);
+    const double number_median = 0.5 * (d[n / 2 - 1] + d[n / 2]);
+    double acc = 0, mass_median = 0;
+    for (size_t i = 0; i < n; i++) {
+        acc += d[i] * d[i] * d[i];
+        if (acc >= 0.5 * mtot) {
+            mass_median = d[i];
+            break;
+        }
+    }
+    const double hc = 100e-6 * exp(-3 * log(1.5) * log(1.5));
+    printf("  mass median %.5g um (100), number median %.5g um (%.5g)\n", mass_median * 1e6,
+           number_median * 1e6, hc * 1e6);
+    CHECK(fabs(mass_median / 100e-6 - 1) <= 0.005, "V6 mass median %.5g", mass_median);
+    CHECK(fabs(number_median / hc - 1) <= 0.005, "V6 number median %.5g", number_median);
+    free(d);
+    mote_sep_dist_free(&ds);
+}
+
+/* V8: a frozen set with known volumes: the deposited volume is the particles' volume (1e-12),
+ * and u_g eps_g rho_g = G in every unclamped slice (1e-12). */
+static void test_gas(void)
+{
+    printf("V8: gas continuity\n");
+    mote_err err = {0};
+    mote_sep_system s;
+    mote_sep_init(&s);
+    s.W = 0.02;
+    s.H = 0.5;
+    s.U0 = 1.5;
+    s.nsp = 1;
+    snprintf(s.sp[0].name, sizeof s.sp[0].name, "p");
+    s.sp[0].rho = 2500;
+    s.sp[0].w = 1;
+    s.sp[0].dist = (mote_sep_dist){.type = MOTE_SEP_LOGUNIFORM, .lo = 0.5e-3, .hi = 1.5e-3};
+    mote_sep_dist_build(&s.sp[0].dist, &err);
+    s.sp[0].have_dist = 1;
+    s.zf = 0.25;
+    s.hf = 0.49;
+    CHECK(mote_sep_prepare(&s, &err) == MOTE_OK && mote_sep_insert(&s, 0, 3000, 0, &err) == MOTE_OK,
+          "setup: %s", err.msg);
+    mote_sep_gas_update(&s);
+    double vol = 0, dep = 0;
+    for (size_t i = 0; i < s.n; i++)
+        vol += 3.14159265358979323846 * s.d[i] * s.d[i] * s.d[i] / 6;
+    const double Ac = s.W * 1.5e-3;
+    double worst = 0;
+    int unclamped = 0;
+    for (int k = 0; k < s.K; k++) {
+        dep += s.eps_s[k] * Ac * s.dz;
+        const double eg = 1 - s.eps_s[k];
+        if (eg >= s.eps_gas_min) {
+            unclamped++;
+            worst = fmax(worst, fabs(s.u_g[k] * eg * s.rho_g / (s.rho_g * s.U0) - 1));
+        }
+    }
+    printf("  deposited / particle volume - 1 = %.2e; %d unclamped slices of %d, worst flux "
+           "error %.2e; %d clamped\n", dep / vol - 1, unclamped, s.K, worst, s.clamped);
+    CHECK(fabs(dep / vol - 1) <= 1e-12, "V8 volume %.3e", dep / vol - 1);
+    CHECK(unclamped > 0 && worst <= 1e-12, "V8 flux %.3e", worst);
+    mote_sep_free(&s);
+}
+
+int main(void)
+{
+    test_reference();
+    test_terminal();
+    test_dilute_cut();
+    test_sampling();
+    test_gas();
+    return test_summary();
+}
