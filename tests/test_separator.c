@@ -50,7 +50,8 @@ static void one_particle(mote_sep_system *s, double d, double dt)
     s->sp[0].have_dist = 1;
     s->zf = 900;
     s->hf = 1e-3;
-    s->dt = dt;
+    s->dt_user = dt;
+    s->dem = 0;
     CHECK(mote_sep_prepare(s, &err) == MOTE_OK, "prepare: %s", err.msg);
     CHECK(mote_sep_insert(s, 0, 1, 0, &err) == MOTE_OK, "insert: %s", err.msg);
 }
@@ -123,7 +124,8 @@ static void test_dilute_cut(void)
     CHECK(mote_sep_dist_build(&s.sp[0].dist, &err) == MOTE_OK, "dist: %s", err.msg);
     s.sp[0].have_dist = 1;
     s.zf = 0.5;
-    s.dt = 1e-3;
+    s.dt_user = 1e-3;
+    s.dem = 0;
     /* 40 classes per decade from 75 um */
     s.nclass = (int)ceil(40 * log10(300.0 / 75));
     s.class_edge = malloc((size_t)(s.nclass + 1) * sizeof *s.class_edge);
@@ -207,6 +209,7 @@ static void test_gas(void)
     s.sp[0].have_dist = 1;
     s.zf = 0.25;
     s.hf = 0.49;
+    s.dem = 0;
     CHECK(mote_sep_prepare(&s, &err) == MOTE_OK && mote_sep_insert(&s, 0, 3000, 0, &err) == MOTE_OK,
           "setup: %s", err.msg);
     mote_sep_gas_update(&s);

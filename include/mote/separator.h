@@ -74,8 +74,30 @@ typedef struct {
     int coupling;                        /* solids-fraction feedback on the gas */
     int K;                               /* slices (0: auto, about 4 d_max each) */
     double eps_gas_min, chi;             /* clamp on eps_g; hindered-drag exponent */
-    double e_pw;                         /* restitution at walls (off mode) */
-    double dt;                           /* time step (0: auto) */
+    double e_pw;                         /* restitution at walls (-1: e_pp) */
+    double dt_user;                      /* the time step asked for (0: auto) */
+    double dt;                           /* the time step in use (prepare) */
+    /* the feed's backlog (spec 2.5): particles drawn but not yet placed */
+    size_t nback, back_cap;
+    int *back_s;
+    double *back_d;
+    /* contacts (spec 2.8, 2.9): dem (soft spheres) or off; restitution, stiffness k_hat (0:
+     * from the overlap fraction delta_f at v_imp, 0: the default speed), contact-time steps */
+    int dem, brute;
+    double e_pp, khat, delta_f, v_imp;
+    int nc;
+    double khat_used;                    /* the stiffness in use (prepare) */
+    double *fx, *fy, *fz;                /* last contact forces, per particle */
+    /* the cell grid: edges >= d_max, counting sort each step */
+    int cx, cy, cz;
+    double hx, hy, hz;
+    size_t ncell_cap;
+    uint32_t *cell_start, *cell_idx;
+    size_t n_built;                      /* particles when the cells were built, */
+    uint64_t built_step;                 /* and at which step (+1; 0: never) */
+    double max_overlap;                  /* largest overlap / diameter met */
+    uint64_t fast_moves;                 /* steps in which a particle moved more than r_min/4 */
+    uint64_t contacts_pp;                /* particle contacts of the last step */
     int nsp;
     mote_sep_species sp[MOTE_SEP_MAX_SPECIES];
     /* the feed (spec 2.5): band centre and height (0: 2 d_max), mass rate, window, velocity */
@@ -102,7 +124,8 @@ typedef struct {
     mote_rng rng;
 } mote_sep_system;
 
-/* Fill defaults (2D, air at 20 C, g = 9.81, both ends open, coupling on, e_pw 0.5). */
+/* Fill defaults (2D, air at 20 C, g = 9.81, both ends open, coupling on, DEM with e 0.5,
+ * delta_f 0.05, N_c 50). */
 void mote_sep_init(mote_sep_system *s);
 void mote_sep_free(mote_sep_system *s);
 /* Check the parameters and prepare for running (slices, classes, the time step): err names
@@ -121,6 +144,15 @@ double mote_sep_gas_at(const mote_sep_system *s, double z);
 /* The bookkeeping invariant fed = in channel + fines + coarse + lost (spec 2.11): 0 when it
  * holds (counts exactly, masses to 1e-12), else -1. */
 int mote_sep_check_balance(const mote_sep_system *s);
+
+/* ---- contacts (spec 2.8, 2.9; dem.c) --------------------------------------------------------- */
+
+/* The contact stiffness k_hat (N/m^2) and the time step the rule of 2.8 allows. */
+double mote_sep_khat(const mote_sep_system *s);
+double mote_sep_dt_limit(const mote_sep_system *s);
+/* The pairs in contact (distance < r_i + r_j), by the cell grid or (brute) all pairs, as index
+ * pairs i < j into pairs[2 k], sorted; the count (up to cap; more are counted, not stored). */
+size_t mote_sep_pairs(mote_sep_system *s, int brute, uint32_t *pairs, size_t cap);
 
 /* ---- the Tromp curve (spec 3.1) ------------------------------------------------------------- */
 

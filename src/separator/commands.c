@@ -274,18 +274,46 @@ static int do_feed_fraction(void *vm, const mote_call *c, mote_err *err)
 static int do_collisions(void *vm, const mote_call *c, mote_err *err)
 {
     const char *w = c->args[0].text;
-    if (!strcmp(w, "dem"))
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "collisions dem: the contact model is not "
-                              "in this version; use collisions off (the dilute limit)");
-    if (strcmp(w, "off"))
+    if (strcmp(w, "dem") && strcmp(w, "off"))
         return mote_call_fail(err, c, 0, MOTE_EINVAL, "collisions: expected dem or off, found "
                               "'%s'", w);
+    ((sep_model *)vm)->sys.dem = !strcmp(w, "dem");
     return MOTE_OK;
 }
 
-static int do_restitution_wall(void *vm, const mote_call *c, mote_err *err)
+static int do_restitution(void *vm, const mote_call *c, mote_err *err)
 {
-    ((sep_model *)vm)->sys.e_pw = c->args[0].r;
+    mote_sep_system *s = &((sep_model *)vm)->sys;
+    if (!strcmp(c->name, "restitution_wall"))
+        s->e_pw = c->args[0].r;
+    else
+        s->e_pp = c->args[0].r;
+    return MOTE_OK;
+}
+
+static int do_stiffness(void *vm, const mote_call *c, mote_err *err)
+{
+    mote_sep_system *s = &((sep_model *)vm)->sys;
+    const mote_arg *o = mote_call_opt(c, "overlap"), *k = mote_call_opt(c, "khat");
+    if (!o == !k)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "stiffness: give overlap=DF [vimp=V] or "
+                              "khat=K");
+    if (k && mote_call_opt(c, "vimp"))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "vimp"), MOTE_EINVAL,
+                              "stiffness: vimp= goes with overlap=");
+    s->khat = k ? k->r : 0;
+    s->delta_f = o ? o->r : 0.05;
+    s->v_imp = mote_call_opt_r(c, "vimp", 0);
+    return MOTE_OK;
+}
+
+static int do_neighbours(void *vm, const mote_call *c, mote_err *err)
+{
+    const char *w = c->args[0].text;
+    if (strcmp(w, "cells") && strcmp(w, "brute"))
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "neighbours: expected cells or brute, "
+                              "found '%s'", w);
+    ((sep_model *)vm)->sys.brute = !strcmp(w, "brute");
     return MOTE_OK;
 }
 
@@ -293,16 +321,22 @@ static int do_timestep(void *vm, const mote_call *c, mote_err *err)
 {
     mote_sep_system *s = &((sep_model *)vm)->sys;
     const char *w = c->args[0].text;
+    const mote_arg *nc = mote_call_opt(c, "nc");
     if (!strcmp(w, "auto")) {
-        s->dt = 0;
+        s->dt_user = 0;
+        if (nc)
+            s->nc = (int)nc->i;
         return MOTE_OK;
     }
+    if (nc)
+        return mote_call_fail(err, c, mote_call_opt_index(c, "nc"), MOTE_EINVAL,
+                              "timestep: nc= goes with auto");
     char *end;
     const double dt = strtod(w, &end);
     if (end == w || *end || !(dt > 0) || !isfinite(dt))
         return mote_call_fail(err, c, 0, MOTE_EINVAL, "timestep: expected auto or a step > 0 "
                               "(s), found '%s'", w);
-    s->dt = dt;
+    s->dt_user = dt;
     return MOTE_OK;
 }
 
@@ -384,10 +418,11 @@ static void print_status(sep_model *m)
     for (int k = 0; k < s->K; k++)
         eps_max = fmax(eps_max, s->eps_s[k]);
     fprintf(m->log, "t=%.10g steps=%llu dt=%.6g N=%zu fed=%llu fines=%llu coarse=%llu lost=%llu "
-                    "backlog=0 d50=%.6g kappa=%.4g eps_max=%.4g\n",
+                    "backlog=%zu d50=%.6g kappa=%.4g eps_max=%.4g max_overlap=%.4g fast_moves=%llu\n",
             s->t, (unsigned long long)s->steps, s->dt, s->n, (unsigned long long)fed,
             (unsigned long long)fines, (unsigned long long)coarse, (unsigned long long)lost,
-            cut.d50, cut.kappa, eps_max);
+            s->nback, cut.d50, cut.kappa, eps_max, s->max_overlap,
+            (unsigned long long)s->fast_moves);
 }
 
 static int do_run(void *vm, const mote_call *c, mote_err *err)
@@ -471,9 +506,11 @@ static const char HELP_FEED_WINDOW[] = "    feed_window X1 X2\n\nThe feed's exte
 static const char HELP_FEED_VELOCITY[] = "    feed_velocity VX VZ\n\nThe velocity new particles start with (m/s; default 0).\n";
 static const char HELP_FEED_FRACTION[] = "    feed_fraction NAME W\n\nThe mass fraction of the feed a species makes (the fractions must sum to 1).\n";
 static const char HELP_INSERT[] = "    insert NAME COUNT\n    insert_mass NAME KG\n\nAdd a batch of a species in the feed band now: COUNT particles, or particles\nuntil their mass reaches KG.\n";
-static const char HELP_COLLISIONS[] = "    collisions dem|off\n\noff: particles ignore each other and reflect from walls and closed ends\n(position mirrored by (1 + e) times the overlap, normal velocity times -e;\nspec 2.8), the dilute limit. dem (soft-sphere contacts) is not in this\nversion.\n";
-static const char HELP_RESTITUTION_WALL[] = "    restitution_wall E\n\nThe restitution e at walls and closed ends (default 0.5).\n";
-static const char HELP_TIMESTEP[] = "    timestep auto|DT\n\nThe time step (s). auto (the default) in the dilute mode: half a slice per\nreference speed U0 + v_t(d_max) + |v_f|. The drift under drag, gravity and\nbuoyancy is exact for any step (spec 2.10); only the exits and reflections\nneed it small.\n";
+static const char HELP_COLLISIONS[] = "    collisions dem|off\n\ndem (the default): soft-sphere contacts (spec 2.8), frictionless linear\nspring-dashpots between particles (k = k_hat d_bar, d_bar = 2 d_i d_j/(d_i + d_j),\ngamma = 2 zeta(e) sqrt(m_ij k), zeta(e) = -ln e / sqrt(pi^2 + ln^2 e)) and with the\nside walls and closed ends (k = k_hat d_i, m_i), found through cell lists; the\nforce is not clamped at zero, so a pair's restitution is exactly e.\noff: particles ignore each other and reflect from walls and closed ends\n(position mirrored by (1 + e) times the overlap, normal velocity times -e), the\ndilute limit.\n";
+static const char HELP_RESTITUTION[] = "    restitution E\n    restitution_wall E\n\nThe restitution between particles (default 0.5) and at walls and closed ends\n(default: the particles' value); 0 < E <= 1.\n";
+static const char HELP_STIFFNESS[] = "    stiffness overlap=DF [vimp=V]\n    stiffness khat=K\n\nThe contact stiffness k_hat (N/m^2): given, or (the default, DF = 0.05) the one\nwith which the densest particle hitting a wall head-on at V overlaps DF of its\ndiameter: k_hat = pi rho_max V^2 / (6 DF^2), V by default max(U0, v_t(d_max),\n|v_f|). Halve DF to check that results do not depend on it.\n";
+static const char HELP_NEIGHBOURS[] = "    neighbours cells|brute\n\nThe neighbour search: a cell grid with edges of at least d_max, rebuilt every\nstep by counting sort, each pair visited once through a half stencil (cells,\nthe default), or all pairs (brute, for tests: the same overlap test, so the\nsame pairs).\n";
+static const char HELP_TIMESTEP[] = "    timestep auto [nc=50]\n    timestep DT\n\nThe time step (s). With contacts: the shortest contact time over N_c,\npi / omega_max / nc with omega_max^2 = 12 k_hat / (pi rho_min d_min^2) (spec 2.8);\na given step above it is an error, nc below 20 too. DEM runs are far from real\ntime: a coarser d_min, a larger overlap fraction or collisions off are the\nlevers. In the dilute mode: half a slice per reference speed\nU0 + v_t(d_max) + |v_f|. The drift under drag, gravity and buoyancy is exact\nfor any step (spec 2.10).\n";
 static const char HELP_CLASSES[] = "    classes K [min=A max=B]\n\nThe Tromp size classes: K log-spaced between min and max (default 20 over the\nfeed's d_min ... d_max).\n";
 static const char HELP_RUN[] = "    run T\n\nAdvance T seconds of simulated time: the exact drag drift, reflections, exits\n(fines above H, coarse below 0) with their tallies per size class, the feed,\nthe gas profile; then the status line t steps dt N fed fines coarse lost\nbacklog d50 kappa eps_max. The mass balance fed = in channel + fines + coarse +\nlost is checked after every run.\n";
 static const char HELP_TROMP[] = "    tromp FILE\n\nWrite the grade-efficiency curve (spec 3.1): per size class the partition\nnumber T (mass to coarse over mass exited, mass basis; nan where nothing\nexited) with its standard error sqrt(T (1 - T)/n), the counts and masses and T\non a number basis; in the header d25, d50, d75 (first crossings from the fine\nside, interpolated in ln d), kappa = d25/d75, Ep and the imperfection, and each\nspecies' reference cut d0* (the still-gas terminal velocity equal to U0).\n";
@@ -514,10 +551,17 @@ static const mote_cmd sep_commands[] = {
      do_insert, do_insert},
     {"collisions", NULL, "s", "collisions dem|off", "the collision model", HELP_COLLISIONS,
      do_collisions, do_collisions},
+    {"restitution", NULL, "r(0,1]", "restitution E", "restitution between particles",
+     HELP_RESTITUTION, do_restitution, do_restitution},
     {"restitution_wall", NULL, "r(0,1]", "restitution_wall E", "restitution at walls",
-     HELP_RESTITUTION_WALL, do_restitution_wall, do_restitution_wall},
-    {"timestep", NULL, "s", "timestep auto|DT", "the time step", HELP_TIMESTEP, do_timestep,
-     do_timestep},
+     HELP_RESTITUTION, do_restitution, do_restitution},
+    {"stiffness", NULL, "overlap=r(0,0.1] vimp=r>0 khat=r>0",
+     "stiffness [overlap=DF] [vimp=V] [khat=K]", "the contact stiffness",
+     HELP_STIFFNESS, do_stiffness, do_stiffness},
+    {"neighbours", NULL, "s", "neighbours cells|brute", "the neighbour search",
+     HELP_NEIGHBOURS, do_neighbours, do_neighbours},
+    {"timestep", NULL, "s nc=i>=20", "timestep auto|DT [nc=50]", "the time step",
+     HELP_TIMESTEP, do_timestep, do_timestep},
     {"classes", NULL, "i[2,1000] min=r>0 max=r>0", "classes K [min=A max=B]",
      "the Tromp size classes", HELP_CLASSES, do_classes, do_classes},
     {"run", NULL, "r>0", "run T", "advance the simulated time", HELP_RUN, do_run, do_run},

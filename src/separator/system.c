@@ -4,6 +4,8 @@
  * and the Tromp curve. */
 #include "mote/separator.h"
 
+#include "sep.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -21,7 +23,11 @@ void mote_sep_init(mote_sep_system *s)
     s->g = 9.81;
     s->coupling = 1;
     s->eps_gas_min = 0.35;
-    s->e_pw = 0.5;
+    s->e_pw = -1;
+    s->e_pp = 0.5;
+    s->dem = 1;
+    s->delta_f = 0.05;
+    s->nc = 50;
     s->t_stop = INFINITY;
     mote_rng_seed(&s->rng, 1);
 }
@@ -45,6 +51,13 @@ void mote_sep_free(mote_sep_system *s)
     free(s->cl_mc);
     free(s->cl_nf);
     free(s->cl_nc);
+    free(s->fx);
+    free(s->fy);
+    free(s->fz);
+    free(s->cell_start);
+    free(s->cell_idx);
+    free(s->back_s);
+    free(s->back_d);
     for (int k = 0; k < s->nsp; k++)
         mote_sep_dist_free(&s->sp[k].dist);
     memset(s, 0, sizeof *s);
@@ -134,9 +147,23 @@ int mote_sep_prepare(mote_sep_system *s, mote_err *err)
         if (!s->cl_mf || !s->cl_mc || !s->cl_nf || !s->cl_nc)
             return mote_fail(err, MOTE_ENOMEM, "separator: out of memory");
     }
-    /* the time step of the dilute mode: half a slice (the narrowest feature) per reference
-     * speed U0 + v_t(d_max) + |v_f| (spec 2.8) */
-    if (!(s->dt > 0)) {
+    /* the time step: with contacts, the contact time over N_c (spec 2.8), which a given step
+     * must not exceed; in the dilute mode half a slice (the narrowest feature) per reference
+     * speed U0 + v_t(d_max) + |v_f| */
+    if (s->dem) {
+        if (s->nc < 20)
+            return mote_fail(err, MOTE_EINVAL, "separator: N_c must be at least 20, found %d",
+                             s->nc);
+        s->khat_used = mote_sep_khat(s);
+        const double lim = mote_sep_dt_limit(s);
+        if (s->dt_user > lim)
+            return mote_fail(err, MOTE_EINVAL, "separator: the time step %g s is above the "
+                             "stability limit %.6g s of the contacts (t_c,min / N_c, spec 2.8)",
+                             s->dt_user, lim);
+        s->dt = s->dt_user > 0 ? s->dt_user : lim;
+    } else if (s->dt_user > 0) {
+        s->dt = s->dt_user;
+    } else {
         double vt = 0;
         for (int k = 0; k < s->nsp; k++)
             vt = fmax(vt, mote_sep_terminal_velocity(mote_sep_dist_max(&s->sp[k].dist),
@@ -176,30 +203,58 @@ static int grow(mote_sep_system *s, size_t need, mote_err *err)
     GROW(m);
     GROW(s);
     GROW(id);
+    GROW(fx);
+    GROW(fy);
+    GROW(fz);
 #undef GROW
     s->cap = cap;
     return MOTE_OK;
 }
 
-/* One new particle of species k: its size drawn first, then a position in the feed zone clear
- * of the walls (up to 100 tries; spec 2.5). 1 placed, 0 not (it is dropped: the dilute mode has
- * no backlog, since only walls can refuse it, which a zone wider than the particle never does). */
+static int place(mote_sep_system *s, int k, double d, mote_err *err);
+
+/* Draw a particle of species k (its size first) and place it; when it cannot be placed it
+ * waits in the backlog. *mass: its mass. */
 static int add_particle(mote_sep_system *s, int k, double *mass, mote_err *err)
 {
     const double d = mote_sep_dist_sample(&s->sp[k].dist, mote_rng_uniform(&s->rng));
+    *mass = s->sp[k].rho * SEP_PI * d * d * d / 6;
+    const int rc = place(s, k, d, err);
+    if (rc == 0) { /* the backlog */
+        if (s->nback == s->back_cap) {
+            const size_t cap = s->back_cap ? 2 * s->back_cap : 64;
+            int *bs = realloc(s->back_s, cap * sizeof *bs);
+            if (!bs)
+                return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the backlog");
+            s->back_s = bs;
+            double *bd = realloc(s->back_d, cap * sizeof *bd);
+            if (!bd)
+                return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the backlog");
+            s->back_d = bd;
+            s->back_cap = cap;
+        }
+        s->back_s[s->nback] = k;
+        s->back_d[s->nback++] = d;
+    }
+    return rc < 0 ? -1 : 1;
+}
+
+/* Place a particle of species k and diameter d in the feed zone: up to 100 tries, each clear
+ * of the walls and (DEM) of the other particles. 1 placed, 0 not, -1 error. */
+static int place(mote_sep_system *s, int k, double d, mote_err *err)
+{
     const double r = 0.5 * d, m = s->sp[k].rho * SEP_PI * d * d * d / 6;
     double dmin, dmax;
     mote_sep_size_range(s, &dmin, &dmax);
     const double hf = s->hf > 0 ? s->hf : 2 * dmax;
     const double x1 = s->fx2 > s->fx1 ? s->fx1 : 0, x2 = s->fx2 > s->fx1 ? s->fx2 : s->W;
     const double y1 = s->fy2 > s->fy1 ? s->fy1 : 0, y2 = s->fy2 > s->fy1 ? s->fy2 : s->D;
-    *mass = m;
     for (int tr = 0; tr < 100; tr++) {
         const double px = x1 + (x2 - x1) * mote_rng_uniform(&s->rng);
         const double py = s->dim == 3 ? y1 + (y2 - y1) * mote_rng_uniform(&s->rng) : 0;
         const double pz = s->zf - 0.5 * hf + hf * mote_rng_uniform(&s->rng);
         if (px < r || px > s->W - r || (s->dim == 3 && (py < r || py > s->D - r)) || pz < 0 ||
-            pz > s->H)
+            pz > s->H || (s->dem && sep_overlaps_any(s, px, py, pz, d)))
             continue;
         if (grow(s, s->n + 1, err))
             return -1;
@@ -214,6 +269,7 @@ static int add_particle(mote_sep_system *s, int k, double *mass, mote_err *err)
         s->m[i] = m;
         s->s[i] = k;
         s->id[i] = s->next_id++;
+        s->fx[i] = s->fy[i] = s->fz[i] = 0;
         s->cnt[k].fed++;
         s->cnt[k].m_fed += m;
         return 1;
@@ -224,12 +280,31 @@ static int add_particle(mote_sep_system *s, int k, double *mass, mote_err *err)
 int mote_sep_insert(mote_sep_system *s, int sp, uint64_t count, double mass, mote_err *err)
 {
     double done = 0, m;
+    if (s->dem && sep_cells_build(s, err))
+        return err->code;
     for (uint64_t k = 0; count ? k < count : done < mass; k++) {
         const int rc = add_particle(s, sp, &m, err);
         if (rc < 0)
             return err->code;
         done += m;
     }
+    return MOTE_OK;
+}
+
+/* Retry the backlog, oldest first; those placed leave it. */
+static int retry_backlog(mote_sep_system *s, mote_err *err)
+{
+    size_t keep = 0;
+    for (size_t b = 0; b < s->nback; b++) {
+        const int rc = place(s, s->back_s[b], s->back_d[b], err);
+        if (rc < 0)
+            return err->code;
+        if (rc == 0) {
+            s->back_s[keep] = s->back_s[b];
+            s->back_d[keep++] = s->back_d[b];
+        }
+    }
+    s->nback = keep;
     return MOTE_OK;
 }
 
@@ -368,12 +443,27 @@ static void remove_particle(mote_sep_system *s, size_t i)
     s->m[i] = s->m[l];
     s->s[i] = s->s[l];
     s->id[i] = s->id[l];
+    s->fx[i] = s->fx[l];
+    s->fy[i] = s->fy[l];
+    s->fz[i] = s->fz[l];
 }
 
 static int step(mote_sep_system *s, double dt, mote_err *err)
 {
-    /* drift: exact under drag, gravity and buoyancy with the gas of the last profile */
+    /* the half kick with the last contact forces (spec 2.10 step 1) */
+    if (s->dem)
+        for (size_t i = 0; i < s->n; i++) {
+            const double h = 0.5 * dt / s->m[i];
+            s->vx[i] += h * s->fx[i];
+            s->vy[i] += h * s->fy[i];
+            s->vz[i] += h * s->fz[i];
+        }
+    /* drift: exact under drag, gravity and buoyancy with the gas of the last profile; the
+     * largest displacement is watched (spec 2.8's guard: r_min / 4) */
+    double dmin, dmax, move2 = 0;
+    mote_sep_size_range(s, &dmin, &dmax);
     for (size_t i = 0; i < s->n; i++) {
+        const double x0 = s->x[i], y0 = s->y[i], z0 = s->z[i];
         const mote_sep_species *sp = &s->sp[s->s[i]];
         const double d = s->d[i];
         const double u = mote_sep_gas_at(s, s->z[i]);
@@ -391,8 +481,13 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
         if (s->dim == 3)
             drift1(&s->y[i], &s->vy[i], 0, 0, tau, dt);
         drift1(&s->z[i], &s->vz[i], u, a, tau, dt);
-        reflect(s, i);
+        const double ddx = s->x[i] - x0, ddy = s->y[i] - y0, ddz = s->z[i] - z0;
+        move2 = fmax(move2, ddx * ddx + ddy * ddy + ddz * ddz);
+        if (!s->dem)
+            reflect(s, i);
     }
+    if (move2 > 0.0625 * 0.25 * dmin * dmin)
+        s->fast_moves++;
     s->t += dt;
     s->steps++;
     /* exits and losses (spec 2.11) */
@@ -433,7 +528,12 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
         }
         remove_particle(s, i);
     }
-    /* the feed: each species' account keeps its mass share exact (spec 2.5) */
+    /* the feed: the backlog first, then each species' account keeps its mass share exact
+     * (spec 2.5); with contacts, placements are checked through cells built now */
+    if (s->dem && (s->nback || s->rate > 0) && sep_cells_build(s, err))
+        return err->code;
+    if (s->nback && retry_backlog(s, err))
+        return err->code;
     if (s->rate > 0 && s->t > s->t_start) {
         const double te = fmin(s->t, s->t_stop) - s->t_start;
         for (int k = 0; k < s->nsp; k++) {
@@ -445,6 +545,18 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
                     return err->code;
                 s->cnt[k].m_gen += m;
             }
+        }
+    }
+    /* the contacts from the new positions and the second half kick (steps 5-7) */
+    if (s->dem) {
+        const int rc = sep_contact_forces(s, dt, err);
+        if (rc)
+            return rc;
+        for (size_t i = 0; i < s->n; i++) {
+            const double h = 0.5 * dt / s->m[i];
+            s->vx[i] += h * s->fx[i];
+            s->vy[i] += h * s->fy[i];
+            s->vz[i] += h * s->fz[i];
         }
     }
     mote_sep_gas_update(s);

@@ -1,0 +1,333 @@
+/* dem.c: the separator's soft-sphere contacts (specs/separator.md 2.8, 2.9): a uniform cell
+ * grid with edges of at least d_max, rebuilt every step by counting sort; the pair loop over a
+ * half stencil (each pair once); linear spring-dashpot forces between particles and with the
+ * side walls and closed ends, frictionless; the stiffness from an allowed overlap and the time
+ * step from the shortest contact. */
+#include "mote/separator.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sep.h"
+
+#define SEP_PI 3.14159265358979323846
+
+/* zeta(e) = -ln e / sqrt(pi^2 + ln^2 e): the damping ratio giving restitution e */
+static double zeta_of(double e)
+{
+    const double l = log(e);
+    return -l / sqrt(SEP_PI * SEP_PI + l * l);
+}
+
+double mote_sep_khat(const mote_sep_system *s)
+{
+    if (s->khat > 0)
+        return s->khat;
+    double rho_max = 0, vt = 0, dmin, dmax;
+    mote_sep_size_range(s, &dmin, &dmax);
+    for (int k = 0; k < s->nsp; k++) {
+        rho_max = fmax(rho_max, s->sp[k].rho);
+        const double v = mote_sep_terminal_velocity(mote_sep_dist_max(&s->sp[k].dist),
+                                                    s->sp[k].rho, s->rho_g, s->mu_g, s->g, NULL);
+        if (isfinite(v))
+            vt = fmax(vt, v);
+    }
+    const double vf = sqrt(s->vf[0] * s->vf[0] + s->vf[1] * s->vf[1] + s->vf[2] * s->vf[2]);
+    double vimp = s->v_imp > 0 ? s->v_imp : fmax(fmax(s->U0, vt), vf);
+    if (!(vimp > 0))
+        vimp = 1; /* nothing moves: any stiffness; 1 m/s */
+    const double df = s->delta_f > 0 ? s->delta_f : 0.05;
+    return SEP_PI * rho_max * vimp * vimp / (6 * df * df);
+}
+
+double mote_sep_dt_limit(const mote_sep_system *s)
+{
+    double rho_min = INFINITY, dmin, dmax;
+    mote_sep_size_range(s, &dmin, &dmax);
+    for (int k = 0; k < s->nsp; k++)
+        rho_min = fmin(rho_min, s->sp[k].rho);
+    const double w2 = 12 * mote_sep_khat(s) / (SEP_PI * rho_min * dmin * dmin);
+    return SEP_PI / sqrt(w2) / (s->nc > 0 ? s->nc : 50);
+}
+
+/* ---- cells ---------------------------------------------------------------------------------- */
+
+int sep_cells_build(mote_sep_system *s, mote_err *err)
+{
+    double dmin, dmax;
+    mote_sep_size_range(s, &dmin, &dmax);
+    const double h = dmax;
+    s->cx = (int)fmax(1, floor(s->W / h));
+    s->cz = (int)fmax(1, floor(s->H / h));
+    s->cy = s->dim == 3 ? (int)fmax(1, floor(s->D / h)) : 1;
+    s->hx = s->W / s->cx;
+    s->hz = s->H / s->cz;
+    s->hy = s->dim == 3 ? s->D / s->cy : 1;
+    const size_t nc = (size_t)s->cx * (size_t)s->cy * (size_t)s->cz;
+    if (nc + 1 > s->ncell_cap) {
+        uint32_t *p = realloc(s->cell_start, (nc + 1) * sizeof *p);
+        if (!p)
+            return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for %zu cells", nc);
+        s->cell_start = p;
+        s->ncell_cap = nc + 1;
+    }
+    uint32_t *idx = realloc(s->cell_idx, (s->n ? s->n : 1) * sizeof *idx);
+    if (!idx)
+        return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the cell lists");
+    s->cell_idx = idx;
+    memset(s->cell_start, 0, (nc + 1) * sizeof *s->cell_start);
+    for (size_t i = 0; i < s->n; i++)
+        s->cell_start[sep_cell_of(s, i) + 1]++;
+    for (size_t c = 0; c < nc; c++)
+        s->cell_start[c + 1] += s->cell_start[c];
+    /* scatter: a second pass with running offsets (cell_start[c] counts up to cell c + 1's
+     * start, then is restored) */
+    for (size_t i = 0; i < s->n; i++) {
+        const size_t c = sep_cell_of(s, i);
+        s->cell_idx[s->cell_start[c]++] = (uint32_t)i;
+    }
+    for (size_t c = nc; c > 0; c--)
+        s->cell_start[c] = s->cell_start[c - 1];
+    s->cell_start[0] = 0;
+    s->n_built = s->n;
+    s->built_step = s->steps + 1;
+    return MOTE_OK;
+}
+
+int sep_overlaps_any(const mote_sep_system *s, double px, double py, double pz, double d)
+{
+#define SEP_TEST(j)                                                                               \
+    do {                                                                                          \
+        const double dx_ = s->x[j] - px, dy_ = s->dim == 3 ? s->y[j] - py : 0, dz_ = s->z[j] - pz; \
+        const double R_ = 0.5 * (d + s->d[j]);                                                    \
+        if (dx_ * dx_ + dy_ * dy_ + dz_ * dz_ < R_ * R_)                                          \
+            return 1;                                                                             \
+    } while (0)
+    /* the particles added since the cells were built, one by one */
+    for (size_t j = s->n_built; j < s->n; j++)
+        SEP_TEST(j);
+    /* the rest through the cells around the point (their edges are at least d_max) */
+    int ix = (int)(px / s->hx), iz = (int)(pz / s->hz), iy = 0;
+    ix = ix < 0 ? 0 : ix >= s->cx ? s->cx - 1 : ix;
+    iz = iz < 0 ? 0 : iz >= s->cz ? s->cz - 1 : iz;
+    if (s->dim == 3) {
+        iy = (int)(py / s->hy);
+        iy = iy < 0 ? 0 : iy >= s->cy ? s->cy - 1 : iy;
+    }
+    for (int jz = iz - 1; jz <= iz + 1; jz++)
+        for (int jy = iy - 1; jy <= iy + 1; jy++)
+            for (int jx = ix - 1; jx <= ix + 1; jx++) {
+                if (jx < 0 || jx >= s->cx || jy < 0 || jy >= s->cy || jz < 0 || jz >= s->cz)
+                    continue;
+                const size_t c = ((size_t)jz * (size_t)s->cy + (size_t)jy) * (size_t)s->cx + (size_t)jx;
+                for (uint32_t p = s->cell_start[c]; p < s->cell_start[c + 1]; p++)
+                    SEP_TEST(s->cell_idx[p]);
+            }
+#undef SEP_TEST
+    return 0;
+}
+
+size_t sep_cell_of(const mote_sep_system *s, size_t i)
+{
+    int ix = (int)(s->x[i] / s->hx), iz = (int)(s->z[i] / s->hz), iy = 0;
+    ix = ix < 0 ? 0 : ix >= s->cx ? s->cx - 1 : ix;
+    iz = iz < 0 ? 0 : iz >= s->cz ? s->cz - 1 : iz;
+    if (s->dim == 3) {
+        iy = (int)(s->y[i] / s->hy);
+        iy = iy < 0 ? 0 : iy >= s->cy ? s->cy - 1 : iy;
+    }
+    return ((size_t)iz * (size_t)s->cy + (size_t)iy) * (size_t)s->cx + (size_t)ix;
+}
+
+/* The overlap test, one expression for the cells and brute force (spec 2.9: the same floating
+ * point), and the pair's distance vector and squared distance. */
+static int overlap(const mote_sep_system *s, size_t i, size_t j, double dx[3], double *d2)
+{
+    dx[0] = s->x[j] - s->x[i];
+    dx[1] = s->dim == 3 ? s->y[j] - s->y[i] : 0;
+    dx[2] = s->z[j] - s->z[i];
+    *d2 = dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2];
+    const double R = 0.5 * (s->d[i] + s->d[j]);
+    return *d2 < R * R;
+}
+
+/* Call fn(s, i, j, dx, d2, ctx) for each pair in contact, i and j in any order, each once. */
+typedef void (*pair_fn)(mote_sep_system *s, size_t i, size_t j, const double dx[3], double d2,
+                        void *ctx);
+
+static void each_pair(mote_sep_system *s, int brute, pair_fn fn, void *ctx)
+{
+    double dx[3], d2;
+    if (brute) {
+        for (size_t i = 0; i < s->n; i++)
+            for (size_t j = i + 1; j < s->n; j++)
+                if (overlap(s, i, j, dx, &d2))
+                    fn(s, i, j, dx, d2, ctx);
+        return;
+    }
+    /* the half stencil: the own cell (pairs within it once), then the forward neighbours:
+     * 4 in 2D, 13 in 3D */
+    static const int st2[4][3] = {{1, 0, 0}, {-1, 0, 1}, {0, 0, 1}, {1, 0, 1}};
+    int st3[13][3], n3 = 0;
+    for (int dz = 0; dz <= 1; dz++)
+        for (int dy = -1; dy <= 1; dy++)
+            for (int dxx = -1; dxx <= 1; dxx++) {
+                const int fwd = dz > 0 || (dz == 0 && (dy > 0 || (dy == 0 && dxx > 0)));
+                if (fwd) {
+                    st3[n3][0] = dxx;
+                    st3[n3][1] = dy;
+                    st3[n3][2] = dz;
+                    n3++;
+                }
+            }
+    const int ns = s->dim == 3 ? 13 : 4;
+    for (int iz = 0; iz < s->cz; iz++)
+        for (int iy = 0; iy < s->cy; iy++)
+            for (int ix = 0; ix < s->cx; ix++) {
+                const size_t c = ((size_t)iz * (size_t)s->cy + (size_t)iy) * (size_t)s->cx + (size_t)ix;
+                const uint32_t a0 = s->cell_start[c], a1 = s->cell_start[c + 1];
+                for (uint32_t p = a0; p < a1; p++)
+                    for (uint32_t q = p + 1; q < a1; q++)
+                        if (overlap(s, s->cell_idx[p], s->cell_idx[q], dx, &d2))
+                            fn(s, s->cell_idx[p], s->cell_idx[q], dx, d2, ctx);
+                for (int k = 0; k < ns; k++) {
+                    const int *o = s->dim == 3 ? st3[k] : st2[k];
+                    const int jx = ix + o[0], jy = iy + o[1], jz = iz + o[2];
+                    if (jx < 0 || jx >= s->cx || jy < 0 || jy >= s->cy || jz >= s->cz)
+                        continue;
+                    const size_t c2 = ((size_t)jz * (size_t)s->cy + (size_t)jy) * (size_t)s->cx + (size_t)jx;
+                    const uint32_t b0 = s->cell_start[c2], b1 = s->cell_start[c2 + 1];
+                    for (uint32_t p = a0; p < a1; p++)
+                        for (uint32_t q = b0; q < b1; q++)
+                            if (overlap(s, s->cell_idx[p], s->cell_idx[q], dx, &d2))
+                                fn(s, s->cell_idx[p], s->cell_idx[q], dx, d2, ctx);
+                }
+            }
+}
+
+typedef struct {
+    uint32_t *pairs;
+    size_t n, cap;
+} pair_list;
+
+static void collect(mote_sep_system *s, size_t i, size_t j, const double dx[3], double d2,
+                    void *ctx)
+{
+    (void)s;
+    (void)dx;
+    (void)d2;
+    pair_list *l = ctx;
+    if (l->n < l->cap) {
+        l->pairs[2 * l->n] = (uint32_t)(i < j ? i : j);
+        l->pairs[2 * l->n + 1] = (uint32_t)(i < j ? j : i);
+    }
+    l->n++;
+}
+
+static int cmp_pair(const void *a, const void *b)
+{
+    const uint32_t *x = a, *y = b;
+    return x[0] != y[0] ? (x[0] > y[0]) - (x[0] < y[0]) : (x[1] > y[1]) - (x[1] < y[1]);
+}
+
+size_t mote_sep_pairs(mote_sep_system *s, int brute, uint32_t *pairs, size_t cap)
+{
+    mote_err err;
+    if (!brute && sep_cells_build(s, &err))
+        return 0;
+    pair_list l = {pairs, 0, cap};
+    each_pair(s, brute, collect, &l);
+    qsort(pairs, l.n < cap ? l.n : cap, 2 * sizeof *pairs, cmp_pair);
+    return l.n;
+}
+
+/* ---- forces --------------------------------------------------------------------------------- */
+
+typedef struct {
+    double khat, g_pp, half_dt; /* g_pp: 2 zeta(e_pp) */
+    double *pvx, *pvy, *pvz;    /* predicted velocities */
+} force_ctx;
+
+static void pair_force(mote_sep_system *s, size_t i, size_t j, const double dx[3], double d2,
+                       void *vctx)
+{
+    force_ctx *c = vctx;
+    const double dist = sqrt(d2), R = 0.5 * (s->d[i] + s->d[j]);
+    if (!(dist > 0))
+        return; /* coincident centres: no direction (the feed never makes them) */
+    const double delta = R - dist;
+    const double n[3] = {dx[0] / dist, dx[1] / dist, dx[2] / dist};
+    const double vn = (c->pvx[i] - c->pvx[j]) * n[0] + (c->pvy[i] - c->pvy[j]) * n[1] +
+                      (c->pvz[i] - c->pvz[j]) * n[2];
+    const double dbar = 2 * s->d[i] * s->d[j] / (s->d[i] + s->d[j]);
+    const double k = c->khat * dbar, mij = s->m[i] * s->m[j] / (s->m[i] + s->m[j]);
+    const double F = k * delta + c->g_pp * sqrt(mij * k) * vn;
+    s->fx[j] += F * n[0];
+    s->fy[j] += F * n[1];
+    s->fz[j] += F * n[2];
+    s->fx[i] -= F * n[0];
+    s->fy[i] -= F * n[1];
+    s->fz[i] -= F * n[2];
+    s->max_overlap = fmax(s->max_overlap, delta / fmin(s->d[i], s->d[j]));
+    s->contacts_pp++;
+}
+
+/* The contact forces of every particle from the current positions; the dashpots with the
+ * predicted velocities v + dt/2 F_old/m (spec 2.10 step 6). */
+int sep_contact_forces(mote_sep_system *s, double dt, mote_err *err)
+{
+    const size_t n = s->n;
+    double *pv = malloc(3 * (n ? n : 1) * sizeof *pv);
+    if (!pv)
+        return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the contacts");
+    force_ctx c = {.khat = s->khat_used,
+                   .g_pp = s->e_pp < 1 ? 2 * zeta_of(s->e_pp) : 0,
+                   .half_dt = 0.5 * dt,
+                   .pvx = pv,
+                   .pvy = pv + n,
+                   .pvz = pv + 2 * n};
+    for (size_t i = 0; i < n; i++) {
+        const double h = 0.5 * dt / s->m[i];
+        c.pvx[i] = s->vx[i] + h * s->fx[i];
+        c.pvy[i] = s->vy[i] + h * s->fy[i];
+        c.pvz[i] = s->vz[i] + h * s->fz[i];
+        s->fx[i] = s->fy[i] = s->fz[i] = 0;
+    }
+    s->contacts_pp = 0;
+    /* the cells as built for this step's feed serve when nothing was added since */
+    if (!s->brute && !(s->built_step == s->steps + 1 && s->n_built == s->n)) {
+        int rc = sep_cells_build(s, err);
+        if (rc) {
+            free(pv);
+            return rc;
+        }
+    }
+    each_pair(s, s->brute, pair_force, &c);
+    /* walls and closed ends: k = k_hat d, m = m_i, the wall at rest */
+    const double e_w = s->e_pw >= 0 ? s->e_pw : s->e_pp, g_w = e_w < 1 ? 2 * zeta_of(e_w) : 0;
+    const double hi[3] = {s->W, s->D, s->H};
+    for (size_t i = 0; i < n; i++) {
+        const double r = 0.5 * s->d[i], k = c.khat * s->d[i], gam = g_w * sqrt(s->m[i] * k);
+        double *pos[3] = {&s->x[i], &s->y[i], &s->z[i]};
+        double *F[3] = {&s->fx[i], &s->fy[i], &s->fz[i]};
+        const double pvel[3] = {c.pvx[i], c.pvy[i], c.pvz[i]};
+        for (int a = 0; a < 3; a++) {
+            if (a == 1 && s->dim == 2)
+                continue;
+            const int lo_wall = a < 2 || !s->open_bottom, hi_wall = a < 2 || !s->open_top;
+            double delta = r - *pos[a];
+            if (lo_wall && delta > 0) { /* the wall's normal +a; approach rate -v_a */
+                *F[a] += k * delta + gam * -pvel[a];
+                s->max_overlap = fmax(s->max_overlap, delta / s->d[i]);
+            }
+            delta = *pos[a] + r - hi[a];
+            if (hi_wall && delta > 0) { /* normal -a; approach rate +v_a */
+                *F[a] -= k * delta + gam * pvel[a];
+                s->max_overlap = fmax(s->max_overlap, delta / s->d[i]);
+            }
+        }
+    }
+    free(pv);
+    return MOTE_OK;
+}
