@@ -1,7 +1,8 @@
 /* test_sep_dem.c: the separator's contacts against specs/separator.md section 4: V3 (the cell
  * search finds exactly the pairs brute force finds), V4a (momentum), V4b (energy of elastic
  * binary collisions), V4c (many-body elastic energy), V4d (restitution of binary and wall
- * collisions), V4e (the overlap bound), V5 (the balance in a dense feed with a backlog). */
+ * collisions), V4e (the overlap bound), V5 (the balance in a dense feed with a backlog), V9
+ * (grids). */
 #include "mote/separator.h"
 
 #include <math.h>
@@ -398,6 +399,110 @@ static void test_backlog(void)
 
 /* Usage: test_sep_dem [NAME]: all tests, or the one named (pairs, momentum, elastic,
  * restitution, many_body, backlog). */
+/* A particle of diameter d in still air over a plate at z 0.01 ... 0.0105 m of a channel
+ * 5 mm across (3D: 5 x 5 mm) with one square hole of side a centred at (xh, yh), or (a = 0) a
+ * hole at the side; v_imp 1 m/s. The particle starts at rest at (x, y, z). */
+static void plate_case(mote_sep_system *s, int dim, double d, double a, double x, double y,
+                       double z)
+{
+    mote_err err = {0};
+    mote_sep_init(s);
+    s->dim = dim;
+    s->W = s->D = 5e-3;
+    s->H = 0.03;
+    s->open_bottom = 0;
+    s->U0 = 0;
+    s->nsp = 1;
+    snprintf(s->sp[0].name, sizeof s->sp[0].name, "p");
+    s->sp[0].rho = 2500;
+    s->sp[0].w = 1;
+    /* sizes down to 0.4 d, so that a hole of 0.8 d passes the finest */
+    s->sp[0].dist = (mote_sep_dist){.type = MOTE_SEP_LOGUNIFORM, .lo = 0.4 * d, .hi = d};
+    CHECK(mote_sep_dist_build(&s->sp[0].dist, &err) == MOTE_OK, "dist: %s", err.msg);
+    s->sp[0].have_dist = 1;
+    s->zf = 0.02;
+    s->hf = 2e-3;
+    s->v_imp = 1;
+    const double c = 2.5e-3;
+    double h[4] = {c - 0.5 * a, c + 0.5 * a, c - 0.5 * a, c + 0.5 * a};
+    if (!(a > 0)) { /* a slot by the wall, away from the particle */
+        h[0] = 4e-3;
+        h[1] = 5e-3;
+        h[2] = 0;
+        h[3] = 5e-3;
+    }
+    CHECK(mote_sep_plate_list(&s->plate[0], 0.01, 0.5e-3, h, 1, &err) == MOTE_OK, "plate: %s",
+          err.msg);
+    s->nplate = 1;
+    CHECK(mote_sep_prepare(s, &err) == MOTE_OK, "prepare: %s", err.msg);
+    CHECK(mote_sep_insert(s, 0, 1, 0, &err) == MOTE_OK && s->n == 1, "insert: %s", err.msg);
+    s->x[0] = x;
+    s->y[0] = dim == 3 ? y : 0;
+    s->z[0] = z;
+    s->d[0] = d;
+    s->m[0] = s->cnt[0].m_fed = 2500 * PI * d * d * d / 6;
+}
+
+/* V9: a sphere on a square hole of side 0.8 d rests (no drift over 1 s; centred, the horizontal
+ * contact force is 0 to 1e-12); a sphere of 0.5 a over a hole of side a passes; a particle on
+ * solid plate rests at the static overlap m g' / (k_hat d) within 1%. In 2D and 3D. */
+static void test_grids(void)
+{
+    printf("V9: grids\n");
+    const double d = 1e-3, c = 2.5e-3, zt = 0.0105;
+    mote_err err = {0};
+    for (int dim = 2; dim <= 3; dim++) {
+        mote_sep_system s;
+        /* resting on the hole's edges */
+        plate_case(&s, dim, d, 0.8 * d, c, c, zt + 0.4 * d);
+        CHECK(mote_sep_run(&s, 0.5, &err) == MOTE_OK, "run: %s", err.msg);
+        const double x5 = s.x[0], y5 = s.y[0], z5 = s.z[0];
+        CHECK(mote_sep_run(&s, 0.5, &err) == MOTE_OK, "run: %s", err.msg);
+        const double drift = sqrt((s.x[0] - x5) * (s.x[0] - x5) + (s.y[0] - y5) * (s.y[0] - y5) +
+                                  (s.z[0] - z5) * (s.z[0] - z5));
+        const double fh = sqrt(s.fx[0] * s.fx[0] + s.fy[0] * s.fy[0]) / fabs(s.fz[0]);
+        /* the rest height: the centre above the edges' corner circle */
+        const double rest = zt + 0.3 * d; /* touching the faces' top edges at 0.4 d */
+        printf("  %dD on a hole of 0.8 d: z %.6g m (rest without overlap %.6g), drift over "
+               "0.5 s %.2e m, |F_h|/F_z %.2e, lost %llu\n", dim, s.z[0], rest, drift, fh,
+               (unsigned long long)s.cnt[0].lost);
+        CHECK(s.n == 1 && s.z[0] > zt && s.z[0] < rest && drift <= 1e-9 && fh <= 1e-12,
+              "V9 rests %dD: z %.6g drift %.3e fh %.3e", dim, s.z[0], drift, fh);
+        mote_sep_free(&s);
+        /* off centre it slides to the centre and stays */
+        plate_case(&s, dim, d, 0.8 * d, c + 0.05 * d, c - 0.03 * d, zt + 0.4 * d);
+        CHECK(mote_sep_run(&s, 0.5, &err) == MOTE_OK, "run: %s", err.msg);
+        const double xo = s.x[0], yo = s.y[0], zo = s.z[0];
+        CHECK(mote_sep_run(&s, 0.5, &err) == MOTE_OK, "run: %s", err.msg);
+        const double drift2 = sqrt((s.x[0] - xo) * (s.x[0] - xo) + (s.y[0] - yo) * (s.y[0] - yo) +
+                                   (s.z[0] - zo) * (s.z[0] - zo));
+        const double off = sqrt((s.x[0] - c) * (s.x[0] - c) + (dim == 3 ? (s.y[0] - c) * (s.y[0] - c) : 0));
+        printf("  %dD started off centre: %.2e m from the centre at 1 s, drift over the last "
+               "0.5 s %.2e m\n", dim, off, drift2);
+        CHECK(s.n == 1 && drift2 <= 1e-9 && off <= 1e-9, "V9 off centre %dD: %.3e %.3e", dim,
+              drift2, off);
+        mote_sep_free(&s);
+        /* passing: 0.5 a over a hole of side a */
+        plate_case(&s, dim, d, 2 * d, c, c, zt + d);
+        CHECK(mote_sep_run(&s, 0.03, &err) == MOTE_OK, "run: %s", err.msg);
+        printf("  %dD 0.5 a over a hole of a: z %.4g m after 0.03 s (plate at 0.01 m), largest "
+               "overlap %.3g\n", dim, s.z[0], s.max_overlap);
+        CHECK(s.n == 1 && s.z[0] < 0.01 - 0.5 * d && s.max_overlap == 0, "V9 passes %dD: z %.5g",
+              dim, s.z[0]);
+        mote_sep_free(&s);
+        /* on solid: the static overlap */
+        plate_case(&s, dim, d, 0, c, c, zt + 0.6 * d);
+        CHECK(mote_sep_run(&s, 1.0, &err) == MOTE_OK, "run: %s", err.msg);
+        const double gp = s.g * (1 - s.rho_g / 2500);
+        const double want = s.m[0] * gp / (s.khat_used * d), got = zt + 0.5 * d - s.z[0];
+        printf("  %dD on solid: overlap %.6g m, m g'/(k_hat d) = %.6g m (%+.2e; m %.4g d %.4g)\n",
+               dim, got, want, got / want - 1, s.m[0], s.d[0]);
+        CHECK(fabs(got / want - 1) <= 0.01, "V9 static overlap %dD: %.6g against %.6g", dim, got,
+              want);
+        mote_sep_free(&s);
+    }
+}
+
 int main(int argc, char **argv)
 {
     static const struct {
@@ -405,7 +510,8 @@ int main(int argc, char **argv)
         void (*fn)(void);
     } tests[] = {{"pairs", test_pairs},           {"momentum", test_momentum},
                  {"elastic", test_elastic},       {"restitution", test_restitution},
-                 {"many_body", test_many_body},   {"backlog", test_backlog}};
+                 {"many_body", test_many_body},   {"backlog", test_backlog},
+                 {"grids", test_grids}};
     for (size_t k = 0; k < sizeof tests / sizeof tests[0]; k++)
         if (argc < 2 || !strcmp(argv[1], tests[k].name))
             tests[k].fn();

@@ -32,5 +32,20 @@ expect 1 "b6.mote:5:1: error: run: no gas upflow" b6.mote "${S}channel 0.05 1\ns
 expect 1 "b7.mote:4:6: error: size: no species 'b'" b7.mote "${S}channel 0.05 1\nspecies a 2500\nsize b mono d=1e-4\n"
 expect 1 "b8.mote:3:8: error: size lognormal: give sigma=" b8.mote "${S}species a 2500\nsize a lognormal d50=1e-4 min=1e-5 max=1e-3\n"
 expect 1 "b9.mote:5:1: error: run: species a has no size distribution" b9.mote "${S}channel 0.05 1\ngas 1\nspecies a 2500\nrun 1\n"
+# grids: bad geometry, each located
+printf '0.001 0.002\n0.0015 0.003\n' > holes.txt
+expect 1 "g1.mote:3:1: error: grid 1: holes 1 and 2 overlap" g1.mote "${S}channel 0.05 1\ngrid 0.3 0.005 holes file=holes.txt\n"
+expect 1 "g2.mote:3:26: error: grid: a hole of 0.06 m is not narrower than the channel (0.05 m across)" g2.mote "${S}channel 0.05 1\ngrid 0.3 0.005 pattern a=0.06 p=0.1\n"
+expect 1 "g3.mote:8:1: error: run: grid 1: hole 1 is 0.0005 m wide, narrower than the finest particle (0.001 m): nothing could pass" g3.mote "${S}channel 0.05 1\ngas 1\nspecies a 2500\nsize a mono d=1e-3\ngrid 0.3 0.005 pattern a=0.5e-3 p=2e-3\nfeed z=0.5\nrun 1\n"
+expect 1 "g4.mote:9:1: error: run: grids 1 (0.3 ... 0.305 m) and 2 (0.302 ... 0.307 m) overlap" g4.mote "${S}channel 0.05 1\ngrid 0.3 0.005 pattern a=1e-3 p=2e-3\ngrid 0.302 0.005 pattern a=1e-3 p=2e-3\ngas 1\nspecies a 2500\nsize a mono d=1e-4\nfeed z=0.5\nrun 1\n"
+printf '0.001 0.002\n0.003 x\n' > holes2.txt
+expect 1 "g5.mote:3:1: error: holes2.txt:2: value 2 is not a finite number" g5.mote "${S}channel 0.05 1\ngrid 0.3 0.005 holes file=holes2.txt\n"
+expect 1 "g6.mote:3:27: error: grid: 'holes3.txt' does not exist and no earlier command writes it" g6.mote "${S}channel 0.05 1\ngrid 0.3 0.005 holes file=holes3.txt\n"
+expect 1 "g7.mote:3:6: error: grid: the plate 0.998 ... 1.008 m does not fit the channel (H = 1 m)" g7.mote "${S}channel 0.05 1\ngrid 0.998 0.01 pattern a=1e-3 p=2e-3\n"
+# a dilute run through a grid: particles reflect from the plate and its holes, none lost
+printf '%bchannel 0.05 1\ngas 1.0\ncollisions off\nspecies quartz 2500\nsize quartz loguniform min=75e-6 max=300e-6 basis=number\ngrid 0.3 0.005 pattern a=2e-3 p=4e-3 offset=1e-3\nfeed z=0.5\ninsert quartz 2000\nrun 10\n' "$S" > grid.mote
+"$MOTE" run grid.mote > out.txt 2> err.txt && ok || bad "grid.mote failed: $(cat err.txt)"
+grep -q '^grid 1: 1 pattern holes dropped for crossing a wall$' out.txt && ok || bad "dropped: $(cat out.txt)"
+grep -q '^t=10 .* fed=2000 fines=[1-9][0-9]* coarse=[1-9][0-9]* lost=0 ' out.txt && ok || bad "grid run: $(cat out.txt)"
 [ ! -e tromp_bad.csv ] && ok || bad "a failed script wrote a file"
 mote_test_end

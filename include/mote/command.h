@@ -75,7 +75,8 @@ typedef struct mote_cmd {
     const char *synopsis; /* e.g. "compress_left_wall eta dLmax K" */
     const char *summary;  /* one line for `mote help` */
     const char *help;     /* full documentation for `mote help CMD` */
-    /* Validation on a dry model: must not touch files or run dynamics. NULL = always valid. */
+    /* Validation on a dry model: must not write files or run dynamics (it may read an input that
+     * exists already, so that its errors come before anything runs). NULL = always valid. */
     int (*check)(void *model, const mote_call *c, mote_err *err);
     int (*run)(void *model, const mote_call *c, mote_err *err);
 } mote_cmd;

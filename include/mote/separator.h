@@ -50,6 +50,49 @@ double mote_sep_dist_sample(const mote_sep_dist *s, double u);
 double mote_sep_dist_min(const mote_sep_dist *s);
 double mote_sep_dist_max(const mote_sep_dist *s);
 
+/* ---- perforated grids (spec 2.4; plates.c) ---------------------------------------------------- */
+
+#define MOTE_SEP_MAX_PLATES 16
+
+/* A horizontal plate zb <= z <= zb + t pierced by rectangular holes [x1, x2] (x [y1, y2] in 3D). */
+typedef struct {
+    double zb, t;
+    size_t nh;
+    double *h;          /* 4 per hole: x1 x2 y1 y2 */
+    int listed;         /* from a file (else a pattern) */
+    long dropped;       /* pattern holes dropped for crossing a wall */
+    double phi;         /* open-area fraction (prepare) */
+    /* the bin index: about one hole per bin */
+    int nbx, nby;
+    double bwx, bwy;
+    uint32_t *bin_start, *bin_idx;
+} mote_sep_plate;
+
+/* A plate from a pattern: holes of size a (x, y) at off + i pitch, kept when wholly inside the
+ * cross-section W (x D). */
+int mote_sep_plate_pattern(mote_sep_plate *p, int dim, double W, double D, double zb, double t,
+                           const double a[2], const double pitch[2], const double off[2],
+                           mote_err *err);
+/* A plate from a list of nh holes (4 numbers each). */
+int mote_sep_plate_list(mote_sep_plate *p, double zb, double t, const double *h, size_t nh,
+                        mote_err *err);
+void mote_sep_plate_free(mote_sep_plate *p);
+/* Build the bin index (before hole_at, check and features). */
+int mote_sep_plate_index(mote_sep_plate *p, int dim, double W, double D, mote_err *err);
+/* Check a plate (number index for messages): inside the channel, holes non-empty, inside the
+ * walls, not overlapping, none narrower than dmin, at least one. */
+int mote_sep_plate_check(const mote_sep_plate *p, int index, int dim, double W, double D,
+                         double H, double dmin, mote_err *err);
+/* The open-area fraction. */
+double mote_sep_plate_open(const mote_sep_plate *p, int dim, double W, double D);
+/* The hole under (x, y), or -1 over solid. */
+long mote_sep_plate_hole_at(const mote_sep_plate *p, int dim, double x, double y);
+/* The contacts of a sphere of radius r centred at c with the plate: up to 4 features, each an
+ * overlap delta > 0 and the unit normal n from the plate to the centre; the count, or -1 when
+ * the centre is inside the solid. */
+int mote_sep_plate_features(const mote_sep_plate *p, int dim, const double c[3], double r,
+                            double delta[4], double n[4][3]);
+
 /* ---- the system ----------------------------------------------------------------------------- */
 
 typedef struct {
@@ -100,6 +143,8 @@ typedef struct {
     uint64_t contacts_pp;                /* particle contacts of the last step */
     int nsp;
     mote_sep_species sp[MOTE_SEP_MAX_SPECIES];
+    int nplate;
+    mote_sep_plate plate[MOTE_SEP_MAX_PLATES];
     /* the feed (spec 2.5): band centre and height (0: 2 d_max), mass rate, window, velocity */
     double zf, hf, rate, t_start, t_stop;
     double fx1, fx2, fy1, fy2;           /* window (fx2 <= fx1: the whole cross-section) */

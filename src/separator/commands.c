@@ -271,6 +271,128 @@ static int do_feed_fraction(void *vm, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
+/* The holes of a file: x1 x2 per row in 2D, x1 x2 y1 y2 in 3D (m). */
+static int read_holes(const char *path, int dim, double **out, size_t *nh, mote_err *err)
+{
+    mote_table t;
+    int rc = mote_table_read(&t, path, err);
+    if (rc)
+        return rc;
+    const int want = dim == 3 ? 4 : 2;
+    double *h = calloc(4 * (t.rows ? t.rows : 1), sizeof *h);
+    if (!h) {
+        mote_table_free(&t);
+        return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", path);
+    }
+    for (size_t r = 0; r < t.rows && !rc; r++) {
+        if (t.ncol[r] != want) {
+            rc = mote_fail(err, MOTE_EINVAL, "%s:%ld: expected %s (m), found %d value%s", path,
+                           t.line[r], dim == 3 ? "x1 x2 y1 y2" : "x1 x2", t.ncol[r],
+                           t.ncol[r] == 1 ? "" : "s");
+            break;
+        }
+        for (int q = 0; q < want; q++) {
+            const double v = mote_table_at(&t, r, q);
+            if (!isfinite(v)) {
+                rc = mote_fail(err, MOTE_EINVAL, "%s:%ld: value %d is not a finite number", path,
+                               t.line[r], q + 1);
+                break;
+            }
+            h[4 * r + q] = v;
+        }
+        if (!rc && !(h[4 * r + 1] > h[4 * r] && (dim < 3 || h[4 * r + 3] > h[4 * r + 2])))
+            rc = mote_fail(err, MOTE_EINVAL, "%s:%ld: a hole needs x1 < x2%s", path, t.line[r],
+                           dim == 3 ? " and y1 < y2" : "");
+    }
+    if (!rc && t.rows == 0)
+        rc = mote_fail(err, MOTE_EINVAL, "%s: no holes in the file", path);
+    *nh = t.rows;
+    mote_table_free(&t);
+    if (rc) {
+        free(h);
+        return rc;
+    }
+    *out = h;
+    return MOTE_OK;
+}
+
+/* `grid ZB T pattern a= p= [offset=] [a_y= p_y= offset_y=]` or `grid ZB T holes file=FILE`. */
+static int do_grid(void *vm, const mote_call *c, mote_err *err)
+{
+    sep_model *m = vm;
+    mote_sep_system *s = &m->sys;
+    if (!m->have_channel)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "grid: give the channel first");
+    if (s->nplate == MOTE_SEP_MAX_PLATES)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "grid: at most %d grids",
+                              MOTE_SEP_MAX_PLATES);
+    const double zb = c->args[0].r, t = c->args[1].r;
+    if (zb + t > s->H)
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "grid: the plate %g ... %g m does not fit "
+                              "the channel (H = %g m)", zb, zb + t, s->H);
+    const char *kind = c->args[2].text;
+    mote_sep_plate p;
+    mote_err e2 = {0};
+    int rc;
+    if (!strcmp(kind, "pattern")) {
+        const char *need[2] = {"a", "p"};
+        for (int q = 0; q < 2; q++)
+            if (!mote_call_opt(c, need[q]))
+                return mote_call_fail(err, c, 2, MOTE_EINVAL, "grid pattern: give %s=", need[q]);
+        if (mote_call_opt(c, "file"))
+            return mote_call_fail(err, c, mote_call_opt_index(c, "file"), MOTE_EINVAL,
+                                  "grid pattern: file= goes with holes");
+        if (s->dim == 2 && (mote_call_opt(c, "a_y") || mote_call_opt(c, "p_y") ||
+                            mote_call_opt(c, "offset_y")))
+            return mote_call_fail(err, c, 2, MOTE_EINVAL, "grid pattern: a_y=, p_y= and "
+                                  "offset_y= are for 3D");
+        const double a[2] = {mote_call_opt_r(c, "a", 0), mote_call_opt_r(c, "a_y", mote_call_opt_r(c, "a", 0))};
+        const double pp[2] = {mote_call_opt_r(c, "p", 0), mote_call_opt_r(c, "p_y", mote_call_opt_r(c, "p", 0))};
+        const double off[2] = {mote_call_opt_r(c, "offset", 0),
+                               mote_call_opt_r(c, "offset_y", mote_call_opt_r(c, "offset", 0))};
+        for (int q = 0; q < (s->dim == 3 ? 2 : 1); q++) {
+            const double across = q ? s->D : s->W;
+            if (a[q] >= across)
+                return mote_call_fail(err, c, mote_call_opt_index(c, q ? "a_y" : "a"),
+                                      MOTE_EINVAL, "grid: a hole of %g m is not narrower than "
+                                      "the channel (%g m across)", a[q], across);
+            if (!(pp[q] > a[q]))
+                return mote_call_fail(err, c, mote_call_opt_index(c, q ? "p_y" : "p"),
+                                      MOTE_EINVAL, "grid: the pitch (%g m) must exceed the hole "
+                                      "(%g m), or the holes would overlap", pp[q], a[q]);
+        }
+        rc = mote_sep_plate_pattern(&p, s->dim, s->W, s->D, zb, t, a, pp, off, &e2);
+    } else if (!strcmp(kind, "holes")) {
+        const mote_arg *f = mote_call_opt(c, "file");
+        if (!f)
+            return mote_call_fail(err, c, 2, MOTE_EINVAL, "grid holes: give file=FILE");
+        double *h = NULL;
+        size_t nh = 0;
+        rc = read_holes(f->path, s->dim, &h, &nh, &e2);
+        if (!rc)
+            rc = mote_sep_plate_list(&p, zb, t, h, nh, &e2);
+        free(h);
+    } else {
+        return mote_call_fail(err, c, 2, MOTE_EINVAL, "grid: expected pattern or holes, found "
+                              "'%s'", kind);
+    }
+    if (!rc) {
+        /* the geometry alone (the particle sizes are checked before the run) */
+        rc = mote_sep_plate_index(&p, s->dim, s->W, s->D, &e2);
+        if (!rc)
+            rc = mote_sep_plate_check(&p, s->nplate + 1, s->dim, s->W, s->D, s->H, 0, &e2);
+    }
+    if (rc) {
+        mote_sep_plate_free(&p);
+        return mote_call_fail(err, c, -1, e2.code, "%s", e2.msg);
+    }
+    s->plate[s->nplate++] = p;
+    if (m->log && p.dropped)
+        fprintf(m->log, "grid %d: %ld pattern holes dropped for crossing a wall\n", s->nplate,
+                p.dropped);
+    return MOTE_OK;
+}
+
 static int do_collisions(void *vm, const mote_call *c, mote_err *err)
 {
     const char *w = c->args[0].text;
@@ -506,6 +628,7 @@ static const char HELP_FEED_WINDOW[] = "    feed_window X1 X2\n\nThe feed's exte
 static const char HELP_FEED_VELOCITY[] = "    feed_velocity VX VZ\n\nThe velocity new particles start with (m/s; default 0).\n";
 static const char HELP_FEED_FRACTION[] = "    feed_fraction NAME W\n\nThe mass fraction of the feed a species makes (the fractions must sum to 1).\n";
 static const char HELP_INSERT[] = "    insert NAME COUNT\n    insert_mass NAME KG\n\nAdd a batch of a species in the feed band now: COUNT particles, or particles\nuntil their mass reaches KG.\n";
+static const char HELP_GRID[] = "    grid ZB T pattern a=A p=P [offset=O] [a_y= p_y= offset_y=]\n    grid ZB T holes file=FILE\n\nA perforated plate (spec 2.4) occupying ZB <= z <= ZB + T, pierced by\nrectangular holes: a pattern of holes of width A every P from the offset O\n(in 3D square A x A unless a_y, p_y, offset_y say otherwise; holes crossing a\nwall are dropped and counted), or the holes listed in FILE, one per line:\nx1 x2 (2D) or x1 x2 y1 y2 (3D), in metres. Holes must not overlap or cross a\nwall, none may be narrower than the finest particle, and plates must not\noverlap. Particles touch the plate's top and bottom faces over solid, and each\nside face of a hole when over it (a sphere on a square hole smaller than itself\nrests on four contacts); the gas in the holes moves at u_g / phi, phi the open\narea fraction. Any number of grids.\n";
 static const char HELP_COLLISIONS[] = "    collisions dem|off\n\ndem (the default): soft-sphere contacts (spec 2.8), frictionless linear\nspring-dashpots between particles (k = k_hat d_bar, d_bar = 2 d_i d_j/(d_i + d_j),\ngamma = 2 zeta(e) sqrt(m_ij k), zeta(e) = -ln e / sqrt(pi^2 + ln^2 e)) and with the\nside walls and closed ends (k = k_hat d_i, m_i), found through cell lists; the\nforce is not clamped at zero, so a pair's restitution is exactly e.\noff: particles ignore each other and reflect from walls and closed ends\n(position mirrored by (1 + e) times the overlap, normal velocity times -e), the\ndilute limit.\n";
 static const char HELP_RESTITUTION[] = "    restitution E\n    restitution_wall E\n\nThe restitution between particles (default 0.5) and at walls and closed ends\n(default: the particles' value); 0 < E <= 1.\n";
 static const char HELP_STIFFNESS[] = "    stiffness overlap=DF [vimp=V]\n    stiffness khat=K\n\nThe contact stiffness k_hat (N/m^2): given, or (the default, DF = 0.05) the one\nwith which the densest particle hitting a wall head-on at V overlaps DF of its\ndiameter: k_hat = pi rho_max V^2 / (6 DF^2), V by default max(U0, v_t(d_max),\n|v_f|). Halve DF to check that results do not depend on it.\n";
@@ -549,6 +672,8 @@ static const mote_cmd sep_commands[] = {
      do_insert, do_insert},
     {"insert_mass", NULL, "s r>0", "insert_mass NAME KG", "a batch by mass", HELP_INSERT,
      do_insert, do_insert},
+    {"grid", NULL, "r>=0 r>0 s a=r>0 p=r>0 offset=r>=0 a_y=r>0 p_y=r>0 offset_y=r>=0 file=f<holes",
+     "grid ZB T pattern|holes [options]", "a perforated plate", HELP_GRID, do_grid, do_grid},
     {"collisions", NULL, "s", "collisions dem|off", "the collision model", HELP_COLLISIONS,
      do_collisions, do_collisions},
     {"restitution", NULL, "r(0,1]", "restitution E", "restitution between particles",

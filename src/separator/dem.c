@@ -187,6 +187,8 @@ static void each_pair(mote_sep_system *s, int brute, pair_fn fn, void *ctx)
             for (int ix = 0; ix < s->cx; ix++) {
                 const size_t c = ((size_t)iz * (size_t)s->cy + (size_t)iy) * (size_t)s->cx + (size_t)ix;
                 const uint32_t a0 = s->cell_start[c], a1 = s->cell_start[c + 1];
+                if (a0 == a1)
+                    continue;
                 for (uint32_t p = a0; p < a1; p++)
                     for (uint32_t q = p + 1; q < a1; q++)
                         if (overlap(s, s->cell_idx[p], s->cell_idx[q], dx, &d2))
@@ -328,6 +330,24 @@ int sep_contact_forces(mote_sep_system *s, double dt, mote_err *err)
             }
         }
     }
+    /* plates: one contact per feature (a hole's side faces, or the top or bottom face) */
+    for (int q = 0; q < s->nplate; q++)
+        for (size_t i = 0; i < n; i++) {
+            const double r = 0.5 * s->d[i], c3[3] = {s->x[i], s->y[i], s->z[i]};
+            double delta[4], nrm[4][3];
+            const int nf = mote_sep_plate_features(&s->plate[q], s->dim, c3, r, delta, nrm);
+            if (nf <= 0)
+                continue;
+            const double k = c.khat * s->d[i], gam = g_w * sqrt(s->m[i] * k);
+            for (int f = 0; f < nf; f++) {
+                const double vn = c.pvx[i] * nrm[f][0] + c.pvy[i] * nrm[f][1] + c.pvz[i] * nrm[f][2];
+                const double F = k * delta[f] - gam * vn;
+                s->fx[i] += F * nrm[f][0];
+                s->fy[i] += F * nrm[f][1];
+                s->fz[i] += F * nrm[f][2];
+                s->max_overlap = fmax(s->max_overlap, delta[f] / s->d[i]);
+            }
+        }
     free(pv);
     return MOTE_OK;
 }

@@ -11,6 +11,8 @@ size_t sep_cell_of(const mote_sep_system *s, size_t i);
 /* Whether a particle of diameter d at (px, py, pz) would overlap one in the channel: through
  * the cells built after this step's exits, and the particles added since one by one. */
 int sep_overlaps_any(const mote_sep_system *s, double px, double py, double pz, double d);
+/* system.c: whether a sphere of radius r at (x, y, z) touches or is inside a plate. */
+int sep_touches_plate(const mote_sep_system *s, double x, double y, double z, double r);
 int sep_contact_forces(mote_sep_system *s, double dt, mote_err *err);
 
 #endif

@@ -60,6 +60,8 @@ void mote_sep_free(mote_sep_system *s)
     free(s->back_d);
     for (int k = 0; k < s->nsp; k++)
         mote_sep_dist_free(&s->sp[k].dist);
+    for (int k = 0; k < s->nplate; k++)
+        mote_sep_plate_free(&s->plate[k]);
     memset(s, 0, sizeof *s);
 }
 
@@ -114,6 +116,23 @@ int mote_sep_prepare(mote_sep_system *s, mote_err *err)
     if (dmax >= wmin)
         return mote_fail(err, MOTE_EINVAL, "separator: the largest particle (%g m) does not fit "
                          "the channel (%g m across)", dmax, wmin);
+    /* the grids: each checked, indexed, its open area; no two overlap */
+    for (int k = 0; k < s->nplate; k++) {
+        mote_sep_plate *p = &s->plate[k];
+        int rc = mote_sep_plate_index(p, s->dim, s->W, s->D, err);
+        if (!rc)
+            rc = mote_sep_plate_check(p, k + 1, s->dim, s->W, s->D, s->H, dmin, err);
+        if (rc)
+            return rc;
+        p->phi = mote_sep_plate_open(p, s->dim, s->W, s->D);
+        for (int j = 0; j < k; j++) {
+            const mote_sep_plate *q = &s->plate[j];
+            if (p->zb < q->zb + q->t && q->zb < p->zb + p->t)
+                return mote_fail(err, MOTE_EINVAL, "separator: grids %d (%g ... %g m) and %d (%g "
+                                 "... %g m) overlap", j + 1, q->zb, q->zb + q->t, k + 1, p->zb,
+                                 p->zb + p->t);
+        }
+    }
     /* slices: about 4 d_max each, 10 ... 1000 */
     int K = s->K;
     if (K <= 0)
@@ -171,7 +190,18 @@ int mote_sep_prepare(mote_sep_system *s, mote_err *err)
                                                      NULL));
         const double vref = s->U0 + (isfinite(vt) ? vt : 0) +
                             sqrt(s->vf[0] * s->vf[0] + s->vf[1] * s->vf[1] + s->vf[2] * s->vf[2]);
-        s->dt = vref > 0 ? 0.5 * s->dz / vref : 1e-3;
+        /* the narrowest feature: a slice, the thinnest plate, the narrowest hole */
+        double smin = s->dz;
+        for (int k = 0; k < s->nplate; k++) {
+            const mote_sep_plate *p = &s->plate[k];
+            smin = fmin(smin, p->t);
+            for (size_t h = 0; h < p->nh; h++) {
+                smin = fmin(smin, p->h[4 * h + 1] - p->h[4 * h]);
+                if (s->dim == 3)
+                    smin = fmin(smin, p->h[4 * h + 3] - p->h[4 * h + 2]);
+            }
+        }
+        s->dt = vref > 0 ? 0.5 * smin / vref : 1e-3;
     }
     mote_sep_gas_update(s);
     return MOTE_OK;
@@ -254,7 +284,8 @@ static int place(mote_sep_system *s, int k, double d, mote_err *err)
         const double py = s->dim == 3 ? y1 + (y2 - y1) * mote_rng_uniform(&s->rng) : 0;
         const double pz = s->zf - 0.5 * hf + hf * mote_rng_uniform(&s->rng);
         if (px < r || px > s->W - r || (s->dim == 3 && (py < r || py > s->D - r)) || pz < 0 ||
-            pz > s->H || (s->dem && sep_overlaps_any(s, px, py, pz, d)))
+            pz > s->H || sep_touches_plate(s, px, py, pz, r) ||
+            (s->dem && sep_overlaps_any(s, px, py, pz, d)))
             continue;
         if (grow(s, s->n + 1, err))
             return -1;
@@ -386,10 +417,82 @@ static void drift1(double *x, double *v, double u, double a, double tau, double 
     *v = u + dv0 * E + tau * a * omE;
 }
 
-/* Reflect particle i from the walls and closed ends (spec 2.8, collisions off). */
-static void reflect(mote_sep_system *s, size_t i)
+/* Whether a sphere of radius r at (x, y, z) touches or is inside a plate. */
+int sep_touches_plate(const mote_sep_system *s, double x, double y, double z, double r)
 {
-    const double r = 0.5 * s->d[i], e = s->e_pw;
+    const double c[3] = {x, y, z};
+    double delta[4], n[4][3];
+    for (int k = 0; k < s->nplate; k++)
+        if (mote_sep_plate_features(&s->plate[k], s->dim, c, r, delta, n) != 0)
+            return 1;
+    return 0;
+}
+
+/* The gas velocity a particle at height z feels: in a plate's holes u_g / phi. */
+static double gas_for(const mote_sep_system *s, double z)
+{
+    const double u = mote_sep_gas_at(s, z);
+    for (int k = 0; k < s->nplate; k++)
+        if (z >= s->plate[k].zb && z <= s->plate[k].zb + s->plate[k].t)
+            return u / s->plate[k].phi;
+    return u;
+}
+
+/* A centre that a dilute step carried into a plate's solid (from c0, outside it): the face it
+ * crossed, as one feature whose overlap is the radius plus the depth. 0 when c0 gives no
+ * answer (then the particle is lost). */
+static int crossed_face(const mote_sep_plate *p, int dim, const double c[3], const double c0[3],
+                        double r, double delta[4], double n[4][3])
+{
+    const double zt = p->zb + p->t;
+    n[0][0] = n[0][1] = n[0][2] = 0;
+    if (c0[2] >= zt || c0[2] <= p->zb) { /* from above or below */
+        const int top = c0[2] >= zt;
+        delta[0] = r + (top ? zt - c[2] : c[2] - p->zb);
+        n[0][2] = top ? 1 : -1;
+        return 1;
+    }
+    const long k = mote_sep_plate_hole_at(p, dim, c0[0], c0[1]);
+    if (k < 0)
+        return 0;
+    /* from inside a hole: the side face it is furthest beyond */
+    const double *h = p->h + 4 * k;
+    const double beyond[4] = {h[0] - c[0], c[0] - h[1], dim == 3 ? h[2] - c[1] : -1,
+                              dim == 3 ? c[1] - h[3] : -1};
+    int f = 0;
+    for (int q = 1; q < 4; q++)
+        if (beyond[q] > beyond[f])
+            f = q;
+    if (!(beyond[f] >= 0))
+        return 0;
+    delta[0] = r + beyond[f];
+    n[0][f / 2 == 0 ? 0 : 1] = f % 2 == 0 ? 1 : -1;
+    return 1;
+}
+
+/* Reflect particle i from the walls, closed ends and plates (spec 2.8, collisions off); (x0,
+ * y0, z0) is where the step began. */
+static void reflect(mote_sep_system *s, size_t i, double x0, double y0, double z0)
+{
+    const double r = 0.5 * s->d[i], e = s->e_pw >= 0 ? s->e_pw : s->e_pp;
+    for (int k = 0; k < s->nplate; k++) {
+        const double c[3] = {s->x[i], s->y[i], s->z[i]}, c0[3] = {x0, y0, z0};
+        double delta[4], n[4][3];
+        int nf = mote_sep_plate_features(&s->plate[k], s->dim, c, r, delta, n);
+        if (nf < 0)
+            nf = crossed_face(&s->plate[k], s->dim, c, c0, r, delta, n);
+        for (int f = 0; f < nf; f++) {
+            s->x[i] += (1 + e) * delta[f] * n[f][0];
+            s->y[i] += (1 + e) * delta[f] * n[f][1];
+            s->z[i] += (1 + e) * delta[f] * n[f][2];
+            const double vn = s->vx[i] * n[f][0] + s->vy[i] * n[f][1] + s->vz[i] * n[f][2];
+            if (vn < 0) {
+                s->vx[i] -= (1 + e) * vn * n[f][0];
+                s->vy[i] -= (1 + e) * vn * n[f][1];
+                s->vz[i] -= (1 + e) * vn * n[f][2];
+            }
+        }
+    }
     double *pos[3] = {&s->x[i], &s->y[i], &s->z[i]}, *vel[3] = {&s->vx[i], &s->vy[i], &s->vz[i]};
     const double hi[3] = {s->W, s->D, s->H};
     for (int a = 0; a < 3; a++) {
@@ -466,7 +569,7 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
         const double x0 = s->x[i], y0 = s->y[i], z0 = s->z[i];
         const mote_sep_species *sp = &s->sp[s->s[i]];
         const double d = s->d[i];
-        const double u = mote_sep_gas_at(s, s->z[i]);
+        const double u = gas_for(s, s->z[i]);
         const double a = -s->g * (1 - s->rho_g / sp->rho);
         double tau = INFINITY;
         if (s->mu_g > 0 && s->rho_g > 0) {
@@ -484,9 +587,9 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
         const double ddx = s->x[i] - x0, ddy = s->y[i] - y0, ddz = s->z[i] - z0;
         move2 = fmax(move2, ddx * ddx + ddy * ddy + ddz * ddz);
         if (!s->dem)
-            reflect(s, i);
+            reflect(s, i, x0, y0, z0);
     }
-    if (move2 > 0.0625 * 0.25 * dmin * dmin)
+    if (s->dem && move2 > 0.0625 * 0.25 * dmin * dmin)
         s->fast_moves++;
     s->t += dt;
     s->steps++;
@@ -498,9 +601,15 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
         if (!isfinite(s->x[i]) || !isfinite(s->y[i]) || !isfinite(s->z[i]) ||
             s->x[i] < -r || s->x[i] > s->W + r || (s->dim == 3 && (s->y[i] < -r || s->y[i] > s->D + r)))
             out = 3;
-        else if (s->open_top && s->z[i] > s->H)
+        for (int q = 0; q < s->nplate && !out; q++) { /* inside a plate's solid */
+            const mote_sep_plate *p = &s->plate[q];
+            if (s->z[i] >= p->zb && s->z[i] <= p->zb + p->t &&
+                mote_sep_plate_hole_at(p, s->dim, s->x[i], s->y[i]) < 0)
+                out = 3;
+        }
+        if (!out && s->open_top && s->z[i] > s->H)
             out = 1;
-        else if (s->open_bottom && s->z[i] < 0)
+        else if (!out && s->open_bottom && s->z[i] < 0)
             out = 2;
         if (!out) {
             i++;
