@@ -399,6 +399,47 @@ static void test_backlog(void)
 
 /* Usage: test_sep_dem [NAME]: all tests, or the one named (pairs, momentum, elastic,
  * restitution, many_body, backlog). */
+/* restitution_pair: species a and b with e_pp 0.9 and the pair (a, b) at 0.3: an a-b collision
+ * ends with 0.3, an a-a one with 0.9 (mean over 20 phases within 1%). */
+static void test_pair_restitution(void)
+{
+    printf("restitution_pair\n");
+    for (int same = 0; same <= 1; same++) {
+        double mean = 0;
+        for (int k = 0; k < 20; k++) {
+            mote_sep_system s;
+            mote_err err = {0};
+            vacuum_box(&s, 2, 0.01, 0.01, 0, 2500, (mote_sep_dist){.type = MOTE_SEP_MONO, .a = 1e-3});
+            s.nsp = 2;
+            s.sp[1] = s.sp[0];
+            snprintf(s.sp[1].name, sizeof s.sp[1].name, "b");
+            s.sp[0].w = s.sp[1].w = 0.5;
+            s.dem = 0;
+            s.zf = 0.005;
+            s.hf = 0.002;
+            s.e_pp = 0.9;
+            s.e_pair[0][1] = s.e_pair[1][0] = 0.3;
+            s.v_imp = 1;
+            CHECK(mote_sep_prepare(&s, &err) == MOTE_OK && mote_sep_insert(&s, 0, 1, 0, &err) == MOTE_OK &&
+                  mote_sep_insert(&s, same ? 0 : 1, 1, 0, &err) == MOTE_OK, "setup: %s", err.msg);
+            s.dem = 1;
+            CHECK(mote_sep_prepare(&s, &err) == MOTE_OK, "prepare: %s", err.msg);
+            s.x[0] = s.x[1] = 0.005;
+            s.z[0] = 0.004;
+            s.z[1] = 0.005 + 1.0 * (3 + (k + 0.5) / 20) * s.dt;
+            s.vz[0] = 0.5;
+            s.vz[1] = -0.5;
+            CHECK(mote_sep_run(&s, 200 * s.dt, &err) == MOTE_OK, "run: %s", err.msg);
+            mean += (s.vz[1] - s.vz[0]) / 20;
+            mote_sep_free(&s);
+        }
+        const double want = same ? 0.9 : 0.3;
+        printf("  %s: mean restitution %.5f (%.1f)\n", same ? "a-a" : "a-b", mean, want);
+        CHECK(fabs(mean / want - 1) <= 0.01, "pair restitution %s: %.5f", same ? "a-a" : "a-b",
+              mean);
+    }
+}
+
 /* A particle of diameter d in still air over a plate at z 0.01 ... 0.0105 m of a channel
  * 5 mm across (3D: 5 x 5 mm) with one square hole of side a centred at (xh, yh), or (a = 0) a
  * hole at the side; v_imp 1 m/s. The particle starts at rest at (x, y, z). */
@@ -511,7 +552,7 @@ int main(int argc, char **argv)
     } tests[] = {{"pairs", test_pairs},           {"momentum", test_momentum},
                  {"elastic", test_elastic},       {"restitution", test_restitution},
                  {"many_body", test_many_body},   {"backlog", test_backlog},
-                 {"grids", test_grids}};
+                 {"grids", test_grids},           {"pair", test_pair_restitution}};
     for (size_t k = 0; k < sizeof tests / sizeof tests[0]; k++)
         if (argc < 2 || !strcmp(argv[1], tests[k].name))
             tests[k].fn();

@@ -234,6 +234,83 @@ static void test_gas(void)
     mote_sep_free(&s);
 }
 
+/* V7: 3e4 free particles, gas at rest, no gravity, D given, h = dt/tau 0.1 and 10: the mean
+ * square displacement of each component is that of an Ornstein-Uhlenbeck velocity started at
+ * rest, 2Dt - D tau (3 - 4E + E^2) with E = exp(-t/tau) (2Dt for t >> tau), and the velocity
+ * variance D/tau (1 - E^2), each within 3%: three standard errors of a variance from 3e4
+ * Gaussian samples are 3 sqrt(2/3e4) = 2.4%. In 2D and 3D. The gas density is tiny so that
+ * the drag stays Stokes (tau constant, as the exact update assumes). */
+static void test_dispersion(void)
+{
+    printf("V7: dispersion\n");
+    const double hs[2] = {0.1, 10};
+    for (int dim = 2; dim <= 3; dim++)
+        for (int q = 0; q < 2; q++) {
+            mote_err err = {0};
+            mote_sep_system s;
+            mote_sep_init(&s);
+            s.dim = dim;
+            s.W = s.H = s.D = 10;
+            s.U0 = 0;
+            s.rho_g = 1e-6;
+            s.g = 0;
+            s.coupling = 0;
+            s.dem = 0;
+            s.nsp = 1;
+            snprintf(s.sp[0].name, sizeof s.sp[0].name, "p");
+            s.sp[0].rho = 2500;
+            s.sp[0].w = 1;
+            s.sp[0].dist = (mote_sep_dist){.type = MOTE_SEP_MONO, .a = 10e-6};
+            s.sp[0].have_dist = 1;
+            s.zf = 5;
+            s.hf = 1;
+            s.fx1 = 4.5;
+            s.fx2 = 5.5;
+            s.fy1 = 4.5;
+            s.fy2 = 5.5;
+            const double d = 10e-6, tau = 2500 * d * d / (18 * MU_G), D = 1e-4;
+            s.D_t = D;
+            s.dt_user = hs[q] * tau;
+            s.K = 10;
+            const size_t n = 30000;
+            CHECK(mote_sep_prepare(&s, &err) == MOTE_OK && mote_sep_insert(&s, 0, n, 0, &err) == MOTE_OK,
+                  "setup: %s", err.msg);
+            double *x0 = malloc(3 * n * sizeof *x0);
+            for (size_t i = 0; i < n; i++) {
+                x0[3 * i] = s.x[i];
+                x0[3 * i + 1] = s.y[i];
+                x0[3 * i + 2] = s.z[i];
+            }
+            const double T = 50 * tau;
+            CHECK(mote_sep_run(&s, T, &err) == MOTE_OK && s.n == n, "run: %s", err.msg);
+            const double E = exp(-T / tau);
+            const double msd_want = 2 * D * T - D * tau * (3 - 4 * E + E * E);
+            const double var_want = D / tau * (1 - E * E);
+            double worst_x = 0, worst_v = 0;
+            for (int a = 0; a < 3; a++) {
+                if (a == 1 && dim == 2)
+                    continue;
+                const double *p = a == 0 ? s.x : a == 1 ? s.y : s.z;
+                const double *v = a == 0 ? s.vx : a == 1 ? s.vy : s.vz;
+                double msd = 0, var = 0;
+                for (size_t i = 0; i < n; i++) {
+                    msd += (p[i] - x0[3 * i + a]) * (p[i] - x0[3 * i + a]);
+                    var += v[i] * v[i];
+                }
+                msd /= n;
+                var /= n;
+                worst_x = fmax(worst_x, fabs(msd / msd_want - 1));
+                worst_v = fmax(worst_v, fabs(var / var_want - 1));
+            }
+            printf("  %dD h %g: MSD worst component %.2f%% off, velocity variance %.2f%% off "
+                   "(3%% allowed)\n", dim, hs[q], 100 * worst_x, 100 * worst_v);
+            CHECK(worst_x <= 0.03 && worst_v <= 0.03, "V7 %dD h %g: %.4f %.4f", dim, hs[q],
+                  worst_x, worst_v);
+            free(x0);
+            mote_sep_free(&s);
+        }
+}
+
 int main(void)
 {
     test_reference();
@@ -241,5 +318,6 @@ int main(void)
     test_dilute_cut();
     test_sampling();
     test_gas();
+    test_dispersion();
     return test_summary();
 }

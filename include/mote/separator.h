@@ -117,6 +117,8 @@ typedef struct {
     int coupling;                        /* solids-fraction feedback on the gas */
     int K;                               /* slices (0: auto, about 4 d_max each) */
     double eps_gas_min, chi;             /* clamp on eps_g; hindered-drag exponent */
+    double D_t, T_gas;                   /* dispersion: turbulent coefficient (m^2/s), gas
+                                          * temperature for Brownian diffusion (K; 0: none) */
     double e_pw;                         /* restitution at walls (-1: e_pp) */
     double dt_user;                      /* the time step asked for (0: auto) */
     double dt;                           /* the time step in use (prepare) */
@@ -128,6 +130,7 @@ typedef struct {
      * from the overlap fraction delta_f at v_imp, 0: the default speed), contact-time steps */
     int dem, brute;
     double e_pp, khat, delta_f, v_imp;
+    double e_pair[MOTE_SEP_MAX_SPECIES][MOTE_SEP_MAX_SPECIES]; /* overrides of e_pp (0: none) */
     int nc;
     double khat_used;                    /* the stiffness in use (prepare) */
     double *fx, *fy, *fz;                /* last contact forces, per particle */

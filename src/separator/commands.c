@@ -152,6 +152,16 @@ static int do_hindered(void *vm, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
+static int do_dispersion(void *vm, const mote_call *c, mote_err *err)
+{
+    mote_sep_system *s = &((sep_model *)vm)->sys;
+    if (!strcmp(c->name, "brownian"))
+        s->T_gas = c->args[0].r;
+    else
+        s->D_t = c->args[0].r;
+    return MOTE_OK;
+}
+
 static int do_species(void *vm, const mote_call *c, mote_err *err)
 {
     sep_model *m = vm;
@@ -413,6 +423,20 @@ static int do_restitution(void *vm, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
+static int do_restitution_pair(void *vm, const mote_call *c, mote_err *err)
+{
+    mote_sep_system *s = &((sep_model *)vm)->sys;
+    int k[2];
+    for (int q = 0; q < 2; q++) {
+        k[q] = find_species(s, c->args[q].text);
+        if (k[q] < 0)
+            return mote_call_fail(err, c, q, MOTE_EINVAL, "restitution_pair: no species '%s'",
+                                  c->args[q].text);
+    }
+    s->e_pair[k[0]][k[1]] = s->e_pair[k[1]][k[0]] = c->args[2].r;
+    return MOTE_OK;
+}
+
 static int do_stiffness(void *vm, const mote_call *c, mote_err *err)
 {
     mote_sep_system *s = &((sep_model *)vm)->sys;
@@ -621,6 +645,7 @@ static const char HELP_COUPLING[] = "    coupling on|off\n\nWhether the solids f
 static const char HELP_SLICES[] = "    slices K\n\nThe axial resolution of the gas model: K slices (default about 4 d_max high,\n10 ... 1000).\n";
 static const char HELP_EPSMIN[] = "    eps_gas_min V\n\nThe smallest gas fraction the gas model uses (default 0.35).\n";
 static const char HELP_HINDERED[] = "    hindered CHI\n\nDrag multiplied by eps_g^-CHI (default 0; 2.65 is the usual choice).\n";
+static const char HELP_DISPERSION[] = "    dispersion D\n    brownian T\n\nRandom dispersion of the particles (spec 2.7): an Ornstein-Uhlenbeck velocity\nnoise with diffusion coefficient D = D_t + D_B, D_t given by `dispersion`\n(m^2/s, turbulent dispersion) and D_B = k_B T / (3 pi mu_g d) (Stokes-Einstein\nBrownian diffusion) when `brownian` gives the gas temperature T (K). Each\nvelocity component has the stationary variance D / tau; the update over a step\nis exact for any step against tau, so the long-time diffusion is D even when the\nstep is much longer than tau. 0 turns either off (the default). The noise is\ndrawn from the run's seeded stream in each step's drift, particle by particle.\n";
 static const char HELP_SPECIES[] = "    species NAME RHO\n\nA species of particles with material density RHO (kg/m^3). With one species\nit is the whole feed; with several give each a feed_fraction.\n";
 static const char HELP_SIZE[] = "    size NAME mono d=D\n    size NAME lognormal d50=D sigma=S min=A max=B [basis=mass|number]\n    size NAME rosin_rammler d=D n=N min=A max=B [basis=...]\n    size NAME loguniform min=A max=B [basis=...]\n\nThe size distribution of a species (spec 2.5; metres): log-normal with median\nd50 and geometric standard deviation sigma >= 1, Rosin-Rammler with d' (63.2%\nfiner) and n, or ln d uniform; truncated to [min, max] and renormalised; mass\nbasis by default (as sieve analyses). Particles are drawn one by one from the\nnumber-basis distribution, tabulated on 4096 nodes in ln d.\n(Decision: the parameters are options, not positions.)\n";
 static const char HELP_FEED[] = "    feed z=Z [hf=H] [rate=KG_S] [start=T] [stop=T]\n\nThe feed band z - hf/2 ... z + hf/2 (hf default 2 d_max) across the feed\nwindow, and a continuous mass rate (kg/s) from start to stop: each species'\nmass account keeps its share of the feed exact. Particles start at rest unless\nfeed_velocity says otherwise, uniformly placed in the band, clear of walls.\n";
@@ -630,7 +655,7 @@ static const char HELP_FEED_FRACTION[] = "    feed_fraction NAME W\n\nThe mass f
 static const char HELP_INSERT[] = "    insert NAME COUNT\n    insert_mass NAME KG\n\nAdd a batch of a species in the feed band now: COUNT particles, or particles\nuntil their mass reaches KG.\n";
 static const char HELP_GRID[] = "    grid ZB T pattern a=A p=P [offset=O] [a_y= p_y= offset_y=]\n    grid ZB T holes file=FILE\n\nA perforated plate (spec 2.4) occupying ZB <= z <= ZB + T, pierced by\nrectangular holes: a pattern of holes of width A every P from the offset O\n(in 3D square A x A unless a_y, p_y, offset_y say otherwise; holes crossing a\nwall are dropped and counted), or the holes listed in FILE, one per line:\nx1 x2 (2D) or x1 x2 y1 y2 (3D), in metres. Holes must not overlap or cross a\nwall, none may be narrower than the finest particle, and plates must not\noverlap. Particles touch the plate's top and bottom faces over solid, and each\nside face of a hole when over it (a sphere on a square hole smaller than itself\nrests on four contacts); the gas in the holes moves at u_g / phi, phi the open\narea fraction. Any number of grids.\n";
 static const char HELP_COLLISIONS[] = "    collisions dem|off\n\ndem (the default): soft-sphere contacts (spec 2.8), frictionless linear\nspring-dashpots between particles (k = k_hat d_bar, d_bar = 2 d_i d_j/(d_i + d_j),\ngamma = 2 zeta(e) sqrt(m_ij k), zeta(e) = -ln e / sqrt(pi^2 + ln^2 e)) and with the\nside walls and closed ends (k = k_hat d_i, m_i), found through cell lists; the\nforce is not clamped at zero, so a pair's restitution is exactly e.\noff: particles ignore each other and reflect from walls and closed ends\n(position mirrored by (1 + e) times the overlap, normal velocity times -e), the\ndilute limit.\n";
-static const char HELP_RESTITUTION[] = "    restitution E\n    restitution_wall E\n\nThe restitution between particles (default 0.5) and at walls and closed ends\n(default: the particles' value); 0 < E <= 1.\n";
+static const char HELP_RESTITUTION[] = "    restitution E\n    restitution_wall E\n    restitution_pair A B E\n\nThe restitution between particles (default 0.5), at walls, closed ends and\ngrids (default: the particles' value), and between particles of species A and B\n(overrides the particles' value for that pair; there is no mixing rule);\n0 < E <= 1.\n";
 static const char HELP_STIFFNESS[] = "    stiffness overlap=DF [vimp=V]\n    stiffness khat=K\n\nThe contact stiffness k_hat (N/m^2): given, or (the default, DF = 0.05) the one\nwith which the densest particle hitting a wall head-on at V overlaps DF of its\ndiameter: k_hat = pi rho_max V^2 / (6 DF^2), V by default max(U0, v_t(d_max),\n|v_f|). Halve DF to check that results do not depend on it.\n";
 static const char HELP_NEIGHBOURS[] = "    neighbours cells|brute\n\nThe neighbour search: a cell grid with edges of at least d_max, rebuilt every\nstep by counting sort, each pair visited once through a half stencil (cells,\nthe default), or all pairs (brute, for tests: the same overlap test, so the\nsame pairs).\n";
 static const char HELP_TIMESTEP[] = "    timestep auto [nc=50]\n    timestep DT\n\nThe time step (s). With contacts: the shortest contact time over N_c,\npi / omega_max / nc with omega_max^2 = 12 k_hat / (pi rho_min d_min^2) (spec 2.8);\na given step above it is an error, nc below 20 too. DEM runs are far from real\ntime: a coarser d_min, a larger overlap fraction or collisions off are the\nlevers. In the dilute mode: half a slice per reference speed\nU0 + v_t(d_max) + |v_f|. The drift under drag, gravity and buoyancy is exact\nfor any step (spec 2.10).\n";
@@ -656,6 +681,10 @@ static const mote_cmd sep_commands[] = {
      HELP_EPSMIN, do_eps_gas_min, do_eps_gas_min},
     {"hindered", NULL, "r>=0", "hindered CHI", "hindered-drag exponent", HELP_HINDERED,
      do_hindered, do_hindered},
+    {"dispersion", NULL, "r>=0", "dispersion D", "turbulent dispersion coefficient",
+     HELP_DISPERSION, do_dispersion, do_dispersion},
+    {"brownian", NULL, "r>=0", "brownian T", "Brownian diffusion at gas temperature T",
+     HELP_DISPERSION, do_dispersion, do_dispersion},
     {"species", NULL, "s r>0", "species NAME RHO", "a species", HELP_SPECIES, do_species,
      do_species},
     {"size", NULL, "s s d=r>0 d50=r>0 sigma=r>=1 n=r>0 min=r>0 max=r>0 basis=s",
@@ -680,6 +709,9 @@ static const mote_cmd sep_commands[] = {
      HELP_RESTITUTION, do_restitution, do_restitution},
     {"restitution_wall", NULL, "r(0,1]", "restitution_wall E", "restitution at walls",
      HELP_RESTITUTION, do_restitution, do_restitution},
+    {"restitution_pair", NULL, "s s r(0,1]", "restitution_pair A B E",
+     "restitution between two species", HELP_RESTITUTION, do_restitution_pair,
+     do_restitution_pair},
     {"stiffness", NULL, "overlap=r(0,0.1] vimp=r>0 khat=r>0",
      "stiffness [overlap=DF] [vimp=V] [khat=K]", "the contact stiffness",
      HELP_STIFFNESS, do_stiffness, do_stiffness},

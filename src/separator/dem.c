@@ -247,7 +247,8 @@ size_t mote_sep_pairs(mote_sep_system *s, int brute, uint32_t *pairs, size_t cap
 /* ---- forces --------------------------------------------------------------------------------- */
 
 typedef struct {
-    double khat, g_pp, half_dt; /* g_pp: 2 zeta(e_pp) */
+    double khat, half_dt;
+    double g_pp[MOTE_SEP_MAX_SPECIES * MOTE_SEP_MAX_SPECIES]; /* 2 zeta(e) per species pair */
     double *pvx, *pvy, *pvz;    /* predicted velocities */
 } force_ctx;
 
@@ -264,7 +265,7 @@ static void pair_force(mote_sep_system *s, size_t i, size_t j, const double dx[3
                       (c->pvz[i] - c->pvz[j]) * n[2];
     const double dbar = 2 * s->d[i] * s->d[j] / (s->d[i] + s->d[j]);
     const double k = c->khat * dbar, mij = s->m[i] * s->m[j] / (s->m[i] + s->m[j]);
-    const double F = k * delta + c->g_pp * sqrt(mij * k) * vn;
+    const double F = k * delta + c->g_pp[s->s[i] * MOTE_SEP_MAX_SPECIES + s->s[j]] * sqrt(mij * k) * vn;
     s->fx[j] += F * n[0];
     s->fy[j] += F * n[1];
     s->fz[j] += F * n[2];
@@ -283,12 +284,13 @@ int sep_contact_forces(mote_sep_system *s, double dt, mote_err *err)
     double *pv = malloc(3 * (n ? n : 1) * sizeof *pv);
     if (!pv)
         return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the contacts");
-    force_ctx c = {.khat = s->khat_used,
-                   .g_pp = s->e_pp < 1 ? 2 * zeta_of(s->e_pp) : 0,
-                   .half_dt = 0.5 * dt,
-                   .pvx = pv,
-                   .pvy = pv + n,
+    force_ctx c = {.khat = s->khat_used, .half_dt = 0.5 * dt, .pvx = pv, .pvy = pv + n,
                    .pvz = pv + 2 * n};
+    for (int a = 0; a < s->nsp; a++)
+        for (int b = 0; b < s->nsp; b++) {
+            const double e = s->e_pair[a][b] > 0 ? s->e_pair[a][b] : s->e_pp;
+            c.g_pp[a * MOTE_SEP_MAX_SPECIES + b] = e < 1 ? 2 * zeta_of(e) : 0;
+        }
     for (size_t i = 0; i < n; i++) {
         const double h = 0.5 * dt / s->m[i];
         c.pvx[i] = s->vx[i] + h * s->fx[i];

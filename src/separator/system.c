@@ -470,6 +470,35 @@ static int crossed_face(const mote_sep_plate *p, int dim, const double c[3], con
     return 1;
 }
 
+/* Two independent standard normal variates from two uniforms (Box-Muller: no spare is kept,
+ * so the generator's state is the whole state). */
+static void normal_pair(mote_rng *rng, double *a, double *b)
+{
+    const double u1 = mote_rng_uniform(rng), u2 = mote_rng_uniform(rng);
+    const double r = sqrt(-2 * log1p(-u1));
+    *a = r * cos(2 * SEP_PI * u2);
+    *b = r * sin(2 * SEP_PI * u2);
+}
+
+/* The Langevin kick of one component over dt (spec 2.10): the correlated Gaussian pair (dx, dv)
+ * of an Ornstein-Uhlenbeck velocity with stationary variance sig2 = D / tau, exact for any
+ * h = dt / tau. */
+static void disperse1(mote_rng *rng, double *x, double *v, double sig2, double tau, double dt)
+{
+    const double h = dt / tau, omE = -expm1(-h), E = 1 - omE;
+    const double var_v = sig2 * omE * (1 + E);
+    /* 2h - 3 + 4E - E^2, by its series for small h */
+    const double q = h < 1e-2 ? h * h * h * (2.0 / 3 - h / 2 + 7 * h * h / 30 - h * h * h / 12)
+                              : 2 * h - 3 + 4 * E - E * E;
+    const double var_x = sig2 * tau * tau * q, cov = sig2 * tau * omE * omE;
+    double a, b;
+    normal_pair(rng, &a, &b);
+    const double dv = sqrt(var_v) * a;
+    const double cond = fmax(var_x - cov * cov / var_v, 0);
+    *v += dv;
+    *x += cov / var_v * dv + sqrt(cond) * b;
+}
+
 /* Reflect particle i from the walls, closed ends and plates (spec 2.8, collisions off); (x0,
  * y0, z0) is where the step began. */
 static void reflect(mote_sep_system *s, size_t i, double x0, double y0, double z0)
@@ -584,6 +613,14 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
         if (s->dim == 3)
             drift1(&s->y[i], &s->vy[i], 0, 0, tau, dt);
         drift1(&s->z[i], &s->vz[i], u, a, tau, dt);
+        if ((s->D_t > 0 || s->T_gas > 0) && isfinite(tau)) {
+            /* D = D_t + D_B, D_B = k_B T / (3 pi mu_g d) (Stokes-Einstein) */
+            const double D = s->D_t + 1.380649e-23 * s->T_gas / (3 * SEP_PI * s->mu_g * d);
+            disperse1(&s->rng, &s->x[i], &s->vx[i], D / tau, tau, dt);
+            if (s->dim == 3)
+                disperse1(&s->rng, &s->y[i], &s->vy[i], D / tau, tau, dt);
+            disperse1(&s->rng, &s->z[i], &s->vz[i], D / tau, tau, dt);
+        }
         const double ddx = s->x[i] - x0, ddy = s->y[i] - y0, ddz = s->z[i] - z0;
         move2 = fmax(move2, ddx * ddx + ddy * ddy + ddz * ddz);
         if (!s->dem)
