@@ -17,6 +17,12 @@ command -v mpirun >/dev/null 2>&1 || need="$need openmpi-bin"
 /usr/bin/python3 -c 'import vtkmodules.vtkIOLegacy' >/dev/null 2>&1 || need="$need python3-vtk9"
 # ASE (Debian's python3), the independent reader of the extended XYZ files in the tests
 /usr/bin/python3 -c 'import ase.io' >/dev/null 2>&1 || need="$need python3-ase"
+# ffmpeg: the movies of the mixing-box and separator frames (made when it is on PATH; tested)
+command -v ffmpeg >/dev/null 2>&1 || need="$need ffmpeg"
+# `setup.sh bench`: also LIGGGHTS, the granular code the separator's benchmark runs side by side
+if [ "${1:-}" = bench ]; then
+    command -v liggghts >/dev/null 2>&1 || need="$need liggghts"
+fi
 # `setup.sh fuzz`: also clang with libFuzzer, for `make fuzz`
 if [ "${1:-}" = fuzz ]; then
     command -v clang >/dev/null 2>&1 || need="$need clang"

@@ -7,6 +7,8 @@
 #include "mote/core.h"
 
 #include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
 
 typedef struct {
     const double *x, *y; /* n points; a point with a NaN or infinite coordinate is skipped and
@@ -32,6 +34,17 @@ typedef struct {
     /* 1: one data unit is as long on both axes (orbits, paths); the frame takes the shape of
      * the ranges and the picture's longer side is `width` pixels */
     int equal_axes;
+    /* 1: a logarithmic x axis (points with x <= 0 are skipped; ticks 1-2-5 per decade) */
+    int xlog;
+    /* Vertical dashed marks at xmark[k] with their labels at the top (up to 8), e.g. a cut size */
+    int nxmark;
+    const double *xmark;
+    const char *const *xmark_label;
+    /* A short text in the frame's bottom-right corner (e.g. "kappa = 0.83"), or NULL */
+    const char *note;
+    /* Symmetric error bars: yerr[k] for series k (n values; NaN: none at a point), or NULL for
+     * none at all; a NULL entry: none on that series */
+    const double *const *yerr;
 } mote_plot_opts;
 
 /* Line plot of one or more series with axes, ticks, labels, title and a legend (placed in the
@@ -41,6 +54,18 @@ typedef struct {
  * UTF-8; with MOTE_EIO when the file cannot be written. The PNG is written atomically. */
 int mote_plot_png(const char *path, const mote_plot_opts *opts, const mote_series *series,
                   size_t nseries, mote_err *err);
+
+/* One panel of a picture of several plots side by side. */
+typedef struct {
+    mote_plot_opts opts;       /* width, height and equal_axes are set by the picture */
+    const mote_series *series;
+    size_t nseries;
+} mote_plot_panel;
+
+/* npanels (1 .. 8) plots side by side in one PNG of width x height pixels (0: 400 per panel x
+ * 650); each as mote_plot_png draws it. Written atomically. */
+int mote_plot_panels_png(const char *path, const mote_plot_panel *panels, int npanels,
+                         int width, int height, mote_err *err);
 
 typedef struct {
     const char *title;
@@ -78,6 +103,36 @@ typedef struct {
 int mote_surface_png(const char *path, const mote_surface_opts *o, const double *xy,
                      const double *depth, const double *value, const double *shade, size_t n,
                      mote_err *err);
+typedef struct {
+    const char *title, *xlabel, *ylabel;
+    const char *subtitle;      /* a line of text under the picture (time, counts), or NULL */
+    int height;                /* pixels of the frame's picture's longer side (0: 900) */
+    double xmin, xmax, ymin, ymax; /* the frame (data units), drawn to scale */
+    /* colour by value on viridis over [vmin, vmax] (vmax <= vmin: the values' range), log_scale
+     * for a logarithmic map; the bar's labels are value / bar_unit (0: 1) under bar_label */
+    double vmin, vmax;
+    int log_scale;
+    double bar_unit;
+    const char *bar_label;
+    /* or, when ncat > 0, value is a class 0 .. ncat - 1 named in a legend (up to 8) */
+    int ncat;
+    const char *const *cat_names;
+} mote_particles_opts;
+
+/* Particles in a walled frame, to scale: discs of radius r[i] at (x[i], y[i]) (at least one
+ * pixel across) coloured by value[i], drawn in the order given (sort them for depth), over the
+ * solid rectangles rects (x0 y0 x1 y1 each, grey); a colour bar or a legend, the title and axes,
+ * and the subtitle under it all. Written atomically. */
+int mote_particles_png(const char *path, const mote_particles_opts *o, const double *x,
+                       const double *y, const double *r, const double *value, size_t n,
+                       const double *rects, size_t nrect, mote_err *err);
+
+/* Run ffmpeg on PREFIX_%06d.png (the frames from 0 on) into out at fps frames per second (the
+ * container from out's extension; .gif without yuv420p); written through a temporary file.
+ * When ffmpeg is not on PATH, print the command to `diag` and return MOTE_OK with *ran = 0. */
+int mote_movie(const char *prefix, int64_t fps, const char *out, FILE *diag, int *ran,
+               mote_err *err);
+
 /* The viridis colour of t in [0, 1] (clamped). */
 void mote_viridis(double t, double rgb[3]);
 

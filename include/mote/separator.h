@@ -139,6 +139,7 @@ typedef struct {
     double hx, hy, hz;
     size_t ncell_cap;
     uint32_t *cell_start, *cell_idx;
+    int nsort;                           /* reorder the particles by cell every nsort steps */
     size_t n_built;                      /* particles when the cells were built, */
     uint64_t built_step;                 /* and at which step (+1; 0: never) */
     double max_overlap;                  /* largest overlap / diameter met */
@@ -160,6 +161,8 @@ typedef struct {
     uint64_t next_id;
     /* the gas profile (spec 2.6) */
     double dz, *eps_s, *u_g;
+    double tau_eps, *eps_r;              /* relaxation time of eps_s (0: none), relaxed eps_s */
+    int eps_r_valid;
     int clamped;                         /* slices whose eps_g was clamped */
     /* bookkeeping and statistics */
     mote_sep_count cnt[MOTE_SEP_MAX_SPECIES];
@@ -167,6 +170,13 @@ typedef struct {
     double *class_edge;                  /* nclass + 1 edges */
     double *cl_mf, *cl_mc;               /* per class: mass to fines, to coarse */
     uint64_t *cl_nf, *cl_nc;             /* counts */
+    double *cls_mf, *cls_mc;             /* per class and species (class * MAX_SPECIES + k) */
+    uint64_t *cls_nf, *cls_nc;
+    /* profiles (spec 3.2): time-weighted sums per slice from avg_from on, over prof_time */
+    double avg_from, prof_time;
+    double *prof_eps;                    /* K * (MAX_SPECIES): eps_s of each species */
+    double *prof_n, *prof_mvz, *prof_m, *prof_ug, *prof_fd; /* count, m v_z, m, u_g, drag F_z */
+    int prof_K;                          /* the slices the sums were made on */
     double t;
     uint64_t steps;
     mote_rng rng;
@@ -185,8 +195,10 @@ void mote_sep_size_range(const mote_sep_system *s, double *dmin, double *dmax);
 int mote_sep_insert(mote_sep_system *s, int sp, uint64_t count, double mass, mote_err *err);
 /* Advance the simulated time by T in steps of s->dt (the last one shortened to land on T). */
 int mote_sep_run(mote_sep_system *s, double T, mote_err *err);
-/* Recompute the solids fraction and gas velocity of every slice (spec 2.6). */
-void mote_sep_gas_update(mote_sep_system *s);
+/* Recompute the solids fraction and gas velocity of every slice (spec 2.6); with a relaxation
+ * time, the relaxed fraction moves dt / tau_eps of the way (dt = 0: not at all, unless it was
+ * never set). */
+void mote_sep_gas_update(mote_sep_system *s, double dt);
 /* The gas velocity at height z (interpolated between slice centres). */
 double mote_sep_gas_at(const mote_sep_system *s, double z);
 /* The bookkeeping invariant fed = in channel + fines + coarse + lost (spec 2.11): 0 when it
@@ -213,6 +225,16 @@ typedef struct {
 /* The partition numbers T_i (mass basis; NAN for empty classes) into T[nclass], and the
  * characteristic sizes. */
 void mote_sep_tromp(const mote_sep_system *s, double *T, mote_sep_cut *cut);
+/* The same for species k (k < 0: all). */
+void mote_sep_tromp_species(const mote_sep_system *s, int k, double *T, mote_sep_cut *cut);
+/* Zero the exit tallies of the classes and the profile sums; averaging restarts now. */
+void mote_sep_reset_stats(mote_sep_system *s);
+/* The cross-section area (W D, or W D2 in 2D). */
+double mote_sep_cross_section(const mote_sep_system *s);
+/* Advance like mote_sep_run, calling hook(ctx, s) after every step (a non-zero return stops
+ * the run with that code; the hook sets err). */
+int mote_sep_run_hook(mote_sep_system *s, double T, int (*hook)(void *, mote_sep_system *, mote_err *),
+                      void *ctx, mote_err *err);
 
 extern const mote_model mote_model_separator;
 

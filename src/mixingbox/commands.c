@@ -3,6 +3,7 @@
  * geometry at `place`, which files earlier commands write), and the calls into the model when
  * the script runs, with the recording, density and frame samplers kept across runs. */
 #include "mb.h"
+#include "mote/render.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -777,7 +778,7 @@ static int run_movie(void *vm, const mote_call *c, mote_err *err)
     mb_model *m = vm;
     const char *out = c->args[2].path;
     int ran = 0;
-    int rc = mb_movie(c->args[0].path, c->args[1].i, out, m->ctx ? m->ctx->diag : NULL, &ran,
+    int rc = mote_movie(c->args[0].path, c->args[1].i, out, m->ctx ? m->ctx->diag : NULL, &ran,
                       err);
     if (!rc && ran && m->log)
         fprintf(m->log, "movie: wrote %s\n", out);

@@ -134,9 +134,5 @@ int mb_frames_sample(void *ctx, mote_mb *sys, mote_err *err);
 /* Render a mixing-box data file (mixing curve or density profile) as a PNG. */
 int mb_plot_file(const char *in, const char *out, mote_err *err);
 
-/* Run ffmpeg on PREFIX_%06d.png (frames first .. ) into out at fps frames per second; when
- * ffmpeg is not on PATH, print the command to `diag` and return MOTE_OK with *ran = 0. */
-int mb_movie(const char *prefix, int64_t fps, const char *out, FILE *diag, int *ran,
-             mote_err *err);
 
 #endif

@@ -278,6 +278,31 @@ static mote_rnd_ticks choose_ticks(cairo_t *cr, const mote_rnd_style *st, double
 
 /* ---- layout -------------------------------------------------------------------------------- */
 
+void mote_rnd_log_label(double v, char buf[64])
+{
+    snprintf(buf, 64, "%.3g", pow(10.0, v));
+    tidy_exponent(buf);
+}
+
+/* Ticks of a log axis over log10 values [x0, x1]: decades, or 1-2-5, or 1-2-3-5, or every digit,
+ * the first set giving at least 4 ticks (at most 48). */
+static void log_ticks(double x0, double x1, double *list, int *n)
+{
+    static const int sets[4][10] = {{1, 0}, {1, 2, 5, 0}, {1, 2, 3, 5, 0}, {1, 2, 3, 4, 5, 6, 7, 8, 9, 0}};
+    const double lo = fmin(x0, x1), hi = fmax(x0, x1);
+    for (int q = 0; q < 4; q++) {
+        *n = 0;
+        for (int e = (int)floor(lo) - 1; e <= (int)ceil(hi) && *n < 48; e++)
+            for (int k = 0; sets[q][k] && *n < 48; k++) {
+                const double v = e + log10((double)sets[q][k]);
+                if (v >= lo - 1e-12 && v <= hi + 1e-12)
+                    list[(*n)++] = v;
+            }
+        if (*n >= 4 || q == 3)
+            return;
+    }
+}
+
 typedef struct {
     double l, r, t, b;
 } margins;
@@ -297,7 +322,19 @@ static margins needed_margins(cairo_t *cr, const mote_rnd_style *st, const mote_
     }
     /* How far the first and last x labels reach past the frame's left and right edges. */
     double over_l = 0.0, over_r = 0.0;
-    if (xt->i0 <= xt->i1) {
+    if (in->xlog) {
+        double list[48];
+        int n;
+        log_ticks(in->x0, in->x1, list, &n);
+        for (int k = 0; k < n; k += (n > 1 ? n - 1 : 1)) {
+            char buf[64];
+            mote_rnd_log_label(list[k], buf);
+            double half = mote_rnd_text_width(cr, buf) / 2;
+            double at = (list[k] - in->x0) / (in->x1 - in->x0) * fw;
+            over_l = fmax(over_l, half - at);
+            over_r = fmax(over_r, at + half - fw);
+        }
+    } else if (xt->i0 <= xt->i1) {
         double ends[2] = {xt->i0, xt->i1};
         for (int k = 0; k < 2; k++) {
             char buf[64];
@@ -408,6 +445,12 @@ int mote_rnd_layout_compute(const mote_rnd_layout_in *in, const mote_rnd_style *
     out->y1 = in->y1;
     out->xt = xt;
     out->yt = yt;
+    out->nxlist = 0;
+    if (in->xlog) {
+        log_ticks(in->x0, in->x1, out->xlist, &out->nxlist);
+        out->xt.i0 = 1; /* no linear ticks */
+        out->xt.i1 = 0;
+    }
     return MOTE_OK;
 }
 
@@ -452,6 +495,12 @@ void mote_rnd_draw_grid(cairo_t *cr, const mote_rnd_style *st, const mote_rnd_la
         cairo_move_to(cr, x, lay->top);
         cairo_line_to(cr, x, bottom);
     }
+    for (int k = 0; k < lay->nxlist; k++) {
+        double x = crisp(mote_rnd_px(lay, lay->xlist[k]), lw);
+        if (x <= lay->left + 1 || x >= right - 1) continue;
+        cairo_move_to(cr, x, lay->top);
+        cairo_line_to(cr, x, bottom);
+    }
     for (double i = lay->yt.i0; i <= lay->yt.i1; i++) {
         double y = crisp(mote_rnd_py(lay, mote_rnd_tick_value(&lay->yt, i)), lw);
         if (y <= lay->top + 1 || y >= bottom - 1) continue;
@@ -486,6 +535,14 @@ void mote_rnd_draw_axes(cairo_t *cr, const mote_rnd_style *st, const mote_rnd_la
         cairo_line_to(cr, x, bottom + lw + st->ticklen);
         cairo_stroke(cr);
         mote_rnd_tick_label(&lay->xt, v, buf);
+        mote_rnd_text(cr, x, bottom + lw + st->ticklen + st->gap, buf, 0.5, MOTE_RND_TOP);
+    }
+    for (int k = 0; k < lay->nxlist; k++) {
+        double x = crisp(mote_rnd_px(lay, lay->xlist[k]), lw);
+        cairo_move_to(cr, x, bottom + lw);
+        cairo_line_to(cr, x, bottom + lw + st->ticklen);
+        cairo_stroke(cr);
+        mote_rnd_log_label(lay->xlist[k], buf);
         mote_rnd_text(cr, x, bottom + lw + st->ticklen + st->gap, buf, 0.5, MOTE_RND_TOP);
     }
     double widest_y = 0.0;

@@ -164,7 +164,7 @@ int mote_disks_png(const char *path, const mote_scatter_opts *opts, const double
 
     mote_rnd_style st = mote_rnd_style_for(L / 900.0);
     mote_rnd_layout_in in = {opts->title, opts->xlabel, opts->ylabel, x0, x1, y0, y1, 0, 0,
-                             fabs(y1 - y0) / fabs(x1 - x0), L};
+                             fabs(y1 - y0) / fabs(x1 - x0), L, 0};
     mote_rnd_layout lay;
     rc = mote_rnd_layout_compute(&in, &st, &lay, err);
     if (rc != MOTE_OK) return rc;

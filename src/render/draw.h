@@ -36,6 +36,7 @@ typedef struct {
     int img_w, img_h;
     double aspect;
     int longer_side;
+    int xlog; /* x0, x1 are log10 of the values: ticks at 1, 2, 5 (or 1, 2, 3, 5) per decade */
 } mote_rnd_layout_in;
 
 typedef struct {
@@ -43,6 +44,8 @@ typedef struct {
     double left, top, width, height; /* the frame, in whole pixels */
     double x0, x1, y0, y1;
     mote_rnd_ticks xt, yt;
+    int nxlist;        /* a log x axis: its ticks (log10 of the values) replace xt */
+    double xlist[48];
 } mote_rnd_layout;
 
 /* Vertical anchors for text: the text box runs from the top of the digits to the bottom of the
@@ -79,6 +82,8 @@ const char *mote_rnd_fit_text(cairo_t *cr, const char *s, double px, int bold, d
                               double max_w, char *buf, size_t cap);
 
 double mote_rnd_tick_value(const mote_rnd_ticks *t, double i);
+/* The label of a log axis tick at log10 value v: the value 10^v, to 3 digits. */
+void mote_rnd_log_label(double v, char buf[64]);
 void mote_rnd_tick_label(const mote_rnd_ticks *t, double v, char buf[64]);
 
 /* Light grid lines at the inner ticks (plots only; over disks a grid is noise). */

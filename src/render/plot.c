@@ -7,6 +7,7 @@
 #include "draw.h"
 
 #include <math.h>
+#include <stdlib.h>
 
 typedef struct {
     double r, g, b;
@@ -239,6 +240,81 @@ static void draw_series_points(cairo_t *cr, const mote_rnd_layout *lay, const do
     cairo_fill(cr);
 }
 
+/* Error bars: a vertical line from y - e to y + e with short caps. */
+static void draw_series_errors(cairo_t *cr, const mote_rnd_layout *lay, const mote_series *s,
+                               const double *yerr, const series_style *ss)
+{
+    if (!yerr)
+        return;
+    cairo_save(cr);
+    cairo_set_dash(cr, NULL, 0, 0);
+    cairo_set_line_width(cr, fmax(1.0, 0.6 * ss->line_width));
+    for (size_t i = 0; i < s->n; i++) {
+        double px, py;
+        const double e = yerr[i];
+        if (!point_px(lay, s, i, &px, &py) || !isfinite(e) || e <= 0)
+            continue;
+        const double y0 = mote_rnd_py(lay, s->y[i] - e), y1 = mote_rnd_py(lay, s->y[i] + e);
+        const double cap = 1.2 * ss->marker_r;
+        cairo_move_to(cr, px, y0);
+        cairo_line_to(cr, px, y1);
+        cairo_move_to(cr, px - cap, y0);
+        cairo_line_to(cr, px + cap, y0);
+        cairo_move_to(cr, px - cap, y1);
+        cairo_line_to(cr, px + cap, y1);
+    }
+    cairo_stroke(cr);
+    cairo_restore(cr);
+}
+
+/* A text on a pale backing, its top-left (halign 0) or top-right (1) corner at (x, y). */
+static void backed_text(cairo_t *cr, double x, double y, const char *t, double halign)
+{
+    const double h = mote_rnd_line_height(cr), w = mote_rnd_text_width(cr, t);
+    const double x0 = x - halign * w;
+    cairo_rectangle(cr, x0 - 2, y - 1, w + 4, h + 2);
+    cairo_set_source_rgba(cr, 1, 1, 1, 0.8);
+    cairo_fill(cr);
+    cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
+    mote_rnd_text(cr, x0, y, t, 0.0, MOTE_RND_TOP);
+}
+
+/* Vertical marks (their x already on the axis's scale) and the note. */
+static void draw_marks(cairo_t *cr, const mote_rnd_style *st, const mote_rnd_layout *lay,
+                       const mote_plot_opts *o, const double *xm, int label_pass)
+{
+    cairo_save(cr);
+    mote_rnd_font(cr, st->tick_font, 0);
+    const double lh = mote_rnd_line_height(cr);
+    for (int k = 0; k < o->nxmark && k < 8; k++) {
+        if (!isfinite(xm[k]))
+            continue;
+        const double x = round(mote_rnd_px(lay, xm[k])) + 0.5;
+        if (x < lay->left || x > lay->left + lay->width)
+            continue;
+        if (!label_pass) {
+            const double dash[2] = {6.0 * st->scale, 4.0 * st->scale};
+            cairo_set_dash(cr, dash, 2, 0);
+            cairo_set_line_width(cr, fmax(1.0, round(1.5 * st->scale)));
+            cairo_set_source_rgb(cr, 0.3, 0.3, 0.3);
+            cairo_move_to(cr, x, lay->top);
+            cairo_line_to(cr, x, lay->top + lay->height);
+            cairo_stroke(cr);
+        } else if (o->xmark_label && o->xmark_label[k] && *o->xmark_label[k]) {
+            /* staggered rows so neighbouring marks' labels do not collide; right of the line,
+             * or left of it near the right edge */
+            const double w = mote_rnd_text_width(cr, o->xmark_label[k]);
+            const int right = x + 4 + w < lay->left + lay->width - 2;
+            backed_text(cr, right ? x + 4 : x - 4, lay->top + st->gap + (k % 3) * (lh + 4),
+                        o->xmark_label[k], right ? 0.0 : 1.0);
+        }
+    }
+    if (label_pass && o->note && *o->note)
+        backed_text(cr, lay->left + lay->width - st->gap, lay->top + lay->height - st->gap - lh,
+                    o->note, 1.0);
+    cairo_restore(cr);
+}
+
 /* ---- legend -------------------------------------------------------------------------------- */
 
 typedef struct {
@@ -432,8 +508,90 @@ static void data_range(const mote_series *series, size_t nseries, int want_y, do
     }
 }
 
+static int plot_png(const char *path, const mote_plot_opts *opts, const mote_series *series,
+                    size_t nseries, mote_err *err, cairo_t *into);
+
+/* A log x axis: the same plot of log10 x, its axis labelled with the values. */
+/* The plot drawn into `into` (whose size is opts' width x height) when given, else written. */
+static int plot_any(const char *path, const mote_plot_opts *opts, const mote_series *series,
+                    size_t nseries, mote_err *err, cairo_t *into)
+{
+    if (!opts || !opts->xlog || !series)
+        return plot_png(path, opts, series, nseries, err, into);
+    size_t total = 0;
+    for (size_t k = 0; k < nseries; k++)
+        total += series[k].x ? series[k].n : 0;
+    double *lx = malloc((total ? total : 1) * sizeof *lx);
+    mote_series *ls = malloc((nseries ? nseries : 1) * sizeof *ls);
+    if (!lx || !ls) {
+        free(lx);
+        free(ls);
+        return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", path ? path : "plot");
+    }
+    size_t at = 0;
+    for (size_t k = 0; k < nseries; k++) {
+        ls[k] = series[k];
+        if (!series[k].x)
+            continue;
+        ls[k].x = lx + at;
+        for (size_t i = 0; i < series[k].n; i++)
+            lx[at++] = series[k].x[i] > 0 ? log10(series[k].x[i]) : NAN;
+    }
+    mote_plot_opts o = *opts;
+    if (o.xmin > 0 && o.xmax > 0) {
+        o.xmin = log10(o.xmin);
+        o.xmax = log10(o.xmax);
+    }
+    double xm[8];
+    for (int k = 0; k < o.nxmark && k < 8; k++)
+        xm[k] = o.xmark[k] > 0 ? log10(o.xmark[k]) : NAN;
+    o.xmark = xm;
+    const int rc = plot_png(path, &o, ls, nseries, err, into);
+    free(lx);
+    free(ls);
+    return rc;
+}
+
 int mote_plot_png(const char *path, const mote_plot_opts *opts, const mote_series *series,
                   size_t nseries, mote_err *err)
+{
+    return plot_any(path, opts, series, nseries, err, NULL);
+}
+
+int mote_plot_panels_png(const char *path, const mote_plot_panel *panels, int npanels,
+                         int width, int height, mote_err *err)
+{
+    if (!path || !*path) return mote_fail(err, MOTE_EINVAL, "plot: no output file name given");
+    if (npanels < 1 || npanels > 8)
+        return mote_fail(err, MOTE_EINVAL, "%s: 1 to 8 panels, not %d", path, npanels);
+    const int W = width ? width : 400 * npanels, H = height ? height : 650;
+    int rc = mote_rnd_check_size(path, "width", W, err);
+    if (rc == MOTE_OK) rc = mote_rnd_check_size(path, "height", H, err);
+    if (rc != MOTE_OK) return rc;
+    cairo_surface_t *surface;
+    cairo_t *cr;
+    rc = mote_rnd_canvas(path, W, H, &surface, &cr, err);
+    if (rc != MOTE_OK) return rc;
+    for (int k = 0; k < npanels && rc == MOTE_OK; k++) {
+        mote_plot_opts o = panels[k].opts;
+        o.width = W / npanels;
+        o.height = H;
+        o.equal_axes = 0;
+        cairo_save(cr);
+        cairo_translate(cr, (double)k * (W / npanels), 0);
+        rc = plot_any(path, &o, panels[k].series, panels[k].nseries, err, cr);
+        cairo_restore(cr);
+    }
+    if (rc != MOTE_OK) {
+        cairo_destroy(cr);
+        cairo_surface_destroy(surface);
+        return rc;
+    }
+    return mote_rnd_finish(path, surface, cr, err);
+}
+
+static int plot_png(const char *path, const mote_plot_opts *opts, const mote_series *series,
+                    size_t nseries, mote_err *err, cairo_t *into)
 {
     static const mote_plot_opts defaults = {0};
     if (!path || !*path) return mote_fail(err, MOTE_EINVAL, "plot: no output file name given");
@@ -484,7 +642,8 @@ int mote_plot_png(const char *path, const mote_plot_opts *opts, const mote_serie
     if (rc != MOTE_OK) return rc;
 
     mote_rnd_style st = mote_rnd_style_for(fmin(W / 1000.0, H / 650.0));
-    mote_rnd_layout_in in = {opts->title, opts->xlabel, opts->ylabel, x0, x1, y0, y1, W, H, 0.0, 0};
+    mote_rnd_layout_in in = {opts->title, opts->xlabel, opts->ylabel, x0, x1, y0, y1, W, H, 0.0, 0,
+                             opts->xlog};
     if (opts->equal_axes) {
         in.aspect = fabs(y1 - y0) / fabs(x1 - x0);
         if (!(in.aspect >= 1e-3 && in.aspect <= 1e3))
@@ -496,10 +655,12 @@ int mote_plot_png(const char *path, const mote_plot_opts *opts, const mote_serie
     mote_rnd_layout lay;
     rc = mote_rnd_layout_compute(&in, &st, &lay, err);
     if (rc != MOTE_OK) return rc;
-    cairo_surface_t *surface;
-    cairo_t *cr;
-    rc = mote_rnd_canvas(path, lay.img_w, lay.img_h, &surface, &cr, err);
-    if (rc != MOTE_OK) return rc;
+    cairo_surface_t *surface = NULL;
+    cairo_t *cr = into;
+    if (!into) {
+        rc = mote_rnd_canvas(path, lay.img_w, lay.img_h, &surface, &cr, err);
+        if (rc != MOTE_OK) return rc;
+    }
 
     series_style ss = {fmax(1.0, 2.0 * st.scale), fmax(2.5, 3.5 * st.scale)};
     mote_rnd_draw_grid(cr, &st, &lay);
@@ -512,6 +673,8 @@ int mote_plot_png(const char *path, const mote_plot_opts *opts, const mote_serie
     double margin = 20.0 * st.scale;
     double box[4] = {lay.left - margin, lay.top - margin, lay.left + lay.width + margin,
                      lay.top + lay.height + margin};
+    if (opts->nxmark > 0 && opts->xmark)
+        draw_marks(cr, &st, &lay, opts, opts->xmark, 0);
     cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
     cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
     cairo_set_line_width(cr, ss.line_width);
@@ -519,6 +682,7 @@ int mote_plot_png(const char *path, const mote_plot_opts *opts, const mote_serie
         const mote_series *s = &series[k];
         if (s->n == 0) continue;
         set_series_source(cr, k);
+        draw_series_errors(cr, &lay, s, opts->yerr ? opts->yerr[k] : NULL, &ss);
         if (s->style != 1) {
             set_series_dash(cr, k, st.scale);
             draw_series_line(cr, &lay, box, s, &ss);
@@ -527,9 +691,15 @@ int mote_plot_png(const char *path, const mote_plot_opts *opts, const mote_serie
     }
     cairo_set_dash(cr, NULL, 0, 0);
     draw_yref(cr, &st, &lay, opts, 1);
+    if ((opts->nxmark > 0 && opts->xmark) || opts->note)
+        draw_marks(cr, &st, &lay, opts, opts->xmark, 1);
     cairo_restore(cr);
 
     mote_rnd_draw_axes(cr, &st, &lay, &in);
     draw_legend(cr, &st, &lay, series, nseries, &ss, opts);
+    if (into)
+        return MOTE_OK;
+    if (into)
+        return MOTE_OK;
     return mote_rnd_finish(path, surface, cr, err);
 }

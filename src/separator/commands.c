@@ -9,7 +9,12 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <errno.h>
+#include <sys/stat.h>
+
 #include "mote/datafile.h"
+#include "mote/render.h"
+#include "sep.h"
 
 typedef struct {
     mote_context *ctx;
@@ -18,6 +23,32 @@ typedef struct {
     mote_sep_system sys;
     int have_channel, have_gas;
     uint64_t seed;
+    /* the outputs on a schedule (spec 3): frames, the live picture, snapshots, the balance */
+    struct {
+        int on, movie, fps;
+        char *dir;
+        double dt, next;
+        uint64_t index;
+        sep_frame_opts fo;
+    } frames;
+    struct {
+        int on;
+        char *path;
+        double hz, last;
+        sep_frame_opts fo;
+    } live;
+    struct {
+        int on;
+        char *dir;
+        double dt, next;
+        uint64_t index;
+    } snaps;
+    struct {
+        int on, held;
+        char *path, *origin;
+        double dt, next, *rows;
+        size_t nrows, cap;
+    } bal;
 } sep_model;
 
 static void *model_create(mote_context *ctx, int dry)
@@ -39,6 +70,12 @@ static void model_destroy(void *vm)
     if (!m)
         return;
     mote_sep_free(&m->sys);
+    free(m->frames.dir);
+    free(m->live.path);
+    free(m->snaps.dir);
+    free(m->bal.path);
+    free(m->bal.origin);
+    free(m->bal.rows);
     free(m);
 }
 
@@ -137,6 +174,12 @@ static int do_coupling(void *vm, const mote_call *c, mote_err *err)
 static int do_slices(void *vm, const mote_call *c, mote_err *err)
 {
     ((sep_model *)vm)->sys.K = (int)c->args[0].i;
+    return MOTE_OK;
+}
+
+static int do_relax(void *vm, const mote_call *c, mote_err *err)
+{
+    ((sep_model *)vm)->sys.tau_eps = c->args[0].r;
     return MOTE_OK;
 }
 
@@ -499,6 +542,12 @@ static int do_classes(void *vm, const mote_call *c, mote_err *err)
     free(s->cl_mc);
     free(s->cl_nf);
     free(s->cl_nc);
+    free(s->cls_mf);
+    free(s->cls_mc);
+    free(s->cls_nf);
+    free(s->cls_nc);
+    s->cls_mf = s->cls_mc = NULL;
+    s->cls_nf = s->cls_nc = NULL;
     s->class_edge = NULL;
     s->cl_mf = s->cl_mc = NULL;
     s->cl_nf = s->cl_nc = NULL;
@@ -540,7 +589,7 @@ static int do_insert(void *vm, const mote_call *c, mote_err *err)
     rc = mote_sep_insert(&m->sys, k, by_mass ? 0 : (uint64_t)c->args[1].i,
                          by_mass ? c->args[1].r : 0, err);
     if (!rc)
-        mote_sep_gas_update(&m->sys);
+        mote_sep_gas_update(&m->sys, 0);
     return rc;
 }
 
@@ -569,6 +618,40 @@ static void print_status(sep_model *m)
             (unsigned long long)fines, (unsigned long long)coarse, (unsigned long long)lost,
             s->nback, cut.d50, cut.kappa, eps_max, s->max_overlap,
             (unsigned long long)s->fast_moves);
+    if (s->dem && s->max_overlap > 2 * s->delta_f && !(s->khat > 0))
+        fprintf(m->log, "note: the largest overlap %.3g of a diameter is more than twice the "
+                        "allowed %.3g: raise vimp= (stiffness) or lower the impact speeds\n",
+                s->max_overlap, s->delta_f);
+    if (lost)
+        fprintf(m->log, "error: %llu particles were lost (outside a wall, inside a plate, or "
+                        "not finite)\n", (unsigned long long)lost);
+}
+
+static int run_hook(void *vm, mote_sep_system *s, mote_err *err);
+static int run_end(sep_model *m, mote_err *err);
+static int make_dir(const char *dir, mote_err *err);
+
+/* `summary`: the status and each species' bookkeeping. */
+static int do_summary(void *vm, const mote_call *c, mote_err *err)
+{
+    sep_model *m = vm;
+    (void)c;
+    (void)err;
+    if (m->dry || !m->log)
+        return MOTE_OK;
+    const mote_sep_system *s = &m->sys;
+    print_status(m);
+    for (int k = 0; k < s->nsp; k++) {
+        const mote_sep_count *q = &s->cnt[k];
+        fprintf(m->log, "species %s: fed %llu (%.6g kg), fines %llu (%.6g kg), coarse %llu "
+                        "(%.6g kg), lost %llu\n",
+                s->sp[k].name, (unsigned long long)q->fed, q->m_fed,
+                (unsigned long long)q->fines, q->m_fines, (unsigned long long)q->coarse,
+                q->m_coarse, (unsigned long long)q->lost);
+    }
+    fprintf(m->log, "balance: fed = in channel + fines + coarse + lost %s\n",
+            mote_sep_check_balance(s) ? "DOES NOT HOLD" : "holds");
+    return MOTE_OK;
 }
 
 static int do_run(void *vm, const mote_call *c, mote_err *err)
@@ -577,60 +660,269 @@ static int do_run(void *vm, const mote_call *c, mote_err *err)
     int rc = need_ready(m, c, err);
     if (rc || m->dry)
         return rc;
-    rc = mote_sep_run(&m->sys, c->args[0].r, err);
+    if (m->frames.on)
+        rc = make_dir(m->frames.dir, err);
+    if (!rc && m->snaps.on)
+        rc = make_dir(m->snaps.dir, err);
+    if (!rc)
+        rc = run_hook(m, &m->sys, err);
+    const int any = m->frames.on || m->snaps.on || m->bal.on || m->live.on;
+    if (!rc)
+        rc = mote_sep_run_hook(&m->sys, c->args[0].r, any ? run_hook : NULL, m, err);
+    if (!rc)
+        rc = run_end(m, err);
     if (!rc && m->log)
         print_status(m);
     return rc;
 }
 
-/* `tromp FILE`: the grade-efficiency table (spec 3.1). */
+/* `tromp FILE`: the grade-efficiency table and its plot (spec 3.1). */
 static int do_tromp(void *vm, const mote_call *c, mote_err *err)
 {
     sep_model *m = vm;
     int rc = need_ready(m, c, err);
     if (rc || m->dry)
         return rc;
-    const mote_sep_system *s = &m->sys;
-    double *T = malloc((size_t)s->nclass * sizeof *T);
-    if (!T)
-        return mote_fail(err, MOTE_ENOMEM, "tromp: out of memory");
-    mote_sep_cut cut;
-    mote_sep_tromp(s, T, &cut);
     char *origin = mote_call_origin(c);
-    mote_datafile d;
-    rc = mote_datafile_open(&d, c->args[0].path, "separator-tromp", origin ? origin : "tromp",
-                            m->seed, err);
+    mote_sep_cut cut;
+    rc = sep_write_tromp(&m->sys, c->args[0].path, origin ? origin : "tromp", m->seed, &cut, err);
     free(origin);
-    if (rc) {
-        free(T);
-        return rc;
-    }
-    FILE *f = d.f;
-    /* the reference cut of each species: the still-gas terminal velocity equal to the gas
-     * velocity without particles at the feed height, G / rho_g */
-    for (int k = 0; k < s->nsp; k++)
-        fprintf(f, "# d0_star_m %s = %.10g\n", s->sp[k].name,
-                mote_sep_cut_size(s->U0, s->sp[k].rho, s->rho_g, s->mu_g, s->g));
-    fprintf(f, "# d25_m = %.10g\n# d50_m = %.10g\n# d75_m = %.10g\n# kappa = %.10g\n"
-               "# Ep_m = %.10g\n# imperfection = %.10g\n# crossings_of_one_half = %d\n",
-            cut.d25, cut.d50, cut.d75, cut.kappa, cut.Ep, cut.I, cut.crossings50);
-    fprintf(f, "# columns: d_lo_m d_hi_m d_mean_m T_mass sigma_T n_fines n_coarse m_fines_kg "
-               "m_coarse_kg T_number\n");
-    for (int i = 0; i < s->nclass; i++) {
-        const double n = (double)(s->cl_nf[i] + s->cl_nc[i]);
-        const double se = n > 0 && !isnan(T[i]) ? sqrt(T[i] * (1 - T[i]) / n) : NAN;
-        fprintf(f, "%.10g %.10g %.10g %.10g %.6g %llu %llu %.10g %.10g %.10g\n",
-                s->class_edge[i], s->class_edge[i + 1],
-                sqrt(s->class_edge[i] * s->class_edge[i + 1]), T[i], se,
-                (unsigned long long)s->cl_nf[i], (unsigned long long)s->cl_nc[i], s->cl_mf[i],
-                s->cl_mc[i], n > 0 ? (double)s->cl_nc[i] / n : NAN);
-    }
-    free(T);
-    rc = mote_datafile_commit(&d, err);
     if (!rc && m->log)
-        fprintf(m->log, "tromp: wrote %s: d50 %.6g m, kappa %.4g\n", c->args[0].text, cut.d50,
-                cut.kappa);
+        fprintf(m->log, "tromp: wrote %s and its plot: d50 %.6g m, kappa %.4g\n",
+                c->args[0].text, cut.d50, cut.kappa);
     return rc;
+}
+
+/* `profiles FILE`: the height profiles and their plot (spec 3.2). */
+static int do_profiles(void *vm, const mote_call *c, mote_err *err)
+{
+    sep_model *m = vm;
+    int rc = need_ready(m, c, err);
+    if (rc || m->dry)
+        return rc;
+    char *origin = mote_call_origin(c);
+    rc = sep_write_profiles(&m->sys, c->args[0].path, origin ? origin : "profiles", m->seed, err);
+    free(origin);
+    if (rc == MOTE_EINVAL)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "%s", err->msg);
+    if (!rc && m->log)
+        fprintf(m->log, "profiles: wrote %s and its plot (averaged over %.6g s)\n",
+                c->args[0].text, m->sys.prof_time);
+    return rc;
+}
+
+static int do_average_from(void *vm, const mote_call *c, mote_err *err)
+{
+    (void)err;
+    ((sep_model *)vm)->sys.avg_from = c->args[0].r;
+    return MOTE_OK;
+}
+
+static int do_reset_stats(void *vm, const mote_call *c, mote_err *err)
+{
+    (void)c;
+    (void)err;
+    mote_sep_reset_stats(&((sep_model *)vm)->sys);
+    return MOTE_OK;
+}
+
+/* The frame options shared by `frames` and `live`. */
+static int frame_opts(const mote_call *c, sep_frame_opts *fo, mote_err *err)
+{
+    fo->px = (int)mote_call_opt_r(c, "px", 900);
+    const mote_arg *col = mote_call_opt(c, "color");
+    if (col && strcmp(col->text, "size") && strcmp(col->text, "species"))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "color"), MOTE_EINVAL,
+                              "%s: color= is size or species, found '%s'", c->name, col->text);
+    fo->by_species = col && !strcmp(col->text, "species");
+    fo->y1 = mote_call_opt_r(c, "y1", 0);
+    fo->y2 = mote_call_opt_r(c, "y2", 0);
+    if ((mote_call_opt(c, "y1") || mote_call_opt(c, "y2")) && !(fo->y2 > fo->y1))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "y1"), MOTE_EINVAL,
+                              "%s: the slab needs y1 < y2", c->name);
+    return MOTE_OK;
+}
+
+/* A directory for numbered files: its parent must exist; made when the run starts. */
+static int out_dir(sep_model *m, const mote_call *c, char **dir, mote_err *err)
+{
+    if (m->dry && !mote_ctx_dir_ok(m->ctx, c->args[0].path))
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "%s: the directory that would hold '%s' "
+                              "does not exist", c->name, c->args[0].text);
+    char *d = strdup(c->args[0].path);
+    if (!d)
+        return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", c->name);
+    free(*dir);
+    *dir = d;
+    return MOTE_OK;
+}
+
+static int do_frames(void *vm, const mote_call *c, mote_err *err)
+{
+    sep_model *m = vm;
+    int rc = frame_opts(c, &m->frames.fo, err);
+    if (!rc)
+        rc = out_dir(m, c, &m->frames.dir, err);
+    if (rc)
+        return rc;
+    const mote_arg *mv = mote_call_opt(c, "movie");
+    if (mv && strcmp(mv->text, "on") && strcmp(mv->text, "off"))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "movie"), MOTE_EINVAL,
+                              "frames: movie= is on or off, found '%s'", mv->text);
+    m->frames.on = 1;
+    m->frames.dt = c->args[1].r;
+    m->frames.next = m->sys.t;
+    m->frames.index = 0;
+    m->frames.movie = !mv || !strcmp(mv->text, "on");
+    m->frames.fps = (int)mote_call_opt_r(c, "fps", 20);
+    return MOTE_OK;
+}
+
+static int do_live(void *vm, const mote_call *c, mote_err *err)
+{
+    sep_model *m = vm;
+    int rc = frame_opts(c, &m->live.fo, err);
+    if (rc)
+        return rc;
+    char *p = strdup(c->args[0].path);
+    if (!p)
+        return mote_fail(err, MOTE_ENOMEM, "live: out of memory");
+    free(m->live.path);
+    m->live.path = p;
+    m->live.on = 1;
+    m->live.hz = fmin(mote_call_opt_r(c, "hz", 30), 30);
+    m->live.last = -INFINITY;
+    return MOTE_OK;
+}
+
+static int do_snapshots(void *vm, const mote_call *c, mote_err *err)
+{
+    sep_model *m = vm;
+    int rc = out_dir(m, c, &m->snaps.dir, err);
+    if (rc)
+        return rc;
+    m->snaps.on = 1;
+    m->snaps.dt = c->args[1].r;
+    m->snaps.next = m->sys.t;
+    m->snaps.index = 0;
+    return MOTE_OK;
+}
+
+static int do_balance(void *vm, const mote_call *c, mote_err *err)
+{
+    sep_model *m = vm;
+    char *p = strdup(c->args[0].path), *o = mote_call_origin(c);
+    if (!p || !o) {
+        free(p);
+        free(o);
+        return mote_fail(err, MOTE_ENOMEM, "balance: out of memory");
+    }
+    free(m->bal.path);
+    free(m->bal.origin);
+    m->bal.path = p;
+    m->bal.origin = o;
+    m->bal.on = 1;
+    m->bal.dt = c->args[1].r;
+    m->bal.next = m->sys.t;
+    m->bal.nrows = 0;
+    m->bal.held = 1;
+    return MOTE_OK;
+}
+
+/* DIR/NAME_%06d.EXT (malloc'ed). */
+static char *numbered(const char *dir, const char *name, uint64_t k, const char *ext)
+{
+    const size_t n = strlen(dir) + strlen(name) + 40;
+    char *p = malloc(n);
+    if (p)
+        snprintf(p, n, "%s/%s_%06llu%s", dir, name, (unsigned long long)k, ext);
+    return p;
+}
+
+/* Whether a schedule (next, every dt) is due at time t; it then moves past t. */
+static int due(double *next, double dt, double t)
+{
+    if (t < *next - 1e-9 * dt)
+        return 0;
+    while (*next <= t + 1e-9 * dt)
+        *next += dt;
+    return 1;
+}
+
+/* After every step (and once before the first): the frames, snapshots, balance rows and the
+ * live picture that are due. */
+static int run_hook(void *vm, mote_sep_system *s, mote_err *err)
+{
+    sep_model *m = vm;
+    int rc = MOTE_OK;
+    if (m->frames.on && due(&m->frames.next, m->frames.dt, s->t)) {
+        char *p = numbered(m->frames.dir, "frame", m->frames.index++, ".png");
+        rc = p ? sep_frame_png(s, p, &m->frames.fo, err) : mote_fail(err, MOTE_ENOMEM, "frames");
+        free(p);
+    }
+    if (!rc && m->snaps.on && due(&m->snaps.next, m->snaps.dt, s->t)) {
+        char *p = numbered(m->snaps.dir, "snapshot", m->snaps.index++, ".xyz");
+        rc = p ? sep_write_xyz(s, p, err) : mote_fail(err, MOTE_ENOMEM, "snapshots");
+        free(p);
+    }
+    if (!rc && m->bal.on && due(&m->bal.next, m->bal.dt, s->t)) {
+        const size_t w = sep_balance_width(s);
+        if (m->bal.nrows == m->bal.cap) {
+            const size_t cap = m->bal.cap ? 2 * m->bal.cap : 256;
+            double *r = realloc(m->bal.rows, cap * w * sizeof *r);
+            if (!r)
+                return mote_fail(err, MOTE_ENOMEM, "balance: out of memory");
+            m->bal.rows = r;
+            m->bal.cap = cap;
+        }
+        sep_balance_row(s, m->bal.rows + m->bal.nrows++ * w);
+        if (mote_sep_check_balance(s))
+            m->bal.held = 0;
+    }
+    if (!rc && m->live.on) {
+        const double now = mote_wall_seconds();
+        if (now - m->live.last >= 1 / m->live.hz) {
+            rc = sep_frame_png(s, m->live.path, &m->live.fo, err);
+            m->live.last = now;
+        }
+    }
+    return rc;
+}
+
+/* After a run: the balance file and the movie of the frames so far. */
+static int run_end(sep_model *m, mote_err *err)
+{
+    int rc = MOTE_OK;
+    if (m->bal.on && m->bal.nrows)
+        rc = sep_write_balance(&m->sys, m->bal.path, m->bal.origin, m->seed, m->bal.rows,
+                               m->bal.nrows, m->bal.held, err);
+    if (!rc && m->frames.on && m->frames.movie && m->frames.index > 1) {
+        const size_t n = strlen(m->frames.dir) + 16;
+        char *prefix = malloc(n), *out = malloc(n);
+        if (!prefix || !out) {
+            free(prefix);
+            free(out);
+            return mote_fail(err, MOTE_ENOMEM, "frames: out of memory");
+        }
+        snprintf(prefix, n, "%s/frame", m->frames.dir);
+        snprintf(out, n, "%s/movie.mp4", m->frames.dir);
+        int ran = 0;
+        rc = mote_movie(prefix, m->frames.fps, out, m->ctx ? m->ctx->diag : NULL, &ran, err);
+        if (!rc && ran && m->log)
+            fprintf(m->log, "frames: %llu frames in %s, the movie %s\n",
+                    (unsigned long long)m->frames.index, m->frames.dir, out);
+        free(prefix);
+        free(out);
+    }
+    return rc;
+}
+
+/* Make a directory (one level) unless it exists. */
+static int make_dir(const char *dir, mote_err *err)
+{
+    if (mkdir(dir, 0777) == 0 || errno == EEXIST)
+        return MOTE_OK;
+    return mote_fail(err, MOTE_EIO, "%s: cannot make the directory: %s", dir, strerror(errno));
 }
 
 /* ---- the table ------------------------------------------------------------------------------ */
@@ -644,6 +936,7 @@ static const char HELP_GRAVITY[] = "    gravity g\n\ng (m/s^2, default 9.81), al
 static const char HELP_COUPLING[] = "    coupling on|off\n\nWhether the solids fraction slows or speeds the gas (on, the default) or the\ngas ignores the particles (off: u_g = U0, the dilute limit).\n";
 static const char HELP_SLICES[] = "    slices K\n\nThe axial resolution of the gas model: K slices (default about 4 d_max high,\n10 ... 1000).\n";
 static const char HELP_EPSMIN[] = "    eps_gas_min V\n\nThe smallest gas fraction the gas model uses (default 0.35).\n";
+static const char HELP_RELAX[] = "    relax TAU\n\nRelax the solids fraction the gas sees in time (s; default 0, instantaneous):\neach step it moves dt/TAU of the way to the fraction of the particles' present\npositions, which smooths the gas velocity when few particles cross a slice.\n";
 static const char HELP_HINDERED[] = "    hindered CHI\n\nDrag multiplied by eps_g^-CHI (default 0; 2.65 is the usual choice).\n";
 static const char HELP_DISPERSION[] = "    dispersion D\n    brownian T\n\nRandom dispersion of the particles (spec 2.7): an Ornstein-Uhlenbeck velocity\nnoise with diffusion coefficient D = D_t + D_B, D_t given by `dispersion`\n(m^2/s, turbulent dispersion) and D_B = k_B T / (3 pi mu_g d) (Stokes-Einstein\nBrownian diffusion) when `brownian` gives the gas temperature T (K). Each\nvelocity component has the stationary variance D / tau; the update over a step\nis exact for any step against tau, so the long-time diffusion is D even when the\nstep is much longer than tau. 0 turns either off (the default). The noise is\ndrawn from the run's seeded stream in each step's drift, particle by particle.\n";
 static const char HELP_SPECIES[] = "    species NAME RHO\n\nA species of particles with material density RHO (kg/m^3). With one species\nit is the whole feed; with several give each a feed_fraction.\n";
@@ -663,6 +956,15 @@ static const char HELP_CLASSES[] = "    classes K [min=A max=B]\n\nThe Tromp siz
 static const char HELP_RUN[] = "    run T\n\nAdvance T seconds of simulated time: the exact drag drift, reflections, exits\n(fines above H, coarse below 0) with their tallies per size class, the feed,\nthe gas profile; then the status line t steps dt N fed fines coarse lost\nbacklog d50 kappa eps_max. The mass balance fed = in channel + fines + coarse +\nlost is checked after every run.\n";
 static const char HELP_TROMP[] = "    tromp FILE\n\nWrite the grade-efficiency curve (spec 3.1): per size class the partition\nnumber T (mass to coarse over mass exited, mass basis; nan where nothing\nexited) with its standard error sqrt(T (1 - T)/n), the counts and masses and T\non a number basis; in the header d25, d50, d75 (first crossings from the fine\nside, interpolated in ln d), kappa = d25/d75, Ep and the imperfection, and each\nspecies' reference cut d0* (the still-gas terminal velocity equal to U0).\n";
 
+static const char HELP_PROFILES[] = "    profiles FILE\n\nWrite the profiles along the height (spec 3.2), time-averaged since\naverage_from (or the last reset_stats), per slice: z, the solids fraction in\ntotal and per species, the particle count, the mass-weighted mean v_z, u_g, the\nmixture density eps_g rho_g + sum eps_s rho_s, the drag-implied gas pressure\ngradient -dp/dz = eps_g rho_g g + (sum of the drag's z force in the slice) /\n(A_c dz), and p(z) - p(H). Also FILE's stem + .png: three panels, eps_s(z),\nu_g(z) and v_z(z).\n";
+static const char HELP_AVERAGE_FROM[] = "    average_from T\n\nStart the profile averaging at simulated time T (default 0).\n";
+static const char HELP_RESET_STATS[] = "    reset_stats\n\nZero the exit tallies of the size classes and the profile sums: a new\nstatistics window starts now, leaving the start-up transient out. The species'\nbookkeeping (fed, fines, coarse, lost) is not reset.\n";
+static const char HELP_FRAMES[] = "    frames DIR DT [px=900] [color=size|species] [y1= y2=] [movie=on|off] [fps=20]\n\nA PNG picture every DT of simulated time, DIR/frame_000000.png on (spec 3.4):\nthe channel to scale with its grids and their holes, each particle a disc of\nits true size (at least a pixel) coloured by diameter (viridis over ln d, with\na colour bar in um or mm) or by species, the time and the counts under it. In\n3D the particles are projected on the x-z plane back to front, optionally only\nthose with y1 <= y <= y2. After each run the frames become DIR/movie.mp4\nthrough ffmpeg when it is installed (movie=off: not). DIR is made when the run\nstarts. Frames come after the first step that reaches their time: steps are\nnot shortened for them, so results do not depend on the outputs.\n";
+static const char HELP_LIVE[] = "    live FILE [hz=30] [px=] [color=size|species]\n\nWhile runs go on, rewrite FILE (atomically) with the present picture at most\nhz times a second of wall-clock time (at most 30), whatever the simulated time\nstep: open it in an image viewer that reloads.\n";
+static const char HELP_SNAPSHOTS[] = "    snapshots DIR DT\n\nAn extended XYZ file every DT of simulated time, DIR/snapshot_000000.xyz on:\nthe species, id, position, velocity and radius of each particle, the channel as\nthe lattice and the time in the comment line; OVITO, VMD and ASE read them. In\n2D y is the middle of the nominal depth.\n";
+static const char HELP_BALANCE[] = "    balance FILE DT\n\nThe bookkeeping every DT of simulated time (spec 3.3): per species and in\ntotal, the counts and masses fed, in the channel, to the fines, to the coarse,\nlost and waiting in the backlog; written after each run, with whether\nfed = in channel + fines + coarse + lost held at every row.\n";
+static const char HELP_SUMMARY[] = "    summary\n\nPrint the status line, each species' bookkeeping and whether the balance\nholds.\n";
+
 static const mote_cmd sep_commands[] = {
     {"dim", NULL, "i", "dim 2|3", "the dimension", HELP_DIM, do_dim, do_dim},
     {"channel", NULL, "r>0 r>0 D=r>0", "channel W H [D=DEPTH]", "the channel", HELP_CHANNEL,
@@ -679,6 +981,8 @@ static const mote_cmd sep_commands[] = {
      do_slices},
     {"eps_gas_min", NULL, "r(0,1]", "eps_gas_min V", "the clamp on the gas fraction",
      HELP_EPSMIN, do_eps_gas_min, do_eps_gas_min},
+    {"relax", NULL, "r>=0", "relax TAU", "relaxation time of the solids fraction", HELP_RELAX,
+     do_relax, do_relax},
     {"hindered", NULL, "r>=0", "hindered CHI", "hindered-drag exponent", HELP_HINDERED,
      do_hindered, do_hindered},
     {"dispersion", NULL, "r>=0", "dispersion D", "turbulent dispersion coefficient",
@@ -724,6 +1028,23 @@ static const mote_cmd sep_commands[] = {
     {"run", NULL, "r>0", "run T", "advance the simulated time", HELP_RUN, do_run, do_run},
     {"tromp", NULL, "f>tromp", "tromp FILE", "write the grade-efficiency curve", HELP_TROMP,
      do_tromp, do_tromp},
+    {"profiles", NULL, "f>profiles", "profiles FILE", "write the profiles along the height",
+     HELP_PROFILES, do_profiles, do_profiles},
+    {"average_from", NULL, "r>=0", "average_from T", "start of the profile averaging",
+     HELP_AVERAGE_FROM, do_average_from, do_average_from},
+    {"reset_stats", NULL, "", "reset_stats", "start a new statistics window", HELP_RESET_STATS,
+     do_reset_stats, do_reset_stats},
+    {"frames", NULL, "f r>0 px=i[16,16384] color=s y1=r y2=r movie=s fps=i[1,1000]",
+     "frames DIR DT [options]", "PNG pictures on a schedule, and the movie", HELP_FRAMES,
+     do_frames, do_frames},
+    {"live", NULL, "f>image hz=r>0 px=i[16,16384] color=s", "live FILE [hz=30]",
+     "a picture rewritten while runs go on", HELP_LIVE, do_live, do_live},
+    {"snapshots", NULL, "f r>0", "snapshots DIR DT", "extended XYZ snapshots on a schedule",
+     HELP_SNAPSHOTS, do_snapshots, do_snapshots},
+    {"balance", NULL, "f>balance r>0", "balance FILE DT", "the bookkeeping time series",
+     HELP_BALANCE, do_balance, do_balance},
+    {"summary", NULL, "", "summary", "print the status and the bookkeeping", HELP_SUMMARY,
+     do_summary, do_summary},
 };
 
 const mote_model mote_model_separator = {

@@ -15,4 +15,29 @@ int sep_overlaps_any(const mote_sep_system *s, double px, double py, double pz, 
 int sep_touches_plate(const mote_sep_system *s, double x, double y, double z, double r);
 int sep_contact_forces(mote_sep_system *s, double dt, mote_err *err);
 
+/* output.c */
+typedef struct {
+    int px;           /* picture height in pixels (0: 900) */
+    int by_species;   /* colour by species instead of diameter */
+    double y1, y2;    /* 3D: only particles with y1 <= y <= y2 (y2 <= y1: all) */
+} sep_frame_opts;
+
+/* path with its extension replaced by .png (malloc'ed). */
+char *sep_png_name(const char *path);
+/* The Tromp table and its PNG (path's stem + .png); *cut gets the all-species cut (may be NULL). */
+int sep_write_tromp(const mote_sep_system *s, const char *path, const char *origin,
+                    uint64_t seed, mote_sep_cut *cut, mote_err *err);
+/* The profiles table and its three-panel PNG. */
+int sep_write_profiles(const mote_sep_system *s, const char *path, const char *origin,
+                       uint64_t seed, mote_err *err);
+int sep_frame_png(const mote_sep_system *s, const char *path, const sep_frame_opts *fo,
+                  mote_err *err);
+int sep_write_xyz(const mote_sep_system *s, const char *path, mote_err *err);
+/* One balance row (sep_balance_width numbers): t, then per species and in total the counts
+ * fed, in, fines, coarse, lost, backlog and the same as masses. */
+size_t sep_balance_width(const mote_sep_system *s);
+void sep_balance_row(const mote_sep_system *s, double *row);
+int sep_write_balance(const mote_sep_system *s, const char *path, const char *origin,
+                      uint64_t seed, const double *rows, size_t nrows, int held, mote_err *err);
+
 #endif

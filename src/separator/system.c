@@ -28,6 +28,7 @@ void mote_sep_init(mote_sep_system *s)
     s->dem = 1;
     s->delta_f = 0.05;
     s->nc = 50;
+    s->nsort = 100;
     s->t_stop = INFINITY;
     mote_rng_seed(&s->rng, 1);
 }
@@ -46,11 +47,22 @@ void mote_sep_free(mote_sep_system *s)
     free(s->id);
     free(s->eps_s);
     free(s->u_g);
+    free(s->eps_r);
     free(s->class_edge);
     free(s->cl_mf);
     free(s->cl_mc);
     free(s->cl_nf);
     free(s->cl_nc);
+    free(s->cls_mf);
+    free(s->cls_mc);
+    free(s->cls_nf);
+    free(s->cls_nc);
+    free(s->prof_eps);
+    free(s->prof_n);
+    free(s->prof_mvz);
+    free(s->prof_m);
+    free(s->prof_ug);
+    free(s->prof_fd);
     free(s->fx);
     free(s->fy);
     free(s->fz);
@@ -77,7 +89,7 @@ void mote_sep_size_range(const mote_sep_system *s, double *dmin, double *dmax)
 }
 
 /* The cross-section area (spec 2.3). */
-static double cross_section(const mote_sep_system *s)
+double mote_sep_cross_section(const mote_sep_system *s)
 {
     double dmin, dmax;
     mote_sep_size_range(s, &dmin, &dmax);
@@ -140,9 +152,12 @@ int mote_sep_prepare(mote_sep_system *s, mote_err *err)
     if (K != s->K || !s->eps_s) {
         free(s->eps_s);
         free(s->u_g);
+        free(s->eps_r);
         s->eps_s = calloc((size_t)K, sizeof *s->eps_s);
         s->u_g = calloc((size_t)K, sizeof *s->u_g);
-        if (!s->eps_s || !s->u_g)
+        s->eps_r = calloc((size_t)K, sizeof *s->eps_r);
+        s->eps_r_valid = 0;
+        if (!s->eps_s || !s->u_g || !s->eps_r)
             return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for %d slices", K);
         s->K = K;
     }
@@ -159,12 +174,42 @@ int mote_sep_prepare(mote_sep_system *s, mote_err *err)
             s->class_edge[k] = exp(log(lo) + (log(hi) - log(lo)) * k / s->nclass);
     }
     if (!s->cl_mf) {
-        s->cl_mf = calloc((size_t)s->nclass, sizeof *s->cl_mf);
-        s->cl_mc = calloc((size_t)s->nclass, sizeof *s->cl_mc);
-        s->cl_nf = calloc((size_t)s->nclass, sizeof *s->cl_nf);
-        s->cl_nc = calloc((size_t)s->nclass, sizeof *s->cl_nc);
-        if (!s->cl_mf || !s->cl_mc || !s->cl_nf || !s->cl_nc)
+        const size_t nc = (size_t)s->nclass, ns = nc * MOTE_SEP_MAX_SPECIES;
+        free(s->cls_mf);
+        free(s->cls_mc);
+        free(s->cls_nf);
+        free(s->cls_nc);
+        s->cl_mf = calloc(nc, sizeof *s->cl_mf);
+        s->cl_mc = calloc(nc, sizeof *s->cl_mc);
+        s->cl_nf = calloc(nc, sizeof *s->cl_nf);
+        s->cl_nc = calloc(nc, sizeof *s->cl_nc);
+        s->cls_mf = calloc(ns, sizeof *s->cls_mf);
+        s->cls_mc = calloc(ns, sizeof *s->cls_mc);
+        s->cls_nf = calloc(ns, sizeof *s->cls_nf);
+        s->cls_nc = calloc(ns, sizeof *s->cls_nc);
+        if (!s->cl_mf || !s->cl_mc || !s->cl_nf || !s->cl_nc || !s->cls_mf || !s->cls_mc ||
+            !s->cls_nf || !s->cls_nc)
             return mote_fail(err, MOTE_ENOMEM, "separator: out of memory");
+    }
+    /* the profile sums, per slice (restarted when the slices change) */
+    if (s->prof_K != s->K || !s->prof_n) {
+        const size_t nK = (size_t)s->K;
+        free(s->prof_eps);
+        free(s->prof_n);
+        free(s->prof_mvz);
+        free(s->prof_m);
+        free(s->prof_ug);
+        free(s->prof_fd);
+        s->prof_eps = calloc(nK * MOTE_SEP_MAX_SPECIES, sizeof *s->prof_eps);
+        s->prof_n = calloc(nK, sizeof *s->prof_n);
+        s->prof_mvz = calloc(nK, sizeof *s->prof_mvz);
+        s->prof_m = calloc(nK, sizeof *s->prof_m);
+        s->prof_ug = calloc(nK, sizeof *s->prof_ug);
+        s->prof_fd = calloc(nK, sizeof *s->prof_fd);
+        if (!s->prof_eps || !s->prof_n || !s->prof_mvz || !s->prof_m || !s->prof_ug || !s->prof_fd)
+            return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the profiles");
+        s->prof_K = s->K;
+        s->prof_time = 0;
     }
     /* the time step: with contacts, the contact time over N_c (spec 2.8), which a given step
      * must not exceed; in the dilute mode half a slice (the narrowest feature) per reference
@@ -203,7 +248,7 @@ int mote_sep_prepare(mote_sep_system *s, mote_err *err)
         }
         s->dt = vref > 0 ? 0.5 * smin / vref : 1e-3;
     }
-    mote_sep_gas_update(s);
+    mote_sep_gas_update(s, 0);
     return MOTE_OK;
 }
 
@@ -341,7 +386,7 @@ static int retry_backlog(mote_sep_system *s, mote_err *err)
 
 /* ---- gas (spec 2.6) ------------------------------------------------------------------------- */
 
-void mote_sep_gas_update(mote_sep_system *s)
+void mote_sep_gas_update(mote_sep_system *s, double dt)
 {
     const int K = s->K;
     if (K <= 0)
@@ -363,17 +408,20 @@ void mote_sep_gas_update(mote_sep_system *s)
             s->eps_s[k + 1] += f * vol;
         }
     }
-    const double Ac = cross_section(s), G = s->rho_g * s->U0;
+    const double Ac = mote_sep_cross_section(s), G = s->rho_g * s->U0;
     s->clamped = 0;
+    const double w = s->tau_eps > 0 && s->eps_r_valid ? fmin(dt / s->tau_eps, 1) : 1;
     for (int k = 0; k < K; k++) {
         s->eps_s[k] /= Ac * s->dz;
-        double eg = 1 - s->eps_s[k];
+        s->eps_r[k] = w == 1 ? s->eps_s[k] : s->eps_r[k] + w * (s->eps_s[k] - s->eps_r[k]);
+        double eg = 1 - s->eps_r[k];
         if (eg < s->eps_gas_min) {
             eg = s->eps_gas_min;
             s->clamped++;
         }
         s->u_g[k] = s->rho_g > 0 ? G / (s->rho_g * (s->coupling ? eg : 1)) : s->U0;
     }
+    s->eps_r_valid = 1;
 }
 
 double mote_sep_gas_at(const mote_sep_system *s, double z)
@@ -394,8 +442,60 @@ static double eps_gas_at(const mote_sep_system *s, double z)
     const double q = fmin(fmax(z / s->dz - 0.5, 0), s->K - 1);
     const int k = (int)fmin(q, s->K - 2 >= 0 ? s->K - 2 : 0);
     const double f = s->K > 1 ? q - k : 0;
-    const double e = 1 - ((1 - f) * s->eps_s[k] + f * s->eps_s[s->K > 1 ? k + 1 : k]);
+    const double e = 1 - ((1 - f) * s->eps_r[k] + f * s->eps_r[s->K > 1 ? k + 1 : k]);
     return fmax(e, s->eps_gas_min);
+}
+
+/* ---- profiles (spec 3.2) ---------------------------------------------------------------------- */
+
+/* Add this step's slice values, weighted by dt: each species' solids fraction (cloud in cell,
+ * as the gas model), the particle count and m v_z, m by the slice holding the centre, u_g. */
+static void sample_profiles(mote_sep_system *s, double dt)
+{
+    const int K = s->K;
+    const double scale = dt / (mote_sep_cross_section(s) * s->dz);
+    for (size_t i = 0; i < s->n; i++) {
+        const double vol = SEP_PI * s->d[i] * s->d[i] * s->d[i] / 6 * scale;
+        const double q = s->z[i] / s->dz - 0.5;
+        double *e = s->prof_eps + s->s[i];
+        if (q <= 0) {
+            e[0] += vol;
+        } else if (q >= K - 1) {
+            e[(size_t)(K - 1) * MOTE_SEP_MAX_SPECIES] += vol;
+        } else {
+            const int k = (int)q;
+            const double f = q - k;
+            e[(size_t)k * MOTE_SEP_MAX_SPECIES] += (1 - f) * vol;
+            e[(size_t)(k + 1) * MOTE_SEP_MAX_SPECIES] += f * vol;
+        }
+        const int k = (int)fmin(fmax(floor(s->z[i] / s->dz), 0), K - 1);
+        s->prof_n[k] += dt;
+        s->prof_mvz[k] += dt * s->m[i] * s->vz[i];
+        s->prof_m[k] += dt * s->m[i];
+    }
+    for (int k = 0; k < K; k++)
+        s->prof_ug[k] += dt * s->u_g[k];
+    s->prof_time += dt;
+}
+
+void mote_sep_reset_stats(mote_sep_system *s)
+{
+    const size_t nc = s->cl_mf ? (size_t)s->nclass : 0, K = s->prof_n ? (size_t)s->prof_K : 0;
+    for (size_t i = 0; i < nc; i++) {
+        s->cl_mf[i] = s->cl_mc[i] = 0;
+        s->cl_nf[i] = s->cl_nc[i] = 0;
+    }
+    for (size_t i = 0; i < nc * MOTE_SEP_MAX_SPECIES; i++) {
+        s->cls_mf[i] = s->cls_mc[i] = 0;
+        s->cls_nf[i] = s->cls_nc[i] = 0;
+    }
+    for (size_t k = 0; k < K; k++) {
+        s->prof_n[k] = s->prof_mvz[k] = s->prof_m[k] = s->prof_ug[k] = s->prof_fd[k] = 0;
+        for (int j = 0; j < MOTE_SEP_MAX_SPECIES; j++)
+            s->prof_eps[k * MOTE_SEP_MAX_SPECIES + (size_t)j] = 0;
+    }
+    s->prof_time = 0;
+    s->avg_from = s->t;
 }
 
 /* ---- one step (spec 2.10, the dilute mode) ---------------------------------------------------- */
@@ -561,6 +661,41 @@ static int class_of(const mote_sep_system *s, double d)
     return lo;
 }
 
+/* Put the particles in the order of the cell lists just built (spec 2.9: memory locality; the
+ * ids do not change, and the order is a function of the positions, so runs stay reproducible). */
+static int reorder(mote_sep_system *s, mote_err *err)
+{
+    const size_t n = s->n;
+    void *tmp = malloc((n ? n : 1) * sizeof(double));
+    if (!tmp)
+        return mote_fail(err, MOTE_ENOMEM, "separator: out of memory to reorder");
+    const uint32_t *p = s->cell_idx;
+#define PERMUTE(f, T)                                                                             \
+    do {                                                                                          \
+        T *t_ = tmp;                                                                              \
+        for (size_t k = 0; k < n; k++)                                                            \
+            t_[k] = s->f[p[k]];                                                                   \
+        memcpy(s->f, t_, n * sizeof(T));                                                          \
+    } while (0)
+    PERMUTE(x, double);
+    PERMUTE(y, double);
+    PERMUTE(z, double);
+    PERMUTE(vx, double);
+    PERMUTE(vy, double);
+    PERMUTE(vz, double);
+    PERMUTE(d, double);
+    PERMUTE(m, double);
+    PERMUTE(fx, double);
+    PERMUTE(fy, double);
+    PERMUTE(fz, double);
+    PERMUTE(s, int);
+    PERMUTE(id, uint64_t);
+#undef PERMUTE
+    free(tmp);
+    s->built_step = 0; /* the lists now point at the old order */
+    return MOTE_OK;
+}
+
 /* Remove particle i (the last one takes its place). */
 static void remove_particle(mote_sep_system *s, size_t i)
 {
@@ -594,6 +729,7 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
      * largest displacement is watched (spec 2.8's guard: r_min / 4) */
     double dmin, dmax, move2 = 0;
     mote_sep_size_range(s, &dmin, &dmax);
+    const int sampling = s->t + dt >= s->avg_from;
     for (size_t i = 0; i < s->n; i++) {
         const double x0 = s->x[i], y0 = s->y[i], z0 = s->z[i];
         const mote_sep_species *sp = &s->sp[s->s[i]];
@@ -608,6 +744,10 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
             if (s->chi != 0)
                 f *= pow(eps_gas_at(s, s->z[i]), -s->chi);
             tau = sp->rho * d * d / (18 * s->mu_g * f);
+        }
+        if (sampling && isfinite(tau)) { /* the drag's z force at the step's start */
+            const int k = (int)fmin(fmax(floor(s->z[i] / s->dz), 0), s->K - 1);
+            s->prof_fd[k] += dt * s->m[i] * (u - s->vz[i]) / tau;
         }
         drift1(&s->x[i], &s->vx[i], 0, 0, tau, dt);
         if (s->dim == 3)
@@ -654,12 +794,15 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
         }
         const double m = s->m[i];
         const int c = class_of(s, s->d[i]);
+        const size_t cs = (size_t)c * MOTE_SEP_MAX_SPECIES + (size_t)k;
         if (out == 1) {
             s->cnt[k].fines++;
             s->cnt[k].m_fines += m;
             if (c >= 0) {
                 s->cl_nf[c]++;
                 s->cl_mf[c] += m;
+                s->cls_nf[cs]++;
+                s->cls_mf[cs] += m;
             }
         } else if (out == 2) {
             s->cnt[k].coarse++;
@@ -667,6 +810,8 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
             if (c >= 0) {
                 s->cl_nc[c]++;
                 s->cl_mc[c] += m;
+                s->cls_nc[cs]++;
+                s->cls_mc[cs] += m;
             }
         } else {
             s->cnt[k].lost++;
@@ -704,20 +849,32 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
             s->vy[i] += h * s->fy[i];
             s->vz[i] += h * s->fz[i];
         }
+        if (!s->brute && s->nsort > 0 && s->steps % (uint64_t)s->nsort == 0 && reorder(s, err))
+            return err->code;
     }
-    mote_sep_gas_update(s);
+    mote_sep_gas_update(s, dt);
+    if (sampling)
+        sample_profiles(s, dt);
     return MOTE_OK;
 }
 
 int mote_sep_run(mote_sep_system *s, double T, mote_err *err)
 {
+    return mote_sep_run_hook(s, T, NULL, NULL, err);
+}
+
+int mote_sep_run_hook(mote_sep_system *s, double T, int (*hook)(void *, mote_sep_system *, mote_err *),
+                      void *ctx, mote_err *err)
+{
     int rc = mote_sep_prepare(s, err);
     const double t_end = s->t + T;
     while (!rc && s->t < t_end) {
         const double dt = fmin(s->dt, t_end - s->t);
-        if (!(dt > 1e-15 * fmax(1, s->t)))
+        if (!(dt > 1e-9 * s->dt)) /* a remainder from rounding the sum of the steps */
             break;
         rc = step(s, dt, err);
+        if (!rc && hook)
+            rc = hook(ctx, s, err);
     }
     if (!rc && mote_sep_check_balance(s))
         rc = mote_fail(err, MOTE_ERUNTIME, "separator: the mass balance does not hold (fed = in "
@@ -748,9 +905,16 @@ int mote_sep_check_balance(const mote_sep_system *s)
 
 void mote_sep_tromp(const mote_sep_system *s, double *T, mote_sep_cut *cut)
 {
+    mote_sep_tromp_species(s, -1, T, cut);
+}
+
+void mote_sep_tromp_species(const mote_sep_system *s, int sp, double *T, mote_sep_cut *cut)
+{
     for (int i = 0; i < s->nclass; i++) {
-        const double tot = s->cl_mf[i] + s->cl_mc[i];
-        T[i] = tot > 0 ? s->cl_mc[i] / tot : NAN;
+        const size_t q = (size_t)i * MOTE_SEP_MAX_SPECIES + (size_t)(sp < 0 ? 0 : sp);
+        const double mf = sp < 0 ? s->cl_mf[i] : s->cls_mf[q], mc = sp < 0 ? s->cl_mc[i] : s->cls_mc[q];
+        const double tot = mf + mc;
+        T[i] = tot > 0 ? mc / tot : NAN;
     }
     const double x[3] = {0.25, 0.5, 0.75};
     double dx[3];
