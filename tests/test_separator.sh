@@ -22,6 +22,46 @@ printf '%bchannel 0.02 0.06\nends closed closed\ngas 0\nspecies glass 2500\nsize
 "$MOTE" run dem.mote > out.txt 2> err.txt && ok || bad "dem.mote failed: $(cat err.txt)"
 grep -q '^t=0.005 steps=[0-9]* dt=3.25669e-07 N=300 fed=300 fines=0 coarse=0 lost=0 backlog=0 d50=nan kappa=nan eps_max=[0-9.]* max_overlap=[0-9.e-]* fast_moves=0$' out.txt && ok || bad "dem status: $(cat out.txt)"
 awk -F'max_overlap=' '/^t=/ { split($2, a, " "); exit !(a[1] <= 0.1) }' out.txt && ok || bad "dem overlap: $(cat out.txt)"
+# V10: save mid-run, load, continue: bit for bit the run that never stopped (a DEM run with two
+# species, a grid, dispersion, relaxation, a backlog and profile sums); save, load, save gives
+# the same file
+printf '%bseed 7\nchannel 0.01 0.05\ngas 0.3\ndispersion 1e-5\nspecies glass 2500\nsize glass loguniform min=0.4e-3 max=0.8e-3\nspecies coal 1400\nsize coal mono d=0.6e-3\nfeed_fraction glass 0.6\nfeed_fraction coal 0.4\nfeed z=0.03 rate=2e-3 stop=0.02\ngrid 0.01 0.001 pattern a=1.2e-3 p=2e-3 offset=0.3e-3\nstiffness overlap=0.05 vimp=1\nrelax 1e-3\naverage_from 0.005\nrun 0.01\nsave s1.state\nrun 0.01\nsave a.state\n' "$S" > v10a.mote
+printf '%bload s1.state\nrun 0.01\nsave c.state\n' "$S" > v10c.mote
+printf '%bload s1.state\nsave d.state\n' "$S" > v10d.mote
+"$MOTE" run v10a.mote > out.txt 2> err.txt && ok || bad "v10a.mote: $(cat err.txt)"
+grep -q 'backlog=[1-9]' out.txt && ok || bad "v10a.mote: no backlog: $(cat out.txt)"
+"$MOTE" run v10c.mote > /dev/null 2> err.txt && cmp -s a.state c.state && ok || bad "V10: the continued run differs: $(cat err.txt)"
+"$MOTE" run v10d.mote > /dev/null 2> err.txt && cmp -s s1.state d.state && ok || bad "V10: save, load, save differs: $(cat err.txt)"
+# a damaged state: located, nothing run, nothing written
+head -c 3000 s1.state > cut.state
+expect 1 "cut.mote:2:6: error: cut.state:" cut.mote "${S}load cut.state\nsave e.state\n"
+[ ! -e e.state ] && ok || bad "a failed load wrote a state"
+sed 's/^real W .*/real W -x/' s1.state > badw.state
+expect 1 "badw.mote:2:6: error: badw.state:4: expected a decimal number (found '-x')" badw.mote "${S}load badw.state\n"
+# outputs: frames (and the movie when ffmpeg is here), snapshots, balance, profiles, tromp, live
+printf '%bchannel 0.05 1\ngas 1.5\ncollisions off\ntimestep 1e-3\nspecies quartz 2650\nsize quartz lognormal d50=150e-6 sigma=1.6 min=30e-6 max=600e-6\nspecies ore 4500\nsize ore lognormal d50=120e-6 sigma=1.6 min=30e-6 max=600e-6\nfeed z=0.5 rate=2e-5\nfeed_fraction quartz 0.7\nfeed_fraction ore 0.3\ngrid 0.2 0.004 pattern a=3e-3 p=5e-3 offset=1e-3\nslices 50\nframes fr 0.5\nsnapshots sn 1\nbalance bal.csv 0.1\nlive live.png\naverage_from 1\nrun 3\ntromp tr.csv\nprofiles pr.csv\nsummary\n' "$S" > outs.mote
+"$MOTE" run outs.mote > out.txt 2> err.txt && ok || bad "outs.mote: $(cat err.txt)"
+[ "$(ls fr/frame_*.png | wc -l)" -eq 7 ] && ok || bad "frames: $(ls fr)"
+if command -v ffmpeg > /dev/null 2>&1; then
+    [ -s fr/movie.mp4 ] && grep -q "^frames: 7 frames in fr, the movie fr/movie.mp4" out.txt && ok || bad "movie: $(cat out.txt err.txt)"
+fi
+[ "$(ls sn/snapshot_*.xyz | wc -l)" -eq 4 ] && ok || bad "snapshots: $(ls sn)"
+# an extended XYZ: N, the lattice and properties line, N rows of 9 fields, ids unique
+awk 'NR == 1 { n = $1 } NR == 2 { ok = /^Lattice="0.05 0 0 0 [0-9.e-]+ 0 0 0 1" Properties=species:S:1:id:I:1:pos:R:3:velo:R:3:radius:R:1 Time=2 / }
+     NR > 2 { rows++; if (NF != 9 || ($1 != "quartz" && $1 != "ore") || seen[$2]++) bad = 1 }
+     END { exit !(ok && rows == n && n > 100 && !bad) }' sn/snapshot_000002.xyz && ok || bad "xyz: $(head -3 sn/snapshot_000002.xyz)"
+awk '/^# invariant_held = 1$/ { h = 1 } !/^#/ { rows++ } END { exit !(h && rows == 31) }' bal.csv && ok || bad "balance: $(head -5 bal.csv)"
+# the balance's last row: fed_all = in_all + fines_all + coarse_all + lost_all
+awk '!/^#/ { last = $0 } /^# columns:/ { for (i = 3; i <= NF; i++) col[$i] = i - 2 }
+     END { split(last, v, " "); exit !(v[col["fed_all"]] == v[col["in_all"]] + v[col["fines_all"]] + v[col["coarse_all"]] + v[col["lost_all"]] && v[col["fed_all"]] > 0) }' bal.csv && ok || bad "balance row: $(tail -1 bal.csv)"
+grep -q '^# columns: z_m eps_s eps_quartz eps_ore N v_z_m_s u_g_m_s rho_mix_kg_m3 minus_dp_dz_Pa_m p_minus_pH_Pa$' pr.csv && [ "$(grep -vc '^#' pr.csv)" -eq 50 ] && ok || bad "profiles: $(head -8 pr.csv)"
+grep -q '^# columns: d_lo_m .* holdup_kg T_quartz T_ore$' tr.csv && grep -q '^# d50_m quartz = ' tr.csv && ok || bad "tromp species: $(grep '^#' tr.csv)"
+for f in fr/frame_000006.png live.png tr.png pr.png; do
+    [ "$(head -c 8 "$f" | od -An -tx1 | tr -d ' ')" = 89504e470d0a1a0a ] && ok || bad "$f is not a PNG"
+done
+grep -q '^balance: fed = in channel + fines + coarse + lost holds$' out.txt && ok || bad "summary: $(cat out.txt)"
+expect 1 "f1.mote:2:21: error: frames: color= is size or species, found 'x'" f1.mote "${S}frames fr 0.1 color=x\n"
+expect 1 "f2.mote:2:8: error: frames: the directory that would hold 'nodir/fr' does not exist" f2.mote "${S}frames nodir/fr 0.1\n"
 # bad input
 expect 1 "b1.mote:11:1: error: run: the feed fractions must sum to 1, found 0.9 (a 0.5, b 0.4)" b1.mote "${S}channel 0.05 1\ngas 1.0\nspecies a 2500\nspecies b 1500\nsize a mono d=1e-4\nsize b mono d=2e-4\nfeed z=0.5 rate=0.001\nfeed_fraction a 0.5\nfeed_fraction b 0.4\nrun 1\n"
 expect 1 "b2.mote:4:8: error: size: need 0 < d_min < d_max (found 0.0003 and 0.0001 m)" b2.mote "${S}channel 0.05 1\nspecies a 2500\nsize a loguniform min=3e-4 max=1e-4\n"

@@ -214,6 +214,14 @@ double mote_sep_dt_limit(const mote_sep_system *s);
  * pairs i < j into pairs[2 k], sorted; the count (up to cap; more are counted, not stored). */
 size_t mote_sep_pairs(mote_sep_system *s, int brute, uint32_t *pairs, size_t cap);
 
+/* ---- state files (spec 2.12; state.c) -------------------------------------------------------- */
+
+/* Write the whole state exactly (atomically), with the seed the script set. */
+int mote_sep_save(const mote_sep_system *s, uint64_t seed, const char *path, mote_err *err);
+/* Read a state written by mote_sep_save into s (replacing it only when the whole file is good;
+ * errors name FILE:LINE). */
+int mote_sep_load(mote_sep_system *s, uint64_t *seed, const char *path, mote_err *err);
+
 /* ---- the Tromp curve (spec 3.1) ------------------------------------------------------------- */
 
 typedef struct {

@@ -15,6 +15,10 @@ int sep_overlaps_any(const mote_sep_system *s, double px, double py, double pz, 
 int sep_touches_plate(const mote_sep_system *s, double x, double y, double z, double r);
 int sep_contact_forces(mote_sep_system *s, double dt, mote_err *err);
 
+/* system.c: append a particle of species k with its id and d, m, x, y, z, vx, vy, vz, fx, fy,
+ * fz (a state being read). */
+int sep_append(mote_sep_system *s, int k, uint64_t id, const double v[11], mote_err *err);
+
 /* output.c */
 typedef struct {
     int px;           /* picture height in pixels (0: 900) */

@@ -286,6 +286,27 @@ static int grow(mote_sep_system *s, size_t need, mote_err *err)
     return MOTE_OK;
 }
 
+int sep_append(mote_sep_system *s, int k, uint64_t id, const double v[11], mote_err *err)
+{
+    if (grow(s, s->n + 1, err))
+        return err->code;
+    const size_t i = s->n++;
+    s->s[i] = k;
+    s->id[i] = id;
+    s->d[i] = v[0];
+    s->m[i] = v[1];
+    s->x[i] = v[2];
+    s->y[i] = v[3];
+    s->z[i] = v[4];
+    s->vx[i] = v[5];
+    s->vy[i] = v[6];
+    s->vz[i] = v[7];
+    s->fx[i] = v[8];
+    s->fy[i] = v[9];
+    s->fz[i] = v[10];
+    return MOTE_OK;
+}
+
 static int place(mote_sep_system *s, int k, double d, mote_err *err);
 
 /* Draw a particle of species k (its size first) and place it; when it cannot be placed it
@@ -294,7 +315,8 @@ static int add_particle(mote_sep_system *s, int k, double *mass, mote_err *err)
 {
     const double d = mote_sep_dist_sample(&s->sp[k].dist, mote_rng_uniform(&s->rng));
     *mass = s->sp[k].rho * SEP_PI * d * d * d / 6;
-    const int rc = place(s, k, d, err);
+    /* first in, first out: behind a backlog a new particle waits without trying */
+    const int rc = s->nback ? 0 : place(s, k, d, err);
     if (rc == 0) { /* the backlog */
         if (s->nback == s->back_cap) {
             const size_t cap = s->back_cap ? 2 * s->back_cap : 64;
@@ -367,20 +389,21 @@ int mote_sep_insert(mote_sep_system *s, int sp, uint64_t count, double mass, mot
     return MOTE_OK;
 }
 
-/* Retry the backlog, oldest first; those placed leave it. */
+/* Retry the backlog, oldest first, until one cannot be placed (the band is full: the rest wait
+ * for the next step); those placed leave it. */
 static int retry_backlog(mote_sep_system *s, mote_err *err)
 {
-    size_t keep = 0;
-    for (size_t b = 0; b < s->nback; b++) {
+    size_t b = 0;
+    for (; b < s->nback; b++) {
         const int rc = place(s, s->back_s[b], s->back_d[b], err);
         if (rc < 0)
             return err->code;
-        if (rc == 0) {
-            s->back_s[keep] = s->back_s[b];
-            s->back_d[keep++] = s->back_d[b];
-        }
+        if (rc == 0) /* the band is full: the rest wait for the next step */
+            break;
     }
-    s->nback = keep;
+    memmove(s->back_s, s->back_s + b, (s->nback - b) * sizeof *s->back_s);
+    memmove(s->back_d, s->back_d + b, (s->nback - b) * sizeof *s->back_d);
+    s->nback -= b;
     return MOTE_OK;
 }
 
