@@ -231,6 +231,28 @@ static void test_gas(void)
            "error %.2e; %d clamped\n", dep / vol - 1, unclamped, s.K, worst, s.clamped);
     CHECK(fabs(dep / vol - 1) <= 1e-12, "V8 volume %.3e", dep / vol - 1);
     CHECK(unclamped > 0 && worst <= 1e-12, "V8 flux %.3e", worst);
+    /* with a gas profile (density halving up the channel): u_g eps_g rho_g(z) = rho_g(0) U0 */
+    const double gz[3] = {0, 0.2, 0.5}, gr[3] = {1.2, 0.9, 0.6}, gm[3] = {NAN, NAN, NAN};
+    CHECK(mote_sep_set_gas_profile(&s, 3, gz, gr, gm, &err) == MOTE_OK &&
+          mote_sep_prepare(&s, &err) == MOTE_OK, "profile: %s", err.msg);
+    worst = 0;
+    unclamped = 0;
+    for (int k = 0; k < s.K; k++) {
+        const double z = (k + 0.5) * s.dz;
+        const double rho = z < 0.2 ? 1.2 - 0.3 * z / 0.2 : 0.9 - 0.3 * (z - 0.2) / 0.3;
+        const double eg = 1 - s.eps_s[k];
+        if (eg >= s.eps_gas_min) {
+            unclamped++;
+            worst = fmax(worst, fabs(s.u_g[k] * eg * rho / (1.2 * s.U0) - 1));
+        }
+    }
+    printf("  with a gas profile: worst flux error %.2e over %d slices\n", worst, unclamped);
+    CHECK(unclamped > 0 && worst <= 1e-12, "V8 flux with a profile %.3e", worst);
+    /* the reference cut uses the gas at the feed height (z_f = 0.25: rho 0.85) */
+    const double d0 = mote_sep_d0_star(&s, 0), want = mote_sep_cut_size(1.2 * 1.5 / 0.85, 2500,
+                                                                          0.85, 1.81e-5, 9.81);
+    printf("  d0* with the profile %.6g um (G / rho(z_f) = %.5g m/s)\n", d0 * 1e6, 1.2 * 1.5 / 0.85);
+    CHECK(fabs(d0 / want - 1) < 1e-12, "d0* %.10g against %.10g", d0, want);
     mote_sep_free(&s);
 }
 

@@ -23,9 +23,10 @@ printf '%bchannel 0.02 0.06\nends closed closed\ngas 0\nspecies glass 2500\nsize
 grep -q '^t=0.005 steps=[0-9]* dt=3.25669e-07 N=300 fed=300 fines=0 coarse=0 lost=0 backlog=0 d50=nan kappa=nan eps_max=[0-9.]* max_overlap=[0-9.e-]* fast_moves=0$' out.txt && ok || bad "dem status: $(cat out.txt)"
 awk -F'max_overlap=' '/^t=/ { split($2, a, " "); exit !(a[1] <= 0.1) }' out.txt && ok || bad "dem overlap: $(cat out.txt)"
 # V10: save mid-run, load, continue: bit for bit the run that never stopped (a DEM run with two
-# species, a grid, dispersion, relaxation, a backlog and profile sums); save, load, save gives
-# the same file
-printf '%bseed 7\nchannel 0.01 0.05\ngas 0.3\ndispersion 1e-5\nspecies glass 2500\nsize glass loguniform min=0.4e-3 max=0.8e-3\nspecies coal 1400\nsize coal mono d=0.6e-3\nfeed_fraction glass 0.6\nfeed_fraction coal 0.4\nfeed z=0.03 rate=2e-3 stop=0.02\ngrid 0.01 0.001 pattern a=1.2e-3 p=2e-3 offset=0.3e-3\nstiffness overlap=0.05 vimp=1\nrelax 1e-3\naverage_from 0.005\nrun 0.01\nsave s1.state\nrun 0.01\nsave a.state\n' "$S" > v10a.mote
+# species, a gas profile, a grid, dispersion, relaxation, a backlog and profile sums); save,
+# load, save gives the same file
+printf '0 1.2 1.8e-5\n0.05 1.0 1.9e-5\n' > v10gp.txt
+printf '%bseed 7\nchannel 0.01 0.05\ngas 0.3\ngas_profile v10gp.txt\ndispersion 1e-5\nspecies glass 2500\nsize glass loguniform min=0.4e-3 max=0.8e-3\nspecies coal 1400\nsize coal mono d=0.6e-3\nfeed_fraction glass 0.6\nfeed_fraction coal 0.4\nfeed z=0.03 rate=2e-3 stop=0.02\ngrid 0.01 0.001 pattern a=1.2e-3 p=2e-3 offset=0.3e-3\nstiffness overlap=0.05 vimp=1\nrelax 1e-3\naverage_from 0.005\nrun 0.01\nsave s1.state\nrun 0.01\nsave a.state\n' "$S" > v10a.mote
 printf '%bload s1.state\nrun 0.01\nsave c.state\n' "$S" > v10c.mote
 printf '%bload s1.state\nsave d.state\n' "$S" > v10d.mote
 "$MOTE" run v10a.mote > out.txt 2> err.txt && ok || bad "v10a.mote: $(cat err.txt)"
@@ -82,6 +83,12 @@ printf '0.001 0.002\n0.003 x\n' > holes2.txt
 expect 1 "g5.mote:3:1: error: holes2.txt:2: value 2 is not a finite number" g5.mote "${S}channel 0.05 1\ngrid 0.3 0.005 holes file=holes2.txt\n"
 expect 1 "g6.mote:3:27: error: grid: 'holes3.txt' does not exist and no earlier command writes it" g6.mote "${S}channel 0.05 1\ngrid 0.3 0.005 holes file=holes3.txt\n"
 expect 1 "g7.mote:3:6: error: grid: the plate 0.998 ... 1.008 m does not fit the channel (H = 1 m)" g7.mote "${S}channel 0.05 1\ngrid 0.998 0.01 pattern a=1e-3 p=2e-3\n"
+# gas profiles: bad files, located
+printf '0 1.2\n0.5 1.0\n0.4 0.9\n' > gp1.txt
+expect 1 "gp1.mote:3:13: error: gp1.txt:3: the heights must increase (z = 0.4 after 0.5)" gp1.mote "${S}channel 0.05 1\ngas_profile gp1.txt\n"
+printf '# z rho\n0 1.2\n1 -0.5\n' > gp2.txt
+expect 1 "gp2.mote:3:13: error: gp2.txt:3: the gas density must be > 0, found -0.5" gp2.mote "${S}channel 0.05 1\ngas_profile gp2.txt\n"
+expect 1 "gp3.mote:3:13: error: gas_profile: 'gp3.txt' does not exist and no earlier command writes it" gp3.mote "${S}channel 0.05 1\ngas_profile gp3.txt\n"
 # a dilute run through a grid: particles reflect from the plate and its holes, none lost
 printf '%bchannel 0.05 1\ngas 1.0\ncollisions off\nspecies quartz 2500\nsize quartz loguniform min=75e-6 max=300e-6 basis=number\ngrid 0.3 0.005 pattern a=2e-3 p=4e-3 offset=1e-3\nfeed z=0.5\ninsert quartz 2000\nrun 10\n' "$S" > grid.mote
 "$MOTE" run grid.mote > out.txt 2> err.txt && ok || bad "grid.mote failed: $(cat err.txt)"

@@ -114,6 +114,11 @@ typedef struct {
     double W, H, D, D2;                  /* channel; D: 3D depth; D2: nominal 2D depth (0: d_max) */
     int open_bottom, open_top;
     double U0, rho_g, mu_g, g;           /* gas and gravity */
+    /* an optional gas profile (spec 2.6): rho_g(z) and mu_g(z) (NaN: the constant mu_g) on gp_n
+     * heights, linear between them and constant beyond; per slice centre in rho_sl, mu_sl */
+    size_t gp_n;
+    double *gp_z, *gp_rho, *gp_mu;
+    double *rho_sl, *mu_sl;
     int coupling;                        /* solids-fraction feedback on the gas */
     int K;                               /* slices (0: auto, about 4 d_max each) */
     double eps_gas_min, chi;             /* clamp on eps_g; hindered-drag exponent */
@@ -201,6 +206,15 @@ int mote_sep_run(mote_sep_system *s, double T, mote_err *err);
 void mote_sep_gas_update(mote_sep_system *s, double dt);
 /* The gas velocity at height z (interpolated between slice centres). */
 double mote_sep_gas_at(const mote_sep_system *s, double z);
+/* The gas density and viscosity at height z (the profile, else the constants). */
+void mote_sep_gas_props(const mote_sep_system *s, double z, double *rho, double *mu);
+/* The reference cut of species k (spec 3.1): the diameter whose still-gas terminal velocity is
+ * the particle-free gas velocity at the feed height, G / rho_g(z_f). */
+double mote_sep_d0_star(const mote_sep_system *s, int k);
+/* Set the gas profile from n heights (strictly increasing), densities (> 0) and viscosities
+ * (> 0, or NaN for the constant); err names the first bad row as row r (from 1). */
+int mote_sep_set_gas_profile(mote_sep_system *s, size_t n, const double *z, const double *rho,
+                             const double *mu, mote_err *err);
 /* The bookkeeping invariant fed = in channel + fines + coarse + lost (spec 2.11): 0 when it
  * holds (counts exactly, masses to 1e-12), else -1. */
 int mote_sep_check_balance(const mote_sep_system *s);

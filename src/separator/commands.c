@@ -177,6 +177,70 @@ static int do_slices(void *vm, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
+/* `gas_profile FILE`: rows z rho_g [mu_g] (spec 2.6). */
+static int do_gas_profile(void *vm, const mote_call *c, mote_err *err)
+{
+    sep_model *m = vm;
+    const char *path = c->args[0].path;
+    mote_table t;
+    mote_err e2 = {0};
+    int rc = mote_table_read(&t, path, &e2);
+    if (rc)
+        return mote_call_fail(err, c, 0, rc, "%s", e2.msg);
+    double *v = malloc(3 * (t.rows ? t.rows : 1) * sizeof *v);
+    if (!v) {
+        mote_table_free(&t);
+        return mote_fail(err, MOTE_ENOMEM, "gas_profile: out of memory");
+    }
+    const int width = t.rows ? t.ncol[0] : 0;
+    for (size_t r = 0; r < t.rows && !rc; r++) {
+        if (t.ncol[r] != width || width < 2 || width > 3) {
+            rc = mote_call_fail(err, c, 0, MOTE_EINVAL, "%s:%ld: expected z rho_g [mu_g] on every "
+                                "row alike, found %d value%s", path, t.line[r], t.ncol[r],
+                                t.ncol[r] == 1 ? "" : "s");
+            break;
+        }
+        for (int q = 0; q < 3; q++)
+            v[3 * r + (size_t)q] = q < width ? mote_table_at(&t, r, q) : NAN;
+        const double *x = v + 3 * r;
+        if (!isfinite(x[0]) || !isfinite(x[1]) || (width == 3 && !isfinite(x[2])))
+            rc = mote_call_fail(err, c, 0, MOTE_EINVAL, "%s:%ld: expected numbers", path,
+                                t.line[r]);
+        else if (r > 0 && !(x[0] > v[3 * (r - 1)]))
+            rc = mote_call_fail(err, c, 0, MOTE_EINVAL, "%s:%ld: the heights must increase (z = "
+                                "%g after %g)", path, t.line[r], x[0], v[3 * (r - 1)]);
+        else if (!(x[1] > 0))
+            rc = mote_call_fail(err, c, 0, MOTE_EINVAL, "%s:%ld: the gas density must be > 0, "
+                                "found %g", path, t.line[r], x[1]);
+        else if (width == 3 && !(x[2] > 0))
+            rc = mote_call_fail(err, c, 0, MOTE_EINVAL, "%s:%ld: the gas viscosity must be > 0, "
+                                "found %g", path, t.line[r], x[2]);
+    }
+    if (!rc && t.rows < 2)
+        rc = mote_call_fail(err, c, 0, MOTE_EINVAL, "%s: a gas profile needs at least 2 rows, "
+                            "found %zu", path, t.rows);
+    const size_t n = t.rows;
+    mote_table_free(&t);
+    if (!rc) {
+        double *z = malloc(3 * n * sizeof *z);
+        if (!z) {
+            free(v);
+            return mote_fail(err, MOTE_ENOMEM, "gas_profile: out of memory");
+        }
+        for (size_t r = 0; r < n; r++) {
+            z[r] = v[3 * r];
+            z[n + r] = v[3 * r + 1];
+            z[2 * n + r] = v[3 * r + 2];
+        }
+        rc = mote_sep_set_gas_profile(&m->sys, n, z, z + n, z + 2 * n, &e2);
+        if (rc)
+            rc = mote_call_fail(err, c, 0, rc, "%s: %s", path, e2.msg);
+        free(z);
+    }
+    free(v);
+    return rc;
+}
+
 static int do_relax(void *vm, const mote_call *c, mote_err *err)
 {
     ((sep_model *)vm)->sys.tau_eps = c->args[0].r;
@@ -970,6 +1034,7 @@ static const char HELP_GRAVITY[] = "    gravity g\n\ng (m/s^2, default 9.81), al
 static const char HELP_COUPLING[] = "    coupling on|off\n\nWhether the solids fraction slows or speeds the gas (on, the default) or the\ngas ignores the particles (off: u_g = U0, the dilute limit).\n";
 static const char HELP_SLICES[] = "    slices K\n\nThe axial resolution of the gas model: K slices (default about 4 d_max high,\n10 ... 1000).\n";
 static const char HELP_EPSMIN[] = "    eps_gas_min V\n\nThe smallest gas fraction the gas model uses (default 0.35).\n";
+static const char HELP_GAS_PROFILE[] = "    gas_profile FILE\n\nA gas density (and viscosity) varying with height (spec 2.6): FILE holds rows\nz rho_g [mu_g] (m, kg/m^3, Pa s) with z increasing; linear between the rows,\nconstant beyond them; without mu_g the viscosity is gas's. The mass flux\nG = rho_g(0) U0 is the same at every height, so u_g(z) = G / (rho_g(z) eps_g(z));\ndrag and buoyancy use the local rho_g and mu_g, and the reference cut d0* the\ngas at the feed height.\n";
 static const char HELP_RELAX[] = "    relax TAU\n\nRelax the solids fraction the gas sees in time (s; default 0, instantaneous):\neach step it moves dt/TAU of the way to the fraction of the particles' present\npositions, which smooths the gas velocity when few particles cross a slice.\n";
 static const char HELP_HINDERED[] = "    hindered CHI\n\nDrag multiplied by eps_g^-CHI (default 0; 2.65 is the usual choice).\n";
 static const char HELP_DISPERSION[] = "    dispersion D\n    brownian T\n\nRandom dispersion of the particles (spec 2.7): an Ornstein-Uhlenbeck velocity\nnoise with diffusion coefficient D = D_t + D_B, D_t given by `dispersion`\n(m^2/s, turbulent dispersion) and D_B = k_B T / (3 pi mu_g d) (Stokes-Einstein\nBrownian diffusion) when `brownian` gives the gas temperature T (K). Each\nvelocity component has the stationary variance D / tau; the update over a step\nis exact for any step against tau, so the long-time diffusion is D even when the\nstep is much longer than tau. 0 turns either off (the default). The noise is\ndrawn from the run's seeded stream in each step's drift, particle by particle.\n";
@@ -1016,6 +1081,8 @@ static const mote_cmd sep_commands[] = {
      do_slices},
     {"eps_gas_min", NULL, "r(0,1]", "eps_gas_min V", "the clamp on the gas fraction",
      HELP_EPSMIN, do_eps_gas_min, do_eps_gas_min},
+    {"gas_profile", NULL, "f<gasprofile", "gas_profile FILE", "the gas density along the height",
+     HELP_GAS_PROFILE, do_gas_profile, do_gas_profile},
     {"relax", NULL, "r>=0", "relax TAU", "relaxation time of the solids fraction", HELP_RELAX,
      do_relax, do_relax},
     {"hindered", NULL, "r>=0", "hindered CHI", "hindered-drag exponent", HELP_HINDERED,

@@ -70,8 +70,7 @@ int sep_write_tromp(const mote_sep_system *s, const char *path, const char *orig
     FILE *f = df.f;
     fprintf(f, "# t_s = %.10g\n", s->t);
     for (int k = 0; k < ns; k++)
-        fprintf(f, "# d0_star_m %s = %.10g\n", s->sp[k].name,
-                mote_sep_cut_size(s->U0, s->sp[k].rho, s->rho_g, s->mu_g, s->g));
+        fprintf(f, "# d0_star_m %s = %.10g\n", s->sp[k].name, mote_sep_d0_star(s, k));
     fprintf(f, "# d25_m = %.10g\n# d50_m = %.10g\n# d75_m = %.10g\n# kappa = %.10g\n"
                "# Ep_m = %.10g\n# imperfection = %.10g\n# crossings_of_one_half = %d\n",
             cut.d25, cut.d50, cut.d75, cut.kappa, cut.Ep, cut.I, cut.crossings50);
@@ -140,7 +139,7 @@ int sep_write_tromp(const mote_sep_system *s, const char *path, const char *orig
                 nm++;
             }
             for (int k = 0; k < ns && nm < 8; k++) {
-                marks[nm] = mote_sep_cut_size(s->U0, s->sp[k].rho, s->rho_g, s->mu_g, s->g) / unit;
+                marks[nm] = mote_sep_d0_star(s, k) / unit;
                 snprintf(mlab[nm], sizeof mlab[nm], "d0* %s = %.4g %s", s->sp[k].name, marks[nm],
                          uname);
                 nm++;
@@ -203,7 +202,7 @@ int sep_write_profiles(const mote_sep_system *s, const char *path, const char *o
         ug[k] = s->prof_ug[k] / tw;
         vz[k] = s->prof_m[k] > 0 ? s->prof_mvz[k] / s->prof_m[k] : NAN;
         /* -dp/dz = eps_g rho_g g + (sum of the drag's z force in the slice) / (A_c dz) */
-        dp[k] = (1 - eps[k]) * s->rho_g * s->g + s->prof_fd[k] / tw / (Ac * dz);
+        dp[k] = (1 - eps[k]) * s->rho_sl[k] * s->g + s->prof_fd[k] / tw / (Ac * dz);
     }
     /* p(z) - p(H): the gradient integrated down from the top */
     for (int k = K - 1; k >= 0; k--)
@@ -222,7 +221,7 @@ int sep_write_profiles(const mote_sep_system *s, const char *path, const char *o
         fprintf(f, " eps_%s", s->sp[j].name);
     fprintf(f, " N v_z_m_s u_g_m_s rho_mix_kg_m3 minus_dp_dz_Pa_m p_minus_pH_Pa\n");
     for (int k = 0; k < K; k++) {
-        double rho_mix = (1 - eps[k]) * s->rho_g;
+        double rho_mix = (1 - eps[k]) * s->rho_sl[k];
         fprintf(f, "%.10g %.10g", z[k], eps[k]);
         for (int j = 0; j < ns; j++) {
             const double e = s->prof_eps[(size_t)k * MOTE_SEP_MAX_SPECIES + (size_t)j] / tw;

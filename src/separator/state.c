@@ -99,6 +99,14 @@ int mote_sep_save(const mote_sep_system *s, uint64_t seed, const char *path, mot
     fprintf(f, "counters %" PRIu64 " %" PRIu64 " %" PRIu64 "\n", s->steps, s->next_id, s->fast_moves);
     fprintf(f, "rng %016" PRIx64 " %016" PRIx64 " %016" PRIx64 " %016" PRIx64 "\n", s->rng.s[0],
             s->rng.s[1], s->rng.s[2], s->rng.s[3]);
+    fprintf(f, "gasprofile %zu\n", s->gp_n);
+    for (size_t k = 0; k < s->gp_n; k++) {
+        fprintf(f, "gp");
+        put(f, s->gp_z[k]);
+        put(f, s->gp_rho[k]);
+        put(f, s->gp_mu[k]);
+        fputc('\n', f);
+    }
     fprintf(f, "species %d\n", s->nsp);
     for (int k = 0; k < s->nsp; k++) {
         const mote_sep_species *p = &s->sp[k];
@@ -329,6 +337,31 @@ static int read_body(reader *r, mote_sep_system *s, uint64_t *seed)
     if (!rc && !(s->rng.s[0] | s->rng.s[1] | s->rng.s[2] | s->rng.s[3]))
         rc = bad(r, "the random stream's state must not be all zero", NULL);
     long v;
+    uint64_t ngp = 0;
+    if (!rc)
+        rc = line(r, "gasprofile", 1, "expected 'gasprofile N'");
+    if (!rc)
+        rc = u64_at(r, 1, &ngp, 10);
+    if (!rc && ngp > 1000000)
+        rc = bad(r, "a gas profile of more than 1e6 rows", r->tok[1]);
+    if (!rc && ngp) {
+        double *g = malloc(3 * (size_t)ngp * sizeof *g);
+        if (!g)
+            return mote_fail(r->err, MOTE_ENOMEM, "%s: out of memory", r->in.path);
+        for (uint64_t k = 0; k < ngp && !rc; k++) {
+            double x[3] = {0, 0, 0};
+            rc = line(r, "gp", 3, "expected 'gp Z RHO MU'");
+            if (!rc)
+                rc = reals(r, 1, 3, x);
+            g[k] = x[0];
+            g[ngp + k] = x[1];
+            g[2 * ngp + k] = x[2];
+        }
+        mote_err e2 = {0};
+        if (!rc && mote_sep_set_gas_profile(s, (size_t)ngp, g, g + ngp, g + 2 * ngp, &e2))
+            rc = bad(r, e2.msg, NULL);
+        free(g);
+    }
     if (!rc)
         rc = line(r, "species", 1, "expected 'species N'");
     if (!rc)

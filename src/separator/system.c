@@ -48,6 +48,11 @@ void mote_sep_free(mote_sep_system *s)
     free(s->eps_s);
     free(s->u_g);
     free(s->eps_r);
+    free(s->gp_z);
+    free(s->gp_rho);
+    free(s->gp_mu);
+    free(s->rho_sl);
+    free(s->mu_sl);
     free(s->class_edge);
     free(s->cl_mf);
     free(s->cl_mc);
@@ -94,6 +99,92 @@ double mote_sep_cross_section(const mote_sep_system *s)
     double dmin, dmax;
     mote_sep_size_range(s, &dmin, &dmax);
     return s->dim == 3 ? s->W * s->D : s->W * (s->D2 > 0 ? s->D2 : dmax);
+}
+
+/* The profile's density and viscosity at z (the constants without a profile). */
+static void profile_at(const mote_sep_system *s, double z, double *rho, double *mu)
+{
+    if (s->gp_n == 0) {
+        *rho = s->rho_g;
+        *mu = s->mu_g;
+        return;
+    }
+    size_t k = 0;
+    while (k + 1 < s->gp_n && s->gp_z[k + 1] < z)
+        k++;
+    double f = 0;
+    if (k + 1 < s->gp_n)
+        f = fmin(fmax((z - s->gp_z[k]) / (s->gp_z[k + 1] - s->gp_z[k]), 0), 1);
+    const size_t k1 = k + 1 < s->gp_n ? k + 1 : k;
+    *rho = (1 - f) * s->gp_rho[k] + f * s->gp_rho[k1];
+    *mu = isnan(s->gp_mu[k]) ? s->mu_g : (1 - f) * s->gp_mu[k] + f * s->gp_mu[k1];
+}
+
+int mote_sep_set_gas_profile(mote_sep_system *s, size_t n, const double *z, const double *rho,
+                             const double *mu, mote_err *err)
+{
+    if (n < 2)
+        return mote_fail(err, MOTE_EINVAL, "a gas profile needs at least 2 heights, found %zu", n);
+    const int with_mu = !isnan(mu[0]);
+    for (size_t k = 0; k < n; k++) {
+        if (!isfinite(z[k]) || (k > 0 && !(z[k] > z[k - 1])))
+            return mote_fail(err, MOTE_EINVAL, "row %zu: the heights must increase (z = %g after "
+                             "%g)", k + 1, z[k], k ? z[k - 1] : NAN);
+        if (!(rho[k] > 0) || !isfinite(rho[k]))
+            return mote_fail(err, MOTE_EINVAL, "row %zu: the gas density must be > 0, found %g",
+                             k + 1, rho[k]);
+        if (with_mu != !isnan(mu[k]) || (with_mu && (!(mu[k] > 0) || !isfinite(mu[k]))))
+            return mote_fail(err, MOTE_EINVAL, "row %zu: the viscosity must be > 0 on every row "
+                             "or on none, found %g", k + 1, mu[k]);
+    }
+    double *zz = malloc(n * sizeof *zz), *rr = malloc(n * sizeof *rr), *mm = malloc(n * sizeof *mm);
+    if (!zz || !rr || !mm) {
+        free(zz);
+        free(rr);
+        free(mm);
+        return mote_fail(err, MOTE_ENOMEM, "out of memory for the gas profile");
+    }
+    memcpy(zz, z, n * sizeof *zz);
+    memcpy(rr, rho, n * sizeof *rr);
+    memcpy(mm, mu, n * sizeof *mm);
+    free(s->gp_z);
+    free(s->gp_rho);
+    free(s->gp_mu);
+    s->gp_z = zz;
+    s->gp_rho = rr;
+    s->gp_mu = mm;
+    s->gp_n = n;
+    return MOTE_OK;
+}
+
+void mote_sep_gas_props(const mote_sep_system *s, double z, double *rho, double *mu)
+{
+    if (s->gp_n == 0 || !s->rho_sl) {
+        profile_at(s, z, rho, mu);
+        return;
+    }
+    const double q = z / s->dz - 0.5;
+    if (q <= 0 || s->K == 1) {
+        *rho = s->rho_sl[0];
+        *mu = s->mu_sl[0];
+    } else if (q >= s->K - 1) {
+        *rho = s->rho_sl[s->K - 1];
+        *mu = s->mu_sl[s->K - 1];
+    } else {
+        const int k = (int)q;
+        const double f = q - k;
+        *rho = (1 - f) * s->rho_sl[k] + f * s->rho_sl[k + 1];
+        *mu = (1 - f) * s->mu_sl[k] + f * s->mu_sl[k + 1];
+    }
+}
+
+double mote_sep_d0_star(const mote_sep_system *s, int k)
+{
+    double r0, m0, rf, mf;
+    profile_at(s, 0, &r0, &m0);
+    profile_at(s, s->zf, &rf, &mf);
+    const double v = rf > 0 ? r0 * s->U0 / rf : s->U0;
+    return mote_sep_cut_size(v, s->sp[k].rho, rf, mf, s->g);
 }
 
 int mote_sep_prepare(mote_sep_system *s, mote_err *err)
@@ -162,6 +253,15 @@ int mote_sep_prepare(mote_sep_system *s, mote_err *err)
         s->K = K;
     }
     s->dz = s->H / K;
+    /* the gas properties at the slice centres */
+    free(s->rho_sl);
+    free(s->mu_sl);
+    s->rho_sl = malloc((size_t)K * sizeof *s->rho_sl);
+    s->mu_sl = malloc((size_t)K * sizeof *s->mu_sl);
+    if (!s->rho_sl || !s->mu_sl)
+        return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for %d slices", K);
+    for (int k = 0; k < K; k++)
+        profile_at(s, (k + 0.5) * s->dz, &s->rho_sl[k], &s->mu_sl[k]);
     /* Tromp classes: 20 log-spaced over [d_min, d_max] unless given */
     if (!s->class_edge) {
         if (s->nclass <= 0)
@@ -431,7 +531,9 @@ void mote_sep_gas_update(mote_sep_system *s, double dt)
             s->eps_s[k + 1] += f * vol;
         }
     }
-    const double Ac = mote_sep_cross_section(s), G = s->rho_g * s->U0;
+    double r0, m0;
+    profile_at(s, 0, &r0, &m0);
+    const double Ac = mote_sep_cross_section(s), G = r0 * s->U0;
     s->clamped = 0;
     const double w = s->tau_eps > 0 && s->eps_r_valid ? fmin(dt / s->tau_eps, 1) : 1;
     for (int k = 0; k < K; k++) {
@@ -442,7 +544,8 @@ void mote_sep_gas_update(mote_sep_system *s, double dt)
             eg = s->eps_gas_min;
             s->clamped++;
         }
-        s->u_g[k] = s->rho_g > 0 ? G / (s->rho_g * (s->coupling ? eg : 1)) : s->U0;
+        const double rho = s->rho_sl ? s->rho_sl[k] : s->rho_g;
+        s->u_g[k] = rho > 0 ? G / (rho * (s->coupling ? eg : 1)) : s->U0;
     }
     s->eps_r_valid = 1;
 }
@@ -758,15 +861,18 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
         const mote_sep_species *sp = &s->sp[s->s[i]];
         const double d = s->d[i];
         const double u = gas_for(s, s->z[i]);
-        const double a = -s->g * (1 - s->rho_g / sp->rho);
+        double rho_g = s->rho_g, mu_g = s->mu_g;
+        if (s->gp_n)
+            mote_sep_gas_props(s, s->z[i], &rho_g, &mu_g);
+        const double a = -s->g * (1 - rho_g / sp->rho);
         double tau = INFINITY;
-        if (s->mu_g > 0 && s->rho_g > 0) {
+        if (mu_g > 0 && rho_g > 0) {
             const double wx = -s->vx[i], wy = -s->vy[i], wz = u - s->vz[i];
-            const double Re = s->rho_g * sqrt(wx * wx + wy * wy + wz * wz) * d / s->mu_g;
+            const double Re = rho_g * sqrt(wx * wx + wy * wy + wz * wz) * d / mu_g;
             double f = mote_sep_drag_f(Re);
             if (s->chi != 0)
                 f *= pow(eps_gas_at(s, s->z[i]), -s->chi);
-            tau = sp->rho * d * d / (18 * s->mu_g * f);
+            tau = sp->rho * d * d / (18 * mu_g * f);
         }
         if (sampling && isfinite(tau)) { /* the drag's z force at the step's start */
             const int k = (int)fmin(fmax(floor(s->z[i] / s->dz), 0), s->K - 1);
@@ -778,7 +884,7 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
         drift1(&s->z[i], &s->vz[i], u, a, tau, dt);
         if ((s->D_t > 0 || s->T_gas > 0) && isfinite(tau)) {
             /* D = D_t + D_B, D_B = k_B T / (3 pi mu_g d) (Stokes-Einstein) */
-            const double D = s->D_t + 1.380649e-23 * s->T_gas / (3 * SEP_PI * s->mu_g * d);
+            const double D = s->D_t + 1.380649e-23 * s->T_gas / (3 * SEP_PI * mu_g * d);
             disperse1(&s->rng, &s->x[i], &s->vx[i], D / tau, tau, dt);
             if (s->dim == 3)
                 disperse1(&s->rng, &s->y[i], &s->vy[i], D / tau, tau, dt);
