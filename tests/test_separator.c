@@ -6,6 +6,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "test.h"
 
@@ -185,6 +186,34 @@ static void test_sampling(void)
            number_median * 1e6, hc * 1e6);
     CHECK(fabs(mass_median / 100e-6 - 1) <= 0.005, "V6 mass median %.5g", mass_median);
     CHECK(fabs(number_median / hc - 1) <= 0.005, "V6 number median %.5g", number_median);
+    /* a table (a sieve analysis): rows d F, piecewise linear in ln d; three rows that make a
+     * mass-basis ln d uniform law from 100 to 400 um: the mass median is 200 um */
+    mote_sep_dist_free(&ds);
+    ds = (mote_sep_dist){.type = MOTE_SEP_TABLE};
+    const double td[3] = {100e-6, 200e-6, 400e-6}, tF[3] = {0, 0.5, 1};
+    CHECK(mote_sep_dist_table(&ds, 3, td, tF, &err) == MOTE_OK &&
+          mote_sep_dist_build(&ds, &err) == MOTE_OK, "table: %s", err.msg);
+    mtot = 0;
+    for (size_t i = 0; i < n; i++) {
+        d[i] = mote_sep_dist_sample(&ds, mote_rng_uniform(&rng));
+        mtot += d[i] * d[i] * d[i];
+    }
+    qsort(d, n, sizeof *d, cmp_d);
+    acc = 0;
+    for (size_t i = 0; i < n; i++) {
+        acc += d[i] * d[i] * d[i];
+        if (acc >= 0.5 * mtot) {
+            mass_median = d[i];
+            break;
+        }
+    }
+    printf("  table: mass median %.5g um (200), range %.4g ... %.4g um\n", mass_median * 1e6,
+           d[0] * 1e6, d[n - 1] * 1e6);
+    CHECK(fabs(mass_median / 200e-6 - 1) <= 0.005 && d[0] >= 100e-6 && d[n - 1] <= 400e-6,
+          "table mass median %.5g", mass_median);
+    const double bd[2] = {1e-4, 1e-4}, bF[2] = {0, 1};
+    CHECK(mote_sep_dist_table(&ds, 2, bd, bF, &err) != MOTE_OK &&
+          strstr(err.msg, "row 2: the diameters must be > 0 and increase"), "bad table: %s", err.msg);
     free(d);
     mote_sep_dist_free(&ds);
 }

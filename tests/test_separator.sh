@@ -83,6 +83,16 @@ printf '0.001 0.002\n0.003 x\n' > holes2.txt
 expect 1 "g5.mote:3:1: error: holes2.txt:2: value 2 is not a finite number" g5.mote "${S}channel 0.05 1\ngrid 0.3 0.005 holes file=holes2.txt\n"
 expect 1 "g6.mote:3:27: error: grid: 'holes3.txt' does not exist and no earlier command writes it" g6.mote "${S}channel 0.05 1\ngrid 0.3 0.005 holes file=holes3.txt\n"
 expect 1 "g7.mote:3:6: error: grid: the plate 0.998 ... 1.008 m does not fit the channel (H = 1 m)" g7.mote "${S}channel 0.05 1\ngrid 0.998 0.01 pattern a=1e-3 p=2e-3\n"
+# explicit class edges from a file, and a table size distribution: three classes in the table
+printf '1e-4\n2e-4\n3e-4\n4e-4\n' > edges.txt
+printf '1e-4 0\n4e-4 1\n' > szok.txt
+printf '%bchannel 0.05 1\ngas 1.0\ncoupling off\ncollisions off\ntimestep 1e-3\nspecies a 2500\nsize a table file=szok.txt\nclasses_file edges.txt\nfeed z=0.5\ninsert a 300\nrun 5\ntromp cf.csv\n' "$S" > cf.mote
+"$MOTE" run cf.mote > /dev/null 2> err.txt && [ "$(grep -vc '^#' cf.csv)" -eq 3 ] && grep -q '^0.0001 0.0002 ' cf.csv && ok || bad "classes_file: $(cat err.txt; cat cf.csv)"
+printf '1e-4\n3e-4\n2e-4\n' > edges2.txt
+expect 1 "cf2.mote:2:14: error: edges2.txt:3: expected one class edge (m) per row, > 0 and increasing" cf2.mote "${S}classes_file edges2.txt\n"
+# a size table with a bad row, located
+printf '# d F\n1e-4 0\n2e-4 0.7\n3e-4 0.6\n' > sz.txt
+expect 1 "sz.mote:4:19: error: sz.txt:4: the cumulative undersize must lie in [0, 1] and not decrease (found 0.6)" sz.mote "${S}channel 0.05 1\nspecies a 2500\nsize a table file=sz.txt\n"
 # gas profiles: bad files, located
 printf '0 1.2\n0.5 1.0\n0.4 0.9\n' > gp1.txt
 expect 1 "gp1.mote:3:13: error: gp1.txt:3: the heights must increase (z = 0.4 after 0.5)" gp1.mote "${S}channel 0.05 1\ngas_profile gp1.txt\n"

@@ -29,7 +29,7 @@ double mote_sep_cut_size(double v, double rho_p, double rho_g, double mu_g, doub
 
 /* ---- size distributions (spec 2.5) ---------------------------------------------------------- */
 
-enum { MOTE_SEP_MONO, MOTE_SEP_LOGNORMAL, MOTE_SEP_ROSIN_RAMMLER, MOTE_SEP_LOGUNIFORM };
+enum { MOTE_SEP_MONO, MOTE_SEP_LOGNORMAL, MOTE_SEP_ROSIN_RAMMLER, MOTE_SEP_LOGUNIFORM, MOTE_SEP_TABLE };
 
 typedef struct {
     int type;
@@ -39,8 +39,15 @@ typedef struct {
     /* the number-basis cumulative distribution on n nodes evenly spaced in ln d */
     int n;
     double *lnd, *cdf;
+    /* table: tn rows of diameter td (increasing) and cumulative undersize tF (non-decreasing),
+     * piecewise linear in ln d (owned; set with mote_sep_dist_table) */
+    int tn;
+    double *td, *tF;
 } mote_sep_dist;
 
+/* Give a table distribution its rows (copied); err names the first bad row (from 1). lo and
+ * hi become the table's range unless already set inside it. */
+int mote_sep_dist_table(mote_sep_dist *s, int n, const double *d, const double *F, mote_err *err);
 /* Tabulate the sampling table of a distribution (4096 nodes); err on bad parameters. */
 int mote_sep_dist_build(mote_sep_dist *s, mote_err *err);
 void mote_sep_dist_free(mote_sep_dist *s);

@@ -64,12 +64,24 @@ static double cdf_own(const mote_sep_dist *s, double d)
         return 0.5 * erfc(-log(d / s->a) / (log(s->b) * sqrt(2.0)));
     case MOTE_SEP_ROSIN_RAMMLER:
         return -expm1(-pow(d / s->a, s->b));
+    case MOTE_SEP_TABLE: {
+        if (d <= s->td[0])
+            return s->tF[0];
+        int k = 0;
+        while (k + 2 < s->tn && s->td[k + 1] < d)
+            k++;
+        if (d >= s->td[k + 1])
+            return s->tF[k + 1];
+        const double f = (log(d) - log(s->td[k])) / (log(s->td[k + 1]) - log(s->td[k]));
+        return s->tF[k] + f * (s->tF[k + 1] - s->tF[k]);
+    }
     default: /* loguniform */
         return (log(d) - log(s->lo)) / (log(s->hi) - log(s->lo));
     }
 }
 
-void mote_sep_dist_free(mote_sep_dist *s)
+/* The sampling table only (a table distribution keeps its rows). */
+static void free_sampling(mote_sep_dist *s)
 {
     free(s->lnd);
     free(s->cdf);
@@ -77,9 +89,52 @@ void mote_sep_dist_free(mote_sep_dist *s)
     s->n = 0;
 }
 
+void mote_sep_dist_free(mote_sep_dist *s)
+{
+    free_sampling(s);
+    free(s->td);
+    free(s->tF);
+    s->td = s->tF = NULL;
+    s->tn = 0;
+}
+
+int mote_sep_dist_table(mote_sep_dist *s, int n, const double *d, const double *F, mote_err *err)
+{
+    if (n < 2)
+        return mote_fail(err, MOTE_EINVAL, "size table: at least 2 rows, found %d", n);
+    for (int k = 0; k < n; k++) {
+        if (!(d[k] > 0) || !isfinite(d[k]) || (k && !(d[k] > d[k - 1])))
+            return mote_fail(err, MOTE_EINVAL, "row %d: the diameters must be > 0 and increase "
+                             "(found %g)", k + 1, d[k]);
+        if (!(F[k] >= 0 && F[k] <= 1) || (k && F[k] < F[k - 1]))
+            return mote_fail(err, MOTE_EINVAL, "row %d: the cumulative undersize must lie in "
+                             "[0, 1] and not decrease (found %g)", k + 1, F[k]);
+    }
+    double *a = malloc((size_t)n * sizeof *a), *b = malloc((size_t)n * sizeof *b);
+    if (!a || !b) {
+        free(a);
+        free(b);
+        return mote_fail(err, MOTE_ENOMEM, "size table: out of memory");
+    }
+    memcpy(a, d, (size_t)n * sizeof *a);
+    memcpy(b, F, (size_t)n * sizeof *b);
+    free(s->td);
+    free(s->tF);
+    s->td = a;
+    s->tF = b;
+    s->tn = n;
+    if (!(s->lo >= d[0] && s->lo < d[n - 1]))
+        s->lo = d[0];
+    if (!(s->hi <= d[n - 1] && s->hi > s->lo))
+        s->hi = d[n - 1];
+    return MOTE_OK;
+}
+
 int mote_sep_dist_build(mote_sep_dist *s, mote_err *err)
 {
-    mote_sep_dist_free(s);
+    free_sampling(s);
+    if (s->type == MOTE_SEP_TABLE && s->tn < 2)
+        return mote_fail(err, MOTE_EINVAL, "size table: no rows");
     if (s->type == MOTE_SEP_MONO) {
         if (!(s->a > 0) || !isfinite(s->a))
             return mote_fail(err, MOTE_EINVAL, "size mono: the diameter must be > 0 m");
@@ -96,7 +151,7 @@ int mote_sep_dist_build(mote_sep_dist *s, mote_err *err)
     s->lnd = malloc((size_t)n * sizeof *s->lnd);
     s->cdf = malloc((size_t)n * sizeof *s->cdf);
     if (!s->lnd || !s->cdf) {
-        mote_sep_dist_free(s);
+        free_sampling(s);
         return mote_fail(err, MOTE_ENOMEM, "size: out of memory");
     }
     s->n = n;

@@ -118,6 +118,13 @@ int mote_sep_save(const mote_sep_system *s, uint64_t seed, const char *path, mot
         put(f, p->dist.lo);
         put(f, p->dist.hi);
         fputc('\n', f);
+        fprintf(f, "table %d\n", p->dist.tn);
+        for (int j = 0; j < p->dist.tn; j++) {
+            fprintf(f, "row");
+            put(f, p->dist.td[j]);
+            put(f, p->dist.tF[j]);
+            fputc('\n', f);
+        }
         const mote_sep_count *c = &s->cnt[k];
         fprintf(f, "count %" PRIu64 " %" PRIu64 " %" PRIu64 " %" PRIu64, c->fed, c->fines, c->coarse,
                 c->lost);
@@ -395,6 +402,33 @@ static int read_body(reader *r, mote_sep_system *s, uint64_t *seed)
         s->nsp = k + 1;
         if (!(p->rho > 0))
             return bad(r, "a species density must be > 0", r->tok[5]);
+        long tn;
+        rc = line(r, "table", 1, "expected 'table N'");
+        if (!rc)
+            rc = int_at(r, 1, 0, 100000, &tn);
+        if (rc)
+            return rc;
+        if (tn) {
+            double *tab = malloc(2 * (size_t)tn * sizeof *tab);
+            if (!tab)
+                return mote_fail(r->err, MOTE_ENOMEM, "%s: out of memory", r->in.path);
+            for (long j = 0; j < tn && !rc; j++) {
+                rc = line(r, "row", 2, "expected 'row D F'");
+                if (!rc)
+                    rc = real_at(r, 1, &tab[j]);
+                if (!rc)
+                    rc = real_at(r, 2, &tab[tn + j]);
+            }
+            mote_err e2 = {0};
+            const double lo = p->dist.lo, hi = p->dist.hi;
+            if (!rc && mote_sep_dist_table(&p->dist, (int)tn, tab, tab + tn, &e2))
+                rc = bad(r, e2.msg, NULL);
+            p->dist.lo = lo;
+            p->dist.hi = hi;
+            free(tab);
+            if (rc)
+                return rc;
+        }
         if (p->have_dist && mote_sep_dist_build(&p->dist, r->err))
             return mote_fail(r->err, MOTE_EINVAL, "%s:%ld: %s", r->in.path, r->in.line,
                              r->err->msg);
