@@ -152,11 +152,16 @@ typedef struct {
     size_t ncell_cap;
     uint32_t *cell_start, *cell_idx;
     int nsort;                           /* reorder the particles by cell every nsort steps */
+    int32_t *nhead, *nnext;              /* particles added since: a list per cell */
+    size_t nnext_cap;
     size_t n_built;                      /* particles when the cells were built, */
     uint64_t built_step;                 /* and at which step (+1; 0: never) */
     double max_overlap;                  /* largest overlap / diameter met */
     uint64_t fast_moves;                 /* steps in which a particle moved more than r_min/4 */
     uint64_t contacts_pp;                /* particle contacts of the last step */
+    uint64_t candidates;                 /* pairs tested in the last step's search */
+    double *pv;                          /* scratch: predicted velocities (3 per particle) */
+    size_t pv_cap;
     int nsp;
     mote_sep_species sp[MOTE_SEP_MAX_SPECIES];
     int nplate;

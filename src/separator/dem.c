@@ -67,11 +67,16 @@ int sep_cells_build(mote_sep_system *s, mote_err *err)
     const size_t nc = (size_t)s->cx * (size_t)s->cy * (size_t)s->cz;
     if (nc + 1 > s->ncell_cap) {
         uint32_t *p = realloc(s->cell_start, (nc + 1) * sizeof *p);
-        if (!p)
+        int32_t *hd = realloc(s->nhead, (nc + 1) * sizeof *hd);
+        if (p)
+            s->cell_start = p;
+        if (hd)
+            s->nhead = hd;
+        if (!p || !hd)
             return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for %zu cells", nc);
-        s->cell_start = p;
         s->ncell_cap = nc + 1;
     }
+    memset(s->nhead, 0xff, (nc + 1) * sizeof *s->nhead); /* no particle added since: -1 */
     uint32_t *idx = realloc(s->cell_idx, (s->n ? s->n : 1) * sizeof *idx);
     if (!idx)
         return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the cell lists");
@@ -95,6 +100,22 @@ int sep_cells_build(mote_sep_system *s, mote_err *err)
     return MOTE_OK;
 }
 
+int sep_cells_add(mote_sep_system *s, size_t i, mote_err *err)
+{
+    if (i + 1 > s->nnext_cap) {
+        const size_t cap = 2 * (i + 1);
+        int32_t *p = realloc(s->nnext, cap * sizeof *p);
+        if (!p)
+            return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the cells");
+        s->nnext = p;
+        s->nnext_cap = cap;
+    }
+    const size_t c = sep_cell_of(s, i);
+    s->nnext[i] = s->nhead[c];
+    s->nhead[c] = (int32_t)i;
+    return MOTE_OK;
+}
+
 int sep_overlaps_any(const mote_sep_system *s, double px, double py, double pz, double d)
 {
 #define SEP_TEST(j)                                                                               \
@@ -104,10 +125,8 @@ int sep_overlaps_any(const mote_sep_system *s, double px, double py, double pz, 
         if (dx_ * dx_ + dy_ * dy_ + dz_ * dz_ < R_ * R_)                                          \
             return 1;                                                                             \
     } while (0)
-    /* the particles added since the cells were built, one by one */
-    for (size_t j = s->n_built; j < s->n; j++)
-        SEP_TEST(j);
-    /* the rest through the cells around the point (their edges are at least d_max) */
+    /* through the cells around the point (their edges are at least d_max): those there when
+     * they were built, and those added since */
     int ix = (int)(px / s->hx), iz = (int)(pz / s->hz), iy = 0;
     ix = ix < 0 ? 0 : ix >= s->cx ? s->cx - 1 : ix;
     iz = iz < 0 ? 0 : iz >= s->cz ? s->cz - 1 : iz;
@@ -123,6 +142,8 @@ int sep_overlaps_any(const mote_sep_system *s, double px, double py, double pz, 
                 const size_t c = ((size_t)jz * (size_t)s->cy + (size_t)jy) * (size_t)s->cx + (size_t)jx;
                 for (uint32_t p = s->cell_start[c]; p < s->cell_start[c + 1]; p++)
                     SEP_TEST(s->cell_idx[p]);
+                for (int32_t j = s->nhead[c]; j >= 0; j = s->nnext[j])
+                    SEP_TEST((size_t)j);
             }
 #undef SEP_TEST
     return 0;
@@ -164,8 +185,10 @@ static void each_pair(mote_sep_system *s, int brute, pair_fn fn, void *ctx)
             for (size_t j = i + 1; j < s->n; j++)
                 if (overlap(s, i, j, dx, &d2))
                     fn(s, i, j, dx, d2, ctx);
+        s->candidates = (uint64_t)s->n * (s->n ? s->n - 1 : 0) / 2;
         return;
     }
+    uint64_t cand = 0;
     /* the half stencil: the own cell (pairs within it once), then the forward neighbours:
      * 4 in 2D, 13 in 3D */
     static const int st2[4][3] = {{1, 0, 0}, {-1, 0, 1}, {0, 0, 1}, {1, 0, 1}};
@@ -189,6 +212,7 @@ static void each_pair(mote_sep_system *s, int brute, pair_fn fn, void *ctx)
                 const uint32_t a0 = s->cell_start[c], a1 = s->cell_start[c + 1];
                 if (a0 == a1)
                     continue;
+                cand += (uint64_t)(a1 - a0) * (a1 - a0 - 1) / 2;
                 for (uint32_t p = a0; p < a1; p++)
                     for (uint32_t q = p + 1; q < a1; q++)
                         if (overlap(s, s->cell_idx[p], s->cell_idx[q], dx, &d2))
@@ -200,12 +224,14 @@ static void each_pair(mote_sep_system *s, int brute, pair_fn fn, void *ctx)
                         continue;
                     const size_t c2 = ((size_t)jz * (size_t)s->cy + (size_t)jy) * (size_t)s->cx + (size_t)jx;
                     const uint32_t b0 = s->cell_start[c2], b1 = s->cell_start[c2 + 1];
+                    cand += (uint64_t)(a1 - a0) * (b1 - b0);
                     for (uint32_t p = a0; p < a1; p++)
                         for (uint32_t q = b0; q < b1; q++)
                             if (overlap(s, s->cell_idx[p], s->cell_idx[q], dx, &d2))
                                 fn(s, s->cell_idx[p], s->cell_idx[q], dx, d2, ctx);
                 }
             }
+    s->candidates = cand;
 }
 
 typedef struct {
@@ -281,9 +307,15 @@ static void pair_force(mote_sep_system *s, size_t i, size_t j, const double dx[3
 int sep_contact_forces(mote_sep_system *s, double dt, mote_err *err)
 {
     const size_t n = s->n;
-    double *pv = malloc(3 * (n ? n : 1) * sizeof *pv);
-    if (!pv)
-        return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the contacts");
+    if (3 * n > s->pv_cap) {
+        const size_t cap = 3 * n + 3 * n / 2 + 3;
+        double *p = realloc(s->pv, cap * sizeof *p);
+        if (!p)
+            return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the contacts");
+        s->pv = p;
+        s->pv_cap = cap;
+    }
+    double *pv = s->pv;
     force_ctx c = {.khat = s->khat_used, .half_dt = 0.5 * dt, .pvx = pv, .pvy = pv + n,
                    .pvz = pv + 2 * n};
     for (int a = 0; a < s->nsp; a++)
@@ -302,10 +334,8 @@ int sep_contact_forces(mote_sep_system *s, double dt, mote_err *err)
     /* the cells as built for this step's feed serve when nothing was added since */
     if (!s->brute && !(s->built_step == s->steps + 1 && s->n_built == s->n)) {
         int rc = sep_cells_build(s, err);
-        if (rc) {
-            free(pv);
+        if (rc)
             return rc;
-        }
     }
     each_pair(s, s->brute, pair_force, &c);
     /* walls and closed ends: k = k_hat d, m = m_i, the wall at rest */
@@ -350,6 +380,5 @@ int sep_contact_forces(mote_sep_system *s, double dt, mote_err *err)
                 s->max_overlap = fmax(s->max_overlap, delta[f] / s->d[i]);
             }
         }
-    free(pv);
     return MOTE_OK;
 }

@@ -73,6 +73,9 @@ void mote_sep_free(mote_sep_system *s)
     free(s->fz);
     free(s->cell_start);
     free(s->cell_idx);
+    free(s->pv);
+    free(s->nhead);
+    free(s->nnext);
     free(s->back_s);
     free(s->back_d);
     for (int k = 0; k < s->nsp; k++)
@@ -411,12 +414,13 @@ static int place(mote_sep_system *s, int k, double d, mote_err *err);
 
 /* Draw a particle of species k (its size first) and place it; when it cannot be placed it
  * waits in the backlog. *mass: its mass. */
-static int add_particle(mote_sep_system *s, int k, double *mass, mote_err *err)
+static int add_particle(mote_sep_system *s, int k, int fifo, double *mass, mote_err *err)
 {
     const double d = mote_sep_dist_sample(&s->sp[k].dist, mote_rng_uniform(&s->rng));
     *mass = s->sp[k].rho * SEP_PI * d * d * d / 6;
-    /* first in, first out: behind a backlog a new particle waits without trying */
-    const int rc = s->nback ? 0 : place(s, k, d, err);
+    /* the feed is first in, first out: behind a backlog a new particle waits without trying
+     * (a batch tries each) */
+    const int rc = fifo && s->nback ? 0 : place(s, k, d, err);
     if (rc == 0) { /* the backlog */
         if (s->nback == s->back_cap) {
             const size_t cap = s->back_cap ? 2 * s->back_cap : 64;
@@ -470,6 +474,8 @@ static int place(mote_sep_system *s, int k, double d, mote_err *err)
         s->fx[i] = s->fy[i] = s->fz[i] = 0;
         s->cnt[k].fed++;
         s->cnt[k].m_fed += m;
+        if (s->dem && sep_cells_add(s, i, err))
+            return -1;
         return 1;
     }
     return 0;
@@ -481,7 +487,7 @@ int mote_sep_insert(mote_sep_system *s, int sp, uint64_t count, double mass, mot
     if (s->dem && sep_cells_build(s, err))
         return err->code;
     for (uint64_t k = 0; count ? k < count : done < mass; k++) {
-        const int rc = add_particle(s, sp, &m, err);
+        const int rc = add_particle(s, sp, 0, &m, err);
         if (rc < 0)
             return err->code;
         done += m;
@@ -960,7 +966,7 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
             int guard = 0;
             while (s->cnt[k].m_gen < s->sp[k].w * s->rate * te && guard++ < 1000000) {
                 double m;
-                const int rc = add_particle(s, k, &m, err);
+                const int rc = add_particle(s, k, 1, &m, err);
                 if (rc < 0)
                     return err->code;
                 s->cnt[k].m_gen += m;
