@@ -243,6 +243,9 @@ static double binary(int dim, int wall, double d1, double d2, double v, double e
             s.y[0] = s.y[1] = 0.005;
     }
     s.cnt[0].m_fed = s.m[0] + (wall ? 0 : s.m[1]); /* the masses were set by hand */
+    s.im[0] = 1 / s.m[0];
+    if (!wall)
+        s.im[1] = 1 / s.m[1];
     const double E0 = kinetic(&s);
     /* the contact lasts at most N_c steps; run well past it */
     CHECK(mote_sep_run(&s, (3 + 1 + 3.0 * s.nc) * dt, &err) == MOTE_OK, "run: %s", err.msg);
@@ -482,6 +485,7 @@ static void plate_case(mote_sep_system *s, int dim, double d, double a, double x
     s->z[0] = z;
     s->d[0] = d;
     s->m[0] = s->cnt[0].m_fed = 2500 * PI * d * d * d / 6;
+    s->im[0] = 1 / s->m[0];
 }
 
 /* V9: a sphere on a square hole of side 0.8 d rests (no drift over 1 s; centred, the horizontal

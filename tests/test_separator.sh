@@ -33,6 +33,10 @@ printf '%bload s1.state\nsave d.state\n' "$S" > v10d.mote
 grep -q 'backlog=[1-9]' out.txt && ok || bad "v10a.mote: no backlog: $(cat out.txt)"
 "$MOTE" run v10c.mote > /dev/null 2> err.txt && cmp -s a.state c.state && ok || bad "V10: the continued run differs: $(cat err.txt)"
 "$MOTE" run v10d.mote > /dev/null 2> err.txt && cmp -s s1.state d.state && ok || bad "V10: save, load, save differs: $(cat err.txt)"
+# and a settling bed without feed, saved while its pair list lives on
+printf '%bseed 3\nchannel 0.01 0.03\nends closed closed\ngas 0\nspecies glass 2500\nsize glass loguniform min=0.4e-3 max=0.8e-3\nfeed z=0.015 hf=0.028\nstiffness overlap=0.05 vimp=1\ninsert glass 200\nrun 0.01\nsave e1.state\nrun 0.013\nsave ea.state\n' "$S" > v10e.mote
+printf '%bload e1.state\nrun 0.013\nsave ec.state\n' "$S" > v10f.mote
+"$MOTE" run v10e.mote > /dev/null 2> err.txt && grep -q '^pairlist 1 ' e1.state && "$MOTE" run v10f.mote > /dev/null 2>> err.txt && cmp -s ea.state ec.state && ok || bad "V10 with a pair list: $(cat err.txt; grep pairlist e1.state)"
 # a damaged state: located, nothing run, nothing written
 head -c 3000 s1.state > cut.state
 expect 1 "cut.mote:2:6: error: cut.state:" cut.mote "${S}load cut.state\nsave e.state\n"

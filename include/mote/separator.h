@@ -156,11 +156,25 @@ typedef struct {
     size_t nnext_cap;
     size_t n_built;                      /* particles when the cells were built, */
     uint64_t built_step;                 /* and at which step (+1; 0: never) */
+    /* the pair list (spec 2.9's allowed optimisation): the pairs closer than r_i + r_j + skin
+     * when it was built; kept while no particle was added, removed or reordered and none has
+     * moved more than skin/2 since, so it holds every contact a rebuild would find */
+    double skin;                         /* (0: 0.2 d_min; < 0: none, search every step) */
+    double skin_used;
+    uint32_t *plist;
+    size_t npl, pl_cap;
+    double *xref;                        /* positions at the build (3 per particle) */
+    size_t xref_cap;
+    uint64_t mods, list_mods;            /* additions and removals so far; at the build */
+    int list_ok;
+    uint64_t list_builds;                /* how often it was built */
     double max_overlap;                  /* largest overlap / diameter met */
     uint64_t fast_moves;                 /* steps in which a particle moved more than r_min/4 */
     uint64_t contacts_pp;                /* particle contacts of the last step */
     uint64_t candidates;                 /* pairs tested in the last step's search */
     double *pv;                          /* scratch: predicted velocities (3 per particle) */
+    size_t *ex_i, nex, ex_cap;           /* scratch: the particles leaving in this step */
+    int *ex_c;
     size_t pv_cap;
     int nsp;
     mote_sep_species sp[MOTE_SEP_MAX_SPECIES];
@@ -173,6 +187,7 @@ typedef struct {
     /* the particles: structure of arrays */
     size_t n, cap;
     double *x, *y, *z, *vx, *vy, *vz, *d, *m;
+    double *im;                          /* 1 / m */
     int *s;                              /* species */
     uint64_t *id;
     uint64_t next_id;
@@ -191,6 +206,7 @@ typedef struct {
     uint64_t *cls_nf, *cls_nc;
     /* profiles (spec 3.2): time-weighted sums per slice from avg_from on, over prof_time */
     double avg_from, prof_time;
+    double prof_wait;                    /* time since the last sample (every 10th step) */
     double *prof_eps;                    /* K * (MAX_SPECIES): eps_s of each species */
     double *prof_n, *prof_mvz, *prof_m, *prof_ug, *prof_fd; /* count, m v_z, m, u_g, drag F_z */
     int prof_K;                          /* the slices the sums were made on */

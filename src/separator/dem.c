@@ -57,7 +57,8 @@ int sep_cells_build(mote_sep_system *s, mote_err *err)
 {
     double dmin, dmax;
     mote_sep_size_range(s, &dmin, &dmax);
-    const double h = dmax;
+    s->skin_used = s->brute || s->skin < 0 ? 0 : s->skin > 0 ? s->skin : 0.2 * dmin;
+    const double h = dmax + s->skin_used; /* the cells serve the pair list's reach too */
     s->cx = (int)fmax(1, floor(s->W / h));
     s->cz = (int)fmax(1, floor(s->H / h));
     s->cy = s->dim == 3 ? (int)fmax(1, floor(s->D / h)) : 1;
@@ -173,18 +174,45 @@ static int overlap(const mote_sep_system *s, size_t i, size_t j, double dx[3], d
     return *d2 < R * R;
 }
 
+/* The same test with the reach widened by the skin (for the pair list). */
+static int near(const mote_sep_system *s, size_t i, size_t j, double skin)
+{
+    const double dx = s->x[j] - s->x[i], dy = s->dim == 3 ? s->y[j] - s->y[i] : 0,
+                 dz = s->z[j] - s->z[i];
+    const double R = 0.5 * (s->d[i] + s->d[j]) + skin;
+    return dx * dx + dy * dy + dz * dz < R * R;
+}
+
 /* Call fn(s, i, j, dx, d2, ctx) for each pair in contact, i and j in any order, each once. */
 typedef void (*pair_fn)(mote_sep_system *s, size_t i, size_t j, const double dx[3], double d2,
                         void *ctx);
 
+static void each_pair_reach(mote_sep_system *s, int brute, double skin, pair_fn fn, void *ctx);
+
 static void each_pair(mote_sep_system *s, int brute, pair_fn fn, void *ctx)
+{
+    each_pair_reach(s, brute, 0, fn, ctx);
+}
+
+/* Pairs closer than r_i + r_j (skin 0: fn gets the overlap test's dx and d2) or r_i + r_j +
+ * skin (skin > 0: fn gets dx = NULL). */
+#define SEP_VISIT(i, j)                                                                           \
+    do {                                                                                          \
+        if (skin > 0) {                                                                           \
+            if (near(s, i, j, skin))                                                              \
+                fn(s, i, j, NULL, 0, ctx);                                                        \
+        } else if (overlap(s, i, j, dx, &d2)) {                                                   \
+            fn(s, i, j, dx, d2, ctx);                                                             \
+        }                                                                                         \
+    } while (0)
+
+static void each_pair_reach(mote_sep_system *s, int brute, double skin, pair_fn fn, void *ctx)
 {
     double dx[3], d2;
     if (brute) {
         for (size_t i = 0; i < s->n; i++)
             for (size_t j = i + 1; j < s->n; j++)
-                if (overlap(s, i, j, dx, &d2))
-                    fn(s, i, j, dx, d2, ctx);
+                SEP_VISIT(i, j);
         s->candidates = (uint64_t)s->n * (s->n ? s->n - 1 : 0) / 2;
         return;
     }
@@ -215,8 +243,7 @@ static void each_pair(mote_sep_system *s, int brute, pair_fn fn, void *ctx)
                 cand += (uint64_t)(a1 - a0) * (a1 - a0 - 1) / 2;
                 for (uint32_t p = a0; p < a1; p++)
                     for (uint32_t q = p + 1; q < a1; q++)
-                        if (overlap(s, s->cell_idx[p], s->cell_idx[q], dx, &d2))
-                            fn(s, s->cell_idx[p], s->cell_idx[q], dx, d2, ctx);
+                        SEP_VISIT(s->cell_idx[p], s->cell_idx[q]);
                 for (int k = 0; k < ns; k++) {
                     const int *o = s->dim == 3 ? st3[k] : st2[k];
                     const int jx = ix + o[0], jy = iy + o[1], jz = iz + o[2];
@@ -227,12 +254,12 @@ static void each_pair(mote_sep_system *s, int brute, pair_fn fn, void *ctx)
                     cand += (uint64_t)(a1 - a0) * (b1 - b0);
                     for (uint32_t p = a0; p < a1; p++)
                         for (uint32_t q = b0; q < b1; q++)
-                            if (overlap(s, s->cell_idx[p], s->cell_idx[q], dx, &d2))
-                                fn(s, s->cell_idx[p], s->cell_idx[q], dx, d2, ctx);
+                            SEP_VISIT(s->cell_idx[p], s->cell_idx[q]);
                 }
             }
     s->candidates = cand;
 }
+#undef SEP_VISIT
 
 typedef struct {
     uint32_t *pairs;
@@ -298,8 +325,62 @@ static void pair_force(mote_sep_system *s, size_t i, size_t j, const double dx[3
     s->fx[i] -= F * n[0];
     s->fy[i] -= F * n[1];
     s->fz[i] -= F * n[2];
-    s->max_overlap = fmax(s->max_overlap, delta / fmin(s->d[i], s->d[j]));
+    const double ov = delta / (s->d[i] < s->d[j] ? s->d[i] : s->d[j]);
+    if (ov > s->max_overlap)
+        s->max_overlap = ov;
     s->contacts_pp++;
+}
+
+/* ---- the pair list -------------------------------------------------------------------------- */
+
+static void list_add(mote_sep_system *s, size_t i, size_t j, const double dx[3], double d2,
+                     void *ctx)
+{
+    (void)dx;
+    (void)d2;
+    int *fail = ctx;
+    if (s->npl == s->pl_cap) {
+        const size_t cap = s->pl_cap ? 2 * s->pl_cap : 1024;
+        uint32_t *p = realloc(s->plist, 2 * cap * sizeof *p);
+        if (!p) {
+            *fail = 1;
+            return;
+        }
+        s->plist = p;
+        s->pl_cap = cap;
+    }
+    s->plist[2 * s->npl] = (uint32_t)i;
+    s->plist[2 * s->npl + 1] = (uint32_t)j;
+    s->npl++;
+}
+
+static int list_build(mote_sep_system *s, mote_err *err)
+{
+    int rc = sep_cells_build(s, err);
+    if (rc)
+        return rc;
+    if (3 * s->n > s->xref_cap) {
+        const size_t cap = 3 * s->n + 3 * s->n / 2 + 3;
+        double *p = realloc(s->xref, cap * sizeof *p);
+        if (!p)
+            return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the pair list");
+        s->xref = p;
+        s->xref_cap = cap;
+    }
+    for (size_t i = 0; i < s->n; i++) {
+        s->xref[3 * i] = s->x[i];
+        s->xref[3 * i + 1] = s->y[i];
+        s->xref[3 * i + 2] = s->z[i];
+    }
+    s->npl = 0;
+    int fail = 0;
+    each_pair_reach(s, 0, s->skin_used, list_add, &fail);
+    if (fail)
+        return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the pair list");
+    s->list_ok = 1;
+    s->list_mods = s->mods;
+    s->list_builds++;
+    return MOTE_OK;
 }
 
 /* The contact forces of every particle from the current positions; the dashpots with the
@@ -323,44 +404,75 @@ int sep_contact_forces(mote_sep_system *s, double dt, mote_err *err)
             const double e = s->e_pair[a][b] > 0 ? s->e_pair[a][b] : s->e_pp;
             c.g_pp[a * MOTE_SEP_MAX_SPECIES + b] = e < 1 ? 2 * zeta_of(e) : 0;
         }
-    for (size_t i = 0; i < n; i++) {
-        const double h = 0.5 * dt / s->m[i];
-        c.pvx[i] = s->vx[i] + h * s->fx[i];
-        c.pvy[i] = s->vy[i] + h * s->fy[i];
-        c.pvz[i] = s->vz[i] + h * s->fz[i];
-        s->fx[i] = s->fy[i] = s->fz[i] = 0;
-    }
-    s->contacts_pp = 0;
-    /* the cells as built for this step's feed serve when nothing was added since */
-    if (!s->brute && !(s->built_step == s->steps + 1 && s->n_built == s->n)) {
-        int rc = sep_cells_build(s, err);
-        if (rc)
-            return rc;
-    }
-    each_pair(s, s->brute, pair_force, &c);
-    /* walls and closed ends: k = k_hat d, m = m_i, the wall at rest */
+    /* one pass: the predicted velocities, the forces zeroed, the walls and closed ends (k =
+     * k_hat d, m = m_i, the wall at rest), and whether the pair list still holds (nothing added,
+     * removed or reordered, no particle moved more than skin/2 since its build) */
+    double dmin, dmax;
+    mote_sep_size_range(s, &dmin, &dmax);
+    s->skin_used = s->brute || s->skin < 0 ? 0 : s->skin > 0 ? s->skin : 0.2 * dmin;
+    int valid = !s->brute && s->list_ok && s->mods == s->list_mods && s->skin_used > 0;
+    const double lim = 0.25 * s->skin_used * s->skin_used;
     const double e_w = s->e_pw >= 0 ? s->e_pw : s->e_pp, g_w = e_w < 1 ? 2 * zeta_of(e_w) : 0;
     const double hi[3] = {s->W, s->D, s->H};
+    s->contacts_pp = 0;
     for (size_t i = 0; i < n; i++) {
-        const double r = 0.5 * s->d[i], k = c.khat * s->d[i], gam = g_w * sqrt(s->m[i] * k);
-        double *pos[3] = {&s->x[i], &s->y[i], &s->z[i]};
-        double *F[3] = {&s->fx[i], &s->fy[i], &s->fz[i]};
-        const double pvel[3] = {c.pvx[i], c.pvy[i], c.pvz[i]};
+        const double h = 0.5 * dt * s->im[i];
+        const double pvel[3] = {s->vx[i] + h * s->fx[i], s->vy[i] + h * s->fy[i],
+                                s->vz[i] + h * s->fz[i]};
+        c.pvx[i] = pvel[0];
+        c.pvy[i] = pvel[1];
+        c.pvz[i] = pvel[2];
+        double F[3] = {0, 0, 0};
+        const double pos[3] = {s->x[i], s->y[i], s->z[i]}, r = 0.5 * s->d[i];
         for (int a = 0; a < 3; a++) {
             if (a == 1 && s->dim == 2)
                 continue;
             const int lo_wall = a < 2 || !s->open_bottom, hi_wall = a < 2 || !s->open_top;
-            double delta = r - *pos[a];
-            if (lo_wall && delta > 0) { /* the wall's normal +a; approach rate -v_a */
-                *F[a] += k * delta + gam * -pvel[a];
-                s->max_overlap = fmax(s->max_overlap, delta / s->d[i]);
-            }
-            delta = *pos[a] + r - hi[a];
-            if (hi_wall && delta > 0) { /* normal -a; approach rate +v_a */
-                *F[a] -= k * delta + gam * pvel[a];
-                s->max_overlap = fmax(s->max_overlap, delta / s->d[i]);
+            const double dlo = r - pos[a], dhi = pos[a] + r - hi[a];
+            if ((lo_wall && dlo > 0) || (hi_wall && dhi > 0)) {
+                const double k = c.khat * s->d[i], gam = g_w * sqrt(s->m[i] * k);
+                if (lo_wall && dlo > 0) /* the wall's normal +a; approach rate -v_a */
+                    F[a] += k * dlo - gam * pvel[a];
+                if (hi_wall && dhi > 0) /* normal -a; approach rate +v_a */
+                    F[a] -= k * dhi + gam * pvel[a];
+                const double ov = (dlo > dhi ? dlo : dhi) / s->d[i];
+                if (ov > s->max_overlap)
+                    s->max_overlap = ov;
             }
         }
+        s->fx[i] = F[0];
+        s->fy[i] = F[1];
+        s->fz[i] = F[2];
+        if (valid) {
+            const double *q = s->xref + 3 * i;
+            const double dx = pos[0] - q[0], dy = pos[1] - q[1], dz = pos[2] - q[2];
+            if (dx * dx + dy * dy + dz * dz > lim)
+                valid = 0;
+        }
+    }
+    if (s->brute) {
+        each_pair(s, 1, pair_force, &c);
+    } else if (s->skin_used > 0) {
+        if (!valid) {
+            int rc = list_build(s, err);
+            if (rc)
+                return rc;
+        }
+        /* the listed pairs, with the overlap test of the search */
+        double dx[3], d2;
+        for (size_t k = 0; k < s->npl; k++) {
+            const size_t i = s->plist[2 * k], j = s->plist[2 * k + 1];
+            if (overlap(s, i, j, dx, &d2))
+                pair_force(s, i, j, dx, d2, &c);
+        }
+    } else {
+        /* no list: the cells as built for this step's feed serve when nothing was added */
+        if (!(s->built_step == s->steps + 1 && s->n_built == s->n)) {
+            int rc = sep_cells_build(s, err);
+            if (rc)
+                return rc;
+        }
+        each_pair(s, 0, pair_force, &c);
     }
     /* plates: one contact per feature (a hole's side faces, or the top or bottom face) */
     for (int q = 0; q < s->nplate; q++)

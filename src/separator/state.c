@@ -48,6 +48,7 @@ static const struct {
     {"vfy", offsetof(mote_sep_system, vf[1])},     {"vfz", offsetof(mote_sep_system, vf[2])},
     {"avg_from", offsetof(mote_sep_system, avg_from)},
     {"prof_time", offsetof(mote_sep_system, prof_time)},
+    {"prof_wait", offsetof(mote_sep_system, prof_wait)},
     {"max_overlap", offsetof(mote_sep_system, max_overlap)},
     {"t", offsetof(mote_sep_system, t)},
 };
@@ -189,6 +190,11 @@ int mote_sep_save(const mote_sep_system *s, uint64_t seed, const char *path, mot
         put(f, s->back_d[b]);
         fputc('\n', f);
     }
+    /* the pair list, so that a continued run sums the contact forces in the same order */
+    fprintf(f, "pairlist %d %" PRIu64 " %" PRIu64 " %" PRIu64 " %zu\n", s->list_ok, s->mods,
+            s->list_mods, s->list_builds, s->list_ok ? s->npl : (size_t)0);
+    for (size_t k = 0; s->list_ok && k < s->npl; k++)
+        fprintf(f, "l %u %u\n", s->plist[2 * k], s->plist[2 * k + 1]);
     fprintf(f, "particles %zu\n", s->n);
     for (size_t i = 0; i < s->n; i++) {
         fprintf(f, "p %" PRIu64 " %d", s->id[i], s->s[i]);
@@ -196,6 +202,8 @@ int mote_sep_save(const mote_sep_system *s, uint64_t seed, const char *path, mot
                               s->vy[i], s->vz[i], s->fx[i], s->fy[i], s->fz[i]};
         for (int j = 0; j < 11; j++)
             put(f, v[j]);
+        for (int j = 0; s->list_ok && j < 3; j++) /* where the list was built */
+            put(f, s->xref[3 * i + (size_t)j]);
         fputc('\n', f);
     }
     fprintf(f, "end\n");
@@ -603,6 +611,45 @@ static int read_body(reader *r, mote_sep_system *s, uint64_t *seed)
             s->back_s[b] = (int)v;
         s->nback = rc ? s->nback : b + 1;
     }
+    uint64_t lmods = 0, npl = 0, fmods = 0;
+    long lok = 0;
+    if (!rc)
+        rc = line(r, "pairlist", 5, "expected 'pairlist OK MODS LIST_MODS BUILDS N'");
+    if (!rc)
+        rc = int_at(r, 1, 0, 1, &lok);
+    if (!rc)
+        rc = u64_at(r, 2, &fmods, 10);
+    if (!rc)
+        rc = u64_at(r, 3, &lmods, 10);
+    if (!rc)
+        rc = u64_at(r, 4, &s->list_builds, 10);
+    if (!rc)
+        rc = u64_at(r, 5, &npl, 10);
+    if (!rc && npl > 2000000000)
+        rc = bad(r, "a pair list of more than 2e9 pairs", r->tok[5]);
+    for (uint64_t k = 0; k < npl && !rc; k++) {
+        uint64_t a, b;
+        rc = line(r, "l", 2, "expected 'l I J'");
+        if (!rc)
+            rc = u64_at(r, 1, &a, 10);
+        if (!rc)
+            rc = u64_at(r, 2, &b, 10);
+        if (!rc && (a > UINT32_MAX || b > UINT32_MAX))
+            rc = bad(r, "a particle index beyond 2^32", r->tok[1]);
+        if (!rc && s->npl == s->pl_cap) {
+            const size_t cap = s->pl_cap ? 2 * s->pl_cap : 1024;
+            uint32_t *p = realloc(s->plist, 2 * cap * sizeof *p);
+            if (!p)
+                return mote_fail(r->err, MOTE_ENOMEM, "%s: out of memory", r->in.path);
+            s->plist = p;
+            s->pl_cap = cap;
+        }
+        if (!rc) {
+            s->plist[2 * s->npl] = (uint32_t)a;
+            s->plist[2 * s->npl + 1] = (uint32_t)b;
+            s->npl++;
+        }
+    }
     uint64_t n = 0;
     if (!rc)
         rc = line(r, "particles", 1, "expected 'particles N'");
@@ -614,19 +661,43 @@ static int read_body(reader *r, mote_sep_system *s, uint64_t *seed)
         return rc;
     /* the arrays grow as the lines come, so a false count allocates nothing large */
     for (uint64_t i = 0; i < n && !rc; i++) {
-        rc = line(r, "p", 13, "expected 'p ID SPECIES D M X Y Z VX VY VZ FX FY FZ'");
+        rc = line(r, "p", lok ? 16 : 13, lok ? "expected 'p ID SPECIES D M X Y Z VX VY VZ FX FY FZ' "
+                  "and the position at the list's build" : "expected 'p ID SPECIES D M X Y Z VX "
+                  "VY VZ FX FY FZ'");
         uint64_t id;
-        double x[11];
+        double x[11], xr[3];
         if (!rc)
             rc = u64_at(r, 1, &id, 10);
         if (!rc)
             rc = int_at(r, 2, 0, nsp - 1, &v);
         if (!rc)
             rc = reals(r, 3, 11, x);
+        if (!rc && lok)
+            rc = reals(r, 14, 3, xr);
         if (!rc && !(x[0] > 0 && x[1] > 0))
             rc = bad(r, "a particle needs a diameter and a mass > 0", r->tok[3]);
         if (!rc)
             rc = sep_append(s, (int)v, id, x, r->err);
+        if (!rc && lok) {
+            if (3 * (i + 1) > s->xref_cap) {
+                const size_t cap = 6 * (i + 1);
+                double *p = realloc(s->xref, cap * sizeof *p);
+                if (!p)
+                    return mote_fail(r->err, MOTE_ENOMEM, "%s: out of memory", r->in.path);
+                s->xref = p;
+                s->xref_cap = cap;
+            }
+            memcpy(s->xref + 3 * i, xr, sizeof xr);
+        }
+    }
+    /* sep_append counted the particles as additions: the counts of the file stand */
+    for (size_t k = 0; !rc && k < 2 * s->npl; k++)
+        if (s->plist[k] >= s->n)
+            rc = bad(r, "the pair list names a particle beyond the last", NULL);
+    if (!rc) {
+        s->mods = fmods;
+        s->list_ok = (int)lok;
+        s->list_mods = lmods;
     }
     if (!rc)
         rc = line(r, "end", 0, "expected 'end'");

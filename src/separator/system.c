@@ -43,6 +43,7 @@ void mote_sep_free(mote_sep_system *s)
     free(s->vz);
     free(s->d);
     free(s->m);
+    free(s->im);
     free(s->s);
     free(s->id);
     free(s->eps_s);
@@ -76,6 +77,10 @@ void mote_sep_free(mote_sep_system *s)
     free(s->pv);
     free(s->nhead);
     free(s->nnext);
+    free(s->plist);
+    free(s->xref);
+    free(s->ex_i);
+    free(s->ex_c);
     free(s->back_s);
     free(s->back_d);
     for (int k = 0; k < s->nsp; k++)
@@ -379,6 +384,7 @@ static int grow(mote_sep_system *s, size_t need, mote_err *err)
     GROW(vz);
     GROW(d);
     GROW(m);
+    GROW(im);
     GROW(s);
     GROW(id);
     GROW(fx);
@@ -394,10 +400,12 @@ int sep_append(mote_sep_system *s, int k, uint64_t id, const double v[11], mote_
     if (grow(s, s->n + 1, err))
         return err->code;
     const size_t i = s->n++;
+    s->mods++;
     s->s[i] = k;
     s->id[i] = id;
     s->d[i] = v[0];
     s->m[i] = v[1];
+    s->im[i] = 1 / v[1];
     s->x[i] = v[2];
     s->y[i] = v[3];
     s->z[i] = v[4];
@@ -461,6 +469,7 @@ static int place(mote_sep_system *s, int k, double d, mote_err *err)
         if (grow(s, s->n + 1, err))
             return -1;
         const size_t i = s->n++;
+        s->mods++;
         s->x[i] = px;
         s->y[i] = py;
         s->z[i] = pz;
@@ -469,6 +478,7 @@ static int place(mote_sep_system *s, int k, double d, mote_err *err)
         s->vz[i] = s->vf[2];
         s->d[i] = d;
         s->m[i] = m;
+        s->im[i] = 1 / m;
         s->s[i] = k;
         s->id[i] = s->next_id++;
         s->fx[i] = s->fy[i] = s->fz[i] = 0;
@@ -515,28 +525,42 @@ static int retry_backlog(mote_sep_system *s, mote_err *err)
 
 /* ---- gas (spec 2.6) ------------------------------------------------------------------------- */
 
-void mote_sep_gas_update(mote_sep_system *s, double dt)
+/* Particle i's volume into the slices: cloud in cell between the two nearest slice centres;
+ * beyond the end centres, all to the end slice. */
+static inline void deposit(mote_sep_system *s, size_t i)
 {
     const int K = s->K;
-    if (K <= 0)
-        return;
-    for (int k = 0; k < K; k++)
-        s->eps_s[k] = 0;
-    /* cloud in cell between the two nearest slice centres; beyond the end centres, the end */
-    for (size_t i = 0; i < s->n; i++) {
-        const double vol = SEP_PI * s->d[i] * s->d[i] * s->d[i] / 6;
-        const double q = s->z[i] / s->dz - 0.5;
-        if (q <= 0) {
-            s->eps_s[0] += vol;
-        } else if (q >= K - 1) {
-            s->eps_s[K - 1] += vol;
-        } else {
-            const int k = (int)q;
-            const double f = q - k;
-            s->eps_s[k] += (1 - f) * vol;
-            s->eps_s[k + 1] += f * vol;
-        }
+    const double vol = SEP_PI * s->d[i] * s->d[i] * s->d[i] / 6;
+    const double q = s->z[i] / s->dz - 0.5;
+    if (q <= 0) {
+        s->eps_s[0] += vol;
+    } else if (q >= K - 1) {
+        s->eps_s[K - 1] += vol;
+    } else {
+        const int k = (int)q;
+        const double f = q - k;
+        s->eps_s[k] += (1 - f) * vol;
+        s->eps_s[k + 1] += f * vol;
     }
+}
+
+static void gas_finish(mote_sep_system *s, double dt);
+
+void mote_sep_gas_update(mote_sep_system *s, double dt)
+{
+    if (s->K <= 0)
+        return;
+    for (int k = 0; k < s->K; k++)
+        s->eps_s[k] = 0;
+    for (size_t i = 0; i < s->n; i++)
+        deposit(s, i);
+    gas_finish(s, dt);
+}
+
+/* From the deposited volumes: the fractions, their relaxation, and the gas velocity. */
+static void gas_finish(mote_sep_system *s, double dt)
+{
+    const int K = s->K;
     double r0, m0;
     profile_at(s, 0, &r0, &m0);
     const double Ac = mote_sep_cross_section(s), G = r0 * s->U0;
@@ -580,6 +604,13 @@ static double eps_gas_at(const mote_sep_system *s, double z)
 
 /* ---- profiles (spec 3.2) ---------------------------------------------------------------------- */
 
+/* The slice holding height z (clamped to the channel). */
+static inline int slice_of(const mote_sep_system *s, double z)
+{
+    const double q = z / s->dz;
+    return q <= 0 ? 0 : q >= s->K - 1 ? s->K - 1 : (int)q;
+}
+
 /* Add this step's slice values, weighted by dt: each species' solids fraction (cloud in cell,
  * as the gas model), the particle count and m v_z, m by the slice holding the centre, u_g. */
 static void sample_profiles(mote_sep_system *s, double dt)
@@ -600,7 +631,7 @@ static void sample_profiles(mote_sep_system *s, double dt)
             e[(size_t)k * MOTE_SEP_MAX_SPECIES] += (1 - f) * vol;
             e[(size_t)(k + 1) * MOTE_SEP_MAX_SPECIES] += f * vol;
         }
-        const int k = (int)fmin(fmax(floor(s->z[i] / s->dz), 0), K - 1);
+        const int k = slice_of(s, s->z[i]);
         s->prof_n[k] += dt;
         s->prof_mvz[k] += dt * s->m[i] * s->vz[i];
         s->prof_m[k] += dt * s->m[i];
@@ -627,27 +658,86 @@ void mote_sep_reset_stats(mote_sep_system *s)
             s->prof_eps[k * MOTE_SEP_MAX_SPECIES + (size_t)j] = 0;
     }
     s->prof_time = 0;
+    s->prof_wait = 0;
     s->avg_from = s->t;
 }
 
-/* ---- one step (spec 2.10, the dilute mode) ---------------------------------------------------- */
+/* ---- exits (spec 2.11) ----------------------------------------------------------------------- */
 
-/* The exact drift of one velocity component over dt with relaxation time tau toward the gas
- * velocity u under the acceleration a: (x, v) updated in place. */
-static void drift1(double *x, double *v, double u, double a, double tau, double dt)
+static int class_of(const mote_sep_system *s, double d);
+
+/* 0 in the channel, 1 fines (above an open top), 2 coarse (below an open bottom), 3 lost
+ * (outside a side wall by more than its radius, inside a plate's solid, not finite). */
+static inline int exit_code(const mote_sep_system *s, size_t i)
 {
-    if (!isfinite(tau)) { /* vacuum: constant acceleration */
-        *x += *v * dt + 0.5 * a * dt * dt;
-        *v += a * dt;
-        return;
+    const double r = 0.5 * s->d[i], x = s->x[i], y = s->y[i], z = s->z[i];
+    if (!isfinite(x) || !isfinite(y) || !isfinite(z) || x < -r || x > s->W + r ||
+        (s->dim == 3 && (y < -r || y > s->D + r)))
+        return 3;
+    for (int q = 0; q < s->nplate; q++) {
+        const mote_sep_plate *p = &s->plate[q];
+        if (z >= p->zb && z <= p->zb + p->t && mote_sep_plate_hole_at(p, s->dim, x, y) < 0)
+            return 3;
     }
-    const double h = dt / tau, omE = -expm1(-h), E = 1 - omE;
-    /* h - 1 + E without cancellation for small h */
-    const double hm = h < 1e-4 ? h * h / 2 - h * h * h / 6 + h * h * h * h / 24 : h - omE;
-    const double dv0 = *v - u;
-    *x += u * dt + tau * dv0 * omE + tau * tau * a * hm;
-    *v = u + dv0 * E + tau * a * omE;
+    if (s->open_top && z > s->H)
+        return 1;
+    if (s->open_bottom && z < 0)
+        return 2;
+    return 0;
 }
+
+/* Remember that particle i leaves (its outcome out). */
+static int note_exit(mote_sep_system *s, size_t i, int out, mote_err *err)
+{
+    if (s->nex == s->ex_cap) {
+        const size_t cap = s->ex_cap ? 2 * s->ex_cap : 64;
+        size_t *a = realloc(s->ex_i, cap * sizeof *a);
+        if (a)
+            s->ex_i = a;
+        int *b = realloc(s->ex_c, cap * sizeof *b);
+        if (b)
+            s->ex_c = b;
+        if (!a || !b)
+            return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the exits");
+        s->ex_cap = cap;
+    }
+    s->ex_i[s->nex] = i;
+    s->ex_c[s->nex++] = out;
+    return MOTE_OK;
+}
+
+/* The tallies of particle i leaving with outcome out. */
+static void tally_exit(mote_sep_system *s, size_t i, int out)
+{
+    const int k = s->s[i];
+    const double m = s->m[i];
+    const int c = class_of(s, s->d[i]);
+    const size_t cs = (size_t)c * MOTE_SEP_MAX_SPECIES + (size_t)k;
+    if (out == 1) {
+        s->cnt[k].fines++;
+        s->cnt[k].m_fines += m;
+        if (c >= 0) {
+            s->cl_nf[c]++;
+            s->cl_mf[c] += m;
+            s->cls_nf[cs]++;
+            s->cls_mf[cs] += m;
+        }
+    } else if (out == 2) {
+        s->cnt[k].coarse++;
+        s->cnt[k].m_coarse += m;
+        if (c >= 0) {
+            s->cl_nc[c]++;
+            s->cl_mc[c] += m;
+            s->cls_nc[cs]++;
+            s->cls_mc[cs] += m;
+        }
+    } else {
+        s->cnt[k].lost++;
+        s->cnt[k].m_lost += m;
+    }
+}
+
+/* ---- one step (spec 2.10) ------------------------------------------------------------------- */
 
 /* Whether a sphere of radius r at (x, y, z) touches or is inside a plate. */
 int sep_touches_plate(const mote_sep_system *s, double x, double y, double z, double r)
@@ -793,8 +883,9 @@ static int class_of(const mote_sep_system *s, double d)
     return lo;
 }
 
-/* Put the particles in the order of the cell lists just built (spec 2.9: memory locality; the
- * ids do not change, and the order is a function of the positions, so runs stay reproducible). */
+/* Put the particles in the order of the cell lists just built from the present positions (spec
+ * 2.9: memory locality; the ids do not change, and the order is a function of the positions,
+ * so runs stay reproducible). */
 static int reorder(mote_sep_system *s, mote_err *err)
 {
     const size_t n = s->n;
@@ -817,6 +908,7 @@ static int reorder(mote_sep_system *s, mote_err *err)
     PERMUTE(vz, double);
     PERMUTE(d, double);
     PERMUTE(m, double);
+    PERMUTE(im, double);
     PERMUTE(fx, double);
     PERMUTE(fy, double);
     PERMUTE(fz, double);
@@ -825,12 +917,14 @@ static int reorder(mote_sep_system *s, mote_err *err)
 #undef PERMUTE
     free(tmp);
     s->built_step = 0; /* the lists now point at the old order */
+    s->list_ok = 0;
     return MOTE_OK;
 }
 
 /* Remove particle i (the last one takes its place). */
 static void remove_particle(mote_sep_system *s, size_t i)
 {
+    s->mods++;
     const size_t l = --s->n;
     s->x[i] = s->x[l];
     s->y[i] = s->y[l];
@@ -840,6 +934,7 @@ static void remove_particle(mote_sep_system *s, size_t i)
     s->vz[i] = s->vz[l];
     s->d[i] = s->d[l];
     s->m[i] = s->m[l];
+    s->im[i] = s->im[l];
     s->s[i] = s->s[l];
     s->id[i] = s->id[l];
     s->fx[i] = s->fx[l];
@@ -849,27 +944,32 @@ static void remove_particle(mote_sep_system *s, size_t i)
 
 static int step(mote_sep_system *s, double dt, mote_err *err)
 {
-    /* the half kick with the last contact forces (spec 2.10 step 1) */
-    if (s->dem)
-        for (size_t i = 0; i < s->n; i++) {
-            const double h = 0.5 * dt / s->m[i];
-            s->vx[i] += h * s->fx[i];
-            s->vy[i] += h * s->fy[i];
-            s->vz[i] += h * s->fz[i];
-        }
-    /* drift: exact under drag, gravity and buoyancy with the gas of the last profile; the
+    /* per particle: the half kick with the last contact forces (spec 2.10 step 1), then the
+     * drift, exact under drag, gravity and buoyancy with the gas of the last profile; the
      * largest displacement is watched (spec 2.8's guard: r_min / 4) */
     double dmin, dmax, move2 = 0;
     mote_sep_size_range(s, &dmin, &dmax);
-    const int sampling = s->t + dt >= s->avg_from;
+    /* the profiles are sampled every 10th step, each sample standing for the time since the
+     * last (the drag of the step's start with them) */
+    const int averaging = s->t + dt >= s->avg_from;
+    if (averaging)
+        s->prof_wait += dt;
+    const int sampling = averaging && s->steps % 10 == 9;
+    const double wdt = s->prof_wait;
     for (size_t i = 0; i < s->n; i++) {
+        if (s->dem) {
+            const double hk = 0.5 * dt * s->im[i];
+            s->vx[i] += hk * s->fx[i];
+            s->vy[i] += hk * s->fy[i];
+            s->vz[i] += hk * s->fz[i];
+        }
         const double x0 = s->x[i], y0 = s->y[i], z0 = s->z[i];
         const mote_sep_species *sp = &s->sp[s->s[i]];
         const double d = s->d[i];
-        const double u = gas_for(s, s->z[i]);
         double rho_g = s->rho_g, mu_g = s->mu_g;
         if (s->gp_n)
             mote_sep_gas_props(s, s->z[i], &rho_g, &mu_g);
+        const double u = mu_g > 0 && rho_g > 0 ? gas_for(s, s->z[i]) : 0; /* (vacuum: unused) */
         const double a = -s->g * (1 - rho_g / sp->rho);
         double tau = INFINITY;
         if (mu_g > 0 && rho_g > 0) {
@@ -881,13 +981,30 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
             tau = sp->rho * d * d / (18 * mu_g * f);
         }
         if (sampling && isfinite(tau)) { /* the drag's z force at the step's start */
-            const int k = (int)fmin(fmax(floor(s->z[i] / s->dz), 0), s->K - 1);
-            s->prof_fd[k] += dt * s->m[i] * (u - s->vz[i]) / tau;
+            const int k = slice_of(s, s->z[i]);
+            s->prof_fd[k] += wdt * s->m[i] * (u - s->vz[i]) / tau;
         }
-        drift1(&s->x[i], &s->vx[i], 0, 0, tau, dt);
-        if (s->dim == 3)
-            drift1(&s->y[i], &s->vy[i], 0, 0, tau, dt);
-        drift1(&s->z[i], &s->vz[i], u, a, tau, dt);
+        if (isfinite(tau)) {
+            /* the factors of the exact drift, once for the three components: sideways the gas
+             * and the acceleration are 0 */
+            const double h = dt / tau, omE = -expm1(-h), E = 1 - omE;
+            const double hm = h < 1e-4 ? h * h / 2 - h * h * h / 6 + h * h * h * h / 24 : h - omE;
+            s->x[i] += tau * s->vx[i] * omE;
+            s->vx[i] *= E;
+            if (s->dim == 3) {
+                s->y[i] += tau * s->vy[i] * omE;
+                s->vy[i] *= E;
+            }
+            const double dv0 = s->vz[i] - u;
+            s->z[i] += u * dt + tau * dv0 * omE + tau * tau * a * hm;
+            s->vz[i] = u + dv0 * E + tau * a * omE;
+        } else { /* vacuum: constant acceleration */
+            s->x[i] += s->vx[i] * dt;
+            if (s->dim == 3)
+                s->y[i] += s->vy[i] * dt;
+            s->z[i] += s->vz[i] * dt + 0.5 * a * dt * dt;
+            s->vz[i] += a * dt;
+        }
         if ((s->D_t > 0 || s->T_gas > 0) && isfinite(tau)) {
             /* D = D_t + D_B, D_B = k_B T / (3 pi mu_g d) (Stokes-Einstein) */
             const double D = s->D_t + 1.380649e-23 * s->T_gas / (3 * SEP_PI * mu_g * d);
@@ -897,63 +1014,26 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
             disperse1(&s->rng, &s->z[i], &s->vz[i], D / tau, tau, dt);
         }
         const double ddx = s->x[i] - x0, ddy = s->y[i] - y0, ddz = s->z[i] - z0;
-        move2 = fmax(move2, ddx * ddx + ddy * ddy + ddz * ddz);
+        const double mv = ddx * ddx + ddy * ddy + ddz * ddz;
+        if (mv > move2)
+            move2 = mv;
         if (!s->dem)
             reflect(s, i, x0, y0, z0);
+        const int out = exit_code(s, i);
+        if (out && note_exit(s, i, out, err))
+            return err->code;
     }
     if (s->dem && move2 > 0.0625 * 0.25 * dmin * dmin)
         s->fast_moves++;
     s->t += dt;
     s->steps++;
-    /* exits and losses (spec 2.11) */
-    for (size_t i = 0; i < s->n;) {
-        const int k = s->s[i];
-        const double r = 0.5 * s->d[i];
-        int out = 0; /* 1 fines, 2 coarse, 3 lost */
-        if (!isfinite(s->x[i]) || !isfinite(s->y[i]) || !isfinite(s->z[i]) ||
-            s->x[i] < -r || s->x[i] > s->W + r || (s->dim == 3 && (s->y[i] < -r || s->y[i] > s->D + r)))
-            out = 3;
-        for (int q = 0; q < s->nplate && !out; q++) { /* inside a plate's solid */
-            const mote_sep_plate *p = &s->plate[q];
-            if (s->z[i] >= p->zb && s->z[i] <= p->zb + p->t &&
-                mote_sep_plate_hole_at(p, s->dim, s->x[i], s->y[i]) < 0)
-                out = 3;
-        }
-        if (!out && s->open_top && s->z[i] > s->H)
-            out = 1;
-        else if (!out && s->open_bottom && s->z[i] < 0)
-            out = 2;
-        if (!out) {
-            i++;
-            continue;
-        }
-        const double m = s->m[i];
-        const int c = class_of(s, s->d[i]);
-        const size_t cs = (size_t)c * MOTE_SEP_MAX_SPECIES + (size_t)k;
-        if (out == 1) {
-            s->cnt[k].fines++;
-            s->cnt[k].m_fines += m;
-            if (c >= 0) {
-                s->cl_nf[c]++;
-                s->cl_mf[c] += m;
-                s->cls_nf[cs]++;
-                s->cls_mf[cs] += m;
-            }
-        } else if (out == 2) {
-            s->cnt[k].coarse++;
-            s->cnt[k].m_coarse += m;
-            if (c >= 0) {
-                s->cl_nc[c]++;
-                s->cl_mc[c] += m;
-                s->cls_nc[cs]++;
-                s->cls_mc[cs] += m;
-            }
-        } else {
-            s->cnt[k].lost++;
-            s->cnt[k].m_lost += m;
-        }
-        remove_particle(s, i);
+    /* exits and losses (spec 2.11), found in the drift's pass: the highest index first, so
+     * that the last particle, moved into each place, is never one that leaves */
+    for (size_t e = s->nex; e-- > 0;) {
+        tally_exit(s, s->ex_i[e], s->ex_c[e]);
+        remove_particle(s, s->ex_i[e]);
     }
+    s->nex = 0;
     /* the feed: the backlog first, then each species' account keeps its mass share exact
      * (spec 2.5); with contacts, placements are checked through cells built now */
     if (s->dem && (s->nback || s->rate > 0) && sep_cells_build(s, err))
@@ -973,23 +1053,32 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
             }
         }
     }
-    /* the contacts from the new positions and the second half kick (steps 5-7) */
+    /* the contacts from the new positions, and in one pass the second half kick and the
+     * particles' volume for the gas (steps 5-8) */
     if (s->dem) {
         const int rc = sep_contact_forces(s, dt, err);
         if (rc)
             return rc;
+        for (int k = 0; k < s->K; k++)
+            s->eps_s[k] = 0;
         for (size_t i = 0; i < s->n; i++) {
-            const double h = 0.5 * dt / s->m[i];
+            const double h = 0.5 * dt * s->im[i];
             s->vx[i] += h * s->fx[i];
             s->vy[i] += h * s->fy[i];
             s->vz[i] += h * s->fz[i];
+            deposit(s, i);
         }
-        if (!s->brute && s->nsort > 0 && s->steps % (uint64_t)s->nsort == 0 && reorder(s, err))
+        gas_finish(s, dt);
+        if (!s->brute && s->nsort > 0 && s->steps % (uint64_t)s->nsort == 0 &&
+            (sep_cells_build(s, err) || reorder(s, err)))
             return err->code;
+    } else {
+        mote_sep_gas_update(s, dt);
     }
-    mote_sep_gas_update(s, dt);
-    if (sampling)
-        sample_profiles(s, dt);
+    if (sampling) {
+        sample_profiles(s, wdt);
+        s->prof_wait = 0;
+    }
     return MOTE_OK;
 }
 
