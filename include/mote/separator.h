@@ -151,7 +151,9 @@ typedef struct {
     double hx, hy, hz;
     size_t ncell_cap;
     uint32_t *cell_start, *cell_idx;
-    int nsort;                           /* reorder the particles by cell every nsort steps */
+    int nsort;                           /* reorder the particles by cell every nsort steps (at
+                                          * the first search after them) */
+    uint64_t last_sort;                  /* the step of the last reorder */
     int32_t *nhead, *nnext;              /* particles added since: a list per cell */
     size_t nnext_cap;
     size_t n_built;                      /* particles when the cells were built, */
@@ -159,7 +161,7 @@ typedef struct {
     /* the pair list (spec 2.9's allowed optimisation): the pairs closer than r_i + r_j + skin
      * when it was built; kept while no particle was added, removed or reordered and none has
      * moved more than skin/2 since, so it holds every contact a rebuild would find */
-    double skin;                         /* (0: 0.2 d_min; < 0: none, search every step) */
+    double skin;                         /* (0: 0.3 d_min; < 0: none, search every step) */
     double skin_used;
     uint32_t *plist;
     size_t npl, pl_cap;

@@ -97,7 +97,8 @@ int mote_sep_save(const mote_sep_system *s, uint64_t seed, const char *path, mot
     }
     for (size_t k = 0; k < NINTS; k++)
         fprintf(f, "int %s %d\n", INTS[k].key, *(const int *)((const char *)s + INTS[k].off));
-    fprintf(f, "counters %" PRIu64 " %" PRIu64 " %" PRIu64 "\n", s->steps, s->next_id, s->fast_moves);
+    fprintf(f, "counters %" PRIu64 " %" PRIu64 " %" PRIu64 " %" PRIu64 "\n", s->steps, s->next_id,
+            s->fast_moves, s->last_sort);
     fprintf(f, "rng %016" PRIx64 " %016" PRIx64 " %016" PRIx64 " %016" PRIx64 "\n", s->rng.s[0],
             s->rng.s[1], s->rng.s[2], s->rng.s[3]);
     fprintf(f, "gasprofile %zu\n", s->gp_n);
@@ -338,13 +339,15 @@ static int read_body(reader *r, mote_sep_system *s, uint64_t *seed)
         return bad(r, "dim must be 2 or 3", NULL);
     if (s->K < 1 || s->K > 1000)
         return bad(r, "the slices must number 1 to 1000", NULL);
-    rc = line(r, "counters", 3, "expected 'counters STEPS NEXT_ID FAST_MOVES'");
+    rc = line(r, "counters", 4, "expected 'counters STEPS NEXT_ID FAST_MOVES LAST_SORT'");
     if (!rc)
         rc = u64_at(r, 1, &s->steps, 10);
     if (!rc)
         rc = u64_at(r, 2, &s->next_id, 10);
     if (!rc)
         rc = u64_at(r, 3, &s->fast_moves, 10);
+    if (!rc)
+        rc = u64_at(r, 4, &s->last_sort, 10);
     if (!rc)
         rc = line(r, "rng", 4, "expected 'rng' and four 64-bit hexadecimal words");
     for (int k = 0; k < 4 && !rc; k++)

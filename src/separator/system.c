@@ -886,7 +886,7 @@ static int class_of(const mote_sep_system *s, double d)
 /* Put the particles in the order of the cell lists just built from the present positions (spec
  * 2.9: memory locality; the ids do not change, and the order is a function of the positions,
  * so runs stay reproducible). */
-static int reorder(mote_sep_system *s, mote_err *err)
+int sep_reorder(mote_sep_system *s, mote_err *err)
 {
     const size_t n = s->n;
     void *tmp = malloc((n ? n : 1) * sizeof(double));
@@ -915,6 +915,14 @@ static int reorder(mote_sep_system *s, mote_err *err)
     PERMUTE(s, int);
     PERMUTE(id, uint64_t);
 #undef PERMUTE
+    /* the predicted velocities too, when they are current (the contacts' pass) */
+    for (int b = 0; b < 3 && s->pv_cap >= 3 * n; b++) {
+        double *t_ = tmp, *f = s->pv + (size_t)b * n;
+        for (size_t k = 0; k < n; k++)
+            t_[k] = f[p[k]];
+        memcpy(f, t_, n * sizeof *f);
+    }
+    s->last_sort = s->steps;
     free(tmp);
     s->built_step = 0; /* the lists now point at the old order */
     s->list_ok = 0;
@@ -957,66 +965,73 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
     const int sampling = averaging && s->steps % 10 == 9;
     const double wdt = s->prof_wait;
     for (size_t i = 0; i < s->n; i++) {
+        /* the particle in registers: loaded once, stored once */
+        double vx = s->vx[i], vy = s->vy[i], vz = s->vz[i];
+        const double x0 = s->x[i], y0 = s->y[i], z0 = s->z[i];
         if (s->dem) {
             const double hk = 0.5 * dt * s->im[i];
-            s->vx[i] += hk * s->fx[i];
-            s->vy[i] += hk * s->fy[i];
-            s->vz[i] += hk * s->fz[i];
+            vx += hk * s->fx[i];
+            vy += hk * s->fy[i];
+            vz += hk * s->fz[i];
         }
-        const double x0 = s->x[i], y0 = s->y[i], z0 = s->z[i];
+        double x = x0, y = y0, z = z0;
         const mote_sep_species *sp = &s->sp[s->s[i]];
         const double d = s->d[i];
         double rho_g = s->rho_g, mu_g = s->mu_g;
         if (s->gp_n)
-            mote_sep_gas_props(s, s->z[i], &rho_g, &mu_g);
-        const double u = mu_g > 0 && rho_g > 0 ? gas_for(s, s->z[i]) : 0; /* (vacuum: unused) */
+            mote_sep_gas_props(s, z0, &rho_g, &mu_g);
+        const int drag = mu_g > 0 && rho_g > 0;
+        const double u = drag ? gas_for(s, z0) : 0; /* (vacuum: unused) */
         const double a = -s->g * (1 - rho_g / sp->rho);
         double tau = INFINITY;
-        if (mu_g > 0 && rho_g > 0) {
-            const double wx = -s->vx[i], wy = -s->vy[i], wz = u - s->vz[i];
-            const double Re = rho_g * sqrt(wx * wx + wy * wy + wz * wz) * d / mu_g;
+        if (drag) {
+            const double wz = u - vz;
+            const double Re = rho_g * sqrt(vx * vx + vy * vy + wz * wz) * d / mu_g;
             double f = mote_sep_drag_f(Re);
             if (s->chi != 0)
-                f *= pow(eps_gas_at(s, s->z[i]), -s->chi);
+                f *= pow(eps_gas_at(s, z0), -s->chi);
             tau = sp->rho * d * d / (18 * mu_g * f);
-        }
-        if (sampling && isfinite(tau)) { /* the drag's z force at the step's start */
-            const int k = slice_of(s, s->z[i]);
-            s->prof_fd[k] += wdt * s->m[i] * (u - s->vz[i]) / tau;
-        }
-        if (isfinite(tau)) {
+            if (sampling) { /* the drag's z force at the step's start */
+                const int k = slice_of(s, z0);
+                s->prof_fd[k] += wdt * s->m[i] * (u - vz) / tau;
+            }
             /* the factors of the exact drift, once for the three components: sideways the gas
              * and the acceleration are 0 */
             const double h = dt / tau, omE = -expm1(-h), E = 1 - omE;
             const double hm = h < 1e-4 ? h * h / 2 - h * h * h / 6 + h * h * h * h / 24 : h - omE;
-            s->x[i] += tau * s->vx[i] * omE;
-            s->vx[i] *= E;
+            x += tau * vx * omE;
+            vx *= E;
             if (s->dim == 3) {
-                s->y[i] += tau * s->vy[i] * omE;
-                s->vy[i] *= E;
+                y += tau * vy * omE;
+                vy *= E;
             }
-            const double dv0 = s->vz[i] - u;
-            s->z[i] += u * dt + tau * dv0 * omE + tau * tau * a * hm;
-            s->vz[i] = u + dv0 * E + tau * a * omE;
+            const double dv0 = vz - u;
+            z += u * dt + tau * dv0 * omE + tau * tau * a * hm;
+            vz = u + dv0 * E + tau * a * omE;
+            if (s->D_t > 0 || s->T_gas > 0) {
+                /* D = D_t + D_B, D_B = k_B T / (3 pi mu_g d) (Stokes-Einstein) */
+                const double D = s->D_t + 1.380649e-23 * s->T_gas / (3 * SEP_PI * mu_g * d);
+                disperse1(&s->rng, &x, &vx, D / tau, tau, dt);
+                if (s->dim == 3)
+                    disperse1(&s->rng, &y, &vy, D / tau, tau, dt);
+                disperse1(&s->rng, &z, &vz, D / tau, tau, dt);
+            }
         } else { /* vacuum: constant acceleration */
-            s->x[i] += s->vx[i] * dt;
+            x += vx * dt;
             if (s->dim == 3)
-                s->y[i] += s->vy[i] * dt;
-            s->z[i] += s->vz[i] * dt + 0.5 * a * dt * dt;
-            s->vz[i] += a * dt;
+                y += vy * dt;
+            z += vz * dt + 0.5 * a * dt * dt;
+            vz += a * dt;
         }
-        if ((s->D_t > 0 || s->T_gas > 0) && isfinite(tau)) {
-            /* D = D_t + D_B, D_B = k_B T / (3 pi mu_g d) (Stokes-Einstein) */
-            const double D = s->D_t + 1.380649e-23 * s->T_gas / (3 * SEP_PI * mu_g * d);
-            disperse1(&s->rng, &s->x[i], &s->vx[i], D / tau, tau, dt);
-            if (s->dim == 3)
-                disperse1(&s->rng, &s->y[i], &s->vy[i], D / tau, tau, dt);
-            disperse1(&s->rng, &s->z[i], &s->vz[i], D / tau, tau, dt);
-        }
-        const double ddx = s->x[i] - x0, ddy = s->y[i] - y0, ddz = s->z[i] - z0;
+        const double ddx = x - x0, ddy = y - y0, ddz = z - z0;
         const double mv = ddx * ddx + ddy * ddy + ddz * ddz;
-        if (mv > move2)
-            move2 = mv;
+        move2 = mv > move2 ? mv : move2;
+        s->x[i] = x;
+        s->y[i] = y;
+        s->z[i] = z;
+        s->vx[i] = vx;
+        s->vy[i] = vy;
+        s->vz[i] = vz;
         if (!s->dem)
             reflect(s, i, x0, y0, z0);
         const int out = exit_code(s, i);
@@ -1069,9 +1084,6 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
             deposit(s, i);
         }
         gas_finish(s, dt);
-        if (!s->brute && s->nsort > 0 && s->steps % (uint64_t)s->nsort == 0 &&
-            (sep_cells_build(s, err) || reorder(s, err)))
-            return err->code;
     } else {
         mote_sep_gas_update(s, dt);
     }
