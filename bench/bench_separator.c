@@ -8,7 +8,7 @@
  *                        step/s and <= 256 bytes per particle
  *   scan2d|scan3d [NMAX] the article's comparison extended: Brownian particles (dispersion,
  *                        gas at rest, no gravity, closed box, fraction 0.2, DEM), N = 150, 300,
- *                        600, ... up to NMAX (1e5 in 2D, 1e6 in 3D): cells and, while one step
+ *                        600, ... up to NMAX (4e5 in 2D, 1e6 in 3D): cells and, while one step
  *                        takes under a second, brute force, with the speed-up and whether both
  *                        found the same contacts; then the largest N each sustains at 30 steps/s
  *   column N [STEPS]     the gas-free granular column of the LIGGGHTS comparison (3D, d = 2 mm,
@@ -64,7 +64,7 @@ static int setup(mote_sep_system *s, int dim, size_t n, double d1, double d2, do
     s->v_imp = 1;
     if (brownian) {
         s->g = 0;
-        s->D_t = 1e-6;
+        s->D_t = 1e-2; /* velocity spread sqrt(D / tau) of a few cm/s */
     }
     if (mote_sep_prepare(s, err) || mote_sep_insert(s, 0, n, 0, err))
         return -1;
@@ -72,12 +72,16 @@ static int setup(mote_sep_system *s, int dim, size_t n, double d1, double d2, do
     return 0;
 }
 
-/* The bytes the model's arrays hold per particle (capacities, cells included). */
+/* The bytes the model's arrays hold per particle (capacities: the particle arrays, the
+ * scratch, the pair list and its reference positions, the cells and their lists). */
 static double bytes_per_particle(const mote_sep_system *s)
 {
-    const double per = 11 * sizeof(double) + sizeof(int) + sizeof(uint64_t);
+    const double per = 12 * sizeof(double) + sizeof(int) + sizeof(uint64_t);
     const double b = (double)s->cap * per + (double)s->pv_cap * sizeof(double) +
-                     (double)s->ncell_cap * sizeof(uint32_t) + (double)s->n * sizeof(uint32_t);
+                     (double)s->xref_cap * sizeof(double) + (double)s->pl_cap * 2 * sizeof(uint32_t) +
+                     (double)s->nnext_cap * sizeof(int32_t) +
+                     (double)s->ncell_cap * (sizeof(uint32_t) + sizeof(int32_t)) +
+                     (double)s->n * sizeof(uint32_t);
     return s->n ? b / (double)s->n : 0;
 }
 
@@ -249,7 +253,7 @@ int main(int argc, char **argv)
     if (!strcmp(w, "ref3d"))
         return reference(3, a > 0 ? (size_t)a : 1000000, b > 0 ? (int)b : 5);
     if (!strcmp(w, "scan2d"))
-        return scan(2, a > 0 ? (size_t)a : 100000);
+        return scan(2, a > 0 ? (size_t)a : 400000);
     if (!strcmp(w, "scan3d"))
         return scan(3, a > 0 ? (size_t)a : 1000000);
     if (!strcmp(w, "column"))

@@ -94,6 +94,12 @@ printf '%bchannel 0.05 1\ngas 1.0\ncoupling off\ncollisions off\ntimestep 1e-3\n
 "$MOTE" run cf.mote > /dev/null 2> err.txt && [ "$(grep -vc '^#' cf.csv)" -eq 3 ] && grep -q '^0.0001 0.0002 ' cf.csv && ok || bad "classes_file: $(cat err.txt; cat cf.csv)"
 printf '1e-4\n3e-4\n2e-4\n' > edges2.txt
 expect 1 "cf2.mote:2:14: error: edges2.txt:3: expected one class edge (m) per row, > 0 and increasing" cf2.mote "${S}classes_file edges2.txt\n"
+# 3D from a script: a feed window and velocity in y, a grid, frames of a slab, snapshots
+printf '%bdim 3\nchannel 0.02 0.08 D=0.015\nends open closed\ngas 2\nspecies glass 2500\nsize glass loguniform min=1e-3 max=1.5e-3\nfeed z=0.05 rate=0.005\nfeed_window 0.005 0.015 y1=0.004 y2=0.011\nfeed_velocity 0 0 vy=0.1\ngrid 0.02 0.002 pattern a=2e-3 p=4e-3 offset=1e-3\nstiffness overlap=0.05 vimp=3\nframes fr3 0.01 y1=0.005 y2=0.01 movie=off\nsnapshots sn3 0.02\nrun 0.05\nsummary\n' "$S" > d3.mote
+"$MOTE" run d3.mote > out.txt 2> err.txt && grep -q '^t=0.05 .* N=1[0-9][0-9] fed=1[0-9][0-9] .* lost=0 ' out.txt && [ "$(ls fr3/frame_*.png | wc -l)" -eq 6 ] && [ ! -e fr3/movie.mp4 ] && ok || bad "3D: $(cat out.txt err.txt)"
+awk 'NR == 2 { ok = /^Lattice="0.02 0 0 0 0.015 0 0 0 0.08"/ } NR > 2 { n++ } END { exit !(ok && n > 50) }' sn3/snapshot_000002.xyz && ok || bad "3D snapshot: $(head -3 sn3/snapshot_000002.xyz)"
+expect 1 "fw.mote:3:26: error: feed_window: y1= and y2= are for 3D" fw.mote "${S}channel 0.05 1\nfeed_window 0.01 0.02 y1=0 y2=0.01\n"
+expect 1 "b3b.mote:4:8: error: feed: z must lie inside the channel (0 < z < H = 1 m), found -0.1" b3b.mote "${S}channel 0.05 1\ngas 1\nfeed z=-0.1\n"
 # a size table with a bad row, located
 printf '# d F\n1e-4 0\n2e-4 0.7\n3e-4 0.6\n' > sz.txt
 expect 1 "sz.mote:4:19: error: sz.txt:4: the cumulative undersize must lie in [0, 1] and not decrease (found 0.6)" sz.mote "${S}channel 0.05 1\nspecies a 2500\nsize a table file=sz.txt\n"

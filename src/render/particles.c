@@ -15,25 +15,26 @@ static const double CLASS_RGB[8][3] = {{0.00, 0.45, 0.70}, {0.90, 0.62, 0.00}, {
                                        {0.80, 0.40, 0.00}, {0.35, 0.70, 0.90}, {0.80, 0.60, 0.70},
                                        {0.94, 0.89, 0.26}, {0.30, 0.30, 0.30}};
 
-/* Colour-bar ticks between lo and hi (display units, lo < hi): 1-2-5 per decade on a log bar,
- * else evenly spaced nice values; at most 12. */
+/* Colour-bar ticks between lo and hi (display units, lo < hi): 1-2-5 (or 1-2-3-5, or every digit)
+ * per decade on a log bar, else (or when those give fewer than 3) evenly spaced nice values; at
+ * most 12. */
 static int bar_ticks(double lo, double hi, int log_scale, double *t)
 {
     int n = 0;
     if (log_scale && lo > 0) {
-        static const int sets[3][4] = {{1, 0}, {1, 2, 5, 0}, {1, 2, 3, 5}};
-        for (int q = 0; q < 3; q++) {
+        static const int sets[4][9] = {{1, 0}, {1, 2, 5, 0}, {1, 2, 3, 5, 0}, {1, 2, 3, 4, 5, 6, 7, 8, 9}};
+        for (int q = 0; q < 4; q++) {
             n = 0;
             for (int e = (int)floor(log10(lo)) - 1; e <= (int)ceil(log10(hi)) && n < 12; e++)
-                for (int k = 0; k < 4 && sets[q][k] && n < 12; k++) {
+                for (int k = 0; k < 9 && sets[q][k] && n < 12; k++) {
                     const double v = sets[q][k] * pow(10.0, e);
                     if (v >= lo * (1 - 1e-9) && v <= hi * (1 + 1e-9))
                         t[n++] = v;
                 }
             if (n >= 3)
-                break;
+                return n;
         }
-        return n;
+        /* a range narrower than the 1-9 steps: evenly spaced ticks, as a linear bar */
     }
     const double raw = (hi - lo) / 5, mag = pow(10.0, floor(log10(raw)));
     const double step = raw / mag < 1.5 ? mag : raw / mag < 3.5 ? 2 * mag : raw / mag < 7.5 ? 5 * mag : 10 * mag;

@@ -400,6 +400,19 @@ static int do_feed_window(void *vm, const mote_call *c, mote_err *err)
     if (!(s->fx2 > s->fx1) || s->fx1 < 0 || s->fx2 > s->W)
         return mote_call_fail(err, c, 0, MOTE_EINVAL, "feed_window: need 0 <= X1 < X2 <= W = %g "
                               "m", s->W);
+    const mote_arg *y1 = mote_call_opt(c, "y1"), *y2 = mote_call_opt(c, "y2");
+    if ((y1 || y2) && s->dim != 3)
+        return mote_call_fail(err, c, mote_call_opt_index(c, y1 ? "y1" : "y2"), MOTE_EINVAL,
+                              "feed_window: y1= and y2= are for 3D");
+    if (!y1 != !y2)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "feed_window: give both y1= and y2=");
+    if (y1) {
+        s->fy1 = y1->r;
+        s->fy2 = y2->r;
+        if (!(s->fy2 > s->fy1) || s->fy1 < 0 || s->fy2 > s->D)
+            return mote_call_fail(err, c, mote_call_opt_index(c, "y1"), MOTE_EINVAL,
+                                  "feed_window: need 0 <= y1 < y2 <= D = %g m", s->D);
+    }
     return MOTE_OK;
 }
 
@@ -408,6 +421,11 @@ static int do_feed_velocity(void *vm, const mote_call *c, mote_err *err)
     mote_sep_system *s = &((sep_model *)vm)->sys;
     s->vf[0] = c->args[0].r;
     s->vf[2] = c->args[1].r;
+    const mote_arg *vy = mote_call_opt(c, "vy");
+    if (vy && s->dim != 3)
+        return mote_call_fail(err, c, mote_call_opt_index(c, "vy"), MOTE_EINVAL,
+                              "feed_velocity: vy= is for 3D");
+    s->vf[1] = vy ? vy->r : 0;
     return MOTE_OK;
 }
 
@@ -1115,8 +1133,8 @@ static const char HELP_DISPERSION[] = "    dispersion D\n    brownian T\n\nRando
 static const char HELP_SPECIES[] = "    species NAME RHO\n\nA species of particles with material density RHO (kg/m^3). With one species\nit is the whole feed; with several give each a feed_fraction.\n";
 static const char HELP_SIZE[] = "    size NAME mono d=D\n    size NAME lognormal d50=D sigma=S min=A max=B [basis=mass|number]\n    size NAME rosin_rammler d=D n=N min=A max=B [basis=...]\n    size NAME loguniform min=A max=B [basis=...]\n    size NAME table file=FILE [min=A max=B] [basis=...]\n\nThe size distribution of a species (spec 2.5; metres): log-normal with median\nd50 and geometric standard deviation sigma >= 1, Rosin-Rammler with d' (63.2%\nfiner) and n, ln d uniform, or a table of rows d F (the cumulative undersize,\ne.g. a sieve analysis; piecewise linear in ln d, its range by default); truncated to [min, max] and renormalised; mass\nbasis by default (as sieve analyses). Particles are drawn one by one from the\nnumber-basis distribution, tabulated on 4096 nodes in ln d.\n(Decision: the parameters are options, not positions.)\n";
 static const char HELP_FEED[] = "    feed z=Z [hf=H] [rate=KG_S] [start=T] [stop=T]\n\nThe feed band z - hf/2 ... z + hf/2 (hf default 2 d_max) across the feed\nwindow, and a continuous mass rate (kg/s) from start to stop: each species'\nmass account keeps its share of the feed exact. Particles start at rest unless\nfeed_velocity says otherwise, uniformly placed in the band, clear of walls.\n";
-static const char HELP_FEED_WINDOW[] = "    feed_window X1 X2\n\nThe feed's extent across the channel (default the whole width).\n";
-static const char HELP_FEED_VELOCITY[] = "    feed_velocity VX VZ\n\nThe velocity new particles start with (m/s; default 0).\n";
+static const char HELP_FEED_WINDOW[] = "    feed_window X1 X2 [y1=Y1 y2=Y2]\n\nThe feed's extent across the channel (default the whole width; in 3D also\nthe depth).\n";
+static const char HELP_FEED_VELOCITY[] = "    feed_velocity VX VZ [vy=VY]\n\nThe velocity new particles start with (m/s; default 0; vy in 3D).\n";
 static const char HELP_FEED_FRACTION[] = "    feed_fraction NAME W\n\nThe mass fraction of the feed a species makes (the fractions must sum to 1).\n";
 static const char HELP_INSERT[] = "    insert NAME COUNT\n    insert_mass NAME KG\n\nAdd a batch of a species in the feed band now: COUNT particles, or particles\nuntil their mass reaches KG.\n";
 static const char HELP_GRID[] = "    grid ZB T pattern a=A p=P [offset=O] [a_y= p_y= offset_y=]\n    grid ZB T holes file=FILE\n\nA perforated plate (spec 2.4) occupying ZB <= z <= ZB + T, pierced by\nrectangular holes: a pattern of holes of width A every P from the offset O\n(in 3D square A x A unless a_y, p_y, offset_y say otherwise; holes crossing a\nwall are dropped and counted), or the holes listed in FILE, one per line:\nx1 x2 (2D) or x1 x2 y1 y2 (3D), in metres. Holes must not overlap or cross a\nwall, none may be narrower than the finest particle, and plates must not\noverlap. Particles touch the plate's top and bottom faces over solid, and each\nside face of a hole when over it (a sphere on a square hole smaller than itself\nrests on four contacts); the gas in the holes moves at u_g / phi, phi the open\narea fraction. Any number of grids.\n";
@@ -1172,9 +1190,9 @@ static const mote_cmd sep_commands[] = {
      "size NAME TYPE [options]", "a species' size distribution", HELP_SIZE, do_size, do_size},
     {"feed", NULL, "z=r! hf=r>0 rate=r>=0 start=r>=0 stop=r>0", "feed z=Z [hf=] [rate=]",
      "the feed band and rate", HELP_FEED, do_feed, do_feed},
-    {"feed_window", NULL, "r>=0 r>0", "feed_window X1 X2", "the feed's extent",
+    {"feed_window", NULL, "r>=0 r>0 y1=r>=0 y2=r>0", "feed_window X1 X2 [y1= y2=]", "the feed's extent",
      HELP_FEED_WINDOW, do_feed_window, do_feed_window},
-    {"feed_velocity", NULL, "r r", "feed_velocity VX VZ", "new particles' velocity",
+    {"feed_velocity", NULL, "r r vy=r", "feed_velocity VX VZ [vy=]", "new particles' velocity",
      HELP_FEED_VELOCITY, do_feed_velocity, do_feed_velocity},
     {"feed_fraction", NULL, "s r[0,1]", "feed_fraction NAME W", "a species' share of the feed",
      HELP_FEED_FRACTION, do_feed_fraction, do_feed_fraction},

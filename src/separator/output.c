@@ -81,6 +81,15 @@ int sep_write_tromp(const mote_sep_system *s, const char *path, const char *orig
         for (int k = 0; k < ns; k++)
             fprintf(f, "# d50_m %s = %.10g\n# kappa %s = %.10g\n", s->sp[k].name, cs[k].d50,
                     s->sp[k].name, cs[k].kappa);
+    /* each species' split: the mass fraction of what exited that went to the coarse */
+    for (int k = 0; k < ns; k++) {
+        double mf = 0, mc = 0;
+        for (int i = 0; i < nc; i++) {
+            mf += s->cls_mf[(size_t)i * MOTE_SEP_MAX_SPECIES + (size_t)k];
+            mc += s->cls_mc[(size_t)i * MOTE_SEP_MAX_SPECIES + (size_t)k];
+        }
+        fprintf(f, "# to_coarse %s = %.10g\n", s->sp[k].name, mf + mc > 0 ? mc / (mf + mc) : NAN);
+    }
     fprintf(f, "# columns: d_lo_m d_hi_m d_mean_m T_mass sigma_T n_fines n_coarse m_fines_kg "
                "m_coarse_kg T_number holdup_kg");
     if (ns > 1)
