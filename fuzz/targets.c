@@ -8,6 +8,7 @@
 #include "mote/charging.h"
 #include "mote/nbody.h"
 #include "mote/script.h"
+#include "mote/separator.h"
 
 #include "../src/hardspheres/plot.h"
 #include "../src/mixingbox/mb.h"
@@ -185,6 +186,26 @@ static int fuzz_nb_solar(const uint8_t *data, size_t size)
     return 0;
 }
 
+/* A separator state: read; a state that reads must run a few steps and save. */
+static int fuzz_sep_state(const uint8_t *data, size_t size)
+{
+    char path[256];
+    if (write_input("in.sepstate", data, size, path, sizeof path))
+        return 0;
+    mote_err err = {0};
+    mote_sep_system s;
+    mote_sep_init(&s);
+    uint64_t seed;
+    if (mote_sep_load(&s, &seed, path, &err) == 0 && mote_sep_prepare(&s, &err) == 0 &&
+        s.n < 100000) {
+        mote_sep_run(&s, 3 * s.dt, &err);
+        snprintf(path, sizeof path, "%s/out.sepstate", scratch());
+        mote_sep_save(&s, seed, path, &err);
+    }
+    mote_sep_free(&s);
+    return 0;
+}
+
 static int fuzz_plot(const uint8_t *data, size_t size)
 {
     char in[256], out[256];
@@ -207,6 +228,7 @@ const mote_fuzz_target mote_fuzz_targets[] = {
     {"nb_solar", fuzz_nb_solar},
     {"ch_plain", fuzz_ch_plain},
     {"plot", fuzz_plot},
+    {"sep_state", fuzz_sep_state},
 };
 const size_t mote_fuzz_ntargets = sizeof mote_fuzz_targets / sizeof mote_fuzz_targets[0];
 

@@ -59,13 +59,17 @@ int sep_cells_build(mote_sep_system *s, mote_err *err)
     mote_sep_size_range(s, &dmin, &dmax);
     s->skin_used = s->brute || s->skin < 0 ? 0 : s->skin > 0 ? s->skin : 0.3 * dmin;
     const double h = dmax + s->skin_used; /* the cells serve the pair list's reach too */
-    s->cx = (int)fmax(1, floor(s->W / h));
-    s->cz = (int)fmax(1, floor(s->H / h));
-    s->cy = s->dim == 3 ? (int)fmax(1, floor(s->D / h)) : 1;
+    s->cx = (int)fmin(fmax(1, floor(s->W / h)), 1e9);
+    s->cz = (int)fmin(fmax(1, floor(s->H / h)), 1e9);
+    s->cy = s->dim == 3 ? (int)fmin(fmax(1, floor(s->D / h)), 1e9) : 1;
     s->hx = s->W / s->cx;
     s->hz = s->H / s->cz;
     s->hy = s->dim == 3 ? s->D / s->cy : 1;
     const size_t nc = (size_t)s->cx * (size_t)s->cy * (size_t)s->cz;
+    if ((double)s->cx * s->cy * s->cz > 2e8)
+        return mote_fail(err, MOTE_EINVAL, "separator: the channel holds %.3g cells of the largest "
+                         "particle's size (at most 2e8): a channel far larger than its particles",
+                         (double)s->cx * s->cy * s->cz);
     if (nc + 1 > s->ncell_cap) {
         uint32_t *p = realloc(s->cell_start, (nc + 1) * sizeof *p);
         int32_t *hd = realloc(s->nhead, (nc + 1) * sizeof *hd);
@@ -101,6 +105,14 @@ int sep_cells_build(mote_sep_system *s, mote_err *err)
     return MOTE_OK;
 }
 
+/* The cell coordinate of v on an axis of n cells of edge h, clamped (what is not a number goes
+ * to the first cell). */
+static inline int cell_coord(double v, double h, int n)
+{
+    const double q = v / h;
+    return !(q > 0) ? 0 : q >= n - 1 ? n - 1 : (int)q;
+}
+
 int sep_cells_add(mote_sep_system *s, size_t i, mote_err *err)
 {
     if (i + 1 > s->nnext_cap) {
@@ -128,13 +140,8 @@ int sep_overlaps_any(const mote_sep_system *s, double px, double py, double pz, 
     } while (0)
     /* through the cells around the point (their edges are at least d_max): those there when
      * they were built, and those added since */
-    int ix = (int)(px / s->hx), iz = (int)(pz / s->hz), iy = 0;
-    ix = ix < 0 ? 0 : ix >= s->cx ? s->cx - 1 : ix;
-    iz = iz < 0 ? 0 : iz >= s->cz ? s->cz - 1 : iz;
-    if (s->dim == 3) {
-        iy = (int)(py / s->hy);
-        iy = iy < 0 ? 0 : iy >= s->cy ? s->cy - 1 : iy;
-    }
+    const int ix = cell_coord(px, s->hx, s->cx), iz = cell_coord(pz, s->hz, s->cz);
+    const int iy = s->dim == 3 ? cell_coord(py, s->hy, s->cy) : 0;
     for (int jz = iz - 1; jz <= iz + 1; jz++)
         for (int jy = iy - 1; jy <= iy + 1; jy++)
             for (int jx = ix - 1; jx <= ix + 1; jx++) {
@@ -152,13 +159,8 @@ int sep_overlaps_any(const mote_sep_system *s, double px, double py, double pz, 
 
 size_t sep_cell_of(const mote_sep_system *s, size_t i)
 {
-    int ix = (int)(s->x[i] / s->hx), iz = (int)(s->z[i] / s->hz), iy = 0;
-    ix = ix < 0 ? 0 : ix >= s->cx ? s->cx - 1 : ix;
-    iz = iz < 0 ? 0 : iz >= s->cz ? s->cz - 1 : iz;
-    if (s->dim == 3) {
-        iy = (int)(s->y[i] / s->hy);
-        iy = iy < 0 ? 0 : iy >= s->cy ? s->cy - 1 : iy;
-    }
+    const int ix = cell_coord(s->x[i], s->hx, s->cx), iz = cell_coord(s->z[i], s->hz, s->cz);
+    const int iy = s->dim == 3 ? cell_coord(s->y[i], s->hy, s->cy) : 0;
     return ((size_t)iz * (size_t)s->cy + (size_t)iy) * (size_t)s->cx + (size_t)ix;
 }
 

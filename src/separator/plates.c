@@ -86,7 +86,7 @@ int mote_sep_plate_list(mote_sep_plate *p, double zb, double t, const double *h,
 /* The bins a range [lo, hi] of a coordinate covers. */
 static void bin_range(double lo, double hi, double w, int n, int *b0, int *b1)
 {
-    *b0 = (int)fmax(0, fmin(n - 1, floor(lo / w)));
+    *b0 = (int)fmax(0, fmin(n - 1, floor(lo / w))); /* (fmax, fmin: NaN gives the bound) */
     *b1 = (int)fmax(0, fmin(n - 1, floor(hi / w)));
 }
 
@@ -138,9 +138,9 @@ int mote_sep_plate_index(mote_sep_plate *p, int dim, double W, double D, mote_er
 
 long mote_sep_plate_hole_at(const mote_sep_plate *p, int dim, double x, double y)
 {
-    int bx = (int)floor(x / p->bwx), by = dim == 3 ? (int)floor(y / p->bwy) : 0;
-    bx = bx < 0 ? 0 : bx >= p->nbx ? p->nbx - 1 : bx;
-    by = by < 0 ? 0 : by >= p->nby ? p->nby - 1 : by;
+    const double qx = x / p->bwx, qy = dim == 3 ? y / p->bwy : 0;
+    const int bx = !(qx > 0) ? 0 : qx >= p->nbx - 1 ? p->nbx - 1 : (int)qx;
+    const int by = !(qy > 0) ? 0 : qy >= p->nby - 1 ? p->nby - 1 : (int)qy;
     const size_t b = (size_t)by * (size_t)p->nbx + (size_t)bx;
     for (uint32_t q = p->bin_start[b]; q < p->bin_start[b + 1]; q++) {
         const double *h = p->h + 4 * p->bin_idx[q];

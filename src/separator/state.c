@@ -677,8 +677,12 @@ static int read_body(reader *r, mote_sep_system *s, uint64_t *seed)
             rc = reals(r, 3, 11, x);
         if (!rc && lok)
             rc = reals(r, 14, 3, xr);
-        if (!rc && !(x[0] > 0 && x[1] > 0))
-            rc = bad(r, "a particle needs a diameter and a mass > 0", r->tok[3]);
+        if (!rc && !(x[0] > 0 && x[1] > 0 && isfinite(x[0]) && isfinite(x[1])))
+            rc = bad(r, "a particle needs a finite diameter and mass > 0", r->tok[3]);
+        for (int q = 2; !rc && q < 11; q++)
+            if (!isfinite(x[q]))
+                rc = bad(r, "a particle's position, velocity and force must be finite",
+                         r->tok[3 + q]);
         if (!rc)
             rc = sep_append(s, (int)v, id, x, r->err);
         if (!rc && lok) {

@@ -172,7 +172,7 @@ void mote_sep_gas_props(const mote_sep_system *s, double z, double *rho, double 
         return;
     }
     const double q = z / s->dz - 0.5;
-    if (q <= 0 || s->K == 1) {
+    if (!(q > 0) || s->K == 1) { /* (a height that is not a number: the bottom) */
         *rho = s->rho_sl[0];
         *mu = s->mu_sl[0];
     } else if (q >= s->K - 1) {
@@ -532,7 +532,7 @@ static inline void deposit(mote_sep_system *s, size_t i)
     const int K = s->K;
     const double vol = SEP_PI * s->d[i] * s->d[i] * s->d[i] / 6;
     const double q = s->z[i] / s->dz - 0.5;
-    if (q <= 0) {
+    if (!(q > 0)) {
         s->eps_s[0] += vol;
     } else if (q >= K - 1) {
         s->eps_s[K - 1] += vol;
@@ -583,7 +583,7 @@ static void gas_finish(mote_sep_system *s, double dt)
 double mote_sep_gas_at(const mote_sep_system *s, double z)
 {
     const double q = z / s->dz - 0.5;
-    if (q <= 0)
+    if (!(q > 0))
         return s->u_g[0];
     if (q >= s->K - 1)
         return s->u_g[s->K - 1];
@@ -608,7 +608,7 @@ static double eps_gas_at(const mote_sep_system *s, double z)
 static inline int slice_of(const mote_sep_system *s, double z)
 {
     const double q = z / s->dz;
-    return q <= 0 ? 0 : q >= s->K - 1 ? s->K - 1 : (int)q;
+    return !(q > 0) ? 0 : q >= s->K - 1 ? s->K - 1 : (int)q;
 }
 
 /* Add this step's slice values, weighted by dt: each species' solids fraction (cloud in cell,
@@ -621,7 +621,7 @@ static void sample_profiles(mote_sep_system *s, double dt)
         const double vol = SEP_PI * s->d[i] * s->d[i] * s->d[i] / 6 * scale;
         const double q = s->z[i] / s->dz - 0.5;
         double *e = s->prof_eps + s->s[i];
-        if (q <= 0) {
+        if (!(q > 0)) {
             e[0] += vol;
         } else if (q >= K - 1) {
             e[(size_t)(K - 1) * MOTE_SEP_MAX_SPECIES] += vol;
