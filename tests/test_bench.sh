@@ -64,5 +64,19 @@ check "bench_charging: an unknown workload fails (exit $rc)" '[ $rc -ne 0 ] && g
 rc=$?
 check "bench_nbody: an unknown workload fails (exit $rc)" '[ $rc -ne 0 ] && grep -q "usage: bench_nbody" "$tmp/err"'
 
+sbench="$(dirname "$bench")/bench_separator"
+sb=$("$sbench" ref2d 300 5 2>"$tmp/err")
+check "bench_separator ref2d reports steps per second and bytes per particle: $(head -c 80 "$tmp/err")" \
+    'echo "$sb" | grep -q "^workload=ref2d N=[0-9]* steps=5 dt=[0-9.e-]* steps_per_s=[0-9.]* ns_per_particle_step=[0-9.]* candidates_per_particle=[0-9.]* contacts_per_particle=[0-9.]* bytes_per_particle=[0-9]* peak_rss_MB="'
+sb=$("$sbench" scan2d 600 2>"$tmp/err")
+check "bench_separator scan2d compares cells and brute force on the same contacts: $(head -c 80 "$tmp/err")" \
+    '[ "$(echo "$sb" | grep -c "same_contacts=yes")" -eq 3 ] && echo "$sb" | grep -q "^workload=scan2d_summary largest_N_at_30_steps_per_s cells=[0-9]* brute=[0-9]*"'
+sb=$("$sbench" column 500 5 2>"$tmp/err")
+check "bench_separator column prints what LIGGGHTS needs: $(head -c 80 "$tmp/err")" \
+    'echo "$sb" | grep -q "^workload=column N=[0-9]* box=0.04x0.04x[0-9.]* khat=523599 k_pair=1047.2 dt=4.44288e-06 steps=5 "'
+"$sbench" nosuch >/dev/null 2>"$tmp/err"
+rc=$?
+check "bench_separator: an unknown workload fails (exit $rc)" '[ $rc -ne 0 ] && grep -q "unknown workload" "$tmp/err"'
+
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]
