@@ -654,19 +654,8 @@ static int do_classes(void *vm, const mote_call *c, mote_err *err)
         return mote_call_fail(err, c, 0, MOTE_EINVAL, "classes: give both min= and max= with "
                               "min < max, or neither");
     free(s->class_edge);
-    free(s->cl_mf);
-    free(s->cl_mc);
-    free(s->cl_nf);
-    free(s->cl_nc);
-    free(s->cls_mf);
-    free(s->cls_mc);
-    free(s->cls_nf);
-    free(s->cls_nc);
-    s->cls_mf = s->cls_mc = NULL;
-    s->cls_nf = s->cls_nc = NULL;
     s->class_edge = NULL;
-    s->cl_mf = s->cl_mc = NULL;
-    s->cl_nf = s->cl_nc = NULL;
+    sep_tallies_free(s);
     s->nclass = K;
     if (lo > 0) {
         s->class_edge = malloc((size_t)(K + 1) * sizeof *s->class_edge);
@@ -705,12 +694,7 @@ static int do_classes_file(void *vm, const mote_call *c, mote_err *err)
         for (size_t r = 0; r < t.rows; r++)
             e[r] = mote_table_at(&t, r, 0);
         free(s->class_edge);
-        free(s->cl_mf);
-        free(s->cl_mc);
-        free(s->cl_nf);
-        free(s->cl_nc);
-        s->cl_mf = s->cl_mc = NULL;
-        s->cl_nf = s->cl_nc = NULL;
+        sep_tallies_free(s);
         s->class_edge = e;
         s->nclass = (int)t.rows - 1;
     }

@@ -21,6 +21,12 @@ int sep_contact_forces(mote_sep_system *s, double dt, mote_err *err);
  * fz (a state being read). */
 int sep_append(mote_sep_system *s, int k, uint64_t id, const double v[11], mote_err *err);
 
+/* system.c: the class tallies (all species and each; zeroed) and the profile sums of the K
+ * slices, allocated afresh; the tallies freed. */
+int sep_tallies_alloc(mote_sep_system *s, mote_err *err);
+void sep_tallies_free(mote_sep_system *s);
+int sep_profiles_alloc(mote_sep_system *s, mote_err *err);
+
 /* Put the particles (and the predicted velocities) in the order of the cell lists just built
  * (spec 2.9: memory locality; ids do not change); the pair list must be built again. */
 int sep_reorder(mote_sep_system *s, mote_err *err);

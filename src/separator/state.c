@@ -191,10 +191,12 @@ int mote_sep_save(const mote_sep_system *s, uint64_t seed, const char *path, mot
         put(f, s->back_d[b]);
         fputc('\n', f);
     }
-    /* the pair list, so that a continued run sums the contact forces in the same order */
-    fprintf(f, "pairlist %d %" PRIu64 " %" PRIu64 " %" PRIu64 " %zu\n", s->list_ok, s->mods,
-            s->list_mods, s->list_builds, s->list_ok ? s->npl : (size_t)0);
-    for (size_t k = 0; s->list_ok && k < s->npl; k++)
+    /* the pair list when it still serves (nothing added or removed since its build), so that a
+     * continued run sums the contact forces in the same order */
+    const int live = s->list_ok && s->mods == s->list_mods && s->xref_cap >= 3 * s->n;
+    fprintf(f, "pairlist %d %" PRIu64 " %" PRIu64 " %" PRIu64 " %zu\n", live, s->mods,
+            s->list_mods, s->list_builds, live ? s->npl : (size_t)0);
+    for (size_t k = 0; live && k < s->npl; k++)
         fprintf(f, "l %u %u\n", s->plist[2 * k], s->plist[2 * k + 1]);
     fprintf(f, "particles %zu\n", s->n);
     for (size_t i = 0; i < s->n; i++) {
@@ -203,7 +205,7 @@ int mote_sep_save(const mote_sep_system *s, uint64_t seed, const char *path, mot
                               s->vy[i], s->vz[i], s->fx[i], s->fy[i], s->fz[i]};
         for (int j = 0; j < 11; j++)
             put(f, v[j]);
-        for (int j = 0; s->list_ok && j < 3; j++) /* where the list was built */
+        for (int j = 0; live && j < 3; j++) /* where the list was built */
             put(f, s->xref[3 * i + (size_t)j]);
         fputc('\n', f);
     }
@@ -514,19 +516,12 @@ static int read_body(reader *r, mote_sep_system *s, uint64_t *seed)
     if (rc)
         return rc;
     s->nclass = (int)v;
-    const size_t nc = (size_t)s->nclass, ns = nc * MOTE_SEP_MAX_SPECIES;
+    const size_t nc = (size_t)s->nclass;
     s->class_edge = malloc((nc + 1) * sizeof *s->class_edge);
-    s->cl_mf = calloc(nc, sizeof *s->cl_mf);
-    s->cl_mc = calloc(nc, sizeof *s->cl_mc);
-    s->cl_nf = calloc(nc, sizeof *s->cl_nf);
-    s->cl_nc = calloc(nc, sizeof *s->cl_nc);
-    s->cls_mf = calloc(ns, sizeof *s->cls_mf);
-    s->cls_mc = calloc(ns, sizeof *s->cls_mc);
-    s->cls_nf = calloc(ns, sizeof *s->cls_nf);
-    s->cls_nc = calloc(ns, sizeof *s->cls_nc);
-    if (!s->class_edge || !s->cl_mf || !s->cl_mc || !s->cl_nf || !s->cl_nc || !s->cls_mf ||
-        !s->cls_mc || !s->cls_nf || !s->cls_nc)
+    if (!s->class_edge)
         return mote_fail(r->err, MOTE_ENOMEM, "%s: out of memory", r->in.path);
+    if (sep_tallies_alloc(s, r->err))
+        return r->err->code;
     for (size_t i = 0; i <= nc && !rc; i++) {
         const int last = i == nc;
         rc = line(r, "edge", last ? 1 : 5 + 4 * nsp, "expected 'edge' with a class's edge and tallies");
@@ -565,16 +560,12 @@ static int read_body(reader *r, mote_sep_system *s, uint64_t *seed)
     s->eps_s = calloc(K, sizeof *s->eps_s);
     s->u_g = calloc(K, sizeof *s->u_g);
     s->eps_r = calloc(K, sizeof *s->eps_r);
-    s->prof_eps = calloc(K * MOTE_SEP_MAX_SPECIES, sizeof *s->prof_eps);
-    s->prof_n = calloc(K, sizeof *s->prof_n);
-    s->prof_mvz = calloc(K, sizeof *s->prof_mvz);
-    s->prof_m = calloc(K, sizeof *s->prof_m);
-    s->prof_ug = calloc(K, sizeof *s->prof_ug);
-    s->prof_fd = calloc(K, sizeof *s->prof_fd);
-    if (!s->eps_s || !s->u_g || !s->eps_r || !s->prof_eps || !s->prof_n || !s->prof_mvz ||
-        !s->prof_m || !s->prof_ug || !s->prof_fd)
+    if (!s->eps_s || !s->u_g || !s->eps_r)
         return mote_fail(r->err, MOTE_ENOMEM, "%s: out of memory", r->in.path);
-    s->prof_K = s->K;
+    const double prof_time = s->prof_time; /* (read with the parameters) */
+    if (sep_profiles_alloc(s, r->err))
+        return r->err->code;
+    s->prof_time = prof_time;
     for (size_t k = 0; k < K && !rc; k++) {
         double x[6];
         rc = line(r, "slice", 6 + nsp, "expected 'slice' and the slice's values");

@@ -195,6 +195,60 @@ double mote_sep_d0_star(const mote_sep_system *s, int k)
     return mote_sep_cut_size(v, s->sp[k].rho, rf, mf, s->g);
 }
 
+void sep_tallies_free(mote_sep_system *s)
+{
+    free(s->cl_mf);
+    free(s->cl_mc);
+    free(s->cl_nf);
+    free(s->cl_nc);
+    free(s->cls_mf);
+    free(s->cls_mc);
+    free(s->cls_nf);
+    free(s->cls_nc);
+    s->cl_mf = s->cl_mc = s->cls_mf = s->cls_mc = NULL;
+    s->cl_nf = s->cl_nc = s->cls_nf = s->cls_nc = NULL;
+}
+
+int sep_tallies_alloc(mote_sep_system *s, mote_err *err)
+{
+    const size_t nc = (size_t)s->nclass, ns = nc * MOTE_SEP_MAX_SPECIES;
+    sep_tallies_free(s);
+    s->cl_mf = calloc(nc, sizeof *s->cl_mf);
+    s->cl_mc = calloc(nc, sizeof *s->cl_mc);
+    s->cl_nf = calloc(nc, sizeof *s->cl_nf);
+    s->cl_nc = calloc(nc, sizeof *s->cl_nc);
+    s->cls_mf = calloc(ns, sizeof *s->cls_mf);
+    s->cls_mc = calloc(ns, sizeof *s->cls_mc);
+    s->cls_nf = calloc(ns, sizeof *s->cls_nf);
+    s->cls_nc = calloc(ns, sizeof *s->cls_nc);
+    if (!s->cl_mf || !s->cl_mc || !s->cl_nf || !s->cl_nc || !s->cls_mf || !s->cls_mc ||
+        !s->cls_nf || !s->cls_nc)
+        return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the size classes");
+    return MOTE_OK;
+}
+
+int sep_profiles_alloc(mote_sep_system *s, mote_err *err)
+{
+    const size_t nK = (size_t)s->K;
+    free(s->prof_eps);
+    free(s->prof_n);
+    free(s->prof_mvz);
+    free(s->prof_m);
+    free(s->prof_ug);
+    free(s->prof_fd);
+    s->prof_eps = calloc(nK * MOTE_SEP_MAX_SPECIES, sizeof *s->prof_eps);
+    s->prof_n = calloc(nK, sizeof *s->prof_n);
+    s->prof_mvz = calloc(nK, sizeof *s->prof_mvz);
+    s->prof_m = calloc(nK, sizeof *s->prof_m);
+    s->prof_ug = calloc(nK, sizeof *s->prof_ug);
+    s->prof_fd = calloc(nK, sizeof *s->prof_fd);
+    if (!s->prof_eps || !s->prof_n || !s->prof_mvz || !s->prof_m || !s->prof_ug || !s->prof_fd)
+        return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the profiles");
+    s->prof_K = s->K;
+    s->prof_time = 0;
+    return MOTE_OK;
+}
+
 int mote_sep_prepare(mote_sep_system *s, mote_err *err)
 {
     if (!(s->W > 0) || !(s->H > 0) || (s->dim == 3 && !(s->D > 0)))
@@ -281,44 +335,11 @@ int mote_sep_prepare(mote_sep_system *s, mote_err *err)
         for (int k = 0; k <= s->nclass; k++)
             s->class_edge[k] = exp(log(lo) + (log(hi) - log(lo)) * k / s->nclass);
     }
-    if (!s->cl_mf) {
-        const size_t nc = (size_t)s->nclass, ns = nc * MOTE_SEP_MAX_SPECIES;
-        free(s->cls_mf);
-        free(s->cls_mc);
-        free(s->cls_nf);
-        free(s->cls_nc);
-        s->cl_mf = calloc(nc, sizeof *s->cl_mf);
-        s->cl_mc = calloc(nc, sizeof *s->cl_mc);
-        s->cl_nf = calloc(nc, sizeof *s->cl_nf);
-        s->cl_nc = calloc(nc, sizeof *s->cl_nc);
-        s->cls_mf = calloc(ns, sizeof *s->cls_mf);
-        s->cls_mc = calloc(ns, sizeof *s->cls_mc);
-        s->cls_nf = calloc(ns, sizeof *s->cls_nf);
-        s->cls_nc = calloc(ns, sizeof *s->cls_nc);
-        if (!s->cl_mf || !s->cl_mc || !s->cl_nf || !s->cl_nc || !s->cls_mf || !s->cls_mc ||
-            !s->cls_nf || !s->cls_nc)
-            return mote_fail(err, MOTE_ENOMEM, "separator: out of memory");
-    }
+    if (!s->cl_mf && sep_tallies_alloc(s, err))
+        return err->code;
     /* the profile sums, per slice (restarted when the slices change) */
-    if (s->prof_K != s->K || !s->prof_n) {
-        const size_t nK = (size_t)s->K;
-        free(s->prof_eps);
-        free(s->prof_n);
-        free(s->prof_mvz);
-        free(s->prof_m);
-        free(s->prof_ug);
-        free(s->prof_fd);
-        s->prof_eps = calloc(nK * MOTE_SEP_MAX_SPECIES, sizeof *s->prof_eps);
-        s->prof_n = calloc(nK, sizeof *s->prof_n);
-        s->prof_mvz = calloc(nK, sizeof *s->prof_mvz);
-        s->prof_m = calloc(nK, sizeof *s->prof_m);
-        s->prof_ug = calloc(nK, sizeof *s->prof_ug);
-        s->prof_fd = calloc(nK, sizeof *s->prof_fd);
-        if (!s->prof_eps || !s->prof_n || !s->prof_mvz || !s->prof_m || !s->prof_ug || !s->prof_fd)
-            return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the profiles");
-        s->prof_K = s->K;
-        s->prof_time = 0;
-    }
+    if ((s->prof_K != s->K || !s->prof_n) && sep_profiles_alloc(s, err))
+        return err->code;
     /* the time step: with contacts, the contact time over N_c (spec 2.8), which a given step
      * must not exceed; in the dilute mode half a slice (the narrowest feature) per reference
      * speed U0 + v_t(d_max) + |v_f| */
