@@ -44,7 +44,7 @@ static int write_input(const char *name, const uint8_t *data, size_t size, char 
 }
 
 static const mote_model *const MODELS[] = {&mote_model_hardspheres, &mote_model_mixingbox,
-                                           &mote_model_nbody};
+                                           &mote_model_nbody, &mote_model_separator};
 
 /* Parse and validate a script (nothing runs: validation only reads files, never simulates). */
 static int fuzz_script(const uint8_t *data, size_t size)

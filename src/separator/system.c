@@ -258,6 +258,27 @@ int mote_sep_prepare(mote_sep_system *s, mote_err *err)
         return mote_fail(err, MOTE_EINVAL, "separator: no gas upflow (gas U0 [rho_g mu_g])");
     if (s->nsp == 0)
         return mote_fail(err, MOTE_EINVAL, "separator: no species (species NAME RHO)");
+    /* the ranges the commands check, again for a state read from a file */
+    {
+        const struct {
+            const char *name;
+            double v, lo, hi;
+        } r[] = {{"eps_gas_min", s->eps_gas_min, 1e-9, 1}, {"hindered", s->chi, 0, 100},
+                 {"restitution", s->e_pp, 1e-9, 1}, {"gas density", s->rho_g, 0, 1e6},
+                 {"gas viscosity", s->mu_g, 0, 1e6}, {"gravity", s->g, 0, 1e6},
+                 {"dispersion", s->D_t, 0, 1e6}, {"brownian", s->T_gas, 0, 1e6},
+                 {"relax", s->tau_eps, 0, 1e30}, {"timestep", s->dt_user, 0, 1e30},
+                 {"feed rate", s->rate, 0, 1e30}, {"feed band", s->hf, 0, 1e30},
+                 {"stiffness overlap", s->delta_f, 0, 0.1}, {"khat", s->khat, 0, 1e30},
+                 {"vimp", s->v_imp, 0, 1e30}};
+        for (size_t k = 0; k < sizeof r / sizeof r[0]; k++)
+            if (!(r[k].v >= r[k].lo && r[k].v <= r[k].hi))
+                return mote_fail(err, MOTE_EINVAL, "separator: %s %g is outside [%g, %g]",
+                                 r[k].name, r[k].v, r[k].lo, r[k].hi);
+        if (!(s->e_pw <= 1) || (s->e_pw >= 0 && !(s->e_pw > 0)))
+            return mote_fail(err, MOTE_EINVAL, "separator: restitution_wall %g is outside (0, 1]",
+                             s->e_pw);
+    }
     double wsum = 0;
     for (int k = 0; k < s->nsp; k++) {
         if (!s->sp[k].have_dist)
@@ -454,14 +475,22 @@ static int add_particle(mote_sep_system *s, int k, int fifo, double *mass, mote_
         if (s->nback == s->back_cap) {
             const size_t cap = s->back_cap ? 2 * s->back_cap : 64;
             int *bs = realloc(s->back_s, cap * sizeof *bs);
-            if (!bs)
-                return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the backlog");
-            s->back_s = bs;
+            if (bs)
+                s->back_s = bs;
             double *bd = realloc(s->back_d, cap * sizeof *bd);
-            if (!bd)
-                return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the backlog");
-            s->back_d = bd;
+            if (bd)
+                s->back_d = bd;
+            if (!bs || !bd) {
+                mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the backlog");
+                return -1;
+            }
             s->back_cap = cap;
+        }
+        if (s->nback >= 1000000) {
+            mote_fail(err, MOTE_ERUNTIME, "separator: the feed outruns its band: a million "
+                      "particles wait to be placed at t = %g s (lower the rate or widen the band, "
+                      "feed hf= and feed_window)", s->t);
+            return -1;
         }
         s->back_s[s->nback] = k;
         s->back_d[s->nback++] = d;
