@@ -390,7 +390,7 @@ static int list_build(mote_sep_system *s, mote_err *err)
 int sep_contact_forces(mote_sep_system *s, double dt, mote_err *err)
 {
     const size_t n = s->n;
-    if (3 * n > s->pv_cap) {
+    if (!s->pv || 3 * n > s->pv_cap) { /* (allocated even for no particle: pv + n is then valid) */
         const size_t cap = 3 * n + 3 * n / 2 + 3;
         double *p = realloc(s->pv, cap * sizeof *p);
         if (!p)
