@@ -3,7 +3,8 @@
  *
  *   ref2d [N [STEPS]]    the 2D reference case: N (default 1e5) particles, d from 1 to 2 mm
  *                        (ln d uniform), rho_p 2500, solids area fraction 0.2, DEM with e = 0.5,
- *                        coupling on, still air, gravity, closed box; target >= 30 steps/s
+ *                        coupling on, air rising at 1 m/s, gravity, closed box; target >= 30
+ *                        steps/s
  *   ref3d [N [STEPS]]    the same in 3D (volume fraction 0.2), default N = 1e6; target >= 1
  *                        step/s and <= 256 bytes per particle
  *   scan2d|scan3d [NMAX] the article's comparison extended: Brownian particles (dispersion,
@@ -40,7 +41,7 @@ static int setup(mote_sep_system *s, int dim, size_t n, double d1, double d2, do
     mote_sep_init(s);
     s->dim = dim;
     s->open_bottom = s->open_top = 0;
-    s->U0 = 0;
+    s->U0 = brownian ? 0 : 1; /* an upflow, so the solids fraction feeds back on the gas */
     s->nsp = 1;
     snprintf(s->sp[0].name, sizeof s->sp[0].name, "p");
     s->sp[0].rho = 2500;

@@ -1120,21 +1120,34 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
     }
     /* the contacts from the new positions, and in one pass the second half kick and the
      * particles' volume for the gas (steps 5-8) */
+    /* (when the gas does not feel the solids, no flow, no coupling, no hindrance and no
+     * relaxation, the fractions wait for the end of the run or an output) */
+    const int gas_sees = (s->coupling && s->U0 > 0 && s->rho_g > 0) || s->chi != 0 ||
+                         s->tau_eps > 0;
     if (s->dem) {
         const int rc = sep_contact_forces(s, dt, err);
         if (rc)
             return rc;
-        for (int k = 0; k < s->K; k++)
-            s->eps_s[k] = 0;
-        for (size_t i = 0; i < s->n; i++) {
-            const double h = 0.5 * dt * s->im[i];
-            s->vx[i] += h * s->fx[i];
-            s->vy[i] += h * s->fy[i];
-            s->vz[i] += h * s->fz[i];
-            deposit(s, i);
+        if (gas_sees) {
+            for (int k = 0; k < s->K; k++)
+                s->eps_s[k] = 0;
+            for (size_t i = 0; i < s->n; i++) {
+                const double h = 0.5 * dt * s->im[i];
+                s->vx[i] += h * s->fx[i];
+                s->vy[i] += h * s->fy[i];
+                s->vz[i] += h * s->fz[i];
+                deposit(s, i);
+            }
+            gas_finish(s, dt);
+        } else {
+            for (size_t i = 0; i < s->n; i++) {
+                const double h = 0.5 * dt * s->im[i];
+                s->vx[i] += h * s->fx[i];
+                s->vy[i] += h * s->fy[i];
+                s->vz[i] += h * s->fz[i];
+            }
         }
-        gas_finish(s, dt);
-    } else {
+    } else if (gas_sees) {
         mote_sep_gas_update(s, dt);
     }
     if (sampling) {
@@ -1162,6 +1175,7 @@ int mote_sep_run_hook(mote_sep_system *s, double T, int (*hook)(void *, mote_sep
         if (!rc && hook)
             rc = hook(ctx, s, err);
     }
+    mote_sep_gas_update(s, 0); /* the fractions of the present positions (for the outputs) */
     if (!rc && mote_sep_check_balance(s))
         rc = mote_fail(err, MOTE_ERUNTIME, "separator: the mass balance does not hold (fed = in "
                        "channel + fines + coarse + lost)");
