@@ -186,6 +186,38 @@ static int fuzz_nb_solar(const uint8_t *data, size_t size)
     return 0;
 }
 
+/* A Galactica body file, both layouts, counted and exact: one that reads goes into a system and
+ * is written back. */
+static int fuzz_nb_galactica(const uint8_t *data, size_t size)
+{
+    char path[256];
+    if (write_input("in.gal", data, size, path, sizeof path))
+        return 0;
+    for (int coulomb = 0; coulomb < 2; coulomb++)
+        for (long k2 = -1; k2 <= 1; k2 += 2) {
+            mote_err err = {0};
+            nb_galfile g;
+            if (nb_galfile_read(path, coulomb, k2, &g, &err))
+                continue;
+            mote_nb nb;
+            mote_nb_init(&nb, coulomb ? MOTE_NB_COULOMB : MOTE_NB_GRAVITY);
+            if (nb_from_galfile(&nb, &g, path, &err) == 0) {
+                mote_real *body = malloc((coulomb ? 16 : 15) * (size_t)(nb.n ? nb.n : 1) * sizeof *body);
+                if (body) {
+                    nb_galfile h;
+                    nb_to_galfile(&nb, g.head, &h, body);
+                    char out[256];
+                    snprintf(out, sizeof out, "%s/out.gal", scratch());
+                    nb_galfile_write(out, &h, 1, &err);
+                    free(body);
+                }
+            }
+            mote_nb_free(&nb);
+            nb_galfile_free(&g);
+        }
+    return 0;
+}
+
 /* A separator state: read; a state that reads must run a few steps and save. */
 static int fuzz_sep_state(const uint8_t *data, size_t size)
 {
@@ -239,6 +271,7 @@ const mote_fuzz_target mote_fuzz_targets[] = {
     {"ch_plain", fuzz_ch_plain},
     {"plot", fuzz_plot},
     {"sep_state", fuzz_sep_state},
+    {"nb_galactica", fuzz_nb_galactica},
 };
 const size_t mote_fuzz_ntargets = sizeof mote_fuzz_targets / sizeof mote_fuzz_targets[0];
 

@@ -58,6 +58,9 @@ typedef struct {
         char *prefix, *origin;
         uint64_t every;
     } snap;
+    /* the header of the last Galactica file read (its Em and area fields are carried over) */
+    int have_galhead;
+    mote_real galhead[25];
 } nb_model;
 
 typedef struct nb_sampler nb_sampler;
@@ -1433,13 +1436,26 @@ static int run_checkpoint(void *vm, const mote_call *c, mote_err *err)
 
 /* ---- snapshots (spec 10.2) ------------------------------------------------------------------ */
 
-/* write/read KIND: the kinds of files (Galactica's layout comes with the Galactica files) */
+/* write/read KIND: snapshot (spec 10.2) or galactica (Galactica's files, spec 7.5, 7.6) */
 static int check_kind(const mote_call *c, mote_err *err)
 {
-    if (strcmp(c->args[0].text, "snapshot") != 0)
+    const int gal = strcmp(c->args[0].text, "galactica") == 0;
+    if (!gal && strcmp(c->args[0].text, "snapshot") != 0)
         return mote_call_fail(err, c, 0, MOTE_EINVAL,
-                              "%s: expected 'snapshot' (the native snapshot of spec 10.2), found "
-                              "'%s'", c->name, c->args[0].text);
+                              "%s: expected snapshot (the native snapshot of spec 10.2) or "
+                              "galactica (Galactica's body file), found '%s'", c->name,
+                              c->args[0].text);
+    const char *gal_only = mote_call_opt(c, "n") ? "n" : mote_call_opt(c, "info_line") ? "info_line" : NULL;
+    if (!gal && gal_only)
+        return mote_call_fail(err, c, mote_call_opt_index(c, gal_only), MOTE_EINVAL,
+                              "%s snapshot: %s= is for galactica files", c->name, gal_only);
+    const mote_arg *il = mote_call_opt(c, "info_line");
+    if (il && strcmp(il->text, "on") && strcmp(il->text, "off"))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "info_line"), MOTE_EINVAL,
+                              "%s: info_line= is on or off, found '%s'", c->name, il->text);
+    if (gal && mote_call_opt(c, "format"))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "format"), MOTE_EINVAL,
+                              "%s galactica: format= is for snapshots", c->name);
     const mote_arg *f = mote_call_opt(c, "format");
     if (f && strcmp(f->text, "native") != 0)
         return mote_call_fail(err, c, mote_call_opt_index(c, "format"), MOTE_EINVAL,
@@ -1461,11 +1477,26 @@ static int run_write(void *vm, const mote_call *c, mote_err *err)
     if (!origin)
         return mote_fail(err, MOTE_ENOMEM, "write: out of memory");
     const char *path = mote_call_opt(c, "file")->path;
-    int rc = nb_snapshot_write(&m->nb, path, origin, err);
+    int rc;
+    if (strcmp(c->args[0].text, "galactica") == 0) {
+        const size_t W = m->nb.kind == MOTE_NB_COULOMB ? 16 : 15;
+        mote_real *body = malloc(W * (m->nb.n ? m->nb.n : 1) * sizeof *body);
+        if (!body) {
+            free(origin);
+            return mote_fail(err, MOTE_ENOMEM, "write: out of memory");
+        }
+        nb_galfile g;
+        nb_to_galfile(&m->nb, m->have_galhead ? m->galhead : NULL, &g, body);
+        const mote_arg *il = mote_call_opt(c, "info_line");
+        rc = nb_galfile_write(path, &g, !il || strcmp(il->text, "off") != 0, err);
+        free(body);
+    } else {
+        rc = nb_snapshot_write(&m->nb, path, origin, err);
+    }
     free(origin);
     if (!rc && m->log)
-        fprintf(m->log, "write snapshot: wrote %s (%u bodies at T = %.17g)\n", path, m->nb.n,
-                (double)m->nb.T);
+        fprintf(m->log, "write %s: wrote %s (%u bodies at T = %.17g)\n", c->args[0].text, path,
+                m->nb.n, (double)m->nb.T);
     return rc;
 }
 
@@ -1480,7 +1511,17 @@ static int check_read(void *vm, const mote_call *c, mote_err *err)
     if (!mote_outputs_find(&c->ctx->outputs, f->path)) { /* read it whole now: errors before the run */
         mote_nb t;
         mote_nb_init(&t, m->nb.kind);
-        rc = nb_snapshot_read(&t, f->path, err);
+        if (strcmp(c->args[0].text, "galactica") == 0) {
+            nb_galfile g;
+            const mote_arg *k2 = mote_call_opt(c, "n");
+            rc = nb_galfile_read(f->path, m->nb.kind == MOTE_NB_COULOMB, k2 ? (long)k2->i : -1,
+                                 &g, err);
+            if (!rc)
+                rc = nb_from_galfile(&t, &g, f->path, err);
+            nb_galfile_free(&g);
+        } else {
+            rc = nb_snapshot_read(&t, f->path, err);
+        }
         n = t.n;
         mote_nb_free(&t);
         if (rc) {
@@ -1499,7 +1540,33 @@ static int run_read(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
     const char *path = mote_call_opt(c, "file")->path;
-    int rc = nb_snapshot_read(&m->nb, path, err);
+    const int gal = strcmp(c->args[0].text, "galactica") == 0;
+    int rc;
+    if (gal) {
+        nb_galfile g;
+        const mote_arg *k2 = mote_call_opt(c, "n");
+        rc = nb_galfile_read(path, m->nb.kind == MOTE_NB_COULOMB, k2 ? (long)k2->i : -1, &g, err);
+        if (!rc)
+            rc = nb_from_galfile(&m->nb, &g, path, err);
+        if (!rc) {
+            memcpy(m->galhead, g.head, sizeof m->galhead);
+            m->have_galhead = 1;
+            /* the scales of the info line, when it has them */
+            if (g.info && g.infov[2] > 0 && g.infov[3] > 0 && g.infov[4] > 0 && !m->nb.u.set) {
+                m->nb.u.M = (double)g.infov[2];
+                m->nb.u.Am = m->nb.u.Am_first = (double)g.infov[3];
+                m->nb.u.kv = (double)g.infov[4];
+                m->nb.u.kt = 1 / (m->nb.u.Am * m->nb.u.kv);
+                m->nb.u.G = m->nb.G;
+                m->nb.u.e2 = m->nb.e2;
+                m->nb.u.eps = m->nb.eps;
+                m->nb.u.set = 1;
+            }
+        }
+        nb_galfile_free(&g);
+    } else {
+        rc = nb_snapshot_read(&m->nb, path, err);
+    }
     if (rc) {
         char why[sizeof err->msg];
         snprintf(why, sizeof why, "%s", err->msg);
@@ -1512,8 +1579,8 @@ static int run_read(void *vm, const mote_call *c, mote_err *err)
         m->input_si = 0;
     char t[MOTE_REAL_BUF];
     if (m->log)
-        fprintf(m->log, "read snapshot: %u bodies at T = %s (step %llu) from %s\n", m->nb.n,
-                mote_real_str(m->nb.T, t), (unsigned long long)m->nb.steps, path);
+        fprintf(m->log, "read %s: %u bodies at T = %s (step %llu) from %s\n", c->args[0].text,
+                m->nb.n, mote_real_str(m->nb.T, t), (unsigned long long)m->nb.steps, path);
     return MOTE_OK;
 }
 
@@ -1845,7 +1912,17 @@ static const char HELP_WRITE[] =
     "every number with the digits that read back to the same value. Written\n"
     "atomically. Unlike `save`, it leaves out the compensation terms of\n"
     "compensated summation, so a run continued from it agrees with the\n"
-    "uninterrupted run to rounding, and bit for bit with `compensated off`.\n";
+    "uninterrupted run to rounding, and bit for bit with `compensated off`.\n"
+    "\n"
+    "    write galactica file=FILE [info_line=on|off]\n"
+    "\n"
+    "Write Galactica's body file (spec 7.5; Coulomb 7.6): line 1 the header\n"
+    "numbers 1-15 (T0 omm Um dTp P(3) AM(3) Sps(3) E Em), line 2 the rest (Ett dT\n"
+    "i2b j2b k2b A B C Mu, Coulomb also eps_d), then one line per body (om x y z u\n"
+    "v w dUp(3) Sp(3) Ra Et, Coulomb also Qo) and the info line (date, k2, M_Ss,\n"
+    "Am, k_v; info_line=off leaves it out). The header is computed from the state\n"
+    "(Em and the area fields carried over from the last Galactica file read);\n"
+    "numbers in %.16E form, which read back to the same double.\n";
 
 static const char HELP_READ[] =
     "    read snapshot file=FILE\n"
@@ -1858,7 +1935,22 @@ static const char HELP_READ[] =
     "the next step is a restart step; without E_corr0 and Mza1 the references\n"
     "are taken when the run starts; settings the file does not give stay as the\n"
     "script set them. A file that exists before the run is read whole during\n"
-    "validation, so a malformed one stops the script before anything runs.\n";
+    "validation, so a malformed one stops the script before anything runs.\n"
+    "\n"
+    "    read galactica file=FILE [n=K2]\n"
+    "\n"
+    "Replace the bodies by those of Galactica's body file (spec 7.5; Coulomb 7.6,\n"
+    "with `model nbody coulomb`): a stream of numbers in Fortran's list-directed\n"
+    "form (blanks, commas and line ends separate; exponents with E, D or only a\n"
+    "sign, 1.0-100; r*value repeats; the line layout does not matter): 24 header\n"
+    "numbers and 15 per body (Coulomb 25 and 16), and an optional info line of 5\n"
+    "(or padded to a body row) whose M_Ss, Am and k_v become the scales when none\n"
+    "are set. n= reads exactly that many bodies, as Galactica does with k2;\n"
+    "without it the count follows from the numbers. T0, dTp (the Galactica scheme\n"
+    "continues without a restart step when it is > 0), dT, the fifth derivatives,\n"
+    "spins, radii and heats are kept. A count that fits no layout, a token that\n"
+    "is not a number or a mass outside 0 ... 1 is an error naming the file (and\n"
+    "line), before anything runs.\n";
 
 static const char HELP_SNAPSHOT[] =
     "    snapshot every=K [prefix=P] [format=native]\n"
@@ -1953,10 +2045,10 @@ static const mote_cmd nb_commands[] = {
      "continue from a checkpoint (or a saved state)", HELP_RESTART, check_restart, run_restart},
     {"check", NULL, "s", "check ring", "compare with the exact ring solution", HELP_CHECK,
      check_check, run_check},
-    {"write", NULL, "s file=f>snapshot! format=s", "write snapshot file=FILE",
+    {"write", NULL, "s file=f>snapshot! format=s info_line=s", "write snapshot|galactica file=FILE",
      "write the bodies and the run's state as a snapshot table (spec 10.2)", HELP_WRITE,
      check_write, run_write},
-    {"read", NULL, "s file=f<snapshot! format=s", "read snapshot file=FILE",
+    {"read", NULL, "s file=f<snapshot! format=s n=i>=1", "read snapshot|galactica file=FILE",
      "continue from a snapshot (replaces the bodies)", HELP_READ, check_read, run_read},
     {"snapshot", NULL, "every=i>=1! prefix=f format=s", "snapshot every=K [prefix=P]",
      "write a snapshot every K steps of integrate, to PSTEP.snap", HELP_SNAPSHOT, check_snapshot,

@@ -16,6 +16,30 @@ int nb_state_save(const mote_nb *nb, const char *path, mote_err *err);
 int nb_state_load(mote_nb *nb, const char *path, mote_err *err);
 int nb_state_peek(const char *path, uint32_t *n, mote_err *err);
 
+/* Galactica's initial-condition and result files (galfile.c, spec 7.5, 7.6): the header (24
+ * numbers, Coulomb 25), the bodies (15 numbers each, Coulomb 16: om x y z u v w dUp(3) Sp(3) Ra
+ * Et [Qo]) and the info line (date, k2, M_Ss, Am, k_v; info 0 none, 1 five numbers, 2 padded to
+ * a body row). */
+typedef struct {
+    int coulomb, info;
+    uint32_t n;
+    mote_real head[25];
+    mote_real *body;
+    mote_real infov[5];
+} nb_galfile;
+
+/* Read (k2 >= 0: exactly k2 bodies; < 0: inferred from the count); err names the file, and the
+ * line of a bad token or mass. */
+int nb_galfile_read(const char *path, int coulomb, long k2, nb_galfile *g, mote_err *err);
+void nb_galfile_free(nb_galfile *g);
+/* Write (atomically) the header on two lines, a body per line, the info line when info_line. */
+int nb_galfile_write(const char *path, const nb_galfile *g, int info_line, mote_err *err);
+/* Replace nb's bodies, time and steps by the file's (its settings kept); nb unchanged on error. */
+int nb_from_galfile(mote_nb *nb, const nb_galfile *g, const char *path, mote_err *err);
+/* The file of nb's state: the header computed (carry: the header read, for Em and the area
+ * fields, or NULL); body holds n * (15 or 16) reals and becomes g->body. */
+void nb_to_galfile(const mote_nb *nb, const mote_real carry[25], nb_galfile *g, mote_real *body);
+
 /* The snapshot (snapshot.c, spec 10.2): the header every output shares (interaction, N,
  * integrator, precision) and the scales and constants; write; read (replacing nb on success
  * only; the file's interaction must be nb's). */
