@@ -218,6 +218,24 @@ static int fuzz_nb_galactica(const uint8_t *data, size_t size)
     return 0;
 }
 
+/* A Galactica control file, read every way; one that reads is written back. */
+static int fuzz_nb_galctl(const uint8_t *data, size_t size)
+{
+    char path[256];
+    if (write_input("galacf26.dat", data, size, path, sizeof path))
+        return 0;
+    for (int mode = 0; mode < 4; mode++) {
+        mote_err err = {0};
+        nb_galctl g;
+        if (nb_galctl_read(path, mode & 1, mode >> 1, &g, &err) == 0) {
+            char out[256];
+            snprintf(out, sizeof out, "%s/out26.dat", scratch());
+            nb_galctl_write(out, &g, &err);
+        }
+    }
+    return 0;
+}
+
 /* A separator state: read; a state that reads must run a few steps and save. */
 static int fuzz_sep_state(const uint8_t *data, size_t size)
 {
@@ -272,6 +290,7 @@ const mote_fuzz_target mote_fuzz_targets[] = {
     {"plot", fuzz_plot},
     {"sep_state", fuzz_sep_state},
     {"nb_galactica", fuzz_nb_galactica},
+    {"nb_galctl", fuzz_nb_galctl},
 };
 const size_t mote_fuzz_ntargets = sizeof mote_fuzz_targets / sizeof mote_fuzz_targets[0];
 

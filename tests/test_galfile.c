@@ -1,4 +1,5 @@
-/* test_galfile.c: Galactica's body files (specs/nbody-galactica.md 7.5, 7.6; test T14): read,
+/* test_galfile.c: Galactica's control file (spec 7.2, 7.3; test T15) and body files
+ * (specs/nbody-galactica.md 7.5, 7.6; test T14): read,
  * write, read is bit-exact; ragged lines, D exponents, exponents without a letter, r*value, with
  * and without the info line (5 wide and zero-padded to a body row) all read; the Coulomb 25/16
  * layout; counts that fit no layout and bad tokens give the documented errors. */
@@ -164,6 +165,148 @@ static void test_layouts(void)
           "mass: %s", err.msg);
 }
 
+/* ---- T15: the control file ------------------------------------------------------------------ */
+
+/* The Table-1 sample of spec 7.3: descriptions (or blanks) in columns 1-59, values from 60. */
+static const char *const SAMPLE[][2] = {
+    {"Length of area along axis X (A=1) 03.01.2016", "1."}, {"Height of are along axis Y (B <=1)", "1."},
+    {"Thickness of area along axis Z (C <=1)", "1."}, {"Initial X coordinate of area", "0"},
+    {"Initial Y coordinate of area", "0"}, {"Initial Z coordinate of area", "0"},
+    {"Number of divisions over axis X", "2"}, {"Relative initial density of the area", "1."},
+    {"Relative initial density of point body", "2."}, {"X - coordinate of a separate body", "1.5"},
+    {"Y - coordinate of a separate body", "0.5"}, {"Z - coordinate of a separate body", "0.5"},
+    {"Velocity of the separate body along axis X", "-0.4"}, {"Velocity of the separate body along axis Y", "-0.15"},
+    {"Velocity of the separate body along axis Z", "0.5"}, {"Angular velocity of rotation of area", "0.0"},
+    {"Relative X-coordinate of the axis of rotation", "0.5"}, {"Relative Y-coordinate of the axis of rotation", "0.5"},
+    {"Absolute average density of the area, kg/m3", "1.E-7"}, {"Absolute density of bodies, kg/m3", "5000."},
+    {"Depiction with respect to first body (below)", "0"}, {"Integration time step at Kl1=0", "5.0e-4"},
+    {"Maximum dimension of TR array", "6000"}, {"Number of integration steps in one cycle", "1000"},
+    {"Number of cycles", "1"}, {"Key: input data from file 4", "2"},
+    {"Key: start of counting time/Step correction", "1"}, {"Search of encounters of body No. at Kl3", "0"},
+    {"Key: writing data to file", "0"}, {"Number of interacting bodies", "12"},
+    {"Interval of data (picture) output (in steps)", "500"}, {"Beginning step-by-step of data (pctrs) output", "0"},
+    {"Key: writing trajectory parameters", "0"}, {"Steps interval of trajectory parameters", "50"},
+    {"Display mode", "0"}, {"Correction of the area size on the screen", "1"},
+    {"Coefficient of area form on the screen", "0.72"}, {"Coefficient of mass size of the screen", "0.08"},
+    {"Coefficient of velocity on the screen", "3."}, {"Crrctn factor of step dtk at bodies' approach", "0.5"},
+    {"Flat depiction of layer to Z", "0.3"}, {"Rotation of area relative to X-axis by angle", "10."},
+    {"Rotation of area relative to Y-axis by angle", "20."}, {"Begining of screen area along x", "300."},
+    {"Begining of screen area along y", "280."}, {"Image size in x", "150."},
+    {"Image size in y", "70."}, {"Initial data file name", "sn2010Ap.dat"},
+    {"Number of bodies in trajectory analysis", "2"}, {"Key: body velocity output", "0"},
+    {"Velocity colour of the first body", "3"}, {"Velocity colour of the all bodies", "4"},
+    {"", ""}, {"Number of the first body", "1 5"},
+    {"Velocity colour the second body", "5"}, {"Free key of the second body", ""},
+    {"Number of the second body", "2"}, {"Velocity colour of the third body", "8"},
+    {"Free key of the third body", "1"}, {"Number of the third body", "4"},
+};
+#define NSAMPLE (sizeof SAMPLE / sizeof SAMPLE[0])
+
+static const double SAMPLE_V[50] = {1, 1, 1, 0, 0, 0, 2, 1, 2, 1.5, 0.5, 0.5, -0.4, -0.15, 0.5, 0,
+                                    0.5, 0.5, 1e-7, 5000, 0, 5e-4, 6000, 1000, 1, 2, 1, 0, 0, 12,
+                                    500, 0, 0, 50, 0, 1, 0.72, 0.08, 3, 0.5, 0.3, 10, 20, 300, 280,
+                                    150, 70, 0, 2, 0};
+
+/* The sample with (described) or without descriptions. */
+static void write_sample(const char *name, int described)
+{
+    FILE *f = fopen(tmp_path(name), "w");
+    for (size_t k = 0; k < NSAMPLE; k++)
+        fprintf(f, "%-59s%s\n", described ? SAMPLE[k][0] : "", SAMPLE[k][1]);
+    fclose(f);
+}
+
+static int sample_ok(const nb_galctl *g, const char *what)
+{
+    int ok = 1;
+    for (int k = 0; k < 50; k++)
+        if (k != 47 && g->v[k] != SAMPLE_V[k]) {
+            printf("  %s: line %d is %.17g, expected %.17g\n", what, k + 1, g->v[k], SAMPLE_V[k]);
+            ok = 0;
+        }
+    static const long trio[3][3] = {{3, 4, 1}, {5, 0, 2}, {8, 1, 4}};
+    ok = ok && g->ntrio == 3 && !strcmp(g->fima4, "sn2010Ap.dat");
+    for (int t = 0; ok && t < 3; t++)
+        for (int r = 0; r < 3; r++)
+            ok = ok && g->trio[t][r] == trio[t][r];
+    return ok;
+}
+
+static void test_control(void)
+{
+    printf("T15: the control file galacf26.dat\n");
+    mote_err err = {0};
+    nb_galctl g;
+    /* the Table-1 sample, described: the trios by their descriptions */
+    write_sample("galacf26.dat", 1);
+    CHECK(nb_galctl_read(tmp_path("galacf26.dat"), 0, 0, &g, &err) == MOTE_OK, "read: %s", err.msg);
+    CHECK(sample_ok(&g, "described") && !strcmp(g.date, "03.01.2016"), "the Table-1 sample (date '%s')",
+          g.date);
+    /* without descriptions: the prose layout, line 53 reserved */
+    write_sample("plain.dat", 0);
+    CHECK(nb_galctl_read(tmp_path("plain.dat"), 0, 0, &g, &err) == MOTE_OK && sample_ok(&g, "prose"),
+          "prose: %s", err.msg);
+    /* packed: trios at 51-53, 54-56, 57-59 */
+    FILE *f = fopen(tmp_path("packed.dat"), "w");
+    for (size_t k = 0; k < 50; k++)
+        fprintf(f, "%-59s%s\n", "", SAMPLE[k][1]);
+    static const char *const pk[9] = {"3", "4", "1", "5", "0", "2", "8", "1", "4"};
+    for (int k = 0; k < 9; k++)
+        fprintf(f, "%-59s%s\n", "", pk[k]);
+    fclose(f);
+    CHECK(nb_galctl_read(tmp_path("packed.dat"), 0, 1, &g, &err) == MOTE_OK && sample_ok(&g, "packed"),
+          "packed: %s", err.msg);
+    /* the column-60 rule: a token running across column 60 belongs to the description; tabs
+     * count to 8-column stops; a line shorter than 60 gives the default */
+    f = fopen(tmp_path("col60.dat"), "w");
+    for (size_t k = 0; k < 50; k++) {
+        if (k == 6) /* Mu: the description overruns column 60, the value follows */
+            fprintf(f, "%-55sxxxxxxxxx 7\n", "Number of divisions over axis X");
+        else if (k == 8) /* RoS: tabs to column 60 (7 tabs = 56 columns, then 3 blanks) */
+            fprintf(f, "\t\t\t\t\t\t\t   2.5\n");
+        else if (k == 9) /* Xs: a short line */
+            fprintf(f, "X - coordinate\n");
+        else
+            fprintf(f, "%-59s%s\n", SAMPLE[k][0], SAMPLE[k][1]);
+    }
+    fclose(f);
+    CHECK(nb_galctl_read(tmp_path("col60.dat"), 0, 0, &g, &err) == MOTE_OK && g.v[6] == 7 &&
+          g.v[8] == 2.5 && g.v[9] == 0 && !g.have[9], "column 60: %s (Mu %g RoS %g Xs %g)", err.msg,
+          g.v[6], g.v[8], g.v[9]);
+    /* lenient: the last token of each line, wherever it is */
+    f = fopen(tmp_path("lenient.dat"), "w");
+    for (size_t k = 0; k < 50; k++)
+        fprintf(f, "%s %s\n", k == 0 ? "A" : "p", SAMPLE[k][1][0] ? SAMPLE[k][1] : "0");
+    fclose(f);
+    CHECK(nb_galctl_read(tmp_path("lenient.dat"), 1, 0, &g, &err) == MOTE_OK && g.v[12] == -0.4 &&
+          g.v[29] == 12 && !strcmp(g.fima4, "sn2010Ap.dat"), "lenient: %s", err.msg);
+    /* write, read: the same values */
+    write_sample("galacf26.dat", 1);
+    nb_galctl h;
+    CHECK(nb_galctl_read(tmp_path("galacf26.dat"), 0, 0, &g, &err) == MOTE_OK &&
+          nb_galctl_write(tmp_path("out26.dat"), &g, &err) == MOTE_OK &&
+          nb_galctl_read(tmp_path("out26.dat"), 0, 0, &h, &err) == MOTE_OK && sample_ok(&h, "written"),
+          "write, read: %s", err.msg);
+    f = fopen(tmp_path("out26.dat"), "r");
+    char line[256];
+    int n = 0, col60 = 1;
+    while (fgets(line, sizeof line, f)) {
+        n++;
+        col60 = col60 && strlen(line) > 60 && line[58] == ' ' && line[59] != ' ';
+    }
+    fclose(f);
+    CHECK(n == 60 && col60, "the written file: %d lines, values at column 60: %d", n, col60);
+    /* a bad value, named with its line and parameter */
+    f = fopen(tmp_path("bad26.dat"), "w");
+    for (size_t k = 0; k < 50; k++)
+        fprintf(f, "%-59s%s\n", SAMPLE[k][0], k == 6 ? "2.5" : SAMPLE[k][1]);
+    fclose(f);
+    CHECK(nb_galctl_read(tmp_path("bad26.dat"), 0, 0, &g, &err) != MOTE_OK &&
+          strstr(err.msg, "bad26.dat:7: Mu (Number of divisions over axis X): expected a whole "
+                          "number from column 60, found '2.5'"), "bad value: %s", err.msg);
+    printf("  Table-1 sample, prose and packed trios, column 60 with tabs, lenient, write and read\n");
+}
+
 int main(void)
 {
     snprintf(dir, sizeof dir, "/tmp/mote-galfile-XXXXXX");
@@ -172,8 +315,10 @@ int main(void)
     test_forms();
     test_round_trip();
     test_layouts();
+    test_control();
     const char *names[] = {"ragged.dat", "rt.dat", "info5.dat", "info15.dat", "coulomb.dat",
-                           "bad.dat", "mass.dat", "rep.dat"};
+                           "bad.dat", "mass.dat", "rep.dat", "galacf26.dat", "plain.dat",
+                           "packed.dat", "col60.dat", "lenient.dat", "out26.dat", "bad26.dat"};
     for (size_t k = 0; k < sizeof names / sizeof names[0]; k++)
         remove(tmp_path(names[k]));
     rmdir(dir);

@@ -40,6 +40,29 @@ int nb_from_galfile(mote_nb *nb, const nb_galfile *g, const char *path, mote_err
  * fields, or NULL); body holds n * (15 or 16) reals and becomes g->body. */
 void nb_to_galfile(const mote_nb *nb, const mote_real carry[25], nb_galfile *g, mote_real *body);
 
+/* Galactica's control file galacf26.dat (galctl.c, spec 7.2, 7.3): the 50 fixed lines (v[k] is
+ * line k + 1; FIMA4 as text) and the trios ipp, jpp, kpp of the selected bodies. */
+#define NB_GALCTL_FIXED 50
+#define NB_GALCTL_TRIOS 256
+typedef struct {
+    double v[NB_GALCTL_FIXED];
+    int have[NB_GALCTL_FIXED];  /* the line gave a value (else the default 0) */
+    char fima4[256];
+    int fima4_long;             /* longer than Galactica's 12 characters */
+    char date[16];              /* the date of the file variant, from line 1 */
+    int ntrio;
+    long trio[NB_GALCTL_TRIOS][3];
+} nb_galctl;
+
+/* Read a control file: lenient takes each line's last token, packed the trios at 51-53, 54-56;
+ * err names the file, line and parameter. */
+int nb_galctl_read(const char *path, int lenient, int packed, nb_galctl *g, mote_err *err);
+/* Write the prose layout: descriptions, values from column 60, line 53 reserved. */
+int nb_galctl_write(const char *path, const nb_galctl *g, mote_err *err);
+/* The line index of a parameter name (A, B, ..., Kl15), or -1; its value (NAN: no such). */
+int nb_galctl_index(const char *name);
+double nb_galctl_get(const nb_galctl *g, const char *name);
+
 /* The snapshot (snapshot.c, spec 10.2): the header every output shares (interaction, N,
  * integrator, precision) and the scales and constants; write; read (replacing nb on success
  * only; the file's interaction must be nb's). */
