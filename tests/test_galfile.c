@@ -8,6 +8,7 @@
 
 #include "../src/nbody/nb.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -307,6 +308,38 @@ static void test_control(void)
     printf("  Table-1 sample, prose and packed trios, column 60 with tabs, lenient, write and read\n");
 }
 
+/* T25: the corrected step lands on DeltaT within one ulp, for fresh starts and continuations */
+static void test_steps_between(void)
+{
+    printf("T25: steps between two dates\n");
+    mote_err err = {0};
+    mote_rng rng;
+    mote_rng_seed(&rng, 25);
+    double worst = 0;
+    int n = 0;
+    for (int k = 0; k < 200; k++) {
+        const double jd1 = 2440000.5 + 20000 * mote_rng_uniform(&rng);
+        const double jd2 = jd1 + 1 + 3000 * mote_rng_uniform(&rng);
+        const double dt = 1e-6 * pow(10, 2 * mote_rng_uniform(&rng));
+        for (int fresh = 0; fresh <= 1; fresh++) {
+            mote_nb_steps st;
+            CHECK(mote_nb_steps_between(jd1, jd2, 36525.636042, dt, fresh, 0.001, &st, &err) == MOTE_OK,
+                  "steps: %s", err.msg);
+            const double ulp = nextafter((double)st.DeltaT, INFINITY) - (double)st.DeltaT;
+            const double off = fabs((double)(st.t_end - st.DeltaT)) / ulp;
+            worst = off > worst ? off : worst;
+            n++;
+            CHECK(off <= 1 && fabs((double)st.DeltaT / dt - (double)st.Ltk) <= 0.5 + 1e-9,
+                  "jd %.10g .. %.10g dt %g fresh %d: %.2f ulp, Ltk %llu", jd1, jd2, dt, fresh, off,
+                  (unsigned long long)st.Ltk);
+        }
+    }
+    printf("  %d intervals: T_end within %.1f ulp of DeltaT at worst\n", n, worst);
+    mote_nb_steps st;
+    CHECK(mote_nb_steps_between(2.0, 1.0, 36525.636042, 1e-5, 0, 0.001, &st, &err) != MOTE_OK &&
+          strstr(err.msg, "need jd1 < jd2"), "order: %s", err.msg);
+}
+
 int main(void)
 {
     snprintf(dir, sizeof dir, "/tmp/mote-galfile-XXXXXX");
@@ -316,6 +349,7 @@ int main(void)
     test_round_trip();
     test_layouts();
     test_control();
+    test_steps_between();
     const char *names[] = {"ragged.dat", "rt.dat", "info5.dat", "info15.dat", "coulomb.dat",
                            "bad.dat", "mass.dat", "rep.dat", "galacf26.dat", "plain.dat",
                            "packed.dat", "col60.dat", "lenient.dat", "out26.dat", "bad26.dat"};

@@ -433,4 +433,9 @@ paste gs2.snap gs3.snap | awk '!/^#/ { for (k = 6; k <= 11; k++) { a = $k; b = $
 printf '0 1 0 0 0\n0 0 0\n' > short.dat
 expect 1 "gb1.mote:3:21: error: read: short.dat: 8 numbers are not 24 header numbers and 15 per body" gb1.mote "${G}generate ring nb=4\nread galactica file=short.dat\n"
 expect 1 "gb2.mote:3:31: error: read snapshot: n= is for galactica files" gb2.mote "${G}generate ring nb=4\nread snapshot file=gs2.snap n=3\n"
+# steps between two dates (spec 9.5): the corrected step lands on the interval
+printf '%bsteps_between jd1=2455197.5 jd2=2460000.5 dt=1e-5 fresh=on\nsteps_between jd1=2455197.5 jd2=2460000.5 dt=1e-5\n' "$G" > sb.mote
+"$MOTE" run sb.mote > out.txt 2> err.txt && ok || bad "sb.mote: $(cat err.txt)"
+grep -q '^steps_between: DeltaT=0.1314966834383702 Ltk=13150 dT=1.0000507524364034e-05 (fresh start: the first step is first_step dT) T_end-T_target=0.000e+00$' out.txt && grep -q '^steps_between: DeltaT=0.1314966834383702 Ltk=13150 dT=9.9997477899901288e-06 (continuation) T_end-T_target=0.000e+00$' out.txt && ok || bad "steps_between: $(cat out.txt)"
+expect 1 "sb2.mote:2:25: error: steps_between: jd2 must come after jd1" sb2.mote "${G}steps_between jd1=2 jd2=1 dt=1e-5\n"
 mote_test_end

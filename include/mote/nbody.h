@@ -186,6 +186,20 @@ void mote_nb_from_si(mote_nb *nb, const mote_nb_units *u);
  * shift go to xc and vc (may be NULL). */
 void mote_nb_barycentric(mote_nb *nb, mote_real xc[3], mote_real vc[3]);
 
+/* ---- steps between two dates (spec 9.5) ------------------------------------------------------- */
+
+typedef struct {
+    mote_real DeltaT;   /* the interval in the run's time unit */
+    uint64_t Ltk;       /* steps: round(DeltaT / dT) */
+    mote_real dtc;      /* the corrected step: DeltaT / Ltk, or fresh DeltaT / (Ltk - 1 + first) */
+    mote_real t_end;    /* the time the steps reach, summed as the integrator sums them */
+} mote_nb_steps;
+
+/* The steps from JD1 to JD2 with nominal step dT, the time unit being `days` days (36525.636042
+ * for the sidereal century); fresh: the first step is `first` (0.001) of the others. */
+int mote_nb_steps_between(double jd1, double jd2, double days, mote_real dT, int fresh,
+                          mote_real first, mote_nb_steps *out, mote_err *err);
+
 /* ---- the Galactica scheme (spec 4.2, 4.3) --------------------------------------------------- */
 
 /* The aggregated z moment's relative change dMz (spec 3.7) of the current state, in O(N). */

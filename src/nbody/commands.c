@@ -1611,6 +1611,41 @@ static int run_snapshot(void *vm, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
+/* `steps_between jd1= jd2= dt= [fresh=on]` (spec 9.5) */
+static int check_steps_between(void *vm, const mote_call *c, mote_err *err)
+{
+    (void)vm;
+    const mote_arg *fr = mote_call_opt(c, "fresh");
+    if (fr && strcmp(fr->text, "on") && strcmp(fr->text, "off"))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "fresh"), MOTE_EINVAL,
+                              "steps_between: fresh= is on or off, found '%s'", fr->text);
+    if (!(mote_call_opt(c, "jd2")->r > mote_call_opt(c, "jd1")->r))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "jd2"), MOTE_EINVAL,
+                              "steps_between: jd2 must come after jd1");
+    return MOTE_OK;
+}
+static int run_steps_between(void *vm, const mote_call *c, mote_err *err)
+{
+    nb_model *m = vm;
+    const mote_arg *fr = mote_call_opt(c, "fresh");
+    const int fresh = fr && strcmp(fr->text, "on") == 0;
+    /* the time unit: the run's scales when set, else the sidereal century (Galactica's) */
+    const double days = m->nb.u.set ? 1 / (86400 * m->nb.u.kt) : 100 * MOTE_NB_SIDEREAL_YEAR_DAYS;
+    mote_nb_steps st;
+    int rc = mote_nb_steps_between(mote_call_opt(c, "jd1")->r, mote_call_opt(c, "jd2")->r, days,
+                                   (mote_real)mote_call_opt(c, "dt")->r, fresh, m->nb.first_step,
+                                   &st, err);
+    if (rc)
+        return mote_call_fail(err, c, -1, rc, "%s", err->msg);
+    char b[2][MOTE_REAL_BUF];
+    if (m->log)
+        fprintf(m->log, "steps_between: DeltaT=%s Ltk=%llu dT=%s (%s) T_end-T_target=%.3e\n",
+                mote_real_str(st.DeltaT, b[0]), (unsigned long long)st.Ltk,
+                mote_real_str(st.dtc, b[1]), fresh ? "fresh start: the first step is "
+                "first_step dT" : "continuation", (double)(st.t_end - st.DeltaT));
+    return MOTE_OK;
+}
+
 static int check_check(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
@@ -1952,6 +1987,17 @@ static const char HELP_READ[] =
     "is not a number or a mass outside 0 ... 1 is an error naming the file (and\n"
     "line), before anything runs.\n";
 
+static const char HELP_STEPS_BETWEEN[] =
+    "    steps_between jd1=JD1 jd2=JD2 dt=DT [fresh=on|off]\n"
+    "\n"
+    "The steps of a run from Julian date JD1 to JD2 with nominal step DT (spec\n"
+    "9.5): DeltaT = (JD2 - JD1) in the run's time unit (the sidereal century,\n"
+    "36525.636042 days, unless the scales say otherwise), Ltk = round(DeltaT / DT),\n"
+    "and the corrected step that lands exactly: DeltaT / Ltk for a continuation, or\n"
+    "DeltaT / (Ltk - 1 + first_step) for a fresh start whose first step is\n"
+    "first_step (0.001) of the others. Prints them and T_end - T_target, the\n"
+    "steps summed as the integrator sums them.\n";
+
 static const char HELP_SNAPSHOT[] =
     "    snapshot every=K [prefix=P] [format=native]\n"
     "\n"
@@ -2050,6 +2096,9 @@ static const mote_cmd nb_commands[] = {
      check_write, run_write},
     {"read", NULL, "s file=f<snapshot! format=s n=i>=1", "read snapshot|galactica file=FILE",
      "continue from a snapshot (replaces the bodies)", HELP_READ, check_read, run_read},
+    {"steps_between", NULL, "jd1=r! jd2=r! dt=r>0! fresh=s", "steps_between jd1= jd2= dt= [fresh=on]",
+     "the steps and the corrected step between two dates", HELP_STEPS_BETWEEN,
+     check_steps_between, run_steps_between},
     {"snapshot", NULL, "every=i>=1! prefix=f format=s", "snapshot every=K [prefix=P]",
      "write a snapshot every K steps of integrate, to PSTEP.snap", HELP_SNAPSHOT, check_snapshot,
      run_snapshot},

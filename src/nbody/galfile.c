@@ -361,3 +361,31 @@ void nb_to_galfile(const mote_nb *nb, const mote_real carry[25], nb_galfile *g, 
     g->infov[4] = nb->u.set ? nb->u.kv : 0;
     g->info = 1;
 }
+
+/* ---- steps between two dates (spec 9.5) -------------------------------------------------------- */
+
+int mote_nb_steps_between(double jd1, double jd2, double days, mote_real dT, int fresh,
+                          mote_real first, mote_nb_steps *out, mote_err *err)
+{
+    if (!(jd2 > jd1) || !isfinite(jd2 - jd1))
+        return mote_fail(err, MOTE_EINVAL, "steps_between: need jd1 < jd2 (found %.17g and %.17g)",
+                         jd1, jd2);
+    if (!(dT > 0) || !(days > 0) || !(first > 0 && first <= 1))
+        return mote_fail(err, MOTE_EINVAL, "steps_between: need dt > 0");
+    const mote_real DT = ((mote_real)jd2 - (mote_real)jd1) / (mote_real)days;
+    const mote_real q = DT / dT;
+    if (!(q < 1e15))
+        return mote_fail(err, MOTE_EINVAL, "steps_between: %.3g steps is too many", (double)q);
+    uint64_t L = (uint64_t)(q + (mote_real)0.5);
+    if (L < 1)
+        L = 1;
+    out->DeltaT = DT;
+    out->Ltk = L;
+    out->dtc = fresh ? DT / ((mote_real)(L - 1) + first) : DT / (mote_real)L;
+    /* the time as the integrator sums it (compensated): the first step, then the others */
+    mote_real t = 0, c = 0;
+    for (uint64_t k = 0; k < L; k++)
+        kahan_add(&t, &c, fresh && k == 0 ? first * out->dtc : out->dtc, 1);
+    out->t_end = t;
+    return MOTE_OK;
+}
