@@ -100,6 +100,9 @@ printf '%bdim 3\nchannel 0.02 0.08 D=0.015\nends open closed\ngas 2\nspecies gla
 awk 'NR == 2 { ok = /^Lattice="0.02 0 0 0 0.015 0 0 0 0.08"/ } NR > 2 { n++ } END { exit !(ok && n > 50) }' sn3/snapshot_000002.xyz && ok || bad "3D snapshot: $(head -3 sn3/snapshot_000002.xyz)"
 expect 1 "fw.mote:3:26: error: feed_window: y1= and y2= are for 3D" fw.mote "${S}channel 0.05 1\nfeed_window 0.01 0.02 y1=0 y2=0.01\n"
 expect 1 "b3b.mote:4:8: error: feed: z must lie inside the channel (0 < z < H = 1 m), found -0.1" b3b.mote "${S}channel 0.05 1\ngas 1\nfeed z=-0.1\n"
+# profiles before anything was averaged: a runtime error at its line, no file
+expect 2 "pf.mote:7:1: error: profiles: nothing averaged yet (run past average_from = 0 s first)" pf.mote "${S}channel 0.05 1\ngas 1\nspecies a 2500\nsize a mono d=1e-4\nfeed z=0.5\nprofiles pf.csv\n"
+[ ! -e pf.csv ] && ok || bad "a failed profiles wrote a file"
 # a size table with a bad row, located
 printf '# d F\n1e-4 0\n2e-4 0.7\n3e-4 0.6\n' > sz.txt
 expect 1 "sz.mote:4:19: error: sz.txt:4: the cumulative undersize must lie in [0, 1] and not decrease (found 0.6)" sz.mote "${S}channel 0.05 1\nspecies a 2500\nsize a table file=sz.txt\n"

@@ -2,9 +2,9 @@
  * in a vertical gas upflow inside a channel, under gravity, buoyancy and Schiller-Naumann drag,
  * leaving at the top (fines) or the bottom (coarse); the one-dimensional axial gas model with
  * solids-fraction coupling, the size distributions and feed, the exact drag drift, exits and
- * bookkeeping, and the grade-efficiency (Tromp) curve. This version has the dilute mode
- * (`collisions off`: particles ignore each other, walls reflect); contacts (DEM), grids, cells,
- * dispersion and the pictures are to come. SI units throughout; z is up. */
+ * bookkeeping, and the grade-efficiency (Tromp) curve; soft-sphere contacts (DEM) through cells
+ * and a pair list, or the dilute mode (`collisions off`: walls reflect); perforated plates;
+ * Langevin dispersion; exact state files. SI units throughout; z is up. */
 #ifndef MOTE_SEPARATOR_H
 #define MOTE_SEPARATOR_H
 

@@ -1635,8 +1635,11 @@ static int run_steps_between(void *vm, const mote_call *c, mote_err *err)
     int rc = mote_nb_steps_between(mote_call_opt(c, "jd1")->r, mote_call_opt(c, "jd2")->r, days,
                                    (mote_real)mote_call_opt(c, "dt")->r, fresh, m->nb.first_step,
                                    &st, err);
-    if (rc)
-        return mote_call_fail(err, c, -1, rc, "%s", err->msg);
+    if (rc) {
+        char why[sizeof err->msg];
+        snprintf(why, sizeof why, "%s", err->msg);
+        return mote_call_fail(err, c, -1, rc, "%s", why);
+    }
     char b[2][MOTE_REAL_BUF];
     if (m->log)
         fprintf(m->log, "steps_between: DeltaT=%s Ltk=%llu dT=%s (%s) T_end-T_target=%.3e\n",

@@ -1,5 +1,6 @@
-/* commands.c: the separator model's script commands (specs/separator.md 2.13): the channel,
- * gas, species and sizes, the feed, the run, and the Tromp table. Every value is checked before
+/* commands.c: the separator model's script commands (specs/separator.md 2.13): the channel and
+ * grids, the gas, species and sizes, the feed, contacts, dispersion, the run with its scheduled
+ * outputs (frames, live, snapshots, balance), the Tromp table and profiles, save and load. Every value is checked before
  * anything runs, on a dry model that follows the script's settings. (Decision: the optional
  * positional arguments of the spec's table are options here, e.g. `feed z=0.5 rate=0.01`,
  * as in the toolkit's other models.) */
@@ -94,6 +95,20 @@ static int find_species(const mote_sep_system *s, const char *name)
     return -1;
 }
 
+/* A word that must be a or b (*second: it is b): positional argument argi, or option opt. */
+static int choice(const mote_call *c, const char *opt, int argi, const char *text, const char *a,
+                  const char *b, int *second, mote_err *err)
+{
+    *second = strcmp(text, b) == 0;
+    if (*second || strcmp(text, a) == 0)
+        return MOTE_OK;
+    if (opt)
+        return mote_call_fail(err, c, mote_call_opt_index(c, opt), MOTE_EINVAL,
+                              "%s: %s= is %s or %s, found '%s'", c->name, opt, a, b, text);
+    return mote_call_fail(err, c, argi, MOTE_EINVAL, "%s: expected %s or %s, found '%s'", c->name,
+                          a, b, text);
+}
+
 /* ---- the commands ----------------------------------------------------------------------------
  * Each applies its setting to the model it is given: the dry one during validation, the real
  * one when the script runs, so the same checks see the same state. */
@@ -136,12 +151,14 @@ static int do_depth2d(void *vm, const mote_call *c, mote_err *err)
 static int do_ends(void *vm, const mote_call *c, mote_err *err)
 {
     sep_model *m = vm;
-    for (int k = 0; k < 2; k++)
-        if (strcmp(c->args[k].text, "open") && strcmp(c->args[k].text, "closed"))
-            return mote_call_fail(err, c, k, MOTE_EINVAL, "ends: expected open or closed, found "
-                                  "'%s'", c->args[k].text);
-    m->sys.open_bottom = !strcmp(c->args[0].text, "open");
-    m->sys.open_top = !strcmp(c->args[1].text, "open");
+    int closed[2];
+    for (int k = 0; k < 2; k++) {
+        const int rc = choice(c, NULL, k, c->args[k].text, "open", "closed", &closed[k], err);
+        if (rc)
+            return rc;
+    }
+    m->sys.open_bottom = !closed[0];
+    m->sys.open_top = !closed[1];
     return MOTE_OK;
 }
 
@@ -163,12 +180,11 @@ static int do_gravity(void *vm, const mote_call *c, mote_err *err)
 
 static int do_coupling(void *vm, const mote_call *c, mote_err *err)
 {
-    const char *w = c->args[0].text;
-    if (strcmp(w, "on") && strcmp(w, "off"))
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "coupling: expected on or off, found '%s'",
-                              w);
-    ((sep_model *)vm)->sys.coupling = !strcmp(w, "on");
-    return MOTE_OK;
+    int off;
+    const int rc = choice(c, NULL, 0, c->args[0].text, "on", "off", &off, err);
+    if (!rc)
+        ((sep_model *)vm)->sys.coupling = !off;
+    return rc;
 }
 
 static int do_slices(void *vm, const mote_call *c, mote_err *err)
@@ -564,12 +580,11 @@ static int do_grid(void *vm, const mote_call *c, mote_err *err)
 
 static int do_collisions(void *vm, const mote_call *c, mote_err *err)
 {
-    const char *w = c->args[0].text;
-    if (strcmp(w, "dem") && strcmp(w, "off"))
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "collisions: expected dem or off, found "
-                              "'%s'", w);
-    ((sep_model *)vm)->sys.dem = !strcmp(w, "dem");
-    return MOTE_OK;
+    int off;
+    const int rc = choice(c, NULL, 0, c->args[0].text, "dem", "off", &off, err);
+    if (!rc)
+        ((sep_model *)vm)->sys.dem = !off;
+    return rc;
 }
 
 static int do_restitution(void *vm, const mote_call *c, mote_err *err)
@@ -614,12 +629,11 @@ static int do_stiffness(void *vm, const mote_call *c, mote_err *err)
 
 static int do_neighbours(void *vm, const mote_call *c, mote_err *err)
 {
-    const char *w = c->args[0].text;
-    if (strcmp(w, "cells") && strcmp(w, "brute"))
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "neighbours: expected cells or brute, "
-                              "found '%s'", w);
-    ((sep_model *)vm)->sys.brute = !strcmp(w, "brute");
-    return MOTE_OK;
+    int brute;
+    const int rc = choice(c, NULL, 0, c->args[0].text, "cells", "brute", &brute, err);
+    if (!rc)
+        ((sep_model *)vm)->sys.brute = brute;
+    return rc;
 }
 
 static int do_timestep(void *vm, const mote_call *c, mote_err *err)
@@ -877,8 +891,11 @@ static int do_profiles(void *vm, const mote_call *c, mote_err *err)
     char *origin = mote_call_origin(c);
     rc = sep_write_profiles(&m->sys, c->args[0].path, origin ? origin : "profiles", m->seed, err);
     free(origin);
-    if (rc == MOTE_EINVAL)
-        return mote_call_fail(err, c, -1, MOTE_EINVAL, "%s", err->msg);
+    if (rc == MOTE_EINVAL) { /* (nothing averaged yet): located at the command */
+        char why[sizeof err->msg];
+        snprintf(why, sizeof why, "%s", err->msg);
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "%s", why);
+    }
     if (!rc && m->log)
         fprintf(m->log, "profiles: wrote %s and its plot (averaged over %.6g s)\n",
                 c->args[0].text, m->sys.prof_time);
@@ -905,10 +922,9 @@ static int frame_opts(const mote_call *c, sep_frame_opts *fo, mote_err *err)
 {
     fo->px = (int)mote_call_opt_r(c, "px", 900);
     const mote_arg *col = mote_call_opt(c, "color");
-    if (col && strcmp(col->text, "size") && strcmp(col->text, "species"))
-        return mote_call_fail(err, c, mote_call_opt_index(c, "color"), MOTE_EINVAL,
-                              "%s: color= is size or species, found '%s'", c->name, col->text);
-    fo->by_species = col && !strcmp(col->text, "species");
+    fo->by_species = 0;
+    if (col && choice(c, "color", 0, col->text, "size", "species", &fo->by_species, err))
+        return err->code;
     fo->y1 = mote_call_opt_r(c, "y1", 0);
     fo->y2 = mote_call_opt_r(c, "y2", 0);
     if ((mote_call_opt(c, "y1") || mote_call_opt(c, "y2")) && !(fo->y2 > fo->y1))
@@ -940,14 +956,14 @@ static int do_frames(void *vm, const mote_call *c, mote_err *err)
     if (rc)
         return rc;
     const mote_arg *mv = mote_call_opt(c, "movie");
-    if (mv && strcmp(mv->text, "on") && strcmp(mv->text, "off"))
-        return mote_call_fail(err, c, mote_call_opt_index(c, "movie"), MOTE_EINVAL,
-                              "frames: movie= is on or off, found '%s'", mv->text);
+    int movie_off = 0;
+    if (mv && choice(c, "movie", 0, mv->text, "on", "off", &movie_off, err))
+        return err->code;
     m->frames.on = 1;
     m->frames.dt = c->args[1].r;
     m->frames.next = m->sys.t;
     m->frames.index = 0;
-    m->frames.movie = !mv || !strcmp(mv->text, "on");
+    m->frames.movie = !movie_off;
     m->frames.fps = (int)mote_call_opt_r(c, "fps", 20);
     return MOTE_OK;
 }
@@ -1129,7 +1145,7 @@ static const char HELP_NEIGHBOURS[] = "    neighbours cells|brute\n\nThe neighbo
 static const char HELP_TIMESTEP[] = "    timestep auto [nc=50]\n    timestep DT\n\nThe time step (s). With contacts: the shortest contact time over N_c,\npi / omega_max / nc with omega_max^2 = 12 k_hat / (pi rho_min d_min^2) (spec 2.8);\na given step above it is an error, nc below 20 too. DEM runs are far from real\ntime: a coarser d_min, a larger overlap fraction or collisions off are the\nlevers. In the dilute mode: half a slice per reference speed\nU0 + v_t(d_max) + |v_f|. The drift under drag, gravity and buoyancy is exact\nfor any step (spec 2.10).\n";
 static const char HELP_CLASSES[] = "    classes K [min=A max=B]\n\nThe Tromp size classes: K log-spaced between min and max (default 20 over the\nfeed's d_min ... d_max).\n";
 static const char HELP_CLASSES_FILE[] = "    classes_file FILE\n\nThe Tromp size classes from FILE: one class edge (m) per row, increasing\n(3 to 1001 edges). The tallies start again from zero.\n";
-static const char HELP_RUN[] = "    run T\n\nAdvance T seconds of simulated time: the exact drag drift, reflections, exits\n(fines above H, coarse below 0) with their tallies per size class, the feed,\nthe gas profile; then the status line t steps dt N fed fines coarse lost\nbacklog d50 kappa eps_max. The mass balance fed = in channel + fines + coarse +\nlost is checked after every run.\n";
+static const char HELP_RUN[] = "    run T\n\nAdvance T seconds of simulated time in steps of the time step (spec 2.10): the\nexact drag drift, contacts or reflections, exits (fines above H, coarse below\n0) with their tallies per size class, the feed, the gas profile, and the\nscheduled outputs; then the status line t steps dt N fed fines coarse lost\nbacklog d50 kappa eps_max max_overlap fast_moves. The mass balance fed = in channel + fines + coarse +\nlost is checked after every run.\n";
 static const char HELP_TROMP[] = "    tromp FILE\n\nWrite the grade-efficiency curve (spec 3.1): per size class the partition\nnumber T (mass to coarse over mass exited, mass basis; nan where nothing\nexited) with its standard error sqrt(T (1 - T)/n), the counts and masses and T\non a number basis; in the header d25, d50, d75 (first crossings from the fine\nside, interpolated in ln d), kappa = d25/d75, Ep and the imperfection, and each\nspecies' reference cut d0* (the still-gas terminal velocity equal to U0).\n";
 
 static const char HELP_PROFILES[] = "    profiles FILE\n\nWrite the profiles along the height (spec 3.2), time-averaged since\naverage_from (or the last reset_stats), per slice: z, the solids fraction in\ntotal and per species, the particle count, the mass-weighted mean v_z, u_g, the\nmixture density eps_g rho_g + sum eps_s rho_s, the drag-implied gas pressure\ngradient -dp/dz = eps_g rho_g g + (sum of the drag's z force in the slice) /\n(A_c dz), and p(z) - p(H). Also FILE's stem + .png: three panels, eps_s(z),\nu_g(z) and v_z(z).\n";

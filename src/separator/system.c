@@ -55,14 +55,7 @@ void mote_sep_free(mote_sep_system *s)
     free(s->rho_sl);
     free(s->mu_sl);
     free(s->class_edge);
-    free(s->cl_mf);
-    free(s->cl_mc);
-    free(s->cl_nf);
-    free(s->cl_nc);
-    free(s->cls_mf);
-    free(s->cls_mc);
-    free(s->cls_nf);
-    free(s->cls_nc);
+    sep_tallies_free(s);
     free(s->prof_eps);
     free(s->prof_n);
     free(s->prof_mvz);
