@@ -11,6 +11,7 @@
 #include "mote/core.h"
 
 #include <stdint.h>
+#include <stdio.h>
 
 /* ---- the real type (spec 4.6), chosen at build time: make PRECISION=double|long|quad ---------- */
 
@@ -307,6 +308,49 @@ void mote_nb_ring_exact(const mote_nb_ring *r, int b, mote_real T, mote_real x[3
 /* The largest |x - x_exact| / |x_exact| over the ring bodies, and the largest distance from the
  * tilted orbit plane over a (out_of_plane, may be NULL). */
 mote_real mote_nb_ring_error(const mote_nb *nb, const mote_nb_ring *r, mote_real *out_of_plane);
+
+/* ---- Galactica's area of matter (spec 9.4, control-file lines 1-20 and 22) ------------------ */
+
+typedef struct {
+    double B, C;          /* height and thickness of the box (A = 1) */
+    double X0[3];         /* its corner */
+    int Mu;               /* intervals along x */
+    double RoS;           /* the separate body's density relative to the area (0: none) */
+    double Xs[3], Us[3];  /* its position and velocity (dimensionless) */
+    double wu, X01, Y01;  /* angular velocity about the axis through (X01, Y01) parallel to z */
+    double Roa, Rob;      /* the area's mean density and the bodies' density, kg/m^3 */
+    double Am;            /* the length unit, m (1 AU by default; only for SI values) */
+    mote_real dt;         /* the nominal step */
+    /* results */
+    int nx, ny, nz;       /* nodes along x, y, z (the header's i2b, j2b, k2b) */
+    int sep_added;        /* was the separate body added (no node closer than 1/Mu)? */
+} mote_nb_area;
+
+void mote_nb_area_defaults(mote_nb_area *a);
+/* Build the area into an empty gravity system, with its scales. */
+int mote_nb_area_build(mote_nb *nb, mote_nb_area *a, mote_err *err);
+
+/* ---- a Galactica job (spec 7) ------------------------------------------------------------------ */
+
+typedef struct {
+    const char *control;  /* the control file (galacf26.dat); the job's files are in its folder */
+    int coulomb;          /* the Coulomb module: garek29.dat, galgok2, the 25/16 layout */
+    int frames;           /* PNG pictures frame_000001.png, ... (spec 7.13) */
+    int lenient, packed;  /* control-file reading: last token of a line; packed trios */
+    int force;            /* start even when more than max_files files would be written */
+    long max_files;       /* 0: 10 000 */
+    int threads;
+    double step_tol;      /* the step tolerance of Kl4 = 2, 3 (0: the build's default) */
+    FILE *out;            /* the monitor and messages (NULL: quiet) */
+    mote_nb *final;       /* when not NULL (and of the job's interaction): the final system */
+} mote_nb_job;
+
+/* Run the job of a folder as Galactica would (spec 7.4): a first launch, a relaunch from the
+ * checkpoint (Kl1 = 3, 4), a continuation from garez28.dat; errors also go to ErrGlctca. */
+int mote_nb_job_run(const mote_nb_job *job, int *started, mote_err *err);
+/* `mote galactica [options]` (argv[0] is "galactica"): exit status 0, 1 (a bad job: nothing
+ * ran) or 2 (a failure during the run). */
+int mote_nb_galactica_main(int argc, char **argv, FILE *out, FILE *diag);
 
 /* ---- the model as registered with the script language ---------------------------------------- */
 

@@ -127,6 +127,25 @@ int mote_particles_png(const char *path, const mote_particles_opts *o, const dou
                        const double *y, const double *r, const double *value, size_t n,
                        const double *rects, size_t nrect, mote_err *err);
 
+/* A picture in pixel coordinates (y down), for pictures laid out by a model's own rules (the
+ * Galactica frames): a background, filled discs (x, y, radius each) and arrows (x0, y0, x1, y1
+ * each, the head at the second point), colours as 0xRRGGBB, and lines of text at the top left. */
+typedef struct {
+    int width, height;
+    unsigned background;
+    const double *disc;
+    const unsigned *disc_rgb;  /* a colour per disc, read at a stride of 2 (as arrow_rgb) */
+    size_t ndisc;
+    const double *arrow;
+    const unsigned *arrow_rgb; /* read at a stride of 2: one array can interleave both */
+    size_t narrow;
+    const char *const *text;
+    int ntext;
+} mote_sketch;
+
+/* Draw s and write it atomically. Discs and arrows outside the picture are clipped. */
+int mote_sketch_png(const char *path, const mote_sketch *s, mote_err *err);
+
 /* Run ffmpeg on PREFIX_%06d.png (the frames from 0 on) into out at fps frames per second (the
  * container from out's extension; .gif without yuv420p); written through a temporary file.
  * When ffmpeg is not on PATH, print the command to `diag` and return MOTE_OK with *ran = 0. */

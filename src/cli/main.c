@@ -4,7 +4,8 @@
  * The MPI build (make MPI=1) starts MPI here. With more than one rank every rank runs the same
  * script: the charging model shares each run's histories among the ranks and sums their
  * tallies, so every rank holds the single process's numbers; rank 0 prints and writes the
- * files, the others are silent. The other models have no use for ranks and are not offered. */
+ * files, the others are silent. The other models have no use for ranks and are not offered.
+ * `mote galactica` runs a Galactica job folder (the N-body model's own entry point). */
 #include "mote/charging.h"
 #include "mote/hardspheres.h"
 #include "mote/mixingbox.h"
@@ -12,9 +13,11 @@
 #include "mote/script.h"
 #include "mote/separator.h"
 
+#include <stdio.h>
+#include <string.h>
+
 #ifdef MOTE_MPI
 #include <mpi.h>
-#include <stdio.h>
 #endif
 
 static const mote_model *const models[] = {
@@ -27,6 +30,10 @@ static const mote_model *const models[] = {
 
 int main(int argc, char **argv)
 {
+#ifndef MOTE_MPI
+    if (argc > 1 && strcmp(argv[1], "galactica") == 0) /* a Galactica job folder (spec 7) */
+        return mote_nb_galactica_main(argc - 1, argv + 1, stdout, stderr);
+#endif
 #ifdef MOTE_MPI
     MPI_Init(&argc, &argv);
     int rank = 0, size = 1;
@@ -43,6 +50,8 @@ int main(int argc, char **argv)
                             "models do not run under MPI)\n", size);
         }
         rc = mote_script_main(argc, argv, mpi_models, 1);
+    } else if (argc > 1 && strcmp(argv[1], "galactica") == 0) {
+        rc = mote_nb_galactica_main(argc - 1, argv + 1, stdout, stderr);
     } else {
         rc = mote_script_main(argc, argv, models, sizeof models / sizeof models[0]);
     }

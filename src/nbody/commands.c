@@ -526,10 +526,113 @@ static int run_solar(nb_model *m, const mote_call *c, mote_err *err)
 }
 
 
+/* ---- generate area (spec 9.4) ---- */
+
+static const char *const AREA_OPTS[] = {"b", "c", "origin", "mu", "sep_density", "sep_pos",
+                                        "sep_vel", "omega", "axis", "rho_area", "rho_body",
+                                        "dt", "length", NULL};
+
+/* The area's options into a (mote_nb_area_defaults first); a located error for a bad list. */
+static int area_opts(const mote_call *c, mote_nb_area *a, mote_err *err)
+{
+    mote_nb_area_defaults(a);
+    a->B = mote_call_opt_r(c, "b", a->B);
+    a->C = mote_call_opt_r(c, "c", a->C);
+    const mote_arg *o = mote_call_opt(c, "mu");
+    if (o)
+        a->Mu = (int)o->i;
+    a->RoS = mote_call_opt_r(c, "sep_density", a->RoS);
+    a->wu = mote_call_opt_r(c, "omega", a->wu);
+    a->Roa = mote_call_opt_r(c, "rho_area", a->Roa);
+    a->Rob = mote_call_opt_r(c, "rho_body", a->Rob);
+    a->Am = mote_call_opt_r(c, "length", a->Am);
+    a->dt = opt_real_or(c, "dt", a->dt);
+    static const char *const vec[3] = {"origin", "sep_pos", "sep_vel"};
+    double *dst[3] = {a->X0, a->Xs, a->Us};
+    for (int k = 0; k < 3; k++) {
+        mote_real v[3];
+        if (!(o = mote_call_opt(c, vec[k])))
+            continue;
+        if (parse_spin(o->text, v))
+            return mote_call_fail(err, c, mote_call_opt_index(c, vec[k]), MOTE_EINVAL,
+                                  "generate area: %s= expects X,Y,Z (three numbers), found '%s'",
+                                  vec[k], o->text);
+        for (int q = 0; q < 3; q++)
+            dst[k][q] = (double)v[q];
+    }
+    if ((o = mote_call_opt(c, "axis"))) {
+        char extra;
+        if (sscanf(o->text, "%lf,%lf%c", &a->X01, &a->Y01, &extra) != 2 || !isfinite(a->X01) ||
+            !isfinite(a->Y01))
+            return mote_call_fail(err, c, mote_call_opt_index(c, "axis"), MOTE_EINVAL,
+                                  "generate area: axis= expects X01,Y01 (two numbers), found "
+                                  "'%s'", o->text);
+    }
+    return MOTE_OK;
+}
+
+static int check_area(nb_model *m, const mote_call *c, mote_err *err)
+{
+    for (int k = 0; k < c->nopts; k++)
+        if (!listed(AREA_OPTS, c->opts[k].key))
+            return mote_call_fail(err, c, c->nargs + k, MOTE_EINVAL,
+                                  "generate area: option %s= is not an area option (b c origin mu "
+                                  "sep_density sep_pos sep_vel omega axis rho_area rho_body dt "
+                                  "length)", c->opts[k].key);
+    if (m->nb.kind != MOTE_NB_GRAVITY)
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "generate area: this is a Coulomb run; the "
+                              "area of matter needs 'model nbody gravity'");
+    if (m->d_bodies)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL,
+                              "generate: the system already has bodies; the area starts empty");
+    mote_nb_area a;
+    int rc = area_opts(c, &a, err);
+    if (rc)
+        return rc;
+    mote_nb t; /* built now: a bad combination is the script's error */
+    mote_nb_init(&t, MOTE_NB_GRAVITY);
+    rc = mote_nb_area_build(&t, &a, err);
+    m->d_bodies = t.n;
+    mote_nb_free(&t);
+    if (rc) {
+        char why[sizeof err->msg];
+        snprintf(why, sizeof why, "%s", err->msg);
+        return mote_call_fail(err, c, -1, (mote_status)rc, "%s", why);
+    }
+    m->d_ring = 0;
+    m->d_scales = 1;
+    return MOTE_OK;
+}
+
+static int run_area(nb_model *m, const mote_call *c, mote_err *err)
+{
+    mote_nb_area a;
+    int rc = area_opts(c, &a, err);
+    if (!rc)
+        rc = mote_nb_area_build(&m->nb, &a, err);
+    if (rc)
+        return rc;
+    m->have_ring = 0;
+    memset(m->galhead, 0, sizeof m->galhead); /* the header's area fields (spec 7.5) */
+    const double h[7] = {a.nx, a.ny, a.nz, 1, a.B, a.C, a.Mu};
+    for (int k = 0; k < 7; k++)
+        m->galhead[17 + k] = h[k];
+    m->have_galhead = 1;
+    if (m->log)
+        fprintf(m->log, "generate area: %d x %d x %d bodies%s; kt %.16e 1/s, Am %.16e m\n",
+                a.nx, a.ny, a.nz,
+                a.sep_added ? " and the separate body"
+                : a.RoS > 0 ? " (the separate body is closer than 1/Mu to a node: not added)" : "",
+                m->nb.u.kt, m->nb.u.Am);
+    return MOTE_OK;
+}
+
 static int check_generate(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
     const char *what = c->args[0].text;
+    if (strcmp(what, "area") == 0)
+        return check_area(m, c, err);
     int ring = strcmp(what, "ring") == 0, atom = strcmp(what, "atom_ring") == 0;
     if (strcmp(what, "solar_system") == 0) {
         if (m->nb.kind != MOTE_NB_GRAVITY)
@@ -540,7 +643,8 @@ static int check_generate(void *vm, const mote_call *c, mote_err *err)
     }
     if (!ring && !atom)
         return mote_call_fail(err, c, 0, MOTE_EINVAL,
-                              "generate: expected ring, atom_ring or solar_system, found '%s'", what);
+                              "generate: expected ring, atom_ring, solar_system or area, found "
+                              "'%s'", what);
     if (ring != (m->nb.kind == MOTE_NB_GRAVITY))
         return mote_call_fail(err, c, 0, MOTE_EINVAL,
                               "generate %s: this is a %s run; the %s needs 'model nbody %s'", what,
@@ -566,6 +670,8 @@ static int run_generate(void *vm, const mote_call *c, mote_err *err)
     m->raw = 0; /* a generator sets its own scales */
     if (strcmp(c->args[0].text, "solar_system") == 0)
         return run_solar(m, c, err);
+    if (strcmp(c->args[0].text, "area") == 0)
+        return run_area(m, c, err);
     mote_nb_ring *r = &m->ring;
     mote_nb_ring_defaults(r, m->nb.kind);
     const mote_arg *a;
@@ -592,6 +698,15 @@ static int run_generate(void *vm, const mote_call *c, mote_err *err)
     if (rc)
         return rc;
     m->have_ring = 1;
+    /* the header's area fields (spec 9.1 step 7): Mu, B, C and the grid they make */
+    memset(m->galhead, 0, sizeof m->galhead);
+    const int mu = (int)ceil(cbrt((double)r->nb + 1) - 1e-9);
+    const double B = r->nb == 30 ? 0.5 : r->nb == 300 ? 0.9 : r->nb == 3000 ? 0.9 : 1,
+                 C = r->nb == 30 ? 0.25 : r->nb == 300 ? 0.6 : r->nb == 3000 ? 0.7955 : 1;
+    const double h[7] = {1 + mu, floor(1 + mu * B + 0.5), floor(1 + mu * C + 0.5), 1, B, C, mu};
+    for (int k = 0; k < 7; k++)
+        m->galhead[17 + k] = h[k];
+    m->have_galhead = 1;
     char per[MOTE_REAL_BUF];
     if (m->log)
         fprintf(m->log,
@@ -1531,8 +1646,9 @@ static int check_read(void *vm, const mote_call *c, mote_err *err)
                                   "read: %s", why);
         }
     }
+    /* a file of the ring's size keeps the ring as the reference of check ring (a result file) */
+    m->d_ring = m->d_ring && n == m->d_bodies;
     m->d_bodies = n;
-    m->d_ring = 0;
     m->d_scales = 1;
     return MOTE_OK;
 }
@@ -1551,17 +1667,7 @@ static int run_read(void *vm, const mote_call *c, mote_err *err)
         if (!rc) {
             memcpy(m->galhead, g.head, sizeof m->galhead);
             m->have_galhead = 1;
-            /* the scales of the info line, when it has them */
-            if (g.info && g.infov[2] > 0 && g.infov[3] > 0 && g.infov[4] > 0 && !m->nb.u.set) {
-                m->nb.u.M = (double)g.infov[2];
-                m->nb.u.Am = m->nb.u.Am_first = (double)g.infov[3];
-                m->nb.u.kv = (double)g.infov[4];
-                m->nb.u.kt = 1 / (m->nb.u.Am * m->nb.u.kv);
-                m->nb.u.G = m->nb.G;
-                m->nb.u.e2 = m->nb.e2;
-                m->nb.u.eps = m->nb.eps;
-                m->nb.u.set = 1;
-            }
+            nb_units_from_info(&m->nb, &g); /* the scales of the info line, if any */
         }
         nb_galfile_free(&g);
     } else {
@@ -1573,7 +1679,7 @@ static int run_read(void *vm, const mote_call *c, mote_err *err)
         return mote_call_fail(err, c, mote_call_opt_index(c, "file"), (mote_status)rc, "read: %s",
                               why);
     }
-    m->have_ring = 0;
+    m->have_ring = m->have_ring && (int)m->nb.n == m->ring.nb;
     m->raw = 0;
     if (!m->nb.u.set)
         m->input_si = 0;
@@ -1646,6 +1752,89 @@ static int run_steps_between(void *vm, const mote_call *c, mote_err *err)
                 mote_real_str(st.DeltaT, b[0]), (unsigned long long)st.Ltk,
                 mote_real_str(st.dtc, b[1]), fresh ? "fresh start: the first step is "
                 "first_step dT" : "continuation", (double)(st.t_end - st.DeltaT));
+    return MOTE_OK;
+}
+
+/* ---- run galactica (spec 7) ------------------------------------------------------------------ */
+
+static int job_coulomb(const nb_model *m, const mote_call *c)
+{
+    const mote_arg *a = mote_call_opt(c, "interaction");
+    return a ? strcmp(a->text, "coulomb") == 0 : m->nb.kind == MOTE_NB_COULOMB;
+}
+
+static int check_run(void *vm, const mote_call *c, mote_err *err)
+{
+    nb_model *m = vm;
+    if (strcmp(c->args[0].text, "galactica") != 0)
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "run: expected 'galactica' (a Galactica "
+                              "job), found '%s'", c->args[0].text);
+    const mote_arg *a = mote_call_opt(c, "interaction");
+    if (a && strcmp(a->text, "gravity") != 0 && strcmp(a->text, "coulomb") != 0)
+        return mote_call_fail(err, c, mote_call_opt_index(c, "interaction"), MOTE_EINVAL,
+                              "run galactica: interaction= gravity or coulomb, found '%s'",
+                              a->text);
+    static const char *const onoff[] = {"frames", "force", "lenient"};
+    for (int k = 0; k < 3; k++)
+        if (opt_on_off(c, onoff[k], 0) < 0)
+            return mote_call_fail(err, c, mote_call_opt_index(c, onoff[k]), MOTE_EINVAL,
+                                  "run galactica: %s= on or off", onoff[k]);
+    a = mote_call_opt(c, "trio_layout");
+    if (a && strcmp(a->text, "packed") != 0 && strcmp(a->text, "prose") != 0)
+        return mote_call_fail(err, c, mote_call_opt_index(c, "trio_layout"), MOTE_EINVAL,
+                              "run galactica: trio_layout= prose or packed, found '%s'", a->text);
+    a = mote_call_opt(c, "control");
+    const char *path = a ? a->path : "galacf26.dat";
+    nb_galctl g;
+    uint32_t n = 1;
+    if (access(path, F_OK) == 0 && !mote_outputs_find(&c->ctx->outputs, path)) {
+        /* the control file's errors now, before anything runs (a checkpoint may replace it) */
+        int rc = nb_galctl_read(path, opt_on_off(c, "lenient", 0) == 1,
+                                (a = mote_call_opt(c, "trio_layout")) && strcmp(a->text, "packed") == 0,
+                                &g, err);
+        if (rc) {
+            char why[sizeof err->msg];
+            snprintf(why, sizeof why, "%s", err->msg);
+            return mote_call_fail(err, c, mote_call_opt_index(c, "control"), (mote_status)rc,
+                                  "run galactica: %s", why);
+        }
+        if (nb_galctl_get(&g, "k2") >= 1)
+            n = (uint32_t)nb_galctl_get(&g, "k2");
+    }
+    m->d_ring = m->d_ring && n == m->d_bodies;
+    if (job_coulomb(m, c) == (m->nb.kind == MOTE_NB_COULOMB)) {
+        m->d_bodies = n;
+        m->d_scales = 1;
+    }
+    return MOTE_OK;
+}
+
+static int run_run(void *vm, const mote_call *c, mote_err *err)
+{
+    nb_model *m = vm;
+    const mote_arg *a = mote_call_opt(c, "control");
+    mote_nb_job o;
+    memset(&o, 0, sizeof o);
+    o.control = a ? a->path : "galacf26.dat";
+    o.coulomb = job_coulomb(m, c);
+    o.frames = opt_on_off(c, "frames", 0) == 1;
+    o.force = opt_on_off(c, "force", 0) == 1;
+    o.lenient = opt_on_off(c, "lenient", 0) == 1;
+    o.packed = (a = mote_call_opt(c, "trio_layout")) && strcmp(a->text, "packed") == 0;
+    o.step_tol = (a = mote_call_opt(c, "step_tol")) ? a->r : 0;
+    o.max_files = (a = mote_call_opt(c, "max_files")) ? (long)a->i : 0;
+    o.threads = c->ctx->threads;
+    o.out = m->log;
+    o.final = &m->nb;
+    const int ring = m->have_ring;
+    int rc = mote_nb_job_run(&o, NULL, err);
+    if (rc) {
+        char why[sizeof err->msg];
+        snprintf(why, sizeof why, "%s", err->msg);
+        return mote_call_fail(err, c, -1, (mote_status)rc, "%s", why);
+    }
+    m->have_ring = ring && (int)m->nb.n == m->ring.nb;
+    m->raw = 0;
     return MOTE_OK;
 }
 
@@ -1759,7 +1948,17 @@ static const char HELP_GENERATE[] =
     "Moon at J2000 from JPL Horizons), all or those listed in `bodies=`, in the file's\n"
     "order; merge_inner=on adds Mercury, Venus, Earth, Moon and Mars to the Sun.\n"
     "Masses relative to the total, time unit the sidereal century, Am from eq. 8\n"
-    "refined, barycentric.\n";
+    "refined, barycentric.\n"
+    "\n"
+    "`generate area` is Galactica's area of matter (its control file's Kl1 = 0): a box\n"
+    "1 x b x c (defaults 1, 1) with its corner at origin=X,Y,Z, mu= intervals along x (2),\n"
+    "round(b mu) + 1 and round(c mu) + 1 nodes along y and z, a body of equal mass at each\n"
+    "node, radii from rho_body= (5000 kg/m^3; 0: points), the time unit from rho_area= (1e-7\n"
+    "kg/m^3): kt = sqrt(G rho_area b c (1 + sep_density / nodes)); omega= turns the grid about\n"
+    "the axis through axis=X01,Y01 (0.5,0.5) parallel to z; sep_density= (0: none) adds a\n"
+    "separate body at sep_pos= with sep_vel=, only when no node is closer than 1/mu to it\n"
+    "node. The grid's centre of mass is taken out before the separate body's mass enters.\n"
+    "length= is Am (1 AU), used only to convert back to SI; dt= the nominal step (5e-4).\n";
 
 static const char HELP_INTEGRATOR[] =
     "    integrator galactica [dt=H] [order=K] [first_step=F] [tol=E]\n"
@@ -2009,6 +2208,20 @@ static const char HELP_SNAPSHOT[] =
     "count in ten digits and .snap (default P: snapshot_, so\n"
     "snapshot_0000001000.snap). P may name a directory: prefix=snaps/ring_.\n";
 
+static const char HELP_RUN[] =
+    "Runs the Galactica job whose control file is `control=` (default galacf26.dat; the job's\n"
+    "files are in its folder), as `mote galactica` does from the command line: the bodies come\n"
+    "from the area (Kl1 = 0), garez28.dat (1), the file FIMA4 (2), or with checkpoints (3, 4),\n"
+    "and the job writes Galactica's files under Galactica's names: garez28.dat at the end\n"
+    "(Coulomb: garek29.dat), the result files 1, 2, ... every Kl3 steps (Kl7 = 1), the\n"
+    "trajectory files 1t, 2t, ... and traekt.prn (Kl12 = 1), dice.dat (Nbd > 0), the checkpoint\n"
+    "galgon4 (galgok2), the 19-quantity monitor, and with frames=on PNG pictures. Errors are\n"
+    "also appended to ErrGlctca. After the run the system holds the final bodies.\n"
+    "`interaction=` (default: the model's) selects the Coulomb module; `step_tol=` the\n"
+    "tolerance of Kl4 = 2, 3; `lenient=on` takes each control line's last token;\n"
+    "`trio_layout=packed` reads the trios at lines 51-53, 54-56, ...; the job refuses to start\n"
+    "above `max_files=` (10000) files unless `force=on`. See docs/galactica.md.\n";
+
 static const char HELP_PLOT[] =
     "    plot TRAJECTORY PNG [bodies=LIST] [relative_to=BODY] [plane=P] [size=PX]\n"
     "    plot MONITOR PNG\n"
@@ -2053,8 +2266,10 @@ static const mote_cmd nb_commands[] = {
     {"generate", NULL,
      "s nb=i>=2 ka=r>0 e=r[0,1) tilt=r central_mass=r>0 total_mass=r>0 density=r>0 dt=r>0 "
      "A=i>=1 Z=i>=1 n=i>=1 l=i permittivity=r>0 time_unit=r>0 data=f<solar bodies=s "
-     "merge_inner=s",
-     "generate KIND [options]", "the exact gravity ring or Coulomb ring of the seed document",
+     "merge_inner=s b=r>0 c=r>0 origin=s mu=i>=1 sep_density=r>=0 sep_pos=s sep_vel=s omega=r "
+     "axis=s rho_area=r>0 rho_body=r>=0 length=r>0",
+     "generate KIND [options]",
+     "the exact rings of the seed document, the Solar System, or Galactica's area of matter",
      HELP_GENERATE, check_generate, run_generate},
     {"integrator", NULL,
      "s dt=r>0 order=s first_step=r(0,1] tol=r(0,1) memory=s safety=r>0 hmin=r>=0 hmax=r>0 "
@@ -2102,6 +2317,13 @@ static const mote_cmd nb_commands[] = {
     {"steps_between", NULL, "jd1=r! jd2=r! dt=r>0! fresh=s", "steps_between jd1= jd2= dt= [fresh=on]",
      "the steps and the corrected step between two dates", HELP_STEPS_BETWEEN,
      check_steps_between, run_steps_between},
+    {"run", NULL,
+     "s control=f<control interaction=s frames=s step_tol=r(0,1) force=s lenient=s "
+     "trio_layout=s max_files=i>=1",
+     "run galactica [control=galacf26.dat] [interaction=gravity|coulomb] [frames=on] "
+     "[step_tol=E] [force=on] [lenient=on] [trio_layout=packed] [max_files=N]",
+     "run a Galactica job: its control file, bodies and result files", HELP_RUN, check_run,
+     run_run},
     {"snapshot", NULL, "every=i>=1! prefix=f format=s", "snapshot every=K [prefix=P]",
      "write a snapshot every K steps of integrate, to PSTEP.snap", HELP_SNAPSHOT, check_snapshot,
      run_snapshot},

@@ -296,6 +296,20 @@ int nb_from_galfile(mote_nb *nb, const nb_galfile *g, const char *path, mote_err
     return MOTE_OK;
 }
 
+void nb_units_from_info(mote_nb *nb, const nb_galfile *g)
+{
+    if (!g->info || !(g->infov[2] > 0) || !(g->infov[3] > 0) || !(g->infov[4] > 0) || nb->u.set)
+        return;
+    nb->u.M = (double)g->infov[2];
+    nb->u.Am = nb->u.Am_first = (double)g->infov[3];
+    nb->u.kv = (double)g->infov[4];
+    nb->u.kt = 1 / (nb->u.Am * nb->u.kv);
+    nb->u.G = nb->G;
+    nb->u.e2 = nb->e2;
+    nb->u.eps = nb->eps;
+    nb->u.set = 1;
+}
+
 void nb_to_galfile(const mote_nb *nb, const mote_real carry[25], nb_galfile *g, mote_real *body)
 {
     const int coulomb = nb->kind == MOTE_NB_COULOMB;

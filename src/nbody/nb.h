@@ -15,6 +15,10 @@ int nb_plot_check(const mote_call *c, mote_err *err);
 int nb_state_save(const mote_nb *nb, const char *path, mote_err *err);
 int nb_state_load(mote_nb *nb, const char *path, mote_err *err);
 int nb_state_peek(const char *path, uint32_t *n, mote_err *err);
+/* The same on an open stream: write the state's lines to f; read them from l (tail: lines may
+ * follow the state's `end`, left for the caller; else nothing may). */
+void nb_state_put(FILE *f, const mote_nb *nb);
+int nb_state_get(mote_nb *nb, mote_lines *l, int tail, mote_err *err);
 
 /* Galactica's initial-condition and result files (galfile.c, spec 7.5, 7.6): the header (24
  * numbers, Coulomb 25), the bodies (15 numbers each, Coulomb 16: om x y z u v w dUp(3) Sp(3) Ra
@@ -36,6 +40,8 @@ void nb_galfile_free(nb_galfile *g);
 int nb_galfile_write(const char *path, const nb_galfile *g, int info_line, mote_err *err);
 /* Replace nb's bodies, time and steps by the file's (its settings kept); nb unchanged on error. */
 int nb_from_galfile(mote_nb *nb, const nb_galfile *g, const char *path, mote_err *err);
+/* The scales of the file's info line (M_Ss, Am, k_v), when it has them and nb has none. */
+void nb_units_from_info(mote_nb *nb, const nb_galfile *g);
 /* The file of nb's state: the header computed (carry: the header read, for Em and the area
  * fields, or NULL); body holds n * (15 or 16) reals and becomes g->body. */
 void nb_to_galfile(const mote_nb *nb, const mote_real carry[25], nb_galfile *g, mote_real *body);

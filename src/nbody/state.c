@@ -23,13 +23,8 @@ static void put(FILE *f, mote_real v)
 
 #include "nb.h"
 
-int nb_state_save(const mote_nb *nb, const char *path, mote_err *err)
+void nb_state_put(FILE *f, const mote_nb *nb)
 {
-    mote_afile af;
-    int rc = mote_afile_open(&af, path, err);
-    if (rc)
-        return rc;
-    FILE *f = af.f;
     fprintf(f, "mote-state %d\nmodel nbody\ninteraction %s\nn %u\n", NB_STATE_VERSION,
             nb->kind == MOTE_NB_GRAVITY ? "gravity" : "coulomb", nb->n);
     fprintf(f, "time");
@@ -90,21 +85,30 @@ int nb_state_save(const mote_nb *nb, const char *path, mote_err *err)
         fprintf(f, " %s\n", nb->name[i][0] ? nb->name[i] : "-");
     }
     fprintf(f, "end\n");
+}
+
+int nb_state_save(const mote_nb *nb, const char *path, mote_err *err)
+{
+    mote_afile af;
+    int rc = mote_afile_open(&af, path, err);
+    if (rc)
+        return rc;
+    nb_state_put(af.f, nb);
     return mote_afile_commit(&af, err);
 }
 
 /* ---- reading ------------------------------------------------------------------------------------ */
 
 typedef struct {
-    mote_lines l;
+    mote_lines *l;
     mote_err *err;
 } reader;
 
-static char *next_line(reader *r) { return mote_lines_next(&r->l); }
+static char *next_line(reader *r) { return mote_lines_next(r->l); }
 
 static int fail(reader *r, const char *what, const char *found)
 {
-    return mote_fail(r->err, MOTE_EFORMAT, "%s:%ld: expected %s (found '%.60s')", r->l.path, r->l.line,
+    return mote_fail(r->err, MOTE_EFORMAT, "%s:%ld: expected %s (found '%.60s')", r->l->path, r->l->line,
                      what, found ? found : "end of file");
 }
 
@@ -124,14 +128,14 @@ static int reals(reader *r, char *s, const char *key, mote_real *out, int n)
         out[i] = mote_real_parse(p, &end);
         if (end == p || !isfinite(out[i]) || (*end && *end != ' '))
             return mote_fail(r->err, MOTE_EFORMAT, "%s:%ld: value %d is not a finite real number",
-                             r->l.path, r->l.line, i + 1);
+                             r->l->path, r->l->line, i + 1);
         p = end;
     }
     while (*p == ' ')
         p++;
     if (*p)
         return mote_fail(r->err, MOTE_EFORMAT, "%s:%ld: unexpected text after %d numbers ('%.40s')",
-                         r->l.path, r->l.line, n, p);
+                         r->l->path, r->l->line, n, p);
     return MOTE_OK;
 }
 
@@ -144,7 +148,7 @@ static int read_head(reader *r, mote_nb_interaction *kind, uint32_t *n, int *ver
         return fail(r, "'mote-state 2'", s);
     if (v < 1 || v > NB_STATE_VERSION)
         return mote_fail(r->err, MOTE_EFORMAT, "%s:%ld: unsupported state file version %d (this "
-                                               "mote reads 1 to %d)", r->l.path, r->l.line, v,
+                                               "mote reads 1 to %d)", r->l->path, r->l->line, v,
                          NB_STATE_VERSION);
     *version = v;
     s = next_line(r);
@@ -168,23 +172,34 @@ static int read_head(reader *r, mote_nb_interaction *kind, uint32_t *n, int *ver
 
 int nb_state_peek(const char *path, uint32_t *n, mote_err *err)
 {
-    reader r = {.err = err};
-    int rc = mote_lines_open(&r.l, path, err);
+    mote_lines lines;
+    reader r = {.l = &lines, .err = err};
+    int rc = mote_lines_open(r.l, path, err);
     if (rc)
         return rc;
     mote_nb_interaction kind;
     int version;
     rc = read_head(&r, &kind, n, &version);
-    mote_lines_close(&r.l, NULL);
+    mote_lines_close(r.l, NULL);
     return rc;
 }
 
 int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
 {
-    reader r = {.err = err};
-    int rc = mote_lines_open(&r.l, path, err);
+    mote_lines lines;
+    int rc = mote_lines_open(&lines, path, err);
     if (rc)
         return rc;
+    rc = nb_state_get(nb, &lines, 0, err);
+    int crc = mote_lines_close(&lines, err);
+    return rc ? rc : crc;
+}
+
+int nb_state_get(mote_nb *nb, mote_lines *l, int tail, mote_err *err)
+{
+    reader r = {.l = l, .err = err};
+    const char *path = l->path;
+    int rc = MOTE_OK;
     mote_nb_interaction kind;
     uint32_t n = 0;
     mote_nb t;
@@ -213,7 +228,7 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
         t.hlast = v[3];
         if (!rc && (!(t.dt > 0) || !(t.dtp >= 0) || !(t.first_step > 0 && t.first_step <= 1)))
             rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: need dt > 0, dtp >= 0, 0 < first_step <= 1",
-                           path, r.l.line);
+                           path, r.l->line);
     }
     if (!rc) {
         s = next_line(&r);
@@ -260,7 +275,7 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
             rc = reals(&r, s + used, NULL, v, 4);
         if (!rc && (!(v[0] >= 0) || !(v[2] >= 0) || !(v[3] >= -2)))
             rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: doubling: need dt_max >= 0, sum >= 0, "
-                           "mean >= -2", path, r.l.line);
+                           "mean >= -2", path, r.l->line);
         t.doubling = on;
         t.dbl_have = have;
         t.dbl_count = count;
@@ -282,7 +297,7 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
         if (!rc && (!(v[3] > 0 && v[3] <= 1) || !(v[4] > 0 && v[4] <= 1) || !(v[5] >= 0) ||
                     !(v[6] >= 0 && v[6] <= 1)))
             rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: merging: need 0 < bt <= 1, 0 < hmin <= 1, "
-                           "happ >= 0, 0 <= max_overlap <= 1", path, r.l.line);
+                           "happ >= 0, 0 <= max_overlap <= 1", path, r.l->line);
         t.merging = mode;
         t.merges = merges;
         t.approach_warnings = warns;
@@ -339,7 +354,7 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
         s = next_line(&r);
         if (!s || strcmp(s, "end") == 0) {
             rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: file ends early: n = %u, but only %u body "
-                                              "lines follow", path, s ? r.l.line : r.l.line + 1, n, i);
+                                              "lines follow", path, s ? r.l->line : r.l->line + 1, n, i);
             break;
         }
         mote_real w[23];
@@ -369,7 +384,7 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
             rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: body %u: expected 23 numbers (m q active "
                                               "radius x y z vx vy vz cx cy cz cvx cvy cvz sx sy "
                                               "sz d5x d5y d5z Et), all finite%s",
-                           path, r.l.line, i + 1, version >= 2 ? ", and a name or -" : "");
+                           path, r.l->line, i + 1, version >= 2 ? ", and a name or -" : "");
             break;
         }
         /* a merged-away body has mass 0: added with mass 1, then set (it stays inactive) */
@@ -384,7 +399,7 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
         if (rc) {
             char why[sizeof err->msg];
             snprintf(why, sizeof why, "%s", err->msg);
-            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: %s", path, r.l.line, why);
+            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: %s", path, r.l->line, why);
             break;
         }
         t.active[i] = (uint8_t)act;
@@ -399,11 +414,9 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
         s = next_line(&r);
         if (!s || strcmp(s, "end") != 0)
             rc = fail(&r, "'end' after the bodies", s);
-        else if ((s = next_line(&r)) != NULL)
+        else if (!tail && (s = next_line(&r)) != NULL)
             rc = fail(&r, "nothing after 'end'", s);
     }
-    int crc = mote_lines_close(&r.l, err);
-    rc = rc ? rc : crc;
     if (rc) {
         mote_nb_free(&t);
         return rc;

@@ -14,6 +14,7 @@ static void usage(FILE *f)
             "       mote check [SCRIPT]          check a script; run nothing\n"
             "       mote help [CMD | MODEL]      list the commands, or document one\n"
             "       mote help --markdown         the command reference in Markdown\n"
+            "       mote galactica [--help]      run the Galactica job of this folder (N-body)\n"
             "       mote --version\n"
             "Exit status: 0 success, 1 usage or script error (nothing ran), 2 runtime error.\n");
 }

@@ -1,0 +1,1079 @@
+/* job.c: a Galactica job (spec 7): the control file galacf26.dat of a folder decides where the
+ * bodies come from (Kl1: the area, garez28.dat, the file FIMA4, with or without checkpoints), how
+ * time and the step run (Kl4), how many steps (Ltk cycles of Ltk2... Ltk * Ltk2), and what is
+ * written: the monitor block every Kl3 steps (7.12), the result files 1, 2, ... (7.7), the
+ * trajectory files 1t, 2t, ... traekt.prn (7.8), dice.dat (7.9), the checkpoint galgon4 (7.10),
+ * pictures (7.13), and always garez28.dat at the end (Coulomb: garek29.dat, galgok2). Errors go
+ * to the caller and are appended to ErrGlctca with Galactica's "*nnG" codes (7.11). Everything is
+ * checked, and the number of files counted, before the first file is written; every file is
+ * written atomically, so a failed launch leaves the folder's earlier files as they were. */
+#include "mote/nbody.h"
+
+#include <errno.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <tgmath.h>
+#include <unistd.h>
+
+#include "mote/render.h"
+#include "nb.h"
+
+#define CKPT_MAGIC "mote-galactica-checkpoint"
+#define CKPT_VERSION 1
+#define PATH_CAP 4096
+
+typedef struct {
+    const mote_nb_job *o;
+    char dir[PATH_CAP - 512]; /* the folder of the control file, with its '/' (or "") */
+    nb_galctl c;
+    int coulomb;
+    mote_nb nb;
+    mote_real head[25];  /* the header carried into result files (area fields, Em) */
+    uint64_t Lt, Ltot;   /* steps done and planned, across cycles and relaunches */
+    uint64_t nfile, ntfile, nframe; /* result files 1, 2, ...; trajectory files 1t, ...; frames */
+    /* the trajectory buffer: Klmax records of `trw` numbers */
+    double *tr;
+    size_t trw, trn, trcap;
+    /* dice.dat: lines so far (3 numbers each), and the closest approach of this interval */
+    double *dice;
+    size_t ndice, dicecap;
+    double dmin, dtime, dbody;   /* dmin < 0: none yet */
+    /* run maxima and references (the trajectory summary) */
+    double Em, Tem, Um, AMz1, zoom;
+    uint32_t Nb0;
+    int have_amz1;
+    uint64_t warned;     /* approach warnings already reported */
+} job;
+
+/* ---- paths, messages, ErrGlctca ----------------------------------------------------------------- */
+
+static const char *jpath(const job *j, const char *name, char buf[PATH_CAP])
+{
+    const int n = snprintf(buf, PATH_CAP, "%s%s", j->dir, name);
+    return n >= 0 && n < PATH_CAP ? buf : name; /* (the folder's length is checked first) */
+}
+
+static void say(const job *j, const char *fmt, ...)
+{
+    if (!j->o->out)
+        return;
+    va_list ap;
+    va_start(ap, fmt);
+    vfprintf(j->o->out, fmt, ap);
+    va_end(ap);
+}
+
+/* Append "*nnG message" to ErrGlctca (best effort: the message also goes to the caller). */
+static void errfile(const job *j, int code, const char *msg)
+{
+    char p[PATH_CAP];
+    FILE *f = fopen(jpath(j, "ErrGlctca", p), "a");
+    if (!f)
+        return;
+    fprintf(f, "*%02dG %s\n", code, msg);
+    fclose(f);
+}
+
+/* The Galactica code of a failure: 01 a file could not be opened or written, 02 a read error
+ * (a malformed file or value), 12 the output volume. */
+static int fail_code(int rc) { return rc == MOTE_EIO ? 1 : 2; }
+
+static int jfail(const job *j, int code, mote_err *err, int rc)
+{
+    errfile(j, code ? code : fail_code(rc), err->msg);
+    return rc;
+}
+
+/* A bad control value: named with the control file's line, or the checkpoint it came from. */
+static int ctl_fail(const job *j, const char *src, int from_ctl, mote_err *err, const char *name,
+                    const char *fmt, ...)
+{
+    char why[512];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(why, sizeof why, fmt, ap);
+    va_end(ap);
+    if (from_ctl)
+        mote_fail(err, MOTE_EFORMAT, "%s:%d: %s %s", src, nb_galctl_index(name) + 1, name, why);
+    else
+        mote_fail(err, MOTE_EFORMAT, "%s: the control value %s %s", src, name, why);
+    return jfail(j, 2, err, MOTE_EFORMAT);
+}
+
+static double cv(const job *j, const char *name) { return nb_galctl_get(&j->c, name); }
+static long ci(const job *j, const char *name) { return (long)cv(j, name); }
+
+/* Check the control values that do not depend on the bodies, and size the trajectory buffer. */
+static int setup(job *j, const char *src, int from_ctl, mote_err *err)
+{
+    static const char *const keys[] = {"Kl7", "Kl12", "Kl15", "Kl10", "Kl14"};
+    const long kl1 = ci(j, "Kl1"), kl4 = ci(j, "Kl4");
+    if (kl1 < 0 || kl1 > 4)
+        return ctl_fail(j, src, from_ctl, err, "Kl1", "= %ld, expected 0 (area), 1 (%s), 2 "
+                        "(FIMA4), 3 or 4 (as 1 or 2, with checkpoints)", kl1,
+                        j->coulomb ? "garek29.dat" : "garez28.dat");
+    if (kl4 < 0 || kl4 > 3)
+        return ctl_fail(j, src, from_ctl, err, "Kl4", "= %ld, expected 0, 1, 2 or 3", kl4);
+    const char *pos[] = {"Ltk", "Ltk2", "Kl3"};
+    for (int k = 0; k < 3; k++)
+        if (ci(j, pos[k]) < 1)
+            return ctl_fail(j, src, from_ctl, err, pos[k], "= %ld, expected at least 1",
+                            ci(j, pos[k]));
+    if ((double)ci(j, "Ltk") * (double)ci(j, "Ltk2") > 9e18)
+        return ctl_fail(j, src, from_ctl, err, "Ltk2", "makes Ltk * Ltk2 beyond 9e18 steps");
+    for (int k = 0; k < 5; k++)
+        if (ci(j, keys[k]) != 0 && ci(j, keys[k]) != 1)
+            return ctl_fail(j, src, from_ctl, err, keys[k], "= %ld, expected 0 or 1",
+                            ci(j, keys[k]));
+    if (ci(j, "Kl11") < 0)
+        return ctl_fail(j, src, from_ctl, err, "Kl11", "= %ld, expected 0 (off) or a step",
+                        ci(j, "Kl11"));
+    const double bt = cv(j, "bt");
+    if (!(bt >= 0 && bt <= 1))
+        return ctl_fail(j, src, from_ctl, err, "bt", "= %g, expected 0 < bt <= 1 (0: no "
+                        "shortening)", bt);
+    if (kl1 == 0) {
+        if (j->coulomb)
+            return ctl_fail(j, src, from_ctl, err, "Kl1", "= 0 (the area) is a gravity mode: "
+                            "Galactica's Coulomb module has no area");
+        if (cv(j, "Ro0") != 1)
+            return ctl_fail(j, src, from_ctl, err, "Ro0", "= %g, expected 1 (the area's "
+                            "relative density)", cv(j, "Ro0"));
+        if (!(cv(j, "dt") > 0))
+            return ctl_fail(j, src, from_ctl, err, "dt", "= %g, expected a step > 0 for Kl1 = 0",
+                            cv(j, "dt"));
+        if (ci(j, "Mu") < 1)
+            return ctl_fail(j, src, from_ctl, err, "Mu", "= %ld, expected at least 1",
+                            ci(j, "Mu"));
+        const char *pp[] = {"B", "C", "Roa"};
+        for (int k = 0; k < 3; k++)
+            if (!(cv(j, pp[k]) > 0))
+                return ctl_fail(j, src, from_ctl, err, pp[k], "= %g, expected > 0", cv(j, pp[k]));
+        if (!(cv(j, "Rob") >= 0) || !(cv(j, "RoS") >= 0))
+            return ctl_fail(j, src, from_ctl, err, cv(j, "Rob") >= 0 ? "RoS" : "Rob",
+                            "is negative");
+    } else if (ci(j, "k2") < 1 || ci(j, "k2") > 100000000) {
+        return ctl_fail(j, src, from_ctl, err, "k2", "= %ld, expected the number of bodies "
+                        "(1 ... 10^8)", ci(j, "k2"));
+    }
+    if ((kl1 == 2 || kl1 == 4) && !j->c.fima4[0])
+        return ctl_fail(j, src, from_ctl, err, "FIMA4", "is empty: Kl1 = %ld reads the bodies "
+                        "from the file it names", kl1);
+    j->trw = 0;
+    if (ci(j, "Kl12") == 1) {
+        const long np = ci(j, "Np");
+        if (ci(j, "Kli") < 1)
+            return ctl_fail(j, src, from_ctl, err, "Kli", "= %ld, expected at least 1 step "
+                            "between trajectory records", ci(j, "Kli"));
+        if (np < 1 || np > j->c.ntrio)
+            return ctl_fail(j, src, from_ctl, err, "Np", "= %ld, expected 1 ... %d (the trios "
+                            "ipp, jpp, kpp given from line 51)", np, j->c.ntrio);
+        j->trw = (size_t)(3 * (ci(j, "Kl15") + 1) * np + 2);
+        const long kmax = ci(j, "Klmax");
+        if (kmax < 1 || (double)kmax * (double)j->trw > 1.3e8)
+            return ctl_fail(j, src, from_ctl, err, "Klmax", "= %ld, expected 1 ... %.0f "
+                            "(records of %zu numbers in memory)", kmax, 1.3e8 / (double)j->trw,
+                            j->trw);
+        j->trcap = (size_t)kmax;
+        free(j->tr);
+        j->tr = malloc(j->trcap * j->trw * sizeof *j->tr);
+        if (!j->tr)
+            return jfail(j, 2, err, mote_fail(err, MOTE_ENOMEM, "galactica: out of memory for "
+                                              "%zu trajectory records", j->trcap));
+    }
+    return MOTE_OK;
+}
+
+/* The checks that need the bodies: selected bodies and Nbd within 1 ... N. */
+static int check_selection(job *j, const char *src, int from_ctl, mote_err *err)
+{
+    const long n = (long)j->nb.n;
+    if (ci(j, "Nbd") < 0 || ci(j, "Nbd") > n)
+        return ctl_fail(j, src, from_ctl, err, "Nbd", "= %ld, expected 0 (off) or a body 1 ... "
+                        "%ld", ci(j, "Nbd"), n);
+    for (long t = 0; t < (ci(j, "Kl12") == 1 ? ci(j, "Np") : 0); t++)
+        if (j->c.trio[t][2] < 1 || j->c.trio[t][2] > n)
+            return jfail(j, 2, err, mote_fail(err, MOTE_EFORMAT, "%s: kpp(%ld) = %ld (the body "
+                                              "of trajectory column %ld), expected 1 ... %ld",
+                                              src, t + 1, j->c.trio[t][2], t + 1, n));
+    return MOTE_OK;
+}
+
+/* ---- measures of the state -------------------------------------------------------------------- */
+
+/* Kinetic energy, largest speed and mass (active bodies), z moment (orbital) in O(N). */
+static void quick_measure(const mote_nb *nb, double *ekin, double *vmax, double *mmax, double *mz)
+{
+    nb_ksum e = {0, 0}, l = {0, 0};
+    mote_real v2max = 0, mm = 0;
+    for (uint32_t i = 0; i < nb->n; i++) {
+        const mote_real *x = nb->x + 3 * i, *v = nb->v + 3 * i, m = nb->m[i];
+        const mote_real v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+        nb_ksum_add(&e, m * v2 / 2);
+        nb_ksum_add(&l, m * (x[0] * v[1] - x[1] * v[0]));
+        if (nb->active[i]) {
+            v2max = v2 > v2max ? v2 : v2max;
+            mm = m > mm ? m : mm;
+        }
+    }
+    *ekin = (double)nb_ksum_value(&e);
+    *vmax = (double)sqrt(v2max);
+    *mmax = (double)mm;
+    *mz = (double)nb_ksum_value(&l);
+}
+
+/* ---- the run's outputs ------------------------------------------------------------------------ */
+
+/* The 19 quantities of Galactica's screen (spec 7.12), three to a line. */
+static void monitor_block(job *j)
+{
+    FILE *f = j->o->out;
+    if (!f)
+        return;
+    const mote_nb *nb = &j->nb;
+    mote_nb_monitor mon;
+    mote_nb_measure(nb, &mon);
+    double ek, vmax, mmax, mz;
+    quick_measure(nb, &ek, &vmax, &mmax, &mz);
+    const double v[19] = {(double)nb->T, mmax, vmax, (double)nb->hlast,
+                          (double)mon.P[0], (double)mon.P[1], (double)mon.P[2],
+                          (double)mon.L[0], (double)mon.L[1], (double)mon.L[2],
+                          (double)mon.S[0], (double)mon.S[1], (double)mon.S[2],
+                          (double)mon.ekin, j->Em, (double)nb->e_heat, (double)j->Lt,
+                          (double)nb->dt, (double)mon.dMz};
+    fputc('\n', f);
+    for (int k = 0; k < 19; k++) {
+        if (k == 16)
+            fprintf(f, "%23llu", (unsigned long long)j->Lt);
+        else
+            fprintf(f, "%24.15E", v[k]);
+        fputc(k % 3 == 2 || k == 18 ? '\n' : ' ', f);
+    }
+    fflush(f);
+}
+
+static int result_file(job *j, const char *name, mote_err *err)
+{
+    nb_galfile g;
+    const size_t W = j->coulomb ? 16 : 15;
+    mote_real *body = malloc(W * (j->nb.n ? j->nb.n : 1) * sizeof *body);
+    if (!body)
+        return mote_fail(err, MOTE_ENOMEM, "galactica: out of memory for %s", name);
+    j->head[14] = (mote_real)j->Em;
+    nb_to_galfile(&j->nb, j->head, &g, body);
+    char p[PATH_CAP];
+    int rc = nb_galfile_write(jpath(j, name, p), &g, 1, err);
+    free(body);
+    return rc;
+}
+
+/* A trajectory file: the records, one a line, then (traekt.prn) the ten-number summary. */
+static int trajectory_file(job *j, const char *name, int summary, mote_err *err)
+{
+    char p[PATH_CAP];
+    mote_afile af;
+    int rc = mote_afile_open(&af, jpath(j, name, p), err);
+    if (rc)
+        return rc;
+    for (size_t r = 0; r < j->trn; r++) {
+        for (size_t k = 0; k < j->trw; k++)
+            fprintf(af.f, "%s%.16E", k ? "  " : "", j->tr[r * j->trw + k]);
+        fputc('\n', af.f);
+    }
+    if (summary) {
+        double ek, vmax, mmax, mz;
+        quick_measure(&j->nb, &ek, &vmax, &mmax, &mz);
+        const double s[10] = {(double)j->nb.T, j->Tem, j->Em, (double)j->nb.e_heat, j->AMz1,
+                              (double)j->Nb0, (double)j->nb.merges, j->Um, mmax, mz};
+        for (int k = 0; k < 10; k++)
+            fprintf(af.f, "%s%.16E", k ? "  " : "", s[k]);
+        fputc('\n', af.f);
+    }
+    return mote_afile_commit(&af, err);
+}
+
+static int trajectory_record(job *j, mote_err *err)
+{
+    const long np = ci(j, "Np"), vel = ci(j, "Kl15") == 1;
+    double ek, vmax, mmax, mz;
+    quick_measure(&j->nb, &ek, &vmax, &mmax, &mz);
+    double *r = j->tr + j->trn * j->trw;
+    r[0] = (double)j->nb.T;
+    r[1] = ek;
+    size_t k = 2;
+    for (long b = 0; b < np; b++) {
+        const uint32_t i = (uint32_t)(j->c.trio[b][2] - 1);
+        for (int a = 0; a < 3; a++)
+            r[k++] = (double)j->nb.x[3 * i + (uint32_t)a];
+        if (vel)
+            for (int a = 0; a < 3; a++)
+                r[k++] = (double)j->nb.v[3 * i + (uint32_t)a];
+    }
+    if (++j->trn < j->trcap)
+        return MOTE_OK;
+    char name[32];
+    snprintf(name, sizeof name, "%llut", (unsigned long long)(j->ntfile + 1));
+    int rc = trajectory_file(j, name, 0, err);
+    if (!rc) {
+        j->ntfile++;
+        j->trn = 0;
+    }
+    return rc;
+}
+
+static int dice_file(job *j, mote_err *err)
+{
+    char p[PATH_CAP];
+    mote_afile af;
+    int rc = mote_afile_open(&af, jpath(j, "dice.dat", p), err);
+    if (rc)
+        return rc;
+    for (size_t r = 0; r < j->ndice; r++)
+        fprintf(af.f, "%.16E  %.0f  %.16E\n", j->dice[3 * r], j->dice[3 * r + 1],
+                j->dice[3 * r + 2]);
+    return mote_afile_commit(&af, err);
+}
+
+/* The closest body to Nbd at this step end, kept when closer than this interval's best. */
+static void dice_track(job *j)
+{
+    const mote_nb *nb = &j->nb;
+    const uint32_t b = (uint32_t)(ci(j, "Nbd") - 1);
+    if (!nb->active[b])
+        return;
+    for (uint32_t i = 0; i < nb->n; i++) {
+        if (i == b || !nb->active[i])
+            continue;
+        mote_real d2 = 0;
+        for (int a = 0; a < 3; a++) {
+            const mote_real d = nb->x[3 * i + (uint32_t)a] - nb->x[3 * b + (uint32_t)a];
+            d2 += d * d;
+        }
+        const double d = (double)sqrt(d2);
+        if (j->dmin < 0 || d < j->dmin) {
+            j->dmin = d;
+            j->dtime = (double)nb->T;
+            j->dbody = i + 1;
+        }
+    }
+}
+
+static int dice_push(job *j, double t, double body, double d, mote_err *err)
+{
+    if (j->ndice == j->dicecap) {
+        size_t cap = j->dicecap ? 2 * j->dicecap : 64;
+        double *p = realloc(j->dice, 3 * cap * sizeof *p);
+        if (!p)
+            return mote_fail(err, MOTE_ENOMEM, "galactica: out of memory for dice.dat");
+        j->dice = p;
+        j->dicecap = cap;
+    }
+    double *p = j->dice + 3 * j->ndice++;
+    p[0] = t;
+    p[1] = body;
+    p[2] = d;
+    return MOTE_OK;
+}
+
+/* The line of the interval that ends now: its closest approach (none: body 0). */
+static int dice_line(job *j, mote_err *err)
+{
+    int rc = j->dmin < 0 ? dice_push(j, (double)j->nb.T, 0, 0, err)
+                         : dice_push(j, j->dtime, j->dbody, j->dmin, err);
+    j->dmin = -1;
+    return rc;
+}
+
+/* ---- pictures (spec 7.13) --------------------------------------------------------------------- */
+
+static const unsigned VGA[16] = {0x000000, 0x0000AA, 0x00AA00, 0x00AAAA, 0xAA0000, 0xAA00AA,
+                                 0xAA5500, 0xAAAAAA, 0x555555, 0x5555FF, 0x55FF55, 0x55FFFF,
+                                 0xFF5555, 0xFF55FF, 0xFFFF55, 0xFFFFFF};
+
+static int frame(job *j, mote_err *err)
+{
+    const mote_nb *nb = &j->nb;
+    const int W = 1024, H = 768;
+    const double pi = 3.14159265358979323846;
+    const double al = cv(j, "al") * pi / 180, be = cv(j, "bet") * pi / 180;
+    const double Xe0 = cv(j, "Xe0"), Ye0 = cv(j, "Ye0"), Rd = cv(j, "Rd"), amv = cv(j, "amv");
+    double aix = cv(j, "aix"), biy = cv(j, "biy");
+    if (!(aix > 0))
+        aix = 150;
+    if (!(biy > 0))
+        biy = aix;
+    /* the origin: the barycentre, or body kpp(1) with Kl10 = 1 */
+    double o[3] = {0, 0, 0}, ov[3] = {0, 0, 0};
+    const long ref = ci(j, "Kl10") == 1 && j->c.ntrio > 0 ? j->c.trio[0][2] : 0;
+    if (ref >= 1 && ref <= (long)nb->n)
+        for (int a = 0; a < 3; a++) {
+            o[a] = (double)nb->x[3 * (ref - 1) + a];
+            ov[a] = (double)nb->v[3 * (ref - 1) + a];
+        }
+    const long layer = (long)cv(j, "Ke");
+    const long per_layer = (long)(j->head[17] * j->head[18]);
+    double mmax = 0, vmax = 0;
+    for (uint32_t i = 0; i < nb->n; i++)
+        if (nb->active[i]) {
+            mmax = fmax(mmax, (double)nb->m[i]);
+            double v2 = 0;
+            for (int a = 0; a < 3; a++)
+                v2 += pow((double)nb->v[3 * i + (uint32_t)a] - ov[a], 2);
+            vmax = fmax(vmax, sqrt(v2));
+        }
+    double *disc = malloc(nb->n * 7 * sizeof *disc), *seg = disc + 3 * (size_t)nb->n;
+    unsigned *rgb = malloc(nb->n * 2 * sizeof *rgb);
+    if (!disc || !rgb) {
+        free(disc);
+        free(rgb);
+        return mote_fail(err, MOTE_ENOMEM, "galactica: out of memory for a picture");
+    }
+    size_t nd = 0;
+    double need = 1;
+    for (uint32_t i = 0; i < nb->n; i++) {
+        if (!nb->active[i])
+            continue;
+        if (layer >= 1 && per_layer > 0 && (long)i < per_layer * (long)j->head[19] &&
+            (long)i / per_layer + 1 != layer)
+            continue;
+        double p[3], w[3];
+        for (int a = 0; a < 3; a++) {
+            p[a] = (double)nb->x[3 * i + (uint32_t)a] - o[a];
+            w[a] = (double)nb->v[3 * i + (uint32_t)a] - ov[a];
+        }
+        /* rotate by al about x, then by bet about y */
+        double *vv[2] = {p, w};
+        for (int k = 0; k < 2; k++) {
+            double *q = vv[k];
+            double y = q[1] * cos(al) - q[2] * sin(al), z = q[1] * sin(al) + q[2] * cos(al);
+            double x = q[0] * cos(be) + z * sin(be);
+            z = -q[0] * sin(be) + z * cos(be);
+            q[0] = x;
+            q[1] = y;
+            q[2] = z;
+        }
+        /* Kl14: the scale that keeps this body in the picture */
+        const double dx = p[0] * aix, dy = p[1] * biy;
+        if (ci(j, "Kl14") == 1) {
+            if (dx * j->zoom > W - Xe0 && dx > 0)
+                need = fmin(need, (W - Xe0) / (dx * j->zoom));
+            if (dx * j->zoom < -Xe0 && dx < 0)
+                need = fmin(need, -Xe0 / (dx * j->zoom));
+            if (dy * j->zoom > Ye0 && dy > 0)
+                need = fmin(need, Ye0 / (dy * j->zoom));
+            if (dy * j->zoom < Ye0 - H && dy < 0)
+                need = fmin(need, (Ye0 - H) / (dy * j->zoom));
+        }
+        disc[3 * nd] = p[0];
+        disc[3 * nd + 1] = p[1];
+        disc[3 * nd + 2] = fmax(1, 100 * Rd * cbrt((double)nb->m[i] / mmax));
+        const double sp = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+        const double len = vmax > 0 ? 0.1 * aix * amv * sp / vmax : 0;
+        const double pl = sqrt(w[0] * w[0] + w[1] * w[1]);
+        seg[4 * nd] = seg[4 * nd + 1] = 0;
+        seg[4 * nd + 2] = pl > 0 ? len * w[0] / sp : 0;
+        seg[4 * nd + 3] = pl > 0 ? len * w[1] / sp : 0;
+        long colour = j->c.ntrio > 0 ? j->c.trio[0][1] : 15;
+        for (int t = 0; t < j->c.ntrio && t < ci(j, "Np"); t++)
+            if (j->c.trio[t][2] == (long)i + 1)
+                colour = j->c.trio[t][0];
+        rgb[2 * nd] = VGA[7];
+        rgb[2 * nd + 1] = VGA[colour >= 0 && colour < 16 ? colour : 15];
+        nd++;
+    }
+    if (need < 1)
+        j->zoom *= 0.9 * need;
+    for (size_t k = 0; k < nd; k++) { /* to pixels */
+        const double x = Xe0 + aix * j->zoom * disc[3 * k], y = Ye0 - biy * j->zoom * disc[3 * k + 1];
+        disc[3 * k] = x;
+        disc[3 * k + 1] = y;
+        seg[4 * k] = x;
+        seg[4 * k + 1] = y;
+        seg[4 * k + 2] = x + seg[4 * k + 2];
+        seg[4 * k + 3] = y - seg[4 * k + 3];
+    }
+    char t1[160], t2[160], name[64], p[PATH_CAP];
+    snprintf(t1, sizeof t1, "T = %.15E   Lt = %llu   N = %u", (double)nb->T,
+             (unsigned long long)j->Lt, nb->n);
+    snprintf(t2, sizeof t2, "%s%s", j->zoom < 1 ? "zoomed out " : "",
+             ref >= 1 ? "relative to body kpp(1)" : "barycentric");
+    const char *text[2] = {t1, t2};
+    snprintf(name, sizeof name, "frame_%06llu.png", (unsigned long long)(j->nframe + 1));
+    mote_sketch sk = {W, H, 0x000000, disc, rgb, nd, seg, rgb + 1, nd, text, 2};
+    int rc = mote_sketch_png(jpath(j, name, p), &sk, err);
+    free(disc);
+    free(rgb);
+    if (!rc)
+        j->nframe++;
+    return rc;
+}
+
+/* ---- the checkpoint (spec 7.10): the job's state, then the system's exact state ----------------- */
+
+static void put_doubles(FILE *f, const char *key, const double *v, size_t n)
+{
+    fputs(key, f);
+    for (size_t k = 0; k < n; k++)
+        fprintf(f, " %.17g", v[k]);
+    fputc('\n', f);
+}
+
+static int ckpt_write(job *j, mote_err *err)
+{
+    char p[PATH_CAP];
+    mote_afile af;
+    int rc = mote_afile_open(&af, jpath(j, j->coulomb ? "galgok2" : "galgon4", p), err);
+    if (rc)
+        return rc;
+    FILE *f = af.f;
+    fprintf(f, "%s %d\nreal %s\n", CKPT_MAGIC, CKPT_VERSION, MOTE_REAL_NAME);
+    put_doubles(f, "control", j->c.v, NB_GALCTL_FIXED);
+    fprintf(f, "fima4 %s\ntrios %d\n", j->c.fima4[0] ? j->c.fima4 : "-", j->c.ntrio);
+    for (int t = 0; t < j->c.ntrio; t++)
+        fprintf(f, "%ld %ld %ld\n", j->c.trio[t][0], j->c.trio[t][1], j->c.trio[t][2]);
+    fprintf(f, "counters %llu %llu %llu %llu %llu %u %d %llu\n", (unsigned long long)j->Lt,
+            (unsigned long long)j->Ltot, (unsigned long long)j->nfile,
+            (unsigned long long)j->ntfile, (unsigned long long)j->nframe, j->Nb0, j->have_amz1,
+            (unsigned long long)j->warned);
+    const double mx[5] = {j->Em, j->Tem, j->Um, j->AMz1, j->zoom};
+    put_doubles(f, "maxima", mx, 5);
+    double h[25];
+    for (int k = 0; k < 25; k++)
+        h[k] = (double)j->head[k];
+    put_doubles(f, "head", h, 25);
+    const double dc[3] = {j->dmin, j->dtime, j->dbody};
+    put_doubles(f, "approach", dc, 3);
+    fprintf(f, "dice %zu\n", j->ndice);
+    for (size_t r = 0; r < j->ndice; r++)
+        put_doubles(f, "d", j->dice + 3 * r, 3);
+    fprintf(f, "records %zu %zu\n", j->trn, j->trw);
+    for (size_t r = 0; r < j->trn; r++)
+        put_doubles(f, "r", j->tr + r * j->trw, j->trw);
+    nb_state_put(f, &j->nb);
+    return mote_afile_commit(&af, err);
+}
+
+/* Read exactly n finite doubles after `key` on line s; 0 on success. */
+static int get_doubles(const char *s, const char *key, double *v, size_t n)
+{
+    const size_t k = strlen(key);
+    if (!s || strncmp(s, key, k) != 0 || (s[k] != ' ' && s[k] != '\0'))
+        return -1;
+    const char *p = s + k;
+    for (size_t i = 0; i < n; i++) {
+        char *end;
+        errno = 0;
+        v[i] = strtod(p, &end);
+        if (end == p || errno == ERANGE || !isfinite(v[i]) || (*end != ' ' && *end != '\0'))
+            return -1;
+        p = end;
+    }
+    return *p == '\0' ? 0 : -1;
+}
+
+static int ckpt_read(job *j, const char *path, mote_err *err)
+{
+    mote_lines l;
+    int rc = mote_lines_open(&l, path, err);
+    if (rc)
+        return rc;
+    const char *what = NULL;
+    char *s = mote_lines_next(&l);
+    int version = 0;
+    char real[32] = "";
+    if (!s || sscanf(s, CKPT_MAGIC " %d", &version) != 1 || version != CKPT_VERSION)
+        what = "'" CKPT_MAGIC " 1' (a checkpoint of this version of mote)";
+    else if (!(s = mote_lines_next(&l)) || sscanf(s, "real %31[a-z ]", real) != 1 ||
+             strcmp(real, MOTE_REAL_NAME) != 0)
+        what = "'real " MOTE_REAL_NAME "' (a checkpoint of a build with this precision)";
+    else if (get_doubles(mote_lines_next(&l), "control", j->c.v, NB_GALCTL_FIXED))
+        what = "'control' and the 50 values of the control file";
+    if (!what) {
+        s = mote_lines_next(&l);
+        if (!s || strncmp(s, "fima4 ", 6) != 0 || strlen(s + 6) >= sizeof j->c.fima4)
+            what = "'fima4 NAME'";
+        else
+            snprintf(j->c.fima4, sizeof j->c.fima4, "%s", strcmp(s + 6, "-") ? s + 6 : "");
+    }
+    int nt = -1;
+    if (!what && (!(s = mote_lines_next(&l)) || sscanf(s, "trios %d", &nt) != 1 || nt < 0 ||
+                  nt > NB_GALCTL_TRIOS))
+        what = "'trios N' with 0 <= N <= 256";
+    for (int t = 0; t < nt && !what; t++) {
+        long a, b, c;
+        char extra;
+        if (!(s = mote_lines_next(&l)) || sscanf(s, "%ld %ld %ld %c", &a, &b, &c, &extra) != 3)
+            what = "a trio: three integers";
+        j->c.trio[t][0] = a;
+        j->c.trio[t][1] = b;
+        j->c.trio[t][2] = c;
+    }
+    j->c.ntrio = nt;
+    if (!what && (rc = setup(j, path, 0, err)) != MOTE_OK)
+        what = "";
+    unsigned long long cnt[6];
+    int amz = 0;
+    if (!what) {
+        unsigned nb0 = 0;
+        char extra;
+        if (!(s = mote_lines_next(&l)) ||
+            sscanf(s, "counters %llu %llu %llu %llu %llu %u %d %llu %c", &cnt[0], &cnt[1], &cnt[2],
+                   &cnt[3], &cnt[4], &nb0, &amz, &cnt[5], &extra) != 8 || s[9] == '-')
+            what = "'counters Lt Ltot files trajectory_files frames Nb have_AMz1 warned'";
+        j->Lt = cnt[0];
+        j->Ltot = cnt[1];
+        j->nfile = cnt[2];
+        j->ntfile = cnt[3];
+        j->nframe = cnt[4];
+        j->Nb0 = nb0;
+        j->have_amz1 = amz != 0;
+        j->warned = cnt[5];
+    }
+    double mx[5], h[25], dc[3];
+    if (!what && get_doubles(mote_lines_next(&l), "maxima", mx, 5))
+        what = "'maxima Em Tem Um AMz1 zoom'";
+    if (!what && get_doubles(mote_lines_next(&l), "head", h, 25))
+        what = "'head' and 25 numbers";
+    if (!what && get_doubles(mote_lines_next(&l), "approach", dc, 3))
+        what = "'approach dmin time body'";
+    if (!what) {
+        j->Em = mx[0];
+        j->Tem = mx[1];
+        j->Um = mx[2];
+        j->AMz1 = mx[3];
+        j->zoom = mx[4] > 0 && mx[4] <= 1 ? mx[4] : 1;
+        for (int k = 0; k < 25; k++)
+            j->head[k] = h[k];
+        j->dmin = dc[0];
+        j->dtime = dc[1];
+        j->dbody = dc[2];
+    }
+    unsigned long long nd = 0, nr = 0, w = 0;
+    if (!what && (!(s = mote_lines_next(&l)) || sscanf(s, "dice %llu", &nd) != 1 || s[5] == '-' ||
+                  nd > (unsigned long long)l.line + 100000000ull))
+        what = "'dice N'";
+    for (unsigned long long r = 0; r < nd && !what && !rc; r++) {
+        double d[3];
+        if (get_doubles(mote_lines_next(&l), "d", d, 3))
+            what = "'d' and 3 numbers (a line of dice.dat)";
+        else
+            rc = dice_push(j, d[0], d[1], d[2], err);
+    }
+    if (!what && !rc &&
+        (!(s = mote_lines_next(&l)) || sscanf(s, "records %llu %llu", &nr, &w) != 2 ||
+         s[8] == '-' || w != j->trw || nr > j->trcap))
+        what = "'records N WIDTH' matching the control values (Klmax, Np, Kl15)";
+    for (unsigned long long r = 0; r < nr && !what && !rc; r++)
+        if (get_doubles(mote_lines_next(&l), "r", j->tr + r * j->trw, j->trw))
+            what = "'r' and a trajectory record";
+    j->trn = (size_t)nr;
+    if (!what && !rc)
+        rc = nb_state_get(&j->nb, &l, 0, err);
+    if (what && *what && !rc)
+        rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: expected %s", path, l.line, what);
+    int crc = mote_lines_close(&l, rc ? NULL : err);
+    return rc ? rc : crc;
+}
+
+/* ---- the job ---------------------------------------------------------------------------------- */
+
+/* The bodies, time and step of a first launch (spec 7.4). */
+static int load_bodies(job *j, mote_err *err)
+{
+    const long kl1 = ci(j, "Kl1"), kl4 = ci(j, "Kl4");
+    mote_nb *nb = &j->nb;
+    int rc;
+    memset(j->head, 0, sizeof j->head);
+    if (kl1 == 0) {
+        mote_nb_area a;
+        mote_nb_area_defaults(&a);
+        a.B = cv(j, "B");
+        a.C = cv(j, "C");
+        a.X0[0] = cv(j, "X0");
+        a.X0[1] = cv(j, "Y0");
+        a.X0[2] = cv(j, "Z0");
+        a.Mu = (int)ci(j, "Mu");
+        a.RoS = cv(j, "RoS");
+        const char *sx[6] = {"Xs", "Ys", "Zs", "Us", "Vs", "Ws"};
+        for (int k = 0; k < 3; k++) {
+            a.Xs[k] = cv(j, sx[k]);
+            a.Us[k] = cv(j, sx[3 + k]);
+        }
+        a.wu = cv(j, "wu");
+        a.X01 = cv(j, "X01");
+        a.Y01 = cv(j, "Y01");
+        a.Roa = cv(j, "Roa");
+        a.Rob = cv(j, "Rob");
+        a.dt = cv(j, "dt");
+        rc = mote_nb_area_build(nb, &a, err);
+        if (rc)
+            return jfail(j, 2, err, rc);
+        const double h[7] = {a.nx, a.ny, a.nz, 1, a.B, a.C, a.Mu};
+        for (int k = 0; k < 7; k++)
+            j->head[17 + k] = h[k];
+        say(j, "galactica: the area, %d x %d x %d bodies%s\n", a.nx, a.ny, a.nz,
+            a.sep_added ? " and the separate body"
+            : a.RoS > 0 ? " (the separate body is closer than 1/Mu to a node: not added)" : "");
+    } else {
+        char p[PATH_CAP];
+        const char *path = kl1 == 1 || kl1 == 3
+                               ? jpath(j, j->coulomb ? "garek29.dat" : "garez28.dat", p)
+                               : jpath(j, j->c.fima4, p);
+        if (j->c.fima4_long && (kl1 == 2 || kl1 == 4))
+            say(j, "galactica: warning: FIMA4 '%s' is longer than Galactica's 12 characters\n",
+                j->c.fima4);
+        nb_galfile g;
+        rc = nb_galfile_read(path, j->coulomb, ci(j, "k2"), &g, err);
+        if (rc)
+            return jfail(j, fail_code(rc), err, rc);
+        /* masses: fractions of the total (spec 7.1): else the other layout is likely */
+        const size_t W = j->coulomb ? 16 : 15;
+        nb_ksum sum = {0, 0};
+        int bad = 0;
+        for (uint32_t i = 0; i < g.n; i++) {
+            const mote_real m = g.body[W * i];
+            bad |= !(m >= 0 && m <= 1);
+            nb_ksum_add(&sum, m);
+        }
+        const mote_real total = nb_ksum_value(&sum);
+        if (bad || !(fabs((double)(total - 1)) <= 1e-12)) {
+            rc = mote_fail(err, MOTE_EFORMAT, "%s: the %ld masses do not look like fractions of "
+                           "the total (each in [0, 1], sum %.17g instead of 1): is it a %s file? "
+                           "(%s)", path, ci(j, "k2"), (double)total,
+                           j->coulomb ? "gravity (24/15 layout)" : "Coulomb (25/16 layout)",
+                           j->coulomb ? "drop --coulomb" : "use --coulomb or interaction=coulomb");
+            nb_galfile_free(&g);
+            return jfail(j, 2, err, rc);
+        }
+        if (!(g.head[16] > 0)) {
+            rc = mote_fail(err, MOTE_EFORMAT, "%s: the step dT (header number 17) is %g, "
+                           "expected > 0", path, (double)g.head[16]);
+            nb_galfile_free(&g);
+            return jfail(j, 2, err, rc);
+        }
+        rc = nb_from_galfile(nb, &g, path, err);
+        if (!rc)
+            nb_units_from_info(nb, &g);
+        for (int k = 0; k < 25; k++)
+            j->head[k] = g.head[k];
+        nb_galfile_free(&g);
+        if (rc)
+            return jfail(j, 2, err, rc);
+        if (kl1 == 2 || kl1 == 4) { /* a fresh start: the first step is 0.001 dT */
+            nb->restart = 1;
+            nb->dtp = 0;
+        }
+        say(j, "galactica: %u bodies from %s, T0 = %.16E, dT = %.16E\n", nb->n, path,
+            (double)nb->T, (double)nb->dt);
+    }
+    if (kl4 == 0 || kl4 == 2)
+        nb->T = nb->Tc = 0;
+    nb->integrator = MOTE_NB_GALACTICA;
+    nb->order = 6;
+    if (kl4 >= 2) { /* step correction: the adaptive control of spec 4.5 (decision, 7.4) */
+        nb->adaptive = 1;
+        nb->tol = j->o->step_tol > 0 ? (mote_real)j->o->step_tol : MOTE_REAL_TOL;
+        nb->hmax = 16 * nb->dt;
+    }
+    nb->bt = cv(j, "bt") > 0 ? (mote_real)cv(j, "bt") : 1;
+    return MOTE_OK;
+}
+
+/* Count what the run will write, print it, and refuse above the limit (spec 7.4). */
+static int plan(job *j, mote_err *err)
+{
+    const uint64_t L0 = j->Lt, L1 = j->Ltot, kl3 = (uint64_t)ci(j, "Kl3");
+    const double n = j->nb.n;
+    double files = 1, bytes = (n + 3) * 15 * 25;
+    if (ci(j, "Kl7") == 1) {
+        files += (double)(L1 / kl3 - L0 / kl3);
+        bytes += (double)(L1 / kl3 - L0 / kl3) * (n + 3) * 15 * 25;
+    }
+    if (ci(j, "Kl12") == 1) {
+        const uint64_t kli = (uint64_t)ci(j, "Kli");
+        const double rec = (double)(L1 / kli - L0 / kli) + (double)j->trn;
+        files += floor(rec / (double)j->trcap) + 1;
+        bytes += rec * (double)j->trw * 25;
+    }
+    if (j->o->frames) {
+        const double f = (double)((L1 - L0) / kl3) + 2 + (ci(j, "Kl11") > 0 ? 10 : 0);
+        files += f;
+        bytes += f * 30000;
+    }
+    files += (ci(j, "Nbd") > 0) + (ci(j, "Kl1") >= 3);
+    const long limit = j->o->max_files > 0 ? j->o->max_files : 10000;
+    say(j, "galactica: %llu steps (Lt %llu to %llu), about %.0f files, %.3g MB\n",
+        (unsigned long long)(L1 - L0), (unsigned long long)L0, (unsigned long long)L1, files,
+        bytes / 1e6);
+    if (files > (double)limit && !j->o->force) {
+        mote_fail(err, MOTE_EINVAL, "galactica: the job would write about %.0f files, above the "
+                  "limit of %ld: raise Kl3 or Kli or Klmax, or force it (--force, force=on)",
+                  files, limit);
+        return jfail(j, 12, err, MOTE_EINVAL);
+    }
+    return MOTE_OK;
+}
+
+/* After step Lt: the maxima, approaches, trajectory records and the outputs due. */
+static int after_step(job *j, mote_err *err)
+{
+    double ek, vmax, mmax, mz;
+    quick_measure(&j->nb, &ek, &vmax, &mmax, &mz);
+    if (ek > j->Em) {
+        j->Em = ek;
+        j->Tem = (double)j->nb.T;
+    }
+    j->Um = vmax > j->Um ? vmax : j->Um;
+    if (!j->have_amz1) {
+        j->AMz1 = mz;
+        j->have_amz1 = 1;
+    }
+    if (ci(j, "Nbd") > 0)
+        dice_track(j);
+    int rc = MOTE_OK;
+    if (ci(j, "Kl12") == 1 && j->Lt % (uint64_t)ci(j, "Kli") == 0)
+        rc = trajectory_record(j, err);
+    const uint64_t kl11 = (uint64_t)ci(j, "Kl11");
+    const int stage = j->Lt % (uint64_t)ci(j, "Kl3") == 0;
+    if (j->Lt == 1 || stage || (kl11 > 0 && j->Lt >= kl11 && j->Lt < kl11 + 10) ||
+        j->Lt == j->Ltot) {
+        monitor_block(j);
+        if (!rc && j->o->frames)
+            rc = frame(j, err);
+    }
+    if (!stage || rc)
+        return rc;
+    if (ci(j, "Nbd") > 0)
+        rc = dice_line(j, err);
+    if (!rc && ci(j, "Kl7") == 1) {
+        char name[32];
+        snprintf(name, sizeof name, "%llu", (unsigned long long)(j->nfile + 1));
+        rc = result_file(j, name, err);
+        j->nfile += !rc;
+    }
+    if (!rc && ci(j, "Kl1") >= 3 && j->Lt < j->Ltot) {
+        if (ci(j, "Nbd") > 0)
+            rc = dice_file(j, err);
+        if (!rc)
+            rc = ckpt_write(j, err);
+    }
+    return rc;
+}
+
+/* The end: the result file always, the last trajectory file with its summary, dice.dat, and
+ * the checkpoint (a relaunch then adds a block of Ltk * Ltk2 steps). */
+static int finish(job *j, mote_err *err)
+{
+    int rc = result_file(j, j->coulomb ? "garek29.dat" : "garez28.dat", err);
+    if (!rc && ci(j, "Kl12") == 1)
+        rc = trajectory_file(j, "traekt.prn", 1, err);
+    if (!rc && ci(j, "Nbd") > 0)
+        rc = dice_file(j, err);
+    if (!rc && ci(j, "Kl1") >= 3)
+        rc = ckpt_write(j, err);
+    return rc;
+}
+
+static void job_free(job *j)
+{
+    mote_nb_free(&j->nb);
+    free(j->tr);
+    free(j->dice);
+}
+
+int mote_nb_job_run(const mote_nb_job *o, int *started, mote_err *err)
+{
+    if (started)
+        *started = 0;
+    job J;
+    memset(&J, 0, sizeof J);
+    job *j = &J;
+    j->o = o;
+    j->coulomb = o->coulomb;
+    const char *slash = strrchr(o->control, '/');
+    if (slash && (size_t)(slash - o->control) + 2 > sizeof j->dir)
+        return mote_fail(err, MOTE_EINVAL, "galactica: the folder name is too long");
+    if (slash)
+        snprintf(j->dir, sizeof j->dir, "%.*s/", (int)(slash - o->control), o->control);
+    mote_nb_init(&j->nb, o->coulomb ? MOTE_NB_COULOMB : MOTE_NB_GRAVITY);
+    j->dmin = -1;
+    j->zoom = 1;
+    char ck[PATH_CAP];
+    jpath(j, o->coulomb ? "galgok2" : "galgon4", ck);
+    const int have_ctl = access(o->control, F_OK) == 0, have_ck = access(ck, F_OK) == 0;
+    int rc = MOTE_OK;
+    if (have_ctl && (rc = nb_galctl_read(o->control, o->lenient, o->packed, &j->c, err)))
+        rc = jfail(j, fail_code(rc), err, rc);
+    const int resume = !rc && have_ck && (!have_ctl || ci(j, "Kl1") >= 3);
+    if (!rc && !have_ctl && !resume)
+        rc = jfail(j, 1, err, mote_fail(err, MOTE_EIO, "%s: cannot open: %s (a Galactica job "
+                                        "needs its control file)", o->control, strerror(ENOENT)));
+    if (!rc && resume) { /* a relaunch: the checkpoint holds everything (spec 7.10) */
+        memset(&j->c, 0, sizeof j->c);
+        rc = ckpt_read(j, ck, err);
+        if (rc)
+            rc = jfail(j, fail_code(rc), err, rc);
+        if (!rc)
+            rc = check_selection(j, ck, 0, err);
+        if (!rc && j->Lt >= j->Ltot)
+            j->Ltot += (uint64_t)ci(j, "Ltk") * (uint64_t)ci(j, "Ltk2");
+        if (!rc)
+            say(j, "galactica: resuming from %s at step %llu, T = %.16E\n", ck,
+                (unsigned long long)j->Lt, (double)j->nb.T);
+    } else if (!rc) {
+        rc = setup(j, o->control, 1, err);
+        if (!rc)
+            rc = load_bodies(j, err);
+        if (!rc)
+            rc = check_selection(j, o->control, 1, err);
+        if (!rc) {
+            j->Ltot = (uint64_t)ci(j, "Ltk") * (uint64_t)ci(j, "Ltk2");
+            double ek, vmax, mmax, mz;
+            quick_measure(&j->nb, &ek, &vmax, &mmax, &mz);
+            j->Em = j->head[14] > ek ? (double)j->head[14] : ek;
+            j->Tem = (double)j->nb.T;
+            j->Um = vmax;
+            for (uint32_t i = 0; i < j->nb.n; i++)
+                j->Nb0 += j->nb.active[i];
+            j->warned = j->nb.approach_warnings;
+        }
+    }
+    if (!rc)
+        rc = plan(j, err);
+    j->nb.threads = o->threads;
+    if (!rc && o->out)
+        fprintf(o->out, "galactica: the monitor: T omm Um / dTp Px Py / Pz Mx My / Mz Sx Sy / "
+                        "Sz E Em / Ett Lt dT / dMz\n");
+    if (!rc && started)
+        *started = 1;
+    while (!rc && j->Lt < j->Ltot) {
+        const uint64_t before = j->nb.steps;
+        rc = mote_nb_integrate(&j->nb, 1, INFINITY, err);
+        if (!rc && j->nb.steps == before)
+            rc = mote_fail(err, MOTE_ERUNTIME, "galactica: no step could be taken at T = %.16E",
+                           (double)j->nb.T);
+        if (rc) {
+            rc = jfail(j, 2, err, rc);
+            break;
+        }
+        j->Lt++;
+        if ((rc = after_step(j, err)) != MOTE_OK)
+            rc = jfail(j, fail_code(rc), err, rc);
+    }
+    if (!rc && (rc = finish(j, err)) != MOTE_OK)
+        rc = jfail(j, fail_code(rc), err, rc);
+    if (j->nb.approach_warnings > j->warned) {
+        char msg[256];
+        snprintf(msg, sizeof msg, "merge accuracy not ensured: %llu merges overlapped by more "
+                 "than 10%% of the radii after a step at the shortest length (largest overlap "
+                 "%.3g): lower bt", (unsigned long long)(j->nb.approach_warnings - j->warned),
+                 (double)j->nb.max_overlap);
+        errfile(j, 11, msg);
+        say(j, "galactica: warning: %s\n", msg);
+    }
+    if (!rc) {
+        say(j, "galactica: %llu steps done, T = %.16E; wrote %s%s\n",
+            (unsigned long long)j->Lt, (double)j->nb.T,
+            o->coulomb ? "garek29.dat" : "garez28.dat",
+            ci(j, "Kl12") == 1 ? ", traekt.prn" : "");
+        if (o->final && o->final->kind == j->nb.kind) {
+            mote_nb_free(o->final);
+            *o->final = j->nb;
+            mote_nb_init(&j->nb, j->nb.kind);
+        }
+    }
+    job_free(j);
+    return rc;
+}
+
+/* ---- mote galactica: the command line ------------------------------------------------------- */
+
+static void job_usage(FILE *f)
+{
+    fprintf(f,
+            "Usage: mote galactica [--coulomb] [--frames] [--threads N] [--control FILE]\n"
+            "                      [--lenient] [--packed] [--step-tol E] [--max-files N] [--force]\n"
+            "Run the Galactica job of this folder: read galacf26.dat (or --control FILE, whose\n"
+            "folder then holds the job) and write Galactica's files under Galactica's names\n"
+            "(garez28.dat, 1, 2, ..., 1t, ..., traekt.prn, dice.dat, galgon4, ErrGlctca).\n"
+            "  --coulomb      the Coulomb module (garek29.dat, galgok2, 25/16 layout)\n"
+            "  --frames       PNG pictures frame_000001.png, ... at every monitor block\n"
+            "  --threads N    OpenMP threads of the force passes (results do not depend on it)\n"
+            "  --lenient      take each control line's last token instead of column 60\n"
+            "  --packed       trios at lines 51-53, 54-56, ... (default: by description, or the\n"
+            "                 prose layout with line 53 reserved)\n"
+            "  --step-tol E   the step tolerance of Kl4 = 2 or 3 (default 1e-16)\n"
+            "  --max-files N  refuse to start above N output files (default 10000); --force\n"
+            "Exit status: 0 success, 1 bad job (nothing ran), 2 failure during the run.\n"
+            "See docs/galactica.md.\n");
+}
+
+int mote_nb_galactica_main(int argc, char **argv, FILE *out, FILE *diag)
+{
+    mote_nb_job o;
+    memset(&o, 0, sizeof o);
+    o.control = "galacf26.dat";
+    o.out = out;
+    o.threads = 1;
+    for (int k = 1; k < argc; k++) {
+        const char *a = argv[k];
+        const int more = k + 1 < argc;
+        char *end = NULL;
+        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+            job_usage(out);
+            return 0;
+        } else if (strcmp(a, "--coulomb") == 0) {
+            o.coulomb = 1;
+        } else if (strcmp(a, "--frames") == 0) {
+            o.frames = 1;
+        } else if (strcmp(a, "--lenient") == 0) {
+            o.lenient = 1;
+        } else if (strcmp(a, "--packed") == 0) {
+            o.packed = 1;
+        } else if (strcmp(a, "--force") == 0) {
+            o.force = 1;
+        } else if (strcmp(a, "--control") == 0 && more) {
+            o.control = argv[++k];
+        } else if (strcmp(a, "--threads") == 0 && more) {
+            long t = strtol(argv[++k], &end, 10);
+            if (*end || end == argv[k] || t < 1 || t > 4096) {
+                fprintf(diag, "mote galactica: error: --threads needs a count 1 ... 4096, found "
+                              "'%s'\n", argv[k]);
+                return 1;
+            }
+            o.threads = (int)t;
+        } else if (strcmp(a, "--max-files") == 0 && more) {
+            long t = strtol(argv[++k], &end, 10);
+            if (*end || end == argv[k] || t < 1) {
+                fprintf(diag, "mote galactica: error: --max-files needs a count >= 1, found "
+                              "'%s'\n", argv[k]);
+                return 1;
+            }
+            o.max_files = t;
+        } else if (strcmp(a, "--step-tol") == 0 && more) {
+            double t = strtod(argv[++k], &end);
+            if (*end || end == argv[k] || !(t > 0 && t < 1)) {
+                fprintf(diag, "mote galactica: error: --step-tol needs a tolerance in (0, 1), "
+                              "found '%s'\n", argv[k]);
+                return 1;
+            }
+            o.step_tol = t;
+        } else {
+            fprintf(diag, "mote galactica: error: %s '%s'\n",
+                    a[0] == '-' && !more ? "unknown option or missing value after" : "unknown "
+                    "argument", a);
+            job_usage(diag);
+            return 1;
+        }
+    }
+    mote_err err = {0};
+    int started = 0;
+    int rc = mote_nb_job_run(&o, &started, &err);
+    if (rc) {
+        fprintf(diag, "mote galactica: error: %s\n", err.msg);
+        return started ? 2 : 1;
+    }
+    return 0;
+}
