@@ -348,6 +348,12 @@ typedef struct {
 /* Run the job of a folder as Galactica would (spec 7.4): a first launch, a relaunch from the
  * checkpoint (Kl1 = 3, 4), a continuation from garez28.dat; errors also go to ErrGlctca. */
 int mote_nb_job_run(const mote_nb_job *job, int *started, mote_err *err);
+/* Check a job's control file without running or writing anything (a script's validation): the
+ * values of a first launch, and k2 (0: unknown). A missing control file is not an error here. */
+int mote_nb_job_check(const mote_nb_job *job, long *k2, mote_err *err);
+/* Change the checkpoint of the job (KEY=VALUE words: Ltk Ltk2 Kl3 Kl7 Kl12 Kli Nbd dT) for its
+ * next launch; a change of Ltk or Ltk2 plans Ltk * Ltk2 steps from the checkpoint's step. */
+int mote_nb_job_edit(const mote_nb_job *job, int nedit, char *const *edits, mote_err *err);
 /* `mote galactica [options]` (argv[0] is "galactica"): exit status 0, 1 (a bad job: nothing
  * ran) or 2 (a failure during the run). */
 int mote_nb_galactica_main(int argc, char **argv, FILE *out, FILE *diag);

@@ -1784,22 +1784,25 @@ static int check_run(void *vm, const mote_call *c, mote_err *err)
         return mote_call_fail(err, c, mote_call_opt_index(c, "trio_layout"), MOTE_EINVAL,
                               "run galactica: trio_layout= prose or packed, found '%s'", a->text);
     a = mote_call_opt(c, "control");
-    const char *path = a ? a->path : "galacf26.dat";
-    nb_galctl g;
+    mote_nb_job o;
+    memset(&o, 0, sizeof o);
+    o.control = a ? a->path : "galacf26.dat";
+    o.coulomb = job_coulomb(m, c);
+    o.lenient = opt_on_off(c, "lenient", 0) == 1;
+    o.packed = (a = mote_call_opt(c, "trio_layout")) && strcmp(a->text, "packed") == 0;
+    long k2 = 0;
     uint32_t n = 1;
-    if (access(path, F_OK) == 0 && !mote_outputs_find(&c->ctx->outputs, path)) {
-        /* the control file's errors now, before anything runs (a checkpoint may replace it) */
-        int rc = nb_galctl_read(path, opt_on_off(c, "lenient", 0) == 1,
-                                (a = mote_call_opt(c, "trio_layout")) && strcmp(a->text, "packed") == 0,
-                                &g, err);
+    if (!mote_outputs_find(&c->ctx->outputs, o.control)) {
+        /* the control file's errors now, before anything runs */
+        int rc = mote_nb_job_check(&o, &k2, err);
         if (rc) {
             char why[sizeof err->msg];
             snprintf(why, sizeof why, "%s", err->msg);
             return mote_call_fail(err, c, mote_call_opt_index(c, "control"), (mote_status)rc,
                                   "run galactica: %s", why);
         }
-        if (nb_galctl_get(&g, "k2") >= 1)
-            n = (uint32_t)nb_galctl_get(&g, "k2");
+        if (k2 > 0)
+            n = (uint32_t)k2;
     }
     m->d_ring = m->d_ring && n == m->d_bodies;
     if (job_coulomb(m, c) == (m->nb.kind == MOTE_NB_COULOMB)) {

@@ -45,6 +45,7 @@ typedef struct {
     uint32_t Nb0;
     int have_amz1;
     uint64_t warned;     /* approach warnings already reported */
+    int dry;             /* a check: nothing written, ErrGlctca included */
 } job;
 
 /* ---- paths, messages, ErrGlctca ----------------------------------------------------------------- */
@@ -68,6 +69,8 @@ static void say(const job *j, const char *fmt, ...)
 /* Append "*nnG message" to ErrGlctca (best effort: the message also goes to the caller). */
 static void errfile(const job *j, int code, const char *msg)
 {
+    if (j->dry)
+        return;
     char p[PATH_CAP];
     FILE *f = fopen(jpath(j, "ErrGlctca", p), "a");
     if (!f)
@@ -177,9 +180,10 @@ static int setup(job *j, const char *src, int from_ctl, mote_err *err)
                             "(records of %zu numbers in memory)", kmax, 1.3e8 / (double)j->trw,
                             j->trw);
         j->trcap = (size_t)kmax;
-        free(j->tr);
-        j->tr = malloc(j->trcap * j->trw * sizeof *j->tr);
-        if (!j->tr)
+        double *tr = realloc(j->tr, j->trcap * j->trw * sizeof *j->tr); /* (records kept) */
+        if (tr)
+            j->tr = tr;
+        if (!tr)
             return jfail(j, 2, err, mote_fail(err, MOTE_ENOMEM, "galactica: out of memory for "
                                               "%zu trajectory records", j->trcap));
     }
@@ -479,7 +483,7 @@ static int frame(job *j, mote_err *err)
         for (int t = 0; t < j->c.ntrio && t < ci(j, "Np"); t++)
             if (j->c.trio[t][2] == (long)i + 1)
                 colour = j->c.trio[t][0];
-        rgb[2 * nd] = VGA[7];
+        rgb[2 * nd] = VGA[15];
         rgb[2 * nd + 1] = VGA[colour >= 0 && colour < 16 ? colour : 15];
         nd++;
     }
@@ -663,7 +667,7 @@ static int ckpt_read(job *j, const char *path, mote_err *err)
     }
     if (!what && !rc &&
         (!(s = mote_lines_next(&l)) || sscanf(s, "records %llu %llu", &nr, &w) != 2 ||
-         s[8] == '-' || w != j->trw || nr > j->trcap))
+         s[8] == '-' || (nr > 0 && (w != j->trw || nr > j->trcap))))
         what = "'records N WIDTH' matching the control values (Klmax, Np, Kl15)";
     for (unsigned long long r = 0; r < nr && !what && !rc; r++)
         if (get_doubles(mote_lines_next(&l), "r", j->tr + r * j->trw, j->trw))
@@ -883,6 +887,38 @@ static void job_free(job *j)
     free(j->dice);
 }
 
+/* The folder of the control file into j->dir. */
+static int job_dir(job *j, const char *control, mote_err *err)
+{
+    const char *slash = strrchr(control, '/');
+    if (slash && (size_t)(slash - control) + 2 > sizeof j->dir)
+        return mote_fail(err, MOTE_EINVAL, "galactica: the folder name is too long");
+    if (slash)
+        snprintf(j->dir, sizeof j->dir, "%.*s/", (int)(slash - control), control);
+    return MOTE_OK;
+}
+
+int mote_nb_job_check(const mote_nb_job *o, long *k2, mote_err *err)
+{
+    job J;
+    memset(&J, 0, sizeof J);
+    job *j = &J;
+    j->o = o;
+    j->coulomb = o->coulomb;
+    j->dry = 1;
+    *k2 = 0;
+    int rc = job_dir(j, o->control, err);
+    if (rc || access(o->control, F_OK) != 0)
+        return rc; /* no control file yet: an earlier command or a checkpoint may provide it */
+    rc = nb_galctl_read(o->control, o->lenient, o->packed, &j->c, err);
+    if (!rc && ci(j, "Kl1") < 3) /* (with 3, 4 a checkpoint may replace it) */
+        rc = setup(j, o->control, 1, err);
+    if (!rc && ci(j, "Kl1") != 0)
+        *k2 = ci(j, "k2");
+    free(j->tr);
+    return rc;
+}
+
 int mote_nb_job_run(const mote_nb_job *o, int *started, mote_err *err)
 {
     if (started)
@@ -892,18 +928,15 @@ int mote_nb_job_run(const mote_nb_job *o, int *started, mote_err *err)
     job *j = &J;
     j->o = o;
     j->coulomb = o->coulomb;
-    const char *slash = strrchr(o->control, '/');
-    if (slash && (size_t)(slash - o->control) + 2 > sizeof j->dir)
-        return mote_fail(err, MOTE_EINVAL, "galactica: the folder name is too long");
-    if (slash)
-        snprintf(j->dir, sizeof j->dir, "%.*s/", (int)(slash - o->control), o->control);
+    int rc = job_dir(j, o->control, err);
+    if (rc)
+        return rc;
     mote_nb_init(&j->nb, o->coulomb ? MOTE_NB_COULOMB : MOTE_NB_GRAVITY);
     j->dmin = -1;
     j->zoom = 1;
     char ck[PATH_CAP];
     jpath(j, o->coulomb ? "galgok2" : "galgon4", ck);
     const int have_ctl = access(o->control, F_OK) == 0, have_ck = access(ck, F_OK) == 0;
-    int rc = MOTE_OK;
     if (have_ctl && (rc = nb_galctl_read(o->control, o->lenient, o->packed, &j->c, err)))
         rc = jfail(j, fail_code(rc), err, rc);
     const int resume = !rc && have_ck && (!have_ctl || ci(j, "Kl1") >= 3);
@@ -988,6 +1021,69 @@ int mote_nb_job_run(const mote_nb_job *o, int *started, mote_err *err)
     return rc;
 }
 
+/* ---- checkpoint edit (spec 7.10): the separate editing program of the document --------------- */
+
+static const char *const EDITABLE[] = {"Ltk", "Ltk2", "Kl3", "Kl7", "Kl12", "Kli", "Nbd", "dT"};
+
+int mote_nb_job_edit(const mote_nb_job *o, int nedit, char *const *edits, mote_err *err)
+{
+    job J;
+    memset(&J, 0, sizeof J);
+    job *j = &J;
+    j->o = o;
+    j->coulomb = o->coulomb;
+    j->dmin = -1;
+    j->zoom = 1;
+    int rc = job_dir(j, o->control, err);
+    if (rc)
+        return rc;
+    mote_nb_init(&j->nb, o->coulomb ? MOTE_NB_COULOMB : MOTE_NB_GRAVITY);
+    char ck[PATH_CAP];
+    jpath(j, o->coulomb ? "galgok2" : "galgon4", ck);
+    rc = ckpt_read(j, ck, err);
+    int plan_changed = 0;
+    for (int k = 0; k < nedit && !rc; k++) {
+        const char *eq = strchr(edits[k], '=');
+        size_t len = eq ? (size_t)(eq - edits[k]) : 0;
+        int which = -1;
+        for (int q = 0; q < 8 && eq; q++)
+            if (strlen(EDITABLE[q]) == len && strncmp(edits[k], EDITABLE[q], len) == 0)
+                which = q;
+        char *end = NULL;
+        const double v = eq ? strtod(eq + 1, &end) : 0;
+        if (which < 0 || end == eq + 1 || *end || !isfinite(v))
+            rc = mote_fail(err, MOTE_EINVAL, "galactica edit: '%s': expected KEY=VALUE with KEY "
+                           "one of Ltk Ltk2 Kl3 Kl7 Kl12 Kli Nbd dT", edits[k]);
+        else if (which == 7 && !(v > 0))
+            rc = mote_fail(err, MOTE_EINVAL, "galactica edit: dT=%g, expected a step > 0", v);
+        else if (which < 7 && v != floor(v))
+            rc = mote_fail(err, MOTE_EINVAL, "galactica edit: %s=%g, expected an integer",
+                           EDITABLE[which], v);
+        else if (which == 7)
+            j->nb.dt = (mote_real)v;
+        else {
+            j->c.v[nb_galctl_index(EDITABLE[which])] = v;
+            plan_changed |= which < 2;
+        }
+    }
+    if (!rc) /* the values as a first launch would check them, then the bodies they name */
+        rc = setup(j, ck, 0, err);
+    if (!rc)
+        rc = check_selection(j, ck, 0, err);
+    if (!rc && plan_changed) /* the next launch runs Ltk * Ltk2 steps from here */
+        j->Ltot = j->Lt + (uint64_t)ci(j, "Ltk") * (uint64_t)ci(j, "Ltk2");
+    if (!rc && j->trn > j->trcap)
+        rc = mote_fail(err, MOTE_EINVAL, "galactica edit: the checkpoint holds %zu trajectory "
+                       "records, more than Klmax", j->trn);
+    if (!rc)
+        rc = ckpt_write(j, err);
+    if (!rc)
+        say(j, "galactica edit: %s now plans steps %llu to %llu, dT = %.16E\n", ck,
+            (unsigned long long)j->Lt, (unsigned long long)j->Ltot, (double)j->nb.dt);
+    job_free(j);
+    return rc;
+}
+
 /* ---- mote galactica: the command line ------------------------------------------------------- */
 
 static void job_usage(FILE *f)
@@ -995,6 +1091,7 @@ static void job_usage(FILE *f)
     fprintf(f,
             "Usage: mote galactica [--coulomb] [--frames] [--threads N] [--control FILE]\n"
             "                      [--lenient] [--packed] [--step-tol E] [--max-files N] [--force]\n"
+            "       mote galactica edit [--coulomb] KEY=VALUE ...\n"
             "Run the Galactica job of this folder: read galacf26.dat (or --control FILE, whose\n"
             "folder then holds the job) and write Galactica's files under Galactica's names\n"
             "(garez28.dat, 1, 2, ..., 1t, ..., traekt.prn, dice.dat, galgon4, ErrGlctca).\n"
@@ -1006,6 +1103,8 @@ static void job_usage(FILE *f)
             "                 prose layout with line 53 reserved)\n"
             "  --step-tol E   the step tolerance of Kl4 = 2 or 3 (default 1e-16)\n"
             "  --max-files N  refuse to start above N output files (default 10000); --force\n"
+            "edit changes the checkpoint galgon4 (galgok2) for the next launch: Ltk, Ltk2 (the\n"
+            "next launch runs Ltk * Ltk2 steps), Kl3, Kl7, Kl12, Kli, Nbd, dT.\n"
             "Exit status: 0 success, 1 bad job (nothing ran), 2 failure during the run.\n"
             "See docs/galactica.md.\n");
 }
@@ -1017,9 +1116,15 @@ int mote_nb_galactica_main(int argc, char **argv, FILE *out, FILE *diag)
     o.control = "galacf26.dat";
     o.out = out;
     o.threads = 1;
-    for (int k = 1; k < argc; k++) {
+    int edit = argc > 1 && strcmp(argv[1], "edit") == 0, nedit = 0;
+    char **edits = argv + 2;
+    for (int k = 1 + edit; k < argc; k++) {
         const char *a = argv[k];
         const int more = k + 1 < argc;
+        if (edit && a[0] != '-') {
+            edits[nedit++] = argv[k]; /* (argv is rearranged: KEY=VALUE words first) */
+            continue;
+        }
         char *end = NULL;
         if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
             job_usage(out);
@@ -1070,6 +1175,16 @@ int mote_nb_galactica_main(int argc, char **argv, FILE *out, FILE *diag)
     }
     mote_err err = {0};
     int started = 0;
+    if (edit) {
+        if (!nedit) {
+            fprintf(diag, "mote galactica: error: edit needs KEY=VALUE words\n");
+            return 1;
+        }
+        int rc = mote_nb_job_edit(&o, nedit, edits, &err);
+        if (rc)
+            fprintf(diag, "mote galactica: error: %s\n", err.msg);
+        return rc ? 1 : 0;
+    }
     int rc = mote_nb_job_run(&o, &started, &err);
     if (rc) {
         fprintf(diag, "mote galactica: error: %s\n", err.msg);
