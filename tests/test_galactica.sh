@@ -224,6 +224,29 @@ awk 'NR == 1 { t = $1 + 0 } NR == 2 { exit !(t > 6.99000e-4 && t < 6.99002e-4 &&
 (cd ed && "$MOTE" galactica edit Nbd=31 > out.txt 2> err.txt); rc=$?
 [ $rc -eq 1 ] && grep -q "Nbd = 31, expected 0 (off) or a body 1 ... 30" ed/err.txt && ok || bad "edit Nbd=31: exit $rc, $(cat ed/err.txt)"
 
+# ---- T20: approaches with in-step refinement, on a two-body hyperbolic flyby ---------------------
+# G = 1, masses 0.75 and 0.25, relative orbit e = 2 with periapsis q = 0.1, started at true
+# anomaly -2 rad; Kepler's hyperbolic equation gives the periapsis time t_p = 0.50111018402362074
+# and speed v_p = sqrt(3 / 0.1); the flyby's time scale q / v_p = 0.0182574 (mpmath, 40 digits).
+fly() {
+    printf 'model nbody gravity\nunits dimensionless\n'
+    printf 'body mass=0.75 x=0.18610515963767164217 y=0.40664719256696120834 vx=-0.41503559346152418213 vy=-0.72292675449920588968\n'
+    printf 'body mass=0.25 x=-0.55831547891301492651 y=-1.219941577700883625 vx=1.2451067803845725464 vy=2.168780263497617669\n'
+    printf '%s\napproaches body=1 every=1000000 %s file=%s\nintegrate to=1\n' "$1" "$2" "$3"
+}
+fly 'integrator taylor order=20 tol=1e-16' refine=on fly.dat > fly.mote
+fly 'integrator taylor order=20 tol=1e-16' refine=off fly0.dat > fly0.mote
+fly 'integrator galactica dt=1e-4' refine=on flyg.dat > flyg.mote
+for f in fly fly0 flyg; do "$MOTE" run $f.mote > out.txt 2> err.txt && ok || bad "$f.mote failed: $(cat err.txt)"; done
+grep -q '^# columns: T_min body distance relative_speed$' fly.dat && ok || bad "approaches: the columns"
+awk '!/^#/ { dt = $1 - 0.50111018402362074; if (dt < 0) dt = -dt; dq = ($3 - 0.1) / 0.1; if (dq < 0) dq = -dq
+             exit !($2 == 2 && dt <= 1e-10 * 0.0182574 && dq <= 1e-10) }' fly.dat && ok || bad "T20: the refined minimum (Taylor) is off: $(tail -1 fly.dat)"
+awk '!/^#/ { dt = $1 - 0.50111018402362074; if (dt < 0) dt = -dt; dq = ($3 - 0.1) / 0.1; if (dq < 0) dq = -dq
+             exit !($2 == 2 && dt <= 1e-10 * 0.0182574 && dq <= 1e-10) }' flyg.dat && ok || bad "T20: the refined minimum (Galactica scheme, dt 1e-4) is off: $(tail -1 flyg.dat)"
+awk '!/^#/ { exit !($3 >= 0.1 && $3 > 0.1000001) }' fly0.dat && ok || bad "T20: the sampled minimum is not above the true one: $(tail -1 fly0.dat)"
+expect 1 "ap1.mote:3:" ap1.mote 'model nbody gravity\nbody mass=1\napproaches body=1 every=10 file=a.dat refine=yes\n'
+expect 1 "ap2.mote:3:" ap2.mote 'model nbody gravity\nbody mass=1\napproaches body=4 every=10 file=a.dat\n'
+
 # run galactica's options are checked before anything runs
 expect 1 "bad1.mote:2:" bad1.mote 'model nbody gravity\nrun galactica frames=maybe\n'
 expect 1 "bad2.mote:2:" bad2.mote 'model nbody gravity\nrun galaxy\n'

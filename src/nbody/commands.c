@@ -58,6 +58,13 @@ typedef struct {
         char *prefix, *origin;
         uint64_t every;
     } snap;
+    /* closest approaches of one body (spec 7.9, 10.4): a row every `every` steps into path */
+    struct {
+        nb_approach a;
+        uint64_t every;   /* 0: off */
+        char *path, *origin;
+        int galactica;    /* dice.dat's three columns (time, body, distance) */
+    } appr;
     /* the header of the last Galactica file read (its Em and area fields are carried over) */
     int have_galhead;
     mote_real galhead[25];
@@ -93,6 +100,9 @@ static void model_destroy(void *vm)
     free(m->ckpt.path);
     free(m->snap.prefix);
     free(m->snap.origin);
+    nb_approach_free(&m->appr.a);
+    free(m->appr.path);
+    free(m->appr.origin);
     nb_sampler *smp[2] = {&m->mon, &m->traj};
     for (int k = 0; k < 2; k++) {
         free(smp[k]->path);
@@ -1319,6 +1329,80 @@ static int run_trajectory(void *vm, const mote_call *c, mote_err *err)
     return rc ? rc : sampler_write(m, &m->traj, 1, err);
 }
 
+/* ---- approaches (spec 7.9, 10.4) ------------------------------------------------------------- */
+
+static int check_approaches(void *vm, const mote_call *c, mote_err *err)
+{
+    nb_model *m = vm;
+    int rc = need_bodies(vm, c, err);
+    if (rc)
+        return rc;
+    if (opt_on_off(c, "refine", 0) < 0)
+        return mote_call_fail(err, c, mote_call_opt_index(c, "refine"), MOTE_EINVAL,
+                              "approaches: refine must be on or off, found '%s'",
+                              mote_call_opt(c, "refine")->text);
+    const mote_arg *f = mote_call_opt(c, "format");
+    if (f && strcmp(f->text, "native") != 0 && strcmp(f->text, "galactica") != 0)
+        return mote_call_fail(err, c, mote_call_opt_index(c, "format"), MOTE_EINVAL,
+                              "approaches: format must be native or galactica (dice.dat's "
+                              "columns), found '%s'", f->text);
+    const long k = body_list(c, "body", NULL, m->d_bodies, NULL, err);
+    if (k < 0)
+        return err->code;
+    return k == 1 ? MOTE_OK
+                  : mote_call_fail(err, c, mote_call_opt_index(c, "body"), MOTE_EINVAL,
+                                   "approaches: body= names one body (found %ld)", k);
+}
+
+static int approaches_write(nb_model *m, mote_err *err)
+{
+    if (!m->appr.path)
+        return MOTE_OK;
+    mote_datafile d;
+    int rc = mote_datafile_open(&d, m->appr.path, "nbody-approaches", m->appr.origin, 0, err);
+    if (rc)
+        return rc;
+    nb_write_header(d.f, &m->nb);
+    fprintf(d.f, "# body = %u\n# refine = %s\n# a row per interval of %llu steps: the closest "
+                 "approach of the body to any other, %s\n",
+            m->appr.a.body + 1, m->appr.a.refine ? "on" : "off",
+            (unsigned long long)m->appr.every,
+            m->appr.a.refine ? "the true minimum inside a step, from the step's polynomial"
+                             : "sampled at step ends");
+    fprintf(d.f, "# columns: %s\n", m->appr.galactica ? "T_min body distance"
+                                                      : "T_min body distance relative_speed");
+    const nb_approach *a = &m->appr.a;
+    for (size_t k = 0; k < a->nrows; k++) {
+        const double *r = a->rows + 4 * k;
+        if (m->appr.galactica)
+            fprintf(d.f, "%.16E  %.0f  %.16E\n", r[0], r[1], r[2]);
+        else
+            fprintf(d.f, "%.17g %.0f %.17g %.17g\n", r[0], r[1], r[2], r[3]);
+    }
+    return mote_datafile_commit(&d, err);
+}
+
+static int run_approaches(void *vm, const mote_call *c, mote_err *err)
+{
+    nb_model *m = vm;
+    settle_units(m);
+    uint32_t b = 0;
+    if (body_list(c, "body", &m->nb, m->nb.n, &b, err) != 1)
+        return err->code ? err->code : MOTE_EINVAL;
+    nb_approach_free(&m->appr.a);
+    nb_approach_init(&m->appr.a, b, opt_on_off(c, "refine", 0) == 1, err);
+    m->appr.every = (uint64_t)mote_call_opt(c, "every")->i;
+    const mote_arg *f = mote_call_opt(c, "format");
+    m->appr.galactica = f && strcmp(f->text, "galactica") == 0;
+    free(m->appr.path);
+    free(m->appr.origin);
+    m->appr.path = strdup(mote_call_opt(c, "file")->path);
+    m->appr.origin = mote_call_origin(c);
+    if (!m->appr.path || !m->appr.origin)
+        return mote_fail(err, MOTE_ENOMEM, "approaches: out of memory");
+    return approaches_write(m, err);
+}
+
 static int check_integrate(void *vm, const mote_call *c, mote_err *err)
 {
     int given = (mote_call_opt(c, "steps") != NULL) + (mote_call_opt(c, "to") != NULL) +
@@ -1418,6 +1502,8 @@ static int run_integrate(void *vm, const mote_call *c, mote_err *err)
     while (done < steps && !rc && m->nb.T < t_end) {
         uint64_t chunk = until_sample(&m->mon, m->nb.steps, steps - done);
         chunk = until_sample(&m->traj, m->nb.steps, chunk);
+        if (m->appr.every) /* every step end is looked at */
+            chunk = 1;
         const uint64_t every[2] = {m->ckpt.path ? m->ckpt.every : 0, m->snap.every};
         for (int k = 0; k < 2; k++)
             if (every[k]) {
@@ -1429,8 +1515,16 @@ static int run_integrate(void *vm, const mote_call *c, mote_err *err)
         uint64_t before = m->nb.steps;
         const mote_real Tb = m->nb.T;
         const uint64_t merges = m->nb.merges;
-        rc = mote_nb_integrate(&m->nb, chunk, t_end, err);
+        if (m->appr.every)
+            rc = nb_approach_before(&m->appr.a, &m->nb, err);
+        if (!rc)
+            rc = mote_nb_integrate(&m->nb, chunk, t_end, err);
         done += m->nb.steps - before;
+        if (!rc && m->appr.every && m->nb.steps != before) {
+            nb_approach_after(&m->appr.a, &m->nb, Tb, m->nb.merges != merges);
+            if (m->nb.steps % m->appr.every == 0)
+                rc = nb_approach_close(&m->appr.a, m->nb.T, err);
+        }
         if (!rc && m->nb.steps == before) /* no step could be taken: the end is reached */
             break;
         if (!rc)
@@ -1455,6 +1549,13 @@ static int run_integrate(void *vm, const mote_call *c, mote_err *err)
                 "%.3g): lower hmin= or bt= of 'merge'\n",
                 (unsigned long long)(m->nb.approach_warnings - warned),
                 m->nb.approach_warnings - warned > 1 ? "s" : "", (double)m->nb.max_overlap);
+    if (!rc && m->appr.every && m->nb.steps % m->appr.every != 0 && m->appr.a.best >= 0)
+        rc = nb_approach_close(&m->appr.a, m->nb.T, err); /* the last, partial interval */
+    if (m->appr.every) {
+        mote_err werr = {0};
+        int wrc = approaches_write(m, rc ? &werr : err);
+        rc = rc ? rc : wrc;
+    }
     /* the samples so far, even after a failure */
     nb_sampler *smp[2] = {&m->mon, &m->traj};
     for (int k = 0; k < 2; k++) {
@@ -2211,6 +2312,17 @@ static const char HELP_SNAPSHOT[] =
     "count in ten digits and .snap (default P: snapshot_, so\n"
     "snapshot_0000001000.snap). P may name a directory: prefix=snaps/ring_.\n";
 
+static const char HELP_APPROACHES[] =
+    "From the next integrate on, looks at the distance from body B (a name or a number) to\n"
+    "every other active body after each step, and writes one row per K steps to FILE (and a\n"
+    "last one for a partial interval at the end of integrate): T_min body distance\n"
+    "relative_speed, the closest approach in the interval (body 0 when B had no partner).\n"
+    "Sampled at step ends by default; refine=on also finds the true minimum inside a step,\n"
+    "where the relative radial velocity changes sign, from the step's own polynomial (the\n"
+    "Taylor integrator's coefficients, or the Galactica scheme's derivatives at the step's\n"
+    "start), to the last bit of the step. format=galactica writes dice.dat's columns (time,\n"
+    "body, distance). Every step end is examined, so integrate takes one step at a time.\n";
+
 static const char HELP_RUN[] =
     "Runs the Galactica job whose control file is `control=` (default galacf26.dat; the job's\n"
     "files are in its folder), as `mote galactica` does from the command line: the bodies come\n"
@@ -2297,6 +2409,10 @@ static const mote_cmd nb_commands[] = {
      "[velocities=on|off]",
      "record the positions of every body (plot draws the orbits)", HELP_TRAJECTORY,
      check_trajectory, run_trajectory},
+    {"approaches", NULL, "body=s! every=i>=1! refine=s file=f>approaches! format=s",
+     "approaches body=B every=K file=FILE [refine=on] [format=native|galactica]",
+     "record the closest approach of body B to the others in every K steps", HELP_APPROACHES,
+     check_approaches, run_approaches},
     {"integrate", NULL, "steps=i>=1 to=r for=r>0 unit=s",
      "integrate [steps=N] [to=T] [for=D] [unit=U]",
      "advance by N steps, to the time T, or for the time D (ends exactly)", HELP_INTEGRATE,

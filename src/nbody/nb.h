@@ -133,6 +133,29 @@ static inline mote_real nb_step_bounds(const mote_nb *nb, mote_real h, mote_real
     return isfinite(h) ? h : idle;
 }
 
+/* Closest approaches of one body (approach.c, spec 7.9, 10.4): sampled at step ends, refined
+ * inside steps from the step's polynomial; one row (T_min, body 1..n or 0, distance, relative
+ * speed) per interval. */
+typedef struct {
+    uint32_t body;       /* 0-based */
+    int refine;
+    mote_real *x0;       /* Galactica refine: x, v and d5p before the step (3 blocks of 3n) */
+    size_t cap;
+    mote_real dtp0;
+    int restart0;
+    mote_real best, t, speed; /* this interval's closest approach (best < 0: none yet) */
+    uint32_t with;
+    double *rows;        /* 4 per interval */
+    size_t nrows, rowcap;
+} nb_approach;
+int nb_approach_init(nb_approach *a, uint32_t body, int refine, mote_err *err);
+void nb_approach_free(nb_approach *a);
+/* Before a step (saves what the Galactica scheme's polynomial needs), after it (from Tb; merged:
+ * a merge changed the bodies, so the polynomial is not theirs), and at an interval's end. */
+int nb_approach_before(nb_approach *a, const mote_nb *nb, mote_err *err);
+void nb_approach_after(nb_approach *a, const mote_nb *nb, mote_real Tb, int merged);
+int nb_approach_close(nb_approach *a, mote_real T, mote_err *err);
+
 /* Run nb's integrator as `integrator` for at most `steps` steps (integrate.c). */
 int nb_run_as(mote_nb *nb, int integrator, uint64_t steps, mote_err *err);
 
