@@ -12,11 +12,17 @@
  *                  about z by TH radians first (the same problem with other rounding errors);
  *   galactica      the same period with Galactica's scheme, dT = 1e-6 (10 000 steps);
  *   pairs N [T]    ordered-pair evaluations per second of the Galactica scheme's passes for N
- *                  random bodies on T threads (default 1).
+ *                  random bodies on T threads (default 1);
+ *   plummer [NMAX [DMAX [PNG [T]]]]  seconds per Galactica-scheme step against N for a Plummer
+ *                  sphere (spec 6.2), N = 10^3, 3*10^3, ... NMAX (default 10^6), direct sums up
+ *                  to DMAX (default 3*10^4) and the Barnes-Hut tree at theta 0.5 for all, on T
+ *                  threads (default 1); also seconds / (N log2 N) for the tree, and the plot
+ *                  (log-log) into PNG (default plummer.png).
  *
  * One `key=value` line per run. Compare with the reference (REBOUND's IAS15) as bench/README.md
  * describes: same machine, same compiler and flags, one thread, median of 5. */
 #include "mote/nbody.h"
+#include "mote/render.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -202,6 +208,74 @@ static int pairs(uint32_t n, int threads)
     return 0;
 }
 
+/* One Galactica-scheme step of a Plummer sphere of n bodies (the second of two: the first is a
+ * restart step of 0.001 dT, which costs the same), in wall seconds. */
+static double plummer_step(uint32_t n, int tree, int threads, double *rss)
+{
+    mote_nb nb;
+    mote_nb_init(&nb, MOTE_NB_GRAVITY);
+    mote_err e = {0};
+    if (mote_nb_plummer(&nb, n, 6, &e)) {
+        fprintf(stderr, "bench_nbody: %s\n", e.msg);
+        return -1;
+    }
+    nb.dt = 1e-4;
+    nb.threads = threads;
+    nb.tree_on = tree;
+    nb.theta = 0.5;
+    nb.ref_set = 1; /* (the energy reference is O(N^2): not wanted here) */
+    if (mote_nb_galactica(&nb, 1, &e))
+        return -1;
+    double w0 = mote_wall_seconds();
+    int rc = mote_nb_galactica(&nb, 1, &e);
+    double w = mote_wall_seconds() - w0;
+    *rss = (double)mote_peak_rss_bytes();
+    mote_nb_free(&nb);
+    return rc ? -1 : w;
+}
+
+static int plummer(uint32_t nmax, uint32_t dmax, const char *png, int threads)
+{
+    double N[16], td[16], tt[16], lnd[16], lnt[16], lN[16];
+    int k = 0, kd = 0;
+    for (double n = 1000; n <= nmax * 1.0001 && k < 16; n *= (k % 2 ? 10.0 / 3 : 3), k++) {
+        const uint32_t m = (uint32_t)(n + 0.5);
+        double rss;
+        N[k] = m;
+        td[k] = m <= dmax ? plummer_step(m, 0, threads, &rss) : NAN;
+        tt[k] = plummer_step(m, 1, threads, &rss);
+        if (tt[k] < 0 || (m <= dmax && td[k] < 0))
+            return 1;
+        lN[k] = log10(N[k]);
+        lnd[k] = m <= dmax ? log10(td[k]) : NAN;
+        lnt[k] = log10(tt[k]);
+        kd += m <= dmax;
+        printf("workload=plummer N=%u threads=%d direct_seconds_per_step=%.4g "
+               "tree_seconds_per_step=%.4g tree_over_NlogN_ns=%.4g peak_rss_mb=%.0f\n", m,
+               threads, td[k], tt[k], 1e9 * tt[k] / (N[k] * log2(N[k])), rss / 1e6);
+        fflush(stdout);
+    }
+    /* the crossover: the first N at which the tree is faster */
+    for (int i = 0; i < k; i++)
+        if (isfinite(td[i]) && tt[i] < td[i]) {
+            printf("crossover: the tree is faster from N = %.0f on (measured)\n", N[i]);
+            break;
+        }
+    const mote_series s[2] = {{lN, lnd, (size_t)k, "direct sums", 2},
+                              {lN, lnt, (size_t)k, "Barnes-Hut tree, theta 0.5", 2}};
+    mote_plot_opts o = {0};
+    o.title = "N-body: one Galactica-scheme step of a Plummer sphere";
+    o.xlabel = "log10 N";
+    o.ylabel = "log10 (wall seconds per step)";
+    mote_err e = {0};
+    if (mote_plot_png(png, &o, s, 2, &e)) {
+        fprintf(stderr, "bench_nbody: %s\n", e.msg);
+        return 1;
+    }
+    printf("plot: %s\n", png);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 2 || strcmp(argv[1], "b1") == 0) {
@@ -216,6 +290,11 @@ int main(int argc, char **argv)
         return ring_period(MOTE_NB_GALACTICA, 6, 0);
     if (strcmp(argv[1], "pairs") == 0 && argc > 2)
         return pairs((uint32_t)atoi(argv[2]), argc > 3 ? atoi(argv[3]) : 1);
-    fprintf(stderr, "usage: bench_nbody [b1 [P [TOL]] | b2 FILE [P [TOL [TH]]] | galactica | pairs N [THREADS]]\n");
+    if (strcmp(argv[1], "plummer") == 0)
+        return plummer(argc > 2 ? (uint32_t)atof(argv[2]) : 1000000,
+                       argc > 3 ? (uint32_t)atof(argv[3]) : 30000,
+                       argc > 4 ? argv[4] : "plummer.png", argc > 5 ? atoi(argv[5]) : 1);
+    fprintf(stderr, "usage: bench_nbody [b1 [P [TOL]] | b2 FILE [P [TOL [TH]]] | galactica | "
+                    "pairs N [THREADS] | plummer [NMAX [DMAX [PNG [THREADS]]]]]\n");
     return 2;
 }

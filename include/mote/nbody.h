@@ -155,6 +155,12 @@ typedef struct {
     /* the constants in use (spec 3.6; the `constant` command replaces them): G (m^3 kg^-1 s^-2),
      * e2 = e^2 in kg m^3 s^-2 (with the 1e-9 of spec 3.2), the relative permittivity */
     double G, e2, eps;
+    /* forces (spec 6.2): direct sums, or the approximate Barnes-Hut tree with opening angle
+     * theta (the tree is scratch, rebuilt every step) */
+    int tree_on;
+    mote_real theta;
+    int tree_used;          /* some step of this run used the tree (outputs say so) */
+    struct nb_tree *tree;
     /* monitor references (spec 3.7), from the state at the start of the run */
     int ref_set;
     mote_real E0, Mza1, Lnorm1;
@@ -329,6 +335,10 @@ typedef struct {
 void mote_nb_area_defaults(mote_nb_area *a);
 /* Build the area into an empty gravity system, with its scales. */
 int mote_nb_area_build(mote_nb *nb, mote_nb_area *a, mote_err *err);
+
+/* A Plummer sphere of n equal masses (G = 1, total mass 1, Plummer radius 1), barycentric, drawn
+ * from the seed (Aarseth, Henon & Wielen 1974): the test problem of spec 6.2 (T18, T19). */
+int mote_nb_plummer(mote_nb *nb, uint32_t n, uint64_t seed, mote_err *err);
 
 /* ---- a Galactica job (spec 7) ------------------------------------------------------------------ */
 

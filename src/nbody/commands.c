@@ -643,6 +643,25 @@ static int check_generate(void *vm, const mote_call *c, mote_err *err)
     const char *what = c->args[0].text;
     if (strcmp(what, "area") == 0)
         return check_area(m, c, err);
+    if (strcmp(what, "plummer") == 0) {
+        for (int k = 0; k < c->nopts; k++)
+            if (strcmp(c->opts[k].key, "n") != 0 && strcmp(c->opts[k].key, "seed") != 0)
+                return mote_call_fail(err, c, c->nargs + k, MOTE_EINVAL,
+                                      "generate plummer: option %s= (expected n= and seed=)",
+                                      c->opts[k].key);
+        const mote_arg *n = mote_call_opt(c, "n");
+        if (!n || n->i > 100000000)
+            return mote_call_fail(err, c, n ? mote_call_opt_index(c, "n") : 0, MOTE_EINVAL,
+                                  "generate plummer: n= the number of bodies (1 ... 10^8)");
+        if (m->nb.kind != MOTE_NB_GRAVITY || m->d_bodies)
+            return mote_call_fail(err, c, 0, MOTE_EINVAL, "generate plummer: %s",
+                                  m->d_bodies ? "the system already has bodies"
+                                              : "a Plummer sphere needs 'model nbody gravity'");
+        m->d_bodies = (uint32_t)n->i;
+        m->d_ring = 0;
+        m->d_scales = 1;
+        return MOTE_OK;
+    }
     int ring = strcmp(what, "ring") == 0, atom = strcmp(what, "atom_ring") == 0;
     if (strcmp(what, "solar_system") == 0) {
         if (m->nb.kind != MOTE_NB_GRAVITY)
@@ -653,7 +672,8 @@ static int check_generate(void *vm, const mote_call *c, mote_err *err)
     }
     if (!ring && !atom)
         return mote_call_fail(err, c, 0, MOTE_EINVAL,
-                              "generate: expected ring, atom_ring, solar_system or area, found "
+                              "generate: expected ring, atom_ring, solar_system, area or plummer, "
+                              "found "
                               "'%s'", what);
     if (ring != (m->nb.kind == MOTE_NB_GRAVITY))
         return mote_call_fail(err, c, 0, MOTE_EINVAL,
@@ -682,6 +702,16 @@ static int run_generate(void *vm, const mote_call *c, mote_err *err)
         return run_solar(m, c, err);
     if (strcmp(c->args[0].text, "area") == 0)
         return run_area(m, c, err);
+    if (strcmp(c->args[0].text, "plummer") == 0) {
+        const mote_arg *sd = mote_call_opt(c, "seed");
+        m->have_ring = 0;
+        int rc = mote_nb_plummer(&m->nb, (uint32_t)mote_call_opt(c, "n")->i,
+                                 sd ? (uint64_t)sd->i : 1, err);
+        if (!rc && m->log)
+            fprintf(m->log, "generate plummer: %u equal masses, Plummer radius 1, G = 1 units, "
+                            "barycentric\n", m->nb.n);
+        return rc;
+    }
     mote_nb_ring *r = &m->ring;
     mote_nb_ring_defaults(r, m->nb.kind);
     const mote_arg *a;
@@ -887,19 +917,30 @@ static int run_compensated(void *vm, const mote_call *c, mote_err *err)
 static int check_forces(void *vm, const mote_call *c, mote_err *err)
 {
     const char *s = c->args[0].text;
-    if (strcmp(s, "tree") == 0)
-        return mote_call_fail(err, c, 0, MOTE_EINVAL,
-                              "forces: the Barnes-Hut tree (spec 6.2) is not in this version; "
-                              "forces are summed directly over all pairs (forces direct)");
-    if (strcmp(s, "direct") != 0)
+    if (strcmp(s, "direct") != 0 && strcmp(s, "tree") != 0)
         return mote_call_fail(err, c, 0, MOTE_EINVAL, "forces: expected direct or tree, found '%s'",
                               s);
-    if (mote_call_opt(c, "theta"))
+    if (strcmp(s, "direct") == 0 && mote_call_opt(c, "theta"))
         return mote_call_fail(err, c, mote_call_opt_index(c, "theta"), MOTE_EINVAL,
                               "forces: theta= is for forces tree");
+    const mote_arg *t = mote_call_opt(c, "theta");
+    if (t && !(t->r < 2))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "theta"), MOTE_EINVAL,
+                              "forces tree: theta = %g; the tree's opening angle must be below 2 "
+                              "(0.5 is the default, 0.3 more accurate)", t->r);
     return MOTE_OK;
 }
-static int run_forces(void *vm, const mote_call *c, mote_err *err) { return MOTE_OK; }
+static int run_forces(void *vm, const mote_call *c, mote_err *err)
+{
+    nb_model *m = vm;
+    const mote_arg *t = mote_call_opt(c, "theta");
+    m->nb.tree_on = strcmp(c->args[0].text, "tree") == 0;
+    m->nb.theta = m->nb.tree_on ? (mote_real)(t ? t->r : 0.5) : 0;
+    if (m->log && m->nb.tree_on)
+        fprintf(m->log, "forces: Barnes-Hut tree, theta %g (approximate: every output says so)\n",
+                (double)m->nb.theta);
+    return MOTE_OK;
+}
 
 /* ---- monitor and integrate ------------------------------------------------------------------- */
 
@@ -2062,7 +2103,11 @@ static const char HELP_GENERATE[] =
     "the axis through axis=X01,Y01 (0.5,0.5) parallel to z; sep_density= (0: none) adds a\n"
     "separate body at sep_pos= with sep_vel=, only when no node is closer than 1/mu to it\n"
     "node. The grid's centre of mass is taken out before the separate body's mass enters.\n"
-    "length= is Am (1 AU), used only to convert back to SI; dt= the nominal step (5e-4).\n";
+    "length= is Am (1 AU), used only to convert back to SI; dt= the nominal step (5e-4).\n"
+    "\n"
+    "`generate plummer n=N [seed=S]` is a Plummer sphere of N equal masses (total mass 1,\n"
+    "Plummer radius 1, G = 1 units; Aarseth, Henon & Wielen 1974), barycentric: the test\n"
+    "problem of the tree forces (forces tree).\n";
 
 static const char HELP_INTEGRATOR[] =
     "    integrator galactica [dt=H] [order=K] [first_step=F] [tol=E]\n"
@@ -2109,12 +2154,20 @@ static const char HELP_INTEGRATOR[] =
 
 static const char HELP_FORCES[] =
     "    forces direct\n"
+    "    forces tree [theta=0.5]\n"
     "\n"
-    "Sum the forces directly over every pair of bodies (spec 6.1), in a fixed order\n"
-    "for each target, so that results do not depend on the number of threads. This\n"
-    "is the default and, in this version, the only method: `forces tree theta=`\n"
-    "(the approximate Barnes-Hut tree of spec 6.2, for very large N) is refused\n"
-    "with a message. Output headers record the method (`# forces = direct`).\n";
+    "`direct` (the default) sums the forces over every pair of bodies (spec 6.1), in a fixed\n"
+    "order for each target, so that results do not depend on the number of threads.\n"
+    "\n"
+    "`tree` uses a Barnes-Hut octree (spec 6.2) for large N: built each step from the\n"
+    "positions at its start (leaves of at most 8 bodies); a cell is taken as one pseudo-body\n"
+    "when its side over its distance from the target is below theta, and its trajectory\n"
+    "coefficients are the weighted means of its bodies', so both integrators work at any\n"
+    "order. It is approximate: every output header says `# forces = tree` with theta, and\n"
+    "momentum is no longer conserved exactly. Accuracy on a Plummer sphere (N = 30 000): a\n"
+    "median relative acceleration error of about 1e-3 at theta 0.5 and 2e-4 at 0.3; theta 0\n"
+    "opens every cell and gives the direct sums to rounding (docs/nbody.md). Gravity, or\n"
+    "charges of one sign only. The results do not depend on the number of threads.\n";
 
 static const char HELP_COMPENSATED[] =
     "    compensated on|off\n"
@@ -2382,7 +2435,7 @@ static const mote_cmd nb_commands[] = {
      "s nb=i>=2 ka=r>0 e=r[0,1) tilt=r central_mass=r>0 total_mass=r>0 density=r>0 dt=r>0 "
      "A=i>=1 Z=i>=1 n=i>=1 l=i permittivity=r>0 time_unit=r>0 data=f<solar bodies=s "
      "merge_inner=s b=r>0 c=r>0 origin=s mu=i>=1 sep_density=r>=0 sep_pos=s sep_vel=s omega=r "
-     "axis=s rho_area=r>0 rho_body=r>=0 length=r>0",
+     "axis=s rho_area=r>0 rho_body=r>=0 length=r>0 seed=i>=0",
      "generate KIND [options]",
      "the exact rings of the seed document, the Solar System, or Galactica's area of matter",
      HELP_GENERATE, check_generate, run_generate},
@@ -2395,7 +2448,8 @@ static const mote_cmd nb_commands[] = {
      HELP_INTEGRATOR, check_integrator, run_integrator},
     {"compensated", NULL, "s", "compensated on|off", "compensated summation (default on)",
      HELP_COMPENSATED, check_compensated, run_compensated},
-    {"forces", NULL, "s theta=r>0", "forces direct", "how forces are summed (direct: every pair)",
+    {"forces", NULL, "s theta=r>=0", "forces direct|tree [theta=T]",
+     "how forces are summed: every pair, or the approximate Barnes-Hut tree",
      HELP_FORCES, check_forces, run_forces},
     {"merge", NULL, "s bt=r(0,1] hmin=r(0,1]", "merge on|off [bt=F] [hmin=H]", "merge bodies that touch (default: on when any has a radius)",
      HELP_MERGE, check_merge, run_merge},

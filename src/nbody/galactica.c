@@ -15,8 +15,9 @@
  * nothing but the state: 1, 2 or 4 threads give the same bits. */
 #include "mote/nbody.h"
 
-#include <tgmath.h>
+#include <stdlib.h>
 #include <string.h>
+#include <tgmath.h>
 
 #include "nb.h"
 
@@ -35,21 +36,9 @@ static inline void pass1_range(const mote_nb *nb, int all, uint32_t i, uint32_t 
 {
     const mote_real *x = nb->x, *v = nb->v, *w = nb->w;
     const mote_real *xi = x + 3 * (size_t)i, *vi = v + 3 * (size_t)i;
-    for (uint32_t k = k0; k < k1; k++) {
-        if (!all && !nb->active[k])
-            continue;
-        const mote_real *xk = x + 3 * (size_t)k, *vk = v + 3 * (size_t)k;
-        mote_real r[3] = {xi[0] - xk[0], xi[1] - xk[1], xi[2] - xk[2]};
-        mote_real u[3] = {vi[0] - vk[0], vi[1] - vk[1], vi[2] - vk[2]};
-        mote_real r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
-        mote_real i2 = 1 / r2, wr3 = w[k] * i2 * sqrt(i2);
-        mote_real alpha = (r[0] * u[0] + r[1] * u[1] + r[2] * u[2]) * i2;
-        for (int c = 0; c < 3; c++) {
-            mote_real A0 = wr3 * r[c];
-            a[c] += A0;
-            j[c] += wr3 * u[c] - 3 * alpha * A0;
-        }
-    }
+    for (uint32_t k = k0; k < k1; k++)
+        if (all || nb->active[k])
+            nb_pair1(xi, vi, x + 3 * (size_t)k, v + 3 * (size_t)k, w[k], a, j);
 }
 
 #if MOTE_NB_PRECISION == 1 && defined(__SSE2__)
@@ -113,11 +102,96 @@ static inline void pass1_sse2(const mote_nb *nb, uint32_t i, uint32_t k0, uint32
 }
 #endif
 
+/* Tree forces (spec 6.2): the passes over target i's interaction list, bodies and cells (whose
+ * x, v, a, j are the cell data blocks 0 to 3). */
+/* Without memory for a list: the walk itself, calling the pair terms source by source. */
+typedef struct {
+    const mote_nb *nb;
+    uint32_t i;
+    int second;
+    mote_real s[2][3];
+} tree_sum;
+
+static void visit(uint32_t k, int cell, void *arg)
+{
+    tree_sum *q = arg;
+    const mote_nb *nb = q->nb;
+    const size_t oi = 3 * (size_t)q->i, o = 3 * (size_t)k;
+    const mote_real *src[4] = {nb->x, nb->v, nb->acc, nb->jerk};
+    if (cell)
+        for (int b = 0; b < 4; b++)
+            src[b] = nb_tree_block(nb, b);
+    const mote_real w = cell ? nb_tree_weight(nb, k) : nb->w[k];
+    if (q->second)
+        nb_pair2(nb->x + oi, nb->v + oi, nb->acc + oi, nb->jerk + oi, src[0] + o, src[1] + o,
+                 src[2] + o, src[3] + o, w, q->s[0], q->s[1]);
+    else
+        nb_pair1(nb->x + oi, nb->v + oi, src[0] + o, src[1] + o, w, q->s[0], q->s[1]);
+}
+
+/* The sources' data gathered in list order (x, v, a, j blocks and the weights), then the pair
+ * terms summed in that order: the same arithmetic as a walk calling the pair terms, without a
+ * call and a scattered load per source. */
+static void tree_target(mote_nb *nb, uint32_t i, int second, mote_real *out0, mote_real *out1)
+{
+    mote_real s0[3] = {0, 0, 0}, s1[3] = {0, 0, 0};
+    uint32_t *src = NULL;
+    size_t cap = 0, n = nb->active[i] ? nb_tree_list(nb, i, &src, &cap) : 0;
+    const int blocks = second ? 4 : 2;
+    mote_real *g = n && n != (size_t)-1 ? malloc(n * (3 * (size_t)blocks + 1) * sizeof *g) : NULL;
+    if (nb->active[i] && !g && n != 0) { /* out of memory: the walk itself (the same sums) */
+        tree_sum q = {nb, i, second, {{0, 0, 0}, {0, 0, 0}}};
+        nb_tree_walk(nb, i, visit, &q);
+        memcpy(s0, q.s[0], sizeof s0);
+        memcpy(s1, q.s[1], sizeof s1);
+        n = 0;
+    }
+    const mote_real *cell[4] = {nb_tree_block(nb, 0), nb_tree_block(nb, 1), nb_tree_block(nb, 2),
+                                nb_tree_block(nb, 3)};
+    const mote_real *body[4] = {nb->x, nb->v, nb->acc, nb->jerk};
+    for (size_t k = 0; k < n; k++) {
+        const uint32_t s = src[k] & ~NB_TREE_CELL;
+        const int isc = (src[k] & NB_TREE_CELL) != 0;
+        for (int b = 0; b < blocks; b++)
+            for (int a = 0; a < 3; a++)
+                g[(3 * (size_t)b + a) * n + k] = (isc ? cell[b] : body[b])[3 * (size_t)s + a];
+        g[3 * (size_t)blocks * n + k] = isc ? nb_tree_weight(nb, s) : nb->w[s];
+    }
+    const size_t oi = 3 * (size_t)i;
+    const mote_real *w = g ? g + 3 * (size_t)blocks * n : NULL;
+    for (size_t k = 0; k < n; k++) {
+        mote_real xk[3], vk[3], ak[3], jk[3];
+        for (int a = 0; a < 3; a++) {
+            xk[a] = g[(size_t)a * n + k];
+            vk[a] = g[(3 + (size_t)a) * n + k];
+            if (second) {
+                ak[a] = g[(6 + (size_t)a) * n + k];
+                jk[a] = g[(9 + (size_t)a) * n + k];
+            }
+        }
+        if (second)
+            nb_pair2(nb->x + oi, nb->v + oi, nb->acc + oi, nb->jerk + oi, xk, vk, ak, jk, w[k],
+                     s0, s1);
+        else
+            nb_pair1(nb->x + oi, nb->v + oi, xk, vk, w[k], s0, s1);
+    }
+    free(g);
+    free(src);
+    for (int c = 0; c < 3; c++) {
+        out0[oi + c] = nb->c[i] * s0[c];
+        out1[oi + c] = nb->c[i] * s1[c];
+    }
+}
+
 /* Pass 1 for target i: a_i = c_i sum A0, j_i = c_i sum A1. */
 static void pass1_target(mote_nb *nb, int all, uint32_t i)
 {
     const uint32_t n = nb->n;
     mote_real a[3] = {0, 0, 0}, j[3] = {0, 0, 0};
+    if (nb->tree_on) {
+        tree_target(nb, i, 0, nb->acc, nb->jerk);
+        return;
+    }
     if (nb->active[i]) {
 #ifdef NB_SSE2
         if (all) {
@@ -152,8 +226,17 @@ static void over_targets(mote_nb *nb, void (*fn)(mote_nb *, int, uint32_t))
     }
 }
 
-/* Pass 1 (spec 4.2 step 1) over every target. */
-static void pass1(mote_nb *nb) { over_targets(nb, pass1_target); }
+/* Pass 1 (spec 4.2 step 1) over every target; with the tree, built here from the step's
+ * starting positions, and the cells' x and v filled first. */
+static void pass1(mote_nb *nb)
+{
+    if (nb->tree_on) {
+        nb_tree_build(nb);
+        nb_tree_fill(nb, 0, nb->x);
+        nb_tree_fill(nb, 1, nb->v);
+    }
+    over_targets(nb, pass1_target);
+}
 
 /* Pass 2 for target i over the sources k0 <= k < k1 (not i): the sums of A2 and A3. */
 static inline void pass2_range(const mote_nb *nb, int all, uint32_t i, uint32_t k0, uint32_t k1,
@@ -166,31 +249,7 @@ static inline void pass2_range(const mote_nb *nb, int all, uint32_t i, uint32_t 
         if (!all && !nb->active[k])
             continue;
         const size_t o = 3 * (size_t)k;
-        mote_real r[3], u[3], ac[3], jc[3];
-        for (int c = 0; c < 3; c++) {
-            r[c] = xi[c] - x[o + c];
-            u[c] = vi[c] - v[o + c];
-            ac[c] = ai[c] - A[o + c];
-            jc[c] = ji[c] - J[o + c];
-        }
-        mote_real r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
-        mote_real i2 = 1 / r2, wr3 = w[k] * i2 * sqrt(i2);
-        mote_real rv = r[0] * u[0] + r[1] * u[1] + r[2] * u[2];
-        mote_real vv = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
-        mote_real ra = r[0] * ac[0] + r[1] * ac[1] + r[2] * ac[2];
-        mote_real va = u[0] * ac[0] + u[1] * ac[1] + u[2] * ac[2];
-        mote_real rj = r[0] * jc[0] + r[1] * jc[1] + r[2] * jc[2];
-        mote_real alpha = rv * i2;
-        mote_real beta = (vv + ra) * i2 + alpha * alpha;
-        mote_real gamma = (3 * va + rj) * i2 + alpha * (3 * beta - 4 * alpha * alpha);
-        for (int c = 0; c < 3; c++) {
-            mote_real A0 = wr3 * r[c];
-            mote_real A1 = wr3 * u[c] - 3 * alpha * A0;
-            mote_real A2 = wr3 * ac[c] - 6 * alpha * A1 - 3 * beta * A0;
-            mote_real A3 = wr3 * jc[c] - 9 * alpha * A2 - 9 * beta * A1 - 3 * gamma * A0;
-            s4[c] += A2;
-            s5[c] += A3;
-        }
+        nb_pair2(xi, vi, ai, ji, x + o, v + o, A + o, J + o, w[k], s4, s5);
     }
 }
 
@@ -273,6 +332,10 @@ static void pass2_target(mote_nb *nb, int all, uint32_t i)
 {
     const uint32_t n = nb->n;
     mote_real s4[3] = {0, 0, 0}, s5[3] = {0, 0, 0};
+    if (nb->tree_on) {
+        tree_target(nb, i, 1, nb->d4, nb->d5);
+        return;
+    }
     if (nb->active[i]) {
 #ifdef NB_SSE2
         if (all) {
@@ -291,7 +354,14 @@ static void pass2_target(mote_nb *nb, int all, uint32_t i)
     }
 }
 
-static void pass2(mote_nb *nb) { over_targets(nb, pass2_target); }
+static void pass2(mote_nb *nb)
+{
+    if (nb->tree_on) { /* the cells' acceleration and jerk from pass 1 */
+        nb_tree_fill(nb, 2, nb->acc);
+        nb_tree_fill(nb, 3, nb->jerk);
+    }
+    over_targets(nb, pass2_target);
+}
 
 /* Does a pair approach contact within h (spec 4.7)? |r| - |v| h - |a| h^2 / 2 < Ra_i + Ra_k,
  * with the relative position, velocity and acceleration. */
@@ -438,6 +508,8 @@ static mote_real step(mote_nb *nb, mote_real h, mote_real rest)
 int mote_nb_derivatives(mote_nb *nb, mote_err *err)
 {
     int rc = mote_nb_prepare(nb, err);
+    if (!rc)
+        rc = nb_tree_check(nb, 4, err);
     if (rc)
         return rc;
     pass1(nb);

@@ -291,6 +291,9 @@ int nb_from_galfile(mote_nb *nb, const nb_galfile *g, const char *path, mote_err
     t.dt_max = nb->dt_max;
     t.threads = nb->threads;
     t.u = nb->u;
+    t.tree_on = nb->tree_on; /* the force method is a setting, not state */
+    t.theta = nb->theta;
+    t.tree_used = nb->tree_used;
     mote_nb_free(nb);
     *nb = t;
     return MOTE_OK;

@@ -12,8 +12,11 @@ int mote_nb_integrate(mote_nb *nb, uint64_t max_steps, mote_real t_end, mote_err
     int rc = taylor ? nb_taylor_check(nb, err) : nb_galactica_check(nb, err);
     if (!rc)
         rc = mote_nb_prepare(nb, err);
+    if (!rc) /* the tree's room: the Galactica scheme's four blocks, or every Taylor order */
+        rc = nb_tree_check(nb, taylor ? nb->taylor_order + 1 : 4, err);
     if (rc)
         return rc;
+    nb->tree_used |= nb->tree_on;
     if (!(t_end > nb->T) && t_end < INFINITY)
         return MOTE_OK;
     if (!nb->ref_set)

@@ -52,8 +52,14 @@ typedef struct {
 
 static const char *jpath(const job *j, const char *name, char buf[PATH_CAP])
 {
-    const int n = snprintf(buf, PATH_CAP, "%s%s", j->dir, name);
-    return n >= 0 && n < PATH_CAP ? buf : name; /* (the folder's length is checked first) */
+    const size_t a = strlen(j->dir);
+    size_t b = strlen(name);
+    if (a + b + 1 > PATH_CAP) /* (cannot happen: the folder's and the names' lengths are bounded) */
+        b = 0;
+    memcpy(buf, j->dir, a);
+    memcpy(buf + a, name, b);
+    buf[a + b] = '\0';
+    return buf;
 }
 
 static void say(const job *j, const char *fmt, ...)

@@ -3,6 +3,8 @@
 #define MOTE_NB_INTERNAL_H
 
 #include "mote/nbody.h"
+
+#include <tgmath.h>
 #include <math.h> /* isfinite */
 
 /* Render an N-body data file (trajectory: orbits; monitor: drifts) as a PNG (plot.c). */
@@ -155,6 +157,72 @@ void nb_approach_free(nb_approach *a);
 int nb_approach_before(nb_approach *a, const mote_nb *nb, mote_err *err);
 void nb_approach_after(nb_approach *a, const mote_nb *nb, mote_real Tb, int merged);
 int nb_approach_close(nb_approach *a, mote_real T, mote_err *err);
+
+/* The Barnes-Hut tree (tree.c, spec 6.2). check: room for `blocks` blocks of cell data (and the
+ * charges of one sign); build: from the positions, at a step's start; fill: the cells' block b
+ * from the bodies' 3-per-body src; walk: every source of target i in a fixed order (a body, or
+ * a cell with nb_tree_weight and its data at nb_tree_block(b) + 3 cell). */
+typedef struct nb_tree nb_tree;
+int nb_tree_check(mote_nb *nb, int blocks, mote_err *err);
+void nb_tree_free(mote_nb *nb);
+void nb_tree_build(mote_nb *nb);
+void nb_tree_fill(mote_nb *nb, int block, const mote_real *src);
+const mote_real *nb_tree_block(const mote_nb *nb, int block);
+void nb_tree_walk(const mote_nb *nb, uint32_t i, void (*visit)(uint32_t, int, void *), void *arg);
+mote_real nb_tree_weight(const mote_nb *nb, uint32_t cell);
+/* The walk of target i as a list in *src (grown as needed: *cap), a body's index or NB_TREE_CELL
+ * | a cell's; the count, or (size_t)-1 when memory ran out. */
+#define NB_TREE_CELL 0x80000000u
+size_t nb_tree_list(const mote_nb *nb, uint32_t i, uint32_t **src, size_t *cap);
+
+/* The pair terms of the Galactica scheme's passes (spec 4.2) for target i and source k: pass 1
+ * adds A0 and A1 to a and j; pass 2 adds A2 and A3 to s4 and s5 (w: the source's weight). */
+static inline void nb_pair1(const mote_real *xi, const mote_real *vi, const mote_real *xk,
+                            const mote_real *vk, mote_real w, mote_real a[3], mote_real j[3])
+{
+    mote_real r[3] = {xi[0] - xk[0], xi[1] - xk[1], xi[2] - xk[2]};
+    mote_real u[3] = {vi[0] - vk[0], vi[1] - vk[1], vi[2] - vk[2]};
+    mote_real r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+    mote_real i2 = 1 / r2, wr3 = w * i2 * sqrt(i2);
+    mote_real alpha = (r[0] * u[0] + r[1] * u[1] + r[2] * u[2]) * i2;
+    for (int c = 0; c < 3; c++) {
+        mote_real A0 = wr3 * r[c];
+        a[c] += A0;
+        j[c] += wr3 * u[c] - 3 * alpha * A0;
+    }
+}
+
+static inline void nb_pair2(const mote_real *xi, const mote_real *vi, const mote_real *ai,
+                            const mote_real *ji, const mote_real *xk, const mote_real *vk,
+                            const mote_real *ak, const mote_real *jk, mote_real w,
+                            mote_real s4[3], mote_real s5[3])
+{
+    mote_real r[3], u[3], ac[3], jc[3];
+    for (int c = 0; c < 3; c++) {
+        r[c] = xi[c] - xk[c];
+        u[c] = vi[c] - vk[c];
+        ac[c] = ai[c] - ak[c];
+        jc[c] = ji[c] - jk[c];
+    }
+    mote_real r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+    mote_real i2 = 1 / r2, wr3 = w * i2 * sqrt(i2);
+    mote_real rv = r[0] * u[0] + r[1] * u[1] + r[2] * u[2];
+    mote_real vv = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+    mote_real ra = r[0] * ac[0] + r[1] * ac[1] + r[2] * ac[2];
+    mote_real va = u[0] * ac[0] + u[1] * ac[1] + u[2] * ac[2];
+    mote_real rj = r[0] * jc[0] + r[1] * jc[1] + r[2] * jc[2];
+    mote_real alpha = rv * i2;
+    mote_real beta = (vv + ra) * i2 + alpha * alpha;
+    mote_real gamma = (3 * va + rj) * i2 + alpha * (3 * beta - 4 * alpha * alpha);
+    for (int c = 0; c < 3; c++) {
+        mote_real A0 = wr3 * r[c];
+        mote_real A1 = wr3 * u[c] - 3 * alpha * A0;
+        mote_real A2 = wr3 * ac[c] - 6 * alpha * A1 - 3 * beta * A0;
+        mote_real A3 = wr3 * jc[c] - 9 * alpha * A2 - 9 * beta * A1 - 3 * gamma * A0;
+        s4[c] += A2;
+        s5[c] += A3;
+    }
+}
 
 /* Run nb's integrator as `integrator` for at most `steps` steps (integrate.c). */
 int nb_run_as(mote_nb *nb, int integrator, uint64_t steps, mote_err *err);

@@ -35,8 +35,17 @@ void nb_write_header(FILE *f, const mote_nb *nb)
     } else
         fprintf(f, "# integrator = galactica\n# order = %d\n# dt = %s\n", nb->order,
                 mote_real_str(nb->dt, b[0]));
-    fprintf(f, "# compensated = %d\n# forces = direct\n# precision = %s\n", nb->compensated,
-            MOTE_REAL_NAME);
+    fprintf(f, "# compensated = %d\n", nb->compensated);
+    if (nb->tree_on) {
+        char t[MOTE_REAL_BUF];
+        fprintf(f, "# forces = tree\n# theta = %s\n# approximate: Barnes-Hut tree forces (spec "
+                   "6.2); momentum is not conserved exactly\n", mote_real_str(nb->theta, t));
+    } else if (nb->tree_used) {
+        fprintf(f, "# forces = direct\n# approximate: some steps of this run used Barnes-Hut tree "
+                   "forces (spec 6.2)\n");
+    } else
+        fprintf(f, "# forces = direct\n");
+    fprintf(f, "# precision = %s\n", MOTE_REAL_NAME);
 }
 
 void nb_write_units(FILE *f, const mote_nb *nb)
@@ -371,6 +380,9 @@ int nb_snapshot_read(mote_nb *nb, const char *path, mote_err *err)
         t.e2 = units[5];
     if (units[6] > 0)
         t.eps = units[6];
+    t.tree_on = nb->tree_on; /* the force method is a setting, not state */
+    t.theta = nb->theta;
+    t.tree_used = nb->tree_used;
     mote_nb_free(nb);
     *nb = t;
     return MOTE_OK;

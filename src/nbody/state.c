@@ -433,6 +433,9 @@ int nb_state_get(mote_nb *nb, mote_lines *l, int tail, mote_err *err)
     t.G = t.u.set && t.u.G > 0 ? t.u.G : nb->G; /* the constants of the file's scales */
     t.e2 = t.u.set && t.u.e2 > 0 ? t.u.e2 : nb->e2;
     t.eps = t.u.set && t.u.eps > 0 ? t.u.eps : nb->eps;
+    t.tree_on = nb->tree_on; /* the force method is a setting, not state */
+    t.theta = nb->theta;
+    t.tree_used = nb->tree_used;
     mote_nb_free(nb);
     *nb = t;
     return MOTE_OK;

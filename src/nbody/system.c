@@ -106,6 +106,7 @@ static void free_arrays(mote_nb *nb)
 void mote_nb_free(mote_nb *nb)
 {
     free_arrays(nb);
+    nb_tree_free(nb);
     mote_nb_interaction kind = nb->kind;
     const double G = nb->G, e2 = nb->e2, eps = nb->eps;
     memset(nb, 0, sizeof *nb);

@@ -233,6 +233,72 @@ static void pairs_of(mote_nb *nb, mote_real *X, size_t blk, uint32_t i, int n0, 
             pair_G(nb, X, blk, i, k, upair(i, k, N), npairs, n0, n1, 1, Gb[upair(i, k, N)]);
 }
 
+/* Tree forces (spec 6.2): target i's sum over its interaction list, every source's s, f
+ * histories computed afresh from order 0 (no pair memory); a cell's coefficients are its block
+ * of the tree's cell data, order by order. */
+typedef struct {
+    const mote_nb *nb;
+    const mote_real *X, *C; /* the bodies' and the cells' coefficients */
+    size_t blk, cblk;
+    uint32_t i;
+    int n0, n1;
+    mote_real sum[2][3];
+} tree_sum;
+
+static void tree_visit(uint32_t k, int cell, void *arg)
+{
+    tree_sum *q = arg;
+    const mote_real *S = cell ? q->C : q->X;
+    const size_t sb = cell ? q->cblk : q->blk;
+    mote_real R[64][3], s[64], f[64];
+    for (int j = 0; j <= q->n1; j++)
+        for (int a = 0; a < 3; a++)
+            R[j][a] = q->X[j * q->blk + 3 * q->i + a] - S[j * sb + 3 * (size_t)k + a];
+    sf_order(0, R, s, f, 0);
+    const mote_real f0inv = 1 / s[0];
+    for (int n = 1; n <= q->n1; n++)
+        sf_order(n, R, s, f, f0inv);
+    const mote_real w = cell ? nb_tree_weight(q->nb, k) : q->nb->w[k];
+    for (int n = q->n0; n <= q->n1; n++) {
+        mote_real g[3] = {0, 0, 0};
+        for (int j = 0; j <= n; j++)
+            for (int a = 0; a < 3; a++)
+                g[a] += f[j] * R[n - j][a];
+        for (int a = 0; a < 3; a++)
+            q->sum[n - q->n0][a] += w * g[a];
+    }
+}
+
+static void tree_target(mote_nb *nb, mote_real *X, size_t blk, uint32_t i, int n0, int n1)
+{
+    tree_sum q = {nb, X, nb_tree_block(nb, 0), blk, 0, i, n0, n1, {{0, 0, 0}, {0, 0, 0}}};
+    q.cblk = (size_t)(nb_tree_block(nb, 1) - q.C);
+    nb_tree_walk(nb, i, tree_visit, &q);
+    for (int n = n0; n <= n1; n++)
+        for (int a = 0; a < 3; a++)
+            X[(size_t)(n + 2) * blk + 3 * i + a] =
+                nb->c[i] * q.sum[n - n0][a] / ((mote_real)(n + 1) * (n + 2));
+}
+
+static void tree_pass(mote_nb *nb, mote_real *X, int n0, int n1)
+{
+    const uint32_t N = nb->n;
+    const size_t blk = 3 * (size_t)N;
+    for (int n = n0; n <= n1; n++) /* the cells' orders that the last pass made known */
+        nb_tree_fill(nb, n, X + (size_t)n * blk);
+    const int nt = nb->threads > 1 ? nb->threads : 1;
+    if (nt > 1 && N >= 64) {
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 16)
+        for (uint32_t i = 0; i < N; i++)
+            if (nb->active[i])
+                tree_target(nb, X, blk, i, n0, n1);
+        return;
+    }
+    for (uint32_t i = 0; i < N; i++)
+        if (nb->active[i])
+            tree_target(nb, X, blk, i, n0, n1);
+}
+
 /* One pass over every body; OpenMP only where it pays (an OpenMP region costs an allocation and
  * a wake-up even on one thread), with the same bits either way. */
 static void pass(mote_nb *nb, mote_real *X, int n0, int top, int store)
@@ -240,6 +306,10 @@ static void pass(mote_nb *nb, mote_real *X, int n0, int top, int store)
     const uint32_t N = nb->n;
     const size_t blk = 3 * (size_t)N;
     const int n1 = n0 + 1 <= top ? n0 + 1 : n0;
+    if (nb->tree_on) {
+        tree_pass(nb, X, n0, n1);
+        return;
+    }
     const int nt = nb->threads > 1 ? nb->threads : 1;
     mote_real (*Gb)[2][3] = store ? (mote_real (*)[2][3])nb->tg : NULL;
     if (nt > 1 && N >= 64) {
@@ -268,11 +338,15 @@ int mote_nb_taylor_coefficients(mote_nb *nb, int p, int store, mote_real *X)
 {
     mote_err e = {0};
     int rc = scratch(nb, p, store, &e); /* (a no-op when a run has sized it) */
+    if (!rc && nb->tree_on)
+        rc = nb_tree_check(nb, p + 1, &e);
     if (rc)
         return rc;
     const size_t blk = 3 * (size_t)nb->n;
     memcpy(X, nb->x, blk * sizeof *X);
     memcpy(X + blk, nb->v, blk * sizeof *X);
+    if (nb->tree_on)
+        nb_tree_build(nb);
     for (int n0 = 0; n0 <= p - 2; n0 += 2)
         pass(nb, X, n0, p - 2, store);
     return MOTE_OK;
@@ -331,6 +405,8 @@ static int scratch(mote_nb *nb, int p, int store, mote_err *err)
 
 int mote_nb_taylor_memory_store(const mote_nb *nb, int p)
 {
+    if (nb->tree_on) /* tree forces keep no pair histories */
+        return 0;
     if (nb->taylor_memory == 1)
         return 1;
     if (nb->taylor_memory == 2)
