@@ -1,12 +1,14 @@
 #!/bin/sh
-# test_mpi.sh: the charging model's MPI build (make MPI=1; spec 5.6 and S5): a script of run
+# test_mpi.sh: the MPI build (make MPI=1). The charging model (spec 5.6 and S5): a script of run
 # (straight paths, materials, sun), float and evolve (curved paths) gives the same files on 1
 # process of the plain build, 1 rank and 2 ranks of the MPI build (timing lines excepted), and
-# only rank 0 writes; a model other than charging is refused under MPI. `make check` builds
+# only rank 0 writes. The N-body model (its spec 6.3, T17): 1, 2 and 3 ranks give the single
+# process's bits, in scripts and Galactica jobs. Other models are refused under MPI. `make check` builds
 # build-mpi/mote and names it in MOTE_MPI_BIN for its plain pass; without it this test says so
 # and checks nothing (the sanitizer pass).
 # Usage: MOTE_MPI_BIN=build-mpi/mote sh tests/test_mpi.sh [BUILD_DIR]
 NAME=mpi
+EX=$(cd "$(dirname "$0")/.." && pwd)/examples/galactica/ring30
 . "$(dirname "$0")/lib.sh"
 mote_test_start "$1"
 if [ -z "${MOTE_MPI_BIN:-}" ]; then
@@ -44,7 +46,36 @@ grep -q '^float: U_f = ' r2/out.txt && ok || bad "2 ranks: no float line"
 # only rank 0 writes: no temporary or second copies
 [ "$(ls r2 | sort | tr '\n' ' ')" = "$(ls p1 | sort | tr '\n' ' ')" ] && ok || bad "files of 2 ranks: $(ls r2)"
 # another model under MPI: refused, nothing run
-printf 'model nbody gravity\n' > nb.mote
-$MPIRUN "$MPI_MOTE" run nb.mote > out.txt 2> err.txt
-[ $? -ne 0 ] && grep -q "nb.mote:1:7: error: model: unknown model 'nbody' (known models: charging)" err.txt && ok || bad "nbody under MPI: $(cat err.txt)"
+printf 'model hardspheres\n' > hs.mote
+$MPIRUN "$MPI_MOTE" run hs.mote > out.txt 2> err.txt
+[ $? -ne 0 ] && grep -q "hs.mote:1:7: error: model: unknown model 'hardspheres' (known models: charging, nbody)" err.txt && ok || bad "hardspheres under MPI: $(cat err.txt)"
+
+# ---- the N-body model (spec 6.3, T17): 1, 2 and 3 ranks (3 oversubscribed on small machines)
+# give the single process's bits: the Galactica scheme, then the Taylor integrator, the state
+# and a Galactica result file; and a Galactica job run by `mote galactica` on 2 ranks
+export OMPI_MCA_mpi_yield_when_idle=1
+printf 'model nbody gravity\nunits solar\ngenerate ring nb=30\nintegrator galactica dt=1e-6\nmonitor every=100 file=g.mon\nintegrate steps=300\nwrite galactica file=g.dat info_line=off\nintegrator taylor order=12 tol=1e-16\nintegrate steps=5\nsave s.state\n' > nb.mote
+mkdir -p nb0 nb1 nb2 nb3
+for d in nb0 nb1 nb2 nb3; do cp nb.mote $d/; done
+(cd nb0 && "$MOTE" run nb.mote > out.txt 2> err.txt) && ok || bad "nbody, plain build: $(cat nb0/err.txt)"
+for r in 1 2 3; do
+    (cd nb$r && mpirun --oversubscribe -np $r "$MPI_MOTE" run nb.mote > out.txt 2> err.txt) && ok || bad "nbody on $r ranks: $(cat nb$r/err.txt)"
+    cmp -s nb0/g.dat nb$r/g.dat && cmp -s nb0/s.state nb$r/s.state && ok || bad "T17: nbody on $r MPI ranks differs from the single process"
+    [ "$(grep -v '_s ' nb0/g.mon | grep -v '^#' | cut -d' ' -f1-33)" = "$(grep -v '^#' nb$r/g.mon | cut -d' ' -f1-33)" ] && ok || bad "T17: the monitor on $r ranks differs"
+    [ "$(ls nb$r | sort | tr '\n' ' ')" = "$(ls nb0 | sort | tr '\n' ' ')" ] && ok || bad "files of $r ranks: $(ls nb$r)"
+done
+# forces tree and ranks: refused
+printf 'model nbody gravity\ngenerate plummer n=100\nforces tree\nintegrate steps=1\n' > tr.mote
+$MPIRUN "$MPI_MOTE" run tr.mote > out.txt 2> err.txt
+[ $? -eq 2 ] && grep -q 'forces tree and MPI ranks do not go together' err.txt && ok || bad "tree under MPI: $(cat err.txt)"
+mkdir -p gj0 gj2
+for d in gj0 gj2; do cp "$EX/galacf26.dat" "$EX/axsymb30.dat" $d/; sed -i '24s/^\(.\{59\}\).*/\12000/' $d/galacf26.dat; done
+(cd gj0 && "$MOTE" galactica > out.txt 2> err.txt) && ok || bad "galactica, plain: $(cat gj0/err.txt)"
+(cd gj2 && $MPIRUN "$MPI_MOTE" galactica > out.txt 2> err.txt) && ok || bad "galactica on 2 ranks: $(cat gj2/err.txt)"
+for f in garez28.dat traekt.prn dice.dat 2; do
+    cmp -s gj0/$f gj2/$f && ok || bad "T17: the Galactica job's $f differs on 2 ranks"
+done
+sed -i '26s/^\(.\{59\}\).*/\17/' gj2/galacf26.dat
+(cd gj2 && $MPIRUN "$MPI_MOTE" galactica > out.txt 2> err.txt)
+[ "$(grep -c '^\*02G' gj2/ErrGlctca)" -eq 1 ] && ok || bad "2 ranks: ErrGlctca has $(grep -c . gj2/ErrGlctca) lines for one error (rank 0 writes it)"
 mote_test_end

@@ -160,6 +160,9 @@ typedef struct {
     int tree_on;
     mote_real theta;
     int tree_used;          /* some step of this run used the tree (outputs say so) */
+    /* MPI (spec 6.3): this rank's bodies lo ... hi - 1 (all: 0 ... n - 1 on one process) */
+    int mpi_rank, mpi_size;
+    uint32_t lo, hi;
     struct nb_tree *tree;
     /* monitor references (spec 3.7), from the state at the start of the run */
     int ref_set;

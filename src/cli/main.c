@@ -3,8 +3,9 @@
  *
  * The MPI build (make MPI=1) starts MPI here. With more than one rank every rank runs the same
  * script: the charging model shares each run's histories among the ranks and sums their
- * tallies, so every rank holds the single process's numbers; rank 0 prints and writes the
- * files, the others are silent. The other models have no use for ranks and are not offered.
+ * tallies, the N-body model shares the bodies of every force pass and gathers their results,
+ * so every rank holds the single process's numbers; rank 0 prints, the others are silent. The
+ * other models have no use for ranks and are not offered.
  * `mote galactica` runs a Galactica job folder (the N-body model's own entry point). */
 #include "mote/charging.h"
 #include "mote/hardspheres.h"
@@ -41,15 +42,19 @@ int main(int argc, char **argv)
     MPI_Comm_size(MPI_COMM_WORLD, &size);
     int rc;
     if (size > 1) {
-        static const mote_model *const mpi_models[] = {&mote_model_charging};
+        static const mote_model *const mpi_models[] = {&mote_model_charging, &mote_model_nbody};
         if (rank != 0) {
             if (!freopen("/dev/null", "w", stdout) || !freopen("/dev/null", "w", stderr))
                 MPI_Abort(MPI_COMM_WORLD, 1);
         } else {
-            fprintf(stderr, "mote: %d MPI ranks share the charging model's histories (the other "
-                            "models do not run under MPI)\n", size);
+            fprintf(stderr, "mote: %d MPI ranks share the work (the charging model's histories, "
+                            "the N-body model's bodies; the other models do not run under "
+                            "MPI)\n", size);
         }
-        rc = mote_script_main(argc, argv, mpi_models, 1);
+        if (argc > 1 && strcmp(argv[1], "galactica") == 0)
+            rc = mote_nb_galactica_main(argc - 1, argv + 1, stdout, stderr);
+        else
+            rc = mote_script_main(argc, argv, mpi_models, 2);
     } else if (argc > 1 && strcmp(argv[1], "galactica") == 0) {
         rc = mote_nb_galactica_main(argc - 1, argv + 1, stdout, stderr);
     } else {

@@ -214,14 +214,15 @@ static void pass1_target(mote_nb *nb, int all, uint32_t i)
  * a wake-up even on one thread), with the same bits either way. */
 static void over_targets(mote_nb *nb, void (*fn)(mote_nb *, int, uint32_t))
 {
-    const uint32_t n = nb->n;
+    /* this rank's bodies (all of them on one process; spec 6.3) */
+    const uint32_t lo = nb->mpi_size > 1 ? nb->lo : 0, hi = nb->mpi_size > 1 ? nb->hi : nb->n;
     const int nt = nb->threads > 1 ? nb->threads : 1, all = all_active(nb);
-    if (nt > 1 && n >= 64) {
+    if (nt > 1 && hi - lo >= 64) {
 #pragma omp parallel for num_threads(nt) schedule(static)
-        for (uint32_t i = 0; i < n; i++)
+        for (uint32_t i = lo; i < hi; i++)
             fn(nb, all, i);
     } else {
-        for (uint32_t i = 0; i < n; i++)
+        for (uint32_t i = lo; i < hi; i++)
             fn(nb, all, i);
     }
 }
@@ -236,6 +237,8 @@ static void pass1(mote_nb *nb)
         nb_tree_fill(nb, 1, nb->v);
     }
     over_targets(nb, pass1_target);
+    nb_mpi_gather(nb, nb->acc, 3);
+    nb_mpi_gather(nb, nb->jerk, 3);
 }
 
 /* Pass 2 for target i over the sources k0 <= k < k1 (not i): the sums of A2 and A3. */
@@ -361,6 +364,8 @@ static void pass2(mote_nb *nb)
         nb_tree_fill(nb, 3, nb->jerk);
     }
     over_targets(nb, pass2_target);
+    nb_mpi_gather(nb, nb->d4, 3);
+    nb_mpi_gather(nb, nb->d5, 3);
 }
 
 /* Does a pair approach contact within h (spec 4.7)? |r| - |v| h - |a| h^2 / 2 < Ra_i + Ra_k,
@@ -507,6 +512,7 @@ static mote_real step(mote_nb *nb, mote_real h, mote_real rest)
 
 int mote_nb_derivatives(mote_nb *nb, mote_err *err)
 {
+    nb_mpi_layout(nb);
     int rc = mote_nb_prepare(nb, err);
     if (!rc)
         rc = nb_tree_check(nb, 4, err);

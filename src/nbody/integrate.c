@@ -12,6 +12,10 @@ int mote_nb_integrate(mote_nb *nb, uint64_t max_steps, mote_real t_end, mote_err
     int rc = taylor ? nb_taylor_check(nb, err) : nb_galactica_check(nb, err);
     if (!rc)
         rc = mote_nb_prepare(nb, err);
+    nb_mpi_layout(nb);
+    if (!rc && nb->tree_on && nb->mpi_size > 1)
+        rc = mote_fail(err, MOTE_EINVAL, "forces tree and MPI ranks do not go together in this "
+                                         "version (spec 6.3): use forces direct, or one rank");
     if (!rc) /* the tree's room: the Galactica scheme's four blocks, or every Taylor order */
         rc = nb_tree_check(nb, taylor ? nb->taylor_order + 1 : 4, err);
     if (rc)

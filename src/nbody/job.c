@@ -75,7 +75,7 @@ static void say(const job *j, const char *fmt, ...)
 /* Append "*nnG message" to ErrGlctca (best effort: the message also goes to the caller). */
 static void errfile(const job *j, int code, const char *msg)
 {
-    if (j->dry)
+    if (j->dry || nb_mpi_rank() != 0) /* (MPI: every rank has the message; rank 0 keeps it) */
         return;
     char p[PATH_CAP];
     FILE *f = fopen(jpath(j, "ErrGlctca", p), "a");

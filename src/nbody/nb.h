@@ -224,6 +224,13 @@ static inline void nb_pair2(const mote_real *xi, const mote_real *vi, const mote
     }
 }
 
+/* MPI (mpi.c, spec 6.3): this rank's block of bodies into nb (lo, hi, rank, size; one process:
+ * all); the rank (0 without MPI); the all-gather of `per` reals a body of array a from every
+ * rank's block. */
+void nb_mpi_layout(mote_nb *nb);
+int nb_mpi_rank(void);
+void nb_mpi_gather(const mote_nb *nb, mote_real *a, size_t per);
+
 /* Run nb's integrator as `integrator` for at most `steps` steps (integrate.c). */
 int nb_run_as(mote_nb *nb, int integrator, uint64_t steps, mote_err *err);
 

@@ -310,6 +310,16 @@ static void pass(mote_nb *nb, mote_real *X, int n0, int top, int store)
         tree_pass(nb, X, n0, n1);
         return;
     }
+    if (nb->mpi_size > 1) { /* this rank's targets (recompute mode), then every body's orders */
+        const int nt = nb->threads > 1 ? nb->threads : 1;
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 16) if (nt > 1)
+        for (uint32_t i = nb->lo; i < nb->hi; i++)
+            if (nb->active[i])
+                target(nb, X, blk, i, n0, n1, NULL);
+        for (int n = n0; n <= n1; n++)
+            nb_mpi_gather(nb, X + (size_t)(n + 2) * blk, 3);
+        return;
+    }
     const int nt = nb->threads > 1 ? nb->threads : 1;
     mote_real (*Gb)[2][3] = store ? (mote_real (*)[2][3])nb->tg : NULL;
     if (nt > 1 && N >= 64) {
@@ -405,7 +415,7 @@ static int scratch(mote_nb *nb, int p, int store, mote_err *err)
 
 int mote_nb_taylor_memory_store(const mote_nb *nb, int p)
 {
-    if (nb->tree_on) /* tree forces keep no pair histories */
+    if (nb->tree_on || nb->mpi_size > 1) /* tree forces and MPI ranks keep no pair histories */
         return 0;
     if (nb->taylor_memory == 1)
         return 1;
