@@ -30,14 +30,20 @@ static int all_active(const mote_nb *nb)
     return 1;
 }
 
-/* Pass 1 for target i over the sources k0 <= k < k1 (not i): the sums of A0 and A1. */
-static inline void pass1_range(const mote_nb *nb, int all, uint32_t i, uint32_t k0, uint32_t k1,
-                               mote_real a[3], mote_real j[3])
+/* The sources of a pass: positions, velocities, accelerations, jerks (3 a source), weights and
+ * the active flags (NULL: all active): the bodies, or a tree target's gathered list. */
+typedef struct {
+    const mote_real *x, *v, *A, *J, *w;
+    const uint8_t *active;
+} nb_src;
+
+/* Pass 1 for the target at xi, vi over the sources k0 <= k < k1: the sums of A0 and A1. */
+static inline void pass1_range(const nb_src *s, int all, const mote_real *xi, const mote_real *vi,
+                               uint32_t k0, uint32_t k1, mote_real a[3], mote_real j[3])
 {
-    const mote_real *x = nb->x, *v = nb->v, *w = nb->w;
-    const mote_real *xi = x + 3 * (size_t)i, *vi = v + 3 * (size_t)i;
+    const mote_real *x = s->x, *v = s->v, *w = s->w;
     for (uint32_t k = k0; k < k1; k++)
-        if (all || nb->active[k])
+        if (all || s->active[k])
             nb_pair1(xi, vi, x + 3 * (size_t)k, v + 3 * (size_t)k, w[k], a, j);
 }
 
@@ -59,11 +65,10 @@ static inline double hsum(__m128d v) /* lane 0 + lane 1 */
 /* pass1_range for double with SSE2 (every body active): two sources per iteration, k in lane
  * 0 and k + 1 in lane 1, each lane summed in index order and the lanes added at the end (a fixed
  * order: the result depends on nothing but the state). The same arithmetic as the scalar loop. */
-static inline void pass1_sse2(const mote_nb *nb, uint32_t i, uint32_t k0, uint32_t k1,
-                              mote_real a[3], mote_real j[3])
+static inline void pass1_sse2(const nb_src *s, const double *xi, const double *vi, uint32_t k0,
+                              uint32_t k1, mote_real a[3], mote_real j[3])
 {
-    const double *x = nb->x, *v = nb->v, *w = nb->w;
-    const double *xi = x + 3 * (size_t)i, *vi = v + 3 * (size_t)i;
+    const double *x = s->x, *v = s->v, *w = s->w;
     __m128d XI[3], VI[3], SA[3], SJ[3];
     for (int c = 0; c < 3; c++) {
         XI[c] = _mm_set1_pd(xi[c]);
@@ -98,90 +103,11 @@ static inline void pass1_sse2(const mote_nb *nb, uint32_t i, uint32_t k0, uint32
         j[c] += hsum(SJ[c]);
     }
     if (k < k1)
-        pass1_range(nb, 1, i, k, k1, a, j);
+        pass1_range(s, 1, xi, vi, k, k1, a, j);
 }
 #endif
 
-/* Tree forces (spec 6.2): the passes over target i's interaction list, bodies and cells (whose
- * x, v, a, j are the cell data blocks 0 to 3). */
-/* Without memory for a list: the walk itself, calling the pair terms source by source. */
-typedef struct {
-    const mote_nb *nb;
-    uint32_t i;
-    int second;
-    mote_real s[2][3];
-} tree_sum;
-
-static void visit(uint32_t k, int cell, void *arg)
-{
-    tree_sum *q = arg;
-    const mote_nb *nb = q->nb;
-    const size_t oi = 3 * (size_t)q->i, o = 3 * (size_t)k;
-    const mote_real *src[4] = {nb->x, nb->v, nb->acc, nb->jerk};
-    if (cell)
-        for (int b = 0; b < 4; b++)
-            src[b] = nb_tree_block(nb, b);
-    const mote_real w = cell ? nb_tree_weight(nb, k) : nb->w[k];
-    if (q->second)
-        nb_pair2(nb->x + oi, nb->v + oi, nb->acc + oi, nb->jerk + oi, src[0] + o, src[1] + o,
-                 src[2] + o, src[3] + o, w, q->s[0], q->s[1]);
-    else
-        nb_pair1(nb->x + oi, nb->v + oi, src[0] + o, src[1] + o, w, q->s[0], q->s[1]);
-}
-
-/* The sources' data gathered in list order (x, v, a, j blocks and the weights), then the pair
- * terms summed in that order: the same arithmetic as a walk calling the pair terms, without a
- * call and a scattered load per source. */
-static void tree_target(mote_nb *nb, uint32_t i, int second, mote_real *out0, mote_real *out1)
-{
-    mote_real s0[3] = {0, 0, 0}, s1[3] = {0, 0, 0};
-    uint32_t *src = NULL;
-    size_t cap = 0, n = nb->active[i] ? nb_tree_list(nb, i, &src, &cap) : 0;
-    const int blocks = second ? 4 : 2;
-    mote_real *g = n && n != (size_t)-1 ? malloc(n * (3 * (size_t)blocks + 1) * sizeof *g) : NULL;
-    if (nb->active[i] && !g && n != 0) { /* out of memory: the walk itself (the same sums) */
-        tree_sum q = {nb, i, second, {{0, 0, 0}, {0, 0, 0}}};
-        nb_tree_walk(nb, i, visit, &q);
-        memcpy(s0, q.s[0], sizeof s0);
-        memcpy(s1, q.s[1], sizeof s1);
-        n = 0;
-    }
-    const mote_real *cell[4] = {nb_tree_block(nb, 0), nb_tree_block(nb, 1), nb_tree_block(nb, 2),
-                                nb_tree_block(nb, 3)};
-    const mote_real *body[4] = {nb->x, nb->v, nb->acc, nb->jerk};
-    for (size_t k = 0; k < n; k++) {
-        const uint32_t s = src[k] & ~NB_TREE_CELL;
-        const int isc = (src[k] & NB_TREE_CELL) != 0;
-        for (int b = 0; b < blocks; b++)
-            for (int a = 0; a < 3; a++)
-                g[(3 * (size_t)b + a) * n + k] = (isc ? cell[b] : body[b])[3 * (size_t)s + a];
-        g[3 * (size_t)blocks * n + k] = isc ? nb_tree_weight(nb, s) : nb->w[s];
-    }
-    const size_t oi = 3 * (size_t)i;
-    const mote_real *w = g ? g + 3 * (size_t)blocks * n : NULL;
-    for (size_t k = 0; k < n; k++) {
-        mote_real xk[3], vk[3], ak[3], jk[3];
-        for (int a = 0; a < 3; a++) {
-            xk[a] = g[(size_t)a * n + k];
-            vk[a] = g[(3 + (size_t)a) * n + k];
-            if (second) {
-                ak[a] = g[(6 + (size_t)a) * n + k];
-                jk[a] = g[(9 + (size_t)a) * n + k];
-            }
-        }
-        if (second)
-            nb_pair2(nb->x + oi, nb->v + oi, nb->acc + oi, nb->jerk + oi, xk, vk, ak, jk, w[k],
-                     s0, s1);
-        else
-            nb_pair1(nb->x + oi, nb->v + oi, xk, vk, w[k], s0, s1);
-    }
-    free(g);
-    free(src);
-    for (int c = 0; c < 3; c++) {
-        out0[oi + c] = nb->c[i] * s0[c];
-        out1[oi + c] = nb->c[i] * s1[c];
-    }
-}
+static void tree_target(mote_nb *nb, uint32_t i, int second, mote_real *out0, mote_real *out1);
 
 /* Pass 1 for target i: a_i = c_i sum A0, j_i = c_i sum A1. */
 static void pass1_target(mote_nb *nb, int all, uint32_t i)
@@ -193,15 +119,17 @@ static void pass1_target(mote_nb *nb, int all, uint32_t i)
         return;
     }
     if (nb->active[i]) {
+        const nb_src src = {nb->x, nb->v, nb->acc, nb->jerk, nb->w, nb->active};
+        const mote_real *xi = nb->x + 3 * (size_t)i, *vi = nb->v + 3 * (size_t)i;
 #ifdef NB_SSE2
         if (all) {
-            pass1_sse2(nb, i, 0, i, a, j);
-            pass1_sse2(nb, i, i + 1, n, a, j);
+            pass1_sse2(&src, xi, vi, 0, i, a, j);
+            pass1_sse2(&src, xi, vi, i + 1, n, a, j);
         } else
 #endif
         {
-            pass1_range(nb, all, i, 0, i, a, j);
-            pass1_range(nb, all, i, i + 1, n, a, j);
+            pass1_range(&src, all, xi, vi, 0, i, a, j);
+            pass1_range(&src, all, xi, vi, i + 1, n, a, j);
         }
     }
     for (int c = 0; c < 3; c++) {
@@ -217,6 +145,17 @@ static void over_targets(mote_nb *nb, void (*fn)(mote_nb *, int, uint32_t))
     /* this rank's bodies (all of them on one process; spec 6.3) */
     const uint32_t lo = nb->mpi_size > 1 ? nb->lo : 0, hi = nb->mpi_size > 1 ? nb->hi : nb->n;
     const int nt = nb->threads > 1 ? nb->threads : 1, all = all_active(nb);
+    if (nb->tree_on) { /* targets in tree order: neighbours share their sources in the cache */
+        uint32_t na;
+        const uint32_t *order = nb_tree_order(nb, &na);
+        for (uint32_t i = 0; i < nb->n; i++)
+            if (!nb->active[i])
+                fn(nb, all, i);
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 64) if (nt > 1 && na >= 64)
+        for (uint32_t k = 0; k < na; k++)
+            fn(nb, all, order[k]);
+        return;
+    }
     if (nt > 1 && hi - lo >= 64) {
 #pragma omp parallel for num_threads(nt) schedule(static)
         for (uint32_t i = lo; i < hi; i++)
@@ -241,15 +180,14 @@ static void pass1(mote_nb *nb)
     nb_mpi_gather(nb, nb->jerk, 3);
 }
 
-/* Pass 2 for target i over the sources k0 <= k < k1 (not i): the sums of A2 and A3. */
-static inline void pass2_range(const mote_nb *nb, int all, uint32_t i, uint32_t k0, uint32_t k1,
-                               mote_real s4[3], mote_real s5[3])
+/* Pass 2 for the target at xi, vi, ai, ji over the sources k0 <= k < k1: the sums of A2, A3. */
+static inline void pass2_range(const nb_src *s, int all, const mote_real *const t[4], uint32_t k0,
+                               uint32_t k1, mote_real s4[3], mote_real s5[3])
 {
-    const mote_real *x = nb->x, *v = nb->v, *w = nb->w, *A = nb->acc, *J = nb->jerk;
-    const mote_real *xi = x + 3 * (size_t)i, *vi = v + 3 * (size_t)i;
-    const mote_real *ai = A + 3 * (size_t)i, *ji = J + 3 * (size_t)i;
+    const mote_real *x = s->x, *v = s->v, *w = s->w, *A = s->A, *J = s->J;
+    const mote_real *xi = t[0], *vi = t[1], *ai = t[2], *ji = t[3];
     for (uint32_t k = k0; k < k1; k++) {
-        if (!all && !nb->active[k])
+        if (!all && !s->active[k])
             continue;
         const size_t o = 3 * (size_t)k;
         nb_pair2(xi, vi, ai, ji, x + o, v + o, A + o, J + o, w[k], s4, s5);
@@ -264,17 +202,16 @@ static inline __m128d dot3(const __m128d p[3], const __m128d q[3])
 }
 
 /* pass2_range for double with SSE2, lanes as in pass1_sse2. */
-static inline void pass2_sse2(const mote_nb *nb, uint32_t i, uint32_t k0, uint32_t k1,
+static inline void pass2_sse2(const nb_src *s, const double *const t[4], uint32_t k0, uint32_t k1,
                               mote_real s4[3], mote_real s5[3])
 {
-    const double *x = nb->x, *v = nb->v, *w = nb->w, *A = nb->acc, *J = nb->jerk;
-    const size_t oi = 3 * (size_t)i;
+    const double *x = s->x, *v = s->v, *w = s->w, *A = s->A, *J = s->J;
     __m128d XI[3], VI[3], AI[3], JI[3], S4[3], S5[3];
     for (int c = 0; c < 3; c++) {
-        XI[c] = _mm_set1_pd(x[oi + c]);
-        VI[c] = _mm_set1_pd(v[oi + c]);
-        AI[c] = _mm_set1_pd(A[oi + c]);
-        JI[c] = _mm_set1_pd(J[oi + c]);
+        XI[c] = _mm_set1_pd(t[0][c]);
+        VI[c] = _mm_set1_pd(t[1][c]);
+        AI[c] = _mm_set1_pd(t[2][c]);
+        JI[c] = _mm_set1_pd(t[3][c]);
         S4[c] = S5[c] = _mm_setzero_pd();
     }
     const __m128d one = _mm_set1_pd(1), three = _mm_set1_pd(3), four = _mm_set1_pd(4),
@@ -325,9 +262,87 @@ static inline void pass2_sse2(const mote_nb *nb, uint32_t i, uint32_t k0, uint32
         s5[c] += hsum(S5[c]);
     }
     if (k < k1)
-        pass2_range(nb, 1, i, k, k1, s4, s5);
+        pass2_range(s, 1, t, k, k1, s4, s5);
 }
 #endif
+
+/* Tree forces (spec 6.2): the passes over target i's interaction list, bodies and cells (whose
+ * x, v, a, j are the cell data blocks 0 to 3). Without memory for a list: the walk itself,
+ * calling the pair terms source by source. */
+typedef struct {
+    const mote_nb *nb;
+    uint32_t i;
+    int second;
+    mote_real s[2][3];
+} tree_sum;
+
+static void visit(uint32_t k, int cell, void *arg)
+{
+    tree_sum *q = arg;
+    const mote_nb *nb = q->nb;
+    const size_t oi = 3 * (size_t)q->i, o = 3 * (size_t)k;
+    const mote_real *src[4] = {nb->x, nb->v, nb->acc, nb->jerk};
+    if (cell)
+        for (int b = 0; b < 4; b++)
+            src[b] = nb_tree_block(nb, b);
+    const mote_real w = cell ? nb_tree_weight(nb, k) : nb->w[k];
+    if (q->second)
+        nb_pair2(nb->x + oi, nb->v + oi, nb->acc + oi, nb->jerk + oi, src[0] + o, src[1] + o,
+                 src[2] + o, src[3] + o, w, q->s[0], q->s[1]);
+    else
+        nb_pair1(nb->x + oi, nb->v + oi, src[0] + o, src[1] + o, w, q->s[0], q->s[1]);
+}
+
+/* The list's sources gathered into contiguous arrays in list order, then summed by the direct
+ * passes' kernels (in double precision two sources at a time in SSE2 lanes): a fixed order. */
+static void tree_target(mote_nb *nb, uint32_t i, int second, mote_real *out0, mote_real *out1)
+{
+    mote_real s0[3] = {0, 0, 0}, s1[3] = {0, 0, 0};
+    uint32_t *src = NULL;
+    size_t cap = 0, n = nb->active[i] ? nb_tree_list(nb, i, &src, &cap) : 0;
+    const int blocks = second ? 4 : 2;
+    mote_real *g = n && n != (size_t)-1 ? malloc(n * (3 * (size_t)blocks + 1) * sizeof *g) : NULL;
+    const size_t oi = 3 * (size_t)i;
+    if (nb->active[i] && !g && n != 0) { /* out of memory: the walk itself */
+        tree_sum q = {nb, i, second, {{0, 0, 0}, {0, 0, 0}}};
+        nb_tree_walk(nb, i, visit, &q);
+        memcpy(s0, q.s[0], sizeof s0);
+        memcpy(s1, q.s[1], sizeof s1);
+    } else if (n) {
+        const mote_real *cell[4] = {nb_tree_block(nb, 0), nb_tree_block(nb, 1),
+                                    nb_tree_block(nb, 2), nb_tree_block(nb, 3)};
+        const mote_real *body[4] = {nb->x, nb->v, nb->acc, nb->jerk};
+        mote_real *w = g + 3 * (size_t)blocks * n;
+        for (size_t k = 0; k < n; k++) {
+            const uint32_t sidx = src[k] & ~NB_TREE_CELL;
+            const int isc = (src[k] & NB_TREE_CELL) != 0;
+            for (int b = 0; b < blocks; b++)
+                memcpy(g + (size_t)b * 3 * n + 3 * k, (isc ? cell[b] : body[b]) + 3 * (size_t)sidx,
+                       3 * sizeof *g);
+            w[k] = isc ? nb_tree_weight(nb, sidx) : nb->w[sidx];
+        }
+        const nb_src gs = {g, g + 3 * n, second ? g + 6 * n : NULL, second ? g + 9 * n : NULL, w,
+                           NULL};
+        const mote_real *const t[4] = {nb->x + oi, nb->v + oi, nb->acc + oi, nb->jerk + oi};
+#ifdef NB_SSE2
+        if (second)
+            pass2_sse2(&gs, t, 0, (uint32_t)n, s0, s1);
+        else
+            pass1_sse2(&gs, t[0], t[1], 0, (uint32_t)n, s0, s1);
+#else
+        if (second)
+            pass2_range(&gs, 1, t, 0, (uint32_t)n, s0, s1);
+        else
+            pass1_range(&gs, 1, t[0], t[1], 0, (uint32_t)n, s0, s1);
+#endif
+    }
+    free(g);
+    free(src);
+    for (int c = 0; c < 3; c++) {
+        out0[oi + c] = nb->c[i] * s0[c];
+        out1[oi + c] = nb->c[i] * s1[c];
+    }
+}
 
 /* Pass 2 for target i: d4_i = c_i sum A2, d5_i = c_i sum A3 from the relative acceleration and
  * jerk of pass 1 (spec 4.2 step 2); r, alpha and r^3 are recomputed, not stored. */
@@ -340,15 +355,18 @@ static void pass2_target(mote_nb *nb, int all, uint32_t i)
         return;
     }
     if (nb->active[i]) {
+        const nb_src src = {nb->x, nb->v, nb->acc, nb->jerk, nb->w, nb->active};
+        const size_t oi = 3 * (size_t)i;
+        const mote_real *const t[4] = {nb->x + oi, nb->v + oi, nb->acc + oi, nb->jerk + oi};
 #ifdef NB_SSE2
         if (all) {
-            pass2_sse2(nb, i, 0, i, s4, s5);
-            pass2_sse2(nb, i, i + 1, n, s4, s5);
+            pass2_sse2(&src, t, 0, i, s4, s5);
+            pass2_sse2(&src, t, i + 1, n, s4, s5);
         } else
 #endif
         {
-            pass2_range(nb, all, i, 0, i, s4, s5);
-            pass2_range(nb, all, i, i + 1, n, s4, s5);
+            pass2_range(&src, all, t, 0, i, s4, s5);
+            pass2_range(&src, all, t, i + 1, n, s4, s5);
         }
     }
     for (int c = 0; c < 3; c++) {

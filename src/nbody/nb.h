@@ -173,6 +173,9 @@ mote_real nb_tree_weight(const mote_nb *nb, uint32_t cell);
 /* The walk of target i as a list in *src (grown as needed: *cap), a body's index or NB_TREE_CELL
  * | a cell's; the count, or (size_t)-1 when memory ran out. */
 #define NB_TREE_CELL 0x80000000u
+/* The active bodies in tree order (neighbours next to each other): targets taken in this order
+ * find their sources in the cache; *count of them. */
+const uint32_t *nb_tree_order(const mote_nb *nb, uint32_t *count);
 size_t nb_tree_list(const mote_nb *nb, uint32_t i, uint32_t **src, size_t *cap);
 
 /* The pair terms of the Galactica scheme's passes (spec 4.2) for target i and source k: pass 1

@@ -222,6 +222,26 @@ int mote_nb_set_name(mote_nb *nb, uint32_t i, const char *name, mote_err *err)
     return MOTE_OK;
 }
 
+typedef struct {
+    mote_real x[3];
+    uint32_t i;
+} nb_point;
+
+/* by x, y, z (-0 and 0 equal, as the test of equal points has them), then by index */
+static int point_cmp_x(const nb_point *p, const nb_point *q)
+{
+    for (int c = 0; c < 3; c++)
+        if (p->x[c] != q->x[c])
+            return p->x[c] < q->x[c] ? -1 : 1;
+    return 0;
+}
+static int point_cmp(const void *a, const void *b)
+{
+    const nb_point *p = a, *q = b;
+    const int c = point_cmp_x(p, q);
+    return c ? c : p->i < q->i ? -1 : p->i > q->i;
+}
+
 int mote_nb_prepare(mote_nb *nb, mote_err *err)
 {
     if (nb->n == 0)
@@ -239,15 +259,32 @@ int mote_nb_prepare(mote_nb *nb, mote_err *err)
     }
     if (nb->kind == MOTE_NB_COULOMB && !charged)
         return mote_fail(err, MOTE_EINVAL, "a Coulomb run needs charged bodies: every charge is 0");
+    /* two active bodies at one point: sorted by position (then index), equal neighbours; the
+     * pair reported is the one of lowest indices */
+    nb_point *p = malloc((nb->n ? nb->n : 1) * sizeof *p);
+    if (!p)
+        return mote_fail(err, MOTE_ENOMEM, "out of memory for %u bodies", nb->n);
+    uint32_t np = 0;
     for (uint32_t i = 0; i < nb->n; i++)
-        for (uint32_t k = i + 1; k < nb->n; k++) {
-            if (!nb->active[i] || !nb->active[k])
-                continue;
-            const mote_real *xi = nb->x + 3 * (size_t)i, *xk = nb->x + 3 * (size_t)k;
-            if (xi[0] == xk[0] && xi[1] == xk[1] && xi[2] == xk[2])
-                return mote_fail(err, MOTE_EINVAL, "bodies %u and %u are at the same point", i + 1,
-                                 k + 1);
+        if (nb->active[i]) {
+            memcpy(p[np].x, nb->x + 3 * (size_t)i, sizeof p[np].x);
+            p[np++].i = i;
         }
+    qsort(p, np, sizeof *p, point_cmp);
+    uint32_t bi = UINT32_MAX, bk = UINT32_MAX;
+    for (uint32_t k = 1; k < np; k++)
+        if (point_cmp_x(p + k, p + k - 1) == 0) {
+            /* the first two of a group have its lowest indices */
+            const int first = k == 1 || point_cmp_x(p + k - 1, p + k - 2) != 0;
+            if (first && (p[k - 1].i < bi || (p[k - 1].i == bi && p[k].i < bk))) {
+                bi = p[k - 1].i;
+                bk = p[k].i;
+            }
+        }
+    free(p);
+    if (bi != UINT32_MAX)
+        return mote_fail(err, MOTE_EINVAL, "bodies %u and %u are at the same point", bi + 1,
+                         bk + 1);
     return MOTE_OK;
 }
 

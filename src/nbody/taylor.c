@@ -282,21 +282,15 @@ static void tree_target(mote_nb *nb, mote_real *X, size_t blk, uint32_t i, int n
 
 static void tree_pass(mote_nb *nb, mote_real *X, int n0, int n1)
 {
-    const uint32_t N = nb->n;
-    const size_t blk = 3 * (size_t)N;
+    const size_t blk = 3 * (size_t)nb->n;
     for (int n = n0; n <= n1; n++) /* the cells' orders that the last pass made known */
         nb_tree_fill(nb, n, X + (size_t)n * blk);
     const int nt = nb->threads > 1 ? nb->threads : 1;
-    if (nt > 1 && N >= 64) {
-#pragma omp parallel for num_threads(nt) schedule(dynamic, 16)
-        for (uint32_t i = 0; i < N; i++)
-            if (nb->active[i])
-                tree_target(nb, X, blk, i, n0, n1);
-        return;
-    }
-    for (uint32_t i = 0; i < N; i++)
-        if (nb->active[i])
-            tree_target(nb, X, blk, i, n0, n1);
+    uint32_t na; /* targets in tree order: neighbours share their sources in the cache */
+    const uint32_t *order = nb_tree_order(nb, &na);
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 64) if (nt > 1 && na >= 64)
+    for (uint32_t k = 0; k < na; k++)
+        tree_target(nb, X, blk, order[k], n0, n1);
 }
 
 /* One pass over every body; OpenMP only where it pays (an OpenMP region costs an allocation and

@@ -312,6 +312,12 @@ void nb_tree_walk(const mote_nb *nb, uint32_t i, void (*visit)(uint32_t, int, vo
 
 mote_real nb_tree_weight(const mote_nb *nb, uint32_t cell) { return nb->tree->W[cell]; }
 
+const uint32_t *nb_tree_order(const mote_nb *nb, uint32_t *count)
+{
+    *count = nb->tree->ncell ? nb->tree->end[0] : 0;
+    return nb->tree->perm;
+}
+
 /* The walk's sources as a list: src[k] a body, or NB_TREE_CELL | cell. */
 typedef struct {
     uint32_t *src;
