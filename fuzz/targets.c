@@ -236,6 +236,26 @@ static int fuzz_nb_galctl(const uint8_t *data, size_t size)
     return 0;
 }
 
+/* A Galactica job's checkpoint (galgon4) edited, which reads it whole, checks it as a launch
+ * would and writes it back; and the same bytes as a control file checked for a first launch. */
+static int fuzz_nb_galjob(const uint8_t *data, size_t size)
+{
+    char path[256], ctl[256];
+    if (write_input("galgon4", data, size, path, sizeof path) ||
+        write_input("galacf26.dat", data, size, ctl, sizeof ctl))
+        return 0;
+    mote_nb_job o;
+    memset(&o, 0, sizeof o);
+    o.control = ctl;
+    mote_err err = {0};
+    char edit[] = "Kl7=1";
+    char *edits[1] = {edit};
+    mote_nb_job_edit(&o, 1, edits, &err);
+    long k2;
+    mote_nb_job_check(&o, &k2, &err);
+    return 0;
+}
+
 /* A separator state: read; a state that reads must run a few steps and save. */
 static int fuzz_sep_state(const uint8_t *data, size_t size)
 {
@@ -291,6 +311,7 @@ const mote_fuzz_target mote_fuzz_targets[] = {
     {"sep_state", fuzz_sep_state},
     {"nb_galactica", fuzz_nb_galactica},
     {"nb_galctl", fuzz_nb_galctl},
+    {"nb_galjob", fuzz_nb_galjob},
 };
 const size_t mote_fuzz_ntargets = sizeof mote_fuzz_targets / sizeof mote_fuzz_targets[0];
 

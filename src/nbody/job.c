@@ -112,7 +112,13 @@ static int ctl_fail(const job *j, const char *src, int from_ctl, mote_err *err, 
 }
 
 static double cv(const job *j, const char *name) { return nb_galctl_get(&j->c, name); }
-static long ci(const job *j, const char *name) { return (long)cv(j, name); }
+/* an integer value (the control file's reader admits only integers within +-9.2e18; a value
+ * from a damaged checkpoint beyond that is clamped, and then refused by the checks) */
+static long ci(const job *j, const char *name)
+{
+    const double v = cv(j, name);
+    return v >= 9e18 ? 9000000000000000000L : v <= -9e18 ? -9000000000000000000L : (long)v;
+}
 
 /* Check the control values that do not depend on the bodies, and size the trajectory buffer. */
 static int setup(job *j, const char *src, int from_ctl, mote_err *err)
@@ -632,6 +638,8 @@ static int ckpt_read(job *j, const char *path, mote_err *err)
             sscanf(s, "counters %llu %llu %llu %llu %llu %u %d %llu %c", &cnt[0], &cnt[1], &cnt[2],
                    &cnt[3], &cnt[4], &nb0, &amz, &cnt[5], &extra) != 8 || s[9] == '-')
             what = "'counters Lt Ltot files trajectory_files frames Nb have_AMz1 warned'";
+        else if (cnt[0] > cnt[1] || cnt[1] > 9000000000000000000ull)
+            what = "counters with Lt <= Ltot <= 9e18";
         j->Lt = cnt[0];
         j->Ltot = cnt[1];
         j->nfile = cnt[2];
