@@ -247,6 +247,29 @@ awk '!/^#/ { exit !($3 >= 0.1 && $3 > 0.1000001) }' fly0.dat && ok || bad "T20: 
 expect 1 "ap1.mote:3:" ap1.mote 'model nbody gravity\nbody mass=1\napproaches body=1 every=10 file=a.dat refine=yes\n'
 expect 1 "ap2.mote:3:" ap2.mote 'model nbody gravity\nbody mass=1\napproaches body=4 every=10 file=a.dat\n'
 
+# ---- forces tree in scripts: labelled approximate wherever written --------------------------------
+printf 'model nbody gravity\ngenerate plummer n=500 seed=3\nforces tree theta=0.5\nintegrator galactica dt=1e-3\nmonitor every=5 file=t.mon\nintegrate steps=10\nwrite snapshot file=t.snap\nforces direct\nintegrate steps=2\nwrite snapshot file=d.snap\n' > tree.mote
+"$MOTE" run tree.mote > out.txt 2> err.txt && ok || bad "tree.mote failed: $(cat err.txt)"
+grep -q '^# forces = tree$' t.snap && grep -q '^# theta = 0.5$' t.snap && grep -q '^# approximate: Barnes-Hut' t.snap && ok || bad "a snapshot of a tree run is not labelled: $(grep '^# forces\|^# theta\|^# approx' t.snap)"
+grep -q '^# approximate: some steps of this run used Barnes-Hut tree forces' t.mon && ok || bad "the monitor of a run that used the tree is not labelled"
+grep -q '^# approximate: some steps of this run used Barnes-Hut tree forces' d.snap && ok || bad "a later direct snapshot forgets the tree steps"
+[ "$(grep -vc "^#" t.mon)" -eq 3 ] && ok || bad "tree monitor rows: $(grep -vc "^#" t.mon), expected steps 0, 5, 10"
+expect 1 "tr1.mote:2:" tr1.mote 'model nbody gravity\nforces direct theta=0.3\n'
+expect 1 "tr2.mote:2:" tr2.mote 'model nbody gravity\nforces tree theta=3\n'
+expect 1 "tr3.mote:2:" tr3.mote 'model nbody gravity\nforces fmm\n'
+expect 1 "tr4.mote:2:" tr4.mote 'model nbody gravity\ngenerate plummer seed=2\n'
+expect 1 "tr5.mote:2:" tr5.mote 'model nbody coulomb\ngenerate plummer n=10\n'
+expect 2 "tr6.mote:5:1: error: forces tree: the charges have both signs" tr6.mote 'model nbody coulomb\nbody mass=0.5 charge=1\nbody mass=0.5 charge=-1 x=1\nforces tree\nintegrate steps=1\n'
+# generate area in a script: the header's area fields, and its errors
+printf 'model nbody gravity\ngenerate area mu=2 b=0.5 c=0.5 sep_density=2 sep_pos=1.5,0.5,0.5 sep_vel=-0.4,0,0 omega=0.3\nwrite galactica file=a.dat\n' > area.mote
+"$MOTE" run area.mote > out.txt 2> err.txt && ok || bad "generate area failed: $(cat err.txt)"
+awk 'NR == 2 { exit !($3 == 3 && $4 == 2 && $5 == 2 && $7 == "5.0000000000000000E-01" && $9 == 2) }' a.dat && ok || bad "generate area: header $(sed -n 2p a.dat)"
+[ "$(awk 'NR > 2 && NF == 15' a.dat | wc -l)" -eq 13 ] && ok || bad "generate area: $(awk 'NR > 2 && NF == 15' a.dat | wc -l) bodies, expected 3 x 2 x 2 + 1"
+awk 'NR > 2 && NF == 15 { m += $1 } END { exit !(m > 1 - 1e-15 && m < 1 + 1e-15) }' a.dat && ok || bad "generate area: the masses do not sum to 1"
+expect 1 "ga1.mote:2:" ga1.mote 'model nbody gravity\ngenerate area mu=2 nb=3\n'
+expect 1 "ga2.mote:2:" ga2.mote 'model nbody gravity\ngenerate area origin=1,2\n'
+expect 1 "ga3.mote:2:" ga3.mote 'model nbody coulomb\ngenerate area\n'
+
 # run galactica's options are checked before anything runs
 expect 1 "bad1.mote:2:" bad1.mote 'model nbody gravity\nrun galactica frames=maybe\n'
 expect 1 "bad2.mote:2:" bad2.mote 'model nbody gravity\nrun galaxy\n'
