@@ -72,53 +72,24 @@ int nb_tree_check(mote_nb *nb, int blocks, mote_err *err)
     /* room for 2 N + 64 cells: a build that would need more makes larger leaves instead */
     const uint32_t cap = 2 * nb->n + 64;
     if (t->n != nb->n || t->cap != cap || t->cd_blocks < (size_t)blocks) {
-        const size_t C = cap;
-        void **arr[] = {(void **)&t->start, (void **)&t->end, (void **)&t->child0};
+        const size_t C = cap, nbk = (size_t)blocks > t->cd_blocks ? (size_t)blocks : t->cd_blocks;
+        const size_t r = sizeof(mote_real), u = sizeof(uint32_t);
+        struct {
+            void **p;
+            size_t bytes;
+        } arr[] = {{(void **)&t->start, C * u},         {(void **)&t->end, C * u},
+                   {(void **)&t->child0, C * u},        {(void **)&t->perm, (nb->n + 1) * u},
+                   {(void **)&t->pos, (nb->n + 1) * u}, {(void **)&t->nchild, C},
+                   {(void **)&t->side, C * r},          {(void **)&t->W, C * r},
+                   {(void **)&t->delta, C * r},         {(void **)&t->open2, C * r},
+                   {(void **)&t->com, 3 * C * r},       {(void **)&t->cd, nbk * 3 * C * r}};
         int fail = 0;
-        for (int k = 0; k < 3; k++) {
-            void *q = realloc(*arr[k], C * sizeof(uint32_t));
+        for (size_t k = 0; k < sizeof arr / sizeof arr[0]; k++) {
+            void *q = realloc(*arr[k].p, arr[k].bytes);
             fail |= !q;
             if (q)
-                *arr[k] = q;
+                *arr[k].p = q;
         }
-        void *q;
-        if ((q = realloc(t->perm, (nb->n + 1) * sizeof *t->perm)))
-            t->perm = q;
-        else
-            fail = 1;
-        if ((q = realloc(t->pos, (nb->n + 1) * sizeof *t->pos)))
-            t->pos = q;
-        else
-            fail = 1;
-        if ((q = realloc(t->nchild, C)))
-            t->nchild = q;
-        else
-            fail = 1;
-        if ((q = realloc(t->side, C * sizeof *t->side)))
-            t->side = q;
-        else
-            fail = 1;
-        if ((q = realloc(t->W, C * sizeof *t->W)))
-            t->W = q;
-        else
-            fail = 1;
-        if ((q = realloc(t->delta, C * sizeof *t->delta)))
-            t->delta = q;
-        else
-            fail = 1;
-        if ((q = realloc(t->open2, C * sizeof *t->open2)))
-            t->open2 = q;
-        else
-            fail = 1;
-        if ((q = realloc(t->com, 3 * C * sizeof *t->com)))
-            t->com = q;
-        else
-            fail = 1;
-        const size_t nbk = (size_t)blocks > t->cd_blocks ? (size_t)blocks : t->cd_blocks;
-        if ((q = realloc(t->cd, nbk * 3 * C * sizeof *t->cd)))
-            t->cd = q;
-        else
-            fail = 1;
         if (fail) {
             nb_tree_free(nb);
             return mote_fail(err, MOTE_ENOMEM, "forces tree: out of memory for %u bodies", nb->n);
