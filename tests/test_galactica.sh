@@ -270,6 +270,16 @@ expect 1 "ga1.mote:2:" ga1.mote 'model nbody gravity\ngenerate area mu=2 nb=3\n'
 expect 1 "ga2.mote:2:" ga2.mote 'model nbody gravity\ngenerate area origin=1,2\n'
 expect 1 "ga3.mote:2:" ga3.mote 'model nbody coulomb\ngenerate area\n'
 
+# ---- frames in a script (spec 7.13): at the command and every K steps, 1024 x 768 ----------------
+printf 'model nbody gravity\nunits solar\ngenerate ring nb=30\nframes every=2500 prefix=rf_\nintegrate steps=10000\nframes every=5000 prefix=rc_ control=ring/galacf26.dat\nintegrate steps=10000\n' > fr.mote
+"$MOTE" run fr.mote > out.txt 2> err.txt && ok || bad "frames failed: $(cat err.txt)"
+[ "$(ls rf_*.png | wc -l)" -eq 5 ] && [ "$(ls rc_*.png | wc -l)" -eq 3 ] && ok || bad "frames: $(ls rf_* rc_* | tr '\n' ' '), expected 5 and 3"
+[ "$(od -An -tu1 -j16 -N8 rc_000002.png | awk '{ print $3*256+$4, $7*256+$8 }')" = "1024 768" ] && ok || bad "a frame of the frames command is not 1024 x 768"
+cmp -s rf_000001.png rf_000002.png && bad "frames: the pictures at steps 0 and 2500 are the same" || ok
+expect 1 "fr1.mote:3:" fr1.mote 'model nbody gravity\nbody mass=1\nframes every=10 control=nothere.dat\n'
+printf 'A                                                          x\n' > badctl.dat
+expect 1 "fr2.mote:3:" fr2.mote 'model nbody gravity\nbody mass=1\nframes every=10 control=badctl.dat\n'
+
 # run galactica's options are checked before anything runs
 expect 1 "bad1.mote:2:" bad1.mote 'model nbody gravity\nrun galactica frames=maybe\n'
 expect 1 "bad2.mote:2:" bad2.mote 'model nbody gravity\nrun galaxy\n'

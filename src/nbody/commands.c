@@ -65,6 +65,13 @@ typedef struct {
         char *path, *origin;
         int galactica;    /* dice.dat's three columns (time, body, distance) */
     } appr;
+    /* Galactica-style pictures (spec 7.13) every `every` steps: PREFIX000001.png, ... */
+    struct {
+        uint64_t every, count;
+        char *prefix;
+        nb_galctl ctl;      /* the graphics values and trios */
+        nb_frame_opts f;
+    } frames;
     /* the header of the last Galactica file read (its Em and area fields are carried over) */
     int have_galhead;
     mote_real galhead[25];
@@ -101,6 +108,7 @@ static void model_destroy(void *vm)
     free(m->snap.prefix);
     free(m->snap.origin);
     nb_approach_free(&m->appr.a);
+    free(m->frames.prefix);
     free(m->appr.path);
     free(m->appr.origin);
     nb_sampler *smp[2] = {&m->mon, &m->traj};
@@ -1444,6 +1452,79 @@ static int run_approaches(void *vm, const mote_call *c, mote_err *err)
     return approaches_write(m, err);
 }
 
+/* ---- frames (spec 7.13) ----------------------------------------------------------------------- */
+
+static int check_frames(void *vm, const mote_call *c, mote_err *err)
+{
+    int rc = need_bodies(vm, c, err);
+    const mote_arg *f = mote_call_opt(c, "control");
+    if (!rc && f && !mote_outputs_find(&c->ctx->outputs, f->path)) {
+        nb_galctl g;
+        if ((rc = nb_galctl_read(f->path, 0, 0, &g, err)) != MOTE_OK) {
+            char why[sizeof err->msg];
+            snprintf(why, sizeof why, "%s", err->msg);
+            return mote_call_fail(err, c, mote_call_opt_index(c, "control"), (mote_status)rc,
+                                  "frames: %s", why);
+        }
+    }
+    return rc;
+}
+
+static int frame_now(nb_model *m, mote_err *err)
+{
+    const size_t len = strlen(m->frames.prefix) + 32;
+    char *path = malloc(len);
+    if (!path)
+        return mote_fail(err, MOTE_ENOMEM, "frames: out of memory");
+    snprintf(path, len, "%s%06llu.png", m->frames.prefix,
+             (unsigned long long)(m->frames.count + 1));
+    int rc = nb_frame_png(&m->nb, &m->frames.f, path, m->nb.steps, err);
+    m->frames.count += !rc;
+    free(path);
+    return rc;
+}
+
+static int run_frames(void *vm, const mote_call *c, mote_err *err)
+{
+    nb_model *m = vm;
+    settle_units(m);
+    const mote_arg *a = mote_call_opt(c, "prefix");
+    free(m->frames.prefix);
+    m->frames.prefix = strdup(a ? a->path : "frame_");
+    if (!m->frames.prefix)
+        return mote_fail(err, MOTE_ENOMEM, "frames: out of memory");
+    m->frames.every = (uint64_t)mote_call_opt(c, "every")->i;
+    m->frames.count = 0;
+    memset(&m->frames.ctl, 0, sizeof m->frames.ctl);
+    if ((a = mote_call_opt(c, "control"))) { /* the control file's graphics values */
+        int rc = nb_galctl_read(a->path, 0, 0, &m->frames.ctl, err);
+        if (rc)
+            return rc;
+        nb_frame_from_ctl(&m->frames.f, &m->frames.ctl, m->have_galhead ? m->galhead : NULL);
+    } else { /* the whole system in view, seen from +z; body 1's arrow yellow, the others green */
+        nb_galctl *g = &m->frames.ctl;
+        g->ntrio = 1;
+        g->trio[0][0] = 14;
+        g->trio[0][1] = 10;
+        g->trio[0][2] = 1;
+        nb_frame_from_ctl(&m->frames.f, g, m->have_galhead ? m->galhead : NULL);
+        double R = 0;
+        for (uint32_t i = 0; i < m->nb.n; i++)
+            if (m->nb.active[i])
+                for (int k = 0; k < 3; k++)
+                    R = fmax(R, fabs((double)m->nb.x[3 * i + (uint32_t)k]));
+        nb_frame_opts *f = &m->frames.f;
+        f->Xe0 = 512;
+        f->Ye0 = 384;
+        f->aix = f->biy = R > 0 ? 0.45 * 768 / R : 150;
+        f->Rd = 0.08;
+        f->amv = 600 / f->aix; /* the fastest body's arrow 60 pixels long */
+        f->Kl14 = 1;
+        f->np = 1;
+    }
+    return frame_now(m, err);
+}
+
 static int check_integrate(void *vm, const mote_call *c, mote_err *err)
 {
     int given = (mote_call_opt(c, "steps") != NULL) + (mote_call_opt(c, "to") != NULL) +
@@ -1545,8 +1626,9 @@ static int run_integrate(void *vm, const mote_call *c, mote_err *err)
         chunk = until_sample(&m->traj, m->nb.steps, chunk);
         if (m->appr.every) /* every step end is looked at */
             chunk = 1;
-        const uint64_t every[2] = {m->ckpt.path ? m->ckpt.every : 0, m->snap.every};
-        for (int k = 0; k < 2; k++)
+        const uint64_t every[3] = {m->ckpt.path ? m->ckpt.every : 0, m->snap.every,
+                                   m->frames.every};
+        for (int k = 0; k < 3; k++)
             if (every[k]) {
                 uint64_t next = (m->nb.steps / every[k] + 1) * every[k] - m->nb.steps;
                 chunk = next < chunk ? next : chunk;
@@ -1576,6 +1658,9 @@ static int run_integrate(void *vm, const mote_call *c, mote_err *err)
             rc = nb_state_save(&m->nb, m->ckpt.path, err);
         if (!rc && m->snap.every && m->nb.steps % m->snap.every == 0 && m->nb.steps != before)
             rc = periodic_snapshot(m, err);
+        if (!rc && m->frames.every && m->nb.steps % m->frames.every == 0 &&
+            m->nb.steps != before)
+            rc = frame_now(m, err);
         mote_progress_update(&prog, t_end < INFINITY ? (double)((m->nb.T - t0) / (t_end - t0))
                                                      : (double)done / (double)steps);
     }
@@ -2376,6 +2461,17 @@ static const char HELP_APPROACHES[] =
     "start), to the last bit of the step. format=galactica writes dice.dat's columns (time,\n"
     "body, distance). Every step end is examined, so integrate takes one step at a time.\n";
 
+static const char HELP_FRAMES[] =
+    "Writes a picture now and every K steps of integrate: PREFIX000001.png, ... (1024 x 768,\n"
+    "black), Galactica's screen (spec 7.13): every body a white disc of radius\n"
+    "max(1, 100 Rd (m/m_max)^(1/3)) pixels with its velocity arrow, 0.1 aix amv |v|/v_max long.\n"
+    "control= takes the graphics values of a Galactica control file: the view turned by al\n"
+    "about x and bet about y, the origin (Xe0, Ye0) and scales aix, biy in pixels, the arrows'\n"
+    "colours ipp, jpp (the VGA palette), the frame of body kpp(1) (Kl10 = 1), one layer of an\n"
+    "area (Ke), zooming out when a body would leave (Kl14 = 1). Without it the whole system is\n"
+    "in view from +z, body 1's arrow yellow and the others green, zooming out as needed.\n"
+    "ffmpeg -i PREFIX%06d.png film.mp4 makes a film. (The spec's `plot frames`.)\n";
+
 static const char HELP_RUN[] =
     "Runs the Galactica job whose control file is `control=` (default galacf26.dat; the job's\n"
     "files are in its folder), as `mote galactica` does from the command line: the bodies come\n"
@@ -2467,6 +2563,10 @@ static const mote_cmd nb_commands[] = {
      "approaches body=B every=K file=FILE [refine=on] [format=native|galactica]",
      "record the closest approach of body B to the others in every K steps", HELP_APPROACHES,
      check_approaches, run_approaches},
+    {"frames", NULL, "every=i>=1! prefix=f control=f<control",
+     "frames every=K [prefix=frame_] [control=galacf26.dat]",
+     "Galactica-style pictures every K steps (spec 7.13)", HELP_FRAMES, check_frames,
+     run_frames},
     {"integrate", NULL, "steps=i>=1 to=r for=r>0 unit=s",
      "integrate [steps=N] [to=T] [for=D] [unit=U]",
      "advance by N steps, to the time T, or for the time D (ends exactly)", HELP_INTEGRATE,

@@ -17,7 +17,6 @@
 #include <tgmath.h>
 #include <unistd.h>
 
-#include "mote/render.h"
 #include "nb.h"
 
 #define CKPT_MAGIC "mote-galactica-checkpoint"
@@ -402,127 +401,18 @@ static int dice_line(job *j, mote_err *err)
     return rc;
 }
 
-/* ---- pictures (spec 7.13) --------------------------------------------------------------------- */
-
-static const unsigned VGA[16] = {0x000000, 0x0000AA, 0x00AA00, 0x00AAAA, 0xAA0000, 0xAA00AA,
-                                 0xAA5500, 0xAAAAAA, 0x555555, 0x5555FF, 0x55FF55, 0x55FFFF,
-                                 0xFF5555, 0xFF55FF, 0xFFFF55, 0xFFFFFF};
+/* ---- pictures (spec 7.13, frames.c) ------------------------------------------------------------ */
 
 static int frame(job *j, mote_err *err)
 {
-    const mote_nb *nb = &j->nb;
-    const int W = 1024, H = 768;
-    const double pi = 3.14159265358979323846;
-    const double al = cv(j, "al") * pi / 180, be = cv(j, "bet") * pi / 180;
-    const double Xe0 = cv(j, "Xe0"), Ye0 = cv(j, "Ye0"), Rd = cv(j, "Rd"), amv = cv(j, "amv");
-    double aix = cv(j, "aix"), biy = cv(j, "biy");
-    if (!(aix > 0))
-        aix = 150;
-    if (!(biy > 0))
-        biy = aix;
-    /* the origin: the barycentre, or body kpp(1) with Kl10 = 1 */
-    double o[3] = {0, 0, 0}, ov[3] = {0, 0, 0};
-    const long ref = ci(j, "Kl10") == 1 && j->c.ntrio > 0 ? j->c.trio[0][2] : 0;
-    if (ref >= 1 && ref <= (long)nb->n)
-        for (int a = 0; a < 3; a++) {
-            o[a] = (double)nb->x[3 * (ref - 1) + a];
-            ov[a] = (double)nb->v[3 * (ref - 1) + a];
-        }
-    const long layer = (long)cv(j, "Ke");
-    const long per_layer = (long)(j->head[17] * j->head[18]);
-    double mmax = 0, vmax = 0;
-    for (uint32_t i = 0; i < nb->n; i++)
-        if (nb->active[i]) {
-            mmax = fmax(mmax, (double)nb->m[i]);
-            double v2 = 0;
-            for (int a = 0; a < 3; a++)
-                v2 += pow((double)nb->v[3 * i + (uint32_t)a] - ov[a], 2);
-            vmax = fmax(vmax, sqrt(v2));
-        }
-    double *disc = malloc(nb->n * 7 * sizeof *disc), *seg = disc + 3 * (size_t)nb->n;
-    unsigned *rgb = malloc(nb->n * 2 * sizeof *rgb);
-    if (!disc || !rgb) {
-        free(disc);
-        free(rgb);
-        return mote_fail(err, MOTE_ENOMEM, "galactica: out of memory for a picture");
-    }
-    size_t nd = 0;
-    double need = 1;
-    for (uint32_t i = 0; i < nb->n; i++) {
-        if (!nb->active[i])
-            continue;
-        if (layer >= 1 && per_layer > 0 && (long)i < per_layer * (long)j->head[19] &&
-            (long)i / per_layer + 1 != layer)
-            continue;
-        double p[3], w[3];
-        for (int a = 0; a < 3; a++) {
-            p[a] = (double)nb->x[3 * i + (uint32_t)a] - o[a];
-            w[a] = (double)nb->v[3 * i + (uint32_t)a] - ov[a];
-        }
-        /* rotate by al about x, then by bet about y */
-        double *vv[2] = {p, w};
-        for (int k = 0; k < 2; k++) {
-            double *q = vv[k];
-            double y = q[1] * cos(al) - q[2] * sin(al), z = q[1] * sin(al) + q[2] * cos(al);
-            double x = q[0] * cos(be) + z * sin(be);
-            z = -q[0] * sin(be) + z * cos(be);
-            q[0] = x;
-            q[1] = y;
-            q[2] = z;
-        }
-        /* Kl14: the scale that keeps this body in the picture */
-        const double dx = p[0] * aix, dy = p[1] * biy;
-        if (ci(j, "Kl14") == 1) {
-            if (dx * j->zoom > W - Xe0 && dx > 0)
-                need = fmin(need, (W - Xe0) / (dx * j->zoom));
-            if (dx * j->zoom < -Xe0 && dx < 0)
-                need = fmin(need, -Xe0 / (dx * j->zoom));
-            if (dy * j->zoom > Ye0 && dy > 0)
-                need = fmin(need, Ye0 / (dy * j->zoom));
-            if (dy * j->zoom < Ye0 - H && dy < 0)
-                need = fmin(need, (Ye0 - H) / (dy * j->zoom));
-        }
-        disc[3 * nd] = p[0];
-        disc[3 * nd + 1] = p[1];
-        disc[3 * nd + 2] = fmax(1, 100 * Rd * cbrt((double)nb->m[i] / mmax));
-        const double sp = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
-        const double len = vmax > 0 ? 0.1 * aix * amv * sp / vmax : 0;
-        const double pl = sqrt(w[0] * w[0] + w[1] * w[1]);
-        seg[4 * nd] = seg[4 * nd + 1] = 0;
-        seg[4 * nd + 2] = pl > 0 ? len * w[0] / sp : 0;
-        seg[4 * nd + 3] = pl > 0 ? len * w[1] / sp : 0;
-        long colour = j->c.ntrio > 0 ? j->c.trio[0][1] : 15;
-        for (int t = 0; t < j->c.ntrio && t < ci(j, "Np"); t++)
-            if (j->c.trio[t][2] == (long)i + 1)
-                colour = j->c.trio[t][0];
-        rgb[2 * nd] = VGA[15];
-        rgb[2 * nd + 1] = VGA[colour >= 0 && colour < 16 ? colour : 15];
-        nd++;
-    }
-    if (need < 1)
-        j->zoom *= 0.9 * need;
-    for (size_t k = 0; k < nd; k++) { /* to pixels */
-        const double x = Xe0 + aix * j->zoom * disc[3 * k], y = Ye0 - biy * j->zoom * disc[3 * k + 1];
-        disc[3 * k] = x;
-        disc[3 * k + 1] = y;
-        seg[4 * k] = x;
-        seg[4 * k + 1] = y;
-        seg[4 * k + 2] = x + seg[4 * k + 2];
-        seg[4 * k + 3] = y - seg[4 * k + 3];
-    }
-    char t1[160], t2[160], name[64], p[PATH_CAP];
-    snprintf(t1, sizeof t1, "T = %.15E   Lt = %llu   N = %u", (double)nb->T,
-             (unsigned long long)j->Lt, nb->n);
-    snprintf(t2, sizeof t2, "%s%s", j->zoom < 1 ? "zoomed out " : "",
-             ref >= 1 ? "relative to body kpp(1)" : "barycentric");
-    const char *text[2] = {t1, t2};
+    nb_frame_opts f;
+    nb_frame_from_ctl(&f, &j->c, j->head);
+    f.zoom = j->zoom;
+    char name[64], p[PATH_CAP];
     snprintf(name, sizeof name, "frame_%06llu.png", (unsigned long long)(j->nframe + 1));
-    mote_sketch sk = {W, H, 0x000000, disc, rgb, nd, seg, rgb + 1, nd, text, 2};
-    int rc = mote_sketch_png(jpath(j, name, p), &sk, err);
-    free(disc);
-    free(rgb);
-    if (!rc)
-        j->nframe++;
+    int rc = nb_frame_png(&j->nb, &f, jpath(j, name, p), j->Lt, err);
+    j->zoom = f.zoom;
+    j->nframe += !rc;
     return rc;
 }
 

@@ -71,6 +71,23 @@ int nb_galctl_write(const char *path, const nb_galctl *g, mote_err *err);
 int nb_galctl_index(const char *name);
 double nb_galctl_get(const nb_galctl *g, const char *name);
 
+/* Galactica-style pictures (frames.c, spec 7.13): the graphics values (from a control file and
+ * the header's area fields, or set by hand), and one 1024 x 768 PNG of nb; zoom is the Kl14
+ * scale, which shrinks as bodies would leave the picture. */
+typedef struct {
+    double al, bet, Xe0, Ye0, aix, biy, Rd, amv;
+    int Kl10, Kl14;
+    long Ke;                    /* the Z layer of an area to draw (0: all) */
+    int ntrio;
+    const long (*trio)[3];      /* ipp, jpp, kpp */
+    long np;                    /* selected bodies (Np) */
+    long per_layer, nlayers;    /* an area's bodies per Z layer, and its layers */
+    double zoom;
+} nb_frame_opts;
+void nb_frame_from_ctl(nb_frame_opts *f, const nb_galctl *c, const mote_real head[25]);
+int nb_frame_png(const mote_nb *nb, nb_frame_opts *f, const char *path, uint64_t Lt,
+                 mote_err *err);
+
 /* The snapshot (snapshot.c, spec 10.2): the header every output shares (interaction, N,
  * integrator, precision) and the scales and constants; write; read (replacing nb on success
  * only; the file's interaction must be nb's). */
