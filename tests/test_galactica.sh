@@ -280,6 +280,12 @@ expect 1 "fr1.mote:3:" fr1.mote 'model nbody gravity\nbody mass=1\nframes every=
 printf 'A                                                          x\n' > badctl.dat
 expect 1 "fr2.mote:3:" fr2.mote 'model nbody gravity\nbody mass=1\nframes every=10 control=badctl.dat\n'
 
+# snapshot format=galactica: result files every K steps, the same layout as write galactica
+printf 'model nbody gravity\nunits solar\ngenerate ring nb=30\nsnapshot every=5000 prefix=gs_ format=galactica\nintegrate steps=10000\nwrite galactica file=end.dat\n' > gs.mote
+"$MOTE" run gs.mote > out.txt 2> err.txt && ok || bad "snapshot format=galactica failed: $(cat err.txt)"
+[ -e gs_0000005000.dat ] && cmp -s gs_0000010000.dat end.dat && ok || bad "snapshot format=galactica: $(ls gs_* | tr '\n' ' ') (the last should equal write galactica)"
+expect 1 "gs1.mote:3:" gs1.mote 'model nbody gravity\nbody mass=1\nsnapshot every=5 format=xyz\n'
+
 # run galactica's options are checked before anything runs
 expect 1 "bad1.mote:2:" bad1.mote 'model nbody gravity\nrun galactica frames=maybe\n'
 expect 1 "bad2.mote:2:" bad2.mote 'model nbody gravity\nrun galaxy\n'

@@ -53,10 +53,11 @@ typedef struct {
         char *path;
         uint64_t every;
     } ckpt;
-    /* periodic snapshots: PREFIX STEP .snap every `every` steps (0: off) */
+    /* periodic snapshots: PREFIX STEP .snap (galactica: .dat) every `every` steps (0: off) */
     struct {
         char *prefix, *origin;
         uint64_t every;
+        int galactica;
     } snap;
     /* closest approaches of one body (spec 7.9, 10.4): a row every `every` steps into path */
     struct {
@@ -1582,6 +1583,8 @@ static int after_step(nb_model *m, nb_sampler *s, int traj, mote_real Tb, uint64
     return rc;
 }
 
+static int write_galactica(nb_model *m, const char *path, int info_line, mote_err *err);
+
 /* The snapshot of `snapshot every=K`: PREFIX followed by the step count and .snap */
 static int periodic_snapshot(nb_model *m, mote_err *err)
 {
@@ -1589,8 +1592,10 @@ static int periodic_snapshot(nb_model *m, mote_err *err)
     char *path = malloc(len);
     if (!path)
         return mote_fail(err, MOTE_ENOMEM, "snapshot: out of memory");
-    snprintf(path, len, "%s%010llu.snap", m->snap.prefix, (unsigned long long)m->nb.steps);
-    int rc = nb_snapshot_write(&m->nb, path, m->snap.origin, err);
+    snprintf(path, len, "%s%010llu.%s", m->snap.prefix, (unsigned long long)m->nb.steps,
+             m->snap.galactica ? "dat" : "snap");
+    int rc = m->snap.galactica ? write_galactica(m, path, 1, err)
+                               : nb_snapshot_write(&m->nb, path, m->snap.origin, err);
     free(path);
     return rc;
 }
@@ -1811,6 +1816,21 @@ static int check_write(void *vm, const mote_call *c, mote_err *err)
     int rc = check_kind(c, err);
     return rc ? rc : need_bodies(vm, c, err);
 }
+/* The system as a Galactica file (spec 7.5): the header computed, its area fields and Em
+ * carried from the file read or the generator. */
+static int write_galactica(nb_model *m, const char *path, int info_line, mote_err *err)
+{
+    const size_t W = m->nb.kind == MOTE_NB_COULOMB ? 16 : 15;
+    mote_real *body = malloc(W * (m->nb.n ? m->nb.n : 1) * sizeof *body);
+    if (!body)
+        return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", path);
+    nb_galfile g;
+    nb_to_galfile(&m->nb, m->have_galhead ? m->galhead : NULL, &g, body);
+    int rc = nb_galfile_write(path, &g, info_line, err);
+    free(body);
+    return rc;
+}
+
 static int run_write(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
@@ -1821,17 +1841,8 @@ static int run_write(void *vm, const mote_call *c, mote_err *err)
     const char *path = mote_call_opt(c, "file")->path;
     int rc;
     if (strcmp(c->args[0].text, "galactica") == 0) {
-        const size_t W = m->nb.kind == MOTE_NB_COULOMB ? 16 : 15;
-        mote_real *body = malloc(W * (m->nb.n ? m->nb.n : 1) * sizeof *body);
-        if (!body) {
-            free(origin);
-            return mote_fail(err, MOTE_ENOMEM, "write: out of memory");
-        }
-        nb_galfile g;
-        nb_to_galfile(&m->nb, m->have_galhead ? m->galhead : NULL, &g, body);
         const mote_arg *il = mote_call_opt(c, "info_line");
-        rc = nb_galfile_write(path, &g, !il || strcmp(il->text, "off") != 0, err);
-        free(body);
+        rc = write_galactica(m, path, !il || strcmp(il->text, "off") != 0, err);
     } else {
         rc = nb_snapshot_write(&m->nb, path, origin, err);
     }
@@ -1920,10 +1931,10 @@ static int run_read(void *vm, const mote_call *c, mote_err *err)
 static int check_snapshot(void *vm, const mote_call *c, mote_err *err)
 {
     const mote_arg *f = mote_call_opt(c, "format");
-    if (f && strcmp(f->text, "native") != 0)
+    if (f && strcmp(f->text, "native") != 0 && strcmp(f->text, "galactica") != 0)
         return mote_call_fail(err, c, mote_call_opt_index(c, "format"), MOTE_EINVAL,
-                              "snapshot: format must be native, found '%s' (Galactica's layout "
-                              "is not in this version)", f->text);
+                              "snapshot: format must be native or galactica, found '%s'",
+                              f->text);
     const mote_arg *p = mote_call_opt(c, "prefix");
     if (p && !mote_ctx_dir_ok(c->ctx, p->path))
         return mote_call_fail(err, c, mote_call_opt_index(c, "prefix"), MOTE_EINVAL,
@@ -1941,6 +1952,8 @@ static int run_snapshot(void *vm, const mote_call *c, mote_err *err)
     if (!m->snap.prefix || !m->snap.origin)
         return mote_fail(err, MOTE_ENOMEM, "snapshot: out of memory");
     m->snap.every = (uint64_t)mote_call_opt(c, "every")->i;
+    const mote_arg *f = mote_call_opt(c, "format");
+    m->snap.galactica = f && strcmp(f->text, "galactica") == 0;
     return MOTE_OK;
 }
 
@@ -2443,12 +2456,14 @@ static const char HELP_STEPS_BETWEEN[] =
     "steps summed as the integrator sums them.\n";
 
 static const char HELP_SNAPSHOT[] =
-    "    snapshot every=K [prefix=P] [format=native]\n"
+    "    snapshot every=K [prefix=P] [format=native|galactica]\n"
     "\n"
     "During later `integrate` commands, write a snapshot (see `write`) every K\n"
     "steps, at the step counts that are multiples of K, to P followed by the step\n"
     "count in ten digits and .snap (default P: snapshot_, so\n"
-    "snapshot_0000001000.snap). P may name a directory: prefix=snaps/ring_.\n";
+    "snapshot_0000001000.snap). P may name a directory: prefix=snaps/ring_.\n"
+    "format=galactica writes Galactica's result-file layout instead (spec 7.5, with the\n"
+    "info line), named P, the step count and .dat.\n";
 
 static const char HELP_APPROACHES[] =
     "From the next integrate on, looks at the distance from body B (a name or a number) to\n"
@@ -2597,7 +2612,8 @@ static const mote_cmd nb_commands[] = {
      "[step_tol=E] [force=on] [lenient=on] [trio_layout=packed] [max_files=N]",
      "run a Galactica job: its control file, bodies and result files", HELP_RUN, check_run,
      run_run},
-    {"snapshot", NULL, "every=i>=1! prefix=f format=s", "snapshot every=K [prefix=P]",
+    {"snapshot", NULL, "every=i>=1! prefix=f format=s",
+     "snapshot every=K [prefix=P] [format=native|galactica]",
      "write a snapshot every K steps of integrate, to PSTEP.snap", HELP_SNAPSHOT, check_snapshot,
      run_snapshot},
 };
