@@ -35,7 +35,9 @@ endif
 ALL_CFLAGS := -std=c11 $(MPI_FLAGS) -D_POSIX_C_SOURCE=200809L $(PREC_FLAGS_$(PRECISION)) -Iinclude $(WARN) $(CFLAGS) $(SAN) $(OPENMP) $(CAIRO_CFLAGS)
 # the charging model: Embree (ray tracing; no pkg-config file in Debian) and Assimp (mesh files)
 ASSIMP_LIBS := $(shell pkg-config --libs assimp 2>/dev/null || echo -lassimp)
-LDLIBS  := $(CAIRO_LIBS) -lembree3 $(ASSIMP_LIBS) -lm
+# the live view's HTTP server (libmicrohttpd)
+MHD_LIBS := $(shell pkg-config --libs libmicrohttpd 2>/dev/null || echo -lmicrohttpd)
+LDLIBS  := $(CAIRO_LIBS) -lembree3 $(ASSIMP_LIBS) $(MHD_LIBS) -lpthread -lm
 
 # every folder of src/ but the program's: a new model's folder is built without naming it here
 LIB_SRC  := $(sort $(filter-out src/cli/%,$(wildcard src/*/*.c)))

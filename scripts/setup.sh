@@ -17,6 +17,11 @@ command -v mpirun >/dev/null 2>&1 || need="$need openmpi-bin"
 /usr/bin/python3 -c 'import vtkmodules.vtkIOLegacy' >/dev/null 2>&1 || need="$need python3-vtk9"
 # ASE (Debian's python3), the independent reader of the extended XYZ files in the tests
 /usr/bin/python3 -c 'import ase.io' >/dev/null 2>&1 || need="$need python3-ase"
+# libmicrohttpd: the live view's HTTP server (mote run --live); curl: the live view's tests
+pkg-config --exists libmicrohttpd 2>/dev/null || need="$need libmicrohttpd-dev"
+command -v curl >/dev/null 2>&1 || need="$need curl"
+# Chromium (headless): the live view's browser test (tests/test_live.sh)
+command -v chromium >/dev/null 2>&1 || need="$need chromium"
 # ffmpeg: the movies of the mixing-box and separator frames (made when it is on PATH; tested)
 command -v ffmpeg >/dev/null 2>&1 || need="$need ffmpeg"
 # `setup.sh bench`: also LIGGGHTS, the granular code the separator's benchmark runs side by side

@@ -9,6 +9,7 @@
 #define MOTE_COMMAND_H
 
 #include "mote/core.h"
+#include "mote/live.h"
 
 #include <stdint.h>
 #include <stdio.h>
@@ -103,6 +104,11 @@ typedef struct mote_context {
     int terminal;           /* stdout is a terminal: show progress */
     FILE *out;              /* status lines (stdout) */
     FILE *diag;             /* warnings and errors (stderr) */
+    /* Called from every progress update of a long command (and after each command) while a
+     * run has a live view: it publishes a frame when one is due and holds the run while the
+     * page has paused it (NULL: no live view). */
+    void (*tick)(void *arg);
+    void *tick_arg;
 } mote_context;
 
 /* A model: its name as used by `model NAME`, its command table, and its lifetime functions.
@@ -128,6 +134,11 @@ typedef struct mote_model {
      * `A; save F; load F; B` run bit for bit alike. A model whose state between commands is
      * always canonical (no lazy updates, no caches that steer the dynamics) leaves it NULL. */
     int (*settle)(void *model, mote_err *err);
+    /* The live view (issue 25, docs/live-view.md): write the model's part of a frame into out,
+     * as JSON members after the frame's own (",\"view\":...", the box, status, particles; the
+     * members are listed in docs/live-view.md). Called between steps of a long command: it must
+     * only read the model. NULL: the model has no live view. */
+    void (*live)(void *model, mote_buf *out);
     /* The common command `seed S`: restart the model's random stream from S (NULL: the model
      * draws no random numbers, and `seed` is refused). */
     void (*seed)(void *model, uint64_t seed);
@@ -191,6 +202,7 @@ typedef struct {
     int enabled;
     double start, last;
     char label[64];
+    const mote_context *ctx; /* (its live-view hook) */
 } mote_progress;
 
 void mote_progress_begin(mote_progress *p, const mote_context *ctx, const char *label);

@@ -90,6 +90,10 @@ typedef struct mote_mb {
     uint8_t *side;     /* chamber of the centre: 0 when x < X1_C, else 1 (mote_mb_note_side) */
     double *t_last;    /* time of the disk's last disk-disk collision (TC model); -inf: none */
     double time;       /* simulated time since placement (s) */
+    /* During an event run, the engine whose positions (projected, read only) a live view may
+     * show between events: mote_mb_live_position (NULL between runs: x, y are current) */
+    const void *live_ev; /* (a const mote_ev *) */
+    double live_x0, live_y0, live_t0;
 
     /* Counters since placement; every integrator keeps them. */
     uint64_t collisions;     /* disk-disk collisions (each application of a collision rule) */
@@ -289,6 +293,9 @@ double mote_mb_hooks_stop(const mote_mb_hooks *h, double t_end);
 /* Run every sampler due at sys->time (next sample <= sys->time + 1e-9 dt), in order. */
 int mote_mb_hooks_fire(mote_mb_hooks *h, mote_mb *sys, mote_err *err);
 void mote_mb_hooks_progress(mote_mb_hooks *h, const mote_mb *sys);
+/* Disk i's centre now, and the time now, for a live view during a run (only reads). */
+void mote_mb_live_position(const mote_mb *sys, uint32_t i, double xy[2]);
+double mote_mb_live_time(const mote_mb *sys);
 
 /* The two integrators. mb_run_event lives in src/mixingbox/event.c on the event engine. */
 int mb_run_timestep(mote_mb *sys, double t_end, mote_mb_hooks *hooks, mote_err *err);

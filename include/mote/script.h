@@ -65,6 +65,9 @@ typedef struct {
     FILE *diag;     /* errors, warnings, notes */
     int terminal;   /* out is a terminal: show progress */
     int check_only; /* validate and stop */
+    int live;       /* --live[=PORT]: start the live view before the first command */
+    int live_port;  /* its port (0: any free one) */
+    const char *live_bind; /* --bind ADDRESS (NULL: 127.0.0.1) */
 } mote_script_options;
 
 /* Load, validate and (unless check_only) execute a script, printing any error to opt->diag.

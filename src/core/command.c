@@ -149,12 +149,15 @@ enum { PROGRESS_PAD = 40 }; /* room for the percentage and time after the label 
 void mote_progress_begin(mote_progress *p, const mote_context *ctx, const char *label)
 {
     p->enabled = ctx && ctx->terminal;
+    p->ctx = ctx;
     p->start = p->last = p->enabled ? mote_wall_seconds() : 0.0;
     snprintf(p->label, sizeof p->label, "%s", label ? label : "");
 }
 
 void mote_progress_update(mote_progress *p, double fraction)
 {
+    if (p->ctx && p->ctx->tick)
+        p->ctx->tick(p->ctx->tick_arg);
     if (!p->enabled)
         return;
     double now = mote_wall_seconds();

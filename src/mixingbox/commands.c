@@ -849,6 +849,62 @@ static const mote_cmd mb_commands[] = {
 
 /* No settle: the arrays are the whole state after every command, and each run builds its engine
  * afresh. */
+/* The live view (docs/live-view.md): the box to scale, the partition and its slit, the disks at
+ * their true size in their two colours; during an event run the positions come from the engine
+ * (projected, read only), so the run is the same with and without a view. */
+static void model_live(void *vm, mote_buf *b)
+{
+    mb_model *m = vm;
+    const mote_mb *s = &m->sys;
+    const mote_mb_params *p = s->placed ? &s->p : &m->p;
+    mote_buf_printf(b, ",\"view\":\"2d\"");
+    const double box[4] = {p->x_l, p->x_b, p->x_r, p->x_t};
+    mote_buf_doubles(b, "box", box, 4, 1);
+    const double lines[16] = {p->x_l, p->x_b, p->x_r, p->x_b, p->x_r, p->x_b, p->x_r, p->x_t,
+                              p->x_r, p->x_t, p->x_l, p->x_t, p->x_l, p->x_t, p->x_l, p->x_b};
+    mote_buf_doubles(b, "lines", lines, 16, 1);
+    const double x1l = mote_mb_x1_l(p), x1r = mote_mb_x1_r(p);
+    if (p->b > 0) {
+        const double rects[8] = {x1l, p->x_b, x1r, mote_mb_x2_b(p),
+                                 x1l, mote_mb_x2_t(p), x1r, p->x_t};
+        mote_buf_doubles(b, "rects", rects, 8, 1);
+    } else {
+        const double rects[4] = {x1l, p->x_b, x1r, p->x_t};
+        mote_buf_doubles(b, "rects", rects, 4, 1);
+    }
+    mote_buf_printf(b, ",\"classes\":[{\"name\":\"colour 0 (placed left)\",\"color\":"
+                       "\"#e8443a\"},{\"name\":\"colour 1 (placed right)\",\"color\":"
+                       "\"#3a8ee8\"}]");
+    const uint32_t n = s->placed ? s->n : 0;
+    double *xy = malloc(2 * (size_t)(n ? n : 1) * sizeof *xy);
+    double *c = malloc((size_t)(n ? n : 1) * sizeof *c);
+    if (!xy || !c) {
+        free(xy);
+        free(c);
+        b->failed = 1;
+        return;
+    }
+    uint64_t wrong = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        mote_mb_live_position(s, i, xy + 2 * i);
+        c[i] = s->colour[i];
+        wrong += (xy[2 * i] >= p->x1_c) != (s->colour[i] == 1);
+    }
+    mote_buf_doubles(b, "x", xy, n, 2);
+    mote_buf_doubles(b, "y", xy + 1, n, 2);
+    mote_buf_doubles(b, "c", c, n, 1);
+    mote_buf_printf(b, ",\"r\":[");
+    for (uint32_t i = 0; i < n && !b->failed; i++)
+        mote_buf_printf(b, i ? ",%.7g" : "%.7g", p->r);
+    mote_buf_printf(b, "]");
+    char st[256];
+    snprintf(st, sizeof st, "t = %.6g s   N = %u   m = %.4f (the fraction of disks in the other "
+             "chamber)", mote_mb_live_time(s), n, n ? (double)wrong / n : 0.0);
+    mote_buf_string(b, "status", s->placed ? st : "no disks placed yet");
+    free(xy);
+    free(c);
+}
+
 const mote_model mote_model_mixingbox = {
     .name = "mixing-box",
     .summary = "2D disks of two colours mixing through a slit in a partition (spec mixing-box)",
@@ -862,4 +918,5 @@ const mote_model mote_model_mixingbox = {
     .plot_kinds = "record|density_y",
     .plot = model_plot,
     .plot_help = MB_HELP_PLOT,
+    .live = model_live,
 };

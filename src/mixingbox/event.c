@@ -25,9 +25,12 @@ typedef struct {
     mote_mb *sys;
     mote_ev *ev;
     double x0, y0; /* box origin */
+    mote_mb_hooks *hooks;
+    uint32_t events; /* since the last progress call */
 } mb_link;
 
-/* After every event of disk i: its chamber may have changed. */
+/* After every event of disk i: its chamber may have changed. Every 4096 events the progress
+ * (and a live view, which only reads the engine) gets a look between samples. */
 static void on_event(void *ctx, uint32_t i)
 {
     mb_link *l = ctx;
@@ -35,6 +38,10 @@ static void on_event(void *ctx, uint32_t i)
     mote_ev_position(l->ev, i, r);
     l->sys->x[i] = r[0] + l->x0;
     mote_mb_note_side(l->sys, i);
+    if (++l->events >= 4096) {
+        l->events = 0;
+        mote_mb_hooks_progress(l->hooks, l->sys);
+    }
 }
 
 /* Segments of the partition (engine frame), with their kicks; returns how many. The lower block
@@ -151,7 +158,7 @@ int mb_run_event(mote_mb *sys, double t_end, mote_mb_hooks *hooks, mote_err *err
     if (rc)
         return rc;
     const double t_offset = sys->time;
-    mb_link l = {sys, &ev, p->x_l, p->x_b};
+    mb_link l = {sys, &ev, p->x_l, p->x_b, hooks, 0};
     ev.len[0] = p->x_r - p->x_l;
     ev.len[1] = p->x_t - p->x_b;
     ev.radius0 = p->r;
@@ -195,6 +202,10 @@ int mb_run_event(mote_mb *sys, double t_end, mote_mb_hooks *hooks, mote_err *err
     if (!rc)
         rc = mote_ev_rebuild(&ev, err);
     ev.obs = (mote_ev_observer){&l, NULL, NULL, on_event};
+    sys->live_ev = &ev; /* (a live view reads positions from the engine during the run) */
+    sys->live_x0 = l.x0;
+    sys->live_y0 = l.y0;
+    sys->live_t0 = t_offset;
     uint64_t last[9] = {0};
     while (!rc) {
         double t_stop = hooks ? mote_mb_hooks_stop(hooks, t_end) : t_end;
@@ -220,6 +231,7 @@ int mb_run_event(mote_mb *sys, double t_end, mote_mb_hooks *hooks, mote_err *err
     }
     if (rc) /* leave the arrays at the engine's last consistent state */
         sync_back(&l, t_offset + mote_ev_time(&ev));
+    sys->live_ev = NULL;
     for (uint32_t i = 0; i < sys->n; i++)
         sys->t_last[i] = rules.t_last[i] + t_offset;
     free(rules.t_last);

@@ -3,6 +3,7 @@
  * and entropy, energies, overlap counts), the sampling hooks integrators call, and mote_mb_run,
  * which dispatches a run to the time-stepped or the event-driven integrator. */
 #include "mb.h"
+#include "mote/event.h"
 
 
 #include <math.h>
@@ -483,7 +484,7 @@ int mote_mb_hooks_fire(mote_mb_hooks *h, mote_mb *sys, mote_err *err)
 
 void mote_mb_hooks_progress(mote_mb_hooks *h, const mote_mb *sys)
 {
-    if (!h || !h->progress || !h->progress->enabled)
+    if (!h || !h->progress)
         return;
     double f = 0.0;
     if (isfinite(h->t_end) && h->t_end > h->t_begin)
@@ -545,4 +546,22 @@ int mote_mb_run(mote_mb *sys, double t_end, mote_mb_hooks *hooks, mote_err *err)
     else if (!rc)
         rc = mote_fail(err, MOTE_ENOMEM, "run: out of memory");
     return rc;
+}
+
+void mote_mb_live_position(const mote_mb *sys, uint32_t i, double xy[2])
+{
+    if (sys->live_ev) {
+        double r[3];
+        mote_ev_position((const mote_ev *)sys->live_ev, i, r);
+        xy[0] = r[0] + sys->live_x0;
+        xy[1] = r[1] + sys->live_y0;
+    } else {
+        xy[0] = sys->x[i];
+        xy[1] = sys->y[i];
+    }
+}
+
+double mote_mb_live_time(const mote_mb *sys)
+{
+    return sys->live_ev ? sys->live_t0 + mote_ev_time((const mote_ev *)sys->live_ev) : sys->time;
 }

@@ -4,13 +4,16 @@
 #include "script_internal.h"
 
 #include <stdarg.h>
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
 static void usage(FILE *f)
 {
     fprintf(f,
-            "Usage: mote run [--check] [SCRIPT]  run a script (default: " MOTE_DEFAULT_SCRIPT ")\n"
+            "Usage: mote run [--check] [--live[=PORT]] [--bind ADDRESS] [SCRIPT]\n"
+            "                                    run a script (default: " MOTE_DEFAULT_SCRIPT "),\n"
+            "                                    with --live watched in a browser\n"
             "       mote check [SCRIPT]          check a script; run nothing\n"
             "       mote help [CMD | MODEL]      list the commands, or document one\n"
             "       mote help --markdown         the command reference in Markdown\n"
@@ -34,13 +37,26 @@ __attribute__((format(printf, 2, 3))) static int usage_error(FILE *diag, const c
 static int run_or_check(int argc, char **argv, const mote_model *const *models, size_t nmodels,
                         FILE *out, FILE *diag, int terminal)
 {
-    mote_script_options opt = {out, diag, terminal, strcmp(argv[1], "check") == 0};
+    mote_script_options opt = {out, diag, terminal, strcmp(argv[1], "check") == 0, 0, 0, NULL};
     const char *script = NULL;
     int options_done = 0;
     for (int i = 2; i < argc; i++) {
         const char *a = argv[i];
         if (!options_done && strcmp(a, "--") == 0) {
             options_done = 1;
+        } else if (!options_done && strncmp(a, "--live", 6) == 0 && (a[6] == '\0' || a[6] == '=')) {
+            opt.live = 1;
+            opt.live_port = 8080;
+            if (a[6] == '=') {
+                char *end;
+                long p = strtol(a + 7, &end, 10);
+                if (*end || end == a + 7 || p < 0 || p > 65535)
+                    return usage_error(diag, "--live=PORT: the port must be 0 ... 65535 (0: any "
+                                             "free one), found '%s'", a + 7);
+                opt.live_port = (int)p;
+            }
+        } else if (!options_done && strcmp(a, "--bind") == 0 && i + 1 < argc) {
+            opt.live_bind = argv[++i];
         } else if (!options_done && a[0] == '-' && a[1] != '\0') {
             if (strcmp(a, "--check") != 0)
                 return usage_error(diag, "unknown option '%s'", a);

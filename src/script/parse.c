@@ -750,6 +750,7 @@ int mote_script_parse(mote_script **out, const char *file, const char *text, siz
         return mote_script_fail_plain(err, MOTE_ENOMEM, "out of memory reading the script");
     s->ctx.out = stdout;
     s->ctx.diag = stderr;
+    s->live_port = -1; /* no live view unless asked for */
     s->ctx.script_path = mote_arena_strndup(&s->arena, file, strlen(file));
     if (!s->ctx.script_path) {
         mote_script_free(s);

@@ -5,6 +5,7 @@
 #include "script_internal.h"
 
 #include <errno.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <sys/types.h>
@@ -134,6 +135,75 @@ static int threads_run(void *model, const mote_call *c, mote_err *err)
     return 0;
 }
 
+/* ---- the live view (issue 25) ---------------------------------------------------------------- */
+
+/* The context's hook: a frame when one is due, then wait while the page holds the run. The
+ * frame only reads the model, so a run is the same with and without a view. */
+static void live_tick(void *arg)
+{
+    mote_script *s = arg;
+    if (!s->live || !s->instance)
+        return;
+    if (s->model->live && mote_live_due(s->live)) {
+        mote_buf *b = &s->frame;
+        b->n = 0;
+        b->failed = 0;
+        mote_buf_printf(b, "{\"frame\":%llu", (unsigned long long)mote_live_frames(s->live) + 1);
+        mote_buf_string(b, "model", s->model->name);
+        s->model->live(s->instance, b);
+        mote_buf_printf(b, "}");
+        if (!b->failed) /* (a frame without memory is dropped) */
+            mote_live_publish(s->live, b->s, b->n);
+    }
+    mote_live_hold(s->live);
+}
+
+int mote_script_live_start(mote_script *s, const char *bind, int port, mote_err *err)
+{
+    if (s->live)
+        return MOTE_OK;
+    char url[128];
+    int rc = mote_live_start(&s->live, bind, port, url, err);
+    if (rc)
+        return rc;
+    s->ctx.tick = live_tick;
+    s->ctx.tick_arg = s;
+    fprintf(s->ctx.out, "live: open %s in a browser (the run never waits for it)%s\n", url,
+            s->model->live ? "" : "; this model has no live picture yet");
+    fflush(s->ctx.out);
+    return MOTE_OK;
+}
+
+/* `live http [PORT] [bind=ADDRESS]` */
+static int live_check(void *model, const mote_call *c, mote_err *err)
+{
+    if (c->nargs < 1 || strcmp(c->args[0].text, "http") != 0)
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "live: expected 'live http [PORT] "
+                              "[bind=ADDRESS]'");
+    if (c->nargs > 2)
+        return mote_call_fail(err, c, 2, MOTE_EINVAL, "live: one port at most");
+    if (c->nargs == 2) {
+        char *end;
+        long p = strtol(c->args[1].text, &end, 10);
+        if (*end || end == c->args[1].text || p < 0 || p > 65535)
+            return mote_call_fail(err, c, 1, MOTE_EINVAL, "live: the port must be 0 ... 65535 "
+                                  "(0: any free one), found '%s'", c->args[1].text);
+    }
+    for (int k = 0; k < c->nopts; k++)
+        if (strcmp(c->opts[k].key, "bind") != 0)
+            return mote_call_fail(err, c, c->nargs + k, MOTE_EINVAL, "live: unknown option "
+                                  "%s= (bind=ADDRESS)", c->opts[k].key);
+    return MOTE_OK;
+}
+
+static int live_run(void *model, const mote_call *c, mote_err *err)
+{
+    mote_script *s = model;
+    const mote_arg *b = mote_call_opt(c, "bind");
+    const int port = c->nargs == 2 ? (int)strtol(c->args[1].text, NULL, 10) : 8080;
+    return mote_script_live_start(s, b ? b->text : NULL, port, err);
+}
+
 static int seed_check(void *model, const mote_call *c, mote_err *err)
 {
     mote_script *s = model;
@@ -213,6 +283,16 @@ const mote_cmd mote_script_common_cmds[] = {
      "build and machine type; on another platform (another libm) they agree\n"
      "statistically. Prints `seed: S`.\n",
      seed_check, seed_run},
+    {"live", NULL, "*", "live http [PORT] [bind=ADDRESS]",
+     "watch the run in a browser: a live view on PORT (8080)",
+     "Start the live view: a small web server inside the run, on 127.0.0.1 unless\n"
+     "bind=ADDRESS says otherwise, on PORT (default 8080; 0: any free port). Open the\n"
+     "address it prints: the page shows the system as it runs, up to 30 frames a second,\n"
+     "with the model's status line and a frame counter, and can pause and resume the run;\n"
+     "nothing else on the page changes the simulation. The run never waits for the page\n"
+     "and its results are the same with and without it. `mote run --live[=PORT] SCRIPT`\n"
+     "starts it before the first command. See docs/live-view.md.\n",
+     live_check, live_run},
     {"plot", NULL, "f f>png", "plot DATAFILE PNGFILE [options]",
      "render a data file written by a measuring command as a PNG",
      "Draw a data file written earlier (by this script or another) by one of the\n"
@@ -319,6 +399,8 @@ int mote_script_execute(mote_script *s, mote_err *err)
                                    "cannot create the %s model (out of memory)", s->model->name);
     s->instance = model;
     int rc = 0;
+    if (s->live_port >= 0 && (rc = mote_script_live_start(s, s->live_bind, s->live_port, err)))
+        rc = err->code;
     for (size_t i = 0; i < s->ncalls && !rc; i++) {
         mote_call *c = &s->calls[i];
         int common = mote_script_is_common(s, c->def);
@@ -336,6 +418,14 @@ int mote_script_execute(mote_script *s, mote_err *err)
             s->model->status(model, s->ctx.out);
         }
         fflush(s->ctx.out);
+        if (!rc && s->ctx.tick) /* a frame of the state after the command */
+            s->ctx.tick(s->ctx.tick_arg);
+    }
+    if (s->live) {
+        mote_live_stop(s->live);
+        s->live = NULL;
+        s->ctx.tick = NULL;
+        mote_buf_free(&s->frame);
     }
     s->instance = NULL;
     reset_context(&s->ctx);
@@ -354,6 +444,8 @@ int mote_script_run_file(const char *path, const mote_model *const *models, size
         return 1;
     }
     mote_context *ctx = mote_script_context(s);
+    s->live_port = opt->live ? opt->live_port : -1;
+    s->live_bind = opt->live_bind;
     ctx->out = opt->out;
     ctx->diag = opt->diag;
     ctx->terminal = opt->terminal;

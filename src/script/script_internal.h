@@ -33,7 +33,15 @@ struct mote_script {
     int threads_noted;    /* the "threads has no effect yet" note was printed */
     void *instance;       /* the model the commands act on while validating or running */
     mote_cmd plot_def;    /* `plot` with the model's plot options (name NULL until needed) */
+    /* the live view: asked for by `mote run --live` (port >= 0) or started by `live http` */
+    int live_port;
+    const char *live_bind;
+    mote_live *live;
+    mote_buf frame;
 };
+
+/* Start the live view of a running script (port 0: any free one), print its address. */
+int mote_script_live_start(mote_script *s, const char *bind, int port, mote_err *err);
 
 /* ---- common commands (handled by the script layer; their `model` argument is the script) ----- */
 

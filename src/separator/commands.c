@@ -976,7 +976,7 @@ static int do_live(void *vm, const mote_call *c, mote_err *err)
         return rc;
     char *p = strdup(c->args[0].path);
     if (!p)
-        return mote_fail(err, MOTE_ENOMEM, "live: out of memory");
+        return mote_fail(err, MOTE_ENOMEM, "live_png: out of memory");
     free(m->live.path);
     m->live.path = p;
     m->live.on = 1;
@@ -1152,7 +1152,7 @@ static const char HELP_PROFILES[] = "    profiles FILE\n\nWrite the profiles alo
 static const char HELP_AVERAGE_FROM[] = "    average_from T\n\nStart the profile averaging at simulated time T (default 0).\n";
 static const char HELP_RESET_STATS[] = "    reset_stats\n\nZero the exit tallies of the size classes and the profile sums: a new\nstatistics window starts now, leaving the start-up transient out. The species'\nbookkeeping (fed, fines, coarse, lost) is not reset.\n";
 static const char HELP_FRAMES[] = "    frames DIR DT [px=900] [color=size|species] [y1= y2=] [movie=on|off] [fps=20]\n\nA PNG picture every DT of simulated time, DIR/frame_000000.png on (spec 3.4):\nthe channel to scale with its grids and their holes, each particle a disc of\nits true size (at least a pixel) coloured by diameter (viridis over ln d, with\na colour bar in um or mm) or by species, the time and the counts under it. In\n3D the particles are projected on the x-z plane back to front, optionally only\nthose with y1 <= y <= y2. After each run the frames become DIR/movie.mp4\nthrough ffmpeg when it is installed (movie=off: not). DIR is made when the run\nstarts. Frames come after the first step that reaches their time: steps are\nnot shortened for them, so results do not depend on the outputs.\n";
-static const char HELP_LIVE[] = "    live FILE [hz=30] [px=] [color=size|species]\n\nWhile runs go on, rewrite FILE (atomically) with the present picture at most\nhz times a second of wall-clock time (at most 30), whatever the simulated time\nstep: open it in an image viewer that reloads.\n";
+static const char HELP_LIVE[] = "    live_png FILE [hz=30] [px=] [color=size|species]\n\nWhile runs go on, rewrite FILE (atomically) with the present picture at most\nhz times a second of wall-clock time (at most 30), whatever the simulated time\nstep: open it in an image viewer that reloads. (The live view in a browser is\n`live http`, or `mote run --live`.)\n";
 static const char HELP_SNAPSHOTS[] = "    snapshots DIR DT\n\nAn extended XYZ file every DT of simulated time, DIR/snapshot_000000.xyz on:\nthe species, id, position, velocity and radius of each particle, the channel as\nthe lattice and the time in the comment line; OVITO, VMD and ASE read them. In\n2D y is the middle of the nominal depth.\n";
 static const char HELP_BALANCE[] = "    balance FILE DT\n\nThe bookkeeping every DT of simulated time (spec 3.3): per species and in\ntotal, the counts and masses fed, in the channel, to the fines, to the coarse,\nlost and waiting in the backlog; written after each run, with whether\nfed = in channel + fines + coarse + lost held at every row.\n";
 static const char HELP_SAVE[] = "    save FILE\n    load FILE\n\nWrite the whole state (spec 2.12): the parameters, species, grids, size\nclasses, every particle with its id and last contact force, the random stream,\nthe feed accounts and backlog, the relaxed solids fraction, the exit tallies,\nthe profile sums, the counters and the time, every number exact. `load` reads\nit back: save, load, save gives the same file, and a run continued from it is\nbit for bit the run that never stopped. The schedules (frames, snapshots,\nbalance, live) belong to the script and are not saved. A file that does not\nread is an error naming its line, and nothing runs.\n";
@@ -1234,7 +1234,7 @@ static const mote_cmd sep_commands[] = {
     {"frames", NULL, "f r>0 px=i[16,16384] color=s y1=r y2=r movie=s fps=i[1,1000]",
      "frames DIR DT [options]", "PNG pictures on a schedule, and the movie", HELP_FRAMES,
      do_frames, do_frames},
-    {"live", NULL, "f>image hz=r>0 px=i[16,16384] color=s", "live FILE [hz=30]",
+    {"live_png", NULL, "f>image hz=r>0 px=i[16,16384] color=s", "live_png FILE [hz=30]",
      "a picture rewritten while runs go on", HELP_LIVE, do_live, do_live},
     {"snapshots", NULL, "f r>0", "snapshots DIR DT", "extended XYZ snapshots on a schedule",
      HELP_SNAPSHOTS, do_snapshots, do_snapshots},

@@ -1,0 +1,377 @@
+/* live.c: the live view's server (live.h) on libmicrohttpd: one thread per connection, so a
+ * viewer that stops reading blocks only its own thread. The run's side is a slot holding the
+ * newest frame under a mutex (publish copies into it and signals); each stream's reader waits
+ * for a frame newer than the one it sent, then sends it as one Server-Sent Event. */
+#include "mote/live.h"
+
+#include <arpa/inet.h>
+#include <errno.h>
+#include <math.h>
+#include <microhttpd.h>
+#include <netinet/in.h>
+#include <pthread.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/socket.h>
+#include <time.h>
+
+#include "live_page.h"
+
+#define MAX_VIEWERS 8
+
+struct mote_live {
+    struct MHD_Daemon *d;
+    pthread_mutex_t mu;
+    pthread_cond_t cv;
+    char *frame;       /* "data: {...}\n\n" */
+    size_t len, cap;
+    uint64_t seq;      /* frames published */
+    int viewers, paused, stopping;
+    double last;       /* wall time of the last frame */
+    char *page;        /* the page, its lines joined */
+};
+
+/* ---- the frame buffer ------------------------------------------------------------------------ */
+
+static void buf_reserve(mote_buf *b, size_t more)
+{
+    if (b->failed || b->n + more + 1 <= b->cap)
+        return;
+    size_t cap = b->cap ? b->cap : 4096;
+    while (cap < b->n + more + 1)
+        cap *= 2;
+    char *s = realloc(b->s, cap);
+    if (!s) {
+        b->failed = 1;
+        return;
+    }
+    b->s = s;
+    b->cap = cap;
+}
+
+void mote_buf_printf(mote_buf *b, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    char tmp[256];
+    int k = vsnprintf(tmp, sizeof tmp, fmt, ap);
+    va_end(ap);
+    if (k < 0) {
+        b->failed = 1;
+        return;
+    }
+    buf_reserve(b, (size_t)k);
+    if (b->failed)
+        return;
+    if ((size_t)k < sizeof tmp) {
+        memcpy(b->s + b->n, tmp, (size_t)k + 1);
+    } else {
+        va_start(ap, fmt);
+        vsnprintf(b->s + b->n, (size_t)k + 1, fmt, ap);
+        va_end(ap);
+    }
+    b->n += (size_t)k;
+}
+
+void mote_buf_doubles(mote_buf *b, const char *key, const double *v, size_t n, size_t stride)
+{
+    mote_buf_printf(b, ",\"%s\":[", key);
+    for (size_t i = 0; i < n && !b->failed; i++) {
+        const double x = v[i * stride];
+        if (isfinite(x))
+            mote_buf_printf(b, i ? ",%.7g" : "%.7g", x);
+        else
+            mote_buf_printf(b, i ? ",null" : "null");
+    }
+    mote_buf_printf(b, "]");
+}
+
+void mote_buf_string(mote_buf *b, const char *key, const char *text)
+{
+    mote_buf_printf(b, ",\"%s\":\"", key);
+    for (const unsigned char *p = (const unsigned char *)text; *p && !b->failed; p++) {
+        if (*p == '"' || *p == '\\')
+            mote_buf_printf(b, "\\%c", *p);
+        else if (*p < 0x20)
+            mote_buf_printf(b, "\\u%04x", *p);
+        else
+            mote_buf_printf(b, "%c", *p);
+    }
+    mote_buf_printf(b, "\"");
+}
+
+void mote_buf_free(mote_buf *b)
+{
+    free(b->s);
+    memset(b, 0, sizeof *b);
+}
+
+/* ---- the stream -------------------------------------------------------------------------------- */
+
+typedef struct {
+    mote_live *l;
+    uint64_t sent;     /* the last frame sent */
+    char *pending;     /* what is left of the frame being sent */
+    size_t len, off;
+} viewer;
+
+static ssize_t stream_read(void *cls, uint64_t pos, char *out, size_t max)
+{
+    (void)pos;
+    viewer *v = cls;
+    mote_live *l = v->l;
+    if (v->off < v->len) { /* the rest of a frame */
+        size_t k = v->len - v->off < max ? v->len - v->off : max;
+        memcpy(out, v->pending + v->off, k);
+        v->off += k;
+        return (ssize_t)k;
+    }
+    pthread_mutex_lock(&l->mu);
+    if (!l->stopping && l->seq == v->sent) {
+        struct timespec until;
+        clock_gettime(CLOCK_REALTIME, &until);
+        until.tv_sec += 1;
+        pthread_cond_timedwait(&l->cv, &l->mu, &until);
+    }
+    if (l->stopping) {
+        pthread_mutex_unlock(&l->mu);
+        return MHD_CONTENT_READER_END_OF_STREAM;
+    }
+    if (l->seq == v->sent) { /* nothing new for a second: a comment keeps the line open */
+        pthread_mutex_unlock(&l->mu);
+        static const char keep[] = ": waiting\n\n";
+        size_t k = sizeof keep - 1 < max ? sizeof keep - 1 : max;
+        memcpy(out, keep, k);
+        return (ssize_t)k;
+    }
+    char *p = realloc(v->pending, l->len ? l->len : 1);
+    if (!p) {
+        pthread_mutex_unlock(&l->mu);
+        return MHD_CONTENT_READER_END_WITH_ERROR;
+    }
+    v->pending = p;
+    memcpy(p, l->frame, l->len);
+    v->len = l->len;
+    v->off = 0;
+    v->sent = l->seq;
+    pthread_mutex_unlock(&l->mu);
+    return stream_read(cls, pos, out, max);
+}
+
+static void stream_free(void *cls)
+{
+    viewer *v = cls;
+    pthread_mutex_lock(&v->l->mu);
+    v->l->viewers--;
+    pthread_mutex_unlock(&v->l->mu);
+    free(v->pending);
+    free(v);
+}
+
+/* ---- requests ---------------------------------------------------------------------------------- */
+
+static enum MHD_Result reply(struct MHD_Connection *c, unsigned status, const char *type,
+                             const char *body)
+{
+    struct MHD_Response *r =
+        MHD_create_response_from_buffer(strlen(body), (void *)body, MHD_RESPMEM_PERSISTENT);
+    if (!r)
+        return MHD_NO;
+    MHD_add_response_header(r, "Content-Type", type);
+    MHD_add_response_header(r, "Cache-Control", "no-store");
+    MHD_add_response_header(r, "X-Content-Type-Options", "nosniff");
+    enum MHD_Result ret = MHD_queue_response(c, status, r);
+    MHD_destroy_response(r);
+    return ret;
+}
+
+static enum MHD_Result handle(void *cls, struct MHD_Connection *c, const char *url,
+                              const char *method, const char *version, const char *upload,
+                              size_t *upload_size, void **state)
+{
+    (void)version;
+    (void)upload;
+    mote_live *l = cls;
+    static int marker;
+    const int post = strcmp(method, "POST") == 0, get = strcmp(method, "GET") == 0;
+    if (!get && !post)
+        return reply(c, MHD_HTTP_METHOD_NOT_ALLOWED, "text/plain", "method not allowed\n");
+    if (*state == NULL) { /* the headers: answer once the body (if any) is in */
+        *state = &marker;
+        return MHD_YES;
+    }
+    if (*upload_size) { /* a body is read and ignored; the memory limit bounds it */
+        *upload_size = 0;
+        return MHD_YES;
+    }
+    if (get && strcmp(url, "/") == 0)
+        return reply(c, MHD_HTTP_OK, "text/html; charset=utf-8", l->page);
+    if (post && (strcmp(url, "/pause") == 0 || strcmp(url, "/resume") == 0)) {
+        pthread_mutex_lock(&l->mu);
+        l->paused = url[1] == 'p';
+        pthread_cond_broadcast(&l->cv);
+        pthread_mutex_unlock(&l->mu);
+        return reply(c, MHD_HTTP_OK, "text/plain", url[1] == 'p' ? "paused\n" : "running\n");
+    }
+    if (get && strcmp(url, "/stream") == 0) {
+        pthread_mutex_lock(&l->mu);
+        const int full = l->viewers >= MAX_VIEWERS;
+        if (!full)
+            l->viewers++;
+        const uint64_t now = l->seq;
+        pthread_mutex_unlock(&l->mu);
+        if (full)
+            return reply(c, MHD_HTTP_SERVICE_UNAVAILABLE, "text/plain", "too many viewers\n");
+        viewer *v = calloc(1, sizeof *v);
+        struct MHD_Response *r =
+            v ? MHD_create_response_from_callback(MHD_SIZE_UNKNOWN, 64 * 1024, stream_read, v,
+                                                  stream_free)
+              : NULL;
+        if (!r) {
+            if (v)
+                stream_free(v);
+            else {
+                pthread_mutex_lock(&l->mu);
+                l->viewers--;
+                pthread_mutex_unlock(&l->mu);
+            }
+            return MHD_NO;
+        }
+        v->l = l;
+        v->sent = now ? now - 1 : 0; /* the newest frame first */
+        MHD_add_response_header(r, "Content-Type", "text/event-stream");
+        MHD_add_response_header(r, "Cache-Control", "no-store");
+        enum MHD_Result ret = MHD_queue_response(c, MHD_HTTP_OK, r);
+        MHD_destroy_response(r);
+        return ret;
+    }
+    return reply(c, MHD_HTTP_NOT_FOUND, "text/plain", "not found\n");
+}
+
+/* ---- the run's side ---------------------------------------------------------------------------- */
+
+int mote_live_start(mote_live **out, const char *bind, int port, char url[128], mote_err *err)
+{
+    *out = NULL;
+    if (port < 0 || port > 65535)
+        return mote_fail(err, MOTE_EINVAL, "live: port %d is not 0 ... 65535", port);
+    struct sockaddr_in a;
+    memset(&a, 0, sizeof a);
+    a.sin_family = AF_INET;
+    a.sin_port = htons((uint16_t)port);
+    const char *host = bind ? bind : "127.0.0.1";
+    if (inet_pton(AF_INET, host, &a.sin_addr) != 1)
+        return mote_fail(err, MOTE_EINVAL, "live: bind=%s is not an IPv4 address", host);
+    mote_live *l = calloc(1, sizeof *l);
+    if (!l)
+        return mote_fail(err, MOTE_ENOMEM, "live: out of memory");
+    size_t plen = 1;
+    const size_t nlines = sizeof mote_live_page_lines / sizeof mote_live_page_lines[0];
+    for (size_t k = 0; k < nlines; k++)
+        plen += strlen(mote_live_page_lines[k]) + 1;
+    l->page = malloc(plen);
+    if (!l->page) {
+        free(l);
+        return mote_fail(err, MOTE_ENOMEM, "live: out of memory");
+    }
+    l->page[0] = '\0';
+    for (size_t k = 0, at = 0; k < nlines; k++) {
+        const size_t n = strlen(mote_live_page_lines[k]);
+        memcpy(l->page + at, mote_live_page_lines[k], n);
+        l->page[at + n] = '\n';
+        l->page[at + n + 1] = '\0';
+        at += n + 1;
+    }
+    pthread_mutex_init(&l->mu, NULL);
+    pthread_cond_init(&l->cv, NULL);
+    l->d = MHD_start_daemon(MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_THREAD_PER_CONNECTION, 0,
+                            NULL, NULL, handle, l, MHD_OPTION_SOCK_ADDR, (struct sockaddr *)&a,
+                            MHD_OPTION_CONNECTION_LIMIT, (unsigned)(MAX_VIEWERS + 8),
+                            MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)16384,
+                            MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)30, MHD_OPTION_END);
+    if (!l->d) {
+        pthread_cond_destroy(&l->cv);
+        pthread_mutex_destroy(&l->mu);
+        free(l->page);
+        free(l);
+        return mote_fail(err, MOTE_EIO, "live: cannot serve on %s:%d (is the port taken?)", host,
+                         port);
+    }
+    const union MHD_DaemonInfo *info = MHD_get_daemon_info(l->d, MHD_DAEMON_INFO_BIND_PORT);
+    snprintf(url, 128, "http://%s:%u/", host, info ? (unsigned)info->port : (unsigned)port);
+    *out = l;
+    return MOTE_OK;
+}
+
+void mote_live_stop(mote_live *l)
+{
+    if (!l)
+        return;
+    pthread_mutex_lock(&l->mu);
+    l->stopping = 1;
+    l->paused = 0;
+    pthread_cond_broadcast(&l->cv);
+    pthread_mutex_unlock(&l->mu);
+    MHD_stop_daemon(l->d);
+    pthread_cond_destroy(&l->cv);
+    pthread_mutex_destroy(&l->mu);
+    free(l->frame);
+    free(l->page);
+    free(l);
+}
+
+int mote_live_due(mote_live *l)
+{
+    pthread_mutex_lock(&l->mu);
+    const int v = l->viewers;
+    pthread_mutex_unlock(&l->mu);
+    return v > 0 && mote_wall_seconds() - l->last >= 1.0 / 30;
+}
+
+void mote_live_publish(mote_live *l, const char *json, size_t len)
+{
+    l->last = mote_wall_seconds();
+    pthread_mutex_lock(&l->mu);
+    const size_t need = len + 9;
+    if (need > l->cap) {
+        char *p = realloc(l->frame, need);
+        if (!p) {
+            pthread_mutex_unlock(&l->mu);
+            return; /* dropped */
+        }
+        l->frame = p;
+        l->cap = need;
+    }
+    memcpy(l->frame, "data: ", 6);
+    memcpy(l->frame + 6, json, len);
+    memcpy(l->frame + 6 + len, "\n\n", 2);
+    l->len = len + 8;
+    l->seq++;
+    pthread_cond_broadcast(&l->cv);
+    pthread_mutex_unlock(&l->mu);
+}
+
+void mote_live_hold(mote_live *l)
+{
+    pthread_mutex_lock(&l->mu);
+    while (l->paused && !l->stopping)
+        pthread_cond_wait(&l->cv, &l->mu);
+    pthread_mutex_unlock(&l->mu);
+}
+
+uint64_t mote_live_frames(mote_live *l)
+{
+    pthread_mutex_lock(&l->mu);
+    const uint64_t n = l->seq;
+    pthread_mutex_unlock(&l->mu);
+    return n;
+}
+
+int mote_live_viewers(mote_live *l)
+{
+    pthread_mutex_lock(&l->mu);
+    const int v = l->viewers;
+    pthread_mutex_unlock(&l->mu);
+    return v;
+}
