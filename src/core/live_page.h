@@ -1,7 +1,8 @@
 /* live_page.h: the live view's page (HTML and its script), built into the program: nothing is
  * fetched from the network. It opens /stream (Server-Sent Events), draws each frame on a canvas
  * (2D to scale; 3D turned with the mouse, depth-sorted; a profile beside), and posts /pause and
- * /resume. One string a line (ISO C bounds the length of one literal); live.c joins them. */
+ * /resume; ?frames=N stops listening after N frames (for tests). One string a line (ISO C bounds
+ * the length of one literal); live.c joins them. The source is docs/live-view.html. */
 #ifndef MOTE_LIVE_PAGE_H
 #define MOTE_LIVE_PAGE_H
 
@@ -65,10 +66,11 @@ static const char *const mote_live_page_lines[] = {
     "p.x.forEach((x,i)=>{const a=30+(pv.width-40)*(x-x0)/((x1-x0)||1),b=pv.height-30-(pv.height-60)*p.y[i]/ymax;if(i)px.lineTo(a,b);else px.moveTo(a,b);});",
     "px.stroke();px.fillStyle='#ddd';px.fillText((p.label||'profile')+' (max '+ymax.toPrecision(3)+')',30,20);px.fillText('x',pv.width/2,pv.height-8);}",
     "function draw(f){if(f.view==='3d')draw3(f);else draw2(f);if(f.profile)drawProfile(f);}",
+    "const lim=+(new URLSearchParams(location.search).get('frames')||0);let got=0;",
     "const es=new EventSource('/stream');",
     "es.onopen=()=>{document.getElementById('state').textContent=paused?'paused':'running';};",
     "es.onerror=()=>{document.getElementById('state').textContent='run ended or unreachable';};",
-    "es.onmessage=e=>{const f=JSON.parse(e.data);last=f;draw(f);",
+    "es.onmessage=e=>{const f=JSON.parse(e.data);last=f;draw(f);if(lim&&++got>=lim){es.close();document.getElementById('state').textContent='stopped after '+got+' frames';}",
     "document.getElementById('counter').textContent='frame '+f.frame;",
     "document.getElementById('model').textContent=f.model||'mote';",
     "document.getElementById('status').textContent=f.status||'';",

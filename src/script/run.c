@@ -174,34 +174,45 @@ int mote_script_live_start(mote_script *s, const char *bind, int port, mote_err 
     return MOTE_OK;
 }
 
-/* `live http [PORT] [bind=ADDRESS]` */
-static int live_check(void *model, const mote_call *c, mote_err *err)
+/* `live http [PORT] [bind=ADDRESS]` (the tokens come as arguments: the spec is "*") */
+static int live_args(const mote_call *c, int *port, const char **bind, mote_err *err)
 {
+    *port = 8080;
+    *bind = NULL;
     if (c->nargs < 1 || strcmp(c->args[0].text, "http") != 0)
         return mote_call_fail(err, c, 0, MOTE_EINVAL, "live: expected 'live http [PORT] "
                               "[bind=ADDRESS]'");
-    if (c->nargs > 2)
-        return mote_call_fail(err, c, 2, MOTE_EINVAL, "live: one port at most");
-    if (c->nargs == 2) {
+    int have_port = 0;
+    for (int k = 1; k < c->nargs; k++) {
+        const char *t = c->args[k].text;
+        if (strncmp(t, "bind=", 5) == 0 && t[5] && !*bind) {
+            *bind = t + 5;
+            continue;
+        }
         char *end;
-        long p = strtol(c->args[1].text, &end, 10);
-        if (*end || end == c->args[1].text || p < 0 || p > 65535)
-            return mote_call_fail(err, c, 1, MOTE_EINVAL, "live: the port must be 0 ... 65535 "
-                                  "(0: any free one), found '%s'", c->args[1].text);
+        long p = strtol(t, &end, 10);
+        if (have_port || *end || end == t || p < 0 || p > 65535)
+            return mote_call_fail(err, c, k, MOTE_EINVAL, "live: expected a port 0 ... 65535 "
+                                  "(0: any free one) or bind=ADDRESS, found '%s'", t);
+        *port = (int)p;
+        have_port = 1;
     }
-    for (int k = 0; k < c->nopts; k++)
-        if (strcmp(c->opts[k].key, "bind") != 0)
-            return mote_call_fail(err, c, c->nargs + k, MOTE_EINVAL, "live: unknown option "
-                                  "%s= (bind=ADDRESS)", c->opts[k].key);
     return MOTE_OK;
+}
+
+static int live_check(void *model, const mote_call *c, mote_err *err)
+{
+    int port;
+    const char *bind;
+    return live_args(c, &port, &bind, err);
 }
 
 static int live_run(void *model, const mote_call *c, mote_err *err)
 {
-    mote_script *s = model;
-    const mote_arg *b = mote_call_opt(c, "bind");
-    const int port = c->nargs == 2 ? (int)strtol(c->args[1].text, NULL, 10) : 8080;
-    return mote_script_live_start(s, b ? b->text : NULL, port, err);
+    int port;
+    const char *bind;
+    int rc = live_args(c, &port, &bind, err);
+    return rc ? rc : mote_script_live_start(model, bind, port, err);
 }
 
 static int seed_check(void *model, const mote_call *c, mote_err *err)

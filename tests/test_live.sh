@@ -1,0 +1,173 @@
+#!/bin/sh
+# test_live.sh: the live view (issue 25) through the `mote` program: the page, the frame stream
+# (frames whose particle count and positions match the state), 404 for other paths, 405 for other
+# methods, refused oversized requests, pause and resume, a viewer that stops reading does not stop
+# the run, results bit-identical with and without the view; and a real browser (headless
+# Chromium, installed by scripts/setup.sh) that draws discs of both colours and whose frame
+# counter advances.
+# Usage: sh tests/test_live.sh [BUILD_DIR]   (default: build)
+NAME=live
+. "$(dirname "$0")/lib.sh"
+mote_test_start "$1"
+
+# a mixing box that runs long enough to be watched (killed when done)
+mb() { # mb RUN_TIME [more commands]
+    printf 'model mixing-box\nseed 7\nbox 0 2 0 1\npartition 1 0.02\nslit 0.5 0.1\nradius 0.005\ndisks 1000 1000\nv_init 1\nplace\nrun %s\n%b' "$1" "${2:-}"
+}
+# start SCRIPT: run it with --live=0 in the background; URL, PID
+start() {
+    "$MOTE" run --live=0 "$1" > live_out.txt 2> live_err.txt &
+    PID=$!
+    URL=
+    for _ in 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20; do
+        URL=$(sed -n 's/^live: open \(http[^ ]*\) .*/\1/p' live_out.txt)
+        [ -n "$URL" ] && break
+        sleep 0.1
+    done
+    [ -n "$URL" ] && ok || bad "no live address printed: $(cat live_out.txt live_err.txt)"
+}
+stop() { kill "$PID" 2> /dev/null; wait "$PID" 2> /dev/null; }
+
+mb 100000 > long.mote
+start long.mote
+case "$URL" in http://127.0.0.1:*/) ok ;; *) bad "the view is not on the loopback address: $URL" ;; esac
+[ "$(curl -s -o page.html -w '%{http_code}' "$URL")" = 200 ] && grep -q '<title>mote live view</title>' page.html && ok || bad "the page is not served"
+grep -q "new EventSource('/stream')" page.html && ! grep -qi 'src=.http\|href=.http' page.html && ok || bad "the page fetches something from the network"
+[ "$(curl -s -o /dev/null -w '%{http_code}' "${URL}etc/passwd")" = 404 ] && ok || bad "another path is not 404"
+[ "$(curl -s -o /dev/null -w '%{http_code}' "${URL}../../etc/passwd")" = 404 ] && ok || bad "a path with .. is not 404"
+[ "$(curl -s -o /dev/null -w '%{http_code}' -X DELETE "$URL")" = 405 ] && ok || bad "DELETE is not refused with 405"
+code=$(curl -s -o /dev/null -w '%{http_code}' -H "X-Big: $(head -c 40000 /dev/zero | tr '\0' a)" "$URL")
+[ "$code" -ge 400 ] && ok || bad "an oversized request was answered with $code"
+printf 'GARBAGE\r\n\r\n' > bad.req
+curl -s -o /dev/null --max-time 2 "telnet://${URL#http://}" < bad.req 2> /dev/null
+# the stream: frames at up to 30 a second, each with the state's particles
+timeout 2 curl -s -N "${URL}stream" > stream.txt
+n=$(grep -c '^data: {' stream.txt)
+[ "$n" -ge 20 ] && [ "$n" -le 64 ] && ok || bad "frames in 2 s: $n (expected about 60, at most 30 a second)"
+grep '^data: ' stream.txt | tail -1 | sed 's/^data: //' > frame.json
+python3 - frame.json <<'EOF' && ok || bad "the last frame is not a mixing box of 2000 disks inside the box"
+import json, sys
+f = json.load(open(sys.argv[1]))
+assert f["model"] == "mixing-box" and f["view"] == "2d", f.get("model")
+assert len(f["x"]) == len(f["y"]) == len(f["c"]) == len(f["r"]) == 2000
+assert set(f["c"]) == {0, 1}
+x0, y0, x1, y1 = f["box"]
+assert all(x0 < x < x1 for x in f["x"]) and all(y0 < y < y1 for y in f["y"])
+assert f["frame"] >= 1 and "t = " in f["status"]
+EOF
+# pause: no frames while paused; resume: frames again
+[ "$(curl -s -X POST "${URL}pause")" = paused ] && ok || bad "pause"
+sleep 0.3
+timeout 1.5 curl -s -N "${URL}stream" > paused.txt
+[ "$(grep -c '^data: ' paused.txt)" -le 1 ] && ok || bad "frames while paused: $(grep -c '^data: ' paused.txt)"
+[ "$(curl -s -X POST "${URL}resume")" = running ] && ok || bad "resume"
+timeout 1 curl -s -N "${URL}stream" > resumed.txt
+[ "$(grep -c '^data: ' resumed.txt)" -ge 5 ] && ok || bad "no frames after resume"
+# a viewer that stops reading (its socket never read) does not stop the run
+python3 - "$URL" <<'EOF' &
+import socket, sys, time
+host, port = sys.argv[1][len("http://"):].rstrip("/").split(":")
+s = socket.create_connection((host, int(port)))
+s.sendall(b"GET /stream HTTP/1.1\r\nHost: x\r\n\r\n")
+time.sleep(4)
+EOF
+STALL=$!
+sleep 0.5
+timeout 2 curl -s -N "${URL}stream" > other.txt
+[ "$(grep -c '^data: ' other.txt)" -ge 20 ] && ok || bad "a stalled viewer slowed the others: $(grep -c '^data: ' other.txt) frames in 2 s"
+a=$(grep '"status":"t = ' other.txt | head -1 | sed 's/.*"status":"t = \([0-9.e+-]*\) s.*/\1/')
+b=$(grep '"status":"t = ' other.txt | tail -1 | sed 's/.*"status":"t = \([0-9.e+-]*\) s.*/\1/')
+awk -v a="$a" -v b="$b" 'BEGIN { exit !(b + 0 > a + 0) }' && ok || bad "the run did not advance with a stalled viewer: t $a -> $b"
+wait "$STALL" 2> /dev/null
+stop
+
+# the same results with and without the view (a viewer reading all along)
+mb 30 'snapshot end.xyz\n' > short.mote
+"$MOTE" run short.mote > plain.txt 2>&1 && mv end.xyz plain.xyz && ok || bad "the plain run failed"
+start short.mote
+timeout 20 curl -s -N "${URL}stream" > /dev/null &
+CURL=$!
+wait "$PID"
+kill "$CURL" 2> /dev/null
+wait "$CURL" 2> /dev/null
+cmp -s plain.xyz end.xyz && ok || bad "the run differs with the live view"
+[ "$(grep -v '^live:' live_out.txt | sed 's/ wall_seconds=.*//')" = "$(sed 's/ wall_seconds=.*//' plain.txt)" ] && ok || bad "the printed output differs with the live view"
+
+# bind= and the script command; a taken port is an error at its line
+printf 'model mixing-box\nlive http 0 bind=127.0.0.1\n' > cmd.mote
+"$MOTE" run cmd.mote > out.txt 2> err.txt && grep -q '^live: open http://127.0.0.1:' out.txt && ok || bad "live http: $(cat out.txt err.txt)"
+expect 1 "bad1.mote:2:" bad1.mote 'model mixing-box\nlive ftp\n'
+expect 1 "bad2.mote:2:" bad2.mote 'model mixing-box\nlive http 70000\n'
+expect 1 "bad3.mote:2:" bad3.mote 'model mixing-box\nlive http 0 host=x\n'
+expect 2 "bad4.mote:2:" bad4.mote 'model mixing-box\nlive http 0 bind=999.1.1.1\n'
+
+# a real browser: discs of both colours, and a frame counter that advances
+if command -v chromium > /dev/null 2>&1; then
+    start long.mote
+    # (?frames=20: the page stops listening after 20 frames, so the headless browser's virtual
+    # time can run out while the run goes on)
+    shot() {
+        timeout 60 chromium --headless=new --no-sandbox --disable-gpu --hide-scrollbars \
+            --window-size=1300,700 --virtual-time-budget=3000 --screenshot="$PWD/$1" \
+            "${URL}?frames=20" > /dev/null 2>&1
+    }
+    dom() {
+        timeout 60 chromium --headless=new --no-sandbox --disable-gpu --virtual-time-budget=3000 \
+            --dump-dom "${URL}?frames=20" 2> /dev/null | sed -n 's/.*id="counter">frame \([0-9]*\)<.*/\1/p'
+    }
+    shot shot1.png
+    c1=$(dom)
+    sleep 1
+    c2=$(dom)
+    shot shot2.png
+    stop
+    [ -n "$c1" ] && [ -n "$c2" ] && [ "$c2" -gt "$c1" ] && ok || bad "the page's frame counter did not advance: '$c1' then '$c2'"
+    python3 - shot1.png shot2.png <<'EOF' && ok || bad "the screenshots do not show discs of both colours"
+import struct, sys, zlib
+def pixels(path):
+    d = open(path, "rb").read()
+    assert d[:8] == b"\x89PNG\r\n\x1a\n"
+    pos, idat, w = 8, b"", 0
+    while pos < len(d):
+        n, t = struct.unpack(">I4s", d[pos:pos + 8])
+        c = d[pos + 8:pos + 8 + n]
+        if t == b"IHDR":
+            w, h, depth, ctype = struct.unpack(">IIBB", c[:10])
+            bpp = {2: 3, 6: 4}[ctype]
+        elif t == b"IDAT":
+            idat += c
+        pos += 12 + n
+    raw = zlib.decompress(idat)
+    stride, prev, rows = w * bpp, bytearray(w * bpp), []
+    for y in range(h):
+        f, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
+        for i in range(stride):
+            a = line[i - bpp] if i >= bpp else 0
+            b, c = prev[i], prev[i - bpp] if i >= bpp else 0
+            if f == 1: line[i] = (line[i] + a) & 255
+            elif f == 2: line[i] = (line[i] + b) & 255
+            elif f == 3: line[i] = (line[i] + (a + b) // 2) & 255
+            elif f == 4:
+                p = a + b - c
+                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+                line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
+        rows.append(line)
+        prev = line
+    return rows, bpp
+for path in sys.argv[1:]:
+    rows, bpp = pixels(path)
+    red = blue = 0
+    for line in rows[60:]:
+        for i in range(0, len(line), bpp):
+            r, g, b = line[i], line[i + 1], line[i + 2]
+            red += r > 180 and g < 110 and b < 110
+            blue += b > 180 and r < 110 and 110 < g < 190
+    assert red > 500 and blue > 500, (path, red, blue)
+EOF
+    cp shot2.png "${TMPDIR:-/tmp}/mote-live-shot.png" 2> /dev/null
+else
+    echo "test_live.sh: no chromium (scripts/setup.sh installs it): the browser test is skipped"
+    bad "chromium is missing"
+fi
+
+mote_test_end
