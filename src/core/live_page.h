@@ -46,7 +46,7 @@ static const char *const mote_live_page_lines[] = {
     "for(let i=0;i+1<p.length;i+=2){const a=t.X(p[i]),b=t.Y(p[i+1]);if(i)cx.lineTo(a,b);else cx.moveTo(a,b);}cx.stroke();});}",
     "if(f.lines){cx.strokeStyle='#ddd';cx.lineWidth=2;cx.beginPath();for(let i=0;i+3<f.lines.length;i+=4){",
     "cx.moveTo(t.X(f.lines[i]),t.Y(f.lines[i+1]));cx.lineTo(t.X(f.lines[i+2]),t.Y(f.lines[i+3]));}cx.stroke();}",
-    "const n=f.x?f.x.length:0;for(let i=0;i<n;i++){const r=Math.max(1,(f.r?f.r[i]:0)*t.s);cx.fillStyle=col(f,f.c?f.c[i]:0);",
+    "const n=f.x?f.x.length:0;for(let i=0;i<n;i++){const r=Math.max(1.5,(f.r?f.r[i]:0)*t.s);cx.fillStyle=col(f,f.c?f.c[i]:0);",
     "cx.beginPath();cx.arc(t.X(f.x[i]),t.Y(f.y[i]),r,0,6.2832);cx.fill();}}",
     "function draw3(f){const b=f.box,c=[(b[0]+b[3])/2,(b[1]+b[4])/2,(b[2]+b[5])/2],L=Math.max(b[3]-b[0],b[4]-b[1],b[5]-b[2]);",
     "const s=0.8*Math.min(cv.width,cv.height)/L,cy=Math.cos(yaw),sy=Math.sin(yaw),cp=Math.cos(pitch),sp=Math.sin(pitch);",

@@ -73,6 +73,14 @@ typedef struct {
         nb_galctl ctl;      /* the graphics values and trios */
         nb_frame_opts f;
     } frames;
+    /* the live view: the plane shown (0 xy, 1 xz, 2 yz) and the recent paths of up to
+     * LIVE_PATHS bodies, LIVE_LEN points each (a ring per body; view state only) */
+    struct {
+        int plane;
+        double *pts;
+        uint32_t nb;
+        size_t len, head;
+    } live;
     /* the header of the last Galactica file read (its Em and area fields are carried over) */
     int have_galhead;
     mote_real galhead[25];
@@ -109,6 +117,7 @@ static void model_destroy(void *vm)
     free(m->snap.prefix);
     free(m->snap.origin);
     nb_approach_free(&m->appr.a);
+    free(m->live.pts);
     free(m->frames.prefix);
     free(m->appr.path);
     free(m->appr.origin);
@@ -2528,6 +2537,115 @@ static int model_plot_check(void *vm, const mote_call *c, mote_err *err)
     return nb_plot_check(c, err);
 }
 
+/* ---- the live view (docs/live-view.md) -------------------------------------------------------- */
+
+enum { LIVE_PATHS = 64, LIVE_LEN = 64 };
+
+static int check_live_plane(void *vm, const mote_call *c, mote_err *err)
+{
+    const char *p = c->args[0].text;
+    if (strcmp(p, "xy") && strcmp(p, "xz") && strcmp(p, "yz"))
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "live_plane: expected xy, xz or yz, found "
+                              "'%s'", p);
+    return MOTE_OK;
+}
+static int run_live_plane(void *vm, const mote_call *c, mote_err *err)
+{
+    nb_model *m = vm;
+    const char *p = c->args[0].text;
+    m->live.plane = p[0] == 'y' ? 2 : p[1] == 'z' ? 1 : 0;
+    m->live.len = m->live.head = 0; /* the paths start again in the new plane */
+    return MOTE_OK;
+}
+
+/* The bodies in the chosen plane at their true radii (at least a pixel on the page), the most
+ * massive in yellow, and the recent paths of the first bodies; only reads the system. */
+static void model_live(void *vm, mote_buf *b)
+{
+    nb_model *m = vm;
+    const mote_nb *nb = &m->nb;
+    const int a0 = m->live.plane == 2 ? 1 : 0, a1 = m->live.plane == 0 ? 1 : 2;
+    const uint32_t np = nb->n < LIVE_PATHS ? nb->n : LIVE_PATHS;
+    if (m->live.nb != np || !m->live.pts) { /* (re)start the paths */
+        free(m->live.pts);
+        m->live.pts = malloc(2 * (size_t)LIVE_LEN * (np ? np : 1) * sizeof *m->live.pts);
+        m->live.nb = np;
+        m->live.len = m->live.head = 0;
+        if (!m->live.pts) {
+            b->failed = 1;
+            return;
+        }
+    }
+    for (uint32_t i = 0; i < np; i++) {
+        double *q = m->live.pts + 2 * ((size_t)i * LIVE_LEN + m->live.head);
+        q[0] = (double)nb->x[3 * i + (uint32_t)a0];
+        q[1] = (double)nb->x[3 * i + (uint32_t)a1];
+    }
+    m->live.head = (m->live.head + 1) % LIVE_LEN;
+    m->live.len += m->live.len < LIVE_LEN;
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY}, mmax = 0;
+    uint32_t heavy = 0, na = 0;
+    for (uint32_t i = 0; i < nb->n; i++) {
+        if (!nb->active[i])
+            continue;
+        na++;
+        for (int k = 0; k < 2; k++) {
+            const double v = (double)nb->x[3 * i + (uint32_t)(k ? a1 : a0)];
+            lo[k] = fmin(lo[k], v);
+            hi[k] = fmax(hi[k], v);
+        }
+        if ((double)nb->m[i] > mmax) {
+            mmax = (double)nb->m[i];
+            heavy = i;
+        }
+    }
+    double half = 0.55 * fmax(hi[0] - lo[0], hi[1] - lo[1]);
+    if (!(half > 0))
+        half = 1;
+    const double cx = na ? (lo[0] + hi[0]) / 2 : 0, cy = na ? (lo[1] + hi[1]) / 2 : 0;
+    mote_buf_printf(b, ",\"view\":\"2d\"");
+    const double box[4] = {cx - half, cy - half, cx + half, cy + half};
+    mote_buf_doubles(b, "box", box, 4, 1);
+    mote_buf_printf(b, ",\"classes\":[{\"name\":\"most massive\",\"color\":\"#e8c23a\"},"
+                       "{\"name\":\"bodies\",\"color\":\"#9ecbff\"}]");
+    double *v = malloc(4 * (size_t)(na ? na : 1) * sizeof *v);
+    if (!v) {
+        b->failed = 1;
+        return;
+    }
+    uint32_t k = 0;
+    for (uint32_t i = 0; i < nb->n; i++)
+        if (nb->active[i]) {
+            v[k] = (double)nb->x[3 * i + (uint32_t)a0];
+            v[na + k] = (double)nb->x[3 * i + (uint32_t)a1];
+            v[2 * (size_t)na + k] = (double)nb->ra[i];
+            v[3 * (size_t)na + k] = i == heavy ? 0 : 1;
+            k++;
+        }
+    mote_buf_doubles(b, "x", v, na, 1);
+    mote_buf_doubles(b, "y", v + na, na, 1);
+    mote_buf_doubles(b, "r", v + 2 * (size_t)na, na, 1);
+    mote_buf_doubles(b, "c", v + 3 * (size_t)na, na, 1);
+    free(v);
+    mote_buf_printf(b, ",\"paths\":[");
+    for (uint32_t i = 0; i < np && !b->failed; i++) {
+        mote_buf_printf(b, i ? ",[" : "[");
+        for (size_t j = 0; j < m->live.len; j++) { /* oldest first */
+            const size_t at = (m->live.head + LIVE_LEN - m->live.len + j) % LIVE_LEN;
+            const double *q = m->live.pts + 2 * ((size_t)i * LIVE_LEN + at);
+            mote_buf_printf(b, j ? ",%.7g,%.7g" : "%.7g,%.7g", q[0], q[1]);
+        }
+        mote_buf_printf(b, "]");
+    }
+    mote_buf_printf(b, "]");
+    char st[256];
+    snprintf(st, sizeof st, "T = %.10g   step %llu   N = %u active   merges %llu   plane %s%s",
+             (double)nb->T, (unsigned long long)nb->steps, na, (unsigned long long)nb->merges,
+             m->live.plane == 0 ? "xy" : m->live.plane == 1 ? "xz" : "yz",
+             nb->tree_on ? "   tree forces (approximate)" : "");
+    mote_buf_string(b, "status", st);
+}
+
 static const mote_cmd nb_commands[] = {
     {"body", NULL,
      "mass=r>0! x=r y=r z=r vx=r vy=r vz=r radius=r>=0 density=r>0 charge=r spin=s name=s",
@@ -2605,6 +2723,11 @@ static const mote_cmd nb_commands[] = {
     {"steps_between", NULL, "jd1=r! jd2=r! dt=r>0! fresh=s", "steps_between jd1= jd2= dt= [fresh=on]",
      "the steps and the corrected step between two dates", HELP_STEPS_BETWEEN,
      check_steps_between, run_steps_between},
+    {"live_plane", NULL, "s", "live_plane xy|xz|yz",
+     "the plane the live view shows (xy by default)",
+     "The plane of the live view (`mote run --live`, `live http`): the bodies and the recent\n"
+     "paths of the first 64 are drawn projected on xy (the default), xz or yz.\n",
+     check_live_plane, run_live_plane},
     {"run", NULL,
      "s control=f<control interaction=s frames=s step_tol=r(0,1) force=s lenient=s "
      "trio_layout=s max_files=i>=1",
@@ -2633,4 +2756,5 @@ const mote_model mote_model_nbody = {
     .plot_help = HELP_PLOT,
     .plot_opts = "bodies=s relative_to=s plane=s size=i[64,8192]",
     .plot_check = model_plot_check,
+    .live = model_live,
 };

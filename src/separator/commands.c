@@ -1076,8 +1076,12 @@ static int run_hook(void *vm, mote_sep_system *s, mote_err *err)
             m->live.last = now;
         }
     }
+    if (!rc && m->ctx && m->ctx->tick) /* the live view (a frame when due; only reads) */
+        m->ctx->tick(m->ctx->tick_arg);
     return rc;
 }
+
+static void model_live(void *vm, mote_buf *b) { sep_live_frame(&((sep_model *)vm)->sys, b); }
 
 /* After a run: the balance file and the movie of the frames so far. */
 static int run_end(sep_model *m, mote_err *err)
@@ -1258,4 +1262,5 @@ const mote_model mote_model_separator = {
     .seed = model_seed,
     .seed_help = "The feed draws from the stream: each particle's species and size, then its\n"
                  "position tries.\n",
+    .live = model_live,
 };

@@ -11,6 +11,7 @@
 
 #include "mote/datafile.h"
 #include "mote/render.h"
+#include "mote/live.h"
 #include "sep.h"
 
 #define SEP_PI 3.14159265358979323846
@@ -413,6 +414,57 @@ int sep_frame_png(const mote_sep_system *s, const char *path, const sep_frame_op
     free(key);
     free(rects);
     return rc;
+}
+
+/* The live view's frame (docs/live-view.md): the channel to scale (x across, z up; a 3D
+ * channel seen along y), the grids' plates, the particles at true size by species. */
+void sep_live_frame(const mote_sep_system *s, mote_buf *b)
+{
+    static const char *const colours[] = {"#e8443a", "#3a8ee8", "#5ec45a", "#e8c23a",
+                                          "#b05ee8", "#3ad6d6", "#e87c3a", "#cccccc"};
+    mote_buf_printf(b, ",\"view\":\"2d\"");
+    const double box[4] = {0, 0, s->W, s->H};
+    mote_buf_doubles(b, "box", box, 4, 1);
+    const double lines[12] = {0, 0, 0, s->H, s->W, 0, s->W, s->H, 0, 0, s->W, 0};
+    mote_buf_doubles(b, "lines", lines, 12, 1);
+    double *rects = NULL;
+    size_t nrect = 0;
+    if (plate_rects(s, &rects, &nrect) == 0)
+        mote_buf_doubles(b, "rects", rects, 4 * nrect, 1);
+    free(rects);
+    mote_buf_printf(b, ",\"classes\":[");
+    for (int k = 0; k < s->nsp; k++) {
+        mote_buf_printf(b, "%s{\"color\":\"%s\"", k ? "," : "", colours[k % 8]);
+        mote_buf_string(b, "name", s->sp[k].name);
+        mote_buf_printf(b, "}");
+    }
+    mote_buf_printf(b, "]");
+    const size_t n = s->n;
+    double *v = malloc((n ? n : 1) * sizeof *v);
+    if (!v) {
+        b->failed = 1;
+        return;
+    }
+    mote_buf_doubles(b, "x", s->x, n, 1);
+    mote_buf_doubles(b, "y", s->z, n, 1);
+    for (size_t i = 0; i < n; i++)
+        v[i] = 0.5 * s->d[i];
+    mote_buf_doubles(b, "r", v, n, 1);
+    for (size_t i = 0; i < n; i++)
+        v[i] = s->s[i];
+    mote_buf_doubles(b, "c", v, n, 1);
+    free(v);
+    uint64_t fines = 0, coarse = 0, fed = 0;
+    for (int k = 0; k < s->nsp; k++) {
+        fines += s->cnt[k].fines;
+        coarse += s->cnt[k].coarse;
+        fed += s->cnt[k].fed;
+    }
+    char st[256];
+    snprintf(st, sizeof st, "t = %.4f s   N = %zu   fed %llu   fines %llu   coarse %llu   "
+             "U0 = %g m/s", s->t, s->n, (unsigned long long)fed, (unsigned long long)fines,
+             (unsigned long long)coarse, s->U0);
+    mote_buf_string(b, "status", st);
 }
 
 int sep_write_xyz(const mote_sep_system *s, const char *path, mote_err *err)

@@ -3,6 +3,7 @@
 #define MOTE_SEP_INTERNAL_H
 
 #include "mote/separator.h"
+#include "mote/live.h"
 
 /* dem.c: rebuild the cell lists; the cell of particle i; the contact forces into fx, fy, fz
  * from the positions, with the dashpots on the predicted velocities v + dt/2 F_old/m. */
@@ -46,6 +47,8 @@ int sep_write_tromp(const mote_sep_system *s, const char *path, const char *orig
 /* The profiles table and its three-panel PNG. */
 int sep_write_profiles(const mote_sep_system *s, const char *path, const char *origin,
                        uint64_t seed, mote_err *err);
+/* The live view's frame of the system (output.c). */
+void sep_live_frame(const mote_sep_system *s, mote_buf *b);
 int sep_frame_png(const mote_sep_system *s, const char *path, const sep_frame_opts *fo,
                   mote_err *err);
 int sep_write_xyz(const mote_sep_system *s, const char *path, mote_err *err);
