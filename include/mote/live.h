@@ -24,6 +24,10 @@ typedef struct {
 void mote_buf_printf(mote_buf *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 /* ,"key":[v0,v1,...] with n values taken every `stride` from v, in %.7g (NaN/inf as null) */
 void mote_buf_doubles(mote_buf *b, const char *key, const double *v, size_t n, size_t stride);
+/* The same, written fast in fixed point: values of a picture `size` across, to 5 significant
+ * digits of it (a coordinate need not be finer than a 10^5-th of the picture). */
+void mote_buf_fixed(mote_buf *b, const char *key, const double *v, size_t n, size_t stride,
+                    double size);
 /* ,"key":"text" with the text escaped for JSON */
 void mote_buf_string(mote_buf *b, const char *key, const char *text);
 void mote_buf_free(mote_buf *b);

@@ -87,6 +87,57 @@ void mote_buf_doubles(mote_buf *b, const char *key, const double *v, size_t n, s
     mote_buf_printf(b, "]");
 }
 
+void mote_buf_fixed(mote_buf *b, const char *key, const double *v, size_t n, size_t stride,
+                    double size)
+{
+    /* decimals for 5 significant digits of `size` (a picture's width: finer is invisible) */
+    int dec = size > 0 && isfinite(size) ? (int)ceil(5 - log10(size)) : 6;
+    dec = dec < 0 ? 0 : dec > 15 ? 15 : dec;
+    double p10 = 1;
+    for (int k = 0; k < dec; k++)
+        p10 *= 10;
+    mote_buf_printf(b, ",\"%s\":[", key);
+    buf_reserve(b, n * 24);
+    for (size_t i = 0; i < n && !b->failed; i++) {
+        const double x = v[i * stride] * p10;
+        char t[40], *e = t + sizeof t, *q = e;
+        if (!(fabs(x) < 9e15)) { /* beyond the integer path: the general one */
+            mote_buf_printf(b, i ? "," : "");
+            if (isfinite(v[i * stride]))
+                mote_buf_printf(b, "%.7g", v[i * stride]);
+            else
+                mote_buf_printf(b, "null");
+            continue;
+        }
+        long long k = llround(x);
+        const int neg = k < 0;
+        unsigned long long u = neg ? (unsigned long long)(-k) : (unsigned long long)k;
+        for (int d = 0; d < dec; d++) { /* the fraction, trailing zeros dropped */
+            const int digit = (int)(u % 10);
+            u /= 10;
+            if (q != e || digit)
+                *--q = (char)('0' + digit);
+        }
+        if (q != e)
+            *--q = '.';
+        do {
+            *--q = (char)('0' + u % 10);
+            u /= 10;
+        } while (u);
+        if (neg)
+            *--q = '-';
+        if (i)
+            *--q = ',';
+        buf_reserve(b, (size_t)(e - q));
+        if (b->failed)
+            return;
+        memcpy(b->s + b->n, q, (size_t)(e - q));
+        b->n += (size_t)(e - q);
+        b->s[b->n] = '\0';
+    }
+    mote_buf_printf(b, "]");
+}
+
 void mote_buf_string(mote_buf *b, const char *key, const char *text)
 {
     mote_buf_printf(b, ",\"%s\":\"", key);

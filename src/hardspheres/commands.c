@@ -80,7 +80,7 @@ static void model_live(void *vm, mote_buf *b)
         mote_buf_printf(b, ",\"view\":\"3d\"");
         const double box[6] = {0, 0, 0, ev->len[0], ev->len[1], ev->len[2]};
         mote_buf_doubles(b, "box", box, 6, 1);
-        mote_buf_doubles(b, "z", v + 2 * (size_t)m, k, 1);
+        mote_buf_fixed(b, "z", v + 2 * (size_t)m, k, 1, ev->len[2]);
     } else {
         mote_buf_printf(b, ",\"view\":\"2d\"");
         const double box[4] = {0, 0, ev->len[0], ev->len[1]};
@@ -89,9 +89,10 @@ static void model_live(void *vm, mote_buf *b)
         if (!ev->periodic[0])
             mote_buf_doubles(b, "lines", lines, 8, 1);
     }
-    mote_buf_doubles(b, "x", v, k, 1);
-    mote_buf_doubles(b, "y", v + m, k, 1);
-    mote_buf_doubles(b, "r", v + 3 * (size_t)m, k, 1);
+    const double size = fmax(ev->len[0], ev->len[1]);
+    mote_buf_fixed(b, "x", v, k, 1, size);
+    mote_buf_fixed(b, "y", v + m, k, 1, size);
+    mote_buf_fixed(b, "r", v + 3 * (size_t)m, k, 1, size);
     free(v);
     for (int j = 0; j < NB; j++) {
         xs[j] = (j + 0.5) * ev->len[0] / NB;

@@ -890,13 +890,11 @@ static void model_live(void *vm, mote_buf *b)
         c[i] = s->colour[i];
         wrong += (xy[2 * i] >= p->x1_c) != (s->colour[i] == 1);
     }
-    mote_buf_doubles(b, "x", xy, n, 2);
-    mote_buf_doubles(b, "y", xy + 1, n, 2);
-    mote_buf_doubles(b, "c", c, n, 1);
-    mote_buf_printf(b, ",\"r\":[");
-    for (uint32_t i = 0; i < n && !b->failed; i++)
-        mote_buf_printf(b, i ? ",%.7g" : "%.7g", p->r);
-    mote_buf_printf(b, "]");
+    const double size = fmax(p->x_r - p->x_l, p->x_t - p->x_b);
+    mote_buf_fixed(b, "x", xy, n, 2, size);
+    mote_buf_fixed(b, "y", xy + 1, n, 2, size);
+    mote_buf_fixed(b, "c", c, n, 1, 1e5); /* (integers) */
+    mote_buf_printf(b, ",\"r0\":%.7g", p->r);
     char st[256];
     snprintf(st, sizeof st, "t = %.6g s   N = %u   m = %.4f (the fraction of disks in the other "
              "chamber)", mote_mb_live_time(s), n, n ? (double)wrong / n : 0.0);

@@ -2622,8 +2622,8 @@ static void model_live(void *vm, mote_buf *b)
             v[3 * (size_t)na + k] = i == heavy ? 0 : 1;
             k++;
         }
-    mote_buf_doubles(b, "x", v, na, 1);
-    mote_buf_doubles(b, "y", v + na, na, 1);
+    mote_buf_fixed(b, "x", v, na, 1, 2 * half);
+    mote_buf_fixed(b, "y", v + na, na, 1, 2 * half);
     mote_buf_doubles(b, "r", v + 2 * (size_t)na, na, 1);
     mote_buf_doubles(b, "c", v + 3 * (size_t)na, na, 1);
     free(v);

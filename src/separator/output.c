@@ -445,14 +445,15 @@ void sep_live_frame(const mote_sep_system *s, mote_buf *b)
         b->failed = 1;
         return;
     }
-    mote_buf_doubles(b, "x", s->x, n, 1);
-    mote_buf_doubles(b, "y", s->z, n, 1);
+    const double size = fmax(s->W, s->H);
+    mote_buf_fixed(b, "x", s->x, n, 1, size);
+    mote_buf_fixed(b, "y", s->z, n, 1, size);
     for (size_t i = 0; i < n; i++)
         v[i] = 0.5 * s->d[i];
     mote_buf_doubles(b, "r", v, n, 1);
     for (size_t i = 0; i < n; i++)
         v[i] = s->s[i];
-    mote_buf_doubles(b, "c", v, n, 1);
+    mote_buf_fixed(b, "c", v, n, 1, 1e5);
     free(v);
     uint64_t fines = 0, coarse = 0, fed = 0;
     for (int k = 0; k < s->nsp; k++) {
