@@ -49,7 +49,7 @@ python3 - frame.json <<'EOF' && ok || bad "the last frame is not a mixing box of
 import json, sys
 f = json.load(open(sys.argv[1]))
 assert f["model"] == "mixing-box" and f["view"] == "2d", f.get("model")
-assert len(f["x"]) == len(f["y"]) == len(f["c"]) == len(f["r"]) == 2000
+assert len(f["x"]) == len(f["y"]) == len(f["c"]) == 2000 and f["r0"] == 0.005
 assert set(f["c"]) == {0, 1}
 x0, y0, x1, y1 = f["box"]
 assert all(x0 < x < x1 for x in f["x"]) and all(y0 < y < y1 for y in f["y"])
