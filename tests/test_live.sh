@@ -85,12 +85,26 @@ stop
 mb 30 'snapshot end.xyz\n' > short.mote
 "$MOTE" run short.mote > plain.txt 2>&1 && mv end.xyz plain.xyz && ok || bad "the plain run failed"
 start short.mote
-timeout 20 curl -s -N "${URL}stream" > /dev/null &
+timeout 20 curl -s -N "${URL}stream" > all.txt &
 CURL=$!
 wait "$PID"
 kill "$CURL" 2> /dev/null
 wait "$CURL" 2> /dev/null
 cmp -s plain.xyz end.xyz && ok || bad "the run differs with the live view"
+# the frame after the last command is the final state: the positions of end.xyz to the
+# frame's precision (5 significant digits of the 2 m box)
+grep '^data: ' all.txt | tail -1 | sed 's/^data: //' > last.json
+python3 - last.json end.xyz <<'EOF' && ok || bad "the last frame's positions are not the state's"
+import json, sys
+f = json.load(open(sys.argv[1]))
+lines = open(sys.argv[2]).read().split("\n")
+n = int(lines[0])
+pos = [tuple(map(float, l.split()[1:3])) for l in lines[2:2 + n]]
+assert len(f["x"]) == n == 2000, (len(f["x"]), n)
+assert "t = 30 s" in f["status"], f["status"]
+worst = max(max(abs(f["x"][i] - pos[i][0]), abs(f["y"][i] - pos[i][1])) for i in range(n))
+assert worst <= 1e-4, worst
+EOF
 [ "$(grep -v '^live:' live_out.txt | sed 's/ wall_seconds=.*//')" = "$(sed 's/ wall_seconds=.*//' plain.txt)" ] && ok || bad "the printed output differs with the live view"
 
 # bind= and the script command; a taken port is an error at its line

@@ -38,8 +38,8 @@ typedef struct mote_live mote_live;
  * open goes into url. Fails with a message (port taken, bad address). */
 int mote_live_start(mote_live **live, const char *bind, int port, char url[128], mote_err *err);
 void mote_live_stop(mote_live *live);
-/* Is a frame due (a viewer connected, and 1/30 s since the last)? */
-int mote_live_due(mote_live *live);
+/* Is a frame due (a viewer connected, and 1/30 s since the last, or `now`)? */
+int mote_live_due(mote_live *live, int now);
 /* Publish a frame (a JSON object, copied); frames published count from 1. */
 void mote_live_publish(mote_live *live, const char *json, size_t len);
 /* Block while the page has paused the run. */

@@ -372,12 +372,12 @@ void mote_live_stop(mote_live *l)
     free(l);
 }
 
-int mote_live_due(mote_live *l)
+int mote_live_due(mote_live *l, int now)
 {
     pthread_mutex_lock(&l->mu);
     const int v = l->viewers;
     pthread_mutex_unlock(&l->mu);
-    return v > 0 && mote_wall_seconds() - l->last >= 1.0 / 30;
+    return v > 0 && (now || mote_wall_seconds() - l->last >= 1.0 / 30);
 }
 
 void mote_live_publish(mote_live *l, const char *json, size_t len)

@@ -139,12 +139,11 @@ static int threads_run(void *model, const mote_call *c, mote_err *err)
 
 /* The context's hook: a frame when one is due, then wait while the page holds the run. The
  * frame only reads the model, so a run is the same with and without a view. */
-static void live_tick(void *arg)
+static void live_frame(mote_script *s, int now)
 {
-    mote_script *s = arg;
     if (!s->live || !s->instance)
         return;
-    if (s->model->live && mote_live_due(s->live)) {
+    if (s->model->live && mote_live_due(s->live, now)) {
         mote_buf *b = &s->frame;
         b->n = 0;
         b->failed = 0;
@@ -157,6 +156,8 @@ static void live_tick(void *arg)
     }
     mote_live_hold(s->live);
 }
+
+static void live_tick(void *arg) { live_frame(arg, 0); }
 
 int mote_script_live_start(mote_script *s, const char *bind, int port, mote_err *err)
 {
@@ -429,8 +430,8 @@ int mote_script_execute(mote_script *s, mote_err *err)
             s->model->status(model, s->ctx.out);
         }
         fflush(s->ctx.out);
-        if (!rc && s->ctx.tick) /* a frame of the state after the command */
-            s->ctx.tick(s->ctx.tick_arg);
+        if (!rc && s->live) /* a frame of the state after every command */
+            live_frame(s, 1);
     }
     if (s->live) {
         mote_live_stop(s->live);
