@@ -295,6 +295,7 @@ int mote_mb_hooks_fire(mote_mb_hooks *h, mote_mb *sys, mote_err *err);
 void mote_mb_hooks_progress(mote_mb_hooks *h, const mote_mb *sys);
 /* Disk i's centre now, and the time now, for a live view during a run (only reads). */
 void mote_mb_live_position(const mote_mb *sys, uint32_t i, double xy[2]);
+void mote_mb_live_velocity(const mote_mb *sys, uint32_t i, double v[2]);
 double mote_mb_live_time(const mote_mb *sys);
 
 /* The two integrators. mb_run_event lives in src/mixingbox/event.c on the event engine. */

@@ -107,8 +107,8 @@ static void model_live(void *vm, mote_buf *b)
     char shown[48] = "";
     if (step > 1)
         snprintf(shown, sizeof shown, " (every %u-th shown)", step);
-    snprintf(st, sizeof st, "t = %.6g   N = %u%s   collisions %llu   walls %s", mote_ev_time(ev),
-             n, shown, (unsigned long long)ev->collisions,
+    snprintf(st, sizeof st, "t = %.6g   N = %u%s   E = %.6g   collisions %llu   walls %s",
+             mote_ev_time(ev), n, shown, mote_ev_energy(ev), (unsigned long long)ev->collisions,
              ev->periodic[0] ? "none (periodic)" : "at x = 0 and x = L");
     mote_buf_string(b, "status", st);
 }

@@ -885,7 +885,11 @@ static void model_live(void *vm, mote_buf *b)
         return;
     }
     uint64_t wrong = 0;
+    double ek = 0;
     for (uint32_t i = 0; i < n; i++) {
+        double v[2];
+        mote_mb_live_velocity(s, i, v);
+        ek += 0.5 * p->mass * (v[0] * v[0] + v[1] * v[1]);
         mote_mb_live_position(s, i, xy + 2 * i);
         c[i] = s->colour[i];
         wrong += (xy[2 * i] >= p->x1_c) != (s->colour[i] == 1);
@@ -896,8 +900,9 @@ static void model_live(void *vm, mote_buf *b)
     mote_buf_fixed(b, "c", c, n, 1, 1e5); /* (integers) */
     mote_buf_printf(b, ",\"r0\":%.7g", p->r);
     char st[256];
-    snprintf(st, sizeof st, "t = %.6g s   N = %u   m = %.4f (the fraction of disks in the other "
-             "chamber)", mote_mb_live_time(s), n, n ? (double)wrong / n : 0.0);
+    snprintf(st, sizeof st, "t = %.6g s   N = %u   E_kin = %.6g J   m = %.4f (the fraction of "
+             "disks in the other chamber)", mote_mb_live_time(s), n, ek,
+             n ? (double)wrong / n : 0.0);
     mote_buf_string(b, "status", s->placed ? st : "no disks placed yet");
     free(xy);
     free(c);

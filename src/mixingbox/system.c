@@ -561,6 +561,19 @@ void mote_mb_live_position(const mote_mb *sys, uint32_t i, double xy[2])
     }
 }
 
+void mote_mb_live_velocity(const mote_mb *sys, uint32_t i, double v[2])
+{
+    if (sys->live_ev) {
+        double w[3];
+        mote_ev_velocity((const mote_ev *)sys->live_ev, i, w);
+        v[0] = w[0];
+        v[1] = w[1];
+    } else {
+        v[0] = sys->vx[i];
+        v[1] = sys->vy[i];
+    }
+}
+
 double mote_mb_live_time(const mote_mb *sys)
 {
     return sys->live_ev ? sys->live_t0 + mote_ev_time((const mote_ev *)sys->live_ev) : sys->time;

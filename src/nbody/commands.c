@@ -2638,9 +2638,15 @@ static void model_live(void *vm, mote_buf *b)
         mote_buf_printf(b, "]");
     }
     mote_buf_printf(b, "]");
+    double ek = 0;
+    for (uint32_t i = 0; i < nb->n; i++) {
+        const mote_real *w = nb->v + 3 * (size_t)i;
+        ek += 0.5 * (double)(nb->m[i] * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]));
+    }
     char st[256];
-    snprintf(st, sizeof st, "T = %.10g   step %llu   N = %u active   merges %llu   plane %s%s",
-             (double)nb->T, (unsigned long long)nb->steps, na, (unsigned long long)nb->merges,
+    snprintf(st, sizeof st, "T = %.10g   step %llu   N = %u active   E_kin = %.10g   merges %llu"
+             "   plane %s%s", (double)nb->T, (unsigned long long)nb->steps, na, ek,
+             (unsigned long long)nb->merges,
              m->live.plane == 0 ? "xy" : m->live.plane == 1 ? "xz" : "yz",
              nb->tree_on ? "   tree forces (approximate)" : "");
     mote_buf_string(b, "status", st);

@@ -461,10 +461,14 @@ void sep_live_frame(const mote_sep_system *s, mote_buf *b)
         coarse += s->cnt[k].coarse;
         fed += s->cnt[k].fed;
     }
+    double ek = 0;
+    for (size_t i = 0; i < n; i++)
+        ek += 0.5 * s->m[i] * (s->vx[i] * s->vx[i] + s->vz[i] * s->vz[i] +
+                               (s->dim == 3 ? s->vy[i] * s->vy[i] : 0));
     char st[256];
-    snprintf(st, sizeof st, "t = %.4f s   N = %zu   fed %llu   fines %llu   coarse %llu   "
-             "U0 = %g m/s", s->t, s->n, (unsigned long long)fed, (unsigned long long)fines,
-             (unsigned long long)coarse, s->U0);
+    snprintf(st, sizeof st, "t = %.4f s   N = %zu   E_kin = %.4g J   fed %llu   fines %llu   "
+             "coarse %llu   U0 = %g m/s", s->t, s->n, ek, (unsigned long long)fed,
+             (unsigned long long)fines, (unsigned long long)coarse, s->U0);
     mote_buf_string(b, "status", st);
 }
 
