@@ -159,7 +159,7 @@ void nb_approach_after(nb_approach *a, const mote_nb *nb, mote_real Tb, int merg
     }
 }
 
-int nb_approach_close(nb_approach *a, mote_real T, mote_err *err)
+int nb_approach_push(nb_approach *a, const double row[4], mote_err *err)
 {
     if (a->nrows == a->rowcap) {
         size_t cap = a->rowcap ? 2 * a->rowcap : 64;
@@ -169,11 +169,15 @@ int nb_approach_close(nb_approach *a, mote_real T, mote_err *err)
         a->rows = p;
         a->rowcap = cap;
     }
-    double *r = a->rows + 4 * a->nrows++;
-    r[0] = a->best < 0 ? (double)T : (double)a->t;
-    r[1] = a->best < 0 ? 0 : a->with + 1.0;
-    r[2] = a->best < 0 ? 0 : (double)a->best;
-    r[3] = a->best < 0 ? 0 : (double)a->speed;
-    a->best = -1;
+    memcpy(a->rows + 4 * a->nrows++, row, 4 * sizeof *row);
     return MOTE_OK;
+}
+
+int nb_approach_close(nb_approach *a, mote_real T, mote_err *err)
+{
+    const double none[4] = {(double)T, 0, 0, 0},
+                 row[4] = {(double)a->t, a->with + 1.0, (double)a->best, (double)a->speed};
+    const int rc = nb_approach_push(a, a->best < 0 ? none : row, err);
+    a->best = -1;
+    return rc;
 }

@@ -1467,6 +1467,10 @@ static int run_approaches(void *vm, const mote_call *c, mote_err *err)
 static int check_frames(void *vm, const mote_call *c, mote_err *err)
 {
     int rc = need_bodies(vm, c, err);
+    const mote_arg *p = mote_call_opt(c, "prefix");
+    if (!rc && p && !mote_ctx_dir_ok(c->ctx, p->path))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "prefix"), MOTE_EINVAL,
+                              "frames: the directory of prefix '%s' does not exist", p->text);
     const mote_arg *f = mote_call_opt(c, "control");
     if (!rc && f && !mote_outputs_find(&c->ctx->outputs, f->path)) {
         nb_galctl g;

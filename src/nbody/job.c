@@ -35,10 +35,8 @@ typedef struct {
     /* the trajectory buffer: Klmax records of `trw` numbers */
     double *tr;
     size_t trw, trn, trcap;
-    /* dice.dat: lines so far (3 numbers each), and the closest approach of this interval */
-    double *dice;
-    size_t ndice, dicecap;
-    double dmin, dtime, dbody;   /* dmin < 0: none yet */
+    /* dice.dat: the closest approaches of body Nbd, sampled at step ends (approach.c) */
+    nb_approach dice;
     /* run maxima and references (the trajectory summary) */
     double Em, Tem, Um, AMz1, zoom;
     uint32_t Nb0;
@@ -345,60 +343,10 @@ static int dice_file(job *j, mote_err *err)
     int rc = mote_afile_open(&af, jpath(j, "dice.dat", p), err);
     if (rc)
         return rc;
-    for (size_t r = 0; r < j->ndice; r++)
-        fprintf(af.f, "%.16E  %.0f  %.16E\n", j->dice[3 * r], j->dice[3 * r + 1],
-                j->dice[3 * r + 2]);
+    for (size_t r = 0; r < j->dice.nrows; r++) /* time, body, distance */
+        fprintf(af.f, "%.16E  %.0f  %.16E\n", j->dice.rows[4 * r], j->dice.rows[4 * r + 1],
+                j->dice.rows[4 * r + 2]);
     return mote_afile_commit(&af, err);
-}
-
-/* The closest body to Nbd at this step end, kept when closer than this interval's best. */
-static void dice_track(job *j)
-{
-    const mote_nb *nb = &j->nb;
-    const uint32_t b = (uint32_t)(ci(j, "Nbd") - 1);
-    if (!nb->active[b])
-        return;
-    for (uint32_t i = 0; i < nb->n; i++) {
-        if (i == b || !nb->active[i])
-            continue;
-        mote_real d2 = 0;
-        for (int a = 0; a < 3; a++) {
-            const mote_real d = nb->x[3 * i + (uint32_t)a] - nb->x[3 * b + (uint32_t)a];
-            d2 += d * d;
-        }
-        const double d = (double)sqrt(d2);
-        if (j->dmin < 0 || d < j->dmin) {
-            j->dmin = d;
-            j->dtime = (double)nb->T;
-            j->dbody = i + 1;
-        }
-    }
-}
-
-static int dice_push(job *j, double t, double body, double d, mote_err *err)
-{
-    if (j->ndice == j->dicecap) {
-        size_t cap = j->dicecap ? 2 * j->dicecap : 64;
-        double *p = realloc(j->dice, 3 * cap * sizeof *p);
-        if (!p)
-            return mote_fail(err, MOTE_ENOMEM, "galactica: out of memory for dice.dat");
-        j->dice = p;
-        j->dicecap = cap;
-    }
-    double *p = j->dice + 3 * j->ndice++;
-    p[0] = t;
-    p[1] = body;
-    p[2] = d;
-    return MOTE_OK;
-}
-
-/* The line of the interval that ends now: its closest approach (none: body 0). */
-static int dice_line(job *j, mote_err *err)
-{
-    int rc = j->dmin < 0 ? dice_push(j, (double)j->nb.T, 0, 0, err)
-                         : dice_push(j, j->dtime, j->dbody, j->dmin, err);
-    j->dmin = -1;
-    return rc;
 }
 
 /* ---- pictures (spec 7.13, frames.c) ------------------------------------------------------------ */
@@ -449,11 +397,12 @@ static int ckpt_write(job *j, mote_err *err)
     for (int k = 0; k < 25; k++)
         h[k] = (double)j->head[k];
     put_doubles(f, "head", h, 25);
-    const double dc[3] = {j->dmin, j->dtime, j->dbody};
-    put_doubles(f, "approach", dc, 3);
-    fprintf(f, "dice %zu\n", j->ndice);
-    for (size_t r = 0; r < j->ndice; r++)
-        put_doubles(f, "d", j->dice + 3 * r, 3);
+    const double dc[4] = {(double)j->dice.best, (double)j->dice.t, j->dice.with,
+                          (double)j->dice.speed};
+    put_doubles(f, "approach", dc, 4);
+    fprintf(f, "dice %zu\n", j->dice.nrows);
+    for (size_t r = 0; r < j->dice.nrows; r++)
+        put_doubles(f, "d", j->dice.rows + 4 * r, 4);
     fprintf(f, "records %zu %zu\n", j->trn, j->trw);
     for (size_t r = 0; r < j->trn; r++)
         put_doubles(f, "r", j->tr + r * j->trw, j->trw);
@@ -539,13 +488,14 @@ static int ckpt_read(job *j, const char *path, mote_err *err)
         j->have_amz1 = amz != 0;
         j->warned = cnt[5];
     }
-    double mx[5], h[25], dc[3];
+    double mx[5], h[25], dc[4];
     if (!what && get_doubles(mote_lines_next(&l), "maxima", mx, 5))
         what = "'maxima Em Tem Um AMz1 zoom'";
     if (!what && get_doubles(mote_lines_next(&l), "head", h, 25))
         what = "'head' and 25 numbers";
-    if (!what && get_doubles(mote_lines_next(&l), "approach", dc, 3))
-        what = "'approach dmin time body'";
+    if (!what && (get_doubles(mote_lines_next(&l), "approach", dc, 4) || !(dc[2] >= 0) ||
+                  dc[2] >= 4294967295.0))
+        what = "'approach dmin time body(0-based) speed'";
     if (!what) {
         j->Em = mx[0];
         j->Tem = mx[1];
@@ -554,20 +504,21 @@ static int ckpt_read(job *j, const char *path, mote_err *err)
         j->zoom = mx[4] > 0 && mx[4] <= 1 ? mx[4] : 1;
         for (int k = 0; k < 25; k++)
             j->head[k] = h[k];
-        j->dmin = dc[0];
-        j->dtime = dc[1];
-        j->dbody = dc[2];
+        j->dice.best = (mote_real)dc[0];
+        j->dice.t = (mote_real)dc[1];
+        j->dice.with = (uint32_t)dc[2];
+        j->dice.speed = (mote_real)dc[3];
     }
     unsigned long long nd = 0, nr = 0, w = 0;
     if (!what && (!(s = mote_lines_next(&l)) || sscanf(s, "dice %llu", &nd) != 1 || s[5] == '-' ||
                   nd > (unsigned long long)l.line + 100000000ull))
         what = "'dice N'";
     for (unsigned long long r = 0; r < nd && !what && !rc; r++) {
-        double d[3];
-        if (get_doubles(mote_lines_next(&l), "d", d, 3))
-            what = "'d' and 3 numbers (a line of dice.dat)";
+        double d[4];
+        if (get_doubles(mote_lines_next(&l), "d", d, 4))
+            what = "'d' and 4 numbers (a line of dice.dat and the relative speed)";
         else
-            rc = dice_push(j, d[0], d[1], d[2], err);
+            rc = nb_approach_push(&j->dice, d, err);
     }
     if (!what && !rc &&
         (!(s = mote_lines_next(&l)) || sscanf(s, "records %llu %llu", &nr, &w) != 2 ||
@@ -738,8 +689,10 @@ static int after_step(job *j, mote_err *err)
         j->AMz1 = mz;
         j->have_amz1 = 1;
     }
-    if (ci(j, "Nbd") > 0)
-        dice_track(j);
+    if (ci(j, "Nbd") > 0) {
+        j->dice.body = (uint32_t)(ci(j, "Nbd") - 1); /* (Nbd may have been edited) */
+        nb_approach_after(&j->dice, &j->nb, j->nb.T, 0);
+    }
     int rc = MOTE_OK;
     if (ci(j, "Kl12") == 1 && j->Lt % (uint64_t)ci(j, "Kli") == 0)
         rc = trajectory_record(j, err);
@@ -754,7 +707,7 @@ static int after_step(job *j, mote_err *err)
     if (!stage || rc)
         return rc;
     if (ci(j, "Nbd") > 0)
-        rc = dice_line(j, err);
+        rc = nb_approach_close(&j->dice, j->nb.T, err);
     if (!rc && ci(j, "Kl7") == 1) {
         char name[32];
         snprintf(name, sizeof name, "%llu", (unsigned long long)(j->nfile + 1));
@@ -788,7 +741,7 @@ static void job_free(job *j)
 {
     mote_nb_free(&j->nb);
     free(j->tr);
-    free(j->dice);
+    nb_approach_free(&j->dice);
 }
 
 /* The folder of the control file into j->dir. */
@@ -836,7 +789,7 @@ int mote_nb_job_run(const mote_nb_job *o, int *started, mote_err *err)
     if (rc)
         return rc;
     mote_nb_init(&j->nb, o->coulomb ? MOTE_NB_COULOMB : MOTE_NB_GRAVITY);
-    j->dmin = -1;
+    nb_approach_init(&j->dice, 0, 0, NULL);
     j->zoom = 1;
     char ck[PATH_CAP];
     jpath(j, o->coulomb ? "galgok2" : "galgon4", ck);
@@ -936,7 +889,7 @@ int mote_nb_job_edit(const mote_nb_job *o, int nedit, char *const *edits, mote_e
     job *j = &J;
     j->o = o;
     j->coulomb = o->coulomb;
-    j->dmin = -1;
+    nb_approach_init(&j->dice, 0, 0, NULL);
     j->zoom = 1;
     int rc = job_dir(j, o->control, err);
     if (rc)

@@ -174,6 +174,8 @@ void nb_approach_free(nb_approach *a);
 int nb_approach_before(nb_approach *a, const mote_nb *nb, mote_err *err);
 void nb_approach_after(nb_approach *a, const mote_nb *nb, mote_real Tb, int merged);
 int nb_approach_close(nb_approach *a, mote_real T, mote_err *err);
+/* Append a row (T_min, body, distance, speed), as a checkpoint restores them. */
+int nb_approach_push(nb_approach *a, const double row[4], mote_err *err);
 
 /* The Barnes-Hut tree (tree.c, spec 6.2). check: room for `blocks` blocks of cell data (and the
  * charges of one sign); build: from the positions, at a step's start; fill: the cells' block b
