@@ -99,24 +99,47 @@ int mote_dir_of_exists(const char *path);
 
 /* ---- text input, line by line -------------------------------------------------------------- */
 
-/* A text file read one line at a time, any length, with the line number for messages. */
+/* The longest line any mote reader accepts (1 MiB): a file with a longer line (/dev/zero, a binary
+ * file) is refused with "FILE:LINE: line longer than 1 MiB" instead of growing a buffer without
+ * bound. */
+#define MOTE_LINE_MAX ((size_t)1 << 20)
+
+/* Read one line (with its '\n', if any) into *buf (grown as needed, NUL-terminated); *len gets its
+ * length in bytes, which may exceed strlen(*buf) when the line holds a NUL byte. Returns 1 for a
+ * line, 0 at the end of the file or on a read error (ferror tells), -1 for a line longer than
+ * `max` bytes (the rest of that line is not read), -2 when memory runs out. */
+int mote_read_line(char **buf, size_t *cap, size_t *len, FILE *f, size_t max);
+
+/* A text file read one line at a time, at most MOTE_LINE_MAX bytes a line, with the line number
+ * for messages. */
 typedef struct {
     FILE *f;
     const char *path; /* as given to mote_lines_open (not copied) */
     long line;        /* number of the line last returned, from 1 */
     char *buf;
     size_t cap;
+    int failed;       /* 0, or why reading stopped early: -1 a line too long, -2 out of memory */
 } mote_lines;
 
-/* Open path for reading; fails with "PATH: cannot open: REASON". */
+/* Open path for reading; fails with "PATH: cannot open: REASON" (a directory is refused too). */
 int mote_lines_open(mote_lines *r, const char *path, mote_err *err);
-/* The next line without its LF or CRLF, or NULL at the end of the file (or on a read error, which
- * mote_lines_close reports). A line holding a NUL byte comes back empty: not a text file. */
+/* The next line without its LF or CRLF, or NULL at the end of the file, on a read error, or on a
+ * line longer than MOTE_LINE_MAX (mote_lines_close reports the last two). A line holding a NUL
+ * byte comes back empty: not a text file. */
 char *mote_lines_next(mote_lines *r);
-/* Close; MOTE_EIO with "PATH: read error" if reading failed, else MOTE_OK. */
+/* Close. If reading stopped on an error (a read error, a line too long, memory), that error is
+ * written to err (replacing any message there: it is the cause) and returned; else MOTE_OK and
+ * err is left alone. Callers write `crc = mote_lines_close(&in, err); return crc ? crc : rc;`. */
 int mote_lines_close(mote_lines *r, mote_err *err);
 
 /* ---- small helpers -------------------------------------------------------------------------- */
+
+/* The machine's physical memory in bytes (0 if unknown). */
+double mote_mem_physical(void);
+/* Memory a command would need, checked before it allocates: above 3/4 of the machine's physical
+ * memory the command is refused with "WHAT needs about X GB, more than 3/4 of this machine's
+ * Y GB" (MOTE_ENOMEM). Each command also has its own documented count limits. */
+int mote_mem_check(double bytes, const char *what, mote_err *err);
 
 /* Wall-clock seconds from a monotonic clock (for progress and rates only; never for results). */
 double mote_wall_seconds(void);

@@ -60,6 +60,10 @@ double mote_sep_dist_max(const mote_sep_dist *s);
 /* ---- perforated grids (spec 2.4; plates.c) ---------------------------------------------------- */
 
 #define MOTE_SEP_MAX_PLATES 16
+/* The most holes a plate has (a pattern or a list), and the memory one takes (the hole, its bin
+ * and its index entries) for the estimate checked before any is made. */
+#define MOTE_SEP_MAX_HOLES 10000000
+#define MOTE_SEP_HOLE_BYTES 48.0
 
 /* A horizontal plate zb <= z <= zb + t pierced by rectangular holes [x1, x2] (x [y1, y2] in 3D). */
 typedef struct {

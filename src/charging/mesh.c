@@ -123,7 +123,7 @@ static int read_plain(const char *path, soup *s, int part, int strict, uint32_t 
         }
     }
     int crc = mote_lines_close(&in, err);
-    rc = rc ? rc : crc;
+    rc = crc ? crc : rc;
     if (!rc && k != 0 && strict)
         rc = mote_fail(err, MOTE_EFORMAT, "%s: the file ends inside a triangle (%d of 9 numbers)",
                        path, k);

@@ -270,16 +270,23 @@ int mote_table_read(mote_table *t, const char *path, mote_err *err)
     size_t cap = 0;
     long lineno = 0, bytes = 0;
     int rc = MOTE_OK, block = 0, blank = 0;
-    ssize_t len;
-    while ((len = getline(&line, &cap, f)) >= 0) {
+    size_t len;
+    int got;
+    while ((got = mote_read_line(&line, &cap, &len, f, MOTE_LINE_MAX)) != 0) {
         lineno++;
+        if (got < 0) {
+            rc = got == -1 ? mote_fail(err, MOTE_EFORMAT, "%s:%ld: line longer than 1 MiB (not a "
+                                       "text file?)", path, lineno)
+                           : mote_fail(err, MOTE_ENOMEM, "out of memory reading '%s'", path);
+            break;
+        }
         bytes += (long)len;
         if (bytes > TABLE_MAX_BYTES) {
             rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: the file is larger than 1 GiB", path,
                            lineno);
             break;
         }
-        if (strlen(line) != (size_t)len) {
+        if (strlen(line) != len) {
             rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: a NUL byte in the line (not a text file)",
                            path, lineno);
             break;

@@ -7,7 +7,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
 double mote_wall_seconds(void)
 {
@@ -24,11 +26,66 @@ size_t mote_peak_rss_bytes(void)
     return (size_t)ru.ru_maxrss * 1024u; /* Linux reports kilobytes */
 }
 
+double mote_mem_physical(void)
+{
+    const long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGESIZE);
+    return pages > 0 && size > 0 ? (double)pages * (double)size : 0;
+}
+
+int mote_mem_check(double bytes, const char *what, mote_err *err)
+{
+    const double phys = mote_mem_physical();
+    if (phys > 0 && !(bytes <= 0.75 * phys)) /* (NaN is refused too) */
+        return mote_fail(err, MOTE_ENOMEM, "%s needs about %.3g GB, more than 3/4 of this "
+                         "machine's %.3g GB", what, bytes / 1e9, phys / 1e9);
+    return MOTE_OK;
+}
+
 void mote_fmt_exact(char *buf, double x)
 {
     if (x == 0.0)
         x = 0.0; /* turns -0 into +0 */
     snprintf(buf, 32, "%.17g", x);
+}
+
+int mote_read_line(char **buf, size_t *cap, size_t *len, FILE *f, size_t max)
+{
+    size_t n = 0;
+    int c = EOF;
+    flockfile(f);
+    while ((c = getc_unlocked(f)) != EOF) {
+        if (n + 2 > *cap) {
+            if (n >= max) {
+                funlockfile(f);
+                *len = n;
+                return -1;
+            }
+            size_t want = *cap ? 2 * *cap : 256;
+            if (want > max + 2)
+                want = max + 2;
+            char *nb = realloc(*buf, want);
+            if (!nb) {
+                funlockfile(f);
+                return -2;
+            }
+            *buf = nb;
+            *cap = want;
+        }
+        (*buf)[n++] = (char)c;
+        if (c == '\n')
+            break;
+        if (n > max) {
+            funlockfile(f);
+            *len = n;
+            return -1;
+        }
+    }
+    funlockfile(f);
+    *len = n;
+    if (n == 0 && c == EOF)
+        return 0;
+    (*buf)[n] = '\0';
+    return 1;
 }
 
 int mote_lines_open(mote_lines *r, const char *path, mote_err *err)
@@ -38,16 +95,30 @@ int mote_lines_open(mote_lines *r, const char *path, mote_err *err)
     r->f = fopen(path, "r");
     if (!r->f)
         return mote_fail(err, MOTE_EIO, "%s: cannot open: %s", path, strerror(errno));
+    struct stat st;
+    if (fstat(fileno(r->f), &st) == 0 && S_ISDIR(st.st_mode)) {
+        fclose(r->f);
+        r->f = NULL;
+        return mote_fail(err, MOTE_EIO, "%s: cannot open: it is a directory", path);
+    }
     return MOTE_OK;
 }
 
 char *mote_lines_next(mote_lines *r)
 {
-    ssize_t len = getline(&r->buf, &r->cap, r->f);
-    if (len < 0)
+    if (r->failed || !r->f)
         return NULL;
+    size_t len;
+    int got = mote_read_line(&r->buf, &r->cap, &len, r->f, MOTE_LINE_MAX);
+    if (got <= 0) {
+        if (got < 0) {
+            r->line++;
+            r->failed = got;
+        }
+        return NULL;
+    }
     r->line++;
-    if ((size_t)len != strlen(r->buf)) {
+    if (len != strlen(r->buf)) {
         r->buf[0] = '\0'; /* a NUL byte: not a text file */
         return r->buf;
     }
@@ -63,5 +134,11 @@ int mote_lines_close(mote_lines *r, mote_err *err)
     free(r->buf);
     r->f = NULL;
     r->buf = NULL;
+    if (r->failed == -1)
+        return mote_fail(err, MOTE_EFORMAT, "%s:%ld: line longer than 1 MiB (not a text file?)",
+                         r->path, r->line);
+    if (r->failed == -2)
+        return mote_fail(err, MOTE_ENOMEM, "%s:%ld: out of memory reading the line", r->path,
+                         r->line);
     return bad ? mote_fail(err, MOTE_EIO, "%s: read error", r->path) : MOTE_OK;
 }

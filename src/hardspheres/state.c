@@ -654,7 +654,12 @@ static int open_reader(reader *r, const char *path, mote_err *err)
     return mote_lines_open(r, path, err);
 }
 
-static void close_reader(reader *r) { mote_lines_close(r, NULL); }
+/* Close; a read error or a line too long (the cause of any error rc holds) replaces rc. */
+static int close_reader(reader *r, int rc, mote_err *err)
+{
+    int crc = mote_lines_close(r, err);
+    return crc ? crc : rc;
+}
 
 static int is_single_integer(char *line)
 {
@@ -673,10 +678,8 @@ int mote_hs_load(mote_hs *hs, const char *path, mote_err *err)
     int rc = open_reader(&r, path, err);
     if (rc)
         return rc;
-    if (!next_line(&r)) {
-        close_reader(&r);
-        return mote_fail(err, MOTE_EFORMAT, "%s:1: the file is empty", path);
-    }
+    if (!next_line(&r))
+        return close_reader(&r, mote_fail(err, MOTE_EFORMAT, "%s:1: the file is empty", path), err);
     if (strncmp(r.buf, "mote-state", 10) == 0 && (r.buf[10] == ' ' || r.buf[10] == '\t'))
         rc = load_mote(hs, &r, err);
     else if (is_single_integer(r.buf))
@@ -686,8 +689,7 @@ int mote_hs_load(mote_hs *hs, const char *path, mote_err *err)
                      "not a state file: expected 'mote-state 1' or, for the original program's "
                      "format, the particle count",
                      r.buf);
-    close_reader(&r);
-    return rc;
+    return close_reader(&r, rc, err);
 }
 
 int mote_hs_peek(const char *path, int *geometry, int *dim, uint64_t *n, mote_err *err)
@@ -728,6 +730,5 @@ int mote_hs_peek(const char *path, int *geometry, int *dim, uint64_t *n, mote_er
     } else {
         rc = rd_fail(&r, err, "not a state file", r.buf);
     }
-    close_reader(&r);
-    return rc;
+    return close_reader(&r, rc, err);
 }

@@ -117,10 +117,13 @@ typedef struct {
 /* The next line split into tokens; 0 at the end of the file. */
 static int next(reader *r)
 {
-    ssize_t n = getline(&r->buf, &r->cap, r->f);
-    if (n < 0)
+    size_t n;
+    int got = mote_read_line(&r->buf, &r->cap, &n, r->f, MOTE_LINE_MAX);
+    if (got == 0)
         return 0;
     r->line++;
+    if (got < 0) /* too long (or out of memory): a line no parse accepts */
+        return r->ntok = -2, 1;
     r->ntok = 0;
     char *save = NULL;
     for (char *t = strtok_r(r->buf, " \t\r\n", &save); t; t = strtok_r(NULL, " \t\r\n", &save)) {
@@ -133,6 +136,9 @@ static int next(reader *r)
 
 static int fail(const reader *r, mote_err *err, const char *fmt_, const char *what)
 {
+    if (r->ntok == -2) /* the line was not read at all: that is the error */
+        return mote_fail(err, MOTE_EFORMAT, "%s:%ld: line longer than 1 MiB (not a text file?)",
+                         r->path, r->line);
     return mote_fail(err, MOTE_EINVAL, "%s:%ld: %s%s%s%s", r->path, r->line, fmt_,
                      what ? " (found '" : "", what ? what : "", what ? "')" : "");
 }

@@ -238,9 +238,8 @@ int nb_galctl_read(const char *path, int lenient, int packed, nb_galctl *g, mote
             first = 0;
         tn++;
     }
-    mote_err ignored;
-    const int crc = mote_lines_close(&in, rc ? &ignored : err);
-    rc = rc ? rc : crc;
+    const int crc = mote_lines_close(&in, err);
+    rc = crc ? crc : rc;
     if (!rc && in.line < NB_GALCTL_FIXED)
         rc = mote_fail(err, MOTE_EFORMAT, "%s: %ld lines, but a control file has at least %d (its "
                        "fixed parameters)", path, in.line, NB_GALCTL_FIXED);

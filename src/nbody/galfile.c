@@ -115,9 +115,8 @@ static int read_numbers(const char *path, numbers *s, mote_err *err)
                     rc = mote_fail(err, MOTE_ENOMEM, "%s: out of memory", path);
         }
     }
-    mote_err ignored;
-    const int crc = mote_lines_close(&in, rc ? &ignored : err);
-    return rc ? rc : crc;
+    const int crc = mote_lines_close(&in, err);
+    return crc ? crc : rc;
 }
 
 /* ---- the layout ------------------------------------------------------------------------------- */

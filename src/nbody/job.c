@@ -532,8 +532,8 @@ static int ckpt_read(job *j, const char *path, mote_err *err)
         rc = nb_state_get(&j->nb, &l, 0, err);
     if (what && *what && !rc)
         rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: expected %s", path, l.line, what);
-    int crc = mote_lines_close(&l, rc ? NULL : err);
-    return rc ? rc : crc;
+    int crc = mote_lines_close(&l, err);
+    return crc ? crc : rc;
 }
 
 /* ---- the job ---------------------------------------------------------------------------------- */

@@ -289,9 +289,8 @@ int nb_snapshot_read(mote_nb *nb, const char *path, mote_err *err)
         }
         row++;
     }
-    mote_err ignored;
-    int crc = mote_lines_close(&r.l, rc ? &ignored : err);
-    rc = rc ? rc : crc;
+    int crc = mote_lines_close(&r.l, err);
+    rc = crc ? crc : rc;
     if (!rc && !have_n)
         rc = mote_fail(err, MOTE_EFORMAT, "%s: no header line '# N = COUNT' (not a snapshot)",
                        path);

@@ -214,8 +214,8 @@ int mote_nb_solar_read(const char *path, mote_nb_solar *s, mote_err *err)
         s->n++;
     }
     const long lines = in.line;
-    int crc = mote_lines_close(&in, rc ? NULL : err);
-    rc = rc ? rc : crc;
+    int crc = mote_lines_close(&in, err);
+    rc = crc ? crc : rc;
     if (!rc && lines == 0)
         rc = mote_fail(err, MOTE_EFORMAT, "%s: empty file (expected '%s')", path, SOLAR_FORMAT);
     if (!rc && s->n == 0)

@@ -180,8 +180,8 @@ int nb_state_peek(const char *path, uint32_t *n, mote_err *err)
     mote_nb_interaction kind;
     int version;
     rc = read_head(&r, &kind, n, &version);
-    mote_lines_close(r.l, NULL);
-    return rc;
+    int crc = mote_lines_close(r.l, err);
+    return crc ? crc : rc;
 }
 
 int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
@@ -192,7 +192,7 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
         return rc;
     rc = nb_state_get(nb, &lines, 0, err);
     int crc = mote_lines_close(&lines, err);
-    return rc ? rc : crc;
+    return crc ? crc : rc;
 }
 
 int nb_state_get(mote_nb *nb, mote_lines *l, int tail, mote_err *err)

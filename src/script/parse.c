@@ -765,6 +765,9 @@ int mote_script_parse(mote_script **out, const char *file, const char *text, siz
     return 0;
 }
 
+/* The largest script read (a script is text a person writes: this bounds /dev/zero and the like) */
+#define MOTE_SCRIPT_MAX_BYTES ((size_t)64 << 20)
+
 int mote_script_load(mote_script **out, const char *path, const mote_model *const *models,
                      size_t nmodels, mote_err *err)
 {
@@ -780,6 +783,11 @@ int mote_script_load(mote_script **out, const char *path, const mote_model *cons
         rc = mote_script_fail_plain(err, MOTE_ENOMEM, "mote: error: out of memory reading '%s'",
                                     path);
     while (!rc) {
+        if (len >= MOTE_SCRIPT_MAX_BYTES) {
+            rc = mote_script_fail_plain(err, MOTE_EFORMAT, "mote: error: %s: a script larger than "
+                                        "64 MiB (not a script?)", path);
+            break;
+        }
         if (len == cap) {
             char *nb = cap <= SIZE_MAX / 2 ? realloc(buf, cap * 2) : NULL;
             if (!nb) {
@@ -800,6 +808,15 @@ int mote_script_load(mote_script **out, const char *path, const mote_model *cons
         }
     }
     fclose(f);
+    /* the core readers' line limit holds for scripts too */
+    for (size_t i = 0, start = 0, line = 1; !rc && i <= len; i++)
+        if (i == len || buf[i] == '\n') {
+            if (i - start > MOTE_LINE_MAX)
+                rc = mote_script_fail_plain(err, MOTE_EFORMAT, "mote: error: %s:%zu: line longer "
+                                            "than 1 MiB (not a script?)", path, line);
+            start = i + 1;
+            line++;
+        }
     if (!rc)
         rc = mote_script_parse(out, path, buf, len, models, nmodels, err);
     free(buf);

@@ -516,7 +516,7 @@ static int do_grid(void *vm, const mote_call *c, mote_err *err)
         return mote_call_fail(err, c, 0, MOTE_EINVAL, "grid: the plate %g ... %g m does not fit "
                               "the channel (H = %g m)", zb, zb + t, s->H);
     const char *kind = c->args[2].text;
-    mote_sep_plate p;
+    mote_sep_plate p = {0}; /* freed on every error path, whichever reader failed */
     mote_err e2 = {0};
     int rc;
     if (!strcmp(kind, "pattern")) {

@@ -51,9 +51,12 @@ int mote_sep_plate_pattern(mote_sep_plate *p, int dim, double W, double D, doubl
     const double ay = dim == 3 ? a[1] : 1, py = dim == 3 ? pitch[1] : 2, oy = dim == 3 ? off[1] : 0;
     /* holes start at off + i pitch; those wholly inside the cross-section are kept */
     const double nx = floor((W - off[0]) / pitch[0]) + 1, ny = floor((Dy - oy) / py) + 1;
-    if (nx * ny > 1e8)
-        return mote_fail(err, MOTE_EINVAL, "grid: the pattern makes %.3g holes (at most 1e8)",
-                         nx * ny);
+    if (nx * ny > MOTE_SEP_MAX_HOLES)
+        return mote_fail(err, MOTE_EINVAL, "grid: the pattern makes %.3g holes (at most %g a "
+                         "plate: about %.3g GB)", nx * ny, (double)MOTE_SEP_MAX_HOLES,
+                         nx * ny * MOTE_SEP_HOLE_BYTES / 1e9);
+    if (mote_mem_check(nx * ny * MOTE_SEP_HOLE_BYTES, "grid: the pattern's holes", err))
+        return err ? (int)err->code : MOTE_ENOMEM;
     for (long j = 0; j < (long)ny; j++)
         for (long i = 0; i < (long)nx; i++) {
             const double x1 = off[0] + (double)i * pitch[0], x2 = x1 + a[0];
@@ -75,6 +78,9 @@ int mote_sep_plate_list(mote_sep_plate *p, double zb, double t, const double *h,
     p->zb = zb;
     p->t = t;
     p->listed = 1;
+    if (nh > MOTE_SEP_MAX_HOLES)
+        return mote_fail(err, MOTE_EINVAL, "grid: %zu holes (at most %d a plate)", nh,
+                         MOTE_SEP_MAX_HOLES);
     p->h = malloc((nh ? nh : 1) * 4 * sizeof *p->h);
     if (!p->h)
         return mote_fail(err, MOTE_ENOMEM, "grid: out of memory for the holes");
@@ -96,9 +102,10 @@ int mote_sep_plate_index(mote_sep_plate *p, int dim, double W, double D, mote_er
     free(p->bin_idx);
     p->bin_start = NULL;
     p->bin_idx = NULL;
-    /* about one hole per bin, at most 4096 bins a side */
+    /* about one hole per bin (a bounded number per bin keeps the index and the overlap check
+     * linear in the holes): up to 2^24 bins in 2D, 8192 a side in 3D */
     const double side = dim == 3 ? sqrt((double)p->nh) : (double)p->nh;
-    p->nbx = (int)fmax(1, fmin(4096, ceil(side)));
+    p->nbx = (int)fmax(1, fmin(dim == 3 ? 8192 : 16777216, ceil(side)));
     p->nby = dim == 3 ? p->nbx : 1;
     p->bwx = W / p->nbx;
     p->bwy = dim == 3 ? D / p->nby : 1;

@@ -713,12 +713,8 @@ int mote_sep_load(mote_sep_system *s, uint64_t *seed, const char *path, mote_err
     mote_sep_system t;
     mote_sep_init(&t);
     rc = read_body(&r, &t, seed);
-    mote_err e2 = {0};
-    const int rc2 = mote_lines_close(&r.in, &e2);
-    if (!rc && rc2) {
-        rc = rc2;
-        *err = e2;
-    }
+    const int rc2 = mote_lines_close(&r.in, err);
+    rc = rc2 ? rc2 : rc;
     if (rc) {
         mote_sep_free(&t);
         return rc;
