@@ -49,6 +49,14 @@ double mote_ch_debye(const mote_ch_plasma *p);
 
 /* ---- body (spec 4) -------------------------------------------------------------------------- */
 
+/* Part names are kept whole up to MOTE_CH_NAME_LEN - 1 bytes; a longer name in a mesh file, part=
+ * or material assign is refused (never cut, which could merge two parts). */
+#define MOTE_CH_NAME_LEN 256
+/* The most triangles a body has (generated or loaded), and the memory one takes with its share
+ * of the ray-tracing structure, for the estimate checked before a body is made. */
+#define MOTE_CH_MAX_TRI 100000000
+#define MOTE_CH_TRI_BYTES 250.0
+
 typedef struct {
     uint32_t ntri, cap;
     double (*v)[3][3];     /* vertices of each triangle */
@@ -56,7 +64,7 @@ typedef struct {
     double *area;
     uint8_t *closed;       /* 1: of a closed component (one outer side); 0: a two-sided sheet */
     uint16_t *part;        /* the part each triangle belongs to (spec 4.1) */
-    char (*part_name)[32];
+    char (*part_name)[MOTE_CH_NAME_LEN];
     int nparts;
     int sphere;            /* 1: the exact analytic sphere (no triangles) */
     double sphere_r, sphere_c[3];

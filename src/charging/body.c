@@ -37,9 +37,12 @@ int ch_body_part(mote_ch_body *b, const char *name, mote_err *err)
     for (int k = 0; k < b->nparts; k++)
         if (strcmp(b->part_name[k], name) == 0)
             return k;
+    if (strlen(name) >= sizeof b->part_name[0])
+        return mote_fail(err, MOTE_EINVAL, "body: the part name '%.40s...' is longer than %zu "
+                         "characters", name, sizeof b->part_name[0] - 1), -1;
     if (b->nparts == 65535)
         return mote_fail(err, MOTE_EINVAL, "body: too many parts"), -1;
-    char(*pn)[32] = realloc(b->part_name, (size_t)(b->nparts + 1) * sizeof *pn);
+    char(*pn)[MOTE_CH_NAME_LEN] = realloc(b->part_name, (size_t)(b->nparts + 1) * sizeof *pn);
     if (!pn)
         return mote_fail(err, MOTE_ENOMEM, "body: out of memory"), -1;
     b->part_name = pn;
@@ -51,7 +54,9 @@ int ch_add_tri(mote_ch_body *b, const double p[3], const double q[3], const doub
                const double *inside, int closed, int part, mote_err *err)
 {
     if (b->ntri == b->cap) {
-        uint32_t cap = b->cap ? 2 * b->cap : 256;
+        if (b->ntri >= MOTE_CH_MAX_TRI)
+            return mote_fail(err, MOTE_EINVAL, "body: more than %d triangles", MOTE_CH_MAX_TRI);
+        uint32_t cap = b->cap ? 2 * b->cap : 256; /* (never past 2^28: no wrap) */
         double(*v)[3][3] = realloc(b->v, cap * sizeof *v);
         if (v)
             b->v = v;

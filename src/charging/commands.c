@@ -38,7 +38,7 @@ typedef struct {
     mote_ch_material defined[32];
     int ndefined;
     struct {
-        char part[32];
+        char part[MOTE_CH_NAME_LEN];
         mote_ch_material m;
     } assign[64];
     int nassign;
@@ -435,6 +435,21 @@ static int check_body(void *vm, const mote_call *c, mote_err *err)
     if (k == 1 && mote_call_opt(c, "level") && mote_call_opt(c, "level")->i > 8)
         return mote_call_fail(err, c, mote_call_opt_index(c, "level"), MOTE_EINVAL,
                               "body icosphere: level must be 0 ... 8");
+    /* the triangles asked for, against the body's limit and the machine's memory */
+    const mote_arg *o1 = mote_call_opt(c, k == 2 ? "nlon" : "subdiv"), *o2 = mote_call_opt(c, "nlat");
+    const double n1 = o1 ? (double)o1->i : k == 2 ? 100 : 1, n2 = o2 ? (double)o2->i : 50;
+    double ntri = 0;
+    if (k == 2)
+        ntri = 2.0 * n1 * (n2 - 1);
+    else if (k == 3)
+        ntri = 12.0 * n1 * n1;
+    if (ntri > MOTE_CH_MAX_TRI)
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "body %s: %.3g triangles (at most %g, about "
+                              "%.3g GB)", kind, ntri, (double)MOTE_CH_MAX_TRI,
+                              ntri * MOTE_CH_TRI_BYTES / 1e9);
+    mote_err e2 = {0};
+    if (mote_mem_check(ntri * MOTE_CH_TRI_BYTES, "the body's triangles", &e2))
+        return mote_call_fail(err, c, 0, e2.code, "body %s: %s", kind, e2.msg);
     m->have_body = 1;
     return MOTE_OK;
 }
@@ -783,6 +798,10 @@ static int apply_material(ch_model *m, const mote_call *c, mote_err *err)
     if (!part || !mat)
         return mote_call_fail(err, c, 0, MOTE_EINVAL, "material assign: give part=NAME|* and "
                               "material=NAME");
+    if (strlen(part->text) >= sizeof m->assign[0].part)
+        return mote_call_fail(err, c, mote_call_opt_index(c, "part"), MOTE_EINVAL,
+                              "material assign: a part name longer than %zu characters",
+                              sizeof m->assign[0].part - 1);
     if (m->dry && !m->have_body)
         return mote_call_fail(err, c, 0, MOTE_EINVAL, "material assign: give the body first "
                               "(the parts are its parts)");

@@ -17,9 +17,15 @@
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "ch.h"
 
@@ -28,7 +34,7 @@ typedef struct {
     size_t n, cap;
     double (*v)[3][3];
     int *part;              /* index into names */
-    char (*names)[32];
+    char (*names)[MOTE_CH_NAME_LEN];
     int nnames;
 } soup;
 
@@ -39,14 +45,18 @@ static void soup_free(soup *s)
     free(s->names);
 }
 
-static int soup_name(soup *s, const char *name)
+/* The index of a part name, added if new; -1 with err set (a name too long, memory). */
+static int soup_name(soup *s, const char *name, mote_err *err)
 {
     for (int k = 0; k < s->nnames; k++)
         if (strcmp(s->names[k], name) == 0)
             return k;
-    char(*p)[32] = realloc(s->names, (size_t)(s->nnames + 1) * sizeof *p);
+    if (strlen(name) >= sizeof s->names[0])
+        return mote_fail(err, MOTE_EFORMAT, "the part name '%.40s...' is longer than %zu "
+                         "characters", name, sizeof s->names[0] - 1), -1;
+    char(*p)[MOTE_CH_NAME_LEN] = realloc(s->names, (size_t)(s->nnames + 1) * sizeof *p);
     if (!p)
-        return -1;
+        return mote_fail(err, MOTE_ENOMEM, "out of memory"), -1;
     s->names = p;
     snprintf(s->names[s->nnames], sizeof s->names[0], "%s", name);
     return s->nnames++;
@@ -170,9 +180,9 @@ static int walk(const struct aiScene *sc, const struct aiNode *node, const xform
                 aiReturn_SUCCESS &&
             mat.length && strcmp(mat.data, "DefaultMaterial") != 0)
             name = mat.data;
-        const int part = soup_name(s, name ? name : fallback);
+        const int part = soup_name(s, name ? name : fallback, err);
         if (part < 0)
-            return mote_fail(err, MOTE_ENOMEM, "mesh: out of memory");
+            return err ? (int)err->code : MOTE_EFORMAT;
         for (unsigned f = 0; f < me->mNumFaces; f++) {
             const struct aiFace *face = &me->mFaces[f];
             if (face->mNumIndices != 3)
@@ -199,20 +209,259 @@ static int walk(const struct aiScene *sc, const struct aiNode *node, const xform
     return MOTE_OK;
 }
 
-static int read_assimp(const char *path, soup *s, const char *fallback, mote_err *err)
+/* Assimp is a library that may abort the process (its assertions) or allocate what a damaged
+ * header asks for, so it reads the file in a child process under an address-space limit; the
+ * triangles come back through a pipe. A child that dies, for whatever reason, is an error that
+ * names the file, and mote goes on. Cheap header counts (OFF, PLY) are checked against the file's
+ * size first, so a damaged header is refused before anything is allocated. */
+
+static int write_all(int fd, const void *buf, size_t n)
 {
-    FILE *probe = fopen(path, "rb");
-    if (!probe)
+    const char *p = buf;
+    while (n > 0) {
+        ssize_t w = write(fd, p, n);
+        if (w < 0 && errno == EINTR)
+            continue;
+        if (w <= 0)
+            return -1;
+        p += w;
+        n -= (size_t)w;
+    }
+    return 0;
+}
+
+static int read_all(int fd, void *buf, size_t n)
+{
+    char *p = buf;
+    while (n > 0) {
+        ssize_t r = read(fd, p, n);
+        if (r < 0 && errno == EINTR)
+            continue;
+        if (r <= 0)
+            return -1;
+        p += r;
+        n -= (size_t)r;
+    }
+    return 0;
+}
+
+/* The counts a mesh header declares against the bytes the file has: a vertex or a face takes at
+ * least `vb` or `fb` bytes. 0, or an error naming the file. */
+static int header_counts_fit(const char *path, double nv, double nf, double vb, double fb,
+                             double size, mote_err *err)
+{
+    if (nv * vb + nf * fb > size)
+        return mote_fail(err, MOTE_EFORMAT, "%s: the header declares %.0f vertices and %.0f faces, "
+                         "more than a file of %.0f bytes holds (a damaged header)", path, nv, nf,
+                         size);
+    return MOTE_OK;
+}
+
+/* OFF and PLY headers read here, before Assimp sees them. */
+static int precheck(const char *path, double size, mote_err *err)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
         return mote_fail(err, MOTE_EIO, "%s: cannot open (%s)", path, strerror(errno));
-    fclose(probe);
+    char head[4096];
+    size_t n = fread(head, 1, sizeof head - 1, f);
+    fclose(f);
+    head[n] = '\0';
+    if (memchr(head, '\0', n) && (n >= 3 && (!memcmp(head, "OFF", 3) || !memcmp(head, "ply", 3)))) {
+        /* a NUL byte in a text header (a binary PLY's data starts after end_header) */
+        const char *eh = strstr(head, "end_header");
+        const char *nul = memchr(head, '\0', n);
+        if (!eh || nul < eh)
+            return mote_fail(err, MOTE_EFORMAT, "%s: a NUL byte in the header (not a text file)",
+                             path);
+    }
+    if (n >= 3 && !memcmp(head, "OFF", 3)) {
+        /* OFF: the counts line is the first after "OFF" that is not a comment */
+        const char *p = head + 3;
+        double nv = -1, nf = -1;
+        while (*p) {
+            p += strspn(p, " \t\r\n");
+            if (*p == '#') {
+                p += strcspn(p, "\n");
+                continue;
+            }
+            if (sscanf(p, "%lf %lf", &nv, &nf) != 2)
+                return mote_fail(err, MOTE_EFORMAT, "%s: an OFF file without its counts line "
+                                 "(vertices faces edges)", path);
+            break;
+        }
+        if (!(nv >= 0 && nf >= 0 && nv < 4e9 && nf < 4e9))
+            return mote_fail(err, MOTE_EFORMAT, "%s: the OFF counts are not counts", path);
+        for (const char *q = p; *q; q++) /* the rest must be text */
+            if (!isprint((unsigned char)*q) && !isspace((unsigned char)*q))
+                return mote_fail(err, MOTE_EFORMAT, "%s: a byte that is not text in the OFF "
+                                 "file's first 4 KiB", path);
+        return header_counts_fit(path, nv, nf, 6, 8, size, err);
+    }
+    if (n >= 3 && !memcmp(head, "ply", 3)) {
+        const int binary = strstr(head, "format binary") != NULL;
+        double nv = 0, nf = 0, v;
+        const char *e;
+        if ((e = strstr(head, "element vertex ")) && sscanf(e + 15, "%lf", &v) == 1)
+            nv = v;
+        if ((e = strstr(head, "element face ")) && sscanf(e + 13, "%lf", &v) == 1)
+            nf = v;
+        if (!(nv >= 0 && nf >= 0 && nv < 4e9 && nf < 4e9))
+            return mote_fail(err, MOTE_EFORMAT, "%s: the PLY element counts are not counts", path);
+        return header_counts_fit(path, nv, nf, binary ? 12 : 6, binary ? 13 : 8, size, err);
+    }
+    return MOTE_OK;
+}
+
+/* The child: read with Assimp, write the soup (or the error) to fd, and exit. */
+static void assimp_child(int fd, const char *path, const char *fallback, double as_limit)
+{
+#if !defined(__SANITIZE_ADDRESS__)
+    if (as_limit > 0) {
+        struct rlimit rl = {(rlim_t)as_limit, (rlim_t)as_limit};
+        setrlimit(RLIMIT_AS, &rl);
+    }
+#else
+    (void)as_limit; /* (AddressSanitizer's shadow memory needs the whole address space) */
+#endif
+    soup s = {0};
+    mote_err e = {0};
+    int32_t rc;
     const struct aiScene *sc =
         aiImportFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);
-    if (!sc || !sc->mRootNode)
-        return mote_fail(err, MOTE_EFORMAT, "%s: not a mesh file Assimp reads (%s)", path,
-                         aiGetErrorString());
-    xform id = {{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}}};
-    int rc = walk(sc, sc->mRootNode, &id, s, fallback, 0, err);
-    aiReleaseImport(sc);
+    if (!sc || !sc->mRootNode) {
+        rc = mote_fail(&e, MOTE_EFORMAT, "%s: not a mesh file Assimp reads (%s)", path,
+                       aiGetErrorString());
+    } else {
+        xform id = {{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}}};
+        rc = walk(sc, sc->mRootNode, &id, &s, fallback, 0, &e);
+        if (rc && strncmp(e.msg, path, strlen(path)) != 0) {
+            char m[sizeof e.msg];
+            snprintf(m, sizeof m, "%s", e.msg);
+            mote_fail(&e, e.code, "%s: %s", path, m);
+        }
+        aiReleaseImport(sc);
+    }
+    uint32_t len = rc ? (uint32_t)strlen(e.msg) : 0;
+    uint64_t n = s.n;
+    int32_t nn = s.nnames;
+    int bad = write_all(fd, &rc, sizeof rc) || write_all(fd, &len, sizeof len) ||
+              write_all(fd, e.msg, len);
+    if (!rc && !bad)
+        bad = write_all(fd, &n, sizeof n) || write_all(fd, &nn, sizeof nn) ||
+              write_all(fd, s.names, (size_t)nn * sizeof s.names[0]) ||
+              write_all(fd, s.v, s.n * sizeof s.v[0]) ||
+              write_all(fd, s.part, s.n * sizeof s.part[0]);
+    close(fd);
+    _exit(bad ? 3 : 0);
+}
+
+/* The soup the child sent; 0, or an error. */
+static int assimp_receive(int fd, const char *path, soup *s, mote_err *err)
+{
+    int32_t rc;
+    uint32_t len;
+    if (read_all(fd, &rc, sizeof rc) || read_all(fd, &len, sizeof len))
+        return -1;
+    if (rc) {
+        char msg[sizeof err->msg];
+        if (len >= sizeof msg || read_all(fd, msg, len))
+            return -1;
+        msg[len] = '\0';
+        return mote_fail(err, rc, "%s", msg);
+    }
+    uint64_t n;
+    int32_t nn;
+    if (read_all(fd, &n, sizeof n) || read_all(fd, &nn, sizeof nn) || nn < 0 || n > UINT32_MAX)
+        return -1;
+    int rcm = mote_mem_check((double)n * (sizeof s->v[0] + sizeof s->part[0]) * 4,
+                             "body load: the mesh's triangles", err);
+    if (rcm)
+        return rcm;
+    char(*names)[MOTE_CH_NAME_LEN] = malloc(((size_t)nn + 1) * sizeof *names);
+    double(*v)[3][3] = malloc((n ? n : 1) * sizeof *v);
+    int *part = malloc((n ? n : 1) * sizeof *part);
+    if (!names || !v || !part) {
+        free(names);
+        free(v);
+        free(part);
+        return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", path);
+    }
+    free(s->names);
+    free(s->v);
+    free(s->part);
+    s->names = names;
+    s->v = v;
+    s->part = part;
+    s->n = s->cap = n;
+    s->nnames = nn;
+    if (read_all(fd, names, (size_t)nn * sizeof *names) || read_all(fd, v, n * sizeof *v) ||
+        read_all(fd, part, n * sizeof *part))
+        return -1;
+    for (size_t i = 0; i < n; i++)
+        if (part[i] < 0 || part[i] >= nn)
+            return -1;
+    for (int32_t k = 0; k < nn; k++)
+        names[k][sizeof names[0] - 1] = '\0';
+    return MOTE_OK;
+}
+
+static int read_assimp(const char *path, soup *s, const char *fallback, mote_err *err)
+{
+    struct stat st;
+    if (stat(path, &st) != 0)
+        return mote_fail(err, MOTE_EIO, "%s: cannot open (%s)", path, strerror(errno));
+    if (!S_ISREG(st.st_mode))
+        return mote_fail(err, MOTE_EIO, "%s: not a regular file", path);
+    int rc = precheck(path, (double)st.st_size, err);
+    if (rc)
+        return rc;
+    /* the child may use what the process has now, plus 64 bytes a byte of the file and 1 GiB,
+     * within 3/4 of the machine's memory */
+    double vsz = 0;
+    FILE *sm = fopen("/proc/self/statm", "r");
+    if (sm) {
+        unsigned long pages;
+        if (fscanf(sm, "%lu", &pages) == 1)
+            vsz = (double)pages * (double)sysconf(_SC_PAGESIZE);
+        fclose(sm);
+    }
+    double budget = 64.0 * (double)st.st_size + (double)(1u << 30);
+    const double phys = mote_mem_physical();
+    if (phys > 0 && budget > 0.75 * phys)
+        budget = 0.75 * phys;
+    int fds[2];
+    if (pipe(fds) != 0)
+        return mote_fail(err, MOTE_EIO, "%s: cannot make a pipe for the reader (%s)", path,
+                         strerror(errno));
+    fflush(NULL);
+    pid_t pid = fork();
+    if (pid < 0) {
+        close(fds[0]);
+        close(fds[1]);
+        return mote_fail(err, MOTE_EIO, "%s: cannot start the mesh reader (%s)", path,
+                         strerror(errno));
+    }
+    if (pid == 0) {
+        close(fds[0]);
+        assimp_child(fds[1], path, fallback, vsz + budget);
+    }
+    close(fds[1]);
+    rc = assimp_receive(fds[0], path, s, err);
+    close(fds[0]);
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR)
+        ;
+    if (rc == -1 || (rc == 0 && !(WIFEXITED(status) && WEXITSTATUS(status) == 0))) {
+        if (WIFSIGNALED(status))
+            rc = mote_fail(err, MOTE_EFORMAT, "%s: Assimp stopped on this file (%s%s): not a mesh "
+                           "file mote can read", path, strsignal(WTERMSIG(status)),
+                           WTERMSIG(status) == SIGABRT ? ", an assertion or memory exhausted" : "");
+        else
+            rc = mote_fail(err, MOTE_EFORMAT, "%s: Assimp could not read this file (its reader "
+                           "ended with status %d)", path,
+                           WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+    }
     return rc;
 }
 
@@ -270,45 +519,71 @@ static int weld(const soup *s, double eps, uint32_t *vid, double (**pos)[3], uin
         free(up);
         return -1;
     }
+    /* cells of side eps / sqrt(3): two vertices in one cell are within eps, so a cell is welded
+     * whole without comparing its vertices; cells up to 2 apart along each axis may hold vertices
+     * within eps of each other, and a pair of cells is compared only until one pair of its
+     * vertices welds them (once welded, the rest of the pair is skipped). Duplicated vertices,
+     * however many, cost O(n log n). */
+    const double side = eps / sqrt(3.0);
     for (size_t i = 0; i < nv; i++) {
         memcpy(k[i].x, s->v[i / 3][i % 3], sizeof k[i].x);
         k[i].id = (uint32_t)i;
         for (int a = 0; a < 3; a++)
-            k[i].cell[a] = (int64_t)floor(k[i].x[a] / eps);
+            k[i].cell[a] = (int64_t)floor(k[i].x[a] / side);
         up[i] = (uint32_t)i;
     }
     qsort(k, nv, sizeof *k, cmp_vkey);
-    /* vertices within eps lie in the same or a neighbouring cell: for each vertex, the 27 cells
-     * around it are found by binary search in the sorted order */
+    size_t *run = malloc((nv + 1) * sizeof *run); /* the first key of each cell, then nv */
+    if (!run) {
+        free(k);
+        free(up);
+        return -1;
+    }
+    size_t nrun = 0;
     for (size_t i = 0; i < nv; i++)
-        for (int d = 0; d < 27; d++) {
+        if (i == 0 || cmp_vkey(&k[i], &k[i - 1]) != 0)
+            run[nrun++] = i;
+    run[nrun] = nv;
+    for (size_t r = 0; r < nrun; r++) { /* each cell's vertices under its lowest id */
+        uint32_t low = UINT32_MAX;
+        for (size_t i = run[r]; i < run[r + 1]; i++)
+            low = k[i].id < low ? k[i].id : low;
+        for (size_t i = run[r]; i < run[r + 1]; i++)
+            up[k[i].id] = low;
+    }
+    for (size_t ra = 0; ra < nrun; ra++)
+        for (int d = 0; d < 125; d++) {
             vkey probe;
-            probe.cell[0] = k[i].cell[0] + d % 3 - 1;
-            probe.cell[1] = k[i].cell[1] + (d / 3) % 3 - 1;
-            probe.cell[2] = k[i].cell[2] + d / 9 - 1;
-            if (cmp_vkey(&probe, &k[i]) < 0)
-                continue; /* (that pair is examined from the other side) */
-            size_t lo = 0, hi = nv;
+            probe.cell[0] = k[run[ra]].cell[0] + d % 5 - 2;
+            probe.cell[1] = k[run[ra]].cell[1] + (d / 5) % 5 - 2;
+            probe.cell[2] = k[run[ra]].cell[2] + d / 25 - 2;
+            if (cmp_vkey(&probe, &k[run[ra]]) <= 0)
+                continue; /* (that pair of cells is examined from the other side) */
+            size_t lo = ra + 1, hi = nrun;
             while (lo < hi) {
                 size_t mid = (lo + hi) / 2;
-                if (cmp_vkey(&k[mid], &probe) < 0)
+                if (cmp_vkey(&k[run[mid]], &probe) < 0)
                     lo = mid + 1;
                 else
                     hi = mid;
             }
-            for (size_t j = lo; j < nv && cmp_vkey(&k[j], &probe) == 0; j++) {
-                if (j == i)
-                    continue;
-                double d2 = 0;
-                for (int a = 0; a < 3; a++)
-                    d2 += (k[i].x[a] - k[j].x[a]) * (k[i].x[a] - k[j].x[a]);
-                if (d2 <= eps * eps) {
-                    uint32_t ri = find(up, k[i].id), rj = find(up, k[j].id);
-                    if (ri != rj)
+            if (lo == nrun || cmp_vkey(&k[run[lo]], &probe) != 0)
+                continue;
+            const size_t rb = lo;
+            int joined = find(up, k[run[ra]].id) == find(up, k[run[rb]].id);
+            for (size_t i = run[ra]; !joined && i < run[ra + 1]; i++)
+                for (size_t j = run[rb]; !joined && j < run[rb + 1]; j++) {
+                    double d2 = 0;
+                    for (int a = 0; a < 3; a++)
+                        d2 += (k[i].x[a] - k[j].x[a]) * (k[i].x[a] - k[j].x[a]);
+                    if (d2 <= eps * eps) {
+                        uint32_t ri = find(up, k[i].id), rj = find(up, k[j].id);
                         up[ri > rj ? ri : rj] = ri < rj ? ri : rj;
+                        joined = 1;
+                    }
                 }
-            }
         }
+    free(run);
     /* number the roots in first-appearance order */
     uint32_t *num = malloc((nv ? nv : 1) * sizeof *num);
     *pos = malloc((nv ? nv : 1) * sizeof **pos);
@@ -571,9 +846,10 @@ int mote_ch_body_load(mote_ch_body *b, const char *path, const mote_ch_load_opts
     const char *base = strrchr(path, '/');
     base = base ? base + 1 : path;
     soup s = {0};
-    int fallback = soup_name(&s, o->part ? o->part : base);
+    mote_err e2 = {0};
+    int fallback = soup_name(&s, o->part ? o->part : base, &e2);
     if (fallback < 0)
-        return mote_fail(err, MOTE_ENOMEM, "body load: out of memory");
+        return mote_fail(err, e2.code, "%s: %s", path, e2.msg);
     int plain = strcmp(o->format, "plain") == 0;
     if (strcmp(o->format, "auto") == 0) { /* extensions Assimp does not know: the plain format */
         const char *dot = strrchr(base, '.');
