@@ -119,6 +119,7 @@ typedef struct {
     mote_real bt_hmin;         /* the shortest step, as a fraction of dt (default 1e-6) */
     mote_real happ;            /* the last step shortened by an approach (0: none) */
     mote_real max_overlap;     /* largest 1 - r / (Ra_i + Ra_k) of a merging pair */
+    uint64_t hmin_forced;      /* adaptive steps held at hmin, longer than the tolerance allows */
     uint64_t approach_warnings; /* merges with an overlap above 10% after a step at bt_hmin dt */
     uint64_t steps;
     int order;              /* Galactica scheme order K, 2 ... 6 */

@@ -857,6 +857,11 @@ static int check_integrator(void *vm, const mote_call *c, mote_err *err)
     if (strcmp(mode, "fixed") == 0 && mote_call_opt(c, "dt_max"))
         return mote_call_fail(err, c, mote_call_opt_index(c, "dt_max"), MOTE_EINVAL,
                               "integrator galactica: dt_max= is for step=adaptive or doubling");
+    const mote_arg *hmin = mote_call_opt(c, "hmin"), *hmax = mote_call_opt(c, "hmax");
+    if (hmin && hmax && mote_real_parse(hmin->text, NULL) > mote_real_parse(hmax->text, NULL))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "hmin"), MOTE_EINVAL,
+                              "integrator %s: hmin= (%s) is greater than hmax= (%s)", name,
+                              hmin->text, hmax->text);
     int order = 6, rc = parse_order(c, taylor, &order, err);
     if (!rc && !taylor && strcmp(mode, "adaptive") == 0 && mote_call_opt(c, "order") && order != 6)
         return mote_call_fail(err, c, mote_call_opt_index(c, "tol"), MOTE_EINVAL,
@@ -1630,6 +1635,15 @@ static int run_integrate(void *vm, const mote_call *c, mote_err *err)
         t_end = mote_real_parse(a->text, NULL) * scale;
     else if ((a = mote_call_opt(c, "for")))
         t_end = m->nb.T + mote_real_parse(a->text, NULL) * scale;
+    if (!(t_end > m->nb.T))
+        return mote_fail(err, MOTE_EINVAL, "integrate: %s=%s ends at or before the current time "
+                         "%.17g (%s)", mote_call_opt(c, "to") ? "to" : "for", a ? a->text : "",
+                         (double)(m->nb.T / scale),
+                         t_end == m->nb.T ? "there is nothing to do" : "integration runs forward");
+    if (m->nb.adaptive && m->nb.hmax > 0 && m->nb.hmin > m->nb.hmax)
+        return mote_fail(err, MOTE_EINVAL, "integrate: hmin (%g) is greater than hmax (%g)",
+                         (double)m->nb.hmin, (double)m->nb.hmax);
+    const uint64_t forced = m->nb.hmin_forced;
     mote_real *xv = NULL;
     if ((m->mon.on && m->mon.dt > 0) || (m->traj.on && m->traj.dt > 0)) {
         xv = malloc(6 * (size_t)(m->nb.n ? m->nb.n : 1) * sizeof *xv);
@@ -1686,6 +1700,11 @@ static int run_integrate(void *vm, const mote_call *c, mote_err *err)
     free(xv);
     if (!rc && m->ckpt.path)
         rc = nb_state_save(&m->nb, m->ckpt.path, err);
+    if (m->nb.hmin_forced > forced && m->log)
+        fprintf(m->log, "integrate: warning: %llu adaptive step%s held at hmin = %g, longer than "
+                "tol= allows (the accuracy is not ensured; watch dE): lower hmin=\n",
+                (unsigned long long)(m->nb.hmin_forced - forced),
+                m->nb.hmin_forced - forced > 1 ? "s" : "", (double)m->nb.hmin);
     if (m->nb.approach_warnings > warned && m->log)
         fprintf(m->log,
                 "integrate: warning: %llu merge%s overlapped by more than 10%% of the radii after "

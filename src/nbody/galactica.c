@@ -445,7 +445,7 @@ static mote_real approach_step(mote_nb *nb, mote_real h)
  * two highest terms, x^[5] = d5/120 and x^[6] = p/720 (p the sixth derivative from the last two
  * fifth derivatives), stay below tol times the distance to its nearest neighbour; the smallest
  * times safety, at most twice the previous step, within [hmin, hmax]. */
-static mote_real adaptive_step(const mote_nb *nb)
+static mote_real adaptive_step(mote_nb *nb)
 {
     const uint32_t n = nb->n;
     mote_real h = INFINITY;

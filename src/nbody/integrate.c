@@ -32,6 +32,15 @@ int mote_nb_integrate(mote_nb *nb, uint64_t max_steps, mote_real t_end, mote_err
             break;
         mote_real h = taylor ? nb_taylor_step(nb, rest) : nb_galactica_step(nb, rest);
         nb->hlast = h;
+        if (!isfinite((double)h) || nb_state_bounded(nb, NULL)) {
+            mote_err why = {0};
+            nb_state_bounded(nb, &why);
+            return mote_fail(err, MOTE_ERUNTIME, "integrate: the state stopped being finite in "
+                             "step %llu (t = %.17g, h = %g): %s; nothing more is written (a "
+                             "smaller dt, or hmax=, keeps a run finite)",
+                             (unsigned long long)nb->steps, (double)nb->T, (double)h,
+                             why.code ? why.msg : "the step is not a finite number");
+        }
         if (merge && (rc = mote_nb_merge(nb, err)) != MOTE_OK)
             return rc;
         if (h >= rest) { /* the end time, exactly */

@@ -140,15 +140,17 @@ static inline mote_real nb_ksum_value(const nb_ksum *k) { return k->sum + k->com
 
 /* The adaptive step's bounds (spec 4.5, both integrators): h times safety, at most twice the
  * previous step, within [hmin, hmax]; `idle` when nothing moves (h infinite). */
-static inline mote_real nb_step_bounds(const mote_nb *nb, mote_real h, mote_real idle)
+static inline mote_real nb_step_bounds(mote_nb *nb, mote_real h, mote_real idle)
 {
     h *= nb->safety > 0 ? nb->safety : 1;
     if (nb->hprev > 0 && h > 2 * nb->hprev)
         h = 2 * nb->hprev;
     if (nb->hmax > 0 && h > nb->hmax)
         h = nb->hmax;
-    if (h < nb->hmin)
+    if (h < nb->hmin) { /* longer than the tolerance allows: counted, and integrate warns */
         h = nb->hmin;
+        nb->hmin_forced++;
+    }
     return isfinite(h) ? h : idle;
 }
 
@@ -255,6 +257,11 @@ void nb_mpi_gather(const mote_nb *nb, mote_real *a, size_t per);
 
 /* Run nb's integrator as `integrator` for at most `steps` steps (integrate.c). */
 int nb_run_as(mote_nb *nb, int integrator, uint64_t steps, mote_err *err);
+/* Every active body's position, velocity and mass within NB_VALUE_MAX in magnitude (so that
+ * energies and squared distances cannot overflow) and the time finite; else MOTE_ERUNTIME naming
+ * the body and the value. Checked before a run and after every step. */
+#define NB_VALUE_MAX 1e100
+int nb_state_bounded(const mote_nb *nb, mote_err *err);
 
 /* Is merging on for this system (the default: when any active body has a radius)? */
 int nb_merging_on(const mote_nb *nb);

@@ -242,6 +242,28 @@ static int point_cmp(const void *a, const void *b)
     return c ? c : p->i < q->i ? -1 : p->i > q->i;
 }
 
+int nb_state_bounded(const mote_nb *nb, mote_err *err)
+{
+    static const char *const what[6] = {"x", "y", "z", "vx", "vy", "vz"};
+    if (!isfinite((double)nb->T))
+        return mote_fail(err, MOTE_ERUNTIME, "the time is not a finite number");
+    for (uint32_t i = 0; i < nb->n; i++) {
+        if (!nb->active[i])
+            continue;
+        for (int a = 0; a < 6; a++) {
+            const mote_real v = a < 3 ? nb->x[3 * (size_t)i + a] : nb->v[3 * (size_t)i + a - 3];
+            if (!(fabs((double)v) <= NB_VALUE_MAX))
+                return mote_fail(err, MOTE_ERUNTIME, "body %u: %s = %g %s", i + 1, what[a],
+                                 (double)v, isfinite((double)v) ? "is beyond 1e100 (its energy "
+                                 "would overflow)" : "is not a finite number");
+        }
+        if (!(fabs((double)nb->m[i]) <= NB_VALUE_MAX))
+            return mote_fail(err, MOTE_ERUNTIME, "body %u: the mass %g is beyond 1e100", i + 1,
+                             (double)nb->m[i]);
+    }
+    return MOTE_OK;
+}
+
 int mote_nb_prepare(mote_nb *nb, mote_err *err)
 {
     if (nb->n == 0)
@@ -259,6 +281,9 @@ int mote_nb_prepare(mote_nb *nb, mote_err *err)
     }
     if (nb->kind == MOTE_NB_COULOMB && !charged)
         return mote_fail(err, MOTE_EINVAL, "a Coulomb run needs charged bodies: every charge is 0");
+    int rc = nb_state_bounded(nb, err);
+    if (rc)
+        return rc;
     /* two active bodies at one point: sorted by position (then index), equal neighbours; the
      * pair reported is the one of lowest indices */
     nb_point *p = malloc((nb->n ? nb->n : 1) * sizeof *p);
@@ -328,7 +353,7 @@ mote_real mote_nb_dmz(const mote_nb *nb)
         nb_ksum_add(&mz, nb->m[i] * (x[0] * v[1] - x[1] * v[0]));
         nb_ksum_add(&mz, nb->sp[3 * (size_t)i + 2]);
     }
-    return (nb_ksum_value(&mz) - nb->Mza1) / nb->Lnorm1;
+    return (nb_ksum_value(&mz) - nb->Mza1) / (nb->Lnorm1 != 0 ? nb->Lnorm1 : 1);
 }
 
 void mote_nb_measure(const mote_nb *nb, mote_nb_monitor *mon)
@@ -367,7 +392,7 @@ void mote_nb_measure(const mote_nb *nb, mote_nb_monitor *mon)
     mon->ecorr = mon->etot - nb->de_merge;
     if (nb->ref_set) {
         mon->dE = (mon->ecorr - nb->E0) / fabs(nb->E0);
-        mon->dMz = (mon->L[2] + mon->S[2] - nb->Mza1) / nb->Lnorm1;
+        mon->dMz = (mon->L[2] + mon->S[2] - nb->Mza1) / (nb->Lnorm1 != 0 ? nb->Lnorm1 : 1);
         mote_real d2 = 0, l2 = 0;
         for (int a = 0; a < 3; a++) {
             mote_real d = mon->L[a] + mon->S[a] - nb->L1[a];
@@ -398,6 +423,8 @@ void mote_nb_set_reference(mote_nb *nb)
         sum += nb->m[i] * sqrt(c0 * c0 + c1 * c1 + c2 * c2);
     }
     nb->Lnorm1 = fabs(nb->Mza1) >= 1e-14 * sum ? nb->Mza1 : sum;
+    if (nb->Lnorm1 == 0) /* no angular momentum at all: dMz is the absolute change */
+        nb->Lnorm1 = 1;
     nb->ref_set = 1;
 }
 

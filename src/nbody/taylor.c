@@ -436,7 +436,7 @@ int nb_taylor_check(mote_nb *nb, mote_err *err)
  * below tol times the distance to its nearest neighbour, h_i = min_{j = p-1, p}
  * (tol l_i / |x_i^[j]|_inf)^(1/j); then h = safety min_i h_i, at most twice the previous step,
  * clamped to [hmin, hmax]. */
-static mote_real adaptive_step(const mote_nb *nb, const mote_real *X, int p)
+static mote_real adaptive_step(mote_nb *nb, const mote_real *X, int p)
 {
     const uint32_t N = nb->n;
     const size_t blk = 3 * (size_t)N;
