@@ -445,6 +445,7 @@ static void test_threads(void)
         }
         nb.dt = 1e-5;
         nb.threads = t;
+        nb.threads_min_n = 64; /* (below the default: these systems are split among threads) */
         CHECK(mote_nb_galactica(&nb, getenv("MOTE_SANITIZED") ? 10 : 50, &err) == MOTE_OK, "run: %s",
               err.msg);
         /* then the Taylor integrator, whose pairs are shared among the threads */
@@ -627,6 +628,7 @@ static void test_merging(void)
         conserved c0 = conserved_of(&nb);
         nb.dt = 1e-3;
         nb.threads = t;
+        nb.threads_min_n = 64; /* (below the default: these systems are split among threads) */
         CHECK(mote_nb_galactica(&nb, getenv("MOTE_SANITIZED") ? 20 : 100, &err) == MOTE_OK,
               "cluster: %s", err.msg);
         conserved c1 = conserved_of(&nb);

@@ -127,6 +127,8 @@ typedef struct {
     int compensated;        /* compensated summation of x, v and T (default on) */
     int threads;            /* OpenMP threads of the pair passes (<= 1: one); results do not
                              * depend on it (every target sums its sources in index order) */
+    uint32_t threads_min_n; /* threads are used from this many bodies up (default 1000; see
+                             * NB_THREADS_MIN_N in nb.h for the measurement) */
     /* the general Taylor integrator (spec 4.4) */
     int integrator;         /* MOTE_NB_GALACTICA or MOTE_NB_TAYLOR */
     int taylor_order;       /* p, 2 ... MOTE_NB_TAYLOR_MAX */

@@ -151,12 +151,12 @@ static void over_targets(mote_nb *nb, void (*fn)(mote_nb *, int, uint32_t))
         for (uint32_t i = 0; i < nb->n; i++)
             if (!nb->active[i])
                 fn(nb, all, i);
-#pragma omp parallel for num_threads(nt) schedule(dynamic, 64) if (nt > 1 && na >= 64)
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 64) if (nt > 1 && na >= nb->threads_min_n)
         for (uint32_t k = 0; k < na; k++)
             fn(nb, all, order[k]);
         return;
     }
-    if (nt > 1 && hi - lo >= 64) {
+    if (nt > 1 && hi - lo >= nb->threads_min_n) {
 #pragma omp parallel for num_threads(nt) schedule(static)
         for (uint32_t i = lo; i < hi; i++)
             fn(nb, all, i);

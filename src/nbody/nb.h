@@ -257,6 +257,11 @@ void nb_mpi_gather(const mote_nb *nb, mote_real *a, size_t per);
 
 /* Run nb's integrator as `integrator` for at most `steps` steps (integrate.c). */
 int nb_run_as(mote_nb *nb, int integrator, uint64_t steps, mote_err *err);
+/* Threads are used for the pair passes from this many bodies up: below it a pass is shorter than
+ * the cost of waking threads, and on a loaded machine a thread waiting for a descheduled one
+ * made N = 100 with 2 threads 7x slower than one (measured with two busy processes beside it on
+ * 2 cores: N = 300 2.8x slower, N = 1000 1.3x faster; quiet, the two are even near N = 300). */
+#define NB_THREADS_MIN_N 1000
 /* Every active body's position, velocity and mass within NB_VALUE_MAX in magnitude (so that
  * energies and squared distances cannot overflow) and the time finite; else MOTE_ERUNTIME naming
  * the body and the value. Checked before a run and after every step. */

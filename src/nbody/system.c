@@ -81,6 +81,7 @@ void mote_nb_init(mote_nb *nb, mote_nb_interaction kind)
     nb->order = 6;
     nb->first_step = (mote_real)1 / 1000;
     nb->compensated = 1;
+    nb->threads_min_n = NB_THREADS_MIN_N;
     nb->dt = 1e-6;
     nb->taylor_order = 20;
     nb->merging = -1;

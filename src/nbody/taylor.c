@@ -288,7 +288,7 @@ static void tree_pass(mote_nb *nb, mote_real *X, int n0, int n1)
     const int nt = nb->threads > 1 ? nb->threads : 1;
     uint32_t na; /* targets in tree order: neighbours share their sources in the cache */
     const uint32_t *order = nb_tree_order(nb, &na);
-#pragma omp parallel for num_threads(nt) schedule(dynamic, 64) if (nt > 1 && na >= 64)
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 64) if (nt > 1 && na >= nb->threads_min_n)
     for (uint32_t k = 0; k < na; k++)
         tree_target(nb, X, blk, order[k], n0, n1);
 }
@@ -306,7 +306,7 @@ static void pass(mote_nb *nb, mote_real *X, int n0, int top, int store)
     }
     if (nb->mpi_size > 1) { /* this rank's targets (recompute mode), then every body's orders */
         const int nt = nb->threads > 1 ? nb->threads : 1;
-#pragma omp parallel for num_threads(nt) schedule(dynamic, 16) if (nt > 1)
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 16) if (nt > 1 && nb->hi - nb->lo >= nb->threads_min_n)
         for (uint32_t i = nb->lo; i < nb->hi; i++)
             if (nb->active[i])
                 target(nb, X, blk, i, n0, n1, NULL);
@@ -316,7 +316,7 @@ static void pass(mote_nb *nb, mote_real *X, int n0, int top, int store)
     }
     const int nt = nb->threads > 1 ? nb->threads : 1;
     mote_real (*Gb)[2][3] = store ? (mote_real (*)[2][3])nb->tg : NULL;
-    if (nt > 1 && N >= 64) {
+    if (nt > 1 && N >= nb->threads_min_n) {
         if (store) { /* phase 1: each unordered pair once */
 #pragma omp parallel for num_threads(nt) schedule(dynamic, 16)
             for (uint32_t i = 0; i < N; i++)
