@@ -8,6 +8,7 @@
 # Usage: sh tests/test_live.sh [BUILD_DIR]   (default: build)
 NAME=live
 . "$(dirname "$0")/lib.sh"
+SRC=$(cd "$(dirname "$0")/.." && pwd)
 mote_test_start "$1"
 
 # a mixing box that runs long enough to be watched (killed when done)
@@ -56,11 +57,39 @@ assert all(x0 < x < x1 for x in f["x"]) and all(y0 < y < y1 for y in f["y"])
 assert f["frame"] >= 1 and "t = " in f["status"]
 EOF
 # pause: no frames while paused; resume: frames again
-[ "$(curl -s -X POST "${URL}pause")" = paused ] && ok || bad "pause"
+# the page is docs/live-view.html, byte for byte
+cmp -s page.html "$SRC/docs/live-view.html" && ok || bad "the served page differs from docs/live-view.html (src/core/live_page.h is its copy)"
+# other sites: a Host that is not this server (DNS rebinding) gets 421; pause and resume need the
+# page's own header X-Mote-Control, and an Origin, if any, that is the page's
+PORT=$(echo "$URL" | sed 's|.*:\([0-9]*\)/$|\1|')
+[ "$(curl -s -o /dev/null -w '%{http_code}' -H 'Host: attacker.example' "$URL")" = 421 ] && ok || bad "a foreign Host header was answered"
+[ "$(curl -s -o /dev/null -w '%{http_code}' -H "Host: attacker.example:$PORT" "$URL")" = 421 ] && ok || bad "a foreign Host with our port was answered"
+[ "$(curl -s -o /dev/null -w '%{http_code}' -H "Host: localhost:$PORT" "$URL")" = 200 ] && ok || bad "Host: localhost:PORT refused"
+[ "$(curl -s -o /dev/null -w '%{http_code}' -X POST -H 'Content-Type: application/x-www-form-urlencoded' -d x=1 "${URL}pause")" = 403 ] && ok || bad "a form POST /pause was accepted"
+[ "$(curl -s -o /dev/null -w '%{http_code}' -X POST -H 'X-Mote-Control: 1' -H 'Origin: http://evil.example' "${URL}pause")" = 403 ] && ok || bad "POST /pause from another origin was accepted"
+[ "$(curl -s -o /dev/null -w '%{http_code}' -X OPTIONS "${URL}pause")" = 405 ] && ok || bad "a CORS preflight was not refused"
+timeout 2 curl -s -N "${URL}stream" > notpaused.txt
+[ "$(grep -c '^data: ' notpaused.txt)" -ge 5 ] && ok || bad "a refused pause paused the run"
+# 20 connections that never finish their headers leave room for a new viewer
+python3 - "$URL" <<'EOF' &
+import socket, sys, time
+host, port = sys.argv[1][len("http://"):].rstrip("/").split(":")
+socks = [socket.create_connection((host, int(port))) for _ in range(20)]
+for s in socks:
+    s.sendall(b"GET / HTTP/1.1\r\nHost: 127.0.0.1\r\nX-a: ")
+open("slow.ready", "w").close()
+time.sleep(6)
+EOF
+SLOW=$!
+for _ in $(seq 1 200); do [ -f slow.ready ] && break; sleep 0.05; done
+[ "$(curl -s -o /dev/null --max-time 4 -w '%{http_code}' "$URL")" = 200 ] && ok || bad "20 slow connections kept a new viewer out"
+wait "$SLOW" 2> /dev/null
+C='X-Mote-Control: 1'
+[ "$(curl -s -X POST -H "$C" "${URL}pause")" = paused ] && ok || bad "pause"
 sleep 0.3
 timeout 1.5 curl -s -N "${URL}stream" > paused.txt
 [ "$(grep -c '^data: ' paused.txt)" -le 1 ] && ok || bad "frames while paused: $(grep -c '^data: ' paused.txt)"
-[ "$(curl -s -X POST "${URL}resume")" = running ] && ok || bad "resume"
+[ "$(curl -s -X POST -H "$C" "${URL}resume")" = running ] && ok || bad "resume"
 timeout 1 curl -s -N "${URL}stream" > resumed.txt
 [ "$(grep -c '^data: ' resumed.txt)" -ge 5 ] && ok || bad "no frames after resume"
 # a viewer that stops reading (its socket never read) does not stop the run

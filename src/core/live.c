@@ -19,6 +19,13 @@
 #include "live_page.h"
 
 #define MAX_VIEWERS 8
+/* Connections at once (viewers, page loads, control requests): well above the viewers, so that a
+ * few idle or slow connections (slowloris) leave room for new ones; each connection idle for
+ * IDLE_SECONDS is closed (a stream sends at least a comment a second, so it is never idle). */
+#define MAX_CONNECTIONS 64
+#define IDLE_SECONDS 10
+/* How long mote_live_stop lets connected viewers take the final frame before it closes them. */
+#define FINAL_GRACE_SECONDS 2.0
 
 struct mote_live {
     struct MHD_Daemon *d;
@@ -28,6 +35,8 @@ struct mote_live {
     size_t len, cap;
     uint64_t seq;      /* frames published */
     int viewers, paused, stopping;
+    int closing;       /* the run is over: viewers get the last frame, then their stream ends */
+    unsigned port;     /* the bound port, for the Host check */
     double last;       /* wall time of the last frame */
     char *page;        /* the page, its lines joined */
 };
@@ -179,6 +188,10 @@ static ssize_t stream_read(void *cls, uint64_t pos, char *out, size_t max)
         return (ssize_t)k;
     }
     pthread_mutex_lock(&l->mu);
+    if (l->closing && l->seq == v->sent) { /* the final frame is out: end the stream */
+        pthread_mutex_unlock(&l->mu);
+        return MHD_CONTENT_READER_END_OF_STREAM;
+    }
     if (!l->stopping && l->seq == v->sent) {
         struct timespec until;
         clock_gettime(CLOCK_REALTIME, &until);
@@ -215,6 +228,7 @@ static void stream_free(void *cls)
     viewer *v = cls;
     pthread_mutex_lock(&v->l->mu);
     v->l->viewers--;
+    pthread_cond_broadcast(&v->l->cv); /* (mote_live_stop waits for the viewers to leave) */
     pthread_mutex_unlock(&v->l->mu);
     free(v->pending);
     free(v);
@@ -237,6 +251,41 @@ static enum MHD_Result reply(struct MHD_Connection *c, unsigned status, const ch
     return ret;
 }
 
+/* The Host header names this server: "localhost" or an IPv4 address, with our port. A name that
+ * resolves here through someone else's DNS (DNS rebinding) is refused. No Host (HTTP/1.0) is
+ * accepted: browsers always send one. */
+static int host_ok(const mote_live *l, const char *host)
+{
+    if (!host)
+        return 1;
+    const char *colon = strrchr(host, ':');
+    char name[64];
+    const size_t n = colon ? (size_t)(colon - host) : strlen(host);
+    if (n == 0 || n >= sizeof name)
+        return 0;
+    memcpy(name, host, n);
+    name[n] = '\0';
+    char *end;
+    const unsigned long port = colon ? strtoul(colon + 1, &end, 10) : 80;
+    if (colon && (end == colon + 1 || *end))
+        return 0;
+    struct in_addr a;
+    return port == l->port && (strcmp(name, "localhost") == 0 || inet_pton(AF_INET, name, &a) == 1);
+}
+
+/* A request that changes the run (pause, resume) comes from the page itself: it carries the
+ * header X-Mote-Control (which no form and no cross-site request without a preflight can send;
+ * the preflight's OPTIONS gets 405) and, if it has an Origin, that is the page's own. */
+static int control_ok(struct MHD_Connection *c, const char *host)
+{
+    if (!MHD_lookup_connection_value(c, MHD_HEADER_KIND, "X-Mote-Control"))
+        return 0;
+    const char *origin = MHD_lookup_connection_value(c, MHD_HEADER_KIND, "Origin");
+    if (!origin)
+        return 1;
+    return host && strncmp(origin, "http://", 7) == 0 && strcmp(origin + 7, host) == 0;
+}
+
 static enum MHD_Result handle(void *cls, struct MHD_Connection *c, const char *url,
                               const char *method, const char *version, const char *upload,
                               size_t *upload_size, void **state)
@@ -256,9 +305,16 @@ static enum MHD_Result handle(void *cls, struct MHD_Connection *c, const char *u
         *upload_size = 0;
         return MHD_YES;
     }
+    const char *host = MHD_lookup_connection_value(c, MHD_HEADER_KIND, "Host");
+    if (!host_ok(l, host))
+        return reply(c, MHD_HTTP_MISDIRECTED_REQUEST, "text/plain",
+                     "this server answers to localhost or its address only\n");
     if (get && strcmp(url, "/") == 0)
         return reply(c, MHD_HTTP_OK, "text/html; charset=utf-8", l->page);
     if (post && (strcmp(url, "/pause") == 0 || strcmp(url, "/resume") == 0)) {
+        if (!control_ok(c, host))
+            return reply(c, MHD_HTTP_FORBIDDEN, "text/plain",
+                         "only the page itself pauses and resumes the run\n");
         pthread_mutex_lock(&l->mu);
         l->paused = url[1] == 'p';
         pthread_cond_broadcast(&l->cv);
@@ -338,9 +394,10 @@ int mote_live_start(mote_live **out, const char *bind, int port, char url[128], 
     pthread_cond_init(&l->cv, NULL);
     l->d = MHD_start_daemon(MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_THREAD_PER_CONNECTION, 0,
                             NULL, NULL, handle, l, MHD_OPTION_SOCK_ADDR, (struct sockaddr *)&a,
-                            MHD_OPTION_CONNECTION_LIMIT, (unsigned)(MAX_VIEWERS + 8),
+                            MHD_OPTION_CONNECTION_LIMIT, (unsigned)MAX_CONNECTIONS,
                             MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)16384,
-                            MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)30, MHD_OPTION_END);
+                            MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)IDLE_SECONDS,
+                            MHD_OPTION_END);
     if (!l->d) {
         pthread_cond_destroy(&l->cv);
         pthread_mutex_destroy(&l->mu);
@@ -350,7 +407,8 @@ int mote_live_start(mote_live **out, const char *bind, int port, char url[128], 
                          port);
     }
     const union MHD_DaemonInfo *info = MHD_get_daemon_info(l->d, MHD_DAEMON_INFO_BIND_PORT);
-    snprintf(url, 128, "http://%s:%u/", host, info ? (unsigned)info->port : (unsigned)port);
+    l->port = info ? (unsigned)info->port : (unsigned)port;
+    snprintf(url, 128, "http://%s:%u/", host, l->port);
     *out = l;
     return MOTE_OK;
 }
@@ -359,9 +417,18 @@ void mote_live_stop(mote_live *l)
 {
     if (!l)
         return;
+    /* every connected viewer takes the final frame, for up to FINAL_GRACE_SECONDS */
     pthread_mutex_lock(&l->mu);
-    l->stopping = 1;
+    l->closing = 1;
     l->paused = 0;
+    pthread_cond_broadcast(&l->cv);
+    struct timespec until;
+    clock_gettime(CLOCK_REALTIME, &until);
+    until.tv_sec += (time_t)FINAL_GRACE_SECONDS;
+    while (l->viewers > 0)
+        if (pthread_cond_timedwait(&l->cv, &l->mu, &until) == ETIMEDOUT)
+            break;
+    l->stopping = 1;
     pthread_cond_broadcast(&l->cv);
     pthread_mutex_unlock(&l->mu);
     MHD_stop_daemon(l->d);

@@ -34,7 +34,7 @@ static const char *const mote_live_page_lines[] = {
     "window.onmouseup=()=>{drag=null;};",
     "window.onmousemove=e=>{if(!drag)return;yaw+=(e.clientX-drag[0])*0.01;pitch+=(e.clientY-drag[1])*0.01;",
     "pitch=Math.max(-1.5,Math.min(1.5,pitch));drag=[e.clientX,e.clientY];if(last)draw(last);};",
-    "document.getElementById('pause').onclick=()=>{fetch(paused?'/resume':'/pause',{method:'POST'}).then(r=>r.text()).then(t=>{",
+    "document.getElementById('pause').onclick=()=>{fetch(paused?'/resume':'/pause',{method:'POST',headers:{'X-Mote-Control':'1'}}).then(r=>r.text()).then(t=>{",
     "paused=t.startsWith('paused');document.getElementById('pause').textContent=paused?'resume':'pause';",
     "document.getElementById('state').textContent=paused?'paused':'running';});};",
     "function fit(b){const W=cv.width,H=cv.height,sx=(W-20)/(b[2]-b[0]),sy=(H-20)/(b[3]-b[1]),s=Math.min(sx,sy);",
