@@ -50,7 +50,7 @@ BENCH_SRC := $(sort $(wildcard bench/*.c))
 BENCH_BIN := $(BENCH_SRC:bench/%.c=$(BUILD)/bench/%)
 HDRS     := $(wildcard include/mote/*.h src/*/*.h src/*/*.inc tests/*.h)
 
-.PHONY: all lib tests bench check test test-plain test-san example setup clean slow seeds seeds-san fuzz FORCE
+.PHONY: all lib tests bench check test test-plain test-san example setup setup-test clean slow seeds seeds-san fuzz FORCE
 
 all: $(BUILD)/mote
 
@@ -109,12 +109,16 @@ $(BUILD)/tests/test_precision_%: tests/test_precision.c $(NB_SRC:%.c=$(BUILD)/$$
 tests: $(BUILD)/mote $(TEST_BIN) $(BENCH_BIN) $(PREC_BIN)
 bench: $(BUILD)/mote $(BENCH_BIN)
 
-# Install missing Debian packages (a no-op when everything is present).
+# Install missing Debian packages (a no-op when everything is present): what the build and the
+# example need; setup-test adds what the tests use.
 setup:
 	@sh scripts/setup.sh
 
+setup-test:
+	@sh scripts/setup.sh test
+
 # The test command of the README: plain optimised build, then ASan+UBSan build, both -Werror.
-check: setup
+check: setup-test
 	$(MAKE) --no-print-directory test-plain
 	$(MAKE) --no-print-directory test-san
 
@@ -129,19 +133,19 @@ test-san:
 	MOTE_SANITIZED=1 ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp UBSAN_OPTIONS=print_stacktrace=1 sh tests/run.sh build-san
 
 # Long validation runs (not part of `make check`).
-slow: setup
+slow: setup-test
 	$(MAKE) --no-print-directory WERROR=1 BUILD=build tests
 	MOTE_SLOW=1 sh tests/run.sh build
 
 # every test program again with MOTE_TEST_SEED = SEED_FIRST .. SEEDS (tests/seeds.sh)
 SEEDS ?= 20
 SEED_FIRST ?= 1
-seeds: setup
+seeds: setup-test
 	$(MAKE) --no-print-directory WERROR=1 BUILD=build tests
 	sh tests/seeds.sh build $(SEEDS) $(SEED_FIRST)
 
 # the same with the sanitizer build (shorter runs where the tests allow, as in test-san)
-seeds-san: setup
+seeds-san: setup-test
 	$(MAKE) --no-print-directory WERROR=1 BUILD=build-san OPT=-O1 \
 	    SAN="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer" tests
 	MOTE_SANITIZED=1 ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp UBSAN_OPTIONS=print_stacktrace=1 sh tests/seeds.sh build-san $(SEEDS) $(SEED_FIRST)

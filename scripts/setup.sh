@@ -1,6 +1,9 @@
 #!/bin/sh
-# Install the Debian packages mote needs to build and test, if any is missing. Safe to re-run:
-# it does nothing when everything is present. Needs root (or sudo) only when installing.
+# Install the Debian packages mote needs, if any is missing: `setup.sh` what building mote and
+# running the example need (make example), `setup.sh test` also what the tests use (make check),
+# `bench` and `fuzz` what those need. Safe to re-run: a package already present is never asked
+# for again, and nothing runs when everything is there. apt waits for another apt's lock (up to
+# 10 minutes) instead of failing. Needs root (or sudo) only when installing.
 set -e
 need=""
 command -v cc >/dev/null 2>&1 || need="$need gcc"
@@ -10,20 +13,23 @@ pkg-config --exists cairo 2>/dev/null || need="$need libcairo2-dev"
 # the charging model: Embree (ray tracing) and Assimp (mesh files)
 [ -f /usr/include/embree3/rtcore.h ] || need="$need libembree-dev" # (no pkg-config file)
 pkg-config --exists assimp 2>/dev/null || need="$need libassimp-dev"
-# Open MPI: the charging model's MPI build (make MPI=1), built and run with 2 ranks by make check
-command -v mpicc >/dev/null 2>&1 || need="$need libopenmpi-dev"
-command -v mpirun >/dev/null 2>&1 || need="$need openmpi-bin"
-# VTK's Python reader (Debian's python3), tests only: the charging model's VTK files read back
-/usr/bin/python3 -c 'import vtkmodules.vtkIOLegacy' >/dev/null 2>&1 || need="$need python3-vtk9"
-# ASE (Debian's python3), the independent reader of the extended XYZ files in the tests
-/usr/bin/python3 -c 'import ase.io' >/dev/null 2>&1 || need="$need python3-ase"
-# libmicrohttpd: the live view's HTTP server (mote run --live); curl: the live view's tests
+# libmicrohttpd: the live view's HTTP server (mote run --live)
 pkg-config --exists libmicrohttpd 2>/dev/null || need="$need libmicrohttpd-dev"
-command -v curl >/dev/null 2>&1 || need="$need curl"
-# Chromium (headless): the live view's browser test (tests/test_live.sh)
-command -v chromium >/dev/null 2>&1 || need="$need chromium"
-# ffmpeg: the movies of the mixing-box and separator frames (made when it is on PATH; tested)
-command -v ffmpeg >/dev/null 2>&1 || need="$need ffmpeg"
+# `setup.sh test` (make check): also what only the tests use
+if [ "${1:-}" = test ] || [ "${1:-}" = bench ]; then
+    # Open MPI: the MPI build (make MPI=1), built and run with 2 ranks by make check
+    command -v mpicc >/dev/null 2>&1 || need="$need libopenmpi-dev"
+    command -v mpirun >/dev/null 2>&1 || need="$need openmpi-bin"
+    # VTK's Python reader (Debian's python3): the charging model's VTK files read back
+    /usr/bin/python3 -c 'import vtkmodules.vtkIOLegacy' >/dev/null 2>&1 || need="$need python3-vtk9"
+    # ASE (Debian's python3), the independent reader of the extended XYZ files
+    /usr/bin/python3 -c 'import ase.io' >/dev/null 2>&1 || need="$need python3-ase"
+    # curl: the live view's protocol tests; Chromium (headless): its browser test
+    command -v curl >/dev/null 2>&1 || need="$need curl"
+    command -v chromium >/dev/null 2>&1 || need="$need chromium"
+    # ffmpeg: the movies of the mixing-box and separator frames (made when it is on PATH; tested)
+    command -v ffmpeg >/dev/null 2>&1 || need="$need ffmpeg"
+fi
 # `setup.sh bench`: also LIGGGHTS, the granular code the separator's benchmark runs side by side
 if [ "${1:-}" = bench ]; then
     command -v liggghts >/dev/null 2>&1 || need="$need liggghts"
@@ -42,6 +48,10 @@ echo "setup: installing Debian packages:$need"
 SUDO=""
 [ "$(id -u)" -ne 0 ] && SUDO="sudo"
 export DEBIAN_FRONTEND=noninteractive
-$SUDO apt-get update -qq
+LOCK="-o DPkg::Lock::Timeout=600"
+# (the package lists' lock: apt-get update waits on it through the same option on Debian 12; a
+# second try covers an older apt that does not)
 # shellcheck disable=SC2086
-$SUDO apt-get install -y -qq --no-install-recommends $need
+$SUDO apt-get $LOCK update -qq || { sleep 30; $SUDO apt-get $LOCK update -qq; }
+# shellcheck disable=SC2086
+$SUDO apt-get $LOCK install -y -qq --no-install-recommends $need
