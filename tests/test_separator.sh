@@ -118,4 +118,23 @@ printf '%bchannel 0.05 1\ngas 1.0\ncollisions off\nspecies quartz 2500\nsize qua
 grep -q '^grid 1: 1 pattern holes dropped for crossing a wall$' out.txt && ok || bad "dropped: $(cat out.txt)"
 grep -q '^t=10 .* fed=2000 fines=[1-9][0-9]* coarse=[1-9][0-9]* lost=0 ' out.txt && ok || bad "grid run: $(cat out.txt)"
 [ ! -e tromp_bad.csv ] && ok || bad "a failed script wrote a file"
+# issue 33: the grid readers on short, empty and directory files (freed an uninitialised pointer)
+printf '0.01 0.02\n0.04\n' > h1.txt
+: > h2.txt
+mkdir hd
+expect 1 "gh1.mote:3:1: error: h1.txt:2: expected x1 x2 (m), found 1 value" gh1.mote "${S}channel 0.05 1\ngrid 0.3 0.01 holes file=h1.txt\n" check
+expect 1 "gh2.mote:3:1: error: h2.txt: no holes in the file" gh2.mote "${S}channel 0.05 1\ngrid 0.3 0.01 holes file=h2.txt\n" check
+expect 1 "gh3.mote:3:1: error: cannot read 'hd'" gh3.mote "${S}channel 0.05 1\ngrid 0.3 0.01 holes file=hd\n" check
+# a pattern of 9e8 holes is refused with its memory, at check time; 9e6 holes check in linear time
+expect 1 "gh4.mote:4:1: error: grid: the pattern makes 9e+08 holes (at most 1e+07 a plate: about 43.2 GB)" gh4.mote "${S}dim 3\nchannel 0.3 1 D=0.3\ngrid 0.3 0.01 pattern a=5e-6 p=1.00001e-5\n" check
+# the feed clears closed ends by the radius (7 of 60 started inside an end: max_overlap 0.34)
+printf '%bchannel 0.01 0.03\nends closed closed\ngas 0\nspecies glass 2500\nsize glass mono d=1e-3\nfeed z=0.005 hf=0.01\ninsert glass 60\nrun 0.001\n' "$S" > ends.mote
+"$MOTE" run ends.mote > out.txt 2> err.txt && ok || bad "ends.mote: $(cat err.txt)"
+awk '/^t=0.001 / { for (i = 1; i <= NF; i++) if ($i ~ /^max_overlap=/) { split($i, a, "="); v = a[2] } } END { exit !(v != "" && v + 0 < 0.05) }' out.txt && ok || bad "particles placed inside a closed end: $(tail -2 out.txt)"
+! grep -q 'raise vimp' out.txt && ok || bad "the overlap note after placement: $(cat out.txt)"
+# a feed that outruns its band says so
+printf '%bchannel 0.01 0.05\nends closed closed\ngas 0\nspecies glass 2500\nsize glass mono d=1e-3\nfeed z=0.04 hf=0.002 rate=0.5\nrun 0.002\n' "$S" > back.mote
+"$MOTE" run back.mote > out.txt 2> err.txt && grep -q '^warning: [0-9]* particles wait in the feed.s backlog' out.txt && ok || bad "no backlog warning: $(tail -3 out.txt) $(cat err.txt)"
+# a channel given in 2D, then dim 3: the message says what is missing
+expect 1 "dim3.mote:3:5: error: dim: the channel was given in 2D: a 3D channel needs its depth" dim3.mote "${S}channel 0.05 1\ndim 3\n" check
 mote_test_end

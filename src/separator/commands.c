@@ -121,6 +121,9 @@ static int do_dim(void *vm, const mote_call *c, mote_err *err)
         return mote_call_fail(err, c, 0, MOTE_EINVAL, "dim: expected 2 or 3, found %ld", d);
     if (m->sys.n)
         return mote_call_fail(err, c, 0, MOTE_EINVAL, "dim: give it before any particle");
+    if (d == 3 && m->have_channel && !(m->sys.D > 0))
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "dim: the channel was given in 2D: a 3D "
+                              "channel needs its depth (give dim 3 first, then channel W H D=)");
     m->sys.dim = (int)d;
     return MOTE_OK;
 }
@@ -776,6 +779,10 @@ static void print_status(sep_model *m)
         fprintf(m->log, "note: the largest overlap %.3g of a diameter is more than twice the "
                         "allowed %.3g: raise vimp= (stiffness) or lower the impact speeds\n",
                 s->max_overlap, s->delta_f);
+    if (s->nback > 0)
+        fprintf(m->log, "warning: %zu particles wait in the feed's backlog: the feed outruns its "
+                        "band (lower the rate, or widen the band: feed hf= and feed_window)\n",
+                s->nback);
     if (lost)
         fprintf(m->log, "error: %llu particles were lost (outside a wall, inside a plate, or "
                         "not finite)\n", (unsigned long long)lost);
@@ -1132,7 +1139,7 @@ static const char HELP_SLICES[] = "    slices K\n\nThe axial resolution of the g
 static const char HELP_EPSMIN[] = "    eps_gas_min V\n\nThe smallest gas fraction the gas model uses (default 0.35).\n";
 static const char HELP_GAS_PROFILE[] = "    gas_profile FILE\n\nA gas density (and viscosity) varying with height (spec 2.6): FILE holds rows\nz rho_g [mu_g] (m, kg/m^3, Pa s) with z increasing; linear between the rows,\nconstant beyond them; without mu_g the viscosity is gas's. The mass flux\nG = rho_g(0) U0 is the same at every height, so u_g(z) = G / (rho_g(z) eps_g(z));\ndrag and buoyancy use the local rho_g and mu_g, and the reference cut d0* the\ngas at the feed height.\n";
 static const char HELP_RELAX[] = "    relax TAU\n\nRelax the solids fraction the gas sees in time (s; default 0, instantaneous):\neach step it moves dt/TAU of the way to the fraction of the particles' present\npositions, which smooths the gas velocity when few particles cross a slice.\n";
-static const char HELP_HINDERED[] = "    hindered CHI\n\nDrag multiplied by eps_g^-CHI (default 0; 2.65 is the usual choice).\n";
+static const char HELP_HINDERED[] = "    hindered CHI\n\nDrag multiplied by eps_g^-CHI (default 0). In this model (no gas back-flow, no\nbuoyancy against the suspension) a particle settles at v_t eps_g^CHI in Stokes\nflow, so CHI = 4.65 reproduces Richardson-Zaki batch settling; 2.65 (Wen and\nYu) does only in codes with back-flow and the pressure-gradient force.\n";
 static const char HELP_DISPERSION[] = "    dispersion D\n    brownian T\n\nRandom dispersion of the particles (spec 2.7): an Ornstein-Uhlenbeck velocity\nnoise with diffusion coefficient D = D_t + D_B, D_t given by `dispersion`\n(m^2/s, turbulent dispersion) and D_B = k_B T / (3 pi mu_g d) (Stokes-Einstein\nBrownian diffusion) when `brownian` gives the gas temperature T (K). Each\nvelocity component has the stationary variance D / tau; the update over a step\nis exact for any step against tau, so the long-time diffusion is D even when the\nstep is much longer than tau. 0 turns either off (the default). The noise is\ndrawn from the run's seeded stream in each step's drift, particle by particle.\n";
 static const char HELP_SPECIES[] = "    species NAME RHO\n\nA species of particles with material density RHO (kg/m^3). With one species\nit is the whole feed; with several give each a feed_fraction.\n";
 static const char HELP_SIZE[] = "    size NAME mono d=D\n    size NAME lognormal d50=D sigma=S min=A max=B [basis=mass|number]\n    size NAME rosin_rammler d=D n=N min=A max=B [basis=...]\n    size NAME loguniform min=A max=B [basis=...]\n    size NAME table file=FILE [min=A max=B] [basis=...]\n\nThe size distribution of a species (spec 2.5; metres): log-normal with median\nd50 and geometric standard deviation sigma >= 1, Rosin-Rammler with d' (63.2%\nfiner) and n, ln d uniform, or a table of rows d F (the cumulative undersize,\ne.g. a sieve analysis; piecewise linear in ln d, its range by default); truncated to [min, max] and renormalised; mass\nbasis by default (as sieve analyses). Particles are drawn one by one from the\nnumber-basis distribution, tabulated on 4096 nodes in ln d.\n(Decision: the parameters are options, not positions.)\n";

@@ -246,7 +246,7 @@ int mote_sep_prepare(mote_sep_system *s, mote_err *err)
 {
     if (!(s->W > 0) || !(s->H > 0) || (s->dim == 3 && !(s->D > 0)))
         return mote_fail(err, MOTE_EINVAL, "separator: no channel (channel W H%s)",
-                         s->dim == 3 ? " D" : "");
+                         s->dim == 3 ? " D=DEPTH: a 3D channel needs its depth" : "");
     if (!(s->U0 >= 0))
         return mote_fail(err, MOTE_EINVAL, "separator: no gas upflow (gas U0 [rho_g mu_g])");
     if (s->nsp == 0)
@@ -505,8 +505,11 @@ static int place(mote_sep_system *s, int k, double d, mote_err *err)
         const double px = x1 + (x2 - x1) * mote_rng_uniform(&s->rng);
         const double py = s->dim == 3 ? y1 + (y2 - y1) * mote_rng_uniform(&s->rng) : 0;
         const double pz = s->zf - 0.5 * hf + hf * mote_rng_uniform(&s->rng);
-        if (px < r || px > s->W - r || (s->dim == 3 && (py < r || py > s->D - r)) || pz < 0 ||
-            pz > s->H || sep_touches_plate(s, px, py, pz, r) ||
+        /* clear of the side walls, and of a closed end by the radius (an open end only needs the
+         * centre inside) */
+        const double zlo = s->open_bottom ? 0 : r, zhi = s->open_top ? s->H : s->H - r;
+        if (px < r || px > s->W - r || (s->dim == 3 && (py < r || py > s->D - r)) || pz < zlo ||
+            pz > zhi || sep_touches_plate(s, px, py, pz, r) ||
             (s->dem && sep_overlaps_any(s, px, py, pz, d)))
             continue;
         if (grow(s, s->n + 1, err))
