@@ -277,4 +277,39 @@ import json, sys
 d = json.load(open('of/s_summary.json'))
 sys.exit(not (abs(d['U_f_V'] / -38060 - 1) < 0.02 and d['sigma_U_V'] > 0 and abs(d['U_f_OML_V'] / -38061.7 - 1) < 1e-4 and d['potential_V'] == d['U_f_V']))
 " && grep -q '^floating potential: U_f = -3' of/s_summary.txt && ok || bad "float summary: $(head -c 300 of/s_summary.json) $(cat err.txt)"
+# issue 33: meshes that stopped or misled mote
+python3 -c "
+v=[(0,0,0),(1,0,0),(1,1,0),(0,1,0),(0,0,1),(1,0,1),(1,1,1),(0,1,1)]
+f=[(0,2,1),(0,3,2),(4,5,6),(4,6,7),(0,1,5),(0,5,4),(1,2,6),(1,6,5),(2,3,7),(2,7,6),(3,0,4),(3,4,7)]
+open('cube.txt','w').write(''.join(' '.join('%g %g %g' % v[i] for i in t) + '\n' for t in f))
+# ten parallel unit squares 0.01 apart: area 20 (two-sided), R_eq 1.26 m > R_bound 0.71 m
+open('stack.txt','w').write(''.join('0 0 %g 1 0 %g 1 1 %g\n0 0 %g 1 1 %g 0 1 %g\n' % ((k / 100,) * 6) for k in range(10)))
+# an OFF header asking for 10^9 faces (Assimp allocated 15 GB, then aborted mote)
+open('big.off','w').write('OFF\n4 1000000000 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n')
+open('nul.off','wb').write(b'OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 \x001 3\n')
+open('flat.off','w').write('OFF\n3 1 0\n0 0 0\n0 0 0\n0 0 0\n3 0 1 2\n')
+# 30 000 identical triangles and one real one: welding took over a minute
+open('dup.txt','w').write('0 0 0 1e-9 0 0 0 1e-9 0\n' * 30000 + '0 0 0 1 0 0 0 1 0\n')
+open('cut.txt','w').write(open('cube.txt').read() + '0 0 0 1 1\n')
+n = 'left_wing_' + 'x' * 40
+open('parts.obj','w').write('v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\ng %sA\nf 1 2 3\ng %sB\nf 1 2 4\n' % (n, n))
+"
+expect 2 "m1.mote:2:16: error: body load: big.off: the header declares 4 vertices and 1000000000 faces, more than a file of 51 bytes holds" m1.mote "${G}body load file=big.off\n"
+expect 2 "m2.mote:2:16: error: body load: nul.off: a NUL byte in the header (not a text file)" m2.mote "${G}body load file=nul.off\n"
+expect 2 "m3.mote:2:16: error: body load: flat.off: no triangle with a non-zero extent" m3.mote "${G}body load file=flat.off\n"
+expect 2 "m4.mote:2:1: error: body load: the body's size R_bound = 8.66025e-16 m is outside 1e-09 ... 1e+12 m" m4.mote "${G}body load file=cube.txt scale=1e-15\n"
+expect 2 "m5.mote:2:1: error: body load: the body's size R_bound = 8.66025e+18 m is outside" m5.mote "${G}body load file=cube.txt scale=1e19\n"
+expect 1 "m6.mote:2:6: error: body uvsphere: 2e+10 triangles (at most 1e+08" m6.mote "${G}body uvsphere radius=1 nlon=100000 nlat=100000\n" check
+printf '%bbody load file=stack.txt\n' "$G" > m7.mote
+"$MOTE" run m7.mote > out.txt 2>&1 && grep -q '^body: warning: the field.s radius R_f = 1.26.* exceeds R_bound = 0.70' out.txt && ok || bad "R_f > R_bound: $(cat out.txt)"
+printf '%bbody load file=cube.txt\n' "$G" > m8.mote
+"$MOTE" run m8.mote > out.txt 2>&1 && ! grep -q 'warning' out.txt && ok || bad "a cube warned: $(cat out.txt)"
+printf '%bbody load file=cut.txt\n' "$G" > m9.mote
+"$MOTE" run m9.mote > out.txt 2>&1 && grep -q '^body load: warning: cut.txt ends inside a triangle (5 of 9 numbers' out.txt && ok || bad "a cut plain file: $(cat out.txt)"
+printf '%bbody load file=dup.txt\n' "$G" > m10.mote
+timeout 20 "$MOTE" run m10.mote > out.txt 2>&1 && grep -q '^body: 1 triangles' out.txt && ok || bad "duplicates: $(tail -2 out.txt)"
+# part names kept whole: two parts, and material assign by the full name
+printf '%bbody load file=parts.obj\nmaterial assign part=left_wing_%sB material=gold\n' "$G" "$(printf 'x%.0s' $(seq 1 40))" > m11.mote
+"$MOTE" run m11.mote > out.txt 2> err.txt && ok || bad "long part names (cut to 31 characters, the two parts became one): $(cat err.txt)"
+expect 2 "m12.mote:2:16: error: body load: cube.txt: the part name 'yyyyy" m12.mote "${G}body load file=cube.txt part=$(printf 'y%.0s' $(seq 1 300))\n"
 mote_test_end

@@ -56,6 +56,10 @@ double mote_ch_debye(const mote_ch_plasma *p);
  * of the ray-tracing structure, for the estimate checked before a body is made. */
 #define MOTE_CH_MAX_TRI 100000000
 #define MOTE_CH_TRI_BYTES 250.0
+/* The sizes of body (R_bound, m) that trace correctly in Embree's single precision (measured
+ * exact from 1e-12 to 1e15 m; a decade kept at each end). */
+#define MOTE_CH_SIZE_MIN 1e-9
+#define MOTE_CH_SIZE_MAX 1e12
 
 typedef struct {
     uint32_t ntri, cap;
@@ -99,6 +103,7 @@ typedef struct {
 typedef struct {
     uint32_t read, degenerate, duplicates, welded, flipped, closed_components, open_components;
     uint32_t abandoned_lines;
+    int trailing_numbers;  /* plain format: numbers of an unfinished last triangle (dropped) */
 } mote_ch_load_report;
 
 int mote_ch_body_load(mote_ch_body *b, const char *path, const mote_ch_load_opts *o,

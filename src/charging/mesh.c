@@ -84,7 +84,7 @@ static int soup_add(soup *s, const double t[3][3], int part)
 /* ---- the plain format (spec 7.2) ------------------------------------------------------------ */
 
 static int read_plain(const char *path, soup *s, int part, int strict, uint32_t *abandoned,
-                      mote_err *err)
+                      int *trailing, mote_err *err)
 {
     mote_lines in;
     int rc = mote_lines_open(&in, path, err);
@@ -137,6 +137,7 @@ static int read_plain(const char *path, soup *s, int part, int strict, uint32_t 
     if (!rc && k != 0 && strict)
         rc = mote_fail(err, MOTE_EFORMAT, "%s: the file ends inside a triangle (%d of 9 numbers)",
                        path, k);
+    *trailing = k;
     return rc;
 }
 
@@ -627,7 +628,8 @@ static int cmp_u32x3(const void *x, const void *y)
 }
 
 /* Repair the soup and add it to the body. */
-static int repair_add(mote_ch_body *b, soup *s, mote_ch_load_report *rep, mote_err *err)
+static int repair_add(mote_ch_body *b, soup *s, const char *path, mote_ch_load_report *rep,
+                      mote_err *err)
 {
     rep->read = (uint32_t)s->n;
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
@@ -642,7 +644,7 @@ static int repair_add(mote_ch_body *b, soup *s, mote_ch_load_report *rep, mote_e
         L += (hi[a] - lo[a]) * (hi[a] - lo[a]);
     L = sqrt(L);
     if (!(L > 0) || !isfinite(L))
-        return mote_fail(err, MOTE_EFORMAT, "mesh: no triangle with a non-zero extent");
+        return mote_fail(err, MOTE_EFORMAT, "%s: no triangle with a non-zero extent", path);
     uint32_t *vid = malloc((s->n ? 3 * s->n : 1) * sizeof *vid), npos = 0;
     double(*pos)[3] = NULL;
     if (!vid || weld(s, 1e-9 * L, vid, &pos, &npos, &rep->welded)) {
@@ -855,7 +857,8 @@ int mote_ch_body_load(mote_ch_body *b, const char *path, const mote_ch_load_opts
         const char *dot = strrchr(base, '.');
         plain = !dot || !strcmp(dot, ".txt") || !strcmp(dot, ".dat") || !strcmp(dot, ".tri");
     }
-    int rc = plain ? read_plain(path, &s, fallback, o->strict, &rep->abandoned_lines, err)
+    int rc = plain ? read_plain(path, &s, fallback, o->strict, &rep->abandoned_lines,
+                              &rep->trailing_numbers, err)
                    : read_assimp(path, &s, s.names[fallback], err);
     if (!rc && s.n == 0)
         rc = mote_fail(err, MOTE_EFORMAT, "%s: no triangles", path);
@@ -880,7 +883,7 @@ int mote_ch_body_load(mote_ch_body *b, const char *path, const mote_ch_load_opts
                 p[a] += o->offset[a];
         }
     if (!rc)
-        rc = repair_add(b, &s, rep, err);
+        rc = repair_add(b, &s, path, rep, err);
     if (!rc && rep->read == rep->degenerate + rep->duplicates)
         rc = mote_fail(err, MOTE_EFORMAT, "%s: every triangle is degenerate or a duplicate", path);
     soup_free(&s);
