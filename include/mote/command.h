@@ -90,6 +90,8 @@ typedef struct {
     char **path;
     char **kind;
     size_t n, cap;
+    size_t *slot;     /* open-addressing index: 1 + the latest entry of a path, 0 empty */
+    size_t nslot;     /* a power of two, at least twice n (lookups O(1): scripts of 10^5 saves) */
 } mote_outputs;
 
 /* Run-wide settings shared by the script layer and the model's commands. */

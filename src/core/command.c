@@ -204,15 +204,52 @@ void mote_outputs_free(mote_outputs *o)
     }
     free(o->path);
     free(o->kind);
+    free(o->slot);
     memset(o, 0, sizeof *o);
+}
+
+static size_t path_hash(const char *s)
+{
+    uint64_t h = 1469598103934665603ull; /* FNV-1a */
+    for (; *s; s++)
+        h = (h ^ (unsigned char)*s) * 1099511628211ull;
+    return (size_t)h;
+}
+
+/* The slot of path: where it is, or the empty one where it would go. */
+static size_t find_slot(const mote_outputs *o, const char *path)
+{
+    size_t k = path_hash(path) & (o->nslot - 1);
+    while (o->slot[k] && strcmp(o->path[o->slot[k] - 1], path) != 0)
+        k = (k + 1) & (o->nslot - 1);
+    return k;
 }
 
 const char *mote_outputs_find(const mote_outputs *o, const char *path)
 {
-    for (size_t k = o->n; k-- > 0;)
-        if (strcmp(o->path[k], path) == 0)
-            return o->kind[k];
-    return NULL;
+    if (!o->nslot)
+        return NULL;
+    const size_t k = find_slot(o, path);
+    return o->slot[k] ? o->kind[o->slot[k] - 1] : NULL;
+}
+
+/* Room for one more path in the index; -1 out of memory. */
+static int index_grow(mote_outputs *o)
+{
+    if (2 * (o->n + 1) <= o->nslot)
+        return 0;
+    mote_outputs t = *o;
+    t.nslot = o->nslot ? 2 * o->nslot : 64;
+    t.slot = calloc(t.nslot, sizeof *t.slot);
+    if (!t.slot)
+        return -1;
+    for (size_t k = 0; k < o->nslot; k++)
+        if (o->slot[k])
+            t.slot[find_slot(&t, o->path[o->slot[k] - 1])] = o->slot[k];
+    free(o->slot);
+    o->slot = t.slot;
+    o->nslot = t.nslot;
+    return 0;
 }
 
 static char *copy_string(const char *s)
@@ -234,6 +271,8 @@ int mote_outputs_note_path(mote_outputs *o, const mote_call *c, int argi, const 
     if (!repeat_ok && mote_outputs_find(o, path))
         mote_call_warn(c, "%s: '%s' is written more than once in this script; the last one wins",
                        c->name, path);
+    if (index_grow(o))
+        return mote_call_fail(err, c, argi, MOTE_ENOMEM, "out of memory");
     if (o->n == o->cap) {
         size_t cap = o->cap ? 2 * o->cap : 16;
         char **p = realloc(o->path, cap * sizeof *p);
@@ -254,6 +293,7 @@ int mote_outputs_note_path(mote_outputs *o, const mote_call *c, int argi, const 
     }
     o->path[o->n] = pcopy;
     o->kind[o->n++] = kcopy;
+    o->slot[find_slot(o, pcopy)] = o->n; /* (a path noted again: its latest entry) */
     return MOTE_OK;
 }
 

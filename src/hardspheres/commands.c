@@ -584,7 +584,7 @@ static const mote_cmd hs_commands[] = {
      HS_HELP_COMPRESS_BOX, check_compress_box, run_compress_box},
     {"compress", NULL, "*", "compress ...", "always an error: name the wall to move",
      HS_HELP_COMPRESS, check_compress, run_compress},
-    {"image", NULL, "i i>=1 f>image", "image K p FILE", "density profile along x (p bins per radius)",
+    {"image", NULL, "i i[1,10000] f>image", "image K p FILE", "density profile along x (p bins per radius)",
      HS_HELP_IMAGE, check_image, run_image},
     {"profile", NULL, "r r i[1,1000000] i f>profile", "profile x1 x2 dots K FILE",
      "layer cut: centres with x1 <= x <= x2, projected on the y-z plane", HS_HELP_PROFILE,

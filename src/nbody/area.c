@@ -44,10 +44,13 @@ int mote_nb_area_build(mote_nb *nb, mote_nb_area *a, mote_err *err)
                                            "length unit > 0 and dt > 0");
     const long nx = a->Mu + 1L, ny = nodes_along(a->B, a->Mu), nz = nodes_along(a->C, a->Mu);
     const double nn = (double)nx * (double)ny * (double)nz;
-    if (nn > 1e7)
+    if (nn > NB_MAX_AREA)
         return mote_fail(err, MOTE_EINVAL, "generate area: %ld x %ld x %ld = %.0f nodes is more "
-                                           "than the 10^7 this generator builds",
-                         nx, ny, nz, nn);
+                                           "than the 10^6 this generator builds (about %.3g GB, "
+                                           "and a Galactica step of direct sums over them takes "
+                                           "hours)", nx, ny, nz, nn, nn * NB_BODY_BYTES / 1e9);
+    if (mote_mem_check(nn * NB_BODY_BYTES, "generate area: the nodes", err))
+        return err ? (int)err->code : MOTE_ENOMEM;
     const long n = nx * ny * nz;
     const mote_real hx = (mote_real)1 / a->Mu, hy = ny > 1 ? a->B / (mote_real)(ny - 1) : 0,
                     hz = nz > 1 ? a->C / (mote_real)(nz - 1) : 0;

@@ -169,13 +169,20 @@ static void model_status(void *vm, FILE *out)
                 nb->kind == MOTE_NB_GRAVITY ? "gravity" : "coulomb");
         return;
     }
-    mote_nb_monitor mon;
-    mote_nb_measure(nb, &mon);
-    char t[MOTE_REAL_BUF], h[MOTE_REAL_BUF], e[MOTE_REAL_BUF];
-    fprintf(out, "N=%u interaction=%s T=%s steps=%llu dt=%s E=%s dE=%.3e dMz=%.3e merges=%llu\n",
+    char t[MOTE_REAL_BUF], h[MOTE_REAL_BUF], e[MOTE_REAL_BUF], de[32];
+    if (nb->n > NB_STATUS_MAX_N) { /* the energy is an O(N^2) sum: the monitor measures it */
+        snprintf(e, sizeof e, "-");
+        snprintf(de, sizeof de, "-");
+    } else {
+        mote_nb_monitor mon;
+        mote_nb_measure(nb, &mon);
+        mote_real_str(mon.etot, e);
+        snprintf(de, sizeof de, "%.3e", (double)mon.dE);
+    }
+    fprintf(out, "N=%u interaction=%s T=%s steps=%llu dt=%s E=%s dE=%s dMz=%.3e merges=%llu\n",
             nb->n, nb->kind == MOTE_NB_GRAVITY ? "gravity" : "coulomb", mote_real_str(nb->T, t),
-            (unsigned long long)nb->steps, mote_real_str(nb->dt, h), mote_real_str(mon.etot, e),
-            (double)mon.dE, (double)mon.dMz, (unsigned long long)nb->merges);
+            (unsigned long long)nb->steps, mote_real_str(nb->dt, h), e, de,
+            (double)(nb->ref_set ? mote_nb_dmz(nb) : 0), (unsigned long long)nb->merges);
 }
 
 /* A real option to the build's full precision (its text read again), or dflt when not given. */
@@ -668,9 +675,12 @@ static int check_generate(void *vm, const mote_call *c, mote_err *err)
                                       "generate plummer: option %s= (expected n= and seed=)",
                                       c->opts[k].key);
         const mote_arg *n = mote_call_opt(c, "n");
-        if (!n || n->i > 100000000)
+        if (!n || n->i > NB_MAX_GENERATED)
             return mote_call_fail(err, c, n ? mote_call_opt_index(c, "n") : 0, MOTE_EINVAL,
-                                  "generate plummer: n= the number of bodies (1 ... 10^8)");
+                                  "generate plummer: n= the number of bodies (1 ... 10^7)");
+        mote_err e2 = {0};
+        if (mote_mem_check((double)n->i * NB_BODY_BYTES, "generate plummer: the bodies", &e2))
+            return mote_call_fail(err, c, mote_call_opt_index(c, "n"), e2.code, "%s", e2.msg);
         if (m->nb.kind != MOTE_NB_GRAVITY || m->d_bodies)
             return mote_call_fail(err, c, 0, MOTE_EINVAL, "generate plummer: %s",
                                   m->d_bodies ? "the system already has bodies"

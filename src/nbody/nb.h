@@ -262,6 +262,14 @@ int nb_run_as(mote_nb *nb, int integrator, uint64_t steps, mote_err *err);
  * made N = 100 with 2 threads 7x slower than one (measured with two busy processes beside it on
  * 2 cores: N = 300 2.8x slower, N = 1000 1.3x faster; quiet, the two are even near N = 300). */
 #define NB_THREADS_MIN_N 1000
+/* Bounds on what an input can ask for (issue 33): the bodies `generate plummer` makes, the nodes
+ * of a Galactica area, the memory a body takes (arrays of the Galactica scheme, capacity doubled:
+ * measured 400 B a body at N = 10^5), and the bodies above which the status line leaves out the
+ * energy (an O(N^2) sum; the monitor measures it). */
+#define NB_MAX_GENERATED 10000000
+#define NB_MAX_AREA 1000000
+#define NB_BODY_BYTES 600.0
+#define NB_STATUS_MAX_N 50000
 /* Every active body's position, velocity and mass within NB_VALUE_MAX in magnitude (so that
  * energies and squared distances cannot overflow) and the time finite; else MOTE_ERUNTIME naming
  * the body and the value. Checked before a run and after every step. */
