@@ -191,6 +191,13 @@ set_line 23 1 many/galacf26.dat
 refused many 1 12 "above the limit of 10000"
 [ ! -e many/1t ] && ok || bad "a refused job wrote trajectory files"
 (cd many && "$MOTE" galactica --max-files 20000 > out.txt 2> err.txt) && ok || bad "--max-files 20000 did not let the job run: $(cat many/err.txt)"
+# a step of 1e308 (issue 33): the state stops being finite in step 1; the job stops there, and
+# no result file holds INF or NAN
+job inf; cp earlier.dat inf/garez28.dat
+set_line 26 0 inf/galacf26.dat
+set_line 22 1.E308 inf/galacf26.dat
+refused inf 2 02 "integrate: the state stopped being finite in step 1"
+[ ! -e inf/1 ] && ! grep -qi 'nan\|inf' inf/garez28.dat && ok || bad "a job that stopped being finite wrote results"
 rm -rf noctl && mkdir noctl
 (cd noctl && "$MOTE" galactica > out.txt 2> err.txt); rc=$?
 [ $rc -eq 1 ] && grep -q 'galacf26.dat: cannot open' noctl/err.txt && grep -q '^\*01G ' noctl/ErrGlctca && ok || bad "no control file: exit $rc, $(cat noctl/err.txt)"

@@ -438,4 +438,21 @@ printf '%bsteps_between jd1=2455197.5 jd2=2460000.5 dt=1e-5 fresh=on\nsteps_betw
 "$MOTE" run sb.mote > out.txt 2> err.txt && ok || bad "sb.mote: $(cat err.txt)"
 grep -q '^steps_between: DeltaT=0.1314966834383702 Ltk=13150 dT=1.0000507524364034e-05 (fresh start: the first step is first_step dT) T_end-T_target=0.000e+00$' out.txt && grep -q '^steps_between: DeltaT=0.1314966834383702 Ltk=13150 dT=9.9997477899901288e-06 (continuation) T_end-T_target=0.000e+00$' out.txt && ok || bad "steps_between: $(cat out.txt)"
 expect 1 "sb2.mote:2:25: error: steps_between: jd2 must come after jd1" sb2.mote "${G}steps_between jd1=2 jd2=1 dt=1e-5\n"
+
+# issue 33: values that made NAN and infinity, written with exit status 0
+expect 2 "h1.mote:5:1: error: body 1: x = 1e+308 is beyond 1e100 (its energy would overflow)" h1.mote "${G}body mass=1 x=1e308\nbody mass=1 x=-1e308\nmonitor every=1\nintegrate steps=2\n"
+expect 2 "h2.mote:5:1: error: integrate: the state stopped being finite in step 1" h2.mote "${G}body mass=1 x=1\nbody mass=1 x=-1 vy=0.5\nintegrator galactica dt=1e308\nintegrate steps=2\nsave h2.state\n"
+[ ! -e h2.state ] && ok || bad "a state was saved after the run stopped being finite"
+# no angular momentum at all (bodies on a line): dMz is the absolute change, never nan
+printf '%bbody mass=1 x=1\nbody mass=1 x=-1\nmonitor every=1\nintegrator taylor dt=0.01\nintegrate steps=3\n' "$G" > h3.mote
+"$MOTE" run h3.mote > out.txt 2> err.txt && ! grep -qi 'nan\|inf' out.txt && ok || bad "dMz with no angular momentum: $(cat out.txt err.txt)"
+# integrate to a time already passed, hmin above hmax, and steps held at hmin
+expect 2 "h4.mote:5:1: error: integrate: to=0.5 ends at or before the current time 1" h4.mote "${G}body mass=1 x=1\nbody mass=1 x=-1 vy=0.5\nintegrate to=1\nintegrate to=0.5\n"
+expect 1 "h5.mote:4:34: error: integrator taylor: hmin= (1) is greater than hmax= (0.1)" h5.mote "${G}body mass=1 x=1\nbody mass=1 x=-1\nintegrator taylor tol=1e-16 hmin=1 hmax=0.1\n"
+printf '%bbody mass=1 x=1\nbody mass=1 x=-1\nintegrator taylor tol=1e-16 hmin=0.5\nintegrate steps=3\n' "$G" > h6.mote
+"$MOTE" run h6.mote > out.txt 2> err.txt && grep -q '^integrate: warning: 3 adaptive steps held at hmin = 0.5, longer than tol= allows' out.txt && ok || bad "no warning for steps held at hmin: $(cat out.txt err.txt)"
+# generators bounded at check time; the status line of 10^5 bodies leaves out the O(N^2) energy
+expect 1 "h7.mote:2:20: error: generate plummer: n= the number of bodies (1 ... 10^7)" h7.mote "${G}generate plummer n=100000000\n" check
+printf '%bgenerate plummer n=100000 seed=3\n' "$G" > h8.mote
+timeout 60 "$MOTE" run h8.mote > out.txt 2> err.txt && grep -q '^N=100000 .* E=- dE=- ' out.txt && ok || bad "plummer 10^5: $(cat out.txt err.txt)"
 mote_test_end

@@ -170,19 +170,22 @@ static void model_status(void *vm, FILE *out)
         return;
     }
     char t[MOTE_REAL_BUF], h[MOTE_REAL_BUF], e[MOTE_REAL_BUF], de[32];
+    double dmz;
     if (nb->n > NB_STATUS_MAX_N) { /* the energy is an O(N^2) sum: the monitor measures it */
         snprintf(e, sizeof e, "-");
         snprintf(de, sizeof de, "-");
+        dmz = nb->ref_set ? (double)mote_nb_dmz(nb) : 0;
     } else {
         mote_nb_monitor mon;
         mote_nb_measure(nb, &mon);
         mote_real_str(mon.etot, e);
         snprintf(de, sizeof de, "%.3e", (double)mon.dE);
+        dmz = (double)mon.dMz;
     }
     fprintf(out, "N=%u interaction=%s T=%s steps=%llu dt=%s E=%s dE=%s dMz=%.3e merges=%llu\n",
             nb->n, nb->kind == MOTE_NB_GRAVITY ? "gravity" : "coulomb", mote_real_str(nb->T, t),
             (unsigned long long)nb->steps, mote_real_str(nb->dt, h), e, de,
-            (double)(nb->ref_set ? mote_nb_dmz(nb) : 0), (unsigned long long)nb->merges);
+            dmz, (unsigned long long)nb->merges);
 }
 
 /* A real option to the build's full precision (its text read again), or dflt when not given. */
