@@ -4,6 +4,7 @@
 #include "fuzz.h"
 
 #include "mote/hardspheres.h"
+#include "mote/live.h"
 #include "mote/mixingbox.h"
 #include "mote/charging.h"
 #include "mote/nbody.h"
@@ -14,9 +15,14 @@
 #include "../src/mixingbox/mb.h"
 #include "../src/nbody/nb.h"
 
+#include <arpa/inet.h>
+#include <math.h>
+#include <netinet/in.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/socket.h>
+#include <sys/time.h>
 #include <unistd.h>
 
 /* A scratch directory made once per process (removed by the operating system's /tmp cleaning;
@@ -286,6 +292,110 @@ static int fuzz_sep_state(const uint8_t *data, size_t size)
     return 0;
 }
 
+/* A mesh file through the reader users get (Assimp in its child process, or the plain format):
+ * the first byte picks the extension, the rest is the file. A mesh that loads must have a
+ * finite, positive area. */
+static int fuzz_ch_mesh(const uint8_t *data, size_t size)
+{
+    static const char *const ext[] = {"stl", "obj", "ply", "off", "gltf", "dae", "3ds", "tri"};
+    if (size < 1)
+        return 0;
+    char name[32], path[256];
+    snprintf(name, sizeof name, "in.%s", ext[data[0] % (sizeof ext / sizeof ext[0])]);
+    if (write_input(name, data + 1, size - 1, path, sizeof path))
+        return 0;
+    mote_err err = {0};
+    mote_ch_body b = {0};
+    mote_ch_load_opts o = {.format = "auto", .scale = 1, .rot_axis = -1};
+    mote_ch_load_report r;
+    if (mote_ch_body_load(&b, path, &o, &r, &err) == 0) {
+        mote_ch_geometry g;
+        mote_ch_body_geometry(&b, &g);
+        if (!(g.area > 0) || !isfinite(g.area))
+            __builtin_trap();
+    }
+    mote_ch_body_free(&b);
+    return 0;
+}
+
+/* The separator's input files (gas profile, size table, hole list, class edges): the same bytes
+ * through each, as a script names them, validated (which reads them). */
+static int fuzz_sep_files(const uint8_t *data, size_t size)
+{
+    static const char *const use[] = {
+        "model separator\nchannel 0.05 1\ngas_profile ",
+        "model separator\nchannel 0.05 1\nspecies a 2500\nsize a table file=",
+        "model separator\nchannel 0.05 1\ngrid 0.3 0.01 holes file=",
+        "model separator\ndim 3\nchannel 0.05 1 D=0.05\ngrid 0.3 0.01 holes file=",
+        "model separator\nclasses_file ",
+    };
+    char path[256];
+    if (write_input("in.txt", data, size, path, sizeof path))
+        return 0;
+    for (size_t k = 0; k < sizeof use / sizeof use[0]; k++) {
+        char text[512];
+        snprintf(text, sizeof text, "%s%s\n", use[k], path);
+        mote_err err = {0};
+        mote_script *sc = NULL;
+        if (mote_script_parse(&sc, "fuzz.mote", text, strlen(text), MODELS,
+                              sizeof MODELS / sizeof MODELS[0], &err) == 0) {
+            mote_context *ctx = mote_script_context(sc);
+            FILE *null = fopen("/dev/null", "w");
+            if (null) {
+                ctx->out = ctx->diag = null;
+                mote_script_validate(sc, &err);
+                fclose(null);
+            }
+            mote_script_free(sc);
+        }
+    }
+    return 0;
+}
+
+/* The live server's request handling: the bytes as one HTTP connection to a server started once
+ * per process (with a frame published), read until it closes or 100 ms pass. */
+static int fuzz_live_http(const uint8_t *data, size_t size)
+{
+    static mote_live *live; /* started once (the fuzz process is single-threaded) */
+    static int port;
+    if (!live) {
+        char url[128];
+        mote_err err = {0};
+        if (mote_live_start(&live, NULL, 0, url, &err))
+            return 0;
+        const char *colon = strrchr(url, ':');
+        port = colon ? atoi(colon + 1) : 0;
+        static const char frame[] = "{\"model\":\"fuzz\",\"frame\":1}";
+        mote_live_publish(live, frame, sizeof frame - 1);
+    }
+    int fd = socket(AF_INET, SOCK_STREAM, 0);
+    if (fd < 0)
+        return 0;
+    struct sockaddr_in a;
+    memset(&a, 0, sizeof a);
+    a.sin_family = AF_INET;
+    a.sin_port = htons((uint16_t)port);
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    struct timeval tv = {0, 100000};
+    setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+    setsockopt(fd, SOL_SOCKET, SO_SNDTIMEO, &tv, sizeof tv);
+    if (connect(fd, (struct sockaddr *)&a, sizeof a) == 0) {
+        size_t off = 0;
+        while (off < size) {
+            ssize_t w = send(fd, data + off, size - off, MSG_NOSIGNAL);
+            if (w <= 0)
+                break;
+            off += (size_t)w;
+        }
+        shutdown(fd, SHUT_WR);
+        char buf[4096];
+        while (recv(fd, buf, sizeof buf, 0) > 0)
+            ;
+    }
+    close(fd);
+    return 0;
+}
+
 static int fuzz_plot(const uint8_t *data, size_t size)
 {
     char in[256], out[256];
@@ -312,6 +422,9 @@ const mote_fuzz_target mote_fuzz_targets[] = {
     {"nb_galactica", fuzz_nb_galactica},
     {"nb_galctl", fuzz_nb_galctl},
     {"nb_galjob", fuzz_nb_galjob},
+    {"ch_mesh", fuzz_ch_mesh},
+    {"sep_files", fuzz_sep_files},
+    {"live_http", fuzz_live_http},
 };
 const size_t mote_fuzz_ntargets = sizeof mote_fuzz_targets / sizeof mote_fuzz_targets[0];
 

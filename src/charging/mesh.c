@@ -16,6 +16,7 @@
 #include <assimp/scene.h>
 #include <ctype.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
@@ -264,7 +265,7 @@ static int precheck(const char *path, double size, mote_err *err)
     FILE *f = fopen(path, "rb");
     if (!f)
         return mote_fail(err, MOTE_EIO, "%s: cannot open (%s)", path, strerror(errno));
-    char head[4096];
+    char head[65536];
     size_t n = fread(head, 1, sizeof head - 1, f);
     fclose(f);
     head[n] = '\0';
@@ -296,10 +297,14 @@ static int precheck(const char *path, double size, mote_err *err)
         for (const char *q = p; *q; q++) /* the rest must be text */
             if (!isprint((unsigned char)*q) && !isspace((unsigned char)*q))
                 return mote_fail(err, MOTE_EFORMAT, "%s: a byte that is not text in the OFF "
-                                 "file's first 4 KiB", path);
+                                 "file's first 64 KiB", path);
         return header_counts_fit(path, nv, nf, 6, 8, size, err);
     }
     if (n >= 3 && !memcmp(head, "ply", 3)) {
+        /* (Assimp 5.2 reads a header without its end for ever) */
+        if (!strstr(head, "end_header"))
+            return mote_fail(err, MOTE_EFORMAT, "%s: a PLY header without end_header in its "
+                             "first 64 KiB", path);
         const int binary = strstr(head, "format binary") != NULL;
         double nv = 0, nf = 0, v;
         const char *e;
@@ -314,9 +319,22 @@ static int precheck(const char *path, double size, mote_err *err)
     return MOTE_OK;
 }
 
-/* The child: read with Assimp, write the soup (or the error) to fd, and exit. */
-static void assimp_child(int fd, const char *path, const char *fallback, double as_limit)
+/* The child: read with Assimp, write the soup (or the error) to fd, and exit. Its time is
+ * bounded too (a reader that loops for ever on a damaged file ends with SIGXCPU or SIGALRM):
+ * cpu_limit seconds of processor time, twice that of wall clock. Its own messages (Assimp's
+ * assertions) go nowhere: the parent reports how it ended. */
+static void assimp_child(int fd, const char *path, const char *fallback, double as_limit,
+                         unsigned cpu_limit)
 {
+    struct rlimit cpu = {cpu_limit, cpu_limit + 1};
+    setrlimit(RLIMIT_CPU, &cpu);
+    alarm(2 * cpu_limit);
+    int null = open("/dev/null", O_WRONLY);
+    if (null >= 0) {
+        dup2(null, 1);
+        dup2(null, 2);
+        close(null);
+    }
 #if !defined(__SANITIZE_ADDRESS__)
     if (as_limit > 0) {
         struct rlimit rl = {(rlim_t)as_limit, (rlim_t)as_limit};
@@ -407,6 +425,9 @@ static int assimp_receive(int fd, const char *path, soup *s, mote_err *err)
     return MOTE_OK;
 }
 
+/* The reader's processor time: this many seconds, and one more a MiB of the file. */
+#define ASSIMP_CPU_SECONDS 10
+
 static int read_assimp(const char *path, soup *s, const char *fallback, mote_err *err)
 {
     struct stat st;
@@ -445,7 +466,8 @@ static int read_assimp(const char *path, soup *s, const char *fallback, mote_err
     }
     if (pid == 0) {
         close(fds[0]);
-        assimp_child(fds[1], path, fallback, vsz + budget);
+        assimp_child(fds[1], path, fallback, vsz + budget,
+                     ASSIMP_CPU_SECONDS + (unsigned)(st.st_size >> 20));
     }
     close(fds[1]);
     rc = assimp_receive(fds[0], path, s, err);
@@ -457,7 +479,10 @@ static int read_assimp(const char *path, soup *s, const char *fallback, mote_err
         if (WIFSIGNALED(status))
             rc = mote_fail(err, MOTE_EFORMAT, "%s: Assimp stopped on this file (%s%s): not a mesh "
                            "file mote can read", path, strsignal(WTERMSIG(status)),
-                           WTERMSIG(status) == SIGABRT ? ", an assertion or memory exhausted" : "");
+                           WTERMSIG(status) == SIGABRT ? ", an assertion or memory exhausted"
+                           : WTERMSIG(status) == SIGXCPU || WTERMSIG(status) == SIGALRM
+                               ? ", out of time: it may loop for ever on a damaged file"
+                               : "");
         else
             rc = mote_fail(err, MOTE_EFORMAT, "%s: Assimp could not read this file (its reader "
                            "ended with status %d)", path,
