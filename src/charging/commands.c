@@ -416,6 +416,10 @@ static int check_body(void *vm, const mote_call *c, mote_err *err)
         int rc = load_opts(c, &o, err);
         if (rc)
             return rc;
+        mote_err e2 = {0};
+        if (strcmp(o.format, "plain") != 0 && ch_mesh_precheck(mote_call_opt(c, "file")->path, &e2))
+            return mote_call_fail(err, c, mote_call_opt_index(c, "file"), e2.code, "body load: %s",
+                                  e2.msg);
         m->have_body = 1;
         return MOTE_OK;
     }

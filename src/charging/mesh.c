@@ -262,6 +262,12 @@ static int header_counts_fit(const char *path, double nv, double nf, double vb, 
 /* OFF and PLY headers read here, before Assimp sees them. */
 static int precheck(const char *path, double size, mote_err *err)
 {
+    if (size <= 0) { /* (a size not known yet: the file's own) */
+        struct stat st;
+        if (stat(path, &st) != 0 || !S_ISREG(st.st_mode))
+            return MOTE_OK; /* (the reader reports it) */
+        size = (double)st.st_size;
+    }
     FILE *f = fopen(path, "rb");
     if (!f)
         return mote_fail(err, MOTE_EIO, "%s: cannot open (%s)", path, strerror(errno));
@@ -318,6 +324,8 @@ static int precheck(const char *path, double size, mote_err *err)
     }
     return MOTE_OK;
 }
+
+int ch_mesh_precheck(const char *path, mote_err *err) { return precheck(path, 0, err); }
 
 /* The child: read with Assimp, write the soup (or the error) to fd, and exit. Its time is
  * bounded too (a reader that loops for ever on a damaged file ends with SIGXCPU or SIGALRM):
