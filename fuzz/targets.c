@@ -335,19 +335,7 @@ static int fuzz_sep_files(const uint8_t *data, size_t size)
     for (size_t k = 0; k < sizeof use / sizeof use[0]; k++) {
         char text[512];
         snprintf(text, sizeof text, "%s%s\n", use[k], path);
-        mote_err err = {0};
-        mote_script *sc = NULL;
-        if (mote_script_parse(&sc, "fuzz.mote", text, strlen(text), MODELS,
-                              sizeof MODELS / sizeof MODELS[0], &err) == 0) {
-            mote_context *ctx = mote_script_context(sc);
-            FILE *null = fopen("/dev/null", "w");
-            if (null) {
-                ctx->out = ctx->diag = null;
-                mote_script_validate(sc, &err);
-                fclose(null);
-            }
-            mote_script_free(sc);
-        }
+        fuzz_script((const uint8_t *)text, strlen(text));
     }
     return 0;
 }
