@@ -5,7 +5,9 @@
 # then a hang), a header declaring 10^8 particles over three lines (allocated 12.5 GB first);
 # mixing boxes of 1e155 and of infinite width (passed the check, then overflowed the cell grid),
 # tiny disks in a large box (the engine rebuilt at the same instant forever); `profile` with
-# 10^9 samples (unbounded memory). Each runs under a time limit, so a hang fails. Then the
+# 10^9 samples (unbounded memory); issue 33: image bins per radius, a Galactica area of 10^7
+# nodes, a script of 10^5 save lines (quadratic bookkeeping). Each runs under a time limit, so a
+# hang fails. Then the
 # smaller faults: an unhelpful 'bad header', raw bytes echoed, a device replaced by a file.
 # Usage: sh tests/test_hardening.sh BUILD_DIR
 NAME=test_hardening
@@ -69,4 +71,10 @@ expect 1 "utf.mote:2:1: error: unknown command '\\xFF\\xFEstep'" utf.mote "new 2
 expect 2 "dev.mote:2:1: error: cannot write '/dev/null': it exists and is not a regular file" dev.mote "new 2 0.3\nsave /dev/null\n"
 [ -c /dev/null ] && ok || bad "/dev/null is no longer a device"
 
+# issue 33: counts a script can ask for are bounded before anything is allocated, and the
+# bookkeeping of a long script is not quadratic (10^5 save lines took over a minute to check)
+limited 1 "bins.mote:2:9: error: image: p must be in [1, 10000], found 10000000" bins.mote "new 8 0.3\nimage 1 10000000 F\n"
+limited 1 "area.mote:2:1: error: generate area: 426 x 214 x 107 = 9754548 nodes is more than the 10^6" area.mote "model nbody\ngenerate area mu=425 b=0.5 c=0.25\n"
+awk 'BEGIN { print "new 8 0.3"; for (i = 0; i < 100000; i++) printf "save s%d.txt\n", i }' > saves.mote
+timeout 60 "$MOTE" check saves.mote > out.txt 2> err.txt && grep -q 'ok: 100001 commands' out.txt && ok || bad "10^5 save lines: $(tail -c 300 err.txt)"
 mote_test_end
