@@ -334,6 +334,11 @@ int ch_mesh_precheck(const char *path, mote_err *err) { return precheck(path, 0,
 static void assimp_child(int fd, const char *path, const char *fallback, double as_limit,
                          unsigned cpu_limit)
 {
+    /* a fatal signal ends the child as the default does, whatever handlers the parent had (a
+     * fuzzer's or a sanitizer's would report the child's end as the parent's crash) */
+    static const int fatal[] = {SIGABRT, SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGXCPU, SIGALRM};
+    for (size_t k = 0; k < sizeof fatal / sizeof fatal[0]; k++)
+        signal(fatal[k], SIG_DFL);
     struct rlimit cpu = {cpu_limit, cpu_limit + 1};
     setrlimit(RLIMIT_CPU, &cpu);
     alarm(2 * cpu_limit);
