@@ -12,6 +12,7 @@
 # Usage: sh tests/test_hardening.sh BUILD_DIR
 NAME=test_hardening
 . "$(dirname "$0")/lib.sh"
+SRC=$(cd "$(dirname "$0")/.." && pwd)
 mote_test_start "$1"
 
 # state(NAME, FIRST_PARTICLE_LINE [, N]): the two-sphere example of docs/file-formats.md
@@ -77,4 +78,10 @@ limited 1 "bins.mote:2:9: error: image: p must be in [1, 10000], found 10000000"
 limited 1 "area.mote:2:1: error: generate area: 426 x 214 x 107 = 9754548 nodes is more than the 10^6" area.mote "model nbody\ngenerate area mu=425 b=0.5 c=0.25\n"
 awk 'BEGIN { print "new 8 0.3"; for (i = 0; i < 100000; i++) printf "save s%d.txt\n", i }' > saves.mote
 timeout 60 "$MOTE" check saves.mote > out.txt 2> err.txt && grep -q 'ok: 100001 commands' out.txt && ok || bad "10^5 save lines: $(tail -c 300 err.txt)"
+# found by `make fuzz` (issue 33): a mixing box with loss 1 (inelastic) and disks at 10^4 m/s:
+# a pair left in contact approaching by less than an ulp of its speeds collided again and again
+# at one instant (the change of velocity rounded away), a hang
+cp "$SRC/fuzz/corpus/mb_state/timeout-inelastic-contact-below-an-ulp" ulp.state
+limited 0 "" ulp.mote "model mixing-box\nload ulp.state\nkicks 8 1 0\nloss 1\nrun 0.01\n"
+grep -q '^N=10 t=0.06 ' out.txt && ok || bad "the inelastic run did not reach t = 0.06: $(tail -n 1 out.txt)"
 mote_test_end

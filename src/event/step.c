@@ -249,6 +249,16 @@ scan_pairs(const mote_ev *ev, uint32_t i, const int poly, const int minimg, doub
             if (disc <= 0)
                 continue;
             dt = c / (-b + sqrt(disc));
+        } else {
+            /* A pair in contact that approaches by less than the rounding of its speeds was left
+             * so by a collision whose change of velocity fell below an ulp (an inelastic one at
+             * 10^4 m/s): colliding it again changes nothing and would repeat for ever at this
+             * instant. It is not approaching. (|b| <= 1e-12 |dr| |v|; rounding leaves 1e-16.) */
+            double s2 = 0;
+            FOR_AXES(a)
+                s2 += vi[a] * vi[a] + pj->v[a] * pj->v[a];
+            if (b * b <= 1e-24 * dr2 * s2)
+                continue;
         }
         double t = t0 + dt;
         if (t < now)
