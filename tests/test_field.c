@@ -14,7 +14,9 @@
  * - an inelastic gas settling on the floor: the crowded cells outgrow their blocks mid-run and
  *   every invariant still holds;
  * - a list renewal whose batch of candidates is exactly full when a crowded cell comes next:
- *   the new list is exactly the disks within the cutoff. */
+ *   the new list is exactly the disks within the cutoff;
+ * - a disk thrown over an obstacle's corner from behind the plane of its top face lands on it;
+ * - ten tiny disks, one very fast, in a large box: many events per automatic rebuild. */
 #include "mote/event.h"
 #include "mote/mixingbox.h"
 
@@ -470,6 +472,92 @@ static void test_full_batch(void)
     mote_ev_free(&ev);
 }
 
+/* A disk thrown up from behind the plane of an obstacle's top face, over its corner, comes down
+ * onto the face (found in the barometric test once rebuilds became rarer): the prediction saw
+ * the disk's stored position (its local time, long before the clock) behind the plane and
+ * skipped the face, so the disk fell through it into the block. */
+static void test_arc(void)
+{
+    printf("a flight from behind a face's plane, over its corner, onto the face\n");
+    /* the block [10, 14] x [0, 6] of test_obstacles, gravity -1 */
+    mote_ev_segment seg[3] = {
+        {{10, 0}, {10, 6}, {-1, 0}},
+        {{10, 6}, {14, 6}, {0, 1}},
+        {{14, 6}, {14, 0}, {1, 0}},
+    };
+    double corner[2][2] = {{10, 6}, {14, 6}};
+    mote_ev_field f = {0};
+    f.g[1] = -1;
+    f.seg = seg;
+    f.nseg = 3;
+    f.corner = (const double(*)[2])corner;
+    f.ncorner = 2;
+    mote_ev ev;
+    if (!setup(&ev, 1, 30, 30, &f))
+        return;
+    /* from (7, 4), 2 below the top face's contact plane y = 7 and left of the block, at
+     * (0.5, 5): y = 4 + 5 t - t^2 / 2 is 16 at x = 9 (t = 4) and at x = 10, so it clears the
+     * left face and the corner, and comes down to y = 7 at t = 5 + sqrt(19), x = 11.68 */
+    ev.p[0].r[0] = 7;
+    ev.p[0].r[1] = 4;
+    ev.p[0].v[0] = 0.5;
+    ev.p[0].v[1] = 5;
+    const double t_hit = 5 + sqrt(19);
+    mote_err err = {0};
+    CHECK(mote_ev_rebuild(&ev, &err) == MOTE_OK, "rebuild: %s", err.msg);
+    CHECK(mote_ev_run_to(&ev, t_hit - 0.01, UINT64_MAX, &err) == MOTE_OK, "run: %s", err.msg);
+    CHECK(ev.p[0].kind == MOTE_EV_SEG && ev.pc[0].partner == 1,
+          "next event: kind %d partner %u, expected the top face (kind %d, 1)", ev.p[0].kind,
+          ev.pc[0].partner, MOTE_EV_SEG);
+    double t = ev.time_total + ev.pc[0].t_ev;
+    CHECK(fabs(t - t_hit) < 1e-12, "top face hit at %.17g, expected %.17g", t, t_hit);
+    CHECK(mote_ev_run_to(&ev, t_hit + 0.5, UINT64_MAX, &err) == MOTE_OK, "run: %s", err.msg);
+    double r[3];
+    mote_ev_position(&ev, 0, r);
+    CHECK(r[1] > 7, "at t = %.3g the disk is at y = %.17g, inside the block (its top is 6)",
+          t_hit + 0.5, r[1]);
+    CHECK(mote_ev_check(&ev, &err) == MOTE_OK, "check: %s", err.msg);
+    mote_ev_free(&ev);
+}
+
+/* Ten disks of radius 5e-8 in a 2 x 1 box, one at 10^6 (found by fuzzing the mixing box's
+ * state files): the automatic rebuild horizon was 64 R / v_rms, so this gas was rebuilt every
+ * 10^-11 time units (10^5 rebuilds before t = 10^-6, minutes for a run of 0.01) while the fast
+ * disk renewed its widened list only every ~10^-7. A rebuild costs more than an event, so there
+ * must be many events per rebuild: at most one rebuild per 8 events. */
+static void test_tiny_fast(void)
+{
+    printf("ten tiny disks, one very fast: rebuilds are rarer than events\n");
+    mote_ev_field f = {0};
+    f.g[1] = -1;
+    mote_ev ev;
+    if (!setup(&ev, 10, 2, 1, &f))
+        return;
+    ev.radius0 = 5e-8;
+    for (uint32_t i = 0; i < 10; i++) {
+        ev.p[i].r[0] = 0.1 + 0.18 * i;
+        ev.p[i].r[1] = 0.3 + 0.04 * i;
+        ev.p[i].v[0] = i == 2 ? -1e6 : 1;
+        ev.p[i].v[1] = i == 2 ? -0.7 : 0.5;
+    }
+    mote_err err = {0};
+    CHECK(mote_ev_rebuild(&ev, &err) == MOTE_OK, "rebuild: %s", err.msg);
+    double e0 = energy_pot(&ev);
+    int rc = mote_ev_run_to(&ev, 1e-6, UINT64_MAX, &err);
+    CHECK(rc == MOTE_OK, "run: %s", err.msg);
+    double t = ev.time_total + ev.clock, e1 = energy_pot(&ev);
+    printf("  t = %.3g: %llu events (%llu wall hits, %llu renewals), %llu rebuilds\n", t,
+           (unsigned long long)ev.events, (unsigned long long)ev.wall_collisions,
+           (unsigned long long)ev.renewals, (unsigned long long)ev.rebuilds);
+    CHECK(fabs(t - 1e-6) < 1e-18, "stopped at t = %.17g, not 1e-6", t);
+    CHECK(ev.wall_collisions >= 1, "the fast disk, 0.46 from a wall, moved 1 without hitting it");
+    CHECK(ev.rebuilds <= ev.events / 8 + 1, "%llu rebuilds for %llu events",
+          (unsigned long long)ev.rebuilds, (unsigned long long)ev.events);
+    CHECK(mote_ev_check(&ev, &err) == MOTE_OK, "check: %s", err.msg);
+    CHECK(fabs(e1 - e0) < 1e-12 * fabs(e0), "energy drift %.3g", (e1 - e0) / e0);
+    mote_ev_free(&ev);
+}
+
 int main(void)
 {
     test_bounce();
@@ -478,5 +566,7 @@ int main(void)
     test_gas();
     test_crowding();
     test_full_batch();
+    test_tiny_fast();
+    test_arc();
     return test_summary();
 }

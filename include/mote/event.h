@@ -142,6 +142,7 @@ typedef struct {
     uint64_t events;          /* all processed events (including stale and list) since creation */
     uint64_t stale_events;    /* pair events found stale (the partner changed course first) */
     uint64_t renewals;        /* neighbour-list renewals (list expiries) */
+    uint64_t rebuilds;        /* automatic rebuilds (the clock reached t_rebuild) */
     double t_rebuild;     /* the clock value that triggers an automatic rebuild */
     int ready;            /* 1 after a successful mote_ev_rebuild; 0 before the first and after
                            * a failed one (lists, cells or calendar may be missing): running,

@@ -155,8 +155,6 @@ int mote_ev_set_field(mote_ev *ev, const mote_ev_field *f, mote_err *err)
 
 /* ---- measurements of the state ---------------------------------------------------------------- */
 
-/* ---- measurements of the state ---------------------------------------------------------------- */
-
 void mote_ev_position(const mote_ev *ev, uint32_t i, double out[3])
 {
     const mote_particle *p = &ev->p[i];

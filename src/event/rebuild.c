@@ -395,7 +395,10 @@ int mote_ev_rebuild(mote_ev *ev, mote_err *err)
     if (rc)
         return rc;
 
-    /* automatic rebuild horizon: 64 R / v_rms with v_rms from sum m v^2 / sum m */
+    /* automatic rebuild horizon: 64 R / v_rms with v_rms from sum m v^2 / sum m, or 16 shells
+     * where the shell was widened (a dilute field-mode gas): tied to the radius alone, ten
+     * tiny fast disks in a large box rebuilt 10^11 times a simulated second, each rebuild
+     * costing more than the few events between two */
     mote_ksum mv2 = {0, 0}, msum = {0, 0};
     for (uint32_t i = 0; i < n; i++) {
         double m = mote_ev_mass(ev, i), v2 = 0;
@@ -405,7 +408,8 @@ int mote_ev_rebuild(mote_ev *ev, mote_err *err)
         mote_ksum_add(&msum, m);
     }
     double vrms = sqrt(mote_ksum_value(&mv2) / mote_ksum_value(&msum));
-    ev->t_rebuild = vrms > 0 ? 64.0 * (0.5 * ev->sigma_max) / vrms : INFINITY;
+    const double horizon = fmax(32.0 * ev->sigma_max, 16.0 * ev->shell);
+    ev->t_rebuild = vrms > 0 ? horizon / vrms : INFINITY;
 
     /* 4. predict in index order, then fill the calendar in index order */
     for (uint32_t i = 0; i < n; i++)

@@ -95,3 +95,32 @@ double mote_first_root(const double *c, int deg, double tmax)
     }
     return INFINITY;
 }
+
+double mote_first_entry(const double *c, int deg, double tmax)
+{
+    while (deg > 0 && c[deg] == 0)
+        deg--;
+    if (deg == 0 || !(tmax > 0))
+        return INFINITY;
+    double crit[4];
+    int nc = 0;
+    if (deg >= 2) {
+        double d[4];
+        for (int k = 1; k <= deg; k++)
+            d[k - 1] = k * c[k];
+        nc = roots_in(d, deg - 1, 0, tmax, crit);
+    }
+    /* on each monotone piece: once above zero, the first piece that ends at or below it holds
+     * the entry; below zero, a piece that ends above it rose there (and stays up to its end) */
+    double u = 0;
+    int above = c[0] > 0;
+    for (int k = 0; k <= nc; k++) {
+        double w = k < nc ? crit[k] : tmax, pw = horner(c, deg, w);
+        if (above && !(pw > 0))
+            return bisect(c, deg, u, w, 1);
+        if (pw > 0)
+            above = 1;
+        u = w;
+    }
+    return INFINITY;
+}

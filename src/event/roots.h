@@ -10,4 +10,9 @@
  * monotone intervals between the real roots of the derivative (recursively). */
 double mote_first_root(const double *c, int deg, double tmax);
 
+/* The smallest t in [0, tmax] at which the polynomial goes from positive to <= 0, wherever it
+ * starts: one that starts at or below 0 must first rise above it (a centre behind a face's
+ * plane, or beside the face, that can still come down onto it). INFINITY when there is none. */
+double mote_first_entry(const double *c, int deg, double tmax);
+
 #endif

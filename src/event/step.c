@@ -332,12 +332,25 @@ predict_field(const mote_ev *ev, uint32_t i, double *best, uint32_t *kind, uint3
         double qx = px - cl * ux, qy = py - cl * uy;
         if (qx * qx + qy * qy > (Ri + reach) * (Ri + reach))
             continue;
+        /* the centre's distance from the face's plane at the particle's local time ti, which
+         * may lie long before the clock: the particle may then have been anywhere along its
+         * flight, behind the plane or beside the face as well as in front of it */
         double s0 = (pi->r[0] - sk->a[0]) * sk->n[0] + (pi->r[1] - sk->a[1]) * sk->n[1];
-        if (s0 < -Ri)
-            continue; /* behind the face: it can only reach it around a corner */
         double c[3] = {s0 - Ri, pi->v[0] * sk->n[0] + pi->v[1] * sk->n[1],
                        0.5 * (g[0] * sk->n[0] + g[1] * sk->n[1])};
-        double dt = gap_closes(c, 2, *best - ti);
+        double dt;
+        if (c[0] > 0) {
+            dt = mote_first_root(c, 2, *best - ti);
+        } else {
+            /* within a radius of the plane or behind it: touching the face (over it, not
+             * behind its plane), or a flight that must rise above the contact plane before
+             * it can come down onto the face (a parabola over the obstacle's corner) */
+            double at0 = (pi->r[0] - sk->a[0]) * ux + (pi->r[1] - sk->a[1]) * uy;
+            if (s0 >= -Ri && at0 >= 0 && at0 <= len)
+                dt = gap_closes(c, 2, *best - ti);
+            else
+                dt = mote_first_entry(c, 2, *best - ti);
+        }
         if (!(dt < INFINITY))
             continue;
         /* the contact point must lie on the segment (beyond its ends the corners take over) */
@@ -763,6 +776,7 @@ static inline __attribute__((always_inline)) int run(mote_ev *ev, uint64_t ncoll
              * happens at the last event, as it always has. */
             if (ev->clock == 0)
                 ev->clock = ev->t_rebuild;
+            ev->rebuilds++;
             int rc = mote_ev_rebuild(ev, err);
             if (rc)
                 return rc;
