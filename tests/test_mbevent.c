@@ -50,8 +50,9 @@ typedef struct {
     uint64_t wrong_cap;
 } acc;
 
-static int sampler(void *ctx, mote_mb *sys, mote_err *err)
+static int sampler(void *ctx, void *subject, mote_err *err)
 {
+    mote_mb *sys = subject;
     acc *a = ctx;
     a->samples++;
     double s = 0, k = 0;
@@ -93,9 +94,9 @@ static void test_energy(void)
     CHECK(mote_mb_place(&s, &p, &err) == MOTE_OK, "place: %s", err.msg);
     double e0 = mote_mb_energy(&s, NULL);
     acc a = {0};
-    mote_mb_sampler smp = {{0.0, 0.1, 1}, &a, sampler};
+    mote_observer smp = {{0.0, 0.1, 1}, &a, sampler};
     uint64_t target = sanitized ? 200000 : 1000000;
-    mote_mb_hooks hooks = {&smp, 1, target, NULL, 0, 0, 0};
+    mote_loop hooks = {&smp, 1, target, NULL, 0, 0, 0};
     int rc = mote_mb_run(&s, INFINITY, &hooks, &err);
     CHECK(rc == MOTE_OK, "run: %s", err.msg);
     double e1 = mote_mb_energy(&s, NULL);
@@ -170,8 +171,8 @@ static void test_effusion_and_mixing(void)
         mote_mb_free(&s);
         return;
     }
-    mote_mb_sampler smp = {{t0, dt, 1}, &a, sampler};
-    mote_mb_hooks hooks = {&smp, 1, UINT64_MAX, NULL, 0, 0, 0};
+    mote_observer smp = {{t0, dt, 1}, &a, sampler};
+    mote_loop hooks = {&smp, 1, UINT64_MAX, NULL, 0, 0, 0};
     CHECK(mote_mb_run(&s, t0 + T, &hooks, &err) == MOTE_OK, "run: %s", err.msg);
     double crossings = (double)(s.cross_lr - lr0 + s.cross_rl - rl0);
     double rate = crossings / (2 * T);           /* one way, per second */
@@ -235,8 +236,8 @@ static void test_barometric(void)
     a.hist = hist;
     a.nbins = 20;
     double T = 200;
-    mote_mb_sampler smp = {{s.time, 0.2, 1}, &a, sampler};
-    mote_mb_hooks hooks = {&smp, 1, UINT64_MAX, NULL, 0, 0, 0};
+    mote_observer smp = {{s.time, 0.2, 1}, &a, sampler};
+    mote_loop hooks = {&smp, 1, UINT64_MAX, NULL, 0, 0, 0};
     CHECK(mote_mb_run(&s, s.time + T, &hooks, &err) == MOTE_OK, "run: %s", err.msg);
     double e1 = mote_mb_energy(&s, NULL);
     CHECK(fabs(e1 - e0) < 1e-11 * fabs(e0), "energy (kinetic + potential) drift %.3g",

@@ -557,8 +557,9 @@ static void test_measures(void)
 
 /* ---- runs -------------------------------------------------------------------------------------------- */
 
-static int sample_log(void *ctx, mote_mb *sys, mote_err *err)
+static int sample_log(void *ctx, void *subject, mote_err *err)
 {
+    mote_mb *sys = subject;
     double *log_ = ctx;
     size_t k = (size_t)log_[0]++;
     if (k < 64)
@@ -584,8 +585,8 @@ static void test_runs(void)
     brute_energy(&s, &k0);
     /* samples at t0 + k DT, exactly; k = 0 belongs to the caller */
     double log_[65] = {0};
-    mote_mb_sampler smp = {{0.0, 0.1, 1}, log_, sample_log};
-    mote_mb_hooks hooks = {&smp, 1, UINT64_MAX, NULL, 0, 0, 0};
+    mote_observer smp = {{0.0, 0.1, 1}, log_, sample_log};
+    mote_loop hooks = {&smp, 1, UINT64_MAX, NULL, 0, 0, 0};
     CHECK(mote_mb_run(&s, 0.3, &hooks, &err) == MOTE_OK, "run: %s", err.msg);
     /* 3 * 0.1 = 0.30000000000000004 lies a hair past 0.3: taken at the end */
     CHECK_INT(log_[0], 3);
@@ -611,7 +612,7 @@ static void test_runs(void)
           (unsigned long long)s.collisions, (unsigned long long)s.wall_hits);
     /* the collision limit: stops at the end of the step that reaches it */
     uint64_t c0 = s.collisions, st0 = s.steps;
-    hooks.collisions_end = c0 + 50;
+    hooks.n_end = c0 + 50;
     CHECK(mote_mb_run(&s, INFINITY, &hooks, &err) == MOTE_OK, "run: %s", err.msg);
     CHECK(s.collisions >= c0 + 50 && s.collisions < c0 + 80, "collisions %llu -> %llu",
           (unsigned long long)c0, (unsigned long long)s.collisions);

@@ -3,13 +3,13 @@
  * integrator works on, the rules every integrator shares (collision rules with the TC model,
  * wall kicks, chamber bookkeeping) and the integrator plug-in point:
  *
- *     int mb_run_timestep(mote_mb *sys, double t_end, mote_mb_hooks *hooks, mote_err *err);
- *     int mb_run_event   (mote_mb *sys, double t_end, mote_mb_hooks *hooks, mote_err *err);
+ *     int mb_run_timestep(mote_mb *sys, double t_end, mote_loop *loop, mote_err *err);
+ *     int mb_run_event   (mote_mb *sys, double t_end, mote_loop *loop, mote_err *err);
  *
  * mote_mb_run dispatches to one of them by sys->p.integrator. The contract an integrator keeps
- * (described in full above mote_mb_hooks) is small: advance the state in sys (plain arrays of
+ * (described in full above mote_mb_progress) is small: advance the state in sys (plain arrays of
  * positions and velocities) to t_end, stop exactly at every sample time the hooks ask for and
- * call mote_mb_hooks_fire there with the state synchronised, keep the counters and the chamber
+ * call mote_loop_fire there with the state synchronised, keep the counters and the chamber
  * of every disk up to date, and stop early once the collision limit of the hooks is reached.
  * Measurements, pictures and files live above this contract (src/mixingbox/measure.c,
  * picture.c), so a new integrator gets all of them for free. */
@@ -18,6 +18,7 @@
 
 #include "mote/command.h"
 #include "mote/core.h"
+#include "mote/loop.h"
 #include "mote/event.h"
 #include "mote/grid.h"
 #include "mote/stats.h"
@@ -249,63 +250,44 @@ void mote_mb_note_overlaps(mote_mb *sys, uint64_t count);
 
 /* ---- the integrator plug-in point ------------------------------------------------------------ */
 
-/* A sampler: fn is called at the times t0 + k dt for k = 1, 2, ... (k = 0, the start, is taken
- * by the command that installs the sampler). k counts the calls so far. */
-typedef struct {
-    mote_schedule at; /* sample k at at.t0 + k at.dt */
-    void *ctx;
-    int (*fn)(void *ctx, mote_mb *sys, mote_err *err);
-} mote_mb_sampler;
-
-/* What an integrator must honour, besides t_end:
+/* The run loop (include/mote/loop.h) is the integrators' plug-in point: its observers are the
+ * samplers (fire(ctx, subject, err) with subject the mote_mb), its count the collisions. What an
+ * integrator must honour, besides t_end:
  *
- * - Sample times. t_stop = mote_mb_hooks_stop(hooks, t_end) is the next time to stop at: the
+ * - Sample times. t_stop = mote_loop_stop(loop, t_end) is the next time to stop at: the
  *   earliest pending sample time t0 + k dt, or t_end (a sample within 1e-9 dt before t_end is
  *   taken at t_end). The integrator advances the system to exactly t_stop (never past it), sets
  *   sys->time = t_stop (assigned, not accumulated) with x, y, vx, vy, side and every counter
- *   synchronised to that instant, and calls mote_mb_hooks_fire(hooks, sys, err), which runs
- *   every sampler due and returns non-zero on an error the integrator must return at once.
+ *   synchronised to that instant, and calls mote_loop_fire(loop, sys, sys->time, err), which
+ *   runs every sampler due and returns non-zero on an error the integrator must return at once.
  *   Then it asks for the next t_stop, until sys->time reaches t_end.
- * - Collision limit. When sys->collisions >= hooks->collisions_end the integrator stops (the
- *   event integrator right after that collision, with the state synchronised to its time; the
+ * - Collision limit. When sys->collisions >= loop->n_end the integrator stops (the event
+ *   integrator right after that collision, with the state synchronised to its time; the
  *   timestep integrator at the end of that step). UINT64_MAX means no limit; t_end may then be
  *   INFINITY.
  * - Counters and chambers: collisions (through mote_mb_collide), wall_hits, partition_hits,
  *   slit_hits, corner_hits, and mote_mb_note_side for every centre that may have passed X1_C.
- * - Progress: call mote_mb_hooks_progress(hooks, sys) now and then (it is cheap).
+ * - Progress: call mote_mb_progress(loop, sys) now and then (it is cheap).
  * - On return: state synchronised to sys->time, sys->generation bumped.
  * Overlaps are counted by the driver (mote_mb_run) at the start and end of a run and by the
  * recording at every sample; an integrator may count more often (the timestep one does). */
-typedef struct mote_mb_hooks {
-    mote_mb_sampler *samplers;
-    size_t nsamplers;
-    uint64_t collisions_end; /* stop once sys->collisions reaches this; UINT64_MAX: no limit */
-    mote_progress *progress; /* may be NULL */
-    double t_begin, t_end;   /* of the whole run, for the progress fraction */
-    uint64_t collisions_begin;
-} mote_mb_hooks;
 
-/* Earliest pending sample time (INFINITY when there are no samplers). */
-double mote_mb_hooks_next(const mote_mb_hooks *h);
-/* The time to stop at next: min(next sample, t_end), where a sample within 1e-9 dt of t_end
- * counts as t_end. */
-double mote_mb_hooks_stop(const mote_mb_hooks *h, double t_end);
-/* Run every sampler due at sys->time (next sample <= sys->time + 1e-9 dt), in order. */
-int mote_mb_hooks_fire(mote_mb_hooks *h, mote_mb *sys, mote_err *err);
-void mote_mb_hooks_progress(mote_mb_hooks *h, const mote_mb *sys);
+/* The loop's progress at the run's present time (mote_mb_live_time: during an event run the
+ * engine's clock, ahead of sys->time) and collision count. */
+void mote_mb_progress(mote_loop *loop, const mote_mb *sys);
 /* Disk i's centre now, and the time now, for a live view during a run (only reads). */
 void mote_mb_live_position(const mote_mb *sys, uint32_t i, double xy[2]);
 void mote_mb_live_velocity(const mote_mb *sys, uint32_t i, double v[2]);
 double mote_mb_live_time(const mote_mb *sys);
 
 /* The two integrators. mb_run_event lives in src/mixingbox/event.c on the event engine. */
-int mb_run_timestep(mote_mb *sys, double t_end, mote_mb_hooks *hooks, mote_err *err);
-int mb_run_event(mote_mb *sys, double t_end, mote_mb_hooks *hooks, mote_err *err);
+int mb_run_timestep(mote_mb *sys, double t_end, mote_loop *loop, mote_err *err);
+int mb_run_event(mote_mb *sys, double t_end, mote_loop *loop, mote_err *err);
 
 /* Run to t_end (or the collision limit) with the integrator of sys->p.integrator: resets the
- * per-run overlap bookkeeping and counts overlaps at the start and at the end. hooks may be
+ * per-run overlap bookkeeping and counts overlaps at the start and at the end. loop may be
  * NULL (no samplers, no limit). */
-int mote_mb_run(mote_mb *sys, double t_end, mote_mb_hooks *hooks, mote_err *err);
+int mote_mb_run(mote_mb *sys, double t_end, mote_loop *loop, mote_err *err);
 
 /* The model as registered with the script language. */
 extern const mote_model mote_model_mixingbox;

@@ -30,7 +30,7 @@ typedef struct {
     mb_record rec;
     mb_density dens;
     mb_frames frames;
-    mote_mb_sampler rec_s, dens_s, frames_s;
+    mote_observer rec_s, dens_s, frames_s;
 } mb_model;
 
 static void *model_create(mote_context *ctx, int dry)
@@ -359,7 +359,7 @@ static int run_load(void *vm, const mote_call *c, mote_err *err)
     int rc = mb_load(&m->sys, &m->p, path, err);
     if (!rc && m->sys.time != t_before) {
         /* samplers running from an earlier time go on from the loaded one */
-        mote_mb_sampler *s[3] = {m->rec.active ? &m->rec_s : NULL,
+        mote_observer *s[3] = {m->rec.active ? &m->rec_s : NULL,
                                  m->dens.active ? &m->dens_s : NULL,
                                  m->frames.active ? &m->frames_s : NULL};
         for (int k = 0; k < 3; k++)
@@ -507,7 +507,7 @@ static int do_run(mb_model *m, const mote_call *c, double t_end, uint64_t collis
 {
     mote_mb *s = &m->sys;
     apply_physics(m);
-    mote_mb_sampler samplers[3];
+    mote_observer samplers[3];
     size_t ns = 0;
     if (m->rec.active)
         samplers[ns++] = m->rec_s;
@@ -517,10 +517,10 @@ static int do_run(mb_model *m, const mote_call *c, double t_end, uint64_t collis
         samplers[ns++] = m->frames_s;
     mote_progress prog;
     mote_progress_begin(&prog, c->ctx, c->name);
-    mote_mb_hooks hooks = {samplers, ns, collisions_end, &prog, 0, 0, 0};
+    mote_loop loop = {samplers, ns, collisions_end, &prog, 0, 0, 0};
     double e0 = mote_mb_energy(s, NULL), t0 = s->time, wall = mote_wall_seconds();
     mote_mb before = *s;
-    int rc = mote_mb_run(s, t_end, &hooks, err);
+    int rc = mote_mb_run(s, t_end, &loop, err);
     mote_progress_end(&prog);
     /* the samplers' positions in their sequences */
     ns = 0;
@@ -615,7 +615,7 @@ static int run_record(void *vm, const mote_call *c, mote_err *err)
         return rc;
     }
     m->rec.active = 1;
-    m->rec_s = (mote_mb_sampler){{m->sys.time, m->rec.dt, 1}, &m->rec, mb_record_sample};
+    m->rec_s = (mote_observer){{m->sys.time, m->rec.dt, 1}, &m->rec, mb_record_sample};
     if (m->log)
         fprintf(m->log, "record: every %g s into %s\n", m->rec.dt, m->rec.path);
     return MOTE_OK;
@@ -654,7 +654,7 @@ static int run_density(void *vm, const mote_call *c, mote_err *err)
         return rc;
     }
     d->active = 1;
-    m->dens_s = (mote_mb_sampler){{m->sys.time, d->dt, 1}, d, mb_density_sample};
+    m->dens_s = (mote_observer){{m->sys.time, d->dt, 1}, d, mb_density_sample};
     if (m->log)
         fprintf(m->log, "density_y: %lld bins every %g s into %s\n", (long long)d->nbins, d->dt,
                 d->path);
@@ -739,7 +739,7 @@ static int run_frames(void *vm, const mote_call *c, mote_err *err)
     if (rc)
         return rc;
     fr->active = 1;
-    m->frames_s = (mote_mb_sampler){{m->sys.time, fr->dt, 1}, fr, mb_frames_sample};
+    m->frames_s = (mote_observer){{m->sys.time, fr->dt, 1}, fr, mb_frames_sample};
     if (m->log)
         fprintf(m->log, "frames: every %g s as %s_NNNNNN.png from %06llu\n", fr->dt, fr->prefix,
                 (unsigned long long)(fr->next_index - 1));

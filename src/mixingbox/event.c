@@ -25,7 +25,7 @@ typedef struct {
     mote_mb *sys;
     mote_ev *ev;
     double x0, y0; /* box origin */
-    mote_mb_hooks *hooks;
+    mote_loop *loop;
     uint32_t events; /* since the last progress call */
 } mb_link;
 
@@ -40,7 +40,7 @@ static void on_event(void *ctx, uint32_t i)
     mote_mb_note_side(l->sys, i);
     if (++l->events >= 4096) {
         l->events = 0;
-        mote_mb_hooks_progress(l->hooks, l->sys);
+        mote_mb_progress(l->loop, l->sys);
     }
 }
 
@@ -130,13 +130,13 @@ static void sync_counters(mote_mb *sys, const mote_ev *ev, const mote_mb_rules *
 }
 
 /* Run the samplers with nothing moving (no disks) up to t_end. */
-static int run_empty(mote_mb *sys, double t_end, mote_mb_hooks *hooks, mote_err *err)
+static int run_empty(mote_mb *sys, double t_end, mote_loop *loop, mote_err *err)
 {
     for (;;) {
-        double t_stop = hooks ? mote_mb_hooks_stop(hooks, t_end) : t_end;
+        double t_stop = loop ? mote_loop_stop(loop, t_end) : t_end;
         sys->time = t_stop;
-        if (hooks) {
-            int rc = mote_mb_hooks_fire(hooks, sys, err);
+        if (loop) {
+            int rc = mote_loop_fire(loop, sys, sys->time, err);
             if (rc)
                 return rc;
         }
@@ -145,11 +145,11 @@ static int run_empty(mote_mb *sys, double t_end, mote_mb_hooks *hooks, mote_err 
     }
 }
 
-int mb_run_event(mote_mb *sys, double t_end, mote_mb_hooks *hooks, mote_err *err)
+int mb_run_event(mote_mb *sys, double t_end, mote_loop *loop, mote_err *err)
 {
     const mote_mb_params *p = &sys->p;
     if (sys->n == 0) {
-        int rc = run_empty(sys, t_end, hooks, err);
+        int rc = run_empty(sys, t_end, loop, err);
         sys->generation++;
         return rc;
     }
@@ -158,7 +158,7 @@ int mb_run_event(mote_mb *sys, double t_end, mote_mb_hooks *hooks, mote_err *err
     if (rc)
         return rc;
     const double t_offset = sys->time;
-    mb_link l = {sys, &ev, p->x_l, p->x_b, hooks, 0};
+    mb_link l = {sys, &ev, p->x_l, p->x_b, loop, 0};
     ev.len[0] = p->x_r - p->x_l;
     ev.len[1] = p->x_t - p->x_b;
     ev.radius0 = p->r;
@@ -208,8 +208,8 @@ int mb_run_event(mote_mb *sys, double t_end, mote_mb_hooks *hooks, mote_err *err
     sys->live_t0 = t_offset;
     uint64_t last[9] = {0};
     while (!rc) {
-        double t_stop = hooks ? mote_mb_hooks_stop(hooks, t_end) : t_end;
-        uint64_t limit = hooks ? hooks->collisions_end : UINT64_MAX;
+        double t_stop = loop ? mote_loop_stop(loop, t_end) : t_end;
+        uint64_t limit = loop ? loop->n_end : UINT64_MAX;
         if (sys->collisions >= limit)
             break;
         rc = mote_ev_run_to(&ev, t_stop - t_offset, limit - sys->collisions, err);
@@ -220,11 +220,11 @@ int mb_run_event(mote_mb *sys, double t_end, mote_mb_hooks *hooks, mote_err *err
         sync_back(&l, at_limit ? t_offset + mote_ev_time(&ev) : t_stop);
         if (at_limit)
             break;
-        if (hooks) {
-            rc = mote_mb_hooks_fire(hooks, sys, err);
+        if (loop) {
+            rc = mote_loop_fire(loop, sys, sys->time, err);
             if (rc)
                 break;
-            mote_mb_hooks_progress(hooks, sys);
+            mote_mb_progress(loop, sys);
         }
         if (!(t_stop < t_end))
             break;

@@ -77,7 +77,7 @@ typedef struct {
 
 void mb_record_free(mb_record *r);
 /* Take one row from the state (counts overlaps and notes them in sys). */
-int mb_record_sample(void *ctx, mote_mb *sys, mote_err *err);
+int mb_record_sample(void *ctx, void *subject, mote_err *err);
 int mb_record_write(const mb_record *r, const mote_mb *sys, mote_err *err);
 
 /* The `density_y DT NBINS FILE` profile: y histograms per chamber summed over samples. */
@@ -95,7 +95,7 @@ typedef struct {
 } mb_density;
 
 void mb_density_free(mb_density *d);
-int mb_density_sample(void *ctx, mote_mb *sys, mote_err *err);
+int mb_density_sample(void *ctx, void *subject, mote_err *err);
 int mb_density_write(const mb_density *d, const mote_mb *sys, mote_err *err);
 
 /* The header lines every mixing-box data file starts with: the common preamble (datafile.h) of
@@ -129,7 +129,7 @@ typedef struct {
 
 /* PREFIX_%06d.png for index k (malloc'ed). */
 char *mb_frame_name(const char *prefix, uint64_t k);
-int mb_frames_sample(void *ctx, mote_mb *sys, mote_err *err);
+int mb_frames_sample(void *ctx, void *subject, mote_err *err);
 
 /* Render a mixing-box data file (mixing curve or density profile) as a PNG. */
 int mb_plot_file(const char *in, const char *out, mote_err *err);

@@ -49,8 +49,9 @@ void mb_record_free(mb_record *r)
     memset(r, 0, sizeof *r);
 }
 
-int mb_record_sample(void *ctx, mote_mb *sys, mote_err *err)
+int mb_record_sample(void *ctx, void *subject, mote_err *err)
 {
+    mote_mb *sys = subject;
     mb_record *r = ctx;
     if (r->nrows == r->cap) {
         size_t cap = r->cap ? 2 * r->cap : 256;
@@ -150,8 +151,9 @@ void mb_density_free(mb_density *d)
     memset(d, 0, sizeof *d);
 }
 
-int mb_density_sample(void *ctx, mote_mb *sys, mote_err *err)
+int mb_density_sample(void *ctx, void *subject, mote_err *err)
 {
+    mote_mb *sys = subject;
     mb_density *d = ctx;
     for (uint32_t i = 0; i < sys->n; i++) {
         int c = sys->side[i] ? 1 : 0;

@@ -145,8 +145,9 @@ char *mb_frame_name(const char *prefix, uint64_t k)
     return s;
 }
 
-int mb_frames_sample(void *ctx, mote_mb *sys, mote_err *err)
+int mb_frames_sample(void *ctx, void *subject, mote_err *err)
 {
+    mote_mb *sys = subject;
     mb_frames *fr = ctx;
     char *name = mb_frame_name(fr->prefix, fr->next_index);
     if (!name)

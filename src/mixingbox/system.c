@@ -440,79 +440,28 @@ void mote_mb_note_overlaps(mote_mb *sys, uint64_t count)
         sys->overlaps_max = count;
 }
 
-/* ---- hooks ----------------------------------------------------------------------------------- */
+/* ---- progress ------------------------------------------------------------------------------- */
 
-static double sample_time(const mote_mb_sampler *s) { return mote_schedule_next(&s->at); }
-
-double mote_mb_hooks_next(const mote_mb_hooks *h)
+void mote_mb_progress(mote_loop *loop, const mote_mb *sys)
 {
-    double next = INFINITY;
-    for (size_t k = 0; h && k < h->nsamplers; k++) {
-        double t = sample_time(&h->samplers[k]);
-        if (t < next)
-            next = t;
-    }
-    return next;
-}
-
-double mote_mb_hooks_stop(const mote_mb_hooks *h, double t_end)
-{
-    double stop = t_end;
-    for (size_t k = 0; h && k < h->nsamplers; k++) {
-        const mote_mb_sampler *s = &h->samplers[k];
-        double t = sample_time(s);
-        /* a sample a hair before the end is taken at the end */
-        if (t < stop && t <= t_end - 1e-9 * s->at.dt)
-            stop = t;
-    }
-    return stop;
-}
-
-int mote_mb_hooks_fire(mote_mb_hooks *h, mote_mb *sys, mote_err *err)
-{
-    for (size_t k = 0; h && k < h->nsamplers; k++) {
-        mote_mb_sampler *s = &h->samplers[k];
-        while (sample_time(s) <= sys->time + 1e-9 * s->at.dt) {
-            int rc = s->fn(s->ctx, sys, err);
-            s->at.k++;
-            if (rc)
-                return rc;
-        }
-    }
-    return MOTE_OK;
-}
-
-void mote_mb_hooks_progress(mote_mb_hooks *h, const mote_mb *sys)
-{
-    if (!h || !h->progress)
-        return;
-    double f = 0.0;
-    if (isfinite(h->t_end) && h->t_end > h->t_begin)
-        f = (sys->time - h->t_begin) / (h->t_end - h->t_begin);
-    if (h->collisions_end != UINT64_MAX && h->collisions_end > h->collisions_begin) {
-        double fc = (double)(sys->collisions - h->collisions_begin) /
-                    (double)(h->collisions_end - h->collisions_begin);
-        if (fc > f)
-            f = fc;
-    }
-    mote_progress_update(h->progress, f);
+    mote_loop_progress(loop, mote_mb_live_time(sys), sys->collisions);
 }
 
 /* ---- running --------------------------------------------------------------------------------- */
 
-int mote_mb_run(mote_mb *sys, double t_end, mote_mb_hooks *hooks, mote_err *err)
+int mote_mb_run(mote_mb *sys, double t_end, mote_loop *loop, mote_err *err)
 {
     if (!sys->placed)
         return mote_fail(err, MOTE_EINVAL, "run: no disks are placed yet");
-    mote_mb_hooks none = {NULL, 0, UINT64_MAX, NULL, 0, 0, 0};
-    if (!hooks)
-        hooks = &none;
+    mote_loop none = {NULL, 0, UINT64_MAX, NULL, 0, 0, 0};
+    if (!loop)
+        loop = &none;
     if (!(t_end >= sys->time))
         return mote_fail(err, MOTE_EINVAL, "run: the end time %g is before the current time %g",
                          t_end, sys->time);
-    hooks->t_begin = sys->time;
-    hooks->t_end = t_end;
-    hooks->collisions_begin = sys->collisions;
+    loop->t_begin = sys->time;
+    loop->t_end = t_end;
+    loop->n_begin = sys->collisions;
     sys->overlaps_max = 0;
     sys->overlap_steps = 0;
     uint64_t ov = mote_mb_count_overlaps(sys, MOTE_MB_OVERLAP_TOL);
@@ -538,8 +487,8 @@ int mote_mb_run(mote_mb *sys, double t_end, mote_mb_hooks *hooks, mote_err *err)
                                  "place the disks anew",
                                  i, sys->x[i], sys->y[i]);
     }
-    int rc = sys->p.integrator == MOTE_MB_EVENT ? mb_run_event(sys, t_end, hooks, err)
-                                                : mb_run_timestep(sys, t_end, hooks, err);
+    int rc = sys->p.integrator == MOTE_MB_EVENT ? mb_run_event(sys, t_end, loop, err)
+                                                : mb_run_timestep(sys, t_end, loop, err);
     ov = mote_mb_count_overlaps(sys, MOTE_MB_OVERLAP_TOL);
     if (ov != UINT64_MAX)
         mote_mb_note_overlaps(sys, ov);

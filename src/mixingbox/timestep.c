@@ -304,7 +304,7 @@ int mb_ts_step(mote_mb *sys, double dt, double t_new, mote_err *err)
     return rc;
 }
 
-int mb_run_timestep(mote_mb *sys, double t_end, mote_mb_hooks *hooks, mote_err *err)
+int mb_run_timestep(mote_mb *sys, double t_end, mote_loop *loop, mote_err *err)
 {
     ts_work w;
     memset(&w, 0, sizeof w);
@@ -313,8 +313,8 @@ int mb_run_timestep(mote_mb *sys, double t_end, mote_mb_hooks *hooks, mote_err *
         work_free(&w);
         return mote_fail(err, MOTE_ENOMEM, "run: out of memory");
     }
-    while (!rc && sys->time < t_end && sys->collisions < hooks->collisions_end) {
-        double t_stop = mote_mb_hooks_stop(hooks, t_end);
+    while (!rc && sys->time < t_end && sys->collisions < loop->n_end) {
+        double t_stop = mote_loop_stop(loop, t_end);
         if (sys->time < t_stop) {
             double dt = mb_ts_dt(sys);
             if (!isfinite(dt)) {
@@ -334,9 +334,9 @@ int mb_run_timestep(mote_mb *sys, double t_end, mote_mb_hooks *hooks, mote_err *
                 break;
             sys->time = t_new;
         }
-        rc = mote_mb_hooks_fire(hooks, sys, err);
+        rc = mote_loop_fire(loop, sys, sys->time, err);
         if ((sys->steps & 255) == 0)
-            mote_mb_hooks_progress(hooks, sys);
+            mote_mb_progress(loop, sys);
     }
     work_free(&w);
     sys->generation++;
