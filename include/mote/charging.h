@@ -192,6 +192,10 @@ typedef struct {
     /* float (spec 6.5): the potential its search starts from (the root found is the one time
      * evolution from U0 reaches: the first sign change of I_net walking from U0 along it) */
     double U0;
+    /* progress on a terminal (NULL: none): each run shows the share of its histories done under
+     * the label (the command's name), and wipes the line when it ends */
+    const mote_context *progress_ctx;
+    const char *progress_label;
 } mote_ch_run_opts;
 
 /* OML current (spec 6.4) of one Maxwellian component (n, kT eV, m, Z) to a sphere of area A at

@@ -201,14 +201,16 @@ char *mote_call_origin(const mote_call *c);
 /* ---- progress on a terminal ---------------------------------------------------------------- */
 
 typedef struct {
-    int enabled;
+    int enabled, shown; /* shown: a line is on the terminal (end wipes it) */
     double start, last;
+    double interval; /* seconds between lines: 0.25, or MOTE_PROGRESS_INTERVAL (tests use 0) */
     char label[64];
     const mote_context *ctx; /* (its live-view hook) */
 } mote_progress;
 
 void mote_progress_begin(mote_progress *p, const mote_context *ctx, const char *label);
-/* fraction in [0, 1]; prints "\rlabel 42.0%  ~12 s left" to stdout at most 4 times a second. */
+/* fraction in [0, 1]; prints "\rlabel 42.0%  ~12 s left" to stdout at most 4 times a second
+ * (every `interval` seconds) when stdout is a terminal; nothing otherwise. */
 void mote_progress_update(mote_progress *p, double fraction);
 void mote_progress_end(mote_progress *p);
 

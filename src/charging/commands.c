@@ -966,7 +966,9 @@ static mote_ch_run_opts run_opts(const ch_model *m, const mote_call *c, const mo
                           .sun_dir = {m->sun_dir[0], m->sun_dir[1], m->sun_dir[2]},
                           .sun_intensity = m->sun_int,
                           .eta = m->eta,
-                          .max_steps = m->max_steps};
+                          .max_steps = m->max_steps,
+                          .progress_ctx = c->ctx,
+                          .progress_label = c->name};
     return o;
 }
 

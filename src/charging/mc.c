@@ -357,6 +357,16 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
     mpi_layout(&mrank, &msize);
     struct timespec t0, t1;
     clock_gettime(CLOCK_MONOTONIC, &t0);
+    /* progress: blocks done over all components (this rank's), shown by thread 0 */
+    mote_progress prog;
+    mote_progress_begin(&prog, o->progress_ctx, o->progress_label);
+    const uint64_t nblocks_all = (o->particles + BLOCK - 1) / BLOCK;
+    const uint64_t blocks_mine = nblocks_all > (uint64_t)mrank
+                                     ? (nblocks_all - (uint64_t)mrank + (uint64_t)msize - 1) /
+                                           (uint64_t)msize
+                                     : 0;
+    const double blocks_total = (double)blocks_mine * (double)r->ncomp;
+    uint64_t blocks_done = 0;
     int comp = 0;
     for (int s = 0; s < p->nsp; s++)
         for (int k = 0; k < p->sp[s].ncomp; k++, comp++) {
@@ -403,12 +413,14 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
             ch_i128 *psee = see ? calloc((size_t)nt * nsee, sizeof *psee) : NULL;
             if (see && !psee) {
                 mote_ch_result_free(r);
+                mote_progress_end(&prog);
                 return mote_fail(err, MOTE_ENOMEM, "run: out of memory for the secondary tallies");
             }
             if (see && !r->tri_see &&
                 !(r->tri_see = calloc((size_t)r->ncomp * ntri * 2, sizeof *r->tri_see))) {
                 free(psee);
                 mote_ch_result_free(r);
+                mote_progress_end(&prog);
                 return mote_fail(err, MOTE_ENOMEM, "run: out of memory for the secondary tallies");
             }
             uint64_t *tally = r->tri_hits + (size_t)comp * ntri * 2;
@@ -416,6 +428,7 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
             uint64_t *priv = nt > 1 ? calloc((size_t)nt * ntri * 2, sizeof *priv) : NULL;
             if (nt > 1 && !priv) {
                 mote_ch_result_free(r);
+                mote_progress_end(&prog);
                 return mote_fail(err, MOTE_ENOMEM, "run: out of memory for %d threads' tallies",
                                  nt);
             }
@@ -601,6 +614,13 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                     }
 #undef SEE_SCORE
 #undef STRAIGHT_E
+                    if (prog.enabled || (o->progress_ctx && o->progress_ctx->tick)) {
+                        uint64_t done;
+#pragma omp atomic capture
+                        done = ++blocks_done;
+                        if (tid == 0)
+                            mote_progress_update(&prog, (double)done / blocks_total);
+                    }
                 }
             }
             for (int th = 1; see && th < nt; th++) /* integers: any order gives the same sums */
@@ -632,6 +652,7 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
             r->steps += steps;
             r->max_energy_err = fmax(r->max_energy_err, eerr);
         }
+    mote_progress_end(&prog);
     if ((double)r->lost > 1e-6 * (double)r->ncomp * (double)o->particles) {
         const uint64_t lost = r->lost;
         const double total = (double)o->particles * (double)r->ncomp;

@@ -149,9 +149,14 @@ enum { PROGRESS_PAD = 40 }; /* room for the percentage and time after the label 
 void mote_progress_begin(mote_progress *p, const mote_context *ctx, const char *label)
 {
     p->enabled = ctx && ctx->terminal;
+    p->shown = 0;
     p->ctx = ctx;
     p->start = p->last = p->enabled ? mote_wall_seconds() : 0.0;
     snprintf(p->label, sizeof p->label, "%s", label ? label : "");
+    const char *iv = getenv("MOTE_PROGRESS_INTERVAL");
+    char *end = NULL;
+    double v = iv && *iv ? strtod(iv, &end) : 0.25;
+    p->interval = iv && *iv && end && !*end && v >= 0 && v <= 3600 ? v : 0.25;
 }
 
 void mote_progress_update(mote_progress *p, double fraction)
@@ -161,9 +166,10 @@ void mote_progress_update(mote_progress *p, double fraction)
     if (!p->enabled)
         return;
     double now = mote_wall_seconds();
-    if (now - p->last < 0.25) /* at most four lines a second */
+    if (now - p->last < p->interval) /* at most four lines a second by default */
         return;
     p->last = now;
+    p->shown = 1;
     if (!(fraction >= 0.0))
         fraction = 0.0;
     if (fraction > 1.0)
@@ -185,9 +191,8 @@ void mote_progress_update(mote_progress *p, double fraction)
 
 void mote_progress_end(mote_progress *p)
 {
-    /* last moves past start only when a line was printed; then wipe it so the next output
-     * starts on a clean line. */
-    if (p->enabled && p->last > p->start) {
+    /* wipe a line that was printed, so the next output starts on a clean line */
+    if (p->enabled && p->shown) {
         printf("\r%*s\r", (int)strlen(p->label) + PROGRESS_PAD, "");
         fflush(stdout);
     }

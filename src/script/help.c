@@ -258,6 +258,10 @@ void mote_help_markdown(FILE *out, const mote_model *const *models, size_t nmode
             "decimal literals such as `0.49` or `1e-6`. The first command may select the model\n"
             "(`model NAME`); a script without one is a `%s` script. The whole script is checked\n"
             "before anything runs: `mote check SCRIPT` only checks, `mote run SCRIPT` checks and runs.\n"
+            "On a terminal, the long commands of every model (`step` and the compressions, `run`,\n"
+            "`run_collisions`, `integrate`, the charging model's `run`, `float`, `evolve` and `test`)\n"
+            "show their progress, the percentage done and the time left, on one line that is wiped\n"
+            "when they end; into a file or a pipe they write nothing extra.\n"
             "\n"
             "## Commands of every model\n\n",
             MOTE_DEFAULT_MODEL);

@@ -14,6 +14,7 @@
 #include <sys/stat.h>
 
 #include "mote/datafile.h"
+#include "mote/loop.h"
 #include "mote/render.h"
 #include "sep.h"
 
@@ -28,7 +29,7 @@ typedef struct {
     struct {
         int on, movie, fps;
         char *dir;
-        double dt, next;
+        mote_schedule at;
         uint64_t index;
         sep_frame_opts fo;
     } frames;
@@ -41,15 +42,17 @@ typedef struct {
     struct {
         int on;
         char *dir;
-        double dt, next;
+        mote_schedule at;
         uint64_t index;
     } snaps;
     struct {
         int on, held;
         char *path, *origin;
-        double dt, next, *rows;
+        mote_schedule at;
+        double *rows;
         size_t nrows, cap;
     } bal;
+    mote_loop loop; /* during a run: the outputs above as observers, and the progress */
 } sep_model;
 
 static void *model_create(mote_context *ctx, int dry)
@@ -789,6 +792,9 @@ static void print_status(sep_model *m)
 }
 
 static int run_hook(void *vm, mote_sep_system *s, mote_err *err);
+static int fire_frame(void *ctx, void *subject, mote_err *err);
+static int fire_snapshot(void *ctx, void *subject, mote_err *err);
+static int fire_balance(void *ctx, void *subject, mote_err *err);
 static int run_end(sep_model *m, mote_err *err);
 static int make_dir(const char *dir, mote_err *err);
 
@@ -825,11 +831,33 @@ static int do_run(void *vm, const mote_call *c, mote_err *err)
         rc = make_dir(m->frames.dir, err);
     if (!rc && m->snaps.on)
         rc = make_dir(m->snaps.dir, err);
+    /* the run loop: the scheduled outputs as observers, progress on a terminal */
+    mote_observer obs[3];
+    mote_schedule *at[3];
+    size_t nobs = 0;
+    if (m->frames.on) {
+        at[nobs] = &m->frames.at;
+        obs[nobs++] = (mote_observer){m->frames.at, NULL, fire_frame};
+    }
+    if (m->snaps.on) {
+        at[nobs] = &m->snaps.at;
+        obs[nobs++] = (mote_observer){m->snaps.at, NULL, fire_snapshot};
+    }
+    if (m->bal.on) {
+        at[nobs] = &m->bal.at;
+        obs[nobs++] = (mote_observer){m->bal.at, NULL, fire_balance};
+    }
+    mote_progress prog;
+    mote_progress_begin(&prog, m->ctx, "run");
+    m->loop = (mote_loop){obs, nobs, UINT64_MAX, &prog, m->sys.t, m->sys.t + c->args[0].r, 0};
     if (!rc)
         rc = run_hook(m, &m->sys, err);
-    const int any = m->frames.on || m->snaps.on || m->bal.on || m->live.on;
     if (!rc)
-        rc = mote_sep_run_hook(&m->sys, c->args[0].r, any ? run_hook : NULL, m, err);
+        rc = mote_sep_run_hook(&m->sys, c->args[0].r, run_hook, m, err);
+    mote_progress_end(&prog);
+    for (size_t k = 0; k < nobs; k++) /* where each schedule stands, for the next run */
+        *at[k] = obs[k].at;
+    m->loop = (mote_loop){NULL, 0, UINT64_MAX, NULL, 0, 0, 0};
     if (!rc)
         rc = run_end(m, err);
     if (!rc && m->log)
@@ -967,8 +995,7 @@ static int do_frames(void *vm, const mote_call *c, mote_err *err)
     if (mv && choice(c, "movie", 0, mv->text, "on", "off", &movie_off, err))
         return err->code;
     m->frames.on = 1;
-    m->frames.dt = c->args[1].r;
-    m->frames.next = m->sys.t;
+    m->frames.at = (mote_schedule){m->sys.t, c->args[1].r, 0};
     m->frames.index = 0;
     m->frames.movie = !movie_off;
     m->frames.fps = (int)mote_call_opt_r(c, "fps", 20);
@@ -999,8 +1026,7 @@ static int do_snapshots(void *vm, const mote_call *c, mote_err *err)
     if (rc)
         return rc;
     m->snaps.on = 1;
-    m->snaps.dt = c->args[1].r;
-    m->snaps.next = m->sys.t;
+    m->snaps.at = (mote_schedule){m->sys.t, c->args[1].r, 0};
     m->snaps.index = 0;
     return MOTE_OK;
 }
@@ -1019,8 +1045,7 @@ static int do_balance(void *vm, const mote_call *c, mote_err *err)
     m->bal.path = p;
     m->bal.origin = o;
     m->bal.on = 1;
-    m->bal.dt = c->args[1].r;
-    m->bal.next = m->sys.t;
+    m->bal.at = (mote_schedule){m->sys.t, c->args[1].r, 0};
     m->bal.nrows = 0;
     m->bal.held = 1;
     return MOTE_OK;
@@ -1036,46 +1061,49 @@ static char *numbered(const char *dir, const char *name, uint64_t k, const char 
     return p;
 }
 
-/* Whether a schedule (next, every dt) is due at time t; it then moves past t. */
-static int due(double *next, double dt, double t)
+/* The scheduled outputs, observers of the run loop (subject: the model). */
+static int fire_frame(void *ctx, void *subject, mote_err *err)
 {
-    if (t < *next - 1e-9 * dt)
-        return 0;
-    while (*next <= t + 1e-9 * dt)
-        *next += dt;
-    return 1;
+    sep_model *m = subject;
+    char *p = numbered(m->frames.dir, "frame", m->frames.index++, ".png");
+    int rc = p ? sep_frame_png(&m->sys, p, &m->frames.fo, err) : mote_fail(err, MOTE_ENOMEM, "frames");
+    free(p);
+    return rc;
 }
 
-/* After every step (and once before the first): the frames, snapshots, balance rows and the
- * live picture that are due. */
+static int fire_snapshot(void *ctx, void *subject, mote_err *err)
+{
+    sep_model *m = subject;
+    char *p = numbered(m->snaps.dir, "snapshot", m->snaps.index++, ".xyz");
+    int rc = p ? sep_write_xyz(&m->sys, p, err) : mote_fail(err, MOTE_ENOMEM, "snapshots");
+    free(p);
+    return rc;
+}
+
+static int fire_balance(void *ctx, void *subject, mote_err *err)
+{
+    sep_model *m = subject;
+    const size_t w = sep_balance_width(&m->sys);
+    if (m->bal.nrows == m->bal.cap) {
+        const size_t cap = m->bal.cap ? 2 * m->bal.cap : 256;
+        double *r = realloc(m->bal.rows, cap * w * sizeof *r);
+        if (!r)
+            return mote_fail(err, MOTE_ENOMEM, "balance: out of memory");
+        m->bal.rows = r;
+        m->bal.cap = cap;
+    }
+    sep_balance_row(&m->sys, m->bal.rows + m->bal.nrows++ * w);
+    if (mote_sep_check_balance(&m->sys))
+        m->bal.held = 0;
+    return MOTE_OK;
+}
+
+/* After every step (and once before the first): the outputs that are due, the live picture,
+ * and the progress (which also gives a live view its frames). */
 static int run_hook(void *vm, mote_sep_system *s, mote_err *err)
 {
     sep_model *m = vm;
-    int rc = MOTE_OK;
-    if (m->frames.on && due(&m->frames.next, m->frames.dt, s->t)) {
-        char *p = numbered(m->frames.dir, "frame", m->frames.index++, ".png");
-        rc = p ? sep_frame_png(s, p, &m->frames.fo, err) : mote_fail(err, MOTE_ENOMEM, "frames");
-        free(p);
-    }
-    if (!rc && m->snaps.on && due(&m->snaps.next, m->snaps.dt, s->t)) {
-        char *p = numbered(m->snaps.dir, "snapshot", m->snaps.index++, ".xyz");
-        rc = p ? sep_write_xyz(s, p, err) : mote_fail(err, MOTE_ENOMEM, "snapshots");
-        free(p);
-    }
-    if (!rc && m->bal.on && due(&m->bal.next, m->bal.dt, s->t)) {
-        const size_t w = sep_balance_width(s);
-        if (m->bal.nrows == m->bal.cap) {
-            const size_t cap = m->bal.cap ? 2 * m->bal.cap : 256;
-            double *r = realloc(m->bal.rows, cap * w * sizeof *r);
-            if (!r)
-                return mote_fail(err, MOTE_ENOMEM, "balance: out of memory");
-            m->bal.rows = r;
-            m->bal.cap = cap;
-        }
-        sep_balance_row(s, m->bal.rows + m->bal.nrows++ * w);
-        if (mote_sep_check_balance(s))
-            m->bal.held = 0;
-    }
+    int rc = mote_loop_fire(&m->loop, m, s->t, err);
     if (!rc && m->live.on) {
         const double now = mote_wall_seconds();
         if (now - m->live.last >= 1 / m->live.hz) {
@@ -1083,8 +1111,7 @@ static int run_hook(void *vm, mote_sep_system *s, mote_err *err)
             m->live.last = now;
         }
     }
-    if (!rc && m->ctx && m->ctx->tick) /* the live view (a frame when due; only reads) */
-        m->ctx->tick(m->ctx->tick_arg);
+    mote_loop_progress(&m->loop, s->t, 0);
     return rc;
 }
 

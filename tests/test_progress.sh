@@ -1,0 +1,120 @@
+#!/bin/sh
+# test_progress.sh BUILD_DIR: every model's long commands show their progress on a terminal
+# ("\rLABEL 42.0%  ~3 s left", rising, wiped at the end) and print nothing extra when the output
+# is not a terminal (issue 34). A pseudo-terminal (Python's pty) stands in for the terminal;
+# MOTE_PROGRESS_INTERVAL=0 shows every update, so a command that ends fast still shows some.
+NAME=progress
+. "$(dirname "$0")/lib.sh"
+mote_test_start "$1"
+
+cat > hs.mote <<'X'
+model hard-spheres
+new 3 0.4
+step 20000
+compress_left_wall 0.43 0.001 10
+X
+cat > mb.mote <<'X'
+model mixing-box
+box 0 2 0 1
+partition 1 0.02
+slit 0.5 0.1
+radius 0.005
+disks 300 300
+v_init 1
+place
+run 3
+X
+cat > nb.mote <<'X'
+model nbody gravity
+generate ring nb=20
+integrator galactica dt=1e-6
+integrate steps=3000
+X
+cat > sep.mote <<'X'
+model separator
+channel 0.05 1
+gas 1.5
+collisions off
+timestep 1e-3
+species quartz 2650
+size quartz lognormal d50=150e-6 sigma=1.6 min=30e-6 max=600e-6
+feed z=0.5 rate=2e-5
+run 0.5
+X
+cat > ch.mote <<'X'
+model charging faithful
+body sphere radius=1
+run particles=2e5
+
+X
+
+# onterm.py MOTE SCRIPT: run `mote run SCRIPT` on a pseudo-terminal, print what it wrote
+cat > onterm.py <<'X'
+import os, pty, sys
+pid, fd = pty.fork()
+if pid == 0:
+    os.execv(sys.argv[1], [sys.argv[1], "run", sys.argv[2]])
+out = b""
+while True:
+    try:
+        d = os.read(fd, 65536)
+    except OSError:
+        break
+    if not d:
+        break
+    out += d
+_, st = os.waitpid(pid, 0)
+sys.stdout.buffer.write(out)
+sys.exit(os.waitstatus_to_exitcode(st))
+X
+# check.py FILE LABEL...: each label shows percentages, never falling, reaching above 0 (the
+# mixing box's event runs once showed 0.0% throughout) and at most 100, and the
+# last progress line of each command is wiped before the status line that follows it
+cat > check.py <<'X'
+import re, sys
+t = open(sys.argv[1], encoding="utf-8", errors="replace", newline="").read()
+bad = []
+for label in sys.argv[2:]:
+    runs = re.findall(r"((?:\r%s [0-9.]+%%[^\r\n]*)+)(\r *\r)?" % re.escape(label), t)
+    if not runs:
+        bad.append("%s: no progress line" % label)
+        continue
+    for lines, wiped in runs:
+        p = [float(x) for x in re.findall(r"\r%s ([0-9.]+)%%" % re.escape(label), lines)]
+        if any(b < a for a, b in zip(p, p[1:])) or p[-1] > 100 or not p[-1] > 0:
+            bad.append("%s: percentages %s" % (label, p[:20]))
+        if not wiped:
+            bad.append("%s: the progress line is not wiped" % label)
+print("; ".join(bad) if bad else "ok")
+X
+
+# strip.py FILE: what a terminal showed, without the progress lines and their wipes
+cat > strip.py <<'X'
+import re, sys
+t = open(sys.argv[1], encoding="utf-8", errors="replace", newline="").read()
+t = re.sub(r"\r[A-Za-z_]+ [0-9.]+%[^\r\n]*", "", t)
+t = re.sub(r"\r +\r", "", t).replace("\r\n", "\n")
+sys.stdout.write(t)
+X
+
+for m in "hs step compress_left_wall" "mb run" "nb integrate" "sep run" "ch run"; do
+    set -- $m
+    s=$1
+    shift
+    if MOTE_PROGRESS_INTERVAL=0 python3 onterm.py "$MOTE" "$s.mote" > "$s.tty" 2>&1; then ok; else
+        bad "$s: exit status $? on a terminal: $(tail -c 400 "$s.tty")"; fi
+    r=$(python3 check.py "$s.tty" "$@")
+    [ "$r" = ok ] && ok || bad "$s: $r"
+    # not a terminal: no carriage return, no progress, and the same output otherwise
+    if MOTE_PROGRESS_INTERVAL=0 "$MOTE" run "$s.mote" > "$s.out" 2>&1; then ok; else
+        bad "$s: exit status $? into a file"; fi
+    if grep -q "$(printf '\r')" "$s.out" || grep -q '%  ~' "$s.out"; then
+        bad "$s: progress written into a file: $(head -c 300 "$s.out")"; else ok; fi
+    python3 strip.py "$s.tty" > a.txt
+    # (wall-clock figures and rates differ between the two runs; into a file, hard spheres'
+    # compressions log every 1000 moves, as the original program did)
+    sed -i 's/seconds=[0-9.e+-]*//; s/_per_second=[0-9.e+-]*//; s/[0-9.e+]* traces\/s//;
+            /^compress[a-z_]*: [0-9]* moves, eta=/d' a.txt "$s.out"
+    cmp -s a.txt "$s.out" && ok || bad "$s: the output differs on a terminal: $(diff a.txt "$s.out" | head -5)"
+done
+mote_test_end
