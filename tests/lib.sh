@@ -13,6 +13,9 @@ mote_test_start() {
     failed=0
 }
 
+# The head of a small dilute separator script (one species fed at mid-height), for printf '%b'.
+SEP_DILUTE='model separator\nchannel 0.05 1\ngas 1.5\ncollisions off\ntimestep 1e-3\nspecies quartz 2650\nsize quartz lognormal d50=150e-6 sigma=1.6 min=30e-6 max=600e-6\nfeed z=0.5 rate=2e-5\n'
+
 ok() { passed=$((passed + 1)); }
 bad() { failed=$((failed + 1)); echo "FAILED: $*"; }
 

@@ -10,10 +10,10 @@ mote_test_start "$1"
 F='model charging faithful\n'
 printf '%bbody sphere radius=1\nrun particles=2e6\nevolve time=2.5e-4 dt_out=2.5e-5 file=ts.csv\n' "$F" > f1.mote
 "$MOTE" run f1.mote > out.txt 2> err.txt && ok || bad "f1.mote failed: $(cat err.txt)"
-grep -q '^# columns: t_s Q_C U_V sigma_U_V I_net_A I_e_A Nreal_e I_H+_A Nreal_H+ I_see_A I_photo_A$' ts.csv && ok || bad "time-series columns: $(grep columns ts.csv)"
-[ "$(grep -vc '^#' ts.csv)" -eq 11 ] && ok || bad "time series: $(grep -vc '^#' ts.csv) rows, expected 11 (t = 0 ... 0.25 ms)"
+[ "$(head -n 1 ts.csv | tr -d '\r')" = "t_s,Q_C,U_V,sigma_U_V,I_net_A,I_e_A,Nreal_e,I_H+_A,Nreal_H+,I_see_A,I_photo_A" ] && ok || bad "time-series columns (CSV header): $(head -n 1 ts.csv)"
+[ "$(($(wc -l < ts.csv) - 1))" -eq 11 ] && ok || bad "time series: $(wc -l < ts.csv) lines, expected a header and 11 rows (t = 0 ... 0.25 ms)"
 # U(0.25 ms) within 3 sigma of -146.77 V, and U exactly linear in t: U(t) / t the same on every row
-awk '!/^#/ { n++; t[n] = $1; U[n] = $3; s[n] = $4 } END { d = U[n] + 146.77; ok = n == 11 && d * d <= 9 * s[n] * s[n] + 1e-6;
+awk -F '[,\r]' 'FNR > 1 { n++; t[n] = $1; U[n] = $3; s[n] = $4 } END { d = U[n] + 146.77; ok = n == 11 && d * d <= 9 * s[n] * s[n] + 1e-6;
      for (k = 2; k <= n; k++) { r = U[k] / t[k] - U[n] / t[n]; if (r * r > 1e-16 * (U[n] / t[n]) ^ 2) ok = 0 } exit !ok }' ts.csv && ok || bad "U(0.25 ms): $(tail -1 ts.csv)"
 grep -q '^run: e    I = -6.70' out.txt && ok || bad "run line: $(grep '^run: e' out.txt)"
 
@@ -21,7 +21,7 @@ grep -q '^run: e    I = -6.70' out.txt && ok || bad "run line: $(grep '^run: e' 
 # numbers as the time series (P_timeseries.csv after output prefix)
 printf '%bbody sphere radius=1\noutput prefix=lg legacy_stdout=on png=off vtk=off triangles=off\nrun particles=1e5\nevolve time=2.5e-4 dt_out=5e-5\n' "$F" > lg.mote
 "$MOTE" run lg.mote > out.txt 2> err.txt && grep -E '^-?[0-9.e+-]+ -?[0-9.e+-]+ [0-9.e+-]+ [0-9.e+-]+$' out.txt > legacy.txt &&
-    awk 'NR == FNR { q[NR] = $1; u[NR] = $2; t[NR] = $3; c[NR] = $4; n = NR; next } !/^#/ { k++; d = u[k] - $3; e = c[k] - $7 - $9; if (d * d > 1e-16 * $3 * $3 || t[k] != $1 || e * e > 1e-16 * c[k] * c[k]) bad = 1 }
+    awk -F '[ ,\r]' 'NR == FNR { q[NR] = $1; u[NR] = $2; t[NR] = $3; c[NR] = $4; n = NR; next } FNR > 1 { k++; d = u[k] - $3; e = c[k] - $7 - $9; if (d * d > 1e-16 * $3 * $3 || t[k] != $1 || e * e > 1e-16 * c[k] * c[k]) bad = 1 }
          END { exit !(n == 6 && k == 6 && !bad && q[1] == 0) }' legacy.txt lg_timeseries.csv && ok || bad "legacy_stdout: $(cat legacy.txt) $(cat err.txt)"
 
 # threads give the same file (spec 5.7, S5)
@@ -84,8 +84,8 @@ for f in triangles.csv parts.csv summary.txt summary.json surface.vtk surface.pn
     [ -s "o1/craft_$f" ] && ok || bad "no o1/craft_$f"
 done
 net=$(sed -n 's/^run: net I = \([^ ]*\) A.*/\1/p' outa.txt)
-awk -v net="$net" '!/^#/ { s += $19; n++ } END { d = s - net; exit !(n == 16 && d * d <= 1e-18 * net * net) }' o1/craft_triangles.csv && ok || bad "the triangle rows (16: 12 closed, 2 sheets x 2 sides) do not add up to the net current $net"
-awk -v net="$net" '!/^#/ { s += $10 } END { d = s - net; exit !(d * d <= 1e-18 * net * net) }' o1/craft_parts.csv && ok || bad "the parts do not add up to the net current"
+awk -F '[,\r]' -v net="$net" 'FNR > 1 { s += $19; n++ } END { d = s - net; exit !(n == 16 && d * d <= 1e-18 * net * net) }' o1/craft_triangles.csv && ok || bad "the triangle rows (16: 12 closed, 2 sheets x 2 sides) do not add up to the net current $net"
+awk -F '[,\r]' -v net="$net" 'FNR > 1 { s += $10 } END { d = s - net; exit !(d * d <= 1e-18 * net * net) }' o1/craft_parts.csv && ok || bad "the parts do not add up to the net current"
 grep -q '^POINTS 42 double$' o1/craft_surface.vtk && grep -q '^POLYGONS 14 56$' o1/craft_surface.vtk && grep -q '^CELL_DATA 14$' o1/craft_surface.vtk && grep -q '^SCALARS J_net_back double 1$' o1/craft_surface.vtk && ok || bad "VTK structure"
 /usr/bin/python3 -c "
 import json, sys
@@ -101,7 +101,7 @@ cmp -s o1/craft_surface.png o2/craft_surface.png && cmp -s o1/craft_surface.vtk 
 mkdir -p op
 printf '%bplasma preset geo-worst-case\nbody load file=craft.obj\noutput prefix=op/c png=off vtk=off ply=on\nrun particles=1e5\n' "$G" > ply.mote
 "$MOTE" run ply.mote > out.txt 2> err.txt && /usr/bin/python3 -c "
-import struct, sys
+import csv, struct, sys
 b = open('op/c_surface.ply', 'rb').read()
 head, body = b.split(b'end_header\n', 1)
 h = head.decode().split('\n')
@@ -112,7 +112,7 @@ assert len(body) == 12 * nv + 20 * nf
 J = [struct.unpack_from('<f', body, 12 * nv + 20 * k + 16)[0] for k in range(nf)]
 idx = [struct.unpack_from('<3i', body, 12 * nv + 20 * k + 1) for k in range(nf)]
 assert all(body[12 * nv + 20 * k] == 3 and idx[k] == (3 * k, 3 * k + 1, 3 * k + 2) for k in range(nf))
-rows = [l.split() for l in open('op/c_triangles.csv') if not l.startswith('#')]
+rows = list(csv.reader(open('op/c_triangles.csv', newline='')))[1:]
 front = {int(r[0]): float(r[19]) for r in rows if r[3] == 'front'}
 sys.exit(not all(abs(J[k] - front[k]) <= 1e-6 * abs(front[k]) for k in range(nf)))
 " && [ ! -e op/c_surface.png ] && ok || bad "PLY: $(cat err.txt)"
@@ -124,9 +124,9 @@ printf '%bplasma preset geo-worst-case\nbody load file=craft.obj\nmaterial assig
 awk '/^run: e / { e = $5; see = $14 } /^run: H\+/ { h = $5 } /^run: net/ { net = $5 }
      END { d = e + h + see - net; exit !(see > 0 && d * d <= 1e-18 * net * net) }' out.txt && ok || bad "run lines: $(grep '^run:' out.txt)"
 net=$(sed -n 's/^run: net I = \([^ ]*\) A.*/\1/p' out.txt)
-awk -v net="$net" '!/^#/ { s += $10; see[$1] = $8; mat[$1] = $2 } END { d = s - net
-     exit !(mat["panel"] == "kapton" && mat["bus"] == "bare" && see["bus"] == 0 && see["panel"] > 0 && d * d <= 1e-18 * net * net) }' om/c_parts.csv && ok || bad "parts with kapton: $(grep -v '^#' om/c_parts.csv)"
-awk -v net="$net" '!/^#/ { s += $19; if ($2 == "bus" && $17 != 0) bus = 1 } END { d = s - net; exit !(bus == 0 && d * d <= 1e-18 * net * net) }' om/c_triangles.csv && ok || bad "the triangle rows with secondaries do not add up to $net"
+awk -F '[,\r]' -v net="$net" 'FNR > 1 { s += $10; see[$1] = $8; mat[$1] = $2 } END { d = s - net
+     exit !(mat["panel"] == "kapton" && mat["bus"] == "bare" && see["bus"] == 0 && see["panel"] > 0 && d * d <= 1e-18 * net * net) }' om/c_parts.csv && ok || bad "parts with kapton: $(cat om/c_parts.csv)"
+awk -F '[,\r]' -v net="$net" 'FNR > 1 { s += $19; if ($2 == "bus" && $17 != 0) bus = 1 } END { d = s - net; exit !(bus == 0 && d * d <= 1e-18 * net * net) }' om/c_triangles.csv && ok || bad "the triangle rows with secondaries do not add up to $net"
 # photoemission (spec 6.8): the sun on the craft; the photocurrent printed is the triangles'
 # and the parts' I_photo, and it is in the net current
 mkdir -p os
@@ -134,9 +134,9 @@ printf '%bplasma preset geo-worst-case\nbody load file=craft.obj\nmaterial assig
 "$MOTE" run sun.mote > out.txt 2> err.txt && ok || bad "sun.mote failed: $(cat err.txt)"
 ph=$(sed -n 's/^run: photoelectrons I = +\([^ ]*\) A.*/\1/p' out.txt)
 net=$(sed -n 's/^run: net I = \([^ ]*\) A.*/\1/p' out.txt)
-awk -v ph="$ph" -v net="$net" '!/^#/ { p += $18; s += $19; if ($12 > 0) lit++ } END { d = p - ph; e = s - net
+awk -F '[,\r]' -v ph="$ph" -v net="$net" 'FNR > 1 { p += $18; s += $19; if ($12 > 0) lit++ } END { d = p - ph; e = s - net
      exit !(ph > 0 && lit > 0 && d * d <= 1e-18 * ph * ph && e * e <= 1e-18 * net * net) }' os/c_triangles.csv && ok || bad "photocurrent $ph: the triangles do not add up"
-awk -v ph="$ph" '!/^#/ { p += $9 } END { d = p - ph; exit !(d * d <= 1e-18 * ph * ph) }' os/c_parts.csv && ok || bad "photocurrent $ph: the parts do not add up"
+awk -F '[,\r]' -v ph="$ph" 'FNR > 1 { p += $9 } END { d = p - ph; exit !(d * d <= 1e-18 * ph * ph) }' os/c_parts.csv && ok || bad "photocurrent $ph: the parts do not add up"
 expect 1 "s1.mote:2:5: error: sun: direction: expected X,Y,Z (toward the sun, not all 0), found '0,0,0'" s1.mote "${G}sun direction=0,0,0\n"
 expect 1 "s2.mote:2:5: error: sun: intensity must be a number >= 0 (1: 1 AU), found '-1'" s2.mote "${G}sun intensity=-1 direction=1,0,0\n"
 expect 1 "s3.mote:2:1: error: sun: give direction=X,Y,Z (or 'sun off')" s3.mote "${G}sun intensity=2\n"
@@ -266,8 +266,8 @@ expect 1 "sp9.mote:3:1: error: species: 'e' exists already" sp9.mote "${G}plasma
 # of the largest current), Nreal grows, Q = C U
 mkdir -p ots
 printf '%bplasma preset geo-worst-case\nbody sphere radius=1\nmaterial assign part=* material=aluminium\nsun direction=1,0,0 intensity=0.05\noutput prefix=ots/s\nevolve time=0.5 dt_out=0.1 particles=1e5\n' "$G" > tsf.mote
-"$MOTE" run tsf.mote > out.txt 2> err.txt && grep -q '^# columns: t_s Q_C U_V sigma_U_V I_net_A I_e_A Nreal_e I_H+_A Nreal_H+ I_see_A I_photo_A$' ots/s_timeseries.csv &&
-    awk '!/^#/ { n++; d = $6 + $8 + $10 + $11 - $5; m = ($6 < 0 ? -$6 : $6); if (d * d > (0.01 * m) ^ 2 || $7 < n7 || $9 < n9 || $11 <= 0) bad = 1; n7 = $7; n9 = $9
+"$MOTE" run tsf.mote > out.txt 2> err.txt && [ "$(head -n 1 ots/s_timeseries.csv | tr -d '\r')" = "t_s,Q_C,U_V,sigma_U_V,I_net_A,I_e_A,Nreal_e,I_H+_A,Nreal_H+,I_see_A,I_photo_A" ] &&
+    awk -F '[,\r]' 'FNR > 1 { n++; d = $6 + $8 + $10 + $11 - $5; m = ($6 < 0 ? -$6 : $6); if (d * d > (0.01 * m) ^ 2 || $7 < n7 || $9 < n9 || $11 <= 0) bad = 1; n7 = $7; n9 = $9
          q = $2 - 1.112650055e-10 * $3; if (q * q > 1e-18 * $2 * $2) bad = 1 } END { exit !(n == 6 && !bad) }' ots/s_timeseries.csv && ok || bad "full-mode time series: $(tail -2 ots/s_timeseries.csv) $(cat err.txt)"
 # float writes the files at U_f, the summary with the root, its error and the OML estimate
 mkdir -p of

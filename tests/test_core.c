@@ -1,11 +1,12 @@
 /* test_core.c: the shared core every model stands on: data files written and read back (header,
  * keys, results, columns, blocks, file lines, words among numbers, hostile files), results,
- * block statistics and sampling schedules. */
+ * block statistics and sampling schedules, data files named .csv (RFC 4180), the run loop. */
 #include "mote/datafile.h"
 #include "mote/grid.h"
 #include "mote/stats.h"
 #include "test.h"
 #include "mote/core.h"
+#include "mote/loop.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -310,6 +311,115 @@ static void test_grid(void)
     mote_grid_free(&g);
 }
 
+
+/* A data file written under a .csv name is RFC 4180 (issue 34): the column names as the header
+ * row, commas, CR LF, quotes where needed, a block column for several blocks, no '#' lines; an
+ * earlier file is replaced only when the new one is complete; other files are left alone. */
+static void read_all(const char *path, char *buf, size_t n)
+{
+    FILE *f = fopen(path, "rb");
+    size_t k = f ? fread(buf, 1, n - 1, f) : 0;
+    buf[k] = 0;
+    if (f)
+        fclose(f);
+}
+
+static void test_csv(void)
+{
+    printf("data files named .csv: RFC 4180\n");
+    char path[512], buf[4096];
+    mote_err err = {0};
+    mote_datafile d;
+    path_in(path, sizeof path, "one.CSV");
+    CHECK_INT(mote_datafile_open(&d, path, "probe", "probe one.CSV   (x.mote:1)", 7, &err), 0);
+    fprintf(d.f, "# L = 12.5\n");
+    mote_datafile_columns(&d, "x rho name");
+    fprintf(d.f, "0.5 1.25 left\n1.5   2.5e-3\ta\"b\n");
+    CHECK_INT(mote_datafile_commit(&d, &err), 0);
+    read_all(path, buf, sizeof buf);
+    CHECK_STR(buf, "x,rho,name\r\n0.5,1.25,left\r\n1.5,2.5e-3,\"a\"\"b\"\r\n");
+
+    path_in(path, sizeof path, "blocks.csv");
+    CHECK_INT(mote_datafile_open(&d, path, "probe", NULL, 7, &err), 0);
+    mote_datafile_columns(&d, "x y");
+    fprintf(d.f, "1 2\n3 4\n\n\n5 6\n\n");
+    CHECK_INT(mote_datafile_commit(&d, &err), 0);
+    read_all(path, buf, sizeof buf);
+    CHECK_STR(buf, "block,x,y\r\n0,1,2\r\n0,3,4\r\n1,5,6\r\n");
+
+    /* a file that is not a data file keeps its bytes under any name */
+    path_in(path, sizeof path, "plain.csv");
+    mote_afile af;
+    CHECK_INT(mote_afile_open(&af, path, &err), 0);
+    fputs("a b\n# c\n", af.f);
+    CHECK_INT(mote_afile_commit(&af, &err), 0);
+    read_all(path, buf, sizeof buf);
+    CHECK_STR(buf, "a b\n# c\n");
+
+    /* a data file under another name stays one */
+    path_in(path, sizeof path, "one.csv.dat");
+    CHECK_INT(mote_datafile_open(&d, path, "probe", NULL, 7, &err), 0);
+    mote_datafile_columns(&d, "x");
+    fprintf(d.f, "1\n");
+    CHECK_INT(mote_datafile_commit(&d, &err), 0);
+    read_all(path, buf, sizeof buf);
+    CHECK(strncmp(buf, "# mote probe 1\n", 15) == 0, "not converted: %.40s", buf);
+    CHECK(mote_path_is_csv("a.csv") && mote_path_is_csv("A.Csv") && !mote_path_is_csv("csv") &&
+              !mote_path_is_csv("a.csvx") && !mote_path_is_csv(".cs"),
+          "mote_path_is_csv");
+}
+
+/* The run loop's observers (include/mote/loop.h): exact times t0 + k dt, the stop, once per
+ * stop even when a step passes several times, a time a hair before the end taken at the end. */
+typedef struct {
+    int calls;
+    double t[16];
+} loop_probe;
+
+static int probe_fire(void *ctx, void *subject, mote_err *err)
+{
+    loop_probe *p = ctx;
+    if (p->calls < 16)
+        p->t[p->calls] = *(const double *)subject;
+    p->calls++;
+    return MOTE_OK;
+}
+
+static void test_loop(void)
+{
+    printf("the run loop: observers on exact schedules\n");
+    loop_probe a = {0}, b = {0};
+    mote_observer obs[2] = {{{0.0, 0.1, 1}, &a, probe_fire}, {{0.0, 0.25, 1}, &b, probe_fire}};
+    mote_loop l = {obs, 2, UINT64_MAX, NULL, 0, 1, 0};
+    mote_err err = {0};
+    double t = 0;
+    int stops = 0;
+    while (t < 1 && stops < 100) {
+        t = mote_loop_stop(&l, 1.0);
+        stops++;
+        CHECK_INT(mote_loop_fire(&l, &t, t, &err), 0);
+    }
+    CHECK_INT(a.calls, 10);
+    CHECK_INT(b.calls, 4);
+    CHECK(a.t[2] == 0.0 + 3 * 0.1 && a.t[9] == 1.0, "times %.17g %.17g", a.t[2], a.t[9]);
+    CHECK_INT(stops, 12); /* 0.1 ... 1.0 and 0.25, 0.75 (0.5 coincides with one of a's) */
+    CHECK(mote_loop_next(&l) == 0.0 + 11 * 0.1, "next %.17g", mote_loop_next(&l));
+    /* a fixed step of 0.35 passes several times: each observer fires once per stop, and its
+     * schedule moves past the step's time (no late burst) */
+    loop_probe c = {0};
+    mote_observer o1 = {{0.0, 0.1, 1}, &c, probe_fire};
+    mote_loop l1 = {&o1, 1, UINT64_MAX, NULL, 0, 1, 0};
+    double ts = 0.35;
+    CHECK_INT(mote_loop_fire(&l1, &ts, ts, &err), 0);
+    CHECK_INT(c.calls, 1);
+    CHECK(mote_loop_next(&l1) == 0.0 + 4 * 0.1, "after 0.35 the next is %.17g", mote_loop_next(&l1));
+    /* a time within 1e-9 of the interval before the end is taken at the end */
+    mote_observer o2 = {{0.0, 0.1, 10}, &c, probe_fire};
+    mote_loop l2 = {&o2, 1, UINT64_MAX, NULL, 0, 1, 0};
+    CHECK(mote_loop_stop(&l2, 1.0 + 1e-12) == 1.0 + 1e-12, "stop %.17g",
+          mote_loop_stop(&l2, 1.0 + 1e-12));
+}
+
 int main(void)
 {
     if (!test_tmpdir_make(tmpdir, sizeof tmpdir, "mote_test_core"))
@@ -318,6 +428,8 @@ int main(void)
     test_datafile_hostile();
     test_blocks_and_schedules();
     test_grid();
+    test_csv();
+    test_loop();
     test_remove_tree(tmpdir);
     return test_summary();
 }

@@ -30,17 +30,7 @@ generate ring nb=20
 integrator galactica dt=1e-6
 integrate steps=3000
 X
-cat > sep.mote <<'X'
-model separator
-channel 0.05 1
-gas 1.5
-collisions off
-timestep 1e-3
-species quartz 2650
-size quartz lognormal d50=150e-6 sigma=1.6 min=30e-6 max=600e-6
-feed z=0.5 rate=2e-5
-run 0.5
-X
+printf '%brun 0.5\n' "$SEP_DILUTE" > sep.mote
 cat > ch.mote <<'X'
 model charging faithful
 body sphere radius=1

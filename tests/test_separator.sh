@@ -8,14 +8,14 @@ NAME=separator
 mote_test_start "$1"
 
 S='model separator\n'
-printf '%bchannel 0.05 1\ngas 1.0\ncoupling off\ncollisions off\nspecies quartz 2500\nsize quartz loguniform min=75e-6 max=300e-6 basis=number\nfeed z=0.5\nclasses 25 min=75e-6 max=316.2277660e-6\ntimestep 1e-3\ninsert quartz 4000\nrun 30\ntromp tromp.csv\n' "$S" > v2.mote
+printf '%bchannel 0.05 1\ngas 1.0\ncoupling off\ncollisions off\nspecies quartz 2500\nsize quartz loguniform min=75e-6 max=300e-6 basis=number\nfeed z=0.5\nclasses 25 min=75e-6 max=316.2277660e-6\ntimestep 1e-3\ninsert quartz 4000\nrun 30\ntromp tromp.dat\n' "$S" > v2.mote
 "$MOTE" run v2.mote > out.txt 2> err.txt && ok || bad "v2.mote failed: $(cat err.txt)"
 grep -q '^t=30 steps=30000 dt=0.001 N=[0-9]* fed=4000 fines=[0-9]* coarse=[0-9]* lost=0 backlog=0 d50=' out.txt && ok || bad "status: $(grep '^t=' out.txt)"
 awk '/^# d50_m = / { d = $4 } /^# kappa = / { k = $4 } /^# d0_star_m quartz = / { s = $5 }
-     END { r = d / 151.84e-6 - 1; exit !(r * r <= 0.0004 && k >= 0.9441 && k <= 1 && s > 151.83e-6 && s < 151.85e-6) }' tromp.csv && ok || bad "tromp: $(grep '^#' tromp.csv)"
-[ "$(grep -vc '^#' tromp.csv)" -eq 25 ] && ok || bad "tromp rows: $(grep -vc '^#' tromp.csv)"
+     END { r = d / 151.84e-6 - 1; exit !(r * r <= 0.0004 && k >= 0.9441 && k <= 1 && s > 151.83e-6 && s < 151.85e-6) }' tromp.dat && ok || bad "tromp: $(grep '^#' tromp.dat)"
+[ "$(grep -vc '^#' tromp.dat)" -eq 25 ] && ok || bad "tromp rows: $(grep -vc '^#' tromp.dat)"
 # the same script and seed give the same file
-"$MOTE" run v2.mote > /dev/null 2>&1 && cp tromp.csv t1.csv && "$MOTE" run v2.mote > /dev/null 2>&1 && cmp -s t1.csv tromp.csv && ok || bad "two runs differ"
+"$MOTE" run v2.mote > /dev/null 2>&1 && cp tromp.dat t1.dat && "$MOTE" run v2.mote > /dev/null 2>&1 && cmp -s t1.dat tromp.dat && ok || bad "two runs differ"
 # DEM: 300 glass beads settle in a closed box without gas flow; none lost, the overlap within
 # twice delta_f, the status reports the contact fields
 printf '%bchannel 0.02 0.06\nends closed closed\ngas 0\nspecies glass 2500\nsize glass mono d=1e-3\nfeed z=0.03 hf=0.05\ninsert glass 300\nrun 0.005\n' "$S" > dem.mote
@@ -44,7 +44,7 @@ expect 1 "cut.mote:2:6: error: cut.state:" cut.mote "${S}load cut.state\nsave e.
 sed 's/^real W .*/real W -x/' s1.state > badw.state
 expect 1 "badw.mote:2:6: error: badw.state:4: expected a decimal number (found '-x')" badw.mote "${S}load badw.state\n"
 # outputs: frames (and the movie when ffmpeg is here), snapshots, balance, profiles, tromp, live
-printf '%bchannel 0.05 1\ngas 1.5\ncollisions off\ntimestep 1e-3\nspecies quartz 2650\nsize quartz lognormal d50=150e-6 sigma=1.6 min=30e-6 max=600e-6\nspecies ore 4500\nsize ore lognormal d50=120e-6 sigma=1.6 min=30e-6 max=600e-6\nfeed z=0.5 rate=2e-5\nfeed_fraction quartz 0.7\nfeed_fraction ore 0.3\ngrid 0.2 0.004 pattern a=3e-3 p=5e-3 offset=1e-3\nslices 50\nframes fr 0.5\nsnapshots sn 1\nbalance bal.csv 0.1\nlive_png live.png\naverage_from 1\nrun 3\ntromp tr.csv\nprofiles pr.csv\nsummary\n' "$S" > outs.mote
+printf '%bchannel 0.05 1\ngas 1.5\ncollisions off\ntimestep 1e-3\nspecies quartz 2650\nsize quartz lognormal d50=150e-6 sigma=1.6 min=30e-6 max=600e-6\nspecies ore 4500\nsize ore lognormal d50=120e-6 sigma=1.6 min=30e-6 max=600e-6\nfeed z=0.5 rate=2e-5\nfeed_fraction quartz 0.7\nfeed_fraction ore 0.3\ngrid 0.2 0.004 pattern a=3e-3 p=5e-3 offset=1e-3\nslices 50\nframes fr 0.5\nsnapshots sn 1\nbalance bal.dat 0.1\nlive_png live.png\naverage_from 1\nrun 3\ntromp tr.dat\nprofiles pr.dat\nsummary\n' "$S" > outs.mote
 "$MOTE" run outs.mote > out.txt 2> err.txt && ok || bad "outs.mote: $(cat err.txt)"
 [ "$(ls fr/frame_*.png | wc -l)" -eq 7 ] && ok || bad "frames: $(ls fr)"
 if command -v ffmpeg > /dev/null 2>&1; then
@@ -55,12 +55,12 @@ fi
 awk 'NR == 1 { n = $1 } NR == 2 { ok = /^Lattice="0.05 0 0 0 [0-9.e-]+ 0 0 0 1" Properties=species:S:1:id:I:1:pos:R:3:velo:R:3:radius:R:1 Time=2 / }
      NR > 2 { rows++; if (NF != 9 || ($1 != "quartz" && $1 != "ore") || seen[$2]++) bad = 1 }
      END { exit !(ok && rows == n && n > 100 && !bad) }' sn/snapshot_000002.xyz && ok || bad "xyz: $(head -3 sn/snapshot_000002.xyz)"
-awk '/^# invariant_held = 1$/ { h = 1 } !/^#/ { rows++ } END { exit !(h && rows == 31) }' bal.csv && ok || bad "balance: $(head -5 bal.csv)"
+awk '/^# invariant_held = 1$/ { h = 1 } !/^#/ { rows++ } END { exit !(h && rows == 31) }' bal.dat && ok || bad "balance: $(head -5 bal.dat)"
 # the balance's last row: fed_all = in_all + fines_all + coarse_all + lost_all
 awk '!/^#/ { last = $0 } /^# columns:/ { for (i = 3; i <= NF; i++) col[$i] = i - 2 }
-     END { split(last, v, " "); exit !(v[col["fed_all"]] == v[col["in_all"]] + v[col["fines_all"]] + v[col["coarse_all"]] + v[col["lost_all"]] && v[col["fed_all"]] > 0) }' bal.csv && ok || bad "balance row: $(tail -1 bal.csv)"
-grep -q '^# columns: z_m eps_s eps_quartz eps_ore N v_z_m_s u_g_m_s rho_mix_kg_m3 minus_dp_dz_Pa_m p_minus_pH_Pa$' pr.csv && [ "$(grep -vc '^#' pr.csv)" -eq 50 ] && ok || bad "profiles: $(head -8 pr.csv)"
-grep -q '^# columns: d_lo_m .* holdup_kg T_quartz T_ore$' tr.csv && grep -q '^# d50_m quartz = ' tr.csv && ok || bad "tromp species: $(grep '^#' tr.csv)"
+     END { split(last, v, " "); exit !(v[col["fed_all"]] == v[col["in_all"]] + v[col["fines_all"]] + v[col["coarse_all"]] + v[col["lost_all"]] && v[col["fed_all"]] > 0) }' bal.dat && ok || bad "balance row: $(tail -1 bal.dat)"
+grep -q '^# columns: z_m eps_s eps_quartz eps_ore N v_z_m_s u_g_m_s rho_mix_kg_m3 minus_dp_dz_Pa_m p_minus_pH_Pa$' pr.dat && [ "$(grep -vc '^#' pr.dat)" -eq 50 ] && ok || bad "profiles: $(head -8 pr.dat)"
+grep -q '^# columns: d_lo_m .* holdup_kg T_quartz T_ore$' tr.dat && grep -q '^# d50_m quartz = ' tr.dat && ok || bad "tromp species: $(grep '^#' tr.dat)"
 for f in fr/frame_000006.png live.png tr.png pr.png; do
     [ "$(head -c 8 "$f" | od -An -tx1 | tr -d ' ')" = 89504e470d0a1a0a ] && ok || bad "$f is not a PNG"
 done
@@ -90,8 +90,8 @@ expect 1 "g7.mote:3:6: error: grid: the plate 0.998 ... 1.008 m does not fit the
 # explicit class edges from a file, and a table size distribution: three classes in the table
 printf '1e-4\n2e-4\n3e-4\n4e-4\n' > edges.txt
 printf '1e-4 0\n4e-4 1\n' > szok.txt
-printf '%bchannel 0.05 1\ngas 1.0\ncoupling off\ncollisions off\ntimestep 1e-3\nspecies a 2500\nsize a table file=szok.txt\nclasses_file edges.txt\nfeed z=0.5\ninsert a 300\nrun 5\ntromp cf.csv\n' "$S" > cf.mote
-"$MOTE" run cf.mote > /dev/null 2> err.txt && [ "$(grep -vc '^#' cf.csv)" -eq 3 ] && grep -q '^0.0001 0.0002 ' cf.csv && ok || bad "classes_file: $(cat err.txt; cat cf.csv)"
+printf '%bchannel 0.05 1\ngas 1.0\ncoupling off\ncollisions off\ntimestep 1e-3\nspecies a 2500\nsize a table file=szok.txt\nclasses_file edges.txt\nfeed z=0.5\ninsert a 300\nrun 5\ntromp cf.dat\n' "$S" > cf.mote
+"$MOTE" run cf.mote > /dev/null 2> err.txt && [ "$(grep -vc '^#' cf.dat)" -eq 3 ] && grep -q '^0.0001 0.0002 ' cf.dat && ok || bad "classes_file: $(cat err.txt; cat cf.dat)"
 printf '1e-4\n3e-4\n2e-4\n' > edges2.txt
 expect 1 "cf2.mote:2:14: error: edges2.txt:3: expected one class edge (m) per row, > 0 and increasing" cf2.mote "${S}classes_file edges2.txt\n"
 # 3D from a script: a feed window and velocity in y, a grid, frames of a slab, snapshots

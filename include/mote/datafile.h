@@ -61,6 +61,19 @@ void mote_datafile_columns(mote_datafile *d, const char *names);
 int mote_datafile_commit(mote_datafile *d, mote_err *err);
 void mote_datafile_abort(mote_datafile *d);
 
+/* ---- CSV ---------------------------------------------------------------------------------------- */
+
+/* Does path name a CSV file (it ends in ".csv", any case)? A data file written under such a name
+ * becomes RFC 4180 CSV when its atomic file is committed (mote_afile_commit): what pandas,
+ * Python's csv and spreadsheets read. */
+int mote_path_is_csv(const char *path);
+/* Write the data file at in_path to out as RFC 4180 CSV: the "# columns:" names as the header
+ * row, then every row (its fields separated by blanks or commas), fields separated by commas
+ * (quoted where they hold a quote; quotes doubled), lines ended by CR LF. The other header lines are left out (the
+ * data-file form keeps them); a file of several blocks gets a first column "block" (0, 1, ...).
+ * A file that is not a data file (its first line is not "# mote ...") is copied unchanged. */
+int mote_datafile_csv(const char *in_path, FILE *out, mote_err *err);
+
 /* ---- reading ---------------------------------------------------------------------------------- */
 
 /* Columns kept per row (tokens beyond are counted in ncol, not stored), and the most numbers a

@@ -1,7 +1,10 @@
 /* afile.c: atomic output files. Data is written to a unique temporary file in the target's own
  * directory (so rename is atomic on POSIX file systems), flushed and synced, then renamed over
- * the target. Any failure removes the temporary file: an earlier result is never destroyed. */
+ * the target. Any failure removes the temporary file: an earlier result is never destroyed. A
+ * data file (datafile.h) committed under a name ending in .csv is converted to RFC 4180 CSV on
+ * the way (mote_datafile_csv). */
 #include "mote/core.h"
+#include "mote/datafile.h"
 
 #include <errno.h>
 #include <stdlib.h>
@@ -78,12 +81,69 @@ void mote_afile_abort(mote_afile *af)
     afile_release(af);
 }
 
+/* A data file written under a name ending in .csv: is it one (its first line "# mote ")? */
+static int datafile_for_csv(const mote_afile *af)
+{
+    if (!mote_path_is_csv(af->path))
+        return 0;
+    FILE *in = fopen(af->tmp, "r");
+    char head[8] = {0};
+    int yes = in && fread(head, 1, 7, in) == 7 && memcmp(head, "# mote ", 7) == 0;
+    if (in)
+        fclose(in);
+    return yes;
+}
+
+/* Replace the temporary file's data file by its RFC 4180 form, in a second temporary file. */
+static int convert_csv(mote_afile *af, mote_err *err)
+{
+    size_t n = strlen(af->path) + 32;
+    char *tmp2 = malloc(n);
+    if (!tmp2)
+        return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", af->path);
+    snprintf(tmp2, n, "%s.tmp.XXXXXX", af->path);
+    int fd = mkstemp(tmp2);
+    FILE *out = fd >= 0 ? fdopen(fd, "w") : NULL;
+    if (!out) {
+        int e = errno;
+        if (fd >= 0) {
+            close(fd);
+            unlink(tmp2);
+        }
+        free(tmp2);
+        return mote_fail(err, MOTE_EIO, "cannot write '%s': %s", af->path, strerror(e));
+    }
+    fchmod(fd, 0644);
+    int rc = mote_datafile_csv(af->tmp, out, err);
+    if (rc) {
+        fclose(out);
+        unlink(tmp2);
+        free(tmp2);
+        return rc;
+    }
+    fclose(af->f);
+    unlink(af->tmp);
+    free(af->tmp);
+    af->tmp = tmp2;
+    af->f = out;
+    return MOTE_OK;
+}
+
 int mote_afile_commit(mote_afile *af, mote_err *err)
 {
     if (!af->f || !af->tmp)
         return mote_fail(err, MOTE_EIO, "internal: commit of a file that is not open");
     int bad = ferror(af->f) != 0;
     int e = 0;
+    /* a data file named *.csv is written as CSV (RFC 4180) */
+    if (!bad && fflush(af->f) == 0 && datafile_for_csv(af)) {
+        int rc = convert_csv(af, err);
+        if (rc) {
+            mote_afile_abort(af);
+            return rc;
+        }
+        bad = ferror(af->f) != 0;
+    }
     if (fflush(af->f) != 0) {
         bad = 1;
         e = errno;

@@ -91,6 +91,121 @@ void mote_datafile_abort(mote_datafile *d)
     mote_afile_abort(&d->af);
 }
 
+/* ---- CSV ---------------------------------------------------------------------------------------- */
+
+int mote_path_is_csv(const char *path)
+{
+    size_t n = strlen(path);
+    return n >= 4 && path[n - 4] == '.' && (path[n - 3] | 32) == 'c' && (path[n - 2] | 32) == 's' &&
+           (path[n - 1] | 32) == 'v';
+}
+
+/* One field, quoted when it must be (RFC 4180, 2.6-2.7). */
+static void csv_field(FILE *out, const char *s, size_t n, int first)
+{
+    if (!first)
+        fputc(',', out);
+    int quote = 0;
+    for (size_t k = 0; k < n && !quote; k++)
+        quote = s[k] == ',' || s[k] == '"' || s[k] == '\r' || s[k] == '\n';
+    if (!quote) {
+        fwrite(s, 1, n, out);
+        return;
+    }
+    fputc('"', out);
+    for (size_t k = 0; k < n; k++) {
+        if (s[k] == '"')
+            fputc('"', out);
+        fputc(s[k], out);
+    }
+    fputc('"', out);
+}
+
+/* The tokens of s (separated by blanks, or commas: nbody's format=csv rows) as one CSV record
+ * (after a leading "block" field when block >= 0). */
+static void csv_record(FILE *out, const char *s, long block)
+{
+    int first = 1;
+    if (block >= 0) {
+        fprintf(out, "%ld", block);
+        first = 0;
+    }
+    while (*s) {
+        while (*s == ' ' || *s == '\t' || *s == ',')
+            s++;
+        const char *b = s;
+        while (*s && *s != ' ' && *s != '\t' && *s != ',')
+            s++;
+        if (s > b) {
+            csv_field(out, b, (size_t)(s - b), first);
+            first = 0;
+        }
+    }
+    fputs("\r\n", out);
+}
+
+static int blank(const char *s)
+{
+    while (*s == ' ' || *s == '\t')
+        s++;
+    return !*s;
+}
+
+int mote_datafile_csv(const char *in_path, FILE *out, mote_err *err)
+{
+    /* pass 1: is it a data file, and how many blocks of rows does it hold? */
+    mote_lines in;
+    int rc = mote_lines_open(&in, in_path, err);
+    if (rc)
+        return rc;
+    long blocks = 0;
+    int datafile = 0, gap = 1;
+    char *line;
+    for (long k = 0; (line = mote_lines_next(&in)); k++) {
+        if (k == 0)
+            datafile = strncmp(line, "# mote ", 7) == 0;
+        if (!datafile)
+            break;
+        if (line[0] == '#')
+            continue;
+        if (blank(line)) {
+            gap = 1;
+        } else if (gap) {
+            blocks++;
+            gap = 0;
+        }
+    }
+    rc = mote_lines_close(&in, err);
+    if (rc)
+        return rc;
+    /* pass 2: the header row and the records (or the file as it is) */
+    rc = mote_lines_open(&in, in_path, err);
+    if (rc)
+        return rc;
+    long block = -1;
+    gap = 1;
+    while ((line = mote_lines_next(&in))) {
+        if (!datafile) {
+            fputs(line, out);
+            fputc('\n', out);
+        } else if (strncmp(line, "# columns:", 10) == 0) {
+            if (blocks > 1)
+                fputs("block,", out);
+            csv_record(out, line + 10, -1);
+        } else if (line[0] == '#') {
+            continue;
+        } else if (blank(line)) {
+            gap = 1;
+        } else {
+            if (gap)
+                block++;
+            gap = 0;
+            csv_record(out, line, blocks > 1 ? block : -1);
+        }
+    }
+    return mote_lines_close(&in, err);
+}
+
 /* ---- reading ---------------------------------------------------------------------------------- */
 
 #define TABLE_MAX_BYTES ((long)1 << 30)

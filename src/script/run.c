@@ -3,6 +3,7 @@
  * model, so a typo on the last line is found before the first line has run for hours; execution
  * then runs every command on a fresh model and prints the model's status line after each. */
 #include "script_internal.h"
+#include "mote/datafile.h"
 
 #include <errno.h>
 #include <stdlib.h>
@@ -239,6 +240,11 @@ static int plot_check(void *model, const mote_call *c, mote_err *err)
     if (!s->model->plot || !s->model->plot_kinds)
         return mote_call_fail(err, c, -1, MOTE_EINVAL, "plot: the %s model has nothing to plot",
                               s->model->name);
+    if (mote_path_is_csv(c->args[0].path))
+        return mote_call_fail(err, c, 0, MOTE_EINVAL,
+                              "plot: %s is a CSV file (RFC 4180, for other tools), which keeps "
+                              "no header; plot reads mote's data files: write it under another "
+                              "name (such as .dat)", c->args[0].text);
     int rc = mote_args_check_input(c, 0, s->model->plot_kinds, err);
     if (!rc && s->model->plot_check)
         rc = s->model->plot_check(s->instance, c, err);
