@@ -29,6 +29,18 @@ expect 0 "" t8.mote '# ok\r\n\r\nmodel hard-spheres\r\nnew 2 0.3   # seed\r\nout
 [ -f "res/a b/st ate.mote" ] && ok || bad "t8.mote: res/a b/st ate.mote missing"
 grep -q '^done$' out.txt && ok || bad "t8.mote: echo output missing"
 
+# relative file names start from the script's folder, whatever the current directory: a script
+# in sub/ reads sub/in.mote and writes into sub/res2/ when run as `mote run sub/s.mote`, and
+# `output_dir .` is the script's folder
+mkdir -p sub
+printf 'new 2 0.3\nsave sub/in.mote\n' > mk.mote
+"$MOTE" run mk.mote > /dev/null 2>&1 && [ -f sub/in.mote ] && ok || bad "mk.mote did not write sub/in.mote"
+printf 'load in.mote\noutput_dir res2\nsave out.mote\noutput_dir .\nsave here.mote\n' > sub/s.mote
+"$MOTE" run sub/s.mote > out.txt 2> err.txt && [ -f sub/res2/out.mote ] && [ -f sub/here.mote ] &&
+    [ ! -e res2 ] && [ ! -e here.mote ] && ok || bad "sub/s.mote from its parent: $(cat err.txt; ls -R)"
+(cd sub && "$MOTE" run s.mote > ../out.txt 2> ../err.txt) && cmp -s sub/res2/out.mote sub/here.mote && ok ||
+    bad "sub/s.mote from its folder: $(cat err.txt)"
+
 # check only: validates, runs nothing
 expect 0 "" t9.mote 'new 2 0.3\nsave nine.mote\n' check
 [ ! -e nine.mote ] && ok || bad "t9.mote: check wrote a file"

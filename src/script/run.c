@@ -13,21 +13,45 @@
 
 /* ---- common commands ------------------------------------------------------------------------ */
 
-/* DIR as stored in ctx->output_dir: trailing slashes dropped, "." meaning the current directory. */
+/* The folder of the script (its path up to the last '/'), or "" for the current directory:
+ * where the script's relative file names start from. */
+static void script_folder(const mote_context *ctx, char *buf, size_t cap)
+{
+    const char *p = ctx->script_path ? ctx->script_path : "";
+    const char *slash = strrchr(p, '/');
+    size_t n = slash ? (size_t)(slash - p) : 0;
+    if (slash && n == 0)
+        n = 1; /* a script in / */
+    if (n >= cap)
+        n = 0;
+    memcpy(buf, p, n);
+    buf[n] = '\0';
+}
+
+/* DIR as stored in ctx->output_dir: trailing slashes dropped, "." meaning the script's folder,
+ * a relative DIR taken from the script's folder ("" is the current directory). */
 static int output_dir_value(const mote_call *c, char *buf, size_t cap, mote_err *err)
 {
     const char *dir = c->args[0].text;
     size_t n = strlen(dir);
     while (n > 1 && dir[n - 1] == '/')
         n--;
-    if (n >= cap)
+    if (n == 1 && dir[0] == '.')
+        n = 0;
+    char base[4096];
+    script_folder(c->ctx, base, sizeof base);
+    if (dir[0] == '/')
+        base[0] = '\0';
+    size_t nb = strlen(base), sep = nb && n && base[nb - 1] != '/';
+    if (nb + sep + n >= cap)
         return mote_call_fail(err, c, 0, MOTE_EINVAL,
                               "output_dir: the directory name is too long (at most %zu bytes)",
-                              cap - 1);
-    memcpy(buf, dir, n);
-    buf[n] = '\0';
-    if (strcmp(buf, ".") == 0)
-        buf[0] = '\0';
+                              cap - 1 - nb - sep);
+    memcpy(buf, base, nb);
+    if (sep)
+        buf[nb] = '/';
+    memcpy(buf + nb + sep, dir, n);
+    buf[nb + sep + n] = '\0';
     return 0;
 }
 
@@ -273,10 +297,11 @@ const mote_cmd mote_script_common_cmds[] = {
      "create DIR and write the files of later commands there",
      "Create the directory DIR, with any missing parents (like `mkdir -p`), when\n"
      "the command runs, and resolve the relative file names of all later commands\n"
-     "against it. A relative DIR is taken relative to the current directory, not to\n"
-     "an earlier `output_dir`; `output_dir .` returns to the current directory.\n"
-     "Absolute file names are not affected. Validation knows that DIR will exist,\n"
-     "so later commands may write into it.\n",
+     "against it. A relative DIR, like every relative file name of a script, starts\n"
+     "from the folder that holds the script (so a script does the same run from any\n"
+     "current directory), not from an earlier `output_dir`; `output_dir .` returns\n"
+     "to the script's folder. Absolute file names are not affected. Validation knows\n"
+     "that DIR will exist, so later commands may write into it.\n",
      output_dir_check, output_dir_run},
     {"echo", NULL, "*", "echo TEXT...", "print the arguments",
      "Print the arguments, separated by single spaces, on standard output. Quote\n"
@@ -356,7 +381,7 @@ const mote_cmd *mote_script_common_model_cmd(void) { return &mote_script_common_
 static void reset_context(mote_context *ctx)
 {
     ctx->threads = 0;
-    ctx->output_dir[0] = '\0';
+    script_folder(ctx, ctx->output_dir, sizeof ctx->output_dir); /* names start from there */
     ctx->npending_dirs = 0;
     mote_outputs_free(&ctx->outputs);
 }
