@@ -237,6 +237,10 @@ t = [l for l in open("t.csv") if not l.startswith("#")]
 assert len(t) == 4 and len(t[0].split(",")) == 93, t[0]
 ' && ok || bad "csv/jsonl files do not parse as expected"
 fi
+# plot of a monitor written as CSV or JSON lines fails at check time, before the integration
+expect 1 "pc.mote:5:6: error: plot: 'm.mon' is written earlier in this script in format csv; plot reads the table format" pc.mote "${G}generate ring nb=10\nmonitor every=500 file=m.mon format=csv\nintegrate steps=1000\nplot m.mon m.png\n" check
+expect 1 "pj.mote:5:6: error: plot: 't.j' is written earlier in this script in format jsonl" pj.mote "${G}generate ring nb=10\ntrajectory every=500 file=t.j format=jsonl\nintegrate steps=1000\nplot t.j t.png\n" check
+expect 0 "" pt.mote "${G}generate ring nb=10\nmonitor every=500 file=m2.mon\nintegrate steps=1000\nplot m2.mon m2.png\n" check
 # the terminal: a header and a line per sample
 printf '%bgenerate ring\nmonitor every=5000\nintegrate steps=10000\n' "$G" > f2.mote
 "$MOTE" run f2.mote > f2.out 2>&1 && ok || bad "monitor on the terminal: $(cat f2.out)"

@@ -84,6 +84,9 @@ typedef struct {
     /* the header of the last Galactica file read (its Em and area fields are carried over) */
     int have_galhead;
     mote_real galhead[25];
+    /* validation: the format each monitor or trajectory file is written in ("table", "csv",
+     * "jsonl"), so that `plot` of one it cannot read fails before the run */
+    mote_outputs formats;
 } nb_model;
 
 typedef struct nb_sampler nb_sampler;
@@ -121,6 +124,7 @@ static void model_destroy(void *vm)
     free(m->frames.prefix);
     free(m->appr.path);
     free(m->appr.origin);
+    mote_outputs_free(&m->formats);
     nb_sampler *smp[2] = {&m->mon, &m->traj};
     for (int k = 0; k < 2; k++) {
         free(smp[k]->path);
@@ -1256,7 +1260,13 @@ static int check_sampler(void *vm, const mote_call *c, mote_err *err)
     if (f && !mote_call_opt(c, "file"))
         return mote_call_fail(err, c, mote_call_opt_index(c, "format"), MOTE_EINVAL,
                               "%s: format= is for a file: give file=FILE", c->name);
-    return MOTE_OK;
+    const mote_arg *file = mote_call_opt(c, "file");
+    if (file && file->path) { /* (a .csv name is CSV whatever format= says) */
+        const char *fmt = mote_path_is_csv(file->path) ? "csv" : f ? f->text : "table";
+        rc = mote_outputs_note_path(&m->formats, c, mote_call_opt_index(c, "file"), file->path,
+                                    fmt, 1, err);
+    }
+    return rc;
 }
 
 /* Start a sampler: a sample now, then every K steps or every T of time during integrate. */
@@ -2570,6 +2580,13 @@ static int model_plot(void *vm, const char *data_path, const char *png_path, con
 }
 static int model_plot_check(void *vm, const mote_call *c, mote_err *err)
 {
+    nb_model *m = vm;
+    const char *fmt = c->args[0].path ? mote_outputs_find(&m->formats, c->args[0].path) : NULL;
+    if (fmt && strcmp(fmt, "table") != 0)
+        return mote_call_fail(err, c, 0, MOTE_EINVAL,
+                              "plot: '%s' is written earlier in this script in format %s; plot "
+                              "reads the table format (format=table, the default, under a name "
+                              "not ending in .csv)", c->args[0].text, fmt);
     return nb_plot_check(c, err);
 }
 
