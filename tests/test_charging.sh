@@ -269,6 +269,12 @@ printf '%bplasma preset geo-worst-case\nbody sphere radius=1\nmaterial assign pa
 "$MOTE" run tsf.mote > out.txt 2> err.txt && [ "$(head -n 1 ots/s_timeseries.csv | tr -d '\r')" = "t_s,Q_C,U_V,sigma_U_V,I_net_A,I_e_A,Nreal_e,I_H+_A,Nreal_H+,I_see_A,I_photo_A" ] &&
     awk -F '[,\r]' 'FNR > 1 { n++; d = $6 + $8 + $10 + $11 - $5; m = ($6 < 0 ? -$6 : $6); if (d * d > (0.01 * m) ^ 2 || $7 < n7 || $9 < n9 || $11 <= 0) bad = 1; n7 = $7; n9 = $9
          q = $2 - 1.112650055e-10 * $3; if (q * q > 1e-18 * $2 * $2) bad = 1 } END { exit !(n == 6 && !bad) }' ots/s_timeseries.csv && ok || bad "full-mode time series: $(tail -2 ots/s_timeseries.csv) $(cat err.txt)"
+# float after run under the same output prefix overwrites run's files: the check says so, at
+# float; so does evolve writing P_timeseries.csv after an earlier evolve
+mkdir -p ov
+expect 0 "ov.mote:6:1: warning: float: 'ov/s_summary.txt' is written more than once in this script" ov.mote "${G}plasma preset geo-worst-case\nbody sphere radius=1\noutput prefix=ov/s\nrun particles=1e4\nfloat particles=1e4\n" check
+expect 0 "ov2.mote:6:1: warning: evolve: 'ov/t_timeseries.csv' is written more than once" ov2.mote "${G}plasma preset geo-worst-case\nbody sphere radius=1\noutput prefix=ov/t\nevolve time=1e-3 particles=1e4\nevolve time=1e-3 particles=1e4\n" check
+expect 0 "" ov3.mote "${G}plasma preset geo-worst-case\nbody sphere radius=1\noutput prefix=ov/a\nrun particles=1e4\noutput prefix=ov/b\nfloat particles=1e4\n" check
 # float writes the files at U_f, the summary with the root, its error and the OML estimate
 mkdir -p of
 printf '%bplasma preset geo-worst-case\nbody sphere radius=1\noutput prefix=of/s\nfloat particles=1e5\n' "$G" > fo.mote

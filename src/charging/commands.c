@@ -52,6 +52,10 @@ typedef struct {
     double view[8][3];          /* png_view: the views, and their names for the file names */
     char view_name[8][16];
     int nviews;
+    /* validation: the prefix and time-series switch of the last `output`, so that the files
+     * `run`, `float` and `evolve` will write are known to the whole-script check */
+    char *check_prefix;
+    int check_timeseries;
 } ch_model;
 
 static void *model_create(mote_context *ctx, int dry)
@@ -82,6 +86,7 @@ static void model_destroy(void *vm)
     mote_ch_result_free(&m->res);
     free(m->prefix);
     free(m->origin);
+    free(m->check_prefix);
     free(m->tri_mat);
     free(m->warnings);
     free(m);
@@ -1045,6 +1050,24 @@ static int run_test(void *vm, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
+/* Validation: record the file PREFIX + suffix that the command c will write after `output`
+ * (its summary stands for the set), so that a later writer of the same file gets the
+ * whole-script check's warning instead of overwriting it silently. */
+static int note_prefixed(ch_model *m, const mote_call *c, const char *suffix, const char *kind,
+                         mote_err *err)
+{
+    if (!m->check_prefix)
+        return MOTE_OK;
+    const size_t len = strlen(m->check_prefix) + strlen(suffix) + 1;
+    char *path = malloc(len);
+    if (!path)
+        return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", c->name);
+    snprintf(path, len, "%s%s", m->check_prefix, suffix);
+    int rc = mote_outputs_note_path(&c->ctx->outputs, c, -1, path, kind, 0, err);
+    free(path);
+    return rc;
+}
+
 static int check_run(void *vm, const mote_call *c, mote_err *err)
 {
     ch_model *m = vm;
@@ -1062,6 +1085,8 @@ static int check_run(void *vm, const mote_call *c, mote_err *err)
     int rc = need_setup(m, c, err);
     if (!rc)
         m->have_run = 1;
+    if (!rc)
+        rc = note_prefixed(m, c, "_summary.txt", "charging-summary", err);
     return rc;
 }
 
@@ -1172,7 +1197,8 @@ static int check_float(void *vm, const mote_call *c, mote_err *err)
     if (n && (n->r != floor(n->r) || n->r > 1e15))
         return mote_call_fail(err, c, mote_call_opt_index(c, "particles"), MOTE_EINVAL,
                               "float: particles must be a whole number (1 ... 1e15)");
-    return need_setup(m, c, err);
+    int rc = need_setup(m, c, err);
+    return rc ? rc : note_prefixed(m, c, "_summary.txt", "charging-summary", err);
 }
 
 static int run_float(void *vm, const mote_call *c, mote_err *err)
@@ -1316,6 +1342,8 @@ static int check_evolve(void *vm, const mote_call *c, mote_err *err)
     if (dt && dt->r > mote_call_opt(c, "time")->r)
         return mote_call_fail(err, c, mote_call_opt_index(c, "dt_out"), MOTE_EINVAL,
                               "evolve: dt_out must not exceed time");
+    if (!mote_call_opt(c, "file") && m->check_timeseries)
+        return note_prefixed(m, c, "_timeseries.csv", "timeseries", err);
     return MOTE_OK;
 }
 
@@ -1617,6 +1645,11 @@ static int check_output(void *vm, const mote_call *c, mote_err *err)
     if (!mote_ctx_dir_ok(c->ctx, p->path))
         return mote_call_fail(err, c, mote_call_opt_index(c, "prefix"), MOTE_EINVAL,
                               "output: the directory of prefix '%s' does not exist", p->text);
+    ch_model *m = vm;
+    free(m->check_prefix);
+    if (!(m->check_prefix = strdup(p->path)))
+        return mote_fail(err, MOTE_ENOMEM, "output: out of memory");
+    on_off(c, "timeseries", 1, &m->check_timeseries, err);
     return MOTE_OK;
 }
 
