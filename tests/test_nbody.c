@@ -1227,10 +1227,54 @@ static void test_tree(void)
     mote_nb_free(&nb);
 }
 
+/* The drift plot's time axis is in the user's units once the run has physical scales (issue 34:
+ * after `units solar` and `integrate to=100 unit=year` it read 0 ... 628 "dimensionless"): the
+ * unit that reads best over the span, exactly T / (kt * seconds per unit). */
+static void test_time_axis(void)
+{
+    printf("plots: the time axis in physical units\n");
+    char dir[256], data[320];
+    if (!test_tmpdir_make(dir, sizeof dir, "mote_nbaxis"))
+        return;
+    snprintf(data, sizeof data, "%s/m.dat", dir);
+    const double kt = 2 * MOTE_PI / 31557600.0; /* solar units: T = 2 pi per year */
+    struct {
+        int scales;
+        double span_s;
+        const char *unit;
+        double per_unit_s;
+    } cases[5] = {{0, 100, "dimensionless", 0},       {1, 1000, "s", 1},
+                  {1, 10 * 86400.0, "day", 86400.0}, {1, 100 * 31557600.0, "year", 31557600.0},
+                  {1, 1e4 * 31557600.0, "year", 31557600.0}};
+    for (int k = 0; k < 5; k++) {
+        FILE *f = fopen(data, "w");
+        CHECK(f != NULL, "cannot write %s", data);
+        if (!f)
+            return;
+        fprintf(f, "# mote nbody-monitor 1\n");
+        if (cases[k].scales)
+            fprintf(f, "# kt = %.17g\n", kt);
+        fprintf(f, "# columns: T dE dMz\n0 0 0\n%.17g 0 0\n", cases[k].span_s * kt);
+        fclose(f);
+        mote_table t;
+        mote_err err = {0};
+        CHECK(mote_table_read(&t, data, &err) == MOTE_OK, "read: %s", err.msg);
+        double scale;
+        const char *u = nb_plot_time_unit(&t, 0, cases[k].span_s * kt, &scale);
+        double want = cases[k].scales ? 1 / (kt * cases[k].per_unit_s) : 1;
+        CHECK(strcmp(u, cases[k].unit) == 0 && fabs(scale - want) <= 1e-15 * want,
+              "span %g s: unit %s, scale %.17g; expected %s, %.17g", cases[k].span_s, u, scale,
+              cases[k].unit, want);
+        mote_table_free(&t);
+    }
+    test_remove_tree(dir);
+}
+
 int main(void)
 {
     double w0 = mote_wall_seconds();
     test_tree();
+    test_time_axis();
     test_ring_values();
     test_coulomb_values();
     test_fN();

@@ -2571,7 +2571,9 @@ static const char HELP_PLOT[] =
     "others relative to that body (a geocentric view: relative_to=Earth); size=PX\n"
     "is the picture's side in pixels (64 to 8192, default 1024).\n"
     "A monitor file (`monitor`) as the relative drifts of the energy and of the\n"
-    "aggregated z moment against time; it takes no options.\n";
+    "aggregated z moment against time (in years, days or seconds, whichever reads\n"
+    "best, when the run has physical scales: `units` or a generator that sets them;\n"
+    "else dimensionless); it takes no options.\n";
 
 static int model_plot(void *vm, const char *data_path, const char *png_path, const mote_call *c,
                       mote_err *err)

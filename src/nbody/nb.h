@@ -2,6 +2,7 @@
 #ifndef MOTE_NB_INTERNAL_H
 #define MOTE_NB_INTERNAL_H
 
+#include "mote/datafile.h"
 #include "mote/nbody.h"
 
 #include <tgmath.h>
@@ -11,6 +12,10 @@
 int nb_plot_file(const char *data_path, const char *png_path, const mote_call *c, mote_err *err);
 /* The options of `plot` (plane=) before the run. */
 int nb_plot_check(const mote_call *c, mote_err *err);
+/* The time axis of a plot of data file t whose times T run from t0 to t1: with the physical
+ * scales in its header (kt), the unit that reads best over the span (s, day or year)
+ * and *scale such that T * *scale is in it; without them "dimensionless", scale 1. */
+const char *nb_plot_time_unit(const mote_table *t, double t0, double t1, double *scale);
 
 /* The state file (state.c): save, load (replacing nb on success only, which must have the
  * file's interaction), and the body count of a file's header (for validation). */

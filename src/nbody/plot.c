@@ -284,6 +284,25 @@ done:
     return rc;
 }
 
+const char *nb_plot_time_unit(const mote_table *t, double t0, double t1, double *scale)
+{
+    double kt = mote_table_has(t, "kt") ? mote_table_key(t, "kt") : 0;
+    *scale = 1;
+    if (!(kt > 0 && isfinite(kt)))
+        return "dimensionless";
+    /* seconds per unit (Julian years, as unit= takes them) */
+    static const struct {
+        const char *name;
+        double s;
+    } U[3] = {{"year", 31557600.0}, {"day", 86400.0}, {"s", 1.0}};
+    const double span = fabs(t1 - t0) / kt;
+    int k = 0;
+    while (k < 2 && span < 2 * U[k].s)
+        k++;
+    *scale = 1 / (kt * U[k].s);
+    return U[k].name;
+}
+
 static int plot_monitor(const mote_table *t, const char *in, const char *png, mote_err *err)
 {
     int cT = mote_table_col(t, "T"), cE = mote_table_col(t, "dE"), cM = mote_table_col(t, "dMz");
@@ -298,8 +317,11 @@ static int plot_monitor(const mote_table *t, const char *in, const char *png, mo
         free(M);
         return mote_fail(err, MOTE_ENOMEM, "plot: out of memory");
     }
+    double ts;
+    const char *unit = nb_plot_time_unit(t, t->rows ? mote_table_at(t, 0, cT) : 0,
+                                         t->rows ? mote_table_at(t, t->rows - 1, cT) : 0, &ts);
     for (size_t r = 0; r < t->rows; r++) {
-        T[r] = mote_table_at(t, r, cT);
+        T[r] = mote_table_at(t, r, cT) * ts;
         E[r] = mote_table_at(t, r, cE);
         M[r] = mote_table_at(t, r, cM);
     }
@@ -308,7 +330,13 @@ static int plot_monitor(const mote_table *t, const char *in, const char *png, mo
     mote_plot_opts o;
     memset(&o, 0, sizeof o);
     o.title = "conserved quantities: relative drift";
-    o.xlabel = "T (dimensionless time)";
+    char xl[64];
+    if (ts == 1)
+        snprintf(xl, sizeof xl, "T (dimensionless time)");
+    else
+        snprintf(xl, sizeof xl, "t (%s)",
+                 !strcmp(unit, "year") ? "years" : !strcmp(unit, "day") ? "days" : "s");
+    o.xlabel = xl;
     o.ylabel = "relative change";
     o.has_yref = 1;
     o.yref = 0;
