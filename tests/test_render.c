@@ -5,6 +5,7 @@
  * one that runs out of file space half way, leaves an earlier file untouched and no temporary
  * file behind. */
 #include "mote/render.h"
+#include "../src/core/live_page.h"
 
 #include <errno.h>
 #include <cairo.h>
@@ -82,6 +83,16 @@ static int png_size(const char *p, long *w, long *h)
 }
 
 /* Pixels of exactly this colour (0xRRGGBB) in a PNG, or -1 if it cannot be read. */
+/* The live page's lines joined (src/core/live_page.h). */
+static const char *page_text(void)
+{
+    static char buf[1 << 16];
+    if (!buf[0])
+        for (size_t k = 0; k < sizeof mote_live_page_lines / sizeof mote_live_page_lines[0]; k++)
+            strncat(buf, mote_live_page_lines[k], sizeof buf - strlen(buf) - 1);
+    return buf;
+}
+
 static long count_colour(const char *p, unsigned rgb)
 {
     cairo_surface_t *s = cairo_image_surface_create_from_png(p);
@@ -509,6 +520,34 @@ static void remove_tree(const ctx *t)
     rmdir(t->dir);
 }
 
+/* The live views give each class the colour the PNGs draw it in (issue 34: colour 0 was red
+ * live and blue in the PNGs): mote_class_colour_hex matches the pixels of a disk of each class,
+ * and the page's own palette (for a view that names no colour) is the same list. */
+static void test_class_hex(ctx *t)
+{
+    printf("class colours: the live view's are the PNGs'\n");
+    char p[600];
+    snprintf(p, sizeof p, "%s/hex.png", t->dir);
+    for (int k = 0; k < 8; k++) {
+        double x = 0.5, y = 0.5, r = 0.3;
+        int c = k;
+        mote_scatter_opts o = {0};
+        o.width = 64;
+        o.xmin = o.ymin = 0;
+        o.xmax = o.ymax = 1;
+        mote_err err = {0};
+        int rc = mote_disks_png(p, &o, &x, &y, &r, &c, 1, &err);
+        const char *hex = mote_class_colour_hex(k);
+        unsigned rgb = (unsigned)strtoul(hex + 1, NULL, 16);
+        CHECK_LINE(rc == MOTE_OK && count_colour(p, rgb) > 100, "class colour drawn as its hex",
+                   hex);
+        CHECK_LINE(strstr(page_text(), hex) != NULL, "the live page's palette has it", hex);
+    }
+    CHECK_LINE(strcmp(mote_class_colour_hex(9), mote_class_colour_hex(1)) == 0 &&
+                   strcmp(mote_class_colour_hex(-1), mote_class_colour_hex(7)) == 0,
+               "class colours modulo 8", "");
+}
+
 int main(void)
 {
     const char *base = getenv("TMPDIR");
@@ -524,6 +563,7 @@ int main(void)
     test_plot_awkward(&t);
     test_plot_errors(&t);
     test_disks(&t);
+    test_class_hex(&t);
     test_atomic(&t);
     remove_tree(&t);
     /* Free cairo's font and surface caches so the leak checker sees only our own memory. */

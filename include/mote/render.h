@@ -86,6 +86,9 @@ typedef struct {
  * as for mote_plot_png; the PNG is written atomically. */
 int mote_disks_png(const char *path, const mote_scatter_opts *opts, const double *x,
                    const double *y, const double *r, const int *c, size_t n, mote_err *err);
+/* The colour of class k (modulo 8) of that palette as "#rrggbb", for the live views, so that a
+ * class has the same colour in the browser as in the PNGs. */
+const char *mote_class_colour_hex(int k);
 
 typedef struct {
     const char *title;

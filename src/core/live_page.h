@@ -28,7 +28,7 @@ static const char *const mote_live_page_lines[] = {
     "const cv=document.getElementById('c'),cx=cv.getContext('2d');",
     "const pv=document.getElementById('p'),px=pv.getContext('2d');",
     "let yaw=0.6,pitch=0.35,drag=null,last=null,paused=false;",
-    "const pal=['#e8443a','#3a8ee8','#5ec45a','#e8c23a','#b05ee8','#3ad6d6','#e87c3a','#cccccc'];",
+    "const pal=['#0072b2','#d55e00','#009e73','#e69f00','#56b4e9','#cc79a7','#f0e442','#999999'];",
     "function col(f,k){return f.classes&&f.classes[k]&&f.classes[k].color?f.classes[k].color:pal[k%pal.length];}",
     "cv.onmousedown=e=>{drag=[e.clientX,e.clientY];};",
     "window.onmouseup=()=>{drag=null;};",

@@ -873,8 +873,8 @@ static void model_live(void *vm, mote_buf *b)
         mote_buf_doubles(b, "rects", rects, 4, 1);
     }
     mote_buf_printf(b, ",\"classes\":[{\"name\":\"colour 0 (placed left)\",\"color\":"
-                       "\"#e8443a\"},{\"name\":\"colour 1 (placed right)\",\"color\":"
-                       "\"#3a8ee8\"}]");
+                       "\"%s\"},{\"name\":\"colour 1 (placed right)\",\"color\":\"%s\"}]",
+                    mote_class_colour_hex(0), mote_class_colour_hex(1));
     const uint32_t n = s->placed ? s->n : 0;
     double *xy = malloc(2 * (size_t)(n ? n : 1) * sizeof *xy);
     double *c = malloc((size_t)(n ? n : 1) * sizeof *c);

@@ -26,6 +26,12 @@ static const rgb class_colours[8] = {
     {0.941, 0.894, 0.259}, /* yellow */
     {0.600, 0.600, 0.600}, /* grey */
 };
+/* the same, as the live page writes them */
+static const char *const class_hex[8] = {"#0072b2", "#d55e00", "#009e73", "#e69f00",
+                                         "#56b4e9", "#cc79a7", "#f0e442", "#999999"};
+
+const char *mote_class_colour_hex(int k) { return class_hex[((k % 8) + 8) % 8]; }
+
 
 enum {
     N_CLASSES = 8,

@@ -420,8 +420,6 @@ int sep_frame_png(const mote_sep_system *s, const char *path, const sep_frame_op
  * channel seen along y), the grids' plates, the particles at true size by species. */
 void sep_live_frame(const mote_sep_system *s, mote_buf *b)
 {
-    static const char *const colours[] = {"#e8443a", "#3a8ee8", "#5ec45a", "#e8c23a",
-                                          "#b05ee8", "#3ad6d6", "#e87c3a", "#cccccc"};
     mote_buf_printf(b, ",\"view\":\"2d\"");
     const double box[4] = {0, 0, s->W, s->H};
     mote_buf_doubles(b, "box", box, 4, 1);
@@ -434,7 +432,7 @@ void sep_live_frame(const mote_sep_system *s, mote_buf *b)
     free(rects);
     mote_buf_printf(b, ",\"classes\":[");
     for (int k = 0; k < s->nsp; k++) {
-        mote_buf_printf(b, "%s{\"color\":\"%s\"", k ? "," : "", colours[k % 8]);
+        mote_buf_printf(b, "%s{\"color\":\"%s\"", k ? "," : "", mote_class_colour_hex(k));
         mote_buf_string(b, "name", s->sp[k].name);
         mote_buf_printf(b, "}");
     }
