@@ -443,8 +443,11 @@ int mote_hs_step(mote_hs *hs, uint64_t k, mote_err *err)
     mote_progress_begin(&prog, hs->ctx, "step");
     double w0 = mote_wall_seconds(), t0 = mote_ev_time(ev);
     uint64_t c0 = ev->collisions, wall0 = ev->wall_collisions;
-    /* run in slices so a terminal shows progress; slicing does not change the trajectory */
+    /* run in slices so a terminal shows progress and a live view gets frames (a tick every
+     * 2^16 collisions at most: some 20 a second); slicing does not change the trajectory */
     uint64_t slice = total / 100 + 1;
+    if (slice > 65536)
+        slice = 65536;
     uint64_t done = 0;
     while (done < total) {
         uint64_t now = total - done < slice ? total - done : slice;
