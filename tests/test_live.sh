@@ -232,6 +232,19 @@ for path in sys.argv[1:]:
     assert c0 > 500 and c1 > 500, (path, c0, c1)
 EOF
     cp shot2.png "${TMPDIR:-/tmp}/mote-live-shot.png" 2> /dev/null
+    # hard spheres in a 1200 x 800 window: the picture and the density panel side by side,
+    # both inside the window (the canvases are sized from it; 1 px borders, 10 px padding,
+    # 8 px between)
+    printf 'new 3 0.4\nstep 100000000\n' > hslive.mote
+    start hslive.mote
+    timeout 60 chromium --headless=new --no-sandbox --disable-gpu --window-size=1200,800 \
+        --virtual-time-budget=3000 --dump-dom "${URL}?frames=5" 2> /dev/null > hsdom.html
+    stop
+    cw=$(sed -n 's/.*<canvas id="c" width="\([0-9]*\)" height="\([0-9]*\)".*/\1 \2/p' hsdom.html)
+    pw=$(sed -n 's/.*<canvas id="p" width="\([0-9]*\)" height="\([0-9]*\)" style="display: block;".*/\1 \2/p' hsdom.html)
+    set -- $cw $pw
+    [ $# -eq 4 ] && [ $(($1 + $3 + 4 + 8 + 20)) -le 1200 ] && [ "$2" -le 760 ] && [ "$4" -le 760 ] && [ "$3" -ge 200 ] &&
+        ok || bad "the panels do not fit a 1200 x 800 window: picture '$cw', profile '$pw'"
 else
     echo "test_live.sh: no chromium (scripts/setup.sh installs it): the browser test is skipped"
     bad "chromium is missing"

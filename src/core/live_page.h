@@ -61,7 +61,7 @@ static const char *const mote_live_page_lines[] = {
     "cx.globalAlpha=1;cx.fillStyle=col(f,f.c?f.c[i]:0);cx.beginPath();cx.arc(e[1],e[2],r,0,6.2832);cx.fill();",
     "cx.fillStyle='rgba(0,0,0,'+(1-k).toFixed(3)+')';cx.fill();}}",
     "function layout(){const prof=pv.style.display==='block',top=document.getElementById('wrap').getBoundingClientRect().top;",
-    "const W=Math.max(240,window.innerWidth-20-(prof?8:0)),H=Math.max(200,Math.min(window.innerHeight-top-12,W));",
+    "const W=Math.max(240,window.innerWidth-20-(prof?12:2)),H=Math.max(200,Math.min(window.innerHeight-top-14,W));",
     "const pw=prof?Math.min(360,Math.round(0.3*W)):0;cv.width=W-pw;cv.height=H;if(prof){pv.width=pw;pv.height=H;}}",
     "window.onresize=()=>{layout();if(last)draw(last);};layout();",
     "function drawProfile(f){const p=f.profile;px.fillStyle='#000';px.fillRect(0,0,pv.width,pv.height);",
