@@ -334,10 +334,11 @@ static void test_csv(void)
     CHECK_INT(mote_datafile_open(&d, path, "probe", "probe one.CSV   (x.mote:1)", 7, &err), 0);
     fprintf(d.f, "# L = 12.5\n");
     mote_datafile_columns(&d, "x rho name");
-    fprintf(d.f, "0.5 1.25 left\n1.5   2.5e-3\ta\"b\n");
+    fprintf(d.f, "0.5 1.25 left\n1.5   2.5e-3\ta\"b\n2 3 a,b\n4,5,c\n");
     CHECK_INT(mote_datafile_commit(&d, &err), 0);
     read_all(path, buf, sizeof buf);
-    CHECK_STR(buf, "x,rho,name\r\n0.5,1.25,left\r\n1.5,2.5e-3,\"a\"\"b\"\r\n");
+    CHECK_STR(buf, "x,rho,name\r\n0.5,1.25,left\r\n1.5,2.5e-3,\"a\"\"b\"\r\n2,3,\"a,b\"\r\n"
+                   "4,5,c\r\n");
 
     path_in(path, sizeof path, "blocks.csv");
     CHECK_INT(mote_datafile_open(&d, path, "probe", NULL, 7, &err), 0);

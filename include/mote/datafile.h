@@ -68,8 +68,9 @@ void mote_datafile_abort(mote_datafile *d);
  * Python's csv and spreadsheets read. */
 int mote_path_is_csv(const char *path);
 /* Write the data file at in_path to out as RFC 4180 CSV: the "# columns:" names as the header
- * row, then every row (its fields separated by blanks or commas), fields separated by commas
- * (quoted where they hold a quote; quotes doubled), lines ended by CR LF. The other header lines are left out (the
+ * row, then every row (its fields separated by blanks, or by commas in a row without blanks),
+ * fields separated by commas (quoted where they hold a comma or a quote; quotes doubled), lines
+ * ended by CR LF. The other header lines are left out (the
  * data-file form keeps them); a file of several blocks gets a first column "block" (0, 1, ...).
  * A file that is not a data file (its first line is not "# mote ...") is copied unchanged. */
 int mote_datafile_csv(const char *in_path, FILE *out, mote_err *err);

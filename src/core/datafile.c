@@ -121,8 +121,8 @@ static void csv_field(FILE *out, const char *s, size_t n, int first)
     fputc('"', out);
 }
 
-/* The tokens of s (separated by blanks, or commas: nbody's format=csv rows) as one CSV record
- * (after a leading "block" field when block >= 0). */
+/* The fields of row s (separated by blanks; in a row without blanks, by commas: nbody's
+ * format=csv rows) as one CSV record (after a leading "block" field when block >= 0). */
 static void csv_record(FILE *out, const char *s, long block)
 {
     int first = 1;
@@ -130,11 +130,16 @@ static void csv_record(FILE *out, const char *s, long block)
         fprintf(out, "%ld", block);
         first = 0;
     }
+    while (*s == ' ' || *s == '\t')
+        s++;
+    /* a row without blanks is one of comma-separated fields; otherwise blanks separate them and
+     * a comma belongs to its field (a part name "a,b" is one field, quoted) */
+    const char *seps = strpbrk(s, " \t") ? " \t" : ",";
     while (*s) {
-        while (*s == ' ' || *s == '\t' || *s == ',')
+        while (*s && strchr(seps, *s))
             s++;
         const char *b = s;
-        while (*s && *s != ' ' && *s != '\t' && *s != ',')
+        while (*s && !strchr(seps, *s))
             s++;
         if (s > b) {
             csv_field(out, b, (size_t)(s - b), first);

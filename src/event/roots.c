@@ -76,24 +76,7 @@ double mote_first_root(const double *c, int deg, double tmax)
         deg--;
     if (!(c[0] > 0))
         return 0;
-    if (deg == 0 || !(tmax > 0))
-        return INFINITY;
-    double crit[4];
-    int nc = 0;
-    if (deg >= 2) {
-        double d[4];
-        for (int k = 1; k <= deg; k++)
-            d[k - 1] = k * c[k];
-        nc = roots_in(d, deg - 1, 0, tmax, crit);
-    }
-    double u = 0;
-    for (int k = 0; k <= nc; k++) {
-        double w = k < nc ? crit[k] : tmax;
-        if (!(horner(c, deg, w) > 0))
-            return bisect(c, deg, u, w, 1);
-        u = w;
-    }
-    return INFINITY;
+    return mote_first_entry(c, deg, tmax); /* from above zero: its first entry */
 }
 
 double mote_first_entry(const double *c, int deg, double tmax)
