@@ -390,7 +390,7 @@ static void test_loop(void)
 {
     printf("the run loop: observers on exact schedules\n");
     loop_probe a = {0}, b = {0};
-    mote_observer obs[2] = {{{0.0, 0.1, 1}, &a, probe_fire}, {{0.0, 0.25, 1}, &b, probe_fire}};
+    mote_observer obs[2] = {{{0.0, 0.1, 1}, &a, probe_fire, 0}, {{0.0, 0.25, 1}, &b, probe_fire, 0}};
     mote_loop l = {obs, 2, UINT64_MAX, NULL, 0, 1, 0};
     mote_err err = {0};
     double t = 0;
@@ -408,17 +408,46 @@ static void test_loop(void)
     /* a fixed step of 0.35 passes several times: each observer fires once per stop, and its
      * schedule moves past the step's time (no late burst) */
     loop_probe c = {0};
-    mote_observer o1 = {{0.0, 0.1, 1}, &c, probe_fire};
+    mote_observer o1 = {{0.0, 0.1, 1}, &c, probe_fire, 0};
     mote_loop l1 = {&o1, 1, UINT64_MAX, NULL, 0, 1, 0};
     double ts = 0.35;
     CHECK_INT(mote_loop_fire(&l1, &ts, ts, &err), 0);
     CHECK_INT(c.calls, 1);
     CHECK(mote_loop_next(&l1) == 0.0 + 4 * 0.1, "after 0.35 the next is %.17g", mote_loop_next(&l1));
     /* a time within 1e-9 of the interval before the end is taken at the end */
-    mote_observer o2 = {{0.0, 0.1, 10}, &c, probe_fire};
+    mote_observer o2 = {{0.0, 0.1, 10}, &c, probe_fire, 0};
     mote_loop l2 = {&o2, 1, UINT64_MAX, NULL, 0, 1, 0};
     CHECK(mote_loop_stop(&l2, 1.0 + 1e-12) == 1.0 + 1e-12, "stop %.17g",
           mote_loop_stop(&l2, 1.0 + 1e-12));
+    /* count observers (every 3 and every 5 steps) beside a time observer: a stepping model
+     * stops at 3, 5, 6, 9, 10, ... and the time calls pass the count observers by */
+    loop_probe p3 = {0}, p5 = {0}, pt = {0};
+    mote_observer oc[3] = {{{0, 0, 0}, &p3, probe_fire, 3}, {{0.0, 0.5, 1}, &pt, probe_fire, 0},
+                           {{0, 0, 0}, &p5, probe_fire, 5}};
+    mote_loop lc = {oc, 3, 14, NULL, 0, INFINITY, 0};
+    uint64_t n = 0, nstops = 0, stops_at[16];
+    while (n < lc.n_end && nstops < 16) {
+        n = mote_loop_count_stop(&lc, n, lc.n_end);
+        stops_at[nstops++] = n;
+        double tn = (double)n;
+        CHECK_INT(mote_loop_fire_count(&lc, &tn, n, &err), 0);
+    }
+    const uint64_t want[] = {3, 5, 6, 9, 10, 12, 14};
+    CHECK_INT(nstops, 7);
+    for (size_t k = 0; k < 7 && k < nstops; k++)
+        CHECK(stops_at[k] == want[k], "stop %zu at %llu, not %llu", k,
+              (unsigned long long)stops_at[k], (unsigned long long)want[k]);
+    CHECK_INT(p3.calls, 4);
+    CHECK_INT(p5.calls, 2);
+    CHECK(p5.t[1] == 10.0, "every 5: second call at %g", p5.t[1]);
+    CHECK_INT(pt.calls, 0);
+    CHECK(mote_loop_next(&lc) == 0.5, "the time observer is next at %g", mote_loop_next(&lc));
+    double tt = 1.0;
+    CHECK_INT(mote_loop_fire(&lc, &tt, tt, &err), 0);
+    CHECK_INT(pt.calls, 1);
+    CHECK_INT(p3.calls, 4); /* a time call fires no count observer */
+    CHECK(mote_loop_count_stop(&lc, UINT64_MAX - 1, UINT64_MAX) == UINT64_MAX,
+          "no multiple fits above UINT64_MAX - 1");
 }
 
 int main(void)

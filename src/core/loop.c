@@ -7,6 +7,8 @@ double mote_loop_next(const mote_loop *l)
 {
     double next = INFINITY;
     for (size_t k = 0; l && k < l->nobs; k++) {
+        if (l->obs[k].every)
+            continue;
         double t = mote_schedule_next(&l->obs[k].at);
         if (t < next)
             next = t;
@@ -19,6 +21,8 @@ double mote_loop_stop(const mote_loop *l, double t_end)
     double stop = t_end;
     for (size_t k = 0; l && k < l->nobs; k++) {
         const mote_observer *o = &l->obs[k];
+        if (o->every)
+            continue;
         double t = mote_schedule_next(&o->at);
         /* a time a hair before the end is taken at the end */
         if (t < stop && t <= t_end - 1e-9 * o->at.dt)
@@ -32,12 +36,40 @@ int mote_loop_fire(mote_loop *l, void *subject, double t, mote_err *err)
     for (size_t k = 0; l && k < l->nobs; k++) {
         mote_observer *o = &l->obs[k];
         const double tol = 1e-9 * o->at.dt;
-        if (!(mote_schedule_next(&o->at) <= t + tol))
+        if (o->every || !(mote_schedule_next(&o->at) <= t + tol))
             continue;
         int rc = o->fire(o->ctx, subject, err);
         do /* past t: exact times t0 + k dt, never a running sum */
             o->at.k++;
         while (o->at.dt > 0 && mote_schedule_next(&o->at) <= t + tol);
+        if (rc)
+            return rc;
+    }
+    return MOTE_OK;
+}
+
+uint64_t mote_loop_count_stop(const mote_loop *l, uint64_t n, uint64_t n_end)
+{
+    uint64_t stop = n_end;
+    for (size_t k = 0; l && k < l->nobs; k++) {
+        const uint64_t e = l->obs[k].every;
+        if (!e || n / e >= (UINT64_MAX - e) / e) /* (no multiple above n that fits) */
+            continue;
+        const uint64_t next = (n / e + 1) * e;
+        if (next < stop)
+            stop = next;
+    }
+    return stop;
+}
+
+int mote_loop_fire_count(mote_loop *l, void *subject, uint64_t n, mote_err *err)
+{
+    for (size_t k = 0; l && k < l->nobs; k++) {
+        mote_observer *o = &l->obs[k];
+        if (!o->every || n % o->every != 0)
+            continue;
+        o->at.k++;
+        int rc = o->fire(o->ctx, subject, err);
         if (rc)
             return rc;
     }

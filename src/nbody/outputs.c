@@ -1,0 +1,845 @@
+/* outputs.c: the N-body model's output commands (monitor, trajectory, approaches, frames,
+ * snapshot every=K) and integrate, which advances the bodies through the core run loop
+ * (mote/loop.h): each output is an observer, by steps (every=K, a count observer) or by time
+ * (dt=T: the Taylor step's dense output gives the state at t0 + k dt exactly, spec 4.5). */
+#include "mote/datafile.h"
+#include "mote/nbody.h"
+
+#include <tgmath.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "mote/loop.h"
+
+#include "model.h"
+
+/* The monitor's columns (spec 10.1; E_corr last). cpu_s and wall_s, the processor and wall
+ * seconds since the monitor started, are the only ones that differ between identical runs. */
+enum { MON_COLS = 36 };
+static const char *const MON_NAME[MON_COLS] = {
+    "step", "T",     "h",      "dT",     "N_active", "E_kin",  "U",      "E_tot",
+    "dE",   "Px",    "Py",     "Pz",     "Lx",       "Ly",     "Lz",     "Sx",
+    "Sy",   "Sz",    "dMz",    "dL",     "Xcm",      "Ycm",    "Zcm",    "Vxcm",
+    "Vycm", "Vzcm",  "m_max",  "v_max",  "E_kin_max", "T_E_kin_max", "E_heat", "E_spin",
+    "merges", "cpu_s", "wall_s", "E_corr"};
+/* integer columns; and the columns the monitor prints on the terminal */
+static int mon_integer(int c) { return c == 0 || c == 4 || c == 32; }
+static const int MON_TERM[] = {0, 1, 2, 4, 7, 8, 18, 19, 32};
+
+enum { FMT_TABLE, FMT_CSV, FMT_JSONL };
+
+/* Room for one more sample row; returns it or NULL (out of memory). */
+static double *sampler_row(nb_sampler *s)
+{
+    if (s->nrows == s->cap) {
+        size_t cap = s->cap ? 2 * s->cap : 256;
+        double *p = realloc(s->rows, cap * s->cols * sizeof *p);
+        if (!p)
+            return NULL;
+        s->rows = p;
+        s->cap = cap;
+    }
+    return s->rows + s->nrows++ * s->cols;
+}
+
+static double now_seconds(clockid_t id)
+{
+    struct timespec ts;
+    return clock_gettime(id, &ts) == 0 ? (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec : 0;
+}
+
+static void print_terminal_row(FILE *f, const double *r)
+{
+    for (size_t k = 0; k < sizeof MON_TERM / sizeof MON_TERM[0]; k++) {
+        int c = MON_TERM[k];
+        if (mon_integer(c))
+            fprintf(f, k ? " %10.0f" : "%12.0f", r[c]);
+        else
+            fprintf(f, " %23.16e", r[c]);
+    }
+    fputc('\n', f);
+}
+
+/* A monitor row of the state nb (the current one, or a dense-output view). */
+static int monitor_sample(nb_model *m, const mote_nb *nb, mote_err *err)
+{
+    nb_sampler *s = &m->mon;
+    double *r = sampler_row(s);
+    if (!r)
+        return mote_fail(err, MOTE_ENOMEM, "monitor: out of memory");
+    mote_nb_monitor mon;
+    mote_nb_measure(nb, &mon);
+    uint32_t active = 0;
+    double mmax = 0, vmax = 0;
+    for (uint32_t i = 0; i < nb->n; i++) {
+        if (!nb->active[i])
+            continue;
+        active++;
+        const mote_real *v = nb->v + 3 * (size_t)i;
+        mote_real v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+        mmax = fmax(mmax, nb->m[i]);
+        vmax = fmax(vmax, sqrt(v2));
+        if (0.5 * nb->m[i] * v2 > s->ekmax) {
+            s->ekmax = 0.5 * nb->m[i] * v2;
+            s->t_ekmax = nb->T;
+        }
+    }
+    double row[MON_COLS] = {(double)nb->steps, nb->T, nb->hlast, nb->dt, (double)active,
+                            mon.ekin, mon.u, mon.etot, mon.dE, mon.P[0], mon.P[1], mon.P[2],
+                            mon.L[0], mon.L[1], mon.L[2], mon.S[0], mon.S[1], mon.S[2], mon.dMz,
+                            mon.dL, mon.R[0] / mon.mtot, mon.R[1] / mon.mtot,
+                            mon.R[2] / mon.mtot, mon.P[0] / mon.mtot, mon.P[1] / mon.mtot,
+                            mon.P[2] / mon.mtot, mmax, vmax, s->ekmax, s->t_ekmax, nb->e_heat,
+                            nb->e_spin, (double)nb->merges,
+                            now_seconds(CLOCK_PROCESS_CPUTIME_ID) - s->cpu0,
+                            now_seconds(CLOCK_MONOTONIC) - s->wall0, mon.ecorr};
+    memcpy(r, row, sizeof row);
+    if (!s->path && m->log) { /* the terminal: one aligned line now */
+        print_terminal_row(m->log, r);
+        s->nrows = 0;
+    }
+    return MOTE_OK;
+}
+
+static int trajectory_sample(nb_model *m, const mote_nb *nb, mote_err *err)
+{
+    nb_sampler *s = &m->traj;
+    if (nb->n != s->n0)
+        return mote_fail(err, MOTE_EINVAL, "trajectory: the number of bodies changed (%u now, "
+                         "%u when it started)", nb->n, s->n0);
+    double *r = sampler_row(s);
+    if (!r)
+        return mote_fail(err, MOTE_ENOMEM, "trajectory: out of memory");
+    mote_nb_monitor mon;
+    mote_nb_measure(nb, &mon);
+    r[0] = nb->T;
+    r[1] = mon.ekin;
+    r[2] = mon.etot;
+    r += 3;
+    for (uint32_t k = 0; k < s->nsel; k++) { /* (double samples of the real values) */
+        size_t i = 3 * (size_t)s->sel[k];
+        for (int a = 0; a < 3; a++)
+            *r++ = (double)nb->x[i + a];
+        for (int a = 0; a < 3 * s->vel; a++)
+            *r++ = (double)nb->v[i + a];
+    }
+    return MOTE_OK;
+}
+
+static int sample(nb_model *m, int traj, const mote_nb *nb, mote_err *err)
+{
+    return traj ? trajectory_sample(m, nb, err) : monitor_sample(m, nb, err);
+}
+
+/* The header lines every output shares after the preamble (spec 10). */
+static void run_header(FILE *f, const mote_nb *nb, const nb_sampler *s)
+{
+    char b[MOTE_REAL_BUF];
+    nb_write_header(f, nb);
+    if (s->dt > 0)
+        fprintf(f, "# sample_dt = %s\n", mote_real_str(s->dt, b));
+    else
+        fprintf(f, "# every = %llu\n", (unsigned long long)s->every);
+    nb_write_units(f, nb);
+}
+
+static void put_json(FILE *f, double x)
+{
+    if (isfinite(x))
+        fprintf(f, "%.17g", x);
+    else
+        fputs("null", f);
+}
+
+/* The name of trajectory column c: T, E_kin, E_tot, then x_NAME ... or x3 ... per body. */
+static const char *traj_column(const nb_model *m, size_t c, char name[40])
+{
+    static const char *const head[3] = {"T", "E_kin", "E_tot"};
+    static const char *const q[6] = {"x", "y", "z", "vx", "vy", "vz"};
+    if (c < 3)
+        return head[c];
+    const nb_sampler *s = &m->traj;
+    size_t per = s->vel ? 6 : 3, k = (c - 3) / per;
+    uint32_t i = s->sel[k];
+    if (m->nb.name[i][0])
+        snprintf(name, 40, "%s_%s", q[(c - 3) % per], m->nb.name[i]);
+    else
+        snprintf(name, 40, "%s%u", q[(c - 3) % per], i + 1);
+    return name;
+}
+
+/* Rewrite the sampler's file (atomically) with every sample so far. */
+static int sampler_write(nb_model *m, nb_sampler *s, int traj, mote_err *err)
+{
+    if (!s->path)
+        return MOTE_OK;
+    const char *kind = traj ? "nbody-trajectory" : "nbody-monitor";
+    mote_datafile d;
+    int rc;
+    if (s->format == FMT_JSONL) {
+        rc = mote_afile_open(&d.af, s->path, err);
+        d.f = d.af.f;
+    } else
+        rc = mote_datafile_open(&d, s->path, kind, s->origin, 0, err);
+    if (rc)
+        return rc;
+    FILE *f = d.f;
+    const char sep = s->format == FMT_CSV ? ',' : ' ';
+    if (s->format != FMT_JSONL) {
+        run_header(f, &m->nb, s);
+        if (traj) {
+            fprintf(f, "# Lx0 = %.17g\n# Ly0 = %.17g\n# Lz0 = %.17g\n", s->L0[0], s->L0[1],
+                    s->L0[2]);
+            for (uint32_t k = 0; k < s->nsel; k++) /* the numbers of the named bodies */
+                if (m->nb.name[s->sel[k]][0])
+                    fprintf(f, "# body_%s = %u\n", m->nb.name[s->sel[k]], s->sel[k] + 1);
+            fprintf(f, "# a row per sample: T, E_kin, E_tot, then x y z%s of each recorded body "
+                       "(columns x_NAME or xK, K its number)\n", s->vel ? " vx vy vz" : "");
+        } else
+            fprintf(f, "# dE is (E_corr - E0)/|E0| with E_corr = E_tot minus the energy changes "
+                       "of merges, dMz the aggregated z moment's (Lz + Sz) relative change and dL "
+                       "|L + S - (L + S)0| / |(L + S)0| from the run's start\n");
+        fputs(s->format == FMT_CSV ? "" : "# columns: ", f);
+        if (traj) {
+            char name[40];
+            for (size_t c = 0; c < s->cols; c++)
+                fprintf(f, "%s%s", c ? (char[2]){sep, 0} : "", traj_column(m, c, name));
+        } else
+            for (int c = 0; c < MON_COLS; c++) {
+                if (c)
+                    fputc(sep, f);
+                fputs(MON_NAME[c], f);
+            }
+        fputc('\n', f);
+    }
+    for (size_t k = 0; k < s->nrows; k++) {
+        const double *r = s->rows + k * s->cols;
+        if (s->format == FMT_JSONL) {
+            fprintf(f, "{\"format\":\"%s\"", kind);
+            for (size_t c = 0; c < s->cols; c++) {
+                char name[40];
+                fprintf(f, ",\"%s\":", traj ? traj_column(m, c, name) : MON_NAME[c]);
+                put_json(f, r[c]);
+            }
+            fputs("}\n", f);
+            continue;
+        }
+        for (size_t c = 0; c < s->cols; c++) {
+            if (c)
+                fputc(sep, f);
+            fprintf(f, !traj && mon_integer((int)c) ? "%.0f" : "%.17g", r[c]);
+        }
+        fputc('\n', f);
+    }
+    if (s->format == FMT_JSONL)
+        return mote_afile_commit(&d.af, err);
+    return mote_datafile_commit(&d, err);
+}
+
+/* unit=NAME: a known unit, and physical scales to convert with. */
+static int check_time_unit(nb_model *m, const mote_call *c, mote_err *err)
+{
+    const mote_arg *u = mote_call_opt(c, "unit");
+    if (!u)
+        return MOTE_OK;
+    int k = mote_call_opt_index(c, "unit");
+    if (!(mote_nb_time_unit(u->text) > 0))
+        return mote_call_fail(err, c, k, MOTE_EINVAL,
+                              "%s: unit must be s, day, year or century, found '%s'", c->name,
+                              u->text);
+    if (!m->d_scales)
+        return mote_call_fail(err, c, k, MOTE_EINVAL,
+                              "%s: unit= needs physical scales: set them with units (or a "
+                              "generator) first", c->name);
+    return MOTE_OK;
+}
+
+/* The dimensionless time of one unit= (1 without it); fails at run time when the scales are
+ * unknown (a loaded state without them). */
+static int time_scale(const nb_model *m, const mote_call *c, double *scale, mote_err *err)
+{
+    const mote_arg *u = mote_call_opt(c, "unit");
+    *scale = 1;
+    if (!u)
+        return MOTE_OK;
+    if (!m->nb.u.set)
+        return mote_call_fail(err, c, mote_call_opt_index(c, "unit"), MOTE_EINVAL,
+                              "%s: unit= needs physical scales (units or a generator)", c->name);
+    *scale = mote_nb_time_unit(u->text) * m->nb.u.kt;
+    return MOTE_OK;
+}
+
+/* The sampler options: every=K or dt=T [unit=U], format=, file=. */
+int nb_check_sampler(void *vm, const mote_call *c, mote_err *err)
+{
+    nb_model *m = vm;
+    int every = mote_call_opt(c, "every") != NULL, dt = mote_call_opt(c, "dt") != NULL;
+    if (every + dt != 1)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL,
+                              "%s: give one of every=K (steps) and dt=T (time)", c->name);
+    int rc = check_time_unit(m, c, err);
+    if (rc)
+        return rc;
+    const mote_arg *f = mote_call_opt(c, "format");
+    if (f && strcmp(f->text, "table") != 0 && strcmp(f->text, "csv") != 0 &&
+        strcmp(f->text, "jsonl") != 0)
+        return mote_call_fail(err, c, mote_call_opt_index(c, "format"), MOTE_EINVAL,
+                              "%s: format must be table, csv or jsonl, found '%s'", c->name,
+                              f->text);
+    if (f && !mote_call_opt(c, "file"))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "format"), MOTE_EINVAL,
+                              "%s: format= is for a file: give file=FILE", c->name);
+    const mote_arg *file = mote_call_opt(c, "file");
+    if (file && file->path) { /* (a .csv name is CSV whatever format= says) */
+        const char *fmt = mote_path_is_csv(file->path) ? "csv" : f ? f->text : "table";
+        rc = mote_outputs_note_path(&m->formats, c, mote_call_opt_index(c, "file"), file->path,
+                                    fmt, 1, err);
+    }
+    return rc;
+}
+
+/* Start a sampler: a sample now, then every K steps or every T of time during integrate. */
+static int sampler_start(nb_model *m, nb_sampler *s, const mote_call *c, size_t cols,
+                         mote_err *err)
+{
+    nb_settle_units(m);
+    free(s->path);
+    free(s->origin);
+    const mote_arg *a = mote_call_opt(c, "file"), *f = mote_call_opt(c, "format");
+    s->path = a ? strdup(a->path) : NULL;
+    s->origin = mote_call_origin(c);
+    const mote_arg *ev = mote_call_opt(c, "every");
+    s->every = ev ? (uint64_t)ev->i : 0;
+    double scale;
+    int rc = time_scale(m, c, &scale, err);
+    if (rc)
+        return rc;
+    s->dt = nb_opt_real_or(c, "dt", 0) * scale;
+    s->t0 = m->nb.T;
+    s->at = (mote_schedule){(double)s->t0, (double)s->dt, 1};
+    s->format = !f ? FMT_TABLE : f->text[0] == 'c' ? FMT_CSV : f->text[0] == 'j' ? FMT_JSONL
+                                                                                 : FMT_TABLE;
+    s->on = 1;
+    s->nrows = 0;
+    s->cols = cols;
+    s->ekmax = s->t_ekmax = 0;
+    s->cpu0 = now_seconds(CLOCK_PROCESS_CPUTIME_ID);
+    s->wall0 = now_seconds(CLOCK_MONOTONIC);
+    if ((a && !s->path) || !s->origin)
+        return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", c->name);
+    if (!m->nb.ref_set && m->nb.n)
+        mote_nb_set_reference(&m->nb);
+    return MOTE_OK;
+}
+
+int nb_run_monitor(void *vm, const mote_call *c, mote_err *err)
+{
+    nb_model *m = vm;
+    int rc = sampler_start(m, &m->mon, c, MON_COLS, err);
+    if (!rc && !m->mon.path && m->log) {
+        for (size_t k = 0; k < sizeof MON_TERM / sizeof MON_TERM[0]; k++)
+            fprintf(m->log, k == 0 ? "%12s" : mon_integer(MON_TERM[k]) ? " %10s" : " %23s",
+                    MON_NAME[MON_TERM[k]]);
+        fputc('\n', m->log);
+    }
+    if (!rc && m->nb.n)
+        rc = monitor_sample(m, &m->nb, err);
+    return rc ? rc : sampler_write(m, &m->mon, 0, err);
+}
+
+/* on|off option: 1, 0, or -1 when it is neither (dflt when not given) */
+int nb_opt_on_off(const mote_call *c, const char *key, int dflt)
+{
+    const mote_arg *a = mote_call_opt(c, key);
+    return !a ? dflt : strcmp(a->text, "on") == 0 ? 1 : strcmp(a->text, "off") == 0 ? 0 : -1;
+}
+
+/* A list of bodies LIST (names or numbers, comma-separated) into sel (0-based; NULL: only
+ * check the syntax, and numbers against nmax); the count, or -1 after a located error. */
+static long body_list(const mote_call *c, const char *key, const mote_nb *nb, uint32_t nmax,
+                      uint32_t *sel, mote_err *err)
+{
+    const char *p = mote_call_opt(c, key)->text;
+    int argi = mote_call_opt_index(c, key);
+    long k = 0;
+    for (;;) {
+        char tok[64];
+        size_t len = strcspn(p, ",");
+        snprintf(tok, sizeof tok, "%.*s", (int)(len < 63 ? len : 63), p);
+        int number = len > 0 && strspn(tok, "0123456789") == len;
+        if (!(number || mote_nb_name_ok(tok)) || len > 63) {
+            mote_call_fail(err, c, argi, MOTE_EINVAL, "%s: %s: expected body names or numbers "
+                           "separated by commas, found '%s'", c->name, key, tok);
+            return -1;
+        }
+        long i = number ? (long)strtoul(tok, NULL, 10) - 1 : -1;
+        if (number && (i < 0 || i >= (long)nmax)) {
+            mote_call_fail(err, c, argi, MOTE_EINVAL, "%s: %s: there is no body %s (there are "
+                           "%u)", c->name, key, tok, nmax);
+            return -1;
+        }
+        if (nb) {
+            i = mote_nb_find(nb, tok);
+            if (i < 0) {
+                mote_call_fail(err, c, argi, MOTE_EINVAL, "%s: %s: no body is named '%s'",
+                               c->name, key, tok);
+                return -1;
+            }
+            for (long j = 0; j < k; j++)
+                if (sel[j] == (uint32_t)i) {
+                    mote_call_fail(err, c, argi, MOTE_EINVAL, "%s: %s: body %ld is listed "
+                                   "twice", c->name, key, i + 1);
+                    return -1;
+                }
+            sel[k] = (uint32_t)i;
+        }
+        k++;
+        if (!p[len])
+            return k;
+        p += len + 1;
+    }
+}
+
+int nb_check_trajectory(void *vm, const mote_call *c, mote_err *err)
+{
+    nb_model *m = vm;
+    int rc = nb_check_sampler(vm, c, err);
+    if (!rc)
+        rc = nb_need_bodies(vm, c, err);
+    if (!rc && nb_opt_on_off(c, "velocities", 0) < 0)
+        return mote_call_fail(err, c, mote_call_opt_index(c, "velocities"), MOTE_EINVAL,
+                              "trajectory: velocities must be on or off, found '%s'",
+                              mote_call_opt(c, "velocities")->text);
+    if (!rc && mote_call_opt(c, "bodies") && body_list(c, "bodies", NULL, m->d_bodies, NULL, err) < 0)
+        return err->code;
+    return rc;
+}
+int nb_run_trajectory(void *vm, const mote_call *c, mote_err *err)
+{
+    nb_model *m = vm;
+    nb_sampler *s = &m->traj;
+    nb_settle_units(m);
+    free(s->sel);
+    s->sel = malloc((m->nb.n ? m->nb.n : 1) * sizeof *s->sel);
+    if (!s->sel)
+        return mote_fail(err, MOTE_ENOMEM, "trajectory: out of memory");
+    s->nsel = m->nb.n;
+    for (uint32_t i = 0; i < m->nb.n; i++)
+        s->sel[i] = i;
+    if (mote_call_opt(c, "bodies")) {
+        long k = body_list(c, "bodies", &m->nb, m->nb.n, s->sel, err);
+        if (k < 0)
+            return err->code;
+        s->nsel = (uint32_t)k;
+    }
+    s->vel = nb_opt_on_off(c, "velocities", 0);
+    s->n0 = m->nb.n;
+    int rc = sampler_start(m, s, c, 3 + (s->vel ? 6 : 3) * (size_t)s->nsel, err);
+    if (rc)
+        return rc;
+    mote_nb_monitor mon;
+    mote_nb_measure(&m->nb, &mon);
+    for (int a = 0; a < 3; a++)
+        m->traj.L0[a] = mon.L[a] + mon.S[a];
+    rc = trajectory_sample(m, &m->nb, err);
+    return rc ? rc : sampler_write(m, &m->traj, 1, err);
+}
+
+/* ---- approaches (spec 7.9, 10.4) ------------------------------------------------------------- */
+
+int nb_check_approaches(void *vm, const mote_call *c, mote_err *err)
+{
+    nb_model *m = vm;
+    int rc = nb_need_bodies(vm, c, err);
+    if (rc)
+        return rc;
+    if (nb_opt_on_off(c, "refine", 0) < 0)
+        return mote_call_fail(err, c, mote_call_opt_index(c, "refine"), MOTE_EINVAL,
+                              "approaches: refine must be on or off, found '%s'",
+                              mote_call_opt(c, "refine")->text);
+    const mote_arg *f = mote_call_opt(c, "format");
+    if (f && strcmp(f->text, "native") != 0 && strcmp(f->text, "galactica") != 0)
+        return mote_call_fail(err, c, mote_call_opt_index(c, "format"), MOTE_EINVAL,
+                              "approaches: format must be native or galactica (dice.dat's "
+                              "columns), found '%s'", f->text);
+    const long k = body_list(c, "body", NULL, m->d_bodies, NULL, err);
+    if (k < 0)
+        return err->code;
+    return k == 1 ? MOTE_OK
+                  : mote_call_fail(err, c, mote_call_opt_index(c, "body"), MOTE_EINVAL,
+                                   "approaches: body= names one body (found %ld)", k);
+}
+
+static int approaches_write(nb_model *m, mote_err *err)
+{
+    if (!m->appr.path)
+        return MOTE_OK;
+    mote_datafile d;
+    int rc = mote_datafile_open(&d, m->appr.path, "nbody-approaches", m->appr.origin, 0, err);
+    if (rc)
+        return rc;
+    nb_write_header(d.f, &m->nb);
+    fprintf(d.f, "# body = %u\n# refine = %s\n# a row per interval of %llu steps: the closest "
+                 "approach of the body to any other, %s\n",
+            m->appr.a.body + 1, m->appr.a.refine ? "on" : "off",
+            (unsigned long long)m->appr.every,
+            m->appr.a.refine ? "the true minimum inside a step, from the step's polynomial"
+                             : "sampled at step ends");
+    fprintf(d.f, "# columns: %s\n", m->appr.galactica ? "T_min body distance"
+                                                      : "T_min body distance relative_speed");
+    const nb_approach *a = &m->appr.a;
+    for (size_t k = 0; k < a->nrows; k++) {
+        const double *r = a->rows + 4 * k;
+        if (m->appr.galactica)
+            fprintf(d.f, "%.16E  %.0f  %.16E\n", r[0], r[1], r[2]);
+        else
+            fprintf(d.f, "%.17g %.0f %.17g %.17g\n", r[0], r[1], r[2], r[3]);
+    }
+    return mote_datafile_commit(&d, err);
+}
+
+int nb_run_approaches(void *vm, const mote_call *c, mote_err *err)
+{
+    nb_model *m = vm;
+    nb_settle_units(m);
+    uint32_t b = 0;
+    if (body_list(c, "body", &m->nb, m->nb.n, &b, err) != 1)
+        return err->code ? err->code : MOTE_EINVAL;
+    nb_approach_free(&m->appr.a);
+    nb_approach_init(&m->appr.a, b, nb_opt_on_off(c, "refine", 0) == 1, err);
+    m->appr.every = (uint64_t)mote_call_opt(c, "every")->i;
+    const mote_arg *f = mote_call_opt(c, "format");
+    m->appr.galactica = f && strcmp(f->text, "galactica") == 0;
+    free(m->appr.path);
+    free(m->appr.origin);
+    m->appr.path = strdup(mote_call_opt(c, "file")->path);
+    m->appr.origin = mote_call_origin(c);
+    if (!m->appr.path || !m->appr.origin)
+        return mote_fail(err, MOTE_ENOMEM, "approaches: out of memory");
+    return approaches_write(m, err);
+}
+
+/* ---- frames (spec 7.13) ----------------------------------------------------------------------- */
+
+int nb_check_frames(void *vm, const mote_call *c, mote_err *err)
+{
+    int rc = nb_need_bodies(vm, c, err);
+    const mote_arg *p = mote_call_opt(c, "prefix");
+    if (!rc && p && !mote_ctx_dir_ok(c->ctx, p->path))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "prefix"), MOTE_EINVAL,
+                              "frames: the directory of prefix '%s' does not exist", p->text);
+    const mote_arg *f = mote_call_opt(c, "control");
+    if (!rc && f && !mote_outputs_find(&c->ctx->outputs, f->path)) {
+        nb_galctl g;
+        if ((rc = nb_galctl_read(f->path, 0, 0, &g, err)) != MOTE_OK) {
+            char why[sizeof err->msg];
+            snprintf(why, sizeof why, "%s", err->msg);
+            return mote_call_fail(err, c, mote_call_opt_index(c, "control"), (mote_status)rc,
+                                  "frames: %s", why);
+        }
+    }
+    return rc;
+}
+
+static int frame_now(nb_model *m, mote_err *err)
+{
+    const size_t len = strlen(m->frames.prefix) + 32;
+    char *path = malloc(len);
+    if (!path)
+        return mote_fail(err, MOTE_ENOMEM, "frames: out of memory");
+    snprintf(path, len, "%s%06llu.png", m->frames.prefix,
+             (unsigned long long)(m->frames.count + 1));
+    int rc = nb_frame_png(&m->nb, &m->frames.f, path, m->nb.steps, err);
+    m->frames.count += !rc;
+    free(path);
+    return rc;
+}
+
+int nb_run_frames(void *vm, const mote_call *c, mote_err *err)
+{
+    nb_model *m = vm;
+    nb_settle_units(m);
+    const mote_arg *a = mote_call_opt(c, "prefix");
+    free(m->frames.prefix);
+    m->frames.prefix = strdup(a ? a->path : "frame_");
+    if (!m->frames.prefix)
+        return mote_fail(err, MOTE_ENOMEM, "frames: out of memory");
+    m->frames.every = (uint64_t)mote_call_opt(c, "every")->i;
+    m->frames.count = 0;
+    memset(&m->frames.ctl, 0, sizeof m->frames.ctl);
+    if ((a = mote_call_opt(c, "control"))) { /* the control file's graphics values */
+        int rc = nb_galctl_read(a->path, 0, 0, &m->frames.ctl, err);
+        if (rc)
+            return rc;
+        nb_frame_from_ctl(&m->frames.f, &m->frames.ctl, m->have_galhead ? m->galhead : NULL);
+    } else { /* the whole system in view, seen from +z; body 1's arrow yellow, the others green */
+        nb_galctl *g = &m->frames.ctl;
+        g->ntrio = 1;
+        g->trio[0][0] = 14;
+        g->trio[0][1] = 10;
+        g->trio[0][2] = 1;
+        nb_frame_from_ctl(&m->frames.f, g, m->have_galhead ? m->galhead : NULL);
+        double R = 0;
+        for (uint32_t i = 0; i < m->nb.n; i++)
+            if (m->nb.active[i])
+                for (int k = 0; k < 3; k++)
+                    R = fmax(R, fabs((double)m->nb.x[3 * i + (uint32_t)k]));
+        nb_frame_opts *f = &m->frames.f;
+        f->Xe0 = 512;
+        f->Ye0 = 384;
+        f->aix = f->biy = R > 0 ? 0.45 * 768 / R : 150;
+        f->Rd = 0.08;
+        f->amv = 600 / f->aix; /* the fastest body's arrow 60 pixels long */
+        f->Kl14 = 1;
+        f->np = 1;
+    }
+    return frame_now(m, err);
+}
+
+/* ---- snapshot every=K (spec 10.2) ------------------------------------------------------------ */
+
+int nb_check_snapshot(void *vm, const mote_call *c, mote_err *err)
+{
+    const mote_arg *f = mote_call_opt(c, "format");
+    if (f && strcmp(f->text, "native") != 0 && strcmp(f->text, "galactica") != 0)
+        return mote_call_fail(err, c, mote_call_opt_index(c, "format"), MOTE_EINVAL,
+                              "snapshot: format must be native or galactica, found '%s'",
+                              f->text);
+    const mote_arg *p = mote_call_opt(c, "prefix");
+    if (p && !mote_ctx_dir_ok(c->ctx, p->path))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "prefix"), MOTE_EINVAL,
+                              "snapshot: the directory of prefix '%s' does not exist", p->text);
+    return nb_need_bodies(vm, c, err);
+}
+int nb_run_snapshot(void *vm, const mote_call *c, mote_err *err)
+{
+    nb_model *m = vm;
+    const mote_arg *p = mote_call_opt(c, "prefix");
+    free(m->snap.prefix);
+    free(m->snap.origin);
+    m->snap.prefix = strdup(p ? p->path : "snapshot_");
+    m->snap.origin = mote_call_origin(c);
+    if (!m->snap.prefix || !m->snap.origin)
+        return mote_fail(err, MOTE_ENOMEM, "snapshot: out of memory");
+    m->snap.every = (uint64_t)mote_call_opt(c, "every")->i;
+    const mote_arg *f = mote_call_opt(c, "format");
+    m->snap.galactica = f && strcmp(f->text, "galactica") == 0;
+    return MOTE_OK;
+}
+
+int nb_check_integrate(void *vm, const mote_call *c, mote_err *err)
+{
+    int given = (mote_call_opt(c, "steps") != NULL) + (mote_call_opt(c, "to") != NULL) +
+                (mote_call_opt(c, "for") != NULL);
+    if (given != 1)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL,
+                              "integrate: give exactly one of steps=N, to=T and for=D (found %d)",
+                              given);
+    int rc = check_time_unit(vm, c, err);
+    return rc ? rc : nb_need_bodies(vm, c, err);
+}
+
+/* The step integrate has just taken, as its observers see it: the bodies after it, where it
+ * began, whether a merge ended it (then the step's polynomial no longer matches the bodies), and
+ * for a time observer the time t the loop fires it at. */
+typedef struct {
+    nb_model *m;
+    mote_real Tb;
+    int merged;
+    double t;
+    mote_real *xv; /* room for a dense-output view */
+} nb_step;
+
+/* A monitor or trajectory sample. By steps: the bodies now. By time: the sample t0 + k dt the
+ * loop fires at st->t, from the Taylor step's dense output (spec 4.5) when it falls inside the
+ * step, else (the Galactica scheme, spec 10.3, or after a merge) the step end. */
+static int sampler_fire(nb_model *m, int traj, const nb_step *st, mote_err *err)
+{
+    const nb_sampler *s = traj ? &m->traj : &m->mon;
+    mote_nb *nb = &m->nb;
+    if (!(s->dt > 0) || !st)
+        return sample(m, traj, nb, err);
+    /* the exact time in the model's precision: k from the loop's (double) time */
+    const mote_real k = (mote_real)llround((st->t - (double)s->t0) / (double)s->dt);
+    const mote_real ts = s->t0 + k * s->dt;
+    if (nb->integrator == MOTE_NB_TAYLOR && ts < nb->T && ts > st->Tb && !st->merged) {
+        mote_nb view = *nb;
+        view.x = st->xv;
+        view.v = st->xv + 3 * (size_t)nb->n;
+        mote_nb_taylor_dense(nb, ts - st->Tb, view.x, view.v);
+        view.T = ts;
+        return sample(m, traj, &view, err);
+    }
+    return sample(m, traj, nb, err);
+}
+static int fire_monitor(void *ctx, void *subject, mote_err *err)
+{
+    return sampler_fire(ctx, 0, subject, err);
+}
+static int fire_trajectory(void *ctx, void *subject, mote_err *err)
+{
+    return sampler_fire(ctx, 1, subject, err);
+}
+
+static int fire_checkpoint(void *ctx, void *subject, mote_err *err)
+{
+    nb_model *m = ctx;
+    return nb_state_save(&m->nb, m->ckpt.path, err);
+}
+
+/* The snapshot of `snapshot every=K`: PREFIX followed by the step count and .snap */
+static int fire_snapshot(void *ctx, void *subject, mote_err *err)
+{
+    nb_model *m = ctx;
+    size_t len = strlen(m->snap.prefix) + 32;
+    char *path = malloc(len);
+    if (!path)
+        return mote_fail(err, MOTE_ENOMEM, "snapshot: out of memory");
+    snprintf(path, len, "%s%010llu.%s", m->snap.prefix, (unsigned long long)m->nb.steps,
+             m->snap.galactica ? "dat" : "snap");
+    int rc = m->snap.galactica ? nb_write_galactica(m, path, 1, err)
+                               : nb_snapshot_write(&m->nb, path, m->snap.origin, err);
+    free(path);
+    return rc;
+}
+
+static int fire_frame(void *ctx, void *subject, mote_err *err) { return frame_now(ctx, err); }
+
+/* The closest approach of the interval of approaches every=K that ends now. */
+static int fire_approach(void *ctx, void *subject, mote_err *err)
+{
+    nb_model *m = ctx;
+    return nb_approach_close(&m->appr.a, m->nb.T, err);
+}
+
+/* The observers of integrate, in the order they fire after a step: the approach interval's
+ * close, the monitor, the trajectory, the checkpoint, the snapshot and the frame. A sampler by
+ * time keeps its place in its sequence (at) from one integrate to the next. */
+static size_t integrate_observers(nb_model *m, mote_observer obs[6])
+{
+    size_t n = 0;
+    if (m->appr.every)
+        obs[n++] = (mote_observer){{0, 0, 0}, m, fire_approach, m->appr.every};
+    nb_sampler *smp[2] = {&m->mon, &m->traj};
+    int (*fire[2])(void *, void *, mote_err *) = {fire_monitor, fire_trajectory};
+    for (int k = 0; k < 2; k++)
+        if (smp[k]->on)
+            obs[n++] = (mote_observer){smp[k]->at, m, fire[k], smp[k]->dt > 0 ? 0 : smp[k]->every};
+    if (m->ckpt.path)
+        obs[n++] = (mote_observer){{0, 0, 0}, m, fire_checkpoint, m->ckpt.every};
+    if (m->snap.every)
+        obs[n++] = (mote_observer){{0, 0, 0}, m, fire_snapshot, m->snap.every};
+    if (m->frames.every)
+        obs[n++] = (mote_observer){{0, 0, 0}, m, fire_frame, m->frames.every};
+    return n;
+}
+
+int nb_run_integrate(void *vm, const mote_call *c, mote_err *err)
+{
+    nb_model *m = vm;
+    nb_settle_units(m);
+    m->nb.threads = c->ctx->threads;
+    const mote_arg *a = mote_call_opt(c, "steps");
+    const uint64_t s0 = m->nb.steps;
+    const uint64_t n_end = a && (uint64_t)a->i < UINT64_MAX - s0 ? s0 + (uint64_t)a->i
+                                                                 : UINT64_MAX;
+    mote_real t_end = INFINITY;
+    double scale;
+    int rc = time_scale(m, c, &scale, err);
+    if (rc)
+        return rc;
+    if ((a = mote_call_opt(c, "to")))
+        t_end = mote_real_parse(a->text, NULL) * scale;
+    else if ((a = mote_call_opt(c, "for")))
+        t_end = m->nb.T + mote_real_parse(a->text, NULL) * scale;
+    if (!(t_end > m->nb.T))
+        return mote_fail(err, MOTE_EINVAL, "integrate: %s=%s ends at or before the current time "
+                         "%.17g (%s)", mote_call_opt(c, "to") ? "to" : "for", a ? a->text : "",
+                         (double)(m->nb.T / scale),
+                         t_end == m->nb.T ? "there is nothing to do" : "integration runs forward");
+    if (m->nb.adaptive && m->nb.hmax > 0 && m->nb.hmin > m->nb.hmax)
+        return mote_fail(err, MOTE_EINVAL, "integrate: hmin (%g) is greater than hmax (%g)",
+                         (double)m->nb.hmin, (double)m->nb.hmax);
+    const uint64_t forced = m->nb.hmin_forced;
+    nb_step st = {m, 0, 0, 0, NULL};
+    const int by_time = (m->mon.on && m->mon.dt > 0) || (m->traj.on && m->traj.dt > 0);
+    if (by_time) {
+        st.xv = malloc(6 * (size_t)(m->nb.n ? m->nb.n : 1) * sizeof *st.xv);
+        if (!st.xv)
+            return mote_fail(err, MOTE_ENOMEM, "integrate: out of memory");
+    }
+    mote_observer obs[6];
+    mote_progress prog;
+    mote_progress_begin(&prog, c->ctx, "integrate");
+    mote_loop l = {obs, integrate_observers(m, obs), n_end, &prog, (double)m->nb.T,
+                   (double)t_end, s0};
+    const uint64_t warned = m->nb.approach_warnings;
+    while (!rc && m->nb.steps < n_end && m->nb.T < t_end) {
+        /* a chunk of steps to the next count observer; single steps where every step end is
+         * looked at (time samplers, approaches); at most 1000, for progress */
+        uint64_t chunk = mote_loop_count_stop(&l, m->nb.steps, n_end) - m->nb.steps;
+        if (by_time || m->appr.every)
+            chunk = 1;
+        if (chunk > 1000)
+            chunk = 1000;
+        const uint64_t before = m->nb.steps, merges = m->nb.merges;
+        st.Tb = m->nb.T;
+        if (m->appr.every)
+            rc = nb_approach_before(&m->appr.a, &m->nb, err);
+        if (!rc)
+            rc = mote_nb_integrate(&m->nb, chunk, t_end, err);
+        if (rc || m->nb.steps == before) /* no step could be taken: the end is reached */
+            break;
+        st.merged = m->nb.merges != merges;
+        if (m->appr.every)
+            nb_approach_after(&m->appr.a, &m->nb, st.Tb, st.merged);
+        rc = mote_loop_fire_count(&l, &st, m->nb.steps, err);
+        /* samplers by steps also sample at the end time; by time, each time the step passed */
+        nb_sampler *smp[2] = {&m->mon, &m->traj};
+        for (int k = 0; k < 2 && !rc; k++)
+            if (smp[k]->on && !(smp[k]->dt > 0) && m->nb.T == t_end &&
+                m->nb.steps % smp[k]->every != 0)
+                rc = sample(m, k, &m->nb, err);
+        const int dense = m->nb.integrator == MOTE_NB_TAYLOR && !st.merged;
+        while (!rc && by_time && (st.t = mote_loop_next(&l)) <= (double)m->nb.T)
+            rc = mote_loop_fire(&l, &st, dense ? st.t : (double)m->nb.T, err);
+        mote_loop_progress(&l, (double)m->nb.T, m->nb.steps);
+    }
+    mote_progress_end(&prog);
+    free(st.xv);
+    for (size_t k = 0; k < l.nobs; k++) /* where each time sampler stands, for the next run */
+        if (obs[k].fire == fire_monitor || obs[k].fire == fire_trajectory)
+            (obs[k].fire == fire_monitor ? &m->mon : &m->traj)->at = obs[k].at;
+    if (!rc && m->ckpt.path)
+        rc = nb_state_save(&m->nb, m->ckpt.path, err);
+    if (m->nb.hmin_forced > forced && m->log)
+        fprintf(m->log, "integrate: warning: %llu adaptive step%s held at hmin = %g, longer than "
+                "tol= allows (the accuracy is not ensured; watch dE): lower hmin=\n",
+                (unsigned long long)(m->nb.hmin_forced - forced),
+                m->nb.hmin_forced - forced > 1 ? "s" : "", (double)m->nb.hmin);
+    if (m->nb.approach_warnings > warned && m->log)
+        fprintf(m->log,
+                "integrate: warning: %llu merge%s overlapped by more than 10%% of the radii after "
+                "a step at the shortest length (merge accuracy not ensured; largest overlap "
+                "%.3g): lower hmin= or bt= of 'merge'\n",
+                (unsigned long long)(m->nb.approach_warnings - warned),
+                m->nb.approach_warnings - warned > 1 ? "s" : "", (double)m->nb.max_overlap);
+    if (!rc && m->appr.every && m->nb.steps % m->appr.every != 0 && m->appr.a.best >= 0)
+        rc = nb_approach_close(&m->appr.a, m->nb.T, err); /* the last, partial interval */
+    if (m->appr.every) {
+        mote_err werr = {0};
+        int wrc = approaches_write(m, rc ? &werr : err);
+        rc = rc ? rc : wrc;
+    }
+    /* the samples so far, even after a failure */
+    nb_sampler *smp[2] = {&m->mon, &m->traj};
+    for (int k = 0; k < 2; k++) {
+        mote_err werr = {0};
+        int wrc = sampler_write(m, smp[k], k, rc ? &werr : err);
+        rc = rc ? rc : wrc;
+    }
+    return rc;
+}
+
