@@ -5,6 +5,7 @@
 # MOTE_PROGRESS_INTERVAL=0 shows every update, so a command that ends fast still shows some.
 NAME=progress
 . "$(dirname "$0")/lib.sh"
+EX=$(cd "$(dirname "$0")/.." && pwd)/examples/galactica
 mote_test_start "$1"
 
 cat > hs.mote <<'X'
@@ -30,6 +31,9 @@ generate ring nb=20
 integrator galactica dt=1e-6
 integrate steps=3000
 X
+# a Galactica job (its monitor blocks print between progress lines, each on a clean line)
+cp -r "$EX/ring30" ring30
+printf 'model nbody gravity\nrun galactica control=ring30/galacf26.dat\n' > gal.mote
 printf '%brun 0.5\n' "$SEP_DILUTE" > sep.mote
 cat > ch.mote <<'X'
 model charging faithful
@@ -87,7 +91,7 @@ t = re.sub(r"\r +\r", "", t).replace("\r\n", "\n")
 sys.stdout.write(t)
 X
 
-for m in "hs step compress_left_wall" "mb run" "nb integrate" "sep run" "ch run"; do
+for m in "hs step compress_left_wall" "mb run" "nb integrate" "gal galactica" "sep run" "ch run"; do
     set -- $m
     s=$1
     shift

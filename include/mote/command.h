@@ -212,6 +212,9 @@ void mote_progress_begin(mote_progress *p, const mote_context *ctx, const char *
 /* fraction in [0, 1]; prints "\rlabel 42.0%  ~12 s left" to stdout at most 4 times a second
  * (every `interval` seconds) when stdout is a terminal; nothing otherwise. */
 void mote_progress_update(mote_progress *p, double fraction);
+/* Wipe the line shown (if any), so that a line of the command's own output starts clean; the
+ * next update draws it again. */
+void mote_progress_clear(mote_progress *p);
 void mote_progress_end(mote_progress *p);
 
 #endif

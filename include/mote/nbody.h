@@ -359,6 +359,7 @@ typedef struct {
     double step_tol;      /* the step tolerance of Kl4 = 2, 3 (0: the build's default) */
     FILE *out;            /* the monitor and messages (NULL: quiet) */
     mote_nb *final;       /* when not NULL (and of the job's interaction): the final system */
+    const mote_context *ctx; /* progress on a terminal and the live view (NULL: none) */
 } mote_nb_job;
 
 /* Run the job of a folder as Galactica would (spec 7.4): a first launch, a relaunch from the

@@ -189,13 +189,19 @@ void mote_progress_update(mote_progress *p, double fraction)
     fflush(stdout);
 }
 
-void mote_progress_end(mote_progress *p)
+void mote_progress_clear(mote_progress *p)
 {
     /* wipe a line that was printed, so the next output starts on a clean line */
     if (p->enabled && p->shown) {
         printf("\r%*s\r", (int)strlen(p->label) + PROGRESS_PAD, "");
         fflush(stdout);
+        p->shown = 0;
     }
+}
+
+void mote_progress_end(mote_progress *p)
+{
+    mote_progress_clear(p);
     p->enabled = 0;
 }
 

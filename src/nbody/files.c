@@ -355,6 +355,7 @@ int nb_run_run(void *vm, const mote_call *c, mote_err *err)
     o.threads = c->ctx->threads;
     o.out = m->log;
     o.final = &m->nb;
+    o.ctx = c->ctx;
     const int ring = m->have_ring;
     int rc = mote_nb_job_run(&o, NULL, err);
     if (rc) {

@@ -7,6 +7,7 @@
  * to the caller and are appended to ErrGlctca with Galactica's "*nnG" codes (7.11). Everything is
  * checked, and the number of files counted, before the first file is written; every file is
  * written atomically, so a failed launch leaves the folder's earlier files as they were. */
+#include "mote/loop.h"
 #include "mote/nbody.h"
 
 #include <errno.h>
@@ -43,6 +44,7 @@ typedef struct {
     int have_amz1;
     uint64_t warned;     /* approach warnings already reported */
     int dry;             /* a check: nothing written, ErrGlctca included */
+    mote_progress *prog; /* while the steps run */
 } job;
 
 /* ---- paths, messages, ErrGlctca ----------------------------------------------------------------- */
@@ -675,8 +677,8 @@ static int plan(job *j, mote_err *err)
     return MOTE_OK;
 }
 
-/* After step Lt: the maxima, approaches, trajectory records and the outputs due. */
-static int after_step(job *j, mote_err *err)
+/* After step Lt: the run maxima and the approaches of body Nbd, every step. */
+static void after_step(job *j)
 {
     double ek, vmax, mmax, mz;
     quick_measure(&j->nb, &ek, &vmax, &mmax, &mz);
@@ -693,20 +695,26 @@ static int after_step(job *j, mote_err *err)
         j->dice.body = (uint32_t)(ci(j, "Nbd") - 1); /* (Nbd may have been edited) */
         nb_approach_after(&j->dice, &j->nb, j->nb.T, 0);
     }
-    int rc = MOTE_OK;
-    if (ci(j, "Kl12") == 1 && j->Lt % (uint64_t)ci(j, "Kli") == 0)
-        rc = trajectory_record(j, err);
-    const uint64_t kl11 = (uint64_t)ci(j, "Kl11");
-    const int stage = j->Lt % (uint64_t)ci(j, "Kl3") == 0;
-    if (j->Lt == 1 || stage || (kl11 > 0 && j->Lt >= kl11 && j->Lt < kl11 + 10) ||
-        j->Lt == j->Ltot) {
-        monitor_block(j);
-        if (!rc && j->o->frames)
-            rc = frame(j, err);
-    }
-    if (!stage || rc)
-        return rc;
-    if (ci(j, "Nbd") > 0)
+}
+
+/* The monitor block (and with frames on, a picture). */
+static int show(job *j, mote_err *err)
+{
+    if (j->prog)
+        mote_progress_clear(j->prog); /* (the block starts on a clean line) */
+    monitor_block(j);
+    return j->o->frames ? frame(j, err) : MOTE_OK;
+}
+
+/* The run loop's observers (counted in steps Lt): a trajectory record every Kli steps, and the
+ * stage every Kl3: the monitor block, the closest approach of the stage, the result file
+ * (Kl7 = 1), and with checkpoints (Kl1 >= 3) dice.dat and the checkpoint. */
+static int fire_record(void *ctx, void *subject, mote_err *err) { return trajectory_record(ctx, err); }
+static int fire_stage(void *ctx, void *subject, mote_err *err)
+{
+    job *j = ctx;
+    int rc = show(j, err);
+    if (!rc && ci(j, "Nbd") > 0)
         rc = nb_approach_close(&j->dice, j->nb.T, err);
     if (!rc && ci(j, "Kl7") == 1) {
         char name[32];
@@ -720,6 +728,46 @@ static int after_step(job *j, mote_err *err)
         if (!rc)
             rc = ckpt_write(j, err);
     }
+    return rc;
+}
+
+/* Steps Lt .. Ltot, one at a time (the maxima and approaches look at every step end). Besides
+ * the stages, the monitor block shows the first step, the ten from Kl11 and the last. */
+static int run_steps(job *j, mote_err *err)
+{
+    mote_observer obs[2];
+    size_t n = 0;
+    if (ci(j, "Kl12") == 1)
+        obs[n++] = (mote_observer){{0, 0, 0}, j, fire_record, (uint64_t)ci(j, "Kli")};
+    obs[n++] = (mote_observer){{0, 0, 0}, j, fire_stage, (uint64_t)ci(j, "Kl3")};
+    mote_progress prog;
+    mote_progress_begin(&prog, j->o->ctx, "galactica");
+    j->prog = &prog;
+    mote_loop l = {obs, n, j->Ltot, &prog, 0, 0, j->Lt};
+    const uint64_t kl3 = (uint64_t)ci(j, "Kl3"), kl11 = (uint64_t)ci(j, "Kl11");
+    int rc = MOTE_OK;
+    while (!rc && j->Lt < j->Ltot) {
+        const uint64_t before = j->nb.steps;
+        rc = mote_nb_integrate(&j->nb, 1, INFINITY, err);
+        if (!rc && j->nb.steps == before)
+            rc = mote_fail(err, MOTE_ERUNTIME, "galactica: no step could be taken at T = %.16E",
+                           (double)j->nb.T);
+        if (rc) {
+            rc = jfail(j, 2, err, rc);
+            break;
+        }
+        j->Lt++;
+        after_step(j);
+        rc = mote_loop_fire_count(&l, j, j->Lt, err);
+        if (!rc && j->Lt % kl3 != 0 &&
+            (j->Lt == 1 || (kl11 > 0 && j->Lt >= kl11 && j->Lt < kl11 + 10) || j->Lt == j->Ltot))
+            rc = show(j, err);
+        if (rc)
+            rc = jfail(j, fail_code(rc), err, rc);
+        mote_loop_progress(&l, 0, j->Lt);
+    }
+    mote_progress_end(&prog);
+    j->prog = NULL;
     return rc;
 }
 
@@ -838,20 +886,8 @@ int mote_nb_job_run(const mote_nb_job *o, int *started, mote_err *err)
                         "Sz E Em / Ett Lt dT / dMz\n");
     if (!rc && started)
         *started = 1;
-    while (!rc && j->Lt < j->Ltot) {
-        const uint64_t before = j->nb.steps;
-        rc = mote_nb_integrate(&j->nb, 1, INFINITY, err);
-        if (!rc && j->nb.steps == before)
-            rc = mote_fail(err, MOTE_ERUNTIME, "galactica: no step could be taken at T = %.16E",
-                           (double)j->nb.T);
-        if (rc) {
-            rc = jfail(j, 2, err, rc);
-            break;
-        }
-        j->Lt++;
-        if ((rc = after_step(j, err)) != MOTE_OK)
-            rc = jfail(j, fail_code(rc), err, rc);
-    }
+    if (!rc)
+        rc = run_steps(j, err);
     if (!rc && (rc = finish(j, err)) != MOTE_OK)
         rc = jfail(j, fail_code(rc), err, rc);
     if (j->nb.approach_warnings > j->warned) {
@@ -1042,7 +1078,16 @@ int mote_nb_galactica_main(int argc, char **argv, FILE *out, FILE *diag)
             fprintf(diag, "mote galactica: error: %s\n", err.msg);
         return rc ? 1 : 0;
     }
+    /* progress when the monitor goes to a terminal */
+    static const mote_context blank; /* (read-only: a zero context) */
+    mote_context *ctx = malloc(sizeof *ctx);
+    if (ctx) {
+        *ctx = blank;
+        ctx->terminal = out == stdout && isatty(STDOUT_FILENO);
+        o.ctx = ctx;
+    }
     int rc = mote_nb_job_run(&o, &started, &err);
+    free(ctx);
     if (rc) {
         fprintf(diag, "mote galactica: error: %s\n", err.msg);
         return started ? 2 : 1;
