@@ -390,7 +390,8 @@ static void test_loop(void)
 {
     printf("the run loop: observers on exact schedules\n");
     loop_probe a = {0}, b = {0};
-    mote_observer obs[2] = {{{0.0, 0.1, 1}, &a, probe_fire, 0}, {{0.0, 0.25, 1}, &b, probe_fire, 0}};
+    mote_observer obs[2] = {{.at = {0.0, 0.1, 1}, .ctx = &a, .fire = probe_fire},
+                            {.at = {0.0, 0.25, 1}, .ctx = &b, .fire = probe_fire}};
     mote_loop l = {obs, 2, UINT64_MAX, NULL, 0, 1, 0};
     mote_err err = {0};
     double t = 0;
@@ -408,22 +409,23 @@ static void test_loop(void)
     /* a fixed step of 0.35 passes several times: each observer fires once per stop, and its
      * schedule moves past the step's time (no late burst) */
     loop_probe c = {0};
-    mote_observer o1 = {{0.0, 0.1, 1}, &c, probe_fire, 0};
+    mote_observer o1 = {.at = {0.0, 0.1, 1}, .ctx = &c, .fire = probe_fire};
     mote_loop l1 = {&o1, 1, UINT64_MAX, NULL, 0, 1, 0};
     double ts = 0.35;
     CHECK_INT(mote_loop_fire(&l1, &ts, ts, &err), 0);
     CHECK_INT(c.calls, 1);
     CHECK(mote_loop_next(&l1) == 0.0 + 4 * 0.1, "after 0.35 the next is %.17g", mote_loop_next(&l1));
     /* a time within 1e-9 of the interval before the end is taken at the end */
-    mote_observer o2 = {{0.0, 0.1, 10}, &c, probe_fire, 0};
+    mote_observer o2 = {.at = {0.0, 0.1, 10}, .ctx = &c, .fire = probe_fire};
     mote_loop l2 = {&o2, 1, UINT64_MAX, NULL, 0, 1, 0};
     CHECK(mote_loop_stop(&l2, 1.0 + 1e-12) == 1.0 + 1e-12, "stop %.17g",
           mote_loop_stop(&l2, 1.0 + 1e-12));
     /* count observers (every 3 and every 5 steps) beside a time observer: a stepping model
      * stops at 3, 5, 6, 9, 10, ... and the time calls pass the count observers by */
     loop_probe p3 = {0}, p5 = {0}, pt = {0};
-    mote_observer oc[3] = {{{0, 0, 0}, &p3, probe_fire, 3}, {{0.0, 0.5, 1}, &pt, probe_fire, 0},
-                           {{0, 0, 0}, &p5, probe_fire, 5}};
+    mote_observer oc[3] = {{.ctx = &p3, .fire = probe_fire, .every = 3},
+                           {.at = {0.0, 0.5, 1}, .ctx = &pt, .fire = probe_fire},
+                           {.ctx = &p5, .fire = probe_fire, .every = 5}};
     mote_loop lc = {oc, 3, 14, NULL, 0, INFINITY, 0};
     uint64_t n = 0, nstops = 0, stops_at[16];
     while (n < lc.n_end && nstops < 16) {
@@ -448,6 +450,22 @@ static void test_loop(void)
     CHECK_INT(p3.calls, 4); /* a time call fires no count observer */
     CHECK(mote_loop_count_stop(&lc, UINT64_MAX - 1, UINT64_MAX) == UINT64_MAX,
           "no multiple fits above UINT64_MAX - 1");
+    /* from: every 4 counted from 6 (a dump started at collision 6) fires at 6, 10, 14, 18 */
+    loop_probe pf = {0};
+    mote_observer of = {.ctx = &pf, .fire = probe_fire, .every = 4, .from = 6};
+    mote_loop lf = {&of, 1, 20, NULL, 0, INFINITY, 0};
+    uint64_t nf = 0, fstops[8], nfs = 0;
+    while (nf < lf.n_end && nfs < 8) {
+        nf = mote_loop_count_stop(&lf, nf, lf.n_end);
+        fstops[nfs++] = nf;
+        double tn = (double)nf;
+        CHECK_INT(mote_loop_fire_count(&lf, &tn, nf, &err), 0);
+    }
+    CHECK(nfs == 5 && fstops[0] == 6 && fstops[1] == 10 && fstops[3] == 18 && fstops[4] == 20,
+          "from 6 every 4: %llu stops, first %llu", (unsigned long long)nfs,
+          (unsigned long long)fstops[0]);
+    CHECK(pf.calls == 4 && pf.t[0] == 6.0 && pf.t[3] == 18.0, "from 6 every 4: %d calls",
+          pf.calls);
 }
 
 int main(void)

@@ -94,7 +94,7 @@ static void test_energy(void)
     CHECK(mote_mb_place(&s, &p, &err) == MOTE_OK, "place: %s", err.msg);
     double e0 = mote_mb_energy(&s, NULL);
     acc a = {0};
-    mote_observer smp = {{0.0, 0.1, 1}, &a, sampler, 0};
+    mote_observer smp = {.at = {0.0, 0.1, 1}, .ctx = &a, .fire = sampler};
     uint64_t target = sanitized ? 200000 : 1000000;
     mote_loop hooks = {&smp, 1, target, NULL, 0, 0, 0};
     int rc = mote_mb_run(&s, INFINITY, &hooks, &err);
@@ -171,7 +171,7 @@ static void test_effusion_and_mixing(void)
         mote_mb_free(&s);
         return;
     }
-    mote_observer smp = {{t0, dt, 1}, &a, sampler, 0};
+    mote_observer smp = {.at = {t0, dt, 1}, .ctx = &a, .fire = sampler};
     mote_loop hooks = {&smp, 1, UINT64_MAX, NULL, 0, 0, 0};
     CHECK(mote_mb_run(&s, t0 + T, &hooks, &err) == MOTE_OK, "run: %s", err.msg);
     double crossings = (double)(s.cross_lr - lr0 + s.cross_rl - rl0);
@@ -236,7 +236,7 @@ static void test_barometric(void)
     a.hist = hist;
     a.nbins = 20;
     double T = 200;
-    mote_observer smp = {{s.time, 0.2, 1}, &a, sampler, 0};
+    mote_observer smp = {.at = {s.time, 0.2, 1}, .ctx = &a, .fire = sampler};
     mote_loop hooks = {&smp, 1, UINT64_MAX, NULL, 0, 0, 0};
     CHECK(mote_mb_run(&s, s.time + T, &hooks, &err) == MOTE_OK, "run: %s", err.msg);
     double e1 = mote_mb_energy(&s, NULL);

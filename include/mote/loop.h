@@ -24,13 +24,14 @@
  * (at.k counts the calls so far; the command that installs an observer takes k = 0 itself or
  * lets the loop take it at the start). subject is what the loop was given: the model's system.
  * A count observer (every > 0; its `at` unused) fires instead when the loop's count (steps,
- * collisions, histories) is a multiple of every: a model with a count calls
- * mote_loop_count_stop and mote_loop_fire_count, and the time calls pass it by. */
+ * collisions, histories) is from + j every (j = 0, 1, ...; from 0: the multiples of every): a
+ * model with a count calls mote_loop_count_stop and mote_loop_fire_count, and the time calls
+ * pass it by. */
 typedef struct mote_observer {
     mote_schedule at;
     void *ctx;
     int (*fire)(void *ctx, void *subject, mote_err *err);
-    uint64_t every;
+    uint64_t every, from;
 } mote_observer;
 
 typedef struct mote_loop {
@@ -51,10 +52,10 @@ double mote_loop_stop(const mote_loop *l, double t_end);
  * each; its schedule then moves past t (times a longer step stepped over are skipped, not fired
  * late). Returns the first observer's error, at once. */
 int mote_loop_fire(mote_loop *l, void *subject, double t, mote_err *err);
-/* The count to stop at next, after n: the smallest multiple of a count observer's `every`
- * above n, or n_end when that comes first (or there is no count observer). */
+/* The count to stop at next, after n: the smallest count above n at which a count observer
+ * fires, or n_end when that comes first (or there is no count observer). */
 uint64_t mote_loop_count_stop(const mote_loop *l, uint64_t n, uint64_t n_end);
-/* Fire every count observer whose `every` divides n, in order. Returns the first error, at once. */
+/* Fire every count observer due at count n, in order. Returns the first error, at once. */
 int mote_loop_fire_count(mote_loop *l, void *subject, uint64_t n, mote_err *err);
 /* The progress at time t and count n: the larger of the time fraction (t_begin .. t_end, when
  * finite) and the count fraction (n_begin .. n_end, when n_end is a limit). */

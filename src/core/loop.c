@@ -52,10 +52,16 @@ uint64_t mote_loop_count_stop(const mote_loop *l, uint64_t n, uint64_t n_end)
 {
     uint64_t stop = n_end;
     for (size_t k = 0; l && k < l->nobs; k++) {
-        const uint64_t e = l->obs[k].every;
-        if (!e || n / e >= (UINT64_MAX - e) / e) /* (no multiple above n that fits) */
+        const uint64_t e = l->obs[k].every, from = l->obs[k].from;
+        if (!e)
             continue;
-        const uint64_t next = (n / e + 1) * e;
+        uint64_t next = from;
+        if (n >= from) {
+            const uint64_t j = (n - from) / e + 1;
+            if (j > (UINT64_MAX - from) / e) /* (no count above n that fits) */
+                continue;
+            next = from + j * e;
+        }
         if (next < stop)
             stop = next;
     }
@@ -66,7 +72,7 @@ int mote_loop_fire_count(mote_loop *l, void *subject, uint64_t n, mote_err *err)
 {
     for (size_t k = 0; l && k < l->nobs; k++) {
         mote_observer *o = &l->obs[k];
-        if (!o->every || n % o->every != 0)
+        if (!o->every || n < o->from || (n - o->from) % o->every != 0)
             continue;
         o->at.k++;
         int rc = o->fire(o->ctx, subject, err);

@@ -5,6 +5,7 @@
 #define MOTE_HS_MEASURE_H
 
 #include "mote/hardspheres.h"
+#include "mote/loop.h"
 #include "mote/stats.h"
 
 #define HS_BLOCKS 10
@@ -40,9 +41,13 @@ static inline double hs_block_error(const double *block_means, int nblocks)
 void hs_write_header(FILE *f, const mote_hs *hs, const char *format, const char *origin,
                      const hs_snap *start, const hs_snap *end);
 
-/* Run ncoll pair collisions (mote_ev_run), writing the frames of an active dump on the way;
- * every command that runs the dynamics goes through here. Dumping does not change the run. */
+/* Run ncoll pair collisions (mote_ev_run) through the run loop, whose observer is an active
+ * dump (its frames on the way); every command that runs the dynamics goes through here.
+ * Dumping does not change the run. */
 int hs_run(mote_hs *hs, uint64_t ncoll, mote_err *err);
+/* The dump as a count observer of the run loop (counted in collisions), into o: 1, or 0 when
+ * no dump runs (xyz.c). */
+size_t hs_dump_observer(mote_hs *hs, mote_observer *o);
 /* Free the system only (keeping settings and an active dump): for commands that replace it. */
 void hs_drop_system(mote_hs *hs);
 /* The local order of the current configuration with the `order` command's definitions, per

@@ -433,6 +433,25 @@ int mote_hs_bulk_disks(mote_hs *hs, int64_t n, double eta, mote_err *err)
 
 /* ---- dynamics ---------------------------------------------------------------------------------- */
 
+int hs_run(mote_hs *hs, uint64_t ncoll, mote_err *err)
+{
+    mote_ev *ev = &hs->ev;
+    mote_observer obs[1];
+    const uint64_t end = ncoll < UINT64_MAX - ev->collisions ? ev->collisions + ncoll : UINT64_MAX;
+    mote_loop l = {obs, hs_dump_observer(hs, obs), end, NULL, 0, 0, ev->collisions};
+    while (ev->collisions < end) {
+        const uint64_t before = ev->collisions;
+        int rc = mote_ev_run(ev, mote_loop_count_stop(&l, before, end) - before, err);
+        if (!rc)
+            rc = mote_loop_fire_count(&l, hs, ev->collisions, err);
+        if (rc)
+            return rc;
+        if (ev->collisions == before) /* (nothing more can happen) */
+            break;
+    }
+    return MOTE_OK;
+}
+
 int mote_hs_step(mote_hs *hs, uint64_t k, mote_err *err)
 {
     if (!hs->has_system)

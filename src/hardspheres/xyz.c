@@ -170,25 +170,25 @@ int mote_hs_dump_start(mote_hs *hs, uint64_t k, const char *path, const char *or
 
 uint64_t mote_hs_dump_frames(const mote_hs *hs) { return hs->dump ? hs->dump->frames : 0; }
 
-int hs_run(mote_hs *hs, uint64_t ncoll, mote_err *err)
+/* A frame of the dump, and the collision count of the next. */
+static int dump_fire(void *ctx, void *subject, mote_err *err)
 {
-    mote_ev *ev = &hs->ev;
+    mote_hs *hs = ctx;
+    struct hs_dump *d = hs->dump;
+    int rc = append_frame(hs, d, err);
+    if (!rc)
+        d->next_at = hs->ev.collisions + dump_interval(hs);
+    return rc;
+}
+
+size_t hs_dump_observer(mote_hs *hs, mote_observer *o)
+{
     struct hs_dump *d = hs->dump;
     if (!d)
-        return mote_ev_run(ev, ncoll, err);
-    if (d->next_at <= ev->collisions) /* a state loaded from another point of time */
-        d->next_at = ev->collisions + dump_interval(hs);
-    const uint64_t end = ev->collisions + ncoll;
-    while (ev->collisions < end) {
-        uint64_t stop = d->next_at < end ? d->next_at : end;
-        int rc = mote_ev_run(ev, stop - ev->collisions, err);
-        if (rc)
-            return rc;
-        if (ev->collisions == d->next_at) {
-            if ((rc = append_frame(hs, d, err)))
-                return rc;
-            d->next_at += dump_interval(hs);
-        }
-    }
-    return MOTE_OK;
+        return 0;
+    if (d->next_at <= hs->ev.collisions) /* a state loaded from another point of time */
+        d->next_at = hs->ev.collisions + dump_interval(hs);
+    *o = (mote_observer){.ctx = hs, .fire = dump_fire, .every = dump_interval(hs),
+                         .from = d->next_at};
+    return 1;
 }

@@ -615,7 +615,8 @@ static int run_record(void *vm, const mote_call *c, mote_err *err)
         return rc;
     }
     m->rec.active = 1;
-    m->rec_s = (mote_observer){{m->sys.time, m->rec.dt, 1}, &m->rec, mb_record_sample, 0};
+    m->rec_s = (mote_observer){.at = {m->sys.time, m->rec.dt, 1}, .ctx = &m->rec,
+                              .fire = mb_record_sample};
     if (m->log)
         fprintf(m->log, "record: every %g s into %s\n", m->rec.dt, m->rec.path);
     return MOTE_OK;
@@ -654,7 +655,8 @@ static int run_density(void *vm, const mote_call *c, mote_err *err)
         return rc;
     }
     d->active = 1;
-    m->dens_s = (mote_observer){{m->sys.time, d->dt, 1}, d, mb_density_sample, 0};
+    m->dens_s = (mote_observer){.at = {m->sys.time, d->dt, 1}, .ctx = d,
+                               .fire = mb_density_sample};
     if (m->log)
         fprintf(m->log, "density_y: %lld bins every %g s into %s\n", (long long)d->nbins, d->dt,
                 d->path);
@@ -739,7 +741,8 @@ static int run_frames(void *vm, const mote_call *c, mote_err *err)
     if (rc)
         return rc;
     fr->active = 1;
-    m->frames_s = (mote_observer){{m->sys.time, fr->dt, 1}, fr, mb_frames_sample, 0};
+    m->frames_s = (mote_observer){.at = {m->sys.time, fr->dt, 1}, .ctx = fr,
+                                 .fire = mb_frames_sample};
     if (m->log)
         fprintf(m->log, "frames: every %g s as %s_NNNNNN.png from %06llu\n", fr->dt, fr->prefix,
                 (unsigned long long)(fr->next_index - 1));

@@ -738,8 +738,8 @@ static int run_steps(job *j, mote_err *err)
     mote_observer obs[2];
     size_t n = 0;
     if (ci(j, "Kl12") == 1)
-        obs[n++] = (mote_observer){{0, 0, 0}, j, fire_record, (uint64_t)ci(j, "Kli")};
-    obs[n++] = (mote_observer){{0, 0, 0}, j, fire_stage, (uint64_t)ci(j, "Kl3")};
+        obs[n++] = (mote_observer){.ctx = j, .fire = fire_record, .every = (uint64_t)ci(j, "Kli")};
+    obs[n++] = (mote_observer){.ctx = j, .fire = fire_stage, .every = (uint64_t)ci(j, "Kl3")};
     mote_progress prog;
     mote_progress_begin(&prog, j->o->ctx, "galactica");
     j->prog = &prog;

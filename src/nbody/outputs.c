@@ -721,18 +721,19 @@ static size_t integrate_observers(nb_model *m, mote_observer obs[6])
 {
     size_t n = 0;
     if (m->appr.every)
-        obs[n++] = (mote_observer){{0, 0, 0}, m, fire_approach, m->appr.every};
+        obs[n++] = (mote_observer){.ctx = m, .fire = fire_approach, .every = m->appr.every};
     nb_sampler *smp[2] = {&m->mon, &m->traj};
     int (*fire[2])(void *, void *, mote_err *) = {fire_monitor, fire_trajectory};
     for (int k = 0; k < 2; k++)
         if (smp[k]->on)
-            obs[n++] = (mote_observer){smp[k]->at, m, fire[k], smp[k]->dt > 0 ? 0 : smp[k]->every};
+            obs[n++] = (mote_observer){.at = smp[k]->at, .ctx = m, .fire = fire[k],
+                                       .every = smp[k]->dt > 0 ? 0 : smp[k]->every};
     if (m->ckpt.path)
-        obs[n++] = (mote_observer){{0, 0, 0}, m, fire_checkpoint, m->ckpt.every};
+        obs[n++] = (mote_observer){.ctx = m, .fire = fire_checkpoint, .every = m->ckpt.every};
     if (m->snap.every)
-        obs[n++] = (mote_observer){{0, 0, 0}, m, fire_snapshot, m->snap.every};
+        obs[n++] = (mote_observer){.ctx = m, .fire = fire_snapshot, .every = m->snap.every};
     if (m->frames.every)
-        obs[n++] = (mote_observer){{0, 0, 0}, m, fire_frame, m->frames.every};
+        obs[n++] = (mote_observer){.ctx = m, .fire = fire_frame, .every = m->frames.every};
     return n;
 }
 

@@ -837,15 +837,15 @@ static int do_run(void *vm, const mote_call *c, mote_err *err)
     size_t nobs = 0;
     if (m->frames.on) {
         at[nobs] = &m->frames.at;
-        obs[nobs++] = (mote_observer){m->frames.at, NULL, fire_frame, 0};
+        obs[nobs++] = (mote_observer){.at = m->frames.at, .fire = fire_frame};
     }
     if (m->snaps.on) {
         at[nobs] = &m->snaps.at;
-        obs[nobs++] = (mote_observer){m->snaps.at, NULL, fire_snapshot, 0};
+        obs[nobs++] = (mote_observer){.at = m->snaps.at, .fire = fire_snapshot};
     }
     if (m->bal.on) {
         at[nobs] = &m->bal.at;
-        obs[nobs++] = (mote_observer){m->bal.at, NULL, fire_balance, 0};
+        obs[nobs++] = (mote_observer){.at = m->bal.at, .fire = fire_balance};
     }
     mote_progress prog;
     mote_progress_begin(&prog, m->ctx, "run");
