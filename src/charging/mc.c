@@ -7,6 +7,8 @@
  * depend on the speed, so none is drawn. Random numbers are Philox4x32-10 keyed by the seed with
  * the counter (history, component, draw): every history has its own stream, so the tallies
  * (integers) are the same for any number of threads. */
+#include "mote/loop.h"
+
 #include "ch.h"
 
 #include <math.h>
@@ -365,7 +367,9 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                                      ? (nblocks_all - (uint64_t)mrank + (uint64_t)msize - 1) /
                                            (uint64_t)msize
                                      : 0;
-    const double blocks_total = (double)blocks_mine * (double)r->ncomp;
+    /* the run loop, counted in blocks of histories: no observer runs inside the Monte Carlo
+     * (the tallies are written when it ends), the progress is the loop's */
+    mote_loop loop = {NULL, 0, blocks_mine * r->ncomp, &prog, 0, 0, 0};
     uint64_t blocks_done = 0;
     int comp = 0;
     for (int s = 0; s < p->nsp; s++)
@@ -619,7 +623,7 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
 #pragma omp atomic capture
                         done = ++blocks_done;
                         if (tid == 0)
-                            mote_progress_update(&prog, (double)done / blocks_total);
+                            mote_loop_progress(&loop, 0, done);
                     }
                 }
             }
