@@ -68,7 +68,10 @@ typedef struct {
  * names; a command's `check` can ask for the kind of an input with mote_outputs_find.
  * Options follow the positional specs as KEY=SPEC, e.g. "f>image mass=r>0! x=r name=s": a call
  * gives them as key=value tokens in any order after or among its positional arguments; each
- * key at most once; a trailing '!' makes one required. mote_call_opt finds one. */
+ * key at most once; a trailing '!' makes one required. mote_call_opt finds one. An option
+ * written '@KEY=SPEC' may also be given bare: the bare tokens after the positional arguments
+ * fill the '@' options in their order ("@every=i>=1! @file=f>xyz!" reads `dump 10 t.xyz` as
+ * `dump every=10 file=t.xyz`), so a command keeps a short positional form beside its options. */
 typedef struct mote_cmd {
     const char *name;
     const char *aliases;  /* space-separated alternative names, or NULL */

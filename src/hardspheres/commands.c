@@ -494,12 +494,13 @@ static int run_check(void *vm, const mote_call *c, mote_err *err)
 
 /* ---- configurations for viewers ----------------------------------------------------------------- */
 
-static int check_xyz_name(const mote_call *c, int argi, mote_err *err)
+/* file=: an extended XYZ name */
+static int check_xyz_name(const mote_call *c, mote_err *err)
 {
-    const char *f = c->args[argi].text;
+    const char *f = mote_call_opt(c, "file")->text;
     size_t n = strlen(f);
     if (n < 4 || strcmp(f + n - 4, ".xyz") != 0)
-        return mote_call_fail(err, c, argi, MOTE_EINVAL,
+        return mote_call_fail(err, c, mote_call_opt_index(c, "file"), MOTE_EINVAL,
                               "%s: FILE must end in .xyz (extended XYZ), found '%s'", c->name, f);
     return MOTE_OK;
 }
@@ -507,35 +508,41 @@ static int check_xyz_name(const mote_call *c, int argi, mote_err *err)
 static int check_snapshot(void *vm, const mote_call *c, mote_err *err)
 {
     int rc = need_system(vm, c, err);
-    return rc ? rc : check_xyz_name(c, 0, err);
+    return rc ? rc : check_xyz_name(c, err);
 }
 static int run_snapshot(void *vm, const mote_call *c, mote_err *err)
 {
     hs_model *m = vm;
     char *origin = mote_call_origin(c);
-    int rc = origin ? mote_hs_snapshot(&m->hs, c->args[0].path, origin, err)
+    const char *path = mote_call_opt(c, "file")->path;
+    int rc = origin ? mote_hs_snapshot(&m->hs, path, origin, err)
                     : mote_fail(err, MOTE_ENOMEM, "out of memory");
-    if (!rc)
-        wrote(m, c);
+    if (!rc && m->hs.log)
+        fprintf(m->hs.log, "%s: wrote %s\n", c->name, path);
     free(origin);
     return rc;
 }
 
 static int check_dump(void *vm, const mote_call *c, mote_err *err)
 {
-    int rc = check_run_k(vm, c, 0, err);
-    return rc ? rc : check_xyz_name(c, 1, err);
+    hs_model *m = vm;
+    int rc = need_system(m, c, err);
+    if (!rc)
+        rc = check_collisions(m, c, mote_call_opt_index(c, "every"),
+                              (uint64_t)mote_call_opt(c, "every")->i, err);
+    return rc ? rc : check_xyz_name(c, err);
 }
 static int run_dump(void *vm, const mote_call *c, mote_err *err)
 {
     hs_model *m = vm;
     char *origin = mote_call_origin(c);
-    int rc = origin ? mote_hs_dump_start(&m->hs, (uint64_t)c->args[0].i, c->args[1].path, origin,
-                                         err)
+    const long long k = (long long)mote_call_opt(c, "every")->i;
+    const char *path = mote_call_opt(c, "file")->path;
+    int rc = origin ? mote_hs_dump_start(&m->hs, (uint64_t)k, path, origin, err)
                     : mote_fail(err, MOTE_ENOMEM, "out of memory");
     if (!rc && m->hs.log)
-        fprintf(m->hs.log, "dump: frame 0 in %s, then one every %lld collisions per particle\n",
-                c->args[1].path, (long long)c->args[0].i);
+        fprintf(m->hs.log, "%s: frame 0 in %s, then one every %lld collisions per particle\n",
+                c->name, path, k);
     free(origin);
     return rc;
 }
@@ -606,10 +613,10 @@ static const mote_cmd hs_commands[] = {
     {"msd", NULL, "i>=4 f>msd", "msd K FILE",
      "mean-squared displacement and the self-diffusion coefficient D over K collisions per particle",
      HS_HELP_MSD, check_measure, run_msd},
-    {"snapshot", NULL, "f>xyz", "snapshot FILE.xyz",
+    {"snapshot", NULL, "@file=f>xyz!", "snapshot file=FILE.xyz",
      "the current configuration as extended XYZ (OVITO, VMD, ASE), with local order",
      HS_HELP_SNAPSHOT, check_snapshot, run_snapshot},
-    {"dump", NULL, "i>=1 f>xyz", "dump K FILE.xyz",
+    {"dump", "trajectory", "@every=i>=1! @file=f>xyz!", "dump every=K file=FILE.xyz",
      "a trajectory: an XYZ frame now and every K collisions per particle of later commands",
      HS_HELP_DUMP, check_dump, run_dump},
     {"dump_stop", NULL, "", "dump_stop", "stop writing the trajectory of `dump`",

@@ -595,18 +595,18 @@ static int check_record(void *vm, const mote_call *c, mote_err *err)
     mb_model *m = vm;
     int rc = need_placed(m, c, err);
     if (!rc)
-        m->d_record_dt = c->args[0].r;
+        m->d_record_dt = mote_call_opt(c, "dt")->r;
     return rc;
 }
 static int run_record(void *vm, const mote_call *c, mote_err *err)
 {
     mb_model *m = vm;
     mb_record_free(&m->rec);
-    m->rec.path = strdup(c->args[1].path);
+    m->rec.path = strdup(mote_call_opt(c, "file")->path);
     m->rec.origin = mote_call_origin(c);
     if (!m->rec.path || !m->rec.origin)
-        return mote_fail(err, MOTE_ENOMEM, "record: out of memory");
-    m->rec.dt = c->args[0].r;
+        return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", c->name);
+    m->rec.dt = mote_call_opt(c, "dt")->r;
     int rc = mb_record_sample(&m->rec, &m->sys, err);
     if (!rc)
         rc = mb_record_write(&m->rec, &m->sys, err);
@@ -618,7 +618,7 @@ static int run_record(void *vm, const mote_call *c, mote_err *err)
     m->rec_s = (mote_observer){.at = {m->sys.time, m->rec.dt, 1}, .ctx = &m->rec,
                               .fire = mb_record_sample};
     if (m->log)
-        fprintf(m->log, "record: every %g s into %s\n", m->rec.dt, m->rec.path);
+        fprintf(m->log, "%s: every %g s into %s\n", c->name, m->rec.dt, m->rec.path);
     return MOTE_OK;
 }
 
@@ -627,7 +627,7 @@ static int check_density(void *vm, const mote_call *c, mote_err *err)
     mb_model *m = vm;
     int rc = need_placed(m, c, err);
     if (!rc)
-        m->d_density_dt = c->args[0].r;
+        m->d_density_dt = mote_call_opt(c, "dt")->r;
     return rc;
 }
 static int run_density(void *vm, const mote_call *c, mote_err *err)
@@ -635,16 +635,16 @@ static int run_density(void *vm, const mote_call *c, mote_err *err)
     mb_model *m = vm;
     mb_density *d = &m->dens;
     mb_density_free(d);
-    d->path = strdup(c->args[2].path);
+    d->path = strdup(mote_call_opt(c, "file")->path);
     d->origin = mote_call_origin(c);
-    d->nbins = c->args[1].i;
+    d->nbins = mote_call_opt(c, "bins")->i;
     d->count[0] = calloc((size_t)d->nbins, sizeof(double));
     d->count[1] = calloc((size_t)d->nbins, sizeof(double));
     if (!d->path || !d->origin || !d->count[0] || !d->count[1]) {
         mb_density_free(d);
         return mote_fail(err, MOTE_ENOMEM, "density_y: out of memory");
     }
-    d->dt = c->args[0].r;
+    d->dt = mote_call_opt(c, "dt")->r;
     d->y0 = m->sys.p.x_b;
     d->h = (m->sys.p.x_t - m->sys.p.x_b) / (double)d->nbins;
     int rc = mb_density_sample(d, &m->sys, err);
@@ -675,10 +675,10 @@ static int check_snapshot(void *vm, const mote_call *c, mote_err *err)
     int rc = need_placed(m, c, err);
     if (rc)
         return rc;
-    const char *f = c->args[0].text;
+    const char *f = mote_call_opt(c, "file")->text;
     int png = ends_with(f, ".png"), xyz = ends_with(f, ".xyz");
     if (!png && !xyz)
-        return mote_call_fail(err, c, 0, MOTE_EINVAL,
+        return mote_call_fail(err, c, mote_call_opt_index(c, "file"), MOTE_EINVAL,
                               "snapshot: FILE must end in .png (a picture) or .xyz (extended "
                               "XYZ), found '%s'",
                               f);
@@ -687,7 +687,7 @@ static int check_snapshot(void *vm, const mote_call *c, mote_err *err)
 static int run_snapshot(void *vm, const mote_call *c, mote_err *err)
 {
     mb_model *m = vm;
-    const char *path = c->args[0].path;
+    const char *path = mote_call_opt(c, "file")->path;
     char *origin = mote_call_origin(c);
     int rc;
     if (!origin)
@@ -708,24 +708,25 @@ static int check_frames(void *vm, const mote_call *c, mote_err *err)
     int rc = need_placed(m, c, err);
     if (rc)
         return rc;
-    const char *prefix = c->args[1].path;
+    const char *prefix = mote_call_opt(c, "prefix")->path;
+    const int pi = mote_call_opt_index(c, "prefix");
     char *first = mb_frame_name(prefix, 0);
     if (!first)
-        rc = mote_call_fail(err, c, 1, MOTE_ENOMEM, "out of memory");
+        rc = mote_call_fail(err, c, pi, MOTE_ENOMEM, "out of memory");
     else if (!mote_ctx_dir_ok(c->ctx, first))
-        rc = mote_call_fail(err, c, 1, MOTE_EIO,
+        rc = mote_call_fail(err, c, pi, MOTE_EIO,
                             "frames: the directory of the frames '%s' does not exist", first);
     else
-        rc = mote_outputs_note_path(&c->ctx->outputs, c, 1, prefix, "frames", 1, err);
+        rc = mote_outputs_note_path(&c->ctx->outputs, c, pi, prefix, "frames", 1, err);
     free(first);
     if (!rc)
-        m->d_frames_dt = c->args[0].r;
+        m->d_frames_dt = mote_call_opt(c, "dt")->r;
     return rc;
 }
 static int run_frames(void *vm, const mote_call *c, mote_err *err)
 {
     mb_model *m = vm;
-    char *prefix = strdup(c->args[1].path);
+    char *prefix = strdup(mote_call_opt(c, "prefix")->path);
     if (!prefix)
         return mote_fail(err, MOTE_ENOMEM, "frames: out of memory");
     mb_frames *fr = &m->frames;
@@ -736,7 +737,7 @@ static int run_frames(void *vm, const mote_call *c, mote_err *err)
     } else {
         free(prefix);
     }
-    fr->dt = c->args[0].r;
+    fr->dt = mote_call_opt(c, "dt")->r;
     int rc = mb_frames_sample(fr, &m->sys, err);
     if (rc)
         return rc;
@@ -764,14 +765,15 @@ static int frames_of(const char *kind) { return kind && strcmp(kind, "frames") =
 
 static int check_movie(void *vm, const mote_call *c, mote_err *err)
 {
-    const char *prefix = c->args[0].path;
+    const char *prefix = mote_call_opt(c, "prefix")->path;
+    const int pi = mote_call_opt_index(c, "prefix");
     char *first = mb_frame_name(prefix, 0);
     int rc = MOTE_OK;
     struct stat st;
     if (!first)
-        rc = mote_call_fail(err, c, 0, MOTE_ENOMEM, "out of memory");
+        rc = mote_call_fail(err, c, pi, MOTE_ENOMEM, "out of memory");
     else if (!frames_of(mote_outputs_find(&c->ctx->outputs, prefix)) && stat(first, &st) != 0)
-        rc = mote_call_fail(err, c, 0, MOTE_EINVAL,
+        rc = mote_call_fail(err, c, pi, MOTE_EINVAL,
                             "movie: no earlier 'frames' writes '%s' and it does not exist", first);
     free(first);
     return rc;
@@ -779,10 +781,10 @@ static int check_movie(void *vm, const mote_call *c, mote_err *err)
 static int run_movie(void *vm, const mote_call *c, mote_err *err)
 {
     mb_model *m = vm;
-    const char *out = c->args[2].path;
+    const char *out = mote_call_opt(c, "file")->path;
     int ran = 0;
-    int rc = mote_movie(c->args[0].path, c->args[1].i, out, m->ctx ? m->ctx->diag : NULL, &ran,
-                      err);
+    int rc = mote_movie(mote_call_opt(c, "prefix")->path, mote_call_opt(c, "fps")->i, out,
+                        m->ctx ? m->ctx->diag : NULL, &ran, err);
     if (!rc && ran && m->log)
         fprintf(m->log, "movie: wrote %s\n", out);
     return rc;
@@ -835,18 +837,23 @@ static const mote_cmd mb_commands[] = {
     {"run_collisions", NULL, "i>=1 r>0", "run_collisions K T_MAX",
      "advance by K disk-disk collisions (at most T_MAX s)", MB_HELP_RUN_COLLISIONS,
      check_run_collisions, run_run_collisions},
-    {"record", NULL, "r>0 f>record", "record DT FILE", "record the mixing curve every DT s into FILE",
+    {"record", "monitor", "@dt=r>0! @file=f>record!", "record dt=DT file=FILE",
+     "record the mixing curve every DT s into FILE",
      MB_HELP_RECORD, check_record, run_record},
-    {"density_y", NULL, "r>0 i[1,1000000] f>density_y", "density_y DT NBINS FILE",
+    {"density_y", NULL, "@dt=r>0! @bins=i[1,1000000]! @file=f>density_y!",
+     "density_y dt=DT bins=NBINS file=FILE",
      "time-averaged density profile in y, sampled every DT s", MB_HELP_DENSITY, check_density,
      run_density},
-    {"snapshot", NULL, "f>snapshot", "snapshot FILE", "picture (.png) or extended XYZ (.xyz) of the state",
+    {"snapshot", NULL, "@file=f>snapshot!", "snapshot file=FILE",
+     "picture (.png) or extended XYZ (.xyz) of the state",
      MB_HELP_SNAPSHOT, check_snapshot, run_snapshot},
-    {"frames", NULL, "r>0 f", "frames DT PREFIX", "a picture every DT s: PREFIX_000000.png ...",
+    {"frames", NULL, "@dt=r>0! @prefix=f!", "frames dt=DT prefix=PREFIX",
+     "a picture every DT s: PREFIX_000000.png ...",
      MB_HELP_FRAMES, check_frames, run_frames},
     {"frames_stop", NULL, "", "frames_stop", "stop writing frames", MB_HELP_FRAMES_STOP,
      check_frames_stop, run_frames_stop},
-    {"movie", NULL, "f i[1,1000] f>movie", "movie PREFIX FPS FILE", "make a movie of the frames (needs ffmpeg)",
+    {"movie", NULL, "@prefix=f! @fps=i[1,1000]! @file=f>movie!",
+     "movie prefix=PREFIX fps=FPS file=FILE", "make a movie of the frames (needs ffmpeg)",
      MB_HELP_MOVIE, check_movie, run_movie},
 };
 

@@ -1015,9 +1015,9 @@ static const mote_cmd nb_commands[] = {
      "[step_tol=E] [force=on] [lenient=on] [trio_layout=packed] [max_files=N]",
      "run a Galactica job: its control file, bodies and result files", HELP_RUN, nb_check_run,
      nb_run_run},
-    {"snapshot", NULL, "every=i>=1! prefix=f format=s",
-     "snapshot every=K [prefix=P] [format=native|galactica]",
-     "write a snapshot every K steps of integrate, to PSTEP.snap", HELP_SNAPSHOT, nb_check_snapshot,
+    {"snapshot", NULL, "every=i>=1 prefix=f format=s file=f>snapshot",
+     "snapshot file=FILE|every=K [prefix=P] [format=native|galactica]",
+     "a snapshot now (file=), or every K steps of integrate to PSTEP.snap", HELP_SNAPSHOT, nb_check_snapshot,
      nb_run_snapshot},
 };
 

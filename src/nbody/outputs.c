@@ -602,6 +602,14 @@ int nb_run_frames(void *vm, const mote_call *c, mote_err *err)
 
 int nb_check_snapshot(void *vm, const mote_call *c, mote_err *err)
 {
+    const mote_arg *every = mote_call_opt(c, "every"), *file = mote_call_opt(c, "file");
+    if (!every == !file)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "snapshot: give file=FILE (one now) or "
+                              "every=K (one every K steps of integrate), not %s",
+                              file ? "both" : "neither");
+    if (file && mote_call_opt(c, "prefix"))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "prefix"), MOTE_EINVAL,
+                              "snapshot: prefix= is for every=K (file= names the one file)");
     const mote_arg *f = mote_call_opt(c, "format");
     if (f && strcmp(f->text, "native") != 0 && strcmp(f->text, "galactica") != 0)
         return mote_call_fail(err, c, mote_call_opt_index(c, "format"), MOTE_EINVAL,
@@ -616,6 +624,20 @@ int nb_check_snapshot(void *vm, const mote_call *c, mote_err *err)
 int nb_run_snapshot(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
+    const mote_arg *file = mote_call_opt(c, "file"), *f = mote_call_opt(c, "format");
+    if (file) { /* one now, as `write snapshot` (or `write galactica`) writes it */
+        nb_settle_units(m);
+        char *origin = mote_call_origin(c);
+        int rc = !origin ? mote_fail(err, MOTE_ENOMEM, "snapshot: out of memory")
+                 : f && strcmp(f->text, "galactica") == 0
+                     ? nb_write_galactica(m, file->path, 1, err)
+                     : nb_snapshot_write(&m->nb, file->path, origin, err);
+        free(origin);
+        if (!rc && m->log)
+            fprintf(m->log, "snapshot: wrote %s (%u bodies at T = %.17g)\n", file->path,
+                    m->nb.n, (double)m->nb.T);
+        return rc;
+    }
     const mote_arg *p = mote_call_opt(c, "prefix");
     free(m->snap.prefix);
     free(m->snap.origin);
@@ -624,7 +646,6 @@ int nb_run_snapshot(void *vm, const mote_call *c, mote_err *err)
     if (!m->snap.prefix || !m->snap.origin)
         return mote_fail(err, MOTE_ENOMEM, "snapshot: out of memory");
     m->snap.every = (uint64_t)mote_call_opt(c, "every")->i;
-    const mote_arg *f = mote_call_opt(c, "format");
     m->snap.galactica = f && strcmp(f->text, "galactica") == 0;
     return MOTE_OK;
 }

@@ -53,9 +53,11 @@ static int parse_spec(const char **pp, mote_argspec *sp);
 static int parse_one(const char **pp, mote_argspec *sp)
 {
     const char *p = *pp;
+    const int at = *p == '@'; /* an option that may also be given as a bare token */
+    p += at;
     size_t k = mote_option_key_len(p);
     if (!k)
-        return parse_spec(pp, sp);
+        return at ? -1 : parse_spec(pp, sp);
     if (k >= sizeof sp->key)
         return -1;
     char tok[160];
@@ -74,6 +76,7 @@ static int parse_one(const char **pp, mote_argspec *sp)
     memcpy(sp->key, p, k);
     sp->key[k] = '\0';
     sp->required = required;
+    sp->positional = at;
     *pp = v + n;
     return 0;
 }

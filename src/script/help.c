@@ -193,6 +193,38 @@ int mote_help_command(FILE *out, FILE *diag, const char *name, const mote_model 
     return 1;
 }
 
+/* The words the models share (issue 34), for the reference's opening section. */
+static const char VOCABULARY[] =
+    "## One vocabulary\n"
+    "\n"
+    "The output commands take the same `key=value` options in every model: `every=K` puts\n"
+    "them on a schedule counted in the model's steps (collisions per particle for hard\n"
+    "spheres, steps for nbody), `dt=T` on a schedule in simulated time, `file=FILE` names one\n"
+    "file, `prefix=P` a numbered series of files (the separator's `dir=DIR`: a folder of\n"
+    "them), and `format=` chooses a file format where there is a choice. A command that had a\n"
+    "short positional form keeps it: the values are given bare, in the order of the\n"
+    "synopsis (`dump 10 t.xyz` is `dump every=10 file=t.xyz`), so the hard-sphere program's\n"
+    "commands and its `program.txt` files run unchanged. The same word means the same thing\n"
+    "in every model that has it:\n"
+    "\n"
+    "| What is written | hard-spheres | mixing-box | nbody | charging | separator |\n"
+    "|---|---|---|---|---|---|\n"
+    "| the configuration now | `snapshot file=` | `snapshot file=` | `snapshot file=` | — | — |\n"
+    "| configurations on a schedule | `trajectory every= file=` | — | `snapshot every= prefix=` | — | `snapshot dt= dir=` |\n"
+    "| pictures on a schedule | — | `frames dt= prefix=` | `frames every= prefix=` | — | `frames dt= dir=` |\n"
+    "| the run's quantities over time | — | `monitor dt= file=` | `monitor every=\\|dt= file=` | `evolve dt_out= file=` | `monitor dt= file=` |\n"
+    "| particle paths | `trajectory every= file=` | — | `trajectory every=\\|dt= file=` | — | — |\n"
+    "| the exact state | `save`, `load` | `save`, `load` | `save`, `load`, `checkpoint every= file=` | — | `save`, `load` |\n"
+    "| advance the system | `step K` | `run T` | `integrate steps=\\|to=\\|for=` | `run particles=N` | `run T` |\n"
+    "\n"
+    "Other names kept as aliases: `dump` (hard spheres' `trajectory`), `record` (the mixing\n"
+    "box's `monitor`), `balance` and `snapshots` (the separator's `monitor` and `snapshot`).\n"
+    "Where the words still differ: `run` advances simulated time in the mixing box and the\n"
+    "separator, but runs Monte Carlo histories in the charging model (which has no time but\n"
+    "`evolve`'s) and a Galactica job folder in nbody (`run galactica`); hard spheres advance\n"
+    "by collisions with the original program's `step`.\n"
+    "\n";
+
 /* ---- Markdown reference --------------------------------------------------------------------- */
 
 /* Text for a table cell: '|' escaped, line breaks as spaces. */
@@ -259,12 +291,13 @@ void mote_help_markdown(FILE *out, const mote_model *const *models, size_t nmode
             "(`model NAME`); a script without one is a `%s` script. The whole script is checked\n"
             "before anything runs: `mote check SCRIPT` only checks, `mote run SCRIPT` checks and runs.\n"
             "On a terminal, the long commands of every model (`step` and the compressions, `run`,\n"
-            "`run_collisions`, `integrate`, the charging model's `run`, `float`, `evolve` and `test`)\n"
-            "show their progress, the percentage done and the time left, on one line that is wiped\n"
-            "when they end; into a file or a pipe they write nothing extra.\n"
-            "\n"
-            "## Commands of every model\n\n",
+            "`run_collisions`, `integrate`, `run galactica`, the charging model's `run`, `float`,\n"
+            "`evolve` and `test`) show their progress, the percentage done and the time left, on\n"
+            "one line that is wiped when they end; into a file or a pipe they write nothing extra.\n"
+            "\n",
             MOTE_DEFAULT_MODEL);
+    fputs(VOCABULARY, out);
+    fputs("## Commands of every model\n\n", out);
     md_commands(out, mote_script_common_cmds, mote_script_common_ncmds, models, nmodels);
     for (size_t i = 0; i < nmodels; i++) {
         const mote_model *m = models[i];

@@ -652,8 +652,53 @@ static int parse_command(mote_script *s, const token_list *tl, const mote_model 
     int star = def->args[0] == '*';
     int want = star ? nargs : mote_argspec_count(def->args);
     const char *syn = def->synopsis ? def->synopsis : def->name;
+    /* bare tokens beyond the positional arguments fill the '@' options not given as key=value,
+     * in order */
+    for (int q = 0; q < nopt_specs && nargs > want; q++) {
+        mote_argspec o;
+        if (mote_argspec_option_at(def->args, q, &o) || !o.positional)
+            continue;
+        int given = 0;
+        for (int k = 0; k < nopts; k++)
+            given |= strncmp(opt[k]->text, o.key, strlen(o.key)) == 0 &&
+                     opt[k]->text[strlen(o.key)] == '=';
+        if (given)
+            continue;
+        const token *t = pos[want];
+        token *v = mote_arena_alloc(&s->arena, sizeof *v);
+        size_t klen = strlen(o.key), tlen = strlen(t->text);
+        char *text = mote_arena_alloc(&s->arena, klen + tlen + 2);
+        if (!v || !text)
+            return mote_script_fail_plain(err, MOTE_ENOMEM, "out of memory reading the script");
+        memcpy(text, o.key, klen);
+        text[klen] = '=';
+        memcpy(text + klen + 1, t->text, tlen + 1);
+        *v = *t;
+        v->text = text;
+        v->col = t->col - (int)klen - 1; /* (the value's column stays the token's) */
+        opt[nopts++] = v;
+        for (int k = want; k + 1 < nargs; k++)
+            pos[k] = pos[k + 1];
+        nargs--;
+    }
     if (nargs > want) {
         const token *extra = pos[want];
+        char keys[256] = "";
+        size_t used = 0;
+        for (int q = 0; q < nopt_specs; q++) { /* the '@' options a bare value can fill */
+            mote_argspec o;
+            if (!mote_argspec_option_at(def->args, q, &o) && o.positional && used < sizeof keys) {
+                int w = snprintf(keys + used, sizeof keys - used, "%s%s=", used ? ", " : "",
+                                 o.key);
+                used += w > 0 ? (size_t)w : 0;
+            }
+        }
+        if (used)
+            return mote_script_fail_at(err, file, extra->line, extra->col, MOTE_EINVAL,
+                                       "%s: too many arguments: expected '%s' (bare values "
+                                       "fill %s in this order, unless given as key=value), "
+                                       "found '%s' left over", name->text, syn, keys,
+                                       extra->text);
         return mote_script_fail_at(err, file, extra->line, extra->col, MOTE_EINVAL,
                                    "%s: too many arguments: expected '%s' (%d argument%s), "
                                    "found %d", name->text, syn, want, plural(want), nargs);

@@ -69,6 +69,7 @@ typedef struct {
     char kinds[96];             /* files: the output's kind, or the input's kinds "a|b" */
     char key[32];               /* options: the key ("" for a positional argument) */
     int required;               /* options: must be given */
+    int positional;             /* options: '@KEY=': may be given as a bare token instead */
 } mote_argspec;
 
 /* The number of positional specs in `args`: -2 for "*", -1 when malformed. */

@@ -874,11 +874,12 @@ static int do_tromp(void *vm, const mote_call *c, mote_err *err)
         return rc;
     char *origin = mote_call_origin(c);
     mote_sep_cut cut;
-    rc = sep_write_tromp(&m->sys, c->args[0].path, origin ? origin : "tromp", m->seed, &cut, err);
+    const mote_arg *file = mote_call_opt(c, "file");
+    rc = sep_write_tromp(&m->sys, file->path, origin ? origin : "tromp", m->seed, &cut, err);
     free(origin);
     if (!rc && m->log)
-        fprintf(m->log, "tromp: wrote %s and its plot: d50 %.6g m, kappa %.4g\n",
-                c->args[0].text, cut.d50, cut.kappa);
+        fprintf(m->log, "tromp: wrote %s and its plot: d50 %.6g m, kappa %.4g\n", file->text,
+                cut.d50, cut.kappa);
     return rc;
 }
 
@@ -924,7 +925,8 @@ static int do_profiles(void *vm, const mote_call *c, mote_err *err)
     if (rc || m->dry)
         return rc;
     char *origin = mote_call_origin(c);
-    rc = sep_write_profiles(&m->sys, c->args[0].path, origin ? origin : "profiles", m->seed, err);
+    const mote_arg *file = mote_call_opt(c, "file");
+    rc = sep_write_profiles(&m->sys, file->path, origin ? origin : "profiles", m->seed, err);
     free(origin);
     if (rc == MOTE_EINVAL) { /* (nothing averaged yet): located at the command */
         char why[sizeof err->msg];
@@ -932,8 +934,8 @@ static int do_profiles(void *vm, const mote_call *c, mote_err *err)
         return mote_call_fail(err, c, -1, MOTE_EINVAL, "%s", why);
     }
     if (!rc && m->log)
-        fprintf(m->log, "profiles: wrote %s and its plot (averaged over %.6g s)\n",
-                c->args[0].text, m->sys.prof_time);
+        fprintf(m->log, "profiles: wrote %s and its plot (averaged over %.6g s)\n", file->text,
+                m->sys.prof_time);
     return rc;
 }
 
@@ -971,10 +973,12 @@ static int frame_opts(const mote_call *c, sep_frame_opts *fo, mote_err *err)
 /* A directory for numbered files: its parent must exist; made when the run starts. */
 static int out_dir(sep_model *m, const mote_call *c, char **dir, mote_err *err)
 {
-    if (m->dry && !mote_ctx_dir_ok(m->ctx, c->args[0].path))
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "%s: the directory that would hold '%s' "
-                              "does not exist", c->name, c->args[0].text);
-    char *d = strdup(c->args[0].path);
+    const mote_arg *a = mote_call_opt(c, "dir");
+    if (m->dry && !mote_ctx_dir_ok(m->ctx, a->path))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "dir"), MOTE_EINVAL,
+                              "%s: the directory that would hold '%s' does not exist", c->name,
+                              a->text);
+    char *d = strdup(a->path);
     if (!d)
         return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", c->name);
     free(*dir);
@@ -995,7 +999,7 @@ static int do_frames(void *vm, const mote_call *c, mote_err *err)
     if (mv && choice(c, "movie", 0, mv->text, "on", "off", &movie_off, err))
         return err->code;
     m->frames.on = 1;
-    m->frames.at = (mote_schedule){m->sys.t, c->args[1].r, 0};
+    m->frames.at = (mote_schedule){m->sys.t, mote_call_opt(c, "dt")->r, 0};
     m->frames.index = 0;
     m->frames.movie = !movie_off;
     m->frames.fps = (int)mote_call_opt_r(c, "fps", 20);
@@ -1008,7 +1012,7 @@ static int do_live(void *vm, const mote_call *c, mote_err *err)
     int rc = frame_opts(c, &m->live.fo, err);
     if (rc)
         return rc;
-    char *p = strdup(c->args[0].path);
+    char *p = strdup(mote_call_opt(c, "file")->path);
     if (!p)
         return mote_fail(err, MOTE_ENOMEM, "live_png: out of memory");
     free(m->live.path);
@@ -1026,7 +1030,7 @@ static int do_snapshots(void *vm, const mote_call *c, mote_err *err)
     if (rc)
         return rc;
     m->snaps.on = 1;
-    m->snaps.at = (mote_schedule){m->sys.t, c->args[1].r, 0};
+    m->snaps.at = (mote_schedule){m->sys.t, mote_call_opt(c, "dt")->r, 0};
     m->snaps.index = 0;
     return MOTE_OK;
 }
@@ -1034,7 +1038,7 @@ static int do_snapshots(void *vm, const mote_call *c, mote_err *err)
 static int do_balance(void *vm, const mote_call *c, mote_err *err)
 {
     sep_model *m = vm;
-    char *p = strdup(c->args[0].path), *o = mote_call_origin(c);
+    char *p = strdup(mote_call_opt(c, "file")->path), *o = mote_call_origin(c);
     if (!p || !o) {
         free(p);
         free(o);
@@ -1045,7 +1049,7 @@ static int do_balance(void *vm, const mote_call *c, mote_err *err)
     m->bal.path = p;
     m->bal.origin = o;
     m->bal.on = 1;
-    m->bal.at = (mote_schedule){m->sys.t, c->args[1].r, 0};
+    m->bal.at = (mote_schedule){m->sys.t, mote_call_opt(c, "dt")->r, 0};
     m->bal.nrows = 0;
     m->bal.held = 1;
     return MOTE_OK;
@@ -1184,15 +1188,15 @@ static const char HELP_TIMESTEP[] = "    timestep auto [nc=50]\n    timestep DT\
 static const char HELP_CLASSES[] = "    classes K [min=A max=B]\n\nThe Tromp size classes: K log-spaced between min and max (default 20 over the\nfeed's d_min ... d_max).\n";
 static const char HELP_CLASSES_FILE[] = "    classes_file FILE\n\nThe Tromp size classes from FILE: one class edge (m) per row, increasing\n(3 to 1001 edges). The tallies start again from zero.\n";
 static const char HELP_RUN[] = "    run T\n\nAdvance T seconds of simulated time in steps of the time step (spec 2.10): the\nexact drag drift, contacts or reflections, exits (fines above H, coarse below\n0) with their tallies per size class, the feed, the gas profile, and the\nscheduled outputs; then the status line t steps dt N fed fines coarse lost\nbacklog d50 kappa eps_max max_overlap fast_moves. The mass balance fed = in channel + fines + coarse +\nlost is checked after every run.\n";
-static const char HELP_TROMP[] = "    tromp FILE\n\nWrite the grade-efficiency curve (spec 3.1): per size class the partition\nnumber T (mass to coarse over mass exited, mass basis; nan where nothing\nexited) with its standard error sqrt(T (1 - T)/n), the counts and masses and T\non a number basis; in the header d25, d50, d75 (first crossings from the fine\nside, interpolated in ln d), kappa = d25/d75, Ep and the imperfection, and each\nspecies' reference cut d0* (the still-gas terminal velocity equal to U0).\n";
+static const char HELP_TROMP[] = "    tromp file=FILE\n    tromp FILE\n\n(The second line is the short form: the same values, bare, in this order.)\n\nWrite the grade-efficiency curve (spec 3.1): per size class the partition\nnumber T (mass to coarse over mass exited, mass basis; nan where nothing\nexited) with its standard error sqrt(T (1 - T)/n), the counts and masses and T\non a number basis; in the header d25, d50, d75 (first crossings from the fine\nside, interpolated in ln d), kappa = d25/d75, Ep and the imperfection, and each\nspecies' reference cut d0* (the still-gas terminal velocity equal to U0).\n";
 
-static const char HELP_PROFILES[] = "    profiles FILE\n\nWrite the profiles along the height (spec 3.2), time-averaged since\naverage_from (or the last reset_stats), per slice: z, the solids fraction in\ntotal and per species, the particle count, the mass-weighted mean v_z, u_g, the\nmixture density eps_g rho_g + sum eps_s rho_s, the drag-implied gas pressure\ngradient -dp/dz = eps_g rho_g g + (sum of the drag's z force in the slice) /\n(A_c dz), and p(z) - p(H). Also FILE's stem + .png: three panels, eps_s(z),\nu_g(z) and v_z(z).\n";
+static const char HELP_PROFILES[] = "    profiles file=FILE\n    profiles FILE\n\n(The second line is the short form: the same values, bare, in this order.)\n\nWrite the profiles along the height (spec 3.2), time-averaged since\naverage_from (or the last reset_stats), per slice: z, the solids fraction in\ntotal and per species, the particle count, the mass-weighted mean v_z, u_g, the\nmixture density eps_g rho_g + sum eps_s rho_s, the drag-implied gas pressure\ngradient -dp/dz = eps_g rho_g g + (sum of the drag's z force in the slice) /\n(A_c dz), and p(z) - p(H). Also FILE's stem + .png: three panels, eps_s(z),\nu_g(z) and v_z(z).\n";
 static const char HELP_AVERAGE_FROM[] = "    average_from T\n\nStart the profile averaging at simulated time T (default 0).\n";
 static const char HELP_RESET_STATS[] = "    reset_stats\n\nZero the exit tallies of the size classes and the profile sums: a new\nstatistics window starts now, leaving the start-up transient out. The species'\nbookkeeping (fed, fines, coarse, lost) is not reset.\n";
-static const char HELP_FRAMES[] = "    frames DIR DT [px=900] [color=size|species] [y1= y2=] [movie=on|off] [fps=20]\n\nA PNG picture every DT of simulated time, DIR/frame_000000.png on (spec 3.4):\nthe channel to scale with its grids and their holes, each particle a disc of\nits true size (at least a pixel) coloured by diameter (viridis over ln d, with\na colour bar in um or mm) or by species, the time and the counts under it. In\n3D the particles are projected on the x-z plane back to front, optionally only\nthose with y1 <= y <= y2. After each run the frames become DIR/movie.mp4\nthrough ffmpeg when it is installed (movie=off: not). DIR is made when the run\nstarts. Frames come after the first step that reaches their time: steps are\nnot shortened for them, so results do not depend on the outputs.\n";
-static const char HELP_LIVE[] = "    live_png FILE [hz=30] [px=] [color=size|species]\n\nWhile runs go on, rewrite FILE (atomically) with the present picture at most\nhz times a second of wall-clock time (at most 30), whatever the simulated time\nstep: open it in an image viewer that reloads. (The live view in a browser is\n`live http`, or `mote run --live`.)\n";
-static const char HELP_SNAPSHOTS[] = "    snapshots DIR DT\n\nAn extended XYZ file every DT of simulated time, DIR/snapshot_000000.xyz on:\nthe species, id, position, velocity and radius of each particle, the channel as\nthe lattice and the time in the comment line; OVITO, VMD and ASE read them. In\n2D y is the middle of the nominal depth.\n";
-static const char HELP_BALANCE[] = "    balance FILE DT\n\nThe bookkeeping every DT of simulated time (spec 3.3): per species and in\ntotal, the counts and masses fed, in the channel, to the fines, to the coarse,\nlost and waiting in the backlog; written after each run, with whether\nfed = in channel + fines + coarse + lost held at every row.\n";
+static const char HELP_FRAMES[] = "    frames dir=DIR dt=DT [px=900] [color=size|species] [y1= y2=] [movie=on|off] [fps=20]\n    frames DIR DT [options]\n\n(The second line is the short form: the same values, bare, in this order.)\n\nA PNG picture every DT of simulated time, DIR/frame_000000.png on (spec 3.4):\nthe channel to scale with its grids and their holes, each particle a disc of\nits true size (at least a pixel) coloured by diameter (viridis over ln d, with\na colour bar in um or mm) or by species, the time and the counts under it. In\n3D the particles are projected on the x-z plane back to front, optionally only\nthose with y1 <= y <= y2. After each run the frames become DIR/movie.mp4\nthrough ffmpeg when it is installed (movie=off: not). DIR is made when the run\nstarts. Frames come after the first step that reaches their time: steps are\nnot shortened for them, so results do not depend on the outputs.\n";
+static const char HELP_LIVE[] = "    live_png file=FILE [hz=30] [px=] [color=size|species]\n    live_png FILE [options]\n\n(The second line is the short form: the same values, bare, in this order.)\n\nWhile runs go on, rewrite FILE (atomically) with the present picture at most\nhz times a second of wall-clock time (at most 30), whatever the simulated time\nstep: open it in an image viewer that reloads. (The live view in a browser is\n`live http`, or `mote run --live`.)\n";
+static const char HELP_SNAPSHOTS[] = "    snapshots dir=DIR dt=DT\n    snapshots DIR DT\n\n(The second line is the short form: the same values, bare, in this order.)\n\n`snapshot` is the same command. An extended XYZ file every DT of simulated time, DIR/snapshot_000000.xyz on:\nthe species, id, position, velocity and radius of each particle, the channel as\nthe lattice and the time in the comment line; OVITO, VMD and ASE read them. In\n2D y is the middle of the nominal depth.\n";
+static const char HELP_BALANCE[] = "    balance file=FILE dt=DT\n    balance FILE DT\n\n(The second line is the short form: the same values, bare, in this order.)\n\n`monitor` is the same command (the name nbody and the mixing box use). The bookkeeping every DT of simulated time (spec 3.3): per species and in\ntotal, the counts and masses fed, in the channel, to the fines, to the coarse,\nlost and waiting in the backlog; written after each run, with whether\nfed = in channel + fines + coarse + lost held at every row.\n";
 static const char HELP_SAVE[] = "    save FILE\n    load FILE\n\nWrite the whole state (spec 2.12): the parameters, species, grids, size\nclasses, every particle with its id and last contact force, the random stream,\nthe feed accounts and backlog, the relaxed solids fraction, the exit tallies,\nthe profile sums, the counters and the time, every number exact. `load` reads\nit back: save, load, save gives the same file, and a run continued from it is\nbit for bit the run that never stopped. The schedules (frames, snapshots,\nbalance, live) belong to the script and are not saved. A file that does not\nread is an error naming its line, and nothing runs.\n";
 static const char HELP_SUMMARY[] = "    summary\n\nPrint the status line, each species' bookkeeping and whether the balance\nholds.\n";
 
@@ -1261,22 +1265,23 @@ static const mote_cmd sep_commands[] = {
     {"classes_file", NULL, "f<classes", "classes_file FILE", "the Tromp size classes from a file",
      HELP_CLASSES_FILE, do_classes_file, do_classes_file},
     {"run", NULL, "r>0", "run T", "advance the simulated time", HELP_RUN, do_run, do_run},
-    {"tromp", NULL, "f>tromp", "tromp FILE", "write the grade-efficiency curve", HELP_TROMP,
+    {"tromp", NULL, "@file=f>tromp!", "tromp file=FILE", "write the grade-efficiency curve", HELP_TROMP,
      do_tromp, do_tromp},
-    {"profiles", NULL, "f>profiles", "profiles FILE", "write the profiles along the height",
+    {"profiles", NULL, "@file=f>profiles!", "profiles file=FILE", "write the profiles along the height",
      HELP_PROFILES, do_profiles, do_profiles},
     {"average_from", NULL, "r>=0", "average_from T", "start of the profile averaging",
      HELP_AVERAGE_FROM, do_average_from, do_average_from},
     {"reset_stats", NULL, "", "reset_stats", "start a new statistics window", HELP_RESET_STATS,
      do_reset_stats, do_reset_stats},
-    {"frames", NULL, "f r>0 px=i[16,16384] color=s y1=r y2=r movie=s fps=i[1,1000]",
-     "frames DIR DT [options]", "PNG pictures on a schedule, and the movie", HELP_FRAMES,
+    {"frames", NULL, "@dir=f! @dt=r>0! px=i[16,16384] color=s y1=r y2=r movie=s fps=i[1,1000]",
+     "frames dir=DIR dt=DT [options]", "PNG pictures on a schedule, and the movie", HELP_FRAMES,
      do_frames, do_frames},
-    {"live_png", NULL, "f>image hz=r>0 px=i[16,16384] color=s", "live_png FILE [hz=30]",
+    {"live_png", NULL, "@file=f>image! hz=r>0 px=i[16,16384] color=s",
+     "live_png file=FILE [hz=30]",
      "a picture rewritten while runs go on", HELP_LIVE, do_live, do_live},
-    {"snapshots", NULL, "f r>0", "snapshots DIR DT", "extended XYZ snapshots on a schedule",
+    {"snapshots", "snapshot", "@dir=f! @dt=r>0!", "snapshots dir=DIR dt=DT", "extended XYZ snapshots on a schedule",
      HELP_SNAPSHOTS, do_snapshots, do_snapshots},
-    {"balance", NULL, "f>balance r>0", "balance FILE DT", "the bookkeeping time series",
+    {"balance", "monitor", "@file=f>balance! @dt=r>0!", "balance file=FILE dt=DT", "the bookkeeping time series",
      HELP_BALANCE, do_balance, do_balance},
     {"save", NULL, "f>state", "save FILE", "write the whole state", HELP_SAVE, do_save, do_save},
     {"load", NULL, "f<state", "load FILE", "continue from a saved state", HELP_SAVE, do_load,

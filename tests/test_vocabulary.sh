@@ -1,0 +1,63 @@
+#!/bin/sh
+# test_vocabulary.sh BUILD_DIR: one vocabulary (issue 34). The output commands take the same
+# key=value options in every model (file=, prefix= or dir=, every= for a count, dt= for
+# simulated time), `snapshot file=`, `monitor` and `trajectory` are words of every model that
+# has the thing they write, and the short positional forms of the commands that had them still
+# work and mean the same. Each script's files are checked to exist and to be what was asked.
+NAME=vocabulary
+. "$(dirname "$0")/lib.sh"
+mote_test_start "$1"
+
+# run NAME TEXT: write the script NAME.mote and run it; its output goes to NAME.out
+run() {
+    printf '%b' "$2" > "$1.mote"
+    if "$MOTE" run "$1.mote" > "$1.out" 2>&1; then ok; else bad "$1: $(tail -3 "$1.out")"; fi
+}
+# has FILE WHAT: FILE exists and is not empty
+has() { [ -s "$1" ] && ok || bad "$2: $1 was not written"; }
+# rows FILE: the data rows of a mote data file (lines not starting with #)
+rows() { grep -vc '^#' "$1"; }
+
+# hard spheres: snapshot file=, trajectory every= file= (dump's other name), the short forms
+run hs 'model hard-spheres\nnew 2 0.3\nsnapshot file=hs1.xyz\ntrajectory every=1 file=hs2.xyz\nstep 2\ndump_stop\nsnapshot hs3.xyz\ndump 1 hs4.xyz\nstep 1\n'
+has hs1.xyz "hard spheres: snapshot file="
+[ "$(grep -c Lattice hs2.xyz)" = 3 ] && ok || bad "hard spheres: trajectory every=1 over step 2: $(grep -c Lattice hs2.xyz) frames"
+cmp -s hs1.xyz hs3.xyz && bad "hard spheres: snapshots before and after step 2 are the same" || ok
+[ "$(grep -c Lattice hs4.xyz)" = 2 ] && ok || bad "hard spheres: dump 1 FILE over step 1: $(grep -c Lattice hs4.xyz) frames"
+
+# the mixing box: monitor dt= file= (record's other name), snapshot file=, frames dt= prefix=,
+# density_y with its options; and record's short form gives the same rows
+MB='model mixing-box\nbox 0 2 0 1\npartition 1 0.02\nslit 0.5 0.1\nradius 0.01\ndisks 40 40\nv_init 1\nplace\n'
+run mb "${MB}monitor dt=0.25 file=mb1.dat\nsnapshot file=mb2.png\nframes dt=0.5 prefix=mbf\ndensity_y dt=0.25 bins=8 file=mb3.dat\nrun 1\n"
+run mb_short "${MB}record 0.25 mb1.dat\nsnapshot mb2.png\nframes 0.5 mbs\ndensity_y 0.25 8 mb3s.dat\nrun 1\n"
+[ "$(rows mb1.dat)" = 5 ] && ok || bad "mixing box: monitor dt=0.25 over run 1: $(rows mb1.dat) rows, not 5"
+has mb2.png "mixing box: snapshot file="
+[ -s mbf_000002.png ] && [ ! -e mbf_000003.png ] && ok || bad "mixing box: frames dt=0.5 over run 1: $(ls mbf_* | wc -l) frames, not 3"
+[ "$(rows mb3.dat)" = 8 ] && ok || bad "mixing box: density_y bins=8: $(rows mb3.dat) rows"
+cmp -s mb3.dat mb3s.dat && bad "mixing box: the two density files share a header, they cannot be equal" || ok
+grep -v '^#' mb3.dat > a.txt; grep -v '^#' mb3s.dat > b.txt
+cmp -s a.txt b.txt && ok || bad "mixing box: density_y's key and short forms differ"
+
+# nbody: snapshot file= (one now) beside snapshot every=; monitor, trajectory
+run nb 'model nbody gravity\ngenerate ring nb=6\nsnapshot file=nb1.snap\nsnapshot every=5 prefix=nbs_\nmonitor every=5 file=nb2.dat\ntrajectory every=5 file=nb3.dat\nintegrate steps=10\n'
+has nb1.snap "nbody: snapshot file="
+has nbs_0000000010.snap "nbody: snapshot every=5"
+[ "$(rows nb2.dat)" = 3 ] && ok || bad "nbody: monitor every=5 over 10 steps: $(rows nb2.dat) rows"
+[ "$(rows nb3.dat)" = 3 ] && ok || bad "nbody: trajectory every=5 over 10 steps: $(rows nb3.dat) rows"
+expect 1 "nb_bad.mote:3:1: error: snapshot: give file=FILE (one now) or every=K (one every K steps of integrate), not both" \
+    nb_bad.mote 'model nbody gravity\ngenerate ring nb=6\nsnapshot file=a.snap every=2\n'
+
+# the separator: monitor file= dt= (balance's other name), snapshot dir= dt= (snapshots'),
+# frames dir= dt=, tromp file=; and the short forms
+mkdir sn fr sn2
+run sep "${SEP_DILUTE}monitor file=sep1.dat dt=0.1\nsnapshot dir=sn dt=0.1\nframes dir=fr dt=0.2 movie=off\nrun 0.3\ntromp file=sep2.dat\n"
+[ "$(rows sep1.dat)" -ge 3 ] && ok || bad "separator: monitor dt=0.1 over run 0.3: $(rows sep1.dat) rows"
+[ "$(ls sn | wc -l)" -ge 3 ] && ok || bad "separator: snapshot dir=sn dt=0.1: $(ls sn | wc -l) files"
+[ "$(ls fr | grep -c png)" -ge 2 ] && ok || bad "separator: frames dir=fr dt=0.2: $(ls fr | wc -l) files"
+has sep2.dat "separator: tromp file="
+run sep_short "${SEP_DILUTE}balance sep3.dat 0.1\nsnapshots sn2 0.1\nrun 0.3\ntromp sep4.dat\n"
+grep -v '^#' sep1.dat > a.txt; grep -v '^#' sep3.dat > b.txt
+cmp -s a.txt b.txt && ok || bad "separator: balance's short form and monitor differ"
+[ "$(ls sn2 | wc -l)" = "$(ls sn | wc -l)" ] && ok || bad "separator: snapshots DIR DT wrote $(ls sn2 | wc -l) files, snapshot dir= $(ls sn | wc -l)"
+
+mote_test_end
