@@ -1,0 +1,85 @@
+/* model.h: the charging model's script state (ch_model) and what its command files share:
+ * commands.c holds the table, the model's life and the setup commands (plasma, species, body,
+ * injector, field, sun, integrator, material); run.c the long commands (test, run, float,
+ * evolve) and `output`; help.inc the help text. Internal to src/charging. */
+#ifndef MOTE_CH_MODEL_H
+#define MOTE_CH_MODEL_H
+
+#include "mote/charging.h"
+#include "mote/command.h"
+#include "mote/datafile.h"
+
+#include <stdio.h>
+
+#include "ch.h"
+
+typedef struct ch_model {
+    mote_context *ctx;
+    FILE *log;
+    int dry, faithful;
+    int have_plasma, have_body, have_sphere; /* what validation knows */
+    mote_ch_plasma plasma;
+    mote_ch_body body;
+    char radius[32];            /* injector sphere radius= (auto, debye, thesis or metres) */
+    mote_ch_result res;         /* the last run */
+    int have_run;
+    uint64_t seed;
+    double r_gen_used;          /* the injection radius of the last run */
+    int box;                    /* the box injector (spec 5.2) */
+    double margin, margin_m;
+    int field_off;              /* `field none` (spec 6.1): straight paths whatever U */
+    double bfield;              /* `bfield B=` (spec 3.4, diagnostics only), T */
+    int diagnosed;              /* the warnings of spec 3.4 printed for this plasma and body */
+    char *warnings;             /* their text, for the summary files */
+    int sun;                    /* `sun` (spec 6.8): on, the unit vector toward it, intensity */
+    double sun_dir[3], sun_int;
+    double eta;                 /* `integrator` (spec 6.3): curved paths' step and limit */
+    long max_steps;
+    /* materials (spec 6.9): the defined ones (presets are found by name) and the assignments,
+     * in order (a later one wins) */
+    mote_ch_material defined[32];
+    int ndefined;
+    struct {
+        char part[MOTE_CH_NAME_LEN];
+        mote_ch_material m;
+    } assign[64];
+    int nassign;
+    const mote_ch_material **tri_mat; /* per triangle, built for a run (NULL: none emits) */
+    /* `output`: the files of spec 8 after each run (prefix NULL: none) */
+    char *prefix, *origin;
+    int out_triangles, out_vtk, out_png, out_ply, png_w, png_h, png_log, vtk_binary;
+    int out_timeseries;
+    int png_q, png_sp;          /* png_quantity */
+    int legacy_stdout;          /* the original's four columns from evolve (spec 8.1) */
+    double view[8][3];          /* png_view: the views, and their names for the file names */
+    char view_name[8][16];
+    int nviews;
+    /* validation: the prefix and time-series switch of the last `output`, so that the files
+     * `run`, `float` and `evolve` will write are known to the whole-script check */
+    char *check_prefix;
+    int check_timeseries;
+} ch_model;
+
+/* ---- commands.c: helpers run.c uses ---- */
+int ch_parse3any(const char *t, double v[3]);
+double ch_injection_radius(const ch_model *m, const mote_ch_geometry *g);
+void ch_diagnose(ch_model *m, const char *cmd);
+int ch_build_tri_materials(ch_model *m, mote_err *err);
+double ch_species_see(const mote_ch_result *r, int s, double *var);
+void ch_report_paths(const ch_model *m, const char *cmd);
+ch_output ch_output_of(ch_model *m, const mote_ch_geometry *g, const mote_ch_run_opts *o,
+                       double U);
+
+/* ---- run.c ---- */
+int ch_check_test(void *vm, const mote_call *c, mote_err *err);
+int ch_run_test(void *vm, const mote_call *c, mote_err *err);
+int ch_check_run(void *vm, const mote_call *c, mote_err *err);
+int ch_run_run(void *vm, const mote_call *c, mote_err *err);
+int ch_check_float(void *vm, const mote_call *c, mote_err *err);
+int ch_run_float(void *vm, const mote_call *c, mote_err *err);
+int ch_check_evolve(void *vm, const mote_call *c, mote_err *err);
+int ch_run_evolve(void *vm, const mote_call *c, mote_err *err);
+int ch_check_output(void *vm, const mote_call *c, mote_err *err);
+int ch_run_output(void *vm, const mote_call *c, mote_err *err);
+
+#endif
