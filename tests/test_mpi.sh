@@ -48,7 +48,7 @@ grep -q '^float: U_f = ' r2/out.txt && ok || bad "2 ranks: no float line"
 # another model under MPI: refused, nothing run
 printf 'model hardspheres\n' > hs.mote
 $MPIRUN "$MPI_MOTE" run hs.mote > out.txt 2> err.txt
-[ $? -ne 0 ] && grep -q "hs.mote:1:7: error: model: unknown model 'hardspheres' (known models: charging, nbody)" err.txt && ok || bad "hardspheres under MPI: $(cat err.txt)"
+[ $? -ne 0 ] && grep -q "hs.mote:1:7: error: model: unknown model 'hardspheres' (known models: nbody, charging)" err.txt && ok || bad "hardspheres under MPI: $(cat err.txt)"
 
 # ---- the N-body model (spec 6.3, T17): 1, 2 and 3 ranks (3 oversubscribed on small machines)
 # give the single process's bits: the Galactica scheme, then the Taylor integrator, the state

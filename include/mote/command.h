@@ -159,7 +159,20 @@ typedef struct mote_model {
     const char *plot_help;  /* the pictures of this model's kinds (for `mote help plot`) */
     const char *plot_opts;
     int (*plot_check)(void *model, const mote_call *c, mote_err *err);
+    /* The model's own program beside `mote run`: `mote PROGRAM [ARGS]` calls program_main with
+     * argv[0] = PROGRAM and exits with its status (NULL: none; nbody's is `galactica`, a
+     * Galactica job folder). */
+    const char *program;
+    int (*program_main)(int argc, char **argv, FILE *out, FILE *diag);
+    /* 1: under MPI (make MPI=1) the model shares its work among the ranks; 0: it is not offered
+     * when there is more than one rank */
+    int mpi;
 } mote_model;
+
+/* The registry: every model this build knows, in the order `mote help` lists them
+ * (src/script/registry.c; adding a model adds one line there and touches no other model). */
+extern const mote_model *const mote_models[];
+extern const size_t mote_nmodels;
 
 /* The option `key` of a call (its converted value), or NULL when not given. */
 const mote_arg *mote_call_opt(const mote_call *c, const char *key);

@@ -1,18 +1,15 @@
-/* main.c: the `mote` program. It only names the models this build knows; everything else (run,
- * check, help) lives in the script layer (src/script).
+/* main.c: the `mote` program. It names no model: the registry (mote_models, command.h) lists
+ * them, and everything else (run, check, help) lives in the script layer (src/script). A
+ * model's own program (`mote galactica`, the N-body model's Galactica job folder) is a field of
+ * its registry entry.
  *
  * The MPI build (make MPI=1) starts MPI here. With more than one rank every rank runs the same
- * script: the charging model shares each run's histories among the ranks and sums their
- * tallies, the N-body model shares the bodies of every force pass and gathers their results,
- * so every rank holds the single process's numbers; rank 0 prints, the others are silent. The
- * other models have no use for ranks and are not offered.
- * `mote galactica` runs a Galactica job folder (the N-body model's own entry point). */
-#include "mote/charging.h"
-#include "mote/hardspheres.h"
-#include "mote/mixingbox.h"
-#include "mote/nbody.h"
+ * script, and only the models whose entry says they share their work among ranks are offered
+ * (the charging model shares each run's histories and sums the tallies, the N-body model the
+ * bodies of every force pass), so every rank holds the single process's numbers; rank 0 prints,
+ * the others are silent. */
+#include "mote/command.h"
 #include "mote/script.h"
-#include "mote/separator.h"
 
 #include <stdio.h>
 #include <string.h>
@@ -21,20 +18,18 @@
 #include <mpi.h>
 #endif
 
-static const mote_model *const models[] = {
-    &mote_model_hardspheres,
-    &mote_model_mixingbox,
-    &mote_model_nbody,
-    &mote_model_charging,
-    &mote_model_separator,
-};
+/* The model whose own program argv[1] names, or NULL. */
+static const mote_model *program_of(int argc, char **argv)
+{
+    for (size_t k = 0; argc > 1 && k < mote_nmodels; k++)
+        if (mote_models[k]->program && strcmp(argv[1], mote_models[k]->program) == 0)
+            return mote_models[k];
+    return NULL;
+}
 
 int main(int argc, char **argv)
 {
-#ifndef MOTE_MPI
-    if (argc > 1 && strcmp(argv[1], "galactica") == 0) /* a Galactica job folder (spec 7) */
-        return mote_nb_galactica_main(argc - 1, argv + 1, stdout, stderr);
-#endif
+    const mote_model *prog = program_of(argc, argv);
 #ifdef MOTE_MPI
     MPI_Init(&argc, &argv);
     int rank = 0, size = 1;
@@ -42,27 +37,37 @@ int main(int argc, char **argv)
     MPI_Comm_size(MPI_COMM_WORLD, &size);
     int rc;
     if (size > 1) {
-        static const mote_model *const mpi_models[] = {&mote_model_charging, &mote_model_nbody};
+        const mote_model *shared[16];
+        size_t n = 0;
+        char names[256] = "";
+        for (size_t k = 0; k < mote_nmodels && n < 16; k++)
+            if (mote_models[k]->mpi) {
+                size_t used = strlen(names);
+                snprintf(names + used, sizeof names - used, "%s%s", n ? ", " : "",
+                         mote_models[k]->name);
+                shared[n++] = mote_models[k];
+            }
         if (rank != 0) {
             if (!freopen("/dev/null", "w", stdout) || !freopen("/dev/null", "w", stderr))
                 MPI_Abort(MPI_COMM_WORLD, 1);
         } else {
-            fprintf(stderr, "mote: %d MPI ranks share the work (the charging model's histories, "
-                            "the N-body model's bodies; the other models do not run under "
-                            "MPI)\n", size);
+            fprintf(stderr, "mote: %d MPI ranks share the work of the models %s (the other "
+                            "models do not run under MPI)\n", size, names);
         }
-        if (argc > 1 && strcmp(argv[1], "galactica") == 0)
-            rc = mote_nb_galactica_main(argc - 1, argv + 1, stdout, stderr);
+        if (prog && prog->mpi)
+            rc = prog->program_main(argc - 1, argv + 1, stdout, stderr);
         else
-            rc = mote_script_main(argc, argv, mpi_models, 2);
-    } else if (argc > 1 && strcmp(argv[1], "galactica") == 0) {
-        rc = mote_nb_galactica_main(argc - 1, argv + 1, stdout, stderr);
+            rc = mote_script_main(argc, argv, shared, n);
+    } else if (prog) {
+        rc = prog->program_main(argc - 1, argv + 1, stdout, stderr);
     } else {
-        rc = mote_script_main(argc, argv, models, sizeof models / sizeof models[0]);
+        rc = mote_script_main(argc, argv, mote_models, mote_nmodels);
     }
     MPI_Finalize();
     return rc;
 #else
-    return mote_script_main(argc, argv, models, sizeof models / sizeof models[0]);
+    if (prog)
+        return prog->program_main(argc - 1, argv + 1, stdout, stderr);
+    return mote_script_main(argc, argv, mote_models, mote_nmodels);
 #endif
 }

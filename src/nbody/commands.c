@@ -1037,5 +1037,8 @@ const mote_model mote_model_nbody = {
     .plot_opts = "bodies=s relative_to=s plane=s size=i[64,8192]",
     .plot_check = model_plot_check,
     .live = nb_model_live,
+    .program = "galactica",
+    .program_main = mote_nb_galactica_main,
+    .mpi = 1,
 };
 
