@@ -66,7 +66,7 @@ assert f["frame"] >= 1 and "t = " in f["status"]
 EOF
 # pause: no frames while paused; resume: frames again
 # the page is docs/live-view.html, byte for byte
-cmp -s page.html "$SRC/docs/live-view.html" && ok || bad "the served page differs from docs/live-view.html (src/core/live_page.h is its copy)"
+cmp -s page.html "$SRC/docs/live-view.html" && ok || bad "the served page differs from docs/live-view.html (src/http/live_page.h is its copy)"
 # other sites: a Host that is not this server (DNS rebinding) gets 421; pause and resume need the
 # page's own header X-Mote-Control, and an Origin, if any, that is the page's
 PORT=$(echo "$URL" | sed 's|.*:\([0-9]*\)/$|\1|')

@@ -5,7 +5,7 @@
  * one that runs out of file space half way, leaves an earlier file untouched and no temporary
  * file behind. */
 #include "mote/render.h"
-#include "../src/core/live_page.h"
+#include "../src/http/live_page.h"
 
 #include <errno.h>
 #include <cairo.h>
@@ -83,7 +83,7 @@ static int png_size(const char *p, long *w, long *h)
 }
 
 /* Pixels of exactly this colour (0xRRGGBB) in a PNG, or -1 if it cannot be read. */
-/* The live page's lines joined (src/core/live_page.h). */
+/* The live page's lines joined (src/http/live_page.h). */
 static const char *page_text(void)
 {
     static char buf[1 << 16];
