@@ -7,8 +7,11 @@
 #include "test.h"
 #include "mote/core.h"
 #include "mote/loop.h"
+#include "mote/statefile.h"
 
 #include <math.h>
+#include <stddef.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -468,6 +471,138 @@ static void test_loop(void)
           pf.calls);
 }
 
+/* State files through descriptor tables (statefile.h): what is written reads back the same,
+ * older versions skip newer values, and each kind of damage is refused with FILE:LINE. */
+typedef struct {
+    double t, box[3];
+    int order, kind;
+    uint32_t n;
+    uint64_t steps, rng[2];
+    char name[8];
+    float w; /* through a codec */
+} sf_probe;
+
+static void put_float(char out[64], const void *v) { snprintf(out, 64, "%.9g", (double)*(const float *)v); }
+static size_t get_float(const char *t, void *v)
+{
+    char *end;
+    *(float *)v = strtof(t, &end);
+    return (size_t)(end - t);
+}
+static const mote_sf_codec FLOAT_CODEC = {sizeof(float), put_float, get_float, NULL};
+
+#define SFO(m) offsetof(sf_probe, m)
+static const mote_sf_field SF_FIELDS[] = {
+    {.key = "time", .name = "t", .type = MOTE_SF_DOUBLE, .offset = SFO(t), .lo = 0, .hi = INFINITY},
+    {.key = "box", .name = "L", .type = MOTE_SF_DOUBLE, .offset = SFO(box), .count = 3, .lo = 0,
+     .hi = 1e300},
+    {.key = "scheme", .name = "order", .type = MOTE_SF_INT, .offset = SFO(order), .lo = 2, .hi = 6},
+    {.name = "kind", .type = MOTE_SF_ENUM, .offset = SFO(kind), .words = "gravity|coulomb"},
+    {.name = "n", .type = MOTE_SF_U32, .offset = SFO(n), .lo = MOTE_SF_ANY},
+    {.name = "steps", .type = MOTE_SF_U64, .offset = SFO(steps), .lo = MOTE_SF_ANY, .since = 2},
+    {.key = "rng", .name = "s", .type = MOTE_SF_HEX64, .offset = SFO(rng), .count = 2},
+    {.key = "name", .name = "name", .type = MOTE_SF_WORD, .offset = SFO(name), .size = 8, .since = 2},
+    {.key = "weight", .name = "w", .type = MOTE_SF_CODEC, .offset = SFO(w), .codec = &FLOAT_CODEC},
+};
+#define SF_N (sizeof SF_FIELDS / sizeof SF_FIELDS[0])
+
+/* Write text into a file of the temporary folder, read it with the table (version v), and
+ * return the status; the message into msg. */
+static int sf_read_text(const char *text, int v, sf_probe *out, char msg[256])
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s/sf.state", tmpdir);
+    FILE *f = fopen(path, "w");
+    fputs(text, f);
+    fclose(f);
+    mote_lines in;
+    mote_err err = {0};
+    int rc = mote_lines_open(&in, path, &err);
+    int version = 0;
+    if (!rc)
+        rc = mote_sf_read_head(&in, "probe", 2, &version, &err);
+    if (!rc && version != v)
+        rc = mote_fail(&err, MOTE_EFORMAT, "version %d, not %d", version, v);
+    if (!rc)
+        rc = mote_sf_read(&in, SF_FIELDS, SF_N, out, version, &err);
+    int crc = mote_lines_close(&in, &err);
+    snprintf(msg, 256, "%.250s", err.msg);
+    const char *base = strstr(msg, "sf.state");
+    if (base) /* (the message from the file name on) */
+        memmove(msg, base, strlen(base) + 1);
+    return crc ? crc : rc;
+}
+
+static void test_statefile(void)
+{
+    printf("state files through descriptor tables\n");
+    sf_probe a = {0.1, {1, 2.5, 1e-300}, 4, 1, 7, 12345678901234ull,
+                  {0x0123456789abcdefull, 0xfedcba9876543210ull}, "ring", 0.25f};
+    char path[512];
+    snprintf(path, sizeof path, "%s/sf.state", tmpdir);
+    FILE *f = fopen(path, "w");
+    mote_sf_write_head(f, "probe", 2);
+    mote_sf_write(f, SF_FIELDS, SF_N, &a, 2);
+    fclose(f);
+    f = fopen(path, "r");
+    char text[1024] = "";
+    size_t got = fread(text, 1, sizeof text - 1, f);
+    text[got] = '\0';
+    fclose(f);
+    CHECK_STR(text, "mote-state 2\nmodel probe\ntime 0.10000000000000001\nbox 1 2.5 1e-300\n"
+                    "scheme 4 coulomb 7 12345678901234\nrng 0123456789abcdef fedcba9876543210\n"
+                    "name ring\nweight 0.25\n");
+    sf_probe b;
+    memset(&b, 0, sizeof b);
+    char msg[256];
+    CHECK_INT(sf_read_text(text, 2, &b, msg), MOTE_OK);
+    CHECK(a.t == b.t && memcmp(a.box, b.box, sizeof a.box) == 0 && a.order == b.order &&
+              a.kind == b.kind && a.n == b.n && a.steps == b.steps && a.rng[0] == b.rng[0] &&
+              a.rng[1] == b.rng[1] && strcmp(a.name, b.name) == 0 && a.w == b.w,
+          "read back differs: t %g n %u steps %llu name %s", b.t, b.n,
+          (unsigned long long)b.steps, b.name);
+    /* version 1: no steps value, no name line; those fields keep what they had */
+    sf_probe c;
+    memset(&c, 0, sizeof c);
+    c.steps = 99;
+    CHECK_INT(sf_read_text("mote-state 1\nmodel probe\ntime 0\nbox 1 1 1\nscheme 2 gravity 3\n"
+                           "rng 1 2\nweight -1.5\n", 1, &c, msg), MOTE_OK);
+    CHECK(c.steps == 99 && c.name[0] == '\0' && c.n == 3 && c.rng[1] == 2 && c.w == -1.5f,
+          "version 1: steps %llu n %u", (unsigned long long)c.steps, c.n);
+    /* "-" is the empty word, and it is written so */
+    CHECK_INT(sf_read_text("mote-state 2\nmodel probe\ntime inf\nbox 1 1 1\nscheme 2 gravity 3 4\n"
+                           "rng 1 2\nname -\nweight 1\n", 2, &c, msg), MOTE_OK);
+    CHECK(c.name[0] == '\0' && isinf(c.t), "name '%s' t %g", c.name, c.t);
+    /* damage, each with its line and what was expected */
+    static const char *const H = "mote-state 2\nmodel probe\n";
+    struct { const char *body, *want; } bad[] = {
+        {"tim 0\n", "sf.state:3: expected 'time t' (found 'tim 0')"},
+        {"time 0\nbox 1 2\n", "sf.state:4: expected 'box L[3]': L[2] is missing (found 'box 1 2')"},
+        {"time 0\nbox 1 2 x\n", "sf.state:4: L[2]: expected a real number, found 'x'"},
+        {"time -1\n", "sf.state:3: t must be in [0, inf], found -1"},
+        {"time nan\n", "sf.state:3: t: expected a real number, found 'nan'"},
+        {"time 0\nbox 1 1 1\nscheme 7 gravity 1 1\n", "sf.state:5: order must be in [2, 6], found 7"},
+        {"time 0\nbox 1 1 1\nscheme 2 gravitation 1 1\n",
+         "sf.state:5: kind: expected one of the words gravity|coulomb, found 'gravitation'"},
+        {"time 0\nbox 1 1 1\nscheme 2 gravity -1 1\n", "sf.state:5: n: expected a non-negative integer, found '-1'"},
+        {"time 0\nbox 1 1 1\nscheme 2 gravity 1 1 5\n", "sf.state:5: unexpected text after 'scheme order kind n steps' ('5')"},
+        {"time 0\nbox 1 1 1\nscheme 2 gravity 1 1\nrng 1 g\n", "sf.state:6: s[1]: expected 16 hexadecimal digits, found 'g'"},
+        {"time 0\nbox 1 1 1\nscheme 2 gravity 1 1\nrng 1 2\nname toolongname\n", "sf.state:7: name: expected a word, found 'toolongname'"},
+        {"time 0\nbox 1 1 1\nscheme 2 gravity 1 1\nrng 1 2\nname a\n", "sf.state:8: expected 'weight w' (found 'end of file')"},
+    };
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        char t[512];
+        snprintf(t, sizeof t, "%s%s", H, bad[k].body);
+        int rc = sf_read_text(t, 2, &c, msg);
+        CHECK(rc == MOTE_EFORMAT && strcmp(msg, bad[k].want) == 0, "damage %zu: '%s', not '%s'",
+              k, msg, bad[k].want);
+    }
+    CHECK_INT(sf_read_text("mote-state 3\nmodel probe\n", 2, &c, msg), MOTE_EFORMAT);
+    CHECK_STR(msg, "sf.state:1: unsupported state file version 3 (this mote reads 1 to 2)");
+    CHECK_INT(sf_read_text("mote-state 2\nmodel other\n", 2, &c, msg), MOTE_EFORMAT);
+    CHECK_STR(msg, "sf.state:2: expected 'model probe' (a state of the probe model; found 'model other')");
+}
+
 int main(void)
 {
     if (!test_tmpdir_make(tmpdir, sizeof tmpdir, "mote_test_core"))
@@ -478,6 +613,7 @@ int main(void)
     test_grid();
     test_csv();
     test_loop();
+    test_statefile();
     test_remove_tree(tmpdir);
     return test_summary();
 }
