@@ -65,7 +65,7 @@ awk '/^mote-state/ { print "mote-state 1"; next } /^doubling / { next } / -$/ { 
 printf '%bload v1.state\nsave v1b.state\n' "$G" > s8c.mote
 "$MOTE" run s8c.mote > /dev/null 2>&1 && cmp -s c1.state v1b.state && ok || bad "a version-1 state did not load to the same state"
 sed 's/^n 30$/n -1/' c1.state > neg.state
-expect 1 "s9.mote:2:6: error: load: neg.state:4: expected 'n N' with 0 <= N <= 10^8 (found 'n -1')" s9.mote "${G}load neg.state\n"
+expect 1 "s9.mote:2:6: error: load: neg.state:4: N: expected a non-negative integer, found '-1'" s9.mote "${G}load neg.state\n"
 
 # the general Taylor integrator: one period of the ring in 100 steps, and its continuation
 printf '%bgenerate ring\nintegrator taylor order=auto tol=1e-16 dt=1e-4\nintegrate steps=100\ncheck ring\n' "$G" > t1.mote

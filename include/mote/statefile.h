@@ -8,7 +8,8 @@
  * A line is a descriptor with a key followed by descriptors with key NULL (more values on the
  * same line); a row of a table is a line whose first descriptor's key is "". A value appears
  * from file version `since` on: reading an older file skips it (the structure keeps what it
- * had), and a line whose first value is skipped is absent from the older file. */
+ * had), and a line whose first value is skipped is absent from the older file; a line may also
+ * end at an `optional` value. */
 #ifndef MOTE_STATEFILE_H
 #define MOTE_STATEFILE_H
 
@@ -46,6 +47,8 @@ typedef struct {
     int count;          /* consecutive values of this type (an array); 0 counts as 1 */
     double lo, hi;      /* numbers: the allowed range (lo <= v <= hi); lo > hi: any */
     int since;          /* the first file version with this value (0 or 1: every version) */
+    int optional;       /* the line may end before this value (one added to the format within a
+                         * version): it and the values after it then keep what they had */
     const char *words;  /* ENUM: the allowed words, "a|b|c" */
     size_t size;        /* WORD: the size of the char array */
     const mote_sf_codec *codec; /* CODEC */

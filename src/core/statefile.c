@@ -273,6 +273,8 @@ int mote_sf_parse_line(const mote_lines *in, const char *s, const mote_sf_field 
                 snprintf(name, sizeof name, "%s[%d]", f[k].name, c);
             else
                 snprintf(name, sizeof name, "%s", f[k].name);
+            if (tlen == 0 && f[k].optional && c == 0)
+                goto end; /* (an older line: the rest keeps its values) */
             if (tlen == 0)
                 return mote_fail(err, MOTE_EFORMAT, "%s:%ld: expected '%s': %s is missing "
                                  "(found '%.60s')", in->path, in->line, want, name, s);
@@ -294,6 +296,7 @@ int mote_sf_parse_line(const mote_lines *in, const char *s, const mote_sf_field 
             p += tlen;
         }
     }
+end:
     p = skip_blanks(p);
     if (*p)
         return mote_fail(err, MOTE_EFORMAT, "%s:%ld: unexpected text after '%s' ('%.40s')",

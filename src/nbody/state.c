@@ -15,74 +15,136 @@
 
 #define NB_STATE_VERSION 2 /* 2: a name ends each body line, a doubling line (1: neither) */
 
-static void put(FILE *f, mote_real v)
-{
-    char b[MOTE_REAL_BUF];
-    fprintf(f, " %s", mote_real_str(v, b));
-}
+#include "mote/statefile.h"
+
+#include <stddef.h>
 
 #include "nb.h"
 
+/* ---- the descriptor tables (statefile.h) --------------------------------------------------------- */
+
+/* mote_real to the digits that read back the same (MOTE_REAL_DIG) */
+static void real_put(char out[64], const void *v)
+{
+    char b[MOTE_REAL_BUF];
+    snprintf(out, 64, "%s", mote_real_str(*(const mote_real *)v, b));
+}
+static size_t real_get(const char *t, void *v)
+{
+    char *end;
+    *(mote_real *)v = mote_real_parse(t, &end);
+    return (size_t)(end - t);
+}
+static int real_finite(const void *v) { return isfinite(*(const mote_real *)v) != 0; }
+static const mote_sf_codec REAL = {sizeof(mote_real), real_put, real_get, real_finite};
+
+/* the interaction and the count: the head, read alone by nb_state_peek */
+typedef struct {
+    int kind;
+    uint32_t n;
+} nb_head;
+static const mote_sf_field HEAD[] = {
+    {.key = "interaction", .name = "gravity|coulomb", .type = MOTE_SF_ENUM,
+     .offset = offsetof(nb_head, kind), .words = "gravity|coulomb"},
+    {.key = "n", .name = "N", .type = MOTE_SF_U32, .offset = offsetof(nb_head, n), .lo = 0,
+     .hi = 1e8},
+};
+
+#define SF_R(K, NAME, M)                                                                     \
+    {.key = K, .name = NAME, .type = MOTE_SF_CODEC, .offset = offsetof(mote_nb, M), .codec = &REAL}
+#define SF_RS(K, NAME, M, S)                                                                 \
+    {.key = K, .name = NAME, .type = MOTE_SF_CODEC, .offset = offsetof(mote_nb, M),          \
+     .codec = &REAL, .since = S}
+#define SF_I(K, NAME, M, LO, HI)                                                             \
+    {.key = K, .name = NAME, .type = MOTE_SF_INT, .offset = offsetof(mote_nb, M), .lo = LO,  \
+     .hi = HI}
+#define SF_IS(K, NAME, M, LO, HI, S)                                                         \
+    {.key = K, .name = NAME, .type = MOTE_SF_INT, .offset = offsetof(mote_nb, M), .lo = LO,  \
+     .hi = HI, .since = S}
+#define SF_U64(K, NAME, M)                                                                   \
+    {.key = K, .name = NAME, .type = MOTE_SF_U64, .offset = offsetof(mote_nb, M),            \
+     .lo = MOTE_SF_ANY}
+#define SF_D(K, NAME, M)                                                                     \
+    {.key = K, .name = NAME, .type = MOTE_SF_DOUBLE, .offset = offsetof(mote_nb, M),         \
+     .lo = MOTE_SF_ANY}
+
+/* the run's state after the head, in the order of the file */
+static const mote_sf_field STATE[] = {
+    SF_R("time", "T", T), SF_R(NULL, "Tc", Tc),
+    SF_R("step", "dt", dt), SF_R(NULL, "dtp", dtp), SF_R(NULL, "first_step", first_step),
+    SF_R(NULL, "hlast", hlast),
+    SF_I("scheme", "order", order, 2, 6), SF_I(NULL, "compensated", compensated, 0, 1),
+    SF_I(NULL, "restart", restart, 0, 1), SF_U64(NULL, "steps", steps),
+    SF_I("taylor", "integrator", integrator, MOTE_NB_GALACTICA, MOTE_NB_TAYLOR),
+    SF_I(NULL, "order", taylor_order, 2, MOTE_NB_TAYLOR_MAX), SF_I(NULL, "memory", taylor_memory, 0, 2),
+    SF_I(NULL, "adaptive", adaptive, 0, MOTE_NB_NORM_GLOBAL), SF_R(NULL, "tol", tol),
+    SF_R(NULL, "safety", safety), SF_R(NULL, "hmin", hmin), SF_R(NULL, "hmax", hmax),
+    SF_R(NULL, "hprev", hprev),
+    /* Galactica's literal step rule (step=doubling), from version 2 */
+    SF_IS("doubling", "on", doubling, 0, 1, 2), SF_IS(NULL, "have", dbl_have, 0, 1, 2),
+    SF_IS(NULL, "count", dbl_count, 0, 4, 2), SF_RS(NULL, "dt_max", dt_max, 2),
+    SF_RS(NULL, "dMz_prev", dbl_prev, 2), SF_RS(NULL, "sum", dbl_sum, 2), SF_RS(NULL, "mean", dbl_mean, 2),
+    SF_I("merging", "mode", merging, -1, 1), SF_U64(NULL, "merges", merges),
+    SF_U64(NULL, "warnings", approach_warnings), SF_R(NULL, "E_heat", e_heat),
+    SF_R(NULL, "E_spin", e_spin), SF_R(NULL, "dE_merge", de_merge), SF_R(NULL, "bt", bt),
+    SF_R(NULL, "hmin", bt_hmin), SF_R(NULL, "happ", happ), SF_R(NULL, "max_overlap", max_overlap),
+    SF_I("reference", "set", ref_set, 0, 1), SF_R(NULL, "E0", E0), SF_R(NULL, "Mza1", Mza1),
+    SF_R(NULL, "Lnorm1", Lnorm1),
+    /* (the first files of version 1 end the line before L1) */
+    {.name = "L1", .type = MOTE_SF_CODEC, .offset = offsetof(mote_nb, L1), .count = 3,
+     .codec = &REAL, .optional = 1},
+    SF_I("units", "set", u.set, 0, 1), SF_D(NULL, "M", u.M), SF_D(NULL, "Am", u.Am), SF_D(NULL, "kv", u.kv),
+    SF_D(NULL, "kt", u.kt), SF_D(NULL, "G", u.G), SF_D(NULL, "e2", u.e2), SF_D(NULL, "eps", u.eps),
+    SF_D(NULL, "Am_first", u.Am_first),
+};
+
+/* a body's line */
+typedef struct {
+    mote_real m, q;
+    int active;
+    mote_real ra, x[3], v[3], xc[3], vc[3], sp[3], d5[3], et;
+    char name[MOTE_NB_NAME];
+} nb_row;
+#define BR(K, NAME, M, C)                                                                    \
+    {.key = K, .name = NAME, .type = MOTE_SF_CODEC, .offset = offsetof(nb_row, M), .count = C, \
+     .codec = &REAL}
+static const mote_sf_field ROW[] = {
+    BR("", "m", m, 1), BR(NULL, "q", q, 1),
+    {.name = "active", .type = MOTE_SF_INT, .offset = offsetof(nb_row, active), .lo = 0, .hi = 1},
+    BR(NULL, "radius", ra, 1), BR(NULL, "x", x, 3), BR(NULL, "v", v, 3), BR(NULL, "cx", xc, 3),
+    BR(NULL, "cv", vc, 3), BR(NULL, "s", sp, 3), BR(NULL, "d5", d5, 3), BR(NULL, "Et", et, 1),
+    {.name = "name", .type = MOTE_SF_WORD, .offset = offsetof(nb_row, name),
+     .size = MOTE_NB_NAME, .since = 2},
+};
+#define COUNT(t) (sizeof t / sizeof t[0])
+
 void nb_state_put(FILE *f, const mote_nb *nb)
 {
-    fprintf(f, "mote-state %d\nmodel nbody\ninteraction %s\nn %u\n", NB_STATE_VERSION,
-            nb->kind == MOTE_NB_GRAVITY ? "gravity" : "coulomb", nb->n);
-    fprintf(f, "time");
-    put(f, nb->T);
-    put(f, nb->Tc);
-    fprintf(f, "\nstep");
-    put(f, nb->dt);
-    put(f, nb->dtp);
-    put(f, nb->first_step);
-    put(f, nb->hlast);
-    fprintf(f, "\nscheme %d %d %d %llu\n", nb->order, nb->compensated, nb->restart,
-            (unsigned long long)nb->steps);
-    fprintf(f, "taylor %d %d %d %d", nb->integrator, nb->taylor_order, nb->taylor_memory,
-            nb->adaptive);
-    put(f, nb->tol);
-    put(f, nb->safety);
-    put(f, nb->hmin);
-    put(f, nb->hmax);
-    put(f, nb->hprev);
-    fprintf(f, "\ndoubling %d %d %d", nb->doubling, nb->dbl_have, nb->dbl_count);
-    put(f, nb->dt_max);
-    put(f, nb->dbl_prev);
-    put(f, nb->dbl_sum);
-    put(f, nb->dbl_mean);
-    fputc('\n', f);
-    fprintf(f, "merging %d %llu %llu", nb->merging, (unsigned long long)nb->merges,
-            (unsigned long long)nb->approach_warnings);
-    put(f, nb->e_heat);
-    put(f, nb->e_spin);
-    put(f, nb->de_merge);
-    put(f, nb->bt);
-    put(f, nb->bt_hmin);
-    put(f, nb->happ);
-    put(f, nb->max_overlap);
-    fprintf(f, "\nreference %d", nb->ref_set);
-    put(f, nb->E0);
-    put(f, nb->Mza1);
-    put(f, nb->Lnorm1);
-    for (int a = 0; a < 3; a++)
-        put(f, nb->L1[a]);
-    fprintf(f, "\nunits %d", nb->u.set);
-    const double *u = &nb->u.M;
-    for (int k = 0; k < 8; k++)
-        fprintf(f, " %.17g", u[k]);
-    fprintf(f, "\nbodies: m q active radius x y z vx vy vz cx cy cz cvx cvy cvz sx sy sz d5x d5y "
+    mote_sf_write_head(f, "nbody", NB_STATE_VERSION);
+    nb_head h = {nb->kind, nb->n};
+    mote_sf_write(f, HEAD, COUNT(HEAD), &h, NB_STATE_VERSION);
+    mote_sf_write(f, STATE, COUNT(STATE), nb, NB_STATE_VERSION);
+    fprintf(f, "bodies: m q active radius x y z vx vy vz cx cy cz cvx cvy cvz sx sy sz d5x d5y "
                "d5z Et name\n");
     for (uint32_t i = 0; i < nb->n; i++) {
-        char mb[MOTE_REAL_BUF];
-        fputs(mote_real_str(nb->m[i], mb), f);
-        put(f, nb->q[i]);
-        fprintf(f, " %d", nb->active[i]);
-        put(f, nb->ra[i]);
-        const mote_real *blocks[6] = {nb->x, nb->v, nb->xc, nb->vc, nb->sp, nb->d5p};
-        for (int b = 0; b < 6; b++)
-            for (int a = 0; a < 3; a++)
-                put(f, blocks[b][3 * (size_t)i + a]);
-        put(f, nb->et[i]);
-        fprintf(f, " %s\n", nb->name[i][0] ? nb->name[i] : "-");
+        nb_row r;
+        memset(&r, 0, sizeof r);
+        r.m = nb->m[i];
+        r.q = nb->q[i];
+        r.active = nb->active[i];
+        r.ra = nb->ra[i];
+        for (int a = 0; a < 3; a++) {
+            const size_t k = 3 * (size_t)i + (size_t)a;
+            r.x[a] = nb->x[k];
+            r.v[a] = nb->v[k];
+            r.xc[a] = nb->xc[k];
+            r.vc[a] = nb->vc[k];
+            r.sp[a] = nb->sp[k];
+            r.d5[a] = nb->d5p[k];
+        }
+        r.et = nb->et[i];
+        memcpy(r.name, nb->name[i], MOTE_NB_NAME);
+        mote_sf_write(f, ROW, COUNT(ROW), &r, NB_STATE_VERSION);
     }
     fprintf(f, "end\n");
 }
@@ -99,88 +161,39 @@ int nb_state_save(const mote_nb *nb, const char *path, mote_err *err)
 
 /* ---- reading ------------------------------------------------------------------------------------ */
 
-typedef struct {
-    mote_lines *l;
-    mote_err *err;
-} reader;
-
-static char *next_line(reader *r) { return mote_lines_next(r->l); }
-
-static int fail(reader *r, const char *what, const char *found)
+/* The index in STATE of the descriptor that starts the line `key`. */
+static size_t line_at(const char *key)
 {
-    return mote_fail(r->err, MOTE_EFORMAT, "%s:%ld: expected %s (found '%.60s')", r->l->path, r->l->line,
+    size_t k = 0;
+    while (k < COUNT(STATE) && !(STATE[k].key && strcmp(STATE[k].key, key) == 0))
+        k++;
+    return k;
+}
+
+static int fail(mote_lines *l, mote_err *err, const char *what, const char *found)
+{
+    return mote_fail(err, MOTE_EFORMAT, "%s:%ld: expected %s (found '%.60s')", l->path, l->line,
                      what, found ? found : "end of file");
 }
 
-/* Read `n` finite reals after the keyword `key` (NULL: none) from line s. */
-static int reals(reader *r, char *s, const char *key, mote_real *out, int n)
+/* The head: version, model, interaction, n. */
+static int read_head(mote_lines *l, nb_head *h, int *version, mote_err *err)
 {
-    char *p = s;
-    if (key) {
-        size_t k = strlen(key);
-        if (strncmp(p, key, k) != 0 || (p[k] != ' ' && p[k] != '\0'))
-            return fail(r, key, s);
-        p += k;
-    }
-    for (int i = 0; i < n; i++) {
-        char *end;
-        errno = 0;
-        out[i] = mote_real_parse(p, &end);
-        if (end == p || !isfinite(out[i]) || (*end && *end != ' '))
-            return mote_fail(r->err, MOTE_EFORMAT, "%s:%ld: value %d is not a finite real number",
-                             r->l->path, r->l->line, i + 1);
-        p = end;
-    }
-    while (*p == ' ')
-        p++;
-    if (*p)
-        return mote_fail(r->err, MOTE_EFORMAT, "%s:%ld: unexpected text after %d numbers ('%.40s')",
-                         r->l->path, r->l->line, n, p);
-    return MOTE_OK;
-}
-
-/* The header up to the `n` line: version, model, interaction, n. */
-static int read_head(reader *r, mote_nb_interaction *kind, uint32_t *n, int *version)
-{
-    char *s = next_line(r);
-    int v;
-    if (!s || sscanf(s, "mote-state %d", &v) != 1)
-        return fail(r, "'mote-state 2'", s);
-    if (v < 1 || v > NB_STATE_VERSION)
-        return mote_fail(r->err, MOTE_EFORMAT, "%s:%ld: unsupported state file version %d (this "
-                                               "mote reads 1 to %d)", r->l->path, r->l->line, v,
-                         NB_STATE_VERSION);
-    *version = v;
-    s = next_line(r);
-    if (!s || strcmp(s, "model nbody") != 0)
-        return fail(r, "'model nbody' (a state of the N-body model)", s);
-    s = next_line(r);
-    if (s && strcmp(s, "interaction gravity") == 0)
-        *kind = MOTE_NB_GRAVITY;
-    else if (s && strcmp(s, "interaction coulomb") == 0)
-        *kind = MOTE_NB_COULOMB;
-    else
-        return fail(r, "'interaction gravity' or 'interaction coulomb'", s);
-    s = next_line(r);
-    unsigned long long nn;
-    char extra;
-    if (!s || sscanf(s, "n %llu %c", &nn, &extra) != 1 || nn > 100000000ull || s[2] == '-')
-        return fail(r, "'n N' with 0 <= N <= 10^8", s);
-    *n = (uint32_t)nn;
-    return MOTE_OK;
+    int rc = mote_sf_read_head(l, "nbody", NB_STATE_VERSION, version, err);
+    return rc ? rc : mote_sf_read(l, HEAD, COUNT(HEAD), h, *version, err);
 }
 
 int nb_state_peek(const char *path, uint32_t *n, mote_err *err)
 {
     mote_lines lines;
-    reader r = {.l = &lines, .err = err};
-    int rc = mote_lines_open(r.l, path, err);
+    int rc = mote_lines_open(&lines, path, err);
     if (rc)
         return rc;
-    mote_nb_interaction kind;
+    nb_head h = {0, 0};
     int version;
-    rc = read_head(&r, &kind, n, &version);
-    int crc = mote_lines_close(r.l, err);
+    rc = read_head(&lines, &h, &version, err);
+    *n = h.n;
+    int crc = mote_lines_close(&lines, err);
     return crc ? crc : rc;
 }
 
@@ -195,227 +208,109 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
     return crc ? crc : rc;
 }
 
+/* The pointers of t (a scratch system read into by the table, which overwrites every field the
+ * file holds: they are kept apart and put back). */
 int nb_state_get(mote_nb *nb, mote_lines *l, int tail, mote_err *err)
 {
-    reader r = {.l = l, .err = err};
     const char *path = l->path;
-    int rc = MOTE_OK;
-    mote_nb_interaction kind;
-    uint32_t n = 0;
-    mote_nb t;
-    mote_nb_init(&t, MOTE_NB_GRAVITY);
-    int l1_missing = 0, version = NB_STATE_VERSION;
-    rc = read_head(&r, &kind, &n, &version);
-    if (!rc && kind != nb->kind)
+    nb_head h = {0, 0};
+    int version = NB_STATE_VERSION;
+    int rc = read_head(l, &h, &version, err);
+    if (!rc && h.kind != (int)nb->kind)
         rc = mote_fail(err, MOTE_EINVAL, "%s:3: the state is a %s run, this script is a %s run",
-                       path, kind == MOTE_NB_GRAVITY ? "gravity" : "Coulomb",
+                       path, h.kind == MOTE_NB_GRAVITY ? "gravity" : "Coulomb",
                        nb->kind == MOTE_NB_GRAVITY ? "gravity" : "Coulomb");
-    t.kind = kind;
-    mote_real v[8];
-    char *s;
+    if (rc)
+        return rc;
+    mote_nb t;
+    mote_nb_init(&t, (mote_nb_interaction)h.kind);
+    /* the lines up to scheme, merging and reference, each group checked as it is read */
+    const size_t l_scheme = line_at("scheme"), l_merging = line_at("merging"),
+                 l_reference = line_at("reference");
+    rc = mote_sf_read(l, STATE, l_scheme, &t, version, err);
+    if (!rc && (!(t.dt > 0) || !(t.dtp >= 0) || !(t.first_step > 0 && t.first_step <= 1)))
+        rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: need dt > 0, dtp >= 0, 0 < first_step <= 1",
+                       path, l->line);
+    if (!rc)
+        rc = mote_sf_read(l, STATE + l_scheme, l_merging - l_scheme, &t, version, err);
+    if (!rc && version >= 2 && (!(t.dt_max >= 0) || !(t.dbl_sum >= 0) || !(t.dbl_mean >= -2)))
+        rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: doubling: need dt_max >= 0, sum >= 0, "
+                       "mean >= -2", path, l->line);
+    if (!rc)
+        rc = mote_sf_read(l, STATE + l_merging, l_reference - l_merging, &t, version, err);
+    if (!rc && (!(t.bt > 0 && t.bt <= 1) || !(t.bt_hmin > 0 && t.bt_hmin <= 1) ||
+                !(t.happ >= 0) || !(t.max_overlap >= 0 && t.max_overlap <= 1)))
+        rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: merging: need 0 < bt <= 1, 0 < hmin <= 1, "
+                       "happ >= 0, 0 <= max_overlap <= 1", path, l->line);
+    t.L1[0] = NAN; /* (stays NaN when the reference line ends before L1) */
+    if (!rc)
+        rc = mote_sf_read(l, STATE + l_reference, COUNT(STATE) - l_reference, &t, version, err);
+    const int l1_missing = isnan(t.L1[0]);
+    char *s = NULL;
     if (!rc) {
-        s = next_line(&r);
-        rc = s ? reals(&r, s, "time", v, 2) : fail(&r, "'time T Tc'", s);
-        t.T = v[0];
-        t.Tc = v[1];
-    }
-    if (!rc) {
-        s = next_line(&r);
-        rc = s ? reals(&r, s, "step", v, 4) : fail(&r, "'step dt dtp first_step hlast'", s);
-        t.dt = v[0];
-        t.dtp = v[1];
-        t.first_step = v[2];
-        t.hlast = v[3];
-        if (!rc && (!(t.dt > 0) || !(t.dtp >= 0) || !(t.first_step > 0 && t.first_step <= 1)))
-            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: need dt > 0, dtp >= 0, 0 < first_step <= 1",
-                           path, r.l->line);
-    }
-    if (!rc) {
-        s = next_line(&r);
-        int order, comp, restart;
-        unsigned long long steps;
-        char extra;
-        if (!s || sscanf(s, "scheme %d %d %d %llu %c", &order, &comp, &restart, &steps, &extra) != 4 ||
-            order < 2 || order > 6 || (comp != 0 && comp != 1) || (restart != 0 && restart != 1))
-            rc = fail(&r, "'scheme ORDER(2..6) COMPENSATED(0|1) RESTART(0|1) STEPS'", s);
-        t.order = order;
-        t.compensated = comp;
-        t.restart = restart;
-        t.steps = steps;
-    }
-    if (!rc) {
-        s = next_line(&r);
-        int integ, order, mem, adapt, used = 0;
-        if (!s || sscanf(s, "taylor %d %d %d %d%n", &integ, &order, &mem, &adapt, &used) != 4 ||
-            (integ != MOTE_NB_GALACTICA && integ != MOTE_NB_TAYLOR) || order < 2 ||
-            order > MOTE_NB_TAYLOR_MAX || mem < 0 || mem > 2 || adapt < 0 ||
-            adapt > MOTE_NB_NORM_GLOBAL)
-            rc = fail(&r, "'taylor INTEGRATOR(0|1) ORDER(2..60) MEMORY(0..2) ADAPTIVE(0..2)' and "
-                          "tol safety hmin hmax hprev", s);
-        else
-            rc = reals(&r, s + used, NULL, v, 5);
-        t.integrator = integ;
-        t.taylor_order = order;
-        t.taylor_memory = mem;
-        t.adaptive = adapt;
-        t.tol = v[0];
-        t.safety = v[1];
-        t.hmin = v[2];
-        t.hmax = v[3];
-        t.hprev = v[4];
-    }
-    if (!rc && version >= 2) { /* Galactica's literal step rule (step=doubling) */
-        s = next_line(&r);
-        int on, have, count, used = 0;
-        if (!s || sscanf(s, "doubling %d %d %d%n", &on, &have, &count, &used) != 3 ||
-            (on != 0 && on != 1) || (have != 0 && have != 1) || count < 0 || count > 4)
-            rc = fail(&r, "'doubling ON(0|1) HAVE(0|1) COUNT(0..4)' and dt_max dMz_prev sum mean",
-                      s);
-        else
-            rc = reals(&r, s + used, NULL, v, 4);
-        if (!rc && (!(v[0] >= 0) || !(v[2] >= 0) || !(v[3] >= -2)))
-            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: doubling: need dt_max >= 0, sum >= 0, "
-                           "mean >= -2", path, r.l->line);
-        t.doubling = on;
-        t.dbl_have = have;
-        t.dbl_count = count;
-        t.dt_max = v[0];
-        t.dbl_prev = v[1];
-        t.dbl_sum = v[2];
-        t.dbl_mean = v[3];
-    }
-    if (!rc) {
-        s = next_line(&r);
-        int mode, used = 0;
-        unsigned long long merges, warns;
-        if (!s || sscanf(s, "merging %d %llu %llu%n", &mode, &merges, &warns, &used) != 3 ||
-            mode < -1 || mode > 1)
-            rc = fail(&r, "'merging MODE(-1..1) MERGES WARNINGS' and E_heat E_spin dE_merge bt "
-                          "hmin happ max_overlap", s);
-        else
-            rc = reals(&r, s + used, NULL, v, 7);
-        if (!rc && (!(v[3] > 0 && v[3] <= 1) || !(v[4] > 0 && v[4] <= 1) || !(v[5] >= 0) ||
-                    !(v[6] >= 0 && v[6] <= 1)))
-            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: merging: need 0 < bt <= 1, 0 < hmin <= 1, "
-                           "happ >= 0, 0 <= max_overlap <= 1", path, r.l->line);
-        t.merging = mode;
-        t.merges = merges;
-        t.approach_warnings = warns;
-        t.e_heat = v[0];
-        t.e_spin = v[1];
-        t.de_merge = v[2];
-        t.bt = v[3];
-        t.bt_hmin = v[4];
-        t.happ = v[5];
-        t.max_overlap = v[6];
-    }
-    if (!rc) {
-        s = next_line(&r);
-        if (!s || strncmp(s, "reference ", 10) != 0 || (s[10] != '0' && s[10] != '1') ||
-            s[11] != ' ')
-            rc = fail(&r, "'reference SET(0|1) E0 Mza1 Lnorm1 L1x L1y L1z'", s);
-        else {
-            t.ref_set = s[10] == '1';
-            /* files of the first version have no L1: it is taken from the loaded state */
-            int words = 0;
-            for (const char *p = s + 11; *p; p++)
-                words += *p != ' ' && (p == s + 11 || p[-1] == ' ');
-            l1_missing = words == 3;
-            rc = reals(&r, s + 11, NULL, v, l1_missing ? 3 : 6);
-            t.E0 = v[0];
-            t.Mza1 = v[1];
-            t.Lnorm1 = v[2];
-            if (!l1_missing)
-                memcpy(t.L1, v + 3, sizeof t.L1);
-        }
-    }
-    if (!rc) {
-        s = next_line(&r);
-        if (!s || strncmp(s, "units ", 6) != 0 || (s[6] != '0' && s[6] != '1') || s[7] != ' ')
-            rc = fail(&r, "'units SET(0|1)' and 8 numbers", s);
-        else {
-            rc = reals(&r, s + 8, NULL, v, 8);
-            t.u.set = s[6] == '1';
-            double *u = &t.u.M;
-            for (int k = 0; k < 8; k++)
-                u[k] = (double)v[k];
-        }
-    }
-    if (!rc) {
-        s = next_line(&r);
+        s = mote_lines_next(l);
         if (!s || strncmp(s, "bodies:", 7) != 0)
-            rc = fail(&r, "'bodies: ...' (the column names)", s);
+            rc = fail(l, err, "'bodies: ...' (the column names)", s);
     }
-    /* the bodies, counted as read: nothing is allocated for lines that are not there */
     /* mote_nb_add marks a restart and drops the reference: the file's values are put back after */
     const int file_restart = t.restart, file_ref = t.ref_set;
     const mote_real file_dtp = t.dtp;
-    for (uint32_t i = 0; i < n && !rc; i++) {
-        s = next_line(&r);
+    /* the bodies, counted as read: nothing is allocated for lines that are not there */
+    for (uint32_t i = 0; i < h.n && !rc; i++) {
+        s = mote_lines_next(l);
         if (!s || strcmp(s, "end") == 0) {
             rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: file ends early: n = %u, but only %u body "
-                                              "lines follow", path, s ? r.l->line : r.l->line + 1, n, i);
+                           "lines follow", path, s ? l->line : l->line + 1, h.n, i);
             break;
         }
-        mote_real w[23];
-        char *p = s;
-        int ok = 1, act = 0;
-        for (int k = 0; k < 23 && ok; k++) {
-            char *end;
-            if (k == 2) { /* the active flag */
-                long a = strtol(p, &end, 10);
-                ok = end != p && (a == 0 || a == 1) && (*end == ' ');
-                act = (int)a;
-                w[k] = 0;
-            } else {
-                w[k] = mote_real_parse(p, &end);
-                ok = end != p && isfinite(w[k]) &&
-                     (*end == ' ' || (*end == '\0' && k == 22 && version == 1));
+        nb_row w;
+        memset(&w, 0, sizeof w);
+        mote_err e2 = {0};
+        rc = mote_sf_parse_line(l, s, ROW, COUNT(ROW), &w, version, &e2);
+        if (!rc && w.name[0] && !mote_nb_name_ok(w.name))
+            rc = mote_fail(&e2, MOTE_EFORMAT, "'%s' is not a body name", w.name);
+        if (rc) {
+            const char *why = e2.msg; /* (the detail, without "PATH:LINE: ") */
+            const size_t pl = strlen(path);
+            if (strncmp(why, path, pl) == 0 && why[pl] == ':') {
+                const char *c = strchr(why + pl + 1, ':');
+                why = c && c[1] == ' ' ? c + 2 : why;
             }
-            p = end;
-        }
-        const char *name = "-";
-        if (ok && version >= 2) { /* the name, "-" when unnamed */
-            name = p + 1;
-            ok = strchr(name, ' ') == NULL && (strcmp(name, "-") == 0 || mote_nb_name_ok(name));
-            p += strlen(p);
-        }
-        if (!ok || *p) {
             rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: body %u: expected 23 numbers (m q active "
-                                              "radius x y z vx vy vz cx cy cz cvx cvy cvz sx sy "
-                                              "sz d5x d5y d5z Et), all finite%s",
-                           path, r.l->line, i + 1, version >= 2 ? ", and a name or -" : "");
+                           "radius x y z vx vy vz cx cy cz cvx cvy cvz sx sy sz d5x d5y d5z Et), "
+                           "all finite%s (%s)", path, l->line, i + 1,
+                           version >= 2 ? ", and a name or -" : "", why);
             break;
         }
         /* a merged-away body has mass 0: added with mass 1, then set (it stays inactive) */
-        rc = act == 0 && w[0] == 0 ? mote_nb_add(&t, 1, 0, w + 4, w + 7, 0, err)
-                                   : mote_nb_add(&t, w[0], w[1], w + 4, w + 7, w[3], err);
-        if (!rc && act == 0 && w[0] == 0)
+        rc = w.active == 0 && w.m == 0 ? mote_nb_add(&t, 1, 0, w.x, w.v, 0, err)
+                                       : mote_nb_add(&t, w.m, w.q, w.x, w.v, w.ra, err);
+        if (!rc && w.active == 0 && w.m == 0)
             t.m[i] = t.q[i] = 0;
         if (!rc)
-            t.et[i] = w[22];
-        if (!rc && strcmp(name, "-") != 0)
-            rc = mote_nb_set_name(&t, i, name, err);
+            t.et[i] = w.et;
+        if (!rc && w.name[0])
+            rc = mote_nb_set_name(&t, i, w.name, err);
         if (rc) {
             char why[sizeof err->msg];
             snprintf(why, sizeof why, "%s", err->msg);
-            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: %s", path, r.l->line, why);
+            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: %s", path, l->line, why);
             break;
         }
-        t.active[i] = (uint8_t)act;
+        t.active[i] = (uint8_t)w.active;
         for (int a = 0; a < 3; a++) {
-            t.xc[3 * i + a] = w[10 + a];
-            t.vc[3 * i + a] = w[13 + a];
-            t.sp[3 * i + a] = w[16 + a];
-            t.d5p[3 * i + a] = w[19 + a];
+            t.xc[3 * i + a] = w.xc[a];
+            t.vc[3 * i + a] = w.vc[a];
+            t.sp[3 * i + a] = w.sp[a];
+            t.d5p[3 * i + a] = w.d5[a];
         }
     }
     if (!rc) {
-        s = next_line(&r);
+        s = mote_lines_next(l);
         if (!s || strcmp(s, "end") != 0)
-            rc = fail(&r, "'end' after the bodies", s);
-        else if (!tail && (s = next_line(&r)) != NULL)
-            rc = fail(&r, "nothing after 'end'", s);
+            rc = fail(l, err, "'end' after the bodies", s);
+        else if (!tail && (s = mote_lines_next(l)) != NULL)
+            rc = fail(l, err, "nothing after 'end'", s);
     }
     if (rc) {
         mote_nb_free(&t);
@@ -423,7 +318,7 @@ int nb_state_get(mote_nb *nb, mote_lines *l, int tail, mote_err *err)
     }
     t.restart = file_restart;
     t.ref_set = file_ref;
-    if (l1_missing) {
+    if (l1_missing) { /* the first files have no L1: it is taken from the loaded state */
         mote_nb_monitor mon;
         mote_nb_measure(&t, &mon);
         for (int a = 0; a < 3; a++)
