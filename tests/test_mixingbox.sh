@@ -137,7 +137,7 @@ expect 1 "s3.mote:2:1: error: save: no disks are placed yet" s3.mote "${H}save x
 # a hard-sphere state is another model's
 printf 'new 2 0.3\nsave hs.state\n' > hs.mote
 "$MOTE" run hs.mote > /dev/null 2>&1
-expect 1 "s4.mote:2:6: error: load: hs.state:2: this is a state of another model" s4.mote "${H}load hs.state\n"
+expect 1 "s4.mote:2:6: error: load: hs.state:2: expected 'model mixing-box' (a state of the mixing-box model; found 'model hard-spheres')" s4.mote "${H}load hs.state\n"
 # faults in the disk lines are found when the load runs: exit 2, FILE:LINE, the earlier
 # results and the system kept
 sed '/^[-0-9]/s/^\(\([^ ]* \)\{4\}\)[01] /\12 /' good.state > colour.state
@@ -145,7 +145,7 @@ line=$(grep -n '^[-0-9][^ ]* [^ ]* [^ ]* [^ ]* 2 ' colour.state | head -n 1 | cu
 printf '%b' "${H}disks 5 5\nplace\nsave before.state\nload colour.state\n" > s5.mote
 "$MOTE" run s5.mote > out.txt 2> err.txt
 st=$?
-[ "$st" -eq 2 ] && grep -q "^s5.mote:5:1: error: colour.state:$line: colour must be 0 or 1 (found '2')" err.txt &&
+[ "$st" -eq 2 ] && grep -q "^s5.mote:5:1: error: colour.state:$line: colour must be in \\[0, 1\\], found 2" err.txt &&
     [ -s before.state ] && ok || bad "s5.mote: status $st: $(cat err.txt)"
 head -n 55 good.state > cut.state
 printf '%b' "${H}disks 5 5\nplace\nload cut.state\n" > s6.mote

@@ -23,6 +23,7 @@ typedef enum {
     MOTE_SF_DOUBLE, /* double, written with 17 significant digits (reads back the same) */
     MOTE_SF_INT,    /* int */
     MOTE_SF_U32,    /* uint32_t */
+    MOTE_SF_I64,    /* int64_t */
     MOTE_SF_U64,    /* uint64_t, decimal */
     MOTE_SF_HEX64,  /* uint64_t, 16 hexadecimal digits (random-stream states) */
     MOTE_SF_ENUM,   /* int: the index of a word of `words` ("gravity|coulomb") */

@@ -30,6 +30,7 @@ static size_t type_size(const mote_sf_field *f)
         return sizeof(int);
     case MOTE_SF_U32:
         return sizeof(uint32_t);
+    case MOTE_SF_I64:
     case MOTE_SF_U64:
     case MOTE_SF_HEX64:
         return sizeof(uint64_t);
@@ -72,6 +73,9 @@ static void put_value(FILE *out, const mote_sf_field *f, const void *p)
         break;
     case MOTE_SF_U32:
         fprintf(out, "%lu", (unsigned long)*(const uint32_t *)p);
+        break;
+    case MOTE_SF_I64:
+        fprintf(out, "%lld", (long long)*(const int64_t *)p);
         break;
     case MOTE_SF_U64:
         fprintf(out, "%llu", (unsigned long long)*(const uint64_t *)p);
@@ -145,6 +149,7 @@ static const char *type_text(const mote_sf_field *f)
     case MOTE_SF_CODEC:
         return "a real number";
     case MOTE_SF_INT:
+    case MOTE_SF_I64:
         return "an integer";
     case MOTE_SF_U32:
     case MOTE_SF_U64:
@@ -184,6 +189,14 @@ static int get_value(const mote_sf_field *f, const char *t, size_t tlen, void *p
         if (*end || end == tok || errno || x < INT_MIN || x > INT_MAX)
             return 0;
         *(int *)p = (int)x;
+        *v = (double)x;
+        break;
+    }
+    case MOTE_SF_I64: {
+        long long x = strtoll(tok, &end, 10);
+        if (*end || end == tok || errno)
+            return 0;
+        *(int64_t *)p = (int64_t)x;
         *v = (double)x;
         break;
     }

@@ -7,6 +7,8 @@
  *
  * Reading is strict and names FILE:LINE for every fault; the disk lines are counted as they are
  * read, so a header's N allocates nothing before the disks are there. */
+#include "mote/statefile.h"
+
 #include "mb.h"
 
 #include <errno.h>
@@ -17,54 +19,113 @@
 #include <string.h>
 #include <sys/types.h>
 
-#define FORMAT_LINE "mote-state 1"
 #define MB_SPEED_MAX 1e6 /* m/s; a state with a faster disk is refused */
-#define MODEL_LINE "model mixing-box"
+#define MB_STATE_VERSION 1
 
-/* The real-valued parameters, by the names of the state file. */
-static const struct {
-    const char *key;
-    size_t off;
-} REALS[] = {
-    {"x_l", offsetof(mote_mb_params, x_l)},       {"x_r", offsetof(mote_mb_params, x_r)},
-    {"x_b", offsetof(mote_mb_params, x_b)},       {"x_t", offsetof(mote_mb_params, x_t)},
-    {"x1_c", offsetof(mote_mb_params, x1_c)},     {"a", offsetof(mote_mb_params, a)},
-    {"x2_c", offsetof(mote_mb_params, x2_c)},     {"b", offsetof(mote_mb_params, b)},
-    {"r", offsetof(mote_mb_params, r)},           {"v_init", offsetof(mote_mb_params, v_init)},
-    {"dv_b", offsetof(mote_mb_params, dv_b)},     {"dv_t", offsetof(mote_mb_params, dv_t)},
-    {"dv_s", offsetof(mote_mb_params, dv_s)},     {"loss", offsetof(mote_mb_params, loss)},
-    {"g", offsetof(mote_mb_params, g)},           {"t_c", offsetof(mote_mb_params, t_c)},
-    {"mass", offsetof(mote_mb_params, mass)},
-};
-#define NREALS (sizeof REALS / sizeof REALS[0])
-/* after the reals: n_left, n_right, integrator, collision_rule */
-#define NPARAMS (NREALS + 4)
+/* ---- the descriptor tables (statefile.h) --------------------------------------------------------- */
 
-static double *real_field(mote_mb_params *p, size_t k) { return (double *)((char *)p + REALS[k].off); }
-
-static void fmt(char b[32], double x)
+/* doubles as mote_fmt_exact writes them (-0 as 0), "auto" for NaN (t_c: chosen from R and
+ * V_init) and "none" for -inf (t_last: no collision yet) where allowed */
+static void exact_put(char out[64], const void *v)
 {
+    const double x = *(const double *)v;
     if (isnan(x))
-        snprintf(b, 32, "auto"); /* t_c: chosen from R and V_init */
+        snprintf(out, 64, "auto");
     else if (isinf(x))
-        snprintf(b, 32, "none"); /* t_last: no collision yet */
+        snprintf(out, 64, "none");
     else
-        mote_fmt_exact(b, x);
+        mote_fmt_exact(out, x);
 }
-
-static void write_params(FILE *f, const char *set, const mote_mb_params *p)
+static size_t exact_get(const char *t, void *v)
 {
-    char b[32];
-    for (size_t k = 0; k < NREALS; k++) {
-        fmt(b, *real_field((mote_mb_params *)p, k));
-        fprintf(f, "%s %s %s\n", set, REALS[k].key, b);
-    }
-    fprintf(f, "%s n_left %" PRId64 "\n%s n_right %" PRId64 "\n", set, p->n_left, set,
-            p->n_right);
-    fprintf(f, "%s integrator %s\n%s collision_rule %s\n", set,
-            p->integrator == MOTE_MB_EVENT ? "event" : "timestep", set,
-            p->rule == MOTE_MB_SEEDRULE ? "seed" : "restitution");
+    char *end;
+    errno = 0;
+    double x = strtod(t, &end);
+    if (end == t || errno == ERANGE || !isfinite(x) || strpbrk(t, "xX"))
+        return 0;
+    *(double *)v = x;
+    return (size_t)(end - t);
 }
+static size_t auto_get(const char *t, void *v)
+{
+    if (strncmp(t, "auto", 4) == 0) {
+        *(double *)v = NAN;
+        return 4;
+    }
+    return exact_get(t, v);
+}
+static size_t none_get(const char *t, void *v)
+{
+    if (strncmp(t, "none", 4) == 0) {
+        *(double *)v = -INFINITY;
+        return 4;
+    }
+    return exact_get(t, v);
+}
+static const mote_sf_codec EXACT = {sizeof(double), exact_put, exact_get, NULL};
+static const mote_sf_codec AUTO = {sizeof(double), exact_put, auto_get, NULL};
+static const mote_sf_codec NONE = {sizeof(double), exact_put, none_get, NULL};
+
+typedef struct {
+    uint32_t n;
+} mb_head;
+static const mote_sf_field HEAD[] = {
+    {.key = "n", .name = "N", .type = MOTE_SF_U32, .offset = 0, .lo = 1, .hi = MB_N_MAX},
+};
+
+#define MB_U64(K, NAME, M)                                                                   \
+    {.key = K, .name = NAME, .type = MOTE_SF_U64, .offset = offsetof(mote_mb, M),            \
+     .lo = MOTE_SF_ANY}
+static const mote_sf_field SYSTEM[] = {
+    {.key = "time", .name = "T", .type = MOTE_SF_CODEC, .offset = offsetof(mote_mb, time),
+     .codec = &EXACT},
+    MB_U64("counters", "collisions", collisions), MB_U64(NULL, "collisions_tc", collisions_tc),
+    MB_U64(NULL, "wall_hits", wall_hits), MB_U64(NULL, "partition_hits", partition_hits),
+    MB_U64(NULL, "slit_hits", slit_hits), MB_U64(NULL, "corner_hits", corner_hits),
+    MB_U64(NULL, "cross_lr", cross_lr), MB_U64(NULL, "cross_rl", cross_rl),
+    MB_U64(NULL, "steps", steps), MB_U64(NULL, "overlaps", overlaps_last),
+    {.key = "rng", .name = "s", .type = MOTE_SF_HEX64, .offset = offsetof(mote_mb, rng.s),
+     .count = 4},
+    MB_U64("seed", "S", seed),
+};
+
+/* the parameters, once as placed and once for the next run ("placed x_l 0", "next x_l 0") */
+#define MB_P(SET, NAME, C)                                                                   \
+    {.key = SET " " #NAME, .name = "value", .type = MOTE_SF_CODEC,                           \
+     .offset = offsetof(mote_mb_params, NAME), .codec = &C}
+#define MB_PARAMS(SET)                                                                       \
+    MB_P(SET, x_l, EXACT), MB_P(SET, x_r, EXACT), MB_P(SET, x_b, EXACT), MB_P(SET, x_t, EXACT), \
+    MB_P(SET, x1_c, EXACT), MB_P(SET, a, EXACT), MB_P(SET, x2_c, EXACT), MB_P(SET, b, EXACT),   \
+    MB_P(SET, r, EXACT), MB_P(SET, v_init, EXACT), MB_P(SET, dv_b, EXACT),                     \
+    MB_P(SET, dv_t, EXACT), MB_P(SET, dv_s, EXACT), MB_P(SET, loss, EXACT),                    \
+    MB_P(SET, g, EXACT), MB_P(SET, t_c, AUTO), MB_P(SET, mass, EXACT),                         \
+    {.key = SET " n_left", .name = "value", .type = MOTE_SF_I64,                             \
+     .offset = offsetof(mote_mb_params, n_left), .lo = 0, .hi = MB_N_MAX},                   \
+    {.key = SET " n_right", .name = "value", .type = MOTE_SF_I64,                            \
+     .offset = offsetof(mote_mb_params, n_right), .lo = 0, .hi = MB_N_MAX},                  \
+    {.key = SET " integrator", .name = "timestep|event", .type = MOTE_SF_ENUM,               \
+     .offset = offsetof(mote_mb_params, integrator), .words = "timestep|event"},             \
+    {.key = SET " collision_rule", .name = "restitution|seed", .type = MOTE_SF_ENUM,         \
+     .offset = offsetof(mote_mb_params, rule), .words = "restitution|seed"}
+static const mote_sf_field PLACED[] = {MB_PARAMS("placed")};
+static const mote_sf_field NEXT[] = {MB_PARAMS("next")};
+
+/* a disk's line */
+typedef struct {
+    double x, y, vx, vy;
+    int colour, side;
+    double t_last;
+} mb_disk;
+#define MB_R(K, NAME, C)                                                                     \
+    {.key = K, .name = #NAME, .type = MOTE_SF_CODEC, .offset = offsetof(mb_disk, NAME),       \
+     .codec = &C}
+static const mote_sf_field ROW[] = {
+    MB_R("", x, EXACT), MB_R(NULL, y, EXACT), MB_R(NULL, vx, EXACT), MB_R(NULL, vy, EXACT),
+    {.name = "colour", .type = MOTE_SF_INT, .offset = offsetof(mb_disk, colour), .lo = 0, .hi = 1},
+    {.name = "side", .type = MOTE_SF_INT, .offset = offsetof(mb_disk, side), .lo = 0, .hi = 1},
+    MB_R(NULL, t_last, NONE),
+};
+#define COUNT(t) (sizeof t / sizeof t[0])
 
 int mb_save(const mote_mb *sys, const mote_mb_params *next, const char *path, mote_err *err)
 {
@@ -75,28 +136,17 @@ int mb_save(const mote_mb *sys, const mote_mb_params *next, const char *path, mo
     if (rc)
         return rc;
     FILE *f = af.f;
-    char b[7][32];
-    fmt(b[0], sys->time);
-    fprintf(f, FORMAT_LINE "\n" MODEL_LINE "\nn %" PRIu32 "\ntime %s\n", sys->n, b[0]);
-    fprintf(f,
-            "counters %" PRIu64 " %" PRIu64 " %" PRIu64 " %" PRIu64 " %" PRIu64 " %" PRIu64
-            " %" PRIu64 " %" PRIu64 " %" PRIu64 " %" PRIu64 "\n",
-            sys->collisions, sys->collisions_tc, sys->wall_hits, sys->partition_hits,
-            sys->slit_hits, sys->corner_hits, sys->cross_lr, sys->cross_rl, sys->steps,
-            sys->overlaps_last);
-    fprintf(f, "rng %016" PRIx64 " %016" PRIx64 " %016" PRIx64 " %016" PRIx64 "\nseed %" PRIu64 "\n",
-            sys->rng.s[0], sys->rng.s[1], sys->rng.s[2], sys->rng.s[3], sys->seed);
-    write_params(f, "placed", &sys->p);
-    write_params(f, "next", next);
+    mote_sf_write_head(f, "mixing-box", MB_STATE_VERSION);
+    mb_head h = {sys->n};
+    mote_sf_write(f, HEAD, COUNT(HEAD), &h, MB_STATE_VERSION);
+    mote_sf_write(f, SYSTEM, COUNT(SYSTEM), sys, MB_STATE_VERSION);
+    mote_sf_write(f, PLACED, COUNT(PLACED), &sys->p, MB_STATE_VERSION);
+    mote_sf_write(f, NEXT, COUNT(NEXT), next, MB_STATE_VERSION);
     fprintf(f, "disks x y vx vy colour side t_last\n");
     for (uint32_t i = 0; i < sys->n; i++) {
-        fmt(b[0], sys->x[i]);
-        fmt(b[1], sys->y[i]);
-        fmt(b[2], sys->vx[i]);
-        fmt(b[3], sys->vy[i]);
-        fmt(b[4], sys->t_last[i]);
-        fprintf(f, "%s %s %s %s %d %d %s\n", b[0], b[1], b[2], b[3], sys->colour[i],
-                sys->side[i], b[4]);
+        mb_disk r = {sys->x[i], sys->y[i], sys->vx[i], sys->vy[i], sys->colour[i], sys->side[i],
+                    sys->t_last[i]};
+        mote_sf_write(f, ROW, COUNT(ROW), &r, MB_STATE_VERSION);
     }
     fprintf(f, "end\n");
     return mote_afile_commit(&af, err);
@@ -104,173 +154,35 @@ int mb_save(const mote_mb *sys, const mote_mb_params *next, const char *path, mo
 
 /* ---- reading ------------------------------------------------------------------------------ */
 
-typedef struct {
-    FILE *f;
-    const char *path;
-    long line;
-    char *buf;
-    size_t cap;
-    char *tok[12];
-    int ntok;
-} reader;
-
-/* The next line split into tokens; 0 at the end of the file. */
-static int next(reader *r)
+static int fail(const mote_lines *l, mote_err *err, const char *what, const char *found)
 {
-    size_t n;
-    int got = mote_read_line(&r->buf, &r->cap, &n, r->f, MOTE_LINE_MAX);
-    if (got == 0)
-        return 0;
-    r->line++;
-    if (got < 0) /* too long (or out of memory): a line no parse accepts */
-        return r->ntok = -2, 1;
-    r->ntok = 0;
-    char *save = NULL;
-    for (char *t = strtok_r(r->buf, " \t\r\n", &save); t; t = strtok_r(NULL, " \t\r\n", &save)) {
-        if (r->ntok == (int)(sizeof r->tok / sizeof r->tok[0]))
-            return r->ntok = -1, 1; /* too many */
-        r->tok[r->ntok++] = t;
-    }
-    return 1;
+    return mote_fail(err, MOTE_EINVAL, "%s:%ld: %s%s%s%s", l->path, l->line, what,
+                     found ? " (found '" : "", found ? found : "", found ? "')" : "");
 }
 
-static int fail(const reader *r, mote_err *err, const char *fmt_, const char *what)
+/* The head up to and including "n N". */
+static int read_head(mote_lines *l, uint32_t *n, mote_err *err)
 {
-    if (r->ntok == -2) /* the line was not read at all: that is the error */
-        return mote_fail(err, MOTE_EFORMAT, "%s:%ld: line longer than 1 MiB (not a text file?)",
-                         r->path, r->line);
-    return mote_fail(err, MOTE_EINVAL, "%s:%ld: %s%s%s%s", r->path, r->line, fmt_,
-                     what ? " (found '" : "", what ? what : "", what ? "')" : "");
-}
-
-/* A line "KEY v1 ... vn" with exactly n values; 0 or an error. */
-static int expect(reader *r, const char *key, int n, const char *what, mote_err *err)
-{
-    if (!next(r)) {
-        r->line++;
-        return fail(r, err, what, "end of file");
-    }
-    if (r->ntok != n + 1 || strcmp(r->tok[0], key) != 0)
-        return fail(r, err, what, r->ntok > 0 ? r->tok[0] : "");
-    return 0;
-}
-
-static int real(const reader *r, const char *s, double *x, int special, mote_err *err)
-{
-    if (special && strcmp(s, special == 1 ? "auto" : "none") == 0) {
-        *x = special == 1 ? NAN : -INFINITY;
-        return 0;
-    }
-    char *end;
-    errno = 0;
-    *x = strtod(s, &end);
-    if (end == s || *end || errno == ERANGE || !isfinite(*x) || strchr(s, 'x') || strchr(s, 'X'))
-        return fail(r, err, "expected a finite decimal number", s);
-    return 0;
-}
-
-static int u64(const reader *r, const char *s, uint64_t *x, int base, mote_err *err)
-{
-    char *end;
-    errno = 0;
-    if (*s == '-' || *s == '+')
-        return fail(r, err, "expected an unsigned integer", s);
-    unsigned long long v = strtoull(s, &end, base);
-    if (end == s || *end || errno == ERANGE)
-        return fail(r, err, base == 16 ? "expected a 64-bit hexadecimal word"
-                                       : "expected an unsigned integer",
-                    s);
-    *x = v;
-    return 0;
-}
-
-static int read_params(reader *r, const char *set, mote_mb_params *p, mote_err *err)
-{
-    char what[96];
-    for (size_t k = 0; k < NPARAMS; k++) {
-        const char *key = k < NREALS                ? REALS[k].key
-                          : k == NREALS             ? "n_left"
-                          : k == NREALS + 1         ? "n_right"
-                          : k == NREALS + 2         ? "integrator"
-                                                    : "collision_rule";
-        snprintf(what, sizeof what, "expected '%s %s VALUE'", set, key);
-        int rc = expect(r, set, 2, what, err);
-        if (!rc && strcmp(r->tok[1], key) != 0)
-            rc = fail(r, err, what, r->tok[1]);
-        if (rc)
-            return rc;
-        const char *v = r->tok[2];
-        if (k < NREALS) {
-            rc = real(r, v, real_field(p, k), strcmp(key, "t_c") == 0, err);
-        } else if (k < NREALS + 2) {
-            uint64_t u;
-            rc = u64(r, v, &u, 10, err);
-            if (!rc && u > MB_N_MAX)
-                rc = fail(r, err, "a disk count must be at most 10^7", v);
-            if (!rc)
-                *(k == NREALS ? &p->n_left : &p->n_right) = (int64_t)u;
-        } else if (k == NREALS + 2) {
-            if (strcmp(v, "event") && strcmp(v, "timestep"))
-                rc = fail(r, err, "expected integrator event or timestep", v);
-            p->integrator = strcmp(v, "event") == 0 ? MOTE_MB_EVENT : MOTE_MB_TIMESTEP;
-        } else {
-            if (strcmp(v, "restitution") && strcmp(v, "seed"))
-                rc = fail(r, err, "expected collision_rule restitution or seed", v);
-            p->rule = strcmp(v, "seed") == 0 ? MOTE_MB_SEEDRULE : MOTE_MB_RESTITUTION;
-        }
-        if (rc)
-            return rc;
-    }
-    return 0;
-}
-
-/* The header up to and including "n N". */
-static int read_head(reader *r, uint64_t *n, mote_err *err)
-{
-    if (!next(r) || r->ntok != 2 || strcmp(r->tok[0], "mote-state") != 0)
-        return fail(r, err, "not a mote state file: expected '" FORMAT_LINE "' on the first line",
-                    NULL);
-    if (strcmp(r->tok[1], "1") != 0)
-        return fail(r, err, "unsupported state format version (this mote reads 1)", r->tok[1]);
-    int rc = expect(r, "model", 1, "expected '" MODEL_LINE "'", err);
-    if (!rc && strcmp(r->tok[1], "mixing-box") != 0)
-        return fail(r, err, "this is a state of another model; the mixing box loads only "
-                            "'" MODEL_LINE "'",
-                    r->tok[1]);
+    int version;
+    mb_head h = {0};
+    int rc = mote_sf_read_head(l, "mixing-box", MB_STATE_VERSION, &version, err);
     if (!rc)
-        rc = expect(r, "n", 1, "expected 'n N'", err);
-    if (!rc)
-        rc = u64(r, r->tok[1], n, 10, err);
-    if (!rc && (*n < 1 || *n > MB_N_MAX))
-        rc = fail(r, err, "N must be in 1 ... 10^7", r->tok[1]);
+        rc = mote_sf_read(l, HEAD, COUNT(HEAD), &h, version, err);
+    *n = h.n;
     return rc;
-}
-
-static int open_reader(reader *r, const char *path, mote_err *err)
-{
-    memset(r, 0, sizeof *r);
-    r->path = path;
-    r->f = fopen(path, "r");
-    if (!r->f)
-        return mote_fail(err, MOTE_EIO, "cannot open state file '%s': %s", path, strerror(errno));
-    return 0;
-}
-
-static void close_reader(reader *r)
-{
-    if (r->f)
-        fclose(r->f);
-    free(r->buf);
 }
 
 int mb_peek(const char *path, uint64_t *n, mote_err *err)
 {
-    reader r;
-    int rc = open_reader(&r, path, err);
-    if (!rc)
-        rc = read_head(&r, n, err);
-    close_reader(&r);
-    return rc;
+    mote_lines l;
+    int rc = mote_lines_open(&l, path, err);
+    if (rc)
+        return rc;
+    uint32_t n32 = 0;
+    rc = read_head(&l, &n32, err);
+    *n = n32;
+    int crc = mote_lines_close(&l, err);
+    return crc ? crc : rc;
 }
 
 /* Grow the disk arrays of s to hold at least `want` disks. */
@@ -303,121 +215,86 @@ static int grow(mote_mb *s, size_t *cap, size_t want)
     return 0;
 }
 
-static int read_state(reader *r, mote_mb *s, mote_mb_params *next_p, mote_err *err)
+static int read_state(mote_lines *l, mote_mb *s, mote_mb_params *next_p, mote_err *err)
 {
-    uint64_t n, w[10];
-    int rc = read_head(r, &n, err);
+    uint32_t n;
+    int rc = read_head(l, &n, err);
     if (!rc)
-        rc = expect(r, "time", 1, "expected 'time T'", err);
-    if (!rc)
-        rc = real(r, r->tok[1], &s->time, 0, err);
-    if (!rc)
-        rc = expect(r, "counters", 10, "expected 'counters' and 10 counts", err);
-    for (int k = 0; !rc && k < 10; k++)
-        rc = u64(r, r->tok[k + 1], &w[k], 10, err);
-    if (rc)
-        return rc;
-    s->collisions = w[0];
-    s->collisions_tc = w[1];
-    s->wall_hits = w[2];
-    s->partition_hits = w[3];
-    s->slit_hits = w[4];
-    s->corner_hits = w[5];
-    s->cross_lr = w[6];
-    s->cross_rl = w[7];
-    s->steps = w[8];
-    s->overlaps_last = w[9];
-    rc = expect(r, "rng", 4, "expected 'rng' and four 64-bit hexadecimal words", err);
-    for (int k = 0; !rc && k < 4; k++)
-        rc = u64(r, r->tok[k + 1], &s->rng.s[k], 16, err);
+        rc = mote_sf_read(l, SYSTEM, COUNT(SYSTEM), s, MB_STATE_VERSION, err);
     if (!rc && !(s->rng.s[0] | s->rng.s[1] | s->rng.s[2] | s->rng.s[3]))
-        rc = fail(r, err, "the random stream's state must not be all zero", NULL);
+        rc = fail(l, err, "the random stream's state must not be all zero", NULL);
     if (!rc)
-        rc = expect(r, "seed", 1, "expected 'seed S'", err);
+        rc = mote_sf_read(l, PLACED, COUNT(PLACED), &s->p, MB_STATE_VERSION, err);
     if (!rc)
-        rc = u64(r, r->tok[1], &s->seed, 10, err);
-    if (!rc)
-        rc = read_params(r, "placed", &s->p, err);
-    if (!rc)
-        rc = read_params(r, "next", next_p, err);
+        rc = mote_sf_read(l, NEXT, COUNT(NEXT), next_p, MB_STATE_VERSION, err);
     if (rc)
         return rc;
     mote_err perr = {0};
     if (mote_mb_params_check(&s->p, &perr) ||
         (uint64_t)s->p.n_left + (uint64_t)s->p.n_right != n)
-        return fail(r, err, perr.code ? perr.msg : "placed n_left + n_right must equal n", NULL);
+        return fail(l, err, perr.code ? perr.msg : "placed n_left + n_right must equal n", NULL);
     if (mote_mb_params_check(next_p, &perr))
-        return fail(r, err, perr.msg, NULL);
-    rc = expect(r, "disks", 7, "expected 'disks x y vx vy colour side t_last'", err);
-    if (rc)
-        return rc;
+        return fail(l, err, perr.msg, NULL);
+    const char *line = mote_lines_next(l);
+    if (!line || strcmp(line, "disks x y vx vy colour side t_last") != 0)
+        return fail(l, err, "expected 'disks x y vx vy colour side t_last'",
+                    line ? line : "end of file");
     size_t cap = 0;
     const mote_mb_params *p = &s->p;
-    for (uint64_t i = 0; i < n; i++) {
-        if (!next(r)) {
-            r->line++;
-            return fail(r, err, "file ends early: fewer disk lines than n (truncated file?)",
+    for (uint32_t i = 0; i < n; i++) {
+        if (!(line = mote_lines_next(l))) {
+            l->line++;
+            return fail(l, err, "file ends early: fewer disk lines than n (truncated file?)",
                         NULL);
         }
-        if (r->ntok != 7)
-            return fail(r, err, "expected 7 numbers: x y vx vy colour side t_last",
-                        r->ntok > 0 ? r->tok[0] : "");
-        if (grow(s, &cap, i + 1))
-            return mote_fail(err, MOTE_ENOMEM, "%s: out of memory for %" PRIu64 " disks", r->path,
+        if (grow(s, &cap, (size_t)i + 1))
+            return mote_fail(err, MOTE_ENOMEM, "%s: out of memory for %" PRIu32 " disks", l->path,
                              n);
-        double v[5];
-        for (int k = 0; k < 5 && !rc; k++)
-            rc = real(r, r->tok[k < 4 ? k : 6], &v[k], k == 4 ? 2 : 0, err);
-        if (rc)
+        mb_disk r;
+        if ((rc = mote_sf_parse_line(l, line, ROW, COUNT(ROW), &r, MB_STATE_VERSION, err)))
             return rc;
-        if (!(v[0] >= p->x_l && v[0] <= p->x_r && v[1] >= p->x_b && v[1] <= p->x_t))
-            return fail(r, err, "the disk's centre is outside the box", r->tok[0]);
-        if (!(fabs(v[2]) <= MB_SPEED_MAX && fabs(v[3]) <= MB_SPEED_MAX))
-            return fail(r, err, "a velocity component above 10^6 m/s (the event integrator would "
-                                "need billions of events per simulated second)",
-                        r->tok[fabs(v[2]) > MB_SPEED_MAX ? 2 : 3]);
-        if (!(v[4] <= s->time))
-            return fail(r, err, "t_last is after the state's time", r->tok[6]);
-        int colour = r->tok[4][0] - '0', side = r->tok[5][0] - '0';
-        if (r->tok[4][1] || (colour != 0 && colour != 1))
-            return fail(r, err, "colour must be 0 or 1", r->tok[4]);
-        if (r->tok[5][1] || (side != 0 && side != 1))
-            return fail(r, err, "side must be 0 or 1", r->tok[5]);
-        s->x[i] = v[0];
-        s->y[i] = v[1];
-        s->vx[i] = v[2];
-        s->vy[i] = v[3];
-        s->t_last[i] = v[4];
-        s->colour[i] = colour;
-        s->side[i] = (uint8_t)side;
-        s->n = (uint32_t)(i + 1);
+        if (!(r.x >= p->x_l && r.x <= p->x_r && r.y >= p->x_b && r.y <= p->x_t))
+            return fail(l, err, "the disk's centre is outside the box", NULL);
+        if (!(fabs(r.vx) <= MB_SPEED_MAX && fabs(r.vy) <= MB_SPEED_MAX))
+            return fail(l, err, "a velocity component above 10^6 m/s (the event integrator would "
+                                "need billions of events per simulated second)", NULL);
+        if (!(r.t_last <= s->time))
+            return fail(l, err, "t_last is after the state's time", NULL);
+        s->x[i] = r.x;
+        s->y[i] = r.y;
+        s->vx[i] = r.vx;
+        s->vy[i] = r.vy;
+        s->t_last[i] = r.t_last;
+        s->colour[i] = r.colour;
+        s->side[i] = (uint8_t)r.side;
+        s->n = i + 1;
     }
-    if (!next(r)) {
-        r->line++;
-        return fail(r, err, "file ends early: expected 'end' after the disks (truncated file?)",
+    if (!(line = mote_lines_next(l))) {
+        l->line++;
+        return fail(l, err, "file ends early: expected 'end' after the disks (truncated file?)",
                     NULL);
     }
-    if (r->ntok != 1 || strcmp(r->tok[0], "end") != 0)
-        return fail(r, err, "expected 'end' after the n disk lines", r->ntok > 0 ? r->tok[0] : "");
-    while (next(r))
-        if (r->ntok != 0)
-            return fail(r, err, "unexpected text after 'end'", r->ntok > 0 ? r->tok[0] : "");
+    const char *t = line + strspn(line, " \t");
+    if (strncmp(t, "end", 3) != 0 || t[3 + strspn(t + 3, " \t")] != '\0')
+        return fail(l, err, "expected 'end' after the n disk lines", line);
+    while ((line = mote_lines_next(l)))
+        if (line[strspn(line, " \t")])
+            return fail(l, err, "unexpected text after 'end'", line);
     return 0;
 }
 
 int mb_load(mote_mb *sys, mote_mb_params *next_p, const char *path, mote_err *err)
 {
-    reader r;
-    int rc = open_reader(&r, path, err);
+    mote_lines l;
+    int rc = mote_lines_open(&l, path, err);
     if (rc)
         return rc;
     mote_mb fresh;
     mote_mb_init(&fresh);
     mote_mb_params np = *next_p;
-    rc = read_state(&r, &fresh, &np, err);
-    if (!rc && ferror(r.f))
-        rc = mote_fail(err, MOTE_EIO, "%s: read error", path);
-    close_reader(&r);
+    rc = read_state(&l, &fresh, &np, err);
+    int crc = mote_lines_close(&l, err);
+    rc = crc ? crc : rc;
     if (rc) {
         mote_mb_free(&fresh);
         return rc;
