@@ -212,7 +212,7 @@ set_line 31 50 ck/galacf26.dat
 (cd ck && "$MOTE" galactica > /dev/null 2>&1) && ok || bad "ck: the first launch failed"
 sed -i 's/^counters .*/counters 1 2 x/' ck/galgon4
 (cd ck && "$MOTE" galactica > out.txt 2> err.txt); rc=$?
-[ $rc -eq 1 ] && grep -q 'galgon4:[0-9]*: expected .counters' ck/err.txt && ok || bad "a damaged checkpoint: exit $rc, $(cat ck/err.txt)"
+[ $rc -eq 1 ] && grep -q 'galgon4:[0-9]*: files: expected a non-negative integer' ck/err.txt && ok || bad "a damaged checkpoint: exit $rc, $(cat ck/err.txt)"
 set_line 26 2 ck/galacf26.dat
 (cd ck && "$MOTE" galactica > out.txt 2> err.txt) && ! grep -q resuming ck/out.txt && ok || bad "Kl1 = 2 did not start afresh beside a checkpoint: $(cat ck/err.txt)"
 

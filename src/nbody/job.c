@@ -9,8 +9,10 @@
  * written atomically, so a failed launch leaves the folder's earlier files as they were. */
 #include "mote/loop.h"
 #include "mote/nbody.h"
+#include "mote/statefile.h"
 
 #include <errno.h>
+#include <stddef.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -368,12 +370,73 @@ static int frame(job *j, mote_err *err)
 
 /* ---- the checkpoint (spec 7.10): the job's state, then the system's exact state ----------------- */
 
-static void put_doubles(FILE *f, const char *key, const double *v, size_t n)
+/* The job's part of the checkpoint, as its descriptor tables (statefile.h) see it: the values
+ * in double, the counts of the tables that follow. */
+typedef struct {
+    double control[NB_GALCTL_FIXED];
+    char fima4[256];
+    int ntrio;
+    uint64_t Lt, Ltot, nfile, ntfile, nframe;
+    uint32_t Nb0;
+    int have_amz1;
+    uint64_t warned;
+    double Em, Tem, Um, AMz1, zoom;
+    double head[25];
+    double approach[4]; /* dmin, its time, the other body (0-based), the relative speed */
+    uint64_t ndice, nrec, wrec;
+} ckpt_job;
+
+#define CK(K, NAME, T, M)                                                                    \
+    {.key = K, .name = NAME, .type = T, .offset = offsetof(ckpt_job, M), .lo = MOTE_SF_ANY}
+#define CKN(K, NAME, M, N)                                                                   \
+    {.key = K, .name = NAME, .type = MOTE_SF_DOUBLE, .offset = offsetof(ckpt_job, M),        \
+     .count = N, .lo = MOTE_SF_ANY}
+/* up to the trios */
+static const mote_sf_field CK_CONTROL[] = {
+    CKN("control", "v", control, NB_GALCTL_FIXED),
+    {.key = "fima4", .name = "NAME", .type = MOTE_SF_WORD, .offset = offsetof(ckpt_job, fima4),
+     .size = 256},
+    {.key = "trios", .name = "N", .type = MOTE_SF_INT, .offset = offsetof(ckpt_job, ntrio),
+     .lo = 0, .hi = NB_GALCTL_TRIOS},
+};
+/* a trio */
+typedef struct {
+    int64_t t[3];
+} ckpt_trio;
+static const mote_sf_field CK_TRIO[] = {
+    {.key = "", .name = "k", .type = MOTE_SF_I64, .offset = 0, .count = 3, .lo = MOTE_SF_ANY},
+};
+/* after the trios, up to the dice rows */
+static const mote_sf_field CK_RUN[] = {
+    CK("counters", "Lt", MOTE_SF_U64, Lt), CK(NULL, "Ltot", MOTE_SF_U64, Ltot),
+    CK(NULL, "files", MOTE_SF_U64, nfile), CK(NULL, "trajectory_files", MOTE_SF_U64, ntfile),
+    CK(NULL, "frames", MOTE_SF_U64, nframe), CK(NULL, "Nb", MOTE_SF_U32, Nb0),
+    {.name = "have_AMz1", .type = MOTE_SF_INT, .offset = offsetof(ckpt_job, have_amz1), .lo = 0,
+     .hi = 1},
+    CK(NULL, "warned", MOTE_SF_U64, warned),
+    CK("maxima", "Em", MOTE_SF_DOUBLE, Em), CK(NULL, "Tem", MOTE_SF_DOUBLE, Tem),
+    CK(NULL, "Um", MOTE_SF_DOUBLE, Um), CK(NULL, "AMz1", MOTE_SF_DOUBLE, AMz1),
+    CK(NULL, "zoom", MOTE_SF_DOUBLE, zoom),
+    CKN("head", "h", head, 25),
+    CKN("approach", "dmin", approach[0], 1), CKN(NULL, "time", approach[1], 1),
+    {.name = "body", .type = MOTE_SF_DOUBLE, .offset = offsetof(ckpt_job, approach[2]),
+     .lo = 0, .hi = 4294967294.0},
+    CKN(NULL, "speed", approach[3], 1),
+    CK("dice", "N", MOTE_SF_U64, ndice),
+};
+static const mote_sf_field CK_DICE[] = {
+    {.key = "d", .name = "v", .type = MOTE_SF_DOUBLE, .offset = 0, .count = 4, .lo = MOTE_SF_ANY},
+};
+static const mote_sf_field CK_RECORDS[] = {
+    CK("records", "N", MOTE_SF_U64, nrec), CK(NULL, "WIDTH", MOTE_SF_U64, wrec),
+};
+#define NF(t) (sizeof t / sizeof t[0])
+
+/* A trajectory record of width w: "r" and w numbers. */
+static mote_sf_field record_field(size_t w)
 {
-    fputs(key, f);
-    for (size_t k = 0; k < n; k++)
-        fprintf(f, " %.17g", v[k]);
-    fputc('\n', f);
+    return (mote_sf_field){.key = "r", .name = "v", .type = MOTE_SF_DOUBLE, .offset = 0,
+                           .count = (int)w, .lo = MOTE_SF_ANY};
 }
 
 static int ckpt_write(job *j, mote_err *err)
@@ -383,51 +446,53 @@ static int ckpt_write(job *j, mote_err *err)
     int rc = mote_afile_open(&af, jpath(j, j->coulomb ? "galgok2" : "galgon4", p), err);
     if (rc)
         return rc;
+    ckpt_job *c = calloc(1, sizeof *c);
+    if (!c) {
+        mote_afile_abort(&af);
+        return mote_fail(err, MOTE_ENOMEM, "galactica: out of memory");
+    }
+    memcpy(c->control, j->c.v, sizeof c->control);
+    snprintf(c->fima4, sizeof c->fima4, "%s", j->c.fima4);
+    c->ntrio = j->c.ntrio;
+    c->Lt = j->Lt;
+    c->Ltot = j->Ltot;
+    c->nfile = j->nfile;
+    c->ntfile = j->ntfile;
+    c->nframe = j->nframe;
+    c->Nb0 = j->Nb0;
+    c->have_amz1 = j->have_amz1;
+    c->warned = j->warned;
+    c->Em = j->Em;
+    c->Tem = j->Tem;
+    c->Um = j->Um;
+    c->AMz1 = j->AMz1;
+    c->zoom = j->zoom;
+    for (int k = 0; k < 25; k++)
+        c->head[k] = (double)j->head[k];
+    c->approach[0] = (double)j->dice.best;
+    c->approach[1] = (double)j->dice.t;
+    c->approach[2] = j->dice.with;
+    c->approach[3] = (double)j->dice.speed;
+    c->ndice = j->dice.nrows;
+    c->nrec = j->trn;
+    c->wrec = j->trw;
     FILE *f = af.f;
     fprintf(f, "%s %d\nreal %s\n", CKPT_MAGIC, CKPT_VERSION, MOTE_REAL_NAME);
-    put_doubles(f, "control", j->c.v, NB_GALCTL_FIXED);
-    fprintf(f, "fima4 %s\ntrios %d\n", j->c.fima4[0] ? j->c.fima4 : "-", j->c.ntrio);
-    for (int t = 0; t < j->c.ntrio; t++)
-        fprintf(f, "%ld %ld %ld\n", j->c.trio[t][0], j->c.trio[t][1], j->c.trio[t][2]);
-    fprintf(f, "counters %llu %llu %llu %llu %llu %u %d %llu\n", (unsigned long long)j->Lt,
-            (unsigned long long)j->Ltot, (unsigned long long)j->nfile,
-            (unsigned long long)j->ntfile, (unsigned long long)j->nframe, j->Nb0, j->have_amz1,
-            (unsigned long long)j->warned);
-    const double mx[5] = {j->Em, j->Tem, j->Um, j->AMz1, j->zoom};
-    put_doubles(f, "maxima", mx, 5);
-    double h[25];
-    for (int k = 0; k < 25; k++)
-        h[k] = (double)j->head[k];
-    put_doubles(f, "head", h, 25);
-    const double dc[4] = {(double)j->dice.best, (double)j->dice.t, j->dice.with,
-                          (double)j->dice.speed};
-    put_doubles(f, "approach", dc, 4);
-    fprintf(f, "dice %zu\n", j->dice.nrows);
+    mote_sf_write(f, CK_CONTROL, NF(CK_CONTROL), c, CKPT_VERSION);
+    for (int t = 0; t < j->c.ntrio; t++) {
+        ckpt_trio tr = {{j->c.trio[t][0], j->c.trio[t][1], j->c.trio[t][2]}};
+        mote_sf_write(f, CK_TRIO, NF(CK_TRIO), &tr, CKPT_VERSION);
+    }
+    mote_sf_write(f, CK_RUN, NF(CK_RUN), c, CKPT_VERSION);
     for (size_t r = 0; r < j->dice.nrows; r++)
-        put_doubles(f, "d", j->dice.rows + 4 * r, 4);
-    fprintf(f, "records %zu %zu\n", j->trn, j->trw);
+        mote_sf_write(f, CK_DICE, NF(CK_DICE), j->dice.rows + 4 * r, CKPT_VERSION);
+    mote_sf_write(f, CK_RECORDS, NF(CK_RECORDS), c, CKPT_VERSION);
+    const mote_sf_field rf = record_field(j->trw);
     for (size_t r = 0; r < j->trn; r++)
-        put_doubles(f, "r", j->tr + r * j->trw, j->trw);
+        mote_sf_write(f, &rf, 1, j->tr + r * j->trw, CKPT_VERSION);
+    free(c);
     nb_state_put(f, &j->nb);
     return mote_afile_commit(&af, err);
-}
-
-/* Read exactly n finite doubles after `key` on line s; 0 on success. */
-static int get_doubles(const char *s, const char *key, double *v, size_t n)
-{
-    const size_t k = strlen(key);
-    if (!s || strncmp(s, key, k) != 0 || (s[k] != ' ' && s[k] != '\0'))
-        return -1;
-    const char *p = s + k;
-    for (size_t i = 0; i < n; i++) {
-        char *end;
-        errno = 0;
-        v[i] = strtod(p, &end);
-        if (end == p || errno == ERANGE || !isfinite(v[i]) || (*end != ' ' && *end != '\0'))
-            return -1;
-        p = end;
-    }
-    return *p == '\0' ? 0 : -1;
 }
 
 static int ckpt_read(job *j, const char *path, mote_err *err)
@@ -436,6 +501,11 @@ static int ckpt_read(job *j, const char *path, mote_err *err)
     int rc = mote_lines_open(&l, path, err);
     if (rc)
         return rc;
+    ckpt_job *c = calloc(1, sizeof *c);
+    if (!c) {
+        mote_lines_close(&l, err);
+        return mote_fail(err, MOTE_ENOMEM, "galactica: out of memory");
+    }
     const char *what = NULL;
     char *s = mote_lines_next(&l);
     int version = 0;
@@ -445,94 +515,63 @@ static int ckpt_read(job *j, const char *path, mote_err *err)
     else if (!(s = mote_lines_next(&l)) || sscanf(s, "real %31[a-z ]", real) != 1 ||
              strcmp(real, MOTE_REAL_NAME) != 0)
         what = "'real " MOTE_REAL_NAME "' (a checkpoint of a build with this precision)";
-    else if (get_doubles(mote_lines_next(&l), "control", j->c.v, NB_GALCTL_FIXED))
-        what = "'control' and the 50 values of the control file";
-    if (!what) {
-        s = mote_lines_next(&l);
-        if (!s || strncmp(s, "fima4 ", 6) != 0 || strlen(s + 6) >= sizeof j->c.fima4)
-            what = "'fima4 NAME'";
-        else
-            snprintf(j->c.fima4, sizeof j->c.fima4, "%s", strcmp(s + 6, "-") ? s + 6 : "");
+    if (!what)
+        rc = mote_sf_read(&l, CK_CONTROL, NF(CK_CONTROL), c, version, err);
+    for (int t = 0; t < c->ntrio && !what && !rc; t++) {
+        ckpt_trio tr;
+        rc = mote_sf_read(&l, CK_TRIO, NF(CK_TRIO), &tr, version, err);
+        for (int a = 0; a < 3; a++)
+            j->c.trio[t][a] = (long)tr.t[a];
     }
-    int nt = -1;
-    if (!what && (!(s = mote_lines_next(&l)) || sscanf(s, "trios %d", &nt) != 1 || nt < 0 ||
-                  nt > NB_GALCTL_TRIOS))
-        what = "'trios N' with 0 <= N <= 256";
-    for (int t = 0; t < nt && !what; t++) {
-        long a, b, c;
-        char extra;
-        if (!(s = mote_lines_next(&l)) || sscanf(s, "%ld %ld %ld %c", &a, &b, &c, &extra) != 3)
-            what = "a trio: three integers";
-        j->c.trio[t][0] = a;
-        j->c.trio[t][1] = b;
-        j->c.trio[t][2] = c;
+    if (!what && !rc) {
+        memcpy(j->c.v, c->control, sizeof j->c.v);
+        snprintf(j->c.fima4, sizeof j->c.fima4, "%s", c->fima4);
+        j->c.ntrio = c->ntrio;
+        if ((rc = setup(j, path, 0, err)) == MOTE_OK)
+            rc = mote_sf_read(&l, CK_RUN, NF(CK_RUN), c, version, err);
     }
-    j->c.ntrio = nt;
-    if (!what && (rc = setup(j, path, 0, err)) != MOTE_OK)
-        what = "";
-    unsigned long long cnt[6];
-    int amz = 0;
-    if (!what) {
-        unsigned nb0 = 0;
-        char extra;
-        if (!(s = mote_lines_next(&l)) ||
-            sscanf(s, "counters %llu %llu %llu %llu %llu %u %d %llu %c", &cnt[0], &cnt[1], &cnt[2],
-                   &cnt[3], &cnt[4], &nb0, &amz, &cnt[5], &extra) != 8 || s[9] == '-')
-            what = "'counters Lt Ltot files trajectory_files frames Nb have_AMz1 warned'";
-        else if (cnt[0] > cnt[1] || cnt[1] > 9000000000000000000ull)
-            what = "counters with Lt <= Ltot <= 9e18";
-        j->Lt = cnt[0];
-        j->Ltot = cnt[1];
-        j->nfile = cnt[2];
-        j->ntfile = cnt[3];
-        j->nframe = cnt[4];
-        j->Nb0 = nb0;
-        j->have_amz1 = amz != 0;
-        j->warned = cnt[5];
-    }
-    double mx[5], h[25], dc[4];
-    if (!what && get_doubles(mote_lines_next(&l), "maxima", mx, 5))
-        what = "'maxima Em Tem Um AMz1 zoom'";
-    if (!what && get_doubles(mote_lines_next(&l), "head", h, 25))
-        what = "'head' and 25 numbers";
-    if (!what && (get_doubles(mote_lines_next(&l), "approach", dc, 4) || !(dc[2] >= 0) ||
-                  dc[2] >= 4294967295.0))
-        what = "'approach dmin time body(0-based) speed'";
-    if (!what) {
-        j->Em = mx[0];
-        j->Tem = mx[1];
-        j->Um = mx[2];
-        j->AMz1 = mx[3];
-        j->zoom = mx[4] > 0 && mx[4] <= 1 ? mx[4] : 1;
+    if (!what && !rc && !(c->Lt <= c->Ltot && c->Ltot <= 9000000000000000000ull))
+        what = "counters with Lt <= Ltot <= 9e18";
+    if (!what && !rc) {
+        j->Lt = c->Lt;
+        j->Ltot = c->Ltot;
+        j->nfile = c->nfile;
+        j->ntfile = c->ntfile;
+        j->nframe = c->nframe;
+        j->Nb0 = c->Nb0;
+        j->have_amz1 = c->have_amz1;
+        j->warned = c->warned;
+        j->Em = c->Em;
+        j->Tem = c->Tem;
+        j->Um = c->Um;
+        j->AMz1 = c->AMz1;
+        j->zoom = c->zoom > 0 && c->zoom <= 1 ? c->zoom : 1;
         for (int k = 0; k < 25; k++)
-            j->head[k] = h[k];
-        j->dice.best = (mote_real)dc[0];
-        j->dice.t = (mote_real)dc[1];
-        j->dice.with = (uint32_t)dc[2];
-        j->dice.speed = (mote_real)dc[3];
+            j->head[k] = c->head[k];
+        j->dice.best = (mote_real)c->approach[0];
+        j->dice.t = (mote_real)c->approach[1];
+        j->dice.with = (uint32_t)c->approach[2];
+        j->dice.speed = (mote_real)c->approach[3];
     }
-    unsigned long long nd = 0, nr = 0, w = 0;
-    if (!what && (!(s = mote_lines_next(&l)) || sscanf(s, "dice %llu", &nd) != 1 || s[5] == '-' ||
-                  nd > (unsigned long long)l.line + 100000000ull))
-        what = "'dice N'";
-    for (unsigned long long r = 0; r < nd && !what && !rc; r++) {
+    for (uint64_t r = 0; r < c->ndice && !what && !rc; r++) { /* (counted as read) */
         double d[4];
-        if (get_doubles(mote_lines_next(&l), "d", d, 4))
-            what = "'d' and 4 numbers (a line of dice.dat and the relative speed)";
-        else
+        rc = mote_sf_read(&l, CK_DICE, NF(CK_DICE), d, version, err);
+        if (!rc)
             rc = nb_approach_push(&j->dice, d, err);
     }
-    if (!what && !rc &&
-        (!(s = mote_lines_next(&l)) || sscanf(s, "records %llu %llu", &nr, &w) != 2 ||
-         s[8] == '-' || (nr > 0 && (w != j->trw || nr > j->trcap))))
+    if (!what && !rc)
+        rc = mote_sf_read(&l, CK_RECORDS, NF(CK_RECORDS), c, version, err);
+    if (!what && !rc && c->nrec > 0 && (c->wrec != j->trw || c->nrec > j->trcap))
         what = "'records N WIDTH' matching the control values (Klmax, Np, Kl15)";
-    for (unsigned long long r = 0; r < nr && !what && !rc; r++)
-        if (get_doubles(mote_lines_next(&l), "r", j->tr + r * j->trw, j->trw))
-            what = "'r' and a trajectory record";
-    j->trn = (size_t)nr;
+    const mote_sf_field rf = record_field(j->trw);
+    for (uint64_t r = 0; r < c->nrec && !what && !rc; r++)
+        rc = mote_sf_read(&l, &rf, 1, j->tr + r * j->trw, version, err);
+    if (!what && !rc)
+        j->trn = (size_t)c->nrec;
+    free(c);
     if (!what && !rc)
         rc = nb_state_get(&j->nb, &l, 0, err);
-    if (what && *what && !rc)
+    if (what && !rc)
         rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: expected %s", path, l.line, what);
     int crc = mote_lines_close(&l, err);
     return crc ? crc : rc;
