@@ -67,7 +67,7 @@ limited 2 "fastmb.mote:2:1: error: fast.mbstate:52: a velocity component above 1
 # smaller ones: the check-time look at a state file names the bad header value; bytes that
 # are not UTF-8 are shown escaped; a device is never replaced by a file
 state neg.state "3 3 3 1 -1 1 1 1" -1
-expect 1 "neg.mote:1:6: error: neg.state:6: n must be an integer >= 2 (found '-1')" neg.mote "load neg.state\n" check
+expect 1 "neg.mote:1:6: error: neg.state:6: N: expected a non-negative integer, found '-1'" neg.mote "load neg.state\n" check
 expect 1 "utf.mote:2:1: error: unknown command '\\xFF\\xFEstep'" utf.mote "new 2 0.3\n\377\376step 1\n" check
 expect 2 "dev.mote:2:1: error: cannot write '/dev/null': it exists and is not a regular file" dev.mote "new 2 0.3\nsave /dev/null\n"
 [ -c /dev/null ] && ok || bad "/dev/null is no longer a device"

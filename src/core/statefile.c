@@ -54,6 +54,26 @@ static void enum_word(const char *words, int k, char out[64])
     snprintf(out, 64, "%.*s", (int)(len < 63 ? len : 63), p ? p : "");
 }
 
+/* ---- the exact double codec ------------------------------------------------------------------ */
+
+void mote_sf_exact_put(char out[64], const void *value)
+{
+    mote_fmt_exact(out, *(const double *)value);
+}
+
+size_t mote_sf_exact_get(const char *text, void *value)
+{
+    char *end;
+    errno = 0;
+    const double x = strtod(text, &end);
+    if (end == text || errno == ERANGE || !isfinite(x) || strcspn(text, "xX") < (size_t)(end - text))
+        return 0;
+    *(double *)value = x;
+    return (size_t)(end - text);
+}
+
+const mote_sf_codec mote_sf_exact = {sizeof(double), mote_sf_exact_put, mote_sf_exact_get, NULL};
+
 /* ---- writing --------------------------------------------------------------------------------- */
 
 void mote_sf_write_head(FILE *out, const char *model, int version)

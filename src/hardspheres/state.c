@@ -10,6 +10,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mote/statefile.h"
+
+#include <stddef.h>
+
 #include "measure.h"
 
 /* ---- save ---------------------------------------------------------------------------------------- */
@@ -24,6 +28,58 @@ int mote_hs_settle(mote_hs *hs, mote_err *err)
     return mote_ev_rebuild(&hs->ev, err);
 }
 
+/* ---- the descriptor tables (statefile.h) --------------------------------------------------------- */
+
+/* the head, read into and written from this scratch */
+typedef struct {
+    int model, dim, geometry;
+    double box[3];
+    uint64_t n;
+    double time;
+    uint64_t collisions, wall_collisions, rng[4];
+} hs_head;
+#define HO(M) offsetof(hs_head, M)
+static const mote_sf_field HEAD_A[] = {
+    {.key = "model", .name = "NAME", .type = MOTE_SF_ENUM, .offset = HO(model),
+     .words = "hard-spheres"},
+    {.key = "dim", .name = "D", .type = MOTE_SF_INT, .offset = HO(dim), .lo = 2, .hi = 3},
+    {.key = "geometry", .name = "G", .type = MOTE_SF_ENUM, .offset = HO(geometry),
+     .words = "slit|periodic"},
+};
+/* the box: dim lengths (box_field) */
+static mote_sf_field box_field(int dim)
+{
+    return (mote_sf_field){.key = "box", .name = "L", .type = MOTE_SF_CODEC, .offset = HO(box),
+                           .count = dim, .codec = &mote_sf_exact};
+}
+static const mote_sf_field HEAD_B[] = {
+    {.key = "n", .name = "N", .type = MOTE_SF_U64, .offset = HO(n), .lo = 2, .hi = 0xFFFFFFF0},
+    {.key = "time", .name = "T", .type = MOTE_SF_CODEC, .offset = HO(time),
+     .codec = &mote_sf_exact},
+    {.key = "collisions", .name = "C", .type = MOTE_SF_U64, .offset = HO(collisions),
+     .lo = MOTE_SF_ANY},
+    {.key = "wall_collisions", .name = "W", .type = MOTE_SF_U64, .offset = HO(wall_collisions),
+     .lo = MOTE_SF_ANY},
+    {.key = "rng", .name = "s", .type = MOTE_SF_HEX64, .offset = HO(rng), .count = 4},
+};
+
+/* a particle's line: x y [z] vx vy [vz] radius mass */
+typedef struct {
+    double r[3], v[3], radius, mass;
+} hs_row;
+#define HR(K, NAME, M)                                                                       \
+    {.key = K, .name = NAME, .type = MOTE_SF_CODEC, .offset = offsetof(hs_row, M),           \
+     .codec = &mote_sf_exact}
+static const mote_sf_field ROW3[] = {
+    HR("", "x", r[0]),   HR(NULL, "y", r[1]),  HR(NULL, "z", r[2]),        HR(NULL, "vx", v[0]),
+    HR(NULL, "vy", v[1]), HR(NULL, "vz", v[2]), HR(NULL, "radius", radius), HR(NULL, "mass", mass),
+};
+static const mote_sf_field ROW2[] = {
+    HR("", "x", r[0]),   HR(NULL, "y", r[1]),           HR(NULL, "vx", v[0]),
+    HR(NULL, "vy", v[1]), HR(NULL, "radius", radius), HR(NULL, "mass", mass),
+};
+#define NF(t) (sizeof t / sizeof t[0])
+
 int mote_hs_save(mote_hs *hs, const char *path, mote_err *err)
 {
     if (!hs->has_system)
@@ -36,36 +92,25 @@ int mote_hs_save(mote_hs *hs, const char *path, mote_err *err)
     if ((rc = mote_afile_open(&af, path, err)))
         return rc;
     FILE *f = af.f;
-    char b[8][32];
-    fprintf(f, "mote-state 1\nmodel hard-spheres\ndim %d\ngeometry %s\n", ev->dim,
-            hs->geometry == MOTE_HS_SLIT ? "slit" : "periodic");
-    mote_fmt_exact(b[0], ev->len[0]);
-    mote_fmt_exact(b[1], ev->len[1]);
-    mote_fmt_exact(b[2], ev->len[2]);
-    if (ev->dim == 3)
-        fprintf(f, "box %s %s %s\n", b[0], b[1], b[2]);
-    else
-        fprintf(f, "box %s %s\n", b[0], b[1]);
-    mote_fmt_exact(b[3], ev->time_total);
-    fprintf(f, "n %" PRIu32 "\ntime %s\ncollisions %" PRIu64 "\nwall_collisions %" PRIu64 "\n",
-            ev->n, b[3], ev->collisions, ev->wall_collisions);
-    fprintf(f, "rng %016" PRIx64 " %016" PRIx64 " %016" PRIx64 " %016" PRIx64 "\n", hs->rng.s[0],
-            hs->rng.s[1], hs->rng.s[2], hs->rng.s[3]);
+    hs_head h = {0, ev->dim, hs->geometry == MOTE_HS_SLIT ? 0 : 1,
+                 {ev->len[0], ev->len[1], ev->len[2]}, ev->n, ev->time_total, ev->collisions,
+                 ev->wall_collisions, {hs->rng.s[0], hs->rng.s[1], hs->rng.s[2], hs->rng.s[3]}};
+    fprintf(f, "mote-state 1\n");
+    mote_sf_write(f, HEAD_A, NF(HEAD_A), &h, 1);
+    const mote_sf_field box = box_field(ev->dim);
+    mote_sf_write(f, &box, 1, &h, 1);
+    mote_sf_write(f, HEAD_B, NF(HEAD_B), &h, 1);
     fprintf(f, ev->dim == 3 ? "particles x y z vx vy vz radius mass\n"
                             : "particles x y vx vy radius mass\n");
     for (uint32_t id = 0; id < ev->n; id++) { /* by particle number: the seed's or the file's */
         const uint32_t i = mote_ev_slot(ev, id);
         const mote_particle *p = &ev->p[i];
-        int k = 0;
-        for (int a = 0; a < ev->dim; a++)
-            mote_fmt_exact(b[k++], p->r[a]);
-        for (int a = 0; a < ev->dim; a++)
-            mote_fmt_exact(b[k++], p->v[a]);
-        mote_fmt_exact(b[k++], mote_ev_radius(ev, i));
-        mote_fmt_exact(b[k++], mote_ev_mass(ev, i));
-        for (int m = 0; m < k; m++)
-            fprintf(f, m ? " %s" : "%s", b[m]);
-        fputc('\n', f);
+        hs_row w = {{p->r[0], p->r[1], p->r[2]}, {p->v[0], p->v[1], p->v[2]},
+                    mote_ev_radius(ev, i), mote_ev_mass(ev, i)};
+        if (ev->dim == 3)
+            mote_sf_write(f, ROW3, NF(ROW3), &w, 1);
+        else
+            mote_sf_write(f, ROW2, NF(ROW2), &w, 1);
     }
     fprintf(f, "end\n");
     return mote_afile_commit(&af, err);
@@ -141,33 +186,6 @@ static int rd_fail(reader *r, mote_err *err, const char *fmt, const char *found)
                      found ? " (found '" : "", what, found ? "')" : "");
 }
 
-/* Read the next line and require `key` followed by `nval` values; returns token count. */
-static int expect_key(reader *r, const char *key, char **tok, int nval, mote_err *err)
-{
-    if (!next_line(r)) {
-        r->line++;
-        char msg[128];
-        snprintf(msg, sizeof msg, "file ends early: expected '%s'", key);
-        return -rd_fail(r, err, msg, NULL);
-    }
-    char *all[12];
-    int n = split(r->buf, all, 12);
-    if (n < 1 || strcmp(all[0], key) != 0) {
-        char msg[128];
-        snprintf(msg, sizeof msg, "expected a '%s' line", key);
-        return -rd_fail(r, err, msg, n > 0 ? all[0] : "an empty line");
-    }
-    if (n - 1 != nval) {
-        char msg[128];
-        snprintf(msg, sizeof msg, "'%s' needs %d value%s, found %d", key, nval, nval == 1 ? "" : "s",
-                 n - 1);
-        return -rd_fail(r, err, msg, NULL);
-    }
-    for (int k = 1; k < n; k++)
-        tok[k - 1] = all[k];
-    return n - 1;
-}
-
 /* ---- load: the mote format ----------------------------------------------------------------------- */
 
 /* Check containment, periodic lengths and overlaps of a freshly read system (rebuilt). */
@@ -214,70 +232,52 @@ static int validate_loaded(mote_hs *hs, const char *path, long first_line, mote_
     return MOTE_OK;
 }
 
-static int load_mote(mote_hs *hs, reader *r, mote_err *err)
+/* The head after "mote-state V" (already read): model, dim, geometry, box, n, time, the
+ * counters and the random stream, through the tables; then the checks across values. */
+static int read_head(reader *r, hs_head *h, mote_err *err)
 {
-    char *tok[12];
+    h->box[2] = 1;
+    int rc = mote_sf_read(r, HEAD_A, NF(HEAD_A), h, 1, err);
+    if (!rc) {
+        const mote_sf_field box = box_field(h->dim);
+        rc = mote_sf_read(r, &box, 1, h, 1, err);
+    }
+    for (int a = 0; !rc && a < h->dim; a++)
+        if (!(h->box[a] > 0))
+            rc = rd_fail(r, err, "box lengths must be positive real numbers", NULL);
+    return rc ? rc : mote_sf_read(r, HEAD_B, NF(HEAD_B), h, 1, err);
+}
+
+/* "mote-state V" on the line just read: only version 1 */
+static int check_version(reader *r, mote_err *err)
+{
     char *all[12];
-    /* line 1 already checked to be "mote-state ..." */
     int n = split(r->buf, all, 12);
     if (n != 2 || strcmp(all[1], "1") != 0)
         return rd_fail(r, err, "unsupported state file version (this mote reads 'mote-state 1')",
                        n > 1 ? all[1] : NULL);
-    if (expect_key(r, "model", tok, 1, err) < 0)
-        return err->code;
-    if (strcmp(tok[0], "hard-spheres") != 0)
-        return rd_fail(r, err, "this is not a hard-spheres state", tok[0]);
-    if (expect_key(r, "dim", tok, 1, err) < 0)
-        return err->code;
-    int dim;
-    if (!strcmp(tok[0], "2"))
-        dim = 2;
-    else if (!strcmp(tok[0], "3"))
-        dim = 3;
-    else
-        return rd_fail(r, err, "dim must be 2 or 3", tok[0]);
-    if (expect_key(r, "geometry", tok, 1, err) < 0)
-        return err->code;
-    int geometry;
-    if (!strcmp(tok[0], "slit"))
-        geometry = MOTE_HS_SLIT;
-    else if (!strcmp(tok[0], "periodic"))
-        geometry = MOTE_HS_PERIODIC;
-    else
-        return rd_fail(r, err, "geometry must be 'slit' or 'periodic'", tok[0]);
-    if (expect_key(r, "box", tok, dim, err) < 0)
-        return err->code;
-    double box[3] = {0, 0, 1};
-    for (int a = 0; a < dim; a++)
-        if (!parse_real(tok[a], &box[a]) || !(box[a] > 0))
-            return rd_fail(r, err, "box lengths must be positive real numbers", tok[a]);
-    if (expect_key(r, "n", tok, 1, err) < 0)
-        return err->code;
-    uint64_t n64;
-    if (!parse_u64(tok[0], &n64, 10) || n64 < 2 || n64 > 0xFFFFFFF0ull)
-        return rd_fail(r, err, "n must be an integer >= 2", tok[0]);
-    if (expect_key(r, "time", tok, 1, err) < 0)
-        return err->code;
-    double time_total;
-    if (!parse_real(tok[0], &time_total) || time_total < 0)
-        return rd_fail(r, err, "time must be a real number >= 0", tok[0]);
-    uint64_t coll, wcoll;
-    if (expect_key(r, "collisions", tok, 1, err) < 0)
-        return err->code;
-    if (!parse_u64(tok[0], &coll, 10))
-        return rd_fail(r, err, "collisions must be a non-negative integer", tok[0]);
-    if (expect_key(r, "wall_collisions", tok, 1, err) < 0)
-        return err->code;
-    if (!parse_u64(tok[0], &wcoll, 10))
-        return rd_fail(r, err, "wall_collisions must be a non-negative integer", tok[0]);
-    if (expect_key(r, "rng", tok, 4, err) < 0)
-        return err->code;
-    mote_rng rng;
-    for (int k = 0; k < 4; k++)
-        if (strlen(tok[k]) != 16 || !parse_u64(tok[k], &rng.s[k], 16))
-            return rd_fail(r, err, "rng needs four 16-digit hexadecimal words", tok[k]);
-    if (!(rng.s[0] | rng.s[1] | rng.s[2] | rng.s[3]))
+    return MOTE_OK;
+}
+
+static int load_mote(mote_hs *hs, reader *r, mote_err *err)
+{
+    hs_head h;
+    memset(&h, 0, sizeof h);
+    int rc = check_version(r, err);
+    if (!rc)
+        rc = read_head(r, &h, err);
+    if (rc)
+        return rc;
+    if (!(h.time >= 0))
+        return rd_fail(r, err, "time must be a real number >= 0", NULL);
+    if (!(h.rng[0] | h.rng[1] | h.rng[2] | h.rng[3]))
         return rd_fail(r, err, "rng state must not be all zero", NULL);
+    const int dim = h.dim, geometry = h.geometry == 1 ? MOTE_HS_PERIODIC : MOTE_HS_SLIT;
+    const double *box = h.box;
+    const uint64_t n64 = h.n, coll = h.collisions, wcoll = h.wall_collisions;
+    const double time_total = h.time;
+    mote_rng rng;
+    memcpy(rng.s, h.rng, sizeof rng.s);
     if (!next_line(r))
         return r->line++, rd_fail(r, err, "file ends early: expected the 'particles' line", NULL);
     const char *want3 = "particles x y z vx vy vz radius mass";
@@ -323,11 +323,10 @@ static int load_mote(mote_hs *hs, reader *r, mote_err *err)
         }
     }
     mote_ev ev;
-    int rc = mote_ev_init(&ev, (uint32_t)n64, dim, 1, err);
+    rc = mote_ev_init(&ev, (uint32_t)n64, dim, 1, err);
     if (rc)
         return rc;
     long first_line = r->line + 1;
-    const int ncol = 2 * dim + 2;
     for (uint32_t i = 0; i < ev.n; i++) {
         if (!next_line(r)) {
             r->line++;
@@ -336,28 +335,24 @@ static int load_mote(mote_hs *hs, reader *r, mote_err *err)
             mote_ev_free(&ev);
             return rd_fail(r, err, msg, NULL);
         }
-        int nt = split(r->buf, tok, 12);
-        if (nt != ncol) {
-            char msg[160];
-            snprintf(msg, sizeof msg, "particle %u: expected %d numbers, found %d", i, ncol, nt);
+        hs_row w = {{0, 0, 0}, {0, 0, 0}, 0, 0};
+        rc = dim == 3 ? mote_sf_parse_line(r, r->buf, ROW3, NF(ROW3), &w, 1, err)
+                      : mote_sf_parse_line(r, r->buf, ROW2, NF(ROW2), &w, 1, err);
+        if (rc) {
+            char why[sizeof err->msg];
+            const char *c = strchr(err->msg + strlen(r->path) + 1, ':');
+            snprintf(why, sizeof why, "%s", c && c[1] == ' ' ? c + 2 : err->msg);
+            char msg[sizeof err->msg + 32];
+            snprintf(msg, sizeof msg, "particle %u: %s", i, why);
             mote_ev_free(&ev);
-            return rd_fail(r, err, msg, strcmp(r->buf, "end") == 0 ? "end" : NULL);
+            return rd_fail(r, err, msg, NULL);
         }
-        double val[8];
-        for (int k = 0; k < ncol; k++)
-            if (!parse_real(tok[k], &val[k])) {
-                char msg[160];
-                snprintf(msg, sizeof msg, "particle %u: column %d is not a finite real number", i,
-                         k + 1);
-                mote_ev_free(&ev);
-                return rd_fail(r, err, msg, tok[k]);
-            }
         for (int a = 0; a < dim; a++) {
-            ev.p[i].r[a] = val[a];
-            ev.p[i].v[a] = val[dim + a];
+            ev.p[i].r[a] = w.r[a];
+            ev.p[i].v[a] = w.v[a];
         }
-        ev.radius[i] = val[2 * dim];
-        ev.mass[i] = val[2 * dim + 1];
+        ev.radius[i] = w.radius;
+        ev.mass[i] = w.mass;
         if (!(ev.radius[i] > 0) || !(ev.mass[i] > 0)) {
             mote_ev_free(&ev);
             return rd_fail(r, err, "radius and mass must be > 0", NULL);
@@ -703,25 +698,20 @@ int mote_hs_peek(const char *path, int *geometry, int *dim, uint64_t *n, mote_er
     if (!next_line(&r)) {
         rc = mote_fail(err, MOTE_EFORMAT, "%s:1: the file is empty", path);
     } else if (strncmp(r.buf, "mote-state", 10) == 0) {
-        *geometry = MOTE_HS_SLIT;
-        *dim = 3;
-        *n = 0;
-        if (expect_key(&r, "model", tok, 1, err) < 0 || expect_key(&r, "dim", tok, 1, err) < 0) {
-            rc = err->code;
-        } else {
-            *dim = atoi(tok[0]);
-            if (expect_key(&r, "geometry", tok, 1, err) < 0) {
-                rc = err->code;
-            } else {
-                *geometry = strcmp(tok[0], "periodic") == 0 ? MOTE_HS_PERIODIC : MOTE_HS_SLIT;
-                if (!next_line(&r))
-                    rc = rd_fail(&r, err, "file ends early: expected the 'box' line", NULL);
-                else if (expect_key(&r, "n", tok, 1, err) < 0)
-                    rc = err->code;
-                else if (!parse_u64(tok[0], n, 10) || *n < 2)
-                    rc = rd_fail(&r, err, "n must be an integer >= 2", tok[0]);
-            }
+        hs_head h;
+        memset(&h, 0, sizeof h);
+        rc = check_version(&r, err);
+        if (!rc)
+            rc = mote_sf_read(&r, HEAD_A, NF(HEAD_A), &h, 1, err);
+        if (!rc) {
+            const mote_sf_field box = box_field(h.dim);
+            rc = mote_sf_read(&r, &box, 1, &h, 1, err);
         }
+        if (!rc)
+            rc = mote_sf_read(&r, HEAD_B, 1, &h, 1, err); /* (n) */
+        *geometry = h.geometry == 1 ? MOTE_HS_PERIODIC : MOTE_HS_SLIT;
+        *dim = h.dim ? h.dim : 3;
+        *n = h.n;
     } else if (is_single_integer(r.buf)) {
         *geometry = MOTE_HS_SLIT;
         *dim = 3;

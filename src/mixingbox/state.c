@@ -24,9 +24,9 @@
 
 /* ---- the descriptor tables (statefile.h) --------------------------------------------------------- */
 
-/* doubles as mote_fmt_exact writes them (-0 as 0), "auto" for NaN (t_c: chosen from R and
- * V_init) and "none" for -inf (t_last: no collision yet) where allowed */
-static void exact_put(char out[64], const void *v)
+/* doubles as mote_fmt_exact writes them (the core's exact codec), with "auto" for NaN (t_c:
+ * chosen from R and V_init) and "none" for -inf (t_last: no collision yet) where allowed */
+static void word_put(char out[64], const void *v)
 {
     const double x = *(const double *)v;
     if (isnan(x))
@@ -34,17 +34,7 @@ static void exact_put(char out[64], const void *v)
     else if (isinf(x))
         snprintf(out, 64, "none");
     else
-        mote_fmt_exact(out, x);
-}
-static size_t exact_get(const char *t, void *v)
-{
-    char *end;
-    errno = 0;
-    double x = strtod(t, &end);
-    if (end == t || errno == ERANGE || !isfinite(x) || strpbrk(t, "xX"))
-        return 0;
-    *(double *)v = x;
-    return (size_t)(end - t);
+        mote_sf_exact_put(out, v);
 }
 static size_t auto_get(const char *t, void *v)
 {
@@ -52,7 +42,7 @@ static size_t auto_get(const char *t, void *v)
         *(double *)v = NAN;
         return 4;
     }
-    return exact_get(t, v);
+    return mote_sf_exact_get(t, v);
 }
 static size_t none_get(const char *t, void *v)
 {
@@ -60,11 +50,11 @@ static size_t none_get(const char *t, void *v)
         *(double *)v = -INFINITY;
         return 4;
     }
-    return exact_get(t, v);
+    return mote_sf_exact_get(t, v);
 }
-static const mote_sf_codec EXACT = {sizeof(double), exact_put, exact_get, NULL};
-static const mote_sf_codec AUTO = {sizeof(double), exact_put, auto_get, NULL};
-static const mote_sf_codec NONE = {sizeof(double), exact_put, none_get, NULL};
+#define EXACT mote_sf_exact
+static const mote_sf_codec AUTO = {sizeof(double), word_put, auto_get, NULL};
+static const mote_sf_codec NONE = {sizeof(double), word_put, none_get, NULL};
 
 typedef struct {
     uint32_t n;
@@ -103,9 +93,9 @@ static const mote_sf_field SYSTEM[] = {
      .offset = offsetof(mote_mb_params, n_left), .lo = 0, .hi = MB_N_MAX},                   \
     {.key = SET " n_right", .name = "value", .type = MOTE_SF_I64,                            \
      .offset = offsetof(mote_mb_params, n_right), .lo = 0, .hi = MB_N_MAX},                  \
-    {.key = SET " integrator", .name = "timestep|event", .type = MOTE_SF_ENUM,               \
+    {.key = SET " integrator", .name = "value", .type = MOTE_SF_ENUM,                         \
      .offset = offsetof(mote_mb_params, integrator), .words = "timestep|event"},             \
-    {.key = SET " collision_rule", .name = "restitution|seed", .type = MOTE_SF_ENUM,         \
+    {.key = SET " collision_rule", .name = "value", .type = MOTE_SF_ENUM,                     \
      .offset = offsetof(mote_mb_params, rule), .words = "restitution|seed"}
 static const mote_sf_field PLACED[] = {MB_PARAMS("placed")};
 static const mote_sf_field NEXT[] = {MB_PARAMS("next")};

@@ -44,7 +44,7 @@ typedef struct {
     uint32_t n;
 } nb_head;
 static const mote_sf_field HEAD[] = {
-    {.key = "interaction", .name = "gravity|coulomb", .type = MOTE_SF_ENUM,
+    {.key = "interaction", .name = "KIND", .type = MOTE_SF_ENUM,
      .offset = offsetof(nb_head, kind), .words = "gravity|coulomb"},
     {.key = "n", .name = "N", .type = MOTE_SF_U32, .offset = offsetof(nb_head, n), .lo = 0,
      .hi = 1e8},
