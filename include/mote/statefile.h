@@ -40,6 +40,13 @@ typedef struct {
     int (*finite)(const void *value); /* NULL: every value read is accepted */
 } mote_sf_codec;
 
+/* Doubles as mote_fmt_exact writes them (17 digits, -0 as 0), read back as finite decimal
+ * numbers only (no hexadecimal, inf or nan): the codec of the files that always wrote so. Its
+ * two functions also serve a model's codec that adds words ("auto", "none"). */
+void mote_sf_exact_put(char out[64], const void *value);
+size_t mote_sf_exact_get(const char *text, void *value);
+extern const mote_sf_codec mote_sf_exact;
+
 typedef struct {
     const char *key;    /* the line's key ("time", "placed x_l"); NULL: the same line; "": a row */
     const char *name;   /* the value's name, for messages ("T") */
