@@ -18,66 +18,78 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mote/statefile.h"
+
 #include "sep.h"
 
-#define STATE_FORMAT "mote-state 1"
-#define STATE_MODEL "model separator"
 #define SEP_PI 3.14159265358979323846
 
-/* The scalar parameters, by name. */
-static const struct {
-    const char *key;
-    size_t off;
-} REALS[] = {
-    {"W", offsetof(mote_sep_system, W)},           {"H", offsetof(mote_sep_system, H)},
-    {"D", offsetof(mote_sep_system, D)},           {"D2", offsetof(mote_sep_system, D2)},
-    {"U0", offsetof(mote_sep_system, U0)},         {"rho_g", offsetof(mote_sep_system, rho_g)},
-    {"mu_g", offsetof(mote_sep_system, mu_g)},     {"g", offsetof(mote_sep_system, g)},
-    {"eps_gas_min", offsetof(mote_sep_system, eps_gas_min)},
-    {"chi", offsetof(mote_sep_system, chi)},       {"D_t", offsetof(mote_sep_system, D_t)},
-    {"T_gas", offsetof(mote_sep_system, T_gas)},   {"e_pw", offsetof(mote_sep_system, e_pw)},
-    {"dt_user", offsetof(mote_sep_system, dt_user)},
-    {"e_pp", offsetof(mote_sep_system, e_pp)},     {"khat", offsetof(mote_sep_system, khat)},
-    {"delta_f", offsetof(mote_sep_system, delta_f)},
-    {"v_imp", offsetof(mote_sep_system, v_imp)},   {"tau_eps", offsetof(mote_sep_system, tau_eps)},
-    {"zf", offsetof(mote_sep_system, zf)},         {"hf", offsetof(mote_sep_system, hf)},
-    {"rate", offsetof(mote_sep_system, rate)},     {"t_start", offsetof(mote_sep_system, t_start)},
-    {"t_stop", offsetof(mote_sep_system, t_stop)}, {"fx1", offsetof(mote_sep_system, fx1)},
-    {"fx2", offsetof(mote_sep_system, fx2)},       {"fy1", offsetof(mote_sep_system, fy1)},
-    {"fy2", offsetof(mote_sep_system, fy2)},       {"vfx", offsetof(mote_sep_system, vf[0])},
-    {"vfy", offsetof(mote_sep_system, vf[1])},     {"vfz", offsetof(mote_sep_system, vf[2])},
-    {"avg_from", offsetof(mote_sep_system, avg_from)},
-    {"prof_time", offsetof(mote_sep_system, prof_time)},
-    {"prof_wait", offsetof(mote_sep_system, prof_wait)},
-    {"max_overlap", offsetof(mote_sep_system, max_overlap)},
-    {"t", offsetof(mote_sep_system, t)},
-};
-static const struct {
-    const char *key;
-    size_t off;
-} INTS[] = {
-    {"dim", offsetof(mote_sep_system, dim)},       {"open_bottom", offsetof(mote_sep_system, open_bottom)},
-    {"open_top", offsetof(mote_sep_system, open_top)},
-    {"coupling", offsetof(mote_sep_system, coupling)},
-    {"K", offsetof(mote_sep_system, K)},           {"dem", offsetof(mote_sep_system, dem)},
-    {"brute", offsetof(mote_sep_system, brute)},   {"nc", offsetof(mote_sep_system, nc)},
-    {"nsort", offsetof(mote_sep_system, nsort)},   {"eps_r_valid", offsetof(mote_sep_system, eps_r_valid)},
-};
-#define NREALS (sizeof REALS / sizeof REALS[0])
-#define NINTS (sizeof INTS / sizeof INTS[0])
+/* A real for the file: exact, with inf written "inf" (t_stop may be) and nan "nan" */
+static void real_put(char out[64], const void *v)
+{
+    const double x = *(const double *)v;
+    if (isinf(x))
+        snprintf(out, 64, "%s", x > 0 ? "inf" : "-inf");
+    else if (isnan(x))
+        snprintf(out, 64, "nan");
+    else
+        mote_sf_exact_put(out, v);
+}
+static size_t real_get(const char *t, void *v)
+{
+    static const char *const words[3] = {"inf", "-inf", "nan"};
+    const double values[3] = {INFINITY, -INFINITY, NAN};
+    for (int k = 0; k < 3; k++) {
+        const size_t n = strlen(words[k]);
+        if (strncmp(t, words[k], n) == 0 && (t[n] == '\0' || t[n] == ' ' || t[n] == '\t')) {
+            *(double *)v = values[k];
+            return n;
+        }
+    }
+    return mote_sf_exact_get(t, v);
+}
+static const mote_sf_codec REAL = {sizeof(double), real_put, real_get, NULL};
 
-/* A real for the file: exact, with inf written "inf" (t_stop may be) */
 static void put(FILE *f, double x)
 {
-    char b[32];
-    if (isinf(x))
-        snprintf(b, sizeof b, "%s", x > 0 ? "inf" : "-inf");
-    else if (isnan(x))
-        snprintf(b, sizeof b, "nan");
-    else
-        mote_fmt_exact(b, x);
+    char b[64];
+    real_put(b, &x);
     fprintf(f, " %s", b);
 }
+
+/* The scalar parameters by name ("real W 0.05", "int dim 2"), the counters and the random
+ * stream, as descriptor tables (statefile.h); the seed is read into a scratch. */
+#define SR(NAME, M)                                                                          \
+    {.key = "real " NAME, .name = "value", .type = MOTE_SF_CODEC,                            \
+     .offset = offsetof(mote_sep_system, M), .codec = &REAL}
+#define SI(NAME, M)                                                                          \
+    {.key = "int " NAME, .name = "value", .type = MOTE_SF_INT,                               \
+     .offset = offsetof(mote_sep_system, M), .lo = -1, .hi = 1000000}
+#define SU(K, NAME, M)                                                                       \
+    {.key = K, .name = NAME, .type = MOTE_SF_U64, .offset = offsetof(mote_sep_system, M),    \
+     .lo = MOTE_SF_ANY}
+static const mote_sf_field SCALARS[] = {
+    SR("W", W), SR("H", H), SR("D", D), SR("D2", D2), SR("U0", U0), SR("rho_g", rho_g),
+    SR("mu_g", mu_g), SR("g", g), SR("eps_gas_min", eps_gas_min), SR("chi", chi),
+    SR("D_t", D_t), SR("T_gas", T_gas), SR("e_pw", e_pw), SR("dt_user", dt_user),
+    SR("e_pp", e_pp), SR("khat", khat), SR("delta_f", delta_f), SR("v_imp", v_imp),
+    SR("tau_eps", tau_eps), SR("zf", zf), SR("hf", hf), SR("rate", rate),
+    SR("t_start", t_start), SR("t_stop", t_stop), SR("fx1", fx1), SR("fx2", fx2),
+    SR("fy1", fy1), SR("fy2", fy2), SR("vfx", vf[0]), SR("vfy", vf[1]), SR("vfz", vf[2]),
+    SR("avg_from", avg_from), SR("prof_time", prof_time), SR("prof_wait", prof_wait),
+    SR("max_overlap", max_overlap), SR("t", t),
+    SI("dim", dim), SI("open_bottom", open_bottom), SI("open_top", open_top),
+    SI("coupling", coupling), SI("K", K), SI("dem", dem), SI("brute", brute), SI("nc", nc),
+    SI("nsort", nsort), SI("eps_r_valid", eps_r_valid),
+    SU("counters", "steps", steps), SU(NULL, "next_id", next_id),
+    SU(NULL, "fast_moves", fast_moves), SU(NULL, "last_sort", last_sort),
+    {.key = "rng", .name = "s", .type = MOTE_SF_HEX64, .offset = offsetof(mote_sep_system, rng.s),
+     .count = 4},
+};
+static const mote_sf_field SEED[] = {
+    {.key = "seed", .name = "S", .type = MOTE_SF_U64, .offset = 0, .lo = MOTE_SF_ANY},
+};
+#define NF(t) (sizeof t / sizeof t[0])
 
 int mote_sep_save(const mote_sep_system *s, uint64_t seed, const char *path, mote_err *err)
 {
@@ -89,18 +101,9 @@ int mote_sep_save(const mote_sep_system *s, uint64_t seed, const char *path, mot
     if (rc)
         return rc;
     FILE *f = af.f;
-    fprintf(f, "%s\n%s\nseed %" PRIu64 "\n", STATE_FORMAT, STATE_MODEL, seed);
-    for (size_t k = 0; k < NREALS; k++) {
-        fprintf(f, "real %s", REALS[k].key);
-        put(f, *(const double *)((const char *)s + REALS[k].off));
-        fputc('\n', f);
-    }
-    for (size_t k = 0; k < NINTS; k++)
-        fprintf(f, "int %s %d\n", INTS[k].key, *(const int *)((const char *)s + INTS[k].off));
-    fprintf(f, "counters %" PRIu64 " %" PRIu64 " %" PRIu64 " %" PRIu64 "\n", s->steps, s->next_id,
-            s->fast_moves, s->last_sort);
-    fprintf(f, "rng %016" PRIx64 " %016" PRIx64 " %016" PRIx64 " %016" PRIx64 "\n", s->rng.s[0],
-            s->rng.s[1], s->rng.s[2], s->rng.s[3]);
+    mote_sf_write_head(f, "separator", 1);
+    mote_sf_write(f, SEED, NF(SEED), &seed, 1);
+    mote_sf_write(f, SCALARS, NF(SCALARS), s, 1);
     fprintf(f, "gasprofile %zu\n", s->gp_n);
     for (size_t k = 0; k < s->gp_n; k++) {
         fprintf(f, "gp");
@@ -307,54 +310,19 @@ static int reals(reader *r, int k0, int n, double *x)
 
 static int read_body(reader *r, mote_sep_system *s, uint64_t *seed)
 {
-    int rc = line(r, "mote-state", 1, "expected the format line 'mote-state 1'");
-    if (!rc && strcmp(r->tok[1], "1"))
-        rc = bad(r, "this version reads state format 1", r->tok[1]);
+    int version;
+    int rc = mote_sf_read_head(&r->in, "separator", 1, &version, r->err);
     if (!rc)
-        rc = line(r, "model", 1, "expected 'model separator'");
-    if (!rc && strcmp(r->tok[1], "separator"))
-        rc = bad(r, "a state of another model", r->tok[1]);
+        rc = mote_sf_read(&r->in, SEED, NF(SEED), seed, version, r->err);
     if (!rc)
-        rc = line(r, "seed", 1, "expected 'seed S'");
-    if (!rc)
-        rc = u64_at(r, 1, seed, 10);
-    for (size_t k = 0; k < NREALS && !rc; k++) {
-        rc = line(r, "real", 2, "expected 'real NAME VALUE'");
-        if (!rc && strcmp(r->tok[1], REALS[k].key))
-            rc = bad(r, "a parameter out of order or unknown", r->tok[1]);
-        if (!rc)
-            rc = real_at(r, 2, (double *)((char *)s + REALS[k].off));
-    }
-    for (size_t k = 0; k < NINTS && !rc; k++) {
-        long v;
-        rc = line(r, "int", 2, "expected 'int NAME VALUE'");
-        if (!rc && strcmp(r->tok[1], INTS[k].key))
-            rc = bad(r, "a parameter out of order or unknown", r->tok[1]);
-        if (!rc)
-            rc = int_at(r, 2, -1, 1000000, &v);
-        if (!rc)
-            *(int *)((char *)s + INTS[k].off) = (int)v;
-    }
+        rc = mote_sf_read(&r->in, SCALARS, NF(SCALARS), s, version, r->err);
     if (rc)
         return rc;
     if (s->dim != 2 && s->dim != 3)
         return bad(r, "dim must be 2 or 3", NULL);
     if (s->K < 1 || s->K > 1000)
         return bad(r, "the slices must number 1 to 1000", NULL);
-    rc = line(r, "counters", 4, "expected 'counters STEPS NEXT_ID FAST_MOVES LAST_SORT'");
-    if (!rc)
-        rc = u64_at(r, 1, &s->steps, 10);
-    if (!rc)
-        rc = u64_at(r, 2, &s->next_id, 10);
-    if (!rc)
-        rc = u64_at(r, 3, &s->fast_moves, 10);
-    if (!rc)
-        rc = u64_at(r, 4, &s->last_sort, 10);
-    if (!rc)
-        rc = line(r, "rng", 4, "expected 'rng' and four 64-bit hexadecimal words");
-    for (int k = 0; k < 4 && !rc; k++)
-        rc = u64_at(r, k + 1, &s->rng.s[k], 16);
-    if (!rc && !(s->rng.s[0] | s->rng.s[1] | s->rng.s[2] | s->rng.s[3]))
+    if (!(s->rng.s[0] | s->rng.s[1] | s->rng.s[2] | s->rng.s[3]))
         rc = bad(r, "the random stream's state must not be all zero", NULL);
     long v;
     uint64_t ngp = 0;
