@@ -42,7 +42,7 @@ head -c 3000 s1.state > cut.state
 expect 1 "cut.mote:2:6: error: cut.state:" cut.mote "${S}load cut.state\nsave e.state\n"
 [ ! -e e.state ] && ok || bad "a failed load wrote a state"
 sed 's/^real W .*/real W -x/' s1.state > badw.state
-expect 1 "badw.mote:2:6: error: badw.state:4: expected a decimal number (found '-x')" badw.mote "${S}load badw.state\n"
+expect 1 "badw.mote:2:6: error: badw.state:4: W: expected a real number, found '-x'" badw.mote "${S}load badw.state\n"
 # outputs: frames (and the movie when ffmpeg is here), snapshots, balance, profiles, tromp, live
 printf '%bchannel 0.05 1\ngas 1.5\ncollisions off\ntimestep 1e-3\nspecies quartz 2650\nsize quartz lognormal d50=150e-6 sigma=1.6 min=30e-6 max=600e-6\nspecies ore 4500\nsize ore lognormal d50=120e-6 sigma=1.6 min=30e-6 max=600e-6\nfeed z=0.5 rate=2e-5\nfeed_fraction quartz 0.7\nfeed_fraction ore 0.3\ngrid 0.2 0.004 pattern a=3e-3 p=5e-3 offset=1e-3\nslices 50\nframes fr 0.5\nsnapshots sn 1\nbalance bal.dat 0.1\nlive_png live.png\naverage_from 1\nrun 3\ntromp tr.dat\nprofiles pr.dat\nsummary\n' "$S" > outs.mote
 "$MOTE" run outs.mote > out.txt 2> err.txt && ok || bad "outs.mote: $(cat err.txt)"

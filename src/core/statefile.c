@@ -66,7 +66,8 @@ size_t mote_sf_exact_get(const char *text, void *value)
     char *end;
     errno = 0;
     const double x = strtod(text, &end);
-    if (end == text || errno == ERANGE || !isfinite(x) || strcspn(text, "xX") < (size_t)(end - text))
+    if (end == text || errno == ERANGE || !isfinite(x) ||
+        strcspn(text, "xX") < (size_t)(end - text)) /* (no hexadecimal) */
         return 0;
     *(double *)value = x;
     return (size_t)(end - text);

@@ -81,7 +81,7 @@ static const mote_sf_field SYSTEM[] = {
 
 /* the parameters, once as placed and once for the next run ("placed x_l 0", "next x_l 0") */
 #define MB_P(SET, NAME, C)                                                                   \
-    {.key = SET " " #NAME, .name = "value", .type = MOTE_SF_CODEC,                           \
+    {.key = SET " " #NAME, .name = #NAME, .type = MOTE_SF_CODEC,                             \
      .offset = offsetof(mote_mb_params, NAME), .codec = &C}
 #define MB_PARAMS(SET)                                                                       \
     MB_P(SET, x_l, EXACT), MB_P(SET, x_r, EXACT), MB_P(SET, x_b, EXACT), MB_P(SET, x_t, EXACT), \
@@ -89,13 +89,13 @@ static const mote_sf_field SYSTEM[] = {
     MB_P(SET, r, EXACT), MB_P(SET, v_init, EXACT), MB_P(SET, dv_b, EXACT),                     \
     MB_P(SET, dv_t, EXACT), MB_P(SET, dv_s, EXACT), MB_P(SET, loss, EXACT),                    \
     MB_P(SET, g, EXACT), MB_P(SET, t_c, AUTO), MB_P(SET, mass, EXACT),                         \
-    {.key = SET " n_left", .name = "value", .type = MOTE_SF_I64,                             \
+    {.key = SET " n_left", .name = "n_left", .type = MOTE_SF_I64,                             \
      .offset = offsetof(mote_mb_params, n_left), .lo = 0, .hi = MB_N_MAX},                   \
-    {.key = SET " n_right", .name = "value", .type = MOTE_SF_I64,                            \
+    {.key = SET " n_right", .name = "n_right", .type = MOTE_SF_I64,                            \
      .offset = offsetof(mote_mb_params, n_right), .lo = 0, .hi = MB_N_MAX},                  \
-    {.key = SET " integrator", .name = "value", .type = MOTE_SF_ENUM,                         \
+    {.key = SET " integrator", .name = "integrator", .type = MOTE_SF_ENUM,                         \
      .offset = offsetof(mote_mb_params, integrator), .words = "timestep|event"},             \
-    {.key = SET " collision_rule", .name = "value", .type = MOTE_SF_ENUM,                     \
+    {.key = SET " collision_rule", .name = "collision_rule", .type = MOTE_SF_ENUM,            \
      .offset = offsetof(mote_mb_params, rule), .words = "restitution|seed"}
 static const mote_sf_field PLACED[] = {MB_PARAMS("placed")};
 static const mote_sf_field NEXT[] = {MB_PARAMS("next")};

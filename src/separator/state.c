@@ -60,10 +60,10 @@ static void put(FILE *f, double x)
 /* The scalar parameters by name ("real W 0.05", "int dim 2"), the counters and the random
  * stream, as descriptor tables (statefile.h); the seed is read into a scratch. */
 #define SR(NAME, M)                                                                          \
-    {.key = "real " NAME, .name = "value", .type = MOTE_SF_CODEC,                            \
+    {.key = "real " NAME, .name = NAME, .type = MOTE_SF_CODEC,                            \
      .offset = offsetof(mote_sep_system, M), .codec = &REAL}
 #define SI(NAME, M)                                                                          \
-    {.key = "int " NAME, .name = "value", .type = MOTE_SF_INT,                               \
+    {.key = "int " NAME, .name = NAME, .type = MOTE_SF_INT,                               \
      .offset = offsetof(mote_sep_system, M), .lo = -1, .hi = 1000000}
 #define SU(K, NAME, M)                                                                       \
     {.key = K, .name = NAME, .type = MOTE_SF_U64, .offset = offsetof(mote_sep_system, M),    \
