@@ -597,6 +597,19 @@ static void test_statefile(void)
         CHECK(rc == MOTE_EFORMAT && strcmp(msg, bad[k].want) == 0, "damage %zu: '%s', not '%s'",
               k, msg, bad[k].want);
     }
+    /* a descriptor that gives no range accepts any finite value (a range left out is not [0, 0]) */
+    static const mote_sf_field NORANGE[] = {{.key = "x", .name = "x", .type = MOTE_SF_DOUBLE}};
+    snprintf(path, sizeof path, "%s/nr.state", tmpdir);
+    f = fopen(path, "w");
+    fputs("x 5\n", f);
+    fclose(f);
+    mote_lines in;
+    mote_err err = {0};
+    double x = 0;
+    CHECK_INT(mote_lines_open(&in, path, &err), MOTE_OK);
+    CHECK_INT(mote_sf_read(&in, NORANGE, 1, &x, 1, &err), MOTE_OK);
+    CHECK(x == 5, "no range: read %g, %s", x, err.msg);
+    mote_lines_close(&in, &err);
     CHECK_INT(sf_read_text("mote-state 3\nmodel probe\n", 2, &c, msg), MOTE_EFORMAT);
     CHECK_STR(msg, "sf.state:1: unsupported state file version 3 (this mote reads 1 to 2)");
     CHECK_INT(sf_read_text("mote-state 2\nmodel other\n", 2, &c, msg), MOTE_EFORMAT);

@@ -53,7 +53,8 @@ typedef struct {
     mote_sf_type type;
     size_t offset;      /* of the (first) value in the structure */
     int count;          /* consecutive values of this type (an array); 0 counts as 1 */
-    double lo, hi;      /* numbers: the allowed range (lo <= v <= hi); lo > hi: any */
+    double lo, hi;      /* numbers: the allowed range (lo <= v <= hi); lo > hi, or both 0 (not
+                         * given): any finite value */
     int since;          /* the first file version with this value (0 or 1: every version) */
     int optional;       /* the line may end before this value (one added to the format within a
                          * version): it and the values after it then keep what they had */
@@ -62,7 +63,7 @@ typedef struct {
     const mote_sf_codec *codec; /* CODEC */
 } mote_sf_field;
 
-/* An allowed range for a descriptor's lo, hi (MOTE_SF_ANY: none). */
+/* An allowed range for a descriptor's lo, hi (MOTE_SF_ANY: none, as leaving both out). */
 #define MOTE_SF_ANY 1.0, 0.0
 
 /* "mote-state VERSION\nmodel MODEL\n" */

@@ -9,6 +9,8 @@
 #include <string.h>
 
 static int present(const mote_sf_field *f, int version) { return f->since <= version; }
+/* Does the descriptor give a range (lo <= hi, not both left at 0)? */
+static int ranged(const mote_sf_field *f) { return f->lo <= f->hi && (f->lo != 0 || f->hi != 0); }
 static int count_of(const mote_sf_field *f) { return f->count > 0 ? f->count : 1; }
 
 /* The descriptors of the line that starts at f[0]: f[0] and the NULL-keyed ones after it. */
@@ -200,7 +202,7 @@ static int get_value(const mote_sf_field *f, const char *t, size_t tlen, void *p
     switch (f->type) {
     case MOTE_SF_DOUBLE: {
         double d = strtod(tok, &end);
-        if (*end || end == tok || isnan(d) || (isinf(d) && !(f->lo <= f->hi && isinf(f->hi))))
+        if (*end || end == tok || isnan(d) || (isinf(d) && !(ranged(f) && isinf(f->hi))))
             return 0;
         *(double *)p = *v = d;
         break;
@@ -267,7 +269,7 @@ static int get_value(const mote_sf_field *f, const char *t, size_t tlen, void *p
         return 1;
     }
     }
-    if (f->lo <= f->hi && !(*v >= f->lo && *v <= f->hi))
+    if (ranged(f) && !(*v >= f->lo && *v <= f->hi))
         return 2;
     return 1;
 }
