@@ -43,6 +43,16 @@ expect 1 "cut.mote:2:6: error: cut.state:" cut.mote "${S}load cut.state\nsave e.
 [ ! -e e.state ] && ok || bad "a failed load wrote a state"
 sed 's/^real W .*/real W -x/' s1.state > badw.state
 expect 1 "badw.mote:2:6: error: badw.state:4: W: expected a real number, found '-x'" badw.mote "${S}load badw.state\n"
+# the nested tables (species, classes, particles) are read by the same descriptor tables
+line=$(grep -n '^p 3 ' s1.state | cut -d: -f1)
+sed "${line}s/^p 3 [01] /p 3 2 /" s1.state > badsp.state
+expect 1 "badsp2.mote:2:6: error: badsp.state:$line: SPECIES must be in [0, 1], found 2" badsp2.mote "${S}load badsp.state\n"
+line=$(grep -n '^edge' s1.state | head -1 | cut -d: -f1)
+sed "${line}s/ [^ ]*\$//" s1.state > badedge.state
+expect 1 "badedge.mote:2:6: error: badedge.state:$line: expected 'edge EDGE NF NC MF MC NF_SPECIES NC_SPECIES MF_SPECIES MC_SPECIES NF_SPECIES NC_SPECIES MF_SPECIES MC_SPECIES': MC_SPECIES is missing" badedge.mote "${S}load badedge.state\n"
+line=$(grep -n '^plate ' s1.state | cut -d: -f1)
+sed "${line}s/^plate [0-9]* /plate 0 /" s1.state > badplate.state
+expect 1 "badplate.mote:2:6: error: badplate.state:$line: NHOLES must be in [1, 100000000], found 0" badplate.mote "${S}load badplate.state\n"
 # outputs: frames (and the movie when ffmpeg is here), snapshots, balance, profiles, tromp, live
 printf '%bchannel 0.05 1\ngas 1.5\ncollisions off\ntimestep 1e-3\nspecies quartz 2650\nsize quartz lognormal d50=150e-6 sigma=1.6 min=30e-6 max=600e-6\nspecies ore 4500\nsize ore lognormal d50=120e-6 sigma=1.6 min=30e-6 max=600e-6\nfeed z=0.5 rate=2e-5\nfeed_fraction quartz 0.7\nfeed_fraction ore 0.3\ngrid 0.2 0.004 pattern a=3e-3 p=5e-3 offset=1e-3\nslices 50\nframes fr 0.5\nsnapshots sn 1\nbalance bal.dat 0.1\nlive_png live.png\naverage_from 1\nrun 3\ntromp tr.dat\nprofiles pr.dat\nsummary\n' "$S" > outs.mote
 "$MOTE" run outs.mote > out.txt 2> err.txt && ok || bad "outs.mote: $(cat err.txt)"

@@ -285,18 +285,18 @@ int mote_sf_parse_line(const mote_lines *in, const char *s, const mote_sf_field 
                        void *base, int version, mote_err *err)
 {
     const size_t len = line_len(f, n);
-    char want[512];
-    expected_text(f, len, version, want, sizeof want);
+    char want[512]; /* (written only for a message) */
+#define WANT (expected_text(f, len, version, want, sizeof want), want)
     const char *p = s;
     if (f[0].key[0]) {
         size_t k = strlen(f[0].key);
         if (!s || strncmp(s, f[0].key, k) != 0 || (s[k] != ' ' && s[k] != '\t' && s[k] != '\0'))
             return mote_fail(err, MOTE_EFORMAT, "%s:%ld: expected '%s' (found '%.60s')",
-                             in->path, in->line, want, s ? s : "end of file");
+                             in->path, in->line, WANT, s ? s : "end of file");
         p = s + k;
     } else if (!s) {
         return mote_fail(err, MOTE_EFORMAT, "%s:%ld: expected a row '%s' (found 'end of file')",
-                         in->path, in->line, want);
+                         in->path, in->line, WANT);
     }
     for (size_t k = 0; k < len; k++) {
         if (!present(&f[k], version))
@@ -313,7 +313,7 @@ int mote_sf_parse_line(const mote_lines *in, const char *s, const mote_sf_field 
                 goto end; /* (an older line: the rest keeps its values) */
             if (tlen == 0)
                 return mote_fail(err, MOTE_EFORMAT, "%s:%ld: expected '%s': %s is missing "
-                                 "(found '%.60s')", in->path, in->line, want, name, s);
+                                 "(found '%.60s')", in->path, in->line, WANT, name, s);
             double v;
             void *dst = (char *)base + f[k].offset + (size_t)c * type_size(&f[k]);
             int got = get_value(&f[k], p, tlen, dst, &v);
@@ -336,8 +336,9 @@ end:
     p = skip_blanks(p);
     if (*p)
         return mote_fail(err, MOTE_EFORMAT, "%s:%ld: unexpected text after '%s' ('%.40s')",
-                         in->path, in->line, want, p);
+                         in->path, in->line, WANT, p);
     return MOTE_OK;
+#undef WANT
 }
 
 int mote_sf_read(mote_lines *in, const mote_sf_field *f, size_t n, void *base, int version,

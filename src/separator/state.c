@@ -50,12 +50,6 @@ static size_t real_get(const char *t, void *v)
 }
 static const mote_sf_codec REAL = {sizeof(double), real_put, real_get, NULL};
 
-static void put(FILE *f, double x)
-{
-    char b[64];
-    real_put(b, &x);
-    fprintf(f, " %s", b);
-}
 
 /* The scalar parameters by name ("real W 0.05", "int dim 2"), the counters and the random
  * stream, as descriptor tables (statefile.h); the seed is read into a scratch. */
@@ -91,6 +85,163 @@ static const mote_sf_field SEED[] = {
 };
 #define NF(t) (sizeof t / sizeof t[0])
 
+/* The nested tables: a line "KEY N" says how many rows follow; each row is a line of its own
+ * descriptors, read into a row structure and checked before it is kept. */
+#define COUNT(KEY, LO, HI) {{.key = KEY, .name = "N", .type = MOTE_SF_U64, .lo = LO, .hi = HI}}
+static const mote_sf_field N_GAS[] = COUNT("gasprofile", 0, 1e6);
+static const mote_sf_field N_SPECIES[] = COUNT("species", 1, MOTE_SEP_MAX_SPECIES);
+static const mote_sf_field N_TABLE[] = COUNT("table", 0, 100000);
+static const mote_sf_field N_PLATES[] = COUNT("plates", 0, MOTE_SEP_MAX_PLATES);
+static const mote_sf_field N_CLASSES[] = COUNT("classes", 2, 1000);
+static const mote_sf_field N_SLICES[] = COUNT("slices", 1, 1000);
+static const mote_sf_field N_BACKLOG[] = COUNT("backlog", 0, 1e8);
+static const mote_sf_field N_PARTICLES[] = COUNT("particles", 0, 1e9);
+
+#define RK(KEY, NAME, T, M)                                                                   \
+    {.key = KEY, .name = NAME, .type = MOTE_SF_CODEC, .offset = offsetof(T, M), .codec = &REAL}
+#define R(NAME, T, M) RK(NULL, NAME, T, M)
+#define UK(KEY, NAME, T, M)                                                                   \
+    {.key = KEY, .name = NAME, .type = MOTE_SF_U64, .offset = offsetof(T, M), .lo = MOTE_SF_ANY}
+#define IK(KEY, NAME, T, M, LO, HI)                                                           \
+    {.key = KEY, .name = NAME, .type = MOTE_SF_INT, .offset = offsetof(T, M), .lo = LO, .hi = HI}
+
+typedef struct { double z, rho, mu; } gp_row;
+static const mote_sf_field GP[] = {RK("gp", "Z", gp_row, z), R("RHO", gp_row, rho),
+                                   R("MU", gp_row, mu)};
+
+typedef struct {
+    char name[sizeof ((mote_sep_species *)0)->name];
+    int have, type, basis;
+    double rho, w, a, b, lo, hi;
+} sp_row;
+static const mote_sf_field SP[] = {
+    {.key = "sp", .name = "NAME", .type = MOTE_SF_WORD, .offset = offsetof(sp_row, name),
+     .size = sizeof ((sp_row *)0)->name},
+    IK(NULL, "HAVE", sp_row, have, 0, 1), IK(NULL, "TYPE", sp_row, type, 0, MOTE_SEP_LOGUNIFORM),
+    IK(NULL, "BASIS", sp_row, basis, 0, 1), R("RHO", sp_row, rho), R("W", sp_row, w),
+    R("A", sp_row, a), R("B", sp_row, b), R("LO", sp_row, lo), R("HI", sp_row, hi)};
+
+typedef struct { double d, F; } table_row;
+static const mote_sf_field TROW[] = {RK("row", "D", table_row, d), R("F", table_row, F)};
+
+static const mote_sf_field COUNTS[] = {
+    UK("count", "FED", mote_sep_count, fed), UK(NULL, "FINES", mote_sep_count, fines),
+    UK(NULL, "COARSE", mote_sep_count, coarse), UK(NULL, "LOST", mote_sep_count, lost),
+    R("M_FED", mote_sep_count, m_fed), R("M_FINES", mote_sep_count, m_fines),
+    R("M_COARSE", mote_sep_count, m_coarse), R("M_LOST", mote_sep_count, m_lost),
+    R("M_GEN", mote_sep_count, m_gen)};
+
+typedef struct {
+    uint64_t nh;
+    int listed;
+    int64_t dropped;
+    double zb, t;
+} plate_row;
+static const mote_sf_field PLATE[] = {
+    {.key = "plate", .name = "NHOLES", .type = MOTE_SF_U64, .offset = offsetof(plate_row, nh),
+     .lo = 1, .hi = 1e8},
+    IK(NULL, "LISTED", plate_row, listed, 0, 1),
+    {.key = NULL, .name = "DROPPED", .type = MOTE_SF_I64, .offset = offsetof(plate_row, dropped),
+     .lo = 0, .hi = 2e9},
+    R("ZB", plate_row, zb), R("T", plate_row, t)};
+
+typedef struct { double x1, x2, y1, y2; } hole_row;
+static const mote_sf_field HOLE[] = {RK("hole", "X1", hole_row, x1), R("X2", hole_row, x2),
+                                     R("Y1", hole_row, y1), R("Y2", hole_row, y2)};
+
+/* A size class: its lower edge and tallies, all species and each; the last line holds only the
+ * upper edge of the last class. */
+typedef struct { uint64_t nf, nc; double mf, mc; } tally;
+typedef struct {
+    double edge;
+    tally all, sp[MOTE_SEP_MAX_SPECIES];
+} edge_row;
+static size_t edge_fields(mote_sf_field *f, int nsp, int last)
+{
+    static const char *const names[4] = {"NF", "NC", "MF", "MC"};
+    static const char *const sp_names[4] = {"NF_SPECIES", "NC_SPECIES", "MF_SPECIES",
+                                            "MC_SPECIES"};
+    f[0] = (mote_sf_field)RK("edge", "EDGE", edge_row, edge);
+    size_t n = 1;
+    for (int k = -1; !last && k < nsp; k++) {
+        const size_t at = k < 0 ? offsetof(edge_row, all)
+                                : offsetof(edge_row, sp) + (size_t)k * sizeof(tally);
+        for (int j = 0; j < 4; j++)
+            f[n++] = (mote_sf_field){
+                .name = k < 0 ? names[j] : sp_names[j], .type = j < 2 ? MOTE_SF_U64 : MOTE_SF_CODEC,
+                .offset = at + (j == 0   ? offsetof(tally, nf)
+                                : j == 1 ? offsetof(tally, nc)
+                                : j == 2 ? offsetof(tally, mf)
+                                         : offsetof(tally, mc)),
+                .lo = 1, .hi = 0, .codec = j < 2 ? NULL : &REAL};
+    }
+    return n;
+}
+
+typedef struct {
+    double eps_r, n, mvz, m, ug, fd;
+    double eps[MOTE_SEP_MAX_SPECIES];
+} slice_row;
+
+/* A particle of the backlog: its species (any: checked against the species) and diameter. */
+typedef struct {
+    int s;
+    double d;
+} back_row;
+static const mote_sf_field BACK[] = {IK("b", "SPECIES", back_row, s, 1, 0), R("D", back_row, d)};
+
+typedef struct {
+    int ok;
+    uint64_t mods, list_mods, builds, n;
+} pairs_head;
+static const mote_sf_field PAIRS[] = {
+    IK("pairlist", "OK", pairs_head, ok, 0, 1), UK(NULL, "MODS", pairs_head, mods),
+    UK(NULL, "LIST_MODS", pairs_head, list_mods), UK(NULL, "BUILDS", pairs_head, builds),
+    {.name = "N", .type = MOTE_SF_U64, .offset = offsetof(pairs_head, n), .lo = 0, .hi = 2e9}};
+static const mote_sf_field PAIR[] = {
+    {.key = "l", .name = "I", .type = MOTE_SF_U32, .offset = 0, .lo = MOTE_SF_ANY},
+    {.name = "J", .type = MOTE_SF_U32, .offset = sizeof(uint32_t), .lo = MOTE_SF_ANY}};
+
+/* A particle: id, species (any: checked against the species), d, m, x, y, z, vx, vy, vz, fx, fy, fz and, with a pair list that
+ * still serves, the position where the list was built. */
+typedef struct {
+    uint64_t id;
+    int s;
+    double v[11];
+    double xref[3];
+} p_row;
+static const mote_sf_field P[] = {
+    UK("p", "ID", p_row, id), IK(NULL, "SPECIES", p_row, s, 1, 0), R("D", p_row, v[0]),
+    R("M", p_row, v[1]), R("X", p_row, v[2]), R("Y", p_row, v[3]), R("Z", p_row, v[4]),
+    R("VX", p_row, v[5]), R("VY", p_row, v[6]), R("VZ", p_row, v[7]), R("FX", p_row, v[8]),
+    R("FY", p_row, v[9]), R("FZ", p_row, v[10]),
+    {.name = "XREF", .type = MOTE_SF_CODEC, .offset = offsetof(p_row, xref), .count = 3,
+     .codec = &REAL}};
+
+/* The rows of nrows lines: the species' restitutions and a slice's values depend on the
+ * number of species. */
+static mote_sf_field reals_field(const char *key, const char *name, size_t offset, int count)
+{
+    return (mote_sf_field){.key = key, .name = name, .type = MOTE_SF_CODEC, .offset = offset,
+                           .count = count, .codec = &REAL};
+}
+static size_t slice_fields(mote_sf_field *f, int nsp)
+{
+    f[0] = (mote_sf_field)RK("slice", "EPS_R", slice_row, eps_r);
+    f[1] = (mote_sf_field)R("N", slice_row, n);
+    f[2] = (mote_sf_field)R("MVZ", slice_row, mvz);
+    f[3] = (mote_sf_field)R("M", slice_row, m);
+    f[4] = (mote_sf_field)R("UG", slice_row, ug);
+    f[5] = (mote_sf_field)R("FD", slice_row, fd);
+    f[6] = reals_field(NULL, "EPS", offsetof(slice_row, eps), nsp);
+    return 7;
+}
+
+static void put_count(FILE *f, const mote_sf_field *d, uint64_t n)
+{
+    mote_sf_write(f, d, 1, &n, 1);
+}
+
 int mote_sep_save(const mote_sep_system *s, uint64_t seed, const char *path, mote_err *err)
 {
     if (!s->class_edge || !s->eps_r || !s->prof_n)
@@ -101,116 +252,82 @@ int mote_sep_save(const mote_sep_system *s, uint64_t seed, const char *path, mot
     if (rc)
         return rc;
     FILE *f = af.f;
+    const int nsp = s->nsp;
     mote_sf_write_head(f, "separator", 1);
     mote_sf_write(f, SEED, NF(SEED), &seed, 1);
     mote_sf_write(f, SCALARS, NF(SCALARS), s, 1);
-    fprintf(f, "gasprofile %zu\n", s->gp_n);
+    put_count(f, N_GAS, s->gp_n);
     for (size_t k = 0; k < s->gp_n; k++) {
-        fprintf(f, "gp");
-        put(f, s->gp_z[k]);
-        put(f, s->gp_rho[k]);
-        put(f, s->gp_mu[k]);
-        fputc('\n', f);
+        const gp_row g = {s->gp_z[k], s->gp_rho[k], s->gp_mu[k]};
+        mote_sf_write(f, GP, NF(GP), &g, 1);
     }
-    fprintf(f, "species %d\n", s->nsp);
-    for (int k = 0; k < s->nsp; k++) {
+    put_count(f, N_SPECIES, (uint64_t)nsp);
+    const mote_sf_field epair = reals_field("epair", "E", 0, nsp);
+    for (int k = 0; k < nsp; k++) {
         const mote_sep_species *p = &s->sp[k];
-        fprintf(f, "sp %s %d %d %d", p->name, p->have_dist, p->dist.type, p->dist.number_basis);
-        put(f, p->rho);
-        put(f, p->w);
-        put(f, p->dist.a);
-        put(f, p->dist.b);
-        put(f, p->dist.lo);
-        put(f, p->dist.hi);
-        fputc('\n', f);
-        fprintf(f, "table %d\n", p->dist.tn);
+        sp_row r = {.have = p->have_dist, .type = p->dist.type, .basis = p->dist.number_basis,
+                    .rho = p->rho, .w = p->w, .a = p->dist.a, .b = p->dist.b, .lo = p->dist.lo,
+                    .hi = p->dist.hi};
+        memcpy(r.name, p->name, sizeof r.name);
+        mote_sf_write(f, SP, NF(SP), &r, 1);
+        put_count(f, N_TABLE, (uint64_t)p->dist.tn);
         for (int j = 0; j < p->dist.tn; j++) {
-            fprintf(f, "row");
-            put(f, p->dist.td[j]);
-            put(f, p->dist.tF[j]);
-            fputc('\n', f);
+            const table_row t = {p->dist.td[j], p->dist.tF[j]};
+            mote_sf_write(f, TROW, NF(TROW), &t, 1);
         }
-        const mote_sep_count *c = &s->cnt[k];
-        fprintf(f, "count %" PRIu64 " %" PRIu64 " %" PRIu64 " %" PRIu64, c->fed, c->fines, c->coarse,
-                c->lost);
-        put(f, c->m_fed);
-        put(f, c->m_fines);
-        put(f, c->m_coarse);
-        put(f, c->m_lost);
-        put(f, c->m_gen);
-        fputc('\n', f);
-        fprintf(f, "epair");
-        for (int j = 0; j < s->nsp; j++)
-            put(f, s->e_pair[k][j]);
-        fputc('\n', f);
+        mote_sf_write(f, COUNTS, NF(COUNTS), &s->cnt[k], 1);
+        mote_sf_write(f, &epair, 1, s->e_pair[k], 1);
     }
-    fprintf(f, "plates %d\n", s->nplate);
+    put_count(f, N_PLATES, (uint64_t)s->nplate);
     for (int q = 0; q < s->nplate; q++) {
         const mote_sep_plate *p = &s->plate[q];
-        fprintf(f, "plate %zu %d %ld", p->nh, p->listed, p->dropped);
-        put(f, p->zb);
-        put(f, p->t);
-        fputc('\n', f);
-        for (size_t h = 0; h < p->nh; h++) {
-            fprintf(f, "hole");
-            for (int j = 0; j < 4; j++)
-                put(f, p->h[4 * h + (size_t)j]);
-            fputc('\n', f);
-        }
+        const plate_row r = {p->nh, p->listed, p->dropped, p->zb, p->t};
+        mote_sf_write(f, PLATE, NF(PLATE), &r, 1);
+        for (size_t h = 0; h < p->nh; h++)
+            mote_sf_write(f, HOLE, NF(HOLE), p->h + 4 * h, 1);
     }
-    fprintf(f, "classes %d\n", s->nclass);
+    put_count(f, N_CLASSES, (uint64_t)s->nclass);
+    mote_sf_field ef[1 + 4 * (MOTE_SEP_MAX_SPECIES + 1)];
     for (int i = 0; i <= s->nclass; i++) {
-        fprintf(f, "edge");
-        put(f, s->class_edge[i]);
-        if (i < s->nclass) {
-            fprintf(f, " %" PRIu64 " %" PRIu64, s->cl_nf[i], s->cl_nc[i]);
-            put(f, s->cl_mf[i]);
-            put(f, s->cl_mc[i]);
-            for (int k = 0; k < s->nsp; k++) {
+        const int last = i == s->nclass;
+        edge_row r = {.edge = s->class_edge[i]};
+        if (!last) {
+            r.all = (tally){s->cl_nf[i], s->cl_nc[i], s->cl_mf[i], s->cl_mc[i]};
+            for (int k = 0; k < nsp; k++) {
                 const size_t q = (size_t)i * MOTE_SEP_MAX_SPECIES + (size_t)k;
-                fprintf(f, " %" PRIu64 " %" PRIu64, s->cls_nf[q], s->cls_nc[q]);
-                put(f, s->cls_mf[q]);
-                put(f, s->cls_mc[q]);
+                r.sp[k] = (tally){s->cls_nf[q], s->cls_nc[q], s->cls_mf[q], s->cls_mc[q]};
             }
         }
-        fputc('\n', f);
+        mote_sf_write(f, ef, edge_fields(ef, nsp, last), &r, 1);
     }
-    fprintf(f, "slices %d\n", s->K);
+    put_count(f, N_SLICES, (uint64_t)s->K);
+    mote_sf_field sf[7];
+    const size_t nsf = slice_fields(sf, nsp);
     for (int k = 0; k < s->K; k++) {
-        fprintf(f, "slice");
-        put(f, s->eps_r[k]);
-        put(f, s->prof_n[k]);
-        put(f, s->prof_mvz[k]);
-        put(f, s->prof_m[k]);
-        put(f, s->prof_ug[k]);
-        put(f, s->prof_fd[k]);
-        for (int j = 0; j < s->nsp; j++)
-            put(f, s->prof_eps[(size_t)k * MOTE_SEP_MAX_SPECIES + (size_t)j]);
-        fputc('\n', f);
+        slice_row r = {s->eps_r[k], s->prof_n[k], s->prof_mvz[k], s->prof_m[k], s->prof_ug[k],
+                       s->prof_fd[k], {0}};
+        memcpy(r.eps, s->prof_eps + (size_t)k * MOTE_SEP_MAX_SPECIES, (size_t)nsp * sizeof(double));
+        mote_sf_write(f, sf, nsf, &r, 1);
     }
-    fprintf(f, "backlog %zu\n", s->nback);
+    put_count(f, N_BACKLOG, s->nback);
     for (size_t b = 0; b < s->nback; b++) {
-        fprintf(f, "b %d", s->back_s[b]);
-        put(f, s->back_d[b]);
-        fputc('\n', f);
+        const back_row r = {s->back_s[b], s->back_d[b]};
+        mote_sf_write(f, BACK, NF(BACK), &r, 1);
     }
     /* the pair list when it still serves (nothing added or removed since its build), so that a
      * continued run sums the contact forces in the same order */
     const int live = s->list_ok && s->mods == s->list_mods && s->xref_cap >= 3 * s->n;
-    fprintf(f, "pairlist %d %" PRIu64 " %" PRIu64 " %" PRIu64 " %zu\n", live, s->mods,
-            s->list_mods, s->list_builds, live ? s->npl : (size_t)0);
+    const pairs_head ph = {live, s->mods, s->list_mods, s->list_builds, live ? s->npl : 0};
+    mote_sf_write(f, PAIRS, NF(PAIRS), &ph, 1);
     for (size_t k = 0; live && k < s->npl; k++)
-        fprintf(f, "l %u %u\n", s->plist[2 * k], s->plist[2 * k + 1]);
-    fprintf(f, "particles %zu\n", s->n);
+        mote_sf_write(f, PAIR, NF(PAIR), s->plist + 2 * k, 1);
+    put_count(f, N_PARTICLES, s->n);
     for (size_t i = 0; i < s->n; i++) {
-        fprintf(f, "p %" PRIu64 " %d", s->id[i], s->s[i]);
-        const double v[11] = {s->d[i], s->m[i], s->x[i], s->y[i], s->z[i], s->vx[i],
-                              s->vy[i], s->vz[i], s->fx[i], s->fy[i], s->fz[i]};
-        for (int j = 0; j < 11; j++)
-            put(f, v[j]);
-        for (int j = 0; live && j < 3; j++) /* where the list was built */
-            put(f, s->xref[3 * i + (size_t)j]);
-        fputc('\n', f);
+        p_row r = {s->id[i], s->s[i], {s->d[i], s->m[i], s->x[i], s->y[i], s->z[i], s->vx[i],
+                   s->vy[i], s->vz[i], s->fx[i], s->fy[i], s->fz[i]}, {0}};
+        if (live)
+            memcpy(r.xref, s->xref + 3 * i, sizeof r.xref);
+        mote_sf_write(f, P, NF(P) - !live, &r, 1);
     }
     fprintf(f, "end\n");
     return mote_afile_commit(&af, err);
@@ -220,8 +337,7 @@ int mote_sep_save(const mote_sep_system *s, uint64_t seed, const char *path, mot
 
 typedef struct {
     mote_lines in;
-    char *tok[64];
-    int ntok;
+    int version;
     mote_err *err;
 } reader;
 
@@ -231,297 +347,168 @@ static int bad(reader *r, const char *what, const char *found)
                      found ? " (found '" : "", found ? found : "", found ? "')" : "");
 }
 
-/* The next line, split; it must start with key and hold n values after it (n < 0: at least
- * -n). */
-static int line(reader *r, const char *key, int n, const char *what)
+/* One line of the descriptors f[0 .. n) into base. */
+static int row(reader *r, const mote_sf_field *f, size_t n, void *base)
 {
-    char *l = mote_lines_next(&r->in);
-    if (!l) {
-        r->in.line++;
-        return bad(r, what, "the end of the file");
-    }
-    r->ntok = 0;
-    char *save = NULL;
-    for (char *t = strtok_r(l, " \t", &save); t; t = strtok_r(NULL, " \t", &save)) {
-        if (r->ntok == 64)
-            return bad(r, what, "too many values");
-        r->tok[r->ntok++] = t;
-    }
-    if (r->ntok == 0 || strcmp(r->tok[0], key) || (n >= 0 ? r->ntok != n + 1 : r->ntok < 1 - n))
-        return bad(r, what, r->ntok ? r->tok[0] : "an empty line");
-    return MOTE_OK;
+    return mote_sf_read(&r->in, f, n, base, r->version, r->err);
 }
 
-static int real_at(reader *r, int k, double *x)
+/* "KEY N" into *n. */
+static int count(reader *r, const mote_sf_field *f, uint64_t *n)
 {
-    const char *t = r->tok[k];
-    if (!strcmp(t, "inf") || !strcmp(t, "-inf")) {
-        *x = t[0] == '-' ? -INFINITY : INFINITY;
+    return row(r, f, 1, n);
+}
+
+/* A species index of the line just read: 0 ... nsp - 1. */
+static int species_ok(reader *r, int k, int nsp)
+{
+    if (k >= 0 && k < nsp)
         return MOTE_OK;
-    }
-    if (!strcmp(t, "nan")) {
-        *x = NAN;
-        return MOTE_OK;
-    }
-    char *end;
-    errno = 0;
-    *x = strtod(t, &end);
-    if (end == t || *end || errno == ERANGE || strchr(t, 'x') || strchr(t, 'X'))
-        return bad(r, "expected a decimal number", t);
-    return MOTE_OK;
+    return mote_fail(r->err, MOTE_EFORMAT, "%s:%ld: SPECIES must be in [0, %d], found %d",
+                     r->in.path, r->in.line, nsp - 1, k);
 }
 
-static int u64_at(reader *r, int k, uint64_t *x, int base)
+static int read_gas(reader *r, mote_sep_system *s)
 {
-    const char *t = r->tok[k];
-    char *end;
-    errno = 0;
-    if (*t == '-' || *t == '+')
-        return bad(r, "expected an unsigned integer", t);
-    *x = strtoull(t, &end, base);
-    if (end == t || *end || errno == ERANGE)
-        return bad(r, base == 16 ? "expected a 64-bit hexadecimal word" : "expected an unsigned "
-                   "integer", t);
-    return MOTE_OK;
-}
-
-static int int_at(reader *r, int k, long lo, long hi, long *x)
-{
-    const char *t = r->tok[k];
-    char *end;
-    errno = 0;
-    *x = strtol(t, &end, 10);
-    if (end == t || *end || errno == ERANGE || *x < lo || *x > hi) {
-        char what[96];
-        snprintf(what, sizeof what, "expected an integer from %ld to %ld", lo, hi);
-        return bad(r, what, t);
+    uint64_t n;
+    int rc = count(r, N_GAS, &n);
+    if (rc || !n)
+        return rc;
+    double *g = malloc(3 * (size_t)n * sizeof *g);
+    if (!g)
+        return mote_fail(r->err, MOTE_ENOMEM, "%s: out of memory", r->in.path);
+    for (uint64_t k = 0; k < n && !rc; k++) {
+        gp_row x;
+        rc = row(r, GP, NF(GP), &x);
+        g[k] = x.z;
+        g[n + k] = x.rho;
+        g[2 * n + k] = x.mu;
     }
-    return MOTE_OK;
-}
-
-/* Reals tok[k0 ...] into x[0 .. n-1]. */
-static int reals(reader *r, int k0, int n, double *x)
-{
-    int rc = MOTE_OK;
-    for (int j = 0; j < n && !rc; j++)
-        rc = real_at(r, k0 + j, &x[j]);
+    mote_err e2 = {0};
+    if (!rc && mote_sep_set_gas_profile(s, (size_t)n, g, g + n, g + 2 * n, &e2))
+        rc = bad(r, e2.msg, NULL);
+    free(g);
     return rc;
 }
 
-static int read_body(reader *r, mote_sep_system *s, uint64_t *seed)
+static int read_species(reader *r, mote_sep_system *s, int k, int nsp)
 {
-    int version;
-    int rc = mote_sf_read_head(&r->in, "separator", 1, &version, r->err);
-    if (!rc)
-        rc = mote_sf_read(&r->in, SEED, NF(SEED), seed, version, r->err);
-    if (!rc)
-        rc = mote_sf_read(&r->in, SCALARS, NF(SCALARS), s, version, r->err);
+    mote_sep_species *p = &s->sp[k];
+    sp_row x;
+    int rc = row(r, SP, NF(SP), &x);
     if (rc)
         return rc;
-    if (s->dim != 2 && s->dim != 3)
-        return bad(r, "dim must be 2 or 3", NULL);
-    if (s->K < 1 || s->K > 1000)
-        return bad(r, "the slices must number 1 to 1000", NULL);
-    if (!(s->rng.s[0] | s->rng.s[1] | s->rng.s[2] | s->rng.s[3]))
-        rc = bad(r, "the random stream's state must not be all zero", NULL);
-    long v;
-    uint64_t ngp = 0;
-    if (!rc)
-        rc = line(r, "gasprofile", 1, "expected 'gasprofile N'");
-    if (!rc)
-        rc = u64_at(r, 1, &ngp, 10);
-    if (!rc && ngp > 1000000)
-        rc = bad(r, "a gas profile of more than 1e6 rows", r->tok[1]);
-    if (!rc && ngp) {
-        double *g = malloc(3 * (size_t)ngp * sizeof *g);
-        if (!g)
+    memcpy(p->name, x.name, sizeof p->name);
+    p->have_dist = x.have;
+    p->rho = x.rho;
+    p->w = x.w;
+    p->dist = (mote_sep_dist){.type = x.type, .a = x.a, .b = x.b, .lo = x.lo, .hi = x.hi,
+                              .number_basis = x.basis};
+    s->nsp = k + 1;
+    if (!(p->rho > 0))
+        return bad(r, "a species density must be > 0", NULL);
+    uint64_t tn;
+    rc = count(r, N_TABLE, &tn);
+    if (!rc && tn) {
+        double *tab = malloc(2 * (size_t)tn * sizeof *tab);
+        if (!tab)
             return mote_fail(r->err, MOTE_ENOMEM, "%s: out of memory", r->in.path);
-        for (uint64_t k = 0; k < ngp && !rc; k++) {
-            double x[3] = {0, 0, 0};
-            rc = line(r, "gp", 3, "expected 'gp Z RHO MU'");
-            if (!rc)
-                rc = reals(r, 1, 3, x);
-            g[k] = x[0];
-            g[ngp + k] = x[1];
-            g[2 * ngp + k] = x[2];
+        for (uint64_t j = 0; j < tn && !rc; j++) {
+            table_row t;
+            rc = row(r, TROW, NF(TROW), &t);
+            tab[j] = t.d;
+            tab[tn + j] = t.F;
         }
         mote_err e2 = {0};
-        if (!rc && mote_sep_set_gas_profile(s, (size_t)ngp, g, g + ngp, g + 2 * ngp, &e2))
+        if (!rc && mote_sep_dist_table(&p->dist, (int)tn, tab, tab + tn, &e2))
             rc = bad(r, e2.msg, NULL);
-        free(g);
+        p->dist.lo = x.lo;
+        p->dist.hi = x.hi;
+        free(tab);
     }
+    if (!rc && p->have_dist && mote_sep_dist_build(&p->dist, r->err))
+        return mote_fail(r->err, MOTE_EINVAL, "%s:%ld: %s", r->in.path, r->in.line,
+                         r->err->msg);
     if (!rc)
-        rc = line(r, "species", 1, "expected 'species N'");
+        rc = row(r, COUNTS, NF(COUNTS), &s->cnt[k]);
+    const mote_sf_field epair = reals_field("epair", "E", 0, nsp);
     if (!rc)
-        rc = int_at(r, 1, 1, MOTE_SEP_MAX_SPECIES, &v);
-    if (rc)
-        return rc;
-    const int nsp = (int)v;
-    for (int k = 0; k < nsp && !rc; k++) {
-        mote_sep_species *p = &s->sp[k];
-        long hd, ty, nb;
-        rc = line(r, "sp", 10, "expected 'sp NAME HAVE TYPE BASIS RHO W A B LO HI'");
-        if (!rc && strlen(r->tok[1]) >= sizeof p->name)
-            rc = bad(r, "a species name too long", r->tok[1]);
-        if (!rc)
-            rc = int_at(r, 2, 0, 1, &hd);
-        if (!rc)
-            rc = int_at(r, 3, 0, MOTE_SEP_LOGUNIFORM, &ty);
-        if (!rc)
-            rc = int_at(r, 4, 0, 1, &nb);
-        double x[6];
-        if (!rc)
-            rc = reals(r, 5, 6, x);
-        if (rc)
-            return rc;
-        snprintf(p->name, sizeof p->name, "%s", r->tok[1]);
-        p->have_dist = (int)hd;
-        p->rho = x[0];
-        p->w = x[1];
-        p->dist = (mote_sep_dist){.type = (int)ty, .a = x[2], .b = x[3], .lo = x[4], .hi = x[5],
-                                  .number_basis = (int)nb};
-        s->nsp = k + 1;
-        if (!(p->rho > 0))
-            return bad(r, "a species density must be > 0", r->tok[5]);
-        long tn;
-        rc = line(r, "table", 1, "expected 'table N'");
-        if (!rc)
-            rc = int_at(r, 1, 0, 100000, &tn);
-        if (rc)
-            return rc;
-        if (tn) {
-            double *tab = malloc(2 * (size_t)tn * sizeof *tab);
-            if (!tab)
-                return mote_fail(r->err, MOTE_ENOMEM, "%s: out of memory", r->in.path);
-            for (long j = 0; j < tn && !rc; j++) {
-                rc = line(r, "row", 2, "expected 'row D F'");
-                if (!rc)
-                    rc = real_at(r, 1, &tab[j]);
-                if (!rc)
-                    rc = real_at(r, 2, &tab[tn + j]);
-            }
-            mote_err e2 = {0};
-            const double lo = p->dist.lo, hi = p->dist.hi;
-            if (!rc && mote_sep_dist_table(&p->dist, (int)tn, tab, tab + tn, &e2))
-                rc = bad(r, e2.msg, NULL);
-            p->dist.lo = lo;
-            p->dist.hi = hi;
-            free(tab);
-            if (rc)
-                return rc;
-        }
-        if (p->have_dist && mote_sep_dist_build(&p->dist, r->err))
-            return mote_fail(r->err, MOTE_EINVAL, "%s:%ld: %s", r->in.path, r->in.line,
-                             r->err->msg);
-        mote_sep_count *c = &s->cnt[k];
-        rc = line(r, "count", 9, "expected 'count FED FINES COARSE LOST' and 5 masses");
-        if (!rc)
-            rc = u64_at(r, 1, &c->fed, 10);
-        if (!rc)
-            rc = u64_at(r, 2, &c->fines, 10);
-        if (!rc)
-            rc = u64_at(r, 3, &c->coarse, 10);
-        if (!rc)
-            rc = u64_at(r, 4, &c->lost, 10);
-        if (!rc)
-            rc = real_at(r, 5, &c->m_fed);
-        if (!rc)
-            rc = real_at(r, 6, &c->m_fines);
-        if (!rc)
-            rc = real_at(r, 7, &c->m_coarse);
-        if (!rc)
-            rc = real_at(r, 8, &c->m_lost);
-        if (!rc)
-            rc = real_at(r, 9, &c->m_gen);
-        if (!rc)
-            rc = line(r, "epair", nsp, "expected 'epair' and one restitution per species");
-        if (!rc)
-            rc = reals(r, 1, nsp, s->e_pair[k]);
-    }
-    if (!rc)
-        rc = line(r, "plates", 1, "expected 'plates N'");
-    if (!rc)
-        rc = int_at(r, 1, 0, MOTE_SEP_MAX_PLATES, &v);
-    const int np = rc ? 0 : (int)v;
-    for (int q = 0; q < np && !rc; q++) {
-        uint64_t nh;
-        long listed, dropped;
-        double zt[2];
-        rc = line(r, "plate", 5, "expected 'plate NHOLES LISTED DROPPED ZB T'");
-        if (!rc)
-            rc = u64_at(r, 1, &nh, 10);
-        if (!rc)
-            rc = int_at(r, 2, 0, 1, &listed);
-        if (!rc)
-            rc = int_at(r, 3, 0, 2000000000, &dropped);
-        if (!rc)
-            rc = reals(r, 4, 2, zt);
-        if (!rc && (nh == 0 || nh > 100000000))
-            rc = bad(r, "a plate needs 1 to 1e8 holes", r->tok[1]);
+        rc = row(r, &epair, 1, s->e_pair[k]);
+    return rc;
+}
+
+static int read_plates(reader *r, mote_sep_system *s)
+{
+    uint64_t np;
+    int rc = count(r, N_PLATES, &np);
+    for (uint64_t q = 0; q < np && !rc; q++) {
+        plate_row x;
+        rc = row(r, PLATE, NF(PLATE), &x);
         if (rc)
             break;
-        double *h = malloc((size_t)nh * 4 * sizeof *h);
+        double *h = malloc((size_t)x.nh * 4 * sizeof *h);
         if (!h)
             return mote_fail(r->err, MOTE_ENOMEM, "%s: out of memory", r->in.path);
-        for (uint64_t k = 0; k < nh && !rc; k++) {
-            rc = line(r, "hole", 4, "expected 'hole X1 X2 Y1 Y2'");
-            if (!rc)
-                rc = reals(r, 1, 4, h + 4 * k);
-        }
+        for (uint64_t k = 0; k < x.nh && !rc; k++)
+            rc = row(r, HOLE, NF(HOLE), h + 4 * k);
         if (!rc) {
-            rc = mote_sep_plate_list(&s->plate[q], zt[0], zt[1], h, (size_t)nh, r->err);
-            s->plate[q].listed = (int)listed;
-            s->plate[q].dropped = dropped;
+            rc = mote_sep_plate_list(&s->plate[q], x.zb, x.t, h, (size_t)x.nh, r->err);
+            s->plate[q].listed = x.listed;
+            s->plate[q].dropped = (long)x.dropped;
             if (!rc)
-                s->nplate = q + 1;
+                s->nplate = (int)q + 1;
         }
         free(h);
     }
-    if (!rc)
-        rc = line(r, "classes", 1, "expected 'classes N'");
-    if (!rc)
-        rc = int_at(r, 1, 2, 1000, &v);
+    return rc;
+}
+
+static int read_classes(reader *r, mote_sep_system *s)
+{
+    uint64_t n;
+    int rc = count(r, N_CLASSES, &n);
     if (rc)
         return rc;
-    s->nclass = (int)v;
-    const size_t nc = (size_t)s->nclass;
+    s->nclass = (int)n;
+    const size_t nc = (size_t)n;
     s->class_edge = malloc((nc + 1) * sizeof *s->class_edge);
     if (!s->class_edge)
         return mote_fail(r->err, MOTE_ENOMEM, "%s: out of memory", r->in.path);
     if (sep_tallies_alloc(s, r->err))
         return r->err->code;
+    mote_sf_field ef[1 + 4 * (MOTE_SEP_MAX_SPECIES + 1)];
     for (size_t i = 0; i <= nc && !rc; i++) {
-        const int last = i == nc;
-        rc = line(r, "edge", last ? 1 : 5 + 4 * nsp, "expected 'edge' with a class's edge and tallies");
-        if (!rc)
-            rc = real_at(r, 1, &s->class_edge[i]);
-        if (last || rc)
+        edge_row x;
+        rc = row(r, ef, edge_fields(ef, s->nsp, i == nc), &x);
+        if (rc)
             break;
-        rc = u64_at(r, 2, &s->cl_nf[i], 10);
-        if (!rc)
-            rc = u64_at(r, 3, &s->cl_nc[i], 10);
-        if (!rc)
-            rc = real_at(r, 4, &s->cl_mf[i]);
-        if (!rc)
-            rc = real_at(r, 5, &s->cl_mc[i]);
-        for (int k = 0; k < nsp && !rc; k++) {
+        s->class_edge[i] = x.edge;
+        if (i == nc)
+            break;
+        s->cl_nf[i] = x.all.nf;
+        s->cl_nc[i] = x.all.nc;
+        s->cl_mf[i] = x.all.mf;
+        s->cl_mc[i] = x.all.mc;
+        for (int k = 0; k < s->nsp; k++) {
             const size_t q = i * MOTE_SEP_MAX_SPECIES + (size_t)k;
-            rc = u64_at(r, 6 + 4 * k, &s->cls_nf[q], 10);
-            if (!rc)
-                rc = u64_at(r, 7 + 4 * k, &s->cls_nc[q], 10);
-            if (!rc)
-                rc = real_at(r, 8 + 4 * k, &s->cls_mf[q]);
-            if (!rc)
-                rc = real_at(r, 9 + 4 * k, &s->cls_mc[q]);
+            s->cls_nf[q] = x.sp[k].nf;
+            s->cls_nc[q] = x.sp[k].nc;
+            s->cls_mf[q] = x.sp[k].mf;
+            s->cls_mc[q] = x.sp[k].mc;
         }
     }
     for (size_t i = 0; i < nc && !rc; i++)
         if (!(s->class_edge[i + 1] > s->class_edge[i]) || !(s->class_edge[0] > 0))
             rc = bad(r, "the class edges must increase from above 0", NULL);
-    if (!rc)
-        rc = line(r, "slices", 1, "expected 'slices K'");
-    if (!rc && (int_at(r, 1, 1, 1000, &v) || v != s->K))
-        rc = bad(r, "the slices must match the parameter K", r->tok[1]);
+    return rc;
+}
+
+static int read_slices(reader *r, mote_sep_system *s)
+{
+    uint64_t n;
+    int rc = count(r, N_SLICES, &n);
+    if (!rc && n != (uint64_t)s->K)
+        rc = bad(r, "the slices must match the parameter K", NULL);
     if (rc)
         return rc;
     const size_t K = (size_t)s->K;
@@ -534,28 +521,28 @@ static int read_body(reader *r, mote_sep_system *s, uint64_t *seed)
     if (sep_profiles_alloc(s, r->err))
         return r->err->code;
     s->prof_time = prof_time;
+    mote_sf_field sf[7];
+    const size_t nsf = slice_fields(sf, s->nsp);
     for (size_t k = 0; k < K && !rc; k++) {
-        double x[6];
-        rc = line(r, "slice", 6 + nsp, "expected 'slice' and the slice's values");
-        if (!rc)
-            rc = reals(r, 1, 6, x);
+        slice_row x;
+        rc = row(r, sf, nsf, &x);
         if (rc)
             break;
-        s->eps_r[k] = x[0];
-        s->prof_n[k] = x[1];
-        s->prof_mvz[k] = x[2];
-        s->prof_m[k] = x[3];
-        s->prof_ug[k] = x[4];
-        s->prof_fd[k] = x[5];
-        rc = reals(r, 7, nsp, s->prof_eps + k * MOTE_SEP_MAX_SPECIES);
+        s->eps_r[k] = x.eps_r;
+        s->prof_n[k] = x.n;
+        s->prof_mvz[k] = x.mvz;
+        s->prof_m[k] = x.m;
+        s->prof_ug[k] = x.ug;
+        s->prof_fd[k] = x.fd;
+        memcpy(s->prof_eps + k * MOTE_SEP_MAX_SPECIES, x.eps, (size_t)s->nsp * sizeof(double));
     }
-    uint64_t nb = 0;
-    if (!rc)
-        rc = line(r, "backlog", 1, "expected 'backlog N'");
-    if (!rc)
-        rc = u64_at(r, 1, &nb, 10);
-    if (!rc && nb > 100000000)
-        rc = bad(r, "a backlog of more than 1e8", r->tok[1]);
+    return rc;
+}
+
+static int read_backlog(reader *r, mote_sep_system *s)
+{
+    uint64_t nb;
+    int rc = count(r, N_BACKLOG, &nb);
     if (rc)
         return rc;
     s->back_s = malloc((nb ? nb : 1) * sizeof *s->back_s);
@@ -564,40 +551,25 @@ static int read_body(reader *r, mote_sep_system *s, uint64_t *seed)
         return mote_fail(r->err, MOTE_ENOMEM, "%s: out of memory", r->in.path);
     s->back_cap = nb ? nb : 1;
     for (uint64_t b = 0; b < nb && !rc; b++) {
-        rc = line(r, "b", 2, "expected 'b SPECIES D'");
+        back_row x;
+        rc = row(r, BACK, NF(BACK), &x);
         if (!rc)
-            rc = int_at(r, 1, 0, nsp - 1, &v);
-        if (!rc)
-            rc = real_at(r, 2, &s->back_d[b]);
-        if (!rc)
-            s->back_s[b] = (int)v;
-        s->nback = rc ? s->nback : b + 1;
+            rc = species_ok(r, x.s, s->nsp);
+        if (!rc) {
+            s->back_s[b] = x.s;
+            s->back_d[b] = x.d;
+            s->nback = b + 1;
+        }
     }
-    uint64_t lmods = 0, npl = 0, fmods = 0;
-    long lok = 0;
-    if (!rc)
-        rc = line(r, "pairlist", 5, "expected 'pairlist OK MODS LIST_MODS BUILDS N'");
-    if (!rc)
-        rc = int_at(r, 1, 0, 1, &lok);
-    if (!rc)
-        rc = u64_at(r, 2, &fmods, 10);
-    if (!rc)
-        rc = u64_at(r, 3, &lmods, 10);
-    if (!rc)
-        rc = u64_at(r, 4, &s->list_builds, 10);
-    if (!rc)
-        rc = u64_at(r, 5, &npl, 10);
-    if (!rc && npl > 2000000000)
-        rc = bad(r, "a pair list of more than 2e9 pairs", r->tok[5]);
-    for (uint64_t k = 0; k < npl && !rc; k++) {
-        uint64_t a, b;
-        rc = line(r, "l", 2, "expected 'l I J'");
-        if (!rc)
-            rc = u64_at(r, 1, &a, 10);
-        if (!rc)
-            rc = u64_at(r, 2, &b, 10);
-        if (!rc && (a > UINT32_MAX || b > UINT32_MAX))
-            rc = bad(r, "a particle index beyond 2^32", r->tok[1]);
+    return rc;
+}
+
+static int read_pairs(reader *r, mote_sep_system *s, pairs_head *h)
+{
+    int rc = row(r, PAIRS, NF(PAIRS), h);
+    for (uint64_t k = 0; k < h->n && !rc; k++) {
+        uint32_t ab[2];
+        rc = row(r, PAIR, NF(PAIR), ab);
         if (!rc && s->npl == s->pl_cap) {
             const size_t cap = s->pl_cap ? 2 * s->pl_cap : 1024;
             uint32_t *p = realloc(s->plist, 2 * cap * sizeof *p);
@@ -607,43 +579,31 @@ static int read_body(reader *r, mote_sep_system *s, uint64_t *seed)
             s->pl_cap = cap;
         }
         if (!rc) {
-            s->plist[2 * s->npl] = (uint32_t)a;
-            s->plist[2 * s->npl + 1] = (uint32_t)b;
+            s->plist[2 * s->npl] = ab[0];
+            s->plist[2 * s->npl + 1] = ab[1];
             s->npl++;
         }
     }
-    uint64_t n = 0;
-    if (!rc)
-        rc = line(r, "particles", 1, "expected 'particles N'");
-    if (!rc)
-        rc = u64_at(r, 1, &n, 10);
-    if (!rc && n > 1000000000)
-        rc = bad(r, "more than 1e9 particles", r->tok[1]);
-    if (rc)
-        return rc;
+    return rc;
+}
+
+static int read_particles(reader *r, mote_sep_system *s, int lok)
+{
+    uint64_t n;
+    int rc = count(r, N_PARTICLES, &n);
     /* the arrays grow as the lines come, so a false count allocates nothing large */
     for (uint64_t i = 0; i < n && !rc; i++) {
-        rc = line(r, "p", lok ? 16 : 13, lok ? "expected 'p ID SPECIES D M X Y Z VX VY VZ FX FY FZ' "
-                  "and the position at the list's build" : "expected 'p ID SPECIES D M X Y Z VX "
-                  "VY VZ FX FY FZ'");
-        uint64_t id;
-        double x[11], xr[3];
+        p_row x;
+        rc = row(r, P, NF(P) - !lok, &x);
         if (!rc)
-            rc = u64_at(r, 1, &id, 10);
-        if (!rc)
-            rc = int_at(r, 2, 0, nsp - 1, &v);
-        if (!rc)
-            rc = reals(r, 3, 11, x);
-        if (!rc && lok)
-            rc = reals(r, 14, 3, xr);
-        if (!rc && !(x[0] > 0 && x[1] > 0 && isfinite(x[0]) && isfinite(x[1])))
-            rc = bad(r, "a particle needs a finite diameter and mass > 0", r->tok[3]);
+            rc = species_ok(r, x.s, s->nsp);
+        if (!rc && !(x.v[0] > 0 && x.v[1] > 0 && isfinite(x.v[0]) && isfinite(x.v[1])))
+            rc = bad(r, "a particle needs a finite diameter and mass > 0", NULL);
         for (int q = 2; !rc && q < 11; q++)
-            if (!isfinite(x[q]))
-                rc = bad(r, "a particle's position, velocity and force must be finite",
-                         r->tok[3 + q]);
+            if (!isfinite(x.v[q]))
+                rc = bad(r, "a particle's position, velocity and force must be finite", NULL);
         if (!rc)
-            rc = sep_append(s, (int)v, id, x, r->err);
+            rc = sep_append(s, x.s, x.id, x.v, r->err);
         if (!rc && lok) {
             if (3 * (i + 1) > s->xref_cap) {
                 const size_t cap = 6 * (i + 1);
@@ -653,20 +613,59 @@ static int read_body(reader *r, mote_sep_system *s, uint64_t *seed)
                 s->xref = p;
                 s->xref_cap = cap;
             }
-            memcpy(s->xref + 3 * i, xr, sizeof xr);
+            memcpy(s->xref + 3 * i, x.xref, sizeof x.xref);
         }
     }
+    return rc;
+}
+
+static int read_body(reader *r, mote_sep_system *s, uint64_t *seed)
+{
+    int rc = mote_sf_read_head(&r->in, "separator", 1, &r->version, r->err);
+    if (!rc)
+        rc = row(r, SEED, NF(SEED), seed);
+    if (!rc)
+        rc = mote_sf_read(&r->in, SCALARS, NF(SCALARS), s, r->version, r->err);
+    if (rc)
+        return rc;
+    if (s->dim != 2 && s->dim != 3)
+        return bad(r, "dim must be 2 or 3", NULL);
+    if (s->K < 1 || s->K > 1000)
+        return bad(r, "the slices must number 1 to 1000", NULL);
+    if (!(s->rng.s[0] | s->rng.s[1] | s->rng.s[2] | s->rng.s[3]))
+        return bad(r, "the random stream's state must not be all zero", NULL);
+    rc = read_gas(r, s);
+    uint64_t nsp = 0;
+    if (!rc)
+        rc = count(r, N_SPECIES, &nsp);
+    for (int k = 0; k < (int)nsp && !rc; k++)
+        rc = read_species(r, s, k, (int)nsp);
+    if (!rc)
+        rc = read_plates(r, s);
+    if (!rc)
+        rc = read_classes(r, s);
+    if (!rc)
+        rc = read_slices(r, s);
+    if (!rc)
+        rc = read_backlog(r, s);
+    pairs_head ph = {0};
+    if (!rc)
+        rc = read_pairs(r, s, &ph);
+    if (!rc)
+        rc = read_particles(r, s, ph.ok);
     /* sep_append counted the particles as additions: the counts of the file stand */
     for (size_t k = 0; !rc && k < 2 * s->npl; k++)
         if (s->plist[k] >= s->n)
             rc = bad(r, "the pair list names a particle beyond the last", NULL);
     if (!rc) {
-        s->mods = fmods;
-        s->list_ok = (int)lok;
-        s->list_mods = lmods;
+        s->mods = ph.mods;
+        s->list_ok = ph.ok;
+        s->list_mods = ph.list_mods;
+        s->list_builds = ph.builds;
     }
-    if (!rc)
-        rc = line(r, "end", 0, "expected 'end'");
+    const char *end = rc ? NULL : mote_lines_next(&r->in);
+    if (!rc && (!end || strcmp(end, "end")))
+        rc = bad(r, "expected 'end'", end ? end : "the end of the file");
     if (!rc && mote_lines_next(&r->in))
         rc = bad(r, "something after 'end'", NULL);
     return rc;
