@@ -81,8 +81,9 @@ static double bytes_per_particle(const mote_sep_system *s)
     const double b = (double)s->cap * per + (double)s->pv_cap * sizeof(double) +
                      (double)s->xref_cap * sizeof(double) + (double)s->pl_cap * 2 * sizeof(uint32_t) +
                      (double)s->nnext_cap * sizeof(int32_t) +
-                     (double)s->ncell_cap * (sizeof(uint32_t) + sizeof(int32_t)) +
-                     (double)s->n * sizeof(uint32_t);
+                     (double)s->nhead_cap * sizeof(int32_t) +
+                     (double)s->grid.cap_cells * sizeof(uint32_t) +
+                     (double)s->grid.cap_n * (2 * sizeof(uint32_t) + 3 * sizeof(double));
     return s->n ? b / (double)s->n : 0;
 }
 

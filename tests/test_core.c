@@ -270,8 +270,15 @@ static void grid_case(const char *what, int dim, const double len[3], const int 
     for (uint32_t k = 0; k < n; k++) {
         uint32_t i = g.order[k];
         held &= k >= g.start[g.cell[i]] && k < g.start[g.cell[i] + 1];
+        /* and its coordinates on the axes name the same cell */
+        int c[3];
+        mote_grid_coords(&g, x + 3 * (size_t)i, c);
+        for (int a = 0; a < 3; a++)
+            held &= c[a] >= 0 && c[a] < g.nc[a] && (a < dim || c[a] == 0);
+        held &= ((size_t)c[2] * (size_t)g.nc[1] + (size_t)c[1]) * (size_t)g.nc[0] +
+                    (size_t)c[0] == g.cell[i];
     }
-    CHECK(held, "%s: every particle in its cell", what);
+    CHECK(held, "%s: every particle in its cell, which its coordinates name", what);
     /* a stop from the callback ends the sweep */
     if (count > 3) {
         memset(L.seen, 0, (size_t)n * n);

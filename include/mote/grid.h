@@ -43,8 +43,10 @@ int mote_grid_setup(mote_grid *g, int dim, const double lo[3], const double len[
                     const int periodic[3], double min_w, uint32_t n);
 void mote_grid_free(mote_grid *g);
 
-/* The cell of a position (clamped on wall axes, wrapped on periodic ones). */
+/* The cell of a position (clamped on wall axes, wrapped on periodic ones), and its coordinates
+ * on each axis (0 beyond dim); cell = (c[2] * nc[1] + c[1]) * nc[0] + c[0]. */
 size_t mote_grid_cell_of(const mote_grid *g, const double x[3]);
+void mote_grid_coords(const mote_grid *g, const double x[3], int c[3]);
 
 /* Sort particles 0 .. n-1 (n at most the n given to setup) into the cells: coordinate a of
  * particle i is coord[a][i * stride] (coord[2] unused in 2D). The copies in pos are wrapped into

@@ -12,6 +12,7 @@
 
 #include "mote/command.h"
 #include "mote/core.h"
+#include "mote/grid.h"
 
 #define MOTE_SEP_MAX_SPECIES 16
 
@@ -150,16 +151,14 @@ typedef struct {
     int nc;
     double khat_used;                    /* the stiffness in use (prepare) */
     double *fx, *fy, *fz;                /* last contact forces, per particle */
-    /* the cell grid: edges >= d_max, counting sort each step */
-    int cx, cy, cz;
-    double hx, hy, hz;
-    size_t ncell_cap;
-    uint32_t *cell_start, *cell_idx;
+    /* the cells (the core grid, grid.h): edges >= d_max + skin, at most about one per
+     * particle, on the axes x, (y,) z; a counting sort at each search */
+    mote_grid grid;
     int nsort;                           /* reorder the particles by cell every nsort steps (at
                                           * the first search after them) */
     uint64_t last_sort;                  /* the step of the last reorder */
     int32_t *nhead, *nnext;              /* particles added since: a list per cell */
-    size_t nnext_cap;
+    size_t nhead_cap, nnext_cap;
     size_t n_built;                      /* particles when the cells were built, */
     uint64_t built_step;                 /* and at which step (+1; 0: never) */
     /* the pair list (spec 2.9's allowed optimisation): the pairs closer than r_i + r_j + skin

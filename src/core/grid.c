@@ -103,6 +103,12 @@ static inline int coord_of(const mote_grid *g, int a, double x)
     return q >= n ? n - 1 : (int)q;
 }
 
+void mote_grid_coords(const mote_grid *g, const double x[3], int c[3])
+{
+    for (int a = 0; a < 3; a++)
+        c[a] = a < g->dim ? coord_of(g, a, x[a]) : 0;
+}
+
 size_t mote_grid_cell_of(const mote_grid *g, const double x[3])
 {
     size_t c = 0;

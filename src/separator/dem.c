@@ -1,5 +1,5 @@
-/* dem.c: the separator's soft-sphere contacts (specs/separator.md 2.8, 2.9): a uniform cell
- * grid with edges of at least d_max, rebuilt every step by counting sort; the pair loop over a
+/* dem.c: the separator's soft-sphere contacts (specs/separator.md 2.8, 2.9): the core's cell
+ * grid (grid.h) with edges of at least d_max, sorted again at each search; the pair loop over a
  * half stencil (each pair once); linear spring-dashpot forces between particles and with the
  * side walls and closed ends, frictionless; the stiffness from an allowed overlap and the time
  * step from the shortest contact. */
@@ -53,68 +53,52 @@ double mote_sep_dt_limit(const mote_sep_system *s)
 
 /* ---- cells ---------------------------------------------------------------------------------- */
 
+/* The channel's axes on the grid's: x, y, z in 3D; x, z in 2D. */
+static void grid_coords(const mote_sep_system *s, const double *c[3])
+{
+    c[0] = s->x;
+    c[1] = s->dim == 3 ? s->y : s->z;
+    c[2] = s->dim == 3 ? s->z : NULL;
+}
+
 int sep_cells_build(mote_sep_system *s, mote_err *err)
 {
     double dmin, dmax;
     mote_sep_size_range(s, &dmin, &dmax);
     s->skin_used = s->brute || s->skin < 0 ? 0 : s->skin > 0 ? s->skin : 0.3 * dmin;
     const double h = dmax + s->skin_used; /* the cells serve the pair list's reach too */
-    s->cx = (int)fmin(fmax(1, floor(s->W / h)), 1e9);
-    s->cz = (int)fmin(fmax(1, floor(s->H / h)), 1e9);
-    s->cy = s->dim == 3 ? (int)fmin(fmax(1, floor(s->D / h)), 1e9) : 1;
-    s->hx = s->W / s->cx;
-    s->hz = s->H / s->cz;
-    s->hy = s->dim == 3 ? s->D / s->cy : 1;
-    const size_t nc = (size_t)s->cx * (size_t)s->cy * (size_t)s->cz;
-    if ((double)s->cx * s->cy * s->cz > 2e8)
-        return mote_fail(err, MOTE_EINVAL, "separator: the channel holds %.3g cells of the largest "
-                         "particle's size (at most 2e8): a channel far larger than its particles",
-                         (double)s->cx * s->cy * s->cz);
-    if (nc + 1 > s->ncell_cap) {
-        uint32_t *p = realloc(s->cell_start, (nc + 1) * sizeof *p);
+    const double lo[3] = {0, 0, 0};
+    const double len[3] = {s->W, s->dim == 3 ? s->D : s->H, s->dim == 3 ? s->H : 1};
+    const int walls[3] = {0, 0, 0};
+    if (s->n >= UINT32_MAX)
+        return mote_fail(err, MOTE_EINVAL, "separator: more than 2^32 - 1 particles");
+    if (mote_grid_setup(&s->grid, s->dim, lo, len, walls, h, (uint32_t)s->n))
+        return mote_fail(err, MOTE_ENOMEM, "separator: no cells for a channel %g x %g of "
+                         "particles up to %g (out of memory, or not finite)", s->W, s->H, h);
+    const size_t nc = s->grid.ncells;
+    if (nc + 1 > s->nhead_cap) {
         int32_t *hd = realloc(s->nhead, (nc + 1) * sizeof *hd);
-        if (p)
-            s->cell_start = p;
-        if (hd)
-            s->nhead = hd;
-        if (!p || !hd)
+        if (!hd)
             return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for %zu cells", nc);
-        s->ncell_cap = nc + 1;
+        s->nhead = hd;
+        s->nhead_cap = nc + 1;
     }
     memset(s->nhead, 0xff, (nc + 1) * sizeof *s->nhead); /* no particle added since: -1 */
-    uint32_t *idx = realloc(s->cell_idx, (s->n ? s->n : 1) * sizeof *idx);
-    if (!idx)
-        return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the cell lists");
-    s->cell_idx = idx;
-    memset(s->cell_start, 0, (nc + 1) * sizeof *s->cell_start);
-    for (size_t i = 0; i < s->n; i++)
-        s->cell_start[sep_cell_of(s, i) + 1]++;
-    for (size_t c = 0; c < nc; c++)
-        s->cell_start[c + 1] += s->cell_start[c];
-    /* scatter: a second pass with running offsets (cell_start[c] counts up to cell c + 1's
-     * start, then is restored) */
-    for (size_t i = 0; i < s->n; i++) {
-        const size_t c = sep_cell_of(s, i);
-        s->cell_idx[s->cell_start[c]++] = (uint32_t)i;
-    }
-    for (size_t c = nc; c > 0; c--)
-        s->cell_start[c] = s->cell_start[c - 1];
-    s->cell_start[0] = 0;
+    const double *c[3];
+    grid_coords(s, c);
+    mote_grid_build(&s->grid, (uint32_t)s->n, c, 1);
     s->n_built = s->n;
     s->built_step = s->steps + 1;
     return MOTE_OK;
 }
 
-/* The cell coordinate of v on an axis of n cells of edge h, clamped (what is not a number goes
- * to the first cell). */
-static inline int cell_coord(double v, double h, int n)
-{
-    const double q = v / h;
-    return !(q > 0) ? 0 : q >= n - 1 ? n - 1 : (int)q;
-}
-
 int sep_cells_add(mote_sep_system *s, size_t i, mote_err *err)
 {
+    /* the cells were sized for the particles sorted into them (about one cell each): when the
+     * additions outnumber those twice over, sort again, so that filling an empty channel costs
+     * O(N) in all, not O(N^2) in a few large cells */
+    if (s->n > 2 * s->n_built + 64)
+        return sep_cells_build(s, err);
     if (i + 1 > s->nnext_cap) {
         const size_t cap = 2 * (i + 1);
         int32_t *p = realloc(s->nnext, cap * sizeof *p);
@@ -129,6 +113,9 @@ int sep_cells_add(mote_sep_system *s, size_t i, mote_err *err)
     return MOTE_OK;
 }
 
+/* The point (x, y, z) of the channel on the grid's axes (x, z in 2D). */
+#define GRID_POINT(s, px, py, pz) {(px), (s)->dim == 3 ? (py) : (pz), (pz)}
+
 int sep_overlaps_any(const mote_sep_system *s, double px, double py, double pz, double d)
 {
 #define SEP_TEST(j)                                                                               \
@@ -139,17 +126,23 @@ int sep_overlaps_any(const mote_sep_system *s, double px, double py, double pz, 
             return 1;                                                                             \
     } while (0)
     /* through the cells around the point (their edges are at least d_max): those there when
-     * they were built, and those added since */
-    const int ix = cell_coord(px, s->hx, s->cx), iz = cell_coord(pz, s->hz, s->cz);
-    const int iy = s->dim == 3 ? cell_coord(py, s->hy, s->cy) : 0;
-    for (int jz = iz - 1; jz <= iz + 1; jz++)
-        for (int jy = iy - 1; jy <= iy + 1; jy++)
-            for (int jx = ix - 1; jx <= ix + 1; jx++) {
-                if (jx < 0 || jx >= s->cx || jy < 0 || jy >= s->cy || jz < 0 || jz >= s->cz)
-                    continue;
-                const size_t c = ((size_t)jz * (size_t)s->cy + (size_t)jy) * (size_t)s->cx + (size_t)jx;
-                for (uint32_t p = s->cell_start[c]; p < s->cell_start[c + 1]; p++)
-                    SEP_TEST(s->cell_idx[p]);
+     * they were built, and those added since; the channel's axes have walls, no images */
+    const mote_grid *g = &s->grid;
+    const double at[3] = GRID_POINT(s, px, py, pz);
+    int c0[3];
+    mote_grid_coords(g, at, c0);
+    int lo[3], hi[3];
+    for (int a = 0; a < 3; a++) {
+        lo[a] = c0[a] > 0 ? c0[a] - 1 : 0;
+        hi[a] = c0[a] + 1 < g->nc[a] ? c0[a] + 1 : g->nc[a] - 1;
+    }
+    for (int k2 = lo[2]; k2 <= hi[2]; k2++)
+        for (int k1 = lo[1]; k1 <= hi[1]; k1++)
+            for (int k0 = lo[0]; k0 <= hi[0]; k0++) {
+                const size_t c = ((size_t)k2 * (size_t)g->nc[1] + (size_t)k1) * (size_t)g->nc[0] +
+                                 (size_t)k0;
+                for (uint32_t p = g->start[c]; p < g->start[c + 1]; p++)
+                    SEP_TEST(g->order[p]);
                 for (int32_t j = s->nhead[c]; j >= 0; j = s->nnext[j])
                     SEP_TEST((size_t)j);
             }
@@ -159,9 +152,8 @@ int sep_overlaps_any(const mote_sep_system *s, double px, double py, double pz, 
 
 size_t sep_cell_of(const mote_sep_system *s, size_t i)
 {
-    const int ix = cell_coord(s->x[i], s->hx, s->cx), iz = cell_coord(s->z[i], s->hz, s->cz);
-    const int iy = s->dim == 3 ? cell_coord(s->y[i], s->hy, s->cy) : 0;
-    return ((size_t)iz * (size_t)s->cy + (size_t)iy) * (size_t)s->cx + (size_t)ix;
+    const double at[3] = GRID_POINT(s, s->x[i], s->y[i], s->z[i]);
+    return mote_grid_cell_of(&s->grid, at);
 }
 
 /* The overlap test, one expression for the cells and brute force (spec 2.9: the same floating
@@ -235,28 +227,32 @@ static void each_pair_reach(mote_sep_system *s, int brute, double skin, pair_fn 
                 }
             }
     const int ns = s->dim == 3 ? 13 : 4;
-    for (int iz = 0; iz < s->cz; iz++)
-        for (int iy = 0; iy < s->cy; iy++)
-            for (int ix = 0; ix < s->cx; ix++) {
-                const size_t c = ((size_t)iz * (size_t)s->cy + (size_t)iy) * (size_t)s->cx + (size_t)ix;
-                const uint32_t a0 = s->cell_start[c], a1 = s->cell_start[c + 1];
+    /* the grid's cells in the channel's axes (2D: the grid's second axis is z) */
+    const mote_grid *g = &s->grid;
+    const int cx = g->nc[0], cy = s->dim == 3 ? g->nc[1] : 1, cz = g->nc[s->dim == 3 ? 2 : 1];
+    const uint32_t *start = g->start, *idx = g->order;
+    for (int iz = 0; iz < cz; iz++)
+        for (int iy = 0; iy < cy; iy++)
+            for (int ix = 0; ix < cx; ix++) {
+                const size_t c = ((size_t)iz * (size_t)cy + (size_t)iy) * (size_t)cx + (size_t)ix;
+                const uint32_t a0 = start[c], a1 = start[c + 1];
                 if (a0 == a1)
                     continue;
                 cand += (uint64_t)(a1 - a0) * (a1 - a0 - 1) / 2;
                 for (uint32_t p = a0; p < a1; p++)
                     for (uint32_t q = p + 1; q < a1; q++)
-                        SEP_VISIT(s->cell_idx[p], s->cell_idx[q]);
+                        SEP_VISIT(idx[p], idx[q]);
                 for (int k = 0; k < ns; k++) {
                     const int *o = s->dim == 3 ? st3[k] : st2[k];
                     const int jx = ix + o[0], jy = iy + o[1], jz = iz + o[2];
-                    if (jx < 0 || jx >= s->cx || jy < 0 || jy >= s->cy || jz >= s->cz)
+                    if (jx < 0 || jx >= cx || jy < 0 || jy >= cy || jz >= cz)
                         continue;
-                    const size_t c2 = ((size_t)jz * (size_t)s->cy + (size_t)jy) * (size_t)s->cx + (size_t)jx;
-                    const uint32_t b0 = s->cell_start[c2], b1 = s->cell_start[c2 + 1];
+                    const size_t c2 = ((size_t)jz * (size_t)cy + (size_t)jy) * (size_t)cx + (size_t)jx;
+                    const uint32_t b0 = start[c2], b1 = start[c2 + 1];
                     cand += (uint64_t)(a1 - a0) * (b1 - b0);
                     for (uint32_t p = a0; p < a1; p++)
                         for (uint32_t q = b0; q < b1; q++)
-                            SEP_VISIT(s->cell_idx[p], s->cell_idx[q]);
+                            SEP_VISIT(idx[p], idx[q]);
                 }
             }
     s->candidates = cand;

@@ -65,8 +65,7 @@ void mote_sep_free(mote_sep_system *s)
     free(s->fx);
     free(s->fy);
     free(s->fz);
-    free(s->cell_start);
-    free(s->cell_idx);
+    mote_grid_free(&s->grid);
     free(s->pv);
     free(s->nhead);
     free(s->nnext);
@@ -938,7 +937,7 @@ int sep_reorder(mote_sep_system *s, mote_err *err)
     void *tmp = malloc((n ? n : 1) * sizeof(double));
     if (!tmp)
         return mote_fail(err, MOTE_ENOMEM, "separator: out of memory to reorder");
-    const uint32_t *p = s->cell_idx;
+    const uint32_t *p = s->grid.order;
 #define PERMUTE(f, T)                                                                             \
     do {                                                                                          \
         T *t_ = tmp;                                                                              \
