@@ -75,7 +75,13 @@ for f in fr/frame_000006.png live.png tr.png pr.png; do
     [ "$(head -c 8 "$f" | od -An -tx1 | tr -d ' ')" = 89504e470d0a1a0a ] && ok || bad "$f is not a PNG"
 done
 grep -q '^balance: fed = in channel + fines + coarse + lost holds$' out.txt && ok || bad "summary: $(cat out.txt)"
-expect 1 "f1.mote:2:21: error: frames: color= is size or species, found 'x'" f1.mote "${S}frames fr 0.1 color=x\n"
+expect 1 "f1.mote:2:21: error: frames: expected 'size' or 'species' for color, found 'x'" f1.mote "${S}frames fr 0.1 color=x\n"
+# the words of an argument are the table's (enumerations, a number or a word)
+expect 1 "w1.mote:2:11: error: ends: expected 'open' or 'closed' for TOP, found 'ajar'" w1.mote "${S}ends open ajar\n"
+expect 1 "w2.mote:2:10: error: timestep: expected a real number or 'auto' for auto|DT, found 'fast'" w2.mote "${S}timestep fast\n"
+expect 1 "w3.mote:2:10: error: timestep: auto|DT must be > 0, found -1" w3.mote "${S}timestep -1\n"
+expect 1 "w4.mote:3:8: error: size: expected 'mono', 'lognormal', 'rosin_rammler', 'loguniform' or 'table' for TYPE, found 'gauss'" w4.mote "${S}species a 2500\nsize a gauss d=1e-3\n"
+expect 0 "" w5.mote "${S}timestep auto nc=40\ncollisions off\nneighbours brute\ncoupling off\n"
 expect 1 "f2.mote:2:8: error: frames: the directory that would hold 'nodir/fr' does not exist" f2.mote "${S}frames nodir/fr 0.1\n"
 # bad input
 expect 1 "b1.mote:11:1: error: run: the feed fractions must sum to 1, found 0.9 (a 0.5, b 0.4)" b1.mote "${S}channel 0.05 1\ngas 1.0\nspecies a 2500\nspecies b 1500\nsize a mono d=1e-4\nsize b mono d=2e-4\nfeed z=0.5 rate=0.001\nfeed_fraction a 0.5\nfeed_fraction b 0.4\nrun 1\n"

@@ -25,6 +25,8 @@ typedef struct {
     double r;      /* type 'r' */
     char *path;    /* type 'f': the name resolved against `output_dir` (set by the script layer
                     * before the command's check and run; owned by the script) */
+    int word;      /* a spec with words ("e{a|b}", "r>0{auto}"): 1 + the index of the word given
+                    * (also in i), 0 when a number was given */
 } mote_arg;
 
 /* One key=value option of a parsed command; value.text is what follows the '='. */
@@ -58,7 +60,10 @@ typedef struct {
  *   'r'  finite real in decimal notation (strtod syntax without hex, inf or nan)
  *   'f'  file name: one bare token or a double-quoted string (escapes \" and \\)
  *   's'  any single token (string)
+ *   'e{a|b|c}'  one of the words (an enumeration): its index in i and word (1 + index)
  *   '*'  as the only spec: any number of tokens of any kind; the command checks them itself
+ * A number may also accept words, "r>0{auto}" or "i>=1{all|none}": the word given sets word
+ * (1 + its index) and i, a number leaves word 0; the range applies to numbers only.
  * A number may carry a range, checked by the script layer before the command's `check`, with a
  * message naming the argument as the synopsis does: "i>=1", "r>0", "r<=1", "r[0,1]", "r(0,1]".
  * A file may carry its role: "f>KIND" is an output of kind KIND (a short lower-case word such as

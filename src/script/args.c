@@ -9,13 +9,13 @@
 #include <string.h>
 #include <sys/stat.h>
 
-static int is_type(int ch) { return ch && strchr("iurfs", ch) != NULL; }
+static int is_type(int ch) { return ch && strchr("iurfse", ch) != NULL; }
 
 /* A number of a range bound: strtod syntax, at most 23 characters. */
 static int read_bound(const char **pp, double *v, char *text, size_t cap)
 {
     const char *p = *pp;
-    size_t n = strcspn(p, ",]) ");
+    size_t n = strcspn(p, ",]) {");
     char *end;
     if (n == 0 || n >= cap)
         return -1;
@@ -89,12 +89,31 @@ static int parse_spec(const char **pp, mote_argspec *sp)
     if (!is_type(*p))
         return -1;
     sp->type = *p++;
-    if (*p == '\0' || *p == ' ' || is_type(*p)) { /* plain letter */
+    if (sp->type != 'e' && (*p == '\0' || *p == ' ' || is_type(*p))) { /* plain letter */
         *pp = p;
         return 0;
     }
     size_t n = strcspn(p, " ");
-    const char *end = p + n;
+    const char *end = p + n, *after = end;
+    /* the words: "e{a|b}", or beside a number "r>0{auto}" */
+    const char *brace = memchr(p, '{', n);
+    if (brace) {
+        size_t k = (size_t)(end - brace) - 2;
+        if (end[-1] != '}' || k == 0 || k >= sizeof sp->words || sp->type == 'f' ||
+            sp->type == 's' || strspn(brace + 1, "abcdefghijklmnopqrstuvwxyz0123456789_-|") < k)
+            return -1;
+        memcpy(sp->words, brace + 1, k);
+        sp->words[k] = '\0';
+        end = brace;
+    } else if (sp->type == 'e') {
+        return -1;
+    }
+    if (p == end) { /* (words only) */
+        *pp = after;
+        return 0;
+    }
+    if (sp->type == 'e')
+        return -1;
     if (sp->type == 'f' && (*p == '>' || *p == '<')) {
         sp->role = *p++;
         size_t k = (size_t)(end - p);
@@ -145,7 +164,7 @@ static int parse_spec(const char **pp, mote_argspec *sp)
     }
     if (p != end)
         return -1;
-    *pp = end;
+    *pp = after;
     return 0;
 }
 
@@ -372,7 +391,7 @@ int mote_args_check_before(const mote_call *c, mote_err *err)
         mote_argspec sp;
         if (slot_spec(c, u, &sp))
             return mote_call_fail(err, c, u, MOTE_EINVAL, "internal: bad argument types");
-        if ((sp.lo_set || sp.hi_set) && !in_range(&sp, slot_arg(c, u)))
+        if ((sp.lo_set || sp.hi_set) && !slot_arg(c, u)->word && !in_range(&sp, slot_arg(c, u)))
             return range_fail(err, c, u, &sp);
         if (sp.role == '<') {
             int rc = mote_args_check_input(c, u, sp.kinds, err);

@@ -379,8 +379,9 @@ static int verify_cmd(const mote_model *m, size_t j, mote_err *err)
     int star = nspec == -2;
     if (nspec == -1 || !mote_argspec_valid(d->args))
         return mote_script_fail_plain(err, MOTE_EINVAL, "model %s, command %s: argument types "
-                                      "\"%s\" are malformed: specs of \"iurfs\" with a range "
-                                      "(\"i>=1\", \"r(0,1]\") or a file role (\"f>kind\", "
+                                      "\"%s\" are malformed: specs of \"iurfse\" with a range "
+                                      "(\"i>=1\", \"r(0,1]\"), words (\"e{a|b}\", "
+                                      "\"r>0{auto}\") or a file role (\"f>kind\", "
                                       "\"f<kind|kind\"), then options KEY=SPEC[!] with distinct "
                                       "keys, or \"*\" alone", mn, d->name, d->args);
     if (!d->synopsis || !d->summary || !d->help)

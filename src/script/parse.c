@@ -315,6 +315,39 @@ static const char *real_hint(const char *t)
     return "";
 }
 
+/* The index of word w in "a|b|c", or -1. */
+static int word_index(const char *words, const char *w)
+{
+    size_t n = strlen(w);
+    int k = 0;
+    for (const char *p = words; *p; k++) {
+        size_t m = strcspn(p, "|");
+        if (m == n && memcmp(p, w, n) == 0)
+            return k;
+        p += m;
+        if (*p == '|')
+            p++;
+    }
+    return -1;
+}
+
+/* "a, b or c" from "a|b|c" (each quoted) */
+static void words_text(const char *words, char *buf, size_t cap)
+{
+    size_t used = 0;
+    buf[0] = '\0';
+    for (const char *p = words; *p && used < cap;) {
+        size_t m = strcspn(p, "|");
+        const int last = p[m] == '\0';
+        int w = snprintf(buf + used, cap - used, "%s'%.*s'", used == 0 ? "" : last ? " or " : ", ",
+                         (int)m, p);
+        if (w < 0)
+            break;
+        used += (size_t)w;
+        p += m + !last;
+    }
+}
+
 /* Convert token t by spec sp (optkey: the option's key, NULL for positional argument i). */
 static int convert_arg(mote_script *s, const mote_cmd *def, const char *written, int i,
                        const char *optkey, const token *t, mote_arg *a, mote_err *err)
@@ -329,6 +362,7 @@ static int convert_arg(mote_script *s, const mote_cmd *def, const char *written,
     a->u = 0;
     a->r = 0.0;
     a->path = NULL;
+    a->word = 0;
     mote_argspec sp = {.type = '*'};
     if (def->args[0] != '*' && (optkey ? mote_argspec_option(def->args, optkey, &sp)
                                        : mote_argspec_get(def->args, i, &sp)))
@@ -336,6 +370,24 @@ static int convert_arg(mote_script *s, const mote_cmd *def, const char *written,
                                    "%s: internal: malformed argument types \"%s\"", written,
                                    def->args);
     char type = sp.type;
+    char or_words[160] = "";
+    if (sp.words[0])
+        words_text(sp.words, or_words, sizeof or_words);
+    if (sp.words[0]) {
+        int k = t->quoted ? -1 : word_index(sp.words, t->text);
+        if (k >= 0) {
+            a->i = k;
+            a->word = k + 1;
+            return 0;
+        }
+        if (type == 'e') {
+            arg_label(def, i, optkey, name, sizeof name);
+            shown(t, found, sizeof found);
+            return mote_script_fail_at(err, file, t->line, t->col, MOTE_EINVAL,
+                                       "%s: expected %s for %s, found %s", written, or_words, name,
+                                       found);
+        }
+    }
     switch (type) {
     case 'i':
     case 'u': {
@@ -361,8 +413,8 @@ static int convert_arg(mote_script *s, const mote_cmd *def, const char *written,
                                        "%s: %s is too large (at most %llu), found %s", written,
                                        name, (unsigned long long)max, found);
         return mote_script_fail_at(err, file, t->line, t->col, MOTE_EINVAL,
-                                   "%s: expected %s for %s, found %s%s", written, what, name,
-                                   found,
+                                   "%s: expected %s%s%s for %s, found %s%s", written, what,
+                                   sp.words[0] ? " or " : "", or_words, name, found,
                                    t->quoted ? " (numbers are written without quotes)"
                                    : !parse_real(t->text, &dummy)
                                        ? " (an integer is written with digits only)"
@@ -379,8 +431,8 @@ static int convert_arg(mote_script *s, const mote_cmd *def, const char *written,
                                        "%s: %s is out of the range of real numbers, found %s",
                                        written, name, found);
         return mote_script_fail_at(err, file, t->line, t->col, MOTE_EINVAL,
-                                   "%s: expected a real number for %s, found %s%s", written, name,
-                                   found,
+                                   "%s: expected a real number%s%s for %s, found %s%s", written,
+                                   sp.words[0] ? " or " : "", or_words, name, found,
                                    t->quoted ? " (numbers are written without quotes)"
                                              : real_hint(t->text));
     }

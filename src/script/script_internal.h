@@ -61,7 +61,8 @@ const mote_cmd *mote_cmd_lookup(const mote_cmd *cmds, size_t n, const char *name
 /* ---- argument specs (mote_cmd.args, see command.h) ------------------------------------------ */
 
 typedef struct {
-    char type;                  /* 'i' 'u' 'r' 'f' 's' */
+    char type;                  /* 'i' 'u' 'r' 'f' 's' 'e' */
+    char words[96];             /* "a|b|c": the words of an 'e', or allowed beside a number */
     char role;                  /* files: '>' output, '<' input, 0 neither */
     unsigned char lo_set, hi_set, lo_open, hi_open;
     double lo, hi;

@@ -10,50 +10,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <errno.h>
-#include <sys/stat.h>
 
 #include "mote/datafile.h"
-#include "mote/loop.h"
-#include "mote/render.h"
-#include "sep.h"
+#include "model.h"
 
-typedef struct {
-    mote_context *ctx;
-    int dry;
-    FILE *log;
-    mote_sep_system sys;
-    int have_channel, have_gas;
-    uint64_t seed;
-    /* the outputs on a schedule (spec 3): frames, the live picture, snapshots, the balance */
-    struct {
-        int on, movie, fps;
-        char *dir;
-        mote_schedule at;
-        uint64_t index;
-        sep_frame_opts fo;
-    } frames;
-    struct {
-        int on;
-        char *path;
-        double hz, last;
-        sep_frame_opts fo;
-    } live;
-    struct {
-        int on;
-        char *dir;
-        mote_schedule at;
-        uint64_t index;
-    } snaps;
-    struct {
-        int on, held;
-        char *path, *origin;
-        mote_schedule at;
-        double *rows;
-        size_t nrows, cap;
-    } bal;
-    mote_loop loop; /* during a run: the outputs above as observers, and the progress */
-} sep_model;
 
 static void *model_create(mote_context *ctx, int dry)
 {
@@ -90,26 +50,12 @@ static void model_seed(void *vm, uint64_t seed)
 }
 
 /* The species called name, or -1. */
-static int find_species(const mote_sep_system *s, const char *name)
+int sep_find_species(const mote_sep_system *s, const char *name)
 {
     for (int k = 0; k < s->nsp; k++)
         if (!strcmp(s->sp[k].name, name))
             return k;
     return -1;
-}
-
-/* A word that must be a or b (*second: it is b): positional argument argi, or option opt. */
-static int choice(const mote_call *c, const char *opt, int argi, const char *text, const char *a,
-                  const char *b, int *second, mote_err *err)
-{
-    *second = strcmp(text, b) == 0;
-    if (*second || strcmp(text, a) == 0)
-        return MOTE_OK;
-    if (opt)
-        return mote_call_fail(err, c, mote_call_opt_index(c, opt), MOTE_EINVAL,
-                              "%s: %s= is %s or %s, found '%s'", c->name, opt, a, b, text);
-    return mote_call_fail(err, c, argi, MOTE_EINVAL, "%s: expected %s or %s, found '%s'", c->name,
-                          a, b, text);
 }
 
 /* ---- the commands ----------------------------------------------------------------------------
@@ -157,14 +103,8 @@ static int do_depth2d(void *vm, const mote_call *c, mote_err *err)
 static int do_ends(void *vm, const mote_call *c, mote_err *err)
 {
     sep_model *m = vm;
-    int closed[2];
-    for (int k = 0; k < 2; k++) {
-        const int rc = choice(c, NULL, k, c->args[k].text, "open", "closed", &closed[k], err);
-        if (rc)
-            return rc;
-    }
-    m->sys.open_bottom = !closed[0];
-    m->sys.open_top = !closed[1];
+    m->sys.open_bottom = c->args[0].i == 0; /* open|closed */
+    m->sys.open_top = c->args[1].i == 0;
     return MOTE_OK;
 }
 
@@ -186,11 +126,8 @@ static int do_gravity(void *vm, const mote_call *c, mote_err *err)
 
 static int do_coupling(void *vm, const mote_call *c, mote_err *err)
 {
-    int off;
-    const int rc = choice(c, NULL, 0, c->args[0].text, "on", "off", &off, err);
-    if (!rc)
-        ((sep_model *)vm)->sys.coupling = !off;
-    return rc;
+    ((sep_model *)vm)->sys.coupling = c->args[0].i == 0; /* on|off */
+    return MOTE_OK;
 }
 
 static int do_slices(void *vm, const mote_call *c, mote_err *err)
@@ -283,11 +220,13 @@ static int do_hindered(void *vm, const mote_call *c, mote_err *err)
 
 static int do_dispersion(void *vm, const mote_call *c, mote_err *err)
 {
-    mote_sep_system *s = &((sep_model *)vm)->sys;
-    if (!strcmp(c->name, "brownian"))
-        s->T_gas = c->args[0].r;
-    else
-        s->D_t = c->args[0].r;
+    ((sep_model *)vm)->sys.D_t = c->args[0].r;
+    return MOTE_OK;
+}
+
+static int do_brownian(void *vm, const mote_call *c, mote_err *err)
+{
+    ((sep_model *)vm)->sys.T_gas = c->args[0].r;
     return MOTE_OK;
 }
 
@@ -296,7 +235,7 @@ static int do_species(void *vm, const mote_call *c, mote_err *err)
     sep_model *m = vm;
     mote_sep_system *s = &m->sys;
     const char *name = c->args[0].text;
-    if (find_species(s, name) >= 0)
+    if (sep_find_species(s, name) >= 0)
         return mote_call_fail(err, c, 0, MOTE_EINVAL, "species: '%s' exists already", name);
     if (strlen(name) >= sizeof s->sp[0].name)
         return mote_call_fail(err, c, 0, MOTE_EINVAL, "species: the name is longer than %d "
@@ -314,6 +253,7 @@ static int do_species(void *vm, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
+/* the distributions in the order of `size`'s word list (MOTE_SEP_MONO ...) */
 static const char *const DIST_NAMES[] = {"mono", "lognormal", "rosin_rammler", "loguniform",
                                          "table", NULL};
 
@@ -321,16 +261,11 @@ static int do_size(void *vm, const mote_call *c, mote_err *err)
 {
     sep_model *m = vm;
     mote_sep_system *s = &m->sys;
-    const int k = find_species(s, c->args[0].text);
+    const int k = sep_find_species(s, c->args[0].text);
     if (k < 0)
         return mote_call_fail(err, c, 0, MOTE_EINVAL, "size: no species '%s' (species NAME RHO "
                               "first)", c->args[0].text);
-    int type = 0;
-    while (DIST_NAMES[type] && strcmp(DIST_NAMES[type], c->args[1].text))
-        type++;
-    if (!DIST_NAMES[type])
-        return mote_call_fail(err, c, 1, MOTE_EINVAL, "size: expected mono, lognormal, "
-                              "rosin_rammler, loguniform or table, found '%s'", c->args[1].text);
+    const int type = (int)c->args[1].i; /* the order of DIST_NAMES */
     static const char *const need[5][2] = {{"d", NULL}, {"d50", "sigma"}, {"d", "n"}, {NULL, NULL},
                                            {"file", NULL}};
     for (int q = 0; q < 2; q++)
@@ -341,10 +276,7 @@ static int do_size(void *vm, const mote_call *c, mote_err *err)
         (!mote_call_opt(c, "min") || !mote_call_opt(c, "max")))
         return mote_call_fail(err, c, 1, MOTE_EINVAL, "size %s: give the truncation min= and "
                               "max= (m)", DIST_NAMES[type]);
-    const mote_arg *b = mote_call_opt(c, "basis");
-    if (b && strcmp(b->text, "mass") && strcmp(b->text, "number"))
-        return mote_call_fail(err, c, mote_call_opt_index(c, "basis"), MOTE_EINVAL,
-                              "size: basis must be mass or number, found '%s'", b->text);
+    const mote_arg *b = mote_call_opt(c, "basis"); /* mass|number */
     mote_sep_dist *dd = &s->sp[k].dist;
     mote_sep_dist_free(dd);
     memset(dd, 0, sizeof *dd);
@@ -353,7 +285,7 @@ static int do_size(void *vm, const mote_call *c, mote_err *err)
     dd->b = mote_call_opt_r(c, type == MOTE_SEP_LOGNORMAL ? "sigma" : "n", 0);
     dd->lo = mote_call_opt_r(c, "min", 0);
     dd->hi = mote_call_opt_r(c, "max", 0);
-    dd->number_basis = b && !strcmp(b->text, "number");
+    dd->number_basis = b && b->i == 1;
     mote_err e2 = {0};
     if (type == MOTE_SEP_TABLE) { /* rows d F */
         const char *path = mote_call_opt(c, "file")->path;
@@ -454,7 +386,7 @@ static int do_feed_velocity(void *vm, const mote_call *c, mote_err *err)
 static int do_feed_fraction(void *vm, const mote_call *c, mote_err *err)
 {
     mote_sep_system *s = &((sep_model *)vm)->sys;
-    const int k = find_species(s, c->args[0].text);
+    const int k = sep_find_species(s, c->args[0].text);
     if (k < 0)
         return mote_call_fail(err, c, 0, MOTE_EINVAL, "feed_fraction: no species '%s'",
                               c->args[0].text);
@@ -521,11 +453,11 @@ static int do_grid(void *vm, const mote_call *c, mote_err *err)
     if (zb + t > s->H)
         return mote_call_fail(err, c, 0, MOTE_EINVAL, "grid: the plate %g ... %g m does not fit "
                               "the channel (H = %g m)", zb, zb + t, s->H);
-    const char *kind = c->args[2].text;
+    const int holes = c->args[2].i == 1; /* pattern|holes */
     mote_sep_plate p = {0}; /* freed on every error path, whichever reader failed */
     mote_err e2 = {0};
     int rc;
-    if (!strcmp(kind, "pattern")) {
+    if (!holes) {
         const char *need[2] = {"a", "p"};
         for (int q = 0; q < 2; q++)
             if (!mote_call_opt(c, need[q]))
@@ -553,7 +485,7 @@ static int do_grid(void *vm, const mote_call *c, mote_err *err)
                                       "(%g m), or the holes would overlap", pp[q], a[q]);
         }
         rc = mote_sep_plate_pattern(&p, s->dim, s->W, s->D, zb, t, a, pp, off, &e2);
-    } else if (!strcmp(kind, "holes")) {
+    } else {
         const mote_arg *f = mote_call_opt(c, "file");
         if (!f)
             return mote_call_fail(err, c, 2, MOTE_EINVAL, "grid holes: give file=FILE");
@@ -563,9 +495,6 @@ static int do_grid(void *vm, const mote_call *c, mote_err *err)
         if (!rc)
             rc = mote_sep_plate_list(&p, zb, t, h, nh, &e2);
         free(h);
-    } else {
-        return mote_call_fail(err, c, 2, MOTE_EINVAL, "grid: expected pattern or holes, found "
-                              "'%s'", kind);
     }
     if (!rc) {
         /* the geometry alone (the particle sizes are checked before the run) */
@@ -586,20 +515,19 @@ static int do_grid(void *vm, const mote_call *c, mote_err *err)
 
 static int do_collisions(void *vm, const mote_call *c, mote_err *err)
 {
-    int off;
-    const int rc = choice(c, NULL, 0, c->args[0].text, "dem", "off", &off, err);
-    if (!rc)
-        ((sep_model *)vm)->sys.dem = !off;
-    return rc;
+    ((sep_model *)vm)->sys.dem = c->args[0].i == 0; /* dem|off */
+    return MOTE_OK;
 }
 
 static int do_restitution(void *vm, const mote_call *c, mote_err *err)
 {
-    mote_sep_system *s = &((sep_model *)vm)->sys;
-    if (!strcmp(c->name, "restitution_wall"))
-        s->e_pw = c->args[0].r;
-    else
-        s->e_pp = c->args[0].r;
+    ((sep_model *)vm)->sys.e_pp = c->args[0].r;
+    return MOTE_OK;
+}
+
+static int do_restitution_wall(void *vm, const mote_call *c, mote_err *err)
+{
+    ((sep_model *)vm)->sys.e_pw = c->args[0].r;
     return MOTE_OK;
 }
 
@@ -608,7 +536,7 @@ static int do_restitution_pair(void *vm, const mote_call *c, mote_err *err)
     mote_sep_system *s = &((sep_model *)vm)->sys;
     int k[2];
     for (int q = 0; q < 2; q++) {
-        k[q] = find_species(s, c->args[q].text);
+        k[q] = sep_find_species(s, c->args[q].text);
         if (k[q] < 0)
             return mote_call_fail(err, c, q, MOTE_EINVAL, "restitution_pair: no species '%s'",
                                   c->args[q].text);
@@ -635,19 +563,15 @@ static int do_stiffness(void *vm, const mote_call *c, mote_err *err)
 
 static int do_neighbours(void *vm, const mote_call *c, mote_err *err)
 {
-    int brute;
-    const int rc = choice(c, NULL, 0, c->args[0].text, "cells", "brute", &brute, err);
-    if (!rc)
-        ((sep_model *)vm)->sys.brute = brute;
-    return rc;
+    ((sep_model *)vm)->sys.brute = (int)c->args[0].i; /* cells|brute */
+    return MOTE_OK;
 }
 
 static int do_timestep(void *vm, const mote_call *c, mote_err *err)
 {
     mote_sep_system *s = &((sep_model *)vm)->sys;
-    const char *w = c->args[0].text;
     const mote_arg *nc = mote_call_opt(c, "nc");
-    if (!strcmp(w, "auto")) {
+    if (c->args[0].word) { /* auto */
         s->dt_user = 0;
         if (nc)
             s->nc = (int)nc->i;
@@ -656,12 +580,7 @@ static int do_timestep(void *vm, const mote_call *c, mote_err *err)
     if (nc)
         return mote_call_fail(err, c, mote_call_opt_index(c, "nc"), MOTE_EINVAL,
                               "timestep: nc= goes with auto");
-    char *end;
-    const double dt = strtod(w, &end);
-    if (end == w || *end || !(dt > 0) || !isfinite(dt))
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "timestep: expected auto or a step > 0 "
-                              "(s), found '%s'", w);
-    s->dt_user = dt;
+    s->dt_user = c->args[0].r;
     return MOTE_OK;
 }
 
@@ -723,7 +642,7 @@ static int do_classes_file(void *vm, const mote_call *c, mote_err *err)
 }
 
 /* the checks every command that moves or adds particles needs */
-static int need_ready(sep_model *m, const mote_call *c, mote_err *err)
+int sep_need_ready(sep_model *m, const mote_call *c, mote_err *err)
 {
     mote_err e2 = {0};
     if (mote_sep_prepare(&m->sys, &e2))
@@ -732,211 +651,38 @@ static int need_ready(sep_model *m, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
-static int do_insert(void *vm, const mote_call *c, mote_err *err)
+/* `insert NAME COUNT`, `insert_mass NAME KG`: checked on the dry model, run on the real one */
+static int check_insert(void *vm, const mote_call *c, mote_err *err)
 {
     sep_model *m = vm;
-    const int k = find_species(&m->sys, c->args[0].text);
-    if (k < 0)
+    if (sep_find_species(&m->sys, c->args[0].text) < 0)
         return mote_call_fail(err, c, 0, MOTE_EINVAL, "%s: no species '%s'", c->name,
                               c->args[0].text);
     if (!(m->sys.zf > 0))
         return mote_call_fail(err, c, -1, MOTE_EINVAL, "%s: give the feed zone first (feed z=)",
                               c->name);
-    int rc = need_ready(m, c, err);
-    if (rc || m->dry)
-        return rc;
-    const int by_mass = !strcmp(c->name, "insert_mass");
-    rc = mote_sep_insert(&m->sys, k, by_mass ? 0 : (uint64_t)c->args[1].i,
-                         by_mass ? c->args[1].r : 0, err);
+    return sep_need_ready(m, c, err);
+}
+
+static int insert(sep_model *m, const mote_call *c, uint64_t count, double mass, mote_err *err)
+{
+    int rc = check_insert(m, c, err);
+    if (!rc)
+        rc = mote_sep_insert(&m->sys, sep_find_species(&m->sys, c->args[0].text), count, mass,
+                             err);
     if (!rc)
         mote_sep_gas_update(&m->sys, 0);
     return rc;
 }
 
-/* The status of spec 2.13 after a run. */
-static void print_status(sep_model *m)
+static int run_insert(void *vm, const mote_call *c, mote_err *err)
 {
-    const mote_sep_system *s = &m->sys;
-    uint64_t fed = 0, fines = 0, coarse = 0, lost = 0;
-    for (int k = 0; k < s->nsp; k++) {
-        fed += s->cnt[k].fed;
-        fines += s->cnt[k].fines;
-        coarse += s->cnt[k].coarse;
-        lost += s->cnt[k].lost;
-    }
-    double *T = malloc((size_t)(s->nclass > 0 ? s->nclass : 1) * sizeof *T);
-    mote_sep_cut cut = {NAN, NAN, NAN, NAN, NAN, NAN, 0};
-    if (T && s->class_edge)
-        mote_sep_tromp(s, T, &cut);
-    free(T);
-    double eps_max = 0;
-    for (int k = 0; k < s->K; k++)
-        eps_max = fmax(eps_max, s->eps_s[k]);
-    fprintf(m->log, "t=%.10g steps=%llu dt=%.6g N=%zu fed=%llu fines=%llu coarse=%llu lost=%llu "
-                    "backlog=%zu d50=%.6g kappa=%.4g eps_max=%.4g max_overlap=%.4g fast_moves=%llu\n",
-            s->t, (unsigned long long)s->steps, s->dt, s->n, (unsigned long long)fed,
-            (unsigned long long)fines, (unsigned long long)coarse, (unsigned long long)lost,
-            s->nback, cut.d50, cut.kappa, eps_max, s->max_overlap,
-            (unsigned long long)s->fast_moves);
-    if (s->dem && s->max_overlap > 2 * s->delta_f && !(s->khat > 0))
-        fprintf(m->log, "note: the largest overlap %.3g of a diameter is more than twice the "
-                        "allowed %.3g: raise vimp= (stiffness) or lower the impact speeds\n",
-                s->max_overlap, s->delta_f);
-    if (s->nback > 0)
-        fprintf(m->log, "warning: %zu particles wait in the feed's backlog: the feed outruns its "
-                        "band (lower the rate, or widen the band: feed hf= and feed_window)\n",
-                s->nback);
-    if (lost)
-        fprintf(m->log, "error: %llu particles were lost (outside a wall, inside a plate, or "
-                        "not finite)\n", (unsigned long long)lost);
+    return insert(vm, c, (uint64_t)c->args[1].i, 0, err);
 }
 
-static int run_hook(void *vm, mote_sep_system *s, mote_err *err);
-static int fire_frame(void *ctx, void *subject, mote_err *err);
-static int fire_snapshot(void *ctx, void *subject, mote_err *err);
-static int fire_balance(void *ctx, void *subject, mote_err *err);
-static int run_end(sep_model *m, mote_err *err);
-static int make_dir(const char *dir, mote_err *err);
-
-/* `summary`: the status and each species' bookkeeping. */
-static int do_summary(void *vm, const mote_call *c, mote_err *err)
+static int run_insert_mass(void *vm, const mote_call *c, mote_err *err)
 {
-    sep_model *m = vm;
-    (void)c;
-    (void)err;
-    if (m->dry || !m->log)
-        return MOTE_OK;
-    const mote_sep_system *s = &m->sys;
-    print_status(m);
-    for (int k = 0; k < s->nsp; k++) {
-        const mote_sep_count *q = &s->cnt[k];
-        fprintf(m->log, "species %s: fed %llu (%.6g kg), fines %llu (%.6g kg), coarse %llu "
-                        "(%.6g kg), lost %llu\n",
-                s->sp[k].name, (unsigned long long)q->fed, q->m_fed,
-                (unsigned long long)q->fines, q->m_fines, (unsigned long long)q->coarse,
-                q->m_coarse, (unsigned long long)q->lost);
-    }
-    fprintf(m->log, "balance: fed = in channel + fines + coarse + lost %s\n",
-            mote_sep_check_balance(s) ? "DOES NOT HOLD" : "holds");
-    return MOTE_OK;
-}
-
-static int do_run(void *vm, const mote_call *c, mote_err *err)
-{
-    sep_model *m = vm;
-    int rc = need_ready(m, c, err);
-    if (rc || m->dry)
-        return rc;
-    if (m->frames.on)
-        rc = make_dir(m->frames.dir, err);
-    if (!rc && m->snaps.on)
-        rc = make_dir(m->snaps.dir, err);
-    /* the run loop: the scheduled outputs as observers, progress on a terminal */
-    mote_observer obs[3];
-    mote_schedule *at[3];
-    size_t nobs = 0;
-    if (m->frames.on) {
-        at[nobs] = &m->frames.at;
-        obs[nobs++] = (mote_observer){.at = m->frames.at, .fire = fire_frame};
-    }
-    if (m->snaps.on) {
-        at[nobs] = &m->snaps.at;
-        obs[nobs++] = (mote_observer){.at = m->snaps.at, .fire = fire_snapshot};
-    }
-    if (m->bal.on) {
-        at[nobs] = &m->bal.at;
-        obs[nobs++] = (mote_observer){.at = m->bal.at, .fire = fire_balance};
-    }
-    mote_progress prog;
-    mote_progress_begin(&prog, m->ctx, "run");
-    m->loop = (mote_loop){obs, nobs, UINT64_MAX, &prog, m->sys.t, m->sys.t + c->args[0].r, 0};
-    if (!rc)
-        rc = run_hook(m, &m->sys, err);
-    if (!rc)
-        rc = mote_sep_run_hook(&m->sys, c->args[0].r, run_hook, m, err);
-    mote_progress_end(&prog);
-    for (size_t k = 0; k < nobs; k++) /* where each schedule stands, for the next run */
-        *at[k] = obs[k].at;
-    m->loop = (mote_loop){NULL, 0, UINT64_MAX, NULL, 0, 0, 0};
-    if (!rc)
-        rc = run_end(m, err);
-    if (!rc && m->log)
-        print_status(m);
-    return rc;
-}
-
-/* `tromp FILE`: the grade-efficiency table and its plot (spec 3.1). */
-static int do_tromp(void *vm, const mote_call *c, mote_err *err)
-{
-    sep_model *m = vm;
-    int rc = need_ready(m, c, err);
-    if (rc || m->dry)
-        return rc;
-    char *origin = mote_call_origin(c);
-    mote_sep_cut cut;
-    const mote_arg *file = mote_call_opt(c, "file");
-    rc = sep_write_tromp(&m->sys, file->path, origin ? origin : "tromp", m->seed, &cut, err);
-    free(origin);
-    if (!rc && m->log)
-        fprintf(m->log, "tromp: wrote %s and its plot: d50 %.6g m, kappa %.4g\n", file->text,
-                cut.d50, cut.kappa);
-    return rc;
-}
-
-/* `save FILE`: the whole state (spec 2.12). */
-static int do_save(void *vm, const mote_call *c, mote_err *err)
-{
-    sep_model *m = vm;
-    int rc = need_ready(m, c, err);
-    if (rc || m->dry)
-        return rc;
-    rc = mote_sep_save(&m->sys, m->seed, c->args[0].path, err);
-    if (!rc && m->log)
-        fprintf(m->log, "save: wrote %s (t = %.10g s, %zu particles)\n", c->args[0].text,
-                m->sys.t, m->sys.n);
-    return rc;
-}
-
-/* `load FILE`: continue from a saved state. The dry model reads it too when it exists and no
- * earlier `save` of the script writes it (then the dry model already is that state). */
-static int do_load(void *vm, const mote_call *c, mote_err *err)
-{
-    sep_model *m = vm;
-    if (m->dry && m->ctx && mote_outputs_find(&m->ctx->outputs, c->args[0].path))
-        return MOTE_OK;
-    uint64_t seed;
-    mote_err e2 = {0};
-    int rc = mote_sep_load(&m->sys, &seed, c->args[0].path, &e2);
-    if (rc)
-        return mote_call_fail(err, c, 0, rc, "%s", e2.msg);
-    m->seed = seed;
-    m->have_channel = m->have_gas = 1;
-    if (!m->dry && m->log)
-        fprintf(m->log, "load: read %s (t = %.10g s, %zu particles)\n", c->args[0].text,
-                m->sys.t, m->sys.n);
-    return MOTE_OK;
-}
-
-/* `profiles FILE`: the height profiles and their plot (spec 3.2). */
-static int do_profiles(void *vm, const mote_call *c, mote_err *err)
-{
-    sep_model *m = vm;
-    int rc = need_ready(m, c, err);
-    if (rc || m->dry)
-        return rc;
-    char *origin = mote_call_origin(c);
-    const mote_arg *file = mote_call_opt(c, "file");
-    rc = sep_write_profiles(&m->sys, file->path, origin ? origin : "profiles", m->seed, err);
-    free(origin);
-    if (rc == MOTE_EINVAL) { /* (nothing averaged yet): located at the command */
-        char why[sizeof err->msg];
-        snprintf(why, sizeof why, "%s", err->msg);
-        return mote_call_fail(err, c, -1, MOTE_EINVAL, "%s", why);
-    }
-    if (!rc && m->log)
-        fprintf(m->log, "profiles: wrote %s and its plot (averaged over %.6g s)\n", file->text,
-                m->sys.prof_time);
-    return rc;
+    return insert(vm, c, 0, c->args[1].r, err);
 }
 
 static int do_average_from(void *vm, const mote_call *c, mote_err *err)
@@ -954,209 +700,6 @@ static int do_reset_stats(void *vm, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
-/* The frame options shared by `frames` and `live`. */
-static int frame_opts(const mote_call *c, sep_frame_opts *fo, mote_err *err)
-{
-    fo->px = (int)mote_call_opt_r(c, "px", 900);
-    const mote_arg *col = mote_call_opt(c, "color");
-    fo->by_species = 0;
-    if (col && choice(c, "color", 0, col->text, "size", "species", &fo->by_species, err))
-        return err->code;
-    fo->y1 = mote_call_opt_r(c, "y1", 0);
-    fo->y2 = mote_call_opt_r(c, "y2", 0);
-    if ((mote_call_opt(c, "y1") || mote_call_opt(c, "y2")) && !(fo->y2 > fo->y1))
-        return mote_call_fail(err, c, mote_call_opt_index(c, "y1"), MOTE_EINVAL,
-                              "%s: the slab needs y1 < y2", c->name);
-    return MOTE_OK;
-}
-
-/* A directory for numbered files: its parent must exist; made when the run starts. */
-static int out_dir(sep_model *m, const mote_call *c, char **dir, mote_err *err)
-{
-    const mote_arg *a = mote_call_opt(c, "dir");
-    if (m->dry && !mote_ctx_dir_ok(m->ctx, a->path))
-        return mote_call_fail(err, c, mote_call_opt_index(c, "dir"), MOTE_EINVAL,
-                              "%s: the directory that would hold '%s' does not exist", c->name,
-                              a->text);
-    char *d = strdup(a->path);
-    if (!d)
-        return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", c->name);
-    free(*dir);
-    *dir = d;
-    return MOTE_OK;
-}
-
-static int do_frames(void *vm, const mote_call *c, mote_err *err)
-{
-    sep_model *m = vm;
-    int rc = frame_opts(c, &m->frames.fo, err);
-    if (!rc)
-        rc = out_dir(m, c, &m->frames.dir, err);
-    if (rc)
-        return rc;
-    const mote_arg *mv = mote_call_opt(c, "movie");
-    int movie_off = 0;
-    if (mv && choice(c, "movie", 0, mv->text, "on", "off", &movie_off, err))
-        return err->code;
-    m->frames.on = 1;
-    m->frames.at = (mote_schedule){m->sys.t, mote_call_opt(c, "dt")->r, 0};
-    m->frames.index = 0;
-    m->frames.movie = !movie_off;
-    m->frames.fps = (int)mote_call_opt_r(c, "fps", 20);
-    return MOTE_OK;
-}
-
-static int do_live(void *vm, const mote_call *c, mote_err *err)
-{
-    sep_model *m = vm;
-    int rc = frame_opts(c, &m->live.fo, err);
-    if (rc)
-        return rc;
-    char *p = strdup(mote_call_opt(c, "file")->path);
-    if (!p)
-        return mote_fail(err, MOTE_ENOMEM, "live_png: out of memory");
-    free(m->live.path);
-    m->live.path = p;
-    m->live.on = 1;
-    m->live.hz = fmin(mote_call_opt_r(c, "hz", 30), 30);
-    m->live.last = -INFINITY;
-    return MOTE_OK;
-}
-
-static int do_snapshots(void *vm, const mote_call *c, mote_err *err)
-{
-    sep_model *m = vm;
-    int rc = out_dir(m, c, &m->snaps.dir, err);
-    if (rc)
-        return rc;
-    m->snaps.on = 1;
-    m->snaps.at = (mote_schedule){m->sys.t, mote_call_opt(c, "dt")->r, 0};
-    m->snaps.index = 0;
-    return MOTE_OK;
-}
-
-static int do_balance(void *vm, const mote_call *c, mote_err *err)
-{
-    sep_model *m = vm;
-    char *p = strdup(mote_call_opt(c, "file")->path), *o = mote_call_origin(c);
-    if (!p || !o) {
-        free(p);
-        free(o);
-        return mote_fail(err, MOTE_ENOMEM, "balance: out of memory");
-    }
-    free(m->bal.path);
-    free(m->bal.origin);
-    m->bal.path = p;
-    m->bal.origin = o;
-    m->bal.on = 1;
-    m->bal.at = (mote_schedule){m->sys.t, mote_call_opt(c, "dt")->r, 0};
-    m->bal.nrows = 0;
-    m->bal.held = 1;
-    return MOTE_OK;
-}
-
-/* DIR/NAME_%06d.EXT (malloc'ed). */
-static char *numbered(const char *dir, const char *name, uint64_t k, const char *ext)
-{
-    const size_t n = strlen(dir) + strlen(name) + 40;
-    char *p = malloc(n);
-    if (p)
-        snprintf(p, n, "%s/%s_%06llu%s", dir, name, (unsigned long long)k, ext);
-    return p;
-}
-
-/* The scheduled outputs, observers of the run loop (subject: the model). */
-static int fire_frame(void *ctx, void *subject, mote_err *err)
-{
-    sep_model *m = subject;
-    char *p = numbered(m->frames.dir, "frame", m->frames.index++, ".png");
-    int rc = p ? sep_frame_png(&m->sys, p, &m->frames.fo, err) : mote_fail(err, MOTE_ENOMEM, "frames");
-    free(p);
-    return rc;
-}
-
-static int fire_snapshot(void *ctx, void *subject, mote_err *err)
-{
-    sep_model *m = subject;
-    char *p = numbered(m->snaps.dir, "snapshot", m->snaps.index++, ".xyz");
-    int rc = p ? sep_write_xyz(&m->sys, p, err) : mote_fail(err, MOTE_ENOMEM, "snapshots");
-    free(p);
-    return rc;
-}
-
-static int fire_balance(void *ctx, void *subject, mote_err *err)
-{
-    sep_model *m = subject;
-    const size_t w = sep_balance_width(&m->sys);
-    if (m->bal.nrows == m->bal.cap) {
-        const size_t cap = m->bal.cap ? 2 * m->bal.cap : 256;
-        double *r = realloc(m->bal.rows, cap * w * sizeof *r);
-        if (!r)
-            return mote_fail(err, MOTE_ENOMEM, "balance: out of memory");
-        m->bal.rows = r;
-        m->bal.cap = cap;
-    }
-    sep_balance_row(&m->sys, m->bal.rows + m->bal.nrows++ * w);
-    if (mote_sep_check_balance(&m->sys))
-        m->bal.held = 0;
-    return MOTE_OK;
-}
-
-/* After every step (and once before the first): the outputs that are due, the live picture,
- * and the progress (which also gives a live view its frames). */
-static int run_hook(void *vm, mote_sep_system *s, mote_err *err)
-{
-    sep_model *m = vm;
-    int rc = mote_loop_fire(&m->loop, m, s->t, err);
-    if (!rc && m->live.on) {
-        const double now = mote_wall_seconds();
-        if (now - m->live.last >= 1 / m->live.hz) {
-            rc = sep_frame_png(s, m->live.path, &m->live.fo, err);
-            m->live.last = now;
-        }
-    }
-    mote_loop_progress(&m->loop, s->t, 0);
-    return rc;
-}
-
-static void model_live(void *vm, mote_buf *b) { sep_live_frame(&((sep_model *)vm)->sys, b); }
-
-/* After a run: the balance file and the movie of the frames so far. */
-static int run_end(sep_model *m, mote_err *err)
-{
-    int rc = MOTE_OK;
-    if (m->bal.on && m->bal.nrows)
-        rc = sep_write_balance(&m->sys, m->bal.path, m->bal.origin, m->seed, m->bal.rows,
-                               m->bal.nrows, m->bal.held, err);
-    if (!rc && m->frames.on && m->frames.movie && m->frames.index > 1) {
-        const size_t n = strlen(m->frames.dir) + 16;
-        char *prefix = malloc(n), *out = malloc(n);
-        if (!prefix || !out) {
-            free(prefix);
-            free(out);
-            return mote_fail(err, MOTE_ENOMEM, "frames: out of memory");
-        }
-        snprintf(prefix, n, "%s/frame", m->frames.dir);
-        snprintf(out, n, "%s/movie.mp4", m->frames.dir);
-        int ran = 0;
-        rc = mote_movie(prefix, m->frames.fps, out, m->ctx ? m->ctx->diag : NULL, &ran, err);
-        if (!rc && ran && m->log)
-            fprintf(m->log, "frames: %llu frames in %s, the movie %s\n",
-                    (unsigned long long)m->frames.index, m->frames.dir, out);
-        free(prefix);
-        free(out);
-    }
-    return rc;
-}
-
-/* Make a directory (one level) unless it exists. */
-static int make_dir(const char *dir, mote_err *err)
-{
-    if (mkdir(dir, 0777) == 0 || errno == EEXIST)
-        return MOTE_OK;
-    return mote_fail(err, MOTE_EIO, "%s: cannot make the directory: %s", dir, strerror(errno));
-}
-
 /* ---- the table ------------------------------------------------------------------------------ */
 
 #include "help.inc"
@@ -1168,11 +711,11 @@ static const mote_cmd sep_commands[] = {
      do_channel, do_channel},
     {"depth2d", NULL, "r>0", "depth2d D2", "the nominal 2D depth", HELP_DEPTH2D, do_depth2d,
      do_depth2d},
-    {"ends", NULL, "s s", "ends BOTTOM TOP", "open or closed ends", HELP_ENDS, do_ends, do_ends},
+    {"ends", NULL, "e{open|closed} e{open|closed}", "ends BOTTOM TOP", "open or closed ends", HELP_ENDS, do_ends, do_ends},
     {"gas", NULL, "r>=0 rho=r>=0 mu=r>=0", "gas U0 [rho=R] [mu=M]", "the gas upflow", HELP_GAS,
      do_gas, do_gas},
     {"gravity", NULL, "r>=0", "gravity g", "gravity", HELP_GRAVITY, do_gravity, do_gravity},
-    {"coupling", NULL, "s", "coupling on|off", "the solids' feedback on the gas", HELP_COUPLING,
+    {"coupling", NULL, "e{on|off}", "coupling on|off", "the solids' feedback on the gas", HELP_COUPLING,
      do_coupling, do_coupling},
     {"slices", NULL, "i[10,1000]", "slices K", "the gas model's slices", HELP_SLICES, do_slices,
      do_slices},
@@ -1187,10 +730,11 @@ static const mote_cmd sep_commands[] = {
     {"dispersion", NULL, "r>=0", "dispersion D", "turbulent dispersion coefficient",
      HELP_DISPERSION, do_dispersion, do_dispersion},
     {"brownian", NULL, "r>=0", "brownian T", "Brownian diffusion at gas temperature T",
-     HELP_DISPERSION, do_dispersion, do_dispersion},
+     HELP_DISPERSION, do_brownian, do_brownian},
     {"species", NULL, "s r>0", "species NAME RHO", "a species", HELP_SPECIES, do_species,
      do_species},
-    {"size", NULL, "s s d=r>0 d50=r>0 sigma=r>=1 n=r>0 min=r>0 max=r>0 basis=s file=f<sizes",
+    {"size", NULL, "s e{mono|lognormal|rosin_rammler|loguniform|table} d=r>0 d50=r>0 sigma=r>=1 "
+     "n=r>0 min=r>0 max=r>0 basis=e{mass|number} file=f<sizes",
      "size NAME TYPE [options]", "a species' size distribution", HELP_SIZE, do_size, do_size},
     {"feed", NULL, "z=r! hf=r>0 rate=r>=0 start=r>=0 stop=r>0", "feed z=Z [hf=] [rate=]",
      "the feed band and rate", HELP_FEED, do_feed, do_feed},
@@ -1201,55 +745,56 @@ static const mote_cmd sep_commands[] = {
     {"feed_fraction", NULL, "s r[0,1]", "feed_fraction NAME W", "a species' share of the feed",
      HELP_FEED_FRACTION, do_feed_fraction, do_feed_fraction},
     {"insert", NULL, "s i>=1", "insert NAME COUNT", "a batch of particles", HELP_INSERT,
-     do_insert, do_insert},
+     check_insert, run_insert},
     {"insert_mass", NULL, "s r>0", "insert_mass NAME KG", "a batch by mass", HELP_INSERT,
-     do_insert, do_insert},
-    {"grid", NULL, "r>=0 r>0 s a=r>0 p=r>0 offset=r>=0 a_y=r>0 p_y=r>0 offset_y=r>=0 file=f<holes",
+     check_insert, run_insert_mass},
+    {"grid", NULL, "r>=0 r>0 e{pattern|holes} a=r>0 p=r>0 offset=r>=0 a_y=r>0 p_y=r>0 offset_y=r>=0 file=f<holes",
      "grid ZB T pattern|holes [options]", "a perforated plate", HELP_GRID, do_grid, do_grid},
-    {"collisions", NULL, "s", "collisions dem|off", "the collision model", HELP_COLLISIONS,
+    {"collisions", NULL, "e{dem|off}", "collisions dem|off", "the collision model", HELP_COLLISIONS,
      do_collisions, do_collisions},
     {"restitution", NULL, "r(0,1]", "restitution E", "restitution between particles",
      HELP_RESTITUTION, do_restitution, do_restitution},
     {"restitution_wall", NULL, "r(0,1]", "restitution_wall E", "restitution at walls",
-     HELP_RESTITUTION, do_restitution, do_restitution},
+     HELP_RESTITUTION, do_restitution_wall, do_restitution_wall},
     {"restitution_pair", NULL, "s s r(0,1]", "restitution_pair A B E",
      "restitution between two species", HELP_RESTITUTION, do_restitution_pair,
      do_restitution_pair},
     {"stiffness", NULL, "overlap=r(0,0.1] vimp=r>0 khat=r>0",
      "stiffness [overlap=DF] [vimp=V] [khat=K]", "the contact stiffness",
      HELP_STIFFNESS, do_stiffness, do_stiffness},
-    {"neighbours", NULL, "s", "neighbours cells|brute", "the neighbour search",
+    {"neighbours", NULL, "e{cells|brute}", "neighbours cells|brute", "the neighbour search",
      HELP_NEIGHBOURS, do_neighbours, do_neighbours},
-    {"timestep", NULL, "s nc=i>=20", "timestep auto|DT [nc=50]", "the time step",
+    {"timestep", NULL, "r>0{auto} nc=i>=20", "timestep auto|DT [nc=50]", "the time step",
      HELP_TIMESTEP, do_timestep, do_timestep},
     {"classes", NULL, "i[2,1000] min=r>0 max=r>0", "classes K [min=A max=B]",
      "the Tromp size classes", HELP_CLASSES, do_classes, do_classes},
     {"classes_file", NULL, "f<classes", "classes_file FILE", "the Tromp size classes from a file",
      HELP_CLASSES_FILE, do_classes_file, do_classes_file},
-    {"run", NULL, "r>0", "run T", "advance the simulated time", HELP_RUN, do_run, do_run},
+    {"run", NULL, "r>0", "run T", "advance the simulated time", HELP_RUN, sep_check_ready, sep_run},
     {"tromp", NULL, "@file=f>tromp!", "tromp file=FILE", "write the grade-efficiency curve", HELP_TROMP,
-     do_tromp, do_tromp},
+     sep_check_ready, sep_tromp},
     {"profiles", NULL, "@file=f>profiles!", "profiles file=FILE", "write the profiles along the height",
-     HELP_PROFILES, do_profiles, do_profiles},
+     HELP_PROFILES, sep_check_ready, sep_profiles},
     {"average_from", NULL, "r>=0", "average_from T", "start of the profile averaging",
      HELP_AVERAGE_FROM, do_average_from, do_average_from},
     {"reset_stats", NULL, "", "reset_stats", "start a new statistics window", HELP_RESET_STATS,
      do_reset_stats, do_reset_stats},
-    {"frames", NULL, "@dir=f! @dt=r>0! px=i[16,16384] color=s y1=r y2=r movie=s fps=i[1,1000]",
+    {"frames", NULL, "@dir=f! @dt=r>0! px=i[16,16384] color=e{size|species} y1=r y2=r "
+     "movie=e{on|off} fps=i[1,1000]",
      "frames dir=DIR dt=DT [options]", "PNG pictures on a schedule, and the movie", HELP_FRAMES,
-     do_frames, do_frames},
-    {"live_png", NULL, "@file=f>image! hz=r>0 px=i[16,16384] color=s",
+     sep_frames, sep_frames},
+    {"live_png", NULL, "@file=f>image! hz=r>0 px=i[16,16384] color=e{size|species}",
      "live_png file=FILE [hz=30]",
-     "a picture rewritten while runs go on", HELP_LIVE, do_live, do_live},
+     "a picture rewritten while runs go on", HELP_LIVE, sep_live_png, sep_live_png},
     {"snapshots", "snapshot", "@dir=f! @dt=r>0!", "snapshots dir=DIR dt=DT", "extended XYZ snapshots on a schedule",
-     HELP_SNAPSHOTS, do_snapshots, do_snapshots},
+     HELP_SNAPSHOTS, sep_snapshots, sep_snapshots},
     {"balance", "monitor", "@file=f>balance! @dt=r>0!", "balance file=FILE dt=DT", "the bookkeeping time series",
-     HELP_BALANCE, do_balance, do_balance},
-    {"save", NULL, "f>state", "save FILE", "write the whole state", HELP_SAVE, do_save, do_save},
-    {"load", NULL, "f<state", "load FILE", "continue from a saved state", HELP_SAVE, do_load,
-     do_load},
+     HELP_BALANCE, sep_balance, sep_balance},
+    {"save", NULL, "f>state", "save FILE", "write the whole state", HELP_SAVE, sep_check_ready, sep_save},
+    {"load", NULL, "f<state", "load FILE", "continue from a saved state", HELP_SAVE, sep_check_load,
+     sep_load},
     {"summary", NULL, "", "summary", "print the status and the bookkeeping", HELP_SUMMARY,
-     do_summary, do_summary},
+     NULL, sep_summary},
 };
 
 const mote_model mote_model_separator = {
@@ -1263,5 +808,6 @@ const mote_model mote_model_separator = {
     .seed = model_seed,
     .seed_help = "The feed draws from the stream: each particle's species and size, then its\n"
                  "position tries.\n",
-    .live = model_live,
+    .status = sep_status,
+    .live = sep_model_live,
 };

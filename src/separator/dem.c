@@ -500,3 +500,51 @@ int sep_contact_forces(mote_sep_system *s, double dt, mote_err *err)
         }
     return MOTE_OK;
 }
+
+/* ---- the order of the particles ------------------------------------------------------------ */
+
+/* Put the particles in the order of the cell lists just built from the present positions (spec
+ * 2.9: memory locality; the ids do not change, and the order is a function of the positions,
+ * so runs stay reproducible). */
+int sep_reorder(mote_sep_system *s, mote_err *err)
+{
+    const size_t n = s->n;
+    void *tmp = malloc((n ? n : 1) * sizeof(double));
+    if (!tmp)
+        return mote_fail(err, MOTE_ENOMEM, "separator: out of memory to reorder");
+    const uint32_t *p = s->grid.order;
+#define PERMUTE(f, T)                                                                             \
+    do {                                                                                          \
+        T *t_ = tmp;                                                                              \
+        for (size_t k = 0; k < n; k++)                                                            \
+            t_[k] = s->f[p[k]];                                                                   \
+        memcpy(s->f, t_, n * sizeof(T));                                                          \
+    } while (0)
+    PERMUTE(x, double);
+    PERMUTE(y, double);
+    PERMUTE(z, double);
+    PERMUTE(vx, double);
+    PERMUTE(vy, double);
+    PERMUTE(vz, double);
+    PERMUTE(d, double);
+    PERMUTE(m, double);
+    PERMUTE(im, double);
+    PERMUTE(fx, double);
+    PERMUTE(fy, double);
+    PERMUTE(fz, double);
+    PERMUTE(s, int);
+    PERMUTE(id, uint64_t);
+#undef PERMUTE
+    /* the predicted velocities too, when they are current (the contacts' pass) */
+    for (int b = 0; b < 3 && s->pv_cap >= 3 * n; b++) {
+        double *t_ = tmp, *f = s->pv + (size_t)b * n;
+        for (size_t k = 0; k < n; k++)
+            t_[k] = f[p[k]];
+        memcpy(f, t_, n * sizeof *f);
+    }
+    s->last_sort = s->steps;
+    free(tmp);
+    s->built_step = 0; /* the lists now point at the old order */
+    s->list_ok = 0;
+    return MOTE_OK;
+}

@@ -18,7 +18,9 @@ int sep_overlaps_any(const mote_sep_system *s, double px, double py, double pz, 
 int sep_touches_plate(const mote_sep_system *s, double x, double y, double z, double r);
 int sep_contact_forces(mote_sep_system *s, double dt, mote_err *err);
 
-/* system.c: append a particle of species k with its id and d, m, x, y, z, vx, vy, vz, fx, fy,
+/* feed.c: the feed of one step (the backlog, then the species' accounts). */
+int sep_feed(mote_sep_system *s, mote_err *err);
+/* feed.c: append a particle of species k with its id and d, m, x, y, z, vx, vy, vz, fx, fy,
  * fz (a state being read). */
 int sep_append(mote_sep_system *s, int k, uint64_t id, const double v[11], mote_err *err);
 

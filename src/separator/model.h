@@ -1,0 +1,69 @@
+/* model.h: internal to the separator model: its script-level state (the system, the settings
+ * of the script, the scheduled outputs) and the commands that run.c holds. */
+#ifndef MOTE_SEP_MODEL_H
+#define MOTE_SEP_MODEL_H
+
+#include "mote/command.h"
+#include "mote/loop.h"
+#include "sep.h"
+
+typedef struct {
+    mote_context *ctx;
+    int dry;
+    FILE *log;
+    mote_sep_system sys;
+    int have_channel, have_gas;
+    uint64_t seed;
+    /* the outputs on a schedule (spec 3): frames, the live picture, snapshots, the balance */
+    struct {
+        int on, movie, fps;
+        char *dir;
+        mote_schedule at;
+        uint64_t index;
+        sep_frame_opts fo;
+    } frames;
+    struct {
+        int on;
+        char *path;
+        double hz, last;
+        sep_frame_opts fo;
+    } live;
+    struct {
+        int on;
+        char *dir;
+        mote_schedule at;
+        uint64_t index;
+    } snaps;
+    struct {
+        int on, held;
+        char *path, *origin;
+        mote_schedule at;
+        double *rows;
+        size_t nrows, cap;
+    } bal;
+    mote_loop loop; /* during a run: the outputs above as observers, and the progress */
+} sep_model;
+
+/* commands.c: the species called name, or -1; the system prepares (else the call's error) */
+int sep_find_species(const mote_sep_system *s, const char *name);
+int sep_need_ready(sep_model *m, const mote_call *c, mote_err *err);
+
+/* run.c: the commands' check (on the dry model) and run functions */
+int sep_check_ready(void *vm, const mote_call *c, mote_err *err);
+int sep_run(void *vm, const mote_call *c, mote_err *err);
+int sep_tromp(void *vm, const mote_call *c, mote_err *err);
+int sep_profiles(void *vm, const mote_call *c, mote_err *err);
+int sep_save(void *vm, const mote_call *c, mote_err *err);
+int sep_check_load(void *vm, const mote_call *c, mote_err *err);
+int sep_load(void *vm, const mote_call *c, mote_err *err);
+int sep_summary(void *vm, const mote_call *c, mote_err *err);
+/* the scheduled outputs: the same function sets them on either model */
+int sep_frames(void *vm, const mote_call *c, mote_err *err);
+int sep_live_png(void *vm, const mote_call *c, mote_err *err);
+int sep_snapshots(void *vm, const mote_call *c, mote_err *err);
+int sep_balance(void *vm, const mote_call *c, mote_err *err);
+/* the model's hooks */
+void sep_status(void *vm, FILE *out);
+void sep_model_live(void *vm, mote_buf *b);
+
+#endif

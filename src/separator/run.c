@@ -1,0 +1,426 @@
+/* run.c: the separator's run and what it writes (specs/separator.md 2.13, 3): `run` through the
+ * core's loop with the scheduled outputs (frames, the live picture, snapshots, the balance) as
+ * its observers, the status line, `tromp`, `profiles`, `save`, `load` and `summary`. A command
+ * checked on the dry model (sep_check_*) runs on the real one only after the whole script
+ * passed. */
+#include "mote/separator.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "mote/loop.h"
+#include "mote/render.h"
+#include "model.h"
+
+/* The status line of spec 2.13 (key=value), after every command (the model's status hook). */
+void sep_status(void *vm, FILE *out)
+{
+    const mote_sep_system *s = &((sep_model *)vm)->sys;
+    uint64_t fed = 0, fines = 0, coarse = 0, lost = 0;
+    for (int k = 0; k < s->nsp; k++) {
+        fed += s->cnt[k].fed;
+        fines += s->cnt[k].fines;
+        coarse += s->cnt[k].coarse;
+        lost += s->cnt[k].lost;
+    }
+    double *T = malloc((size_t)(s->nclass > 0 ? s->nclass : 1) * sizeof *T);
+    mote_sep_cut cut = {NAN, NAN, NAN, NAN, NAN, NAN, 0};
+    if (T && s->class_edge && s->cl_nf)
+        mote_sep_tromp(s, T, &cut);
+    free(T);
+    double eps_max = 0;
+    for (int k = 0; s->eps_s && k < s->K; k++)
+        eps_max = fmax(eps_max, s->eps_s[k]);
+    fprintf(out, "t=%.10g steps=%llu dt=%.6g N=%zu fed=%llu fines=%llu coarse=%llu lost=%llu "
+                 "backlog=%zu d50=%.6g kappa=%.4g eps_max=%.4g max_overlap=%.4g fast_moves=%llu\n",
+            s->t, (unsigned long long)s->steps, s->dt, s->n, (unsigned long long)fed,
+            (unsigned long long)fines, (unsigned long long)coarse, (unsigned long long)lost,
+            s->nback, cut.d50, cut.kappa, eps_max, s->max_overlap,
+            (unsigned long long)s->fast_moves);
+}
+
+/* What a run leaves to be said: overlaps beyond the allowed, a backlog, lost particles. */
+static void run_notes(sep_model *m)
+{
+    const mote_sep_system *s = &m->sys;
+    uint64_t lost = 0;
+    for (int k = 0; k < s->nsp; k++)
+        lost += s->cnt[k].lost;
+    if (s->dem && s->max_overlap > 2 * s->delta_f && !(s->khat > 0))
+        fprintf(m->log, "note: the largest overlap %.3g of a diameter is more than twice the "
+                        "allowed %.3g: raise vimp= (stiffness) or lower the impact speeds\n",
+                s->max_overlap, s->delta_f);
+    if (s->nback > 0)
+        fprintf(m->log, "warning: %zu particles wait in the feed's backlog: the feed outruns its "
+                        "band (lower the rate, or widen the band: feed hf= and feed_window)\n",
+                s->nback);
+    if (lost)
+        fprintf(m->log, "error: %llu particles were lost (outside a wall, inside a plate, or "
+                        "not finite)\n", (unsigned long long)lost);
+}
+
+static int run_hook(void *vm, mote_sep_system *s, mote_err *err);
+static int fire_frame(void *ctx, void *subject, mote_err *err);
+static int fire_snapshot(void *ctx, void *subject, mote_err *err);
+static int fire_balance(void *ctx, void *subject, mote_err *err);
+static int run_end(sep_model *m, mote_err *err);
+static int make_dir(const char *dir, mote_err *err);
+
+/* `summary`: each species' bookkeeping (the status line follows, as after every command). */
+int sep_summary(void *vm, const mote_call *c, mote_err *err)
+{
+    sep_model *m = vm;
+    (void)c;
+    (void)err;
+    if (!m->log)
+        return MOTE_OK;
+    const mote_sep_system *s = &m->sys;
+    for (int k = 0; k < s->nsp; k++) {
+        const mote_sep_count *q = &s->cnt[k];
+        fprintf(m->log, "species %s: fed %llu (%.6g kg), fines %llu (%.6g kg), coarse %llu "
+                        "(%.6g kg), lost %llu\n",
+                s->sp[k].name, (unsigned long long)q->fed, q->m_fed,
+                (unsigned long long)q->fines, q->m_fines, (unsigned long long)q->coarse,
+                q->m_coarse, (unsigned long long)q->lost);
+    }
+    fprintf(m->log, "balance: fed = in channel + fines + coarse + lost %s\n",
+            mote_sep_check_balance(s) ? "DOES NOT HOLD" : "holds");
+    return MOTE_OK;
+}
+
+/* What `run`, `save`, `tromp` and `profiles` need: a system that prepares. */
+int sep_check_ready(void *vm, const mote_call *c, mote_err *err)
+{
+    return sep_need_ready(vm, c, err);
+}
+
+int sep_run(void *vm, const mote_call *c, mote_err *err)
+{
+    sep_model *m = vm;
+    int rc = sep_need_ready(m, c, err);
+    if (!rc && m->frames.on)
+        rc = make_dir(m->frames.dir, err);
+    if (!rc && m->snaps.on)
+        rc = make_dir(m->snaps.dir, err);
+    /* the run loop: the scheduled outputs as observers, progress on a terminal */
+    mote_observer obs[3];
+    mote_schedule *at[3];
+    size_t nobs = 0;
+    if (m->frames.on) {
+        at[nobs] = &m->frames.at;
+        obs[nobs++] = (mote_observer){.at = m->frames.at, .fire = fire_frame};
+    }
+    if (m->snaps.on) {
+        at[nobs] = &m->snaps.at;
+        obs[nobs++] = (mote_observer){.at = m->snaps.at, .fire = fire_snapshot};
+    }
+    if (m->bal.on) {
+        at[nobs] = &m->bal.at;
+        obs[nobs++] = (mote_observer){.at = m->bal.at, .fire = fire_balance};
+    }
+    mote_progress prog;
+    mote_progress_begin(&prog, m->ctx, "run");
+    m->loop = (mote_loop){obs, nobs, UINT64_MAX, &prog, m->sys.t, m->sys.t + c->args[0].r, 0};
+    if (!rc)
+        rc = run_hook(m, &m->sys, err);
+    if (!rc)
+        rc = mote_sep_run_hook(&m->sys, c->args[0].r, run_hook, m, err);
+    mote_progress_end(&prog);
+    for (size_t k = 0; k < nobs; k++) /* where each schedule stands, for the next run */
+        *at[k] = obs[k].at;
+    m->loop = (mote_loop){NULL, 0, UINT64_MAX, NULL, 0, 0, 0};
+    if (!rc)
+        rc = run_end(m, err);
+    if (!rc && m->log)
+        run_notes(m);
+    return rc;
+}
+
+/* `tromp FILE`: the grade-efficiency table and its plot (spec 3.1). */
+int sep_tromp(void *vm, const mote_call *c, mote_err *err)
+{
+    sep_model *m = vm;
+    int rc = sep_need_ready(m, c, err);
+    if (rc)
+        return rc;
+    char *origin = mote_call_origin(c);
+    mote_sep_cut cut;
+    const mote_arg *file = mote_call_opt(c, "file");
+    rc = sep_write_tromp(&m->sys, file->path, origin ? origin : "tromp", m->seed, &cut, err);
+    free(origin);
+    if (!rc && m->log)
+        fprintf(m->log, "tromp: wrote %s and its plot: d50 %.6g m, kappa %.4g\n", file->text,
+                cut.d50, cut.kappa);
+    return rc;
+}
+
+/* `save FILE`: the whole state (spec 2.12). */
+int sep_save(void *vm, const mote_call *c, mote_err *err)
+{
+    sep_model *m = vm;
+    int rc = sep_need_ready(m, c, err);
+    if (rc)
+        return rc;
+    rc = mote_sep_save(&m->sys, m->seed, c->args[0].path, err);
+    if (!rc && m->log)
+        fprintf(m->log, "save: wrote %s (t = %.10g s, %zu particles)\n", c->args[0].text,
+                m->sys.t, m->sys.n);
+    return rc;
+}
+
+/* `load FILE`: continue from a saved state. The dry model reads it too when it exists and no
+ * earlier `save` of the script writes it (then the dry model already is that state). */
+static int load(sep_model *m, const mote_call *c, mote_err *err)
+{
+    uint64_t seed;
+    mote_err e2 = {0};
+    int rc = mote_sep_load(&m->sys, &seed, c->args[0].path, &e2);
+    if (rc)
+        return mote_call_fail(err, c, 0, rc, "%s", e2.msg);
+    m->seed = seed;
+    m->have_channel = m->have_gas = 1;
+    return MOTE_OK;
+}
+
+int sep_check_load(void *vm, const mote_call *c, mote_err *err)
+{
+    sep_model *m = vm;
+    if (m->ctx && mote_outputs_find(&m->ctx->outputs, c->args[0].path))
+        return MOTE_OK;
+    return load(m, c, err);
+}
+
+int sep_load(void *vm, const mote_call *c, mote_err *err)
+{
+    sep_model *m = vm;
+    int rc = load(m, c, err);
+    if (!rc && m->log)
+        fprintf(m->log, "load: read %s (t = %.10g s, %zu particles)\n", c->args[0].text,
+                m->sys.t, m->sys.n);
+    return rc;
+}
+
+/* `profiles FILE`: the height profiles and their plot (spec 3.2). */
+int sep_profiles(void *vm, const mote_call *c, mote_err *err)
+{
+    sep_model *m = vm;
+    int rc = sep_need_ready(m, c, err);
+    if (rc)
+        return rc;
+    char *origin = mote_call_origin(c);
+    const mote_arg *file = mote_call_opt(c, "file");
+    rc = sep_write_profiles(&m->sys, file->path, origin ? origin : "profiles", m->seed, err);
+    free(origin);
+    if (rc == MOTE_EINVAL) { /* (nothing averaged yet): located at the command */
+        char why[sizeof err->msg];
+        snprintf(why, sizeof why, "%s", err->msg);
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "%s", why);
+    }
+    if (!rc && m->log)
+        fprintf(m->log, "profiles: wrote %s and its plot (averaged over %.6g s)\n", file->text,
+                m->sys.prof_time);
+    return rc;
+}
+
+/* The frame options shared by `frames` and `live`. */
+static int frame_opts(const mote_call *c, sep_frame_opts *fo, mote_err *err)
+{
+    fo->px = (int)mote_call_opt_r(c, "px", 900);
+    const mote_arg *col = mote_call_opt(c, "color"); /* size|species */
+    fo->by_species = col && col->i == 1;
+    fo->y1 = mote_call_opt_r(c, "y1", 0);
+    fo->y2 = mote_call_opt_r(c, "y2", 0);
+    if ((mote_call_opt(c, "y1") || mote_call_opt(c, "y2")) && !(fo->y2 > fo->y1))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "y1"), MOTE_EINVAL,
+                              "%s: the slab needs y1 < y2", c->name);
+    return MOTE_OK;
+}
+
+/* A directory for numbered files: its parent must exist; made when the run starts. */
+static int out_dir(sep_model *m, const mote_call *c, char **dir, mote_err *err)
+{
+    const mote_arg *a = mote_call_opt(c, "dir");
+    if (m->dry && !mote_ctx_dir_ok(m->ctx, a->path))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "dir"), MOTE_EINVAL,
+                              "%s: the directory that would hold '%s' does not exist", c->name,
+                              a->text);
+    char *d = strdup(a->path);
+    if (!d)
+        return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", c->name);
+    free(*dir);
+    *dir = d;
+    return MOTE_OK;
+}
+
+int sep_frames(void *vm, const mote_call *c, mote_err *err)
+{
+    sep_model *m = vm;
+    int rc = frame_opts(c, &m->frames.fo, err);
+    if (!rc)
+        rc = out_dir(m, c, &m->frames.dir, err);
+    if (rc)
+        return rc;
+    const mote_arg *mv = mote_call_opt(c, "movie"); /* on|off */
+    const int movie_off = mv && mv->i == 1;
+    m->frames.on = 1;
+    m->frames.at = (mote_schedule){m->sys.t, mote_call_opt(c, "dt")->r, 0};
+    m->frames.index = 0;
+    m->frames.movie = !movie_off;
+    m->frames.fps = (int)mote_call_opt_r(c, "fps", 20);
+    return MOTE_OK;
+}
+
+int sep_live_png(void *vm, const mote_call *c, mote_err *err)
+{
+    sep_model *m = vm;
+    int rc = frame_opts(c, &m->live.fo, err);
+    if (rc)
+        return rc;
+    char *p = strdup(mote_call_opt(c, "file")->path);
+    if (!p)
+        return mote_fail(err, MOTE_ENOMEM, "live_png: out of memory");
+    free(m->live.path);
+    m->live.path = p;
+    m->live.on = 1;
+    m->live.hz = fmin(mote_call_opt_r(c, "hz", 30), 30);
+    m->live.last = -INFINITY;
+    return MOTE_OK;
+}
+
+int sep_snapshots(void *vm, const mote_call *c, mote_err *err)
+{
+    sep_model *m = vm;
+    int rc = out_dir(m, c, &m->snaps.dir, err);
+    if (rc)
+        return rc;
+    m->snaps.on = 1;
+    m->snaps.at = (mote_schedule){m->sys.t, mote_call_opt(c, "dt")->r, 0};
+    m->snaps.index = 0;
+    return MOTE_OK;
+}
+
+int sep_balance(void *vm, const mote_call *c, mote_err *err)
+{
+    sep_model *m = vm;
+    char *p = strdup(mote_call_opt(c, "file")->path), *o = mote_call_origin(c);
+    if (!p || !o) {
+        free(p);
+        free(o);
+        return mote_fail(err, MOTE_ENOMEM, "balance: out of memory");
+    }
+    free(m->bal.path);
+    free(m->bal.origin);
+    m->bal.path = p;
+    m->bal.origin = o;
+    m->bal.on = 1;
+    m->bal.at = (mote_schedule){m->sys.t, mote_call_opt(c, "dt")->r, 0};
+    m->bal.nrows = 0;
+    m->bal.held = 1;
+    return MOTE_OK;
+}
+
+/* DIR/NAME_%06d.EXT (malloc'ed). */
+static char *numbered(const char *dir, const char *name, uint64_t k, const char *ext)
+{
+    const size_t n = strlen(dir) + strlen(name) + 40;
+    char *p = malloc(n);
+    if (p)
+        snprintf(p, n, "%s/%s_%06llu%s", dir, name, (unsigned long long)k, ext);
+    return p;
+}
+
+/* The scheduled outputs, observers of the run loop (subject: the model). */
+static int fire_frame(void *ctx, void *subject, mote_err *err)
+{
+    sep_model *m = subject;
+    char *p = numbered(m->frames.dir, "frame", m->frames.index++, ".png");
+    int rc = p ? sep_frame_png(&m->sys, p, &m->frames.fo, err) : mote_fail(err, MOTE_ENOMEM, "frames");
+    free(p);
+    return rc;
+}
+
+static int fire_snapshot(void *ctx, void *subject, mote_err *err)
+{
+    sep_model *m = subject;
+    char *p = numbered(m->snaps.dir, "snapshot", m->snaps.index++, ".xyz");
+    int rc = p ? sep_write_xyz(&m->sys, p, err) : mote_fail(err, MOTE_ENOMEM, "snapshots");
+    free(p);
+    return rc;
+}
+
+static int fire_balance(void *ctx, void *subject, mote_err *err)
+{
+    sep_model *m = subject;
+    const size_t w = sep_balance_width(&m->sys);
+    if (m->bal.nrows == m->bal.cap) {
+        const size_t cap = m->bal.cap ? 2 * m->bal.cap : 256;
+        double *r = realloc(m->bal.rows, cap * w * sizeof *r);
+        if (!r)
+            return mote_fail(err, MOTE_ENOMEM, "balance: out of memory");
+        m->bal.rows = r;
+        m->bal.cap = cap;
+    }
+    sep_balance_row(&m->sys, m->bal.rows + m->bal.nrows++ * w);
+    if (mote_sep_check_balance(&m->sys))
+        m->bal.held = 0;
+    return MOTE_OK;
+}
+
+/* After every step (and once before the first): the outputs that are due, the live picture,
+ * and the progress (which also gives a live view its frames). */
+static int run_hook(void *vm, mote_sep_system *s, mote_err *err)
+{
+    sep_model *m = vm;
+    int rc = mote_loop_fire(&m->loop, m, s->t, err);
+    if (!rc && m->live.on) {
+        const double now = mote_wall_seconds();
+        if (now - m->live.last >= 1 / m->live.hz) {
+            rc = sep_frame_png(s, m->live.path, &m->live.fo, err);
+            m->live.last = now;
+        }
+    }
+    mote_loop_progress(&m->loop, s->t, 0);
+    return rc;
+}
+
+void sep_model_live(void *vm, mote_buf *b) { sep_live_frame(&((sep_model *)vm)->sys, b); }
+
+/* After a run: the balance file and the movie of the frames so far. */
+static int run_end(sep_model *m, mote_err *err)
+{
+    int rc = MOTE_OK;
+    if (m->bal.on && m->bal.nrows)
+        rc = sep_write_balance(&m->sys, m->bal.path, m->bal.origin, m->seed, m->bal.rows,
+                               m->bal.nrows, m->bal.held, err);
+    if (!rc && m->frames.on && m->frames.movie && m->frames.index > 1) {
+        const size_t n = strlen(m->frames.dir) + 16;
+        char *prefix = malloc(n), *out = malloc(n);
+        if (!prefix || !out) {
+            free(prefix);
+            free(out);
+            return mote_fail(err, MOTE_ENOMEM, "frames: out of memory");
+        }
+        snprintf(prefix, n, "%s/frame", m->frames.dir);
+        snprintf(out, n, "%s/movie.mp4", m->frames.dir);
+        int ran = 0;
+        rc = mote_movie(prefix, m->frames.fps, out, m->ctx ? m->ctx->diag : NULL, &ran, err);
+        if (!rc && ran && m->log)
+            fprintf(m->log, "frames: %llu frames in %s, the movie %s\n",
+                    (unsigned long long)m->frames.index, m->frames.dir, out);
+        free(prefix);
+        free(out);
+    }
+    return rc;
+}
+
+/* Make a directory (one level) unless it exists. */
+static int make_dir(const char *dir, mote_err *err)
+{
+    if (mkdir(dir, 0777) == 0 || errno == EEXIST)
+        return MOTE_OK;
+    return mote_fail(err, MOTE_EIO, "%s: cannot make the directory: %s", dir, strerror(errno));
+}
+
