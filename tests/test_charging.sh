@@ -51,8 +51,9 @@ expect 1 "b9.mote:2:22: error: integrator: max_steps must be a whole number" b9.
 expect 1 "b9b.mote:4:1: error: float: in faithful mode the currents do not depend on U" b9b.mote "${F}body sphere radius=1\nrun particles=10\nfloat\n"
 printf '%bplasma preset single n=1e6 kT=1000\nbody sphere radius=1\nfloat particles=1e5\n' "$G" > fl.mote
 "$MOTE" run fl.mote > out.txt 2> err.txt && awk '/^float: U_f/ { u = $4 } END { d = u / -2503.9 - 1; exit !(d * d < 1e-4) }' out.txt && ok || bad "float (single, 1 keV): $(grep U_f out.txt) $(cat err.txt)"
-expect 1 "b10.mote:2:24: error: injector sphere: radius must be auto, debye, thesis or a length > 0 (m), found 'big'" b10.mote "${G}injector sphere radius=big\n"
-expect 1 "b10b.mote:2:10: error: injector: expected sphere or box, found 'cone'" b10b.mote "${G}injector cone\n"
+expect 1 "b10.mote:2:24: error: injector: expected a real number or 'auto', 'debye' or 'thesis' for radius, found 'big'" b10.mote "${G}injector sphere radius=big\n"
+expect 1 "b10c.mote:2:24: error: injector: radius must be > 0, found -3" b10c.mote "${G}injector sphere radius=-3\n"
+expect 1 "b10b.mote:2:10: error: injector: expected 'sphere' or 'box' for sphere|box, found 'cone'" b10b.mote "${G}injector cone\n"
 expect 1 "b10c.mote:2:21: error: injector box: radius= is for the sphere" b10c.mote "${G}injector box radius=3\n"
 expect 2 "b10d.mote:5:1: error: run: the box injector is for straight paths" b10d.mote "${G}plasma preset single n=1e6 kT=1000\nbody sphere radius=1\ninjector box\nrun potential=-10 particles=10\n"
 expect 1 "b11.mote:3:6: error: body sphere: the exact sphere is a body on its own" b11.mote "${G}body sphere radius=1\nbody sphere radius=2\n"
@@ -70,7 +71,7 @@ printf '0 0 0 1 0 0 0 nan 0\n' > nan.txt
 expect 2 "b15.mote:2:16: error: body load: nan.txt:1: a coordinate that is not a finite number ('nan')" b15.mote "${G}body load file=nan.txt\n"
 expect 1 "b16.mote:2:16: error: body: 'missing.stl' does not exist and no earlier command writes it" b16.mote "${G}body load file=missing.stl\n"
 expect 1 "b17.mote:2:6: error: body load: give file=FILE" b17.mote "${G}body load\n"
-expect 1 "b18.mote:2:32: error: body load: units must be m, cm, mm or in, found 'ft'" b18.mote "${G}body load file=craft.obj units=ft\n"
+expect 1 "b18.mote:2:32: error: body: expected 'm', 'cm', 'mm' or 'in' for units, found 'ft'" b18.mote "${G}body load file=craft.obj units=ft\n"
 expect 1 "b19.mote:2:33: error: body load: rotate: expected AXIS,DEGREES (x, y or z), found 'w,90'" b19.mote "${G}body load file=craft.obj rotate=w,90\n"
 printf 'solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n' > cut.stl
 expect 2 "b20.mote:2:16: error: body load: cut.stl: not a mesh file Assimp reads" b20.mote "${G}body load file=cut.stl\n"
@@ -152,7 +153,7 @@ printf '%bplasma preset geo-worst-case\nbody sphere radius=1\nrun particles=1000
 printf '%bplasma preset geo-worst-case\nbody sphere radius=1\nfield none\nrun particles=1e4\nrun particles=1e4 potential=-5000\n' "$G" > fn.mote
 "$MOTE" run fn.mote > out.txt 2> err.txt && [ "$(grep '^run: e ' out.txt | sort -u | wc -l)" -eq 1 ] && ok || bad "field none: $(grep '^run: e' out.txt)"
 expect 1 "fn2.mote:5:1: error: float: with field none the currents do not depend on U" fn2.mote "${G}plasma preset geo-worst-case\nbody sphere radius=1\nfield none\nfloat\n"
-expect 1 "fn3.mote:2:7: error: field: expected none or sphere, found 'dipole'" fn3.mote "${G}field dipole\n"
+expect 1 "fn3.mote:2:7: error: field: expected 'none' or 'sphere' for none|sphere, found 'dipole'" fn3.mote "${G}field dipole\n"
 expect 1 "fn4.mote:2:7: error: field sphere: faithful mode has no field" fn4.mote "${F}field sphere\n"
 # relerr (spec 5.3): histories added until every species' relative error is below it, or the
 # limit; the count is whole blocks of 4096

@@ -14,8 +14,8 @@ H='model mixing-box\n'
 # ranges, at the argument
 expect 1 "b1.mote:2:7: error: box: X_R must be above X_L = 0, found -1" b1.mote "${H}box 0 -1 0 1\nplace\n"
 expect 1 "b2.mote:2:6: error: loss: LOSS must be in [0, 1], found 1.5" b2.mote "${H}loss 1.5\n"
-expect 1 "b3.mote:2:12: error: integrator: expected 'event' or 'timestep', found 'fast'" b3.mote "${H}integrator fast\n"
-expect 1 "b4.mote:2:16: error: collision_rule: expected 'restitution' or 'seed', found 'soft'" b4.mote "${H}collision_rule soft\n"
+expect 1 "b3.mote:2:12: error: integrator: expected 'timestep' or 'event' for NAME, found 'fast'" b3.mote "${H}integrator fast\n"
+expect 1 "b4.mote:2:16: error: collision_rule: expected 'restitution' or 'seed' for NAME, found 'soft'" b4.mote "${H}collision_rule soft\n"
 expect 1 "b5.mote:2:9: error: disks: nLeft + nRight must be at least 1, found 0 + 0" b5.mote "${H}disks 0 0\n"
 expect 1 "b6.mote:2:8: error: radius: R must be > 0, found 0" b6.mote "${H}radius 0\n"
 expect 1 "b7.mote:2:11: error: kicks: dV_S must be >= 0, found -1" b7.mote "${H}kicks 0 0 -1\n"

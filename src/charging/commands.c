@@ -295,22 +295,11 @@ static int load_opts(const mote_call *c, mote_ch_load_opts *o, mote_err *err)
     o->scale = 1;
     o->rot_axis = -1;
     const mote_arg *a;
-    if ((a = mote_call_opt(c, "format"))) {
-        if (strcmp(a->text, "auto") && strcmp(a->text, "plain") && strcmp(a->text, "assimp"))
-            return mote_call_fail(err, c, mote_call_opt_index(c, "format"), MOTE_EINVAL,
-                                  "body load: format must be auto, plain or assimp, found '%s'",
-                                  a->text);
+    if ((a = mote_call_opt(c, "format"))) /* auto|plain|assimp */
         o->format = a->text;
-    }
     if ((a = mote_call_opt(c, "units"))) {
-        static const char *const U[] = {"m", "cm", "mm", "in"};
-        static const double F[] = {1, 0.01, 0.001, 0.0254};
-        int k = 0;
-        while (k < 4 && strcmp(U[k], a->text))
-            k++;
-        if (k == 4)
-            return mote_call_fail(err, c, mote_call_opt_index(c, "units"), MOTE_EINVAL,
-                                  "body load: units must be m, cm, mm or in, found '%s'", a->text);
+        static const double F[] = {1, 0.01, 0.001, 0.0254}; /* m|cm|mm|in */
+        const int k = (int)a->i;
         if (mote_call_opt(c, "scale"))
             return mote_call_fail(err, c, mote_call_opt_index(c, "scale"), MOTE_EINVAL,
                                   "body load: give units= or scale=, not both");
@@ -331,12 +320,8 @@ static int load_opts(const mote_call *c, mote_ch_load_opts *o, mote_err *err)
         o->rot_axis = ax - 'x';
         o->rot_deg = deg;
     }
-    if ((a = mote_call_opt(c, "strict"))) {
-        if (strcmp(a->text, "yes") && strcmp(a->text, "no"))
-            return mote_call_fail(err, c, mote_call_opt_index(c, "strict"), MOTE_EINVAL,
-                                  "body load: strict must be yes or no, found '%s'", a->text);
-        o->strict = a->text[0] == 'y';
-    }
+    if ((a = mote_call_opt(c, "strict"))) /* yes|no */
+        o->strict = a->i == 0;
     o->part = (a = mote_call_opt(c, "part")) ? a->text : NULL;
     return MOTE_OK;
 }
@@ -512,26 +497,14 @@ static int run_body(void *vm, const mote_call *c, mote_err *err)
 
 static int check_injector(void *vm, const mote_call *c, mote_err *err)
 {
-    const int box = strcmp(c->args[0].text, "box") == 0;
-    if (!box && strcmp(c->args[0].text, "sphere") != 0)
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "injector: expected sphere or box, found "
-                              "'%s'", c->args[0].text);
+    const int box = c->args[0].i == 1; /* sphere|box */
     if (box && mote_call_opt(c, "radius"))
         return mote_call_fail(err, c, mote_call_opt_index(c, "radius"), MOTE_EINVAL,
                               "injector box: radius= is for the sphere (give margin= or margin_m=)");
     if (!box && (mote_call_opt(c, "margin") || mote_call_opt(c, "margin_m")))
         return mote_call_fail(err, c, 0, MOTE_EINVAL, "injector sphere: margin= and margin_m= "
                               "are for the box");
-    const mote_arg *r = mote_call_opt(c, "radius");
-    if (r && strcmp(r->text, "auto") && strcmp(r->text, "debye") && strcmp(r->text, "thesis")) {
-        char *end;
-        double v = strtod(r->text, &end);
-        if (end == r->text || *end || !(v > 0) || !isfinite(v))
-            return mote_call_fail(err, c, mote_call_opt_index(c, "radius"), MOTE_EINVAL,
-                                  "injector sphere: radius must be auto, debye, thesis or a "
-                                  "length > 0 (m), found '%s'", r->text);
-    }
-    return MOTE_OK;
+    return MOTE_OK; /* (radius= is a length > 0 or auto|debye|thesis: the table's) */
 }
 static int run_injector(void *vm, const mote_call *c, mote_err *err)
 {
@@ -561,10 +534,7 @@ double ch_injection_radius(const ch_model *m, const mote_ch_geometry *g)
 
 static int apply_field(ch_model *m, const mote_call *c, mote_err *err)
 {
-    const char *w = c->args[0].text;
-    if (strcmp(w, "none") && strcmp(w, "sphere"))
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "field: expected none or sphere, found "
-                              "'%s'", w);
+    const char *w = c->args[0].text; /* none|sphere */
     if (m->faithful && !strcmp(w, "sphere"))
         return mote_call_fail(err, c, 0, MOTE_EINVAL, "field sphere: faithful mode has no field "
                               "(the thesis's scope, spec 1.2); use model charging");
@@ -920,14 +890,15 @@ static const mote_cmd ch_commands[] = {
      HELP_MAXWELLIAN, check_maxwellian, run_maxwellian},
     {"body", NULL,
      "s radius=r>0 level=i nlon=i>=3 nlat=i>=2 size=s subdiv=i>=1 side=r>0 gap=r>=0 "
-     "file=f<mesh format=s units=s scale=r>0 part=s offset=s rotate=s strict=s value=s",
+     "file=f<mesh format=e{auto|plain|assimp} units=e{m|cm|mm|in} scale=r>0 part=s offset=s "
+     "rotate=s strict=e{yes|no} value=s",
      "body KIND [options]",
      "add a generated body (sphere, icosphere, uvsphere, box, twocubes) or a mesh file (load)",
      HELP_BODY, check_body, run_body},
-    {"injector", NULL, "s radius=s margin=r>0 margin_m=r>0",
+    {"injector", NULL, "e{sphere|box} radius=r>0{auto|debye|thesis} margin=r>0 margin_m=r>0",
      "injector sphere|box [options]",
      "where histories start", HELP_INJECTOR, check_injector, run_injector},
-    {"field", NULL, "s", "field none|sphere", "straight paths, or the equivalent sphere's field",
+    {"field", NULL, "e{none|sphere}", "field none|sphere", "straight paths, or the equivalent sphere's field",
      HELP_FIELD, check_field, run_field},
     {"bfield", NULL, "B=r>=0!", "bfield B=T", "a magnetic field for the validity warnings only",
      HELP_BFIELD, NULL, run_bfield},

@@ -276,47 +276,20 @@ static int run_t_c(void *vm, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
-static int parse_integrator(const mote_call *c, int *out, mote_err *err)
+/* `integrator timestep|event`, `collision_rule restitution|seed`: the words' order is that of
+ * the enums (MOTE_MB_TIMESTEP, MOTE_MB_EVENT; MOTE_MB_RESTITUTION, MOTE_MB_SEEDRULE) */
+static int set_integrator(void *vm, const mote_call *c, mote_err *err)
 {
-    const char *s = c->args[0].text;
-    if (strcmp(s, "timestep") == 0) {
-        *out = MOTE_MB_TIMESTEP;
-    } else if (strcmp(s, "event") == 0) {
-        *out = MOTE_MB_EVENT;
-    } else {
-        return mote_call_fail(err, c, 0, MOTE_EINVAL,
-                              "integrator: expected 'event' or 'timestep', found '%s'", s);
-    }
+    (void)err;
+    ((mb_model *)vm)->p.integrator = (int)c->args[0].i;
     return MOTE_OK;
-}
-static int check_integrator(void *vm, const mote_call *c, mote_err *err)
-{
-    return parse_integrator(c, &((mb_model *)vm)->p.integrator, err);
-}
-static int run_integrator(void *vm, const mote_call *c, mote_err *err)
-{
-    return parse_integrator(c, &((mb_model *)vm)->p.integrator, err);
 }
 
-static int parse_rule(const mote_call *c, int *out, mote_err *err)
+static int set_rule(void *vm, const mote_call *c, mote_err *err)
 {
-    const char *s = c->args[0].text;
-    if (strcmp(s, "restitution") == 0)
-        *out = MOTE_MB_RESTITUTION;
-    else if (strcmp(s, "seed") == 0)
-        *out = MOTE_MB_SEEDRULE;
-    else
-        return mote_call_fail(err, c, 0, MOTE_EINVAL,
-                              "collision_rule: expected 'restitution' or 'seed', found '%s'", s);
+    (void)err;
+    ((mb_model *)vm)->p.rule = (int)c->args[0].i;
     return MOTE_OK;
-}
-static int check_rule(void *vm, const mote_call *c, mote_err *err)
-{
-    return parse_rule(c, &((mb_model *)vm)->p.rule, err);
-}
-static int run_rule(void *vm, const mote_call *c, mote_err *err)
-{
-    return parse_rule(c, &((mb_model *)vm)->p.rule, err);
 }
 
 /* ---- state files ---------------------------------------------------------------------------- */
@@ -822,10 +795,10 @@ static const mote_cmd mb_commands[] = {
      MB_HELP_GRAVITY, check_gravity, run_gravity},
     {"t_c", NULL, "r>=0", "t_c T", "TC-model time (s): collisions closer than T are elastic",
      MB_HELP_TC, check_t_c, run_t_c},
-    {"integrator", NULL, "s", "integrator NAME", "event (exact, default) or timestep (the document's scheme)",
-     MB_HELP_INTEGRATOR, check_integrator, run_integrator},
-    {"collision_rule", NULL, "s", "collision_rule NAME",
-     "restitution (default) or seed (the document's rule)", MB_HELP_RULE, check_rule, run_rule},
+    {"integrator", NULL, "e{timestep|event}", "integrator NAME", "event (exact, default) or timestep (the document's scheme)",
+     MB_HELP_INTEGRATOR, set_integrator, set_integrator},
+    {"collision_rule", NULL, "e{restitution|seed}", "collision_rule NAME",
+     "restitution (default) or seed (the document's rule)", MB_HELP_RULE, set_rule, set_rule},
     {"save", NULL, "f>state", "save FILE", "write the exact state to FILE", MB_HELP_SAVE, check_save,
      run_save},
     {"load", NULL, "f<state", "load FILE", "continue from a state written by save", MB_HELP_LOAD,

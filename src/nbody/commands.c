@@ -396,55 +396,26 @@ static double max_abs3(const mote_real v[3])
 
 /* ---- generators -------------------------------------------------------------------------------- */
 
-static const char *const RING_OPTS[] = {"nb", "ka", "e", "tilt", "central_mass", "total_mass",
-                                        "density", "dt", NULL};
-static const char *const ATOM_OPTS[] = {"nb", "ka", "e", "tilt", "A", "Z", "n", "l",
-                                        "permittivity", "time_unit", "dt", NULL};
-static int listed(const char *const *list, const char *key)
+static int merge_inner_opt(const mote_call *c)
 {
-    for (; *list; list++)
-        if (strcmp(*list, key) == 0)
-            return 1;
-    return 0;
-}
-
-static const char *const SOLAR_OPTS[] = {"data", "bodies", "merge_inner", NULL};
-
-static int merge_inner_opt(const mote_call *c, int *on, mote_err *err)
-{
-    const mote_arg *a = mote_call_opt(c, "merge_inner");
-    *on = 0;
-    if (!a)
-        return MOTE_OK;
-    if (strcmp(a->text, "on") == 0 || strcmp(a->text, "off") == 0) {
-        *on = a->text[1] == 'n';
-        return MOTE_OK;
-    }
-    return mote_call_fail(err, c, -1, MOTE_EINVAL,
-                          "generate solar_system: merge_inner: expected on or off, found '%s'",
-                          a->text);
+    const mote_arg *a = mote_call_opt(c, "merge_inner"); /* on|off */
+    return a && a->i == 0;
 }
 
 /* `generate solar_system`: read the data file now (its errors are the script's), count bodies. */
-static int check_solar(nb_model *m, const mote_call *c, mote_err *err)
+static int check_solar(void *vm, const mote_call *c, mote_err *err)
 {
-    for (int k = 0; k < c->nopts; k++)
-        if (!listed(SOLAR_OPTS, c->opts[k].key))
-            return mote_call_fail(err, c, c->nargs + k, MOTE_EINVAL,
-                                  "generate solar_system: option %s= belongs to a ring",
-                                  c->opts[k].key);
+    nb_model *m = vm;
+    if (m->nb.kind != MOTE_NB_GRAVITY)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL,
+                              "generate solar_system: this is a Coulomb run; it needs 'model "
+                              "nbody gravity'");
     const mote_arg *d = mote_call_opt(c, "data");
-    if (!d)
-        return mote_call_fail(err, c, 0, MOTE_EINVAL,
-                              "generate solar_system: data=FILE is required (for example "
-                              "data/outer_solar_system.dat)");
     if (m->d_bodies)
         return mote_call_fail(err, c, -1, MOTE_EINVAL,
                               "generate: the system already has bodies; a generator starts empty");
-    int inner;
-    int rc = merge_inner_opt(c, &inner, err);
-    if (rc)
-        return rc;
+    const int inner = merge_inner_opt(c);
+    int rc;
     m->d_bodies = 2;
     m->d_ring = 0;
     m->d_scales = 1;
@@ -470,13 +441,13 @@ static int check_solar(nb_model *m, const mote_call *c, mote_err *err)
     return mote_call_fail(err, c, -1, rc, "%s", msg);
 }
 
-static int run_solar(nb_model *m, const mote_call *c, mote_err *err)
+static int run_solar(void *vm, const mote_call *c, mote_err *err)
 {
-    int inner;
-    int rc = merge_inner_opt(c, &inner, err);
+    nb_model *m = vm;
+    m->raw = 0; /* a generator sets its own scales */
+    const int inner = merge_inner_opt(c);
     mote_nb_solar s;
-    if (!rc)
-        rc = mote_nb_solar_read(mote_call_opt(c, "data")->path, &s, err);
+    int rc = mote_nb_solar_read(mote_call_opt(c, "data")->path, &s, err);
     if (rc)
         return rc;
     const mote_arg *b = mote_call_opt(c, "bodies");
@@ -493,10 +464,6 @@ static int run_solar(nb_model *m, const mote_call *c, mote_err *err)
 
 
 /* ---- generate area (spec 9.4) ---- */
-
-static const char *const AREA_OPTS[] = {"b", "c", "origin", "mu", "sep_density", "sep_pos",
-                                        "sep_vel", "omega", "axis", "rho_area", "rho_body",
-                                        "dt", "length", NULL};
 
 /* The area's options into a (mote_nb_area_defaults first); a located error for a bad list. */
 static int area_opts(const mote_call *c, mote_nb_area *a, mote_err *err)
@@ -537,16 +504,11 @@ static int area_opts(const mote_call *c, mote_nb_area *a, mote_err *err)
     return MOTE_OK;
 }
 
-static int check_area(nb_model *m, const mote_call *c, mote_err *err)
+static int check_area(void *vm, const mote_call *c, mote_err *err)
 {
-    for (int k = 0; k < c->nopts; k++)
-        if (!listed(AREA_OPTS, c->opts[k].key))
-            return mote_call_fail(err, c, c->nargs + k, MOTE_EINVAL,
-                                  "generate area: option %s= is not an area option (b c origin mu "
-                                  "sep_density sep_pos sep_vel omega axis rho_area rho_body dt "
-                                  "length)", c->opts[k].key);
+    nb_model *m = vm;
     if (m->nb.kind != MOTE_NB_GRAVITY)
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "generate area: this is a Coulomb run; the "
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "generate area: this is a Coulomb run; the "
                               "area of matter needs 'model nbody gravity'");
     if (m->d_bodies)
         return mote_call_fail(err, c, -1, MOTE_EINVAL,
@@ -570,8 +532,10 @@ static int check_area(nb_model *m, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
-static int run_area(nb_model *m, const mote_call *c, mote_err *err)
+static int run_area(void *vm, const mote_call *c, mote_err *err)
 {
+    nb_model *m = vm;
+    m->raw = 0;
     mote_nb_area a;
     int rc = area_opts(c, &a, err);
     if (!rc)
@@ -593,57 +557,51 @@ static int run_area(nb_model *m, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
-static int check_generate(void *vm, const mote_call *c, mote_err *err)
+/* `generate plummer n=N [seed=S]` */
+static int check_plummer(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
-    const char *what = c->args[0].text;
-    if (strcmp(what, "area") == 0)
-        return check_area(m, c, err);
-    if (strcmp(what, "plummer") == 0) {
-        for (int k = 0; k < c->nopts; k++)
-            if (strcmp(c->opts[k].key, "n") != 0 && strcmp(c->opts[k].key, "seed") != 0)
-                return mote_call_fail(err, c, c->nargs + k, MOTE_EINVAL,
-                                      "generate plummer: option %s= (expected n= and seed=)",
-                                      c->opts[k].key);
-        const mote_arg *n = mote_call_opt(c, "n");
-        if (!n || n->i > NB_MAX_GENERATED)
-            return mote_call_fail(err, c, n ? mote_call_opt_index(c, "n") : 0, MOTE_EINVAL,
-                                  "generate plummer: n= the number of bodies (1 ... 10^7)");
-        mote_err e2 = {0};
-        if (mote_mem_check((double)n->i * NB_BODY_BYTES, "generate plummer: the bodies", &e2))
-            return mote_call_fail(err, c, mote_call_opt_index(c, "n"), e2.code, "%s", e2.msg);
-        if (m->nb.kind != MOTE_NB_GRAVITY || m->d_bodies)
-            return mote_call_fail(err, c, 0, MOTE_EINVAL, "generate plummer: %s",
-                                  m->d_bodies ? "the system already has bodies"
-                                              : "a Plummer sphere needs 'model nbody gravity'");
-        m->d_bodies = (uint32_t)n->i;
-        m->d_ring = 0;
-        m->d_scales = 1;
-        return MOTE_OK;
-    }
-    int ring = strcmp(what, "ring") == 0, atom = strcmp(what, "atom_ring") == 0;
-    if (strcmp(what, "solar_system") == 0) {
-        if (m->nb.kind != MOTE_NB_GRAVITY)
-            return mote_call_fail(err, c, 0, MOTE_EINVAL,
-                                  "generate solar_system: this is a Coulomb run; it needs 'model "
-                                  "nbody gravity'");
-        return check_solar(m, c, err);
-    }
-    if (!ring && !atom)
-        return mote_call_fail(err, c, 0, MOTE_EINVAL,
-                              "generate: expected ring, atom_ring, solar_system, area or plummer, "
-                              "found "
-                              "'%s'", what);
+    const mote_arg *n = mote_call_opt(c, "n");
+    if (n->i > NB_MAX_GENERATED)
+        return mote_call_fail(err, c, mote_call_opt_index(c, "n"), MOTE_EINVAL,
+                              "generate plummer: n= the number of bodies (1 ... 10^7)");
+    mote_err e2 = {0};
+    if (mote_mem_check((double)n->i * NB_BODY_BYTES, "generate plummer: the bodies", &e2))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "n"), e2.code, "%s", e2.msg);
+    if (m->nb.kind != MOTE_NB_GRAVITY || m->d_bodies)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "generate plummer: %s",
+                              m->d_bodies ? "the system already has bodies"
+                                          : "a Plummer sphere needs 'model nbody gravity'");
+    m->d_bodies = (uint32_t)n->i;
+    m->d_ring = 0;
+    m->d_scales = 1;
+    return MOTE_OK;
+}
+
+static int run_plummer(void *vm, const mote_call *c, mote_err *err)
+{
+    nb_model *m = vm;
+    m->raw = 0;
+    const mote_arg *sd = mote_call_opt(c, "seed");
+    m->have_ring = 0;
+    int rc = mote_nb_plummer(&m->nb, (uint32_t)mote_call_opt(c, "n")->i,
+                             sd ? (uint64_t)sd->i : 1, err);
+    if (!rc && m->log)
+        fprintf(m->log, "generate plummer: %u equal masses, Plummer radius 1, G = 1 units, "
+                        "barycentric\n", m->nb.n);
+    return rc;
+}
+
+/* `generate ring` (gravity) and `generate atom_ring` (Coulomb) */
+static int check_ring(void *vm, const mote_call *c, mote_err *err)
+{
+    nb_model *m = vm;
+    const int ring = strcmp(c->name, "generate ring") == 0;
     if (ring != (m->nb.kind == MOTE_NB_GRAVITY))
-        return mote_call_fail(err, c, 0, MOTE_EINVAL,
-                              "generate %s: this is a %s run; the %s needs 'model nbody %s'", what,
+        return mote_call_fail(err, c, -1, MOTE_EINVAL,
+                              "%s: this is a %s run; the %s needs 'model nbody %s'", c->name,
                               m->nb.kind == MOTE_NB_GRAVITY ? "gravity" : "Coulomb",
                               ring ? "gravity ring" : "Coulomb ring", ring ? "gravity" : "coulomb");
-    for (int k = 0; k < c->nopts; k++)
-        if (!listed(ring ? RING_OPTS : ATOM_OPTS, c->opts[k].key))
-            return mote_call_fail(err, c, c->nargs + k, MOTE_EINVAL,
-                                  "generate %s: option %s= belongs to the other ring", what,
-                                  c->opts[k].key);
     if (m->d_bodies)
         return mote_call_fail(err, c, -1, MOTE_EINVAL,
                               "generate: the system already has bodies; a ring starts empty");
@@ -653,24 +611,10 @@ static int check_generate(void *vm, const mote_call *c, mote_err *err)
     m->d_scales = 1;
     return MOTE_OK;
 }
-static int run_generate(void *vm, const mote_call *c, mote_err *err)
+static int run_ring(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
     m->raw = 0; /* a generator sets its own scales */
-    if (strcmp(c->args[0].text, "solar_system") == 0)
-        return run_solar(m, c, err);
-    if (strcmp(c->args[0].text, "area") == 0)
-        return run_area(m, c, err);
-    if (strcmp(c->args[0].text, "plummer") == 0) {
-        const mote_arg *sd = mote_call_opt(c, "seed");
-        m->have_ring = 0;
-        int rc = mote_nb_plummer(&m->nb, (uint32_t)mote_call_opt(c, "n")->i,
-                                 sd ? (uint64_t)sd->i : 1, err);
-        if (!rc && m->log)
-            fprintf(m->log, "generate plummer: %u equal masses, Plummer radius 1, G = 1 units, "
-                            "barycentric\n", m->nb.n);
-        return rc;
-    }
     mote_nb_ring *r = &m->ring;
     mote_nb_ring_defaults(r, m->nb.kind);
     const mote_arg *a;
@@ -745,6 +689,14 @@ static const char *const GALACTICA_OPTS[] = {"dt",   "order", "first_step", "tol
                                              "hmin", "hmax",  "step",       "dt_max", NULL};
 static const char *const TAYLOR_OPTS[] = {"dt",   "order", "tol",  "memory", "safety",
                                           "hmin", "hmax",  "norm", NULL};
+
+static int listed(const char *const *list, const char *key)
+{
+    for (; *list; list++)
+        if (strcmp(*list, key) == 0)
+            return 1;
+    return 0;
+}
 
 static int check_integrator(void *vm, const mote_call *c, mote_err *err)
 {
@@ -847,44 +799,25 @@ static int run_integrator(void *vm, const mote_call *c, mote_err *err)
     return MOTE_OK; /* (the previous step stays: a restart continues as the run would have) */
 }
 
-static int check_merge(void *vm, const mote_call *c, mote_err *err)
-{
-    const char *s = c->args[0].text;
-    if (strcmp(s, "on") != 0 && strcmp(s, "off") != 0)
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "merge: expected on or off, found '%s'", s);
-    return MOTE_OK;
-}
 static int run_merge(void *vm, const mote_call *c, mote_err *err)
 {
     mote_nb *nb = &((nb_model *)vm)->nb;
-    nb->merging = strcmp(c->args[0].text, "on") == 0;
+    nb->merging = c->args[0].i == 0; /* on|off */
     nb->bt = nb_opt_real_or(c, "bt", nb->bt);
     nb->bt_hmin = nb_opt_real_or(c, "hmin", nb->bt_hmin);
     return MOTE_OK;
 }
 
-static int check_compensated(void *vm, const mote_call *c, mote_err *err)
-{
-    const char *s = c->args[0].text;
-    if (strcmp(s, "on") != 0 && strcmp(s, "off") != 0)
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "compensated: expected on or off, found '%s'",
-                              s);
-    return MOTE_OK;
-}
 static int run_compensated(void *vm, const mote_call *c, mote_err *err)
 {
-    ((nb_model *)vm)->nb.compensated = strcmp(c->args[0].text, "on") == 0;
+    ((nb_model *)vm)->nb.compensated = c->args[0].i == 0; /* on|off */
     return MOTE_OK;
 }
 
 /* forces direct (spec 6.1); the tree of spec 6.2 belongs to the large-N work */
 static int check_forces(void *vm, const mote_call *c, mote_err *err)
 {
-    const char *s = c->args[0].text;
-    if (strcmp(s, "direct") != 0 && strcmp(s, "tree") != 0)
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "forces: expected direct or tree, found '%s'",
-                              s);
-    if (strcmp(s, "direct") == 0 && mote_call_opt(c, "theta"))
+    if (c->args[0].i == 0 && mote_call_opt(c, "theta")) /* direct|tree */
         return mote_call_fail(err, c, mote_call_opt_index(c, "theta"), MOTE_EINVAL,
                               "forces: theta= is for forces tree");
     const mote_arg *t = mote_call_opt(c, "theta");
@@ -898,7 +831,7 @@ static int run_forces(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
     const mote_arg *t = mote_call_opt(c, "theta");
-    m->nb.tree_on = strcmp(c->args[0].text, "tree") == 0;
+    m->nb.tree_on = c->args[0].i == 1; /* direct|tree */
     m->nb.theta = m->nb.tree_on ? (mote_real)(t ? t->r : 0.5) : 0;
     if (m->log && m->nb.tree_on)
         fprintf(m->log, "forces: Barnes-Hut tree, theta %g (approximate: every output says so)\n",
@@ -940,14 +873,25 @@ static const mote_cmd nb_commands[] = {
      HELP_CONSTANT, check_constant, run_constant},
     {"frame", NULL, "s", "frame barycentric", "shift to the barycentre (centre of mass at rest)",
      HELP_FRAME, check_frame, run_frame},
-    {"generate", NULL,
-     "s nb=i>=2 ka=r>0 e=r[0,1) tilt=r central_mass=r>0 total_mass=r>0 density=r>0 dt=r>0 "
-     "A=i>=1 Z=i>=1 n=i>=1 l=i permittivity=r>0 time_unit=r>0 data=f<solar bodies=s "
-     "merge_inner=s b=r>0 c=r>0 origin=s mu=i>=1 sep_density=r>=0 sep_pos=s sep_vel=s omega=r "
-     "axis=s rho_area=r>0 rho_body=r>=0 length=r>0 seed=i>=0",
-     "generate KIND [options]",
-     "the exact rings of the seed document, the Solar System, or Galactica's area of matter",
-     HELP_GENERATE, check_generate, run_generate},
+    {"generate ring", NULL,
+     "nb=i>=2 ka=r>0 e=r[0,1) tilt=r central_mass=r>0 total_mass=r>0 density=r>0 dt=r>0",
+     "generate ring [options]", "the exact gravity ring of the seed document (spec 9.1)",
+     HELP_GEN_RING, check_ring, run_ring},
+    {"generate atom_ring", NULL,
+     "nb=i>=2 ka=r>0 e=r[0,1) tilt=r A=i>=1 Z=i>=1 n=i>=1 l=i permittivity=r>0 time_unit=r>0 "
+     "dt=r>0",
+     "generate atom_ring [options]", "the exact Coulomb ring of the seed document (spec 9.2)",
+     HELP_GEN_RING, check_ring, run_ring},
+    {"generate solar_system", NULL, "data=f<solar! bodies=s merge_inner=e{on|off}",
+     "generate solar_system data=FILE [options]", "the bodies of a Solar-System data file",
+     HELP_GEN_SOLAR, check_solar, run_solar},
+    {"generate area", NULL,
+     "b=r>0 c=r>0 origin=s mu=i>=1 sep_density=r>=0 sep_pos=s sep_vel=s omega=r axis=s "
+     "rho_area=r>0 rho_body=r>=0 dt=r>0 length=r>0",
+     "generate area [options]", "Galactica's area of matter (spec 9.4)", HELP_GEN_AREA,
+     check_area, run_area},
+    {"generate plummer", NULL, "n=i>=1! seed=i>=0", "generate plummer n=N [seed=S]",
+     "a Plummer sphere of equal masses", HELP_GEN_PLUMMER, check_plummer, run_plummer},
     {"integrator", NULL,
      "s dt=r>0 order=s first_step=r(0,1] tol=r(0,1) memory=s safety=r>0 hmin=r>=0 hmax=r>0 "
      "norm=s step=s dt_max=r>0",
@@ -955,24 +899,26 @@ static const mote_cmd nb_commands[] = {
      "[hmin=A] [hmax=B] [norm=nearest|global] [step=fixed|adaptive|doubling] [dt_max=D]",
      "choose and set the integrator (galactica or taylor)",
      HELP_INTEGRATOR, check_integrator, run_integrator},
-    {"compensated", NULL, "s", "compensated on|off", "compensated summation (default on)",
-     HELP_COMPENSATED, check_compensated, run_compensated},
-    {"forces", NULL, "s theta=r>=0", "forces direct|tree [theta=T]",
+    {"compensated", NULL, "e{on|off}", "compensated on|off", "compensated summation (default on)",
+     HELP_COMPENSATED, NULL, run_compensated},
+    {"forces", NULL, "e{direct|tree} theta=r>=0", "forces direct|tree [theta=T]",
      "how forces are summed: every pair, or the approximate Barnes-Hut tree",
      HELP_FORCES, check_forces, run_forces},
-    {"merge", NULL, "s bt=r(0,1] hmin=r(0,1]", "merge on|off [bt=F] [hmin=H]", "merge bodies that touch (default: on when any has a radius)",
-     HELP_MERGE, check_merge, run_merge},
-    {"monitor", NULL, "every=i>=1 dt=r>0 unit=s format=s file=f>monitor",
+    {"merge", NULL, "e{on|off} bt=r(0,1] hmin=r(0,1]", "merge on|off [bt=F] [hmin=H]", "merge bodies that touch (default: on when any has a radius)",
+     HELP_MERGE, NULL, run_merge},
+    {"monitor", NULL, "every=i>=1 dt=r>0 unit=e{s|day|year|century} format=e{table|csv|jsonl} file=f>monitor",
      "monitor every=K|dt=T [unit=U] [format=table|csv|jsonl] [file=FILE]",
      "record energy, momenta and centre of mass every K steps or every T of time", HELP_MONITOR,
      nb_check_sampler, nb_run_monitor},
     {"trajectory", NULL,
-     "every=i>=1 dt=r>0 unit=s format=s file=f>trajectory! bodies=s velocities=s",
+     "every=i>=1 dt=r>0 unit=e{s|day|year|century} format=e{table|csv|jsonl} "
+     "file=f>trajectory! bodies=s velocities=e{on|off}",
      "trajectory every=K|dt=T file=FILE [unit=U] [format=table|csv|jsonl] [bodies=LIST] "
      "[velocities=on|off]",
      "record the positions of every body (plot draws the orbits)", HELP_TRAJECTORY,
      nb_check_trajectory, nb_run_trajectory},
-    {"approaches", NULL, "body=s! every=i>=1! refine=s file=f>approaches! format=s",
+    {"approaches", NULL, "body=s! every=i>=1! refine=e{on|off} file=f>approaches! "
+     "format=e{native|galactica}",
      "approaches body=B every=K file=FILE [refine=on] [format=native|galactica]",
      "record the closest approach of body B to the others in every K steps", HELP_APPROACHES,
      nb_check_approaches, nb_run_approaches},
@@ -980,7 +926,7 @@ static const mote_cmd nb_commands[] = {
      "frames every=K [prefix=frame_] [control=galacf26.dat]",
      "Galactica-style pictures every K steps (spec 7.13)", HELP_FRAMES, nb_check_frames,
      nb_run_frames},
-    {"integrate", NULL, "steps=i>=1 to=r for=r>0 unit=s",
+    {"integrate", NULL, "steps=i>=1 to=r for=r>0 unit=e{s|day|year|century}",
      "integrate [steps=N] [to=T] [for=D] [unit=U]",
      "advance by N steps, to the time T, or for the time D (ends exactly)", HELP_INTEGRATE,
      nb_check_integrate, nb_run_integrate},
@@ -995,12 +941,12 @@ static const mote_cmd nb_commands[] = {
      "continue from a checkpoint (or a saved state)", HELP_RESTART, nb_check_restart, nb_run_restart},
     {"check", NULL, "s", "check ring", "compare with the exact ring solution", HELP_CHECK,
      nb_check_check, nb_run_check},
-    {"write", NULL, "s file=f>snapshot! format=s info_line=s", "write snapshot|galactica file=FILE",
+    {"write", NULL, "s file=f>snapshot! format=s info_line=e{on|off}", "write snapshot|galactica file=FILE",
      "write the bodies and the run's state as a snapshot table (spec 10.2)", HELP_WRITE,
      nb_check_write, nb_run_write},
     {"read", NULL, "s file=f<snapshot! format=s n=i>=1", "read snapshot|galactica file=FILE",
      "continue from a snapshot (replaces the bodies)", HELP_READ, nb_check_read, nb_run_read},
-    {"steps_between", NULL, "jd1=r! jd2=r! dt=r>0! fresh=s", "steps_between jd1= jd2= dt= [fresh=on]",
+    {"steps_between", NULL, "jd1=r! jd2=r! dt=r>0! fresh=e{on|off}", "steps_between jd1= jd2= dt= [fresh=on]",
      "the steps and the corrected step between two dates", HELP_STEPS_BETWEEN,
      nb_check_steps_between, nb_run_steps_between},
     {"live_plane", NULL, "s", "live_plane xy|xz|yz",
@@ -1015,7 +961,7 @@ static const mote_cmd nb_commands[] = {
      "[step_tol=E] [force=on] [lenient=on] [trio_layout=packed] [max_files=N]",
      "run a Galactica job: its control file, bodies and result files", HELP_RUN, nb_check_run,
      nb_run_run},
-    {"snapshot", NULL, "every=i>=1 prefix=f format=s file=f>snapshot",
+    {"snapshot", NULL, "every=i>=1 prefix=f format=e{native|galactica} file=f>snapshot",
      "snapshot file=FILE|every=K [prefix=P] [format=native|galactica]",
      "a snapshot now (file=), or every K steps of integrate to PSTEP.snap", HELP_SNAPSHOT, nb_check_snapshot,
      nb_run_snapshot},

@@ -111,10 +111,6 @@ static int check_kind(const mote_call *c, mote_err *err)
     if (!gal && gal_only)
         return mote_call_fail(err, c, mote_call_opt_index(c, gal_only), MOTE_EINVAL,
                               "%s snapshot: %s= is for galactica files", c->name, gal_only);
-    const mote_arg *il = mote_call_opt(c, "info_line");
-    if (il && strcmp(il->text, "on") && strcmp(il->text, "off"))
-        return mote_call_fail(err, c, mote_call_opt_index(c, "info_line"), MOTE_EINVAL,
-                              "%s: info_line= is on or off, found '%s'", c->name, il->text);
     if (gal && mote_call_opt(c, "format"))
         return mote_call_fail(err, c, mote_call_opt_index(c, "format"), MOTE_EINVAL,
                               "%s galactica: format= is for snapshots", c->name);
@@ -247,10 +243,6 @@ int nb_run_read(void *vm, const mote_call *c, mote_err *err)
 int nb_check_steps_between(void *vm, const mote_call *c, mote_err *err)
 {
     (void)vm;
-    const mote_arg *fr = mote_call_opt(c, "fresh");
-    if (fr && strcmp(fr->text, "on") && strcmp(fr->text, "off"))
-        return mote_call_fail(err, c, mote_call_opt_index(c, "fresh"), MOTE_EINVAL,
-                              "steps_between: fresh= is on or off, found '%s'", fr->text);
     if (!(mote_call_opt(c, "jd2")->r > mote_call_opt(c, "jd1")->r))
         return mote_call_fail(err, c, mote_call_opt_index(c, "jd2"), MOTE_EINVAL,
                               "steps_between: jd2 must come after jd1");

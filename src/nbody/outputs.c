@@ -245,10 +245,6 @@ static int check_time_unit(nb_model *m, const mote_call *c, mote_err *err)
     if (!u)
         return MOTE_OK;
     int k = mote_call_opt_index(c, "unit");
-    if (!(mote_nb_time_unit(u->text) > 0))
-        return mote_call_fail(err, c, k, MOTE_EINVAL,
-                              "%s: unit must be s, day, year or century, found '%s'", c->name,
-                              u->text);
     if (!m->d_scales)
         return mote_call_fail(err, c, k, MOTE_EINVAL,
                               "%s: unit= needs physical scales: set them with units (or a "
@@ -283,11 +279,6 @@ int nb_check_sampler(void *vm, const mote_call *c, mote_err *err)
     if (rc)
         return rc;
     const mote_arg *f = mote_call_opt(c, "format");
-    if (f && strcmp(f->text, "table") != 0 && strcmp(f->text, "csv") != 0 &&
-        strcmp(f->text, "jsonl") != 0)
-        return mote_call_fail(err, c, mote_call_opt_index(c, "format"), MOTE_EINVAL,
-                              "%s: format must be table, csv or jsonl, found '%s'", c->name,
-                              f->text);
     if (f && !mote_call_opt(c, "file"))
         return mote_call_fail(err, c, mote_call_opt_index(c, "format"), MOTE_EINVAL,
                               "%s: format= is for a file: give file=FILE", c->name);
@@ -408,10 +399,6 @@ int nb_check_trajectory(void *vm, const mote_call *c, mote_err *err)
     int rc = nb_check_sampler(vm, c, err);
     if (!rc)
         rc = nb_need_bodies(vm, c, err);
-    if (!rc && nb_opt_on_off(c, "velocities", 0) < 0)
-        return mote_call_fail(err, c, mote_call_opt_index(c, "velocities"), MOTE_EINVAL,
-                              "trajectory: velocities must be on or off, found '%s'",
-                              mote_call_opt(c, "velocities")->text);
     if (!rc && mote_call_opt(c, "bodies") && body_list(c, "bodies", NULL, m->d_bodies, NULL, err) < 0)
         return err->code;
     return rc;
@@ -455,15 +442,6 @@ int nb_check_approaches(void *vm, const mote_call *c, mote_err *err)
     int rc = nb_need_bodies(vm, c, err);
     if (rc)
         return rc;
-    if (nb_opt_on_off(c, "refine", 0) < 0)
-        return mote_call_fail(err, c, mote_call_opt_index(c, "refine"), MOTE_EINVAL,
-                              "approaches: refine must be on or off, found '%s'",
-                              mote_call_opt(c, "refine")->text);
-    const mote_arg *f = mote_call_opt(c, "format");
-    if (f && strcmp(f->text, "native") != 0 && strcmp(f->text, "galactica") != 0)
-        return mote_call_fail(err, c, mote_call_opt_index(c, "format"), MOTE_EINVAL,
-                              "approaches: format must be native or galactica (dice.dat's "
-                              "columns), found '%s'", f->text);
     const long k = body_list(c, "body", NULL, m->d_bodies, NULL, err);
     if (k < 0)
         return err->code;
@@ -610,11 +588,6 @@ int nb_check_snapshot(void *vm, const mote_call *c, mote_err *err)
     if (file && mote_call_opt(c, "prefix"))
         return mote_call_fail(err, c, mote_call_opt_index(c, "prefix"), MOTE_EINVAL,
                               "snapshot: prefix= is for every=K (file= names the one file)");
-    const mote_arg *f = mote_call_opt(c, "format");
-    if (f && strcmp(f->text, "native") != 0 && strcmp(f->text, "galactica") != 0)
-        return mote_call_fail(err, c, mote_call_opt_index(c, "format"), MOTE_EINVAL,
-                              "snapshot: format must be native or galactica, found '%s'",
-                              f->text);
     const mote_arg *p = mote_call_opt(c, "prefix");
     if (p && !mote_ctx_dir_ok(c->ctx, p->path))
         return mote_call_fail(err, c, mote_call_opt_index(c, "prefix"), MOTE_EINVAL,

@@ -243,7 +243,8 @@ int mote_argspec_valid(const char *args)
 void mote_arg_name(const mote_cmd *def, int i, char *buf, size_t cap)
 {
     const char *p = def->synopsis ? def->synopsis : "";
-    p += strcspn(p, " ");
+    const size_t nl = strlen(def->name); /* (a row's name has two words) */
+    p += strncmp(p, def->name, nl) == 0 ? nl : strcspn(p, " ");
     for (int k = 0; *p; k++) {
         p += strspn(p, " ");
         size_t n = strcspn(p, " ");

@@ -100,11 +100,17 @@ int mote_script_main_io(int argc, char **argv, const mote_model *const *models, 
             mote_help_list(out, models, nmodels);
             return 0;
         }
-        if (argc > 3)
-            return usage_error(diag, "'help' takes one name, found also '%s'", argv[3]);
+        if (argc > 4 || (argc == 4 && strcmp(argv[2], "--markdown") == 0))
+            return usage_error(diag, "'help' takes one name (or a command and its row, "
+                               "'help generate ring'), found also '%s'", argv[argc - 1]);
         if (strcmp(argv[2], "--markdown") == 0) {
             mote_help_markdown(out, models, nmodels);
             return 0;
+        }
+        if (argc == 4) { /* a command's row: `mote help generate ring` */
+            char both[160];
+            snprintf(both, sizeof both, "%s %s", argv[2], argv[3]);
+            return mote_help_command(out, diag, both, models, nmodels);
         }
         return mote_help_command(out, diag, argv[2], models, nmodels);
     }

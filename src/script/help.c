@@ -167,6 +167,17 @@ int mote_help_command(FILE *out, FILE *diag, const char *name, const mote_model 
             found = 1;
         }
     }
+    for (size_t i = 0; i < nmodels && !found; i++) { /* a command of rows: each row */
+        const size_t len = strlen(name);
+        for (size_t j = 0; j < models[i]->ncmds; j++) {
+            const mote_cmd *r = &models[i]->cmds[j];
+            if (strncmp(r->name, name, len) != 0 || r->name[len] != ' ')
+                continue;
+            if (found++)
+                fputc('\n', out);
+            print_command(out, r, models[i]->name);
+        }
+    }
     if (found)
         return 0;
     const mote_model *m = mote_model_find(models, nmodels, name);
@@ -352,9 +363,14 @@ static int verify_cmd(const mote_model *m, size_t j, mote_err *err)
     const mote_cmd *d = &m->cmds[j];
     const char *mn = m->name;
     char buf[128];
-    if (!d->name || !valid_name(d->name, strlen(d->name)))
+    /* a name, or a row of a command: "NAME SUB" (whose NAME is no command of its own) */
+    const char *sp = d->name ? strchr(d->name, ' ') : NULL;
+    const size_t nw = sp ? (size_t)(sp - d->name) : d->name ? strlen(d->name) : 0;
+    if (!d->name || !valid_name(d->name, nw) || (sp && !valid_name(sp + 1, strlen(sp + 1))) ||
+        (sp && name_taken(m, m->ncmds, d->name, nw, buf, sizeof buf)))
         return mote_script_fail_plain(err, MOTE_EINVAL, "model %s, command %zu: bad name '%s' "
-                                      "(lower-case letters, digits, '_' and '-')", mn, j,
+                                      "(lower-case letters, digits, '_' and '-'; a row: two such "
+                                      "words, the first no command of its own)", mn, j,
                                       d->name ? d->name : "(null)");
     if (name_taken(m, j, d->name, strlen(d->name), buf, sizeof buf))
         return mote_script_fail_plain(err, MOTE_EINVAL, "model %s: command name '%s' is used "
@@ -387,15 +403,16 @@ static int verify_cmd(const mote_model *m, size_t j, mote_err *err)
     if (!d->synopsis || !d->summary || !d->help)
         return mote_script_fail_plain(err, MOTE_EINVAL, "model %s, command %s: synopsis, summary "
                                       "and help are required", mn, d->name);
-    size_t nl = strcspn(d->synopsis, " ");
-    if (nl != strlen(d->name) || memcmp(d->synopsis, d->name, nl) != 0)
+    size_t nl = strlen(d->name);
+    if (strncmp(d->synopsis, d->name, nl) != 0 || (d->synopsis[nl] && d->synopsis[nl] != ' '))
         return mote_script_fail_plain(err, MOTE_EINVAL, "model %s, command %s: synopsis '%s' "
                                       "must start with the command name", mn, d->name,
                                       d->synopsis);
-    if (!star && count_positional(d->synopsis) - 1 != nspec)
+    const int name_words = count_positional(d->name); /* ("generate ring": 2) */
+    if (!star && count_positional(d->synopsis) - name_words != nspec)
         return mote_script_fail_plain(err, MOTE_EINVAL, "model %s, command %s: synopsis '%s' "
                                       "names %d arguments but the types \"%s\" give %d", mn,
-                                      d->name, d->synopsis, count_positional(d->synopsis) - 1, d->args,
+                                      d->name, d->synopsis, count_positional(d->synopsis) - name_words, d->args,
                                       nspec);
     return 0;
 }

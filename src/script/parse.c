@@ -667,6 +667,38 @@ static int parse_command(mote_script *s, const token_list *tl, const mote_model 
                                           name->text);
     if (!def && s->model)
         def = mote_cmd_lookup(s->model->cmds, s->model->ncmds, name->text);
+    token_list rows; /* a command of rows ("generate ring"): the tokens from the second on */
+    if (!def && s->model && mote_cmd_has_rows(s->model->cmds, s->model->ncmds, name->text)) {
+        const token *sub = tl->n > 1 ? &tl->t[1] : NULL;
+        char full[96];
+        int w = sub && !sub->quoted
+                    ? snprintf(full, sizeof full, "%s %s", name->text, sub->text)
+                    : -1;
+        if (w > 0 && (size_t)w < sizeof full)
+            def = mote_cmd_lookup(s->model->cmds, s->model->ncmds, full);
+        if (!def) {
+            char list[512];
+            mote_cmd_rows_text(s->model->cmds, s->model->ncmds, name->text, list, sizeof list);
+            if (!sub)
+                return mote_script_fail_at(err, file, name->line, name->col, MOTE_EINVAL,
+                                           "%s: expected %s after it", name->text, list);
+            return mote_script_fail_at(err, file, sub->line, sub->col, MOTE_EINVAL,
+                                       "%s: expected %s, found %s", name->text, list,
+                                       shown(sub, found, sizeof found));
+        }
+        /* the row's name stands for the first two tokens, at the first one's place */
+        char *text = mote_arena_strndup(&s->arena, full, strlen(full));
+        if (!text)
+            return mote_script_fail_plain(err, MOTE_ENOMEM, "out of memory reading the script");
+        tl->t[1].text = text;
+        tl->t[1].line = name->line;
+        tl->t[1].col = name->col;
+        rows = *tl;
+        rows.t = tl->t + 1;
+        rows.n = tl->n - 1;
+        tl = &rows;
+        name = &tl->t[0];
+    }
     if (!def)
         return unknown_command(s, name, err);
     if (strcmp(def->name, "plot") == 0 && mote_script_is_common(s, def) &&

@@ -80,6 +80,32 @@ int mote_cmd_matches(const mote_cmd *def, const char *name)
     return 0;
 }
 
+int mote_cmd_has_rows(const mote_cmd *cmds, size_t n, const char *name)
+{
+    const size_t len = strlen(name);
+    for (size_t i = 0; i < n; i++)
+        if (strncmp(cmds[i].name, name, len) == 0 && cmds[i].name[len] == ' ')
+            return 1;
+    return 0;
+}
+
+void mote_cmd_rows_text(const mote_cmd *cmds, size_t n, const char *name, char *buf, size_t cap)
+{
+    const size_t len = strlen(name);
+    size_t used = 0, total = 0, k = 0;
+    buf[0] = '\0';
+    for (size_t i = 0; i < n; i++)
+        total += strncmp(cmds[i].name, name, len) == 0 && cmds[i].name[len] == ' ';
+    for (size_t i = 0; i < n && used < cap; i++) {
+        if (strncmp(cmds[i].name, name, len) != 0 || cmds[i].name[len] != ' ')
+            continue;
+        int w = snprintf(buf + used, cap - used, "%s%s", k == 0 ? "" : k + 1 == total ? " or " : ", ",
+                         cmds[i].name + len + 1);
+        used += w > 0 ? (size_t)w : 0;
+        k++;
+    }
+}
+
 const mote_cmd *mote_cmd_lookup(const mote_cmd *cmds, size_t n, const char *name)
 {
     for (size_t i = 0; i < n; i++)
