@@ -216,6 +216,23 @@ expect 1 "e2.mote:2:7: error: units atomic: is for Coulomb runs" e2.mote "${G}un
 expect 1 "e3.mote:2:1: error: units: mass=auto (the total of the bodies) needs input=si" e3.mote "${G}units time=1 input=dimensionless\n"
 expect 1 "e4.mote:2:7: error: units: expected solar, atomic or dimensionless first" e4.mote "${G}units metric\n"
 expect 1 "e5.mote:2:14: error: units: give length= or time=, not both" e5.mote "${G}units time=1 length=2\n"
+# the outputs carry the unit the user chose: a last column T_year beside the dimensionless T
+printf '%bgenerate solar_system data=%s\nmonitor dt=10 unit=year file=uy.dat\ntrajectory dt=10 unit=year file=uy.csv\nintegrate for=50 unit=year\n' "$G" "$DATA" > uy.mote
+"$MOTE" run uy.mote > /dev/null 2> err.txt &&
+    grep -q '^# columns: .* E_corr T_year$' uy.dat && grep -q '^# T_year = T / ' uy.dat &&
+    python3 -c "
+import csv
+head = [l for l in open('uy.dat') if l.startswith('# T_year = T / ')][0]
+scale = float(head.split()[5].rstrip(':'))
+rows = [l.split() for l in open('uy.dat') if not l.startswith('#')]
+ty = [float(r[-1]) for r in rows]
+# T / scale exactly; a sample comes at the first step at or after each mark (the fixed step,
+# 1e-6 sidereal centuries, is 1e-4 years), and integrate for=50 ends on 50
+assert all(float(r[1]) / scale == a for r, a in zip(rows, ty)), 'T_year is not T / scale'
+assert len(ty) == 6 and all(0 <= a - 10 * k < 1.01e-4 for k, a in enumerate(ty)), ty
+c = list(csv.DictReader(open('uy.csv')))
+assert len(c) == 6 and abs(float(c[-1]['T_year']) - 50) < 1e-9, c[-1]['T_year']
+" && ok || bad "monitor unit=year: no T_year column 0, 10, ... 50: $(cat err.txt; grep '^# col' uy.dat)"
 expect 1 "e6.mote:4:22: error: integrate: unit= needs physical scales" e6.mote "${G}body mass=1\nbody mass=1 x=1\nintegrate for=1 unit=year\n"
 expect 1 "e7.mote:3:22: error: integrate: expected 's', 'day', 'year' or 'century' for unit, found 'week'" e7.mote "${G}generate ring\nintegrate for=1 unit=week\n"
 expect 1 "e8.mote:3:1: error: constant: comes before units" e8.mote "${G}units solar\nconstant G=1\n"

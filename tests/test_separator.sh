@@ -76,6 +76,9 @@ for f in fr/frame_000006.png live.png tr.png pr.png; do
 done
 grep -q '^balance: fed = in channel + fines + coarse + lost holds$' out.txt && ok || bad "summary: $(cat out.txt)"
 expect 1 "f1.mote:2:21: error: frames: expected 'size' or 'species' for color, found 'x'" f1.mote "${S}frames fr 0.1 color=x\n"
+# the picture beside a table is an output too: a later command that writes it is reported
+expect 0 "png.mote:8:1: warning: profiles: " png.mote "${S}channel 0.05 1\ngas 1\nspecies a 2500\nsize a mono d=1e-4\nfeed z=0.5\ntromp t.dat\nprofiles t.csv\n" check
+grep -q "'.*t.png' is written more than once" err.txt && ok || bad "tromp and profiles of one stem: $(cat err.txt)"
 # the words of an argument are the table's (enumerations, a number or a word)
 expect 1 "w1.mote:2:11: error: ends: expected 'open' or 'closed' for TOP, found 'ajar'" w1.mote "${S}ends open ajar\n"
 expect 1 "w2.mote:2:10: error: timestep: expected a real number or 'auto' for auto|DT, found 'fast'" w2.mote "${S}timestep fast\n"

@@ -49,6 +49,8 @@ typedef struct nb_model {
         uint32_t *sel, nsel;   /* trajectory: the bodies recorded (0-based), and how many */
         uint32_t n0;           /* trajectory: the number of bodies when it started */
         int vel;               /* trajectory: velocities too */
+        char tunit[16];        /* unit= of the command ("" none): a last column T_UNIT, */
+        double tscale;         /* T / tscale, the time in that unit */
     } mon, traj;
     /* checkpoints: the exact state into `path` every `every` steps and at the end of integrate */
     struct {

@@ -201,6 +201,12 @@ static int sampler_write(nb_model *m, nb_sampler *s, int traj, mote_err *err)
             fprintf(f, "# dE is (E_corr - E0)/|E0| with E_corr = E_tot minus the energy changes "
                        "of merges, dMz the aggregated z moment's (Lz + Sz) relative change and dL "
                        "|L + S - (L + S)0| / |(L + S)0| from the run's start\n");
+        if (s->tunit[0]) {
+            const char *in = !strcmp(s->tunit, "s") ? "seconds" : !strcmp(s->tunit, "day") ? "days"
+                             : !strcmp(s->tunit, "year") ? "Julian years" : "sidereal centuries";
+            fprintf(f, "# T_%s = T / %.17g: the time in %s (unit=%s), the last column\n",
+                    s->tunit, s->tscale, in, s->tunit);
+        }
         fputs(s->format == FMT_CSV ? "" : "# columns: ", f);
         if (traj) {
             char name[40];
@@ -212,8 +218,11 @@ static int sampler_write(nb_model *m, nb_sampler *s, int traj, mote_err *err)
                     fputc(sep, f);
                 fputs(MON_NAME[c], f);
             }
+        if (s->tunit[0])
+            fprintf(f, "%cT_%s", sep, s->tunit);
         fputc('\n', f);
     }
+    const int tcol = traj ? 0 : 1; /* T */
     for (size_t k = 0; k < s->nrows; k++) {
         const double *r = s->rows + k * s->cols;
         if (s->format == FMT_JSONL) {
@@ -223,6 +232,10 @@ static int sampler_write(nb_model *m, nb_sampler *s, int traj, mote_err *err)
                 fprintf(f, ",\"%s\":", traj ? traj_column(m, c, name) : MON_NAME[c]);
                 put_json(f, r[c]);
             }
+            if (s->tunit[0]) {
+                fprintf(f, ",\"T_%s\":", s->tunit);
+                put_json(f, r[tcol] / s->tscale);
+            }
             fputs("}\n", f);
             continue;
         }
@@ -231,6 +244,8 @@ static int sampler_write(nb_model *m, nb_sampler *s, int traj, mote_err *err)
                 fputc(sep, f);
             fprintf(f, !traj && mon_integer((int)c) ? "%.0f" : "%.17g", r[c]);
         }
+        if (s->tunit[0])
+            fprintf(f, "%c%.17g", sep, r[tcol] / s->tscale);
         fputc('\n', f);
     }
     if (s->format == FMT_JSONL)
@@ -308,6 +323,9 @@ static int sampler_start(nb_model *m, nb_sampler *s, const mote_call *c, size_t 
     if (rc)
         return rc;
     s->dt = nb_opt_real_or(c, "dt", 0) * scale;
+    const mote_arg *u = mote_call_opt(c, "unit"); /* the time in the unit the user chose too */
+    snprintf(s->tunit, sizeof s->tunit, "%s", u ? u->text : "");
+    s->tscale = scale;
     s->t0 = m->nb.T;
     s->at = (mote_schedule){(double)s->t0, (double)s->dt, 1};
     s->format = !f ? FMT_TABLE : f->text[0] == 'c' ? FMT_CSV : f->text[0] == 'j' ? FMT_JSONL

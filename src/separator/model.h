@@ -50,6 +50,7 @@ int sep_need_ready(sep_model *m, const mote_call *c, mote_err *err);
 
 /* run.c: the commands' check (on the dry model) and run functions */
 int sep_check_ready(void *vm, const mote_call *c, mote_err *err);
+int sep_check_table(void *vm, const mote_call *c, mote_err *err);
 int sep_run(void *vm, const mote_call *c, mote_err *err);
 int sep_tromp(void *vm, const mote_call *c, mote_err *err);
 int sep_profiles(void *vm, const mote_call *c, mote_err *err);

@@ -97,6 +97,22 @@ int sep_check_ready(void *vm, const mote_call *c, mote_err *err)
     return sep_need_ready(vm, c, err);
 }
 
+/* `tromp` and `profiles`: also the picture beside the table (FILE's stem + .png), recorded so
+ * that the check reports a later command that writes it again. */
+int sep_check_table(void *vm, const mote_call *c, mote_err *err)
+{
+    int rc = sep_need_ready(vm, c, err);
+    const mote_arg *f = mote_call_opt(c, "file");
+    if (rc || !f->path || !c->ctx)
+        return rc;
+    char *png = sep_png_name(f->path);
+    rc = png ? mote_outputs_note_path(&c->ctx->outputs, c, mote_call_opt_index(c, "file"), png,
+                                      "image", 0, err)
+             : mote_fail(err, MOTE_ENOMEM, "%s: out of memory", c->name);
+    free(png);
+    return rc;
+}
+
 int sep_run(void *vm, const mote_call *c, mote_err *err)
 {
     sep_model *m = vm;
