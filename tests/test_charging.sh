@@ -247,7 +247,11 @@ expect 1 "b23.mote:2:26: error: output: png_size must be WxH, 64 to 8192 pixels 
 # <|v|> = 1.8493 sigma; the electron sigma at 1 keV is sqrt(kT/m)
 printf '%bplasma preset single n=1e6 kT=1000 drift=13262051.164,0,0\nbody sphere radius=1\ninjector sphere radius=1.5\nrun particles=1e6\n' "$G" > dr.mote
 "$MOTE" run dr.mote > out.txt 2> err.txt && awk '/^run: e / { I = $5; s = $8 } END { sig = sqrt(1000 * 1.602176634e-19 / 9.1093837015e-31); want = -1.602176634e-19 * 1e6 * 3.14159265358979 * 1.8493 * sig; d = I - want; exit !(d * d <= 9 * s * s + (1e-4 * want) ^ 2) }' out.txt && ok || bad "drift: $(grep '^run: e' out.txt) $(cat err.txt)"
-expect 1 "b24.mote:2:32: error: plasma: drift: expected VX,VY,VZ (m/s), found 'fast'" b24.mote "${G}plasma preset thesis-hot drift=fast\n"
+expect 1 "b24.mote:2:32: error: plasma: expected X,Y,Z (3 finite numbers separated by commas) for drift, found 'fast'" b24.mote "${G}plasma preset thesis-hot drift=fast\n"
+expect 1 "b24b.mote:2:32: error: plasma: expected X,Y,Z (3 finite numbers separated by commas) for drift, found '1,2'" b24b.mote "${G}plasma preset thesis-hot drift=1,2\n"
+expect 1 "b24c.mote:2:32: error: plasma: expected X,Y,Z (3 finite numbers separated by commas) for drift, found '1,2,3,'" b24c.mote "${G}plasma preset thesis-hot drift=1,2,3,\n"
+expect 1 "b24d.mote:2:32: error: plasma: expected X,Y,Z (3 finite numbers separated by commas) for drift, found '1,,3'" b24d.mote "${G}plasma preset thesis-hot drift=1,,3\n"
+expect 0 "" b24e.mote "${G}plasma preset thesis-hot drift=-4e5,0,+1.5\n" check
 # species and maxwellian (spec 3.1, 7.4): the thesis-hot preset written out gives the same run
 printf '%bspecies clear\nspecies name=e charge=-1 mass=electron\nmaxwellian species=e density=1.2e6 temperature=27500\nspecies name=H+ charge=1 mass=proton\nmaxwellian species=H+ density=1.3e6 temperature=28000\nbody sphere radius=1\nrun particles=1e5\n' "$G" > sp1.mote
 printf '%bplasma preset thesis-hot\nbody sphere radius=1\nrun particles=1e5\n' "$G" > sp2.mote

@@ -25,6 +25,7 @@ typedef struct {
     double r;      /* type 'r' */
     char *path;    /* type 'f': the name resolved against `output_dir` (set by the script layer
                     * before the command's check and run; owned by the script) */
+    double v[3];   /* type 'v2' or 'v3': the numbers of "X,Y,Z" */
     int word;      /* a spec with words ("e{a|b}", "r>0{auto}"): 1 + the index of the word given
                     * (also in i), 0 when a number was given */
 } mote_arg;
@@ -61,6 +62,7 @@ typedef struct {
  *   'f'  file name: one bare token or a double-quoted string (escapes \" and \\)
  *   's'  any single token (string)
  *   'e{a|b|c}'  one of the words (an enumeration): its index in i and word (1 + index)
+ *   'v3', 'v2'  a vector: three (two) finite reals separated by commas, "1,0,-2.5", into v
  *   '*'  as the only spec: any number of tokens of any kind; the command checks them itself
  * A number may also accept words, "r>0{auto}" or "i>=1{all|none}": the word given sets word
  * (1 + its index) and i, a number leaves word 0; the range applies to numbers only.

@@ -98,11 +98,6 @@ static int check_plasma(void *vm, const mote_call *c, mote_err *err)
     if (!single && (mote_call_opt(c, "n") || mote_call_opt(c, "kT")))
         return mote_call_fail(err, c, 1, MOTE_EINVAL, "plasma preset %s: n= and kT= are for "
                               "single", name);
-    double d[3];
-    const mote_arg *dr = mote_call_opt(c, "drift");
-    if (dr && ch_parse3any(dr->text, d))
-        return mote_call_fail(err, c, mote_call_opt_index(c, "drift"), MOTE_EINVAL,
-                              "plasma: drift: expected VX,VY,VZ (m/s), found '%s'", dr->text);
     m->have_plasma = 1;
     mote_err ignored;
     mote_ch_plasma_preset(&m->plasma, name, mote_call_opt_r(c, "n", 1), mote_call_opt_r(c, "kT", 1),
@@ -250,10 +245,8 @@ static int run_plasma(void *vm, const mote_call *c, mote_err *err)
     m->diagnosed = 0;
     const mote_arg *dr = mote_call_opt(c, "drift");
     if (!rc && dr) { /* the plasma flows past the body: every species drifts alike */
-        double d[3];
-        ch_parse3any(dr->text, d);
         for (int s = 0; s < m->plasma.nsp; s++)
-            memcpy(m->plasma.sp[s].drift, d, sizeof d);
+            memcpy(m->plasma.sp[s].drift, dr->v, sizeof dr->v);
     }
     if (rc || !m->log)
         return rc;
@@ -306,9 +299,8 @@ static int load_opts(const mote_call *c, mote_ch_load_opts *o, mote_err *err)
         o->scale = F[k];
     }
     o->scale = mote_call_opt_r(c, "scale", o->scale);
-    if ((a = mote_call_opt(c, "offset")) && ch_parse3any(a->text, o->offset))
-        return mote_call_fail(err, c, mote_call_opt_index(c, "offset"), MOTE_EINVAL,
-                              "body load: offset: expected X,Y,Z (m), found '%s'", a->text);
+    if ((a = mote_call_opt(c, "offset")))
+        memcpy(o->offset, a->v, sizeof a->v);
     if ((a = mote_call_opt(c, "rotate"))) {
         char *end;
         const char ax = a->text[0];
@@ -881,7 +873,7 @@ ch_output ch_output_of(ch_model *m, const mote_ch_geometry *g, const mote_ch_run
 
 
 static const mote_cmd ch_commands[] = {
-    {"plasma", NULL, "s s n=r>0 kT=r>0 drift=s", "plasma preset NAME [n=N] [kT=T] [drift=V]",
+    {"plasma", NULL, "s s n=r>0 kT=r>0 drift=v3", "plasma preset NAME [n=N] [kT=T] [drift=V]",
      "the plasma environment (a preset of spec 3.2)", HELP_PLASMA, check_plasma, run_plasma},
     {"species", NULL, "*", "species name=S charge=Z mass=M [drift=V] | species clear",
      "add a species (or empty the list)", HELP_SPECIES, check_species, run_species},
@@ -890,7 +882,7 @@ static const mote_cmd ch_commands[] = {
      HELP_MAXWELLIAN, check_maxwellian, run_maxwellian},
     {"body", NULL,
      "s radius=r>0 level=i nlon=i>=3 nlat=i>=2 size=s subdiv=i>=1 side=r>0 gap=r>=0 "
-     "file=f<mesh format=e{auto|plain|assimp} units=e{m|cm|mm|in} scale=r>0 part=s offset=s "
+     "file=f<mesh format=e{auto|plain|assimp} units=e{m|cm|mm|in} scale=r>0 part=s offset=v3 "
      "rotate=s strict=e{yes|no} value=s",
      "body KIND [options]",
      "add a generated body (sphere, icosphere, uvsphere, box, twocubes) or a mesh file (load)",

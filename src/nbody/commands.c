@@ -480,27 +480,16 @@ static int area_opts(const mote_call *c, mote_nb_area *a, mote_err *err)
     a->Rob = mote_call_opt_r(c, "rho_body", a->Rob);
     a->Am = mote_call_opt_r(c, "length", a->Am);
     a->dt = nb_opt_real_or(c, "dt", a->dt);
-    static const char *const vec[3] = {"origin", "sep_pos", "sep_vel"};
+    static const char *const vec[3] = {"origin", "sep_pos", "sep_vel"}; /* (vectors: v3) */
     double *dst[3] = {a->X0, a->Xs, a->Us};
-    for (int k = 0; k < 3; k++) {
-        mote_real v[3];
-        if (!(o = mote_call_opt(c, vec[k])))
-            continue;
-        if (parse_spin(o->text, v))
-            return mote_call_fail(err, c, mote_call_opt_index(c, vec[k]), MOTE_EINVAL,
-                                  "generate area: %s= expects X,Y,Z (three numbers), found '%s'",
-                                  vec[k], o->text);
-        for (int q = 0; q < 3; q++)
-            dst[k][q] = (double)v[q];
-    }
+    for (int k = 0; k < 3; k++)
+        if ((o = mote_call_opt(c, vec[k])))
+            memcpy(dst[k], o->v, sizeof o->v);
     if ((o = mote_call_opt(c, "axis"))) {
-        char extra;
-        if (sscanf(o->text, "%lf,%lf%c", &a->X01, &a->Y01, &extra) != 2 || !isfinite(a->X01) ||
-            !isfinite(a->Y01))
-            return mote_call_fail(err, c, mote_call_opt_index(c, "axis"), MOTE_EINVAL,
-                                  "generate area: axis= expects X01,Y01 (two numbers), found "
-                                  "'%s'", o->text);
+        a->X01 = o->v[0];
+        a->Y01 = o->v[1];
     }
+    (void)err;
     return MOTE_OK;
 }
 
@@ -886,7 +875,7 @@ static const mote_cmd nb_commands[] = {
      "generate solar_system data=FILE [options]", "the bodies of a Solar-System data file",
      HELP_GEN_SOLAR, check_solar, run_solar},
     {"generate area", NULL,
-     "b=r>0 c=r>0 origin=s mu=i>=1 sep_density=r>=0 sep_pos=s sep_vel=s omega=r axis=s "
+     "b=r>0 c=r>0 origin=v3 mu=i>=1 sep_density=r>=0 sep_pos=v3 sep_vel=v3 omega=r axis=v2 "
      "rho_area=r>0 rho_body=r>=0 dt=r>0 length=r>0",
      "generate area [options]", "Galactica's area of matter (spec 9.4)", HELP_GEN_AREA,
      check_area, run_area},

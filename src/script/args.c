@@ -9,7 +9,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
-static int is_type(int ch) { return ch && strchr("iurfse", ch) != NULL; }
+static int is_type(int ch) { return ch && strchr("iurfsev", ch) != NULL; }
 
 /* A number of a range bound: strtod syntax, at most 23 characters. */
 static int read_bound(const char **pp, double *v, char *text, size_t cap)
@@ -89,6 +89,15 @@ static int parse_spec(const char **pp, mote_argspec *sp)
     if (!is_type(*p))
         return -1;
     sp->type = *p++;
+    if (sp->type == 'v') { /* "v2", "v3" */
+        if (*p != '2' && *p != '3')
+            return -1;
+        sp->count = *p++ - '0';
+        if (*p != '\0' && *p != ' ')
+            return -1;
+        *pp = p;
+        return 0;
+    }
     if (sp->type != 'e' && (*p == '\0' || *p == ' ' || is_type(*p))) { /* plain letter */
         *pp = p;
         return 0;

@@ -436,6 +436,32 @@ static int convert_arg(mote_script *s, const mote_cmd *def, const char *written,
                                    t->quoted ? " (numbers are written without quotes)"
                                              : real_hint(t->text));
     }
+    case 'v': {
+        const char *q = t->text;
+        int ok = !t->quoted;
+        for (int k = 0; ok && k < sp.count; k++) {
+            double x = 0;
+            size_t n = strcspn(q, ",");
+            char num[64];
+            ok = n > 0 && n < sizeof num && (q[n] == ',') == (k + 1 < sp.count);
+            if (ok) {
+                memcpy(num, q, n);
+                num[n] = '\0';
+                ok = parse_real(num, &x) == 0;
+            }
+            if (ok)
+                a->v[k] = x;
+            q += n + (q[n] == ',');
+        }
+        if (ok && *q == '\0')
+            return 0;
+        arg_label(def, i, optkey, name, sizeof name);
+        shown(t, found, sizeof found);
+        return mote_script_fail_at(err, file, t->line, t->col, MOTE_EINVAL,
+                                   "%s: expected %s (%d finite numbers separated by commas) for "
+                                   "%s, found %s", written, sp.count == 3 ? "X,Y,Z" : "X,Y",
+                                   sp.count, name, found);
+    }
     case 'f':
         if (t->text[0] == '\0') {
             arg_label(def, i, optkey, name, sizeof name);

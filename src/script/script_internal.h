@@ -65,7 +65,8 @@ void mote_cmd_rows_text(const mote_cmd *cmds, size_t n, const char *name, char *
 /* ---- argument specs (mote_cmd.args, see command.h) ------------------------------------------ */
 
 typedef struct {
-    char type;                  /* 'i' 'u' 'r' 'f' 's' 'e' */
+    char type;                  /* 'i' 'u' 'r' 'f' 's' 'e' 'v' */
+    int count;                  /* 'v': the vector's length (2 or 3) */
     char words[96];             /* "a|b|c": the words of an 'e', or allowed beside a number */
     char role;                  /* files: '>' output, '<' input, 0 neither */
     unsigned char lo_set, hi_set, lo_open, hi_open;
