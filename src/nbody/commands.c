@@ -651,92 +651,43 @@ static int run_ring(void *vm, const mote_call *c, mote_err *err)
 
 /* ---- the integrator ---------------------------------------------------------------------------- */
 
-/* The order option: an integer in [lo, hi], or for taylor `auto` (then from tol=). */
-static int parse_order(const mote_call *c, int taylor, int *order, mote_err *err)
+/* The order option (its range is the table's): an integer, or for taylor `auto` (then from
+ * tol=). */
+static void set_order(const mote_call *c, int *order)
 {
     const mote_arg *a = mote_call_opt(c, "order");
-    int argi = mote_call_opt_index(c, "order");
-    if (!a)
-        return MOTE_OK;
-    if (taylor && strcmp(a->text, "auto") == 0) {
+    if (a && a->word) /* auto */
         *order = mote_nb_taylor_auto_order(nb_opt_real_or(c, "tol", MOTE_REAL_TOL));
-        return MOTE_OK;
-    }
-    char *end;
-    long v = strtol(a->text, &end, 10);
-    int lo = 2, hi = taylor ? MOTE_NB_TAYLOR_MAX : 6;
-    if (end == a->text || *end || v < lo || v > hi)
-        return mote_call_fail(err, c, argi, MOTE_EINVAL,
-                              "integrator %s: order must be an integer in [%d, %d]%s, found '%s'",
-                              taylor ? "taylor" : "galactica", lo, hi, taylor ? " or auto" : "",
-                              a->text);
-    *order = (int)v;
-    return MOTE_OK;
+    else if (a)
+        *order = (int)a->i;
 }
 
-static const char *const GALACTICA_OPTS[] = {"dt",   "order", "first_step", "tol",    "safety",
-                                             "hmin", "hmax",  "step",       "dt_max", NULL};
-static const char *const TAYLOR_OPTS[] = {"dt",   "order", "tol",  "memory", "safety",
-                                          "hmin", "hmax",  "norm", NULL};
-
-static int listed(const char *const *list, const char *key)
-{
-    for (; *list; list++)
-        if (strcmp(*list, key) == 0)
-            return 1;
-    return 0;
-}
-
+/* `integrator galactica` and `integrator taylor`: one table row each, with its own options */
 static int check_integrator(void *vm, const mote_call *c, mote_err *err)
 {
-    const char *name = c->args[0].text;
-    int taylor = strcmp(name, "taylor") == 0;
-    if (!taylor && strcmp(name, "galactica") != 0)
-        return mote_call_fail(err, c, 0, MOTE_EINVAL,
-                              "integrator: expected galactica or taylor, found '%s'", name);
-    for (int k = 0; k < c->nopts; k++)
-        if (!listed(taylor ? TAYLOR_OPTS : GALACTICA_OPTS, c->opts[k].key))
-            return mote_call_fail(err, c, c->nargs + k, MOTE_EINVAL,
-                                  "integrator %s: no option %s= (options: %s)", name,
-                                  c->opts[k].key,
-                                  taylor ? "dt, order, tol, memory, safety, hmin, hmax, norm"
-                                         : "dt, order, first_step, tol, safety, hmin, hmax, step, "
-                                           "dt_max");
+    (void)vm;
+    const int taylor = strcmp(c->name, "integrator taylor") == 0;
+    const char *name = taylor ? "taylor" : "galactica";
     const mote_arg *norm = mote_call_opt(c, "norm");
-    if (norm && strcmp(norm->text, "nearest") != 0 && strcmp(norm->text, "global") != 0)
-        return mote_call_fail(err, c, mote_call_opt_index(c, "norm"), MOTE_EINVAL,
-                              "integrator taylor: norm must be nearest or global, found '%s'",
-                              norm->text);
     if (norm && mote_call_opt(c, "dt"))
         return mote_call_fail(err, c, mote_call_opt_index(c, "norm"), MOTE_EINVAL,
                               "integrator taylor: norm= is for the adaptive step (tol=), not "
                               "with dt=");
     if (taylor && mote_call_opt(c, "dt") && mote_call_opt(c, "tol") &&
-        strcmp(mote_call_opt(c, "order") ? mote_call_opt(c, "order")->text : "", "auto") != 0)
+        !(mote_call_opt(c, "order") && mote_call_opt(c, "order")->word))
         return mote_call_fail(err, c, mote_call_opt_index(c, "tol"), MOTE_EINVAL,
                               "integrator taylor: dt= fixes the step and tol= makes it adaptive; "
                               "give one (tol= may come with order=auto)");
-    const mote_arg *mem = mote_call_opt(c, "memory");
-    if (mem && strcmp(mem->text, "store") != 0 && strcmp(mem->text, "recompute") != 0 &&
-        strcmp(mem->text, "auto") != 0)
-        return mote_call_fail(err, c, mote_call_opt_index(c, "memory"), MOTE_EINVAL,
-                              "integrator taylor: memory must be store, recompute or auto, "
-                              "found '%s'", mem->text);
     const mote_arg *st = mote_call_opt(c, "step");
     const char *mode = st ? st->text : mote_call_opt(c, "tol") ? "adaptive" : "fixed";
-    if (st && strcmp(mode, "fixed") != 0 && strcmp(mode, "adaptive") != 0 &&
-        strcmp(mode, "doubling") != 0)
-        return mote_call_fail(err, c, mote_call_opt_index(c, "step"), MOTE_EINVAL,
-                              "integrator galactica: step must be fixed, adaptive or doubling, "
-                              "found '%s'", mode);
-    if (strcmp(mode, "adaptive") != 0 && mote_call_opt(c, "tol"))
+    if (!taylor && strcmp(mode, "adaptive") != 0 && mote_call_opt(c, "tol"))
         return mote_call_fail(err, c, mote_call_opt_index(c, "tol"), MOTE_EINVAL,
                               "integrator galactica: tol= is for step=adaptive (found step=%s)",
                               mode);
-    if (strcmp(mode, "doubling") == 0 && !mote_call_opt(c, "dt_max"))
+    if (!taylor && strcmp(mode, "doubling") == 0 && !mote_call_opt(c, "dt_max"))
         return mote_call_fail(err, c, mote_call_opt_index(c, "step"), MOTE_EINVAL,
                               "integrator galactica: step=doubling needs dt_max=");
-    if (strcmp(mode, "fixed") == 0 && mote_call_opt(c, "dt_max"))
+    if (!taylor && strcmp(mode, "fixed") == 0 && mote_call_opt(c, "dt_max"))
         return mote_call_fail(err, c, mote_call_opt_index(c, "dt_max"), MOTE_EINVAL,
                               "integrator galactica: dt_max= is for step=adaptive or doubling");
     const mote_arg *hmin = mote_call_opt(c, "hmin"), *hmax = mote_call_opt(c, "hmax");
@@ -744,27 +695,24 @@ static int check_integrator(void *vm, const mote_call *c, mote_err *err)
         return mote_call_fail(err, c, mote_call_opt_index(c, "hmin"), MOTE_EINVAL,
                               "integrator %s: hmin= (%s) is greater than hmax= (%s)", name,
                               hmin->text, hmax->text);
-    int order = 6, rc = parse_order(c, taylor, &order, err);
-    if (!rc && !taylor && strcmp(mode, "adaptive") == 0 && mote_call_opt(c, "order") && order != 6)
+    int order = 6;
+    set_order(c, &order);
+    if (!taylor && strcmp(mode, "adaptive") == 0 && mote_call_opt(c, "order") && order != 6)
         return mote_call_fail(err, c, mote_call_opt_index(c, "tol"), MOTE_EINVAL,
                               "integrator galactica: the adaptive step (tol=) needs order=6");
-    return rc;
+    return MOTE_OK;
 }
 static int run_integrator(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
-    int taylor = strcmp(c->args[0].text, "taylor") == 0;
+    const int taylor = strcmp(c->name, "integrator taylor") == 0;
     m->nb.integrator = taylor ? MOTE_NB_TAYLOR : MOTE_NB_GALACTICA;
     m->nb.dt = nb_opt_real_or(c, "dt", m->nb.dt);
-    int rc = parse_order(c, taylor, taylor ? &m->nb.taylor_order : &m->nb.order, err);
-    if (rc)
-        return rc;
+    set_order(c, taylor ? &m->nb.taylor_order : &m->nb.order);
     m->nb.first_step = nb_opt_real_or(c, "first_step", m->nb.first_step);
     const mote_arg *mem = mote_call_opt(c, "memory");
-    if (mem)
-        m->nb.taylor_memory = strcmp(mem->text, "store") == 0       ? 1
-                              : strcmp(mem->text, "recompute") == 0 ? 2
-                                                                    : 0;
+    if (mem) /* store|recompute|auto */
+        m->nb.taylor_memory = mem->i == 0 ? 1 : mem->i == 1 ? 2 : 0;
     /* adaptive: a Taylor run without dt=, a Galactica run with tol= */
     const mote_arg *st = mote_call_opt(c, "step");
     m->nb.adaptive = taylor ? mote_call_opt(c, "dt") == NULL
@@ -881,13 +829,20 @@ static const mote_cmd nb_commands[] = {
      check_area, run_area},
     {"generate plummer", NULL, "n=i>=1! seed=i>=0", "generate plummer n=N [seed=S]",
      "a Plummer sphere of equal masses", HELP_GEN_PLUMMER, check_plummer, run_plummer},
-    {"integrator", NULL,
-     "s dt=r>0 order=s first_step=r(0,1] tol=r(0,1) memory=s safety=r>0 hmin=r>=0 hmax=r>0 "
-     "norm=s step=s dt_max=r>0",
-     "integrator NAME [dt=H] [order=K] [first_step=F] [tol=E] [memory=M] [safety=S] "
-     "[hmin=A] [hmax=B] [norm=nearest|global] [step=fixed|adaptive|doubling] [dt_max=D]",
-     "choose and set the integrator (galactica or taylor)",
-     HELP_INTEGRATOR, check_integrator, run_integrator},
+    {"integrator galactica", NULL,
+     "dt=r>0 order=i[2,6] first_step=r(0,1] tol=r(0,1) safety=r>0 hmin=r>=0 hmax=r>0 "
+     "step=e{fixed|adaptive|doubling} dt_max=r>0",
+     "integrator galactica [dt=H] [order=K] [first_step=F] [tol=E] [safety=S] [hmin=A] "
+     "[hmax=B] [step=fixed|adaptive|doubling] [dt_max=D]",
+     "Galactica's Taylor scheme (spec 4.2), fixed or adaptive", HELP_INTEGRATOR,
+     check_integrator, run_integrator},
+    {"integrator taylor", NULL,
+     "dt=r>0 order=i[2,60]{auto} tol=r(0,1) memory=e{store|recompute|auto} safety=r>0 "
+     "hmin=r>=0 hmax=r>0 norm=e{nearest|global}",
+     "integrator taylor [dt=H] [order=P|auto] [tol=E] [memory=M] [safety=S] [hmin=A] "
+     "[hmax=B] [norm=nearest|global]",
+     "the general Taylor integrator of any order (spec 4.4)", HELP_INTEGRATOR,
+     check_integrator, run_integrator},
     {"compensated", NULL, "e{on|off}", "compensated on|off", "compensated summation (default on)",
      HELP_COMPENSATED, NULL, run_compensated},
     {"forces", NULL, "e{direct|tree} theta=r>=0", "forces direct|tree [theta=T]",

@@ -167,8 +167,10 @@ int mote_help_command(FILE *out, FILE *diag, const char *name, const mote_model 
             found = 1;
         }
     }
-    for (size_t i = 0; i < nmodels && !found; i++) { /* a command of rows: each row */
+    for (size_t i = 0; i < nmodels; i++) { /* a command of rows: each row */
         const size_t len = strlen(name);
+        if (mote_cmd_lookup(models[i]->cmds, models[i]->ncmds, name))
+            continue;
         for (size_t j = 0; j < models[i]->ncmds; j++) {
             const mote_cmd *r = &models[i]->cmds[j];
             if (strncmp(r->name, name, len) != 0 || r->name[len] != ' ')
