@@ -191,7 +191,7 @@ printf '%bspecies clear\nspecies name=e charge=-1 mass=electron\nmaxwellian spec
 "$MOTE" run rt.mote > out.txt 2> err.txt && awk '/^float: a root/ { n++; st[n] = $(NF - 3); u[n] = $(NF - 5) } /^float: U_f/ { f++; uf[f] = $4 }
      END { exit !(n == 3 && st[1] == "stable" && st[2] == "unstable" && st[3] == "stable" && u[1] < -4000 && u[1] > -6400 && u[2] < -400 && u[2] > -800 &&
                   uf[1] > 0 && uf[1] < 50 && uf[1] == u[3] && uf[2] < -4900 && uf[2] > -5400) }' out.txt && ok || bad "three roots: $(grep '^float: [aU]' out.txt) $(cat err.txt)"
-expect 1 "rt2.mote:4:13: error: float: roots must be one or all" rt2.mote "${G}plasma preset thesis-hot\nbody sphere radius=1\nfloat roots=some\n"
+expect 1 "rt2.mote:4:13: error: float: expected 'one' or 'all' for roots, found 'some'" rt2.mote "${G}plasma preset thesis-hot\nbody sphere radius=1\nfloat roots=some\n"
 expect 1 "m1.mote:3:33: error: material assign: no material 'steel'" m1.mote "${G}body sphere radius=1\nmaterial assign part=* material=steel\n"
 expect 1 "m2.mote:3:10: error: material assign: give part=NAME|* and material=NAME" m2.mote "${G}body sphere radius=1\nmaterial assign material=gold\n"
 expect 1 "m3.mote:2:10: error: material assign: give the body first" m3.mote "${G}material assign part=* material=gold\n"
@@ -227,7 +227,7 @@ ok = ok and all(abs(p - q) <= 1e-9 for u, v in zip(pa, pb) for p, q in zip(u, v)
 ok = ok and sum(A['J_photo']) > 0 and max(A['sunlit_fraction']) == 1 and sorted(set(A['part_id'])) == [0, 1]
 sys.exit(not ok)
 " && ok || bad "VTK read back: $(cat err.txt)"
-expect 1 "b21b.mote:2:28: error: output: vtk_format must be ascii or binary, found 'xml'" b21b.mote "${G}output prefix=x vtk_format=xml\n"
+expect 1 "b21b.mote:2:28: error: output: expected 'ascii' or 'binary' for vtk_format, found 'xml'" b21b.mote "${G}output prefix=x vtk_format=xml\n"
 # png_quantity (spec 8.4): another quantity in the picture; a species of the plasma or an error
 mkdir -p opq
 printf '%bplasma preset geo-worst-case\nbody load file=craft.obj\nsun direction=0.3,0.2,1\nmaterial assign part=* material=kapton\noutput prefix=opq/a png_quantity=J_net png_size=200x150 vtk=off\nrun particles=1e4\noutput prefix=opq/b png_quantity=J_H+ png_size=200x150 vtk=off\nrun particles=1e4\noutput prefix=opq/c png_quantity=sunlit_fraction png_size=200x150 vtk=off\nrun particles=1e4\n' "$G" > pq.mote

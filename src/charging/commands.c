@@ -904,7 +904,7 @@ static const mote_cmd ch_commands[] = {
     {"run", NULL, "particles=r>=1 potential=r relerr=r(0,1) max_particles=r>=1",
      "run [particles=N] [relerr=E [max_particles=M]] [potential=0]",
      "Monte Carlo currents to the uncharged body", HELP_RUN, ch_check_run, ch_run_run},
-    {"float", NULL, "particles=r>=1 tolerance=r(0,0.1] U0=r replicas=i>=1 roots=s",
+    {"float", NULL, "particles=r>=1 tolerance=r(0,0.1] U0=r replicas=i>=1 roots=e{one|all}",
      "float [particles=N] [tolerance=1e-4] [U0=0] [replicas=1] [roots=one|all]",
      "the floating potential of the charged body", HELP_FLOAT, ch_check_float,
      ch_run_float},
@@ -914,8 +914,9 @@ static const mote_cmd ch_commands[] = {
      "material define|assign [options]", "define a material, or give a part one (spec 6.9)",
      HELP_MATERIAL, check_material, run_material},
     {"output", NULL,
-     "prefix=f! timeseries=s triangles=s vtk=s vtk_format=s png=s ply=s png_view=s png_size=s "
-     "png_scale=s png_quantity=s legacy_stdout=s",
+     "prefix=f! timeseries=e{on|off} triangles=e{on|off} vtk=e{on|off} vtk_format=e{ascii|binary} "
+     "png=e{on|off} ply=e{on|off} png_view=s png_size=s png_scale=e{linear|log} png_quantity=s "
+     "legacy_stdout=e{on|off}",
      "output prefix=P [triangles=on] [vtk=on] [png=on] [ply=off] [png_view=V] [png_size=WxH] "
      "[png_scale=linear|log]",
      "the files of spec 8 after each run (tables, VTK, summary, surface picture)", HELP_OUTPUT,
