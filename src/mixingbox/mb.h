@@ -6,6 +6,7 @@
 #define MOTE_MB_INTERNAL_H
 
 #include "mote/mixingbox.h"
+#include "mote/live.h"
 
 #include <stdio.h>
 
@@ -33,6 +34,10 @@ int mb_ensure_grid(mote_mb *sys);
 int mb_grid_setup(mote_grid *g, const mote_mb_params *p, uint32_t n);
 /* Sort disks 0 .. n-1 of the arrays x, y into the grid. */
 void mb_grid_build(mote_grid *g, uint32_t n, const double *x, const double *y);
+
+/* The live view's members of a frame (docs/live-view.md, live.c): the placed system, or before
+ * it the box the commands have set (set); reads only. */
+void mb_live_frame(const mote_mb *s, const mote_mb_params *set, mote_buf *b);
 
 /* Largest N the model accepts. */
 #define MB_N_MAX 10000000

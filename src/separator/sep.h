@@ -49,8 +49,10 @@ int sep_write_tromp(const mote_sep_system *s, const char *path, const char *orig
 /* The profiles table and its three-panel PNG. */
 int sep_write_profiles(const mote_sep_system *s, const char *path, const char *origin,
                        uint64_t seed, mote_err *err);
-/* The live view's frame of the system (output.c). */
+/* The live view's frame of the system (live.c). */
 void sep_live_frame(const mote_sep_system *s, mote_buf *b);
+/* The solid parts of the plates seen from the front: 4 numbers per rectangle (malloc'ed). */
+int sep_plate_rects(const mote_sep_system *s, double **rects, size_t *n);
 int sep_frame_png(const mote_sep_system *s, const char *path, const sep_frame_opts *fo,
                   mote_err *err);
 int sep_write_xyz(const mote_sep_system *s, const char *path, mote_err *err);
