@@ -34,8 +34,12 @@ G='model charging\n'
 expect 1 "b1.mote:2:15: error: plasma preset: expected geo-worst-case, thesis-hot or single, found 'leo'" b1.mote "${G}plasma preset leo\n"
 expect 1 "b2.mote:2:15: error: plasma preset single: give n= (m^-3) and kT= (eV)" b2.mote "${G}plasma preset single n=1e6\n"
 expect 1 "b3.mote:2:24: error: plasma: n must be > 0, found -1" b3.mote "${G}plasma preset single n=-1 kT=10\n"
-expect 1 "b4.mote:2:6: error: body box: give size=SX,SY,SZ (three lengths > 0, m)" b4.mote "${G}body box\n"
-expect 1 "b5.mote:2:15: error: body box: give size=SX,SY,SZ (three lengths > 0, m)" b5.mote "${G}body box size=1,nan,1\n"
+expect 1 "b4.mote:2:1: error: body box: option size= is required (body box size=SX,SY,SZ [subdiv=1])" b4.mote "${G}body box\n"
+# one table row per kind of body: its options only
+expect 1 "b5b.mote:2:6: error: body: expected sphere, icosphere, uvsphere, box, twocubes, load or capacitance, found 'cone'" b5b.mote "${G}body cone radius=1\n"
+expect 1 "b5c.mote:2:15: error: body box: size=SX,SY,SZ: three lengths > 0 (m)" b5c.mote "${G}body box size=1,-1,1\n"
+expect 1 "b5d.mote:2:22: error: body sphere: unknown option 'size'" b5d.mote "${G}body sphere radius=1 size=1,1,1\n"
+expect 1 "b5.mote:2:15: error: body box: expected X,Y,Z (3 finite numbers separated by commas) for size, found '1,nan,1'" b5.mote "${G}body box size=1,nan,1\n"
 expect 1 "b6.mote:3:1: error: run: there is no body yet" b6.mote "${G}plasma preset thesis-hot\nrun\n"
 expect 1 "b7.mote:3:1: error: run: there is no plasma yet (plasma preset ..., or species and maxwellian)" b7.mote "${G}body sphere radius=1\nrun\n"
 # a charged mesh (spec 6.3): curved paths; float on a level-3 icosphere in the single 1 keV
@@ -56,7 +60,7 @@ expect 1 "b10c.mote:2:24: error: injector: radius must be > 0, found -3" b10c.mo
 expect 1 "b10b.mote:2:10: error: injector: expected 'sphere' or 'box' for sphere|box, found 'cone'" b10b.mote "${G}injector cone\n"
 expect 1 "b10c.mote:2:21: error: injector box: radius= is for the sphere" b10c.mote "${G}injector box radius=3\n"
 expect 2 "b10d.mote:5:1: error: run: the box injector is for straight paths" b10d.mote "${G}plasma preset single n=1e6 kT=1000\nbody sphere radius=1\ninjector box\nrun potential=-10 particles=10\n"
-expect 1 "b11.mote:3:6: error: body sphere: the exact sphere is a body on its own" b11.mote "${G}body sphere radius=1\nbody sphere radius=2\n"
+expect 1 "b11.mote:3:1: error: body sphere: the exact sphere is a body on its own (no other parts)" b11.mote "${G}body sphere radius=1\nbody sphere radius=2\n"
 expect 1 "b12.mote:2:6: error: body: expected sphere, icosphere, uvsphere, box, twocubes, load or capacitance, found 'cone'" b12.mote "${G}body cone\n"
 expect 1 "b13.mote:3:1: error: evolve: no currents yet: run first" b13.mote "${F}body sphere radius=1\nevolve time=1 file=x.csv\n"
 [ ! -e x.csv ] && ok || bad "a failed script wrote x.csv"
@@ -69,9 +73,9 @@ grep -q '^body load: 14 triangles read; 0 degenerate and 0 duplicate dropped, [0
 grep -q '^mode=full species=2 triangles=14 area=30 ' out.txt && ok || bad "the cube (24 m^2) and the two-sided panel (2 x 3 m^2): $(grep triangles=14 out.txt | head -1)"
 printf '0 0 0 1 0 0 0 nan 0\n' > nan.txt
 expect 2 "b15.mote:2:16: error: body load: nan.txt:1: a coordinate that is not a finite number ('nan')" b15.mote "${G}body load file=nan.txt\n"
-expect 1 "b16.mote:2:16: error: body: 'missing.stl' does not exist and no earlier command writes it" b16.mote "${G}body load file=missing.stl\n"
-expect 1 "b17.mote:2:6: error: body load: give file=FILE" b17.mote "${G}body load\n"
-expect 1 "b18.mote:2:32: error: body: expected 'm', 'cm', 'mm' or 'in' for units, found 'ft'" b18.mote "${G}body load file=craft.obj units=ft\n"
+expect 1 "b16.mote:2:16: error: body load: 'missing.stl' does not exist and no earlier command writes it" b16.mote "${G}body load file=missing.stl\n"
+expect 1 "b17.mote:2:1: error: body load: option file= is required (body load file=FILE [options])" b17.mote "${G}body load\n"
+expect 1 "b18.mote:2:32: error: body load: expected 'm', 'cm', 'mm' or 'in' for units, found 'ft'" b18.mote "${G}body load file=craft.obj units=ft\n"
 expect 1 "b19.mote:2:33: error: body load: rotate: expected AXIS,DEGREES (x, y or z), found 'w,90'" b19.mote "${G}body load file=craft.obj rotate=w,90\n"
 printf 'solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n' > cut.stl
 expect 2 "b20.mote:2:16: error: body load: cut.stl: not a mesh file Assimp reads" b20.mote "${G}body load file=cut.stl\n"
@@ -172,9 +176,9 @@ printf '%bplasma preset single n=1e6 kT=1000\nbody icosphere radius=1 level=3\nb
 "$MOTE" run cap.mote > out.txt 2> err.txt && grep -q '^body: capacitance 2.2253e-10 F (given), field radius R_f 1.9999999' out.txt &&
     grep -q '^body: capacitance 1.10999604e-10 F (auto: 4 pi eps0 R_eq), field radius R_f 0.99761469' out.txt &&
     awk '/^mode=full/ { a = $4 } /^run: e / { I = $5; s = $8 } END { sub("area=", "", a); i0 = -1.602176634e-19 * a * 1e6 * sqrt(1000 * 1.602176634e-19 / (2 * 3.14159265358979 * 9.1093837015e-31)); d = I - 2 * i0; exit !(d * d <= 9 * s * s + (0.003 * i0) ^ 2) }' out.txt && ok || bad "capacitance: $(grep '^body: cap\|^run: e' out.txt) $(cat err.txt)"
-expect 1 "cp1.mote:3:24: error: body capacitance: give value=auto or a capacitance in F > 0" cp1.mote "${G}body icosphere radius=1\nbody capacitance value=-1\n"
-expect 1 "cp2.mote:2:6: error: body capacitance: give the body first" cp2.mote "${G}body capacitance value=auto\n"
-expect 1 "cp3.mote:3:6: error: body capacitance: the exact sphere's capacitance is 4 pi eps0 a" cp3.mote "${G}body sphere radius=1\nbody capacitance value=1e-10\n"
+expect 1 "cp1.mote:3:24: error: body capacitance: value must be > 0, found -1" cp1.mote "${G}body icosphere radius=1\nbody capacitance value=-1\n"
+expect 1 "cp2.mote:2:1: error: body capacitance: give the body first" cp2.mote "${G}body capacitance value=auto\n"
+expect 1 "cp3.mote:3:1: error: body capacitance: the exact sphere's capacitance is 4 pi eps0 a (its field is exact)" cp3.mote "${G}body sphere radius=1\nbody capacitance value=1e-10\n"
 # test hitprob (spec 10 M3, the original's -t): a unit cube from R = 2 m, 6/(16 pi) = 0.119366,
 # and in a box of margin 0.5 m, 6/24
 printf '%bbody box size=1,1,1\ninjector sphere radius=2\ntest hitprob particles=1e6\ninjector box margin_m=0.5\ntest hitprob\n' "$G" > hp.mote
@@ -312,7 +316,7 @@ expect 1 "m2b.mote:2:16: error: body load: cut.ply: a PLY header without end_hea
 expect 2 "m3.mote:2:16: error: body load: flat.off: no triangle with a non-zero extent" m3.mote "${G}body load file=flat.off\n"
 expect 2 "m4.mote:2:1: error: body load: the body's size R_bound = 8.66025e-16 m is outside 1e-09 ... 1e+12 m" m4.mote "${G}body load file=cube.txt scale=1e-15\n"
 expect 2 "m5.mote:2:1: error: body load: the body's size R_bound = 8.66025e+18 m is outside" m5.mote "${G}body load file=cube.txt scale=1e19\n"
-expect 1 "m6.mote:2:6: error: body uvsphere: 2e+10 triangles (at most 1e+08" m6.mote "${G}body uvsphere radius=1 nlon=100000 nlat=100000\n" check
+expect 1 "m6.mote:2:1: error: body uvsphere: 2e+10 triangles (at most 1e+08, about 5e+03 GB)" m6.mote "${G}body uvsphere radius=1 nlon=100000 nlat=100000\n" check
 printf '%bbody load file=stack.txt\n' "$G" > m7.mote
 "$MOTE" run m7.mote > out.txt 2>&1 && grep -q '^body: warning: the field.s radius R_f = 1.26.* exceeds R_bound = 0.70' out.txt && ok || bad "R_f > R_bound: $(cat out.txt)"
 printf '%bbody load file=cube.txt\n' "$G" > m8.mote

@@ -73,11 +73,6 @@ int ch_parse3any(const char *t, double v[3])
     return 0;
 }
 
-/* size=SX,SY,SZ: three lengths > 0 */
-static int parse3(const char *t, double v[3])
-{
-    return ch_parse3any(t, v) || !(v[0] > 0 && v[1] > 0 && v[2] > 0) ? -1 : 0;
-}
 
 /* ---- plasma --------------------------------------------------------------------------------- */
 
@@ -264,20 +259,22 @@ static int run_plasma(void *vm, const mote_call *c, mote_err *err)
 
 /* ---- body ----------------------------------------------------------------------------------- */
 
+/* `body KIND`: one table row per kind (its options are the row's), in this order */
 static const char *const BODY_KINDS[] = {"sphere", "icosphere", "uvsphere", "box", "twocubes",
                                          "load", "capacitance", NULL};
+static int body_kind(const mote_call *c)
+{
+    int k = 0;
+    while (BODY_KINDS[k] && strcmp(BODY_KINDS[k], c->name + 5)) /* ("body KIND") */
+        k++;
+    return k;
+}
 
-/* `body capacitance value=auto|F` (spec 4.3): the capacitance, F > 0, or 0 for auto; -1 bad */
+/* `body capacitance value=auto|F` (spec 4.3): the capacitance, F > 0, or 0 for auto */
 static double capacitance_value(const mote_call *c)
 {
     const mote_arg *a = mote_call_opt(c, "value");
-    if (!a)
-        return -1;
-    if (!strcmp(a->text, "auto"))
-        return 0;
-    char *end;
-    const double C = strtod(a->text, &end);
-    return end != a->text && !*end && C > 0 && isfinite(C) ? C : -1;
+    return a->word ? 0 : a->r;
 }
 
 /* The options of `body load` (spec 7.1-7.3) into o; -1 and a located error when one is bad. */
@@ -321,35 +318,20 @@ static int load_opts(const mote_call *c, mote_ch_load_opts *o, mote_err *err)
 static int check_body(void *vm, const mote_call *c, mote_err *err)
 {
     ch_model *m = vm;
-    const char *kind = c->args[0].text;
-    int k = 0;
-    while (BODY_KINDS[k] && strcmp(BODY_KINDS[k], kind) != 0)
-        k++;
-    if (!BODY_KINDS[k])
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "body: expected sphere, icosphere, "
-                              "uvsphere, box, twocubes, load or capacitance, found '%s'", kind);
+    const int k = body_kind(c);
+    const char *kind = BODY_KINDS[k];
     if (k == 6) { /* the capacitance of the body there is (spec 4.3) */
-        if (capacitance_value(c) < 0)
-            return mote_call_fail(err, c, mote_call_opt(c, "value") ? mote_call_opt_index(c, "value")
-                                                                    : 0,
-                                  MOTE_EINVAL, "body capacitance: give value=auto or a "
-                                  "capacitance in F > 0");
         if (!m->have_body)
-            return mote_call_fail(err, c, 0, MOTE_EINVAL, "body capacitance: give the body first");
+            return mote_call_fail(err, c, -1, MOTE_EINVAL, "body capacitance: give the body first");
         if (m->have_sphere && capacitance_value(c) > 0)
-            return mote_call_fail(err, c, 0, MOTE_EINVAL, "body capacitance: the exact sphere's "
+            return mote_call_fail(err, c, -1, MOTE_EINVAL, "body capacitance: the exact sphere's "
                                   "capacitance is 4 pi eps0 a (its field is exact)");
         return MOTE_OK;
     }
-    if (mote_call_opt(c, "value"))
-        return mote_call_fail(err, c, mote_call_opt_index(c, "value"), MOTE_EINVAL,
-                              "body %s: value= is for body capacitance", kind);
     if (k == 5) {
         mote_ch_load_opts o;
-        if (!mote_call_opt(c, "file"))
-            return mote_call_fail(err, c, 0, MOTE_EINVAL, "body load: give file=FILE");
         if (m->have_sphere)
-            return mote_call_fail(err, c, 0, MOTE_EINVAL, "body load: the body is the exact "
+            return mote_call_fail(err, c, -1, MOTE_EINVAL, "body load: the body is the exact "
                                   "sphere, which takes no other parts");
         int rc = load_opts(c, &o, err);
         if (rc)
@@ -361,22 +343,14 @@ static int check_body(void *vm, const mote_call *c, mote_err *err)
         m->have_body = 1;
         return MOTE_OK;
     }
-    if (mote_call_opt(c, "file"))
-        return mote_call_fail(err, c, mote_call_opt_index(c, "file"), MOTE_EINVAL,
-                              "body %s: file= is for body load", kind);
-    double v[3];
-    if (k == 3 && (!mote_call_opt(c, "size") || parse3(mote_call_opt(c, "size")->text, v)))
-        return mote_call_fail(err, c, mote_call_opt(c, "size") ? mote_call_opt_index(c, "size") : 0,
-                              MOTE_EINVAL, "body box: give size=SX,SY,SZ (three lengths > 0, m)");
-    if (k <= 2 && !mote_call_opt(c, "radius"))
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "body %s: give radius= (m)", kind);
+    const mote_arg *size = mote_call_opt(c, "size");
+    if (k == 3 && !(size->v[0] > 0 && size->v[1] > 0 && size->v[2] > 0))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "size"), MOTE_EINVAL,
+                              "body box: size=SX,SY,SZ: three lengths > 0 (m)");
     if ((k == 0 && m->have_body) || (k > 0 && m->have_sphere))
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "body %s: the exact sphere is a body "
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "body %s: the exact sphere is a body "
                               "on its own (no other parts)", kind);
     m->have_sphere |= k == 0;
-    if (k == 1 && mote_call_opt(c, "level") && mote_call_opt(c, "level")->i > 8)
-        return mote_call_fail(err, c, mote_call_opt_index(c, "level"), MOTE_EINVAL,
-                              "body icosphere: level must be 0 ... 8");
     /* the triangles asked for, against the body's limit and the machine's memory */
     const mote_arg *o1 = mote_call_opt(c, k == 2 ? "nlon" : "subdiv"), *o2 = mote_call_opt(c, "nlat");
     const double n1 = o1 ? (double)o1->i : k == 2 ? 100 : 1, n2 = o2 ? (double)o2->i : 50;
@@ -386,12 +360,12 @@ static int check_body(void *vm, const mote_call *c, mote_err *err)
     else if (k == 3)
         ntri = 12.0 * n1 * n1;
     if (ntri > MOTE_CH_MAX_TRI)
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "body %s: %.3g triangles (at most %g, about "
-                              "%.3g GB)", kind, ntri, (double)MOTE_CH_MAX_TRI,
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "body %s: %.3g triangles (at most %g, "
+                              "about %.3g GB)", kind, ntri, (double)MOTE_CH_MAX_TRI,
                               ntri * MOTE_CH_TRI_BYTES / 1e9);
     mote_err e2 = {0};
     if (mote_mem_check(ntri * MOTE_CH_TRI_BYTES, "the body's triangles", &e2))
-        return mote_call_fail(err, c, 0, e2.code, "body %s: %s", kind, e2.msg);
+        return mote_call_fail(err, c, -1, e2.code, "body %s: %s", kind, e2.msg);
     m->have_body = 1;
     return MOTE_OK;
 }
@@ -399,7 +373,7 @@ static int check_body(void *vm, const mote_call *c, mote_err *err)
 static int run_body(void *vm, const mote_call *c, mote_err *err)
 {
     ch_model *m = vm;
-    const char *kind = c->args[0].text;
+    const char *kind = BODY_KINDS[body_kind(c)];
     const double r = mote_call_opt_r(c, "radius", 1);
     const mote_arg *a;
     int rc;
@@ -449,9 +423,9 @@ static int run_body(void *vm, const mote_call *c, mote_err *err)
                             "dropped; strict=yes makes this an error)\n",
                     mote_call_opt(c, "file")->path, rep.trailing_numbers);
     } else if (strcmp(kind, "box") == 0) {
-        double size[3], centre[3] = {0, 0, 0};
-        parse3(mote_call_opt(c, "size")->text, size);
-        rc = mote_ch_body_box(&m->body, size, centre, OPT_I("subdiv", 1), err);
+        double centre[3] = {0, 0, 0};
+        rc = mote_ch_body_box(&m->body, mote_call_opt(c, "size")->v, centre, OPT_I("subdiv", 1),
+                              err);
     } else
         rc = mote_ch_body_twocubes(&m->body, mote_call_opt_r(c, "side", 1),
                                    mote_call_opt_r(c, "gap", 1), err);
@@ -880,13 +854,24 @@ static const mote_cmd ch_commands[] = {
     {"maxwellian", NULL, "species=s! density=r>0! temperature=r>0!",
      "maxwellian species=S density=N temperature=T", "add a Maxwellian component to a species",
      HELP_MAXWELLIAN, check_maxwellian, run_maxwellian},
-    {"body", NULL,
-     "s radius=r>0 level=i nlon=i>=3 nlat=i>=2 size=s subdiv=i>=1 side=r>0 gap=r>=0 "
-     "file=f<mesh format=e{auto|plain|assimp} units=e{m|cm|mm|in} scale=r>0 part=s offset=v3 "
-     "rotate=s strict=e{yes|no} value=s",
-     "body KIND [options]",
-     "add a generated body (sphere, icosphere, uvsphere, box, twocubes) or a mesh file (load)",
+    {"body sphere", NULL, "radius=r>0!", "body sphere radius=A",
+     "the exact sphere (spec 4.1)", HELP_BODY, check_body, run_body},
+    {"body icosphere", NULL, "radius=r>0! level=i[0,8]", "body icosphere radius=A [level=4]",
+     "a sphere of triangles by subdivision", HELP_BODY, check_body, run_body},
+    {"body uvsphere", NULL, "radius=r>0! nlon=i>=3 nlat=i>=2",
+     "body uvsphere radius=A [nlon=100] [nlat=50]", "a sphere of triangles by longitude and "
+     "latitude", HELP_BODY, check_body, run_body},
+    {"body box", NULL, "size=v3! subdiv=i>=1", "body box size=SX,SY,SZ [subdiv=1]",
+     "a box of triangles", HELP_BODY, check_body, run_body},
+    {"body twocubes", NULL, "side=r>0 gap=r>=0", "body twocubes [side=1] [gap=1]",
+     "two cubes side by side (the thesis's test body)", HELP_BODY, check_body, run_body},
+    {"body load", NULL,
+     "file=f<mesh! format=e{auto|plain|assimp} units=e{m|cm|mm|in} scale=r>0 part=s offset=v3 "
+     "rotate=s strict=e{yes|no}",
+     "body load file=FILE [options]", "a mesh file (Assimp's formats, or plain triangles)",
      HELP_BODY, check_body, run_body},
+    {"body capacitance", NULL, "value=r>0{auto}!", "body capacitance value=auto|F",
+     "the body's capacitance (spec 4.3)", HELP_BODY, check_body, run_body},
     {"injector", NULL, "e{sphere|box} radius=r>0{auto|debye|thesis} margin=r>0 margin_m=r>0",
      "injector sphere|box [options]",
      "where histories start", HELP_INJECTOR, check_injector, run_injector},
