@@ -79,14 +79,8 @@ int ch_parse3any(const char *t, double v[3])
 static int check_plasma(void *vm, const mote_call *c, mote_err *err)
 {
     ch_model *m = vm;
-    if (strcmp(c->args[0].text, "preset") != 0)
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "plasma: expected 'preset', found '%s'",
-                              c->args[0].text);
-    const char *name = c->args[1].text;
-    int single = strcmp(name, "single") == 0;
-    if (!single && strcmp(name, "geo-worst-case") != 0 && strcmp(name, "thesis-hot") != 0)
-        return mote_call_fail(err, c, 1, MOTE_EINVAL, "plasma preset: expected geo-worst-case, "
-                              "thesis-hot or single, found '%s'", name);
+    const char *name = c->args[1].text; /* geo-worst-case|thesis-hot|single */
+    const int single = c->args[1].i == 2;
     if (single && (!mote_call_opt(c, "n") || !mote_call_opt(c, "kT")))
         return mote_call_fail(err, c, 1, MOTE_EINVAL, "plasma preset single: give n= (m^-3) and "
                               "kT= (eV)");
@@ -659,16 +653,18 @@ static int has_part(const ch_model *m, const char *name)
     return 0;
 }
 
-static int apply_material(ch_model *m, const mote_call *c, mote_err *err)
+/* `material define` and `material assign`: a table row each; the same function for the dry and
+ * the real model (the materials so far are part of what later commands check). */
+static int material_define(void *vm, const mote_call *c, mote_err *err)
 {
-    const char *what = c->args[0].text;
-    if (!strcmp(what, "define")) {
+    ch_model *m = vm;
+    {
         const mote_arg *n = mote_call_opt(c, "name");
-        if (!n || !*n->text || strlen(n->text) >= sizeof m->defined[0].name)
-            return mote_call_fail(err, c, 0, MOTE_EINVAL, "material define: give name= (1 to %d "
+        if (!*n->text || strlen(n->text) >= sizeof m->defined[0].name)
+            return mote_call_fail(err, c, mote_call_opt_index(c, "name"), MOTE_EINVAL, "material define: give name= (1 to %d "
                                   "characters)", (int)sizeof m->defined[0].name - 1);
         if (m->ndefined == (int)(sizeof m->defined / sizeof m->defined[0]))
-            return mote_call_fail(err, c, 0, MOTE_EINVAL, "material define: at most %d materials",
+            return mote_call_fail(err, c, -1, MOTE_EINVAL, "material define: at most %d materials",
                                   m->ndefined);
         mote_ch_material x;
         if (find_material(m, n->text, &x)) { /* new: no emission unless given */
@@ -687,42 +683,31 @@ static int apply_material(ch_model *m, const mote_call *c, mote_err *err)
         x.ion_dmax = mote_call_opt_r(c, "ion_dmax", x.ion_dmax);
         x.ion_emax = mote_call_opt_r(c, "ion_emax", x.ion_emax);
         const mote_arg *a;
-        if ((a = mote_call_opt(c, "see_law"))) {
-            if (strcmp(a->text, "universal") && strcmp(a->text, "sternglass"))
-                return mote_call_fail(err, c, mote_call_opt_index(c, "see_law"), MOTE_EINVAL,
-                                      "material define: see_law must be universal or sternglass, "
-                                      "found '%s'", a->text);
-            x.see_law = !strcmp(a->text, "sternglass");
-        }
-        if ((a = mote_call_opt(c, "see_angle"))) {
-            if (strcmp(a->text, "none") && strcmp(a->text, "sec"))
-                return mote_call_fail(err, c, mote_call_opt_index(c, "see_angle"), MOTE_EINVAL,
-                                      "material define: see_angle must be none or sec, found '%s'",
-                                      a->text);
-            x.see_angle = !strcmp(a->text, "sec");
-        }
+        if ((a = mote_call_opt(c, "see_law"))) /* universal|sternglass */
+            x.see_law = (int)a->i;
+        if ((a = mote_call_opt(c, "see_angle"))) /* none|sec */
+            x.see_angle = (int)a->i;
         if (x.see_angle && x.see_law)
-            return mote_call_fail(err, c, 0, MOTE_EINVAL, "material define: see_angle=sec is the "
+            return mote_call_fail(err, c, -1, MOTE_EINVAL, "material define: see_angle=sec is the "
                                   "universal law's angular form, not Sternglass's");
         m->defined[m->ndefined++] = x;
         return MOTE_OK;
     }
-    if (strcmp(what, "assign"))
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "material: expected define or assign, found "
-                              "'%s'", what);
+}
+
+static int material_assign(void *vm, const mote_call *c, mote_err *err)
+{
+    ch_model *m = vm;
     if (m->faithful)
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "material assign: faithful mode has no "
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "material assign: faithful mode has no "
                               "emission (the thesis's scope, spec 1.2); use model charging");
     const mote_arg *part = mote_call_opt(c, "part"), *mat = mote_call_opt(c, "material");
-    if (!part || !mat)
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "material assign: give part=NAME|* and "
-                              "material=NAME");
     if (strlen(part->text) >= sizeof m->assign[0].part)
         return mote_call_fail(err, c, mote_call_opt_index(c, "part"), MOTE_EINVAL,
                               "material assign: a part name longer than %zu characters",
                               sizeof m->assign[0].part - 1);
     if (m->dry && !m->have_body)
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "material assign: give the body first "
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "material assign: give the body first "
                               "(the parts are its parts)");
     if (!m->dry && strcmp(part->text, "*") && !has_part(m, part->text))
         return mote_call_fail(err, c, mote_call_opt_index(c, "part"), MOTE_EINVAL,
@@ -736,19 +721,11 @@ static int apply_material(ch_model *m, const mote_call *c, mote_err *err)
                               "teflon, cover-glass, or one made with material define)",
                               mat->text);
     if (m->nassign == (int)(sizeof m->assign / sizeof m->assign[0]))
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "material assign: at most %d assignments",
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "material assign: at most %d assignments",
                               m->nassign);
     snprintf(m->assign[m->nassign].part, sizeof m->assign[0].part, "%s", part->text);
     m->assign[m->nassign++].m = x;
     return MOTE_OK;
-}
-static int check_material(void *vm, const mote_call *c, mote_err *err)
-{
-    return apply_material(vm, c, err);
-}
-static int run_material(void *vm, const mote_call *c, mote_err *err)
-{
-    return apply_material(vm, c, err);
 }
 
 /* The material of a part (the last assignment that names it or *), or NULL when bare. */
@@ -847,7 +824,7 @@ ch_output ch_output_of(ch_model *m, const mote_ch_geometry *g, const mote_ch_run
 
 
 static const mote_cmd ch_commands[] = {
-    {"plasma", NULL, "s s n=r>0 kT=r>0 drift=v3", "plasma preset NAME [n=N] [kT=T] [drift=V]",
+    {"plasma", NULL, "e{preset} e{geo-worst-case|thesis-hot|single} n=r>0 kT=r>0 drift=v3", "plasma preset NAME [n=N] [kT=T] [drift=V]",
      "the plasma environment (a preset of spec 3.2)", HELP_PLASMA, check_plasma, run_plasma},
     {"species", NULL, "*", "species name=S charge=Z mass=M [drift=V] | species clear",
      "add a species (or empty the list)", HELP_SPECIES, check_species, run_species},
@@ -893,11 +870,14 @@ static const mote_cmd ch_commands[] = {
      "float [particles=N] [tolerance=1e-4] [U0=0] [replicas=1] [roots=one|all]",
      "the floating potential of the charged body", HELP_FLOAT, ch_check_float,
      ch_run_float},
-    {"material", NULL,
-     "s name=s see_dmax=r>=0 see_emax=r>0 see_law=s see_angle=s see_kT=r>0 ion_dmax=r>=0 "
-     "ion_emax=r>0 photo_j=r>=0 photo_kT=r>0 part=s material=s",
-     "material define|assign [options]", "define a material, or give a part one (spec 6.9)",
-     HELP_MATERIAL, check_material, run_material},
+    {"material define", NULL,
+     "name=s! see_dmax=r>=0 see_emax=r>0 see_law=e{universal|sternglass} see_angle=e{none|sec} "
+     "see_kT=r>0 ion_dmax=r>=0 ion_emax=r>0 photo_j=r>=0 photo_kT=r>0",
+     "material define name=NAME [options]", "define a material (spec 6.9)", HELP_MATERIAL,
+     material_define, material_define},
+    {"material assign", NULL, "part=s! material=s!", "material assign part=NAME|* material=NAME",
+     "give a part of the body a material (spec 6.9)", HELP_MATERIAL, material_assign,
+     material_assign},
     {"output", NULL,
      "prefix=f! timeseries=e{on|off} triangles=e{on|off} vtk=e{on|off} vtk_format=e{ascii|binary} "
      "png=e{on|off} ply=e{on|off} png_view=s png_size=s png_scale=e{linear|log} png_quantity=s "
