@@ -364,7 +364,9 @@ set -- $(png_size n1.png)
 expect 2 "nm2.mote:2:31: error: plot: relative_to: n.traj holds no body 'Sun'" nm2.mote "${G}plot n.traj x.png relative_to=Sun\n"
 [ ! -e x.png ] && ok || bad "a failed plot left x.png"
 expect 2 "nm3.mote:2:26: error: plot: bodies: n.traj holds no body '7'" nm3.mote "${G}plot n.traj x.png bodies=7\n"
-expect 1 "nm4.mote:2:25: error: plot: plane must be invariable, xy, xz or yz, found 'ab'" nm4.mote "${G}plot n.traj x.png plane=ab\n"
+expect 1 "lp1.mote:2:12: error: live_plane: expected 'xy', 'xz' or 'yz' for xy|xz|yz, found 'xw'" lp1.mote "${G}live_plane xw\n"
+expect 0 "" lp2.mote "${G}live_plane yz\n" check
+expect 1 "nm4.mote:2:25: error: plot: expected 'invariable', 'xy', 'xz' or 'yz' for plane, found 'ab'" nm4.mote "${G}plot n.traj x.png plane=ab\n"
 expect 1 "nm5.mote:2:24: error: plot: size must be in [64, 8192], found 20" nm5.mote "${G}plot n.traj x.png size=20\n"
 expect 2 "nm6.mote:3:24: error: plot: plane= is for trajectory files" nm6.mote "${G}monitor every=1 file=m.mon\nplot m.mon x.png plane=xy\n"
 expect 1 "nm7.mote:2:18: error: body: name: expected 1 to 23 characters, a letter first" nm7.mote "${G}body mass=1 name=3rd\n"

@@ -792,7 +792,7 @@ static int model_plot_check(void *vm, const mote_call *c, mote_err *err)
                               "plot: '%s' is written earlier in this script in format %s; plot "
                               "reads the table format (format=table, the default, under a name "
                               "not ending in .csv)", c->args[0].text, fmt);
-    return nb_plot_check(c, err);
+    return MOTE_OK; /* (plane= is one of the table's words) */
 }
 
 
@@ -893,11 +893,11 @@ static const mote_cmd nb_commands[] = {
     {"steps_between", NULL, "jd1=r! jd2=r! dt=r>0! fresh=e{on|off}", "steps_between jd1= jd2= dt= [fresh=on]",
      "the steps and the corrected step between two dates", HELP_STEPS_BETWEEN,
      nb_check_steps_between, nb_run_steps_between},
-    {"live_plane", NULL, "s", "live_plane xy|xz|yz",
+    {"live_plane", NULL, "e{xy|xz|yz}", "live_plane xy|xz|yz",
      "the plane the live view shows (xy by default)",
      "The plane of the live view (`mote run --live`, `live http`): the bodies and the recent\n"
      "paths of the first 64 are drawn projected on xy (the default), xz or yz.\n",
-     nb_check_live_plane, nb_run_live_plane},
+     NULL, nb_run_live_plane},
     {"run", NULL,
      "s control=f<control interaction=s frames=s step_tol=r(0,1) force=s lenient=s "
      "trio_layout=s max_files=i>=1",
@@ -924,7 +924,7 @@ const mote_model mote_model_nbody = {
     .plot_kinds = "monitor|trajectory",
     .plot = model_plot,
     .plot_help = HELP_PLOT,
-    .plot_opts = "bodies=s relative_to=s plane=s size=i[64,8192]",
+    .plot_opts = "bodies=s relative_to=s plane=e{invariable|xy|xz|yz} size=i[64,8192]",
     .plot_check = model_plot_check,
     .live = nb_model_live,
     .program = "galactica",

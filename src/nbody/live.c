@@ -15,19 +15,10 @@
 
 enum { LIVE_PATHS = 64, LIVE_LEN = 64 };
 
-int nb_check_live_plane(void *vm, const mote_call *c, mote_err *err)
-{
-    const char *p = c->args[0].text;
-    if (strcmp(p, "xy") && strcmp(p, "xz") && strcmp(p, "yz"))
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "live_plane: expected xy, xz or yz, found "
-                              "'%s'", p);
-    return MOTE_OK;
-}
 int nb_run_live_plane(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
-    const char *p = c->args[0].text;
-    m->live.plane = p[0] == 'y' ? 2 : p[1] == 'z' ? 1 : 0;
+    m->live.plane = (int)c->args[0].i; /* xy|xz|yz */
     m->live.len = m->live.head = 0; /* the paths start again in the new plane */
     return MOTE_OK;
 }

@@ -139,7 +139,6 @@ int nb_check_check(void *vm, const mote_call *c, mote_err *err);
 int nb_run_check(void *vm, const mote_call *c, mote_err *err);
 
 /* ---- live.c ---- */
-int nb_check_live_plane(void *vm, const mote_call *c, mote_err *err);
 int nb_run_live_plane(void *vm, const mote_call *c, mote_err *err);
 void nb_model_live(void *vm, mote_buf *b);
 

@@ -10,8 +10,6 @@
 
 /* Render an N-body data file (trajectory: orbits; monitor: drifts) as a PNG (plot.c). */
 int nb_plot_file(const char *data_path, const char *png_path, const mote_call *c, mote_err *err);
-/* The options of `plot` (plane=) before the run. */
-int nb_plot_check(const mote_call *c, mote_err *err);
 /* The time axis of a plot of data file t whose times T run from t0 to t1: with the physical
  * scales in its header (kt), the unit that reads best over the span (s, day or year)
  * and *scale such that T * *scale is in it; without them "dimensionless", scale 1. */

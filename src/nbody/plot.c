@@ -88,22 +88,6 @@ static int traj_find(const mote_table *t, const traj_body *b, int n, const char 
     return -1;
 }
 
-static const char *const PLANES[] = {"invariable", "xy", "xz", "yz", NULL};
-
-int nb_plot_check(const mote_call *c, mote_err *err)
-{
-    const mote_arg *a = mote_call_opt(c, "plane");
-    if (a) {
-        int k = 0;
-        while (PLANES[k] && strcmp(PLANES[k], a->text) != 0)
-            k++;
-        if (!PLANES[k])
-            return mote_call_fail(err, c, mote_call_opt_index(c, "plane"), MOTE_EINVAL,
-                                  "plot: plane must be invariable, xy, xz or yz, found '%s'",
-                                  a->text);
-    }
-    return MOTE_OK;
-}
 
 static int plot_orbits(const mote_table *t, const char *in, const char *png, const mote_call *c,
                        mote_err *err)
