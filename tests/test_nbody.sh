@@ -364,6 +364,9 @@ set -- $(png_size n1.png)
 expect 2 "nm2.mote:2:31: error: plot: relative_to: n.traj holds no body 'Sun'" nm2.mote "${G}plot n.traj x.png relative_to=Sun\n"
 [ ! -e x.png ] && ok || bad "a failed plot left x.png"
 expect 2 "nm3.mote:2:26: error: plot: bodies: n.traj holds no body '7'" nm3.mote "${G}plot n.traj x.png bodies=7\n"
+expect 1 "wd1.mote:2:27: error: run: expected 'prose' or 'packed' for trio_layout, found 'loose'" wd1.mote "${G}run galactica trio_layout=loose\n"
+expect 1 "wd2.mote:2:7: error: check: expected 'ring' for ring, found 'square'" wd2.mote "${G}check square\n"
+expect 1 "wd3.mote:2:35: error: write: expected 'native' for format, found 'gadget'" wd3.mote "${G}write snapshot file=a.snap format=gadget\n"
 expect 1 "lp1.mote:2:12: error: live_plane: expected 'xy', 'xz' or 'yz' for xy|xz|yz, found 'xw'" lp1.mote "${G}live_plane xw\n"
 expect 0 "" lp2.mote "${G}live_plane yz\n" check
 expect 1 "nm4.mote:2:25: error: plot: expected 'invariable', 'xy', 'xz' or 'yz' for plane, found 'ab'" nm4.mote "${G}plot n.traj x.png plane=ab\n"
@@ -405,7 +408,7 @@ sed 's/^# N = 30$/# N = 31/' x.snap > n31.snap
 expect 1 "sx2.mote:2:20: error: read: n31.snap:68: file ends early: N = 31, but only 30 body rows" sx2.mote "${G}read snapshot file=n31.snap\n"
 expect 1 "sx3.mote:2:20: error: read: x.snap:4: the snapshot is a gravity run, this script is a Coulomb run" sx3.mote "${C}read snapshot file=x.snap\n"
 expect 1 "sx4.mote:2:20: error: read: 'nothere.snap' does not exist and no earlier command writes it" sx4.mote "${G}read snapshot file=nothere.snap\n"
-expect 1 "sx5.mote:3:7: error: write: expected snapshot (the native snapshot of spec 10.2) or galactica (Galactica's body file), found 'gadget'" sx5.mote "${G}body mass=1\nwrite gadget file=g.dat\nwrite galactica file=g.dat\n"
+expect 1 "sx5.mote:3:7: error: write: expected 'snapshot' or 'galactica' for snapshot|galactica, found 'gadget'" sx5.mote "${G}body mass=1\nwrite gadget file=g.dat\nwrite galactica file=g.dat\n"
 expect 1 "sx6.mote:2:1: error: write: there are no bodies yet" sx6.mote "${G}write snapshot file=e.snap\n"
 expect 1 "sx7.mote:3:26: error: snapshot: the directory of prefix 'nodir/s_' does not exist" sx7.mote "${G}body mass=1\nsnapshot every=10 prefix=nodir/s_\n"
 sed 's/^# h_prev = .*/# h_prev = -1/' x.snap > hp.snap

@@ -883,12 +883,12 @@ static const mote_cmd nb_commands[] = {
      nb_check_checkpoint, nb_run_checkpoint},
     {"restart", NULL, "file=f<state!", "restart file=FILE",
      "continue from a checkpoint (or a saved state)", HELP_RESTART, nb_check_restart, nb_run_restart},
-    {"check", NULL, "s", "check ring", "compare with the exact ring solution", HELP_CHECK,
+    {"check", NULL, "e{ring}", "check ring", "compare with the exact ring solution", HELP_CHECK,
      nb_check_check, nb_run_check},
-    {"write", NULL, "s file=f>snapshot! format=s info_line=e{on|off}", "write snapshot|galactica file=FILE",
+    {"write", NULL, "e{snapshot|galactica} file=f>snapshot! format=e{native} info_line=e{on|off}", "write snapshot|galactica file=FILE",
      "write the bodies and the run's state as a snapshot table (spec 10.2)", HELP_WRITE,
      nb_check_write, nb_run_write},
-    {"read", NULL, "s file=f<snapshot! format=s n=i>=1", "read snapshot|galactica file=FILE",
+    {"read", NULL, "e{snapshot|galactica} file=f<snapshot! format=e{native} n=i>=1", "read snapshot|galactica file=FILE",
      "continue from a snapshot (replaces the bodies)", HELP_READ, nb_check_read, nb_run_read},
     {"steps_between", NULL, "jd1=r! jd2=r! dt=r>0! fresh=e{on|off}", "steps_between jd1= jd2= dt= [fresh=on]",
      "the steps and the corrected step between two dates", HELP_STEPS_BETWEEN,
@@ -899,8 +899,9 @@ static const mote_cmd nb_commands[] = {
      "paths of the first 64 are drawn projected on xy (the default), xz or yz.\n",
      NULL, nb_run_live_plane},
     {"run", NULL,
-     "s control=f<control interaction=s frames=s step_tol=r(0,1) force=s lenient=s "
-     "trio_layout=s max_files=i>=1",
+     "e{galactica} control=f<control interaction=e{gravity|coulomb} frames=e{on|off} "
+     "step_tol=r(0,1) force=e{on|off} lenient=e{on|off} trio_layout=e{prose|packed} "
+     "max_files=i>=1",
      "run galactica [control=galacf26.dat] [interaction=gravity|coulomb] [frames=on] "
      "[step_tol=E] [force=on] [lenient=on] [trio_layout=packed] [max_files=N]",
      "run a Galactica job: its control file, bodies and result files", HELP_RUN, nb_check_run,
