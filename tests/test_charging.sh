@@ -35,6 +35,7 @@ expect 1 "b1.mote:2:15: error: plasma: expected 'geo-worst-case', 'thesis-hot' o
 expect 1 "b2.mote:2:15: error: plasma preset single: give n= (m^-3) and kT= (eV)" b2.mote "${G}plasma preset single n=1e6\n"
 expect 1 "b3.mote:2:24: error: plasma: n must be > 0, found -1" b3.mote "${G}plasma preset single n=-1 kT=10\n"
 expect 1 "b4.mote:2:1: error: body box: option size= is required (body box size=SX,SY,SZ [subdiv=1])" b4.mote "${G}body box\n"
+"$MOTE" help body > bh.txt 2>&1 && [ "$(grep -c '^body ' bh.txt)" -ge 7 ] && [ "$(grep -c 'icosphere of 20' bh.txt)" = 1 ] && ok || bad "mote help body: the rows, with their shared text once: $(head -3 bh.txt)"
 # one table row per kind of body: its options only
 expect 1 "b5b.mote:2:6: error: body: expected sphere, icosphere, uvsphere, box, twocubes, load or capacitance, found 'cone'" b5b.mote "${G}body cone radius=1\n"
 expect 1 "b5c.mote:2:15: error: body box: size=SX,SY,SZ: three lengths > 0 (m)" b5c.mote "${G}body box size=1,-1,1\n"

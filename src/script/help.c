@@ -177,7 +177,10 @@ int mote_help_command(FILE *out, FILE *diag, const char *name, const mote_model 
                 continue;
             if (found++)
                 fputc('\n', out);
-            print_command(out, r, models[i]->name);
+            mote_cmd shown = *r; /* rows that share their text print it once */
+            if (j > 0 && r->help == models[i]->cmds[j - 1].help)
+                shown.help = "";
+            print_command(out, &shown, models[i]->name);
         }
     }
     if (found)
@@ -280,7 +283,12 @@ static void md_commands(FILE *out, const mote_cmd *cmds, size_t n, const mote_mo
             fputs("`\n\n", out);
         }
         fprintf(out, "%s\n", d->summary ? d->summary : "");
-        if (d->help && d->help[0]) {
+        size_t first = i; /* rows of one command that share their text: it comes once */
+        while (first > 0 && cmds[first - 1].help == d->help)
+            first--;
+        if (first < i)
+            fprintf(out, "\nSee `%s` above.\n", cmds[first].name);
+        else if (d->help && d->help[0]) {
             size_t len = strlen(d->help);
             fprintf(out, "\n%s%s", d->help, d->help[len - 1] == '\n' ? "" : "\n");
         }
