@@ -83,7 +83,8 @@ static double bytes_per_particle(const mote_sep_system *s)
                      (double)s->nnext_cap * sizeof(int32_t) +
                      (double)s->nhead_cap * sizeof(int32_t) +
                      (double)s->grid.cap_cells * sizeof(uint32_t) +
-                     (double)s->grid.cap_n * (2 * sizeof(uint32_t) + 3 * sizeof(double));
+                     (double)s->grid.cap_n * (2 * sizeof(uint32_t) +
+                                              (s->grid.pos ? 3 * sizeof(double) : 0));
     return s->n ? b / (double)s->n : 0;
 }
 

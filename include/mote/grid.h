@@ -33,6 +33,8 @@ typedef struct {
     uint32_t *cell;         /* [n] the cell of each particle, by particle index */
     uint32_t n;
     size_t cap_cells, cap_n;
+    int no_pos;             /* set before setup: keep no coordinate copies (pos stays NULL; for
+                             * a caller that reads its own arrays, not mote_grid_pairs/_sep) */
 } mote_grid;
 
 /* Lay cells over the region for up to n particles: at least min_w wide on every axis (so a

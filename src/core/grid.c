@@ -56,10 +56,10 @@ int mote_grid_setup(mote_grid *g, int dim, const double lo[3], const double len[
         uint32_t *c = realloc(g->cell, k * sizeof *c);
         if (c)
             g->cell = c;
-        double *p = realloc(g->pos, 3 * k * sizeof *p);
+        double *p = g->no_pos ? NULL : realloc(g->pos, 3 * k * sizeof *p);
         if (p)
             g->pos = p;
-        if (!o || !c || !p)
+        if (!o || !c || (!p && !g->no_pos))
             return -1;
         g->cap_n = k;
     }
@@ -135,6 +135,8 @@ void mote_grid_build(mote_grid *g, uint32_t n, const double *const coord[3], siz
     for (uint32_t i = 0; i < n; i++) {
         uint32_t k = start[g->cell[i]]++;
         g->order[k] = i;
+        if (g->no_pos)
+            continue;
         double *p = g->pos + 3 * (size_t)k;
         for (int a = 0; a < 3; a++)
             p[a] = a < g->dim ? wrapped(g, a, coord[a][(size_t)i * stride]) : 0.0;

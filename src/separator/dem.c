@@ -72,6 +72,7 @@ int sep_cells_build(mote_sep_system *s, mote_err *err)
     const int walls[3] = {0, 0, 0};
     if (s->n >= UINT32_MAX)
         return mote_fail(err, MOTE_EINVAL, "separator: more than 2^32 - 1 particles");
+    s->grid.no_pos = 1; /* (the searches read the particles' own arrays) */
     if (mote_grid_setup(&s->grid, s->dim, lo, len, walls, h, (uint32_t)s->n))
         return mote_fail(err, MOTE_ENOMEM, "separator: no cells for a channel %g x %g of "
                          "particles up to %g (out of memory, or not finite)", s->W, s->H, h);
@@ -291,7 +292,8 @@ size_t mote_sep_pairs(mote_sep_system *s, int brute, uint32_t *pairs, size_t cap
         return 0;
     pair_list l = {pairs, 0, cap};
     each_pair(s, brute, collect, &l);
-    qsort(pairs, l.n < cap ? l.n : cap, 2 * sizeof *pairs, cmp_pair);
+    if (pairs && cap && l.n)
+        qsort(pairs, l.n < cap ? l.n : cap, 2 * sizeof *pairs, cmp_pair);
     return l.n;
 }
 
