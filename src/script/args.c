@@ -319,40 +319,38 @@ static int in_range(const mote_argspec *sp, const mote_arg *a)
     return 1;
 }
 
-/* "a, b or c" from "a|b|c" */
-static void kinds_text(const char *kinds, char *buf, size_t cap)
+/* The index of word w in "a|b|c", or -1 (the words of an argument spec, the kinds of a file). */
+int mote_word_index(const char *words, const char *w)
 {
-    size_t k = 0;
-    buf[0] = '\0';
-    int total = 1;
-    for (const char *q = kinds; *q; q++)
-        total += *q == '|';
-    int idx = 0;
-    for (const char *p = kinds; *p && k < cap; idx++) {
-        size_t n = strcspn(p, "|");
-        int w = snprintf(buf + k, cap - k, "%s%.*s",
-                         idx == 0 ? "" : idx == total - 1 ? " or " : ", ", (int)n, p);
-        if (w < 0)
-            break;
-        k += (size_t)w;
-        p += n;
+    size_t n = strlen(w);
+    int k = 0;
+    for (const char *p = words; *p; k++) {
+        size_t m = strcspn(p, "|");
+        if (m == n && memcmp(p, w, n) == 0)
+            return k;
+        p += m;
         if (*p == '|')
             p++;
     }
+    return -1;
 }
 
-static int kind_listed(const char *kinds, const char *kind)
+/* "a, b or c" from "a|b|c" (quoted: "'a', 'b' or 'c'"). */
+void mote_words_text(const char *words, int quoted, char *buf, size_t cap)
 {
-    size_t n = strlen(kind);
-    for (const char *p = kinds; *p;) {
-        size_t k = strcspn(p, "|");
-        if (k == n && memcmp(p, kind, n) == 0)
-            return 1;
-        p += k;
-        if (*p == '|')
-            p++;
+    const char *q = quoted ? "'" : "";
+    size_t used = 0;
+    buf[0] = '\0';
+    for (const char *p = words; *p && used < cap;) {
+        size_t m = strcspn(p, "|");
+        const int last = p[m] == '\0';
+        int w = snprintf(buf + used, cap - used, "%s%s%.*s%s",
+                         used == 0 ? "" : last ? " or " : ", ", q, (int)m, p, q);
+        if (w < 0)
+            break;
+        used += (size_t)w;
+        p += m + !last;
     }
-    return 0;
 }
 
 int mote_args_resolve(mote_call *c, mote_err *err)
@@ -378,9 +376,9 @@ int mote_args_check_input(const mote_call *c, int i, const char *kinds, mote_err
     const char *path = a->path ? a->path : a->text;
     const char *kind = mote_outputs_find(&c->ctx->outputs, path);
     struct stat st;
-    if (kind && !kind_listed(kinds, kind)) {
+    if (kind && mote_word_index(kinds, kind) < 0) {
         char what[160];
-        kinds_text(kinds, what, sizeof what);
+        mote_words_text(kinds, 0, what, sizeof what);
         return mote_call_fail(err, c, i, MOTE_EINVAL,
                               "%s: '%s' is written earlier in this script as a file of kind %s; "
                               "expected a file of kind %s",

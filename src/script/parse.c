@@ -315,39 +315,6 @@ static const char *real_hint(const char *t)
     return "";
 }
 
-/* The index of word w in "a|b|c", or -1. */
-static int word_index(const char *words, const char *w)
-{
-    size_t n = strlen(w);
-    int k = 0;
-    for (const char *p = words; *p; k++) {
-        size_t m = strcspn(p, "|");
-        if (m == n && memcmp(p, w, n) == 0)
-            return k;
-        p += m;
-        if (*p == '|')
-            p++;
-    }
-    return -1;
-}
-
-/* "a, b or c" from "a|b|c" (each quoted) */
-static void words_text(const char *words, char *buf, size_t cap)
-{
-    size_t used = 0;
-    buf[0] = '\0';
-    for (const char *p = words; *p && used < cap;) {
-        size_t m = strcspn(p, "|");
-        const int last = p[m] == '\0';
-        int w = snprintf(buf + used, cap - used, "%s'%.*s'", used == 0 ? "" : last ? " or " : ", ",
-                         (int)m, p);
-        if (w < 0)
-            break;
-        used += (size_t)w;
-        p += m + !last;
-    }
-}
-
 /* Convert token t by spec sp (optkey: the option's key, NULL for positional argument i). */
 static int convert_arg(mote_script *s, const mote_cmd *def, const char *written, int i,
                        const char *optkey, const token *t, mote_arg *a, mote_err *err)
@@ -372,9 +339,9 @@ static int convert_arg(mote_script *s, const mote_cmd *def, const char *written,
     char type = sp.type;
     char or_words[160] = "";
     if (sp.words[0])
-        words_text(sp.words, or_words, sizeof or_words);
+        mote_words_text(sp.words, 1, or_words, sizeof or_words);
     if (sp.words[0]) {
-        int k = t->quoted ? -1 : word_index(sp.words, t->text);
+        int k = t->quoted ? -1 : mote_word_index(sp.words, t->text);
         if (k >= 0) {
             a->i = k;
             a->word = k + 1;

@@ -57,6 +57,9 @@ const mote_cmd *mote_script_common_model_cmd(void);
 int mote_cmd_matches(const mote_cmd *def, const char *name);
 /* The command of the table called `name` (by name or alias), or NULL. */
 const mote_cmd *mote_cmd_lookup(const mote_cmd *cmds, size_t n, const char *name);
+/* The index of word w in "a|b|c" (-1: none), and "a, b or c" ('a', ... when quoted). */
+int mote_word_index(const char *words, const char *w);
+void mote_words_text(const char *words, int quoted, char *buf, size_t cap);
 /* A command of rows: table names "NAME SUB" ("generate ring"), one row per sub-command, each
  * with its own options. Whether name has rows, and "ring, area or plummer" (their words). */
 int mote_cmd_has_rows(const mote_cmd *cmds, size_t n, const char *name);
