@@ -143,8 +143,8 @@ net=$(sed -n 's/^run: net I = \([^ ]*\) A.*/\1/p' out.txt)
 awk -F '[,\r]' -v ph="$ph" -v net="$net" 'FNR > 1 { p += $18; s += $19; if ($12 > 0) lit++ } END { d = p - ph; e = s - net
      exit !(ph > 0 && lit > 0 && d * d <= 1e-18 * ph * ph && e * e <= 1e-18 * net * net) }' os/c_triangles.csv && ok || bad "photocurrent $ph: the triangles do not add up"
 awk -F '[,\r]' -v ph="$ph" 'FNR > 1 { p += $9 } END { d = p - ph; exit !(d * d <= 1e-18 * ph * ph) }' os/c_parts.csv && ok || bad "photocurrent $ph: the parts do not add up"
-expect 1 "s1.mote:2:5: error: sun: direction: expected X,Y,Z (toward the sun, not all 0), found '0,0,0'" s1.mote "${G}sun direction=0,0,0\n"
-expect 1 "s2.mote:2:5: error: sun: intensity must be a number >= 0 (1: 1 AU), found '-1'" s2.mote "${G}sun intensity=-1 direction=1,0,0\n"
+expect 1 "s1.mote:2:15: error: sun: direction: expected X,Y,Z toward the sun, not all 0, found '0,0,0'" s1.mote "${G}sun direction=0,0,0\n"
+expect 1 "s2.mote:2:15: error: sun: intensity must be >= 0, found -1" s2.mote "${G}sun intensity=-1 direction=1,0,0\n"
 expect 1 "s3.mote:2:1: error: sun: give direction=X,Y,Z (or 'sun off')" s3.mote "${G}sun intensity=2\n"
 expect 1 "s4.mote:2:1: error: sun: faithful mode has no emission" s4.mote "${F}sun direction=1,0,0\n"
 expect 1 "s5.mote:3:1: error: material assign: faithful mode has no emission (the thesis's scope, spec 1.2); use model charging" s5.mote "${F}body sphere radius=1\nmaterial assign part=* material=gold\n"
@@ -262,15 +262,20 @@ expect 0 "" b24e.mote "${G}plasma preset thesis-hot drift=-4e5,0,+1.5\n" check
 printf '%bspecies clear\nspecies name=e charge=-1 mass=electron\nmaxwellian species=e density=1.2e6 temperature=27500\nspecies name=H+ charge=1 mass=proton\nmaxwellian species=H+ density=1.3e6 temperature=28000\nbody sphere radius=1\nrun particles=1e5\n' "$G" > sp1.mote
 printf '%bplasma preset thesis-hot\nbody sphere radius=1\nrun particles=1e5\n' "$G" > sp2.mote
 "$MOTE" run sp1.mote > o1.txt 2> err.txt && "$MOTE" run sp2.mote > o2.txt 2>> err.txt && [ -n "$(grep '^run:' o1.txt)" ] && [ "$(grep '^run:' o1.txt | sed 's/ [0-9.e+]* traces.s//')" = "$(grep '^run:' o2.txt | sed 's/ [0-9.e+]* traces.s//')" ] && ok || bad "species/maxwellian differ from the preset: $(grep '^run: net' o1.txt) / $(grep '^run: net' o2.txt) $(cat err.txt)"
-printf '%bspecies name=O+ charge=1 mass=amu:16\nmaxwellian species=O+ density=1e6 temperature=1000\nbody sphere radius=1\nrun particles=1e5\n' "$G" > sp3.mote
+printf '%bspecies name=O+ charge=1 amu=16\nmaxwellian species=O+ density=1e6 temperature=1000\nbody sphere radius=1\nrun particles=1e5\n' "$G" > sp3.mote
 "$MOTE" run sp3.mote > o3.txt 2> err.txt && awk '/^run: O\+/ { I = $5; s = $8 } END { want = 1.602176634e-19 * 1e6 * 4 * 3.14159265358979 * sqrt(1000 * 1.602176634e-19 / (2 * 3.14159265358979 * 16 * 1.66053906660e-27)); d = I - want; exit !(d * d <= 9 * s * s) }' o3.txt && ok || bad "O+ current: $(grep '^run: O' o3.txt) $(cat err.txt)"
 expect 1 "sp4b.mote:3:46: error: maxwellian: temperature must be > 0" sp4b.mote "${G}species name=X charge=1 mass=proton\nmaxwellian species=X density=1e6 temperature=-5\n"
 expect 1 "sp4c.mote:5:1: error: run: there is no plasma yet" sp4c.mote "${G}plasma preset thesis-hot\nspecies clear\nbody sphere radius=1\nrun\n"
 expect 1 "sp4.mote:2:20: error: maxwellian: no species 'Xe'" sp4.mote "${G}maxwellian species=Xe density=1 temperature=1\n"
 expect 1 "sp5.mote:2:1: error: species: give name=, charge= and mass=" sp5.mote "${G}species name=Xe charge=1\n"
-expect 1 "sp6.mote:2:16: error: species: charge must be a whole number of elementary charges, not 0" sp6.mote "${G}species name=n charge=0 mass=proton\n"
-expect 1 "sp7.mote:2:25: error: species: mass must be electron, proton, amu:A or a mass in kg > 0, found 'heavy'" sp7.mote "${G}species name=X charge=1 mass=heavy\n"
+expect 1 "sp6.mote:2:23: error: species: charge must be a whole number of elementary charges, not 0" sp6.mote "${G}species name=n charge=0 mass=proton\n"
+expect 1 "sp7.mote:2:30: error: species: expected a real number or 'electron' or 'proton' for mass, found 'heavy'" sp7.mote "${G}species name=X charge=1 mass=heavy\n"
 expect 1 "sp8.mote:4:1: error: run: species 'X' has no component" sp8.mote "${G}species name=X charge=1 mass=proton\nbody sphere radius=1\nrun\n"
+expect 1 "sp10.mote:2:1: error: species clear: takes no options ('clear' is no species name)" sp10.mote "${G}species clear charge=1 amu=2\n"
+expect 1 "sp11.mote:2:1: error: species: give name=, charge= and mass= or amu=" sp11.mote "${G}species name=X charge=1 mass=proton amu=1\n"
+expect 0 "" sp12.mote "${G}species O+ charge=1 amu=16\nspecies name=e2 charge=-1 mass=9.1093837e-31 drift=1,0,0\nsun on direction=0,0,1\nsun off\n" check
+expect 1 "sun5.mote:2:5: error: sun: expected 'on' or 'off' for light, found 'dim'" sun5.mote "${G}sun dim\n"
+expect 1 "sun6.mote:2:1: error: sun off: takes no options" sun6.mote "${G}sun off direction=1,0,0\n"
 expect 1 "sp9.mote:3:1: error: species: 'e' exists already" sp9.mote "${G}plasma preset thesis-hot\nspecies name=e charge=-1 mass=electron\n"
 # evolve in full mode writes P_timeseries.csv after `output prefix=P` (spec 8.1): the species',
 # secondary and photo currents add up to the net current (their interpolations agree within 1%

@@ -214,8 +214,8 @@ awk -v a="$(awk '/^units: M/ { print $9 }' u3.out)" '/^units: M/ { r = $9 / a - 
 expect 1 "e1.mote:3:1: error: units: comes before the bodies" e1.mote "${G}body mass=1\nunits solar\n"
 expect 1 "e2.mote:2:7: error: units atomic: is for Coulomb runs" e2.mote "${G}units atomic\n"
 expect 1 "e3.mote:2:1: error: units: mass=auto (the total of the bodies) needs input=si" e3.mote "${G}units time=1 input=dimensionless\n"
-expect 1 "e4.mote:2:7: error: units: expected solar, atomic or dimensionless first" e4.mote "${G}units metric\n"
-expect 1 "e5.mote:2:14: error: units: give length= or time=, not both" e5.mote "${G}units time=1 length=2\n"
+expect 1 "e4.mote:2:7: error: units: expected 'solar', 'atomic' or 'dimensionless' for preset, found 'metric'" e4.mote "${G}units metric\n"
+expect 1 "e5.mote:2:21: error: units: give length= or time=, not both" e5.mote "${G}units time=1 length=2\n"
 # the outputs carry the unit the user chose: a last column T_year beside the dimensionless T
 printf '%bgenerate solar_system data=%s\nmonitor dt=10 unit=year file=uy.dat\ntrajectory dt=10 unit=year file=uy.csv\nintegrate for=50 unit=year\n' "$G" "$DATA" > uy.mote
 "$MOTE" run uy.mote > /dev/null 2> err.txt &&

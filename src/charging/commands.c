@@ -96,66 +96,39 @@ static int check_plasma(void *vm, const mote_call *c, mote_err *err)
 
 /* ---- species and maxwellian (spec 3.1, 7.4) ------------------------------------------------- */
 
-/* `species clear` or `species name=S charge=Z mass=electron|proton|amu:A|KG [drift=VX,VY,VZ]`
- * (the tokens come as written: the command takes "*"). */
+/* `species clear`, or `species [name=]S charge=Z mass=electron|proton|KG | amu=A
+ * [drift=VX,VY,VZ]` (its options from the table). */
 static int parse_species(const mote_call *c, mote_ch_species *sp, int *clear, mote_err *err)
 {
     memset(sp, 0, sizeof *sp);
-    *clear = c->nargs == 1 && strcmp(c->args[0].text, "clear") == 0;
-    if (*clear)
+    const mote_arg *name = mote_call_opt(c, "name"), *charge = mote_call_opt(c, "charge"),
+                   *mass = mote_call_opt(c, "mass"), *amu = mote_call_opt(c, "amu"),
+                   *drift = mote_call_opt(c, "drift");
+    *clear = name && !strcmp(name->text, "clear");
+    if (*clear) {
+        if (c->nopts > 1)
+            return mote_call_fail(err, c, -1, MOTE_EINVAL, "species clear: takes no options "
+                                  "('clear' is no species name)");
         return MOTE_OK;
-    int have[3] = {0, 0, 0};
-    for (int k = 0; k < c->nargs; k++) {
-        const char *t = c->args[k].text, *eq = strchr(t, '=');
-        if (!eq)
-            return mote_call_fail(err, c, k, MOTE_EINVAL, "species: expected 'clear' or KEY=VALUE "
-                                  "(name=, charge=, mass=, drift=), found '%s'", t);
-        const size_t kl = (size_t)(eq - t);
-        const char *v = eq + 1;
-        char *end;
-        if (kl == 4 && !strncmp(t, "name", 4)) {
-            if (!*v || strlen(v) >= sizeof sp->name || strpbrk(v, " ,=#"))
-                return mote_call_fail(err, c, k, MOTE_EINVAL, "species: name must be 1 to %d "
-                                      "characters without spaces, commas or '=', found '%s'",
-                                      (int)sizeof sp->name - 1, v);
-            snprintf(sp->name, sizeof sp->name, "%s", v);
-            have[0] = 1;
-        } else if (kl == 6 && !strncmp(t, "charge", 6)) {
-            long z = strtol(v, &end, 10);
-            if (end == v || *end || z == 0 || z < -100 || z > 100)
-                return mote_call_fail(err, c, k, MOTE_EINVAL, "species: charge must be a whole "
-                                      "number of elementary charges, not 0 (e.g. -1, 1, 2), found "
-                                      "'%s'", v);
-            sp->Z = (int)z;
-            have[1] = 1;
-        } else if (kl == 4 && !strncmp(t, "mass", 4)) {
-            if (!strcmp(v, "electron"))
-                sp->m = MOTE_CH_ME;
-            else if (!strcmp(v, "proton"))
-                sp->m = MOTE_CH_MP;
-            else if (!strncmp(v, "amu:", 4)) {
-                double a = strtod(v + 4, &end);
-                sp->m = end != v + 4 && !*end && a > 0 && isfinite(a) ? a * MOTE_CH_AMU : -1;
-            } else {
-                double kg = strtod(v, &end);
-                sp->m = end != v && !*end && kg > 0 && isfinite(kg) ? kg : -1;
-            }
-            if (!(sp->m > 0))
-                return mote_call_fail(err, c, k, MOTE_EINVAL, "species: mass must be electron, "
-                                      "proton, amu:A or a mass in kg > 0, found '%s'", v);
-            have[2] = 1;
-        } else if (kl == 5 && !strncmp(t, "drift", 5)) {
-            if (ch_parse3any(v, sp->drift))
-                return mote_call_fail(err, c, k, MOTE_EINVAL, "species: drift: expected "
-                                      "VX,VY,VZ (m/s), found '%s'", v);
-        } else {
-            return mote_call_fail(err, c, k, MOTE_EINVAL, "species: unknown option '%.*s' "
-                                  "(name, charge, mass, drift)", (int)kl, t);
-        }
     }
-    if (!have[0] || !have[1] || !have[2])
-        return mote_call_fail(err, c, -1, MOTE_EINVAL, "species: give name=, charge= and mass= "
-                              "(or 'species clear')");
+    if (!name || !charge || !!mass == !!amu)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "species: give name=, charge= and "
+                              "mass= or amu= (or 'species clear')");
+    const int ni = mote_call_opt_index(c, "name");
+    if (strlen(name->text) >= sizeof sp->name || strpbrk(name->text, " ,=#"))
+        return mote_call_fail(err, c, ni, MOTE_EINVAL, "species: name must be 1 to %d "
+                              "characters without spaces, commas or '=', found '%s'",
+                              (int)sizeof sp->name - 1, name->text);
+    if (charge->r == 0 || charge->r != floor(charge->r))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "charge"), MOTE_EINVAL,
+                              "species: charge must be a whole number of elementary charges, "
+                              "not 0 (e.g. -1, 1, 2), found '%s'", charge->text);
+    snprintf(sp->name, sizeof sp->name, "%s", name->text);
+    sp->Z = (int)charge->r;
+    sp->m = amu ? amu->r * MOTE_CH_AMU
+                : mass->word == 1 ? MOTE_CH_ME : mass->word == 2 ? MOTE_CH_MP : mass->r;
+    if (drift)
+        memcpy(sp->drift, drift->v, sizeof sp->drift);
     return MOTE_OK;
 }
 
@@ -561,44 +534,30 @@ void ch_diagnose(ch_model *m, const char *cmd)
 
 /* ---- sun (spec 6.8) ---- */
 
-/* `sun off` or `sun direction=X,Y,Z [intensity=1]` (the tokens as written: "*"). */
+/* `sun off`, or `sun [on] direction=X,Y,Z [intensity=1]` (the options from the table). */
 static int apply_sun(ch_model *m, const mote_call *c, mote_err *err)
 {
-    if (c->nargs == 1 && !strcmp(c->args[0].text, "off")) {
+    const mote_arg *light = mote_call_opt(c, "light"), *dir = mote_call_opt(c, "direction");
+    if (light && light->i == 1) { /* off */
+        if (c->nopts > 1)
+            return mote_call_fail(err, c, -1, MOTE_EINVAL, "sun off: takes no options");
         m->sun = 0;
         return MOTE_OK;
     }
-    double d[3] = {0, 0, 0}, inten = 1;
-    int have = 0;
-    for (int k = 0; k < c->nargs; k++) {
-        const char *t = c->args[k].text;
-        char *end;
-        if (!strncmp(t, "direction=", 10)) {
-            const double n = ch_parse3any(t + 10, d) ? 0 : sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-            if (!(n > 0) || !isfinite(n))
-                return mote_call_fail(err, c, k, MOTE_EINVAL, "sun: direction: expected X,Y,Z "
-                                      "(toward the sun, not all 0), found '%s'", t + 10);
-            for (int a = 0; a < 3; a++)
-                d[a] /= n;
-            have = 1;
-        } else if (!strncmp(t, "intensity=", 10)) {
-            inten = strtod(t + 10, &end);
-            if (end == t + 10 || *end || !(inten >= 0) || !isfinite(inten))
-                return mote_call_fail(err, c, k, MOTE_EINVAL, "sun: intensity must be a number "
-                                      ">= 0 (1: 1 AU), found '%s'", t + 10);
-        } else {
-            return mote_call_fail(err, c, k, MOTE_EINVAL, "sun: expected 'off' or direction=X,Y,Z "
-                                  "[intensity=I], found '%s'", t);
-        }
-    }
-    if (!have)
+    if (!dir)
         return mote_call_fail(err, c, -1, MOTE_EINVAL, "sun: give direction=X,Y,Z (or 'sun off')");
+    const double n = sqrt(dir->v[0] * dir->v[0] + dir->v[1] * dir->v[1] + dir->v[2] * dir->v[2]);
+    if (!(n > 0) || !isfinite(n))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "direction"), MOTE_EINVAL,
+                              "sun: direction: expected X,Y,Z toward the sun, not all 0, found "
+                              "'%s'", dir->text);
     if (m->faithful)
         return mote_call_fail(err, c, -1, MOTE_EINVAL, "sun: faithful mode has no emission (the "
                               "thesis's scope, spec 1.2); use model charging");
     m->sun = 1;
-    memcpy(m->sun_dir, d, sizeof d);
-    m->sun_int = inten;
+    for (int a = 0; a < 3; a++)
+        m->sun_dir[a] = dir->v[a] / n;
+    m->sun_int = mote_call_opt_r(c, "intensity", 1);
     return MOTE_OK;
 }
 static int check_sun(void *vm, const mote_call *c, mote_err *err)
@@ -826,7 +785,8 @@ ch_output ch_output_of(ch_model *m, const mote_ch_geometry *g, const mote_ch_run
 static const mote_cmd ch_commands[] = {
     {"plasma", NULL, "e{preset} e{geo-worst-case|thesis-hot|single} n=r>0 kT=r>0 drift=v3", "plasma preset NAME [n=N] [kT=T] [drift=V]",
      "the plasma environment (a preset of spec 3.2)", HELP_PLASMA, check_plasma, run_plasma},
-    {"species", NULL, "*", "species name=S charge=Z mass=M [drift=V] | species clear",
+    {"species", NULL, "@name=s charge=r[-100,100] mass=r>0{electron|proton} amu=r>0 drift=v3",
+     "species name=S|clear charge=Z mass=M|amu=A [drift=V]",
      "add a species (or empty the list)", HELP_SPECIES, check_species, run_species},
     {"maxwellian", NULL, "species=s! density=r>0! temperature=r>0!",
      "maxwellian species=S density=N temperature=T", "add a Maxwellian component to a species",
@@ -856,7 +816,8 @@ static const mote_cmd ch_commands[] = {
      HELP_FIELD, check_field, run_field},
     {"bfield", NULL, "B=r>=0!", "bfield B=T", "a magnetic field for the validity warnings only",
      HELP_BFIELD, NULL, run_bfield},
-    {"sun", NULL, "*", "sun direction=X,Y,Z [intensity=1] | sun off",
+    {"sun", NULL, "@light=e{on|off} direction=v3 intensity=r>=0",
+     "sun [on|off] [direction=X,Y,Z] [intensity=1]",
      "light for photoemission (spec 6.8)", HELP_SUN, check_sun, run_sun},
     {"test", NULL, "s particles=r>=1", "test hitprob [particles=1e6]",
      "the hit-probability self-test (spec 10 M3)", HELP_TEST, ch_check_test, ch_run_test},

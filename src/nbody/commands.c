@@ -207,86 +207,48 @@ static int run_body(void *vm, const mote_call *c, mote_err *err)
 
 /* ---- units and constants ------------------------------------------------------------------------ */
 
-/* Read `units` tokens: a preset and/or KEY=VALUE (mass=KG|auto length=M time=S
- * input=si|dimensionless). */
+/* Read `units` from the table: a preset (solar, atomic or dimensionless, also bare) and the
+ * options mass=KG|auto length=M time=S input=si|dimensionless. */
 static int units_parse(const nb_model *m, const mote_call *c, nb_units_req *q, mote_err *err)
 {
     memset(q, 0, sizeof *q);
-    q->preset = UNITS_CUSTOM;
-    q->mass_auto = 1;
-    int input = -1, have_mass = 0;
-    for (int k = 0; k < c->nargs; k++) {
-        const char *t = c->args[k].text, *eq = strchr(t, '=');
-        if (!eq) {
-            static const char *const presets[] = {"", "solar", "atomic", "dimensionless"};
-            int p = 1;
-            while (p < 4 && strcmp(t, presets[p]) != 0)
-                p++;
-            if (p == 4 || k > 0)
-                return mote_call_fail(err, c, k, MOTE_EINVAL,
-                                      "units: expected solar, atomic or dimensionless first, or "
-                                      "KEY=VALUE (mass=, length=, time=, input=), found '%s'", t);
-            q->preset = p;
-            continue;
-        }
-        size_t kl = (size_t)(eq - t);
-        const char *val = eq + 1;
-        char *end;
-        double x = strtod(val, &end);
-        int num = end != val && !*end && isfinite(x) && x > 0;
-        if (kl == 5 && strncmp(t, "input", 5) == 0) {
-            if (strcmp(val, "si") != 0 && strcmp(val, "dimensionless") != 0)
-                return mote_call_fail(err, c, k, MOTE_EINVAL,
-                                      "units: input must be si or dimensionless, found '%s'", val);
-            input = val[0] == 's';
-        } else if (kl == 4 && strncmp(t, "mass", 4) == 0) {
-            if (strcmp(val, "auto") != 0 && !num)
-                return mote_call_fail(err, c, k, MOTE_EINVAL,
-                                      "units: mass must be a number > 0 (kg) or auto, found '%s'",
-                                      val);
-            q->mass_auto = !num;
-            q->mass = num ? x : 0;
-            have_mass = 1;
-        } else if ((kl == 6 && strncmp(t, "length", 6) == 0) ||
-                   (kl == 4 && strncmp(t, "time", 4) == 0)) {
-            if (!num)
-                return mote_call_fail(err, c, k, MOTE_EINVAL,
-                                      "units: %.*s must be a number > 0 (%s), found '%s'", (int)kl,
-                                      t, kl == 4 ? "s" : "m", val);
-            if (q->length > 0 || q->time > 0)
-                return mote_call_fail(err, c, k, MOTE_EINVAL,
-                                      "units: give length= or time=, not both (the other follows "
-                                      "from eq. 6)");
-            *(kl == 4 ? &q->time : &q->length) = x;
-        } else
-            return mote_call_fail(err, c, k, MOTE_EINVAL,
-                                  "units: no option '%.*s' (mass=, length=, time=, input=)",
-                                  (int)kl, t);
-    }
+    const mote_arg *preset = mote_call_opt(c, "preset"), *mass = mote_call_opt(c, "mass"),
+                   *input = mote_call_opt(c, "input");
+    q->preset = preset ? UNITS_SOLAR + preset->i : UNITS_CUSTOM; /* (the table's word order) */
+    q->length = mote_call_opt_r(c, "length", 0);
+    q->time = mote_call_opt_r(c, "time", 0);
+    q->mass_auto = !mass || mass->word;
+    q->mass = q->mass_auto ? 0 : mass->r;
+    const char *name = preset ? preset->text : "";
     if (q->preset == UNITS_NONE) {
-        if (c->nargs > 1)
-            return mote_call_fail(err, c, 1, MOTE_EINVAL,
+        if (c->nopts > 1)
+            return mote_call_fail(err, c, mote_call_opt_index(c, "preset"), MOTE_EINVAL,
                                   "units dimensionless: takes no options");
         return MOTE_OK;
     }
+    const int ti = mote_call_opt_index(c, "time"), li = mote_call_opt_index(c, "length");
+    if (q->length > 0 && q->time > 0) /* (at the second of the two) */
+        return mote_call_fail(err, c, ti > li ? ti : li, MOTE_EINVAL,
+                              "units: give length= or time=, not both (the other follows from "
+                              "eq. 6)");
     if (q->preset != UNITS_CUSTOM && (q->length > 0 || q->time > 0))
-        return mote_call_fail(err, c, 0, MOTE_EINVAL,
+        return mote_call_fail(err, c, mote_call_opt_index(c, "preset"), MOTE_EINVAL,
                               "units %s: the preset fixes the time unit; leave out length= and "
-                              "time=", c->args[0].text);
+                              "time=", name);
     if (q->preset == UNITS_SOLAR)
         q->time = 100 * MOTE_NB_SIDEREAL_YEAR_DAYS * 86400;
     if (q->preset == UNITS_ATOMIC) {
         if (m->nb.kind != MOTE_NB_COULOMB)
-            return mote_call_fail(err, c, 0, MOTE_EINVAL,
+            return mote_call_fail(err, c, mote_call_opt_index(c, "preset"), MOTE_EINVAL,
                                   "units atomic: is for Coulomb runs (model nbody coulomb)");
         q->time = 1e-15;
     }
     if (!(q->length > 0 || q->time > 0))
         return mote_call_fail(err, c, -1, MOTE_EINVAL,
                               "units: give length=M or time=S (or a preset: solar, atomic)");
-    q->input_si = input != 0;
+    q->input_si = !input || input->i == 0;
     if (q->mass_auto && !q->input_si) {
-        if (q->preset == UNITS_SOLAR && !have_mass) { /* the Solar-System mass of spec 3.6 */
+        if (q->preset == UNITS_SOLAR && !mass) { /* the Solar-System mass of spec 3.6 */
             q->mass_auto = 0;
             q->mass = MOTE_NB_SOLAR_SYSTEM_MASS;
         } else
@@ -802,7 +764,9 @@ static const mote_cmd nb_commands[] = {
      "body mass=M [x=X] [y=Y] [z=Z] [vx=VX] [vy=VY] [vz=VZ] [radius=R|density=RHO] [charge=Q] "
      "[spin=SX,SY,SZ] [name=NAME]",
      "add a body (dimensionless units)", HELP_BODY, check_body, run_body},
-    {"units", NULL, "*", "units [solar|atomic|dimensionless] [mass=KG|auto] [length=M] [time=S] "
+    {"units", NULL,
+     "@preset=e{solar|atomic|dimensionless} mass=r>0{auto} length=r>0 time=r>0 "
+     "input=e{si|dimensionless}", "units [solar|atomic|dimensionless] [mass=KG|auto] [length=M] [time=S] "
      "[input=si|dimensionless]", "physical scales, and the units of body values", HELP_UNITS,
      check_units, run_units},
     {"constant", NULL, "G=r>0 e=r>0 e2=r>0 permittivity=r>0",

@@ -234,19 +234,20 @@ static int do_species(void *vm, const mote_call *c, mote_err *err)
 {
     sep_model *m = vm;
     mote_sep_system *s = &m->sys;
-    const char *name = c->args[0].text;
+    const char *name = mote_call_opt(c, "name")->text;
+    const int at = mote_call_opt_index(c, "name");
     if (sep_find_species(s, name) >= 0)
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "species: '%s' exists already", name);
+        return mote_call_fail(err, c, at, MOTE_EINVAL, "species: '%s' exists already", name);
     if (strlen(name) >= sizeof s->sp[0].name)
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "species: the name is longer than %d "
+        return mote_call_fail(err, c, at, MOTE_EINVAL, "species: the name is longer than %d "
                               "characters", (int)sizeof s->sp[0].name - 1);
     if (s->nsp == MOTE_SEP_MAX_SPECIES)
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "species: at most %d species",
+        return mote_call_fail(err, c, at, MOTE_EINVAL, "species: at most %d species",
                               MOTE_SEP_MAX_SPECIES);
     mote_sep_species *sp = &s->sp[s->nsp++];
     memset(sp, 0, sizeof *sp);
     snprintf(sp->name, sizeof sp->name, "%s", name);
-    sp->rho = c->args[1].r;
+    sp->rho = mote_call_opt_r(c, "density", 0);
     sp->w = s->nsp == 1 ? 1 : 0; /* one species: all the feed */
     if (s->nsp == 2)
         s->sp[0].w = 0; /* several: the fractions must be given */
@@ -731,7 +732,7 @@ static const mote_cmd sep_commands[] = {
      HELP_DISPERSION, do_dispersion, do_dispersion},
     {"brownian", NULL, "r>=0", "brownian T", "Brownian diffusion at gas temperature T",
      HELP_DISPERSION, do_brownian, do_brownian},
-    {"species", NULL, "s r>0", "species NAME RHO", "a species", HELP_SPECIES, do_species,
+    {"species", NULL, "@name=s! @density=r>0!", "species name=S density=RHO", "a species", HELP_SPECIES, do_species,
      do_species},
     {"size", NULL, "s e{mono|lognormal|rosin_rammler|loguniform|table} d=r>0 d50=r>0 sigma=r>=1 "
      "n=r>0 min=r>0 max=r>0 basis=e{mass|number} file=f<sizes",
