@@ -132,7 +132,7 @@ printf '%b' "${G}load mg.state\nintegrate steps=2\n" > mgl.mote
 "$MOTE" run mgl.mote > out.txt 2> err.txt && grep -q 'merges=1$' out.txt && ok || bad "continuing a merged run: $(cat out.txt err.txt)"
 printf '%b' "${G}merge off\n${B2}integrate to=2\n" > mgo.mote
 "$MOTE" run mgo.mote > out.txt 2> err.txt && grep -q 'T=2 .* merges=0$' out.txt && ok || bad "merge off: $(cat out.txt err.txt)"
-expect 1 "b16.mote:2:7: error: merge: expected 'on' or 'off' for on|off, found 'maybe'" b16.mote "${G}merge maybe\n"
+expect 1 "b16.mote:2:7: error: merge: expected 'on' or 'off', found 'maybe'" b16.mote "${G}merge maybe\n"
 # the Solar-System builder (spec 9.3): the shipped data file, and bad data files at their line
 printf '%b' "${G}generate solar_system data=$DATA bodies=Sun,Jupiter,Saturn\nintegrator taylor tol=1e-17\nintegrate to=1\n" > so.mote
 "$MOTE" run so.mote > out.txt 2> err.txt && grep -q '^generate solar_system: 3 bodies; M 1.99' out.txt && grep -q '^N=3 .*T=1 ' out.txt && ok || bad "so.mote: $(cat out.txt err.txt)"
@@ -365,9 +365,9 @@ expect 2 "nm2.mote:2:31: error: plot: relative_to: n.traj holds no body 'Sun'" n
 [ ! -e x.png ] && ok || bad "a failed plot left x.png"
 expect 2 "nm3.mote:2:26: error: plot: bodies: n.traj holds no body '7'" nm3.mote "${G}plot n.traj x.png bodies=7\n"
 expect 1 "wd1.mote:2:27: error: run: expected 'prose' or 'packed' for trio_layout, found 'loose'" wd1.mote "${G}run galactica trio_layout=loose\n"
-expect 1 "wd2.mote:2:7: error: check: expected 'ring' for ring, found 'square'" wd2.mote "${G}check square\n"
+expect 1 "wd2.mote:2:7: error: check: expected 'ring', found 'square'" wd2.mote "${G}check square\n"
 expect 1 "wd3.mote:2:35: error: write: expected 'native' for format, found 'gadget'" wd3.mote "${G}write snapshot file=a.snap format=gadget\n"
-expect 1 "lp1.mote:2:12: error: live_plane: expected 'xy', 'xz' or 'yz' for xy|xz|yz, found 'xw'" lp1.mote "${G}live_plane xw\n"
+expect 1 "lp1.mote:2:12: error: live_plane: expected 'xy', 'xz' or 'yz', found 'xw'" lp1.mote "${G}live_plane xw\n"
 expect 0 "" lp2.mote "${G}live_plane yz\n" check
 expect 1 "nm4.mote:2:25: error: plot: expected 'invariable', 'xy', 'xz' or 'yz' for plane, found 'ab'" nm4.mote "${G}plot n.traj x.png plane=ab\n"
 expect 1 "nm5.mote:2:24: error: plot: size must be in [64, 8192], found 20" nm5.mote "${G}plot n.traj x.png size=20\n"
@@ -408,9 +408,9 @@ sed 's/^# N = 30$/# N = 31/' x.snap > n31.snap
 expect 1 "sx2.mote:2:20: error: read: n31.snap:68: file ends early: N = 31, but only 30 body rows" sx2.mote "${G}read snapshot file=n31.snap\n"
 expect 1 "sx3.mote:2:20: error: read: x.snap:4: the snapshot is a gravity run, this script is a Coulomb run" sx3.mote "${C}read snapshot file=x.snap\n"
 expect 1 "sx4.mote:2:20: error: read: 'nothere.snap' does not exist and no earlier command writes it" sx4.mote "${G}read snapshot file=nothere.snap\n"
-expect 1 "sx5.mote:3:7: error: write: expected 'snapshot' or 'galactica' for snapshot|galactica, found 'gadget'" sx5.mote "${G}body mass=1\nwrite gadget file=g.dat\nwrite galactica file=g.dat\n"
+expect 1 "sx5.mote:3:7: error: write: expected 'snapshot' or 'galactica', found 'gadget'" sx5.mote "${G}body mass=1\nwrite gadget file=g.dat\nwrite galactica file=g.dat\n"
 expect 1 "sx6.mote:2:1: error: write: there are no bodies yet" sx6.mote "${G}write snapshot file=e.snap\n"
-expect 1 "sx7.mote:3:26: error: snapshot: the directory of prefix 'nodir/s_' does not exist" sx7.mote "${G}body mass=1\nsnapshot every=10 prefix=nodir/s_\n"
+expect 1 "sx7.mote:3:26: error: snapshot: the directory of the numbered files 'nodir/s_' does not exist" sx7.mote "${G}body mass=1\nsnapshot every=10 prefix=nodir/s_\n"
 sed 's/^# h_prev = .*/# h_prev = -1/' x.snap > hp.snap
 expect 1 "sx8.mote:2:20: error: read: hp.snap: h_prev must be >= 0" sx8.mote "${G}read snapshot file=hp.snap\n"
 [ ! -e e.snap ] && [ ! -e g.dat ] && ok || bad "a failed script wrote a snapshot"
@@ -449,7 +449,7 @@ expect 2 "db7.mote:4:1: error: galactica: step=doubling needs dt_max >= dt" db7.
 printf '%bforces direct\nbody mass=1\n' "$G" > fd.mote
 "$MOTE" run fd.mote > /dev/null 2> err.txt && ok || bad "forces direct: $(cat err.txt)"
 expect 1 "fd2.mote:2:" fd2.mote "${G}forces tree theta=2.5\n"
-expect 1 "fd3.mote:2:8: error: forces: expected 'direct' or 'tree' for direct|tree, found 'fmm'" fd3.mote "${G}forces fmm\n"
+expect 1 "fd3.mote:2:8: error: forces: expected 'direct' or 'tree', found 'fmm'" fd3.mote "${G}forces fmm\n"
 
 # Galactica's body files (spec 7.5, T14): write, read, write gives the same file; a run continued
 # from it agrees with the uninterrupted one to rounding (the file has no compensation terms);

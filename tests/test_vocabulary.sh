@@ -60,4 +60,30 @@ grep -v '^#' sep1.dat > a.txt; grep -v '^#' sep3.dat > b.txt
 cmp -s a.txt b.txt && ok || bad "separator: balance's short form and monitor differ"
 [ "$(ls sn2 | wc -l)" = "$(ls sn | wc -l)" ] && ok || bad "separator: snapshots DIR DT wrote $(ls sn2 | wc -l) files, snapshot dir= $(ls sn | wc -l)"
 
+# numbered files are named alike in every model (PREFIX_000000.png on; no '_' is added after a
+# prefix ending in '_' or '/'), the same prefix or folder again continues the numbering, and
+# check reports a series that would start again over earlier files, or a file among its names
+run nbf 'model nbody gravity\ngenerate ring nb=6\nframes every=5 prefix=nbf\nintegrate steps=10\nframes every=10 prefix=nbf\nintegrate steps=10\n'
+[ -s nbf_000000.png ] && [ -s nbf_000004.png ] && [ ! -e nbf_000005.png ] && ok || bad "nbody: frames prefix=nbf twice: $(ls nbf_* | tr '\n' ' ')"
+mkdir nbg
+run nbg 'model nbody gravity\ngenerate ring nb=6\nframes every=10 prefix=nbg/\nframes every=10 prefix=nbg_\n'
+[ -s nbg/000000.png ] && [ -s nbg_000000.png ] && ok || bad "nbody: frames prefix=nbg/ and nbg_: $(ls nbg nbg_* | tr '\n' ' ')"
+mkdir frc
+run sepf "${SEP_DILUTE}frames dir=frc dt=0.1 movie=off\nrun 0.1\nframes dir=frc dt=0.1 movie=off\nrun 0.1\n"
+[ -s frc/frame_000003.png ] && [ ! -e frc/frame_000004.png ] && ok || bad "separator: frames dir=frc twice: $(ls frc | tr '\n' ' ')"
+NB='model nbody gravity\ngenerate ring nb=6\n'
+expect 0 "w1.mote:7:1: warning: frames: its numbered files start again from 0 and overwrite those of line 3 (a_*.png)" \
+    w1.mote "${NB}frames every=5 prefix=a\nintegrate steps=10\nframes every=5 prefix=b\nintegrate steps=10\nframes every=5 prefix=a\n" check
+expect 0 "w2.mote:4:1: warning: snapshot: 'a_000003.png' is also one of the numbered files (frames) of line 3" \
+    w2.mote "${NB}frames every=5 prefix=a\nsnapshot file=a_000003.png\n" check
+expect 0 "w3.mote:4:1: warning: snapshot: 'sn_0000000100.snap', written by line 3, is also one of its numbered files" \
+    w3.mote "${NB}write snapshot file=sn_0000000100.snap\nsnapshot every=5 prefix=sn\n" check
+expect 0 "" w4.mote "${NB}snapshot every=5 prefix=sn\nsnapshot every=5 prefix=so\nsnapshot every=5 prefix=sn\nframes every=5 prefix=sn\n" check
+expect 0 "w5.mote:6:1: warning: frames: its numbered files start again from 0 and overwrite those of line 2 (fr/frame_*.png)" \
+    w5.mote 'model separator\nframes dir=fr dt=0.1\nsnapshot dir=fr dt=0.1\nframes dir=fr dt=0.2\nframes dir=g dt=0.1\nframes dir=fr dt=0.1\n' check
+expect 0 "w6.mote:10:1: warning: snapshot: 'f_000002.png' is also one of the numbered files (frames) of line 9" \
+    w6.mote "${MB}frames 0.1 f\nsnapshot f_000002.png\n" check
+expect 1 "w7.mote:3:15: error: frames: the directory of the numbered files 'nodir/f' does not exist" \
+    w7.mote "${NB}frames prefix=nodir/f every=1\n" check
+
 mote_test_end

@@ -95,10 +95,19 @@ typedef struct mote_cmd {
 /* The output files of a script, recorded as validation walks the script (by the script layer for
  * "f>KIND" arguments, by a command's `check` for files it names otherwise): later commands can
  * ask whether a path is written earlier and by what kind of command, and a path written twice
- * gets a warning. */
+ * gets a warning. A series of numbered files (frames, snapshots on a schedule) is recorded by its
+ * prefix and extension, so that a file of another command that falls among its names, or a
+ * second series that would number the same names from 0 again, is reported too. */
 typedef struct {
-    char **path;
-    char **kind;
+    char *path;   /* the file, or a series' prefix as given */
+    char *kind;
+    char *stem;   /* a series: the names' common start (see mote_series_path, core.h); NULL: one file */
+    char *ext;    /* a series: the names' ending, ".png" */
+    int line;     /* the script line that writes it */
+} mote_output;
+
+typedef struct {
+    mote_output *e;
     size_t n, cap;
     size_t *slot;     /* open-addressing index: 1 + the latest entry of a path, 0 empty */
     size_t nslot;     /* a power of two, at least twice n (lookups O(1): scripts of 10^5 saves) */
@@ -216,6 +225,17 @@ const char *mote_outputs_find(const mote_outputs *o, const char *path);
  * warns when it is written for the second time unless `repeat_ok`. */
 int mote_outputs_note_path(mote_outputs *o, const mote_call *c, int argi, const char *path,
                            const char *kind, int repeat_ok, mote_err *err);
+
+/* Record a numbered series (mote_series_path(prefix, ..., ext), core.h) written by call c: fails when its
+ * directory does not exist; warns when another command's file falls among its names, or when an
+ * earlier series of the same names is not the one this continues (the latest series of this
+ * kind): a series that names the prefix of the one before it continues its numbering, any other
+ * starts from 0 and would overwrite the earlier files. flags: MOTE_SERIES_MAKES_DIR (the command
+ * makes the directory of the files; only its parent must exist), MOTE_SERIES_BY_STEP (the numbers
+ * are step counts, which only grow, so series of the same names do not overwrite each other). */
+enum { MOTE_SERIES_MAKES_DIR = 1, MOTE_SERIES_BY_STEP = 2 };
+int mote_outputs_note_series(mote_outputs *o, const mote_call *c, int argi, const char *prefix,
+                             const char *ext, const char *kind, int flags, mote_err *err);
 
 /* "SOURCE   (FILE:LINE)": the command as written, for data-file headers (malloc'ed; NULL when
  * out of memory). */

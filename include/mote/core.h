@@ -97,6 +97,13 @@ void mote_afile_abort(mote_afile *af);
 /* Does the directory that would hold `path` exist? (used by script validation) */
 int mote_dir_of_exists(const char *path);
 
+/* The name of file k of a numbered series: prefix, an '_' unless the prefix is empty or ends in
+ * '_' or '/', k in `digits` digits, ext ("out/f", 3, 6, ".png": "out/f_000003.png"). Malloc'ed
+ * (NULL when out of memory). Every model names its numbered files so. */
+char *mote_series_path(const char *prefix, uint64_t k, int digits, const char *ext);
+/* The '_' or "" that goes between the prefix and the number. */
+const char *mote_series_sep(const char *prefix);
+
 /* ---- text input, line by line -------------------------------------------------------------- */
 
 /* The longest line any mote reader accepts (1 MiB): a file with a longer line (/dev/zero, a binary

@@ -149,7 +149,7 @@ typedef struct {
 /* Draw s and write it atomically. Discs and arrows outside the picture are clipped. */
 int mote_sketch_png(const char *path, const mote_sketch *s, mote_err *err);
 
-/* Run ffmpeg on PREFIX_%06d.png (the frames from 0 on) into out at fps frames per second (the
+/* Run ffmpeg on PREFIX_%06d.png (mote_series_path's names, the frames from 0 on) into out at fps frames per second (the
  * container from out's extension; .gif without yuv420p); written through a temporary file.
  * When ffmpeg is not on PATH, print the command to `diag` and return MOTE_OK with *ran = 0. */
 int mote_movie(const char *prefix, int64_t fps, const char *out, FILE *diag, int *ran,

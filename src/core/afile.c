@@ -193,3 +193,19 @@ int mote_dir_of_exists(const char *path)
     free(dir);
     return ok;
 }
+
+const char *mote_series_sep(const char *prefix)
+{
+    const size_t n = strlen(prefix);
+    return n == 0 || prefix[n - 1] == '_' || prefix[n - 1] == '/' ? "" : "_";
+}
+
+char *mote_series_path(const char *prefix, uint64_t k, int digits, const char *ext)
+{
+    const size_t len = strlen(prefix) + strlen(ext) + 32;
+    char *p = malloc(len);
+    if (p)
+        snprintf(p, len, "%s%s%0*llu%s", prefix, mote_series_sep(prefix), digits,
+                 (unsigned long long)k, ext);
+    return p;
+}

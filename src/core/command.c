@@ -210,11 +210,12 @@ void mote_progress_end(mote_progress *p)
 void mote_outputs_free(mote_outputs *o)
 {
     for (size_t k = 0; k < o->n; k++) {
-        free(o->path[k]);
-        free(o->kind[k]);
+        free(o->e[k].path);
+        free(o->e[k].kind);
+        free(o->e[k].stem);
+        free(o->e[k].ext);
     }
-    free(o->path);
-    free(o->kind);
+    free(o->e);
     free(o->slot);
     memset(o, 0, sizeof *o);
 }
@@ -231,7 +232,7 @@ static size_t path_hash(const char *s)
 static size_t find_slot(const mote_outputs *o, const char *path)
 {
     size_t k = path_hash(path) & (o->nslot - 1);
-    while (o->slot[k] && strcmp(o->path[o->slot[k] - 1], path) != 0)
+    while (o->slot[k] && strcmp(o->e[o->slot[k] - 1].path, path) != 0)
         k = (k + 1) & (o->nslot - 1);
     return k;
 }
@@ -241,7 +242,7 @@ const char *mote_outputs_find(const mote_outputs *o, const char *path)
     if (!o->nslot)
         return NULL;
     const size_t k = find_slot(o, path);
-    return o->slot[k] ? o->kind[o->slot[k] - 1] : NULL;
+    return o->slot[k] ? o->e[o->slot[k] - 1].kind : NULL;
 }
 
 /* Room for one more path in the index; -1 out of memory. */
@@ -256,7 +257,7 @@ static int index_grow(mote_outputs *o)
         return -1;
     for (size_t k = 0; k < o->nslot; k++)
         if (o->slot[k])
-            t.slot[find_slot(&t, o->path[o->slot[k] - 1])] = o->slot[k];
+            t.slot[find_slot(&t, o->e[o->slot[k] - 1].path)] = o->slot[k];
     free(o->slot);
     o->slot = t.slot;
     o->nslot = t.nslot;
@@ -272,6 +273,46 @@ static char *copy_string(const char *s)
     return copy;
 }
 
+/* Is path one of the names of series e (its stem, digits, its ext)? */
+static int in_series(const mote_output *e, const char *path)
+{
+    const size_t ns = strlen(e->stem), nx = strlen(e->ext), n = strlen(path);
+    if (n <= ns + nx || strncmp(path, e->stem, ns) != 0 || strcmp(path + n - nx, e->ext) != 0)
+        return 0;
+    for (size_t k = ns; k < n - nx; k++)
+        if (path[k] < '0' || path[k] > '9')
+            return 0;
+    return 1;
+}
+
+/* Add an entry (stem and ext NULL for one file); MOTE_ENOMEM fails at argi. */
+static int add_entry(mote_outputs *o, const mote_call *c, int argi, const char *path,
+                     const char *kind, const char *stem, const char *ext, mote_err *err)
+{
+    if (index_grow(o))
+        return mote_call_fail(err, c, argi, MOTE_ENOMEM, "out of memory");
+    if (o->n == o->cap) {
+        size_t cap = o->cap ? 2 * o->cap : 16;
+        mote_output *e = realloc(o->e, cap * sizeof *e);
+        if (!e)
+            return mote_call_fail(err, c, argi, MOTE_ENOMEM, "out of memory");
+        o->e = e;
+        o->cap = cap;
+    }
+    mote_output e = {copy_string(path), copy_string(kind), stem ? copy_string(stem) : NULL,
+                     ext ? copy_string(ext) : NULL, c->line};
+    if (!e.path || !e.kind || (stem && !e.stem) || (ext && !e.ext)) {
+        free(e.path);
+        free(e.kind);
+        free(e.stem);
+        free(e.ext);
+        return mote_call_fail(err, c, argi, MOTE_ENOMEM, "out of memory");
+    }
+    o->e[o->n++] = e;
+    o->slot[find_slot(o, e.path)] = o->n; /* (a path noted again: its latest entry) */
+    return MOTE_OK;
+}
+
 int mote_outputs_note_path(mote_outputs *o, const mote_call *c, int argi, const char *path,
                            const char *kind, int repeat_ok, mote_err *err)
 {
@@ -282,30 +323,64 @@ int mote_outputs_note_path(mote_outputs *o, const mote_call *c, int argi, const 
     if (!repeat_ok && mote_outputs_find(o, path))
         mote_call_warn(c, "%s: '%s' is written more than once in this script; the last one wins",
                        c->name, path);
-    if (index_grow(o))
+    for (size_t k = 0; k < o->n; k++)
+        if (o->e[k].stem && in_series(&o->e[k], path)) {
+            mote_call_warn(c, "%s: '%s' is also one of the numbered files (%s) of line %d",
+                           c->name, path, o->e[k].kind, o->e[k].line);
+            break;
+        }
+    return add_entry(o, c, argi, path, kind, NULL, NULL, err);
+}
+
+int mote_outputs_note_series(mote_outputs *o, const mote_call *c, int argi, const char *prefix,
+                             const char *ext, const char *kind, int flags, mote_err *err)
+{
+    char *first = mote_series_path(prefix, 0, 1, ext);
+    if (!first)
         return mote_call_fail(err, c, argi, MOTE_ENOMEM, "out of memory");
-    if (o->n == o->cap) {
-        size_t cap = o->cap ? 2 * o->cap : 16;
-        char **p = realloc(o->path, cap * sizeof *p);
-        if (p)
-            o->path = p;
-        char **k = realloc(o->kind, cap * sizeof *k);
-        if (k)
-            o->kind = k;
-        if (!p || !k)
-            return mote_call_fail(err, c, argi, MOTE_ENOMEM, "out of memory");
-        o->cap = cap;
+    const int makes_dir = flags & MOTE_SERIES_MAKES_DIR;
+    char *slash = strrchr(first, '/');
+    if (makes_dir && slash)
+        *slash = '\0';
+    int rc = MOTE_OK;
+    if (makes_dir && slash && !mote_ctx_dir_ok(c->ctx, first))
+        rc = mote_call_fail(err, c, argi, MOTE_EIO,
+                            "%s: the directory that would hold '%s' does not exist", c->name,
+                            first);
+    else if (!makes_dir && !mote_ctx_dir_ok(c->ctx, first))
+        rc = mote_call_fail(err, c, argi, MOTE_EIO,
+                            "%s: the directory of the numbered files '%s' does not exist",
+                            c->name, prefix);
+    if (makes_dir && slash)
+        *slash = '/';
+    const size_t ns = strlen(first) - 1 - strlen(ext);
+    first[ns] = '\0'; /* the stem */
+    const mote_output *latest = NULL; /* the latest series of this kind */
+    for (size_t k = o->n; !rc && k-- > 0;)
+        if (o->e[k].stem && strcmp(o->e[k].kind, kind) == 0) {
+            latest = &o->e[k];
+            break;
+        }
+    const int continues = (flags & MOTE_SERIES_BY_STEP) ||
+                          (latest && !strcmp(latest->stem, first) && !strcmp(latest->ext, ext));
+    for (size_t k = 0; !rc && k < o->n; k++) {
+        const mote_output *e = &o->e[k];
+        if (e->stem ? !continues && !strcmp(e->stem, first) && !strcmp(e->ext, ext)
+                    : strncmp(e->path, first, ns) == 0 && in_series(&(mote_output){
+                          .stem = first, .ext = (char *)ext}, e->path)) {
+            if (e->stem)
+                mote_call_warn(c, "%s: its numbered files start again from 0 and overwrite "
+                               "those of line %d (%s*%s)", c->name, e->line, first, ext);
+            else
+                mote_call_warn(c, "%s: '%s', written by line %d, is also one of its numbered "
+                               "files", c->name, e->path, e->line);
+            break;
+        }
     }
-    char *pcopy = copy_string(path), *kcopy = copy_string(kind);
-    if (!pcopy || !kcopy) {
-        free(pcopy);
-        free(kcopy);
-        return mote_call_fail(err, c, argi, MOTE_ENOMEM, "out of memory");
-    }
-    o->path[o->n] = pcopy;
-    o->kind[o->n++] = kcopy;
-    o->slot[find_slot(o, pcopy)] = o->n; /* (a path noted again: its latest entry) */
-    return MOTE_OK;
+    if (!rc)
+        rc = add_entry(o, c, argi, prefix, kind, first, ext, err);
+    free(first);
+    return rc;
 }
 
 char *mote_call_origin(const mote_call *c)

@@ -683,15 +683,7 @@ static int check_frames(void *vm, const mote_call *c, mote_err *err)
         return rc;
     const char *prefix = mote_call_opt(c, "prefix")->path;
     const int pi = mote_call_opt_index(c, "prefix");
-    char *first = mb_frame_name(prefix, 0);
-    if (!first)
-        rc = mote_call_fail(err, c, pi, MOTE_ENOMEM, "out of memory");
-    else if (!mote_ctx_dir_ok(c->ctx, first))
-        rc = mote_call_fail(err, c, pi, MOTE_EIO,
-                            "frames: the directory of the frames '%s' does not exist", first);
-    else
-        rc = mote_outputs_note_path(&c->ctx->outputs, c, pi, prefix, "frames", 1, err);
-    free(first);
+    rc = mote_outputs_note_series(&c->ctx->outputs, c, pi, prefix, ".png", "frames", 0, err);
     if (!rc)
         m->d_frames_dt = mote_call_opt(c, "dt")->r;
     return rc;

@@ -138,11 +138,7 @@ int mb_snapshot_xyz(const mote_mb *sys, const char *path, const char *origin, mo
 
 char *mb_frame_name(const char *prefix, uint64_t k)
 {
-    size_t n = strlen(prefix) + 32;
-    char *s = malloc(n);
-    if (s)
-        snprintf(s, n, "%s_%06llu.png", prefix, (unsigned long long)k);
-    return s;
+    return mote_series_path(prefix, k, 6, ".png");
 }
 
 int mb_frames_sample(void *ctx, void *subject, mote_err *err)

@@ -18,7 +18,7 @@ static void job_usage(FILE *f)
             "folder then holds the job) and write Galactica's files under Galactica's names\n"
             "(garez28.dat, 1, 2, ..., 1t, ..., traekt.prn, dice.dat, galgon4, ErrGlctca).\n"
             "  --coulomb      the Coulomb module (garek29.dat, galgok2, 25/16 layout)\n"
-            "  --frames       PNG pictures frame_000001.png, ... at every monitor block\n"
+            "  --frames       PNG pictures frame_000000.png, ... at every monitor block\n"
             "  --threads N    OpenMP threads of the force passes (results do not depend on it)\n"
             "  --lenient      take each control line's last token instead of column 60\n"
             "  --packed       trios at lines 51-53, 54-56, ... (default: by description, or the\n"

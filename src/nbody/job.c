@@ -361,7 +361,7 @@ static int frame(job *j, mote_err *err)
     nb_frame_from_ctl(&f, &j->c, j->head);
     f.zoom = j->zoom;
     char name[64], p[PATH_CAP];
-    snprintf(name, sizeof name, "frame_%06llu.png", (unsigned long long)(j->nframe + 1));
+    snprintf(name, sizeof name, "frame_%06llu.png", (unsigned long long)j->nframe);
     int rc = nb_frame_png(&j->nb, &f, jpath(j, name, p), j->Lt, err);
     j->zoom = f.zoom;
     j->nframe += !rc;

@@ -523,9 +523,9 @@ int nb_check_frames(void *vm, const mote_call *c, mote_err *err)
 {
     int rc = nb_need_bodies(vm, c, err);
     const mote_arg *p = mote_call_opt(c, "prefix");
-    if (!rc && p && !mote_ctx_dir_ok(c->ctx, p->path))
-        return mote_call_fail(err, c, mote_call_opt_index(c, "prefix"), MOTE_EINVAL,
-                              "frames: the directory of prefix '%s' does not exist", p->text);
+    if (!rc)
+        rc = mote_outputs_note_series(&c->ctx->outputs, c, mote_call_opt_index(c, "prefix"),
+                                      p ? p->path : "frame_", ".png", "frames", 0, err);
     const mote_arg *f = mote_call_opt(c, "control");
     if (!rc && f && !mote_outputs_find(&c->ctx->outputs, f->path)) {
         nb_galctl g;
@@ -541,12 +541,9 @@ int nb_check_frames(void *vm, const mote_call *c, mote_err *err)
 
 static int frame_now(nb_model *m, mote_err *err)
 {
-    const size_t len = strlen(m->frames.prefix) + 32;
-    char *path = malloc(len);
+    char *path = mote_series_path(m->frames.prefix, m->frames.count, 6, ".png");
     if (!path)
         return mote_fail(err, MOTE_ENOMEM, "frames: out of memory");
-    snprintf(path, len, "%s%06llu.png", m->frames.prefix,
-             (unsigned long long)(m->frames.count + 1));
     int rc = nb_frame_png(&m->nb, &m->frames.f, path, m->nb.steps, err);
     m->frames.count += !rc;
     free(path);
@@ -558,12 +555,14 @@ int nb_run_frames(void *vm, const mote_call *c, mote_err *err)
     nb_model *m = vm;
     nb_settle_units(m);
     const mote_arg *a = mote_call_opt(c, "prefix");
-    free(m->frames.prefix);
-    m->frames.prefix = strdup(a ? a->path : "frame_");
-    if (!m->frames.prefix)
+    char *prefix = strdup(a ? a->path : "frame_");
+    if (!prefix)
         return mote_fail(err, MOTE_ENOMEM, "frames: out of memory");
+    if (!m->frames.prefix || strcmp(m->frames.prefix, prefix) != 0)
+        m->frames.count = 0; /* (the same prefix again continues the numbering) */
+    free(m->frames.prefix);
+    m->frames.prefix = prefix;
     m->frames.every = (uint64_t)mote_call_opt(c, "every")->i;
-    m->frames.count = 0;
     memset(&m->frames.ctl, 0, sizeof m->frames.ctl);
     if ((a = mote_call_opt(c, "control"))) { /* the control file's graphics values */
         int rc = nb_galctl_read(a->path, 0, 0, &m->frames.ctl, err);
@@ -606,11 +605,14 @@ int nb_check_snapshot(void *vm, const mote_call *c, mote_err *err)
     if (file && mote_call_opt(c, "prefix"))
         return mote_call_fail(err, c, mote_call_opt_index(c, "prefix"), MOTE_EINVAL,
                               "snapshot: prefix= is for every=K (file= names the one file)");
-    const mote_arg *p = mote_call_opt(c, "prefix");
-    if (p && !mote_ctx_dir_ok(c->ctx, p->path))
-        return mote_call_fail(err, c, mote_call_opt_index(c, "prefix"), MOTE_EINVAL,
-                              "snapshot: the directory of prefix '%s' does not exist", p->text);
-    return nb_need_bodies(vm, c, err);
+    const mote_arg *p = mote_call_opt(c, "prefix"), *f = mote_call_opt(c, "format");
+    int rc = nb_need_bodies(vm, c, err);
+    if (!rc && every)
+        rc = mote_outputs_note_series(&c->ctx->outputs, c, mote_call_opt_index(c, "prefix"),
+                                      p ? p->path : "snapshot_",
+                                      f && strcmp(f->text, "galactica") == 0 ? ".dat" : ".snap",
+                                      "snapshots", MOTE_SERIES_BY_STEP, err);
+    return rc;
 }
 int nb_run_snapshot(void *vm, const mote_call *c, mote_err *err)
 {
@@ -701,16 +703,14 @@ static int fire_checkpoint(void *ctx, void *subject, mote_err *err)
     return nb_state_save(&m->nb, m->ckpt.path, err);
 }
 
-/* The snapshot of `snapshot every=K`: PREFIX followed by the step count and .snap */
+/* The snapshot of `snapshot every=K`: PREFIX, the step count and .snap (mote_series_path) */
 static int fire_snapshot(void *ctx, void *subject, mote_err *err)
 {
     nb_model *m = ctx;
-    size_t len = strlen(m->snap.prefix) + 32;
-    char *path = malloc(len);
+    char *path = mote_series_path(m->snap.prefix, m->nb.steps, 10,
+                                  m->snap.galactica ? ".dat" : ".snap");
     if (!path)
         return mote_fail(err, MOTE_ENOMEM, "snapshot: out of memory");
-    snprintf(path, len, "%s%010llu.%s", m->snap.prefix, (unsigned long long)m->nb.steps,
-             m->snap.galactica ? "dat" : "snap");
     int rc = m->snap.galactica ? nb_write_galactica(m, path, 1, err)
                                : nb_snapshot_write(&m->nb, path, m->snap.origin, err);
     free(path);

@@ -52,7 +52,7 @@ int mote_movie(const char *prefix, int64_t fps, const char *out, FILE *diag, int
     char *pattern = malloc(pl + 16);
     if (!pattern)
         return mote_fail(err, MOTE_ENOMEM, "movie: out of memory");
-    snprintf(pattern, pl + 16, "%s_%%06d.png", prefix);
+    snprintf(pattern, pl + 16, "%s%s%%06d.png", prefix, mote_series_sep(prefix));
     const char *slash = strrchr(out, '/');
     const char *dot = strrchr(out, '.');
     const char *ext = dot && (!slash || dot > slash) ? dot : "";

@@ -350,6 +350,9 @@ static int convert_arg(mote_script *s, const mote_cmd *def, const char *written,
         if (type == 'e') {
             arg_label(def, i, optkey, name, sizeof name);
             shown(t, found, sizeof found);
+            if (strcmp(name, sp.words) == 0) /* (the synopsis names it by its one word) */
+                return mote_script_fail_at(err, file, t->line, t->col, MOTE_EINVAL,
+                                           "%s: expected %s, found %s", written, or_words, found);
             return mote_script_fail_at(err, file, t->line, t->col, MOTE_EINVAL,
                                        "%s: expected %s for %s, found %s", written, or_words, name,
                                        found);
@@ -430,14 +433,16 @@ static int convert_arg(mote_script *s, const mote_cmd *def, const char *written,
                                    sp.count, name, found);
     }
     case 'f':
-        if (t->text[0] == '\0') {
+    case 's':
+        if (t->text[0] == '\0' && (type == 'f' || !t->quoted)) {
             arg_label(def, i, optkey, name, sizeof name);
             return mote_script_fail_at(err, file, t->line, t->col, MOTE_EINVAL,
-                                       "%s: expected a file name for %s, found an empty string",
-                                       written, name);
+                                       "%s: expected %s for %s, found %s", written,
+                                       type == 'f' ? "a file name" : "a value", name,
+                                       t->quoted ? "an empty string" : "nothing");
         }
         return 0;
-    default: /* 's', '*' */
+    default: /* '*' */
         return 0;
     }
 }

@@ -200,45 +200,13 @@ int mote_script_live_start(mote_script *s, const char *bind, int port, mote_err 
     return MOTE_OK;
 }
 
-/* `live http [PORT] [bind=ADDRESS]` (the tokens come as arguments: the spec is "*") */
-static int live_args(const mote_call *c, int *port, const char **bind, mote_err *err)
-{
-    *port = 8080;
-    *bind = NULL;
-    if (c->nargs < 1 || strcmp(c->args[0].text, "http") != 0)
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "live: expected 'live http [PORT] "
-                              "[bind=ADDRESS]'");
-    int have_port = 0;
-    for (int k = 1; k < c->nargs; k++) {
-        const char *t = c->args[k].text;
-        if (strncmp(t, "bind=", 5) == 0 && t[5] && !*bind) {
-            *bind = t + 5;
-            continue;
-        }
-        char *end;
-        long p = strtol(t, &end, 10);
-        if (have_port || *end || end == t || p < 0 || p > 65535)
-            return mote_call_fail(err, c, k, MOTE_EINVAL, "live: expected a port 0 ... 65535 "
-                                  "(0: any free one) or bind=ADDRESS, found '%s'", t);
-        *port = (int)p;
-        have_port = 1;
-    }
-    return MOTE_OK;
-}
-
-static int live_check(void *model, const mote_call *c, mote_err *err)
-{
-    int port;
-    const char *bind;
-    return live_args(c, &port, &bind, err);
-}
-
+/* `live http [PORT] [bind=ADDRESS]`: the port (8080 by default; 0: any free one) and the
+ * address to bind (by default the loopback). */
 static int live_run(void *model, const mote_call *c, mote_err *err)
 {
-    int port;
-    const char *bind;
-    int rc = live_args(c, &port, &bind, err);
-    return rc ? rc : mote_script_live_start(model, bind, port, err);
+    const mote_arg *port = mote_call_opt(c, "port"), *bind = mote_call_opt(c, "bind");
+    return mote_script_live_start(model, bind ? bind->text : NULL, port ? (int)port->i : 8080,
+                                  err);
 }
 
 static int seed_check(void *model, const mote_call *c, mote_err *err)
@@ -326,7 +294,7 @@ const mote_cmd mote_script_common_cmds[] = {
      "build and machine type; on another platform (another libm) they agree\n"
      "statistically. Prints `seed: S`.\n",
      seed_check, seed_run},
-    {"live", NULL, "*", "live http [PORT] [bind=ADDRESS]",
+    {"live", NULL, "e{http} @port=i[0,65535] bind=s", "live http [PORT] [bind=ADDRESS]",
      "watch the run in a browser: a live view on PORT (8080)",
      "Start the live view: a small web server inside the run, on 127.0.0.1 unless\n"
      "bind=ADDRESS says otherwise, on PORT (default 8080; 0: any free port). Open the\n"
@@ -335,7 +303,7 @@ const mote_cmd mote_script_common_cmds[] = {
      "nothing else on the page changes the simulation. The run never waits for the page\n"
      "and its results are the same with and without it. `mote run --live[=PORT] SCRIPT`\n"
      "starts it before the first command. See docs/live-view.md.\n",
-     live_check, live_run},
+     NULL, live_run},
     {"plot", NULL, "f f>png", "plot DATAFILE PNGFILE [options]",
      "render a data file written by a measuring command as a PNG",
      "Draw a data file written earlier (by this script or another) by one of the\n"

@@ -255,17 +255,32 @@ static int frame_opts(const mote_call *c, sep_frame_opts *fo, mote_err *err)
     return MOTE_OK;
 }
 
-/* A directory for numbered files: its parent must exist; made when the run starts. */
-static int out_dir(sep_model *m, const mote_call *c, char **dir, mote_err *err)
+/* A directory for numbered files DIR/NAME_NNNNNN.EXT: its parent must exist; made when the run
+ * starts. The same directory again continues the numbering (*index), another starts it at 0.
+ * Validation records the series, so that check reports files that would overwrite each other. */
+static int out_dir(sep_model *m, const mote_call *c, char **dir, uint64_t *index,
+                   const char *name, const char *ext, mote_err *err)
 {
     const mote_arg *a = mote_call_opt(c, "dir");
-    if (m->dry && !mote_ctx_dir_ok(m->ctx, a->path))
-        return mote_call_fail(err, c, mote_call_opt_index(c, "dir"), MOTE_EINVAL,
-                              "%s: the directory that would hold '%s' does not exist", c->name,
-                              a->text);
-    char *d = strdup(a->path);
-    if (!d)
-        return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", c->name);
+    const int at = mote_call_opt_index(c, "dir");
+    const size_t n = strlen(a->path) + strlen(name) + 2;
+    char *d = strdup(a->path), *prefix = malloc(n);
+    if (!d || !prefix) {
+        free(d);
+        free(prefix);
+        return mote_call_fail(err, c, at, MOTE_ENOMEM, "out of memory");
+    }
+    snprintf(prefix, n, "%s/%s", a->path, name);
+    int rc = m->dry ? mote_outputs_note_series(&m->ctx->outputs, c, at, prefix, ext, c->name,
+                                               MOTE_SERIES_MAKES_DIR, err)
+                    : MOTE_OK;
+    free(prefix);
+    if (rc) {
+        free(d);
+        return rc;
+    }
+    if (!*dir || strcmp(*dir, d) != 0)
+        *index = 0;
     free(*dir);
     *dir = d;
     return MOTE_OK;
@@ -276,14 +291,13 @@ int sep_frames(void *vm, const mote_call *c, mote_err *err)
     sep_model *m = vm;
     int rc = frame_opts(c, &m->frames.fo, err);
     if (!rc)
-        rc = out_dir(m, c, &m->frames.dir, err);
+        rc = out_dir(m, c, &m->frames.dir, &m->frames.index, "frame", ".png", err);
     if (rc)
         return rc;
     const mote_arg *mv = mote_call_opt(c, "movie"); /* on|off */
     const int movie_off = mv && mv->i == 1;
     m->frames.on = 1;
     m->frames.at = (mote_schedule){m->sys.t, mote_call_opt(c, "dt")->r, 0};
-    m->frames.index = 0;
     m->frames.movie = !movie_off;
     m->frames.fps = (int)mote_call_opt_r(c, "fps", 20);
     return MOTE_OK;
@@ -309,12 +323,11 @@ int sep_live_png(void *vm, const mote_call *c, mote_err *err)
 int sep_snapshots(void *vm, const mote_call *c, mote_err *err)
 {
     sep_model *m = vm;
-    int rc = out_dir(m, c, &m->snaps.dir, err);
+    int rc = out_dir(m, c, &m->snaps.dir, &m->snaps.index, "snapshot", ".xyz", err);
     if (rc)
         return rc;
     m->snaps.on = 1;
     m->snaps.at = (mote_schedule){m->sys.t, mote_call_opt(c, "dt")->r, 0};
-    m->snaps.index = 0;
     return MOTE_OK;
 }
 
@@ -341,10 +354,13 @@ int sep_balance(void *vm, const mote_call *c, mote_err *err)
 /* DIR/NAME_%06d.EXT (malloc'ed). */
 static char *numbered(const char *dir, const char *name, uint64_t k, const char *ext)
 {
-    const size_t n = strlen(dir) + strlen(name) + 40;
-    char *p = malloc(n);
-    if (p)
-        snprintf(p, n, "%s/%s_%06llu%s", dir, name, (unsigned long long)k, ext);
+    const size_t n = strlen(dir) + strlen(name) + 2;
+    char *prefix = malloc(n), *p = NULL;
+    if (prefix) {
+        snprintf(prefix, n, "%s/%s", dir, name);
+        p = mote_series_path(prefix, k, 6, ext);
+    }
+    free(prefix);
     return p;
 }
 
