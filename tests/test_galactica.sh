@@ -292,6 +292,9 @@ expect 1 "fr2.mote:3:" fr2.mote 'model nbody gravity\nbody mass=1\nframes every=
 printf 'model nbody gravity\nunits solar\ngenerate ring nb=30\nsnapshot every=5000 prefix=gs_ format=galactica\nintegrate steps=10000\nwrite galactica file=end.dat\n' > gs.mote
 "$MOTE" run gs.mote > out.txt 2> err.txt && ok || bad "snapshot format=galactica failed: $(cat err.txt)"
 [ -e gs_0000005000.dat ] && cmp -s gs_0000010000.dat end.dat && ok || bad "snapshot format=galactica: $(ls gs_* | tr '\n' ' ') (the last should equal write galactica)"
+# snapshot file= format=galactica: one result file now, the same as write galactica
+printf 'model nbody gravity\nunits solar\ngenerate ring nb=30\nintegrate steps=100\nsnapshot file=one.dat format=galactica\nwrite galactica file=two.dat\n' > g1.mote
+"$MOTE" run g1.mote > out.txt 2> err.txt && [ -s one.dat ] && cmp -s one.dat two.dat && ok || bad "snapshot file= format=galactica differs from write galactica: $(cat err.txt)"
 expect 1 "gs1.mote:3:" gs1.mote 'model nbody gravity\nbody mass=1\nsnapshot every=5 format=xyz\n'
 
 # run galactica's options are checked before anything runs

@@ -116,6 +116,10 @@ expect 1 "b11.mote:2:15: error: generate ring: unknown option 'Z' (options: nb, 
 expect 1 "b11b.mote:2:10: error: generate: expected ring, atom_ring, solar_system, area or plummer, found 'disk'" b11b.mote "${G}generate disk\n"
 expect 1 "b11c.mote:2:1: error: generate: expected ring, atom_ring, solar_system, area or plummer after it" b11c.mote "${G}generate\n"
 expect 1 "b11d.mote:2:1: error: generate plummer: option n= is required" b11d.mote "${G}generate plummer seed=3\n"
+# a name that is a command in some models and a command of rows in nbody: every model's entry
+"$MOTE" help integrator > int_help.txt 2>&1 && grep -q '^integrator NAME$' int_help.txt && grep -q '^integrator \[eta=0.01\]' int_help.txt &&
+    grep -q '^integrator galactica ' int_help.txt && grep -q '^integrator taylor ' int_help.txt &&
+    [ "$(grep -c '^  model: ' int_help.txt)" = 4 ] && ok || bad "mote help integrator: $(grep -e '^integrator' -e '^  model' int_help.txt)"
 "$MOTE" help generate > gen_help.txt 2>&1 && [ "$(grep -c '^generate ' gen_help.txt)" = 5 ] && "$MOTE" help generate area | head -1 | grep -q '^generate area' && ok || bad "mote help generate: $(head -3 gen_help.txt)"
 expect 1 "b12.mote:2:20: error: body: charge= is for the coulomb variant" b12.mote "${G}body mass=1 charge=1\n"
 expect 1 "b13.mote:3:1: error: check ring: no ring was generated" b13.mote "${G}body mass=1\ncheck ring\n"
@@ -233,6 +237,16 @@ assert len(ty) == 6 and all(0 <= a - 10 * k < 1.01e-4 for k, a in enumerate(ty))
 c = list(csv.DictReader(open('uy.csv')))
 assert len(c) == 6 and abs(float(c[-1]['T_year']) - 50) < 1e-9, c[-1]['T_year']
 " && ok || bad "monitor unit=year: no T_year column 0, 10, ... 50: $(cat err.txt; grep '^# col' uy.dat)"
+# ... and in JSON Lines: each object has T_year, T / the same scale
+printf '%bgenerate solar_system data=%s\nmonitor dt=10 unit=year file=uy.jsonl format=jsonl\nintegrate for=20 unit=year\n' "$G" "$DATA" > uj.mote
+"$MOTE" run uj.mote > /dev/null 2> err.txt &&
+    python3 -c "
+import json
+rows = [json.loads(l) for l in open('uy.jsonl')]
+scale = rows[1]['T'] / rows[1]['T_year']
+assert len(rows) == 3 and rows[0]['T_year'] == 0 and abs(rows[-1]['T_year'] - 20) < 1e-9, rows
+assert all(r['T'] / scale == r['T_year'] or abs(r['T'] / scale / r['T_year'] - 1) < 1e-15 for r in rows[1:])
+" && ok || bad "monitor unit=year format=jsonl: no T_year: $(cat err.txt; head -c 300 uy.jsonl)"
 expect 1 "e6.mote:4:22: error: integrate: unit= needs physical scales" e6.mote "${G}body mass=1\nbody mass=1 x=1\nintegrate for=1 unit=year\n"
 expect 1 "e7.mote:3:22: error: integrate: expected 's', 'day', 'year' or 'century' for unit, found 'week'" e7.mote "${G}generate ring\nintegrate for=1 unit=week\n"
 expect 1 "e8.mote:3:1: error: constant: comes before units" e8.mote "${G}units solar\nconstant G=1\n"
