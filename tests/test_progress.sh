@@ -41,6 +41,14 @@ body sphere radius=1
 run particles=2e5
 
 X
+# commands of several runs keep one line for all of them: "float: run 3, 42.0%"
+cat > chf.mote <<'X'
+model charging
+plasma preset geo-worst-case
+body sphere radius=1
+float particles=8192
+evolve time=1e-3 dt_out=5e-4 particles=8192
+X
 
 # onterm.py MOTE SCRIPT: run `mote run SCRIPT` on a pseudo-terminal, print what it wrote
 cat > onterm.py <<'X'
@@ -63,19 +71,32 @@ sys.exit(os.waitstatus_to_exitcode(st))
 X
 # check.py FILE LABEL...: each label shows percentages, never falling, reaching above 0 (the
 # mixing box's event runs once showed 0.0% throughout) and at most 100, and the
-# last progress line of each command is wiped before the status line that follows it
+# last progress line of each command is wiped before the status line that follows it. A label
+# written LABEL+ is a command of several runs: one line for all of them ("LABEL: run K, P%"),
+# the runs counted up from 1 to more than 1, each one's percentages rising, wiped once.
 cat > check.py <<'X'
 import re, sys
 t = open(sys.argv[1], encoding="utf-8", errors="replace", newline="").read()
 bad = []
 for label in sys.argv[2:]:
-    runs = re.findall(r"((?:\r%s [0-9.]+%%[^\r\n]*)+)(\r *\r)?" % re.escape(label), t)
+    several = label.endswith("+")
+    label = label.rstrip("+")
+    run = r": run [0-9]+," if several else ""
+    runs = re.findall(r"((?:\r%s%s [0-9.]+%%[^\r\n]*)+)(\r *\r)?" % (re.escape(label), run), t)
     if not runs:
         bad.append("%s: no progress line" % label)
         continue
+    if several and len(runs) != 1:
+        bad.append("%s: %d progress lines, not one for all the runs" % (label, len(runs)))
     for lines, wiped in runs:
-        p = [float(x) for x in re.findall(r"\r%s ([0-9.]+)%%" % re.escape(label), lines)]
-        if any(b < a for a, b in zip(p, p[1:])) or p[-1] > 100 or not p[-1] > 0:
+        if several:
+            p = [(int(k), float(x)) for k, x in
+                 re.findall(r"\r%s: run ([0-9]+), ([0-9.]+)%%" % re.escape(label), lines)]
+            if p[0][0] != 1 or not p[-1][0] > 1:
+                bad.append("%s: runs %d to %d" % (label, p[0][0], p[-1][0]))
+        else:
+            p = [float(x) for x in re.findall(r"\r%s ([0-9.]+)%%" % re.escape(label), lines)]
+        if any(b < a for a, b in zip(p, p[1:])) or not (0 < (p[-1][1] if several else p[-1]) <= 100):
             bad.append("%s: percentages %s" % (label, p[:20]))
         if not wiped:
             bad.append("%s: the progress line is not wiped" % label)
@@ -86,12 +107,12 @@ X
 cat > strip.py <<'X'
 import re, sys
 t = open(sys.argv[1], encoding="utf-8", errors="replace", newline="").read()
-t = re.sub(r"\r[A-Za-z_]+ [0-9.]+%[^\r\n]*", "", t)
+t = re.sub(r"\r[A-Za-z_]+(: run [0-9]+,)? [0-9.]+%[^\r\n]*", "", t)
 t = re.sub(r"\r +\r", "", t).replace("\r\n", "\n")
 sys.stdout.write(t)
 X
 
-for m in "hs step compress_left_wall" "mb run" "nb integrate" "gal galactica" "sep run" "ch run"; do
+for m in "hs step compress_left_wall" "mb run" "nb integrate" "gal galactica" "sep run" "ch run" "chf float+ evolve+"; do
     set -- $m
     s=$1
     shift

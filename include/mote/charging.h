@@ -193,9 +193,11 @@ typedef struct {
      * evolution from U0 reaches: the first sign change of I_net walking from U0 along it) */
     double U0;
     /* progress on a terminal (NULL: none): each run shows the share of its histories done under
-     * the label (the command's name), and wipes the line when it ends */
+     * the label (the command's name), and wipes the line when it ends; or, for a command of
+     * several runs, `progress` (begun and ended by the command) shows each run as its next */
     const mote_context *progress_ctx;
     const char *progress_label;
+    mote_progress *progress;
 } mote_ch_run_opts;
 
 /* OML current (spec 6.4) of one Maxwellian component (n, kT eV, m, Z) to a sphere of area A at

@@ -245,6 +245,7 @@ char *mote_call_origin(const mote_call *c);
 
 typedef struct {
     int enabled, shown; /* shown: a line is on the terminal (end wipes it) */
+    int run;            /* a command of several runs: the run under way (1, 2, ...); 0: one */
     double start, last;
     double interval; /* seconds between lines: 0.25, or MOTE_PROGRESS_INTERVAL (tests use 0) */
     char label[64];
@@ -255,6 +256,10 @@ void mote_progress_begin(mote_progress *p, const mote_context *ctx, const char *
 /* fraction in [0, 1]; prints "\rlabel 42.0%  ~12 s left" to stdout at most 4 times a second
  * (every `interval` seconds) when stdout is a terminal; nothing otherwise. */
 void mote_progress_update(mote_progress *p, double fraction);
+/* A command that makes several runs of unknown number (a root search, a table built until it is
+ * fine enough) keeps one line for all of them: each run calls this as it starts, and the line
+ * reads "\rlabel: run 3, 42.0%  ~2 s left", the fraction and the time left of that run. */
+void mote_progress_next_run(mote_progress *p);
 /* Wipe the line shown (if any), so that a line of the command's own output starts clean; the
  * next update draws it again. */
 void mote_progress_clear(mote_progress *p);

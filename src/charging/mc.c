@@ -360,8 +360,11 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
     struct timespec t0, t1;
     clock_gettime(CLOCK_MONOTONIC, &t0);
     /* progress: blocks done over all components (this rank's), shown by thread 0 */
-    mote_progress prog;
-    mote_progress_begin(&prog, o->progress_ctx, o->progress_label);
+    mote_progress own, *prog = o->progress ? o->progress : &own;
+    if (o->progress)
+        mote_progress_next_run(prog);
+    else
+        mote_progress_begin(&own, o->progress_ctx, o->progress_label);
     const uint64_t nblocks_all = (o->particles + BLOCK - 1) / BLOCK;
     const uint64_t blocks_mine = nblocks_all > (uint64_t)mrank
                                      ? (nblocks_all - (uint64_t)mrank + (uint64_t)msize - 1) /
@@ -369,7 +372,7 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                                      : 0;
     /* the run loop, counted in blocks of histories: no observer runs inside the Monte Carlo
      * (the tallies are written when it ends), the progress is the loop's */
-    mote_loop loop = {NULL, 0, blocks_mine * r->ncomp, &prog, 0, 0, 0};
+    mote_loop loop = {NULL, 0, blocks_mine * r->ncomp, prog, 0, 0, 0};
     uint64_t blocks_done = 0;
     int comp = 0;
     for (int s = 0; s < p->nsp; s++)
@@ -417,14 +420,16 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
             ch_i128 *psee = see ? calloc((size_t)nt * nsee, sizeof *psee) : NULL;
             if (see && !psee) {
                 mote_ch_result_free(r);
-                mote_progress_end(&prog);
+                if (!o->progress)
+                    mote_progress_end(&own);
                 return mote_fail(err, MOTE_ENOMEM, "run: out of memory for the secondary tallies");
             }
             if (see && !r->tri_see &&
                 !(r->tri_see = calloc((size_t)r->ncomp * ntri * 2, sizeof *r->tri_see))) {
                 free(psee);
                 mote_ch_result_free(r);
-                mote_progress_end(&prog);
+                if (!o->progress)
+                    mote_progress_end(&own);
                 return mote_fail(err, MOTE_ENOMEM, "run: out of memory for the secondary tallies");
             }
             uint64_t *tally = r->tri_hits + (size_t)comp * ntri * 2;
@@ -432,7 +437,8 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
             uint64_t *priv = nt > 1 ? calloc((size_t)nt * ntri * 2, sizeof *priv) : NULL;
             if (nt > 1 && !priv) {
                 mote_ch_result_free(r);
-                mote_progress_end(&prog);
+                if (!o->progress)
+                    mote_progress_end(&own);
                 return mote_fail(err, MOTE_ENOMEM, "run: out of memory for %d threads' tallies",
                                  nt);
             }
@@ -618,7 +624,7 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                     }
 #undef SEE_SCORE
 #undef STRAIGHT_E
-                    if (prog.enabled || (o->progress_ctx && o->progress_ctx->tick)) {
+                    if (prog->enabled || (prog->ctx && prog->ctx->tick)) {
                         uint64_t done;
 #pragma omp atomic capture
                         done = ++blocks_done;
@@ -656,7 +662,8 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
             r->steps += steps;
             r->max_energy_err = fmax(r->max_energy_err, eerr);
         }
-    mote_progress_end(&prog);
+    if (!o->progress)
+        mote_progress_end(&own);
     if ((double)r->lost > 1e-6 * (double)r->ncomp * (double)o->particles) {
         const uint64_t lost = r->lost;
         const double total = (double)o->particles * (double)r->ncomp;

@@ -173,6 +173,11 @@ int ch_run_run(void *vm, const mote_call *c, mote_err *err)
         o.particles = (uint64_t)maxp;
     int rc, reached = 0;
     double worst = 0;
+    mote_progress prog; /* relerr=: one line for all the runs */
+    if (re) {
+        mote_progress_begin(&prog, c->ctx, c->name);
+        o.progress = &prog;
+    }
     for (int pass = 0;; pass++) {
         mote_ch_result_free(&m->res);
         rc = mote_ch_run(&m->plasma, &m->body, t, &o, &m->res, err);
@@ -192,6 +197,8 @@ int ch_run_run(void *vm, const mote_call *c, mote_err *err)
         if ((double)o.particles > maxp)
             o.particles = (uint64_t)maxp;
     }
+    if (re)
+        mote_progress_end(&prog);
     mote_ch_tracer_free(t);
     if (rc)
         return rc;
@@ -272,6 +279,9 @@ int ch_run_float(void *vm, const mote_call *c, mote_err *err)
     int evals;
     const double tol = mote_call_opt_r(c, "tolerance", 1e-4);
     mote_ch_result_free(&m->res);
+    mote_progress prog; /* one line for all the runs */
+    mote_progress_begin(&prog, c->ctx, c->name);
+    o.progress = &prog;
     int rc = mote_ch_float(&m->plasma, &m->body, t, &o, tol, &U, &sU, &oml, &evals, &m->res, err);
     /* replicas=k (spec 6.5): the roots for seeds seed+1 ... seed+k-1 as well, their spread */
     const int reps = (int)mote_call_opt_r(c, "replicas", 1);
@@ -287,6 +297,7 @@ int ch_run_float(void *vm, const mote_call *c, mote_err *err)
             mote_ch_result_free(&rk);
             sum += Uk;
             sq += Uk * Uk;
+            mote_progress_clear(&prog);
             if (m->log)
                 fprintf(m->log, "float: replica %d (seed %llu): U_f = %.6g V +- %.3g\n", k + 1,
                         (unsigned long long)ok.seed, Uk, sUk);
@@ -327,6 +338,7 @@ int ch_run_float(void *vm, const mote_call *c, mote_err *err)
             if (k > 0 && (I < 0) != (Iprev < 0)) {
                 const int here = U >= grid[k - 1] && U <= grid[k]; /* U_f's interval: U_f */
                 const double Ur = here ? U : (grid[k - 1] * I - grid[k] * Iprev) / (I - Iprev);
+                mote_progress_clear(&prog);
                 if (m->log)
                     fprintf(m->log, "float: a root of I(U) between %g and %g V: %s %.6g V, %s "
                                     "(dI/dU %s 0)\n", grid[k - 1], grid[k],
@@ -336,10 +348,12 @@ int ch_run_float(void *vm, const mote_call *c, mote_err *err)
             }
             Iprev = I;
         }
+        mote_progress_clear(&prog);
         if (!rc && m->log)
             fprintf(m->log, "float: %d sign change%s of I(U) at %d potentials from %g to %g V\n",
                     nr, nr == 1 ? "" : "s", ng, grid[0], grid[ng - 1]);
     }
+    mote_progress_end(&prog);
     mote_ch_tracer_free(t);
     if (rc)
         return rc;
@@ -454,7 +468,11 @@ static int evolve_full(ch_model *m, const mote_call *c, mote_err *err)
     if (!tr)
         return err->code;
     ch_table t;
+    mote_progress prog; /* one line for all the runs of the table */
+    mote_progress_begin(&prog, c->ctx, c->name);
+    o.progress = &prog;
     int rc = ch_table_build(&m->plasma, &m->body, tr, &o, U0, &t, err);
+    mote_progress_end(&prog);
     mote_ch_tracer_free(tr);
     if (!rc)
         rc = ch_table_times(&t, C, err);

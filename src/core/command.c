@@ -150,6 +150,7 @@ void mote_progress_begin(mote_progress *p, const mote_context *ctx, const char *
 {
     p->enabled = ctx && ctx->terminal;
     p->shown = 0;
+    p->run = 0;
     p->ctx = ctx;
     p->start = p->last = p->enabled ? mote_wall_seconds() : 0.0;
     snprintf(p->label, sizeof p->label, "%s", label ? label : "");
@@ -175,25 +176,37 @@ void mote_progress_update(mote_progress *p, double fraction)
     if (fraction > 1.0)
         fraction = 1.0;
     double elapsed = now - p->start;
+    char head[96];
+    if (p->run > 0)
+        snprintf(head, sizeof head, "%s: run %d,", p->label, p->run);
+    else
+        snprintf(head, sizeof head, "%s", p->label);
     if (fraction > 0.0) {
         double left = elapsed * (1.0 - fraction) / fraction;
         if (left < 120.0)
-            printf("\r%s %.1f%%  ~%.0f s left   ", p->label, 100.0 * fraction, left);
+            printf("\r%s %.1f%%  ~%.0f s left   ", head, 100.0 * fraction, left);
         else if (left < 7200.0)
-            printf("\r%s %.1f%%  ~%.0f min left   ", p->label, 100.0 * fraction, left / 60.0);
+            printf("\r%s %.1f%%  ~%.0f min left   ", head, 100.0 * fraction, left / 60.0);
         else
-            printf("\r%s %.1f%%  ~%.1f h left   ", p->label, 100.0 * fraction, left / 3600.0);
+            printf("\r%s %.1f%%  ~%.1f h left   ", head, 100.0 * fraction, left / 3600.0);
     } else {
-        printf("\r%s %.1f%%", p->label, 0.0);
+        printf("\r%s %.1f%%   ", head, 0.0);
     }
     fflush(stdout);
+}
+
+void mote_progress_next_run(mote_progress *p)
+{
+    p->run++;
+    if (p->enabled)
+        p->start = mote_wall_seconds();
 }
 
 void mote_progress_clear(mote_progress *p)
 {
     /* wipe a line that was printed, so the next output starts on a clean line */
     if (p->enabled && p->shown) {
-        printf("\r%*s\r", (int)strlen(p->label) + PROGRESS_PAD, "");
+        printf("\r%*s\r", (int)strlen(p->label) + PROGRESS_PAD + (p->run > 0 ? 16 : 0), "");
         fflush(stdout);
         p->shown = 0;
     }
