@@ -375,6 +375,29 @@ static void test_csv(void)
     CHECK_INT(mote_datafile_commit(&d, &err), 0);
     read_all(path, buf, sizeof buf);
     CHECK(strncmp(buf, "# mote probe 1\n", 15) == 0, "not converted: %.40s", buf);
+    /* rows longer than the 1 MiB that readers of users' files accept: 3 MiB of fields */
+    path_in(path, sizeof path, "wide.csv");
+    CHECK_INT(mote_datafile_open(&d, path, "probe", NULL, 7, &err), 0);
+    mote_datafile_columns(&d, "x");
+    const int nf = 3 << 19; /* fields "1 " */
+    for (int k = 0; k < nf; k++)
+        fputs(k ? " 1" : "1", d.f);
+    fputs("\n2\n", d.f);
+    CHECK_INT(mote_datafile_commit(&d, &err), 0);
+    FILE *w = fopen(path, "rb");
+    long commas = 0, size = 0;
+    int ch, last[4] = {0};
+    while (w && (ch = getc(w)) != EOF) {
+        commas += ch == ',';
+        size++;
+        memmove(last, last + 1, 3 * sizeof *last);
+        last[3] = ch;
+    }
+    if (w)
+        fclose(w);
+    CHECK(commas == nf - 1 && size == 3 + 2L * nf + 1 + 3 && last[1] == '2' && last[2] == '\r' &&
+              last[3] == '\n',
+          "a 3 MiB row converted: %ld commas, %ld bytes", commas, size);
     CHECK(mote_path_is_csv("a.csv") && mote_path_is_csv("A.Csv") && !mote_path_is_csv("csv") &&
               !mote_path_is_csv("a.csvx") && !mote_path_is_csv(".cs"),
           "mote_path_is_csv");

@@ -117,8 +117,8 @@ const char *mote_series_sep(const char *prefix);
  * `max` bytes (the rest of that line is not read), -2 when memory runs out. */
 int mote_read_line(char **buf, size_t *cap, size_t *len, FILE *f, size_t max);
 
-/* A text file read one line at a time, at most MOTE_LINE_MAX bytes a line, with the line number
- * for messages. */
+/* A text file read one line at a time, at most `max` bytes a line (MOTE_LINE_MAX unless raised),
+ * with the line number for messages. */
 typedef struct {
     FILE *f;
     const char *path; /* as given to mote_lines_open (not copied) */
@@ -126,6 +126,8 @@ typedef struct {
     char *buf;
     size_t cap;
     int failed;       /* 0, or why reading stopped early: -1 a line too long, -2 out of memory */
+    size_t max;       /* the longest line accepted: MOTE_LINE_MAX after mote_lines_open (a reader
+                         of mote's own files may raise it) */
 } mote_lines;
 
 /* Open path for reading; fails with "PATH: cannot open: REASON" (a directory is refused too). */

@@ -156,6 +156,10 @@ static int blank(const char *s)
     return !*s;
 }
 
+/* The input is mote's own file, just written: its rows may be of any length (a trajectory row of
+ * 10^5 bodies), so only memory bounds them. */
+#define CSV_LINE_MAX ((size_t)1 << 40)
+
 int mote_datafile_csv(const char *in_path, FILE *out, mote_err *err)
 {
     /* pass 1: is it a data file, and how many blocks of rows does it hold? */
@@ -163,6 +167,7 @@ int mote_datafile_csv(const char *in_path, FILE *out, mote_err *err)
     int rc = mote_lines_open(&in, in_path, err);
     if (rc)
         return rc;
+    in.max = CSV_LINE_MAX;
     long blocks = 0;
     int datafile = 0, gap = 1;
     char *line;
@@ -187,6 +192,7 @@ int mote_datafile_csv(const char *in_path, FILE *out, mote_err *err)
     rc = mote_lines_open(&in, in_path, err);
     if (rc)
         return rc;
+    in.max = CSV_LINE_MAX;
     long block = -1;
     gap = 1;
     while ((line = mote_lines_next(&in))) {

@@ -92,6 +92,7 @@ int mote_lines_open(mote_lines *r, const char *path, mote_err *err)
 {
     memset(r, 0, sizeof *r);
     r->path = path;
+    r->max = MOTE_LINE_MAX;
     r->f = fopen(path, "r");
     if (!r->f)
         return mote_fail(err, MOTE_EIO, "%s: cannot open: %s", path, strerror(errno));
@@ -109,7 +110,7 @@ char *mote_lines_next(mote_lines *r)
     if (r->failed || !r->f)
         return NULL;
     size_t len;
-    int got = mote_read_line(&r->buf, &r->cap, &len, r->f, MOTE_LINE_MAX);
+    int got = mote_read_line(&r->buf, &r->cap, &len, r->f, r->max);
     if (got <= 0) {
         if (got < 0) {
             r->line++;
@@ -135,8 +136,9 @@ int mote_lines_close(mote_lines *r, mote_err *err)
     r->f = NULL;
     r->buf = NULL;
     if (r->failed == -1)
-        return mote_fail(err, MOTE_EFORMAT, "%s:%ld: line longer than 1 MiB (not a text file?)",
-                         r->path, r->line);
+        return mote_fail(err, MOTE_EFORMAT, "%s:%ld: line longer than %zu %s (not a text file?)",
+                         r->path, r->line, r->max >> 20 ? r->max >> 20 : r->max,
+                         r->max >> 20 ? "MiB" : "bytes");
     if (r->failed == -2)
         return mote_fail(err, MOTE_ENOMEM, "%s:%ld: out of memory reading the line", r->path,
                          r->line);
