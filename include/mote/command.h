@@ -109,6 +109,8 @@ typedef struct {
 typedef struct {
     mote_output *e;
     size_t n, cap;
+    size_t *series;   /* the entries that are series, in order (a script has few of them) */
+    size_t nseries, capseries;
     size_t *slot;     /* open-addressing index: 1 + the latest entry of a path, 0 empty */
     size_t nslot;     /* a power of two, at least twice n (lookups O(1): scripts of 10^5 saves) */
 } mote_outputs;

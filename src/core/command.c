@@ -229,6 +229,7 @@ void mote_outputs_free(mote_outputs *o)
         free(o->e[k].ext);
     }
     free(o->e);
+    free(o->series);
     free(o->slot);
     memset(o, 0, sizeof *o);
 }
@@ -304,6 +305,14 @@ static int add_entry(mote_outputs *o, const mote_call *c, int argi, const char *
 {
     if (index_grow(o))
         return mote_call_fail(err, c, argi, MOTE_ENOMEM, "out of memory");
+    if (stem && o->nseries == o->capseries) {
+        size_t cap = o->capseries ? 2 * o->capseries : 8;
+        size_t *q = realloc(o->series, cap * sizeof *q);
+        if (!q)
+            return mote_call_fail(err, c, argi, MOTE_ENOMEM, "out of memory");
+        o->series = q;
+        o->capseries = cap;
+    }
     if (o->n == o->cap) {
         size_t cap = o->cap ? 2 * o->cap : 16;
         mote_output *e = realloc(o->e, cap * sizeof *e);
@@ -321,6 +330,8 @@ static int add_entry(mote_outputs *o, const mote_call *c, int argi, const char *
         free(e.ext);
         return mote_call_fail(err, c, argi, MOTE_ENOMEM, "out of memory");
     }
+    if (stem)
+        o->series[o->nseries++] = o->n;
     o->e[o->n++] = e;
     o->slot[find_slot(o, e.path)] = o->n; /* (a path noted again: its latest entry) */
     return MOTE_OK;
@@ -336,12 +347,14 @@ int mote_outputs_note_path(mote_outputs *o, const mote_call *c, int argi, const 
     if (!repeat_ok && mote_outputs_find(o, path))
         mote_call_warn(c, "%s: '%s' is written more than once in this script; the last one wins",
                        c->name, path);
-    for (size_t k = 0; k < o->n; k++)
-        if (o->e[k].stem && in_series(&o->e[k], path)) {
+    for (size_t q = 0; q < o->nseries; q++) {
+        const mote_output *e = &o->e[o->series[q]];
+        if (in_series(e, path)) {
             mote_call_warn(c, "%s: '%s' is also one of the numbered files (%s) of line %d",
-                           c->name, path, o->e[k].kind, o->e[k].line);
+                           c->name, path, e->kind, e->line);
             break;
         }
+    }
     return add_entry(o, c, argi, path, kind, NULL, NULL, err);
 }
 
@@ -366,21 +379,22 @@ int mote_outputs_note_series(mote_outputs *o, const mote_call *c, int argi, cons
                             c->name, prefix);
     if (makes_dir && slash)
         *slash = '/';
-    const size_t ns = strlen(first) - 1 - strlen(ext);
-    first[ns] = '\0'; /* the stem */
+    first[strlen(first) - 1 - strlen(ext)] = '\0'; /* the stem */
     const mote_output *latest = NULL; /* the latest series of this kind */
-    for (size_t k = o->n; !rc && k-- > 0;)
-        if (o->e[k].stem && strcmp(o->e[k].kind, kind) == 0) {
-            latest = &o->e[k];
+    for (size_t q = o->nseries; !rc && q-- > 0;)
+        if (strcmp(o->e[o->series[q]].kind, kind) == 0) {
+            latest = &o->e[o->series[q]];
             break;
         }
     const int continues = (flags & MOTE_SERIES_BY_STEP) ||
                           (latest && !strcmp(latest->stem, first) && !strcmp(latest->ext, ext));
-    for (size_t k = 0; !rc && k < o->n; k++) {
+    char ext_copy[32];
+    snprintf(ext_copy, sizeof ext_copy, "%s", ext);
+    const mote_output probe = {.stem = first, .ext = ext_copy}; /* this series */
+    for (size_t k = 0; !rc && k < o->n; k++) { /* (few series a script: O(n) each is fine) */
         const mote_output *e = &o->e[k];
         if (e->stem ? !continues && !strcmp(e->stem, first) && !strcmp(e->ext, ext)
-                    : strncmp(e->path, first, ns) == 0 && in_series(&(mote_output){
-                          .stem = first, .ext = (char *)ext}, e->path)) {
+                    : in_series(&probe, e->path)) {
             if (e->stem)
                 mote_call_warn(c, "%s: its numbered files start again from 0 and overwrite "
                                "those of line %d (%s*%s)", c->name, e->line, first, ext);
