@@ -95,6 +95,7 @@ expect 1 "b5.mote:8:1: error: run: the time step 0.001 s is above the stability 
 expect 1 "b6.mote:5:1: error: run: no gas upflow" b6.mote "${S}channel 0.05 1\nspecies a 2500\nsize a mono d=1e-4\nrun 1\n"
 expect 0 "" sp1.mote "${S}species name=a density=2500\nspecies b 1500\nsize a mono d=1e-4\n" check
 expect 1 "sp2.mote:2:11: error: species: density must be > 0, found -1" sp2.mote "${S}species a -1\n"
+expect 1 "sp3.mote:2:9: error: species: a name without spaces, commas, '=' or '#'" sp3.mote "${S}species \"fine ore\" 2500\n"
 expect 1 "b7.mote:4:6: error: size: no species 'b'" b7.mote "${S}channel 0.05 1\nspecies a 2500\nsize b mono d=1e-4\n"
 expect 1 "b8.mote:3:8: error: size lognormal: give sigma=" b8.mote "${S}species a 2500\nsize a lognormal d50=1e-4 min=1e-5 max=1e-3\n"
 expect 1 "b9.mote:5:1: error: run: species a has no size distribution" b9.mote "${S}channel 0.05 1\ngas 1\nspecies a 2500\nrun 1\n"

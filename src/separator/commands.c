@@ -238,6 +238,10 @@ static int do_species(void *vm, const mote_call *c, mote_err *err)
     const int at = mote_call_opt_index(c, "name");
     if (sep_find_species(s, name) >= 0)
         return mote_call_fail(err, c, at, MOTE_EINVAL, "species: '%s' exists already", name);
+    if (strpbrk(name, " \t,=#"))
+        return mote_call_fail(err, c, at, MOTE_EINVAL, "species: a name without spaces, commas, "
+                              "'=' or '#' (it names columns of the data files), found '%s'",
+                              name);
     if (strlen(name) >= sizeof s->sp[0].name)
         return mote_call_fail(err, c, at, MOTE_EINVAL, "species: the name is longer than %d "
                               "characters", (int)sizeof s->sp[0].name - 1);
