@@ -39,9 +39,21 @@ typedef struct mote_script mote_script;
  * NULL and err holds a located message "FILE:LINE:COL: error: ...". */
 int mote_script_parse(mote_script **out, const char *file, const char *text, size_t len,
                       const mote_model *const *models, size_t nmodels, mote_err *err);
-/* Read the file at `path` and parse it. An unreadable file is an error naming it. */
+/* The same with parameters: `params` holds nparams strings NAME=VALUE, variables that a
+ * `set` of the same name does not change (`mote run study.mote eta=0.45`). A malformed or
+ * repeated parameter is an error. */
+int mote_script_parse_params(mote_script **out, const char *file, const char *text, size_t len,
+                             const char *const *params, int nparams,
+                             const mote_model *const *models, size_t nmodels, mote_err *err);
+/* Read the file at `path` ("-": standard input, named <stdin> in messages, its relative file
+ * names from the current directory) and parse it. An unreadable file is an error naming it. */
 int mote_script_load(mote_script **out, const char *path, const mote_model *const *models,
                      size_t nmodels, mote_err *err);
+int mote_script_load_params(mote_script **out, const char *path, const char *const *params,
+                            int nparams, const mote_model *const *models, size_t nmodels,
+                            mote_err *err);
+/* The parameters given that no line of the script uses (their names in "a, b", "" if none). */
+void mote_script_unused_params(const mote_script *s, char *buf, size_t cap);
 void mote_script_free(mote_script *s);
 
 /* The run-wide context the calls point to. After parsing it has out = stdout, diag = stderr,
@@ -68,6 +80,8 @@ typedef struct {
     int live;       /* --live[=PORT]: start the live view before the first command */
     int live_port;  /* its port (0: any free one) */
     const char *live_bind; /* --bind ADDRESS (NULL: 127.0.0.1) */
+    const char *const *params; /* NAME=VALUE after the script's name (mote_script_load_params) */
+    int nparams;
 } mote_script_options;
 
 /* Load, validate and (unless check_only) execute a script, printing any error to opt->diag.

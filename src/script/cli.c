@@ -11,10 +11,11 @@
 static void usage(FILE *f)
 {
     fprintf(f,
-            "Usage: mote run [--check] [--live[=PORT]] [--bind ADDRESS] [SCRIPT]\n"
-            "                                    run a script (default: " MOTE_DEFAULT_SCRIPT "),\n"
-            "                                    with --live watched in a browser\n"
-            "       mote check [SCRIPT]          check a script; run nothing\n"
+            "Usage: mote run [--check] [--live[=PORT]] [--bind ADDRESS] [SCRIPT] [NAME=VALUE...]\n"
+            "                                    run a script (default: " MOTE_DEFAULT_SCRIPT "; -:\n"
+            "                                    standard input), with parameters for its\n"
+            "                                    ${NAME}, with --live watched in a browser\n"
+            "       mote check [SCRIPT] [NAME=VALUE...]  check a script; run nothing\n"
             "       mote help [CMD | MODEL]      list the commands, or document one\n"
             "       mote help --markdown         the command reference in Markdown\n"
             "       mote galactica [--help]      run the Galactica job of this folder (N-body)\n"
@@ -34,12 +35,13 @@ __attribute__((format(printf, 2, 3))) static int usage_error(FILE *diag, const c
     return 1;
 }
 
-static int run_or_check(int argc, char **argv, const mote_model *const *models, size_t nmodels,
-                        FILE *out, FILE *diag, int terminal)
+static int run_or_check_with(int argc, char **argv, const char **params,
+                             const mote_model *const *models, size_t nmodels, FILE *out,
+                             FILE *diag, int terminal)
 {
-    mote_script_options opt = {out, diag, terminal, strcmp(argv[1], "check") == 0, 0, 0, NULL};
+    mote_script_options opt = {out, diag, terminal, strcmp(argv[1], "check") == 0, 0, 0, NULL, NULL, 0};
     const char *script = NULL;
-    int options_done = 0;
+    int options_done = 0, nparams = 0;
     for (int i = 2; i < argc; i++) {
         const char *a = argv[i];
         if (!options_done && strcmp(a, "--") == 0) {
@@ -61,13 +63,34 @@ static int run_or_check(int argc, char **argv, const mote_model *const *models, 
             if (strcmp(a, "--check") != 0)
                 return usage_error(diag, "unknown option '%s'", a);
             opt.check_only = 1;
+        } else if (script && strchr(a, '=')) { /* NAME=VALUE after the script */
+            params[nparams++] = a;
         } else if (script) {
-            return usage_error(diag, "more than one script given ('%s')", a);
+            return usage_error(diag, "more than one script given ('%s'); parameters are "
+                                     "written NAME=VALUE", a);
+        } else if (strchr(a, '=') && a[0] != '-' && a[0] != '.' && a[0] != '/') {
+            return usage_error(diag, "'%s' looks like a parameter; parameters come after the "
+                                     "script's name (mote run SCRIPT NAME=VALUE)", a);
         } else {
             script = a;
         }
     }
+    opt.params = params;
+    opt.nparams = nparams;
     return mote_script_run_file(script ? script : MOTE_DEFAULT_SCRIPT, models, nmodels, &opt);
+}
+
+static int run_or_check(int argc, char **argv, const mote_model *const *models, size_t nmodels,
+                        FILE *out, FILE *diag, int terminal)
+{
+    const char **params = malloc((size_t)argc * sizeof *params);
+    if (!params) {
+        fprintf(diag, "mote: error: out of memory\n");
+        return 1;
+    }
+    int rc = run_or_check_with(argc, argv, params, models, nmodels, out, diag, terminal);
+    free(params);
+    return rc;
 }
 
 int mote_script_main_io(int argc, char **argv, const mote_model *const *models, size_t nmodels,

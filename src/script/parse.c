@@ -834,6 +834,65 @@ static int parse_command(mote_script *s, const token_list *tl, const mote_model 
     return 0;
 }
 
+/* ---- variables ------------------------------------------------------------------------------ */
+
+/* Replace the variables in the line's words (not in `set`'s NAME); when any changed, the line's
+ * source (for data-file headers) becomes its words as expanded, quoted where they were. */
+static int expand_line(mote_script *s, token_list *tl, int is_set, mote_err *err)
+{
+    int changed = 0;
+    for (int k = 0; k < tl->n; k++) {
+        token *t = &tl->t[k];
+        const char *x;
+        if (is_set && k == 1)
+            continue;
+        int rc = mote_vars_expand(s, s->ctx.script_path, t->line, t->col, t->text, &x, err);
+        if (rc)
+            return rc;
+        changed |= x != t->text;
+        t->text = x;
+    }
+    if (!changed)
+        return 0;
+    size_t n = 1;
+    for (int k = 0; k < tl->n; k++)
+        n += 2 * strlen(tl->t[k].text) + 3;
+    char *src = mote_arena_alloc(&s->arena, n), *q = src;
+    if (!src)
+        return mote_script_fail_plain(err, MOTE_ENOMEM, "out of memory reading the script");
+    for (int k = 0; k < tl->n; k++) {
+        const token *t = &tl->t[k];
+        if (k)
+            *q++ = ' ';
+        if (t->quoted)
+            *q++ = '"';
+        for (const char *c = t->text; *c; c++) {
+            if (t->quoted && (*c == '"' || *c == '\\'))
+                *q++ = '\\';
+            *q++ = *c;
+        }
+        if (t->quoted)
+            *q++ = '"';
+    }
+    *q = '\0';
+    tl->src_begin = src;
+    tl->src_end = q;
+    return 0;
+}
+
+/* `set NAME VALUE` (its arguments checked by the table): NAME defined for the lines after it. */
+static int define_variable(mote_script *s, const token_list *tl, mote_err *err)
+{
+    const token *name = &tl->t[1];
+    if (name->quoted || !mote_var_name_ok(name->text, strlen(name->text)))
+        return mote_script_fail_at(err, s->ctx.script_path, name->line, name->col, MOTE_EINVAL,
+                                   "set: a variable name is a letter or '_', then letters, "
+                                   "digits or '_', found '%s'", name->text);
+    if (mote_vars_set(s, name->text, tl->t[2].text, 0))
+        return mote_script_fail_plain(err, MOTE_ENOMEM, "out of memory reading the script");
+    return 0;
+}
+
 /* ---- the whole script ----------------------------------------------------------------------- */
 
 static int parse_text(mote_script *s, const char *text, size_t len,
@@ -851,8 +910,13 @@ static int parse_text(mote_script *s, const char *text, size_t len,
             le--;
         cursor c = {p, le, line, 1};
         rc = lex_line(s, c, &tl, err);
+        const int is_set = !rc && tl.n > 0 && !tl.t[0].quoted && !strcmp(tl.t[0].text, "set");
+        if (!rc && tl.n > 0)
+            rc = expand_line(s, &tl, is_set, err);
         if (!rc && tl.n > 0)
             rc = parse_command(s, &tl, models, nmodels, err);
+        if (!rc && is_set)
+            rc = define_variable(s, &tl, err);
         if (rc || !nl)
             break;
         p = nl + 1;
@@ -871,6 +935,36 @@ static int parse_text(mote_script *s, const char *text, size_t len,
 int mote_script_parse(mote_script **out, const char *file, const char *text, size_t len,
                       const mote_model *const *models, size_t nmodels, mote_err *err)
 {
+    return mote_script_parse_params(out, file, text, len, NULL, 0, models, nmodels, err);
+}
+
+/* The parameters NAME=VALUE as fixed variables; an error names the one that is wrong. */
+static int define_params(mote_script *s, const char *const *params, int nparams, mote_err *err)
+{
+    for (int i = 0; i < nparams; i++) {
+        const char *eq = strchr(params[i], '=');
+        const size_t n = eq ? (size_t)(eq - params[i]) : 0;
+        if (!eq || !mote_var_name_ok(params[i], n))
+            return mote_script_fail_plain(err, MOTE_EINVAL, "mote: error: parameter '%s': "
+                                          "expected NAME=VALUE, NAME a letter or '_', then "
+                                          "letters, digits or '_'", params[i]);
+        for (int j = 0; j < i; j++)
+            if (strncmp(params[j], params[i], n + 1) == 0)
+                return mote_script_fail_plain(err, MOTE_EINVAL, "mote: error: parameter '%.*s' "
+                                              "is given twice ('%s' and '%s')", (int)n,
+                                              params[i], params[j], params[i]);
+        char name[256];
+        snprintf(name, sizeof name, "%.*s", (int)(n < 255 ? n : 255), params[i]);
+        if (mote_vars_set(s, name, eq + 1, 1))
+            return mote_script_fail_plain(err, MOTE_ENOMEM, "out of memory reading the script");
+    }
+    return 0;
+}
+
+int mote_script_parse_params(mote_script **out, const char *file, const char *text, size_t len,
+                             const char *const *params, int nparams,
+                             const mote_model *const *models, size_t nmodels, mote_err *err)
+{
     *out = NULL;
     mote_script *s = calloc(1, sizeof *s);
     if (!s)
@@ -883,7 +977,9 @@ int mote_script_parse(mote_script **out, const char *file, const char *text, siz
         mote_script_free(s);
         return mote_script_fail_plain(err, MOTE_ENOMEM, "out of memory reading the script");
     }
-    int rc = parse_text(s, text, len, models, nmodels, err);
+    int rc = define_params(s, params, nparams, err);
+    if (!rc)
+        rc = parse_text(s, text, len, models, nmodels, err);
     if (rc) {
         mote_script_free(s);
         return rc;
@@ -898,8 +994,18 @@ int mote_script_parse(mote_script **out, const char *file, const char *text, siz
 int mote_script_load(mote_script **out, const char *path, const mote_model *const *models,
                      size_t nmodels, mote_err *err)
 {
+    return mote_script_load_params(out, path, NULL, 0, models, nmodels, err);
+}
+
+int mote_script_load_params(mote_script **out, const char *path, const char *const *params,
+                            int nparams, const mote_model *const *models, size_t nmodels,
+                            mote_err *err)
+{
     *out = NULL;
-    FILE *f = fopen(path, "rb");
+    const int in = strcmp(path, "-") == 0; /* standard input: named <stdin> in messages */
+    FILE *f = in ? stdin : fopen(path, "rb");
+    if (in)
+        path = "<stdin>";
     if (!f)
         return mote_script_fail_plain(err, MOTE_EIO, "mote: error: cannot open script '%s': %s",
                                       path, strerror(errno));
@@ -934,7 +1040,8 @@ int mote_script_load(mote_script **out, const char *path, const mote_model *cons
             break;
         }
     }
-    fclose(f);
+    if (!in)
+        fclose(f);
     /* the core readers' line limit holds for scripts too */
     for (size_t i = 0, start = 0, line = 1; !rc && i <= len; i++)
         if (i == len || buf[i] == '\n') {
@@ -945,7 +1052,7 @@ int mote_script_load(mote_script **out, const char *path, const mote_model *cons
             line++;
         }
     if (!rc)
-        rc = mote_script_parse(out, path, buf, len, models, nmodels, err);
+        rc = mote_script_parse_params(out, path, buf, len, params, nparams, models, nmodels, err);
     free(buf);
     return rc;
 }
@@ -961,6 +1068,7 @@ void mote_script_free(mote_script *s)
         for (int k = 0; k < s->calls[i].nopts; k++)
             free(((mote_opt *)s->calls[i].opts)[k].value.path);
     mote_outputs_free(&s->ctx.outputs);
+    free(s->vars);
     free(s->calls);
     mote_arena_free(&s->arena);
     free(s);

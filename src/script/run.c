@@ -209,6 +209,9 @@ static int live_run(void *model, const mote_call *c, mote_err *err)
                                   err);
 }
 
+/* (`set` acts as the script is read: see vars.c) */
+static int set_run(void *model, const mote_call *c, mote_err *err) { return MOTE_OK; }
+
 static int seed_check(void *model, const mote_call *c, mote_err *err)
 {
     mote_script *s = model;
@@ -271,6 +274,25 @@ const mote_cmd mote_script_common_cmds[] = {
      "to the script's folder. Absolute file names are not affected. Validation knows\n"
      "that DIR will exist, so later commands may write into it.\n",
      output_dir_check, output_dir_run},
+    {"set", NULL, "s s", "set NAME VALUE", "a variable: ${NAME} in the lines after it",
+     "Define the variable NAME (a letter or `_`, then letters, digits or `_`) as VALUE\n"
+     "(one word; quote it to keep spaces) for the lines after it; a later `set` replaces\n"
+     "it. `${NAME}` in any word of a later line stands for the value, inside the word\n"
+     "(`file=rho_${eta}.dat`; a value never splits a word in two). `${EXPR}` is\n"
+     "arithmetic on numbers and variables with + - * / ^ and parentheses (`${eta*2}`,\n"
+     "`${(a+b)/2}`, `${2^10}`; no spaces inside, as a space ends a word), written as\n"
+     "digits for a whole number and otherwise as the shortest decimal that reads back to\n"
+     "the same number (`${0.1*3}` is 0.30000000000000004). `$$` writes one `$`.\n"
+     "\n"
+     "Parameters on the command line, `mote run study.mote eta=0.45 out=run1`, fix their\n"
+     "variables: a `set` of the same name then keeps the command line's value, so `set`\n"
+     "gives the defaults, and a parameter that no `${NAME}` uses is warned about. `mote\n"
+     "run - NAME=VALUE` reads the script from standard input. The values are put in as\n"
+     "the script is read, so `mote check` checks the commands as they will run, and\n"
+     "data-file headers show the command with its values. An undefined variable, a word\n"
+     "that is not a number in `${...}`, or a result that is not finite is an error\n"
+     "naming the line, and nothing runs.\n",
+     NULL, set_run},
     {"echo", NULL, "*", "echo TEXT...", "print the arguments",
      "Print the arguments, separated by single spaces, on standard output. Quote\n"
      "text to keep runs of spaces or a `#` in it.\n",
@@ -450,10 +472,15 @@ int mote_script_run_file(const char *path, const mote_model *const *models, size
     mote_err err;
     clear(&err);
     mote_script *s;
-    if (mote_script_load(&s, path, models, nmodels, &err)) {
+    if (mote_script_load_params(&s, path, opt->params, opt->nparams, models, nmodels, &err)) {
         fprintf(opt->diag, "%s\n", err.msg);
         return 1;
     }
+    char unused[256];
+    mote_script_unused_params(s, unused, sizeof unused);
+    if (unused[0])
+        fprintf(opt->diag, "%s: warning: the script uses no ${NAME} of the parameter%s %s\n",
+                mote_script_context(s)->script_path, strchr(unused, ',') ? "s" : "", unused);
     mote_context *ctx = mote_script_context(s);
     s->live_port = opt->live ? opt->live_port : -1;
     s->live_bind = opt->live_bind;

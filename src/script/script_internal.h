@@ -22,8 +22,17 @@ void mote_arena_free(mote_arena *a);
 
 /* ---- the parsed script ---------------------------------------------------------------------- */
 
+/* A script variable: `set NAME VALUE`, or NAME=VALUE on the command line (fixed: a later `set`
+ * of it keeps the command line's value). */
+typedef struct {
+    const char *name, *value; /* (in the arena) */
+    int fixed, used;
+} mote_var;
+
 struct mote_script {
     mote_context ctx;
+    mote_var *vars; /* malloc'ed */
+    int nvars, capvars;
     const mote_model *model;
     int model_line;       /* line of the `model` command, 0 when the model is the default */
     mote_call *calls;     /* malloc'ed; everything the calls point to lives in `arena` */
@@ -39,6 +48,18 @@ struct mote_script {
     mote_live *live;
     mote_buf frame;
 };
+
+/* ---- variables (vars.c) ---- */
+
+/* Is s[0 .. n) a variable name (a letter or '_', then letters, digits, '_')? */
+int mote_var_name_ok(const char *s, size_t n);
+/* Define or replace NAME (fixed: from the command line; a later non-fixed set keeps it).
+ * -1 when out of memory. */
+int mote_vars_set(mote_script *s, const char *name, const char *value, int fixed);
+/* text with its ${NAME}, ${EXPR} and $$ replaced (*out: text itself when it has no '$', else a
+ * string in the arena); errors located at FILE:LINE:COL, the word's position. */
+int mote_vars_expand(mote_script *s, const char *file, int line, int col, const char *text,
+                     const char **out, mote_err *err);
 
 /* Start the live view of a running script (port 0: any free one), print its address. */
 int mote_script_live_start(mote_script *s, const char *bind, int port, mote_err *err);

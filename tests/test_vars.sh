@@ -1,0 +1,67 @@
+#!/bin/sh
+# test_vars.sh BUILD_DIR: script variables and parameters (issue 35). `set NAME VALUE` and
+# ${NAME} inside words, ${EXPR} arithmetic written as the shortest decimal that reads back,
+# NAME=VALUE after the script's name fixing a variable over its `set`, `mote run -` reading
+# standard input, data-file headers showing the values, and the errors: each names the line and
+# nothing runs.
+NAME=vars
+. "$(dirname "$0")/lib.sh"
+mote_test_start "$1"
+
+# values and arithmetic, inside words and quoted strings
+cat > v.mote <<'X'
+model hard-spheres
+set eta 0.30
+set n 2
+new ${n} ${eta}
+echo eta=${eta} twice=${eta*2} third=${1/3} pow=${2^10} neg=${-n+1} paren=${(eta+0.1)*10} cost=$$5
+set name rho_${eta}
+echo ${name}.dat "quoted ${n}" ${0.1*3} ${1e3*2} ${-2^2}
+X
+"$MOTE" run v.mote > out.txt 2> err.txt && ok || bad "v.mote failed: $(cat err.txt)"
+grep -qx 'eta=0.30 twice=0.6 third=0.3333333333333333 pow=1024 neg=-1 paren=4 cost=$5' out.txt && ok ||
+    bad "expansion and arithmetic: $(grep '^eta' out.txt)"
+grep -qx 'rho_0.30.dat quoted 2 0.30000000000000004 2000 -4' out.txt && ok ||
+    bad "a variable made of a variable, quoted words, shortest decimals: $(grep '^rho' out.txt)"
+grep -q '^N=64 .* eta=0.3 ' out.txt && ok || bad "new \${n} \${eta}: $(grep '^N=' out.txt)"
+
+# parameters fix their variables over `set` (the defaults); the same script from standard input
+"$MOTE" run v.mote eta=0.35 n=3 > out.txt 2> err.txt && [ ! -s err.txt ] && ok || bad "parameters: $(cat err.txt)"
+grep -q '^N=276 .* eta=0.35 ' out.txt && grep -qx 'rho_0.35.dat quoted 3 0.30000000000000004 2000 -4' out.txt && ok ||
+    bad "eta=0.35 n=3: $(grep -e '^N=' -e '^rho' out.txt)"
+"$MOTE" run - n=2 < v.mote > in.txt 2> err.txt && ok || bad "mote run -: $(cat err.txt)"
+"$MOTE" run v.mote n=2 > file.txt 2>&1
+cmp -s in.txt file.txt && ok || bad "mote run - differs from the file: $(diff in.txt file.txt | head -3)"
+printf 'new 2 ${eta}\n' | "$MOTE" check - > out.txt 2> err.txt
+grep -q "^<stdin>:1:7: error: undefined variable 'eta'" err.txt && ok || bad "errors in standard input are named <stdin>: $(cat err.txt)"
+
+# the whole-script check sees the values: eta above the lattice's maximum fails before anything runs
+"$MOTE" run v.mote eta=0.9 > out.txt 2> err.txt
+[ $? -eq 1 ] && grep -q '^v.mote:4:10: error: new: eta = 0.9' err.txt && [ ! -s out.txt ] && ok || bad "eta=0.9 is not refused at check: $(cat err.txt out.txt)"
+
+# a data file's header shows the command with its values
+printf 'set k 2\nset f rho_${k}.dat\nnew 2 0.3\nimage ${k} 10 ${f}\n' > h.mote
+"$MOTE" run h.mote > /dev/null 2> err.txt && grep -q '^# command: image 2 10 rho_2.dat ' rho_2.dat && ok ||
+    bad "the header's command: $(grep '^# command' rho_2.dat) $(cat err.txt)"
+
+# errors: each names the file, line and word; nothing runs
+expect 1 "u1.mote:2:7: error: undefined variable 'eta' (define it with 'set eta VALUE' above, or give eta=VALUE after the script's name)" u1.mote 'new 2 0.3\nimage ${eta} 10 x.dat\n'
+expect 1 "u2.mote:3:6: error: in '\${t*2}': variable 't' is 'hot', not a number" u2.mote 'set t hot\nnew 2 0.3\nstep ${t*2}\n'
+expect 1 "u3.mote:1:6: error: '\${' without its '}' in 'x\${a'" u3.mote 'echo x${a\n'
+expect 1 "u4.mote:1:6: error: in '\${1/0}': the result is not a finite number" u4.mote 'echo ${1/0}\n'
+expect 1 "u5.mote:1:6: error: in '\${2)}': an operator (+ - * / ^) or the end expected" u5.mote 'echo ${2)}\n'
+expect 1 "u6.mote:1:5: error: set: a variable name is a letter or '_', then letters, digits or '_', found '1x'" u6.mote 'set 1x 3\n'
+expect 1 "u7.mote:1:1: error: set: too few arguments" u7.mote 'set x\n'
+expect 1 "u8.mote:1:6: error: undefined variable 'later'" u8.mote 'echo ${later}\nset later 1\n'
+expect 1 "u9.mote:1:6: error: in '\${(1+2}': expected ')'" u9.mote 'echo ${(1+2}\n'
+printf 'echo ${a}\n' > p.mote
+"$MOTE" run p.mote a=1 a=2 > out.txt 2> err.txt
+[ $? -eq 1 ] && grep -q "^mote: error: parameter 'a' is given twice ('a=1' and 'a=2')" err.txt && [ ! -s out.txt ] && ok || bad "a parameter given twice: $(cat err.txt)"
+"$MOTE" run p.mote 2a=1 > out.txt 2> err.txt
+[ $? -eq 1 ] && grep -q "^mote: error: parameter '2a=1': expected NAME=VALUE" err.txt && ok || bad "a malformed parameter: $(cat err.txt)"
+"$MOTE" run a=1 p.mote > out.txt 2> err.txt
+[ $? -eq 1 ] && grep -q "^mote: error: 'a=1' looks like a parameter; parameters come after the script's name" err.txt && ok || bad "a parameter before the script: $(cat err.txt)"
+"$MOTE" run p.mote a=1 b=2 > out.txt 2> err.txt
+[ $? -eq 0 ] && grep -qx 'p.mote: warning: the script uses no ${NAME} of the parameter b' err.txt && grep -qx 1 out.txt && ok || bad "an unused parameter: $(cat err.txt)"
+
+mote_test_end
