@@ -49,6 +49,29 @@ struct mote_script {
     mote_buf frame;
 };
 
+/* ---- lexing (lex.c) ---- */
+
+typedef struct {
+    const char *text;
+    int line, col, quoted;
+} token;
+
+typedef struct {
+    token *t;
+    int n, cap;
+    const char *src_begin, *src_end; /* the line without comment and surrounding blanks */
+} token_list;
+
+/* A position inside one line. */
+typedef struct {
+    const char *p, *end;
+    int line, col;
+} cursor;
+
+/* Cut one line (cursor c: its text without the line end) into tl's tokens. */
+int mote_lex_line(mote_script *s, cursor c, token_list *tl, mote_err *err);
+int mote_push_token(token_list *tl, token t);
+
 /* ---- variables (vars.c) ---- */
 
 /* Is s[0 .. n) a variable name (a letter or '_', then letters, digits, '_')? */
@@ -56,6 +79,8 @@ int mote_var_name_ok(const char *s, size_t n);
 /* Define or replace NAME (fixed: from the command line; a later non-fixed set keeps it).
  * -1 when out of memory. */
 int mote_vars_set(mote_script *s, const char *name, const char *value, int fixed);
+/* A number as variables hold it: 15 significant digits, "%.15g" (0.3, 2000, 1e+20). */
+void mote_vars_format(double x, char *buf, size_t cap);
 /* text with its ${NAME}, ${EXPR} and $$ replaced (*out: text itself when it has no '$', else a
  * string in the arena); errors located at FILE:LINE:COL, the word's position. */
 int mote_vars_expand(mote_script *s, const char *file, int line, int col, const char *text,

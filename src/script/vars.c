@@ -1,8 +1,8 @@
 /* vars.c: script variables. `set NAME VALUE` defines NAME for the lines after it, NAME=VALUE
  * after the script's name on the command line fixes it (a `set` of it then keeps that value),
  * and `${NAME}` in a word of a later line is replaced by its value; `${EXPR}` is arithmetic on
- * numbers and variables (+ - * / ^, parentheses), written back as the shortest decimal that
- * reads back to the same double. The replacement happens inside the word: a value never splits
+ * numbers and variables (+ - * / ^, parentheses), written back with 15 significant digits
+ * (as a calculator shows them: ${0.1*3} is 0.3). The replacement happens inside the word: a value never splits
  * a word in two. `$$` writes one `$`. Expansion happens as the script is read, so the
  * whole-script check sees the values. */
 #include "script_internal.h"
@@ -200,19 +200,9 @@ static double expr_sum(expr *e)
     }
 }
 
-/* A whole number below 10^15 in digits ("2000"), else the shortest "%.{p}g" of x that reads
- * back to x. */
-static void shortest(double x, char *buf, size_t cap)
+void mote_vars_format(double x, char *buf, size_t cap)
 {
-    if (x == floor(x) && fabs(x) < 1e15) {
-        snprintf(buf, cap, "%.0f", x == 0 ? 0.0 : x); /* (-0 as 0) */
-        return;
-    }
-    for (int p = 1; p <= 17; p++) {
-        snprintf(buf, cap, "%.*g", p, x);
-        if (strtod(buf, NULL) == x)
-            return;
-    }
+    snprintf(buf, cap, "%.15g", x == 0 ? 0.0 : x); /* (-0 as 0) */
 }
 
 /* ---- expansion ------------------------------------------------------------------------------- */
@@ -268,7 +258,7 @@ int mote_vars_expand(mote_script *s, const char *file, int line, int col, const 
                                              "in '${%.*s}': %s", (int)k, b, e.why);
                     break;
                 }
-                shortest(x, piece, sizeof piece);
+                mote_vars_format(x, piece, sizeof piece);
                 add = piece;
                 len = strlen(piece);
             }
