@@ -6,6 +6,7 @@
 # nothing runs.
 NAME=vars
 . "$(dirname "$0")/lib.sh"
+SRC=$(cd "$(dirname "$0")/.." && pwd)
 mote_test_start "$1"
 
 # values and arithmetic, inside words and quoted strings
@@ -63,5 +64,50 @@ printf 'echo ${a}\n' > p.mote
 [ $? -eq 1 ] && grep -q "^mote: error: 'a=1' looks like a parameter; parameters come after the script's name" err.txt && ok || bad "a parameter before the script: $(cat err.txt)"
 "$MOTE" run p.mote a=1 b=2 > out.txt 2> err.txt
 [ $? -eq 0 ] && grep -qx 'p.mote: warning: the script uses no ${NAME} of the parameter b' err.txt && grep -qx 1 out.txt && ok || bad "an unused parameter: $(cat err.txt)"
+
+# loops: for NAME in ..., for NAME from A to B [step S] (A + kS, B included), nested, each
+# pass checked as it will run; the variable keeps its last value
+cat > l.mote <<'X'
+new 2 0.2
+for eta from 0.25 to 0.4 step 0.05
+    compress_left_wall ${eta} 0.01 10
+    for k in 1 two
+        echo pass eta=${eta} k=${k}
+    end
+end
+for x from 3 to 1 step -1
+echo down ${x}
+end
+echo after ${eta} ${x}
+X
+"$MOTE" check l.mote > out.txt 2> err.txt && grep -qx 'l.mote: ok: 17 commands for model hard-spheres' out.txt && ok || bad "loops: $(cat out.txt err.txt)"
+"$MOTE" run l.mote > out.txt 2> err.txt && ok || bad "l.mote failed: $(cat err.txt)"
+[ "$(grep '^pass' out.txt | tr '\n' ' ')" = "pass eta=0.25 k=1 pass eta=0.25 k=two pass eta=0.3 k=1 pass eta=0.3 k=two pass eta=0.35 k=1 pass eta=0.35 k=two pass eta=0.4 k=1 pass eta=0.4 k=two " ] && ok ||
+    bad "loop passes: $(grep '^pass' out.txt | tr '\n' ' ')"
+[ "$(grep -e '^down' -e '^after' out.txt | tr '\n' ' ')" = "down 3 down 2 down 1 after 0.4 1 " ] && ok || bad "a falling loop and the last values: $(grep -e '^down' -e '^after' out.txt | tr '\n' ' ')"
+grep -c '^compress_left_wall\|eta=0.4 ' out.txt > /dev/null && grep -q 'eta=0.4 ' out.txt && ok || bad "the compressions did not reach eta 0.4: $(grep '^N=' out.txt | tail -1)"
+# an error names the pass; nothing runs
+expect 1 "e1.mote:2:11: error: new: eta = 0.69999999999999996 is outside (0, eta_max]" e1.mote 'for eta in 0.3 0.7\n    new 2 ${eta}\nend\n' check
+grep -q '(in the loop: eta=0.7)$' err.txt && ok || bad "the pass is not named: $(cat err.txt)"
+expect 1 "e2.mote:3:6: error: undefined variable 'y'" e2.mote 'for a in 1 2\nfor b in 3\necho ${y}\nend\nend\n'
+grep -q '(in the loop: a=1, b=3)$' err.txt && ok || bad "nested passes are not named: $(cat err.txt)"
+expect 1 "e3.mote:1:1: error: for: this loop has no 'end'" e3.mote 'for a in 1 2\necho ${a}\n'
+expect 1 "e4.mote:2:1: error: end: no loop to end" e4.mote 'echo x\nend\n'
+expect 1 "e5.mote:1:1: error: for: expected 'for NAME in V1 V2 ...' or 'for NAME from A to B [step S]'" e5.mote 'for a from 1 2\nend\n'
+expect 1 "e6.mote:1:1: error: for: from 1 to 2 step 0 gives no values" e6.mote 'for a from 1 to 2 step 0\nend\n'
+expect 1 "e7.mote:1:1: error: for: from 1 to 2 step -1 gives no values" e7.mote 'for a from 1 to 2 step -1\nend\n'
+expect 1 "e8.mote:1:12: error: for: expected a number for A, found 'one'" e8.mote 'for a from one to 2\nend\n'
+expect 1 "e9.mote:1:1: error: for: from 1 to 1e9 step 1 gives too many values" e9.mote 'for a from 1 to 1e9\nend\n'
+printf 'for a from 1 to 1000\nfor b from 1 to 1001\nend\nend\n' > big.mote
+"$MOTE" check big.mote > out.txt 2> err.txt; grep -q "^big.mote:1:1: error: for: the loops read more than 1000000 lines" err.txt && ok || bad "10^6 loop lines: $(cat err.txt out.txt)"
+printf 'for eta in 1 2\necho ${eta}\nend\n' > pa.mote
+"$MOTE" run pa.mote eta=3 > out.txt 2> err.txt
+[ $? -eq 1 ] && grep -q "^pa.mote:1:5: error: for: 'eta' is a parameter given on the command line" err.txt && ok || bad "a loop over a parameter: $(cat err.txt)"
+
+# the sweep example: a fresh system each pass, a file per pass, Z rising with eta
+cp "$SRC/examples/eos-sweep.mote" .
+"$MOTE" run eos-sweep.mote n=4 K=50 > out.txt 2> err.txt && ok || bad "eos-sweep.mote failed: $(cat err.txt)"
+z=$(for e in 0.25 0.3 0.35 0.4 0.45; do sed -n 's/^# Z = \([^ ]*\) .*/\1/p' out/eos-sweep/p_$e.dat; done | tr '\n' ' ')
+echo "$z" | awk '{ exit !(NF == 5 && $1 > 2.5 && $1 < $2 && $2 < $3 && $3 < $4 && $4 < $5 && $5 < 12) }' && ok || bad "eos-sweep: Z = $z"
 
 mote_test_end

@@ -52,6 +52,7 @@ typedef struct {
     const mote_opt *opts;       /* the key=value options given, in the order written */
     const struct mote_cmd *def;
     struct mote_context *ctx;   /* run-wide settings (output directory, terminal, streams) */
+    const char *loop;           /* inside loops: their values in this pass, "eta=0.3, n=2" */
 } mote_call;
 
 /* mote_cmd.args describes the arguments, one spec per argument, separated by spaces (plain

@@ -14,6 +14,8 @@
 
 static int is_continuation(int c) { return (c & 0xC0) == 0x80; }
 
+static const char *loop_text(mote_script *s);
+
 /* ---- argument conversion -------------------------------------------------------------------- */
 
 /* The value as shown in messages: quoted as found, long values shortened. */
@@ -675,6 +677,7 @@ static int parse_command(mote_script *s, const token_list *tl, const mote_model 
     c.opts = opts;
     c.def = def;
     c.ctx = &s->ctx;
+    c.loop = loop_text(s);
     if (!c.source)
         return mote_script_fail_plain(err, MOTE_ENOMEM, "out of memory reading the script");
     if (def == model_cmd) {
@@ -748,33 +751,211 @@ static int define_variable(mote_script *s, const token_list *tl, mote_err *err)
 
 /* ---- the whole script ----------------------------------------------------------------------- */
 
-static int parse_text(mote_script *s, const char *text, size_t len,
-                      const mote_model *const *models, size_t nmodels, mote_err *err)
+/* ---- loops ---------------------------------------------------------------------------------- */
+
+/* The most passes of one loop, and the most lines read with every pass of every loop: a script
+ * is text a person writes, and its check lists every command it will run. */
+#define LOOP_MAX_PASSES 1000000L
+#define LOOP_MAX_LINES 1000000L
+
+static int is_word(const token_list *tl, int k, const char *w)
+{
+    return tl->n > k && !tl->t[k].quoted && strcmp(tl->t[k].text, w) == 0;
+}
+
+/* "eta=0.3, n=2": the passes of the open loops (in the arena), or NULL outside loops. */
+static const char *loop_text(mote_script *s)
+{
+    if (!s->nloops)
+        return NULL;
+    char buf[512];
+    size_t n = 0;
+    buf[0] = '\0';
+    for (int k = 0; k < s->nloops && n < sizeof buf; k++) {
+        int w = snprintf(buf + n, sizeof buf - n, "%s%s=%s", k ? ", " : "", s->loops[k].name,
+                         s->loops[k].value);
+        n += w > 0 ? (size_t)w : 0;
+    }
+    return mote_arena_strndup(&s->arena, buf, strlen(buf));
+}
+
+static int parse_lines(mote_script *s, const char *p, const char *end, int line,
+                       const mote_model *const *models, size_t nmodels, mote_err *err);
+
+/* The `end` of the loop whose body starts at p, line `line`: *body_end the start of the `end`
+ * line, *after the text after it (NULL: the text ends there), *after_line its number. */
+static int find_end(mote_script *s, const token *for_tok, const char *p, const char *end,
+                    int line, const char **body_end, const char **after, int *after_line,
+                    mote_err *err)
 {
     token_list tl = {NULL, 0, 0, NULL, NULL};
-    const char *p = text, *end = text + len;
-    if (len >= 3 && memcmp(p, "\xEF\xBB\xBF", 3) == 0) /* UTF-8 byte-order mark */
-        p += 3;
-    int rc = 0;
-    for (int line = 1; p <= end; line++) {
+    int depth = 0, rc = 0, found = 0;
+    for (; p <= end && !rc && !found; line++) {
         const char *nl = memchr(p, '\n', (size_t)(end - p));
         const char *le = nl ? nl : end;
         if (le > p && le[-1] == '\r')
             le--;
-        cursor c = {p, le, line, 1};
-        rc = mote_lex_line(s, c, &tl, err);
-        const int is_set = !rc && tl.n > 0 && !tl.t[0].quoted && !strcmp(tl.t[0].text, "set");
-        if (!rc && tl.n > 0)
-            rc = expand_line(s, &tl, is_set, err);
-        if (!rc && tl.n > 0)
-            rc = parse_command(s, &tl, models, nmodels, err);
-        if (!rc && is_set)
-            rc = define_variable(s, &tl, err);
-        if (rc || !nl)
+        rc = mote_lex_line(s, (cursor){p, le, line, 1}, &tl, err);
+        if (!rc && is_word(&tl, 0, "for"))
+            depth++;
+        else if (!rc && is_word(&tl, 0, "end") && depth-- == 0) {
+            *body_end = p;
+            *after = nl ? nl + 1 : NULL;
+            *after_line = line + 1;
+            found = 1;
+        }
+        if (!nl)
             break;
         p = nl + 1;
     }
     free(tl.t);
+    if (!rc && !found)
+        rc = mote_script_fail_at(err, s->ctx.script_path, for_tok->line, for_tok->col,
+                                 MOTE_EINVAL, "for: this loop has no 'end' (a line 'end' closes "
+                                 "it)");
+    return rc;
+}
+
+static int read_loop_number(mote_script *s, const token *t, const char *what, double *v,
+                            mote_err *err)
+{
+    char *e;
+    *v = strtod(t->text, &e);
+    if (t->quoted || e == t->text || *e || !isfinite(*v) || strpbrk(t->text, "xXnN"))
+        return mote_script_fail_at(err, s->ctx.script_path, t->line, t->col, MOTE_EINVAL,
+                                   "for: expected a number for %s, found '%s'", what, t->text);
+    return 0;
+}
+
+/* `for NAME in V1 V2 ...` or `for NAME from A to B [step S]` ... `end`: the body read once per
+ * value, with NAME set to it; *next and *next_line where reading goes on. */
+static int parse_loop(mote_script *s, token_list *tl, const char *body, const char *end,
+                      int body_line, const char **next, int *next_line,
+                      const mote_model *const *models, size_t nmodels, mote_err *err)
+{
+    const char *file = s->ctx.script_path;
+    const token *t = tl->t;
+    const int in = is_word(tl, 2, "in"), from = is_word(tl, 2, "from");
+    if (tl->n < 4 || (!in && !from) ||
+        (from && !(is_word(tl, 4, "to") && (tl->n == 6 || (tl->n == 8 && is_word(tl, 6, "step"))))))
+        return mote_script_fail_at(err, file, t[0].line, t[0].col, MOTE_EINVAL,
+                                   "for: expected 'for NAME in V1 V2 ...' or 'for NAME from A "
+                                   "to B [step S]'");
+    const token *name = &t[1];
+    if (name->quoted || !mote_var_name_ok(name->text, strlen(name->text)))
+        return mote_script_fail_at(err, file, name->line, name->col, MOTE_EINVAL,
+                                   "for: a variable name is a letter or '_', then letters, "
+                                   "digits or '_', found '%s'", name->text);
+    for (int k = 0; k < s->nvars; k++)
+        if (s->vars[k].fixed && !strcmp(s->vars[k].name, name->text))
+            return mote_script_fail_at(err, file, name->line, name->col, MOTE_EINVAL,
+                                       "for: '%s' is a parameter given on the command line; "
+                                       "loop over another name", name->text);
+    if (s->nloops == MOTE_LOOP_DEPTH)
+        return mote_script_fail_at(err, file, t[0].line, t[0].col, MOTE_EINVAL,
+                                   "for: more than %d loops inside each other", MOTE_LOOP_DEPTH);
+    double a = 0, b = 0, step = 1;
+    long passes = tl->n - 3;
+    if (from) {
+        int rc = read_loop_number(s, &t[3], "A", &a, err);
+        if (!rc)
+            rc = read_loop_number(s, &t[5], "B", &b, err);
+        if (!rc && tl->n == 8)
+            rc = read_loop_number(s, &t[7], "S", &step, err);
+        if (rc)
+            return rc;
+        const double q = (b - a) / step;
+        if (step == 0 || !(q > -1e-9) || !(q < (double)LOOP_MAX_PASSES))
+            return mote_script_fail_at(err, file, t[0].line, t[0].col, MOTE_EINVAL,
+                                       "for: from %s to %s step %s gives %s values (1 to "
+                                       "%ld)", t[3].text, t[5].text,
+                                       tl->n == 8 ? t[7].text : "1",
+                                       step == 0 || !(q > -1e-9) ? "no" : "too many",
+                                       LOOP_MAX_PASSES);
+        passes = (long)floor(q + 1e-9) + 1; /* B itself when it is a whole number of steps */
+    }
+    const char *body_end = NULL, *after = NULL;
+    int after_line = 0;
+    int rc = find_end(s, &t[0], body, end, body_line, &body_end, &after, &after_line, err);
+    if (rc)
+        return rc;
+    mote_loop_pass *lp = &s->loops[s->nloops++];
+    lp->name = name->text;
+    lp->line = t[0].line;
+    for (long k = 0; k < passes && !rc; k++) {
+        char num[64];
+        if (from) /* A + k S: no sum carried from pass to pass */
+            mote_vars_format(a + (double)k * step, num, sizeof num);
+        const char *value = from ? num : t[3 + k].text;
+        if (mote_vars_set(s, name->text, value, 0))
+            rc = mote_script_fail_plain(err, MOTE_ENOMEM, "out of memory reading the script");
+        for (int v = 0; v < s->nvars; v++) /* (for messages: the stored copy, which outlives num) */
+            if (!strcmp(s->vars[v].name, name->text))
+                lp->value = s->vars[v].value;
+        if (!rc)
+            rc = parse_lines(s, body, body_end, body_line, models, nmodels, err);
+    }
+    s->nloops--;
+    *next = after;
+    *next_line = after_line;
+    return rc;
+}
+
+/* Read the lines of text [p, end), the first of them line `line`. */
+static int parse_lines(mote_script *s, const char *p, const char *end, int line,
+                       const mote_model *const *models, size_t nmodels, mote_err *err)
+{
+    token_list tl = {NULL, 0, 0, NULL, NULL};
+    int rc = 0;
+    while (p && p <= end && !rc) {
+        const char *nl = memchr(p, '\n', (size_t)(end - p));
+        const char *le = nl ? nl : end;
+        if (le > p && le[-1] == '\r')
+            le--;
+        if (++s->lines_read > LOOP_MAX_LINES && s->nloops)
+            rc = mote_script_fail_at(err, s->ctx.script_path, s->loops[0].line, 1, MOTE_EINVAL,
+                                     "for: the loops read more than %ld lines (every pass "
+                                     "counts)", LOOP_MAX_LINES);
+        if (!rc)
+            rc = mote_lex_line(s, (cursor){p, le, line, 1}, &tl, err);
+        const int is_set = !rc && is_word(&tl, 0, "set"), is_for = !rc && is_word(&tl, 0, "for");
+        if (!rc && tl.n > 0)
+            rc = expand_line(s, &tl, is_set || is_for, err);
+        if (!rc && is_for) {
+            const char *next = NULL;
+            int next_line = line;
+            rc = parse_loop(s, &tl, nl ? nl + 1 : end, end, line + 1, &next, &next_line, models,
+                            nmodels, err);
+            p = next;
+            line = next_line;
+            continue;
+        }
+        if (!rc && is_word(&tl, 0, "end"))
+            rc = mote_script_fail_at(err, s->ctx.script_path, line, tl.t[0].col, MOTE_EINVAL,
+                                     "end: no loop to end (for NAME in ... or for NAME from ... "
+                                     "opens one)");
+        if (!rc && tl.n > 0)
+            rc = parse_command(s, &tl, models, nmodels, err);
+        if (!rc && is_set)
+            rc = define_variable(s, &tl, err);
+        if (rc && s->nloops && err->msg[0] && !strstr(err->msg, " (in the loop: "))
+            mote_script_note_loop(err, loop_text(s));
+        if (!nl)
+            break;
+        p = nl + 1;
+        line++;
+    }
+    free(tl.t);
+    return rc;
+}
+
+static int parse_text(mote_script *s, const char *text, size_t len,
+                      const mote_model *const *models, size_t nmodels, mote_err *err)
+{
+    const char *p = text, *end = text + len;
+    if (len >= 3 && memcmp(p, "\xEF\xBB\xBF", 3) == 0) /* UTF-8 byte-order mark */
+        p += 3;
+    int rc = parse_lines(s, p, end, 1, models, nmodels, err);
     if (!rc && !s->model) {
         /* An empty script: it still belongs to a model, for `check` and for status output. */
         s->model = mote_model_find(models, nmodels, MOTE_DEFAULT_MODEL);

@@ -29,10 +29,20 @@ typedef struct {
     int fixed, used;
 } mote_var;
 
+/* The loops open around the line being read (`for NAME ...` / `end`). */
+enum { MOTE_LOOP_DEPTH = 16 };
+typedef struct {
+    const char *name, *value; /* the loop's variable and its value in this pass */
+    int line;                 /* of the `for` */
+} mote_loop_pass;
+
 struct mote_script {
     mote_context ctx;
     mote_var *vars; /* malloc'ed */
     int nvars, capvars;
+    mote_loop_pass loops[MOTE_LOOP_DEPTH];
+    int nloops;
+    long lines_read; /* lines read, each pass of a loop's body again (bounded) */
     const mote_model *model;
     int model_line;       /* line of the `model` command, 0 when the model is the default */
     mote_call *calls;     /* malloc'ed; everything the calls point to lives in `arena` */
@@ -85,6 +95,9 @@ void mote_vars_format(double x, char *buf, size_t cap);
  * string in the arena); errors located at FILE:LINE:COL, the word's position. */
 int mote_vars_expand(mote_script *s, const char *file, int line, int col, const char *text,
                      const char **out, mote_err *err);
+
+/* Append " (in the loop: eta=0.3, n=2)" to a message. */
+void mote_script_note_loop(mote_err *err, const char *loop);
 
 /* Start the live view of a running script (port 0: any free one), print its address. */
 int mote_script_live_start(mote_script *s, const char *bind, int port, mote_err *err);

@@ -238,12 +238,21 @@ void mote_script_locate(mote_err *err, const mote_call *c)
 {
     if (err->code == MOTE_OK)
         err->code = MOTE_ERUNTIME;
-    if (err->located)
-        return;
-    char msg[sizeof err->msg];
-    memcpy(msg, err->msg, sizeof msg);
-    msg[sizeof msg - 1] = '\0';
-    if (msg[0] == '\0')
-        snprintf(msg, sizeof msg, "%s: failed without a message", c->name);
-    mote_script_fail_at(err, c->file, c->line, c->col, err->code, "%s", msg);
+    if (!err->located) {
+        char msg[sizeof err->msg];
+        memcpy(msg, err->msg, sizeof msg);
+        msg[sizeof msg - 1] = '\0';
+        if (msg[0] == '\0')
+            snprintf(msg, sizeof msg, "%s: failed without a message", c->name);
+        mote_script_fail_at(err, c->file, c->line, c->col, err->code, "%s", msg);
+    }
+    if (c->loop) /* which pass of the loops failed */
+        mote_script_note_loop(err, c->loop);
+}
+
+void mote_script_note_loop(mote_err *err, const char *loop)
+{
+    const size_t n = strlen(err->msg);
+    if (n < sizeof err->msg)
+        snprintf(err->msg + n, sizeof err->msg - n, " (in the loop: %s)", loop);
 }
