@@ -39,8 +39,9 @@ done
 for f in c_summary.txt c_summary.json; do
     [ -s "p1/$f" ] && [ "$(untimed p1/$f)" = "$(untimed r2/$f)" ] && ok || bad "$f differs beyond its timing"
 done
-# the numbers printed, without speeds
-nums() { grep -E '^(run|float|evolve):' "$1" | sed -e 's/[0-9.e+]* traces\/s//'; }
+# the numbers printed, without speeds and without progress lines (mpirun gives the ranks a
+# pseudo-terminal, so rank 0 shows progress: "\rfloat: run 3, 42.0%  ~0 s left", wiped by "\r  \r")
+nums() { tr '\r' '\n' < "$1" | grep -E '^(run|float|evolve):' | grep -v -E '^[a-z_]+(: run [0-9]+,)? [0-9.]+%' | sed -e 's/[0-9.e+]* traces\/s//'; }
 [ -n "$(nums p1/out.txt)" ] && [ "$(nums p1/out.txt)" = "$(nums r2/out.txt)" ] && ok || bad "the printed results differ: $(nums r2/out.txt | head -3)"
 grep -q '^float: U_f = ' r2/out.txt && ok || bad "2 ranks: no float line"
 # only rank 0 writes: no temporary or second copies
