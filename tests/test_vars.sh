@@ -91,6 +91,10 @@ expect 1 "e1.mote:2:11: error: new: eta = 0.69999999999999996 is outside (0, eta
 grep -q '(in the loop: eta=0.7)$' err.txt && ok || bad "the pass is not named: $(cat err.txt)"
 expect 1 "e2.mote:3:6: error: undefined variable 'y'" e2.mote 'for a in 1 2\nfor b in 3\necho ${y}\nend\nend\n'
 grep -q '(in the loop: a=1, b=3)$' err.txt && ok || bad "nested passes are not named: $(cat err.txt)"
+# an error at run time names the pass too (a plot of a file that is not a data file)
+printf 'not a data file\n' > plain.txt
+expect 2 "e2b.mote:3:1: error: plain.txt:1: not a mote data file" e2b.mote 'new 2 0.3\nfor k in 1\nplot plain.txt o_${k}.png\nend\n'
+grep -q '(in the loop: k=1)$' err.txt && ok || bad "a run-time error does not name the pass: $(cat err.txt)"
 expect 1 "e3.mote:1:1: error: for: this loop has no 'end'" e3.mote 'for a in 1 2\necho ${a}\n'
 expect 1 "e4.mote:2:1: error: end: no loop to end" e4.mote 'echo x\nend\n'
 expect 1 "e5.mote:1:1: error: for: expected 'for NAME in V1 V2 ...' or 'for NAME from A to B [step S]'" e5.mote 'for a from 1 2\nend\n'

@@ -299,28 +299,29 @@ static int in_series(const mote_output *e, const char *path)
     return 1;
 }
 
+/* Room in *arr (of *cap elements of `size` bytes) for element n: doubled when full; -1 out of
+ * memory. */
+static int room_for(void **arr, size_t *cap, size_t n, size_t size)
+{
+    if (n < *cap)
+        return 0;
+    size_t want = *cap ? 2 * *cap : 16;
+    void *p = realloc(*arr, want * size);
+    if (!p)
+        return -1;
+    *arr = p;
+    *cap = want;
+    return 0;
+}
+
 /* Add an entry (stem and ext NULL for one file); MOTE_ENOMEM fails at argi. */
 static int add_entry(mote_outputs *o, const mote_call *c, int argi, const char *path,
                      const char *kind, const char *stem, const char *ext, mote_err *err)
 {
-    if (index_grow(o))
+    if (index_grow(o) ||
+        (stem && room_for((void **)&o->series, &o->capseries, o->nseries, sizeof *o->series)) ||
+        room_for((void **)&o->e, &o->cap, o->n, sizeof *o->e))
         return mote_call_fail(err, c, argi, MOTE_ENOMEM, "out of memory");
-    if (stem && o->nseries == o->capseries) {
-        size_t cap = o->capseries ? 2 * o->capseries : 8;
-        size_t *q = realloc(o->series, cap * sizeof *q);
-        if (!q)
-            return mote_call_fail(err, c, argi, MOTE_ENOMEM, "out of memory");
-        o->series = q;
-        o->capseries = cap;
-    }
-    if (o->n == o->cap) {
-        size_t cap = o->cap ? 2 * o->cap : 16;
-        mote_output *e = realloc(o->e, cap * sizeof *e);
-        if (!e)
-            return mote_call_fail(err, c, argi, MOTE_ENOMEM, "out of memory");
-        o->e = e;
-        o->cap = cap;
-    }
     mote_output e = {copy_string(path), copy_string(kind), stem ? copy_string(stem) : NULL,
                      ext ? copy_string(ext) : NULL, c->line};
     if (!e.path || !e.kind || (stem && !e.stem) || (ext && !e.ext)) {
