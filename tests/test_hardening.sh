@@ -78,6 +78,10 @@ limited 1 "bins.mote:2:9: error: image: p must be in [1, 10000], found 10000000"
 limited 1 "area.mote:2:1: error: generate area: 426 x 214 x 107 = 9754548 nodes is more than the 10^6" area.mote "model nbody\ngenerate area mu=425 b=0.5 c=0.25\n"
 awk 'BEGIN { print "new 8 0.3"; for (i = 0; i < 100000; i++) printf "save s%d.txt\n", i }' > saves.mote
 timeout 60 "$MOTE" check saves.mote > out.txt 2> err.txt && grep -q 'ok: 100001 commands' out.txt && ok || bad "10^5 save lines: $(tail -c 300 err.txt)"
+# a script of more than 10^6 lines outside loops may still have a loop (only the lines that
+# loops read count against their bound)
+awk 'BEGIN { for (i = 0; i < 1000001; i++) print "echo a"; print "for k in 1 2\necho ${k}\nend" }' > lines.mote
+timeout 60 "$MOTE" check lines.mote > out.txt 2> err.txt && grep -q 'ok: 1000003 commands' out.txt && ok || bad "10^6 lines and a loop: $(tail -c 300 err.txt)"
 # ... nor with a numbered series beside them (each file is compared with the series only)
 awk 'BEGIN { print "model mixing-box\nbox 0 2 0 1\npartition 1 0.02\nslit 0.5 0.1\nradius 0.01\ndisks 4 4\nv_init 1\nplace\nframes 1 f"; for (i = 0; i < 100000; i++) printf "snapshot s%d.png\n", i }' > snaps.mote
 timeout 60 "$MOTE" check snaps.mote > out.txt 2> err.txt && grep -q 'ok: 100009 commands' out.txt && ok || bad "10^5 snapshot lines and frames: $(tail -c 300 err.txt)"

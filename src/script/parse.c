@@ -912,7 +912,8 @@ static int parse_lines(mote_script *s, const char *p, const char *end, int line,
         const char *le = nl ? nl : end;
         if (le > p && le[-1] == '\r')
             le--;
-        if (++s->lines_read > LOOP_MAX_LINES && s->nloops)
+        /* (the lines outside loops, read once, do not count) */
+        if (s->nloops && ++s->lines_read > LOOP_MAX_LINES)
             rc = mote_script_fail_at(err, s->ctx.script_path, s->loops[0].line, 1, MOTE_EINVAL,
                                      "for: the loops read more than %ld lines (every pass "
                                      "counts)", LOOP_MAX_LINES);
@@ -978,7 +979,7 @@ static int define_params(mote_script *s, const char *const *params, int nparams,
     for (int i = 0; i < nparams; i++) {
         const char *eq = strchr(params[i], '=');
         const size_t n = eq ? (size_t)(eq - params[i]) : 0;
-        if (!eq || !mote_var_name_ok(params[i], n))
+        if (!eq || n > 255 || !mote_var_name_ok(params[i], n))
             return mote_script_fail_plain(err, MOTE_EINVAL, "mote: error: parameter '%s': "
                                           "expected NAME=VALUE, NAME a letter or '_', then "
                                           "letters, digits or '_'", params[i]);
@@ -988,7 +989,7 @@ static int define_params(mote_script *s, const char *const *params, int nparams,
                                               "is given twice ('%s' and '%s')", (int)n,
                                               params[i], params[j], params[i]);
         char name[256];
-        snprintf(name, sizeof name, "%.*s", (int)(n < 255 ? n : 255), params[i]);
+        snprintf(name, sizeof name, "%.*s", (int)n, params[i]);
         if (mote_vars_set(s, name, eq + 1, 1))
             return mote_script_fail_plain(err, MOTE_ENOMEM, "out of memory reading the script");
     }
