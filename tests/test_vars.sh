@@ -108,6 +108,27 @@ printf 'for eta in 1 2\necho ${eta}\nend\n' > pa.mote
 "$MOTE" run pa.mote eta=3 > out.txt 2> err.txt
 [ $? -eq 1 ] && grep -q "^pa.mote:1:5: error: for: 'eta' is a parameter given on the command line" err.txt && ok || bad "a loop over a parameter: $(cat err.txt)"
 
+# reset: every model, two passes of one loop are one run each, bit for bit (the seed is back to 1)
+# and equal to the same commands run alone; without reset the second pass is refused
+reset_case() { # NAME MODEL_LINE SETUP_AND_RUN (\n-separated)
+    printf '%b\n' "$2\n$3" > "$1_alone.mote"
+    printf '%b\n' "$2\nfor pass in 1 2\nreset\n$3\nend" > "$1_loop.mote"
+    "$MOTE" run "$1_alone.mote" > "$1_alone.txt" 2> err.txt || bad "$1 alone failed: $(cat err.txt)"
+    "$MOTE" run "$1_loop.mote" > "$1_loop.txt" 2> err.txt || bad "$1 with reset failed: $(cat err.txt)"
+    grep -v "^reset: a new .* system$\|seconds=\|[0-9] s$\|/s\b" "$1_loop.txt" > l.txt
+    grep -v "seconds=\|[0-9] s$\|/s\b" "$1_alone.txt" > a.txt
+    [ -s a.txt ] && [ "$(grep -c '^reset: a new' "$1_loop.txt")" = 2 ] && cat a.txt a.txt | cmp -s - l.txt && ok ||
+        bad "$1: two passes with reset differ from two runs: $(cat a.txt a.txt | diff - l.txt | head -n 4)"
+}
+reset_case hs 'model hard-spheres' 'new 2 0.3\nstep 20'
+reset_case nb 'model nbody' 'generate ring nb=12\nintegrate to=0.02'
+reset_case mb 'model mixing-box' 'box 0 0.4 0 0.2\npartition 0.2 0.01\nslit 0.1 0.04\nradius 0.004\ndisks 30 20\nv_init 1\nplace\nrun 0.05'
+reset_case ch 'model charging' 'plasma preset single n=1e6 kT=10\nbody sphere radius=1\nrun particles=2000'
+reset_case sp 'model separator' 'channel 0.05 1\ngas 1.0\ncoupling off\ncollisions off\nspecies quartz 2500\nsize quartz loguniform min=75e-6 max=300e-6 basis=number\nfeed z=0.5\ntimestep 1e-3\ninsert quartz 200\nrun 0.2'
+expect 1 "nr.mote:3:1: error: generate: the system already has bodies; a ring starts empty ('reset' gives a new one) (in the loop: k=2)" nr.mote 'model nbody\nfor k in 1 2\ngenerate ring nb=12\nend\n' check
+# reset is checked like any command: the dry system is new too, so a later error is still found
+expect 1 "rc.mote:4:1: error: step: no system exists yet; create one first with new, bulk, new_disks, bulk_disks or load" rc.mote 'new 2 0.3\nstep 2\nreset\nstep 2\n' check
+
 # the sweep example: a fresh system each pass, a file per pass, Z rising with eta
 cp "$SRC/examples/eos-sweep.mote" .
 "$MOTE" run eos-sweep.mote n=4 K=50 > out.txt 2> err.txt && ok || bad "eos-sweep.mote failed: $(cat err.txt)"

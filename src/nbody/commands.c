@@ -375,7 +375,8 @@ static int check_solar(void *vm, const mote_call *c, mote_err *err)
     const mote_arg *d = mote_call_opt(c, "data");
     if (m->d_bodies)
         return mote_call_fail(err, c, -1, MOTE_EINVAL,
-                              "generate: the system already has bodies; a generator starts empty");
+                              "generate: the system already has bodies; a generator starts empty "
+                              "('reset' gives a new one)");
     const int inner = merge_inner_opt(c);
     int rc;
     m->d_bodies = 2;
@@ -463,7 +464,8 @@ static int check_area(void *vm, const mote_call *c, mote_err *err)
                               "area of matter needs 'model nbody gravity'");
     if (m->d_bodies)
         return mote_call_fail(err, c, -1, MOTE_EINVAL,
-                              "generate: the system already has bodies; the area starts empty");
+                              "generate: the system already has bodies; the area starts empty "
+                              "('reset' gives a new one)");
     mote_nb_area a;
     int rc = area_opts(c, &a, err);
     if (rc)
@@ -521,7 +523,8 @@ static int check_plummer(void *vm, const mote_call *c, mote_err *err)
         return mote_call_fail(err, c, mote_call_opt_index(c, "n"), e2.code, "%s", e2.msg);
     if (m->nb.kind != MOTE_NB_GRAVITY || m->d_bodies)
         return mote_call_fail(err, c, -1, MOTE_EINVAL, "generate plummer: %s",
-                              m->d_bodies ? "the system already has bodies"
+                              m->d_bodies ? "the system already has bodies "
+                                            "('reset' gives a new one)"
                                           : "a Plummer sphere needs 'model nbody gravity'");
     m->d_bodies = (uint32_t)n->i;
     m->d_ring = 0;
@@ -555,7 +558,8 @@ static int check_ring(void *vm, const mote_call *c, mote_err *err)
                               ring ? "gravity ring" : "Coulomb ring", ring ? "gravity" : "coulomb");
     if (m->d_bodies)
         return mote_call_fail(err, c, -1, MOTE_EINVAL,
-                              "generate: the system already has bodies; a ring starts empty");
+                              "generate: the system already has bodies; a ring starts empty "
+                              "('reset' gives a new one)");
     const mote_arg *nbo = mote_call_opt(c, "nb");
     m->d_bodies = nbo ? (uint32_t)nbo->i : ring ? 30 : 9;
     m->d_ring = 1;

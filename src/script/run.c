@@ -212,6 +212,33 @@ static int live_run(void *model, const mote_call *c, mote_err *err)
 /* (`set`, `for` and `end` act as the script is read: see vars.c and parse.c) */
 static int set_run(void *model, const mote_call *c, mote_err *err) { return MOTE_OK; }
 
+/* `reset`: the model's system is destroyed and a fresh one made, as at the start of the script
+ * (dry while validating, real while running); the run-wide settings stay. */
+static int reset_to(mote_script *s, const mote_call *c, int dry, mote_err *err)
+{
+    void *fresh = s->model->create(&s->ctx, dry);
+    if (!fresh)
+        return mote_call_fail(err, c, -1, MOTE_ENOMEM, "reset: cannot create a new %s system "
+                              "(out of memory)", s->model->name);
+    s->model->destroy(s->instance);
+    s->instance = fresh;
+    return MOTE_OK;
+}
+
+static int reset_check(void *model, const mote_call *c, mote_err *err)
+{
+    return reset_to(model, c, 1, err);
+}
+
+static int reset_run(void *model, const mote_call *c, mote_err *err)
+{
+    mote_script *s = model;
+    int rc = reset_to(s, c, 0, err);
+    if (!rc)
+        fprintf(c->ctx->out, "reset: a new %s system\n", s->model->name);
+    return rc;
+}
+
 static int seed_check(void *model, const mote_call *c, mote_err *err)
 {
     mote_script *s = model;
@@ -308,11 +335,27 @@ const mote_cmd mote_script_common_cmds[] = {
      "The check lists every pass: `mote check` checks each command as each pass will run\n"
      "it, and an error names the line and the pass, `(in the loop: eta=0.45, k=2)`. A\n"
      "loop reads its body at most 10^6 times, and all loops together at most 10^6 lines.\n"
-     "A loop works on the system the script has: to sweep fresh systems, make each pass\n"
-     "start one (hard spheres' `new`, a model's `load`).\n",
+     "A loop works on the system the script has: to sweep fresh systems, begin each pass\n"
+     "with `reset`.\n",
      NULL, set_run},
     {"end", NULL, "", "end", "close the loop of the last `for`",
      "Close the loop opened by the last `for` that is still open (see `for`).\n", NULL, set_run},
+    {"reset", NULL, "", "reset", "start again from a new, empty system of the model",
+     "Discard the model's system and start a new one, as at the start of the script:\n"
+     "no particles or bodies, every setting of the model back to its default and the\n"
+     "random stream back to `seed 1` (give `seed` after `reset` for another stream).\n"
+     "What belongs to the run stays: `threads`, `output_dir`, variables, the live view,\n"
+     "and the files written so far. In a loop it makes every pass an independent\n"
+     "run:\n"
+     "\n"
+     "    for v in 0.5 1 2\n"
+     "        reset\n"
+     "        generate ring nb=30\n"
+     "        ...\n"
+     "    end\n"
+     "\n"
+     "Prints `reset: a new MODEL system`.\n",
+     reset_check, reset_run},
     {"echo", NULL, "*", "echo TEXT...", "print the arguments",
      "Print the arguments, separated by single spaces, on standard output. Quote\n"
      "text to keep runs of spaces or a `#` in it.\n",
@@ -421,14 +464,15 @@ int mote_script_validate(mote_script *s, mote_err *err)
         if (!rc)
             rc = mote_args_check_before(c, err);
         if (!rc && c->def->check)
-            rc = c->def->check(mote_script_is_common(s, c->def) ? (void *)s : dry, c, err);
+            rc = c->def->check(mote_script_is_common(s, c->def) ? (void *)s : s->instance, c,
+                               err);
         if (!rc)
             rc = mote_args_check_after(c, err);
         if (rc)
             mote_script_locate(err, c);
     }
+    s->model->destroy(s->instance); /* (`reset` may have replaced it) */
     s->instance = NULL;
-    s->model->destroy(dry);
     reset_context(&s->ctx);
     if (rc)
         return err->code ? (int)err->code : (int)MOTE_EINVAL;
@@ -446,11 +490,11 @@ int mote_script_execute(mote_script *s, mote_err *err)
     clear(err);
     reset_context(&s->ctx);
     s->threads_noted = 0;
-    void *model = s->model->create(&s->ctx, 0);
-    if (!model)
+    void *first = s->model->create(&s->ctx, 0);
+    if (!first)
         return mote_script_fail_at(err, s->ctx.script_path, 1, 1, MOTE_ENOMEM,
                                    "cannot create the %s model (out of memory)", s->model->name);
-    s->instance = model;
+    s->instance = first;
     int rc = 0;
     if (s->live_port >= 0 && (rc = mote_script_live_start(s, s->live_bind, s->live_port, err)))
         rc = err->code;
@@ -460,15 +504,15 @@ int mote_script_execute(mote_script *s, mote_err *err)
         clear(err);
         rc = mote_args_resolve(c, err);
         if (!rc && c->def->run) {
-            rc = c->def->run(common ? (void *)s : model, c, err);
+            rc = c->def->run(common ? (void *)s : s->instance, c, err);
             if (!rc && !common && s->model->settle)
-                rc = s->model->settle(model, err);
+                rc = s->model->settle(s->instance, err);
         }
         if (rc) {
             mote_script_locate(err, c);
             rc = err->code ? (int)err->code : (int)MOTE_ERUNTIME;
         } else if (!common && s->model->status) {
-            s->model->status(model, s->ctx.out);
+            s->model->status(s->instance, s->ctx.out);
         }
         fflush(s->ctx.out);
         if (!rc && s->live) /* a frame of the state after every command */
@@ -480,6 +524,7 @@ int mote_script_execute(mote_script *s, mote_err *err)
         s->ctx.tick = NULL;
         mote_buf_free(&s->frame);
     }
+    void *model = s->instance; /* (`reset` may have replaced the first) */
     s->instance = NULL;
     reset_context(&s->ctx);
     s->model->destroy(model);
