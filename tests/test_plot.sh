@@ -96,5 +96,77 @@ check "a short pressure row is a runtime error (exit 2)" '[ $rc -eq 2 ]'
 check "the short row is named by file and line" 'grep -q "pshort.dat:[0-9]*: malformed data row (9 numbers)" err.txt'
 check "no PNG is left behind" '[ ! -e pshort.png ]'
 
+# ---- lines: several files in one frame, with a legend (any model) ----
+# colour_px PNG R G B: the pixels within 12 of the colour (R, G, B in 0..255), read back with
+# Debian's matplotlib
+colour_px() {
+    /usr/bin/python3 -c 'import sys, numpy as np, matplotlib.image as im
+a = im.imread(sys.argv[1])[:, :, :3] * 255
+c = np.array([float(v) for v in sys.argv[2:5]])
+print(int((np.abs(a - c).max(axis=2) <= 12).sum()))' "$@"
+}
+cat > lines.mote <<'S'
+for eta in 0.3 0.4
+    reset
+    new 3 ${eta}
+    step 20
+    image 10 4 rho_${eta}.dat
+end
+plot rho_0.3.dat rho_0.4.dat to=two.png labels=0.3,0.4
+plot rho_0.3.dat to=one.png labels=0.3
+plot rho_0.3.dat rho_0.4.dat to=two_again.png labels=0.3,0.4
+plot rho_0.3.dat rho_0.4.dat to=relabel.png labels=0.3,other
+plot rho_0.3.dat rho_0.4.dat to=v.png x=x_mid y=rho_v
+S
+"$mote" run lines.mote >out.txt 2>err.txt
+check "a script of overlays runs" '[ $? -eq 0 ]'
+check "the overlay is a 1000x650 PNG" 'is_png two.png && [ "$(png_size two.png)" = 1000x650 ]'
+check "plot reports the overlay" 'grep -q "^plot: wrote two.png$" out.txt'
+check "the same overlay twice: the same bytes" 'cmp -s two.png two_again.png'
+check "labels= changes the legend" '! cmp -s two.png relabel.png'
+check "x= and y= choose other columns" '! cmp -s two.png v.png'
+# one line is blue (Okabe-Ito), the second vermillion: absent from the one-file picture
+blue1=$(colour_px one.png 0 114 178) ver1=$(colour_px one.png 213 94 0) ver2=$(colour_px two.png 213 94 0)
+check "one file: a blue line, no vermillion one ($blue1, $ver1 px)" '[ "$blue1" -gt 500 ] && [ "$ver1" -lt 20 ]'
+check "two files: a vermillion line too ($ver2 px)" '[ "$ver2" -gt 500 ]'
+# existing files are checked before anything runs (exit 1, nothing written)
+lines_err() { # NAME EXIT MESSAGE COMMAND
+    printf 'new 2 0.3\n%s\n' "$4" > "$1.mote"
+    "$mote" run "$1.mote" > out.txt 2> err.txt
+    rc=$? want=$2 msg=$3
+    check "$1: exit $2, '$3'" '[ $rc -eq $want ] && grep -qF "$msg" err.txt'
+}
+lines_err le1 1 'le1.mote:2:46: error: plot: labels= gives 1 label for 2 data files (one per file, separated by commas)' 'plot rho_0.3.dat rho_0.4.dat to=a.png labels=a'
+lines_err le2 1 "le2.mote:2:41: error: plot: rho_0.3.dat has no column zz (its columns: x_lo[R], x_hi[R], x_mid[R], count, rho[R^-3], rho_err[R^-3], rho_v)" 'plot rho_0.3.dat rho_0.4.dat to=a.png y=zz'
+lines_err le3 1 "le3.mote:2:18: error: plot: p.dat holds pressure data and rho_0.3.dat image data: lines drawn by default come from files of one kind (or give x= and y=)" 'plot rho_0.3.dat p.dat to=a.png'
+lines_err le4 1 "le4.mote:2:1: error: plot: name the picture: 'plot DATAFILE PNGFILE', or 'plot A.dat B.dat ... to=PNGFILE'" 'plot rho_0.3.dat'
+lines_err le5 1 "le5.mote:2:18: error: plot: name the picture: 'plot DATAFILE PNGFILE', or 'plot A.dat B.dat ... to=PNGFILE' (a PNGFILE ends in .png)" 'plot rho_0.3.dat rho_0.4.dat'
+lines_err le6 1 "le6.mote:2:18: error: plot: two.png is a picture, not a data file (the picture is to=a.png)" 'plot rho_0.3.dat two.png to=a.png'
+lines_err le7 1 "le7.mote:2:6: error: plot: 'nothere.dat' does not exist and no earlier command writes it" 'plot nothere.dat rho_0.3.dat to=a.png'
+check "no picture is left by a refused plot" '[ ! -e a.png ]'
+# a model without pictures of its own draws lines: the separator's Tromp curves
+cat > tromp.mote <<'S'
+model separator
+for u in 0.8 1.2
+    reset
+    channel 0.05 1
+    gas ${u}
+    coupling off
+    collisions off
+    species quartz 2500
+    size quartz loguniform min=75e-6 max=300e-6 basis=number
+    feed z=0.5
+    classes 10 min=75e-6 max=316.2277660e-6
+    timestep 1e-3
+    insert quartz 300
+    run 5
+    tromp tromp_${u}.dat
+end
+plot tromp_0.8.dat tromp_1.2.dat to=tromp.png labels=0.8,1.2
+plot tromp_0.8.dat tromp_one.png
+S
+"$mote" run tromp.mote >out.txt 2>err.txt
+check "the separator draws Tromp curves as lines" '[ $? -eq 0 ] && is_png tromp.png && is_png tromp_one.png'
+
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -178,6 +178,12 @@ typedef struct mote_model {
     const char *plot_help;  /* the pictures of this model's kinds (for `mote help plot`) */
     const char *plot_opts;
     int (*plot_check)(void *model, const mote_call *c, mote_err *err);
+    /* `plot` as lines (several files, or x= / y=; src/script/lines.c): the columns drawn by
+     * default for each data-file format of the model, "FORMAT:X,Y[,ERR][,log] ...": X and Y
+     * name columns (a name may leave out its [unit]; "a|b": the first the file has), ERR the
+     * column of Y's error bars (else Y_err or sigma_Y where the file has one), log a logarithmic
+     * X axis. NULL: none (x= and y= must then be given). */
+    const char *plot_lines;
     /* The model's own program beside `mote run`: `mote PROGRAM [ARGS]` calls program_main with
      * argv[0] = PROGRAM and exits with its status (NULL: none; nbody's is `galactica`, a
      * Galactica job folder). */

@@ -843,5 +843,6 @@ const mote_model mote_model_mixingbox = {
     .plot_kinds = "record|density_y",
     .plot = model_plot,
     .plot_help = MB_HELP_PLOT,
+    .plot_lines = "mixing:t,S_mix mixing-density:y,n_all",
     .live = model_live,
 };

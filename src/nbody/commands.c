@@ -893,6 +893,7 @@ const mote_model mote_model_nbody = {
     .plot_kinds = "monitor|trajectory",
     .plot = model_plot,
     .plot_help = HELP_PLOT,
+    .plot_lines = "nbody-monitor:T,dE",
     .plot_opts = "bodies=s relative_to=s plane=e{invariable|xy|xz|yz} size=i[64,8192]",
     .plot_check = model_plot_check,
     .live = nb_model_live,

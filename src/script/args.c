@@ -71,7 +71,7 @@ static int parse_one(const char **pp, mote_argspec *sp)
     if (required)
         tok[n - 1] = '\0';
     const char *q = tok;
-    if (parse_spec(&q, sp) || *q)
+    if (parse_spec(&q, sp) || *q || sp->many)
         return -1;
     memcpy(sp->key, p, k);
     sp->key[k] = '\0';
@@ -81,8 +81,30 @@ static int parse_one(const char **pp, mote_argspec *sp)
     return 0;
 }
 
-/* A positional spec (no key). */
+static int parse_spec1(const char **pp, mote_argspec *sp);
+
+/* A positional spec (no key), or an option's: a trailing '+' ("f+") makes it many (one or
+ * more arguments; only the last positional spec may be, see walk). */
 static int parse_spec(const char **pp, mote_argspec *sp)
+{
+    const char *p = *pp;
+    size_t n = strcspn(p, " ");
+    if (n < 2 || p[n - 1] != '+')
+        return parse_spec1(pp, sp);
+    char tok[200];
+    if (n >= sizeof tok)
+        return -1;
+    memcpy(tok, p, n - 1);
+    tok[n - 1] = '\0';
+    const char *q = tok;
+    if (parse_spec1(&q, sp) || *q)
+        return -1;
+    sp->many = 1;
+    *pp = p + n;
+    return 0;
+}
+
+static int parse_spec1(const char **pp, mote_argspec *sp)
 {
     const char *p = *pp;
     memset(sp, 0, sizeof *sp);
@@ -186,7 +208,7 @@ static int walk(const char *args, int opt, int index, const char *key, mote_args
         return -1;
     if (strcmp(args, "*") == 0)
         return index < 0 && !key ? -2 : -1;
-    int n = 0, seen_opt = 0;
+    int n = 0, seen_opt = 0, seen_many = 0;
     const char *p = args;
     for (;;) {
         while (*p == ' ')
@@ -197,8 +219,9 @@ static int walk(const char *args, int opt, int index, const char *key, mote_args
         if (parse_one(&p, &sp))
             return -1;
         int is_opt = sp.key[0] != '\0';
-        if (!is_opt && seen_opt)
-            return -1; /* positional specs come first */
+        if (!is_opt && (seen_opt || seen_many))
+            return -1; /* positional specs come first, and one of many comes last */
+        seen_many |= sp.many;
         seen_opt |= is_opt;
         if (is_opt != opt)
             continue;
@@ -214,7 +237,20 @@ int mote_argspec_count(const char *args) { return walk(args, 0, -1, NULL, NULL);
 
 int mote_argspec_get(const char *args, int index, mote_argspec *out)
 {
-    return walk(args, 0, index, NULL, out);
+    int rc = walk(args, 0, index, NULL, out);
+    if (rc == -1 && index > 0) { /* beyond the last spec: it, when it takes many */
+        int n = walk(args, 0, -1, NULL, NULL);
+        if (n > 0 && n <= index && !walk(args, 0, n - 1, NULL, out) && out->many)
+            return 0;
+    }
+    return rc;
+}
+
+int mote_argspec_many(const char *args)
+{
+    mote_argspec sp;
+    int n = walk(args, 0, -1, NULL, NULL);
+    return n > 0 && !walk(args, 0, n - 1, NULL, &sp) && sp.many;
 }
 
 int mote_argspec_noptions(const char *args)
@@ -376,7 +412,7 @@ int mote_args_check_input(const mote_call *c, int i, const char *kinds, mote_err
     const char *path = a->path ? a->path : a->text;
     const char *kind = mote_outputs_find(&c->ctx->outputs, path);
     struct stat st;
-    if (kind && mote_word_index(kinds, kind) < 0) {
+    if (kind && kinds && mote_word_index(kinds, kind) < 0) {
         char what[160];
         mote_words_text(kinds, 0, what, sizeof what);
         return mote_call_fail(err, c, i, MOTE_EINVAL,

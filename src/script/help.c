@@ -104,6 +104,46 @@ static void print_aliases(FILE *out, const char *aliases, const char *sep)
     }
 }
 
+/* A model's columns for `plot` as lines (mote_model.plot_lines), one line per format. */
+static void print_plot_lines(FILE *out, const char *lines, int after, int markdown)
+{
+    fprintf(out, "%sLines (several files, or labels=, x= or y=): by default\n", after ? "\n" : "");
+    const char *q = markdown ? "`" : "";
+    for (const char *p = lines; *p;) {
+        p += strspn(p, " ");
+        size_t n = strcspn(p, " ");
+        if (!n)
+            break;
+        char e[400];
+        snprintf(e, sizeof e, "%.*s", (int)(n < sizeof e ? n : sizeof e - 1), p);
+        char *colon = strchr(e, ':');
+        if (colon) {
+            *colon = '\0';
+            char *f[4] = {0};
+            int k = 0;
+            for (char *t = strtok(colon + 1, ","); t && k < 4; t = strtok(NULL, ","))
+                f[k++] = t;
+            char alt[2][200]; /* "a|b": "a or b" (the first the file has) */
+            for (int j = 0; j < 2 && j < k; j++) {
+                size_t m = 0;
+                for (const char *c = f[j]; *c && m + 5 < sizeof alt[j]; c++)
+                    m += (size_t)(*c == '|' ? snprintf(alt[j] + m, 5, " or ") : (alt[j][m] = *c, 1));
+                alt[j][m] = '\0';
+                f[j] = alt[j];
+            }
+            int xlog = 0;
+            for (int j = 0; j < k; j++)
+                xlog |= strcmp(f[j], "log") == 0;
+            fprintf(out, "- %s%s%s files: %s%s%s against %s%s%s%s", q, e, q, q, f[1] ? f[1] : "?",
+                     q, q, f[0] ? f[0] : "?", q, xlog ? " (logarithmic)" : "");
+            if (k >= 3 && strcmp(f[2], "log") != 0)
+                fprintf(out, ", error bars %s%s%s", q, f[2], q);
+            fprintf(out, "\n");
+        }
+        p += n;
+    }
+}
+
 /* What a model adds to a common command's text (`seed`, `plot`), or NULL. */
 static const char *model_addendum(const mote_model *m, const mote_cmd *def)
 {
@@ -120,12 +160,17 @@ static void print_addenda(FILE *out, const mote_cmd *def, const mote_model *cons
 {
     for (size_t i = 0; i < nmodels; i++) {
         const char *add = model_addendum(models[i], def);
-        if (!add || !add[0])
+        const char *lines = strcmp(def->name, "plot") == 0 ? models[i]->plot_lines : NULL;
+        if ((!add || !add[0]) && !lines)
             continue;
-        size_t n = strlen(add);
         fprintf(out, markdown ? "\nIn the `%s` model:\n\n" : "\nIn the %s model:\n\n",
                 models[i]->name);
-        fprintf(out, "%s%s", add, add[n - 1] == '\n' ? "" : "\n");
+        if (add && add[0]) {
+            size_t n = strlen(add);
+            fprintf(out, "%s%s", add, add[n - 1] == '\n' ? "" : "\n");
+        }
+        if (lines)
+            print_plot_lines(out, lines, add && add[0], markdown);
     }
 }
 

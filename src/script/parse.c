@@ -588,6 +588,8 @@ static int parse_command(mote_script *s, const token_list *tl, const mote_model 
     }
     int star = def->args[0] == '*';
     int want = star ? nargs : mote_argspec_count(def->args);
+    if (!star && nargs > want && mote_argspec_many(def->args))
+        want = nargs; /* (the last spec takes the rest) */
     const char *syn = def->synopsis ? def->synopsis : def->name;
     /* bare tokens beyond the positional arguments fill the '@' options not given as key=value,
      * in order */

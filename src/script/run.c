@@ -8,6 +8,7 @@
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 #include <sys/types.h>
 
@@ -256,29 +257,85 @@ static int seed_run(void *model, const mote_call *c, mote_err *err)
     return 0;
 }
 
+/* `plot`: the data files, and the picture: to=PNG, or else the last argument when there are two
+ * or more and it ends in .png. Returns the number of data files, or -1 (err set). */
+static int plot_files(const mote_call *c, const char **png, mote_err *err)
+{
+    const mote_arg *to = mote_call_opt(c, "to");
+    int n = c->nargs;
+    const char *last = c->args[n - 1].text;
+    size_t ll = strlen(last);
+    int last_png = ll > 4 && strcasecmp(last + ll - 4, ".png") == 0;
+    if (to) {
+        *png = to->path;
+        for (int i = 0; i < n; i++) {
+            const char *t = c->args[i].text;
+            size_t tl = strlen(t);
+            if (tl > 4 && strcasecmp(t + tl - 4, ".png") == 0)
+                return mote_call_fail(err, c, i, MOTE_EINVAL, "plot: %s is a picture, not a data "
+                                      "file (the picture is to=%s)", t, to->text), -1;
+        }
+        return n;
+    }
+    if (n < 2 || !last_png)
+        return mote_call_fail(err, c, n < 2 ? -1 : n - 1, MOTE_EINVAL,
+                              "plot: name the picture: 'plot DATAFILE PNGFILE', or 'plot A.dat "
+                              "B.dat ... to=PNGFILE'%s", n < 2 ? "" : " (a PNGFILE ends in .png)"),
+               -1;
+    *png = c->args[n - 1].path;
+    return n - 1;
+}
+
+/* The model's own picture (one data file, none of labels= x= y=), or lines. */
+static int plot_own(const mote_script *s, const mote_call *c, int nin)
+{
+    return nin == 1 && s->model->plot && s->model->plot_kinds && !mote_call_opt(c, "labels") &&
+           !mote_call_opt(c, "x") && !mote_call_opt(c, "y");
+}
+
 static int plot_check(void *model, const mote_call *c, mote_err *err)
 {
     mote_script *s = model;
-    if (!s->model->plot || !s->model->plot_kinds)
-        return mote_call_fail(err, c, -1, MOTE_EINVAL, "plot: the %s model has nothing to plot",
-                              s->model->name);
-    if (mote_path_is_csv(c->args[0].path))
-        return mote_call_fail(err, c, 0, MOTE_EINVAL,
-                              "plot: %s is a CSV file (RFC 4180, for other tools), which keeps "
-                              "no header; plot reads mote's data files: write it under another "
-                              "name (such as .dat)", c->args[0].text);
-    int rc = mote_args_check_input(c, 0, s->model->plot_kinds, err);
-    if (!rc && s->model->plot_check)
-        rc = s->model->plot_check(s->instance, c, err);
+    const char *png;
+    int nin = plot_files(c, &png, err);
+    if (nin < 0)
+        return err->code;
+    if (!mote_call_opt(c, "to")) {
+        int rc = mote_outputs_note_path(&c->ctx->outputs, c, nin, png, "png", 0, err);
+        if (rc)
+            return rc;
+    }
+    int own = plot_own(s, c, nin), later = 0;
+    for (int i = 0; i < nin; i++) {
+        if (mote_path_is_csv(c->args[i].path))
+            return mote_call_fail(err, c, i, MOTE_EINVAL,
+                                  "plot: %s is a CSV file (RFC 4180, for other tools), which "
+                                  "keeps no header; plot reads mote's data files: write it under "
+                                  "another name (such as .dat)", c->args[i].text);
+        int rc = mote_args_check_input(c, i, own ? s->model->plot_kinds : NULL, err);
+        if (rc)
+            return rc;
+        later |= mote_outputs_find(&c->ctx->outputs, c->args[i].path) != NULL;
+    }
+    if (own)
+        return s->model->plot_check ? s->model->plot_check(s->instance, c, err) : 0;
+    int rc = mote_plot_lines_labels(c, nin, err);
+    if (!rc && !later) /* files that exist now: their columns are checked before anything runs */
+        rc = mote_plot_lines(c, nin, s->model->plot_lines, png, 1, err);
     return rc;
 }
 
 static int plot_run(void *model, const mote_call *c, mote_err *err)
 {
     mote_script *s = model;
-    int rc = s->model->plot(s->instance, c->args[0].path, c->args[1].path, c, err);
+    const char *png;
+    int nin = plot_files(c, &png, err);
+    if (nin < 0)
+        return err->code;
+    int rc = plot_own(s, c, nin) ? s->model->plot(s->instance, c->args[0].path, png, c, err)
+                                 : mote_plot_lines(c, nin, s->model->plot_lines, png, 0, err);
     if (!rc)
-        fprintf(c->ctx->out, "plot: wrote %s\n", c->args[1].path);
+        fprintf(c->ctx->out, "plot: wrote %s\n", png);
     return rc;
 }
 
@@ -389,14 +446,36 @@ const mote_cmd mote_script_common_cmds[] = {
      "and its results are the same with and without it. `mote run --live[=PORT] SCRIPT`\n"
      "starts it before the first command. See docs/live-view.md.\n",
      NULL, live_run},
-    {"plot", NULL, "f f>png", "plot DATAFILE PNGFILE [options]",
-     "render a data file written by a measuring command as a PNG",
-     "Draw a data file written earlier (by this script or another) by one of the\n"
-     "model's measuring commands as a PNG picture. The kind of picture follows from\n"
-     "the file's first header line, so any data file of the model can be given.\n"
-     "Some models take key=value options that shape the picture (below).\n"
-     "DATAFILE must be written earlier in the script by such a command, or exist.\n"
-     "The PNG is written atomically. Prints `plot: wrote PNGFILE`.\n",
+    {"plot", NULL, "f+ to=f>png labels=s x=s y=s",
+     "plot DATAFILE... [PNGFILE] [to=PNGFILE] [labels=A,B,...] [x=COLUMN] [y=COLUMN]",
+     "draw data files as a PNG: a model's picture, or lines with a legend",
+     "    plot DATAFILE PNGFILE [options]\n"
+     "    plot A.dat B.dat ... to=PNGFILE [labels=A,B,...] [x=COLUMN] [y=COLUMN]\n"
+     "\n"
+     "Draw data files written earlier (by this script or another) by the model's\n"
+     "measuring commands as a PNG picture, written atomically; the picture is to=PNGFILE,\n"
+     "or the last argument when it ends in .png. Each DATAFILE must be written earlier in\n"
+     "the script, or exist. Prints `plot: wrote PNGFILE`.\n"
+     "\n"
+     "One data file, without labels=, x= or y=, in a model with pictures of its own\n"
+     "(below): the model's picture of that kind of file, which follows from the file's\n"
+     "first header line; some models take key=value options that shape it.\n"
+     "\n"
+     "Otherwise, in any model: lines. Column y= against column x= of every file, one\n"
+     "line per file in one frame, with a legend: labels= (one per file, separated by\n"
+     "commas), or else each file's name without folder and extension. A column name may\n"
+     "leave out its [unit] (`y=rho` is `rho[R^-3]`). Without x= and y=, the model's\n"
+     "columns for that kind of file (below), and where a file has a column Y_err or\n"
+     "sigma_Y (or the kind's own), its error bars. A file of several blocks gives the\n"
+     "rows of its last block (after its last `# columns:` line). Files that exist when\n"
+     "the script is checked have their columns checked then, before anything runs:\n"
+     "\n"
+     "    for eta in 0.3 0.4\n"
+     "        reset\n"
+     "        new 3 ${eta}\n"
+     "        image 100 4 rho_${eta}.dat\n"
+     "    end\n"
+     "    plot rho_0.3.dat rho_0.4.dat to=rho.png labels=0.3,0.4\n",
      plot_check, plot_run},
 };
 const size_t mote_script_common_ncmds = sizeof mote_script_common_cmds /

@@ -138,10 +138,19 @@ typedef struct {
     char key[32];               /* options: the key ("" for a positional argument) */
     int required;               /* options: must be given */
     int positional;             /* options: '@KEY=': may be given as a bare token instead */
+    int many;                   /* the last positional spec written "SPEC+": one or more */
 } mote_argspec;
 
 /* The number of positional specs in `args`: -2 for "*", -1 when malformed. */
 int mote_argspec_count(const char *args);
+/* `plot` as lines (lines.c): the first nin arguments of c are data files; with check_only the
+ * files are read and their columns checked, else png is drawn. defaults: mote_model.plot_lines. */
+int mote_plot_lines(const mote_call *c, int nin, const char *defaults, const char *png,
+                    int check_only, mote_err *err);
+/* labels= gives one label per data file */
+int mote_plot_lines_labels(const mote_call *c, int nin, mote_err *err);
+/* Does the last positional spec take one or more arguments ("f+")? */
+int mote_argspec_many(const char *args);
 /* Positional spec number `index` of `args` (0-based). Returns 0, or -1 when there is none or it
  * is malformed. */
 int mote_argspec_get(const char *args, int index, mote_argspec *out);
@@ -162,8 +171,8 @@ int mote_args_resolve(mote_call *c, mote_err *err);
 int mote_args_check_before(const mote_call *c, mote_err *err);
 /* After a successful `check`: record the outputs ("f>"). */
 int mote_args_check_after(const mote_call *c, mote_err *err);
-/* Argument i must be written earlier in the script by a command of one of `kinds` ("a|b"), or
- * else exist now. */
+/* Argument i must be written earlier in the script by a command of one of `kinds` ("a|b"; NULL:
+ * any), or else exist now. */
 int mote_args_check_input(const mote_call *c, int i, const char *kinds, mote_err *err);
 
 /* ---- suggestions ---------------------------------------------------------------------------- */

@@ -813,6 +813,7 @@ const mote_model mote_model_separator = {
     .seed = model_seed,
     .seed_help = "The feed draws from the stream: each particle's species and size, then its\n"
                  "position tries.\n",
+    .plot_lines = "separator-tromp:d_mean_m,T_mass,sigma_T,log separator-profiles:z_m,eps_s",
     .status = sep_status,
     .live = sep_model_live,
 };
