@@ -24,6 +24,8 @@ if [ "${1:-}" = test ] || [ "${1:-}" = bench ]; then
     /usr/bin/python3 -c 'import vtkmodules.vtkIOLegacy' >/dev/null 2>&1 || need="$need python3-vtk9"
     # ASE (Debian's python3), the independent reader of the extended XYZ files
     /usr/bin/python3 -c 'import ase.io' >/dev/null 2>&1 || need="$need python3-ase"
+    # matplotlib (Debian's python3): pictures read back pixel by pixel (test_plot)
+    /usr/bin/python3 -c 'import matplotlib.image' >/dev/null 2>&1 || need="$need python3-matplotlib"
     # pandas (Debian's python3): the .csv files (RFC 4180) read back as users read them
     /usr/bin/python3 -c 'import pandas' >/dev/null 2>&1 || need="$need python3-pandas"
     # curl: the live view's protocol tests; Chromium (headless): its browser test
