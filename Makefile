@@ -50,7 +50,7 @@ BENCH_SRC := $(sort $(wildcard bench/*.c))
 BENCH_BIN := $(BENCH_SRC:bench/%.c=$(BUILD)/bench/%)
 HDRS     := $(wildcard include/mote/*.h src/*/*.h src/*/*.inc tests/*.h)
 
-.PHONY: all lib tests bench check test test-plain test-san example setup setup-test clean slow seeds seeds-san fuzz FORCE
+.PHONY: all lib shared tests bench check test test-plain test-san example setup setup-test clean slow seeds seeds-san fuzz install uninstall FORCE
 
 all: $(BUILD)/mote
 
@@ -71,6 +71,18 @@ $(BUILD)/libmote.a: $(LIB_OBJ)
 	@mkdir -p $(dir $@)
 	rm -f $@
 	ar rcs $@ $^
+
+# The shared library, from objects built again as position-independent code (the program and
+# the tests link the static library, so their code is unchanged); its soname carries SOMAJOR.
+VERSION := $(shell sed -n 's/^\#define MOTE_VERSION "\(.*\)"/\1/p' include/mote/core.h)
+SOMAJOR := 0
+PIC_OBJ := $(LIB_SRC:%.c=$(BUILD)/pic/%.o)
+$(BUILD)/pic/%.o: %.c $(HDRS) $(BUILD)/precision.stamp
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) -fPIC -c $< -o $@
+$(BUILD)/libmote.so.$(VERSION): $(PIC_OBJ)
+	$(CC) $(ALL_CFLAGS) -shared -Wl,-soname,libmote.so.$(SOMAJOR) $^ $(LDLIBS) -o $@
+shared: $(BUILD)/libmote.so.$(VERSION)
 
 $(BUILD)/mote: $(CLI_OBJ) $(BUILD)/libmote.a
 	$(CC) $(ALL_CFLAGS) $(CLI_OBJ) $(BUILD)/libmote.a $(LDLIBS) -o $@
@@ -168,6 +180,48 @@ fuzz:
 	    ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp build-fuzz/fuzz_$$t -max_total_time=$(FUZZ_TIME) -timeout=10 \
 	        -rss_limit_mb=2048 -max_len=4096 -artifact_prefix=fuzz/corpus/$$t/ fuzz/corpus/$$t; \
 	done
+
+# `make install PREFIX=/usr/local` (and DESTDIR= for packagers); `make uninstall` with the same
+# PREFIX removes what it installed. docs/install.md lists the files.
+PREFIX ?= /usr/local
+bindir := $(PREFIX)/bin
+libdir := $(PREFIX)/lib
+includedir := $(PREFIX)/include
+man1dir := $(PREFIX)/share/man/man1
+docdir := $(PREFIX)/share/doc/mote
+completiondir := $(PREFIX)/share/bash-completion/completions
+$(BUILD)/mote.1: $(BUILD)/mote
+	$(BUILD)/mote help --man > $@
+$(BUILD)/mote.bash: $(BUILD)/mote
+	$(BUILD)/mote help --bash-completion > $@
+install: $(BUILD)/mote $(BUILD)/libmote.a $(BUILD)/libmote.so.$(VERSION) $(BUILD)/mote.1 $(BUILD)/mote.bash
+	install -d $(DESTDIR)$(bindir) $(DESTDIR)$(libdir)/pkgconfig $(DESTDIR)$(includedir)/mote \
+	    $(DESTDIR)$(man1dir) $(DESTDIR)$(completiondir) $(DESTDIR)$(docdir)/docs \
+	    $(DESTDIR)$(docdir)/examples/c
+	install -m 755 $(BUILD)/mote $(DESTDIR)$(bindir)/mote
+	install -m 644 $(BUILD)/libmote.so.$(VERSION) $(BUILD)/libmote.a $(DESTDIR)$(libdir)/
+	ln -sf libmote.so.$(VERSION) $(DESTDIR)$(libdir)/libmote.so.$(SOMAJOR)
+	ln -sf libmote.so.$(SOMAJOR) $(DESTDIR)$(libdir)/libmote.so
+	printf '%s\n' 'prefix=$(PREFIX)' 'libdir=$${prefix}/lib' 'includedir=$${prefix}/include' '' \
+	    'Name: mote' 'Description: particle-simulation toolkit (hard spheres, mixing box, N-body, spacecraft charging, gravitational separator)' \
+	    'Version: $(VERSION)' 'Requires.private: cairo assimp libmicrohttpd' \
+	    'Cflags: -I$${includedir}$(if $(PREC_FLAGS_$(PRECISION)), $(PREC_FLAGS_$(PRECISION)))' \
+	    'Libs: -L$${libdir} -lmote' 'Libs.private: -lembree3 -lpthread -lm $(OPENMP)' \
+	    > $(DESTDIR)$(libdir)/pkgconfig/mote.pc
+	install -m 644 include/mote/*.h $(DESTDIR)$(includedir)/mote/
+	install -m 644 $(BUILD)/mote.1 $(DESTDIR)$(man1dir)/mote.1
+	install -m 644 $(BUILD)/mote.bash $(DESTDIR)$(completiondir)/mote
+	install -m 644 README.md $(DESTDIR)$(docdir)/
+	install -m 644 docs/*.md $(DESTDIR)$(docdir)/docs/
+	install -m 644 examples/*.mote $(DESTDIR)$(docdir)/examples/
+	install -m 644 examples/c/*.c examples/c/Makefile $(DESTDIR)$(docdir)/examples/c/
+	@[ -n "$(DESTDIR)" ] || [ "$$(id -u)" != 0 ] || ldconfig 2>/dev/null || true
+uninstall:
+	rm -f $(DESTDIR)$(bindir)/mote $(DESTDIR)$(libdir)/libmote.so.$(VERSION) \
+	    $(DESTDIR)$(libdir)/libmote.so.$(SOMAJOR) $(DESTDIR)$(libdir)/libmote.so \
+	    $(DESTDIR)$(libdir)/libmote.a $(DESTDIR)$(libdir)/pkgconfig/mote.pc \
+	    $(DESTDIR)$(man1dir)/mote.1 $(DESTDIR)$(completiondir)/mote
+	rm -rf $(DESTDIR)$(includedir)/mote $(DESTDIR)$(docdir)
 
 example: setup
 	$(MAKE) --no-print-directory all

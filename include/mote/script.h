@@ -99,6 +99,11 @@ int mote_help_command(FILE *out, FILE *diag, const char *name, const mote_model 
                       size_t nmodels);
 /* `mote help --markdown`: the complete command reference (docs/commands.md). */
 void mote_help_markdown(FILE *out, const mote_model *const *models, size_t nmodels);
+/* The manual page mote(1) in roff (`mote help --man`), from the same tables. */
+void mote_help_man(FILE *out, const mote_model *const *models, size_t nmodels);
+/* A bash completion script for the program (`mote help --bash-completion`): its verbs, and for
+ * `mote help` the models and the commands of the tables (with their rows). */
+void mote_help_completion(FILE *out, const mote_model *const *models, size_t nmodels);
 
 /* The whole `mote` program: argument handling for run, check, help and --version, on the given
  * streams. Returns the process exit status. */

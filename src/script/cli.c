@@ -8,9 +8,7 @@
 #include <string.h>
 #include <unistd.h>
 
-static void usage(FILE *f)
-{
-    fprintf(f,
+const char mote_usage_text[] =
             "Usage: mote run [--check] [--live[=PORT]] [--bind ADDRESS] [SCRIPT] [NAME=VALUE...]\n"
             "                                    run a script (default: " MOTE_DEFAULT_SCRIPT "; -:\n"
             "                                    standard input), with parameters for its\n"
@@ -18,10 +16,13 @@ static void usage(FILE *f)
             "       mote check [SCRIPT] [NAME=VALUE...]  check a script; run nothing\n"
             "       mote help [CMD | MODEL]      list the commands, or document one\n"
             "       mote help --markdown         the command reference in Markdown\n"
+            "       mote help --man              the manual page mote(1), in roff\n"
+            "       mote help --bash-completion  the bash completion of mote's commands\n"
             "       mote galactica [--help]      run the Galactica job of this folder (N-body)\n"
             "       mote --version\n"
-            "Exit status: 0 success, 1 usage or script error (nothing ran), 2 runtime error.\n");
-}
+            "Exit status: 0 success, 1 usage or script error (nothing ran), 2 runtime error.\n";
+
+static void usage(FILE *f) { fputs(mote_usage_text, f); }
 
 __attribute__((format(printf, 2, 3))) static int usage_error(FILE *diag, const char *fmt, ...)
 {
@@ -123,11 +124,19 @@ int mote_script_main_io(int argc, char **argv, const mote_model *const *models, 
             mote_help_list(out, models, nmodels);
             return 0;
         }
-        if (argc > 4 || (argc == 4 && strcmp(argv[2], "--markdown") == 0))
+        if (argc > 4 || (argc == 4 && argv[2][0] == '-'))
             return usage_error(diag, "'help' takes one name (or a command and its row, "
                                "'help generate ring'), found also '%s'", argv[argc - 1]);
         if (strcmp(argv[2], "--markdown") == 0) {
             mote_help_markdown(out, models, nmodels);
+            return 0;
+        }
+        if (strcmp(argv[2], "--man") == 0) {
+            mote_help_man(out, models, nmodels);
+            return 0;
+        }
+        if (strcmp(argv[2], "--bash-completion") == 0) {
+            mote_help_completion(out, models, nmodels);
             return 0;
         }
         if (argc == 4) { /* a command's row: `mote help generate ring` */

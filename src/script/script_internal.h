@@ -121,6 +121,8 @@ int mote_word_index(const char *words, const char *w);
 void mote_words_text(const char *words, int quoted, char *buf, size_t cap);
 /* A command of rows: table names "NAME SUB" ("generate ring"), one row per sub-command, each
  * with its own options. Whether name has rows, and "ring, area or plummer" (their words). */
+/* The program's usage text (cli.c; also the manual page's synopsis). */
+extern const char mote_usage_text[];
 int mote_cmd_has_rows(const mote_cmd *cmds, size_t n, const char *name);
 void mote_cmd_rows_text(const mote_cmd *cmds, size_t n, const char *name, char *buf, size_t cap);
 
