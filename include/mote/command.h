@@ -116,6 +116,15 @@ typedef struct {
     size_t nslot;     /* a power of two, at least twice n (lookups O(1): scripts of 10^5 saves) */
 } mote_outputs;
 
+/* The measurements of one replica of an `ensemble` (src/script/ensemble.c): named values in
+ * the order the commands gave them. */
+typedef struct {
+    char (*name)[64];
+    double *value;
+    size_t n, cap;
+    int failed; /* out of memory: the ensemble fails rather than average fewer values */
+} mote_results;
+
 /* Run-wide settings shared by the script layer and the model's commands. */
 typedef struct mote_context {
     const char *script_path;
@@ -133,6 +142,9 @@ typedef struct mote_context {
      * page has paused it (NULL: no live view). */
     void (*tick)(void *arg);
     void *tick_arg;
+    /* Inside a replica of an `ensemble`: where mote_call_result puts the measurements (NULL
+     * elsewhere). */
+    mote_results *results;
 } mote_context;
 
 /* A model: its name as used by `model NAME`, its command table, and its lifetime functions.
@@ -220,6 +232,13 @@ int mote_call_opt_index(const mote_call *c, const char *key);
  * "FILE:LINE:COL: error: <message>". Returns code. */
 int mote_call_fail(mote_err *err, const mote_call *c, int argi, mote_status code, const char *fmt,
                    ...) __attribute__((format(printf, 5, 6)));
+
+/* A measurement of call c, `key` = value (pressure's Z, the separator's d50, ...): inside an
+ * `ensemble` it is what the replicas' means and standard errors are made of, named
+ * "COMMAND.KEY" (a second one of the same name in a replica gets "_2", "_3", ...); elsewhere
+ * nothing. Commands call it for the numbers they print as their results. */
+void mote_call_result(const mote_call *c, const char *key, double value);
+void mote_results_free(mote_results *r);
 
 /* Print a warning located at the call to ctx->diag: "FILE:LINE:COL: warning: <message>". */
 void mote_call_warn(const mote_call *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));

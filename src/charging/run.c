@@ -363,6 +363,7 @@ int ch_run_float(void *vm, const mote_call *c, mote_err *err)
                         "single run's sigma_U %.3g V)\n", reps, mean, sd, sU);
     }
     m->have_run = 1;
+    mote_call_result(c, "U_f", U);
     if (m->prefix) { /* the files at U_f (spec 8.2) */
         ch_output out = ch_output_of(m, &g, &o, U);
         out.have_float = 1;

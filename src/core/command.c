@@ -441,3 +441,51 @@ int mote_call_opt_index(const mote_call *c, const char *key)
             return c->nargs + k;
     return -1;
 }
+
+/* ---- measurements of ensemble replicas -------------------------------------------------------- */
+
+static int results_has(const mote_results *r, const char *name)
+{
+    for (size_t i = 0; i < r->n; i++)
+        if (strcmp(r->name[i], name) == 0)
+            return 1;
+    return 0;
+}
+
+void mote_call_result(const mote_call *c, const char *key, double value)
+{
+    mote_results *r = c->ctx ? c->ctx->results : NULL;
+    if (!r || r->failed)
+        return;
+    char base[64], name[64];
+    snprintf(base, sizeof base, "%s.%s", c->name, key);
+    for (char *p = base; *p; p++)
+        if (*p == ' ')
+            *p = '_'; /* (a row: "generate ring") */
+    snprintf(name, sizeof name, "%s", base);
+    for (int k = 2; results_has(r, name) && k < 1000000; k++)
+        snprintf(name, sizeof name, "%.50s_%d", base, k);
+    if (r->n == r->cap) {
+        size_t cap = r->cap ? 2 * r->cap : 16;
+        char(*nn)[64] = realloc(r->name, cap * sizeof *nn);
+        if (nn)
+            r->name = nn;
+        double *nv = nn ? realloc(r->value, cap * sizeof *nv) : NULL;
+        if (nv)
+            r->value = nv;
+        if (!nn || !nv) {
+            r->failed = 1;
+            return;
+        }
+        r->cap = cap;
+    }
+    memcpy(r->name[r->n], name, sizeof name);
+    r->value[r->n++] = value;
+}
+
+void mote_results_free(mote_results *r)
+{
+    free(r->name);
+    free(r->value);
+    memset(r, 0, sizeof *r);
+}

@@ -291,8 +291,9 @@ static int read_columns(mote_table *t, char *s)
     t->ncolnames = 0;
     if (!t->colname && !(t->colname = malloc(MOTE_TABLE_MAXCOL * sizeof *t->colname)))
         return -1;
-    for (char *tok = strtok(s, " \t\r\n"); tok && t->ncolnames < MOTE_TABLE_MAXCOL;
-         tok = strtok(NULL, " \t\r\n"))
+    char *sv = NULL; /* (strtok_r: tables are read on several threads in an ensemble) */
+    for (char *tok = strtok_r(s, " \t\r\n", &sv); tok && t->ncolnames < MOTE_TABLE_MAXCOL;
+         tok = strtok_r(NULL, " \t\r\n", &sv))
         snprintf(t->colname[t->ncolnames++], sizeof t->colname[0], "%s", tok);
     return 0;
 }

@@ -350,6 +350,8 @@ static int run_measure(hs_model *m, const mote_call *c, measure_fn fn, mote_err 
     mote_result res = {0};
     int rc = origin ? fn(m, c, c->args[c->nargs - 1].path, origin, &res, err)
                     : mote_fail(err, MOTE_ENOMEM, "out of memory");
+    for (int k = 0; !rc && k < res.n; k++) /* (the replicas of an ensemble average them) */
+        mote_call_result(c, res.kv[k].key, res.kv[k].value);
     if (!rc && m->hs.log) {
         mote_result_print(&res, c->name, m->hs.log);
         wrote(m, c);

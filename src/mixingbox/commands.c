@@ -508,6 +508,10 @@ static int do_run(mb_model *m, const mote_call *c, double t_end, uint64_t collis
     int wrc = write_outputs(m, rc ? &werr : err);
     if (rc || wrc)
         return rc ? rc : wrc;
+    {
+        mote_mb_tally t = mote_mb_counts(s);
+        mote_call_result(c, "mixing_fraction", mote_mb_mixing_fraction(&t));
+    }
     if (m->log) {
         mote_mb_tally t = mote_mb_counts(s);
         double e1 = mote_mb_energy(s, NULL);

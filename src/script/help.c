@@ -121,7 +121,8 @@ static void print_plot_lines(FILE *out, const char *lines, int after, int markdo
             *colon = '\0';
             char *f[4] = {0};
             int k = 0;
-            for (char *t = strtok(colon + 1, ","); t && k < 4; t = strtok(NULL, ","))
+            for (char *sv = NULL, *t = strtok_r(colon + 1, ",", &sv); t && k < 4;
+                 t = strtok_r(NULL, ",", &sv))
                 f[k++] = t;
             char alt[2][200]; /* "a|b": "a or b" (the first the file has) */
             for (int j = 0; j < 2 && j < k; j++) {

@@ -67,7 +67,8 @@ static int defaults_for(const char *list, const char *format, line_defaults *d)
             entry[m] = '\0';
             char *field[4] = {d->x, d->y, d->err, NULL};
             int k = 0;
-            for (char *tok = strtok(entry, ","); tok; tok = strtok(NULL, ","), k++) {
+            for (char *sv = NULL, *tok = strtok_r(entry, ",", &sv); tok;
+                 tok = strtok_r(NULL, ",", &sv), k++) {
                 if (strcmp(tok, "log") == 0)
                     d->xlog = 1;
                 else if (k < 3)

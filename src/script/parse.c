@@ -798,7 +798,7 @@ static int find_end(mote_script *s, const token *for_tok, const char *p, const c
         if (le > p && le[-1] == '\r')
             le--;
         rc = mote_lex_line(s, (cursor){p, le, line, 1}, &tl, err);
-        if (!rc && is_word(&tl, 0, "for"))
+        if (!rc && (is_word(&tl, 0, "for") || is_word(&tl, 0, "ensemble")))
             depth++;
         else if (!rc && is_word(&tl, 0, "end") && depth-- == 0) {
             *body_end = p;
@@ -813,8 +813,9 @@ static int find_end(mote_script *s, const token *for_tok, const char *p, const c
     free(tl.t);
     if (!rc && !found)
         rc = mote_script_fail_at(err, s->ctx.script_path, for_tok->line, for_tok->col,
-                                 MOTE_EINVAL, "for: this loop has no 'end' (a line 'end' closes "
-                                 "it)");
+                                 MOTE_EINVAL, "%s: this %s has no 'end' (a line 'end' closes "
+                                 "it)", for_tok->text,
+                                 strcmp(for_tok->text, "for") ? "ensemble" : "loop");
     return rc;
 }
 
@@ -903,6 +904,66 @@ static int parse_loop(mote_script *s, token_list *tl, const char *body, const ch
     return rc;
 }
 
+/* `ensemble K [options]` ... `end`: the line as a call, then the body read once per replica
+ * with the variable `replica` = 1 ... K (ensemble.c runs them); *next and *next_line where
+ * reading goes on. */
+static int parse_ensemble(mote_script *s, token_list *tl, const char *body, const char *end,
+                          int body_line, const char **next, int *next_line,
+                          const mote_model *const *models, size_t nmodels, mote_err *err)
+{
+    const char *file = s->ctx.script_path;
+    const token *t = tl->t;
+    if (s->in_ensemble)
+        return mote_script_fail_at(err, file, t[0].line, t[0].col, MOTE_EINVAL,
+                                   "ensemble: an ensemble inside an ensemble (a replica is one "
+                                   "run; loop inside it, or around it)");
+    for (int k = 0; k < s->nvars; k++)
+        if (s->vars[k].fixed && !strcmp(s->vars[k].name, "replica"))
+            return mote_script_fail_at(err, file, t[0].line, t[0].col, MOTE_EINVAL,
+                                       "ensemble: 'replica' is a parameter given on the command "
+                                       "line, but inside an ensemble it numbers the replicas");
+    if (s->nloops == MOTE_LOOP_DEPTH)
+        return mote_script_fail_at(err, file, t[0].line, t[0].col, MOTE_EINVAL,
+                                   "ensemble: more than %d loops inside each other",
+                                   MOTE_LOOP_DEPTH);
+    int rc = parse_command(s, tl, models, nmodels, err);
+    if (rc)
+        return rc;
+    const size_t call = s->ncalls - 1;
+    const int K = (int)s->calls[call].args[0].i;
+    const char *body_end = NULL, *after = NULL;
+    int after_line = 0;
+    rc = find_end(s, &t[0], body, end, body_line, &body_end, &after, &after_line, err);
+    mote_ensemble *e = NULL;
+    if (!rc && mote_ensemble_add(s, call, K, &e))
+        rc = mote_script_fail_plain(err, MOTE_ENOMEM, "out of memory reading the script");
+    if (rc)
+        return rc;
+    size_t *start = e->start; /* (e moves when a later ensemble is added; start does not) */
+    mote_loop_pass *lp = &s->loops[s->nloops++];
+    lp->name = "replica";
+    lp->line = t[0].line;
+    s->in_ensemble = 1;
+    for (int r = 0; r < K && !rc; r++) {
+        char num[32];
+        snprintf(num, sizeof num, "%d", r + 1);
+        if (mote_vars_set(s, "replica", num, 0))
+            rc = mote_script_fail_plain(err, MOTE_ENOMEM, "out of memory reading the script");
+        for (int v = 0; v < s->nvars; v++)
+            if (!strcmp(s->vars[v].name, "replica"))
+                lp->value = s->vars[v].value;
+        start[r] = s->ncalls;
+        if (!rc)
+            rc = parse_lines(s, body, body_end, body_line, models, nmodels, err);
+    }
+    start[K] = s->ncalls;
+    s->in_ensemble = 0;
+    s->nloops--;
+    *next = after;
+    *next_line = after_line;
+    return rc;
+}
+
 /* Read the lines of text [p, end), the first of them line `line`. */
 static int parse_lines(mote_script *s, const char *p, const char *end, int line,
                        const mote_model *const *models, size_t nmodels, mote_err *err)
@@ -924,6 +985,17 @@ static int parse_lines(mote_script *s, const char *p, const char *end, int line,
         const int is_set = !rc && is_word(&tl, 0, "set"), is_for = !rc && is_word(&tl, 0, "for");
         if (!rc && tl.n > 0)
             rc = expand_line(s, &tl, is_set || is_for, err);
+        if (!rc && is_word(&tl, 0, "ensemble")) {
+            const char *next = NULL;
+            int next_line = line;
+            rc = parse_ensemble(s, &tl, nl ? nl + 1 : end, end, line + 1, &next, &next_line,
+                                models, nmodels, err);
+            if (rc && s->nloops && err->msg[0] && !strstr(err->msg, " (in the loop: "))
+                mote_script_note_loop(err, loop_text(s));
+            p = next;
+            line = next_line;
+            continue;
+        }
         if (!rc && is_for) {
             const char *next = NULL;
             int next_line = line;
@@ -1105,6 +1177,8 @@ void mote_script_free(mote_script *s)
         for (int k = 0; k < s->calls[i].nopts; k++)
             free(((mote_opt *)s->calls[i].opts)[k].value.path);
     mote_outputs_free(&s->ctx.outputs);
+    mote_ensemble_free_summaries(s);
+    free(s->ens);
     free(s->vars);
     free(s->calls);
     mote_arena_free(&s->arena);

@@ -413,6 +413,43 @@ const mote_cmd mote_script_common_cmds[] = {
      "\n"
      "Prints `reset: a new MODEL system`.\n",
      reset_check, reset_run},
+    {"ensemble", NULL, "i[1,100000] seed=u file=f>ensemble summary=f",
+     "ensemble K [seed=S] [file=FILE] [summary=FILE]",
+     "run the lines up to `end` K times, each a new system: means and errors",
+     "    ensemble K [seed=S] [file=FILE] [summary=FILE]\n"
+     "        ...\n"
+     "    end\n"
+     "\n"
+     "Run the lines up to `end` as K independent replicas, each on a new system of the\n"
+     "model (as after `reset`) whose random stream starts from the seed S + r - 1 for\n"
+     "replica r = 1 ... K (S is 1 unless given; the variable ${replica} is r). The\n"
+     "replicas run at the same time on the threads `threads` gives (by default every\n"
+     "processor of the machine), each on one thread; what they print is shown after\n"
+     "them, replica by replica, and nothing of it depends on the number of threads.\n"
+     "Each number a command of the body gives as its result (pressure's Z and P_wall,\n"
+     "chempot's mu_ex, order's fractions, tromp's d50 and kappa, float's U_f, run's\n"
+     "mixing_fraction in the mixing box) is then combined over the replicas into its\n"
+     "mean and standard error s/sqrt(K), printed as `ensemble: pressure.Z = 4.12 ± 0.03\n"
+     "(8 replicas)` (COMMAND.KEY; a second result of the same name in a replica gets\n"
+     "_2). file= writes each replica's values, with the means and errors in its header;\n"
+     "summary= adds one row to a table that every ensemble naming it extends: the values\n"
+     "of the loops around the ensemble, then each mean and its error (columns Q, Q_err),\n"
+     "ready for `plot summary.dat to=z.png x=eta y=pressure.Z`:\n"
+     "\n"
+     "    for eta in 0.3 0.4\n"
+     "        ensemble 8 summary=eos.dat\n"
+     "            bulk 500 ${eta}\n"
+     "            step 2000\n"
+     "            pressure 2000\n"
+     "        end\n"
+     "    end\n"
+     "\n"
+     "The ensemble leaves the script's own system as it was. Every replica is checked\n"
+     "before anything runs, an error naming it `(in the loop: replica=3)`; an error in a\n"
+     "replica stops the script after the ensemble, with the earliest replica's message.\n"
+     "An ensemble cannot hold another, nor `live`; a model that draws no random numbers\n"
+     "(nbody) has no ensembles.\n",
+     NULL, set_run},
     {"echo", NULL, "*", "echo TEXT...", "print the arguments",
      "Print the arguments, separated by single spaces, on standard output. Quote\n"
      "text to keep runs of spaces or a `#` in it.\n",
@@ -525,6 +562,21 @@ static void clear(mote_err *err)
     err->msg[0] = '\0';
 }
 
+int mote_script_check_call(mote_script *s, mote_call *c, mote_err *err)
+{
+    clear(err);
+    int rc = mote_args_resolve(c, err);
+    if (!rc)
+        rc = mote_args_check_before(c, err);
+    if (!rc && c->def->check)
+        rc = c->def->check(mote_script_is_common(s, c->def) ? (void *)s : s->instance, c, err);
+    if (!rc)
+        rc = mote_args_check_after(c, err);
+    if (rc)
+        mote_script_locate(err, c);
+    return rc;
+}
+
 int mote_script_validate(mote_script *s, mote_err *err)
 {
     clear(err);
@@ -537,18 +589,14 @@ int mote_script_validate(mote_script *s, mote_err *err)
     s->instance = dry;
     int rc = 0;
     for (size_t i = 0; i < s->ncalls && !rc; i++) {
-        mote_call *c = &s->calls[i];
-        clear(err);
-        rc = mote_args_resolve(c, err);
-        if (!rc)
-            rc = mote_args_check_before(c, err);
-        if (!rc && c->def->check)
-            rc = c->def->check(mote_script_is_common(s, c->def) ? (void *)s : s->instance, c,
-                               err);
-        if (!rc)
-            rc = mote_args_check_after(c, err);
-        if (rc)
-            mote_script_locate(err, c);
+        rc = mote_script_check_call(s, &s->calls[i], err);
+        const mote_ensemble *e = rc ? NULL : mote_ensemble_at(s, i);
+        if (e) { /* its replicas, each from a new system; then on after them */
+            rc = mote_ensemble_check(s, e, err);
+            if (rc && !err->located) /* (a replica's error is located at its call) */
+                mote_script_locate(err, &s->calls[i]);
+            i = e->start[e->K] - 1;
+        }
     }
     s->model->destroy(s->instance); /* (`reset` may have replaced it) */
     s->instance = NULL;
@@ -557,6 +605,38 @@ int mote_script_validate(mote_script *s, mote_err *err)
         return err->code ? (int)err->code : (int)MOTE_EINVAL;
     s->validated = 1;
     return 0;
+}
+
+int mote_script_run_calls(mote_script *s, size_t from, size_t to, mote_err *err)
+{
+    int rc = 0;
+    for (size_t i = from; i < to && !rc; i++) {
+        mote_call *c = &s->calls[i];
+        c->ctx = &s->ctx; /* (a replica's context while an ensemble runs it) */
+        int common = mote_script_is_common(s, c->def);
+        clear(err);
+        rc = mote_args_resolve(c, err);
+        const mote_ensemble *e = mote_ensemble_at(s, i);
+        if (!rc && e) {
+            rc = mote_ensemble_run(s, e, err);
+            i = e->start[e->K] - 1;
+        } else if (!rc && c->def->run) {
+            rc = c->def->run(common ? (void *)s : s->instance, c, err);
+            if (!rc && !common && s->model->settle)
+                rc = s->model->settle(s->instance, err);
+        }
+        if (rc) {
+            if (!(e && err->located)) /* (a replica's error is located at its call) */
+                mote_script_locate(err, c);
+            rc = err->code ? (int)err->code : (int)MOTE_ERUNTIME;
+        } else if (!common && s->model->status) {
+            s->model->status(s->instance, s->ctx.out);
+        }
+        fflush(s->ctx.out);
+        if (!rc && s->live) /* a frame of the state after every command */
+            live_frame(s, 1);
+    }
+    return rc;
 }
 
 int mote_script_execute(mote_script *s, mote_err *err)
@@ -569,6 +649,7 @@ int mote_script_execute(mote_script *s, mote_err *err)
     clear(err);
     reset_context(&s->ctx);
     s->threads_noted = 0;
+    mote_ensemble_free_summaries(s);
     void *first = s->model->create(&s->ctx, 0);
     if (!first)
         return mote_script_fail_at(err, s->ctx.script_path, 1, 1, MOTE_ENOMEM,
@@ -577,26 +658,8 @@ int mote_script_execute(mote_script *s, mote_err *err)
     int rc = 0;
     if (s->live_port >= 0 && (rc = mote_script_live_start(s, s->live_bind, s->live_port, err)))
         rc = err->code;
-    for (size_t i = 0; i < s->ncalls && !rc; i++) {
-        mote_call *c = &s->calls[i];
-        int common = mote_script_is_common(s, c->def);
-        clear(err);
-        rc = mote_args_resolve(c, err);
-        if (!rc && c->def->run) {
-            rc = c->def->run(common ? (void *)s : s->instance, c, err);
-            if (!rc && !common && s->model->settle)
-                rc = s->model->settle(s->instance, err);
-        }
-        if (rc) {
-            mote_script_locate(err, c);
-            rc = err->code ? (int)err->code : (int)MOTE_ERUNTIME;
-        } else if (!common && s->model->status) {
-            s->model->status(s->instance, s->ctx.out);
-        }
-        fflush(s->ctx.out);
-        if (!rc && s->live) /* a frame of the state after every command */
-            live_frame(s, 1);
-    }
+    if (!rc)
+        rc = mote_script_run_calls(s, 0, s->ncalls, err);
     if (s->live) {
         mote_live_stop(s->live);
         s->live = NULL;

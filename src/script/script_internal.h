@@ -36,6 +36,21 @@ typedef struct {
     int line;                 /* of the `for` */
 } mote_loop_pass;
 
+/* An `ensemble K ... end` (ensemble.c): its call, and the calls of each replica. */
+typedef struct {
+    size_t call;   /* the `ensemble` line's call */
+    size_t *start; /* replica r (0-based) is calls start[r] ... start[r + 1] - 1 (in the arena) */
+    int K;
+} mote_ensemble;
+
+/* A summary= file of ensembles: its header and the rows so far (rewritten after each). */
+typedef struct {
+    char *path, *origin;
+    mote_buf head, rows;
+    char (*cols)[64];
+    int ncols;
+} mote_ens_summary;
+
 struct mote_script {
     mote_context ctx;
     mote_var *vars; /* malloc'ed */
@@ -57,7 +72,28 @@ struct mote_script {
     const char *live_bind;
     mote_live *live;
     mote_buf frame;
+    mote_ensemble *ens;   /* malloc'ed, in the order of their calls */
+    size_t nens, capens;
+    int in_ensemble;      /* reading an ensemble's body */
+    mote_ens_summary *sums; /* running: the summary= files written so far */
+    size_t nsums;
 };
+
+/* ---- ensembles (ensemble.c) ---- */
+
+/* The ensemble whose `ensemble` line is call `call`, or NULL. */
+const mote_ensemble *mote_ensemble_at(const mote_script *s, size_t call);
+/* A new ensemble of K replicas at call `call` (its start[] to be filled as the body is read). */
+int mote_ensemble_add(mote_script *s, size_t call, int K, mote_ensemble **out);
+/* Check the replicas' calls, each replica on a new dry model. */
+int mote_ensemble_check(mote_script *s, const mote_ensemble *e, mote_err *err);
+/* Run the replicas on the threads, print their output in order, combine their measurements. */
+int mote_ensemble_run(mote_script *s, const mote_ensemble *e, mote_err *err);
+void mote_ensemble_free_summaries(mote_script *s);
+/* run.c: check one call (its arguments, its command's check, its outputs), the error located;
+ * run the calls [from, to) on s->instance, with their context s->ctx. */
+int mote_script_check_call(mote_script *s, mote_call *c, mote_err *err);
+int mote_script_run_calls(mote_script *s, size_t from, size_t to, mote_err *err);
 
 /* ---- lexing (lex.c) ---- */
 

@@ -167,6 +167,10 @@ int sep_tromp(void *vm, const mote_call *c, mote_err *err)
     const mote_arg *file = mote_call_opt(c, "file");
     rc = sep_write_tromp(&m->sys, file->path, origin ? origin : "tromp", m->seed, &cut, err);
     free(origin);
+    if (!rc) {
+        mote_call_result(c, "d50", cut.d50);
+        mote_call_result(c, "kappa", cut.kappa);
+    }
     if (!rc && m->log)
         fprintf(m->log, "tromp: wrote %s and its plot: d50 %.6g m, kappa %.4g\n", file->text,
                 cut.d50, cut.kappa);

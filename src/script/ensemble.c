@@ -1,0 +1,391 @@
+/* ensemble.c: `ensemble K [seed=S] [file=FILE] [summary=FILE]` ... `end`: the body run K times,
+ * each replica on a new system of its own with the seed S + r - 1 (r = 1 ... K), on the
+ * machine's threads; the measurements the commands give (mote_call_result) combined into a
+ * mean and a standard error per quantity.
+ *
+ * The body is read K times as the script is read (a loop over `replica`), so each replica has
+ * its own calls, checked one by one before anything runs. Running, each replica gets a shallow
+ * copy of the script with a context of its own (its output into memory, its measurements,
+ * one thread) and its own model; the replicas' outputs are then printed in replica order and
+ * their measurements combined in that order, so that what an ensemble prints and writes does
+ * not depend on the number of threads. */
+#include "script_internal.h"
+#include "mote/datafile.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+const mote_ensemble *mote_ensemble_at(const mote_script *s, size_t call)
+{
+    size_t lo = 0, hi = s->nens;
+    while (lo < hi) { /* (in the order of their calls) */
+        size_t mid = lo + (hi - lo) / 2;
+        if (s->ens[mid].call < call)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo < s->nens && s->ens[lo].call == call ? &s->ens[lo] : NULL;
+}
+
+int mote_ensemble_add(mote_script *s, size_t call, int K, mote_ensemble **out)
+{
+    if (s->nens == s->capens) {
+        size_t cap = s->capens ? 2 * s->capens : 8;
+        mote_ensemble *e = realloc(s->ens, cap * sizeof *e);
+        if (!e)
+            return MOTE_ENOMEM;
+        s->ens = e;
+        s->capens = cap;
+    }
+    mote_ensemble *e = &s->ens[s->nens];
+    e->call = call;
+    e->K = K;
+    e->start = mote_arena_alloc(&s->arena, ((size_t)K + 1) * sizeof *e->start);
+    if (!e->start)
+        return MOTE_ENOMEM;
+    s->nens++;
+    *out = e;
+    return MOTE_OK;
+}
+
+/* ---- checking -------------------------------------------------------------------------------- */
+
+int mote_ensemble_check(mote_script *s, const mote_ensemble *e, mote_err *err)
+{
+    const mote_call *ec = &s->calls[e->call];
+    if (!s->model->seed)
+        return mote_call_fail(err, ec, -1, MOTE_EINVAL,
+                              "ensemble: the %s model draws no random numbers, so its replicas "
+                              "would all be the same run", s->model->name);
+    const mote_arg *sum = mote_call_opt(ec, "summary");
+    if (sum) {
+        const char *kind = mote_outputs_find(&s->ctx.outputs, sum->path);
+        int rc = mote_outputs_note_path(&s->ctx.outputs, ec, mote_call_opt_index(ec, "summary"),
+                                        sum->path, "ensemble-summary",
+                                        kind && !strcmp(kind, "ensemble-summary"), err);
+        if (rc)
+            return rc;
+    }
+    void *outer = s->instance; /* each replica starts from a new, dry system */
+    int rc = 0;
+    for (int r = 0; r < e->K && !rc; r++) {
+        void *dry = s->model->create(&s->ctx, 1);
+        if (!dry)
+            return mote_call_fail(err, ec, -1, MOTE_ENOMEM, "ensemble: out of memory");
+        s->instance = dry;
+        for (size_t i = e->start[r]; i < e->start[r + 1] && !rc; i++) {
+            mote_call *c = &s->calls[i];
+            if (!strcmp(c->name, "live"))
+                rc = mote_call_fail(err, c, -1, MOTE_EINVAL, "live: the live view shows one "
+                                    "system; start it before the ensemble, not inside it");
+            if (!rc)
+                rc = mote_script_check_call(s, c, err);
+        }
+        s->model->destroy(s->instance); /* (`reset` may have replaced it) */
+    }
+    s->instance = outer;
+    return rc;
+}
+
+/* ---- running --------------------------------------------------------------------------------- */
+
+typedef struct {
+    mote_script s;        /* a shallow copy: its own context, model and measurements */
+    mote_results res;
+    char *out, *diag;     /* what the replica printed */
+    size_t nout, ndiag;
+    mote_err err;
+    int rc;
+} replica;
+
+static void run_replica(mote_script *s, const mote_ensemble *e, int r, replica *rp)
+{
+    FILE *out = open_memstream(&rp->out, &rp->nout), *diag = open_memstream(&rp->diag, &rp->ndiag);
+    rp->s = *s;
+    mote_context *ctx = &rp->s.ctx;
+    memset(&ctx->outputs, 0, sizeof ctx->outputs);
+    ctx->npending_dirs = 0;
+    ctx->out = out;
+    ctx->diag = diag;
+    ctx->terminal = 0;
+    ctx->tick = NULL;
+    ctx->threads = 1; /* (the replicas are the threads) */
+    ctx->results = &rp->res;
+    rp->s.live = NULL;
+    rp->s.threads_noted = 1;
+    const mote_call *ec = &s->calls[e->call];
+    const mote_arg *seed = mote_call_opt(ec, "seed");
+    void *model = out && diag ? s->model->create(ctx, 0) : NULL;
+    if (!model) {
+        rp->rc = mote_call_fail(&rp->err, ec, -1, MOTE_ENOMEM, "ensemble: out of memory");
+    } else {
+        rp->s.instance = model;
+        s->model->seed(model, (seed ? seed->u : 1) + (uint64_t)r);
+        rp->rc = mote_script_run_calls(&rp->s, e->start[r], e->start[r + 1], &rp->err);
+        s->model->destroy(rp->s.instance);
+    }
+    for (size_t i = e->start[r]; i < e->start[r + 1]; i++)
+        s->calls[i].ctx = &s->ctx; /* (the calls point at the script's context again) */
+    if (out)
+        fclose(out);
+    if (diag)
+        fclose(diag);
+}
+
+/* The quantities of all replicas, in the order the first replica that gives each gave it. */
+typedef struct {
+    char (*name)[64];
+    size_t n;
+    double *mean, *se;
+    int *count;
+} combined;
+
+static int combine(const replica *rp, int K, combined *cb)
+{
+    size_t cap = 0;
+    for (int r = 0; r < K; r++)
+        cap += rp[r].res.n;
+    memset(cb, 0, sizeof *cb);
+    cb->name = malloc((cap + 1) * sizeof *cb->name);
+    cb->mean = malloc((cap + 1) * sizeof *cb->mean);
+    cb->se = malloc((cap + 1) * sizeof *cb->se);
+    cb->count = malloc((cap + 1) * sizeof *cb->count);
+    if (!cb->name || !cb->mean || !cb->se || !cb->count)
+        return MOTE_ENOMEM;
+    for (int r = 0; r < K; r++)
+        for (size_t i = 0; i < rp[r].res.n; i++) {
+            size_t q = 0;
+            while (q < cb->n && strcmp(cb->name[q], rp[r].res.name[i]) != 0)
+                q++;
+            if (q == cb->n)
+                memcpy(cb->name[cb->n++], rp[r].res.name[i], sizeof cb->name[0]);
+        }
+    for (size_t q = 0; q < cb->n; q++) { /* two passes, in replica order */
+        double sum = 0, ss = 0;
+        int n = 0;
+        for (int r = 0; r < K; r++)
+            for (size_t i = 0; i < rp[r].res.n; i++)
+                if (!strcmp(rp[r].res.name[i], cb->name[q])) {
+                    sum += rp[r].res.value[i];
+                    n++;
+                    break;
+                }
+        const double mean = n ? sum / n : NAN;
+        for (int r = 0; r < K; r++)
+            for (size_t i = 0; i < rp[r].res.n; i++)
+                if (!strcmp(rp[r].res.name[i], cb->name[q])) {
+                    ss += (rp[r].res.value[i] - mean) * (rp[r].res.value[i] - mean);
+                    break;
+                }
+        cb->mean[q] = mean;
+        cb->se[q] = n > 1 ? sqrt(ss / (n - 1) / n) : NAN;
+        cb->count[q] = n;
+    }
+    return MOTE_OK;
+}
+
+static void combined_free(combined *cb)
+{
+    free(cb->name);
+    free(cb->mean);
+    free(cb->se);
+    free(cb->count);
+}
+
+/* The value of quantity `name` in replica rp, or NaN. */
+static double value_of(const replica *rp, const char *name)
+{
+    for (size_t i = 0; i < rp->res.n; i++)
+        if (!strcmp(rp->res.name[i], name))
+            return rp->res.value[i];
+    return NAN;
+}
+
+/* file=: every replica's values, with the means and standard errors in the header. */
+static int write_file(const mote_script *s, const mote_call *ec, const replica *rp, int K,
+                      uint64_t seed, const combined *cb, mote_err *err)
+{
+    const mote_arg *f = mote_call_opt(ec, "file");
+    char *origin = mote_call_origin(ec);
+    mote_datafile d;
+    int rc = mote_datafile_open(&d, f->path, "ensemble", origin ? origin : "ensemble", seed, err);
+    free(origin);
+    if (rc)
+        return rc;
+    fprintf(d.f, "# replicas = %d\n# seed_first = %llu\n", K, (unsigned long long)seed);
+    fprintf(d.f, "# errors: standard error of the mean over the replicas, s/sqrt(n)\n");
+    for (size_t q = 0; q < cb->n; q++)
+        fprintf(d.f, "# %s = %.12g ± %.6g\n", cb->name[q], cb->mean[q], cb->se[q]);
+    fprintf(d.f, "# columns: replica seed");
+    for (size_t q = 0; q < cb->n; q++)
+        fprintf(d.f, " %s", cb->name[q]);
+    fputc('\n', d.f);
+    for (int r = 0; r < K; r++) {
+        fprintf(d.f, "%d %llu", r + 1, (unsigned long long)(seed + (uint64_t)r));
+        for (size_t q = 0; q < cb->n; q++)
+            fprintf(d.f, " %.17g", value_of(&rp[r], cb->name[q]));
+        fputc('\n', d.f);
+    }
+    return mote_datafile_commit(&d, err);
+}
+
+/* summary=: one row per ensemble that names the file: the values of the loops around it, then
+ * each quantity's mean and standard error; the file is written again, whole, each time. */
+static int write_summary(mote_script *s, const mote_call *ec, uint64_t seed, int K,
+                         const combined *cb, mote_err *err)
+{
+    const mote_arg *f = mote_call_opt(ec, "summary");
+    mote_ens_summary *sm = NULL;
+    for (size_t i = 0; i < s->nsums; i++)
+        if (!strcmp(s->sums[i].path, f->path))
+            sm = &s->sums[i];
+    if (!sm) {
+        mote_ens_summary *ns = realloc(s->sums, (s->nsums + 1) * sizeof *ns);
+        if (!ns)
+            return mote_call_fail(err, ec, -1, MOTE_ENOMEM, "ensemble: out of memory");
+        s->sums = ns;
+        sm = &s->sums[s->nsums++];
+        memset(sm, 0, sizeof *sm);
+        sm->path = strdup(f->path);
+        char *origin = mote_call_origin(ec);
+        mote_buf_printf(&sm->head, "# replicas = %d\n# seed_first = %llu\n"
+                        "# errors: standard error of the mean over the replicas, s/sqrt(n)\n"
+                        "# columns:", K, (unsigned long long)seed);
+        sm->origin = origin;
+        /* the loops' names, then each quantity and its error */
+        const char *lp = ec->loop ? ec->loop : "";
+        while (*lp) {
+            size_t n = strcspn(lp, "=");
+            mote_buf_printf(&sm->head, " %.*s", (int)n, lp);
+            lp += n;
+            lp += strcspn(lp, ",");
+            lp += strspn(lp, ", ");
+        }
+        sm->ncols = (int)cb->n;
+        sm->cols = malloc((cb->n + 1) * sizeof *sm->cols);
+        if (!sm->path || !sm->cols || !origin)
+            return mote_call_fail(err, ec, -1, MOTE_ENOMEM, "ensemble: out of memory");
+        for (size_t q = 0; q < cb->n; q++) {
+            memcpy(sm->cols[q], cb->name[q], sizeof sm->cols[0]);
+            mote_buf_printf(&sm->head, " %s %s_err", cb->name[q], cb->name[q]);
+        }
+        mote_buf_printf(&sm->head, "\n");
+    }
+    /* the row: the loops' values, then the columns' means and errors (NaN when absent) */
+    const char *lp = ec->loop ? ec->loop : "";
+    const char *sep = "";
+    while (*lp) {
+        lp += strcspn(lp, "=") + 1;
+        size_t n = strcspn(lp, ",");
+        mote_buf_printf(&sm->rows, "%s%.*s", sep, (int)n, lp);
+        sep = " ";
+        lp += n;
+        lp += strspn(lp, ", ");
+    }
+    for (int k = 0; k < sm->ncols; k++) {
+        size_t q = 0;
+        while (q < cb->n && strcmp(cb->name[q], sm->cols[k]) != 0)
+            q++;
+        mote_buf_printf(&sm->rows, "%s%.12g %.6g", sep, q < cb->n ? cb->mean[q] : NAN,
+                        q < cb->n ? cb->se[q] : NAN);
+        sep = " ";
+    }
+    mote_buf_printf(&sm->rows, "\n");
+    if (sm->head.failed || sm->rows.failed)
+        return mote_call_fail(err, ec, -1, MOTE_ENOMEM, "ensemble: out of memory");
+    mote_datafile d;
+    int rc = mote_datafile_open(&d, sm->path, "ensemble-summary", sm->origin, seed, err);
+    if (rc)
+        return rc;
+    fwrite(sm->head.s, 1, sm->head.n, d.f);
+    fwrite(sm->rows.s, 1, sm->rows.n, d.f);
+    return mote_datafile_commit(&d, err);
+}
+
+void mote_ensemble_free_summaries(mote_script *s)
+{
+    for (size_t i = 0; i < s->nsums; i++) {
+        free(s->sums[i].path);
+        free(s->sums[i].origin);
+        free(s->sums[i].cols);
+        mote_buf_free(&s->sums[i].head);
+        mote_buf_free(&s->sums[i].rows);
+    }
+    free(s->sums);
+    s->sums = NULL;
+    s->nsums = 0;
+}
+
+int mote_ensemble_run(mote_script *s, const mote_ensemble *e, mote_err *err)
+{
+    const mote_call *ec = &s->calls[e->call];
+    const int K = e->K;
+    const mote_arg *sa = mote_call_opt(ec, "seed");
+    const uint64_t seed = sa ? sa->u : 1;
+    replica *rp = calloc((size_t)K, sizeof *rp);
+    if (!rp)
+        return mote_call_fail(err, ec, -1, MOTE_ENOMEM, "ensemble: out of memory");
+    int threads = s->ctx.threads > 0 ? s->ctx.threads : 1;
+#ifdef _OPENMP
+    if (s->ctx.threads <= 0)
+        threads = omp_get_num_procs();
+#endif
+    if (threads > K)
+        threads = K;
+    fprintf(s->ctx.out, "ensemble: %d replica%s (seeds %llu ... %llu) on %d thread%s\n", K,
+            K == 1 ? "" : "s", (unsigned long long)seed,
+            (unsigned long long)(seed + (uint64_t)K - 1), threads, threads == 1 ? "" : "s");
+    fflush(s->ctx.out);
+    mote_progress prog;
+    mote_progress_begin(&prog, &s->ctx, "ensemble");
+    int done = 0;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+    for (int r = 0; r < K; r++) {
+        run_replica(s, e, r, &rp[r]);
+#pragma omp critical(mote_ensemble_progress)
+        mote_progress_update(&prog, (double)++done / K);
+    }
+    mote_progress_end(&prog);
+    int rc = 0;
+    for (int r = 0; r < K; r++) { /* what each printed, in replica order */
+        fprintf(s->ctx.out, "ensemble: replica %d (seed %llu)\n", r + 1,
+                (unsigned long long)(seed + (uint64_t)r));
+        if (rp[r].out)
+            fwrite(rp[r].out, 1, rp[r].nout, s->ctx.out);
+        if (rp[r].diag)
+            fwrite(rp[r].diag, 1, rp[r].ndiag, s->ctx.diag);
+        if (!rc && (rp[r].rc || rp[r].res.failed)) {
+            rc = rp[r].rc ? rp[r].rc : MOTE_ENOMEM;
+            *err = rp[r].err;
+            if (!rp[r].rc)
+                mote_call_fail(err, ec, -1, MOTE_ENOMEM, "ensemble: out of memory");
+        }
+    }
+    combined cb = {0};
+    if (!rc && combine(rp, K, &cb))
+        rc = mote_call_fail(err, ec, -1, MOTE_ENOMEM, "ensemble: out of memory");
+    else if (!rc) {
+        for (size_t q = 0; q < cb.n; q++)
+            fprintf(s->ctx.out, "ensemble: %s = %.10g ± %.4g (%d replica%s)\n", cb.name[q],
+                    cb.mean[q], cb.se[q], cb.count[q], cb.count[q] == 1 ? "" : "s");
+        if (!cb.n)
+            fprintf(s->ctx.out, "ensemble: no command in it measured anything to average\n");
+        if (mote_call_opt(ec, "file"))
+            rc = write_file(s, ec, rp, K, seed, &cb, err);
+        if (!rc && mote_call_opt(ec, "summary"))
+            rc = write_summary(s, ec, seed, K, &cb, err);
+    }
+    combined_free(&cb);
+    for (int r = 0; r < K; r++) {
+        free(rp[r].out);
+        free(rp[r].diag);
+        mote_results_free(&rp[r].res);
+    }
+    free(rp);
+    return rc;
+}
