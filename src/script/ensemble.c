@@ -6,18 +6,18 @@
  * The body is read K times as the script is read (a loop over `replica`), so each replica has
  * its own calls, checked one by one before anything runs. Running, each replica gets a shallow
  * copy of the script with a context of its own (its output into memory, its measurements,
- * one thread) and its own model; the replicas' outputs are then printed in replica order and
+ * one thread) and its own model, on a pool of POSIX threads that take the replicas in turn;
+ * the replicas' outputs are then printed in replica order and
  * their measurements combined in that order, so that what an ensemble prints and writes does
  * not depend on the number of threads. */
 #include "script_internal.h"
 #include "mote/datafile.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
-#ifdef _OPENMP
-#include <omp.h>
-#endif
+#include <unistd.h>
 
 const mote_ensemble *mote_ensemble_at(const mote_script *s, size_t call)
 {
@@ -321,6 +321,33 @@ void mote_ensemble_free_summaries(mote_script *s)
     s->nsums = 0;
 }
 
+/* The pool: each worker takes the next replica not yet taken, until none is left. */
+typedef struct {
+    mote_script *s;
+    const mote_ensemble *e;
+    replica *rp;
+    pthread_mutex_t lock;
+    int next, done;
+    mote_progress *prog;
+} pool;
+
+static void *worker(void *arg)
+{
+    pool *p = arg;
+    for (;;) {
+        pthread_mutex_lock(&p->lock);
+        const int r = p->next < p->e->K ? p->next++ : -1;
+        pthread_mutex_unlock(&p->lock);
+        if (r < 0)
+            return NULL;
+        run_replica(p->s, p->e, r, &p->rp[r]);
+        pthread_mutex_lock(&p->lock);
+        p->done++;
+        mote_progress_update(p->prog, (double)p->done / p->e->K);
+        pthread_mutex_unlock(&p->lock);
+    }
+}
+
 int mote_ensemble_run(mote_script *s, const mote_ensemble *e, mote_err *err)
 {
     const mote_call *ec = &s->calls[e->call];
@@ -330,11 +357,8 @@ int mote_ensemble_run(mote_script *s, const mote_ensemble *e, mote_err *err)
     replica *rp = calloc((size_t)K, sizeof *rp);
     if (!rp)
         return mote_call_fail(err, ec, -1, MOTE_ENOMEM, "ensemble: out of memory");
-    int threads = s->ctx.threads > 0 ? s->ctx.threads : 1;
-#ifdef _OPENMP
-    if (s->ctx.threads <= 0)
-        threads = omp_get_num_procs();
-#endif
+    long procs = sysconf(_SC_NPROCESSORS_ONLN);
+    int threads = s->ctx.threads > 0 ? s->ctx.threads : procs > 0 ? (int)procs : 1;
     if (threads > K)
         threads = K;
     fprintf(s->ctx.out, "ensemble: %d replica%s (seeds %llu ... %llu) on %d thread%s\n", K,
@@ -343,13 +367,15 @@ int mote_ensemble_run(mote_script *s, const mote_ensemble *e, mote_err *err)
     fflush(s->ctx.out);
     mote_progress prog;
     mote_progress_begin(&prog, &s->ctx, "ensemble");
-    int done = 0;
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-    for (int r = 0; r < K; r++) {
-        run_replica(s, e, r, &rp[r]);
-#pragma omp critical(mote_ensemble_progress)
-        mote_progress_update(&prog, (double)++done / K);
-    }
+    pool p = {s, e, rp, PTHREAD_MUTEX_INITIALIZER, 0, 0, &prog};
+    pthread_t *tid = malloc((size_t)threads * sizeof *tid);
+    int started = 0;
+    for (int k = 1; tid && k < threads; k++) /* (this thread is the first worker) */
+        started += pthread_create(&tid[started], NULL, worker, &p) == 0;
+    worker(&p);
+    for (int k = 0; k < started; k++)
+        pthread_join(tid[k], NULL);
+    free(tid);
     mote_progress_end(&prog);
     int rc = 0;
     for (int r = 0; r < K; r++) { /* what each printed, in replica order */

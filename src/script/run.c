@@ -151,7 +151,7 @@ static int threads_run(void *model, const mote_call *c, mote_err *err)
 {
     mote_script *s = model; /* common commands receive the script, not the model */
     c->ctx->threads = c->args[0].i > 4096 ? 4096 : (int)c->args[0].i;
-    if (!s->model->threaded && !s->threads_noted) {
+    if (!s->model->threaded && !s->threads_noted && !s->nens) {
         s->threads_noted = 1;
         fprintf(c->ctx->diag,
                 "%s:%d:%d: note: threads: the %s model runs on one thread; 'threads %lld' has "
@@ -459,7 +459,8 @@ const mote_cmd mote_script_common_cmds[] = {
      "(default 1). Results never depend on it: the nbody model sums in a fixed order\n"
      "for any number of threads, so they are bit-identical. The hard-spheres and\n"
      "mixing-box models run on one thread; for them the first `threads` command\n"
-     "prints a note and none has an effect.\n",
+     "prints a note and none has an effect, except on an `ensemble`, whose replicas\n"
+     "run side by side on N threads in every model (its results never depend on N).\n",
      NULL, threads_run},
     {"seed", NULL, "u", "seed S", "restart the random stream from S (default 1)",
      "Restart the run's random stream from the unsigned 64-bit integer S\n"
