@@ -46,6 +46,14 @@ nums() { tr '\r' '\n' < "$1" | grep -E '^(run|float|evolve):' | grep -v -E '^[a-
 grep -q '^float: U_f = ' r2/out.txt && ok || bad "2 ranks: no float line"
 # only rank 0 writes: no temporary or second copies
 [ "$(ls r2 | sort | tr '\n' ' ')" = "$(ls p1 | sort | tr '\n' ' ')" ] && ok || bad "files of 2 ranks: $(ls r2)"
+# an ensemble on 2 ranks: its replicas one after another, each sharing its work among the
+# ranks: the means of the single process
+printf 'model charging\nensemble 3 file=e.dat\nplasma preset single n=1e6 kT=10\nbody sphere radius=1\nfloat particles=2000\nend\n' > ens.mote
+mkdir -p e1 e2 && cp ens.mote e1/ && cp ens.mote e2/
+(cd e1 && "$MOTE" run ens.mote > out.txt 2> err.txt) && (cd e2 && $MPIRUN "$MPI_MOTE" run ens.mote > out.txt 2> err.txt) && ok ||
+    bad "an ensemble on 2 ranks failed: $(cat e2/err.txt)"
+[ -n "$(grep '^ensemble: float.U_f' e1/out.txt)" ] && [ "$(grep '^ensemble: float.U_f' e1/out.txt)" = "$(tr '\r' '\n' < e2/out.txt | grep '^ensemble: float.U_f')" ] && cmp -s e1/e.dat e2/e.dat && ok ||
+    bad "the ensemble differs on 2 ranks: $(grep '^ensemble: float' e1/out.txt e2/out.txt)"
 # another model under MPI: refused, nothing run
 printf 'model hardspheres\n' > hs.mote
 $MPIRUN "$MPI_MOTE" run hs.mote > out.txt 2> err.txt

@@ -359,6 +359,14 @@ int mote_ensemble_run(mote_script *s, const mote_ensemble *e, mote_err *err)
         return mote_call_fail(err, ec, -1, MOTE_ENOMEM, "ensemble: out of memory");
     long procs = sysconf(_SC_NPROCESSORS_ONLN);
     int threads = s->ctx.threads > 0 ? s->ctx.threads : procs > 0 ? (int)procs : 1;
+    /* under mpirun every rank runs the script, and a model that shares its work among the ranks
+     * makes collective calls in each replica: those must come in the same order in every rank,
+     * so the replicas run one after another there (Open MPI and MPICH name the world's size) */
+    const char *ws = getenv("OMPI_COMM_WORLD_SIZE");
+    if (!ws)
+        ws = getenv("PMI_SIZE");
+    if (ws && atoi(ws) > 1)
+        threads = 1;
     if (threads > K)
         threads = K;
     fprintf(s->ctx.out, "ensemble: %d replica%s (seeds %llu ... %llu) on %d thread%s\n", K,
