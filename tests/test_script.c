@@ -748,8 +748,10 @@ static void test_argument_specs(void)
     run_text(&r, "p2.mote", "save s.state\nplot s.state s.png\n", 0);
     expect_error(&r, 1, 2, 6, "expected a file of kind data or other", NULL, NULL);
     CHECK_INT(LOG.runs, 0);
+    /* (a model without pictures of its own draws lines of any data file) */
     run_text(&r, "p3.mote", "model mixing-box\nplot a.dat a.png\n", 0);
-    expect_error(&r, 1, 2, 1, "plot: the mixing-box model has nothing to plot", NULL, NULL);
+    expect_error(&r, 1, 2, 6, "plot: 'a.dat' does not exist and no earlier command writes it",
+                 NULL, NULL);
     run_text(&r, "p4.mote", "model mixing-box\nseed 3\n", 0);
     expect_error(&r, 1, 2, 1, "seed: the mixing-box model draws no random numbers", NULL, NULL);
     run_text(&r, "p5.mote", "seed 3\n", 0);
