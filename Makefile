@@ -50,7 +50,7 @@ BENCH_SRC := $(sort $(wildcard bench/*.c))
 BENCH_BIN := $(BENCH_SRC:bench/%.c=$(BUILD)/bench/%)
 HDRS     := $(wildcard include/mote/*.h src/*/*.h src/*/*.inc tests/*.h)
 
-.PHONY: all lib shared tests bench check test test-plain test-san example setup setup-test clean slow seeds seeds-san fuzz install uninstall FORCE
+.PHONY: all lib shared python tests bench check test test-plain test-san example setup setup-test clean slow seeds seeds-san fuzz install uninstall FORCE
 
 all: $(BUILD)/mote
 
@@ -83,6 +83,21 @@ $(BUILD)/pic/%.o: %.c $(HDRS) $(BUILD)/precision.stamp
 $(BUILD)/libmote.so.$(VERSION): $(PIC_OBJ)
 	$(CC) $(ALL_CFLAGS) -shared -Wl,-soname,libmote.so.$(SOMAJOR) $^ $(LDLIBS) -o $@
 shared: $(BUILD)/libmote.so.$(VERSION)
+
+# The Python package (python/mote): its C extension linked with the library's PIC objects, for
+# Debian's python3 (PYTHON), with its headers (python3-dev) and NumPy's (python3-numpy).
+PYTHON ?= $(shell [ -x /usr/bin/python3 ] && echo /usr/bin/python3 || echo python3)
+PY_EXT = $(shell $(PYTHON) -c 'import sysconfig; print(sysconfig.get_config_var("EXT_SUFFIX"))')
+PY_CFLAGS = $(shell $(PYTHON) -c 'import sysconfig, numpy; print("-I" + sysconfig.get_paths()["include"], "-I" + numpy.get_include())')
+PY_VER = $(shell $(PYTHON) -c 'import sysconfig; print(sysconfig.get_python_version())')
+PY_PKG := $(BUILD)/python/mote
+python: $(PY_PKG)/_mote.so.stamp
+$(PY_PKG)/_mote.so.stamp: python/mote/_mote.c python/mote/__init__.py $(PIC_OBJ) $(HDRS)
+	@mkdir -p $(PY_PKG)
+	$(CC) $(filter-out -Wmissing-prototypes -Wpedantic -Wstrict-prototypes,$(ALL_CFLAGS)) -fPIC -shared $(PY_CFLAGS) \
+	    python/mote/_mote.c $(PIC_OBJ) $(LDLIBS) -o $(PY_PKG)/_mote$(PY_EXT)
+	cp python/mote/__init__.py $(PY_PKG)/__init__.py
+	touch $@
 
 $(BUILD)/mote: $(CLI_OBJ) $(BUILD)/libmote.a
 	$(CC) $(ALL_CFLAGS) $(CLI_OBJ) $(BUILD)/libmote.a $(LDLIBS) -o $@

@@ -145,7 +145,35 @@ typedef struct mote_context {
     /* Inside a replica of an `ensemble`: where mote_call_result puts the measurements (NULL
      * elsewhere). */
     mote_results *results;
+    /* Progress for a program that drives mote (the Python package's callback): the command
+     * under way and the fraction done, at most every progress interval (NULL: none). */
+    void (*report)(void *arg, const char *label, double fraction);
+    void *report_arg;
 } mote_context;
+
+/* An array of a model's state for other programs (the Python package's NumPy arrays): rows
+ * (particles) by cols numbers of one type, row and column strides in bytes. `owned`: the model
+ * made it for this call (malloc'ed; the caller frees it) because its own layout differs (another
+ * order, another precision); otherwise it points into the model and stays valid until the next
+ * command. */
+typedef struct {
+    const char *name; /* "positions", "velocities", "radii", "masses", "charges", "species" */
+    void *data;
+    char type;        /* 'd' double, 'i' int32 */
+    size_t rows, cols;
+    long row_stride, col_stride;
+    int owned, writable; /* writable: a view the caller may write into (then the model's `set`
+                          * hook must be called) */
+    const char *unit; /* the unit of its numbers ("R", "m/s", "dimensionless (units)") */
+} mote_array;
+
+/* Helpers for mote_model.arrays: a view of n x cols doubles (cols 1) or ints in the model's own
+ * memory; an owned copy gathering `ncols` columns of n doubles each times `scale` (structure of
+ * arrays into rows). Return 0, or -1 out of memory. */
+void mote_array_view(mote_array *a, const char *name, const char *unit, void *data, char type,
+                     size_t n, size_t cols);
+int mote_array_gather(mote_array *a, const char *name, const char *unit,
+                      const double *const *columns, size_t ncols, size_t n, double scale);
 
 /* A model: its name as used by `model NAME`, its command table, and its lifetime functions.
  * `create(ctx, dry)` makes an empty model; with dry != 0 it will only receive `check` calls. */
@@ -196,6 +224,14 @@ typedef struct mote_model {
      * column of Y's error bars (else Y_err or sigma_Y where the file has one), log a logarithmic
      * X axis. NULL: none (x= and y= must then be given). */
     const char *plot_lines;
+    /* The model's state as arrays (NULL: none): fills up to cap entries of out and returns how
+     * many, or -1 when out of memory. */
+    int (*arrays)(void *model, mote_array *out, int cap);
+    /* Replace array `name` by rows x cols doubles (row-major) after checking them (the shape,
+     * finite values, the model's own conditions), then bring the model to its canonical state
+     * again; NULL: no array can be set. */
+    int (*set_array)(void *model, const char *name, const double *v, size_t rows, size_t cols,
+                     mote_err *err);
     /* The model's own program beside `mote run`: `mote PROGRAM [ARGS]` calls program_main with
      * argv[0] = PROGRAM and exits with its status (NULL: none; nbody's is `galactica`, a
      * Galactica job folder). */
@@ -277,7 +313,8 @@ typedef struct {
     double start, last;
     double interval; /* seconds between lines: 0.25, or MOTE_PROGRESS_INTERVAL (tests use 0) */
     char label[64];
-    const mote_context *ctx; /* (its live-view hook) */
+    const mote_context *ctx; /* (its live-view hook and its report) */
+    double last_report;
 } mote_progress;
 
 void mote_progress_begin(mote_progress *p, const mote_context *ctx, const char *label);

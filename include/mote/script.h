@@ -70,6 +70,24 @@ int mote_script_validate(mote_script *s, mote_err *err);
  * status line after each model command. Stops at the first failing command; the error is located. */
 int mote_script_execute(mote_script *s, mote_err *err);
 
+/* ---- sessions: a model driven command by command ------------------------------------------- */
+
+/* A session is a script that grows: each text given is read into it (variables and loops work
+ * across texts), checked on a dry model that has checked every command before it, then run on
+ * the session's model. Messages name `name` and the line counted over all texts so far.
+ * `model_line` is "NAME [VARIANT]" as a `model` line takes it. */
+int mote_session_open(mote_script **out, const char *name, const char *model_line,
+                      const mote_model *const *models, size_t nmodels, mote_err *err);
+/* Read, check and run text. What the commands print goes to *printed (malloc'ed, NUL-ended;
+ * the caller frees it; NULL when out is not wanted); warnings go to the context's diag. On an
+ * error in reading or checking nothing runs; in running, the commands before it have run. */
+int mote_session_command(mote_script *s, const char *text, char **printed, mote_err *err);
+/* The model's status line (malloc'ed), as printed after each command. */
+char *mote_session_status(mote_script *s);
+/* The model running the session's commands (for mote_model.arrays and set_array). */
+void *mote_session_instance(mote_script *s);
+void mote_session_close(mote_script *s);
+
 /* ---- whole programs ------------------------------------------------------------------------ */
 
 typedef struct {

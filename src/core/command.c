@@ -153,6 +153,7 @@ void mote_progress_begin(mote_progress *p, const mote_context *ctx, const char *
     p->run = 0;
     p->ctx = ctx;
     p->start = p->last = p->enabled ? mote_wall_seconds() : 0.0;
+    p->last_report = -1e300; /* (the first update reports) */
     snprintf(p->label, sizeof p->label, "%s", label ? label : "");
     const char *iv = getenv("MOTE_PROGRESS_INTERVAL");
     char *end = NULL;
@@ -164,6 +165,14 @@ void mote_progress_update(mote_progress *p, double fraction)
 {
     if (p->ctx && p->ctx->tick)
         p->ctx->tick(p->ctx->tick_arg);
+    if (p->ctx && p->ctx->report) {
+        double t = mote_wall_seconds();
+        if (t - p->last_report >= p->interval) {
+            p->last_report = t;
+            p->ctx->report(p->ctx->report_arg, p->label, fraction < 0 ? 0 : fraction > 1 ? 1
+                                                                                      : fraction);
+        }
+    }
     if (!p->enabled)
         return;
     double now = mote_wall_seconds();
@@ -488,4 +497,28 @@ void mote_results_free(mote_results *r)
     free(r->name);
     free(r->value);
     memset(r, 0, sizeof *r);
+}
+
+/* ---- arrays for other programs ------------------------------------------------------------- */
+
+void mote_array_view(mote_array *a, const char *name, const char *unit, void *data, char type,
+                     size_t n, size_t cols)
+{
+    const size_t size = type == 'i' ? sizeof(int) : sizeof(double);
+    *a = (mote_array){.name = name, .unit = unit, .data = data, .type = type, .rows = n,
+                      .cols = cols, .row_stride = (long)(cols * size), .col_stride = (long)size};
+}
+
+int mote_array_gather(mote_array *a, const char *name, const char *unit,
+                      const double *const *columns, size_t ncols, size_t n, double scale)
+{
+    double *d = malloc((n ? n : 1) * ncols * sizeof *d);
+    if (!d)
+        return -1;
+    for (size_t i = 0; i < n; i++)
+        for (size_t k = 0; k < ncols; k++)
+            d[i * ncols + k] = columns[k][i] * scale;
+    mote_array_view(a, name, unit, d, 'd', n, ncols);
+    a->owned = 1;
+    return 0;
 }

@@ -48,6 +48,43 @@ static int model_settle(void *vm, mote_err *err) { return mote_hs_settle(&((hs_m
 
 static void model_seed(void *vm, uint64_t seed) { mote_hs_seed(&((hs_model *)vm)->hs, seed); }
 
+/* The particles as arrays, in the users' numbering (the engine keeps them in spatial order, so
+ * these are copies): positions projected to the current time, velocities, radii, masses. */
+static int model_arrays(void *vm, mote_array *out, int cap)
+{
+    const mote_hs *hs = &((hs_model *)vm)->hs;
+    const mote_ev *ev = &hs->ev;
+    const size_t n = hs->has_system ? ev->n : 0;
+    const int d = ev->dim == 2 ? 2 : 3;
+    static const char *const names[4] = {"positions", "velocities", "radii", "masses"};
+    int k = 0;
+    for (; k < 4 && k < cap; k++) {
+        const size_t cols = k < 2 ? (size_t)d : 1;
+        double *a = malloc((n ? n : 1) * cols * sizeof *a);
+        if (!a) {
+            while (k-- > 0)
+                free(out[k].data);
+            return -1;
+        }
+        for (uint32_t id = 0; id < n; id++) {
+            const uint32_t i = mote_ev_slot(ev, id);
+            double r[3];
+            if (k == 0)
+                mote_ev_position(ev, i, r);
+            else if (k == 1)
+                mote_ev_velocity(ev, i, r);
+            else
+                r[0] = k == 2 ? mote_ev_radius(ev, i) : mote_ev_mass(ev, i);
+            memcpy(a + id * cols, r, cols * sizeof *a);
+        }
+        out[k] = (mote_array){.name = names[k], .data = a, .type = 'd', .rows = n, .cols = cols,
+                              .row_stride = (long)(cols * sizeof *a), .col_stride = sizeof *a,
+                              .owned = 1, .unit = k == 0 || k == 2 ? "R" : k == 1 ? "sqrt(kT/m)"
+                                                                                  : "m"};
+    }
+    return k;
+}
+
 static int model_plot(void *vm, const char *data_path, const char *png_path,
                       const mote_call *c, mote_err *err)
 {
@@ -575,4 +612,5 @@ const mote_model mote_model_hardspheres = {
     .plot_lines = "image:x_mid,rho pressure:time,P_wall chempot:x_mid,ln_rho_plus_mu_ex "
                   "rdf:r_mid|s_mid,g|g_wall msd:lag_time,msd order:time,xtal_frac",
     .live = model_live,
+    .arrays = model_arrays,
 };

@@ -61,6 +61,32 @@ static void model_destroy(void *vm)
 static const char *integrator_name(int k) { return k == MOTE_MB_EVENT ? "event" : "timestep"; }
 static const char *rule_name(int k) { return k == MOTE_MB_SEEDRULE ? "seed" : "restitution"; }
 
+/* The disks as arrays: positions and velocities (copies, rows of x y), radii, colours. */
+static int model_arrays(void *vm, mote_array *out, int cap)
+{
+    mote_mb *s = &((mb_model *)vm)->sys;
+    const size_t n = s->placed ? s->n : 0;
+    if (cap < 4)
+        return 0;
+    double *r = malloc((n ? n : 1) * sizeof *r);
+    const double *xy[2] = {s->x, s->y}, *v[2] = {s->vx, s->vy};
+    if (!r || mote_array_gather(&out[0], "positions", "m", xy, 2, n, 1.0)) {
+        free(r);
+        return -1;
+    }
+    if (mote_array_gather(&out[1], "velocities", "m/s", v, 2, n, 1.0)) {
+        free(r);
+        free(out[0].data);
+        return -1;
+    }
+    for (size_t i = 0; i < n; i++)
+        r[i] = s->p.r;
+    mote_array_view(&out[2], "radii", "m", r, 'd', n, 1);
+    out[2].owned = 1;
+    mote_array_view(&out[3], "species", "0: placed left, 1: placed right", s->colour, 'i', n, 1);
+    return 4;
+}
+
 static void model_status(void *vm, FILE *out)
 {
     mb_model *m = vm;
@@ -849,4 +875,5 @@ const mote_model mote_model_mixingbox = {
     .plot_help = MB_HELP_PLOT,
     .plot_lines = "mixing:t,S_mix mixing-density:y,n_all",
     .live = model_live,
+    .arrays = model_arrays,
 };

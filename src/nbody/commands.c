@@ -897,6 +897,8 @@ const mote_model mote_model_nbody = {
     .plot_opts = "bodies=s relative_to=s plane=e{invariable|xy|xz|yz} size=i[64,8192]",
     .plot_check = model_plot_check,
     .live = nb_model_live,
+    .arrays = nb_model_arrays,
+    .set_array = nb_model_set_array,
     .program = "galactica",
     .program_main = mote_nb_galactica_main,
     .mpi = 1,

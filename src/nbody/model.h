@@ -97,6 +97,11 @@ typedef struct nb_sampler nb_sampler;
 typedef struct nb_units_req nb_units_req;
 enum { UNITS_CUSTOM, UNITS_SOLAR, UNITS_ATOMIC, UNITS_NONE };
 
+/* ---- arrays.c: the bodies as arrays (mote_model.arrays, set_array) ---- */
+int nb_model_arrays(void *vm, mote_array *out, int cap);
+int nb_model_set_array(void *vm, const char *name, const double *v, size_t rows, size_t cols,
+                       mote_err *err);
+
 /* ---- commands.c: helpers the other files share ---- */
 void nb_settle_units(nb_model *m);
 mote_real nb_opt_real_or(const mote_call *c, const char *key, mote_real dflt);

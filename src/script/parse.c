@@ -1041,6 +1041,33 @@ static int parse_text(mote_script *s, const char *text, size_t len,
     return rc;
 }
 
+void mote_script_drop(mote_script *s, size_t from)
+{
+    for (size_t i = from; i < s->ncalls; i++) {
+        for (int k = 0; k < s->calls[i].nargs; k++) {
+            free(((mote_arg *)s->calls[i].args)[k].path);
+            ((mote_arg *)s->calls[i].args)[k].path = NULL;
+        }
+        for (int k = 0; k < s->calls[i].nopts; k++) {
+            free(((mote_opt *)s->calls[i].opts)[k].value.path);
+            ((mote_opt *)s->calls[i].opts)[k].value.path = NULL;
+        }
+    }
+    if (from < s->ncalls)
+        s->ncalls = from;
+    while (s->nens && s->ens[s->nens - 1].call >= from)
+        s->nens--;
+}
+
+int mote_script_append(mote_script *s, const char *text, size_t len, int line, mote_err *err)
+{
+    const size_t before = s->ncalls;
+    int rc = parse_lines(s, text, text + len, line, s->models, s->nmodels, err);
+    if (rc) /* (what the text added goes; its arena memory stays until the script is freed) */
+        mote_script_drop(s, before);
+    return rc;
+}
+
 int mote_script_parse(mote_script **out, const char *file, const char *text, size_t len,
                       const mote_model *const *models, size_t nmodels, mote_err *err)
 {
@@ -1081,6 +1108,8 @@ int mote_script_parse_params(mote_script **out, const char *file, const char *te
     s->ctx.out = stdout;
     s->ctx.diag = stderr;
     s->live_port = -1; /* no live view unless asked for */
+    s->models = models;
+    s->nmodels = nmodels;
     s->ctx.script_path = mote_arena_strndup(&s->arena, file, strlen(file));
     if (!s->ctx.script_path) {
         mote_script_free(s);

@@ -77,7 +77,19 @@ struct mote_script {
     int in_ensemble;      /* reading an ensemble's body */
     mote_ens_summary *sums; /* running: the summary= files written so far */
     size_t nsums;
+    const mote_model *const *models; /* the registry it was read with (for more text) */
+    size_t nmodels;
+    /* a session (session.c): the dry model that has checked every call so far, the lines read */
+    void *dry;
+    int session_lines;
+    FILE *session_out;    /* what the commands print, read back after each */
 };
+
+/* Read more text into the script (its calls added after the others), the first line numbered
+ * `line`; on an error nothing is added. */
+int mote_script_append(mote_script *s, const char *text, size_t len, int line, mote_err *err);
+/* Forget the calls from `from` on (and the ensembles among them). */
+void mote_script_drop(mote_script *s, size_t from);
 
 /* ---- ensembles (ensemble.c) ---- */
 

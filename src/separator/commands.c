@@ -802,6 +802,27 @@ static const mote_cmd sep_commands[] = {
      NULL, sep_summary},
 };
 
+/* The particles as arrays: positions and velocities (copies, rows of x y z), radii (d/2),
+ * masses and species (views). */
+static int sep_model_arrays(void *vm, mote_array *out, int cap)
+{
+    mote_sep_system *s = &((sep_model *)vm)->sys;
+    if (cap < 5)
+        return 0;
+    const double *x[3] = {s->x, s->y, s->z}, *v[3] = {s->vx, s->vy, s->vz}, *d[1] = {s->d};
+    int k = 0;
+    if (!mote_array_gather(&out[k], "positions", "m", x, 3, s->n, 1.0) && ++k &&
+        !mote_array_gather(&out[k], "velocities", "m/s", v, 3, s->n, 1.0) && ++k &&
+        !mote_array_gather(&out[k], "radii", "m", d, 1, s->n, 0.5) && ++k) {
+        mote_array_view(&out[3], "masses", "kg", s->m, 'd', s->n, 1);
+        mote_array_view(&out[4], "species", "index of `species`", s->s, 'i', s->n, 1);
+        return 5;
+    }
+    while (k-- > 0)
+        free(out[k].data);
+    return -1;
+}
+
 const mote_model mote_model_separator = {
     .name = "separator",
     .summary = "gravitational separator: particles in a gas upflow, the grade-efficiency curve",
@@ -816,4 +837,5 @@ const mote_model mote_model_separator = {
     .plot_lines = "separator-tromp:d_mean_m,T_mass,sigma_T,log separator-profiles:z_m,eps_s",
     .status = sep_status,
     .live = sep_model_live,
+    .arrays = sep_model_arrays,
 };

@@ -1,0 +1,267 @@
+"""mote: the particle-simulation toolkit from Python.
+
+    import mote
+    printed = mote.run("model nbody\\ngenerate ring nb=30\\nintegrate to=0.01\\n")
+    sim = mote.Simulation("nbody")
+    sim.command("generate ring nb=30")
+    sim.command("integrate to=0.01")
+    sim.status()["dE"], sim.positions          # a dict; a NumPy array
+    table = mote.read_data("out/p.dat")         # columns, header and rows of a data file
+
+The commands and scripts are mote's own (`mote help`, docs/commands.md): the package runs them
+through libmote, so its results are bit for bit those of `mote run` with the same lines. Errors
+are raised as MoteError with mote's message ("FILE:LINE:COL: error: ..."); nothing of a script
+runs when it does not check. Runs release the GIL.
+"""
+import os as _os
+import re as _re
+
+import numpy as _np
+
+from ._mote import MoteError, Session as _Session, models as _models, version as __version__
+from . import _mote
+
+__all__ = ["run", "run_file", "check", "Simulation", "read_data", "DataFile", "MoteError",
+           "models", "__version__"]
+
+
+def models():
+    """The names of the models of this build."""
+    return _models()
+
+
+def _params(params):
+    out = []
+    for k, v in params.items():
+        out.append("%s=%s" % (k, v))
+    return out
+
+
+def run(script, name="<python>", progress=None, echo=False, **params):
+    """Check, then run a script given as text; keyword arguments are its parameters (as
+    `mote run SCRIPT NAME=VALUE`). Returns what it printed (also printed when echo is true);
+    warnings go to the warnings module. progress(label, fraction) is called during long
+    commands (at most every quarter second). Raises MoteError (nothing runs when the script
+    does not check; its .printed holds what ran before an error while running)."""
+    printed, warnings_text = _mote.run(script, name, _params(params), False, progress)
+    _warn(warnings_text)
+    if echo:
+        print(printed, end="")
+    return printed
+
+
+def run_file(path, progress=None, echo=False, **params):
+    """run() on a script file; its relative file names start from the script's folder, as
+    with `mote run`."""
+    with open(path, encoding="utf-8") as f:
+        text = f.read()
+    return run(text, name=path, progress=progress, echo=echo, **params)
+
+
+def check(script, name="<python>", **params):
+    """Check a script as `mote check` does, running nothing; raises MoteError."""
+    _, warnings_text = _mote.run(script, name, _params(params), True, None)
+    _warn(warnings_text)
+
+
+def _warn(text):
+    if text:
+        import warnings
+        for line in text.splitlines():
+            if line:
+                warnings.warn(line, stacklevel=3)
+
+
+_NUMBER = _re.compile(r"^[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
+
+
+def _value(text):
+    if _NUMBER.match(text):
+        if _re.match(r"^[-+]?\d+$", text):
+            return int(text)
+        return float(text)
+    if text in ("nan", "-nan", "inf", "-inf"):
+        return float(text.replace("-nan", "nan"))
+    return text
+
+
+def _status_dict(line):
+    d = {}
+    for tok in line.split():
+        if "=" in tok:
+            k, v = tok.split("=", 1)
+            d[k] = _value(v)
+    return d
+
+
+class Simulation:
+    """One model driven command by command:
+
+        sim = mote.Simulation("hard-spheres")
+        sim.command("new 2 0.3")             # what it printed, as text
+        sim.command("step 100")
+        sim.status()                         # {'N': 64, 'eta': 0.3, 't': ..., ...}
+        x = sim.positions                    # a copy, in the users' numbering
+        v = sim.view("positions")            # read-only view where the model's layout allows
+
+    Each command is checked as a script line is (against everything before it) and then run;
+    an error raises MoteError and leaves the system as it was before that command.
+    `model` is a model name, with a variant where it has one ("nbody coulomb").
+    """
+
+    def __init__(self, model="hard-spheres", name="<python>"):
+        self._s = _Session(model, name)
+
+    @property
+    def model(self):
+        return self._s.model
+
+    def command(self, text, progress=None, echo=False):
+        """Read, check and run one or more lines; returns what they printed."""
+        printed = self._s.command(text, progress)
+        if echo:
+            print(printed, end="")
+        return printed
+
+    def status(self):
+        """The model's status line as a dict of numbers (and words)."""
+        return _status_dict(self._s.status())
+
+    def status_line(self):
+        return self._s.status().rstrip("\n")
+
+    def arrays(self):
+        """The state as {name: NumPy array} copies."""
+        return {name: a for name, a, unit, view in self._s.arrays(True)}
+
+    def units(self):
+        return {name: unit for name, a, unit, view in self._s.arrays(True)}
+
+    def view(self, name):
+        """The array `name` as a read-only view of the model's own memory where its layout
+        allows (nbody), else a copy. No command runs while a view is alive (delete it first)."""
+        for n, a, unit, view in self._s.arrays(False):
+            if n == name:
+                return a
+        raise MoteError("the %s model has no array '%s' (it has: %s)"
+                        % (self.model, name, ", ".join(self.arrays())))
+
+    def set(self, name, values):
+        """Replace a state array (shape and values checked by the model)."""
+        self._s.set_array(name, _np.asarray(values, dtype=float))
+
+    def _get(self, name):
+        a = self.arrays()
+        if name not in a:
+            raise AttributeError("the %s model has no %s" % (self.model, name))
+        return a[name]
+
+    positions = property(lambda self: self._get("positions"))
+    velocities = property(lambda self: self._get("velocities"))
+    radii = property(lambda self: self._get("radii"))
+    masses = property(lambda self: self._get("masses"))
+    charges = property(lambda self: self._get("charges"))
+    species = property(lambda self: self._get("species"))
+
+    def to_ase(self):
+        """The configuration as an ase.Atoms (ASE, Debian's python3-ase) for the hard-sphere,
+        mixing-box and separator models: positions (2D ones with z = 0), velocities, the radii
+        as the array "radius" and the species as tags; for hard spheres the box is the cell
+        (x across the slit; periodic axes as pbc), the others have no cell."""
+        import ase
+        if self.model not in ("hard-spheres", "mixing-box", "separator"):
+            raise MoteError("to_ase: the %s model's bodies are not atoms (hard-spheres, "
+                            "mixing-box and separator configurations are)" % self.model)
+        a = self.arrays()
+
+        def three(v):
+            return _np.column_stack([v, _np.zeros(len(v))]) if v.shape[1] == 2 else v
+
+        atoms = ase.Atoms(positions=three(a["positions"]))
+        atoms.set_velocities(three(a["velocities"]))
+        atoms.set_array("radius", a["radii"])
+        if "species" in a:
+            atoms.set_tags(a["species"])
+        if self.model == "hard-spheres":
+            st = self.status()
+            d3 = st.get("d", 3) == 3
+            atoms.set_cell([st["L"], st["A"], st["A"] if d3 else 0.0])
+            atoms.set_pbc([st.get("geometry") == "periodic", True, d3])
+        return atoms
+
+    def close(self):
+        self._s.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+class DataFile:
+    """A mote data file: .format, .command, .header (key -> number, or (value, error) for
+    results), .columns (names), .blocks (a 2D array per block of rows), .data (the rows after
+    the last '# columns:' line, the last block, as `plot` draws them) and .column(name)."""
+
+    def __init__(self, path):
+        self.path = path
+        self.format = ""
+        self.command = ""
+        self.header = {}
+        self.columns = []
+        self.blocks = []
+        rows = []
+        with open(path, encoding="utf-8") as f:
+            for n, line in enumerate(f, 1):
+                line = line.rstrip("\r\n")
+                if n == 1:
+                    m = _re.match(r"^# mote (\S+) 1$", line)
+                    if not m:
+                        raise MoteError("%s:1: not a mote data file (its first line is not "
+                                        "'# mote FORMAT 1')" % path)
+                    self.format = m.group(1)
+                    continue
+                if line.startswith("# command: "):
+                    self.command = line[len("# command: "):]
+                elif line.startswith("# columns:"):
+                    self.columns = line[len("# columns:"):].split()
+                elif line.startswith("#"):
+                    m = _re.match(r"^# (\S+) = (\S+)(?: ± (\S+))?$", line)
+                    if m:
+                        v = _value(m.group(2))
+                        self.header[m.group(1)] = (v, _value(m.group(3))) if m.group(3) else v
+                elif not line.strip():
+                    if rows:
+                        self.blocks.append(rows)
+                        rows = []
+                else:
+                    try:
+                        rows.append([float(t) for t in line.split()])
+                    except ValueError:
+                        raise MoteError("%s:%d: not a row of numbers: %s" % (path, n, line))
+        if rows:
+            self.blocks.append(rows)
+        self.blocks = [_np.array(b, dtype=float) if len({len(r) for r in b}) == 1
+                       else _np.array(b, dtype=object) for b in self.blocks]
+
+    @property
+    def data(self):
+        return self.blocks[-1] if self.blocks else _np.empty((0, len(self.columns)))
+
+    def column(self, name):
+        """The column `name` of .data (a name may leave out its [unit])."""
+        for k, c in enumerate(self.columns):
+            if c == name or c.split("[")[0] == name:
+                return self.data[:, k]
+        raise KeyError("%s has no column %s (its columns: %s)"
+                       % (self.path, name, ", ".join(self.columns)))
+
+    def __repr__(self):
+        return "DataFile(%r, format=%r, %d columns, %d rows)" % (
+            self.path, self.format, len(self.columns), len(self.data))
+
+
+def read_data(path):
+    """Read a mote data file (see DataFile)."""
+    return DataFile(path)
