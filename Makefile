@@ -133,7 +133,7 @@ $(BUILD)/tests/test_precision_%: tests/test_precision.c $(NB_SRC:%.c=$(BUILD)/$$
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) $(PREC_FLAGS_$*) -Itests $< $(NB_SRC:%.c=$(BUILD)/$*/%.o) $(BUILD)/libmote.a $(LDLIBS) -o $@
 
-tests: $(BUILD)/mote $(TEST_BIN) $(BENCH_BIN) $(PREC_BIN)
+tests: $(BUILD)/mote $(TEST_BIN) $(BENCH_BIN) $(PREC_BIN) python
 bench: $(BUILD)/mote $(BENCH_BIN)
 
 # Install missing Debian packages (a no-op when everything is present): what the build and the
@@ -205,11 +205,13 @@ includedir := $(PREFIX)/include
 man1dir := $(PREFIX)/share/man/man1
 docdir := $(PREFIX)/share/doc/mote
 completiondir := $(PREFIX)/share/bash-completion/completions
+# the Python package: where Debian's python3 looks for a prefix's packages
+pythondir = $(PREFIX)/lib/python$(PY_VER)/dist-packages
 $(BUILD)/mote.1: $(BUILD)/mote
 	$(BUILD)/mote help --man > $@
 $(BUILD)/mote.bash: $(BUILD)/mote
 	$(BUILD)/mote help --bash-completion > $@
-install: $(BUILD)/mote $(BUILD)/libmote.a $(BUILD)/libmote.so.$(VERSION) $(BUILD)/mote.1 $(BUILD)/mote.bash
+install: $(BUILD)/mote $(BUILD)/libmote.a $(BUILD)/libmote.so.$(VERSION) $(BUILD)/mote.1 $(BUILD)/mote.bash python
 	install -d $(DESTDIR)$(bindir) $(DESTDIR)$(libdir)/pkgconfig $(DESTDIR)$(includedir)/mote \
 	    $(DESTDIR)$(man1dir) $(DESTDIR)$(completiondir) $(DESTDIR)$(docdir)/docs \
 	    $(DESTDIR)$(docdir)/examples/c
@@ -230,13 +232,16 @@ install: $(BUILD)/mote $(BUILD)/libmote.a $(BUILD)/libmote.so.$(VERSION) $(BUILD
 	install -m 644 docs/*.md $(DESTDIR)$(docdir)/docs/
 	install -m 644 examples/*.mote $(DESTDIR)$(docdir)/examples/
 	install -m 644 examples/c/*.c examples/c/Makefile $(DESTDIR)$(docdir)/examples/c/
+	install -d $(DESTDIR)$(pythondir)/mote $(DESTDIR)$(docdir)/examples/python
+	install -m 644 $(PY_PKG)/__init__.py $(PY_PKG)/_mote$(PY_EXT) $(DESTDIR)$(pythondir)/mote/
+	install -m 644 examples/python/*.py $(DESTDIR)$(docdir)/examples/python/
 	@[ -n "$(DESTDIR)" ] || [ "$$(id -u)" != 0 ] || ldconfig 2>/dev/null || true
 uninstall:
 	rm -f $(DESTDIR)$(bindir)/mote $(DESTDIR)$(libdir)/libmote.so.$(VERSION) \
 	    $(DESTDIR)$(libdir)/libmote.so.$(SOMAJOR) $(DESTDIR)$(libdir)/libmote.so \
 	    $(DESTDIR)$(libdir)/libmote.a $(DESTDIR)$(libdir)/pkgconfig/mote.pc \
 	    $(DESTDIR)$(man1dir)/mote.1 $(DESTDIR)$(completiondir)/mote
-	rm -rf $(DESTDIR)$(includedir)/mote $(DESTDIR)$(docdir)
+	rm -rf $(DESTDIR)$(includedir)/mote $(DESTDIR)$(docdir) $(DESTDIR)$(pythondir)/mote
 
 example: setup
 	$(MAKE) --no-print-directory all

@@ -15,6 +15,10 @@ pkg-config --exists cairo 2>/dev/null || need="$need libcairo2-dev"
 pkg-config --exists assimp 2>/dev/null || need="$need libassimp-dev"
 # libmicrohttpd: the live view's HTTP server (mote run --live)
 pkg-config --exists libmicrohttpd 2>/dev/null || need="$need libmicrohttpd-dev"
+# the Python package (make python, make install): Debian's python3 with its headers and NumPy
+[ -f "$(/usr/bin/python3 -c 'import sysconfig; print(sysconfig.get_paths()["include"])' 2>/dev/null)/Python.h" ] ||
+    need="$need python3-dev"
+/usr/bin/python3 -c 'import numpy' >/dev/null 2>&1 || need="$need python3-numpy"
 # `setup.sh test` (make check): also what only the tests use
 if [ "${1:-}" = test ] || [ "${1:-}" = bench ]; then
     # Open MPI: the MPI build (make MPI=1), built and run with 2 ranks by make check
@@ -24,7 +28,10 @@ if [ "${1:-}" = test ] || [ "${1:-}" = bench ]; then
     /usr/bin/python3 -c 'import vtkmodules.vtkIOLegacy' >/dev/null 2>&1 || need="$need python3-vtk9"
     # ASE (Debian's python3), the independent reader of the extended XYZ files
     /usr/bin/python3 -c 'import ase.io' >/dev/null 2>&1 || need="$need python3-ase"
-    # matplotlib (Debian's python3): pictures read back pixel by pixel (test_plot)
+    # pytest (Debian's python3): the Python package's tests and examples (test_python)
+    /usr/bin/python3 -c 'import pytest' >/dev/null 2>&1 || need="$need python3-pytest"
+    # matplotlib (Debian's python3): pictures read back pixel by pixel (test_plot), and the
+    # Python examples' plots
     /usr/bin/python3 -c 'import matplotlib.image' >/dev/null 2>&1 || need="$need python3-matplotlib"
     # pandas (Debian's python3): the .csv files (RFC 4180) read back as users read them
     /usr/bin/python3 -c 'import pandas' >/dev/null 2>&1 || need="$need python3-pandas"

@@ -277,8 +277,8 @@ static PyObject *Session_arrays(Session *self, PyObject *args, PyObject *kw)
         npy_intp strides[2] = {a[k].row_stride, a[k].col_stride};
         const int nd = a[k].cols == 1 ? 1 : 2;
         const int type = a[k].type == 'i' ? NPY_INT32 : NPY_DOUBLE;
-        PyObject *arr = PyArray_New(&PyArray_Type, nd, dims, type, strides, a[k].data, 0, 0,
-                                    NULL);
+        PyObject *arr = PyArray_New(&PyArray_Type, nd, dims, type, strides, a[k].data, 0,
+                                    a[k].owned ? NPY_ARRAY_WRITEABLE : 0, NULL);
         int view = !a[k].owned;
         if (arr && a[k].owned) { /* the array owns the copy made for it */
             PyObject *cap = PyCapsule_New(a[k].data, NULL, free_capsule);

@@ -102,11 +102,6 @@ int mote_session_command(mote_script *s, const char *text, char **printed, mote_
         s->session_lines += *p == '\n';
     if (*text && text[strlen(text) - 1] != '\n')
         s->session_lines++;
-    for (size_t i = from; !rc && i < s->ncalls; i++)
-        if (s->calls[i].def == mote_script_common_model_cmd())
-            rc = mote_call_fail(err, &s->calls[i], -1, MOTE_EINVAL, "model: a session has its "
-                                "model from its start (%s); open another session for another",
-                                s->model->name);
     if (!rc)
         rc = check_new(s, from, err);
     if (rc) {

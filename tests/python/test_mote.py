@@ -1,0 +1,201 @@
+"""The Python package against the program: the same lines give the same bits, errors are
+MoteError with mote's message and run nothing, arrays and views, setters that check, data files,
+progress, the GIL."""
+import os
+import re
+import subprocess
+import threading
+
+import numpy as np
+import pytest
+
+import mote
+
+TIMING = re.compile(r"(seconds|collisions_per_second|wall_seconds|cpu_s|wall_s)=\S+")
+
+
+def untimed(text):
+    return [TIMING.sub("", l) for l in text.splitlines() if "traces/s" not in l]
+
+
+def test_models_and_version():
+    assert mote.models() == ["hard-spheres", "mixing-box", "nbody", "charging", "separator"]
+    assert re.match(r"^\d+\.\d+\.\d+$", mote.__version__)
+
+
+def test_run_is_the_program(tmp_path, mote_bin, monkeypatch):
+    """mote.run of a script and `mote run` of the same file: the same output and files."""
+    script = ("seed 3\nnew 2 0.3\nstep 40\npressure 20 p.dat\nimage 10 4 rho.dat\n"
+              "save s.state\n")
+    for d in ("cli", "py"):
+        (tmp_path / d).mkdir()
+        (tmp_path / d / "s.mote").write_text(script)
+    cli = subprocess.run([mote_bin, "run", "s.mote"], cwd=tmp_path / "cli",
+                         capture_output=True, text=True, check=True).stdout
+    monkeypatch.chdir(tmp_path / "py")
+    py = mote.run_file("s.mote")
+    assert untimed(py) == untimed(cli)
+    for f in ("p.dat", "rho.dat", "s.state"):
+        a = (tmp_path / "cli" / f).read_bytes()
+        b = (tmp_path / "py" / f).read_bytes()
+        # the data files name their command's script: the same name in both
+        assert a == b, f
+
+
+def test_simulation_is_the_script(tmp_path, mote_bin):
+    """Commands one by one from Python and the same lines as a script: the same state, bit for
+    bit (the nbody ring, then hard spheres with random numbers)."""
+    lines = ["generate ring nb=30", "integrator galactica dt=1e-6", "integrate steps=300",
+             "integrator taylor order=12 tol=1e-16", "integrate steps=7",
+             "save %s" % (tmp_path / "py.state")]
+    sim = mote.Simulation("nbody gravity")
+    for l in lines:
+        sim.command(l)
+    script = "model nbody gravity\n" + "\n".join(lines).replace("py.state", "cli.state") + "\n"
+    (tmp_path / "r.mote").write_text(script)
+    subprocess.run([mote_bin, "run", "r.mote"], cwd=tmp_path, check=True, capture_output=True)
+    assert (tmp_path / "py.state").read_bytes() == (tmp_path / "cli.state").read_bytes()
+    hs = mote.Simulation()
+    hs.command("seed 9\nnew 3 0.35")
+    hs.command("step 30")
+    hs.command("save %s" % (tmp_path / "hp.state"))
+    (tmp_path / "h.mote").write_text("seed 9\nnew 3 0.35\nstep 30\nsave hc.state\n")
+    subprocess.run([mote_bin, "run", "h.mote"], cwd=tmp_path, check=True, capture_output=True)
+    assert (tmp_path / "hp.state").read_bytes() == (tmp_path / "hc.state").read_bytes()
+
+
+def test_parameters():
+    out = mote.run("echo eta=${eta} twice=${2*eta}\n", eta=0.3)
+    assert out == "eta=0.3 twice=0.6\n"
+
+
+def test_errors_name_the_line_and_run_nothing(tmp_path):
+    f = tmp_path / "never.dat"
+    with pytest.raises(mote.MoteError) as e:
+        mote.run("new 2 0.3\nimage 10 4 %s\nstep nope\n" % f, name="s.mote")
+    assert str(e.value) == "s.mote:3:6: error: step: expected an integer for K, found 'nope'"
+    assert not f.exists()
+    with pytest.raises(mote.MoteError, match=r"undefined variable 'eta'"):
+        mote.run("new 2 ${eta}\n")
+    with pytest.raises(mote.MoteError, match=r"this loop has no 'end'"):
+        mote.run("for a in 1 2\necho ${a}\n")
+    with pytest.raises(mote.MoteError, match=r"not a number"):
+        mote.run("echo ${1+x}\n", x="abc")
+    with pytest.raises(mote.MoteError, match=r"parameter 'eta' is given twice|given twice"):
+        mote._mote.run("echo ${eta}\n", "<p>", ["eta=1", "eta=2"])
+
+
+def test_simulation_errors_leave_the_state():
+    sim = mote.Simulation("hard-spheres")
+    sim.command("new 2 0.3")
+    before = sim.status_line()
+    with pytest.raises(mote.MoteError, match=r"^<python>:3:6: error: step: expected"):
+        sim.command("step -4")
+    assert sim.status_line() == before
+    with pytest.raises(mote.MoteError, match=r"only one 'model' command is allowed"):
+        sim.command("model nbody")
+    with pytest.raises(mote.MoteError, match=r"unknown model"):
+        mote.Simulation("nosuch")
+    sim.command("step 5")  # (still usable)
+    assert sim.status()["collisions"] == 5 * 64 // 2  # (K collisions per sphere, two per pair)
+
+
+def test_status_and_arrays():
+    sim = mote.Simulation("hard-spheres")
+    sim.command("new 2 0.3")
+    st = sim.status()
+    assert st["N"] == 64 and st["eta"] == 0.3 and st["geometry"] == "slit"
+    x, r = sim.positions, sim.radii
+    assert x.shape == (64, 3) and r.shape == (64,) and np.all(r == 1.0)
+    assert np.all(x[:, 0] >= 1.0) and np.all(x[:, 0] <= st["L"] - 1.0)  # between the walls
+    x[0, 0] = -5  # a copy: the model is untouched
+    assert sim.positions[0, 0] != -5
+    atoms = sim.to_ase()
+    assert np.allclose(atoms.get_positions(), sim.positions)
+    assert list(atoms.get_pbc()) == [False, True, True]
+    assert np.allclose(atoms.cell.lengths(), [st["L"], st["A"], st["A"]])
+
+
+def test_views_and_setters():
+    sim = mote.Simulation("nbody")
+    sim.command("generate ring nb=12")
+    v = sim.view("positions")
+    assert not v.flags.writeable and np.array_equal(v, sim.positions)
+    with pytest.raises(ValueError):
+        v[0, 0] = 1.0
+    with pytest.raises(mote.MoteError, match=r"view .* still held"):
+        sim.command("integrate steps=1")
+    row = v[1]  # a slice keeps the view alive
+    del v
+    with pytest.raises(mote.MoteError, match=r"still held"):
+        sim.command("integrate steps=1")
+    del row
+    sim.command("integrate steps=1")
+    x = sim.positions
+    with pytest.raises(mote.MoteError, match=r"expected 12 x 3 numbers .* found 12 x 2"):
+        sim.set("positions", x[:, :2])
+    with pytest.raises(mote.MoteError, match=r"not finite"):
+        bad = x.copy()
+        bad[3, 1] = np.nan
+        sim.set("positions", bad)
+    with pytest.raises(mote.MoteError, match=r"finite and > 0"):
+        sim.set("masses", -sim.masses)
+    assert np.array_equal(sim.positions, x)  # refused: unchanged
+    y = x * 1.01
+    sim.set("positions", y)
+    assert np.array_equal(sim.positions, y)
+    assert sim.status()["dE"] == 0.0  # energies measured from the new state
+    hs = mote.Simulation()
+    hs.command("new 2 0.3")
+    with pytest.raises(mote.MoteError, match=r"cannot be set"):
+        hs.set("positions", hs.positions)
+
+
+def test_read_data(tmp_path):
+    mote.run("output_dir %s\nensemble 2 file=e.dat\nbulk 32 0.3\nstep 50\npressure 50 p_${replica}.dat\nend\n"
+             % tmp_path)
+    d = mote.read_data(str(tmp_path / "e.dat"))
+    assert d.format == "ensemble" and d.header["replicas"] == 2
+    z = d.column("pressure.Z")
+    mean, err = d.header["pressure.Z"]
+    assert len(z) == 2 and abs(z.mean() - mean) <= 1e-9 * abs(mean)
+    p = mote.read_data(str(tmp_path / "p_1.dat"))
+    assert p.columns[0] == "x_mid[R]" and p.data.shape == (len(p.data), len(p.columns))
+    with pytest.raises(KeyError):
+        p.column("nosuch")
+    (tmp_path / "x.dat").write_text("hello\n")
+    with pytest.raises(mote.MoteError, match=r"x.dat:1: not a mote data file"):
+        mote.read_data(str(tmp_path / "x.dat"))
+
+
+def test_progress():
+    seen = []
+    mote.run("new 3 0.3\nstep 3000\n", progress=lambda label, f: seen.append((label, f)))
+    assert seen and all(l == "step" and 0 <= f <= 1 for l, f in seen)
+    fr = [f for _, f in seen]
+    assert fr == sorted(fr)
+
+
+def test_gil_released():
+    """While one thread runs a long command, another runs Python: the run releases the GIL."""
+    sim = mote.Simulation()
+    sim.command("new 4 0.3")
+    started, done = threading.Event(), threading.Event()
+    seen_running = []
+
+    def work():
+        started.set()
+        sim.command("step 20000")
+        done.set()
+
+    t = threading.Thread(target=work)
+    t.start()
+    started.wait()
+    # a thread holding the GIL for the whole command would let this line run only after it
+    n = 0
+    while not done.is_set() and n < 10**7:
+        n += 1
+        if n == 1000:
+            seen_running.append(not done.is_set())
+    t.join()
+    assert seen_running == [True]
