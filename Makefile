@@ -235,6 +235,8 @@ install: $(BUILD)/mote $(BUILD)/libmote.a $(BUILD)/libmote.so.$(VERSION) $(BUILD
 	install -d $(DESTDIR)$(pythondir)/mote $(DESTDIR)$(docdir)/examples/python
 	install -m 644 $(PY_PKG)/__init__.py $(PY_PKG)/_mote$(PY_EXT) $(DESTDIR)$(pythondir)/mote/
 	install -m 644 examples/python/*.py $(DESTDIR)$(docdir)/examples/python/
+	install -d $(DESTDIR)$(docdir)/data
+	install -m 644 data/*.dat $(DESTDIR)$(docdir)/data/
 	@[ -n "$(DESTDIR)" ] || [ "$$(id -u)" != 0 ] || ldconfig 2>/dev/null || true
 uninstall:
 	rm -f $(DESTDIR)$(bindir)/mote $(DESTDIR)$(libdir)/libmote.so.$(VERSION) \

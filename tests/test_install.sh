@@ -53,6 +53,17 @@ pc=$P/lib/pkgconfig/mote.pc
 cc -O2 cx/ring.c $(pkg-config --cflags mote) "$P/lib/libmote.a" $(pkg-config --libs $(sed -n 's/^Requires.private: //p' "$pc")) \
     $(sed -n 's/^Libs.private: //p' "$pc") -o ring_static 2> cc.txt &&
     ! objdump -p ring_static | grep -q libmote && ./ring_static > /dev/null && ok || bad "static link: $(head -n 5 cc.txt)"
+# the Python package from the prefix: imported, runs a script and a session, the installed
+# example runs with the installed data
+pyver=$(/usr/bin/python3 -c 'import sysconfig; print(sysconfig.get_python_version())')
+export PYTHONPATH="$P/lib/python$pyver/dist-packages"
+[ "$(/usr/bin/python3 -c 'import mote; print(mote.__file__)')" = "$PYTHONPATH/mote/__init__.py" ] && ok ||
+    bad "python3 -c 'import mote' does not find the installed package: $(/usr/bin/python3 -c 'import mote' 2>&1 | tail -n 1)"
+/usr/bin/python3 -c 'import mote; s = mote.Simulation("nbody"); s.command("generate ring nb=30\nintegrate steps=100"); print(s.status()["N"], mote.run("echo ${x}\n", x=7), end="")' > py.txt 2>&1 &&
+    [ "$(cat py.txt)" = "30 7" ] && ok || bad "the installed package: $(cat py.txt)"
+(mkdir ex && cd ex && /usr/bin/python3 "$P/share/doc/mote/examples/python/ring.py" --quick --out o > out.txt 2>&1) && grep -q '^ring: error' ex/out.txt && ok ||
+    bad "the installed ring.py: $(tail -n 3 ex/out.txt)"
+unset PYTHONPATH
 # uninstall removes every file it installed
 make -s -C "$SRC" BUILD="$TMP/build" PREFIX="$P" uninstall > make.txt 2>&1 && ok || bad "make uninstall: $(tail -n 3 make.txt)"
 left=$(find "$P" ! -type d)
