@@ -537,6 +537,11 @@ static int do_run(mb_model *m, const mote_call *c, double t_end, uint64_t collis
     {
         mote_mb_tally t = mote_mb_counts(s);
         mote_call_result(c, "mixing_fraction", mote_mb_mixing_fraction(&t));
+        const double span = s->time - t0;
+        if (span > 0) { /* the flux through the slit in each direction during the run (1/s) */
+            mote_call_result(c, "flux_lr", (double)(s->cross_lr - before.cross_lr) / span);
+            mote_call_result(c, "flux_rl", (double)(s->cross_rl - before.cross_rl) / span);
+        }
     }
     if (m->log) {
         mote_mb_tally t = mote_mb_counts(s);
