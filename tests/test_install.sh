@@ -1,11 +1,12 @@
 #!/bin/sh
-# test_install.sh BUILD_DIR: `make install` as a user or a packager does it, from a build of its
-# own in a temporary folder: every file in place (program, shared library with its soname and
-# links, static library, headers, pkg-config file, man page, bash completion, docs, examples);
-# the C examples built with `pkg-config --cflags --libs mote` and run (the ring's error against
-# the exact solution, a script sweep); a program linked statically with `pkg-config --static`;
-# DESTDIR staging; `make uninstall` leaving nothing behind. The install is of the plain build,
-# so under the sanitizers (MOTE_SANITIZED) it is not repeated.
+# test_install.sh BUILD_DIR: `make install` as a user or a packager does it, from the build in
+# BUILD_DIR (make install adds what that lacks: the shared library, the man page): every file in
+# place (program, shared library with its soname and links, static library, headers, pkg-config
+# file, man page, bash completion, docs, examples, the Python package); the C examples built with
+# `pkg-config --cflags --libs mote` and run (the ring's error against the exact solution, a
+# script sweep); libmote.a linked with what mote.pc names; the Python package imported from the
+# prefix; DESTDIR staging; `make uninstall` leaving nothing behind. The install is of the plain
+# build, so under the sanitizers (MOTE_SANITIZED) it is not repeated.
 NAME=test_install
 . "$(dirname "$0")/lib.sh"
 SRC=$(cd "$(dirname "$0")/.." && pwd)
@@ -17,7 +18,8 @@ if [ -n "${MOTE_SANITIZED:-}" ]; then
     exit
 fi
 P=$TMP/prefix
-make -s -C "$SRC" -j2 BUILD="$TMP/build" PREFIX="$P" install > make.txt 2>&1 && ok ||
+B=$(cd "$(dirname "$MOTE")" && pwd)
+make -s -C "$SRC" -j2 BUILD="$B" PREFIX="$P" install > make.txt 2>&1 && ok ||
     { bad "make install failed: $(tail -n 5 make.txt)"; mote_test_end; exit 1; }
 version=$(sed -n 's/^#define MOTE_VERSION "\(.*\)"/\1/p' "$SRC/include/mote/core.h")
 [ "$("$P/bin/mote" --version)" = "mote $version" ] && ok || bad "bin/mote --version: $("$P/bin/mote" --version)"
@@ -65,11 +67,11 @@ export PYTHONPATH="$P/lib/python$pyver/dist-packages"
     bad "the installed ring.py: $(tail -n 3 ex/out.txt)"
 unset PYTHONPATH
 # uninstall removes every file it installed
-make -s -C "$SRC" BUILD="$TMP/build" PREFIX="$P" uninstall > make.txt 2>&1 && ok || bad "make uninstall: $(tail -n 3 make.txt)"
+make -s -C "$SRC" BUILD="$B" PREFIX="$P" uninstall > make.txt 2>&1 && ok || bad "make uninstall: $(tail -n 3 make.txt)"
 left=$(find "$P" ! -type d)
 [ -z "$left" ] && ok || bad "left after uninstall: $left"
 # DESTDIR: staged under it, with the final prefix inside the pkg-config file
-make -s -C "$SRC" BUILD="$TMP/build" PREFIX=/opt/mote DESTDIR="$TMP/stage" install > make.txt 2>&1 &&
+make -s -C "$SRC" BUILD="$B" PREFIX=/opt/mote DESTDIR="$TMP/stage" install > make.txt 2>&1 &&
     [ -x "$TMP/stage/opt/mote/bin/mote" ] && grep -qx 'prefix=/opt/mote' "$TMP/stage/opt/mote/lib/pkgconfig/mote.pc" && ok ||
     bad "DESTDIR install: $(tail -n 3 make.txt)"
 mote_test_end
