@@ -91,4 +91,9 @@ timeout 60 "$MOTE" check snaps.mote > out.txt 2> err.txt && grep -q 'ok: 100009 
 cp "$SRC/fuzz/corpus/mb_state/timeout-inelastic-contact-below-an-ulp" ulp.state
 limited 0 "" ulp.mote "model mixing-box\nload ulp.state\nkicks 8 1 0\nloss 1\nrun 0.01\n"
 grep -q '^N=10 t=0.06 ' out.txt && ok || bad "the inelastic run did not reach t = 0.06: $(tail -n 1 out.txt)"
+# an undefined error (one block's contact value) is written "nan", never "-nan" (the sign bit
+# of 0/0), in a data file's header and on the result line
+printf 'new 2 0.3\nstep 20\npressure 5 p.dat\n' > nan.mote
+"$MOTE" run nan.mote > out.txt 2> err.txt && grep -q ' ± nan$' p.dat && ! grep -q -- '-nan' p.dat out.txt && ok ||
+    bad "NaN written as: $(grep -h -- 'nan' p.dat out.txt | head -n 3)"
 mote_test_end

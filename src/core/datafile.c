@@ -33,13 +33,16 @@ const double *mote_result_get(const mote_result *res, const char *key, double *e
     return NULL;
 }
 
+/* NaN as "nan" (a NaN made by 0/0 or sqrt(-x) has its sign bit set and prints as "-nan") */
+static double nan_plain(double x) { return isnan(x) ? NAN : x; }
+
 void mote_result_print(const mote_result *res, const char *label, FILE *out)
 {
     if (!out)
         return;
     fprintf(out, "%s:", label);
     for (int k = 0; k < res->n; k++) {
-        fprintf(out, " %s=%.8g", res->kv[k].key, res->kv[k].value);
+        fprintf(out, " %s=%.8g", res->kv[k].key, nan_plain(res->kv[k].value));
         if (!isnan(res->kv[k].error))
             fprintf(out, " %s_err=%.3g", res->kv[k].key, res->kv[k].error);
     }
@@ -49,7 +52,8 @@ void mote_result_print(const mote_result *res, const char *label, FILE *out)
 void mote_result_write(const mote_result *res, FILE *f)
 {
     for (int k = 0; k < res->n; k++)
-        fprintf(f, "# %s = %.12g ± %.6g\n", res->kv[k].key, res->kv[k].value, res->kv[k].error);
+        fprintf(f, "# %s = %.12g ± %.6g\n", res->kv[k].key, nan_plain(res->kv[k].value),
+                nan_plain(res->kv[k].error));
 }
 
 /* ---- writing ---------------------------------------------------------------------------------- */

@@ -183,8 +183,8 @@ static int combine(const replica *rp, int K, combined *cb)
                     ss += (rp[r].res.value[i] - mean) * (rp[r].res.value[i] - mean);
                     break;
                 }
-        cb->mean[q] = mean;
-        cb->se[q] = n > 1 ? sqrt(ss / (n - 1) / n) : NAN;
+        cb->mean[q] = isnan(mean) ? NAN : mean;
+        cb->se[q] = n > 1 && !isnan(ss) ? sqrt(ss / (n - 1) / n) : NAN;
         cb->count[q] = n;
     }
     return MOTE_OK;
@@ -203,7 +203,7 @@ static double value_of(const replica *rp, const char *name)
 {
     for (size_t i = 0; i < rp->res.n; i++)
         if (!strcmp(rp->res.name[i], name))
-            return rp->res.value[i];
+            return isnan(rp->res.value[i]) ? NAN : rp->res.value[i]; /* ("nan", not "-nan") */
     return NAN;
 }
 
