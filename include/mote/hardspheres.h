@@ -57,6 +57,12 @@ double mote_hs_particle_volume_sum(const mote_hs *hs);
 double mote_hs_mean_radius(const mote_hs *hs);
 int mote_hs_temperature(mote_hs *hs, double kt, mote_err *err);
 int mote_hs_check(mote_hs *hs, mote_err *err);
+/* Replace the positions or velocities (`name`), rows x cols = N x d numbers in the particles'
+ * numbering, after checking them: finite, centres between the walls, no two spheres overlapping
+ * (positions; periodic coordinates wrapped into the box). On an error the system is unchanged.
+ * Energies are measured from the new state. */
+int mote_hs_set_array(mote_hs *hs, const char *name, const double *val, size_t rows, size_t cols,
+                      mote_err *err);
 
 /* ---- dynamics ---- */
 /* step K: floor(K N / 2) pair collisions, with a progress display when hs->ctx->terminal. */

@@ -85,6 +85,12 @@ static int model_arrays(void *vm, mote_array *out, int cap)
     return k;
 }
 
+static int model_set_array(void *vm, const char *name, const double *v, size_t rows,
+                           size_t cols, mote_err *err)
+{
+    return mote_hs_set_array(&((hs_model *)vm)->hs, name, v, rows, cols, err);
+}
+
 static int model_plot(void *vm, const char *data_path, const char *png_path,
                       const mote_call *c, mote_err *err)
 {
@@ -613,4 +619,5 @@ const mote_model mote_model_hardspheres = {
                   "rdf:r_mid|s_mid,g|g_wall msd:lag_time,msd order:time,xtal_frac",
     .live = model_live,
     .arrays = model_arrays,
+    .set_array = model_set_array,
 };

@@ -507,6 +507,74 @@ int mote_hs_temperature(mote_hs *hs, double kt, mote_err *err)
     return MOTE_OK;
 }
 
+int mote_hs_set_array(mote_hs *hs, const char *name, const double *val, size_t rows, size_t cols,
+                      mote_err *err)
+{
+    const int pos = !strcmp(name, "positions"), vel = !strcmp(name, "velocities");
+    if (!pos && !vel)
+        return mote_fail(err, MOTE_EINVAL, "set %s: the hard-spheres model sets positions or "
+                         "velocities", name);
+    if (!hs->has_system)
+        return mote_fail(err, MOTE_EINVAL, "set %s: no system exists yet; create one first with "
+                         "new, bulk, new_disks, bulk_disks or load", name);
+    mote_ev *ev = &hs->ev;
+    const size_t n = ev->n, d = (size_t)ev->dim;
+    if (rows != n || cols != d)
+        return mote_fail(err, MOTE_EINVAL, "set %s: expected %zu x %zu numbers (one row per "
+                         "particle), found %zu x %zu", name, n, d, rows, cols);
+    for (size_t id = 0; id < n; id++)
+        for (size_t a = 0; a < d; a++) {
+            const double x = val[id * d + a];
+            const double R = mote_ev_radius(ev, mote_ev_slot(ev, (uint32_t)id));
+            if (!isfinite(x) || (vel && !(fabs(x) <= 1e100)))
+                return mote_fail(err, MOTE_EINVAL, "set %s: particle %zu: %c = %g is not a finite "
+                                 "number%s", name, id, "xyz"[a], x, vel ? " up to 1e100" : "");
+            const double lo = R * (1 - 1e-10), hi = ev->len[a] - lo;
+            if (pos && !ev->periodic[a] && !(x >= lo && x <= hi))
+                return mote_fail(err, MOTE_EINVAL, "set positions: particle %zu: %c = %.17g is "
+                                 "outside the walls [%.17g, %.17g]", id, "xyz"[a], x, R,
+                                 ev->len[a] - R);
+        }
+    int rc = mote_ev_rebuild(ev, err); /* (every particle at the clock: r and v are now) */
+    if (rc)
+        return rc;
+    double *old = malloc(n * d * sizeof *old);
+    if (!old)
+        return mote_fail(err, MOTE_ENOMEM, "set %s: out of memory", name);
+    for (size_t id = 0; id < n; id++) {
+        mote_particle *p = &ev->p[mote_ev_slot(ev, (uint32_t)id)];
+        for (size_t a = 0; a < d; a++) {
+            double *q = pos ? &p->r[a] : &p->v[a], x = val[id * d + a];
+            old[id * d + a] = *q;
+            if (pos && ev->periodic[a]) { /* into [0, L) */
+                x = fmod(x, ev->len[a]);
+                x = x < 0 ? x + ev->len[a] : x;
+                x = x < ev->len[a] ? x : 0;
+            }
+            *q = x;
+        }
+    }
+    rc = mote_ev_rebuild(ev, err);
+    uint32_t wi, wj;
+    const double ratio = rc || !pos ? 1 : mote_ev_min_gap_ratio(ev, &wi, &wj);
+    if (!rc && ratio < 1 - 1e-10)
+        rc = mote_fail(err, MOTE_EINVAL, "set positions: particles %u and %u overlap: their "
+                       "distance is %.12g of contact", ev->pc[wi].label, ev->pc[wj].label, ratio);
+    if (rc) { /* the system as it was (found by label: the rebuild may have renumbered) */
+        for (size_t id = 0; id < n; id++) {
+            mote_particle *p = &ev->p[mote_ev_slot(ev, (uint32_t)id)];
+            for (size_t a = 0; a < d; a++)
+                *(pos ? &p->r[a] : &p->v[a]) = old[id * d + a];
+        }
+        mote_err e2 = {0};
+        mote_ev_rebuild(ev, &e2);
+    } else {
+        mote_ev_set_reference(ev);
+    }
+    free(old);
+    return rc;
+}
+
 int mote_hs_check(mote_hs *hs, mote_err *err)
 {
     if (!hs->has_system)

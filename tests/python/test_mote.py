@@ -145,10 +145,35 @@ def test_views_and_setters():
     sim.set("positions", y)
     assert np.array_equal(sim.positions, y)
     assert sim.status()["dE"] == 0.0  # energies measured from the new state
-    hs = mote.Simulation()
-    hs.command("new 2 0.3")
+    mb = mote.Simulation("mixing-box")
     with pytest.raises(mote.MoteError, match=r"cannot be set"):
-        hs.set("positions", hs.positions)
+        mb.set("positions", [[0.0, 0.0]])
+
+
+def test_hard_sphere_setters():
+    """Positions and velocities set from Python: checked (walls, overlaps, shape), exact, and
+    the run goes on from them; a refused array leaves the system unchanged."""
+    hs = mote.Simulation()
+    hs.command("new 2 0.3\nstep 20")
+    x = hs.positions
+    hs.set("positions", x)
+    assert np.array_equal(hs.positions, x)  # exactly what was set
+    bad = x.copy()
+    bad[1] = bad[0] + [0, 0.5, 0]
+    with pytest.raises(mote.MoteError, match=r"particles 0 and 1 overlap: their distance is 0.25 of contact"):
+        hs.set("positions", bad)
+    bad = x.copy()
+    bad[3, 0] = 0.5
+    with pytest.raises(mote.MoteError, match=r"particle 3: x = 0.5 is outside the walls"):
+        hs.set("positions", bad)
+    with pytest.raises(mote.MoteError, match=r"expected 64 x 3 numbers"):
+        hs.set("velocities", x[:10])
+    assert np.array_equal(hs.positions, x)
+    kT = hs.status()["kT"]
+    hs.set("velocities", 2 * hs.velocities)
+    assert abs(hs.status()["kT"] / kT - 4) < 1e-12
+    hs.command("step 20")
+    assert hs.status()["collisions"] == 2 * 20 * 64 // 2
 
 
 def test_read_data(tmp_path):
