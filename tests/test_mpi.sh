@@ -54,10 +54,19 @@ mkdir -p e1 e2 && cp ens.mote e1/ && cp ens.mote e2/
     bad "an ensemble on 2 ranks failed: $(cat e2/err.txt)"
 [ -n "$(grep '^ensemble: float.U_f' e1/out.txt)" ] && [ "$(grep '^ensemble: float.U_f' e1/out.txt)" = "$(tr '\r' '\n' < e2/out.txt | grep '^ensemble: float.U_f')" ] && cmp -s e1/e.dat e2/e.dat && ok ||
     bad "the ensemble differs on 2 ranks: $(grep '^ensemble: float' e1/out.txt e2/out.txt)"
-# another model under MPI: refused, nothing run
-printf 'model hardspheres\n' > hs.mote
-$MPIRUN "$MPI_MOTE" run hs.mote > out.txt 2> err.txt
-[ $? -ne 0 ] && grep -q "hs.mote:1:7: error: model: unknown model 'hardspheres' (known models: nbody, charging)" err.txt && ok || bad "hardspheres under MPI: $(cat err.txt)"
+# a model that does not share its work (hard spheres) under 2 ranks: its commands run in rank 0
+# and its ensemble's replicas are spread over the ranks: the single process's output and files,
+# bit for bit (the replicas of rank 1 write their own files)
+printf 'ensemble 5 file=z.dat\nbulk 108 0.3\nstep 100\npressure 100 p_${replica}.dat\nend\nplot p_1.dat p_2.dat to=l.png\nnew 2 0.3\nstep 10\nsave s.state\n' > hs.mote
+mkdir -p h1 h2 && cp hs.mote h1/ && cp hs.mote h2/
+(cd h1 && "$MOTE" run hs.mote > out.txt 2> err.txt) && (cd h2 && $MPIRUN "$MPI_MOTE" run hs.mote > out.txt 2> err.txt) && ok ||
+    bad "hard spheres on 2 ranks failed: $(cat h2/err.txt)"
+grep -q '^ensemble: 5 replicas (seeds 1 ... 5) on [0-9]* threads\{0,1\} in each of 2 MPI ranks$' h2/out.txt && ok || bad "2 ranks: $(head -n 1 h2/out.txt)"
+plain() { tr '\r' '\n' < "$1" | grep -v 'seconds=\|^ensemble: 5 replicas\|[0-9.]*%'; }
+[ "$(plain h1/out.txt)" = "$(plain h2/out.txt)" ] && ok || bad "the hard-sphere ensemble prints otherwise on 2 ranks: $(plain h2/out.txt | head -n 3)"
+for f in z.dat p_1.dat p_2.dat p_5.dat l.png s.state; do
+    cmp -s "h1/$f" "h2/$f" && ok || bad "$f differs on 2 ranks"
+done
 
 # ---- the N-body model (spec 6.3, T17): 1, 2 and 3 ranks (3 oversubscribed on small machines)
 # give the single process's bits: the Galactica scheme, then the Taylor integrator, the state

@@ -279,7 +279,7 @@ static result *run_text(result *r, const char *name, const char *text, int check
     snprintf(r->path, sizeof r->path, "%s", name);
     write_file(r->path, text, strlen(text));
     FILE *out = tmpfile(), *diag = tmpfile();
-    mote_script_options opt = {out, diag, 0, check_only, 0, 0, NULL, NULL, 0};
+    mote_script_options opt = {.out = out, .diag = diag, .check_only = check_only};
     r->status = mote_script_run_file(r->path, MODELS, NMODELS, &opt);
     slurp(out, r->out, sizeof r->out);
     slurp(diag, r->err, sizeof r->err);
@@ -456,7 +456,7 @@ static void test_lexical_errors(void)
     write_file("nul.mote", nul, sizeof nul - 1);
     memset(&LOG, 0, sizeof LOG);
     FILE *out = tmpfile(), *diag = tmpfile();
-    mote_script_options opt = {out, diag, 0, 0, 0, 0, NULL, NULL, 0};
+    mote_script_options opt = {.out = out, .diag = diag, .check_only = 0};
     r.status = mote_script_run_file("nul.mote", MODELS, NMODELS, &opt);
     snprintf(r.path, sizeof r.path, "nul.mote");
     slurp(out, r.out, sizeof r.out);
@@ -823,7 +823,7 @@ static void test_runtime_errors(void)
     write_file("settle2.mote", settle2, strlen(settle2));
     {
         FILE *o = tmpfile(), *d = tmpfile();
-        mote_script_options so = {o, d, 0, 0, 0, 0, NULL, NULL, 0};
+        mote_script_options so = {.out = o, .diag = d, .check_only = 0};
         snprintf(r.path, sizeof r.path, "settle2.mote");
         r.status = mote_script_run_file(r.path, MODELS, NMODELS, &so);
         slurp(o, r.out, sizeof r.out);
@@ -839,7 +839,7 @@ static void test_runtime_errors(void)
     /* unreadable script files name the file */
     memset(&LOG, 0, sizeof LOG);
     FILE *out = tmpfile(), *diag = tmpfile();
-    mote_script_options opt = {out, diag, 0, 0, 0, 0, NULL, NULL, 0};
+    mote_script_options opt = {.out = out, .diag = diag, .check_only = 0};
     r.status = mote_script_run_file("no-such-script.mote", MODELS, NMODELS, &opt);
     slurp(out, r.out, sizeof r.out);
     slurp(diag, r.err, sizeof r.err);
@@ -851,7 +851,7 @@ static void test_runtime_errors(void)
     mkdir("adir.mote", 0777);
     out = tmpfile();
     diag = tmpfile();
-    mote_script_options opt2 = {out, diag, 0, 0, 0, 0, NULL, NULL, 0};
+    mote_script_options opt2 = {.out = out, .diag = diag};
     r.status = mote_script_run_file("adir.mote", MODELS, NMODELS, &opt2);
     slurp(out, r.out, sizeof r.out);
     slurp(diag, r.err, sizeof r.err);

@@ -166,6 +166,7 @@ double mote_ch_ion_yield(const mote_ch_material *m, double E_keV);
  * of radius r_gen about the body's centre; tallies per triangle, side and species. */
 typedef struct {
     uint64_t seed;
+    int solo;       /* 1: under mpirun, this run stays in its process (an ensemble's replica) */
     uint64_t particles;    /* histories per component */
     double r_gen;          /* injection radius (m) */
     int threads;

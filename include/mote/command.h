@@ -125,6 +125,15 @@ typedef struct {
     int failed; /* out of memory: the ensemble fails rather than average fewer values */
 } mote_results;
 
+/* The MPI ranks of a run under mpirun, as the program (src/cli/main.c, MPI build) gives them:
+ * the library itself does not call MPI. allgather: every rank calls it at the same point with
+ * its n bytes; it returns every rank's bytes in rank order (malloc'ed) with their lengths in
+ * lens[0 ... size-1], or NULL when out of memory (then in every rank). */
+typedef struct mote_ranks {
+    int rank, size;
+    char *(*allgather)(const struct mote_ranks *r, const char *buf, size_t n, size_t *lens);
+} mote_ranks;
+
 /* Run-wide settings shared by the script layer and the model's commands. */
 typedef struct mote_context {
     const char *script_path;
@@ -149,6 +158,12 @@ typedef struct mote_context {
      * under way and the fraction done, at most every progress interval (NULL: none). */
     void (*report)(void *arg, const char *label, double fraction);
     void *report_arg;
+    /* Under mpirun (the MPI build, more than one rank; NULL otherwise): the ranks, for the
+     * ensembles, whose replicas are spread over them. */
+    const struct mote_ranks *ranks;
+    /* 1: this run stays in this process even under mpirun (a replica of an ensemble on one
+     * rank): a model that shares its work among the ranks must not, and writes its own files. */
+    int solo;
 } mote_context;
 
 /* An array of a model's state for other programs (the Python package's NumPy arrays): rows

@@ -100,6 +100,7 @@ typedef struct {
     const char *live_bind; /* --bind ADDRESS (NULL: 127.0.0.1) */
     const char *const *params; /* NAME=VALUE after the script's name (mote_script_load_params) */
     int nparams;
+    const mote_ranks *ranks; /* under mpirun: the ranks (mote_context.ranks), else NULL */
 } mote_script_options;
 
 /* Load, validate and (unless check_only) execute a script, printing any error to opt->diag.
@@ -129,5 +130,8 @@ int mote_script_main_io(int argc, char **argv, const mote_model *const *models, 
                         FILE *out, FILE *diag, int terminal);
 /* The same on stdout/stderr, with terminal = isatty(stdout): what main() calls. */
 int mote_script_main(int argc, char **argv, const mote_model *const *models, size_t nmodels);
+/* The same under mpirun: the ranks the ensembles spread their replicas over. */
+int mote_script_main_ranks(int argc, char **argv, const mote_model *const *models,
+                           size_t nmodels, const mote_ranks *ranks);
 
 #endif

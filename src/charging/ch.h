@@ -18,8 +18,10 @@ int ch_add_tri(mote_ch_body *b, const double p[3], const double q[3], const doub
                const double *inside, int closed, int part, mote_err *err);
 
 /* This process's MPI rank (0 without MPI, mc.c): only rank 0 writes files. */
-int ch_mpi_rank(void);
-int ch_mpi_size(void);
+/* The MPI rank and number of ranks of this run (0 and 1 outside MPI, or solo: a run that stays
+ * in this process, an ensemble's replica) */
+int ch_mpi_rank(int solo);
+int ch_mpi_size(int solo);
 
 /* The Monte Carlo draws (mc.c): four uniforms in (0, 1) from block `draw` of a history's
  * Philox stream; the injection point's outward normal and the direction (cosine law) from
@@ -76,6 +78,7 @@ typedef struct {
     char (*view_names)[16];
     const char *warnings;         /* the validity warnings (spec 3.4), lines; NULL: none */
     int png_q, png_sp;            /* png_quantity: CH_Q_*, and the species of CH_Q_SPECIES */
+    int solo;                     /* the run stays in this process (mote_context.solo) */
 } ch_output;
 
 /* png_quantity (spec 8.4) */

@@ -528,7 +528,7 @@ void ch_diagnose(ch_model *m, const char *cmd)
         }
     }
     fclose(w);
-    if (m->ctx && m->ctx->diag && ch_mpi_rank() == 0 && m->warnings)
+    if (m->ctx && m->ctx->diag && ch_mpi_rank(m->ctx->solo) == 0 && m->warnings)
         fputs(m->warnings, m->ctx->diag);
 }
 
@@ -752,6 +752,7 @@ ch_output ch_output_of(ch_model *m, const mote_ch_geometry *g, const mote_ch_run
                        double U)
 {
     ch_output out = {.prefix = m->prefix,
+                     .solo = m->ctx ? m->ctx->solo : 0,
                      .origin = m->origin,
                      .mode = m->faithful ? "faithful" : "full",
                      .seed = m->seed,

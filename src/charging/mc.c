@@ -184,12 +184,15 @@ __extension__ typedef __int128 ch_i128;
 /* ---- MPI (spec 5.6): ranks share the blocks of histories, block b on rank b mod size; the
  * integer tallies are summed across ranks, so the result is the single process's ---------- */
 
-static void mpi_layout(int *rank, int *size)
+/* (solo: a run that stays in this process, an ensemble's replica on one rank) */
+static void mpi_layout(int solo, int *rank, int *size)
 {
     *rank = 0;
     *size = 1;
 #ifdef MOTE_MPI
     int init = 0;
+    if (solo)
+        return;
     MPI_Initialized(&init);
     if (init) {
         MPI_Comm_rank(MPI_COMM_WORLD, rank);
@@ -198,17 +201,17 @@ static void mpi_layout(int *rank, int *size)
 #endif
 }
 
-int ch_mpi_size(void)
+int ch_mpi_size(int solo)
 {
     int rank, size;
-    mpi_layout(&rank, &size);
+    mpi_layout(solo, &rank, &size);
     return size;
 }
 
-int ch_mpi_rank(void)
+int ch_mpi_rank(int solo)
 {
     int rank, size;
-    mpi_layout(&rank, &size);
+    mpi_layout(solo, &rank, &size);
     return rank;
 }
 
@@ -229,12 +232,12 @@ static void sum_i128(void *in, void *inout, int *len, MPI_Datatype *type)
 
 /* Sum the tallies of one component over the ranks: the hit counts per triangle and side, the
  * counters, the largest energy error, the secondary scores (n128 128-bit integers). */
-static void mpi_merge(uint64_t *tally, size_t ntally, uint64_t cnt[4], double *eerr,
+static void mpi_merge(int solo, uint64_t *tally, size_t ntally, uint64_t cnt[4], double *eerr,
                       ch_i128 *see, size_t n128)
 {
 #ifdef MOTE_MPI
     int rank, size;
-    mpi_layout(&rank, &size);
+    mpi_layout(solo, &rank, &size);
     if (size < 2)
         return;
     MPI_Allreduce(MPI_IN_PLACE, tally, (int)ntally, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
@@ -356,7 +359,7 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
     const double rb = g.r_bound * (1 + 1e-9) / R, miss_below = rb < 1 ? 1 - rb * rb : 0;
     const int nt = o->threads > 1 ? o->threads : 1;
     int mrank, msize;
-    mpi_layout(&mrank, &msize);
+    mpi_layout(o->solo, &mrank, &msize);
     struct timespec t0, t1;
     clock_gettime(CLOCK_MONOTONIC, &t0);
     /* progress: blocks done over all components (this rank's), shown by thread 0 */
@@ -641,7 +644,7 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                     tally[q] += priv[(size_t)th * ntri * 2 + q];
             free(priv);
             uint64_t cnt[4] = {hits, back, lost, steps};
-            mpi_merge(tally, (size_t)ntri * 2, cnt, &eerr, psee, nsee);
+            mpi_merge(o->solo, tally, (size_t)ntri * 2, cnt, &eerr, psee, nsee);
             hits = cnt[0];
             back = cnt[1];
             lost = cnt[2];

@@ -460,7 +460,7 @@ static int write_summary(const ch_output *o, const char *path, int json, mote_er
                    "\"ranks\":%d,\"warnings\":[",
                 o->res->photo, (unsigned long long)o->res->lost,
                 (double)o->res->steps / ((double)o->res->ncomp * (double)o->res->histories),
-                ch_mpi_size());
+                ch_mpi_size(o->solo));
         for (const char *w = o->warnings; w && *w;) { /* one string a line, escaped */
             const char *e = strchr(w, '\n');
             const size_t l = e ? (size_t)(e - w) : strlen(w);
@@ -510,8 +510,8 @@ static int write_summary(const ch_output *o, const char *path, int json, mote_er
                    "I / C = %.10g V/s\n", inet / g->capacitance);
         fprintf(f, "hit fraction %.6g, back-face hits %llu, %.4g traces/s on %d thread%s and %d "
                    "MPI rank%s\n", hitf, (unsigned long long)o->res->backface_hits,
-                o->res->traces_per_s, o->threads, o->threads == 1 ? "" : "s", ch_mpi_size(),
-                ch_mpi_size() == 1 ? "" : "s");
+                o->res->traces_per_s, o->threads, o->threads == 1 ? "" : "s", ch_mpi_size(o->solo),
+                ch_mpi_size(o->solo) == 1 ? "" : "s");
         if (o->res->steps > 0)
             fprintf(f, "curved paths: %.4g steps per history, %llu lost, largest relative energy "
                        "error %.3g\n",
@@ -650,7 +650,7 @@ static int write_ply(const ch_output *o, const char *path, mote_err *err)
 
 int ch_write_outputs(const ch_output *o, FILE *log, mote_err *err)
 {
-    if (ch_mpi_rank() != 0) /* the first MPI rank writes; the others have the same numbers */
+    if (ch_mpi_rank(o->solo) != 0) /* the first MPI rank writes; the others have the same numbers */
         return MOTE_OK;
     const size_t len = strlen(o->prefix) + 48;
     char *path = malloc(len);

@@ -17,6 +17,7 @@
 static mote_ch_run_opts run_opts(const ch_model *m, const mote_call *c, const mote_ch_geometry *g)
 {
     mote_ch_run_opts o = {.seed = m->seed,
+                          .solo = c->ctx->solo,
                           .particles = (uint64_t)mote_call_opt_r(c, "particles", 1e6),
                           .r_gen = ch_injection_radius(m, g),
                           .threads = c->ctx->threads,
@@ -422,7 +423,7 @@ static int open_timeseries(ch_model *m, const mote_call *c, mote_datafile *d, mo
                            int *rc)
 {
     *rc = MOTE_OK;
-    if (ch_mpi_rank() != 0)
+    if (ch_mpi_rank(m->ctx ? m->ctx->solo : 0) != 0)
         return 0;
     const mote_arg *f = mote_call_opt(c, "file");
     char *path = NULL;

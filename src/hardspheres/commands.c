@@ -615,7 +615,7 @@ const mote_model mote_model_hardspheres = {
     .plot_kinds = "image|profile|pressure|chempot|order|rdf|msd",
     .plot = model_plot,
     .plot_help = HS_HELP_PLOT,
-    .plot_lines = "image:x_mid,rho pressure:time,P_wall chempot:x_mid,ln_rho_plus_mu_ex "
+    .plot_lines = "image:x_mid,rho pressure:time|x_mid,P_wall|P_N chempot:x_mid,ln_rho_plus_mu_ex "
                   "rdf:r_mid|s_mid,g|g_wall msd:lag_time,msd order:time,xtal_frac",
     .live = model_live,
     .arrays = model_arrays,

@@ -38,9 +38,10 @@ __attribute__((format(printf, 2, 3))) static int usage_error(FILE *diag, const c
 
 static int run_or_check_with(int argc, char **argv, const char **params,
                              const mote_model *const *models, size_t nmodels, FILE *out,
-                             FILE *diag, int terminal)
+                             FILE *diag, int terminal, const mote_ranks *ranks)
 {
-    mote_script_options opt = {out, diag, terminal, strcmp(argv[1], "check") == 0, 0, 0, NULL, NULL, 0};
+    mote_script_options opt = {.out = out, .diag = diag, .terminal = terminal,
+                               .check_only = strcmp(argv[1], "check") == 0, .ranks = ranks};
     const char *script = NULL;
     int options_done = 0, nparams = 0;
     for (int i = 2; i < argc; i++) {
@@ -82,20 +83,20 @@ static int run_or_check_with(int argc, char **argv, const char **params,
 }
 
 static int run_or_check(int argc, char **argv, const mote_model *const *models, size_t nmodels,
-                        FILE *out, FILE *diag, int terminal)
+                        FILE *out, FILE *diag, int terminal, const mote_ranks *ranks)
 {
     const char **params = malloc((size_t)argc * sizeof *params);
     if (!params) {
         fprintf(diag, "mote: error: out of memory\n");
         return 1;
     }
-    int rc = run_or_check_with(argc, argv, params, models, nmodels, out, diag, terminal);
+    int rc = run_or_check_with(argc, argv, params, models, nmodels, out, diag, terminal, ranks);
     free(params);
     return rc;
 }
 
-int mote_script_main_io(int argc, char **argv, const mote_model *const *models, size_t nmodels,
-                        FILE *out, FILE *diag, int terminal)
+static int main_with(int argc, char **argv, const mote_model *const *models, size_t nmodels,
+                     FILE *out, FILE *diag, int terminal, const mote_ranks *ranks)
 {
     if (argc < 2) {
         usage(diag);
@@ -118,7 +119,7 @@ int mote_script_main_io(int argc, char **argv, const mote_model *const *models, 
         return 1;
     }
     if (strcmp(cmd, "run") == 0 || strcmp(cmd, "check") == 0)
-        return run_or_check(argc, argv, models, nmodels, out, diag, terminal);
+        return run_or_check(argc, argv, models, nmodels, out, diag, terminal, ranks);
     if (strcmp(cmd, "help") == 0) {
         if (argc == 2) {
             mote_help_list(out, models, nmodels);
@@ -164,8 +165,20 @@ int mote_script_main_io(int argc, char **argv, const mote_model *const *models, 
     return 1;
 }
 
+int mote_script_main_io(int argc, char **argv, const mote_model *const *models, size_t nmodels,
+                        FILE *out, FILE *diag, int terminal)
+{
+    return main_with(argc, argv, models, nmodels, out, diag, terminal, NULL);
+}
+
+int mote_script_main_ranks(int argc, char **argv, const mote_model *const *models,
+                           size_t nmodels, const mote_ranks *ranks)
+{
+    return main_with(argc, argv, models, nmodels, stdout, stderr, isatty(fileno(stdout)),
+                     ranks);
+}
+
 int mote_script_main(int argc, char **argv, const mote_model *const *models, size_t nmodels)
 {
-    return mote_script_main_io(argc, argv, models, nmodels, stdout, stderr,
-                               isatty(fileno(stdout)));
+    return mote_script_main_ranks(argc, argv, models, nmodels, NULL);
 }

@@ -103,7 +103,7 @@ typedef struct {
     int rc;
 } replica;
 
-static void run_replica(mote_script *s, const mote_ensemble *e, int r, replica *rp)
+static void run_replica(mote_script *s, const mote_ensemble *e, int r, replica *rp, int solo)
 {
     FILE *out = open_memstream(&rp->out, &rp->nout), *diag = open_memstream(&rp->diag, &rp->ndiag);
     rp->s = *s;
@@ -117,6 +117,8 @@ static void run_replica(mote_script *s, const mote_ensemble *e, int r, replica *
     ctx->report = NULL; /* (the ensemble reports its replicas done) */
     ctx->threads = 1; /* (the replicas are the threads) */
     ctx->results = &rp->res;
+    ctx->ranks = NULL; /* (under mpirun a replica runs in one rank: solo) */
+    ctx->solo = solo;
     rp->s.live = NULL;
     rp->s.threads_noted = 1;
     const mote_call *ec = &s->calls[e->call];
@@ -322,13 +324,138 @@ void mote_ensemble_free_summaries(mote_script *s)
     s->nsums = 0;
 }
 
+/* ---- under mpirun: the replicas' outcomes, from every rank to every rank ---- */
+
+static int put(mote_buf *b, const void *p, size_t n)
+{
+    if (b->failed)
+        return -1;
+    if (b->n + n + 1 > b->cap) {
+        size_t cap = b->cap ? b->cap : 4096;
+        while (cap < b->n + n + 1)
+            cap *= 2;
+        char *s = realloc(b->s, cap);
+        if (!s) {
+            b->failed = 1;
+            return -1;
+        }
+        b->s = s;
+        b->cap = cap;
+    }
+    memcpy(b->s + b->n, p, n);
+    b->n += n;
+    return 0;
+}
+
+/* Record of one replica: r, rc, the error, its output, its warnings, its results. */
+static void put_replica(mote_buf *b, int r, const replica *rp)
+{
+    const uint64_t h[6] = {(uint64_t)r, (uint64_t)(int64_t)rp->rc, (uint64_t)rp->err.code,
+                           (uint64_t)rp->err.located, rp->out ? rp->nout : 0,
+                           rp->diag ? rp->ndiag : 0};
+    put(b, h, sizeof h);
+    put(b, rp->err.msg, sizeof rp->err.msg);
+    put(b, rp->out, h[4]);
+    put(b, rp->diag, h[5]);
+    const uint64_t nres = rp->res.failed ? UINT64_MAX : rp->res.n;
+    put(b, &nres, sizeof nres);
+    for (size_t i = 0; nres != UINT64_MAX && i < rp->res.n; i++) {
+        put(b, rp->res.name[i], sizeof rp->res.name[0]);
+        put(b, &rp->res.value[i], sizeof(double));
+    }
+}
+
+/* Read the records in [p, end) into rp (those of other ranks). Returns -1 when malformed or
+ * out of memory. */
+static int get_replicas(const char *p, const char *end, replica *rp, int K)
+{
+    while (p < end) {
+        uint64_t h[6], nres;
+        if ((size_t)(end - p) < sizeof h)
+            return -1;
+        memcpy(h, p, sizeof h);
+        p += sizeof h;
+        const int r = (int)h[0];
+        if (r < 0 || r >= K || (size_t)(end - p) < sizeof rp->err.msg + h[4] + h[5] + sizeof nres)
+            return -1;
+        replica *q = &rp[r];
+        q->rc = (int)(int64_t)h[1];
+        q->err.code = (mote_status)h[2];
+        q->err.located = (int)h[3];
+        memcpy(q->err.msg, p, sizeof q->err.msg);
+        p += sizeof q->err.msg;
+        q->out = malloc(h[4] + 1);
+        q->diag = malloc(h[5] + 1);
+        if (!q->out || !q->diag)
+            return -1;
+        memcpy(q->out, p, h[4]);
+        q->nout = h[4];
+        p += h[4];
+        memcpy(q->diag, p, h[5]);
+        q->ndiag = h[5];
+        p += h[5];
+        memcpy(&nres, p, sizeof nres);
+        p += sizeof nres;
+        if (nres == UINT64_MAX) {
+            q->res.failed = 1;
+            continue;
+        }
+        if ((size_t)(end - p) / (64 + sizeof(double)) < nres)
+            return -1;
+        for (uint64_t i = 0; i < nres; i++) {
+            char name[64];
+            double v;
+            memcpy(name, p, sizeof name);
+            memcpy(&v, p + 64, sizeof v);
+            p += 64 + sizeof v;
+            name[63] = '\0';
+            if (q->res.n == q->res.cap) {
+                size_t cap = q->res.cap ? 2 * q->res.cap : 16;
+                char(*nn)[64] = realloc(q->res.name, cap * sizeof *nn);
+                if (nn)
+                    q->res.name = nn;
+                double *nv = nn ? realloc(q->res.value, cap * sizeof *nv) : NULL;
+                if (!nn || !nv)
+                    return -1;
+                q->res.value = nv;
+                q->res.cap = cap;
+            }
+            memcpy(q->res.name[q->res.n], name, sizeof name);
+            q->res.value[q->res.n++] = v;
+        }
+    }
+    return 0;
+}
+
+/* Every rank sends its replicas' records and reads the others'. */
+static int exchange(const mote_ranks *rk, replica *rp, int K)
+{
+    mote_buf b = {0};
+    for (int r = rk->rank; r < K; r += rk->size)
+        put_replica(&b, r, &rp[r]);
+    size_t *lens = calloc((size_t)rk->size, sizeof *lens);
+    char *all = lens ? rk->allgather(rk, b.failed ? NULL : b.s, b.failed ? 0 : b.n, lens) : NULL;
+    int rc = all && !b.failed ? 0 : -1;
+    size_t at = 0;
+    for (int k = 0; k < rk->size && !rc; k++) {
+        if (k != rk->rank)
+            rc = get_replicas(all + at, all + at + lens[k], rp, K);
+        at += lens[k];
+    }
+    free(all);
+    free(lens);
+    free(b.s);
+    return rc;
+}
+
 /* The pool: each worker takes the next replica not yet taken, until none is left. */
 typedef struct {
     mote_script *s;
     const mote_ensemble *e;
     replica *rp;
     pthread_mutex_t lock;
-    int next, done;
+    int next, stride, done, mine; /* under mpirun: this rank's replicas, every stride-th */
+    int solo;
     mote_progress *prog;
 } pool;
 
@@ -337,14 +464,15 @@ static void *worker(void *arg)
     pool *p = arg;
     for (;;) {
         pthread_mutex_lock(&p->lock);
-        const int r = p->next < p->e->K ? p->next++ : -1;
+        const int r = p->next < p->e->K ? p->next : -1;
+        p->next += p->stride;
         pthread_mutex_unlock(&p->lock);
         if (r < 0)
             return NULL;
-        run_replica(p->s, p->e, r, &p->rp[r]);
+        run_replica(p->s, p->e, r, &p->rp[r], p->solo);
         pthread_mutex_lock(&p->lock);
         p->done++;
-        mote_progress_update(p->prog, (double)p->done / p->e->K);
+        mote_progress_update(p->prog, (double)p->done / p->mine);
         pthread_mutex_unlock(&p->lock);
     }
 }
@@ -358,25 +486,30 @@ int mote_ensemble_run(mote_script *s, const mote_ensemble *e, mote_err *err)
     replica *rp = calloc((size_t)K, sizeof *rp);
     if (!rp)
         return mote_call_fail(err, ec, -1, MOTE_ENOMEM, "ensemble: out of memory");
+    /* under mpirun, rank k runs the replicas k, k + size, ... (each in that rank alone), and the
+     * ranks then exchange what their replicas printed and measured */
+    const mote_ranks *rk = s->ctx.ranks && s->ctx.ranks->size > 1 ? s->ctx.ranks : NULL;
+    const int first = rk ? rk->rank : 0, stride = rk ? rk->size : 1;
+    const int mine = first < K ? (K - first + stride - 1) / stride : 0;
+    if (rk) { /* (every rank here: what rank 0 wrote before is there for the replicas) */
+        size_t *lens = calloc((size_t)rk->size, sizeof *lens);
+        free(lens ? rk->allgather(rk, NULL, 0, lens) : NULL);
+        free(lens);
+    }
     long procs = sysconf(_SC_NPROCESSORS_ONLN);
     int threads = s->ctx.threads > 0 ? s->ctx.threads : procs > 0 ? (int)procs : 1;
-    /* under mpirun every rank runs the script, and a model that shares its work among the ranks
-     * makes collective calls in each replica: those must come in the same order in every rank,
-     * so the replicas run one after another there (Open MPI and MPICH name the world's size) */
-    const char *ws = getenv("OMPI_COMM_WORLD_SIZE");
-    if (!ws)
-        ws = getenv("PMI_SIZE");
-    if (ws && atoi(ws) > 1)
-        threads = 1;
-    if (threads > K)
-        threads = K;
-    fprintf(s->ctx.out, "ensemble: %d replica%s (seeds %llu ... %llu) on %d thread%s\n", K,
+    if (threads > (mine > 0 ? mine : 1))
+        threads = mine > 0 ? mine : 1;
+    fprintf(s->ctx.out, "ensemble: %d replica%s (seeds %llu ... %llu) on %d thread%s", K,
             K == 1 ? "" : "s", (unsigned long long)seed,
             (unsigned long long)(seed + (uint64_t)K - 1), threads, threads == 1 ? "" : "s");
+    if (rk)
+        fprintf(s->ctx.out, " in each of %d MPI ranks", rk->size);
+    fputc('\n', s->ctx.out);
     fflush(s->ctx.out);
     mote_progress prog;
     mote_progress_begin(&prog, &s->ctx, "ensemble");
-    pool p = {s, e, rp, PTHREAD_MUTEX_INITIALIZER, 0, 0, &prog};
+    pool p = {s, e, rp, PTHREAD_MUTEX_INITIALIZER, first, stride, 0, mine, rk != NULL, &prog};
     pthread_t *tid = malloc((size_t)threads * sizeof *tid);
     int started = 0;
     for (int k = 1; tid && k < threads; k++) /* (this thread is the first worker) */
@@ -387,20 +520,24 @@ int mote_ensemble_run(mote_script *s, const mote_ensemble *e, mote_err *err)
     free(tid);
     mote_progress_end(&prog);
     int rc = 0;
-    for (int r = 0; r < K; r++) { /* what each printed, in replica order */
+    if (rk && exchange(rk, rp, K))
+        rc = mote_call_fail(err, ec, -1, MOTE_ENOMEM, "ensemble: out of memory exchanging the "
+                            "replicas among the MPI ranks");
+    for (int r = 0; r < K && !rc; r++) { /* what each printed, in replica order */
         fprintf(s->ctx.out, "ensemble: replica %d (seed %llu)\n", r + 1,
                 (unsigned long long)(seed + (uint64_t)r));
         if (rp[r].out)
             fwrite(rp[r].out, 1, rp[r].nout, s->ctx.out);
         if (rp[r].diag)
             fwrite(rp[r].diag, 1, rp[r].ndiag, s->ctx.diag);
-        if (!rc && (rp[r].rc || rp[r].res.failed)) {
+    }
+    for (int r = 0; r < K && !rc; r++) /* the earliest replica that failed */
+        if (rp[r].rc || rp[r].res.failed) {
             rc = rp[r].rc ? rp[r].rc : MOTE_ENOMEM;
             *err = rp[r].err;
             if (!rp[r].rc)
                 mote_call_fail(err, ec, -1, MOTE_ENOMEM, "ensemble: out of memory");
         }
-    }
     combined cb = {0};
     if (!rc && combine(rp, K, &cb))
         rc = mote_call_fail(err, ec, -1, MOTE_ENOMEM, "ensemble: out of memory");
@@ -410,9 +547,10 @@ int mote_ensemble_run(mote_script *s, const mote_ensemble *e, mote_err *err)
                     cb.mean[q], cb.se[q], cb.count[q], cb.count[q] == 1 ? "" : "s");
         if (!cb.n)
             fprintf(s->ctx.out, "ensemble: no command in it measured anything to average\n");
-        if (mote_call_opt(ec, "file"))
+        const int writer = !rk || rk->rank == 0; /* (under mpirun rank 0 writes) */
+        if (writer && mote_call_opt(ec, "file"))
             rc = write_file(s, ec, rp, K, seed, &cb, err);
-        if (!rc && mote_call_opt(ec, "summary"))
+        if (!rc && writer && mote_call_opt(ec, "summary"))
             rc = write_summary(s, ec, seed, K, &cb, err);
     }
     combined_free(&cb);

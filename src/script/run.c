@@ -448,7 +448,8 @@ const mote_cmd mote_script_common_cmds[] = {
      "before anything runs, an error naming it `(in the loop: replica=3)`; an error in a\n"
      "replica stops the script after the ensemble, with the earliest replica's message.\n"
      "An ensemble cannot hold another, nor `live`; a model that draws no random numbers\n"
-     "(nbody) has no ensembles.\n",
+     "(nbody) has no ensembles. Under mpirun (make MPI=1) the replicas are spread over\n"
+     "the ranks, with the single process's results.\n",
      NULL, set_run},
     {"echo", NULL, "*", "echo TEXT...", "print the arguments",
      "Print the arguments, separated by single spaces, on standard output. Quote\n"
@@ -610,11 +611,18 @@ int mote_script_validate(mote_script *s, mote_err *err)
 
 int mote_script_run_calls(mote_script *s, size_t from, size_t to, mote_err *err)
 {
+    /* under mpirun, a model that does not share its work runs its commands in rank 0; the other
+     * ranks keep the run-wide settings and take part in the ensembles */
+    const mote_ranks *rk = s->ctx.ranks;
+    const int elsewhere = rk && rk->size > 1 && rk->rank != 0 && !s->model->mpi;
     int rc = 0;
     for (size_t i = from; i < to && !rc; i++) {
         mote_call *c = &s->calls[i];
         c->ctx = &s->ctx; /* (a replica's context while an ensemble runs it) */
         int common = mote_script_is_common(s, c->def);
+        if (elsewhere && !mote_ensemble_at(s, i) &&
+            !(common && (!strcmp(c->name, "output_dir") || !strcmp(c->name, "threads"))))
+            continue;
         clear(err);
         rc = mote_args_resolve(c, err);
         const mote_ensemble *e = mote_ensemble_at(s, i);
@@ -695,6 +703,7 @@ int mote_script_run_file(const char *path, const mote_model *const *models, size
     ctx->out = opt->out;
     ctx->diag = opt->diag;
     ctx->terminal = opt->terminal;
+    ctx->ranks = opt->ranks;
     if (s->ncalls == 0)
         fprintf(opt->diag, "%s: warning: the script has no commands\n", path);
     int status = 0;
