@@ -87,6 +87,42 @@ static int model_arrays(void *vm, mote_array *out, int cap)
     return 4;
 }
 
+/* set_array: positions or velocities (rows of x y), checked as `load` checks a state: centres
+ * inside the box, speeds up to 10^6 m/s; each disk's chamber follows its new centre. */
+static int model_set_array(void *vm, const char *name, const double *v, size_t rows,
+                           size_t cols, mote_err *err)
+{
+    mote_mb *s = &((mb_model *)vm)->sys;
+    const int pos = !strcmp(name, "positions"), vel = !strcmp(name, "velocities");
+    if (!pos && !vel)
+        return mote_fail(err, MOTE_EINVAL, "set %s: the mixing-box model sets positions or "
+                         "velocities", name);
+    if (!s->placed)
+        return mote_fail(err, MOTE_EINVAL, "set %s: no disks yet ('place' puts them)", name);
+    if (rows != s->n || cols != 2)
+        return mote_fail(err, MOTE_EINVAL, "set %s: expected %u x 2 numbers (one row per disk), "
+                         "found %zu x %zu", name, s->n, rows, cols);
+    const mote_mb_params *p = &s->p;
+    for (size_t i = 0; i < rows; i++) {
+        const double a = v[2 * i], b = v[2 * i + 1];
+        if (pos && !(a >= p->x_l && a <= p->x_r && b >= p->x_b && b <= p->x_t))
+            return mote_fail(err, MOTE_EINVAL, "set positions: disk %zu: (%g, %g) is outside "
+                             "the box [%g, %g] x [%g, %g]", i, a, b, p->x_l, p->x_r, p->x_b,
+                             p->x_t);
+        if (vel && !(fabs(a) <= 1e6 && fabs(b) <= 1e6))
+            return mote_fail(err, MOTE_EINVAL, "set velocities: disk %zu: (%g, %g): a component "
+                             "that is not finite or above 10^6 m/s", i, a, b);
+    }
+    for (size_t i = 0; i < rows; i++) {
+        (pos ? s->x : s->vx)[i] = v[2 * i];
+        (pos ? s->y : s->vy)[i] = v[2 * i + 1];
+        if (pos)
+            s->side[i] = (uint8_t)mote_mb_chamber(s, s->x[i]);
+    }
+    s->generation++; /* (an integrator's cache is stale) */
+    return MOTE_OK;
+}
+
 static void model_status(void *vm, FILE *out)
 {
     mb_model *m = vm;
@@ -881,4 +917,5 @@ const mote_model mote_model_mixingbox = {
     .plot_lines = "mixing:t,S_mix mixing-density:y,n_all",
     .live = model_live,
     .arrays = model_arrays,
+    .set_array = model_set_array,
 };

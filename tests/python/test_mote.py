@@ -145,9 +145,34 @@ def test_views_and_setters():
     sim.set("positions", y)
     assert np.array_equal(sim.positions, y)
     assert sim.status()["dE"] == 0.0  # energies measured from the new state
-    mb = mote.Simulation("mixing-box")
+    sp = mote.Simulation("separator")
     with pytest.raises(mote.MoteError, match=r"cannot be set"):
-        mb.set("positions", [[0.0, 0.0]])
+        sp.set("positions", [[0.0, 0.0, 0.0]])
+
+
+def test_mixing_box_setters():
+    """The disks' positions and velocities set from Python: checked as a state file is (centres
+    in the box, speeds up to 1e6 m/s), their chambers following; the run goes on from them."""
+    m = mote.Simulation("mixing-box")
+    with pytest.raises(mote.MoteError, match=r"no disks yet"):
+        m.set("positions", [[0.1, 0.1]])
+    m.command("box 0 0.4 0 0.2\npartition 0.2 0.01\nslit 0.1 0.04\nradius 0.004\n"
+              "disks 30 20\nv_init 1\nplace")
+    x = m.positions
+    y = x.copy()
+    y[:, 0] = 0.4 - y[:, 0]  # mirrored: every disk in the other chamber
+    m.set("positions", y)
+    st = m.status()
+    assert np.array_equal(m.positions, y) and st["m"] == 1 and st["nR0"] == 30
+    with pytest.raises(mote.MoteError, match=r"disk 0: .* is outside the box"):
+        m.set("positions", y + 1)
+    with pytest.raises(mote.MoteError, match=r"above 10\^6 m/s"):
+        m.set("velocities", np.full((50, 2), 2e6))
+    with pytest.raises(mote.MoteError, match=r"expected 50 x 2 numbers"):
+        m.set("velocities", np.zeros((50, 3)))
+    m.set("velocities", 2 * m.velocities)
+    m.command("run 0.1")
+    assert m.status()["t"] == 0.1
 
 
 def test_hard_sphere_setters():
