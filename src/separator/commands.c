@@ -823,6 +823,39 @@ static int sep_model_arrays(void *vm, mote_array *out, int cap)
     return -1;
 }
 
+/* set_array: positions or velocities (rows of x y z), finite, centres inside the channel (x in
+ * [0, W], z in [0, H], in 3D y in [0, D]); new positions make the pair list be built again. */
+static int sep_model_set_array(void *vm, const char *name, const double *v, size_t rows,
+                               size_t cols, mote_err *err)
+{
+    mote_sep_system *s = &((sep_model *)vm)->sys;
+    const int pos = !strcmp(name, "positions"), vel = !strcmp(name, "velocities");
+    if (!pos && !vel)
+        return mote_fail(err, MOTE_EINVAL, "set %s: the separator model sets positions or "
+                         "velocities", name);
+    if (rows != s->n || cols != 3)
+        return mote_fail(err, MOTE_EINVAL, "set %s: expected %zu x 3 numbers (one row per "
+                         "particle), found %zu x %zu", name, s->n, rows, cols);
+    const double hi[3] = {s->W, s->dim == 3 ? s->D : INFINITY, s->H};
+    for (size_t i = 0; i < rows; i++)
+        for (int a = 0; a < 3; a++) {
+            const double x = v[3 * i + (size_t)a];
+            if (!isfinite(x))
+                return mote_fail(err, MOTE_EINVAL, "set %s: particle %zu: %c = %g is not finite",
+                                 name, i, "xyz"[a], x);
+            if (pos && (a != 1 || s->dim == 3) && !(x >= 0 && x <= hi[a]))
+                return mote_fail(err, MOTE_EINVAL, "set positions: particle %zu: %c = %g is "
+                                 "outside the channel [0, %g]", i, "xyz"[a], x, hi[a]);
+        }
+    double *dst[3] = {pos ? s->x : s->vx, pos ? s->y : s->vy, pos ? s->z : s->vz};
+    for (size_t i = 0; i < rows; i++)
+        for (int a = 0; a < 3; a++)
+            dst[a][i] = v[3 * i + (size_t)a];
+    if (pos)
+        s->list_ok = 0; /* (the pair list is built again at the next step) */
+    return MOTE_OK;
+}
+
 const mote_model mote_model_separator = {
     .name = "separator",
     .summary = "gravitational separator: particles in a gas upflow, the grade-efficiency curve",
@@ -838,4 +871,5 @@ const mote_model mote_model_separator = {
     .status = sep_status,
     .live = sep_model_live,
     .arrays = sep_model_arrays,
+    .set_array = sep_model_set_array,
 };

@@ -145,9 +145,34 @@ def test_views_and_setters():
     sim.set("positions", y)
     assert np.array_equal(sim.positions, y)
     assert sim.status()["dE"] == 0.0  # energies measured from the new state
-    sp = mote.Simulation("separator")
+    ch = mote.Simulation("charging")
     with pytest.raises(mote.MoteError, match=r"cannot be set"):
-        sp.set("positions", [[0.0, 0.0, 0.0]])
+        ch.set("positions", [[0.0, 0.0, 0.0]])
+
+
+def test_separator_setters():
+    """The particles' positions and velocities set from Python: finite, centres inside the
+    channel; the run goes on from them (the pair list built again)."""
+    sp = mote.Simulation("separator")
+    sp.command("channel 0.05 1\ngas 1.5\ncollisions off\ntimestep 1e-3\nspecies quartz 2650\n"
+               "size quartz lognormal d50=150e-6 sigma=1.6 min=30e-6 max=600e-6\n"
+               "feed z=0.5 rate=2e-5\ninsert quartz 50\nrun 0.01")
+    x = sp.positions
+    n = len(x)
+    y = x.copy()
+    y[:, 2] = 0.3  # every particle lifted to z = 0.3 m
+    sp.set("positions", y)
+    assert np.array_equal(sp.positions, y)
+    bad = y.copy()
+    bad[2, 2] = 2.0
+    with pytest.raises(mote.MoteError, match=r"particle 2: z = 2 is outside the channel \[0, 1\]"):
+        sp.set("positions", bad)
+    with pytest.raises(mote.MoteError, match=r"expected %d x 3 numbers" % n):
+        sp.set("velocities", np.zeros((n, 2)))
+    sp.set("velocities", np.zeros((n, 3)))
+    assert np.array_equal(sp.velocities, np.zeros((n, 3)))
+    sp.command("run 0.01")
+    assert sp.status()["t"] > 0.01
 
 
 def test_mixing_box_setters():
