@@ -68,6 +68,14 @@ for f in z.dat p_1.dat p_2.dat p_5.dat l.png s.state; do
     cmp -s "h1/$f" "h2/$f" && ok || bad "$f differs on 2 ranks"
 done
 
+# an error in rank 0 before an ensemble: every rank stops (none waits at the ensemble forever)
+printf 'not data\n' > junk.txt
+printf 'new 2 0.3\nplot junk.txt j.png\nensemble 2\nbulk 32 0.3\nend\necho after\n' > stop.mote
+timeout 120 $MPIRUN "$MPI_MOTE" run stop.mote > out.txt 2> err.txt
+rc=$?
+[ $rc -ne 0 ] && [ $rc -ne 124 ] && grep -q '^stop.mote:2:1: error: junk.txt:1: not a mote data file' err.txt && ! grep -q '^after$' out.txt && ok ||
+    bad "an error in rank 0 before an ensemble: exit $rc, $(head -n 3 err.txt)"
+
 # ---- the N-body model (spec 6.3, T17): 1, 2 and 3 ranks (3 oversubscribed on small machines)
 # give the single process's bits: the Galactica scheme, then the Taylor integrator, the state
 # and a Galactica result file; and a Galactica job run by `mote galactica` on 2 ranks

@@ -326,6 +326,24 @@ void mote_ensemble_free_summaries(mote_script *s)
 
 /* ---- under mpirun: the replicas' outcomes, from every rank to every rank ---- */
 
+int mote_ranks_sync(mote_script *s, int finished)
+{
+    const mote_ranks *rk = s->ctx.ranks;
+    if (!rk || rk->size < 2 || s->ranks_finished)
+        return 0;
+    const char mine = (char)finished;
+    size_t *lens = calloc((size_t)rk->size, sizeof *lens);
+    char *all = lens ? rk->allgather(rk, &mine, 1, lens) : NULL;
+    int stopped = !all;
+    for (int k = 0; all && k < rk->size; k++)
+        stopped |= all[k] != 0;
+    free(all);
+    free(lens);
+    if (stopped) /* (a rank that stopped called this for the last time: no more calls here) */
+        s->ranks_finished = 1;
+    return stopped;
+}
+
 static int put(mote_buf *b, const void *p, size_t n)
 {
     if (b->failed)
@@ -491,10 +509,12 @@ int mote_ensemble_run(mote_script *s, const mote_ensemble *e, mote_err *err)
     const mote_ranks *rk = s->ctx.ranks && s->ctx.ranks->size > 1 ? s->ctx.ranks : NULL;
     const int first = rk ? rk->rank : 0, stride = rk ? rk->size : 1;
     const int mine = first < K ? (K - first + stride - 1) / stride : 0;
-    if (rk) { /* (every rank here: what rank 0 wrote before is there for the replicas) */
-        size_t *lens = calloc((size_t)rk->size, sizeof *lens);
-        free(lens ? rk->allgather(rk, NULL, 0, lens) : NULL);
-        free(lens);
+    /* every rank here (so what rank 0 wrote before is there for the replicas), unless a rank
+     * has stopped: then this rank stops too */
+    if (rk && mote_ranks_sync(s, 0)) {
+        free(rp);
+        return mote_call_fail(err, ec, -1, MOTE_ERUNTIME, "ensemble: another MPI rank stopped "
+                              "before it (its error is on rank 0's output)");
     }
     long procs = sysconf(_SC_NPROCESSORS_ONLN);
     int threads = s->ctx.threads > 0 ? s->ctx.threads : procs > 0 ? (int)procs : 1;

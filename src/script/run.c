@@ -667,8 +667,10 @@ int mote_script_execute(mote_script *s, mote_err *err)
     int rc = 0;
     if (s->live_port >= 0 && (rc = mote_script_live_start(s, s->live_bind, s->live_port, err)))
         rc = err->code;
+    s->ranks_finished = 0;
     if (!rc)
         rc = mote_script_run_calls(s, 0, s->ncalls, err);
+    mote_ranks_sync(s, 1); /* (under mpirun: the last meeting of the ranks) */
     if (s->live) {
         mote_live_stop(s->live);
         s->live = NULL;

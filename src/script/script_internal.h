@@ -83,6 +83,7 @@ struct mote_script {
     void *dry;
     int session_lines;
     FILE *session_out;    /* what the commands print, read back after each */
+    int ranks_finished;   /* under mpirun: the ranks' last meeting has happened */
 };
 
 /* Read more text into the script (its calls added after the others), the first line numbered
@@ -102,6 +103,10 @@ int mote_ensemble_check(mote_script *s, const mote_ensemble *e, mote_err *err);
 /* Run the replicas on the threads, print their output in order, combine their measurements. */
 int mote_ensemble_run(mote_script *s, const mote_ensemble *e, mote_err *err);
 void mote_ensemble_free_summaries(mote_script *s);
+/* Under mpirun: every rank meets here, at an ensemble (finished = 0) or at the end of the script
+ * (1, also after an error); returns 1 when some rank has finished, so that a rank whose script
+ * stopped early never leaves the others waiting at their next ensemble. */
+int mote_ranks_sync(mote_script *s, int finished);
 /* run.c: check one call (its arguments, its command's check, its outputs), the error located;
  * run the calls [from, to) on s->instance, with their context s->ctx. */
 int mote_script_check_call(mote_script *s, mote_call *c, mote_err *err);
