@@ -30,6 +30,8 @@ void mote_buf_fixed(mote_buf *b, const char *key, const double *v, size_t n, siz
                     double size);
 /* ,"key":"text" with the text escaped for JSON */
 void mote_buf_string(mote_buf *b, const char *key, const char *text);
+/* n bytes as they are (any bytes, a NUL kept), grown like the rest */
+void mote_buf_append(mote_buf *b, const void *data, size_t n);
 void mote_buf_free(mote_buf *b);
 
 typedef struct mote_live mote_live;

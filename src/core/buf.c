@@ -25,6 +25,16 @@ static void buf_reserve(mote_buf *b, size_t more)
     b->cap = cap;
 }
 
+void mote_buf_append(mote_buf *b, const void *data, size_t n)
+{
+    buf_reserve(b, n);
+    if (b->failed || !n)
+        return;
+    memcpy(b->s + b->n, data, n);
+    b->n += n;
+    b->s[b->n] = '\0';
+}
+
 void mote_buf_printf(mote_buf *b, const char *fmt, ...)
 {
     va_list ap;

@@ -344,26 +344,7 @@ int mote_ranks_sync(mote_script *s, int finished)
     return stopped;
 }
 
-static int put(mote_buf *b, const void *p, size_t n)
-{
-    if (b->failed)
-        return -1;
-    if (b->n + n + 1 > b->cap) {
-        size_t cap = b->cap ? b->cap : 4096;
-        while (cap < b->n + n + 1)
-            cap *= 2;
-        char *s = realloc(b->s, cap);
-        if (!s) {
-            b->failed = 1;
-            return -1;
-        }
-        b->s = s;
-        b->cap = cap;
-    }
-    memcpy(b->s + b->n, p, n);
-    b->n += n;
-    return 0;
-}
+static void put(mote_buf *b, const void *p, size_t n) { mote_buf_append(b, p, n); }
 
 /* Record of one replica: r, rc, the error, its output, its warnings, its results. */
 static void put_replica(mote_buf *b, int r, const replica *rp)
