@@ -74,12 +74,14 @@ static int setup(mote_sep_system *s, int dim, size_t n, double d1, double d2, do
 }
 
 /* The bytes the model's arrays hold per particle (capacities: the particle arrays, the
- * scratch, the pair list and its reference positions, the cells and their lists). */
+ * scratch, the neighbour rows and their reference positions, the cells and their lists). */
 static double bytes_per_particle(const mote_sep_system *s)
 {
     const double per = 12 * sizeof(double) + sizeof(int) + sizeof(uint64_t);
     const double b = (double)s->cap * per + (double)s->pv_cap * sizeof(double) +
-                     (double)s->xref_cap * sizeof(double) + (double)s->pl_cap * 2 * sizeof(uint32_t) +
+                     (double)s->xref_cap * sizeof(double) + (double)s->nb_cap * sizeof(uint32_t) +
+                     (double)s->nbs_cap * sizeof(uint32_t) + (double)s->exc_cap +
+                     (double)s->blk_cap * sizeof(double) +
                      (double)s->nnext_cap * sizeof(int32_t) +
                      (double)s->nhead_cap * sizeof(int32_t) +
                      (double)s->grid.cap_cells * sizeof(uint32_t) +
@@ -114,7 +116,7 @@ static double timed(mote_sep_system *s, int warm, int steps, uint64_t *contacts,
     return steps / el;
 }
 
-static int reference(int dim, size_t n, int steps)
+static int reference(int dim, size_t n, int steps, int nt)
 {
     mote_err err = {0};
     mote_sep_system s;
@@ -122,6 +124,7 @@ static int reference(int dim, size_t n, int steps)
         fprintf(stderr, "bench_separator: %s\n", err.msg);
         return 1;
     }
+    s.threads = nt;
     uint64_t contacts;
     const double rate = timed(&s, 20, steps, &contacts, &err);
     if (rate < 0) {
@@ -130,10 +133,10 @@ static int reference(int dim, size_t n, int steps)
     }
     printf("workload=ref%dd N=%zu steps=%d dt=%.4g steps_per_s=%.2f ns_per_particle_step=%.1f "
            "candidates_per_particle=%.2f contacts_per_particle=%.3f bytes_per_particle=%.0f "
-           "peak_rss_MB=%.1f\n",
+           "peak_rss_MB=%.1f threads=%d\n",
            dim, s.n, steps, s.dt, rate, 1e9 / (rate * (double)s.n),
            (double)s.candidates / (double)s.n, 2.0 * (double)contacts / (double)s.n,
-           bytes_per_particle(&s), peak_rss() / 1048576.0);
+           bytes_per_particle(&s), peak_rss() / 1048576.0, nt);
     mote_sep_free(&s);
     return 0;
 }
@@ -204,7 +207,7 @@ static int scan(int dim, size_t nmax)
 /* The granular column for the LIGGGHTS comparison: 3D, mono d = 2 mm, rho 2500, e = 0.5, no
  * gas, gravity, a closed box of 20 x 20 d2 cross-section, the particles poured at fraction 0.3
  * and settling. */
-static int column(size_t n, int steps)
+static int column(size_t n, int steps, int nt)
 {
     mote_err err = {0};
     mote_sep_system s;
@@ -231,6 +234,7 @@ static int column(size_t n, int steps)
         return 1;
     }
     s.nback = 0; /* those that found no room are dropped: N is what was placed */
+    s.threads = nt;
     uint64_t contacts;
     const double rate = timed(&s, 20, steps, &contacts, &err);
     if (rate < 0) {
@@ -239,10 +243,10 @@ static int column(size_t n, int steps)
     }
     printf("workload=column N=%zu box=%.4gx%.4gx%.4g khat=%.6g k_pair=%.6g dt=%.6g steps=%d "
            "steps_per_s=%.2f ns_per_particle_step=%.1f contacts_per_particle=%.3f "
-           "list_builds=%llu pairs_per_particle=%.2f\n",
+           "list_builds=%llu pairs_per_particle=%.2f threads=%d\n",
            s.n, s.W, s.D, s.H, s.khat_used, s.khat_used * d, s.dt, steps, rate,
            1e9 / (rate * (double)s.n), 2.0 * (double)contacts / (double)s.n,
-           (unsigned long long)s.list_builds, (double)s.npl / (double)s.n);
+           (unsigned long long)s.list_builds, (double)s.npl / (double)s.n, nt);
     mote_sep_free(&s);
     return 0;
 }
@@ -251,16 +255,17 @@ int main(int argc, char **argv)
 {
     const char *w = argc > 1 ? argv[1] : "ref2d";
     const double a = argc > 2 ? atof(argv[2]) : 0, b = argc > 3 ? atof(argv[3]) : 0;
+    const int nt = argc > 4 && atoi(argv[4]) > 1 ? atoi(argv[4]) : 1; /* threads (ref, column) */
     if (!strcmp(w, "ref2d"))
-        return reference(2, a > 0 ? (size_t)a : 100000, b > 0 ? (int)b : 100);
+        return reference(2, a > 0 ? (size_t)a : 100000, b > 0 ? (int)b : 100, nt);
     if (!strcmp(w, "ref3d"))
-        return reference(3, a > 0 ? (size_t)a : 1000000, b > 0 ? (int)b : 5);
+        return reference(3, a > 0 ? (size_t)a : 1000000, b > 0 ? (int)b : 5, nt);
     if (!strcmp(w, "scan2d"))
         return scan(2, a > 0 ? (size_t)a : 400000);
     if (!strcmp(w, "scan3d"))
         return scan(3, a > 0 ? (size_t)a : 1000000);
     if (!strcmp(w, "column"))
-        return column(a > 0 ? (size_t)a : 100000, b > 0 ? (int)b : 200);
+        return column(a > 0 ? (size_t)a : 100000, b > 0 ? (int)b : 200, nt);
     fprintf(stderr, "bench_separator: unknown workload '%s' (ref2d, ref3d, scan2d, scan3d, "
                     "column)\n", w);
     return 2;

@@ -574,6 +574,125 @@ static void test_tall(void)
     mote_sep_free(&s);
 }
 
+/* One case of the thread test: a channel open at both ends with a gas upflow felt by the solids
+ * (coupling), a perforated plate, a feed, n particles to start; runs `steps` steps on nt
+ * threads (used from 1 particle up) and writes its state to path. */
+static void threads_case(mote_sep_system *s, int dim, size_t n, int steps, int nt, int disperse,
+                         const char *path)
+{
+    mote_err err = {0};
+    mote_sep_init(s);
+    s->dim = dim;
+    s->W = s->D = dim == 3 ? 0.015 : 0.05;
+    s->H = dim == 3 ? 0.04 : 0.1;
+    s->U0 = 1.2;
+    s->nsp = 1;
+    snprintf(s->sp[0].name, sizeof s->sp[0].name, "p");
+    s->sp[0].rho = 2500;
+    s->sp[0].w = 1;
+    s->sp[0].dist = (mote_sep_dist){.type = MOTE_SEP_LOGUNIFORM, .lo = 0.5e-3, .hi = 1e-3,
+                                    .number_basis = 1};
+    CHECK(mote_sep_dist_build(&s->sp[0].dist, &err) == MOTE_OK, "dist: %s", err.msg);
+    s->sp[0].have_dist = 1;
+    s->zf = 0.5 * s->H;
+    s->hf = 0.9 * s->H;
+    s->v_imp = 1;
+    s->rate = dim == 3 ? 0.05 : 0.02; /* kg/s: a few particles each step */
+    if (disperse)
+        s->D_t = 1e-3;
+    /* a plate of square holes of 2 mm at 2 mm pitch near the bottom */
+    double h[4 * 64];
+    size_t nh = 0;
+    const int nx = (int)(s->W / 4e-3);
+    for (int a = 0; a < nx; a++)
+        for (int b = 0; b < (dim == 3 ? nx : 1); b++) {
+            h[4 * nh] = 1e-3 + 4e-3 * a;
+            h[4 * nh + 1] = h[4 * nh] + 2e-3;
+            h[4 * nh + 2] = 1e-3 + 4e-3 * b;
+            h[4 * nh + 3] = h[4 * nh + 2] + 2e-3;
+            nh++;
+        }
+    CHECK(mote_sep_plate_list(&s->plate[0], 0.005, 1e-3, h, nh, &err) == MOTE_OK, "plate: %s",
+          err.msg);
+    s->nplate = 1;
+    s->nsort = 40; /* (reorders within the run) */
+    CHECK(mote_sep_prepare(s, &err) == MOTE_OK, "prepare: %s", err.msg);
+    CHECK(mote_sep_insert(s, 0, n, 0, &err) == MOTE_OK, "insert: %s", err.msg);
+    s->nback = 0;
+    s->avg_from = 0;
+    /* velocities of about 1 m/s in all directions, so that contacts come soon; every 300th
+     * particle just below the open top, leaving upwards */
+    for (size_t i = 0; i < s->n; i++) {
+        s->vx[i] = sin((double)i);
+        s->vy[i] = dim == 3 ? cos(1.3 * (double)i) : 0;
+        s->vz[i] = sin(0.7 * (double)i);
+        if (i % 300 == 0) {
+            s->z[i] = s->H - 1e-5;
+            s->vz[i] = 3;
+        }
+    }
+    s->mods++; /* (positions set by hand) */
+    s->threads = nt;
+    s->threads_min_n = 1;
+    CHECK(mote_sep_run(s, steps * s->dt, &err) == MOTE_OK, "run: %s", err.msg);
+    CHECK(mote_sep_save(s, 1, path, &err) == MOTE_OK, "save: %s", err.msg);
+}
+
+/* Whether two files hold the same bytes. */
+static int same_file(const char *a, const char *b)
+{
+    FILE *f = fopen(a, "rb"), *g = fopen(b, "rb");
+    int same = f && g;
+    while (same) {
+        const int x = fgetc(f), y = fgetc(g);
+        same = x == y;
+        if (x == EOF || y == EOF)
+            break;
+    }
+    if (f)
+        fclose(f);
+    if (g)
+        fclose(g);
+    return same;
+}
+
+/* The passes over the particles on 1, 2 and 3 threads give the same bits: the states written
+ * after a run with contacts, plates, exits, the feed, list rebuilds and reorders, the gas
+ * coupling (deposited in more than one block in 3D) and the profiles; in 2D also with the
+ * dispersion (which runs its drift on one thread). */
+static void test_threads(void)
+{
+    printf("threads: the same bits on 1, 2 and 3 threads\n");
+    static const struct {
+        int dim;
+        size_t n;
+        int steps, disperse;
+    } cases[] = {{3, 9000, 90, 0}, {2, 3000, 200, 0}, {2, 1000, 60, 1}};
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        char path[3][64];
+        mote_sep_system s[3];
+        for (int nt = 1; nt <= 3; nt++) {
+            snprintf(path[nt - 1], sizeof path[0], "/tmp/mote_sep_threads_%d_%d.state", (int)c, nt);
+            threads_case(&s[nt - 1], cases[c].dim, cases[c].n, cases[c].steps, nt,
+                         cases[c].disperse, path[nt - 1]);
+        }
+        CHECK(s[0].list_builds > 1 && s[0].last_sort > 0 && s[0].cnt[0].fines > 0 && s[0].contacts_pp > 0,
+              "case %zu exercises rebuilds (%llu), a reorder (step %llu), exits and contacts (%llu)",
+              c, (unsigned long long)s[0].list_builds, (unsigned long long)s[0].last_sort,
+              (unsigned long long)s[0].contacts_pp);
+        for (int k = 1; k < 3; k++)
+            CHECK(same_file(path[0], path[k]), "case %zu (%dD, N %zu): the state on %d threads "
+                  "equals the one on 1", c, cases[c].dim, cases[c].n, k + 1);
+        printf("  %dD N %zu -> %zu after %d steps: %llu list builds, %llu contacts at the end\n",
+               cases[c].dim, cases[c].n, s[0].n, cases[c].steps,
+               (unsigned long long)s[0].list_builds, (unsigned long long)s[0].contacts_pp);
+        for (int k = 0; k < 3; k++) {
+            mote_sep_free(&s[k]);
+            remove(path[k]);
+        }
+    }
+}
+
 int main(int argc, char **argv)
 {
     static const struct {
@@ -583,7 +702,7 @@ int main(int argc, char **argv)
                  {"elastic", test_elastic},       {"restitution", test_restitution},
                  {"many_body", test_many_body},   {"backlog", test_backlog},
                  {"grids", test_grids},           {"pair", test_pair_restitution},
-                 {"tall", test_tall}};
+                 {"tall", test_tall},             {"threads", test_threads}};
     for (size_t k = 0; k < sizeof tests / sizeof tests[0]; k++)
         if (argc < 2 || !strcmp(argv[1], tests[k].name))
             tests[k].fn();

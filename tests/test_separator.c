@@ -241,7 +241,7 @@ static void test_gas(void)
     s.dem = 0;
     CHECK(mote_sep_prepare(&s, &err) == MOTE_OK && mote_sep_insert(&s, 0, 3000, 0, &err) == MOTE_OK,
           "setup: %s", err.msg);
-    mote_sep_gas_update(&s, 0);
+    CHECK(mote_sep_gas_update(&s, 0, &err) == MOTE_OK, "gas update: %s", err.msg);
     double vol = 0, dep = 0;
     for (size_t i = 0; i < s.n; i++)
         vol += 3.14159265358979323846 * s.d[i] * s.d[i] * s.d[i] / 6;

@@ -166,8 +166,11 @@ typedef struct {
      * moved more than skin/2 since, so it holds every contact a rebuild would find */
     double skin;                         /* (0: 0.3 d_min; < 0: none, search every step) */
     double skin_used;
-    uint32_t *plist;
-    size_t npl, pl_cap;
+    /* as rows: particle i's neighbours (every j, both ways) in nb[nb_start[i] ..
+     * nb_start[i + 1]), each row in increasing index, so that a particle's contact forces are
+     * summed in an order that depends on neither the build nor the threads */
+    uint32_t *nb, *nb_start;
+    size_t npl, nb_cap, nbs_cap;         /* npl: the pairs (half the entries) */
     double *xref;                        /* positions at the build (3 per particle) */
     size_t xref_cap;
     uint64_t mods, list_mods;            /* additions and removals so far; at the build */
@@ -181,6 +184,14 @@ typedef struct {
     size_t *ex_i, nex, ex_cap;           /* scratch: the particles leaving in this step */
     int *ex_c;
     size_t pv_cap;
+    unsigned char *exc;                  /* scratch: each particle's exit code in a step */
+    size_t exc_cap;
+    double *blk;                         /* scratch: per block of particles, slice sums */
+    size_t blk_cap;
+    int threads;                         /* threads for the passes over the particles (0, 1:
+                                          * one); the results do not depend on it */
+    size_t threads_min_n;                /* threads are used from this many particles up
+                                          * (default SEP_THREADS_MIN_N, sep.h, measured) */
     int nsp;
     mote_sep_species sp[MOTE_SEP_MAX_SPECIES];
     int nplate;
@@ -235,8 +246,8 @@ int mote_sep_insert(mote_sep_system *s, int sp, uint64_t count, double mass, mot
 int mote_sep_run(mote_sep_system *s, double T, mote_err *err);
 /* Recompute the solids fraction and gas velocity of every slice (spec 2.6); with a relaxation
  * time, the relaxed fraction moves dt / tau_eps of the way (dt = 0: not at all, unless it was
- * never set). */
-void mote_sep_gas_update(mote_sep_system *s, double dt);
+ * never set). 0, or an error when out of memory (then nothing changed). */
+int mote_sep_gas_update(mote_sep_system *s, double dt, mote_err *err);
 /* The gas velocity at height z (interpolated between slice centres). */
 double mote_sep_gas_at(const mote_sep_system *s, double z);
 /* The gas density and viscosity at height z (the profile, else the constants). */

@@ -457,8 +457,10 @@ const mote_cmd mote_script_common_cmds[] = {
      NULL, echo_run},
     {"threads", NULL, "i>=1", "threads N", "number of threads for the commands that follow",
      "Set the number of threads (OpenMP) for the commands that follow, N >= 1\n"
-     "(default 1). Results never depend on it: the nbody model sums in a fixed order\n"
-     "for any number of threads, so they are bit-identical. The hard-spheres and\n"
+     "(default 1). Results never depend on it: the nbody, charging and separator\n"
+     "models sum in a fixed order for any number of threads, so they are\n"
+     "bit-identical (the separator runs on one thread below 4096 particles and while\n"
+     "dispersion draws random kicks, which come from one stream). The hard-spheres and\n"
      "mixing-box models run on one thread; for them the first `threads` command\n"
      "prints a note and none has an effect, except on an `ensemble`, whose replicas\n"
      "run side by side on N threads in every model (its results never depend on N).\n",

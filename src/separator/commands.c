@@ -676,7 +676,7 @@ static int insert(sep_model *m, const mote_call *c, uint64_t count, double mass,
         rc = mote_sep_insert(&m->sys, sep_find_species(&m->sys, c->args[0].text), count, mass,
                              err);
     if (!rc)
-        mote_sep_gas_update(&m->sys, 0);
+        rc = mote_sep_gas_update(&m->sys, 0, err);
     return rc;
 }
 
@@ -859,7 +859,7 @@ static int sep_model_set_array(void *vm, const char *name, const double *v, size
 const mote_model mote_model_separator = {
     .name = "separator",
     .summary = "gravitational separator: particles in a gas upflow, the grade-efficiency curve",
-    .threaded = 0,
+    .threaded = 1,
     .cmds = sep_commands,
     .ncmds = sizeof sep_commands / sizeof sep_commands[0],
     .create = model_create,

@@ -182,26 +182,14 @@ static inline int near(const mote_sep_system *s, size_t i, size_t j, double skin
 typedef void (*pair_fn)(mote_sep_system *s, size_t i, size_t j, const double dx[3], double d2,
                         void *ctx);
 
-static void each_pair_reach(mote_sep_system *s, int brute, double skin, pair_fn fn, void *ctx);
-
-static void each_pair(mote_sep_system *s, int brute, pair_fn fn, void *ctx)
-{
-    each_pair_reach(s, brute, 0, fn, ctx);
-}
-
-/* Pairs closer than r_i + r_j (skin 0: fn gets the overlap test's dx and d2) or r_i + r_j +
- * skin (skin > 0: fn gets dx = NULL). */
+/* Pairs closer than r_i + r_j: fn gets the overlap test's dx and d2. */
 #define SEP_VISIT(i, j)                                                                           \
     do {                                                                                          \
-        if (skin > 0) {                                                                           \
-            if (near(s, i, j, skin))                                                              \
-                fn(s, i, j, NULL, 0, ctx);                                                        \
-        } else if (overlap(s, i, j, dx, &d2)) {                                                   \
+        if (overlap(s, i, j, dx, &d2))                                                            \
             fn(s, i, j, dx, d2, ctx);                                                             \
-        }                                                                                         \
     } while (0)
 
-static void each_pair_reach(mote_sep_system *s, int brute, double skin, pair_fn fn, void *ctx)
+static void each_pair(mote_sep_system *s, int brute, pair_fn fn, void *ctx)
 {
     double dx[3], d2;
     if (brute) {
@@ -333,59 +321,274 @@ static inline void pair_force(mote_sep_system *s, size_t i, size_t j, const doub
 
 /* ---- the pair list -------------------------------------------------------------------------- */
 
-static void list_add(mote_sep_system *s, size_t i, size_t j, const double dx[3], double d2,
-                     void *ctx)
+/* Particle i's neighbours within r_i + r_j + skin through the cells around its own (the full
+ * stencil: every j != i), written to out when it is not NULL; their number. */
+static size_t row_scan(const mote_sep_system *s, size_t i, double skin, uint32_t *out)
 {
-    (void)dx;
-    (void)d2;
-    int *fail = ctx;
-    if (s->npl == s->pl_cap) {
-        const size_t cap = s->pl_cap ? 2 * s->pl_cap : 1024;
-        uint32_t *p = realloc(s->plist, 2 * cap * sizeof *p);
-        if (!p) {
-            *fail = 1;
-            return;
+    const mote_grid *g = &s->grid;
+    const size_t c = g->cell[i];
+    const int n0 = g->nc[0], n1 = g->nc[1], n2 = g->nc[2];
+    const int c0 = (int)(c % (size_t)n0), c1 = (int)(c / (size_t)n0 % (size_t)n1),
+              c2 = (int)(c / ((size_t)n0 * (size_t)n1));
+    const int lo0 = c0 > 0 ? c0 - 1 : 0, hi0 = c0 + 1 < n0 ? c0 + 1 : n0 - 1;
+    const int lo1 = c1 > 0 ? c1 - 1 : 0, hi1 = c1 + 1 < n1 ? c1 + 1 : n1 - 1;
+    const int lo2 = c2 > 0 ? c2 - 1 : 0, hi2 = c2 + 1 < n2 ? c2 + 1 : n2 - 1;
+    size_t k = 0;
+    for (int k2 = lo2; k2 <= hi2; k2++)
+        for (int k1 = lo1; k1 <= hi1; k1++) {
+            /* the cells lo0..hi0 of a row are consecutive: one run of the order */
+            const size_t r = ((size_t)k2 * (size_t)n1 + (size_t)k1) * (size_t)n0;
+            const uint32_t p0 = g->start[r + (size_t)lo0], p1 = g->start[r + (size_t)hi0 + 1];
+            for (uint32_t p = p0; p < p1; p++) {
+                const uint32_t j = g->order[p];
+                if (j != i && near(s, i, j, skin)) {
+                    if (out)
+                        out[k] = j;
+                    k++;
+                }
+            }
         }
-        s->plist = p;
-        s->pl_cap = cap;
-    }
-    s->plist[2 * s->npl] = (uint32_t)i;
-    s->plist[2 * s->npl + 1] = (uint32_t)j;
-    s->npl++;
+    return k;
 }
 
+/* The neighbour rows, built afresh from the cells just built: the rows are counted, then
+ * filled and sorted, on the threads (the rows do not depend on them). */
 static int list_build(mote_sep_system *s, mote_err *err)
 {
     int rc = sep_cells_build(s, err);
     if (rc)
         return rc;
-    if (3 * s->n > s->xref_cap) {
-        const size_t cap = 3 * s->n + 3 * s->n / 2 + 3;
+    const size_t n = s->n;
+    if (3 * n > s->xref_cap) {
+        const size_t cap = 3 * n + 3 * n / 2 + 3;
         double *p = realloc(s->xref, cap * sizeof *p);
         if (!p)
             return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the pair list");
         s->xref = p;
         s->xref_cap = cap;
     }
-    for (size_t i = 0; i < s->n; i++) {
-        s->xref[3 * i] = s->x[i];
-        s->xref[3 * i + 1] = s->y[i];
-        s->xref[3 * i + 2] = s->z[i];
+    if (n + 1 > s->nbs_cap) {
+        const size_t cap = n + 1 + n / 2;
+        uint32_t *p = realloc(s->nb_start, cap * sizeof *p);
+        if (!p)
+            return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the pair list");
+        s->nb_start = p;
+        s->nbs_cap = cap;
     }
-    s->npl = 0;
-    int fail = 0;
-    each_pair_reach(s, 0, s->skin_used, list_add, &fail);
-    if (fail)
-        return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the pair list");
+    const int nt = sep_threads(s);
+    const double skin = s->skin_used;
+    double *xref = s->xref;
+    uint32_t *start = s->nb_start;
+#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
+    for (size_t i = 0; i < n; i++) {
+        xref[3 * i] = s->x[i];
+        xref[3 * i + 1] = s->y[i];
+        xref[3 * i + 2] = s->z[i];
+        start[i + 1] = (uint32_t)row_scan(s, i, skin, NULL);
+    }
+    start[0] = 0;
+    size_t total = 0;
+    for (size_t i = 0; i < n; i++) {
+        total += start[i + 1];
+        if (total > UINT32_MAX)
+            return mote_fail(err, MOTE_ENOMEM, "separator: more than 2^32 - 1 neighbours");
+        start[i + 1] = (uint32_t)total;
+    }
+    if (total > s->nb_cap) {
+        const size_t cap = total + total / 2 + 64;
+        uint32_t *p = realloc(s->nb, cap * sizeof *p);
+        if (!p)
+            return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the pair list");
+        s->nb = p;
+        s->nb_cap = cap;
+    }
+    uint32_t *nb = s->nb;
+#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
+    for (size_t i = 0; i < n; i++) {
+        uint32_t *row = nb + start[i];
+        const size_t len = row_scan(s, i, skin, row);
+        for (size_t a = 1; a < len; a++) { /* rows are short: insertion sort */
+            const uint32_t v = row[a];
+            size_t b = a;
+            for (; b > 0 && row[b - 1] > v; b--)
+                row[b] = row[b - 1];
+            row[b] = v;
+        }
+    }
+    s->npl = total / 2;
     s->list_ok = 1;
     s->list_mods = s->mods;
     s->list_builds++;
     return MOTE_OK;
 }
 
-/* The contact forces of every particle from the current positions; the dashpots with the
- * predicted velocities v + dt/2 F_old/m (spec 2.10 step 6). */
-int sep_contact_forces(mote_sep_system *s, double dt, mote_err *err)
+int sep_list_from_pairs(mote_sep_system *s, const uint32_t *pairs, size_t np, mote_err *err)
+{
+    const size_t n = s->n;
+    uint32_t *start = realloc(s->nb_start, (n + 1) * sizeof *start);
+    if (!start)
+        return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the pair list");
+    s->nb_start = start;
+    s->nbs_cap = n + 1;
+    uint32_t *nb = realloc(s->nb, (2 * np + 1) * sizeof *nb);
+    if (!nb)
+        return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the pair list");
+    s->nb = nb;
+    s->nb_cap = 2 * np + 1;
+    memset(start, 0, (n + 1) * sizeof *start);
+    for (size_t k = 0; k < 2 * np; k++) {
+        if (pairs[k] >= n)
+            return mote_fail(err, MOTE_EINVAL, "the pair list names a particle beyond the last");
+        start[pairs[k] + 1]++;
+    }
+    for (size_t i = 0; i < n; i++)
+        start[i + 1] += start[i];
+    /* each row filled in order of its partners, then the rows put back at their starts */
+    for (size_t k = 0; k < np; k++) {
+        nb[start[pairs[2 * k]]++] = pairs[2 * k + 1];
+        nb[start[pairs[2 * k + 1]]++] = pairs[2 * k];
+    }
+    for (size_t i = n; i > 0; i--)
+        start[i] = start[i - 1];
+    start[0] = 0;
+    for (size_t i = 0; i < n; i++) {
+        uint32_t *row = nb + start[i];
+        const size_t len = start[i + 1] - start[i];
+        for (size_t a = 1; a < len; a++) {
+            const uint32_t v = row[a];
+            size_t b = a;
+            for (; b > 0 && row[b - 1] > v; b--)
+                row[b] = row[b - 1];
+            row[b] = v;
+        }
+    }
+    s->npl = np;
+    return MOTE_OK;
+}
+
+/* ---- forces per particle -------------------------------------------------------------------- */
+
+/* The walls and closed ends on particle i (k = k_hat d, m = m_i, the wall at rest) with its
+ * predicted velocity pvel, added to F; the largest overlap into *mo. */
+static inline void wall_force(const mote_sep_system *s, size_t i, double khat, double g_w,
+                              const double pvel[3], double F[3], double *mo)
+{
+    const double pos[3] = {s->x[i], s->y[i], s->z[i]}, r = 0.5 * s->d[i];
+    const double hi[3] = {s->W, s->D, s->H};
+    for (int a = 0; a < 3; a++) {
+        if (a == 1 && s->dim == 2)
+            continue;
+        const int lo_wall = a < 2 || !s->open_bottom, hi_wall = a < 2 || !s->open_top;
+        const double dlo = r - pos[a], dhi = pos[a] + r - hi[a];
+        if ((lo_wall && dlo > 0) || (hi_wall && dhi > 0)) {
+            const double k = khat * s->d[i], gam = g_w * sqrt(s->m[i] * k);
+            if (lo_wall && dlo > 0) /* the wall's normal +a; approach rate -v_a */
+                F[a] += k * dlo - gam * pvel[a];
+            if (hi_wall && dhi > 0) /* normal -a; approach rate +v_a */
+                F[a] -= k * dhi + gam * pvel[a];
+            const double ov = (dlo > dhi ? dlo : dhi) / s->d[i];
+            if (ov > *mo)
+                *mo = ov;
+        }
+    }
+}
+
+/* The plates on particle i: one contact per feature (a hole's side faces, or the top or bottom
+ * face), added to F. */
+static inline void plate_force(const mote_sep_system *s, size_t i, double khat, double g_w,
+                               const double pvel[3], double F[3], double *mo)
+{
+    for (int q = 0; q < s->nplate; q++) {
+        const double r = 0.5 * s->d[i], c3[3] = {s->x[i], s->y[i], s->z[i]};
+        double delta[4], nrm[4][3];
+        const int nf = mote_sep_plate_features(&s->plate[q], s->dim, c3, r, delta, nrm);
+        if (nf <= 0)
+            continue;
+        const double k = khat * s->d[i], gam = g_w * sqrt(s->m[i] * k);
+        for (int f = 0; f < nf; f++) {
+            const double vn = pvel[0] * nrm[f][0] + pvel[1] * nrm[f][1] + pvel[2] * nrm[f][2];
+            const double Fm = k * delta[f] - gam * vn;
+            F[0] += Fm * nrm[f][0];
+            F[1] += Fm * nrm[f][1];
+            F[2] += Fm * nrm[f][2];
+            *mo = fmax(*mo, delta[f] / s->d[i]);
+        }
+    }
+}
+
+/* Particle i's contacts with its listed neighbours, subtracted from F in the row's order: the
+ * force on i from j is minus the one on j from i, bit for bit, as every factor is symmetric in
+ * i and j (the difference vector's sign flips exactly). dim is a constant of each caller. */
+static inline void row_force(const mote_sep_system *s, const force_ctx *c, size_t i, int dim,
+                             double F[3], double *mo, uint64_t *contacts)
+{
+    const uint32_t *row = s->nb + s->nb_start[i], *end = s->nb + s->nb_start[i + 1];
+    const double xi = s->x[i], yi = dim == 3 ? s->y[i] : 0, zi = s->z[i], di = s->d[i];
+    const double pvi[3] = {c->pvx[i], c->pvy[i], c->pvz[i]};
+    for (; row < end; row++) {
+        const size_t j = *row;
+        const double dx[3] = {s->x[j] - xi, dim == 3 ? s->y[j] - yi : 0, s->z[j] - zi};
+        const double d2 = dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2];
+        const double dj = s->d[j], R = 0.5 * (di + dj);
+        if (!(d2 < R * R))
+            continue;
+        const double dist = sqrt(d2);
+        if (!(dist > 0))
+            continue; /* coincident centres: no direction (the feed never makes them) */
+        const double delta = R - dist;
+        const double n[3] = {dx[0] / dist, dx[1] / dist, dx[2] / dist};
+        const double vn = (pvi[0] - c->pvx[j]) * n[0] + (pvi[1] - c->pvy[j]) * n[1] +
+                          (pvi[2] - c->pvz[j]) * n[2];
+        const double dbar = 2 * di * dj / (di + dj);
+        const double mi = s->m[i], mj = s->m[j];
+        const double k = c->khat * dbar, mij = mi * mj / (mi + mj);
+        const int a = s->s[i], b = s->s[j];
+        const double g = c->g_pp[a < b ? a * MOTE_SEP_MAX_SPECIES + b : b * MOTE_SEP_MAX_SPECIES + a];
+        const double Fm = k * delta + g * sqrt(mij * k) * vn;
+        F[0] -= Fm * n[0];
+        F[1] -= Fm * n[1];
+        F[2] -= Fm * n[2];
+        const double ov = delta / (di < dj ? di : dj);
+        if (ov > *mo)
+            *mo = ov;
+        *contacts += j > i;
+    }
+}
+
+/* The listed contacts of every particle, on the threads: walls, neighbours, plates, then (kick)
+ * the second half kick v += dt/2 F/m. Each particle's force is its own sum, in a fixed order. */
+static void list_forces(mote_sep_system *s, const force_ctx *c, double g_w, int kick)
+{
+    const size_t n = s->n;
+    const int nt = sep_threads(s), dim = s->dim;
+    double mo = s->max_overlap;
+    uint64_t contacts = 0;
+#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1) \
+    reduction(max : mo) reduction(+ : contacts)
+    for (size_t i = 0; i < n; i++) {
+        double F[3] = {0, 0, 0};
+        const double pvel[3] = {c->pvx[i], c->pvy[i], c->pvz[i]};
+        wall_force(s, i, c->khat, g_w, pvel, F, &mo);
+        if (dim == 3)
+            row_force(s, c, i, 3, F, &mo, &contacts);
+        else
+            row_force(s, c, i, 2, F, &mo, &contacts);
+        plate_force(s, i, c->khat, g_w, pvel, F, &mo);
+        s->fx[i] = F[0];
+        s->fy[i] = F[1];
+        s->fz[i] = F[2];
+        if (kick) {
+            const double h = c->half_dt * s->im[i];
+            s->vx[i] += h * F[0];
+            s->vy[i] += h * F[1];
+            s->vz[i] += h * F[2];
+        }
+    }
+    s->max_overlap = mo;
+    s->contacts_pp = contacts;
+}
+
+int sep_pv_reserve(mote_sep_system *s, mote_err *err)
 {
     const size_t n = s->n;
     if (!s->pv || 3 * n > s->pv_cap) { /* (allocated even for no particle: pv + n is then valid) */
@@ -396,6 +599,16 @@ int sep_contact_forces(mote_sep_system *s, double dt, mote_err *err)
         s->pv = p;
         s->pv_cap = cap;
     }
+    return MOTE_OK;
+}
+
+/* The contact forces of every particle from the current positions; the dashpots with the
+ * predicted velocities v + dt/2 F_old/m (spec 2.10 step 6); with kick, the second half kick. */
+int sep_contact_forces(mote_sep_system *s, double dt, int kick, mote_err *err)
+{
+    const size_t n = s->n;
+    if (sep_pv_reserve(s, err))
+        return err->code;
     double *pv = s->pv;
     force_ctx c = {.khat = s->khat_used, .half_dt = 0.5 * dt, .pvx = pv, .pvy = pv + n,
                    .pvz = pv + 2 * n};
@@ -404,56 +617,32 @@ int sep_contact_forces(mote_sep_system *s, double dt, mote_err *err)
             const double e = s->e_pair[a][b] > 0 ? s->e_pair[a][b] : s->e_pp;
             c.g_pp[a * MOTE_SEP_MAX_SPECIES + b] = e < 1 ? 2 * zeta_of(e) : 0;
         }
-    /* one pass: the predicted velocities, the forces zeroed, the walls and closed ends (k =
-     * k_hat d, m = m_i, the wall at rest), and whether the pair list still holds (nothing added,
+    /* one pass: the predicted velocities, and whether the pair list still holds (nothing added,
      * removed or reordered, no particle moved more than skin/2 since its build) */
     double dmin, dmax;
     mote_sep_size_range(s, &dmin, &dmax);
     s->skin_used = s->brute || s->skin < 0 ? 0 : s->skin > 0 ? s->skin : 0.3 * dmin;
-    int valid = !s->brute && s->list_ok && s->mods == s->list_mods && s->skin_used > 0;
+    const int listed = !s->brute && s->skin_used > 0;
+    const int can = listed && s->list_ok && s->mods == s->list_mods;
     const double lim = 0.25 * s->skin_used * s->skin_used;
     const double e_w = s->e_pw >= 0 ? s->e_pw : s->e_pp, g_w = e_w < 1 ? 2 * zeta_of(e_w) : 0;
-    const double hi[3] = {s->W, s->D, s->H};
-    s->contacts_pp = 0;
+    const int nt = sep_threads(s);
+    int moved = 0;
+    const double *xref = s->xref;
+#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1) reduction(| : moved)
     for (size_t i = 0; i < n; i++) {
-        const double h = 0.5 * dt * s->im[i];
-        const double pvel[3] = {s->vx[i] + h * s->fx[i], s->vy[i] + h * s->fy[i],
-                                s->vz[i] + h * s->fz[i]};
-        c.pvx[i] = pvel[0];
-        c.pvy[i] = pvel[1];
-        c.pvz[i] = pvel[2];
-        double F[3] = {0, 0, 0};
-        const double pos[3] = {s->x[i], s->y[i], s->z[i]}, r = 0.5 * s->d[i];
-        for (int a = 0; a < 3; a++) {
-            if (a == 1 && s->dim == 2)
-                continue;
-            const int lo_wall = a < 2 || !s->open_bottom, hi_wall = a < 2 || !s->open_top;
-            const double dlo = r - pos[a], dhi = pos[a] + r - hi[a];
-            if ((lo_wall && dlo > 0) || (hi_wall && dhi > 0)) {
-                const double k = c.khat * s->d[i], gam = g_w * sqrt(s->m[i] * k);
-                if (lo_wall && dlo > 0) /* the wall's normal +a; approach rate -v_a */
-                    F[a] += k * dlo - gam * pvel[a];
-                if (hi_wall && dhi > 0) /* normal -a; approach rate +v_a */
-                    F[a] -= k * dhi + gam * pvel[a];
-                const double ov = (dlo > dhi ? dlo : dhi) / s->d[i];
-                if (ov > s->max_overlap)
-                    s->max_overlap = ov;
-            }
-        }
-        s->fx[i] = F[0];
-        s->fy[i] = F[1];
-        s->fz[i] = F[2];
-        if (valid) {
-            const double *q = s->xref + 3 * i;
-            const double dx = pos[0] - q[0], dy = pos[1] - q[1], dz = pos[2] - q[2];
-            if (dx * dx + dy * dy + dz * dz > lim)
-                valid = 0;
+        const double h = c.half_dt * s->im[i];
+        c.pvx[i] = s->vx[i] + h * s->fx[i];
+        c.pvy[i] = s->vy[i] + h * s->fy[i];
+        c.pvz[i] = s->vz[i] + h * s->fz[i];
+        if (can) {
+            const double *q = xref + 3 * i;
+            const double dx = s->x[i] - q[0], dy = s->y[i] - q[1], dz = s->z[i] - q[2];
+            moved |= dx * dx + dy * dy + dz * dz > lim;
         }
     }
-    if (s->brute) {
-        each_pair(s, 1, pair_force, &c);
-    } else if (s->skin_used > 0) {
-        if (!valid) {
+    if (listed) {
+        if (!can || moved) {
             /* the periodic reorder by cells (spec 2.9) rides on a rebuild */
             int rc = MOTE_OK;
             if (s->nsort > 0 && s->steps - s->last_sort >= (uint64_t)s->nsort) {
@@ -466,40 +655,44 @@ int sep_contact_forces(mote_sep_system *s, double dt, mote_err *err)
             if (rc)
                 return rc;
         }
-        /* the listed pairs, with the overlap test of the search */
-        double dx[3], d2;
-        for (size_t k = 0; k < s->npl; k++) {
-            const size_t i = s->plist[2 * k], j = s->plist[2 * k + 1];
-            if (overlap(s, i, j, dx, &d2))
-                pair_force(s, i, j, dx, d2, &c);
-        }
-    } else {
-        /* no list: the cells as built for this step's feed serve when nothing was added */
-        if (!(s->built_step == s->steps + 1 && s->n_built == s->n)) {
-            int rc = sep_cells_build(s, err);
-            if (rc)
-                return rc;
-        }
-        each_pair(s, 0, pair_force, &c);
+        list_forces(s, &c, g_w, kick);
+        return MOTE_OK;
     }
-    /* plates: one contact per feature (a hole's side faces, or the top or bottom face) */
-    for (int q = 0; q < s->nplate; q++)
-        for (size_t i = 0; i < n; i++) {
-            const double r = 0.5 * s->d[i], c3[3] = {s->x[i], s->y[i], s->z[i]};
-            double delta[4], nrm[4][3];
-            const int nf = mote_sep_plate_features(&s->plate[q], s->dim, c3, r, delta, nrm);
-            if (nf <= 0)
-                continue;
-            const double k = c.khat * s->d[i], gam = g_w * sqrt(s->m[i] * k);
-            for (int f = 0; f < nf; f++) {
-                const double vn = c.pvx[i] * nrm[f][0] + c.pvy[i] * nrm[f][1] + c.pvz[i] * nrm[f][2];
-                const double F = k * delta[f] - gam * vn;
-                s->fx[i] += F * nrm[f][0];
-                s->fy[i] += F * nrm[f][1];
-                s->fz[i] += F * nrm[f][2];
-                s->max_overlap = fmax(s->max_overlap, delta[f] / s->d[i]);
-            }
+    /* brute force, or no list (the cells as built for this step's feed serve when nothing was
+     * added): walls, the pairs once each, plates, in that order per particle */
+    if (!s->brute && !(s->built_step == s->steps + 1 && s->n_built == s->n)) {
+        int rc = sep_cells_build(s, err);
+        if (rc)
+            return rc;
+    }
+    double mo = s->max_overlap;
+    for (size_t i = 0; i < n; i++) {
+        double F[3] = {0, 0, 0};
+        const double pvel[3] = {c.pvx[i], c.pvy[i], c.pvz[i]};
+        wall_force(s, i, c.khat, g_w, pvel, F, &mo);
+        s->fx[i] = F[0];
+        s->fy[i] = F[1];
+        s->fz[i] = F[2];
+    }
+    s->max_overlap = mo;
+    s->contacts_pp = 0;
+    each_pair(s, s->brute, pair_force, &c);
+    mo = s->max_overlap;
+    for (size_t i = 0; i < n; i++) {
+        double F[3] = {s->fx[i], s->fy[i], s->fz[i]};
+        const double pvel[3] = {c.pvx[i], c.pvy[i], c.pvz[i]};
+        plate_force(s, i, c.khat, g_w, pvel, F, &mo);
+        s->fx[i] = F[0];
+        s->fy[i] = F[1];
+        s->fz[i] = F[2];
+        if (kick) {
+            const double h = c.half_dt * s->im[i];
+            s->vx[i] += h * F[0];
+            s->vy[i] += h * F[1];
+            s->vz[i] += h * F[2];
         }
+    }
+    s->max_overlap = mo;
     return MOTE_OK;
 }
 

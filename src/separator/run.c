@@ -140,6 +140,8 @@ int sep_run(void *vm, const mote_call *c, mote_err *err)
     mote_progress prog;
     mote_progress_begin(&prog, m->ctx, "run");
     m->loop = (mote_loop){obs, nobs, UINT64_MAX, &prog, m->sys.t, m->sys.t + c->args[0].r, 0};
+    /* the passes over the particles on the script's threads (the same bits on any number) */
+    m->sys.threads = m->ctx && m->ctx->threads > 1 ? m->ctx->threads : 1;
     if (!rc)
         rc = run_hook(m, &m->sys, err);
     if (!rc)

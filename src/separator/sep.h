@@ -16,7 +16,22 @@ int sep_cells_add(mote_sep_system *s, size_t i, mote_err *err);
 int sep_overlaps_any(const mote_sep_system *s, double px, double py, double pz, double d);
 /* system.c: whether a sphere of radius r at (x, y, z) touches or is inside a plate. */
 int sep_touches_plate(const mote_sep_system *s, double x, double y, double z, double r);
-int sep_contact_forces(mote_sep_system *s, double dt, mote_err *err);
+/* The contact forces (and with kick the second half kick) on s->threads threads. */
+int sep_contact_forces(mote_sep_system *s, double dt, int kick, mote_err *err);
+/* The scratch s->pv: at least 3 n doubles. */
+int sep_pv_reserve(mote_sep_system *s, mote_err *err);
+/* The neighbour rows from a list of pairs (a state being read): each row sorted. */
+int sep_list_from_pairs(mote_sep_system *s, const uint32_t *pairs, size_t np, mote_err *err);
+
+/* Below this many particles the passes run on one thread: the threads' start and meeting cost
+ * more than they save (measured: bench/README.md). The default of threads_min_n. */
+#define SEP_THREADS_MIN_N 4096
+
+/* The threads for a pass over the particles. Every pass gives the same bits on any number. */
+static inline int sep_threads(const mote_sep_system *s)
+{
+    return s->threads > 1 && s->n >= s->threads_min_n ? s->threads : 1;
+}
 
 /* feed.c: the feed of one step (the backlog, then the species' accounts). */
 int sep_feed(mote_sep_system *s, mote_err *err);

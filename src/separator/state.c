@@ -319,8 +319,12 @@ int mote_sep_save(const mote_sep_system *s, uint64_t seed, const char *path, mot
     const int live = s->list_ok && s->mods == s->list_mods && s->xref_cap >= 3 * s->n;
     const pairs_head ph = {live, s->mods, s->list_mods, s->list_builds, live ? s->npl : 0};
     mote_sf_write(f, PAIRS, NF(PAIRS), &ph, 1);
-    for (size_t k = 0; live && k < s->npl; k++)
-        mote_sf_write(f, PAIR, NF(PAIR), s->plist + 2 * k, 1);
+    for (size_t i = 0; live && i < s->n; i++)
+        for (uint32_t q = s->nb_start[i]; q < s->nb_start[i + 1]; q++)
+            if (s->nb[q] > i) { /* each pair once, i < j */
+                const uint32_t ab[2] = {(uint32_t)i, s->nb[q]};
+                mote_sf_write(f, PAIR, NF(PAIR), ab, 1);
+            }
     put_count(f, N_PARTICLES, s->n);
     for (size_t i = 0; i < s->n; i++) {
         p_row r = {s->id[i], s->s[i], {s->d[i], s->m[i], s->x[i], s->y[i], s->z[i], s->vx[i],
@@ -564,24 +568,26 @@ static int read_backlog(reader *r, mote_sep_system *s)
     return rc;
 }
 
-static int read_pairs(reader *r, mote_sep_system *s, pairs_head *h)
+/* The pair list's lines into pairs (malloc'ed, *np of them); its rows are made once the
+ * particles are read. */
+static int read_pairs(reader *r, pairs_head *h, uint32_t **pairs, size_t *np)
 {
     int rc = row(r, PAIRS, NF(PAIRS), h);
+    size_t cap = 0;
     for (uint64_t k = 0; k < h->n && !rc; k++) {
         uint32_t ab[2];
         rc = row(r, PAIR, NF(PAIR), ab);
-        if (!rc && s->npl == s->pl_cap) {
-            const size_t cap = s->pl_cap ? 2 * s->pl_cap : 1024;
-            uint32_t *p = realloc(s->plist, 2 * cap * sizeof *p);
+        if (!rc && *np == cap) { /* grown as the lines come: a false count allocates little */
+            cap = cap ? 2 * cap : 1024;
+            uint32_t *p = realloc(*pairs, 2 * cap * sizeof *p);
             if (!p)
                 return mote_fail(r->err, MOTE_ENOMEM, "%s: out of memory", r->in.path);
-            s->plist = p;
-            s->pl_cap = cap;
+            *pairs = p;
         }
         if (!rc) {
-            s->plist[2 * s->npl] = ab[0];
-            s->plist[2 * s->npl + 1] = ab[1];
-            s->npl++;
+            (*pairs)[2 * *np] = ab[0];
+            (*pairs)[2 * *np + 1] = ab[1];
+            (*np)++;
         }
     }
     return rc;
@@ -649,14 +655,19 @@ static int read_body(reader *r, mote_sep_system *s, uint64_t *seed)
     if (!rc)
         rc = read_backlog(r, s);
     pairs_head ph = {0};
+    uint32_t *pairs = NULL;
+    size_t np = 0;
     if (!rc)
-        rc = read_pairs(r, s, &ph);
+        rc = read_pairs(r, &ph, &pairs, &np);
     if (!rc)
         rc = read_particles(r, s, ph.ok);
     /* sep_append counted the particles as additions: the counts of the file stand */
-    for (size_t k = 0; !rc && k < 2 * s->npl; k++)
-        if (s->plist[k] >= s->n)
+    for (size_t k = 0; !rc && k < 2 * np; k++)
+        if (pairs[k] >= s->n)
             rc = bad(r, "the pair list names a particle beyond the last", NULL);
+    if (!rc && ph.ok)
+        rc = sep_list_from_pairs(s, pairs, np, r->err);
+    free(pairs);
     if (!rc) {
         s->mods = ph.mods;
         s->list_ok = ph.ok;
@@ -689,6 +700,5 @@ int mote_sep_load(mote_sep_system *s, uint64_t *seed, const char *path, mote_err
     mote_sep_free(s);
     *s = t;
     s->dz = s->H / s->K;
-    mote_sep_gas_update(s, 0);
-    return MOTE_OK;
+    return mote_sep_gas_update(s, 0, err);
 }

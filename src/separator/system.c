@@ -29,6 +29,7 @@ void mote_sep_init(mote_sep_system *s)
     s->delta_f = 0.05;
     s->nc = 50;
     s->nsort = 100;
+    s->threads_min_n = SEP_THREADS_MIN_N;
     s->t_stop = INFINITY;
     mote_rng_seed(&s->rng, 1);
 }
@@ -69,7 +70,10 @@ void mote_sep_free(mote_sep_system *s)
     free(s->pv);
     free(s->nhead);
     free(s->nnext);
-    free(s->plist);
+    free(s->nb);
+    free(s->nb_start);
+    free(s->exc);
+    free(s->blk);
     free(s->xref);
     free(s->ex_i);
     free(s->ex_c);
@@ -390,42 +394,80 @@ int mote_sep_prepare(mote_sep_system *s, mote_err *err)
         }
         s->dt = vref > 0 ? 0.5 * smin / vref : 1e-3;
     }
-    mote_sep_gas_update(s, 0);
-    return MOTE_OK;
+    return mote_sep_gas_update(s, 0, err);
 }
 
 /* ---- gas (spec 2.6) ------------------------------------------------------------------------- */
 
 /* Particle i's volume into the slices: cloud in cell between the two nearest slice centres;
  * beyond the end centres, all to the end slice. */
-static inline void deposit(mote_sep_system *s, size_t i)
+static inline void deposit(const mote_sep_system *s, double *eps, size_t i)
 {
     const int K = s->K;
     const double vol = SEP_PI * s->d[i] * s->d[i] * s->d[i] / 6;
     const double q = s->z[i] / s->dz - 0.5;
     if (!(q > 0)) {
-        s->eps_s[0] += vol;
+        eps[0] += vol;
     } else if (q >= K - 1) {
-        s->eps_s[K - 1] += vol;
+        eps[K - 1] += vol;
     } else {
         const int k = (int)q;
         const double f = q - k;
-        s->eps_s[k] += (1 - f) * vol;
-        s->eps_s[k + 1] += f * vol;
+        eps[k] += (1 - f) * vol;
+        eps[k + 1] += f * vol;
     }
 }
 
 static void gas_finish(mote_sep_system *s, double dt);
 
-void mote_sep_gas_update(mote_sep_system *s, double dt)
+/* The particles' volumes deposited in blocks of SEP_BLOCK particles, each block's sums made
+ * alone (on the threads) and added in block order, so that the sums do not depend on the
+ * threads; up to SEP_BLOCK particles, one block: in particle order. */
+#define SEP_BLOCK 8192
+static int deposit_all(mote_sep_system *s, mote_err *err)
+{
+    const int K = s->K;
+    const size_t n = s->n, nblk = (n + SEP_BLOCK - 1) / SEP_BLOCK;
+    for (int k = 0; k < K; k++)
+        s->eps_s[k] = 0;
+    if (nblk <= 1) {
+        for (size_t i = 0; i < n; i++)
+            deposit(s, s->eps_s, i);
+        return MOTE_OK;
+    }
+    const size_t need = nblk * (size_t)K;
+    if (need > s->blk_cap) {
+        double *p = realloc(s->blk, need * sizeof *p);
+        if (!p)
+            return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the gas profile");
+        s->blk = p;
+        s->blk_cap = need;
+    }
+    double *blk = s->blk;
+    const int nt = sep_threads(s);
+#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
+    for (size_t b = 0; b < nblk; b++) {
+        double *e = blk + b * (size_t)K;
+        for (int k = 0; k < K; k++)
+            e[k] = 0;
+        const size_t hi = (b + 1) * SEP_BLOCK < n ? (b + 1) * SEP_BLOCK : n;
+        for (size_t i = b * SEP_BLOCK; i < hi; i++)
+            deposit(s, e, i);
+    }
+    for (size_t b = 0; b < nblk; b++)
+        for (int k = 0; k < K; k++)
+            s->eps_s[k] += blk[b * (size_t)K + (size_t)k];
+    return MOTE_OK;
+}
+
+int mote_sep_gas_update(mote_sep_system *s, double dt, mote_err *err)
 {
     if (s->K <= 0)
-        return;
-    for (int k = 0; k < s->K; k++)
-        s->eps_s[k] = 0;
-    for (size_t i = 0; i < s->n; i++)
-        deposit(s, i);
-    gas_finish(s, dt);
+        return MOTE_OK;
+    const int rc = deposit_all(s, err);
+    if (!rc)
+        gas_finish(s, dt);
+    return rc;
 }
 
 /* From the deposited volumes: the fractions, their relaxation, and the gas velocity. */
@@ -775,11 +817,101 @@ static void remove_particle(mote_sep_system *s, size_t i)
     s->fz[i] = s->fz[l];
 }
 
+/* Scratch of at least need bytes in *p (capacity *cap, kept between steps). */
+static int scratch(void **p, size_t *cap, size_t need, mote_err *err)
+{
+    if (need <= *cap && *p)
+        return MOTE_OK;
+    const size_t c = need + need / 2 + 64;
+    void *q = realloc(*p, c);
+    if (!q)
+        return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for %zu particles", need);
+    *p = q;
+    *cap = c;
+    return MOTE_OK;
+}
+
+/* Particle i's half kick with the last contact forces (spec 2.10 step 1), then its drift, exact
+ * under drag, gravity and buoyancy with the gas of the last profile; its squared displacement
+ * returned. With fd, the drag's z force at the step's start (weighted by wdt) goes to fd[i],
+ * its height to fd[n + i]; with the dispersion on, it draws from the system's one stream. */
+static inline double drift_one(mote_sep_system *s, size_t i, double dt, double wdt, double *fd)
+{
+    /* the particle in registers: loaded once, stored once */
+    double vx = s->vx[i], vy = s->vy[i], vz = s->vz[i];
+    const double x0 = s->x[i], y0 = s->y[i], z0 = s->z[i];
+    if (s->dem) {
+        const double hk = 0.5 * dt * s->im[i];
+        vx += hk * s->fx[i];
+        vy += hk * s->fy[i];
+        vz += hk * s->fz[i];
+    }
+    double x = x0, y = y0, z = z0;
+    const mote_sep_species *sp = &s->sp[s->s[i]];
+    const double d = s->d[i];
+    double rho_g = s->rho_g, mu_g = s->mu_g;
+    if (s->gp_n)
+        mote_sep_gas_props(s, z0, &rho_g, &mu_g);
+    const int drag = mu_g > 0 && rho_g > 0;
+    const double u = drag ? gas_for(s, z0) : 0; /* (vacuum: unused) */
+    const double a = -s->g * (1 - rho_g / sp->rho);
+    if (fd) {
+        fd[i] = 0;
+        fd[s->n + i] = z0;
+    }
+    if (drag) {
+        const double wz = u - vz;
+        const double Re = rho_g * sqrt(vx * vx + vy * vy + wz * wz) * d / mu_g;
+        double f = mote_sep_drag_f(Re);
+        if (s->chi != 0)
+            f *= pow(eps_gas_at(s, z0), -s->chi);
+        const double tau = sp->rho * d * d / (18 * mu_g * f);
+        if (fd)
+            fd[i] = wdt * s->m[i] * (u - vz) / tau;
+        /* the factors of the exact drift, once for the three components: sideways the gas
+         * and the acceleration are 0 */
+        const double h = dt / tau, omE = -expm1(-h), E = 1 - omE;
+        const double hm = h < 1e-4 ? h * h / 2 - h * h * h / 6 + h * h * h * h / 24 : h - omE;
+        x += tau * vx * omE;
+        vx *= E;
+        if (s->dim == 3) {
+            y += tau * vy * omE;
+            vy *= E;
+        }
+        const double dv0 = vz - u;
+        z += u * dt + tau * dv0 * omE + tau * tau * a * hm;
+        vz = u + dv0 * E + tau * a * omE;
+        if (s->D_t > 0 || s->T_gas > 0) {
+            /* D = D_t + D_B, D_B = k_B T / (3 pi mu_g d) (Stokes-Einstein) */
+            const double D = s->D_t + 1.380649e-23 * s->T_gas / (3 * SEP_PI * mu_g * d);
+            disperse1(&s->rng, &x, &vx, D / tau, tau, dt);
+            if (s->dim == 3)
+                disperse1(&s->rng, &y, &vy, D / tau, tau, dt);
+            disperse1(&s->rng, &z, &vz, D / tau, tau, dt);
+        }
+    } else { /* vacuum: constant acceleration */
+        x += vx * dt;
+        if (s->dim == 3)
+            y += vy * dt;
+        z += vz * dt + 0.5 * a * dt * dt;
+        vz += a * dt;
+    }
+    const double ddx = x - x0, ddy = y - y0, ddz = z - z0;
+    s->x[i] = x;
+    s->y[i] = y;
+    s->z[i] = z;
+    s->vx[i] = vx;
+    s->vy[i] = vy;
+    s->vz[i] = vz;
+    if (!s->dem)
+        reflect(s, i, x0, y0, z0);
+    return ddx * ddx + ddy * ddy + ddz * ddz;
+}
+
 static int step(mote_sep_system *s, double dt, mote_err *err)
 {
-    /* per particle: the half kick with the last contact forces (spec 2.10 step 1), then the
-     * drift, exact under drag, gravity and buoyancy with the gas of the last profile; the
-     * largest displacement is watched (spec 2.8's guard: r_min / 4) */
+    /* per particle: the half kick and the drift; the largest displacement is watched (spec
+     * 2.8's guard: r_min / 4) */
     double dmin, dmax, move2 = 0;
     mote_sep_size_range(s, &dmin, &dmax);
     /* the profiles are sampled every 10th step, each sample standing for the time since the
@@ -789,80 +921,29 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
         s->prof_wait += dt;
     const int sampling = averaging && s->steps % 10 == 9;
     const double wdt = s->prof_wait;
-    for (size_t i = 0; i < s->n; i++) {
-        /* the particle in registers: loaded once, stored once */
-        double vx = s->vx[i], vy = s->vy[i], vz = s->vz[i];
-        const double x0 = s->x[i], y0 = s->y[i], z0 = s->z[i];
-        if (s->dem) {
-            const double hk = 0.5 * dt * s->im[i];
-            vx += hk * s->fx[i];
-            vy += hk * s->fy[i];
-            vz += hk * s->fz[i];
-        }
-        double x = x0, y = y0, z = z0;
-        const mote_sep_species *sp = &s->sp[s->s[i]];
-        const double d = s->d[i];
-        double rho_g = s->rho_g, mu_g = s->mu_g;
-        if (s->gp_n)
-            mote_sep_gas_props(s, z0, &rho_g, &mu_g);
-        const int drag = mu_g > 0 && rho_g > 0;
-        const double u = drag ? gas_for(s, z0) : 0; /* (vacuum: unused) */
-        const double a = -s->g * (1 - rho_g / sp->rho);
-        double tau = INFINITY;
-        if (drag) {
-            const double wz = u - vz;
-            const double Re = rho_g * sqrt(vx * vx + vy * vy + wz * wz) * d / mu_g;
-            double f = mote_sep_drag_f(Re);
-            if (s->chi != 0)
-                f *= pow(eps_gas_at(s, z0), -s->chi);
-            tau = sp->rho * d * d / (18 * mu_g * f);
-            if (sampling) { /* the drag's z force at the step's start */
-                const int k = slice_of(s, z0);
-                s->prof_fd[k] += wdt * s->m[i] * (u - vz) / tau;
-            }
-            /* the factors of the exact drift, once for the three components: sideways the gas
-             * and the acceleration are 0 */
-            const double h = dt / tau, omE = -expm1(-h), E = 1 - omE;
-            const double hm = h < 1e-4 ? h * h / 2 - h * h * h / 6 + h * h * h * h / 24 : h - omE;
-            x += tau * vx * omE;
-            vx *= E;
-            if (s->dim == 3) {
-                y += tau * vy * omE;
-                vy *= E;
-            }
-            const double dv0 = vz - u;
-            z += u * dt + tau * dv0 * omE + tau * tau * a * hm;
-            vz = u + dv0 * E + tau * a * omE;
-            if (s->D_t > 0 || s->T_gas > 0) {
-                /* D = D_t + D_B, D_B = k_B T / (3 pi mu_g d) (Stokes-Einstein) */
-                const double D = s->D_t + 1.380649e-23 * s->T_gas / (3 * SEP_PI * mu_g * d);
-                disperse1(&s->rng, &x, &vx, D / tau, tau, dt);
-                if (s->dim == 3)
-                    disperse1(&s->rng, &y, &vy, D / tau, tau, dt);
-                disperse1(&s->rng, &z, &vz, D / tau, tau, dt);
-            }
-        } else { /* vacuum: constant acceleration */
-            x += vx * dt;
-            if (s->dim == 3)
-                y += vy * dt;
-            z += vz * dt + 0.5 * a * dt * dt;
-            vz += a * dt;
-        }
-        const double ddx = x - x0, ddy = y - y0, ddz = z - z0;
-        const double mv = ddx * ddx + ddy * ddy + ddz * ddz;
+    const size_t n = s->n;
+    if (scratch((void **)&s->exc, &s->exc_cap, n ? n : 1, err) ||
+        (sampling && sep_pv_reserve(s, err)))
+        return err->code;
+    double *fd = sampling ? s->pv : NULL;
+    /* the dispersion draws from one stream in particle order: one thread */
+    const int nt = s->D_t > 0 || s->T_gas > 0 ? 1 : sep_threads(s);
+    size_t nexit = 0;
+    unsigned char *exc = s->exc;
+#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1) \
+    reduction(max : move2) reduction(+ : nexit)
+    for (size_t i = 0; i < n; i++) {
+        const double mv = drift_one(s, i, dt, wdt, fd);
         move2 = mv > move2 ? mv : move2;
-        s->x[i] = x;
-        s->y[i] = y;
-        s->z[i] = z;
-        s->vx[i] = vx;
-        s->vy[i] = vy;
-        s->vz[i] = vz;
-        if (!s->dem)
-            reflect(s, i, x0, y0, z0);
-        const int out = exit_code(s, i);
-        if (out && note_exit(s, i, out, err))
-            return err->code;
+        exc[i] = (unsigned char)exit_code(s, i);
+        nexit += exc[i] != 0;
     }
+    if (fd) /* the drag's force by slice, summed in particle order */
+        for (size_t i = 0; i < n; i++)
+            s->prof_fd[slice_of(s, fd[n + i])] += fd[i];
+    for (size_t i = 0; nexit && i < n; i++)
+        if (exc[i] && note_exit(s, i, exc[i], err))
+            return err->code;
     if (s->dem && move2 > 0.0625 * 0.25 * dmin * dmin)
         s->fast_moves++;
     s->t += dt;
@@ -877,38 +958,19 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
     /* the feed (spec 2.5) */
     if (sep_feed(s, err))
         return err->code;
-    /* the contacts from the new positions, and in one pass the second half kick and the
-     * particles' volume for the gas (steps 5-8) */
+    /* the contacts from the new positions with the second half kick, then the particles'
+     * volume for the gas (steps 5-8) */
     /* (when the gas does not feel the solids, no flow, no coupling, no hindrance and no
      * relaxation, the fractions wait for the end of the run or an output) */
     const int gas_sees = (s->coupling && s->U0 > 0 && s->rho_g > 0) || s->chi != 0 ||
                          s->tau_eps > 0;
     if (s->dem) {
-        const int rc = sep_contact_forces(s, dt, err);
+        const int rc = sep_contact_forces(s, dt, 1, err);
         if (rc)
             return rc;
-        if (gas_sees) {
-            for (int k = 0; k < s->K; k++)
-                s->eps_s[k] = 0;
-            for (size_t i = 0; i < s->n; i++) {
-                const double h = 0.5 * dt * s->im[i];
-                s->vx[i] += h * s->fx[i];
-                s->vy[i] += h * s->fy[i];
-                s->vz[i] += h * s->fz[i];
-                deposit(s, i);
-            }
-            gas_finish(s, dt);
-        } else {
-            for (size_t i = 0; i < s->n; i++) {
-                const double h = 0.5 * dt * s->im[i];
-                s->vx[i] += h * s->fx[i];
-                s->vy[i] += h * s->fy[i];
-                s->vz[i] += h * s->fz[i];
-            }
-        }
-    } else if (gas_sees) {
-        mote_sep_gas_update(s, dt);
     }
+    if (gas_sees && mote_sep_gas_update(s, dt, err))
+        return err->code;
     if (sampling) {
         sample_profiles(s, wdt);
         s->prof_wait = 0;
@@ -934,7 +996,8 @@ int mote_sep_run_hook(mote_sep_system *s, double T, int (*hook)(void *, mote_sep
         if (!rc && hook)
             rc = hook(ctx, s, err);
     }
-    mote_sep_gas_update(s, 0); /* the fractions of the present positions (for the outputs) */
+    if (!rc) /* the fractions of the present positions (for the outputs) */
+        rc = mote_sep_gas_update(s, 0, err);
     if (!rc && mote_sep_check_balance(s))
         rc = mote_fail(err, MOTE_ERUNTIME, "separator: the mass balance does not hold (fed = in "
                        "channel + fines + coarse + lost)");
