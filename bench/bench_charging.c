@@ -14,10 +14,17 @@
  * prints; traces_per_s counts all ranks').
  *
  * One key=value line per run: traces_per_s (per second, all threads), per_thread, the hit
- * fraction, the build time and the peak memory. Never a timed test; bench/README.md keeps the
+ * fraction, the build time and the peak memory. For the straight workloads also plain_per_thread
+ * and mote_over_plain: the rate, on one thread, of a plain loop that a user of Embree would
+ * write for the same histories (the same mesh in a scene of Embree's default settings, a
+ * SplitMix64 stream, the same bounding-sphere early exit, one rtcIntersect1 per history and a
+ * hit count), timed in the same process just before mote's run. Never a timed test; bench/README.md keeps the
  * figures. */
 #include "mote/charging.h"
 
+#include <embree3/rtcore.h>
+#include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #ifdef MOTE_MPI
@@ -31,6 +38,87 @@ static double now(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* SplitMix64 (Steele, Lea, Flood 2014): the plain loop's uniforms in [0, 1). */
+static double plain_uniform(uint64_t *s)
+{
+    uint64_t z = (*s += 0x9e3779b97f4a7c15u);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9u;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebu;
+    return (double)((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
+}
+
+/* The plain loop's rate (histories per second, one thread) and hit fraction: n histories from
+ * the sphere of radius R about the body's centre, the cosine law inwards; a direction whose
+ * cos^2 is below 1 - (r_bound / R)^2 misses the bounding sphere and is not traced. */
+static double plain_loop(const mote_ch_body *b, double R, double n, double *hit_fraction)
+{
+    mote_ch_geometry g;
+    mote_ch_body_geometry(b, &g);
+    RTCDevice dev = rtcNewDevice("threads=1");
+    RTCScene scene = rtcNewScene(dev);
+    RTCGeometry geo = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
+    float *vb = rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                        3 * sizeof(float), 3 * (size_t)b->ntri);
+    unsigned *ib = rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                           3 * sizeof(unsigned), b->ntri);
+    for (uint32_t i = 0; i < b->ntri; i++)
+        for (int j = 0; j < 3; j++) {
+            for (int k = 0; k < 3; k++)
+                vb[9 * (size_t)i + 3 * j + k] = (float)b->v[i][j][k];
+            ib[3 * (size_t)i + j] = 3 * i + (unsigned)j;
+        }
+    rtcCommitGeometry(geo);
+    rtcAttachGeometry(scene, geo);
+    rtcReleaseGeometry(geo);
+    rtcCommitScene(scene);
+    const double rb = g.r_bound / R, miss_below = rb < 1 ? 1 - rb * rb : 0;
+    uint64_t st = 12345, hits = 0;
+    const uint64_t N = (uint64_t)n;
+    const double t0 = now();
+    for (uint64_t h = 0; h < N; h++) {
+        const double u0 = plain_uniform(&st), u1 = plain_uniform(&st), u2 = plain_uniform(&st),
+                     u3 = plain_uniform(&st);
+        if (u2 < miss_below)
+            continue;
+        const double z = 2 * u0 - 1, rho = sqrt(1 - z * z), ph = 2 * 3.14159265358979 * u1;
+        const double nrm[3] = {rho * cos(ph), rho * sin(ph), z};
+        /* a basis perpendicular to nrm */
+        const double a[3] = {fabs(nrm[0]) < 0.9 ? 1 : 0, fabs(nrm[0]) < 0.9 ? 0 : 1, 0};
+        double e1[3] = {a[1] * nrm[2] - a[2] * nrm[1], a[2] * nrm[0] - a[0] * nrm[2],
+                        a[0] * nrm[1] - a[1] * nrm[0]};
+        const double l = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+        for (int k = 0; k < 3; k++)
+            e1[k] /= l;
+        const double e2[3] = {nrm[1] * e1[2] - nrm[2] * e1[1], nrm[2] * e1[0] - nrm[0] * e1[2],
+                              nrm[0] * e1[1] - nrm[1] * e1[0]};
+        const double ct = sqrt(u2), sn = sqrt(1 - u2), ps = 2 * 3.14159265358979 * u3;
+        struct RTCIntersectContext ctx;
+        rtcInitIntersectContext(&ctx);
+        struct RTCRayHit rh;
+        rh.ray.org_x = (float)(g.centre[0] + R * nrm[0]);
+        rh.ray.org_y = (float)(g.centre[1] + R * nrm[1]);
+        rh.ray.org_z = (float)(g.centre[2] + R * nrm[2]);
+        rh.ray.dir_x = (float)(-ct * nrm[0] + sn * (cos(ps) * e1[0] + sin(ps) * e2[0]));
+        rh.ray.dir_y = (float)(-ct * nrm[1] + sn * (cos(ps) * e1[1] + sin(ps) * e2[1]));
+        rh.ray.dir_z = (float)(-ct * nrm[2] + sn * (cos(ps) * e1[2] + sin(ps) * e2[2]));
+        rh.ray.tnear = 0;
+        rh.ray.tfar = INFINITY;
+        rh.ray.time = 0;
+        rh.ray.mask = 0xFFFFFFFFu;
+        rh.ray.id = 0;
+        rh.ray.flags = 0;
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(scene, &ctx, &rh);
+        hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+    }
+    const double el = now() - t0;
+    rtcReleaseScene(scene);
+    rtcReleaseDevice(dev);
+    *hit_fraction = (double)hits / n;
+    return n / el;
 }
 
 static int bench(const char *name, mote_ch_body *b, double R, double n, int threads)
@@ -55,6 +143,10 @@ static int bench(const char *name, mote_ch_body *b, double R, double n, int thre
         fprintf(stderr, "bench_charging: %s\n", err.msg);
         return 1;
     }
+    /* the plain loop first (straight paths on a mesh), as many histories, one thread */
+    double plain = 0, plain_hits = 0;
+    if (!curved && !b->sphere)
+        plain = plain_loop(b, R, n, &plain_hits);
     mote_ch_run_opts o = {.seed = 1, .particles = (uint64_t)n, .r_gen = R, .threads = threads,
                           .field = curved, .potential = curved ? -1e4 : 0, .eta = 0.01};
     mote_ch_result r;
@@ -84,6 +176,9 @@ static int bench(const char *name, mote_ch_body *b, double R, double n, int thre
            name, b->ntri, R, n * r.ncomp, threads, ranks, r.seconds, r.traces_per_s,
            r.traces_per_s / threads, (double)hits / (n * r.ncomp), build,
            (double)mote_peak_rss_bytes() / 1048576.0);
+    if (plain > 0)
+        printf(" plain_per_thread=%.4g plain_hit_fraction=%.5f mote_over_plain=%.3f", plain,
+               plain_hits, r.traces_per_s / threads / plain);
     if (curved)
         printf(" steps_per_history=%.2f lost=%llu max_energy_err=%.3g",
                (double)r.steps / (n * r.ncomp), (unsigned long long)r.lost, r.max_energy_err);

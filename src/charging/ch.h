@@ -26,6 +26,8 @@ int ch_mpi_size(int solo);
 /* The Monte Carlo draws (mc.c): four uniforms in (0, 1) from block `draw` of a history's
  * Philox stream; the injection point's outward normal and the direction (cosine law) from
  * four uniforms; the kinetic energy at injection in units of kT for chi = q phi_g / kT. */
+/* One cheap uniform in (0, 1) for the straight histories' early test (mc.c). */
+double ch_uniform_cheap(const uint32_t key[2], uint64_t history, uint32_t comp);
 void ch_uniforms4(const uint32_t key[2], uint64_t history, uint32_t comp, uint32_t draw,
                   double u[4]);
 void ch_inject_dir(const double u[4], double nrm[3], double dir[3]);

@@ -865,7 +865,8 @@ const mote_model mote_model_charging = {
     .status = model_status,
     .seed = model_seed,
     .seed_help = "Each history's random numbers are Philox4x32-10 keyed by the seed, with the\n"
-                 "history and component as counter: results do not depend on threads.\n",
+                 "history and component as counter (a straight history's first test draws\n"
+                 "from SplitMix64 at the same counter): results do not depend on threads.\n",
     .plot_lines = "charging-timeseries:t_s,U_V,sigma_U_V",
     .mpi = 1,
 };

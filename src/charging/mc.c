@@ -6,7 +6,8 @@
  * hit (nearest, spec 5.5) is tallied per triangle and side. Without a field the path does not
  * depend on the speed, so none is drawn. Random numbers are Philox4x32-10 keyed by the seed with
  * the counter (history, component, draw): every history has its own stream, so the tallies
- * (integers) are the same for any number of threads. */
+ * (integers) are the same for any number of threads; a straight history's first test draws
+ * from SplitMix64 at the same counter (ch_uniform_cheap). */
 #include "mote/loop.h"
 
 #include "ch.h"
@@ -53,6 +54,20 @@ void ch_uniforms4(const uint32_t key[2], uint64_t history, uint32_t comp, uint32
     mote_ch_philox(ctr, key, w);
     for (int j = 0; j < 4; j++)
         u[j] = ((double)w[j] + 0.5) * (1.0 / 4294967296.0);
+}
+
+/* One uniform in (0, 1) for the history's first test, from SplitMix64's output function
+ * (Steele, Lea, Flood, OOPSLA 2014) at the position (key, component, history) of a stream of
+ * its own: a few multiplications where a Philox block takes ten rounds, for the test that most
+ * straight histories end at (they miss the bounding sphere). */
+double ch_uniform_cheap(const uint32_t key[2], uint64_t history, uint32_t comp)
+{
+    uint64_t z = ((uint64_t)key[1] << 32 | key[0]) * 0xd1342543de82ef95u +
+                 ((uint64_t)comp << 56 ^ history) * 0x9e3779b97f4a7c15u;
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9u;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebu;
+    z ^= z >> 31;
+    return ((double)(z >> 11) + 0.5) * 0x1.0p-53;
 }
 
 /* ---- drift (spec 5.4) ----------------------------------------------------------------------- */
@@ -480,7 +495,20 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                     double ee_[4];
                     for (uint64_t h = blk * BLOCK; h < h1; h++) {
                         double u[4];
-                        ch_uniforms4(key, h, (uint32_t)comp, 0, u);
+                        if (!field && !o->box && !drift) {
+                            /* straight from the sphere: the direction's cos^2(theta) is
+                             * uniform (the cosine law), and a path with cos^2 < 1 - (R_bound /
+                             * R)^2 passes the body's bounding sphere; that test comes first,
+                             * from its own cheap draw, and only paths that may hit draw the
+                             * rest */
+                            const double c2 = ch_uniform_cheap(key, h, (uint32_t)comp);
+                            if (c2 < miss_below)
+                                continue;
+                            ch_uniforms4(key, h, (uint32_t)comp, 0, u);
+                            u[2] = c2;
+                        } else {
+                            ch_uniforms4(key, h, (uint32_t)comp, 0, u);
+                        }
                         if (field) { /* the kinetic energy at injection (spec 6.2) */
                             double e[4];
                             ch_uniforms4(key, h, (uint32_t)comp, 1, e);
@@ -604,10 +632,6 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                             }
                             continue;
                         }
-                        /* the direction's cos^2(theta) is uniform (the cosine law): a path
-                         * with cos^2 < 1 - (R_bound/R)^2 passes the body's bounding sphere */
-                        if (u[2] < miss_below)
-                            continue;
                         /* the position uniform on the sphere, the direction by the cosine
                          * law (spec 5.2) */
                         double nrm[3], org[3], dir[3];
