@@ -469,6 +469,10 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                 const int tid = 0;
 #endif
                 uint64_t *mine = nt > 1 ? priv + (size_t)tid * ntri * 2 : tally;
+                /* a block's hits are logged as they come and tallied when it ends: the
+                 * increments, scattered over a large mesh's tallies, then wait on memory
+                 * side by side instead of one at a time between traversals */
+                size_t hitlog[BLOCK], nlog = 0;
 #pragma omp for schedule(dynamic, 1)
                 for (uint64_t jb = 0; jb < nmine; jb++) {
                     const uint64_t blk = (uint64_t)mrank + jb * (uint64_t)msize;
@@ -532,7 +536,7 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                                 hits++;
                                 if (hit.side && b->closed[hit.tri])
                                     back++;
-                                mine[2 * (size_t)hit.tri + (size_t)hit.side]++;
+                                hitlog[nlog++] = 2 * (size_t)hit.tri + (size_t)hit.side;
                                 SEE_SCORE(hit.tri, hit.side, 0.5 * sp->m * hit.v2 / MOTE_CH_E,
                                           fabs(dot3(hit.dir, b->nrm[hit.tri])));
                                 continue;
@@ -540,7 +544,7 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                             /* sin^2(theta) = 1 - u2 by the cosine law */
                             if (K + dq >= K * (1 - u[2]) * ra2) {
                                 hits++;
-                                mine[0]++;
+                                hitlog[nlog++] = 0;
                                 /* the impact angle: L kept, sin^2 = K sin0^2 (R/a)^2 / (K + dq) */
                                 const double s2 = K + dq > 0 ? K * (1 - u[2]) * ra2 / (K + dq) : 0;
                                 SEE_SCORE(0, 0, sp->kT[k] * K + sp->Z * (phi_g - o->potential),
@@ -572,7 +576,7 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                                 hits++;
                                 if (side && (b->sphere || b->closed[tri]))
                                     back++;
-                                mine[2 * (size_t)tri + (size_t)side]++;
+                                hitlog[nlog++] = 2 * (size_t)tri + (size_t)side;
                                 SEE_SCORE(tri, side, STRAIGHT_E(), hit_cos(b, tri, org, dir, dist));
                             }
                             continue;
@@ -626,7 +630,7 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                                 hits++;
                                 if (side && (b->sphere || b->closed[tri]))
                                     back++;
-                                mine[2 * (size_t)tri + (size_t)side]++;
+                                hitlog[nlog++] = 2 * (size_t)tri + (size_t)side;
                                 SEE_SCORE(tri, side, 0.5 * sp->m * len * len / MOTE_CH_E,
                                           hit_cos(b, tri, org, dir, dist));
                             }
@@ -646,11 +650,14 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                         hits++;
                         if (side && (b->sphere || b->closed[tri]))
                             back++;
-                        mine[2 * (size_t)tri + (size_t)side]++;
+                        hitlog[nlog++] = 2 * (size_t)tri + (size_t)side;
                         SEE_SCORE(tri, side, STRAIGHT_E(), hit_cos(b, tri, org, dir, dist));
                     }
 #undef SEE_SCORE
 #undef STRAIGHT_E
+                    for (size_t q = 0; q < nlog; q++)
+                        mine[hitlog[q]]++;
+                    nlog = 0;
                     if (prog->enabled || (prog->ctx && prog->ctx->tick)) {
                         uint64_t done;
 #pragma omp atomic capture
