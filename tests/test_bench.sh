@@ -54,6 +54,8 @@ cbench="$(dirname "$bench")/bench_charging"
 cb=$("$cbench" b1 2e4 2 2>"$tmp/err")
 check "bench_charging b1 reports traces per second and the hit fraction: $(head -c 80 "$tmp/err")" \
     'echo "$cb" | grep -q "^workload=b1 triangles=9800 R_gen=3 histories=20000 threads=2 ranks=1 seconds=[0-9.]* traces_per_s=[0-9.e+]* per_thread=[0-9.e+]* hit_fraction=0.1"'
+check "bench_charging b1 prints the plain Embree loop's rate beside mote's: $(head -c 80 "$tmp/err")" \
+    'echo "$cb" | grep -q " plain_per_thread=[0-9.e+]* plain_hit_fraction=0.1[0-9]* mote_over_plain=[0-9.]*$"'
 cb=$("$cbench" b3 2e3 2 2>"$tmp/err")
 check "bench_charging b3 reports curved paths: $(head -c 80 "$tmp/err")" \
     'echo "$cb" | grep -q "^workload=b3 triangles=9800 R_gen=3 histories=8000 threads=2 ranks=1 .* steps_per_history=[0-9.]* lost=0 max_energy_err="'
@@ -71,9 +73,12 @@ check "bench_separator ref2d reports steps per second and bytes per particle: $(
 sb=$("$sbench" scan2d 600 2>"$tmp/err")
 check "bench_separator scan2d compares cells and brute force on the same contacts: $(head -c 80 "$tmp/err")" \
     '[ "$(echo "$sb" | grep -c "same_contacts=yes")" -eq 3 ] && echo "$sb" | grep -q "^workload=scan2d_summary largest_N_at_30_steps_per_s cells=[0-9]* brute=[0-9]*"'
-sb=$("$sbench" column 500 5 2>"$tmp/err")
+sb=$("$sbench" column 500 5 2 2>"$tmp/err")
 check "bench_separator column prints what LIGGGHTS needs: $(head -c 80 "$tmp/err")" \
-    'echo "$sb" | grep -q "^workload=column N=[0-9]* box=0.04x0.04x[0-9.]* khat=523599 k_pair=1047.2 dt=4.44288e-06 steps=5 "'
+    'echo "$sb" | grep -q "^workload=column N=[0-9]* box=0.04x0.04x[0-9.]* khat=523599 k_pair=1047.2 dt=4.44288e-06 steps=5 .* threads=2$"'
+# bench/scaling.sh: its table, from a build without the benchmarks a clear message
+sc=$(sh "$(dirname "$0")/../bench/scaling.sh" /nonexistent 2>&1)
+check "bench/scaling.sh: a build directory that does not exist is named" 'echo "$sc" | grep -q "nonexistent"'
 "$sbench" nosuch >/dev/null 2>"$tmp/err"
 rc=$?
 check "bench_separator: an unknown workload fails (exit $rc)" '[ $rc -ne 0 ] && grep -q "unknown workload" "$tmp/err"'

@@ -586,6 +586,7 @@ static void list_forces(mote_sep_system *s, const force_ctx *c, double g_w, int 
     }
     s->max_overlap = mo;
     s->contacts_pp = contacts;
+    s->candidates = 2 * s->npl; /* (each row's entries tested) */
 }
 
 int sep_pv_reserve(mote_sep_system *s, mote_err *err)
