@@ -321,6 +321,32 @@ static inline void pair_force(mote_sep_system *s, size_t i, size_t j, const doub
 
 /* ---- the pair list -------------------------------------------------------------------------- */
 
+int sep_reserve(void **p, size_t *cap, size_t need, size_t size, mote_err *err)
+{
+    if (*p && need <= *cap)
+        return MOTE_OK;
+    const size_t c = need + need / 2 + 64;
+    void *q = realloc(*p, c * size);
+    if (!q)
+        return mote_fail(err, MOTE_ENOMEM, "separator: out of memory (%zu entries of %zu bytes)",
+                         c, size);
+    *p = q;
+    *cap = c;
+    return MOTE_OK;
+}
+
+/* A neighbour row in increasing index (rows are short: insertion sort). */
+static void sort_row(uint32_t *row, size_t len)
+{
+    for (size_t a = 1; a < len; a++) {
+        const uint32_t v = row[a];
+        size_t b = a;
+        for (; b > 0 && row[b - 1] > v; b--)
+            row[b] = row[b - 1];
+        row[b] = v;
+    }
+}
+
 /* Particle i's neighbours within r_i + r_j + skin through the cells around its own (the full
  * stencil: every j != i), written to out when it is not NULL; their number. */
 static size_t row_scan(const mote_sep_system *s, size_t i, double skin, uint32_t *out)
@@ -359,22 +385,9 @@ static int list_build(mote_sep_system *s, mote_err *err)
     if (rc)
         return rc;
     const size_t n = s->n;
-    if (3 * n > s->xref_cap) {
-        const size_t cap = 3 * n + 3 * n / 2 + 3;
-        double *p = realloc(s->xref, cap * sizeof *p);
-        if (!p)
-            return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the pair list");
-        s->xref = p;
-        s->xref_cap = cap;
-    }
-    if (n + 1 > s->nbs_cap) {
-        const size_t cap = n + 1 + n / 2;
-        uint32_t *p = realloc(s->nb_start, cap * sizeof *p);
-        if (!p)
-            return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the pair list");
-        s->nb_start = p;
-        s->nbs_cap = cap;
-    }
+    if (sep_reserve((void **)&s->xref, &s->xref_cap, 3 * n, sizeof *s->xref, err) ||
+        sep_reserve((void **)&s->nb_start, &s->nbs_cap, n + 1, sizeof *s->nb_start, err))
+        return err->code;
     const int nt = sep_threads(s);
     const double skin = s->skin_used;
     double *xref = s->xref;
@@ -394,26 +407,13 @@ static int list_build(mote_sep_system *s, mote_err *err)
             return mote_fail(err, MOTE_ENOMEM, "separator: more than 2^32 - 1 neighbours");
         start[i + 1] = (uint32_t)total;
     }
-    if (total > s->nb_cap) {
-        const size_t cap = total + total / 2 + 64;
-        uint32_t *p = realloc(s->nb, cap * sizeof *p);
-        if (!p)
-            return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the pair list");
-        s->nb = p;
-        s->nb_cap = cap;
-    }
+    if (sep_reserve((void **)&s->nb, &s->nb_cap, total, sizeof *s->nb, err))
+        return err->code;
     uint32_t *nb = s->nb;
 #pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
     for (size_t i = 0; i < n; i++) {
         uint32_t *row = nb + start[i];
-        const size_t len = row_scan(s, i, skin, row);
-        for (size_t a = 1; a < len; a++) { /* rows are short: insertion sort */
-            const uint32_t v = row[a];
-            size_t b = a;
-            for (; b > 0 && row[b - 1] > v; b--)
-                row[b] = row[b - 1];
-            row[b] = v;
-        }
+        sort_row(row, row_scan(s, i, skin, row));
     }
     s->npl = total / 2;
     s->list_ok = 1;
@@ -425,16 +425,10 @@ static int list_build(mote_sep_system *s, mote_err *err)
 int sep_list_from_pairs(mote_sep_system *s, const uint32_t *pairs, size_t np, mote_err *err)
 {
     const size_t n = s->n;
-    uint32_t *start = realloc(s->nb_start, (n + 1) * sizeof *start);
-    if (!start)
-        return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the pair list");
-    s->nb_start = start;
-    s->nbs_cap = n + 1;
-    uint32_t *nb = realloc(s->nb, (2 * np + 1) * sizeof *nb);
-    if (!nb)
-        return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the pair list");
-    s->nb = nb;
-    s->nb_cap = 2 * np + 1;
+    if (sep_reserve((void **)&s->nb_start, &s->nbs_cap, n + 1, sizeof *s->nb_start, err) ||
+        sep_reserve((void **)&s->nb, &s->nb_cap, 2 * np + 1, sizeof *s->nb, err))
+        return err->code;
+    uint32_t *start = s->nb_start, *nb = s->nb;
     memset(start, 0, (n + 1) * sizeof *start);
     for (size_t k = 0; k < 2 * np; k++) {
         if (pairs[k] >= n)
@@ -451,17 +445,8 @@ int sep_list_from_pairs(mote_sep_system *s, const uint32_t *pairs, size_t np, mo
     for (size_t i = n; i > 0; i--)
         start[i] = start[i - 1];
     start[0] = 0;
-    for (size_t i = 0; i < n; i++) {
-        uint32_t *row = nb + start[i];
-        const size_t len = start[i + 1] - start[i];
-        for (size_t a = 1; a < len; a++) {
-            const uint32_t v = row[a];
-            size_t b = a;
-            for (; b > 0 && row[b - 1] > v; b--)
-                row[b] = row[b - 1];
-            row[b] = v;
-        }
-    }
+    for (size_t i = 0; i < n; i++)
+        sort_row(nb + start[i], start[i + 1] - start[i]);
     s->npl = np;
     return MOTE_OK;
 }
@@ -591,16 +576,8 @@ static void list_forces(mote_sep_system *s, const force_ctx *c, double g_w, int 
 
 int sep_pv_reserve(mote_sep_system *s, mote_err *err)
 {
-    const size_t n = s->n;
-    if (!s->pv || 3 * n > s->pv_cap) { /* (allocated even for no particle: pv + n is then valid) */
-        const size_t cap = 3 * n + 3 * n / 2 + 3;
-        double *p = realloc(s->pv, cap * sizeof *p);
-        if (!p)
-            return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the contacts");
-        s->pv = p;
-        s->pv_cap = cap;
-    }
-    return MOTE_OK;
+    /* (allocated even for no particle: pv + n is then valid) */
+    return sep_reserve((void **)&s->pv, &s->pv_cap, 3 * s->n + 3, sizeof *s->pv, err);
 }
 
 /* The contact forces of every particle from the current positions; the dashpots with the

@@ -18,6 +18,9 @@ int sep_overlaps_any(const mote_sep_system *s, double px, double py, double pz, 
 int sep_touches_plate(const mote_sep_system *s, double x, double y, double z, double r);
 /* The contact forces (and with kick the second half kick) on s->threads threads. */
 int sep_contact_forces(mote_sep_system *s, double dt, int kick, mote_err *err);
+/* *p (of *cap entries of size bytes) grown to hold at least need entries (with room to spare);
+ * its contents kept. */
+int sep_reserve(void **p, size_t *cap, size_t need, size_t size, mote_err *err);
 /* The scratch s->pv: at least 3 n doubles. */
 int sep_pv_reserve(mote_sep_system *s, mote_err *err);
 /* The neighbour rows from a list of pairs (a state being read): each row sorted. */

@@ -435,14 +435,8 @@ static int deposit_all(mote_sep_system *s, mote_err *err)
             deposit(s, s->eps_s, i);
         return MOTE_OK;
     }
-    const size_t need = nblk * (size_t)K;
-    if (need > s->blk_cap) {
-        double *p = realloc(s->blk, need * sizeof *p);
-        if (!p)
-            return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the gas profile");
-        s->blk = p;
-        s->blk_cap = need;
-    }
+    if (sep_reserve((void **)&s->blk, &s->blk_cap, nblk * (size_t)K, sizeof *s->blk, err))
+        return err->code;
     double *blk = s->blk;
     const int nt = sep_threads(s);
 #pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
@@ -817,20 +811,6 @@ static void remove_particle(mote_sep_system *s, size_t i)
     s->fz[i] = s->fz[l];
 }
 
-/* Scratch of at least need bytes in *p (capacity *cap, kept between steps). */
-static int scratch(void **p, size_t *cap, size_t need, mote_err *err)
-{
-    if (need <= *cap && *p)
-        return MOTE_OK;
-    const size_t c = need + need / 2 + 64;
-    void *q = realloc(*p, c);
-    if (!q)
-        return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for %zu particles", need);
-    *p = q;
-    *cap = c;
-    return MOTE_OK;
-}
-
 /* Particle i's half kick with the last contact forces (spec 2.10 step 1), then its drift, exact
  * under drag, gravity and buoyancy with the gas of the last profile; its squared displacement
  * returned. With fd, the drag's z force at the step's start (weighted by wdt) goes to fd[i],
@@ -922,7 +902,7 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
     const int sampling = averaging && s->steps % 10 == 9;
     const double wdt = s->prof_wait;
     const size_t n = s->n;
-    if (scratch((void **)&s->exc, &s->exc_cap, n ? n : 1, err) ||
+    if (sep_reserve((void **)&s->exc, &s->exc_cap, n, 1, err) ||
         (sampling && sep_pv_reserve(s, err)))
         return err->code;
     double *fd = sampling ? s->pv : NULL;
@@ -996,8 +976,10 @@ int mote_sep_run_hook(mote_sep_system *s, double T, int (*hook)(void *, mote_sep
         if (!rc && hook)
             rc = hook(ctx, s, err);
     }
-    if (!rc) /* the fractions of the present positions (for the outputs) */
-        rc = mote_sep_gas_update(s, 0, err);
+    /* the fractions of the present positions (for the outputs), also after an error */
+    mote_err e2;
+    if (mote_sep_gas_update(s, 0, rc ? &e2 : err) && !rc)
+        rc = err->code;
     if (!rc && mote_sep_check_balance(s))
         rc = mote_fail(err, MOTE_ERUNTIME, "separator: the mass balance does not hold (fed = in "
                        "channel + fines + coarse + lost)");
