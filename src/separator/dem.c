@@ -501,20 +501,29 @@ static inline void plate_force(const mote_sep_system *s, size_t i, double khat, 
     }
 }
 
+/* The arrays the contacts' pass reads and writes, as restrict pointers: the compiler may keep a
+ * particle's values in registers across the stores of its force and velocity. */
+typedef struct {
+    const double *restrict x, *restrict y, *restrict z, *restrict d, *restrict m, *restrict im;
+    const double *restrict pvx, *restrict pvy, *restrict pvz;
+    const int *restrict sp;
+    const uint32_t *restrict nb, *restrict nb_start;
+    double *restrict fx, *restrict fy, *restrict fz, *restrict vx, *restrict vy, *restrict vz;
+} force_arrays;
+
 /* Particle i's contacts with its listed neighbours, subtracted from F in the row's order: the
  * force on i from j is minus the one on j from i, bit for bit, as every factor is symmetric in
  * i and j (the difference vector's sign flips exactly). dim is a constant of each caller. */
-static inline void row_force(const mote_sep_system *s, const force_ctx *c, size_t i, int dim,
+static inline void row_force(const force_arrays *a, const force_ctx *c, size_t i, int dim,
                              double F[3], double *mo, uint64_t *contacts)
 {
-    const uint32_t *row = s->nb + s->nb_start[i], *end = s->nb + s->nb_start[i + 1];
-    const double xi = s->x[i], yi = dim == 3 ? s->y[i] : 0, zi = s->z[i], di = s->d[i];
-    const double pvi[3] = {c->pvx[i], c->pvy[i], c->pvz[i]};
+    const uint32_t *row = a->nb + a->nb_start[i], *end = a->nb + a->nb_start[i + 1];
+    const double xi = a->x[i], yi = dim == 3 ? a->y[i] : 0, zi = a->z[i], di = a->d[i];
     for (; row < end; row++) {
         const size_t j = *row;
-        const double dx[3] = {s->x[j] - xi, dim == 3 ? s->y[j] - yi : 0, s->z[j] - zi};
+        const double dx[3] = {a->x[j] - xi, dim == 3 ? a->y[j] - yi : 0, a->z[j] - zi};
         const double d2 = dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2];
-        const double dj = s->d[j], R = 0.5 * (di + dj);
+        const double dj = a->d[j], R = 0.5 * (di + dj);
         if (!(d2 < R * R))
             continue;
         const double dist = sqrt(d2);
@@ -522,13 +531,13 @@ static inline void row_force(const mote_sep_system *s, const force_ctx *c, size_
             continue; /* coincident centres: no direction (the feed never makes them) */
         const double delta = R - dist;
         const double n[3] = {dx[0] / dist, dx[1] / dist, dx[2] / dist};
-        const double vn = (pvi[0] - c->pvx[j]) * n[0] + (pvi[1] - c->pvy[j]) * n[1] +
-                          (pvi[2] - c->pvz[j]) * n[2];
+        const double vn = (a->pvx[i] - a->pvx[j]) * n[0] + (a->pvy[i] - a->pvy[j]) * n[1] +
+                          (a->pvz[i] - a->pvz[j]) * n[2];
         const double dbar = 2 * di * dj / (di + dj);
-        const double mi = s->m[i], mj = s->m[j];
+        const double mi = a->m[i], mj = a->m[j];
         const double k = c->khat * dbar, mij = mi * mj / (mi + mj);
-        const int a = s->s[i], b = s->s[j];
-        const double g = c->g_pp[a < b ? a * MOTE_SEP_MAX_SPECIES + b : b * MOTE_SEP_MAX_SPECIES + a];
+        const int p = a->sp[i], q = a->sp[j];
+        const double g = c->g_pp[p < q ? p * MOTE_SEP_MAX_SPECIES + q : q * MOTE_SEP_MAX_SPECIES + p];
         const double Fm = k * delta + g * sqrt(mij * k) * vn;
         F[0] -= Fm * n[0];
         F[1] -= Fm * n[1];
@@ -545,28 +554,40 @@ static inline void row_force(const mote_sep_system *s, const force_ctx *c, size_
 static void list_forces(mote_sep_system *s, const force_ctx *c, double g_w, int kick)
 {
     const size_t n = s->n;
-    const int nt = sep_threads(s), dim = s->dim;
+    const int nt = sep_threads(s), dim = s->dim, nplate = s->nplate;
+    const force_arrays a = {s->x, s->y, s->z, s->d, s->m, s->im, c->pvx, c->pvy, c->pvz, s->s,
+                            s->nb, s->nb_start, s->fx, s->fy, s->fz, s->vx, s->vy, s->vz};
+    const double W = s->W, D = s->D, H = s->H;
     double mo = s->max_overlap;
     uint64_t contacts = 0;
 #pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1) \
     reduction(max : mo) reduction(+ : contacts)
     for (size_t i = 0; i < n; i++) {
         double F[3] = {0, 0, 0};
-        const double pvel[3] = {c->pvx[i], c->pvy[i], c->pvz[i]};
-        wall_force(s, i, c->khat, g_w, pvel, F, &mo);
+        /* the walls' own test, widened to both ends however open, with few branches: where it
+         * finds no wall within reach, wall_force would add nothing */
+        const double r = 0.5 * a.d[i], xi = a.x[i], yi = a.y[i], zi = a.z[i];
+        const int near_y = dim == 3 && ((r - yi > 0) | (yi + r - D > 0));
+        if ((r - xi > 0) | (xi + r - W > 0) | near_y | (r - zi > 0) | (zi + r - H > 0)) {
+            const double pvel[3] = {a.pvx[i], a.pvy[i], a.pvz[i]};
+            wall_force(s, i, c->khat, g_w, pvel, F, &mo);
+        }
         if (dim == 3)
-            row_force(s, c, i, 3, F, &mo, &contacts);
+            row_force(&a, c, i, 3, F, &mo, &contacts);
         else
-            row_force(s, c, i, 2, F, &mo, &contacts);
-        plate_force(s, i, c->khat, g_w, pvel, F, &mo);
-        s->fx[i] = F[0];
-        s->fy[i] = F[1];
-        s->fz[i] = F[2];
+            row_force(&a, c, i, 2, F, &mo, &contacts);
+        if (nplate) {
+            const double pvel[3] = {a.pvx[i], a.pvy[i], a.pvz[i]};
+            plate_force(s, i, c->khat, g_w, pvel, F, &mo);
+        }
+        a.fx[i] = F[0];
+        a.fy[i] = F[1];
+        a.fz[i] = F[2];
         if (kick) {
-            const double h = c->half_dt * s->im[i];
-            s->vx[i] += h * F[0];
-            s->vy[i] += h * F[1];
-            s->vz[i] += h * F[2];
+            const double h = c->half_dt * a.im[i];
+            a.vx[i] += h * F[0];
+            a.vy[i] += h * F[1];
+            a.vz[i] += h * F[2];
         }
     }
     s->max_overlap = mo;
@@ -582,7 +603,7 @@ int sep_pv_reserve(mote_sep_system *s, mote_err *err)
 
 /* The contact forces of every particle from the current positions; the dashpots with the
  * predicted velocities v + dt/2 F_old/m (spec 2.10 step 6); with kick, the second half kick. */
-int sep_contact_forces(mote_sep_system *s, double dt, int kick, mote_err *err)
+int sep_contact_forces(mote_sep_system *s, double dt, int kick, int pred, mote_err *err)
 {
     const size_t n = s->n;
     if (sep_pv_reserve(s, err))
@@ -599,31 +620,42 @@ int sep_contact_forces(mote_sep_system *s, double dt, int kick, mote_err *err)
      * removed or reordered, no particle moved more than skin/2 since its build) */
     double dmin, dmax;
     mote_sep_size_range(s, &dmin, &dmax);
+    const double skin0 = s->skin_used;
     s->skin_used = s->brute || s->skin < 0 ? 0 : s->skin > 0 ? s->skin : 0.3 * dmin;
     const int listed = !s->brute && s->skin_used > 0;
     const int can = listed && s->list_ok && s->mods == s->list_mods;
     const double lim = 0.25 * s->skin_used * s->skin_used;
     const double e_w = s->e_pw >= 0 ? s->e_pw : s->e_pp, g_w = e_w < 1 ? 2 * zeta_of(e_w) : 0;
     const int nt = sep_threads(s);
-    int moved = 0;
+    /* the drift's pass checked the list with this skin, or the check is made here */
+    const int checked = (pred == 0 || pred == 1) && s->skin_used == skin0;
+    int moved = checked ? pred : 0;
     const double *xref = s->xref;
+    if (pred < 0 || (can && !checked)) {
+        const int predict = pred < 0;
 #pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1) reduction(| : moved)
-    for (size_t i = 0; i < n; i++) {
-        const double h = c.half_dt * s->im[i];
-        c.pvx[i] = s->vx[i] + h * s->fx[i];
-        c.pvy[i] = s->vy[i] + h * s->fy[i];
-        c.pvz[i] = s->vz[i] + h * s->fz[i];
-        if (can) {
-            const double *q = xref + 3 * i;
-            const double dx = s->x[i] - q[0], dy = s->y[i] - q[1], dz = s->z[i] - q[2];
-            moved |= dx * dx + dy * dy + dz * dz > lim;
+        for (size_t i = 0; i < n; i++) {
+            if (predict) {
+                const double h = c.half_dt * s->im[i];
+                c.pvx[i] = s->vx[i] + h * s->fx[i];
+                c.pvy[i] = s->vy[i] + h * s->fy[i];
+                c.pvz[i] = s->vz[i] + h * s->fz[i];
+            }
+            if (can) {
+                const double *q = xref + 3 * i;
+                const double dx = s->x[i] - q[0], dy = s->y[i] - q[1], dz = s->z[i] - q[2];
+                moved |= dx * dx + dy * dy + dz * dz > lim;
+            }
         }
     }
     if (listed) {
         if (!can || moved) {
-            /* the periodic reorder by cells (spec 2.9) rides on a rebuild */
+            /* the periodic reorder by cells (spec 2.9) rides on a rebuild, and on the first:
+             * particles placed at random have neighbours anywhere in the arrays, which costs
+             * cache misses on one thread and the other thread's cache lines on two */
             int rc = MOTE_OK;
-            if (s->nsort > 0 && s->steps - s->last_sort >= (uint64_t)s->nsort) {
+            if (s->nsort > 0 &&
+                (s->list_builds == 0 || s->steps - s->last_sort >= (uint64_t)s->nsort)) {
                 rc = sep_cells_build(s, err);
                 if (!rc)
                     rc = sep_reorder(s, err);

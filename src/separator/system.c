@@ -811,11 +811,21 @@ static void remove_particle(mote_sep_system *s, size_t i)
     s->fz[i] = s->fz[l];
 }
 
+/* What the drift pass predicts for the contacts' pass (the pass it saves). */
+typedef struct {
+    double *pvx, *pvy, *pvz; /* the predicted velocities v + dt/2 F_old/m, or NULL */
+    const double *xref;      /* with the list's positions at its build (or NULL): */
+    double lim;              /* the squared half skin a particle may move */
+} sep_predict;
+
 /* Particle i's half kick with the last contact forces (spec 2.10 step 1), then its drift, exact
  * under drag, gravity and buoyancy with the gas of the last profile; its squared displacement
  * returned. With fd, the drag's z force at the step's start (weighted by wdt) goes to fd[i],
- * its height to fd[n + i]; with the dispersion on, it draws from the system's one stream. */
-static inline double drift_one(mote_sep_system *s, size_t i, double dt, double wdt, double *fd)
+ * its height to fd[n + i]; with the dispersion on, it draws from the system's one stream. With
+ * pr->pvx, its predicted velocity for the contacts, and with pr->xref, whether it moved too far
+ * for the pair list (into *moved). */
+static inline double drift_one(mote_sep_system *s, size_t i, double dt, double wdt, double *fd,
+                               const sep_predict *pr, int *moved)
 {
     /* the particle in registers: loaded once, stored once */
     double vx = s->vx[i], vy = s->vy[i], vz = s->vz[i];
@@ -877,6 +887,17 @@ static inline double drift_one(mote_sep_system *s, size_t i, double dt, double w
         vz += a * dt;
     }
     const double ddx = x - x0, ddy = y - y0, ddz = z - z0;
+    if (pr->pvx) { /* (the same expression as the contacts' own pass: the same bits) */
+        const double h = 0.5 * dt * s->im[i];
+        pr->pvx[i] = vx + h * s->fx[i];
+        pr->pvy[i] = vy + h * s->fy[i];
+        pr->pvz[i] = vz + h * s->fz[i];
+        if (pr->xref) {
+            const double *q = pr->xref + 3 * i;
+            const double ex = x - q[0], ey = y - q[1], ez = z - q[2];
+            *moved |= ex * ex + ey * ey + ez * ez > pr->lim;
+        }
+    }
     s->x[i] = x;
     s->y[i] = y;
     s->z[i] = z;
@@ -903,17 +924,29 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
     const double wdt = s->prof_wait;
     const size_t n = s->n;
     if (sep_reserve((void **)&s->exc, &s->exc_cap, n, 1, err) ||
-        (sampling && sep_pv_reserve(s, err)))
+        ((sampling || s->dem) && sep_pv_reserve(s, err)))
         return err->code;
     double *fd = sampling ? s->pv : NULL;
+    /* the contacts' predicted velocities and the pair list's check in this pass when the
+     * scratch is free (not a sampling step), used when no particle leaves or enters */
+    sep_predict pr = {0};
+    if (s->dem && !sampling) {
+        pr = (sep_predict){.pvx = s->pv, .pvy = s->pv + n, .pvz = s->pv + 2 * n};
+        if (!s->brute && s->skin_used > 0 && s->list_ok && s->mods == s->list_mods) {
+            pr.xref = s->xref;
+            pr.lim = 0.25 * s->skin_used * s->skin_used;
+        }
+    }
+    const uint64_t mods0 = s->mods;
+    int moved = 0;
     /* the dispersion draws from one stream in particle order: one thread */
     const int nt = s->D_t > 0 || s->T_gas > 0 ? 1 : sep_threads(s);
     size_t nexit = 0;
     unsigned char *exc = s->exc;
 #pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1) \
-    reduction(max : move2) reduction(+ : nexit)
+    reduction(max : move2) reduction(+ : nexit) reduction(| : moved)
     for (size_t i = 0; i < n; i++) {
-        const double mv = drift_one(s, i, dt, wdt, fd);
+        const double mv = drift_one(s, i, dt, wdt, fd, &pr, &moved);
         move2 = mv > move2 ? mv : move2;
         exc[i] = (unsigned char)exit_code(s, i);
         nexit += exc[i] != 0;
@@ -945,7 +978,9 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
     const int gas_sees = (s->coupling && s->U0 > 0 && s->rho_g > 0) || s->chi != 0 ||
                          s->tau_eps > 0;
     if (s->dem) {
-        const int rc = sep_contact_forces(s, dt, 1, err);
+        /* (the pass's predictions stand while the particles are the same: no exit, no feed) */
+        const int pred = pr.pvx && s->n == n && s->mods == mods0 ? (pr.xref ? moved : 2) : -1;
+        const int rc = sep_contact_forces(s, dt, 1, pred, err);
         if (rc)
             return rc;
     }
