@@ -574,6 +574,32 @@ static void test_tall(void)
     mote_sep_free(&s);
 }
 
+/* The first list build puts particles placed at random in the order of their cells (memory
+ * locality from the first step, not only after nsort steps): after one step the cells of the
+ * particles never decrease along the arrays. */
+static void test_first_sort(void)
+{
+    printf("particles sorted by cell at the first list build\n");
+    for (int dim = 2; dim <= 3; dim++) {
+        mote_sep_system s;
+        vacuum_box(&s, dim, 0.04, 0.08, 0.04, 2500,
+                   (mote_sep_dist){.type = MOTE_SEP_MONO, .a = 1e-3});
+        s.v_imp = 1;
+        fill(&s, dim == 2 ? 500 : 4000);
+        mote_err err = {0};
+        CHECK(mote_sep_run(&s, s.dt, &err) == MOTE_OK, "run: %s", err.msg);
+        size_t down = 0;
+        for (size_t i = 1; i < s.n; i++)
+            down += s.grid.cell[i] < s.grid.cell[i - 1];
+        CHECK(s.list_builds == 1 && s.last_sort == s.steps && down == 0,
+              "%dD: %llu builds, sorted at step %llu of %llu, %zu descents in the cell order",
+              dim, (unsigned long long)s.list_builds, (unsigned long long)s.last_sort,
+              (unsigned long long)s.steps, down);
+        printf("  %dD: %zu particles, %zu cells, %zu descents\n", dim, s.n, s.grid.ncells, down);
+        mote_sep_free(&s);
+    }
+}
+
 /* One case of the thread test: a channel open at both ends with a gas upflow felt by the solids
  * (coupling), a perforated plate, a feed, n particles to start; runs `steps` steps on nt
  * threads (used from 1 particle up) and writes its state to path. */
@@ -702,7 +728,8 @@ int main(int argc, char **argv)
                  {"elastic", test_elastic},       {"restitution", test_restitution},
                  {"many_body", test_many_body},   {"backlog", test_backlog},
                  {"grids", test_grids},           {"pair", test_pair_restitution},
-                 {"tall", test_tall},             {"threads", test_threads}};
+                 {"tall", test_tall},             {"threads", test_threads},
+                 {"first_sort", test_first_sort}};
     for (size_t k = 0; k < sizeof tests / sizeof tests[0]; k++)
         if (argc < 2 || !strcmp(argv[1], tests[k].name))
             tests[k].fn();

@@ -573,26 +573,6 @@ void mote_sep_reset_stats(mote_sep_system *s)
 
 static int class_of(const mote_sep_system *s, double d);
 
-/* 0 in the channel, 1 fines (above an open top), 2 coarse (below an open bottom), 3 lost
- * (outside a side wall by more than its radius, inside a plate's solid, not finite). */
-static inline int exit_code(const mote_sep_system *s, size_t i)
-{
-    const double r = 0.5 * s->d[i], x = s->x[i], y = s->y[i], z = s->z[i];
-    if (!isfinite(x) || !isfinite(y) || !isfinite(z) || x < -r || x > s->W + r ||
-        (s->dim == 3 && (y < -r || y > s->D + r)))
-        return 3;
-    for (int q = 0; q < s->nplate; q++) {
-        const mote_sep_plate *p = &s->plate[q];
-        if (z >= p->zb && z <= p->zb + p->t && mote_sep_plate_hole_at(p, s->dim, x, y) < 0)
-            return 3;
-    }
-    if (s->open_top && z > s->H)
-        return 1;
-    if (s->open_bottom && z < 0)
-        return 2;
-    return 0;
-}
-
 /* Remember that particle i leaves (its outcome out). */
 static int note_exit(mote_sep_system *s, size_t i, int out, mote_err *err)
 {
@@ -811,102 +791,141 @@ static void remove_particle(mote_sep_system *s, size_t i)
     s->fz[i] = s->fz[l];
 }
 
-/* What the drift pass predicts for the contacts' pass (the pass it saves). */
+/* What the drift's pass reads and writes: the arrays and the settings, copied into each thread
+ * as a local value (the compiler keeps them in registers across the calls of the drag's
+ * functions and the stores of the particle), and what it predicts for the contacts' pass. */
 typedef struct {
+    double *restrict x, *restrict y, *restrict z, *restrict vx, *restrict vy, *restrict vz;
+    const double *restrict fx, *restrict fy, *restrict fz, *restrict im, *restrict d,
+        *restrict m;
+    const int *restrict sp;
+    double dt, half_dt, wdt, g, rho_g, mu_g, chi, W, D, H;
+    int dim, dem, gp_n, disperse, open_top, open_bottom, nplate;
+    size_t n;
+    double *fd;              /* the drag's z force and the height (sampling), or NULL */
     double *pvx, *pvy, *pvz; /* the predicted velocities v + dt/2 F_old/m, or NULL */
     const double *xref;      /* with the list's positions at its build (or NULL): */
     double lim;              /* the squared half skin a particle may move */
-} sep_predict;
+} drift_view;
+
+/* 0 in the channel, 1 fines (above an open top), 2 coarse (below an open bottom), 3 lost
+ * (outside a side wall by more than its radius, inside a plate's solid, not finite: the range
+ * tests fail for NaN and the infinities). */
+static inline int exit_code(const mote_sep_system *s, const drift_view *v, double x, double y,
+                            double z, double r)
+{
+    const int in_x = x >= -r && x <= v->W + r;
+    const int in_y = v->dim == 3 ? y >= -r && y <= v->D + r : y - y == 0;
+    if (!(in_x & in_y & (z - z == 0)))
+        return 3;
+    for (int q = 0; q < v->nplate; q++) {
+        const mote_sep_plate *p = &s->plate[q];
+        if (z >= p->zb && z <= p->zb + p->t && mote_sep_plate_hole_at(p, v->dim, x, y) < 0)
+            return 3;
+    }
+    if (v->open_top && z > v->H)
+        return 1;
+    if (v->open_bottom && z < 0)
+        return 2;
+    return 0;
+}
 
 /* Particle i's half kick with the last contact forces (spec 2.10 step 1), then its drift, exact
  * under drag, gravity and buoyancy with the gas of the last profile; its squared displacement
- * returned. With fd, the drag's z force at the step's start (weighted by wdt) goes to fd[i],
- * its height to fd[n + i]; with the dispersion on, it draws from the system's one stream. With
- * pr->pvx, its predicted velocity for the contacts, and with pr->xref, whether it moved too far
- * for the pair list (into *moved). */
-static inline double drift_one(mote_sep_system *s, size_t i, double dt, double wdt, double *fd,
-                               const sep_predict *pr, int *moved)
+ * into *move2 and its exit code returned. With v->fd, the drag's z force at the step's start
+ * (weighted by wdt) goes to fd[i], its height to fd[n + i]; with the dispersion on, it draws
+ * from the system's one stream. With v->pvx, its predicted velocity for the contacts, and with
+ * v->xref, whether it moved too far for the pair list (into *moved). */
+static inline int drift_one(mote_sep_system *s, const drift_view *v, size_t i, double *move2,
+                            int *moved)
 {
+    const double dt = v->dt;
     /* the particle in registers: loaded once, stored once */
-    double vx = s->vx[i], vy = s->vy[i], vz = s->vz[i];
-    const double x0 = s->x[i], y0 = s->y[i], z0 = s->z[i];
-    if (s->dem) {
-        const double hk = 0.5 * dt * s->im[i];
-        vx += hk * s->fx[i];
-        vy += hk * s->fy[i];
-        vz += hk * s->fz[i];
+    double vx = v->vx[i], vy = v->vy[i], vz = v->vz[i];
+    const double x0 = v->x[i], y0 = v->y[i], z0 = v->z[i];
+    if (v->dem) {
+        const double hk = 0.5 * dt * v->im[i];
+        vx += hk * v->fx[i];
+        vy += hk * v->fy[i];
+        vz += hk * v->fz[i];
     }
     double x = x0, y = y0, z = z0;
-    const mote_sep_species *sp = &s->sp[s->s[i]];
-    const double d = s->d[i];
-    double rho_g = s->rho_g, mu_g = s->mu_g;
-    if (s->gp_n)
+    const mote_sep_species *sp = &s->sp[v->sp[i]];
+    const double d = v->d[i];
+    double rho_g = v->rho_g, mu_g = v->mu_g;
+    if (v->gp_n)
         mote_sep_gas_props(s, z0, &rho_g, &mu_g);
     const int drag = mu_g > 0 && rho_g > 0;
-    const double u = drag ? gas_for(s, z0) : 0; /* (vacuum: unused) */
-    const double a = -s->g * (1 - rho_g / sp->rho);
-    if (fd) {
-        fd[i] = 0;
-        fd[s->n + i] = z0;
+    const double a = -v->g * (1 - rho_g / sp->rho);
+    if (v->fd) {
+        v->fd[i] = 0;
+        v->fd[v->n + i] = z0;
     }
     if (drag) {
+        const double u = gas_for(s, z0);
         const double wz = u - vz;
         const double Re = rho_g * sqrt(vx * vx + vy * vy + wz * wz) * d / mu_g;
         double f = mote_sep_drag_f(Re);
-        if (s->chi != 0)
-            f *= pow(eps_gas_at(s, z0), -s->chi);
+        if (v->chi != 0)
+            f *= pow(eps_gas_at(s, z0), -v->chi);
         const double tau = sp->rho * d * d / (18 * mu_g * f);
-        if (fd)
-            fd[i] = wdt * s->m[i] * (u - vz) / tau;
+        if (v->fd)
+            v->fd[i] = v->wdt * v->m[i] * (u - vz) / tau;
         /* the factors of the exact drift, once for the three components: sideways the gas
          * and the acceleration are 0 */
         const double h = dt / tau, omE = -expm1(-h), E = 1 - omE;
         const double hm = h < 1e-4 ? h * h / 2 - h * h * h / 6 + h * h * h * h / 24 : h - omE;
         x += tau * vx * omE;
         vx *= E;
-        if (s->dim == 3) {
+        if (v->dim == 3) {
             y += tau * vy * omE;
             vy *= E;
         }
         const double dv0 = vz - u;
         z += u * dt + tau * dv0 * omE + tau * tau * a * hm;
         vz = u + dv0 * E + tau * a * omE;
-        if (s->D_t > 0 || s->T_gas > 0) {
+        if (v->disperse) {
             /* D = D_t + D_B, D_B = k_B T / (3 pi mu_g d) (Stokes-Einstein) */
             const double D = s->D_t + 1.380649e-23 * s->T_gas / (3 * SEP_PI * mu_g * d);
             disperse1(&s->rng, &x, &vx, D / tau, tau, dt);
-            if (s->dim == 3)
+            if (v->dim == 3)
                 disperse1(&s->rng, &y, &vy, D / tau, tau, dt);
             disperse1(&s->rng, &z, &vz, D / tau, tau, dt);
         }
     } else { /* vacuum: constant acceleration */
         x += vx * dt;
-        if (s->dim == 3)
+        if (v->dim == 3)
             y += vy * dt;
         z += vz * dt + 0.5 * a * dt * dt;
         vz += a * dt;
     }
     const double ddx = x - x0, ddy = y - y0, ddz = z - z0;
-    if (pr->pvx) { /* (the same expression as the contacts' own pass: the same bits) */
-        const double h = 0.5 * dt * s->im[i];
-        pr->pvx[i] = vx + h * s->fx[i];
-        pr->pvy[i] = vy + h * s->fy[i];
-        pr->pvz[i] = vz + h * s->fz[i];
-        if (pr->xref) {
-            const double *q = pr->xref + 3 * i;
+    const double mv = ddx * ddx + ddy * ddy + ddz * ddz;
+    *move2 = mv > *move2 ? mv : *move2;
+    if (v->pvx) { /* (the same expression as the contacts' own pass: the same bits) */
+        const double h = v->half_dt * v->im[i];
+        v->pvx[i] = vx + h * v->fx[i];
+        v->pvy[i] = vy + h * v->fy[i];
+        v->pvz[i] = vz + h * v->fz[i];
+        if (v->xref) {
+            const double *q = v->xref + 3 * i;
             const double ex = x - q[0], ey = y - q[1], ez = z - q[2];
-            *moved |= ex * ex + ey * ey + ez * ez > pr->lim;
+            *moved |= ex * ex + ey * ey + ez * ez > v->lim;
         }
     }
-    s->x[i] = x;
-    s->y[i] = y;
-    s->z[i] = z;
-    s->vx[i] = vx;
-    s->vy[i] = vy;
-    s->vz[i] = vz;
-    if (!s->dem)
+    v->x[i] = x;
+    v->y[i] = y;
+    v->z[i] = z;
+    v->vx[i] = vx;
+    v->vy[i] = vy;
+    v->vz[i] = vz;
+    if (!v->dem) { /* the dilute mode's walls move the particle again */
         reflect(s, i, x0, y0, z0);
-    return ddx * ddx + ddy * ddy + ddz * ddz;
+        x = v->x[i];
+        y = v->y[i];
+        z = v->z[i];
+    }
+    return exit_code(s, v, x, y, z, 0.5 * d);
 }
 
 static int step(mote_sep_system *s, double dt, mote_err *err)
@@ -929,27 +948,38 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
     double *fd = sampling ? s->pv : NULL;
     /* the contacts' predicted velocities and the pair list's check in this pass when the
      * scratch is free (not a sampling step), used when no particle leaves or enters */
-    sep_predict pr = {0};
+    drift_view dv = {
+        .x = s->x, .y = s->y, .z = s->z, .vx = s->vx, .vy = s->vy, .vz = s->vz, .fx = s->fx,
+        .fy = s->fy, .fz = s->fz, .im = s->im, .d = s->d, .m = s->m, .sp = s->s, .dt = dt,
+        .half_dt = 0.5 * dt, .wdt = wdt, .g = s->g, .rho_g = s->rho_g, .mu_g = s->mu_g,
+        .chi = s->chi, .W = s->W, .D = s->D, .H = s->H, .dim = s->dim, .dem = s->dem,
+        .gp_n = s->gp_n != 0, .disperse = s->D_t > 0 || s->T_gas > 0,
+        .open_top = s->open_top, .open_bottom = s->open_bottom, .nplate = s->nplate, .n = n,
+        .fd = fd};
     if (s->dem && !sampling) {
-        pr = (sep_predict){.pvx = s->pv, .pvy = s->pv + n, .pvz = s->pv + 2 * n};
+        dv.pvx = s->pv;
+        dv.pvy = s->pv + n;
+        dv.pvz = s->pv + 2 * n;
         if (!s->brute && s->skin_used > 0 && s->list_ok && s->mods == s->list_mods) {
-            pr.xref = s->xref;
-            pr.lim = 0.25 * s->skin_used * s->skin_used;
+            dv.xref = s->xref;
+            dv.lim = 0.25 * s->skin_used * s->skin_used;
         }
     }
     const uint64_t mods0 = s->mods;
     int moved = 0;
     /* the dispersion draws from one stream in particle order: one thread */
-    const int nt = s->D_t > 0 || s->T_gas > 0 ? 1 : sep_threads(s);
+    const int nt = dv.disperse ? 1 : sep_threads(s);
     size_t nexit = 0;
     unsigned char *exc = s->exc;
-#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1) \
-    reduction(max : move2) reduction(+ : nexit) reduction(| : moved)
-    for (size_t i = 0; i < n; i++) {
-        const double mv = drift_one(s, i, dt, wdt, fd, &pr, &moved);
-        move2 = mv > move2 ? mv : move2;
-        exc[i] = (unsigned char)exit_code(s, i);
-        nexit += exc[i] != 0;
+#pragma omp parallel num_threads(nt) if (nt > 1)
+    {
+        const drift_view v = dv; /* (this thread's own copy) */
+#pragma omp for schedule(static) reduction(max : move2) reduction(+ : nexit) \
+    reduction(| : moved)
+        for (size_t i = 0; i < n; i++) {
+            exc[i] = (unsigned char)drift_one(s, &v, i, &move2, &moved);
+            nexit += exc[i] != 0;
+        }
     }
     if (fd) /* the drag's force by slice, summed in particle order */
         for (size_t i = 0; i < n; i++)
@@ -979,7 +1009,7 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
                          s->tau_eps > 0;
     if (s->dem) {
         /* (the pass's predictions stand while the particles are the same: no exit, no feed) */
-        const int pred = pr.pvx && s->n == n && s->mods == mods0 ? (pr.xref ? moved : 2) : -1;
+        const int pred = dv.pvx && s->n == n && s->mods == mods0 ? (dv.xref ? moved : 2) : -1;
         const int rc = sep_contact_forces(s, dt, 1, pred, err);
         if (rc)
             return rc;
