@@ -466,6 +466,57 @@ static void test_threads(void)
     free(ref);
 }
 
+/* The Taylor integrator's pair kernel on 1, 2, 4 and 8 pairs at once (as far as the processor
+ * runs them: SSE2, AVX2, AVX-512F) gives the same bits; some bodies inactive, so that the
+ * kernels hand the rest of a row to narrower ones. */
+static void test_lanes(void)
+{
+    printf("the Taylor pair kernel on 1, 2, 4 and 8 lanes bit-identical\n");
+    const uint32_t n = 61;
+    double *ref = NULL;
+    for (int w = 1; w <= 8; w *= 2) {
+        mote_nb nb;
+        mote_nb_init(&nb, MOTE_NB_GRAVITY);
+        mote_rng g;
+        mote_rng_seed(&g, 11);
+        mote_err err = {0};
+        for (uint32_t i = 0; i < n; i++) {
+            double x[3], v[3];
+            for (int a = 0; a < 3; a++) {
+                x[a] = mote_rng_uniform(&g) - 0.5;
+                v[a] = 0.1 * (mote_rng_uniform(&g) - 0.5);
+            }
+            mote_nb_add(&nb, 1.0 / n, 0, x, v, 0, &err);
+        }
+        for (uint32_t i = 5; i < n; i += 13)
+            nb.active[i] = 0;
+        nb.simd = w;
+        nb.taylor_order = 20;
+        nb.taylor_memory = 1; /* store: the mode with the pair kernels */
+        nb.dt = 1e-3;
+        /* every coefficient of every order (a last bit of a high order would not show in a
+         * step), then the state after three steps */
+        const size_t nc = 21 * 3 * (size_t)n, nx = 3 * (size_t)n;
+        double *X = calloc(nc + 2 * nx, sizeof *X); /* (inactive bodies: zeros) */
+        CHECK(mote_nb_prepare(&nb, &err) == MOTE_OK &&
+                  mote_nb_taylor_coefficients(&nb, 20, 1, X) == MOTE_OK, "coefficients");
+        CHECK(mote_nb_taylor(&nb, 3, &err) == MOTE_OK, "taylor: %s", err.msg);
+        memcpy(X + nc, nb.x, nx * sizeof *X);
+        memcpy(X + nc + nx, nb.v, nx * sizeof *X);
+        if (!ref)
+            ref = X;
+        else {
+            CHECK(memcmp(ref, X, nc * sizeof *X) == 0, "%d lanes: coefficients differ from one",
+                  w);
+            CHECK(memcmp(ref + nc, X + nc, 2 * nx * sizeof *X) == 0,
+                  "%d lanes: the state differs from one", w);
+            free(X);
+        }
+        mote_nb_free(&nb);
+    }
+    free(ref);
+}
+
 /* ---- T13: merging (spec 5) ---- */
 
 typedef struct {
@@ -1283,6 +1334,7 @@ int main(void)
     test_orders();
     test_coulomb_sign();
     test_threads();
+    test_lanes();
     test_taylor();
     test_adaptive();
     test_merging();

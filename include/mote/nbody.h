@@ -129,6 +129,9 @@ typedef struct {
                              * depend on it (every target sums its sources in index order) */
     uint32_t threads_min_n; /* threads are used from this many bodies up (default 1000; see
                              * NB_THREADS_MIN_N in nb.h for the measurement) */
+    int simd;               /* pairs solved at once by the Taylor integrator's pair kernel: 0
+                             * the widest the processor runs (8 with AVX-512F, 4 with AVX2, 2),
+                             * or at most this many (1: one); the results do not depend on it */
     /* the general Taylor integrator (spec 4.4) */
     int integrator;         /* MOTE_NB_GALACTICA or MOTE_NB_TAYLOR */
     int taylor_order;       /* p, 2 ... MOTE_NB_TAYLOR_MAX */

@@ -138,78 +138,50 @@ static void target(mote_nb *nb, mote_real *X, size_t blk, uint32_t i, int n0, in
                 nb->c[i] * sum[n - n0][a] / ((mote_real)(n + 1) * (n + 2));
 }
 
-#if MOTE_NB_PRECISION == 1 && defined(__SSE2__)
-#include <emmintrin.h>
-#define NB_SSE2_PAIRS 1
+#if MOTE_NB_PRECISION == 1 && defined(__x86_64__) && defined(__GNUC__)
+/* The pair kernel on 2, 4 and 8 pairs at once (SSE2, AVX2, AVX-512F), each giving the bits of
+ * pair_G: pair_lanes.inc. */
+#define NB_LANE_PAIRS 1
+#define NB_LANES 2
+#define NB_KNAME pair_G2
+#define NB_KATTR
+#include "pair_lanes.inc"
+#undef NB_LANES
+#undef NB_KNAME
+#undef NB_KATTR
+#define NB_LANES 4
+#define NB_KNAME pair_G4
+#define NB_KATTR __attribute__((target("avx2")))
+#include "pair_lanes.inc"
+#undef NB_LANES
+#undef NB_KNAME
+#undef NB_KATTR
+#define NB_LANES 8
+#define NB_KNAME pair_G8
+#define NB_KATTR __attribute__((target("avx512f")))
+#include "pair_lanes.inc"
+#undef NB_LANES
+#undef NB_KNAME
+#undef NB_KATTR
 
-static inline __m128d dot3v(const __m128d a[3], const __m128d b[3])
+/* The widest kernel the processor runs, at most nb->simd lanes when that is set (tests). */
+static int lanes(const mote_nb *nb)
 {
-    return _mm_add_pd(_mm_add_pd(_mm_mul_pd(a[0], b[0]), _mm_mul_pd(a[1], b[1])),
-                      _mm_mul_pd(a[2], b[2]));
+    int w = 2;
+    if (__builtin_cpu_supports("avx512f"))
+        w = 8;
+    else if (__builtin_cpu_supports("avx2"))
+        w = 4;
+    return nb->simd > 0 && nb->simd < w ? nb->simd : w;
 }
 
-/* pair_G for the two pairs (i, k) and (i, k + 1) (store mode, indices q and q + 1) in the two
- * lanes of SSE2 registers: every lane does exactly the arithmetic of pair_G and sf_order, in
- * the same order, so the results are the same bits as two calls of pair_G. */
-static void pair_G2(mote_nb *nb, const double *X, size_t blk, uint32_t i, uint32_t k, size_t q,
-                    size_t npairs, int n0, int n1, double (*G0)[3], double (*G1)[3])
+/* Whether bodies k .. k + w - 1 are all active. */
+static int all_active(const mote_nb *nb, uint32_t k, int w)
 {
-    __m128d R[64][3], s[64], f[64];
-    for (int j = 0; j <= n1; j++) {
-        const double *xi = X + j * blk + 3 * (size_t)i, *xk = X + j * blk + 3 * (size_t)k;
-        for (int a = 0; a < 3; a++)
-            R[j][a] = _mm_sub_pd(_mm_set1_pd(xi[a]), _mm_set_pd(xk[3 + a], xk[a]));
-    }
-    for (int j = 0; j < n0; j++) { /* the histories of the earlier passes */
-        s[j] = _mm_loadu_pd(nb->ts + (size_t)j * npairs + q);
-        f[j] = _mm_loadu_pd(nb->tf + (size_t)j * npairs + q);
-    }
-    const __m128d zero = _mm_setzero_pd(), two = _mm_set1_pd(2), one = _mm_set1_pd(1);
-    if (n0 == 0) { /* order 0: s = R.R, f = s^(-3/2) */
-        __m128d sn = _mm_add_pd(_mm_mul_pd(two, _mm_add_pd(zero, zero)), dot3v(R[0], R[0]));
-        s[0] = sn;
-        f[0] = _mm_div_pd(one, _mm_mul_pd(sn, _mm_sqrt_pd(sn)));
-    }
-    const __m128d f0inv = _mm_div_pd(one, s[0]);
-    for (int n = n0 > 0 ? n0 : 1; n <= n1; n++) {
-        __m128d s0 = zero, s1 = zero;
-        int j = 0;
-        for (; 2 * j + 2 < n; j += 2) {
-            s0 = _mm_add_pd(s0, dot3v(R[j], R[n - j]));
-            s1 = _mm_add_pd(s1, dot3v(R[j + 1], R[n - j - 1]));
-        }
-        for (; 2 * j < n; j++)
-            s0 = _mm_add_pd(s0, dot3v(R[j], R[n - j]));
-        __m128d sn = _mm_mul_pd(two, _mm_add_pd(s0, s1));
-        if (n % 2 == 0)
-            sn = _mm_add_pd(sn, dot3v(R[n / 2], R[n / 2]));
-        s[n] = sn;
-        __m128d a0 = zero, a1 = zero;
-        j = 0;
-        for (; j + 1 < n; j += 2) {
-            a0 = _mm_add_pd(a0, _mm_mul_pd(_mm_mul_pd(_mm_set1_pd(0.5 * j - 1.5 * n), s[n - j]),
-                                           f[j]));
-            a1 = _mm_add_pd(a1, _mm_mul_pd(_mm_mul_pd(_mm_set1_pd(0.5 * (j + 1) - 1.5 * n),
-                                                      s[n - j - 1]),
-                                           f[j + 1]));
-        }
-        if (j < n)
-            a0 = _mm_add_pd(a0, _mm_mul_pd(_mm_mul_pd(_mm_set1_pd(0.5 * j - 1.5 * n), s[n - j]),
-                                           f[j]));
-        f[n] = _mm_mul_pd(_mm_add_pd(a0, a1), _mm_div_pd(f0inv, _mm_set1_pd((double)n)));
-    }
-    for (int n = n0; n <= n1; n++) {
-        _mm_storeu_pd(nb->ts + (size_t)n * npairs + q, s[n]);
-        _mm_storeu_pd(nb->tf + (size_t)n * npairs + q, f[n]);
-        __m128d g[3] = {zero, zero, zero};
-        for (int j = 0; j <= n; j++)
-            for (int a = 0; a < 3; a++)
-                g[a] = _mm_add_pd(g[a], _mm_mul_pd(f[j], R[n - j][a]));
-        for (int a = 0; a < 3; a++) {
-            _mm_storel_pd(&G0[n - n0][a], g[a]);
-            _mm_storeh_pd(&G1[n - n0][a], g[a]);
-        }
-    }
+    for (int l = 0; l < w; l++)
+        if (!nb->active[k + (uint32_t)l])
+            return 0;
+    return 1;
 }
 #endif
 
@@ -222,11 +194,15 @@ static void pairs_of(mote_nb *nb, mote_real *X, size_t blk, uint32_t i, int n0, 
     if (!nb->active[i])
         return;
     uint32_t k = i + 1;
-#ifdef NB_SSE2_PAIRS
-    for (; k + 1 < N && nb->active[k] && nb->active[k + 1]; k += 2) { /* two pairs at a time */
-        const size_t q = upair(i, k, N);
-        pair_G2(nb, X, blk, i, k, q, npairs, n0, n1, Gb[q], Gb[q + 1]);
-    }
+#ifdef NB_LANE_PAIRS
+    /* w pairs at a time while their bodies are active, then fewer (the same bits) */
+    const int w = lanes(nb);
+    for (; w >= 8 && k + 7 < N && all_active(nb, k, 8); k += 8)
+        pair_G8(nb, X, blk, i, k, upair(i, k, N), npairs, n0, n1, Gb);
+    for (; w >= 4 && k + 3 < N && all_active(nb, k, 4); k += 4)
+        pair_G4(nb, X, blk, i, k, upair(i, k, N), npairs, n0, n1, Gb);
+    for (; w >= 2 && k + 1 < N && all_active(nb, k, 2); k += 2)
+        pair_G2(nb, X, blk, i, k, upair(i, k, N), npairs, n0, n1, Gb);
 #endif
     for (; k < N; k++)
         if (nb->active[k])
