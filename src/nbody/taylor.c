@@ -110,6 +110,29 @@ static inline void pair_G(mote_nb *nb, const mote_real *X, size_t blk, uint32_t 
  * That needs the G of every pair (6 reals each): store mode only. Recompute mode keeps memory
  * O(N): each target solves all its pairs itself (twice the pair work), in the same order and
  * with the same negation, so both modes give the same bits. */
+/* Target i's sums of w_k G over its sources in index order from the pairs' table (store mode),
+ * for no orders: the sources below i (G negated: the exact -w G) and above it, each pair's G
+ * found by a step through the table, not upair. */
+static inline void source_sums(const mote_nb *nb, mote_real (*Gb)[2][3], uint32_t i, int no,
+                               mote_real sum[2][3])
+{
+    const uint32_t N = nb->n;
+    mote_real acc[2][3] = {{0, 0, 0}, {0, 0, 0}};
+    size_t q = i > 0 ? upair(0, i, N) : 0;
+    for (uint32_t k = 0; k < i; q += N - k - 2, k++)
+        if (nb->active[k])
+            for (int n = 0; n < no; n++)
+                for (int a = 0; a < 3; a++)
+                    acc[n][a] -= nb->w[k] * Gb[q][n][a];
+    q = i + 1 < N ? upair(i, i + 1, N) : 0;
+    for (uint32_t k = i + 1; k < N; q++, k++)
+        if (nb->active[k])
+            for (int n = 0; n < no; n++)
+                for (int a = 0; a < 3; a++)
+                    acc[n][a] += nb->w[k] * Gb[q][n][a];
+    memcpy(sum, acc, sizeof acc);
+}
+
 /* Phase 2 for target i: sum w_k G over the sources in index order into x^[n+2] (n = n0 .. n1),
  * with each pair's G from Gb (store mode) or solved here (recompute mode). */
 static void target(mote_nb *nb, mote_real *X, size_t blk, uint32_t i, int n0, int n1,
@@ -118,6 +141,17 @@ static void target(mote_nb *nb, mote_real *X, size_t blk, uint32_t i, int n0, in
     const uint32_t N = nb->n;
     const size_t npairs = (size_t)N * (N - 1) / 2;
     mote_real sum[2][3] = {{0, 0, 0}, {0, 0, 0}};
+    if (Gb) { /* store mode: the same sums, in registers (the orders a constant) */
+        if (n1 > n0)
+            source_sums(nb, Gb, i, 2, sum);
+        else
+            source_sums(nb, Gb, i, 1, sum);
+        for (int n = n0; n <= n1; n++)
+            for (int a = 0; a < 3; a++)
+                X[(size_t)(n + 2) * blk + 3 * i + a] =
+                    nb->c[i] * sum[n - n0][a] / ((mote_real)(n + 1) * (n + 2));
+        return;
+    }
     for (uint32_t k = 0; k < N; k++) {
         if (k == i || !nb->active[k])
             continue;
