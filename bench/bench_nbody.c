@@ -13,6 +13,11 @@
  *   galactica      the same period with Galactica's scheme, dT = 1e-6 (10 000 steps);
  *   pairs N [T]    ordered-pair evaluations per second of the Galactica scheme's passes for N
  *                  random bodies on T threads (default 1);
+ *   cluster [N [T [P [TOL [SEED [IC]]]]]]  a Plummer sphere of N bodies (default 100; seed SEED,
+ *                  default 1) to time T (default 10) with the adaptive Taylor integrator (order
+ *                  P, tolerance TOL): CPU time of the integration only (median of 5), steps,
+ *                  |dE/E| at the end; IC: its initial bodies into that file (mass, x, y, z, vx,
+ *                  vy, vz per line) for IAS15 to start from the same state;
  *   plummer [NMAX [DMAX [PNG [T]]]]  seconds per Galactica-scheme step against N for a Plummer
  *                  sphere (spec 6.2), N = 10^3, 3*10^3, ... NMAX (default 10^6), direct sums up
  *                  to DMAX (default 3*10^4) and the Barnes-Hut tree at theta 0.5 for all, on T
@@ -98,6 +103,67 @@ static int ring_period(int integrator, int P, double tol)
                "cpu_seconds_median=%.6f "
                "cpu_seconds_min=%.6f error=%.3e abs_dE=%.3e\n",
                PREC, steps, t[2], t[0], err, fabs(dE));
+    return 0;
+}
+
+/* A Plummer sphere of n bodies (seed) to time T with the adaptive Taylor integrator of order P
+ * and tolerance tol: CPU time of the integration only (median of 5), steps, |dE/E| at the end;
+ * with ic, its initial bodies (mass x y z vx vy vz, one line each, %.17g) into that file, for
+ * another code to start from the same state. */
+static int cluster(uint32_t n, double T, int P, double tol, uint64_t seed, const char *ic)
+{
+    double t[5], dE = 0;
+    unsigned long long steps = 0;
+    for (int run = 0; run < 5; run++) {
+        mote_nb nb;
+        mote_nb_init(&nb, MOTE_NB_GRAVITY);
+        mote_err e = {0};
+        if (mote_nb_plummer(&nb, n, seed, &e)) {
+            fprintf(stderr, "bench_nbody: %s\n", e.msg);
+            return 1;
+        }
+        if (ic && run == 0) {
+            FILE *f = fopen(ic, "w");
+            if (!f) {
+                fprintf(stderr, "bench_nbody: cannot write %s\n", ic);
+                return 1;
+            }
+            for (uint32_t i = 0; i < nb.n; i++)
+                fprintf(f, "%.17g %.17g %.17g %.17g %.17g %.17g %.17g\n", (double)nb.m[i],
+                        (double)nb.x[3 * i], (double)nb.x[3 * i + 1], (double)nb.x[3 * i + 2],
+                        (double)nb.v[3 * i], (double)nb.v[3 * i + 1], (double)nb.v[3 * i + 2]);
+            if (fclose(f)) {
+                fprintf(stderr, "bench_nbody: cannot write %s\n", ic);
+                return 1;
+            }
+        }
+        nb.integrator = MOTE_NB_TAYLOR;
+        nb.taylor_order = P;
+        nb.adaptive = 1;
+        nb.tol = tol;
+        nb.dt = 1e-6;
+        if (mote_nb_integrate(&nb, 0, INFINITY, &e)) {
+            fprintf(stderr, "bench_nbody: %s\n", e.msg); /* sizes the scratch, takes no step */
+            return 1;
+        }
+        mote_nb_set_reference(&nb);
+        const double c0 = cpu_seconds();
+        const int rc = mote_nb_integrate(&nb, UINT64_MAX, T, &e);
+        t[run] = cpu_seconds() - c0;
+        if (rc) {
+            fprintf(stderr, "bench_nbody: %s\n", e.msg);
+            return 1;
+        }
+        mote_nb_monitor mon;
+        mote_nb_measure(&nb, &mon);
+        dE = mon.dE;
+        steps = (unsigned long long)nb.steps;
+        mote_nb_free(&nb);
+    }
+    qsort(t, 5, sizeof t[0], cmp_double);
+    printf("workload=cluster precision=%s N=%u T=%g seed=%llu order=%d tol=%g steps=%llu "
+           "cpu_seconds_median=%.6f cpu_seconds_min=%.6f abs_dE=%.3e\n",
+           PREC, n, T, (unsigned long long)seed, P, tol, steps, t[2], t[0], fabs(dE));
     return 0;
 }
 
@@ -316,11 +382,16 @@ static int run(int argc, char **argv)
         return ring_period(MOTE_NB_GALACTICA, 6, 0);
     if (strcmp(argv[1], "pairs") == 0 && argc > 2)
         return pairs((uint32_t)atoi(argv[2]), argc > 3 ? atoi(argv[3]) : 1);
+    if (strcmp(argv[1], "cluster") == 0)
+        return cluster(argc > 2 ? (uint32_t)atof(argv[2]) : 100, argc > 3 ? atof(argv[3]) : 10,
+                       argc > 4 ? atoi(argv[4]) : 20, argc > 5 ? atof(argv[5]) : 1e-16,
+                       argc > 6 ? (uint64_t)atoll(argv[6]) : 1, argc > 7 ? argv[7] : NULL);
     if (strcmp(argv[1], "plummer") == 0)
         return plummer(argc > 2 ? (uint32_t)atof(argv[2]) : 1000000,
                        argc > 3 ? (uint32_t)atof(argv[3]) : 30000,
                        argc > 4 ? argv[4] : "plummer.png", argc > 5 ? atoi(argv[5]) : 1);
     fprintf(stderr, "usage: bench_nbody [b1 [P [TOL]] | b2 FILE [P [TOL [TH]]] | galactica | "
-                    "pairs N [THREADS] | plummer [NMAX [DMAX [PNG [THREADS]]]]]\n");
+                    "pairs N [THREADS] | plummer [NMAX [DMAX [PNG [THREADS]]]] | "
+                    "cluster [N [T [P [TOL [SEED [IC]]]]]]]\n");
     return 2;
 }

@@ -50,6 +50,9 @@ check "bench_nbody b2 reports steps, CPU time and the energy and moment errors: 
 pairs=$("$nbench" pairs 100 2 2>"$tmp/err")
 check "bench_nbody pairs reports pair evaluations per second" \
     'echo "$pairs" | grep -q "^workload=pairs precision=double N=100 threads=2 steps=3 wall_seconds=[0-9.]* pair_evaluations_per_second="'
+cl=$("$nbench" cluster 20 0.05 10 1e-12 3 "$tmp/ic.txt" 2>"$tmp/err")
+check "bench_nbody cluster reports steps, CPU time and |dE| and writes the 20 bodies: $(head -c 80 "$tmp/err")" \
+    'echo "$cl" | grep -q "^workload=cluster precision=double N=20 T=0.05 seed=3 order=10 tol=1e-12 steps=[1-9][0-9]* cpu_seconds_median=[0-9.]* cpu_seconds_min=[0-9.]* abs_dE=" && [ "$(awk "NF == 7" "$tmp/ic.txt" | wc -l)" -eq 20 ]'
 cbench="$(dirname "$bench")/bench_charging"
 cb=$("$cbench" b1 2e4 2 2>"$tmp/err")
 check "bench_charging b1 reports traces per second and the hit fraction: $(head -c 80 "$tmp/err")" \
