@@ -793,9 +793,11 @@ static void remove_particle(mote_sep_system *s, size_t i)
 
 /* What the drift's pass reads and writes: the arrays and the settings, copied into each thread
  * as a local value (the compiler keeps them in registers across the calls of the drag's
- * functions and the stores of the particle), and what it predicts for the contacts' pass. */
+ * functions and the stores of the particle), and what it predicts for the contacts' pass. The
+ * arrays it only reads are restrict (nothing writes them in the pass); the positions and
+ * velocities are not, as the dilute mode's reflect() writes them again through s. */
 typedef struct {
-    double *restrict x, *restrict y, *restrict z, *restrict vx, *restrict vy, *restrict vz;
+    double *x, *y, *z, *vx, *vy, *vz;
     const double *restrict fx, *restrict fy, *restrict fz, *restrict im, *restrict d,
         *restrict m;
     const int *restrict sp;
