@@ -54,6 +54,22 @@ static int cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
+/* The integrator (order P, adaptive at tolerance tol) ready to run: for Taylor its scratch
+ * sized by an integration of no step; the energy's reference taken now. */
+static int ready(mote_nb *nb, int integrator, int P, double tol, mote_err *e)
+{
+    nb->integrator = integrator;
+    nb->taylor_order = P;
+    nb->adaptive = 1;
+    nb->tol = tol;
+    if (integrator == MOTE_NB_TAYLOR && mote_nb_integrate(nb, 0, INFINITY, e)) {
+        fprintf(stderr, "bench_nbody: %s\n", e->msg);
+        return 1;
+    }
+    mote_nb_set_reference(nb);
+    return 0;
+}
+
 static int ring_period(int integrator, int P, double tol)
 {
     double t[5], err = 0, dE = 0;
@@ -68,16 +84,9 @@ static int ring_period(int integrator, int P, double tol)
             fprintf(stderr, "bench_nbody: %s\n", e.msg);
             return 1;
         }
-        nb.integrator = integrator;
-        nb.taylor_order = P;
-        nb.adaptive = 1;
-        nb.tol = tol;
         nb.dt = 1e-6;
-        if (integrator == MOTE_NB_TAYLOR && mote_nb_integrate(&nb, 0, INFINITY, &e)) {
-            fprintf(stderr, "bench_nbody: %s\n", e.msg); /* sizes the scratch, takes no step */
+        if (ready(&nb, integrator, P, tol, &e))
             return 1;
-        }
-        mote_nb_set_reference(&nb);
         double c0 = cpu_seconds();
         int rc = integrator == MOTE_NB_TAYLOR ? mote_nb_integrate(&nb, UINT64_MAX, r.period, &e)
                                               : mote_nb_integrate(&nb, 10000, INFINITY, &e);
@@ -137,16 +146,9 @@ static int cluster(uint32_t n, double T, int P, double tol, uint64_t seed, const
                 return 1;
             }
         }
-        nb.integrator = MOTE_NB_TAYLOR;
-        nb.taylor_order = P;
-        nb.adaptive = 1;
-        nb.tol = tol;
         nb.dt = 1e-6;
-        if (mote_nb_integrate(&nb, 0, INFINITY, &e)) {
-            fprintf(stderr, "bench_nbody: %s\n", e.msg); /* sizes the scratch, takes no step */
+        if (ready(&nb, MOTE_NB_TAYLOR, P, tol, &e))
             return 1;
-        }
-        mote_nb_set_reference(&nb);
         const double c0 = cpu_seconds();
         const int rc = mote_nb_integrate(&nb, UINT64_MAX, T, &e);
         t[run] = cpu_seconds() - c0;
@@ -199,15 +201,8 @@ static int solar(const char *path, int P, double tol, double th)
         mote_nb_solar_free(&s);
         if (th != 0)
             rotate_z(&nb, th);
-        nb.integrator = MOTE_NB_TAYLOR;
-        nb.taylor_order = P;
-        nb.adaptive = 1;
-        nb.tol = tol;
-        if (mote_nb_integrate(&nb, 0, INFINITY, &e)) {
-            fprintf(stderr, "bench_nbody: %s\n", e.msg);
+        if (ready(&nb, MOTE_NB_TAYLOR, P, tol, &e))
             return 1;
-        }
-        mote_nb_set_reference(&nb);
         mote_nb_monitor mon;
         mote_nb_measure(&nb, &mon);
         mote_real L0[3] = {mon.L[0] + mon.S[0], mon.L[1] + mon.S[1], mon.L[2] + mon.S[2]};

@@ -423,6 +423,26 @@ static void test_adaptive(void)
     }
 }
 
+/* n equal masses (total 1) at random in the unit cube about the origin, velocities within
+ * +-0.05 (gravity; the seed's stream). */
+static void random_cluster(mote_nb *nb, uint32_t n, uint64_t seed)
+{
+    mote_nb_init(nb, MOTE_NB_GRAVITY);
+    mote_rng g;
+    mote_rng_seed(&g, seed);
+    mote_err err = {0};
+    int rc = MOTE_OK;
+    for (uint32_t i = 0; i < n && !rc; i++) {
+        double x[3], v[3];
+        for (int a = 0; a < 3; a++) {
+            x[a] = mote_rng_uniform(&g) - 0.5;
+            v[a] = 0.1 * (mote_rng_uniform(&g) - 0.5);
+        }
+        rc = mote_nb_add(nb, 1.0 / n, 0, x, v, 0, &err);
+    }
+    CHECK(rc == MOTE_OK && nb->n == n, "random cluster: %s", err.msg);
+}
+
 /* T17: 1, 2 and 4 threads give the same bits (a cluster large enough to be split). */
 static void test_threads(void)
 {
@@ -431,18 +451,8 @@ static void test_threads(void)
     double *ref = NULL;
     for (int t = 1; t <= 4; t *= 2) {
         mote_nb nb;
-        mote_nb_init(&nb, MOTE_NB_GRAVITY);
-        mote_rng g;
-        mote_rng_seed(&g, 5);
         mote_err err = {0};
-        for (uint32_t i = 0; i < n; i++) {
-            double x[3], v[3];
-            for (int a = 0; a < 3; a++) {
-                x[a] = mote_rng_uniform(&g) - 0.5;
-                v[a] = 0.1 * (mote_rng_uniform(&g) - 0.5);
-            }
-            mote_nb_add(&nb, 1.0 / n, 0, x, v, 0, &err);
-        }
+        random_cluster(&nb, n, 5);
         nb.dt = 1e-5;
         nb.threads = t;
         nb.threads_min_n = 64; /* (below the default: these systems are split among threads) */
@@ -476,18 +486,8 @@ static void test_lanes(void)
     double *ref = NULL;
     for (int w = 1; w <= 8; w *= 2) {
         mote_nb nb;
-        mote_nb_init(&nb, MOTE_NB_GRAVITY);
-        mote_rng g;
-        mote_rng_seed(&g, 11);
         mote_err err = {0};
-        for (uint32_t i = 0; i < n; i++) {
-            double x[3], v[3];
-            for (int a = 0; a < 3; a++) {
-                x[a] = mote_rng_uniform(&g) - 0.5;
-                v[a] = 0.1 * (mote_rng_uniform(&g) - 0.5);
-            }
-            mote_nb_add(&nb, 1.0 / n, 0, x, v, 0, &err);
-        }
+        random_cluster(&nb, n, 11);
         for (uint32_t i = 5; i < n; i += 13)
             nb.active[i] = 0;
         nb.simd = w;
