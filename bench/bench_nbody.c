@@ -10,6 +10,12 @@
  *                  equally spaced samples: CPU time of the integration only (median of 5), steps,
  *                  max |dE| over the samples, |dE| and |dL/L| at the end; TH turns the system
  *                  about z by TH radians first (the same problem with other rounding errors);
+ *   wh FILE [YEARS [DT [K [SAMPLES [IC [CURVE]]]]]]  the same outer Solar System over YEARS
+ *                  sidereal years (default 10^6) with the Wisdom-Holman map, step DT years
+ *                  (default 0.5), corrector K (default 17), synchronised at SAMPLES equally
+ *                  spaced times (default 1000) where |dE| is measured: CPU time (median of 5),
+ *                  ns per step, max |dE| and |dE| at the end; IC: the initial bodies as for
+ *                  cluster (for WHFast); CURVE: "T_years dE" per sample of the last run;
  *   galactica      the same period with Galactica's scheme, dT = 1e-6 (10 000 steps);
  *   pairs N [T]    ordered-pair evaluations per second of the Galactica scheme's passes for N
  *                  random bodies on T threads (default 1);
@@ -239,6 +245,86 @@ static int solar(const char *path, int P, double tol, double th)
     return 0;
 }
 
+/* The bodies of nb into path, one line each: mass x y z vx vy vz (%.17g). */
+static int write_ic(const mote_nb *nb, const char *path)
+{
+    FILE *f = fopen(path, "w");
+    if (!f) {
+        fprintf(stderr, "bench_nbody: cannot write %s\n", path);
+        return 1;
+    }
+    for (uint32_t i = 0; i < nb->n; i++)
+        fprintf(f, "%.17g %.17g %.17g %.17g %.17g %.17g %.17g\n", (double)nb->m[i],
+                (double)nb->x[3 * i], (double)nb->x[3 * i + 1], (double)nb->x[3 * i + 2],
+                (double)nb->v[3 * i], (double)nb->v[3 * i + 1], (double)nb->v[3 * i + 2]);
+    if (fclose(f)) {
+        fprintf(stderr, "bench_nbody: cannot write %s\n", path);
+        return 1;
+    }
+    return 0;
+}
+
+static int wh(const char *path, double years, double dt, int K, int samples, const char *ic,
+              const char *curve)
+{
+    double t[5], worst = 0, dE = 0;
+    unsigned long long steps = 0;
+    FILE *cf = NULL;
+    for (int run = 0; run < 5; run++) {
+        mote_nb nb;
+        mote_nb_solar s;
+        mote_err e = {0};
+        mote_nb_init(&nb, MOTE_NB_GRAVITY);
+        if (mote_nb_solar_read(path, &s, &e) || mote_nb_solar_build(&nb, &s, NULL, 0, &e)) {
+            fprintf(stderr, "bench_nbody: %s\n", e.msg);
+            return 1;
+        }
+        mote_nb_solar_free(&s);
+        if (ic && run == 0 && write_ic(&nb, ic))
+            return 1;
+        if (curve && run == 4 && !(cf = fopen(curve, "w"))) {
+            fprintf(stderr, "bench_nbody: cannot write %s\n", curve);
+            return 1;
+        }
+        nb.integrator = MOTE_NB_WH;
+        nb.wh_corrector = K;
+        nb.dt = dt / 100; /* the time unit is the sidereal century */
+        mote_nb_set_reference(&nb);
+        mote_nb_monitor mon;
+        double cpu = 0;
+        worst = 0;
+        for (int k = 1; k <= samples; k++) {
+            double c0 = cpu_seconds();
+            int rc = mote_nb_integrate(&nb, UINT64_MAX, years / 100 * k / samples, &e);
+            cpu += cpu_seconds() - c0;
+            if (rc) {
+                fprintf(stderr, "bench_nbody: %s\n", e.msg);
+                return 1;
+            }
+            mote_nb_measure(&nb, &mon);
+            worst = fmax(worst, fabs((double)mon.dE));
+            if (cf)
+                fprintf(cf, "%.9g %.6e\n", (double)nb.T * 100, (double)mon.dE);
+        }
+        if (cf && fclose(cf)) {
+            fprintf(stderr, "bench_nbody: cannot write %s\n", curve);
+            return 1;
+        }
+        cf = NULL;
+        t[run] = cpu;
+        dE = fabs((double)mon.dE);
+        steps = (unsigned long long)nb.steps;
+        mote_nb_free(&nb);
+    }
+    qsort(t, 5, sizeof t[0], cmp_double);
+    printf("workload=wh precision=%s years=%g dt_years=%g corrector=%d samples=%d steps=%llu "
+           "cpu_seconds_median=%.6f cpu_seconds_min=%.6f ns_per_step=%.1f max_abs_dE=%.3e "
+           "abs_dE_end=%.3e\n",
+           PREC, years, dt, K, samples, steps, t[2], t[0], 1e9 * t[2] / (double)steps, worst,
+           dE);
+    return 0;
+}
+
 static int pairs(uint32_t n, int threads)
 {
     mote_nb nb;
@@ -373,6 +459,10 @@ static int run(int argc, char **argv)
     if (strcmp(argv[1], "b2") == 0 && argc > 2)
         return solar(argv[2], argc > 3 ? atoi(argv[3]) : 20, argc > 4 ? atof(argv[4]) : 1e-16,
                      argc > 5 ? atof(argv[5]) : 0);
+    if (strcmp(argv[1], "wh") == 0 && argc > 2)
+        return wh(argv[2], argc > 3 ? atof(argv[3]) : 1e6, argc > 4 ? atof(argv[4]) : 0.5,
+                  argc > 5 ? atoi(argv[5]) : 17, argc > 6 ? atoi(argv[6]) : 1000,
+                  argc > 7 ? argv[7] : NULL, argc > 8 ? argv[8] : NULL);
     if (strcmp(argv[1], "galactica") == 0)
         return ring_period(MOTE_NB_GALACTICA, 6, 0);
     if (strcmp(argv[1], "pairs") == 0 && argc > 2)
@@ -387,6 +477,7 @@ static int run(int argc, char **argv)
                        argc > 4 ? argv[4] : "plummer.png", argc > 5 ? atoi(argv[5]) : 1);
     fprintf(stderr, "usage: bench_nbody [b1 [P [TOL]] | b2 FILE [P [TOL [TH]]] | galactica | "
                     "pairs N [THREADS] | plummer [NMAX [DMAX [PNG [THREADS]]]] | "
-                    "cluster [N [T [P [TOL [SEED [IC]]]]]]]\n");
+                    "cluster [N [T [P [TOL [SEED [IC]]]]]]] | "
+                    "wh FILE [YEARS [DT [K [SAMPLES [IC [CURVE]]]]]]]\n");
     return 2;
 }

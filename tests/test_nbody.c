@@ -1321,6 +1321,126 @@ static void test_time_axis(void)
     test_remove_tree(dir);
 }
 
+/* The outer Solar System of data/outer_solar_system.dat into nb (G = 1, the sidereal century). */
+static int outer_solar(mote_nb *nb)
+{
+    mote_nb_solar s;
+    mote_err err = {0};
+    mote_nb_init(nb, MOTE_NB_GRAVITY);
+    if (mote_nb_solar_read("data/outer_solar_system.dat", &s, &err) ||
+        mote_nb_solar_build(nb, &s, NULL, 0, &err)) {
+        CHECK(0, "outer Solar System: %s", err.msg);
+        return -1;
+    }
+    mote_nb_solar_free(&s);
+    return 0;
+}
+
+/* The largest |dE| of nb run with the map (step h, corrector k) to T in `samples` pieces, and
+ * its positions at T into x (3n, may be NULL). */
+static double wh_run(double h, int k, double T, int samples, mote_real *x)
+{
+    mote_nb nb;
+    if (outer_solar(&nb))
+        return NAN;
+    nb.integrator = MOTE_NB_WH;
+    nb.dt = h;
+    nb.wh_corrector = k;
+    mote_nb_set_reference(&nb);
+    double worst = 0;
+    mote_err err = {0};
+    for (int j = 1; j <= samples; j++) {
+        if (mote_nb_integrate(&nb, UINT64_MAX, T * j / samples, &err)) {
+            CHECK(0, "wh: %s", err.msg);
+            break;
+        }
+        mote_nb_monitor mon;
+        mote_nb_measure(&nb, &mon);
+        worst = fmax(worst, fabs((double)mon.dE));
+    }
+    if (x)
+        memcpy(x, nb.x, 3 * (size_t)nb.n * sizeof *x);
+    mote_nb_free(&nb);
+    return worst;
+}
+
+/* The Wisdom-Holman map (issue 37): its Kepler drift exact on two bodies (an orbit of e = 0.9
+ * closes after a period in 7 steps to rounding, 10^-12 of its size, any step being exact, with
+ * the corrector's long drifts too), its second order (the energy error of the uncorrected map
+ * and the corrected map's distance from an accurate Taylor solution fall 4 times when the step
+ * halves: 3.5 ... 4.5 allows for the terms of higher order), the correctors' gain (the error of
+ * first order in the masses gone: over 100 times smaller), and a trajectory independent of where
+ * runs stop. */
+static void test_wh(void)
+{
+    printf("Wisdom-Holman map: Kepler drift, order, correctors\n");
+    /* two bodies: the interaction is empty, each step is the exact Kepler flow */
+    const double e = 0.9, a = 1, m0 = 1, m1 = 1e-3, mu = m0 + m1;
+    const double ra = a * (1 + e), va = sqrt(mu / a * (1 - e) / (1 + e));
+    const double P = 8 * atan(1.0) * sqrt(a * a * a / mu);
+    mote_nb nb;
+    mote_nb_init(&nb, MOTE_NB_GRAVITY);
+    const mote_real x0[3] = {0, 0, 0}, v0[3] = {0, 0, 0};
+    const mote_real x1[3] = {ra, 0, 0}, v1[3] = {0, va, 0};
+    mote_err err = {0};
+    CHECK(mote_nb_add(&nb, m0, 0, x0, v0, 0, &err) == 0 && mote_nb_add(&nb, m1, 0, x1, v1, 0,
+                                                                          &err) == 0,
+          "add: %s", err.msg);
+    mote_nb_barycentric(&nb, NULL, NULL);
+    mote_real start[6];
+    memcpy(start, nb.x, sizeof start);
+    nb.integrator = MOTE_NB_WH;
+    nb.dt = P / 7;
+    nb.wh_corrector = 17;
+    CHECK(mote_nb_integrate(&nb, 7, INFINITY, &err) == 0, "two bodies: %s", err.msg);
+    double d = 0;
+    for (int c = 0; c < 6; c++)
+        d = fmax(d, fabs((double)(nb.x[c] - start[c])));
+    printf("  two bodies, e = 0.9, one period in 7 steps: max |x - x0| = %.2e\n", d);
+    CHECK(d <= 1e-12 * ra, "the two-body orbit did not close: %.3e", d);
+    mote_nb_free(&nb);
+
+    /* second order in the step: 10^3 years, steps of 0.5 and 0.25 years (T in sidereal
+     * centuries) */
+    const double T = 10, dE1 = wh_run(0.005, 0, T, 100, NULL);
+    const double dE2 = wh_run(0.0025, 0, T, 100, NULL);
+    printf("  outer Solar System, 10^3 yr, no corrector: max |dE| %.3e (0.5 yr), %.3e (0.25 yr): "
+           "ratio %.3f\n", dE1, dE2, dE1 / dE2);
+    CHECK(dE1 / dE2 > 3.5 && dE1 / dE2 < 4.5, "energy error ratio %.3f, expected 4", dE1 / dE2);
+    /* the corrector of order 17: the error of first order in the masses gone */
+    const double dE17 = wh_run(0.005, 17, T, 100, NULL);
+    printf("  corrector 17, 0.5 yr: max |dE| %.3e (%.0f times smaller)\n", dE17, dE1 / dE17);
+    CHECK(dE17 < dE1 / 100, "corrector 17: %.3e against %.3e without", dE17, dE1);
+    /* against the adaptive Taylor solution (order 20, tol 1e-16), positions after 10^3 years */
+    mote_nb ref;
+    mote_real xr[18], xa[18], xb[18];
+    if (outer_solar(&ref) == 0) {
+        ref.integrator = MOTE_NB_TAYLOR;
+        ref.adaptive = 1;
+        ref.tol = 1e-16;
+        ref.taylor_order = 20;
+        CHECK(mote_nb_integrate(&ref, UINT64_MAX, T, &err) == 0, "taylor: %s", err.msg);
+        memcpy(xr, ref.x, sizeof xr);
+        mote_nb_free(&ref);
+    }
+    wh_run(0.005, 17, T, 1, xa);
+    wh_run(0.0025, 17, T, 1, xb);
+    double ea = 0, eb = 0;
+    for (int c = 3; c < 18; c++) {
+        ea = fmax(ea, fabs((double)(xa[c] - xr[c])));
+        eb = fmax(eb, fabs((double)(xb[c] - xr[c])));
+    }
+    printf("  corrector 17 against Taylor: max |x - x_taylor| %.3e (0.5 yr), %.3e (0.25 yr): "
+           "ratio %.3f\n", ea, eb, ea / eb);
+    CHECK(ea / eb > 3.5 && ea / eb < 4.5, "position error ratio %.3f, expected 4", ea / eb);
+    /* stopping every 7 steps (at times T k / 10, which the sums of dt reach to rounding), or
+     * once: the same bits */
+    mote_real xs[18], xo[18];
+    wh_run(0.005, 17, 0.35, 10, xs);
+    wh_run(0.005, 17, 0.35, 1, xo);
+    CHECK(memcmp(xs, xo, sizeof xs) == 0, "stops changed the trajectory");
+}
+
 int main(void)
 {
     double w0 = mote_wall_seconds();
@@ -1339,6 +1459,7 @@ int main(void)
     test_adaptive();
     test_merging();
     test_solar();
+    test_wh();
     test_t12();
     test_approach();
     test_png();

@@ -41,7 +41,7 @@ const char *mote_real_str(mote_real v, char buf[MOTE_REAL_BUF]);
 mote_real mote_real_parse(const char *s, char **end);
 
 typedef enum { MOTE_NB_GRAVITY = 0, MOTE_NB_COULOMB = 1 } mote_nb_interaction;
-enum { MOTE_NB_GALACTICA = 0, MOTE_NB_TAYLOR = 1 };
+enum { MOTE_NB_GALACTICA = 0, MOTE_NB_TAYLOR = 1, MOTE_NB_WH = 2 };
 #define MOTE_NB_TAYLOR_MAX 60
 
 /* ---- constants and scales (spec 3.5, 3.6) ------------------------------------------------- */
@@ -133,7 +133,17 @@ typedef struct {
                              * the widest the processor runs (8 with AVX-512F, 4 with AVX2, 2),
                              * or at most this many (1: one); the results do not depend on it */
     /* the general Taylor integrator (spec 4.4) */
-    int integrator;         /* MOTE_NB_GALACTICA or MOTE_NB_TAYLOR */
+    int integrator;         /* MOTE_NB_GALACTICA, MOTE_NB_TAYLOR or MOTE_NB_WH */
+    int wh_corrector;       /* the Wisdom-Holman map's symplectic corrector: 0 (none), 3, 5, 7,
+                             * 11 or 17 */
+    /* the map's own state between two runs (wh.c): per body 3 Jacobi positions, 3 velocities
+     * (corrected, half a drift ahead), then the inertial x and v it was synchronised to; live
+     * while x and v still hold those (a change of the bodies starts the map afresh) */
+    mote_real *wh_map;
+    uint32_t wh_cap;
+    int wh_live;
+    mote_real wh_h;            /* the step and corrector the live map runs with */
+    int wh_k;
     int taylor_order;       /* p, 2 ... MOTE_NB_TAYLOR_MAX */
     int taylor_memory;      /* 0 automatic, 1 store, 2 recompute */
     int adaptive;           /* 1: the step from the Taylor terms (spec 4.5), each body against

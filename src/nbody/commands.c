@@ -628,10 +628,20 @@ static void set_order(const mote_call *c, int *order)
         *order = (int)a->i;
 }
 
-/* `integrator galactica` and `integrator taylor`: one table row each, with its own options */
+/* `integrator galactica`, `integrator taylor` and `integrator wh`: one table row each, with its
+ * own options */
 static int check_integrator(void *vm, const mote_call *c, mote_err *err)
 {
     (void)vm;
+    if (strcmp(c->name, "integrator wh") == 0) {
+        const mote_arg *k = mote_call_opt(c, "corrector");
+        if (k && k->i != 0 && k->i != 3 && k->i != 5 && k->i != 7 && k->i != 11 && k->i != 17)
+            return mote_call_fail(err, c, mote_call_opt_index(c, "corrector"), MOTE_EINVAL,
+                                  "integrator wh: corrector= must be 0, 3, 5, 7, 11 or 17 (the "
+                                  "orders of Wisdom, Holman and Touma's correctors), found %s",
+                                  k->text);
+        return MOTE_OK;
+    }
     const int taylor = strcmp(c->name, "integrator taylor") == 0;
     const char *name = taylor ? "taylor" : "galactica";
     const mote_arg *norm = mote_call_opt(c, "norm");
@@ -671,6 +681,14 @@ static int check_integrator(void *vm, const mote_call *c, mote_err *err)
 static int run_integrator(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
+    if (strcmp(c->name, "integrator wh") == 0) {
+        m->nb.integrator = MOTE_NB_WH;
+        m->nb.dt = nb_opt_real_or(c, "dt", m->nb.dt);
+        const mote_arg *k = mote_call_opt(c, "corrector");
+        m->nb.wh_corrector = k ? (int)k->i : 17;
+        m->nb.adaptive = 0;
+        return MOTE_OK;
+    }
     const int taylor = strcmp(c->name, "integrator taylor") == 0;
     m->nb.integrator = taylor ? MOTE_NB_TAYLOR : MOTE_NB_GALACTICA;
     m->nb.dt = nb_opt_real_or(c, "dt", m->nb.dt);
@@ -810,6 +828,9 @@ static const mote_cmd nb_commands[] = {
      "integrator taylor [dt=H] [order=P|auto] [tol=E] [memory=M] [safety=S] [hmin=A] "
      "[hmax=B] [norm=nearest|global]",
      "the general Taylor integrator of any order (spec 4.4)", HELP_INTEGRATOR,
+     check_integrator, run_integrator},
+    {"integrator wh", NULL, "dt=r>0 corrector=i[0,17]", "integrator wh [dt=H] [corrector=K]",
+     "the Wisdom-Holman symplectic map for planetary systems", HELP_INTEGRATOR,
      check_integrator, run_integrator},
     {"compensated", NULL, "e{on|off}", "compensated on|off", "compensated summation (default on)",
      HELP_COMPENSATED, NULL, run_compensated},

@@ -8,8 +8,9 @@
 
 int mote_nb_integrate(mote_nb *nb, uint64_t max_steps, mote_real t_end, mote_err *err)
 {
-    const int taylor = nb->integrator == MOTE_NB_TAYLOR;
-    int rc = taylor ? nb_taylor_check(nb, err) : nb_galactica_check(nb, err);
+    const int taylor = nb->integrator == MOTE_NB_TAYLOR, wh = nb->integrator == MOTE_NB_WH;
+    int rc = wh ? nb_wh_check(nb, err) : taylor ? nb_taylor_check(nb, err)
+                                                : nb_galactica_check(nb, err);
     if (!rc)
         rc = mote_nb_prepare(nb, err);
     nb_mpi_layout(nb);
@@ -26,6 +27,18 @@ int mote_nb_integrate(mote_nb *nb, uint64_t max_steps, mote_real t_end, mote_err
     if (!nb->ref_set)
         mote_nb_set_reference(nb);
     const int merge = nb_merging_on(nb);
+    if (wh) { /* one synchronised run of the map; merges and bounds checked where it ends */
+        rc = nb_wh_integrate(nb, max_steps, t_end, err);
+        if (!rc && nb_state_bounded(nb, NULL)) {
+            mote_err why = {0};
+            nb_state_bounded(nb, &why);
+            rc = mote_fail(err, MOTE_ERUNTIME, "integrate: the state stopped being finite by "
+                           "step %llu (t = %.17g): %s; nothing more is written (a smaller dt "
+                           "keeps a run finite)", (unsigned long long)nb->steps,
+                           (double)nb->T, why.msg);
+        }
+        return !rc && merge ? mote_nb_merge(nb, err) : rc;
+    }
     for (uint64_t s = 0; s < max_steps; s++) {
         mote_real rest = t_end < INFINITY ? t_end - nb->T : INFINITY;
         if (!(rest > 0))

@@ -105,6 +105,14 @@ int nb_galactica_check(const mote_nb *nb, mote_err *err);
 mote_real nb_galactica_step(mote_nb *nb, mote_real rest);
 int nb_taylor_check(mote_nb *nb, mote_err *err);
 mote_real nb_taylor_step(mote_nb *nb, mote_real rest);
+/* The Wisdom-Holman map (wh.c): its settings checked; at most max_steps steps of dt, the last
+ * shortened to end at t_end exactly, from the inertial state back to it (one synchronisation). */
+int nb_wh_check(const mote_nb *nb, mote_err *err);
+int nb_wh_integrate(mote_nb *nb, uint64_t max_steps, mote_real t_end, mote_err *err);
+/* Room for the map's state of every body (nb->wh_map; 0 when out of memory), and body i's 13
+ * reals there: Jacobi q (3), u (3), the synchronised x (3), v (3) and mass (state.c). */
+int nb_wh_reserve(mote_nb *nb);
+mote_real *nb_wh_map(const mote_nb *nb, uint32_t i);
 
 /* y += d with the compensation term *cs (Kahan: the rounding error of one addition is carried
  * into the next; cs = y - the true sum). `on` = 0: a plain addition. */

@@ -793,7 +793,16 @@ int nb_run_integrate(void *vm, const mote_call *c, mote_err *err)
         /* a chunk of steps to the next count observer; single steps where every step end is
          * looked at (time samplers, approaches); at most 1000, for progress */
         uint64_t chunk = mote_loop_count_stop(&l, m->nb.steps, n_end) - m->nb.steps;
-        if (by_time || m->appr.every)
+        if (m->appr.every)
+            chunk = 1;
+        else if (by_time && m->nb.integrator == MOTE_NB_WH) {
+            /* the map's steps up to the one that reaches the next sample (each stop
+             * synchronises it) */
+            const double next = mote_loop_next(&l);
+            const double left = (next - (double)m->nb.T) / (double)m->nb.dt;
+            const uint64_t to = left < 1 ? 1 : left < 1e15 ? (uint64_t)ceil(left) : chunk;
+            chunk = to < chunk ? to : chunk;
+        } else if (by_time)
             chunk = 1;
         if (chunk > 1000)
             chunk = 1000;

@@ -32,7 +32,10 @@ void nb_write_header(FILE *f, const mote_nb *nb)
                     nb->adaptive == MOTE_NB_NORM_GLOBAL ? "global" : "nearest");
         else
             fprintf(f, "# dt = %s\n", mote_real_str(nb->dt, b[0]));
-    } else
+    } else if (nb->integrator == MOTE_NB_WH)
+        fprintf(f, "# integrator = wh\n# corrector = %d\n# dt = %s\n", nb->wh_corrector,
+                mote_real_str(nb->dt, b[0]));
+    else
         fprintf(f, "# integrator = galactica\n# order = %d\n# dt = %s\n", nb->order,
                 mote_real_str(nb->dt, b[0]));
     fprintf(f, "# compensated = %d\n", nb->compensated);
@@ -155,6 +158,7 @@ int nb_snapshot_read(mote_nb *nb, const char *path, mote_err *err)
     int have[K_NREAL] = {0}, integ = MOTE_NB_GALACTICA, order = -1, taylor_adaptive = 0;
     unsigned long long n = 0, steps = 0, restart = 1, ref = 0, lsls = 0;
     int have_n = 0, have_ref = 0, compensated = nb->compensated, norm_global = 0;
+    int corrector = nb->wh_corrector;
     double units[7] = {0}; /* M_Ss Am kv kt G e2 permittivity */
     static const char *const UKEY[7] = {"M_Ss", "Am", "kv", "kt", "G", "e2", "permittivity"};
     char *s;
@@ -193,8 +197,16 @@ int nb_snapshot_read(mote_nb *nb, const char *path, mote_err *err)
             } else if (strcmp(key, "integrator") == 0) {
                 if (strcmp(val, "taylor") == 0)
                     integ = MOTE_NB_TAYLOR;
+                else if (strcmp(val, "wh") == 0)
+                    integ = MOTE_NB_WH;
                 else if (strcmp(val, "galactica") != 0)
-                    rc = bad(&r, "expected galactica or taylor after '# ", "integrator");
+                    rc = bad(&r, "expected galactica, taylor or wh after '# ", "integrator");
+            } else if (strcmp(key, "corrector") == 0) {
+                if (count_of(val, &u) || (u != 0 && u != 3 && u != 5 && u != 7 && u != 11 &&
+                                          u != 17))
+                    rc = bad(&r, "expected 0, 3, 5, 7, 11 or 17 after '# ", key);
+                else
+                    corrector = (int)u;
             } else if (strcmp(key, "N") == 0 || strcmp(key, "steps") == 0 ||
                        strcmp(key, "restart") == 0 || strcmp(key, "Lsls") == 0 ||
                        strcmp(key, "reference") == 0 || strcmp(key, "order") == 0 ||
@@ -313,6 +325,7 @@ int nb_snapshot_read(mote_nb *nb, const char *path, mote_err *err)
     }
     /* the integrator and its settings (the rest as they are in the script now) */
     t.integrator = integ;
+    t.wh_corrector = corrector;
     t.order = nb->order;
     t.taylor_order = nb->taylor_order;
     if (order >= 0 && integ == MOTE_NB_TAYLOR)

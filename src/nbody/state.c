@@ -13,7 +13,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define NB_STATE_VERSION 2 /* 2: a name ends each body line, a doubling line (1: neither) */
+#define NB_STATE_VERSION 3 /* 3: a wh line; 2: a name ends each body line, a doubling line
+                            * (1: neither) */
 
 #include "mote/statefile.h"
 
@@ -75,11 +76,15 @@ static const mote_sf_field STATE[] = {
     SF_R(NULL, "hlast", hlast),
     SF_I("scheme", "order", order, 2, 6), SF_I(NULL, "compensated", compensated, 0, 1),
     SF_I(NULL, "restart", restart, 0, 1), SF_U64(NULL, "steps", steps),
-    SF_I("taylor", "integrator", integrator, MOTE_NB_GALACTICA, MOTE_NB_TAYLOR),
+    SF_I("taylor", "integrator", integrator, MOTE_NB_GALACTICA, MOTE_NB_WH),
     SF_I(NULL, "order", taylor_order, 2, MOTE_NB_TAYLOR_MAX), SF_I(NULL, "memory", taylor_memory, 0, 2),
     SF_I(NULL, "adaptive", adaptive, 0, MOTE_NB_NORM_GLOBAL), SF_R(NULL, "tol", tol),
     SF_R(NULL, "safety", safety), SF_R(NULL, "hmin", hmin), SF_R(NULL, "hmax", hmax),
     SF_R(NULL, "hprev", hprev),
+    /* the Wisdom-Holman map's corrector, and whether a map follows the bodies (its step and
+     * corrector), from version 3 */
+    SF_IS(NULL, "wh_corrector", wh_corrector, 0, 17, 3), SF_IS(NULL, "wh_live", wh_live, 0, 1, 3),
+    SF_RS(NULL, "wh_h", wh_h, 3), SF_IS(NULL, "wh_k", wh_k, 0, 17, 3),
     /* Galactica's literal step rule (step=doubling), from version 2 */
     SF_IS("doubling", "on", doubling, 0, 1, 2), SF_IS(NULL, "have", dbl_have, 0, 1, 2),
     SF_IS(NULL, "count", dbl_count, 0, 4, 2), SF_RS(NULL, "dt_max", dt_max, 2),
@@ -116,6 +121,16 @@ static const mote_sf_field ROW[] = {
     {.name = "name", .type = MOTE_SF_WORD, .offset = offsetof(nb_row, name),
      .size = MOTE_NB_NAME, .since = 2},
 };
+/* a line of the Wisdom-Holman map (version 3, while wh_live): a body's Jacobi q and u */
+typedef struct {
+    mote_real q[3], u[3];
+} nb_maprow;
+static const mote_sf_field MAPROW[] = {
+    {.key = "", .name = "jq", .type = MOTE_SF_CODEC, .offset = offsetof(nb_maprow, q),
+     .count = 3, .codec = &REAL},
+    {.name = "ju", .type = MOTE_SF_CODEC, .offset = offsetof(nb_maprow, u), .count = 3,
+     .codec = &REAL},
+};
 #define COUNT(t) (sizeof t / sizeof t[0])
 
 void nb_state_put(FILE *f, const mote_nb *nb)
@@ -145,6 +160,15 @@ void nb_state_put(FILE *f, const mote_nb *nb)
         r.et = nb->et[i];
         memcpy(r.name, nb->name[i], MOTE_NB_NAME);
         mote_sf_write(f, ROW, COUNT(ROW), &r, NB_STATE_VERSION);
+    }
+    if (nb->wh_live && nb->wh_cap >= nb->n) { /* the Wisdom-Holman map's own state */
+        fprintf(f, "map: jqx jqy jqz jux juy juz\n");
+        for (uint32_t i = 0; i < nb->n; i++) {
+            nb_maprow r;
+            memcpy(r.q, nb_wh_map(nb, i), sizeof r.q);
+            memcpy(r.u, nb_wh_map(nb, i) + 3, sizeof r.u);
+            mote_sf_write(f, MAPROW, COUNT(MAPROW), &r, NB_STATE_VERSION);
+        }
     }
     fprintf(f, "end\n");
 }
@@ -253,7 +277,10 @@ int nb_state_get(mote_nb *nb, mote_lines *l, int tail, mote_err *err)
             rc = fail(l, err, "'bodies: ...' (the column names)", s);
     }
     /* mote_nb_add marks a restart and drops the reference: the file's values are put back after */
-    const int file_restart = t.restart, file_ref = t.ref_set;
+    const int file_restart = t.restart, file_ref = t.ref_set, file_live = t.wh_live;
+    mote_real *jqu = NULL; /* the map's q and u of each body, while live */
+    if (!rc && file_live && !(jqu = malloc(6 * (size_t)(h.n ? h.n : 1) * sizeof *jqu)))
+        rc = mote_fail(err, MOTE_ENOMEM, "%s: out of memory for %u bodies", path, h.n);
     const mote_real file_dtp = t.dtp;
     /* the bodies, counted as read: nothing is allocated for lines that are not there */
     for (uint32_t i = 0; i < h.n && !rc; i++) {
@@ -305,6 +332,24 @@ int nb_state_get(mote_nb *nb, mote_lines *l, int tail, mote_err *err)
             t.d5p[3 * i + a] = w.d5[a];
         }
     }
+    if (!rc && jqu) { /* the map: a line per body */
+        s = mote_lines_next(l);
+        if (!s || strncmp(s, "map:", 4) != 0)
+            rc = fail(l, err, "'map: ...' (wh_live is 1: the Wisdom-Holman map follows)", s);
+        for (uint32_t i = 0; i < h.n && !rc; i++) {
+            nb_maprow w;
+            s = mote_lines_next(l);
+            if (!s || strcmp(s, "end") == 0)
+                rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: file ends early: n = %u, but only %u "
+                               "map lines follow", path, s ? l->line : l->line + 1, h.n, i);
+            else if (mote_sf_parse_line(l, s, MAPROW, COUNT(MAPROW), &w, version, err))
+                rc = MOTE_EFORMAT;
+            else {
+                memcpy(jqu + 6 * (size_t)i, w.q, sizeof w.q);
+                memcpy(jqu + 6 * (size_t)i + 3, w.u, sizeof w.u);
+            }
+        }
+    }
     if (!rc) {
         s = mote_lines_next(l);
         if (!s || strcmp(s, "end") != 0)
@@ -312,10 +357,24 @@ int nb_state_get(mote_nb *nb, mote_lines *l, int tail, mote_err *err)
         else if (!tail && (s = mote_lines_next(l)) != NULL)
             rc = fail(l, err, "nothing after 'end'", s);
     }
+    if (!rc && jqu && !nb_wh_reserve(&t))
+        rc = mote_fail(err, MOTE_ENOMEM, "%s: out of memory for %u bodies", path, h.n);
     if (rc) {
+        free(jqu);
         mote_nb_free(&t);
         return rc;
     }
+    if (jqu) { /* the map as it was, with the bodies it was synchronised to */
+        for (uint32_t i = 0; i < t.n; i++) {
+            mote_real *p = nb_wh_map(&t, i);
+            memcpy(p, jqu + 6 * (size_t)i, 6 * sizeof *p);
+            memcpy(p + 6, t.x + 3 * (size_t)i, 3 * sizeof *p);
+            memcpy(p + 9, t.v + 3 * (size_t)i, 3 * sizeof *p);
+            p[12] = t.active[i] ? t.m[i] : 0;
+        }
+        free(jqu);
+    }
+    t.wh_live = file_live;
     t.restart = file_restart;
     t.ref_set = file_ref;
     if (l1_missing) { /* the first files have no L1: it is taken from the loaded state */

@@ -99,7 +99,8 @@ static void free_arrays(mote_nb *nb)
 {
     void *arr[] = {nb->m,   nb->q,  nb->c,      nb->w,   nb->x,   nb->v,    nb->xc,
                    nb->vc,  nb->ra, nb->sp,     nb->active, nb->d5p, nb->acc, nb->jerk,
-                   nb->d4,  nb->d5, nb->tx,     nb->ts,  nb->tf, nb->tg,  nb->et, nb->name};
+                   nb->d4,  nb->d5, nb->tx,     nb->ts,  nb->tf, nb->tg,  nb->et, nb->name,
+                   nb->wh_map};
     for (size_t k = 0; k < sizeof arr / sizeof arr[0]; k++)
         free(arr[k]);
 }
@@ -182,6 +183,7 @@ int mote_nb_add(mote_nb *nb, mote_real m, mote_real q, const mote_real x[3], con
     nb->dtp = 0; /* a new body: no valid previous fifth derivative, the next step restarts */
     nb->restart = 1;
     nb->ref_set = 0;
+    nb->wh_live = 0;
     return MOTE_OK;
 }
 
