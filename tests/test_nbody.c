@@ -1399,6 +1399,29 @@ static void test_wh(void)
     printf("  two bodies, e = 0.9, one period in 7 steps: max |x - x0| = %.2e\n", d);
     CHECK(d <= 1e-12 * ra, "the two-body orbit did not close: %.3e", d);
     mote_nb_free(&nb);
+    /* an unbound flyby (e > 1: the hyperbolic Stumpff functions) through its pericentre in 10
+     * steps, against the adaptive Taylor solution: the same to rounding (10^-12 of the scale) */
+    mote_nb fly[2];
+    for (int j = 0; j < 2; j++) {
+        mote_nb_init(&fly[j], MOTE_NB_GRAVITY);
+        const mote_real xf[3] = {-10, 1, 0}, vf[3] = {1, 0, 0.1};
+        CHECK(mote_nb_add(&fly[j], 1, 0, x0, v0, 0, &err) == 0 &&
+                  mote_nb_add(&fly[j], 1e-3, 0, xf, vf, 0, &err) == 0, "add: %s", err.msg);
+        mote_nb_barycentric(&fly[j], NULL, NULL);
+        fly[j].integrator = j ? MOTE_NB_TAYLOR : MOTE_NB_WH;
+        fly[j].dt = 2;
+        fly[j].wh_corrector = 17;
+        fly[j].adaptive = j;
+        fly[j].tol = 1e-16;
+        CHECK(mote_nb_integrate(&fly[j], UINT64_MAX, 20, &err) == 0, "flyby: %s", err.msg);
+    }
+    d = 0;
+    for (int c = 0; c < 6; c++)
+        d = fmax(d, fabs((double)(fly[0].x[c] - fly[1].x[c])));
+    printf("  hyperbolic flyby in 10 steps against Taylor: max |x - x_taylor| = %.2e\n", d);
+    CHECK(d <= 1e-11, "the flyby differs from the Taylor solution by %.3e", d);
+    mote_nb_free(&fly[0]);
+    mote_nb_free(&fly[1]);
 
     /* second order in the step: 10^3 years, steps of 0.5 and 0.25 years (T in sidereal
      * centuries) */

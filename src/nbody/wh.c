@@ -94,77 +94,82 @@ static void stumpff(const mote_real *ifact, mote_real z, mote_real c[4])
     c[3] = c3;
 }
 
-/* The Kepler flow of (r, v) about mu for a time h: Kepler's equation in the universal variable X,
- * h = r0 X + eta0 G2 + zeta0 G3 with G_k = X^k c_k(beta X^2), beta = 2 mu / r0 - v^2, solved by
- * Halley's iteration from X = h / r0 - h^2 eta0 / (2 r0^3), kept inside a bracket (dX/dt = 1/r
- * lies between 1/r_max and 1/r_p: X between 0 and h / r_p, with r_p = L^2 / (mu + sqrt(mu^2 -
- * beta L^2)) the pericentre distance) by bisection where it would leave it; a bound orbit's h
- * is first reduced by whole periods. Then the f and g functions. Returns 0, or -1 when the
- * iteration did not converge (the state is left unchanged). */
+/* Kepler's equation in the universal variable: h = r0 X + eta0 G2 + zeta0 G3 with G_k =
+ * X^k c_k(beta X^2). */
+typedef struct {
+    mote_real r0, eta0, zeta0, beta, h;
+    mote_real G1, G2, G3, rn; /* at the solution; rn = r0 + eta0 G1 + zeta0 G2 */
+} kep_eq;
+
+/* Halley's iteration from X, at most `iters` steps, kept inside [lo, hi] by bisection where
+ * bracket is set; 1 when |dX| fell to the rounding of X (the G's then those of the X before
+ * the last correction, which differ from the final X's by that rounding), else 0. */
+static int halley(const mote_real *ifact, kep_eq *k, mote_real X, int iters, int bracket,
+                  mote_real lo, mote_real hi)
+{
+    mote_real c[4];
+    for (int it = 0; it < iters; it++) {
+        const mote_real X2 = X * X;
+        stumpff(ifact, k->beta * X2, c);
+        k->G1 = X * c[1];
+        k->G2 = X2 * c[2];
+        k->G3 = X2 * X * c[3];
+        const mote_real f = k->r0 * X + k->eta0 * k->G2 + k->zeta0 * k->G3 - k->h;
+        k->rn = k->r0 + k->eta0 * k->G1 + k->zeta0 * k->G2;
+        const mote_real fpp = k->eta0 * c[0] + k->zeta0 * k->G1;
+        mote_real dX = -f / (k->rn - (mote_real)0.5 * f / k->rn * fpp);
+        if (bracket) {
+            if (f < 0)
+                lo = X;
+            else if (f > 0)
+                hi = X;
+            if (!(X + dX > lo && X + dX < hi))
+                dX = (lo + hi) / 2 - X; /* bisect */
+        }
+        X += dX;
+        if (!(fabs(dX) > 4 * REAL_EPS * fabs(X)))
+            return k->rn > 0;
+        if (!isfinite(X))
+            return 0;
+    }
+    return 0;
+}
+
+/* The Kepler flow of (r, v) about mu for a time h: Kepler's equation solved by Halley's
+ * iteration from X = h / r0 - h^2 eta0 / (2 r0^3); where 8 steps do not converge (long steps,
+ * near-radial or fast orbits) a bound orbit's h is reduced by whole periods and the iteration
+ * kept inside a bracket (dX/dt = 1/r: X between 0 and h / r_p, with r_p = L^2 / (mu + sqrt(mu^2
+ * - beta L^2)) the pericentre distance) by bisection. Then the f and g functions. Returns 0, or
+ * -1 when the iteration did not converge (the state is left unchanged). */
 static int kepler(const mote_real *ifact, mote_real *r, mote_real *v, mote_real mu, mote_real h)
 {
     const mote_real r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
     const mote_real r0 = sqrt(r2), ir0 = 1 / r0;
     const mote_real eta0 = r[0] * v[0] + r[1] * v[1] + r[2] * v[2];
     const mote_real v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-    const mote_real beta = 2 * mu * ir0 - v2, zeta0 = mu - beta * r0;
-    if (beta > 0) { /* bound: whole periods 2 pi mu / beta^(3/2) change nothing */
-        const mote_real P = 8 * atan((mote_real)1) * mu / (beta * sqrt(beta));
-        if (fabs(h) > P)
-            h -= P * trunc(h / P);
-    }
-    mote_real X = h * ir0 * (1 - (mote_real)0.5 * h * eta0 * ir0 * ir0);
-    /* the bracket of X */
-    const mote_real L2 = r2 * v2 - eta0 * eta0;
-    const mote_real disc = mu * mu - beta * (L2 > 0 ? L2 : 0);
-    const mote_real rp = L2 > 0 ? L2 / (mu + sqrt(disc > 0 ? disc : 0)) : 0;
-    mote_real lo = h >= 0 ? 0 : rp > 0 ? h / rp : -INFINITY;
-    mote_real hi = h >= 0 ? (rp > 0 ? h / rp : INFINITY) : 0;
-    if (!(X > lo && X < hi))
-        X = isfinite(lo) && isfinite(hi) ? (lo + hi) / 2 : h * ir0;
-    mote_real c[4], G1 = 0, G2 = 0, G3 = 0, rn = r0, dX = 0;
-    int it;
-    for (it = 0; it < 100; it++) {
-        const mote_real X2 = X * X;
-        stumpff(ifact, beta * X2, c);
-        G1 = X * c[1];
-        G2 = X2 * c[2];
-        G3 = X2 * X * c[3];
-        const mote_real f = r0 * X + eta0 * G2 + zeta0 * G3 - h;
-        rn = r0 + eta0 * G1 + zeta0 * G2;
-        if (f < 0)
-            lo = X;
-        else if (f > 0)
-            hi = X;
-        const mote_real fpp = eta0 * c[0] + zeta0 * G1;
-        const mote_real dn = -f / rn;
-        dX = -f / (rn + (mote_real)0.5 * dn * fpp);
-        mote_real Xn = X + dX;
-        if (!(Xn > lo && Xn < hi) && isfinite(lo) && isfinite(hi)) { /* bisect */
-            Xn = (lo + hi) / 2;
-            dX = Xn - X;
+    const mote_real beta = 2 * mu * ir0 - v2;
+    kep_eq k = {r0, eta0, mu - beta * r0, beta, h, 0, 0, 0, 0};
+    const mote_real X0 = h * ir0 * (1 - (mote_real)0.5 * h * eta0 * ir0 * ir0);
+    if (!halley(ifact, &k, X0, 8, 0, 0, 0)) {
+        if (beta > 0) { /* bound: whole periods 2 pi mu / beta^(3/2) change nothing */
+            const mote_real P = 8 * atan((mote_real)1) * mu / (beta * sqrt(beta));
+            if (fabs(h) > P)
+                k.h = h - P * trunc(h / P);
         }
-        X = Xn;
-        if (!(fabs(dX) > 4 * REAL_EPS * fabs(X)))
-            break;
-    }
-    /* converged: the last correction at the rounding of X, and the G's of the X before it
-     * (they differ from those of the final X by that rounding); else, within 1e-8 after
-     * the 100 iterations of rounding noise, the G's at X */
-    if (it == 100) {
-        if (!(fabs(dX) <= (mote_real)1e-8 * fabs(X)))
+        const mote_real L2 = r2 * v2 - eta0 * eta0;
+        const mote_real disc = mu * mu - beta * (L2 > 0 ? L2 : 0);
+        const mote_real rp = L2 > 0 ? L2 / (mu + sqrt(disc > 0 ? disc : 0)) : 0;
+        const mote_real lo = k.h >= 0 ? 0 : rp > 0 ? k.h / rp : -INFINITY;
+        const mote_real hi = k.h >= 0 ? (rp > 0 ? k.h / rp : INFINITY) : 0;
+        const int bracket = isfinite(lo) && isfinite(hi);
+        mote_real X = k.h * ir0;
+        if (bracket && !(X > lo && X < hi))
+            X = (lo + hi) / 2;
+        if (!halley(ifact, &k, X, 200, bracket, lo, hi))
             return -1;
-        const mote_real X2 = X * X;
-        stumpff(ifact, beta * X2, c);
-        G1 = X * c[1];
-        G2 = X2 * c[2];
-        G3 = X2 * X * c[3];
-        rn = r0 + eta0 * G1 + zeta0 * G2;
     }
-    if (!(rn > 0))
-        return -1;
-    const mote_real fm1 = -mu * G2 * ir0, g = h - mu * G3;
-    const mote_real fd = -mu * G1 * ir0 / rn, gdm1 = -mu * G2 / rn;
+    const mote_real fm1 = -mu * k.G2 * ir0, g = k.h - mu * k.G3;
+    const mote_real fd = -mu * k.G1 * ir0 / k.rn, gdm1 = -mu * k.G2 / k.rn;
     for (int a = 0; a < 3; a++) {
         const mote_real ra = r[a], va = v[a];
         r[a] = ra + (fm1 * ra + g * va);
