@@ -61,7 +61,7 @@ expect 2 "s8.mote:2:1: error: nan.state:14: body 1: expected 23 numbers" s8.mote
 awk 'NR == 14 { $24 = "9lives" } { print }' c1.state > badname.state
 expect 2 "s8b.mote:2:1: error: badname.state:14: body 1: expected 23 numbers (m q active radius x y z vx vy vz cx cy cz cvx cvy cvz sx sy sz d5x d5y d5z Et), all finite, and a name or -" s8b.mote "${G}load badname.state\n"
 # a state file of the first version (no names) still loads, to the same run
-awk '/^mote-state/ { print "mote-state 1"; next } /^doubling / { next } /^taylor / { NF -= 4 } / -$/ { sub(/ -$/, "") } { print }' c1.state > v1.state
+awk '/^mote-state/ { print "mote-state 1"; next } /^doubling / { next } /^taylor / { NF -= 5 } / -$/ { sub(/ -$/, "") } { print }' c1.state > v1.state
 printf '%bload v1.state\nsave v1b.state\n' "$G" > s8c.mote
 "$MOTE" run s8c.mote > /dev/null 2>&1 && cmp -s c1.state v1b.state && ok || bad "a version-1 state did not load to the same state"
 sed 's/^n 30$/n -1/' c1.state > neg.state
@@ -342,6 +342,13 @@ printf '%b%b\nintegrate to=0.0123\nsave w2.state\n' "$G" "$W" > w2.mote
 "$MOTE" run w2.mote > w.out 2>&1 && grep -q '^time 0.0123 ' w2.state && ! grep -q '^map: ' w2.state && ok || bad "wh: to= inside a step: $(cat w.out; grep '^time\|^wh ' w2.state)"
 expect 1 "w3.mote:2:32: error: integrator wh: corrector= must be 0, 3, 5, 7, 11 or 17 (the orders of Wisdom, Holman and Touma's correctors), found 4" w3.mote "${G}integrator wh dt=0.1 corrector=4\n"
 expect 2 "w4.mote:5:1: error: integrator wh: the Wisdom-Holman map is for gravity (this system is Coulomb): use taylor or galactica" w4.mote "${C}body mass=1 charge=1\nbody mass=1 charge=-1 x=1 vy=1\nintegrator wh dt=0.01\nintegrate steps=2\n"
+# softening: kept by save/load and snapshots, refused below 0 and with the wh map
+printf '%bgenerate plummer n=20 seed=2\nsoftening eps=0.1\nintegrator taylor\nintegrate steps=20\nsave sf1.state\n' "$G" > sf1.mote
+printf '%bgenerate plummer n=20 seed=2\nsoftening eps=0.1\nintegrator taylor\nintegrate steps=10\nsave sf2m.state\nsoftening eps=0\nload sf2m.state\nintegrate steps=10\nsave sf2.state\nwrite snapshot file=sf.snap\n' "$G" > sf2.mote
+"$MOTE" run sf1.mote > sf.out 2>&1 && "$MOTE" run sf2.mote >> sf.out 2>&1 && cmp -s sf1.state sf2.state && ok || bad "softening: save/load changed the run: $(cat sf.out)"
+grep -q '^# softening = 0.10000000000000001$' sf.snap && ok || bad "softening: not in the snapshot's header"
+expect 1 "sf3.mote:2:15: error: softening: eps must be >= 0, found -1" sf3.mote "${G}softening eps=-1\n"
+expect 2 "sf4.mote:5:1: error: integrator wh: the map's Kepler drifts are those of point masses" sf4.mote "${G}generate plummer n=5\nsoftening eps=0.1\nintegrator wh dt=0.01\nintegrate steps=2\n"
 # Galactica's scheme with the adaptive step (spec 4.5, Kl4 = 2/3): one ring period within T05's
 # bounds (error <= 1e-12, |dE| <= 1e-13) in fewer than a third of the fixed step's 10 000 steps
 printf '%bgenerate ring\nintegrator galactica dt=1e-6 tol=1e-14\nintegrate to=0.009995788296740863\ncheck ring\n' "$G" > ga.mote

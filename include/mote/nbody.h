@@ -175,6 +175,9 @@ typedef struct {
      * theta (the tree is scratch, rebuilt every step) */
     int tree_on;
     mote_real theta;
+    /* Plummer softening (issue 37): every pair's r^2 is r^2 + soft^2 in the forces, their
+     * derivatives and the potential energy (0: none) */
+    mote_real soft;
     int tree_used;          /* some step of this run used the tree (outputs say so) */
     /* MPI (spec 6.3): this rank's bodies lo ... hi - 1 (all: 0 ... n - 1 on one process) */
     int mpi_rank, mpi_size;

@@ -735,6 +735,12 @@ static int run_compensated(void *vm, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
+static int run_softening(void *vm, const mote_call *c, mote_err *err)
+{
+    ((nb_model *)vm)->nb.soft = nb_opt_real_or(c, "eps", 0);
+    return MOTE_OK;
+}
+
 /* forces direct (spec 6.1); the tree of spec 6.2 belongs to the large-N work */
 static int check_forces(void *vm, const mote_call *c, mote_err *err)
 {
@@ -832,6 +838,9 @@ static const mote_cmd nb_commands[] = {
     {"integrator wh", NULL, "dt=r>0 corrector=i[0,17]", "integrator wh [dt=H] [corrector=K]",
      "the Wisdom-Holman symplectic map for planetary systems", HELP_INTEGRATOR,
      check_integrator, run_integrator},
+    {"softening", NULL, "eps=r>=0!", "softening eps=E",
+     "Plummer softening of every pair's force and potential energy", HELP_SOFTENING, NULL,
+     run_softening},
     {"compensated", NULL, "e{on|off}", "compensated on|off", "compensated summation (default on)",
      HELP_COMPENSATED, NULL, run_compensated},
     {"forces", NULL, "e{direct|tree} theta=r>=0", "forces direct|tree [theta=T]",

@@ -35,6 +35,7 @@ static int all_active(const mote_nb *nb)
 typedef struct {
     const mote_real *x, *v, *A, *J, *w;
     const uint8_t *active;
+    mote_real e2; /* the softening squared */
 } nb_src;
 
 /* Pass 1 for the target at xi, vi over the sources k0 <= k < k1: the sums of A0 and A1. */
@@ -44,7 +45,7 @@ static inline void pass1_range(const nb_src *s, int all, const mote_real *xi, co
     const mote_real *x = s->x, *v = s->v, *w = s->w;
     for (uint32_t k = k0; k < k1; k++)
         if (all || s->active[k])
-            nb_pair1(xi, vi, x + 3 * (size_t)k, v + 3 * (size_t)k, w[k], a, j);
+            nb_pair1(xi, vi, x + 3 * (size_t)k, v + 3 * (size_t)k, w[k], s->e2, a, j);
 }
 
 #if MOTE_NB_PRECISION == 1 && defined(__SSE2__)
@@ -75,7 +76,7 @@ static inline void pass1_sse2(const nb_src *s, const double *xi, const double *v
         VI[c] = _mm_set1_pd(vi[c]);
         SA[c] = SJ[c] = _mm_setzero_pd();
     }
-    const __m128d one = _mm_set1_pd(1), three = _mm_set1_pd(3);
+    const __m128d one = _mm_set1_pd(1), three = _mm_set1_pd(3), E2 = _mm_set1_pd(s->e2);
     uint32_t k = k0;
     for (; k + 1 < k1; k += 2) {
         __m128d r[3], u[3];
@@ -85,8 +86,10 @@ static inline void pass1_sse2(const nb_src *s, const double *xi, const double *v
             r[c] = _mm_sub_pd(XI[c], r[c]);
             u[c] = _mm_sub_pd(VI[c], u[c]);
         }
-        __m128d r2 = _mm_add_pd(_mm_add_pd(_mm_mul_pd(r[0], r[0]), _mm_mul_pd(r[1], r[1])),
-                                _mm_mul_pd(r[2], r[2]));
+        __m128d r2 = _mm_add_pd(
+            _mm_add_pd(_mm_add_pd(_mm_mul_pd(r[0], r[0]), _mm_mul_pd(r[1], r[1])),
+                       _mm_mul_pd(r[2], r[2])),
+            E2);
         __m128d i2 = _mm_div_pd(one, r2);
         __m128d wr3 = _mm_mul_pd(_mm_mul_pd(_mm_loadu_pd(w + k), i2), _mm_sqrt_pd(i2));
         __m128d ru = _mm_add_pd(_mm_add_pd(_mm_mul_pd(r[0], u[0]), _mm_mul_pd(r[1], u[1])),
@@ -119,7 +122,8 @@ static void pass1_target(mote_nb *nb, int all, uint32_t i)
         return;
     }
     if (nb->active[i]) {
-        const nb_src src = {nb->x, nb->v, nb->acc, nb->jerk, nb->w, nb->active};
+        const nb_src src = {nb->x, nb->v, nb->acc, nb->jerk, nb->w, nb->active,
+                            nb->soft * nb->soft};
         const mote_real *xi = nb->x + 3 * (size_t)i, *vi = nb->v + 3 * (size_t)i;
 #ifdef NB_SSE2
         if (all) {
@@ -190,7 +194,7 @@ static inline void pass2_range(const nb_src *s, int all, const mote_real *const 
         if (!all && !s->active[k])
             continue;
         const size_t o = 3 * (size_t)k;
-        nb_pair2(xi, vi, ai, ji, x + o, v + o, A + o, J + o, w[k], s4, s5);
+        nb_pair2(xi, vi, ai, ji, x + o, v + o, A + o, J + o, w[k], s->e2, s4, s5);
     }
 }
 
@@ -215,7 +219,7 @@ static inline void pass2_sse2(const nb_src *s, const double *const t[4], uint32_
         S4[c] = S5[c] = _mm_setzero_pd();
     }
     const __m128d one = _mm_set1_pd(1), three = _mm_set1_pd(3), four = _mm_set1_pd(4),
-                  six = _mm_set1_pd(6), nine = _mm_set1_pd(9);
+                  six = _mm_set1_pd(6), nine = _mm_set1_pd(9), E2 = _mm_set1_pd(s->e2);
     uint32_t k = k0;
     for (; k + 1 < k1; k += 2) {
         const size_t o = 3 * (size_t)k;
@@ -230,7 +234,7 @@ static inline void pass2_sse2(const nb_src *s, const double *const t[4], uint32_
             ac[c] = _mm_sub_pd(AI[c], ac[c]);
             jc[c] = _mm_sub_pd(JI[c], jc[c]);
         }
-        __m128d r2 = dot3(r, r);
+        __m128d r2 = _mm_add_pd(dot3(r, r), E2);
         __m128d i2 = _mm_div_pd(one, r2);
         __m128d wr3 = _mm_mul_pd(_mm_mul_pd(_mm_loadu_pd(w + k), i2), _mm_sqrt_pd(i2));
         __m128d rv = dot3(r, u), vv = dot3(u, u), ra = dot3(r, ac), va = dot3(u, ac),
@@ -288,9 +292,10 @@ static void visit(uint32_t k, int cell, void *arg)
     const mote_real w = cell ? nb_tree_weight(nb, k) : nb->w[k];
     if (q->second)
         nb_pair2(nb->x + oi, nb->v + oi, nb->acc + oi, nb->jerk + oi, src[0] + o, src[1] + o,
-                 src[2] + o, src[3] + o, w, q->s[0], q->s[1]);
+                 src[2] + o, src[3] + o, w, nb->soft * nb->soft, q->s[0], q->s[1]);
     else
-        nb_pair1(nb->x + oi, nb->v + oi, src[0] + o, src[1] + o, w, q->s[0], q->s[1]);
+        nb_pair1(nb->x + oi, nb->v + oi, src[0] + o, src[1] + o, w, nb->soft * nb->soft, q->s[0],
+                 q->s[1]);
 }
 
 /* The list's sources gathered into contiguous arrays in list order, then summed by the direct
@@ -322,7 +327,7 @@ static void tree_target(mote_nb *nb, uint32_t i, int second, mote_real *out0, mo
             w[k] = isc ? nb_tree_weight(nb, sidx) : nb->w[sidx];
         }
         const nb_src gs = {g, g + 3 * n, second ? g + 6 * n : NULL, second ? g + 9 * n : NULL, w,
-                           NULL};
+                           NULL, nb->soft * nb->soft};
         const mote_real *const t[4] = {nb->x + oi, nb->v + oi, nb->acc + oi, nb->jerk + oi};
 #ifdef NB_SSE2
         if (second)
@@ -355,7 +360,8 @@ static void pass2_target(mote_nb *nb, int all, uint32_t i)
         return;
     }
     if (nb->active[i]) {
-        const nb_src src = {nb->x, nb->v, nb->acc, nb->jerk, nb->w, nb->active};
+        const nb_src src = {nb->x, nb->v, nb->acc, nb->jerk, nb->w, nb->active,
+                            nb->soft * nb->soft};
         const size_t oi = 3 * (size_t)i;
         const mote_real *const t[4] = {nb->x + oi, nb->v + oi, nb->acc + oi, nb->jerk + oi};
 #ifdef NB_SSE2

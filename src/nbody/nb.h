@@ -211,13 +211,16 @@ const uint32_t *nb_tree_order(const mote_nb *nb, uint32_t *count);
 size_t nb_tree_list(const mote_nb *nb, uint32_t i, uint32_t **src, size_t *cap);
 
 /* The pair terms of the Galactica scheme's passes (spec 4.2) for target i and source k: pass 1
- * adds A0 and A1 to a and j; pass 2 adds A2 and A3 to s4 and s5 (w: the source's weight). */
+ * adds A0 and A1 to a and j; pass 2 adds A2 and A3 to s4 and s5 (w: the source's weight; e2 the
+ * softening squared, added to r^2: the derivatives of s = r^2 + e2 are those of r^2, so the
+ * terms keep their form). */
 static inline void nb_pair1(const mote_real *xi, const mote_real *vi, const mote_real *xk,
-                            const mote_real *vk, mote_real w, mote_real a[3], mote_real j[3])
+                            const mote_real *vk, mote_real w, mote_real e2, mote_real a[3],
+                            mote_real j[3])
 {
     mote_real r[3] = {xi[0] - xk[0], xi[1] - xk[1], xi[2] - xk[2]};
     mote_real u[3] = {vi[0] - vk[0], vi[1] - vk[1], vi[2] - vk[2]};
-    mote_real r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+    mote_real r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2] + e2;
     mote_real i2 = 1 / r2, wr3 = w * i2 * sqrt(i2);
     mote_real alpha = (r[0] * u[0] + r[1] * u[1] + r[2] * u[2]) * i2;
     for (int c = 0; c < 3; c++) {
@@ -230,7 +233,7 @@ static inline void nb_pair1(const mote_real *xi, const mote_real *vi, const mote
 static inline void nb_pair2(const mote_real *xi, const mote_real *vi, const mote_real *ai,
                             const mote_real *ji, const mote_real *xk, const mote_real *vk,
                             const mote_real *ak, const mote_real *jk, mote_real w,
-                            mote_real s4[3], mote_real s5[3])
+                            mote_real e2, mote_real s4[3], mote_real s5[3])
 {
     mote_real r[3], u[3], ac[3], jc[3];
     for (int c = 0; c < 3; c++) {
@@ -239,7 +242,7 @@ static inline void nb_pair2(const mote_real *xi, const mote_real *vi, const mote
         ac[c] = ai[c] - ak[c];
         jc[c] = ji[c] - jk[c];
     }
-    mote_real r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+    mote_real r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2] + e2;
     mote_real i2 = 1 / r2, wr3 = w * i2 * sqrt(i2);
     mote_real rv = r[0] * u[0] + r[1] * u[1] + r[2] * u[2];
     mote_real vv = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];

@@ -39,6 +39,10 @@ void nb_write_header(FILE *f, const mote_nb *nb)
         fprintf(f, "# integrator = galactica\n# order = %d\n# dt = %s\n", nb->order,
                 mote_real_str(nb->dt, b[0]));
     fprintf(f, "# compensated = %d\n", nb->compensated);
+    if (nb->soft > 0) {
+        char e[MOTE_REAL_BUF];
+        fprintf(f, "# softening = %s\n", mote_real_str(nb->soft, e));
+    }
     if (nb->tree_on) {
         char t[MOTE_REAL_BUF];
         fprintf(f, "# forces = tree\n# theta = %s\n# approximate: Barnes-Hut tree forces (spec "
@@ -159,6 +163,7 @@ int nb_snapshot_read(mote_nb *nb, const char *path, mote_err *err)
     unsigned long long n = 0, steps = 0, restart = 1, ref = 0, lsls = 0;
     int have_n = 0, have_ref = 0, compensated = nb->compensated, norm_global = 0;
     int corrector = nb->wh_corrector;
+    mote_real soft = nb->soft;
     double units[7] = {0}; /* M_Ss Am kv kt G e2 permittivity */
     static const char *const UKEY[7] = {"M_Ss", "Am", "kv", "kt", "G", "e2", "permittivity"};
     char *s;
@@ -201,6 +206,11 @@ int nb_snapshot_read(mote_nb *nb, const char *path, mote_err *err)
                     integ = MOTE_NB_WH;
                 else if (strcmp(val, "galactica") != 0)
                     rc = bad(&r, "expected galactica, taylor or wh after '# ", "integrator");
+            } else if (strcmp(key, "softening") == 0) {
+                if (real_of(val, &x) || !(x >= 0))
+                    rc = bad(&r, "expected a number >= 0 after '# ", key);
+                else
+                    soft = x;
             } else if (strcmp(key, "corrector") == 0) {
                 if (count_of(val, &u) || (u != 0 && u != 3 && u != 5 && u != 7 && u != 11 &&
                                           u != 17))
@@ -326,6 +336,7 @@ int nb_snapshot_read(mote_nb *nb, const char *path, mote_err *err)
     /* the integrator and its settings (the rest as they are in the script now) */
     t.integrator = integ;
     t.wh_corrector = corrector;
+    t.soft = soft;
     t.order = nb->order;
     t.taylor_order = nb->taylor_order;
     if (order >= 0 && integ == MOTE_NB_TAYLOR)

@@ -85,6 +85,7 @@ static const mote_sf_field STATE[] = {
      * corrector), from version 3 */
     SF_IS(NULL, "wh_corrector", wh_corrector, 0, 17, 3), SF_IS(NULL, "wh_live", wh_live, 0, 1, 3),
     SF_RS(NULL, "wh_h", wh_h, 3), SF_IS(NULL, "wh_k", wh_k, 0, 17, 3),
+    SF_RS(NULL, "softening", soft, 3),
     /* Galactica's literal step rule (step=doubling), from version 2 */
     SF_IS("doubling", "on", doubling, 0, 1, 2), SF_IS(NULL, "have", dbl_have, 0, 1, 2),
     SF_IS(NULL, "count", dbl_count, 0, 4, 2), SF_RS(NULL, "dt_max", dt_max, 2),

@@ -382,7 +382,7 @@ void mote_nb_measure(const mote_nb *nb, mote_nb_monitor *mon)
                 continue;
             const mote_real *y = nb->x + 3 * (size_t)k;
             mote_real d0 = x[0] - y[0], d1 = x[1] - y[1], d2 = x[2] - y[2];
-            mote_real r = sqrt(d0 * d0 + d1 * d1 + d2 * d2);
+            mote_real r = sqrt(d0 * d0 + d1 * d1 + d2 * d2 + nb->soft * nb->soft);
             if (nb->kind == MOTE_NB_GRAVITY)
                 nb_ksum_add(&u, -m * nb->m[k] / r);
             else

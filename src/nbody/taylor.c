@@ -27,7 +27,7 @@
  * doubled; the sums run on two accumulators (even and odd j), which shortens the chain of
  * dependent additions. */
 static inline void sf_order(int n, mote_real (*R)[3], mote_real *s, mote_real *f,
-                            mote_real f0inv)
+                            mote_real f0inv, mote_real e2)
 {
     mote_real s0 = 0, s1 = 0;
     int j = 0;
@@ -42,7 +42,9 @@ static inline void sf_order(int n, mote_real (*R)[3], mote_real *s, mote_real *f
     if (n % 2 == 0) /* the middle term j = n/2 once */
         sn += R[n / 2][0] * R[n / 2][0] + R[n / 2][1] * R[n / 2][1] + R[n / 2][2] * R[n / 2][2];
     s[n] = sn;
-    if (n == 0) {
+    if (n == 0) { /* the softening enters s^[0] only: s = |R|^2 + e2 */
+        sn += e2;
+        s[0] = sn;
         f[0] = 1.0 / (sn * sqrt(sn));
         return;
     }
@@ -80,10 +82,10 @@ static inline void pair_G(mote_nb *nb, const mote_real *X, size_t blk, uint32_t 
         from = n0;
     }
     if (from == 0)
-        sf_order(0, R, s, f, 0);
+        sf_order(0, R, s, f, 0, nb->soft * nb->soft);
     const mote_real f0inv = 1 / s[0];
     for (int n = from > 0 ? from : 1; n <= n1; n++)
-        sf_order(n, R, s, f, f0inv);
+        sf_order(n, R, s, f, f0inv, 0);
     if (store)
         for (int n = n0; n <= n1; n++) {
             nb->ts[(size_t)n * npairs + q] = s[n];
@@ -264,10 +266,10 @@ static void tree_visit(uint32_t k, int cell, void *arg)
     for (int j = 0; j <= q->n1; j++)
         for (int a = 0; a < 3; a++)
             R[j][a] = q->X[j * q->blk + 3 * q->i + a] - S[j * sb + 3 * (size_t)k + a];
-    sf_order(0, R, s, f, 0);
+    sf_order(0, R, s, f, 0, q->nb->soft * q->nb->soft);
     const mote_real f0inv = 1 / s[0];
     for (int n = 1; n <= q->n1; n++)
-        sf_order(n, R, s, f, f0inv);
+        sf_order(n, R, s, f, f0inv, 0);
     const mote_real w = cell ? nb_tree_weight(q->nb, k) : q->nb->w[k];
     for (int n = q->n0; n <= q->n1; n++) {
         mote_real g[3] = {0, 0, 0};

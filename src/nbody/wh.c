@@ -391,6 +391,10 @@ int nb_wh_check(const mote_nb *nb, mote_err *err)
     if (nb->tree_on)
         return mote_fail(err, MOTE_EINVAL, "integrator wh: the map sums its interaction directly "
                                            "(forces tree is for the Taylor integrators)");
+    if (nb->soft > 0)
+        return mote_fail(err, MOTE_EINVAL, "integrator wh: the map's Kepler drifts are those of "
+                                           "point masses: softening is for taylor or galactica "
+                                           "(softening eps=0 turns it off)");
     return MOTE_OK;
 }
 
