@@ -1259,6 +1259,39 @@ static void test_tree(void)
     }
     CHECK(da <= 1e-13 * amax, "2 x^[2] through the tree differs from the tree's acceleration by "
           "%.3g of the largest", da / amax);
+
+    /* softened (issue 37): at theta 0 the tree gives the direct softened derivatives and Taylor
+     * coefficients, which differ from the unsoftened ones */
+    nb.soft = 0.05;
+    nb.tree_on = 0;
+    CHECK(mote_nb_derivatives(&nb, &err) == MOTE_OK, "%s", err.msg);
+    mote_real *sd = malloc(6 * blk * sizeof *sd);
+    memcpy(sd, nb.acc, blk * sizeof *sd);
+    memcpy(sd + blk, nb.d5, blk * sizeof *sd);
+    CHECK(mote_nb_taylor_coefficients(&nb, p, 0, Xd) == MOTE_OK, "direct coefficients");
+    nb.tree_on = 1;
+    nb.theta = 0;
+    CHECK(mote_nb_derivatives(&nb, &err) == MOTE_OK, "%s", err.msg);
+    CHECK(mote_nb_taylor_coefficients(&nb, p, 0, Xt) == MOTE_OK, "tree coefficients");
+    double ds = 0, d5s = 0, dsoft = 0, s5m = 0, dco = 0, sco = 0;
+    for (size_t k = 0; k < blk; k++) {
+        ds = fmax(ds, fabs((double)(nb.acc[k] - sd[k])));
+        d5s = fmax(d5s, fabs((double)(nb.d5[k] - sd[blk + k])));
+        s5m = fmax(s5m, fabs((double)sd[blk + k]));
+        dsoft = fmax(dsoft, fabs((double)sd[k] - ref[k]));
+        for (int o = 2; o <= p; o++) {
+            dco = fmax(dco, fabs((double)(Xt[o * blk + k] - Xd[o * blk + k])));
+            sco = fmax(sco, fabs((double)Xd[o * blk + k]));
+        }
+    }
+    printf("  softened (eps 0.05), theta 0 against direct: acceleration %.3g, fifth derivative "
+           "%.3g, Taylor coefficients %.3g of their largest; the softening moved the "
+           "acceleration by %.3g\n", ds / amax, d5s / s5m, dco / sco, dsoft / amax);
+    CHECK(ds <= 1e-13 * amax && d5s <= 1e-12 * s5m && dco <= 1e-12 * sco,
+          "softened tree at theta 0: %.3g %.3g %.3g", ds / amax, d5s / s5m, dco / sco);
+    CHECK(dsoft > 1e-3 * amax, "the softening did not change the forces (%.3g)", dsoft / amax);
+    nb.soft = 0;
+    free(sd);
     free(Xd);
     free(Xt);
     /* mixed charges are refused */
