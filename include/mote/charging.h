@@ -149,6 +149,8 @@ typedef struct {
     int see_angle;              /* 0 none, 1 sec (the universal law's angular form) */
     double ion_dmax, ion_emax;  /* the ion-impact yield (0: none), keV */
     double kT_ph;               /* photoelectrons' temperature, eV */
+    double Z;                   /* atomic number for electron backscatter (a compound's mean
+                                 * weighted by mass); 0: no backscatter data */
 } mote_ch_material;
 
 /* The presets of spec 6.9 (bare, aluminium, gold, kapton, teflon, cover-glass); -1 if unknown. */
@@ -159,6 +161,17 @@ int mote_ch_material_preset(const char *name, mote_ch_material *m);
  * 2.28 cos_t x^1.35 in the exponent and the whole divided by cos_t), or Sternglass's
  * dmax x exp(2 - 2 sqrt(x)). */
 double mote_ch_see_yield(const mote_ch_material *m, double E_keV, double cos_t);
+/* The backscattered fraction of electrons of impact energy E (keV) at angle theta (cos_t) on a
+ * material of atomic number m->Z (0 without it): at normal incidence, from 1 keV up, the fit
+ * of Hunger & Kuechler (1979, phys. stat. sol. (a) 56, K45), eta0 = C E^mz with
+ * mz = 0.1382 - 0.9211 / sqrt(Z), C = 0.1904 - 0.2236 ln Z + 0.1292 ln^2 Z - 0.01491 ln^3 Z;
+ * below 1 keV, eta0(1 keV) ln(E / 0.05) / ln 20, falling to 0 at 50 eV (an assumption below the
+ * fit's range); at angle theta, Darlington's 0.891 (eta0 / 0.891)^cos(theta) (1975, J. Phys. D
+ * 8, 85). */
+double mote_ch_backscatter_yield(const mote_ch_material *m, double E_keV, double cos_t);
+/* The share of backscattered electrons of a primary of energy E (eV) that escape a surface at
+ * U (V): 1 at U <= 0, else 1 - U/E (their energies taken uniform on (0, E)), at least 0. */
+double mote_ch_backscatter_escape(double U, double E_eV);
 /* The ion-impact yield 2 dmax_i sqrt(x) / (1 + x), x = E/emax_i (0 without ion parameters). */
 double mote_ch_ion_yield(const mote_ch_material *m, double E_keV);
 
@@ -186,6 +199,10 @@ typedef struct {
     /* secondary emission by electron impact (spec 6.7): the material of each triangle (of the
      * exact sphere: one), or NULL for none */
     const mote_ch_material *const *tri_material;
+    /* backscattered electrons (issue 37): with backscatter = 1, each electron impact on a
+     * material with an atomic number also scores the backscattered fraction that escapes, in
+     * the same emission tallies as its secondaries (scripts: on, `backscatter off`) */
+    int backscatter;
     /* photoemission (spec 6.8): with sun = 1, light from the unit vector sun_dir at intensity
      * sun_intensity (1: 1 AU at normal incidence) on the materials' photo_j */
     int sun;

@@ -641,6 +641,7 @@ static int material_define(void *vm, const mote_call *c, mote_err *err)
         x.kT_ph = mote_call_opt_r(c, "photo_kT", x.kT_ph);
         x.ion_dmax = mote_call_opt_r(c, "ion_dmax", x.ion_dmax);
         x.ion_emax = mote_call_opt_r(c, "ion_emax", x.ion_emax);
+        x.Z = mote_call_opt_r(c, "Z", x.Z);
         const mote_arg *a;
         if ((a = mote_call_opt(c, "see_law"))) /* universal|sternglass */
             x.see_law = (int)a->i;
@@ -652,6 +653,23 @@ static int material_define(void *vm, const mote_call *c, mote_err *err)
         m->defined[m->ndefined++] = x;
         return MOTE_OK;
     }
+}
+
+static int check_backscatter(void *vm, const mote_call *c, mote_err *err)
+{
+    ch_model *m = vm;
+    if (m->faithful && c->args[0].i == 0)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "backscatter: faithful mode has no "
+                              "emission (the thesis's scope, spec 1.2); use model charging");
+    return MOTE_OK;
+}
+
+static int run_backscatter(void *vm, const mote_call *c, mote_err *err)
+{
+    if (check_backscatter(vm, c, err))
+        return MOTE_EINVAL;
+    ((ch_model *)vm)->no_backscatter = c->args[0].i != 0; /* on|off */
+    return MOTE_OK;
 }
 
 static int material_assign(void *vm, const mote_call *c, mote_err *err)
@@ -693,7 +711,8 @@ static const mote_ch_material *part_material(const ch_model *m, const char *part
     for (int k = m->nassign - 1; k >= 0; k--)
         if (!strcmp(m->assign[k].part, "*") || !strcmp(m->assign[k].part, part))
             return m->assign[k].m.see_dmax > 0 || m->assign[k].m.photo_j > 0 ||
-                           m->assign[k].m.ion_dmax > 0
+                           m->assign[k].m.ion_dmax > 0 ||
+                           (m->assign[k].m.Z > 0 && !m->no_backscatter)
                        ? &m->assign[k].m
                        : NULL;
     return NULL;
@@ -714,7 +733,7 @@ int ch_build_tri_materials(ch_model *m, mote_err *err)
     m->tri_mat = malloc((size_t)n * sizeof *m->tri_mat);
     if (!m->tri_mat)
         return mote_fail(err, MOTE_ENOMEM, "out of memory for the materials");
-    static const mote_ch_material bare = {"bare", 0, 1, 0, 2, 0, 0, 0, 1, 2};
+    static const mote_ch_material bare = {"bare", 0, 1, 0, 2, 0, 0, 0, 1, 2, 0};
     for (uint32_t i = 0; i < n; i++) {
         const mote_ch_material *x = part_material(m, PART_OF(i));
         m->tri_mat[i] = x ? x : &bare;
@@ -834,9 +853,12 @@ static const mote_cmd ch_commands[] = {
      ch_run_float},
     {"material define", NULL,
      "name=s! see_dmax=r>=0 see_emax=r>0 see_law=e{universal|sternglass} see_angle=e{none|sec} "
-     "see_kT=r>0 ion_dmax=r>=0 ion_emax=r>0 photo_j=r>=0 photo_kT=r>0",
+     "see_kT=r>0 ion_dmax=r>=0 ion_emax=r>0 photo_j=r>=0 photo_kT=r>0 Z=r[0,100]",
      "material define name=NAME [options]", "define a material (spec 6.9)", HELP_MATERIAL,
      material_define, material_define},
+    {"backscatter", NULL, "e{on|off}", "backscatter on|off",
+     "backscattered electrons in the emission (default on)", HELP_BACKSCATTER, check_backscatter,
+     run_backscatter},
     {"material assign", NULL, "part=s! material=s!", "material assign part=NAME|* material=NAME",
      "give a part of the body a material (spec 6.9)", HELP_MATERIAL, material_assign,
      material_assign},

@@ -484,9 +484,13 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
         if (see) {                                                                                \
             const mote_ch_material *mat_ = o->tri_material[(TRI)];                                \
             const double esc_ = mote_ch_escape(U_s, mat_->kT_s);                                  \
-            const double sc_ = (sp->Z < 0 ? mote_ch_see_yield(mat_, (E_EV) / 1000, (COS))         \
-                                          : mote_ch_ion_yield(mat_, (E_EV) / 1000)) *             \
-                               esc_;                                                              \
+            const double e_ = (E_EV), c_ = (COS);                                                 \
+            double sc_ = (sp->Z < 0 ? mote_ch_see_yield(mat_, e_ / 1000, c_)                      \
+                                    : mote_ch_ion_yield(mat_, e_ / 1000)) *                       \
+                         esc_;                                                                    \
+            if (o->backscatter && sp->Z < 0 && mat_->Z > 0)                                       \
+                sc_ += mote_ch_backscatter_yield(mat_, e_ / 1000, c_) *                           \
+                       mote_ch_backscatter_escape(U_s, e_);                                       \
             const ch_i128 q_ = (ch_i128)llround(sc_ * FIX);                                      \
             msee[2 * (size_t)(TRI) + (size_t)(SIDE)] += q_;                                       \
             msee[nsee - 2] += q_;                                                                 \

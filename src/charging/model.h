@@ -31,6 +31,7 @@ typedef struct ch_model {
     double bfield;              /* `bfield B=` (spec 3.4, diagnostics only), T */
     int diagnosed;              /* the warnings of spec 3.4 printed for this plasma and body */
     char *warnings;             /* their text, for the summary files */
+    int no_backscatter;         /* `backscatter off` (issue 37) */
     int sun;                    /* `sun` (spec 6.8): on, the unit vector toward it, intensity */
     double sun_dir[3], sun_int;
     double eta;                 /* `integrator` (spec 6.3): curved paths' step and limit */

@@ -76,12 +76,14 @@ double mote_ch_oml(double A, double U, double n, double kT, double m, int Z)
 int mote_ch_material_preset(const char *name, mote_ch_material *m)
 {
     /* spec 6.9: indicative values as in NASCAP-type material tables (the spec's test values) */
+    /* Z: the atomic number, or for a compound the mean weighted by mass (from the standard
+     * atomic weights: kapton C22H10N2O5 6.36, teflon (CF2)n 8.28, cover glass as SiO2 10.80) */
     static const struct {
         const char *name;
-        double dmax, emax, jph;
-    } T[] = {{"bare", 0, 1, 0},          {"aluminium", 0.97, 0.30, 4.0e-5},
-             {"gold", 0.88, 0.80, 2.9e-5}, {"kapton", 2.1, 0.15, 2.0e-5},
-             {"teflon", 3.0, 0.30, 2.0e-5}, {"cover-glass", 2.4, 0.40, 2.0e-5}};
+        double dmax, emax, jph, Z;
+    } T[] = {{"bare", 0, 1, 0, 0},            {"aluminium", 0.97, 0.30, 4.0e-5, 13},
+             {"gold", 0.88, 0.80, 2.9e-5, 79}, {"kapton", 2.1, 0.15, 2.0e-5, 6.36},
+             {"teflon", 3.0, 0.30, 2.0e-5, 8.28}, {"cover-glass", 2.4, 0.40, 2.0e-5, 10.80}};
     for (size_t k = 0; k < sizeof T / sizeof T[0]; k++)
         if (strcmp(T[k].name, name) == 0) {
             memset(m, 0, sizeof *m);
@@ -89,6 +91,7 @@ int mote_ch_material_preset(const char *name, mote_ch_material *m)
             m->see_dmax = T[k].dmax;
             m->see_emax = T[k].emax;
             m->photo_j = T[k].jph;
+            m->Z = T[k].Z;
             m->kT_s = 2;
             m->kT_ph = 2;
             return 0;
@@ -109,6 +112,26 @@ double mote_ch_see_yield(const mote_ch_material *m, double E_keV, double cos_t)
         return m->see_dmax * K * pow(x, -0.35) * -expm1(-2.28 * c * pow(x, 1.35)) / c;
     }
     return m->see_dmax * K * pow(x, -0.35) * (1 - exp(-2.28 * pow(x, 1.35)));
+}
+
+double mote_ch_backscatter_yield(const mote_ch_material *m, double E_keV, double cos_t)
+{
+    if (!(m->Z > 0) || !(E_keV > 0.05))
+        return 0;
+    const double lz = log(m->Z);
+    const double mz = 0.1382 - 0.9211 / sqrt(m->Z);
+    const double C = 0.1904 - 0.2236 * lz + 0.1292 * lz * lz - 0.01491 * lz * lz * lz;
+    double eta0 = E_keV >= 1 ? C * pow(E_keV, mz) : C * log(E_keV / 0.05) / log(20.0);
+    eta0 = fmin(fmax(eta0, 0), 0.891);
+    if (!(eta0 > 0))
+        return 0;
+    const double c = fmin(fmax(cos_t, 0), 1);
+    return 0.891 * pow(eta0 / 0.891, c);
+}
+
+double mote_ch_backscatter_escape(double U, double E_eV)
+{
+    return U <= 0 ? 1 : E_eV > U ? 1 - U / E_eV : 0;
 }
 
 double mote_ch_ion_yield(const mote_ch_material *m, double E_keV)

@@ -26,6 +26,7 @@ static mote_ch_run_opts run_opts(const ch_model *m, const mote_call *c, const mo
                           .margin = m->margin,
                           .margin_m = m->margin_m,
                           .tri_material = m->tri_mat,
+                          .backscatter = !m->faithful && !m->no_backscatter,
                           .sun = m->sun,
                           .sun_dir = {m->sun_dir[0], m->sun_dir[1], m->sun_dir[2]},
                           .sun_intensity = m->sun_int,
