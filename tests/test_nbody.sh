@@ -340,6 +340,7 @@ grep -q '^# integrator = wh$' w1.mon && grep -q '^# corrector = 17$' w1.mon && o
 # an end time inside a step: that step alone, then the map afresh; a bad corrector and Coulomb
 printf '%b%b\nintegrate to=0.0123\nsave w2.state\n' "$G" "$W" > w2.mote
 "$MOTE" run w2.mote > w.out 2>&1 && grep -q '^time 0.0123 ' w2.state && ! grep -q '^map: ' w2.state && ok || bad "wh: to= inside a step: $(cat w.out; grep '^time\|^wh ' w2.state)"
+expect 1 "wd.mote:2:1: error: integrator wh: option dt= is required" wd.mote "${G}integrator wh corrector=0\n"
 expect 1 "w3.mote:2:32: error: integrator wh: corrector= must be 0, 3, 5, 7, 11 or 17 (the orders of Wisdom, Holman and Touma's correctors), found 4" w3.mote "${G}integrator wh dt=0.1 corrector=4\n"
 expect 2 "w4.mote:5:1: error: integrator wh: the Wisdom-Holman map is for gravity (this system is Coulomb): use taylor or galactica" w4.mote "${C}body mass=1 charge=1\nbody mass=1 charge=-1 x=1 vy=1\nintegrator wh dt=0.01\nintegrate steps=2\n"
 # softening: kept by save/load and snapshots, refused below 0 and with the wh map

@@ -835,7 +835,7 @@ static const mote_cmd nb_commands[] = {
      "[hmax=B] [norm=nearest|global]",
      "the general Taylor integrator of any order (spec 4.4)", HELP_INTEGRATOR,
      check_integrator, run_integrator},
-    {"integrator wh", NULL, "dt=r>0 corrector=i[0,17]", "integrator wh [dt=H] [corrector=K]",
+    {"integrator wh", NULL, "dt=r>0! corrector=i[0,17]", "integrator wh dt=H [corrector=K]",
      "the Wisdom-Holman symplectic map for planetary systems", HELP_INTEGRATOR,
      check_integrator, run_integrator},
     {"softening", NULL, "eps=r>=0!", "softening eps=E",
