@@ -3,7 +3,7 @@
 # tests/fixtures/states holds states written by mote as of 2026-11-27 (commit 5a2e365):
 # hard spheres in 3D and 2D, the mixing box, nbody and the separator, and a Galactica
 # checkpoint with its control file. Each must load, save again byte for byte (so every field is
-# read and written back the same), and run on; the checkpoint must be rewritten unchanged by
+# read and written back the same; nbody's in its version-2 form, below), and run on; the checkpoint must be rewritten unchanged by
 # `galactica edit` with its own value and a relaunch must resume from it. Regenerate nothing:
 # a change of format must keep reading these files.
 NAME=states
@@ -11,12 +11,27 @@ NAME=states
 FX=$(cd "$(dirname "$0")" && pwd)/fixtures/states
 mote_test_start "$1"
 
-# state MODEL FILE RUN: load FILE, save it again (must be identical), then RUN a little
+# An nbody state of version 3 (issue 37: the Wisdom-Holman map's and the softening's five
+# values end the taylor line, a map block follows the bodies while it is live) written as
+# version 2, when those values are the defaults a version-2 file loads with and no map follows:
+# the fixtures' fields must then come back byte for byte.
+nbody_v2() {
+    awk '/^mote-state 3$/ { print "mote-state 2"; next }
+         /^map:/ { print "(a map block: not a version-2 state)"; next }
+         /^taylor / && $(NF-4) == 0 && $(NF-3) == 0 && $(NF-2) == 0 && $(NF-1) == 0 && $NF == 0 { NF -= 5 }
+         { print }' "$1"
+}
+
+# state MODEL FILE RUN: load FILE, save it again (must be identical, an nbody state after
+# nbody_v2), then RUN a little
 state() {
     m=$1 f=$2 go=$3
     cp "$FX/$f" "$f"
     printf 'model %s\nload %s\nsave re_%s\n%s\n' "$m" "$f" "$f" "$go" > "r_$f.mote"
     if "$MOTE" run "r_$f.mote" > "r_$f.out" 2>&1; then ok; else bad "$f: $(tail -3 "r_$f.out")"; fi
+    if [ "$m" = "nbody gravity" ]; then
+        nbody_v2 "re_$f" > "re2_$f" && mv "re2_$f" "re_$f"
+    fi
     cmp -s "$FX/$f" "re_$f" && ok || bad "$f: saved again it differs: $(diff "$FX/$f" "re_$f" | head -4)"
 }
 state hard-spheres hs.state "step 2"
@@ -34,7 +49,7 @@ grep -q "^load: read .*sep.state (t = 0.01 s, 62 particles)" r_sep.state.out && 
 # the Galactica checkpoint: rewritten unchanged by an edit to its own value, then resumed
 mkdir gal && cp "$FX/galactica/galgon4" "$FX/galactica/galacf26.dat" gal/
 (cd gal && "$MOTE" galactica edit Kl3=100 > edit.txt 2>&1) && ok || bad "galactica edit: $(cat gal/edit.txt)"
-cmp -s "$FX/galactica/galgon4" gal/galgon4 && ok || bad "galgon4 rewritten by edit differs: $(diff "$FX/galactica/galgon4" gal/galgon4 | head -4)"
+nbody_v2 gal/galgon4 > gal/galgon4.v2 && cmp -s "$FX/galactica/galgon4" gal/galgon4.v2 && ok || bad "galgon4 rewritten by edit differs: $(diff "$FX/galactica/galgon4" gal/galgon4.v2 | head -4)"
 (cd gal && "$MOTE" galactica > out.txt 2>&1) && ok || bad "galactica relaunch: $(tail -3 gal/out.txt)"
 grep -q "resuming from galgon4 at step 200" gal/out.txt && ok || bad "the relaunch did not resume at step 200: $(head -3 gal/out.txt)"
 grep -q "^galactica: 400 steps done" gal/out.txt && ok || bad "the relaunch did not run to step 400: $(tail -2 gal/out.txt)"
