@@ -121,6 +121,39 @@ static int ring_period(int integrator, int P, double tol)
     return 0;
 }
 
+/* The bodies of nb into path, one line each: mass x y z vx vy vz (%.17g). */
+static int write_ic(const mote_nb *nb, const char *path)
+{
+    FILE *f = fopen(path, "w");
+    if (!f) {
+        fprintf(stderr, "bench_nbody: cannot write %s\n", path);
+        return 1;
+    }
+    for (uint32_t i = 0; i < nb->n; i++)
+        fprintf(f, "%.17g %.17g %.17g %.17g %.17g %.17g %.17g\n", (double)nb->m[i],
+                (double)nb->x[3 * i], (double)nb->x[3 * i + 1], (double)nb->x[3 * i + 2],
+                (double)nb->v[3 * i], (double)nb->v[3 * i + 1], (double)nb->v[3 * i + 2]);
+    if (fclose(f)) {
+        fprintf(stderr, "bench_nbody: cannot write %s\n", path);
+        return 1;
+    }
+    return 0;
+}
+
+/* The Solar-System data file at path into nb (its own builder: total mass 1, the sidereal
+ * century, barycentric); 1 with the message on stderr when it cannot be read. */
+static int load_solar(const char *path, mote_nb *nb)
+{
+    mote_nb_solar s = {NULL, 0};
+    mote_err e = {0};
+    mote_nb_init(nb, MOTE_NB_GRAVITY);
+    int rc = mote_nb_solar_read(path, &s, &e) || mote_nb_solar_build(nb, &s, NULL, 0, &e);
+    mote_nb_solar_free(&s);
+    if (rc)
+        fprintf(stderr, "bench_nbody: %s\n", e.msg);
+    return rc;
+}
+
 /* A Plummer sphere of n bodies (seed) to time T with the adaptive Taylor integrator of order P
  * and tolerance tol: CPU time of the integration only (median of 5), steps, |dE/E| at the end;
  * with ic, its initial bodies (mass x y z vx vy vz, one line each, %.17g) into that file, for
@@ -137,21 +170,8 @@ static int cluster(uint32_t n, double T, int P, double tol, uint64_t seed, const
             fprintf(stderr, "bench_nbody: %s\n", e.msg);
             return 1;
         }
-        if (ic && run == 0) {
-            FILE *f = fopen(ic, "w");
-            if (!f) {
-                fprintf(stderr, "bench_nbody: cannot write %s\n", ic);
-                return 1;
-            }
-            for (uint32_t i = 0; i < nb.n; i++)
-                fprintf(f, "%.17g %.17g %.17g %.17g %.17g %.17g %.17g\n", (double)nb.m[i],
-                        (double)nb.x[3 * i], (double)nb.x[3 * i + 1], (double)nb.x[3 * i + 2],
-                        (double)nb.v[3 * i], (double)nb.v[3 * i + 1], (double)nb.v[3 * i + 2]);
-            if (fclose(f)) {
-                fprintf(stderr, "bench_nbody: cannot write %s\n", ic);
-                return 1;
-            }
-        }
+        if (ic && run == 0 && write_ic(&nb, ic))
+            return 1;
         nb.dt = 1e-6;
         if (ready(&nb, MOTE_NB_TAYLOR, P, tol, &e))
             return 1;
@@ -197,14 +217,9 @@ static int solar(const char *path, int P, double tol, double th)
     const double t_end = 100;
     for (int run = 0; run < 5; run++) {
         mote_nb nb;
-        mote_nb_solar s;
         mote_err e = {0};
-        mote_nb_init(&nb, MOTE_NB_GRAVITY);
-        if (mote_nb_solar_read(path, &s, &e) || mote_nb_solar_build(&nb, &s, NULL, 0, &e)) {
-            fprintf(stderr, "bench_nbody: %s\n", e.msg);
+        if (load_solar(path, &nb))
             return 1;
-        }
-        mote_nb_solar_free(&s);
         if (th != 0)
             rotate_z(&nb, th);
         if (ready(&nb, MOTE_NB_TAYLOR, P, tol, &e))
@@ -245,25 +260,6 @@ static int solar(const char *path, int P, double tol, double th)
     return 0;
 }
 
-/* The bodies of nb into path, one line each: mass x y z vx vy vz (%.17g). */
-static int write_ic(const mote_nb *nb, const char *path)
-{
-    FILE *f = fopen(path, "w");
-    if (!f) {
-        fprintf(stderr, "bench_nbody: cannot write %s\n", path);
-        return 1;
-    }
-    for (uint32_t i = 0; i < nb->n; i++)
-        fprintf(f, "%.17g %.17g %.17g %.17g %.17g %.17g %.17g\n", (double)nb->m[i],
-                (double)nb->x[3 * i], (double)nb->x[3 * i + 1], (double)nb->x[3 * i + 2],
-                (double)nb->v[3 * i], (double)nb->v[3 * i + 1], (double)nb->v[3 * i + 2]);
-    if (fclose(f)) {
-        fprintf(stderr, "bench_nbody: cannot write %s\n", path);
-        return 1;
-    }
-    return 0;
-}
-
 static int wh(const char *path, double years, double dt, int K, int samples, const char *ic,
               const char *curve)
 {
@@ -272,14 +268,9 @@ static int wh(const char *path, double years, double dt, int K, int samples, con
     FILE *cf = NULL;
     for (int run = 0; run < 5; run++) {
         mote_nb nb;
-        mote_nb_solar s;
         mote_err e = {0};
-        mote_nb_init(&nb, MOTE_NB_GRAVITY);
-        if (mote_nb_solar_read(path, &s, &e) || mote_nb_solar_build(&nb, &s, NULL, 0, &e)) {
-            fprintf(stderr, "bench_nbody: %s\n", e.msg);
+        if (load_solar(path, &nb))
             return 1;
-        }
-        mote_nb_solar_free(&s);
         if (ic && run == 0 && write_ic(&nb, ic))
             return 1;
         if (curve && run == 4 && !(cf = fopen(curve, "w"))) {

@@ -53,6 +53,9 @@ check "bench_nbody pairs reports pair evaluations per second" \
 cl=$("$nbench" cluster 20 0.05 10 1e-12 3 "$tmp/ic.txt" 2>"$tmp/err")
 check "bench_nbody cluster reports steps, CPU time and |dE| and writes the 20 bodies: $(head -c 80 "$tmp/err")" \
     'echo "$cl" | grep -q "^workload=cluster precision=double N=20 T=0.05 seed=3 order=10 tol=1e-12 steps=[1-9][0-9]* cpu_seconds_median=[0-9.]* cpu_seconds_min=[0-9.]* abs_dE=" && [ "$(awk "NF == 7" "$tmp/ic.txt" | wc -l)" -eq 20 ]'
+wh=$("$nbench" wh data/outer_solar_system.dat 100 0.5 17 4 "$tmp/whic.txt" "$tmp/whcurve.txt" 2>"$tmp/err")
+check "bench_nbody wh reports ns per step and |dE| (bounded: below 1e-8 with corrector 17) and writes the 6 bodies and 4 samples: $(head -c 80 "$tmp/err")" \
+    'echo "$wh" | grep -q "^workload=wh precision=double years=100 dt_years=0.5 corrector=17 samples=4 steps=200 cpu_seconds_median=[0-9.]* cpu_seconds_min=[0-9.]* ns_per_step=[0-9.]* max_abs_dE=[0-9.]*e-\(09\|1[0-9]\) abs_dE_end=" && [ "$(awk "NF == 7" "$tmp/whic.txt" | wc -l)" -eq 6 ] && [ "$(awk "NF == 2" "$tmp/whcurve.txt" | wc -l)" -eq 4 ]'
 cbench="$(dirname "$bench")/bench_charging"
 cb=$("$cbench" b1 2e4 2 2>"$tmp/err")
 check "bench_charging b1 reports traces per second and the hit fraction: $(head -c 80 "$tmp/err")" \
