@@ -729,25 +729,32 @@ static void test_see(void)
 }
 
 /* The flux-averaged yield over a Gamma(2, kT) impact energy law (straight paths at U = 0) and,
- * for see_angle=sec, the cosine law of impact angles on a convex body (density 2 cos): Simpson
- * quadrature, against which the Monte Carlo scores are checked. */
-static double avg_yield(const mote_ch_material *m, double kT_keV, int ion)
+ * for see_angle=sec and for backscatter, the cosine law of impact angles on a convex body
+ * (density 2 cos): Simpson quadrature, against which the Monte Carlo scores are checked. kind:
+ * YIELD_SEE (secondaries of electrons), YIELD_ION, YIELD_BACKSCATTER. */
+enum { YIELD_SEE, YIELD_ION, YIELD_BACKSCATTER };
+static double yield_at(const mote_ch_material *m, int kind, double E, double c)
 {
-    const int nE = 20000, nc = ion || !m->see_angle ? 1 : 400;
+    return kind == YIELD_ION ? mote_ch_ion_yield(m, E)
+           : kind == YIELD_BACKSCATTER ? mote_ch_backscatter_yield(m, E, c)
+                                      : mote_ch_see_yield(m, E, c);
+}
+static double avg_yield(const mote_ch_material *m, double kT_keV, int kind)
+{
+    const int angles = kind == YIELD_BACKSCATTER || (kind == YIELD_SEE && m->see_angle);
+    const int nE = 20000, nc = angles ? 400 : 1;
     const double Emax = 60 * kT_keV, hE = Emax / nE;
     double sum = 0;
     for (int i = 0; i <= nE; i++) {
         const double E = i * hE, wE = (i == 0 || i == nE) ? 1 : (i % 2 ? 4 : 2);
         const double f = E / (kT_keV * kT_keV) * exp(-E / kT_keV);
         double y = 0;
-        if (ion)
-            y = mote_ch_ion_yield(m, E);
-        else if (nc == 1)
-            y = mote_ch_see_yield(m, E, 1);
+        if (!angles)
+            y = yield_at(m, kind, E, 1);
         else
             for (int j = 0; j <= nc; j++) {
                 const double c = (double)j / nc, wc = (j == 0 || j == nc) ? 1 : (j % 2 ? 4 : 2);
-                y += wc * 2 * c * (c > 0 ? mote_ch_see_yield(m, E, c) : 0) / (3.0 * nc);
+                y += wc * 2 * c * (c > 0 ? yield_at(m, kind, E, c) : 0) / (3.0 * nc);
             }
         sum += wE * f * y;
     }
@@ -787,7 +794,7 @@ static void test_see_options(void)
         const int s = k == 2 ? 1 : 0; /* protons for the ion yield */
         const double coll = fabs(r.weight[s][0] * (double)r.hits[s][0]);
         const double ratio = r.see[s][0] / coll, sr = r.see_sigma[s][0] / coll;
-        const double want = avg_yield(&m[k], 27.5, k == 2);
+        const double want = avg_yield(&m[k], 27.5, k == 2 ? YIELD_ION : YIELD_SEE);
         printf("  %s: emitted / collected = %.6f +- %.6f (quadrature %.6f)\n", what[k], ratio, sr,
                want);
         CHECK(fabs(ratio - want) <= 3 * sr && sr < 0.02 * want, "%s: %.6f +- %.6f against %.6f",
@@ -809,24 +816,6 @@ static void test_see_options(void)
  * angular law over the flux's Gamma(2, kT) energies and cosine law of angles; off, nothing.
  * The yield at normal incidence within the known coefficients of the metals: aluminium
  * 0.14-0.17 and gold 0.46-0.50 at 10-30 keV. */
-static double avg_backscatter(const mote_ch_material *m, double kT_keV)
-{
-    const int nE = 20000, nc = 400;
-    const double Emax = 60 * kT_keV, hE = Emax / nE;
-    double sum = 0;
-    for (int i = 0; i <= nE; i++) {
-        const double E = i * hE, wE = (i == 0 || i == nE) ? 1 : (i % 2 ? 4 : 2);
-        const double f = E / (kT_keV * kT_keV) * exp(-E / kT_keV);
-        double y = 0;
-        for (int j = 0; j <= nc; j++) {
-            const double c = (double)j / nc, wc = (j == 0 || j == nc) ? 1 : (j % 2 ? 4 : 2);
-            y += wc * 2 * c * mote_ch_backscatter_yield(m, E, c) / (3.0 * nc);
-        }
-        sum += wE * f * y;
-    }
-    return sum * hE / 3;
-}
-
 static void test_backscatter(void)
 {
     printf("backscattered electrons\n");
@@ -849,7 +838,7 @@ static void test_backscatter(void)
     mote_ch_tracer *t = mote_ch_tracer_new(&b, &err);
     al.see_dmax = 0; /* the backscatter alone */
     const mote_ch_material *mm[1] = {&al};
-    const double want = avg_backscatter(&al, 27.5);
+    const double want = avg_yield(&al, 27.5, YIELD_BACKSCATTER);
     for (int on = 1; on >= 0 && t; on--) {
         mote_ch_run_opts o = {.seed = 5, .particles = 1000000, .r_gen = 1.05, .threads = 2,
                               .field = 1, .tri_material = mm, .backscatter = on};
