@@ -337,6 +337,15 @@ printf '%b%b\nmonitor every=7 file=w1.mon\nintegrate steps=1000\nsave w1m.state\
 cmp -s w0.state w1.state && ok || bad "wh: outputs, save and load changed the trajectory"
 grep -q '^map: ' w1m.state && ok || bad "wh: the state file does not carry a live map: $(grep '^wh ' w1m.state)"
 grep -q '^# integrator = wh$' w1.mon && grep -q '^# corrector = 17$' w1.mon && ok || bad "wh: the monitor's header does not name the map"
+# a state file's map and softening: each fault at its line
+awk '/^taylor / { $NF = "-0.5" } { print }' w1m.state > wneg.state
+expect 2 "wb1.mote:2:1: error: wneg.state:8: taylor: need softening >= 0 and wh_h >= 0 (found -0.5, 0.005)" wb1.mote "${G}load wneg.state\n"
+sed '/^map:/,$d' w1m.state > wnomap.state && echo end >> wnomap.state
+expect 2 "wb2.mote:2:1: error: wnomap.state:20: expected 'map: ...' (wh_live is 1: the Wisdom-Holman map follows) (found 'end')" wb2.mote "${G}load wnomap.state\n"
+head -n 22 w1m.state > wcut.state
+expect 2 "wb3.mote:2:1: error: wcut.state:23: file ends early: n = 6, but only 2 map lines follow" wb3.mote "${G}load wcut.state\n"
+awk '/^map:/ { print; getline; print "1 2 3"; next } { print }' w1m.state > wrow.state
+expect 2 "wb4.mote:2:1: error: wrow.state:21: expected 'jq[3] ju[3]': ju[0] is missing (found '1 2 3')" wb4.mote "${G}load wrow.state\n"
 # an end time inside a step: that step alone, then the map afresh; a bad corrector and Coulomb
 printf '%b%b\nintegrate to=0.0123\nsave w2.state\n' "$G" "$W" > w2.mote
 "$MOTE" run w2.mote > w.out 2>&1 && grep -q '^time 0.0123 ' w2.state && ! grep -q '^map: ' w2.state && ok || bad "wh: to= inside a step: $(cat w.out; grep '^time\|^wh ' w2.state)"

@@ -261,6 +261,9 @@ int nb_state_get(mote_nb *nb, mote_lines *l, int tail, mote_err *err)
     if (!rc && version >= 2 && (!(t.dt_max >= 0) || !(t.dbl_sum >= 0) || !(t.dbl_mean >= -2)))
         rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: doubling: need dt_max >= 0, sum >= 0, "
                        "mean >= -2", path, l->line);
+    if (!rc && version >= 3 && (!(t.soft >= 0) || !(t.wh_h >= 0)))
+        rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: taylor: need softening >= 0 and wh_h >= 0 "
+                       "(found %g, %g)", path, l->line - 1, (double)t.soft, (double)t.wh_h);
     if (!rc)
         rc = mote_sf_read(l, STATE + l_merging, l_reference - l_merging, &t, version, err);
     if (!rc && (!(t.bt > 0 && t.bt <= 1) || !(t.bt_hmin > 0 && t.bt_hmin <= 1) ||
