@@ -127,7 +127,7 @@ sys.exit(not all(abs(J[k] - front[k]) <= 1e-6 * abs(front[k]) for k in range(nf)
 mkdir -p om
 printf '%bplasma preset geo-worst-case\nbody load file=craft.obj\nmaterial assign part=panel material=kapton\noutput prefix=om/c png=off vtk=off\nrun particles=1e5\n' "$G" > mat.mote
 "$MOTE" run mat.mote > out.txt 2> err.txt && ok || bad "mat.mote failed: $(cat err.txt)"
-awk '/^run: e / { e = $5; see = $14 } /^run: H\+/ { h = $5 } /^run: net/ { net = $5 }
+awk '/^run: e / { e = $5; for (i = 1; i < NF; i++) if ($i == "out:") see = $(i + 1) } /^run: H\+/ { h = $5 } /^run: net/ { net = $5 }
      END { d = e + h + see - net; exit !(see > 0 && d * d <= 1e-18 * net * net) }' out.txt && ok || bad "run lines: $(grep '^run:' out.txt)"
 net=$(sed -n 's/^run: net I = \([^ ]*\) A.*/\1/p' out.txt)
 awk -F '[,\r]' -v net="$net" 'FNR > 1 { s += $10; see[$1] = $8; mat[$1] = $2 } END { d = s - net
@@ -208,6 +208,16 @@ expect 1 "m6.mote:2:33: error: material define: see_dmax must be >= 0, found -1"
 # a defined material, then assigned: a yield curve of the user's own
 printf '%bplasma preset geo-worst-case\nbody sphere radius=1\nmaterial define name=mine see_dmax=3 see_emax=0.3\nmaterial assign part=sphere material=mine\nrun particles=1e5\n' "$G" > md.mote
 "$MOTE" run md.mote > out.txt 2> err.txt && grep -q '^run: e .*secondaries it knocks out: +' out.txt && ok || bad "a defined material: $(grep '^run: e' out.txt) $(cat err.txt)"
+# backscatter (issue 37): named where it is in the emission, on the terminal, in the summaries
+for bs in on off; do
+    printf '%bplasma preset single n=1e6 kT=10000\nbody sphere radius=1\nmaterial assign part=* material=aluminium\nbackscatter %s\noutput prefix=bs_%s\nrun particles=2e4\n' "$G" "$bs" "$bs" > bs_$bs.mote
+    "$MOTE" run bs_$bs.mote > bs_$bs.txt 2> err.txt || bad "backscatter $bs: $(cat err.txt)"
+done
+grep -q '^run: e .*; secondaries and backscattered electrons it knocks out: +' bs_on.txt && grep -q '^run: e .*; secondaries it knocks out: +' bs_off.txt &&
+    grep -q 'secondary and backscattered electrons it knocks out: +' bs_on_summary.txt && grep -q 'secondary electrons it knocks out: +' bs_off_summary.txt &&
+    grep -q '"backscatter":true' bs_on_summary.json && grep -q '"backscatter":false' bs_off_summary.json && ok || bad "backscatter not named: $(grep '^run: e' bs_on.txt bs_off.txt)"
+on=$(sed -n 's/.*knocks out: +\([^ ]*\) A.*/\1/p' bs_on.txt) off=$(sed -n 's/.*knocks out: +\([^ ]*\) A.*/\1/p' bs_off.txt)
+awk -v a="$on" -v b="$off" 'BEGIN { exit !(a > b * 1.2) }' && ok || bad "backscatter added nothing: on $on, off $off"
 # the VTK files read back by VTK itself (python3-vtk9, ParaView's library): ASCII and binary
 # give the same mesh and arrays
 mkdir -p ov

@@ -75,6 +75,7 @@ typedef struct {
     int have_float;               /* written by `float`: its root, error and the OML estimate */
     double sigma_U, oml;
     const mote_ch_material *const *tri_mat; /* per triangle (NULL: all bare) */
+    int backscatter;              /* the emission includes backscattered electrons */
     int nviews;                   /* png_view: one file per view (P_surface.png for one view, */
     double (*views)[3];           /* else P_surface_NAME.png) */
     char (*view_names)[16];

@@ -743,6 +743,24 @@ int ch_build_tri_materials(ch_model *m, mote_err *err)
 }
 
 /* The secondary current (A) the impacts of species s knock out, with its variance. */
+int ch_backscatter_in(const ch_model *m)
+{
+    if (m->faithful || m->no_backscatter || !m->tri_mat)
+        return 0;
+    const uint32_t n = m->body.sphere ? 1 : m->body.ntri;
+    for (uint32_t i = 0; i < n; i++)
+        if (m->tri_mat[i]->Z > 0)
+            return 1;
+    return 0;
+}
+
+const char *ch_emitted_words(const ch_model *m, int s)
+{
+    return m->plasma.sp[s].Z < 0 && ch_backscatter_in(m) ? "secondaries and backscattered "
+                                                           "electrons"
+                                                         : "secondaries";
+}
+
 double ch_species_see(const mote_ch_result *r, int s, double *var)
 {
     double see = 0;
@@ -791,6 +809,7 @@ ch_output ch_output_of(ch_model *m, const mote_ch_geometry *g, const mote_ch_run
                      .png_h = m->png_h,
                      .png_log = m->png_log,
                      .tri_mat = m->tri_mat,
+                     .backscatter = ch_backscatter_in(m),
                      .nviews = m->nviews,
                      .views = m->view,
                      .view_names = m->view_name,

@@ -67,6 +67,11 @@ double ch_injection_radius(const ch_model *m, const mote_ch_geometry *g);
 void ch_diagnose(ch_model *m, const char *cmd);
 int ch_build_tri_materials(ch_model *m, mote_err *err);
 double ch_species_see(const mote_ch_result *r, int s, double *var);
+/* Do the runs of m score backscattered electrons (on, and some triangle's material has Z)? */
+int ch_backscatter_in(const ch_model *m);
+/* The words for what species s knocks out: "secondaries" or, for electrons while backscatter
+ * is in, "secondaries and backscattered electrons". */
+const char *ch_emitted_words(const ch_model *m, int s);
 void ch_report_paths(const ch_model *m, const char *cmd);
 ch_output ch_output_of(ch_model *m, const mote_ch_geometry *g, const mote_ch_run_opts *o,
                        double U);

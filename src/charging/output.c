@@ -433,11 +433,13 @@ static int write_summary(const ch_output *o, const char *path, int json, mote_er
     inet += o->res->photo;
     const double hitf = (double)hits / ((double)o->res->ncomp * (double)o->res->histories);
     if (json) {
-        fprintf(f, "{\"model\":\"charging\",\"mode\":\"%s\",\"seed\":%llu,\"potential_V\":%.10g,"
+        fprintf(f, "{\"model\":\"charging\",\"mode\":\"%s\",\"backscatter\":%s,\"seed\":%llu,"
+                   "\"potential_V\":%.10g,"
                    "\"histories_per_component\":%llu,\"area_m2\":%.10g,\"R_eq_m\":%.10g,"
                    "\"R_bound_m\":%.10g,\"R_gen_m\":%.10g,\"C_F\":%.10g,\"debye_m\":%.10g,"
                    "\"species\":[",
-                o->mode, (unsigned long long)o->seed, o->potential,
+                o->mode, o->backscatter ? "true" : "false", (unsigned long long)o->seed,
+                o->potential,
                 (unsigned long long)o->res->histories, g->area, g->r_eq, g->r_bound, o->r_gen, g->capacitance, mote_ch_debye(p));
         for (int s = 0; s < p->nsp; s++) {
             fprintf(f, "%s{\"name\":\"%s\",\"I_A\":%.10g,\"sigma_A\":%.10g,\"I_see_A\":%.10g,"
@@ -499,8 +501,11 @@ static int write_summary(const ch_output *o, const char *path, int json, mote_er
                         p->sp[s].n[k], p->sp[s].kT[k],
                         o->res->weight[s][k] * (double)o->res->hits[s][k]);
             if (see[s] != 0)
-                fprintf(f, "       secondary electrons it knocks out: +%.10g A +- %.3g\n", see[s],
-                        sqrt(see_var[s]));
+                fprintf(f, "       %s it knocks out: +%.10g A +- %.3g\n",
+                        o->backscatter && p->sp[s].Z < 0
+                            ? "secondary and backscattered electrons"
+                            : "secondary electrons",
+                        see[s], sqrt(see_var[s]));
         }
         if (o->res->tri_photo)
             fprintf(f, "  photoelectrons %+.10g A\n", o->res->photo);

@@ -230,7 +230,8 @@ int ch_run_run(void *vm, const mote_call *c, mote_err *err)
                 m->res.current[s], m->res.sigma[s],
                 100 * m->res.sigma[s] / fmax(fabs(m->res.current[s]), 1e-300));
         if (see > 0)
-            fprintf(m->log, "; secondaries it knocks out: %+.10g A +- %.3g", see, sqrt(see_v));
+            fprintf(m->log, "; %s it knocks out: %+.10g A +- %.3g", ch_emitted_words(m, s), see,
+                    sqrt(see_v));
         fputc('\n', m->log);
         for (int k = 0; k < m->plasma.sp[s].ncomp; k++, ncomp++)
             hits += m->res.hits[s][k];
@@ -386,7 +387,8 @@ int ch_run_float(void *vm, const mote_call *c, mote_err *err)
                     m->plasma.sp[s].name, m->res.current[s], m->res.sigma[s],
                     m->res.current[s] / g.area);
             if (see > 0)
-                fprintf(m->log, "; secondaries it knocks out: %+.6g A +- %.3g", see, sqrt(see_v));
+                fprintf(m->log, "; %s it knocks out: %+.6g A +- %.3g", ch_emitted_words(m, s),
+                        see, sqrt(see_v));
             fputc('\n', m->log);
         }
         if (m->res.tri_photo)
