@@ -449,7 +449,8 @@ static void synchronise(wh_state *w, mote_nb *nb, mote_real h, mote_real *q, mot
         }
 }
 
-/* Into the map from nb's inertial state: Jacobi coordinates, the corrector, half a drift. */
+/* Into the map from nb's inertial state: Jacobi coordinates, the corrector, half a drift (the
+ * kick's scratch x and a hold the inertial positions and velocities on the way). */
 static void start_map(wh_state *w, const mote_nb *nb, mote_real h)
 {
     for (uint32_t j = 0; j < w->n; j++)
