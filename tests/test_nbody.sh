@@ -346,6 +346,12 @@ head -n 22 w1m.state > wcut.state
 expect 2 "wb3.mote:2:1: error: wcut.state:23: file ends early: n = 6, but only 2 map lines follow" wb3.mote "${G}load wcut.state\n"
 awk '/^map:/ { print; getline; print "1 2 3"; next } { print }' w1m.state > wrow.state
 expect 2 "wb4.mote:2:1: error: wrow.state:21: expected 'jq[3] ju[3]': ju[0] is missing (found '1 2 3')" wb4.mote "${G}load wrow.state\n"
+# a live map claimed for 10^8 bodies: refused where the body lines end, nothing allocated for
+# them first (under a 1 GiB address-space limit; the map alone would take 4.8 GB)
+sed 's/^n 6$/n 100000000/' w1m.state > whuge.state
+printf '%bload whuge.state\n' "$G" > wb5.mote
+if [ -n "${MOTE_SANITIZED:-}" ]; then "$MOTE" run wb5.mote > w.out 2>&1; else (ulimit -v 1048576 && exec "$MOTE" run wb5.mote) > w.out 2>&1; fi
+grep -q "^wb5.mote:2:1: error: whuge.state:20: body 7: expected 23 numbers .*found 'map:'" w.out && ok || bad "a huge map: $(cat w.out)"
 # an end time inside a step: that step alone, then the map afresh; a bad corrector and Coulomb
 printf '%b%b\nintegrate to=0.0123\nsave w2.state\n' "$G" "$W" > w2.mote
 "$MOTE" run w2.mote > w.out 2>&1 && grep -q '^time 0.0123 ' w2.state && ! grep -q '^map: ' w2.state && ok || bad "wh: to= inside a step: $(cat w.out; grep '^time\|^wh ' w2.state)"

@@ -282,9 +282,6 @@ int nb_state_get(mote_nb *nb, mote_lines *l, int tail, mote_err *err)
     }
     /* mote_nb_add marks a restart and drops the reference: the file's values are put back after */
     const int file_restart = t.restart, file_ref = t.ref_set, file_live = t.wh_live;
-    mote_real *jqu = NULL; /* the map's q and u of each body, while live */
-    if (!rc && file_live && !(jqu = malloc(6 * (size_t)(h.n ? h.n : 1) * sizeof *jqu)))
-        rc = mote_fail(err, MOTE_ENOMEM, "%s: out of memory for %u bodies", path, h.n);
     const mote_real file_dtp = t.dtp;
     /* the bodies, counted as read: nothing is allocated for lines that are not there */
     for (uint32_t i = 0; i < h.n && !rc; i++) {
@@ -336,10 +333,14 @@ int nb_state_get(mote_nb *nb, mote_lines *l, int tail, mote_err *err)
             t.d5p[3 * i + a] = w.d5[a];
         }
     }
-    if (!rc && jqu) { /* the map: a line per body */
+    /* the map: a line per body (its room only now that the bodies were there), with the bodies
+     * it was synchronised to */
+    if (!rc && file_live) {
         s = mote_lines_next(l);
         if (!s || strncmp(s, "map:", 4) != 0)
             rc = fail(l, err, "'map: ...' (wh_live is 1: the Wisdom-Holman map follows)", s);
+        else if (!nb_wh_reserve(&t))
+            rc = mote_fail(err, MOTE_ENOMEM, "%s: out of memory for %u bodies", path, h.n);
         for (uint32_t i = 0; i < h.n && !rc; i++) {
             nb_maprow w;
             s = mote_lines_next(l);
@@ -349,8 +350,12 @@ int nb_state_get(mote_nb *nb, mote_lines *l, int tail, mote_err *err)
             else if (mote_sf_parse_line(l, s, MAPROW, COUNT(MAPROW), &w, version, err))
                 rc = MOTE_EFORMAT;
             else {
-                memcpy(jqu + 6 * (size_t)i, w.q, sizeof w.q);
-                memcpy(jqu + 6 * (size_t)i + 3, w.u, sizeof w.u);
+                mote_real *p = nb_wh_map(&t, i);
+                memcpy(p, w.q, sizeof w.q);
+                memcpy(p + 3, w.u, sizeof w.u);
+                memcpy(p + 6, t.x + 3 * (size_t)i, 3 * sizeof *p);
+                memcpy(p + 9, t.v + 3 * (size_t)i, 3 * sizeof *p);
+                p[12] = t.active[i] ? t.m[i] : 0;
             }
         }
     }
@@ -361,22 +366,9 @@ int nb_state_get(mote_nb *nb, mote_lines *l, int tail, mote_err *err)
         else if (!tail && (s = mote_lines_next(l)) != NULL)
             rc = fail(l, err, "nothing after 'end'", s);
     }
-    if (!rc && jqu && !nb_wh_reserve(&t))
-        rc = mote_fail(err, MOTE_ENOMEM, "%s: out of memory for %u bodies", path, h.n);
     if (rc) {
-        free(jqu);
         mote_nb_free(&t);
         return rc;
-    }
-    if (jqu) { /* the map as it was, with the bodies it was synchronised to */
-        for (uint32_t i = 0; i < t.n; i++) {
-            mote_real *p = nb_wh_map(&t, i);
-            memcpy(p, jqu + 6 * (size_t)i, 6 * sizeof *p);
-            memcpy(p + 6, t.x + 3 * (size_t)i, 3 * sizeof *p);
-            memcpy(p + 9, t.v + 3 * (size_t)i, 3 * sizeof *p);
-            p[12] = t.active[i] ? t.m[i] : 0;
-        }
-        free(jqu);
     }
     t.wh_live = file_live;
     t.restart = file_restart;
