@@ -219,7 +219,7 @@ static int run_main(int argc, char **argv)
         }
         R = 3;
     } else {
-        mote_ch_body_uvsphere(&b, 1, 100, 50, &err);
+        mote_ch_body_uvsphere(&b, 1, 100, 50, 0, &err);
         if (strcmp(w, "b1") == 0 || strcmp(w, "b3") == 0)
             R = 3;
         else if (strcmp(w, "b2near") == 0)

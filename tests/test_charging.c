@@ -72,7 +72,7 @@ static void test_meshes(void)
     CHECK(fabs(1 - g.area / (4 * MOTE_CH_PI)) < 0.00035, "level 5 area deficit %.5f (spec: 0.03%%)",
           1 - g.area / (4 * MOTE_CH_PI));
     mote_ch_body_free(&b);
-    CHECK(mote_ch_body_uvsphere(&b, 1, 100, 50, &err) == MOTE_OK && b.ntri == 9800, "uvsphere %u",
+    CHECK(mote_ch_body_uvsphere(&b, 1, 100, 50, 0, &err) == MOTE_OK && b.ntri == 9800, "uvsphere %u",
           b.ntri);
     mote_ch_body_free(&b);
     const double size[3] = {1, 2, 3}, c0[3] = {0, 0, 0};

@@ -77,11 +77,13 @@ typedef struct {
 
 void mote_ch_body_free(mote_ch_body *b);
 /* Generated bodies (spec 4.4), added to b: the exact sphere, an icosphere (20 4^level
- * triangles), a UV sphere (2 nlon (nlat - 1) triangles), a box (12 subdiv^2 triangles), two
+ * triangles), a UV sphere (2 nlon (nlat - 1) triangles; halves: two parts, north (z > 0) and
+ * south, nlat even), a box (12 subdiv^2 triangles), two
  * cubes of side `side` facing each other across `gap` along x. */
 int mote_ch_body_sphere(mote_ch_body *b, double r, mote_err *err);
 int mote_ch_body_icosphere(mote_ch_body *b, double r, int level, mote_err *err);
-int mote_ch_body_uvsphere(mote_ch_body *b, double r, int nlon, int nlat, mote_err *err);
+int mote_ch_body_uvsphere(mote_ch_body *b, double r, int nlon, int nlat, int halves,
+                          mote_err *err);
 int mote_ch_body_box(mote_ch_body *b, const double size[3], const double centre[3], int subdiv,
                      mote_err *err);
 int mote_ch_body_twocubes(mote_ch_body *b, double side, double gap, mote_err *err);
@@ -151,6 +153,8 @@ typedef struct {
     double kT_ph;               /* photoelectrons' temperature, eV */
     double Z;                   /* atomic number for electron backscatter (a compound's mean
                                  * weighted by mass); 0: no backscatter data */
+    double eps_r;               /* relative permittivity for differential charging (spec 6.10);
+                                 * 0: a conductor's preset (give eps_r= to `dielectric`) */
 } mote_ch_material;
 
 /* The presets of spec 6.9 (bare, aluminium, gold, kapton, teflon, cover-glass); -1 if unknown. */
@@ -207,6 +211,15 @@ typedef struct {
      * sun_intensity (1: 1 AU at normal incidence) on the materials' photo_j */
     int sun;
     double sun_dir[3], sun_intensity;
+    /* differential charging (spec 6.10): the dielectric patch of each triangle (-1: the
+     * conductor), npatch patches, and the grid dv[ndv] (ascending, V) of patch potentials
+     * relative to the body at which each patch's net current is also tallied (field on only):
+     * a hit of charge Z e whose impact energy E (eV) in the body's field has E - Z dv > 0 is
+     * collected, with its emission at E - Z dv escaping by the patch's potential U + dv; NULL or
+     * npatch 0: none */
+    const int *tri_patch;
+    int npatch, ndv;
+    const double *dv;
     /* float (spec 6.5): the potential its search starts from (the root found is the one time
      * evolution from U0 reaches: the first sign change of I_net walking from U0 along it) */
     double U0;
@@ -247,6 +260,10 @@ typedef struct {
      * largest relative energy error |dE| / (K0 + |q phi_g|) of a path */
     uint64_t lost, steps;
     double max_energy_err;
+    /* differential charging (spec 6.10, o->npatch > 0): each patch's net current (A: collected,
+     * plus its secondaries, backscattered and photoelectrons that escape) at each dv of the
+     * grid, [npatch][ndv] */
+    double *patch_I;
 } mote_ch_result;
 
 int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tracer *t,

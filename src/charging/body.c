@@ -185,16 +185,21 @@ int mote_ch_body_icosphere(mote_ch_body *b, double r, int level, mote_err *err)
     return rc;
 }
 
-int mote_ch_body_uvsphere(mote_ch_body *b, double r, int nlon, int nlat, mote_err *err)
+int mote_ch_body_uvsphere(mote_ch_body *b, double r, int nlon, int nlat, int halves,
+                          mote_err *err)
 {
     int rc = no_sphere(b, "uvsphere", err);
     if (rc)
         return rc;
     if (!(r > 0) || nlon < 3 || nlat < 2)
         return mote_fail(err, MOTE_EINVAL, "body uvsphere: need radius > 0, nlon >= 3, nlat >= 2");
+    if (halves && nlat % 2)
+        return mote_fail(err, MOTE_EINVAL, "body uvsphere: parts=hemispheres needs an even "
+                         "nlat (the equator is a ring), found %d", nlat);
     static const double origin[3] = {0, 0, 0};
-    const int part = ch_body_part(b, "uvsphere", err);
-    if (part < 0)
+    const int part = ch_body_part(b, halves ? "north" : "uvsphere", err);
+    const int south = part < 0 || !halves ? part : ch_body_part(b, "south", err);
+    if (south < 0)
         return err->code;
     /* rings at polar angles pi j / nlat, j = 0 (north pole) ... nlat (south pole) */
     for (int j = 0; j < nlat && !rc; j++)
@@ -207,10 +212,11 @@ int mote_ch_body_uvsphere(mote_ch_body *b, double r, int nlon, int nlat, mote_er
                 p[c][1] = r * sin(th) * sin(ph);
                 p[c][2] = r * cos(th);
             }
+            const int pj = 2 * j < nlat ? part : south;
             if (j > 0) /* (the cap at the north pole has one triangle per column) */
-                rc = ch_add_tri(b, p[0], p[1], p[2], origin, 1, part, err);
+                rc = ch_add_tri(b, p[0], p[1], p[2], origin, 1, pj, err);
             if (!rc && j < nlat - 1)
-                rc = ch_add_tri(b, p[0], p[2], p[3], origin, 1, part, err);
+                rc = ch_add_tri(b, p[0], p[2], p[3], origin, 1, pj, err);
         }
     return rc;
 }

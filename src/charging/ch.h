@@ -112,4 +112,30 @@ double ch_table_t_at(const ch_table *t, double U);
 double ch_table_col(const ch_table *t, double U, int j);
 void ch_table_free(ch_table *t);
 
+/* Differential charging (diff.c, spec 6.10): the patches' circuit, the currents tabulated at
+ * nodes of U made when first needed (node: one evaluation at U: the conductor's net current,
+ * its error and each patch's net current at each dv of the grid), and the implicit
+ * integration of (U, V_p - U). */
+#define CH_MAX_PATCHES 16
+typedef struct {
+    int np, ndv;
+    double scale, U0, C;                  /* the grid's scale (V), the first node, C (F) */
+    double Cp[CH_MAX_PATCHES], Rp[CH_MAX_PATCHES]; /* F, ohm (INFINITY: no conduction) */
+    double *dv;                           /* [ndv] ascending, dv[ndv / 2] = 0 */
+    int nn;                               /* nodes made: their lattice index, currents */
+    int *node_j;
+    double *node_Ic, *node_sig, *node_Ip; /* Ip: [nn][np][ndv] */
+    int (*node)(void *ctx, double U, double *Ic, double *sig, double *Ip, mote_err *err);
+    void *ctx;
+    long steps;
+} ch_patches;
+
+int ch_patches_init(ch_patches *P, int np, double scale, double U0, mote_err *err);
+void ch_patches_free(ch_patches *P);
+/* The conductor's current, each patch's and the conductor's error at U and dV[np]. */
+int ch_patches_currents(ch_patches *P, double U, const double *dV, double *Ic, double *Ip,
+                        double *sig, mote_err *err);
+/* Integrate y = (U, dV_1 ... dV_np) from *t to t1, *h the step to try (updated). */
+int ch_patches_advance(ch_patches *P, double *y, double *h, double t1, double *t, mote_err *err);
+
 #endif

@@ -364,7 +364,8 @@ static int run_body(void *vm, const mote_call *c, mote_err *err)
     else if (strcmp(kind, "uvsphere") == 0)
     {
         const int nlon = OPT_I("nlon", 100), nlat = OPT_I("nlat", 50);
-        rc = mote_ch_body_uvsphere(&m->body, r, nlon, nlat, err);
+        const mote_arg *pa = mote_call_opt(c, "parts");
+        rc = mote_ch_body_uvsphere(&m->body, r, nlon, nlat, pa && pa->i == 1, err);
     }
     else if (strcmp(kind, "load") == 0) {
         mote_ch_load_opts o;
@@ -642,6 +643,7 @@ static int material_define(void *vm, const mote_call *c, mote_err *err)
         x.ion_dmax = mote_call_opt_r(c, "ion_dmax", x.ion_dmax);
         x.ion_emax = mote_call_opt_r(c, "ion_emax", x.ion_emax);
         x.Z = mote_call_opt_r(c, "Z", x.Z);
+        x.eps_r = mote_call_opt_r(c, "eps_r", x.eps_r);
         const mote_arg *a;
         if ((a = mote_call_opt(c, "see_law"))) /* universal|sternglass */
             x.see_law = (int)a->i;
@@ -669,6 +671,66 @@ static int run_backscatter(void *vm, const mote_call *c, mote_err *err)
     if (check_backscatter(vm, c, err))
         return MOTE_EINVAL;
     ((ch_model *)vm)->no_backscatter = c->args[0].i != 0; /* on|off */
+    return MOTE_OK;
+}
+
+double ch_part_eps(const ch_model *m, const char *part)
+{
+    for (int k = m->nassign - 1; k >= 0; k--)
+        if (!strcmp(m->assign[k].part, "*") || !strcmp(m->assign[k].part, part))
+            return m->assign[k].m.eps_r;
+    return 0;
+}
+
+double ch_smallest_kT(const ch_model *m)
+{
+    double s = INFINITY;
+    for (int i = 0; i < m->plasma.nsp; i++)
+        for (int k = 0; k < m->plasma.sp[i].ncomp; k++)
+            s = fmin(s, m->plasma.sp[i].kT[k] / abs(m->plasma.sp[i].Z));
+    for (int k = 0; k < m->nassign; k++) {
+        const mote_ch_material *x = &m->assign[k].m;
+        if (x->see_dmax > 0 || x->ion_dmax > 0)
+            s = fmin(s, x->kT_s);
+        if (x->photo_j > 0)
+            s = fmin(s, x->kT_ph);
+    }
+    return isfinite(s) ? s : 1;
+}
+
+/* `dielectric part=NAME thickness=D [eps_r=E] [sigma=S]` (spec 6.10): the same function for
+ * the dry and the real model. */
+static int dielectric(void *vm, const mote_call *c, mote_err *err)
+{
+    ch_model *m = vm;
+    const mote_arg *part = mote_call_opt(c, "part");
+    if (strlen(part->text) >= sizeof m->diel[0].part)
+        return mote_call_fail(err, c, mote_call_opt_index(c, "part"), MOTE_EINVAL,
+                              "dielectric: a part name longer than %zu characters",
+                              sizeof m->diel[0].part - 1);
+    if (m->dry && !m->have_body)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "dielectric: give the body first (the "
+                              "parts are its parts)");
+    if (!m->dry && !has_part(m, part->text))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "part"), MOTE_EINVAL,
+                              "dielectric: the body has no part '%s' (%s)", part->text,
+                              m->body.sphere ? "the exact sphere's part is sphere"
+                                             : "see the parts body printed");
+    if (m->faithful && !mote_call_opt(c, "eps_r"))
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "dielectric: faithful mode has no "
+                              "materials: give eps_r=");
+    int k = 0;
+    while (k < m->ndiel && strcmp(m->diel[k].part, part->text))
+        k++;
+    if (k == CH_MAX_PATCHES)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "dielectric: at most %d dielectric parts",
+                              CH_MAX_PATCHES);
+    snprintf(m->diel[k].part, sizeof m->diel[k].part, "%s", part->text);
+    m->diel[k].d = mote_call_opt(c, "thickness")->r;
+    m->diel[k].eps_r = mote_call_opt_r(c, "eps_r", 0);
+    m->diel[k].sigma = mote_call_opt_r(c, "sigma", 0);
+    if (k == m->ndiel)
+        m->ndiel++;
     return MOTE_OK;
 }
 
@@ -733,7 +795,7 @@ int ch_build_tri_materials(ch_model *m, mote_err *err)
     m->tri_mat = malloc((size_t)n * sizeof *m->tri_mat);
     if (!m->tri_mat)
         return mote_fail(err, MOTE_ENOMEM, "out of memory for the materials");
-    static const mote_ch_material bare = {"bare", 0, 1, 0, 2, 0, 0, 0, 1, 2, 0};
+    static const mote_ch_material bare = {"bare", 0, 1, 0, 2, 0, 0, 0, 1, 2, 0, 0};
     for (uint32_t i = 0; i < n; i++) {
         const mote_ch_material *x = part_material(m, PART_OF(i));
         m->tri_mat[i] = x ? x : &bare;
@@ -834,8 +896,8 @@ static const mote_cmd ch_commands[] = {
      "the exact sphere (spec 4.1)", HELP_BODY, check_body, run_body},
     {"body icosphere", NULL, "radius=r>0! level=i[0,8]", "body icosphere radius=A [level=4]",
      "a sphere of triangles by subdivision", HELP_BODY, check_body, run_body},
-    {"body uvsphere", NULL, "radius=r>0! nlon=i>=3 nlat=i>=2",
-     "body uvsphere radius=A [nlon=100] [nlat=50]", "a sphere of triangles by longitude and "
+    {"body uvsphere", NULL, "radius=r>0! nlon=i>=3 nlat=i>=2 parts=e{one|hemispheres}",
+     "body uvsphere radius=A [nlon=100] [nlat=50] [parts=one|hemispheres]", "a sphere of triangles by longitude and "
      "latitude", HELP_BODY, check_body, run_body},
     {"body box", NULL, "size=v3! subdiv=i>=1", "body box size=SX,SY,SZ [subdiv=1]",
      "a box of triangles", HELP_BODY, check_body, run_body},
@@ -872,7 +934,7 @@ static const mote_cmd ch_commands[] = {
      ch_run_float},
     {"material define", NULL,
      "name=s! see_dmax=r>=0 see_emax=r>0 see_law=e{universal|sternglass} see_angle=e{none|sec} "
-     "see_kT=r>0 ion_dmax=r>=0 ion_emax=r>0 photo_j=r>=0 photo_kT=r>0 Z=r[0,100]",
+     "see_kT=r>0 ion_dmax=r>=0 ion_emax=r>0 photo_j=r>=0 photo_kT=r>0 Z=r[0,100] eps_r=r>=1",
      "material define name=NAME [options]", "define a material (spec 6.9)", HELP_MATERIAL,
      material_define, material_define},
     {"backscatter", NULL, "e{on|off}", "backscatter on|off",
@@ -881,6 +943,10 @@ static const mote_cmd ch_commands[] = {
     {"material assign", NULL, "part=s! material=s!", "material assign part=NAME|* material=NAME",
      "give a part of the body a material (spec 6.9)", HELP_MATERIAL, material_assign,
      material_assign},
+    {"dielectric", NULL, "part=s! thickness=r>0! eps_r=r>=1 sigma=r>=0",
+     "dielectric part=NAME thickness=D [eps_r=E] [sigma=S]",
+     "a part with a surface potential of its own (spec 6.10)", HELP_DIELECTRIC, dielectric,
+     dielectric},
     {"output", NULL,
      "prefix=f! timeseries=e{on|off} triangles=e{on|off} vtk=e{on|off} vtk_format=e{ascii|binary} "
      "png=e{on|off} ply=e{on|off} png_view=s png_size=s png_scale=e{linear|log} png_quantity=s "

@@ -187,6 +187,7 @@ void mote_ch_result_free(mote_ch_result *r)
     free(r->tri_see);
     free(r->tri_photo);
     free(r->tri_sunlit);
+    free(r->patch_I);
     memset(r, 0, sizeof *r);
 }
 
@@ -245,6 +246,29 @@ static void sum_i128(void *in, void *inout, int *len, MPI_Datatype *type)
 }
 #endif
 
+/* Sum n 128-bit integers over the ranks (in place). */
+static void mpi_sum128(int solo, ch_i128 *v, size_t n)
+{
+#ifdef MOTE_MPI
+    int rank, size;
+    mpi_layout(solo, &rank, &size);
+    if (size < 2 || !v)
+        return;
+    MPI_Datatype t128;
+    MPI_Op op;
+    MPI_Type_contiguous(16, MPI_BYTE, &t128);
+    MPI_Type_commit(&t128);
+    MPI_Op_create(sum_i128, 1, &op);
+    MPI_Allreduce(MPI_IN_PLACE, v, (int)n, t128, op, MPI_COMM_WORLD);
+    MPI_Op_free(&op);
+    MPI_Type_free(&t128);
+#else
+    (void)solo;
+    (void)v;
+    (void)n;
+#endif
+}
+
 /* Sum the tallies of one component over the ranks: the hit counts per triangle and side, the
  * counters, the largest energy error, the secondary scores (n128 128-bit integers). */
 static void mpi_merge(int solo, uint64_t *tally, size_t ntally, uint64_t cnt[4], double *eerr,
@@ -258,24 +282,58 @@ static void mpi_merge(int solo, uint64_t *tally, size_t ntally, uint64_t cnt[4],
     MPI_Allreduce(MPI_IN_PLACE, tally, (int)ntally, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
     MPI_Allreduce(MPI_IN_PLACE, cnt, 4, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
     MPI_Allreduce(MPI_IN_PLACE, eerr, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
-    if (see) {
-        MPI_Datatype t128;
-        MPI_Op op;
-        MPI_Type_contiguous(16, MPI_BYTE, &t128);
-        MPI_Type_commit(&t128);
-        MPI_Op_create(sum_i128, 1, &op);
-        MPI_Allreduce(MPI_IN_PLACE, see, (int)n128, t128, op, MPI_COMM_WORLD);
-        MPI_Op_free(&op);
-        MPI_Type_free(&t128);
-    }
 #else
     (void)tally;
     (void)ntally;
     (void)cnt;
     (void)eerr;
-    (void)see;
-    (void)n128;
 #endif
+    mpi_sum128(solo, see, n128);
+}
+
+/* Differential charging (spec 6.10): score one hit of charge Z e and impact energy E (eV) in
+ * the body's field on a patch's row: [ndv + 1] the collected counts as a difference array over
+ * the grid dv (collected where E - Z dv > 0), then [ndv] its emission (mat: NULL for none) at
+ * each collected dv, escaping by the patch's potential U_s + dv, in fixed point. */
+static void patch_score(ch_i128 *row, const mote_ch_run_opts *o, int Z,
+                        const mote_ch_material *mat, double U_s, double E, double c)
+{
+    const int n = o->ndv;
+    const double *dv = o->dv, lim = E / Z;
+    int a = 0, b = n, lo = 0, hi = n;
+    while (a < b) { /* the first dv past the limit: > lim (electrons), >= lim (ions) */
+        const int mid = (a + b) / 2;
+        if (Z < 0 ? dv[mid] > lim : dv[mid] >= lim)
+            b = mid;
+        else
+            a = mid + 1;
+    }
+    if (Z < 0)
+        lo = a;
+    else
+        hi = a;
+    row[lo] += 1;
+    row[hi] -= 1;
+    if (!mat)
+        return;
+    ch_i128 *em = row + n + 1;
+    for (int g = lo; g < hi; g++) {
+        const double e = E - Z * dv[g], V = U_s + dv[g];
+        double sc = (Z < 0 ? mote_ch_see_yield(mat, e / 1000, c) : mote_ch_ion_yield(mat, e / 1000)) *
+                    mote_ch_escape(V, mat->kT_s);
+        if (o->backscatter && Z < 0 && mat->Z > 0)
+            sc += mote_ch_backscatter_yield(mat, e / 1000, c) * mote_ch_backscatter_escape(V, e);
+        em[g] += (ch_i128)llround(sc * FIX);
+    }
+}
+
+/* Differential charging: the photocurrent I0 (escape 1) of a triangle of patch pp, escaping by
+ * the patch's potential U_s + dv at each dv of the grid. */
+static void patch_photo(mote_ch_result *r, const mote_ch_run_opts *o, int pp, double I0,
+                        double U_s, double kT_ph)
+{
+    for (int g = 0; g < o->ndv; g++)
+        r->patch_I[(size_t)pp * (size_t)o->ndv + (size_t)g] += I0 * mote_ch_escape(U_s + o->dv[g], kT_ph);
 }
 
 int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tracer *t,
@@ -373,6 +431,11 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
     /* the bounding sphere about the centre, a little enlarged for rounding */
     const double rb = g.r_bound * (1 + 1e-9) / R, miss_below = rb < 1 ? 1 - rb * rb : 0;
     const int nt = o->threads > 1 ? o->threads : 1;
+    /* differential charging (spec 6.10): per patch a row of patch_score, per thread */
+    const int patchy = o->npatch > 0 && o->tri_patch && o->dv && o->ndv > 0 && o->field;
+    const size_t pw = patchy ? (size_t)(2 * o->ndv + 1) : 0, npw = pw * (size_t)o->npatch;
+    if (patchy && !(r->patch_I = calloc((size_t)o->npatch * (size_t)o->ndv, sizeof *r->patch_I)))
+        return mote_fail(err, MOTE_ENOMEM, "run: out of memory for the patch tallies");
     int mrank, msize;
     mpi_layout(o->solo, &mrank, &msize);
     struct timespec t0, t1;
@@ -450,10 +513,20 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                     mote_progress_end(&own);
                 return mote_fail(err, MOTE_ENOMEM, "run: out of memory for the secondary tallies");
             }
+            ch_i128 *ppat = patchy ? calloc((size_t)nt * npw, sizeof *ppat) : NULL;
+            if (patchy && !ppat) {
+                free(psee);
+                mote_ch_result_free(r);
+                if (!o->progress)
+                    mote_progress_end(&own);
+                return mote_fail(err, MOTE_ENOMEM, "run: out of memory for the patch tallies");
+            }
             uint64_t *tally = r->tri_hits + (size_t)comp * ntri * 2;
             /* each thread tallies into its own copy; integer sums merge exactly */
             uint64_t *priv = nt > 1 ? calloc((size_t)nt * ntri * 2, sizeof *priv) : NULL;
             if (nt > 1 && !priv) {
+                free(ppat);
+                free(psee);
                 mote_ch_result_free(r);
                 if (!o->progress)
                     mote_progress_end(&own);
@@ -479,12 +552,13 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                     const uint64_t h1 = (blk + 1) * BLOCK < o->particles ? (blk + 1) * BLOCK
                                                                            : o->particles;
                     ch_i128 *msee = see ? psee + (size_t)tid * nsee : NULL;
+                    ch_i128 *mpat = patchy ? ppat + (size_t)tid * npw : NULL;
 #define SEE_SCORE(TRI, SIDE, E_EV, COS)                                                           \
     do {                                                                                          \
+        const double e_ = (E_EV), c_ = (COS);                                                     \
         if (see) {                                                                                \
             const mote_ch_material *mat_ = o->tri_material[(TRI)];                                \
             const double esc_ = mote_ch_escape(U_s, mat_->kT_s);                                  \
-            const double e_ = (E_EV), c_ = (COS);                                                 \
             double sc_ = (sp->Z < 0 ? mote_ch_see_yield(mat_, e_ / 1000, c_)                      \
                                     : mote_ch_ion_yield(mat_, e_ / 1000)) *                       \
                          esc_;                                                                    \
@@ -496,10 +570,14 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
             msee[nsee - 2] += q_;                                                                 \
             msee[nsee - 1] += (ch_i128)llround(sc_ * sc_ * FIX);                                  \
         }                                                                                         \
+        if (patchy && o->tri_patch[(TRI)] >= 0)                                                   \
+            patch_score(mpat + (size_t)o->tri_patch[(TRI)] * pw, o, sp->Z,                        \
+                        see ? o->tri_material[(TRI)] : NULL, U_s, e_, c_);                        \
     } while (0)
 /* a straight path's impact energy: the flux's kinetic energy law, Gamma(2, kT) (eV) */
 #define STRAIGHT_E()                                                                              \
-    (see ? (ch_uniforms4(key, h, (uint32_t)comp, 7, ee_), -sp->kT[k] * log(ee_[0] * ee_[1])) : 0)
+    (see || patchy ? (ch_uniforms4(key, h, (uint32_t)comp, 7, ee_), -sp->kT[k] * log(ee_[0] * ee_[1])) \
+                   : 0)
                     double ee_[4];
                     for (uint64_t h = blk * BLOCK; h < h1; h++) {
                         double u[4];
@@ -678,6 +756,23 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                 for (size_t q = 0; q < (size_t)ntri * 2; q++)
                     tally[q] += priv[(size_t)th * ntri * 2 + q];
             free(priv);
+            if (patchy) { /* integers: any order of threads and ranks gives the same sums */
+                for (int th = 1; th < nt; th++)
+                    for (size_t q = 0; q < npw; q++)
+                        ppat[q] += ppat[(size_t)th * npw + q];
+                mpi_sum128(o->solo, ppat, npw);
+                const double w = r->weight[s][k];
+                for (int pp = 0; pp < o->npatch; pp++) {
+                    const ch_i128 *row = ppat + (size_t)pp * pw;
+                    ch_i128 n = 0;
+                    for (int j = 0; j < o->ndv; j++) {
+                        n += row[j];
+                        r->patch_I[(size_t)pp * (size_t)o->ndv + (size_t)j] +=
+                            w * (double)n + fabs(w) * (double)row[o->ndv + 1 + j] / FIX;
+                    }
+                }
+                free(ppat);
+            }
             uint64_t cnt[4] = {hits, back, lost, steps};
             mpi_merge(o->solo, tally, (size_t)ntri * 2, cnt, &eerr, psee, nsee);
             hits = cnt[0];
@@ -726,9 +821,11 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
         if (b->sphere) { /* the lit half: the projected disc */
             const mote_ch_material *mat = o->tri_material[0];
             r->tri_sunlit[0] = 0.5;
-            r->tri_photo[0] = mat->photo_j * inten * MOTE_CH_PI * b->sphere_r * b->sphere_r *
-                              mote_ch_escape(U_s, mat->kT_ph);
+            const double I0 = mat->photo_j * inten * MOTE_CH_PI * b->sphere_r * b->sphere_r;
+            r->tri_photo[0] = I0 * mote_ch_escape(U_s, mat->kT_ph);
             r->photo = r->tri_photo[0];
+            if (patchy && o->tri_patch[0] >= 0)
+                patch_photo(r, o, o->tri_patch[0], I0, U_s, mat->kT_ph);
         } else {
             mote_ch_sunlit(b, t, o->sun_dir, frac, side, o->threads);
             for (uint32_t i = 0; i < ntri; i++) {
@@ -739,8 +836,10 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                 const double *nr = b->nrm[i];
                 const double cs = fabs(nr[0] * o->sun_dir[0] + nr[1] * o->sun_dir[1] +
                                        nr[2] * o->sun_dir[2]);
-                const double I = mat->photo_j * inten * b->area[i] * cs * frac[i] *
-                                 mote_ch_escape(U_s, mat->kT_ph);
+                const double I0 = mat->photo_j * inten * b->area[i] * cs * frac[i];
+                const double I = I0 * mote_ch_escape(U_s, mat->kT_ph);
+                if (patchy && o->tri_patch[i] >= 0)
+                    patch_photo(r, o, o->tri_patch[i], I0, U_s, mat->kT_ph);
                 r->tri_photo[2 * (size_t)i + (size_t)side[i]] = I;
                 r->photo += I;
             }

@@ -46,6 +46,12 @@ typedef struct ch_model {
     } assign[64];
     int nassign;
     const mote_ch_material **tri_mat; /* per triangle, built for a run (NULL: none emits) */
+    /* `dielectric` (spec 6.10): the parts with a surface potential of their own, in order */
+    struct {
+        char part[MOTE_CH_NAME_LEN];
+        double d, eps_r, sigma;   /* m; eps_r 0: the part's material's; S/m */
+    } diel[CH_MAX_PATCHES];
+    int ndiel;
     /* `output`: the files of spec 8 after each run (prefix NULL: none) */
     char *prefix, *origin;
     int out_triangles, out_vtk, out_png, out_ply, png_w, png_h, png_log, vtk_binary;
@@ -75,6 +81,11 @@ const char *ch_emitted_words(const ch_model *m, int s);
 void ch_report_paths(const ch_model *m, const char *cmd);
 ch_output ch_output_of(ch_model *m, const mote_ch_geometry *g, const mote_ch_run_opts *o,
                        double U);
+
+/* The relative permittivity of part's material (0: none given). */
+double ch_part_eps(const ch_model *m, const char *part);
+/* The smallest temperature of the plasma and the emission (eV per unit charge). */
+double ch_smallest_kT(const ch_model *m);
 
 /* ---- run.c ---- */
 int ch_check_test(void *vm, const mote_call *c, mote_err *err);

@@ -80,10 +80,10 @@ int mote_ch_material_preset(const char *name, mote_ch_material *m)
      * atomic weights: kapton C22H10N2O5 6.36, teflon (CF2)n 8.28, cover glass as SiO2 10.80) */
     static const struct {
         const char *name;
-        double dmax, emax, jph, Z;
-    } T[] = {{"bare", 0, 1, 0, 0},            {"aluminium", 0.97, 0.30, 4.0e-5, 13},
-             {"gold", 0.88, 0.80, 2.9e-5, 79}, {"kapton", 2.1, 0.15, 2.0e-5, 6.36},
-             {"teflon", 3.0, 0.30, 2.0e-5, 8.28}, {"cover-glass", 2.4, 0.40, 2.0e-5, 10.80}};
+        double dmax, emax, jph, Z, eps_r; /* (eps_r: spec 6.9's table; 0 for conductors) */
+    } T[] = {{"bare", 0, 1, 0, 0, 0},               {"aluminium", 0.97, 0.30, 4.0e-5, 13, 0},
+             {"gold", 0.88, 0.80, 2.9e-5, 79, 0},   {"kapton", 2.1, 0.15, 2.0e-5, 6.36, 3.5},
+             {"teflon", 3.0, 0.30, 2.0e-5, 8.28, 2.0}, {"cover-glass", 2.4, 0.40, 2.0e-5, 10.80, 3.8}};
     for (size_t k = 0; k < sizeof T / sizeof T[0]; k++)
         if (strcmp(T[k].name, name) == 0) {
             memset(m, 0, sizeof *m);
@@ -91,6 +91,7 @@ int mote_ch_material_preset(const char *name, mote_ch_material *m)
             m->see_dmax = T[k].dmax;
             m->see_emax = T[k].emax;
             m->photo_j = T[k].jph;
+            m->eps_r = T[k].eps_r;
             m->Z = T[k].Z;
             m->kT_s = 2;
             m->kT_ph = 2;

@@ -541,10 +541,238 @@ static int evolve_full(ch_model *m, const mote_call *c, mote_err *err)
     return f ? mote_datafile_commit(&d, err) : MOTE_OK;
 }
 
+/* ---- differential charging (spec 6.10) ---- */
+
+typedef struct {
+    ch_model *m;
+    const mote_ch_tracer *tr;
+    mote_ch_run_opts o;
+    const int *tri_patch;
+    int runs;
+    double Ic, sig, Ip[CH_MAX_PATCHES]; /* faithful: the run's constant currents */
+} patch_node_ctx;
+
+/* The currents of the triangles of patch p (-1: the conductor) in a run: collected, emitted,
+ * photoelectrons. */
+static double part_current(const ch_model *m, const mote_ch_result *r, const int *tri_patch,
+                           int p)
+{
+    const uint32_t ntri = r->ntri;
+    double I = 0;
+    int comp = 0;
+    for (int s = 0; s < r->nsp; s++)
+        for (int k = 0; k < m->plasma.sp[s].ncomp; k++, comp++) {
+            uint64_t h = 0;
+            double see = 0;
+            for (uint32_t i = 0; i < ntri; i++) {
+                if (tri_patch[i] != p)
+                    continue;
+                const size_t q = (size_t)comp * ntri * 2 + 2 * (size_t)i;
+                h += r->tri_hits[q] + r->tri_hits[q + 1];
+                if (r->tri_see)
+                    see += r->tri_see[q] + r->tri_see[q + 1];
+            }
+            I += r->weight[s][k] * (double)h + see;
+        }
+    for (uint32_t i = 0; r->tri_photo && i < ntri; i++)
+        if (tri_patch[i] == p)
+            I += r->tri_photo[2 * (size_t)i] + r->tri_photo[2 * (size_t)i + 1];
+    return I;
+}
+
+static int patch_node(void *vx, double U, double *Ic, double *sig, double *Ip, mote_err *err)
+{
+    patch_node_ctx *x = vx;
+    if (x->m->faithful) { /* constant currents, whatever the potentials */
+        *Ic = x->Ic;
+        *sig = x->sig;
+        for (int p = 0; p < x->m->ndiel; p++)
+            for (int g = 0; g < x->o.ndv; g++)
+                Ip[(size_t)p * (size_t)x->o.ndv + (size_t)g] = x->Ip[p];
+        return MOTE_OK;
+    }
+    mote_ch_run_opts q = x->o;
+    q.potential = U;
+    mote_ch_result r;
+    int rc = mote_ch_run(&x->m->plasma, &x->m->body, x->tr, &q, &r, err);
+    if (rc)
+        return rc;
+    x->runs++;
+    mote_ch_net(&r, sig);
+    *Ic = part_current(x->m, &r, x->tri_patch, -1);
+    memcpy(Ip, r.patch_I, (size_t)x->m->ndiel * (size_t)q.ndv * sizeof *Ip);
+    mote_ch_result_free(&r);
+    return MOTE_OK;
+}
+
+/* The name of triangle i's part (the exact sphere: its one part). */
+static const char *body_part_name(const ch_model *m, uint32_t i)
+{
+    return m->body.sphere ? "sphere" : m->body.part_name[m->body.part[i]];
+}
+
+static int evolve_patches(ch_model *m, const mote_call *c, mote_err *err)
+{
+    mote_ch_geometry g;
+    mote_ch_body_geometry(&m->body, &g);
+    const double T = mote_call_opt(c, "time")->r, dt = mote_call_opt_r(c, "dt_out", T);
+    const double U0 = m->faithful ? 0 : mote_call_opt_r(c, "U0", 0), C = g.capacitance;
+    const uint32_t ntri = m->body.sphere ? 1 : m->body.ntri;
+    const int np = m->ndiel;
+    int *tri_patch = malloc((size_t)ntri * sizeof *tri_patch);
+    if (!tri_patch)
+        return mote_fail(err, MOTE_ENOMEM, "evolve: out of memory");
+    ch_patches P;
+    memset(&P, 0, sizeof P);
+    double area[CH_MAX_PATCHES] = {0}, eps[CH_MAX_PATCHES];
+    for (uint32_t i = 0; i < ntri; i++) {
+        tri_patch[i] = -1;
+        for (int p = 0; p < np; p++)
+            if (!strcmp(body_part_name(m, i), m->diel[p].part)) {
+                tri_patch[i] = p;
+                area[p] += m->body.sphere ? 4 * MOTE_CH_PI * m->body.sphere_r * m->body.sphere_r
+                                          : m->body.area[i] * (m->body.closed[i] ? 1 : 2);
+            }
+    }
+    int rc = MOTE_OK;
+    for (int p = 0; p < np && !rc; p++) {
+        eps[p] = m->diel[p].eps_r > 0 ? m->diel[p].eps_r : ch_part_eps(m, m->diel[p].part);
+        if (!(eps[p] >= 1))
+            rc = mote_call_fail(err, c, -1, MOTE_EINVAL, "evolve: dielectric part '%s' has no "
+                                "permittivity: give eps_r= to dielectric, or assign it a "
+                                "material with one (kapton, teflon, cover-glass)",
+                                m->diel[p].part);
+        else if (!(area[p] > 0))
+            rc = mote_call_fail(err, c, -1, MOTE_EINVAL, "evolve: dielectric part '%s' has no "
+                                "triangles", m->diel[p].part);
+        P.Cp[p] = MOTE_CH_EPS0 * eps[p] * area[p] / m->diel[p].d;
+        P.Rp[p] = m->diel[p].sigma > 0 ? m->diel[p].d / (m->diel[p].sigma * area[p]) : INFINITY;
+    }
+    if (!rc)
+        rc = ch_patches_init(&P, np, ch_smallest_kT(m), U0, err);
+    if (!rc && !m->faithful)
+        rc = ch_build_tri_materials(m, err);
+    patch_node_ctx x = {.m = m, .tri_patch = tri_patch};
+    mote_ch_tracer *tr = NULL;
+    if (!rc && m->faithful) { /* the last run's currents */
+        x.Ic = part_current(m, &m->res, tri_patch, -1);
+        for (int p = 0; p < np; p++)
+            x.Ip[p] = part_current(m, &m->res, tri_patch, p);
+        mote_ch_net(&m->res, &x.sig);
+    } else if (!rc && !(tr = mote_ch_tracer_new(&m->body, err)))
+        rc = err->code;
+    if (rc) {
+        free(tri_patch);
+        ch_patches_free(&P);
+        return rc;
+    }
+    x.tr = tr;
+    x.o = run_opts(m, c, &g);
+    x.o.tri_patch = tri_patch;
+    x.o.npatch = np;
+    x.o.dv = P.dv;
+    x.o.ndv = P.ndv;
+    P.C = C;
+    P.node = patch_node;
+    P.ctx = &x;
+    mote_progress prog; /* one line for all the runs */
+    mote_progress_begin(&prog, c->ctx, c->name);
+    x.o.progress = &prog;
+    mote_datafile d;
+    const int f = open_timeseries(m, c, &d, err, &rc);
+    FILE *out = f ? d.f : m->log;
+    if (f) {
+        fprintf(out, "# mode = %s with %d dielectric part%s (spec 6.10: C dU/dt = sum I, C_p "
+                     "d(V_p - U)/dt = I_p - (V_p - U)/R_p; implicit Euler extrapolated, "
+                     "tolerance 1e-7)\n# C_F = %.10g\n",
+                m->faithful ? "faithful" : "full", np, np > 1 ? "s" : "", C);
+        for (int p = 0; p < np; p++)
+            fprintf(out, "# %s: A_m2 = %.10g C_p_F = %.10g R_p_ohm = %.10g\n", m->diel[p].part,
+                    area[p], P.Cp[p], P.Rp[p]);
+        fprintf(out, "# columns: t_s Q_C U_V sigma_U_V I_net_A");
+        for (int p = 0; p < np; p++)
+            fprintf(out, " V_%s_V", m->diel[p].part);
+        fputs(" dV_max_V\n", out);
+    }
+    double y[CH_MAX_PATCHES + 1] = {U0}, t = 0, h = 1e-9 * T, dvmax = 0, t_dvmax = 0;
+    int p_dvmax = 0;
+    const long nout = (long)floor(T / dt + 1e-9);
+    for (long k = 0; !rc && k <= nout + (fabs(nout * dt - T) > 1e-12 * T); k++) {
+        const double time = k <= nout ? k * dt : T;
+        if ((rc = ch_patches_advance(&P, y, &h, time, &t, err)) != 0)
+            break;
+        double Ic, Ip[CH_MAX_PATCHES], sig, I;
+        if ((rc = ch_patches_currents(&P, y[0], y + 1, &Ic, Ip, &sig, err)) != 0)
+            break;
+        I = Ic;
+        double dm = 0;
+        for (int p = 0; p < np; p++) {
+            I += Ip[p];
+            dm = fmax(dm, fabs(y[1 + p]));
+            if (fabs(y[1 + p]) > dvmax) {
+                dvmax = fabs(y[1 + p]);
+                p_dvmax = p;
+                t_dvmax = time;
+            }
+        }
+        if (f) {
+            /* sigma_U: the net current's error over min(t, tau), tau = C / |dI/dU| (faithful:
+             * sigma_I t / C) */
+            double sU = sig * time / C;
+            if (!m->faithful) {
+                const double e = 1e-3 * P.scale;
+                double Ic2, Ip2[CH_MAX_PATCHES], I2 = 0;
+                if ((rc = ch_patches_currents(&P, y[0] + e, y + 1, &Ic2, Ip2, NULL, err)) != 0)
+                    break;
+                I2 = Ic2;
+                for (int p = 0; p < np; p++)
+                    I2 += Ip2[p];
+                const double slope = fabs(I2 - I) / e;
+                sU = sig * fmin(time, slope > 0 ? C / slope : time) / C;
+            }
+            fprintf(out, "%.10g %.10g %.10g %.10g %.10g", time, C * y[0], y[0], sU, I);
+            for (int p = 0; p < np; p++)
+                fprintf(out, " %.10g", y[0] + y[1 + p]);
+            fprintf(out, " %.10g\n", dm);
+        } else if (out) {
+            fprintf(out, "evolve: t %.10g s U %.10g V", time, y[0]);
+            for (int p = 0; p < np; p++)
+                fprintf(out, " V_%s %.10g V", m->diel[p].part, y[0] + y[1 + p]);
+            fputc('\n', out);
+        }
+    }
+    mote_progress_end(&prog);
+    if (!rc && m->log) {
+        fprintf(m->log, "evolve: %d dielectric part%s; %ld steps, currents from %d node%s%s\n", np,
+                np > 1 ? "s" : "", P.steps, P.nn, P.nn == 1 ? "" : "s",
+                m->faithful ? " (faithful: the last run's constant currents)" : "");
+        for (int p = 0; p < np; p++) {
+            const double tau = P.Cp[p] * P.Rp[p];
+            fprintf(m->log, "evolve: dielectric %s: A = %.6g m^2, C_p = %.6g F, R_p = %.6g ohm, "
+                            "tau_p = %.6g s; at t = %g s V_p = %.8g V, V_p - U = %.8g V\n",
+                    m->diel[p].part, area[p], P.Cp[p], P.Rp[p], tau, T, y[0] + y[1 + p],
+                    y[1 + p]);
+        }
+        fprintf(m->log, "evolve: at t = %g s U = %.8g V; the largest |V_p - U| %.6g V (%s, at t "
+                        "= %g s)\n", T, y[0], dvmax, m->diel[p_dvmax].part, t_dvmax);
+    }
+    mote_ch_tracer_free(tr);
+    free(tri_patch);
+    ch_patches_free(&P);
+    if (f)
+        return rc ? (mote_datafile_abort(&d), rc) : mote_datafile_commit(&d, err);
+    return rc;
+}
+
 /* Faithful mode (spec 1.2): constant currents, Q = I t and U = Q / C. */
 int ch_run_evolve(void *vm, const mote_call *c, mote_err *err)
 {
     ch_model *m = vm;
+    if (m->ndiel > 0) {
+        if (!m->faithful)
+            ch_diagnose(m, "evolve");
+        return evolve_patches(m, c, err);
+    }
     if (!m->faithful) {
         ch_diagnose(m, "evolve");
         return evolve_full(m, c, err);

@@ -1,0 +1,282 @@
+/* diff.c: differential charging (spec 6.10). Dielectric patches p have their own surface
+ * potential V_p over the body's U; with dV_p = V_p - U the circuit is
+ *
+ *     C   dU/dt    = I_c(U) + sum_p I_p(U, dV_p)           (the whole body)
+ *     C_p dV_p/dt' = I_p(U, dV_p) - dV_p / R_p            (each patch; d(V_p - U)/dt)
+ *
+ * with C_p = eps0 eps_r A_p / d_p and R_p = d_p / (sigma_p A_p). The currents come from Monte
+ * Carlo runs at nodes U_j = U0 + s sinh(0.2 j) (s: the smallest temperature, in volts), made
+ * when the solution first needs them; each run tallies every patch's net current at every dV
+ * of a grid dV_g = s sinh(0.1 g) up to DV_MAX (mc.c). Between nodes and grid points the
+ * currents are interpolated by cubics with the slopes of three-point differences (exact for
+ * quadratics). The system is stiff (the body follows its currents in
+ * microseconds to seconds, a patch in minutes to days), so it is integrated by implicit Euler
+ * steps with Newton's method (Jacobian by differences), extrapolated from one step and two
+ * half steps (second order, L-stable), the step chosen from the difference of the two. */
+#include "mote/charging.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "ch.h"
+
+#define DU_STEP 0.2    /* the node lattice's asinh step */
+#define DV_STEP 0.1    /* the patch grid's asinh step */
+#define DV_MAX 1e6     /* V: the grid's reach either side of the body */
+#define RTOL 1e-7      /* the step control's tolerances: relative, and absolute in volts */
+#define ATOL 1e-7
+
+void ch_patches_free(ch_patches *P)
+{
+    free(P->dv);
+    free(P->node_j);
+    free(P->node_Ic);
+    free(P->node_sig);
+    free(P->node_Ip);
+    memset(P, 0, sizeof *P);
+}
+
+int ch_patches_init(ch_patches *P, int np, double scale, double U0, mote_err *err)
+{
+    const int half = (int)ceil(asinh(DV_MAX / scale) / DV_STEP);
+    P->np = np;
+    P->scale = scale;
+    P->U0 = U0;
+    P->ndv = 2 * half + 1;
+    if (!(P->dv = malloc((size_t)P->ndv * sizeof *P->dv)))
+        return mote_fail(err, MOTE_ENOMEM, "evolve: out of memory");
+    for (int g = 0; g < P->ndv; g++)
+        P->dv[g] = g == half ? 0 : scale * sinh(DV_STEP * (g - half));
+    return MOTE_OK;
+}
+
+static double node_U(const ch_patches *P, int j)
+{
+    return j == 0 ? P->U0 : P->U0 + P->scale * sinh(DU_STEP * j);
+}
+
+/* The slot of node j, run when new; -1 with err. */
+static int node_slot(ch_patches *P, int j, mote_err *err)
+{
+    for (int k = 0; k < P->nn; k++)
+        if (P->node_j[k] == j)
+            return k;
+    if (P->nn == 4096) {
+        mote_fail(err, MOTE_ERUNTIME, "evolve: the body's potential wandered over 4096 nodes");
+        return -1;
+    }
+    const size_t n = (size_t)P->nn + 1, w = (size_t)P->np * (size_t)P->ndv;
+    int *nj = realloc(P->node_j, n * sizeof *nj);
+    if (nj)
+        P->node_j = nj;
+    double *nc = realloc(P->node_Ic, n * sizeof *nc);
+    if (nc)
+        P->node_Ic = nc;
+    double *ns = realloc(P->node_sig, n * sizeof *ns);
+    if (ns)
+        P->node_sig = ns;
+    double *np = realloc(P->node_Ip, n * w * sizeof *np);
+    if (np)
+        P->node_Ip = np;
+    if (!nj || !nc || !ns || !np) {
+        mote_fail(err, MOTE_ENOMEM, "evolve: out of memory");
+        return -1;
+    }
+    const int k = P->nn;
+    if (P->node(P->ctx, node_U(P, j), &P->node_Ic[k], &P->node_sig[k], P->node_Ip + (size_t)k * w,
+                err))
+        return -1;
+    P->node_j[k] = j;
+    P->nn++;
+    return k;
+}
+
+/* The cubic through (x1, f1) and (x2, f2) with slopes from the three-point differences
+ * (exact for quadratics; one-sided where x0 or x3 is missing: NAN), at x in [x1, x2]. */
+static double cubic(const double x[4], const double f[4], double at)
+{
+    const double h = x[2] - x[1], d = (f[2] - f[1]) / h;
+    double d1 = d, d2 = d;
+    if (!isnan(x[0])) {
+        const double h0 = x[1] - x[0], s0 = (f[1] - f[0]) / h0;
+        d1 = (h * s0 + h0 * d) / (h0 + h);
+    }
+    if (!isnan(x[3])) {
+        const double h2 = x[3] - x[2], s2 = (f[3] - f[2]) / h2;
+        d2 = (h2 * d + h * s2) / (h + h2);
+    }
+    const double s = (at - x[1]) / h;
+    return (1 + 2 * s) * (1 - s) * (1 - s) * f[1] + s * (1 - s) * (1 - s) * h * d1 +
+           s * s * (3 - 2 * s) * f[2] + s * s * (s - 1) * h * d2;
+}
+
+/* Patch p's current at node slot k and dV (cubic between grid points); *off = 1 when dV is off
+ * the grid. */
+static double patch_at(const ch_patches *P, int k, int p, double dV, int *off)
+{
+    const double *I = P->node_Ip + ((size_t)k * (size_t)P->np + (size_t)p) * (size_t)P->ndv;
+    const int half = P->ndv / 2;
+    const double x = asinh(dV / P->scale) / DV_STEP + half;
+    if (!(x >= 0 && x <= P->ndv - 1)) {
+        *off = 1;
+        return 0;
+    }
+    int g = (int)floor(x);
+    if (g >= P->ndv - 1)
+        g = P->ndv - 2;
+    double xs[4], fs[4];
+    for (int q = 0; q < 4; q++) {
+        const int gq = g - 1 + q;
+        const int in = gq >= 0 && gq < P->ndv;
+        xs[q] = in ? P->dv[gq] : NAN;
+        fs[q] = in ? I[gq] : 0;
+    }
+    return cubic(xs, fs, dV);
+}
+
+int ch_patches_currents(ch_patches *P, double U, const double *dV, double *Ic, double *Ip,
+                        double *sig, mote_err *err)
+{
+    const double x = asinh((U - P->U0) / P->scale) / DU_STEP;
+    if (!isfinite(x))
+        return mote_fail(err, MOTE_ERUNTIME, "evolve: the body's potential is not finite");
+    /* the nodes j - 1 ... j + 2 about the interval j, j + 1 that holds U */
+    const int j = (int)floor(x);
+    int k[4];
+    double xs[4], fs[4];
+    for (int q = 0; q < 4; q++) {
+        if ((k[q] = node_slot(P, j - 1 + q, err)) < 0)
+            return err->code;
+        xs[q] = node_U(P, j - 1 + q);
+        fs[q] = P->node_Ic[k[q]];
+    }
+    *Ic = cubic(xs, fs, U);
+    if (sig) {
+        const double f = (U - xs[1]) / (xs[2] - xs[1]);
+        *sig = (1 - f) * P->node_sig[k[1]] + f * P->node_sig[k[2]];
+    }
+    int off = 0;
+    for (int p = 0; p < P->np; p++) {
+        for (int q = 0; q < 4; q++)
+            fs[q] = patch_at(P, k[q], p, dV[p], &off);
+        Ip[p] = cubic(xs, fs, U);
+        if (off)
+            return mote_fail(err, MOTE_ERUNTIME, "evolve: the potential of dielectric "
+                             "part %d (in the order given) left the tabulated range: |V_p - U| "
+                             "> %g V", p + 1, DV_MAX);
+    }
+    return MOTE_OK;
+}
+
+/* y' = F(y), y = (U, dV_1 ... dV_np). */
+static int rhs(ch_patches *P, const double *y, double *F, mote_err *err)
+{
+    double Ic, Ip[CH_MAX_PATCHES];
+    int rc = ch_patches_currents(P, y[0], y + 1, &Ic, Ip, NULL, err);
+    if (rc)
+        return rc;
+    double I = Ic;
+    for (int p = 0; p < P->np; p++) {
+        I += Ip[p];
+        F[1 + p] = (Ip[p] - (isfinite(P->Rp[p]) ? y[1 + p] / P->Rp[p] : 0)) / P->Cp[p];
+    }
+    F[0] = I / P->C;
+    return MOTE_OK;
+}
+
+/* One implicit Euler step z = y + h F(z) by Newton's method; 1 when it does not converge. */
+static int be_step(ch_patches *P, const double *y, double h, double *z, mote_err *err)
+{
+    const int n = P->np + 1;
+    double F[CH_MAX_PATCHES + 1], G[CH_MAX_PATCHES + 1], J[CH_MAX_PATCHES + 1][CH_MAX_PATCHES + 2];
+    memcpy(z, y, (size_t)n * sizeof *z);
+    for (int it = 0; it < 30; it++) {
+        if (rhs(P, z, F, err))
+            return -1;
+        /* the residual r = z - y - h F(z) and its Jacobian I - h dF/dz, by differences */
+        for (int c = 0; c < n; c++) {
+            const double e = 1e-7 * fmax(fabs(z[c]), P->scale);
+            double zc[CH_MAX_PATCHES + 1];
+            memcpy(zc, z, (size_t)n * sizeof *z);
+            zc[c] += e;
+            if (rhs(P, zc, G, err))
+                return -1;
+            for (int r = 0; r < n; r++)
+                J[r][c] = (r == c) - h * (G[r] - F[r]) / e;
+        }
+        for (int r = 0; r < n; r++)
+            J[r][n] = -(z[r] - y[r] - h * F[r]);
+        /* Gaussian elimination with partial pivoting */
+        for (int c = 0; c < n; c++) {
+            int piv = c;
+            for (int r = c + 1; r < n; r++)
+                if (fabs(J[r][c]) > fabs(J[piv][c]))
+                    piv = r;
+            if (!(fabs(J[piv][c]) > 0))
+                return 1;
+            if (piv != c)
+                for (int q = 0; q <= n; q++) {
+                    const double tmp = J[c][q];
+                    J[c][q] = J[piv][q];
+                    J[piv][q] = tmp;
+                }
+            for (int r = c + 1; r < n; r++) {
+                const double m = J[r][c] / J[c][c];
+                for (int q = c; q <= n; q++)
+                    J[r][q] -= m * J[c][q];
+            }
+        }
+        double dz[CH_MAX_PATCHES + 1], big = 0;
+        for (int r = n - 1; r >= 0; r--) {
+            double s = J[r][n];
+            for (int q = r + 1; q < n; q++)
+                s -= J[r][q] * dz[q];
+            dz[r] = s / J[r][r];
+        }
+        for (int r = 0; r < n; r++) {
+            z[r] += dz[r];
+            big = fmax(big, fabs(dz[r]) / (ATOL + RTOL * fabs(z[r])));
+        }
+        if (!isfinite(big))
+            return 1;
+        if (big < 1e-3)
+            return 0;
+    }
+    return 1;
+}
+
+int ch_patches_advance(ch_patches *P, double *y, double *h, double t1, double *t, mote_err *err)
+{
+    const int n = P->np + 1;
+    while (*t < t1) {
+        double hh = fmin(*h, t1 - *t);
+        const int last = hh == t1 - *t;
+        double y1[CH_MAX_PATCHES + 1], ym[CH_MAX_PATCHES + 1], y2[CH_MAX_PATCHES + 1];
+        int rc = be_step(P, y, hh, y1, err);
+        if (!rc)
+            rc = be_step(P, y, 0.5 * hh, ym, err);
+        if (!rc)
+            rc = be_step(P, ym, 0.5 * hh, y2, err);
+        if (rc < 0)
+            return err->code;
+        double en = 0;
+        for (int k = 0; !rc && k < n; k++)
+            en = fmax(en, fabs(y2[k] - y1[k]) / (ATOL + RTOL * fabs(y2[k])));
+        if (rc || en > 1) { /* refused: a shorter step */
+            *h = hh * (rc ? 0.25 : fmax(0.1, 0.9 / sqrt(en)));
+            if (*h < 1e-15 * fmax(1, fabs(*t)))
+                return mote_fail(err, MOTE_ERUNTIME, "evolve: the step fell below %g s at t = %g "
+                                 "s", *h, *t);
+            continue;
+        }
+        for (int k = 0; k < n; k++)
+            y[k] = 2 * y2[k] - y1[k];
+        *t = last ? t1 : *t + hh;
+        P->steps++;
+        const double grow = en > 0 ? fmin(4, 0.9 / sqrt(en)) : 4;
+        if (!last || grow < 1)
+            *h = hh * grow;
+    }
+    return MOTE_OK;
+}
