@@ -871,7 +871,7 @@ static void test_photo(void)
 {
     printf("Q6: photoemission\n");
     mote_err err = {0};
-    mote_ch_material ph = {"ph", 0, 1, 2e-5, 2, 0, 0, 0, 1, 2, 0};
+    mote_ch_material ph = {"ph", 0, 1, 2e-5, 2, 0, 0, 0, 1, 2, 0, 0};
     const mote_ch_material *one[1] = {&ph};
     mote_ch_plasma p;
     mote_ch_plasma_preset(&p, "geo-worst-case", 0, 0, &err);

@@ -347,4 +347,43 @@ timeout 20 "$MOTE" run m10.mote > out.txt 2>&1 && grep -q '^body: 1 triangles' o
 printf '%bbody load file=parts.obj\nmaterial assign part=left_wing_%sB material=gold\n' "$G" "$(printf 'x%.0s' $(seq 1 40))" > m11.mote
 "$MOTE" run m11.mote > out.txt 2> err.txt && ok || bad "long part names (cut to 31 characters, the two parts became one): $(cat err.txt)"
 expect 2 "m12.mote:2:16: error: body load: cube.txt: the part name 'yyyyy" m12.mote "${G}body load file=cube.txt part=$(printf 'y%.0s' $(seq 1 300))\n"
+
+# Differential charging (spec 6.10, issue 37). (a) Faithful mode, known constant currents: the
+# south hemisphere a dielectric (C_p = eps0 eps_r A / d, R_p = d / (sigma A)) over the body;
+# V_p - U = I_p R_p (1 - exp(-t / (R_p C_p))) exactly, against the implicit integrator's rows
+# (its tolerance 1e-7 relative; 1e-6 allowed for the accumulated error), I_p the part's current
+# from the run's parts table; U = I t / C unchanged.
+printf '%bplasma preset geo-worst-case\nbody uvsphere radius=1 nlon=40 nlat=20 parts=hemispheres\noutput prefix=dc png=off vtk=off triangles=off\nrun particles=1e5\ndielectric part=south thickness=1e-4 eps_r=3.5 sigma=1e-12\nevolve time=60 dt_out=5 file=dc.txt\n' "$F" > dc1.mote
+"$MOTE" run dc1.mote > out.txt 2> err.txt && ok || bad "dc1.mote failed: $(cat err.txt)"
+[ "$(grep '^# columns:' dc.txt | tr -d '\r')" = "# columns: t_s Q_C U_V sigma_U_V I_net_A V_south_V dV_max_V" ] && ok || bad "the time series' columns with a dielectric: $(grep '^# columns' dc.txt)"
+Ip=$(awk -F '[,\r]' '$1 == "south" { print $10 }' dc_parts.csv)
+A=$(awk '/^body: 1520 triangles, area/ { printf "%.12g", $5 / 2 }' out.txt)
+awk -v Ip="$Ip" -v A="$A" '/^# A_south_m2 =/ { a = $4 } /^# C_p_south_F =/ { cp = $4 } /^# R_p_south_ohm =/ { rp = $4 }
+  END { e0 = 8.8541878128e-12; c = e0 * 3.5 * A / 1e-4; r = 1e-4 / (1e-12 * A); d1 = cp / c - 1; d2 = rp / r - 1; d3 = a / A - 1
+        exit !(Ip < 0 && d1 * d1 < 1e-16 && d2 * d2 < 1e-16 && d3 * d3 < 1e-16) }' dc.txt && ok || bad "C_p, R_p of the dielectric (I_p = $Ip, A = $A): $(grep '_south_' dc.txt)"
+cp=$(awk '/^# C_p_south_F =/ { print $4 }' dc.txt); rp=$(awk '/^# R_p_south_ohm =/ { print $4 }' dc.txt)
+awk -F '[ \r]' -v Ip="$Ip" -v cp="$cp" -v rp="$rp" '!/^#/ && NF > 1 { n++; dv = -$7; ex = Ip * rp * (1 - exp(-$1 / (rp * cp))); u = $1 * $5 / 1.109791275e-10
+    if ((dv - ex) ^ 2 > 1e-12 * (Ip * rp) ^ 2 || (u - $3) ^ 2 > 1e-14 * u * u || ($6 - $3 - dv) ^ 2 > 1e-18 * $3 * $3) bad = 1 }
+    END { exit !(n == 13 && !bad) }' dc.txt && ok || bad "faithful V_p - U against I_p R_p (1 - exp(-t/tau)): $(tail -n 2 dc.txt)"
+# (b) Full mode, the exact sphere under a dielectric coat (thickness 0.5 m, eps_r 1: C_p = 2 C),
+# sigma = 0: both equations carry the same current, so V_p - U = (C / C_p) U exactly, and with OML
+# currents (electrons repelled by U, and by the coat's V_p - U through the share (1 + x) e^-x of
+# their impact energies E e^(-E/kT) above |V_p - U| = x kT; ions attracted, all collected)
+# C dU/dt = I(U) integrated by RK4 (1 us steps) gives U(t): each row within 4 sigma_U.
+printf '%bseed 11\nplasma preset single n=1e6 kT=1000\nbody sphere radius=1\ndielectric part=sphere thickness=0.5 eps_r=1\nevolve time=0.5 dt_out=0.05 file=dcs.csv particles=1e5\n' "$G" > dc2.mote
+"$MOTE" run dc2.mote > out.txt 2> err.txt && ok || bad "dc2.mote failed: $(cat err.txt)"
+awk -F '[,\r]' 'function cur(U, x) { x = -U * r / kT; return -Ie * exp(U / kT) * (1 + x) * exp(-x) + Ii * (1 - U / kT) }
+  BEGIN { e = 1.602176634e-19; pi = 3.14159265358979; n = 1e6; kT = 1000; A = 4 * pi; eps0 = 8.8541878128e-12
+          Ie = e * n * sqrt(kT * e / (2 * pi * 9.1093837015e-31)) * A; Ii = e * n * sqrt(kT * e / (2 * pi * 1.67262192369e-27)) * A
+          C = 4 * pi * eps0; r = C / (eps0 * A / 0.5); U = 0; t = 0; h = 1e-6 }
+  FNR > 1 && !/^#/ { while (t < $1 - 1e-12) { k1 = cur(U) / C; k2 = cur(U + 0.5 * h * k1) / C; k3 = cur(U + 0.5 * h * k2) / C; k4 = cur(U + h * k3) / C
+                       U += h * (k1 + 2 * k2 + 2 * k3 + k4) / 6; t += h }
+    n2++; d = $3 - U; c = ($6 - $3) - r * $3; if (d * d > 16 * $4 * $4 + 1e-12 || c * c > 1e-12 * $3 * $3) { bad = 1; print "row", $1, $3, U, $4, $6 > "/dev/stderr" } }
+  END { exit !(n2 == 11 && !bad && U < -2000) }' dcs.csv 2> why.txt && ok || bad "the coated sphere against OML: $(cat why.txt)"
+printf '%bseed 11\nthreads 2\nplasma preset single n=1e6 kT=1000\nbody sphere radius=1\ndielectric part=sphere thickness=0.5 eps_r=1\nevolve time=0.5 dt_out=0.05 file=dcs2.csv particles=1e5\n' "$G" > dc3.mote
+"$MOTE" run dc3.mote > /dev/null 2>&1 && [ "$(grep -v '^# command' dcs.csv)" = "$(grep -v '^# command' dcs2.csv)" ] && ok || bad "differential charging: 1 and 2 threads give different time series"
+expect 2 "dc4.mote:3:17: error: dielectric: the body has no part 'nose'" dc4.mote "${G}body sphere radius=1\ndielectric part=nose thickness=1e-4 eps_r=2\n"
+expect 1 "dc5.mote:3:1: error: dielectric: faithful mode has no materials: give eps_r=" dc5.mote "${F}body sphere radius=1\ndielectric part=sphere thickness=1e-4\n"
+expect 2 "dc6.mote:5:1: error: evolve: dielectric part 'sphere' has no permittivity" dc6.mote "${G}plasma preset single n=1e6 kT=1000\nbody sphere radius=1\ndielectric part=sphere thickness=1e-4\nevolve time=1\n"
+expect 2 "dc7.mote:2:1: error: body uvsphere: parts=hemispheres needs an even nlat" dc7.mote "${G}body uvsphere radius=1 nlat=5 parts=hemispheres\n"
 mote_test_end

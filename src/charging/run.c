@@ -687,8 +687,8 @@ static int evolve_patches(ch_model *m, const mote_call *c, mote_err *err)
                      "tolerance 1e-7)\n# C_F = %.10g\n",
                 m->faithful ? "faithful" : "full", np, np > 1 ? "s" : "", C);
         for (int p = 0; p < np; p++)
-            fprintf(out, "# %s: A_m2 = %.10g C_p_F = %.10g R_p_ohm = %.10g\n", m->diel[p].part,
-                    area[p], P.Cp[p], P.Rp[p]);
+            fprintf(out, "# A_%s_m2 = %.10g\n# C_p_%s_F = %.10g\n# R_p_%s_ohm = %.10g\n",
+                    m->diel[p].part, area[p], m->diel[p].part, P.Cp[p], m->diel[p].part, P.Rp[p]);
         fprintf(out, "# columns: t_s Q_C U_V sigma_U_V I_net_A");
         for (int p = 0; p < np; p++)
             fprintf(out, " V_%s_V", m->diel[p].part);
