@@ -353,7 +353,7 @@ expect 2 "m12.mote:2:16: error: body load: cube.txt: the part name 'yyyyy" m12.m
 # V_p - U = I_p R_p (1 - exp(-t / (R_p C_p))) exactly, against the implicit integrator's rows
 # (its tolerance 1e-7 relative; 1e-6 allowed for the accumulated error), I_p the part's current
 # from the run's parts table; U = I t / C unchanged.
-printf '%bplasma preset geo-worst-case\nbody uvsphere radius=1 nlon=40 nlat=20 parts=hemispheres\noutput prefix=dc png=off vtk=off triangles=off\nrun particles=1e5\ndielectric part=south thickness=1e-4 eps_r=3.5 sigma=1e-12\nevolve time=60 dt_out=5 file=dc.txt\n' "$F" > dc1.mote
+printf '%bplasma preset geo-worst-case\nbody uvsphere radius=1 nlon=40 nlat=20 parts=hemispheres\noutput prefix=dc png=off triangles=off\nrun particles=1e5\ndielectric part=south thickness=1e-4 eps_r=3.5 sigma=1e-12\nevolve time=60 dt_out=5 file=dc.txt\n' "$F" > dc1.mote
 "$MOTE" run dc1.mote > out.txt 2> err.txt && ok || bad "dc1.mote failed: $(cat err.txt)"
 [ "$(grep '^# columns:' dc.txt | tr -d '\r')" = "# columns: t_s Q_C U_V sigma_U_V I_net_A V_south_V dV_max_V" ] && ok || bad "the time series' columns with a dielectric: $(grep '^# columns' dc.txt)"
 Ip=$(awk -F '[,\r]' '$1 == "south" { print $10 }' dc_parts.csv)
@@ -382,6 +382,10 @@ awk -F '[,\r]' 'function cur(U, x) { x = -U * r / kT; return -Ie * exp(U / kT) *
   END { exit !(n2 == 11 && !bad && U < -2000) }' dcs.csv 2> why.txt && ok || bad "the coated sphere against OML: $(cat why.txt)"
 printf '%bseed 11\nthreads 2\nplasma preset single n=1e6 kT=1000\nbody sphere radius=1\ndielectric part=sphere thickness=0.5 eps_r=1\nevolve time=0.5 dt_out=0.05 file=dcs2.csv particles=1e5\n' "$G" > dc3.mote
 "$MOTE" run dc3.mote > /dev/null 2>&1 && [ "$(grep -v '^# command' dcs.csv)" = "$(grep -v '^# command' dcs2.csv)" ] && ok || bad "differential charging: 1 and 2 threads give different time series"
+# the map of the surface potential at the end: V_south on the south's triangles, U on the rest
+awk '!/^#/ && NF > 1 { u = $3; v = $6 } END { printf "%s %s\n", u, v }' dc.txt > last.txt
+awk 'NR == FNR { u = $1; v = $2; next } /^SCALARS/ { f = $2 } f == "V_surface" && NF == 1 && $1 ~ /^-/ { n++; if ((($1 - u) / u) ^ 2 < 1e-16) nu++; else if ((($1 - v) / v) ^ 2 < 1e-16) nv++ }
+     f == "part_id" && NF == 1 && $1 ~ /^[01]$/ { p[$1]++ } END { exit !(n == 1520 && nu == 760 && nv == 760 && p[0] == 760 && p[1] == 760) }' last.txt dc_potential.vtk && ok || bad "dc_potential.vtk: $(grep -c . dc_potential.vtk) lines, last row $(cat last.txt)"
 expect 2 "dc4.mote:3:17: error: dielectric: the body has no part 'nose'" dc4.mote "${G}body sphere radius=1\ndielectric part=nose thickness=1e-4 eps_r=2\n"
 expect 1 "dc5.mote:3:1: error: dielectric: faithful mode has no materials: give eps_r=" dc5.mote "${F}body sphere radius=1\ndielectric part=sphere thickness=1e-4\n"
 expect 2 "dc6.mote:5:1: error: evolve: dielectric part 'sphere' has no permittivity" dc6.mote "${G}plasma preset single n=1e6 kT=1000\nbody sphere radius=1\ndielectric part=sphere thickness=1e-4\nevolve time=1\n"

@@ -82,13 +82,18 @@ typedef struct {
     const char *warnings;         /* the validity warnings (spec 3.4), lines; NULL: none */
     int png_q, png_sp;            /* png_quantity: CH_Q_*, and the species of CH_Q_SPECIES */
     int solo;                     /* the run stays in this process (mote_context.solo) */
+    const double *tri_V;          /* differential charging: each triangle's surface potential */
+    double time;                  /* at this time (s) (NULL: U everywhere) */
 } ch_output;
 
 /* png_quantity (spec 8.4) */
 enum { CH_Q_JNET, CH_Q_SPECIES, CH_Q_SEE, CH_Q_PHOTO, CH_Q_SIGMA, CH_Q_RELERR, CH_Q_SUNLIT,
-       CH_Q_HITS };
+       CH_Q_HITS, CH_Q_VSURF };
 
 int ch_write_outputs(const ch_output *o, FILE *log, mote_err *err);
+/* After `evolve` with dielectric parts: P_potential.png (a file per view) and P_potential.vtk,
+ * the surface potential o->tri_V at o->time (png and vtk as o says; not the exact sphere). */
+int ch_write_potential(const ch_output *o, FILE *log, mote_err *err);
 
 /* The net current's characteristic I(U) and the charging law it gives (evolve.c, spec 6.6). */
 typedef struct {

@@ -98,6 +98,8 @@ static double tri_quantity(const ch_output *o, uint32_t i, int side)
         return r->tri_sunlit ? r->tri_sunlit[2 * (size_t)i + (size_t)side] : 0;
     case CH_Q_HITS:
         return (double)tri_hits(r, 0, r->ncomp, i, side);
+    case CH_Q_VSURF:
+        return o->tri_V ? o->tri_V[i] : o->potential;
     default:
         return tri_j(o, i, side);
     }
@@ -106,7 +108,7 @@ static double tri_quantity(const ch_output *o, uint32_t i, int side)
 /* The picture's title and colour-bar label for the quantity. */
 static void quantity_names(const ch_output *o, char *title, size_t nt, char *label, size_t nl)
 {
-    static const char *const name[8][2] = {
+    static const char *const name[9][2] = {
         {"net current density", "J_net (A/m^2)"},
         {"", ""}, /* a species: below */
         {"secondary-electron current density", "J_see (A/m^2)"},
@@ -114,8 +116,9 @@ static void quantity_names(const ch_output *o, char *title, size_t nt, char *lab
         {"standard error of the current density", "sigma_J (A/m^2)"},
         {"relative error of the current density", "relerr"},
         {"sunlit fraction", "sunlit fraction"},
-        {"hits", "hits (all components)"}};
-    const int q = o->png_q >= 0 && o->png_q < 8 ? o->png_q : CH_Q_JNET;
+        {"hits", "hits (all components)"},
+        {"surface potential", "V (V)"}};
+    const int q = o->png_q >= 0 && o->png_q < 9 ? o->png_q : CH_Q_JNET;
     if (q == CH_Q_SPECIES) {
         const char *sp = o->plasma->sp[o->png_sp].name;
         snprintf(title, nt, "%s current density", sp);
@@ -308,25 +311,13 @@ static void vtk_scalars(FILE *f, const char *name, const double *v, size_t n, in
     vtk_put(f, v, n, binary, is_int);
 }
 
-static int write_vtk(const ch_output *o, const char *path, mote_err *err)
+/* The VTK file's header, points and triangles (v: room for 9 n numbers), to CELL_DATA. */
+static void vtk_geometry(FILE *f, const ch_output *o, const char *title, double *v)
 {
     const mote_ch_body *b = o->body;
-    const mote_ch_plasma *p = o->plasma;
     const uint32_t n = b->ntri;
-    double *v = malloc((size_t)(9 * (size_t)n + 1) * sizeof *v);
-    if (!v)
-        return mote_fail(err, MOTE_ENOMEM, "output: out of memory for the VTK file");
-    mote_afile af;
-    int rc = mote_afile_open(&af, path, err);
-    if (rc) {
-        free(v);
-        return rc;
-    }
-    FILE *f = af.f;
     const int bin = o->vtk_binary;
-    fprintf(f, "# vtk DataFile Version 3.0\nmote charging: currents at U = %.6g V, seed %llu, %llu "
-               "histories per component\n%s\nDATASET POLYDATA\nPOINTS %u double\n",
-            o->potential, (unsigned long long)o->seed, (unsigned long long)o->res->histories,
+    fprintf(f, "# vtk DataFile Version 3.0\n%s\n%s\nDATASET POLYDATA\nPOINTS %u double\n", title,
             bin ? "BINARY" : "ASCII", 3 * n);
     for (uint32_t i = 0; i < n; i++)
         for (int j = 0; j < 3; j++)
@@ -352,6 +343,29 @@ static int write_vtk(const ch_output *o, const char *path, mote_err *err)
             fprintf(f, "3 %u %u %u\n", 3 * i, 3 * i + 1, 3 * i + 2);
     }
     fprintf(f, "CELL_DATA %u\n", n);
+}
+
+static int write_vtk(const ch_output *o, const char *path, mote_err *err)
+{
+    const mote_ch_body *b = o->body;
+    const mote_ch_plasma *p = o->plasma;
+    const uint32_t n = b->ntri;
+    double *v = malloc((size_t)(9 * (size_t)n + 1) * sizeof *v);
+    if (!v)
+        return mote_fail(err, MOTE_ENOMEM, "output: out of memory for the VTK file");
+    mote_afile af;
+    int rc = mote_afile_open(&af, path, err);
+    if (rc) {
+        free(v);
+        return rc;
+    }
+    FILE *f = af.f;
+    const int bin = o->vtk_binary;
+    char title[160];
+    snprintf(title, sizeof title, "mote charging: currents at U = %.6g V, seed %llu, %llu "
+             "histories per component", o->potential, (unsigned long long)o->seed,
+             (unsigned long long)o->res->histories);
+    vtk_geometry(f, o, title, v);
     /* J_net: both sides of a sheet together; then each side, sigma, relerr, each species, the
      * emission, the sunlit fraction, hits, part */
     for (int a = 0; a < 5; a++) {
@@ -577,8 +591,12 @@ static int write_png(const ch_output *o, const char *path, mote_err *err)
     }
     char title[200], what[96], label[96];
     quantity_names(o, what, sizeof what, label, sizeof label);
-    snprintf(title, sizeof title, "%s at U = %.6g V (%s mode, %llu histories)", what,
-             o->potential, o->mode, (unsigned long long)o->res->histories);
+    if (o->png_q == CH_Q_VSURF && o->tri_V)
+        snprintf(title, sizeof title, "%s at t = %.6g s, U = %.6g V (%s mode)", what, o->time,
+                 o->potential, o->mode);
+    else
+        snprintf(title, sizeof title, "%s at U = %.6g V (%s mode, %llu histories)", what,
+                 o->potential, o->mode, (unsigned long long)o->res->histories);
     mote_surface_opts so = {title, label, o->png_w, o->png_h, 0, 0, o->png_log};
     int rc = mote_surface_png(path, &so, xy, depth, val, shade, n, err);
     free(xy);
@@ -692,6 +710,57 @@ int ch_write_outputs(const ch_output *o, FILE *log, mote_err *err)
         if (!rc && log)
             fprintf(log, "output: wrote %s\n", path);
     }
+    free(path);
+    return rc;
+}
+
+int ch_write_potential(const ch_output *o, FILE *log, mote_err *err)
+{
+    if (ch_mpi_rank(o->solo) != 0 || o->body->sphere || (!o->vtk && !o->png))
+        return MOTE_OK;
+    const size_t len = strlen(o->prefix) + 48;
+    char *path = malloc(len);
+    const uint32_t n = o->body->ntri;
+    double *v = malloc((size_t)(9 * (size_t)n + 1) * sizeof *v);
+    if (!path || !v) {
+        free(path);
+        free(v);
+        return mote_fail(err, MOTE_ENOMEM, "output: out of memory");
+    }
+    int rc = MOTE_OK;
+    ch_output ov = *o;
+    ov.png_q = CH_Q_VSURF;
+    for (int k = 0; o->png && k < (o->nviews > 1 ? o->nviews : 1) && !rc; k++) {
+        if (o->nviews > 1) {
+            memcpy(ov.view, o->views[k], sizeof ov.view);
+            snprintf(path, len, "%s_potential_%s.png", o->prefix, o->view_names[k]);
+        } else {
+            snprintf(path, len, "%s_potential.png", o->prefix);
+        }
+        rc = write_png(&ov, path, err);
+        if (!rc && log)
+            fprintf(log, "output: wrote %s\n", path);
+    }
+    if (!rc && o->vtk) {
+        snprintf(path, len, "%s_potential.vtk", o->prefix);
+        mote_afile af;
+        if (!(rc = mote_afile_open(&af, path, err))) {
+            char title[160];
+            snprintf(title, sizeof title, "mote charging: surface potential at t = %.6g s, U = "
+                     "%.6g V", o->time, o->potential);
+            vtk_geometry(af.f, o, title, v);
+            for (uint32_t i = 0; i < n; i++)
+                v[i] = o->tri_V[i];
+            vtk_scalars(af.f, "V_surface", v, n, o->vtk_binary, 0);
+            for (uint32_t i = 0; i < n; i++)
+                v[i] = o->body->part[i];
+            vtk_scalars(af.f, "part_id", v, n, o->vtk_binary, 1);
+            rc = mote_afile_commit(&af, err);
+        }
+        if (!rc && log)
+            fprintf(log, "output: wrote %s\n", path);
+    }
+    free(v);
     free(path);
     return rc;
 }

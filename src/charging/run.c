@@ -415,9 +415,13 @@ int ch_check_evolve(void *vm, const mote_call *c, mote_err *err)
     if (dt && dt->r > mote_call_opt(c, "time")->r)
         return mote_call_fail(err, c, mote_call_opt_index(c, "dt_out"), MOTE_EINVAL,
                               "evolve: dt_out must not exceed time");
-    if (!mote_call_opt(c, "file") && m->check_timeseries)
-        return note_prefixed(m, c, "_timeseries.csv", "timeseries", err);
-    return MOTE_OK;
+    int rc = MOTE_OK;
+    if (m->ndiel > 0 && !m->have_sphere) /* the map of the surface potential */
+        if (!(rc = note_prefixed(m, c, "_potential.vtk", "potential", err)))
+            rc = note_prefixed(m, c, "_potential.png", "potential", err);
+    if (!rc && !mote_call_opt(c, "file") && m->check_timeseries)
+        rc = note_prefixed(m, c, "_timeseries.csv", "timeseries", err);
+    return rc;
 }
 
 /* The time-series file of evolve (spec 8.1): file= if given, else P_timeseries.csv after
@@ -755,6 +759,19 @@ static int evolve_patches(ch_model *m, const mote_call *c, mote_err *err)
         }
         fprintf(m->log, "evolve: at t = %g s U = %.8g V; the largest |V_p - U| %.6g V (%s, at t "
                         "= %g s)\n", T, y[0], dvmax, m->diel[p_dvmax].part, t_dvmax);
+    }
+    if (!rc && m->prefix && !m->body.sphere) { /* the map of the surface potential at T */
+        double *V = malloc((size_t)ntri * sizeof *V);
+        if (!V)
+            rc = mote_fail(err, MOTE_ENOMEM, "evolve: out of memory");
+        for (uint32_t i = 0; V && i < ntri; i++)
+            V[i] = y[0] + (tri_patch[i] >= 0 ? y[1 + tri_patch[i]] : 0);
+        ch_output oo = ch_output_of(m, &g, &x.o, y[0]);
+        oo.tri_V = V;
+        oo.time = T;
+        if (!rc)
+            rc = ch_write_potential(&oo, m->log, err);
+        free(V);
     }
     mote_ch_tracer_free(tr);
     free(tri_patch);
