@@ -7,7 +7,7 @@
  * with C_p = eps0 eps_r A_p / d_p and R_p = d_p / (sigma_p A_p). The currents come from Monte
  * Carlo runs at nodes U_j = U0 + s sinh(0.2 j) (s: the smallest temperature, in volts), made
  * when the solution first needs them; each run tallies every patch's net current at every dV
- * of a grid dV_g = s sinh(0.1 g) up to DV_MAX (mc.c). Between nodes and grid points the
+ * of a grid dV_g = s sinh(0.2 g) up to DV_MAX (mc.c). Between nodes and grid points the
  * currents are interpolated by cubics with the slopes of three-point differences (exact for
  * quadratics). The system is stiff (the body follows its currents in
  * microseconds to seconds, a patch in minutes to days), so it is integrated by implicit Euler
@@ -22,7 +22,7 @@
 #include "ch.h"
 
 #define DU_STEP 0.2    /* the node lattice's asinh step */
-#define DV_STEP 0.1    /* the patch grid's asinh step */
+#define DV_STEP 0.2    /* the patch grid's asinh step */
 #define DV_MAX 1e6     /* V: the grid's reach either side of the body */
 #define RTOL 1e-7      /* the step control's tolerances: relative, and absolute in volts */
 #define ATOL 1e-7
