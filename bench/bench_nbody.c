@@ -24,6 +24,11 @@
  *                  P, tolerance TOL): CPU time of the integration only (median of 5), steps,
  *                  |dE/E| at the end; IC: its initial bodies into that file (mass, x, y, z, vx,
  *                  vy, vz per line) for IAS15 to start from the same state;
+ *   kepler [E [PERIODS [P [TOL [IC]]]]]  the two-body orbit of eccentricity E (default 0.9; M = 1,
+ *                  m = 1e-3, a = 1, from pericentre, barycentric) over PERIODS periods (default
+ *                  100), as cluster (P 0, the default: the order auto gives for TOL);
+ *   pythagorean [T [P [TOL [IC]]]]  Burrau's three bodies (masses 3, 4, 5 at rest at (1, 3),
+ *                  (-2, -1), (1, -1), barycentric) to T (default 10), as cluster;
  *   plummer [NMAX [DMAX [PNG [T]]]]  seconds per Galactica-scheme step against N for a Plummer
  *                  sphere (spec 6.2), N = 10^3, 3*10^3, ... NMAX (default 10^6), direct sums up
  *                  to DMAX (default 3*10^4) and the Barnes-Hut tree at theta 0.5 for all, on T
@@ -154,19 +159,58 @@ static int load_solar(const char *path, mote_nb *nb)
     return rc;
 }
 
-/* A Plummer sphere of n bodies (seed) to time T with the adaptive Taylor integrator of order P
- * and tolerance tol: CPU time of the integration only (median of 5), steps, |dE/E| at the end;
- * with ic, its initial bodies (mass x y z vx vy vz, one line each, %.17g) into that file, for
- * another code to start from the same state. */
-static int cluster(uint32_t n, double T, int P, double tol, uint64_t seed, const char *ic)
+/* The bodies of the small-N workloads (par: the workload's numbers): a Plummer sphere (n,
+ * seed); the two-body Kepler orbit of eccentricity e from its pericentre (M = 1, m = 10^-3,
+ * a = 1); Burrau's Pythagorean three-body problem (masses 3, 4, 5 at rest at (1, 3), (-2, -1),
+ * (1, -1)); the last two moved to the barycentre. G = 1. */
+typedef int (*bodies_fn)(mote_nb *nb, const double *par, mote_err *e);
+
+static int bodies_cluster(mote_nb *nb, const double *par, mote_err *e)
+{
+    return mote_nb_plummer(nb, (uint32_t)par[0], (uint64_t)par[1], e);
+}
+
+static int bodies_kepler(mote_nb *nb, const double *par, mote_err *e)
+{
+    const double M = 1, m = 1e-3, q = 1 - par[0], v = sqrt((M + m) * (1 + par[0]) / q);
+    const mote_real x0[3] = {0, 0, 0}, x1[3] = {q, 0, 0}, v1[3] = {0, v, 0};
+    int rc = mote_nb_add(nb, M, 0, x0, x0, 0, e) || mote_nb_add(nb, m, 0, x1, v1, 0, e);
+    if (!rc)
+        mote_nb_barycentric(nb, NULL, NULL);
+    return rc;
+}
+
+static int bodies_pythagorean(mote_nb *nb, const double *par, mote_err *e)
+{
+    (void)par;
+    static const double mass[3] = {3, 4, 5}, pos[3][2] = {{1, 3}, {-2, -1}, {1, -1}};
+    const mote_real v0[3] = {0, 0, 0};
+    for (int i = 0; i < 3; i++) {
+        const mote_real x[3] = {pos[i][0], pos[i][1], 0};
+        if (mote_nb_add(nb, mass[i], 0, x, v0, 0, e))
+            return 1;
+    }
+    mote_nb_barycentric(nb, NULL, NULL);
+    return 0;
+}
+
+/* The bodies of `make` to time T with the adaptive Taylor integrator of order P (0: the order
+ * auto gives for tol) and tolerance tol: CPU time of the integration only (median of 5),
+ * steps, |dE/E| at the end; with ic, the initial bodies (mass x y z vx vy vz, one line each,
+ * %.17g) into that file, for another code to start from the same state. `what` names the
+ * workload and its numbers on the output line. */
+static int small_n(const char *what, bodies_fn make, const double *par, double T, int P,
+                   double tol, const char *ic)
 {
     double t[5], dE = 0;
     unsigned long long steps = 0;
+    if (P <= 0)
+        P = mote_nb_taylor_auto_order(tol);
     for (int run = 0; run < 5; run++) {
         mote_nb nb;
         mote_nb_init(&nb, MOTE_NB_GRAVITY);
         mote_err e = {0};
-        if (mote_nb_plummer(&nb, n, seed, &e)) {
+        if (make(&nb, par, &e)) {
             fprintf(stderr, "bench_nbody: %s\n", e.msg);
             return 1;
         }
@@ -189,9 +233,9 @@ static int cluster(uint32_t n, double T, int P, double tol, uint64_t seed, const
         mote_nb_free(&nb);
     }
     qsort(t, 5, sizeof t[0], cmp_double);
-    printf("workload=cluster precision=%s N=%u T=%g seed=%llu order=%d tol=%g steps=%llu "
-           "cpu_seconds_median=%.6f cpu_seconds_min=%.6f abs_dE=%.3e\n",
-           PREC, n, T, (unsigned long long)seed, P, tol, steps, t[2], t[0], fabs(dE));
+    printf("%s precision=%s T=%g order=%d tol=%g steps=%llu cpu_seconds_median=%.6f "
+           "cpu_seconds_min=%.6f abs_dE=%.3e\n",
+           what, PREC, T, P, tol, steps, t[2], t[0], fabs(dE));
     return 0;
 }
 
@@ -458,17 +502,35 @@ static int run(int argc, char **argv)
         return ring_period(MOTE_NB_GALACTICA, 6, 0);
     if (strcmp(argv[1], "pairs") == 0 && argc > 2)
         return pairs((uint32_t)atoi(argv[2]), argc > 3 ? atoi(argv[3]) : 1);
-    if (strcmp(argv[1], "cluster") == 0)
-        return cluster(argc > 2 ? (uint32_t)atof(argv[2]) : 100, argc > 3 ? atof(argv[3]) : 10,
+    if (strcmp(argv[1], "cluster") == 0) {
+        const double par[2] = {argc > 2 ? atof(argv[2]) : 100, argc > 6 ? atof(argv[6]) : 1};
+        char what[96];
+        snprintf(what, sizeof what, "workload=cluster N=%.0f seed=%.0f", par[0], par[1]);
+        return small_n(what, bodies_cluster, par, argc > 3 ? atof(argv[3]) : 10,
                        argc > 4 ? atoi(argv[4]) : 20, argc > 5 ? atof(argv[5]) : 1e-16,
-                       argc > 6 ? (uint64_t)atoll(argv[6]) : 1, argc > 7 ? argv[7] : NULL);
+                       argc > 7 ? argv[7] : NULL);
+    }
+    if (strcmp(argv[1], "kepler") == 0) { /* e, periods (2 pi / sqrt(M + m) each) */
+        const double par[1] = {argc > 2 ? atof(argv[2]) : 0.9};
+        const double periods = argc > 3 ? atof(argv[3]) : 100;
+        char what[96];
+        snprintf(what, sizeof what, "workload=kepler e=%g periods=%g", par[0], periods);
+        return small_n(what, bodies_kepler, par, periods * 2 * MOTE_PI / sqrt(1.001),
+                       argc > 4 ? atoi(argv[4]) : 0, argc > 5 ? atof(argv[5]) : 1e-16,
+                       argc > 6 ? argv[6] : NULL);
+    }
+    if (strcmp(argv[1], "pythagorean") == 0)
+        return small_n("workload=pythagorean", bodies_pythagorean, NULL,
+                       argc > 2 ? atof(argv[2]) : 10, argc > 3 ? atoi(argv[3]) : 0,
+                       argc > 4 ? atof(argv[4]) : 1e-16, argc > 5 ? argv[5] : NULL);
     if (strcmp(argv[1], "plummer") == 0)
         return plummer(argc > 2 ? (uint32_t)atof(argv[2]) : 1000000,
                        argc > 3 ? (uint32_t)atof(argv[3]) : 30000,
                        argc > 4 ? argv[4] : "plummer.png", argc > 5 ? atoi(argv[5]) : 1);
     fprintf(stderr, "usage: bench_nbody [b1 [P [TOL]] | b2 FILE [P [TOL [TH]]] | galactica | "
                     "pairs N [THREADS] | plummer [NMAX [DMAX [PNG [THREADS]]]] | "
-                    "cluster [N [T [P [TOL [SEED [IC]]]]]]] | "
+                    "cluster [N [T [P [TOL [SEED [IC]]]]]]] | kepler [E [PERIODS [P [TOL [IC]]]]] | "
+                    "pythagorean [T [P [TOL [IC]]]] | "
                     "wh FILE [YEARS [DT [K [SAMPLES [IC [CURVE]]]]]]]\n");
     return 2;
 }

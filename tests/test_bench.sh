@@ -52,7 +52,16 @@ check "bench_nbody pairs reports pair evaluations per second" \
     'echo "$pairs" | grep -q "^workload=pairs precision=double N=100 threads=2 steps=3 wall_seconds=[0-9.]* pair_evaluations_per_second="'
 cl=$("$nbench" cluster 20 0.05 10 1e-12 3 "$tmp/ic.txt" 2>"$tmp/err")
 check "bench_nbody cluster reports steps, CPU time and |dE| and writes the 20 bodies: $(head -c 80 "$tmp/err")" \
-    'echo "$cl" | grep -q "^workload=cluster precision=double N=20 T=0.05 seed=3 order=10 tol=1e-12 steps=[1-9][0-9]* cpu_seconds_median=[0-9.]* cpu_seconds_min=[0-9.]* abs_dE=" && [ "$(awk "NF == 7" "$tmp/ic.txt" | wc -l)" -eq 20 ]'
+    'echo "$cl" | grep -q "^workload=cluster N=20 seed=3 precision=double T=0.05 order=10 tol=1e-12 steps=[1-9][0-9]* cpu_seconds_median=[0-9.]* cpu_seconds_min=[0-9.]* abs_dE=" && [ "$(awk "NF == 7" "$tmp/ic.txt" | wc -l)" -eq 20 ]'
+# the eccentric two-body orbit and the Pythagorean problem (issue 37's accuracy against IAS15): the
+# default order for the tolerance, the bodies for IAS15, and errors a Taylor run of that
+# tolerance reaches (two periods at e = 0.9: below 1e-12; T = 1: below 1e-12)
+kp=$("$nbench" kepler 0.9 2 0 1e-14 "$tmp/kic.txt" 2>"$tmp/err")
+check "bench_nbody kepler reports steps, CPU time and |dE| and writes the 2 bodies: $(head -c 80 "$tmp/err")" \
+    'echo "$kp" | grep -q "^workload=kepler e=0.9 periods=2 precision=double T=12.5601 order=18 tol=1e-14 steps=[1-9][0-9]* cpu_seconds_median=[0-9.]* cpu_seconds_min=[0-9.]* abs_dE=[0-9.]*e-1[2-9]" && [ "$(awk "NF == 7" "$tmp/kic.txt" | wc -l)" -eq 2 ]'
+py=$("$nbench" pythagorean 1 0 1e-14 "$tmp/pic.txt" 2>"$tmp/err")
+check "bench_nbody pythagorean reports steps, CPU time and |dE| and writes the 3 bodies: $(head -c 80 "$tmp/err")" \
+    'echo "$py" | grep -q "^workload=pythagorean precision=double T=1 order=18 tol=1e-14 steps=[1-9][0-9]* cpu_seconds_median=[0-9.]* cpu_seconds_min=[0-9.]* abs_dE=[0-9.]*e-1[2-9]" && [ "$(awk "NF == 7" "$tmp/pic.txt" | wc -l)" -eq 3 ]'
 wh=$("$nbench" wh data/outer_solar_system.dat 100 0.5 17 4 "$tmp/whic.txt" "$tmp/whcurve.txt" 2>"$tmp/err")
 check "bench_nbody wh reports ns per step and |dE| (bounded: below 1e-8 with corrector 17) and writes the 6 bodies and 4 samples: $(head -c 80 "$tmp/err")" \
     'echo "$wh" | grep -q "^workload=wh precision=double years=100 dt_years=0.5 corrector=17 samples=4 steps=200 cpu_seconds_median=[0-9.]* cpu_seconds_min=[0-9.]* ns_per_step=[0-9.]* max_abs_dE=[0-9.]*e-\(09\|1[0-9]\) abs_dE_end=" && [ "$(awk "NF == 7" "$tmp/whic.txt" | wc -l)" -eq 6 ] && [ "$(awk "NF == 2" "$tmp/whcurve.txt" | wc -l)" -eq 4 ]'

@@ -537,4 +537,15 @@ printf '%bbody mass=1 x=1\nbody mass=1 x=-1\nintegrator taylor tol=1e-16 hmin=0.
 expect 1 "h7.mote:2:20: error: generate plummer: n= the number of bodies (1 ... 10^7)" h7.mote "${G}generate plummer n=100000000\n" check
 printf '%bgenerate plummer n=100000 seed=3\n' "$G" > h8.mote
 timeout 60 "$MOTE" run h8.mote > out.txt 2> err.txt && grep -q '^N=100000 .* E=- dE=- ' out.txt && ok || bad "plummer 10^5: $(cat out.txt err.txt)"
+
+# Close encounters and rounding (issue 37): the Pythagorean three-body problem (Burrau; masses
+# 3, 4, 5 at rest at (1, 3), (-2, -1), (1, -1), G = 1) to T = 10 through its close encounters, at
+# the default tolerance. The pairs' separations carry the positions' compensation terms, so a
+# close pair's separation is not cut to a double's rounding of the positions: |dE| 6.8e-14
+# (REBOUND's IAS15 at its defaults: 9.2e-14); without the terms in the separations 1.5e-12, and
+# with compensated summation off 2.7e-12. Bound 3e-13 (a rounding figure: 4x the measured one).
+printf '%bbody mass=3 x=1 y=3\nbody mass=4 x=-2 y=-1\nbody mass=5 x=1 y=-1\nframe barycentric\nintegrator taylor\nmonitor every=100000 file=py.mon\nintegrate to=10\n' "$G" > py.mote
+"$MOTE" run py.mote > out.txt 2> err.txt && awk '!/^#/ { e = $9 } END { exit !(e * e <= 9e-26 && e != "") }' py.mon && ok || bad "Pythagorean problem to T = 10: dE $(awk '!/^#/ { e = $9 } END { print e }' py.mon) (bound 3e-13) $(cat err.txt)"
+printf '%bbody mass=3 x=1 y=3\nbody mass=4 x=-2 y=-1\nbody mass=5 x=1 y=-1\nframe barycentric\ncompensated off\nintegrator taylor\nmonitor every=100000 file=py0.mon\nintegrate to=10\n' "$G" > py0.mote
+"$MOTE" run py0.mote > out.txt 2> err.txt && awk '!/^#/ { e = $9 } END { exit !(e * e > 1e-24) }' py0.mon && ok || bad "Pythagorean problem, compensated off: dE $(awk '!/^#/ { e = $9 } END { print e }' py0.mon) (the rounding the test above would not see)"
 mote_test_end

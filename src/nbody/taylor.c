@@ -4,6 +4,10 @@
  * ordered pair (i, k):
  *
  *     R^[n] = x_i^[n] - x_k^[n],   s^[n] = sum_j R^[j] . R^[n-j]          (s = |R|^2)
+ *
+ * (with compensated summation R^[0] and R^[1] also take the difference of the two bodies'
+ * compensation terms: the state is x - xc, and a close pair's separation computed from the
+ * rounded positions alone would lose the digits the terms hold)
  *     f^[0] = s^[0]^(-3/2),  f^[n] = 1/(n s^[0]) sum_{j<n} (j/2 - 3n/2) s^[n-j] f^[j]
  *     G^[n] = sum_j f^[j] R^[n-j],   a_i^[n] = c_i sum_k w_k G^[n],   x^[n+2] = a^[n]/((n+1)(n+2))
  *
@@ -73,6 +77,11 @@ static inline void pair_G(mote_nb *nb, const mote_real *X, size_t blk, uint32_t 
     for (int j = 0; j <= n1; j++)
         for (int a = 0; a < 3; a++)
             R[j][a] = X[j * blk + 3 * i + a] - X[j * blk + 3 * k + a];
+    if (nb->compensated) /* the state is x - xc: a close pair's separation keeps its digits */
+        for (int a = 0; a < 3; a++) {
+            R[0][a] -= nb->xc[3 * i + a] - nb->xc[3 * (size_t)k + a];
+            R[1][a] -= nb->vc[3 * i + a] - nb->vc[3 * (size_t)k + a];
+        }
     int from = 0;
     if (store && n0 > 0) { /* the histories of the earlier passes */
         for (int j = 0; j < n0; j++) {
@@ -266,6 +275,11 @@ static void tree_visit(uint32_t k, int cell, void *arg)
     for (int j = 0; j <= q->n1; j++)
         for (int a = 0; a < 3; a++)
             R[j][a] = q->X[j * q->blk + 3 * q->i + a] - S[j * sb + 3 * (size_t)k + a];
+    if (!cell && q->nb->compensated) /* a body: its separation with the compensation terms */
+        for (int a = 0; a < 3; a++) {
+            R[0][a] -= q->nb->xc[3 * q->i + a] - q->nb->xc[3 * (size_t)k + a];
+            R[1][a] -= q->nb->vc[3 * q->i + a] - q->nb->vc[3 * (size_t)k + a];
+        }
     sf_order(0, R, s, f, 0, q->nb->soft * q->nb->soft);
     const mote_real f0inv = 1 / s[0];
     for (int n = 1; n <= q->n1; n++)
