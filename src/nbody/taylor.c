@@ -13,7 +13,7 @@
  *
  * Order n of the acceleration needs x^[n] and x^[n+1], so one pass over all pairs yields two
  * orders: a step of order p takes ceil((p-1)/2) passes. The per-pair histories s^[j], f^[j] are
- * either kept from pass to pass (`store`, 2 (p-1) N (N-1) reals) or computed again in every pass
+ * either kept from pass to pass (`store`, with R^[0] and R^[1]: (p + 2) N (N - 1) reals) or computed again in every pass
  * (`recompute`, no pair memory): both run the same arithmetic in the same order, so they give the
  * same bits. The step sums x(T+h) and v(T+h) by Horner's rule as increments, added with
  * compensation like the Galactica scheme. Targets are shared among OpenMP threads; each sums its
@@ -74,14 +74,22 @@ static inline void pair_G(mote_nb *nb, const mote_real *X, size_t blk, uint32_t 
                           size_t q, size_t npairs, int n0, int n1, int store, mote_real G[2][3])
 {
     mote_real R[64][3], s[64], f[64];
-    for (int j = 0; j <= n1; j++)
+    const int kept = store && n0 > 0; /* R^[0], R^[1] as the first pass left them */
+    for (int j = kept ? 2 : 0; j <= n1; j++)
         for (int a = 0; a < 3; a++)
             R[j][a] = X[j * blk + 3 * i + a] - X[j * blk + 3 * k + a];
-    if (nb->compensated) /* the state is x - xc: a close pair's separation keeps its digits */
-        for (int a = 0; a < 3; a++) {
-            R[0][a] -= nb->xc[3 * i + a] - nb->xc[3 * (size_t)k + a];
-            R[1][a] -= nb->vc[3 * i + a] - nb->vc[3 * (size_t)k + a];
-        }
+    if (kept) {
+        for (int a = 0; a < 6; a++)
+            R[a / 3][a % 3] = nb->tr[(size_t)a * npairs + q];
+    } else {
+        if (nb->compensated) /* the state is x - xc: a close pair's separation keeps its digits */
+            for (int a = 0; a < 3; a++) {
+                R[0][a] -= nb->xc[3 * i + a] - nb->xc[3 * (size_t)k + a];
+                R[1][a] -= nb->vc[3 * i + a] - nb->vc[3 * (size_t)k + a];
+            }
+        for (int a = 0; store && a < 6; a++)
+            nb->tr[(size_t)a * npairs + q] = R[a / 3][a % 3];
+    }
     int from = 0;
     if (store && n0 > 0) { /* the histories of the earlier passes */
         for (int j = 0; j < n0; j++) {
@@ -414,6 +422,14 @@ static int scratch(mote_nb *nb, int p, int store, mote_err *err)
         nb->tg = g;
         nb->tg_cap = 6 * npairs;
     }
+    if (store && 6 * npairs > nb->tr_cap) {
+        mote_real *r = realloc(nb->tr, (npairs > 0 ? 6 * npairs : 1) * sizeof *r);
+        if (!r)
+            return mote_fail(err, MOTE_ENOMEM, "taylor: out of memory for the pairs (%zu)",
+                             npairs);
+        nb->tr = r;
+        nb->tr_cap = 6 * npairs;
+    }
     if (store) {
         size_t pairs = (size_t)(p - 1) * npairs;
         if (pairs > nb->tsf_cap) {
@@ -442,7 +458,7 @@ int mote_nb_taylor_memory_store(const mote_nb *nb, int p)
     if (nb->taylor_memory == 2)
         return 0;
     /* automatic: store while the histories fit in the budget (1 GiB) */
-    mote_real bytes = (p - 1) * (mote_real)nb->n * (mote_real)nb->n * sizeof(mote_real);
+    mote_real bytes = (p + 2) * (mote_real)nb->n * (mote_real)nb->n * sizeof(mote_real);
     return bytes <= (mote_real)(1u << 30);
 }
 
