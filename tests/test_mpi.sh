@@ -1,6 +1,7 @@
 #!/bin/sh
 # test_mpi.sh: the MPI build (make MPI=1). The charging model (spec 5.6 and S5): a script of run
-# (straight paths, materials, sun), float and evolve (curved paths) gives the same files on 1
+# (straight paths, materials, sun), float and evolve (curved paths; then with a dielectric part,
+# spec 6.10, and its map of the surface potential) gives the same files on 1
 # process of the plain build, 1 rank and 2 ranks of the MPI build (timing lines excepted), and
 # only rank 0 writes. The N-body model (its spec 6.3, T17): 1, 2 and 3 ranks give the single
 # process's bits, in scripts and Galactica jobs. Other models are refused under MPI. `make check` builds
@@ -23,7 +24,7 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 MPIRUN="mpirun --oversubscribe -np 2"
 
 printf 'o craft\nv -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\ng bus\nf 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\ng panel\nv 1 -0.5 0\nv 4 -0.5 0\nv 4 0.5 0\nv 1 0.5 0\nf 9 10 11\nf 9 11 12\n' > craft.obj
-printf 'model charging\nplasma preset geo-worst-case\nbody load file=../craft.obj\nmaterial assign part=* material=kapton\nsun direction=0.3,0.2,1\noutput prefix=c png_size=400x300\nrun particles=1e5\nintegrator eta=0.05\nfloat particles=2e4\nevolve time=0.2 dt_out=0.05 particles=1e4 file=ts.csv\n' > t.mote
+printf 'model charging\nplasma preset geo-worst-case\nbody load file=../craft.obj\nmaterial assign part=* material=kapton\nsun direction=0.3,0.2,1\noutput prefix=c png_size=400x300\nrun particles=1e5\nintegrator eta=0.05\nfloat particles=2e4\nevolve time=0.2 dt_out=0.05 particles=1e4 file=ts.csv\ndielectric part=panel thickness=1e-4 sigma=1e-14\nevolve time=20 dt_out=5 particles=1e4 file=ts2.csv\n' > t.mote
 mkdir -p p1 r1 r2
 cp t.mote p1/ && cp t.mote r1/ && cp t.mote r2/
 (cd p1 && "$MOTE" run t.mote > out.txt 2> err.txt) && ok || bad "plain build: $(cat p1/err.txt)"
@@ -33,7 +34,7 @@ grep -q '^mote: 2 MPI ranks share' r2/err.txt && ok || bad "no note of the ranks
 grep -q '"ranks":2,' r2/c_summary.json && grep -q 'on 1 thread and 2 MPI ranks' r2/c_summary.txt && ok || bad "the summaries do not give the ranks"
 # the same files; the summaries without their timing (traces/s)
 untimed() { sed -e 's/"traces_per_s":[^,]*,//' -e 's/"ranks":[0-9]*,//' -e 's/, [0-9.e+]* traces\/s on .*//' "$1"; }
-for f in c_triangles.csv c_parts.csv c_surface.vtk c_surface.png ts.csv; do
+for f in c_triangles.csv c_parts.csv c_surface.vtk c_surface.png ts.csv ts2.csv c_potential.vtk c_potential.png; do
     [ -s "p1/$f" ] && cmp -s "p1/$f" "r1/$f" && cmp -s "p1/$f" "r2/$f" && ok || bad "$f differs between 1 process, 1 rank and 2 ranks"
 done
 for f in c_summary.txt c_summary.json; do
