@@ -623,7 +623,7 @@ static void set_order(const mote_call *c, int *order)
 {
     const mote_arg *a = mote_call_opt(c, "order");
     if (a && a->word) /* auto */
-        *order = mote_nb_taylor_auto_order(nb_opt_real_or(c, "tol", MOTE_REAL_TOL));
+        *order = mote_nb_taylor_auto_order(nb_opt_real_or(c, "tol", MOTE_NB_TAYLOR_TOL));
     else if (a)
         *order = (int)a->i;
 }
@@ -713,7 +713,8 @@ static int run_integrator(void *vm, const mote_call *c, mote_err *err)
     const mote_arg *norm = mote_call_opt(c, "norm");
     if (taylor && m->nb.adaptive && norm && strcmp(norm->text, "global") == 0)
         m->nb.adaptive = MOTE_NB_NORM_GLOBAL;
-    m->nb.tol = nb_opt_real_or(c, "tol", m->nb.tol);
+    /* without tol=, the integrator's default: Taylor's (issue 37), Galactica's spec 7.4 one */
+    m->nb.tol = nb_opt_real_or(c, "tol", taylor ? MOTE_NB_TAYLOR_TOL : MOTE_REAL_TOL);
     m->nb.safety = nb_opt_real_or(c, "safety", m->nb.safety);
     m->nb.hmin = nb_opt_real_or(c, "hmin", m->nb.hmin);
     m->nb.hmax = nb_opt_real_or(c, "hmax", m->nb.hmax);

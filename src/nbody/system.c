@@ -83,11 +83,11 @@ void mote_nb_init(mote_nb *nb, mote_nb_interaction kind)
     nb->compensated = 1;
     nb->threads_min_n = NB_THREADS_MIN_N;
     nb->dt = 1e-6;
-    nb->taylor_order = 20;
+    nb->taylor_order = MOTE_NB_TAYLOR_ORDER;
     nb->merging = -1;
     nb->bt = 0.5;
     nb->bt_hmin = 1e-6;
-    nb->tol = MOTE_REAL_TOL;
+    nb->tol = MOTE_NB_TAYLOR_TOL;
     nb->safety = 1.0;
     nb->dbl_mean = -1;
     nb->G = MOTE_NB_G;
