@@ -1167,6 +1167,51 @@ static void test_ray_edges(void)
     mote_ch_body_free(&sheet);
 }
 
+/* Differential charging (spec 6.10, issue 37): each patch's current at V_p - U = 0 is the net
+ * current of its triangles as the ordinary tallies give it (collected, secondaries, backscatter
+ * and photoelectrons, each escaping), though the patch tallies evaluate the yields their own way
+ * (mc.c: the material prepared once, one log a grid point); on the exact sphere (all of it the
+ * patch) at U < 0 and U > 0 (where the escape factors matter), on 1 and 2 threads; and a barrier
+ * that repels the electrons lowers their collection. */
+static void test_patches(void)
+{
+    printf("6.10: patch tallies\n");
+    mote_err err = {0};
+    mote_ch_material al;
+    mote_ch_material_preset("aluminium", &al);
+    const mote_ch_material *one[1] = {&al};
+    mote_ch_plasma p;
+    mote_ch_plasma_preset(&p, "geo-worst-case", 0, 0, &err);
+    mote_ch_body sph = {0};
+    mote_ch_body_sphere(&sph, 1, &err);
+    mote_ch_tracer *ts = mote_ch_tracer_new(&sph, &err);
+    const int patch[1] = {0};
+    const double dv[3] = {-5000, 0, 5000};
+    for (int k = 0; ts && k < 4; k++) {
+        const double U = k % 2 ? 3 : -50;
+        mote_ch_run_opts o = {.seed = 5, .particles = 20000, .r_gen = 1.05, .threads = 1 + k / 2,
+                              .field = 1, .potential = U, .tri_material = one, .backscatter = 1,
+                              .sun = 1, .sun_dir = {0, 0, 1}, .sun_intensity = 1,
+                              .tri_patch = patch, .npatch = 1, .dv = dv, .ndv = 3};
+        mote_ch_result r;
+        if (mote_ch_run(&p, &sph, ts, &o, &r, &err) != MOTE_OK) {
+            CHECK(0, "patch run: %s", err.msg);
+            continue;
+        }
+        const double net = mote_ch_net(&r, NULL), at0 = r.patch_I[1];
+        printf("  U = %g V, %d thread%s: net %.12g A, patch at dV = 0 %.12g A; at -5 kV %.6g A\n",
+               U, 1 + k / 2, k / 2 ? "s" : "", net, at0, r.patch_I[0]);
+        CHECK(fabs(at0 - net) <= 1e-9 * fabs(net), "patch at dV = 0: %.15g against %.15g", at0,
+              net);
+        CHECK(r.patch_I[0] > at0 && r.patch_I[2] < at0,
+              "a negative patch collects fewer electrons (%g, %g, %g)", r.patch_I[0], at0,
+              r.patch_I[2]);
+        mote_ch_result_free(&r);
+    }
+    mote_ch_tracer_free(ts);
+    mote_ch_body_free(&sph);
+}
+
 int main(void)
 {
     test_constants();
@@ -1188,5 +1233,6 @@ int main(void)
     test_see_options();
     test_backscatter();
     test_photo();
+    test_patches();
     return test_summary();
 }

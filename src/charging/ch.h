@@ -17,6 +17,17 @@ int ch_mesh_precheck(const char *path, mote_err *err);
 int ch_add_tri(mote_ch_body *b, const double p[3], const double q[3], const double r[3],
                const double *inside, int closed, int part, mote_err *err);
 
+/* A material's electron yields prepared once (plasma.c): mote_ch_see_yield and
+ * mote_ch_backscatter_yield at E (keV) with lnE = ln E given, for loops over many energies. */
+typedef struct {
+    double see_a, emax, ln_emax;   /* dmax K (universal) or dmax (Sternglass); 0: none */
+    int law, angle;
+    double bs_C, bs_mz, bs_ln;     /* Hunger-Kuechler's C and m, ln(C / 0.891); C 0: none */
+} ch_yields;
+void ch_yields_prepare(const mote_ch_material *m, ch_yields *y);
+double ch_see_ln(const ch_yields *y, double E_keV, double lnE, double cos_t);
+double ch_bs_ln(const ch_yields *y, double E_keV, double lnE, double cos_t);
+
 /* This process's MPI rank (0 without MPI, mc.c): only rank 0 writes files. */
 /* The MPI rank and number of ranks of this run (0 and 1 outside MPI, or solo: a run that stays
  * in this process, an ensemble's replica) */

@@ -317,12 +317,16 @@ static void patch_score(ch_i128 *row, const mote_ch_run_opts *o, int Z,
     if (!mat)
         return;
     ch_i128 *em = row + n + 1;
+    ch_yields y; /* (the material's constants once a hit, then one log a grid point) */
+    ch_yields_prepare(mat, &y);
+    const int bs = o->backscatter && Z < 0 && mat->Z > 0;
     for (int g = lo; g < hi; g++) {
-        const double e = E - Z * dv[g], V = U_s + dv[g];
-        double sc = (Z < 0 ? mote_ch_see_yield(mat, e / 1000, c) : mote_ch_ion_yield(mat, e / 1000)) *
+        const double e = E - Z * dv[g], V = U_s + dv[g], ek = e / 1000;
+        const double lnE = Z < 0 ? log(ek) : 0;
+        double sc = (Z < 0 ? ch_see_ln(&y, ek, lnE, c) : mote_ch_ion_yield(mat, ek)) *
                     mote_ch_escape(V, mat->kT_s);
-        if (o->backscatter && Z < 0 && mat->Z > 0)
-            sc += mote_ch_backscatter_yield(mat, e / 1000, c) * mote_ch_backscatter_escape(V, e);
+        if (bs)
+            sc += ch_bs_ln(&y, ek, lnE, c) * mote_ch_backscatter_escape(V, e);
         em[g] += (ch_i128)llround(sc * FIX);
     }
 }

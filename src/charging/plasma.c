@@ -7,6 +7,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "ch.h"
+
 static void add(mote_ch_plasma *p, const char *name, int Z, double m, double n1, double kT1,
                 double n2, double kT2)
 {
@@ -100,34 +102,64 @@ int mote_ch_material_preset(const char *name, mote_ch_material *m)
     return -1;
 }
 
+void ch_yields_prepare(const mote_ch_material *m, ch_yields *y)
+{
+    memset(y, 0, sizeof *y);
+    if (m->see_dmax > 0) {
+        y->see_a = m->see_law == 1 ? m->see_dmax : m->see_dmax / (1 - exp(-2.28)); /* dmax K */
+        y->emax = m->see_emax;
+        y->ln_emax = log(m->see_emax);
+        y->law = m->see_law;
+        y->angle = m->see_angle;
+    }
+    if (m->Z > 0) {
+        const double lz = log(m->Z);
+        y->bs_mz = 0.1382 - 0.9211 / sqrt(m->Z);
+        y->bs_C = 0.1904 - 0.2236 * lz + 0.1292 * lz * lz - 0.01491 * lz * lz * lz;
+        y->bs_ln = y->bs_C > 0 ? log(y->bs_C / 0.891) : 0;
+    }
+}
+
+double ch_see_ln(const ch_yields *y, double E_keV, double lnE, double cos_t)
+{
+    if (!(y->see_a > 0) || !(E_keV > 0))
+        return 0;
+    const double x = E_keV / y->emax;
+    if (y->law == 1)
+        return y->see_a * x * exp(2 - 2 * sqrt(x));
+    const double t = exp(0.35 * (lnE - y->ln_emax)); /* x^0.35: x^-0.35 = 1/t, x^1.35 = x t */
+    if (y->angle == 1) {
+        const double c = fmax(cos_t, 1e-6); /* grazing: the limit dmax K x^0.65 2.28 */
+        return y->see_a / t * -expm1(-2.28 * c * x * t) / c;
+    }
+    return y->see_a / t * (1 - exp(-2.28 * x * t));
+}
+
+double ch_bs_ln(const ch_yields *y, double E_keV, double lnE, double cos_t)
+{
+    if (!(y->bs_C > 0) || !(E_keV > 0.05))
+        return 0;
+    const double c = fmin(fmax(cos_t, 0), 1);
+    if (E_keV >= 1) { /* ln(eta0 / 0.891) = ln(C / 0.891) + m_z ln E */
+        const double l = y->bs_ln + y->bs_mz * lnE;
+        return l >= 0 ? 0.891 : 0.891 * exp(c * l);
+    }
+    const double eta0 = fmin(y->bs_C * (lnE - log(0.05)) / log(20.0), 0.891);
+    return eta0 > 0 ? 0.891 * exp(c * log(eta0 / 0.891)) : 0;
+}
+
 double mote_ch_see_yield(const mote_ch_material *m, double E_keV, double cos_t)
 {
-    if (!(m->see_dmax > 0) || !(E_keV > 0))
-        return 0;
-    const double x = E_keV / m->see_emax;
-    if (m->see_law == 1)
-        return m->see_dmax * x * exp(2 - 2 * sqrt(x));
-    const double K = 1 / (1 - exp(-2.28));
-    if (m->see_angle == 1) {
-        const double c = fmax(cos_t, 1e-6); /* grazing: the limit dmax K x^0.65 2.28 */
-        return m->see_dmax * K * pow(x, -0.35) * -expm1(-2.28 * c * pow(x, 1.35)) / c;
-    }
-    return m->see_dmax * K * pow(x, -0.35) * (1 - exp(-2.28 * pow(x, 1.35)));
+    ch_yields y;
+    ch_yields_prepare(m, &y);
+    return E_keV > 0 ? ch_see_ln(&y, E_keV, log(E_keV), cos_t) : 0;
 }
 
 double mote_ch_backscatter_yield(const mote_ch_material *m, double E_keV, double cos_t)
 {
-    if (!(m->Z > 0) || !(E_keV > 0.05))
-        return 0;
-    const double lz = log(m->Z);
-    const double mz = 0.1382 - 0.9211 / sqrt(m->Z);
-    const double C = 0.1904 - 0.2236 * lz + 0.1292 * lz * lz - 0.01491 * lz * lz * lz;
-    double eta0 = E_keV >= 1 ? C * pow(E_keV, mz) : C * log(E_keV / 0.05) / log(20.0);
-    eta0 = fmin(fmax(eta0, 0), 0.891);
-    if (!(eta0 > 0))
-        return 0;
-    const double c = fmin(fmax(cos_t, 0), 1);
-    return 0.891 * pow(eta0 / 0.891, c);
+    ch_yields y;
+    ch_yields_prepare(m, &y);
+    return E_keV > 0 ? ch_bs_ln(&y, E_keV, log(E_keV), cos_t) : 0;
 }
 
 double mote_ch_backscatter_escape(double U, double E_eV)
