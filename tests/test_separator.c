@@ -33,6 +33,24 @@ static void test_reference(void)
     }
 }
 
+/* The drag factor f(Re) = 1 + 0.15 Re^0.687 (Re <= 1000), 0.44 Re / 24 above (spec 2.3):
+ * mote evaluates the power through exp and log; within 2e-15 relative of pow()'s value on
+ * 1e-6 <= Re <= 1000, exact at 0 and above 1000. */
+static void test_drag_factor(void)
+{
+    printf("drag factor against pow()\n");
+    double worst = 0;
+    for (int k = 0; k <= 90000; k++) {
+        const double Re = 1e-6 * pow(10, k / 10000.0);
+        const double ref = Re <= 1000 ? 1 + 0.15 * pow(Re, 0.687) : 0.44 * Re / 24;
+        worst = fmax(worst, fabs(mote_sep_drag_f(Re) / ref - 1));
+    }
+    printf("  largest relative difference %.3g\n", worst);
+    CHECK(worst <= 2e-15, "f(Re) differs from pow()'s by %.3g", worst);
+    CHECK(mote_sep_drag_f(0) == 1 && mote_sep_drag_f(2000) == 0.44 * 2000 / 24,
+          "f(0) = %.17g, f(2000) = %.17g", mote_sep_drag_f(0), mote_sep_drag_f(2000));
+}
+
 /* A system with one species of mono size d in still gas, one particle from rest high up. */
 static void one_particle(mote_sep_system *s, double d, double dt)
 {
@@ -365,6 +383,7 @@ static void test_dispersion(void)
 int main(void)
 {
     test_reference();
+    test_drag_factor();
     test_terminal();
     test_dilute_cut();
     test_sampling();
