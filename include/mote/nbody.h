@@ -179,6 +179,8 @@ typedef struct {
     size_t tg_cap;
     mote_real *tr;             /* store mode: R^[0], R^[1] of every unordered pair, [6][pairs] */
     size_t tr_cap;
+    long double *taw;          /* the step's accelerations in long double (3n; double builds) */
+    size_t taw_cap;
     mote_nb_units u;
     /* the constants in use (spec 3.6; the `constant` command replaces them): G (m^3 kg^-1 s^-2),
      * e2 = e^2 in kg m^3 s^-2 (with the 1e-9 of spec 3.2), the relative permittivity */

@@ -100,7 +100,7 @@ static void free_arrays(mote_nb *nb)
     void *arr[] = {nb->m,   nb->q,  nb->c,      nb->w,   nb->x,   nb->v,    nb->xc,
                    nb->vc,  nb->ra, nb->sp,     nb->active, nb->d5p, nb->acc, nb->jerk,
                    nb->d4,  nb->d5, nb->tx,     nb->ts,  nb->tf, nb->tg,  nb->et, nb->name,
-                   nb->wh_map, nb->tr};
+                   nb->wh_map, nb->tr, nb->taw};
     for (size_t k = 0; k < sizeof arr / sizeof arr[0]; k++)
         free(arr[k]);
 }

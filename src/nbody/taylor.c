@@ -528,6 +528,56 @@ static mote_real adaptive_step(mote_nb *nb, const mote_real *X, int p)
     return nb_step_bounds(nb, h, nb->hmax > 0 ? nb->hmax : 1);
 }
 
+/* The accelerations at the step's start, 2 x^[2], in long double from the compensated state x -
+ * xc (double builds, direct sums, at most NB_WIDE_ACC_MAX bodies, where the passes run on one
+ * thread anyway): the update's leading terms a h^2 / 2 and a h then carry the state's digits,
+ * where the double x^[2] put a rounding error of the force's size into every step (the largest
+ * part of the round-off walk of an eccentric orbit's energy). Each pair once, R f negated
+ * exactly for its second body, and every body's sum in index order of its sources (the same
+ * bits for any number of threads). 0 when not made; then x^[2] serves. */
+#define NB_WIDE_ACC_MAX 1024
+static int wide_accelerations(mote_nb *nb)
+{
+    const uint32_t N = nb->n;
+    if (sizeof(nb_wide) <= sizeof(mote_real) || !nb->compensated || N > NB_WIDE_ACC_MAX ||
+        nb->tree_on)
+        return 0;
+    if (3 * (size_t)N > nb->taw_cap) {
+        long double *q = realloc(nb->taw, 3 * (size_t)N * sizeof *q);
+        if (!q)
+            return 0; /* (the double terms serve) */
+        nb->taw = q;
+        nb->taw_cap = 3 * (size_t)N;
+    }
+    long double *acc = nb->taw;
+    for (size_t o = 0; o < 3 * (size_t)N; o++)
+        acc[o] = 0;
+    const long double e2 = (long double)nb->soft * nb->soft;
+    for (uint32_t i = 0; i < N; i++) {
+        if (!nb->active[i])
+            continue;
+        for (uint32_t k = i + 1; k < N; k++) {
+            if (!nb->active[k])
+                continue;
+            long double R[3], s = e2;
+            for (int a = 0; a < 3; a++) {
+                R[a] = ((long double)nb->x[3 * i + a] - nb->x[3 * (size_t)k + a]) -
+                       ((long double)nb->xc[3 * i + a] - nb->xc[3 * (size_t)k + a]);
+                s += R[a] * R[a];
+            }
+            const long double f = 1 / (s * sqrtl(s));
+            for (int a = 0; a < 3; a++) {
+                const long double g = f * R[a];
+                acc[3 * i + a] += nb->w[k] * g;
+                acc[3 * (size_t)k + a] -= nb->w[i] * g;
+            }
+        }
+        for (int a = 0; a < 3; a++) /* (i's sum is complete: its sources below and above) */
+            acc[3 * i + a] *= nb->c[i];
+    }
+    return 1;
+}
+
 mote_real nb_taylor_step(mote_nb *nb, mote_real rest)
 {
     const int p = nb->taylor_order;
@@ -538,17 +588,28 @@ mote_real nb_taylor_step(mote_nb *nb, mote_real rest)
     mote_real h = nb->adaptive ? adaptive_step(nb, X, p) : nb->dt;
     if (h > rest)
         h = rest;
+    const int wide = wide_accelerations(nb);
     for (uint32_t i = 0; i < nb->n; i++) {
         if (!nb->active[i])
             continue;
         for (int a = 0; a < 3; a++) {
             const size_t o = 3 * (size_t)i + a;
             nb_wide dx = 0, dv = 0;
-            for (int n = p; n >= 1; n--)
+            for (int n = p; n >= 3; n--)
                 dx = dx * h + X[n * blk + o];
-            for (int n = p; n >= 2; n--)
+            for (int n = p; n >= 3; n--)
                 dv = dv * h + n * X[n * blk + o];
+            if (wide) {
+                dx = dx * h + 0.5L * nb->taw[o];
+                dv = dv * h + nb->taw[o];
+            } else {
+                dx = dx * h + X[2 * blk + o];
+                dv = dv * h + 2 * X[2 * blk + o];
+            }
+            dx = dx * h + X[blk + o];
             if (nb->compensated) {
+                /* the velocity is v - vc: its first term carries the compensation too */
+                dx -= nb->vc[o];
                 ext_add(&nb->x[o], &nb->xc[o], dx * h);
                 ext_add(&nb->v[o], &nb->vc[o], dv * h);
             } else {
