@@ -19,16 +19,20 @@
  *   galactica      the same period with Galactica's scheme, dT = 1e-6 (10 000 steps);
  *   pairs N [T]    ordered-pair evaluations per second of the Galactica scheme's passes for N
  *                  random bodies on T threads (default 1);
- *   cluster [N [T [P [TOL [SEED [IC]]]]]]  a Plummer sphere of N bodies (default 100; seed SEED,
- *                  default 1) to time T (default 10) with the adaptive Taylor integrator (order
- *                  P, tolerance TOL): CPU time of the integration only (median of 5), steps,
- *                  |dE/E| at the end; IC: its initial bodies into that file (mass, x, y, z, vx,
- *                  vy, vz per line) for IAS15 to start from the same state;
- *   kepler [E [PERIODS [P [TOL [IC]]]]]  the two-body orbit of eccentricity E (default 0.9; M = 1,
- *                  m = 1e-3, a = 1, from pericentre, barycentric) over PERIODS periods (default
- *                  100), as cluster (P 0, the default: the order auto gives for TOL);
- *   pythagorean [T [P [TOL [IC]]]]  Burrau's three bodies (masses 3, 4, 5 at rest at (1, 3),
- *                  (-2, -1), (1, -1), barycentric) to T (default 10), as cluster;
+ *   cluster [N [T [P [TOL [SEED [IC [FINAL]]]]]]]  a Plummer sphere of N bodies (default 100;
+ *                  seed SEED, default 1) to time T (default 10) with the adaptive Taylor
+ *                  integrator (order P, tolerance TOL): CPU time of the integration only (median
+ *                  of 5), steps, |dE/E| at the end; IC: its initial bodies into that file (mass,
+ *                  x, y, z, vx, vy, vz per line, %.17g) for IAS15 to start from the same state;
+ *                  FINAL: the bodies at T, the same way (to evaluate both codes' energy errors
+ *                  with one evaluator);
+ *   kepler [E [PERIODS [P [TOL [IC [FINAL [THETA]]]]]]]  the two-body orbit of eccentricity E
+ *                  (default 0.9; M = 1, m = 1e-3, a = 1, from pericentre at the angle THETA from
+ *                  the x axis, default 0, barycentric) over PERIODS periods (default 100), as
+ *                  cluster (P 0, the default: the order auto gives for TOL); turned copies are
+ *                  the same orbit with other rounding errors;
+ *   pythagorean [T [P [TOL [IC [FINAL]]]]]  Burrau's three bodies (masses 3, 4, 5 at rest at (1,
+ *                  3), (-2, -1), (1, -1), barycentric) to T (default 10), as cluster;
  *   plummer [NMAX [DMAX [PNG [T]]]]  seconds per Galactica-scheme step against N for a Plummer
  *                  sphere (spec 6.2), N = 10^3, 3*10^3, ... NMAX (default 10^6), direct sums up
  *                  to DMAX (default 3*10^4) and the Barnes-Hut tree at theta 0.5 for all, on T
@@ -172,8 +176,11 @@ static int bodies_cluster(mote_nb *nb, const double *par, mote_err *e)
 
 static int bodies_kepler(mote_nb *nb, const double *par, mote_err *e)
 {
+    /* par[1]: the pericentre's direction, an angle from the x axis (the same orbit with
+     * other rounding errors: a realisation of the round-off walk) */
     const double M = 1, m = 1e-3, q = 1 - par[0], v = sqrt((M + m) * (1 + par[0]) / q);
-    const mote_real x0[3] = {0, 0, 0}, x1[3] = {q, 0, 0}, v1[3] = {0, v, 0};
+    const double c = cos(par[1]), s = sin(par[1]);
+    const mote_real x0[3] = {0, 0, 0}, x1[3] = {q * c, q * s, 0}, v1[3] = {-v * s, v * c, 0};
     int rc = mote_nb_add(nb, M, 0, x0, x0, 0, e) || mote_nb_add(nb, m, 0, x1, v1, 0, e);
     if (!rc)
         mote_nb_barycentric(nb, NULL, NULL);
@@ -200,7 +207,7 @@ static int bodies_pythagorean(mote_nb *nb, const double *par, mote_err *e)
  * %.17g) into that file, for another code to start from the same state. `what` names the
  * workload and its numbers on the output line. */
 static int small_n(const char *what, bodies_fn make, const double *par, double T, int P,
-                   double tol, const char *ic)
+                   double tol, const char *ic, const char *fin)
 {
     double t[5], dE = 0;
     unsigned long long steps = 0;
@@ -230,6 +237,8 @@ static int small_n(const char *what, bodies_fn make, const double *par, double T
         mote_nb_measure(&nb, &mon);
         dE = mon.dE;
         steps = (unsigned long long)nb.steps;
+        if (fin && run == 4 && write_ic(&nb, fin))
+            return 1;
         mote_nb_free(&nb);
     }
     qsort(t, 5, sizeof t[0], cmp_double);
@@ -508,21 +517,22 @@ static int run(int argc, char **argv)
         snprintf(what, sizeof what, "workload=cluster N=%.0f seed=%.0f", par[0], par[1]);
         return small_n(what, bodies_cluster, par, argc > 3 ? atof(argv[3]) : 10,
                        argc > 4 ? atoi(argv[4]) : 20, argc > 5 ? atof(argv[5]) : 1e-16,
-                       argc > 7 ? argv[7] : NULL);
+                       argc > 7 ? argv[7] : NULL, argc > 8 ? argv[8] : NULL);
     }
     if (strcmp(argv[1], "kepler") == 0) { /* e, periods (2 pi / sqrt(M + m) each) */
-        const double par[1] = {argc > 2 ? atof(argv[2]) : 0.9};
+        const double par[2] = {argc > 2 ? atof(argv[2]) : 0.9, argc > 8 ? atof(argv[8]) : 0};
         const double periods = argc > 3 ? atof(argv[3]) : 100;
         char what[96];
         snprintf(what, sizeof what, "workload=kepler e=%g periods=%g", par[0], periods);
         return small_n(what, bodies_kepler, par, periods * 2 * MOTE_PI / sqrt(1.001),
                        argc > 4 ? atoi(argv[4]) : 0, argc > 5 ? atof(argv[5]) : 1e-16,
-                       argc > 6 ? argv[6] : NULL);
+                       argc > 6 ? argv[6] : NULL, argc > 7 ? argv[7] : NULL);
     }
     if (strcmp(argv[1], "pythagorean") == 0)
         return small_n("workload=pythagorean", bodies_pythagorean, NULL,
                        argc > 2 ? atof(argv[2]) : 10, argc > 3 ? atoi(argv[3]) : 0,
-                       argc > 4 ? atof(argv[4]) : 1e-16, argc > 5 ? argv[5] : NULL);
+                       argc > 4 ? atof(argv[4]) : 1e-16, argc > 5 ? argv[5] : NULL,
+                       argc > 6 ? argv[6] : NULL);
     if (strcmp(argv[1], "plummer") == 0)
         return plummer(argc > 2 ? (uint32_t)atof(argv[2]) : 1000000,
                        argc > 3 ? (uint32_t)atof(argv[3]) : 30000,

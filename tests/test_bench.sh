@@ -59,6 +59,10 @@ check "bench_nbody cluster reports steps, CPU time and |dE| and writes the 20 bo
 kp=$("$nbench" kepler 0.9 2 0 1e-14 "$tmp/kic.txt" 2>"$tmp/err")
 check "bench_nbody kepler reports steps, CPU time and |dE| and writes the 2 bodies: $(head -c 80 "$tmp/err")" \
     'echo "$kp" | grep -q "^workload=kepler e=0.9 periods=2 precision=double T=12.5601 order=18 tol=1e-14 steps=[1-9][0-9]* cpu_seconds_median=[0-9.]* cpu_seconds_min=[0-9.]* abs_dE=[0-9.]*e-1[2-9]" && [ "$(awk "NF == 7" "$tmp/kic.txt" | wc -l)" -eq 2 ]'
+# FINAL and THETA: the bodies at the end, and the orbit turned by pi/2 (pericentre on the y axis)
+"$nbench" kepler 0.9 1 0 1e-14 "$tmp/kic2.txt" "$tmp/kfin.txt" 1.5707963267948966 > /dev/null 2>"$tmp/err"
+check "bench_nbody kepler THETA turns the orbit and FINAL writes the bodies at the end: $(head -c 80 "$tmp/err")" \
+    'awk "NR == 2 { exit !(\$2 * \$2 < 1e-30 && \$3 > 0.0999 && \$3 < 0.1) }" "$tmp/kic2.txt" && [ "$(awk "NF == 7" "$tmp/kfin.txt" | wc -l)" -eq 2 ] && ! cmp -s "$tmp/kic2.txt" "$tmp/kfin.txt"'
 py=$("$nbench" pythagorean 1 0 1e-14 "$tmp/pic.txt" 2>"$tmp/err")
 check "bench_nbody pythagorean reports steps, CPU time and |dE| and writes the 3 bodies: $(head -c 80 "$tmp/err")" \
     'echo "$py" | grep -q "^workload=pythagorean precision=double T=1 order=18 tol=1e-14 steps=[1-9][0-9]* cpu_seconds_median=[0-9.]* cpu_seconds_min=[0-9.]* abs_dE=[0-9.]*e-1[2-9]" && [ "$(awk "NF == 7" "$tmp/pic.txt" | wc -l)" -eq 3 ]'
