@@ -79,7 +79,8 @@ static double bytes_per_particle(const mote_sep_system *s)
 {
     const double per = 12 * sizeof(double) + sizeof(int) + sizeof(uint64_t);
     const double b = (double)s->cap * per + (double)s->pv_cap * sizeof(double) +
-                     (double)s->xref_cap * sizeof(double) + (double)s->nb_cap * sizeof(uint32_t) +
+                     (double)s->xref_cap * sizeof(double) + (double)s->gap_cap * sizeof(double) +
+                     (double)s->nb_cap * sizeof(uint32_t) +
                      (double)s->nbs_cap * sizeof(uint32_t) + (double)s->exc_cap +
                      (double)s->blk_cap * sizeof(double) +
                      (double)s->nnext_cap * sizeof(int32_t) +

@@ -173,6 +173,16 @@ typedef struct {
     size_t npl, nb_cap, nbs_cap;         /* npl: the pairs (half the entries) */
     double *xref;                        /* positions at the build (3 per particle) */
     size_t xref_cap;
+    /* each row's smallest gap |r_ij| - (r_i + r_j) at the build (+inf: an empty row), made at
+     * the first force pass after a build or a load. The particles' displacements since the
+     * build lie in a box; with D its half diagonal, two particles' separation changed by at
+     * most 2 D, so a row whose gap exceeds 2 D holds no contact and is not searched */
+    double *gap;
+    size_t gap_cap;
+    int gap_ok;
+    double list_ebox[6];                 /* the box (lo x y z, hi x y z) as the drift found it */
+    int no_gap_skip;                     /* search every row (tests: the same forces either way) */
+    uint64_t gap_skips;                  /* rows not searched so far (diagnostic) */
     uint64_t mods, list_mods;            /* additions and removals so far; at the build */
     int list_ok;
     uint64_t list_builds;                /* how often it was built */

@@ -416,6 +416,7 @@ static int list_build(mote_sep_system *s, mote_err *err)
         sort_row(row, row_scan(s, i, skin, row));
     }
     s->npl = total / 2;
+    s->gap_ok = 0;
     s->list_ok = 1;
     s->list_mods = s->mods;
     s->list_builds++;
@@ -448,6 +449,7 @@ int sep_list_from_pairs(mote_sep_system *s, const uint32_t *pairs, size_t np, mo
     for (size_t i = 0; i < n; i++)
         sort_row(nb + start[i], start[i + 1] - start[i]);
     s->npl = np;
+    s->gap_ok = 0;
     return MOTE_OK;
 }
 
@@ -549,19 +551,60 @@ static inline void row_force(const force_arrays *a, const force_ctx *c, size_t i
     }
 }
 
-/* The listed contacts of every particle, on the threads: walls, neighbours, plates, then (kick)
- * the second half kick v += dt/2 F/m. Each particle's force is its own sum, in a fixed order. */
-static void list_forces(mote_sep_system *s, const force_ctx *c, double g_w, int kick)
+/* Each row's smallest gap at the build, from the build's positions (so a loaded list gets the
+ * values its build had); 0 when there is no room for them (then no row is skipped). */
+static int list_gaps(mote_sep_system *s)
 {
+    const size_t n = s->n;
+    mote_err err = {0};
+    if (s->xref_cap < 3 * n ||
+        sep_reserve((void **)&s->gap, &s->gap_cap, n + 1, sizeof *s->gap, &err))
+        return 0;
+    const double *q = s->xref, *d = s->d;
+    const uint32_t *nb = s->nb, *start = s->nb_start;
+    const int nt = sep_threads(s), three = s->dim == 3;
+    double *gap = s->gap;
+#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
+    for (size_t i = 0; i < n; i++) {
+        double g = INFINITY;
+        for (uint32_t e = start[i]; e < start[i + 1]; e++) {
+            const size_t j = nb[e];
+            const double dx = q[3 * j] - q[3 * i], dy = three ? q[3 * j + 1] - q[3 * i + 1] : 0,
+                         dz = q[3 * j + 2] - q[3 * i + 2];
+            const double gj = sqrt(dx * dx + dy * dy + dz * dz) - 0.5 * (d[i] + d[j]);
+            g = gj < g ? gj : g;
+        }
+        gap[i] = g;
+    }
+    s->gap_ok = 1;
+    return 1;
+}
+
+/* The listed contacts of every particle, on the threads: walls, neighbours, plates, then (kick)
+ * the second half kick v += dt/2 F/m. Each particle's force is its own sum, in a fixed order.
+ * box: the box (lo, hi) of the particles' displacements since the list's build, D its half
+ * diagonal: every displacement is within D of the box's centre, so two particles' separation
+ * changed by at most 2 D, and a row whose gap at the build exceeds that (and a margin far above
+ * the roundings) holds no contact and is not searched: the forces are those of the search, bit
+ * for bit. A common drift (a falling column) leaves the box small. */
+static void list_forces(mote_sep_system *s, const force_ctx *c, double g_w, int kick,
+                        const double box[6], double dmin)
+{
+    const double *gap = s->no_gap_skip ? NULL : s->gap_ok || list_gaps(s) ? s->gap : NULL;
+    double diag2 = 0; /* (an empty box, no particle: 0) */
+    for (int a = 0; a < 3; a++)
+        if (box[3 + a] >= box[a])
+            diag2 += 0.25 * (box[3 + a] - box[a]) * (box[3 + a] - box[a]);
+    const double reach = 2 * sqrt(diag2) + 1e-6 * dmin;
     const size_t n = s->n;
     const int nt = sep_threads(s), dim = s->dim, nplate = s->nplate;
     const force_arrays a = {s->x, s->y, s->z, s->d, s->m, s->im, c->pvx, c->pvy, c->pvz, s->s,
                             s->nb, s->nb_start, s->fx, s->fy, s->fz, s->vx, s->vy, s->vz};
     const double W = s->W, D = s->D, H = s->H;
     double mo = s->max_overlap;
-    uint64_t contacts = 0;
+    uint64_t contacts = 0, skips = 0;
 #pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1) \
-    reduction(max : mo) reduction(+ : contacts)
+    reduction(max : mo) reduction(+ : contacts, skips)
     for (size_t i = 0; i < n; i++) {
         double F[3] = {0, 0, 0};
         /* the walls' own test, widened to both ends however open, with few branches: where it
@@ -572,7 +615,9 @@ static void list_forces(mote_sep_system *s, const force_ctx *c, double g_w, int 
             const double pvel[3] = {a.pvx[i], a.pvy[i], a.pvz[i]};
             wall_force(s, i, c->khat, g_w, pvel, F, &mo);
         }
-        if (dim == 3)
+        if (gap && !(gap[i] <= reach))
+            skips++; /* (no contact in the row) */
+        else if (dim == 3)
             row_force(&a, c, i, 3, F, &mo, &contacts);
         else
             row_force(&a, c, i, 2, F, &mo, &contacts);
@@ -592,6 +637,7 @@ static void list_forces(mote_sep_system *s, const force_ctx *c, double g_w, int 
     }
     s->max_overlap = mo;
     s->contacts_pp = contacts;
+    s->gap_skips += skips;
     s->candidates = 2 * s->npl; /* (each row's entries tested) */
 }
 
@@ -630,10 +676,17 @@ int sep_contact_forces(mote_sep_system *s, double dt, int kick, int pred, mote_e
     /* the drift's pass checked the list with this skin, or the check is made here */
     const int checked = (pred == 0 || pred == 1) && s->skin_used == skin0;
     int moved = checked ? pred : 0;
+    double lx = INFINITY, ly = INFINITY, lz = INFINITY, hx = -INFINITY, hy = -INFINITY,
+           hz = -INFINITY;
+    if (checked) {
+        lx = s->list_ebox[0], ly = s->list_ebox[1], lz = s->list_ebox[2];
+        hx = s->list_ebox[3], hy = s->list_ebox[4], hz = s->list_ebox[5];
+    }
     const double *xref = s->xref;
     if (pred < 0 || (can && !checked)) {
         const int predict = pred < 0;
-#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1) reduction(| : moved)
+#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1) reduction(| : moved) \
+    reduction(min : lx, ly, lz) reduction(max : hx, hy, hz)
         for (size_t i = 0; i < n; i++) {
             if (predict) {
                 const double h = c.half_dt * s->im[i];
@@ -645,6 +698,8 @@ int sep_contact_forces(mote_sep_system *s, double dt, int kick, int pred, mote_e
                 const double *q = xref + 3 * i;
                 const double dx = s->x[i] - q[0], dy = s->y[i] - q[1], dz = s->z[i] - q[2];
                 moved |= dx * dx + dy * dy + dz * dz > lim;
+                lx = dx < lx ? dx : lx, ly = dy < ly ? dy : ly, lz = dz < lz ? dz : lz;
+                hx = dx > hx ? dx : hx, hy = dy > hy ? dy : hy, hz = dz > hz ? dz : hz;
             }
         }
     }
@@ -664,8 +719,10 @@ int sep_contact_forces(mote_sep_system *s, double dt, int kick, int pred, mote_e
                 rc = list_build(s, err);
             if (rc)
                 return rc;
+            lx = ly = lz = hx = hy = hz = 0; /* (built from the present positions) */
         }
-        list_forces(s, &c, g_w, kick);
+        const double box[6] = {lx, ly, lz, hx, hy, hz};
+        list_forces(s, &c, g_w, kick, box, dmin);
         return MOTE_OK;
     }
     /* brute force, or no list (the cells as built for this step's feed serve when nothing was

@@ -75,6 +75,7 @@ void mote_sep_free(mote_sep_system *s)
     free(s->exc);
     free(s->blk);
     free(s->xref);
+    free(s->gap);
     free(s->ex_i);
     free(s->ex_c);
     free(s->back_s);
@@ -846,7 +847,7 @@ static inline int exit_code(const mote_sep_system *s, const drift_view *v, doubl
  * from the system's one stream. With v->pvx, its predicted velocity for the contacts, and with
  * v->xref, whether it moved too far for the pair list (into *moved). */
 static inline int drift_one(mote_sep_system *s, const drift_view *v, size_t i, double *move2,
-                            int *moved)
+                            int *moved, double box[6])
 {
     const double dt = v->dt;
     /* the particle in registers: loaded once, stored once */
@@ -920,6 +921,11 @@ static inline int drift_one(mote_sep_system *s, const drift_view *v, size_t i, d
             const double *q = v->xref + 3 * i;
             const double ex = x - q[0], ey = y - q[1], ez = z - q[2];
             *moved |= ex * ex + ey * ey + ez * ez > v->lim;
+            const double e[3] = {ex, ey, ez};
+            for (int k = 0; k < 3; k++) {
+                box[k] = e[k] < box[k] ? e[k] : box[k];
+                box[3 + k] = e[k] > box[3 + k] ? e[k] : box[3 + k];
+            }
         }
     }
     v->x[i] = x;
@@ -976,6 +982,8 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
     }
     const uint64_t mods0 = s->mods;
     int moved = 0;
+    double lx = INFINITY, ly = INFINITY, lz = INFINITY, hx = -INFINITY, hy = -INFINITY,
+           hz = -INFINITY; /* the displacements' box since the list's build */
     /* the dispersion draws from one stream in particle order: one thread */
     const int nt = dv.disperse ? 1 : sep_threads(s);
     size_t nexit = 0;
@@ -983,10 +991,12 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
 #pragma omp parallel num_threads(nt) if (nt > 1)
     {
         const drift_view v = dv; /* (this thread's own copy) */
-#pragma omp for schedule(static) reduction(max : move2) reduction(+ : nexit) \
-    reduction(| : moved)
+#pragma omp for schedule(static) reduction(max : move2, hx, hy, hz) reduction(+ : nexit) \
+    reduction(| : moved) reduction(min : lx, ly, lz)
         for (size_t i = 0; i < n; i++) {
-            exc[i] = (unsigned char)drift_one(s, &v, i, &move2, &moved);
+            double box[6] = {lx, ly, lz, hx, hy, hz};
+            exc[i] = (unsigned char)drift_one(s, &v, i, &move2, &moved, box);
+            lx = box[0], ly = box[1], lz = box[2], hx = box[3], hy = box[4], hz = box[5];
             nexit += exc[i] != 0;
         }
     }
@@ -1019,6 +1029,8 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
     if (s->dem) {
         /* (the pass's predictions stand while the particles are the same: no exit, no feed) */
         const int pred = dv.pvx && s->n == n && s->mods == mods0 ? (dv.xref ? moved : 2) : -1;
+        const double box[6] = {lx, ly, lz, hx, hy, hz}; /* (read with pred 0 or 1) */
+        memcpy(s->list_ebox, box, sizeof box);
         const int rc = sep_contact_forces(s, dt, 1, pred, err);
         if (rc)
             return rc;
