@@ -871,7 +871,7 @@ static void test_photo(void)
 {
     printf("Q6: photoemission\n");
     mote_err err = {0};
-    mote_ch_material ph = {"ph", 0, 1, 2e-5, 2, 0, 0, 0, 1, 2, 0, 0};
+    mote_ch_material ph = {"ph", 0, 1, 2e-5, 2, 0, 0, 0, 1, 2, 0, 0, 0, ""};
     const mote_ch_material *one[1] = {&ph};
     mote_ch_plasma p;
     mote_ch_plasma_preset(&p, "geo-worst-case", 0, 0, &err);
@@ -1212,6 +1212,54 @@ static void test_patches(void)
     mote_ch_body_free(&sph);
 }
 
+/* The material library (data/materials.dat): each row found by its name with the values of
+ * its source, the ion yield at 1 keV the published one (its peak is derived from it), a
+ * source on every row; the spec's presets keep spec 6.9's values and no ion yield. */
+static void test_library(void)
+{
+    printf("material library\n");
+    static const struct {
+        const char *name;
+        double dmax, emax, Z, jph, eps, sig, y1, iemax;
+    } want[] = {{"al2k", 0.97, 0.3, 13, 4.0e-5, 0, 0, 0.244, 230},
+                {"au2k", 0.88, 0.8, 79, 2.9e-5, 0, 0, 0.413, 135},
+                {"ka2k", 2.1, 0.15, 5, 2.0e-5, 3.5, 1e-16, 0.455, 140},
+                {"te2k", 3.0, 0.3, 7, 2.0e-5, 2.0, 1e-16, 0.455, 140},
+                {"sc2k", 5.8, 1.0, 10, 2.0e-5, 3.8, 1e-17, 0.244, 230},
+                {"gr2k", 1.0, 0.3, 6, 7.2e-6, 0, 0, 0.455, 140},
+                {"itoc", 2.5, 0.3, 22, 3.2e-5, 0, 0, 0.49, 123},
+                {"blkp", 2.5, 0.3, 5, 2.0e-5, 3.5, 1e-15, 0.455, 140}};
+    int n = 0;
+    mote_ch_material m;
+    while (mote_ch_material_library(n, &m))
+        n++;
+    CHECK(n == (int)(sizeof want / sizeof want[0]), "the library has %d materials", n);
+    for (size_t k = 0; k < sizeof want / sizeof want[0]; k++) {
+        CHECK(mote_ch_material_preset(want[k].name, &m) == 0, "no library material %s",
+              want[k].name);
+        const double y1 = mote_ch_ion_yield(&m, 1.0);
+        CHECK(m.see_dmax == want[k].dmax && m.see_emax == want[k].emax && m.Z == want[k].Z &&
+                  m.photo_j == want[k].jph && m.eps_r == want[k].eps && m.sigma == want[k].sig &&
+                  m.ion_emax == want[k].iemax && fabs(y1 - want[k].y1) <= 1e-12 * want[k].y1 &&
+                  !strncmp(m.source, "SPIS:", 5) && m.kT_s == 2 && m.kT_ph == 2,
+              "%s: %g %g %g %g %g %g, ion yield at 1 keV %.15g, ion_emax %g, source '%s'",
+              want[k].name, m.see_dmax, m.see_emax, m.Z, m.photo_j, m.eps_r, m.sigma, y1,
+              m.ion_emax, m.source);
+        /* the peak of the ion yield is at ion_emax: the yield there is ion_dmax */
+        CHECK(fabs(mote_ch_ion_yield(&m, m.ion_emax) - m.ion_dmax) <= 1e-14 * m.ion_dmax &&
+                  mote_ch_ion_yield(&m, m.ion_emax) >= mote_ch_ion_yield(&m, 0.9 * m.ion_emax),
+              "%s: ion yield's peak", want[k].name);
+    }
+    CHECK(mote_ch_material_preset("kapton", &m) == 0 && m.Z == 6.36 && m.ion_dmax == 0 &&
+              m.sigma == 0 && !strcmp(m.source, "spec 6.9"),
+          "the spec's kapton preset: Z %g, ion %g, sigma %g, source '%s'", m.Z, m.ion_dmax,
+          m.sigma, m.source);
+    CHECK(mote_ch_material_preset("KA2K", &m) != 0 && mote_ch_material_library(-1, &m) == NULL,
+          "names are exact; no row -1");
+    mote_ch_material_preset("al2k", &m);
+    printf("  %d materials, al2k's ion peak %.4f at %g keV\n", n, m.ion_dmax, m.ion_emax);
+}
+
 int main(void)
 {
     test_constants();
@@ -1234,5 +1282,6 @@ int main(void)
     test_backscatter();
     test_photo();
     test_patches();
+    test_library();
     return test_summary();
 }

@@ -5,6 +5,7 @@
 # Usage: sh tests/test_charging.sh [BUILD_DIR]   (default: build)
 NAME=charging
 . "$(dirname "$0")/lib.sh"
+top=$(cd "$(dirname "$0")/.." && pwd)
 mote_test_start "$1"
 
 F='model charging faithful\n'
@@ -390,4 +391,32 @@ expect 2 "dc4.mote:3:17: error: dielectric: the body has no part 'nose'" dc4.mot
 expect 1 "dc5.mote:3:1: error: dielectric: faithful mode has no materials: give eps_r=" dc5.mote "${F}body sphere radius=1\ndielectric part=sphere thickness=1e-4\n"
 expect 2 "dc6.mote:5:1: error: evolve: dielectric part 'sphere' has no permittivity" dc6.mote "${G}plasma preset single n=1e6 kT=1000\nbody sphere radius=1\ndielectric part=sphere thickness=1e-4\nevolve time=1\n"
 expect 2 "dc7.mote:2:1: error: body uvsphere: parts=hemispheres needs an even nlat" dc7.mote "${G}body uvsphere radius=1 nlat=5 parts=hemispheres\n"
+
+# The material library (issue 37): data/materials.dat is its one source; the compiled table is
+# what scripts/materials.sh makes of it, and every row names a source the file's header lists.
+sh "$top/scripts/materials.sh" > lib.inc 2> err.txt && cmp -s lib.inc "$top/src/charging/materials.inc" && ok || bad "src/charging/materials.inc is not scripts/materials.sh's output for data/materials.dat: $(cat err.txt)"
+awk '/^#   [A-Z]+:ID / { split($2, a, ":"); known[a[1]] = 1; next } /^#/ || NF == 0 { next }
+     { n++; split($10, a, ":"); if (!(a[1] in known) || a[2] != toupper($1)) bad++ } END { exit !(n == 8 && !bad) }' "$top/data/materials.dat" && ok || bad "data/materials.dat: a row without a listed source"
+# a row that the script cannot read is an error naming the line
+printf '# x\nal2k 0.97 0.3\n' > bad.dat
+mkdir -p badlib/scripts badlib/data && cp "$top/scripts/materials.sh" badlib/scripts/ && cp bad.dat badlib/data/materials.dat
+sh badlib/scripts/materials.sh > /dev/null 2> err.txt; [ $? -ne 0 ] && grep -q 'data/materials.dat line 2: 10 columns expected, found 3' err.txt && ok || bad "materials.sh on a short row: $(cat err.txt)"
+# A library dielectric's bulk conductivity is the default of `dielectric`: ka2k (1e-16 S/m, eps_r
+# 3.5) under 0.1 mm on the exact sphere of radius 1: R_p = d / (sigma 4 pi), C_p = eps0 3.5 4 pi / d;
+# sigma= still wins (1e-12)
+for sg in "" " sigma=1e-12"; do
+    printf '%bplasma preset single n=1e6 kT=1000\nbody sphere radius=1\nmaterial assign part=sphere material=ka2k\ndielectric part=sphere thickness=1e-4%s\nevolve time=1e-3 dt_out=1e-3 file=dk.txt particles=1e4\n' "$G" "$sg" > dk.mote
+    "$MOTE" run dk.mote > out.txt 2> err.txt || bad "dk.mote ($sg) failed: $(cat err.txt)"
+    s=1e-16; [ -n "$sg" ] && s=1e-12
+    awk -v s="$s" '/^# R_p_sphere_ohm =/ { r = $4 } /^# C_p_sphere_F =/ { c = $4 }
+        END { pi = 3.141592653589793; rr = 1e-4 / (s * 4 * pi); cc = 8.8541878128e-12 * 3.5 * 4 * pi / 1e-4
+              exit !((r / rr - 1) ^ 2 < 1e-20 && (c / cc - 1) ^ 2 < 1e-16) }' dk.txt && ok || bad "ka2k dielectric ($sg): $(grep '_sphere_' dk.txt)"
+done
+# the photoemission of a sunlit sphere is j_ph pi a^2 (spec 6.8): graphite's 7.2e-6 A/m^2 (to the
+# 10 digits printed)
+printf '%bplasma preset single n=1e6 kT=1000\nbody sphere radius=1\nmaterial assign part=sphere material=gr2k\nsun direction=1,0,0\nrun particles=1e4\n' "$G" > gr.mote
+"$MOTE" run gr.mote > out.txt 2> err.txt || bad "gr.mote failed: $(cat err.txt)"
+ph=$(sed -n 's/^run: photoelectrons I = +\([^ ]*\) A.*/\1/p' out.txt)
+awk -v p="$ph" 'BEGIN { w = 7.2e-6 * 3.141592653589793; exit !(p != "" && (p / w - 1) ^ 2 < 1e-18) }' && ok || bad "gr2k photocurrent $ph (expected 7.2e-6 pi): $(cat out.txt)"
+expect 1 "lm.mote:3:38: error: material assign: no material 'KA2K' (the presets bare" lm.mote "${G}body sphere radius=1\nmaterial assign part=sphere material=KA2K\n"
 mote_test_end

@@ -155,10 +155,15 @@ typedef struct {
                                  * weighted by mass); 0: no backscatter data */
     double eps_r;               /* relative permittivity for differential charging (spec 6.10);
                                  * 0: a conductor's preset (give eps_r= to `dielectric`) */
+    double sigma;               /* bulk conductivity, S/m (the library's dielectrics; 0: none
+                                 * known, `dielectric sigma=` gives it) */
+    char source[16];            /* where the values come from (data/materials.dat), or "" */
 } mote_ch_material;
 
 /* The presets of spec 6.9 (bare, aluminium, gold, kapton, teflon, cover-glass); -1 if unknown. */
 int mote_ch_material_preset(const char *name, mote_ch_material *m);
+/* The library's k-th material (data/materials.dat; 0 ... count - 1), or NULL past the end. */
+const char *mote_ch_material_library(int k, mote_ch_material *m);
 /* The secondary yield of an electron of impact energy E (keV) at angle theta from the normal
  * (cos_t = cos theta), spec 6.7: the universal curve normalised to dmax at emax,
  * dmax K x^-0.35 (1 - exp(-2.28 x^1.35)), x = E/emax, K = 1/(1 - e^-2.28) (with see_angle=sec

@@ -644,6 +644,8 @@ static int material_define(void *vm, const mote_call *c, mote_err *err)
         x.ion_emax = mote_call_opt_r(c, "ion_emax", x.ion_emax);
         x.Z = mote_call_opt_r(c, "Z", x.Z);
         x.eps_r = mote_call_opt_r(c, "eps_r", x.eps_r);
+        x.sigma = mote_call_opt_r(c, "sigma", x.sigma);
+        snprintf(x.source, sizeof x.source, "defined"); /* (its values are the script's now) */
         const mote_arg *a;
         if ((a = mote_call_opt(c, "see_law"))) /* universal|sternglass */
             x.see_law = (int)a->i;
@@ -679,6 +681,14 @@ double ch_part_eps(const ch_model *m, const char *part)
     for (int k = m->nassign - 1; k >= 0; k--)
         if (!strcmp(m->assign[k].part, "*") || !strcmp(m->assign[k].part, part))
             return m->assign[k].m.eps_r;
+    return 0;
+}
+
+double ch_part_sigma(const ch_model *m, const char *part)
+{
+    for (int k = m->nassign - 1; k >= 0; k--)
+        if (!strcmp(m->assign[k].part, "*") || !strcmp(m->assign[k].part, part))
+            return m->assign[k].m.sigma;
     return 0;
 }
 
@@ -728,7 +738,7 @@ static int dielectric(void *vm, const mote_call *c, mote_err *err)
     snprintf(m->diel[k].part, sizeof m->diel[k].part, "%s", part->text);
     m->diel[k].d = mote_call_opt(c, "thickness")->r;
     m->diel[k].eps_r = mote_call_opt_r(c, "eps_r", 0);
-    m->diel[k].sigma = mote_call_opt_r(c, "sigma", 0);
+    m->diel[k].sigma = mote_call_opt_r(c, "sigma", -1); /* (-1: the part's material's) */
     if (k == m->ndiel)
         m->ndiel++;
     return MOTE_OK;
@@ -756,8 +766,9 @@ static int material_assign(void *vm, const mote_call *c, mote_err *err)
     mote_ch_material x;
     if (find_material(m, mat->text, &x))
         return mote_call_fail(err, c, mote_call_opt_index(c, "material"), MOTE_EINVAL,
-                              "material assign: no material '%s' (bare, aluminium, gold, kapton, "
-                              "teflon, cover-glass, or one made with material define)",
+                              "material assign: no material '%s' (the presets bare, aluminium, "
+                              "gold, kapton, teflon, cover-glass; the library's al2k, au2k, ka2k, "
+                              "te2k, sc2k, gr2k, itoc, blkp; or one made with material define)",
                               mat->text);
     if (m->nassign == (int)(sizeof m->assign / sizeof m->assign[0]))
         return mote_call_fail(err, c, -1, MOTE_EINVAL, "material assign: at most %d assignments",
@@ -795,7 +806,7 @@ int ch_build_tri_materials(ch_model *m, mote_err *err)
     m->tri_mat = malloc((size_t)n * sizeof *m->tri_mat);
     if (!m->tri_mat)
         return mote_fail(err, MOTE_ENOMEM, "out of memory for the materials");
-    static const mote_ch_material bare = {"bare", 0, 1, 0, 2, 0, 0, 0, 1, 2, 0, 0};
+    static const mote_ch_material bare = {"bare", 0, 1, 0, 2, 0, 0, 0, 1, 2, 0, 0, 0, ""};
     for (uint32_t i = 0; i < n; i++) {
         const mote_ch_material *x = part_material(m, PART_OF(i));
         m->tri_mat[i] = x ? x : &bare;
@@ -934,7 +945,8 @@ static const mote_cmd ch_commands[] = {
      ch_run_float},
     {"material define", NULL,
      "name=s! see_dmax=r>=0 see_emax=r>0 see_law=e{universal|sternglass} see_angle=e{none|sec} "
-     "see_kT=r>0 ion_dmax=r>=0 ion_emax=r>0 photo_j=r>=0 photo_kT=r>0 Z=r[0,100] eps_r=r>=1",
+     "see_kT=r>0 ion_dmax=r>=0 ion_emax=r>0 photo_j=r>=0 photo_kT=r>0 Z=r[0,100] eps_r=r>=1 "
+     "sigma=r>=0",
      "material define name=NAME [options]", "define a material (spec 6.9)", HELP_MATERIAL,
      material_define, material_define},
     {"backscatter", NULL, "e{on|off}", "backscatter on|off",

@@ -84,6 +84,7 @@ ch_output ch_output_of(ch_model *m, const mote_ch_geometry *g, const mote_ch_run
 
 /* The relative permittivity of part's material (0: none given). */
 double ch_part_eps(const ch_model *m, const char *part);
+double ch_part_sigma(const ch_model *m, const char *part); /* its material's bulk conductivity, or 0 */
 /* The smallest temperature of the plasma and the emission (eV per unit charge). */
 double ch_smallest_kT(const ch_model *m);
 

@@ -75,6 +75,36 @@ double mote_ch_oml(double A, double U, double n, double kT, double m, int Z)
     return I0 * (x >= 0 ? exp(-x) : 1 - x);
 }
 
+/* The library (data/materials.dat, compiled by scripts/materials.sh): the published values as
+ * given there; the ion yield's peak d from its value at 1 keV, 2 d sqrt(1/E) / (1 + 1/E) = y1. */
+static const struct {
+    const char *name;
+    double dmax, emax, Z, jph, eps_r, sigma, ion_y1, ion_emax;
+    const char *source;
+} LIB[] = {
+#include "materials.inc"
+};
+
+const char *mote_ch_material_library(int k, mote_ch_material *m)
+{
+    if (k < 0 || (size_t)k >= sizeof LIB / sizeof LIB[0])
+        return NULL;
+    memset(m, 0, sizeof *m);
+    snprintf(m->name, sizeof m->name, "%s", LIB[k].name);
+    snprintf(m->source, sizeof m->source, "%s", LIB[k].source);
+    m->see_dmax = LIB[k].dmax;
+    m->see_emax = LIB[k].emax;
+    m->photo_j = LIB[k].jph;
+    m->Z = LIB[k].Z;
+    m->eps_r = LIB[k].eps_r;
+    m->sigma = LIB[k].sigma;
+    m->ion_emax = LIB[k].ion_emax;
+    m->ion_dmax = LIB[k].ion_y1 * (1 + 1 / LIB[k].ion_emax) * sqrt(LIB[k].ion_emax) / 2;
+    m->kT_s = 2;
+    m->kT_ph = 2;
+    return m->name;
+}
+
 int mote_ch_material_preset(const char *name, mote_ch_material *m)
 {
     /* spec 6.9: indicative values as in NASCAP-type material tables (the spec's test values) */
@@ -97,8 +127,12 @@ int mote_ch_material_preset(const char *name, mote_ch_material *m)
             m->Z = T[k].Z;
             m->kT_s = 2;
             m->kT_ph = 2;
+            snprintf(m->source, sizeof m->source, "%s", k ? "spec 6.9" : "");
             return 0;
         }
+    for (int k = 0; mote_ch_material_library(k, m); k++)
+        if (strcmp(m->name, name) == 0)
+            return 0;
     return -1;
 }
 

@@ -650,7 +650,9 @@ static int evolve_patches(ch_model *m, const mote_call *c, mote_err *err)
             rc = mote_call_fail(err, c, -1, MOTE_EINVAL, "evolve: dielectric part '%s' has no "
                                 "triangles", m->diel[p].part);
         P.Cp[p] = MOTE_CH_EPS0 * eps[p] * area[p] / m->diel[p].d;
-        P.Rp[p] = m->diel[p].sigma > 0 ? m->diel[p].d / (m->diel[p].sigma * area[p]) : INFINITY;
+        const double sig = /* (sigma= of dielectric, else the part's material's) */
+            m->diel[p].sigma >= 0 ? m->diel[p].sigma : ch_part_sigma(m, m->diel[p].part);
+        P.Rp[p] = sig > 0 ? m->diel[p].d / (sig * area[p]) : INFINITY;
     }
     if (!rc)
         rc = ch_patches_init(&P, np, ch_smallest_kT(m), U0, err);
