@@ -676,20 +676,25 @@ static int run_backscatter(void *vm, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
-double ch_part_eps(const ch_model *m, const char *part)
+/* The material last assigned to part (or to *), or NULL. */
+static const mote_ch_material *assigned(const ch_model *m, const char *part)
 {
     for (int k = m->nassign - 1; k >= 0; k--)
         if (!strcmp(m->assign[k].part, "*") || !strcmp(m->assign[k].part, part))
-            return m->assign[k].m.eps_r;
-    return 0;
+            return &m->assign[k].m;
+    return NULL;
+}
+
+double ch_part_eps(const ch_model *m, const char *part)
+{
+    const mote_ch_material *x = assigned(m, part);
+    return x ? x->eps_r : 0;
 }
 
 double ch_part_sigma(const ch_model *m, const char *part)
 {
-    for (int k = m->nassign - 1; k >= 0; k--)
-        if (!strcmp(m->assign[k].part, "*") || !strcmp(m->assign[k].part, part))
-            return m->assign[k].m.sigma;
-    return 0;
+    const mote_ch_material *x = assigned(m, part);
+    return x ? x->sigma : 0;
 }
 
 double ch_smallest_kT(const ch_model *m)
@@ -781,14 +786,11 @@ static int material_assign(void *vm, const mote_call *c, mote_err *err)
 /* The material of a part (the last assignment that names it or *), or NULL when bare. */
 static const mote_ch_material *part_material(const ch_model *m, const char *part)
 {
-    for (int k = m->nassign - 1; k >= 0; k--)
-        if (!strcmp(m->assign[k].part, "*") || !strcmp(m->assign[k].part, part))
-            return m->assign[k].m.see_dmax > 0 || m->assign[k].m.photo_j > 0 ||
-                           m->assign[k].m.ion_dmax > 0 ||
-                           (m->assign[k].m.Z > 0 && !m->no_backscatter)
-                       ? &m->assign[k].m
-                       : NULL;
-    return NULL;
+    const mote_ch_material *x = assigned(m, part);
+    return x && (x->see_dmax > 0 || x->photo_j > 0 || x->ion_dmax > 0 ||
+                 (x->Z > 0 && !m->no_backscatter))
+               ? x
+               : NULL;
 }
 
 /* Per triangle (the exact sphere: one), for a run; NULL when nothing emits. */
