@@ -10,6 +10,9 @@ echo " * name, see_dmax, see_emax (keV), Z, photo_j (A/m^2), eps_r, sigma (S/m),
 echo " * ion_emax (keV), source; 0 for a conductor's eps_r and sigma. Do not edit. */"
 awk '/^#/ || NF == 0 { next }
      NF != 10 { printf "materials.sh: data/materials.dat line %d: 10 columns expected, found %d\n", NR, NF > "/dev/stderr"; bad = 1; exit 1 }
+     $1 !~ /^[a-z0-9-]+$/ || length($1) > 23 { printf "materials.sh: data/materials.dat line %d: a name of 1 to 23 lower-case letters, digits or -, found %s\n", NR, $1 > "/dev/stderr"; bad = 1; exit 1 }
+     { for (k = 2; k <= 9; k++) if ($k !~ /^[0-9]+(\.[0-9]*)?([eE][-+]?[0-9]+)?$/ && !((k == 6 || k == 7) && $k == "-")) {
+           printf "materials.sh: data/materials.dat line %d: column %d: a number expected, found %s\n", NR, k, $k > "/dev/stderr"; bad = 1; exit 1 } }
      { e = $6 == "-" ? "0" : $6; s = $7 == "-" ? "0" : $7
        printf "{\"%s\", %s, %s, %s, %s, %s, %s, %s, %s, \"%s\"},\n", $1, $2, $3, $4, $5, e, s, $8, $9, $10 }
      END { exit bad }' "$top/data/materials.dat"

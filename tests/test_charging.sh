@@ -401,6 +401,8 @@ awk '/^#   [A-Z]+:ID / { split($2, a, ":"); known[a[1]] = 1; next } /^#/ || NF =
 printf '# x\nal2k 0.97 0.3\n' > bad.dat
 mkdir -p badlib/scripts badlib/data && cp "$top/scripts/materials.sh" badlib/scripts/ && cp bad.dat badlib/data/materials.dat
 sh badlib/scripts/materials.sh > /dev/null 2> err.txt; [ $? -ne 0 ] && grep -q 'data/materials.dat line 2: 10 columns expected, found 3' err.txt && ok || bad "materials.sh on a short row: $(cat err.txt)"
+printf 'x2k 0.97 0.3 13 4.0e-5 - - 0.2x 230 SPIS:X2K\n' > badlib/data/materials.dat
+sh badlib/scripts/materials.sh > /dev/null 2> err.txt; [ $? -ne 0 ] && grep -q 'data/materials.dat line 1: column 8: a number expected, found 0.2x' err.txt && ok || bad "materials.sh on a bad number: $(cat err.txt)"
 # A library dielectric's bulk conductivity is the default of `dielectric`: ka2k (1e-16 S/m, eps_r
 # 3.5) under 0.1 mm on the exact sphere of radius 1: R_p = d / (sigma 4 pi), C_p = eps0 3.5 4 pi / d;
 # sigma= still wins (1e-12)
