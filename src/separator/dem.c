@@ -607,11 +607,18 @@ static void list_forces(mote_sep_system *s, const force_ctx *c, double g_w, int 
     reduction(max : mo) reduction(+ : contacts, skips)
     for (size_t i = 0; i < n; i++) {
         double F[3] = {0, 0, 0};
-        /* the walls' own test, widened to both ends however open, with few branches: where it
-         * finds no wall within reach, wall_force would add nothing */
+        /* the walls' own test, widened to both ends however open, as one comparison of the
+         * largest of its differences: where it finds no wall within reach, wall_force would add
+         * nothing (where a difference is NaN, wall_force decides) */
         const double r = 0.5 * a.d[i], xi = a.x[i], yi = a.y[i], zi = a.z[i];
-        const int near_y = dim == 3 && ((r - yi > 0) | (yi + r - D > 0));
-        if ((r - xi > 0) | (xi + r - W > 0) | near_y | (r - zi > 0) | (zi + r - H > 0)) {
+        const double wx = r - xi > xi + r - W ? r - xi : xi + r - W;
+        const double wz = r - zi > zi + r - H ? r - zi : zi + r - H;
+        double wall = wx > wz ? wx : wz;
+        if (dim == 3) {
+            const double wy = r - yi > yi + r - D ? r - yi : yi + r - D;
+            wall = wy > wall ? wy : wall;
+        }
+        if (wall > 0) {
             const double pvel[3] = {a.pvx[i], a.pvy[i], a.pvz[i]};
             wall_force(s, i, c->khat, g_w, pvel, F, &mo);
         }

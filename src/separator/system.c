@@ -6,6 +6,10 @@
 
 #include "sep.h"
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -816,19 +820,33 @@ typedef struct {
     double *pvx, *pvy, *pvz; /* the predicted velocities v + dt/2 F_old/m, or NULL */
     const double *xref;      /* with the list's positions at its build (or NULL): */
     double lim;              /* the squared half skin a particle may move */
+    /* per species, with the gas of constant density (no profile): the density and the
+     * acceleration of gravity and buoyancy, -g (1 - rho_g / rho_p) */
+    double rho_p[MOTE_SEP_MAX_SPECIES], acc[MOTE_SEP_MAX_SPECIES];
 } drift_view;
+
+/* The passes' kinds of drift, each compiled on its own (drift_one's constant arguments): the
+ * contacts' usual step (the predictions and the list's check, no profile of the gas, no
+ * sampling, no dispersion, no plates) in 3D or 2D, in vacuum or gas; anything else. */
+enum { DRIFT_ANY, DRIFT_3D_VAC, DRIFT_3D_GAS, DRIFT_2D_VAC, DRIFT_2D_GAS };
 
 /* 0 in the channel, 1 fines (above an open top), 2 coarse (below an open bottom), 3 lost
  * (outside a side wall by more than its radius, inside a plate's solid, not finite: the range
  * tests fail for NaN and the infinities). */
 static inline int exit_code(const mote_sep_system *s, const drift_view *v, double x, double y,
-                            double z, double r)
+                            double z, double r, int dim, int lean)
 {
-    const int in_x = x >= -r && x <= v->W + r;
-    const int in_y = v->dim == 3 ? y >= -r && y <= v->D + r : y - y == 0;
-    if (!(in_x & in_y & (z - z == 0)))
+    /* one comparison for the usual case: the largest excursion beyond a side wall (the sign of
+     * each difference is that of the comparison it stands for), and whether x, y, z are finite
+     * (the sum of their differences from themselves is then 0, else NaN) */
+    double out = -r - x > x - (v->W + r) ? -r - x : x - (v->W + r);
+    if (dim == 3) {
+        const double oy = -r - y > y - (v->D + r) ? -r - y : y - (v->D + r);
+        out = oy > out ? oy : out;
+    }
+    if (!(out <= 0 && (x - x) + (y - y) + (z - z) == 0))
         return 3;
-    for (int q = 0; q < v->nplate; q++) {
+    for (int q = 0; !lean && q < v->nplate; q++) {
         const mote_sep_plate *p = &s->plate[q];
         if (z >= p->zb && z <= p->zb + p->t && mote_sep_plate_hole_at(p, v->dim, x, y) < 0)
             return 3;
@@ -846,28 +864,34 @@ static inline int exit_code(const mote_sep_system *s, const drift_view *v, doubl
  * (weighted by wdt) goes to fd[i], its height to fd[n + i]; with the dispersion on, it draws
  * from the system's one stream. With v->pvx, its predicted velocity for the contacts, and with
  * v->xref, whether it moved too far for the pair list (into *moved). */
-static inline int drift_one(mote_sep_system *s, const drift_view *v, size_t i, double *move2,
-                            int *moved, double box[6])
+static inline __attribute__((always_inline)) int
+drift_one(mote_sep_system *s, const drift_view *v, size_t i, double *move2, int *moved,
+          double box[6], const int kind)
 {
+    /* the kind's constants: lean (the contacts' usual step), its dimension and gas */
+    const int lean = kind != DRIFT_ANY;
+    const int dim = kind == DRIFT_3D_VAC || kind == DRIFT_3D_GAS ? 3 : lean ? 2 : v->dim;
+    const int vac = kind == DRIFT_3D_VAC || kind == DRIFT_2D_VAC;
     const double dt = v->dt;
     /* the particle in registers: loaded once, stored once */
     double vx = v->vx[i], vy = v->vy[i], vz = v->vz[i];
     const double x0 = v->x[i], y0 = v->y[i], z0 = v->z[i];
-    if (v->dem) {
+    if (lean || v->dem) {
         const double hk = 0.5 * dt * v->im[i];
         vx += hk * v->fx[i];
         vy += hk * v->fy[i];
         vz += hk * v->fz[i];
     }
     double x = x0, y = y0, z = z0;
-    const mote_sep_species *sp = &s->sp[v->sp[i]];
+    const int spi = v->sp[i];
     const double d = v->d[i];
     double rho_g = v->rho_g, mu_g = v->mu_g;
-    if (v->gp_n)
+    if (!lean && v->gp_n)
         mote_sep_gas_props(s, z0, &rho_g, &mu_g);
-    const int drag = mu_g > 0 && rho_g > 0;
-    const double a = -v->g * (1 - rho_g / sp->rho);
-    if (v->fd) {
+    const int drag = !vac && mu_g > 0 && rho_g > 0;
+    const double rho_p = v->rho_p[spi];
+    const double a = !lean && v->gp_n ? -v->g * (1 - rho_g / rho_p) : v->acc[spi];
+    if (!lean && v->fd) {
         v->fd[i] = 0;
         v->fd[v->n + i] = z0;
     }
@@ -876,10 +900,10 @@ static inline int drift_one(mote_sep_system *s, const drift_view *v, size_t i, d
         const double wz = u - vz;
         const double Re = rho_g * sqrt(vx * vx + vy * vy + wz * wz) * d / mu_g;
         double f = mote_sep_drag_f(Re);
-        if (v->chi != 0)
+        if (!lean && v->chi != 0)
             f *= pow(eps_gas_at(s, z0), -v->chi);
-        const double tau = sp->rho * d * d / (18 * mu_g * f);
-        if (v->fd)
+        const double tau = rho_p * d * d / (18 * mu_g * f);
+        if (!lean && v->fd)
             v->fd[i] = v->wdt * v->m[i] * (u - vz) / tau;
         /* the factors of the exact drift, once for the three components: sideways the gas
          * and the acceleration are 0 */
@@ -887,24 +911,24 @@ static inline int drift_one(mote_sep_system *s, const drift_view *v, size_t i, d
         const double hm = h < 1e-4 ? h * h / 2 - h * h * h / 6 + h * h * h * h / 24 : h - omE;
         x += tau * vx * omE;
         vx *= E;
-        if (v->dim == 3) {
+        if (dim == 3) {
             y += tau * vy * omE;
             vy *= E;
         }
         const double dv0 = vz - u;
         z += u * dt + tau * dv0 * omE + tau * tau * a * hm;
         vz = u + dv0 * E + tau * a * omE;
-        if (v->disperse) {
+        if (!lean && v->disperse) {
             /* D = D_t + D_B, D_B = k_B T / (3 pi mu_g d) (Stokes-Einstein) */
             const double D = s->D_t + 1.380649e-23 * s->T_gas / (3 * SEP_PI * mu_g * d);
             disperse1(&s->rng, &x, &vx, D / tau, tau, dt);
-            if (v->dim == 3)
+            if (dim == 3)
                 disperse1(&s->rng, &y, &vy, D / tau, tau, dt);
             disperse1(&s->rng, &z, &vz, D / tau, tau, dt);
         }
     } else { /* vacuum: constant acceleration */
         x += vx * dt;
-        if (v->dim == 3)
+        if (dim == 3)
             y += vy * dt;
         z += vz * dt + 0.5 * a * dt * dt;
         vz += a * dt;
@@ -912,12 +936,12 @@ static inline int drift_one(mote_sep_system *s, const drift_view *v, size_t i, d
     const double ddx = x - x0, ddy = y - y0, ddz = z - z0;
     const double mv = ddx * ddx + ddy * ddy + ddz * ddz;
     *move2 = mv > *move2 ? mv : *move2;
-    if (v->pvx) { /* (the same expression as the contacts' own pass: the same bits) */
+    if (lean || v->pvx) { /* (the same expression as the contacts' own pass: the same bits) */
         const double h = v->half_dt * v->im[i];
         v->pvx[i] = vx + h * v->fx[i];
         v->pvy[i] = vy + h * v->fy[i];
         v->pvz[i] = vz + h * v->fz[i];
-        if (v->xref) {
+        if (lean || v->xref) {
             const double *q = v->xref + 3 * i;
             const double ex = x - q[0], ey = y - q[1], ez = z - q[2];
             *moved |= ex * ex + ey * ey + ez * ez > v->lim;
@@ -934,13 +958,36 @@ static inline int drift_one(mote_sep_system *s, const drift_view *v, size_t i, d
     v->vx[i] = vx;
     v->vy[i] = vy;
     v->vz[i] = vz;
-    if (!v->dem) { /* the dilute mode's walls move the particle again */
+    if (!lean && !v->dem) { /* the dilute mode's walls move the particle again */
         reflect(s, i, x0, y0, z0);
         x = v->x[i];
         y = v->y[i];
         z = v->z[i];
     }
-    return exit_code(s, v, x, y, z, 0.5 * d);
+    return exit_code(s, v, x, y, z, 0.5 * d, dim, lean);
+}
+
+/* What a drift's pass finds: the largest squared displacement, the displacements' box since the
+ * list's build, whether a particle moved too far for the list, how many leave. */
+typedef struct {
+    double move2, box[6];
+    int moved;
+    size_t nexit;
+} drift_sums;
+
+/* The drifts of the particles lo <= i < hi into *r, their exit codes into s->exc. */
+static inline __attribute__((always_inline)) void
+drift_range(mote_sep_system *s, const drift_view *v, size_t lo, size_t hi, drift_sums *r,
+            const int kind)
+{
+    drift_sums t = *r; /* (in registers) */
+    unsigned char *exc = s->exc;
+    for (size_t i = lo; i < hi; i++) {
+        const int e = drift_one(s, v, i, &t.move2, &t.moved, t.box, kind);
+        exc[i] = (unsigned char)e;
+        t.nexit += e != 0;
+    }
+    *r = t;
 }
 
 static int step(mote_sep_system *s, double dt, mote_err *err)
@@ -980,6 +1027,16 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
             dv.lim = 0.25 * s->skin_used * s->skin_used;
         }
     }
+    for (int k = 0; k < s->nsp; k++) {
+        dv.rho_p[k] = s->sp[k].rho;
+        dv.acc[k] = -dv.g * (1 - dv.rho_g / dv.rho_p[k]);
+    }
+    /* the kind of drift this pass is */
+    int kind = DRIFT_ANY;
+    if (dv.dem && !dv.gp_n && !dv.fd && !dv.disperse && dv.xref && !dv.nplate && dv.chi == 0) {
+        const int vac = !(dv.mu_g > 0 && dv.rho_g > 0);
+        kind = dv.dim == 3 ? (vac ? DRIFT_3D_VAC : DRIFT_3D_GAS) : vac ? DRIFT_2D_VAC : DRIFT_2D_GAS;
+    }
     const uint64_t mods0 = s->mods;
     int moved = 0;
     double lx = INFINITY, ly = INFINITY, lz = INFINITY, hx = -INFINITY, hy = -INFINITY,
@@ -987,18 +1044,28 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
     /* the dispersion draws from one stream in particle order: one thread */
     const int nt = dv.disperse ? 1 : sep_threads(s);
     size_t nexit = 0;
-    unsigned char *exc = s->exc;
-#pragma omp parallel num_threads(nt) if (nt > 1)
+    const unsigned char *exc = s->exc;
+#pragma omp parallel num_threads(nt) if (nt > 1) reduction(max : move2, hx, hy, hz) \
+    reduction(+ : nexit) reduction(| : moved) reduction(min : lx, ly, lz)
     {
         const drift_view v = dv; /* (this thread's own copy) */
-#pragma omp for schedule(static) reduction(max : move2, hx, hy, hz) reduction(+ : nexit) \
-    reduction(| : moved) reduction(min : lx, ly, lz)
-        for (size_t i = 0; i < n; i++) {
-            double box[6] = {lx, ly, lz, hx, hy, hz};
-            exc[i] = (unsigned char)drift_one(s, &v, i, &move2, &moved, box);
-            lx = box[0], ly = box[1], lz = box[2], hx = box[3], hy = box[4], hz = box[5];
-            nexit += exc[i] != 0;
+        int th = 0, nth = 1;
+#ifdef _OPENMP
+        th = omp_get_thread_num();
+        nth = omp_get_num_threads();
+#endif
+        /* this thread's share (as a static schedule), by a loop compiled for the pass's kind */
+        const size_t lo = n * (size_t)th / (size_t)nth, hi = n * (size_t)(th + 1) / (size_t)nth;
+        drift_sums r = {move2, {lx, ly, lz, hx, hy, hz}, moved, nexit};
+        switch (kind) {
+        case DRIFT_3D_VAC: drift_range(s, &v, lo, hi, &r, DRIFT_3D_VAC); break;
+        case DRIFT_3D_GAS: drift_range(s, &v, lo, hi, &r, DRIFT_3D_GAS); break;
+        case DRIFT_2D_VAC: drift_range(s, &v, lo, hi, &r, DRIFT_2D_VAC); break;
+        case DRIFT_2D_GAS: drift_range(s, &v, lo, hi, &r, DRIFT_2D_GAS); break;
+        default: drift_range(s, &v, lo, hi, &r, DRIFT_ANY); break;
         }
+        move2 = r.move2, moved = r.moved, nexit = r.nexit;
+        lx = r.box[0], ly = r.box[1], lz = r.box[2], hx = r.box[3], hy = r.box[4], hz = r.box[5];
     }
     if (fd) /* the drag's force by slice, summed in particle order */
         for (size_t i = 0; i < n; i++)
