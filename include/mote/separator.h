@@ -171,16 +171,21 @@ typedef struct {
      * summed in an order that depends on neither the build nor the threads */
     uint32_t *nb, *nb_start;
     size_t npl, nb_cap, nbs_cap;         /* npl: the pairs (half the entries) */
+    size_t nb_w;                         /* the largest |i - j| of a listed pair */
     double *xref;                        /* positions at the build (3 per particle) */
     size_t xref_cap;
     /* each row's smallest gap |r_ij| - (r_i + r_j) at the build (+inf: an empty row), made at
      * the first force pass after a build or a load. The particles' displacements since the
-     * build lie in a box; with D its half diagonal, two particles' separation changed by at
-     * most 2 D, so a row whose gap exceeds 2 D holds no contact and is not searched */
+     * build lie, block by block, in boxes; the separation of a pair changed by at most the
+     * diagonal of the union of its two blocks' boxes, so a row whose gap exceeds that for
+     * every pair it may list holds no contact and is not searched */
     double *gap;
     size_t gap_cap;
     int gap_ok;
-    double list_ebox[6];                 /* the box (lo x y z, hi x y z) as the drift found it */
+    double *ebox;                        /* per block of SEP_EBLK particles (sep.h), the box of
+                                          * their displacements since the build (lo x y z, hi x
+                                          * y z), then scratch for the blocks' reach */
+    size_t ebox_cap;
     int no_gap_skip;                     /* search every row (tests: the same forces either way) */
     uint64_t gap_skips;                  /* rows not searched so far (diagnostic) */
     uint64_t mods, list_mods;            /* additions and removals so far; at the build */

@@ -377,6 +377,21 @@ static size_t row_scan(const mote_sep_system *s, size_t i, double skin, uint32_t
     return k;
 }
 
+/* The largest |i - j| over the listed pairs (each row sorted: its ends). */
+static size_t list_width(const mote_sep_system *s)
+{
+    size_t w = 0;
+    for (size_t i = 0; i < s->n; i++) {
+        const uint32_t a = s->nb_start[i], b = s->nb_start[i + 1];
+        if (a == b)
+            continue;
+        const size_t lo = s->nb[a], hi = s->nb[b - 1];
+        w = lo < i && i - lo > w ? i - lo : w;
+        w = hi > i && hi - i > w ? hi - i : w;
+    }
+    return w;
+}
+
 /* The neighbour rows, built afresh from the cells just built: the rows are counted, then
  * filled and sorted, on the threads (the rows do not depend on them). */
 static int list_build(mote_sep_system *s, mote_err *err)
@@ -416,6 +431,7 @@ static int list_build(mote_sep_system *s, mote_err *err)
         sort_row(row, row_scan(s, i, skin, row));
     }
     s->npl = total / 2;
+    s->nb_w = list_width(s);
     s->gap_ok = 0;
     s->list_ok = 1;
     s->list_mods = s->mods;
@@ -449,6 +465,7 @@ int sep_list_from_pairs(mote_sep_system *s, const uint32_t *pairs, size_t np, mo
     for (size_t i = 0; i < n; i++)
         sort_row(nb + start[i], start[i + 1] - start[i]);
     s->npl = np;
+    s->nb_w = list_width(s);
     s->gap_ok = 0;
     return MOTE_OK;
 }
@@ -580,22 +597,70 @@ static int list_gaps(mote_sep_system *s)
     return 1;
 }
 
+int sep_ebox_reserve(mote_sep_system *s, mote_err *err)
+{
+    const size_t nblk = (s->n + SEP_EBLK - 1) / SEP_EBLK;
+    return sep_reserve((void **)&s->ebox, &s->ebox_cap, 10 * nblk + 10, sizeof *s->ebox, err);
+}
+
+/* The reach of each block's rows (into s->ebox + 6 nblk): a row of particle i holds particles
+ * j within nb_w of i, so in the blocks b - K ... b + K around i's block b (K = nb_w / SEP_EBLK
+ * rounded up); the displacements since the build of both lie in the union U of those blocks'
+ * boxes, so the separation changed by at most U's diagonal. The unions by windows of 2 K + 1
+ * blocks (van Herk's prefix and suffix within segments of that length: a window's union is its
+ * first block's suffix with its last block's prefix, or a larger box where a clipped window
+ * lies in one segment). fresh: the list was built from the present positions (all boxes 0). */
+static const double *block_reach(mote_sep_system *s, int fresh, double dmin)
+{
+    const size_t nblk = (s->n + SEP_EBLK - 1) / SEP_EBLK;
+    double *box = s->ebox, *reach = box + 6 * nblk, *pre = reach + nblk, *suf = pre + nblk,
+           *low = suf + nblk;
+    const double margin = 1e-6 * dmin;
+    if (fresh) {
+        for (size_t b = 0; b < nblk; b++)
+            reach[b] = margin;
+        return reach;
+    }
+    const size_t K = (s->nb_w + SEP_EBLK - 1) / SEP_EBLK, L = 2 * K + 1;
+    for (size_t b = 0; b < nblk; b++)
+        reach[b] = 0; /* (the squared diagonal, summed over the axes) */
+    for (int a = 0; a < 3; a++)
+        for (int hi = 0; hi < 2; hi++) { /* the windows' lower ends (min), then upper (max) */
+            const double *v = box + 3 * hi + a;
+#define SEP_JOIN(x, y) (hi ? ((x) > (y) ? (x) : (y)) : ((x) < (y) ? (x) : (y)))
+            for (size_t b = 0; b < nblk; b++)
+                pre[b] = b % L == 0 ? v[6 * b] : SEP_JOIN(v[6 * b], pre[b - 1]);
+            for (size_t b = nblk; b-- > 0;)
+                suf[b] = b % L == L - 1 || b + 1 == nblk ? v[6 * b] : SEP_JOIN(v[6 * b], suf[b + 1]);
+            for (size_t b = 0; b < nblk; b++) {
+                const size_t l = b > K ? b - K : 0, r = b + K < nblk ? b + K : nblk - 1;
+                const double u = SEP_JOIN(suf[l], pre[r]);
+                if (!hi)
+                    low[b] = u;
+                else if (u >= low[b]) /* (an empty box: nothing) */
+                    reach[b] += (u - low[b]) * (u - low[b]);
+            }
+#undef SEP_JOIN
+        }
+    for (size_t b = 0; b < nblk; b++)
+        reach[b] = sqrt(reach[b]) + margin;
+    return reach;
+}
+
 /* The listed contacts of every particle, on the threads: walls, neighbours, plates, then (kick)
  * the second half kick v += dt/2 F/m. Each particle's force is its own sum, in a fixed order.
- * box: the box (lo, hi) of the particles' displacements since the list's build, D its half
- * diagonal: every displacement is within D of the box's centre, so two particles' separation
- * changed by at most 2 D, and a row whose gap at the build exceeds that (and a margin far above
- * the roundings) holds no contact and is not searched: the forces are those of the search, bit
- * for bit. A common drift (a falling column) leaves the box small. */
-static void list_forces(mote_sep_system *s, const force_ctx *c, double g_w, int kick,
-                        const double box[6], double dmin)
+ * The particles' displacements since the list's build lie, block by block of SEP_EBLK
+ * particles, in boxes (s->ebox, lo and hi); a row whose gap at the build exceeds the reach of
+ * its block (block_reach: how much the separation of any pair it lists can have shrunk, and
+ * a margin far above the roundings) holds no contact and is not searched: the forces are those
+ * of the search, bit for bit. A common drift (a falling column) leaves the boxes small, and a
+ * block far from the particles that move otherwise keeps its reach small. fresh: the list was
+ * built from the present positions. */
+static void list_forces(mote_sep_system *s, const force_ctx *c, double g_w, int kick, int fresh,
+                        double dmin)
 {
     const double *gap = s->no_gap_skip ? NULL : s->gap_ok || list_gaps(s) ? s->gap : NULL;
-    double diag2 = 0; /* (an empty box, no particle: 0) */
-    for (int a = 0; a < 3; a++)
-        if (box[3 + a] >= box[a])
-            diag2 += 0.25 * (box[3 + a] - box[a]) * (box[3 + a] - box[a]);
-    const double reach = 2 * sqrt(diag2) + 1e-6 * dmin;
+    const double *reach = gap ? block_reach(s, fresh, dmin) : NULL;
     const size_t n = s->n;
     const int nt = sep_threads(s), dim = s->dim, nplate = s->nplate;
     const force_arrays a = {s->x, s->y, s->z, s->d, s->m, s->im, c->pvx, c->pvy, c->pvz, s->s,
@@ -622,7 +687,7 @@ static void list_forces(mote_sep_system *s, const force_ctx *c, double g_w, int 
             const double pvel[3] = {a.pvx[i], a.pvy[i], a.pvz[i]};
             wall_force(s, i, c->khat, g_w, pvel, F, &mo);
         }
-        if (gap && !(gap[i] <= reach))
+        if (gap && !(gap[i] <= reach[i / SEP_EBLK]))
             skips++; /* (no contact in the row) */
         else if (dim == 3)
             row_force(&a, c, i, 3, F, &mo, &contacts);
@@ -680,33 +745,40 @@ int sep_contact_forces(mote_sep_system *s, double dt, int kick, int pred, mote_e
     const double lim = 0.25 * s->skin_used * s->skin_used;
     const double e_w = s->e_pw >= 0 ? s->e_pw : s->e_pp, g_w = e_w < 1 ? 2 * zeta_of(e_w) : 0;
     const int nt = sep_threads(s);
-    /* the drift's pass checked the list with this skin, or the check is made here */
+    /* the drift's pass checked the list with this skin (and left the blocks' boxes of the
+     * displacements in s->ebox), or the check is made here */
     const int checked = (pred == 0 || pred == 1) && s->skin_used == skin0;
     int moved = checked ? pred : 0;
-    double lx = INFINITY, ly = INFINITY, lz = INFINITY, hx = -INFINITY, hy = -INFINITY,
-           hz = -INFINITY;
-    if (checked) {
-        lx = s->list_ebox[0], ly = s->list_ebox[1], lz = s->list_ebox[2];
-        hx = s->list_ebox[3], hy = s->list_ebox[4], hz = s->list_ebox[5];
-    }
+    if (listed && sep_ebox_reserve(s, err))
+        return err->code;
     const double *xref = s->xref;
     if (pred < 0 || (can && !checked)) {
         const int predict = pred < 0;
-#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1) reduction(| : moved) \
-    reduction(min : lx, ly, lz) reduction(max : hx, hy, hz)
-        for (size_t i = 0; i < n; i++) {
-            if (predict) {
-                const double h = c.half_dt * s->im[i];
-                c.pvx[i] = s->vx[i] + h * s->fx[i];
-                c.pvy[i] = s->vy[i] + h * s->fy[i];
-                c.pvz[i] = s->vz[i] + h * s->fz[i];
+        const size_t nblk = (n + SEP_EBLK - 1) / SEP_EBLK;
+        double *ebox = s->ebox;
+#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1) reduction(| : moved)
+        for (size_t b = 0; b < nblk; b++) {
+            double lx = INFINITY, ly = INFINITY, lz = INFINITY, hx = -INFINITY, hy = -INFINITY,
+                   hz = -INFINITY;
+            const size_t end = (b + 1) * SEP_EBLK < n ? (b + 1) * SEP_EBLK : n;
+            for (size_t i = b * SEP_EBLK; i < end; i++) {
+                if (predict) {
+                    const double h = c.half_dt * s->im[i];
+                    c.pvx[i] = s->vx[i] + h * s->fx[i];
+                    c.pvy[i] = s->vy[i] + h * s->fy[i];
+                    c.pvz[i] = s->vz[i] + h * s->fz[i];
+                }
+                if (can) {
+                    const double *q = xref + 3 * i;
+                    const double dx = s->x[i] - q[0], dy = s->y[i] - q[1], dz = s->z[i] - q[2];
+                    moved |= dx * dx + dy * dy + dz * dz > lim;
+                    lx = dx < lx ? dx : lx, ly = dy < ly ? dy : ly, lz = dz < lz ? dz : lz;
+                    hx = dx > hx ? dx : hx, hy = dy > hy ? dy : hy, hz = dz > hz ? dz : hz;
+                }
             }
             if (can) {
-                const double *q = xref + 3 * i;
-                const double dx = s->x[i] - q[0], dy = s->y[i] - q[1], dz = s->z[i] - q[2];
-                moved |= dx * dx + dy * dy + dz * dz > lim;
-                lx = dx < lx ? dx : lx, ly = dy < ly ? dy : ly, lz = dz < lz ? dz : lz;
-                hx = dx > hx ? dx : hx, hy = dy > hy ? dy : hy, hz = dz > hz ? dz : hz;
+                double *e = ebox + 6 * b;
+                e[0] = lx, e[1] = ly, e[2] = lz, e[3] = hx, e[4] = hy, e[5] = hz;
             }
         }
     }
@@ -726,10 +798,8 @@ int sep_contact_forces(mote_sep_system *s, double dt, int kick, int pred, mote_e
                 rc = list_build(s, err);
             if (rc)
                 return rc;
-            lx = ly = lz = hx = hy = hz = 0; /* (built from the present positions) */
         }
-        const double box[6] = {lx, ly, lz, hx, hy, hz};
-        list_forces(s, &c, g_w, kick, box, dmin);
+        list_forces(s, &c, g_w, kick, !can || moved, dmin);
         return MOTE_OK;
     }
     /* brute force, or no list (the cells as built for this step's feed serve when nothing was

@@ -24,6 +24,10 @@ int sep_contact_forces(mote_sep_system *s, double dt, int kick, int pred, mote_e
 /* *p (of *cap entries of size bytes) grown to hold at least need entries (with room to spare);
  * its contents kept. */
 int sep_reserve(void **p, size_t *cap, size_t need, size_t size, mote_err *err);
+/* The particles' blocks for the displacements' boxes (the pair list's row skip): SEP_EBLK
+ * consecutive particles each; s->ebox for them (and their scratch). */
+#define SEP_EBLK 64
+int sep_ebox_reserve(mote_sep_system *s, mote_err *err);
 /* The scratch s->pv: at least 3 n doubles. */
 int sep_pv_reserve(mote_sep_system *s, mote_err *err);
 /* The neighbour rows from a list of pairs (a state being read): each row sorted. */

@@ -80,6 +80,7 @@ void mote_sep_free(mote_sep_system *s)
     free(s->blk);
     free(s->xref);
     free(s->gap);
+    free(s->ebox);
     free(s->ex_i);
     free(s->ex_c);
     free(s->back_s);
@@ -1039,33 +1040,36 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
     }
     const uint64_t mods0 = s->mods;
     int moved = 0;
-    double lx = INFINITY, ly = INFINITY, lz = INFINITY, hx = -INFINITY, hy = -INFINITY,
-           hz = -INFINITY; /* the displacements' box since the list's build */
+    /* with the list's check, each block's box of the displacements since the build */
+    if (dv.xref && sep_ebox_reserve(s, err))
+        return err->code;
+    double *ebox = dv.xref ? s->ebox : NULL;
     /* the dispersion draws from one stream in particle order: one thread */
     const int nt = dv.disperse ? 1 : sep_threads(s);
     size_t nexit = 0;
     const unsigned char *exc = s->exc;
-#pragma omp parallel num_threads(nt) if (nt > 1) reduction(max : move2, hx, hy, hz) \
-    reduction(+ : nexit) reduction(| : moved) reduction(min : lx, ly, lz)
+    const size_t nblk = (n + SEP_EBLK - 1) / SEP_EBLK;
+#pragma omp parallel num_threads(nt) if (nt > 1) reduction(max : move2) reduction(+ : nexit) \
+    reduction(| : moved)
     {
         const drift_view v = dv; /* (this thread's own copy) */
-        int th = 0, nth = 1;
-#ifdef _OPENMP
-        th = omp_get_thread_num();
-        nth = omp_get_num_threads();
-#endif
-        /* this thread's share (as a static schedule), by a loop compiled for the pass's kind */
-        const size_t lo = n * (size_t)th / (size_t)nth, hi = n * (size_t)(th + 1) / (size_t)nth;
-        drift_sums r = {move2, {lx, ly, lz, hx, hy, hz}, moved, nexit};
-        switch (kind) {
-        case DRIFT_3D_VAC: drift_range(s, &v, lo, hi, &r, DRIFT_3D_VAC); break;
-        case DRIFT_3D_GAS: drift_range(s, &v, lo, hi, &r, DRIFT_3D_GAS); break;
-        case DRIFT_2D_VAC: drift_range(s, &v, lo, hi, &r, DRIFT_2D_VAC); break;
-        case DRIFT_2D_GAS: drift_range(s, &v, lo, hi, &r, DRIFT_2D_GAS); break;
-        default: drift_range(s, &v, lo, hi, &r, DRIFT_ANY); break;
+#pragma omp for schedule(static)
+        for (size_t b = 0; b < nblk; b++) {
+            /* a block by a loop compiled for the pass's kind */
+            const size_t lo = b * SEP_EBLK, hi = lo + SEP_EBLK < n ? lo + SEP_EBLK : n;
+            drift_sums r = {move2, {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY},
+                            moved, nexit};
+            switch (kind) {
+            case DRIFT_3D_VAC: drift_range(s, &v, lo, hi, &r, DRIFT_3D_VAC); break;
+            case DRIFT_3D_GAS: drift_range(s, &v, lo, hi, &r, DRIFT_3D_GAS); break;
+            case DRIFT_2D_VAC: drift_range(s, &v, lo, hi, &r, DRIFT_2D_VAC); break;
+            case DRIFT_2D_GAS: drift_range(s, &v, lo, hi, &r, DRIFT_2D_GAS); break;
+            default: drift_range(s, &v, lo, hi, &r, DRIFT_ANY); break;
+            }
+            move2 = r.move2, moved = r.moved, nexit = r.nexit;
+            if (ebox)
+                memcpy(ebox + 6 * b, r.box, sizeof r.box);
         }
-        move2 = r.move2, moved = r.moved, nexit = r.nexit;
-        lx = r.box[0], ly = r.box[1], lz = r.box[2], hx = r.box[3], hy = r.box[4], hz = r.box[5];
     }
     if (fd) /* the drag's force by slice, summed in particle order */
         for (size_t i = 0; i < n; i++)
@@ -1096,8 +1100,6 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
     if (s->dem) {
         /* (the pass's predictions stand while the particles are the same: no exit, no feed) */
         const int pred = dv.pvx && s->n == n && s->mods == mods0 ? (dv.xref ? moved : 2) : -1;
-        const double box[6] = {lx, ly, lz, hx, hy, hz}; /* (read with pred 0 or 1) */
-        memcpy(s->list_ebox, box, sizeof box);
         const int rc = sep_contact_forces(s, dt, 1, pred, err);
         if (rc)
             return rc;
