@@ -83,6 +83,7 @@ static double bytes_per_particle(const mote_sep_system *s)
                      (double)s->nb_cap * sizeof(uint32_t) +
                      (double)s->nbs_cap * sizeof(uint32_t) + (double)s->exc_cap +
                      (double)s->blk_cap * sizeof(double) +
+                     (double)s->ebox_cap * sizeof(double) + 3.0 * (double)s->g_cap * sizeof(double) +
                      (double)s->nnext_cap * sizeof(int32_t) +
                      (double)s->nhead_cap * sizeof(int32_t) +
                      (double)s->grid.cap_cells * sizeof(uint32_t) +

@@ -602,9 +602,10 @@ static void test_first_sort(void)
 
 /* One case of the thread test: a channel open at both ends with a gas upflow felt by the solids
  * (coupling), a perforated plate, a feed, n particles to start; runs `steps` steps on nt
- * threads (used from 1 particle up) and writes its state to path. */
+ * threads (used from 1 particle up) and writes its state to path. flags: 1 every row searched
+ * (no_gap_skip), 2 every step completed (no_fuse). */
 static void threads_case(mote_sep_system *s, int dim, size_t n, int steps, int nt, int disperse,
-                         int noskip, const char *path)
+                         int flags, const char *path)
 {
     mote_err err = {0};
     mote_sep_init(s);
@@ -660,7 +661,8 @@ static void threads_case(mote_sep_system *s, int dim, size_t n, int steps, int n
     s->mods++; /* (positions set by hand) */
     s->threads = nt;
     s->threads_min_n = 1;
-    s->no_gap_skip = noskip;
+    s->no_gap_skip = flags & 1;
+    s->no_fuse = (flags & 2) != 0;
     CHECK(mote_sep_run(s, steps * s->dt, &err) == MOTE_OK, "run: %s", err.msg);
     CHECK(mote_sep_save(s, 1, path, &err) == MOTE_OK, "save: %s", err.msg);
 }
@@ -775,6 +777,90 @@ static void test_gap_skip(void)
     }
 }
 
+/* A hook that wants to see every 7th step: it must see it complete (no kick pending). */
+typedef struct {
+    int calls, pending;
+} hook_log;
+
+static int log_hook(void *ctx, mote_sep_system *s, mote_err *err)
+{
+    (void)err;
+    hook_log *l = ctx;
+    l->calls++;
+    l->pending += s->kick_h != 0;
+    return 0;
+}
+
+static int every_7th(void *ctx, const mote_sep_system *s)
+{
+    (void)ctx;
+    return s->steps % 7 == 0;
+}
+
+/* A step's second half kick left for the next drift (steps the hook does not see) gives the
+ * bits of every step completed: the thread test's runs (contacts, plates, exits, the feed, the
+ * gas coupling, the profiles' samples) on 1 and 3 threads, with every step completed and with
+ * the kicks left pending; and a run whose hook sees every 7th step (complete) against the
+ * plain run. */
+static void test_pending(void)
+{
+    printf("second half kicks left for the next drift: the same bits as every step completed\n");
+    for (int c = 0; c < 2; c++) {
+        char path[4][64];
+        mote_sep_system s[4];
+        for (int k = 0; k < 4; k++) {
+            snprintf(path[k], sizeof path[0], "/tmp/mote_sep_pend_%d_%d.state", c, k);
+            const int nt = k < 2 ? 1 : 3, nofuse = k % 2 == 0;
+            threads_case(&s[k], c == 0 ? 3 : 2, c == 0 ? 6000 : 3000, 90, nt, 0, nofuse ? 2 : 0,
+                         path[k]);
+        }
+        CHECK(s[0].contacts_pp > 0 && s[0].cnt[0].fines > 0, "case %d has contacts and exits", c);
+        for (int k = 1; k < 4; k++)
+            CHECK(same_file(path[0], path[k]), "case %d: run %d (%d threads, %s) equals every step "
+                  "completed on 1 thread", c, k, k < 2 ? 1 : 3,
+                  k % 2 ? "kicks pending" : "every step completed");
+        for (int k = 0; k < 4; k++) {
+            mote_sep_free(&s[k]);
+            remove(path[k]);
+        }
+    }
+    /* the hook */
+    char path[2][64];
+    mote_sep_system s[2];
+    hook_log log = {0, 0};
+    for (int k = 0; k < 2; k++) {
+        snprintf(path[k], sizeof path[0], "/tmp/mote_sep_pend_hook_%d.state", k);
+        vacuum_box(&s[k], 3, 0.02, 0.03, 0.02, 2500,
+                   (mote_sep_dist){.type = MOTE_SEP_MONO, .a = 1e-3});
+        s[k].v_imp = 3;
+        s[k].g = 9.81;
+        fill(&s[k], 2000);
+        for (size_t i = 0; i < s[k].n; i++) { /* a fall of 2 m/s onto the floor, spread */
+            s[k].vx[i] = 0.3 * sin((double)i);
+            s[k].vy[i] = 0.3 * cos(1.3 * (double)i);
+            s[k].vz[i] = -2 + 0.3 * sin(0.7 * (double)i);
+        }
+        s[k].mods++; /* (velocities set by hand) */
+        mote_err err = {0};
+        if (k == 0)
+            CHECK(mote_sep_run(&s[k], 300 * s[k].dt, &err) == MOTE_OK, "run: %s", err.msg);
+        else
+            CHECK(mote_sep_run_hook(&s[k], 300 * s[k].dt, log_hook, every_7th, &log, &err) ==
+                      MOTE_OK, "run with the hook: %s", err.msg);
+        CHECK(s[k].kick_h == 0, "run %d ends complete", k);
+        CHECK(mote_sep_save(&s[k], 1, path[k], &err) == MOTE_OK, "save: %s", err.msg);
+    }
+    CHECK(log.calls == 300 / 7 && log.pending == 0,
+          "the hook saw %d steps (every 7th of 300: %d), %d with a kick pending", log.calls,
+          300 / 7, log.pending);
+    CHECK(s[0].contacts_pp > 0, "the box has contacts (%llu)", (unsigned long long)s[0].contacts_pp);
+    CHECK(same_file(path[0], path[1]), "the run with the hook equals the plain run");
+    for (int k = 0; k < 2; k++) {
+        mote_sep_free(&s[k]);
+        remove(path[k]);
+    }
+}
+
 int main(int argc, char **argv)
 {
     static const struct {
@@ -785,7 +871,8 @@ int main(int argc, char **argv)
                  {"many_body", test_many_body},   {"backlog", test_backlog},
                  {"grids", test_grids},           {"pair", test_pair_restitution},
                  {"tall", test_tall},             {"threads", test_threads},
-                 {"first_sort", test_first_sort}, {"gap_skip", test_gap_skip}};
+                 {"first_sort", test_first_sort}, {"gap_skip", test_gap_skip},
+                 {"pending", test_pending}};
     for (size_t k = 0; k < sizeof tests / sizeof tests[0]; k++)
         if (argc < 2 || !strcmp(argv[1], tests[k].name))
             tests[k].fn();

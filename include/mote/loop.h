@@ -48,6 +48,8 @@ double mote_loop_next(const mote_loop *l);
 /* The time to stop at next: min(next observer time, t_end), where an observer time within
  * 1e-9 of its interval before t_end counts as t_end. */
 double mote_loop_stop(const mote_loop *l, double t_end);
+/* Whether an observer is due at time t (as mote_loop_fire would fire it). */
+int mote_loop_due(const mote_loop *l, double t);
 /* Fire every observer due at time t (its next time <= t + 1e-9 of its interval), in order, once
  * each; its schedule then moves past t (times a longer step stepped over are skipped, not fired
  * late). Returns the first observer's error, at once. */

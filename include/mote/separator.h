@@ -187,6 +187,8 @@ typedef struct {
                                           * y z), then scratch for the blocks' reach */
     size_t ebox_cap;
     int no_gap_skip;                     /* search every row (tests: the same forces either way) */
+    int no_fuse;                         /* complete every step in a run (tests: the same bits
+                                          * as a second half kick left for the next drift) */
     uint64_t gap_skips;                  /* rows not searched so far (diagnostic) */
     uint64_t mods, list_mods;            /* additions and removals so far; at the build */
     int list_ok;
@@ -195,7 +197,16 @@ typedef struct {
     uint64_t fast_moves;                 /* steps in which a particle moved more than r_min/4 */
     uint64_t contacts_pp;                /* particle contacts of the last step */
     uint64_t candidates;                 /* pairs tested in the last step's search */
-    double *pv;                          /* scratch: predicted velocities (3 per particle) */
+    double *pv;                          /* scratch: predicted velocities (3 per particle; brute
+                                          * force and the runs without a pair list) */
+    double *gx, *gy, *gz;                /* the other forces: the contacts' pass writes the new
+                                          * forces there and the two swap (the old ones give
+                                          * the neighbours' predicted velocities meanwhile);
+                                          * between passes scratch (the drag's sampling) */
+    size_t g_cap;
+    double kick_h;                       /* a second half kick v += kick_h F / m is pending
+                                          * (0: none): the next drift makes it, or
+                                          * mote_sep_complete */
     size_t *ex_i, nex, ex_cap;           /* scratch: the particles leaving in this step */
     int *ex_c;
     size_t pv_cap;
@@ -312,10 +323,16 @@ void mote_sep_tromp_species(const mote_sep_system *s, int k, double *T, mote_sep
 void mote_sep_reset_stats(mote_sep_system *s);
 /* The cross-section area (W D, or W D2 in 2D). */
 double mote_sep_cross_section(const mote_sep_system *s);
-/* Advance like mote_sep_run, calling hook(ctx, s) after every step (a non-zero return stops
- * the run with that code; the hook sets err). */
+/* Make a pending second half kick (after a run every step is complete; within one, the kick
+ * of a step the hook does not see rides on the next step's drift). */
+void mote_sep_complete(mote_sep_system *s);
+/* Advance like mote_sep_run, calling hook(ctx, s) after every step it sees (a non-zero return
+ * stops the run with that code; the hook sets err). need(ctx, s), asked after a step's
+ * contacts, says whether the hook wants to see that step: when not (0), the step's second half
+ * kick rides on the next step's drift (the same bits) and the hook is not called for it. need
+ * NULL: the hook sees every step. */
 int mote_sep_run_hook(mote_sep_system *s, double T, int (*hook)(void *, mote_sep_system *, mote_err *),
-                      void *ctx, mote_err *err);
+                      int (*need)(void *, const mote_sep_system *), void *ctx, mote_err *err);
 
 extern const mote_model mote_model_separator;
 

@@ -31,6 +31,16 @@ double mote_loop_stop(const mote_loop *l, double t_end)
     return stop;
 }
 
+int mote_loop_due(const mote_loop *l, double t)
+{
+    for (size_t k = 0; l && k < l->nobs; k++) {
+        const mote_observer *o = &l->obs[k];
+        if (!o->every && mote_schedule_next(&o->at) <= t + 1e-9 * o->at.dt)
+            return 1;
+    }
+    return 0;
+}
+
 int mote_loop_fire(mote_loop *l, void *subject, double t, mote_err *err)
 {
     for (size_t k = 0; l && k < l->nobs; k++) {

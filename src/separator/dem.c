@@ -521,14 +521,27 @@ static inline void plate_force(const mote_sep_system *s, size_t i, double khat, 
 }
 
 /* The arrays the contacts' pass reads and writes, as restrict pointers: the compiler may keep a
- * particle's values in registers across the stores of its force and velocity. */
+ * particle's values in registers across the stores of its force. It reads the velocities (not
+ * yet given the second half kick) and the last forces, for the predicted velocities, and
+ * writes the new forces to the other arrays (g). */
 typedef struct {
     const double *restrict x, *restrict y, *restrict z, *restrict d, *restrict m, *restrict im;
-    const double *restrict pvx, *restrict pvy, *restrict pvz;
+    const double *restrict vx, *restrict vy, *restrict vz, *restrict fx, *restrict fy,
+        *restrict fz;
     const int *restrict sp;
     const uint32_t *restrict nb, *restrict nb_start;
-    double *restrict fx, *restrict fy, *restrict fz, *restrict vx, *restrict vy, *restrict vz;
+    double *restrict gx, *restrict gy, *restrict gz;
 } force_arrays;
+
+/* Particle j's predicted velocity v + dt/2 F_old/m (spec 2.10 step 6), made where a contact
+ * needs it (the expression of the drift's and the brute force's predictions: the same bits). */
+static inline void pv_of(const force_arrays *a, const force_ctx *c, size_t j, double pv[3])
+{
+    const double h = c->half_dt * a->im[j];
+    pv[0] = a->vx[j] + h * a->fx[j];
+    pv[1] = a->vy[j] + h * a->fy[j];
+    pv[2] = a->vz[j] + h * a->fz[j];
+}
 
 /* Particle i's contacts with its listed neighbours, subtracted from F in the row's order: the
  * force on i from j is minus the one on j from i, bit for bit, as every factor is symmetric in
@@ -538,6 +551,8 @@ static inline void row_force(const force_arrays *a, const force_ctx *c, size_t i
 {
     const uint32_t *row = a->nb + a->nb_start[i], *end = a->nb + a->nb_start[i + 1];
     const double xi = a->x[i], yi = dim == 3 ? a->y[i] : 0, zi = a->z[i], di = a->d[i];
+    double pvi[3] = {0, 0, 0};
+    int have_pvi = 0; /* (made at the first contact) */
     for (; row < end; row++) {
         const size_t j = *row;
         const double dx[3] = {a->x[j] - xi, dim == 3 ? a->y[j] - yi : 0, a->z[j] - zi};
@@ -550,8 +565,14 @@ static inline void row_force(const force_arrays *a, const force_ctx *c, size_t i
             continue; /* coincident centres: no direction (the feed never makes them) */
         const double delta = R - dist;
         const double n[3] = {dx[0] / dist, dx[1] / dist, dx[2] / dist};
-        const double vn = (a->pvx[i] - a->pvx[j]) * n[0] + (a->pvy[i] - a->pvy[j]) * n[1] +
-                          (a->pvz[i] - a->pvz[j]) * n[2];
+        if (!have_pvi) {
+            pv_of(a, c, i, pvi);
+            have_pvi = 1;
+        }
+        double pvj[3];
+        pv_of(a, c, j, pvj);
+        const double vn = (pvi[0] - pvj[0]) * n[0] + (pvi[1] - pvj[1]) * n[1] +
+                          (pvi[2] - pvj[2]) * n[2];
         const double dbar = 2 * di * dj / (di + dj);
         const double mi = a->m[i], mj = a->m[j];
         const double k = c->khat * dbar, mij = mi * mj / (mi + mj);
@@ -647,8 +668,10 @@ static const double *block_reach(mote_sep_system *s, int fresh, double dmin)
     return reach;
 }
 
-/* The listed contacts of every particle, on the threads: walls, neighbours, plates, then (kick)
- * the second half kick v += dt/2 F/m. Each particle's force is its own sum, in a fixed order.
+/* The listed contacts of every particle, on the threads: walls, neighbours, plates, into the
+ * other forces' arrays, which then become the present ones; with kick, the second half kick
+ * v += dt/2 F/m is left pending (s->kick_h). Each particle's force is its own sum, in a fixed
+ * order.
  * The particles' displacements since the list's build lie, block by block of SEP_EBLK
  * particles, in boxes (s->ebox, lo and hi); a row whose gap at the build exceeds the reach of
  * its block (block_reach: how much the separation of any pair it lists can have shrunk, and
@@ -663,8 +686,9 @@ static void list_forces(mote_sep_system *s, const force_ctx *c, double g_w, int 
     const double *reach = gap ? block_reach(s, fresh, dmin) : NULL;
     const size_t n = s->n;
     const int nt = sep_threads(s), dim = s->dim, nplate = s->nplate;
-    const force_arrays a = {s->x, s->y, s->z, s->d, s->m, s->im, c->pvx, c->pvy, c->pvz, s->s,
-                            s->nb, s->nb_start, s->fx, s->fy, s->fz, s->vx, s->vy, s->vz};
+    const force_arrays a = {s->x,  s->y,  s->z,  s->d,  s->m,  s->im,       s->vx,
+                            s->vy, s->vz, s->fx, s->fy, s->fz, s->s, s->nb, s->nb_start,
+                            s->gx, s->gy, s->gz};
     const double W = s->W, D = s->D, H = s->H;
     double mo = s->max_overlap;
     uint64_t contacts = 0, skips = 0;
@@ -684,7 +708,8 @@ static void list_forces(mote_sep_system *s, const force_ctx *c, double g_w, int 
             wall = wy > wall ? wy : wall;
         }
         if (wall > 0) {
-            const double pvel[3] = {a.pvx[i], a.pvy[i], a.pvz[i]};
+            double pvel[3];
+            pv_of(&a, c, i, pvel);
             wall_force(s, i, c->khat, g_w, pvel, F, &mo);
         }
         if (gap && !(gap[i] <= reach[i / SEP_EBLK]))
@@ -694,23 +719,45 @@ static void list_forces(mote_sep_system *s, const force_ctx *c, double g_w, int 
         else
             row_force(&a, c, i, 2, F, &mo, &contacts);
         if (nplate) {
-            const double pvel[3] = {a.pvx[i], a.pvy[i], a.pvz[i]};
+            double pvel[3];
+            pv_of(&a, c, i, pvel);
             plate_force(s, i, c->khat, g_w, pvel, F, &mo);
         }
-        a.fx[i] = F[0];
-        a.fy[i] = F[1];
-        a.fz[i] = F[2];
-        if (kick) {
-            const double h = c->half_dt * a.im[i];
-            a.vx[i] += h * F[0];
-            a.vy[i] += h * F[1];
-            a.vz[i] += h * F[2];
-        }
+        a.gx[i] = F[0];
+        a.gy[i] = F[1];
+        a.gz[i] = F[2];
     }
+    /* the new forces become the present ones; the second half kick waits for the next drift
+     * (or mote_sep_complete) */
+    double *t;
+    t = s->fx, s->fx = s->gx, s->gx = t;
+    t = s->fy, s->fy = s->gy, s->gy = t;
+    t = s->fz, s->fz = s->gz, s->gz = t;
+    s->g_cap = s->cap;
+    s->kick_h = kick ? c->half_dt : 0;
     s->max_overlap = mo;
     s->contacts_pp = contacts;
     s->gap_skips += skips;
     s->candidates = 2 * s->npl; /* (each row's entries tested) */
+}
+
+int sep_g_reserve(mote_sep_system *s, mote_err *err)
+{
+    /* (the particle arrays' capacity: the two sets swap, and grow() reallocates fx, fy, fz to
+     * the new capacity) */
+    if (s->gx && s->g_cap >= s->cap)
+        return MOTE_OK;
+    const size_t c = s->cap ? s->cap : 1;
+    double **g[3] = {&s->gx, &s->gy, &s->gz};
+    for (int a = 0; a < 3; a++) {
+        double *p = realloc(*g[a], c * sizeof *p);
+        if (!p)
+            return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the forces of %zu "
+                             "particles", c);
+        *g[a] = p;
+    }
+    s->g_cap = c;
+    return MOTE_OK;
 }
 
 int sep_pv_reserve(mote_sep_system *s, mote_err *err)
@@ -724,18 +771,14 @@ int sep_pv_reserve(mote_sep_system *s, mote_err *err)
 int sep_contact_forces(mote_sep_system *s, double dt, int kick, int pred, mote_err *err)
 {
     const size_t n = s->n;
-    if (sep_pv_reserve(s, err))
-        return err->code;
-    double *pv = s->pv;
-    force_ctx c = {.khat = s->khat_used, .half_dt = 0.5 * dt, .pvx = pv, .pvy = pv + n,
-                   .pvz = pv + 2 * n};
+    force_ctx c = {.khat = s->khat_used, .half_dt = 0.5 * dt};
     for (int a = 0; a < s->nsp; a++)
         for (int b = 0; b < s->nsp; b++) {
             const double e = s->e_pair[a][b] > 0 ? s->e_pair[a][b] : s->e_pp;
             c.g_pp[a * MOTE_SEP_MAX_SPECIES + b] = e < 1 ? 2 * zeta_of(e) : 0;
         }
-    /* one pass: the predicted velocities, and whether the pair list still holds (nothing added,
-     * removed or reordered, no particle moved more than skin/2 since its build) */
+    /* whether the pair list still holds (nothing added, removed or reordered, no particle moved
+     * more than skin/2 since its build); without it, the predicted velocities */
     double dmin, dmax;
     mote_sep_size_range(s, &dmin, &dmax);
     const double skin0 = s->skin_used;
@@ -749,11 +792,13 @@ int sep_contact_forces(mote_sep_system *s, double dt, int kick, int pred, mote_e
      * displacements in s->ebox), or the check is made here */
     const int checked = (pred == 0 || pred == 1) && s->skin_used == skin0;
     int moved = checked ? pred : 0;
-    if (listed && sep_ebox_reserve(s, err))
+    if (listed ? sep_ebox_reserve(s, err) || sep_g_reserve(s, err) : sep_pv_reserve(s, err))
         return err->code;
+    if (!listed)
+        c.pvx = s->pv, c.pvy = s->pv + n, c.pvz = s->pv + 2 * n;
     const double *xref = s->xref;
-    if (pred < 0 || (can && !checked)) {
-        const int predict = pred < 0;
+    if (!listed || (can && !checked)) {
+        const int predict = !listed;
         const size_t nblk = (n + SEP_EBLK - 1) / SEP_EBLK;
         double *ebox = s->ebox;
 #pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1) reduction(| : moved)

@@ -63,6 +63,7 @@ static void run_notes(sep_model *m)
 }
 
 static int run_hook(void *vm, mote_sep_system *s, mote_err *err);
+static int run_need(void *vm, const mote_sep_system *s);
 static int fire_frame(void *ctx, void *subject, mote_err *err);
 static int fire_snapshot(void *ctx, void *subject, mote_err *err);
 static int fire_balance(void *ctx, void *subject, mote_err *err);
@@ -145,7 +146,7 @@ int sep_run(void *vm, const mote_call *c, mote_err *err)
     if (!rc)
         rc = run_hook(m, &m->sys, err);
     if (!rc)
-        rc = mote_sep_run_hook(&m->sys, c->args[0].r, run_hook, m, err);
+        rc = mote_sep_run_hook(&m->sys, c->args[0].r, run_hook, run_need, m, err);
     mote_progress_end(&prog);
     for (size_t k = 0; k < nobs; k++) /* where each schedule stands, for the next run */
         *at[k] = obs[k].at;
@@ -421,7 +422,20 @@ static int run_hook(void *vm, mote_sep_system *s, mote_err *err)
         }
     }
     mote_loop_progress(&m->loop, s->t, 0);
+    m->hook_wall = mote_wall_seconds();
     return rc;
+}
+
+/* Whether the hook wants to see the step just made: an output due at its end, the live picture
+ * due, or a tenth of a second since the hook last ran (the progress and the live view's tick).
+ * Otherwise the step's second half kick rides on the next step's drift (the same bits). */
+static int run_need(void *vm, const mote_sep_system *s)
+{
+    sep_model *m = vm;
+    if (mote_loop_due(&m->loop, s->t))
+        return 1;
+    const double now = mote_wall_seconds();
+    return now - m->hook_wall >= 0.1 || (m->live.on && now - m->live.last >= 1 / m->live.hz);
 }
 
 void sep_model_live(void *vm, mote_buf *b) { sep_live_frame(&((sep_model *)vm)->sys, b); }

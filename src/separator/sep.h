@@ -16,10 +16,11 @@ int sep_cells_add(mote_sep_system *s, size_t i, mote_err *err);
 int sep_overlaps_any(const mote_sep_system *s, double px, double py, double pz, double d);
 /* system.c: whether a sphere of radius r at (x, y, z) touches or is inside a plate. */
 int sep_touches_plate(const mote_sep_system *s, double x, double y, double z, double r);
-/* The contact forces (and with kick the second half kick) on s->threads threads. pred < 0:
- * the predicted velocities v + dt/2 F_old/m are computed here; else they are in s->pv already
- * and pred says whether a particle moved too far for the pair list (0, 1; 2: not checked, as
- * the list was not valid when they were). */
+/* The contact forces (and with kick the second half kick) on s->threads threads. With the pair
+ * list the kick is left pending (s->kick_h: the next drift or mote_sep_complete makes it);
+ * brute force makes it here. pred < 0: nothing is known of the list's check; else pred says
+ * whether a particle moved too far for the pair list (0, 1, with the blocks' boxes of the
+ * displacements in s->ebox; 2: not checked, as the list was not valid when they were). */
 int sep_contact_forces(mote_sep_system *s, double dt, int kick, int pred, mote_err *err);
 /* *p (of *cap entries of size bytes) grown to hold at least need entries (with room to spare);
  * its contents kept. */
@@ -28,6 +29,8 @@ int sep_reserve(void **p, size_t *cap, size_t need, size_t size, mote_err *err);
  * consecutive particles each; s->ebox for them (and their scratch). */
 #define SEP_EBLK 64
 int sep_ebox_reserve(mote_sep_system *s, mote_err *err);
+/* The other forces' arrays s->gx, gy, gz: s->cap each (as fx, fy, fz). */
+int sep_g_reserve(mote_sep_system *s, mote_err *err);
 /* The scratch s->pv: at least 3 n doubles. */
 int sep_pv_reserve(mote_sep_system *s, mote_err *err);
 /* The neighbour rows from a list of pairs (a state being read): each row sorted. */

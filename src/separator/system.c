@@ -72,6 +72,9 @@ void mote_sep_free(mote_sep_system *s)
     free(s->fz);
     mote_grid_free(&s->grid);
     free(s->pv);
+    free(s->gx);
+    free(s->gy);
+    free(s->gz);
     free(s->nhead);
     free(s->nnext);
     free(s->nb);
@@ -817,8 +820,8 @@ typedef struct {
     double dt, half_dt, wdt, g, rho_g, mu_g, chi, W, D, H;
     int dim, dem, gp_n, disperse, open_top, open_bottom, nplate;
     size_t n;
-    double *fd;              /* the drag's z force and the height (sampling), or NULL */
-    double *pvx, *pvy, *pvz; /* the predicted velocities v + dt/2 F_old/m, or NULL */
+    double *fd, *fdz;        /* the drag's z force and the height (sampling), or NULL */
+    double kick2;            /* the last step's pending second half kick (0: none) */
     const double *xref;      /* with the list's positions at its build (or NULL): */
     double lim;              /* the squared half skin a particle may move */
     /* per species, with the gas of constant density (no profile): the density and the
@@ -861,10 +864,11 @@ static inline int exit_code(const mote_sep_system *s, const drift_view *v, doubl
 
 /* Particle i's half kick with the last contact forces (spec 2.10 step 1), then its drift, exact
  * under drag, gravity and buoyancy with the gas of the last profile; its squared displacement
- * into *move2 and its exit code returned. With v->fd, the drag's z force at the step's start
- * (weighted by wdt) goes to fd[i], its height to fd[n + i]; with the dispersion on, it draws
- * from the system's one stream. With v->pvx, its predicted velocity for the contacts, and with
- * v->xref, whether it moved too far for the pair list (into *moved). */
+ * into *move2 and its exit code returned; first, with v->kick2, the last step's pending second
+ * half kick. With v->fd, the drag's z force at the step's start (weighted by wdt) goes to
+ * fd[i], its height to fdz[i]; with the dispersion on, it draws from the system's one stream.
+ * With v->xref, whether it moved too far for the pair list (into *moved) and the box of the
+ * displacements since the list's build (box). */
 static inline __attribute__((always_inline)) int
 drift_one(mote_sep_system *s, const drift_view *v, size_t i, double *move2, int *moved,
           double box[6], const int kind)
@@ -878,6 +882,12 @@ drift_one(mote_sep_system *s, const drift_view *v, size_t i, double *move2, int 
     double vx = v->vx[i], vy = v->vy[i], vz = v->vz[i];
     const double x0 = v->x[i], y0 = v->y[i], z0 = v->z[i];
     if (lean || v->dem) {
+        if (v->kick2 > 0) { /* the last step's second half kick (as the contacts' pass had it) */
+            const double h2 = v->kick2 * v->im[i];
+            vx += h2 * v->fx[i];
+            vy += h2 * v->fy[i];
+            vz += h2 * v->fz[i];
+        }
         const double hk = 0.5 * dt * v->im[i];
         vx += hk * v->fx[i];
         vy += hk * v->fy[i];
@@ -894,7 +904,7 @@ drift_one(mote_sep_system *s, const drift_view *v, size_t i, double *move2, int 
     const double a = !lean && v->gp_n ? -v->g * (1 - rho_g / rho_p) : v->acc[spi];
     if (!lean && v->fd) {
         v->fd[i] = 0;
-        v->fd[v->n + i] = z0;
+        v->fdz[i] = z0;
     }
     if (drag) {
         const double u = gas_for(s, z0);
@@ -937,20 +947,14 @@ drift_one(mote_sep_system *s, const drift_view *v, size_t i, double *move2, int 
     const double ddx = x - x0, ddy = y - y0, ddz = z - z0;
     const double mv = ddx * ddx + ddy * ddy + ddz * ddz;
     *move2 = mv > *move2 ? mv : *move2;
-    if (lean || v->pvx) { /* (the same expression as the contacts' own pass: the same bits) */
-        const double h = v->half_dt * v->im[i];
-        v->pvx[i] = vx + h * v->fx[i];
-        v->pvy[i] = vy + h * v->fy[i];
-        v->pvz[i] = vz + h * v->fz[i];
-        if (lean || v->xref) {
-            const double *q = v->xref + 3 * i;
-            const double ex = x - q[0], ey = y - q[1], ez = z - q[2];
-            *moved |= ex * ex + ey * ey + ez * ez > v->lim;
-            const double e[3] = {ex, ey, ez};
-            for (int k = 0; k < 3; k++) {
-                box[k] = e[k] < box[k] ? e[k] : box[k];
-                box[3 + k] = e[k] > box[3 + k] ? e[k] : box[3 + k];
-            }
+    if (lean || v->xref) {
+        const double *q = v->xref + 3 * i;
+        const double ex = x - q[0], ey = y - q[1], ez = z - q[2];
+        *moved |= ex * ex + ey * ey + ez * ez > v->lim;
+        const double e[3] = {ex, ey, ez};
+        for (int k = 0; k < 3; k++) {
+            box[k] = e[k] < box[k] ? e[k] : box[k];
+            box[3 + k] = e[k] > box[3 + k] ? e[k] : box[3 + k];
         }
     }
     v->x[i] = x;
@@ -1006,11 +1010,11 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
     const double wdt = s->prof_wait;
     const size_t n = s->n;
     if (sep_reserve((void **)&s->exc, &s->exc_cap, n, 1, err) ||
-        ((sampling || s->dem) && sep_pv_reserve(s, err)))
+        (sampling && sep_g_reserve(s, err)))
         return err->code;
-    double *fd = sampling ? s->pv : NULL;
-    /* the contacts' predicted velocities and the pair list's check in this pass when the
-     * scratch is free (not a sampling step), used when no particle leaves or enters */
+    /* (the other forces' arrays are free between the contacts' passes) */
+    double *fd = sampling ? s->gx : NULL, *fdz = sampling ? s->gy : NULL;
+    /* the pair list's check in this pass, used when no particle leaves or enters */
     drift_view dv = {
         .x = s->x, .y = s->y, .z = s->z, .vx = s->vx, .vy = s->vy, .vz = s->vz, .fx = s->fx,
         .fy = s->fy, .fz = s->fz, .im = s->im, .d = s->d, .m = s->m, .sp = s->s, .dt = dt,
@@ -1018,15 +1022,10 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
         .chi = s->chi, .W = s->W, .D = s->D, .H = s->H, .dim = s->dim, .dem = s->dem,
         .gp_n = s->gp_n != 0, .disperse = s->D_t > 0 || s->T_gas > 0,
         .open_top = s->open_top, .open_bottom = s->open_bottom, .nplate = s->nplate, .n = n,
-        .fd = fd};
-    if (s->dem && !sampling) {
-        dv.pvx = s->pv;
-        dv.pvy = s->pv + n;
-        dv.pvz = s->pv + 2 * n;
-        if (!s->brute && s->skin_used > 0 && s->list_ok && s->mods == s->list_mods) {
-            dv.xref = s->xref;
-            dv.lim = 0.25 * s->skin_used * s->skin_used;
-        }
+        .fd = fd, .fdz = fdz, .kick2 = s->kick_h};
+    if (s->dem && !s->brute && s->skin_used > 0 && s->list_ok && s->mods == s->list_mods) {
+        dv.xref = s->xref;
+        dv.lim = 0.25 * s->skin_used * s->skin_used;
     }
     for (int k = 0; k < s->nsp; k++) {
         dv.rho_p[k] = s->sp[k].rho;
@@ -1073,10 +1072,11 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
     }
     if (fd) /* the drag's force by slice, summed in particle order */
         for (size_t i = 0; i < n; i++)
-            s->prof_fd[slice_of(s, fd[n + i])] += fd[i];
+            s->prof_fd[slice_of(s, fdz[i])] += fd[i];
     for (size_t i = 0; nexit && i < n; i++)
         if (exc[i] && note_exit(s, i, exc[i], err))
             return err->code;
+    s->kick_h = 0; /* (made in the drift) */
     if (s->dem && move2 > 0.0625 * 0.25 * dmin * dmin)
         s->fast_moves++;
     s->t += dt;
@@ -1099,7 +1099,7 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
                          s->tau_eps > 0;
     if (s->dem) {
         /* (the pass's predictions stand while the particles are the same: no exit, no feed) */
-        const int pred = dv.pvx && s->n == n && s->mods == mods0 ? (dv.xref ? moved : 2) : -1;
+        const int pred = s->n == n && s->mods == mods0 ? (dv.xref ? moved : 2) : -1;
         const int rc = sep_contact_forces(s, dt, 1, pred, err);
         if (rc)
             return rc;
@@ -1107,19 +1107,39 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
     if (gas_sees && mote_sep_gas_update(s, dt, err))
         return err->code;
     if (sampling) {
+        mote_sep_complete(s); /* (the velocities with their second half kick) */
         sample_profiles(s, wdt);
         s->prof_wait = 0;
     }
     return MOTE_OK;
 }
 
+void mote_sep_complete(mote_sep_system *s)
+{
+    if (!(s->kick_h > 0))
+        return;
+    const size_t n = s->n;
+    const int nt = sep_threads(s);
+    const double kh = s->kick_h;
+    double *vx = s->vx, *vy = s->vy, *vz = s->vz;
+    const double *fx = s->fx, *fy = s->fy, *fz = s->fz, *im = s->im;
+#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
+    for (size_t i = 0; i < n; i++) { /* (the contacts' pass's expression: the same bits) */
+        const double h = kh * im[i];
+        vx[i] += h * fx[i];
+        vy[i] += h * fy[i];
+        vz[i] += h * fz[i];
+    }
+    s->kick_h = 0;
+}
+
 int mote_sep_run(mote_sep_system *s, double T, mote_err *err)
 {
-    return mote_sep_run_hook(s, T, NULL, NULL, err);
+    return mote_sep_run_hook(s, T, NULL, NULL, NULL, err);
 }
 
 int mote_sep_run_hook(mote_sep_system *s, double T, int (*hook)(void *, mote_sep_system *, mote_err *),
-                      void *ctx, mote_err *err)
+                      int (*need)(void *, const mote_sep_system *), void *ctx, mote_err *err)
 {
     int rc = mote_sep_prepare(s, err);
     const double t_end = s->t + T;
@@ -1128,9 +1148,15 @@ int mote_sep_run_hook(mote_sep_system *s, double T, int (*hook)(void *, mote_sep
         if (!(dt > 1e-9 * s->dt)) /* a remainder from rounding the sum of the steps */
             break;
         rc = step(s, dt, err);
-        if (!rc && hook)
-            rc = hook(ctx, s, err);
+        /* the hook sees the steps it wants, complete; the others keep their second half kick
+         * for the next drift (s->no_fuse: every step completed, as a test's reference) */
+        if (!rc && (s->no_fuse || (hook && (!need || need(ctx, s))))) {
+            mote_sep_complete(s);
+            if (hook)
+                rc = hook(ctx, s, err);
+        }
     }
+    mote_sep_complete(s); /* (also after an error) */
     /* the fractions of the present positions (for the outputs), also after an error */
     mote_err e2;
     if (mote_sep_gas_update(s, 0, rc ? &e2 : err) && !rc)
