@@ -649,10 +649,11 @@ static const double *block_reach(mote_sep_system *s, int fresh, double dmin)
         for (int hi = 0; hi < 2; hi++) { /* the windows' lower ends (min), then upper (max) */
             const double *v = box + 3 * hi + a;
 #define SEP_JOIN(x, y) (hi ? ((x) > (y) ? (x) : (y)) : ((x) < (y) ? (x) : (y)))
-            for (size_t b = 0; b < nblk; b++)
-                pre[b] = b % L == 0 ? v[6 * b] : SEP_JOIN(v[6 * b], pre[b - 1]);
-            for (size_t b = nblk; b-- > 0;)
-                suf[b] = b % L == L - 1 || b + 1 == nblk ? v[6 * b] : SEP_JOIN(v[6 * b], suf[b + 1]);
+            /* (q: b's place in its segment, counted rather than divided) */
+            for (size_t b = 0, q = 0; b < nblk; b++, q = q + 1 == L ? 0 : q + 1)
+                pre[b] = q == 0 ? v[6 * b] : SEP_JOIN(v[6 * b], pre[b - 1]);
+            for (size_t b = nblk, q = (nblk - 1) % L; b-- > 0; q = q == 0 ? L - 1 : q - 1)
+                suf[b] = q == L - 1 || b + 1 == nblk ? v[6 * b] : SEP_JOIN(v[6 * b], suf[b + 1]);
             for (size_t b = 0; b < nblk; b++) {
                 const size_t l = b > K ? b - K : 0, r = b + K < nblk ? b + K : nblk - 1;
                 const double u = SEP_JOIN(suf[l], pre[r]);

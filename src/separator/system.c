@@ -862,16 +862,29 @@ static inline int exit_code(const mote_sep_system *s, const drift_view *v, doubl
     return 0;
 }
 
+/* What a drift's pass finds: the largest squared displacement, the displacements' box since the
+ * list's build, whether a particle moved too far for the list, how many leave. */
+typedef struct {
+    double move2, box[6];
+    int moved;
+    size_t nexit;
+} drift_sums;
+
+/* What one particle's drift gives them: its squared displacement in the step and (with the
+ * list's check) its displacement since the list's build. */
+typedef struct {
+    double mv, e[3];
+} drift_res;
+
 /* Particle i's half kick with the last contact forces (spec 2.10 step 1), then its drift, exact
  * under drag, gravity and buoyancy with the gas of the last profile; its squared displacement
- * into *move2 and its exit code returned; first, with v->kick2, the last step's pending second
+ * into res->mv and its exit code returned; first, with v->kick2, the last step's pending second
  * half kick. With v->fd, the drag's z force at the step's start (weighted by wdt) goes to
  * fd[i], its height to fdz[i]; with the dispersion on, it draws from the system's one stream.
- * With v->xref, whether it moved too far for the pair list (into *moved) and the box of the
- * displacements since the list's build (box). */
+ * With v->xref (always for the lean kinds), its displacement since the list's build into
+ * res->e. */
 static inline __attribute__((always_inline)) int
-drift_one(mote_sep_system *s, const drift_view *v, size_t i, double *move2, int *moved,
-          double box[6], const int kind)
+drift_one(mote_sep_system *s, const drift_view *v, size_t i, drift_res *res, const int kind)
 {
     /* the kind's constants: lean (the contacts' usual step), its dimension and gas */
     const int lean = kind != DRIFT_ANY;
@@ -945,17 +958,10 @@ drift_one(mote_sep_system *s, const drift_view *v, size_t i, double *move2, int 
         vz += a * dt;
     }
     const double ddx = x - x0, ddy = y - y0, ddz = z - z0;
-    const double mv = ddx * ddx + ddy * ddy + ddz * ddz;
-    *move2 = mv > *move2 ? mv : *move2;
+    res->mv = ddx * ddx + ddy * ddy + ddz * ddz;
     if (lean || v->xref) {
         const double *q = v->xref + 3 * i;
-        const double ex = x - q[0], ey = y - q[1], ez = z - q[2];
-        *moved |= ex * ex + ey * ey + ez * ez > v->lim;
-        const double e[3] = {ex, ey, ez};
-        for (int k = 0; k < 3; k++) {
-            box[k] = e[k] < box[k] ? e[k] : box[k];
-            box[3 + k] = e[k] > box[3 + k] ? e[k] : box[3 + k];
-        }
+        res->e[0] = x - q[0], res->e[1] = y - q[1], res->e[2] = z - q[2];
     }
     v->x[i] = x;
     v->y[i] = y;
@@ -972,27 +978,33 @@ drift_one(mote_sep_system *s, const drift_view *v, size_t i, double *move2, int 
     return exit_code(s, v, x, y, z, 0.5 * d, dim, lean);
 }
 
-/* What a drift's pass finds: the largest squared displacement, the displacements' box since the
- * list's build, whether a particle moved too far for the list, how many leave. */
-typedef struct {
-    double move2, box[6];
-    int moved;
-    size_t nexit;
-} drift_sums;
-
 /* The drifts of the particles lo <= i < hi into *r, their exit codes into s->exc. */
 static inline __attribute__((always_inline)) void
 drift_range(mote_sep_system *s, const drift_view *v, size_t lo, size_t hi, drift_sums *r,
             const int kind)
 {
-    drift_sums t = *r; /* (in registers) */
+    /* (the sums in local variables: registers, no chain through memory) */
+    double move2 = r->move2, lx = r->box[0], ly = r->box[1], lz = r->box[2], hx = r->box[3],
+           hy = r->box[4], hz = r->box[5];
+    int moved = r->moved;
+    size_t nexit = r->nexit;
+    const int check = kind != DRIFT_ANY || v->xref;
+    const double lim = v->lim;
     unsigned char *exc = s->exc;
     for (size_t i = lo; i < hi; i++) {
-        const int e = drift_one(s, v, i, &t.move2, &t.moved, t.box, kind);
+        drift_res d;
+        const int e = drift_one(s, v, i, &d, kind);
         exc[i] = (unsigned char)e;
-        t.nexit += e != 0;
+        nexit += e != 0;
+        move2 = d.mv > move2 ? d.mv : move2;
+        if (check) {
+            const double ex = d.e[0], ey = d.e[1], ez = d.e[2];
+            moved |= ex * ex + ey * ey + ez * ez > lim;
+            lx = ex < lx ? ex : lx, ly = ey < ly ? ey : ly, lz = ez < lz ? ez : lz;
+            hx = ex > hx ? ex : hx, hy = ey > hy ? ey : hy, hz = ez > hz ? ez : hz;
+        }
     }
-    *r = t;
+    *r = (drift_sums){move2, {lx, ly, lz, hx, hy, hz}, moved, nexit};
 }
 
 static int step(mote_sep_system *s, double dt, mote_err *err)
@@ -1070,9 +1082,23 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
                 memcpy(ebox + 6 * b, r.box, sizeof r.box);
         }
     }
-    if (fd) /* the drag's force by slice, summed in particle order */
-        for (size_t i = 0; i < n; i++)
-            s->prof_fd[slice_of(s, fdz[i])] += fd[i];
+    if (fd) { /* the drag's force by slice, summed in particle order (each slice's sum held in
+               * a register while the particles stay in it: the same additions) */
+        int k = -1;
+        double sum = 0;
+        for (size_t i = 0; i < n; i++) {
+            const int ki = slice_of(s, fdz[i]);
+            if (ki != k) {
+                if (k >= 0)
+                    s->prof_fd[k] = sum;
+                k = ki;
+                sum = s->prof_fd[k];
+            }
+            sum += fd[i];
+        }
+        if (k >= 0)
+            s->prof_fd[k] = sum;
+    }
     for (size_t i = 0; nexit && i < n; i++)
         if (exc[i] && note_exit(s, i, exc[i], err))
             return err->code;
