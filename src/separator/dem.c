@@ -679,9 +679,10 @@ static const double *block_reach(mote_sep_system *s, int fresh, double dmin)
  * a margin far above the roundings) holds no contact and is not searched: the forces are those
  * of the search, bit for bit. A common drift (a falling column) leaves the boxes small, and a
  * block far from the particles that move otherwise keeps its reach small. fresh: the list was
- * built from the present positions. */
+ * built from the present positions. exc: the drift's codes with the wall bit (SEP_EXC_WALL),
+ * or NULL (the test made here). */
 static void list_forces(mote_sep_system *s, const force_ctx *c, double g_w, int kick, int fresh,
-                        double dmin)
+                        const unsigned char *exc, double dmin)
 {
     const double *gap = s->no_gap_skip ? NULL : s->gap_ok || list_gaps(s) ? s->gap : NULL;
     const double *reach = gap ? block_reach(s, fresh, dmin) : NULL;
@@ -697,18 +698,12 @@ static void list_forces(mote_sep_system *s, const force_ctx *c, double g_w, int 
     reduction(max : mo) reduction(+ : contacts, skips)
     for (size_t i = 0; i < n; i++) {
         double F[3] = {0, 0, 0};
-        /* the walls' own test, widened to both ends however open, as one comparison of the
-         * largest of its differences: where it finds no wall within reach, wall_force would add
-         * nothing (where a difference is NaN, wall_force decides) */
-        const double r = 0.5 * a.d[i], xi = a.x[i], yi = a.y[i], zi = a.z[i];
-        const double wx = r - xi > xi + r - W ? r - xi : xi + r - W;
-        const double wz = r - zi > zi + r - H ? r - zi : zi + r - H;
-        double wall = wx > wz ? wx : wz;
-        if (dim == 3) {
-            const double wy = r - yi > yi + r - D ? r - yi : yi + r - D;
-            wall = wy > wall ? wy : wall;
-        }
-        if (wall > 0) {
+        /* the walls' own test, widened to both ends however open (where it finds no wall
+         * within reach, wall_force would add nothing; where a difference is NaN, wall_force
+         * decides), made by the drift when it knew the present positions */
+        const int wall = exc ? exc[i] & SEP_EXC_WALL
+                             : sep_near_wall(0.5 * a.d[i], a.x[i], a.y[i], a.z[i], W, D, H, dim);
+        if (wall) {
             double pvel[3];
             pv_of(&a, c, i, pvel);
             wall_force(s, i, c->khat, g_w, pvel, F, &mo);
@@ -792,7 +787,7 @@ int sep_contact_forces(mote_sep_system *s, double dt, int kick, int pred, mote_e
     /* the drift's pass checked the list with this skin (and left the blocks' boxes of the
      * displacements in s->ebox), or the check is made here */
     const int checked = (pred == 0 || pred == 1) && s->skin_used == skin0;
-    int moved = checked ? pred : 0;
+    int moved = checked ? pred : 0, reordered = 0;
     if (listed ? sep_ebox_reserve(s, err) || sep_g_reserve(s, err) : sep_pv_reserve(s, err))
         return err->code;
     if (!listed)
@@ -839,13 +834,15 @@ int sep_contact_forces(mote_sep_system *s, double dt, int kick, int pred, mote_e
                 rc = sep_cells_build(s, err);
                 if (!rc)
                     rc = sep_reorder(s, err);
+                reordered = 1;
             }
             if (!rc)
                 rc = list_build(s, err);
             if (rc)
                 return rc;
         }
-        list_forces(s, &c, g_w, kick, !can || moved, dmin);
+        /* (the drift's wall tests hold for the particles as they are: checked, not reordered) */
+        list_forces(s, &c, g_w, kick, !can || moved, checked && !reordered ? s->exc : NULL, dmin);
         return MOTE_OK;
     }
     /* brute force, or no list (the cells as built for this step's feed serve when nothing was

@@ -46,6 +46,26 @@ static inline int sep_threads(const mote_sep_system *s)
     return s->threads > 1 && s->n >= s->threads_min_n ? s->threads : 1;
 }
 
+/* Whether a particle of radius r at (x, y, z) may touch a side wall or an end of the channel
+ * (W x D x H; both ends, however open): the largest of the differences r - x, x + r - W, ...
+ * is positive. The contacts' pass and the drift (for it) decide alike with this expression. */
+static inline int sep_near_wall(double r, double x, double y, double z, double W, double D,
+                                double H, int dim)
+{
+    const double wx = r - x > x + r - W ? r - x : x + r - W;
+    const double wz = r - z > z + r - H ? r - z : z + r - H;
+    double wall = wx > wz ? wx : wz;
+    if (dim == 3) {
+        const double wy = r - y > y + r - D ? r - y : y + r - D;
+        wall = wy > wall ? wy : wall;
+    }
+    return wall > 0;
+}
+
+/* The drift's exit codes (s->exc) carry this bit when the particle ends the drift near a wall
+ * (sep_near_wall), for the contacts' pass that follows. */
+#define SEP_EXC_WALL 16
+
 /* feed.c: the feed of one step (the backlog, then the species' accounts). */
 int sep_feed(mote_sep_system *s, mote_err *err);
 /* feed.c: append a particle of species k with its id and d, m, x, y, z, vx, vy, vz, fx, fy,

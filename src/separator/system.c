@@ -874,6 +874,7 @@ typedef struct {
  * list's check) its displacement since the list's build. */
 typedef struct {
     double mv, e[3];
+    int wall; /* (SEP_EXC_WALL when it ends near a wall) */
 } drift_res;
 
 /* Particle i's half kick with the last contact forces (spec 2.10 step 1), then its drift, exact
@@ -975,6 +976,7 @@ drift_one(mote_sep_system *s, const drift_view *v, size_t i, drift_res *res, con
         y = v->y[i];
         z = v->z[i];
     }
+    res->wall = sep_near_wall(0.5 * d, x, y, z, v->W, v->D, v->H, dim) ? SEP_EXC_WALL : 0;
     return exit_code(s, v, x, y, z, 0.5 * d, dim, lean);
 }
 
@@ -994,7 +996,7 @@ drift_range(mote_sep_system *s, const drift_view *v, size_t lo, size_t hi, drift
     for (size_t i = lo; i < hi; i++) {
         drift_res d;
         const int e = drift_one(s, v, i, &d, kind);
-        exc[i] = (unsigned char)e;
+        exc[i] = (unsigned char)(e | d.wall);
         nexit += e != 0;
         move2 = d.mv > move2 ? d.mv : move2;
         if (check) {
@@ -1100,7 +1102,7 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
             s->prof_fd[k] = sum;
     }
     for (size_t i = 0; nexit && i < n; i++)
-        if (exc[i] && note_exit(s, i, exc[i], err))
+        if ((exc[i] & 15) && note_exit(s, i, exc[i] & 15, err))
             return err->code;
     s->kick_h = 0; /* (made in the drift) */
     if (s->dem && move2 > 0.0625 * 0.25 * dmin * dmin)
