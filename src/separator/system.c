@@ -527,30 +527,72 @@ static inline int slice_of(const mote_sep_system *s, double z)
     return !(q > 0) ? 0 : q >= s->K - 1 ? s->K - 1 : (int)q;
 }
 
+/* Particle i's slice values into the sums eps (each species' solids fraction, stride `stride`
+ * per slice), cnt, mvz, m (per slice), weighted by dt and scaled (sample_profiles). */
+static inline void sample_one(const mote_sep_system *s, size_t i, double dt, double scale,
+                              double *eps, size_t stride, double *cnt, double *mvz, double *m)
+{
+    const int K = s->K;
+    const double vol = SEP_PI * s->d[i] * s->d[i] * s->d[i] / 6 * scale;
+    const double q = s->z[i] / s->dz - 0.5;
+    double *e = eps + s->s[i];
+    if (!(q > 0)) {
+        e[0] += vol;
+    } else if (q >= K - 1) {
+        e[(size_t)(K - 1) * stride] += vol;
+    } else {
+        const int k = (int)q;
+        const double f = q - k;
+        e[(size_t)k * stride] += (1 - f) * vol;
+        e[(size_t)(k + 1) * stride] += f * vol;
+    }
+    const int k = slice_of(s, s->z[i]);
+    cnt[k] += dt;
+    mvz[k] += dt * s->m[i] * s->vz[i];
+    m[k] += dt * s->m[i];
+}
+
 /* Add this step's slice values, weighted by dt: each species' solids fraction (cloud in cell,
- * as the gas model), the particle count and m v_z, m by the slice holding the centre, u_g. */
+ * as the gas model), the particle count and m v_z, m by the slice holding the centre, u_g.
+ * Up to SEP_BLOCK particles in particle order; beyond, as the gas's deposit: each block's sums
+ * made alone (on the threads), added in block order, so that they do not depend on the
+ * threads. */
 static void sample_profiles(mote_sep_system *s, double dt)
 {
     const int K = s->K;
     const double scale = dt / (mote_sep_cross_section(s) * s->dz);
-    for (size_t i = 0; i < s->n; i++) {
-        const double vol = SEP_PI * s->d[i] * s->d[i] * s->d[i] / 6 * scale;
-        const double q = s->z[i] / s->dz - 0.5;
-        double *e = s->prof_eps + s->s[i];
-        if (!(q > 0)) {
-            e[0] += vol;
-        } else if (q >= K - 1) {
-            e[(size_t)(K - 1) * MOTE_SEP_MAX_SPECIES] += vol;
-        } else {
-            const int k = (int)q;
-            const double f = q - k;
-            e[(size_t)k * MOTE_SEP_MAX_SPECIES] += (1 - f) * vol;
-            e[(size_t)(k + 1) * MOTE_SEP_MAX_SPECIES] += f * vol;
+    const size_t n = s->n, nblk = (n + SEP_BLOCK - 1) / SEP_BLOCK, nsp = (size_t)s->nsp;
+    mote_err err;
+    /* per block and slice: the species' fractions, the count, m v_z, m */
+    const size_t w = nsp + 3, per = (size_t)K * w;
+    if (nblk <= 1 || sep_reserve((void **)&s->blk, &s->blk_cap, nblk * per, sizeof *s->blk, &err)) {
+        /* (one block, or no room for the blocks' sums: in particle order) */
+        for (size_t i = 0; i < n; i++)
+            sample_one(s, i, dt, scale, s->prof_eps, MOTE_SEP_MAX_SPECIES, s->prof_n,
+                       s->prof_mvz, s->prof_m);
+    } else {
+        double *blk = s->blk;
+        const int nt = sep_threads(s);
+#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
+        for (size_t b = 0; b < nblk; b++) {
+            double *e = blk + b * per, *cnt = e + (size_t)K * nsp, *mvz = cnt + K, *m = mvz + K;
+            for (size_t k = 0; k < per; k++)
+                e[k] = 0;
+            const size_t hi = (b + 1) * SEP_BLOCK < n ? (b + 1) * SEP_BLOCK : n;
+            for (size_t i = b * SEP_BLOCK; i < hi; i++)
+                sample_one(s, i, dt, scale, e, nsp, cnt, mvz, m);
         }
-        const int k = slice_of(s, s->z[i]);
-        s->prof_n[k] += dt;
-        s->prof_mvz[k] += dt * s->m[i] * s->vz[i];
-        s->prof_m[k] += dt * s->m[i];
+        for (size_t b = 0; b < nblk; b++) {
+            const double *e = blk + b * per, *cnt = e + (size_t)K * nsp, *mvz = cnt + K,
+                         *m = mvz + K;
+            for (int k = 0; k < K; k++) {
+                for (size_t j = 0; j < nsp; j++)
+                    s->prof_eps[(size_t)k * MOTE_SEP_MAX_SPECIES + j] += e[(size_t)k * nsp + j];
+                s->prof_n[k] += cnt[k];
+                s->prof_mvz[k] += mvz[k];
+                s->prof_m[k] += m[k];
+            }
+        }
     }
     for (int k = 0; k < K; k++)
         s->prof_ug[k] += dt * s->u_g[k];
@@ -916,7 +958,7 @@ drift_one(mote_sep_system *s, const drift_view *v, size_t i, drift_res *res, con
     const int drag = !vac && mu_g > 0 && rho_g > 0;
     const double rho_p = v->rho_p[spi];
     const double a = !lean && v->gp_n ? -v->g * (1 - rho_g / rho_p) : v->acc[spi];
-    if (!lean && v->fd) {
+    if (v->fd) {
         v->fd[i] = 0;
         v->fdz[i] = z0;
     }
@@ -928,7 +970,7 @@ drift_one(mote_sep_system *s, const drift_view *v, size_t i, drift_res *res, con
         if (!lean && v->chi != 0)
             f *= pow(eps_gas_at(s, z0), -v->chi);
         const double tau = rho_p * d * d / (18 * mu_g * f);
-        if (!lean && v->fd)
+        if (v->fd)
             v->fd[i] = v->wdt * v->m[i] * (u - vz) / tau;
         /* the factors of the exact drift, once for the three components: sideways the gas
          * and the acceleration are 0 */
@@ -1026,8 +1068,11 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
     if (sep_reserve((void **)&s->exc, &s->exc_cap, n, 1, err) ||
         (sampling && sep_g_reserve(s, err)))
         return err->code;
-    /* (the other forces' arrays are free between the contacts' passes) */
-    double *fd = sampling ? s->gx : NULL, *fdz = sampling ? s->gy : NULL;
+    /* (the other forces' arrays are free between the contacts' passes; in vacuum, everywhere,
+     * there is no drag to record: its sums would add zeros) */
+    const int drag_somewhere = s->gp_n || (s->mu_g > 0 && s->rho_g > 0);
+    double *fd = sampling && drag_somewhere ? s->gx : NULL;
+    double *fdz = fd ? s->gy : NULL;
     /* the pair list's check in this pass, used when no particle leaves or enters */
     drift_view dv = {
         .x = s->x, .y = s->y, .z = s->z, .vx = s->vx, .vy = s->vy, .vz = s->vz, .fx = s->fx,
@@ -1047,7 +1092,7 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
     }
     /* the kind of drift this pass is */
     int kind = DRIFT_ANY;
-    if (dv.dem && !dv.gp_n && !dv.fd && !dv.disperse && dv.xref && !dv.nplate && dv.chi == 0) {
+    if (dv.dem && !dv.gp_n && !dv.disperse && dv.xref && !dv.nplate && dv.chi == 0) {
         const int vac = !(dv.mu_g > 0 && dv.rho_g > 0);
         kind = dv.dim == 3 ? (vac ? DRIFT_3D_VAC : DRIFT_3D_GAS) : vac ? DRIFT_2D_VAC : DRIFT_2D_GAS;
     }
