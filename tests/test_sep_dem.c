@@ -726,10 +726,12 @@ static void test_threads(void)
  * runs as the thread test, and a column settling onto its floor in vacuum (many contacts, the
  * displacements' box growing from a common fall), with every row searched and with the skip,
  * on 1 and 2 threads, give the same state files; the skip happened in each. */
+#define SEP_EBLK_TEST 64 /* (SEP_EBLK of src/separator/sep.h) */
 static void test_gap_skip(void)
 {
     printf("rows skipped by their gap: the same bits as every row searched\n");
-    for (int c = 0; c < 3; c++) {
+    for (int c = 0; c < 4; c++) { /* (case 3: case 2 never sorted, its rows' pairs far apart in
+                                   * the arrays: the blocks' reach over a wide window) */
         char path[3][64];
         mote_sep_system s[3];
         for (int k = 0; k < 3; k++) {
@@ -754,6 +756,8 @@ static void test_gap_skip(void)
             s[k].threads = nt;
             s[k].threads_min_n = 1;
             s[k].no_gap_skip = noskip;
+            if (c == 3)
+                s[k].nsort = 0;
             mote_err err = {0};
             CHECK(mote_sep_run(&s[k], 1500 * s[k].dt, &err) == MOTE_OK, "run: %s", err.msg);
             CHECK(mote_sep_save(&s[k], 1, path[k], &err) == MOTE_OK, "save: %s", err.msg);
@@ -763,6 +767,8 @@ static void test_gap_skip(void)
               (unsigned long long)s[1].gap_skips, (unsigned long long)s[2].gap_skips);
         CHECK(s[1].contacts_pp > 0 || c < 2, "case %d: contacts at the end (%llu)", c,
               (unsigned long long)s[1].contacts_pp);
+        CHECK(c < 3 || 2 * ((s[1].nb_w + SEP_EBLK_TEST - 1) / SEP_EBLK_TEST) + 1 > 32,
+              "case 3: the rows' pairs far apart in the arrays (nb_w %zu)", s[1].nb_w);
         for (int k = 1; k < 3; k++)
             CHECK(same_file(path[0], path[k]), "case %d: the state with the skip (%d threads) "
                   "equals the one with every row searched", c, k);

@@ -669,6 +669,27 @@ static const double *block_reach(mote_sep_system *s, int fresh, double dmin)
     return reach;
 }
 
+/* The reach of block b's rows, as block_reach makes it, from the union of the boxes of the
+ * blocks b - K ... b + K (within 0 ... nblk - 1). */
+static double window_reach(const double *box, size_t nblk, size_t b, size_t K, double margin)
+{
+    const size_t l = b > K ? b - K : 0, r = b + K < nblk ? b + K : nblk - 1;
+    double u[6];
+    memcpy(u, box + 6 * l, sizeof u);
+    for (size_t c = l + 1; c <= r; c++) {
+        const double *v = box + 6 * c;
+        for (int a = 0; a < 3; a++) {
+            u[a] = v[a] < u[a] ? v[a] : u[a];
+            u[3 + a] = v[3 + a] > u[3 + a] ? v[3 + a] : u[3 + a];
+        }
+    }
+    double d2 = 0;
+    for (int a = 0; a < 3; a++)
+        if (u[3 + a] >= u[a])
+            d2 += (u[3 + a] - u[a]) * (u[3 + a] - u[a]);
+    return sqrt(d2) + margin;
+}
+
 /* The listed contacts of every particle, on the threads: walls, neighbours, plates, into the
  * other forces' arrays, which then become the present ones; with kick, the second half kick
  * v += dt/2 F/m is left pending (s->kick_h). Each particle's force is its own sum, in a fixed
@@ -685,7 +706,12 @@ static void list_forces(mote_sep_system *s, const force_ctx *c, double g_w, int 
                         const unsigned char *exc, double dmin)
 {
     const double *gap = s->no_gap_skip ? NULL : s->gap_ok || list_gaps(s) ? s->gap : NULL;
-    const double *reach = gap ? block_reach(s, fresh, dmin) : NULL;
+    /* the blocks' reach: a short window (the usual sorted order), each thread its blocks' as
+     * it comes to them; else all at once (block_reach) */
+    const size_t K = (s->nb_w + SEP_EBLK - 1) / SEP_EBLK, nblk = (s->n + SEP_EBLK - 1) / SEP_EBLK;
+    const int local = gap && !fresh && 2 * K + 1 <= 32;
+    const double *reach = gap && !local ? block_reach(s, fresh, dmin) : NULL;
+    const double margin = 1e-6 * dmin, *ebox = s->ebox;
     const size_t n = s->n;
     const int nt = sep_threads(s), dim = s->dim, nplate = s->nplate;
     const force_arrays a = {s->x,  s->y,  s->z,  s->d,  s->m,  s->im,       s->vx,
@@ -694,8 +720,11 @@ static void list_forces(mote_sep_system *s, const force_ctx *c, double g_w, int 
     const double W = s->W, D = s->D, H = s->H;
     double mo = s->max_overlap;
     uint64_t contacts = 0, skips = 0;
-#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1) \
-    reduction(max : mo) reduction(+ : contacts, skips)
+#pragma omp parallel num_threads(nt) if (nt > 1) reduction(max : mo) reduction(+ : contacts, skips)
+    {
+    size_t cb = SIZE_MAX; /* (this thread's present block and its reach) */
+    double cr = 0;
+#pragma omp for schedule(static)
     for (size_t i = 0; i < n; i++) {
         double F[3] = {0, 0, 0};
         /* the walls' own test, widened to both ends however open (where it finds no wall
@@ -708,7 +737,11 @@ static void list_forces(mote_sep_system *s, const force_ctx *c, double g_w, int 
             pv_of(&a, c, i, pvel);
             wall_force(s, i, c->khat, g_w, pvel, F, &mo);
         }
-        if (gap && !(gap[i] <= reach[i / SEP_EBLK]))
+        if (local && i / SEP_EBLK != cb) {
+            cb = i / SEP_EBLK;
+            cr = window_reach(ebox, nblk, cb, K, margin);
+        }
+        if (gap && !(gap[i] <= (local ? cr : reach[i / SEP_EBLK])))
             skips++; /* (no contact in the row) */
         else if (dim == 3)
             row_force(&a, c, i, 3, F, &mo, &contacts);
@@ -722,6 +755,7 @@ static void list_forces(mote_sep_system *s, const force_ctx *c, double g_w, int 
         a.gx[i] = F[0];
         a.gy[i] = F[1];
         a.gz[i] = F[2];
+    }
     }
     /* the new forces become the present ones; the second half kick waits for the next drift
      * (or mote_sep_complete) */
