@@ -14,6 +14,9 @@
  *                        found the same contacts; then the largest N each sustains at 30 steps/s
  *   column N [STEPS]     the gas-free granular column of the LIGGGHTS comparison (3D, d = 2 mm,
  *                        rho_p 2500, k_hat and dt printed so the LIGGGHTS input can use them)
+ *   poly N [STEPS]       its polydisperse version (bench/liggghts_poly.in): five sizes from
+ *                        1.07 to 1.87 mm (ln d evenly spaced over 1 ... 2 mm), N / 5 of each, a
+ *                        60 x 60 mm box; the pair stiffnesses and dampings printed for LIGGGHTS
  *
  * One key=value line per run: steps_per_s, ns_per_particle_step, candidates and contacts per
  * particle, bytes_per_particle (the model's arrays, cells included) and the peak RSS. */
@@ -253,6 +256,79 @@ static int column(size_t n, int steps, int nt)
     return 0;
 }
 
+/* The polydisperse column: as column, with five species of one size each (d_k = 1 mm
+ * 2^((k + 1/2) / 5)), N / 5 particles of each, in a 60 x 60 mm box at fraction 0.3. */
+static int poly(size_t n, int steps, int nt)
+{
+    mote_err err = {0};
+    mote_sep_system s;
+    mote_sep_init(&s);
+    s.dim = 3;
+    s.W = s.D = 0.06;
+    double d[5], vol = 0;
+    for (int k = 0; k < 5; k++) {
+        d[k] = 1e-3 * pow(2, (k + 0.5) / 5);
+        vol += (double)(n / 5) * 3.14159265358979 / 6 * d[k] * d[k] * d[k];
+    }
+    s.H = vol / (0.3 * s.W * s.D) + 2 * d[4];
+    s.open_bottom = s.open_top = 0;
+    s.U0 = 0;
+    s.rho_g = 0;
+    s.mu_g = 0;
+    s.nsp = 5;
+    for (int k = 0; k < 5; k++) {
+        snprintf(s.sp[k].name, sizeof s.sp[k].name, "p%d", k);
+        s.sp[k].rho = 2500;
+        s.sp[k].w = 0.2;
+        s.sp[k].dist = (mote_sep_dist){.type = MOTE_SEP_MONO, .a = d[k]};
+        s.sp[k].have_dist = 1;
+    }
+    s.zf = 0.5 * s.H;
+    s.hf = s.H;
+    s.v_imp = 1;
+    if (mote_sep_prepare(&s, &err)) {
+        fprintf(stderr, "bench_separator: %s\n", err.msg);
+        return 1;
+    }
+    for (int k = 0; k < 5; k++)
+        if (mote_sep_insert(&s, k, n / 5, 0, &err)) {
+            fprintf(stderr, "bench_separator: %s\n", err.msg);
+            return 1;
+        }
+    s.nback = 0; /* those that found no room are dropped: N is what was placed */
+    s.threads = nt;
+    /* LIGGGHTS's per type pair constants: k_n = k_hat dbar (dbar = 2 d_i d_j / (d_i + d_j)),
+     * gamma_n (times the effective mass) = 2 zeta(e) sqrt(k_n / m_eff) */
+    const double l = log(0.5), zeta = -l / sqrt(3.14159265358979 * 3.14159265358979 + l * l);
+    printf("liggghts_kn");
+    for (int i = 0; i < 5; i++)
+        for (int j = 0; j < 5; j++)
+            printf(" %.6g", s.khat_used * 2 * d[i] * d[j] / (d[i] + d[j]));
+    printf("\nliggghts_gamman");
+    for (int i = 0; i < 5; i++)
+        for (int j = 0; j < 5; j++) {
+            const double mi = 2500 * 3.14159265358979 / 6 * d[i] * d[i] * d[i],
+                         mj = 2500 * 3.14159265358979 / 6 * d[j] * d[j] * d[j];
+            const double k = s.khat_used * 2 * d[i] * d[j] / (d[i] + d[j]);
+            printf(" %.6g", 2 * zeta * sqrt(k / (mi * mj / (mi + mj))));
+        }
+    printf("\n");
+    uint64_t contacts;
+    const double rate = timed(&s, 20, steps, &contacts, &err);
+    if (rate < 0) {
+        fprintf(stderr, "bench_separator: %s\n", err.msg);
+        return 1;
+    }
+    printf("workload=poly N=%zu box=%.4gx%.4gx%.6g khat=%.6g dt=%.6g steps=%d steps_per_s=%.2f "
+           "ns_per_particle_step=%.1f contacts_per_particle=%.3f list_builds=%llu "
+           "pairs_per_particle=%.2f threads=%d\n",
+           s.n, s.W, s.D, s.H, s.khat_used, s.dt, steps, rate, 1e9 / (rate * (double)s.n),
+           2.0 * (double)contacts / (double)s.n, (unsigned long long)s.list_builds,
+           (double)s.npl / (double)s.n, nt);
+    mote_sep_free(&s);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     const char *w = argc > 1 ? argv[1] : "ref2d";
@@ -268,7 +344,9 @@ int main(int argc, char **argv)
         return scan(3, a > 0 ? (size_t)a : 1000000);
     if (!strcmp(w, "column"))
         return column(a > 0 ? (size_t)a : 100000, b > 0 ? (int)b : 200, nt);
+    if (!strcmp(w, "poly"))
+        return poly(a > 0 ? (size_t)a : 100000, b > 0 ? (int)b : 200, nt);
     fprintf(stderr, "bench_separator: unknown workload '%s' (ref2d, ref3d, scan2d, scan3d, "
-                    "column)\n", w);
+                    "column, poly)\n", w);
     return 2;
 }
