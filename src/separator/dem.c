@@ -724,7 +724,7 @@ static void list_forces(mote_sep_system *s, const force_ctx *c, double g_w, int 
     {
     size_t cb = SIZE_MAX; /* (this thread's present block and its reach) */
     double cr = 0;
-#pragma omp for schedule(static)
+#pragma omp for schedule(static) nowait
     for (size_t i = 0; i < n; i++) {
         double F[3] = {0, 0, 0};
         /* the walls' own test, widened to both ends however open (where it finds no wall

@@ -408,8 +408,8 @@ static int fire_balance(void *ctx, void *subject, mote_err *err)
     return MOTE_OK;
 }
 
-/* After every step (and once before the first): the outputs that are due, the live picture,
- * and the progress (which also gives a live view its frames). */
+/* After every step the run lets it see (run_need; and once before the first): the outputs that
+ * are due, the live picture, and the progress (which also gives a live view its frames). */
 static int run_hook(void *vm, mote_sep_system *s, mote_err *err)
 {
     sep_model *m = vm;

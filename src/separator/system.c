@@ -1111,7 +1111,7 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
     reduction(| : moved)
     {
         const drift_view v = dv; /* (this thread's own copy) */
-#pragma omp for schedule(static)
+#pragma omp for schedule(static) nowait
         for (size_t b = 0; b < nblk; b++) {
             /* a block by a loop compiled for the pass's kind */
             const size_t lo = b * SEP_EBLK, hi = lo + SEP_EBLK < n ? lo + SEP_EBLK : n;
