@@ -1018,6 +1018,22 @@ drift_one(mote_sep_system *s, const drift_view *v, size_t i, drift_res *res, con
         y = v->y[i];
         z = v->z[i];
     }
+    if (lean) { /* (no plates: the wall test and exit_code's from the same differences) */
+        const double r = 0.5 * d;
+        const double wx = r - x > x + r - v->W ? r - x : x + r - v->W;
+        const double wz = r - z > z + r - v->H ? r - z : z + r - v->H;
+        double side = wx;
+        if (dim == 3) {
+            const double wy = r - y > y + r - v->D ? r - y : y + r - v->D;
+            side = wy > side ? wy : side;
+        }
+        const double wall = side > wz ? side : wz; /* (sep_near_wall's expression) */
+        res->wall = wall > 0 ? SEP_EXC_WALL : 0;
+        /* lost: beyond a side wall by more than the radius (r - x > 2 r: x < -r), or not finite */
+        const int lost = !(side <= 2 * r) | !((x - x) + (y - y) + (z - z) == 0);
+        const int top = v->open_top & (z > v->H), bottom = v->open_bottom & (z < 0);
+        return lost ? 3 : top ? 1 : bottom ? 2 : 0;
+    }
     res->wall = sep_near_wall(0.5 * d, x, y, z, v->W, v->D, v->H, dim) ? SEP_EXC_WALL : 0;
     return exit_code(s, v, x, y, z, 0.5 * d, dim, lean);
 }
