@@ -554,14 +554,16 @@ static inline void sample_one(const mote_sep_system *s, size_t i, double dt, dou
 
 /* Add this step's slice values, weighted by dt: each species' solids fraction (cloud in cell,
  * as the gas model), the particle count and m v_z, m by the slice holding the centre, u_g.
- * Up to SEP_BLOCK particles in particle order; beyond, as the gas's deposit: each block's sums
+ * Up to SEP_PBLOCK particles in particle order; beyond, as the gas's deposit: each block's sums
  * made alone (on the threads), added in block order, so that they do not depend on the
- * threads. */
+ * threads (blocks smaller than the deposit's: the samples cost more per particle, and a few
+ * blocks would not share out evenly). */
+#define SEP_PBLOCK 2048
 static void sample_profiles(mote_sep_system *s, double dt)
 {
     const int K = s->K;
     const double scale = dt / (mote_sep_cross_section(s) * s->dz);
-    const size_t n = s->n, nblk = (n + SEP_BLOCK - 1) / SEP_BLOCK, nsp = (size_t)s->nsp;
+    const size_t n = s->n, nblk = (n + SEP_PBLOCK - 1) / SEP_PBLOCK, nsp = (size_t)s->nsp;
     mote_err err;
     /* per block and slice: the species' fractions, the count, m v_z, m */
     const size_t w = nsp + 3, per = (size_t)K * w;
@@ -578,8 +580,8 @@ static void sample_profiles(mote_sep_system *s, double dt)
             double *e = blk + b * per, *cnt = e + (size_t)K * nsp, *mvz = cnt + K, *m = mvz + K;
             for (size_t k = 0; k < per; k++)
                 e[k] = 0;
-            const size_t hi = (b + 1) * SEP_BLOCK < n ? (b + 1) * SEP_BLOCK : n;
-            for (size_t i = b * SEP_BLOCK; i < hi; i++)
+            const size_t hi = (b + 1) * SEP_PBLOCK < n ? (b + 1) * SEP_PBLOCK : n;
+            for (size_t i = b * SEP_PBLOCK; i < hi; i++)
                 sample_one(s, i, dt, scale, e, nsp, cnt, mvz, m);
         }
         for (size_t b = 0; b < nblk; b++) {
