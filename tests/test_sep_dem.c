@@ -603,7 +603,7 @@ static void test_first_sort(void)
 /* One case of the thread test: a channel open at both ends with a gas upflow felt by the solids
  * (coupling), a perforated plate, a feed, n particles to start; runs `steps` steps on nt
  * threads (used from 1 particle up) and writes its state to path. flags: 1 every row searched
- * (no_gap_skip), 2 every step completed (no_fuse). */
+ * (no_gap_skip), 2 every step completed (no_pending). */
 static void threads_case(mote_sep_system *s, int dim, size_t n, int steps, int nt, int disperse,
                          int flags, const char *path)
 {
@@ -662,7 +662,7 @@ static void threads_case(mote_sep_system *s, int dim, size_t n, int steps, int n
     s->threads = nt;
     s->threads_min_n = 1;
     s->no_gap_skip = flags & 1;
-    s->no_fuse = (flags & 2) != 0;
+    s->no_pending = (flags & 2) != 0;
     CHECK(mote_sep_run(s, steps * s->dt, &err) == MOTE_OK, "run: %s", err.msg);
     CHECK(mote_sep_save(s, 1, path, &err) == MOTE_OK, "save: %s", err.msg);
 }

@@ -1240,8 +1240,8 @@ int mote_sep_run_hook(mote_sep_system *s, double T, int (*hook)(void *, mote_sep
             break;
         rc = step(s, dt, err);
         /* the hook sees the steps it wants, complete; the others keep their second half kick
-         * for the next drift (s->no_fuse: every step completed, as a test's reference) */
-        if (!rc && (s->no_fuse || (hook && (!need || need(ctx, s))))) {
+         * for the next drift (s->no_pending: every step completed, as a test's reference) */
+        if (!rc && (s->no_pending || (hook && (!need || need(ctx, s))))) {
             mote_sep_complete(s);
             if (hook)
                 rc = hook(ctx, s, err);
