@@ -187,7 +187,7 @@ typedef struct {
                                           * y z), then scratch for the blocks' reach */
     size_t ebox_cap;
     int no_gap_skip;                     /* search every row (tests: the same forces either way) */
-    int no_pending;                         /* complete every step in a run (tests: the same bits
+    int no_pending;                      /* complete every step in a run (tests: the same bits
                                           * as a second half kick left for the next drift) */
     uint64_t gap_skips;                  /* rows not searched so far (diagnostic) */
     uint64_t mods, list_mods;            /* additions and removals so far; at the build */
