@@ -95,6 +95,18 @@ check "bench_separator scan2d compares cells and brute force on the same contact
 sb=$("$sbench" column 500 5 2 2>"$tmp/err")
 check "bench_separator column prints what LIGGGHTS needs: $(head -c 80 "$tmp/err")" \
     'echo "$sb" | grep -q "^workload=column N=[0-9]* box=0.04x0.04x[0-9.]* khat=523599 k_pair=1047.2 dt=4.44288e-06 steps=5 .* threads=2$"'
+# the polydisperse column: its line, and the constants per type pair that bench/liggghts_poly.in
+# gives LIGGGHTS are the ones the benchmark computes
+sb=$("$sbench" poly 1000 5 2 2>"$tmp/err")
+pin="$(dirname "$0")/../bench/liggghts_poly.in"
+kn_in=$(sed -n '/property\/global kn /,/^fix m2/p' "$pin" | grep -v '^fix m2' | tr -d '&' | tr -s ' \n' ' ' | sed 's/.*peratomtypepair 5 //; s/ *$//')
+gn_in=$(sed -n '/property\/global gamman /,/^fix m4/p' "$pin" | grep -v '^fix m4' | tr -d '&' | tr -s ' \n' ' ' | sed 's/.*peratomtypepair 5 //; s/ *$//')
+check "bench_separator poly runs on 2 threads: $(head -c 80 "$tmp/err")" \
+    'echo "$sb" | grep -q "^workload=poly N=[0-9]* box=0.06x0.06x[0-9.]* khat=523599 dt=2.38088e-06 steps=5 .* threads=2$"'
+check "bench/liggghts_poly.in's k_n per type pair are bench_separator poly's" \
+    '[ -n "$kn_in" ] && [ "$(echo "$sb" | sed -n "s/^liggghts_kn //p")" = "$kn_in" ]'
+check "bench/liggghts_poly.in's gamma_n per type pair are bench_separator poly's" \
+    '[ -n "$gn_in" ] && [ "$(echo "$sb" | sed -n "s/^liggghts_gamman //p")" = "$gn_in" ]'
 # bench/scaling.sh: its table, from a build without the benchmarks a clear message
 sc=$(sh "$(dirname "$0")/../bench/scaling.sh" /nonexistent 2>&1)
 check "bench/scaling.sh: a build directory that does not exist is named" 'echo "$sc" | grep -q "nonexistent"'

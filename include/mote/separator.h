@@ -327,10 +327,10 @@ double mote_sep_cross_section(const mote_sep_system *s);
  * of a step the hook does not see rides on the next step's drift). */
 void mote_sep_complete(mote_sep_system *s);
 /* Advance like mote_sep_run, calling hook(ctx, s) after every step it sees (a non-zero return
- * stops the run with that code; the hook sets err). need(ctx, s), asked after a step's
- * contacts, says whether the hook wants to see that step: when not (0), the step's second half
- * kick rides on the next step's drift (the same bits) and the hook is not called for it. need
- * NULL: the hook sees every step. */
+ * stops the run with that code; the hook sets err). need(ctx, s), asked after a step whose
+ * second half kick is pending (DEM with the pair list), says whether the hook wants to see it:
+ * when not (0), the kick rides on the next step's drift (the same bits) and the hook is not
+ * called for that step. need NULL: the hook sees every step. */
 int mote_sep_run_hook(mote_sep_system *s, double T, int (*hook)(void *, mote_sep_system *, mote_err *),
                       int (*need)(void *, const mote_sep_system *), void *ctx, mote_err *err);
 

@@ -42,7 +42,6 @@ typedef struct {
         size_t nrows, cap;
     } bal;
     mote_loop loop; /* during a run: the outputs above as observers, and the progress */
-    double hook_wall; /* the wall clock when the run's hook last ran */
 } sep_model;
 
 /* commands.c: the species called name, or -1; the system prepares (else the call's error) */

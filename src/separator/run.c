@@ -422,20 +422,24 @@ static int run_hook(void *vm, mote_sep_system *s, mote_err *err)
         }
     }
     mote_loop_progress(&m->loop, s->t, 0);
-    m->hook_wall = mote_wall_seconds();
     return rc;
 }
 
-/* Whether the hook wants to see the step just made: an output due at its end, the live picture
- * due, or a tenth of a second since the hook last ran (the progress and the live view's tick).
- * Otherwise the step's second half kick rides on the next step's drift (the same bits). */
+/* Whether the hook wants to see the step just made: an output due at its end, a live view (its
+ * tick, every step), the live picture due, the progress line or report due (at their own
+ * interval). Otherwise the step's second half kick rides on the next step's drift (the same
+ * bits) and the hook waits for a later step. */
 static int run_need(void *vm, const mote_sep_system *s)
 {
     sep_model *m = vm;
-    if (mote_loop_due(&m->loop, s->t))
+    if (mote_loop_due(&m->loop, s->t) || (m->ctx && m->ctx->tick))
         return 1;
     const double now = mote_wall_seconds();
-    return now - m->hook_wall >= 0.1 || (m->live.on && now - m->live.last >= 1 / m->live.hz);
+    if (m->live.on && now - m->live.last >= 1 / m->live.hz)
+        return 1;
+    const mote_progress *p = m->loop.progress;
+    return p && ((p->enabled && now - p->last >= p->interval) ||
+                 (p->ctx && p->ctx->report && now - p->last_report >= p->interval));
 }
 
 void sep_model_live(void *vm, mote_buf *b) { sep_live_frame(&((sep_model *)vm)->sys, b); }

@@ -1239,9 +1239,10 @@ int mote_sep_run_hook(mote_sep_system *s, double T, int (*hook)(void *, mote_sep
         if (!(dt > 1e-9 * s->dt)) /* a remainder from rounding the sum of the steps */
             break;
         rc = step(s, dt, err);
-        /* the hook sees the steps it wants, complete; the others keep their second half kick
-         * for the next drift (s->no_pending: every step completed, as a test's reference) */
-        if (!rc && (s->no_pending || (hook && (!need || need(ctx, s))))) {
+        /* the hook sees every step, complete, but those it does not need while a second half
+         * kick is pending: that kick is left for the next drift (s->no_pending: every step
+         * completed, as a test's reference) */
+        if (!rc && (s->no_pending || (hook && (!need || !(s->kick_h > 0) || need(ctx, s))))) {
             mote_sep_complete(s);
             if (hook)
                 rc = hook(ctx, s, err);
