@@ -951,13 +951,7 @@ int sep_reorder(mote_sep_system *s, mote_err *err)
     PERMUTE(s, int);
     PERMUTE(id, uint64_t);
 #undef PERMUTE
-    /* the predicted velocities too, when they are current (the contacts' pass) */
-    for (int b = 0; b < 3 && s->pv_cap >= 3 * n; b++) {
-        double *t_ = tmp, *f = s->pv + (size_t)b * n;
-        for (size_t k = 0; k < n; k++)
-            t_[k] = f[p[k]];
-        memcpy(f, t_, n * sizeof *f);
-    }
+    /* (the predicted velocities are made where they are needed, after any reorder) */
     s->last_sort = s->steps;
     free(tmp);
     s->built_step = 0; /* the lists now point at the old order */

@@ -78,7 +78,7 @@ int sep_tallies_alloc(mote_sep_system *s, mote_err *err);
 void sep_tallies_free(mote_sep_system *s);
 int sep_profiles_alloc(mote_sep_system *s, mote_err *err);
 
-/* Put the particles (and the predicted velocities) in the order of the cell lists just built
+/* Put the particles in the order of the cell lists just built
  * (spec 2.9: memory locality; ids do not change); the pair list must be built again. */
 int sep_reorder(mote_sep_system *s, mote_err *err);
 
