@@ -212,33 +212,50 @@ static int scan(int dim, size_t nmax)
 /* The granular column for the LIGGGHTS comparison: 3D, mono d = 2 mm, rho 2500, e = 0.5, no
  * gas, gravity, a closed box of 20 x 20 d2 cross-section, the particles poured at fraction 0.3
  * and settling. */
+/* A closed gas-free box W x W x H in 3D (rho_p 2500, e = 0.5, v_imp = 1 m/s) with nsp species
+ * of one size each (d[k]), count[k] particles of each poured at random over the whole height
+ * (those that find no room are dropped: N is what was placed). */
+static int gas_free_box(mote_sep_system *s, double W, double H, int nsp, const double *d,
+                        size_t count, mote_err *err)
+{
+    mote_sep_init(s);
+    s->dim = 3;
+    s->W = s->D = W;
+    s->H = H;
+    s->open_bottom = s->open_top = 0;
+    s->U0 = 0;
+    s->rho_g = 0;
+    s->mu_g = 0;
+    s->nsp = nsp;
+    for (int k = 0; k < nsp; k++) {
+        snprintf(s->sp[k].name, sizeof s->sp[k].name, "p%d", k);
+        s->sp[k].rho = 2500;
+        s->sp[k].w = 1.0 / nsp;
+        s->sp[k].dist = (mote_sep_dist){.type = MOTE_SEP_MONO, .a = d[k]};
+        s->sp[k].have_dist = 1;
+    }
+    s->zf = 0.5 * s->H;
+    s->hf = s->H;
+    s->v_imp = 1;
+    if (mote_sep_prepare(s, err))
+        return err->code;
+    for (int k = 0; k < nsp; k++)
+        if (mote_sep_insert(s, k, count, 0, err))
+            return err->code;
+    s->nback = 0;
+    return MOTE_OK;
+}
+
 static int column(size_t n, int steps, int nt)
 {
     mote_err err = {0};
     mote_sep_system s;
-    mote_sep_init(&s);
-    s.dim = 3;
-    const double d = 2e-3;
-    s.W = s.D = 20 * d;
-    s.H = (double)n * 3.14159265358979 / 6 * d * d * d / (0.3 * s.W * s.D) + 2 * d;
-    s.open_bottom = s.open_top = 0;
-    s.U0 = 0;
-    s.rho_g = 0;
-    s.mu_g = 0;
-    s.nsp = 1;
-    snprintf(s.sp[0].name, sizeof s.sp[0].name, "p");
-    s.sp[0].rho = 2500;
-    s.sp[0].w = 1;
-    s.sp[0].dist = (mote_sep_dist){.type = MOTE_SEP_MONO, .a = d};
-    s.sp[0].have_dist = 1;
-    s.zf = 0.5 * s.H;
-    s.hf = s.H;
-    s.v_imp = 1;
-    if (mote_sep_prepare(&s, &err) || mote_sep_insert(&s, 0, n, 0, &err)) {
+    const double d = 2e-3, W = 20 * d;
+    if (gas_free_box(&s, W, (double)n * 3.14159265358979 / 6 * d * d * d / (0.3 * W * W) + 2 * d,
+                     1, &d, n, &err)) {
         fprintf(stderr, "bench_separator: %s\n", err.msg);
         return 1;
     }
-    s.nback = 0; /* those that found no room are dropped: N is what was placed */
     s.threads = nt;
     uint64_t contacts;
     const double rate = timed(&s, 20, steps, &contacts, &err);
@@ -262,40 +279,15 @@ static int poly(size_t n, int steps, int nt)
 {
     mote_err err = {0};
     mote_sep_system s;
-    mote_sep_init(&s);
-    s.dim = 3;
-    s.W = s.D = 0.06;
     double d[5], vol = 0;
     for (int k = 0; k < 5; k++) {
         d[k] = 1e-3 * pow(2, (k + 0.5) / 5);
         vol += (double)(n / 5) * 3.14159265358979 / 6 * d[k] * d[k] * d[k];
     }
-    s.H = vol / (0.3 * s.W * s.D) + 2 * d[4];
-    s.open_bottom = s.open_top = 0;
-    s.U0 = 0;
-    s.rho_g = 0;
-    s.mu_g = 0;
-    s.nsp = 5;
-    for (int k = 0; k < 5; k++) {
-        snprintf(s.sp[k].name, sizeof s.sp[k].name, "p%d", k);
-        s.sp[k].rho = 2500;
-        s.sp[k].w = 0.2;
-        s.sp[k].dist = (mote_sep_dist){.type = MOTE_SEP_MONO, .a = d[k]};
-        s.sp[k].have_dist = 1;
-    }
-    s.zf = 0.5 * s.H;
-    s.hf = s.H;
-    s.v_imp = 1;
-    if (mote_sep_prepare(&s, &err)) {
+    if (gas_free_box(&s, 0.06, vol / (0.3 * 0.06 * 0.06) + 2 * d[4], 5, d, n / 5, &err)) {
         fprintf(stderr, "bench_separator: %s\n", err.msg);
         return 1;
     }
-    for (int k = 0; k < 5; k++)
-        if (mote_sep_insert(&s, k, n / 5, 0, &err)) {
-            fprintf(stderr, "bench_separator: %s\n", err.msg);
-            return 1;
-        }
-    s.nback = 0; /* those that found no room are dropped: N is what was placed */
     s.threads = nt;
     /* LIGGGHTS's per type pair constants: k_n = k_hat dbar (dbar = 2 d_i d_j / (d_i + d_j)),
      * gamma_n (times the effective mass) = 2 zeta(e) sqrt(k_n / m_eff) */
