@@ -206,11 +206,14 @@ int mote_ch_body_uvsphere(mote_ch_body *b, double r, int nlon, int nlat, int hal
         for (int i = 0; i < nlon && !rc; i++) {
             double p[4][3];
             for (int c = 0; c < 4; c++) {
-                const int jj = j + (c >= 2), ii = i + (c == 1 || c == 2);
+                /* the seam's and the poles' vertices computed once, so that the triangles
+                 * sharing them share them bit for bit (sin(2 pi) and sin(pi) are not 0) */
+                const int jj = j + (c >= 2), ii = (i + (c == 1 || c == 2)) % nlon;
                 const double th = MOTE_CH_PI * jj / nlat, ph = 2 * MOTE_CH_PI * ii / nlon;
-                p[c][0] = r * sin(th) * cos(ph);
-                p[c][1] = r * sin(th) * sin(ph);
-                p[c][2] = r * cos(th);
+                const double st = jj == 0 || jj == nlat ? 0 : sin(th);
+                p[c][0] = r * st * cos(ph);
+                p[c][1] = r * st * sin(ph);
+                p[c][2] = jj == 0 ? r : jj == nlat ? -r : r * cos(th);
             }
             const int pj = 2 * j < nlat ? part : south;
             if (j > 0) /* (the cap at the north pole has one triangle per column) */

@@ -42,7 +42,31 @@ double ch_uniform_cheap(const uint32_t key[2], uint64_t history, uint32_t comp);
 void ch_uniforms4(const uint32_t key[2], uint64_t history, uint32_t comp, uint32_t draw,
                   double u[4]);
 void ch_inject_dir(const double u[4], double nrm[3], double dir[3]);
+/* cos(2 pi u) and sin(2 pi u) for 0 <= u < 1 (mc.c), within 2e-16 of libm's, faster. */
+void ch_cossin_turn(double u, double *c, double *s);
 double ch_inject_energy(const double e[4], double chi);
+
+/* First hits on a convex body by walking over its triangles (convex.c): NULL when the body is
+ * not proved convex (or out of memory); the trace returns the triangle, -1 for no hit in
+ * tmin < s <= tmax, or -2 when it cannot decide (Embree then does). The scene is Embree's. */
+typedef struct ch_convex ch_convex;
+struct RTCSceneTy;
+ch_convex *ch_convex_build(const mote_ch_body *b, struct RTCSceneTy *scene);
+void ch_convex_free(ch_convex *cv);
+long ch_convex_trace(const ch_convex *cv, const double o[3], const double d[3], double tmin,
+                     double tmax, int *side, double *s);
+/* Up to CH_TRACE_MANY rays at once (tmax infinite): tri[j] as ch_convex_trace gives it. */
+enum { CH_TRACE_MANY = 32 };
+void ch_convex_trace_many(const ch_convex *cv, int n, const double (*o)[3], const double (*d)[3],
+                          double tmin, long *tri, int *side, double *s);
+/* mote_ch_trace for n <= CH_TRACE_MANY rays (trace.c): the same results, the walks' starts
+ * side by side. */
+void ch_trace_many(const mote_ch_tracer *t, int n, const double (*o)[3], const double (*d)[3],
+                   double tmin, long *tri, int *side, double *s);
+/* Whether the tracer walks (the body proved convex); the walk turned off (tests and
+ * benchmarks: Embree alone) or on again. */
+int ch_tracer_convex(const mote_ch_tracer *t);
+void ch_tracer_walk(mote_ch_tracer *t, int on);
 
 /* A curved path in the field of a charged mesh (path.c, spec 6.3). */
 typedef struct {

@@ -112,41 +112,70 @@ static double drift_normal_speed(double un, double sigma, double x)
     return w;
 }
 
-/* Two unit vectors e1, e2 perpendicular to the unit vector n (and to each other). */
+/* Two unit vectors e1, e2 perpendicular to the unit vector n and to each other, (e1, e2, n)
+ * right-handed, without a branch on n and with one division (Duff, Burgess, Christensen, Hery,
+ * Kensler, Liani and Villemin, "Building an orthonormal basis, revisited", JCGT 6(1), 2017). */
 static void perp_basis(const double n[3], double e1[3], double e2[3])
 {
-    if (fabs(n[2]) < 0.9) {
-        const double l = sqrt(n[0] * n[0] + n[1] * n[1]);
-        e1[0] = -n[1] / l;
-        e1[1] = n[0] / l;
-        e1[2] = 0;
-    } else {
-        const double l = sqrt(n[1] * n[1] + n[2] * n[2]);
-        e1[0] = 0;
-        e1[1] = -n[2] / l;
-        e1[2] = n[1] / l;
-    }
-    e2[0] = n[1] * e1[2] - n[2] * e1[1];
-    e2[1] = n[2] * e1[0] - n[0] * e1[2];
-    e2[2] = n[0] * e1[1] - n[1] * e1[0];
+    const double sg = copysign(1.0, n[2]), a = -1 / (sg + n[2]), b = n[0] * n[1] * a;
+    e1[0] = 1 + sg * n[0] * n[0] * a;
+    e1[1] = sg * b;
+    e1[2] = -sg * n[0];
+    e2[0] = b;
+    e2[1] = sg + n[1] * n[1] * a;
+    e2[2] = -n[1];
 }
+
+/* cos(2 pi u) and sin(2 pi u) for u in [0, 1) with a few bits (a 32-bit draw): u in quarter
+ * turns, 4 u = q + f with q whole and |f| <= 1/2 exact, then the Taylor series of cos and sin
+ * at theta = f pi / 2 (|theta| <= pi / 4: terms to theta^18 and theta^17, the next below 1e-19)
+ * and the quarter turns by swaps. Within 2e-16 of libm's (test_charging), without its range
+ * reduction. */
+static inline void cossin_turn(double u, double *c, double *s)
+{
+    static const double kc[10] = {-1.0 / 6402373705728000, 1.0 / 20922789888000,
+                                  -1.0 / 87178291200,      1.0 / 479001600,
+                                  -1.0 / 3628800,          1.0 / 40320,
+                                  -1.0 / 720,              1.0 / 24,
+                                  -1.0 / 2,                1};
+    static const double ks[9] = {1.0 / 355687428096000, -1.0 / 1307674368000, 1.0 / 6227020800,
+                                 -1.0 / 39916800,       1.0 / 362880,         -1.0 / 5040,
+                                 1.0 / 120,             -1.0 / 6,             1};
+    const double x = 4 * u;
+    const int qn = (int)(x + 0.5); /* x >= 0: the nearest whole number (no libm call) */
+    const double th = (x - qn) * (MOTE_CH_PI / 2), t2 = th * th;
+    double cs = kc[0], sn = ks[0];
+    for (int k = 1; k < 10; k++)
+        cs = cs * t2 + kc[k];
+    for (int k = 1; k < 9; k++)
+        sn = sn * t2 + ks[k];
+    /* turned by q quarter turns without a branch (q is as random as u): (cs, sn) -> (-sn, cs) */
+    static const double sc[4] = {1, -1, -1, 1}, ss[4] = {1, 1, -1, -1};
+    const int qi = qn & 3;
+    const double v[2] = {cs, sn * th};
+    *c = sc[qi] * v[qi & 1];
+    *s = ss[qi] * v[(qi & 1) ^ 1];
+}
+
+void ch_cossin_turn(double u, double *c, double *s) { cossin_turn(u, c, s); }
 
 /* The injection point and direction from four uniforms (spec 5.2): nrm the outward unit
  * normal of the point on the sphere (z = 2 u0 - 1 uniform, azimuth 2 pi u1), dir the unit
  * direction, cos(theta) = sqrt(u2) about the inward normal (the cosine law), azimuth 2 pi u3. */
 void ch_inject_dir(const double u[4], double nrm[3], double dir[3])
 {
-    const double z = 2 * u[0] - 1, rho = sqrt(fmax(0, 1 - z * z));
-    const double ph = 2 * MOTE_CH_PI * u[1];
-    nrm[0] = rho * cos(ph);
-    nrm[1] = rho * sin(ph);
+    const double z = 2 * u[0] - 1, r2 = 1 - z * z, rho = sqrt(r2 > 0 ? r2 : 0);
+    double cp, sp, cq, sq;
+    cossin_turn(u[1], &cp, &sp);
+    nrm[0] = rho * cp;
+    nrm[1] = rho * sp;
     nrm[2] = z;
-    const double ct = sqrt(u[2]), st = sqrt(fmax(0, 1 - u[2]));
-    const double ps = 2 * MOTE_CH_PI * u[3];
+    const double ct = sqrt(u[2]), st = sqrt(u[2] < 1 ? 1 - u[2] : 0);
+    cossin_turn(u[3], &cq, &sq);
     double e1[3], e2[3]; /* a basis perpendicular to nrm */
     perp_basis(nrm, e1, e2);
     for (int a = 0; a < 3; a++)
-        dir[a] = -ct * nrm[a] + st * (cos(ps) * e1[a] + sin(ps) * e2[a]);
+        dir[a] = -ct * nrm[a] + st * (cq * e1[a] + sq * e2[a]);
 }
 
 /* The kinetic energy at injection in units of kT (spec 6.2) from four uniforms: Gamma(2, 1)
@@ -558,7 +587,7 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                     ch_i128 *msee = see ? psee + (size_t)tid * nsee : NULL;
                     ch_i128 *mpat = patchy ? ppat + (size_t)tid * npw : NULL;
 #define SEE_SCORE(TRI, SIDE, E_EV, COS)                                                           \
-    do {                                                                                          \
+    if (see || patchy) { /* (the energy and the angle only when they are used) */              \
         const double e_ = (E_EV), c_ = (COS);                                                     \
         if (see) {                                                                                \
             const mote_ch_material *mat_ = o->tri_material[(TRI)];                                \
@@ -577,28 +606,59 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
         if (patchy && o->tri_patch[(TRI)] >= 0)                                                   \
             patch_score(mpat + (size_t)o->tri_patch[(TRI)] * pw, o, sp->Z,                        \
                         see ? o->tri_material[(TRI)] : NULL, U_s, e_, c_);                        \
-    } while (0)
+    }
 /* a straight path's impact energy: the flux's kinetic energy law, Gamma(2, kT) (eV) */
 #define STRAIGHT_E()                                                                              \
     (see || patchy ? (ch_uniforms4(key, h, (uint32_t)comp, 7, ee_), -sp->kT[k] * log(ee_[0] * ee_[1])) \
                    : 0)
                     double ee_[4];
-                    for (uint64_t h = blk * BLOCK; h < h1; h++) {
-                        double u[4];
-                        if (!field && !o->box && !drift) {
-                            /* straight from the sphere: the direction's cos^2(theta) is
-                             * uniform (the cosine law), and a path with cos^2 < 1 - (R_bound /
-                             * R)^2 passes the body's bounding sphere; that test comes first,
-                             * from its own cheap draw, and only paths that may hit draw the
-                             * rest */
-                            const double c2 = ch_uniform_cheap(key, h, (uint32_t)comp);
-                            if (c2 < miss_below)
-                                continue;
-                            ch_uniforms4(key, h, (uint32_t)comp, 0, u);
-                            u[2] = c2;
-                        } else {
-                            ch_uniforms4(key, h, (uint32_t)comp, 0, u);
+                    /* straight from the sphere: the direction's cos^2(theta) is uniform (the
+                     * cosine law), and a path with cos^2 < 1 - (R_bound / R)^2 passes the
+                     * body's bounding sphere; that test comes first, from its own cheap draw,
+                     * and only paths that may hit draw the rest, gathered TB at a time so that
+                     * their draws, and then their traces, follow one another (each history's
+                     * result is its own: the same tallies in any grouping) */
+                    for (uint64_t h0 = blk * BLOCK; !field && !o->box && !drift && h0 < h1;) {
+                        enum { TB = CH_TRACE_MANY };
+                        uint64_t th[TB];
+                        double tc2[TB], org[TB][3], dir[TB][3], tdist[TB];
+                        long ttri[TB];
+                        int tside[TB];
+                        int nb = 0;
+                        for (; h0 < h1 && nb < TB; h0++) {
+                            const double c2 = ch_uniform_cheap(key, h0, (uint32_t)comp);
+                            if (c2 >= miss_below) {
+                                th[nb] = h0;
+                                tc2[nb++] = c2;
+                            }
                         }
+                        for (int j = 0; j < nb; j++) {
+                            double u[4], nrm[3];
+                            ch_uniforms4(key, th[j], (uint32_t)comp, 0, u);
+                            u[2] = tc2[j];
+                            ch_inject_dir(u, nrm, dir[j]);
+                            for (int a = 0; a < 3; a++)
+                                org[j][a] = g.centre[a] + R * nrm[a];
+                        }
+                        ch_trace_many(t, nb, (const double(*)[3])org, (const double(*)[3])dir,
+                                      tmin, ttri, tside, tdist);
+                        for (int j = 0; j < nb; j++) {
+                            const uint64_t h = th[j];
+                            const int side = tside[j];
+                            const double dist = tdist[j];
+                            const long tri = ttri[j];
+                            if (tri < 0)
+                                continue;
+                            hits++;
+                            if (side && (b->sphere || b->closed[tri]))
+                                back++;
+                            hitlog[nlog++] = 2 * (size_t)tri + (size_t)side;
+                            SEE_SCORE(tri, side, STRAIGHT_E(), hit_cos(b, tri, org[j], dir[j], dist));
+                        }
+                    }
+                    for (uint64_t h = blk * BLOCK; (field || o->box || drift) && h < h1; h++) {
+                        double u[4];
+                        ch_uniforms4(key, h, (uint32_t)comp, 0, u);
                         if (field) { /* the kinetic energy at injection (spec 6.2) */
                             double e[4];
                             ch_uniforms4(key, h, (uint32_t)comp, 1, e);
@@ -722,22 +782,6 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                             }
                             continue;
                         }
-                        /* the position uniform on the sphere, the direction by the cosine
-                         * law (spec 5.2) */
-                        double nrm[3], org[3], dir[3];
-                        ch_inject_dir(u, nrm, dir);
-                        for (int a = 0; a < 3; a++)
-                            org[a] = g.centre[a] + R * nrm[a];
-                        int side;
-                        double dist;
-                        const long tri = mote_ch_trace(t, org, dir, tmin, &side, &dist);
-                        if (tri < 0)
-                            continue;
-                        hits++;
-                        if (side && (b->sphere || b->closed[tri]))
-                            back++;
-                        hitlog[nlog++] = 2 * (size_t)tri + (size_t)side;
-                        SEE_SCORE(tri, side, STRAIGHT_E(), hit_cos(b, tri, org, dir, dist));
                     }
 #undef SEE_SCORE
 #undef STRAIGHT_E

@@ -4,7 +4,7 @@
  * normal Embree returns with the hit (the vertices' winding, as mote's own normals), so a hit
  * reads no table of mote's: on a mesh of 10^6 triangles that table costs a cache miss per hit.
  * The exact sphere is intersected analytically. */
-#include "mote/charging.h"
+#include "ch.h"
 
 #include <embree3/rtcore.h>
 #include <math.h>
@@ -14,12 +14,19 @@ struct mote_ch_tracer {
     const mote_ch_body *body;
     RTCDevice dev;
     RTCScene scene;
+    ch_convex *cv; /* the walk for a convex body (convex.c), or NULL */
+    int walk;      /* 0: Embree alone */
 };
+
+int ch_tracer_convex(const mote_ch_tracer *t) { return t->cv != NULL; }
+
+void ch_tracer_walk(mote_ch_tracer *t, int on) { t->walk = on; }
 
 void mote_ch_tracer_free(mote_ch_tracer *t)
 {
     if (!t)
         return;
+    ch_convex_free(t->cv);
     if (t->scene)
         rtcReleaseScene(t->scene);
     if (t->dev)
@@ -79,6 +86,8 @@ mote_ch_tracer *mote_ch_tracer_new(const mote_ch_body *b, mote_err *err)
         mote_fail(err, MOTE_EINVAL, "tracer: Embree could not build the scene");
         return NULL;
     }
+    t->cv = ch_convex_build(b, t->scene);
+    t->walk = 1;
     return t;
 }
 
@@ -127,6 +136,11 @@ long mote_ch_trace_seg(const mote_ch_tracer *t, const double org[3], const doubl
         const long k = trace_sphere(b, org, dir, tmin, side, s);
         return k >= 0 && *s <= tmax ? k : -1;
     }
+    if (t->cv && t->walk) {
+        const long f = ch_convex_trace(t->cv, org, dir, tmin, tmax, side, s);
+        if (f != -2)
+            return f;
+    }
     struct RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     struct RTCRayHit rh;
@@ -151,6 +165,19 @@ long mote_ch_trace_seg(const mote_ch_tracer *t, const double org[3], const doubl
     *side = dir[0] * rh.hit.Ng_x + dir[1] * rh.hit.Ng_y + dir[2] * rh.hit.Ng_z < 0 ? 0 : 1;
     *s = rh.ray.tfar;
     return i;
+}
+
+void ch_trace_many(const mote_ch_tracer *t, int n, const double (*o)[3], const double (*d)[3],
+                   double tmin, long *tri, int *side, double *s)
+{
+    if (t->cv && t->walk)
+        ch_convex_trace_many(t->cv, n, o, d, tmin, tri, side, s);
+    else
+        for (int j = 0; j < n; j++)
+            tri[j] = -2;
+    for (int j = 0; j < n; j++)
+        if (tri[j] == -2)
+            tri[j] = mote_ch_trace(t, o[j], d[j], tmin, &side[j], &s[j]);
 }
 
 int mote_ch_occluded(const mote_ch_tracer *t, const double org[3], const double dir[3],
