@@ -1167,6 +1167,219 @@ static void test_ray_edges(void)
     mote_ch_body_free(&sheet);
 }
 
+/* G2 (issue 36): first hits on a convex body by walking over its triangles (convex.c) against
+ * Embree alone. The walk works on mote's double-precision triangles, Embree on their
+ * single-precision copies, so the two may differ only where single precision decides: at a
+ * shared edge (two triangles, the same point) and in the distance along the ray, by about
+ * 1e-7 of the body's size over the cosine of the incidence; a difference is accepted when
+ * the hit points agree to 1e-5 of the size across the triangle's plane and, for two triangles,
+ * they share a vertex. Rays: the cosine law from the sphere of 1.2 R_bound (the Monte Carlo's),
+ * and segments from anywhere in a box about the body (inside it too, where Embree decides);
+ * the batch (ch_trace_many) gives bit for bit what the single trace gives. */
+static uint64_t lcg_next(uint64_t *st)
+{
+    *st = *st * 6364136223846793005u + 1442695040888963407u;
+    return *st >> 11;
+}
+
+static double lcg_unit(uint64_t *st) { return ((double)lcg_next(st) + 0.5) * 0x1.0p-53; }
+
+static double dot3v(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static int share_vertex(const mote_ch_body *b, long f, long g)
+{
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            if (!memcmp(b->v[f][i], b->v[g][j], sizeof b->v[f][i]))
+                return 1;
+    return 0;
+}
+
+static void walk_against_embree(const char *name, const mote_ch_body *b, int nrays)
+{
+    mote_err err = {0};
+    mote_ch_tracer *t = mote_ch_tracer_new(b, &err);
+    if (!t) {
+        CHECK(0, "%s: tracer: %s", name, err.msg);
+        return;
+    }
+    CHECK(ch_tracer_convex(t), "%s: not found convex", name);
+    mote_ch_geometry g;
+    mote_ch_body_geometry(b, &g);
+    const double L = g.r_bound, tol = 1e-5 * L;
+    uint64_t st = 12345;
+    int agree = 0, edge = 0, single = 0, bad = 0, hits = 0, inside = 0, batch_same = 0;
+    enum { NB = CH_TRACE_MANY };
+    double bo[NB][3], bd[NB][3], bs1[NB];
+    long bt1[NB];
+    int bside1[NB], nb = 0;
+    for (int r = 0; r < nrays; r++) {
+        double o[3], d[3], tmax = INFINITY;
+        if (r % 2 == 0) { /* the Monte Carlo's rays */
+            double u[4] = {lcg_unit(&st), lcg_unit(&st), lcg_unit(&st), lcg_unit(&st)}, nrm[3];
+            ch_inject_dir(u, nrm, d);
+            for (int a = 0; a < 3; a++)
+                o[a] = g.centre[a] + 1.2 * L * nrm[a];
+        } else { /* segments from anywhere near the body, any direction */
+            double dl = 0;
+            for (int a = 0; a < 3; a++) {
+                o[a] = g.centre[a] + (2 * lcg_unit(&st) - 1) * 1.5 * L;
+                d[a] = 2 * lcg_unit(&st) - 1;
+                dl += d[a] * d[a];
+            }
+            for (int a = 0; a < 3; a++)
+                d[a] /= sqrt(dl);
+            tmax = 3 * L * lcg_unit(&st);
+        }
+        int s1 = -1, s2 = -1;
+        double d1 = 0, d2 = 0;
+        ch_tracer_walk(t, 1);
+        const long f1 = mote_ch_trace_seg(t, o, d, 1e-9, tmax, &s1, &d1);
+        ch_tracer_walk(t, 0);
+        const long f2 = mote_ch_trace_seg(t, o, d, 1e-9, tmax, &s2, &d2);
+        ch_tracer_walk(t, 1);
+        inside += f2 >= 0 && s2 == 1;
+        hits += f1 >= 0;
+        if (f1 == f2 && (f1 < 0 || (s1 == s2 && d1 == d2)))
+            agree++;
+        else if (f1 >= 0 && f2 >= 0 && s1 == s2 &&
+                 fabs(d1 - d2) * fabs(dot3v(d, b->nrm[f1])) <= tol &&
+                 (f1 == f2 || share_vertex(b, f1, f2))) {
+            single += f1 == f2;
+            edge += f1 != f2;
+        } else {
+            bad++;
+            if (bad <= 3)
+                printf("  %s ray %d: walk %ld side %d s %.9g, Embree %ld side %d s %.9g\n", name,
+                       r, f1, s1, d1, f2, s2, d2);
+        }
+        if (r % 2 == 0 && nb < NB) { /* the batch, against the single trace just made */
+            memcpy(bo[nb], o, sizeof o);
+            memcpy(bd[nb], d, sizeof d);
+            bt1[nb] = f1;
+            bside1[nb] = s1;
+            bs1[nb] = d1;
+            nb++;
+        }
+    }
+    long bt[NB];
+    int bside[NB];
+    double bs[NB];
+    ch_trace_many(t, nb, (const double(*)[3])bo, (const double(*)[3])bd, 1e-9, bt, bside, bs);
+    for (int j = 0; j < nb; j++)
+        batch_same += bt[j] == bt1[j] && (bt[j] < 0 || (bside[j] == bside1[j] && bs[j] == bs1[j]));
+    printf("  %s: %d rays, %d hits (%d from inside); the same answer %d, the distance in single "
+           "precision %d, the other triangle at an edge %d, different %d\n",
+           name, nrays, hits, inside, agree, single, edge, bad);
+    CHECK(bad == 0, "%s: %d rays where the walk and Embree disagree beyond single precision",
+          name, bad);
+    /* Embree's single precision moves an edge by about 1e-7 of the size: the other triangle is
+     * its answer for a few rays in 10^6, not for one in a thousand */
+    CHECK(hits > nrays / 5 && inside > 0 && edge <= hits / 1000 + 1,
+          "%s: %d hits, %d from inside, %d answered by the other triangle at an edge", name,
+          hits, inside, edge);
+    CHECK(batch_same == nb && nb == NB, "%s: the batch differs from single traces (%d of %d)",
+          name, nb - batch_same, nb);
+    mote_ch_tracer_free(t);
+}
+
+/* Whether the walk takes the body: only a closed surface about one inner point, every edge
+ * convex. */
+static int proved_convex(mote_ch_body *b)
+{
+    mote_err err = {0};
+    mote_ch_tracer *t = mote_ch_tracer_new(b, &err);
+    const int c = t ? ch_tracer_convex(t) : -1;
+    mote_ch_tracer_free(t);
+    mote_ch_body_free(b);
+    return c;
+}
+
+static void test_convex_walk(void)
+{
+    printf("G2: first hits by walking on convex bodies\n");
+    mote_err err = {0};
+    mote_ch_body uv = {0}, ico = {0}, box = {0}, coarse = {0};
+    const double size[3] = {1, 2, 3}, c0[3] = {0.3, -0.2, 0.1};
+    CHECK(!mote_ch_body_uvsphere(&uv, 1, 100, 50, 0, &err) &&
+              !mote_ch_body_icosphere(&ico, 1.5, 4, &err) &&
+              !mote_ch_body_box(&box, size, c0, 4, &err) &&
+              !mote_ch_body_uvsphere(&coarse, 2, 7, 3, 0, &err),
+          "bodies: %s", err.msg);
+    walk_against_embree("uvsphere 100 x 50", &uv, 20000);
+    walk_against_embree("icosphere 4", &ico, 20000);
+    walk_against_embree("box 1 x 2 x 3, subdiv 4", &box, 20000);
+    walk_against_embree("uvsphere 7 x 3", &coarse, 20000);
+    mote_ch_body_free(&uv);
+    mote_ch_body_free(&ico);
+    mote_ch_body_free(&box);
+    mote_ch_body_free(&coarse);
+    /* and what it must not take */
+    mote_ch_body two = {0}, nested = {0}, dent = {0}, sheet = {0}, halves = {0};
+    mote_ch_body_twocubes(&two, 1, 0.5, &err);
+    CHECK(proved_convex(&two) == 0, "two cubes taken as convex");
+    mote_ch_body_icosphere(&nested, 1, 2, &err);
+    mote_ch_body_icosphere(&nested, 2, 2, &err); /* two closed surfaces about one centre */
+    CHECK(proved_convex(&nested) == 0, "two nested spheres taken as convex");
+    /* a cube whose top is a pyramid pushed in: closed, every face away from the centre, the top
+     * edges concave */
+    const int part = ch_body_part(&dent, "dent", &err);
+    const double in[3] = {0, 0, 0}, apex[3] = {0, 0, 0.4};
+    double cn[8][3];
+    for (int i = 0; i < 8; i++) {
+        cn[i][0] = i & 1 ? 0.5 : -0.5;
+        cn[i][1] = i & 2 ? 0.5 : -0.5;
+        cn[i][2] = i & 4 ? 0.5 : -0.5;
+    }
+    static const int quad[5][4] = {{0, 1, 3, 2}, {0, 1, 5, 4}, {2, 3, 7, 6}, {0, 2, 6, 4},
+                                   {1, 3, 7, 5}};
+    for (int q = 0; q < 5; q++) {
+        ch_add_tri(&dent, cn[quad[q][0]], cn[quad[q][1]], cn[quad[q][2]], in, 1, part, &err);
+        ch_add_tri(&dent, cn[quad[q][0]], cn[quad[q][2]], cn[quad[q][3]], in, 1, part, &err);
+    }
+    static const int top[4][2] = {{4, 5}, {5, 7}, {7, 6}, {6, 4}};
+    for (int e = 0; e < 4; e++)
+        ch_add_tri(&dent, cn[top[e][0]], cn[top[e][1]], apex, in, 1, part, &err);
+    CHECK(dent.ntri == 14, "the dented cube has %u triangles", dent.ntri);
+    CHECK(proved_convex(&dent) == 0, "a cube with its top pushed in taken as convex");
+    const int ps = ch_body_part(&sheet, "sheet", &err);
+    const double p0[3] = {0, 0, 0}, p1[3] = {1, 0, 0}, p2[3] = {0, 1, 0}, p3[3] = {0, 0, 1};
+    ch_add_tri(&sheet, p0, p1, p2, NULL, 0, ps, &err);
+    ch_add_tri(&sheet, p0, p1, p3, NULL, 0, ps, &err);
+    ch_add_tri(&sheet, p0, p2, p3, NULL, 0, ps, &err);
+    ch_add_tri(&sheet, p1, p2, p3, NULL, 0, ps, &err);
+    CHECK(proved_convex(&sheet) == 0, "a tetrahedron of two-sided sheets taken as convex");
+    mote_ch_body_uvsphere(&halves, 1, 12, 6, 1, &err);
+    CHECK(proved_convex(&halves) == 1, "a UV sphere in two parts not taken as convex");
+}
+
+/* cos(2 pi u) and sin(2 pi u) of the injection (mc.c) against libm's. libm's argument 2 pi u is
+ * itself rounded (by up to 4.4e-16 at u near 1, as much again in the result), which bounds the
+ * comparison; the quarter turns are exact. */
+static void test_cossin_turn(void)
+{
+    printf("cos and sin of 2 pi u\n");
+    uint64_t st = 99;
+    double worst = 0;
+    for (int i = 0; i < 1000000; i++) {
+        const double u = ((double)(uint32_t)lcg_next(&st) + 0.5) / 4294967296.0;
+        double c, s;
+        ch_cossin_turn(u, &c, &s);
+        worst = fmax(worst, fmax(fabs(c - cos(2 * MOTE_CH_PI * u)), fabs(s - sin(2 * MOTE_CH_PI * u))));
+    }
+    printf("  largest difference from libm over 1e6 draws: %.2g\n", worst);
+    CHECK(worst < 1e-15, "cos/sin of 2 pi u differ from libm's by %.3g", worst);
+    static const double q[4][3] = {{0, 1, 0}, {0.25, 0, 1}, {0.5, -1, 0}, {0.75, 0, -1}};
+    for (int k = 0; k < 4; k++) {
+        double c, s;
+        ch_cossin_turn(q[k][0], &c, &s);
+        CHECK(c == q[k][1] && s == q[k][2], "at u = %g: cos %.17g, sin %.17g", q[k][0], c, s);
+    }
+}
+
 /* Differential charging (spec 6.10, issue 37): each patch's current at V_p - U = 0 is the net
  * current of its triangles as the ordinary tallies give it (collected, secondaries, backscatter
  * and photoelectrons, each escaping), though the patch tallies evaluate the yields their own way
@@ -1267,6 +1480,8 @@ int main(void)
     test_sampling();
     test_estimator();
     test_ray_edges();
+    test_convex_walk();
+    test_cossin_turn();
     test_meshes();
     test_sphere_current();
     test_hit_probability();
