@@ -7,6 +7,8 @@
  *   b2near [N [T]] the same with R = 1.05 R_bound (deep traversals dominate)
  *   b2far [N [T]]  the same with R = 131.41 m (early misses dominate)
  *   mesh K [N [T]] the icosphere of level K (20 4^K triangles, K = 8: 1.3e6) from R = 3 m
+ *   cubes [N [T]]  two cubes of 1 m, 0.5 m apart (a body that is not convex: Embree traces it,
+ *                  not the walk of convex bodies) from R = 3 m
  *   b3 [N [T]]     curved paths (spec 6.3, eta = 0.01): the B1 sphere at U = -10 kV in the
  *                  geo-worst-case plasma (four components, N histories each) from R = 3 m
  *
@@ -14,13 +16,15 @@
  * prints; traces_per_s counts all ranks').
  *
  * One key=value line per run: traces_per_s (per second, all threads), per_thread, the hit
- * fraction, the build time and the peak memory. For the straight workloads also plain_per_thread
+ * fraction, the build time, the peak memory and walk (1: the body was proved convex and its first
+ * hits are found by walking over its triangles, src/charging/convex.c; 0: Embree). For the straight workloads also plain_per_thread
  * and mote_over_plain: the rate, on one thread, of a plain loop that a user of Embree would
  * write for the same histories (the same mesh in a scene of Embree's default settings, a
  * SplitMix64 stream, the same bounding-sphere early exit, one rtcIntersect1 per history and a
  * hit count), timed in the same process just before mote's run. Never a timed test; bench/README.md keeps the
  * figures. */
 #include "mote/charging.h"
+#include "../src/charging/ch.h" /* ch_tracer_convex */
 
 #include <embree3/rtcore.h>
 #include <math.h>
@@ -172,10 +176,10 @@ static int bench(const char *name, mote_ch_body *b, double R, double n, int thre
     }
     printf("workload=%s triangles=%u R_gen=%g histories=%.0f threads=%d ranks=%d seconds=%.3f "
            "traces_per_s=%.4g per_thread=%.4g hit_fraction=%.5f build_seconds=%.3f "
-           "peak_rss_mb=%.1f",
+           "peak_rss_mb=%.1f walk=%d",
            name, b->ntri, R, n * r.ncomp, threads, ranks, r.seconds, r.traces_per_s,
            r.traces_per_s / threads, (double)hits / (n * r.ncomp), build,
-           (double)mote_peak_rss_bytes() / 1048576.0);
+           (double)mote_peak_rss_bytes() / 1048576.0, b->sphere ? 0 : ch_tracer_convex(t));
     if (plain > 0)
         printf(" plain_per_thread=%.4g plain_hit_fraction=%.5f mote_over_plain=%.3f", plain,
                plain_hits, r.traces_per_s / threads / plain);
@@ -218,6 +222,12 @@ static int run_main(int argc, char **argv)
             return 1;
         }
         R = 3;
+    } else if (strcmp(w, "cubes") == 0) {
+        if (mote_ch_body_twocubes(&b, 1, 0.5, &err)) {
+            fprintf(stderr, "bench_charging: %s\n", err.msg);
+            return 1;
+        }
+        R = 3;
     } else {
         mote_ch_body_uvsphere(&b, 1, 100, 50, 0, &err);
         if (strcmp(w, "b1") == 0 || strcmp(w, "b3") == 0)
@@ -227,7 +237,7 @@ static int run_main(int argc, char **argv)
         else if (strcmp(w, "b2far") == 0)
             R = 131.41;
         else {
-            fprintf(stderr, "usage: bench_charging [b1|b2near|b2far|b3 [N [THREADS]] | mesh K [N "
+            fprintf(stderr, "usage: bench_charging [b1|b2near|b2far|b3|cubes [N [THREADS]] | mesh K [N "
                             "[THREADS]]]\n");
             return 2;
         }

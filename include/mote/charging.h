@@ -55,7 +55,7 @@ double mote_ch_debye(const mote_ch_plasma *p);
 /* The most triangles a body has (generated or loaded), and the memory one takes with its share
  * of the ray-tracing structure, for the estimate checked before a body is made. */
 #define MOTE_CH_MAX_TRI 100000000
-#define MOTE_CH_TRI_BYTES 250.0
+#define MOTE_CH_TRI_BYTES 400.0
 /* The sizes of body (R_bound, m) that trace correctly in Embree's single precision (measured
  * exact from 1e-12 to 1e15 m; a decade kept at each end). */
 #define MOTE_CH_SIZE_MIN 1e-9

@@ -29,7 +29,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum { MAX_STEPS = 256 };
+/* the walk's most steps; the cube map's cells per triangle (a start one step from the answer
+ * or less for most rays) and its most cells (32 MB) */
+enum { MAX_STEPS = 256, CELLS_PER_TRI = 16, MAX_CELLS = 8000000 };
 
 /* One triangle as the walk reads it: its vertices and its neighbours, in 96 bytes (a step reads
  * one record, not four tables). */
@@ -313,10 +315,11 @@ ch_convex *ch_convex_build(const mote_ch_body *b, struct RTCSceneTy *scene)
     free(vid);
     free(nb);
     vid = nb = NULL;
-    /* the cube map: about four cells a triangle, each filled by a walk from the last cell's
-     * triangle along the line from outside through c (Embree's ray from c where it fails) */
-    cv->m = (int)ceil(sqrt(b->ntri / 1.5));
-    cv->m = cv->m < 2 ? 2 : cv->m > 4096 ? 4096 : cv->m;
+    /* the cube map, each cell filled by a walk from the last cell's triangle along the line
+     * from outside through c (Embree's ray from c where that fails) */
+    const double cells = fmin(CELLS_PER_TRI * (double)b->ntri, MAX_CELLS);
+    cv->m = (int)ceil(sqrt(cells / 6));
+    cv->m = cv->m < 2 ? 2 : cv->m;
     const size_t ncell = 6 * (size_t)cv->m * (size_t)cv->m;
     cv->cube = malloc(ncell * sizeof *cv->cube);
     if (!cv->cube)
