@@ -4,7 +4,8 @@
  * uncharged sphere and meshes, injection radii, hit probabilities, shadowing, drift), F1 (the
  * thesis's constant-current charging), Q1-Q7 (OML, floating potentials, U(t), secondary and
  * photoemission, curved paths), Philox's known answer, and the generated meshes' triangle
- * counts and areas (G3, G4 and the mesh files are in test_mesh_files). Statistical tests pass
+ * counts and areas (G3, G4 and the mesh files are in test_mesh_files), W1 (first hits by
+ * walking on convex bodies against Embree, issue 36). Statistical tests pass
  * when |estimate - exact| <= 3 sigma, with 3 sigma at most a third of any stated percentage. */
 #include "mote/charging.h"
 
@@ -1167,7 +1168,7 @@ static void test_ray_edges(void)
     mote_ch_body_free(&sheet);
 }
 
-/* G2 (issue 36): first hits on a convex body by walking over its triangles (convex.c) against
+/* W1 (issue 36): first hits on a convex body by walking over its triangles (convex.c) against
  * Embree alone. The walk works on mote's double-precision triangles, Embree on their
  * single-precision copies, so the two may differ only where single precision decides: at a
  * shared edge (two triangles, the same point) and in the distance along the ray, by a few
@@ -1300,7 +1301,7 @@ static int proved_convex(mote_ch_body *b)
 
 static void test_convex_walk(void)
 {
-    printf("G2: first hits by walking on convex bodies\n");
+    printf("W1: first hits by walking on convex bodies; the same tallies on 1, 2 and 3 threads\n");
     mote_err err = {0};
     mote_ch_body uv = {0}, ico = {0}, box = {0}, coarse = {0};
     const double size[3] = {1, 2, 3}, c0[3] = {0.3, -0.2, 0.1};
@@ -1313,6 +1314,25 @@ static void test_convex_walk(void)
     walk_against_embree("icosphere 4", &ico, 20000);
     walk_against_embree("box 1 x 2 x 3, subdiv 4", &box, 20000);
     walk_against_embree("uvsphere 7 x 3", &coarse, 20000);
+    /* the Monte Carlo on a convex body (histories gathered, walked side by side): the same
+     * tallies on any number of threads */
+    mote_ch_plasma p;
+    mote_ch_plasma_preset(&p, "single", 1e6, 1000, &err);
+    p.nsp = 1;
+    mote_ch_result r1, r2, r3;
+    if (!run(&p, &uv, 3e5, 3, 1, &r1) && !run(&p, &uv, 3e5, 3, 2, &r2) &&
+        !run(&p, &uv, 3e5, 3, 3, &r3)) {
+        const size_t nb = (size_t)uv.ntri * 2 * sizeof *r1.tri_hits;
+        CHECK(r1.hits[0][0] > 30000 && r1.hits[0][0] == r2.hits[0][0] &&
+                  r1.hits[0][0] == r3.hits[0][0] && !memcmp(r1.tri_hits, r2.tri_hits, nb) &&
+                  !memcmp(r1.tri_hits, r3.tri_hits, nb),
+              "the walked tallies differ between 1, 2 and 3 threads (hits %llu %llu %llu)",
+              (unsigned long long)r1.hits[0][0], (unsigned long long)r2.hits[0][0],
+              (unsigned long long)r3.hits[0][0]);
+        mote_ch_result_free(&r1);
+        mote_ch_result_free(&r2);
+        mote_ch_result_free(&r3);
+    }
     mote_ch_body_free(&uv);
     mote_ch_body_free(&ico);
     mote_ch_body_free(&box);
