@@ -29,9 +29,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* the walk's most steps; the cube map's cells per triangle (a start one step from the answer
- * or less for most rays) and its most cells (32 MB) */
-enum { MAX_STEPS = 256, CELLS_PER_TRI = 16, MAX_CELLS = 8000000 };
+/* the walk's most steps (in a trace; in the cube map's fill, where a cell's walk starts from
+ * the last cell's triangle); the cube map's cells per triangle (a start one step from the
+ * answer or less for most rays) and its most cells (32 MB) */
+enum { MAX_STEPS = 256, FILL_STEPS = 4096, CELLS_PER_TRI = 16, MAX_CELLS = 8000000 };
 
 /* One triangle as the walk reads it: its vertices and its neighbours, in 96 bytes (a step reads
  * one record, not four tables). */
@@ -239,9 +240,6 @@ static inline void sides(const walk_face *w, const double o[3], const double d[3
 
 /* The edge to leave a triangle by, from the edges the line passes outside of (bit k: edge k)
  * and the edge the walk came in by (3: none): the first after the way in. */
-#ifdef WALK_STATS
-long walk_stats;
-#endif
 static const signed char leave[4][8] = {
     {-1, -1, 1, 1, 2, 2, 1, 1},  /* came by edge 0: edges 1, 2 in turn */
     {-1, 0, -1, 0, 2, 2, 2, 2},  /* by 1: 2, 0 */
@@ -256,9 +254,6 @@ static inline int walk(const ch_convex *cv, const double o[3], const double d[3]
     int came = 3;
     uint32_t g = *f;
     for (int step = 0; step < max_steps; step++) {
-#ifdef WALK_STATS
-        walk_stats++;
-#endif
         const int mask = (sd[0] > 0) | (sd[1] > 0) << 1 | (sd[2] > 0) << 2;
         const int out = leave[came][mask];
         if (out < 0) {
@@ -345,7 +340,7 @@ ch_convex *ch_convex_build(const mote_ch_body *b, struct RTCSceneTy *scene)
         double sd[5];
         sides(&cv->face[f], o, d, sd);
         if (!(sd[3] < 0) ||
-            walk(cv, o, d, &f, sd, (int)(b->ntri < 1000000 ? b->ntri : 1000000)) != 1) {
+            walk(cv, o, d, &f, sd, FILL_STEPS) != 1) {
             struct RTCRayHit rh;
             rh.ray.org_x = (float)cv->c[0];
             rh.ray.org_y = (float)cv->c[1];

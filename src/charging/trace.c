@@ -3,7 +3,8 @@
  * the nearest intersection; the side comes from the sign of the direction against the geometric
  * normal Embree returns with the hit (the vertices' winding, as mote's own normals), so a hit
  * reads no table of mote's: on a mesh of 10^6 triangles that table costs a cache miss per hit.
- * The exact sphere is intersected analytically. */
+ * The exact sphere is intersected analytically. A body proved convex is walked over its
+ * triangles instead (convex.c), Embree answering only what the walk cannot decide. */
 #include "ch.h"
 
 #include <embree3/rtcore.h>
