@@ -335,7 +335,7 @@ expect 1 "m2b.mote:2:16: error: body load: cut.ply: a PLY header without end_hea
 expect 2 "m3.mote:2:16: error: body load: flat.off: no triangle with a non-zero extent" m3.mote "${G}body load file=flat.off\n"
 expect 2 "m4.mote:2:1: error: body load: the body's size R_bound = 8.66025e-16 m is outside 1e-09 ... 1e+12 m" m4.mote "${G}body load file=cube.txt scale=1e-15\n"
 expect 2 "m5.mote:2:1: error: body load: the body's size R_bound = 8.66025e+18 m is outside" m5.mote "${G}body load file=cube.txt scale=1e19\n"
-expect 1 "m6.mote:2:1: error: body uvsphere: 2e+10 triangles (at most 1e+08, about 8e+03 GB)" m6.mote "${G}body uvsphere radius=1 nlon=100000 nlat=100000\n" check
+expect 1 "m6.mote:2:1: error: body uvsphere: 2e+10 triangles (at most 1e+08, about 6.6e+03 GB)" m6.mote "${G}body uvsphere radius=1 nlon=100000 nlat=100000\n" check
 printf '%bbody load file=stack.txt\n' "$G" > m7.mote
 "$MOTE" run m7.mote > out.txt 2>&1 && grep -q '^body: warning: the field.s radius R_f = 1.26.* exceeds R_bound = 0.70' out.txt && ok || bad "R_f > R_bound: $(cat out.txt)"
 printf '%bbody load file=cube.txt\n' "$G" > m8.mote

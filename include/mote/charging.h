@@ -55,7 +55,7 @@ double mote_ch_debye(const mote_ch_plasma *p);
 /* The most triangles a body has (generated or loaded), and the memory one takes with its share
  * of the ray-tracing structure, for the estimate checked before a body is made. */
 #define MOTE_CH_MAX_TRI 100000000
-#define MOTE_CH_TRI_BYTES 400.0
+#define MOTE_CH_TRI_BYTES 330.0
 /* The sizes of body (R_bound, m) that trace correctly in Embree's single precision (measured
  * exact from 1e-12 to 1e15 m; a decade kept at each end). */
 #define MOTE_CH_SIZE_MIN 1e-9
@@ -121,7 +121,8 @@ void mote_ch_body_geometry(const mote_ch_body *b, mote_ch_geometry *g);
 /* ---- tracing and Monte Carlo (spec 5) ------------------------------------------------------- */
 
 typedef struct mote_ch_tracer mote_ch_tracer;
-/* Build the ray-tracing structure of b (Embree, robust mode); NULL with err on failure. */
+/* Build the ray-tracing structure of b (Embree, robust mode; the walk of a convex body, which
+ * reads b's triangles: b must outlive the tracer, unchanged); NULL with err on failure. */
 mote_ch_tracer *mote_ch_tracer_new(const mote_ch_body *b, mote_err *err);
 void mote_ch_tracer_free(mote_ch_tracer *t);
 /* The first triangle the ray org + s dir (s > tmin) meets, or -1; *side 0 front, 1 back; *s. */

@@ -34,16 +34,9 @@
  * answer or less for most rays) and its most cells (32 MB) */
 enum { MAX_STEPS = 256, FILL_STEPS = 4096, CELLS_PER_TRI = 16, MAX_CELLS = 8000000 };
 
-/* One triangle as the walk reads it: its vertices and its neighbours, in 96 bytes (a step reads
- * one record, not four tables). */
-typedef struct {
-    double v[3][3];
-    uint32_t nb[3]; /* across edge k (vertex k to k + 1): 4 * neighbour + its edge index */
-    uint32_t pad[3];
-} walk_face;
-
 struct ch_convex {
-    walk_face *face;
+    const double (*v)[3][3]; /* the body's triangles */
+    uint32_t (*nb)[3];       /* across edge k: 4 * neighbour + its edge index */
     double c[3], r2;    /* a centre inside, the squared radius of a sphere about it holding all */
     int m;              /* the cube map's side */
     uint32_t *cube;     /* 6 m^2 cells: a triangle in the cell's direction from c */
@@ -53,7 +46,7 @@ void ch_convex_free(ch_convex *cv)
 {
     if (!cv)
         return;
-    free(cv->face);
+    free(cv->nb);
     free(cv->cube);
     free(cv);
 }
@@ -225,11 +218,11 @@ static int proved_convex(const mote_ch_body *b, uint32_t (*nb)[3], const double 
  * the edge (0 for both). sd[3] = their sum, d . N for the triangle's normal N = (B - A) x (C - A)
  * (< 0: it faces the line's origin), and sd[4] = N . (A - o), the determinant of the vertices
  * seen from o: the line meets the triangle's plane at s = sd[4] / sd[3]. */
-static inline void sides(const walk_face *w, const double o[3], const double d[3], double sd[5])
+static inline void sides(const double (*w)[3], const double o[3], const double d[3], double sd[5])
 {
     double a[3][3], x[3][3];
     for (int k = 0; k < 3; k++)
-        sub3(w->v[k], o, a[k]);
+        sub3(w[k], o, a[k]);
     for (int k = 0; k < 3; k++) {
         cross3(a[k], a[k == 2 ? 0 : k + 1], x[k]);
         sd[k] = dot3(d, x[k]);
@@ -260,10 +253,10 @@ static inline int walk(const ch_convex *cv, const double o[3], const double d[3]
             *f = g;
             return 1;
         }
-        const uint32_t nb = cv->face[g].nb[out];
+        const uint32_t nb = cv->nb[g][out];
         g = nb / 4;
         came = (int)(nb % 4);
-        sides(&cv->face[g], o, d, sd);
+        sides(cv->v[g], o, d, sd);
         if (!(sd[3] < 0))
             return 0; /* across the outline */
     }
@@ -299,17 +292,11 @@ ch_convex *ch_convex_build(const mote_ch_body *b, struct RTCSceneTy *scene)
     cv->r2 *= 1 + 1e-9;
     if (!(cv->r2 > 0) || !proved_convex(b, nb, cv->c, sqrt(cv->r2)))
         goto no;
-    cv->face = malloc(b->ntri * sizeof *cv->face);
-    if (!cv->face)
-        goto no;
-    for (uint32_t f = 0; f < b->ntri; f++) {
-        memcpy(cv->face[f].v, b->v[f], sizeof cv->face[f].v);
-        memcpy(cv->face[f].nb, nb[f], sizeof nb[f]);
-        memset(cv->face[f].pad, 0, sizeof cv->face[f].pad);
-    }
+    cv->v = (const double(*)[3][3])b->v;
+    cv->nb = nb;
     free(vid);
-    free(nb);
-    vid = nb = NULL;
+    vid = NULL;
+    nb = NULL;
     /* the cube map, each cell filled by a walk from the last cell's triangle along the line
      * from outside through c (Embree's ray from c where that fails) */
     const double cells = fmin(CELLS_PER_TRI * (double)b->ntri, MAX_CELLS);
@@ -338,7 +325,7 @@ ch_convex *ch_convex_build(const mote_ch_body *b, struct RTCSceneTy *scene)
         }
         uint32_t f = last;
         double sd[5];
-        sides(&cv->face[f], o, d, sd);
+        sides(cv->v[f], o, d, sd);
         if (!(sd[3] < 0) ||
             walk(cv, o, d, &f, sd, FILL_STEPS) != 1) {
             struct RTCRayHit rh;
@@ -400,11 +387,11 @@ static inline long finish(const ch_convex *cv, const double o[3], const double d
                           double tmax, uint32_t f, int *side, double *s)
 {
     double sd[5];
-    sides(&cv->face[f], o, d, sd);
+    sides(cv->v[f], o, d, sd);
     if (!(sd[3] < 0)) {
         const double nd[3] = {-d[0], -d[1], -d[2]};
         f = cv->cube[cube_cell(cv->m, nd)];
-        sides(&cv->face[f], o, d, sd);
+        sides(cv->v[f], o, d, sd);
         if (!(sd[3] < 0))
             return -2;
     }
@@ -443,8 +430,9 @@ void ch_convex_trace_many(const ch_convex *cv, int n, const double (*o)[3], cons
     for (int j = 0; j < n; j++)
         if (tri[j] > 0) {
             f[j] = cv->cube[cell[j]];
-            __builtin_prefetch(&cv->face[f[j]]);
-            __builtin_prefetch((const char *)&cv->face[f[j]] + 64);
+            __builtin_prefetch(cv->v[f[j]]);
+            __builtin_prefetch((const char *)cv->v[f[j]] + 64);
+            __builtin_prefetch(cv->nb[f[j]]);
         }
     for (int j = 0; j < n; j++)
         if (tri[j] > 0)
