@@ -1162,6 +1162,12 @@ static void test_ray_edges(void)
     CHECK(e5 >= 0 && box.nrm[e5][2] < -0.5 && side == 1 && fabs(d - 1) < 1e-6,
           "from the top face down: triangle %ld (normal z %.2f), side %d, s %.9g", e5,
           e5 >= 0 ? box.nrm[e5][2] : 0, side, d);
+    /* a ray not finite meets nothing, in both queries (Embree would abort on it) */
+    const double nan3[3] = {NAN, 0, -1};
+    CHECK(mote_ch_trace(ts, o1, nan3, tmin, &side, &d) == -1 &&
+              mote_ch_trace(ts, nan3, down, tmin, &side, &d) == -1 &&
+              mote_ch_occluded(ts, o1, nan3, tmin, 10) == 0,
+          "a ray not finite met the sheet");
     mote_ch_tracer_free(tb);
     mote_ch_tracer_free(ts);
     mote_ch_body_free(&box);
@@ -1289,6 +1295,14 @@ static void walk_against_embree(const char *name, const mote_ch_body *b, int nra
           hits, inside, edge);
     CHECK(batch_same == nb && nb == NB, "%s: the batch differs from single traces (%d of %d)",
           name, nb - batch_same, nb);
+    /* a direction of zero or not finite is Embree's to answer (no hit), not the walk's */
+    const double o0[3] = {g.centre[0] + 3 * L, g.centre[1], g.centre[2]}, zero[3] = {0, 0, 0},
+                 nan3[3] = {NAN, 0, -1};
+    int sz;
+    double dz;
+    CHECK(mote_ch_trace(t, o0, zero, 1e-9, &sz, &dz) == -1 &&
+              mote_ch_trace(t, o0, nan3, 1e-9, &sz, &dz) == -1,
+          "%s: a zero or NaN direction hit the body", name);
     mote_ch_tracer_free(t);
 }
 

@@ -55,6 +55,10 @@ ch_convex *ch_convex_build(const mote_ch_body *b, struct RTCSceneTy *scene);
 void ch_convex_free(ch_convex *cv);
 long ch_convex_trace(const ch_convex *cv, const double o[3], const double d[3], double tmin,
                      double tmax, int *side, double *s);
+/* Embree's first hit in the scene (trace.c): the primitive, -1 for none in tmin < s <= tmax;
+ * *side 0 when dir is against the triangle's winding normal; *s. */
+long ch_embree_first(struct RTCSceneTy *scene, const double org[3], const double dir[3],
+                     double tmin, double tmax, int *side, double *s);
 /* Up to CH_TRACE_MANY rays at once (tmax infinite): tri[j] as ch_convex_trace gives it. */
 enum { CH_TRACE_MANY = 32 };
 void ch_convex_trace_many(const ch_convex *cv, int n, const double (*o)[3], const double (*d)[3],

@@ -5,9 +5,10 @@
  * and a ray's first hit needs no search of a hierarchy: seen along the ray, the front-facing
  * triangles tile the body's outline, and a walk from a triangle near the ray to its neighbours
  * finds the one that holds it. Each step asks, for each edge, on which side of it the ray passes
- * (the permuted inner product of the ray's and the edge's Pluecker coordinates, computed for an
- * edge always from its lower-numbered vertex, so that two triangles sharing an edge get exactly
- * opposite signs and no ray slips between them), and crosses an edge the ray passes outside of.
+ * (the permuted inner product of the ray's and the edge's Pluecker coordinates, as
+ * d . ((p - o) x (q - o)): the two triangles sharing the edge compute it from the same two
+ * vertices in opposite order, exact negatives, so no ray slips between them), and crosses an
+ * edge the ray passes outside of.
  * Crossing onto a back-facing triangle means the ray passes outside the outline: a miss. The walk
  * starts at the triangle a map of directions (a cube map about a centre inside the body) gives
  * for the point where the ray enters the body's bounding sphere.
@@ -23,7 +24,6 @@
  * MAX_STEPS steps, a start on a back-facing triangle) it hands back to Embree. */
 #include "ch.h"
 
-#include <embree3/rtcore.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -306,8 +306,6 @@ ch_convex *ch_convex_build(const mote_ch_body *b, struct RTCSceneTy *scene)
     cv->cube = malloc(ncell * sizeof *cv->cube);
     if (!cv->cube)
         goto no;
-    struct RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
     const double far = 2 * sqrt(cv->r2);
     uint32_t last = 0;
     for (size_t q = 0; q < ncell; q++) {
@@ -328,24 +326,12 @@ ch_convex *ch_convex_build(const mote_ch_body *b, struct RTCSceneTy *scene)
         sides(cv->v[f], o, d, sd);
         if (!(sd[3] < 0) ||
             walk(cv, o, d, &f, sd, FILL_STEPS) != 1) {
-            struct RTCRayHit rh;
-            rh.ray.org_x = (float)cv->c[0];
-            rh.ray.org_y = (float)cv->c[1];
-            rh.ray.org_z = (float)cv->c[2];
-            rh.ray.dir_x = (float)u[0];
-            rh.ray.dir_y = (float)u[1];
-            rh.ray.dir_z = (float)u[2];
-            rh.ray.tnear = 0;
-            rh.ray.tfar = INFINITY;
-            rh.ray.time = 0;
-            rh.ray.mask = 0xFFFFFFFFu;
-            rh.ray.id = 0;
-            rh.ray.flags = 0;
-            rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-            rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-            rtcIntersect1(scene, &ctx, &rh);
-            /* from inside a closed surface a ray always meets it; any triangle starts a walk */
-            f = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? 0 : rh.hit.primID;
+            /* Embree's ray from c: from inside a closed surface it always meets it (any
+             * triangle would do to start a walk) */
+            int side;
+            double s;
+            const long e = ch_embree_first(scene, cv->c, u, 0, INFINITY, &side, &s);
+            f = e >= 0 ? (uint32_t)e : 0;
         }
         cv->cube[q] = last = f;
     }
@@ -359,7 +345,8 @@ no:
 }
 
 /* The walk's start for the line o + s d: 1 with the cube map's cell in *cell, or a result
- * already known (-1: no hit in tmin < s <= tmax). */
+ * already known (-1: no hit in tmin < s <= tmax; -2: a direction of zero or not finite, for
+ * Embree). */
 static inline long start_cell(const ch_convex *cv, const double o[3], const double d[3],
                               double tmin, double tmax, uint32_t *cell)
 {
@@ -370,8 +357,8 @@ static inline long start_cell(const ch_convex *cv, const double o[3], const doub
     for (int k = 0; k < 3; k++)
         p[k] = oc[k] + tc * d[k];
     const double p2 = dot3(p, p);
-    if (p2 >= cv->r2)
-        return -1; /* the line passes the sphere holding the body */
+    if (!(p2 < cv->r2)) /* the line passes the sphere holding the body; NaN: Embree decides */
+        return p2 >= cv->r2 ? -1 : -2;
     const double half = sqrt((cv->r2 - p2) * idd);
     if (tc + half <= tmin || tc - half > tmax)
         return -1; /* the segment ends before that sphere or starts after it */

@@ -129,8 +129,8 @@ static void perp_basis(const double n[3], double e1[3], double e2[3])
 /* cos(2 pi u) and sin(2 pi u) for u in [0, 1) with a few bits (a 32-bit draw): u in quarter
  * turns, 4 u = q + f with q whole and |f| <= 1/2 exact, then the Taylor series of cos and sin
  * at theta = f pi / 2 (|theta| <= pi / 4: terms to theta^18 and theta^17, the next below 1e-19)
- * and the quarter turns by swaps. Within 2e-16 of libm's (test_charging), without its range
- * reduction. */
+ * and the quarter turns by swaps. Within 1e-15 of libm's cos(2 pi u) (test_charging; libm's
+ * own argument 2 pi u is rounded by that much), without its range reduction. */
 static inline void cossin_turn(double u, double *c, double *s)
 {
     static const double kc[10] = {-1.0 / 6402373705728000, 1.0 / 20922789888000,
@@ -587,7 +587,9 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                     ch_i128 *msee = see ? psee + (size_t)tid * nsee : NULL;
                     ch_i128 *mpat = patchy ? ppat + (size_t)tid * npw : NULL;
 #define SEE_SCORE(TRI, SIDE, E_EV, COS)                                                           \
-    if (see || patchy) { /* (the energy and the angle only when they are used) */              \
+    do {                                                                                          \
+        if (!see && !patchy) /* the energy and the angle only when they are used */             \
+            break;                                                                                \
         const double e_ = (E_EV), c_ = (COS);                                                     \
         if (see) {                                                                                \
             const mote_ch_material *mat_ = o->tri_material[(TRI)];                                \
@@ -606,7 +608,7 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
         if (patchy && o->tri_patch[(TRI)] >= 0)                                                   \
             patch_score(mpat + (size_t)o->tri_patch[(TRI)] * pw, o, sp->Z,                        \
                         see ? o->tri_material[(TRI)] : NULL, U_s, e_, c_);                        \
-    }
+    } while (0)
 /* a straight path's impact energy: the flux's kinetic energy law, Gamma(2, kT) (eV) */
 #define STRAIGHT_E()                                                                              \
     (see || patchy ? (ch_uniforms4(key, h, (uint32_t)comp, 7, ee_), -sp->kT[k] * log(ee_[0] * ee_[1])) \

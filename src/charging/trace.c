@@ -133,6 +133,9 @@ long mote_ch_trace_seg(const mote_ch_tracer *t, const double org[3], const doubl
                        double tmin, double tmax, int *side, double *s)
 {
     const mote_ch_body *b = t->body;
+    /* a ray not finite meets nothing (Embree would stop the program on it) */
+    if (!isfinite(org[0] + org[1] + org[2] + dir[0] + dir[1] + dir[2]))
+        return -1;
     if (b->sphere) {
         const long k = trace_sphere(b, org, dir, tmin, side, s);
         return k >= 0 && *s <= tmax ? k : -1;
@@ -142,6 +145,12 @@ long mote_ch_trace_seg(const mote_ch_tracer *t, const double org[3], const doubl
         if (f != -2)
             return f;
     }
+    return ch_embree_first(t->scene, org, dir, tmin, tmax, side, s);
+}
+
+long ch_embree_first(struct RTCSceneTy *scene, const double org[3], const double dir[3],
+                     double tmin, double tmax, int *side, double *s)
+{
     struct RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     struct RTCRayHit rh;
@@ -159,7 +168,7 @@ long mote_ch_trace_seg(const mote_ch_tracer *t, const double org[3], const doubl
     rh.ray.flags = 0;
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(t->scene, &ctx, &rh);
+    rtcIntersect1(scene, &ctx, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID)
         return -1;
     const long i = (long)rh.hit.primID;
@@ -185,6 +194,8 @@ int mote_ch_occluded(const mote_ch_tracer *t, const double org[3], const double 
                      double tmin, double tmax)
 {
     const mote_ch_body *b = t->body;
+    if (!isfinite(org[0] + org[1] + org[2] + dir[0] + dir[1] + dir[2]))
+        return 0; /* as mote_ch_trace_seg: a ray not finite meets nothing */
     if (b->sphere) {
         int side;
         double s;
