@@ -38,6 +38,16 @@ ASSIMP_LIBS := $(shell pkg-config --libs assimp 2>/dev/null || echo -lassimp)
 # the live view's HTTP server (libmicrohttpd)
 MHD_LIBS := $(shell pkg-config --libs libmicrohttpd 2>/dev/null || echo -lmicrohttpd)
 LDLIBS  := $(CAIRO_LIBS) -lembree3 $(ASSIMP_LIBS) $(MHD_LIBS) -lpthread -lm
+# The programs (mote, the tests, the benchmarks) link libgomp statically, so that the
+# constructor of MOTE_PROGRAM_THREADS (core.h) sets its spin count before libgomp reads it:
+# threads that never spin on a busy machine. The libraries (libmote.so, the Python extension)
+# link it as a shared library.
+ifneq ($(strip $(OPENMP)),)
+EXE_LIBS := -Wl,--push-state,-Bstatic -lgomp -Wl,--pop-state $(LDLIBS)
+else
+EXE_LIBS := $(LDLIBS)
+endif
+EXE_CFLAGS = $(filter-out $(OPENMP),$(ALL_CFLAGS))
 
 # every folder of src/ but the program's: a new model's folder is built without naming it here
 LIB_SRC  := $(sort $(filter-out src/cli/%,$(wildcard src/*/*.c)))
@@ -100,20 +110,24 @@ $(PY_PKG)/_mote.so.stamp: python/mote/_mote.c python/mote/__init__.py $(PIC_OBJ)
 	touch $@
 
 $(BUILD)/mote: $(CLI_OBJ) $(BUILD)/libmote.a
-	$(CC) $(ALL_CFLAGS) $(CLI_OBJ) $(BUILD)/libmote.a $(LDLIBS) -o $@
+	$(CC) $(EXE_CFLAGS) $(CLI_OBJ) $(BUILD)/libmote.a $(EXE_LIBS) -o $@
 
 $(BUILD)/tests/%: tests/%.c $(BUILD)/libmote.a $(HDRS)
 	@mkdir -p $(dir $@)
-	$(CC) $(ALL_CFLAGS) -Itests $< $(BUILD)/libmote.a $(LDLIBS) -o $@
+	$(CC) $(ALL_CFLAGS) -c -Itests $< -o $@.o
+	$(CC) $(EXE_CFLAGS) $@.o $(BUILD)/libmote.a $(EXE_LIBS) -o $@
 
 # the corpus replay links the fuzz targets (fuzz/targets.c)
 $(BUILD)/tests/test_fuzz: tests/test_fuzz.c fuzz/targets.c fuzz/fuzz.h $(BUILD)/libmote.a $(HDRS)
 	@mkdir -p $(dir $@)
-	$(CC) $(ALL_CFLAGS) -Itests -Ifuzz tests/test_fuzz.c fuzz/targets.c $(BUILD)/libmote.a $(LDLIBS) -o $@
+	$(CC) $(ALL_CFLAGS) -c -Itests -Ifuzz tests/test_fuzz.c -o $@.o
+	$(CC) $(ALL_CFLAGS) -c -Itests -Ifuzz fuzz/targets.c -o $@.targets.o
+	$(CC) $(EXE_CFLAGS) $@.o $@.targets.o $(BUILD)/libmote.a $(EXE_LIBS) -o $@
 
 $(BUILD)/bench/%: bench/%.c $(BUILD)/libmote.a $(HDRS)
 	@mkdir -p $(dir $@)
-	$(CC) $(ALL_CFLAGS) $< $(BUILD)/libmote.a $(LDLIBS) -o $@
+	$(CC) $(ALL_CFLAGS) -c $< -o $@.o
+	$(CC) $(EXE_CFLAGS) $@.o $(BUILD)/libmote.a $(EXE_LIBS) -o $@
 
 # The N-body model again in long double and in quad, for test_precision_long and _quad (spec
 # 4.6; only from a double build): its objects in $(BUILD)/long and $(BUILD)/quad, linked before
@@ -131,7 +145,8 @@ $(BUILD)/quad/%.o: %.c $(HDRS)
 .SECONDEXPANSION:
 $(BUILD)/tests/test_precision_%: tests/test_precision.c $(NB_SRC:%.c=$(BUILD)/$$*/%.o) $(BUILD)/libmote.a $(HDRS)
 	@mkdir -p $(dir $@)
-	$(CC) $(ALL_CFLAGS) $(PREC_FLAGS_$*) -Itests $< $(NB_SRC:%.c=$(BUILD)/$*/%.o) $(BUILD)/libmote.a $(LDLIBS) -o $@
+	$(CC) $(ALL_CFLAGS) $(PREC_FLAGS_$*) -c -Itests $< -o $@.o
+	$(CC) $(EXE_CFLAGS) $@.o $(NB_SRC:%.c=$(BUILD)/$*/%.o) $(BUILD)/libmote.a $(EXE_LIBS) -o $@
 
 tests: $(BUILD)/mote $(TEST_BIN) $(BENCH_BIN) $(PREC_BIN) python
 bench: $(BUILD)/mote $(BENCH_BIN)

@@ -37,6 +37,8 @@
 #include <string.h>
 #include <time.h>
 
+MOTE_PROGRAM_THREADS
+
 static double now(void)
 {
     struct timespec ts;

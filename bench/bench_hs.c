@@ -23,6 +23,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+MOTE_PROGRAM_THREADS
+
 #define CHUNKS 20
 
 typedef struct {

@@ -53,6 +53,8 @@
 #include <mpi.h>
 #endif
 
+MOTE_PROGRAM_THREADS
+
 /* the build's real type (make PRECISION=), as a word */
 #define PREC (MOTE_NB_PRECISION == 4 ? "quad" : MOTE_NB_PRECISION == 2 ? "long" : "double")
 

@@ -13,6 +13,10 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "mote/core.h"
+
+MOTE_PROGRAM_THREADS
+
 static int test_passed_, test_failed_;
 
 /* CHECK(cond, fmt, ...): fmt and its arguments explain a failure. */

@@ -159,4 +159,23 @@ size_t mote_peak_rss_bytes(void);
 /* Format a double like "%.17g" but write negative zero as "0". buf must hold 32 bytes. */
 void mote_fmt_exact(char *buf, double x);
 
+/* ---- threads that never spin on a busy machine ---------------------------------------------- */
+
+/* libgomp's threads spin 300 000 rounds at every barrier before they sleep: on a machine whose
+ * other cores are busy, a thread spins while the partner it waits for is descheduled, and two
+ * threads ran 25x slower than one (the separator's column, two busy processes beside it). A
+ * spin count of 1000 (libgomp's own count for an oversubscribed machine) keeps a quiet machine's
+ * speed within the noise and a loaded one's; OMP_WAIT_POLICY=PASSIVE cost a quiet machine 16%
+ * (bench/threads.sh, bench/README.md). This sets GOMP_SPINCOUNT=1000 unless the user set
+ * GOMP_SPINCOUNT or OMP_WAIT_POLICY. libgomp reads them once, when it starts, so it must run
+ * before: MOTE_PROGRAM_THREADS in a program that links libgomp statically (as the Makefile links
+ * mote, the tests and the benchmarks) does it in a constructor that runs first; the Python
+ * package sets it before it loads its extension. */
+void mote_threads_quiet(void);
+#define MOTE_PROGRAM_THREADS                                                                      \
+    __attribute__((constructor(101))) static void mote_program_threads_(void)                  \
+    {                                                                                           \
+        mote_threads_quiet();                                                                   \
+    }
+
 #endif

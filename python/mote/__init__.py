@@ -18,6 +18,12 @@ import re as _re
 
 import numpy as _np
 
+# libgomp reads its spin count once, when it is loaded with the extension below: threads that spin
+# 1000 rounds, not 300 000, before they sleep are never slower than one on a busy machine
+# (mote_threads_quiet in core.h). The user's own setting wins.
+if "GOMP_SPINCOUNT" not in _os.environ and "OMP_WAIT_POLICY" not in _os.environ:
+    _os.environ["GOMP_SPINCOUNT"] = "1000"
+
 from ._mote import MoteError, Session as _Session, models as _models, version as __version__
 from . import _mote
 

@@ -16,6 +16,8 @@
 #include <stdio.h>
 #include <string.h>
 
+MOTE_PROGRAM_THREADS
+
 #ifdef MOTE_MPI
 #include <mpi.h>
 #include <stdlib.h>

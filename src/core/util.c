@@ -144,3 +144,9 @@ int mote_lines_close(mote_lines *r, mote_err *err)
                          r->line);
     return bad ? mote_fail(err, MOTE_EIO, "%s: read error", r->path) : MOTE_OK;
 }
+
+void mote_threads_quiet(void)
+{
+    if (!getenv("GOMP_SPINCOUNT") && !getenv("OMP_WAIT_POLICY"))
+        setenv("GOMP_SPINCOUNT", "1000", 0);
+}

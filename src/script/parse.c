@@ -7,6 +7,7 @@
 #include "script_internal.h"
 
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -216,7 +217,11 @@ static int convert_arg(mote_script *s, const mote_cmd *def, const char *written,
     switch (type) {
     case 'i':
     case 'u': {
-        uint64_t max = type == 'i' ? (uint64_t)INT64_MAX : UINT64_MAX;
+        /* an integer is a count the commands hold in an int: at most 2^31 - 1 unless its
+         * table allows more ('u', seeds, takes any 64-bit value) */
+        uint64_t max = type == 'u'                              ? UINT64_MAX
+                       : sp.hi_set && sp.hi > (double)INT_MAX ? (uint64_t)INT64_MAX
+                                                              : (uint64_t)INT_MAX;
         const char *what = type == 'i' ? "an integer" : "an unsigned integer";
         uint64_t v = 0;
         int rc = t->quoted ? 1 : parse_unsigned(t->text, max, &v);
@@ -759,6 +764,8 @@ static int define_variable(mote_script *s, const token_list *tl, mote_err *err)
  * is text a person writes, and its check lists every command it will run. */
 #define LOOP_MAX_PASSES 1000000L
 #define LOOP_MAX_LINES 1000000L
+/* The most bytes of commands a script may expand to (its text is at most 64 MiB too). */
+#define SCRIPT_MAX_EXPANDED ((size_t)64 << 20)
 
 static int is_word(const token_list *tl, int k, const char *w)
 {
@@ -801,6 +808,12 @@ static int find_end(mote_script *s, const token *for_tok, const char *p, const c
         if (!rc && (is_word(&tl, 0, "for") || is_word(&tl, 0, "ensemble")))
             depth++;
         else if (!rc && is_word(&tl, 0, "end") && depth-- == 0) {
+            if (tl.n > 1) {
+                rc = mote_script_fail_at(err, s->ctx.script_path, tl.t[1].line, tl.t[1].col,
+                                         MOTE_EINVAL, "end: expected nothing after 'end', found "
+                                         "'%.60s'", tl.t[1].text);
+                break;
+            }
             *body_end = p;
             *after = nl ? nl + 1 : NULL;
             *after_line = line + 1;
@@ -849,11 +862,11 @@ static int parse_loop(mote_script *s, token_list *tl, const char *body, const ch
         return mote_script_fail_at(err, file, name->line, name->col, MOTE_EINVAL,
                                    "for: a variable name is a letter or '_', then letters, "
                                    "digits or '_', found '%s'", name->text);
-    for (int k = 0; k < s->nvars; k++)
-        if (s->vars[k].fixed && !strcmp(s->vars[k].name, name->text))
-            return mote_script_fail_at(err, file, name->line, name->col, MOTE_EINVAL,
-                                       "for: '%s' is a parameter given on the command line; "
-                                       "loop over another name", name->text);
+    const mote_var *fixed = mote_vars_find(s, name->text, strlen(name->text));
+    if (fixed && fixed->fixed)
+        return mote_script_fail_at(err, file, name->line, name->col, MOTE_EINVAL,
+                                   "for: '%s' is a parameter given on the command line; loop "
+                                   "over another name", name->text);
     if (s->nloops == MOTE_LOOP_DEPTH)
         return mote_script_fail_at(err, file, t[0].line, t[0].col, MOTE_EINVAL,
                                    "for: more than %d loops inside each other", MOTE_LOOP_DEPTH);
@@ -886,15 +899,22 @@ static int parse_loop(mote_script *s, token_list *tl, const char *body, const ch
     lp->name = name->text;
     lp->line = t[0].line;
     for (long k = 0; k < passes && !rc; k++) {
+        /* a pass of an empty body counts as a line, so nested empty loops stay bounded too */
+        if (body_end == body && ++s->lines_read > LOOP_MAX_LINES) {
+            rc = mote_script_fail_at(err, file, s->loops[0].line, 1, MOTE_EINVAL,
+                                     "for: the loops read more than %ld lines (every pass "
+                                     "counts)", LOOP_MAX_LINES);
+            break;
+        }
         char num[64];
         if (from) /* A + k S: no sum carried from pass to pass */
             mote_vars_format(a + (double)k * step, num, sizeof num);
         const char *value = from ? num : t[3 + k].text;
         if (mote_vars_set(s, name->text, value, 0))
             rc = mote_script_fail_plain(err, MOTE_ENOMEM, "out of memory reading the script");
-        for (int v = 0; v < s->nvars; v++) /* (for messages: the stored copy, which outlives num) */
-            if (!strcmp(s->vars[v].name, name->text))
-                lp->value = s->vars[v].value;
+        const mote_var *var = mote_vars_find(s, name->text, strlen(name->text));
+        if (var) /* (for messages: the stored copy, which outlives num) */
+            lp->value = var->value;
         if (!rc)
             rc = parse_lines(s, body, body_end, body_line, models, nmodels, err);
     }
@@ -917,11 +937,11 @@ static int parse_ensemble(mote_script *s, token_list *tl, const char *body, cons
         return mote_script_fail_at(err, file, t[0].line, t[0].col, MOTE_EINVAL,
                                    "ensemble: an ensemble inside an ensemble (a replica is one "
                                    "run; loop inside it, or around it)");
-    for (int k = 0; k < s->nvars; k++)
-        if (s->vars[k].fixed && !strcmp(s->vars[k].name, "replica"))
-            return mote_script_fail_at(err, file, t[0].line, t[0].col, MOTE_EINVAL,
-                                       "ensemble: 'replica' is a parameter given on the command "
-                                       "line, but inside an ensemble it numbers the replicas");
+    const mote_var *given = mote_vars_find(s, "replica", 7);
+    if (given && given->fixed)
+        return mote_script_fail_at(err, file, t[0].line, t[0].col, MOTE_EINVAL,
+                                   "ensemble: 'replica' is a parameter given on the command line, "
+                                   "but inside an ensemble it numbers the replicas");
     if (s->nloops == MOTE_LOOP_DEPTH)
         return mote_script_fail_at(err, file, t[0].line, t[0].col, MOTE_EINVAL,
                                    "ensemble: more than %d loops inside each other",
@@ -949,9 +969,9 @@ static int parse_ensemble(mote_script *s, token_list *tl, const char *body, cons
         snprintf(num, sizeof num, "%d", r + 1);
         if (mote_vars_set(s, "replica", num, 0))
             rc = mote_script_fail_plain(err, MOTE_ENOMEM, "out of memory reading the script");
-        for (int v = 0; v < s->nvars; v++)
-            if (!strcmp(s->vars[v].name, "replica"))
-                lp->value = s->vars[v].value;
+        const mote_var *var = mote_vars_find(s, "replica", 7);
+        if (var)
+            lp->value = var->value;
         start[r] = s->ncalls;
         if (!rc)
             rc = parse_lines(s, body, body_end, body_line, models, nmodels, err);
@@ -970,7 +990,7 @@ static int parse_lines(mote_script *s, const char *p, const char *end, int line,
 {
     token_list tl = {NULL, 0, 0, NULL, NULL};
     int rc = 0;
-    while (p && p <= end && !rc) {
+    while (p && p < end && !rc) {
         const char *nl = memchr(p, '\n', (size_t)(end - p));
         const char *le = nl ? nl : end;
         if (le > p && le[-1] == '\r')
@@ -985,6 +1005,12 @@ static int parse_lines(mote_script *s, const char *p, const char *end, int line,
         const int is_set = !rc && is_word(&tl, 0, "set"), is_for = !rc && is_word(&tl, 0, "for");
         if (!rc && tl.n > 0)
             rc = expand_line(s, &tl, is_set || is_for, err);
+        if (!rc && tl.n > 0 &&
+            (s->bytes_read += (size_t)(tl.src_end - tl.src_begin) + 1) > SCRIPT_MAX_EXPANDED)
+            rc = mote_script_fail_at(err, s->ctx.script_path, line, 1, MOTE_EINVAL,
+                                     "the script's commands, with every pass of its loops and "
+                                     "its variables replaced, exceed %d MiB",
+                                     (int)(SCRIPT_MAX_EXPANDED >> 20));
         if (!rc && is_word(&tl, 0, "ensemble")) {
             const char *next = NULL;
             int next_line = line;
@@ -1089,6 +1115,12 @@ static int define_params(mote_script *s, const char *const *params, int nparams,
                 return mote_script_fail_plain(err, MOTE_EINVAL, "mote: error: parameter '%.*s' "
                                               "is given twice ('%s' and '%s')", (int)n,
                                               params[i], params[j], params[i]);
+        const char *bad = mote_var_value_bad(eq + 1);
+        if (bad)
+            return mote_script_fail_plain(err, MOTE_EINVAL, "mote: error: parameter '%.*s': the "
+                                          "value holds %s (a value becomes words of the "
+                                          "script, file names and header lines)", (int)n,
+                                          params[i], bad);
         char name[256];
         snprintf(name, sizeof name, "%.*s", (int)n, params[i]);
         if (mote_vars_set(s, name, eq + 1, 1))
@@ -1209,6 +1241,7 @@ void mote_script_free(mote_script *s)
     mote_ensemble_free_summaries(s);
     free(s->ens);
     free(s->vars);
+    free(s->vhash);
     free(s->calls);
     mote_arena_free(&s->arena);
     free(s);

@@ -364,9 +364,14 @@ const mote_cmd mote_script_common_cmds[] = {
      "it. `${NAME}` in any word of a later line stands for the value, inside the word\n"
      "(`file=rho_${eta}.dat`; a value never splits a word in two). `${EXPR}` is\n"
      "arithmetic on numbers and variables with + - * / ^ and parentheses (`${eta*2}`,\n"
-     "`${(a+b)/2}`, `${2^10}`; no spaces inside, as a space ends a word), written with\n"
-     "15 significant digits as a calculator shows them (`${0.1*3}` is 0.3, `${1/3}`\n"
-     "0.333333333333333, `${2^60}` 1.15292150460685e+18). `$$` writes one `$`.\n"
+     "`${(a+b)/2}`, `${2^10}`; no spaces inside, as a space ends a word), the functions\n"
+     "sqrt exp log log10 sin cos tan asin acos atan abs floor ceil round of one argument\n"
+     "and atan2 min max pow of two (`${sqrt(2*kT)}`, `${max(a,b)}`), and pi (unless a\n"
+     "variable is named so). The result is written with 15 significant digits as a\n"
+     "calculator shows it (`${0.1*3}` is 0.3, `${1/3}` 0.333333333333333, `${2^60}`\n"
+     "1.15292150460685e+18), a whole number up to 2^53 with every digit (`${2^53}` is\n"
+     "9007199254740992, so a seed computed in `${...}` is exact). `$$` writes one `$`.\n"
+     "Expressions nest at most 200 levels deep.\n"
      "\n"
      "Parameters on the command line, `mote run study.mote eta=0.45 out=run1`, fix their\n"
      "variables: a `set` of the same name then keeps the command line's value, so `set`\n"
@@ -374,8 +379,9 @@ const mote_cmd mote_script_common_cmds[] = {
      "run - NAME=VALUE` reads the script from standard input. The values are put in as\n"
      "the script is read, so `mote check` checks the commands as they will run, and\n"
      "data-file headers show the command with its values. An undefined variable, a word\n"
-     "that is not a number in `${...}`, or a result that is not finite is an error\n"
-     "naming the line, and nothing runs.\n",
+     "that is not a number in `${...}`, a result that is not finite, or a parameter\n"
+     "value holding a line break or another control character is an error naming the\n"
+     "line, and nothing runs.\n",
      NULL, set_run},
     {"for", NULL, "*", "for NAME in V1 V2 ... | for NAME from A to B [step S]",
      "repeat the lines up to `end` for each value of NAME",
@@ -387,11 +393,13 @@ const mote_cmd mote_script_common_cmds[] = {
      "Read the lines up to the matching `end` once for each value, with the variable\n"
      "NAME set to it (see `set`): the words after `in`, or the numbers A, A + S, A + 2S,\n"
      "... up to B (B itself when (B - A)/S is a whole number; each value is A + kS, not\n"
-     "a running sum, written with 15 significant digits; S is 1 unless given, and may be\n"
+     "a running sum, written as `${...}` writes numbers; S is 1 unless given, and may be\n"
      "negative). Loops nest, up to 16 deep; after the loop NAME keeps its last value.\n"
      "The check lists every pass: `mote check` checks each command as each pass will run\n"
      "it, and an error names the line and the pass, `(in the loop: eta=0.45, k=2)`. A\n"
-     "loop reads its body at most 10^6 times, and all loops together at most 10^6 lines.\n"
+     "loop reads its body at most 10^6 times, and all loops together at most 10^6 lines\n"
+     "(`end` is not one; a pass of an empty body is), and the whole script expands to at\n"
+     "most 64 MiB of commands. `end` takes nothing after it.\n"
      "A loop works on the system the script has: to sweep fresh systems, begin each pass\n"
      "with `reset`.\n",
      NULL, set_run},
@@ -463,7 +471,11 @@ const mote_cmd mote_script_common_cmds[] = {
      "dispersion draws random kicks, which come from one stream). The hard-spheres and\n"
      "mixing-box models run on one thread; for them the first `threads` command\n"
      "prints a note and none has an effect, except on an `ensemble`, whose replicas\n"
-     "run side by side on N threads in every model (its results never depend on N).\n",
+     "run side by side on N threads in every model (its results never depend on N).\n"
+     "Threads wait for each other without spinning for long (mote sets libgomp's\n"
+     "GOMP_SPINCOUNT to 1000 unless GOMP_SPINCOUNT or OMP_WAIT_POLICY is set), so on a\n"
+     "machine whose other cores are busy two threads are not slower than one\n"
+     "(bench/threads.sh).\n",
      NULL, threads_run},
     {"seed", NULL, "u", "seed S", "restart the random stream from S (default 1)",
      "Restart the run's random stream from the unsigned 64-bit integer S\n"

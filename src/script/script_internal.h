@@ -55,6 +55,8 @@ struct mote_script {
     mote_context ctx;
     mote_var *vars; /* malloc'ed */
     int nvars, capvars;
+    int *vhash, vhcap; /* the variables by name (vars.c; malloc'ed) */
+    size_t bytes_read; /* the bytes of the lines read, each pass of a loop's body again (bounded) */
     mote_loop_pass loops[MOTE_LOOP_DEPTH];
     int nloops;
     long lines_read; /* lines read, each pass of a loop's body again (bounded) */
@@ -139,10 +141,16 @@ int mote_push_token(token_list *tl, token t);
 
 /* Is s[0 .. n) a variable name (a letter or '_', then letters, digits, '_')? */
 int mote_var_name_ok(const char *s, size_t n);
+/* The variable NAME (n bytes), or NULL. */
+mote_var *mote_vars_find(mote_script *s, const char *name, size_t n);
+/* What a value holds that no variable may ("a line break", ...; a value becomes words, file
+ * names and header lines), or NULL when it is fine. */
+const char *mote_var_value_bad(const char *value);
 /* Define or replace NAME (fixed: from the command line; a later non-fixed set keeps it).
  * -1 when out of memory. */
 int mote_vars_set(mote_script *s, const char *name, const char *value, int fixed);
-/* A number as variables hold it: 15 significant digits, "%.15g" (0.3, 2000, 1e+20). */
+/* A number as variables hold it: a whole number to 2^53 with every digit, else 15 significant
+ * digits, "%.15g" (0.3, 2000, 1e+20). */
 void mote_vars_format(double x, char *buf, size_t cap);
 /* text with its ${NAME}, ${EXPR} and $$ replaced (*out: text itself when it has no '$', else a
  * string in the arena); errors located at FILE:LINE:COL, the word's position. */
