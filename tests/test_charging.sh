@@ -170,7 +170,19 @@ expect 1 "re2.mote:4:19: error: run: max_particles is the limit of relerr=; give
 # float replicas (spec 6.5): the spread of the roots over 8 seeds agrees with sigma_U (the sample
 # standard deviation of 8 normal values lies within 0.35 ... 1.75 sigma with 99% probability)
 printf '%bplasma preset single n=1e6 kT=1000\nbody sphere radius=1\nfloat particles=1e5 replicas=8 U0=-5000\n' "$G" > rp.mote
-"$MOTE" run rp.mote > out.txt 2> err.txt && awk '/^float: 8 replicas/ { m = $7; sd = $11; s = $17 } END { r = sd / s; exit !(r >= 0.35 && r <= 1.75 && m < -2490 && m > -2520) }' out.txt && ok || bad "replicas: $(grep '^float: 8' out.txt) $(cat err.txt)"
+"$MOTE" run rp.mote > out.txt 2> err.txt && sed -n 's/^float: 8 replicas: .*standard deviation \([0-9.e+-]*\) V, the single run.s sigma_U \([0-9.e+-]*\) V)$/\1 \2/p' out.txt |
+    awk '{ m++; r = $1 / $2 } END { exit !(m == 1 && r >= 0.35 && r <= 1.75) }' && ok || bad "replicas: $(grep '^float: 8' out.txt) $(cat err.txt)"
+# every replica listed (1 ... 8), and what the command reports is their mean, with the standard
+# error of the mean and its 95% interval (Student's t(0.975, 7) = 2.364624), not replica 1's root
+# (recomputed from the roots as printed, 6 digits: +-0.005 V on a spread of about 1.2 V moves
+# the standard deviation by up to 0.5%, so 1%; the mean to 1e-5)
+sed -n 's/^float: replica \([0-9]*\) (seed [0-9]*): U_f = \([0-9.e+-]*\) V +- .*/\1 \2/p' out.txt > reps.txt
+sed -n 's/^float: 8 replicas: mean U_f = \([0-9.e+-]*\) V +- \([0-9.e+-]*\) (standard error of the mean; 95% confidence +- \([0-9.e+-]*\), Student.s t 2.365 with 7 degrees of freedom;.*/\1 \2 \3/p' out.txt > mean.txt
+sed -n 's/^float: U_f = \([0-9.e+-]*\) V +- \([0-9.e+-]*\) (OML.*/\1 \2/p' out.txt > final.txt
+awk 'FILENAME == "reps.txt" { n++; if ($1 != n) bad = 1; u[n] = $2; s += $2; next } FILENAME == "mean.txt" { pm = $1; pe = $2; pc = $3; next } { fm = $1; fe = $2 }
+     END { m = s / n; for (k = 1; k <= n; k++) v += (u[k] - m) ^ 2; se = sqrt(v / (n - 1) / n)
+           exit !(n == 8 && !bad && (pm - m) ^ 2 <= (1e-5 * m) ^ 2 && (pe - se) ^ 2 <= (0.01 * se) ^ 2 && (pc - 2.364624 * se) ^ 2 <= (0.01 * pc) ^ 2 && fm == pm && fe == pe) }' reps.txt mean.txt final.txt && ok ||
+    bad "replicas: the mean and its error: $(cat reps.txt mean.txt final.txt | tr '\n' ' ')"
 # body capacitance (spec 4.3): C and the field's radius R_f = C/(4 pi eps0); attracted
 # electrons (qU/kT = -1) still collect 2 I0 when the body sits inside a larger R_f (the flux
 # inside the equipotential sphere is isotropic with j0 (1 - qU/kT))

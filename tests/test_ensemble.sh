@@ -30,24 +30,28 @@ grep -v '^seed: 6$\|seconds=' alone.txt > al.txt
 sed '2d' p_2.dat > x1 2>/dev/null; sed '2d' t2/p_2.dat > x2
 cmp -s x1 x2 && ok || bad "replica 2's data file differs from the run alone's (beyond its command line)"
 # the mean and standard error: recomputed from the replicas' values in file=
-awk '/^# pressure.Z = / { m = $4; e = $6 } /^[0-9]/ { n++; z[n] = $5 }
+# and the 95% interval: Student's t(0.975, 2) = 4.302653 times the standard error
+awk '/^# pressure.Z = / { m = $4; e = $6; c = $10 } /^[0-9]/ { n++; z[n] = $5 }
      END { for (i = 1; i <= n; i++) s += z[i]; mean = s / n; for (i = 1; i <= n; i++) v += (z[i] - mean) ^ 2;
-           se = sqrt(v / (n - 1) / n); exit !(n == 3 && (m - mean) ^ 2 <= 1e-20 * mean ^ 2 && (e - se) ^ 2 <= 1e-10 * se ^ 2) }' t2/z.dat && ok ||
-    bad "pressure.Z mean and error are not those of the replicas: $(grep -v '^# [a-z]*:' t2/z.dat | tail -n 5)"
-grep -q '^ensemble: pressure.Z = [0-9.]* ± [0-9.e-]* (3 replicas)$' t2/out.txt && ok || bad "the printed mean: $(grep 'pressure.Z' t2/out.txt)"
+           se = sqrt(v / (n - 1) / n); ci = 4.302653 * se
+           exit !(n == 3 && (m - mean) ^ 2 <= 1e-20 * mean ^ 2 && (e - se) ^ 2 <= 1e-10 * se ^ 2 && (c - ci) ^ 2 <= 1e-10 * ci ^ 2) }' t2/z.dat && ok ||
+    bad "pressure.Z mean, error and interval are not those of the replicas: $(grep -v '^# [a-z]*:' t2/z.dat | tail -n 5)"
+grep -q '^ensemble: pressure.Z = [0-9.]* ± [0-9.e-]* (95% confidence; standard error [0-9.e-]*, Student.s t 4.303 with 2 degrees of freedom; 3 replicas)$' t2/out.txt && ok || bad "the printed mean: $(grep 'pressure.Z' t2/out.txt)"
+grep -q "^ensemble: warning: 3 replicas: the spread of so few values says little about the error (the 95% interval is 4.3 standard errors wide each way)" t2/err.txt && ok || bad "no warning for 3 replicas: $(cat t2/err.txt)"
 
 # summary= over a loop: one row per ensemble, the loop's value first; plotted with error bars
 printf 'for eta in 0.2 0.3\nensemble 2 summary=eos.dat\nbulk 108 ${eta}\nstep 200\npressure 200 p_${eta}_${replica}.dat\nend\nend\nplot eos.dat to=z.png x=eta y=pressure.Z\n' > sw.mote
 "$MOTE" run sw.mote > out.txt 2> err.txt && ok || bad "summary sweep failed: $(cat err.txt)"
-[ "$(grep -vc '^#' eos.dat)" = 2 ] && grep -q '^# columns: eta pressure.omega pressure.omega_err ' eos.dat && ok || bad "summary: $(cat eos.dat)"
+[ "$(grep -c '^ensemble: warning: 2 replicas' err.txt)" = 1 ] && ok || bad "the warning about few replicas, once a script: $(cat err.txt)"
+[ "$(grep -vc '^#' eos.dat)" = 2 ] && grep -q '^# columns: eta pressure.omega pressure.omega_err pressure.omega_ci95 ' eos.dat && ok || bad "summary: $(cat eos.dat)"
 awk '!/^#/ { n++; e[n] = $1 } END { exit !(e[1] == 0.2 && e[2] == 0.3) }' eos.dat && ok || bad "summary rows: $(grep -v '^#' eos.dat)"
 grep -q '^plot: wrote z.png$' out.txt && ok || bad "the summary is not plotted: $(cat err.txt)"
 
 # the other models with random numbers: their results averaged
 printf 'model mixing-box\nensemble 2\nbox 0 0.4 0 0.2\npartition 0.2 0.01\nslit 0.1 0.04\nradius 0.004\ndisks 30 20\nv_init 1\nplace\nrun 0.1\nend\n' > mb.mote
-"$MOTE" run mb.mote > out.txt 2> err.txt && grep -q '^ensemble: run.mixing_fraction = .* (2 replicas)$' out.txt && ok || bad "mixing box: $(cat err.txt; grep '^ensemble' out.txt)"
+"$MOTE" run mb.mote > out.txt 2> err.txt && grep -q '^ensemble: run.mixing_fraction = .* 2 replicas)$' out.txt && ok || bad "mixing box: $(cat err.txt; grep '^ensemble' out.txt)"
 printf 'model charging\nensemble 2\nplasma preset single n=1e6 kT=10\nbody sphere radius=1\nfloat particles=2000\nend\n' > ch.mote
-"$MOTE" run ch.mote > out.txt 2> err.txt && grep -q '^ensemble: float.U_f = -[0-9.]* ± [0-9.e-]* (2 replicas)$' out.txt && ok || bad "charging: $(cat err.txt; grep '^ensemble' out.txt)"
+"$MOTE" run ch.mote > out.txt 2> err.txt && grep -q '^ensemble: float.U_f = -[0-9.]* ± [0-9.e-]* (95% confidence; .* 1 degree of freedom; 2 replicas)$' out.txt && ok || bad "charging: $(cat err.txt; grep '^ensemble' out.txt)"
 printf 'model separator\nensemble 2\n%binsert quartz 100\nrun 2\ntromp t_${replica}.dat\nend\n' "$(printf '%b' "$SEP_DILUTE" | sed 1d)\n" > sp.mote
 "$MOTE" run sp.mote > out.txt 2> err.txt && grep -q '^ensemble: tromp.d50 = ' out.txt && grep -q '^ensemble: tromp.kappa = ' out.txt && ok || bad "separator: $(cat err.txt; grep '^ensemble' out.txt)"
 # the script's own system is left as it was
@@ -61,7 +65,8 @@ printf 'new 2 0.3\nstep 10\nstep 10\n' > nokeep.mote
 # 151.84 um (the estimate from 25 classes reads about 1 % low), kappa near 1 (a dilute cut)
 cp "$SRC/examples/tromp-sweep.mote" .
 "$MOTE" run tromp-sweep.mote N=1000 > out.txt 2> err.txt && ok || bad "tromp-sweep.mote failed: $(cat err.txt)"
-grep -v '^#' out/tromp-sweep/tromp.dat | awk '{ n++; d[n] = $2; k[n] = $4 } END { r = d[2] / 151.84e-6 - 1;
+grep -q '^# columns: u tromp.d50 tromp.d50_err tromp.d50_ci95 tromp.kappa ' out/tromp-sweep/tromp.dat && ok || bad "tromp-sweep columns: $(grep columns out/tromp-sweep/tromp.dat)"
+grep -v '^#' out/tromp-sweep/tromp.dat | awk '{ n++; d[n] = $2; k[n] = $5 } END { r = d[2] / 151.84e-6 - 1;
     exit !(n == 3 && d[1] < d[2] && d[2] < d[3] && r * r <= 0.0004 && k[1] > 0.9 && k[2] > 0.9 && k[3] > 0.9) }' && ok ||
     bad "tromp-sweep: $(grep -v '^#' out/tromp-sweep/tromp.dat)"
 [ -s out/tromp-sweep/tromp.png ] && [ -s out/tromp-sweep/d50.png ] && ok || bad "tromp-sweep pictures: $(ls out/tromp-sweep)"

@@ -94,6 +94,12 @@ for label in sys.argv[2:]:
                  re.findall(r"\r%s: run ([0-9]+), ([0-9.]+)%%" % re.escape(label), lines)]
             if p[0][0] != 1 or not p[-1][0] > 1:
                 bad.append("%s: runs %d to %d" % (label, p[0][0], p[-1][0]))
+            # the time left is the run's, said so, beside the time so far (issue 52: "~0 s
+            # left" for the whole command)
+            for l in re.findall(r"\r[^\r]*", lines):
+                if "left" in l and not re.search(r"left in this run, [0-9.]+ (s|min|h) so far", l):
+                    bad.append("%s: %r" % (label, l.strip()))
+                    break
         else:
             p = [float(x) for x in re.findall(r"\r%s ([0-9.]+)%%" % re.escape(label), lines)]
         if any(b < a for a, b in zip(p, p[1:])) or not (0 < (p[-1][1] if several else p[-1]) <= 100):

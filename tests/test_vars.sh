@@ -134,7 +134,7 @@ expect 1 "rc.mote:4:1: error: step: no system exists yet; create one first with 
 # reads about 1 % high), drawn with error bars
 cp "$SRC/examples/eos-sweep.mote" .
 "$MOTE" run eos-sweep.mote n=4 K=50 R=2 > out.txt 2> err.txt && ok || bad "eos-sweep.mote failed: $(cat err.txt)"
-grep -v '^#' out/eos-sweep/eos.dat | awk '{ n++; e = $1; z = $6; cs = (1 + e + e^2 - e^3) / (1 - e)^3; if (z <= last || (z / cs - 1)^2 > 0.03^2) bad = 1; last = z }
+grep -v '^#' out/eos-sweep/eos.dat | awk '{ n++; e = $1; z = $8; cs = (1 + e + e^2 - e^3) / (1 - e)^3; if (z <= last || (z / cs - 1)^2 > 0.03^2) bad = 1; last = z }
     END { exit !(n == 5 && !bad) }' && ok || bad "eos-sweep: $(grep -v '^#' out/eos-sweep/eos.dat)"
 [ "$(grep -c '^eta=0.[0-9]*: Carnahan-Starling Z = ' out.txt)" = 5 ] && [ -s out/eos-sweep/eos.png ] && ok || bad "eos-sweep: $(grep -v '^N=' out.txt | head)"
 

@@ -326,6 +326,7 @@ typedef struct {
     int enabled, shown; /* shown: a line is on the terminal (end wipes it) */
     int run;            /* a command of several runs: the run under way (1, 2, ...); 0: one */
     double start, last;
+    double begun;       /* when the command began (start: when its run under way began) */
     double interval; /* seconds between lines: 0.25, or MOTE_PROGRESS_INTERVAL (tests use 0) */
     char label[64];
     const mote_context *ctx; /* (its live-view hook and its report) */
@@ -338,7 +339,8 @@ void mote_progress_begin(mote_progress *p, const mote_context *ctx, const char *
 void mote_progress_update(mote_progress *p, double fraction);
 /* A command that makes several runs of unknown number (a root search, a table built until it is
  * fine enough) keeps one line for all of them: each run calls this as it starts, and the line
- * reads "\rlabel: run 3, 42.0%  ~2 s left", the fraction and the time left of that run. */
+ * reads "\rlabel: run 3, 42.0%  ~2 s left in this run, 35 s so far": the fraction and the time
+ * left of that run (the command's own end is not known), and the time since the command began. */
 void mote_progress_next_run(mote_progress *p);
 /* Wipe the line shown (if any), so that a line of the command's own output starts clean; the
  * next update draws it again. */

@@ -19,6 +19,12 @@ uint64_t mote_block_size(int b, uint64_t nsamples, int max_blocks);
  * fewer than two blocks. */
 double mote_block_error(const double *block_means, int nblocks);
 
+/* Student's t quantile t(0.975, dof): the half-width of a 95% confidence interval of a mean of
+ * n = dof + 1 independent normal values is t s / sqrt(n) (s: their sample standard deviation).
+ * dof 1 ... 30 from the standard table (Abramowitz & Stegun, Table 26.10), above it the
+ * Cornish-Fisher expansion (A&S 26.7.5, four terms: within 3e-8); NaN for dof < 1. */
+double mote_t95(int dof);
+
 /* ---- schedules -------------------------------------------------------------------------------- */
 
 /* Timed samples: sample k falls at t0 + k dt, computed afresh each time (never accumulated, so

@@ -3,6 +3,7 @@
  * and `output` (which files each run writes, spec 8). */
 #include "mote/charging.h"
 #include "mote/datafile.h"
+#include "mote/stats.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -286,9 +287,16 @@ int ch_run_float(void *vm, const mote_call *c, mote_err *err)
     mote_progress_begin(&prog, c->ctx, c->name);
     o.progress = &prog;
     int rc = mote_ch_float(&m->plasma, &m->body, t, &o, tol, &U, &sU, &oml, &evals, &m->res, err);
-    /* replicas=k (spec 6.5): the roots for seeds seed+1 ... seed+k-1 as well, their spread */
+    /* replicas=k (spec 6.5): the roots for seeds seed+1 ... seed+k-1 as well; U_f is then
+     * their mean, its error the standard error of the mean (with its 95% interval), and the
+     * currents and files are those at the mean */
     const int reps = (int)mote_call_opt_r(c, "replicas", 1);
     double sum = rc ? 0 : U, sq = rc ? 0 : U * U;
+    if (!rc && reps > 1 && m->log) {
+        mote_progress_clear(&prog);
+        fprintf(m->log, "float: replica 1 (seed %llu): U_f = %.6g V +- %.3g\n",
+                (unsigned long long)o.seed, U, sU);
+    }
     for (int k = 1; k < reps && !rc; k++) {
         mote_ch_run_opts ok = o;
         ok.seed = o.seed + (uint64_t)k;
@@ -356,15 +364,32 @@ int ch_run_float(void *vm, const mote_call *c, mote_err *err)
             fprintf(m->log, "float: %d sign change%s of I(U) at %d potentials from %g to %g V\n",
                     nr, nr == 1 ? "" : "s", ng, grid[0], grid[ng - 1]);
     }
+    double Uf = U, sUf = sU; /* what the command reports: replica 1, or the replicas' mean */
+    if (!rc && reps > 1) {
+        const double mean = sum / reps;
+        const double sd = sqrt(fmax(0, (sq - reps * mean * mean) / (reps - 1)));
+        const double se = sd / sqrt((double)reps), t95 = mote_t95(reps - 1);
+        mote_progress_clear(&prog);
+        if (m->log)
+            fprintf(m->log, "float: %d replicas: mean U_f = %.6g V +- %.3g (standard error of the "
+                            "mean; 95%% confidence +- %.3g, Student's t %.4g with %d degree%s of "
+                            "freedom; standard deviation %.3g V, the single run's sigma_U %.3g "
+                            "V)\n", reps, mean, se, t95 * se, t95, reps - 1,
+                    reps == 2 ? "" : "s", sd, sU);
+        Uf = mean;
+        sUf = se;
+        /* the currents at the mean, with replica 1's histories (common random numbers) */
+        mote_ch_result_free(&m->res);
+        mote_ch_run_opts om = o;
+        om.potential = mean;
+        rc = mote_ch_run(&m->plasma, &m->body, t, &om, &m->res, err);
+    }
     mote_progress_end(&prog);
     mote_ch_tracer_free(t);
     if (rc)
         return rc;
-    if (reps > 1 && m->log) {
-        const double mean = sum / reps, sd = sqrt(fmax(0, (sq - reps * mean * mean) / (reps - 1)));
-        fprintf(m->log, "float: %d replicas: mean U_f = %.6g V, standard deviation %.3g V (the "
-                        "single run's sigma_U %.3g V)\n", reps, mean, sd, sU);
-    }
+    U = Uf;
+    sU = sUf;
     m->have_run = 1;
     mote_call_result(c, "U_f", U);
     if (m->prefix) { /* the files at U_f (spec 8.2) */

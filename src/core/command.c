@@ -152,13 +152,24 @@ void mote_progress_begin(mote_progress *p, const mote_context *ctx, const char *
     p->shown = 0;
     p->run = 0;
     p->ctx = ctx;
-    p->start = p->last = p->enabled ? mote_wall_seconds() : 0.0;
+    p->start = p->last = p->begun = p->enabled ? mote_wall_seconds() : 0.0;
     p->last_report = -1e300; /* (the first update reports) */
     snprintf(p->label, sizeof p->label, "%s", label ? label : "");
     const char *iv = getenv("MOTE_PROGRESS_INTERVAL");
     char *end = NULL;
     double v = iv && *iv ? strtod(iv, &end) : 0.25;
     p->interval = iv && *iv && end && !*end && v >= 0 && v <= 3600 ? v : 0.25;
+}
+
+/* "12 s", "5 min", "1.5 h" */
+static void duration_text(char *buf, size_t cap, double seconds)
+{
+    if (seconds < 120.0)
+        snprintf(buf, cap, "%.0f s", seconds);
+    else if (seconds < 7200.0)
+        snprintf(buf, cap, "%.0f min", seconds / 60.0);
+    else
+        snprintf(buf, cap, "%.1f h", seconds / 3600.0);
 }
 
 void mote_progress_update(mote_progress *p, double fraction)
@@ -185,22 +196,22 @@ void mote_progress_update(mote_progress *p, double fraction)
     if (fraction > 1.0)
         fraction = 1.0;
     double elapsed = now - p->start;
-    char head[96];
+    char head[96], left[48] = "", sofar[48] = "";
     if (p->run > 0)
         snprintf(head, sizeof head, "%s: run %d,", p->label, p->run);
     else
         snprintf(head, sizeof head, "%s", p->label);
-    if (fraction > 0.0) {
-        double left = elapsed * (1.0 - fraction) / fraction;
-        if (left < 120.0)
-            printf("\r%s %.1f%%  ~%.0f s left   ", head, 100.0 * fraction, left);
-        else if (left < 7200.0)
-            printf("\r%s %.1f%%  ~%.0f min left   ", head, 100.0 * fraction, left / 60.0);
-        else
-            printf("\r%s %.1f%%  ~%.1f h left   ", head, 100.0 * fraction, left / 3600.0);
-    } else {
+    if (fraction > 0.0)
+        duration_text(left, sizeof left, elapsed * (1.0 - fraction) / fraction);
+    if (p->run > 0) /* the time left is this run's: the command's end is not known */
+        duration_text(sofar, sizeof sofar, now - p->begun);
+    if (fraction > 0.0 && p->run > 0)
+        printf("\r%s %.1f%%  ~%s left in this run, %s so far   ", head, 100.0 * fraction, left,
+               sofar);
+    else if (fraction > 0.0)
+        printf("\r%s %.1f%%  ~%s left   ", head, 100.0 * fraction, left);
+    else
         printf("\r%s %.1f%%   ", head, 0.0);
-    }
     fflush(stdout);
 }
 
@@ -215,7 +226,7 @@ void mote_progress_clear(mote_progress *p)
 {
     /* wipe a line that was printed, so the next output starts on a clean line */
     if (p->enabled && p->shown) {
-        printf("\r%*s\r", (int)strlen(p->label) + PROGRESS_PAD + (p->run > 0 ? 16 : 0), "");
+        printf("\r%*s\r", (int)strlen(p->label) + PROGRESS_PAD + (p->run > 0 ? 48 : 0), "");
         fflush(stdout);
         p->shown = 0;
     }

@@ -11,6 +11,7 @@
  * their measurements combined in that order, so that what an ensemble prints and writes does
  * not depend on the number of threads. */
 #include "script_internal.h"
+#include "mote/stats.h"
 #include "mote/datafile.h"
 
 #include <math.h>
@@ -192,6 +193,12 @@ static int combine(const replica *rp, int K, combined *cb)
     return MOTE_OK;
 }
 
+/* The half-width of the 95% confidence interval of quantity q's mean (NaN below 2 values). */
+static double ci95(const combined *cb, size_t q)
+{
+    return cb->count[q] > 1 ? mote_t95(cb->count[q] - 1) * cb->se[q] : NAN;
+}
+
 static void combined_free(combined *cb)
 {
     free(cb->name);
@@ -221,9 +228,12 @@ static int write_file(const mote_script *s, const mote_call *ec, const replica *
     if (rc)
         return rc;
     fprintf(d.f, "# replicas = %d\n# seed_first = %llu\n", K, (unsigned long long)seed);
-    fprintf(d.f, "# errors: standard error of the mean over the replicas, s/sqrt(n)\n");
+    fprintf(d.f, "# errors: standard error of the mean over the replicas, s/sqrt(n); ci95: the "
+                 "half-width of its 95%% confidence interval, Student's t(0.975, n - 1) times "
+                 "the standard error\n");
     for (size_t q = 0; q < cb->n; q++)
-        fprintf(d.f, "# %s = %.12g ± %.6g\n", cb->name[q], cb->mean[q], cb->se[q]);
+        fprintf(d.f, "# %s = %.12g ± %.6g (standard error; ci95 %.6g, %d degrees of freedom)\n",
+                cb->name[q], cb->mean[q], cb->se[q], ci95(cb, q), cb->count[q] - 1);
     fprintf(d.f, "# columns: replica seed");
     for (size_t q = 0; q < cb->n; q++)
         fprintf(d.f, " %s", cb->name[q]);
@@ -257,7 +267,9 @@ static int write_summary(mote_script *s, const mote_call *ec, uint64_t seed, int
         sm->path = strdup(f->path);
         char *origin = mote_call_origin(ec);
         mote_buf_printf(&sm->head, "# replicas = %d\n# seed_first = %llu\n"
-                        "# errors: standard error of the mean over the replicas, s/sqrt(n)\n"
+                        "# errors: NAME_err the standard error of the mean over the replicas, "
+                        "s/sqrt(n); NAME_ci95 the half-width of its 95%% confidence interval, "
+                        "Student's t(0.975, n - 1) times the standard error\n"
                         "# columns:", K, (unsigned long long)seed);
         sm->origin = origin;
         /* the loops' names, then each quantity and its error */
@@ -275,7 +287,8 @@ static int write_summary(mote_script *s, const mote_call *ec, uint64_t seed, int
             return mote_call_fail(err, ec, -1, MOTE_ENOMEM, "ensemble: out of memory");
         for (size_t q = 0; q < cb->n; q++) {
             memcpy(sm->cols[q], cb->name[q], sizeof sm->cols[0]);
-            mote_buf_printf(&sm->head, " %s %s_err", cb->name[q], cb->name[q]);
+            mote_buf_printf(&sm->head, " %s %s_err %s_ci95", cb->name[q], cb->name[q],
+                            cb->name[q]);
         }
         mote_buf_printf(&sm->head, "\n");
     }
@@ -294,8 +307,8 @@ static int write_summary(mote_script *s, const mote_call *ec, uint64_t seed, int
         size_t q = 0;
         while (q < cb->n && strcmp(cb->name[q], sm->cols[k]) != 0)
             q++;
-        mote_buf_printf(&sm->rows, "%s%.12g %.6g", sep, q < cb->n ? cb->mean[q] : NAN,
-                        q < cb->n ? cb->se[q] : NAN);
+        mote_buf_printf(&sm->rows, "%s%.12g %.6g %.6g", sep, q < cb->n ? cb->mean[q] : NAN,
+                        q < cb->n ? cb->se[q] : NAN, q < cb->n ? ci95(cb, q) : NAN);
         sep = " ";
     }
     mote_buf_printf(&sm->rows, "\n");
@@ -543,9 +556,22 @@ int mote_ensemble_run(mote_script *s, const mote_ensemble *e, mote_err *err)
     if (!rc && combine(rp, K, &cb))
         rc = mote_call_fail(err, ec, -1, MOTE_ENOMEM, "ensemble: out of memory");
     else if (!rc) {
-        for (size_t q = 0; q < cb.n; q++)
-            fprintf(s->ctx.out, "ensemble: %s = %.10g ± %.4g (%d replica%s)\n", cb.name[q],
-                    cb.mean[q], cb.se[q], cb.count[q], cb.count[q] == 1 ? "" : "s");
+        for (size_t q = 0; q < cb.n; q++) {
+            if (cb.count[q] < 2) {
+                fprintf(s->ctx.out, "ensemble: %s = %.10g (%d replica: no error estimate)\n",
+                        cb.name[q], cb.mean[q], cb.count[q]);
+                continue;
+            }
+            fprintf(s->ctx.out, "ensemble: %s = %.10g ± %.4g (95%% confidence; standard error "
+                    "%.4g, Student's t %.4g with %d degree%s of freedom; %d replicas)\n",
+                    cb.name[q], cb.mean[q], ci95(&cb, q), cb.se[q], mote_t95(cb.count[q] - 1),
+                    cb.count[q] - 1, cb.count[q] == 2 ? "" : "s", cb.count[q]);
+        }
+        if (K < 4 && cb.n && !s->ens_warned++)
+            fprintf(s->ctx.diag, "ensemble: warning: %d replica%s: the spread of so few values "
+                    "says little about the error (the 95%% interval is %.3g standard errors "
+                    "wide each way); 4 or more give a useful estimate\n", K, K == 1 ? "" : "s",
+                    K > 1 ? mote_t95(K - 1) : INFINITY);
         if (!cb.n)
             fprintf(s->ctx.out, "ensemble: no command in it measured anything to average\n");
         const int writer = !rk || rk->rank == 0; /* (under mpirun rank 0 writes) */

@@ -78,6 +78,7 @@ struct mote_script {
     size_t nens, capens;
     int in_ensemble;      /* reading an ensemble's body */
     mote_ens_summary *sums; /* running: the summary= files written so far */
+    int ens_warned;         /* the warning about few replicas was printed */
     size_t nsums;
     const mote_model *const *models; /* the registry it was read with (for more text) */
     size_t nmodels;
