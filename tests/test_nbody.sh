@@ -11,6 +11,9 @@ mote_test_start "$1"
 
 G='model nbody gravity\n'
 C='model nbody coulomb\n'
+# the Galactica scheme at a fixed step (the default is the adaptive Taylor integrator since issue
+# 52), for the checks that are about it
+GAL='integrator galactica dt=1e-6\n'
 
 # the ring over one period
 printf '%bgenerate ring nb=30\nintegrator galactica dt=1e-6\nmonitor every=1000 file=ring.mon\nintegrate steps=10000\ncheck ring\n' "$G" > ring.mote
@@ -252,9 +255,18 @@ expect 1 "e7.mote:3:22: error: integrate: expected 's', 'day', 'year' or 'centur
 expect 1 "e8.mote:3:1: error: constant: comes before units" e8.mote "${G}units solar\nconstant G=1\n"
 expect 1 "e9.mote:2:17: error: constant: e= and e2= set the same constant" e9.mote "${C}constant e=1 e2=1\n"
 
+# ---- defaults users trust (issue 52): no integrator line is the adaptive Taylor integrator (ten
+# orbits of a planet in a few hundred steps, not 6e7 of 1e-6), and dE is finite when E0 = 0
+printf '%bbody mass=1\nbody mass=1e-3 x=1 vy=1.0005\nintegrate for=62.83\n' "$G" > dflt.mote
+timeout 120 "$MOTE" run dflt.mote > out.txt 2> err.txt && tail -n 1 out.txt | awk '{ for (k = 1; k <= NF; k++) { split($k, p, "="); v[p[1]] = p[2] } }
+    END { exit !(v["steps"] > 0 && v["steps"] < 2000 && v["dE"] * v["dE"] < 1e-26) }' && ok || bad "the default integrator: $(tail -n 1 out.txt) $(cat err.txt)"
+printf '%bbody mass=1\nintegrate for=1\nmonitor every=1 file=one.mon\nintegrate for=1\n' "$G" > one.mote
+"$MOTE" run one.mote > out.txt 2> err.txt && tail -n 1 out.txt | grep -q ' E=0 dE_abs=0.000e+00 ' && ok || bad "one body: dE: $(tail -n 1 out.txt) $(cat err.txt)"
+grep -v '^#' one.mon | awk '{ if ($9 != 0) bad = 1; n++ } END { exit bad || !n }' && grep -q '^# dE is (E_corr - E0)/|E0| (absolute, E_corr - E0, when E0 = 0)' one.mon && ok || bad "one body: the monitor's dE: $(grep -v '^#' one.mon | head -2)"
+
 # ---- monitor and trajectory: formats, the terminal, samples in time (spec 10.1, 4.5) ----
-printf '%bgenerate ring\nmonitor every=5000 file=m.csv format=csv\ntrajectory every=5000 file=t.csv format=csv\nintegrate steps=10000\n' "$G" > f1.mote
-printf '%bgenerate ring\nmonitor every=5000 file=m.jsonl format=jsonl\nintegrate steps=10000\n' "$G" > f1b.mote
+printf '%bgenerate ring\n%bmonitor every=5000 file=m.csv format=csv\ntrajectory every=5000 file=t.csv format=csv\nintegrate steps=10000\n' "$G" "$GAL" > f1.mote
+printf '%bgenerate ring\n%bmonitor every=5000 file=m.jsonl format=jsonl\nintegrate steps=10000\n' "$G" "$GAL" > f1b.mote
 "$MOTE" run f1.mote > f1.out 2>&1 && "$MOTE" run f1b.mote >> f1.out 2>&1 && ok || bad "monitor formats: $(cat f1.out)"
 grep -v '^#' m.jsonl | wc -l | grep -qx 3 && ok || bad "jsonl: $(wc -l < m.jsonl) lines, expected 3 (steps 0, 5000, 10000)"
 grep -q '^#' m.jsonl && bad "jsonl: a comment line" || ok
@@ -290,7 +302,7 @@ cmp -s d1.state d2.state && ok || bad "monitor dt= changed the adaptive steps"
 [ "$(grep -vc '^#' d.mon)" -eq 20 ] && ok || bad "dense output: $(grep -vc '^#' d.mon) samples, expected 20 (T = 0 ... 0.0095)"
 awk '!/^#/ { k = NR0++; if ($2 != k * 0.0005 && ($2 - k * 0.0005) * ($2 - k * 0.0005) > 1e-36) bad = 1; if ($9 > 1e-14 || $9 < -1e-14) bad = 1 } END { exit bad }' d.mon && ok || bad "dense output: sample times or energies off: $(grep -v '^#' d.mon | awk '{ print $2, $9 }' | tr '\n' ';')"
 # the Galactica scheme samples at the first step end at or after each time
-printf '%bgenerate ring\nmonitor dt=0.001 file=g.mon\nintegrate steps=5000\n' "$G" > d3.mote
+printf '%bgenerate ring\n%bmonitor dt=0.001 file=g.mon\nintegrate steps=5000\n' "$G" "$GAL" > d3.mote
 "$MOTE" run d3.mote > d3.out 2>&1 && ok || bad "monitor dt= galactica: $(cat d3.out)"
 awk '!/^#/ { k = NR0++; if ($2 < k * 0.001 || $2 > k * 0.001 + 1.1e-6) bad = 1 } END { exit bad || NR0 != 5 }' g.mon && ok || bad "monitor dt= galactica: $(grep -v '^#' g.mon | awk '{ print $1, $2 }' | tr '\n' ';')"
 expect 1 "s1.mote:3:1: error: monitor: give one of every=K (steps) and dt=T (time)" s1.mote "${G}generate ring\nmonitor every=1 dt=1\n"
@@ -400,7 +412,7 @@ grep -q '^load: the state has no physical scales; later bodies are read in dimen
 awk '/^bodies:/ { f = 1; next } f && ++n == 3 { exit !($1 == 1 && $5 == 5) }' ns2.state && ok || bad "the body after load was converted: $(grep -A3 '^bodies:' ns2.state | tail -1)"
 # ---- body names, trajectory bodies= and velocities=, plot options (spec 8, 10.3, 10.5)
 N3='body mass=1 name=Sun\nbody mass=1e-3 x=1 vy=1 name=Jupiter\nbody mass=1e-6 x=1.05 vy=1.2\n'
-printf '%b%btrajectory every=10 file=n.traj bodies=Jupiter,3 velocities=on\nintegrate steps=1000\nsave n.state\nplot n.traj n1.png plane=xy relative_to=Jupiter size=300\nplot n.traj n2.png bodies=3,Jupiter plane=xz\n' "$G" "$N3" > nm.mote
+printf '%b%b%btrajectory every=10 file=n.traj bodies=Jupiter,3 velocities=on\nintegrate steps=1000\nsave n.state\nplot n.traj n1.png plane=xy relative_to=Jupiter size=300\nplot n.traj n2.png bodies=3,Jupiter plane=xz\n' "$G" "$N3" "$GAL" > nm.mote
 "$MOTE" run nm.mote > out.txt 2> err.txt && ok || bad "nm.mote failed: $(cat err.txt)"
 [ "$(grep '^# columns:' n.traj)" = "# columns: T E_kin E_tot x_Jupiter y_Jupiter z_Jupiter vx_Jupiter vy_Jupiter vz_Jupiter x3 y3 z3 vx3 vy3 vz3" ] && ok || bad "trajectory columns: $(grep '^# columns:' n.traj)"
 grep -q '^# body_Jupiter = 2$' n.traj && ok || bad "trajectory header lacks '# body_Jupiter = 2'"
@@ -435,10 +447,10 @@ printf '%bgenerate solar_system data=%s bodies=Sun,Jupiter\nsave ss.state\n' "$G
 
 # ---- snapshots (spec 10.2): write/read continue the Galactica scheme without a restart step,
 # bit for bit with compensated summation off, to rounding with it on; periodic files; bad files
-printf '%bgenerate ring\ncompensated off\nintegrate steps=300\nintegrate steps=300\nsave sa.state\n' "$G" > sa.mote
-printf '%bgenerate ring\ncompensated off\nsnapshot every=150 prefix=snp_\nintegrate steps=300\nwrite snapshot file=x.snap\nread snapshot file=x.snap\nintegrate steps=300\nsave sb.state\n' "$G" > sb.mote
-printf '%bgenerate ring\nintegrate steps=300\nwrite snapshot file=y.snap\nread snapshot file=y.snap\nintegrate steps=300\nsave sc.state\n' "$G" > sc.mote
-printf '%bgenerate ring\nintegrate steps=600\nsave sd.state\n' "$G" > sd.mote
+printf '%bgenerate ring\n%bcompensated off\nintegrate steps=300\nintegrate steps=300\nsave sa.state\n' "$G" "$GAL" > sa.mote
+printf '%bgenerate ring\n%bcompensated off\nsnapshot every=150 prefix=snp_\nintegrate steps=300\nwrite snapshot file=x.snap\nread snapshot file=x.snap\nintegrate steps=300\nsave sb.state\n' "$G" "$GAL" > sb.mote
+printf '%bgenerate ring\n%bintegrate steps=300\nwrite snapshot file=y.snap\nread snapshot file=y.snap\nintegrate steps=300\nsave sc.state\n' "$G" "$GAL" > sc.mote
+printf '%bgenerate ring\n%bintegrate steps=600\nsave sd.state\n' "$G" "$GAL" > sd.mote
 for k in a b c d; do "$MOTE" run s$k.mote > outs$k.txt 2> err.txt || bad "s$k.mote failed: $(cat err.txt)"; done
 # (the units line differs only in Am before its refinement, which a snapshot does not carry)
 [ "$(grep -v '^units' sa.state)" = "$(grep -v '^units' sb.state)" ] && ok || bad "compensated off: write/read snapshot in the middle changed the run"

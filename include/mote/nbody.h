@@ -285,12 +285,14 @@ typedef struct {
     mote_real P[3], L[3], S[3], R[3];  /* momentum, orbital and spin angular momentum, m-weighted position */
     mote_real mtot;
     mote_real ecorr;   /* E_tot - sum dE_merge (conserved through merges) */
-    mote_real dE;      /* (E_corr - E0) / |E0| */
+    mote_real dE;      /* (E_corr - E0) / |E0|, or E_corr - E0 when E0 = 0 (mote_nb_de_absolute) */
     mote_real dMz;     /* (Mz + Sz - Mza1) / Mza1 (or over the normalisation of spec 3.7) */
     mote_real dL;      /* |L + S - (L + S)_0| / |(L + S)_0| */
 } mote_nb_monitor;
 
 void mote_nb_measure(const mote_nb *nb, mote_nb_monitor *mon);
+/* dE is absolute, E_corr - E0, not relative: the reference energy E0 is 0. */
+static inline int mote_nb_de_absolute(const mote_nb *nb) { return nb->ref_set && nb->E0 == 0; }
 /* Take the current energy and aggregated z moment as the references of dE and dMz. */
 void mote_nb_set_reference(mote_nb *nb);
 

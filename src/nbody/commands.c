@@ -28,6 +28,11 @@ static void *model_create(mote_context *ctx, int dry)
     if (!m)
         return NULL;
     mote_nb_init(&m->nb, variant_kind(ctx));
+    /* a script without an `integrator` line gets the adaptive Taylor integrator at its default
+     * order and tolerance (as REBOUND users expect of IAS15), not a fixed step of 1e-6 */
+    m->nb.integrator = MOTE_NB_TAYLOR;
+    m->nb.adaptive = 1;
+    m->nb.tol = MOTE_NB_TAYLOR_TOL;
     m->ctx = ctx;
     m->dry = dry;
     m->log = dry || !ctx ? NULL : ctx->out;
@@ -110,9 +115,11 @@ static void model_status(void *vm, FILE *out)
         snprintf(de, sizeof de, "%.3e", (double)mon.dE);
         dmz = (double)mon.dMz;
     }
-    fprintf(out, "N=%u interaction=%s T=%s steps=%llu dt=%s E=%s dE=%s dMz=%.3e merges=%llu\n",
+    fprintf(out, "N=%u interaction=%s T=%s steps=%llu dt=%s E=%s %s=%s dMz=%.3e merges=%llu\n",
             nb->n, nb->kind == MOTE_NB_GRAVITY ? "gravity" : "coulomb", mote_real_str(nb->T, t),
-            (unsigned long long)nb->steps, mote_real_str(nb->dt, h), e, de,
+            (unsigned long long)nb->steps,
+            mote_real_str(nb->adaptive && nb->steps ? nb->hlast : nb->dt, h), e,
+            mote_nb_de_absolute(nb) ? "dE_abs" : "dE", de,
             dmz, (unsigned long long)nb->merges);
 }
 

@@ -198,7 +198,8 @@ static int sampler_write(nb_model *m, nb_sampler *s, int traj, mote_err *err)
             fprintf(f, "# a row per sample: T, E_kin, E_tot, then x y z%s of each recorded body "
                        "(columns x_NAME or xK, K its number)\n", s->vel ? " vx vy vz" : "");
         } else
-            fprintf(f, "# dE is (E_corr - E0)/|E0| with E_corr = E_tot minus the energy changes "
+            fprintf(f, "# dE is (E_corr - E0)/|E0| (absolute, E_corr - E0, when E0 = 0) with "
+                       "E_corr = E_tot minus the energy changes "
                        "of merges, dMz the aggregated z moment's (Lz + Sz) relative change and dL "
                        "|L + S - (L + S)0| / |(L + S)0| from the run's start\n");
         if (s->tunit[0]) {

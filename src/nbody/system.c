@@ -394,7 +394,9 @@ void mote_nb_measure(const mote_nb *nb, mote_nb_monitor *mon)
     mon->etot = mon->ekin + mon->u;
     mon->ecorr = mon->etot - nb->de_merge;
     if (nb->ref_set) {
-        mon->dE = (mon->ecorr - nb->E0) / fabs(nb->E0);
+        /* relative to |E0|; absolute when E0 is 0 (one body, a parabolic pair), never a
+         * division by zero (callers name it dE_abs then: mote_nb_de_absolute) */
+        mon->dE = nb->E0 != 0 ? (mon->ecorr - nb->E0) / fabs(nb->E0) : mon->ecorr - nb->E0;
         mon->dMz = (mon->L[2] + mon->S[2] - nb->Mza1) / (nb->Lnorm1 != 0 ? nb->Lnorm1 : 1);
         mote_real d2 = 0, l2 = 0;
         for (int a = 0; a < 3; a++) {
