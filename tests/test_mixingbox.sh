@@ -21,7 +21,7 @@ expect 1 "b6.mote:2:8: error: radius: R must be > 0, found 0" b6.mote "${H}radiu
 expect 1 "b7.mote:2:11: error: kicks: dV_S must be >= 0, found -1" b7.mote "${H}kicks 0 0 -1\n"
 expect 1 "b8.mote:2:13: error: partition: a must be > 0, found 0" b8.mote "${H}partition 1 0\n"
 expect 1 "b9.mote:2:5: error: t_c: T must be >= 0, found -0.1" b9.mote "${H}t_c -0.1\n"
-expect 1 "b10.mote:2:8: error: v_init: V must be >= 0, found -2" b10.mote "${H}v_init -2\n"
+expect 1 "b10.mote:2:8: error: v_init: V must be in [0, 1e6], found -2" b10.mote "${H}v_init -2\n"
 # the geometry, at place, naming the commands that set the values
 expect 1 "g1.mote:3:1: error: place: slit: X2_C -/+ b/2 = 0.93, 1.03 must lie inside the box height X_B = 0 .. X_T = 1 [set by: box (default), slit on line 2]" \
     g1.mote "${H}slit 0.98 0.1\nplace\n"

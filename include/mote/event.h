@@ -140,6 +140,8 @@ typedef struct {
     uint64_t collisions;      /* pair collisions since creation */
     uint64_t wall_collisions; /* wall hits since creation */
     uint64_t events;          /* all processed events (including stale and list) since creation */
+    int halt;             /* set by an observer (field mode): the run returns after this event,
+                           * and clears it */
     uint64_t stale_events;    /* pair events found stale (the partner changed course first) */
     uint64_t renewals;        /* neighbour-list renewals (list expiries) */
     uint64_t rebuilds;        /* automatic rebuilds (the clock reached t_rebuild) */

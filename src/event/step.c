@@ -748,6 +748,10 @@ static inline __attribute__((always_inline)) int run(mote_ev *ev, uint64_t ncoll
     const int has_obs_event = FIELD && ev->obs.on_event != NULL; /* (field mode only) */
 
     while (ev->collisions < target) {
+        if (FIELD && ev->halt) { /* an observer asked to stop (the run cannot finish, say) */
+            ev->halt = 0;
+            return MOTE_OK;
+        }
         if ((ev->heap_n == 0 && ev_cal_refill(ev)) || !(ev->heap_t[0] < INFINITY)) {
             if (t_stop < INFINITY) { /* nothing happens before t_stop: just go there */
                 if (t_stop - ev->time_total > ev->clock)

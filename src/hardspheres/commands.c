@@ -548,7 +548,7 @@ static const mote_cmd hs_commands[] = {
      run_save},
     {"load", NULL, "f<state", "load FILE", "read a state (mote or original-program format)",
      HS_HELP_LOAD, check_load, run_load},
-    {"temperature", NULL, "r>0", "temperature T", "rescale velocities so that kT_kin = T",
+    {"temperature", NULL, "r(0,1e100]", "temperature T", "rescale velocities so that kT_kin = T",
      HS_HELP_TEMPERATURE, check_temperature, run_temperature},
     {"step", NULL, "i>=1", "step K", "run K collisions per particle (floor(K N / 2) pair collisions)",
      HS_HELP_STEP, check_step, run_step},

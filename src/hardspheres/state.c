@@ -88,6 +88,15 @@ int mote_hs_save(mote_hs *hs, const char *path, mote_err *err)
     int rc = mote_hs_settle(hs, err); /* synchronise: local times 0, coordinates wrapped */
     if (rc)
         return rc;
+    /* never a state that load refuses: finite positions, speeds up to 1e100 */
+    for (uint32_t i = 0; i < ev->n; i++)
+        for (int a = 0; a < ev->dim; a++)
+            if (!isfinite(ev->p[i].r[a]) || !(fabs(ev->p[i].v[a]) <= 1e100))
+                return mote_fail(err, MOTE_ERUNTIME, "save: particle %u: %s%c = %.17g is not "
+                                 "a state mote can continue (positions finite, speeds up to "
+                                 "1e100); %s is left as it was", i,
+                                 isfinite(ev->p[i].r[a]) ? "v" : "", "xyz"[a],
+                                 isfinite(ev->p[i].r[a]) ? ev->p[i].v[a] : ev->p[i].r[a], path);
     mote_afile af;
     if ((rc = mote_afile_open(&af, path, err)))
         return rc;

@@ -27,7 +27,16 @@ typedef struct {
     double x0, y0; /* box origin */
     mote_loop *loop;
     uint32_t events; /* since the last progress call */
+    uint64_t run_events; /* since the run began */
+    double t_begin, t_end; /* of the run */
+    double projected;    /* > 0: the events the run would need at its rate so far (it stops) */
 } mb_link;
+
+/* A run whose rate says it needs more events than this cannot finish (at some 1e7 events a
+ * second, 11 days): it stops with an error naming the cause, never runs without end. It is
+ * judged after RUN_JUDGED events, so a run's start (settling, a dense corner) does not count. */
+#define RUN_EVENTS_MAX 1e13
+#define RUN_JUDGED 10000000ull
 
 /* After every event of disk i: its chamber may have changed. Every 4096 events the progress
  * (and a live view, which only reads the engine) gets a look between samples. */
@@ -39,8 +48,18 @@ static void on_event(void *ctx, uint32_t i)
     l->sys->x[i] = r[0] + l->x0;
     mote_mb_note_side(l->sys, i);
     if (++l->events >= 4096) {
+        l->run_events += l->events;
         l->events = 0;
         mote_mb_progress(l->loop, l->sys);
+        if (l->run_events >= RUN_JUDGED) {
+            const double done = mote_mb_live_time(l->sys) - l->t_begin;
+            const double need = done > 0 ? (double)l->run_events * (l->t_end - l->t_begin) / done
+                                         : INFINITY;
+            if (!(need <= RUN_EVENTS_MAX)) {
+                l->projected = need;
+                l->ev->halt = 1;
+            }
+        }
     }
 }
 
@@ -158,7 +177,7 @@ int mb_run_event(mote_mb *sys, double t_end, mote_loop *loop, mote_err *err)
     if (rc)
         return rc;
     const double t_offset = sys->time;
-    mb_link l = {sys, &ev, p->x_l, p->x_b, loop, 0};
+    mb_link l = {sys, &ev, p->x_l, p->x_b, loop, 0, 0, sys->time, t_end, 0};
     ev.len[0] = p->x_r - p->x_l;
     ev.len[1] = p->x_t - p->x_b;
     ev.radius0 = p->r;
@@ -214,6 +233,15 @@ int mb_run_event(mote_mb *sys, double t_end, mote_loop *loop, mote_err *err)
             break;
         rc = mote_ev_run_to(&ev, t_stop - t_offset, limit - sys->collisions, err);
         sync_counters(sys, &ev, &rules, kinds, last);
+        if (!rc && l.projected > 0)
+            rc = mote_fail(err, MOTE_ERUNTIME,
+                           "run: this run cannot finish: %llu events advanced the time by "
+                           "%.3g s of %.3g s, so it would need %s%.2g events (the disks move "
+                           "too fast for the box: lower v_init, gravity or the kicks, or the "
+                           "run's time)", (unsigned long long)l.run_events,
+                           mote_mb_live_time(sys) - l.t_begin, t_end - l.t_begin,
+                           isinf(l.projected) ? "more than " : "about ",
+                           isinf(l.projected) ? 1e300 : l.projected);
         if (rc)
             break;
         int at_limit = sys->collisions >= limit;

@@ -121,6 +121,13 @@ int mb_save(const mote_mb *sys, const mote_mb_params *next, const char *path, mo
 {
     if (!sys->placed)
         return mote_fail(err, MOTE_EINVAL, "save: no disks are placed yet");
+    for (uint32_t i = 0; i < sys->n; i++) /* never a state that load refuses */
+        if (!isfinite(sys->x[i]) || !isfinite(sys->y[i]) ||
+            !(fabs(sys->vx[i]) <= MB_SPEED_MAX && fabs(sys->vy[i]) <= MB_SPEED_MAX))
+            return mote_fail(err, MOTE_ERUNTIME, "save: disk %u is at (%g, %g) with velocity "
+                             "(%g, %g) m/s: not a state mote can continue (finite, speeds up to "
+                             "%g m/s); %s is left as it was", i, sys->x[i], sys->y[i],
+                             sys->vx[i], sys->vy[i], MB_SPEED_MAX, path);
     mote_afile af;
     int rc = mote_afile_open(&af, path, err);
     if (rc)

@@ -230,10 +230,10 @@ static int write_file(const mote_script *s, const mote_call *ec, const replica *
     fprintf(d.f, "# replicas = %d\n# seed_first = %llu\n", K, (unsigned long long)seed);
     fprintf(d.f, "# errors: standard error of the mean over the replicas, s/sqrt(n); ci95: the "
                  "half-width of its 95%% confidence interval, Student's t(0.975, n - 1) times "
-                 "the standard error\n");
+                 "the standard error (n - 1 degrees of freedom)\n");
     for (size_t q = 0; q < cb->n; q++)
-        fprintf(d.f, "# %s = %.12g ± %.6g (standard error; ci95 %.6g, %d degrees of freedom)\n",
-                cb->name[q], cb->mean[q], cb->se[q], ci95(cb, q), cb->count[q] - 1);
+        fprintf(d.f, "# %s = %.12g ± %.6g\n# %s_ci95 = %.6g\n", cb->name[q], cb->mean[q],
+                cb->se[q], cb->name[q], ci95(cb, q));
     fprintf(d.f, "# columns: replica seed");
     for (size_t q = 0; q < cb->n; q++)
         fprintf(d.f, " %s", cb->name[q]);

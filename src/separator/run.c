@@ -42,13 +42,10 @@ void sep_status(void *vm, FILE *out)
             (unsigned long long)s->fast_moves);
 }
 
-/* What a run leaves to be said: overlaps beyond the allowed, a backlog, lost particles. */
+/* What a run leaves to be said: overlaps beyond the allowed, a backlog. */
 static void run_notes(sep_model *m)
 {
     const mote_sep_system *s = &m->sys;
-    uint64_t lost = 0;
-    for (int k = 0; k < s->nsp; k++)
-        lost += s->cnt[k].lost;
     if (s->dem && s->max_overlap > 2 * s->delta_f && !(s->khat > 0))
         fprintf(m->log, "note: the largest overlap %.3g of a diameter is more than twice the "
                         "allowed %.3g: raise vimp= (stiffness) or lower the impact speeds\n",
@@ -57,9 +54,17 @@ static void run_notes(sep_model *m)
         fprintf(m->log, "warning: %zu particles wait in the feed's backlog: the feed outruns its "
                         "band (lower the rate, or widen the band: feed hf= and feed_window)\n",
                 s->nback);
-    if (lost)
-        fprintf(m->log, "error: %llu particles were lost (outside a wall, inside a plate, or "
-                        "not finite)\n", (unsigned long long)lost);
+}
+
+/* Particles lost in this run (beyond a side wall, inside a plate, or not finite: a velocity
+ * that overflowed) leave a state that cannot be trusted: the run ends with an error naming
+ * them (exit 2), the state kept as it is for a look (`save`, snapshots). */
+static uint64_t lost_count(const mote_sep_system *s)
+{
+    uint64_t lost = 0;
+    for (int k = 0; k < s->nsp; k++)
+        lost += s->cnt[k].lost;
+    return lost;
 }
 
 static int run_hook(void *vm, mote_sep_system *s, mote_err *err);
@@ -145,8 +150,14 @@ int sep_run(void *vm, const mote_call *c, mote_err *err)
     m->sys.threads = m->ctx && m->ctx->threads > 1 ? m->ctx->threads : 1;
     if (!rc)
         rc = run_hook(m, &m->sys, err);
+    const uint64_t lost_before = lost_count(&m->sys);
     if (!rc)
         rc = mote_sep_run_hook(&m->sys, c->args[0].r, run_hook, run_need, m, err);
+    if (!rc && lost_count(&m->sys) > lost_before)
+        rc = mote_fail(err, MOTE_ERUNTIME, "run: %llu particles were lost by t = %g s (beyond a "
+                       "side wall, inside a plate, or not finite: a speed or force that "
+                       "overflowed; check the gas speed, the stiffness and the time step)",
+                       (unsigned long long)(lost_count(&m->sys) - lost_before), m->sys.t);
     mote_progress_end(&prog);
     for (size_t k = 0; k < nobs; k++) /* where each schedule stands, for the next run */
         *at[k] = obs[k].at;

@@ -1229,6 +1229,8 @@ int mote_sep_run(mote_sep_system *s, double T, mote_err *err)
     return mote_sep_run_hook(s, T, NULL, NULL, NULL, err);
 }
 
+#define SEP_STEPS_MAX 1e13
+
 int mote_sep_run_hook(mote_sep_system *s, double T, int (*hook)(void *, mote_sep_system *, mote_err *),
                       int (*need)(void *, const mote_sep_system *), void *ctx, mote_err *err)
 {
@@ -1238,6 +1240,15 @@ int mote_sep_run_hook(mote_sep_system *s, double T, int (*hook)(void *, mote_sep
         const double dt = fmin(s->dt, t_end - s->t);
         if (!(dt > 1e-9 * s->dt)) /* a remainder from rounding the sum of the steps */
             break;
+        /* a run that cannot finish is an error, not a run without end (SEP_STEPS_MAX: some 10^4
+         * years at 10^5 steps a second); nor can one whose step no longer moves the clock */
+        if (!((t_end - s->t) / s->dt <= SEP_STEPS_MAX) || s->t + dt == s->t) {
+            rc = mote_fail(err, MOTE_ERUNTIME, "run: the time step %.3g s would take %.2g steps "
+                           "to reach t = %g s: this run cannot finish (the gas speed, the "
+                           "stiffness or the sizes make the step this small; `timestep DT` sets "
+                           "it)", s->dt, (t_end - s->t) / s->dt, t_end);
+            break;
+        }
         rc = step(s, dt, err);
         /* the hook sees every step, complete, but those it does not need while a second half
          * kick is pending: that kick is left for the next drift (s->no_pending: every step
