@@ -264,7 +264,7 @@ printf '%bplasma preset geo-worst-case\nbody load file=craft.obj\nsun direction=
 "$MOTE" run pq.mote > out.txt 2> err.txt && [ -s opq/a_surface.png ] && [ -s opq/b_surface.png ] && [ -s opq/c_surface.png ] &&
     ! cmp -s opq/a_surface.png opq/b_surface.png && ! cmp -s opq/b_surface.png opq/c_surface.png && ok || bad "png_quantity: $(cat err.txt)"
 expect 1 "b21c.mote:3:30: error: output: png_quantity must be J_net, J_<species> (of the plasma so far), J_see, J_photo, sigma_J, relerr, sunlit_fraction or hits, found 'J_O+'" b21c.mote "${G}plasma preset thesis-hot\noutput prefix=x png_quantity=J_O+\n"
-expect 1 "b21.mote:2:15: error: output: the directory of prefix 'nodir/x' does not exist" b21.mote "${G}output prefix=nodir/x\n"
+expect 1 "b21.mote:2:15: error: output: the directory that would hold prefix 'nodir/sub/x' does not exist" b21.mote "${G}output prefix=nodir/sub/x\n"
 expect 1 "b22.mote:2:26: error: output: png_view must be iso, +x, -x, +y, -y, +z, -z or X,Y,Z, or up to 8 of them as V1/V2/..., found 'top'" b22.mote "${G}output prefix=x png_view=top\n"
 expect 1 "b22b.mote:2:26: error: output: png_view must be iso, +x, -x, +y, -y, +z, -z or X,Y,Z, or up to 8 of them as V1/V2/..., found '0,0,0'" b22b.mote "${G}output prefix=x png_view=iso/0,0,0\n"
 # several views: one picture each, named by the view (spec 8.4)

@@ -71,6 +71,10 @@ grep -v '^#' out/tromp-sweep/tromp.dat | awk '{ n++; d[n] = $2; k[n] = $5 } END 
     bad "tromp-sweep: $(grep -v '^#' out/tromp-sweep/tromp.dat)"
 [ -s out/tromp-sweep/tromp.png ] && [ -s out/tromp-sweep/d50.png ] && ok || bad "tromp-sweep pictures: $(ls out/tromp-sweep)"
 
+# the example in `mote help ensemble` is a script that checks (issue 52: it lacked pressure's file)
+"$MOTE" help ensemble | awk '/^    for eta/ { on = 1 } on && /^    / { print substr($0, 5) } on && /^$/ && n++ { exit }' > help_ex.mote
+[ "$(wc -l < help_ex.mote)" -ge 6 ] && "$MOTE" check help_ex.mote > out.txt 2> err.txt && ok || bad "the help's example: $(cat help_ex.mote err.txt)"
+
 # errors: each before anything runs
 expect 1 "nb.mote:2:1: error: ensemble: the nbody model draws no random numbers, so its replicas would all be the same run" nb.mote 'model nbody\nensemble 2\ngenerate ring\nend\n' check
 expect 1 "ne.mote:1:1: error: ensemble: this ensemble has no 'end' (a line 'end' closes it)" ne.mote 'ensemble 2\nbulk 32 0.2\n' check

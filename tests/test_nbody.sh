@@ -473,7 +473,10 @@ expect 1 "sx3.mote:2:20: error: read: x.snap:4: the snapshot is a gravity run, t
 expect 1 "sx4.mote:2:20: error: read: 'nothere.snap' does not exist and no earlier command writes it" sx4.mote "${G}read snapshot file=nothere.snap\n"
 expect 1 "sx5.mote:3:7: error: write: expected 'snapshot' or 'galactica', found 'gadget'" sx5.mote "${G}body mass=1\nwrite gadget file=g.dat\nwrite galactica file=g.dat\n"
 expect 1 "sx6.mote:2:1: error: write: there are no bodies yet" sx6.mote "${G}write snapshot file=e.snap\n"
-expect 1 "sx7.mote:3:26: error: snapshot: the directory of the numbered files 'nodir/s_' does not exist" sx7.mote "${G}body mass=1\nsnapshot every=10 prefix=nodir/s_\n"
+expect 1 "sx7.mote:3:26: error: snapshot: the directory that would hold 'nodir/sub' does not exist" sx7.mote "${G}body mass=1\nsnapshot every=10 prefix=nodir/sub/s_\n"
+# prefix= makes its folder, as dir= does (issue 52)
+printf '%bbody mass=1\nbody mass=1e-3 x=1 vy=1\nsnapshot every=10 prefix=snaps/s_\nintegrate steps=30\n' "$G" > sx8.mote
+"$MOTE" run sx8.mote > out.txt 2> err.txt && [ -s snaps/s_0000000030.snap ] && ok || bad "snapshot prefix=snaps/s_: $(cat err.txt; ls snaps)"
 sed 's/^# h_prev = .*/# h_prev = -1/' x.snap > hp.snap
 expect 1 "sx8.mote:2:20: error: read: hp.snap: h_prev must be >= 0" sx8.mote "${G}read snapshot file=hp.snap\n"
 [ ! -e e.snap ] && [ ! -e g.dat ] && ok || bad "a failed script wrote a snapshot"

@@ -83,7 +83,9 @@ expect 0 "w5.mote:6:1: warning: frames: its numbered files start again from 0 an
     w5.mote 'model separator\nframes dir=fr dt=0.1\nsnapshot dir=fr dt=0.1\nframes dir=fr dt=0.2\nframes dir=g dt=0.1\nframes dir=fr dt=0.1\n' check
 expect 0 "w6.mote:10:1: warning: snapshot: 'f_000002.png' is also one of the numbered files (frames) of line 9" \
     w6.mote "${MB}frames 0.1 f\nsnapshot f_000002.png\n" check
-expect 1 "w7.mote:3:15: error: frames: the directory of the numbered files 'nodir/f' does not exist" \
-    w7.mote "${NB}frames prefix=nodir/f every=1\n" check
+# prefix= makes its folder as dir= does (issue 52), when the folder's parent exists
+expect 0 "" w7a.mote "${NB}frames prefix=made/f every=1\n" check
+expect 1 "w7.mote:3:15: error: frames: the directory that would hold 'nodir/sub' does not exist" \
+    w7.mote "${NB}frames prefix=nodir/sub/f every=1\n" check
 
 mote_test_end

@@ -982,9 +982,17 @@ int ch_check_output(void *vm, const mote_call *c, mote_err *err)
                               "far), J_see, J_photo, sigma_J, relerr, sunlit_fraction or hits, "
                               "found '%s'", a->text);
     const mote_arg *p = mote_call_opt(c, "prefix");
-    if (!mote_ctx_dir_ok(c->ctx, p->path))
+    /* the prefix's folder is made if its parent exists (as every prefix= and dir=) */
+    char *dir = strdup(p->path), *slash = dir ? strrchr(dir, '/') : NULL;
+    if (slash && slash != dir)
+        *slash = '\0';
+    const int dir_ok =
+        dir && (mote_ctx_dir_ok(c->ctx, p->path) || (slash && mote_ctx_dir_ok(c->ctx, dir)));
+    free(dir);
+    if (!dir_ok)
         return mote_call_fail(err, c, mote_call_opt_index(c, "prefix"), MOTE_EINVAL,
-                              "output: the directory of prefix '%s' does not exist", p->text);
+                              "output: the directory that would hold prefix '%s' does not exist",
+                              p->text);
     ch_model *m = vm;
     free(m->check_prefix);
     if (!(m->check_prefix = strdup(p->path)))

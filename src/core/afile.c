@@ -21,10 +21,33 @@ static char *dup_str(const char *s)
     return d;
 }
 
+/* The folders of path that do not exist yet, made (a prefix= or dir= whose folder the script's
+ * check allowed: its parent exists); 0 or an errno value. */
+static int make_parents(const char *path)
+{
+    char buf[4096];
+    const size_t n = strlen(path);
+    if (n >= sizeof buf)
+        return 0; /* (the open below names the problem) */
+    memcpy(buf, path, n + 1);
+    for (size_t i = 1; i < n; i++) {
+        if (buf[i] != '/' || buf[i - 1] == '/')
+            continue;
+        buf[i] = '\0';
+        struct stat st;
+        if (stat(buf, &st) != 0 && mkdir(buf, 0777) != 0 && errno != EEXIST)
+            return errno;
+        buf[i] = '/';
+    }
+    return 0;
+}
+
 int mote_afile_open(mote_afile *af, const char *path, mote_err *err)
 {
     af->f = NULL;
     af->path = af->tmp = NULL;
+    if (!mote_dir_of_exists(path))
+        make_parents(path);
     struct stat st;
     if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) /* a rename would replace a device */
         return mote_fail(err, MOTE_EIO,

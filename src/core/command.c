@@ -385,8 +385,9 @@ int mote_outputs_note_series(mote_outputs *o, const mote_call *c, int argi, cons
     char *first = mote_series_path(prefix, 0, 1, ext);
     if (!first)
         return mote_call_fail(err, c, argi, MOTE_ENOMEM, "out of memory");
-    const int makes_dir = flags & MOTE_SERIES_MAKES_DIR;
     char *slash = strrchr(first, '/');
+    /* the folder of a prefix= is made as dir='s is (issue 52): its parent must exist */
+    const int makes_dir = (flags & MOTE_SERIES_MAKES_DIR) || slash;
     if (makes_dir && slash)
         *slash = '\0';
     int rc = MOTE_OK;
