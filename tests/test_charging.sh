@@ -265,6 +265,9 @@ printf '%bplasma preset geo-worst-case\nbody load file=craft.obj\nsun direction=
     ! cmp -s opq/a_surface.png opq/b_surface.png && ! cmp -s opq/b_surface.png opq/c_surface.png && ok || bad "png_quantity: $(cat err.txt)"
 expect 1 "b21c.mote:3:30: error: output: png_quantity must be J_net, J_<species> (of the plasma so far), J_see, J_photo, sigma_J, relerr, sunlit_fraction or hits, found 'J_O+'" b21c.mote "${G}plasma preset thesis-hot\noutput prefix=x png_quantity=J_O+\n"
 expect 1 "b21.mote:2:15: error: output: the directory that would hold prefix 'nodir/sub/x' does not exist" b21.mote "${G}output prefix=nodir/sub/x\n"
+# the prefix's folder is made, as every prefix= and dir= (issue 52)
+printf '%bplasma preset single n=1e6 kT=10\nbody sphere radius=1\noutput prefix=made/x png=off vtk=off\nrun particles=1000\n' "$G" > b22.mote
+"$MOTE" run b22.mote > out.txt 2> err.txt && [ -s made/x_summary.txt ] && ok || bad "output prefix=made/x: $(cat err.txt)"
 expect 1 "b22.mote:2:26: error: output: png_view must be iso, +x, -x, +y, -y, +z, -z or X,Y,Z, or up to 8 of them as V1/V2/..., found 'top'" b22.mote "${G}output prefix=x png_view=top\n"
 expect 1 "b22b.mote:2:26: error: output: png_view must be iso, +x, -x, +y, -y, +z, -z or X,Y,Z, or up to 8 of them as V1/V2/..., found '0,0,0'" b22b.mote "${G}output prefix=x png_view=iso/0,0,0\n"
 # several views: one picture each, named by the view (spec 8.4)

@@ -780,7 +780,14 @@ static void test_atomic(void)
     CHECK(mote_afile_open(&af, target, &err) == MOTE_OK, "%s", err.msg);
     fputs("new content\n", af.f);
     fflush(af.f);
-    CHECK(count_entries() == before + 1, "the temporary file is not in the target's directory");
+    /* while written the data has no name where the file system allows (O_TMPFILE), so a run
+     * killed now leaves nothing (issue 52: NAME.tmp.* files were left); else one temporary
+     * file in the target's own directory */
+    CHECK(af.anon ? count_entries() == before : count_entries() == before + 1,
+          "the temporary file: %d entries, %d before (unnamed: %d)", count_entries(), before,
+          af.anon);
+    CHECK(af.anon || getenv("MOTE_NO_TMPFILE"), "this file system gave no unnamed temporary file "
+          "(O_TMPFILE); MOTE_NO_TMPFILE=1 accepts that");
     mote_afile_abort(&af);
     now = read_text(target, NULL);
     CHECK(now && strcmp(now, "old content\n") == 0, "abort changed the target");

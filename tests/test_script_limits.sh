@@ -5,7 +5,7 @@
 # time; each must finish in a few seconds), a loop that would expand to gigabytes, a count of
 # 2^32 (wrapped to a negative int), 16-digit loop values (kept 15 digits), a parameter holding a
 # line break (a fake header line), `end foo`, a loop of the documented 10^6 passes, the math
-# functions of ${...}; and that the programs tell libgomp not to spin (threads on a busy
+# functions of ${...}, 10^5 saves to one file (a warning each); and that the programs tell libgomp not to spin (threads on a busy
 # machine). Each run has a time limit, so a hang or a quadratic slowdown fails.
 NAME=script_limits
 . "$(dirname "$0")/lib.sh"
@@ -106,6 +106,13 @@ has "unknown function 'hypot' (sqrt exp" err.txt "an unknown function"
 printf 'model hard-spheres\necho ${max(1)}\n' > arity.mote
 run_limited 60 1 arity.mote
 has "max takes 2 arguments" err.txt "max(1)"
+
+# 10^5 saves to one file: one warning, not 99 999
+awk 'BEGIN { print "new 2 0.3"; for (k = 0; k < 100000; k++) print "save s.state" }' > saves.mote
+SUB=check
+run_limited 60 0 saves.mote
+SUB=run
+[ "$(grep -c "is written more than once" err.txt)" -eq 1 ] && ok || bad "10^5 saves: $(grep -c warning err.txt) warnings"
 
 # threads never spin: the programs set libgomp's spin count unless the user set one
 OMP_DISPLAY_ENV=VERBOSE "$MOTE" --version > out.txt 2>&1

@@ -105,6 +105,7 @@ typedef struct {
     char *stem;   /* a series: the names' common start (see mote_series_path, core.h); NULL: one file */
     char *ext;    /* a series: the names' ending, ".png" */
     int line;     /* the script line that writes it */
+    int warned;   /* a second write of it was warned about (a third is not) */
 } mote_output;
 
 typedef struct {
@@ -274,6 +275,9 @@ char *mote_ctx_path(const mote_context *ctx, const char *name);
 /* Validation helper: does the directory that will hold `path` exist now, or will `output_dir`
  * create it earlier in the script? */
 int mote_ctx_dir_ok(const mote_context *ctx, const char *path);
+/* Validation: the folder dir will be made before files are written in it (a prefix='s; at most
+ * 8 a script with output_dir's): later checks of files in it pass. -1 when the list is full. */
+int mote_ctx_note_dir(mote_context *ctx, const char *dir);
 
 /* The argi of option `key` for mote_call_fail (-1 when it was not given). */
 int mote_call_opt_index(const mote_call *c, const char *key);

@@ -87,7 +87,8 @@ static inline double mote_ksum_value(const mote_ksum *k) { return k->sum + k->co
 typedef struct {
     FILE *f;
     char *path;
-    char *tmp;
+    char *tmp;   /* where the data is while written: a name, or /proc/self/fd/N (anon) */
+    int anon;    /* the data has no name until commit (O_TMPFILE): a killed run leaves none */
 } mote_afile;
 
 int mote_afile_open(mote_afile *af, const char *path, mote_err *err);
@@ -96,6 +97,10 @@ void mote_afile_abort(mote_afile *af);
 
 /* Does the directory that would hold `path` exist? (used by script validation) */
 int mote_dir_of_exists(const char *path);
+/* Make the folders of path that do not exist yet (the folder of a prefix=, which the script's
+ * check allowed when its parent exists); 0 or an errno value. A numbered file's writer calls it
+ * before it opens the file; mote_afile_open itself never makes folders. */
+int mote_make_dir_of(const char *path);
 
 /* The name of file k of a numbered series: prefix, an '_' unless the prefix is empty or ends in
  * '_' or '/', k in `digits` digits, ext ("out/f", 3, 6, ".png": "out/f_000003.png"). Malloc'ed

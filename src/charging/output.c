@@ -679,6 +679,7 @@ int ch_write_outputs(const ch_output *o, FILE *log, mote_err *err)
     char *path = malloc(len);
     if (!path)
         return mote_fail(err, MOTE_ENOMEM, "output: out of memory");
+    mote_make_dir_of(o->prefix); /* (the prefix= makes its folder) */
     int rc = MOTE_OK;
     static const char *const name[7] = {"_triangles.csv", "_parts.csv",   "_summary.txt",
                                         "_summary.json",  "_surface.vtk", "_surface.png",

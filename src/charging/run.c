@@ -988,6 +988,8 @@ int ch_check_output(void *vm, const mote_call *c, mote_err *err)
         *slash = '\0';
     const int dir_ok =
         dir && (mote_ctx_dir_ok(c->ctx, p->path) || (slash && mote_ctx_dir_ok(c->ctx, dir)));
+    if (dir_ok && slash && !mote_ctx_dir_ok(c->ctx, p->path))
+        mote_ctx_note_dir(c->ctx, dir); /* (the summary and tables in it pass their checks) */
     free(dir);
     if (!dir_ok)
         return mote_call_fail(err, c, mote_call_opt_index(c, "prefix"), MOTE_EINVAL,

@@ -1,12 +1,16 @@
-/* afile.c: atomic output files. Data is written to a unique temporary file in the target's own
- * directory (so rename is atomic on POSIX file systems), flushed and synced, then renamed over
- * the target. Any failure removes the temporary file: an earlier result is never destroyed. A
+/* afile.c: atomic output files. Data is written to a temporary file in the target's own directory
+ * (so rename is atomic on POSIX file systems), flushed and synced, then renamed over the target.
+ * Any failure removes the temporary file: an earlier result is never destroyed. Where the file
+ * system allows (Linux's O_TMPFILE), the temporary file has no name until the commit links it
+ * and renames it over the target at once, so a run killed while writing leaves nothing behind. A
  * data file (datafile.h) committed under a name ending in .csv is converted to RFC 4180 CSV on
  * the way (mote_datafile_csv). */
+#define _GNU_SOURCE /* O_TMPFILE */
 #include "mote/core.h"
 #include "mote/datafile.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -21,9 +25,7 @@ static char *dup_str(const char *s)
     return d;
 }
 
-/* The folders of path that do not exist yet, made (a prefix= or dir= whose folder the script's
- * check allowed: its parent exists); 0 or an errno value. */
-static int make_parents(const char *path)
+int mote_make_dir_of(const char *path)
 {
     char buf[4096];
     const size_t n = strlen(path);
@@ -42,12 +44,79 @@ static int make_parents(const char *path)
     return 0;
 }
 
+/* A temporary file for path's data, in its folder: unnamed (O_TMPFILE; *name then
+ * /proc/self/fd/N, to read it back) where the file system has them, else path.tmp.XXXXXX. The
+ * descriptor, or -1 with errno set; *name malloc'ed. */
+static int open_temp(const char *path, char **name, int *anon)
+{
+    const size_t n = strlen(path) + 32;
+    *name = malloc(n);
+    if (!*name) {
+        errno = ENOMEM;
+        return -1;
+    }
+#ifdef O_TMPFILE
+    const char *slash = strrchr(path, '/');
+    char *dir = slash ? malloc((size_t)(slash - path) + 2) : NULL;
+    if (dir) {
+        memcpy(dir, path, (size_t)(slash - path) + (slash == path));
+        dir[(size_t)(slash - path) + (slash == path)] = '\0';
+    }
+    int fd = slash && !dir ? -1 : open(dir ? dir : ".", O_TMPFILE | O_WRONLY | O_CLOEXEC, 0644);
+    free(dir);
+    if (fd >= 0) {
+        snprintf(*name, n, "/proc/self/fd/%d", fd);
+        if (access(*name, R_OK) == 0) { /* (read back for the CSV form, linked at commit) */
+            *anon = 1;
+            return fd;
+        }
+        close(fd);
+    }
+#endif
+    *anon = 0;
+    snprintf(*name, n, "%s.tmp.XXXXXX", path);
+    int fd2 = mkstemp(*name);
+    if (fd2 >= 0)
+        fchmod(fd2, 0644);
+    return fd2;
+}
+
+/* The temporary file's data under a name of its own beside path (an unnamed one linked to a
+ * fresh name; a named one has it), for the rename; 0 or an errno value. */
+static int name_temp(mote_afile *af)
+{
+    if (!af->anon)
+        return 0;
+    const size_t n = strlen(af->path) + 32;
+    char *named = malloc(n);
+    if (!named)
+        return ENOMEM;
+    for (int tries = 0; tries < 100; tries++) {
+        snprintf(named, n, "%s.tmp.XXXXXX", af->path);
+        int fd = mkstemp(named); /* a fresh name: made, then given to the data */
+        if (fd < 0)
+            break;
+        close(fd);
+        unlink(named);
+        if (linkat(AT_FDCWD, af->tmp, AT_FDCWD, named, AT_SYMLINK_FOLLOW) == 0) {
+            free(af->tmp);
+            af->tmp = named;
+            af->anon = 0;
+            return 0;
+        }
+        if (errno != EEXIST)
+            break;
+    }
+    const int e = errno ? errno : EIO;
+    free(named);
+    return e;
+}
+
 int mote_afile_open(mote_afile *af, const char *path, mote_err *err)
 {
     af->f = NULL;
     af->path = af->tmp = NULL;
-    if (!mote_dir_of_exists(path))
-        make_parents(path);
+    af->anon = 0;
     struct stat st;
     if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) /* a rename would replace a device */
         return mote_fail(err, MOTE_EIO,
@@ -55,29 +124,23 @@ int mote_afile_open(mote_afile *af, const char *path, mote_err *err)
                          "file by renaming a complete copy over it)",
                          path);
     af->path = dup_str(path);
-    size_t n = strlen(path) + 32;
-    af->tmp = malloc(n);
-    if (!af->path || !af->tmp) {
-        free(af->path);
-        free(af->tmp);
-        af->path = af->tmp = NULL;
+    if (!af->path)
         return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", path);
-    }
-    snprintf(af->tmp, n, "%s.tmp.XXXXXX", path);
-    int fd = mkstemp(af->tmp);
+    int fd = open_temp(path, &af->tmp, &af->anon);
     if (fd < 0) {
         int e = errno;
         free(af->path);
         free(af->tmp);
         af->path = af->tmp = NULL;
-        return mote_fail(err, MOTE_EIO, "cannot write '%s': %s", path, strerror(e));
+        return mote_fail(err, e == ENOMEM ? MOTE_ENOMEM : MOTE_EIO, "cannot write '%s': %s",
+                         path, strerror(e));
     }
-    fchmod(fd, 0644);
     af->f = fdopen(fd, "w");
     if (!af->f) {
         int e = errno;
         close(fd);
-        unlink(af->tmp);
+        if (!af->anon)
+            unlink(af->tmp);
         free(af->path);
         free(af->tmp);
         af->path = af->tmp = NULL;
@@ -99,8 +162,9 @@ void mote_afile_abort(mote_afile *af)
     if (!af->tmp)
         return;
     if (af->f)
-        fclose(af->f);
-    unlink(af->tmp);
+        fclose(af->f); /* (an unnamed file goes with its descriptor) */
+    if (!af->anon)
+        unlink(af->tmp);
     afile_release(af);
 }
 
@@ -124,30 +188,34 @@ static int convert_csv(mote_afile *af, mote_err *err)
     char *tmp2 = malloc(n);
     if (!tmp2)
         return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", af->path);
-    snprintf(tmp2, n, "%s.tmp.XXXXXX", af->path);
-    int fd = mkstemp(tmp2);
+    free(tmp2);
+    int anon2 = 0;
+    int fd = open_temp(af->path, &tmp2, &anon2);
     FILE *out = fd >= 0 ? fdopen(fd, "w") : NULL;
     if (!out) {
         int e = errno;
         if (fd >= 0) {
             close(fd);
-            unlink(tmp2);
+            if (!anon2)
+                unlink(tmp2);
         }
         free(tmp2);
         return mote_fail(err, MOTE_EIO, "cannot write '%s': %s", af->path, strerror(e));
     }
-    fchmod(fd, 0644);
     int rc = mote_datafile_csv(af->tmp, out, err);
     if (rc) {
         fclose(out);
-        unlink(tmp2);
+        if (!anon2)
+            unlink(tmp2);
         free(tmp2);
         return rc;
     }
     fclose(af->f);
-    unlink(af->tmp);
+    if (!af->anon)
+        unlink(af->tmp);
     free(af->tmp);
     af->tmp = tmp2;
+    af->anon = anon2;
     af->f = out;
     return MOTE_OK;
 }
@@ -175,6 +243,8 @@ int mote_afile_commit(mote_afile *af, mote_err *err)
         bad = 1;
         e = errno;
     }
+    if (!bad && (e = name_temp(af)) != 0) /* (before the close: an unnamed file goes with it) */
+        bad = 1;
     if (fclose(af->f) != 0 && !bad) {
         bad = 1;
         e = errno;
@@ -185,7 +255,8 @@ int mote_afile_commit(mote_afile *af, mote_err *err)
         e = errno;
     }
     if (bad) {
-        unlink(af->tmp);
+        if (!af->anon)
+            unlink(af->tmp);
         struct stat st;
         int rc = mote_fail(err, MOTE_EIO, "failed to write '%s': %s; %s", af->path,
                            e ? strerror(e) : "write error",

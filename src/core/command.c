@@ -103,6 +103,18 @@ int mote_ctx_dir_ok(const mote_context *ctx, const char *path)
     return 0;
 }
 
+int mote_ctx_note_dir(mote_context *ctx, const char *dir)
+{
+    const int cap = (int)(sizeof ctx->pending_dirs / sizeof ctx->pending_dirs[0]);
+    for (int i = 0; i < ctx->npending_dirs; i++)
+        if (strcmp(ctx->pending_dirs[i], dir) == 0)
+            return 0;
+    if (ctx->npending_dirs >= cap || strlen(dir) >= sizeof ctx->pending_dirs[0])
+        return -1;
+    memcpy(ctx->pending_dirs[ctx->npending_dirs++], dir, strlen(dir) + 1);
+    return 0;
+}
+
 int mote_call_fail(mote_err *err, const mote_call *c, int argi, mote_status code, const char *fmt,
                    ...)
 {
@@ -342,8 +354,9 @@ static int add_entry(mote_outputs *o, const mote_call *c, int argi, const char *
         (stem && room_for((void **)&o->series, &o->capseries, o->nseries, sizeof *o->series)) ||
         room_for((void **)&o->e, &o->cap, o->n, sizeof *o->e))
         return mote_call_fail(err, c, argi, MOTE_ENOMEM, "out of memory");
+    const size_t prev = o->nslot ? o->slot[find_slot(o, path)] : 0;
     mote_output e = {copy_string(path), copy_string(kind), stem ? copy_string(stem) : NULL,
-                     ext ? copy_string(ext) : NULL, c->line};
+                     ext ? copy_string(ext) : NULL, c->line, prev ? o->e[prev - 1].warned : 0};
     if (!e.path || !e.kind || (stem && !e.stem) || (ext && !e.ext)) {
         free(e.path);
         free(e.kind);
@@ -365,9 +378,12 @@ int mote_outputs_note_path(mote_outputs *o, const mote_call *c, int argi, const 
         return mote_call_fail(err, c, argi, MOTE_EIO,
                               "%s: the directory of output file '%s' does not exist", c->name,
                               path);
-    if (!repeat_ok && mote_outputs_find(o, path))
-        mote_call_warn(c, "%s: '%s' is written more than once in this script; the last one wins",
-                       c->name, path);
+    const size_t prev = o->nslot ? o->slot[find_slot(o, path)] : 0;
+    if (!repeat_ok && prev && !o->e[prev - 1].warned) { /* once a file: 10^5 saves, one line */
+        mote_call_warn(c, "%s: '%s' is written more than once in this script; the last one wins "
+                       "(later writes of it are not warned about)", c->name, path);
+        o->e[prev - 1].warned = 1;
+    }
     for (size_t q = 0; q < o->nseries; q++) {
         const mote_output *e = &o->e[o->series[q]];
         if (in_series(e, path)) {
@@ -395,6 +411,8 @@ int mote_outputs_note_series(mote_outputs *o, const mote_call *c, int argi, cons
         rc = mote_call_fail(err, c, argi, MOTE_EIO,
                             "%s: the directory that would hold '%s' does not exist", c->name,
                             first);
+    else if (makes_dir && slash && !mote_dir_of_exists(prefix) && c->ctx)
+        mote_ctx_note_dir(c->ctx, first); /* (files in it pass later checks; full: they fail) */
     else if (!makes_dir && !mote_ctx_dir_ok(c->ctx, first))
         rc = mote_call_fail(err, c, argi, MOTE_EIO,
                             "%s: the directory of the numbered files '%s' does not exist",

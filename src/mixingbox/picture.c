@@ -146,6 +146,8 @@ int mb_frames_sample(void *ctx, void *subject, mote_err *err)
     mote_mb *sys = subject;
     mb_frames *fr = ctx;
     char *name = mb_frame_name(fr->prefix, fr->next_index);
+    if (name)
+        mote_make_dir_of(name); /* (a prefix= makes its folder) */
     if (!name)
         return mote_fail(err, MOTE_ENOMEM, "frames: out of memory");
     int rc = mb_snapshot_png(sys, name, err);

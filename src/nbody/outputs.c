@@ -545,6 +545,7 @@ static int frame_now(nb_model *m, mote_err *err)
     char *path = mote_series_path(m->frames.prefix, m->frames.count, 6, ".png");
     if (!path)
         return mote_fail(err, MOTE_ENOMEM, "frames: out of memory");
+    mote_make_dir_of(path); /* (a prefix= makes its folder) */
     int rc = nb_frame_png(&m->nb, &m->frames.f, path, m->nb.steps, err);
     m->frames.count += !rc;
     free(path);
@@ -712,6 +713,7 @@ static int fire_snapshot(void *ctx, void *subject, mote_err *err)
                                   m->snap.galactica ? ".dat" : ".snap");
     if (!path)
         return mote_fail(err, MOTE_ENOMEM, "snapshot: out of memory");
+    mote_make_dir_of(path); /* (a prefix= makes its folder) */
     int rc = m->snap.galactica ? nb_write_galactica(m, path, 1, err)
                                : nb_snapshot_write(&m->nb, path, m->snap.origin, err);
     free(path);
