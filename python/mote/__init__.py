@@ -218,7 +218,11 @@ class DataFile:
         self.columns = []
         self.blocks = []
         rows = []
-        with open(path, encoding="utf-8") as f:
+        try:
+            f = open(path, encoding="utf-8")
+        except OSError as e: # mote's error, naming the file, as every reader of mote's files
+            raise MoteError("%s: cannot open: %s" % (path, e.strerror or e)) from None
+        with f:
             for n, line in enumerate(f, 1):
                 line = line.rstrip("\r\n")
                 if n == 1:

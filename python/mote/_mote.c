@@ -164,6 +164,10 @@ static int Session_init(Session *self, PyObject *args, PyObject *kw)
     if (!PyArg_ParseTupleAndKeywords(args, kw, "s|s", kwlist, &model, &name))
         return -1;
     mote_err err = {0};
+    if (self->busy) {
+        PyErr_SetString(MoteError, "the session is running a command in another thread");
+        return -1;
+    }
     mote_session_close(self->s);
     self->s = NULL;
     if (mote_session_open(&self->s, name, model, mote_models, mote_nmodels, &err)) {
@@ -352,6 +356,11 @@ static PyObject *Session_set_array(Session *self, PyObject *args)
 
 static PyObject *Session_close(Session *self, PyObject *unused)
 {
+    if (self->busy) { /* (freeing the model under the running command crashed) */
+        PyErr_SetString(MoteError, "close: the session is running a command in another thread; "
+                                   "close it after the command returns");
+        return NULL;
+    }
     if (self->s && (no_live_views(self)))
         return NULL;
     mote_session_close(self->s);

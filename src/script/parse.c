@@ -1088,6 +1088,10 @@ void mote_script_drop(mote_script *s, size_t from)
 int mote_script_append(mote_script *s, const char *text, size_t len, int line, mote_err *err)
 {
     const size_t before = s->ncalls;
+    if (len >= 3 && memcmp(text, "\xEF\xBB\xBF", 3) == 0) { /* a byte-order mark, as in a file */
+        text += 3;
+        len -= 3;
+    }
     int rc = parse_lines(s, text, text + len, line, s->models, s->nmodels, err);
     if (rc) /* (what the text added goes; its arena memory stays until the script is freed) */
         mote_script_drop(s, before);

@@ -274,3 +274,37 @@ def test_gil_released():
             seen_running.append(not done.is_set())
     t.join()
     assert seen_running == [True]
+
+
+def test_close_while_running():
+    """close() from another thread while a command runs is refused (it crashed: issue 52); the
+    command finishes and the session closes after it."""
+    sim = mote.Simulation()
+    sim.command("new 4 0.3")
+    running, results = threading.Event(), []
+
+    def work():
+        results.append(sim.command("step 3000", progress=lambda label, f: running.set()))
+
+    t = threading.Thread(target=work)
+    t.start()
+    assert running.wait(120)  # the command's first progress report: it is under way
+    with pytest.raises(mote.MoteError, match="running a command in another thread"):
+        sim.close()
+    t.join()
+    assert results and sim.status()["collisions"] > 0
+    sim.close()
+
+
+def test_read_data_missing(tmp_path):
+    """A file that is not there: mote's error naming it, as for every file mote reads."""
+    with pytest.raises(mote.MoteError, match=r"nosuch\.dat: cannot open: No such file"):
+        mote.read_data(str(tmp_path / "nosuch.dat"))
+
+
+def test_byte_order_mark():
+    """A script or a command that starts with a UTF-8 byte-order mark (as some editors save)."""
+    assert "N=64" in mote.run("\ufeffnew 2 0.3\n")
+    sim = mote.Simulation()
+    sim.command("\ufeffnew 2 0.3")
+    assert sim.status()["N"] == 64
