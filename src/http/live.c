@@ -25,6 +25,19 @@
  * IDLE_SECONDS is closed (a stream sends at least a comment a second, so it is never idle). */
 #define MAX_CONNECTIONS 64
 #define IDLE_SECONDS 10
+/* A connection must have sent its whole request head within HEADER_SECONDS of its start: the
+ * idle timeout alone let 64 connections trickling a header line every few seconds hold every
+ * slot for as long as they liked (issue 52). A watchdog cuts the slow ones. */
+#define HEADER_SECONDS 5.0
+
+/* A connection, from its start until it closes: its socket, when it began, whether its request
+ * head has arrived (the handler was called). */
+typedef struct conn_rec {
+    struct conn_rec *next, *prev;
+    int fd;
+    double t0;
+    int handled, cut;
+} conn_rec;
 /* How long mote_live_stop lets connected viewers take the final frame before it closes them. */
 #define FINAL_GRACE_SECONDS 2.0
 
@@ -40,7 +53,88 @@ struct mote_live {
     unsigned port;     /* the bound port, for the Host check */
     double last;       /* wall time of the last frame */
     char *page;        /* the page, its lines joined */
+    conn_rec *conns;   /* the open connections (under mu) */
+    pthread_t watch;   /* the watchdog of slow request heads */
+    pthread_cond_t wcv;
+    int watching;
 };
+
+/* ---- slow request heads ------------------------------------------------------------------------ */
+
+static void notify(void *cls, struct MHD_Connection *c, void **socket_context,
+                   enum MHD_ConnectionNotificationCode toe)
+{
+    mote_live *l = cls;
+    if (toe == MHD_CONNECTION_NOTIFY_STARTED) {
+        conn_rec *r = calloc(1, sizeof *r);
+        const union MHD_ConnectionInfo *ci =
+            MHD_get_connection_info(c, MHD_CONNECTION_INFO_CONNECTION_FD);
+        if (!r || !ci) {
+            free(r);
+            return;
+        }
+        r->fd = ci->connect_fd;
+        r->t0 = mote_wall_seconds();
+        pthread_mutex_lock(&l->mu);
+        r->next = l->conns;
+        if (l->conns)
+            l->conns->prev = r;
+        l->conns = r;
+        pthread_mutex_unlock(&l->mu);
+        *socket_context = r;
+    } else if (toe == MHD_CONNECTION_NOTIFY_CLOSED && *socket_context) {
+        conn_rec *r = *socket_context;
+        pthread_mutex_lock(&l->mu);
+        if (r->prev)
+            r->prev->next = r->next;
+        else
+            l->conns = r->next;
+        if (r->next)
+            r->next->prev = r->prev;
+        pthread_mutex_unlock(&l->mu);
+        free(r);
+        *socket_context = NULL;
+    }
+}
+
+/* The request head of c has arrived: the watchdog leaves it alone. */
+static void head_arrived(mote_live *l, struct MHD_Connection *c)
+{
+    const union MHD_ConnectionInfo *ci =
+        MHD_get_connection_info(c, MHD_CONNECTION_INFO_SOCKET_CONTEXT);
+    conn_rec *r = ci ? (conn_rec *)ci->socket_context : NULL;
+    if (r) {
+        pthread_mutex_lock(&l->mu);
+        r->handled = 1;
+        pthread_mutex_unlock(&l->mu);
+    }
+}
+
+/* Four times a second: shut the sockets of connections whose request head is late (their
+ * threads then see the end of the stream and close them). */
+static void *watchdog(void *arg)
+{
+    mote_live *l = arg;
+    pthread_mutex_lock(&l->mu);
+    while (l->watching) {
+        const double now = mote_wall_seconds();
+        for (conn_rec *r = l->conns; r; r = r->next)
+            if (!r->handled && !r->cut && now - r->t0 > HEADER_SECONDS) {
+                shutdown(r->fd, SHUT_RDWR);
+                r->cut = 1;
+            }
+        struct timespec until;
+        clock_gettime(CLOCK_REALTIME, &until);
+        until.tv_nsec += 250000000L;
+        if (until.tv_nsec >= 1000000000L) {
+            until.tv_sec++;
+            until.tv_nsec -= 1000000000L;
+        }
+        pthread_cond_timedwait(&l->wcv, &l->mu, &until);
+    }
+    pthread_mutex_unlock(&l->mu);
+    return NULL;
+}
 
 /* ---- the stream -------------------------------------------------------------------------------- */
 
@@ -168,6 +262,7 @@ static enum MHD_Result handle(void *cls, struct MHD_Connection *c, const char *u
     (void)version;
     (void)upload;
     mote_live *l = cls;
+    head_arrived(l, c);
     static int marker;
     const int post = strcmp(method, "POST") == 0, get = strcmp(method, "GET") == 0;
     if (!get && !post)
@@ -233,6 +328,17 @@ static enum MHD_Result handle(void *cls, struct MHD_Connection *c, const char *u
 
 /* ---- the run's side ---------------------------------------------------------------------------- */
 
+static void stop_watchdog(mote_live *l)
+{
+    pthread_mutex_lock(&l->mu);
+    const int was = l->watching;
+    l->watching = 0;
+    pthread_cond_broadcast(&l->wcv);
+    pthread_mutex_unlock(&l->mu);
+    if (was)
+        pthread_join(l->watch, NULL);
+}
+
 int mote_live_start(mote_live **out, const char *bind, int port, char url[128], mote_err *err)
 {
     *out = NULL;
@@ -267,13 +373,26 @@ int mote_live_start(mote_live **out, const char *bind, int port, char url[128], 
     }
     pthread_mutex_init(&l->mu, NULL);
     pthread_cond_init(&l->cv, NULL);
+    pthread_cond_init(&l->wcv, NULL);
+    l->watching = 1;
+    if (pthread_create(&l->watch, NULL, watchdog, l) != 0) {
+        l->watching = 0;
+        pthread_cond_destroy(&l->wcv);
+        pthread_cond_destroy(&l->cv);
+        pthread_mutex_destroy(&l->mu);
+        free(l->page);
+        free(l);
+        return mote_fail(err, MOTE_ENOMEM, "live: cannot start the server's watchdog thread");
+    }
     l->d = MHD_start_daemon(MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_THREAD_PER_CONNECTION, 0,
                             NULL, NULL, handle, l, MHD_OPTION_SOCK_ADDR, (struct sockaddr *)&a,
                             MHD_OPTION_CONNECTION_LIMIT, (unsigned)MAX_CONNECTIONS,
                             MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)16384,
                             MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)IDLE_SECONDS,
-                            MHD_OPTION_END);
+                            MHD_OPTION_NOTIFY_CONNECTION, notify, l, MHD_OPTION_END);
     if (!l->d) {
+        stop_watchdog(l);
+        pthread_cond_destroy(&l->wcv);
         pthread_cond_destroy(&l->cv);
         pthread_mutex_destroy(&l->mu);
         free(l->page);
@@ -307,6 +426,8 @@ void mote_live_stop(mote_live *l)
     pthread_cond_broadcast(&l->cv);
     pthread_mutex_unlock(&l->mu);
     MHD_stop_daemon(l->d);
+    stop_watchdog(l);
+    pthread_cond_destroy(&l->wcv);
     pthread_cond_destroy(&l->cv);
     pthread_mutex_destroy(&l->mu);
     free(l->frame);
