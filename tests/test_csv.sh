@@ -57,7 +57,14 @@ import pandas as pd
 d = pd.read_csv("b.csv")
 assert len(d) == 6 and (d.fed_all == d.in_all + d.fines_all + d.coarse_all + d.lost_all).all()
 ' > py.txt 2>&1 && ok || bad "b.csv: $(tail -2 py.txt)"
-# plot of a .csv is refused at check time, before anything runs
-expect 1 "pl.mote:5:6: error: plot: m.csv is a CSV file" pl.mote \
+# plot reads mote's own .csv files (issue 52: it could not) with x= and y= (a CSV file keeps
+# its column names, not its kind: without them, an error at check time), the same curve as the
+# .dat file's; a file of several blocks, repeating its header row, gives its last block as a .dat
+expect 1 "pl.mote:5:6: error: plot: m.csv is a CSV file, which keeps its column names but not what kind of file it is: give x= and y=" pl.mote \
     "model nbody gravity\ngenerate ring nb=10\nmonitor every=500 file=m.csv\nintegrate steps=1000\nplot m.csv m.png\n" check
+expect 0 "" pl2.mote "model nbody gravity\ngenerate ring nb=10\nmonitor every=500 file=mm.csv\nintegrate steps=1000\nplot mm.csv to=mc.png x=T y=dE\n"
+expect 0 "" pl2b.mote "model nbody gravity\ngenerate ring nb=10\nmonitor every=500 file=mm.dat\nintegrate steps=1000\nplot mm.dat to=md.png x=T y=dE\n"
+[ -s mc.png ] && cmp -s mc.png md.png && ok || bad "the plot of mm.csv differs from mm.dat's"
+expect 0 "" pl3.mote "new 2 0.3\nstep 10\npressure 10 pp.csv\npressure 10 pp.dat\nplot pp.csv to=pc.png x=time y=P_wall\nplot pp.dat to=pd.png x=time y=P_wall\n"
+[ -s pc.png ] && ok || bad "the plot of the last block of pp.csv"
 mote_test_end

@@ -391,12 +391,49 @@ static int add_row(mote_table *t, const char *line, int block, long lineno)
     return 0;
 }
 
+/* One CSV record (RFC 4180, on one line) as the words of a data file's line (malloc'ed; NULL out
+ * of memory): fields separated by blanks, a quoted field unquoted ("" is "), blanks inside a
+ * field as '_', an empty field "nan". */
+static char *csv_words(const char *p)
+{
+    char *out = malloc(4 * strlen(p) + 8), *q = out;
+    if (!out)
+        return NULL;
+    for (int field = 0;; field++) {
+        if (field)
+            *q++ = ' ';
+        char *body = q;
+        if (*p == '"') {
+            for (p++; *p && !(*p == '"' && p[1] != '"'); p++) {
+                if (*p == '"')
+                    p++; /* ("" is one ") */
+                *q++ = *p == ' ' || *p == '\t' ? '_' : *p;
+            }
+            if (*p == '"')
+                p++;
+        }
+        for (; *p && *p != ',' && *p != '\r' && *p != '\n'; p++)
+            *q++ = *p == ' ' || *p == '\t' ? '_' : *p;
+        if (q == body) {
+            memcpy(q, "nan", 3);
+            q += 3;
+        }
+        if (*p != ',')
+            break;
+        p++;
+    }
+    *q = '\0';
+    return out;
+}
+
 int mote_table_read(mote_table *t, const char *path, mote_err *err)
 {
     memset(t, 0, sizeof *t);
     FILE *f = fopen(path, "r");
     if (!f)
         return mote_fail(err, MOTE_EIO, "cannot read '%s': %s", path, strerror(errno));
+    const int csv = mote_path_is_csv(path);
+    int csv_head = csv, csv_block = 0; /* a CSV file: its first record names the columns */
     char *line = NULL;
     size_t cap = 0;
     long lineno = 0, bytes = 0;
@@ -421,6 +458,35 @@ int mote_table_read(mote_table *t, const char *path, mote_err *err)
             rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: a NUL byte in the line (not a text file)",
                            path, lineno);
             break;
+        }
+        if (csv && line[0] != '#' && line[strspn(line, " \t\r\n")] != '\0') {
+            /* a CSV record: the first names the columns, the others are rows (mote's CSV of a
+             * file of several blocks starts each row with its block) */
+            char *w = csv_words(line);
+            if (!w) {
+                rc = mote_fail(err, MOTE_ENOMEM, "out of memory reading '%s'", path);
+                break;
+            }
+            int ar = 0;
+            if (csv_head || (csv_block && strncmp(w, "block ", 6) == 0)) {
+                /* (mote's CSV of blocks with columns of their own repeats the header row) */
+                csv_head = 0;
+                ar = read_columns(t, w) ? -1 : 0;
+                csv_block = t->ncolnames > 0 && strcmp(t->colname[0], "block") == 0;
+            } else {
+                char *e;
+                const double b = csv_block ? strtod(w, &e) : -1;
+                ar = add_row(t, w, b >= 0 && b < 1e9 ? (int)b : block, lineno);
+            }
+            free(w);
+            if (ar) {
+                rc = ar == -2 ? mote_fail(err, MOTE_EFORMAT, "%s:%ld: too many numbers for a "
+                                          "plot (more than %zu)", path, lineno,
+                                          MOTE_TABLE_MAXCELLS)
+                              : mote_fail(err, MOTE_ENOMEM, "out of memory reading '%s'", path);
+                break;
+            }
+            continue;
         }
         if (line[0] == '#') {
             if (lineno == 1 && sscanf(line, "# mote %31s 1", t->format) != 1)

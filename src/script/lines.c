@@ -161,7 +161,7 @@ int mote_plot_lines(const mote_call *c, int nin, const char *defaults, const cha
             rc = mote_call_fail(err, c, i, e2.code, "%s", e2.msg);
             break;
         }
-        if (!t[i].format[0]) {
+        if (!t[i].format[0] && !mote_path_is_csv(path)) { /* (a CSV file keeps no format) */
             rc = mote_call_fail(err, c, i, MOTE_EFORMAT, "%s:1: not a mote data file (its first "
                                 "line is not '# mote FORMAT 1')", path);
             break;

@@ -307,11 +307,12 @@ static int plot_check(void *model, const mote_call *c, mote_err *err)
     }
     int own = plot_own(s, c, nin), later = 0;
     for (int i = 0; i < nin; i++) {
-        if (mote_path_is_csv(c->args[i].path))
+        if (mote_path_is_csv(c->args[i].path) &&
+            !(mote_call_opt(c, "x") && mote_call_opt(c, "y")))
             return mote_call_fail(err, c, i, MOTE_EINVAL,
-                                  "plot: %s is a CSV file (RFC 4180, for other tools), which "
-                                  "keeps no header; plot reads mote's data files: write it under "
-                                  "another name (such as .dat)", c->args[i].text);
+                                  "plot: %s is a CSV file, which keeps its column names but not "
+                                  "what kind of file it is: give x= and y= (column names of its "
+                                  "first row)", c->args[i].text);
         int rc = mote_args_check_input(c, i, own ? s->model->plot_kinds : NULL, err);
         if (rc)
             return rc;
@@ -524,8 +525,10 @@ const mote_cmd mote_script_common_cmds[] = {
      "leave out its [unit] (`y=rho` is `rho[R^-3]`). Without x= and y=, the model's\n"
      "columns for that kind of file (below), and where a file has a column Y_err or\n"
      "sigma_Y (or the kind's own), its error bars. A file of several blocks gives the\n"
-     "rows of its last block (after its last `# columns:` line). Files that exist when\n"
-     "the script is checked have their columns checked then, before anything runs:\n"
+     "rows of its last block (after its last `# columns:` line). mote's CSV files\n"
+     "(*.csv) are read too, by the names of their first row, always with x= and y=.\n"
+     "Files that exist when the script is checked have their columns checked then,\n"
+     "before anything runs:\n"
      "\n"
      "    for eta in 0.3 0.4\n"
      "        reset\n"
