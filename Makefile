@@ -197,7 +197,7 @@ seeds-san: setup-test
 # it); a crash or leak leaves its input as fuzz/corpus/<target>/crash-... (rename it after what it
 # did): `make check` then replays it through tests/test_fuzz.c until it is fixed.
 FUZZ_TIME ?= 60
-FUZZ_TARGETS := script hs_state mb_state nb_state nb_snapshot nb_solar ch_plain plot sep_state nb_galactica nb_galctl nb_galjob ch_mesh sep_files live_http
+FUZZ_TARGETS := script hs_state mb_state nb_state nb_snapshot nb_solar ch_plain plot sep_state nb_galactica nb_galctl nb_galjob ch_mesh sep_files live_http script_params csv
 FUZZ_SAN := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
 fuzz:
 	@sh scripts/setup.sh fuzz

@@ -3,6 +3,7 @@
  * the reader takes a path, exactly as a user's file would arrive. */
 #include "fuzz.h"
 
+#include "mote/datafile.h"
 #include "mote/hardspheres.h"
 #include "mote/live.h"
 #include "mote/mixingbox.h"
@@ -397,6 +398,70 @@ static int fuzz_plot(const uint8_t *data, size_t size)
     return 0;
 }
 
+/* Script parameters (issue 52): the lines up to the first empty one are NAME=VALUE parameters, the
+ * rest is the script, parsed and validated with them (as `mote check SCRIPT NAME=VALUE ...`). */
+static int fuzz_script_params(const uint8_t *data, size_t size)
+{
+    char *text = malloc(size + 1);
+    if (!text)
+        return 0;
+    memcpy(text, data, size);
+    text[size] = '\0';
+    const char *params[64];
+    int np = 0;
+    char *p = text;
+    while (np < 64 && p < text + size && *p != '\n') {
+        char *nl = memchr(p, '\n', (size_t)(text + size - p));
+        if (!nl)
+            break;
+        *nl = '\0';
+        params[np++] = p;
+        p = nl + 1;
+    }
+    if (p < text + size && *p == '\n')
+        p++;
+    mote_err err = {0};
+    mote_script *s = NULL;
+    if (mote_script_parse_params(&s, "fuzz.mote", p, (size_t)(text + size - p), params, np,
+                                 MODELS, sizeof MODELS / sizeof MODELS[0], &err) == 0) {
+        mote_context *ctx = mote_script_context(s);
+        FILE *null = fopen("/dev/null", "w");
+        if (null) {
+            ctx->out = ctx->diag = null;
+            mote_script_validate(s, &err);
+            fclose(null);
+        }
+        mote_script_free(s);
+    }
+    free(text);
+    return 0;
+}
+
+/* The CSV form of a data file and the table reader (issue 52): the input as a data file turned
+ * into CSV (as a commit under a .csv name does), that CSV read back, and the input itself read as
+ * a CSV file. */
+static int fuzz_csv(const uint8_t *data, size_t size)
+{
+    char in[256], out[256], raw[256];
+    if (write_input("in.dat", data, size, in, sizeof in) ||
+        write_input("raw.csv", data, size, raw, sizeof raw))
+        return 0;
+    snprintf(out, sizeof out, "%s/out.csv", scratch());
+    mote_err err = {0};
+    FILE *f = fopen(out, "w");
+    if (f) {
+        const int rc = mote_datafile_csv(in, f, &err);
+        fclose(f);
+        mote_table t;
+        if (!rc && mote_table_read(&t, out, &err) == 0)
+            mote_table_free(&t);
+    }
+    mote_table t;
+    if (mote_table_read(&t, raw, &err) == 0)
+        mote_table_free(&t);
+    return 0;
+}
+
 const mote_fuzz_target mote_fuzz_targets[] = {
     {"script", fuzz_script},
     {"hs_state", fuzz_hs_state},
@@ -413,6 +478,8 @@ const mote_fuzz_target mote_fuzz_targets[] = {
     {"ch_mesh", fuzz_ch_mesh},
     {"sep_files", fuzz_sep_files},
     {"live_http", fuzz_live_http},
+    {"script_params", fuzz_script_params},
+    {"csv", fuzz_csv},
 };
 const size_t mote_fuzz_ntargets = sizeof mote_fuzz_targets / sizeof mote_fuzz_targets[0];
 
