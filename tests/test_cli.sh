@@ -343,5 +343,14 @@ if [ "$rc" -eq 1 ] && grep -q "nosuch" "$ERR"; then ok "mote help nosuch: exit 1
 run_mote
 if [ "$rc" -eq 1 ]; then ok "mote without arguments: exit 1"; else not_ok "mote without arguments: exit 1" "rc $rc"; fi
 
+# quiet (issue 52): no status line after each command with `quiet on` or --quiet; the results
+# and the command's own lines still print
+printf 'new 2 0.3\nquiet on\nstep 10\npressure 10 q.dat\nquiet off\nstep 10\n' > "$T/q.mote"
+n=$("$MOTE" run "$T/q.mote" 2>&1 | grep -c '^N=')
+if [ "$n" -eq 2 ]; then ok "quiet on/off: status lines after new and the last step only"; else not_ok "quiet on/off" "$n status lines"; fi
+out=$("$MOTE" run --quiet "$T/q.mote" 2>&1)
+n=$(printf '%s\n' "$out" | grep -c '^N=')
+if [ "$n" -eq 1 ] && printf '%s\n' "$out" | grep -q '^pressure: '; then ok "--quiet: one status line (after quiet off), results still printed"; else not_ok "--quiet" "$out"; fi
+
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ] && [ "$passed" -gt 0 ]

@@ -145,6 +145,7 @@ typedef struct mote_context {
     char model_variant[32]; /* the variant the `model` line chose ("" when the model has none) */
     int threads;            /* set by the common `threads` command (0 = not set: one thread) */
     int terminal;           /* stdout is a terminal: show progress */
+    int quiet;              /* no status line after each command (`quiet on`, --quiet) */
     FILE *out;              /* status lines (stdout) */
     FILE *diag;             /* warnings and errors (stderr) */
     /* Called from every progress update of a long command (and after each command) while a

@@ -95,6 +95,7 @@ typedef struct {
     FILE *diag;     /* errors, warnings, notes */
     int terminal;   /* out is a terminal: show progress */
     int check_only; /* validate and stop */
+    int quiet;      /* --quiet: no status line after each command (`quiet on`) */
     int live;       /* --live[=PORT]: start the live view before the first command */
     int live_port;  /* its port (0: any free one) */
     const char *live_bind; /* --bind ADDRESS (NULL: 127.0.0.1) */

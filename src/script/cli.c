@@ -9,10 +9,12 @@
 #include <unistd.h>
 
 const char mote_usage_text[] =
-            "Usage: mote run [--check] [--live[=PORT]] [--bind ADDRESS] [SCRIPT] [NAME=VALUE...]\n"
-            "                                    run a script (default: " MOTE_DEFAULT_SCRIPT "; -:\n"
+            "Usage: mote run [--check] [--quiet] [--live[=PORT]] [--bind ADDRESS] [SCRIPT]\n"
+            "                [NAME=VALUE...]     run a script (default: " MOTE_DEFAULT_SCRIPT "; -:\n"
             "                                    standard input), with parameters for its\n"
-            "                                    ${NAME}, with --live watched in a browser\n"
+            "                                    ${NAME}, with --live watched in a browser,\n"
+            "                                    --quiet without a status line after each\n"
+            "                                    command\n"
             "       mote check [SCRIPT] [NAME=VALUE...]  check a script; run nothing\n"
             "       mote help [CMD | MODEL]      list the commands, or document one\n"
             "       mote help --markdown         the command reference in Markdown\n"
@@ -61,6 +63,8 @@ static int run_or_check_with(int argc, char **argv, const char **params,
             }
         } else if (!options_done && strcmp(a, "--bind") == 0 && i + 1 < argc) {
             opt.live_bind = argv[++i];
+        } else if (!options_done && (strcmp(a, "--quiet") == 0 || strcmp(a, "-q") == 0)) {
+            opt.quiet = 1;
         } else if (!options_done && a[0] == '-' && a[1] != '\0') {
             if (strcmp(a, "--check") != 0)
                 return usage_error(diag, "unknown option '%s'", a);

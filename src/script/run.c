@@ -147,6 +147,12 @@ static int echo_run(void *model, const mote_call *c, mote_err *err)
     return 0;
 }
 
+static int quiet_run(void *model, const mote_call *c, mote_err *err)
+{
+    c->ctx->quiet = c->args[0].i == 0; /* on|off */
+    return MOTE_OK;
+}
+
 static int threads_run(void *model, const mote_call *c, mote_err *err)
 {
     mote_script *s = model; /* common commands receive the script, not the model */
@@ -468,6 +474,12 @@ const mote_cmd mote_script_common_cmds[] = {
      "Print the arguments, separated by single spaces, on standard output. Quote\n"
      "text to keep runs of spaces or a `#` in it.\n",
      NULL, echo_run},
+    {"quiet", NULL, "e{on|off}", "quiet on|off", "no status line after each command",
+     "`quiet on`: the commands that follow print no status line after them (what they\n"
+     "print of their own, results, warnings and errors still show); `quiet off` brings\n"
+     "the status lines back. `mote run --quiet SCRIPT` starts quiet. For a script of\n"
+     "many setup commands whose status lines say nothing new.\n",
+     NULL, quiet_run},
     {"threads", NULL, "i>=1", "threads N", "number of threads for the commands that follow",
      "Set the number of threads (OpenMP) for the commands that follow, N >= 1\n"
      "(default 1). Results never depend on it: the nbody, charging and separator\n"
@@ -659,7 +671,7 @@ int mote_script_run_calls(mote_script *s, size_t from, size_t to, mote_err *err)
             if (!(e && err->located)) /* (a replica's error is located at its call) */
                 mote_script_locate(err, c);
             rc = err->code ? (int)err->code : (int)MOTE_ERUNTIME;
-        } else if (!common && s->model->status) {
+        } else if (!common && s->model->status && !s->ctx.quiet) {
             s->model->status(s->instance, s->ctx.out);
         }
         fflush(s->ctx.out);
@@ -726,6 +738,7 @@ int mote_script_run_file(const char *path, const mote_model *const *models, size
     ctx->out = opt->out;
     ctx->diag = opt->diag;
     ctx->terminal = opt->terminal;
+    ctx->quiet = opt->quiet;
     ctx->ranks = opt->ranks;
     if (s->ncalls == 0)
         fprintf(opt->diag, "%s: warning: the script has no commands\n", path);
