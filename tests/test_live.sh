@@ -279,4 +279,28 @@ else
     bad "chromium is missing"
 fi
 
+# on a terminal a short run's page stays until Enter (issue 52: it vanished when the run ended);
+# the program waits for the line, then ends (exit 0)
+printf 'new 2 0.3\nstep 10\n' > short.mote
+python3 - "$MOTE" short.mote <<'EOF' > short_tty.txt 2>&1 && ok || bad "the live page on a terminal: $(cat short_tty.txt)"
+import os, pty, sys, time
+pid, fd = pty.fork()
+if pid == 0:
+    os.execv(sys.argv[1], [sys.argv[1], "run", "--live=0", sys.argv[2]])
+out, deadline, sent = b"", time.time() + 60, False
+while time.time() < deadline:
+    try:
+        d = os.read(fd, 4096)
+    except OSError:
+        break
+    if not d:
+        break
+    out += d
+    if not sent and b"press Enter" in out:
+        assert b"live: open http://" in out, out
+        os.write(fd, b"\n")
+        sent = True
+_, st = os.waitpid(pid, 0)
+assert sent and os.waitstatus_to_exitcode(st) == 0, (sent, st, out)
+EOF
 mote_test_end

@@ -8,6 +8,7 @@
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include <strings.h>
 #include <sys/stat.h>
 #include <sys/types.h>
@@ -704,6 +705,16 @@ int mote_script_execute(mote_script *s, mote_err *err)
     if (!rc)
         rc = mote_script_run_calls(s, 0, s->ncalls, err);
     mote_ranks_sync(s, 1); /* (under mpirun: the last meeting of the ranks) */
+    if (s->live && s->ctx.terminal && isatty(STDIN_FILENO)) {
+        /* a short run would take its page away before anyone looked: on a terminal the last
+         * frame stays served until Enter (issue 52) */
+        fprintf(s->ctx.out, "live: the run is over; its page keeps the last frame until you "
+                            "press Enter\n");
+        fflush(s->ctx.out);
+        int ch;
+        while ((ch = getchar()) != EOF && ch != '\n')
+            ;
+    }
     if (s->live) {
         mote_live_stop(s->live);
         s->live = NULL;
