@@ -1,9 +1,10 @@
-# mote build. `make` builds the library and the program (optimised); `make check` installs what
+# mote build. `make` builds the library and the program (optimised, -O3); `make check` installs what
 # a fresh machine lacks, then builds with warnings as errors and runs the whole test suite, plain
 # and under AddressSanitizer + UndefinedBehaviorSanitizer; `make example` runs the main example.
 CC      ?= cc
 BUILD   ?= build
-OPT     ?= -O2
+# -O3: the build every speed figure of bench/README.md and docs/ was measured on (issue 52)
+OPT     ?= -O3
 WERROR  ?= 0
 SAN     ?=
 CAIRO_CFLAGS := $(shell pkg-config --cflags cairo 2>/dev/null)
