@@ -160,6 +160,11 @@ typedef struct mote_context {
      * under way and the fraction done, at most every progress interval (NULL: none). */
     void (*report)(void *arg, const char *label, double fraction);
     void *report_arg;
+    /* Asked at progress updates (at most 20 times a second) whether the user wants the command
+     * stopped (the Python package's KeyboardInterrupt; NULL: never). A command that supports it
+     * stops at its next safe point with mote_interrupted's error, its state consistent. */
+    int (*interrupt)(void *arg);
+    void *interrupt_arg;
     /* Under mpirun (the MPI build, more than one rank; NULL otherwise): the ranks, for the
      * ensembles, whose replicas are spread over them. */
     const struct mote_ranks *ranks;
@@ -336,12 +341,16 @@ typedef struct {
     char label[64];
     const mote_context *ctx; /* (its live-view hook and its report) */
     double last_report;
+    double last_interrupt; /* when the interrupt hook was last asked */
 } mote_progress;
 
 void mote_progress_begin(mote_progress *p, const mote_context *ctx, const char *label);
 /* fraction in [0, 1]; prints "\rlabel 42.0%  ~12 s left" to stdout at most 4 times a second
  * (every `interval` seconds) when stdout is a terminal; nothing otherwise. */
-void mote_progress_update(mote_progress *p, double fraction);
+int mote_progress_update(mote_progress *p, double fraction);
+/* mote_progress_update returns 1 when the context's interrupt hook asked to stop the command (0
+ * otherwise); the command then returns this error ("interrupted ..."), its state consistent. */
+int mote_interrupted(mote_err *err, const char *command);
 /* A command that makes several runs of unknown number (a root search, a table built until it is
  * fine enough) keeps one line for all of them: each run calls this as it starts, and the line
  * reads "\rlabel: run 3, 42.0%  ~2 s left in this run, 35 s so far": the fraction and the time

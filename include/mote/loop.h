@@ -61,6 +61,6 @@ uint64_t mote_loop_count_stop(const mote_loop *l, uint64_t n, uint64_t n_end);
 int mote_loop_fire_count(mote_loop *l, void *subject, uint64_t n, mote_err *err);
 /* The progress at time t and count n: the larger of the time fraction (t_begin .. t_end, when
  * finite) and the count fraction (n_begin .. n_end, when n_end is a limit). */
-void mote_loop_progress(mote_loop *l, double t, uint64_t n);
+int mote_loop_progress(mote_loop *l, double t, uint64_t n);
 
 #endif

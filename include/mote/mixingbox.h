@@ -274,7 +274,7 @@ void mote_mb_note_overlaps(mote_mb *sys, uint64_t count);
 
 /* The loop's progress at the run's present time (mote_mb_live_time: during an event run the
  * engine's clock, ahead of sys->time) and collision count. */
-void mote_mb_progress(mote_loop *loop, const mote_mb *sys);
+int mote_mb_progress(mote_loop *loop, const mote_mb *sys); /* 1: the user asked to stop */
 /* Disk i's centre now, and the time now, for a live view during a run (only reads). */
 void mote_mb_live_position(const mote_mb *sys, uint32_t i, double xy[2]);
 void mote_mb_live_velocity(const mote_mb *sys, uint32_t i, double v[2]);

@@ -57,10 +57,49 @@ static void report(void *arg, const char *label, double fraction)
 {
     PyGILState_STATE g = PyGILState_Ensure();
     PyObject *r = PyObject_CallFunction((PyObject *)arg, "sd", label, fraction);
-    if (!r) /* (an exception in the callback is shown, and the run goes on) */
+    if (!r && PyErr_ExceptionMatches(PyExc_KeyboardInterrupt)) {
+        PyErr_Clear(); /* Ctrl-C during the callback: the command stops as for one outside it */
+        PyErr_SetInterrupt();
+    } else if (!r) { /* (another exception in the callback is shown, and the run goes on) */
         PyErr_WriteUnraisable((PyObject *)arg);
+    }
     Py_XDECREF(r);
     PyGILState_Release(g);
+}
+
+/* ---- Ctrl-C -------------------------------------------------------------------------------- */
+
+/* The exception a signal raised while a command ran (KeyboardInterrupt), kept for after it. */
+typedef struct {
+    PyObject *type, *value, *tb;
+} pending_exc;
+
+/* The context's interrupt hook: runs Python's signal handlers (in the main thread); when one
+ * raised, the command is asked to stop at its next safe point, and the exception is raised when
+ * it has returned. */
+static int interrupt_hook(void *arg)
+{
+    pending_exc *pe = arg;
+    if (pe->type)
+        return 1;
+    PyGILState_STATE g = PyGILState_Ensure();
+    int stop = 0;
+    if (PyErr_CheckSignals() != 0) {
+        PyErr_Fetch(&pe->type, &pe->value, &pe->tb);
+        stop = pe->type != NULL;
+    }
+    PyGILState_Release(g);
+    return stop;
+}
+
+/* After a command: the pending exception raised (1), or 0. */
+static int raise_pending(pending_exc *pe)
+{
+    if (!pe->type)
+        return 0;
+    PyErr_Restore(pe->type, pe->value, pe->tb);
+    pe->type = pe->value = pe->tb = NULL;
+    return 1;
 }
 
 /* ---- run ------------------------------------------------------------------------------------- */
@@ -97,6 +136,7 @@ static PyObject *py_run(PyObject *self, PyObject *args, PyObject *kw)
         }
     }
     mote_err err = {0};
+    pending_exc pe = {NULL, NULL, NULL};
     mote_script *s = NULL;
     FILE *out = tmpfile(), *diag = tmpfile();
     int rc = out && diag ? mote_script_parse_params(&s, name, text, (size_t)len, pv, (int)np,
@@ -121,12 +161,19 @@ static PyObject *py_run(PyObject *self, PyObject *args, PyObject *kw)
             ctx->report = report;
             ctx->report_arg = progress;
         }
+        ctx->interrupt = interrupt_hook;
+        ctx->interrupt_arg = &pe;
         Py_BEGIN_ALLOW_THREADS
         rc = mote_script_validate(s, &err);
         if (!rc && !check_only)
             rc = mote_script_execute(s, &err);
         Py_END_ALLOW_THREADS
         mote_script_free(s);
+    }
+    if (raise_pending(&pe)) {
+        fclose(out);
+        fclose(diag);
+        return NULL;
     }
     PyObject *printed = take(out), *warnings = take(diag);
     fclose(out);
@@ -226,12 +273,20 @@ static PyObject *Session_command(Session *self, PyObject *args, PyObject *kw)
     mote_err err = {0};
     char *printed = NULL;
     int rc;
+    pending_exc pe = {NULL, NULL, NULL};
+    ctx->interrupt = interrupt_hook;
+    ctx->interrupt_arg = &pe;
     self->busy = 1;
     Py_BEGIN_ALLOW_THREADS
     rc = mote_session_command(self->s, text, &printed, &err);
     Py_END_ALLOW_THREADS
     self->busy = 0;
     ctx->report = NULL;
+    ctx->interrupt = NULL;
+    if (raise_pending(&pe)) { /* (Ctrl-C: the command stopped at a safe point) */
+        free(printed);
+        return NULL;
+    }
     PyObject *p = PyUnicode_DecodeUTF8(printed ? printed : "", printed ? strlen(printed) : 0,
                                        "replace");
     free(printed);

@@ -166,6 +166,7 @@ void mote_progress_begin(mote_progress *p, const mote_context *ctx, const char *
     p->ctx = ctx;
     p->start = p->last = p->begun = p->enabled ? mote_wall_seconds() : 0.0;
     p->last_report = -1e300; /* (the first update reports) */
+    p->last_interrupt = -1e300;
     snprintf(p->label, sizeof p->label, "%s", label ? label : "");
     const char *iv = getenv("MOTE_PROGRESS_INTERVAL");
     char *end = NULL;
@@ -184,8 +185,22 @@ static void duration_text(char *buf, size_t cap, double seconds)
         snprintf(buf, cap, "%.1f h", seconds / 3600.0);
 }
 
-void mote_progress_update(mote_progress *p, double fraction)
+int mote_interrupted(mote_err *err, const char *command)
 {
+    return mote_fail(err, MOTE_ERUNTIME, "%s: interrupted; it stopped at a safe point, and the "
+                     "state is consistent (it can be saved or run on)", command);
+}
+
+int mote_progress_update(mote_progress *p, double fraction)
+{
+    int stop = 0;
+    if (p->ctx && p->ctx->interrupt) {
+        const double t = mote_wall_seconds();
+        if (t - p->last_interrupt >= 0.05) {
+            p->last_interrupt = t;
+            stop = p->ctx->interrupt(p->ctx->interrupt_arg) != 0;
+        }
+    }
     if (p->ctx && p->ctx->tick)
         p->ctx->tick(p->ctx->tick_arg);
     if (p->ctx && p->ctx->report) {
@@ -197,10 +212,10 @@ void mote_progress_update(mote_progress *p, double fraction)
         }
     }
     if (!p->enabled)
-        return;
+        return stop;
     double now = mote_wall_seconds();
     if (now - p->last < p->interval) /* at most four lines a second by default */
-        return;
+        return stop;
     p->last = now;
     p->shown = 1;
     if (!(fraction >= 0.0))
@@ -225,6 +240,7 @@ void mote_progress_update(mote_progress *p, double fraction)
     else
         printf("\r%s %.1f%%   ", head, 0.0);
     fflush(stdout);
+    return stop;
 }
 
 void mote_progress_next_run(mote_progress *p)

@@ -92,10 +92,10 @@ int mote_loop_fire_count(mote_loop *l, void *subject, uint64_t n, mote_err *err)
     return MOTE_OK;
 }
 
-void mote_loop_progress(mote_loop *l, double t, uint64_t n)
+int mote_loop_progress(mote_loop *l, double t, uint64_t n)
 {
     if (!l || !l->progress)
-        return;
+        return 0;
     double f = 0.0;
     if (isfinite(l->t_end) && l->t_end > l->t_begin)
         f = (t - l->t_begin) / (l->t_end - l->t_begin);
@@ -104,5 +104,5 @@ void mote_loop_progress(mote_loop *l, double t, uint64_t n)
         if (fc > f)
             f = fc;
     }
-    mote_progress_update(l->progress, f);
+    return mote_progress_update(l->progress, f);
 }

@@ -104,7 +104,10 @@ int mote_hs_compress(mote_hs *hs, int which, double eta, double dlmax, uint64_t 
             fflush(hs->log); /* progress must show up promptly in a log file */
         }
         double span = fabs(L_start - target);
-        mote_progress_update(&prog, span > 0 ? 1 - fabs(ev->len[0] - target) / span : 1);
+        if (mote_progress_update(&prog, span > 0 ? 1 - fabs(ev->len[0] - target) / span : 1)) {
+            rc = mote_interrupted(err, name);
+            break;
+        }
     }
     mote_progress_end(&prog);
     if (rc)
@@ -195,7 +198,10 @@ int mote_hs_compress_box(mote_hs *hs, double eta, double dlmax, uint64_t k, mote
                                                       UINT64_MAX, err)))
             break;
         double span = fabs(c_end - 1);
-        mote_progress_update(&prog, span > 0 ? fabs(c - 1) / span : 1);
+        if (mote_progress_update(&prog, span > 0 ? fabs(c - 1) / span : 1)) {
+            rc = mote_interrupted(err, "compress");
+            break;
+        }
     }
     mote_progress_end(&prog);
     if (rc)

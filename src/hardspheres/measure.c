@@ -41,7 +41,10 @@ int hs_run_samples(mote_hs *hs, uint64_t k, uint64_t nsamples, hs_sample_fn fn, 
         }
         done = target;
         fn(ctx, hs, s - 1, nsamples);
-        mote_progress_update(&prog, (double)s / (double)nsamples);
+        if (mote_progress_update(&prog, (double)s / (double)nsamples)) {
+            mote_progress_end(&prog);
+            return mote_interrupted(err, "measurement");
+        }
     }
     mote_progress_end(&prog);
     *tau = mote_ev_time(ev) - t0;

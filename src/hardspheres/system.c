@@ -476,7 +476,10 @@ int mote_hs_step(mote_hs *hs, uint64_t k, mote_err *err)
             return rc;
         }
         done += now;
-        mote_progress_update(&prog, (double)done / (double)total);
+        if (mote_progress_update(&prog, (double)done / (double)total)) {
+            mote_progress_end(&prog);
+            return mote_interrupted(err, "step");
+        }
     }
     mote_progress_end(&prog);
     double secs = mote_wall_seconds() - w0;

@@ -30,6 +30,7 @@ typedef struct {
     uint64_t run_events; /* since the run began */
     double t_begin, t_end; /* of the run */
     double projected;    /* > 0: the events the run would need at its rate so far (it stops) */
+    int interrupted;     /* the user asked to stop (it stops) */
 } mb_link;
 
 /* A run whose rate says it needs more events than this cannot finish (at some 1e7 events a
@@ -50,7 +51,10 @@ static void on_event(void *ctx, uint32_t i)
     if (++l->events >= 4096) {
         l->run_events += l->events;
         l->events = 0;
-        mote_mb_progress(l->loop, l->sys);
+        if (mote_mb_progress(l->loop, l->sys)) { /* the user asked to stop */
+            l->interrupted = 1;
+            l->ev->halt = 1;
+        }
         if (l->run_events >= RUN_JUDGED) {
             const double done = mote_mb_live_time(l->sys) - l->t_begin;
             const double need = done > 0 ? (double)l->run_events * (l->t_end - l->t_begin) / done
@@ -177,7 +181,7 @@ int mb_run_event(mote_mb *sys, double t_end, mote_loop *loop, mote_err *err)
     if (rc)
         return rc;
     const double t_offset = sys->time;
-    mb_link l = {sys, &ev, p->x_l, p->x_b, loop, 0, 0, sys->time, t_end, 0};
+    mb_link l = {sys, &ev, p->x_l, p->x_b, loop, 0, 0, sys->time, t_end, 0, 0};
     ev.len[0] = p->x_r - p->x_l;
     ev.len[1] = p->x_t - p->x_b;
     ev.radius0 = p->r;
@@ -233,6 +237,8 @@ int mb_run_event(mote_mb *sys, double t_end, mote_loop *loop, mote_err *err)
             break;
         rc = mote_ev_run_to(&ev, t_stop - t_offset, limit - sys->collisions, err);
         sync_counters(sys, &ev, &rules, kinds, last);
+        if (!rc && l.interrupted)
+            rc = mote_interrupted(err, "run");
         if (!rc && l.projected > 0)
             rc = mote_fail(err, MOTE_ERUNTIME,
                            "run: this run cannot finish: %llu events advanced the time by "
@@ -252,7 +258,10 @@ int mb_run_event(mote_mb *sys, double t_end, mote_loop *loop, mote_err *err)
             rc = mote_loop_fire(loop, sys, sys->time, err);
             if (rc)
                 break;
-            mote_mb_progress(loop, sys);
+            if (mote_mb_progress(loop, sys)) {
+                rc = mote_interrupted(err, "run");
+                break;
+            }
         }
         if (!(t_stop < t_end))
             break;

@@ -442,9 +442,9 @@ void mote_mb_note_overlaps(mote_mb *sys, uint64_t count)
 
 /* ---- progress ------------------------------------------------------------------------------- */
 
-void mote_mb_progress(mote_loop *loop, const mote_mb *sys)
+int mote_mb_progress(mote_loop *loop, const mote_mb *sys)
 {
-    mote_loop_progress(loop, mote_mb_live_time(sys), sys->collisions);
+    return mote_loop_progress(loop, mote_mb_live_time(sys), sys->collisions);
 }
 
 /* ---- running --------------------------------------------------------------------------------- */

@@ -335,8 +335,8 @@ int mb_run_timestep(mote_mb *sys, double t_end, mote_loop *loop, mote_err *err)
             sys->time = t_new;
         }
         rc = mote_loop_fire(loop, sys, sys->time, err);
-        if ((sys->steps & 255) == 0)
-            mote_mb_progress(loop, sys);
+        if (!rc && (sys->steps & 255) == 0 && mote_mb_progress(loop, sys))
+            rc = mote_interrupted(err, "run");
     }
     work_free(&w);
     sys->generation++;

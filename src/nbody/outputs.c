@@ -830,7 +830,8 @@ int nb_run_integrate(void *vm, const mote_call *c, mote_err *err)
         const int dense = m->nb.integrator == MOTE_NB_TAYLOR && !st.merged;
         while (!rc && by_time && (st.t = mote_loop_next(&l)) <= (double)m->nb.T)
             rc = mote_loop_fire(&l, &st, dense ? st.t : (double)m->nb.T, err);
-        mote_loop_progress(&l, (double)m->nb.T, m->nb.steps);
+        if (mote_loop_progress(&l, (double)m->nb.T, m->nb.steps) && !rc)
+            rc = mote_interrupted(err, "integrate");
     }
     mote_progress_end(&prog);
     free(st.xv);

@@ -115,6 +115,7 @@ static void run_replica(mote_script *s, const mote_ensemble *e, int r, replica *
     ctx->diag = diag;
     ctx->terminal = 0;
     ctx->tick = NULL;
+    ctx->interrupt = NULL; /* (asked of the script's own thread only) */
     ctx->report = NULL; /* (the ensemble reports its replicas done) */
     ctx->threads = 1; /* (the replicas are the threads) */
     ctx->results = &rp->res;

@@ -432,7 +432,8 @@ static int run_hook(void *vm, mote_sep_system *s, mote_err *err)
             m->live.last = now;
         }
     }
-    mote_loop_progress(&m->loop, s->t, 0);
+    if (mote_loop_progress(&m->loop, s->t, 0) && !rc)
+        rc = mote_interrupted(err, "run");
     return rc;
 }
 

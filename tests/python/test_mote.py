@@ -308,3 +308,28 @@ def test_byte_order_mark():
     sim = mote.Simulation()
     sim.command("\ufeffnew 2 0.3")
     assert sim.status()["N"] == 64
+
+
+def test_keyboard_interrupt():
+    """Ctrl-C during a long command (issue 52: it arrived only when the command had finished):
+    the command stops at its next safe point, KeyboardInterrupt is raised, and the state is
+    consistent: it runs on."""
+    import os
+    import signal
+    sim = mote.Simulation()
+    sim.command("new 4 0.3")
+    sent = []
+
+    def first_report(label, fraction):
+        if not sent:
+            sent.append(fraction)
+            os.kill(os.getpid(), signal.SIGINT)  # as Ctrl-C would, while the command runs
+
+    with pytest.raises(KeyboardInterrupt):
+        sim.command("step 1000000", progress=first_report)  # minutes if not stopped
+    done = sim.status()["collisions"]
+    assert sent and 0 < done < 1000000 * 2000 // 2
+    sim.command("step 10")
+    assert sim.status()["collisions"] > done
+    with pytest.raises(KeyboardInterrupt):  # the same for a whole script
+        mote.run("new 4 0.3\nstep 1000000\n", progress=lambda l, f: os.kill(os.getpid(), signal.SIGINT))
