@@ -11,7 +11,6 @@
  * sheets. Every count is reported. */
 #include "mote/charging.h"
 
-#include <assimp/cfileio.h>
 #include <assimp/cimport.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -332,138 +331,6 @@ int ch_mesh_precheck(const char *path, mote_err *err) { return precheck(path, 0,
  * bounded too (a reader that loops for ever on a damaged file ends with SIGXCPU or SIGALRM):
  * cpu_limit seconds of processor time, twice that of wall clock. Its own messages (Assimp's
  * assertions) go nowhere: the parent reports how it ended. */
-
-/* ---- files as Assimp reads them ------------------------------------------------------------- */
-
-/* Assimp reads each file (the mesh, an OBJ's .mtl) whole from memory through these. An OBJ's
- * object names keep their spaces as '_' (`o panel left` is the part panel_left): Assimp cuts a
- * name at its first space, so `o panel left` and `o panel right` became one part `panel`. */
-typedef struct {
-    char *data;
-    size_t n, pos;
-} mem_file;
-
-static size_t mem_read(struct aiFile *f, char *buf, size_t size, size_t count)
-{
-    mem_file *m = (mem_file *)f->UserData;
-    if (size == 0)
-        return 0;
-    size_t k = (m->n - m->pos) / size;
-    k = k < count ? k : count;
-    memcpy(buf, m->data + m->pos, k * size);
-    m->pos += k * size;
-    return k;
-}
-static size_t mem_write(struct aiFile *f, const char *buf, size_t size, size_t count)
-{
-    (void)f, (void)buf, (void)size, (void)count;
-    return 0;
-}
-static size_t mem_tell(struct aiFile *f) { return ((mem_file *)f->UserData)->pos; }
-static size_t mem_size(struct aiFile *f) { return ((mem_file *)f->UserData)->n; }
-static void mem_flush(struct aiFile *f) { (void)f; }
-static enum aiReturn mem_seek(struct aiFile *f, size_t off, enum aiOrigin how)
-{
-    mem_file *m = (mem_file *)f->UserData;
-    const size_t base = how == aiOrigin_SET ? 0 : how == aiOrigin_CUR ? m->pos : m->n;
-    if (off > m->n - base)
-        return aiReturn_FAILURE;
-    m->pos = base + off;
-    return aiReturn_SUCCESS;
-}
-
-static int ends_with_obj(const char *path)
-{
-    const size_t n = strlen(path);
-    return n >= 4 && path[n - 4] == '.' && (path[n - 3] | 32) == 'o' &&
-           (path[n - 2] | 32) == 'b' && (path[n - 1] | 32) == 'j';
-}
-
-/* In an OBJ's text, the blanks inside each `o NAME` become '_' (the text keeps its length). */
-static void obj_names(char *t, size_t n)
-{
-    for (size_t i = 0; i < n;) {
-        size_t e = i;
-        while (e < n && t[e] != '\n')
-            e++;
-        size_t a = i;
-        while (a < e && (t[a] == ' ' || t[a] == '\t'))
-            a++;
-        if (a + 1 < e && t[a] == 'o' && (t[a + 1] == ' ' || t[a + 1] == '\t')) {
-            size_t b = a + 1, z = e;
-            while (b < z && (t[b] == ' ' || t[b] == '\t'))
-                b++;
-            while (z > b && (t[z - 1] == ' ' || t[z - 1] == '\t' || t[z - 1] == '\r'))
-                z--;
-            for (size_t k = b; k < z; k++)
-                if (t[k] == ' ' || t[k] == '\t')
-                    t[k] = '_';
-        }
-        i = e + 1;
-    }
-}
-
-static struct aiFile *mem_open(struct aiFileIO *io, const char *path, const char *mode)
-{
-    (void)io;
-    if (!mode || mode[0] != 'r')
-        return NULL;
-    FILE *in = fopen(path, "rb");
-    if (!in)
-        return NULL;
-    char *data = NULL;
-    size_t n = 0, cap = 0;
-    for (;;) {
-        if (n == cap) {
-            cap = cap ? 2 * cap : 65536;
-            char *d = realloc(data, cap);
-            if (!d) {
-                free(data);
-                fclose(in);
-                return NULL;
-            }
-            data = d;
-        }
-        const size_t k = fread(data + n, 1, cap - n, in);
-        n += k;
-        if (k == 0)
-            break;
-    }
-    const int bad = ferror(in);
-    fclose(in);
-    struct aiFile *f = calloc(1, sizeof *f);
-    mem_file *m = calloc(1, sizeof *m);
-    if (bad || !f || !m) {
-        free(data);
-        free(f);
-        free(m);
-        return NULL;
-    }
-    if (ends_with_obj(path))
-        obj_names(data, n);
-    *m = (mem_file){data, n, 0};
-    f->ReadProc = mem_read;
-    f->WriteProc = mem_write;
-    f->TellProc = mem_tell;
-    f->FileSizeProc = mem_size;
-    f->SeekProc = mem_seek;
-    f->FlushProc = mem_flush;
-    f->UserData = (aiUserData)m;
-    return f;
-}
-
-static void mem_close(struct aiFileIO *io, struct aiFile *f)
-{
-    (void)io;
-    if (!f)
-        return;
-    mem_file *m = (mem_file *)f->UserData;
-    if (m)
-        free(m->data);
-    free(m);
-    free(f);
-}
-
 static void assimp_child(int fd, const char *path, const char *fallback, double as_limit,
                          unsigned cpu_limit)
 {
@@ -492,9 +359,8 @@ static void assimp_child(int fd, const char *path, const char *fallback, double 
     soup s = {0};
     mote_err e = {0};
     int32_t rc;
-    struct aiFileIO io = {mem_open, mem_close, NULL};
     const struct aiScene *sc =
-        aiImportFileEx(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices, &io);
+        aiImportFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);
     if (!sc || !sc->mRootNode) {
         rc = mote_fail(&e, MOTE_EFORMAT, "%s: not a mesh file Assimp reads (%s)", path,
                        aiGetErrorString());
