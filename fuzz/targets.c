@@ -53,13 +53,14 @@ static int write_input(const char *name, const uint8_t *data, size_t size, char 
 static const mote_model *const MODELS[] = {&mote_model_hardspheres, &mote_model_mixingbox,
                                            &mote_model_nbody, &mote_model_separator};
 
-/* Parse and validate a script (nothing runs: validation only reads files, never simulates). */
-static int fuzz_script(const uint8_t *data, size_t size)
+/* Parse text with its parameters and validate it (nothing runs: validation only reads files,
+ * never simulates). */
+static void check_script(const char *text, size_t size, const char *const *params, int np)
 {
     mote_err err = {0};
     mote_script *s = NULL;
-    if (mote_script_parse(&s, "fuzz.mote", (const char *)data, size, MODELS,
-                          sizeof MODELS / sizeof MODELS[0], &err) == 0) {
+    if (mote_script_parse_params(&s, "fuzz.mote", text, size, params, np, MODELS,
+                                 sizeof MODELS / sizeof MODELS[0], &err) == 0) {
         mote_context *ctx = mote_script_context(s);
         FILE *null = fopen("/dev/null", "w");
         if (null) {
@@ -69,6 +70,11 @@ static int fuzz_script(const uint8_t *data, size_t size)
         }
         mote_script_free(s);
     }
+}
+
+static int fuzz_script(const uint8_t *data, size_t size)
+{
+    check_script((const char *)data, size, NULL, 0);
     return 0;
 }
 
@@ -420,19 +426,7 @@ static int fuzz_script_params(const uint8_t *data, size_t size)
     }
     if (p < text + size && *p == '\n')
         p++;
-    mote_err err = {0};
-    mote_script *s = NULL;
-    if (mote_script_parse_params(&s, "fuzz.mote", p, (size_t)(text + size - p), params, np,
-                                 MODELS, sizeof MODELS / sizeof MODELS[0], &err) == 0) {
-        mote_context *ctx = mote_script_context(s);
-        FILE *null = fopen("/dev/null", "w");
-        if (null) {
-            ctx->out = ctx->diag = null;
-            mote_script_validate(s, &err);
-            fclose(null);
-        }
-        mote_script_free(s);
-    }
+    check_script(p, (size_t)(text + size - p), params, np);
     free(text);
     return 0;
 }
