@@ -68,7 +68,7 @@ static void write_text(const char *path, const char *text, size_t len)
 
 static int files_equal(const char *a, const char *b)
 {
-    size_t la, lb;
+    size_t la = 0, lb = 0;
     char *x = read_text(a, &la), *y = read_text(b, &lb);
     int eq = x && y && la == lb && memcmp(x, y, la) == 0;
     free(x);

@@ -92,14 +92,16 @@ static inline void pair_G(mote_nb *nb, const mote_real *X, size_t blk, uint32_t 
     }
     int from = 0;
     if (store && n0 > 0) { /* the histories of the earlier passes */
-        for (int j = 0; j < n0; j++) {
+        s[0] = nb->ts[q]; /* spelled out: the compiler then sees s[0] set on this path */
+        f[0] = nb->tf[q];
+        for (int j = 1; j < n0; j++) {
             s[j] = nb->ts[(size_t)j * npairs + q];
             f[j] = nb->tf[(size_t)j * npairs + q];
         }
         from = n0;
-    }
-    if (from == 0)
+    } else {
         sf_order(0, R, s, f, 0, nb->soft * nb->soft);
+    }
     const mote_real f0inv = 1 / s[0];
     for (int n = from > 0 ? from : 1; n <= n1; n++)
         sf_order(n, R, s, f, f0inv, 0);
