@@ -265,6 +265,12 @@ printf '%bplasma preset geo-worst-case\nbody load file=craft.obj\nsun direction=
     ! cmp -s opq/a_surface.png opq/b_surface.png && ! cmp -s opq/b_surface.png opq/c_surface.png && ok || bad "png_quantity: $(cat err.txt)"
 expect 1 "b21c.mote:3:30: error: output: png_quantity must be J_net, J_<species> (of the plasma so far), J_see, J_photo, sigma_J, relerr, sunlit_fraction or hits, found 'J_O+'" b21c.mote "${G}plasma preset thesis-hot\noutput prefix=x png_quantity=J_O+\n"
 expect 1 "b21.mote:2:15: error: output: the directory that would hold prefix 'nodir/sub/x' does not exist" b21.mote "${G}output prefix=nodir/sub/x\n"
+# OBJ object names with blanks stay apart (issue 52: `o panel left` and `o panel right` were
+# cut and merged into one part `panel`): the blanks become '_'
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 2 0 0\nv 2 1 0\nv 2 0 1\nv 3 0 0\no panel left\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\no  panel right \nf 5 6 8\nf 5 8 7\nf 5 7 6\nf 6 7 8\n' > parts.obj
+printf '%bbody load file=parts.obj\nmaterial assign part=panel_left material=aluminium\nmaterial assign part=panel_right material=gold\n' "$G" > obj1.mote
+"$MOTE" run obj1.mote > out.txt 2> err.txt && ok || bad "OBJ names with blanks: $(cat err.txt)"
+expect 2 "obj2.mote:3:22: error: material assign: the body has no part 'panel'" obj2.mote "${G}body load file=parts.obj\nmaterial assign part=panel material=aluminium\n"
 # the prefix's folder is made, as every prefix= and dir= (issue 52)
 printf '%bplasma preset single n=1e6 kT=10\nbody sphere radius=1\noutput prefix=made/x png=off vtk=off\nrun particles=1000\n' "$G" > b22.mote
 "$MOTE" run b22.mote > out.txt 2> err.txt && [ -s made/x_summary.txt ] && ok || bad "output prefix=made/x: $(cat err.txt)"

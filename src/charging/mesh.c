@@ -360,7 +360,7 @@ static void assimp_child(int fd, const char *path, const char *fallback, double 
     mote_err e = {0};
     int32_t rc;
     const struct aiScene *sc =
-        aiImportFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);
+        ch_assimp_import(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);
     if (!sc || !sc->mRootNode) {
         rc = mote_fail(&e, MOTE_EFORMAT, "%s: not a mesh file Assimp reads (%s)", path,
                        aiGetErrorString());
