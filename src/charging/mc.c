@@ -487,6 +487,8 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
     /* the run loop, counted in blocks of histories: no observer runs inside the Monte Carlo
      * (the tallies are written when it ends), the progress is the loop's */
     mote_loop loop = {NULL, 0, blocks_mine * r->ncomp, prog, 0, 0, 0};
+    int stop = 0; /* the context's interrupt hook asked to stop (Python's Ctrl-C) */
+    const int asks = prog->enabled || (prog->ctx && (prog->ctx->tick || prog->ctx->interrupt));
     uint64_t blocks_done = 0;
     int comp = 0;
     for (int s = 0; s < p->nsp; s++)
@@ -581,6 +583,11 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                 size_t hitlog[BLOCK], nlog = 0;
 #pragma omp for schedule(dynamic, 1)
                 for (uint64_t jb = 0; jb < nmine; jb++) {
+                    int stopped;
+#pragma omp atomic read
+                    stopped = stop;
+                    if (stopped) /* the rest of the blocks pass through */
+                        continue;
                     const uint64_t blk = (uint64_t)mrank + jb * (uint64_t)msize;
                     const uint64_t h1 = (blk + 1) * BLOCK < o->particles ? (blk + 1) * BLOCK
                                                                            : o->particles;
@@ -790,14 +797,25 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                     for (size_t q = 0; q < nlog; q++)
                         mine[hitlog[q]]++;
                     nlog = 0;
-                    if (prog->enabled || (prog->ctx && prog->ctx->tick)) {
+                    if (asks) {
                         uint64_t done;
 #pragma omp atomic capture
                         done = ++blocks_done;
-                        if (tid == 0)
-                            mote_loop_progress(&loop, 0, done);
+                        if (tid == 0 && mote_loop_progress(&loop, 0, done)) {
+#pragma omp atomic write
+                            stop = 1;
+                        }
                     }
                 }
+            }
+            if (stop) { /* (the interrupt hook is Python's: one process, no MPI partner) */
+                free(priv);
+                free(ppat);
+                free(psee);
+                mote_ch_result_free(r);
+                if (!o->progress)
+                    mote_progress_end(&own);
+                return mote_interrupted(err, "run");
             }
             for (int th = 1; see && th < nt; th++) /* integers: any order gives the same sums */
                 for (size_t q = 0; q < nsee; q++)

@@ -803,7 +803,8 @@ static int run_steps(job *j, mote_err *err)
             rc = show(j, err);
         if (rc)
             rc = jfail(j, fail_code(rc), err, rc);
-        mote_loop_progress(&l, 0, j->Lt);
+        if (!rc && mote_loop_progress(&l, 0, j->Lt)) /* (an interrupt hook's caller) */
+            rc = mote_interrupted(err, "galactica");
     }
     mote_progress_end(&prog);
     j->prog = NULL;

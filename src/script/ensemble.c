@@ -16,8 +16,10 @@
 
 #include <math.h>
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 const mote_ensemble *mote_ensemble_at(const mote_script *s, size_t call)
@@ -104,7 +106,25 @@ typedef struct {
     int rc;
 } replica;
 
-static void run_replica(mote_script *s, const mote_ensemble *e, int r, replica *rp, int solo)
+/* Ctrl-C in an ensemble: the script's own thread asks the context's interrupt hook (Python's
+ * signal handlers run there alone), and every replica then stops at its next safe point. */
+typedef struct {
+    atomic_int stop;
+    pthread_t main;
+    int (*hook)(void *arg);
+    void *arg;
+} ens_stop;
+
+static int ens_interrupt(void *arg)
+{
+    ens_stop *st = arg;
+    if (st->hook && pthread_equal(pthread_self(), st->main) && st->hook(st->arg))
+        atomic_store(&st->stop, 1);
+    return atomic_load(&st->stop);
+}
+
+static void run_replica(mote_script *s, const mote_ensemble *e, int r, replica *rp, int solo,
+                        ens_stop *st)
 {
     FILE *out = open_memstream(&rp->out, &rp->nout), *diag = open_memstream(&rp->diag, &rp->ndiag);
     rp->s = *s;
@@ -115,7 +135,8 @@ static void run_replica(mote_script *s, const mote_ensemble *e, int r, replica *
     ctx->diag = diag;
     ctx->terminal = 0;
     ctx->tick = NULL;
-    ctx->interrupt = NULL; /* (asked of the script's own thread only) */
+    ctx->interrupt = ens_interrupt;
+    ctx->interrupt_arg = st;
     ctx->report = NULL; /* (the ensemble reports its replicas done) */
     ctx->threads = 1; /* (the replicas are the threads) */
     ctx->results = &rp->res;
@@ -470,6 +491,9 @@ typedef struct {
     int next, stride, done, mine; /* under mpirun: this rank's replicas, every stride-th */
     int solo;
     mote_progress *prog;
+    ens_stop *st;
+    int active;           /* workers not yet done */
+    pthread_cond_t idle;  /* signalled as each is done */
 } pool;
 
 static void *worker(void *arg)
@@ -477,15 +501,21 @@ static void *worker(void *arg)
     pool *p = arg;
     for (;;) {
         pthread_mutex_lock(&p->lock);
-        const int r = p->next < p->e->K ? p->next : -1;
+        const int r = p->next < p->e->K && !atomic_load(&p->st->stop) ? p->next : -1;
         p->next += p->stride;
         pthread_mutex_unlock(&p->lock);
-        if (r < 0)
+        if (r < 0) {
+            pthread_mutex_lock(&p->lock);
+            p->active--;
+            pthread_cond_signal(&p->idle);
+            pthread_mutex_unlock(&p->lock);
             return NULL;
-        run_replica(p->s, p->e, r, &p->rp[r], p->solo);
+        }
+        run_replica(p->s, p->e, r, &p->rp[r], p->solo, p->st);
         pthread_mutex_lock(&p->lock);
         p->done++;
-        mote_progress_update(p->prog, (double)p->done / p->mine);
+        if (mote_progress_update(p->prog, (double)p->done / p->mine))
+            atomic_store(&p->st->stop, 1);
         pthread_mutex_unlock(&p->lock);
     }
 }
@@ -524,18 +554,43 @@ int mote_ensemble_run(mote_script *s, const mote_ensemble *e, mote_err *err)
     fflush(s->ctx.out);
     mote_progress prog;
     mote_progress_begin(&prog, &s->ctx, "ensemble");
-    pool p = {s, e, rp, PTHREAD_MUTEX_INITIALIZER, first, stride, 0, mine, rk != NULL, &prog};
+    ens_stop st = {0, pthread_self(), s->ctx.interrupt, s->ctx.interrupt_arg};
+    pool p = {s, e, rp, PTHREAD_MUTEX_INITIALIZER, first, stride, 0, mine, rk != NULL, &prog, &st,
+              0, PTHREAD_COND_INITIALIZER};
     pthread_t *tid = malloc((size_t)threads * sizeof *tid);
     int started = 0;
     for (int k = 1; tid && k < threads; k++) /* (this thread is the first worker) */
         started += pthread_create(&tid[started], NULL, worker, &p) == 0;
+    p.active = started + 1;
     worker(&p);
+    /* this thread's replicas done: it asks the interrupt hook while the others finish theirs */
+    pthread_mutex_lock(&p.lock);
+    while (p.active > 0) {
+        struct timespec until;
+        clock_gettime(CLOCK_REALTIME, &until);
+        until.tv_nsec += 50000000L;
+        if (until.tv_nsec >= 1000000000L) {
+            until.tv_sec++;
+            until.tv_nsec -= 1000000000L;
+        }
+        pthread_cond_timedwait(&p.idle, &p.lock, &until);
+        if (p.active > 0 && st.hook && !atomic_load(&st.stop)) {
+            pthread_mutex_unlock(&p.lock);
+            if (st.hook(st.arg))
+                atomic_store(&st.stop, 1);
+            pthread_mutex_lock(&p.lock);
+        }
+    }
+    pthread_mutex_unlock(&p.lock);
     for (int k = 0; k < started; k++)
         pthread_join(tid[k], NULL);
+    pthread_cond_destroy(&p.idle);
     free(tid);
     mote_progress_end(&prog);
     int rc = 0;
-    if (rk && exchange(rk, rp, K))
+    if (atomic_load(&st.stop)) /* (the hook is Python's: one process, no MPI partner) */
+        rc = mote_interrupted(err, "ensemble");
+    else if (rk && exchange(rk, rp, K))
         rc = mote_call_fail(err, ec, -1, MOTE_ENOMEM, "ensemble: out of memory exchanging the "
                             "replicas among the MPI ranks");
     for (int r = 0; r < K && !rc; r++) { /* what each printed, in replica order */

@@ -333,3 +333,27 @@ def test_keyboard_interrupt():
     assert sim.status()["collisions"] > done
     with pytest.raises(KeyboardInterrupt):  # the same for a whole script
         mote.run("new 4 0.3\nstep 1000000\n", progress=lambda l, f: os.kill(os.getpid(), signal.SIGINT))
+
+
+def test_keyboard_interrupt_charging_and_ensembles():
+    """Ctrl-C stops a charging run (its threads at their next block) and an ensemble (every
+    replica at its next safe point; the one on the script's thread asks Python): each command
+    that would take minutes returns at once, and the simulation runs on."""
+    import os
+    import signal
+    kill = lambda label, fraction: os.kill(os.getpid(), signal.SIGINT)
+    ch = mote.Simulation("charging")
+    ch.command("plasma preset single n=1e6 kT=10\nbody sphere radius=1")
+    with pytest.raises(KeyboardInterrupt):
+        ch.command("run particles=1e12", progress=kill)  # hours if not stopped
+    printed = ch.command("run particles=1000")
+    assert "run: net I = " in printed
+    # an ensemble reports only as replicas end: Ctrl-C comes from a timer, as from a user
+    import threading
+    for script in ("ensemble 2\nnew 4 0.3\nstep 1000000\nend\n",  # two replicas, two threads
+                   "threads 1\nensemble 3\nnew 4 0.3\nstep 1000000\nend\n"):  # one thread
+        timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))
+        timer.start()
+        with pytest.raises(KeyboardInterrupt):
+            mote.run(script)
+        timer.join()
