@@ -15,6 +15,8 @@
 #include "mote/grid.h"
 
 #define MOTE_SEP_MAX_SPECIES 16
+/* A particle's velocity components, in a state file or set from Python: up to this in m/s */
+#define MOTE_SEP_SPEED_MAX 1e6
 
 /* ---- drag and terminal velocity (spec 2.7, 4) ---------------------------------------------- */
 

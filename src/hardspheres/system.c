@@ -530,8 +530,9 @@ int mote_hs_set_array(mote_hs *hs, const char *name, const double *val, size_t r
             const double x = val[id * d + a];
             const double R = mote_ev_radius(ev, mote_ev_slot(ev, (uint32_t)id));
             if (!isfinite(x) || (vel && !(fabs(x) <= 1e100)))
-                return mote_fail(err, MOTE_EINVAL, "set %s: particle %zu: %c = %g is not a finite "
-                                 "number%s", name, id, "xyz"[a], x, vel ? " up to 1e100" : "");
+                return mote_fail(err, MOTE_EINVAL, "set %s: particle %zu: %s%c = %g is not a "
+                                 "finite number%s", name, id, vel ? "v" : "", "xyz"[a], x,
+                                 vel ? " up to 1e100" : "");
             const double lo = R * (1 - 1e-10), hi = ev->len[a] - lo;
             if (pos && !ev->periodic[a] && !(x >= lo && x <= hi))
                 return mote_fail(err, MOTE_EINVAL, "set positions: particle %zu: %c = %.17g is "

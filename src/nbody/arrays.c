@@ -68,9 +68,11 @@ int nb_model_set_array(void *vm, const char *name, const double *v, size_t rows,
         return mote_fail(err, MOTE_EINVAL, "set %s: expected %u x %zu numbers (one row per body), "
                          "found %zu x %zu", name, nb->n, want, rows, cols);
     for (size_t i = 0; i < rows * cols; i++)
-        if (!isfinite(v[i]) || (mass && !(v[i] > 0)))
+        if (!(fabs(v[i]) <= NB_VALUE_MAX) || (mass && !(v[i] > 0)))
             return mote_fail(err, MOTE_EINVAL, "set %s: body %zu: %s, found %g", name,
-                             i / cols + 1, mass ? "a mass is finite and > 0" : "not finite",
+                             i / cols + 1, mass ? "a mass is > 0 and up to 1e100"
+                                                : "a finite number up to 1e100 in magnitude "
+                                                  "(beyond, its energy would overflow)",
                              v[i]);
     mote_real *dst = pos ? nb->x : vel ? nb->v : nb->m;
     mote_real *comp = pos ? nb->xc : vel ? nb->vc : NULL;

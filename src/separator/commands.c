@@ -823,7 +823,8 @@ static int sep_model_arrays(void *vm, mote_array *out, int cap)
     return -1;
 }
 
-/* set_array: positions or velocities (rows of x y z), finite, centres inside the channel (x in
+/* set_array: positions or velocities (rows of x y z), finite (speeds up to MOTE_SEP_SPEED_MAX, as a
+ * state file's), centres inside the channel (x in
  * [0, W], z in [0, H], in 3D y in [0, D]); new positions make the pair list be built again. */
 static int sep_model_set_array(void *vm, const char *name, const double *v, size_t rows,
                                size_t cols, mote_err *err)
@@ -843,6 +844,9 @@ static int sep_model_set_array(void *vm, const char *name, const double *v, size
             if (!isfinite(x))
                 return mote_fail(err, MOTE_EINVAL, "set %s: particle %zu: %c = %g is not finite",
                                  name, i, "xyz"[a], x);
+            if (vel && !(fabs(x) <= MOTE_SEP_SPEED_MAX))
+                return mote_fail(err, MOTE_EINVAL, "set velocities: particle %zu: v%c = %g m/s "
+                                 "is beyond %g m/s", i, "xyz"[a], x, MOTE_SEP_SPEED_MAX);
             if (pos && (a != 1 || s->dim == 3) && !(x >= 0 && x <= hi[a]))
                 return mote_fail(err, MOTE_EINVAL, "set positions: particle %zu: %c = %g is "
                                  "outside the channel [0, %g]", i, "xyz"[a], x, hi[a]);

@@ -608,6 +608,9 @@ static int read_particles(reader *r, mote_sep_system *s, int lok)
         for (int q = 2; !rc && q < 11; q++)
             if (!isfinite(x.v[q]))
                 rc = bad(r, "a particle's position, velocity and force must be finite", NULL);
+        for (int q = 5; !rc && q < 8; q++)
+            if (!(fabs(x.v[q]) <= MOTE_SEP_SPEED_MAX))
+                rc = bad(r, "a particle's velocity components must be up to 1e6 m/s", NULL);
         if (!rc)
             rc = sep_append(s, x.s, x.id, x.v, r->err);
         if (!rc && lok) {

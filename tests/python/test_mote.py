@@ -134,11 +134,13 @@ def test_views_and_setters():
     x = sim.positions
     with pytest.raises(mote.MoteError, match=r"expected 12 x 3 numbers .* found 12 x 2"):
         sim.set("positions", x[:, :2])
-    with pytest.raises(mote.MoteError, match=r"not finite"):
+    with pytest.raises(mote.MoteError, match=r"body 4: a finite number up to 1e100"):
         bad = x.copy()
         bad[3, 1] = np.nan
         sim.set("positions", bad)
-    with pytest.raises(mote.MoteError, match=r"finite and > 0"):
+    with pytest.raises(mote.MoteError, match=r"body 1: a finite number up to 1e100 .* found 1e\+300"):
+        sim.set("velocities", np.full(x.shape, 1e300))  # (issue 52: the next command refused it)
+    with pytest.raises(mote.MoteError, match=r"a mass is > 0 and up to 1e100"):
         sim.set("masses", -sim.masses)
     assert np.array_equal(sim.positions, x)  # refused: unchanged
     y = x * 1.01
@@ -169,6 +171,8 @@ def test_separator_setters():
         sp.set("positions", bad)
     with pytest.raises(mote.MoteError, match=r"expected %d x 3 numbers" % n):
         sp.set("velocities", np.zeros((n, 2)))
+    with pytest.raises(mote.MoteError, match=r"particle 0: vx = 1e\+300 m/s is beyond 1e\+06 m/s"):
+        sp.set("velocities", np.full((n, 3), 1e300))  # (it ran, then lost every particle)
     sp.set("velocities", np.zeros((n, 3)))
     assert np.array_equal(sp.velocities, np.zeros((n, 3)))
     sp.command("run 0.01")
@@ -218,6 +222,8 @@ def test_hard_sphere_setters():
         hs.set("positions", bad)
     with pytest.raises(mote.MoteError, match=r"expected 64 x 3 numbers"):
         hs.set("velocities", x[:10])
+    with pytest.raises(mote.MoteError, match=r"particle 0: vx = 1e\+200 is not a finite number up to 1e100"):
+        hs.set("velocities", np.full((64, 3), 1e200))  # (issue 52: what the next command refuses)
     assert np.array_equal(hs.positions, x)
     kT = hs.status()["kT"]
     hs.set("velocities", 2 * hs.velocities)
