@@ -61,7 +61,7 @@ BENCH_SRC := $(sort $(wildcard bench/*.c))
 BENCH_BIN := $(BENCH_SRC:bench/%.c=$(BUILD)/bench/%)
 HDRS     := $(wildcard include/mote/*.h src/*/*.h src/*/*.inc tests/*.h)
 
-.PHONY: all lib shared python tests bench check test test-plain test-san example setup setup-test clean slow seeds seeds-san fuzz install uninstall FORCE
+.PHONY: all lib shared python tests bench check test test-plain test-san example setup setup-test clean slow seeds seeds-san fuzz fuzz-minimise install uninstall FORCE
 
 all: $(BUILD)/mote
 
@@ -211,6 +211,11 @@ fuzz:
 	    ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp build-fuzz/fuzz_$$t -max_total_time=$(FUZZ_TIME) -timeout=10 \
 	        -rss_limit_mb=2048 -max_len=4096 -artifact_prefix=fuzz/corpus/$$t/ fuzz/corpus/$$t; \
 	done
+
+# The corpus shrunk to the units that reach the same coverage (named files kept): after `make
+# fuzz`, before committing what it found (FUZZ_TARGETS= to choose)
+fuzz-minimise:
+	sh scripts/fuzz-minimise.sh build-fuzz $(FUZZ_TARGETS)
 
 # `make install PREFIX=/usr/local` (and DESTDIR= for packagers); `make uninstall` with the same
 # PREFIX removes what it installed. docs/install.md lists the files.
