@@ -9,7 +9,7 @@
 #define MOTE_COMMAND_H
 
 #include "mote/core.h"
-#include "mote/live.h"
+#include "mote/buf.h"
 
 #include <stdint.h>
 #include <stdio.h>

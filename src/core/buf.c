@@ -1,7 +1,7 @@
-/* buf.c: the growing text buffer a model writes its live frame into (mote_buf, live.h): printf,
+/* buf.c: the growing text buffer a model writes its live frame into (mote_buf, buf.h): printf,
  * arrays of numbers (full or fixed precision), JSON strings. Plain libc; the server that sends
  * the frames is src/http/live.c. */
-#include "mote/live.h"
+#include "mote/buf.h"
 
 #include <math.h>
 #include <stdarg.h>

@@ -5,7 +5,7 @@
 
 #include "mote/core.h"
 #include "mote/hardspheres.h"
-#include "mote/live.h"
+#include "mote/buf.h"
 
 int hs_plot_file(const char *data_path, const char *png_path, mote_err *err);
 /* The live view's members of a frame (docs/live-view.md); reads the system only. */

@@ -6,7 +6,7 @@
 #define MOTE_MB_INTERNAL_H
 
 #include "mote/mixingbox.h"
-#include "mote/live.h"
+#include "mote/buf.h"
 
 #include <stdio.h>
 

@@ -5,6 +5,7 @@
 #define MOTE_SCRIPT_INTERNAL_H
 
 #include "mote/script.h"
+#include "mote/live.h"
 
 #include <stdarg.h>
 #include <stddef.h>

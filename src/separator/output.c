@@ -11,7 +11,7 @@
 
 #include "mote/datafile.h"
 #include "mote/render.h"
-#include "mote/live.h"
+#include "mote/buf.h"
 #include "sep.h"
 
 #define SEP_PI 3.14159265358979323846

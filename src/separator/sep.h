@@ -3,7 +3,7 @@
 #define MOTE_SEP_INTERNAL_H
 
 #include "mote/separator.h"
-#include "mote/live.h"
+#include "mote/buf.h"
 
 /* dem.c: rebuild the cell lists; the cell of particle i; the contact forces into fx, fy, fz
  * from the positions, with the dashpots on the predicted velocities v + dt/2 F_old/m. */
