@@ -83,6 +83,26 @@ for f in fr/frame_000006.png live.png tr.png pr.png; do
     [ "$(head -c 8 "$f" | od -An -tx1 | tr -d ' ')" = 89504e470d0a1a0a ] && ok || bad "$f is not a PNG"
 done
 grep -q '^balance: fed = in channel + fines + coarse + lost holds$' out.txt && ok || bad "summary: $(cat out.txt)"
+# the monitor is followed as it grows (issue 53): bal.dat.partial while a run writes it, gone
+# when the complete file is there; a run stopped with SIGINT halfway leaves its rows so far in
+# the partial file, readable, and the earlier complete file untouched
+[ ! -e bal.dat.partial ] && ok || bad "bal.dat.partial left after a run that ended"
+cp bal.dat bal.before
+printf '%bchannel 0.05 1\ngas 1.5\ncollisions off\ntimestep 1e-3\nspecies quartz 2650\nsize quartz lognormal d50=150e-6 sigma=1.6 min=30e-6 max=600e-6\nfeed z=0.5 rate=2e-5\nmonitor file=bal.dat dt=0.01\nrun 100000\n' "$S" > long.mote
+# (a background job of a script ignores SIGINT unless told otherwise: env --default-signal)
+env --default-signal=INT "$MOTE" run long.mote > long.out 2>&1 &
+pid=$!
+i=0
+while [ "$i" -lt 1200 ] && [ "$(grep -vc '^#' bal.dat.partial 2>/dev/null || echo 0)" -lt 5 ]; do
+    sleep 0.1
+    i=$((i + 1))
+done
+kill -INT "$pid"
+wait "$pid"
+[ $? -eq 130 ] && ok || bad "the run was not stopped by SIGINT: $(cat long.out)"
+cmp -s bal.dat bal.before && ok || bad "the complete bal.dat changed under a run that was stopped"
+awk '/^# columns:/ { n = NF - 2 } !/^#/ { rows++; if (NF != n) bad = 1 } END { exit !(n > 0 && rows >= 5 && !bad) }' bal.dat.partial &&
+    grep -q '^# mote separator-balance 1$' bal.dat.partial && ok || bad "the stopped run's rows: $(head -c 600 bal.dat.partial)"
 expect 1 "f1.mote:2:21: error: frames: expected 'size' or 'species' for color, found 'x'" f1.mote "${S}frames fr 0.1 color=x\n"
 # the picture beside a table is an output too: a later command that writes it is reported
 expect 0 "png.mote:8:1: warning: profiles: " png.mote "${S}channel 0.05 1\ngas 1\nspecies a 2500\nsize a mono d=1e-4\nfeed z=0.5\ntromp t.dat\nprofiles t.csv\n" check

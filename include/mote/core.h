@@ -95,6 +95,25 @@ int mote_afile_open(mote_afile *af, const char *path, mote_err *err);
 int mote_afile_commit(mote_afile *af, mote_err *err);
 void mote_afile_abort(mote_afile *af);
 
+/* A file followed while a run writes it: PATH.partial, its rows appended and flushed as they
+ * come (a user can `tail -f` it; a run that is stopped or fails leaves it, readable, with every
+ * row so far). The complete PATH is still written atomically when the run ends, and then the
+ * partial file is removed (mote_partial_done): an earlier complete PATH is never touched by a
+ * run that does not end. f is NULL when the file could not be made (the run goes on: the
+ * complete file is the result; the open returns the errno value). */
+typedef struct {
+    FILE *f;
+    char *path; /* PATH.partial */
+} mote_partial;
+
+int mote_partial_open(mote_partial *p, const char *path);
+/* The row just written is flushed to the disk's cache (readers see it). */
+void mote_partial_flush(mote_partial *p);
+/* Closed and removed (the complete file is written). */
+void mote_partial_done(mote_partial *p);
+/* Closed, kept (the run stopped: its rows so far). */
+void mote_partial_keep(mote_partial *p);
+
 /* Does the directory that would hold `path` exist? (used by script validation) */
 int mote_dir_of_exists(const char *path);
 /* Make the folders of path that do not exist yet (the folder of a prefix=, which the script's

@@ -11,6 +11,7 @@
 
 #include <errno.h>
 #include <fcntl.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -302,4 +303,47 @@ char *mote_series_path(const char *prefix, uint64_t k, int digits, const char *e
         snprintf(p, len, "%s%s%0*llu%s", prefix, mote_series_sep(prefix), digits,
                  (unsigned long long)k, ext);
     return p;
+}
+
+/* ---- files followed while written ----------------------------------------------------------- */
+
+int mote_partial_open(mote_partial *p, const char *path)
+{
+    mote_partial_keep(p);
+    const size_t n = strlen(path) + sizeof ".partial";
+    p->path = malloc(n);
+    if (!p->path)
+        return ENOMEM;
+    snprintf(p->path, n, "%s.partial", path);
+    mote_make_dir_of(p->path);
+    p->f = fopen(p->path, "w");
+    if (!p->f) {
+        const int e = errno;
+        free(p->path);
+        p->path = NULL;
+        return e;
+    }
+    return 0;
+}
+
+void mote_partial_flush(mote_partial *p)
+{
+    if (p->f)
+        fflush(p->f);
+}
+
+void mote_partial_keep(mote_partial *p)
+{
+    if (p->f)
+        fclose(p->f);
+    free(p->path);
+    p->f = NULL;
+    p->path = NULL;
+}
+
+void mote_partial_done(mote_partial *p)
+{
+    if (p->path)
+        unlink(p->path);
+    mote_partial_keep(p);
 }

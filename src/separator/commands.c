@@ -37,6 +37,7 @@ static void model_destroy(void *vm)
     free(m->frames.dir);
     free(m->live.path);
     free(m->snaps.dir);
+    mote_partial_keep(&m->bal.partial);
     free(m->bal.path);
     free(m->bal.origin);
     free(m->bal.rows);

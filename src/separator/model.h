@@ -40,6 +40,7 @@ typedef struct {
         mote_schedule at;
         double *rows;
         size_t nrows, cap;
+        mote_partial partial; /* PATH.partial during a run: its rows as they come */
     } bal;
     mote_loop loop; /* during a run: the outputs above as observers, and the progress */
 } sep_model;

@@ -477,6 +477,29 @@ void sep_balance_row(const mote_sep_system *s, double *row)
     }
 }
 
+void sep_balance_text(FILE *f, const mote_sep_system *s, int held, const double *rows,
+                      size_t from, size_t to, int head)
+{
+    if (head) {
+        fprintf(f, "# invariant_held = %d\n", held);
+        fprintf(f, "# counts, then masses (kg), per species and in total (_all); fines_kg and "
+                   "coarse_kg are the cumulative mass flows out\n# columns: t_s");
+        static const char *const q[12] = {"fed", "in", "fines", "coarse", "lost", "backlog",
+                                          "fed_kg", "in_kg", "fines_kg", "coarse_kg", "lost_kg",
+                                          "backlog_kg"};
+        for (int k = 0; k <= s->nsp; k++)
+            for (int j = 0; j < 12; j++)
+                fprintf(f, " %s_%s", q[j], k < s->nsp ? s->sp[k].name : "all");
+        fputc('\n', f);
+    }
+    const size_t w = sep_balance_width(s);
+    for (size_t r = from; r < to; r++) {
+        for (size_t j = 0; j < w; j++)
+            fprintf(f, j ? " %.10g" : "%.10g", rows[r * w + j]);
+        fputc('\n', f);
+    }
+}
+
 int sep_write_balance(const mote_sep_system *s, const char *path, const char *origin,
                       uint64_t seed, const double *rows, size_t nrows, int held, mote_err *err)
 {
@@ -484,22 +507,6 @@ int sep_write_balance(const mote_sep_system *s, const char *path, const char *or
     int rc = mote_datafile_open(&df, path, "separator-balance", origin, seed, err);
     if (rc)
         return rc;
-    FILE *f = df.f;
-    fprintf(f, "# invariant_held = %d\n", held);
-    fprintf(f, "# counts, then masses (kg), per species and in total (_all); fines_kg and "
-               "coarse_kg are the cumulative mass flows out\n# columns: t_s");
-    static const char *const q[12] = {"fed", "in", "fines", "coarse", "lost", "backlog",
-                                      "fed_kg", "in_kg", "fines_kg", "coarse_kg", "lost_kg",
-                                      "backlog_kg"};
-    for (int k = 0; k <= s->nsp; k++)
-        for (int j = 0; j < 12; j++)
-            fprintf(f, " %s_%s", q[j], k < s->nsp ? s->sp[k].name : "all");
-    fputc('\n', f);
-    const size_t w = sep_balance_width(s);
-    for (size_t r = 0; r < nrows; r++) {
-        for (size_t j = 0; j < w; j++)
-            fprintf(f, j ? " %.10g" : "%.10g", rows[r * w + j]);
-        fputc('\n', f);
-    }
+    sep_balance_text(df.f, s, held, rows, 0, nrows, 1);
     return mote_datafile_commit(&df, err);
 }

@@ -11,6 +11,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "mote/datafile.h"
 #include "mote/loop.h"
 #include "mote/render.h"
 #include "model.h"
@@ -164,6 +165,7 @@ int sep_run(void *vm, const mote_call *c, mote_err *err)
     m->loop = (mote_loop){NULL, 0, UINT64_MAX, NULL, 0, 0, 0};
     if (!rc)
         rc = run_end(m, err);
+    mote_partial_keep(&m->bal.partial); /* a run that failed: its rows so far stay */
     if (!rc && m->log)
         run_notes(m);
     return rc;
@@ -416,6 +418,16 @@ static int fire_balance(void *ctx, void *subject, mote_err *err)
     sep_balance_row(&m->sys, m->bal.rows + m->bal.nrows++ * w);
     if (mote_sep_check_balance(&m->sys))
         m->bal.held = 0;
+    /* followed as it grows: PATH.partial, begun with the rows of earlier runs */
+    mote_partial *pt = &m->bal.partial;
+    if (!pt->f && !pt->path && mote_partial_open(pt, m->bal.path) == 0) {
+        mote_datafile_preamble(pt->f, "separator-balance", m->bal.origin, m->seed);
+        sep_balance_text(pt->f, &m->sys, m->bal.held, m->bal.rows, 0, m->bal.nrows, 1);
+    } else if (pt->f) {
+        sep_balance_text(pt->f, &m->sys, m->bal.held, m->bal.rows, m->bal.nrows - 1,
+                         m->bal.nrows, 0);
+    }
+    mote_partial_flush(pt);
     return MOTE_OK;
 }
 
@@ -463,6 +475,8 @@ static int run_end(sep_model *m, mote_err *err)
     if (m->bal.on && m->bal.nrows)
         rc = sep_write_balance(&m->sys, m->bal.path, m->bal.origin, m->seed, m->bal.rows,
                                m->bal.nrows, m->bal.held, err);
+    if (!rc)
+        mote_partial_done(&m->bal.partial); /* (the complete file is there) */
     if (!rc && m->frames.on && m->frames.movie && m->frames.index > 1) {
         const size_t n = strlen(m->frames.dir) + 16;
         char *prefix = malloc(n), *out = malloc(n);
