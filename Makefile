@@ -197,6 +197,8 @@ seeds-san: setup-test
 # FUZZ_TIME seconds from its corpus in fuzz/corpus/<target>/, which grows with what it finds (commit
 # it); a crash or leak leaves its input as fuzz/corpus/<target>/crash-... (rename it after what it
 # did): `make check` then replays it through tests/test_fuzz.c until it is fixed.
+# (a unit's timeout, 30 s, is above the mesh reader's own bound: 10 s of processor time, 20 of
+# wall clock, after which Assimp's child is stopped and the load fails cleanly)
 FUZZ_TIME ?= 60
 FUZZ_TARGETS := script hs_state mb_state nb_state nb_snapshot nb_solar ch_plain plot sep_state nb_galactica nb_galctl nb_galjob ch_mesh sep_files live_http script_params csv
 FUZZ_SAN := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
@@ -208,7 +210,7 @@ fuzz:
 	    clang $(ALL_CFLAGS) -fsanitize=fuzzer $(FUZZ_SAN) -Ifuzz -DMOTE_FUZZ_TARGET=\"$$t\" \
 	        fuzz/main_libfuzzer.c fuzz/targets.c build-fuzz/libmote.a $(LDLIBS) -o build-fuzz/fuzz_$$t; \
 	    echo "== fuzzing $$t for $(FUZZ_TIME) s"; \
-	    ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp build-fuzz/fuzz_$$t -max_total_time=$(FUZZ_TIME) -timeout=10 \
+	    ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp build-fuzz/fuzz_$$t -max_total_time=$(FUZZ_TIME) -timeout=30 \
 	        -rss_limit_mb=2048 -max_len=4096 -artifact_prefix=fuzz/corpus/$$t/ fuzz/corpus/$$t; \
 	done
 
