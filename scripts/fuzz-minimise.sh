@@ -27,7 +27,7 @@ for t in $targets; do
         fi
     done
     if [ -n "$(ls "$work/units")" ]; then
-        ASAN_OPTIONS=detect_leaks=0 "$bin" -merge=1 -use_counters=0 -timeout=20 -rss_limit_mb=2048 \
+        ASAN_OPTIONS=detect_leaks=0 "$bin" -merge=1 -use_counters=0 -timeout=30 -rss_limit_mb=2048 \
             -max_len=4096 "$dir" "$work/units" > "$work/log" 2>&1 ||
             { cat "$work/log" >&2; mv "$work/units"/* "$dir/"; rm -rf "$work"; exit 1; }
     fi
