@@ -203,7 +203,7 @@ int mote_progress_update(mote_progress *p, double fraction)
     }
     if (p->ctx && p->ctx->tick)
         p->ctx->tick(p->ctx->tick_arg);
-    if (p->ctx && p->ctx->report) {
+    if (p->ctx && p->ctx->report && !stop) { /* (stopping: nothing more to report) */
         double t = mote_wall_seconds();
         if (t - p->last_report >= p->interval) {
             p->last_report = t;
