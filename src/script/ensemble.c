@@ -559,9 +559,12 @@ int mote_ensemble_run(mote_script *s, const mote_ensemble *e, mote_err *err)
               0, PTHREAD_COND_INITIALIZER};
     pthread_t *tid = malloc((size_t)threads * sizeof *tid);
     int started = 0;
+    p.active = tid ? threads : 1; /* (set before any worker runs: each counts itself out) */
     for (int k = 1; tid && k < threads; k++) /* (this thread is the first worker) */
         started += pthread_create(&tid[started], NULL, worker, &p) == 0;
-    p.active = started + 1;
+    pthread_mutex_lock(&p.lock);
+    p.active -= (tid ? threads - 1 : 0) - started; /* (those that did not start) */
+    pthread_mutex_unlock(&p.lock);
     worker(&p);
     /* this thread's replicas done: it asks the interrupt hook while the others finish theirs */
     pthread_mutex_lock(&p.lock);
