@@ -8,6 +8,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <time.h>
 
 #define MOTE_VERSION "0.1.0"
 
@@ -113,6 +114,10 @@ void mote_partial_flush(mote_partial *p);
 void mote_partial_done(mote_partial *p);
 /* Closed, kept (the run stopped: its rows so far). */
 void mote_partial_keep(mote_partial *p);
+
+/* The CLOCK_REALTIME time `seconds` from now, for pthread_cond_timedwait (a wait that also
+ * looks at something else now and then). */
+struct timespec mote_deadline(double seconds);
 
 /* Does the directory that would hold `path` exist? (used by script validation) */
 int mote_dir_of_exists(const char *path);

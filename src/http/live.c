@@ -123,13 +123,7 @@ static void *watchdog(void *arg)
                 shutdown(r->fd, SHUT_RDWR);
                 r->cut = 1;
             }
-        struct timespec until;
-        clock_gettime(CLOCK_REALTIME, &until);
-        until.tv_nsec += 250000000L;
-        if (until.tv_nsec >= 1000000000L) {
-            until.tv_sec++;
-            until.tv_nsec -= 1000000000L;
-        }
+        const struct timespec until = mote_deadline(0.25);
         pthread_cond_timedwait(&l->wcv, &l->mu, &until);
     }
     pthread_mutex_unlock(&l->mu);

@@ -569,13 +569,7 @@ int mote_ensemble_run(mote_script *s, const mote_ensemble *e, mote_err *err)
     /* this thread's replicas done: it asks the interrupt hook while the others finish theirs */
     pthread_mutex_lock(&p.lock);
     while (p.active > 0) {
-        struct timespec until;
-        clock_gettime(CLOCK_REALTIME, &until);
-        until.tv_nsec += 50000000L;
-        if (until.tv_nsec >= 1000000000L) {
-            until.tv_sec++;
-            until.tv_nsec -= 1000000000L;
-        }
+        const struct timespec until = mote_deadline(0.05);
         pthread_cond_timedwait(&p.idle, &p.lock, &until);
         if (p.active > 0 && st.hook && !atomic_load(&st.stop)) {
             pthread_mutex_unlock(&p.lock);
