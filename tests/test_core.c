@@ -423,9 +423,10 @@ static void test_loop(void)
 {
     printf("the run loop: observers on exact schedules\n");
     loop_probe a = {0}, b = {0};
-    mote_observer obs[2] = {{.at = {0.0, 0.1, 1}, .ctx = &a, .fire = probe_fire},
-                            {.at = {0.0, 0.25, 1}, .ctx = &b, .fire = probe_fire}};
-    mote_loop l = {obs, 2, UINT64_MAX, NULL, 0, 1, 0};
+    mote_schedule sa = {0.0, 0.1, 1}, sb = {0.0, 0.25, 1};
+    mote_observer obs[2] = {{.at = &sa, .ctx = &a, .fire = probe_fire},
+                            {.at = &sb, .ctx = &b, .fire = probe_fire}};
+    mote_loop l = {obs, 2, UINT64_MAX, NULL, 0, 1, 0, 0};
     mote_err err = {0};
     double t = 0;
     int stops = 0;
@@ -442,24 +443,27 @@ static void test_loop(void)
     /* a fixed step of 0.35 passes several times: each observer fires once per stop, and its
      * schedule moves past the step's time (no late burst) */
     loop_probe c = {0};
-    mote_observer o1 = {.at = {0.0, 0.1, 1}, .ctx = &c, .fire = probe_fire};
-    mote_loop l1 = {&o1, 1, UINT64_MAX, NULL, 0, 1, 0};
+    mote_schedule s1 = {0.0, 0.1, 1};
+    mote_observer o1 = {.at = &s1, .ctx = &c, .fire = probe_fire};
+    mote_loop l1 = {&o1, 1, UINT64_MAX, NULL, 0, 1, 0, 0};
     double ts = 0.35;
     CHECK_INT(mote_loop_fire(&l1, &ts, ts, &err), 0);
     CHECK_INT(c.calls, 1);
     CHECK(mote_loop_next(&l1) == 0.0 + 4 * 0.1, "after 0.35 the next is %.17g", mote_loop_next(&l1));
     /* a time within 1e-9 of the interval before the end is taken at the end */
-    mote_observer o2 = {.at = {0.0, 0.1, 10}, .ctx = &c, .fire = probe_fire};
-    mote_loop l2 = {&o2, 1, UINT64_MAX, NULL, 0, 1, 0};
+    mote_schedule s2 = {0.0, 0.1, 10};
+    mote_observer o2 = {.at = &s2, .ctx = &c, .fire = probe_fire};
+    mote_loop l2 = {&o2, 1, UINT64_MAX, NULL, 0, 1, 0, 0};
     CHECK(mote_loop_stop(&l2, 1.0 + 1e-12) == 1.0 + 1e-12, "stop %.17g",
           mote_loop_stop(&l2, 1.0 + 1e-12));
     /* count observers (every 3 and every 5 steps) beside a time observer: a stepping model
      * stops at 3, 5, 6, 9, 10, ... and the time calls pass the count observers by */
     loop_probe p3 = {0}, p5 = {0}, pt = {0};
+    mote_schedule st = {0.0, 0.5, 1};
     mote_observer oc[3] = {{.ctx = &p3, .fire = probe_fire, .every = 3},
-                           {.at = {0.0, 0.5, 1}, .ctx = &pt, .fire = probe_fire},
+                           {.at = &st, .ctx = &pt, .fire = probe_fire},
                            {.ctx = &p5, .fire = probe_fire, .every = 5}};
-    mote_loop lc = {oc, 3, 14, NULL, 0, INFINITY, 0};
+    mote_loop lc = {oc, 3, 14, NULL, 0, INFINITY, 0, 0};
     uint64_t n = 0, nstops = 0, stops_at[16];
     while (n < lc.n_end && nstops < 16) {
         n = mote_loop_count_stop(&lc, n, lc.n_end);
@@ -486,7 +490,7 @@ static void test_loop(void)
     /* from: every 4 counted from 6 (a dump started at collision 6) fires at 6, 10, 14, 18 */
     loop_probe pf = {0};
     mote_observer of = {.ctx = &pf, .fire = probe_fire, .every = 4, .from = 6};
-    mote_loop lf = {&of, 1, 20, NULL, 0, INFINITY, 0};
+    mote_loop lf = {&of, 1, 20, NULL, 0, INFINITY, 0, 0};
     uint64_t nf = 0, fstops[8], nfs = 0;
     while (nf < lf.n_end && nfs < 8) {
         nf = mote_loop_count_stop(&lf, nf, lf.n_end);

@@ -94,9 +94,10 @@ static void test_energy(void)
     CHECK(mote_mb_place(&s, &p, &err) == MOTE_OK, "place: %s", err.msg);
     double e0 = mote_mb_energy(&s, NULL);
     acc a = {0};
-    mote_observer smp = {.at = {0.0, 0.1, 1}, .ctx = &a, .fire = sampler};
+    mote_schedule smp_at = {0.0, 0.1, 1};
+    mote_observer smp = {.at = &smp_at, .ctx = &a, .fire = sampler};
     uint64_t target = sanitized ? 200000 : 1000000;
-    mote_loop hooks = {&smp, 1, target, NULL, 0, 0, 0};
+    mote_loop hooks = {&smp, 1, target, NULL, 0, 0, 0, 0};
     int rc = mote_mb_run(&s, INFINITY, &hooks, &err);
     CHECK(rc == MOTE_OK, "run: %s", err.msg);
     double e1 = mote_mb_energy(&s, NULL);
@@ -171,8 +172,9 @@ static void test_effusion_and_mixing(void)
         mote_mb_free(&s);
         return;
     }
-    mote_observer smp = {.at = {t0, dt, 1}, .ctx = &a, .fire = sampler};
-    mote_loop hooks = {&smp, 1, UINT64_MAX, NULL, 0, 0, 0};
+    mote_schedule smp_at = {t0, dt, 1};
+    mote_observer smp = {.at = &smp_at, .ctx = &a, .fire = sampler};
+    mote_loop hooks = {&smp, 1, UINT64_MAX, NULL, 0, 0, 0, 0};
     CHECK(mote_mb_run(&s, t0 + T, &hooks, &err) == MOTE_OK, "run: %s", err.msg);
     double crossings = (double)(s.cross_lr - lr0 + s.cross_rl - rl0);
     double rate = crossings / (2 * T);           /* one way, per second */
@@ -236,8 +238,9 @@ static void test_barometric(void)
     a.hist = hist;
     a.nbins = 20;
     double T = 200;
-    mote_observer smp = {.at = {s.time, 0.2, 1}, .ctx = &a, .fire = sampler};
-    mote_loop hooks = {&smp, 1, UINT64_MAX, NULL, 0, 0, 0};
+    mote_schedule smp_at = {s.time, 0.2, 1};
+    mote_observer smp = {.at = &smp_at, .ctx = &a, .fire = sampler};
+    mote_loop hooks = {&smp, 1, UINT64_MAX, NULL, 0, 0, 0, 0};
     CHECK(mote_mb_run(&s, s.time + T, &hooks, &err) == MOTE_OK, "run: %s", err.msg);
     double e1 = mote_mb_energy(&s, NULL);
     CHECK(fabs(e1 - e0) < 1e-11 * fabs(e0), "energy (kinetic + potential) drift %.3g",

@@ -585,8 +585,9 @@ static void test_runs(void)
     brute_energy(&s, &k0);
     /* samples at t0 + k DT, exactly; k = 0 belongs to the caller */
     double log_[65] = {0};
-    mote_observer smp = {.at = {0.0, 0.1, 1}, .ctx = log_, .fire = sample_log};
-    mote_loop hooks = {&smp, 1, UINT64_MAX, NULL, 0, 0, 0};
+    mote_schedule smp_at = {0.0, 0.1, 1};
+    mote_observer smp = {.at = &smp_at, .ctx = log_, .fire = sample_log};
+    mote_loop hooks = {&smp, 1, UINT64_MAX, NULL, 0, 0, 0, 0};
     CHECK(mote_mb_run(&s, 0.3, &hooks, &err) == MOTE_OK, "run: %s", err.msg);
     /* 3 * 0.1 = 0.30000000000000004 lies a hair past 0.3: taken at the end */
     CHECK_INT(log_[0], 3);

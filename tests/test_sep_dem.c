@@ -804,6 +804,23 @@ static int every_7th(void *ctx, const mote_sep_system *s)
     return s->steps % 7 == 0;
 }
 
+/* A run whose loop sees the steps every_7th wants (as the core's loop does): the pieces of
+ * mote_sep_run, the hook after each step seen. */
+static int run_with_hook(mote_sep_system *s, double T, hook_log *log, mote_err *err)
+{
+    int rc = mote_sep_prepare(s, err);
+    const double t_end = s->t + T;
+    while (!rc && s->t < t_end) {
+        const double t0 = s->t;
+        rc = mote_sep_advance(s, t_end, every_7th, log, err);
+        if (rc || s->t == t0)
+            break;
+        if (!(s->kick_h > 0)) /* (a step seen; the last one may not be) */
+            rc = log_hook(log, s, err);
+    }
+    return mote_sep_run_end(s, rc, err);
+}
+
 /* A step's second half kick left for the next drift (steps the hook does not see) gives the
  * bits of every step completed: the thread test's runs (contacts, plates, exits, the feed, the
  * gas coupling, the profiles' samples) on 1 and 3 threads, with every step completed and with
@@ -852,8 +869,8 @@ static void test_pending(void)
         if (k == 0)
             CHECK(mote_sep_run(&s[k], 300 * s[k].dt, &err) == MOTE_OK, "run: %s", err.msg);
         else
-            CHECK(mote_sep_run_hook(&s[k], 300 * s[k].dt, log_hook, every_7th, &log, &err) ==
-                      MOTE_OK, "run with the hook: %s", err.msg);
+            CHECK(run_with_hook(&s[k], 300 * s[k].dt, &log, &err) == MOTE_OK,
+                  "run with the hook: %s", err.msg);
         CHECK(s[k].kick_h == 0, "run %d ends complete", k);
         CHECK(mote_sep_save(&s[k], 1, path[k], &err) == MOTE_OK, "save: %s", err.msg);
     }

@@ -171,6 +171,10 @@ typedef struct mote_context {
     /* 1: this run stays in this process even under mpirun (a replica of an ensemble on one
      * rank): a model that shares its work among the ranks must not, and writes its own files. */
     int solo;
+    /* Observers that join every run of every model (mote_run, loop.h): a program that drives
+     * mote, a test. The caller's array; their schedules are theirs. */
+    const struct mote_observer *observers;
+    size_t nobservers;
 } mote_context;
 
 /* An array of a model's state for other programs (the Python package's NumPy arrays): rows

@@ -3,14 +3,14 @@
  * integrator works on, the rules every integrator shares (collision rules with the TC model,
  * wall kicks, chamber bookkeeping) and the integrator plug-in point:
  *
- *     int mb_run_timestep(mote_mb *sys, double t_end, mote_loop *loop, mote_err *err);
- *     int mb_run_event   (mote_mb *sys, double t_end, mote_loop *loop, mote_err *err);
+ *     int mb_run_timestep(mote_mb *sys, double t_end, const mote_loop *spec, mote_err *err);
+ *     int mb_run_event   (mote_mb *sys, double t_end, const mote_loop *spec, mote_err *err);
  *
- * mote_mb_run dispatches to one of them by sys->p.integrator. The contract an integrator keeps
- * (described in full above mote_mb_progress) is small: advance the state in sys (plain arrays of
- * positions and velocities) to t_end, stop exactly at every sample time the hooks ask for and
- * call mote_loop_fire there with the state synchronised, keep the counters and the chamber
- * of every disk up to date, and stop early once the collision limit of the hooks is reached.
+ * mote_mb_run dispatches to one of them by sys->p.integrator. Each is an advance of the core's
+ * run loop (mote_run, loop.h; the contract in full above mote_mb_progress): advance the state in
+ * sys (plain arrays of positions and velocities) to the stop the loop asks for, with the state
+ * synchronised there, keep the counters and the chamber of every disk up to date, and stop
+ * early once the collision count asked for is reached; the loop fires the samplers.
  * Measurements, pictures and files live above this contract (src/mixingbox/measure.c,
  * picture.c), so a new integrator gets all of them for free. */
 #ifndef MOTE_MIXINGBOX_H
@@ -250,25 +250,23 @@ void mote_mb_note_overlaps(mote_mb *sys, uint64_t count);
 
 /* ---- the integrator plug-in point ------------------------------------------------------------ */
 
-/* The run loop (include/mote/loop.h) is the integrators' plug-in point: its observers are the
- * samplers (fire(ctx, subject, err) with subject the mote_mb), its count the collisions. What an
- * integrator must honour, besides t_end:
+/* The core's run loop (mote_run, include/mote/loop.h) is the integrators' plug-in point: its
+ * observers are the samplers (fire(ctx, subject, err) with subject the mote_mb), its count the
+ * collisions; spec gives the samplers (obs, nobs), the collision limit (n_end; UINT64_MAX: none)
+ * and the progress. What an integrator's advance(t_stop, n_stop) must honour:
  *
- * - Sample times. t_stop = mote_loop_stop(loop, t_end) is the next time to stop at: the
- *   earliest pending sample time t0 + k dt, or t_end (a sample within 1e-9 dt before t_end is
- *   taken at t_end). The integrator advances the system to exactly t_stop (never past it), sets
- *   sys->time = t_stop (assigned, not accumulated) with x, y, vx, vy, side and every counter
- *   synchronised to that instant, and calls mote_loop_fire(loop, sys, sys->time, err), which
- *   runs every sampler due and returns non-zero on an error the integrator must return at once.
- *   Then it asks for the next t_stop, until sys->time reaches t_end.
- * - Collision limit. When sys->collisions >= loop->n_end the integrator stops (the event
- *   integrator right after that collision, with the state synchronised to its time; the
- *   timestep integrator at the end of that step). UINT64_MAX means no limit; t_end may then be
- *   INFINITY.
+ * - Sample times. t_stop is the earliest pending sample time t0 + k dt, or t_end (a sample
+ *   within 1e-9 dt before t_end is taken at t_end). The integrator advances the system to
+ *   exactly t_stop (never past it; the timestep integrator may stop a step earlier, where
+ *   mote_loop_due says a sample is due within its tolerance) and sets sys->time (assigned, not
+ *   accumulated) with x, y, vx, vy, side and every counter synchronised to that instant.
+ * - Collision limit. When sys->collisions >= n_stop it stops (the event integrator right after
+ *   that collision, with the state synchronised to its time; the timestep integrator at the end
+ *   of that step). t_end may be INFINITY when there is a limit.
  * - Counters and chambers: collisions (through mote_mb_collide), wall_hits, partition_hits,
  *   slit_hits, corner_hits, and mote_mb_note_side for every centre that may have passed X1_C.
  * - Progress: call mote_mb_progress(loop, sys) now and then (it is cheap).
- * - On return: state synchronised to sys->time, sys->generation bumped.
+ * - On return from the run: state synchronised to sys->time, sys->generation bumped.
  * Overlaps are counted by the driver (mote_mb_run) at the start and end of a run and by the
  * recording at every sample; an integrator may count more often (the timestep one does). */
 
@@ -281,13 +279,13 @@ void mote_mb_live_velocity(const mote_mb *sys, uint32_t i, double v[2]);
 double mote_mb_live_time(const mote_mb *sys);
 
 /* The two integrators. mb_run_event lives in src/mixingbox/event.c on the event engine. */
-int mb_run_timestep(mote_mb *sys, double t_end, mote_loop *loop, mote_err *err);
-int mb_run_event(mote_mb *sys, double t_end, mote_loop *loop, mote_err *err);
+int mb_run_timestep(mote_mb *sys, double t_end, const mote_loop *spec, mote_err *err);
+int mb_run_event(mote_mb *sys, double t_end, const mote_loop *spec, mote_err *err);
 
 /* Run to t_end (or the collision limit) with the integrator of sys->p.integrator: resets the
- * per-run overlap bookkeeping and counts overlaps at the start and at the end. loop may be
- * NULL (no samplers, no limit). */
-int mote_mb_run(mote_mb *sys, double t_end, mote_loop *loop, mote_err *err);
+ * per-run overlap bookkeeping and counts overlaps at the start and at the end. spec (the
+ * samplers, the collision limit, the progress) may be NULL: no samplers, no limit. */
+int mote_mb_run(mote_mb *sys, double t_end, const mote_loop *spec, mote_err *err);
 
 /* The model as registered with the script language. */
 extern const mote_model mote_model_mixingbox;

@@ -328,13 +328,17 @@ double mote_sep_cross_section(const mote_sep_system *s);
 /* Make a pending second half kick (after a run every step is complete; within one, the kick
  * of a step the hook does not see rides on the next step's drift). */
 void mote_sep_complete(mote_sep_system *s);
-/* Advance like mote_sep_run, calling hook(ctx, s) after every step it sees (a non-zero return
- * stops the run with that code; the hook sets err). need(ctx, s), asked after a step whose
- * second half kick is pending (DEM with the pair list), says whether the hook wants to see it:
- * when not (0), the kick rides on the next step's drift (the same bits) and the hook is not
- * called for that step. need NULL: the hook sees every step. */
-int mote_sep_run_hook(mote_sep_system *s, double T, int (*hook)(void *, mote_sep_system *, mote_err *),
-                      int (*need)(void *, const mote_sep_system *), void *ctx, mote_err *err);
+/* The pieces of mote_sep_run, for a run through the core's loop (mote_run, loop.h) with
+ * observers: mote_sep_prepare first; mote_sep_advance, the model's advance, steps towards t_end
+ * (the remainder of a step under 1e-9 of it is not taken) and returns after a step that
+ * need(ctx, s) wants to see, complete (need NULL: none; need is asked after a step whose second
+ * half kick is pending (DEM with the pair list): a step it does not want to see has its kick
+ * ride on the next step's drift, the same bits; a step with nothing pending is always seen);
+ * mote_sep_run_end completes the last step, updates the gas fractions and checks the mass
+ * balance (rc: the run's code so far; returns the first error). */
+int mote_sep_advance(mote_sep_system *s, double t_end, int (*need)(void *, const mote_sep_system *),
+                     void *ctx, mote_err *err);
+int mote_sep_run_end(mote_sep_system *s, int rc, mote_err *err);
 
 extern const mote_model mote_model_separator;
 

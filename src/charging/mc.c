@@ -486,7 +486,7 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
                                      : 0;
     /* the run loop, counted in blocks of histories: no observer runs inside the Monte Carlo
      * (the tallies are written when it ends), the progress is the loop's */
-    mote_loop loop = {NULL, 0, blocks_mine * r->ncomp, prog, 0, 0, 0};
+    mote_loop loop = {NULL, 0, blocks_mine * r->ncomp, prog, 0, 0, 0, 0};
     int stop = 0; /* the context's interrupt hook asked to stop (Python's Ctrl-C) */
     const int asks = prog->enabled || (prog->ctx && (prog->ctx->tick || prog->ctx->interrupt));
     uint64_t blocks_done = 0;

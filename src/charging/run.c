@@ -3,6 +3,7 @@
  * and `output` (which files each run writes, spec 8). */
 #include "mote/charging.h"
 #include "mote/datafile.h"
+#include "mote/loop.h"
 #include "mote/stats.h"
 
 #include <math.h>
@@ -52,6 +53,36 @@ static int need_setup(ch_model *m, const mote_call *c, mote_err *err)
                                   "(maxwellian species=%s density= temperature=)", c->name,
                                   m->plasma.sp[s].name, m->plasma.sp[s].name);
     return MOTE_OK;
+}
+
+/* A Monte Carlo run as one advance of the core's loop, counted in histories: its histories are
+ * shared among the threads in blocks, so it stops only at its end (progress and Ctrl-C are the
+ * run's own, at every block); the observers see it there. */
+typedef struct {
+    const ch_model *m;
+    const mote_ch_tracer *t;
+    const mote_ch_run_opts *o;
+    mote_ch_result *r;
+    uint64_t done;
+} ch_mc;
+
+static uint64_t ch_mc_count(const void *vx) { return ((const ch_mc *)vx)->done; }
+static int ch_mc_advance(void *vx, mote_loop *l, double t_stop, uint64_t n_stop, mote_err *err)
+{
+    ch_mc *x = vx;
+    int rc = mote_ch_run(&x->m->plasma, &x->m->body, x->t, x->o, x->r, err);
+    if (!rc)
+        x->done = x->o->particles;
+    return rc;
+}
+
+static int ch_mc_run(const ch_model *m, const mote_call *c, const mote_ch_tracer *t,
+                     const mote_ch_run_opts *o, mote_ch_result *r, mote_err *err)
+{
+    ch_mc x = {m, t, o, r, 0};
+    const mote_runner run = {.what = c->name, .sys = &x, .ctx = c->ctx, .count = ch_mc_count,
+                             .advance = ch_mc_advance};
+    return mote_run(&run, NULL, 0, NULL, INFINITY, o->particles, err);
 }
 
 /* ---- test hitprob (spec 10 M3; the original's -t) ---- */
@@ -183,7 +214,7 @@ int ch_run_run(void *vm, const mote_call *c, mote_err *err)
     }
     for (int pass = 0;; pass++) {
         mote_ch_result_free(&m->res);
-        rc = mote_ch_run(&m->plasma, &m->body, t, &o, &m->res, err);
+        rc = ch_mc_run(m, c, t, &o, &m->res, err);
         if (rc || !re)
             break;
         worst = 0;
@@ -382,7 +413,7 @@ int ch_run_float(void *vm, const mote_call *c, mote_err *err)
         mote_ch_result_free(&m->res);
         mote_ch_run_opts om = o;
         om.potential = mean;
-        rc = mote_ch_run(&m->plasma, &m->body, t, &om, &m->res, err);
+        rc = ch_mc_run(m, c, t, &om, &m->res, err);
     }
     mote_progress_end(&prog);
     mote_ch_tracer_free(t);
@@ -489,6 +520,100 @@ static void timeseries_columns(const ch_model *m, FILE *out)
 }
 
 /* Full mode (spec 6.6): C dU/dt = I_net(U) from the tabulated characteristic. */
+/* evolve's rows at t = k dt (and at T), through the core's loop: the clock moves from stop to
+ * stop (the table or the equations give the state at any time; advance() integrates them), the
+ * row is the observer. */
+typedef struct {
+    double t;
+    int (*advance)(void *ctx, double t, mote_err *err); /* NULL: nothing to integrate */
+    void *ctx;
+} evolve_clock;
+
+static double evolve_clock_now(const void *vc) { return ((const evolve_clock *)vc)->t; }
+static int evolve_clock_advance(void *vc, mote_loop *l, double t_stop, uint64_t n_stop,
+                                mote_err *err)
+{
+    evolve_clock *c = vc;
+    int rc = c->advance ? c->advance(c->ctx, t_stop, err) : MOTE_OK;
+    if (!rc)
+        c->t = t_stop;
+    return rc;
+}
+
+static int evolve_clock_run_with(const mote_call *call, int (*row)(void *, void *, mote_err *),
+                                 void *rows, mote_schedule *at, double T,
+                                 int (*advance)(void *, double, mote_err *), void *ctx,
+                                 mote_err *err)
+{
+    evolve_clock c = {0, advance, ctx};
+    const mote_runner r = {.what = "evolve", .sys = &c, .ctx = call->ctx,
+                           .clock = evolve_clock_now, .advance = evolve_clock_advance};
+    const mote_observer o = {.at = at, .ctx = rows, .fire = row};
+    return mote_run(&r, &o, 1, NULL, T, UINT64_MAX, err);
+}
+
+static int evolve_clock_run(const mote_call *call, int (*row)(void *, void *, mote_err *),
+                            void *rows, mote_schedule *at, double T, mote_err *err)
+{
+    return evolve_clock_run_with(call, row, rows, at, T, NULL, NULL, err);
+}
+
+/* A row of the full mode's time series at `time`. */
+typedef struct {
+    ch_model *m;
+    const ch_table *t;
+    double C;
+    int f;
+    FILE *out;
+    double nreal[MOTE_CH_MAX_SPECIES];
+    double last; /* the time of the last row */
+    mote_schedule at;
+} full_rows;
+
+static void full_row_at(full_rows *x, double time)
+{
+    ch_model *m = x->m;
+    const ch_table *t = x->t;
+    const double C = x->C, U = ch_table_u_at(t, time);
+    const int nsp = m->plasma.nsp;
+    FILE *out = x->out;
+    /* the real particles collected since the last row: 32 trapezoids */
+    for (int q = 0; q < 32 && time > x->last; q++) {
+        const double ta = x->last + (time - x->last) * q / 32;
+        const double tb = x->last + (time - x->last) * (q + 1) / 32;
+        const double ua = ch_table_u_at(t, ta), ub = ch_table_u_at(t, tb);
+        for (int s = 0; s < nsp; s++)
+            x->nreal[s] += 0.5 * (tb - ta) *
+                           (fabs(ch_table_col(t, ua, s)) + fabs(ch_table_col(t, ub, s))) /
+                           (abs(m->plasma.sp[s].Z) * MOTE_CH_E);
+    }
+    x->last = time;
+    const double sU = ch_table_col(t, U, nsp + 2) * fmin(time, t->tau) / C;
+    if (x->f) {
+        fprintf(out, "%.10g %.10g %.10g %.10g %.10g", time, C * U, U, sU, ch_table_eval(t, U));
+        for (int s = 0; s < nsp; s++)
+            fprintf(out, " %.10g %.10g", ch_table_col(t, U, s), x->nreal[s]);
+        fprintf(out, " %.10g %.10g\n", ch_table_col(t, U, nsp), ch_table_col(t, U, nsp + 1));
+    } else {
+        fprintf(out, "evolve: t %.10g s Q %.10g C U %.10g V I %.10g A\n", time, C * U, U,
+                ch_table_eval(t, U));
+    }
+    if (m->legacy_stdout && m->log) { /* the original's columns: Q U t collisions */
+        double ntot = 0;
+        for (int s = 0; s < nsp; s++)
+            ntot += x->nreal[s];
+        fprintf(m->log, "%.10g %.10g %.10g %.10g\n", C * U, U, time, ntot);
+    }
+}
+
+static int full_row(void *vx, void *subject, mote_err *err)
+{
+    full_rows *x = vx;
+    if (x->out)
+        full_row_at(x, mote_schedule_next(&x->at));
+    return MOTE_OK;
+}
+
 static int evolve_full(ch_model *m, const mote_call *c, mote_err *err)
 {
     mote_ch_geometry g;
@@ -521,7 +646,6 @@ static int evolve_full(ch_model *m, const mote_call *c, mote_err *err)
         return rc;
     }
     FILE *out = f ? d.f : m->log;
-    const int nsp = m->plasma.nsp;
     if (f) {
         fprintf(out, "# mode = full (C dU/dt = I_net(U), the characteristic tabulated at %d "
                      "potentials, %llu histories per component each; the species' and emission "
@@ -535,36 +659,15 @@ static int evolve_full(ch_model *m, const mote_call *c, mote_err *err)
                         "tau = C/|dI/dU| = %.4g s; 50%% of U_f at %.4g s, 90%% at %.4g s\n",
                 t.n, t.U[0], t.U[t.n - 1], t.Uf, t.tau, ch_table_t_at(&t, U0 + 0.5 * (t.Uf - U0)),
                 ch_table_t_at(&t, U0 + 0.9 * (t.Uf - U0)));
-    const long nout = (long)floor(T / dt + 1e-9);
-    double nreal[MOTE_CH_MAX_SPECIES] = {0}, tprev = 0;
-    for (long k = 0; k <= nout + (fabs(nout * dt - T) > 1e-12 * T) && out; k++) {
-        const double time = k <= nout ? k * dt : T, U = ch_table_u_at(&t, time);
-        /* the real particles collected since the last row: 32 trapezoids */
-        for (int q = 0; q < 32 && time > tprev; q++) {
-            const double ta = tprev + (time - tprev) * q / 32, tb = tprev + (time - tprev) * (q + 1) / 32;
-            const double ua = ch_table_u_at(&t, ta), ub = ch_table_u_at(&t, tb);
-            for (int s = 0; s < nsp; s++)
-                nreal[s] += 0.5 * (tb - ta) *
-                            (fabs(ch_table_col(&t, ua, s)) + fabs(ch_table_col(&t, ub, s))) /
-                            (abs(m->plasma.sp[s].Z) * MOTE_CH_E);
-        }
-        tprev = time;
-        const double sU = ch_table_col(&t, U, nsp + 2) * fmin(time, t.tau) / C;
-        if (f) {
-            fprintf(out, "%.10g %.10g %.10g %.10g %.10g", time, C * U, U, sU, ch_table_eval(&t, U));
-            for (int s = 0; s < nsp; s++)
-                fprintf(out, " %.10g %.10g", ch_table_col(&t, U, s), nreal[s]);
-            fprintf(out, " %.10g %.10g\n", ch_table_col(&t, U, nsp), ch_table_col(&t, U, nsp + 1));
-        } else {
-            fprintf(out, "evolve: t %.10g s Q %.10g C U %.10g V I %.10g A\n", time, C * U, U,
-                    ch_table_eval(&t, U));
-        }
-        if (m->legacy_stdout && m->log) { /* the original's columns: Q U t collisions */
-            double ntot = 0;
-            for (int s = 0; s < nsp; s++)
-                ntot += nreal[s];
-            fprintf(m->log, "%.10g %.10g %.10g %.10g\n", C * U, U, time, ntot);
-        }
+    full_rows x = {m, &t, C, f, out, {0}, 0, {0, dt, 0}};
+    int rc2 = evolve_clock_run(c, full_row, &x, &x.at, T, err); /* (rows when there is an out) */
+    if (!rc2 && out && fabs(x.last - T) > 1e-12 * T) /* the end, between two rows */
+        full_row_at(&x, T);
+    if (rc2) {
+        ch_table_free(&t);
+        if (f)
+            mote_datafile_abort(&d);
+        return rc2;
     }
     ch_table_free(&t);
     return f ? mote_datafile_commit(&d, err) : MOTE_OK;
@@ -638,6 +741,84 @@ static int patch_node(void *vx, double U, double *Ic, double *sig, double *Ip, m
 static const char *body_part_name(const ch_model *m, uint32_t i)
 {
     return m->body.sphere ? "sphere" : m->body.part_name[m->body.part[i]];
+}
+
+/* A row of the differential charging's time series at `time` (the state integrated to it). */
+typedef struct {
+    ch_model *m;
+    ch_patches *P;
+    double C;
+    int f;
+    FILE *out;
+    int np;
+    double y[CH_MAX_PATCHES + 1], t, h; /* the state, its time, the integrator's step */
+    double dvmax, t_dvmax;
+    int p_dvmax;
+    double last; /* the time of the last row (-1: none) */
+    mote_schedule at;
+} patch_rows;
+
+static int patch_advance(void *vr, double time, mote_err *err)
+{
+    patch_rows *r = vr;
+    return ch_patches_advance(r->P, r->y, &r->h, time, &r->t, err);
+}
+
+static int patch_row_at(patch_rows *r, double time, mote_err *err)
+{
+    ch_model *m = r->m;
+    ch_patches *P = r->P;
+    const double *y = r->y, C = r->C;
+    const int np = r->np;
+    FILE *out = r->out;
+    int rc = time > r->t ? patch_advance(r, time, err) : MOTE_OK;
+    r->last = time;
+    double Ic, Ip[CH_MAX_PATCHES], sig, I;
+    if (rc || (rc = ch_patches_currents(P, y[0], y + 1, &Ic, Ip, &sig, err)) != 0)
+        return rc;
+    I = Ic;
+    double dm = 0;
+    for (int p = 0; p < np; p++) {
+        I += Ip[p];
+        dm = fmax(dm, fabs(y[1 + p]));
+        if (fabs(y[1 + p]) > r->dvmax) {
+            r->dvmax = fabs(y[1 + p]);
+            r->p_dvmax = p;
+            r->t_dvmax = time;
+        }
+    }
+    if (r->f) {
+        /* sigma_U: the net current's error over min(t, tau), tau = C / |dI/dU| (faithful:
+         * sigma_I t / C) */
+        double sU = sig * time / C;
+        if (!m->faithful) {
+            const double e = 1e-3 * P->scale;
+            double Ic2, Ip2[CH_MAX_PATCHES], I2 = 0;
+            if ((rc = ch_patches_currents(P, y[0] + e, y + 1, &Ic2, Ip2, NULL, err)) != 0)
+                return rc;
+            I2 = Ic2;
+            for (int p = 0; p < np; p++)
+                I2 += Ip2[p];
+            const double slope = fabs(I2 - I) / e;
+            sU = sig * fmin(time, slope > 0 ? C / slope : time) / C;
+        }
+        fprintf(out, "%.10g %.10g %.10g %.10g %.10g", time, C * y[0], y[0], sU, I);
+        for (int p = 0; p < np; p++)
+            fprintf(out, " %.10g", y[0] + y[1 + p]);
+        fprintf(out, " %.10g\n", dm);
+    } else if (out) {
+        fprintf(out, "evolve: t %.10g s U %.10g V", time, y[0]);
+        for (int p = 0; p < np; p++)
+            fprintf(out, " V_%s %.10g V", m->diel[p].part, y[0] + y[1 + p]);
+        fputc('\n', out);
+    }
+    return MOTE_OK;
+}
+
+static int patch_row(void *vr, void *subject, mote_err *err)
+{
+    patch_rows *r = vr;
+    return patch_row_at(r, mote_schedule_next(&r->at), err);
 }
 
 static int evolve_patches(ch_model *m, const mote_call *c, mote_err *err)
@@ -725,53 +906,13 @@ static int evolve_patches(ch_model *m, const mote_call *c, mote_err *err)
             fprintf(out, " V_%s_V", m->diel[p].part);
         fputs(" dV_max_V\n", out);
     }
-    double y[CH_MAX_PATCHES + 1] = {U0}, t = 0, h = 1e-9 * T, dvmax = 0, t_dvmax = 0;
-    int p_dvmax = 0;
-    const long nout = (long)floor(T / dt + 1e-9);
-    for (long k = 0; !rc && k <= nout + (fabs(nout * dt - T) > 1e-12 * T); k++) {
-        const double time = k <= nout ? k * dt : T;
-        if ((rc = ch_patches_advance(&P, y, &h, time, &t, err)) != 0)
-            break;
-        double Ic, Ip[CH_MAX_PATCHES], sig, I;
-        if ((rc = ch_patches_currents(&P, y[0], y + 1, &Ic, Ip, &sig, err)) != 0)
-            break;
-        I = Ic;
-        double dm = 0;
-        for (int p = 0; p < np; p++) {
-            I += Ip[p];
-            dm = fmax(dm, fabs(y[1 + p]));
-            if (fabs(y[1 + p]) > dvmax) {
-                dvmax = fabs(y[1 + p]);
-                p_dvmax = p;
-                t_dvmax = time;
-            }
-        }
-        if (f) {
-            /* sigma_U: the net current's error over min(t, tau), tau = C / |dI/dU| (faithful:
-             * sigma_I t / C) */
-            double sU = sig * time / C;
-            if (!m->faithful) {
-                const double e = 1e-3 * P.scale;
-                double Ic2, Ip2[CH_MAX_PATCHES], I2 = 0;
-                if ((rc = ch_patches_currents(&P, y[0] + e, y + 1, &Ic2, Ip2, NULL, err)) != 0)
-                    break;
-                I2 = Ic2;
-                for (int p = 0; p < np; p++)
-                    I2 += Ip2[p];
-                const double slope = fabs(I2 - I) / e;
-                sU = sig * fmin(time, slope > 0 ? C / slope : time) / C;
-            }
-            fprintf(out, "%.10g %.10g %.10g %.10g %.10g", time, C * y[0], y[0], sU, I);
-            for (int p = 0; p < np; p++)
-                fprintf(out, " %.10g", y[0] + y[1 + p]);
-            fprintf(out, " %.10g\n", dm);
-        } else if (out) {
-            fprintf(out, "evolve: t %.10g s U %.10g V", time, y[0]);
-            for (int p = 0; p < np; p++)
-                fprintf(out, " V_%s %.10g V", m->diel[p].part, y[0] + y[1 + p]);
-            fputc('\n', out);
-        }
-    }
+    patch_rows r = {m, &P, C, f, out, np, {U0}, 0, 1e-9 * T, 0, 0, 0, -1, {0, dt, 0}};
+    if (!rc)
+        rc = evolve_clock_run_with(c, patch_row, &r, &r.at, T, patch_advance, &r, err);
+    if (!rc && fabs(r.last - T) > 1e-12 * T) /* the end, between two rows */
+        rc = patch_row_at(&r, T, err);
+    double *y = r.y, dvmax = r.dvmax, t_dvmax = r.t_dvmax;
+    const int p_dvmax = r.p_dvmax;
     mote_progress_end(&prog);
     if (!rc && m->log) {
         fprintf(m->log, "evolve: %d dielectric part%s; %ld steps, currents from %d node%s%s\n", np,
@@ -809,6 +950,50 @@ static int evolve_patches(ch_model *m, const mote_call *c, mote_err *err)
 }
 
 /* Faithful mode (spec 1.2): constant currents, Q = I t and U = Q / C. */
+/* A row of the faithful mode's time series (constant currents: Q = I t). */
+typedef struct {
+    ch_model *m;
+    double inet, C, sig;
+    int f;
+    FILE *out;
+    double last; /* the time of the last row (-1: none) */
+    mote_schedule at;
+} faithful_rows;
+
+static void faithful_row_at(faithful_rows *x, double t)
+{
+    ch_model *m = x->m;
+    FILE *out = x->out;
+    const int f = x->f;
+    const double inet = x->inet, C = x->C;
+    x->last = t;
+    fprintf(out, f ? "%.10g %.10g %.10g %.10g %.10g" : "evolve: t %.10g s Q %.10g C U %.10g V "
+                                                      "+- %.3g I %.10g A",
+            t, inet * t, inet * t / C, x->sig * t / C, inet);
+    for (int s = 0; s < m->plasma.nsp; s++) {
+        const double nreal = fabs(m->res.current[s]) * t / (abs(m->plasma.sp[s].Z) * MOTE_CH_E);
+        if (f)
+            fprintf(out, " %.10g %.10g", m->res.current[s], nreal);
+        else
+            fprintf(out, " N_%s %.10g", m->plasma.sp[s].name, nreal);
+    }
+    fputs(f ? " 0 0\n" : "\n", out); /* (faithful: no emission) */
+    if (m->legacy_stdout && m->log) { /* the original's columns: Q U t collisions */
+        double ntot = 0;
+        for (int s = 0; s < m->plasma.nsp; s++)
+            ntot += fabs(m->res.current[s]) * t / (abs(m->plasma.sp[s].Z) * MOTE_CH_E);
+        fprintf(m->log, "%.10g %.10g %.10g %.10g\n", inet * t + 0.0, inet * t / C + 0.0, t, ntot);
+    }
+}
+
+static int faithful_row(void *vx, void *subject, mote_err *err)
+{
+    faithful_rows *x = vx;
+    if (x->out)
+        faithful_row_at(x, mote_schedule_next(&x->at));
+    return MOTE_OK;
+}
+
 int ch_run_evolve(void *vm, const mote_call *c, mote_err *err)
 {
     ch_model *m = vm;
@@ -845,26 +1030,14 @@ int ch_run_evolve(void *vm, const mote_call *c, mote_err *err)
     } else if (out) {
         fprintf(out, "evolve: dU/dt = %.10g V/s (I = %.10g A, C = %.10g F)\n", inet / C, inet, C);
     }
-    const long nout = (long)floor(T / dt + 1e-9);
-    for (long k = 0; k <= nout + (fabs(nout * dt - T) > 1e-12 * T) && out; k++) {
-        const double t = k <= nout ? k * dt : T;
-        fprintf(out, f ? "%.10g %.10g %.10g %.10g %.10g" : "evolve: t %.10g s Q %.10g C U %.10g V "
-                                                              "+- %.3g I %.10g A",
-                t, inet * t, inet * t / C, sig * t / C, inet);
-        for (int s = 0; s < m->plasma.nsp; s++) {
-            const double nreal = fabs(m->res.current[s]) * t / (abs(m->plasma.sp[s].Z) * MOTE_CH_E);
-            if (f)
-                fprintf(out, " %.10g %.10g", m->res.current[s], nreal);
-            else
-                fprintf(out, " N_%s %.10g", m->plasma.sp[s].name, nreal);
-        }
-        fputs(f ? " 0 0\n" : "\n", out); /* (faithful: no emission) */
-        if (m->legacy_stdout && m->log) { /* the original's columns: Q U t collisions */
-            double ntot = 0;
-            for (int s = 0; s < m->plasma.nsp; s++)
-                ntot += fabs(m->res.current[s]) * t / (abs(m->plasma.sp[s].Z) * MOTE_CH_E);
-            fprintf(m->log, "%.10g %.10g %.10g %.10g\n", inet * t + 0.0, inet * t / C + 0.0, t, ntot);
-        }
+    faithful_rows x = {m, inet, C, sig, f, out, -1, {0, dt, 0}};
+    rc = evolve_clock_run(c, faithful_row, &x, &x.at, T, err); /* (rows when there is an out) */
+    if (!rc && out && fabs(x.last - T) > 1e-12 * T) /* the end, between two rows */
+        faithful_row_at(&x, T);
+    if (rc) {
+        if (f)
+            mote_datafile_abort(&d);
+        return rc;
     }
     return f ? mote_datafile_commit(&d, err) : MOTE_OK;
 }

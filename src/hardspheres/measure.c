@@ -19,6 +19,22 @@ void hs_snapshot(const mote_hs *hs, hs_snap *s)
     s->wall_collisions = hs->ev.wall_collisions;
 }
 
+/* A sample as an observer of the run: the callback with its index. */
+typedef struct {
+    hs_sample_fn fn;
+    void *ctx;
+    mote_hs *hs;
+    uint64_t s, nsamples;
+} hs_sampler;
+
+static int sample_fire(void *vs, void *subject, mote_err *err)
+{
+    hs_sampler *x = vs;
+    if (x->s < x->nsamples)
+        x->fn(x->ctx, x->hs, x->s++, x->nsamples);
+    return MOTE_OK;
+}
+
 int hs_run_samples(mote_hs *hs, uint64_t k, uint64_t nsamples, hs_sample_fn fn, void *ctx,
                    const char *label, double *tau, mote_err *err)
 {
@@ -29,24 +45,19 @@ int hs_run_samples(mote_hs *hs, uint64_t k, uint64_t nsamples, hs_sample_fn fn, 
         *tau = 0;
         return MOTE_OK;
     }
-    uint64_t C = k * ev->n / 2, done = 0;
+    /* sample s (1 ... S) right after collision floor(s C / S) of the run's C */
+    const uint64_t C = k * ev->n / 2;
+    hs_sampler x = {fn, ctx, hs, 0, nsamples};
+    mote_observer o = {.ctx = &x, .fire = sample_fire, .from = ev->collisions,
+                       .spread = nsamples, .over = C};
     mote_progress prog;
     mote_progress_begin(&prog, hs->ctx, label);
-    for (uint64_t s = 1; s <= nsamples; s++) {
-        uint64_t target = mote_schedule_count_at(s, nsamples, C);
-        int rc = hs_run(hs, target - done, err);
-        if (rc) {
-            mote_progress_end(&prog);
-            return rc;
-        }
-        done = target;
-        fn(ctx, hs, s - 1, nsamples);
-        if (mote_progress_update(&prog, (double)s / (double)nsamples)) {
-            mote_progress_end(&prog);
-            return mote_interrupted(err, "measurement");
-        }
-    }
+    int rc = hs_run_observed(hs, C, &o, 1, &prog, label, err);
     mote_progress_end(&prog);
+    if (rc)
+        return rc;
+    while (x.s < nsamples) /* (a system in which nothing more can happen: the samples left) */
+        fn(ctx, hs, x.s++, nsamples);
     *tau = mote_ev_time(ev) - t0;
     return MOTE_OK;
 }

@@ -45,6 +45,10 @@ void hs_write_header(FILE *f, const mote_hs *hs, const char *format, const char 
  * dump (its frames on the way); every command that runs the dynamics goes through here.
  * Dumping does not change the run. */
 int hs_run(mote_hs *hs, uint64_t ncoll, mote_err *err);
+/* The same through the core loop with observers of the caller's (at most 3) beside the dump,
+ * progress (may be NULL) and the command's name for messages. */
+int hs_run_observed(mote_hs *hs, uint64_t ncoll, mote_observer *obs, size_t nobs,
+                    mote_progress *prog, const char *what, mote_err *err);
 /* The dump as a count observer of the run loop (counted in collisions), into o: 1, or 0 when
  * no dump runs (xyz.c). */
 size_t hs_dump_observer(mote_hs *hs, mote_observer *o);

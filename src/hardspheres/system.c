@@ -433,23 +433,43 @@ int mote_hs_bulk_disks(mote_hs *hs, int64_t n, double eta, mote_err *err)
 
 /* ---- dynamics ---------------------------------------------------------------------------------- */
 
-int hs_run(mote_hs *hs, uint64_t ncoll, mote_err *err)
+/* The model's side of the core loop: the engine's clock and collisions; an advance runs to the
+ * next stop in slices of at most 1/100 of the run and 2^16 collisions, so that a terminal shows
+ * progress and a live view gets frames (some 20 a second); slicing does not change the
+ * trajectory. */
+static double hs_clock(const void *sys) { return mote_ev_time(&((const mote_hs *)sys)->ev); }
+static uint64_t hs_count(const void *sys) { return ((const mote_hs *)sys)->ev.collisions; }
+
+static int hs_advance(void *sys, mote_loop *l, double t_stop, uint64_t n_stop, mote_err *err)
+{
+    mote_ev *ev = &((mote_hs *)sys)->ev;
+    uint64_t slice = (l->n_end - l->n_begin) / 100 + 1;
+    if (slice > 65536)
+        slice = 65536;
+    uint64_t n = n_stop - ev->collisions;
+    if (n > slice)
+        n = slice;
+    return isfinite(t_stop) ? mote_ev_run_to(ev, t_stop, n, err) : mote_ev_run(ev, n, err);
+}
+
+int hs_run_observed(mote_hs *hs, uint64_t ncoll, mote_observer *obs, size_t nobs,
+                    mote_progress *prog, const char *what, mote_err *err)
 {
     mote_ev *ev = &hs->ev;
-    mote_observer obs[1];
     const uint64_t end = ncoll < UINT64_MAX - ev->collisions ? ev->collisions + ncoll : UINT64_MAX;
-    mote_loop l = {obs, hs_dump_observer(hs, obs), end, NULL, 0, 0, ev->collisions};
-    while (ev->collisions < end) {
-        const uint64_t before = ev->collisions;
-        int rc = mote_ev_run(ev, mote_loop_count_stop(&l, before, end) - before, err);
-        if (!rc)
-            rc = mote_loop_fire_count(&l, hs, ev->collisions, err);
-        if (rc)
-            return rc;
-        if (ev->collisions == before) /* (nothing more can happen) */
-            break;
-    }
-    return MOTE_OK;
+    mote_observer all[4];
+    size_t n = 0;
+    for (; n < nobs && n < 3; n++)
+        all[n] = obs[n];
+    n += hs_dump_observer(hs, &all[n]);
+    const mote_runner r = {.what = what, .sys = hs, .ctx = hs->ctx, .clock = hs_clock,
+                           .count = hs_count, .advance = hs_advance};
+    return mote_run(&r, all, n, prog, INFINITY, end, err);
+}
+
+int hs_run(mote_hs *hs, uint64_t ncoll, mote_err *err)
+{
+    return hs_run_observed(hs, ncoll, NULL, 0, NULL, "run", err);
 }
 
 int mote_hs_step(mote_hs *hs, uint64_t k, mote_err *err)
@@ -462,26 +482,10 @@ int mote_hs_step(mote_hs *hs, uint64_t k, mote_err *err)
     mote_progress_begin(&prog, hs->ctx, "step");
     double w0 = mote_wall_seconds(), t0 = mote_ev_time(ev);
     uint64_t c0 = ev->collisions, wall0 = ev->wall_collisions;
-    /* run in slices so a terminal shows progress and a live view gets frames (a tick every
-     * 2^16 collisions at most: some 20 a second); slicing does not change the trajectory */
-    uint64_t slice = total / 100 + 1;
-    if (slice > 65536)
-        slice = 65536;
-    uint64_t done = 0;
-    while (done < total) {
-        uint64_t now = total - done < slice ? total - done : slice;
-        int rc = hs_run(hs, now, err);
-        if (rc) {
-            mote_progress_end(&prog);
-            return rc;
-        }
-        done += now;
-        if (mote_progress_update(&prog, (double)done / (double)total)) {
-            mote_progress_end(&prog);
-            return mote_interrupted(err, "step");
-        }
-    }
+    int rc = hs_run_observed(hs, total, NULL, 0, &prog, "step", err);
     mote_progress_end(&prog);
+    if (rc)
+        return rc;
     double secs = mote_wall_seconds() - w0;
     if (hs->log)
         fprintf(hs->log,

@@ -31,6 +31,7 @@ typedef struct {
     mb_density dens;
     mb_frames frames;
     mote_observer rec_s, dens_s, frames_s;
+    mote_schedule rec_at, dens_at, frames_at; /* theirs */
 } mb_model;
 
 static void *model_create(mote_context *ctx, int dry)
@@ -399,8 +400,8 @@ static int run_load(void *vm, const mote_call *c, mote_err *err)
                                  m->frames.active ? &m->frames_s : NULL};
         for (int k = 0; k < 3; k++)
             if (s[k]) {
-                s[k]->at.t0 = m->sys.time;
-                s[k]->at.k = 1;
+                s[k]->at->t0 = m->sys.time;
+                s[k]->at->k = 1;
             }
     }
     if (!rc && m->log)
@@ -552,19 +553,11 @@ static int do_run(mb_model *m, const mote_call *c, double t_end, uint64_t collis
         samplers[ns++] = m->frames_s;
     mote_progress prog;
     mote_progress_begin(&prog, c->ctx, c->name);
-    mote_loop loop = {samplers, ns, collisions_end, &prog, 0, 0, 0};
+    const mote_loop loop = {samplers, ns, collisions_end, &prog, 0, 0, 0, 0};
     double e0 = mote_mb_energy(s, NULL), t0 = s->time, wall = mote_wall_seconds();
     mote_mb before = *s;
     int rc = mote_mb_run(s, t_end, &loop, err);
     mote_progress_end(&prog);
-    /* the samplers' positions in their sequences */
-    ns = 0;
-    if (m->rec.active)
-        m->rec_s = samplers[ns++];
-    if (m->dens.active)
-        m->dens_s = samplers[ns++];
-    if (m->frames.active)
-        m->frames_s = samplers[ns++];
     /* Rewrite the files in any case: a failing run keeps every sample taken so far. */
     mote_err werr = {0};
     int wrc = write_outputs(m, rc ? &werr : err);
@@ -659,7 +652,8 @@ static int run_record(void *vm, const mote_call *c, mote_err *err)
         return rc;
     }
     m->rec.active = 1;
-    m->rec_s = (mote_observer){.at = {m->sys.time, m->rec.dt, 1}, .ctx = &m->rec,
+    m->rec_at = (mote_schedule){m->sys.time, m->rec.dt, 1};
+    m->rec_s = (mote_observer){.at = &m->rec_at, .ctx = &m->rec,
                               .fire = mb_record_sample};
     if (m->log)
         fprintf(m->log, "%s: every %g s into %s\n", c->name, m->rec.dt, m->rec.path);
@@ -699,7 +693,8 @@ static int run_density(void *vm, const mote_call *c, mote_err *err)
         return rc;
     }
     d->active = 1;
-    m->dens_s = (mote_observer){.at = {m->sys.time, d->dt, 1}, .ctx = d,
+    m->dens_at = (mote_schedule){m->sys.time, d->dt, 1};
+    m->dens_s = (mote_observer){.at = &m->dens_at, .ctx = d,
                                .fire = mb_density_sample};
     if (m->log)
         fprintf(m->log, "density_y: %lld bins every %g s into %s\n", (long long)d->nbins, d->dt,
@@ -778,7 +773,8 @@ static int run_frames(void *vm, const mote_call *c, mote_err *err)
     if (rc)
         return rc;
     fr->active = 1;
-    m->frames_s = (mote_observer){.at = {m->sys.time, fr->dt, 1}, .ctx = fr,
+    m->frames_at = (mote_schedule){m->sys.time, fr->dt, 1};
+    m->frames_s = (mote_observer){.at = &m->frames_at, .ctx = fr,
                                  .fire = mb_frames_sample};
     if (m->log)
         fprintf(m->log, "frames: every %g s as %s_NNNNNN.png from %06llu\n", fr->dt, fr->prefix,

@@ -152,27 +152,65 @@ static void sync_counters(mote_mb *sys, const mote_ev *ev, const mote_mb_rules *
     memcpy(last, now, sizeof now);
 }
 
-/* Run the samplers with nothing moving (no disks) up to t_end. */
-static int run_empty(mote_mb *sys, double t_end, mote_loop *loop, mote_err *err)
+/* The model's side of the core loop: its clock and collisions. */
+static double mb_clock(const void *sys) { return ((const mote_mb *)sys)->time; }
+static uint64_t mb_count(const void *sys) { return ((const mote_mb *)sys)->collisions; }
+
+/* With nothing moving (no disks): the clock goes to each stop. */
+static int advance_empty(void *vs, mote_loop *l, double t_stop, uint64_t n_stop, mote_err *err)
 {
-    for (;;) {
-        double t_stop = loop ? mote_loop_stop(loop, t_end) : t_end;
-        sys->time = t_stop;
-        if (loop) {
-            int rc = mote_loop_fire(loop, sys, sys->time, err);
-            if (rc)
-                return rc;
-        }
-        if (!(t_stop < t_end))
-            return MOTE_OK;
-    }
+    ((mote_mb *)vs)->time = t_stop;
+    return MOTE_OK;
 }
 
-int mb_run_event(mote_mb *sys, double t_end, mote_loop *loop, mote_err *err)
+/* The engine to the next stop (a sample time, the end, a collision count), the model's arrays
+ * synchronised there. */
+typedef struct {
+    mb_link *link;
+    mote_mb_rules *rules;
+    const int *kinds;
+    uint64_t last[9];
+    double t_offset;
+} mb_event_run;
+
+static double event_clock(const void *vr) { return ((const mb_event_run *)vr)->link->sys->time; }
+static uint64_t event_count(const void *vr)
+{
+    return ((const mb_event_run *)vr)->link->sys->collisions;
+}
+
+static int advance_event(void *vr, mote_loop *loop, double t_stop, uint64_t n_stop, mote_err *err)
+{
+    mb_event_run *x = vr;
+    mb_link *l = x->link;
+    mote_mb *sys = l->sys;
+    mote_ev *ev = l->ev;
+    l->loop = loop;
+    int rc = mote_ev_run_to(ev, t_stop - x->t_offset, n_stop - sys->collisions, err);
+    sync_counters(sys, ev, x->rules, x->kinds, x->last);
+    if (!rc && l->interrupted)
+        rc = mote_interrupted(err, "run");
+    if (!rc && l->projected > 0)
+        rc = mote_fail(err, MOTE_ERUNTIME,
+                       "run: this run cannot finish: %llu events advanced the time by "
+                       "%.3g s of %.3g s, so it would need %s%.2g events (the disks move "
+                       "too fast for the box: lower v_init, gravity or the kicks, or the "
+                       "run's time)", (unsigned long long)l->run_events,
+                       mote_mb_live_time(sys) - l->t_begin, l->t_end - l->t_begin,
+                       isinf(l->projected) ? "more than " : "about ",
+                       isinf(l->projected) ? 1e300 : l->projected);
+    if (!rc)
+        sync_back(l, sys->collisions >= n_stop ? x->t_offset + mote_ev_time(ev) : t_stop);
+    return rc;
+}
+
+int mb_run_event(mote_mb *sys, double t_end, const mote_loop *spec, mote_err *err)
 {
     const mote_mb_params *p = &sys->p;
+    mote_runner r = {.what = "run", .sys = sys, .ctx = spec->progress ? spec->progress->ctx : NULL,
+                     .clock = mb_clock, .count = mb_count, .advance = advance_empty};
     if (sys->n == 0) {
-        int rc = run_empty(sys, t_end, loop, err);
+        int rc = mote_run(&r, spec->obs, spec->nobs, spec->progress, t_end, spec->n_end, err);
         sys->generation++;
         return rc;
     }
@@ -181,7 +219,7 @@ int mb_run_event(mote_mb *sys, double t_end, mote_loop *loop, mote_err *err)
     if (rc)
         return rc;
     const double t_offset = sys->time;
-    mb_link l = {sys, &ev, p->x_l, p->x_b, loop, 0, 0, sys->time, t_end, 0, 0};
+    mb_link l = {sys, &ev, p->x_l, p->x_b, NULL, 0, 0, sys->time, t_end, 0, 0};
     ev.len[0] = p->x_r - p->x_l;
     ev.len[1] = p->x_t - p->x_b;
     ev.radius0 = p->r;
@@ -229,43 +267,14 @@ int mb_run_event(mote_mb *sys, double t_end, mote_loop *loop, mote_err *err)
     sys->live_x0 = l.x0;
     sys->live_y0 = l.y0;
     sys->live_t0 = t_offset;
-    uint64_t last[9] = {0};
-    while (!rc) {
-        double t_stop = loop ? mote_loop_stop(loop, t_end) : t_end;
-        uint64_t limit = loop ? loop->n_end : UINT64_MAX;
-        if (sys->collisions >= limit)
-            break;
-        rc = mote_ev_run_to(&ev, t_stop - t_offset, limit - sys->collisions, err);
-        sync_counters(sys, &ev, &rules, kinds, last);
-        if (!rc && l.interrupted)
-            rc = mote_interrupted(err, "run");
-        if (!rc && l.projected > 0)
-            rc = mote_fail(err, MOTE_ERUNTIME,
-                           "run: this run cannot finish: %llu events advanced the time by "
-                           "%.3g s of %.3g s, so it would need %s%.2g events (the disks move "
-                           "too fast for the box: lower v_init, gravity or the kicks, or the "
-                           "run's time)", (unsigned long long)l.run_events,
-                           mote_mb_live_time(sys) - l.t_begin, t_end - l.t_begin,
-                           isinf(l.projected) ? "more than " : "about ",
-                           isinf(l.projected) ? 1e300 : l.projected);
-        if (rc)
-            break;
-        int at_limit = sys->collisions >= limit;
-        sync_back(&l, at_limit ? t_offset + mote_ev_time(&ev) : t_stop);
-        if (at_limit)
-            break;
-        if (loop) {
-            rc = mote_loop_fire(loop, sys, sys->time, err);
-            if (rc)
-                break;
-            if (mote_mb_progress(loop, sys)) {
-                rc = mote_interrupted(err, "run");
-                break;
-            }
-        }
-        if (!(t_stop < t_end))
-            break;
-    }
+    mb_event_run x = {&l, &rules, kinds, {0}, t_offset};
+    r.sys = &x;
+    r.subject = sys;
+    r.clock = event_clock;
+    r.count = event_count;
+    r.advance = advance_event;
+    if (!rc)
+        rc = mote_run(&r, spec->obs, spec->nobs, spec->progress, t_end, spec->n_end, err);
     if (rc) /* leave the arrays at the engine's last consistent state */
         sync_back(&l, t_offset + mote_ev_time(&ev));
     sys->live_ev = NULL;

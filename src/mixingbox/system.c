@@ -449,19 +449,16 @@ int mote_mb_progress(mote_loop *loop, const mote_mb *sys)
 
 /* ---- running --------------------------------------------------------------------------------- */
 
-int mote_mb_run(mote_mb *sys, double t_end, mote_loop *loop, mote_err *err)
+int mote_mb_run(mote_mb *sys, double t_end, const mote_loop *loop, mote_err *err)
 {
     if (!sys->placed)
         return mote_fail(err, MOTE_EINVAL, "run: no disks are placed yet");
-    mote_loop none = {NULL, 0, UINT64_MAX, NULL, 0, 0, 0};
+    const mote_loop none = {NULL, 0, UINT64_MAX, NULL, 0, 0, 0, 0};
     if (!loop)
         loop = &none;
     if (!(t_end >= sys->time))
         return mote_fail(err, MOTE_EINVAL, "run: the end time %g is before the current time %g",
                          t_end, sys->time);
-    loop->t_begin = sys->time;
-    loop->t_end = t_end;
-    loop->n_begin = sys->collisions;
     sys->overlaps_max = 0;
     sys->overlap_steps = 0;
     uint64_t ov = mote_mb_count_overlaps(sys, MOTE_MB_OVERLAP_TOL);

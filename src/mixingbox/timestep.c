@@ -304,7 +304,46 @@ int mb_ts_step(mote_mb *sys, double dt, double t_new, mote_err *err)
     return rc;
 }
 
-int mb_run_timestep(mote_mb *sys, double t_end, mote_loop *loop, mote_err *err)
+/* The model's side of the core loop: steps of dt from the fastest speed, the last one cut at
+ * the stop; the advance returns as soon as a sample is due (within its tolerance) or the
+ * collision count is reached. */
+typedef struct {
+    mote_mb *sys;
+    ts_work *w;
+} ts_run;
+
+static double ts_clock(const void *vr) { return ((const ts_run *)vr)->sys->time; }
+static uint64_t ts_count(const void *vr) { return ((const ts_run *)vr)->sys->collisions; }
+
+static int ts_advance(void *vr, mote_loop *loop, double t_stop, uint64_t n_stop, mote_err *err)
+{
+    ts_run *x = vr;
+    mote_mb *sys = x->sys;
+    while (sys->time < t_stop && sys->collisions < n_stop) {
+        double dt = mb_ts_dt(sys);
+        if (!isfinite(dt))
+            return mote_fail(err, MOTE_ERUNTIME,
+                             "run: a speed is no longer finite at t = %.9g s (do the kicks "
+                             "feed energy without bound?)",
+                             sys->time);
+        double t_new = sys->time + dt;
+        if (t_new >= t_stop) {
+            dt = t_stop - sys->time;
+            t_new = t_stop;
+        }
+        int rc = step(sys, x->w, dt, t_new, err);
+        if (rc)
+            return rc;
+        sys->time = t_new;
+        if (mote_loop_due(loop, sys->time))
+            break;
+        if ((sys->steps & 255) == 0 && mote_mb_progress(loop, sys))
+            return mote_interrupted(err, "run");
+    }
+    return MOTE_OK;
+}
+
+int mb_run_timestep(mote_mb *sys, double t_end, const mote_loop *spec, mote_err *err)
 {
     ts_work w;
     memset(&w, 0, sizeof w);
@@ -313,31 +352,11 @@ int mb_run_timestep(mote_mb *sys, double t_end, mote_loop *loop, mote_err *err)
         work_free(&w);
         return mote_fail(err, MOTE_ENOMEM, "run: out of memory");
     }
-    while (!rc && sys->time < t_end && sys->collisions < loop->n_end) {
-        double t_stop = mote_loop_stop(loop, t_end);
-        if (sys->time < t_stop) {
-            double dt = mb_ts_dt(sys);
-            if (!isfinite(dt)) {
-                rc = mote_fail(err, MOTE_ERUNTIME,
-                               "run: a speed is no longer finite at t = %.9g s (do the kicks "
-                               "feed energy without bound?)",
-                               sys->time);
-                break;
-            }
-            double t_new = sys->time + dt;
-            if (t_new >= t_stop) {
-                dt = t_stop - sys->time;
-                t_new = t_stop;
-            }
-            rc = step(sys, &w, dt, t_new, err);
-            if (rc)
-                break;
-            sys->time = t_new;
-        }
-        rc = mote_loop_fire(loop, sys, sys->time, err);
-        if (!rc && (sys->steps & 255) == 0 && mote_mb_progress(loop, sys))
-            rc = mote_interrupted(err, "run");
-    }
+    ts_run x = {sys, &w};
+    const mote_runner r = {.what = "run", .sys = &x, .subject = sys,
+                           .ctx = spec->progress ? spec->progress->ctx : NULL,
+                           .clock = ts_clock, .count = ts_count, .advance = ts_advance};
+    rc = mote_run(&r, spec->obs, spec->nobs, spec->progress, t_end, spec->n_end, err);
     work_free(&w);
     sys->generation++;
     return rc;

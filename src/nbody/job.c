@@ -745,10 +745,11 @@ static int show(job *j, mote_err *err)
     return j->o->frames ? frame(j, err) : MOTE_OK;
 }
 
-/* The run loop's observers (counted in steps Lt): a trajectory record every Kli steps, and the
- * stage every Kl3: the monitor block, the closest approach of the stage, the result file
- * (Kl7 = 1), and with checkpoints (Kl1 >= 3) dice.dat and the checkpoint. */
-static int fire_record(void *ctx, void *subject, mote_err *err) { return trajectory_record(ctx, err); }
+static int fire_record(void *ctx, void *subject, mote_err *err)
+{
+    int rc = trajectory_record(ctx, err);
+    return rc ? jfail(ctx, fail_code(rc), err, rc) : MOTE_OK;
+}
 static int fire_stage(void *ctx, void *subject, mote_err *err)
 {
     job *j = ctx;
@@ -767,45 +768,57 @@ static int fire_stage(void *ctx, void *subject, mote_err *err)
         if (!rc)
             rc = ckpt_write(j, err);
     }
-    return rc;
+    return rc ? jfail(j, fail_code(rc), err, rc) : MOTE_OK;
+}
+/* Besides the stages, the monitor block shows the first step, the ten from Kl11 and the last. */
+static int fire_show(void *ctx, void *subject, mote_err *err)
+{
+    job *j = ctx;
+    const uint64_t kl3 = (uint64_t)ci(j, "Kl3"), kl11 = (uint64_t)ci(j, "Kl11");
+    int rc = MOTE_OK;
+    if (j->Lt % kl3 != 0 &&
+        (j->Lt == 1 || (kl11 > 0 && j->Lt >= kl11 && j->Lt < kl11 + 10) || j->Lt == j->Ltot))
+        rc = show(j, err);
+    return rc ? jfail(j, fail_code(rc), err, rc) : MOTE_OK;
 }
 
-/* Steps Lt .. Ltot, one at a time (the maxima and approaches look at every step end). Besides
- * the stages, the monitor block shows the first step, the ten from Kl11 and the last. */
+/* The job's side of the core loop: one step at a time (the maxima and approaches look at every
+ * step end), counted in Lt. */
+static uint64_t job_count(const void *vj) { return ((const job *)vj)->Lt; }
+static double job_clock(const void *vj) { return (double)((const job *)vj)->nb.T; }
+static int job_advance(void *vj, mote_loop *l, double t_stop, uint64_t n_stop, mote_err *err)
+{
+    job *j = vj;
+    const uint64_t before = j->nb.steps;
+    int rc = mote_nb_integrate(&j->nb, 1, INFINITY, err);
+    if (!rc && j->nb.steps == before)
+        rc = mote_fail(err, MOTE_ERUNTIME, "galactica: no step could be taken at T = %.16E",
+                       (double)j->nb.T);
+    if (rc)
+        return jfail(j, 2, err, rc);
+    j->Lt++;
+    after_step(j);
+    return MOTE_OK;
+}
+
+/* Steps Lt .. Ltot through the core loop; its observers, counted in steps Lt: a trajectory
+ * record every Kli steps, the stage every Kl3 (the monitor block, the closest approach of the
+ * stage, the result file (Kl7 = 1), and with checkpoints (Kl1 >= 3) dice.dat and the
+ * checkpoint), and the monitor block's other steps. */
 static int run_steps(job *j, mote_err *err)
 {
-    mote_observer obs[2];
+    mote_observer obs[3];
     size_t n = 0;
     if (ci(j, "Kl12") == 1)
         obs[n++] = (mote_observer){.ctx = j, .fire = fire_record, .every = (uint64_t)ci(j, "Kli")};
     obs[n++] = (mote_observer){.ctx = j, .fire = fire_stage, .every = (uint64_t)ci(j, "Kl3")};
+    obs[n++] = (mote_observer){.ctx = j, .fire = fire_show, .every = 1};
     mote_progress prog;
     mote_progress_begin(&prog, j->o->ctx, "galactica");
     j->prog = &prog;
-    mote_loop l = {obs, n, j->Ltot, &prog, 0, 0, j->Lt};
-    const uint64_t kl3 = (uint64_t)ci(j, "Kl3"), kl11 = (uint64_t)ci(j, "Kl11");
-    int rc = MOTE_OK;
-    while (!rc && j->Lt < j->Ltot) {
-        const uint64_t before = j->nb.steps;
-        rc = mote_nb_integrate(&j->nb, 1, INFINITY, err);
-        if (!rc && j->nb.steps == before)
-            rc = mote_fail(err, MOTE_ERUNTIME, "galactica: no step could be taken at T = %.16E",
-                           (double)j->nb.T);
-        if (rc) {
-            rc = jfail(j, 2, err, rc);
-            break;
-        }
-        j->Lt++;
-        after_step(j);
-        rc = mote_loop_fire_count(&l, j, j->Lt, err);
-        if (!rc && j->Lt % kl3 != 0 &&
-            (j->Lt == 1 || (kl11 > 0 && j->Lt >= kl11 && j->Lt < kl11 + 10) || j->Lt == j->Ltot))
-            rc = show(j, err);
-        if (rc)
-            rc = jfail(j, fail_code(rc), err, rc);
-        if (!rc && mote_loop_progress(&l, 0, j->Lt)) /* (an interrupt hook's caller) */
-            rc = mote_interrupted(err, "galactica");
-    }
+    const mote_runner r = {.what = "galactica", .sys = j, .ctx = j->o->ctx, .clock = job_clock,
+                           .count = job_count, .advance = job_advance};
+    int rc = mote_run(&r, obs, n, &prog, INFINITY, j->Ltot, err);
     mote_progress_end(&prog);
     j->prog = NULL;
     return rc;

@@ -666,6 +666,8 @@ typedef struct {
     int merged;
     double t;
     mote_real *xv; /* room for a dense-output view */
+    mote_real t_end;
+    int by_time;   /* a sampler by time: every step end is looked at */
 } nb_step;
 
 /* A monitor or trajectory sample. By steps: the bodies now. By time: the sample t0 + k dt the
@@ -741,7 +743,8 @@ static size_t integrate_observers(nb_model *m, mote_observer obs[6])
     int (*fire[2])(void *, void *, mote_err *) = {fire_monitor, fire_trajectory};
     for (int k = 0; k < 2; k++)
         if (smp[k]->on)
-            obs[n++] = (mote_observer){.at = smp[k]->at, .ctx = m, .fire = fire[k],
+            obs[n++] = (mote_observer){.at = smp[k]->dt > 0 ? &smp[k]->at : NULL, .ctx = m,
+                                       .fire = fire[k],
                                        .every = smp[k]->dt > 0 ? 0 : smp[k]->every};
     if (m->ckpt.path)
         obs[n++] = (mote_observer){.ctx = m, .fire = fire_checkpoint, .every = m->ckpt.every};
@@ -750,6 +753,54 @@ static size_t integrate_observers(nb_model *m, mote_observer obs[6])
     if (m->frames.every)
         obs[n++] = (mote_observer){.ctx = m, .fire = fire_frame, .every = m->frames.every};
     return n;
+}
+
+/* The model's side of the core loop: a chunk of steps to the next count observer; single steps
+ * where every step end is looked at (time samplers, approaches); at most 1000, for progress.
+ * Time samplers are caught up after each chunk, from the Taylor step's dense output. */
+static double nb_clock(const void *vs) { return (double)((const nb_step *)vs)->m->nb.T; }
+static uint64_t nb_count(const void *vs) { return ((const nb_step *)vs)->m->nb.steps; }
+static int nb_ended(const void *vs)
+{
+    const nb_step *st = vs;
+    return !(st->m->nb.T < st->t_end);
+}
+static double nb_at(void *vs, double t)
+{
+    nb_step *st = vs;
+    st->t = t;
+    return st->m->nb.integrator == MOTE_NB_TAYLOR && !st->merged ? t : (double)st->m->nb.T;
+}
+
+static int nb_advance(void *vs, mote_loop *l, double t_stop, uint64_t n_stop, mote_err *err)
+{
+    nb_step *st = vs;
+    nb_model *m = st->m;
+    uint64_t chunk = n_stop - m->nb.steps;
+    if (m->appr.every)
+        chunk = 1;
+    else if (st->by_time && m->nb.integrator == MOTE_NB_WH) {
+        /* the map's steps up to the one that reaches the next sample (each stop synchronises
+         * it) */
+        const double next = mote_loop_next(l);
+        const double left = (next - (double)m->nb.T) / (double)m->nb.dt;
+        const uint64_t to = left < 1 ? 1 : left < 1e15 ? (uint64_t)ceil(left) : chunk;
+        chunk = to < chunk ? to : chunk;
+    } else if (st->by_time)
+        chunk = 1;
+    if (chunk > 1000)
+        chunk = 1000;
+    const uint64_t before = m->nb.steps, merges = m->nb.merges;
+    st->Tb = m->nb.T;
+    int rc = m->appr.every ? nb_approach_before(&m->appr.a, &m->nb, err) : MOTE_OK;
+    if (!rc)
+        rc = mote_nb_integrate(&m->nb, chunk, st->t_end, err);
+    if (rc || m->nb.steps == before) /* (none could be taken: the end is reached) */
+        return rc;
+    st->merged = m->nb.merges != merges;
+    if (m->appr.every)
+        nb_approach_after(&m->appr.a, &m->nb, st->Tb, st->merged);
+    return MOTE_OK;
 }
 
 int nb_run_integrate(void *vm, const mote_call *c, mote_err *err)
@@ -779,9 +830,9 @@ int nb_run_integrate(void *vm, const mote_call *c, mote_err *err)
         return mote_fail(err, MOTE_EINVAL, "integrate: hmin (%g) is greater than hmax (%g)",
                          (double)m->nb.hmin, (double)m->nb.hmax);
     const uint64_t forced = m->nb.hmin_forced;
-    nb_step st = {m, 0, 0, 0, NULL};
-    const int by_time = (m->mon.on && m->mon.dt > 0) || (m->traj.on && m->traj.dt > 0);
-    if (by_time) {
+    nb_step st = {m, 0, 0, 0, NULL, t_end, 0};
+    st.by_time = (m->mon.on && m->mon.dt > 0) || (m->traj.on && m->traj.dt > 0);
+    if (st.by_time) {
         st.xv = malloc(6 * (size_t)(m->nb.n ? m->nb.n : 1) * sizeof *st.xv);
         if (!st.xv)
             return mote_fail(err, MOTE_ENOMEM, "integrate: out of memory");
@@ -789,55 +840,19 @@ int nb_run_integrate(void *vm, const mote_call *c, mote_err *err)
     mote_observer obs[6];
     mote_progress prog;
     mote_progress_begin(&prog, c->ctx, "integrate");
-    mote_loop l = {obs, integrate_observers(m, obs), n_end, &prog, (double)m->nb.T,
-                   (double)t_end, s0};
     const uint64_t warned = m->nb.approach_warnings;
-    while (!rc && m->nb.steps < n_end && m->nb.T < t_end) {
-        /* a chunk of steps to the next count observer; single steps where every step end is
-         * looked at (time samplers, approaches); at most 1000, for progress */
-        uint64_t chunk = mote_loop_count_stop(&l, m->nb.steps, n_end) - m->nb.steps;
-        if (m->appr.every)
-            chunk = 1;
-        else if (by_time && m->nb.integrator == MOTE_NB_WH) {
-            /* the map's steps up to the one that reaches the next sample (each stop
-             * synchronises it) */
-            const double next = mote_loop_next(&l);
-            const double left = (next - (double)m->nb.T) / (double)m->nb.dt;
-            const uint64_t to = left < 1 ? 1 : left < 1e15 ? (uint64_t)ceil(left) : chunk;
-            chunk = to < chunk ? to : chunk;
-        } else if (by_time)
-            chunk = 1;
-        if (chunk > 1000)
-            chunk = 1000;
-        const uint64_t before = m->nb.steps, merges = m->nb.merges;
-        st.Tb = m->nb.T;
-        if (m->appr.every)
-            rc = nb_approach_before(&m->appr.a, &m->nb, err);
-        if (!rc)
-            rc = mote_nb_integrate(&m->nb, chunk, t_end, err);
-        if (rc || m->nb.steps == before) /* no step could be taken: the end is reached */
-            break;
-        st.merged = m->nb.merges != merges;
-        if (m->appr.every)
-            nb_approach_after(&m->appr.a, &m->nb, st.Tb, st.merged);
-        rc = mote_loop_fire_count(&l, &st, m->nb.steps, err);
-        /* samplers by steps also sample at the end time; by time, each time the step passed */
-        nb_sampler *smp[2] = {&m->mon, &m->traj};
-        for (int k = 0; k < 2 && !rc; k++)
-            if (smp[k]->on && !(smp[k]->dt > 0) && m->nb.T == t_end &&
-                m->nb.steps % smp[k]->every != 0)
-                rc = sample(m, k, &m->nb, err);
-        const int dense = m->nb.integrator == MOTE_NB_TAYLOR && !st.merged;
-        while (!rc && by_time && (st.t = mote_loop_next(&l)) <= (double)m->nb.T)
-            rc = mote_loop_fire(&l, &st, dense ? st.t : (double)m->nb.T, err);
-        if (mote_loop_progress(&l, (double)m->nb.T, m->nb.steps) && !rc)
-            rc = mote_interrupted(err, "integrate");
-    }
+    const mote_runner r = {.what = "integrate", .sys = &st, .ctx = c->ctx, .clock = nb_clock,
+                           .count = nb_count, .advance = nb_advance, .ended = nb_ended,
+                           .at = nb_at};
+    rc = mote_run(&r, obs, integrate_observers(m, obs), &prog, (double)t_end, n_end, err);
+    /* samplers by steps also sample at the end time */
+    nb_sampler *ends[2] = {&m->mon, &m->traj};
+    for (int k = 0; k < 2 && !rc; k++)
+        if (ends[k]->on && !(ends[k]->dt > 0) && m->nb.T == t_end &&
+            m->nb.steps % ends[k]->every != 0)
+            rc = sample(m, k, &m->nb, err);
     mote_progress_end(&prog);
     free(st.xv);
-    for (size_t k = 0; k < l.nobs; k++) /* where each time sampler stands, for the next run */
-        if (obs[k].fire == fire_monitor || obs[k].fire == fire_trajectory)
-            (obs[k].fire == fire_monitor ? &m->mon : &m->traj)->at = obs[k].at;
     if (!rc && m->ckpt.path)
         rc = nb_state_save(&m->nb, m->ckpt.path, err);
     if (m->nb.hmin_forced > forced && m->log)

@@ -42,7 +42,9 @@ typedef struct {
         size_t nrows, cap;
         mote_partial partial; /* PATH.partial during a run: its rows as they come */
     } bal;
-    mote_loop loop; /* during a run: the outputs above as observers, and the progress */
+    mote_loop *loop; /* during a run: the core's loop (the outputs above as observers, and the
+                      * progress) */
+    int prepared;    /* during a run: the system prepared at its first advance */
 } sep_model;
 
 /* commands.c: the species called name, or -1; the system prepares (else the call's error) */

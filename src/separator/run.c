@@ -68,8 +68,9 @@ static uint64_t lost_count(const mote_sep_system *s)
     return lost;
 }
 
-static int run_hook(void *vm, mote_sep_system *s, mote_err *err);
-static int run_need(void *vm, const mote_sep_system *s);
+static int run_advance(void *vm, mote_loop *l, double t_stop, uint64_t n_stop, mote_err *err);
+static double run_clock(const void *vm);
+static int live_picture(sep_model *m, mote_err *err);
 static int fire_frame(void *ctx, void *subject, mote_err *err);
 static int fire_snapshot(void *ctx, void *subject, mote_err *err);
 static int fire_balance(void *ctx, void *subject, mote_err *err);
@@ -130,39 +131,36 @@ int sep_run(void *vm, const mote_call *c, mote_err *err)
         rc = make_dir(m->snaps.dir, err);
     /* the run loop: the scheduled outputs as observers, progress on a terminal */
     mote_observer obs[3];
-    mote_schedule *at[3];
     size_t nobs = 0;
-    if (m->frames.on) {
-        at[nobs] = &m->frames.at;
-        obs[nobs++] = (mote_observer){.at = m->frames.at, .fire = fire_frame};
-    }
-    if (m->snaps.on) {
-        at[nobs] = &m->snaps.at;
-        obs[nobs++] = (mote_observer){.at = m->snaps.at, .fire = fire_snapshot};
-    }
-    if (m->bal.on) {
-        at[nobs] = &m->bal.at;
-        obs[nobs++] = (mote_observer){.at = m->bal.at, .fire = fire_balance};
-    }
+    if (m->frames.on)
+        obs[nobs++] = (mote_observer){.at = &m->frames.at, .fire = fire_frame};
+    if (m->snaps.on)
+        obs[nobs++] = (mote_observer){.at = &m->snaps.at, .fire = fire_snapshot};
+    if (m->bal.on)
+        obs[nobs++] = (mote_observer){.at = &m->bal.at, .fire = fire_balance};
     mote_progress prog;
     mote_progress_begin(&prog, m->ctx, "run");
-    m->loop = (mote_loop){obs, nobs, UINT64_MAX, &prog, m->sys.t, m->sys.t + c->args[0].r, 0};
     /* the passes over the particles on the script's threads (the same bits on any number) */
     m->sys.threads = m->ctx && m->ctx->threads > 1 ? m->ctx->threads : 1;
     if (!rc)
-        rc = run_hook(m, &m->sys, err);
+        rc = live_picture(m, err);
     const uint64_t lost_before = lost_count(&m->sys);
+    const mote_runner r = {.what = "run", .sys = m, .ctx = m->ctx, .clock = run_clock,
+                           .advance = run_advance};
+    m->prepared = 0;
     if (!rc)
-        rc = mote_sep_run_hook(&m->sys, c->args[0].r, run_hook, run_need, m, err);
+        rc = mote_run(&r, obs, nobs, &prog, m->sys.t + c->args[0].r, UINT64_MAX, err);
+    if (!rc && !m->prepared && !(rc = mote_sep_prepare(&m->sys, err)))
+        m->prepared = 1;
+    if (m->prepared) /* (outputs that failed before the first step: nothing ran) */
+        rc = mote_sep_run_end(&m->sys, rc, err);
     if (!rc && lost_count(&m->sys) > lost_before)
         rc = mote_fail(err, MOTE_ERUNTIME, "run: %llu particles were lost by t = %g s (beyond a "
                        "side wall, inside a plate, or not finite: a speed or force that "
                        "overflowed; check the gas speed, the stiffness and the time step)",
                        (unsigned long long)(lost_count(&m->sys) - lost_before), m->sys.t);
     mote_progress_end(&prog);
-    for (size_t k = 0; k < nobs; k++) /* where each schedule stands, for the next run */
-        *at[k] = obs[k].at;
-    m->loop = (mote_loop){NULL, 0, UINT64_MAX, NULL, 0, 0, 0};
+    m->loop = NULL;
     if (!rc)
         rc = run_end(m, err);
     mote_partial_keep(&m->bal.partial); /* a run that failed: its rows so far stay */
@@ -431,39 +429,51 @@ static int fire_balance(void *ctx, void *subject, mote_err *err)
     return MOTE_OK;
 }
 
-/* After every step the run lets it see (run_need; and once before the first): the outputs that
- * are due, the live picture, and the progress (which also gives a live view its frames). */
-static int run_hook(void *vm, mote_sep_system *s, mote_err *err)
+/* The live picture, when one is due (wall-clock). */
+static int live_picture(sep_model *m, mote_err *err)
 {
-    sep_model *m = vm;
-    int rc = mote_loop_fire(&m->loop, m, s->t, err);
-    if (!rc && m->live.on) {
-        const double now = mote_wall_seconds();
-        if (now - m->live.last >= 1 / m->live.hz) {
-            rc = sep_frame_png(s, m->live.path, &m->live.fo, err);
-            m->live.last = now;
-        }
-    }
-    if (mote_loop_progress(&m->loop, s->t, 0) && !rc)
-        rc = mote_interrupted(err, "run");
-    return rc;
+    if (!m->live.on)
+        return MOTE_OK;
+    const double now = mote_wall_seconds();
+    if (now - m->live.last < 1 / m->live.hz)
+        return MOTE_OK;
+    m->live.last = now;
+    return sep_frame_png(&m->sys, m->live.path, &m->live.fo, err);
 }
 
-/* Whether the hook wants to see the step just made: an output due at its end, a live view (its
+/* Whether the loop wants to see the step just made: an output due at its end, a live view (its
  * tick, every step), the live picture due, the progress line or report due (at their own
  * interval). Otherwise the step's second half kick rides on the next step's drift (the same
- * bits) and the hook waits for a later step. */
+ * bits) and the loop sees a later step. */
 static int run_need(void *vm, const mote_sep_system *s)
 {
     sep_model *m = vm;
-    if (mote_loop_due(&m->loop, s->t) || (m->ctx && m->ctx->tick))
+    if (mote_loop_due(m->loop, s->t) || (m->ctx && m->ctx->tick))
         return 1;
     const double now = mote_wall_seconds();
     if (m->live.on && now - m->live.last >= 1 / m->live.hz)
         return 1;
-    const mote_progress *p = m->loop.progress;
+    const mote_progress *p = m->loop->progress;
     return p && ((p->enabled && now - p->last >= p->interval) ||
                  (p->ctx && p->ctx->report && now - p->last_report >= p->interval));
+}
+
+/* The model's side of the core loop: steps until one the loop wants to see (the outputs due
+ * there fire, the progress shows), the live picture when due. The system prepares at the first
+ * advance, after the outputs due at the start. */
+static double run_clock(const void *vm) { return ((const sep_model *)vm)->sys.t; }
+static int run_advance(void *vm, mote_loop *l, double t_stop, uint64_t n_stop, mote_err *err)
+{
+    sep_model *m = vm;
+    m->loop = l;
+    if (!m->prepared) {
+        int rc = mote_sep_prepare(&m->sys, err);
+        if (rc)
+            return rc;
+        m->prepared = 1;
+    }
+    int rc = mote_sep_advance(&m->sys, l->t_end, run_need, m, err);
+    return rc ? rc : live_picture(m, err);
 }
 
 void sep_model_live(void *vm, mote_buf *b) { sep_live_frame(&((sep_model *)vm)->sys, b); }

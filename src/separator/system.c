@@ -2,6 +2,7 @@
  * 3.1): the exact drag drift, the dilute mode's reflections at walls and closed ends, exits and
  * bookkeeping, the one-dimensional gas profile with solids-fraction coupling, and the Tromp
  * curve (the feed and the particles' arrays: feed.c; the contacts and cells: dem.c). */
+#include "mote/loop.h"
 #include "mote/separator.h"
 
 #include "sep.h"
@@ -1224,41 +1225,38 @@ void mote_sep_complete(mote_sep_system *s)
     s->kick_h = 0;
 }
 
-int mote_sep_run(mote_sep_system *s, double T, mote_err *err)
-{
-    return mote_sep_run_hook(s, T, NULL, NULL, NULL, err);
-}
-
 #define SEP_STEPS_MAX 1e13
 
-int mote_sep_run_hook(mote_sep_system *s, double T, int (*hook)(void *, mote_sep_system *, mote_err *),
-                      int (*need)(void *, const mote_sep_system *), void *ctx, mote_err *err)
+int mote_sep_advance(mote_sep_system *s, double t_end, int (*need)(void *, const mote_sep_system *),
+                     void *ctx, mote_err *err)
 {
-    int rc = mote_sep_prepare(s, err);
-    const double t_end = s->t + T;
-    while (!rc && s->t < t_end) {
+    while (s->t < t_end) {
         const double dt = fmin(s->dt, t_end - s->t);
         if (!(dt > 1e-9 * s->dt)) /* a remainder from rounding the sum of the steps */
-            break;
+            return MOTE_OK;
         /* a run that cannot finish is an error, not a run without end (SEP_STEPS_MAX: some 10^4
          * years at 10^5 steps a second); nor can one whose step no longer moves the clock */
-        if (!((t_end - s->t) / s->dt <= SEP_STEPS_MAX) || s->t + dt == s->t) {
-            rc = mote_fail(err, MOTE_ERUNTIME, "run: the time step %.3g s would take %.2g steps "
-                           "to reach t = %g s: this run cannot finish (the gas speed, the "
-                           "stiffness or the sizes make the step this small; `timestep DT` sets "
-                           "it)", s->dt, (t_end - s->t) / s->dt, t_end);
-            break;
-        }
-        rc = step(s, dt, err);
-        /* the hook sees every step, complete, but those it does not need while a second half
-         * kick is pending: that kick is left for the next drift (s->no_pending: every step
-         * completed, as a test's reference) */
-        if (!rc && (s->no_pending || (hook && (!need || !(s->kick_h > 0) || need(ctx, s))))) {
+        if (!((t_end - s->t) / s->dt <= SEP_STEPS_MAX) || s->t + dt == s->t)
+            return mote_fail(err, MOTE_ERUNTIME, "run: the time step %.3g s would take %.2g "
+                             "steps to reach t = %g s: this run cannot finish (the gas speed, the "
+                             "stiffness or the sizes make the step this small; `timestep DT` "
+                             "sets it)", s->dt, (t_end - s->t) / s->dt, t_end);
+        int rc = step(s, dt, err);
+        if (rc)
+            return rc;
+        /* s->no_pending: every step completed, as a test's reference */
+        if (s->no_pending)
             mote_sep_complete(s);
-            if (hook)
-                rc = hook(ctx, s, err);
+        if (need && (!(s->kick_h > 0) || need(ctx, s))) {
+            mote_sep_complete(s);
+            return MOTE_OK;
         }
     }
+    return MOTE_OK;
+}
+
+int mote_sep_run_end(mote_sep_system *s, int rc, mote_err *err)
+{
     mote_sep_complete(s); /* (also after an error) */
     /* the fractions of the present positions (for the outputs), also after an error */
     mote_err e2;
@@ -1268,6 +1266,23 @@ int mote_sep_run_hook(mote_sep_system *s, double T, int (*hook)(void *, mote_sep
         rc = mote_fail(err, MOTE_ERUNTIME, "separator: the mass balance does not hold (fed = in "
                        "channel + fines + coarse + lost)");
     return rc;
+}
+
+/* mote_sep_run through the core's loop: no observers, the clock to t_end. */
+static double sep_clock(const void *vs) { return ((const mote_sep_system *)vs)->t; }
+static int sep_advance_plain(void *vs, mote_loop *l, double t_stop, uint64_t n_stop, mote_err *err)
+{
+    return mote_sep_advance(vs, l->t_end, NULL, NULL, err);
+}
+
+int mote_sep_run(mote_sep_system *s, double T, mote_err *err)
+{
+    int rc = mote_sep_prepare(s, err);
+    const mote_runner r = {.what = "run", .sys = s, .clock = sep_clock,
+                           .advance = sep_advance_plain};
+    if (!rc)
+        rc = mote_run(&r, NULL, 0, NULL, s->t + T, UINT64_MAX, err);
+    return mote_sep_run_end(s, rc, err);
 }
 
 int mote_sep_check_balance(const mote_sep_system *s)

@@ -1,0 +1,96 @@
+/* test_observe.c: one observer, added once to the context, fires in the long commands of all
+ * five models (issue 53): they all run through the core's loop (mote_run), which adds the
+ * context's observers to the model's own. A time observer every 1e-3 (each model's time unit)
+ * from t = 0: a model that stops at the observer's times (the event engines, evolve) or catches
+ * up after its steps (nbody) fires it at t = 0 and at every multiple of 1e-3 up to the end. */
+#include "mote/command.h"
+#include "mote/loop.h"
+#include "mote/script.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int failures;
+#define CHECK(c, ...)                                                                            \
+    do {                                                                                         \
+        if (!(c)) {                                                                              \
+            failures++;                                                                          \
+            printf("%s:%d: FAILED: %s: ", __FILE__, __LINE__, #c);                               \
+            printf(__VA_ARGS__);                                                                 \
+            printf("\n");                                                                        \
+        }                                                                                        \
+    } while (0)
+
+typedef struct {
+    int calls;
+    int null_subject;
+} probe;
+
+static int probe_fire(void *ctx, void *subject, mote_err *err)
+{
+    probe *p = ctx;
+    p->calls++;
+    p->null_subject += subject == NULL;
+    return MOTE_OK;
+}
+
+/* Run `text` in a session of `model` with the observer o in its context; the calls it saw. */
+static int observed(const char *model, const char *text, mote_observer *o, probe *p)
+{
+    mote_script *s = NULL;
+    mote_err err = {0};
+    p->calls = p->null_subject = 0;
+    o->at->k = 0;
+    if (mote_session_open(&s, "observe.mote", model, mote_models, mote_nmodels, &err)) {
+        CHECK(0, "%s: %s", model, err.msg);
+        return -1;
+    }
+    mote_context *ctx = mote_script_context(s);
+    FILE *null = fopen("/dev/null", "w");
+    ctx->out = null;
+    ctx->observers = o;
+    ctx->nobservers = 1;
+    int rc = mote_session_command(s, text, NULL, &err);
+    CHECK(rc == MOTE_OK, "%s: %s", model, err.msg);
+    mote_session_close(s);
+    if (null)
+        fclose(null);
+    CHECK(p->null_subject == 0, "%s: an observer got no subject", model);
+    printf("  %-13s %d calls\n", model, p->calls);
+    return p->calls;
+}
+
+int main(void)
+{
+    printf("one observer in the context fires in all five models\n");
+    probe p = {0, 0};
+    mote_schedule every_ms = {0, 1e-3, 0};
+    mote_observer o = {.at = &every_ms, .ctx = &p, .fire = probe_fire};
+    /* hard spheres: the event engine stops at each time (reduced units) */
+    int n = observed("hard-spheres", "seed 3\nnew 2 0.3\nstep 2\n", &o, &p);
+    CHECK(n >= 2, "hard spheres: %d calls", n);
+    /* the mixing box, event-driven: t = 0, 0.001, ..., 0.1 s */
+    n = observed("mixing-box",
+                 "box 0 0.4 0 0.2\npartition 0.2 0.01\nslit 0.1 0.04\nradius 0.004\n"
+                 "disks 30 20\nv_init 1\nplace\nrun 0.1\n", &o, &p);
+    CHECK(n == 101, "mixing box: %d calls, expected 101 (t = 0 ... 0.1 s)", n);
+    /* nbody, Taylor: every time a step passed, from its dense output: t = 0 ... 0.05 */
+    n = observed("nbody", "generate ring nb=12\nintegrate to=0.05\n", &o, &p);
+    CHECK(n == 51, "nbody: %d calls, expected 51 (t = 0 ... 0.05)", n);
+    /* charging: the Monte Carlo run (counted in histories: no time) and evolve, whose rows and
+     * the observer are on one clock: t = 0 ... 0.01 s */
+    n = observed("charging faithful",
+                 "body sphere radius=1\nrun particles=20000\nevolve time=1e-2 dt_out=2.5e-3\n",
+                 &o, &p);
+    CHECK(n == 11, "charging: %d calls, expected 11 (t = 0 ... 0.01 s)", n);
+    /* the separator: steps of 1e-3 s; t = 0 ... 0.01 s */
+    n = observed("separator",
+                 "channel 0.05 1\ngas 1.5\ncollisions off\ntimestep 1e-3\nspecies quartz 2650\n"
+                 "size quartz lognormal d50=150e-6 sigma=1.6 min=30e-6 max=600e-6\n"
+                 "feed z=0.5 rate=2e-5\ninsert quartz 50\nrun 0.01\n", &o, &p);
+    CHECK(n == 11, "separator: %d calls, expected 11 (t = 0 ... 0.01 s)", n);
+    printf("%s\n", failures ? "FAILED" : "ok");
+    return failures ? 1 : 0;
+}
