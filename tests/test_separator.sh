@@ -66,7 +66,7 @@ printf '%bchannel 0.05 1\ngas 1.5\ncollisions off\ntimestep 1e-3\nspecies quartz
 "$MOTE" run outs.mote > out.txt 2> err.txt && ok || bad "outs.mote: $(cat err.txt)"
 [ "$(ls fr/frame_*.png | wc -l)" -eq 7 ] && ok || bad "frames: $(ls fr)"
 if command -v ffmpeg > /dev/null 2>&1; then
-    [ -s fr/movie.mp4 ] && grep -q "^frames: 7 frames in fr, the movie fr/movie.mp4" out.txt && ok || bad "movie: $(cat out.txt err.txt)"
+    [ -s fr/movie.mp4 ] && grep -q "^frames: 7 frames fr/frame_\*.png, the movie fr/movie.mp4" out.txt && ok || bad "movie: $(cat out.txt err.txt)"
 fi
 [ "$(ls sn/snapshot_*.xyz | wc -l)" -eq 4 ] && ok || bad "snapshots: $(ls sn)"
 # an extended XYZ: N, the lattice and properties line, N rows of 9 fields, ids unique
@@ -83,6 +83,14 @@ for f in fr/frame_000006.png live.png tr.png pr.png; do
     [ "$(head -c 8 "$f" | od -An -tx1 | tr -d ' ')" = 89504e470d0a1a0a ] && ok || bad "$f is not a PNG"
 done
 grep -q '^balance: fed = in channel + fines + coarse + lost holds$' out.txt && ok || bad "summary: $(cat out.txt)"
+# the shared words' forms: prefix= (its folder made; the movie P.mp4), snapshot file= now, and
+# the messages for a series given both or neither of prefix= and dir=
+sed 's|^frames fr 0.5$|frames prefix=pf/f dt=0.5 movie=off|; s|^snapshots sn 1$|snapshot prefix=ps/s dt=1\nsnapshot file=now.xyz|; s|^balance bal.dat|balance balp.dat|' outs.mote > outp.mote
+"$MOTE" run outp.mote > outp.txt 2> errp.txt && [ "$(ls pf/f_*.png | wc -l)" -eq 7 ] && [ "$(ls ps/s_*.xyz | wc -l)" -eq 4 ] &&
+    [ "$(head -1 now.xyz)" = 0 ] && cmp -s ps/s_000003.xyz sn/snapshot_000003.xyz && ok || bad "prefix=: $(cat errp.txt; ls pf ps)"
+expect 1 "pb.mote:2:1: error: snapshot: give prefix=P (files P_000000.xyz, ...) or dir=DIR (DIR/snapshot_000000.xyz, ...)" pb.mote "${S}snapshot dt=1\n"
+expect 1 "pd.mote:2:" pd.mote "${S}frames dir=a prefix=b dt=1\n"
+expect 1 "pf.mote:2:15: error: snapshot: file= writes one snapshot now" pf.mote "${S}snapshot file=a.xyz dt=1\n"
 # the monitor is followed as it grows (issue 53): bal.dat.partial while a run writes it, gone
 # when the complete file is there; a run stopped with SIGINT halfway leaves its rows so far in
 # the partial file, readable, and the earlier complete file untouched

@@ -25,6 +25,22 @@ has hs1.xyz "hard spheres: snapshot file="
 cmp -s hs1.xyz hs3.xyz && bad "hard spheres: snapshots before and after step 2 are the same" || ok
 [ "$(grep -c Lattice hs4.xyz)" = 2 ] && ok || bad "hard spheres: dump 1 FILE over step 1: $(grep -c Lattice hs4.xyz) frames"
 
+# hard spheres' trajectory by time: frames at t0 + j dt exactly, the run the same bit for bit
+run hsdt 'model hard-spheres\nseed 5\nnew 2 0.35\ntrajectory dt=0.05 file=hsdt.xyz\nstep 10\nsave hsdt.state\n'
+run hsnodt 'model hard-spheres\nseed 5\nnew 2 0.35\nstep 10\nsave hsnodt.state\n'
+cmp -s hsdt.state hsnodt.state && ok || bad "hard spheres: trajectory dt= changed the run"
+T=$(grep -o 't=[0-9.]*' hsdt.out | tail -1 | cut -d= -f2)
+awk -v T="$T" '/Time=/ { match($0, /Time=[^ ]*/); t = substr($0, RSTART + 5, RLENGTH - 5); if (t + 0 != 0.05 * n) bad = 1; n++ }
+    END { exit !(!bad && n == int(T / 0.05) + 1 && n > 3) }' hsdt.xyz && ok || bad "hard spheres: trajectory dt=0.05 over t=$T: $(grep -c Lattice hsdt.xyz) frames, times $(grep -o 'Time=[^ ]*' hsdt.xyz | head -3 | tr '\n' ' ')"
+expect 1 "hsb.mote:2:1: error: trajectory: give every=K (collisions per particle) or dt=T (time), one of them" hsb.mote 'new 2 0.3\ntrajectory file=a.xyz\n'
+
+# the vocabulary table of `mote help --markdown` is made from the command tables: a row per
+# shared word, a column per model, the earlier words named as aliases
+"$MOTE" help --markdown > ref.md
+grep -q '^| the configuration (now, or on a schedule) | `snapshot file=` | `snapshot file=` | `snapshot every= file= prefix= format=` | — | `snapshot dt= file= prefix=` |$' ref.md && ok || bad "table: $(grep '^| the configuration' ref.md)"
+grep -q '^| particle paths (a growing file) | `trajectory every= dt= file=` | — | `trajectory every= dt= file= format=` | — | — |$' ref.md && ok || bad "table: $(grep '^| particle paths' ref.md)"
+grep -q "^Other names kept as aliases (.mote help. marks them): .dump. (hard-spheres's .trajectory.), .record. (mixing-box's .monitor.), .snapshots. (separator's .snapshot.), .balance. (separator's .monitor.).$" ref.md && ok || bad "aliases: $(grep '^Other names' ref.md)"
+
 # the mixing box: monitor dt= file= (record's other name), snapshot file=, frames dt= prefix=,
 # density_y with its options; and record's short form gives the same rows
 MB='model mixing-box\nbox 0 2 0 1\npartition 1 0.02\nslit 0.5 0.1\nradius 0.01\ndisks 40 40\nv_init 1\nplace\n'

@@ -179,9 +179,9 @@ failed=$((failed + ${f:-0}))
 # bad names and arguments are refused before anything runs
 expect 1 "b1.mote:2:10: error: snapshot: FILE must end in .xyz (extended XYZ), found 'x.png'" \
     b1.mote "new 2 0.3\nsnapshot x.png\n"
-expect 1 "b2.mote:2:6: error: dump: every must be >= 1, found 0" b2.mote "new 2 0.3\ndump 0 t.xyz\n"
+expect 1 "b2.mote:2:6: error: trajectory: every must be >= 1, found 0" b2.mote "new 2 0.3\ndump 0 t.xyz\n"
 expect 1 "b3.mote:1:1: error: snapshot: no system exists yet" b3.mote "snapshot x.xyz\n"
-expect 1 "b4.mote:2:16: error: dump: too many arguments: expected 'dump every=K file=FILE.xyz' (bare values fill every=, file= in this order, unless given as key=value), found 't.xyz' left over" \
+expect 1 "b4.mote:2:16: error: dump: too many arguments: expected 'trajectory every=K|dt=T file=FILE.xyz' (bare values fill every=, file= in this order, unless given as key=value), found 't.xyz' left over" \
     b4.mote "new 2 0.3\ndump every=2 3 t.xyz\n"
 expect 1 "b5.mote:2:8: error: dump: too many arguments" b5.mote "new 2 0.3\ndump 2 t.xyz every=3\n"
 
@@ -190,7 +190,7 @@ printf 'new 2 0.3\nsnapshot file=k1.xyz\ntrajectory every=1 file=k2.xyz\nstep 2\
 if "$MOTE" run k.mote > k.out 2>&1; then ok; else bad "k.mote: $(cat k.out)"; fi
 [ "$(grep -c Lattice k1.xyz)" = 1 ] && ok || bad "snapshot file=: $(grep -c Lattice k1.xyz) frames"
 [ "$(grep -c Lattice k2.xyz)" = 3 ] && ok || bad "trajectory every=1 over step 2: $(grep -c Lattice k2.xyz) frames, not 3"
-grep -q "^dump: frame 0 in .*k3.xyz, then one every 2 collisions per particle" k.out && ok ||
+grep -q "^trajectory: frame 0 in .*k3.xyz, then one every 2 collisions per particle" k.out && ok ||
     bad "dump file=k3.xyz 2: $(tail -1 k.out)"
 
 mote_test_end

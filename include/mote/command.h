@@ -93,6 +93,14 @@ typedef struct mote_cmd {
     int (*run)(void *model, const mote_call *c, mote_err *err);
 } mote_cmd;
 
+/* The option keys of a command's argument spec, in order (at most cap; each cut to 31
+ * characters): "every", "file", ... Returns how many. */
+#define MOTE_CMD_OPTIONS_MAX 32
+size_t mote_cmd_option_keys(const mote_cmd *c, char keys[][32], size_t cap);
+/* Whether an option key is one of the output layer's shared words (every, dt, file, prefix,
+ * format): the ones that mean the same in every model. */
+int mote_vocabulary_option(const char *key);
+
 /* The output files of a script, recorded as validation walks the script (by the script layer for
  * "f>KIND" arguments, by a command's `check` for files it names otherwise): later commands can
  * ask whether a path is written earlier and by what kind of command, and a path written twice

@@ -96,6 +96,10 @@ int mote_hs_snapshot(mote_hs *hs, const char *path, const char *origin, mote_err
  * replaces an earlier dump. Frames only read the state: the run is the same with or without. */
 int mote_hs_dump_start(mote_hs *hs, uint64_t k, const char *path, const char *origin,
                        mote_err *err);
+/* The same with a frame every K collisions per particle (k > 0) or every dt of time (dt > 0,
+ * k = 0): frames at t0 + j dt exactly (the run stops there), t0 the time now. */
+int mote_hs_dump_start_on(mote_hs *hs, uint64_t k, double dt, const char *path,
+                          const char *origin, mote_err *err);
 void mote_hs_dump_stop(mote_hs *hs);
 uint64_t mote_hs_dump_frames(const mote_hs *hs);
 

@@ -568,3 +568,35 @@ int mote_array_gather(mote_array *a, const char *name, const char *unit,
     a->owned = 1;
     return 0;
 }
+
+size_t mote_cmd_option_keys(const mote_cmd *c, char keys[][32], size_t cap)
+{
+    size_t n = 0;
+    for (const char *p = c->args; p && *p && n < cap;) {
+        while (*p == ' ')
+            p++;
+        const char *end = p;
+        while (*end && *end != ' ')
+            end++;
+        const char *eq = memchr(p, '=', (size_t)(end - p));
+        if (eq) {
+            const char *k = *p == '@' ? p + 1 : p;
+            size_t len = (size_t)(eq - k);
+            if (len > 31)
+                len = 31;
+            memcpy(keys[n], k, len);
+            keys[n++][len] = 0;
+        }
+        p = end;
+    }
+    return n;
+}
+
+int mote_vocabulary_option(const char *key)
+{
+    static const char *const shared[] = {"every", "dt", "file", "prefix", "format"};
+    for (size_t k = 0; k < sizeof shared / sizeof shared[0]; k++)
+        if (!strcmp(key, shared[k]))
+            return 1;
+    return 0;
+}

@@ -503,22 +503,30 @@ static int check_dump(void *vm, const mote_call *c, mote_err *err)
 {
     hs_model *m = vm;
     int rc = need_system(m, c, err);
-    if (!rc)
-        rc = check_collisions(m, c, mote_call_opt_index(c, "every"),
-                              (uint64_t)mote_call_opt(c, "every")->i, err);
+    const mote_arg *every = mote_call_opt(c, "every"), *dt = mote_call_opt(c, "dt");
+    if (!rc && !!every == !!dt)
+        rc = mote_call_fail(err, c, every ? mote_call_opt_index(c, "dt") : -1, MOTE_EINVAL,
+                            "%s: give every=K (collisions per particle) or dt=T (time), %s",
+                            c->name, every ? "not both" : "one of them");
+    if (!rc && every)
+        rc = check_collisions(m, c, mote_call_opt_index(c, "every"), (uint64_t)every->i, err);
     return rc ? rc : check_xyz_name(c, err);
 }
 static int run_dump(void *vm, const mote_call *c, mote_err *err)
 {
     hs_model *m = vm;
     char *origin = mote_call_origin(c);
-    const long long k = (long long)mote_call_opt(c, "every")->i;
+    const mote_arg *every = mote_call_opt(c, "every");
+    const long long k = every ? (long long)every->i : 0;
+    const double dt = mote_call_opt_r(c, "dt", 0);
     const char *path = mote_call_opt(c, "file")->path;
-    int rc = origin ? mote_hs_dump_start(&m->hs, (uint64_t)k, path, origin, err)
+    int rc = origin ? mote_hs_dump_start_on(&m->hs, (uint64_t)k, dt, path, origin, err)
                     : mote_fail(err, MOTE_ENOMEM, "out of memory");
-    if (!rc && m->hs.log)
+    if (!rc && m->hs.log && k)
         fprintf(m->hs.log, "%s: frame 0 in %s, then one every %lld collisions per particle\n",
                 c->name, path, k);
+    else if (!rc && m->hs.log)
+        fprintf(m->hs.log, "%s: frame 0 in %s, then one every %.17g of time\n", c->name, path, dt);
     free(origin);
     return rc;
 }
@@ -592,10 +600,10 @@ static const mote_cmd hs_commands[] = {
     {"snapshot", NULL, "@file=f>xyz!", "snapshot file=FILE.xyz",
      "the current configuration as extended XYZ (OVITO, VMD, ASE), with local order",
      HS_HELP_SNAPSHOT, check_snapshot, run_snapshot},
-    {"dump", "trajectory", "@every=i>=1! @file=f>xyz!", "dump every=K file=FILE.xyz",
+    {"trajectory", "dump", "@every=i>=1 @file=f>xyz! dt=r>0", "trajectory every=K|dt=T file=FILE.xyz",
      "a trajectory: an XYZ frame now and every K collisions per particle of later commands",
      HS_HELP_DUMP, check_dump, run_dump},
-    {"dump_stop", NULL, "", "dump_stop", "stop writing the trajectory of `dump`",
+    {"dump_stop", NULL, "", "dump_stop", "stop writing the trajectory of `trajectory` (`dump`)",
      HS_HELP_DUMP_STOP, NULL, run_dump_stop},
     {"check", NULL, "", "check", "verify every invariant of the simulation", HS_HELP_CHECK,
      check_check, run_check},

@@ -23,7 +23,8 @@
 
 struct hs_dump {
     char *path, *origin;
-    uint64_t k;       /* collisions per particle between frames */
+    uint64_t k;       /* collisions per particle between frames (0: by time) */
+    mote_schedule at; /* by time: the next frame at at.t0 + at.k at.dt */
     uint64_t next_at; /* value of ev.collisions at which the next frame is written */
     uint64_t frames;
 };
@@ -94,10 +95,10 @@ static int append_frame(mote_hs *hs, struct hs_dump *d, mote_err *err)
 {
     struct stat st;
     if (stat(d->path, &st) != 0)
-        return mote_fail(err, MOTE_EIO, "dump: '%s' is gone: %s", d->path, strerror(errno));
+        return mote_fail(err, MOTE_EIO, "trajectory: '%s' is gone: %s", d->path, strerror(errno));
     FILE *f = fopen(d->path, "a");
     if (!f)
-        return mote_fail(err, MOTE_EIO, "dump: cannot append to '%s': %s", d->path,
+        return mote_fail(err, MOTE_EIO, "trajectory: cannot append to '%s': %s", d->path,
                          strerror(errno));
     int rc = write_frame(f, hs, d->origin, err);
     int e = 0;
@@ -106,7 +107,7 @@ static int append_frame(mote_hs *hs, struct hs_dump *d, mote_err *err)
     if (fclose(f) != 0 && !e)
         e = errno ? errno : EIO;
     if (!rc && e)
-        rc = mote_fail(err, MOTE_EIO, "dump: writing frame %" PRIu64 " to '%s' failed: %s",
+        rc = mote_fail(err, MOTE_EIO, "trajectory: writing frame %" PRIu64 " to '%s' failed: %s",
                        d->frames, d->path, strerror(e));
     if (rc) {
         if (truncate(d->path, st.st_size) != 0) { /* keep whole frames only; nothing else to do */
@@ -129,17 +130,25 @@ void mote_hs_dump_stop(mote_hs *hs)
 
 static uint64_t dump_interval(const mote_hs *hs)
 {
-    uint64_t c = hs->dump->k * hs->ev.n / 2;
+    const uint64_t c = hs->dump->k * hs->ev.n / 2;
     return c ? c : 1;
 }
 
 int mote_hs_dump_start(mote_hs *hs, uint64_t k, const char *path, const char *origin,
                        mote_err *err)
 {
-    if (!hs->has_system)
-        return mote_fail(err, MOTE_EINVAL, "dump: no system");
     if (k < 1)
-        return mote_fail(err, MOTE_EINVAL, "dump: K must be >= 1");
+        return mote_fail(err, MOTE_EINVAL, "trajectory: K must be >= 1");
+    return mote_hs_dump_start_on(hs, k, 0, path, origin, err);
+}
+
+int mote_hs_dump_start_on(mote_hs *hs, uint64_t k, double dt, const char *path,
+                          const char *origin, mote_err *err)
+{
+    if (!hs->has_system)
+        return mote_fail(err, MOTE_EINVAL, "trajectory: no system");
+    if ((k > 0) == (dt > 0) || !(dt >= 0))
+        return mote_fail(err, MOTE_EINVAL, "trajectory: give every=K or dt=T (> 0), one of them");
     struct hs_dump *d = calloc(1, sizeof *d);
     if (d) {
         d->path = strdup(path);
@@ -151,9 +160,10 @@ int mote_hs_dump_start(mote_hs *hs, uint64_t k, const char *path, const char *or
             free(d->origin);
         }
         free(d);
-        return mote_fail(err, MOTE_ENOMEM, "dump: out of memory");
+        return mote_fail(err, MOTE_ENOMEM, "trajectory: out of memory");
     }
     d->k = k;
+    d->at = (mote_schedule){mote_ev_time(&hs->ev), dt, 1};
     int rc = mote_hs_snapshot(hs, path, origin, err); /* the first frame, atomically */
     if (rc) {
         free(d->path);
@@ -164,7 +174,7 @@ int mote_hs_dump_start(mote_hs *hs, uint64_t k, const char *path, const char *or
     mote_hs_dump_stop(hs);
     hs->dump = d;
     d->frames = 1;
-    d->next_at = hs->ev.collisions + dump_interval(hs);
+    d->next_at = k ? hs->ev.collisions + dump_interval(hs) : 0;
     return MOTE_OK;
 }
 
@@ -176,7 +186,7 @@ static int dump_fire(void *ctx, void *subject, mote_err *err)
     mote_hs *hs = ctx;
     struct hs_dump *d = hs->dump;
     int rc = append_frame(hs, d, err);
-    if (!rc)
+    if (!rc && d->k)
         d->next_at = hs->ev.collisions + dump_interval(hs);
     return rc;
 }
@@ -186,6 +196,13 @@ size_t hs_dump_observer(mote_hs *hs, mote_observer *o)
     struct hs_dump *d = hs->dump;
     if (!d)
         return 0;
+    if (!d->k) { /* by time (a state loaded from another time: on from it) */
+        const double now = mote_ev_time(&hs->ev);
+        if (!(mote_schedule_next(&d->at) > now) || mote_schedule_next(&d->at) > now + d->at.dt)
+            d->at = (mote_schedule){now, d->at.dt, 1};
+        *o = (mote_observer){.at = &d->at, .ctx = hs, .fire = dump_fire};
+        return 1;
+    }
     if (d->next_at <= hs->ev.collisions) /* a state loaded from another point of time */
         d->next_at = hs->ev.collisions + dump_interval(hs);
     *o = (mote_observer){.ctx = hs, .fire = dump_fire, .every = dump_interval(hs),

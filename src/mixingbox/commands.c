@@ -869,7 +869,7 @@ static const mote_cmd mb_commands[] = {
     {"run_collisions", NULL, "i>=1 r>0", "run_collisions K T_MAX",
      "advance by K disk-disk collisions (at most T_MAX s)", MB_HELP_RUN_COLLISIONS,
      check_run_collisions, run_run_collisions},
-    {"record", "monitor", "@dt=r>0! @file=f>record!", "record dt=DT file=FILE",
+    {"monitor", "record", "@dt=r>0! @file=f>record!", "monitor dt=DT file=FILE",
      "record the mixing curve every DT s into FILE",
      MB_HELP_RECORD, check_record, run_record},
     {"density_y", NULL, "@dt=r>0! @bins=i[1,1000000]! @file=f>density_y!",

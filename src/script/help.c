@@ -255,42 +255,99 @@ int mote_help_command(FILE *out, FILE *diag, const char *name, const mote_model 
     return 1;
 }
 
-/* The words the models share (issue 34), for the reference's opening section. */
-static const char VOCABULARY[] =
+/* The words the models share (issues 34, 53): the reference's opening section. The table is
+ * built from the registry: a column per model, a row per shared word, each cell the word's
+ * options in that model's command table. */
+static const char VOCABULARY_HEAD[] =
     "## One vocabulary\n"
     "\n"
     "The output commands take the same `key=value` options in every model: `every=K` puts\n"
     "them on a schedule counted in the model's steps (collisions per particle for hard\n"
     "spheres, steps for nbody), `dt=T` on a schedule in simulated time, `file=FILE` names one\n"
-    "file, `prefix=P` a numbered series of files (the separator's `dir=DIR`: a folder of\n"
-    "them), and `format=` chooses a file format where there is a choice. A numbered series\n"
-    "is named alike everywhere: the prefix, `_` (unless the prefix ends in `_` or `/`), the\n"
-    "number, the extension (`frames ... prefix=out/a` writes `out/a_000000.png`, ...); the same\n"
-    "prefix again continues the numbering, and `mote check` warns when one command's files\n"
-    "would replace another's. A command that had a short positional form keeps it: the\n"
-    "values are given bare, in the order of the synopsis (`dump 10 t.xyz` is\n"
-    "`dump every=10 file=t.xyz`), so the hard-sphere program's commands and its\n"
-    "`program.txt` files run unchanged. The same word means the same thing in every model\n"
-    "that has it:\n"
+    "file, `prefix=P` a numbered series of files, and `format=` chooses a file format where\n"
+    "there is a choice. A numbered series is named alike everywhere: the prefix, `_` (unless\n"
+    "the prefix ends in `_` or `/`), the number, the extension (`frames ... prefix=out/a`\n"
+    "writes `out/a_000000.png`, ...; a prefix's folder is made when missing); the same prefix\n"
+    "again continues the numbering, and `mote check` warns when one command's files would\n"
+    "replace another's. A command that had a short positional form keeps it: the values are\n"
+    "given bare, in the order of the synopsis (`trajectory 10 t.xyz` is\n"
+    "`trajectory every=10 file=t.xyz`), so the hard-sphere program's commands and its\n"
+    "`program.txt` files run unchanged. Every scheduled output is an observer of the core's\n"
+    "run loop, which every long command of every model goes through. The same word means the\n"
+    "same thing in every model that has it (this table is made from the models' command\n"
+    "tables):\n"
+    "\n";
+
+static const struct {
+    const char *word, *what;
+} SHARED_WORDS[] = {
+    {"snapshot", "the configuration (now, or on a schedule)"},
+    {"trajectory", "particle paths (a growing file)"},
+    {"frames", "pictures on a schedule"},
+    {"monitor", "the run's quantities over time"},
+    {"checkpoint", "the exact state on a schedule"},
+    {"save", "the exact state now"},
+    {"load", "continue from an exact state"},
+};
+
+static const char VOCABULARY_TAIL[] =
     "\n"
-    "| What is written | hard-spheres | mixing-box | nbody | charging | separator |\n"
-    "|---|---|---|---|---|---|\n"
-    "| the configuration now | `snapshot file=` | `snapshot file=` | `snapshot file=` | — | — |\n"
-    "| configurations on a schedule | `trajectory every= file=` | — | `snapshot every= prefix=` | — | `snapshot dt= dir=` |\n"
-    "| pictures on a schedule | — | `frames dt= prefix=` | `frames every= prefix=` | — | `frames dt= dir=` |\n"
-    "| the run's quantities over time | — | `monitor dt= file=` | `monitor every=\\|dt= file=` | `evolve dt_out= file=` | `monitor dt= file=` |\n"
-    "| particle paths | `trajectory every= file=` | — | `trajectory every=\\|dt= file=` | — | — |\n"
-    "| the exact state | `save`, `load` | `save`, `load` | `save`, `load`, `checkpoint every= file=` | — | `save`, `load` |\n"
-    "| advance the system | `step K` | `run T` | `integrate steps=\\|to=\\|for=` | `run particles=N` | `run T` |\n"
-    "| a kind of particle | — | — | — | `species name= charge= mass=` | `species name= density=` |\n"
-    "\n"
-    "Other names kept as aliases: `dump` (hard spheres' `trajectory`), `record` (the mixing\n"
-    "box's `monitor`), `balance` and `snapshots` (the separator's `monitor` and `snapshot`).\n"
     "Where the words still differ: `run` advances simulated time in the mixing box and the\n"
     "separator, but runs Monte Carlo histories in the charging model (which has no time but\n"
     "`evolve`'s) and a Galactica job folder in nbody (`run galactica`); hard spheres advance\n"
-    "by collisions with the original program's `step`.\n"
+    "by collisions with the original program's `step`, nbody with `integrate`.\n"
     "\n";
+
+/* A cell: `word key= key=` (the options of the word's command), or an em dash. */
+static void vocabulary_cell(FILE *out, const mote_model *m, const char *word)
+{
+    const mote_cmd *c = mote_cmd_lookup(m->cmds, m->ncmds, word);
+    if (!c || strcmp(c->name, word) != 0) {
+        fputs(" \u2014 |", out);
+        return;
+    }
+    char keys[MOTE_CMD_OPTIONS_MAX][32];
+    const size_t n = mote_cmd_option_keys(c, keys, MOTE_CMD_OPTIONS_MAX);
+    fprintf(out, " `%s", word);
+    static const char *const order[] = {"every", "dt", "file", "prefix", "format"};
+    for (size_t o = 0; o < sizeof order / sizeof order[0]; o++)
+        for (size_t k = 0; k < n; k++)
+            if (!strcmp(keys[k], order[o]))
+                fprintf(out, " %s=", keys[k]);
+    fputs("` |", out);
+}
+
+static void vocabulary(FILE *out, const mote_model *const *models, size_t nmodels)
+{
+    fputs(VOCABULARY_HEAD, out);
+    fputs("| What is written |", out);
+    for (size_t i = 0; i < nmodels; i++)
+        fprintf(out, " %s |", models[i]->name);
+    fputs("\n|---|", out);
+    for (size_t i = 0; i < nmodels; i++)
+        fputs("---|", out);
+    fputc('\n', out);
+    for (size_t w = 0; w < sizeof SHARED_WORDS / sizeof SHARED_WORDS[0]; w++) {
+        fprintf(out, "| %s |", SHARED_WORDS[w].what);
+        for (size_t i = 0; i < nmodels; i++)
+            vocabulary_cell(out, models[i], SHARED_WORDS[w].word);
+        fputc('\n', out);
+    }
+    fputs("\nOther names kept as aliases (`mote help` marks them):", out);
+    int first = 1;
+    for (size_t i = 0; i < nmodels; i++)
+        for (size_t w = 0; w < sizeof SHARED_WORDS / sizeof SHARED_WORDS[0]; w++) {
+            const mote_cmd *c = mote_cmd_lookup(models[i]->cmds, models[i]->ncmds,
+                                                SHARED_WORDS[w].word);
+            if (!c || !c->aliases || strcmp(c->name, SHARED_WORDS[w].word) != 0)
+                continue;
+            fprintf(out, "%s `%s` (%s's `%s`)", first ? "" : ",", c->aliases, models[i]->name,
+                    c->name);
+            first = 0;
+        }
+    fputs(first ? " none.\n" : ".\n", out);
+    fputs(VOCABULARY_TAIL, out);
+}
 
 /* ---- Markdown reference --------------------------------------------------------------------- */
 
@@ -368,7 +425,7 @@ void mote_help_markdown(FILE *out, const mote_model *const *models, size_t nmode
             "one line that is wiped when they end; into a file or a pipe they write nothing extra.\n"
             "\n",
             MOTE_DEFAULT_MODEL);
-    fputs(VOCABULARY, out);
+    vocabulary(out, models, nmodels);
     fputs("## Commands of every model\n\n", out);
     md_commands(out, mote_script_common_cmds, mote_script_common_ncmds, models, nmodels);
     for (size_t i = 0; i < nmodels; i++) {

@@ -34,9 +34,10 @@ static void model_destroy(void *vm)
     if (!m)
         return;
     mote_sep_free(&m->sys);
-    free(m->frames.dir);
+    free(m->frames.prefix);
+    free(m->frames.movie_path);
     free(m->live.path);
-    free(m->snaps.dir);
+    free(m->snaps.prefix);
     mote_partial_keep(&m->bal.partial);
     free(m->bal.path);
     free(m->bal.origin);
@@ -785,16 +786,18 @@ static const mote_cmd sep_commands[] = {
      HELP_AVERAGE_FROM, do_average_from, do_average_from},
     {"reset_stats", NULL, "", "reset_stats", "start a new statistics window", HELP_RESET_STATS,
      do_reset_stats, do_reset_stats},
-    {"frames", NULL, "@dir=f! @dt=r>0! px=i[16,16384] color=e{size|species} y1=r y2=r "
+    {"frames", NULL, "@dir=f @dt=r>0! prefix=f px=i[16,16384] color=e{size|species} y1=r y2=r "
      "movie=e{on|off} fps=i[1,1000]",
-     "frames dir=DIR dt=DT [options]", "PNG pictures on a schedule, and the movie", HELP_FRAMES,
+     "frames dt=DT [prefix=P|dir=DIR] [options]", "PNG pictures on a schedule, and the movie", HELP_FRAMES,
      sep_frames, sep_frames},
     {"live_png", NULL, "@file=f>image! hz=r>0 px=i[16,16384] color=e{size|species}",
      "live_png file=FILE [hz=30]",
      "a picture rewritten while runs go on", HELP_LIVE, sep_live_png, sep_live_png},
-    {"snapshots", "snapshot", "@dir=f! @dt=r>0!", "snapshots dir=DIR dt=DT", "extended XYZ snapshots on a schedule",
+    {"snapshot", "snapshots", "@dir=f @dt=r>0 prefix=f file=f>xyz",
+     "snapshot file=FILE|dt=DT [prefix=P|dir=DIR]",
+     "an extended XYZ snapshot now, or on a schedule",
      HELP_SNAPSHOTS, sep_snapshots, sep_snapshots},
-    {"balance", "monitor", "@file=f>balance! @dt=r>0!", "balance file=FILE dt=DT", "the bookkeeping time series",
+    {"monitor", "balance", "@file=f>balance! @dt=r>0!", "monitor file=FILE dt=DT", "the bookkeeping time series",
      HELP_BALANCE, sep_balance, sep_balance},
     {"save", NULL, "f>state", "save FILE", "write the whole state", HELP_SAVE, sep_check_ready, sep_save},
     {"load", NULL, "f<state", "load FILE", "continue from a saved state", HELP_SAVE, sep_check_load,

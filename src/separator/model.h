@@ -17,7 +17,7 @@ typedef struct {
     /* the outputs on a schedule (spec 3): frames, the live picture, snapshots, the balance */
     struct {
         int on, movie, fps;
-        char *dir;
+        char *prefix, *movie_path; /* PREFIX_000000.png ...; the movie beside them */
         mote_schedule at;
         uint64_t index;
         sep_frame_opts fo;
@@ -30,7 +30,7 @@ typedef struct {
     } live;
     struct {
         int on;
-        char *dir;
+        char *prefix; /* PREFIX_000000.xyz ... */
         mote_schedule at;
         uint64_t index;
     } snaps;

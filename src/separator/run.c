@@ -75,7 +75,7 @@ static int fire_frame(void *ctx, void *subject, mote_err *err);
 static int fire_snapshot(void *ctx, void *subject, mote_err *err);
 static int fire_balance(void *ctx, void *subject, mote_err *err);
 static int run_end(sep_model *m, mote_err *err);
-static int make_dir(const char *dir, mote_err *err);
+static int make_series_dir(const char *prefix, const char *ext, mote_err *err);
 
 /* `summary`: each species' bookkeeping (the status line follows, as after every command). */
 int sep_summary(void *vm, const mote_call *c, mote_err *err)
@@ -126,9 +126,9 @@ int sep_run(void *vm, const mote_call *c, mote_err *err)
     sep_model *m = vm;
     int rc = sep_need_ready(m, c, err);
     if (!rc && m->frames.on)
-        rc = make_dir(m->frames.dir, err);
+        rc = make_series_dir(m->frames.prefix, ".png", err);
     if (!rc && m->snaps.on)
-        rc = make_dir(m->snaps.dir, err);
+        rc = make_series_dir(m->snaps.prefix, ".xyz", err);
     /* the run loop: the scheduled outputs as observers, progress on a terminal */
     mote_observer obs[3];
     size_t nobs = 0;
@@ -273,34 +273,38 @@ static int frame_opts(const mote_call *c, sep_frame_opts *fo, mote_err *err)
     return MOTE_OK;
 }
 
-/* A directory for numbered files DIR/NAME_NNNNNN.EXT: its parent must exist; made when the run
- * starts. The same directory again continues the numbering (*index), another starts it at 0.
- * Validation records the series, so that check reports files that would overwrite each other. */
-static int out_dir(sep_model *m, const mote_call *c, char **dir, uint64_t *index,
-                   const char *name, const char *ext, mote_err *err)
+/* A series of numbered files PREFIX_NNNNNN.EXT (prefix=P; dir=DIR is the prefix DIR/NAME, the
+ * earlier form): exactly one of the two; the prefix's folder is made when the run starts. The
+ * same prefix again continues the numbering (*index), another starts it at 0. Validation records
+ * the series, so that check reports files that would overwrite each other. */
+static int out_series(sep_model *m, const mote_call *c, char **prefix, uint64_t *index,
+                      const char *name, const char *ext, mote_err *err)
 {
-    const mote_arg *a = mote_call_opt(c, "dir");
-    const int at = mote_call_opt_index(c, "dir");
-    const size_t n = strlen(a->path) + strlen(name) + 2;
-    char *d = strdup(a->path), *prefix = malloc(n);
-    if (!d || !prefix) {
-        free(d);
-        free(prefix);
+    const mote_arg *d = mote_call_opt(c, "dir"), *p = mote_call_opt(c, "prefix");
+    const int at = mote_call_opt_index(c, p ? "prefix" : "dir");
+    if (!!d == !!p)
+        return mote_call_fail(err, c, d && p ? at : -1, MOTE_EINVAL, "%s: give prefix=P (files "
+                              "P_000000%s, ...) or dir=DIR (DIR/%s_000000%s, ...)%s", c->name,
+                              ext, name, ext, d ? ", not both" : "");
+    const size_t n = strlen(d ? d->path : p->path) + strlen(name) + 2;
+    char *pre = malloc(n);
+    if (!pre)
         return mote_call_fail(err, c, at, MOTE_ENOMEM, "out of memory");
-    }
-    snprintf(prefix, n, "%s/%s", a->path, name);
-    int rc = m->dry ? mote_outputs_note_series(&m->ctx->outputs, c, at, prefix, ext, c->name,
+    if (d)
+        snprintf(pre, n, "%s/%s", d->path, name);
+    else
+        snprintf(pre, n, "%s", p->path);
+    int rc = m->dry ? mote_outputs_note_series(&m->ctx->outputs, c, at, pre, ext, c->name,
                                                MOTE_SERIES_MAKES_DIR, err)
                     : MOTE_OK;
-    free(prefix);
     if (rc) {
-        free(d);
+        free(pre);
         return rc;
     }
-    if (!*dir || strcmp(*dir, d) != 0)
+    if (!*prefix || strcmp(*prefix, pre) != 0)
         *index = 0;
-    free(*dir);
-    *dir = d;
+    free(*prefix);
+    *prefix = pre;
     return MOTE_OK;
 }
 
@@ -309,9 +313,19 @@ int sep_frames(void *vm, const mote_call *c, mote_err *err)
     sep_model *m = vm;
     int rc = frame_opts(c, &m->frames.fo, err);
     if (!rc)
-        rc = out_dir(m, c, &m->frames.dir, &m->frames.index, "frame", ".png", err);
+        rc = out_series(m, c, &m->frames.prefix, &m->frames.index, "frame", ".png", err);
     if (rc)
         return rc;
+    /* the movie: DIR/movie.mp4, or P.mp4 (P ending in '/': Pmovie.mp4) */
+    const mote_arg *dir = mote_call_opt(c, "dir");
+    const char *base = dir ? dir->path : m->frames.prefix;
+    const size_t n = strlen(base) + 16, bl = strlen(base);
+    char *mp = malloc(n);
+    if (!mp)
+        return mote_fail(err, MOTE_ENOMEM, "frames: out of memory");
+    snprintf(mp, n, "%s%s", base, dir ? "/movie.mp4" : bl && base[bl - 1] == '/' ? "movie.mp4" : ".mp4");
+    free(m->frames.movie_path);
+    m->frames.movie_path = mp;
     const mote_arg *mv = mote_call_opt(c, "movie"); /* on|off */
     const int movie_off = mv && mv->i == 1;
     m->frames.on = 1;
@@ -341,11 +355,22 @@ int sep_live_png(void *vm, const mote_call *c, mote_err *err)
 int sep_snapshots(void *vm, const mote_call *c, mote_err *err)
 {
     sep_model *m = vm;
-    int rc = out_dir(m, c, &m->snaps.dir, &m->snaps.index, "snapshot", ".xyz", err);
+    const mote_arg *f = mote_call_opt(c, "file"), *dt = mote_call_opt(c, "dt");
+    if (f) { /* the configuration now */
+        if (dt || mote_call_opt(c, "dir") || mote_call_opt(c, "prefix"))
+            return mote_call_fail(err, c, mote_call_opt_index(c, "file"), MOTE_EINVAL,
+                                  "%s: file= writes one snapshot now; a series on a schedule "
+                                  "takes dt= and prefix= (or dir=), not file=", c->name);
+        return m->dry ? MOTE_OK : sep_write_xyz(&m->sys, f->path, err);
+    }
+    if (!dt)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "%s: give file=FILE (one snapshot now) or "
+                              "dt=DT with prefix=P or dir=DIR (a series)", c->name);
+    int rc = out_series(m, c, &m->snaps.prefix, &m->snaps.index, "snapshot", ".xyz", err);
     if (rc)
         return rc;
     m->snaps.on = 1;
-    m->snaps.at = (mote_schedule){m->sys.t, mote_call_opt(c, "dt")->r, 0};
+    m->snaps.at = (mote_schedule){m->sys.t, dt->r, 0};
     return MOTE_OK;
 }
 
@@ -369,24 +394,12 @@ int sep_balance(void *vm, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
-/* DIR/NAME_%06d.EXT (malloc'ed). */
-static char *numbered(const char *dir, const char *name, uint64_t k, const char *ext)
-{
-    const size_t n = strlen(dir) + strlen(name) + 2;
-    char *prefix = malloc(n), *p = NULL;
-    if (prefix) {
-        snprintf(prefix, n, "%s/%s", dir, name);
-        p = mote_series_path(prefix, k, 6, ext);
-    }
-    free(prefix);
-    return p;
-}
 
 /* The scheduled outputs, observers of the run loop (subject: the model). */
 static int fire_frame(void *ctx, void *subject, mote_err *err)
 {
     sep_model *m = subject;
-    char *p = numbered(m->frames.dir, "frame", m->frames.index++, ".png");
+    char *p = mote_series_path(m->frames.prefix, m->frames.index++, 6, ".png");
     int rc = p ? sep_frame_png(&m->sys, p, &m->frames.fo, err) : mote_fail(err, MOTE_ENOMEM, "frames");
     free(p);
     return rc;
@@ -395,7 +408,7 @@ static int fire_frame(void *ctx, void *subject, mote_err *err)
 static int fire_snapshot(void *ctx, void *subject, mote_err *err)
 {
     sep_model *m = subject;
-    char *p = numbered(m->snaps.dir, "snapshot", m->snaps.index++, ".xyz");
+    char *p = mote_series_path(m->snaps.prefix, m->snaps.index++, 6, ".xyz");
     int rc = p ? sep_write_xyz(&m->sys, p, err) : mote_fail(err, MOTE_ENOMEM, "snapshots");
     free(p);
     return rc;
@@ -488,31 +501,25 @@ static int run_end(sep_model *m, mote_err *err)
     if (!rc)
         mote_partial_done(&m->bal.partial); /* (the complete file is there) */
     if (!rc && m->frames.on && m->frames.movie && m->frames.index > 1) {
-        const size_t n = strlen(m->frames.dir) + 16;
-        char *prefix = malloc(n), *out = malloc(n);
-        if (!prefix || !out) {
-            free(prefix);
-            free(out);
-            return mote_fail(err, MOTE_ENOMEM, "frames: out of memory");
-        }
-        snprintf(prefix, n, "%s/frame", m->frames.dir);
-        snprintf(out, n, "%s/movie.mp4", m->frames.dir);
         int ran = 0;
-        rc = mote_movie(prefix, m->frames.fps, out, m->ctx ? m->ctx->diag : NULL, &ran, err);
+        rc = mote_movie(m->frames.prefix, m->frames.fps, m->frames.movie_path,
+                        m->ctx ? m->ctx->diag : NULL, &ran, err);
         if (!rc && ran && m->log)
-            fprintf(m->log, "frames: %llu frames in %s, the movie %s\n",
-                    (unsigned long long)m->frames.index, m->frames.dir, out);
-        free(prefix);
-        free(out);
+            fprintf(m->log, "frames: %llu frames %s_*.png, the movie %s\n",
+                    (unsigned long long)m->frames.index, m->frames.prefix, m->frames.movie_path);
     }
     return rc;
 }
 
-/* Make a directory (one level) unless it exists. */
-static int make_dir(const char *dir, mote_err *err)
+/* Make the folders of a series' files unless they exist. */
+static int make_series_dir(const char *prefix, const char *ext, mote_err *err)
 {
-    if (mkdir(dir, 0777) == 0 || errno == EEXIST)
-        return MOTE_OK;
-    return mote_fail(err, MOTE_EIO, "%s: cannot make the directory: %s", dir, strerror(errno));
+    char *first = mote_series_path(prefix, 0, 6, ext);
+    if (!first)
+        return mote_fail(err, MOTE_ENOMEM, "run: out of memory");
+    const int e = mote_make_dir_of(first);
+    free(first);
+    return e ? mote_fail(err, MOTE_EIO, "%s: cannot make the folder: %s", prefix, strerror(e))
+             : MOTE_OK;
 }
 
