@@ -156,4 +156,26 @@ printf '%b' "${H}load count.state\nrun 0.1\n" > s7.mote
 "$MOTE" run s7.mote > out.txt 2> err.txt
 grep -q "count.state:[0-9]*: placed n_left + n_right must equal n" err.txt && ok || bad "s7.mote: $(cat err.txt)"
 
+# the monitor is followed as it grows (issue 53): m.dat.partial while a run writes it, gone when
+# the complete file is there; a run stopped with SIGINT halfway leaves its rows so far in the
+# partial file, readable, and the earlier complete file untouched
+MBP='model mixing-box\nbox 0 0.4 0 0.2\npartition 0.2 0.01\nslit 0.1 0.04\nradius 0.004\ndisks 30 20\nv_init 1\nplace\n'
+printf '%bmonitor dt=0.01 file=mp.dat\nrun 0.1\n' "$MBP" > mp1.mote
+"$MOTE" run mp1.mote > out.txt 2> err.txt && [ -s mp.dat ] && [ ! -e mp.dat.partial ] && ok || bad "mp1: $(cat err.txt; ls mp.dat*)"
+cp mp.dat mp.before
+printf '%bmonitor dt=0.01 file=mp.dat\nrun 50000\n' "$MBP" > mp2.mote
+env --default-signal=INT "$MOTE" run mp2.mote > mp2.out 2>&1 &
+pid=$!
+i=0
+while [ "$i" -lt 1200 ] && [ "$(grep -vc '^#' mp.dat.partial 2>/dev/null || echo 0)" -lt 5 ]; do
+    sleep 0.1
+    i=$((i + 1))
+done
+kill -INT "$pid"
+wait "$pid"
+[ $? -eq 130 ] && ok || bad "the run was not stopped by SIGINT: $(cat mp2.out)"
+cmp -s mp.dat mp.before && ok || bad "the complete mp.dat changed under a run that was stopped"
+awk '/^# columns:/ { n = NF - 2 } !/^#/ { rows++; if (NF != n) bad = 1 } END { exit !(n == 21 && rows >= 5 && !bad) }' mp.dat.partial &&
+    ok || bad "the stopped run's rows: $(head -c 600 mp.dat.partial)"
+
 mote_test_end

@@ -590,4 +590,32 @@ done
 sort -g kr.raw > kr.txt
 med=$(awk '{ a[NR] = $1 } END { if (NR == 12) printf "%.3g", (a[6] + a[7]) / 2 }' kr.txt)
 awk -v m="$med" 'BEGIN { exit !(m != "" && m <= 4.3e-15) }' && ok || bad "e = 0.9 orbit, median |dE| of 12 turned copies: $med (IAS15: 4.3e-15): $(tr '\n' ' ' < kr.txt)"
+# the monitor and the trajectory are followed as they grow (issue 53): FILE.partial while
+# integrate writes them, gone when the complete files are there; integrate stopped with SIGINT
+# halfway leaves their rows so far in the partial files, readable, and the earlier complete
+# files untouched
+NBP='model nbody gravity\ngenerate ring nb=12\nmonitor every=10 file=mp.dat\ntrajectory every=10 file=tp.csv\n'
+printf '%bintegrate steps=100\n' "$NBP" > np1.mote
+"$MOTE" run np1.mote > out.txt 2> err.txt && [ -s mp.dat ] && [ -s tp.csv ] && [ ! -e mp.dat.partial ] &&
+    [ ! -e tp.csv.partial ] && ok || bad "np1: $(cat err.txt; ls mp.dat* tp.csv*)"
+cp mp.dat mp.before
+cp tp.csv tp.before
+printf '%bintegrate steps=1000000000\n' "$NBP" > np2.mote
+env --default-signal=INT "$MOTE" run np2.mote > np2.out 2>&1 &
+pid=$!
+i=0
+while [ "$i" -lt 1200 ] && [ "$(grep -vc '^#' mp.dat.partial 2>/dev/null || echo 0)" -lt 5 ]; do
+    sleep 0.1
+    i=$((i + 1))
+done
+kill -INT "$pid"
+wait "$pid"
+[ $? -eq 130 ] && ok || bad "integrate was not stopped by SIGINT: $(cat np2.out)"
+cmp -s mp.dat mp.before && cmp -s tp.csv tp.before && ok || bad "a complete file changed under a run that was stopped"
+awk '/^# columns:/ { n = NF - 2 } !/^#/ { rows++; if (NF != n) bad = 1 } END { exit !(n > 5 && rows >= 5 && !bad) }' mp.dat.partial &&
+    ok || bad "the stopped run's monitor rows: $(head -c 600 mp.dat.partial)"
+# (a .csv file is written as CSV when complete; its partial file is mote's text form)
+awk '/^# columns:/ { n = NF - 2 } !/^#/ { rows++; if (NF != n) bad = 1 } END { exit !(n == 39 && rows >= 2 && !bad) }' tp.csv.partial &&
+    ok || bad "the stopped run's trajectory rows: $(head -c 600 tp.csv.partial)"
+
 mote_test_end

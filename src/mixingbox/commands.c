@@ -8,6 +8,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include <sys/stat.h>
 
 #include "help.inc"
@@ -528,6 +529,10 @@ static int write_outputs(mb_model *m, mote_err *err)
     int rc = MOTE_OK;
     if (m->rec.active)
         rc = mb_record_write(&m->rec, &m->sys, err);
+    if (m->rec.active && !rc) /* the complete file is there */
+        mote_partial_done(&m->rec.partial);
+    else
+        mote_partial_keep(&m->rec.partial); /* (its rows so far stay) */
     if (!rc && m->dens.active)
         rc = mb_density_write(&m->dens, &m->sys, err);
     return rc;
@@ -644,8 +649,10 @@ static int run_record(void *vm, const mote_call *c, mote_err *err)
     if (!m->rec.path || !m->rec.origin)
         return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", c->name);
     m->rec.dt = mote_call_opt(c, "dt")->r;
-    int rc = mb_record_sample(&m->rec, &m->sys, err);
-    if (!rc)
+    /* the first row now, into FILE.partial, and into FILE when there is none yet: an earlier
+     * complete FILE is replaced only by the complete file a run writes when it ends */
+    int rc = mb_record_observe(&m->rec, &m->sys, err);
+    if (!rc && access(m->rec.path, F_OK) != 0)
         rc = mb_record_write(&m->rec, &m->sys, err);
     if (rc) {
         mb_record_free(&m->rec);
@@ -654,7 +661,7 @@ static int run_record(void *vm, const mote_call *c, mote_err *err)
     m->rec.active = 1;
     m->rec_at = (mote_schedule){m->sys.time, m->rec.dt, 1};
     m->rec_s = (mote_observer){.at = &m->rec_at, .ctx = &m->rec,
-                              .fire = mb_record_sample};
+                              .fire = mb_record_observe};
     if (m->log)
         fprintf(m->log, "%s: every %g s into %s\n", c->name, m->rec.dt, m->rec.path);
     return MOTE_OK;

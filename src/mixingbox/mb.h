@@ -70,7 +70,9 @@ typedef struct {
     uint64_t collisions, overlaps;
 } mb_row;
 
-/* The `record DT FILE` recording: rows in memory, the whole file rewritten atomically. */
+/* The `monitor DT FILE` recording: rows in memory, the whole file rewritten atomically after
+ * each run; during a run the rows also go to FILE.partial as they come (tail -f; a run that is
+ * stopped leaves it). */
 typedef struct {
     int active;
     char *path;
@@ -78,11 +80,14 @@ typedef struct {
     double dt;
     mb_row *rows;
     size_t nrows, cap;
+    mote_partial partial;
 } mb_record;
 
 void mb_record_free(mb_record *r);
 /* Take one row from the state (counts overlaps and notes them in sys). */
 int mb_record_sample(void *ctx, void *subject, mote_err *err);
+/* The run loop's observer: a row, streamed to FILE.partial (begun with the rows so far). */
+int mb_record_observe(void *ctx, void *subject, mote_err *err);
 int mb_record_write(const mb_record *r, const mote_mb *sys, mote_err *err);
 
 /* The `density_y DT NBINS FILE` profile: y histograms per chamber summed over samples. */

@@ -43,6 +43,7 @@ void mb_write_params(FILE *f, const mote_mb *sys, const char *format, const char
 
 void mb_record_free(mb_record *r)
 {
+    mote_partial_keep(&r->partial);
     free(r->path);
     free(r->origin);
     free(r->rows);
@@ -88,15 +89,13 @@ static void put_real(FILE *f, double v)
         fprintf(f, " %.10g", v);
 }
 
-int mb_record_write(const mb_record *r, const mote_mb *sys, mote_err *err)
+static void record_header(FILE *f, const mb_record *r, const mote_mb *sys, int growing)
 {
-    mote_afile af;
-    int rc = mote_afile_open(&af, r->path, err);
-    if (rc)
-        return rc;
-    FILE *f = af.f;
     mb_write_params(f, sys, "mixing", r->origin);
-    fprintf(f, "# DT = %.17g\n# samples = %zu\n", r->dt, r->nrows);
+    if (growing)
+        fprintf(f, "# DT = %.17g\n# samples: the rows so far (a run in progress)\n", r->dt);
+    else
+        fprintf(f, "# DT = %.17g\n# samples = %zu\n", r->dt, r->nrows);
     fprintf(f,
             "# A row per sample: t (s, exact sample time); disks per chamber and colour (nL0 =\n"
             "# colour 0 in the left chamber, ...; the chamber of a disk is the side of X1_C its\n"
@@ -109,35 +108,65 @@ int mb_record_write(const mb_record *r, const mote_mb *sys, mote_err *err)
     fprintf(f, "# columns: t nL0 nL1 nR0 nR1 m S_left S_right S_mix cross_lr cross_rl "
                "dcross_lr dcross_rl flux_lr flux_rl kT_left kT_right E E_kin collisions "
                "overlaps\n");
-    for (size_t k = 0; k < r->nrows; k++) {
-        const mb_row *w = &r->rows[k];
-        uint64_t nl = w->c.n[0][0] + w->c.n[0][1], nr = w->c.n[1][0] + w->c.n[1][1];
-        double sl = mote_mb_entropy(w->c.n[0][0], w->c.n[0][1]);
-        double sr = mote_mb_entropy(w->c.n[1][0], w->c.n[1][1]);
-        double smix = nl + nr ? ((double)nl * sl + (double)nr * sr) / (double)(nl + nr) : 0.0;
-        uint64_t dlr = k ? w->cross_lr - r->rows[k - 1].cross_lr : 0;
-        uint64_t drl = k ? w->cross_rl - r->rows[k - 1].cross_rl : 0;
-        double interval = k ? w->t - r->rows[k - 1].t : 0.0;
-        fprintf(f, "%.17g %llu %llu %llu %llu", w->t, (unsigned long long)w->c.n[0][0],
-                (unsigned long long)w->c.n[0][1], (unsigned long long)w->c.n[1][0],
-                (unsigned long long)w->c.n[1][1]);
-        put_real(f, mote_mb_mixing_fraction(&w->c));
-        put_real(f, sl);
-        put_real(f, sr);
-        put_real(f, smix);
-        fprintf(f, " %llu %llu %llu %llu", (unsigned long long)w->cross_lr,
-                (unsigned long long)w->cross_rl, (unsigned long long)dlr,
-                (unsigned long long)drl);
-        put_real(f, interval > 0 ? (double)dlr / interval : NAN);
-        put_real(f, interval > 0 ? (double)drl / interval : NAN);
-        put_real(f, w->kt[0]);
-        put_real(f, w->kt[1]);
-        put_real(f, w->e);
-        put_real(f, w->e_kin);
-        fprintf(f, " %llu %llu\n", (unsigned long long)w->collisions,
-                (unsigned long long)w->overlaps);
-    }
+}
+
+static void record_row(FILE *f, const mb_record *r, size_t k)
+{
+    const mb_row *w = &r->rows[k];
+    uint64_t nl = w->c.n[0][0] + w->c.n[0][1], nr = w->c.n[1][0] + w->c.n[1][1];
+    double sl = mote_mb_entropy(w->c.n[0][0], w->c.n[0][1]);
+    double sr = mote_mb_entropy(w->c.n[1][0], w->c.n[1][1]);
+    double smix = nl + nr ? ((double)nl * sl + (double)nr * sr) / (double)(nl + nr) : 0.0;
+    uint64_t dlr = k ? w->cross_lr - r->rows[k - 1].cross_lr : 0;
+    uint64_t drl = k ? w->cross_rl - r->rows[k - 1].cross_rl : 0;
+    double interval = k ? w->t - r->rows[k - 1].t : 0.0;
+    fprintf(f, "%.17g %llu %llu %llu %llu", w->t, (unsigned long long)w->c.n[0][0],
+            (unsigned long long)w->c.n[0][1], (unsigned long long)w->c.n[1][0],
+            (unsigned long long)w->c.n[1][1]);
+    put_real(f, mote_mb_mixing_fraction(&w->c));
+    put_real(f, sl);
+    put_real(f, sr);
+    put_real(f, smix);
+    fprintf(f, " %llu %llu %llu %llu", (unsigned long long)w->cross_lr,
+            (unsigned long long)w->cross_rl, (unsigned long long)dlr, (unsigned long long)drl);
+    put_real(f, interval > 0 ? (double)dlr / interval : NAN);
+    put_real(f, interval > 0 ? (double)drl / interval : NAN);
+    put_real(f, w->kt[0]);
+    put_real(f, w->kt[1]);
+    put_real(f, w->e);
+    put_real(f, w->e_kin);
+    fprintf(f, " %llu %llu\n", (unsigned long long)w->collisions,
+            (unsigned long long)w->overlaps);
+}
+
+int mb_record_write(const mb_record *r, const mote_mb *sys, mote_err *err)
+{
+    mote_afile af;
+    int rc = mote_afile_open(&af, r->path, err);
+    if (rc)
+        return rc;
+    record_header(af.f, r, sys, 0);
+    for (size_t k = 0; k < r->nrows; k++)
+        record_row(af.f, r, k);
     return mote_afile_commit(&af, err);
+}
+
+int mb_record_observe(void *ctx, void *subject, mote_err *err)
+{
+    mb_record *r = ctx;
+    int rc = mb_record_sample(ctx, subject, err);
+    if (rc)
+        return rc;
+    mote_partial *pt = &r->partial;
+    if (!pt->f && !pt->path && mote_partial_open(pt, r->path) == 0) {
+        record_header(pt->f, r, subject, 1);
+        for (size_t k = 0; k < r->nrows; k++)
+            record_row(pt->f, r, k);
+    } else if (pt->f) {
+        record_row(pt->f, r, r->nrows - 1);
+    }
+    mote_partial_flush(pt);
+    return MOTE_OK;
 }
 
 /* ---- the density profile in y ---------------------------------------------------------------- */

@@ -51,6 +51,7 @@ typedef struct nb_model {
         int vel;               /* trajectory: velocities too */
         char tunit[16];        /* unit= of the command ("" none): a last column T_UNIT, */
         double tscale;         /* T / tscale, the time in that unit */
+        mote_partial partial;  /* PATH.partial: the rows as they come, during integrate */
     } mon, traj;
     /* checkpoints: the exact state into `path` every `every` steps and at the end of integrate */
     struct {

@@ -128,9 +128,15 @@ static int trajectory_sample(nb_model *m, const mote_nb *nb, mote_err *err)
     return MOTE_OK;
 }
 
+static void sampler_stream(nb_model *m, nb_sampler *s, int traj);
+
+/* A sample of the run (the row also to PATH.partial). */
 static int sample(nb_model *m, int traj, const mote_nb *nb, mote_err *err)
 {
-    return traj ? trajectory_sample(m, nb, err) : monitor_sample(m, nb, err);
+    const int rc = traj ? trajectory_sample(m, nb, err) : monitor_sample(m, nb, err);
+    if (!rc)
+        sampler_stream(m, traj ? &m->traj : &m->mon, traj);
+    return rc;
 }
 
 /* The header lines every output shares after the preamble (spec 10). */
@@ -170,6 +176,79 @@ static const char *traj_column(const nb_model *m, size_t c, char name[40])
     return name;
 }
 
+/* A sampler's header lines after the preamble (none in JSON lines). */
+static void sampler_header(nb_model *m, const nb_sampler *s, int traj, FILE *f)
+{
+    if (s->format == FMT_JSONL)
+        return;
+    const char sep = s->format == FMT_CSV ? ',' : ' ';
+    run_header(f, &m->nb, s);
+    if (traj) {
+        fprintf(f, "# Lx0 = %.17g\n# Ly0 = %.17g\n# Lz0 = %.17g\n", s->L0[0], s->L0[1],
+                s->L0[2]);
+        for (uint32_t k = 0; k < s->nsel; k++) /* the numbers of the named bodies */
+            if (m->nb.name[s->sel[k]][0])
+                fprintf(f, "# body_%s = %u\n", m->nb.name[s->sel[k]], s->sel[k] + 1);
+        fprintf(f, "# a row per sample: T, E_kin, E_tot, then x y z%s of each recorded body "
+                   "(columns x_NAME or xK, K its number)\n", s->vel ? " vx vy vz" : "");
+    } else
+        fprintf(f, "# dE is (E_corr - E0)/|E0| (absolute, E_corr - E0, when E0 = 0) with "
+                   "E_corr = E_tot minus the energy changes "
+                   "of merges, dMz the aggregated z moment's (Lz + Sz) relative change and dL "
+                   "|L + S - (L + S)0| / |(L + S)0| from the run's start\n");
+    if (s->tunit[0]) {
+        const char *in = !strcmp(s->tunit, "s") ? "seconds" : !strcmp(s->tunit, "day") ? "days"
+                         : !strcmp(s->tunit, "year") ? "Julian years" : "sidereal centuries";
+        fprintf(f, "# T_%s = T / %.17g: the time in %s (unit=%s), the last column\n",
+                s->tunit, s->tscale, in, s->tunit);
+    }
+    fputs(s->format == FMT_CSV ? "" : "# columns: ", f);
+    if (traj) {
+        char name[40];
+        for (size_t c = 0; c < s->cols; c++)
+            fprintf(f, "%s%s", c ? (char[2]){sep, 0} : "", traj_column(m, c, name));
+    } else
+        for (int c = 0; c < MON_COLS; c++) {
+            if (c)
+                fputc(sep, f);
+            fputs(MON_NAME[c], f);
+        }
+    if (s->tunit[0])
+        fprintf(f, "%cT_%s", sep, s->tunit);
+    fputc('\n', f);
+}
+
+/* Sample k's row. */
+static void sampler_line(nb_model *m, const nb_sampler *s, int traj, FILE *f, size_t k)
+{
+    const char *kind = traj ? "nbody-trajectory" : "nbody-monitor";
+    const char sep = s->format == FMT_CSV ? ',' : ' ';
+    const int tcol = traj ? 0 : 1; /* T */
+    const double *r = s->rows + k * s->cols;
+    if (s->format == FMT_JSONL) {
+        fprintf(f, "{\"format\":\"%s\"", kind);
+        for (size_t c = 0; c < s->cols; c++) {
+            char name[40];
+            fprintf(f, ",\"%s\":", traj ? traj_column(m, c, name) : MON_NAME[c]);
+            put_json(f, r[c]);
+        }
+        if (s->tunit[0]) {
+            fprintf(f, ",\"T_%s\":", s->tunit);
+            put_json(f, r[tcol] / s->tscale);
+        }
+        fputs("}\n", f);
+        return;
+    }
+    for (size_t c = 0; c < s->cols; c++) {
+        if (c)
+            fputc(sep, f);
+        fprintf(f, !traj && mon_integer((int)c) ? "%.0f" : "%.17g", r[c]);
+    }
+    if (s->tunit[0])
+        fprintf(f, "%c%.17g", sep, r[tcol] / s->tscale);
+    fputc('\n', f);
+}
+
 /* Rewrite the sampler's file (atomically) with every sample so far. */
 static int sampler_write(nb_model *m, nb_sampler *s, int traj, mote_err *err)
 {
@@ -185,73 +264,53 @@ static int sampler_write(nb_model *m, nb_sampler *s, int traj, mote_err *err)
         rc = mote_datafile_open(&d, s->path, kind, s->origin, 0, err);
     if (rc)
         return rc;
-    FILE *f = d.f;
-    const char sep = s->format == FMT_CSV ? ',' : ' ';
-    if (s->format != FMT_JSONL) {
-        run_header(f, &m->nb, s);
-        if (traj) {
-            fprintf(f, "# Lx0 = %.17g\n# Ly0 = %.17g\n# Lz0 = %.17g\n", s->L0[0], s->L0[1],
-                    s->L0[2]);
-            for (uint32_t k = 0; k < s->nsel; k++) /* the numbers of the named bodies */
-                if (m->nb.name[s->sel[k]][0])
-                    fprintf(f, "# body_%s = %u\n", m->nb.name[s->sel[k]], s->sel[k] + 1);
-            fprintf(f, "# a row per sample: T, E_kin, E_tot, then x y z%s of each recorded body "
-                       "(columns x_NAME or xK, K its number)\n", s->vel ? " vx vy vz" : "");
-        } else
-            fprintf(f, "# dE is (E_corr - E0)/|E0| (absolute, E_corr - E0, when E0 = 0) with "
-                       "E_corr = E_tot minus the energy changes "
-                       "of merges, dMz the aggregated z moment's (Lz + Sz) relative change and dL "
-                       "|L + S - (L + S)0| / |(L + S)0| from the run's start\n");
-        if (s->tunit[0]) {
-            const char *in = !strcmp(s->tunit, "s") ? "seconds" : !strcmp(s->tunit, "day") ? "days"
-                             : !strcmp(s->tunit, "year") ? "Julian years" : "sidereal centuries";
-            fprintf(f, "# T_%s = T / %.17g: the time in %s (unit=%s), the last column\n",
-                    s->tunit, s->tscale, in, s->tunit);
-        }
-        fputs(s->format == FMT_CSV ? "" : "# columns: ", f);
-        if (traj) {
-            char name[40];
-            for (size_t c = 0; c < s->cols; c++)
-                fprintf(f, "%s%s", c ? (char[2]){sep, 0} : "", traj_column(m, c, name));
-        } else
-            for (int c = 0; c < MON_COLS; c++) {
-                if (c)
-                    fputc(sep, f);
-                fputs(MON_NAME[c], f);
-            }
-        if (s->tunit[0])
-            fprintf(f, "%cT_%s", sep, s->tunit);
-        fputc('\n', f);
-    }
-    const int tcol = traj ? 0 : 1; /* T */
-    for (size_t k = 0; k < s->nrows; k++) {
-        const double *r = s->rows + k * s->cols;
-        if (s->format == FMT_JSONL) {
-            fprintf(f, "{\"format\":\"%s\"", kind);
-            for (size_t c = 0; c < s->cols; c++) {
-                char name[40];
-                fprintf(f, ",\"%s\":", traj ? traj_column(m, c, name) : MON_NAME[c]);
-                put_json(f, r[c]);
-            }
-            if (s->tunit[0]) {
-                fprintf(f, ",\"T_%s\":", s->tunit);
-                put_json(f, r[tcol] / s->tscale);
-            }
-            fputs("}\n", f);
-            continue;
-        }
-        for (size_t c = 0; c < s->cols; c++) {
-            if (c)
-                fputc(sep, f);
-            fprintf(f, !traj && mon_integer((int)c) ? "%.0f" : "%.17g", r[c]);
-        }
-        if (s->tunit[0])
-            fprintf(f, "%c%.17g", sep, r[tcol] / s->tscale);
-        fputc('\n', f);
-    }
+    sampler_header(m, s, traj, d.f);
+    for (size_t k = 0; k < s->nrows; k++)
+        sampler_line(m, s, traj, d.f, k);
     if (s->format == FMT_JSONL)
         return mote_afile_commit(&d.af, err);
     return mote_datafile_commit(&d, err);
+}
+
+/* The sample just taken into PATH.partial (begun with the samples so far): followed as it
+ * grows; the complete PATH is written when integrate ends. */
+static void sampler_stream(nb_model *m, nb_sampler *s, int traj)
+{
+    mote_partial *pt = &s->partial;
+    if (!s->path || !s->nrows)
+        return;
+    if (!pt->f && !pt->path && mote_partial_open(pt, s->path) == 0) {
+        if (s->format != FMT_JSONL)
+            mote_datafile_preamble(pt->f, traj ? "nbody-trajectory" : "nbody-monitor", s->origin,
+                                   0);
+        sampler_header(m, s, traj, pt->f);
+        for (size_t k = 0; k < s->nrows; k++)
+            sampler_line(m, s, traj, pt->f, k);
+    } else if (pt->f) {
+        sampler_line(m, s, traj, pt->f, s->nrows - 1);
+    }
+    mote_partial_flush(pt);
+}
+
+/* The end of a run: the complete file (also after a failure: every sample so far), the partial
+ * file then removed; kept when the complete file could not be written. */
+static int sampler_finish(nb_model *m, nb_sampler *s, int traj, mote_err *err)
+{
+    const int rc = sampler_write(m, s, traj, err);
+    if (rc)
+        mote_partial_keep(&s->partial);
+    else
+        mote_partial_done(&s->partial);
+    return rc;
+}
+
+/* At the command: the first sample into PATH.partial, and into PATH when there is none yet (an
+ * earlier complete PATH is replaced only by the complete file a run writes). */
+static int sampler_begin(nb_model *m, nb_sampler *s, int traj, mote_err *err)
+{
+    mote_partial_keep(&s->partial); /* (a new start) */
+    sampler_stream(m, s, traj);
+    return s->path && access(s->path, F_OK) == 0 ? MOTE_OK : sampler_write(m, s, traj, err);
 }
 
 /* unit=NAME: a known unit, and physical scales to convert with. */
@@ -356,7 +415,7 @@ int nb_run_monitor(void *vm, const mote_call *c, mote_err *err)
     }
     if (!rc && m->nb.n)
         rc = monitor_sample(m, &m->nb, err);
-    return rc ? rc : sampler_write(m, &m->mon, 0, err);
+    return rc ? rc : sampler_begin(m, &m->mon, 0, err);
 }
 
 /* on|off option: 1, 0, or -1 when it is neither (dflt when not given) */
@@ -450,7 +509,7 @@ int nb_run_trajectory(void *vm, const mote_call *c, mote_err *err)
     for (int a = 0; a < 3; a++)
         m->traj.L0[a] = mon.L[a] + mon.S[a];
     rc = trajectory_sample(m, &m->nb, err);
-    return rc ? rc : sampler_write(m, &m->traj, 1, err);
+    return rc ? rc : sampler_begin(m, &m->traj, 1, err);
 }
 
 /* ---- approaches (spec 7.9, 10.4) ------------------------------------------------------------- */
@@ -878,7 +937,7 @@ int nb_run_integrate(void *vm, const mote_call *c, mote_err *err)
     nb_sampler *smp[2] = {&m->mon, &m->traj};
     for (int k = 0; k < 2; k++) {
         mote_err werr = {0};
-        int wrc = sampler_write(m, smp[k], k, rc ? &werr : err);
+        int wrc = sampler_finish(m, smp[k], k, rc ? &werr : err);
         rc = rc ? rc : wrc;
     }
     return rc;
