@@ -369,8 +369,8 @@ static void patch_photo(mote_ch_result *r, const mote_ch_run_opts *o, int pp, do
         r->patch_I[(size_t)pp * (size_t)o->ndv + (size_t)g] += I0 * mote_ch_escape(U_s + o->dv[g], kT_ph);
 }
 
-int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tracer *t,
-                const mote_ch_run_opts *o, mote_ch_result *r, mote_err *err)
+static int mc_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tracer *t,
+                  const mote_ch_run_opts *o, mote_ch_result *r, mote_err *err)
 {
     memset(r, 0, sizeof *r);
     if (p->nsp == 0)
@@ -928,6 +928,41 @@ int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tr
         r->sigma[s] = sqrt(var);
     }
     return MOTE_OK;
+}
+
+/* A Monte Carlo run as one advance of the core's loop (mote_run), counted in histories: its
+ * histories are shared among the threads in blocks, so it stops only at its end (its progress
+ * and Ctrl-C are its own, at every block); the loop's observers (the context's) see it there. */
+typedef struct {
+    const mote_ch_plasma *p;
+    const mote_ch_body *b;
+    const mote_ch_tracer *t;
+    const mote_ch_run_opts *o;
+    mote_ch_result *r;
+    uint64_t done;
+} mc_runner;
+
+static uint64_t mc_count(const void *vx) { return ((const mc_runner *)vx)->done; }
+static int mc_advance(void *vx, mote_loop *l, double t_stop, uint64_t n_stop, mote_err *err)
+{
+    mc_runner *x = vx;
+    int rc = mc_run(x->p, x->b, x->t, x->o, x->r, err);
+    if (!rc)
+        x->done = x->o->particles;
+    return rc;
+}
+
+int mote_ch_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tracer *t,
+                const mote_ch_run_opts *o, mote_ch_result *r, mote_err *err)
+{
+    if (o->particles == 0) { /* (the loop would not start) */
+        memset(r, 0, sizeof *r);
+        return mote_fail(err, MOTE_EINVAL, "run: particles must be >= 1");
+    }
+    mc_runner x = {p, b, t, o, r, 0};
+    const mote_runner run = {.what = o->progress_label ? o->progress_label : "run", .sys = &x,
+                             .ctx = o->progress_ctx, .count = mc_count, .advance = mc_advance};
+    return mote_run(&run, NULL, 0, NULL, INFINITY, o->particles, err);
 }
 
 /* ---- the floating potential (spec 6.5) ------------------------------------------------------ */

@@ -55,36 +55,6 @@ static int need_setup(ch_model *m, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
-/* A Monte Carlo run as one advance of the core's loop, counted in histories: its histories are
- * shared among the threads in blocks, so it stops only at its end (progress and Ctrl-C are the
- * run's own, at every block); the observers see it there. */
-typedef struct {
-    const ch_model *m;
-    const mote_ch_tracer *t;
-    const mote_ch_run_opts *o;
-    mote_ch_result *r;
-    uint64_t done;
-} ch_mc;
-
-static uint64_t ch_mc_count(const void *vx) { return ((const ch_mc *)vx)->done; }
-static int ch_mc_advance(void *vx, mote_loop *l, double t_stop, uint64_t n_stop, mote_err *err)
-{
-    ch_mc *x = vx;
-    int rc = mote_ch_run(&x->m->plasma, &x->m->body, x->t, x->o, x->r, err);
-    if (!rc)
-        x->done = x->o->particles;
-    return rc;
-}
-
-static int ch_mc_run(const ch_model *m, const mote_call *c, const mote_ch_tracer *t,
-                     const mote_ch_run_opts *o, mote_ch_result *r, mote_err *err)
-{
-    ch_mc x = {m, t, o, r, 0};
-    const mote_runner run = {.what = c->name, .sys = &x, .ctx = c->ctx, .count = ch_mc_count,
-                             .advance = ch_mc_advance};
-    return mote_run(&run, NULL, 0, NULL, INFINITY, o->particles, err);
-}
-
 /* ---- test hitprob (spec 10 M3; the original's -t) ---- */
 
 int ch_check_test(void *vm, const mote_call *c, mote_err *err)
@@ -214,7 +184,7 @@ int ch_run_run(void *vm, const mote_call *c, mote_err *err)
     }
     for (int pass = 0;; pass++) {
         mote_ch_result_free(&m->res);
-        rc = ch_mc_run(m, c, t, &o, &m->res, err);
+        rc = mote_ch_run(&m->plasma, &m->body, t, &o, &m->res, err);
         if (rc || !re)
             break;
         worst = 0;
@@ -413,7 +383,7 @@ int ch_run_float(void *vm, const mote_call *c, mote_err *err)
         mote_ch_result_free(&m->res);
         mote_ch_run_opts om = o;
         om.potential = mean;
-        rc = ch_mc_run(m, c, t, &om, &m->res, err);
+        rc = mote_ch_run(&m->plasma, &m->body, t, &om, &m->res, err);
     }
     mote_progress_end(&prog);
     mote_ch_tracer_free(t);
