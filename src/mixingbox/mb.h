@@ -81,6 +81,9 @@ typedef struct {
     mb_row *rows;
     size_t nrows, cap;
     mote_partial partial;
+    FILE *text; /* the rows as text, each formatted once (open_memstream; NULL: none) */
+    char *text_buf;
+    size_t text_len, text_rows; /* its bytes, and the rows it holds */
 } mb_record;
 
 void mb_record_free(mb_record *r);

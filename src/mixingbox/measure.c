@@ -44,6 +44,9 @@ void mb_write_params(FILE *f, const mote_mb *sys, const char *format, const char
 void mb_record_free(mb_record *r)
 {
     mote_partial_keep(&r->partial);
+    if (r->text)
+        fclose(r->text);
+    free(r->text_buf);
     free(r->path);
     free(r->origin);
     free(r->rows);
@@ -146,8 +149,11 @@ int mb_record_write(const mb_record *r, const mote_mb *sys, mote_err *err)
     if (rc)
         return rc;
     record_header(af.f, r, sys, 0);
-    for (size_t k = 0; k < r->nrows; k++)
-        record_row(af.f, r, k);
+    if (r->text && fflush(r->text) == 0 && r->text_rows == r->nrows)
+        fwrite(r->text_buf, 1, r->text_len, af.f); /* (the rows as formatted when taken) */
+    else
+        for (size_t k = 0; k < r->nrows; k++)
+            record_row(af.f, r, k);
     return mote_afile_commit(&af, err);
 }
 
@@ -157,13 +163,29 @@ int mb_record_observe(void *ctx, void *subject, mote_err *err)
     int rc = mb_record_sample(ctx, subject, err);
     if (rc)
         return rc;
+    /* the row formatted once, kept as text for the complete file */
+    if (!r->text && r->nrows == 1)
+        r->text = open_memstream(&r->text_buf, &r->text_len);
+    size_t from = 0;
+    if (r->text && fflush(r->text) == 0 && r->text_rows == r->nrows - 1) {
+        from = r->text_len;
+        record_row(r->text, r, r->nrows - 1);
+        r->text_rows += fflush(r->text) == 0;
+    }
+    const int text = r->text && r->text_rows == r->nrows;
     mote_partial *pt = &r->partial;
     if (!pt->f && !pt->path && mote_partial_open(pt, r->path) == 0) {
         record_header(pt->f, r, subject, 1);
-        for (size_t k = 0; k < r->nrows; k++)
-            record_row(pt->f, r, k);
+        if (text)
+            fwrite(r->text_buf, 1, r->text_len, pt->f);
+        else
+            for (size_t k = 0; k < r->nrows; k++)
+                record_row(pt->f, r, k);
     } else if (pt->f) {
-        record_row(pt->f, r, r->nrows - 1);
+        if (text)
+            fwrite(r->text_buf + from, 1, r->text_len - from, pt->f);
+        else
+            record_row(pt->f, r, r->nrows - 1);
     }
     mote_partial_flush(pt);
     return MOTE_OK;

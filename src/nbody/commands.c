@@ -57,6 +57,7 @@ static void model_destroy(void *vm)
     nb_sampler *smp[2] = {&m->mon, &m->traj};
     for (int k = 0; k < 2; k++) {
         mote_partial_keep(&smp[k]->partial);
+        nb_sampler_text_free(smp[k]);
         free(smp[k]->path);
         free(smp[k]->origin);
         free(smp[k]->rows);

@@ -249,7 +249,8 @@ static void sampler_line(nb_model *m, const nb_sampler *s, int traj, FILE *f, si
     fputc('\n', f);
 }
 
-/* Rewrite the sampler's file (atomically) with every sample so far. */
+/* Rewrite the sampler's file (atomically) with every sample so far: the header, then the rows
+ * as they were formatted when taken (or formatted now, when the text could not be kept). */
 static int sampler_write(nb_model *m, nb_sampler *s, int traj, mote_err *err)
 {
     if (!s->path)
@@ -265,29 +266,57 @@ static int sampler_write(nb_model *m, nb_sampler *s, int traj, mote_err *err)
     if (rc)
         return rc;
     sampler_header(m, s, traj, d.f);
-    for (size_t k = 0; k < s->nrows; k++)
-        sampler_line(m, s, traj, d.f, k);
+    if (s->text && fflush(s->text) == 0)
+        fwrite(s->text_buf, 1, s->text_len, d.f);
+    else
+        for (size_t k = 0; k < s->nrows; k++)
+            sampler_line(m, s, traj, d.f, k);
     if (s->format == FMT_JSONL)
         return mote_afile_commit(&d.af, err);
     return mote_datafile_commit(&d, err);
 }
 
-/* The sample just taken into PATH.partial (begun with the samples so far): followed as it
- * grows; the complete PATH is written when integrate ends. */
+/* The text of the rows: closed and freed (a new start, or the end). */
+void nb_sampler_text_free(nb_sampler *s)
+{
+    if (s->text)
+        fclose(s->text);
+    free(s->text_buf);
+    s->text = NULL;
+    s->text_buf = NULL;
+    s->text_len = 0;
+}
+
+/* The sample just taken: formatted once, into the text of the rows and into PATH.partial (begun
+ * with the samples so far): followed as it grows; the complete PATH is written when integrate
+ * ends. */
 static void sampler_stream(nb_model *m, nb_sampler *s, int traj)
 {
     mote_partial *pt = &s->partial;
     if (!s->path || !s->nrows)
         return;
+    size_t from = 0;
+    if (s->text && fflush(s->text) == 0) {
+        from = s->text_len;
+        sampler_line(m, s, traj, s->text, s->nrows - 1);
+        if (fflush(s->text) != 0)
+            nb_sampler_text_free(s); /* (out of memory: rows are formatted at the end) */
+    }
     if (!pt->f && !pt->path && mote_partial_open(pt, s->path) == 0) {
         if (s->format != FMT_JSONL)
             mote_datafile_preamble(pt->f, traj ? "nbody-trajectory" : "nbody-monitor", s->origin,
                                    0);
         sampler_header(m, s, traj, pt->f);
-        for (size_t k = 0; k < s->nrows; k++)
-            sampler_line(m, s, traj, pt->f, k);
+        if (s->text)
+            fwrite(s->text_buf, 1, s->text_len, pt->f);
+        else
+            for (size_t k = 0; k < s->nrows; k++)
+                sampler_line(m, s, traj, pt->f, k);
     } else if (pt->f) {
-        sampler_line(m, s, traj, pt->f, s->nrows - 1);
+        if (s->text)
+            fwrite(s->text_buf + from, 1, s->text_len - from, pt->f);
+        else
+            sampler_line(m, s, traj, pt->f, s->nrows - 1);
     }
     mote_partial_flush(pt);
 }
@@ -309,6 +338,9 @@ static int sampler_finish(nb_model *m, nb_sampler *s, int traj, mote_err *err)
 static int sampler_begin(nb_model *m, nb_sampler *s, int traj, mote_err *err)
 {
     mote_partial_keep(&s->partial); /* (a new start) */
+    nb_sampler_text_free(s);
+    if (s->path)
+        s->text = open_memstream(&s->text_buf, &s->text_len);
     sampler_stream(m, s, traj);
     return s->path && access(s->path, F_OK) == 0 ? MOTE_OK : sampler_write(m, s, traj, err);
 }
