@@ -66,7 +66,7 @@ printf 'new 2 0.4\nsave s2.txt\nplot s2.txt x.png\n' > state.mote
 "$mote" run state.mote >out.txt 2>err.txt
 rc=$?
 check "plot of a state file is a validation error (exit 1)" '[ $rc -eq 1 ]'
-check "the message names the data files plot accepts" 'grep -q "s2.txt. is written earlier in this script as a file of kind state; expected a file of kind image, profile, pressure, chempot, order, rdf or msd" err.txt'
+check "the message names the data files plot accepts" 'grep -q "s2.txt. is written earlier in this script as a file of kind state; expected a file of kind image, profile, pressure, chempot, order, rdf, msd or monitor" err.txt'
 
 # the measurement files: pressure (tensor profile), chempot (Widom profile), order (over time
 # and, with one sample, across x)

@@ -34,6 +34,23 @@ awk -v T="$T" '/Time=/ { match($0, /Time=[^ ]*/); t = substr($0, RSTART + 5, RLE
     END { exit !(!bad && n == int(T / 0.05) + 1 && n > 3) }' hsdt.xyz && ok || bad "hard spheres: trajectory dt=0.05 over t=$T: $(grep -c Lattice hsdt.xyz) frames, times $(grep -o 'Time=[^ ]*' hsdt.xyz | head -3 | tr '\n' ' ')"
 expect 1 "hsb.mote:2:1: error: trajectory: give every=K (collisions per particle) or dt=T (time), one of them" hsb.mote 'new 2 0.3\ntrajectory file=a.xyz\n'
 
+# hard spheres' monitor: a row now and at t0 + j dt, the run the same bit for bit; over the
+# interval of `pressure K` a row every K gives the pressure command's own estimates (the same
+# sums: P_virial in a periodic box, P_left and P_right in a slit)
+run hsm 'model hard-spheres\nseed 5\nnew 2 0.35\nmonitor dt=0.05 file=hsm.dat\nstep 10\nsave hsm.state\n'
+cmp -s hsm.state hsnodt.state && ok || bad "hard spheres: monitor dt= changed the run"
+awk -v T="$T" '!/^#/ { if ($1 + 0 != 0.05 * n || NF != 7) bad = 1; n++ } END { exit !(!bad && n == int(T / 0.05) + 1) }' hsm.dat &&
+    grep -q '^# columns: t collisions wall_collisions kT P_virial P_left P_right$' hsm.dat && ok || bad "hard spheres: monitor dt=0.05 over t=$T: $(grep -vc '^#' hsm.dat) rows"
+run hsp 'model hard-spheres\nseed 5\nbulk 108 0.3\nstep 5\nmonitor every=10 file=hsp.dat\npressure 10 hsp_p.dat\nplot hsp.dat hsp.png\n'
+has hsp.png "hard spheres: plot of a monitor"
+p=$(sed -n 's/^# P_virial = \([^ ]*\) .*/\1/p' hsp_p.dat)
+tail -1 hsp.dat | awk -v p="$p" '{ exit !(p != "" && ($5 - p) ^ 2 <= (1e-11 * p) ^ 2) }' && ok || bad "hard spheres: monitor P_virial $(tail -1 hsp.dat | cut -d' ' -f5) vs pressure's $p"
+run hss 'model hard-spheres\nseed 5\nnew 3 0.35\nstep 5\nmonitor 20 hss.dat\npressure 20 hss_p.dat\n'
+pl=$(sed -n 's/^# P_left = \([^ ]*\) .*/\1/p' hss_p.dat)
+pr=$(sed -n 's/^# P_right = \([^ ]*\) .*/\1/p' hss_p.dat)
+tail -1 hss.dat | awk -v l="$pl" -v r="$pr" '{ exit !(l != "" && r != "" && ($6 - l) ^ 2 <= (1e-11 * l) ^ 2 && ($7 - r) ^ 2 <= (1e-11 * r) ^ 2) }' &&
+    ok || bad "hard spheres: monitor P_left P_right $(tail -1 hss.dat | cut -d' ' -f6,7) vs pressure's $pl $pr"
+
 # the vocabulary table of `mote help --markdown` is made from the command tables: a row per
 # shared word, a column per model, the earlier words named as aliases
 "$MOTE" help --markdown > ref.md

@@ -23,6 +23,7 @@ typedef struct {
     FILE *log;           /* progress/status messages; NULL = quiet */
     int64_t bins;        /* bins per R for the pressure and chempot profiles (`bins`, default 10) */
     struct hs_dump *dump; /* the trajectory being written (`dump`), or NULL */
+    struct hs_monitor *monitor; /* the monitor being written (`monitor`), or NULL */
 } mote_hs;
 
 /* The scalar results of a measuring command (pressure, chempot, order, ...) are a mote_result
@@ -100,6 +101,15 @@ int mote_hs_dump_start(mote_hs *hs, uint64_t k, const char *path, const char *or
  * k = 0): frames at t0 + j dt exactly (the run stops there), t0 the time now. */
 int mote_hs_dump_start_on(mote_hs *hs, uint64_t k, double dt, const char *path,
                           const char *origin, mote_err *err);
+/* The monitor (`monitor`): a row of t, collisions, wall collisions, kT and the pressure of the
+ * interval since the previous row now (atomically replacing path), then one every k collisions
+ * per particle (k > 0) or every dt of time (dt > 0, k = 0) during every later step, compression
+ * or measurement, appended whole. Rows only read the state: the run is the same with or
+ * without. */
+int mote_hs_monitor_start(mote_hs *hs, uint64_t k, double dt, const char *path,
+                          const char *origin, mote_err *err);
+void mote_hs_monitor_stop(mote_hs *hs);
+uint64_t mote_hs_monitor_rows(const mote_hs *hs);
 void mote_hs_dump_stop(mote_hs *hs);
 uint64_t mote_hs_dump_frames(const mote_hs *hs);
 

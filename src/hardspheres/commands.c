@@ -531,6 +531,48 @@ static int run_dump(void *vm, const mote_call *c, mote_err *err)
     return rc;
 }
 
+/* `monitor every=K|dt=T file=FILE` (the run's quantities over time) and `monitor_stop`. */
+static int check_monitor(void *vm, const mote_call *c, mote_err *err)
+{
+    hs_model *m = vm;
+    int rc = need_system(m, c, err);
+    const mote_arg *every = mote_call_opt(c, "every"), *dt = mote_call_opt(c, "dt");
+    if (!rc && !!every == !!dt)
+        rc = mote_call_fail(err, c, every ? mote_call_opt_index(c, "dt") : -1, MOTE_EINVAL,
+                            "%s: give every=K (collisions per particle) or dt=T (time), %s",
+                            c->name, every ? "not both" : "one of them");
+    if (!rc && every)
+        rc = check_collisions(m, c, mote_call_opt_index(c, "every"), (uint64_t)every->i, err);
+    return rc;
+}
+static int run_monitor(void *vm, const mote_call *c, mote_err *err)
+{
+    hs_model *m = vm;
+    char *origin = mote_call_origin(c);
+    const mote_arg *every = mote_call_opt(c, "every");
+    const uint64_t k = every ? (uint64_t)every->i : 0;
+    const double dt = mote_call_opt_r(c, "dt", 0);
+    const char *path = mote_call_opt(c, "file")->path;
+    int rc = origin ? mote_hs_monitor_start(&m->hs, k, dt, path, origin, err)
+                    : mote_fail(err, MOTE_ENOMEM, "out of memory");
+    if (!rc && m->hs.log && k)
+        fprintf(m->hs.log, "%s: row 0 in %s, then one every %llu collisions per particle\n",
+                c->name, path, (unsigned long long)k);
+    else if (!rc && m->hs.log)
+        fprintf(m->hs.log, "%s: row 0 in %s, then one every %.17g of time\n", c->name, path, dt);
+    free(origin);
+    return rc;
+}
+static int run_monitor_stop(void *vm, const mote_call *c, mote_err *err)
+{
+    hs_model *m = vm;
+    if (m->hs.log && m->hs.monitor)
+        fprintf(m->hs.log, "monitor_stop: %llu rows written\n",
+                (unsigned long long)mote_hs_monitor_rows(&m->hs));
+    mote_hs_monitor_stop(&m->hs);
+    return MOTE_OK;
+}
+
 static int run_dump_stop(void *vm, const mote_call *c, mote_err *err)
 {
     hs_model *m = vm;
@@ -605,6 +647,11 @@ static const mote_cmd hs_commands[] = {
      HS_HELP_DUMP, check_dump, run_dump},
     {"dump_stop", NULL, "", "dump_stop", "stop writing the trajectory of `trajectory` (`dump`)",
      HS_HELP_DUMP_STOP, NULL, run_dump_stop},
+    {"monitor", NULL, "@every=i>=1 @file=f>monitor! dt=r>0", "monitor every=K|dt=T file=FILE",
+     "the run's time, collisions, temperature and pressure, a row every K collisions per "
+     "particle or every T of time", HS_HELP_MONITOR, check_monitor, run_monitor},
+    {"monitor_stop", NULL, "", "monitor_stop", "stop writing the rows of `monitor`",
+     HS_HELP_MONITOR_STOP, NULL, run_monitor_stop},
     {"check", NULL, "", "check", "verify every invariant of the simulation", HS_HELP_CHECK,
      check_check, run_check},
 };
@@ -620,7 +667,7 @@ const mote_model mote_model_hardspheres = {
     .settle = model_settle,
     .seed = model_seed,
     .seed_help = HS_HELP_SEED,
-    .plot_kinds = "image|profile|pressure|chempot|order|rdf|msd",
+    .plot_kinds = "image|profile|pressure|chempot|order|rdf|msd|monitor",
     .plot = model_plot,
     .plot_help = HS_HELP_PLOT,
     .plot_lines = "image:x_mid,rho pressure:time|x_mid,P_wall|P_N chempot:x_mid,ln_rho_plus_mu_ex "

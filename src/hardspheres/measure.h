@@ -52,6 +52,10 @@ int hs_run_observed(mote_hs *hs, uint64_t ncoll, mote_observer *obs, size_t nobs
 /* The dump as a count observer of the run loop (counted in collisions), into o: 1, or 0 when
  * no dump runs (xyz.c). */
 size_t hs_dump_observer(mote_hs *hs, mote_observer *o);
+/* monitor.c: the monitor's observer (0 or 1 filled), and its engine hooks on (1) for a run,
+ * chained to those installed before, or off (0) again. */
+size_t hs_monitor_observer(mote_hs *hs, mote_observer *o);
+void hs_monitor_hooks(mote_hs *hs, int on);
 /* Free the system only (keeping settings and an active dump): for commands that replace it. */
 void hs_drop_system(mote_hs *hs);
 /* The local order of the current configuration with the `order` command's definitions, per

@@ -86,6 +86,8 @@ static int check_rows(const table *t, const header *h, const char *path, mote_er
             want = t->ncol[0] == 7 ? 7 : 5; /* slit or periodic box */
         else if (!strcmp(h->format, "msd"))
             want = 4;
+        else if (!strcmp(h->format, "hard-spheres-monitor"))
+            want = 7;
         if (want > 0 && n != want)
             return mote_fail(err, MOTE_EFORMAT, "%s:%ld: malformed data row (%d numbers)", path,
                              h->row_line[r], n);
@@ -208,6 +210,23 @@ static int plot_pressure(const table *t, const header *h, const char *png, mote_
     const int yc[] = {4, 5};
     const char *const labels[] = {"P_N (normal)", "P_T (tangential)"};
     return plot_columns(t, 0, 0, yc, labels, 2, &o, png, err);
+}
+
+/* `monitor`'s rows: the pressure of each interval against time (the walls' in a slit). */
+static int plot_monitor(const table *t, const header *h, const char *png, mote_err *err)
+{
+    char title[320];
+    title_for(title, sizeof title, "Pressure over time", h);
+    mote_plot_opts o;
+    memset(&o, 0, sizeof o);
+    o.title = title;
+    o.xlabel = "t  [sqrt(m R^2 / kT)]";
+    o.ylabel = h->dim == 2 ? "pressure  [kT R^-2]" : "pressure  [kT R^-3]";
+    const int slit = t->rows > 1 && isfinite(cell(t, 1, 5));
+    const int yc_slit[] = {5, 6}, yc_box[] = {4};
+    const char *const labels_slit[] = {"P_left", "P_right"}, *const labels_box[] = {"P_virial"};
+    return slit ? plot_columns(t, 0, 0, yc_slit, labels_slit, 2, &o, png, err)
+                : plot_columns(t, 0, 0, yc_box, labels_box, 1, &o, png, err);
 }
 
 static int plot_chempot(const table *t, const header *h, const char *png, mote_err *err)
@@ -336,10 +355,11 @@ int hs_plot_file(const char *data_path, const char *png_path, mote_err *err)
                        data_path);
     else if (strcmp(h.format, "image") && strcmp(h.format, "profile") &&
              strcmp(h.format, "pressure") && strcmp(h.format, "chempot") &&
-             strcmp(h.format, "order") && strcmp(h.format, "rdf") && strcmp(h.format, "msd"))
+             strcmp(h.format, "order") && strcmp(h.format, "rdf") && strcmp(h.format, "msd") &&
+             strcmp(h.format, "hard-spheres-monitor"))
         rc = mote_fail(err, MOTE_EFORMAT,
                        "%s:1: plot knows the data of image, profile, pressure, chempot, "
-                       "order, rdf and msd, not '%s'",
+                       "order, rdf, msd and monitor, not '%s'",
                        data_path, h.format);
     if (!rc)
         rc = check_rows(&t, &h, data_path, err);
@@ -356,6 +376,8 @@ int hs_plot_file(const char *data_path, const char *png_path, mote_err *err)
             rc = plot_rdf(&t, &h, png_path, err);
         else if (!strcmp(h.format, "msd"))
             rc = plot_msd(&t, &h, png_path, err);
+        else if (!strcmp(h.format, "hard-spheres-monitor"))
+            rc = plot_monitor(&t, &h, png_path, err);
         else
             rc = plot_order(&t, &h, png_path, err);
     }
