@@ -95,6 +95,14 @@ int ch_check_run(void *vm, const mote_call *c, mote_err *err);
 int ch_run_run(void *vm, const mote_call *c, mote_err *err);
 int ch_check_float(void *vm, const mote_call *c, mote_err *err);
 int ch_run_float(void *vm, const mote_call *c, mote_err *err);
+/* run.c: a command's run options (seed, particles=, injector, threads), and whether the body and
+ * plasma are there (else the call's error) */
+mote_ch_run_opts ch_run_opts(const ch_model *m, const mote_call *c, const mote_ch_geometry *g);
+int ch_need_setup(ch_model *m, const mote_call *c, mote_err *err);
+/* run.c: a file a run writes under the output prefix (PREFIX + suffix), noted for the check */
+int ch_note_prefixed(ch_model *m, const mote_call *c, const char *suffix, const char *kind,
+                     mote_err *err);
+/* timeseries.c: `evolve` */
 int ch_check_evolve(void *vm, const mote_call *c, mote_err *err);
 int ch_run_evolve(void *vm, const mote_call *c, mote_err *err);
 int ch_check_output(void *vm, const mote_call *c, mote_err *err);

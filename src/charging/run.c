@@ -1,6 +1,6 @@
 /* run.c: the charging model's long commands: the hit-probability self-test, `run` (the
- * Monte Carlo currents to the uncharged body), `float` (the floating potential), `evolve` (U(t))
- * and `output` (which files each run writes, spec 8). */
+ * Monte Carlo currents to the uncharged body), `float` (the floating potential) and `output`
+ * (which files each run writes, spec 8); `evolve` (U(t)) is in timeseries.c. */
 #include "mote/charging.h"
 #include "mote/datafile.h"
 #include "mote/loop.h"
@@ -16,7 +16,7 @@
 /* ---- run and evolve ------------------------------------------------------------------------- */
 
 /* The run options of a command: the seed, its particles= (default 1e6), the injector, threads. */
-static mote_ch_run_opts run_opts(const ch_model *m, const mote_call *c, const mote_ch_geometry *g)
+mote_ch_run_opts ch_run_opts(const ch_model *m, const mote_call *c, const mote_ch_geometry *g)
 {
     mote_ch_run_opts o = {.seed = m->seed,
                           .solo = c->ctx->solo,
@@ -39,7 +39,7 @@ static mote_ch_run_opts run_opts(const ch_model *m, const mote_call *c, const mo
     return o;
 }
 
-static int need_setup(ch_model *m, const mote_call *c, mote_err *err)
+int ch_need_setup(ch_model *m, const mote_call *c, mote_err *err)
 {
     if (!m->have_body)
         return mote_call_fail(err, c, -1, MOTE_EINVAL, "%s: there is no body yet (body sphere, "
@@ -82,7 +82,7 @@ int ch_run_test(void *vm, const mote_call *c, mote_err *err)
     mote_ch_plasma p;
     mote_ch_plasma_preset(&p, "single", 1e6, 1000, err);
     p.nsp = 1;
-    mote_ch_run_opts o = run_opts(m, c, &g);
+    mote_ch_run_opts o = ch_run_opts(m, c, &g);
     o.field = 0;
     o.tri_material = NULL;
     o.sun = 0;
@@ -115,8 +115,8 @@ int ch_run_test(void *vm, const mote_call *c, mote_err *err)
 /* Validation: record the file PREFIX + suffix that the command c will write after `output`
  * (its summary stands for the set), so that a later writer of the same file gets the
  * whole-script check's warning instead of overwriting it silently. */
-static int note_prefixed(ch_model *m, const mote_call *c, const char *suffix, const char *kind,
-                         mote_err *err)
+int ch_note_prefixed(ch_model *m, const mote_call *c, const char *suffix, const char *kind,
+                     mote_err *err)
 {
     if (!m->check_prefix)
         return MOTE_OK;
@@ -144,11 +144,11 @@ int ch_check_run(void *vm, const mote_call *c, mote_err *err)
     if (mp && !mote_call_opt(c, "relerr"))
         return mote_call_fail(err, c, mote_call_opt_index(c, "max_particles"), MOTE_EINVAL,
                               "run: max_particles is the limit of relerr=; give relerr too");
-    int rc = need_setup(m, c, err);
+    int rc = ch_need_setup(m, c, err);
     if (!rc)
         m->have_run = 1;
     if (!rc)
-        rc = note_prefixed(m, c, "_summary.txt", "charging-summary", err);
+        rc = ch_note_prefixed(m, c, "_summary.txt", "charging-summary", err);
     return rc;
 }
 
@@ -160,7 +160,7 @@ int ch_run_run(void *vm, const mote_call *c, mote_err *err)
     if (ch_build_tri_materials(m, err))
         return err->code;
     ch_diagnose(m, "run");
-    mote_ch_run_opts o = run_opts(m, c, &g);
+    mote_ch_run_opts o = ch_run_opts(m, c, &g);
     o.potential = mote_call_opt_r(c, "potential", 0);
     mote_ch_tracer *t = mote_ch_tracer_new(&m->body, err);
     if (!t)
@@ -263,8 +263,8 @@ int ch_check_float(void *vm, const mote_call *c, mote_err *err)
     if (n && (n->r != floor(n->r) || n->r > 1e15))
         return mote_call_fail(err, c, mote_call_opt_index(c, "particles"), MOTE_EINVAL,
                               "float: particles must be a whole number (1 ... 1e15)");
-    int rc = need_setup(m, c, err);
-    return rc ? rc : note_prefixed(m, c, "_summary.txt", "charging-summary", err);
+    int rc = ch_need_setup(m, c, err);
+    return rc ? rc : ch_note_prefixed(m, c, "_summary.txt", "charging-summary", err);
 }
 
 int ch_run_float(void *vm, const mote_call *c, mote_err *err)
@@ -275,7 +275,7 @@ int ch_run_float(void *vm, const mote_call *c, mote_err *err)
     if (ch_build_tri_materials(m, err))
         return err->code;
     ch_diagnose(m, "float");
-    mote_ch_run_opts o = run_opts(m, c, &g); /* (the field on: full mode) */
+    mote_ch_run_opts o = ch_run_opts(m, c, &g); /* (the field on: full mode) */
     o.U0 = mote_call_opt_r(c, "U0", 0);
     mote_ch_tracer *t = mote_ch_tracer_new(&m->body, err);
     if (!t)
@@ -424,593 +424,6 @@ int ch_run_float(void *vm, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
-int ch_check_evolve(void *vm, const mote_call *c, mote_err *err)
-{
-    ch_model *m = vm;
-    if (!m->faithful) {
-        if (m->field_off)
-            return mote_call_fail(err, c, -1, MOTE_EINVAL, "evolve: with field none the currents "
-                                  "do not depend on U (use model charging faithful for constant "
-                                  "currents)");
-        int rc = need_setup(m, c, err);
-        if (rc)
-            return rc;
-    } else if (!m->have_run)
-        return mote_call_fail(err, c, -1, MOTE_EINVAL, "evolve: no currents yet: run first");
-    const mote_arg *dt = mote_call_opt(c, "dt_out");
-    if (dt && dt->r > mote_call_opt(c, "time")->r)
-        return mote_call_fail(err, c, mote_call_opt_index(c, "dt_out"), MOTE_EINVAL,
-                              "evolve: dt_out must not exceed time");
-    int rc = MOTE_OK;
-    if (m->ndiel > 0 && !m->have_sphere) /* the map of the surface potential */
-        if (!(rc = note_prefixed(m, c, "_potential.vtk", "potential", err)))
-            rc = note_prefixed(m, c, "_potential.png", "potential", err);
-    if (!rc && !mote_call_opt(c, "file") && m->check_timeseries)
-        rc = note_prefixed(m, c, "_timeseries.csv", "timeseries", err);
-    return rc;
-}
-
-/* The time-series file of evolve (spec 8.1): file= if given, else P_timeseries.csv after
- * `output prefix=P` (unless timeseries=off); only MPI rank 0 writes. 1 when one is open. */
-static int open_timeseries(ch_model *m, const mote_call *c, mote_datafile *d, mote_err *err,
-                           int *rc)
-{
-    *rc = MOTE_OK;
-    if (ch_mpi_rank(m->ctx ? m->ctx->solo : 0) != 0)
-        return 0;
-    const mote_arg *f = mote_call_opt(c, "file");
-    char *path = NULL;
-    if (!f && (!m->prefix || !m->out_timeseries))
-        return 0;
-    if (!f) {
-        const size_t len = strlen(m->prefix) + 32;
-        if (!(path = malloc(len))) {
-            *rc = mote_fail(err, MOTE_ENOMEM, "evolve: out of memory");
-            return 0;
-        }
-        snprintf(path, len, "%s_timeseries.csv", m->prefix);
-    }
-    char *origin = mote_call_origin(c);
-    *rc = mote_datafile_open(d, f ? f->path : path, "charging-timeseries",
-                             origin ? origin : "evolve", m->seed, err);
-    free(origin);
-    if (!*rc && m->log && !f)
-        fprintf(m->log, "output: writing %s\n", path);
-    free(path);
-    return *rc == MOTE_OK;
-}
-
-/* The columns of the time series after t_s Q_C U_V sigma_U_V I_net_A (spec 8.1). */
-static void timeseries_columns(const ch_model *m, FILE *out)
-{
-    fprintf(out, "# columns: t_s Q_C U_V sigma_U_V I_net_A");
-    for (int s = 0; s < m->plasma.nsp; s++)
-        fprintf(out, " I_%s_A Nreal_%s", m->plasma.sp[s].name, m->plasma.sp[s].name);
-    fprintf(out, " I_see_A I_photo_A\n");
-}
-
-/* Full mode (spec 6.6): C dU/dt = I_net(U) from the tabulated characteristic. */
-/* evolve's rows at t = k dt (and at T), through the core's loop: the clock moves from stop to
- * stop (the table or the equations give the state at any time; advance() integrates them), the
- * row is the observer. */
-typedef struct {
-    double t;
-    int (*advance)(void *ctx, double t, mote_err *err); /* NULL: nothing to integrate */
-    void *ctx;
-} evolve_clock;
-
-static double evolve_clock_now(const void *vc) { return ((const evolve_clock *)vc)->t; }
-static int evolve_clock_advance(void *vc, mote_loop *l, double t_stop, uint64_t n_stop,
-                                mote_err *err)
-{
-    evolve_clock *c = vc;
-    int rc = c->advance ? c->advance(c->ctx, t_stop, err) : MOTE_OK;
-    if (!rc)
-        c->t = t_stop;
-    return rc;
-}
-
-static int evolve_clock_run_with(const mote_call *call, int (*row)(void *, void *, mote_err *),
-                                 void *rows, mote_schedule *at, double T,
-                                 int (*advance)(void *, double, mote_err *), void *ctx,
-                                 mote_err *err)
-{
-    evolve_clock c = {0, advance, ctx};
-    const mote_runner r = {.what = "evolve", .sys = &c, .ctx = call->ctx,
-                           .clock = evolve_clock_now, .advance = evolve_clock_advance};
-    const mote_observer o = {.at = at, .ctx = rows, .fire = row};
-    return mote_run(&r, &o, 1, NULL, T, UINT64_MAX, err);
-}
-
-static int evolve_clock_run(const mote_call *call, int (*row)(void *, void *, mote_err *),
-                            void *rows, mote_schedule *at, double T, mote_err *err)
-{
-    return evolve_clock_run_with(call, row, rows, at, T, NULL, NULL, err);
-}
-
-/* A row of the full mode's time series at `time`. */
-typedef struct {
-    ch_model *m;
-    const ch_table *t;
-    double C;
-    int f;
-    FILE *out;
-    double nreal[MOTE_CH_MAX_SPECIES];
-    double last; /* the time of the last row */
-    mote_schedule at;
-} full_rows;
-
-static void full_row_at(full_rows *x, double time)
-{
-    ch_model *m = x->m;
-    const ch_table *t = x->t;
-    const double C = x->C, U = ch_table_u_at(t, time);
-    const int nsp = m->plasma.nsp;
-    FILE *out = x->out;
-    /* the real particles collected since the last row: 32 trapezoids */
-    for (int q = 0; q < 32 && time > x->last; q++) {
-        const double ta = x->last + (time - x->last) * q / 32;
-        const double tb = x->last + (time - x->last) * (q + 1) / 32;
-        const double ua = ch_table_u_at(t, ta), ub = ch_table_u_at(t, tb);
-        for (int s = 0; s < nsp; s++)
-            x->nreal[s] += 0.5 * (tb - ta) *
-                           (fabs(ch_table_col(t, ua, s)) + fabs(ch_table_col(t, ub, s))) /
-                           (abs(m->plasma.sp[s].Z) * MOTE_CH_E);
-    }
-    x->last = time;
-    const double sU = ch_table_col(t, U, nsp + 2) * fmin(time, t->tau) / C;
-    if (x->f) {
-        fprintf(out, "%.10g %.10g %.10g %.10g %.10g", time, C * U, U, sU, ch_table_eval(t, U));
-        for (int s = 0; s < nsp; s++)
-            fprintf(out, " %.10g %.10g", ch_table_col(t, U, s), x->nreal[s]);
-        fprintf(out, " %.10g %.10g\n", ch_table_col(t, U, nsp), ch_table_col(t, U, nsp + 1));
-    } else {
-        fprintf(out, "evolve: t %.10g s Q %.10g C U %.10g V I %.10g A\n", time, C * U, U,
-                ch_table_eval(t, U));
-    }
-    if (m->legacy_stdout && m->log) { /* the original's columns: Q U t collisions */
-        double ntot = 0;
-        for (int s = 0; s < nsp; s++)
-            ntot += x->nreal[s];
-        fprintf(m->log, "%.10g %.10g %.10g %.10g\n", C * U, U, time, ntot);
-    }
-}
-
-static int full_row(void *vx, void *subject, mote_err *err)
-{
-    full_rows *x = vx;
-    if (x->out)
-        full_row_at(x, mote_schedule_next(&x->at));
-    return MOTE_OK;
-}
-
-static int evolve_full(ch_model *m, const mote_call *c, mote_err *err)
-{
-    mote_ch_geometry g;
-    mote_ch_body_geometry(&m->body, &g);
-    const double T = mote_call_opt(c, "time")->r, dt = mote_call_opt_r(c, "dt_out", T);
-    const double U0 = mote_call_opt_r(c, "U0", 0), C = g.capacitance;
-    if (ch_build_tri_materials(m, err))
-        return err->code;
-    mote_ch_run_opts o = run_opts(m, c, &g); /* (the field on: full mode) */
-    mote_ch_tracer *tr = mote_ch_tracer_new(&m->body, err);
-    if (!tr)
-        return err->code;
-    ch_table t;
-    mote_progress prog; /* one line for all the runs of the table */
-    mote_progress_begin(&prog, c->ctx, c->name);
-    o.progress = &prog;
-    int rc = ch_table_build(&m->plasma, &m->body, tr, &o, U0, &t, err);
-    mote_progress_end(&prog);
-    mote_ch_tracer_free(tr);
-    if (!rc)
-        rc = ch_table_times(&t, C, err);
-    if (rc) {
-        ch_table_free(&t);
-        return rc;
-    }
-    mote_datafile d;
-    const int f = open_timeseries(m, c, &d, err, &rc);
-    if (rc) {
-        ch_table_free(&t);
-        return rc;
-    }
-    FILE *out = f ? d.f : m->log;
-    if (f) {
-        fprintf(out, "# mode = full (C dU/dt = I_net(U), the characteristic tabulated at %d "
-                     "potentials, %llu histories per component each; the species' and emission "
-                     "currents interpolated linearly between them; sigma_U = sigma_I min(t, tau) "
-                     "/ C, an estimate)\n# C_F = %.10g\n# U_f_V = %.10g\n# tau_s = %.10g\n",
-                t.n, (unsigned long long)o.particles, C, t.Uf, t.tau);
-        timeseries_columns(m, out);
-    }
-    if (m->log)
-        fprintf(m->log, "evolve: I(U) tabulated at %d potentials from %g V to %g V; U_f = %.6g V, "
-                        "tau = C/|dI/dU| = %.4g s; 50%% of U_f at %.4g s, 90%% at %.4g s\n",
-                t.n, t.U[0], t.U[t.n - 1], t.Uf, t.tau, ch_table_t_at(&t, U0 + 0.5 * (t.Uf - U0)),
-                ch_table_t_at(&t, U0 + 0.9 * (t.Uf - U0)));
-    full_rows x = {m, &t, C, f, out, {0}, 0, {0, dt, 0}};
-    int rc2 = evolve_clock_run(c, full_row, &x, &x.at, T, err); /* (rows when there is an out) */
-    if (!rc2 && out && fabs(x.last - T) > 1e-12 * T) /* the end, between two rows */
-        full_row_at(&x, T);
-    if (rc2) {
-        ch_table_free(&t);
-        if (f)
-            mote_datafile_abort(&d);
-        return rc2;
-    }
-    ch_table_free(&t);
-    return f ? mote_datafile_commit(&d, err) : MOTE_OK;
-}
-
-/* ---- differential charging (spec 6.10) ---- */
-
-typedef struct {
-    ch_model *m;
-    const mote_ch_tracer *tr;
-    mote_ch_run_opts o;
-    const int *tri_patch;
-    int runs;
-    double Ic, sig, Ip[CH_MAX_PATCHES]; /* faithful: the run's constant currents */
-} patch_node_ctx;
-
-/* The currents of the triangles of patch p (-1: the conductor) in a run: collected, emitted,
- * photoelectrons. */
-static double part_current(const ch_model *m, const mote_ch_result *r, const int *tri_patch,
-                           int p)
-{
-    const uint32_t ntri = r->ntri;
-    double I = 0;
-    int comp = 0;
-    for (int s = 0; s < r->nsp; s++)
-        for (int k = 0; k < m->plasma.sp[s].ncomp; k++, comp++) {
-            uint64_t h = 0;
-            double see = 0;
-            for (uint32_t i = 0; i < ntri; i++) {
-                if (tri_patch[i] != p)
-                    continue;
-                const size_t q = (size_t)comp * ntri * 2 + 2 * (size_t)i;
-                h += r->tri_hits[q] + r->tri_hits[q + 1];
-                if (r->tri_see)
-                    see += r->tri_see[q] + r->tri_see[q + 1];
-            }
-            I += r->weight[s][k] * (double)h + see;
-        }
-    for (uint32_t i = 0; r->tri_photo && i < ntri; i++)
-        if (tri_patch[i] == p)
-            I += r->tri_photo[2 * (size_t)i] + r->tri_photo[2 * (size_t)i + 1];
-    return I;
-}
-
-static int patch_node(void *vx, double U, double *Ic, double *sig, double *Ip, mote_err *err)
-{
-    patch_node_ctx *x = vx;
-    if (x->m->faithful) { /* constant currents, whatever the potentials */
-        *Ic = x->Ic;
-        *sig = x->sig;
-        for (int p = 0; p < x->m->ndiel; p++)
-            for (int g = 0; g < x->o.ndv; g++)
-                Ip[(size_t)p * (size_t)x->o.ndv + (size_t)g] = x->Ip[p];
-        return MOTE_OK;
-    }
-    mote_ch_run_opts q = x->o;
-    q.potential = U;
-    mote_ch_result r;
-    int rc = mote_ch_run(&x->m->plasma, &x->m->body, x->tr, &q, &r, err);
-    if (rc)
-        return rc;
-    x->runs++;
-    mote_ch_net(&r, sig);
-    *Ic = part_current(x->m, &r, x->tri_patch, -1);
-    memcpy(Ip, r.patch_I, (size_t)x->m->ndiel * (size_t)q.ndv * sizeof *Ip);
-    mote_ch_result_free(&r);
-    return MOTE_OK;
-}
-
-/* The name of triangle i's part (the exact sphere: its one part). */
-static const char *body_part_name(const ch_model *m, uint32_t i)
-{
-    return m->body.sphere ? "sphere" : m->body.part_name[m->body.part[i]];
-}
-
-/* A row of the differential charging's time series at `time` (the state integrated to it). */
-typedef struct {
-    ch_model *m;
-    ch_patches *P;
-    double C;
-    int f;
-    FILE *out;
-    int np;
-    double y[CH_MAX_PATCHES + 1], t, h; /* the state, its time, the integrator's step */
-    double dvmax, t_dvmax;
-    int p_dvmax;
-    double last; /* the time of the last row (-1: none) */
-    mote_schedule at;
-} patch_rows;
-
-static int patch_advance(void *vr, double time, mote_err *err)
-{
-    patch_rows *r = vr;
-    return ch_patches_advance(r->P, r->y, &r->h, time, &r->t, err);
-}
-
-static int patch_row_at(patch_rows *r, double time, mote_err *err)
-{
-    ch_model *m = r->m;
-    ch_patches *P = r->P;
-    const double *y = r->y, C = r->C;
-    const int np = r->np;
-    FILE *out = r->out;
-    int rc = time > r->t ? patch_advance(r, time, err) : MOTE_OK;
-    r->last = time;
-    double Ic, Ip[CH_MAX_PATCHES], sig, I;
-    if (rc || (rc = ch_patches_currents(P, y[0], y + 1, &Ic, Ip, &sig, err)) != 0)
-        return rc;
-    I = Ic;
-    double dm = 0;
-    for (int p = 0; p < np; p++) {
-        I += Ip[p];
-        dm = fmax(dm, fabs(y[1 + p]));
-        if (fabs(y[1 + p]) > r->dvmax) {
-            r->dvmax = fabs(y[1 + p]);
-            r->p_dvmax = p;
-            r->t_dvmax = time;
-        }
-    }
-    if (r->f) {
-        /* sigma_U: the net current's error over min(t, tau), tau = C / |dI/dU| (faithful:
-         * sigma_I t / C) */
-        double sU = sig * time / C;
-        if (!m->faithful) {
-            const double e = 1e-3 * P->scale;
-            double Ic2, Ip2[CH_MAX_PATCHES], I2 = 0;
-            if ((rc = ch_patches_currents(P, y[0] + e, y + 1, &Ic2, Ip2, NULL, err)) != 0)
-                return rc;
-            I2 = Ic2;
-            for (int p = 0; p < np; p++)
-                I2 += Ip2[p];
-            const double slope = fabs(I2 - I) / e;
-            sU = sig * fmin(time, slope > 0 ? C / slope : time) / C;
-        }
-        fprintf(out, "%.10g %.10g %.10g %.10g %.10g", time, C * y[0], y[0], sU, I);
-        for (int p = 0; p < np; p++)
-            fprintf(out, " %.10g", y[0] + y[1 + p]);
-        fprintf(out, " %.10g\n", dm);
-    } else if (out) {
-        fprintf(out, "evolve: t %.10g s U %.10g V", time, y[0]);
-        for (int p = 0; p < np; p++)
-            fprintf(out, " V_%s %.10g V", m->diel[p].part, y[0] + y[1 + p]);
-        fputc('\n', out);
-    }
-    return MOTE_OK;
-}
-
-static int patch_row(void *vr, void *subject, mote_err *err)
-{
-    patch_rows *r = vr;
-    return patch_row_at(r, mote_schedule_next(&r->at), err);
-}
-
-static int evolve_patches(ch_model *m, const mote_call *c, mote_err *err)
-{
-    mote_ch_geometry g;
-    mote_ch_body_geometry(&m->body, &g);
-    const double T = mote_call_opt(c, "time")->r, dt = mote_call_opt_r(c, "dt_out", T);
-    const double U0 = m->faithful ? 0 : mote_call_opt_r(c, "U0", 0), C = g.capacitance;
-    const uint32_t ntri = m->body.sphere ? 1 : m->body.ntri;
-    const int np = m->ndiel;
-    int *tri_patch = malloc((size_t)ntri * sizeof *tri_patch);
-    if (!tri_patch)
-        return mote_fail(err, MOTE_ENOMEM, "evolve: out of memory");
-    ch_patches P;
-    memset(&P, 0, sizeof P);
-    double area[CH_MAX_PATCHES] = {0}, eps[CH_MAX_PATCHES];
-    for (uint32_t i = 0; i < ntri; i++) {
-        tri_patch[i] = -1;
-        for (int p = 0; p < np; p++)
-            if (!strcmp(body_part_name(m, i), m->diel[p].part)) {
-                tri_patch[i] = p;
-                area[p] += m->body.sphere ? 4 * MOTE_CH_PI * m->body.sphere_r * m->body.sphere_r
-                                          : m->body.area[i] * (m->body.closed[i] ? 1 : 2);
-            }
-    }
-    int rc = MOTE_OK;
-    for (int p = 0; p < np && !rc; p++) {
-        eps[p] = m->diel[p].eps_r > 0 ? m->diel[p].eps_r : ch_part_eps(m, m->diel[p].part);
-        if (!(eps[p] >= 1))
-            rc = mote_call_fail(err, c, -1, MOTE_EINVAL, "evolve: dielectric part '%s' has no "
-                                "permittivity: give eps_r= to dielectric, or assign it a "
-                                "material with one (kapton, teflon, cover-glass)",
-                                m->diel[p].part);
-        else if (!(area[p] > 0))
-            rc = mote_call_fail(err, c, -1, MOTE_EINVAL, "evolve: dielectric part '%s' has no "
-                                "triangles", m->diel[p].part);
-        P.Cp[p] = MOTE_CH_EPS0 * eps[p] * area[p] / m->diel[p].d;
-        const double sig = /* (sigma= of dielectric, else the part's material's) */
-            m->diel[p].sigma >= 0 ? m->diel[p].sigma : ch_part_sigma(m, m->diel[p].part);
-        P.Rp[p] = sig > 0 ? m->diel[p].d / (sig * area[p]) : INFINITY;
-    }
-    if (!rc)
-        rc = ch_patches_init(&P, np, ch_smallest_kT(m), U0, err);
-    if (!rc && !m->faithful)
-        rc = ch_build_tri_materials(m, err);
-    patch_node_ctx x = {.m = m, .tri_patch = tri_patch};
-    mote_ch_tracer *tr = NULL;
-    if (!rc && m->faithful) { /* the last run's currents */
-        x.Ic = part_current(m, &m->res, tri_patch, -1);
-        for (int p = 0; p < np; p++)
-            x.Ip[p] = part_current(m, &m->res, tri_patch, p);
-        mote_ch_net(&m->res, &x.sig);
-    } else if (!rc && !(tr = mote_ch_tracer_new(&m->body, err)))
-        rc = err->code;
-    if (rc) {
-        free(tri_patch);
-        ch_patches_free(&P);
-        return rc;
-    }
-    x.tr = tr;
-    x.o = run_opts(m, c, &g);
-    x.o.tri_patch = tri_patch;
-    x.o.npatch = np;
-    x.o.dv = P.dv;
-    x.o.ndv = P.ndv;
-    P.C = C;
-    P.node = patch_node;
-    P.ctx = &x;
-    mote_progress prog; /* one line for all the runs */
-    mote_progress_begin(&prog, c->ctx, c->name);
-    x.o.progress = &prog;
-    mote_datafile d;
-    const int f = open_timeseries(m, c, &d, err, &rc);
-    FILE *out = f ? d.f : m->log;
-    if (f) {
-        fprintf(out, "# mode = %s with %d dielectric part%s (spec 6.10: C dU/dt = sum I, C_p "
-                     "d(V_p - U)/dt = I_p - (V_p - U)/R_p; implicit Euler extrapolated, "
-                     "tolerance 1e-7)\n# C_F = %.10g\n",
-                m->faithful ? "faithful" : "full", np, np > 1 ? "s" : "", C);
-        for (int p = 0; p < np; p++)
-            fprintf(out, "# A_%s_m2 = %.10g\n# C_p_%s_F = %.10g\n# R_p_%s_ohm = %.10g\n",
-                    m->diel[p].part, area[p], m->diel[p].part, P.Cp[p], m->diel[p].part, P.Rp[p]);
-        fprintf(out, "# columns: t_s Q_C U_V sigma_U_V I_net_A");
-        for (int p = 0; p < np; p++)
-            fprintf(out, " V_%s_V", m->diel[p].part);
-        fputs(" dV_max_V\n", out);
-    }
-    patch_rows r = {m, &P, C, f, out, np, {U0}, 0, 1e-9 * T, 0, 0, 0, -1, {0, dt, 0}};
-    if (!rc)
-        rc = evolve_clock_run_with(c, patch_row, &r, &r.at, T, patch_advance, &r, err);
-    if (!rc && fabs(r.last - T) > 1e-12 * T) /* the end, between two rows */
-        rc = patch_row_at(&r, T, err);
-    double *y = r.y, dvmax = r.dvmax, t_dvmax = r.t_dvmax;
-    const int p_dvmax = r.p_dvmax;
-    mote_progress_end(&prog);
-    if (!rc && m->log) {
-        fprintf(m->log, "evolve: %d dielectric part%s; %ld steps, currents from %d node%s%s\n", np,
-                np > 1 ? "s" : "", P.steps, P.nn, P.nn == 1 ? "" : "s",
-                m->faithful ? " (faithful: the last run's constant currents)" : "");
-        for (int p = 0; p < np; p++) {
-            const double tau = P.Cp[p] * P.Rp[p];
-            fprintf(m->log, "evolve: dielectric %s: A = %.6g m^2, C_p = %.6g F, R_p = %.6g ohm, "
-                            "tau_p = %.6g s; at t = %g s V_p = %.8g V, V_p - U = %.8g V\n",
-                    m->diel[p].part, area[p], P.Cp[p], P.Rp[p], tau, T, y[0] + y[1 + p],
-                    y[1 + p]);
-        }
-        fprintf(m->log, "evolve: at t = %g s U = %.8g V; the largest |V_p - U| %.6g V (%s, at t "
-                        "= %g s)\n", T, y[0], dvmax, m->diel[p_dvmax].part, t_dvmax);
-    }
-    if (!rc && m->prefix && !m->body.sphere) { /* the map of the surface potential at T */
-        double *V = malloc((size_t)ntri * sizeof *V);
-        if (!V)
-            rc = mote_fail(err, MOTE_ENOMEM, "evolve: out of memory");
-        for (uint32_t i = 0; V && i < ntri; i++)
-            V[i] = y[0] + (tri_patch[i] >= 0 ? y[1 + tri_patch[i]] : 0);
-        ch_output oo = ch_output_of(m, &g, &x.o, y[0]);
-        oo.tri_V = V;
-        oo.time = T;
-        if (!rc)
-            rc = ch_write_potential(&oo, m->log, err);
-        free(V);
-    }
-    mote_ch_tracer_free(tr);
-    free(tri_patch);
-    ch_patches_free(&P);
-    if (f)
-        return rc ? (mote_datafile_abort(&d), rc) : mote_datafile_commit(&d, err);
-    return rc;
-}
-
-/* Faithful mode (spec 1.2): constant currents, Q = I t and U = Q / C. */
-/* A row of the faithful mode's time series (constant currents: Q = I t). */
-typedef struct {
-    ch_model *m;
-    double inet, C, sig;
-    int f;
-    FILE *out;
-    double last; /* the time of the last row (-1: none) */
-    mote_schedule at;
-} faithful_rows;
-
-static void faithful_row_at(faithful_rows *x, double t)
-{
-    ch_model *m = x->m;
-    FILE *out = x->out;
-    const int f = x->f;
-    const double inet = x->inet, C = x->C;
-    x->last = t;
-    fprintf(out, f ? "%.10g %.10g %.10g %.10g %.10g" : "evolve: t %.10g s Q %.10g C U %.10g V "
-                                                      "+- %.3g I %.10g A",
-            t, inet * t, inet * t / C, x->sig * t / C, inet);
-    for (int s = 0; s < m->plasma.nsp; s++) {
-        const double nreal = fabs(m->res.current[s]) * t / (abs(m->plasma.sp[s].Z) * MOTE_CH_E);
-        if (f)
-            fprintf(out, " %.10g %.10g", m->res.current[s], nreal);
-        else
-            fprintf(out, " N_%s %.10g", m->plasma.sp[s].name, nreal);
-    }
-    fputs(f ? " 0 0\n" : "\n", out); /* (faithful: no emission) */
-    if (m->legacy_stdout && m->log) { /* the original's columns: Q U t collisions */
-        double ntot = 0;
-        for (int s = 0; s < m->plasma.nsp; s++)
-            ntot += fabs(m->res.current[s]) * t / (abs(m->plasma.sp[s].Z) * MOTE_CH_E);
-        fprintf(m->log, "%.10g %.10g %.10g %.10g\n", inet * t + 0.0, inet * t / C + 0.0, t, ntot);
-    }
-}
-
-static int faithful_row(void *vx, void *subject, mote_err *err)
-{
-    faithful_rows *x = vx;
-    if (x->out)
-        faithful_row_at(x, mote_schedule_next(&x->at));
-    return MOTE_OK;
-}
-
-int ch_run_evolve(void *vm, const mote_call *c, mote_err *err)
-{
-    ch_model *m = vm;
-    if (m->ndiel > 0) {
-        if (!m->faithful)
-            ch_diagnose(m, "evolve");
-        return evolve_patches(m, c, err);
-    }
-    if (!m->faithful) {
-        ch_diagnose(m, "evolve");
-        return evolve_full(m, c, err);
-    }
-    mote_ch_geometry g;
-    mote_ch_body_geometry(&m->body, &g);
-    const double T = mote_call_opt(c, "time")->r;
-    const double dt = mote_call_opt_r(c, "dt_out", T);
-    double inet = 0, var = 0;
-    for (int s = 0; s < m->plasma.nsp; s++) {
-        inet += m->res.current[s];
-        var += m->res.sigma[s] * m->res.sigma[s];
-    }
-    const double C = g.capacitance, sig = sqrt(var);
-    mote_datafile d;
-    int rc;
-    const int f = open_timeseries(m, c, &d, err, &rc);
-    if (rc)
-        return rc;
-    FILE *out = f ? d.f : m->log;
-    if (f) {
-        fprintf(out, "# mode = faithful (constant currents, Q = I t, U = Q / C)\n# C_F = %.10g\n"
-                     "# area_m2 = %.10g\n# histories = %llu\n", C, g.area,
-                (unsigned long long)m->res.histories);
-        timeseries_columns(m, out);
-    } else if (out) {
-        fprintf(out, "evolve: dU/dt = %.10g V/s (I = %.10g A, C = %.10g F)\n", inet / C, inet, C);
-    }
-    faithful_rows x = {m, inet, C, sig, f, out, -1, {0, dt, 0}};
-    rc = evolve_clock_run(c, faithful_row, &x, &x.at, T, err); /* (rows when there is an out) */
-    if (!rc && out && fabs(x.last - T) > 1e-12 * T) /* the end, between two rows */
-        faithful_row_at(&x, T);
-    if (rc) {
-        if (f)
-            mote_datafile_abort(&d);
-        return rc;
-    }
-    return f ? mote_datafile_commit(&d, err) : MOTE_OK;
-}
 
 /* ---- output (spec 8) ------------------------------------------------------------------------ */
 
