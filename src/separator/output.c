@@ -510,3 +510,67 @@ int sep_write_balance(const mote_sep_system *s, const char *path, const char *or
     sep_balance_text(df.f, s, held, rows, 0, nrows, 1);
     return mote_datafile_commit(&df, err);
 }
+
+/* ---- the Tromp curve (spec 3.1) ------------------------------------------------------------- */
+
+void mote_sep_tromp(const mote_sep_system *s, double *T, mote_sep_cut *cut)
+{
+    mote_sep_tromp_species(s, -1, T, cut);
+}
+
+void mote_sep_tromp_species(const mote_sep_system *s, int sp, double *T, mote_sep_cut *cut)
+{
+    for (int i = 0; i < s->nclass; i++) {
+        const size_t q = (size_t)i * MOTE_SEP_MAX_SPECIES + (size_t)(sp < 0 ? 0 : sp);
+        const double mf = sp < 0 ? s->cl_mf[i] : s->cls_mf[q], mc = sp < 0 ? s->cl_mc[i] : s->cls_mc[q];
+        const double tot = mf + mc;
+        T[i] = tot > 0 ? mc / tot : NAN;
+    }
+    const double x[3] = {0.25, 0.5, 0.75};
+    double dx[3];
+    cut->crossings50 = 0;
+    for (int q = 0; q < 3; q++) {
+        dx[q] = NAN;
+        int prev = -1;
+        for (int i = 0; i < s->nclass; i++) {
+            if (isnan(T[i]))
+                continue;
+            if (prev >= 0 && (T[prev] < x[q]) != (T[i] < x[q])) {
+                const double l0 = 0.5 * (log(s->class_edge[prev]) + log(s->class_edge[prev + 1]));
+                const double l1 = 0.5 * (log(s->class_edge[i]) + log(s->class_edge[i + 1]));
+                if (isnan(dx[q]))
+                    dx[q] = exp(l0 + (x[q] - T[prev]) / (T[i] - T[prev]) * (l1 - l0));
+                if (q == 1)
+                    cut->crossings50++;
+            }
+            prev = i;
+        }
+    }
+    cut->d25 = dx[0];
+    cut->d50 = dx[1];
+    cut->d75 = dx[2];
+    cut->kappa = dx[0] / dx[2];
+    cut->Ep = 0.5 * (dx[2] - dx[0]);
+    cut->I = cut->Ep / dx[1];
+}
+
+/* ---- the mass balance (spec 2.11) ----------------------------------------------------------- */
+
+int mote_sep_check_balance(const mote_sep_system *s)
+{
+    uint64_t in[MOTE_SEP_MAX_SPECIES] = {0};
+    double min[MOTE_SEP_MAX_SPECIES] = {0};
+    for (size_t i = 0; i < s->n; i++) {
+        in[s->s[i]]++;
+        min[s->s[i]] += s->m[i];
+    }
+    for (int k = 0; k < s->nsp; k++) {
+        const mote_sep_count *c = &s->cnt[k];
+        if (c->fed != in[k] + c->fines + c->coarse + c->lost)
+            return -1;
+        const double sum = min[k] + c->m_fines + c->m_coarse + c->m_lost;
+        if (fabs(sum - c->m_fed) > 1e-12 * fmax(c->m_fed, 1e-300))
+            return -1;
+    }
+    return 0;
+}

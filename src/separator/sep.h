@@ -115,4 +115,7 @@ void sep_balance_text(FILE *f, const mote_sep_system *s, int held, const double 
 int sep_write_balance(const mote_sep_system *s, const char *path, const char *origin,
                       uint64_t seed, const double *rows, size_t nrows, int held, mote_err *err);
 
+/* prepare.c: the gas profile's density and viscosity at z (the constants without a profile) */
+void sep_profile_at(const mote_sep_system *s, double z, double *rho, double *mu);
+
 #endif
