@@ -17,6 +17,10 @@ printf '%bbody sphere radius=1\nrun particles=2e6\nevolve time=2.5e-4 dt_out=2.5
 awk -F '[,\r]' 'FNR > 1 { n++; t[n] = $1; U[n] = $3; s[n] = $4 } END { d = U[n] + 146.77; ok = n == 11 && d * d <= 9 * s[n] * s[n] + 1e-6;
      for (k = 2; k <= n; k++) { r = U[k] / t[k] - U[n] / t[n]; if (r * r > 1e-16 * (U[n] / t[n]) ^ 2) ok = 0 } exit !ok }' ts.csv && ok || bad "U(0.25 ms): $(tail -1 ts.csv)"
 grep -q '^run: e    I = -6.70' out.txt && ok || bad "run line: $(grep '^run: e' out.txt)"
+# dt= is the shared word for the rows' interval (dt_out=, its earlier name, gives the same rows)
+sed 's/dt_out=2.5e-5 file=ts.csv/dt=2.5e-5 file=ts2.csv/' f1.mote > f2.mote
+"$MOTE" run f2.mote > out2.txt 2> err.txt && cmp -s ts.csv ts2.csv && ok || bad "evolve dt= and dt_out= differ: $(cat err.txt)"
+expect 1 "f3.mote:4:33: error: evolve: give dt= (the rows' interval) or dt_out= (its earlier name), not both" f3.mote "${F}body sphere radius=1\nrun particles=1e4\nevolve time=1e-4 dt=1e-5 dt_out=1e-5\n"
 
 # legacy_stdout=on (spec 8.1): the original's four columns Q U t collisions on stdout, the same
 # numbers as the time series (P_timeseries.csv after output prefix)

@@ -969,8 +969,8 @@ static const mote_cmd ch_commands[] = {
      "[png_scale=linear|log]",
      "the files of spec 8 after each run (tables, VTK, summary, surface picture)", HELP_OUTPUT,
      ch_check_output, ch_run_output},
-    {"evolve", NULL, "time=r>0! dt_out=r>0 file=f>timeseries U0=r particles=r>=1",
-     "evolve time=T [dt_out=D] [file=FILE] [U0=0] [particles=N]",
+    {"evolve", NULL, "time=r>0! dt=r>0 dt_out=r>0 file=f>timeseries U0=r particles=r>=1",
+     "evolve time=T [dt=D] [file=FILE] [U0=0] [particles=N]",
      "U(t) of faithful mode (constant currents)", HELP_EVOLVE, ch_check_evolve, ch_run_evolve},
 };
 

@@ -15,6 +15,12 @@
 
 #include "model.h"
 
+/* The rows' interval: dt= (dt_out=, its earlier name), or the whole time. */
+static double evolve_dt(const mote_call *c, double T)
+{
+    return mote_call_opt_r(c, "dt", mote_call_opt_r(c, "dt_out", T));
+}
+
 int ch_check_evolve(void *vm, const mote_call *c, mote_err *err)
 {
     ch_model *m = vm;
@@ -28,10 +34,17 @@ int ch_check_evolve(void *vm, const mote_call *c, mote_err *err)
             return rc;
     } else if (!m->have_run)
         return mote_call_fail(err, c, -1, MOTE_EINVAL, "evolve: no currents yet: run first");
-    const mote_arg *dt = mote_call_opt(c, "dt_out");
-    if (dt && dt->r > mote_call_opt(c, "time")->r)
+    const mote_arg *dt = mote_call_opt(c, "dt"), *dto = mote_call_opt(c, "dt_out");
+    if (dt && dto)
         return mote_call_fail(err, c, mote_call_opt_index(c, "dt_out"), MOTE_EINVAL,
-                              "evolve: dt_out must not exceed time");
+                              "evolve: give dt= (the rows' interval) or dt_out= (its earlier "
+                              "name), not both");
+    if (dto)
+        dt = dto;
+    if (dt && dt->r > mote_call_opt(c, "time")->r)
+        return mote_call_fail(err, c, mote_call_opt_index(c, dto ? "dt_out" : "dt"),
+                              MOTE_EINVAL, "evolve: %s must not exceed time",
+                              dto ? "dt_out" : "dt");
     int rc = MOTE_OK;
     if (m->ndiel > 0 && !m->have_sphere) /* the map of the surface potential */
         if (!(rc = ch_note_prefixed(m, c, "_potential.vtk", "potential", err)))
@@ -179,7 +192,7 @@ static int evolve_full(ch_model *m, const mote_call *c, mote_err *err)
 {
     mote_ch_geometry g;
     mote_ch_body_geometry(&m->body, &g);
-    const double T = mote_call_opt(c, "time")->r, dt = mote_call_opt_r(c, "dt_out", T);
+    const double T = mote_call_opt(c, "time")->r, dt = evolve_dt(c, T);
     const double U0 = mote_call_opt_r(c, "U0", 0), C = g.capacitance;
     if (ch_build_tri_materials(m, err))
         return err->code;
@@ -386,7 +399,7 @@ static int evolve_patches(ch_model *m, const mote_call *c, mote_err *err)
 {
     mote_ch_geometry g;
     mote_ch_body_geometry(&m->body, &g);
-    const double T = mote_call_opt(c, "time")->r, dt = mote_call_opt_r(c, "dt_out", T);
+    const double T = mote_call_opt(c, "time")->r, dt = evolve_dt(c, T);
     const double U0 = m->faithful ? 0 : mote_call_opt_r(c, "U0", 0), C = g.capacitance;
     const uint32_t ntri = m->body.sphere ? 1 : m->body.ntri;
     const int np = m->ndiel;
@@ -570,7 +583,7 @@ int ch_run_evolve(void *vm, const mote_call *c, mote_err *err)
     mote_ch_geometry g;
     mote_ch_body_geometry(&m->body, &g);
     const double T = mote_call_opt(c, "time")->r;
-    const double dt = mote_call_opt_r(c, "dt_out", T);
+    const double dt = evolve_dt(c, T);
     double inet = 0, var = 0;
     for (int s = 0; s < m->plasma.nsp; s++) {
         inet += m->res.current[s];
