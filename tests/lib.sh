@@ -37,3 +37,19 @@ mote_test_end() {
     echo "$passed passed, $failed failed"
     [ "$failed" -eq 0 ] && [ "$passed" -gt 0 ]
 }
+
+# sigint_after_rows SCRIPT PARTIAL N OUT: run SCRIPT in the background and stop it with SIGINT
+# once PARTIAL holds N data rows (or after 2 minutes); its exit status is left in $sigint_rc.
+# (A background job of a script ignores SIGINT unless told otherwise: env --default-signal.)
+sigint_after_rows() {
+    env --default-signal=INT "$MOTE" run "$1" > "$4" 2>&1 &
+    sigint_pid=$!
+    sigint_i=0
+    while [ "$sigint_i" -lt 1200 ] && [ "$(grep -vc '^#' "$2" 2>/dev/null || echo 0)" -lt "$3" ]; do
+        sleep 0.1
+        sigint_i=$((sigint_i + 1))
+    done
+    kill -INT "$sigint_pid"
+    wait "$sigint_pid"
+    sigint_rc=$?
+}

@@ -164,16 +164,8 @@ printf '%bmonitor dt=0.01 file=mp.dat\nrun 0.1\n' "$MBP" > mp1.mote
 "$MOTE" run mp1.mote > out.txt 2> err.txt && [ -s mp.dat ] && [ ! -e mp.dat.partial ] && ok || bad "mp1: $(cat err.txt; ls mp.dat*)"
 cp mp.dat mp.before
 printf '%bmonitor dt=0.01 file=mp.dat\nrun 50000\n' "$MBP" > mp2.mote
-env --default-signal=INT "$MOTE" run mp2.mote > mp2.out 2>&1 &
-pid=$!
-i=0
-while [ "$i" -lt 1200 ] && [ "$(grep -vc '^#' mp.dat.partial 2>/dev/null || echo 0)" -lt 5 ]; do
-    sleep 0.1
-    i=$((i + 1))
-done
-kill -INT "$pid"
-wait "$pid"
-[ $? -eq 130 ] && ok || bad "the run was not stopped by SIGINT: $(cat mp2.out)"
+sigint_after_rows mp2.mote mp.dat.partial 5 mp2.out
+[ "$sigint_rc" -eq 130 ] && ok || bad "the run was not stopped by SIGINT: $(cat mp2.out)"
 cmp -s mp.dat mp.before && ok || bad "the complete mp.dat changed under a run that was stopped"
 awk '/^# columns:/ { n = NF - 2 } !/^#/ { rows++; if (NF != n) bad = 1 } END { exit !(n == 21 && rows >= 5 && !bad) }' mp.dat.partial &&
     ok || bad "the stopped run's rows: $(head -c 600 mp.dat.partial)"

@@ -601,16 +601,8 @@ printf '%bintegrate steps=100\n' "$NBP" > np1.mote
 cp mp.dat mp.before
 cp tp.csv tp.before
 printf '%bintegrate steps=1000000000\n' "$NBP" > np2.mote
-env --default-signal=INT "$MOTE" run np2.mote > np2.out 2>&1 &
-pid=$!
-i=0
-while [ "$i" -lt 1200 ] && [ "$(grep -vc '^#' mp.dat.partial 2>/dev/null || echo 0)" -lt 5 ]; do
-    sleep 0.1
-    i=$((i + 1))
-done
-kill -INT "$pid"
-wait "$pid"
-[ $? -eq 130 ] && ok || bad "integrate was not stopped by SIGINT: $(cat np2.out)"
+sigint_after_rows np2.mote mp.dat.partial 5 np2.out
+[ "$sigint_rc" -eq 130 ] && ok || bad "integrate was not stopped by SIGINT: $(cat np2.out)"
 cmp -s mp.dat mp.before && cmp -s tp.csv tp.before && ok || bad "a complete file changed under a run that was stopped"
 awk '/^# columns:/ { n = NF - 2 } !/^#/ { rows++; if (NF != n) bad = 1 } END { exit !(n > 5 && rows >= 5 && !bad) }' mp.dat.partial &&
     ok || bad "the stopped run's monitor rows: $(head -c 600 mp.dat.partial)"

@@ -97,17 +97,8 @@ expect 1 "pf.mote:2:15: error: snapshot: file= writes one snapshot now" pf.mote 
 [ ! -e bal.dat.partial ] && ok || bad "bal.dat.partial left after a run that ended"
 cp bal.dat bal.before
 printf '%bchannel 0.05 1\ngas 1.5\ncollisions off\ntimestep 1e-3\nspecies quartz 2650\nsize quartz lognormal d50=150e-6 sigma=1.6 min=30e-6 max=600e-6\nfeed z=0.5 rate=2e-5\nmonitor file=bal.dat dt=0.01\nrun 100000\n' "$S" > long.mote
-# (a background job of a script ignores SIGINT unless told otherwise: env --default-signal)
-env --default-signal=INT "$MOTE" run long.mote > long.out 2>&1 &
-pid=$!
-i=0
-while [ "$i" -lt 1200 ] && [ "$(grep -vc '^#' bal.dat.partial 2>/dev/null || echo 0)" -lt 5 ]; do
-    sleep 0.1
-    i=$((i + 1))
-done
-kill -INT "$pid"
-wait "$pid"
-[ $? -eq 130 ] && ok || bad "the run was not stopped by SIGINT: $(cat long.out)"
+sigint_after_rows long.mote bal.dat.partial 5 long.out
+[ "$sigint_rc" -eq 130 ] && ok || bad "the run was not stopped by SIGINT: $(cat long.out)"
 cmp -s bal.dat bal.before && ok || bad "the complete bal.dat changed under a run that was stopped"
 awk '/^# columns:/ { n = NF - 2 } !/^#/ { rows++; if (NF != n) bad = 1 } END { exit !(n > 0 && rows >= 5 && !bad) }' bal.dat.partial &&
     grep -q '^# mote separator-balance 1$' bal.dat.partial && ok || bad "the stopped run's rows: $(head -c 600 bal.dat.partial)"

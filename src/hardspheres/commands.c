@@ -499,9 +499,10 @@ static int run_snapshot(void *vm, const mote_call *c, mote_err *err)
     return rc;
 }
 
-static int check_dump(void *vm, const mote_call *c, mote_err *err)
+/* The schedule of `trajectory` and `monitor`: every=K collisions per particle or dt=T of time,
+ * one of them. */
+static int check_schedule(hs_model *m, const mote_call *c, mote_err *err)
 {
-    hs_model *m = vm;
     int rc = need_system(m, c, err);
     const mote_arg *every = mote_call_opt(c, "every"), *dt = mote_call_opt(c, "dt");
     if (!rc && !!every == !!dt)
@@ -510,58 +511,51 @@ static int check_dump(void *vm, const mote_call *c, mote_err *err)
                             c->name, every ? "not both" : "one of them");
     if (!rc && every)
         rc = check_collisions(m, c, mote_call_opt_index(c, "every"), (uint64_t)every->i, err);
-    return rc ? rc : check_xyz_name(c, err);
-}
-static int run_dump(void *vm, const mote_call *c, mote_err *err)
-{
-    hs_model *m = vm;
-    char *origin = mote_call_origin(c);
-    const mote_arg *every = mote_call_opt(c, "every");
-    const long long k = every ? (long long)every->i : 0;
-    const double dt = mote_call_opt_r(c, "dt", 0);
-    const char *path = mote_call_opt(c, "file")->path;
-    int rc = origin ? mote_hs_dump_start_on(&m->hs, (uint64_t)k, dt, path, origin, err)
-                    : mote_fail(err, MOTE_ENOMEM, "out of memory");
-    if (!rc && m->hs.log && k)
-        fprintf(m->hs.log, "%s: frame 0 in %s, then one every %lld collisions per particle\n",
-                c->name, path, k);
-    else if (!rc && m->hs.log)
-        fprintf(m->hs.log, "%s: frame 0 in %s, then one every %.17g of time\n", c->name, path, dt);
-    free(origin);
     return rc;
 }
 
-/* `monitor every=K|dt=T file=FILE` (the run's quantities over time) and `monitor_stop`. */
-static int check_monitor(void *vm, const mote_call *c, mote_err *err)
+/* Start a scheduled output (start: mote_hs_dump_start_on or mote_hs_monitor_start) and say so;
+ * `what` is the first item's name ("frame", "row"). */
+static int run_scheduled(hs_model *m, const mote_call *c, const char *what,
+                         int (*start)(mote_hs *, uint64_t, double, const char *, const char *,
+                                      mote_err *),
+                         mote_err *err)
 {
-    hs_model *m = vm;
-    int rc = need_system(m, c, err);
-    const mote_arg *every = mote_call_opt(c, "every"), *dt = mote_call_opt(c, "dt");
-    if (!rc && !!every == !!dt)
-        rc = mote_call_fail(err, c, every ? mote_call_opt_index(c, "dt") : -1, MOTE_EINVAL,
-                            "%s: give every=K (collisions per particle) or dt=T (time), %s",
-                            c->name, every ? "not both" : "one of them");
-    if (!rc && every)
-        rc = check_collisions(m, c, mote_call_opt_index(c, "every"), (uint64_t)every->i, err);
-    return rc;
-}
-static int run_monitor(void *vm, const mote_call *c, mote_err *err)
-{
-    hs_model *m = vm;
     char *origin = mote_call_origin(c);
     const mote_arg *every = mote_call_opt(c, "every");
     const uint64_t k = every ? (uint64_t)every->i : 0;
     const double dt = mote_call_opt_r(c, "dt", 0);
     const char *path = mote_call_opt(c, "file")->path;
-    int rc = origin ? mote_hs_monitor_start(&m->hs, k, dt, path, origin, err)
+    int rc = origin ? start(&m->hs, k, dt, path, origin, err)
                     : mote_fail(err, MOTE_ENOMEM, "out of memory");
     if (!rc && m->hs.log && k)
-        fprintf(m->hs.log, "%s: row 0 in %s, then one every %llu collisions per particle\n",
-                c->name, path, (unsigned long long)k);
+        fprintf(m->hs.log, "%s: %s 0 in %s, then one every %llu collisions per particle\n",
+                c->name, what, path, (unsigned long long)k);
     else if (!rc && m->hs.log)
-        fprintf(m->hs.log, "%s: row 0 in %s, then one every %.17g of time\n", c->name, path, dt);
+        fprintf(m->hs.log, "%s: %s 0 in %s, then one every %.17g of time\n", c->name, what, path,
+                dt);
     free(origin);
     return rc;
+}
+
+static int check_dump(void *vm, const mote_call *c, mote_err *err)
+{
+    int rc = check_schedule(vm, c, err);
+    return rc ? rc : check_xyz_name(c, err);
+}
+static int run_dump(void *vm, const mote_call *c, mote_err *err)
+{
+    return run_scheduled(vm, c, "frame", mote_hs_dump_start_on, err);
+}
+
+/* `monitor every=K|dt=T file=FILE` (the run's quantities over time) and `monitor_stop`. */
+static int check_monitor(void *vm, const mote_call *c, mote_err *err)
+{
+    return check_schedule(vm, c, err);
+}
+static int run_monitor(void *vm, const mote_call *c, mote_err *err)
+{
+    return run_scheduled(vm, c, "row", mote_hs_monitor_start, err);
 }
 static int run_monitor_stop(void *vm, const mote_call *c, mote_err *err)
 {
