@@ -270,4 +270,12 @@ int mote_script_fail_plain(mote_err *err, mote_status code, const char *fmt, ...
 /* Make sure err is located: prefix the call's position when the command did not. */
 void mote_script_locate(mote_err *err, const mote_call *c);
 
+/* convert.c: argument i of a command (optkey: the option's key, or NULL for a positional one)
+ * converted by its table type into a; the token as a message shows it (quoted, cut at cap); a
+ * case-insensitive substring test. */
+int mote_script_convert_arg(mote_script *s, const mote_cmd *def, const char *written, int i,
+                            const char *optkey, const token *t, mote_arg *a, mote_err *err);
+const char *mote_script_shown(const token *t, char *buf, size_t cap);
+int mote_script_contains_ci(const char *s, const char *w);
+
 #endif
