@@ -85,9 +85,14 @@ done
 grep -q '^balance: fed = in channel + fines + coarse + lost holds$' out.txt && ok || bad "summary: $(cat out.txt)"
 # the shared words' forms: prefix= (its folder made; the movie P.mp4), snapshot file= now, and
 # the messages for a series given both or neither of prefix= and dir=
-sed 's|^frames fr 0.5$|frames prefix=pf/f dt=0.5 movie=off|; s|^snapshots sn 1$|snapshot prefix=ps/s dt=1\nsnapshot file=now.xyz|; s|^balance bal.dat|balance balp.dat|' outs.mote > outp.mote
-"$MOTE" run outp.mote > outp.txt 2> errp.txt && [ "$(ls pf/f_*.png | wc -l)" -eq 7 ] && [ "$(ls ps/s_*.xyz | wc -l)" -eq 4 ] &&
-    [ "$(head -1 now.xyz)" = 0 ] && cmp -s ps/s_000003.xyz sn/snapshot_000003.xyz && ok || bad "prefix=: $(cat errp.txt; ls pf ps)"
+# (short runs: a series by dir= and the same by prefix= give the same files)
+SH='channel 0.05 1\ngas 1.5\ncollisions off\ntimestep 1e-3\nspecies quartz 2650\nsize quartz lognormal d50=150e-6 sigma=1.6 min=30e-6 max=600e-6\nfeed z=0.5 rate=2e-5\ninsert quartz 100\n'
+mkdir snd
+printf '%bsnapshot dir=snd dt=0.05\nrun 0.2\n' "$S$SH" > outd.mote
+printf '%bframes prefix=pf/f dt=0.1 movie=off\nsnapshot prefix=ps/s dt=0.05\nsnapshot file=now.xyz\nrun 0.2\n' "$S$SH" > outp.mote
+"$MOTE" run outd.mote > outd.txt 2> errd.txt && "$MOTE" run outp.mote > outp.txt 2> errp.txt &&
+    [ "$(ls pf/f_*.png | wc -l)" -eq 3 ] && [ "$(ls ps/s_*.xyz | wc -l)" -eq 5 ] &&
+    [ "$(head -1 now.xyz)" = 100 ] && cmp -s ps/s_000004.xyz snd/snapshot_000004.xyz && ok || bad "prefix=: $(cat errd.txt errp.txt; ls pf ps snd)"
 expect 1 "pb.mote:2:1: error: snapshot: give prefix=P (files P_000000.xyz, ...) or dir=DIR (DIR/snapshot_000000.xyz, ...)" pb.mote "${S}snapshot dt=1\n"
 expect 1 "pd.mote:2:" pd.mote "${S}frames dir=a prefix=b dt=1\n"
 expect 1 "pf.mote:2:15: error: snapshot: file= writes one snapshot now" pf.mote "${S}snapshot file=a.xyz dt=1\n"
