@@ -161,13 +161,15 @@ setup-test:
 	@sh scripts/setup.sh test
 
 # The test command of the README: plain optimised build, then ASan+UBSan build, both -Werror.
+# The builds use every processor (JOBS).
+JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 check: setup-test
 	$(MAKE) --no-print-directory test-plain
 	$(MAKE) --no-print-directory test-san
 
 test-plain:
-	$(MAKE) --no-print-directory WERROR=1 BUILD=build tests
-	$(MAKE) --no-print-directory WERROR=1 BUILD=build-mpi MPI=1 build-mpi/mote
+	$(MAKE) -j$(JOBS) --no-print-directory WERROR=1 BUILD=build tests
+	$(MAKE) -j$(JOBS) --no-print-directory WERROR=1 BUILD=build-mpi MPI=1 build-mpi/mote
 	MOTE_MPI_BIN=$(CURDIR)/build-mpi/mote sh tests/run.sh build
 
 # The sanitized pass runs every test but those that exercise no code of their own under the
@@ -176,25 +178,25 @@ test-plain:
 # `make install`'s file list and the benchmarks' tiny workloads (their code is the models').
 SAN_SKIP := test_progress.sh test_setup.sh test_docs.sh test_install.sh test_bench.sh
 test-san:
-	$(MAKE) --no-print-directory WERROR=1 BUILD=build-san OPT=-O1 \
+	$(MAKE) -j$(JOBS) --no-print-directory WERROR=1 BUILD=build-san OPT=-O1 \
 	    SAN="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer" tests
 	MOTE_TEST_SKIP="$(SAN_SKIP)" MOTE_SANITIZED=1 ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp UBSAN_OPTIONS=print_stacktrace=1 sh tests/run.sh build-san
 
 # Long validation runs (not part of `make check`).
 slow: setup-test
-	$(MAKE) --no-print-directory WERROR=1 BUILD=build tests
+	$(MAKE) -j$(JOBS) --no-print-directory WERROR=1 BUILD=build tests
 	MOTE_SLOW=1 sh tests/run.sh build
 
 # every test program again with MOTE_TEST_SEED = SEED_FIRST .. SEEDS (tests/seeds.sh)
 SEEDS ?= 20
 SEED_FIRST ?= 1
 seeds: setup-test
-	$(MAKE) --no-print-directory WERROR=1 BUILD=build tests
+	$(MAKE) -j$(JOBS) --no-print-directory WERROR=1 BUILD=build tests
 	sh tests/seeds.sh build $(SEEDS) $(SEED_FIRST)
 
 # the same with the sanitizer build (shorter runs where the tests allow, as in test-san)
 seeds-san: setup-test
-	$(MAKE) --no-print-directory WERROR=1 BUILD=build-san OPT=-O1 \
+	$(MAKE) -j$(JOBS) --no-print-directory WERROR=1 BUILD=build-san OPT=-O1 \
 	    SAN="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer" tests
 	MOTE_SANITIZED=1 ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp UBSAN_OPTIONS=print_stacktrace=1 sh tests/seeds.sh build-san $(SEEDS) $(SEED_FIRST)
 

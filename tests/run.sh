@@ -21,12 +21,14 @@ total_pass=0
 total_fail=0
 bad=""
 # The tests run MOTE_TEST_JOBS at a time (default 2: CI's cores; every test holds under load, and
-# each works in its own temporary folder), the longest first; their outputs are shown in the
-# usual order when all have ended.
+# each works in its own temporary folder), the longest first: each worker takes the next test not
+# yet taken (a mkdir claims it), so the workers end together. A test's output is shown when it
+# ends, whole (one worker prints at a time), with its line "== NAME: P passed, F failed (S s)".
 jobs=${MOTE_TEST_JOBS:-2}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-# run_one NAME CMD...: run one test into $work/NAME.{log,rc,secs}
+# run_one NAME CMD...: run one test into $work/NAME.{log,rc}, then show it and write its counts
+# to $work/NAME.sum ("P F")
 run_one() {
     name=$1
     shift
@@ -36,11 +38,32 @@ run_one() {
     else
         "$@" >"$work/$name.log" 2>&1 </dev/null
     fi
-    echo $? >"$work/$name.rc"
-    echo $(($(date +%s) - start)) >"$work/$name.secs"
+    rc=$?
+    secs=$(($(date +%s) - start))
+    {
+        [ "$limit" -gt 0 ] && [ "$rc" -eq 124 ] &&
+            echo "$name: stopped after $limit s (the time limit: a hang?)"
+        line=$(grep -E '^[0-9]+ passed, [0-9]+ failed' "$work/$name.log" | tail -n 1)
+        if [ -n "$line" ]; then
+            p=$(echo "$line" | sed -E 's/^([0-9]+) passed.*/\1/')
+            f=$(echo "$line" | sed -E 's/^[0-9]+ passed, ([0-9]+) failed.*/\1/')
+        else
+            p=0
+            f=1
+            echo "$name: no summary line (crashed?)"
+        fi
+        if [ "$rc" -ne 0 ] && [ "$f" -eq 0 ]; then
+            f=1
+            echo "$name: exit status $rc"
+        fi
+        echo "$p $f" >"$work/$name.sum"
+        echo "== $name: $p passed, $f failed ($secs s)"
+    } >>"$work/$name.log"
+    until mkdir "$work/print.lock" 2>/dev/null; do sleep 0.1; done
+    cat "$work/$name.log"
+    rmdir "$work/print.lock"
 }
-# the tests in their usual order (programs, then scripts), and the order they are started in:
-# the long ones first, so that the shards end together
+# the tests (programs, then scripts), and the order they are started in: the long ones first
 all=""
 skip=" ${MOTE_TEST_SKIP:-} "
 for t in "$build"/tests/test_*; do
@@ -52,9 +75,10 @@ for s in tests/test_*.sh; do
     [ -f "$s" ] && all="$all $(basename "$s")"
 done
 [ -n "${MOTE_TEST_SKIP:-}" ] && echo "not run here (MOTE_TEST_SKIP):${MOTE_TEST_SKIP}"
-long="test_galactica.sh test_nbody.sh test_nbody test_live.sh test_sep_dem test_structure
-      test_fuzz test_charging.sh test_mbevent test_measure test_charging test_progress.sh
-      test_mpi.sh test_separator.sh test_ensemble.sh"
+long="test_separator.sh test_nbody test_nbody.sh test_galactica.sh test_live.sh test_sep_dem
+      test_charging test_charging.sh test_fuzz test_readers.sh test_mpi.sh test_measure
+      test_python.sh test_mbevent test_script_limits.sh test_structure test_progress.sh
+      test_hardening.sh test_ensemble.sh"
 order=""
 for n in $long; do
     case " $all " in *" $n "*) order="$order $n" ;; esac
@@ -62,49 +86,25 @@ done
 for n in $all; do
     case " $order " in *" $n "*) ;; *) order="$order $n" ;; esac
 done
-k=0
-for n in $order; do
-    echo "$n" >>"$work/shard.$((k % jobs))"
-    k=$((k + 1))
-done
 s=0
 while [ "$s" -lt "$jobs" ]; do
-    if [ -f "$work/shard.$s" ]; then
-        (
-            while read -r n; do
-                case "$n" in
-                *.sh) run_one "$n" sh "tests/$n" "$build" ;;
-                *) run_one "$n" "$build/tests/$n" ;;
-                esac
-            done <"$work/shard.$s"
-        ) &
-    fi
+    (
+        for n in $order; do
+            mkdir "$work/$n.taken" 2>/dev/null || continue
+            case "$n" in
+            *.sh) run_one "$n" sh "tests/$n" "$build" ;;
+            *) run_one "$n" "$build/tests/$n" ;;
+            esac
+        done
+    ) &
     s=$((s + 1))
 done
 wait
 for name in $all; do
-    log="$work/$name.log"
-    rc=$(cat "$work/$name.rc" 2>/dev/null || echo 1)
-    cat "$log" 2>/dev/null
-    [ "$limit" -gt 0 ] && [ "$rc" -eq 124 ] &&
-        echo "$name: stopped after $limit s (the time limit: a hang?)"
-    line=$(grep -E '^[0-9]+ passed, [0-9]+ failed' "$log" 2>/dev/null | tail -n 1)
-    if [ -n "$line" ]; then
-        p=$(echo "$line" | sed -E 's/^([0-9]+) passed.*/\1/')
-        f=$(echo "$line" | sed -E 's/^[0-9]+ passed, ([0-9]+) failed.*/\1/')
-    else
-        p=0
-        f=1
-        echo "$name: no summary line (crashed?)"
-    fi
-    if [ "$rc" -ne 0 ] && [ "$f" -eq 0 ]; then
-        f=1
-        echo "$name: exit status $rc"
-    fi
-    total_pass=$((total_pass + p))
-    total_fail=$((total_fail + f))
-    [ "$f" -ne 0 ] && bad="$bad $name"
-    echo "== $name: $p passed, $f failed ($(cat "$work/$name.secs" 2>/dev/null || echo '?') s)"
+    set -- $(cat "$work/$name.sum" 2>/dev/null || echo "0 1")
+    total_pass=$((total_pass + $1))
+    total_fail=$((total_fail + $2))
+    [ "$2" -ne 0 ] && bad="$bad $name"
 done
 [ -n "$bad" ] && echo "failing:$bad"
 echo "$total_pass passed, $total_fail failed"
