@@ -45,7 +45,10 @@ sigint_after_rows() {
     env --default-signal=INT "$MOTE" run "$1" > "$4" 2>&1 &
     sigint_pid=$!
     sigint_i=0
-    while [ "$sigint_i" -lt 1200 ] && [ "$(grep -vc '^#' "$2" 2>/dev/null || echo 0)" -lt "$3" ]; do
+    # (grep -c prints 0 and fails when the file has only its header: no "|| echo 0" there)
+    while [ "$sigint_i" -lt 1200 ]; do
+        sigint_n=$(grep -vc '^#' "$2" 2>/dev/null)
+        [ "${sigint_n:-0}" -ge "$3" ] && break
         sleep 0.1
         sigint_i=$((sigint_i + 1))
     done
