@@ -10,7 +10,8 @@
  * reaches n_end, repeats: stop = the next observer time (or t_end) and the next observer count
  * (or n_end); advance(sys, loop, stop, count stop) (an event-driven model exactly there; a
  * fixed-step model step by step; it may return earlier, for example for the progress line, and
- * may call mote_loop_progress now and then); every count observer due at the new count; every
+ * may call mote_loop_progress now and then); every count observer due at the new count (one
+ * whose counts a model went past, a step of several collisions, fires there once); every
  * time observer due at the new time; the progress. An advance that moves neither the clock nor
  * the count ends the run (nothing more can happen).
  *
@@ -64,8 +65,8 @@ typedef struct mote_runner {
     double (*clock)(const void *sys);   /* the model's time (NULL: it has none) */
     uint64_t (*count)(const void *sys); /* its count (NULL: it has none) */
     /* Advance towards time t_stop and count n_stop, stopping at whichever comes first (a model
-     * that cannot stop inside its work may go past n_stop: the count observers it passed are
-     * skipped). The state must be complete at its clock on return. */
+     * that cannot stop inside its work may go past n_stop: a count observer it passed fires
+     * once, at the count reached). The state must be complete at its clock on return. */
     int (*advance)(void *sys, mote_loop *l, double t_stop, uint64_t n_stop, mote_err *err);
     /* Optional: whether the model has reached its end by its own measure (instead of clock >=
      * t_end: a clock in a longer type than double). */
@@ -79,6 +80,19 @@ typedef struct mote_runner {
      * fraction of the way to t_end and n_end). */
     double (*fraction)(const void *sys);
 } mote_runner;
+
+/* The schedule of an output command (the output layer's shared words every= and dt=): every=K
+ * (a count of the model's steps, collisions, ...) or dt=T (simulated time), one of them.
+ * mote_call_check_every_dt fails, located at the call, when both are given, or when neither is
+ * and `required`. mote_call_observer makes the observer from now: every=K fires at the counts
+ * n_now + j K scale (j = 1, 2, ...; scale: the model's count per unit of K, 1 for most; hard
+ * spheres count K in collisions per particle), dt=T at the times t_now + k T (k = 1, 2, ...;
+ * its schedule in *at, which must live as long as the observer). Neither: an observer that
+ * never fires. */
+int mote_call_check_every_dt(const mote_call *c, int required, mote_err *err);
+mote_observer mote_call_observer(const mote_call *c, mote_schedule *at, double t_now,
+                                 uint64_t n_now, uint64_t scale, void *ctx,
+                                 int (*fire)(void *ctx, void *subject, mote_err *err));
 
 /* Run r from its clock and count until t_end (INFINITY: none) or n_end (UINT64_MAX: none), with
  * the model's observers obs[0 .. nobs) and the context's. Returns the first error (an observer's,

@@ -107,6 +107,20 @@ static uint64_t count_due(const mote_observer *o, uint64_t n)
     return spread_above(o, d) - (d ? spread_above(o, d - 1) : 1);
 }
 
+/* How many times o fires for the counts passed from a to b (a < b): a spread observer once for
+ * each of its samples in (a, b]; any other once when one or more of its counts lie there (a
+ * model that went past its stop, like a time observer whose times a step went past). */
+static uint64_t count_passed(const mote_observer *o, uint64_t a, uint64_t b)
+{
+    if (b < o->from)
+        return 0;
+    if (!o->spread)
+        return count_next(o, a) <= b;
+    const uint64_t upto_b = spread_above(o, b - o->from) - 1;
+    const uint64_t upto_a = a >= o->from ? spread_above(o, a - o->from) - 1 : 0;
+    return upto_b - upto_a;
+}
+
 uint64_t mote_loop_count_stop(const mote_loop *l, uint64_t n, uint64_t n_end)
 {
     uint64_t stop = n_end;
@@ -201,8 +215,10 @@ int mote_run(const mote_runner *r, const mote_observer *obs, size_t nobs, mote_p
         const uint64_t c1 = r->count ? r->count(r->sys) : 0;
         if (t1 == t && c1 == c) /* nothing more can happen */
             break;
-        if (c1 != c)
-            rc = mote_loop_fire_count(&l, subject(r), c1, err);
+        for (size_t k = 0; !rc && c1 > c && k < n; k++)
+            if (!all[k].at && (all[k].every || all[k].spread))
+                for (uint64_t times = count_passed(&all[k], c, c1); !rc && times > 0; times--)
+                    rc = all[k].fire(all[k].ctx, subject(r), err);
         if (!rc && r->clock)
             rc = fire_times(r, &l, t1, err);
         t = t1;
@@ -215,4 +231,35 @@ int mote_run(const mote_runner *r, const mote_observer *obs, size_t nobs, mote_p
             rc = mote_interrupted(err, r->what);
     }
     return rc;
+}
+
+/* ---- the output layer's schedules ---------------------------------------------------------- */
+
+int mote_call_check_every_dt(const mote_call *c, int required, mote_err *err)
+{
+    const mote_arg *every = mote_call_opt(c, "every"), *dt = mote_call_opt(c, "dt");
+    if (every && dt)
+        return mote_call_fail(err, c, mote_call_opt_index(c, "dt"), MOTE_EINVAL,
+                              "%s: give every=K or dt=T, not both", c->name);
+    if (required && !every && !dt)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL,
+                              "%s: give every=K (a count) or dt=T (a time)", c->name);
+    return MOTE_OK;
+}
+
+mote_observer mote_call_observer(const mote_call *c, mote_schedule *at, double t_now,
+                                 uint64_t n_now, uint64_t scale, void *ctx,
+                                 int (*fire)(void *ctx, void *subject, mote_err *err))
+{
+    const mote_arg *every = mote_call_opt(c, "every"), *dt = mote_call_opt(c, "dt");
+    mote_observer o = {.ctx = ctx, .fire = fire};
+    if (dt) {
+        *at = (mote_schedule){t_now, dt->r, 1};
+        o.at = at;
+    } else if (every) {
+        const uint64_t k = (uint64_t)every->i, s = scale ? scale : 1;
+        o.every = k > UINT64_MAX / s ? UINT64_MAX : k * s;
+        o.from = n_now;
+    }
+    return o;
 }

@@ -400,10 +400,17 @@ static int run_load(void *vm, const mote_call *c, mote_err *err)
                                  m->dens.active ? &m->dens_s : NULL,
                                  m->frames.active ? &m->frames_s : NULL};
         for (int k = 0; k < 3; k++)
-            if (s[k]) {
+            if (s[k] && s[k]->at) {
                 s[k]->at->t0 = m->sys.time;
                 s[k]->at->k = 1;
             }
+    }
+    if (!rc) { /* those by count go on from the loaded count */
+        mote_observer *s[2] = {m->rec.active ? &m->rec_s : NULL,
+                               m->frames.active ? &m->frames_s : NULL};
+        for (int k = 0; k < 2; k++)
+            if (s[k] && !s[k]->at)
+                s[k]->from = m->sys.collisions;
     }
     if (!rc && m->log)
         fprintf(m->log, "load: %u disks at t = %.10g s from %s\n", m->sys.n, m->sys.time, path);
@@ -637,7 +644,9 @@ static int check_record(void *vm, const mote_call *c, mote_err *err)
     mb_model *m = vm;
     int rc = need_placed(m, c, err);
     if (!rc)
-        m->d_record_dt = mote_call_opt(c, "dt")->r;
+        rc = mote_call_check_every_dt(c, 1, err);
+    if (!rc)
+        m->d_record_dt = mote_call_opt_r(c, "dt", 0);
     return rc;
 }
 static int run_record(void *vm, const mote_call *c, mote_err *err)
@@ -648,7 +657,8 @@ static int run_record(void *vm, const mote_call *c, mote_err *err)
     m->rec.origin = mote_call_origin(c);
     if (!m->rec.path || !m->rec.origin)
         return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", c->name);
-    m->rec.dt = mote_call_opt(c, "dt")->r;
+    m->rec.dt = mote_call_opt_r(c, "dt", 0);
+    m->rec.every = m->rec.dt > 0 ? 0 : (uint64_t)mote_call_opt(c, "every")->i;
     /* the first row now, into FILE.partial, and into FILE when there is none yet: an earlier
      * complete FILE is replaced only by the complete file a run writes when it ends */
     int rc = mb_record_observe(&m->rec, &m->sys, err);
@@ -659,10 +669,12 @@ static int run_record(void *vm, const mote_call *c, mote_err *err)
         return rc;
     }
     m->rec.active = 1;
-    m->rec_at = (mote_schedule){m->sys.time, m->rec.dt, 1};
-    m->rec_s = (mote_observer){.at = &m->rec_at, .ctx = &m->rec,
-                              .fire = mb_record_observe};
-    if (m->log)
+    m->rec_s = mote_call_observer(c, &m->rec_at, m->sys.time, m->sys.collisions, 1, &m->rec,
+                                  mb_record_observe);
+    if (m->log && m->rec.every)
+        fprintf(m->log, "%s: every %llu collisions into %s\n", c->name,
+                (unsigned long long)m->rec.every, m->rec.path);
+    else if (m->log)
         fprintf(m->log, "%s: every %g s into %s\n", c->name, m->rec.dt, m->rec.path);
     return MOTE_OK;
 }
@@ -756,9 +768,11 @@ static int check_frames(void *vm, const mote_call *c, mote_err *err)
         return rc;
     const char *prefix = mote_call_opt(c, "prefix")->path;
     const int pi = mote_call_opt_index(c, "prefix");
-    rc = mote_outputs_note_series(&c->ctx->outputs, c, pi, prefix, ".png", "frames", 0, err);
+    rc = mote_call_check_every_dt(c, 1, err);
     if (!rc)
-        m->d_frames_dt = mote_call_opt(c, "dt")->r;
+        rc = mote_outputs_note_series(&c->ctx->outputs, c, pi, prefix, ".png", "frames", 0, err);
+    if (!rc)
+        m->d_frames_dt = mote_call_opt_r(c, "dt", 0);
     return rc;
 }
 static int run_frames(void *vm, const mote_call *c, mote_err *err)
@@ -775,17 +789,21 @@ static int run_frames(void *vm, const mote_call *c, mote_err *err)
     } else {
         free(prefix);
     }
-    fr->dt = mote_call_opt(c, "dt")->r;
+    fr->dt = mote_call_opt_r(c, "dt", 0);
+    fr->every = fr->dt > 0 ? 0 : (uint64_t)mote_call_opt(c, "every")->i;
     int rc = mb_frames_sample(fr, &m->sys, err);
     if (rc)
         return rc;
     fr->active = 1;
-    m->frames_at = (mote_schedule){m->sys.time, fr->dt, 1};
-    m->frames_s = (mote_observer){.at = &m->frames_at, .ctx = fr,
-                                 .fire = mb_frames_sample};
-    if (m->log)
-        fprintf(m->log, "frames: every %g s as %s_NNNNNN.png from %06llu\n", fr->dt, fr->prefix,
+    m->frames_s = mote_call_observer(c, &m->frames_at, m->sys.time, m->sys.collisions, 1, fr,
+                                     mb_frames_sample);
+    if (m->log && fr->every)
+        fprintf(m->log, "frames: every %llu collisions as %s%sNNNNNN.png from %06llu\n",
+                (unsigned long long)fr->every, fr->prefix, mote_series_sep(fr->prefix),
                 (unsigned long long)(fr->next_index - 1));
+    else if (m->log)
+        fprintf(m->log, "frames: every %g s as %s%sNNNNNN.png from %06llu\n", fr->dt,
+                fr->prefix, mote_series_sep(fr->prefix), (unsigned long long)(fr->next_index - 1));
     return MOTE_OK;
 }
 
@@ -876,8 +894,8 @@ static const mote_cmd mb_commands[] = {
     {"run_collisions", NULL, "i>=1 r>0", "run_collisions K T_MAX",
      "advance by K disk-disk collisions (at most T_MAX s)", MB_HELP_RUN_COLLISIONS,
      check_run_collisions, run_run_collisions},
-    {"monitor", "record", "@dt=r>0! @file=f>record!", "monitor dt=DT file=FILE",
-     "record the mixing curve every DT s into FILE",
+    {"monitor", "record", "@dt=r>0 @file=f>record! every=i>=1", "monitor dt=DT|every=K file=FILE",
+     "record the mixing curve every DT s (or K collisions) into FILE",
      MB_HELP_RECORD, check_record, run_record},
     {"density_y", NULL, "@dt=r>0! @bins=i[1,1000000]! @file=f>density_y!",
      "density_y dt=DT bins=NBINS file=FILE",
@@ -886,8 +904,8 @@ static const mote_cmd mb_commands[] = {
     {"snapshot", NULL, "@file=f>snapshot!", "snapshot file=FILE",
      "picture (.png) or extended XYZ (.xyz) of the state",
      MB_HELP_SNAPSHOT, check_snapshot, run_snapshot},
-    {"frames", NULL, "@dt=r>0! @prefix=f!", "frames dt=DT prefix=PREFIX",
-     "a picture every DT s: PREFIX_000000.png ...",
+    {"frames", NULL, "@dt=r>0 @prefix=f! every=i>=1", "frames dt=DT|every=K prefix=PREFIX",
+     "a picture every DT s (or K collisions): PREFIX_000000.png ...",
      MB_HELP_FRAMES, check_frames, run_frames},
     {"frames_stop", NULL, "", "frames_stop", "stop writing frames", MB_HELP_FRAMES_STOP,
      check_frames_stop, run_frames_stop},

@@ -77,7 +77,8 @@ typedef struct {
     int active;
     char *path;
     char *origin; /* the command line that started it (for the header) */
-    double dt;
+    double dt;      /* by time (0: by count) */
+    uint64_t every; /* by count: disk-disk collisions between rows (0: by time) */
     mb_row *rows;
     size_t nrows, cap;
     mote_partial partial;
@@ -136,7 +137,8 @@ int mb_snapshot_xyz(const mote_mb *sys, const char *path, const char *origin, mo
 typedef struct {
     int active;
     char *prefix;
-    double dt;
+    double dt;      /* by time (0: by count) */
+    uint64_t every; /* by count: disk-disk collisions between frames (0: by time) */
     uint64_t next_index; /* frame number of the next PNG */
 } mb_frames;
 

@@ -95,12 +95,16 @@ static void put_real(FILE *f, double v)
 static void record_header(FILE *f, const mb_record *r, const mote_mb *sys, int growing)
 {
     mb_write_params(f, sys, "mixing", r->origin);
-    if (growing)
-        fprintf(f, "# DT = %.17g\n# samples: the rows so far (a run in progress)\n", r->dt);
+    if (r->every)
+        fprintf(f, "# every = %llu disk-disk collisions\n", (unsigned long long)r->every);
     else
-        fprintf(f, "# DT = %.17g\n# samples = %zu\n", r->dt, r->nrows);
+        fprintf(f, "# DT = %.17g\n", r->dt);
+    if (growing)
+        fprintf(f, "# samples: the rows so far (a run in progress)\n");
+    else
+        fprintf(f, "# samples = %zu\n", r->nrows);
     fprintf(f,
-            "# A row per sample: t (s, exact sample time); disks per chamber and colour (nL0 =\n"
+            "# A row per sample: t (s, exact sample time by DT); disks per chamber and colour (nL0 =\n"
             "# colour 0 in the left chamber, ...; the chamber of a disk is the side of X1_C its\n"
             "# centre is on); m = (nR0 + nL1) / N; mixing entropy per chamber S = -sum x ln x\n"
             "# over its colour fractions (nats, ln 2 = even), S_mix = (nL S_left + nR S_right) /\n"

@@ -874,9 +874,9 @@ static const mote_cmd nb_commands[] = {
      "approaches body=B every=K file=FILE [refine=on] [format=native|galactica]",
      "record the closest approach of body B to the others in every K steps", HELP_APPROACHES,
      nb_check_approaches, nb_run_approaches},
-    {"frames", NULL, "every=i>=1! prefix=f control=f<control",
-     "frames every=K [prefix=frame_] [control=galacf26.dat]",
-     "Galactica-style pictures every K steps (spec 7.13)", HELP_FRAMES, nb_check_frames,
+    {"frames", NULL, "every=i>=1 dt=r>0 unit=e{s|day|year|century} prefix=f control=f<control",
+     "frames every=K|dt=T [unit=U] [prefix=frame_] [control=galacf26.dat]",
+     "Galactica-style pictures every K steps or every T of time (spec 7.13)", HELP_FRAMES, nb_check_frames,
      nb_run_frames},
     {"integrate", NULL, "steps=i>=1 to=r for=r>0 unit=e{s|day|year|century}",
      "integrate [steps=N] [to=T] [for=D] [unit=U]",
@@ -914,9 +914,10 @@ static const mote_cmd nb_commands[] = {
      "[step_tol=E] [force=on] [lenient=on] [trio_layout=packed] [max_files=N]",
      "run a Galactica job: its control file, bodies and result files", HELP_RUN, nb_check_run,
      nb_run_run},
-    {"snapshot", NULL, "every=i>=1 prefix=f format=e{native|galactica} file=f>snapshot",
-     "snapshot file=FILE|every=K [prefix=P] [format=native|galactica]",
-     "a snapshot now (file=), or every K steps of integrate to PSTEP.snap", HELP_SNAPSHOT, nb_check_snapshot,
+    {"snapshot", NULL, "every=i>=1 dt=r>0 unit=e{s|day|year|century} prefix=f "
+     "format=e{native|galactica} file=f>snapshot",
+     "snapshot file=FILE|every=K|dt=T [unit=U] [prefix=P] [format=native|galactica]",
+     "a snapshot now (file=), or every K steps (every T of time) of integrate", HELP_SNAPSHOT, nb_check_snapshot,
      nb_run_snapshot},
 };
 

@@ -61,10 +61,13 @@ typedef struct nb_model {
         char *path;
         uint64_t every;
     } ckpt;
-    /* periodic snapshots: PREFIX STEP .snap (galactica: .dat) every `every` steps (0: off) */
+    /* periodic snapshots: PREFIX STEP .snap (galactica: .dat) every `every` steps, or PREFIX
+     * INDEX .snap every dt of time (at: its schedule; index: the next file's number) (0: off) */
     struct {
         char *prefix, *origin;
-        uint64_t every;
+        uint64_t every, index;
+        double dt;
+        mote_schedule at;
         int galactica;
     } snap;
     /* closest approaches of one body (spec 7.9, 10.4): a row every `every` steps into path */
@@ -74,9 +77,12 @@ typedef struct nb_model {
         char *path, *origin;
         int galactica;    /* dice.dat's three columns (time, body, distance) */
     } appr;
-    /* Galactica-style pictures (spec 7.13) every `every` steps: PREFIX000001.png, ... */
+    /* Galactica-style pictures (spec 7.13) every `every` steps or dt of time: PREFIX_000001.png,
+     * ... */
     struct {
         uint64_t every, count;
+        double dt;          /* by time instead (at: its schedule); 0: by steps */
+        mote_schedule at;
         char *prefix;
         nb_galctl ctl;      /* the graphics values and trios */
         nb_frame_opts f;

@@ -614,6 +614,10 @@ int nb_run_approaches(void *vm, const mote_call *c, mote_err *err)
 int nb_check_frames(void *vm, const mote_call *c, mote_err *err)
 {
     int rc = nb_need_bodies(vm, c, err);
+    if (!rc)
+        rc = mote_call_check_every_dt(c, 1, err);
+    if (!rc)
+        rc = check_time_unit(vm, c, err);
     const mote_arg *p = mote_call_opt(c, "prefix");
     if (!rc)
         rc = mote_outputs_note_series(&c->ctx->outputs, c, mote_call_opt_index(c, "prefix"),
@@ -631,22 +635,29 @@ int nb_check_frames(void *vm, const mote_call *c, mote_err *err)
     return rc;
 }
 
-static int frame_now(nb_model *m, mote_err *err)
+/* A frame of the bodies nb (the model's, or a view of them at an output time). */
+static int frame_of(nb_model *m, const mote_nb *nb, mote_err *err)
 {
     char *path = mote_series_path(m->frames.prefix, m->frames.count, 6, ".png");
     if (!path)
         return mote_fail(err, MOTE_ENOMEM, "frames: out of memory");
     mote_make_dir_of(path); /* (a prefix= makes its folder) */
-    int rc = nb_frame_png(&m->nb, &m->frames.f, path, m->nb.steps, err);
+    int rc = nb_frame_png(nb, &m->frames.f, path, m->nb.steps, err);
     m->frames.count += !rc;
     free(path);
     return rc;
 }
 
+static int frame_now(nb_model *m, mote_err *err) { return frame_of(m, &m->nb, err); }
+
 int nb_run_frames(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
     nb_settle_units(m);
+    double scale;
+    int src = time_scale(m, c, &scale, err);
+    if (src)
+        return src;
     const mote_arg *a = mote_call_opt(c, "prefix");
     char *prefix = strdup(a ? a->path : "frame_");
     if (!prefix)
@@ -655,7 +666,9 @@ int nb_run_frames(void *vm, const mote_call *c, mote_err *err)
         m->frames.count = 0; /* (the same prefix again continues the numbering) */
     free(m->frames.prefix);
     m->frames.prefix = prefix;
-    m->frames.every = (uint64_t)mote_call_opt(c, "every")->i;
+    m->frames.dt = nb_opt_real_or(c, "dt", 0) * scale;
+    m->frames.every = m->frames.dt > 0 ? 0 : (uint64_t)mote_call_opt(c, "every")->i;
+    m->frames.at = (mote_schedule){(double)m->nb.T, m->frames.dt, 1};
     memset(&m->frames.ctl, 0, sizeof m->frames.ctl);
     if ((a = mote_call_opt(c, "control"))) { /* the control file's graphics values */
         int rc = nb_galctl_read(a->path, 0, 0, &m->frames.ctl, err);
@@ -691,20 +704,27 @@ int nb_run_frames(void *vm, const mote_call *c, mote_err *err)
 int nb_check_snapshot(void *vm, const mote_call *c, mote_err *err)
 {
     const mote_arg *every = mote_call_opt(c, "every"), *file = mote_call_opt(c, "file");
-    if (!every == !file)
+    const mote_arg *dt = mote_call_opt(c, "dt");
+    if (!(every || dt) == !file)
         return mote_call_fail(err, c, -1, MOTE_EINVAL, "snapshot: give file=FILE (one now) or "
-                              "every=K (one every K steps of integrate), not %s",
-                              file ? "both" : "neither");
+                              "every=K (one every K steps of integrate) or dt=T (one every T of "
+                              "time), not %s", file ? "both" : "neither");
+    int rc = mote_call_check_every_dt(c, 0, err);
+    if (rc)
+        return rc;
     if (file && mote_call_opt(c, "prefix"))
         return mote_call_fail(err, c, mote_call_opt_index(c, "prefix"), MOTE_EINVAL,
-                              "snapshot: prefix= is for every=K (file= names the one file)");
+                              "snapshot: prefix= is for every=K or dt=T (file= names the one "
+                              "file)");
     const mote_arg *p = mote_call_opt(c, "prefix"), *f = mote_call_opt(c, "format");
-    int rc = nb_need_bodies(vm, c, err);
-    if (!rc && every)
+    rc = nb_need_bodies(vm, c, err);
+    if (!rc)
+        rc = check_time_unit(vm, c, err);
+    if (!rc && (every || dt)) /* (every=K: numbered by step, dt=T: in order) */
         rc = mote_outputs_note_series(&c->ctx->outputs, c, mote_call_opt_index(c, "prefix"),
                                       p ? p->path : "snapshot_",
                                       f && strcmp(f->text, "galactica") == 0 ? ".dat" : ".snap",
-                                      "snapshots", MOTE_SERIES_BY_STEP, err);
+                                      "snapshots", every ? MOTE_SERIES_BY_STEP : 0, err);
     return rc;
 }
 int nb_run_snapshot(void *vm, const mote_call *c, mote_err *err)
@@ -725,13 +745,22 @@ int nb_run_snapshot(void *vm, const mote_call *c, mote_err *err)
         return rc;
     }
     const mote_arg *p = mote_call_opt(c, "prefix");
+    double scale;
+    int rc = time_scale(m, c, &scale, err);
+    if (rc)
+        return rc;
+    char *prefix = strdup(p ? p->path : "snapshot_");
+    if (prefix && (!m->snap.prefix || strcmp(m->snap.prefix, prefix) != 0))
+        m->snap.index = 0; /* (the same prefix again continues the numbering) */
     free(m->snap.prefix);
     free(m->snap.origin);
-    m->snap.prefix = strdup(p ? p->path : "snapshot_");
+    m->snap.prefix = prefix;
     m->snap.origin = mote_call_origin(c);
     if (!m->snap.prefix || !m->snap.origin)
         return mote_fail(err, MOTE_ENOMEM, "snapshot: out of memory");
-    m->snap.every = (uint64_t)mote_call_opt(c, "every")->i;
+    m->snap.dt = nb_opt_real_or(c, "dt", 0) * scale;
+    m->snap.every = m->snap.dt > 0 ? 0 : (uint64_t)mote_call_opt(c, "every")->i;
+    m->snap.at = (mote_schedule){(double)m->nb.T, m->snap.dt, 1};
     m->snap.galactica = f && strcmp(f->text, "galactica") == 0;
     return MOTE_OK;
 }
@@ -761,27 +790,40 @@ typedef struct {
     int by_time;   /* a sampler by time: every step end is looked at */
 } nb_step;
 
+/* The bodies at output time ts, as an output by time sees them: from the Taylor step's dense
+ * output (spec 4.5) in *view when ts falls inside the step just taken, else (the Galactica
+ * scheme, spec 10.3, or after a merge) the step end. */
+static const mote_nb *bodies_at(nb_model *m, const nb_step *st, mote_real ts, mote_nb *view)
+{
+    mote_nb *nb = &m->nb;
+    if (st && nb->integrator == MOTE_NB_TAYLOR && ts < nb->T && ts > st->Tb && !st->merged) {
+        *view = *nb;
+        view->x = st->xv;
+        view->v = st->xv + 3 * (size_t)nb->n;
+        mote_nb_taylor_dense(nb, ts - st->Tb, view->x, view->v);
+        view->T = ts;
+        return view;
+    }
+    return nb;
+}
+
+/* The exact time in the model's precision of the output at t0 + k dt the loop fires at st->t
+ * (k from the loop's double time). */
+static mote_real output_time(mote_real t0, mote_real dt, const nb_step *st)
+{
+    const mote_real k = (mote_real)llround((st->t - (double)t0) / (double)dt);
+    return t0 + k * dt;
+}
+
 /* A monitor or trajectory sample. By steps: the bodies now. By time: the sample t0 + k dt the
- * loop fires at st->t, from the Taylor step's dense output (spec 4.5) when it falls inside the
- * step, else (the Galactica scheme, spec 10.3, or after a merge) the step end. */
+ * loop fires at st->t (bodies_at). */
 static int sampler_fire(nb_model *m, int traj, const nb_step *st, mote_err *err)
 {
     const nb_sampler *s = traj ? &m->traj : &m->mon;
-    mote_nb *nb = &m->nb;
     if (!(s->dt > 0) || !st)
-        return sample(m, traj, nb, err);
-    /* the exact time in the model's precision: k from the loop's (double) time */
-    const mote_real k = (mote_real)llround((st->t - (double)s->t0) / (double)s->dt);
-    const mote_real ts = s->t0 + k * s->dt;
-    if (nb->integrator == MOTE_NB_TAYLOR && ts < nb->T && ts > st->Tb && !st->merged) {
-        mote_nb view = *nb;
-        view.x = st->xv;
-        view.v = st->xv + 3 * (size_t)nb->n;
-        mote_nb_taylor_dense(nb, ts - st->Tb, view.x, view.v);
-        view.T = ts;
-        return sample(m, traj, &view, err);
-    }
-    return sample(m, traj, nb, err);
+        return sample(m, traj, &m->nb, err);
+    mote_nb view;
+    return sample(m, traj, bodies_at(m, st, output_time(s->t0, s->dt, st), &view), err);
 }
 static int fire_monitor(void *ctx, void *subject, mote_err *err)
 {
@@ -798,22 +840,49 @@ static int fire_checkpoint(void *ctx, void *subject, mote_err *err)
     return nb_state_save(&m->nb, m->ckpt.path, err);
 }
 
-/* The snapshot of `snapshot every=K`: PREFIX, the step count and .snap (mote_series_path) */
+/* The snapshot of `snapshot every=K`: PREFIX, the step count and .snap (mote_series_path); of
+ * `snapshot dt=T`: PREFIX, its number in order and .snap, the bodies at its time. */
 static int fire_snapshot(void *ctx, void *subject, mote_err *err)
 {
     nb_model *m = ctx;
-    char *path = mote_series_path(m->snap.prefix, m->nb.steps, 10,
-                                  m->snap.galactica ? ".dat" : ".snap");
+    const int by_time = m->snap.dt > 0;
+    char *path = by_time ? mote_series_path(m->snap.prefix, m->snap.index, 6,
+                                            m->snap.galactica ? ".dat" : ".snap")
+                         : mote_series_path(m->snap.prefix, m->nb.steps, 10,
+                                            m->snap.galactica ? ".dat" : ".snap");
     if (!path)
         return mote_fail(err, MOTE_ENOMEM, "snapshot: out of memory");
     mote_make_dir_of(path); /* (a prefix= makes its folder) */
-    int rc = m->snap.galactica ? nb_write_galactica(m, path, 1, err)
-                               : nb_snapshot_write(&m->nb, path, m->snap.origin, err);
+    mote_nb view;
+    const mote_nb *nb = by_time ? bodies_at(m, subject, (mote_real)m->snap.at.t0 +
+                                            (mote_real)m->snap.at.k * (mote_real)m->snap.dt, &view)
+                                : &m->nb;
+    int rc;
+    if (m->snap.galactica && nb != &m->nb) { /* (Galactica's writer reads the model's bodies) */
+        const mote_nb held = m->nb;
+        m->nb = *nb;
+        rc = nb_write_galactica(m, path, 1, err);
+        m->nb = held;
+    } else {
+        rc = m->snap.galactica ? nb_write_galactica(m, path, 1, err)
+                               : nb_snapshot_write(nb, path, m->snap.origin, err);
+    }
+    m->snap.index += by_time && !rc;
     free(path);
     return rc;
 }
 
-static int fire_frame(void *ctx, void *subject, mote_err *err) { return frame_now(ctx, err); }
+/* A frame of `frames every=K` (the bodies now) or `frames dt=T` (at its time). */
+static int fire_frame(void *ctx, void *subject, mote_err *err)
+{
+    nb_model *m = ctx;
+    if (!(m->frames.dt > 0))
+        return frame_now(m, err);
+    mote_nb view;
+    const mote_real ts = (mote_real)m->frames.at.t0 +
+                         (mote_real)m->frames.at.k * (mote_real)m->frames.dt;
+    return frame_of(m, bodies_at(m, subject, ts, &view), err);
+}
 
 /* The closest approach of the interval of approaches every=K that ends now. */
 static int fire_approach(void *ctx, void *subject, mote_err *err)
@@ -839,10 +908,12 @@ static size_t integrate_observers(nb_model *m, mote_observer obs[6])
                                        .every = smp[k]->dt > 0 ? 0 : smp[k]->every};
     if (m->ckpt.path)
         obs[n++] = (mote_observer){.ctx = m, .fire = fire_checkpoint, .every = m->ckpt.every};
-    if (m->snap.every)
-        obs[n++] = (mote_observer){.ctx = m, .fire = fire_snapshot, .every = m->snap.every};
-    if (m->frames.every)
-        obs[n++] = (mote_observer){.ctx = m, .fire = fire_frame, .every = m->frames.every};
+    if (m->snap.every || m->snap.dt > 0)
+        obs[n++] = (mote_observer){.at = m->snap.dt > 0 ? &m->snap.at : NULL, .ctx = m,
+                                   .fire = fire_snapshot, .every = m->snap.every};
+    if (m->frames.every || m->frames.dt > 0)
+        obs[n++] = (mote_observer){.at = m->frames.dt > 0 ? &m->frames.at : NULL, .ctx = m,
+                                   .fire = fire_frame, .every = m->frames.every};
     return n;
 }
 
@@ -922,7 +993,8 @@ int nb_run_integrate(void *vm, const mote_call *c, mote_err *err)
                          (double)m->nb.hmin, (double)m->nb.hmax);
     const uint64_t forced = m->nb.hmin_forced;
     nb_step st = {m, 0, 0, 0, NULL, t_end, 0};
-    st.by_time = (m->mon.on && m->mon.dt > 0) || (m->traj.on && m->traj.dt > 0);
+    st.by_time = (m->mon.on && m->mon.dt > 0) || (m->traj.on && m->traj.dt > 0) ||
+                 m->snap.dt > 0 || m->frames.dt > 0;
     if (st.by_time) {
         st.xv = malloc(6 * (size_t)(m->nb.n ? m->nb.n : 1) * sizeof *st.xv);
         if (!st.xv)

@@ -7,6 +7,13 @@
 #include "mote/loop.h"
 #include "sep.h"
 
+/* An output's schedule (every=K steps or dt=T; the first at the next run's start) */
+typedef struct {
+    mote_schedule at;
+    mote_observer o;
+    int first; /* every=K: the first is still to be written at the next run's start */
+} sep_schedule;
+
 typedef struct {
     mote_context *ctx;
     int dry;
@@ -18,7 +25,7 @@ typedef struct {
     struct {
         int on, movie, fps;
         char *prefix, *movie_path; /* PREFIX_000000.png ...; the movie beside them */
-        mote_schedule at;
+        sep_schedule when;
         uint64_t index;
         sep_frame_opts fo;
     } frames;
@@ -31,13 +38,13 @@ typedef struct {
     struct {
         int on;
         char *prefix; /* PREFIX_000000.xyz ... */
-        mote_schedule at;
+        sep_schedule when;
         uint64_t index;
     } snaps;
     struct {
         int on, held;
         char *path, *origin;
-        mote_schedule at;
+        sep_schedule when;
         double *rows;
         size_t nrows, cap;
         mote_partial partial; /* PATH.partial during a run: its rows as they come */
@@ -45,6 +52,7 @@ typedef struct {
     mote_loop *loop; /* during a run: the core's loop (the outputs above as observers, and the
                       * progress) */
     int prepared;    /* during a run: the system prepared at its first advance */
+    uint64_t n_stop; /* during a run: the step count the loop stops at next */
 } sep_model;
 
 /* commands.c: the species called name, or -1; the system prepares (else the call's error) */

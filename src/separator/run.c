@@ -70,6 +70,7 @@ static uint64_t lost_count(const mote_sep_system *s)
 
 static int run_advance(void *vm, mote_loop *l, double t_stop, uint64_t n_stop, mote_err *err);
 static double run_clock(const void *vm);
+static uint64_t run_count(const void *vm);
 static int live_picture(sep_model *m, mote_err *err);
 static int fire_frame(void *ctx, void *subject, mote_err *err);
 static int fire_snapshot(void *ctx, void *subject, mote_err *err);
@@ -132,12 +133,17 @@ int sep_run(void *vm, const mote_call *c, mote_err *err)
     /* the run loop: the scheduled outputs as observers, progress on a terminal */
     mote_observer obs[3];
     size_t nobs = 0;
-    if (m->frames.on)
-        obs[nobs++] = (mote_observer){.at = &m->frames.at, .fire = fire_frame};
-    if (m->snaps.on)
-        obs[nobs++] = (mote_observer){.at = &m->snaps.at, .fire = fire_snapshot};
-    if (m->bal.on)
-        obs[nobs++] = (mote_observer){.at = &m->bal.at, .fire = fire_balance};
+    sep_schedule *outs[3] = {m->frames.on ? &m->frames.when : NULL,
+                             m->snaps.on ? &m->snaps.when : NULL,
+                             m->bal.on ? &m->bal.when : NULL};
+    for (int k = 0; k < 3; k++)
+        if (outs[k])
+            obs[nobs++] = outs[k]->o;
+    for (int k = 0; k < 3 && !rc; k++) /* every=K: the first at the start, as dt='s */
+        if (outs[k] && outs[k]->first) {
+            outs[k]->first = 0;
+            rc = outs[k]->o.fire(NULL, m, err);
+        }
     mote_progress prog;
     mote_progress_begin(&prog, m->ctx, "run");
     /* the passes over the particles on the script's threads (the same bits on any number) */
@@ -146,7 +152,7 @@ int sep_run(void *vm, const mote_call *c, mote_err *err)
         rc = live_picture(m, err);
     const uint64_t lost_before = lost_count(&m->sys);
     const mote_runner r = {.what = "run", .sys = m, .ctx = m->ctx, .clock = run_clock,
-                           .advance = run_advance};
+                           .count = run_count, .advance = run_advance};
     m->prepared = 0;
     if (!rc)
         rc = mote_run(&r, obs, nobs, &prog, m->sys.t + c->args[0].r, UINT64_MAX, err);
@@ -273,6 +279,16 @@ static int frame_opts(const mote_call *c, sep_frame_opts *fo, mote_err *err)
     return MOTE_OK;
 }
 
+/* An output's schedule from its call: dt=T or every=K steps, the first at the next run's start
+ * (the loop fires a time due at its start; the run itself fires the first of every=K). */
+static void schedule_set(sep_schedule *w, const mote_call *c, const mote_sep_system *s,
+                         int (*fire)(void *, void *, mote_err *))
+{
+    w->o = mote_call_observer(c, &w->at, s->t, s->steps, 1, NULL, fire);
+    w->at.k = 0;
+    w->first = w->o.at == NULL;
+}
+
 /* A series of numbered files PREFIX_NNNNNN.EXT (prefix=P; dir=DIR is the prefix DIR/NAME, the
  * earlier form): exactly one of the two; the prefix's folder is made when the run starts. The
  * same prefix again continues the numbering (*index), another starts it at 0. Validation records
@@ -311,7 +327,9 @@ static int out_series(sep_model *m, const mote_call *c, char **prefix, uint64_t 
 int sep_frames(void *vm, const mote_call *c, mote_err *err)
 {
     sep_model *m = vm;
-    int rc = frame_opts(c, &m->frames.fo, err);
+    int rc = mote_call_check_every_dt(c, 1, err);
+    if (!rc)
+        rc = frame_opts(c, &m->frames.fo, err);
     if (!rc)
         rc = out_series(m, c, &m->frames.prefix, &m->frames.index, "frame", ".png", err);
     if (rc)
@@ -329,7 +347,7 @@ int sep_frames(void *vm, const mote_call *c, mote_err *err)
     const mote_arg *mv = mote_call_opt(c, "movie"); /* on|off */
     const int movie_off = mv && mv->i == 1;
     m->frames.on = 1;
-    m->frames.at = (mote_schedule){m->sys.t, mote_call_opt(c, "dt")->r, 0};
+    schedule_set(&m->frames.when, c, &m->sys, fire_frame);
     m->frames.movie = !movie_off;
     m->frames.fps = (int)mote_call_opt_r(c, "fps", 20);
     return MOTE_OK;
@@ -355,28 +373,35 @@ int sep_live_png(void *vm, const mote_call *c, mote_err *err)
 int sep_snapshots(void *vm, const mote_call *c, mote_err *err)
 {
     sep_model *m = vm;
-    const mote_arg *f = mote_call_opt(c, "file"), *dt = mote_call_opt(c, "dt");
+    const mote_arg *f = mote_call_opt(c, "file");
+    const int sched = mote_call_opt(c, "dt") || mote_call_opt(c, "every");
     if (f) { /* the configuration now */
-        if (dt || mote_call_opt(c, "dir") || mote_call_opt(c, "prefix"))
+        if (sched || mote_call_opt(c, "dir") || mote_call_opt(c, "prefix"))
             return mote_call_fail(err, c, mote_call_opt_index(c, "file"), MOTE_EINVAL,
                                   "%s: file= writes one snapshot now; a series on a schedule "
-                                  "takes dt= and prefix= (or dir=), not file=", c->name);
+                                  "takes dt= or every= and prefix= (or dir=), not file=", c->name);
         return m->dry ? MOTE_OK : sep_write_xyz(&m->sys, f->path, err);
     }
-    if (!dt)
+    if (!sched)
         return mote_call_fail(err, c, -1, MOTE_EINVAL, "%s: give file=FILE (one snapshot now) or "
-                              "dt=DT with prefix=P or dir=DIR (a series)", c->name);
-    int rc = out_series(m, c, &m->snaps.prefix, &m->snaps.index, "snapshot", ".xyz", err);
+                              "dt=DT or every=K with prefix=P or dir=DIR (a series)", c->name);
+    int rc = mote_call_check_every_dt(c, 1, err);
+    if (rc)
+        return rc;
+    rc = out_series(m, c, &m->snaps.prefix, &m->snaps.index, "snapshot", ".xyz", err);
     if (rc)
         return rc;
     m->snaps.on = 1;
-    m->snaps.at = (mote_schedule){m->sys.t, dt->r, 0};
+    schedule_set(&m->snaps.when, c, &m->sys, fire_snapshot);
     return MOTE_OK;
 }
 
 int sep_balance(void *vm, const mote_call *c, mote_err *err)
 {
     sep_model *m = vm;
+    int rc = mote_call_check_every_dt(c, 1, err);
+    if (rc)
+        return rc;
     char *p = strdup(mote_call_opt(c, "file")->path), *o = mote_call_origin(c);
     if (!p || !o) {
         free(p);
@@ -388,7 +413,7 @@ int sep_balance(void *vm, const mote_call *c, mote_err *err)
     m->bal.path = p;
     m->bal.origin = o;
     m->bal.on = 1;
-    m->bal.at = (mote_schedule){m->sys.t, mote_call_opt(c, "dt")->r, 0};
+    schedule_set(&m->bal.when, c, &m->sys, fire_balance);
     m->bal.nrows = 0;
     m->bal.held = 1;
     return MOTE_OK;
@@ -461,7 +486,7 @@ static int live_picture(sep_model *m, mote_err *err)
 static int run_need(void *vm, const mote_sep_system *s)
 {
     sep_model *m = vm;
-    if (mote_loop_due(m->loop, s->t) || (m->ctx && m->ctx->tick))
+    if (mote_loop_due(m->loop, s->t) || s->steps >= m->n_stop || (m->ctx && m->ctx->tick))
         return 1;
     const double now = mote_wall_seconds();
     if (m->live.on && now - m->live.last >= 1 / m->live.hz)
@@ -475,10 +500,12 @@ static int run_need(void *vm, const mote_sep_system *s)
  * there fire, the progress shows), the live picture when due. The system prepares at the first
  * advance, after the outputs due at the start. */
 static double run_clock(const void *vm) { return ((const sep_model *)vm)->sys.t; }
+static uint64_t run_count(const void *vm) { return ((const sep_model *)vm)->sys.steps; }
 static int run_advance(void *vm, mote_loop *l, double t_stop, uint64_t n_stop, mote_err *err)
 {
     sep_model *m = vm;
     m->loop = l;
+    m->n_stop = n_stop;
     if (!m->prepared) {
         int rc = mote_sep_prepare(&m->sys, err);
         if (rc)
