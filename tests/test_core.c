@@ -505,6 +505,36 @@ static void test_loop(void)
           pf.calls);
 }
 
+/* A model whose advance goes 7 counts at a time, whatever stop the loop asks for (a step of
+ * several collisions): an observer every 5 fires once at each count reached past one or more of
+ * its counts (7, 14, 21, 28: past 5, 10, 15 and 20, 25), never twice, never late. */
+typedef struct {
+    uint64_t n;
+    double seen; /* what the probe records: the count */
+} coarse_model;
+static uint64_t coarse_count(const void *s) { return ((const coarse_model *)s)->n; }
+static int coarse_advance(void *s, mote_loop *l, double t_stop, uint64_t n_stop, mote_err *err)
+{
+    coarse_model *c = s;
+    c->n += 7;
+    c->seen = (double)c->n;
+    return MOTE_OK;
+}
+
+static void test_loop_overshoot(void)
+{
+    mote_err err = {0};
+    coarse_model cm = {0, 0};
+    loop_probe p = {0};
+    const mote_observer o = {.ctx = &p, .fire = probe_fire, .every = 5};
+    const mote_runner r = {.what = "test", .sys = &cm, .subject = &cm.seen,
+                           .count = coarse_count, .advance = coarse_advance};
+    CHECK_INT(mote_run(&r, &o, 1, NULL, INFINITY, 28, &err), 0);
+    CHECK_INT(p.calls, 4);
+    CHECK(p.t[0] == 7 && p.t[1] == 14 && p.t[2] == 21 && p.t[3] == 28,
+          "every 5 past by steps of 7: calls at %g %g %g %g", p.t[0], p.t[1], p.t[2], p.t[3]);
+}
+
 /* State files through descriptor tables (statefile.h): what is written reads back the same,
  * older versions skip newer values, and each kind of damage is refused with FILE:LINE. */
 typedef struct {
@@ -660,6 +690,7 @@ int main(void)
     test_grid();
     test_csv();
     test_loop();
+    test_loop_overshoot();
     test_statefile();
     test_remove_tree(tmpdir);
     return test_summary();

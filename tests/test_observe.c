@@ -67,13 +67,6 @@ static const struct {
     {"snapshot", "mixing-box", "every", "pictures on a schedule are `frames`'"},
     {"snapshot", "mixing-box", "dt", "pictures on a schedule are `frames`'"},
     {"snapshot", "mixing-box", "prefix", "pictures on a schedule are `frames`'"},
-    {"snapshot", "nbody", "dt", "snapshots come at step ends, counted in steps"},
-    {"snapshot", "separator", "every", "its outputs are on its clock: steps are never shortened"},
-    {"frames", "mixing-box", "every", "the exact event mode counts no steps"},
-    {"frames", "nbody", "dt", "Galactica's pictures are counted in steps (spec 7.13)"},
-    {"frames", "separator", "every", "its outputs are on its clock: steps are never shortened"},
-    {"monitor", "mixing-box", "every", "the exact event mode counts no steps"},
-    {"monitor", "separator", "every", "its outputs are on its clock: steps are never shortened"},
 };
 
 static int excepted(const char *word, const char *model, const char *option)

@@ -54,7 +54,7 @@ tail -1 hss.dat | awk -v l="$pl" -v r="$pr" '{ exit !(l != "" && r != "" && ($6 
 # the vocabulary table of `mote help --markdown` is made from the command tables: a row per
 # shared word, a column per model, the earlier words named as aliases
 "$MOTE" help --markdown > ref.md
-grep -q '^| the configuration (now, or on a schedule) | `snapshot file=` | `snapshot file=` | `snapshot every= file= prefix= format=` | — | `snapshot dt= file= prefix=` |$' ref.md && ok || bad "table: $(grep '^| the configuration' ref.md)"
+grep -q '^| the configuration (now, or on a schedule) | `snapshot file=` | `snapshot file=` | `snapshot every= dt= file= prefix= format=` | — | `snapshot every= dt= file= prefix=` |$' ref.md && ok || bad "table: $(grep '^| the configuration' ref.md)"
 grep -q '^| particle paths (a growing file) | `trajectory every= dt= file=` | — | `trajectory every= dt= file= format=` | — | — |$' ref.md && ok || bad "table: $(grep '^| particle paths' ref.md)"
 grep -q "^Other names kept as aliases (.mote help. marks them): .dump. (hard-spheres's .trajectory.), .record. (mixing-box's .monitor.), .snapshots. (separator's .snapshot.), .balance. (separator's .monitor.).$" ref.md && ok || bad "aliases: $(grep '^Other names' ref.md)"
 
@@ -71,13 +71,48 @@ cmp -s mb3.dat mb3s.dat && bad "mixing box: the two density files share a header
 grep -v '^#' mb3.dat > a.txt; grep -v '^#' mb3s.dat > b.txt
 cmp -s a.txt b.txt && ok || bad "mixing box: density_y's key and short forms differ"
 
+# every=K and dt=T in every model that has a count and a clock (issue 53): the mixing box's
+# monitor and frames by disk-disk collisions (a row at each multiple, the event engine stops
+# there exactly), the run the same bit for bit with and without them
+run mbe "${MB}monitor every=100 file=mbe.dat\nframes every=250 prefix=mbe\nrun_collisions 1000 100\nsave mbe.state\n"
+run mbe0 "${MB}run_collisions 1000 100\nsave mbe0.state\n"
+awk '!/^#/ { if ($20 != 100 * n) bad = 1; n++ } END { exit !(!bad && n == 11) }' mbe.dat && ok || bad "mixing box: monitor every=100 over 1000 collisions: collisions $(grep -v '^#' mbe.dat | awk '{printf "%s ", $20}')"
+grep -q '^# every = 100 disk-disk collisions$' mbe.dat && ok || bad "mixing box: monitor every= header: $(grep '^# every\|^# DT' mbe.dat)"
+[ -s mbe_000004.png ] && [ ! -e mbe_000005.png ] && ok || bad "mixing box: frames every=250 over 1000 collisions: $(ls mbe_* | tr '\n' ' ')"
+cmp -s mbe.state mbe0.state && ok || bad "mixing box: monitor/frames every= changed the run"
+# the timestep integrator goes several collisions at a time: a row at the step that passes
+# each multiple of 100 (never two for one multiple, never one without)
+run mbt "${MB}integrator timestep\nmonitor every=100 file=mbt.dat\nrun_collisions 1000 100\n"
+awk '!/^#/ { c = $20 + 0; if (n && (int(c / 100) <= int(last / 100) || c - 100 * int(c / 100) >= 100)) bad = 1; last = c; n++ } END { exit !(!bad && n >= 10) }' mbt.dat && ok || bad "mixing box (timestep): monitor every=100: collisions $(grep -v '^#' mbt.dat | awk '{printf "%s ", $20}')"
+expect 1 "mbb.mote:9:1: error: monitor: give every=K (a count) or dt=T (a time)" mbb.mote "${MB}monitor file=a.dat\n"
+expect 1 "mbc.mote:9:19: error: frames: give every=K or dt=T, not both" mbc.mote "${MB}frames every=5 dt=0.1 prefix=a\n"
+
+# the separator's monitor, snapshots and frames every K steps: the first at the run's start,
+# then at each multiple (steps of 1e-3 s: t = steps / 1000), the run the same bit for bit
+SEPT="${SEP_DILUTE}"
+run sepe "${SEPT}monitor file=sepe.dat every=50\nsnapshot every=100 prefix=sepe_s/a\nframes every=150 prefix=sepe_f/a movie=off\nrun 0.3\nsave sepe.state\n"
+run sepe0 "${SEPT}run 0.3\nsave sepe0.state\n"
+awk '!/^#/ { if (($1 - 0.05 * n) ^ 2 > 1e-20) bad = 1; n++ } END { exit !(!bad && n == 7) }' sepe.dat && ok || bad "separator: monitor every=50 over 300 steps: t $(grep -v '^#' sepe.dat | awk '{printf "%s ", $1}')"
+[ "$(ls sepe_s | wc -l)" = 4 ] && [ "$(ls sepe_f | wc -l)" = 3 ] && ok || bad "separator: snapshot every=100, frames every=150 over 300 steps: $(ls sepe_s sepe_f | tr '\n' ' ')"
+cmp -s sepe.state sepe0.state && ok || bad "separator: outputs every= changed the run"
+
+# nbody's snapshots and frames every T of time: the bodies at that exact time (the Taylor
+# step's dense output), numbered in order; the run the same bit for bit
+run nbt 'model nbody gravity\ngenerate ring nb=6\nsnapshot dt=0.25 prefix=nbt_s/a\nframes dt=0.5 prefix=nbt_f/a\nintegrate to=1\nintegrate to=1.5\nsave nbt.state\n'
+run nbt0 'model nbody gravity\ngenerate ring nb=6\nintegrate to=1\nintegrate to=1.5\nsave nbt0.state\n'
+[ "$(cat nbt_s/a_00000[0-5].snap | sed -n 's/^# T = //p' | tr '\n' ' ')" = "0.25 0.5 0.75 1 1.25 1.5 " ] && [ ! -e nbt_s/a_000006.snap ] && ok || bad "nbody: snapshot dt=0.25 to 1.5: $(ls nbt_s | tr '\n' ' '), T $(cat nbt_s/*.snap | sed -n 's/^# T = //p' | tr '\n' ' ')"
+[ -s nbt_f/a_000003.png ] && [ ! -e nbt_f/a_000004.png ] && ok || bad "nbody: frames dt=0.5 to 1.5 (one now and three): $(ls nbt_f | tr '\n' ' ')"
+cmp -s nbt.state nbt0.state && ok || bad "nbody: snapshot/frames dt= changed the run"
+expect 1 "nbb.mote:3:1: error: snapshot: give file=FILE (one now) or every=K (one every K steps of integrate) or dt=T (one every T of time), not both" \
+    nbb.mote 'model nbody gravity\ngenerate ring nb=6\nsnapshot file=a.snap dt=2\n'
+
 # nbody: snapshot file= (one now) beside snapshot every=; monitor, trajectory
 run nb 'model nbody gravity\ngenerate ring nb=6\nsnapshot file=nb1.snap\nsnapshot every=5 prefix=nbs_\nmonitor every=5 file=nb2.dat\ntrajectory every=5 file=nb3.dat\nintegrate steps=10\n'
 has nb1.snap "nbody: snapshot file="
 has nbs_0000000010.snap "nbody: snapshot every=5"
 [ "$(rows nb2.dat)" = 3 ] && ok || bad "nbody: monitor every=5 over 10 steps: $(rows nb2.dat) rows"
 [ "$(rows nb3.dat)" = 3 ] && ok || bad "nbody: trajectory every=5 over 10 steps: $(rows nb3.dat) rows"
-expect 1 "nb_bad.mote:3:1: error: snapshot: give file=FILE (one now) or every=K (one every K steps of integrate), not both" \
+expect 1 "nb_bad.mote:3:1: error: snapshot: give file=FILE (one now) or every=K (one every K steps of integrate) or dt=T (one every T of time), not both" \
     nb_bad.mote 'model nbody gravity\ngenerate ring nb=6\nsnapshot file=a.snap every=2\n'
 
 # the separator: monitor file= dt= (balance's other name), snapshot dir= dt= (snapshots'),

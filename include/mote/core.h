@@ -115,6 +115,42 @@ void mote_partial_done(mote_partial *p);
 /* Closed, kept (the run stopped: its rows so far). */
 void mote_partial_keep(mote_partial *p);
 
+/* The rows of a monitor or time series (the output layer's file policy, every model alike): each
+ * row is formatted once, into a memory stream of all the rows (text); while a run goes on they
+ * are followed in PATH.partial (mote_rows_follow: flushed at each row, `tail -f`; a run that is
+ * stopped or fails leaves it, readable); PATH is written whole and atomically when a run ends
+ * (mote_rows_write: also after a failure, every row so far), and when the output starts if
+ * there is no PATH yet (mote_rows_start): an earlier complete PATH is replaced only by a
+ * complete one. A .csv PATH becomes RFC 4180 CSV when written (mote_afile_commit). The
+ * model's header(f, arg, growing) writes the header lines (growing: for the partial file, whose
+ * rows are still coming). */
+typedef struct {
+    char *path;
+    FILE *text;   /* the model prints its rows here */
+    char *buf;    /* (the memory stream's bytes) */
+    size_t len;
+    size_t sent;  /* bytes of buf already in PATH.partial */
+    size_t rows;  /* rows counted by mote_rows_follow */
+    mote_partial partial;
+    void (*header)(FILE *f, const void *arg, int growing);
+    const void *arg;
+} mote_rows;
+
+int mote_rows_open(mote_rows *r, const char *path,
+                   void (*header)(FILE *f, const void *arg, int growing), const void *arg,
+                   mote_err *err);
+/* The row (or rows) just printed into r->text, to PATH.partial: begun with the header and every
+ * row so far when it is not open (the first row; the first of a later run). */
+int mote_rows_follow(mote_rows *r, mote_err *err);
+/* The first row(s), printed at the command: followed, and PATH written when there is none. */
+int mote_rows_start(mote_rows *r, mote_err *err);
+/* PATH whole: the header and every row, atomically; PATH.partial removed. */
+int mote_rows_write(mote_rows *r, mote_err *err);
+/* A run that ended without writing PATH: PATH.partial closed and kept. */
+void mote_rows_keep(mote_rows *r);
+/* Freed (PATH.partial kept); a zeroed mote_rows may be freed. */
+void mote_rows_free(mote_rows *r);
+
 /* The CLOCK_REALTIME time `seconds` from now, for pthread_cond_timedwait (a wait that also
  * looks at something else now and then). */
 struct timespec mote_deadline(double seconds);

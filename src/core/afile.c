@@ -347,3 +347,78 @@ void mote_partial_done(mote_partial *p)
         unlink(p->path);
     mote_partial_keep(p);
 }
+
+/* ---- rows of a monitor or time series --------------------------------------------------------- */
+
+int mote_rows_open(mote_rows *r, const char *path,
+                   void (*header)(FILE *f, const void *arg, int growing), const void *arg,
+                   mote_err *err)
+{
+    memset(r, 0, sizeof *r);
+    r->path = strdup(path);
+    r->text = r->path ? open_memstream(&r->buf, &r->len) : NULL;
+    if (!r->text) {
+        mote_rows_free(r);
+        return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", path);
+    }
+    r->header = header;
+    r->arg = arg;
+    return MOTE_OK;
+}
+
+int mote_rows_follow(mote_rows *r, mote_err *err)
+{
+    if (!r->text)
+        return MOTE_OK;
+    if (fflush(r->text) != 0)
+        return mote_fail(err, MOTE_ENOMEM, "%s: out of memory after %zu rows", r->path,
+                         r->rows);
+    r->rows++;
+    mote_partial *pt = &r->partial;
+    if (!pt->f && !pt->path && mote_partial_open(pt, r->path) == 0) {
+        r->header(pt->f, r->arg, 1);
+        r->sent = 0;
+    }
+    if (pt->f) { /* (a partial file that cannot be made: the complete file is the result) */
+        fwrite(r->buf + r->sent, 1, r->len - r->sent, pt->f);
+        r->sent = r->len;
+        mote_partial_flush(pt);
+    }
+    return MOTE_OK;
+}
+
+int mote_rows_start(mote_rows *r, mote_err *err)
+{
+    int rc = mote_rows_follow(r, err);
+    if (!rc && access(r->path, F_OK) != 0)
+        rc = mote_rows_write(r, err);
+    return rc;
+}
+
+int mote_rows_write(mote_rows *r, mote_err *err)
+{
+    if (!r->text || fflush(r->text) != 0)
+        return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", r->path ? r->path : "rows");
+    mote_afile af;
+    int rc = mote_afile_open(&af, r->path, err);
+    if (rc)
+        return rc;
+    r->header(af.f, r->arg, 0);
+    fwrite(r->buf, 1, r->len, af.f);
+    rc = mote_afile_commit(&af, err);
+    if (!rc)
+        mote_partial_done(&r->partial);
+    return rc;
+}
+
+void mote_rows_keep(mote_rows *r) { mote_partial_keep(&r->partial); }
+
+void mote_rows_free(mote_rows *r)
+{
+    mote_partial_keep(&r->partial);
+    if (r->text)
+        fclose(r->text);
+    free(r->buf);
+    free(r->path);
+    memset(r, 0, sizeof *r);
+}

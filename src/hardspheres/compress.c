@@ -110,7 +110,7 @@ int mote_hs_compress(mote_hs *hs, int which, double eta, double dlmax, uint64_t 
         }
     }
     mote_progress_end(&prog);
-    if (rc)
+    if ((rc = hs_monitor_end(hs, rc, err)))
         return rc;
     if (hs->log)
         fprintf(hs->log, "%s: done: moves=%llu collisions=%llu eta=%.15g (target %.15g)\n", name,
@@ -204,7 +204,7 @@ int mote_hs_compress_box(mote_hs *hs, double eta, double dlmax, uint64_t k, mote
         }
     }
     mote_progress_end(&prog);
-    if (rc)
+    if ((rc = hs_monitor_end(hs, rc, err)))
         return rc;
     if (hs->log)
         fprintf(hs->log, "%s: done: moves=%llu collisions=%llu eta=%.15g (target %.15g)\n", name,

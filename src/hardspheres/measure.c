@@ -54,6 +54,7 @@ int hs_run_samples(mote_hs *hs, uint64_t k, uint64_t nsamples, hs_sample_fn fn, 
     mote_progress_begin(&prog, hs->ctx, label);
     int rc = hs_run_observed(hs, C, &o, 1, &prog, label, err);
     mote_progress_end(&prog);
+    rc = hs_monitor_end(hs, rc, err);
     if (rc)
         return rc;
     while (x.s < nsamples) /* (a system in which nothing more can happen: the samples left) */

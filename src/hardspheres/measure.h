@@ -56,6 +56,9 @@ size_t hs_dump_observer(mote_hs *hs, mote_observer *o);
  * chained to those installed before, or off (0) again. */
 size_t hs_monitor_observer(mote_hs *hs, mote_observer *o);
 void hs_monitor_hooks(mote_hs *hs, int on);
+/* After a command's runs (rc: their result): the monitor's FILE whole with every row so far (FILE.partial
+ * kept when it cannot be written). Returns rc, or the write's error. */
+int hs_monitor_end(mote_hs *hs, int rc, mote_err *err);
 /* Free the system only (keeping settings and an active dump): for commands that replace it. */
 void hs_drop_system(mote_hs *hs);
 /* The local order of the current configuration with the `order` command's definitions, per

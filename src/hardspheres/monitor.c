@@ -3,9 +3,10 @@
  * that runs the dynamics: the time, the collisions, the kinetic temperature, and the pressure of
  * the interval since the previous row (on each wall of a slit from the momentum the walls
  * received; in a periodic box from the collisional virial, as `pressure` computes them, spec
- * 8.4). Rows are appended to FILE whole as they are taken (`tail -f` follows it; a row that
- * fails to write is cut off again, so the file always ends with a complete row); the first row
- * and the header replace an earlier FILE atomically. The collisions and wall hits are counted by
+ * 8.4). The rows follow the core's policy (mote_rows): FILE.partial as they are taken (`tail
+ * -f`), FILE whole at the end of every command that ran the dynamics (and at the command when
+ * there is no FILE yet), so an earlier complete FILE is replaced only by a complete one. The
+ * collisions and wall hits are counted by
  * engine hooks that pass every event on to hooks installed before them (a measurement's). */
 #include "mote/datafile.h"
 #include "mote/hardspheres.h"
@@ -20,13 +21,13 @@
 #include "measure.h"
 
 struct hs_monitor {
-    char *path, *origin;
+    char *origin;
+    mote_rows out;     /* FILE's rows (the core's file policy) */
     uint64_t k;        /* collisions per particle between rows (0: by time) */
     uint64_t next_at;  /* by collisions: the count of the next row */
     mote_schedule at;  /* by time: the next row at at.t0 + at.k at.dt */
     double t_last;     /* the time of the last row */
     double W, mom[2];  /* since the last row: sum r_ij . J_ij, the walls' momentum */
-    uint64_t rows;
     mote_ev_observer chained; /* during a run: the hooks installed before ours */
 };
 
@@ -65,8 +66,9 @@ static void interval_start(mote_hs *hs)
     m->W = m->mom[0] = m->mom[1] = 0;
 }
 
-static void header(FILE *f, const mote_hs *hs)
+static void header(FILE *f, const void *vhs, int growing)
 {
+    const mote_hs *hs = vhs;
     const struct hs_monitor *m = hs->monitor;
     const mote_ev *ev = &hs->ev;
     mote_datafile_preamble(f, "hard-spheres-monitor", m->origin, hs->seed);
@@ -93,15 +95,11 @@ int mote_hs_monitor_start(mote_hs *hs, uint64_t k, double dt, const char *path,
     if ((k > 0) == (dt > 0) || !(dt >= 0))
         return mote_fail(err, MOTE_EINVAL, "monitor: give every=K or dt=T (> 0), one of them");
     struct hs_monitor *m = calloc(1, sizeof *m);
-    if (m) {
-        m->path = strdup(path);
+    if (m)
         m->origin = strdup(origin ? origin : "(library call)");
-    }
-    if (!m || !m->path || !m->origin) {
-        if (m) {
-            free(m->path);
+    if (!m || !m->origin) {
+        if (m)
             free(m->origin);
-        }
         free(m);
         return mote_fail(err, MOTE_ENOMEM, "monitor: out of memory");
     }
@@ -111,58 +109,49 @@ int mote_hs_monitor_start(mote_hs *hs, uint64_t k, double dt, const char *path,
     m->at = (mote_schedule){mote_ev_time(&hs->ev), dt, 1};
     m->next_at = k ? hs->ev.collisions + interval(hs) : 0;
     interval_start(hs);
-    mote_afile af; /* the header and the first row, atomically */
-    int rc = mote_afile_open(&af, path, err);
+    /* the first row now: FILE.partial, and FILE when there is none yet */
+    int rc = mote_rows_open(&m->out, path, header, hs, err);
     if (!rc) {
-        header(af.f, hs);
-        row(af.f, hs);
-        rc = mote_afile_commit(&af, err);
+        row(m->out.text, hs);
+        rc = mote_rows_start(&m->out, err);
     }
-    if (rc) {
+    if (rc)
         mote_hs_monitor_stop(hs);
-        return rc;
-    }
-    m->rows = 1;
-    return MOTE_OK;
+    return rc;
 }
 
 void mote_hs_monitor_stop(mote_hs *hs)
 {
     if (!hs->monitor)
         return;
-    free(hs->monitor->path);
+    mote_rows_free(&hs->monitor->out);
     free(hs->monitor->origin);
     free(hs->monitor);
     hs->monitor = NULL;
 }
 
-uint64_t mote_hs_monitor_rows(const mote_hs *hs) { return hs->monitor ? hs->monitor->rows : 0; }
+int hs_monitor_end(mote_hs *hs, int rc, mote_err *err)
+{
+    if (!hs->monitor)
+        return rc;
+    mote_err werr = {0};
+    const int wrc = mote_rows_write(&hs->monitor->out, rc ? &werr : err);
+    if (wrc)
+        mote_rows_keep(&hs->monitor->out); /* (its rows so far stay in FILE.partial) */
+    return rc ? rc : wrc;
+}
 
-/* A row appended whole; on a failure the file is cut back to its previous end. */
+uint64_t mote_hs_monitor_rows(const mote_hs *hs) { return hs->monitor ? hs->monitor->out.rows : 0; }
+
+/* A row: formatted once, followed in FILE.partial. */
 static int fire(void *ctx, void *subject, mote_err *err)
 {
     mote_hs *hs = ctx;
     struct hs_monitor *m = hs->monitor;
-    struct stat st;
-    if (stat(m->path, &st) != 0)
-        return mote_fail(err, MOTE_EIO, "monitor: '%s' is gone: %s", m->path, strerror(errno));
-    FILE *f = fopen(m->path, "a");
-    if (!f)
-        return mote_fail(err, MOTE_EIO, "monitor: cannot append to '%s': %s", m->path,
-                         strerror(errno));
-    row(f, hs);
-    int e = 0;
-    if (fflush(f) != 0 || ferror(f))
-        e = errno ? errno : EIO;
-    if (fclose(f) != 0 && !e)
-        e = errno ? errno : EIO;
-    if (e) {
-        if (truncate(m->path, st.st_size) != 0) { /* keep whole rows only; nothing else to do */
-        }
-        return mote_fail(err, MOTE_EIO, "monitor: writing row %llu to '%s' failed: %s",
-                         (unsigned long long)m->rows, m->path, strerror(e));
-    }
-    m->rows++;
+    row(m->out.text, hs);
+    int rc = mote_rows_follow(&m->out, err);
+    if (rc)
+        return rc;
     interval_start(hs);
     if (m->k)
         m->next_at = hs->ev.collisions + interval(hs);

@@ -489,6 +489,7 @@ int mote_hs_step(mote_hs *hs, uint64_t k, mote_err *err)
     uint64_t c0 = ev->collisions, wall0 = ev->wall_collisions;
     int rc = hs_run_observed(hs, total, NULL, 0, &prog, "step", err);
     mote_progress_end(&prog);
+    rc = hs_monitor_end(hs, rc, err);
     if (rc)
         return rc;
     double secs = mote_wall_seconds() - w0;

@@ -535,11 +535,9 @@ static int write_outputs(mb_model *m, mote_err *err)
 {
     int rc = MOTE_OK;
     if (m->rec.active)
-        rc = mb_record_write(&m->rec, &m->sys, err);
-    if (m->rec.active && !rc) /* the complete file is there */
-        mote_partial_done(&m->rec.partial);
-    else
-        mote_partial_keep(&m->rec.partial); /* (its rows so far stay) */
+        rc = mote_rows_write(&m->rec.out, err);
+    if (rc)
+        mote_rows_keep(&m->rec.out); /* (its rows so far stay in FILE.partial) */
     if (!rc && m->dens.active)
         rc = mb_density_write(&m->dens, &m->sys, err);
     return rc;
@@ -653,17 +651,14 @@ static int run_record(void *vm, const mote_call *c, mote_err *err)
 {
     mb_model *m = vm;
     mb_record_free(&m->rec);
-    m->rec.path = strdup(mote_call_opt(c, "file")->path);
     m->rec.origin = mote_call_origin(c);
-    if (!m->rec.path || !m->rec.origin)
+    if (!m->rec.origin)
         return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", c->name);
     m->rec.dt = mote_call_opt_r(c, "dt", 0);
     m->rec.every = m->rec.dt > 0 ? 0 : (uint64_t)mote_call_opt(c, "every")->i;
     /* the first row now, into FILE.partial, and into FILE when there is none yet: an earlier
      * complete FILE is replaced only by the complete file a run writes when it ends */
-    int rc = mb_record_observe(&m->rec, &m->sys, err);
-    if (!rc && access(m->rec.path, F_OK) != 0)
-        rc = mb_record_write(&m->rec, &m->sys, err);
+    int rc = mb_record_start(&m->rec, &m->sys, mote_call_opt(c, "file")->path, err);
     if (rc) {
         mb_record_free(&m->rec);
         return rc;
@@ -673,9 +668,9 @@ static int run_record(void *vm, const mote_call *c, mote_err *err)
                                   mb_record_observe);
     if (m->log && m->rec.every)
         fprintf(m->log, "%s: every %llu collisions into %s\n", c->name,
-                (unsigned long long)m->rec.every, m->rec.path);
+                (unsigned long long)m->rec.every, m->rec.out.path);
     else if (m->log)
-        fprintf(m->log, "%s: every %g s into %s\n", c->name, m->rec.dt, m->rec.path);
+        fprintf(m->log, "%s: every %g s into %s\n", c->name, m->rec.dt, m->rec.out.path);
     return MOTE_OK;
 }
 

@@ -70,29 +70,26 @@ typedef struct {
     uint64_t collisions, overlaps;
 } mb_row;
 
-/* The `monitor DT FILE` recording: rows in memory, the whole file rewritten atomically after
- * each run; during a run the rows also go to FILE.partial as they come (tail -f; a run that is
- * stopped leaves it). */
+/* The `monitor DT FILE` recording: the rows as numbers (a row's interval columns need the one
+ * before) and as text, through the core's rows (mote_rows: FILE.partial during a run, FILE
+ * whole after each run). */
 typedef struct {
     int active;
-    char *path;
     char *origin; /* the command line that started it (for the header) */
     double dt;      /* by time (0: by count) */
     uint64_t every; /* by count: disk-disk collisions between rows (0: by time) */
     mb_row *rows;
     size_t nrows, cap;
-    mote_partial partial;
-    FILE *text; /* the rows as text, each formatted once (open_memstream; NULL: none) */
-    char *text_buf;
-    size_t text_len, text_rows; /* its bytes, and the rows it holds */
+    const mote_mb *sys; /* (for the header) */
+    mote_rows out;
 } mb_record;
 
 void mb_record_free(mb_record *r);
-/* Take one row from the state (counts overlaps and notes them in sys). */
-int mb_record_sample(void *ctx, void *subject, mote_err *err);
+/* Start recording into path: the first row now (into FILE.partial, and into FILE when there is
+ * none yet). */
+int mb_record_start(mb_record *r, const mote_mb *sys, const char *path, mote_err *err);
 /* The run loop's observer: a row, streamed to FILE.partial (begun with the rows so far). */
 int mb_record_observe(void *ctx, void *subject, mote_err *err);
-int mb_record_write(const mb_record *r, const mote_mb *sys, mote_err *err);
 
 /* The `density_y DT NBINS FILE` profile: y histograms per chamber summed over samples. */
 typedef struct {

@@ -43,17 +43,13 @@ void mb_write_params(FILE *f, const mote_mb *sys, const char *format, const char
 
 void mb_record_free(mb_record *r)
 {
-    mote_partial_keep(&r->partial);
-    if (r->text)
-        fclose(r->text);
-    free(r->text_buf);
-    free(r->path);
+    mote_rows_free(&r->out);
     free(r->origin);
     free(r->rows);
     memset(r, 0, sizeof *r);
 }
 
-int mb_record_sample(void *ctx, void *subject, mote_err *err)
+static int mb_record_sample(void *ctx, void *subject, mote_err *err)
 {
     mote_mb *sys = subject;
     mb_record *r = ctx;
@@ -92,9 +88,10 @@ static void put_real(FILE *f, double v)
         fprintf(f, " %.10g", v);
 }
 
-static void record_header(FILE *f, const mb_record *r, const mote_mb *sys, int growing)
+static void record_header(FILE *f, const void *vr, int growing)
 {
-    mb_write_params(f, sys, "mixing", r->origin);
+    const mb_record *r = vr;
+    mb_write_params(f, r->sys, "mixing", r->origin);
     if (r->every)
         fprintf(f, "# every = %llu disk-disk collisions\n", (unsigned long long)r->every);
     else
@@ -146,53 +143,27 @@ static void record_row(FILE *f, const mb_record *r, size_t k)
             (unsigned long long)w->overlaps);
 }
 
-int mb_record_write(const mb_record *r, const mote_mb *sys, mote_err *err)
-{
-    mote_afile af;
-    int rc = mote_afile_open(&af, r->path, err);
-    if (rc)
-        return rc;
-    record_header(af.f, r, sys, 0);
-    if (r->text && fflush(r->text) == 0 && r->text_rows == r->nrows)
-        fwrite(r->text_buf, 1, r->text_len, af.f); /* (the rows as formatted when taken) */
-    else
-        for (size_t k = 0; k < r->nrows; k++)
-            record_row(af.f, r, k);
-    return mote_afile_commit(&af, err);
-}
-
 int mb_record_observe(void *ctx, void *subject, mote_err *err)
 {
     mb_record *r = ctx;
     int rc = mb_record_sample(ctx, subject, err);
     if (rc)
         return rc;
-    /* the row formatted once, kept as text for the complete file */
-    if (!r->text && r->nrows == 1)
-        r->text = open_memstream(&r->text_buf, &r->text_len);
-    size_t from = 0;
-    if (r->text && fflush(r->text) == 0 && r->text_rows == r->nrows - 1) {
-        from = r->text_len;
-        record_row(r->text, r, r->nrows - 1);
-        r->text_rows += fflush(r->text) == 0;
+    record_row(r->out.text, r, r->nrows - 1); /* formatted once: the partial and whole files */
+    return mote_rows_follow(&r->out, err);
+}
+
+int mb_record_start(mb_record *r, const mote_mb *sys, const char *path, mote_err *err)
+{
+    r->sys = sys;
+    int rc = mote_rows_open(&r->out, path, record_header, r, err);
+    if (!rc)
+        rc = mb_record_sample(r, (void *)sys, err);
+    if (!rc) {
+        record_row(r->out.text, r, 0);
+        rc = mote_rows_start(&r->out, err);
     }
-    const int text = r->text && r->text_rows == r->nrows;
-    mote_partial *pt = &r->partial;
-    if (!pt->f && !pt->path && mote_partial_open(pt, r->path) == 0) {
-        record_header(pt->f, r, subject, 1);
-        if (text)
-            fwrite(r->text_buf, 1, r->text_len, pt->f);
-        else
-            for (size_t k = 0; k < r->nrows; k++)
-                record_row(pt->f, r, k);
-    } else if (pt->f) {
-        if (text)
-            fwrite(r->text_buf + from, 1, r->text_len - from, pt->f);
-        else
-            record_row(pt->f, r, r->nrows - 1);
-    }
-    mote_partial_flush(pt);
-    return MOTE_OK;
+    return rc;
 }
 
 /* ---- the density profile in y ---------------------------------------------------------------- */

@@ -56,8 +56,7 @@ static void model_destroy(void *vm)
     mote_outputs_free(&m->formats);
     nb_sampler *smp[2] = {&m->mon, &m->traj};
     for (int k = 0; k < 2; k++) {
-        mote_partial_keep(&smp[k]->partial);
-        nb_sampler_text_free(smp[k]);
+        mote_rows_free(&smp[k]->out);
         free(smp[k]->path);
         free(smp[k]->origin);
         free(smp[k]->rows);

@@ -51,10 +51,7 @@ typedef struct nb_model {
         int vel;               /* trajectory: velocities too */
         char tunit[16];        /* unit= of the command ("" none): a last column T_UNIT, */
         double tscale;         /* T / tscale, the time in that unit */
-        mote_partial partial;  /* PATH.partial: the rows as they come, during integrate */
-        FILE *text;            /* the rows as text, each formatted once (open_memstream) */
-        char *text_buf;
-        size_t text_len;
+        mote_rows out;         /* PATH's rows as text (PATH.partial during integrate) */
     } mon, traj;
     /* checkpoints: the exact state into `path` every `every` steps and at the end of integrate */
     struct {
@@ -114,8 +111,6 @@ int nb_model_set_array(void *vm, const char *name, const double *v, size_t rows,
 
 /* ---- commands.c: helpers the other files share ---- */
 void nb_settle_units(nb_model *m);
-/* outputs.c: the text of a sampler's rows, closed and freed. */
-void nb_sampler_text_free(nb_sampler *s);
 mote_real nb_opt_real_or(const mote_call *c, const char *key, mote_real dflt);
 int nb_need_bodies(nb_model *m, const mote_call *c, mote_err *err);
 

@@ -128,15 +128,13 @@ static int trajectory_sample(nb_model *m, const mote_nb *nb, mote_err *err)
     return MOTE_OK;
 }
 
-static void sampler_stream(nb_model *m, nb_sampler *s, int traj);
+static int sampler_stream(nb_model *m, nb_sampler *s, int traj, mote_err *err);
 
 /* A sample of the run (the row also to PATH.partial). */
 static int sample(nb_model *m, int traj, const mote_nb *nb, mote_err *err)
 {
     const int rc = traj ? trajectory_sample(m, nb, err) : monitor_sample(m, nb, err);
-    if (!rc)
-        sampler_stream(m, traj ? &m->traj : &m->mon, traj);
-    return rc;
+    return rc ? rc : sampler_stream(m, traj ? &m->traj : &m->mon, traj, err);
 }
 
 /* The header lines every output shares after the preamble (spec 10). */
@@ -249,87 +247,42 @@ static void sampler_line(nb_model *m, const nb_sampler *s, int traj, FILE *f, si
     fputc('\n', f);
 }
 
-/* Rewrite the sampler's file (atomically) with every sample so far: the header, then the rows
- * as they were formatted when taken (or formatted now, when the text could not be kept). */
-static int sampler_write(nb_model *m, nb_sampler *s, int traj, mote_err *err)
+/* A sampler's file header: the preamble (none in JSON lines), then its own lines. */
+static void sampler_file_header(FILE *f, nb_model *m, int traj)
 {
-    if (!s->path)
-        return MOTE_OK;
-    const char *kind = traj ? "nbody-trajectory" : "nbody-monitor";
-    mote_datafile d;
-    int rc;
-    if (s->format == FMT_JSONL) {
-        rc = mote_afile_open(&d.af, s->path, err);
-        d.f = d.af.f;
-    } else
-        rc = mote_datafile_open(&d, s->path, kind, s->origin, 0, err);
-    if (rc)
-        return rc;
-    sampler_header(m, s, traj, d.f);
-    if (s->text && fflush(s->text) == 0)
-        fwrite(s->text_buf, 1, s->text_len, d.f);
-    else
-        for (size_t k = 0; k < s->nrows; k++)
-            sampler_line(m, s, traj, d.f, k);
-    if (s->format == FMT_JSONL)
-        return mote_afile_commit(&d.af, err);
-    return mote_datafile_commit(&d, err);
+    const nb_sampler *s = traj ? &m->traj : &m->mon;
+    if (s->format != FMT_JSONL)
+        mote_datafile_preamble(f, traj ? "nbody-trajectory" : "nbody-monitor", s->origin, 0);
+    sampler_header(m, s, traj, f);
+}
+static void monitor_header(FILE *f, const void *m, int growing)
+{
+    sampler_file_header(f, (nb_model *)m, 0);
+}
+static void trajectory_header(FILE *f, const void *m, int growing)
+{
+    sampler_file_header(f, (nb_model *)m, 1);
 }
 
-/* The text of the rows: closed and freed (a new start, or the end). */
-void nb_sampler_text_free(nb_sampler *s)
+/* The sample just taken: formatted once, into the rows' text and PATH.partial (the core's rows:
+ * followed as it grows; the complete PATH is written when integrate ends). */
+static int sampler_stream(nb_model *m, nb_sampler *s, int traj, mote_err *err)
 {
-    if (s->text)
-        fclose(s->text);
-    free(s->text_buf);
-    s->text = NULL;
-    s->text_buf = NULL;
-    s->text_len = 0;
-}
-
-/* The sample just taken: formatted once, into the text of the rows and into PATH.partial (begun
- * with the samples so far): followed as it grows; the complete PATH is written when integrate
- * ends. */
-static void sampler_stream(nb_model *m, nb_sampler *s, int traj)
-{
-    mote_partial *pt = &s->partial;
     if (!s->path || !s->nrows)
-        return;
-    size_t from = 0;
-    if (s->text && fflush(s->text) == 0) {
-        from = s->text_len;
-        sampler_line(m, s, traj, s->text, s->nrows - 1);
-        if (fflush(s->text) != 0)
-            nb_sampler_text_free(s); /* (out of memory: rows are formatted at the end) */
-    }
-    if (!pt->f && !pt->path && mote_partial_open(pt, s->path) == 0) {
-        if (s->format != FMT_JSONL)
-            mote_datafile_preamble(pt->f, traj ? "nbody-trajectory" : "nbody-monitor", s->origin,
-                                   0);
-        sampler_header(m, s, traj, pt->f);
-        if (s->text)
-            fwrite(s->text_buf, 1, s->text_len, pt->f);
-        else
-            for (size_t k = 0; k < s->nrows; k++)
-                sampler_line(m, s, traj, pt->f, k);
-    } else if (pt->f) {
-        if (s->text)
-            fwrite(s->text_buf + from, 1, s->text_len - from, pt->f);
-        else
-            sampler_line(m, s, traj, pt->f, s->nrows - 1);
-    }
-    mote_partial_flush(pt);
+        return MOTE_OK;
+    sampler_line(m, s, traj, s->out.text, s->nrows - 1);
+    return mote_rows_follow(&s->out, err);
 }
 
 /* The end of a run: the complete file (also after a failure: every sample so far), the partial
  * file then removed; kept when the complete file could not be written. */
 static int sampler_finish(nb_model *m, nb_sampler *s, int traj, mote_err *err)
 {
-    const int rc = sampler_write(m, s, traj, err);
+    if (!s->path)
+        return MOTE_OK;
+    const int rc = mote_rows_write(&s->out, err);
     if (rc)
-        mote_partial_keep(&s->partial);
-    else
-        mote_partial_done(&s->partial);
+        mote_rows_keep(&s->out);
     return rc;
 }
 
@@ -337,12 +290,14 @@ static int sampler_finish(nb_model *m, nb_sampler *s, int traj, mote_err *err)
  * earlier complete PATH is replaced only by the complete file a run writes). */
 static int sampler_begin(nb_model *m, nb_sampler *s, int traj, mote_err *err)
 {
-    mote_partial_keep(&s->partial); /* (a new start) */
-    nb_sampler_text_free(s);
-    if (s->path)
-        s->text = open_memstream(&s->text_buf, &s->text_len);
-    sampler_stream(m, s, traj);
-    return s->path && access(s->path, F_OK) == 0 ? MOTE_OK : sampler_write(m, s, traj, err);
+    mote_rows_free(&s->out); /* (a new start) */
+    if (!s->path)
+        return MOTE_OK;
+    int rc = mote_rows_open(&s->out, s->path, traj ? trajectory_header : monitor_header, m, err);
+    if (rc || !s->nrows)
+        return rc;
+    sampler_line(m, s, traj, s->out.text, s->nrows - 1);
+    return mote_rows_start(&s->out, err);
 }
 
 /* unit=NAME: a known unit, and physical scales to convert with. */

@@ -38,10 +38,9 @@ static void model_destroy(void *vm)
     free(m->frames.movie_path);
     free(m->live.path);
     free(m->snaps.prefix);
-    mote_partial_keep(&m->bal.partial);
-    free(m->bal.path);
+    mote_rows_free(&m->bal.out);
     free(m->bal.origin);
-    free(m->bal.rows);
+    free(m->bal.row);
     free(m);
 }
 

@@ -43,11 +43,10 @@ typedef struct {
     } snaps;
     struct {
         int on, held;
-        char *path, *origin;
+        char *origin;
         sep_schedule when;
-        double *rows;
-        size_t nrows, cap;
-        mote_partial partial; /* PATH.partial during a run: its rows as they come */
+        double *row;   /* room for one row */
+        mote_rows out; /* PATH.partial during a run, PATH after it (the core's policy) */
     } bal;
     mote_loop *loop; /* during a run: the core's loop (the outputs above as observers, and the
                       * progress) */

@@ -500,17 +500,6 @@ void sep_balance_text(FILE *f, const mote_sep_system *s, int held, const double 
     }
 }
 
-int sep_write_balance(const mote_sep_system *s, const char *path, const char *origin,
-                      uint64_t seed, const double *rows, size_t nrows, int held, mote_err *err)
-{
-    mote_datafile df;
-    int rc = mote_datafile_open(&df, path, "separator-balance", origin, seed, err);
-    if (rc)
-        return rc;
-    sep_balance_text(df.f, s, held, rows, 0, nrows, 1);
-    return mote_datafile_commit(&df, err);
-}
-
 /* ---- the Tromp curve (spec 3.1) ------------------------------------------------------------- */
 
 void mote_sep_tromp(const mote_sep_system *s, double *T, mote_sep_cut *cut)

@@ -169,7 +169,7 @@ int sep_run(void *vm, const mote_call *c, mote_err *err)
     m->loop = NULL;
     if (!rc)
         rc = run_end(m, err);
-    mote_partial_keep(&m->bal.partial); /* a run that failed: its rows so far stay */
+    mote_rows_keep(&m->bal.out); /* a run that failed: its rows so far stay */
     if (!rc && m->log)
         run_notes(m);
     return rc;
@@ -277,6 +277,14 @@ static int frame_opts(const mote_call *c, sep_frame_opts *fo, mote_err *err)
         return mote_call_fail(err, c, mote_call_opt_index(c, "y1"), MOTE_EINVAL,
                               "%s: the slab needs y1 < y2", c->name);
     return MOTE_OK;
+}
+
+/* The balance file's header: the preamble, whether the invariant held, the columns. */
+static void balance_header(FILE *f, const void *vm, int growing)
+{
+    const sep_model *m = vm;
+    mote_datafile_preamble(f, "separator-balance", m->bal.origin, m->seed);
+    sep_balance_text(f, &m->sys, m->bal.held, NULL, 0, 0, 1);
 }
 
 /* An output's schedule from its call: dt=T or every=K steps, the first at the next run's start
@@ -408,13 +416,15 @@ int sep_balance(void *vm, const mote_call *c, mote_err *err)
         free(o);
         return mote_fail(err, MOTE_ENOMEM, "balance: out of memory");
     }
-    free(m->bal.path);
     free(m->bal.origin);
-    m->bal.path = p;
     m->bal.origin = o;
+    mote_rows_free(&m->bal.out);
+    rc = mote_rows_open(&m->bal.out, p, balance_header, m, err);
+    free(p);
+    if (rc)
+        return rc;
     m->bal.on = 1;
     schedule_set(&m->bal.when, c, &m->sys, fire_balance);
-    m->bal.nrows = 0;
     m->bal.held = 1;
     return MOTE_OK;
 }
@@ -442,29 +452,14 @@ static int fire_snapshot(void *ctx, void *subject, mote_err *err)
 static int fire_balance(void *ctx, void *subject, mote_err *err)
 {
     sep_model *m = subject;
-    const size_t w = sep_balance_width(&m->sys);
-    if (m->bal.nrows == m->bal.cap) {
-        const size_t cap = m->bal.cap ? 2 * m->bal.cap : 256;
-        double *r = realloc(m->bal.rows, cap * w * sizeof *r);
-        if (!r)
-            return mote_fail(err, MOTE_ENOMEM, "balance: out of memory");
-        m->bal.rows = r;
-        m->bal.cap = cap;
-    }
-    sep_balance_row(&m->sys, m->bal.rows + m->bal.nrows++ * w);
+    if (!m->bal.row && !(m->bal.row = malloc(sep_balance_width(&m->sys) * sizeof *m->bal.row)))
+        return mote_fail(err, MOTE_ENOMEM, "balance: out of memory");
+    sep_balance_row(&m->sys, m->bal.row);
     if (mote_sep_check_balance(&m->sys))
         m->bal.held = 0;
-    /* followed as it grows: PATH.partial, begun with the rows of earlier runs */
-    mote_partial *pt = &m->bal.partial;
-    if (!pt->f && !pt->path && mote_partial_open(pt, m->bal.path) == 0) {
-        mote_datafile_preamble(pt->f, "separator-balance", m->bal.origin, m->seed);
-        sep_balance_text(pt->f, &m->sys, m->bal.held, m->bal.rows, 0, m->bal.nrows, 1);
-    } else if (pt->f) {
-        sep_balance_text(pt->f, &m->sys, m->bal.held, m->bal.rows, m->bal.nrows - 1,
-                         m->bal.nrows, 0);
-    }
-    mote_partial_flush(pt);
-    return MOTE_OK;
+    /* the row once as text; followed as it grows in PATH.partial (the core's rows) */
+    sep_balance_text(m->bal.out.text, &m->sys, m->bal.held, m->bal.row, 0, 1, 0);
+    return mote_rows_follow(&m->bal.out, err);
 }
 
 /* The live picture, when one is due (wall-clock). */
@@ -522,11 +517,8 @@ void sep_model_live(void *vm, mote_buf *b) { sep_live_frame(&((sep_model *)vm)->
 static int run_end(sep_model *m, mote_err *err)
 {
     int rc = MOTE_OK;
-    if (m->bal.on && m->bal.nrows)
-        rc = sep_write_balance(&m->sys, m->bal.path, m->bal.origin, m->seed, m->bal.rows,
-                               m->bal.nrows, m->bal.held, err);
-    if (!rc)
-        mote_partial_done(&m->bal.partial); /* (the complete file is there) */
+    if (m->bal.on && m->bal.out.rows)
+        rc = mote_rows_write(&m->bal.out, err); /* (the complete file is there) */
     if (!rc && m->frames.on && m->frames.movie && m->frames.index > 1) {
         int ran = 0;
         rc = mote_movie(m->frames.prefix, m->frames.fps, m->frames.movie_path,

@@ -109,11 +109,9 @@ int sep_write_xyz(const mote_sep_system *s, const char *path, mote_err *err);
 size_t sep_balance_width(const mote_sep_system *s);
 void sep_balance_row(const mote_sep_system *s, double *row);
 /* The balance file's text: its head (invariant_held, the columns) when head, then the rows
- * from .. to - 1 (sep_write_balance: preamble, head and every row, atomically) */
+ * from .. to - 1 */
 void sep_balance_text(FILE *f, const mote_sep_system *s, int held, const double *rows,
                       size_t from, size_t to, int head);
-int sep_write_balance(const mote_sep_system *s, const char *path, const char *origin,
-                      uint64_t seed, const double *rows, size_t nrows, int held, mote_err *err);
 
 /* prepare.c: the gas profile's density and viscosity at z (the constants without a profile) */
 void sep_profile_at(const mote_sep_system *s, double z, double *rho, double *mu);
