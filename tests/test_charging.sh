@@ -20,6 +20,11 @@ grep -q '^run: e    I = -6.70' out.txt && ok || bad "run line: $(grep '^run: e' 
 # dt= is the shared word for the rows' interval (dt_out=, its earlier name, gives the same rows)
 sed 's/dt_out=2.5e-5 file=ts.csv/dt=2.5e-5 file=ts2.csv/' f1.mote > f2.mote
 "$MOTE" run f2.mote > out2.txt 2> err.txt && cmp -s ts.csv ts2.csv && ok || bad "evolve dt= and dt_out= differ: $(cat err.txt)"
+# monitor dt= file= (the word every model has): the same rows as evolve's own dt= and file=,
+# FILE.partial gone once FILE is whole; an evolve with its own file= is not the monitor's
+sed 's/evolve time=2.5e-4 dt_out=2.5e-5 file=ts.csv/monitor dt=2.5e-5 file=ts3.csv\nevolve time=2.5e-4\nevolve time=1e-4 file=ts4.csv/' f1.mote > f4.mote
+"$MOTE" run f4.mote > out4.txt 2> err.txt && cmp -s ts.csv ts3.csv && [ ! -e ts3.csv.partial ] && ok || bad "monitor dt= file= and evolve's dt= file= differ: $(cat err.txt) $(ls ts3*)"
+[ "$(($(wc -l < ts4.csv) - 1))" -eq 2 ] && ok || bad "evolve file= beside a monitor: $(wc -l < ts4.csv) lines, expected a header and 2 rows (t = 0 and T: its own file, not the monitor's rows)"
 expect 1 "f3.mote:4:33: error: evolve: give dt= (the rows' interval) or dt_out= (its earlier name), not both" f3.mote "${F}body sphere radius=1\nrun particles=1e4\nevolve time=1e-4 dt=1e-5 dt_out=1e-5\n"
 
 # legacy_stdout=on (spec 8.1): the original's four columns Q U t collisions on stdout, the same

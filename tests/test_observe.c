@@ -67,6 +67,7 @@ static const struct {
     {"snapshot", "mixing-box", "every", "pictures on a schedule are `frames`'"},
     {"snapshot", "mixing-box", "dt", "pictures on a schedule are `frames`'"},
     {"snapshot", "mixing-box", "prefix", "pictures on a schedule are `frames`'"},
+    {"monitor", "charging", "every", "its time is evolve's, which counts no steps"},
 };
 
 static int excepted(const char *word, const char *model, const char *option)

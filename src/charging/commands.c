@@ -43,6 +43,7 @@ static void model_destroy(void *vm)
     free(m->prefix);
     free(m->origin);
     free(m->check_prefix);
+    free(m->monitor.path);
     free(m->tri_mat);
     free(m->warnings);
     free(m);
@@ -969,6 +970,9 @@ static const mote_cmd ch_commands[] = {
      "[png_scale=linear|log]",
      "the files of spec 8 after each run (tables, VTK, summary, surface picture)", HELP_OUTPUT,
      ch_check_output, ch_run_output},
+    {"monitor", NULL, "@dt=r>0! @file=f>timeseries!", "monitor dt=T file=FILE",
+     "the time series of every later evolve into FILE, a row every T", HELP_MONITOR,
+     ch_run_monitor, ch_run_monitor},
     {"evolve", NULL, "time=r>0! dt=r>0 dt_out=r>0 file=f>timeseries U0=r particles=r>=1",
      "evolve time=T [dt=D] [file=FILE] [U0=0] [particles=N]",
      "U(t) of faithful mode (constant currents)", HELP_EVOLVE, ch_check_evolve, ch_run_evolve},

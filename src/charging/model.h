@@ -65,6 +65,12 @@ typedef struct ch_model {
      * `run`, `float` and `evolve` will write are known to the whole-script check */
     char *check_prefix;
     int check_timeseries;
+    /* `monitor dt=T file=FILE`: the time series of every later `evolve` (without its own file=)
+     * into FILE, a row every T (unless evolve's dt=); path NULL: none */
+    struct {
+        char *path;
+        double dt;
+    } monitor;
 } ch_model;
 
 /* ---- commands.c: helpers run.c uses ---- */
@@ -104,6 +110,8 @@ int ch_note_prefixed(ch_model *m, const mote_call *c, const char *suffix, const 
                      mote_err *err);
 /* timeseries.c: `evolve` */
 int ch_check_evolve(void *vm, const mote_call *c, mote_err *err);
+/* `monitor dt=T file=FILE` (checked and run alike: the dry model knows the file too) */
+int ch_run_monitor(void *vm, const mote_call *c, mote_err *err);
 int ch_run_evolve(void *vm, const mote_call *c, mote_err *err);
 int ch_check_output(void *vm, const mote_call *c, mote_err *err);
 int ch_run_output(void *vm, const mote_call *c, mote_err *err);

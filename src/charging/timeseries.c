@@ -15,10 +15,26 @@
 
 #include "model.h"
 
-/* The rows' interval: dt= (dt_out=, its earlier name), or the whole time. */
-static double evolve_dt(const mote_call *c, double T)
+/* The rows' interval: dt= (dt_out=, its earlier name), the monitor's, or the whole time. */
+static double evolve_dt(const ch_model *m, const mote_call *c, double T)
 {
-    return mote_call_opt_r(c, "dt", mote_call_opt_r(c, "dt_out", T));
+    const double dflt = m->monitor.path && !mote_call_opt(c, "file") ? m->monitor.dt : T;
+    return fmin(mote_call_opt_r(c, "dt", mote_call_opt_r(c, "dt_out", dflt)), T);
+}
+
+int ch_run_monitor(void *vm, const mote_call *c, mote_err *err)
+{
+    ch_model *m = vm;
+    char *p = strdup(mote_call_opt(c, "file")->path);
+    if (!p)
+        return mote_fail(err, MOTE_ENOMEM, "monitor: out of memory");
+    free(m->monitor.path);
+    m->monitor.path = p;
+    m->monitor.dt = mote_call_opt(c, "dt")->r;
+    if (m->log && !m->dry)
+        fprintf(m->log, "monitor: the time series of every later evolve into %s, a row every "
+                        "%g s\n", p, m->monitor.dt);
+    return MOTE_OK;
 }
 
 int ch_check_evolve(void *vm, const mote_call *c, mote_err *err)
@@ -49,24 +65,81 @@ int ch_check_evolve(void *vm, const mote_call *c, mote_err *err)
     if (m->ndiel > 0 && !m->have_sphere) /* the map of the surface potential */
         if (!(rc = ch_note_prefixed(m, c, "_potential.vtk", "potential", err)))
             rc = ch_note_prefixed(m, c, "_potential.png", "potential", err);
-    if (!rc && !mote_call_opt(c, "file") && m->check_timeseries)
+    if (!rc && !mote_call_opt(c, "file") && !m->monitor.path && m->check_timeseries)
         rc = ch_note_prefixed(m, c, "_timeseries.csv", "timeseries", err);
     return rc;
 }
 
-/* The time-series file of evolve (spec 8.1): file= if given, else P_timeseries.csv after
- * `output prefix=P` (unless timeseries=off); only MPI rank 0 writes. 1 when one is open. */
-static int open_timeseries(ch_model *m, const mote_call *c, mote_datafile *d, mote_err *err,
-                           int *rc)
+/* evolve's time-series file, through the core's rows (mote_rows): FILE.partial while evolve
+ * goes on (a row at a time: `tail -f`), FILE whole when it ends. The mode's header lines go to
+ * head first (series_rows then gives the stream of the rows). */
+typedef struct {
+    mote_rows rows;
+    FILE *head;
+    char *head_buf;
+    size_t head_len;
+    char *origin;
+    uint64_t seed;
+} ch_series;
+
+static void series_header(FILE *f, const void *vs, int growing)
+{
+    const ch_series *s = vs;
+    mote_datafile_preamble(f, "charging-timeseries", s->origin ? s->origin : "evolve", s->seed);
+    if (s->head_buf)
+        fwrite(s->head_buf, 1, s->head_len, f);
+}
+
+static void series_free(ch_series *s)
+{
+    mote_rows_free(&s->rows);
+    if (s->head)
+        fclose(s->head);
+    free(s->head_buf);
+    free(s->origin);
+    memset(s, 0, sizeof *s);
+}
+
+/* The header written: where the rows go. */
+static FILE *series_rows(ch_series *s)
+{
+    fflush(s->head);
+    return s->rows.text;
+}
+
+/* The row just written, followed (s NULL: no file). */
+static int series_follow(ch_series *s, mote_err *err)
+{
+    return s ? mote_rows_follow(&s->rows, err) : MOTE_OK;
+}
+
+/* The end of evolve (rc: its result): FILE whole with every row so far (also after a failure),
+ * FILE.partial kept when it cannot be written. */
+static int series_end(ch_series *s, int rc, mote_err *err)
+{
+    mote_err werr = {0};
+    int wrc = mote_rows_write(&s->rows, rc ? &werr : err);
+    if (wrc)
+        mote_rows_keep(&s->rows);
+    series_free(s);
+    return rc ? rc : wrc;
+}
+
+/* The time-series file of evolve (spec 8.1): file= if given, else the monitor's FILE, else
+ * P_timeseries.csv after `output prefix=P` (unless timeseries=off); only MPI rank 0 writes. 1
+ * when one is open (its header lines then go to s->head). */
+static int open_timeseries(ch_model *m, const mote_call *c, ch_series *s, mote_err *err, int *rc)
 {
     *rc = MOTE_OK;
+    memset(s, 0, sizeof *s);
     if (ch_mpi_rank(m->ctx ? m->ctx->solo : 0) != 0)
         return 0;
     const mote_arg *f = mote_call_opt(c, "file");
+    const char *given = f ? f->path : m->monitor.path;
     char *path = NULL;
-    if (!f && (!m->prefix || !m->out_timeseries))
+    if (!given && (!m->prefix || !m->out_timeseries))
         return 0;
-    if (!f) {
+    if (!given) {
         const size_t len = strlen(m->prefix) + 32;
         if (!(path = malloc(len))) {
             *rc = mote_fail(err, MOTE_ENOMEM, "evolve: out of memory");
@@ -74,13 +147,16 @@ static int open_timeseries(ch_model *m, const mote_call *c, mote_datafile *d, mo
         }
         snprintf(path, len, "%s_timeseries.csv", m->prefix);
     }
-    char *origin = mote_call_origin(c);
-    *rc = mote_datafile_open(d, f ? f->path : path, "charging-timeseries",
-                             origin ? origin : "evolve", m->seed, err);
-    free(origin);
-    if (!*rc && m->log && !f)
+    s->origin = mote_call_origin(c);
+    s->seed = m->seed;
+    s->head = open_memstream(&s->head_buf, &s->head_len);
+    *rc = !s->head ? mote_fail(err, MOTE_ENOMEM, "evolve: out of memory")
+                   : mote_rows_open(&s->rows, given ? given : path, series_header, s, err);
+    if (!*rc && m->log && !given)
         fprintf(m->log, "output: writing %s\n", path);
     free(path);
+    if (*rc)
+        series_free(s);
     return *rc == MOTE_OK;
 }
 
@@ -114,22 +190,38 @@ static int evolve_clock_advance(void *vc, mote_loop *l, double t_stop, uint64_t 
     return rc;
 }
 
+/* A row, then followed in the time series' partial file. */
+typedef struct {
+    int (*row)(void *rows, void *subject, mote_err *err);
+    void *rows;
+    ch_series *series;
+} followed_row;
+
+static int followed_fire(void *vx, void *subject, mote_err *err)
+{
+    followed_row *x = vx;
+    int rc = x->row(x->rows, subject, err);
+    return rc ? rc : series_follow(x->series, err);
+}
+
 static int evolve_clock_run_with(const mote_call *call, int (*row)(void *, void *, mote_err *),
-                                 void *rows, mote_schedule *at, double T,
+                                 void *rows, ch_series *series, mote_schedule *at, double T,
                                  int (*advance)(void *, double, mote_err *), void *ctx,
                                  mote_err *err)
 {
     evolve_clock c = {0, advance, ctx};
     const mote_runner r = {.what = "evolve", .sys = &c, .ctx = call->ctx,
                            .clock = evolve_clock_now, .advance = evolve_clock_advance};
-    const mote_observer o = {.at = at, .ctx = rows, .fire = row};
+    followed_row x = {row, rows, series};
+    const mote_observer o = {.at = at, .ctx = &x, .fire = followed_fire};
     return mote_run(&r, &o, 1, NULL, T, UINT64_MAX, err);
 }
 
 static int evolve_clock_run(const mote_call *call, int (*row)(void *, void *, mote_err *),
-                            void *rows, mote_schedule *at, double T, mote_err *err)
+                            void *rows, ch_series *series, mote_schedule *at, double T,
+                            mote_err *err)
 {
-    return evolve_clock_run_with(call, row, rows, at, T, NULL, NULL, err);
+    return evolve_clock_run_with(call, row, rows, series, at, T, NULL, NULL, err);
 }
 
 /* A row of the full mode's time series at `time`. */
@@ -192,7 +284,7 @@ static int evolve_full(ch_model *m, const mote_call *c, mote_err *err)
 {
     mote_ch_geometry g;
     mote_ch_body_geometry(&m->body, &g);
-    const double T = mote_call_opt(c, "time")->r, dt = evolve_dt(c, T);
+    const double T = mote_call_opt(c, "time")->r, dt = evolve_dt(m, c, T);
     const double U0 = mote_call_opt_r(c, "U0", 0), C = g.capacitance;
     if (ch_build_tri_materials(m, err))
         return err->code;
@@ -213,13 +305,13 @@ static int evolve_full(ch_model *m, const mote_call *c, mote_err *err)
         ch_table_free(&t);
         return rc;
     }
-    mote_datafile d;
+    ch_series d;
     const int f = open_timeseries(m, c, &d, err, &rc);
     if (rc) {
         ch_table_free(&t);
         return rc;
     }
-    FILE *out = f ? d.f : m->log;
+    FILE *out = f ? d.head : m->log;
     if (f) {
         fprintf(out, "# mode = full (C dU/dt = I_net(U), the characteristic tabulated at %d "
                      "potentials, %llu histories per component each; the species' and emission "
@@ -227,6 +319,7 @@ static int evolve_full(ch_model *m, const mote_call *c, mote_err *err)
                      "/ C, an estimate)\n# C_F = %.10g\n# U_f_V = %.10g\n# tau_s = %.10g\n",
                 t.n, (unsigned long long)o.particles, C, t.Uf, t.tau);
         timeseries_columns(m, out);
+        out = series_rows(&d);
     }
     if (m->log)
         fprintf(m->log, "evolve: I(U) tabulated at %d potentials from %g V to %g V; U_f = %.6g V, "
@@ -234,17 +327,13 @@ static int evolve_full(ch_model *m, const mote_call *c, mote_err *err)
                 t.n, t.U[0], t.U[t.n - 1], t.Uf, t.tau, ch_table_t_at(&t, U0 + 0.5 * (t.Uf - U0)),
                 ch_table_t_at(&t, U0 + 0.9 * (t.Uf - U0)));
     full_rows x = {m, &t, C, f, out, {0}, 0, {0, dt, 0}};
-    int rc2 = evolve_clock_run(c, full_row, &x, &x.at, T, err); /* (rows when there is an out) */
-    if (!rc2 && out && fabs(x.last - T) > 1e-12 * T) /* the end, between two rows */
+    int rc2 = evolve_clock_run(c, full_row, &x, f ? &d : NULL, &x.at, T, err);
+    if (!rc2 && out && fabs(x.last - T) > 1e-12 * T) { /* the end, between two rows */
         full_row_at(&x, T);
-    if (rc2) {
-        ch_table_free(&t);
-        if (f)
-            mote_datafile_abort(&d);
-        return rc2;
+        rc2 = series_follow(f ? &d : NULL, err);
     }
     ch_table_free(&t);
-    return f ? mote_datafile_commit(&d, err) : MOTE_OK;
+    return f ? series_end(&d, rc2, err) : rc2;
 }
 
 /* ---- differential charging (spec 6.10) ---- */
@@ -399,7 +488,7 @@ static int evolve_patches(ch_model *m, const mote_call *c, mote_err *err)
 {
     mote_ch_geometry g;
     mote_ch_body_geometry(&m->body, &g);
-    const double T = mote_call_opt(c, "time")->r, dt = evolve_dt(c, T);
+    const double T = mote_call_opt(c, "time")->r, dt = evolve_dt(m, c, T);
     const double U0 = m->faithful ? 0 : mote_call_opt_r(c, "U0", 0), C = g.capacitance;
     const uint32_t ntri = m->body.sphere ? 1 : m->body.ntri;
     const int np = m->ndiel;
@@ -464,9 +553,9 @@ static int evolve_patches(ch_model *m, const mote_call *c, mote_err *err)
     mote_progress prog; /* one line for all the runs */
     mote_progress_begin(&prog, c->ctx, c->name);
     x.o.progress = &prog;
-    mote_datafile d;
+    ch_series d;
     const int f = open_timeseries(m, c, &d, err, &rc);
-    FILE *out = f ? d.f : m->log;
+    FILE *out = f ? d.head : m->log;
     if (f) {
         fprintf(out, "# mode = %s with %d dielectric part%s (spec 6.10: C dU/dt = sum I, C_p "
                      "d(V_p - U)/dt = I_p - (V_p - U)/R_p; implicit Euler extrapolated, "
@@ -479,12 +568,15 @@ static int evolve_patches(ch_model *m, const mote_call *c, mote_err *err)
         for (int p = 0; p < np; p++)
             fprintf(out, " V_%s_V", m->diel[p].part);
         fputs(" dV_max_V\n", out);
+        out = series_rows(&d);
     }
     patch_rows r = {m, &P, C, f, out, np, {U0}, 0, 1e-9 * T, 0, 0, 0, -1, {0, dt, 0}};
     if (!rc)
-        rc = evolve_clock_run_with(c, patch_row, &r, &r.at, T, patch_advance, &r, err);
+        rc = evolve_clock_run_with(c, patch_row, &r, f ? &d : NULL, &r.at, T, patch_advance, &r,
+                                   err);
     if (!rc && fabs(r.last - T) > 1e-12 * T) /* the end, between two rows */
-        rc = patch_row_at(&r, T, err);
+        if (!(rc = patch_row_at(&r, T, err)))
+            rc = series_follow(f ? &d : NULL, err);
     double *y = r.y, dvmax = r.dvmax, t_dvmax = r.t_dvmax;
     const int p_dvmax = r.p_dvmax;
     mote_progress_end(&prog);
@@ -518,9 +610,7 @@ static int evolve_patches(ch_model *m, const mote_call *c, mote_err *err)
     mote_ch_tracer_free(tr);
     free(tri_patch);
     ch_patches_free(&P);
-    if (f)
-        return rc ? (mote_datafile_abort(&d), rc) : mote_datafile_commit(&d, err);
-    return rc;
+    return f ? series_end(&d, rc, err) : rc;
 }
 
 /* Faithful mode (spec 1.2): constant currents, Q = I t and U = Q / C. */
@@ -583,35 +673,33 @@ int ch_run_evolve(void *vm, const mote_call *c, mote_err *err)
     mote_ch_geometry g;
     mote_ch_body_geometry(&m->body, &g);
     const double T = mote_call_opt(c, "time")->r;
-    const double dt = evolve_dt(c, T);
+    const double dt = evolve_dt(m, c, T);
     double inet = 0, var = 0;
     for (int s = 0; s < m->plasma.nsp; s++) {
         inet += m->res.current[s];
         var += m->res.sigma[s] * m->res.sigma[s];
     }
     const double C = g.capacitance, sig = sqrt(var);
-    mote_datafile d;
+    ch_series d;
     int rc;
     const int f = open_timeseries(m, c, &d, err, &rc);
     if (rc)
         return rc;
-    FILE *out = f ? d.f : m->log;
+    FILE *out = f ? d.head : m->log;
     if (f) {
         fprintf(out, "# mode = faithful (constant currents, Q = I t, U = Q / C)\n# C_F = %.10g\n"
                      "# area_m2 = %.10g\n# histories = %llu\n", C, g.area,
                 (unsigned long long)m->res.histories);
         timeseries_columns(m, out);
+        out = series_rows(&d);
     } else if (out) {
         fprintf(out, "evolve: dU/dt = %.10g V/s (I = %.10g A, C = %.10g F)\n", inet / C, inet, C);
     }
     faithful_rows x = {m, inet, C, sig, f, out, -1, {0, dt, 0}};
-    rc = evolve_clock_run(c, faithful_row, &x, &x.at, T, err); /* (rows when there is an out) */
-    if (!rc && out && fabs(x.last - T) > 1e-12 * T) /* the end, between two rows */
+    rc = evolve_clock_run(c, faithful_row, &x, f ? &d : NULL, &x.at, T, err);
+    if (!rc && out && fabs(x.last - T) > 1e-12 * T) { /* the end, between two rows */
         faithful_row_at(&x, T);
-    if (rc) {
-        if (f)
-            mote_datafile_abort(&d);
-        return rc;
+        rc = series_follow(f ? &d : NULL, err);
     }
-    return f ? mote_datafile_commit(&d, err) : MOTE_OK;
+    return f ? series_end(&d, rc, err) : rc;
 }

@@ -273,7 +273,12 @@ static const char VOCABULARY_HEAD[] =
     "given bare, in the order of the synopsis (`trajectory 10 t.xyz` is\n"
     "`trajectory every=10 file=t.xyz`), so the hard-sphere program's commands and its\n"
     "`program.txt` files run unchanged. Every scheduled output is an observer of the core's\n"
-    "run loop, which every long command of every model goes through. The same word means the\n"
+    "run loop, which every long command of every model goes through. A `monitor`'s rows (and\n"
+    "nbody's trajectory table, charging's time series) follow one file policy: they go to\n"
+    "FILE.partial as they are taken (`tail -f FILE.partial`; a run that is stopped leaves it,\n"
+    "with every row so far), and FILE is written whole, atomically, when a command's run ends\n"
+    "(and when the output starts, if there is no FILE yet), so an earlier complete FILE is\n"
+    "only ever replaced by a complete one. The same word means the\n"
     "same thing in every model that has it (this table is made from the models' command\n"
     "tables):\n"
     "\n";
