@@ -61,12 +61,6 @@ static int observed(const char *model, const char *text, mote_observer *o, probe
 static const struct {
     const char *word, *model, *option, *why;
 } EXCEPTIONS[] = {
-    {"snapshot", "hard-spheres", "every", "configurations on a schedule are `trajectory`'s"},
-    {"snapshot", "hard-spheres", "dt", "configurations on a schedule are `trajectory`'s"},
-    {"snapshot", "hard-spheres", "prefix", "configurations on a schedule are `trajectory`'s"},
-    {"snapshot", "mixing-box", "every", "pictures on a schedule are `frames`'"},
-    {"snapshot", "mixing-box", "dt", "pictures on a schedule are `frames`'"},
-    {"snapshot", "mixing-box", "prefix", "pictures on a schedule are `frames`'"},
     {"monitor", "charging", "every", "its time is evolve's, which counts no steps"},
 };
 

@@ -54,7 +54,7 @@ tail -1 hss.dat | awk -v l="$pl" -v r="$pr" '{ exit !(l != "" && r != "" && ($6 
 # the vocabulary table of `mote help --markdown` is made from the command tables: a row per
 # shared word, a column per model, the earlier words named as aliases
 "$MOTE" help --markdown > ref.md
-grep -q '^| the configuration (now, or on a schedule) | `snapshot file=` | `snapshot file=` | `snapshot every= dt= file= prefix= format=` | — | `snapshot every= dt= file= prefix=` |$' ref.md && ok || bad "table: $(grep '^| the configuration' ref.md)"
+grep -q '^| the configuration (now, or on a schedule) | `snapshot every= dt= file= prefix=` | `snapshot every= dt= file= prefix=` | `snapshot every= dt= file= prefix= format=` | — | `snapshot every= dt= file= prefix=` |$' ref.md && ok || bad "table: $(grep '^| the configuration' ref.md)"
 grep -q '^| particle paths (a growing file) | `trajectory every= dt= file=` | — | `trajectory every= dt= file= format=` | — | — |$' ref.md && ok || bad "table: $(grep '^| particle paths' ref.md)"
 grep -q "^Other names kept as aliases (.mote help. marks them): .dump. (hard-spheres's .trajectory.), .record. (mixing-box's .monitor.), .snapshots. (separator's .snapshot.), .balance. (separator's .monitor.).$" ref.md && ok || bad "aliases: $(grep '^Other names' ref.md)"
 
@@ -86,6 +86,18 @@ run mbt "${MB}integrator timestep\nmonitor every=100 file=mbt.dat\nrun_collision
 awk '!/^#/ { c = $20 + 0; if (n && (int(c / 100) <= int(last / 100) || c - 100 * int(c / 100) >= 100)) bad = 1; last = c; n++ } END { exit !(!bad && n >= 10) }' mbt.dat && ok || bad "mixing box (timestep): monitor every=100: collisions $(grep -v '^#' mbt.dat | awk '{printf "%s ", $20}')"
 expect 1 "mbb.mote:9:1: error: monitor: give every=K (a count) or dt=T (a time)" mbb.mote "${MB}monitor file=a.dat\n"
 expect 1 "mbc.mote:9:19: error: frames: give every=K or dt=T, not both" mbc.mote "${MB}frames every=5 dt=0.1 prefix=a\n"
+
+# snapshots on a schedule in the hard spheres and the mixing box: one now, then each its own
+# numbered file, the run the same bit for bit; the same prefix again continues the numbering
+run hss5 'model hard-spheres\nseed 5\nnew 2 0.35\nsnapshot every=2 prefix=hss5/a\nstep 6\nsnapshot dt=0.5 prefix=hss5/a\nstep 2\nsave hss5.state\n'
+run hss6 'model hard-spheres\nseed 5\nnew 2 0.35\nstep 6\nstep 2\nsave hss6.state\n'
+[ "$(cat hss5/a_00000[0-3].xyz | grep -o 'collisions=[0-9]*' | tr '\n' ' ')" = "collisions=0 collisions=64 collisions=128 collisions=192 " ] && [ -s hss5/a_000004.xyz ] && ok || bad "hard spheres: snapshot every=2 (64 collisions) over 192, then dt=: $(ls hss5 | tr '\n' ' ') $(cat hss5/*.xyz | grep -o 'collisions=[0-9]*' | tr '\n' ' ')"
+cmp -s hss5.state hss6.state && ok || bad "hard spheres: snapshot every=/dt= changed the run"
+run mbs5 "${MB}snapshot every=200 prefix=mbs5/a\nrun_collisions 1000 100\nsnapshot_stop\nsnapshot dt=0.25 prefix=mbs5/b\nrun 1\nsave mbs5.state\n"
+run mbs6 "${MB}run_collisions 1000 100\nrun 1\nsave mbs6.state\n"
+[ "$(ls mbs5 | grep -c '^a_')" = 6 ] && [ "$(ls mbs5 | grep -c '^b_')" = 5 ] && ok || bad "mixing box: snapshot every=200 over 1000 collisions, dt=0.25 over 1 s: $(ls mbs5 | tr '\n' ' ')"
+cmp -s mbs5.state mbs6.state && ok || bad "mixing box: snapshot every=/dt= changed the run"
+expect 1 "mbs7.mote:9:1: error: snapshot: a series needs prefix=P (files P_000000.xyz, ...)" mbs7.mote "${MB}snapshot every=5\n"
 
 # the separator's monitor, snapshots and frames every K steps: the first at the run's start,
 # then at each multiple (steps of 1e-3 s: t = steps / 1000), the run the same bit for bit

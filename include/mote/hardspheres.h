@@ -23,6 +23,7 @@ typedef struct {
     FILE *log;           /* progress/status messages; NULL = quiet */
     int64_t bins;        /* bins per R for the pressure and chempot profiles (`bins`, default 10) */
     struct hs_dump *dump; /* the trajectory being written (`dump`), or NULL */
+    struct hs_dump *snaps; /* the snapshots on a schedule (`snapshot every=|dt=`), or NULL */
     struct hs_monitor *monitor; /* the monitor being written (`monitor`), or NULL */
 } mote_hs;
 
@@ -112,6 +113,14 @@ void mote_hs_monitor_stop(mote_hs *hs);
 uint64_t mote_hs_monitor_rows(const mote_hs *hs);
 void mote_hs_dump_stop(mote_hs *hs);
 uint64_t mote_hs_dump_frames(const mote_hs *hs);
+/* Snapshots on a schedule (`snapshot every=K|dt=T prefix=P`): one now and one every k
+ * collisions per particle (k > 0) or every dt of time (dt > 0, k = 0) during every later step,
+ * compression or measurement, each its own file P_000000.xyz, P_000001.xyz, ... (mote_series_path,
+ * written atomically; the same prefix again continues the numbering); replaces an earlier
+ * series. */
+int mote_hs_snapshots_start(mote_hs *hs, uint64_t k, double dt, const char *prefix,
+                            const char *origin, mote_err *err);
+void mote_hs_snapshots_stop(mote_hs *hs);
 
 /* ---- measurements (spec 8); `origin` names the generating command for file headers ---- */
 int mote_hs_image(mote_hs *hs, uint64_t k, int64_t p, const char *path, const char *origin,

@@ -481,24 +481,6 @@ static int check_xyz_name(const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
-static int check_snapshot(void *vm, const mote_call *c, mote_err *err)
-{
-    int rc = need_system(vm, c, err);
-    return rc ? rc : check_xyz_name(c, err);
-}
-static int run_snapshot(void *vm, const mote_call *c, mote_err *err)
-{
-    hs_model *m = vm;
-    char *origin = mote_call_origin(c);
-    const char *path = mote_call_opt(c, "file")->path;
-    int rc = origin ? mote_hs_snapshot(&m->hs, path, origin, err)
-                    : mote_fail(err, MOTE_ENOMEM, "out of memory");
-    if (!rc && m->hs.log)
-        fprintf(m->hs.log, "%s: wrote %s\n", c->name, path);
-    free(origin);
-    return rc;
-}
-
 /* The schedule of `trajectory` and `monitor`: every=K collisions per particle or dt=T of time,
  * one of them. */
 static int check_schedule(hs_model *m, const mote_call *c, mote_err *err)
@@ -525,15 +507,55 @@ static int run_scheduled(hs_model *m, const mote_call *c, const char *what,
     const mote_arg *every = mote_call_opt(c, "every");
     const uint64_t k = every ? (uint64_t)every->i : 0;
     const double dt = mote_call_opt_r(c, "dt", 0);
-    const char *path = mote_call_opt(c, "file")->path;
+    const mote_arg *file = mote_call_opt(c, "file");
+    const char *path = file ? file->path : mote_call_opt(c, "prefix")->path; /* (a series) */
     int rc = origin ? start(&m->hs, k, dt, path, origin, err)
                     : mote_fail(err, MOTE_ENOMEM, "out of memory");
+    const char *in = file ? " in " : " as ", *ext = file ? "" : "NNNNNN.xyz";
+    const char *sep = file ? "" : mote_series_sep(path);
     if (!rc && m->hs.log && k)
-        fprintf(m->hs.log, "%s: %s 0 in %s, then one every %llu collisions per particle\n",
-                c->name, what, path, (unsigned long long)k);
+        fprintf(m->hs.log, "%s: %s 0%s%s%s%s, then one every %llu collisions per particle\n",
+                c->name, what, in, path, sep, ext, (unsigned long long)k);
     else if (!rc && m->hs.log)
-        fprintf(m->hs.log, "%s: %s 0 in %s, then one every %.17g of time\n", c->name, what, path,
-                dt);
+        fprintf(m->hs.log, "%s: %s 0%s%s%s%s, then one every %.17g of time\n", c->name, what, in,
+                path, sep, ext, dt);
+    free(origin);
+    return rc;
+}
+
+/* `snapshot file=FILE.xyz` (one now) or `snapshot every=K|dt=T prefix=P` (a series: one now
+ * and then on the schedule, P_000000.xyz on) */
+static int check_snapshot(void *vm, const mote_call *c, mote_err *err)
+{
+    hs_model *m = vm;
+    const mote_arg *file = mote_call_opt(c, "file"), *prefix = mote_call_opt(c, "prefix");
+    const int sched = mote_call_opt(c, "every") || mote_call_opt(c, "dt");
+    if (!file == !(sched || prefix))
+        return mote_call_fail(err, c, file ? mote_call_opt_index(c, "file") : -1, MOTE_EINVAL,
+                              "snapshot: give file=FILE.xyz (one now) or every=K or dt=T with "
+                              "prefix=P (a series), %s", file ? "not both" : "one of them");
+    if (file) {
+        int rc = need_system(m, c, err);
+        return rc ? rc : check_xyz_name(c, err);
+    }
+    if (!prefix)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "snapshot: a series needs prefix=P "
+                              "(files P_000000.xyz, ...)");
+    int rc = check_schedule(m, c, err);
+    return rc ? rc : mote_outputs_note_series(&c->ctx->outputs, c, mote_call_opt_index(c, "prefix"),
+                                              prefix->path, ".xyz", "xyz", MOTE_SERIES_MAKES_DIR, err);
+}
+static int run_snapshot(void *vm, const mote_call *c, mote_err *err)
+{
+    hs_model *m = vm;
+    const mote_arg *file = mote_call_opt(c, "file");
+    if (!file)
+        return run_scheduled(m, c, "snapshot", mote_hs_snapshots_start, err);
+    char *origin = mote_call_origin(c);
+    int rc = origin ? mote_hs_snapshot(&m->hs, file->path, origin, err)
+                    : mote_fail(err, MOTE_ENOMEM, "out of memory");
+    if (!rc && m->hs.log)
+        fprintf(m->hs.log, "%s: wrote %s\n", c->name, file->path);
     free(origin);
     return rc;
 }
@@ -564,6 +586,12 @@ static int run_monitor_stop(void *vm, const mote_call *c, mote_err *err)
         fprintf(m->hs.log, "monitor_stop: %llu rows written\n",
                 (unsigned long long)mote_hs_monitor_rows(&m->hs));
     mote_hs_monitor_stop(&m->hs);
+    return MOTE_OK;
+}
+
+static int run_snapshot_stop(void *vm, const mote_call *c, mote_err *err)
+{
+    mote_hs_snapshots_stop(&((hs_model *)vm)->hs);
     return MOTE_OK;
 }
 
@@ -633,12 +661,16 @@ static const mote_cmd hs_commands[] = {
     {"msd", NULL, "i>=4 f>msd", "msd K FILE",
      "mean-squared displacement and the self-diffusion coefficient D over K collisions per particle",
      HS_HELP_MSD, check_measure, run_msd},
-    {"snapshot", NULL, "@file=f>xyz!", "snapshot file=FILE.xyz",
-     "the current configuration as extended XYZ (OVITO, VMD, ASE), with local order",
+    {"snapshot", NULL, "@file=f>xyz every=i>=1 dt=r>0 prefix=f",
+     "snapshot file=FILE.xyz|every=K|dt=T prefix=P",
+     "the current configuration as extended XYZ (OVITO, VMD, ASE), with local order; or a series",
      HS_HELP_SNAPSHOT, check_snapshot, run_snapshot},
     {"trajectory", "dump", "@every=i>=1 @file=f>xyz! dt=r>0", "trajectory every=K|dt=T file=FILE.xyz",
      "a trajectory: an XYZ frame now and every K collisions per particle of later commands",
      HS_HELP_DUMP, check_dump, run_dump},
+    {"snapshot_stop", NULL, "", "snapshot_stop", "stop the snapshots of `snapshot every=|dt=`",
+     "    snapshot_stop\n\nStop the series of `snapshot every=K|dt=T prefix=P`; its files stay.\n",
+     NULL, run_snapshot_stop},
     {"dump_stop", NULL, "", "dump_stop", "stop writing the trajectory of `trajectory` (`dump`)",
      HS_HELP_DUMP_STOP, NULL, run_dump_stop},
     {"monitor", NULL, "@every=i>=1 @file=f>monitor! dt=r>0", "monitor every=K|dt=T file=FILE",

@@ -49,8 +49,8 @@ int hs_run(mote_hs *hs, uint64_t ncoll, mote_err *err);
  * progress (may be NULL) and the command's name for messages. */
 int hs_run_observed(mote_hs *hs, uint64_t ncoll, mote_observer *obs, size_t nobs,
                     mote_progress *prog, const char *what, mote_err *err);
-/* The dump as a count observer of the run loop (counted in collisions), into o: 1, or 0 when
- * no dump runs (xyz.c). */
+/* The trajectory and the snapshot series as observers of the run loop, into o[0..1]: how many
+ * (xyz.c). */
 size_t hs_dump_observer(mote_hs *hs, mote_observer *o);
 /* monitor.c: the monitor's observer (0 or 1 filled), and its engine hooks on (1) for a run,
  * chained to those installed before, or off (0) again. */

@@ -26,7 +26,8 @@ struct hs_dump {
     uint64_t k;       /* collisions per particle between frames (0: by time) */
     mote_schedule at; /* by time: the next frame at at.t0 + at.k at.dt */
     uint64_t next_at; /* value of ev.collisions at which the next frame is written */
-    uint64_t frames;
+    uint64_t frames;  /* written so far (a series: the next file's number) */
+    int series;       /* a series of snapshots (path: the prefix), not a trajectory */
 };
 
 /* One frame: the two header lines and N particle lines. */
@@ -90,6 +91,15 @@ int mote_hs_snapshot(mote_hs *hs, const char *path, const char *origin, mote_err
     return mote_afile_commit(&af, err);
 }
 
+/* A trajectory's first frame: its file written atomically (an earlier file is replaced only by
+ * a complete frame). */
+static int first_frame(mote_hs *hs, struct hs_dump *d, mote_err *err)
+{
+    int rc = mote_hs_snapshot(hs, d->path, d->origin, err);
+    d->frames += !rc;
+    return rc;
+}
+
 /* Append one frame; on any failure the file is cut back to its previous end. */
 static int append_frame(mote_hs *hs, struct hs_dump *d, mote_err *err)
 {
@@ -118,19 +128,46 @@ static int append_frame(mote_hs *hs, struct hs_dump *d, mote_err *err)
     return MOTE_OK;
 }
 
+/* The next frame: appended to a trajectory, or the next file of a series (PREFIX_000000.xyz
+ * on, written atomically; the prefix's folder made when missing). */
+static int frame_out(mote_hs *hs, struct hs_dump *d, mote_err *err)
+{
+    if (!d->series)
+        return d->frames ? append_frame(hs, d, err) : first_frame(hs, d, err);
+    char *p = mote_series_path(d->path, d->frames, 6, ".xyz");
+    if (!p)
+        return mote_fail(err, MOTE_ENOMEM, "snapshot: out of memory");
+    mote_make_dir_of(p);
+    int rc = mote_hs_snapshot(hs, p, d->origin, err);
+    free(p);
+    d->frames += !rc;
+    return rc;
+}
+
+static void dump_free(struct hs_dump *d)
+{
+    if (!d)
+        return;
+    free(d->path);
+    free(d->origin);
+    free(d);
+}
+
 void mote_hs_dump_stop(mote_hs *hs)
 {
-    if (!hs->dump)
-        return;
-    free(hs->dump->path);
-    free(hs->dump->origin);
-    free(hs->dump);
+    dump_free(hs->dump);
     hs->dump = NULL;
 }
 
-static uint64_t dump_interval(const mote_hs *hs)
+void mote_hs_snapshots_stop(mote_hs *hs)
 {
-    const uint64_t c = hs->dump->k * hs->ev.n / 2;
+    dump_free(hs->snaps);
+    hs->snaps = NULL;
+}
+
+static uint64_t dump_interval(const mote_hs *hs, const struct hs_dump *d)
+{
+    const uint64_t c = d->k * hs->ev.n / 2;
     return c ? c : 1;
 }
 
@@ -142,70 +179,107 @@ int mote_hs_dump_start(mote_hs *hs, uint64_t k, const char *path, const char *or
     return mote_hs_dump_start_on(hs, k, 0, path, origin, err);
 }
 
-int mote_hs_dump_start_on(mote_hs *hs, uint64_t k, double dt, const char *path,
-                          const char *origin, mote_err *err)
+/* A trajectory (series 0: path its file) or a series of snapshots (series 1: path the
+ * prefix) on the schedule k or dt, its first frame written now. */
+static struct hs_dump *dump_new(mote_hs *hs, const char *what, uint64_t k, double dt,
+                                const char *path, const char *origin, int series,
+                                uint64_t first, mote_err *err)
 {
-    if (!hs->has_system)
-        return mote_fail(err, MOTE_EINVAL, "trajectory: no system");
-    if ((k > 0) == (dt > 0) || !(dt >= 0))
-        return mote_fail(err, MOTE_EINVAL, "trajectory: give every=K or dt=T (> 0), one of them");
+    if (!hs->has_system) {
+        mote_fail(err, MOTE_EINVAL, "%s: no system", what);
+        return NULL;
+    }
+    if ((k > 0) == (dt > 0) || !(dt >= 0)) {
+        mote_fail(err, MOTE_EINVAL, "%s: give every=K or dt=T (> 0), one of them", what);
+        return NULL;
+    }
     struct hs_dump *d = calloc(1, sizeof *d);
     if (d) {
         d->path = strdup(path);
         d->origin = strdup(origin ? origin : "(library call)");
     }
     if (!d || !d->path || !d->origin) {
-        if (d) {
-            free(d->path);
-            free(d->origin);
-        }
-        free(d);
-        return mote_fail(err, MOTE_ENOMEM, "trajectory: out of memory");
+        dump_free(d);
+        mote_fail(err, MOTE_ENOMEM, "%s: out of memory", what);
+        return NULL;
     }
     d->k = k;
+    d->series = series;
+    d->frames = first;
     d->at = (mote_schedule){mote_ev_time(&hs->ev), dt, 1};
-    int rc = mote_hs_snapshot(hs, path, origin, err); /* the first frame, atomically */
-    if (rc) {
-        free(d->path);
-        free(d->origin);
-        free(d);
-        return rc;
+    if (frame_out(hs, d, err)) { /* the first frame, atomically */
+        dump_free(d);
+        return NULL;
     }
+    d->next_at = k ? hs->ev.collisions + dump_interval(hs, d) : 0;
+    return d;
+}
+
+int mote_hs_dump_start_on(mote_hs *hs, uint64_t k, double dt, const char *path,
+                          const char *origin, mote_err *err)
+{
+    struct hs_dump *d = dump_new(hs, "trajectory", k, dt, path, origin, 0, 0, err);
+    if (!d)
+        return err->code;
     mote_hs_dump_stop(hs);
     hs->dump = d;
-    d->frames = 1;
-    d->next_at = k ? hs->ev.collisions + dump_interval(hs) : 0;
+    return MOTE_OK;
+}
+
+int mote_hs_snapshots_start(mote_hs *hs, uint64_t k, double dt, const char *prefix,
+                            const char *origin, mote_err *err)
+{
+    /* the same prefix again continues the numbering */
+    const uint64_t first = hs->snaps && !strcmp(hs->snaps->path, prefix) ? hs->snaps->frames : 0;
+    struct hs_dump *d = dump_new(hs, "snapshot", k, dt, prefix, origin, 1, first, err);
+    if (!d)
+        return err->code;
+    mote_hs_snapshots_stop(hs);
+    hs->snaps = d;
     return MOTE_OK;
 }
 
 uint64_t mote_hs_dump_frames(const mote_hs *hs) { return hs->dump ? hs->dump->frames : 0; }
 
-/* A frame of the dump, and the collision count of the next. */
-static int dump_fire(void *ctx, void *subject, mote_err *err)
+/* A frame of a trajectory or a series, and the collision count of the next. */
+static int fire_of(mote_hs *hs, struct hs_dump *d, mote_err *err)
 {
-    mote_hs *hs = ctx;
-    struct hs_dump *d = hs->dump;
-    int rc = append_frame(hs, d, err);
+    int rc = frame_out(hs, d, err);
     if (!rc && d->k)
-        d->next_at = hs->ev.collisions + dump_interval(hs);
+        d->next_at = hs->ev.collisions + dump_interval(hs, d);
     return rc;
 }
-
-size_t hs_dump_observer(mote_hs *hs, mote_observer *o)
+static int dump_fire(void *ctx, void *subject, mote_err *err)
 {
-    struct hs_dump *d = hs->dump;
-    if (!d)
-        return 0;
+    return fire_of(ctx, ((mote_hs *)ctx)->dump, err);
+}
+static int snaps_fire(void *ctx, void *subject, mote_err *err)
+{
+    return fire_of(ctx, ((mote_hs *)ctx)->snaps, err);
+}
+
+static void observer_of(mote_hs *hs, struct hs_dump *d,
+                        int (*fire)(void *, void *, mote_err *), mote_observer *o)
+{
     if (!d->k) { /* by time (a state loaded from another time: on from it) */
         const double now = mote_ev_time(&hs->ev);
         if (!(mote_schedule_next(&d->at) > now) || mote_schedule_next(&d->at) > now + d->at.dt)
             d->at = (mote_schedule){now, d->at.dt, 1};
-        *o = (mote_observer){.at = &d->at, .ctx = hs, .fire = dump_fire};
-        return 1;
+        *o = (mote_observer){.at = &d->at, .ctx = hs, .fire = fire};
+        return;
     }
     if (d->next_at <= hs->ev.collisions) /* a state loaded from another point of time */
-        d->next_at = hs->ev.collisions + dump_interval(hs);
-    *o = (mote_observer){.ctx = hs, .fire = dump_fire, .every = dump_interval(hs),
+        d->next_at = hs->ev.collisions + dump_interval(hs, d);
+    *o = (mote_observer){.ctx = hs, .fire = fire, .every = dump_interval(hs, d),
                          .from = d->next_at};
-    return 1;
+}
+
+size_t hs_dump_observer(mote_hs *hs, mote_observer *o)
+{
+    size_t n = 0;
+    if (hs->dump)
+        observer_of(hs, hs->dump, dump_fire, &o[n++]);
+    if (hs->snaps)
+        observer_of(hs, hs->snaps, snaps_fire, &o[n++]);
+    return n;
 }

@@ -25,14 +25,14 @@ typedef struct {
     int d_placed;
     int d_place_line;
     int64_t d_n; /* disks the last place puts */
-    double d_record_dt, d_density_dt, d_frames_dt; /* 0 = not active */
+    double d_record_dt, d_density_dt, d_frames_dt, d_snaps_dt; /* 0 = not active */
 
     /* samplers kept across runs */
     mb_record rec;
     mb_density dens;
-    mb_frames frames;
-    mote_observer rec_s, dens_s, frames_s;
-    mote_schedule rec_at, dens_at, frames_at; /* theirs */
+    mb_frames frames, snaps; /* pictures; snapshots (xyz) on a schedule */
+    mote_observer rec_s, dens_s, frames_s, snaps_s;
+    mote_schedule rec_at, dens_at, frames_at, snaps_at; /* theirs */
 } mb_model;
 
 static void *model_create(mote_context *ctx, int dry)
@@ -57,6 +57,8 @@ static void model_destroy(void *vm)
     mb_record_free(&m->rec);
     mb_density_free(&m->dens);
     free(m->frames.prefix);
+    free(m->snaps.prefix);
+    free(m->snaps.origin);
     free(m);
 }
 
@@ -396,19 +398,21 @@ static int run_load(void *vm, const mote_call *c, mote_err *err)
     int rc = mb_load(&m->sys, &m->p, path, err);
     if (!rc && m->sys.time != t_before) {
         /* samplers running from an earlier time go on from the loaded one */
-        mote_observer *s[3] = {m->rec.active ? &m->rec_s : NULL,
-                                 m->dens.active ? &m->dens_s : NULL,
-                                 m->frames.active ? &m->frames_s : NULL};
-        for (int k = 0; k < 3; k++)
+        mote_observer *s[4] = {m->rec.active ? &m->rec_s : NULL,
+                               m->dens.active ? &m->dens_s : NULL,
+                               m->frames.active ? &m->frames_s : NULL,
+                               m->snaps.active ? &m->snaps_s : NULL};
+        for (int k = 0; k < 4; k++)
             if (s[k] && s[k]->at) {
                 s[k]->at->t0 = m->sys.time;
                 s[k]->at->k = 1;
             }
     }
     if (!rc) { /* those by count go on from the loaded count */
-        mote_observer *s[2] = {m->rec.active ? &m->rec_s : NULL,
-                               m->frames.active ? &m->frames_s : NULL};
-        for (int k = 0; k < 2; k++)
+        mote_observer *s[3] = {m->rec.active ? &m->rec_s : NULL,
+                               m->frames.active ? &m->frames_s : NULL,
+                               m->snaps.active ? &m->snaps_s : NULL};
+        for (int k = 0; k < 3; k++)
             if (s[k] && !s[k]->at)
                 s[k]->from = m->sys.collisions;
     }
@@ -424,8 +428,8 @@ static void end_samplers(mb_model *m)
 {
     mb_record_free(&m->rec);
     mb_density_free(&m->dens);
-    m->frames.active = 0;
-    m->d_record_dt = m->d_density_dt = m->d_frames_dt = 0;
+    m->frames.active = m->snaps.active = 0;
+    m->d_record_dt = m->d_density_dt = m->d_frames_dt = m->d_snaps_dt = 0;
 }
 
 static int check_place(void *vm, const mote_call *c, mote_err *err)
@@ -490,6 +494,11 @@ static int check_samples(const mb_model *m, const mote_call *c, int argi, double
                               "%s: %s s with a density sample every %g s would take %.3g samples "
                               "(at most 10^8 per run); use a larger DT",
                               c->name, c->args[argi].text, m->d_density_dt, t / m->d_density_dt);
+    if (m->d_snaps_dt > 0 && t / m->d_snaps_dt > 1e5)
+        return mote_call_fail(err, c, argi, MOTE_EINVAL,
+                              "%s: %s s with a snapshot every %g s would write %.3g files (at "
+                              "most 10^5 per run); use a larger DT",
+                              c->name, c->args[argi].text, m->d_snaps_dt, t / m->d_snaps_dt);
     if (m->d_frames_dt > 0 && t / m->d_frames_dt > 1e5)
         return mote_call_fail(err, c, argi, MOTE_EINVAL,
                               "%s: %s s with a frame every %g s would write %.3g PNG files (at "
@@ -553,7 +562,7 @@ static int do_run(mb_model *m, const mote_call *c, double t_end, uint64_t collis
 {
     mote_mb *s = &m->sys;
     apply_physics(m);
-    mote_observer samplers[3];
+    mote_observer samplers[4];
     size_t ns = 0;
     if (m->rec.active)
         samplers[ns++] = m->rec_s;
@@ -561,6 +570,8 @@ static int do_run(mb_model *m, const mote_call *c, double t_end, uint64_t collis
         samplers[ns++] = m->dens_s;
     if (m->frames.active)
         samplers[ns++] = m->frames_s;
+    if (m->snaps.active)
+        samplers[ns++] = m->snaps_s;
     mote_progress prog;
     mote_progress_begin(&prog, c->ctx, c->name);
     const mote_loop loop = {samplers, ns, collisions_end, &prog, 0, 0, 0, 0};
@@ -722,13 +733,31 @@ static int ends_with(const char *s, const char *suffix)
     return n > k && strcmp(s + n - k, suffix) == 0;
 }
 
+/* `snapshot file=FILE` (.png or .xyz, now) or `snapshot every=K|dt=T prefix=P` (extended XYZ
+ * now and on the schedule, P_000000.xyz on) */
 static int check_snapshot(void *vm, const mote_call *c, mote_err *err)
 {
     mb_model *m = vm;
     int rc = need_placed(m, c, err);
     if (rc)
         return rc;
-    const char *f = mote_call_opt(c, "file")->text;
+    const mote_arg *file = mote_call_opt(c, "file"), *prefix = mote_call_opt(c, "prefix");
+    const int sched = mote_call_opt(c, "every") || mote_call_opt(c, "dt");
+    if (!file == !(sched || prefix))
+        return mote_call_fail(err, c, file ? mote_call_opt_index(c, "file") : -1, MOTE_EINVAL,
+                              "snapshot: give file=FILE (one now) or every=K or dt=T with "
+                              "prefix=P (a series), %s", file ? "not both" : "one of them");
+    if (!file) {
+        if (!prefix)
+            return mote_call_fail(err, c, -1, MOTE_EINVAL, "snapshot: a series needs prefix=P "
+                                  "(files P_000000.xyz, ...)");
+        if ((rc = mote_call_check_every_dt(c, 1, err)))
+            return rc;
+        m->d_snaps_dt = mote_call_opt_r(c, "dt", 0);
+        return mote_outputs_note_series(&c->ctx->outputs, c, mote_call_opt_index(c, "prefix"),
+                                        prefix->path, ".xyz", "snapshot", 0, err);
+    }
+    const char *f = file->text;
     int png = ends_with(f, ".png"), xyz = ends_with(f, ".xyz");
     if (!png && !xyz)
         return mote_call_fail(err, c, mote_call_opt_index(c, "file"), MOTE_EINVAL,
@@ -737,10 +766,54 @@ static int check_snapshot(void *vm, const mote_call *c, mote_err *err)
                               f);
     return MOTE_OK;
 }
+
+/* Start the series of `frames` (xyz 0) or of `snapshot every=|dt=` (xyz 1): the first now. */
+static int start_series(mb_model *m, const mote_call *c, mb_frames *fr, int xyz,
+                        mote_observer *obs, mote_schedule *at, mote_err *err)
+{
+    char *prefix = strdup(mote_call_opt(c, "prefix")->path);
+    char *origin = xyz ? mote_call_origin(c) : NULL;
+    if (!prefix || (xyz && !origin)) {
+        free(prefix);
+        free(origin);
+        return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", c->name);
+    }
+    if (!fr->prefix || strcmp(fr->prefix, prefix) != 0) { /* (the same prefix continues) */
+        free(fr->prefix);
+        fr->prefix = prefix;
+        fr->next_index = 0;
+    } else {
+        free(prefix);
+    }
+    free(fr->origin);
+    fr->origin = origin;
+    fr->xyz = xyz;
+    fr->dt = mote_call_opt_r(c, "dt", 0);
+    fr->every = fr->dt > 0 ? 0 : (uint64_t)mote_call_opt(c, "every")->i;
+    int rc = mb_frames_sample(fr, &m->sys, err);
+    if (rc)
+        return rc;
+    fr->active = 1;
+    *obs = mote_call_observer(c, at, m->sys.time, m->sys.collisions, 1, fr, mb_frames_sample);
+    const char *ext = xyz ? ".xyz" : ".png";
+    if (m->log && fr->every)
+        fprintf(m->log, "%s: every %llu collisions as %s%sNNNNNN%s from %06llu\n", c->name,
+                (unsigned long long)fr->every, fr->prefix, mote_series_sep(fr->prefix), ext,
+                (unsigned long long)(fr->next_index - 1));
+    else if (m->log)
+        fprintf(m->log, "%s: every %g s as %s%sNNNNNN%s from %06llu\n", c->name, fr->dt,
+                fr->prefix, mote_series_sep(fr->prefix), ext,
+                (unsigned long long)(fr->next_index - 1));
+    return MOTE_OK;
+}
+
 static int run_snapshot(void *vm, const mote_call *c, mote_err *err)
 {
     mb_model *m = vm;
-    const char *path = mote_call_opt(c, "file")->path;
+    const mote_arg *file = mote_call_opt(c, "file");
+    if (!file)
+        return start_series(m, c, &m->snaps, 1, &m->snaps_s, &m->snaps_at, err);
+    const char *path = file->path;
     char *origin = mote_call_origin(c);
     int rc;
     if (!origin)
@@ -773,32 +846,17 @@ static int check_frames(void *vm, const mote_call *c, mote_err *err)
 static int run_frames(void *vm, const mote_call *c, mote_err *err)
 {
     mb_model *m = vm;
-    char *prefix = strdup(mote_call_opt(c, "prefix")->path);
-    if (!prefix)
-        return mote_fail(err, MOTE_ENOMEM, "frames: out of memory");
-    mb_frames *fr = &m->frames;
-    if (!fr->prefix || strcmp(fr->prefix, prefix) != 0) {
-        free(fr->prefix);
-        fr->prefix = prefix;
-        fr->next_index = 0;
-    } else {
-        free(prefix);
-    }
-    fr->dt = mote_call_opt_r(c, "dt", 0);
-    fr->every = fr->dt > 0 ? 0 : (uint64_t)mote_call_opt(c, "every")->i;
-    int rc = mb_frames_sample(fr, &m->sys, err);
-    if (rc)
-        return rc;
-    fr->active = 1;
-    m->frames_s = mote_call_observer(c, &m->frames_at, m->sys.time, m->sys.collisions, 1, fr,
-                                     mb_frames_sample);
-    if (m->log && fr->every)
-        fprintf(m->log, "frames: every %llu collisions as %s%sNNNNNN.png from %06llu\n",
-                (unsigned long long)fr->every, fr->prefix, mote_series_sep(fr->prefix),
-                (unsigned long long)(fr->next_index - 1));
-    else if (m->log)
-        fprintf(m->log, "frames: every %g s as %s%sNNNNNN.png from %06llu\n", fr->dt,
-                fr->prefix, mote_series_sep(fr->prefix), (unsigned long long)(fr->next_index - 1));
+    return start_series(m, c, &m->frames, 0, &m->frames_s, &m->frames_at, err);
+}
+
+static int check_snapshot_stop(void *vm, const mote_call *c, mote_err *err)
+{
+    ((mb_model *)vm)->d_snaps_dt = 0;
+    return MOTE_OK;
+}
+static int run_snapshot_stop(void *vm, const mote_call *c, mote_err *err)
+{
+    ((mb_model *)vm)->snaps.active = 0;
     return MOTE_OK;
 }
 
@@ -896,14 +954,18 @@ static const mote_cmd mb_commands[] = {
      "density_y dt=DT bins=NBINS file=FILE",
      "time-averaged density profile in y, sampled every DT s", MB_HELP_DENSITY, check_density,
      run_density},
-    {"snapshot", NULL, "@file=f>snapshot!", "snapshot file=FILE",
-     "picture (.png) or extended XYZ (.xyz) of the state",
+    {"snapshot", NULL, "@file=f>snapshot every=i>=1 dt=r>0 prefix=f",
+     "snapshot file=FILE|every=K|dt=T prefix=P",
+     "picture (.png) or extended XYZ (.xyz) of the state; or XYZ on a schedule",
      MB_HELP_SNAPSHOT, check_snapshot, run_snapshot},
     {"frames", NULL, "@dt=r>0 @prefix=f! every=i>=1", "frames dt=DT|every=K prefix=PREFIX",
      "a picture every DT s (or K collisions): PREFIX_000000.png ...",
      MB_HELP_FRAMES, check_frames, run_frames},
     {"frames_stop", NULL, "", "frames_stop", "stop writing frames", MB_HELP_FRAMES_STOP,
      check_frames_stop, run_frames_stop},
+    {"snapshot_stop", NULL, "", "snapshot_stop", "stop the snapshots of `snapshot every=|dt=`",
+     "    snapshot_stop\n\nStop the series of `snapshot every=K|dt=T prefix=P`; its files stay.\n",
+     check_snapshot_stop, run_snapshot_stop},
     {"movie", NULL, "@prefix=f! @fps=i[1,1000]! @file=f>movie!",
      "movie prefix=PREFIX fps=FPS file=FILE", "make a movie of the frames (needs ffmpeg)",
      MB_HELP_MOVIE, check_movie, run_movie},

@@ -136,6 +136,8 @@ typedef struct {
     char *prefix;
     double dt;      /* by time (0: by count) */
     uint64_t every; /* by count: disk-disk collisions between frames (0: by time) */
+    int xyz;        /* extended XYZ snapshots (`snapshot every=|dt= prefix=`), not pictures */
+    char *origin;   /* xyz: the command (the files' comment line) */
     uint64_t next_index; /* frame number of the next PNG */
 } mb_frames;
 

@@ -145,12 +145,12 @@ int mb_frames_sample(void *ctx, void *subject, mote_err *err)
 {
     mote_mb *sys = subject;
     mb_frames *fr = ctx;
-    char *name = mb_frame_name(fr->prefix, fr->next_index);
+    char *name = mote_series_path(fr->prefix, fr->next_index, 6, fr->xyz ? ".xyz" : ".png");
     if (name)
         mote_make_dir_of(name); /* (a prefix= makes its folder) */
     if (!name)
-        return mote_fail(err, MOTE_ENOMEM, "frames: out of memory");
-    int rc = mb_snapshot_png(sys, name, err);
+        return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", fr->xyz ? "snapshot" : "frames");
+    int rc = fr->xyz ? mb_snapshot_xyz(sys, name, fr->origin, err) : mb_snapshot_png(sys, name, err);
     free(name);
     if (!rc)
         fr->next_index++;
