@@ -99,6 +99,13 @@ run mbs6 "${MB}run_collisions 1000 100\nrun 1\nsave mbs6.state\n"
 cmp -s mbs5.state mbs6.state && ok || bad "mixing box: snapshot every=/dt= changed the run"
 expect 1 "mbs7.mote:9:1: error: snapshot: a series needs prefix=P (files P_000000.xyz, ...)" mbs7.mote "${MB}snapshot every=5\n"
 
+# the hard spheres' frames: a picture now and on the schedule (the cut at z = Lz/2, coloured
+# by local order), the run the same bit for bit
+run hsf 'model hard-spheres\nseed 5\nnew 2 0.35\nframes every=2 prefix=hsf/a\nstep 6\nframes_stop\nstep 2\nsave hsf.state\n'
+[ "$(ls hsf | tr '\n' ' ')" = "a_000000.png a_000001.png a_000002.png a_000003.png " ] && ok || bad "hard spheres: frames every=2 over step 6: $(ls hsf | tr '\n' ' ')"
+head -c 8 hsf/a_000000.png | od -An -c | grep -q 'P   N   G' && ok || bad "hard spheres: frames: not a PNG"
+cmp -s hsf.state hss6.state && ok || bad "hard spheres: frames changed the run"
+
 # the separator's monitor, snapshots and frames every K steps: the first at the run's start,
 # then at each multiple (steps of 1e-3 s: t = steps / 1000), the run the same bit for bit
 SEPT="${SEP_DILUTE}"

@@ -24,6 +24,7 @@ typedef struct {
     int64_t bins;        /* bins per R for the pressure and chempot profiles (`bins`, default 10) */
     struct hs_dump *dump; /* the trajectory being written (`dump`), or NULL */
     struct hs_dump *snaps; /* the snapshots on a schedule (`snapshot every=|dt=`), or NULL */
+    struct hs_dump *frames; /* the pictures on a schedule (`frames`), or NULL */
     struct hs_monitor *monitor; /* the monitor being written (`monitor`), or NULL */
 } mote_hs;
 
@@ -121,6 +122,11 @@ uint64_t mote_hs_dump_frames(const mote_hs *hs);
 int mote_hs_snapshots_start(mote_hs *hs, uint64_t k, double dt, const char *prefix,
                             const char *origin, mote_err *err);
 void mote_hs_snapshots_stop(mote_hs *hs);
+/* Pictures on a schedule (`frames every=K|dt=T prefix=P`), as the snapshots: P_000000.png on,
+ * the box seen along z, each particle coloured by its local order (crystal-like or not). */
+int mote_hs_frames_start(mote_hs *hs, uint64_t k, double dt, const char *prefix,
+                         const char *origin, mote_err *err);
+void mote_hs_frames_stop(mote_hs *hs);
 
 /* ---- measurements (spec 8); `origin` names the generating command for file headers ---- */
 int mote_hs_image(mote_hs *hs, uint64_t k, int64_t p, const char *path, const char *origin,

@@ -511,7 +511,8 @@ static int run_scheduled(hs_model *m, const mote_call *c, const char *what,
     const char *path = file ? file->path : mote_call_opt(c, "prefix")->path; /* (a series) */
     int rc = origin ? start(&m->hs, k, dt, path, origin, err)
                     : mote_fail(err, MOTE_ENOMEM, "out of memory");
-    const char *in = file ? " in " : " as ", *ext = file ? "" : "NNNNNN.xyz";
+    const char *in = file ? " in " : " as ";
+    const char *ext = file ? "" : start == mote_hs_frames_start ? "NNNNNN.png" : "NNNNNN.xyz";
     const char *sep = file ? "" : mote_series_sep(path);
     if (!rc && m->hs.log && k)
         fprintf(m->hs.log, "%s: %s 0%s%s%s%s, then one every %llu collisions per particle\n",
@@ -558,6 +559,25 @@ static int run_snapshot(void *vm, const mote_call *c, mote_err *err)
         fprintf(m->hs.log, "%s: wrote %s\n", c->name, file->path);
     free(origin);
     return rc;
+}
+
+/* `frames every=K|dt=T prefix=P`: pictures now and on the schedule, P_000000.png on */
+static int check_frames(void *vm, const mote_call *c, mote_err *err)
+{
+    int rc = check_schedule(vm, c, err);
+    return rc ? rc : mote_outputs_note_series(&c->ctx->outputs, c,
+                                              mote_call_opt_index(c, "prefix"),
+                                              mote_call_opt(c, "prefix")->path, ".png", "frames",
+                                              MOTE_SERIES_MAKES_DIR, err);
+}
+static int run_frames(void *vm, const mote_call *c, mote_err *err)
+{
+    return run_scheduled(vm, c, "frames", mote_hs_frames_start, err);
+}
+static int run_frames_stop(void *vm, const mote_call *c, mote_err *err)
+{
+    mote_hs_frames_stop(&((hs_model *)vm)->hs);
+    return MOTE_OK;
 }
 
 static int check_dump(void *vm, const mote_call *c, mote_err *err)
@@ -668,6 +688,12 @@ static const mote_cmd hs_commands[] = {
     {"trajectory", "dump", "@every=i>=1 @file=f>xyz! dt=r>0", "trajectory every=K|dt=T file=FILE.xyz",
      "a trajectory: an XYZ frame now and every K collisions per particle of later commands",
      HS_HELP_DUMP, check_dump, run_dump},
+    {"frames", NULL, "@every=i>=1 @prefix=f! dt=r>0", "frames every=K|dt=T prefix=P",
+     "a picture now and every K collisions per particle or T of time: P_000000.png ...",
+     HS_HELP_FRAMES, check_frames, run_frames},
+    {"frames_stop", NULL, "", "frames_stop", "stop writing the pictures of `frames`",
+     "    frames_stop\n\nStop the pictures of `frames`; its files stay.\n", NULL,
+     run_frames_stop},
     {"snapshot_stop", NULL, "", "snapshot_stop", "stop the snapshots of `snapshot every=|dt=`",
      "    snapshot_stop\n\nStop the series of `snapshot every=K|dt=T prefix=P`; its files stay.\n",
      NULL, run_snapshot_stop},

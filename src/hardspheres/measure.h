@@ -49,8 +49,8 @@ int hs_run(mote_hs *hs, uint64_t ncoll, mote_err *err);
  * progress (may be NULL) and the command's name for messages. */
 int hs_run_observed(mote_hs *hs, uint64_t ncoll, mote_observer *obs, size_t nobs,
                     mote_progress *prog, const char *what, mote_err *err);
-/* The trajectory and the snapshot series as observers of the run loop, into o[0..1]: how many
- * (xyz.c). */
+/* The trajectory, the snapshot series and the frames as observers of the run loop, into
+ * o[0..2]: how many (xyz.c). */
 size_t hs_dump_observer(mote_hs *hs, mote_observer *o);
 /* monitor.c: the monitor's observer (0 or 1 filled), and its engine hooks on (1) for a run,
  * chained to those installed before, or off (0) again. */
@@ -64,6 +64,8 @@ void hs_drop_system(mote_hs *hs);
 /* The local order of the current configuration with the `order` command's definitions, per
  * engine record: 3D q6 and crystal-like (>= 8 solid-like bonds), 2D |psi6| and ordered. */
 int hs_local_order(const mote_hs *hs, float *local, uint8_t *flag, mote_err *err);
+/* frame.c: the picture of `frames` (the box along z, coloured by local order), atomically. */
+int hs_frame_png(const mote_hs *hs, const char *path, mote_err *err);
 
 /* Bins along x for the profiles of pressure and chempot: width R/p from x = 0 in a slit (the last
  * bin may be narrower, as in `image`); in a periodic box nb equal bins tiling [0, L) exactly. */

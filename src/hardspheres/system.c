@@ -34,6 +34,7 @@ void mote_hs_free(mote_hs *hs)
     hs_drop_system(hs);
     mote_hs_dump_stop(hs);
     mote_hs_snapshots_stop(hs);
+    mote_hs_frames_stop(hs);
     mote_hs_monitor_stop(hs);
 }
 
@@ -459,7 +460,7 @@ int hs_run_observed(mote_hs *hs, uint64_t ncoll, mote_observer *obs, size_t nobs
 {
     mote_ev *ev = &hs->ev;
     const uint64_t end = ncoll < UINT64_MAX - ev->collisions ? ev->collisions + ncoll : UINT64_MAX;
-    mote_observer all[6];
+    mote_observer all[7];
     size_t n = 0;
     for (; n < nobs && n < 3; n++)
         all[n] = obs[n];

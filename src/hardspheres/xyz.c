@@ -21,13 +21,16 @@
 
 #include "measure.h"
 
+enum { SERIES_XYZ = 1, SERIES_PNG = 2 };
+
 struct hs_dump {
     char *path, *origin;
     uint64_t k;       /* collisions per particle between frames (0: by time) */
     mote_schedule at; /* by time: the next frame at at.t0 + at.k at.dt */
     uint64_t next_at; /* value of ev.collisions at which the next frame is written */
     uint64_t frames;  /* written so far (a series: the next file's number) */
-    int series;       /* a series of snapshots (path: the prefix), not a trajectory */
+    int series;       /* a series of files (path: the prefix), not a trajectory: SERIES_XYZ
+                       * (snapshots) or SERIES_PNG (frames) */
 };
 
 /* One frame: the two header lines and N particle lines. */
@@ -134,11 +137,12 @@ static int frame_out(mote_hs *hs, struct hs_dump *d, mote_err *err)
 {
     if (!d->series)
         return d->frames ? append_frame(hs, d, err) : first_frame(hs, d, err);
-    char *p = mote_series_path(d->path, d->frames, 6, ".xyz");
+    const int png = d->series == SERIES_PNG;
+    char *p = mote_series_path(d->path, d->frames, 6, png ? ".png" : ".xyz");
     if (!p)
-        return mote_fail(err, MOTE_ENOMEM, "snapshot: out of memory");
+        return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", png ? "frames" : "snapshot");
     mote_make_dir_of(p);
-    int rc = mote_hs_snapshot(hs, p, d->origin, err);
+    int rc = png ? hs_frame_png(hs, p, err) : mote_hs_snapshot(hs, p, d->origin, err);
     free(p);
     d->frames += !rc;
     return rc;
@@ -163,6 +167,12 @@ void mote_hs_snapshots_stop(mote_hs *hs)
 {
     dump_free(hs->snaps);
     hs->snaps = NULL;
+}
+
+void mote_hs_frames_stop(mote_hs *hs)
+{
+    dump_free(hs->frames);
+    hs->frames = NULL;
 }
 
 static uint64_t dump_interval(const mote_hs *hs, const struct hs_dump *d)
@@ -231,11 +241,24 @@ int mote_hs_snapshots_start(mote_hs *hs, uint64_t k, double dt, const char *pref
 {
     /* the same prefix again continues the numbering */
     const uint64_t first = hs->snaps && !strcmp(hs->snaps->path, prefix) ? hs->snaps->frames : 0;
-    struct hs_dump *d = dump_new(hs, "snapshot", k, dt, prefix, origin, 1, first, err);
+    struct hs_dump *d = dump_new(hs, "snapshot", k, dt, prefix, origin, SERIES_XYZ, first, err);
     if (!d)
         return err->code;
     mote_hs_snapshots_stop(hs);
     hs->snaps = d;
+    return MOTE_OK;
+}
+
+int mote_hs_frames_start(mote_hs *hs, uint64_t k, double dt, const char *prefix,
+                         const char *origin, mote_err *err)
+{
+    const uint64_t first =
+        hs->frames && !strcmp(hs->frames->path, prefix) ? hs->frames->frames : 0;
+    struct hs_dump *d = dump_new(hs, "frames", k, dt, prefix, origin, SERIES_PNG, first, err);
+    if (!d)
+        return err->code;
+    mote_hs_frames_stop(hs);
+    hs->frames = d;
     return MOTE_OK;
 }
 
@@ -256,6 +279,10 @@ static int dump_fire(void *ctx, void *subject, mote_err *err)
 static int snaps_fire(void *ctx, void *subject, mote_err *err)
 {
     return fire_of(ctx, ((mote_hs *)ctx)->snaps, err);
+}
+static int frames_fire(void *ctx, void *subject, mote_err *err)
+{
+    return fire_of(ctx, ((mote_hs *)ctx)->frames, err);
 }
 
 static void observer_of(mote_hs *hs, struct hs_dump *d,
@@ -281,5 +308,7 @@ size_t hs_dump_observer(mote_hs *hs, mote_observer *o)
         observer_of(hs, hs->dump, dump_fire, &o[n++]);
     if (hs->snaps)
         observer_of(hs, hs->snaps, snaps_fire, &o[n++]);
+    if (hs->frames)
+        observer_of(hs, hs->frames, frames_fire, &o[n++]);
     return n;
 }
