@@ -55,7 +55,7 @@ tail -1 hss.dat | awk -v l="$pl" -v r="$pr" '{ exit !(l != "" && r != "" && ($6 
 # shared word, a column per model, the earlier words named as aliases
 "$MOTE" help --markdown > ref.md
 grep -q '^| the configuration (now, or on a schedule) | `snapshot every= dt= file= prefix=` | `snapshot every= dt= file= prefix=` | `snapshot every= dt= file= prefix= format=` | — | `snapshot every= dt= file= prefix=` |$' ref.md && ok || bad "table: $(grep '^| the configuration' ref.md)"
-grep -q '^| particle paths (a growing file) | `trajectory every= dt= file=` | — | `trajectory every= dt= file= format=` | — | — |$' ref.md && ok || bad "table: $(grep '^| particle paths' ref.md)"
+grep -q '^| particle paths (a growing file) | `trajectory every= dt= file=` | `trajectory every= dt= file=` | `trajectory every= dt= file= format=` | — | `trajectory every= dt= file=` |$' ref.md && ok || bad "table: $(grep '^| particle paths' ref.md)"
 grep -q "^Other names kept as aliases (.mote help. marks them): .dump. (hard-spheres's .trajectory.), .record. (mixing-box's .monitor.), .snapshots. (separator's .snapshot.), .balance. (separator's .monitor.).$" ref.md && ok || bad "aliases: $(grep '^Other names' ref.md)"
 
 # the mixing box: monitor dt= file= (record's other name), snapshot file=, frames dt= prefix=,
@@ -105,6 +105,14 @@ run hsf 'model hard-spheres\nseed 5\nnew 2 0.35\nframes every=2 prefix=hsf/a\nst
 [ "$(ls hsf | tr '\n' ' ')" = "a_000000.png a_000001.png a_000002.png a_000003.png " ] && ok || bad "hard spheres: frames every=2 over step 6: $(ls hsf | tr '\n' ' ')"
 head -c 8 hsf/a_000000.png | od -An -c | grep -q 'P   N   G' && ok || bad "hard spheres: frames: not a PNG"
 cmp -s hsf.state hss6.state && ok || bad "hard spheres: frames changed the run"
+
+# trajectory in the mixing box and the separator (a growing XYZ file: a frame at each time, the
+# run the same bit for bit)
+run mbtr "${MB}trajectory every=250 file=mbtr.xyz\nrun_collisions 1000 100\ntrajectory_stop\nrun 1\nsave mbtr.state\n"
+[ "$(grep -c Lattice mbtr.xyz)" = 5 ] && ok || bad "mixing box: trajectory every=250 over 1000 collisions: $(grep -c Lattice mbtr.xyz) frames, not 5"
+cmp -s mbtr.state mbs6.state && ok || bad "mixing box: trajectory changed the run"
+run septr "${SEP_DILUTE}trajectory dt=0.1 file=septr.xyz\nrun 0.3\n"
+[ "$(grep -o 'Time=[^ ]*' septr.xyz | tr '\n' ' ')" = "Time=0 Time=0.1 Time=0.2 Time=0.3 " ] && ok || bad "separator: trajectory dt=0.1 over run 0.3: $(grep -o 'Time=[^ ]*' septr.xyz | tr '\n' ' ')"
 
 # the separator's monitor, snapshots and frames every K steps: the first at the run's start,
 # then at each multiple (steps of 1e-3 s: t = steps / 1000), the run the same bit for bit

@@ -151,6 +151,16 @@ void mote_rows_keep(mote_rows *r);
 /* Freed (PATH.partial kept); a zeroed mote_rows may be freed. */
 void mote_rows_free(mote_rows *r);
 
+/* A growing file of frames (a trajectory, extended XYZ: the output layer's `trajectory` in
+ * every model): the first frame is written atomically (mote_frames_first: an earlier file is
+ * replaced only by a complete frame), later frames are appended whole (mote_frames_append: a
+ * frame that fails to write is cut off again, so the file always ends with a complete frame;
+ * `tail -f` follows it, and a run that is stopped keeps every frame so far). frame(f, arg, err)
+ * writes one frame. */
+typedef int (*mote_frame_writer)(FILE *f, const void *arg, mote_err *err);
+int mote_frames_first(const char *path, mote_frame_writer frame, const void *arg, mote_err *err);
+int mote_frames_append(const char *path, mote_frame_writer frame, const void *arg, mote_err *err);
+
 /* The CLOCK_REALTIME time `seconds` from now, for pthread_cond_timedwait (a wait that also
  * looks at something else now and then). */
 struct timespec mote_deadline(double seconds);

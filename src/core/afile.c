@@ -422,3 +422,41 @@ void mote_rows_free(mote_rows *r)
     free(r->path);
     memset(r, 0, sizeof *r);
 }
+
+/* ---- growing files of frames ------------------------------------------------------------------ */
+
+int mote_frames_first(const char *path, mote_frame_writer frame, const void *arg, mote_err *err)
+{
+    mote_afile af;
+    int rc = mote_afile_open(&af, path, err);
+    if (rc)
+        return rc;
+    if ((rc = frame(af.f, arg, err))) {
+        mote_afile_abort(&af);
+        return rc;
+    }
+    return mote_afile_commit(&af, err);
+}
+
+int mote_frames_append(const char *path, mote_frame_writer frame, const void *arg, mote_err *err)
+{
+    struct stat st;
+    if (stat(path, &st) != 0)
+        return mote_fail(err, MOTE_EIO, "trajectory: '%s' is gone: %s", path, strerror(errno));
+    FILE *f = fopen(path, "a");
+    if (!f)
+        return mote_fail(err, MOTE_EIO, "trajectory: cannot append to '%s': %s", path,
+                         strerror(errno));
+    int rc = frame(f, arg, err);
+    int e = 0;
+    if (fflush(f) != 0 || ferror(f))
+        e = errno ? errno : EIO;
+    if (fclose(f) != 0 && !e)
+        e = errno ? errno : EIO;
+    if (!rc && e)
+        rc = mote_fail(err, MOTE_EIO, "trajectory: writing a frame to '%s' failed: %s", path,
+                       strerror(e));
+    if (rc && truncate(path, st.st_size) != 0) { /* keep whole frames only; nothing else to do */
+    }
+    return rc;
+}

@@ -619,7 +619,7 @@ static int run_dump_stop(void *vm, const mote_call *c, mote_err *err)
 {
     hs_model *m = vm;
     if (m->hs.log && m->hs.dump)
-        fprintf(m->hs.log, "dump_stop: %llu frames written\n",
+        fprintf(m->hs.log, "%s: %llu frames written\n", c->name,
                 (unsigned long long)mote_hs_dump_frames(&m->hs));
     mote_hs_dump_stop(&m->hs);
     return MOTE_OK;
@@ -697,7 +697,7 @@ static const mote_cmd hs_commands[] = {
     {"snapshot_stop", NULL, "", "snapshot_stop", "stop the snapshots of `snapshot every=|dt=`",
      "    snapshot_stop\n\nStop the series of `snapshot every=K|dt=T prefix=P`; its files stay.\n",
      NULL, run_snapshot_stop},
-    {"dump_stop", NULL, "", "dump_stop", "stop writing the trajectory of `trajectory` (`dump`)",
+    {"trajectory_stop", "dump_stop", "", "trajectory_stop", "stop writing the frames of `trajectory` (`dump`)",
      HS_HELP_DUMP_STOP, NULL, run_dump_stop},
     {"monitor", NULL, "@every=i>=1 @file=f>monitor! dt=r>0", "monitor every=K|dt=T file=FILE",
      "the run's time, collisions, temperature and pressure, a row every K collisions per "

@@ -1,23 +1,20 @@
 /* xyz.c: configurations for viewers (OVITO, VMD, ASE) as extended XYZ: `snapshot FILE.xyz`, one
- * frame of the current state, and `dump K FILE.xyz`, a trajectory with a frame every K
- * collisions per particle during every later command that runs the dynamics. Each frame holds
+ * frame of the current state, `snapshot every=|dt= prefix=`, a series of them, `trajectory`, a
+ * trajectory with a frame every K collisions per particle (or T of time) during every later
+ * command that runs the dynamics, and the series of pictures of `frames`. Each frame holds
  * the box as Lattice, the periodic axes as pbc, and per particle (in particle-number order, as
  * in the state file) the position, velocity and radius, and the local order of the frame's own
  * configuration with the `order` command's definitions: q6 and the crystal-like flag in 3D,
  * |psi6| and the ordered flag in 2D, so a viewer can colour crystalline particles.
  *
  * Writing a frame only reads positions projected to the clock, so dumping never changes the
- * trajectory. A snapshot is written atomically; a trajectory's first frame too (an earlier file
- * is replaced only by a complete frame), later frames are appended whole, and a failed append
- * is cut off again, so the file always ends with a complete frame. */
+ * trajectory. A snapshot is written atomically; a trajectory is the core's growing file of
+ * frames (mote_frames_first, mote_frames_append). */
 #include "mote/hardspheres.h"
 
-#include <errno.h>
 #include <inttypes.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include "measure.h"
 
@@ -34,8 +31,15 @@ struct hs_dump {
 };
 
 /* One frame: the two header lines and N particle lines. */
-static int write_frame(FILE *f, const mote_hs *hs, const char *origin, mote_err *err)
+typedef struct {
+    const mote_hs *hs;
+    const char *origin;
+} frame_of_hs;
+
+static int write_frame(FILE *f, const void *arg, mote_err *err)
 {
+    const mote_hs *hs = ((const frame_of_hs *)arg)->hs;
+    const char *origin = ((const frame_of_hs *)arg)->origin;
     const mote_ev *ev = &hs->ev;
     const int d3 = ev->dim == 3;
     float *local = malloc((ev->n ? ev->n : 1) * sizeof *local);
@@ -83,15 +87,8 @@ int mote_hs_snapshot(mote_hs *hs, const char *path, const char *origin, mote_err
 {
     if (!hs->has_system)
         return mote_fail(err, MOTE_EINVAL, "snapshot: no system");
-    mote_afile af;
-    int rc = mote_afile_open(&af, path, err);
-    if (rc)
-        return rc;
-    if ((rc = write_frame(af.f, hs, origin, err))) {
-        mote_afile_abort(&af);
-        return rc;
-    }
-    return mote_afile_commit(&af, err);
+    const frame_of_hs x = {hs, origin};
+    return mote_frames_first(path, write_frame, &x, err);
 }
 
 /* A trajectory's first frame: its file written atomically (an earlier file is replaced only by
@@ -103,32 +100,13 @@ static int first_frame(mote_hs *hs, struct hs_dump *d, mote_err *err)
     return rc;
 }
 
-/* Append one frame; on any failure the file is cut back to its previous end. */
+/* Append one frame (the core's growing file: cut back to its previous end on a failure). */
 static int append_frame(mote_hs *hs, struct hs_dump *d, mote_err *err)
 {
-    struct stat st;
-    if (stat(d->path, &st) != 0)
-        return mote_fail(err, MOTE_EIO, "trajectory: '%s' is gone: %s", d->path, strerror(errno));
-    FILE *f = fopen(d->path, "a");
-    if (!f)
-        return mote_fail(err, MOTE_EIO, "trajectory: cannot append to '%s': %s", d->path,
-                         strerror(errno));
-    int rc = write_frame(f, hs, d->origin, err);
-    int e = 0;
-    if (fflush(f) != 0 || ferror(f))
-        e = errno ? errno : EIO;
-    if (fclose(f) != 0 && !e)
-        e = errno ? errno : EIO;
-    if (!rc && e)
-        rc = mote_fail(err, MOTE_EIO, "trajectory: writing frame %" PRIu64 " to '%s' failed: %s",
-                       d->frames, d->path, strerror(e));
-    if (rc) {
-        if (truncate(d->path, st.st_size) != 0) { /* keep whole frames only; nothing else to do */
-        }
-        return rc;
-    }
-    d->frames++;
-    return MOTE_OK;
+    const frame_of_hs x = {hs, d->origin};
+    int rc = mote_frames_append(d->path, write_frame, &x, err);
+    d->frames += !rc;
+    return rc;
 }
 
 /* The next frame: appended to a trajectory, or the next file of a series (PREFIX_000000.xyz

@@ -25,14 +25,15 @@ typedef struct {
     int d_placed;
     int d_place_line;
     int64_t d_n; /* disks the last place puts */
-    double d_record_dt, d_density_dt, d_frames_dt, d_snaps_dt; /* 0 = not active */
+    double d_record_dt, d_density_dt, d_frames_dt, d_snaps_dt, d_traj_dt; /* 0 = not active */
 
     /* samplers kept across runs */
     mb_record rec;
     mb_density dens;
     mb_frames frames, snaps; /* pictures; snapshots (xyz) on a schedule */
-    mote_observer rec_s, dens_s, frames_s, snaps_s;
-    mote_schedule rec_at, dens_at, frames_at, snaps_at; /* theirs */
+    mb_trajectory traj;
+    mote_observer rec_s, dens_s, frames_s, snaps_s, traj_s;
+    mote_schedule rec_at, dens_at, frames_at, snaps_at, traj_at; /* theirs */
 } mb_model;
 
 static void *model_create(mote_context *ctx, int dry)
@@ -59,6 +60,8 @@ static void model_destroy(void *vm)
     free(m->frames.prefix);
     free(m->snaps.prefix);
     free(m->snaps.origin);
+    free(m->traj.path);
+    free(m->traj.origin);
     free(m);
 }
 
@@ -398,21 +401,23 @@ static int run_load(void *vm, const mote_call *c, mote_err *err)
     int rc = mb_load(&m->sys, &m->p, path, err);
     if (!rc && m->sys.time != t_before) {
         /* samplers running from an earlier time go on from the loaded one */
-        mote_observer *s[4] = {m->rec.active ? &m->rec_s : NULL,
+        mote_observer *s[5] = {m->rec.active ? &m->rec_s : NULL,
                                m->dens.active ? &m->dens_s : NULL,
                                m->frames.active ? &m->frames_s : NULL,
-                               m->snaps.active ? &m->snaps_s : NULL};
-        for (int k = 0; k < 4; k++)
+                               m->snaps.active ? &m->snaps_s : NULL,
+                               m->traj.active ? &m->traj_s : NULL};
+        for (int k = 0; k < 5; k++)
             if (s[k] && s[k]->at) {
                 s[k]->at->t0 = m->sys.time;
                 s[k]->at->k = 1;
             }
     }
     if (!rc) { /* those by count go on from the loaded count */
-        mote_observer *s[3] = {m->rec.active ? &m->rec_s : NULL,
+        mote_observer *s[4] = {m->rec.active ? &m->rec_s : NULL,
                                m->frames.active ? &m->frames_s : NULL,
-                               m->snaps.active ? &m->snaps_s : NULL};
-        for (int k = 0; k < 3; k++)
+                               m->snaps.active ? &m->snaps_s : NULL,
+                               m->traj.active ? &m->traj_s : NULL};
+        for (int k = 0; k < 4; k++)
             if (s[k] && !s[k]->at)
                 s[k]->from = m->sys.collisions;
     }
@@ -428,8 +433,8 @@ static void end_samplers(mb_model *m)
 {
     mb_record_free(&m->rec);
     mb_density_free(&m->dens);
-    m->frames.active = m->snaps.active = 0;
-    m->d_record_dt = m->d_density_dt = m->d_frames_dt = m->d_snaps_dt = 0;
+    m->frames.active = m->snaps.active = m->traj.active = 0;
+    m->d_record_dt = m->d_density_dt = m->d_frames_dt = m->d_snaps_dt = m->d_traj_dt = 0;
 }
 
 static int check_place(void *vm, const mote_call *c, mote_err *err)
@@ -494,6 +499,11 @@ static int check_samples(const mb_model *m, const mote_call *c, int argi, double
                               "%s: %s s with a density sample every %g s would take %.3g samples "
                               "(at most 10^8 per run); use a larger DT",
                               c->name, c->args[argi].text, m->d_density_dt, t / m->d_density_dt);
+    if (m->d_traj_dt > 0 && t / m->d_traj_dt > 1e6)
+        return mote_call_fail(err, c, argi, MOTE_EINVAL,
+                              "%s: %s s with a trajectory frame every %g s would write %.3g "
+                              "frames (at most 10^6 per run); use a larger DT",
+                              c->name, c->args[argi].text, m->d_traj_dt, t / m->d_traj_dt);
     if (m->d_snaps_dt > 0 && t / m->d_snaps_dt > 1e5)
         return mote_call_fail(err, c, argi, MOTE_EINVAL,
                               "%s: %s s with a snapshot every %g s would write %.3g files (at "
@@ -562,7 +572,7 @@ static int do_run(mb_model *m, const mote_call *c, double t_end, uint64_t collis
 {
     mote_mb *s = &m->sys;
     apply_physics(m);
-    mote_observer samplers[4];
+    mote_observer samplers[5];
     size_t ns = 0;
     if (m->rec.active)
         samplers[ns++] = m->rec_s;
@@ -572,6 +582,8 @@ static int do_run(mb_model *m, const mote_call *c, double t_end, uint64_t collis
         samplers[ns++] = m->frames_s;
     if (m->snaps.active)
         samplers[ns++] = m->snaps_s;
+    if (m->traj.active)
+        samplers[ns++] = m->traj_s;
     mote_progress prog;
     mote_progress_begin(&prog, c->ctx, c->name);
     const mote_loop loop = {samplers, ns, collisions_end, &prog, 0, 0, 0, 0};
@@ -849,6 +861,53 @@ static int run_frames(void *vm, const mote_call *c, mote_err *err)
     return start_series(m, c, &m->frames, 0, &m->frames_s, &m->frames_at, err);
 }
 
+/* `trajectory every=K|dt=T file=FILE.xyz`: a frame now and on the schedule, appended */
+static int check_trajectory(void *vm, const mote_call *c, mote_err *err)
+{
+    mb_model *m = vm;
+    int rc = need_placed(m, c, err);
+    if (!rc)
+        rc = mote_call_check_every_dt(c, 1, err);
+    if (!rc && !ends_with(mote_call_opt(c, "file")->text, ".xyz"))
+        rc = mote_call_fail(err, c, mote_call_opt_index(c, "file"), MOTE_EINVAL,
+                            "trajectory: FILE must end in .xyz (extended XYZ), found '%s'",
+                            mote_call_opt(c, "file")->text);
+    if (!rc)
+        m->d_traj_dt = mote_call_opt_r(c, "dt", 0);
+    return rc;
+}
+static int run_trajectory(void *vm, const mote_call *c, mote_err *err)
+{
+    mb_model *m = vm;
+    mb_trajectory *t = &m->traj;
+    free(t->path);
+    free(t->origin);
+    t->active = 0;
+    t->path = strdup(mote_call_opt(c, "file")->path);
+    t->origin = mote_call_origin(c);
+    if (!t->path || !t->origin)
+        return mote_fail(err, MOTE_ENOMEM, "trajectory: out of memory");
+    int rc = mb_snapshot_xyz(&m->sys, t->path, t->origin, err); /* the first frame */
+    if (rc)
+        return rc;
+    t->active = 1;
+    m->traj_s = mote_call_observer(c, &m->traj_at, m->sys.time, m->sys.collisions, 1, t,
+                                   mb_trajectory_fire);
+    if (m->log)
+        fprintf(m->log, "trajectory: frame 0 in %s\n", t->path);
+    return MOTE_OK;
+}
+static int check_trajectory_stop(void *vm, const mote_call *c, mote_err *err)
+{
+    ((mb_model *)vm)->d_traj_dt = 0;
+    return MOTE_OK;
+}
+static int run_trajectory_stop(void *vm, const mote_call *c, mote_err *err)
+{
+    ((mb_model *)vm)->traj.active = 0;
+    return MOTE_OK;
+}
+
 static int check_snapshot_stop(void *vm, const mote_call *c, mote_err *err)
 {
     ((mb_model *)vm)->d_snaps_dt = 0;
@@ -963,6 +1022,12 @@ static const mote_cmd mb_commands[] = {
      MB_HELP_FRAMES, check_frames, run_frames},
     {"frames_stop", NULL, "", "frames_stop", "stop writing frames", MB_HELP_FRAMES_STOP,
      check_frames_stop, run_frames_stop},
+    {"trajectory", NULL, "@every=i>=1 @file=f>xyz! dt=r>0", "trajectory every=K|dt=T file=FILE.xyz",
+     "particle paths: an XYZ frame now and every K collisions or T s, appended to FILE",
+     MB_HELP_TRAJECTORY, check_trajectory, run_trajectory},
+    {"trajectory_stop", NULL, "", "trajectory_stop", "stop the frames of `trajectory`",
+     "    trajectory_stop\n\nStop the frames of `trajectory`; its file stays.\n",
+     check_trajectory_stop, run_trajectory_stop},
     {"snapshot_stop", NULL, "", "snapshot_stop", "stop the snapshots of `snapshot every=|dt=`",
      "    snapshot_stop\n\nStop the series of `snapshot every=K|dt=T prefix=P`; its files stay.\n",
      check_snapshot_stop, run_snapshot_stop},

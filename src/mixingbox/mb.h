@@ -130,6 +130,19 @@ int mb_peek(const char *path, uint64_t *n, mote_err *err);
 int mb_snapshot_png(const mote_mb *sys, const char *path, mote_err *err);
 /* Extended XYZ (OVITO, VMD): one frame with species, positions, velocities, radius, colour. */
 int mb_snapshot_xyz(const mote_mb *sys, const char *path, const char *origin, mote_err *err);
+/* One extended XYZ frame of sys into f (a mote_frame_writer: arg is an mb_xyz_of). */
+typedef struct {
+    const mote_mb *sys;
+    const char *origin;
+} mb_xyz_of;
+int mb_xyz_frame(FILE *f, const void *arg, mote_err *err);
+/* `trajectory every=K|dt=T file=FILE.xyz`: the core's growing file of frames. */
+typedef struct {
+    int active;
+    char *path, *origin;
+} mb_trajectory;
+/* The run loop's observer (ctx: the mb_trajectory; subject: the system): a frame appended. */
+int mb_trajectory_fire(void *ctx, void *subject, mote_err *err);
 
 typedef struct {
     int active;

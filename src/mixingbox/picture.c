@@ -108,14 +108,11 @@ int mb_snapshot_png(const mote_mb *sys, const char *path, mote_err *err)
     return rc;
 }
 
-int mb_snapshot_xyz(const mote_mb *sys, const char *path, const char *origin, mote_err *err)
+int mb_xyz_frame(FILE *f, const void *arg, mote_err *err)
 {
+    const mote_mb *sys = ((const mb_xyz_of *)arg)->sys;
+    const char *origin = ((const mb_xyz_of *)arg)->origin;
     const mote_mb_params *p = &sys->p;
-    mote_afile af;
-    int rc = mote_afile_open(&af, path, err);
-    if (rc)
-        return rc;
-    FILE *f = af.f;
     fprintf(f, "%u\n", sys->n);
     /* The comment line may not hold double quotes inside a value: replace them. */
     char org[512];
@@ -131,7 +128,20 @@ int mb_snapshot_xyz(const mote_mb *sys, const char *path, const char *origin, mo
     for (uint32_t i = 0; i < sys->n; i++)
         fprintf(f, "%s %.17g %.17g 0 %.17g %.17g 0 %.17g %d\n", sys->colour[i] ? "Ar" : "He",
                 sys->x[i], sys->y[i], sys->vx[i], sys->vy[i], p->r, sys->colour[i]);
-    return mote_afile_commit(&af, err);
+    return MOTE_OK;
+}
+
+int mb_snapshot_xyz(const mote_mb *sys, const char *path, const char *origin, mote_err *err)
+{
+    const mb_xyz_of x = {sys, origin};
+    return mote_frames_first(path, mb_xyz_frame, &x, err);
+}
+
+int mb_trajectory_fire(void *ctx, void *subject, mote_err *err)
+{
+    const mb_trajectory *t = ctx;
+    const mb_xyz_of x = {subject, t->origin};
+    return mote_frames_append(t->path, mb_xyz_frame, &x, err);
 }
 
 /* ---- frames and movies ----------------------------------------------------------------------- */

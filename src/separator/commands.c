@@ -39,6 +39,7 @@ static void model_destroy(void *vm)
     free(m->live.path);
     free(m->snaps.prefix);
     mote_rows_free(&m->bal.out);
+    free(m->traj.path);
     free(m->bal.origin);
     free(m->bal.row);
     free(m);
@@ -798,6 +799,12 @@ static const mote_cmd sep_commands[] = {
      HELP_SNAPSHOTS, sep_snapshots, sep_snapshots},
     {"monitor", "balance", "@file=f>balance! @dt=r>0 every=i>=1", "monitor file=FILE dt=DT|every=K", "the bookkeeping time series",
      HELP_BALANCE, sep_balance, sep_balance},
+    {"trajectory", NULL, "@every=i>=1 @file=f>xyz! dt=r>0", "trajectory every=K|dt=T file=FILE.xyz",
+     "particle paths: an XYZ frame every K steps or T s of the following runs, appended",
+     HELP_TRAJECTORY, sep_trajectory, sep_trajectory},
+    {"trajectory_stop", NULL, "", "trajectory_stop", "stop the frames of `trajectory`",
+     "    trajectory_stop\n\nStop the frames of `trajectory`; its file stays.\n",
+     sep_trajectory_stop, sep_trajectory_stop},
     {"save", NULL, "f>state", "save FILE", "write the whole state", HELP_SAVE, sep_check_ready, sep_save},
     {"load", NULL, "f<state", "load FILE", "continue from a saved state", HELP_SAVE, sep_check_load,
      sep_load},

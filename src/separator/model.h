@@ -42,6 +42,12 @@ typedef struct {
         uint64_t index;
     } snaps;
     struct {
+        int on;
+        char *path;      /* FILE.xyz, the core's growing file of frames */
+        uint64_t frames; /* written so far (0: the next replaces FILE) */
+        sep_schedule when;
+    } traj;
+    struct {
         int on, held;
         char *origin;
         sep_schedule when;
@@ -73,6 +79,8 @@ int sep_frames(void *vm, const mote_call *c, mote_err *err);
 int sep_live_png(void *vm, const mote_call *c, mote_err *err);
 int sep_snapshots(void *vm, const mote_call *c, mote_err *err);
 int sep_balance(void *vm, const mote_call *c, mote_err *err);
+int sep_trajectory(void *vm, const mote_call *c, mote_err *err);
+int sep_trajectory_stop(void *vm, const mote_call *c, mote_err *err);
 /* the model's hooks */
 void sep_status(void *vm, FILE *out);
 void sep_model_live(void *vm, mote_buf *b);

@@ -416,24 +416,26 @@ int sep_frame_png(const mote_sep_system *s, const char *path, const sep_frame_op
     return rc;
 }
 
-int sep_write_xyz(const mote_sep_system *s, const char *path, mote_err *err)
+int sep_xyz_frame(FILE *f, const void *vs, mote_err *err)
 {
-    mote_afile af;
-    int rc = mote_afile_open(&af, path, err);
-    if (rc)
-        return rc;
+    const mote_sep_system *s = vs;
     double dmin, dmax;
     mote_sep_size_range(s, &dmin, &dmax);
     const double D = s->dim == 3 ? s->D : s->D2 > 0 ? s->D2 : dmax;
-    fprintf(af.f, "%zu\n", s->n);
-    fprintf(af.f, "Lattice=\"%.10g 0 0 0 %.10g 0 0 0 %.10g\" Properties=species:S:1:id:I:1:"
+    fprintf(f, "%zu\n", s->n);
+    fprintf(f, "Lattice=\"%.10g 0 0 0 %.10g 0 0 0 %.10g\" Properties=species:S:1:id:I:1:"
                   "pos:R:3:velo:R:3:radius:R:1 Time=%.10g pbc=\"F F F\"\n",
             s->W, D, s->H, s->t);
     for (size_t i = 0; i < s->n; i++)
-        fprintf(af.f, "%s %llu %.10g %.10g %.10g %.10g %.10g %.10g %.10g\n", s->sp[s->s[i]].name,
+        fprintf(f, "%s %llu %.10g %.10g %.10g %.10g %.10g %.10g %.10g\n", s->sp[s->s[i]].name,
                 (unsigned long long)s->id[i], s->x[i], s->dim == 3 ? s->y[i] : 0.5 * D, s->z[i],
                 s->vx[i], s->vy[i], s->vz[i], 0.5 * s->d[i]);
-    return mote_afile_commit(&af, err);
+    return MOTE_OK;
+}
+
+int sep_write_xyz(const mote_sep_system *s, const char *path, mote_err *err)
+{
+    return mote_frames_first(path, sep_xyz_frame, s, err);
 }
 
 /* ---- the balance ---------------------------------------------------------------------------- */

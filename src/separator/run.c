@@ -75,6 +75,7 @@ static int live_picture(sep_model *m, mote_err *err);
 static int fire_frame(void *ctx, void *subject, mote_err *err);
 static int fire_snapshot(void *ctx, void *subject, mote_err *err);
 static int fire_balance(void *ctx, void *subject, mote_err *err);
+static int fire_trajectory(void *ctx, void *subject, mote_err *err);
 static int run_end(sep_model *m, mote_err *err);
 static int make_series_dir(const char *prefix, const char *ext, mote_err *err);
 
@@ -131,15 +132,16 @@ int sep_run(void *vm, const mote_call *c, mote_err *err)
     if (!rc && m->snaps.on)
         rc = make_series_dir(m->snaps.prefix, ".xyz", err);
     /* the run loop: the scheduled outputs as observers, progress on a terminal */
-    mote_observer obs[3];
+    mote_observer obs[4];
     size_t nobs = 0;
-    sep_schedule *outs[3] = {m->frames.on ? &m->frames.when : NULL,
+    sep_schedule *outs[4] = {m->frames.on ? &m->frames.when : NULL,
                              m->snaps.on ? &m->snaps.when : NULL,
-                             m->bal.on ? &m->bal.when : NULL};
-    for (int k = 0; k < 3; k++)
+                             m->bal.on ? &m->bal.when : NULL,
+                             m->traj.on ? &m->traj.when : NULL};
+    for (int k = 0; k < 4; k++)
         if (outs[k])
             obs[nobs++] = outs[k]->o;
-    for (int k = 0; k < 3 && !rc; k++) /* every=K: the first at the start, as dt='s */
+    for (int k = 0; k < 4 && !rc; k++) /* every=K: the first at the start, as dt='s */
         if (outs[k] && outs[k]->first) {
             outs[k]->first = 0;
             rc = outs[k]->o.fire(NULL, m, err);
@@ -460,6 +462,45 @@ static int fire_balance(void *ctx, void *subject, mote_err *err)
     /* the row once as text; followed as it grows in PATH.partial (the core's rows) */
     sep_balance_text(m->bal.out.text, &m->sys, m->bal.held, m->bal.row, 0, 1, 0);
     return mote_rows_follow(&m->bal.out, err);
+}
+
+/* A frame of the trajectory: the first replaces FILE (atomically), the others are appended. */
+static int fire_trajectory(void *ctx, void *subject, mote_err *err)
+{
+    sep_model *m = subject;
+    int rc = m->traj.frames ? mote_frames_append(m->traj.path, sep_xyz_frame, &m->sys, err)
+                            : mote_frames_first(m->traj.path, sep_xyz_frame, &m->sys, err);
+    m->traj.frames += !rc;
+    return rc;
+}
+
+int sep_trajectory(void *vm, const mote_call *c, mote_err *err)
+{
+    sep_model *m = vm;
+    int rc = mote_call_check_every_dt(c, 1, err);
+    if (rc)
+        return rc;
+    const mote_arg *f = mote_call_opt(c, "file");
+    const size_t n = strlen(f->text);
+    if (n < 4 || strcmp(f->text + n - 4, ".xyz") != 0)
+        return mote_call_fail(err, c, mote_call_opt_index(c, "file"), MOTE_EINVAL,
+                              "trajectory: FILE must end in .xyz (extended XYZ), found '%s'",
+                              f->text);
+    char *p = strdup(f->path);
+    if (!p)
+        return mote_fail(err, MOTE_ENOMEM, "trajectory: out of memory");
+    free(m->traj.path);
+    m->traj.path = p;
+    m->traj.frames = 0;
+    m->traj.on = 1;
+    schedule_set(&m->traj.when, c, &m->sys, fire_trajectory);
+    return MOTE_OK;
+}
+
+int sep_trajectory_stop(void *vm, const mote_call *c, mote_err *err)
+{
+    ((sep_model *)vm)->traj.on = 0;
+    return MOTE_OK;
 }
 
 /* The live picture, when one is due (wall-clock). */

@@ -104,6 +104,8 @@ int sep_plate_rects(const mote_sep_system *s, double **rects, size_t *n);
 int sep_frame_png(const mote_sep_system *s, const char *path, const sep_frame_opts *fo,
                   mote_err *err);
 int sep_write_xyz(const mote_sep_system *s, const char *path, mote_err *err);
+/* One extended XYZ frame of the system (arg) into f: a mote_frame_writer. */
+int sep_xyz_frame(FILE *f, const void *s, mote_err *err);
 /* One balance row (sep_balance_width numbers): t, then per species and in total the counts
  * fed, in, fines, coarse, lost, backlog and the same as masses. */
 size_t sep_balance_width(const mote_sep_system *s);
