@@ -1,7 +1,7 @@
 /* model.h: the N-body model's script state (nb_model) and the command handlers its files
  * share: commands.c holds the table, the model's life and the setup commands (bodies, units,
- * generators, integrator); outputs.c the output commands and integrate, which drives them through
- * the run loop; files.c the state and Galactica files and jobs; live.c the live view; help.inc
+ * generators, integrator); outputs.c the output commands; run.c integrate, which drives them
+ * through the run loop; files.c the state and Galactica files and jobs; live.c the live view; help.inc
  * the help text. Internal to src/nbody. */
 #ifndef MOTE_NB_MODEL_H
 #define MOTE_NB_MODEL_H
@@ -115,6 +115,15 @@ mote_real nb_opt_real_or(const mote_call *c, const char *key, mote_real dflt);
 int nb_need_bodies(nb_model *m, const mote_call *c, mote_err *err);
 
 /* ---- outputs.c ---- */
+/* outputs.c: what integrate (run.c) shares with the output commands */
+int nb_sample(nb_model *m, int traj, const mote_nb *nb, mote_err *err);
+int nb_sampler_finish(nb_model *m, nb_sampler *s, int traj, mote_err *err);
+int nb_frame_now(nb_model *m, mote_err *err);
+int nb_frame_of(nb_model *m, const mote_nb *nb, mote_err *err);
+int nb_approaches_write(nb_model *m, mote_err *err);
+int nb_time_scale(const nb_model *m, const mote_call *c, double *scale, mote_err *err);
+int nb_check_time_unit(nb_model *m, const mote_call *c, mote_err *err);
+
 int nb_opt_on_off(const mote_call *c, const char *key, int dflt);
 int nb_check_sampler(void *vm, const mote_call *c, mote_err *err);
 int nb_run_monitor(void *vm, const mote_call *c, mote_err *err);
