@@ -147,6 +147,272 @@ static int count_of(const char *t, unsigned long long *v)
     return *end ? -1 : 0;
 }
 
+/* What a snapshot's header says: the keys a continuation needs (the others are notes). */
+typedef struct {
+    mote_real v[K_NREAL], dt, tol, safety, soft;
+    int have[K_NREAL], integ, order, taylor_adaptive;
+    unsigned long long n, steps, restart, ref, lsls;
+    int have_n, have_ref, compensated, norm_global, corrector;
+    double units[7]; /* M_Ss Am kv kt G e2 permittivity */
+} snap_head;
+
+static const char *const UKEY[7] = {"M_Ss", "Am", "kv", "kt", "G", "e2", "permittivity"};
+
+/* The whole numbers of the header: N, steps, restart, Lsls, reference, order, compensated. */
+static int head_count(rd *r, snap_head *h, const char *key, const char *val)
+{
+    unsigned long long u;
+    if (count_of(val, &u))
+        return bad(r, "expected a whole number >= 0 after '# ", key);
+    if (key[0] == 'N') {
+        h->n = u;
+        h->have_n = 1;
+        if (h->n > 100000000ull)
+            return bad(r, "expected N <= 10^8", NULL);
+    } else if (key[0] == 's')
+        h->steps = u;
+    else if (strcmp(key, "restart") == 0)
+        h->restart = u;
+    else if (key[0] == 'L')
+        h->lsls = u;
+    else if (key[0] == 'r') {
+        h->ref = u;
+        h->have_ref = 1;
+    } else if (key[0] == 'o')
+        h->order = u > 1000 ? 1000 : (int)u;
+    else
+        h->compensated = u != 0;
+    return h->restart > 1 || h->ref > 1 ? bad(r, "expected 0 or 1 after '# ", key) : MOTE_OK;
+}
+
+/* The words and positive reals of the header, and the scales. */
+static int head_other(rd *r, snap_head *h, const char *key, const char *val, const mote_nb *nb)
+{
+    mote_real x;
+    unsigned long long u;
+    if (strcmp(key, "interaction") == 0) {
+        int grav = strcmp(val, "gravity") == 0;
+        if (!grav && strcmp(val, "coulomb") != 0)
+            return bad(r, "expected gravity or coulomb after '# ", "interaction");
+        if ((grav ? MOTE_NB_GRAVITY : MOTE_NB_COULOMB) != nb->kind)
+            return mote_fail(r->err, MOTE_EINVAL, "%s:%ld: the snapshot is a %s run, this "
+                             "script is a %s run", r->l.path, r->l.line, grav ? "gravity" :
+                             "Coulomb", nb->kind == MOTE_NB_GRAVITY ? "gravity" : "Coulomb");
+    } else if (strcmp(key, "norm") == 0) {
+        if (strcmp(val, "global") == 0)
+            h->norm_global = 1;
+        else if (strcmp(val, "nearest") != 0)
+            return bad(r, "expected nearest or global after '# ", "norm");
+    } else if (strcmp(key, "integrator") == 0) {
+        if (strcmp(val, "taylor") == 0)
+            h->integ = MOTE_NB_TAYLOR;
+        else if (strcmp(val, "wh") == 0)
+            h->integ = MOTE_NB_WH;
+        else if (strcmp(val, "galactica") != 0)
+            return bad(r, "expected galactica, taylor or wh after '# ", "integrator");
+    } else if (strcmp(key, "softening") == 0) {
+        if (real_of(val, &x) || !(x >= 0))
+            return bad(r, "expected a number >= 0 after '# ", key);
+        h->soft = x;
+    } else if (strcmp(key, "corrector") == 0) {
+        if (count_of(val, &u) || (u != 0 && u != 3 && u != 5 && u != 7 && u != 11 && u != 17))
+            return bad(r, "expected 0, 3, 5, 7, 11 or 17 after '# ", key);
+        h->corrector = (int)u;
+    } else if (strcmp(key, "N") == 0 || strcmp(key, "steps") == 0 ||
+               strcmp(key, "restart") == 0 || strcmp(key, "Lsls") == 0 ||
+               strcmp(key, "reference") == 0 || strcmp(key, "order") == 0 ||
+               strcmp(key, "compensated") == 0) {
+        return head_count(r, h, key, val);
+    } else if (strcmp(key, "dt") == 0 || strcmp(key, "tol") == 0 ||
+               strcmp(key, "safety") == 0) {
+        if (real_of(val, &x) || !(x > 0))
+            return bad(r, "expected a number > 0 after '# ", key);
+        if (key[0] == 'd')
+            h->dt = x;
+        else if (key[0] == 't') {
+            h->tol = x;
+            h->taylor_adaptive = 1;
+        } else
+            h->safety = x;
+    } else {
+        for (int j = 0; j < 7; j++)
+            if (strcmp(key, UKEY[j]) == 0 && (real_of(val, &x) || !(x > 0)))
+                return bad(r, "expected a number > 0 after '# ", key);
+            else if (strcmp(key, UKEY[j]) == 0)
+                h->units[j] = (double)x;
+    }
+    return MOTE_OK;
+}
+
+/* A header line "# key = value" (others are notes). */
+static int head_line(rd *r, snap_head *h, const char *s, const mote_nb *nb)
+{
+    char key[40];
+    int used = 0;
+    if (sscanf(s, "# %39[A-Za-z0-9_] =%n", key, &used) != 1 || !used)
+        return MOTE_OK;
+    const char *val = s + used;
+    while (*val == ' ')
+        val++;
+    int k = 0;
+    while (k < K_NREAL && strcmp(KEY[k], key) != 0)
+        k++;
+    if (k == K_NREAL)
+        return head_other(r, h, key, val, nb);
+    h->have[k] = 1;
+    return real_of(val, &h->v[k]) ? bad(r, "expected a finite number after '# ", key) : MOTE_OK;
+}
+
+/* Body row number `row` (0-based) into t. */
+static int body_row(rd *r, const snap_head *h, mote_nb *t, char *s, uint32_t row)
+{
+    const char *path = r->l.path;
+    mote_err *err = r->err;
+    if (!h->have_n)
+        return bad(r, "expected the header line '# N = COUNT' before the bodies", NULL);
+    if (row == h->n)
+        return mote_fail(err, MOTE_EFORMAT, "%s:%ld: more body rows than N = %llu", path,
+                         r->l.line, h->n);
+    char *tok[20], *save = NULL;
+    int nt = 0;
+    for (char *p = strtok_r(s, " \t", &save); p && nt < 20; p = strtok_r(NULL, " \t", &save))
+        tok[nt++] = p;
+    unsigned long long id, act;
+    mote_real w[16];
+    int ok = nt == 19 && !count_of(tok[0], &id) && id == row + 1 && !count_of(tok[2], &act) &&
+             act <= 1 && (strcmp(tok[1], "-") == 0 || mote_nb_name_ok(tok[1]));
+    for (int k = 0; ok && k < 16; k++)
+        ok = !real_of(tok[3 + k], &w[k]);
+    if (!ok)
+        return mote_fail(err, MOTE_EFORMAT, "%s:%ld: body %u: expected 19 fields: id (%u) name "
+                         "(or -) active (0 or 1) mass charge x y z vx vy vz radius sx sy sz Et "
+                         "d5x d5y d5z, all finite", path, r->l.line, row + 1, row + 1);
+    /* a merged-away body has mass 0: added with mass 1, then set (it stays inactive) */
+    int gone = act == 0 && w[0] == 0;
+    int rc = mote_nb_add(t, gone ? 1 : w[0], gone ? 0 : w[1], w + 2, w + 5, gone ? 0 : w[8], err);
+    if (!rc && strcmp(tok[1], "-") != 0)
+        rc = mote_nb_set_name(t, row, tok[1], err);
+    if (rc) {
+        char why[sizeof err->msg];
+        snprintf(why, sizeof why, "%s", err->msg);
+        return mote_fail(err, MOTE_EFORMAT, "%s:%ld: %s", path, r->l.line, why);
+    }
+    if (gone)
+        t->m[row] = t->q[row] = 0;
+    t->active[row] = (uint8_t)act;
+    t->et[row] = w[12];
+    for (int a = 0; a < 3; a++) {
+        t->sp[3 * row + a] = w[9 + a];
+        t->d5p[3 * row + a] = w[13 + a];
+    }
+    return MOTE_OK;
+}
+
+/* The file as a whole: its bodies all there, its values in range. */
+static int snap_complete(rd *r, const snap_head *h, uint32_t rows)
+{
+    const char *path = r->l.path;
+    mote_err *err = r->err;
+    if (!h->have_n)
+        return mote_fail(err, MOTE_EFORMAT, "%s: no header line '# N = COUNT' (not a snapshot)",
+                         path);
+    if (rows != h->n)
+        return mote_fail(err, MOTE_EFORMAT, "%s:%ld: file ends early: N = %llu, but only %u body "
+                         "rows", path, r->l.line + 1, h->n, rows);
+    if (h->n == 0)
+        return mote_fail(err, MOTE_EFORMAT, "%s: the snapshot has no bodies", path);
+    if (h->have[K_DTP] && !(h->v[K_DTP] >= 0))
+        return mote_fail(err, MOTE_EFORMAT, "%s: h_prev must be >= 0", path);
+    if (h->have[K_FIRST] && !(h->v[K_FIRST] > 0 && h->v[K_FIRST] <= 1))
+        return mote_fail(err, MOTE_EFORMAT, "%s: first_step must be in (0, 1]", path);
+    const int lo = 2, hi = h->integ == MOTE_NB_TAYLOR ? MOTE_NB_TAYLOR_MAX : 6;
+    if (h->order >= 0 && (h->order < lo || h->order > hi))
+        return mote_fail(err, MOTE_EFORMAT, "%s: order must be %d to %d for the %s integrator",
+                         path, lo, hi, h->integ == MOTE_NB_TAYLOR ? "taylor" : "galactica");
+    return MOTE_OK;
+}
+
+/* The integrator and its settings from the header (the rest as they are in the script now). */
+static void snap_settings(mote_nb *t, const snap_head *h, const mote_nb *nb)
+{
+    t->integrator = h->integ;
+    t->wh_corrector = h->corrector;
+    t->soft = h->soft;
+    t->order = nb->order;
+    t->taylor_order = nb->taylor_order;
+    if (h->order >= 0 && h->integ == MOTE_NB_TAYLOR)
+        t->taylor_order = h->order;
+    else if (h->order >= 0)
+        t->order = h->order;
+    t->dt = h->dt;
+    t->adaptive = h->integ == MOTE_NB_TAYLOR
+                      ? h->taylor_adaptive * (h->norm_global ? MOTE_NB_NORM_GLOBAL : 1)
+                      : nb->adaptive;
+    t->tol = h->tol;
+    t->safety = h->safety;
+    t->hmin = nb->hmin;
+    t->hmax = nb->hmax;
+    t->taylor_memory = nb->taylor_memory;
+    t->compensated = h->compensated;
+    t->merging = nb->merging;
+    t->bt = nb->bt;
+    t->bt_hmin = nb->bt_hmin;
+    t->first_step = h->have[K_FIRST] ? h->v[K_FIRST] : nb->first_step;
+    t->doubling = nb->doubling; /* (the rule's blocks start afresh) */
+    t->dt_max = nb->dt_max;
+}
+
+/* The time, the step history, the references and the scales from the header. */
+static void snap_state(mote_nb *t, const snap_head *h, const mote_nb *nb)
+{
+    const mote_real *v = h->v;
+    t->T = v[K_T];
+    t->steps = h->steps;
+    t->merges = h->lsls;
+    t->e_heat = v[K_EHEAT];
+    t->e_spin = v[K_ESPIN];
+    t->de_merge = v[K_DEMERGE];
+    t->dtp = v[K_DTP];
+    t->restart = !(t->dtp > 0) || h->restart;
+    if (t->restart)
+        t->dtp = 0;
+    t->ref_set = h->have_ref ? (int)h->ref : h->have[K_E0] && h->have[K_MZA1];
+    t->E0 = v[K_E0];
+    t->Mza1 = v[K_MZA1];
+    t->Lnorm1 = v[K_LNORM1];
+    for (int a = 0; a < 3; a++)
+        t->L1[a] = v[K_L1X + a];
+    if (t->ref_set &&
+        !(h->have[K_LNORM1] && h->have[K_L1X] && h->have[K_L1Y] && h->have[K_L1Z])) {
+        mote_nb_monitor mon;
+        mote_nb_measure(t, &mon);
+        mote_real l2 = 0;
+        for (int a = 0; a < 3; a++) {
+            t->L1[a] = mon.L[a] + mon.S[a];
+            l2 += t->L1[a] * t->L1[a];
+        }
+        if (!h->have[K_LNORM1])
+            t->Lnorm1 = sqrt(l2);
+    }
+    const double *units = h->units;
+    if (units[0] > 0 && units[1] > 0 && units[2] > 0 && units[3] > 0) { /* all the scales */
+        t->u.M = units[0];
+        t->u.Am = t->u.Am_first = units[1];
+        t->u.kv = units[2];
+        t->u.kt = units[3];
+        t->u.G = units[4] > 0 ? units[4] : nb->G;
+        t->u.e2 = units[5] > 0 ? units[5] : nb->e2;
+        t->u.eps = units[6] > 0 ? units[6] : nb->eps;
+        t->u.set = 1;
+    }
+    if (units[4] > 0)
+        t->G = units[4];
+    if (units[5] > 0)
+        t->e2 = units[5];
+    if (units[6] > 0)
+        t->eps = units[6];
+}
+
 int nb_snapshot_read(mote_nb *nb, const char *path, mote_err *err)
 {
     rd r = {.err = err};
@@ -158,251 +424,27 @@ int nb_snapshot_read(mote_nb *nb, const char *path, mote_err *err)
     t.G = nb->G;
     t.e2 = nb->e2;
     t.eps = nb->eps;
-    mote_real v[K_NREAL] = {0}, dt = nb->dt, tol = nb->tol, safety = nb->safety;
-    int have[K_NREAL] = {0}, integ = MOTE_NB_GALACTICA, order = -1, taylor_adaptive = 0;
-    unsigned long long n = 0, steps = 0, restart = 1, ref = 0, lsls = 0;
-    int have_n = 0, have_ref = 0, compensated = nb->compensated, norm_global = 0;
-    int corrector = nb->wh_corrector;
-    mote_real soft = nb->soft;
-    double units[7] = {0}; /* M_Ss Am kv kt G e2 permittivity */
-    static const char *const UKEY[7] = {"M_Ss", "Am", "kv", "kt", "G", "e2", "permittivity"};
+    snap_head h = {.dt = nb->dt, .tol = nb->tol, .safety = nb->safety, .soft = nb->soft,
+                   .integ = MOTE_NB_GALACTICA, .order = -1, .restart = 1,
+                   .compensated = nb->compensated, .corrector = nb->wh_corrector};
     char *s;
     uint32_t row = 0;
     while (!rc && (s = mote_lines_next(&r.l)) != NULL) {
-        if (s[0] == '#') { /* "# key = value": the keys a continuation needs; others are notes */
-            char key[40];
-            int used = 0;
-            if (sscanf(s, "# %39[A-Za-z0-9_] =%n", key, &used) != 1 || !used)
-                continue;
-            const char *val = s + used;
-            while (*val == ' ')
-                val++;
-            int k = 0;
-            while (k < K_NREAL && strcmp(KEY[k], key) != 0)
-                k++;
-            mote_real x;
-            unsigned long long u;
-            if (k < K_NREAL) {
-                if (real_of(val, &v[k]))
-                    rc = bad(&r, "expected a finite number after '# ", key);
-                have[k] = 1;
-            } else if (strcmp(key, "interaction") == 0) {
-                int grav = strcmp(val, "gravity") == 0;
-                if (!grav && strcmp(val, "coulomb") != 0)
-                    rc = bad(&r, "expected gravity or coulomb after '# ", "interaction");
-                else if ((grav ? MOTE_NB_GRAVITY : MOTE_NB_COULOMB) != nb->kind)
-                    rc = mote_fail(err, MOTE_EINVAL, "%s:%ld: the snapshot is a %s run, this "
-                                   "script is a %s run", path, r.l.line, grav ? "gravity" :
-                                   "Coulomb", nb->kind == MOTE_NB_GRAVITY ? "gravity" : "Coulomb");
-            } else if (strcmp(key, "norm") == 0) {
-                if (strcmp(val, "global") == 0)
-                    norm_global = 1;
-                else if (strcmp(val, "nearest") != 0)
-                    rc = bad(&r, "expected nearest or global after '# ", "norm");
-            } else if (strcmp(key, "integrator") == 0) {
-                if (strcmp(val, "taylor") == 0)
-                    integ = MOTE_NB_TAYLOR;
-                else if (strcmp(val, "wh") == 0)
-                    integ = MOTE_NB_WH;
-                else if (strcmp(val, "galactica") != 0)
-                    rc = bad(&r, "expected galactica, taylor or wh after '# ", "integrator");
-            } else if (strcmp(key, "softening") == 0) {
-                if (real_of(val, &x) || !(x >= 0))
-                    rc = bad(&r, "expected a number >= 0 after '# ", key);
-                else
-                    soft = x;
-            } else if (strcmp(key, "corrector") == 0) {
-                if (count_of(val, &u) || (u != 0 && u != 3 && u != 5 && u != 7 && u != 11 &&
-                                          u != 17))
-                    rc = bad(&r, "expected 0, 3, 5, 7, 11 or 17 after '# ", key);
-                else
-                    corrector = (int)u;
-            } else if (strcmp(key, "N") == 0 || strcmp(key, "steps") == 0 ||
-                       strcmp(key, "restart") == 0 || strcmp(key, "Lsls") == 0 ||
-                       strcmp(key, "reference") == 0 || strcmp(key, "order") == 0 ||
-                       strcmp(key, "compensated") == 0) {
-                if (count_of(val, &u))
-                    rc = bad(&r, "expected a whole number >= 0 after '# ", key);
-                else if (key[0] == 'N') {
-                    n = u;
-                    have_n = 1;
-                    if (n > 100000000ull)
-                        rc = bad(&r, "expected N <= 10^8", NULL);
-                } else if (key[0] == 's')
-                    steps = u;
-                else if (strcmp(key, "restart") == 0)
-                    restart = u;
-                else if (key[0] == 'L')
-                    lsls = u;
-                else if (key[0] == 'r') {
-                    ref = u;
-                    have_ref = 1;
-                } else if (key[0] == 'o')
-                    order = u > 1000 ? 1000 : (int)u;
-                else
-                    compensated = u != 0;
-                if (!rc && (restart > 1 || ref > 1))
-                    rc = bad(&r, "expected 0 or 1 after '# ", key);
-            } else if (strcmp(key, "dt") == 0 || strcmp(key, "tol") == 0 ||
-                       strcmp(key, "safety") == 0) {
-                if (real_of(val, &x) || !(x > 0))
-                    rc = bad(&r, "expected a number > 0 after '# ", key);
-                else if (key[0] == 'd')
-                    dt = x;
-                else if (key[0] == 't') {
-                    tol = x;
-                    taylor_adaptive = 1;
-                } else
-                    safety = x;
-            } else {
-                for (int j = 0; j < 7; j++)
-                    if (strcmp(key, UKEY[j]) == 0 && (real_of(val, &x) || !(x > 0)))
-                        rc = bad(&r, "expected a number > 0 after '# ", key);
-                    else if (strcmp(key, UKEY[j]) == 0)
-                        units[j] = (double)x;
-            }
-            continue;
-        }
-        /* a body row */
-        if (!have_n) {
-            rc = bad(&r, "expected the header line '# N = COUNT' before the bodies", NULL);
-            break;
-        }
-        if (row == n) {
-            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: more body rows than N = %llu", path,
-                           r.l.line, n);
-            break;
-        }
-        char *tok[20], *save = NULL;
-        int nt = 0;
-        for (char *p = strtok_r(s, " \t", &save); p && nt < 20; p = strtok_r(NULL, " \t", &save))
-            tok[nt++] = p;
-        unsigned long long id, act;
-        mote_real w[16];
-        int ok = nt == 19 && !count_of(tok[0], &id) && id == row + 1 &&
-                 !count_of(tok[2], &act) && act <= 1 &&
-                 (strcmp(tok[1], "-") == 0 || mote_nb_name_ok(tok[1]));
-        for (int k = 0; ok && k < 16; k++)
-            ok = !real_of(tok[3 + k], &w[k]);
-        if (!ok) {
-            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: body %u: expected 19 fields: id (%u) name "
-                           "(or -) active (0 or 1) mass charge x y z vx vy vz radius sx sy sz Et "
-                           "d5x d5y d5z, all finite", path, r.l.line, row + 1, row + 1);
-            break;
-        }
-        /* a merged-away body has mass 0: added with mass 1, then set (it stays inactive) */
-        int gone = act == 0 && w[0] == 0;
-        rc = mote_nb_add(&t, gone ? 1 : w[0], gone ? 0 : w[1], w + 2, w + 5, gone ? 0 : w[8], err);
-        if (!rc && strcmp(tok[1], "-") != 0)
-            rc = mote_nb_set_name(&t, row, tok[1], err);
-        if (rc) {
-            char why[sizeof err->msg];
-            snprintf(why, sizeof why, "%s", err->msg);
-            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: %s", path, r.l.line, why);
-            break;
-        }
-        if (gone)
-            t.m[row] = t.q[row] = 0;
-        t.active[row] = (uint8_t)act;
-        t.et[row] = w[12];
-        for (int a = 0; a < 3; a++) {
-            t.sp[3 * row + a] = w[9 + a];
-            t.d5p[3 * row + a] = w[13 + a];
-        }
-        row++;
+        if (s[0] == '#')
+            rc = head_line(&r, &h, s, nb);
+        else if (!(rc = body_row(&r, &h, &t, s, row)))
+            row++;
     }
     int crc = mote_lines_close(&r.l, err);
     rc = crc ? crc : rc;
-    if (!rc && !have_n)
-        rc = mote_fail(err, MOTE_EFORMAT, "%s: no header line '# N = COUNT' (not a snapshot)",
-                       path);
-    if (!rc && row != n)
-        rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: file ends early: N = %llu, but only %u body "
-                       "rows", path, r.l.line + 1, n, row);
-    if (!rc && n == 0)
-        rc = mote_fail(err, MOTE_EFORMAT, "%s: the snapshot has no bodies", path);
-    if (!rc && have[K_DTP] && !(v[K_DTP] >= 0))
-        rc = mote_fail(err, MOTE_EFORMAT, "%s: h_prev must be >= 0", path);
-    if (!rc && have[K_FIRST] && !(v[K_FIRST] > 0 && v[K_FIRST] <= 1))
-        rc = mote_fail(err, MOTE_EFORMAT, "%s: first_step must be in (0, 1]", path);
-    int lo = 2, hi = integ == MOTE_NB_TAYLOR ? MOTE_NB_TAYLOR_MAX : 6;
-    if (!rc && order >= 0 && (order < lo || order > hi))
-        rc = mote_fail(err, MOTE_EFORMAT, "%s: order must be %d to %d for the %s integrator",
-                       path, lo, hi, integ == MOTE_NB_TAYLOR ? "taylor" : "galactica");
+    if (!rc)
+        rc = snap_complete(&r, &h, row);
     if (rc) {
         mote_nb_free(&t);
         return rc;
     }
-    /* the integrator and its settings (the rest as they are in the script now) */
-    t.integrator = integ;
-    t.wh_corrector = corrector;
-    t.soft = soft;
-    t.order = nb->order;
-    t.taylor_order = nb->taylor_order;
-    if (order >= 0 && integ == MOTE_NB_TAYLOR)
-        t.taylor_order = order;
-    else if (order >= 0)
-        t.order = order;
-    t.dt = dt;
-    t.adaptive = integ == MOTE_NB_TAYLOR ? taylor_adaptive * (norm_global ? MOTE_NB_NORM_GLOBAL : 1)
-                                         : nb->adaptive;
-    t.tol = tol;
-    t.safety = safety;
-    t.hmin = nb->hmin;
-    t.hmax = nb->hmax;
-    t.taylor_memory = nb->taylor_memory;
-    t.compensated = compensated;
-    t.merging = nb->merging;
-    t.bt = nb->bt;
-    t.bt_hmin = nb->bt_hmin;
-    t.first_step = have[K_FIRST] ? v[K_FIRST] : nb->first_step;
-    t.doubling = nb->doubling; /* (the rule's blocks start afresh) */
-    t.dt_max = nb->dt_max;
-    /* time, step history and references */
-    t.T = v[K_T];
-    t.steps = steps;
-    t.merges = lsls;
-    t.e_heat = v[K_EHEAT];
-    t.e_spin = v[K_ESPIN];
-    t.de_merge = v[K_DEMERGE];
-    t.dtp = v[K_DTP];
-    t.restart = !(t.dtp > 0) || restart;
-    if (t.restart)
-        t.dtp = 0;
-    t.ref_set = have_ref ? (int)ref : have[K_E0] && have[K_MZA1];
-    t.E0 = v[K_E0];
-    t.Mza1 = v[K_MZA1];
-    t.Lnorm1 = v[K_LNORM1];
-    for (int a = 0; a < 3; a++)
-        t.L1[a] = v[K_L1X + a];
-    if (t.ref_set && !(have[K_LNORM1] && have[K_L1X] && have[K_L1Y] && have[K_L1Z])) {
-        mote_nb_monitor mon;
-        mote_nb_measure(&t, &mon);
-        mote_real l2 = 0;
-        for (int a = 0; a < 3; a++) {
-            t.L1[a] = mon.L[a] + mon.S[a];
-            l2 += t.L1[a] * t.L1[a];
-        }
-        if (!have[K_LNORM1])
-            t.Lnorm1 = sqrt(l2);
-    }
-    /* the scales, when the file has them all */
-    if (units[0] > 0 && units[1] > 0 && units[2] > 0 && units[3] > 0) {
-        t.u.M = units[0];
-        t.u.Am = t.u.Am_first = units[1];
-        t.u.kv = units[2];
-        t.u.kt = units[3];
-        t.u.G = units[4] > 0 ? units[4] : nb->G;
-        t.u.e2 = units[5] > 0 ? units[5] : nb->e2;
-        t.u.eps = units[6] > 0 ? units[6] : nb->eps;
-        t.u.set = 1;
-    }
-    if (units[4] > 0)
-        t.G = units[4];
-    if (units[5] > 0)
-        t.e2 = units[5];
-    if (units[6] > 0)
-        t.eps = units[6];
+    snap_settings(&t, &h, nb);
+    snap_state(&t, &h, nb);
     t.tree_on = nb->tree_on; /* the force method is a setting, not state */
     t.theta = nb->theta;
     t.tree_used = nb->tree_used;
