@@ -601,46 +601,300 @@ int hs_local_order(const mote_hs *hs, float *local, uint8_t *flag, mote_err *err
                 : MOTE_OK;
 }
 
+/* The end of `order`: the totals, profiles, regions and results of the samples. */
+typedef struct {
+    double *tot, *rho, *sm, *gr, *bm, *smb;
+    region *reg;
+    int nreg, nl, nr;
+} order_work;
+
+static void work_free(order_work *w)
+{
+    free(w->tot);
+    free(w->rho);
+    free(w->sm);
+    free(w->gr);
+    free(w->bm);
+    free(w->smb);
+    free(w->reg);
+}
+
+/* The sampler's accumulators for k collisions per particle, and the end's room: 1 when out of
+ * memory. Everything the end needs is allocated before the run, so that a lack of memory fails
+ * before any dynamics has run. */
+static int order_alloc(order_acc *a, order_work *w, const mote_hs *hs, uint64_t k)
+{
+    int fail = acc_init(a, hs);
+    a->S = k == 0 ? 1 : k;
+    a->B = hs_nblocks(a->S);
+    a->nrows = a->S < MAX_TIME_ROWS ? (size_t)a->S : MAX_TIME_ROWS;
+    a->blk = alloc_n((size_t)a->B * a->nb * NB_Q, sizeof *a->blk, &fail);
+    size_t cells_t = a->nrows > SIZE_MAX / (a->nb ? a->nb : 1) ? SIZE_MAX : a->nrows * a->nb;
+    a->row_count = alloc_n(cells_t, sizeof *a->row_count, &fail);
+    a->row_xtal = alloc_n(cells_t, sizeof *a->row_xtal, &fail);
+    a->row_psi = alloc_n(cells_t, sizeof *a->row_psi, &fail);
+    a->row_time = alloc_n(a->nrows, sizeof *a->row_time, &fail);
+    a->row_first = alloc_n(a->nrows, sizeof *a->row_first, &fail);
+    a->row_last = alloc_n(a->nrows, sizeof *a->row_last, &fail);
+    a->row_ns = alloc_n(a->nrows, sizeof *a->row_ns, &fail);
+    if (fail)
+        return 1;
+    const size_t nb = a->nb;
+    w->tot = calloc(nb * NB_Q, sizeof *w->tot);
+    w->rho = calloc(nb, sizeof *w->rho);
+    w->sm = calloc(nb, sizeof *w->sm);
+    w->gr = calloc(nb, sizeof *w->gr);
+    w->bm = calloc((size_t)a->B, sizeof *w->bm);
+    w->smb = calloc((size_t)a->B * nb, sizeof *w->smb);
+    w->reg = calloc(2 * MAX_LAYERS + 1, sizeof *w->reg);
+    return !w->tot || !w->rho || !w->sm || !w->gr || !w->bm || !w->smb || !w->reg;
+}
+
+/* The totals over the blocks, the density profile and its smoothing, per block too. */
+static void order_profiles(const order_acc *a, order_work *w, const mote_hs *hs)
+{
+    const size_t nb = a->nb;
+    const int B = a->B;
+    const double area = mote_hs_cross_section(hs), S = (double)a->S;
+    for (int b = 0; b < B; b++)
+        for (size_t q = 0; q < nb * NB_Q; q++)
+            w->tot[q] += a->blk[(size_t)b * nb * NB_Q + q];
+    for (size_t b = 0; b < nb; b++) {
+        double width = hs_xbins_hi(&a->xb, b) - hs_xbins_lo(&a->xb, b);
+        w->rho[b] = w->tot[b * NB_Q + B_COUNT] / (S * area * width);
+    }
+    smooth(w->rho, w->sm, nb);
+    for (int b = 0; b < B; b++) { /* per-block smoothed densities (gr is scratch) */
+        const double *t = a->blk + (size_t)b * nb * NB_Q;
+        double ns = (double)hs_block_size(b, a->S);
+        for (size_t q = 0; q < nb; q++) {
+            double width = hs_xbins_hi(&a->xb, q) - hs_xbins_lo(&a->xb, q);
+            w->gr[q] = t[q * NB_Q + B_COUNT] / (ns * area * width);
+        }
+        smooth(w->gr, w->smb + (size_t)b * nb, nb);
+    }
+}
+
+/* The regions in x order: the layers of each wall and the bulk (a slit), or all. */
+static void order_regions(const order_acc *a, order_work *w, const mote_hs *hs)
+{
+    const size_t nb = a->nb;
+    region *reg = w->reg;
+    w->nreg = w->nl = w->nr = 0;
+    if (hs->geometry != MOTE_HS_SLIT) {
+        reg[w->nreg++] = (region){"all", 0, 0, nb};
+        return;
+    }
+    const double L = a->xb.L;
+    size_t lim_l = 0, lim_r = 0;
+    for (size_t b = 0; b < nb; b++) {
+        double mid = 0.5 * (hs_xbins_lo(&a->xb, b) + hs_xbins_hi(&a->xb, b));
+        lim_l += mid < 0.5 * L;
+        lim_r += mid > 0.5 * L;
+    }
+    size_t bl[MAX_LAYERS], br[MAX_LAYERS];
+    profile_view pv = {w->sm, w->smb, nb, a->B, 0, w->bm};
+    size_t window = (size_t)(LAYER_WINDOW * mote_hs_mean_radius(hs) / a->xb.dx);
+    const int nl = w->nl = find_layers(&pv, lim_l, window, bl);
+    pv.mirror = 1;
+    const int nr = w->nr = find_layers(&pv, lim_r, window, br);
+    size_t lo = 0;
+    for (int q = 0; q < nl; q++) {
+        reg[w->nreg++] = (region){"left", q + 1, lo, bl[q]};
+        lo = bl[q];
+    }
+    size_t bulk_hi = nr ? nb - br[nr - 1] : nb;
+    reg[w->nreg++] = (region){"bulk", 0, lo, bulk_hi};
+    for (int q = nr - 1; q >= 0; q--)
+        reg[w->nreg++] = (region){"right", q + 1, nb - br[q], q ? nb - br[q - 1] : nb};
+}
+
+/* The results: crystal fraction and order over all, per layer and in the bulk. */
+static void order_results(order_acc *a, order_work *w, int slit, mote_result *res)
+{
+    region all = {"all", 0, 0, a->nb};
+    double e, v;
+    v = region_mean(a, w->tot, &all, B_XTAL, &e, w->bm);
+    mote_result_add(res, "xtal_fraction", v, e);
+    if (a->dim == 3) {
+        v = region_mean(a, w->tot, &all, B_Q6, &e, w->bm);
+        mote_result_add(res, "q6_mean", v, e);
+    }
+    v = region_mean(a, w->tot, &all, B_PSI, &e, w->bm);
+    mote_result_add(res, "psi6_mean", v, e);
+    if (!slit)
+        return;
+    mote_result_add(res, "layers_left", w->nl, NAN);
+    mote_result_add(res, "layers_right", w->nr, NAN);
+    for (int q = 0; q < w->nl; q++) {
+        char key[32];
+        snprintf(key, sizeof key, "xtal_layer%d", q + 1);
+        v = region_mean(a, w->tot, &w->reg[q], B_XTAL, &e, w->bm);
+        mote_result_add(res, key, v, e);
+        snprintf(key, sizeof key, "psi6_layer%d", q + 1);
+        v = region_mean(a, w->tot, &w->reg[q], B_PSI, &e, w->bm);
+        mote_result_add(res, key, v, e);
+    }
+    v = region_mean(a, w->tot, &w->reg[w->nl], B_XTAL, &e, w->bm);
+    mote_result_add(res, "xtal_bulk", v, e);
+    v = region_mean(a, w->tot, &w->reg[w->nl], B_PSI, &e, w->bm);
+    mote_result_add(res, "psi6_bulk", v, e);
+}
+
+/* The file's header lines after the common header: the numbers, results and thresholds, and
+ * the columns of the three blocks. */
+static void order_header(FILE *f, const order_acc *a, const order_work *w, int slit,
+                         const mote_result *loc)
+{
+    const int d3 = a->dim == 3;
+    const char *rho_unit = d3 ? "R^-3" : "R^-2", *area_unit = d3 ? "R^-2" : "R^-1";
+    fprintf(f, "# samples = %llu\n# blocks = %d\n# bin_width = %.17g\n",
+            (unsigned long long)a->S, a->B, a->xb.dx);
+    fprintf(f, "# time_rows = %zu\n# samples_per_row = %.17g\n", a->nrows,
+            (double)a->S / (double)a->nrows);
+    if (slit)
+        fprintf(f, "# layers_left = %d\n# layers_right = %d\n", w->nl, w->nr);
+    mote_result_write(loc, f);
+    if (d3) {
+        fprintf(f, "# thresholds: q6 neighbours |r_ij| < %.1f sigma_ij (sigma_ij = R_i + R_j, "
+                   "minimum image); q6m(i) = mean over neighbours of Y6m(r_ij/|r_ij|); "
+                   "q6 = sqrt(4 pi/13 sum_m |q6m|^2)\n",
+                NEIGH_CUT);
+        fprintf(f, "# thresholds: solid-like bond: sum_m q6m(i) q6m(j)* / (|q6(i)| |q6(j)|) "
+                   "> %.1f; crystal-like: >= %d solid-like bonds; no neighbours: q6 = 0, not "
+                   "crystal-like\n",
+                BOND_DOT, MIN_BONDS);
+        fprintf(f, "# thresholds: in-layer psi6 neighbours |x_j - x_i| < %.1f sigma_ij and "
+                   "sqrt(dy^2 + dz^2) < %.1f sigma_ij; psi6(i) = mean of exp(6 i theta_ij), "
+                   "theta the angle of (dy, dz); ordered: |psi6| > %.1f; no neighbours: "
+                   "psi6 = 0\n",
+                LAYER_DX_CUT, NEIGH_CUT, PSI_ORDERED);
+    } else {
+        fprintf(f, "# thresholds: psi6 neighbours |r_ij| < %.1f sigma_ij (sigma_ij = R_i + "
+                   "R_j, minimum image); psi6(i) = mean of exp(6 i theta_ij), theta the angle "
+                   "of (dx, dy); ordered: |psi6| > %.1f; no neighbours: psi6 = 0; q6 not "
+                   "computed (nan); crystal-like = ordered\n",
+                NEIGH_CUT, PSI_ORDERED);
+    }
+    fprintf(f, "# thresholds: layers: density in bins of R/%d smoothed over %d bins; from "
+               "each wall alternately the next local maximum and the next local minimum, each "
+               "minimum a boundary; a fall or rise makes an extremum only when it exceeds %g "
+               "block errors (with >= 2 blocks) within %g R of the previous extremum; at most "
+               "%d layers per wall; stop when a minimum exceeds %.1f of the smaller "
+               "neighbouring maximum, or at L/2\n",
+            BINS_PER_R, SMOOTH_BINS, LAYER_SIGNIF, LAYER_WINDOW, MAX_LAYERS, LAYER_CONTRAST);
+    fprintf(f, "# block 1: one row per layer in x order (left 1 = contact layer of the left "
+               "wall ... bulk ... right 1 = contact layer of the right wall; periodic: one row "
+               "\"all\"); errors from %d blocks\n",
+            a->B);
+    fprintf(f, "# columns: side index x_from[R] x_to[R] n_mean rho_area[%s] q6 q6_err "
+               "xtal_frac xtal_frac_err psi6 psi6_err ordered_frac ordered_frac_err\n",
+            area_unit);
+    fprintf(f, "# block 2: fine profile, bins of width R/%d\n", BINS_PER_R);
+    fprintf(f, "# columns: x_lo[R] x_hi[R] x_mid[R] count rho[%s] rho_smooth[%s] q6 "
+               "xtal_frac psi6 ordered_frac\n",
+            rho_unit, rho_unit);
+    fprintf(f, "# block 3: time series, one row per sample (or per group of consecutive "
+               "samples when there are more than %d)\n",
+            MAX_TIME_ROWS);
+    fprintf(f, "# columns: sample_first sample_last time[sqrt(mR^2/kT)] xtal_frac");
+    for (int q = 0; q < w->nreg; q++) {
+        char name[32];
+        if (w->reg[q].index)
+            snprintf(name, sizeof name, "%s%d", w->reg[q].side, w->reg[q].index);
+        else
+            snprintf(name, sizeof name, "%s", w->reg[q].side);
+        fprintf(f, " xtal_frac[%s] psi6[%s]", name, name);
+    }
+    fputc('\n', f);
+}
+
+/* Block 1: a row per region. */
+static void order_block_regions(FILE *f, order_acc *a, const order_work *w, double area)
+{
+    const double S = (double)a->S;
+    double e, v;
+    for (int q = 0; q < w->nreg; q++) {
+        const region *r = &w->reg[q];
+        double n = region_sum(w->tot, r->lo, r->hi, B_COUNT) / S;
+        double x0 = hs_xbins_lo(&a->xb, r->lo);
+        double x1 = r->hi > r->lo ? hs_xbins_hi(&a->xb, r->hi - 1) : x0;
+        fprintf(f, "%s %d %.12g %.12g %.12g %.12g", r->side, r->index, x0, x1, n, n / area);
+        static const int qs[4] = {B_Q6, B_XTAL, B_PSI, B_ORD};
+        for (int t = 0; t < 4; t++) {
+            if (qs[t] == B_Q6 && a->dim != 3) {
+                fprintf(f, " nan nan");
+                continue;
+            }
+            v = region_mean(a, w->tot, r, qs[t], &e, w->bm);
+            fmt_opt(f, v);
+            fmt_opt(f, e);
+        }
+        fputc('\n', f);
+    }
+}
+
+/* Blocks 2 and 3: the fine profile and the time series. */
+static void order_block_profile_times(FILE *f, const order_acc *a, const order_work *w)
+{
+    const size_t nb = a->nb;
+    const int d3 = a->dim == 3;
+    fprintf(f, "\n\n");
+    for (size_t b = 0; b < nb; b++) {
+        const double *t = w->tot + b * NB_Q;
+        double lo = hs_xbins_lo(&a->xb, b), hi = hs_xbins_hi(&a->xb, b), n = t[B_COUNT];
+        fprintf(f, "%.12g %.12g %.12g %.12g %.12g %.12g", lo, hi, 0.5 * (lo + hi), n, w->rho[b],
+                w->sm[b]);
+        fmt_opt(f, n > 0 && d3 ? t[B_Q6] / n : NAN);
+        fmt_opt(f, n > 0 ? t[B_XTAL] / n : NAN);
+        fmt_opt(f, n > 0 ? t[B_PSI] / n : NAN);
+        fmt_opt(f, n > 0 ? t[B_ORD] / n : NAN);
+        fputc('\n', f);
+    }
+    fprintf(f, "\n\n");
+    for (size_t r = 0; r < a->nrows; r++) {
+        const uint32_t *rc_ = a->row_count + r * nb, *rx = a->row_xtal + r * nb;
+        const float *rp = a->row_psi + r * nb;
+        double n = 0, x = 0;
+        for (size_t b = 0; b < nb; b++) {
+            n += rc_[b];
+            x += rx[b];
+        }
+        fprintf(f, "%llu %llu %.12g", (unsigned long long)a->row_first[r],
+                (unsigned long long)a->row_last[r], a->row_time[r] / (double)a->row_ns[r]);
+        fmt_opt(f, n > 0 ? x / n : NAN);
+        for (int q = 0; q < w->nreg; q++) {
+            double rn = 0, rx_ = 0, rpsi = 0;
+            for (size_t b = w->reg[q].lo; b < w->reg[q].hi; b++) {
+                rn += rc_[b];
+                rx_ += rx[b];
+                rpsi += rp[b];
+            }
+            fmt_opt(f, rn > 0 ? rx_ / rn : NAN);
+            fmt_opt(f, rn > 0 ? rpsi / rn : NAN);
+        }
+        fputc('\n', f);
+    }
+}
+
 int mote_hs_order(mote_hs *hs, uint64_t k, const char *path, const char *origin,
                   mote_result *res, mote_err *err)
 {
     if (!hs->has_system)
         return mote_fail(err, MOTE_EINVAL, "order: no system");
     order_acc a;
-    int fail = acc_init(&a, hs);
-    a.S = k == 0 ? 1 : k;
-    a.B = hs_nblocks(a.S);
-    a.nrows = a.S < MAX_TIME_ROWS ? (size_t)a.S : MAX_TIME_ROWS;
-    a.blk = alloc_n((size_t)a.B * a.nb * NB_Q, sizeof *a.blk, &fail);
-    size_t cells_t = a.nrows > SIZE_MAX / (a.nb ? a.nb : 1) ? SIZE_MAX : a.nrows * a.nb;
-    a.row_count = alloc_n(cells_t, sizeof *a.row_count, &fail);
-    a.row_xtal = alloc_n(cells_t, sizeof *a.row_xtal, &fail);
-    a.row_psi = alloc_n(cells_t, sizeof *a.row_psi, &fail);
-    a.row_time = alloc_n(a.nrows, sizeof *a.row_time, &fail);
-    a.row_first = alloc_n(a.nrows, sizeof *a.row_first, &fail);
-    a.row_last = alloc_n(a.nrows, sizeof *a.row_last, &fail);
-    a.row_ns = alloc_n(a.nrows, sizeof *a.row_ns, &fail);
-    if (fail) {
+    order_work w = {0};
+    if (order_alloc(&a, &w, hs, k)) {
+        work_free(&w);
         acc_free(&a);
         return mote_fail(err, MOTE_ENOMEM,
                          "order: out of memory (N = %u, %zu bins, %zu time rows)", a.n, a.nb,
                          a.nrows);
     }
-
-    /* everything the end needs is allocated before the run, and the file is opened first, so
-     * that a bad path or a lack of memory fails before any dynamics has run */
-    const size_t nb = a.nb;
-    const int B = a.B, slit = hs->geometry == MOTE_HS_SLIT, d3 = a.dim == 3;
-    double *tot = calloc(nb * NB_Q, sizeof *tot), *rho = calloc(nb, sizeof *rho);
-    double *sm = calloc(nb, sizeof *sm), *gr = calloc(nb, sizeof *gr);
-    double *bm = calloc((size_t)B, sizeof *bm), *smb = calloc((size_t)B * nb, sizeof *smb);
-    region *reg = calloc(2 * MAX_LAYERS + 1, sizeof *reg);
-    int rc = MOTE_OK;
-    if (!tot || !rho || !sm || !gr || !bm || !smb || !reg)
-        rc = mote_fail(err, MOTE_ENOMEM, "order: out of memory");
+    /* the file is opened first, so that a bad path fails before any dynamics has run */
+    const int slit = hs->geometry == MOTE_HS_SLIT;
     mote_afile af;
-    if (!rc)
-        rc = mote_afile_open(&af, path, err);
+    int rc = mote_afile_open(&af, path, err);
     hs_snap start, end;
     hs_snapshot(hs, &start);
     double tau;
@@ -650,235 +904,25 @@ int mote_hs_order(mote_hs *hs, uint64_t k, const char *path, const char *origin,
             mote_afile_abort(&af);
     }
     if (rc) {
-        free(tot);
-        free(rho);
-        free(sm);
-        free(gr);
-        free(bm);
-        free(smb);
-        free(reg);
+        work_free(&w);
         acc_free(&a);
         return rc;
     }
     hs_snapshot(hs, &end);
-
-    /* totals, density profile, smoothing */
-    const double area = mote_hs_cross_section(hs), S = (double)a.S;
-    for (int b = 0; b < B; b++)
-        for (size_t q = 0; q < nb * NB_Q; q++)
-            tot[q] += a.blk[(size_t)b * nb * NB_Q + q];
-    for (size_t b = 0; b < nb; b++) {
-        double w = hs_xbins_hi(&a.xb, b) - hs_xbins_lo(&a.xb, b);
-        rho[b] = tot[b * NB_Q + B_COUNT] / (S * area * w);
-    }
-    smooth(rho, sm, nb);
-    /* per-block smoothed densities (gr is scratch) */
-    for (int b = 0; b < B; b++) {
-        const double *t = a.blk + (size_t)b * nb * NB_Q;
-        double ns = (double)hs_block_size(b, a.S);
-        for (size_t q = 0; q < nb; q++) {
-            double w = hs_xbins_hi(&a.xb, q) - hs_xbins_lo(&a.xb, q);
-            gr[q] = t[q * NB_Q + B_COUNT] / (ns * area * w);
-        }
-        smooth(gr, smb + (size_t)b * nb, nb);
-    }
-
-    /* regions in x order */
-    int nreg = 0, nl = 0, nr = 0;
-    if (slit) {
-        const double L = a.xb.L;
-        size_t lim_l = 0, lim_r = 0;
-        for (size_t b = 0; b < nb; b++) {
-            double mid = 0.5 * (hs_xbins_lo(&a.xb, b) + hs_xbins_hi(&a.xb, b));
-            lim_l += mid < 0.5 * L;
-            lim_r += mid > 0.5 * L;
-        }
-        size_t bl[MAX_LAYERS], br[MAX_LAYERS];
-        profile_view pv = {sm, smb, nb, B, 0, bm};
-        size_t window = (size_t)(LAYER_WINDOW * mote_hs_mean_radius(hs) / a.xb.dx);
-        nl = find_layers(&pv, lim_l, window, bl);
-        pv.mirror = 1;
-        nr = find_layers(&pv, lim_r, window, br);
-        size_t lo = 0;
-        for (int q = 0; q < nl; q++) {
-            reg[nreg++] = (region){"left", q + 1, lo, bl[q]};
-            lo = bl[q];
-        }
-        size_t bulk_hi = nr ? nb - br[nr - 1] : nb;
-        reg[nreg++] = (region){"bulk", 0, lo, bulk_hi};
-        for (int q = nr - 1; q >= 0; q--)
-            reg[nreg++] = (region){"right", q + 1, nb - br[q], q ? nb - br[q - 1] : nb};
-    } else {
-        reg[nreg++] = (region){"all", 0, 0, nb};
-    }
-
-    /* results (kept here too, so the file has them when res is NULL) */
-    region all = {"all", 0, 0, nb};
-    double e, v;
-    mote_result loc;
+    order_profiles(&a, &w, hs);
+    order_regions(&a, &w, hs);
+    mote_result loc; /* (kept here too, so the file has them when res is NULL) */
     memset(&loc, 0, sizeof loc);
-    {
-        mote_result *res_ = &loc;
-        v = region_mean(&a, tot, &all, B_XTAL, &e, bm);
-        mote_result_add(res_, "xtal_fraction", v, e);
-        if (d3) {
-            v = region_mean(&a, tot, &all, B_Q6, &e, bm);
-            mote_result_add(res_, "q6_mean", v, e);
-        }
-        v = region_mean(&a, tot, &all, B_PSI, &e, bm);
-        mote_result_add(res_, "psi6_mean", v, e);
-        if (slit) {
-            mote_result_add(res_, "layers_left", nl, NAN);
-            mote_result_add(res_, "layers_right", nr, NAN);
-            for (int q = 0; q < nl; q++) {
-                char key[32];
-                snprintf(key, sizeof key, "xtal_layer%d", q + 1);
-                v = region_mean(&a, tot, &reg[q], B_XTAL, &e, bm);
-                mote_result_add(res_, key, v, e);
-                snprintf(key, sizeof key, "psi6_layer%d", q + 1);
-                v = region_mean(&a, tot, &reg[q], B_PSI, &e, bm);
-                mote_result_add(res_, key, v, e);
-            }
-            v = region_mean(&a, tot, &reg[nl], B_XTAL, &e, bm);
-            mote_result_add(res_, "xtal_bulk", v, e);
-            v = region_mean(&a, tot, &reg[nl], B_PSI, &e, bm);
-            mote_result_add(res_, "psi6_bulk", v, e);
-        }
-    }
-
-    {
-        FILE *f = af.f;
-        const char *rho_unit = d3 ? "R^-3" : "R^-2", *area_unit = d3 ? "R^-2" : "R^-1";
-        hs_write_header(f, hs, "order", origin, &start, &end);
-        fprintf(f, "# samples = %llu\n# blocks = %d\n# bin_width = %.17g\n",
-                (unsigned long long)a.S, B, a.xb.dx);
-        fprintf(f, "# time_rows = %zu\n# samples_per_row = %.17g\n", a.nrows,
-                S / (double)a.nrows);
-        if (slit)
-            fprintf(f, "# layers_left = %d\n# layers_right = %d\n", nl, nr);
-        mote_result_write(&loc, f);
-        if (d3) {
-            fprintf(f, "# thresholds: q6 neighbours |r_ij| < %.1f sigma_ij (sigma_ij = R_i + R_j, "
-                       "minimum image); q6m(i) = mean over neighbours of Y6m(r_ij/|r_ij|); "
-                       "q6 = sqrt(4 pi/13 sum_m |q6m|^2)\n",
-                    NEIGH_CUT);
-            fprintf(f, "# thresholds: solid-like bond: sum_m q6m(i) q6m(j)* / (|q6(i)| |q6(j)|) "
-                       "> %.1f; crystal-like: >= %d solid-like bonds; no neighbours: q6 = 0, not "
-                       "crystal-like\n",
-                    BOND_DOT, MIN_BONDS);
-            fprintf(f, "# thresholds: in-layer psi6 neighbours |x_j - x_i| < %.1f sigma_ij and "
-                       "sqrt(dy^2 + dz^2) < %.1f sigma_ij; psi6(i) = mean of exp(6 i theta_ij), "
-                       "theta the angle of (dy, dz); ordered: |psi6| > %.1f; no neighbours: "
-                       "psi6 = 0\n",
-                    LAYER_DX_CUT, NEIGH_CUT, PSI_ORDERED);
-        } else {
-            fprintf(f, "# thresholds: psi6 neighbours |r_ij| < %.1f sigma_ij (sigma_ij = R_i + "
-                       "R_j, minimum image); psi6(i) = mean of exp(6 i theta_ij), theta the angle "
-                       "of (dx, dy); ordered: |psi6| > %.1f; no neighbours: psi6 = 0; q6 not "
-                       "computed (nan); crystal-like = ordered\n",
-                    NEIGH_CUT, PSI_ORDERED);
-        }
-        fprintf(f, "# thresholds: layers: density in bins of R/%d smoothed over %d bins; from "
-                   "each wall alternately the next local maximum and the next local minimum, each "
-                   "minimum a boundary; a fall or rise makes an extremum only when it exceeds %g "
-                   "block errors (with >= 2 blocks) within %g R of the previous extremum; at most "
-                   "%d layers per wall; stop when a minimum exceeds %.1f of the smaller "
-                   "neighbouring maximum, or at L/2\n",
-                BINS_PER_R, SMOOTH_BINS, LAYER_SIGNIF, LAYER_WINDOW, MAX_LAYERS, LAYER_CONTRAST);
-        fprintf(f, "# block 1: one row per layer in x order (left 1 = contact layer of the left "
-                   "wall ... bulk ... right 1 = contact layer of the right wall; periodic: one row "
-                   "\"all\"); errors from %d blocks\n",
-                B);
-        fprintf(f, "# columns: side index x_from[R] x_to[R] n_mean rho_area[%s] q6 q6_err "
-                   "xtal_frac xtal_frac_err psi6 psi6_err ordered_frac ordered_frac_err\n",
-                area_unit);
-        fprintf(f, "# block 2: fine profile, bins of width R/%d\n", BINS_PER_R);
-        fprintf(f, "# columns: x_lo[R] x_hi[R] x_mid[R] count rho[%s] rho_smooth[%s] q6 "
-                   "xtal_frac psi6 ordered_frac\n",
-                rho_unit, rho_unit);
-        fprintf(f, "# block 3: time series, one row per sample (or per group of consecutive "
-                   "samples when there are more than %d)\n",
-                MAX_TIME_ROWS);
-        fprintf(f, "# columns: sample_first sample_last time[sqrt(mR^2/kT)] xtal_frac");
-        for (int q = 0; q < nreg; q++) {
-            char name[32];
-            if (reg[q].index)
-                snprintf(name, sizeof name, "%s%d", reg[q].side, reg[q].index);
-            else
-                snprintf(name, sizeof name, "%s", reg[q].side);
-            fprintf(f, " xtal_frac[%s] psi6[%s]", name, name);
-        }
-        fputc('\n', f);
-
-        /* block 1 */
-        for (int q = 0; q < nreg; q++) {
-            const region *r = &reg[q];
-            double n = region_sum(tot, r->lo, r->hi, B_COUNT) / S;
-            double x0 = hs_xbins_lo(&a.xb, r->lo);
-            double x1 = r->hi > r->lo ? hs_xbins_hi(&a.xb, r->hi - 1) : x0;
-            fprintf(f, "%s %d %.12g %.12g %.12g %.12g", r->side, r->index, x0, x1, n, n / area);
-            static const int qs[4] = {B_Q6, B_XTAL, B_PSI, B_ORD};
-            for (int t = 0; t < 4; t++) {
-                if (qs[t] == B_Q6 && !d3) {
-                    fprintf(f, " nan nan");
-                    continue;
-                }
-                v = region_mean(&a, tot, r, qs[t], &e, bm);
-                fmt_opt(f, v);
-                fmt_opt(f, e);
-            }
-            fputc('\n', f);
-        }
-        /* block 2 */
-        fprintf(f, "\n\n");
-        for (size_t b = 0; b < nb; b++) {
-            const double *t = tot + b * NB_Q;
-            double lo = hs_xbins_lo(&a.xb, b), hi = hs_xbins_hi(&a.xb, b), n = t[B_COUNT];
-            fprintf(f, "%.12g %.12g %.12g %.12g %.12g %.12g", lo, hi, 0.5 * (lo + hi), n, rho[b],
-                    sm[b]);
-            fmt_opt(f, n > 0 && d3 ? t[B_Q6] / n : NAN);
-            fmt_opt(f, n > 0 ? t[B_XTAL] / n : NAN);
-            fmt_opt(f, n > 0 ? t[B_PSI] / n : NAN);
-            fmt_opt(f, n > 0 ? t[B_ORD] / n : NAN);
-            fputc('\n', f);
-        }
-        /* block 3 */
-        fprintf(f, "\n\n");
-        for (size_t r = 0; r < a.nrows; r++) {
-            const uint32_t *rc_ = a.row_count + r * nb, *rx = a.row_xtal + r * nb;
-            const float *rp = a.row_psi + r * nb;
-            double n = 0, x = 0;
-            for (size_t b = 0; b < nb; b++) {
-                n += rc_[b];
-                x += rx[b];
-            }
-            fprintf(f, "%llu %llu %.12g", (unsigned long long)a.row_first[r],
-                    (unsigned long long)a.row_last[r], a.row_time[r] / (double)a.row_ns[r]);
-            fmt_opt(f, n > 0 ? x / n : NAN);
-            for (int q = 0; q < nreg; q++) {
-                double rn = 0, rx_ = 0, rpsi = 0;
-                for (size_t b = reg[q].lo; b < reg[q].hi; b++) {
-                    rn += rc_[b];
-                    rx_ += rx[b];
-                    rpsi += rp[b];
-                }
-                fmt_opt(f, rn > 0 ? rx_ / rn : NAN);
-                fmt_opt(f, rn > 0 ? rpsi / rn : NAN);
-            }
-            fputc('\n', f);
-        }
-        rc = mote_afile_commit(&af, err);
-    }
+    order_results(&a, &w, slit, &loc);
+    hs_write_header(af.f, hs, "order", origin, &start, &end);
+    order_header(af.f, &a, &w, slit, &loc);
+    order_block_regions(af.f, &a, &w, mote_hs_cross_section(hs));
+    order_block_profile_times(af.f, &a, &w);
+    rc = mote_afile_commit(&af, err);
     if (!rc)
         for (int q = 0; q < loc.n; q++)
             mote_result_add(res, loc.kv[q].key, loc.kv[q].value, loc.kv[q].error);
-    free(tot);
-    free(rho);
-    free(sm);
-    free(gr);
-    free(bm);
-    free(smb);
-    free(reg);
+    work_free(&w);
     acc_free(&a);
     return rc;
 }
