@@ -141,28 +141,16 @@ static void add_failure(mote_err *err, int *nfail, const char *fmt, ...)
     va_end(ap);
 }
 
-int mote_ev_check(const mote_ev *ev, mote_err *err)
+/* Each particle: inside the walls, its reference in its cell and within half the shell, no
+ * event before the clock, its cell and number consistent, its flags those of its reference. */
+static void check_particles(const mote_ev *ev, mote_err *err, int *pnfail)
 {
+    int nfail = *pnfail;
     const int d = ev->dim;
     const mote_particle *P = ev->p;
     const mote_ev_cold *C = ev->pc;
-    int nfail = 0;
-    if (err) {
-        err->msg[0] = '\0';
-        err->located = 0;
-    }
-    if (!ev->ready)
-        return not_ready(err, "check");
-
-    gap_acc g = {INFINITY, 0, 0, 0};
-    for_near_pairs(ev, gap_visit, &g);
-    if (g.overlaps)
-        add_failure(err, &nfail, "%zu overlapping pairs; worst %u-%u at %.17g of contact",
-                    g.overlaps, C[g.worst_i].label, C[g.worst_j].label, g.min_ratio);
-
     const double tol = 1e-10 * ev->sigma_max;
     const size_t ncells = (size_t)ev->ncell[0] * ev->ncell[1] * ev->ncell[2];
-    uint8_t *listed = calloc(ev->n, 1); /* times each particle appears in a cell block */
     for (uint32_t i = 0; i < ev->n; i++) {
         double r[3], moved2 = 0;
         project(ev, &P[i], ev->clock - P[i].t, r, NULL);
@@ -209,7 +197,16 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
                         "particle %u has flags %#x; its list reference needs %#x",
                         C[i].label, P[i].flags, ref_flags(ev, i, C[i].r_ref));
     }
-    /* cell blocks: each holds exactly the particles that say they are in it, once */
+    *pnfail = nfail;
+}
+
+/* Cell blocks: each holds exactly the particles that say they are in it, once. */
+static void check_cells(const mote_ev *ev, mote_err *err, int *pnfail)
+{
+    int nfail = *pnfail;
+    const mote_ev_cold *C = ev->pc;
+    const size_t ncells = (size_t)ev->ncell[0] * ev->ncell[1] * ev->ncell[2];
+    uint8_t *listed = calloc(ev->n, 1); /* times each particle appears in a cell block */
     if (listed) {
         for (size_t c = 0; c < ncells; c++) {
             const uint32_t *B = cell_members(ev, (int32_t)c);
@@ -235,7 +232,15 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
                             C[i].label, listed[i]);
         free(listed);
     }
-    /* neighbour lists: symmetric, no repeats, no stale entry, none missing (spec 6.6) */
+    *pnfail = nfail;
+}
+
+/* Neighbour lists: symmetric, no repeats, no stale entry, none missing (spec 6.6). */
+static void check_neighbours(const mote_ev *ev, mote_err *err, int *pnfail)
+{
+    int nfail = *pnfail;
+    const mote_particle *P = ev->p;
+    const mote_ev_cold *C = ev->pc;
     {
         const double cm = 2 * ev->radius0 + ev->shell;
         int32_t cells[27];
@@ -279,7 +284,14 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
             }
         }
     }
-    /* calendar: heap positions and order, bucket lists, every particle exactly once */
+    *pnfail = nfail;
+}
+
+/* The calendar: heap positions and order, bucket lists, every particle exactly once. */
+static void check_calendar(const mote_ev *ev, mote_err *err, int *pnfail)
+{
+    int nfail = *pnfail;
+    const mote_ev_cold *C = ev->pc;
     {
         size_t seen = 0;
         for (uint32_t k = 0; k < ev->heap_n; k++) {
@@ -315,7 +327,15 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
             add_failure(err, &nfail, "the calendar holds %zu events for %u particles", seen,
                         ev->n);
     }
-    /* conserved quantities */
+    *pnfail = nfail;
+}
+
+/* The conserved quantities: energy without a field, momentum along periodic axes. */
+static void check_conserved(const mote_ev *ev, mote_err *err, int *pnfail)
+{
+    int nfail = *pnfail;
+    const int d = ev->dim;
+    const mote_particle *P = ev->p;
     double e = mote_ev_energy(ev);
     if (!ev->field && ev->energy_ref > 0 && fabs(e - ev->energy_ref) > 1e-12 * ev->energy_ref)
         add_failure(err, &nfail, "energy %.17g differs from its reference %.17g by %.3g relative",
@@ -332,6 +352,30 @@ int mote_ev_check(const mote_ev *ev, mote_err *err)
         if (ev->periodic[a] && fabs(Pm[a] - ev->momentum_ref[a]) > 1e-12 * mabs)
             add_failure(err, &nfail, "momentum along %c changed from %.17g to %.17g", "xyz"[a],
                         ev->momentum_ref[a], Pm[a]);
+    *pnfail = nfail;
+}
+
+int mote_ev_check(const mote_ev *ev, mote_err *err)
+{
+    const mote_ev_cold *C = ev->pc;
+    int nfail = 0;
+    if (err) {
+        err->msg[0] = '\0';
+        err->located = 0;
+    }
+    if (!ev->ready)
+        return not_ready(err, "check");
+
+    gap_acc g = {INFINITY, 0, 0, 0};
+    for_near_pairs(ev, gap_visit, &g);
+    if (g.overlaps)
+        add_failure(err, &nfail, "%zu overlapping pairs; worst %u-%u at %.17g of contact",
+                    g.overlaps, C[g.worst_i].label, C[g.worst_j].label, g.min_ratio);
+    check_particles(ev, err, &nfail);
+    check_cells(ev, err, &nfail);
+    check_neighbours(ev, err, &nfail);
+    check_calendar(ev, err, &nfail);
+    check_conserved(ev, err, &nfail);
     if (nfail) {
         if (err) {
             err->code = MOTE_ERUNTIME;
