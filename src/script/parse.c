@@ -208,16 +208,17 @@ static int convert_options(mote_script *s, const mote_cmd *def, const token *nam
     return MOTE_OK;
 }
 
-static int parse_command(mote_script *s, const token_list *tl, const mote_model *const *models,
-                         size_t nmodels, mote_err *err)
+/* The command a line names: a common command, the model's, or a row of the model's ("generate
+ * ring": then *ptl becomes the tokens from the second on, in *rows); the model chosen first
+ * when the script has no `model` line. */
+static int find_command(mote_script *s, const token_list **ptl, token_list *rows,
+                        const mote_model *const *models, size_t nmodels, const mote_cmd **pdef,
+                        mote_err *err)
 {
     const char *file = s->ctx.script_path;
+    const token_list *tl = *ptl;
     const token *name = &tl->t[0];
     char found[80];
-    if (name->quoted)
-        return mote_script_fail_at(err, file, name->line, name->col, MOTE_EINVAL,
-                                   "expected a command name, found a quoted string %s",
-                                   mote_script_shown(name, found, sizeof found));
     const mote_cmd *model_cmd = mote_script_common_model_cmd();
     int is_model = strcmp(name->text, model_cmd->name) == 0;
     if (s->ncalls == 0 && !is_model) {
@@ -234,7 +235,6 @@ static int parse_command(mote_script *s, const token_list *tl, const mote_model 
                                           name->text);
     if (!def && s->model)
         def = mote_cmd_lookup(s->model->cmds, s->model->ncmds, name->text);
-    token_list rows; /* a command of rows ("generate ring"): the tokens from the second on */
     if (!def && s->model && mote_cmd_has_rows(s->model->cmds, s->model->ncmds, name->text)) {
         const token *sub = tl->n > 1 ? &tl->t[1] : NULL;
         char full[96];
@@ -260,10 +260,10 @@ static int parse_command(mote_script *s, const token_list *tl, const mote_model 
         tl->t[1].text = text;
         tl->t[1].line = name->line;
         tl->t[1].col = name->col;
-        rows = *tl;
-        rows.t = tl->t + 1;
-        rows.n = tl->n - 1;
-        tl = &rows;
+        *rows = *tl;
+        rows->t = tl->t + 1;
+        rows->n = tl->n - 1;
+        tl = rows;
         name = &tl->t[0];
     }
     if (!def)
@@ -282,6 +282,20 @@ static int parse_command(mote_script *s, const token_list *tl, const mote_model 
                                    "(without it, the script is a %s script)", s->model->name);
     }
 
+    *ptl = tl;
+    *pdef = def;
+    return MOTE_OK;
+}
+
+/* The line's tokens after the name as the command's positional arguments (pos) and key=value
+ * options (opt): bare tokens beyond the positional arguments fill the '@' options; the count
+ * checked against the synopsis. */
+static int place_tokens(mote_script *s, const mote_cmd *def, const token_list *tl,
+                        const token ***ppos, int *pnargs, const token ***popt, int *pnopts,
+                        mote_err *err)
+{
+    const char *file = s->ctx.script_path;
+    const token *name = &tl->t[0];
     /* key=value tokens are options when the command declares options */
     const int nopt_specs = def->args[0] == '*' ? 0 : mote_argspec_noptions(def->args);
     int ntok = tl->n - 1, nopts = 0;
@@ -361,6 +375,35 @@ static int parse_command(mote_script *s, const token_list *tl, const mote_model 
                                    "%s: too few arguments: expected '%s' (%d argument%s), "
                                    "found %d", name->text, syn, want, plural(want), nargs);
 
+    *ppos = pos;
+    *pnargs = nargs;
+    *popt = opt;
+    *pnopts = nopts;
+    return MOTE_OK;
+}
+
+static int parse_command(mote_script *s, const token_list *tl, const mote_model *const *models,
+                         size_t nmodels, mote_err *err)
+{
+    const char *file = s->ctx.script_path;
+    const token *name = &tl->t[0];
+    char found[80];
+    if (name->quoted)
+        return mote_script_fail_at(err, file, name->line, name->col, MOTE_EINVAL,
+                                   "expected a command name, found a quoted string %s",
+                                   mote_script_shown(name, found, sizeof found));
+    const mote_cmd *model_cmd = mote_script_common_model_cmd(), *def = NULL;
+    token_list rows; /* a command of rows ("generate ring"): the tokens from the second on */
+    int rc = find_command(s, &tl, &rows, models, nmodels, &def, err);
+    if (rc)
+        return rc;
+    name = &tl->t[0];
+    const int nopt_specs = def->args[0] == '*' ? 0 : mote_argspec_noptions(def->args);
+    const token **pos = NULL, **opt = NULL;
+    int nargs = 0, nopts = 0;
+    if ((rc = place_tokens(s, def, tl, &pos, &nargs, &opt, &nopts, err)))
+        return rc;
+
     mote_call c;
     memset(&c, 0, sizeof c);
     mote_arg *args = NULL;
@@ -369,17 +412,15 @@ static int parse_command(mote_script *s, const token_list *tl, const mote_model 
         if (!args)
             return mote_script_fail_plain(err, MOTE_ENOMEM, "out of memory reading the script");
         for (int i = 0; i < nargs; i++) {
-            int rc = mote_script_convert_arg(s, def, name->text, i, NULL, pos[i], &args[i], err);
-            if (rc)
+            if ((rc = mote_script_convert_arg(s, def, name->text, i, NULL, pos[i], &args[i],
+                                              err)))
                 return rc;
         }
     }
     mote_opt *opts = NULL;
-    if (nopts > 0 || nopt_specs > 0) {
-        int rc = convert_options(s, def, name, opt, nopts, &opts, err);
-        if (rc)
-            return rc;
-    }
+    if ((nopts > 0 || nopt_specs > 0) &&
+        (rc = convert_options(s, def, name, opt, nopts, &opts, err)))
+        return rc;
     c.file = file;
     c.line = name->line;
     c.col = name->col;
@@ -396,11 +437,8 @@ static int parse_command(mote_script *s, const token_list *tl, const mote_model 
     c.loop = loop_text(s);
     if (!c.source)
         return mote_script_fail_plain(err, MOTE_ENOMEM, "out of memory reading the script");
-    if (def == model_cmd) {
-        int rc = select_model(s, &c, models, nmodels, err);
-        if (rc)
-            return rc;
-    }
+    if (def == model_cmd && (rc = select_model(s, &c, models, nmodels, err)))
+        return rc;
     if (push_call(s, &c))
         return mote_script_fail_plain(err, MOTE_ENOMEM, "out of memory reading the script");
     return 0;
