@@ -11,6 +11,7 @@
 #include "mote/command.h"
 #include "mote/loop.h"
 #include "mote/script.h"
+#include "mote/statefile.h"
 #include "test.h"
 
 #include <math.h>
@@ -143,9 +144,53 @@ static void test_vocabulary(void)
         }
 }
 
+/* The parameter commands bound to the state's descriptors (mote_param): each names a command
+ * of the model whose check and run are mote_cmd_set and a descriptor of the model's state that
+ * the setter can write; and every command run by mote_cmd_set is listed. */
+static void test_params(void)
+{
+    printf("parameter commands bound to the state's descriptors\n");
+    size_t bound = 0;
+    for (size_t i = 0; i < mote_nmodels; i++) {
+        const mote_model *m = mote_models[i];
+        CHECK(!m->nparams || m->state, "%s: parameters without a state table", m->name);
+        mote_context ctx;
+        memset(&ctx, 0, sizeof ctx);
+        void *inst = m->nparams ? m->create(&ctx, 1) : NULL;
+        const mote_sf_field *f = NULL;
+        size_t n = 0;
+        const void *base = inst && m->state ? m->state(inst, &f, &n) : NULL;
+        for (size_t q = 0; q < m->nparams; q++) {
+            const mote_cmd *c = find_cmd(m, m->params[q].command);
+            CHECK(c && c->run == mote_cmd_set && c->check == mote_cmd_set,
+                  "%s: %s is bound but not run by mote_cmd_set", m->name, m->params[q].command);
+            size_t k = 0;
+            while (k < n && !(f[k].key && !strcmp(f[k].key, m->params[q].key)))
+                k++;
+            CHECK(base && k < n &&
+                      (f[k].type == MOTE_SF_DOUBLE || f[k].type == MOTE_SF_INT ||
+                       (f[k].type == MOTE_SF_CODEC && f[k].codec->size == sizeof(double))),
+                  "%s: %s's value '%s' is not a settable descriptor of the state", m->name,
+                  m->params[q].command, m->params[q].key);
+            bound++;
+        }
+        for (size_t k = 0; k < m->ncmds; k++) {
+            int listed = 0;
+            for (size_t q = 0; q < m->nparams; q++)
+                listed |= !strcmp(m->params[q].command, m->cmds[k].name);
+            CHECK(listed || m->cmds[k].run != mote_cmd_set, "%s: %s runs mote_cmd_set unbound",
+                  m->name, m->cmds[k].name);
+        }
+        if (inst)
+            m->destroy(inst);
+    }
+    CHECK(bound >= 12, "only %zu parameter commands are bound", bound);
+}
+
 int main(void)
 {
     test_vocabulary();
+    test_params();
     printf("one observer in the context fires in all five models\n");
     probe p = {0, 0};
     mote_schedule every_ms = {0, 1e-3, 0};

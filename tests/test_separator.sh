@@ -240,4 +240,14 @@ done
 python3 chi_check.py chi4.65.state 4.65 > out.txt && ok || bad "hindered 4.65 is not Richardson-Zaki with n = 4.65: $(cat out.txt)"
 ! python3 chi_check.py chi2.65.state 4.65 > out.txt && ok || bad "hindered 2.65 reproduced n = 4.65: $(cat out.txt)"
 python3 chi_check.py chi2.65.state 2.65 > out.txt && ok || bad "hindered 2.65 does not settle at v_t eps^2.65: $(cat out.txt)"
+# the parameter commands bound to the state's descriptors (mote_cmd_set): what each sets is
+# the value save writes, words by their place (coupling off|on, collisions off|dem, neighbours
+# cells|brute), and load gives it back
+printf '%b' "${SEP_DILUTE}gravity 7.5\nrelax 0.25\ncoupling off\ncollisions off\nneighbours brute\nslices 40\nhindered 3.5\ndispersion 1e-4\nbrownian 300\nrestitution 0.5\nrestitution_wall 0.7\neps_gas_min 0.25\nsave par.state\nload par.state\nsave par2.state\n" > par.mote
+if "$MOTE" run par.mote > par.out 2>&1; then ok; else bad "par.mote: $(tail -2 par.out)"; fi
+got=$(grep -E '^(real (g|tau_eps|chi|D_t|T_gas|e_pp|e_pw|eps_gas_min)|int (coupling|dem|brute|K)) ' par.state | sort | tr '\n' ';')
+want=$(printf '%s\n' 'real g 7.5' 'real tau_eps 0.25' 'int coupling 0' 'int dem 0' 'int brute 1' 'int K 40' 'real chi 3.5' 'real D_t 0.0001' 'real T_gas 300' 'real e_pp 0.5' 'real e_pw 0.69999999999999996' 'real eps_gas_min 0.25' | sort | tr '\n' ';')
+[ "$got" = "$want" ] && ok || bad "bound parameters in the state file: $got, not $want"
+cmp -s par.state par2.state && ok || bad "bound parameters: save, load, save differ"
+
 mote_test_end

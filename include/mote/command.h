@@ -38,6 +38,7 @@ typedef struct {
 
 struct mote_cmd;
 struct mote_context;
+struct mote_sf_field; /* (statefile.h) */
 
 /* One command line of a script, after parsing. */
 typedef struct {
@@ -92,6 +93,18 @@ typedef struct mote_cmd {
     int (*check)(void *model, const mote_call *c, mote_err *err);
     int (*run)(void *model, const mote_call *c, mote_err *err);
 } mote_cmd;
+
+/* A parameter command bound to a value of the model's state: the command's name and the key of
+ * the value's descriptor (statefile.h) in the table the model's `state` hook gives ("gravity",
+ * "real g"), listed in mote_model.params. The command's check and run are mote_cmd_set, which
+ * writes its first argument there (a real into a double, an integer or the index of an e{...}
+ * word into an int): it sets exactly the value that `save` writes and `load` reads, and the
+ * model writes no setter of its own. */
+typedef struct {
+    const char *command, *key;
+} mote_param;
+
+int mote_cmd_set(void *model, const mote_call *c, mote_err *err);
 
 /* The option keys of a command's argument spec, in order (at most cap; each cut to 31
  * characters): "every", "file", ... Returns how many. */
@@ -173,6 +186,9 @@ typedef struct mote_context {
      * stops at its next safe point with mote_interrupted's error, its state consistent. */
     int (*interrupt)(void *arg);
     void *interrupt_arg;
+    /* The model the script selected (its registry entry), once its `model` line (or the
+     * default) is read. */
+    const struct mote_model *model;
     /* Under mpirun (the MPI build, more than one rank; NULL otherwise): the ranks, for the
      * ensembles, whose replicas are spread over them. */
     const struct mote_ranks *ranks;
@@ -274,6 +290,12 @@ typedef struct mote_model {
     /* 1: under MPI (make MPI=1) the model shares its work among the ranks; 0: it is not offered
      * when there is more than one rank */
     int mpi;
+    /* The model's state as descriptors (statefile.h), for the commands bound to them
+     * (mote_cmd.sets): returns the structure the offsets are in and sets the table (NULL: none). */
+    void *(*state)(void *model, const struct mote_sf_field **fields, size_t *n);
+    /* The parameter commands bound to it (mote_param) */
+    const mote_param *params;
+    size_t nparams;
 } mote_model;
 
 /* The registry: every model this build knows, in the order `mote help` lists them

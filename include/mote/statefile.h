@@ -47,7 +47,7 @@ void mote_sf_exact_put(char out[64], const void *value);
 size_t mote_sf_exact_get(const char *text, void *value);
 extern const mote_sf_codec mote_sf_exact;
 
-typedef struct {
+typedef struct mote_sf_field {
     const char *key;    /* the line's key ("time", "placed x_l"); NULL: the same line; "": a row */
     const char *name;   /* the value's name, for messages ("T") */
     mote_sf_type type;

@@ -3,6 +3,7 @@
  * exist, located error and warning messages for a command, and a progress line on a terminal.
  * Everything works on the values passed in; nothing is kept between calls. */
 #include "mote/command.h"
+#include "mote/statefile.h"
 
 #include <stdarg.h>
 #include <stdlib.h>
@@ -599,4 +600,38 @@ int mote_vocabulary_option(const char *key)
         if (!strcmp(key, shared[k]))
             return 1;
     return 0;
+}
+
+/* ---- parameter commands bound to the state's descriptors ---------------------------------- */
+
+int mote_cmd_set(void *model, const mote_call *c, mote_err *err)
+{
+    const mote_model *m = c->ctx ? c->ctx->model : NULL;
+    const char *key = NULL;
+    for (size_t q = 0; m && q < m->nparams && !key; q++)
+        if (strcmp(m->params[q].command, c->name) == 0)
+            key = m->params[q].key;
+    const mote_sf_field *f = NULL;
+    size_t n = 0;
+    char *base = key && m->state ? m->state(model, &f, &n) : NULL;
+    size_t k = 0;
+    while (base && k < n && !(f[k].key && strcmp(f[k].key, key) == 0))
+        k++;
+    if (!base || k == n || c->nargs < 1)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "%s: not bound to a value of the "
+                              "model's state (a defect of the model's command table)", c->name);
+    void *at = base + f[k].offset;
+    const mote_arg *a = &c->args[0];
+    if (f[k].type == MOTE_SF_DOUBLE ||
+        (f[k].type == MOTE_SF_CODEC && f[k].codec->size == sizeof(double))) {
+        const double v = a->r;
+        memcpy(at, &v, sizeof v);
+    } else if (f[k].type == MOTE_SF_INT || f[k].type == MOTE_SF_ENUM) {
+        const int v = (int)a->i;
+        memcpy(at, &v, sizeof v);
+    } else {
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "%s: its value's type cannot be set by a "
+                              "command (a defect of the model's command table)", c->name);
+    }
+    return MOTE_OK;
 }

@@ -102,6 +102,7 @@ static int select_model(mote_script *s, const mote_call *c, const mote_model *co
     }
     const mote_arg *a = &c->args[0];
     s->model = mote_model_find(models, nmodels, a->text);
+    s->ctx.model = s->model;
     s->model_line = c->line;
     if (s->model)
         return select_variant(s, c, err);
@@ -222,7 +223,7 @@ static int find_command(mote_script *s, const token_list **ptl, token_list *rows
     const mote_cmd *model_cmd = mote_script_common_model_cmd();
     int is_model = strcmp(name->text, model_cmd->name) == 0;
     if (s->ncalls == 0 && !is_model) {
-        s->model = mote_model_find(models, nmodels, MOTE_DEFAULT_MODEL);
+        s->ctx.model = s->model = mote_model_find(models, nmodels, MOTE_DEFAULT_MODEL);
         if (!s->model) {
             char known[512];
             list_models(known, sizeof known, models, nmodels);
@@ -806,7 +807,7 @@ static int parse_text(mote_script *s, const char *text, size_t len,
     int rc = parse_lines(s, p, end, 1, models, nmodels, err);
     if (!rc && !s->model) {
         /* An empty script: it still belongs to a model, for `check` and for status output. */
-        s->model = mote_model_find(models, nmodels, MOTE_DEFAULT_MODEL);
+        s->ctx.model = s->model = mote_model_find(models, nmodels, MOTE_DEFAULT_MODEL);
         if (!s->model)
             rc = mote_script_fail_at(err, s->ctx.script_path, 1, 1, MOTE_EINVAL,
                                      "the script is empty and has no 'model' line");

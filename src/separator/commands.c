@@ -120,24 +120,6 @@ static int do_gas(void *vm, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
-static int do_gravity(void *vm, const mote_call *c, mote_err *err)
-{
-    ((sep_model *)vm)->sys.g = c->args[0].r;
-    return MOTE_OK;
-}
-
-static int do_coupling(void *vm, const mote_call *c, mote_err *err)
-{
-    ((sep_model *)vm)->sys.coupling = c->args[0].i == 0; /* on|off */
-    return MOTE_OK;
-}
-
-static int do_slices(void *vm, const mote_call *c, mote_err *err)
-{
-    ((sep_model *)vm)->sys.K = (int)c->args[0].i;
-    return MOTE_OK;
-}
-
 /* `gas_profile FILE`: rows z rho_g [mu_g] (spec 2.6). */
 static int do_gas_profile(void *vm, const mote_call *c, mote_err *err)
 {
@@ -200,36 +182,6 @@ static int do_gas_profile(void *vm, const mote_call *c, mote_err *err)
     }
     free(v);
     return rc;
-}
-
-static int do_relax(void *vm, const mote_call *c, mote_err *err)
-{
-    ((sep_model *)vm)->sys.tau_eps = c->args[0].r;
-    return MOTE_OK;
-}
-
-static int do_eps_gas_min(void *vm, const mote_call *c, mote_err *err)
-{
-    ((sep_model *)vm)->sys.eps_gas_min = c->args[0].r;
-    return MOTE_OK;
-}
-
-static int do_hindered(void *vm, const mote_call *c, mote_err *err)
-{
-    ((sep_model *)vm)->sys.chi = c->args[0].r;
-    return MOTE_OK;
-}
-
-static int do_dispersion(void *vm, const mote_call *c, mote_err *err)
-{
-    ((sep_model *)vm)->sys.D_t = c->args[0].r;
-    return MOTE_OK;
-}
-
-static int do_brownian(void *vm, const mote_call *c, mote_err *err)
-{
-    ((sep_model *)vm)->sys.T_gas = c->args[0].r;
-    return MOTE_OK;
 }
 
 static int do_species(void *vm, const mote_call *c, mote_err *err)
@@ -520,24 +472,6 @@ static int do_grid(void *vm, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
-static int do_collisions(void *vm, const mote_call *c, mote_err *err)
-{
-    ((sep_model *)vm)->sys.dem = c->args[0].i == 0; /* dem|off */
-    return MOTE_OK;
-}
-
-static int do_restitution(void *vm, const mote_call *c, mote_err *err)
-{
-    ((sep_model *)vm)->sys.e_pp = c->args[0].r;
-    return MOTE_OK;
-}
-
-static int do_restitution_wall(void *vm, const mote_call *c, mote_err *err)
-{
-    ((sep_model *)vm)->sys.e_pw = c->args[0].r;
-    return MOTE_OK;
-}
-
 static int do_restitution_pair(void *vm, const mote_call *c, mote_err *err)
 {
     mote_sep_system *s = &((sep_model *)vm)->sys;
@@ -565,12 +499,6 @@ static int do_stiffness(void *vm, const mote_call *c, mote_err *err)
     s->khat = k ? k->r : 0;
     s->delta_f = o ? o->r : 0.05;
     s->v_imp = mote_call_opt_r(c, "vimp", 0);
-    return MOTE_OK;
-}
-
-static int do_neighbours(void *vm, const mote_call *c, mote_err *err)
-{
-    ((sep_model *)vm)->sys.brute = (int)c->args[0].i; /* cells|brute */
     return MOTE_OK;
 }
 
@@ -712,6 +640,30 @@ static int do_reset_stats(void *vm, const mote_call *c, mote_err *err)
 #include "help.inc"
 
 
+static void *sep_state_fields(void *vm, const struct mote_sf_field **f, size_t *n)
+{
+    *f = sep_scalar_fields(n);
+    return &((sep_model *)vm)->sys;
+}
+
+/* The parameter commands bound to a value of the state (the key of its descriptor in state.c's
+ * table): what such a command sets is what save writes and load reads (mote_cmd_set). */
+static const mote_param sep_params[] = {
+    {"gravity", "real g"},
+    {"slices", "int K"},
+    {"eps_gas_min", "real eps_gas_min"},
+    {"relax", "real tau_eps"},
+    {"hindered", "real chi"},
+    {"dispersion", "real D_t"},
+    {"brownian", "real T_gas"},
+    {"restitution", "real e_pp"},
+    {"restitution_wall", "real e_pw"},
+    {"coupling", "int coupling"}, /* (its words off|on: 0, 1) */
+    {"collisions", "int dem"},    /* (off|dem) */
+    {"neighbours", "int brute"},  /* (cells|brute) */
+};
+#define SET mote_cmd_set, mote_cmd_set
+
 static const mote_cmd sep_commands[] = {
     {"dim", NULL, "i", "dim 2|3", "the dimension", HELP_DIM, do_dim, do_dim},
     {"channel", NULL, "r>0 r>0 D=r>0", "channel W H [D=DEPTH]", "the channel", HELP_CHANNEL,
@@ -721,23 +673,23 @@ static const mote_cmd sep_commands[] = {
     {"ends", NULL, "e{open|closed} e{open|closed}", "ends BOTTOM TOP", "open or closed ends", HELP_ENDS, do_ends, do_ends},
     {"gas", NULL, "r>=0 rho=r>=0 mu=r>=0", "gas U0 [rho=R] [mu=M]", "the gas upflow", HELP_GAS,
      do_gas, do_gas},
-    {"gravity", NULL, "r>=0", "gravity g", "gravity", HELP_GRAVITY, do_gravity, do_gravity},
-    {"coupling", NULL, "e{on|off}", "coupling on|off", "the solids' feedback on the gas", HELP_COUPLING,
-     do_coupling, do_coupling},
-    {"slices", NULL, "i[10,1000]", "slices K", "the gas model's slices", HELP_SLICES, do_slices,
-     do_slices},
+    {"gravity", NULL, "r>=0", "gravity g", "gravity", HELP_GRAVITY, SET},
+    {"coupling", NULL, "e{off|on}", "coupling on|off", "the solids' feedback on the gas", HELP_COUPLING,
+     SET},
+    {"slices", NULL, "i[10,1000]", "slices K", "the gas model's slices", HELP_SLICES,
+     SET},
     {"eps_gas_min", NULL, "r(0,1]", "eps_gas_min V", "the clamp on the gas fraction",
-     HELP_EPSMIN, do_eps_gas_min, do_eps_gas_min},
+     HELP_EPSMIN, SET},
     {"gas_profile", NULL, "f<gasprofile", "gas_profile FILE", "the gas density along the height",
      HELP_GAS_PROFILE, do_gas_profile, do_gas_profile},
     {"relax", NULL, "r>=0", "relax TAU", "relaxation time of the solids fraction", HELP_RELAX,
-     do_relax, do_relax},
+     SET},
     {"hindered", NULL, "r>=0", "hindered CHI", "hindered-drag exponent", HELP_HINDERED,
-     do_hindered, do_hindered},
+     SET},
     {"dispersion", NULL, "r>=0", "dispersion D", "turbulent dispersion coefficient",
-     HELP_DISPERSION, do_dispersion, do_dispersion},
+     HELP_DISPERSION, SET},
     {"brownian", NULL, "r>=0", "brownian T", "Brownian diffusion at gas temperature T",
-     HELP_DISPERSION, do_brownian, do_brownian},
+     HELP_DISPERSION, SET},
     {"species", NULL, "@name=s! @density=r>0!", "species name=S density=RHO", "a species", HELP_SPECIES, do_species,
      do_species},
     {"size", NULL, "s e{mono|lognormal|rosin_rammler|loguniform|table} d=r>0 d50=r>0 sigma=r>=1 "
@@ -757,12 +709,12 @@ static const mote_cmd sep_commands[] = {
      check_insert, run_insert_mass},
     {"grid", NULL, "r>=0 r>0 e{pattern|holes} a=r>0 p=r>0 offset=r>=0 a_y=r>0 p_y=r>0 offset_y=r>=0 file=f<holes",
      "grid ZB T pattern|holes [options]", "a perforated plate", HELP_GRID, do_grid, do_grid},
-    {"collisions", NULL, "e{dem|off}", "collisions dem|off", "the collision model", HELP_COLLISIONS,
-     do_collisions, do_collisions},
+    {"collisions", NULL, "e{off|dem}", "collisions dem|off", "the collision model", HELP_COLLISIONS,
+     SET},
     {"restitution", NULL, "r(0,1]", "restitution E", "restitution between particles",
-     HELP_RESTITUTION, do_restitution, do_restitution},
+     HELP_RESTITUTION, SET},
     {"restitution_wall", NULL, "r(0,1]", "restitution_wall E", "restitution at walls",
-     HELP_RESTITUTION, do_restitution_wall, do_restitution_wall},
+     HELP_RESTITUTION, SET},
     {"restitution_pair", NULL, "s s r(0,1]", "restitution_pair A B E",
      "restitution between two species", HELP_RESTITUTION, do_restitution_pair,
      do_restitution_pair},
@@ -770,7 +722,7 @@ static const mote_cmd sep_commands[] = {
      "stiffness [overlap=DF] [vimp=V] [khat=K]", "the contact stiffness",
      HELP_STIFFNESS, do_stiffness, do_stiffness},
     {"neighbours", NULL, "e{cells|brute}", "neighbours cells|brute", "the neighbour search",
-     HELP_NEIGHBOURS, do_neighbours, do_neighbours},
+     HELP_NEIGHBOURS, SET},
     {"timestep", NULL, "r>0{auto} nc=i>=20", "timestep auto|DT [nc=50]", "the time step",
      HELP_TIMESTEP, do_timestep, do_timestep},
     {"classes", NULL, "i[2,1000] min=r>0 max=r>0", "classes K [min=A max=B]",
@@ -886,4 +838,7 @@ const mote_model mote_model_separator = {
     .live = sep_model_live,
     .arrays = sep_model_arrays,
     .set_array = sep_model_set_array,
+    .state = sep_state_fields,
+    .params = sep_params,
+    .nparams = sizeof sep_params / sizeof sep_params[0],
 };

@@ -104,6 +104,9 @@ int sep_plate_rects(const mote_sep_system *s, double **rects, size_t *n);
 int sep_frame_png(const mote_sep_system *s, const char *path, const sep_frame_opts *fo,
                   mote_err *err);
 int sep_write_xyz(const mote_sep_system *s, const char *path, mote_err *err);
+/* state.c: the descriptors of the state's scalar values (offsets in mote_sep_system), for the
+ * parameter commands bound to them */
+const struct mote_sf_field *sep_scalar_fields(size_t *n);
 /* One extended XYZ frame of the system (arg) into f: a mote_frame_writer. */
 int sep_xyz_frame(FILE *f, const void *s, mote_err *err);
 /* One balance row (sep_balance_width numbers): t, then per species and in total the counts

@@ -85,6 +85,12 @@ static const mote_sf_field SEED[] = {
 };
 #define NF(t) (sizeof t / sizeof t[0])
 
+const mote_sf_field *sep_scalar_fields(size_t *n)
+{
+    *n = NF(SCALARS);
+    return SCALARS;
+}
+
 /* The nested tables: a line "KEY N" says how many rows follow; each row is a line of its own
  * descriptors, read into a row structure and checked before it is kept. */
 #define COUNT(KEY, LO, HI) {{.key = KEY, .name = "N", .type = MOTE_SF_U64, .lo = LO, .hi = HI}}
