@@ -207,7 +207,7 @@ expect 1 "cp3.mote:3:1: error: body capacitance: the exact sphere's capacitance 
 printf '%bbody box size=1,1,1\ninjector sphere radius=2\ntest hitprob particles=1e6\ninjector box margin_m=0.5\ntest hitprob\n' "$G" > hp.mote
 "$MOTE" run hp.mote > out.txt 2> err.txt && awk '/^test hitprob/ { n++; s = $NF == "sigma" ? $(NF - 1) : 99; sub("sigma", "", s); if (s * s > 9) bad = 1; w[n] = $(NF - 7) }
      END { exit !(n == 2 && !bad && w[1] == "0.119366" && w[2] == "0.25") }' out.txt && ok || bad "test hitprob: $(grep '^test' out.txt) $(cat err.txt)"
-expect 1 "hp2.mote:2:6: error: test: expected hitprob, found 'speed'" hp2.mote "${G}test speed\n"
+expect 1 "hp2.mote:2:6: error: test: expected 'hitprob', found 'speed'" hp2.mote "${G}test speed\n"
 expect 1 "m7.mote:2:32: error: material define: expected 'universal' or 'sternglass' for see_law, found 'linear'" m7.mote "${G}material define name=x see_law=linear\n"
 expect 1 "m8.mote:2:34: error: material define: expected 'none' or 'sec' for see_angle, found 'cos'" m8.mote "${G}material define name=x see_angle=cos\n"
 expect 1 "m9.mote:2:1: error: material define: see_angle=sec is the universal law's angular form, not Sternglass's" m9.mote "${G}material define name=x see_law=sternglass see_angle=sec\n"

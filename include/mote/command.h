@@ -307,6 +307,12 @@ extern const size_t mote_nmodels;
 const mote_arg *mote_call_opt(const mote_call *c, const char *key);
 /* Its real value, or `dflt` when not given. */
 double mote_call_opt_r(const mote_call *c, const char *key, double dflt);
+/* The word given for an e{a|b|c} option: its index in the spec's words (the script layer has
+ * refused any other word), or `dflt` when the option is not given. Handlers compare it with
+ * named indices, never the option's text. */
+int mote_call_word(const mote_call *c, const char *key, int dflt);
+/* An e{on|off} option: 1 for on, 0 for off, `dflt` when not given. */
+int mote_call_on(const mote_call *c, const char *key, int dflt);
 
 /* Resolve a file name given to a command: relative names are taken relative to ctx->output_dir
  * when one is set. Returns a malloc'ed string (NULL on allocation failure). */

@@ -446,7 +446,8 @@ static int run_injector(void *vm, const mote_call *c, mote_err *err)
     ch_model *m = vm;
     const mote_arg *r = mote_call_opt(c, "radius");
     snprintf(m->radius, sizeof m->radius, "%s", r ? r->text : "auto");
-    m->box = strcmp(c->args[0].text, "box") == 0;
+    enum { INJECT_SPHERE, INJECT_BOX }; /* e{sphere|box} */
+    m->box = c->args[0].i == INJECT_BOX;
     m->margin = mote_call_opt_r(c, "margin", 0.05);
     m->margin_m = mote_call_opt_r(c, "margin_m", 0);
     return MOTE_OK;
@@ -934,7 +935,7 @@ static const mote_cmd ch_commands[] = {
     {"sun", NULL, "@light=e{on|off} direction=v3 intensity=r>=0",
      "sun [on|off] [direction=X,Y,Z] [intensity=1]",
      "light for photoemission (spec 6.8)", HELP_SUN, check_sun, run_sun},
-    {"test", NULL, "s particles=r>=1", "test hitprob [particles=1e6]",
+    {"test", NULL, "e{hitprob} particles=r>=1", "test hitprob [particles=1e6]",
      "the hit-probability self-test (spec 10 M3)", HELP_TEST, ch_check_test, ch_run_test},
     {"integrator", NULL, "eta=r(0,1) max_steps=r>=1", "integrator [eta=0.01] [max_steps=1e5]",
      "the curved paths' step and limit (spec 6.3)", HELP_INTEGRATOR, check_integrator,

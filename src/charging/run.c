@@ -60,9 +60,6 @@ int ch_need_setup(ch_model *m, const mote_call *c, mote_err *err)
 int ch_check_test(void *vm, const mote_call *c, mote_err *err)
 {
     ch_model *m = vm;
-    if (strcmp(c->args[0].text, "hitprob"))
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "test: expected hitprob, found '%s'",
-                              c->args[0].text);
     const mote_arg *n = mote_call_opt(c, "particles");
     if (n && (n->r != floor(n->r) || n->r > 1e15))
         return mote_call_fail(err, c, mote_call_opt_index(c, "particles"), MOTE_EINVAL,
@@ -318,8 +315,8 @@ int ch_run_float(void *vm, const mote_call *c, mote_err *err)
     /* roots=all (spec 6.5): the characteristic on a grid from 0 by 0.1 kT_min/e doubling, both
      * ways, to twice the farthest of U_f, U0 and the OML root; each sign change is a root
      * (interpolated linearly), stable where dI/dU < 0 */
-    const mote_arg *ra = mote_call_opt(c, "roots");
-    if (!rc && ra && !strcmp(ra->text, "all")) {
+    enum { ROOTS_ONE, ROOTS_ALL }; /* roots=e{one|all} */
+    if (!rc && mote_call_word(c, "roots", ROOTS_ONE) == ROOTS_ALL) {
         double kTmin = INFINITY;
         for (int sp = 0; sp < m->plasma.nsp; sp++)
             for (int k = 0; k < m->plasma.sp[sp].ncomp; k++)
@@ -579,8 +576,10 @@ int ch_run_output(void *vm, const mote_call *c, mote_err *err)
     m->png_h = 768;
     if ((a = mote_call_opt(c, "png_size")))
         sscanf(a->text, "%dx%d", &m->png_w, &m->png_h);
-    m->png_log = (a = mote_call_opt(c, "png_scale")) && strcmp(a->text, "log") == 0;
-    m->vtk_binary = (a = mote_call_opt(c, "vtk_format")) && strcmp(a->text, "binary") == 0;
+    enum { SCALE_LINEAR, SCALE_LOG };  /* png_scale=e{linear|log} */
+    enum { VTK_ASCII, VTK_BINARY };    /* vtk_format=e{ascii|binary} */
+    m->png_log = mote_call_word(c, "png_scale", SCALE_LINEAR) == SCALE_LOG;
+    m->vtk_binary = mote_call_word(c, "vtk_format", VTK_ASCII) == VTK_BINARY;
     on_off(c, "timeseries", 1, &m->out_timeseries, err);
     on_off(c, "legacy_stdout", 0, &m->legacy_stdout, err);
     m->png_q = (a = mote_call_opt(c, "png_quantity")) ? parse_quantity(m, a->text, &m->png_sp)

@@ -490,6 +490,18 @@ double mote_call_opt_r(const mote_call *c, const char *key, double dflt)
     return a ? a->r : dflt;
 }
 
+int mote_call_word(const mote_call *c, const char *key, int dflt)
+{
+    const mote_arg *a = mote_call_opt(c, key);
+    return a ? (int)a->i : dflt;
+}
+
+int mote_call_on(const mote_call *c, const char *key, int dflt)
+{
+    const mote_arg *a = mote_call_opt(c, key);
+    return a ? a->i == 0 : dflt; /* (on|off: on is word 0) */
+}
+
 int mote_call_opt_index(const mote_call *c, const char *key)
 {
     for (int k = 0; k < c->nopts; k++)

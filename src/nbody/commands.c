@@ -336,10 +336,7 @@ static int run_constant(void *vm, const mote_call *c, mote_err *err)
 
 static int check_frame(void *vm, const mote_call *c, mote_err *err)
 {
-    if (strcmp(c->args[0].text, "barycentric") != 0)
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "frame: expected 'barycentric', found '%s'",
-                              c->args[0].text);
-    return nb_need_bodies(vm, c, err);
+    return nb_need_bodies(vm, c, err); /* (e{barycentric}: the only frame) */
 }
 static int run_frame(void *vm, const mote_call *c, mote_err *err)
 {
@@ -706,11 +703,12 @@ static int run_integrator(void *vm, const mote_call *c, mote_err *err)
     if (mem) /* store|recompute|auto */
         m->nb.taylor_memory = mem->i == 0 ? 1 : mem->i == 1 ? 2 : 0;
     /* adaptive: a Taylor run without dt=, a Galactica run with tol= */
-    const mote_arg *st = mote_call_opt(c, "step");
+    enum { STEP_FIXED, STEP_ADAPTIVE, STEP_DOUBLING, STEP_NONE }; /* step=e{fixed|adaptive|doubling} */
+    const int st = mote_call_word(c, "step", STEP_NONE);
     m->nb.adaptive = taylor ? mote_call_opt(c, "dt") == NULL
-                            : st ? strcmp(st->text, "adaptive") == 0
-                                 : mote_call_opt(c, "tol") != NULL;
-    m->nb.doubling = !taylor && st && strcmp(st->text, "doubling") == 0;
+                            : st != STEP_NONE ? st == STEP_ADAPTIVE
+                                              : mote_call_opt(c, "tol") != NULL;
+    m->nb.doubling = !taylor && st == STEP_DOUBLING;
     m->nb.dt_max = nb_opt_real_or(c, "dt_max", 0);
     if (!taylor && m->nb.adaptive && mote_call_opt(c, "dt_max") && !mote_call_opt(c, "hmax"))
         m->nb.hmax = m->nb.dt_max; /* dt_max bounds the adaptive step too */
@@ -718,8 +716,8 @@ static int run_integrator(void *vm, const mote_call *c, mote_err *err)
     m->nb.dbl_count = 0;
     m->nb.dbl_sum = 0;
     m->nb.dbl_mean = -1;
-    const mote_arg *norm = mote_call_opt(c, "norm");
-    if (taylor && m->nb.adaptive && norm && strcmp(norm->text, "global") == 0)
+    enum { NORM_NEAREST, NORM_GLOBAL }; /* norm=e{nearest|global} */
+    if (taylor && m->nb.adaptive && mote_call_word(c, "norm", NORM_NEAREST) == NORM_GLOBAL)
         m->nb.adaptive = MOTE_NB_NORM_GLOBAL;
     /* without tol=, the integrator's default: Taylor's (issue 37), Galactica's spec 7.4 one */
     m->nb.tol = nb_opt_real_or(c, "tol", taylor ? MOTE_NB_TAYLOR_TOL : MOTE_REAL_TOL);
@@ -809,7 +807,7 @@ static const mote_cmd nb_commands[] = {
     {"constant", NULL, "G=r>0 e=r>0 e2=r>0 permittivity=r>0",
      "constant [G=X] [e=X] [e2=X] [permittivity=X]", "replace a physical constant",
      HELP_CONSTANT, check_constant, run_constant},
-    {"frame", NULL, "s", "frame barycentric", "shift to the barycentre (centre of mass at rest)",
+    {"frame", NULL, "e{barycentric}", "frame barycentric", "shift to the barycentre (centre of mass at rest)",
      HELP_FRAME, check_frame, run_frame},
     {"generate ring", NULL,
      "nb=i>=2 ka=r>0 e=r[0,1) tilt=r central_mass=r>0 total_mass=r>0 density=r>0 dt=r>0",

@@ -132,6 +132,9 @@ int nb_write_galactica(nb_model *m, const char *path, int info_line, mote_err *e
     return rc;
 }
 
+/* write and read: e{snapshot|galactica}, by their place */
+enum { FILE_SNAPSHOT, FILE_GALACTICA };
+
 int nb_run_write(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
@@ -141,9 +144,8 @@ int nb_run_write(void *vm, const mote_call *c, mote_err *err)
         return mote_fail(err, MOTE_ENOMEM, "write: out of memory");
     const char *path = mote_call_opt(c, "file")->path;
     int rc;
-    if (strcmp(c->args[0].text, "galactica") == 0) {
-        const mote_arg *il = mote_call_opt(c, "info_line");
-        rc = nb_write_galactica(m, path, !il || strcmp(il->text, "off") != 0, err);
+    if (c->args[0].i == FILE_GALACTICA) {
+        rc = nb_write_galactica(m, path, mote_call_on(c, "info_line", 1), err);
     } else {
         rc = nb_snapshot_write(&m->nb, path, origin, err);
     }
@@ -165,7 +167,7 @@ int nb_check_read(void *vm, const mote_call *c, mote_err *err)
     if (!mote_outputs_find(&c->ctx->outputs, f->path)) { /* read it whole now: errors before the run */
         mote_nb t;
         mote_nb_init(&t, m->nb.kind);
-        if (strcmp(c->args[0].text, "galactica") == 0) {
+        if (c->args[0].i == FILE_GALACTICA) {
             nb_galfile g;
             const mote_arg *k2 = mote_call_opt(c, "n");
             rc = nb_galfile_read(f->path, m->nb.kind == MOTE_NB_COULOMB, k2 ? (long)k2->i : -1,
@@ -195,7 +197,7 @@ int nb_run_read(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
     const char *path = mote_call_opt(c, "file")->path;
-    const int gal = strcmp(c->args[0].text, "galactica") == 0;
+    const int gal = c->args[0].i == FILE_GALACTICA;
     int rc;
     if (gal) {
         nb_galfile g;
@@ -241,8 +243,7 @@ int nb_check_steps_between(void *vm, const mote_call *c, mote_err *err)
 int nb_run_steps_between(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
-    const mote_arg *fr = mote_call_opt(c, "fresh");
-    const int fresh = fr && strcmp(fr->text, "on") == 0;
+    const int fresh = mote_call_on(c, "fresh", 0);
     /* the time unit: the run's scales when set, else the sidereal century (Galactica's) */
     const double days = m->nb.u.set ? 1 / (86400 * m->nb.u.kt) : 100 * MOTE_NB_SIDEREAL_YEAR_DAYS;
     mote_nb_steps st;
@@ -265,10 +266,15 @@ int nb_run_steps_between(void *vm, const mote_call *c, mote_err *err)
 
 /* ---- run galactica (spec 7) ------------------------------------------------------------------ */
 
+/* The words of run galactica's options by their place: interaction=e{gravity|coulomb},
+ * trio_layout=e{prose|packed} */
+enum { GRAVITY, COULOMB };
+enum { TRIO_PROSE, TRIO_PACKED };
+
 static int job_coulomb(const nb_model *m, const mote_call *c)
 {
-    const mote_arg *a = mote_call_opt(c, "interaction");
-    return a ? strcmp(a->text, "coulomb") == 0 : m->nb.kind == MOTE_NB_COULOMB;
+    const int k = mote_call_word(c, "interaction", -1);
+    return k >= 0 ? k == COULOMB : m->nb.kind == MOTE_NB_COULOMB;
 }
 
 int nb_check_run(void *vm, const mote_call *c, mote_err *err)
@@ -280,7 +286,7 @@ int nb_check_run(void *vm, const mote_call *c, mote_err *err)
     o.control = a ? a->path : "galacf26.dat";
     o.coulomb = job_coulomb(m, c);
     o.lenient = nb_opt_on_off(c, "lenient", 0) == 1;
-    o.packed = (a = mote_call_opt(c, "trio_layout")) && strcmp(a->text, "packed") == 0;
+    o.packed = mote_call_word(c, "trio_layout", TRIO_PROSE) == TRIO_PACKED;
     long k2 = 0;
     uint32_t n = 1;
     if (!mote_outputs_find(&c->ctx->outputs, o.control)) {
@@ -314,7 +320,7 @@ int nb_run_run(void *vm, const mote_call *c, mote_err *err)
     o.frames = nb_opt_on_off(c, "frames", 0) == 1;
     o.force = nb_opt_on_off(c, "force", 0) == 1;
     o.lenient = nb_opt_on_off(c, "lenient", 0) == 1;
-    o.packed = (a = mote_call_opt(c, "trio_layout")) && strcmp(a->text, "packed") == 0;
+    o.packed = mote_call_word(c, "trio_layout", TRIO_PROSE) == TRIO_PACKED;
     o.step_tol = (a = mote_call_opt(c, "step_tol")) ? a->r : 0;
     o.max_files = (a = mote_call_opt(c, "max_files")) ? (long)a->i : 0;
     o.threads = c->ctx->threads;

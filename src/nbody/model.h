@@ -115,6 +115,8 @@ mote_real nb_opt_real_or(const mote_call *c, const char *key, mote_real dflt);
 int nb_need_bodies(nb_model *m, const mote_call *c, mote_err *err);
 
 /* ---- outputs.c ---- */
+/* The words of format=e{native|galactica} (snapshot, approaches) by their place */
+enum { NB_FORMAT_NATIVE, NB_FORMAT_GALACTICA };
 /* outputs.c: what integrate (run.c) shares with the output commands */
 int nb_sample(nb_model *m, int traj, const mote_nb *nb, mote_err *err);
 int nb_sampler_finish(nb_model *m, nb_sampler *s, int traj, mote_err *err);

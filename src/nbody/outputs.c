@@ -404,11 +404,10 @@ int nb_run_monitor(void *vm, const mote_call *c, mote_err *err)
     return rc ? rc : sampler_begin(m, &m->mon, 0, err);
 }
 
-/* on|off option: 1, 0, or -1 when it is neither (dflt when not given) */
+/* on|off option: 1 or 0 (dflt when not given) */
 int nb_opt_on_off(const mote_call *c, const char *key, int dflt)
 {
-    const mote_arg *a = mote_call_opt(c, key);
-    return !a ? dflt : strcmp(a->text, "on") == 0 ? 1 : strcmp(a->text, "off") == 0 ? 0 : -1;
+    return mote_call_on(c, key, dflt);
 }
 
 /* A list of bodies LIST (names or numbers, comma-separated) into sel (0-based; NULL: only
@@ -552,8 +551,7 @@ int nb_run_approaches(void *vm, const mote_call *c, mote_err *err)
     nb_approach_free(&m->appr.a);
     nb_approach_init(&m->appr.a, b, nb_opt_on_off(c, "refine", 0) == 1, err);
     m->appr.every = (uint64_t)mote_call_opt(c, "every")->i;
-    const mote_arg *f = mote_call_opt(c, "format");
-    m->appr.galactica = f && strcmp(f->text, "galactica") == 0;
+    m->appr.galactica = mote_call_word(c, "format", NB_FORMAT_NATIVE) == NB_FORMAT_GALACTICA;
     free(m->appr.path);
     free(m->appr.origin);
     m->appr.path = strdup(mote_call_opt(c, "file")->path);
@@ -670,26 +668,27 @@ int nb_check_snapshot(void *vm, const mote_call *c, mote_err *err)
         return mote_call_fail(err, c, mote_call_opt_index(c, "prefix"), MOTE_EINVAL,
                               "snapshot: prefix= is for every=K or dt=T (file= names the one "
                               "file)");
-    const mote_arg *p = mote_call_opt(c, "prefix"), *f = mote_call_opt(c, "format");
+    const mote_arg *p = mote_call_opt(c, "prefix");
     rc = nb_need_bodies(vm, c, err);
     if (!rc)
         rc = nb_check_time_unit(vm, c, err);
     if (!rc && (every || dt)) /* (every=K: numbered by step, dt=T: in order) */
         rc = mote_outputs_note_series(&c->ctx->outputs, c, mote_call_opt_index(c, "prefix"),
                                       p ? p->path : "snapshot_",
-                                      f && strcmp(f->text, "galactica") == 0 ? ".dat" : ".snap",
+                                      mote_call_word(c, "format", NB_FORMAT_NATIVE) ==
+                                              NB_FORMAT_GALACTICA ? ".dat" : ".snap",
                                       "snapshots", every ? MOTE_SERIES_BY_STEP : 0, err);
     return rc;
 }
 int nb_run_snapshot(void *vm, const mote_call *c, mote_err *err)
 {
     nb_model *m = vm;
-    const mote_arg *file = mote_call_opt(c, "file"), *f = mote_call_opt(c, "format");
+    const mote_arg *file = mote_call_opt(c, "file");
     if (file) { /* one now, as `write snapshot` (or `write galactica`) writes it */
         nb_settle_units(m);
         char *origin = mote_call_origin(c);
         int rc = !origin ? mote_fail(err, MOTE_ENOMEM, "snapshot: out of memory")
-                 : f && strcmp(f->text, "galactica") == 0
+                 : mote_call_word(c, "format", NB_FORMAT_NATIVE) == NB_FORMAT_GALACTICA
                      ? nb_write_galactica(m, file->path, 1, err)
                      : nb_snapshot_write(&m->nb, file->path, origin, err);
         free(origin);
@@ -715,7 +714,7 @@ int nb_run_snapshot(void *vm, const mote_call *c, mote_err *err)
     m->snap.dt = nb_opt_real_or(c, "dt", 0) * scale;
     m->snap.every = m->snap.dt > 0 ? 0 : (uint64_t)mote_call_opt(c, "every")->i;
     m->snap.at = (mote_schedule){(double)m->nb.T, m->snap.dt, 1};
-    m->snap.galactica = f && strcmp(f->text, "galactica") == 0;
+    m->snap.galactica = mote_call_word(c, "format", NB_FORMAT_NATIVE) == NB_FORMAT_GALACTICA;
     return MOTE_OK;
 }
 
