@@ -8,17 +8,16 @@
 
 int mote_nb_integrate(mote_nb *nb, uint64_t max_steps, mote_real t_end, mote_err *err)
 {
-    const int taylor = nb->integrator == MOTE_NB_TAYLOR, wh = nb->integrator == MOTE_NB_WH;
-    int rc = wh ? nb_wh_check(nb, err) : taylor ? nb_taylor_check(nb, err)
-                                                : nb_galactica_check(nb, err);
+    const nb_integrator *in = nb_integrator_of(nb->integrator);
+    int rc = in->check(nb, err);
     if (!rc)
         rc = mote_nb_prepare(nb, err);
     nb_mpi_layout(nb);
     if (!rc && nb->tree_on && nb->mpi_size > 1)
         rc = mote_fail(err, MOTE_EINVAL, "forces tree and MPI ranks do not go together in this "
                                          "version (spec 6.3): use forces direct, or one rank");
-    if (!rc) /* the tree's room: the Galactica scheme's four blocks, or every Taylor order */
-        rc = nb_tree_check(nb, taylor ? nb->taylor_order + 1 : 4, err);
+    if (!rc)
+        rc = nb_tree_check(nb, in->tree_blocks(nb), err);
     if (rc)
         return rc;
     nb->tree_used |= nb->tree_on;
@@ -27,8 +26,8 @@ int mote_nb_integrate(mote_nb *nb, uint64_t max_steps, mote_real t_end, mote_err
     if (!nb->ref_set)
         mote_nb_set_reference(nb);
     const int merge = nb_merging_on(nb);
-    if (wh) { /* one synchronised run of the map; merges and bounds checked where it ends */
-        rc = nb_wh_integrate(nb, max_steps, t_end, err);
+    if (in->run) { /* one synchronised run; merges and bounds checked where it ends */
+        rc = in->run(nb, max_steps, t_end, err);
         if (!rc && nb_state_bounded(nb, NULL)) {
             mote_err why = {0};
             nb_state_bounded(nb, &why);
@@ -43,7 +42,7 @@ int mote_nb_integrate(mote_nb *nb, uint64_t max_steps, mote_real t_end, mote_err
         mote_real rest = t_end < INFINITY ? t_end - nb->T : INFINITY;
         if (!(rest > 0))
             break;
-        mote_real h = taylor ? nb_taylor_step(nb, rest) : nb_galactica_step(nb, rest);
+        mote_real h = in->step(nb, rest);
         nb->hlast = h;
         if (!isfinite((double)h) || nb_state_bounded(nb, NULL)) {
             mote_err why = {0};

@@ -99,6 +99,26 @@ void nb_write_units(FILE *f, const mote_nb *nb);
 int nb_snapshot_write(const mote_nb *nb, const char *path, const char *origin, mote_err *err);
 int nb_snapshot_read(mote_nb *nb, const char *path, mote_err *err);
 
+/* An integrator as a plug-in (integrators.c): its name (as snapshot files write it), its check
+ * (the settings, and the scratch sized), and how it advances: `step`, one step of at most `rest`
+ * (returns the step taken), or `run`, a synchronised run of at most max_steps steps ending at
+ * t_end exactly (the Wisdom-Holman map: merges and bounds are looked at where it ends); the
+ * blocks its force tree needs; dense: the state at any time inside the step just taken
+ * (mote_nb_taylor_dense); synchronised: its steps leave the state between its own stops in
+ * another form (an output by time makes it stop there); order_max: the highest order= (0:
+ * none). */
+typedef struct nb_integrator {
+    const char *name;
+    int (*check)(mote_nb *nb, mote_err *err);
+    mote_real (*step)(mote_nb *nb, mote_real rest);
+    int (*run)(mote_nb *nb, uint64_t max_steps, mote_real t_end, mote_err *err);
+    int (*tree_blocks)(const mote_nb *nb);
+    int dense, synchronised, order_max;
+} nb_integrator;
+/* By its number (MOTE_NB_GALACTICA, MOTE_NB_TAYLOR, MOTE_NB_WH); its number by name, -1 none. */
+const nb_integrator *nb_integrator_of(int id);
+int nb_integrator_named(const char *name);
+
 /* The integrators' parts (galactica.c, taylor.c): the settings checked (and scratch sized),
  * and one step of at most `rest` (returns the step taken). */
 int nb_galactica_check(const mote_nb *nb, mote_err *err);

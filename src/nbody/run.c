@@ -42,7 +42,8 @@ typedef struct {
 static const mote_nb *bodies_at(nb_model *m, const nb_step *st, mote_real ts, mote_nb *view)
 {
     mote_nb *nb = &m->nb;
-    if (st && nb->integrator == MOTE_NB_TAYLOR && ts < nb->T && ts > st->Tb && !st->merged) {
+    if (st && nb_integrator_of(nb->integrator)->dense && ts < nb->T && ts > st->Tb &&
+        !st->merged) {
         *view = *nb;
         view->x = st->xv;
         view->v = st->xv + 3 * (size_t)nb->n;
@@ -177,7 +178,8 @@ static double nb_at(void *vs, double t)
 {
     nb_step *st = vs;
     st->t = t;
-    return st->m->nb.integrator == MOTE_NB_TAYLOR && !st->merged ? t : (double)st->m->nb.T;
+    return nb_integrator_of(st->m->nb.integrator)->dense && !st->merged ? t
+                                                                        : (double)st->m->nb.T;
 }
 
 static int nb_advance(void *vs, mote_loop *l, double t_stop, uint64_t n_stop, mote_err *err)
@@ -187,7 +189,7 @@ static int nb_advance(void *vs, mote_loop *l, double t_stop, uint64_t n_stop, mo
     uint64_t chunk = n_stop - m->nb.steps;
     if (m->appr.every)
         chunk = 1;
-    else if (st->by_time && m->nb.integrator == MOTE_NB_WH) {
+    else if (st->by_time && nb_integrator_of(m->nb.integrator)->synchronised) {
         /* the map's steps up to the one that reaches the next sample (each stop synchronises
          * it) */
         const double next = mote_loop_next(l);

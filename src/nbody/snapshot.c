@@ -204,11 +204,7 @@ static int head_other(rd *r, snap_head *h, const char *key, const char *val, con
         else if (strcmp(val, "nearest") != 0)
             return bad(r, "expected nearest or global after '# ", "norm");
     } else if (strcmp(key, "integrator") == 0) {
-        if (strcmp(val, "taylor") == 0)
-            h->integ = MOTE_NB_TAYLOR;
-        else if (strcmp(val, "wh") == 0)
-            h->integ = MOTE_NB_WH;
-        else if (strcmp(val, "galactica") != 0)
+        if ((h->integ = nb_integrator_named(val)) < 0)
             return bad(r, "expected galactica, taylor or wh after '# ", "integrator");
     } else if (strcmp(key, "softening") == 0) {
         if (real_of(val, &x) || !(x >= 0))
@@ -325,10 +321,11 @@ static int snap_complete(rd *r, const snap_head *h, uint32_t rows)
         return mote_fail(err, MOTE_EFORMAT, "%s: h_prev must be >= 0", path);
     if (h->have[K_FIRST] && !(h->v[K_FIRST] > 0 && h->v[K_FIRST] <= 1))
         return mote_fail(err, MOTE_EFORMAT, "%s: first_step must be in (0, 1]", path);
-    const int lo = 2, hi = h->integ == MOTE_NB_TAYLOR ? MOTE_NB_TAYLOR_MAX : 6;
+    const nb_integrator *in = nb_integrator_of(h->integ);
+    const int lo = 2, hi = in->order_max ? in->order_max : 6;
     if (h->order >= 0 && (h->order < lo || h->order > hi))
         return mote_fail(err, MOTE_EFORMAT, "%s: order must be %d to %d for the %s integrator",
-                         path, lo, hi, h->integ == MOTE_NB_TAYLOR ? "taylor" : "galactica");
+                         path, lo, hi, in->name);
     return MOTE_OK;
 }
 
