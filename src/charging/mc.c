@@ -369,79 +369,571 @@ static void patch_photo(mote_ch_result *r, const mote_ch_run_opts *o, int pp, do
         r->patch_I[(size_t)pp * (size_t)o->ndv + (size_t)g] += I0 * mote_ch_escape(U_s + o->dv[g], kT_ph);
 }
 
-static int mc_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tracer *t,
-                  const mote_ch_run_opts *o, mote_ch_result *r, mote_err *err)
+/* ---- the run, in parts -------------------------------------------------------------------- */
+
+/* The box injector (spec 5.2): the body's bounding box grown by the margin, its faces' areas
+ * cumulated (fcum[6] the whole). */
+static int box_injector(const mote_ch_body *b, const mote_ch_run_opts *o, double blo[3],
+                        double bhi[3], double fcum[7], mote_err *err)
 {
-    memset(r, 0, sizeof *r);
-    if (p->nsp == 0)
-        return mote_fail(err, MOTE_EINVAL, "run: the plasma has no species (plasma preset ...)");
-    if (o->particles == 0)
-        return mote_fail(err, MOTE_EINVAL, "run: particles must be >= 1");
-    mote_ch_geometry g;
-    mote_ch_body_geometry(b, &g);
-    const double R = o->r_gen;
-    /* the box injector: its faces (lo/hi along each axis) and their areas */
-    double blo[3], bhi[3], farea[6], fcum[7] = {0};
-    if (o->box) {
-        if (o->field && o->potential != 0)
-            return mote_fail(err, MOTE_EINVAL, "run: the box injector is for straight paths: a "
-                             "particle leaving a box in a central field can come back (spec 5.2)");
+    if (o->field && o->potential != 0)
+        return mote_fail(err, MOTE_EINVAL, "run: the box injector is for straight paths: a "
+                         "particle leaving a box in a central field can come back (spec 5.2)");
+    for (int a = 0; a < 3; a++) {
+        blo[a] = INFINITY;
+        bhi[a] = -INFINITY;
+    }
+    if (b->sphere)
         for (int a = 0; a < 3; a++) {
-            blo[a] = INFINITY;
-            bhi[a] = -INFINITY;
+            blo[a] = b->sphere_c[a] - b->sphere_r;
+            bhi[a] = b->sphere_c[a] + b->sphere_r;
         }
-        if (b->sphere)
+    for (uint32_t i = 0; i < (b->sphere ? 0 : b->ntri); i++)
+        for (int j = 0; j < 3; j++)
             for (int a = 0; a < 3; a++) {
-                blo[a] = b->sphere_c[a] - b->sphere_r;
-                bhi[a] = b->sphere_c[a] + b->sphere_r;
+                blo[a] = fmin(blo[a], b->v[i][j][a]);
+                bhi[a] = fmax(bhi[a], b->v[i][j][a]);
             }
-        for (uint32_t i = 0; i < (b->sphere ? 0 : b->ntri); i++)
-            for (int j = 0; j < 3; j++)
-                for (int a = 0; a < 3; a++) {
-                    blo[a] = fmin(blo[a], b->v[i][j][a]);
-                    bhi[a] = fmax(bhi[a], b->v[i][j][a]);
-                }
-        double diag = 0;
-        for (int a = 0; a < 3; a++)
-            diag += (bhi[a] - blo[a]) * (bhi[a] - blo[a]);
-        const double pad = o->margin_m > 0 ? o->margin_m : o->margin * sqrt(diag);
-        if (!(pad > 0))
-            return mote_fail(err, MOTE_EINVAL, "run: the box injector needs a margin > 0");
-        for (int a = 0; a < 3; a++) {
-            blo[a] -= pad;
-            bhi[a] += pad;
+    double diag = 0;
+    for (int a = 0; a < 3; a++)
+        diag += (bhi[a] - blo[a]) * (bhi[a] - blo[a]);
+    const double pad = o->margin_m > 0 ? o->margin_m : o->margin * sqrt(diag);
+    if (!(pad > 0))
+        return mote_fail(err, MOTE_EINVAL, "run: the box injector needs a margin > 0");
+    for (int a = 0; a < 3; a++) {
+        blo[a] -= pad;
+        bhi[a] += pad;
+    }
+    fcum[0] = 0;
+    for (int f = 0; f < 6; f++) {
+        const int ax = f / 2, u = (ax + 1) % 3, w = (ax + 2) % 3;
+        fcum[f + 1] = fcum[f] + (bhi[u] - blo[u]) * (bhi[w] - blo[w]);
+    }
+    return MOTE_OK;
+}
+
+/* What a history needs: the run's constants and its component's. */
+typedef struct {
+    const mote_ch_body *b;
+    const mote_ch_tracer *t;
+    const mote_ch_run_opts *o;
+    const mote_ch_species *sp;
+    int k;
+    uint32_t comp, key[2];
+    double R, centre[3], blo[3], bhi[3], fcum[7];
+    int field, curved, box, drift, see, patchy;
+    double chi, sigma, fmax_d, dq, ra2, phi_g, vscale, U_s, tmin, miss_below;
+    ch_path pk;    /* the component's charge to mass */
+    size_t nsee, pw;
+} mc_comp;
+
+/* A thread's tallies in a block: the hits logged (tallied when the block ends), the scores of
+ * the emission and the patches (fixed point), the counts. */
+typedef struct {
+    size_t *hitlog, nlog;
+    ch_i128 *msee, *mpat;
+    uint64_t hits, back, lost, steps;
+    double eerr;
+} mc_tally;
+
+/* The emission (spec 6.7) and the patches (6.10) of a hit of energy e (eV) at |cos| c. */
+static void score(const mc_comp *x, mc_tally *y, long tri, int side, double e, double c)
+{
+    const mote_ch_run_opts *o = x->o;
+    if (x->see) {
+        const mote_ch_material *mat = o->tri_material[tri];
+        const double esc = mote_ch_escape(x->U_s, mat->kT_s);
+        double sc = (x->sp->Z < 0 ? mote_ch_see_yield(mat, e / 1000, c)
+                                  : mote_ch_ion_yield(mat, e / 1000)) *
+                    esc;
+        if (o->backscatter && x->sp->Z < 0 && mat->Z > 0)
+            sc += mote_ch_backscatter_yield(mat, e / 1000, c) *
+                  mote_ch_backscatter_escape(x->U_s, e);
+        const ch_i128 q = (ch_i128)llround(sc * FIX);
+        y->msee[2 * (size_t)tri + (size_t)side] += q;
+        y->msee[x->nsee - 2] += q;
+        y->msee[x->nsee - 1] += (ch_i128)llround(sc * sc * FIX);
+    }
+    if (x->patchy && o->tri_patch[tri] >= 0)
+        patch_score(y->mpat + (size_t)o->tri_patch[tri] * x->pw, o, x->sp->Z,
+                    x->see ? o->tri_material[tri] : NULL, x->U_s, e, c);
+}
+
+/* A straight path's hit scored: its energy drawn from the flux's kinetic energy law, Gamma(2,
+ * kT) (eV), and its angle. */
+static void straight_score(const mc_comp *x, mc_tally *y, uint64_t h, long tri, int side,
+                           const double org[3], const double dir[3], double dist)
+{
+    double e[4];
+    ch_uniforms4(x->key, h, x->comp, 7, e);
+    score(x, y, tri, side, -x->sp->kT[x->k] * log(e[0] * e[1]),
+          hit_cos(x->b, tri, org, dir, dist));
+}
+
+/* A straight path's hit: counted, logged, scored (the energy and the angle only when they are
+ * used). */
+static void straight_hit(const mc_comp *x, mc_tally *y, uint64_t h, long tri, int side,
+                         const double org[3], const double dir[3], double dist)
+{
+    y->hits++;
+    if (side && (x->b->sphere || x->b->closed[tri]))
+        y->back++;
+    y->hitlog[y->nlog++] = 2 * (size_t)tri + (size_t)side;
+    if (x->see || x->patchy)
+        straight_score(x, y, h, tri, side, org, dir, dist);
+}
+
+/* Straight from the sphere: the direction's cos^2(theta) is uniform (the cosine law), and a path
+ * with cos^2 < 1 - (R_bound / R)^2 passes the body's bounding sphere; that test comes first,
+ * from its own cheap draw, and only paths that may hit draw the rest, gathered TB at a time so
+ * that their draws, and then their traces, follow one another (each history's result is its
+ * own: the same tallies in any grouping). */
+static void block_straight(const mc_comp *x, mc_tally *y, uint64_t h0, uint64_t h1)
+{
+    /* (the constants and the counts in locals: the loop is the run's hottest) */
+    const uint32_t comp = x->comp;
+    const double miss_below = x->miss_below, R = x->R, tmin = x->tmin;
+    const double c0 = x->centre[0], c1 = x->centre[1], c2c = x->centre[2];
+    const mote_ch_body *b = x->b;
+    const int scored = x->see || x->patchy;
+    size_t *hitlog = y->hitlog, nlog = y->nlog;
+    uint64_t hits = 0, back = 0;
+    while (h0 < h1) {
+        enum { TB = CH_TRACE_MANY };
+        uint64_t th[TB];
+        double tc2[TB], org[TB][3], dir[TB][3], tdist[TB];
+        long ttri[TB];
+        int tside[TB];
+        int nb = 0;
+        for (; h0 < h1 && nb < TB; h0++) {
+            const double c2 = ch_uniform_cheap(x->key, h0, comp);
+            if (c2 >= miss_below) {
+                th[nb] = h0;
+                tc2[nb++] = c2;
+            }
         }
-        for (int f = 0; f < 6; f++) {
-            const int ax = f / 2, u = (ax + 1) % 3, w = (ax + 2) % 3;
-            farea[f] = (bhi[u] - blo[u]) * (bhi[w] - blo[w]);
-            fcum[f + 1] = fcum[f] + farea[f];
+        for (int j = 0; j < nb; j++) {
+            double u[4], nrm[3];
+            ch_uniforms4(x->key, th[j], comp, 0, u);
+            u[2] = tc2[j];
+            ch_inject_dir(u, nrm, dir[j]);
+            org[j][0] = c0 + R * nrm[0];
+            org[j][1] = c1 + R * nrm[1];
+            org[j][2] = c2c + R * nrm[2];
+        }
+        ch_trace_many(x->t, nb, (const double(*)[3])org, (const double(*)[3])dir, tmin, ttri,
+                      tside, tdist);
+        for (int j = 0; j < nb; j++) {
+            const long tri = ttri[j];
+            if (tri < 0)
+                continue;
+            const int side = tside[j];
+            hits++;
+            if (side && (b->sphere || b->closed[tri]))
+                back++;
+            hitlog[nlog++] = 2 * (size_t)tri + (size_t)side;
+            if (scored) {
+                y->nlog = nlog;
+                straight_score(x, y, th[j], tri, side, org[j], dir[j], tdist[j]);
+            }
         }
     }
-    if (!o->box && !(R > g.r_bound))
-        return mote_fail(err, MOTE_EINVAL, "run: the injection radius %.6g m must exceed the "
-                         "body's bounding radius %.6g m", R, g.r_bound);
-    const int field = o->field && o->potential != 0;
-    /* a charged mesh: curved paths (spec 6.3) */
-    const int curved = field && !b->sphere;
-    if (curved && !(o->eta >= 0 && o->eta < 1))
-        return mote_fail(err, MOTE_EINVAL, "run: eta must be in (0, 1), found %g", o->eta);
-    const uint32_t ntri = b->sphere ? 1 : b->ntri;
-    /* the field (spec 6.1, 6.2): the equivalent sphere's radius, the potential on the
-     * generation sphere */
-    const double a_f = b->sphere ? b->sphere_r : g.r_field, phi_g = field ? o->potential * a_f / R : 0;
-    if (curved && !(R > a_f))
-        return mote_fail(err, MOTE_EINVAL, "run: the injection radius %.6g m must exceed the "
-                         "field radius R_f = C/(4 pi eps0) = %.6g m", R, a_f);
+    y->nlog = nlog;
+    y->hits += hits;
+    y->back += back;
+}
+
+/* In the body's field (spec 6.2, 6.3): the kinetic energy at injection, then the path followed
+ * to a mesh, or the OML test of the exact sphere. */
+static void history_field(const mc_comp *x, mc_tally *y, uint64_t h, const double u[4])
+{
+    const mote_ch_species *sp = x->sp;
+    double e[4];
+    ch_uniforms4(x->key, h, x->comp, 1, e);
+    const double K = ch_inject_energy(e, x->chi); /* K / kT */
+    if (x->curved) { /* a mesh: follow the path (spec 6.3) */
+        double nrm[3], dir[3], r0[3], v0[3];
+        ch_inject_dir(u, nrm, dir);
+        const double speed = x->vscale * sqrt(K);
+        for (int a = 0; a < 3; a++) {
+            r0[a] = x->R * nrm[a];
+            v0[a] = speed * dir[a];
+        }
+        ch_hit hit;
+        ch_path_follow(&x->pk, r0, v0, &hit);
+        y->steps += (uint64_t)hit.steps;
+        y->eerr = fmax(y->eerr, hit.eerr);
+        if (hit.tri == -2)
+            y->lost++;
+        if (hit.tri < 0)
+            return;
+        y->hits++;
+        if (hit.side && x->b->closed[hit.tri])
+            y->back++;
+        y->hitlog[y->nlog++] = 2 * (size_t)hit.tri + (size_t)hit.side;
+        if (x->see || x->patchy)
+            score(x, y, hit.tri, hit.side, 0.5 * sp->m * hit.v2 / MOTE_CH_E,
+                  fabs(dot3(hit.dir, x->b->nrm[hit.tri])));
+        return;
+    }
+    /* sin^2(theta) = 1 - u2 by the cosine law */
+    if (K + x->dq >= K * (1 - u[2]) * x->ra2) {
+        y->hits++;
+        y->hitlog[y->nlog++] = 0;
+        /* the impact angle: L kept, sin^2 = K sin0^2 (R/a)^2 / (K + dq) */
+        const double s2 = K + x->dq > 0 ? K * (1 - u[2]) * x->ra2 / (K + x->dq) : 0;
+        if (x->see || x->patchy)
+            score(x, y, 0, 0, sp->kT[x->k] * K + sp->Z * (x->phi_g - x->o->potential),
+                  sqrt(fmax(0, 1 - s2)));
+    }
+}
+
+/* From the box injector: a face by area, a point on it, the cosine law. */
+static void history_box(const mc_comp *x, mc_tally *y, uint64_t h, const double u[4])
+{
+    double e[4];
+    ch_uniforms4(x->key, h, x->comp, 1, e);
+    const double *fcum = x->fcum, *blo = x->blo, *bhi = x->bhi;
+    int f = 0;
+    while (f < 5 && u[0] * fcum[6] >= fcum[f + 1])
+        f++;
+    const int ax = f / 2, ua = (ax + 1) % 3, wa = (ax + 2) % 3;
+    const double inward = f % 2 ? -1 : 1; /* lo face: +axis is inward */
+    double org[3], dir[3];
+    org[ax] = f % 2 ? bhi[ax] : blo[ax];
+    org[ua] = blo[ua] + u[1] * (bhi[ua] - blo[ua]);
+    org[wa] = blo[wa] + e[0] * (bhi[wa] - blo[wa]);
+    const double ct = sqrt(u[2]), st = sqrt(fmax(0, 1 - u[2]));
+    const double ps = 2 * MOTE_CH_PI * u[3];
+    dir[ax] = inward * ct;
+    dir[ua] = st * cos(ps);
+    dir[wa] = st * sin(ps);
+    int side;
+    double dist;
+    const long tri = mote_ch_trace(x->t, org, dir, x->tmin, &side, &dist);
+    if (tri >= 0)
+        straight_hit(x, y, h, tri, side, org, dir, dist);
+}
+
+/* A drifting plasma (spec 5.4): points by rejection on the local flux, then the velocity. */
+static void history_drift(const mc_comp *x, mc_tally *y, uint64_t h)
+{
+    const mote_ch_species *sp = x->sp;
+    const double sigma = x->sigma;
+    double nrm[3], un = 0;
+    uint32_t draw = 1;
+    for (;; draw++) {
+        double e[4];
+        ch_uniforms4(x->key, h, x->comp, draw, e);
+        const double z = 2 * e[0] - 1, rho = sqrt(fmax(0, 1 - z * z));
+        const double ph = 2 * MOTE_CH_PI * e[1];
+        nrm[0] = rho * cos(ph);
+        nrm[1] = rho * sin(ph);
+        nrm[2] = z;
+        un = -(sp->drift[0] * nrm[0] + sp->drift[1] * nrm[1] +
+               sp->drift[2] * nrm[2]); /* along the inward normal */
+        const double fl = sigma * phi_n(un / sigma) + un * Phi_n(un / sigma);
+        if (e[2] * x->fmax_d <= fl || draw > 1000)
+            break;
+    }
+    /* the velocity: normal part from w N(w; un, sigma), tangential ones N(u_t, sigma) */
+    double e1[3], e2[3];
+    perp_basis(nrm, e1, e2);
+    double e[4];
+    ch_uniforms4(x->key, h, x->comp, draw + 1, e);
+    const double w = drift_normal_speed(un, sigma, e[0]);
+    double ut1 = 0, ut2 = 0;
+    for (int a = 0; a < 3; a++) {
+        ut1 += sp->drift[a] * e1[a];
+        ut2 += sp->drift[a] * e2[a];
+    }
+    /* two normals by Box and Muller */
+    const double rr = sigma * sqrt(-2 * log(e[1]));
+    const double v1 = ut1 + rr * cos(2 * MOTE_CH_PI * e[2]);
+    const double v2 = ut2 + rr * sin(2 * MOTE_CH_PI * e[2]);
+    double org[3], dir[3], len = 0;
+    for (int a = 0; a < 3; a++) {
+        org[a] = x->centre[a] + x->R * nrm[a];
+        dir[a] = -w * nrm[a] + v1 * e1[a] + v2 * e2[a];
+        len += dir[a] * dir[a];
+    }
+    len = sqrt(len);
+    for (int a = 0; a < 3; a++)
+        dir[a] /= len;
+    int side;
+    double dist;
+    const long tri = mote_ch_trace(x->t, org, dir, x->tmin, &side, &dist);
+    if (tri < 0)
+        return;
+    y->hits++;
+    if (side && (x->b->sphere || x->b->closed[tri]))
+        y->back++;
+    y->hitlog[y->nlog++] = 2 * (size_t)tri + (size_t)side;
+    if (x->see || x->patchy)
+        score(x, y, tri, side, 0.5 * sp->m * len * len / MOTE_CH_E,
+              hit_cos(x->b, tri, org, dir, dist));
+}
+
+/* The histories h0 .. h1 - 1 of a block. */
+static void run_block(const mc_comp *x, mc_tally *y, uint64_t h0, uint64_t h1)
+{
+    if (!x->field && !x->box && !x->drift) {
+        block_straight(x, y, h0, h1);
+        return;
+    }
+    if (x->drift) { /* (its own draws: none at draw 0) */
+        for (uint64_t h = h0; h < h1; h++)
+            history_drift(x, y, h);
+        return;
+    }
+    for (uint64_t h = h0; h < h1; h++) {
+        double u[4];
+        ch_uniforms4(x->key, h, x->comp, 0, u);
+        if (x->field)
+            history_field(x, y, h, u);
+        else
+            history_box(x, y, h, u);
+    }
+}
+
+/* The run's shared state: its constants, the progress and the stop. */
+typedef struct {
+    const mote_ch_plasma *p;
+    const mote_ch_body *b;
+    const mote_ch_run_opts *o;
+    mote_ch_result *r;
+    mc_comp base;          /* the run's part of every component's constants */
+    ch_path path;
+    double a_f, gamma_area;
+    uint32_t ntri;
+    int nt, mrank, msize;
+    size_t npw;
+    mote_loop *loop;
+    int asks;              /* the progress or the interrupt want to hear of blocks done */
+    int stop;              /* the context's interrupt hook asked to stop (Python's Ctrl-C) */
+    uint64_t blocks_done;
+} mc_run_state;
+
+/* Component k of species s (comp-th of the run): its histories, in blocks over the threads and
+ * the ranks, tallied into r. */
+static int run_component(mc_run_state *st, int s, int k, int comp, mote_err *err)
+{
+    const mote_ch_run_opts *o = st->o;
+    mote_ch_result *r = st->r;
+    const mote_ch_species *sp = &st->p->sp[s];
+    const uint32_t ntri = st->ntri;
+    const int nt = st->nt, field = st->base.field;
+    mc_comp x = st->base;
+    x.sp = sp;
+    x.k = k;
+    x.comp = (uint32_t)comp;
+    /* chi = q phi_g / kT; the inward rate times g(chi) (spec 6.2, Liouville) */
+    x.chi = sp->Z * x.phi_g / sp->kT[k];
+    x.sigma = sqrt(sp->kT[k] * MOTE_CH_E / sp->m);
+    const double ud = sqrt(sp->drift[0] * sp->drift[0] + sp->drift[1] * sp->drift[1] +
+                           sp->drift[2] * sp->drift[2]);
+    x.drift = ud > 0 && !field && !o->box;
+    const double gamma = st->gamma_area * sp->n[k] *
+                         (x.drift ? mean_flux(ud, x.sigma)
+                                  : sqrt(sp->kT[k] * MOTE_CH_E / (2 * MOTE_CH_PI * sp->m))) *
+                         (x.chi >= 0 ? exp(-x.chi) : 1 - x.chi);
+    x.fmax_d = x.drift ? x.sigma * phi_n(ud / x.sigma) + ud * Phi_n(ud / x.sigma) : 0;
+    /* the OML test (spec 6.3) in units of kT: hit when K + q phi_g - q U >= K sin^2 (R/a)^2, K
+     * the kinetic energy at injection */
+    x.dq = field ? sp->Z * (x.phi_g - o->potential) / sp->kT[k] : 0;
+    x.ra2 = field ? (x.R / st->a_f) * (x.R / st->a_f) : 0;
+    r->weight[s][k] = sp->Z * MOTE_CH_E * gamma / (double)o->particles;
+    const uint64_t nblocks = (o->particles + BLOCK - 1) / BLOCK;
+    /* this MPI rank's blocks: rank, rank + size, ... */
+    const uint64_t mrank = (uint64_t)st->mrank, msize = (uint64_t)st->msize;
+    const uint64_t nmine = nblocks > mrank ? (nblocks - mrank + msize - 1) / msize : 0;
+    uint64_t hits = 0, back = 0, lost = 0, steps = 0;
+    double eerr = 0;
+    x.pk = st->path;
+    x.pk.k = sp->Z * MOTE_CH_E * o->potential * st->a_f / sp->m;
+    x.vscale = sqrt(2 * sp->kT[k] * MOTE_CH_E / sp->m); /* K = 1 kT */
+    /* secondary emission by electron impacts (spec 6.7): each hit scores the expected yield
+     * times the escape fraction; sums per block, added in block order (the same bits on any
+     * number of threads); ions: when some material has ion-impact parameters */
+    x.see = o->tri_material && sp->Z < 0;
+    for (uint32_t i = 0; o->tri_material && sp->Z > 0 && !x.see && i < ntri; i++)
+        x.see = o->tri_material[i]->ion_dmax > 0;
+    x.U_s = field ? o->potential : 0;
+    /* scores in fixed point (2^-40) with 128-bit integers: sums that do not depend on the order
+     * of addition (spec 5.6); per thread, per triangle and side, then the total and the sum of
+     * squares */
+    x.nsee = (size_t)ntri * 2 + 2;
+    const size_t nsee = x.nsee, npw = st->npw;
+    ch_i128 *psee = x.see ? calloc((size_t)nt * nsee, sizeof *psee) : NULL;
+    ch_i128 *ppat = x.patchy ? calloc((size_t)nt * npw, sizeof *ppat) : NULL;
+    uint64_t *tally = r->tri_hits + (size_t)comp * ntri * 2;
+    /* each thread tallies into its own copy; integer sums merge exactly */
+    uint64_t *priv = nt > 1 ? calloc((size_t)nt * ntri * 2, sizeof *priv) : NULL;
+    if (x.see && !r->tri_see)
+        r->tri_see = calloc((size_t)r->ncomp * ntri * 2, sizeof *r->tri_see);
+    if ((x.see && (!psee || !r->tri_see)) || (x.patchy && !ppat) || (nt > 1 && !priv)) {
+        free(priv);
+        free(ppat);
+        free(psee);
+        return mote_fail(err, MOTE_ENOMEM, "run: out of memory for %d threads' tallies", nt);
+    }
+#pragma omp parallel num_threads(nt) if (nt > 1) reduction(+ : hits, back, lost, steps)          \
+    reduction(max : eerr)
+    {
+#ifdef _OPENMP
+        const int tid = omp_get_thread_num();
+#else
+        const int tid = 0;
+#endif
+        uint64_t *mine = nt > 1 ? priv + (size_t)tid * ntri * 2 : tally;
+        /* a block's hits are logged as they come and tallied when it ends: the increments,
+         * scattered over a large mesh's tallies, then wait on memory side by side instead of one
+         * at a time between traversals */
+        size_t hitlog[BLOCK];
+        mc_tally y = {.hitlog = hitlog,
+                      .msee = x.see ? psee + (size_t)tid * nsee : NULL,
+                      .mpat = x.patchy ? ppat + (size_t)tid * npw : NULL};
+#pragma omp for schedule(dynamic, 1)
+        for (uint64_t jb = 0; jb < nmine; jb++) {
+            int stopped;
+#pragma omp atomic read
+            stopped = st->stop;
+            if (stopped) /* the rest of the blocks pass through */
+                continue;
+            const uint64_t blk = mrank + jb * msize;
+            const uint64_t h1 = (blk + 1) * BLOCK < o->particles ? (blk + 1) * BLOCK
+                                                                   : o->particles;
+            run_block(&x, &y, blk * BLOCK, h1);
+            for (size_t q = 0; q < y.nlog; q++)
+                mine[hitlog[q]]++;
+            y.nlog = 0;
+            if (st->asks) {
+                uint64_t done;
+#pragma omp atomic capture
+                done = ++st->blocks_done;
+                if (tid == 0 && mote_loop_progress(st->loop, 0, done)) {
+#pragma omp atomic write
+                    st->stop = 1;
+                }
+            }
+        }
+        hits += y.hits;
+        back += y.back;
+        lost += y.lost;
+        steps += y.steps;
+        eerr = fmax(eerr, y.eerr);
+    }
+    if (st->stop) { /* (the interrupt hook is Python's: one process, no MPI partner) */
+        free(priv);
+        free(ppat);
+        free(psee);
+        return mote_interrupted(err, "run");
+    }
+    for (int th = 1; x.see && th < nt; th++) /* integers: any order gives the same sums */
+        for (size_t q = 0; q < nsee; q++)
+            psee[q] += psee[(size_t)th * nsee + q];
+    for (int th = 0; priv && th < nt; th++)
+        for (size_t q = 0; q < (size_t)ntri * 2; q++)
+            tally[q] += priv[(size_t)th * ntri * 2 + q];
+    free(priv);
+    if (x.patchy) { /* integers: any order of threads and ranks gives the same sums */
+        for (int th = 1; th < nt; th++)
+            for (size_t q = 0; q < npw; q++)
+                ppat[q] += ppat[(size_t)th * npw + q];
+        mpi_sum128(o->solo, ppat, npw);
+        const double w = r->weight[s][k];
+        for (int pp = 0; pp < o->npatch; pp++) {
+            const ch_i128 *row = ppat + (size_t)pp * x.pw;
+            ch_i128 n = 0;
+            for (int j = 0; j < o->ndv; j++) {
+                n += row[j];
+                r->patch_I[(size_t)pp * (size_t)o->ndv + (size_t)j] +=
+                    w * (double)n + fabs(w) * (double)row[o->ndv + 1 + j] / FIX;
+            }
+        }
+        free(ppat);
+    }
+    uint64_t cnt[4] = {hits, back, lost, steps};
+    mpi_merge(o->solo, tally, (size_t)ntri * 2, cnt, &eerr, psee, nsee);
+    if (x.see) { /* the emitted current |w| sum, its error from the scores' spread */
+        const double w = fabs(sp->Z * MOTE_CH_E * gamma / (double)o->particles);
+        const double N = (double)o->particles;
+        const double sum = (double)psee[nsee - 2] / FIX, sq = (double)psee[nsee - 1] / FIX;
+        r->see[s][k] = w * sum;
+        r->see_sigma[s][k] = w * sqrt(fmax(0, sq - sum * sum / N));
+        for (size_t q = 0; q < (size_t)ntri * 2; q++)
+            r->tri_see[(size_t)comp * ntri * 2 + q] = w * (double)psee[q] / FIX;
+        free(psee);
+    }
+    r->hits[s][k] = cnt[0];
+    r->backface_hits += cnt[1];
+    r->lost += cnt[2];
+    r->steps += cnt[3];
+    r->max_energy_err = fmax(r->max_energy_err, eerr);
+    return MOTE_OK;
+}
+
+/* Photoemission (spec 6.8): the sunlit triangles' photocurrents; no random numbers. */
+static int photoemission(const mote_ch_body *b, const mote_ch_tracer *t,
+                         const mote_ch_run_opts *o, mote_ch_result *r, uint32_t ntri, double U_s,
+                         int patchy, mote_err *err)
+{
+    r->tri_photo = calloc((size_t)ntri * 2, sizeof *r->tri_photo);
+    r->tri_sunlit = calloc((size_t)ntri * 2, sizeof *r->tri_sunlit);
+    int *side = b->sphere ? NULL : malloc((size_t)ntri * sizeof *side);
+    double *frac = b->sphere ? NULL : malloc((size_t)ntri * sizeof *frac);
+    if (!r->tri_photo || !r->tri_sunlit || (!b->sphere && (!side || !frac))) {
+        free(side);
+        free(frac);
+        return mote_fail(err, MOTE_ENOMEM, "run: out of memory for the photoemission");
+    }
+    const double inten = o->sun_intensity;
+    if (b->sphere) { /* the lit half: the projected disc */
+        const mote_ch_material *mat = o->tri_material[0];
+        r->tri_sunlit[0] = 0.5;
+        const double I0 = mat->photo_j * inten * MOTE_CH_PI * b->sphere_r * b->sphere_r;
+        r->tri_photo[0] = I0 * mote_ch_escape(U_s, mat->kT_ph);
+        r->photo = r->tri_photo[0];
+        if (patchy && o->tri_patch[0] >= 0)
+            patch_photo(r, o, o->tri_patch[0], I0, U_s, mat->kT_ph);
+    } else {
+        mote_ch_sunlit(b, t, o->sun_dir, frac, side, o->threads);
+        for (uint32_t i = 0; i < ntri; i++) {
+            if (side[i] < 0)
+                continue;
+            r->tri_sunlit[2 * (size_t)i + (size_t)side[i]] = frac[i];
+            const mote_ch_material *mat = o->tri_material[i];
+            const double *nr = b->nrm[i];
+            const double cs = fabs(nr[0] * o->sun_dir[0] + nr[1] * o->sun_dir[1] +
+                                   nr[2] * o->sun_dir[2]);
+            const double I0 = mat->photo_j * inten * b->area[i] * cs * frac[i];
+            const double I = I0 * mote_ch_escape(U_s, mat->kT_ph);
+            if (patchy && o->tri_patch[i] >= 0)
+                patch_photo(r, o, o->tri_patch[i], I0, U_s, mat->kT_ph);
+            r->tri_photo[2 * (size_t)i + (size_t)side[i]] = I;
+            r->photo += I;
+        }
+    }
+    free(side);
+    free(frac);
+    return MOTE_OK;
+}
+
+/* The path of a history in the field of a charged mesh (spec 6.3): its constants and the
+ * mesh's bounds. */
+static ch_path path_of(const mote_ch_body *b, const mote_ch_tracer *t, const mote_ch_run_opts *o,
+                       const mote_ch_geometry *g, double a_f, int curved)
+{
     ch_path path = {.t = t,
                     .rf = a_f,
-                    .R = R,
-                    .rj = fmax(g.r_bound, a_f) * (1 + 1e-6),
+                    .R = o->r_gen,
+                    .rj = fmax(g->r_bound, a_f) * (1 + 1e-6),
                     .eta = o->eta > 0 ? o->eta : 0.01,
                     .max_steps = o->max_steps > 0 ? o->max_steps : 100000,
-                    .overlap = 1e-6 * (g.r_bound + fabs(g.centre[0]) + fabs(g.centre[1]) +
-                                       fabs(g.centre[2]))};
+                    .overlap = 1e-6 * (g->r_bound + fabs(g->centre[0]) + fabs(g->centre[1]) +
+                                       fabs(g->centre[2]))};
     for (int a = 0; a < 3; a++) {
-        path.c[a] = g.centre[a];
+        path.c[a] = g->centre[a];
         path.lo[a] = INFINITY;
         path.hi[a] = -INFINITY;
     }
@@ -451,26 +943,87 @@ static int mc_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_
                 path.lo[a] = fmin(path.lo[a], b->v[i][j][a] - 4 * path.overlap);
                 path.hi[a] = fmax(path.hi[a], b->v[i][j][a] + 4 * path.overlap);
             }
-    r->nsp = p->nsp;
-    r->ntri = ntri;
+    return path;
+}
+
+/* The run's constants checked and set (st->base, the path, the tallies' room). */
+static int run_setup(mc_run_state *st, const mote_ch_tracer *t, mote_err *err)
+{
+    const mote_ch_body *b = st->b;
+    const mote_ch_run_opts *o = st->o;
+    mote_ch_result *r = st->r;
+    mc_comp *x = &st->base;
+    mote_ch_geometry g;
+    mote_ch_body_geometry(b, &g);
+    const double R = o->r_gen;
+    if (o->box && box_injector(b, o, x->blo, x->bhi, x->fcum, err))
+        return err->code;
+    if (!o->box && !(R > g.r_bound))
+        return mote_fail(err, MOTE_EINVAL, "run: the injection radius %.6g m must exceed the "
+                         "body's bounding radius %.6g m", R, g.r_bound);
+    const int field = o->field && o->potential != 0;
+    const int curved = field && !b->sphere; /* a charged mesh: curved paths (spec 6.3) */
+    if (curved && !(o->eta >= 0 && o->eta < 1))
+        return mote_fail(err, MOTE_EINVAL, "run: eta must be in (0, 1), found %g", o->eta);
+    st->ntri = b->sphere ? 1 : b->ntri;
+    /* the field (spec 6.1, 6.2): the equivalent sphere's radius, the potential on the
+     * generation sphere */
+    st->a_f = b->sphere ? b->sphere_r : g.r_field;
+    if (curved && !(R > st->a_f))
+        return mote_fail(err, MOTE_EINVAL, "run: the injection radius %.6g m must exceed the "
+                         "field radius R_f = C/(4 pi eps0) = %.6g m", R, st->a_f);
+    st->path = path_of(b, t, o, &g, st->a_f, curved);
+    r->nsp = st->p->nsp;
+    r->ntri = st->ntri;
     r->histories = o->particles;
-    for (int s = 0; s < p->nsp; s++)
-        r->ncomp += p->sp[s].ncomp;
-    r->tri_hits = calloc((size_t)r->ncomp * ntri * 2, sizeof *r->tri_hits);
+    for (int s = 0; s < st->p->nsp; s++)
+        r->ncomp += st->p->sp[s].ncomp;
+    r->tri_hits = calloc((size_t)r->ncomp * st->ntri * 2, sizeof *r->tri_hits);
     if (!r->tri_hits)
         return mote_fail(err, MOTE_ENOMEM, "run: out of memory for the tallies");
-    const uint32_t key[2] = {(uint32_t)o->seed, (uint32_t)(o->seed >> 32)};
-    const double tmin = 1e-9 * (2 * g.r_bound);
+    x->b = b;
+    x->t = t;
+    x->o = o;
+    x->key[0] = (uint32_t)o->seed;
+    x->key[1] = (uint32_t)(o->seed >> 32);
+    x->R = R;
+    for (int a = 0; a < 3; a++)
+        x->centre[a] = g.centre[a];
+    x->field = field;
+    x->curved = curved;
+    x->box = o->box;
+    x->phi_g = field ? o->potential * st->a_f / R : 0;
+    x->tmin = 1e-9 * (2 * g.r_bound);
     /* the bounding sphere about the centre, a little enlarged for rounding */
-    const double rb = g.r_bound * (1 + 1e-9) / R, miss_below = rb < 1 ? 1 - rb * rb : 0;
-    const int nt = o->threads > 1 ? o->threads : 1;
+    const double rb = g.r_bound * (1 + 1e-9) / R;
+    x->miss_below = rb < 1 ? 1 - rb * rb : 0;
+    st->gamma_area = o->box ? x->fcum[6] : 4 * MOTE_CH_PI * R * R;
+    st->nt = o->threads > 1 ? o->threads : 1;
     /* differential charging (spec 6.10): per patch a row of patch_score, per thread */
-    const int patchy = o->npatch > 0 && o->tri_patch && o->dv && o->ndv > 0 && o->field;
-    const size_t pw = patchy ? (size_t)(2 * o->ndv + 1) : 0, npw = pw * (size_t)o->npatch;
-    if (patchy && !(r->patch_I = calloc((size_t)o->npatch * (size_t)o->ndv, sizeof *r->patch_I)))
+    x->patchy = o->npatch > 0 && o->tri_patch && o->dv && o->ndv > 0 && o->field;
+    x->pw = x->patchy ? (size_t)(2 * o->ndv + 1) : 0;
+    st->npw = x->pw * (size_t)o->npatch;
+    if (x->patchy &&
+        !(r->patch_I = calloc((size_t)o->npatch * (size_t)o->ndv, sizeof *r->patch_I)))
         return mote_fail(err, MOTE_ENOMEM, "run: out of memory for the patch tallies");
-    int mrank, msize;
-    mpi_layout(o->solo, &mrank, &msize);
+    mpi_layout(o->solo, &st->mrank, &st->msize);
+    return MOTE_OK;
+}
+
+static int mc_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_tracer *t,
+                  const mote_ch_run_opts *o, mote_ch_result *r, mote_err *err)
+{
+    memset(r, 0, sizeof *r);
+    if (p->nsp == 0)
+        return mote_fail(err, MOTE_EINVAL, "run: the plasma has no species (plasma preset ...)");
+    if (o->particles == 0)
+        return mote_fail(err, MOTE_EINVAL, "run: particles must be >= 1");
+    mc_run_state st = {.p = p, .b = b, .o = o, .r = r};
+    int rc = run_setup(&st, t, err);
+    if (rc) {
+        mote_ch_result_free(r);
+        return rc;
+    }
     struct timespec t0, t1;
     clock_gettime(CLOCK_MONOTONIC, &t0);
     /* progress: blocks done over all components (this rank's), shown by thread 0 */
@@ -480,440 +1033,32 @@ static int mc_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_
     else
         mote_progress_begin(&own, o->progress_ctx, o->progress_label);
     const uint64_t nblocks_all = (o->particles + BLOCK - 1) / BLOCK;
-    const uint64_t blocks_mine = nblocks_all > (uint64_t)mrank
-                                     ? (nblocks_all - (uint64_t)mrank + (uint64_t)msize - 1) /
-                                           (uint64_t)msize
-                                     : 0;
+    const uint64_t mrank = (uint64_t)st.mrank, msize = (uint64_t)st.msize;
+    const uint64_t blocks_mine =
+        nblocks_all > mrank ? (nblocks_all - mrank + msize - 1) / msize : 0;
     /* the run loop, counted in blocks of histories: no observer runs inside the Monte Carlo
      * (the tallies are written when it ends), the progress is the loop's */
     mote_loop loop = {NULL, 0, blocks_mine * r->ncomp, prog, 0, 0, 0, 0};
-    int stop = 0; /* the context's interrupt hook asked to stop (Python's Ctrl-C) */
-    const int asks = prog->enabled || (prog->ctx && (prog->ctx->tick || prog->ctx->interrupt));
-    uint64_t blocks_done = 0;
+    st.loop = &loop;
+    st.asks = prog->enabled || (prog->ctx && (prog->ctx->tick || prog->ctx->interrupt));
     int comp = 0;
-    for (int s = 0; s < p->nsp; s++)
-        for (int k = 0; k < p->sp[s].ncomp; k++, comp++) {
-            const mote_ch_species *sp = &p->sp[s];
-            /* chi = q phi_g / kT; the inward rate times g(chi) (spec 6.2, Liouville) */
-            const double chi = sp->Z * phi_g / sp->kT[k];
-            const double sigma = sqrt(sp->kT[k] * MOTE_CH_E / sp->m);
-            const double ud = sqrt(sp->drift[0] * sp->drift[0] + sp->drift[1] * sp->drift[1] +
-                                   sp->drift[2] * sp->drift[2]);
-            const int drift = ud > 0 && !field && !o->box;
-            const double gamma = (o->box ? fcum[6] : 4 * MOTE_CH_PI * R * R) * sp->n[k] *
-                                 (drift ? mean_flux(ud, sigma)
-                                        : sqrt(sp->kT[k] * MOTE_CH_E / (2 * MOTE_CH_PI * sp->m))) *
-                                 (chi >= 0 ? exp(-chi) : 1 - chi);
-            const double fmax_d = drift ? sigma * phi_n(ud / sigma) + ud * Phi_n(ud / sigma) : 0;
-            /* the OML test (spec 6.3) in units of kT: hit when K + q phi_g - q U >= K sin^2
-             * (R/a)^2, K the kinetic energy at injection */
-            const double dq = field ? sp->Z * (phi_g - o->potential) / sp->kT[k] : 0;
-            const double ra2 = field ? (R / a_f) * (R / a_f) : 0;
-            r->weight[s][k] = sp->Z * MOTE_CH_E * gamma / (double)o->particles;
-            const uint64_t nblocks = (o->particles + BLOCK - 1) / BLOCK;
-            /* this MPI rank's blocks: rank, rank + size, ... */
-            const uint64_t nmine = nblocks > (uint64_t)mrank
-                                       ? (nblocks - (uint64_t)mrank + (uint64_t)msize - 1) /
-                                             (uint64_t)msize
-                                       : 0;
-            uint64_t hits = 0, back = 0, lost = 0, steps = 0;
-            double eerr = 0;
-            ch_path pk = path; /* this component's charge to mass */
-            pk.k = sp->Z * MOTE_CH_E * o->potential * a_f / sp->m;
-            const double vscale = sqrt(2 * sp->kT[k] * MOTE_CH_E / sp->m); /* K = 1 kT */
-            /* secondary emission by electron impacts (spec 6.7): each hit scores the expected
-             * yield times the escape fraction; sums per block, added in block order (the same
-             * bits on any number of threads) */
-            /* (ions: when some material has ion-impact parameters) */
-            int see = o->tri_material && sp->Z < 0;
-            for (uint32_t i = 0; o->tri_material && sp->Z > 0 && !see && i < ntri; i++)
-                see = o->tri_material[i]->ion_dmax > 0;
-            const double U_s = field ? o->potential : 0;
-            /* scores in fixed point (2^-40) with 128-bit integers: sums that do not depend on
-             * the order of addition (spec 5.6); per thread, per triangle and side, then the
-             * total and the sum of squares */
-            const size_t nsee = (size_t)ntri * 2 + 2;
-            ch_i128 *psee = see ? calloc((size_t)nt * nsee, sizeof *psee) : NULL;
-            if (see && !psee) {
-                mote_ch_result_free(r);
-                if (!o->progress)
-                    mote_progress_end(&own);
-                return mote_fail(err, MOTE_ENOMEM, "run: out of memory for the secondary tallies");
-            }
-            if (see && !r->tri_see &&
-                !(r->tri_see = calloc((size_t)r->ncomp * ntri * 2, sizeof *r->tri_see))) {
-                free(psee);
-                mote_ch_result_free(r);
-                if (!o->progress)
-                    mote_progress_end(&own);
-                return mote_fail(err, MOTE_ENOMEM, "run: out of memory for the secondary tallies");
-            }
-            ch_i128 *ppat = patchy ? calloc((size_t)nt * npw, sizeof *ppat) : NULL;
-            if (patchy && !ppat) {
-                free(psee);
-                mote_ch_result_free(r);
-                if (!o->progress)
-                    mote_progress_end(&own);
-                return mote_fail(err, MOTE_ENOMEM, "run: out of memory for the patch tallies");
-            }
-            uint64_t *tally = r->tri_hits + (size_t)comp * ntri * 2;
-            /* each thread tallies into its own copy; integer sums merge exactly */
-            uint64_t *priv = nt > 1 ? calloc((size_t)nt * ntri * 2, sizeof *priv) : NULL;
-            if (nt > 1 && !priv) {
-                free(ppat);
-                free(psee);
-                mote_ch_result_free(r);
-                if (!o->progress)
-                    mote_progress_end(&own);
-                return mote_fail(err, MOTE_ENOMEM, "run: out of memory for %d threads' tallies",
-                                 nt);
-            }
-#pragma omp parallel num_threads(nt) if (nt > 1) reduction(+ : hits, back, lost, steps)          \
-    reduction(max : eerr)
-            {
-#ifdef _OPENMP
-                const int tid = omp_get_thread_num();
-#else
-                const int tid = 0;
-#endif
-                uint64_t *mine = nt > 1 ? priv + (size_t)tid * ntri * 2 : tally;
-                /* a block's hits are logged as they come and tallied when it ends: the
-                 * increments, scattered over a large mesh's tallies, then wait on memory
-                 * side by side instead of one at a time between traversals */
-                size_t hitlog[BLOCK], nlog = 0;
-#pragma omp for schedule(dynamic, 1)
-                for (uint64_t jb = 0; jb < nmine; jb++) {
-                    int stopped;
-#pragma omp atomic read
-                    stopped = stop;
-                    if (stopped) /* the rest of the blocks pass through */
-                        continue;
-                    const uint64_t blk = (uint64_t)mrank + jb * (uint64_t)msize;
-                    const uint64_t h1 = (blk + 1) * BLOCK < o->particles ? (blk + 1) * BLOCK
-                                                                           : o->particles;
-                    ch_i128 *msee = see ? psee + (size_t)tid * nsee : NULL;
-                    ch_i128 *mpat = patchy ? ppat + (size_t)tid * npw : NULL;
-#define SEE_SCORE(TRI, SIDE, E_EV, COS)                                                           \
-    do {                                                                                          \
-        if (!see && !patchy) /* the energy and the angle only when they are used */             \
-            break;                                                                                \
-        const double e_ = (E_EV), c_ = (COS);                                                     \
-        if (see) {                                                                                \
-            const mote_ch_material *mat_ = o->tri_material[(TRI)];                                \
-            const double esc_ = mote_ch_escape(U_s, mat_->kT_s);                                  \
-            double sc_ = (sp->Z < 0 ? mote_ch_see_yield(mat_, e_ / 1000, c_)                      \
-                                    : mote_ch_ion_yield(mat_, e_ / 1000)) *                       \
-                         esc_;                                                                    \
-            if (o->backscatter && sp->Z < 0 && mat_->Z > 0)                                       \
-                sc_ += mote_ch_backscatter_yield(mat_, e_ / 1000, c_) *                           \
-                       mote_ch_backscatter_escape(U_s, e_);                                       \
-            const ch_i128 q_ = (ch_i128)llround(sc_ * FIX);                                      \
-            msee[2 * (size_t)(TRI) + (size_t)(SIDE)] += q_;                                       \
-            msee[nsee - 2] += q_;                                                                 \
-            msee[nsee - 1] += (ch_i128)llround(sc_ * sc_ * FIX);                                  \
-        }                                                                                         \
-        if (patchy && o->tri_patch[(TRI)] >= 0)                                                   \
-            patch_score(mpat + (size_t)o->tri_patch[(TRI)] * pw, o, sp->Z,                        \
-                        see ? o->tri_material[(TRI)] : NULL, U_s, e_, c_);                        \
-    } while (0)
-/* a straight path's impact energy: the flux's kinetic energy law, Gamma(2, kT) (eV) */
-#define STRAIGHT_E()                                                                              \
-    (see || patchy ? (ch_uniforms4(key, h, (uint32_t)comp, 7, ee_), -sp->kT[k] * log(ee_[0] * ee_[1])) \
-                   : 0)
-                    double ee_[4];
-                    /* straight from the sphere: the direction's cos^2(theta) is uniform (the
-                     * cosine law), and a path with cos^2 < 1 - (R_bound / R)^2 passes the
-                     * body's bounding sphere; that test comes first, from its own cheap draw,
-                     * and only paths that may hit draw the rest, gathered TB at a time so that
-                     * their draws, and then their traces, follow one another (each history's
-                     * result is its own: the same tallies in any grouping) */
-                    for (uint64_t h0 = blk * BLOCK; !field && !o->box && !drift && h0 < h1;) {
-                        enum { TB = CH_TRACE_MANY };
-                        uint64_t th[TB];
-                        double tc2[TB], org[TB][3], dir[TB][3], tdist[TB];
-                        long ttri[TB];
-                        int tside[TB];
-                        int nb = 0;
-                        for (; h0 < h1 && nb < TB; h0++) {
-                            const double c2 = ch_uniform_cheap(key, h0, (uint32_t)comp);
-                            if (c2 >= miss_below) {
-                                th[nb] = h0;
-                                tc2[nb++] = c2;
-                            }
-                        }
-                        for (int j = 0; j < nb; j++) {
-                            double u[4], nrm[3];
-                            ch_uniforms4(key, th[j], (uint32_t)comp, 0, u);
-                            u[2] = tc2[j];
-                            ch_inject_dir(u, nrm, dir[j]);
-                            for (int a = 0; a < 3; a++)
-                                org[j][a] = g.centre[a] + R * nrm[a];
-                        }
-                        ch_trace_many(t, nb, (const double(*)[3])org, (const double(*)[3])dir,
-                                      tmin, ttri, tside, tdist);
-                        for (int j = 0; j < nb; j++) {
-                            const uint64_t h = th[j];
-                            const int side = tside[j];
-                            const double dist = tdist[j];
-                            const long tri = ttri[j];
-                            if (tri < 0)
-                                continue;
-                            hits++;
-                            if (side && (b->sphere || b->closed[tri]))
-                                back++;
-                            hitlog[nlog++] = 2 * (size_t)tri + (size_t)side;
-                            SEE_SCORE(tri, side, STRAIGHT_E(), hit_cos(b, tri, org[j], dir[j], dist));
-                        }
-                    }
-                    for (uint64_t h = blk * BLOCK; (field || o->box || drift) && h < h1; h++) {
-                        double u[4];
-                        ch_uniforms4(key, h, (uint32_t)comp, 0, u);
-                        if (field) { /* the kinetic energy at injection (spec 6.2) */
-                            double e[4];
-                            ch_uniforms4(key, h, (uint32_t)comp, 1, e);
-                            const double K = ch_inject_energy(e, chi); /* K / kT */
-                            if (curved) { /* a mesh: follow the path (spec 6.3) */
-                                double nrm[3], dir[3], r0[3], v0[3];
-                                ch_inject_dir(u, nrm, dir);
-                                const double speed = vscale * sqrt(K);
-                                for (int a = 0; a < 3; a++) {
-                                    r0[a] = R * nrm[a];
-                                    v0[a] = speed * dir[a];
-                                }
-                                ch_hit hit;
-                                ch_path_follow(&pk, r0, v0, &hit);
-                                steps += (uint64_t)hit.steps;
-                                eerr = fmax(eerr, hit.eerr);
-                                if (hit.tri == -2)
-                                    lost++;
-                                if (hit.tri < 0)
-                                    continue;
-                                hits++;
-                                if (hit.side && b->closed[hit.tri])
-                                    back++;
-                                hitlog[nlog++] = 2 * (size_t)hit.tri + (size_t)hit.side;
-                                SEE_SCORE(hit.tri, hit.side, 0.5 * sp->m * hit.v2 / MOTE_CH_E,
-                                          fabs(dot3(hit.dir, b->nrm[hit.tri])));
-                                continue;
-                            }
-                            /* sin^2(theta) = 1 - u2 by the cosine law */
-                            if (K + dq >= K * (1 - u[2]) * ra2) {
-                                hits++;
-                                hitlog[nlog++] = 0;
-                                /* the impact angle: L kept, sin^2 = K sin0^2 (R/a)^2 / (K + dq) */
-                                const double s2 = K + dq > 0 ? K * (1 - u[2]) * ra2 / (K + dq) : 0;
-                                SEE_SCORE(0, 0, sp->kT[k] * K + sp->Z * (phi_g - o->potential),
-                                          sqrt(fmax(0, 1 - s2)));
-                            }
-                            continue;
-                        }
-                        if (o->box) { /* a face by area, a point on it, the cosine law */
-                            double e[4];
-                            ch_uniforms4(key, h, (uint32_t)comp, 1, e);
-                            int f = 0;
-                            while (f < 5 && u[0] * fcum[6] >= fcum[f + 1])
-                                f++;
-                            const int ax = f / 2, ua = (ax + 1) % 3, wa = (ax + 2) % 3;
-                            const double inward = f % 2 ? -1 : 1; /* lo face: +axis is inward */
-                            double org[3], dir[3];
-                            org[ax] = f % 2 ? bhi[ax] : blo[ax];
-                            org[ua] = blo[ua] + u[1] * (bhi[ua] - blo[ua]);
-                            org[wa] = blo[wa] + e[0] * (bhi[wa] - blo[wa]);
-                            const double ct = sqrt(u[2]), st = sqrt(fmax(0, 1 - u[2]));
-                            const double ps = 2 * MOTE_CH_PI * u[3];
-                            dir[ax] = inward * ct;
-                            dir[ua] = st * cos(ps);
-                            dir[wa] = st * sin(ps);
-                            int side;
-                            double dist;
-                            const long tri = mote_ch_trace(t, org, dir, tmin, &side, &dist);
-                            if (tri >= 0) {
-                                hits++;
-                                if (side && (b->sphere || b->closed[tri]))
-                                    back++;
-                                hitlog[nlog++] = 2 * (size_t)tri + (size_t)side;
-                                SEE_SCORE(tri, side, STRAIGHT_E(), hit_cos(b, tri, org, dir, dist));
-                            }
-                            continue;
-                        }
-                        if (drift) { /* spec 5.4: points by rejection on the local flux */
-                            double nrm[3], un = 0;
-                            uint32_t draw = 1;
-                            for (;; draw++) {
-                                double e[4];
-                                ch_uniforms4(key, h, (uint32_t)comp, draw, e);
-                                const double z = 2 * e[0] - 1, rho = sqrt(fmax(0, 1 - z * z));
-                                const double ph = 2 * MOTE_CH_PI * e[1];
-                                nrm[0] = rho * cos(ph);
-                                nrm[1] = rho * sin(ph);
-                                nrm[2] = z;
-                                un = -(sp->drift[0] * nrm[0] + sp->drift[1] * nrm[1] +
-                                       sp->drift[2] * nrm[2]); /* along the inward normal */
-                                const double fl = sigma * phi_n(un / sigma) + un * Phi_n(un / sigma);
-                                if (e[2] * fmax_d <= fl || draw > 1000)
-                                    break;
-                            }
-                            /* the velocity: normal part from w N(w; un, sigma), tangential ones
-                             * N(u_t, sigma) */
-                            double e1[3], e2[3];
-                            perp_basis(nrm, e1, e2);
-                            double e[4];
-                            ch_uniforms4(key, h, (uint32_t)comp, draw + 1, e);
-                            const double w = drift_normal_speed(un, sigma, e[0]);
-                            double ut1 = 0, ut2 = 0;
-                            for (int a = 0; a < 3; a++) {
-                                ut1 += sp->drift[a] * e1[a];
-                                ut2 += sp->drift[a] * e2[a];
-                            }
-                            /* two normals by Box and Muller */
-                            const double rr = sigma * sqrt(-2 * log(e[1]));
-                            const double v1 = ut1 + rr * cos(2 * MOTE_CH_PI * e[2]);
-                            const double v2 = ut2 + rr * sin(2 * MOTE_CH_PI * e[2]);
-                            double org[3], dir[3], len = 0;
-                            for (int a = 0; a < 3; a++) {
-                                org[a] = g.centre[a] + R * nrm[a];
-                                dir[a] = -w * nrm[a] + v1 * e1[a] + v2 * e2[a];
-                                len += dir[a] * dir[a];
-                            }
-                            len = sqrt(len);
-                            for (int a = 0; a < 3; a++)
-                                dir[a] /= len;
-                            int side;
-                            double dist;
-                            const long tri = mote_ch_trace(t, org, dir, tmin, &side, &dist);
-                            if (tri >= 0) {
-                                hits++;
-                                if (side && (b->sphere || b->closed[tri]))
-                                    back++;
-                                hitlog[nlog++] = 2 * (size_t)tri + (size_t)side;
-                                SEE_SCORE(tri, side, 0.5 * sp->m * len * len / MOTE_CH_E,
-                                          hit_cos(b, tri, org, dir, dist));
-                            }
-                            continue;
-                        }
-                    }
-#undef SEE_SCORE
-#undef STRAIGHT_E
-                    for (size_t q = 0; q < nlog; q++)
-                        mine[hitlog[q]]++;
-                    nlog = 0;
-                    if (asks) {
-                        uint64_t done;
-#pragma omp atomic capture
-                        done = ++blocks_done;
-                        if (tid == 0 && mote_loop_progress(&loop, 0, done)) {
-#pragma omp atomic write
-                            stop = 1;
-                        }
-                    }
-                }
-            }
-            if (stop) { /* (the interrupt hook is Python's: one process, no MPI partner) */
-                free(priv);
-                free(ppat);
-                free(psee);
-                mote_ch_result_free(r);
-                if (!o->progress)
-                    mote_progress_end(&own);
-                return mote_interrupted(err, "run");
-            }
-            for (int th = 1; see && th < nt; th++) /* integers: any order gives the same sums */
-                for (size_t q = 0; q < nsee; q++)
-                    psee[q] += psee[(size_t)th * nsee + q];
-            for (int th = 0; priv && th < nt; th++)
-                for (size_t q = 0; q < (size_t)ntri * 2; q++)
-                    tally[q] += priv[(size_t)th * ntri * 2 + q];
-            free(priv);
-            if (patchy) { /* integers: any order of threads and ranks gives the same sums */
-                for (int th = 1; th < nt; th++)
-                    for (size_t q = 0; q < npw; q++)
-                        ppat[q] += ppat[(size_t)th * npw + q];
-                mpi_sum128(o->solo, ppat, npw);
-                const double w = r->weight[s][k];
-                for (int pp = 0; pp < o->npatch; pp++) {
-                    const ch_i128 *row = ppat + (size_t)pp * pw;
-                    ch_i128 n = 0;
-                    for (int j = 0; j < o->ndv; j++) {
-                        n += row[j];
-                        r->patch_I[(size_t)pp * (size_t)o->ndv + (size_t)j] +=
-                            w * (double)n + fabs(w) * (double)row[o->ndv + 1 + j] / FIX;
-                    }
-                }
-                free(ppat);
-            }
-            uint64_t cnt[4] = {hits, back, lost, steps};
-            mpi_merge(o->solo, tally, (size_t)ntri * 2, cnt, &eerr, psee, nsee);
-            hits = cnt[0];
-            back = cnt[1];
-            lost = cnt[2];
-            steps = cnt[3];
-            if (see) { /* the emitted current |w| sum, its error from the scores' spread */
-                const double w = fabs(sp->Z * MOTE_CH_E * gamma / (double)o->particles);
-                const double N = (double)o->particles;
-                const double sum = (double)psee[nsee - 2] / FIX, sq = (double)psee[nsee - 1] / FIX;
-                r->see[s][k] = w * sum;
-                r->see_sigma[s][k] = w * sqrt(fmax(0, sq - sum * sum / N));
-                for (size_t q = 0; q < (size_t)ntri * 2; q++)
-                    r->tri_see[(size_t)comp * ntri * 2 + q] = w * (double)psee[q] / FIX;
-                free(psee);
-            }
-            r->hits[s][k] = hits;
-            r->backface_hits += back;
-            r->lost += lost;
-            r->steps += steps;
-            r->max_energy_err = fmax(r->max_energy_err, eerr);
-        }
+    for (int s = 0; s < p->nsp && !rc; s++)
+        for (int k = 0; k < p->sp[s].ncomp && !rc; k++, comp++)
+            rc = run_component(&st, s, k, comp, err);
     if (!o->progress)
         mote_progress_end(&own);
-    if ((double)r->lost > 1e-6 * (double)r->ncomp * (double)o->particles) {
-        const uint64_t lost = r->lost;
-        const double total = (double)o->particles * (double)r->ncomp;
+    if (!rc && (double)r->lost > 1e-6 * (double)r->ncomp * (double)o->particles)
+        rc = mote_fail(err, MOTE_ERUNTIME, "run: %llu of %.0f histories still going after "
+                       "%ld steps (at U = %g V; the spec allows 1e-6 of them): raise "
+                       "integrator max_steps= or eta=", (unsigned long long)r->lost,
+                       (double)o->particles * (double)r->ncomp, st.path.max_steps,
+                       o->potential);
+    if (!rc && o->sun && o->tri_material)
+        rc = photoemission(b, t, o, r, st.ntri, st.base.field ? o->potential : 0, st.base.patchy,
+                           err);
+    if (rc) {
         mote_ch_result_free(r);
-        return mote_fail(err, MOTE_ERUNTIME, "run: %llu of %.0f histories still going after "
-                         "%ld steps (at U = %g V; the spec allows 1e-6 of them): raise "
-                         "integrator max_steps= or eta=", (unsigned long long)lost, total,
-                         path.max_steps, o->potential);
-    }
-    if (o->sun && o->tri_material) { /* photoemission (spec 6.8): no random numbers */
-        r->tri_photo = calloc((size_t)ntri * 2, sizeof *r->tri_photo);
-        r->tri_sunlit = calloc((size_t)ntri * 2, sizeof *r->tri_sunlit);
-        int *side = b->sphere ? NULL : malloc((size_t)ntri * sizeof *side);
-        double *frac = b->sphere ? NULL : malloc((size_t)ntri * sizeof *frac);
-        if (!r->tri_photo || !r->tri_sunlit || (!b->sphere && (!side || !frac))) {
-            free(side);
-            free(frac);
-            mote_ch_result_free(r);
-            return mote_fail(err, MOTE_ENOMEM, "run: out of memory for the photoemission");
-        }
-        const double U_s = field ? o->potential : 0, inten = o->sun_intensity;
-        if (b->sphere) { /* the lit half: the projected disc */
-            const mote_ch_material *mat = o->tri_material[0];
-            r->tri_sunlit[0] = 0.5;
-            const double I0 = mat->photo_j * inten * MOTE_CH_PI * b->sphere_r * b->sphere_r;
-            r->tri_photo[0] = I0 * mote_ch_escape(U_s, mat->kT_ph);
-            r->photo = r->tri_photo[0];
-            if (patchy && o->tri_patch[0] >= 0)
-                patch_photo(r, o, o->tri_patch[0], I0, U_s, mat->kT_ph);
-        } else {
-            mote_ch_sunlit(b, t, o->sun_dir, frac, side, o->threads);
-            for (uint32_t i = 0; i < ntri; i++) {
-                if (side[i] < 0)
-                    continue;
-                r->tri_sunlit[2 * (size_t)i + (size_t)side[i]] = frac[i];
-                const mote_ch_material *mat = o->tri_material[i];
-                const double *nr = b->nrm[i];
-                const double cs = fabs(nr[0] * o->sun_dir[0] + nr[1] * o->sun_dir[1] +
-                                       nr[2] * o->sun_dir[2]);
-                const double I0 = mat->photo_j * inten * b->area[i] * cs * frac[i];
-                const double I = I0 * mote_ch_escape(U_s, mat->kT_ph);
-                if (patchy && o->tri_patch[i] >= 0)
-                    patch_photo(r, o, o->tri_patch[i], I0, U_s, mat->kT_ph);
-                r->tri_photo[2 * (size_t)i + (size_t)side[i]] = I;
-                r->photo += I;
-            }
-        }
-        free(side);
-        free(frac);
+        return rc;
     }
     clock_gettime(CLOCK_MONOTONIC, &t1);
     r->seconds = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
