@@ -186,4 +186,22 @@ int ch_patches_currents(ch_patches *P, double U, const double *dV, double *Ic, d
 /* Integrate y = (U, dV_1 ... dV_np) from *t to t1, *h the step to try (updated). */
 int ch_patches_advance(ch_patches *P, double *y, double *h, double t1, double *t, mote_err *err);
 
+/* tally.c: 128-bit integers for the fixed-point tallies of emission and patches (a GCC and
+ * Clang extension), in units of 2^-40 */
+__extension__ typedef __int128 ch_i128;
+#define FIX 1099511627776.0 /* 2^40 */
+/* This process's MPI rank and the ranks' number (solo: a run that stays in this process, an
+ * ensemble's replica on one rank: 0 and 1) */
+void ch_mpi_layout(int solo, int *rank, int *size);
+/* Sum n 128-bit integers over the ranks (in place). */
+void ch_mpi_sum128(int solo, ch_i128 *v, size_t n);
+/* Sum the tallies of one component over the ranks: the hit counts per triangle and side, the
+ * counters, the largest energy error, the secondary scores (n128 128-bit integers). */
+void ch_mpi_merge(int solo, uint64_t *tally, size_t ntally, uint64_t cnt[4], double *eerr,
+                  ch_i128 *see, size_t n128);
+/* Photoemission (spec 6.8): the sunlit triangles' photocurrents into r (patchy: also the
+ * patches' rows of differential charging); no random numbers. */
+int ch_photoemission(const mote_ch_body *b, const mote_ch_tracer *t, const mote_ch_run_opts *o,
+                     mote_ch_result *r, uint32_t ntri, double U_s, int patchy, mote_err *err);
+
 #endif

@@ -19,9 +19,6 @@
 #ifdef _OPENMP
 #include <omp.h>
 #endif
-#ifdef MOTE_MPI
-#include <mpi.h>
-#endif
 
 /* ---- Philox4x32-10 (J. K. Salmon, M. A. Moraes, R. O. Dror, D. E. Shaw, SC11) ---------------- */
 
@@ -222,104 +219,6 @@ void mote_ch_result_free(mote_ch_result *r)
 
 enum { BLOCK = 4096 };
 
-/* 128-bit integers for the fixed-point secondary tallies (a GCC and Clang extension) */
-__extension__ typedef __int128 ch_i128;
-#define FIX 1099511627776.0 /* 2^40 */
-
-/* ---- MPI (spec 5.6): ranks share the blocks of histories, block b on rank b mod size; the
- * integer tallies are summed across ranks, so the result is the single process's ---------- */
-
-/* (solo: a run that stays in this process, an ensemble's replica on one rank) */
-static void mpi_layout(int solo, int *rank, int *size)
-{
-    *rank = 0;
-    *size = 1;
-#ifdef MOTE_MPI
-    int init = 0;
-    if (solo)
-        return;
-    MPI_Initialized(&init);
-    if (init) {
-        MPI_Comm_rank(MPI_COMM_WORLD, rank);
-        MPI_Comm_size(MPI_COMM_WORLD, size);
-    }
-#endif
-}
-
-int ch_mpi_size(int solo)
-{
-    int rank, size;
-    mpi_layout(solo, &rank, &size);
-    return size;
-}
-
-int ch_mpi_rank(int solo)
-{
-    int rank, size;
-    mpi_layout(solo, &rank, &size);
-    return rank;
-}
-
-#ifdef MOTE_MPI
-/* an MPI reduction: the sum of 128-bit integers (copied, for buffers of any alignment) */
-static void sum_i128(void *in, void *inout, int *len, MPI_Datatype *type)
-{
-    (void)type;
-    for (int i = 0; i < *len; i++) {
-        ch_i128 a, b;
-        memcpy(&a, (char *)in + 16 * (size_t)i, 16);
-        memcpy(&b, (char *)inout + 16 * (size_t)i, 16);
-        b += a;
-        memcpy((char *)inout + 16 * (size_t)i, &b, 16);
-    }
-}
-#endif
-
-/* Sum n 128-bit integers over the ranks (in place). */
-static void mpi_sum128(int solo, ch_i128 *v, size_t n)
-{
-#ifdef MOTE_MPI
-    int rank, size;
-    mpi_layout(solo, &rank, &size);
-    if (size < 2 || !v)
-        return;
-    MPI_Datatype t128;
-    MPI_Op op;
-    MPI_Type_contiguous(16, MPI_BYTE, &t128);
-    MPI_Type_commit(&t128);
-    MPI_Op_create(sum_i128, 1, &op);
-    MPI_Allreduce(MPI_IN_PLACE, v, (int)n, t128, op, MPI_COMM_WORLD);
-    MPI_Op_free(&op);
-    MPI_Type_free(&t128);
-#else
-    (void)solo;
-    (void)v;
-    (void)n;
-#endif
-}
-
-/* Sum the tallies of one component over the ranks: the hit counts per triangle and side, the
- * counters, the largest energy error, the secondary scores (n128 128-bit integers). */
-static void mpi_merge(int solo, uint64_t *tally, size_t ntally, uint64_t cnt[4], double *eerr,
-                      ch_i128 *see, size_t n128)
-{
-#ifdef MOTE_MPI
-    int rank, size;
-    mpi_layout(solo, &rank, &size);
-    if (size < 2)
-        return;
-    MPI_Allreduce(MPI_IN_PLACE, tally, (int)ntally, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
-    MPI_Allreduce(MPI_IN_PLACE, cnt, 4, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
-    MPI_Allreduce(MPI_IN_PLACE, eerr, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
-#else
-    (void)tally;
-    (void)ntally;
-    (void)cnt;
-    (void)eerr;
-#endif
-    mpi_sum128(solo, see, n128);
-}
-
 /* Differential charging (spec 6.10): score one hit of charge Z e and impact energy E (eV) in
  * the body's field on a patch's row: [ndv + 1] the collected counts as a difference array over
  * the grid dv (collected where E - Z dv > 0), then [ndv] its emission (mat: NULL for none) at
@@ -358,15 +257,6 @@ static void patch_score(ch_i128 *row, const mote_ch_run_opts *o, int Z,
             sc += ch_bs_ln(&y, ek, lnE, c) * mote_ch_backscatter_escape(V, e);
         em[g] += (ch_i128)llround(sc * FIX);
     }
-}
-
-/* Differential charging: the photocurrent I0 (escape 1) of a triangle of patch pp, escaping by
- * the patch's potential U_s + dv at each dv of the grid. */
-static void patch_photo(mote_ch_result *r, const mote_ch_run_opts *o, int pp, double I0,
-                        double U_s, double kT_ph)
-{
-    for (int g = 0; g < o->ndv; g++)
-        r->patch_I[(size_t)pp * (size_t)o->ndv + (size_t)g] += I0 * mote_ch_escape(U_s + o->dv[g], kT_ph);
 }
 
 /* ---- the run, in parts -------------------------------------------------------------------- */
@@ -840,7 +730,7 @@ static int run_component(mc_run_state *st, int s, int k, int comp, mote_err *err
         for (int th = 1; th < nt; th++)
             for (size_t q = 0; q < npw; q++)
                 ppat[q] += ppat[(size_t)th * npw + q];
-        mpi_sum128(o->solo, ppat, npw);
+        ch_mpi_sum128(o->solo, ppat, npw);
         const double w = r->weight[s][k];
         for (int pp = 0; pp < o->npatch; pp++) {
             const ch_i128 *row = ppat + (size_t)pp * x.pw;
@@ -854,7 +744,7 @@ static int run_component(mc_run_state *st, int s, int k, int comp, mote_err *err
         free(ppat);
     }
     uint64_t cnt[4] = {hits, back, lost, steps};
-    mpi_merge(o->solo, tally, (size_t)ntri * 2, cnt, &eerr, psee, nsee);
+    ch_mpi_merge(o->solo, tally, (size_t)ntri * 2, cnt, &eerr, psee, nsee);
     if (x.see) { /* the emitted current |w| sum, its error from the scores' spread */
         const double w = fabs(sp->Z * MOTE_CH_E * gamma / (double)o->particles);
         const double N = (double)o->particles;
@@ -870,52 +760,6 @@ static int run_component(mc_run_state *st, int s, int k, int comp, mote_err *err
     r->lost += cnt[2];
     r->steps += cnt[3];
     r->max_energy_err = fmax(r->max_energy_err, eerr);
-    return MOTE_OK;
-}
-
-/* Photoemission (spec 6.8): the sunlit triangles' photocurrents; no random numbers. */
-static int photoemission(const mote_ch_body *b, const mote_ch_tracer *t,
-                         const mote_ch_run_opts *o, mote_ch_result *r, uint32_t ntri, double U_s,
-                         int patchy, mote_err *err)
-{
-    r->tri_photo = calloc((size_t)ntri * 2, sizeof *r->tri_photo);
-    r->tri_sunlit = calloc((size_t)ntri * 2, sizeof *r->tri_sunlit);
-    int *side = b->sphere ? NULL : malloc((size_t)ntri * sizeof *side);
-    double *frac = b->sphere ? NULL : malloc((size_t)ntri * sizeof *frac);
-    if (!r->tri_photo || !r->tri_sunlit || (!b->sphere && (!side || !frac))) {
-        free(side);
-        free(frac);
-        return mote_fail(err, MOTE_ENOMEM, "run: out of memory for the photoemission");
-    }
-    const double inten = o->sun_intensity;
-    if (b->sphere) { /* the lit half: the projected disc */
-        const mote_ch_material *mat = o->tri_material[0];
-        r->tri_sunlit[0] = 0.5;
-        const double I0 = mat->photo_j * inten * MOTE_CH_PI * b->sphere_r * b->sphere_r;
-        r->tri_photo[0] = I0 * mote_ch_escape(U_s, mat->kT_ph);
-        r->photo = r->tri_photo[0];
-        if (patchy && o->tri_patch[0] >= 0)
-            patch_photo(r, o, o->tri_patch[0], I0, U_s, mat->kT_ph);
-    } else {
-        mote_ch_sunlit(b, t, o->sun_dir, frac, side, o->threads);
-        for (uint32_t i = 0; i < ntri; i++) {
-            if (side[i] < 0)
-                continue;
-            r->tri_sunlit[2 * (size_t)i + (size_t)side[i]] = frac[i];
-            const mote_ch_material *mat = o->tri_material[i];
-            const double *nr = b->nrm[i];
-            const double cs = fabs(nr[0] * o->sun_dir[0] + nr[1] * o->sun_dir[1] +
-                                   nr[2] * o->sun_dir[2]);
-            const double I0 = mat->photo_j * inten * b->area[i] * cs * frac[i];
-            const double I = I0 * mote_ch_escape(U_s, mat->kT_ph);
-            if (patchy && o->tri_patch[i] >= 0)
-                patch_photo(r, o, o->tri_patch[i], I0, U_s, mat->kT_ph);
-            r->tri_photo[2 * (size_t)i + (size_t)side[i]] = I;
-            r->photo += I;
-        }
-    }
-    free(side);
-    free(frac);
     return MOTE_OK;
 }
 
@@ -1006,7 +850,7 @@ static int run_setup(mc_run_state *st, const mote_ch_tracer *t, mote_err *err)
     if (x->patchy &&
         !(r->patch_I = calloc((size_t)o->npatch * (size_t)o->ndv, sizeof *r->patch_I)))
         return mote_fail(err, MOTE_ENOMEM, "run: out of memory for the patch tallies");
-    mpi_layout(o->solo, &st->mrank, &st->msize);
+    ch_mpi_layout(o->solo, &st->mrank, &st->msize);
     return MOTE_OK;
 }
 
@@ -1054,7 +898,7 @@ static int mc_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_
                        (double)o->particles * (double)r->ncomp, st.path.max_steps,
                        o->potential);
     if (!rc && o->sun && o->tri_material)
-        rc = photoemission(b, t, o, r, st.ntri, st.base.field ? o->potential : 0, st.base.patchy,
+        rc = ch_photoemission(b, t, o, r, st.ntri, st.base.field ? o->potential : 0, st.base.patchy,
                            err);
     if (rc) {
         mote_ch_result_free(r);
