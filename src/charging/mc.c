@@ -604,6 +604,60 @@ typedef struct {
     uint64_t blocks_done;
 } mc_run_state;
 
+/* The end of a component: the threads' tallies merged (integers: any order gives the same
+ * sums), then the ranks'; the hits, emission and patch currents into r. Frees the scratch. */
+static void component_end(mc_run_state *st, const mc_comp *x, int s, int k, double gamma,
+                          ch_i128 *psee, ch_i128 *ppat, uint64_t *priv, uint64_t cnt[4],
+                          double eerr)
+{
+    const mote_ch_run_opts *o = st->o;
+    mote_ch_result *r = st->r;
+    const int nt = st->nt;
+    const uint32_t ntri = st->ntri;
+    const size_t nsee = x->nsee, npw = st->npw;
+    uint64_t *tally = r->tri_hits + (size_t)x->comp * ntri * 2;
+    for (int th = 1; x->see && th < nt; th++)
+        for (size_t q = 0; q < nsee; q++)
+            psee[q] += psee[(size_t)th * nsee + q];
+    for (int th = 0; priv && th < nt; th++)
+        for (size_t q = 0; q < (size_t)ntri * 2; q++)
+            tally[q] += priv[(size_t)th * ntri * 2 + q];
+    free(priv);
+    if (x->patchy) { /* (threads, then ranks) */
+        for (int th = 1; th < nt; th++)
+            for (size_t q = 0; q < npw; q++)
+                ppat[q] += ppat[(size_t)th * npw + q];
+        ch_mpi_sum128(o->solo, ppat, npw);
+        const double w = r->weight[s][k];
+        for (int pp = 0; pp < o->npatch; pp++) {
+            const ch_i128 *row = ppat + (size_t)pp * x->pw;
+            ch_i128 n = 0;
+            for (int j = 0; j < o->ndv; j++) {
+                n += row[j];
+                r->patch_I[(size_t)pp * (size_t)o->ndv + (size_t)j] +=
+                    w * (double)n + fabs(w) * (double)row[o->ndv + 1 + j] / FIX;
+            }
+        }
+        free(ppat);
+    }
+    ch_mpi_merge(o->solo, tally, (size_t)ntri * 2, cnt, &eerr, psee, nsee);
+    if (x->see) { /* the emitted current |w| sum, its error from the scores' spread */
+        const double w = fabs(x->sp->Z * MOTE_CH_E * gamma / (double)o->particles);
+        const double N = (double)o->particles;
+        const double sum = (double)psee[nsee - 2] / FIX, sq = (double)psee[nsee - 1] / FIX;
+        r->see[s][k] = w * sum;
+        r->see_sigma[s][k] = w * sqrt(fmax(0, sq - sum * sum / N));
+        for (size_t q = 0; q < (size_t)ntri * 2; q++)
+            r->tri_see[(size_t)x->comp * ntri * 2 + q] = w * (double)psee[q] / FIX;
+        free(psee);
+    }
+    r->hits[s][k] = cnt[0];
+    r->backface_hits += cnt[1];
+    r->lost += cnt[2];
+    r->steps += cnt[3];
+    r->max_energy_err = fmax(r->max_energy_err, eerr);
+}
+
 /* Component k of species s (comp-th of the run): its histories, in blocks over the threads and
  * the ranks, tallied into r. */
 static int run_component(mc_run_state *st, int s, int k, int comp, mote_err *err)
@@ -719,47 +773,8 @@ static int run_component(mc_run_state *st, int s, int k, int comp, mote_err *err
         free(psee);
         return mote_interrupted(err, "run");
     }
-    for (int th = 1; x.see && th < nt; th++) /* integers: any order gives the same sums */
-        for (size_t q = 0; q < nsee; q++)
-            psee[q] += psee[(size_t)th * nsee + q];
-    for (int th = 0; priv && th < nt; th++)
-        for (size_t q = 0; q < (size_t)ntri * 2; q++)
-            tally[q] += priv[(size_t)th * ntri * 2 + q];
-    free(priv);
-    if (x.patchy) { /* integers: any order of threads and ranks gives the same sums */
-        for (int th = 1; th < nt; th++)
-            for (size_t q = 0; q < npw; q++)
-                ppat[q] += ppat[(size_t)th * npw + q];
-        ch_mpi_sum128(o->solo, ppat, npw);
-        const double w = r->weight[s][k];
-        for (int pp = 0; pp < o->npatch; pp++) {
-            const ch_i128 *row = ppat + (size_t)pp * x.pw;
-            ch_i128 n = 0;
-            for (int j = 0; j < o->ndv; j++) {
-                n += row[j];
-                r->patch_I[(size_t)pp * (size_t)o->ndv + (size_t)j] +=
-                    w * (double)n + fabs(w) * (double)row[o->ndv + 1 + j] / FIX;
-            }
-        }
-        free(ppat);
-    }
     uint64_t cnt[4] = {hits, back, lost, steps};
-    ch_mpi_merge(o->solo, tally, (size_t)ntri * 2, cnt, &eerr, psee, nsee);
-    if (x.see) { /* the emitted current |w| sum, its error from the scores' spread */
-        const double w = fabs(sp->Z * MOTE_CH_E * gamma / (double)o->particles);
-        const double N = (double)o->particles;
-        const double sum = (double)psee[nsee - 2] / FIX, sq = (double)psee[nsee - 1] / FIX;
-        r->see[s][k] = w * sum;
-        r->see_sigma[s][k] = w * sqrt(fmax(0, sq - sum * sum / N));
-        for (size_t q = 0; q < (size_t)ntri * 2; q++)
-            r->tri_see[(size_t)comp * ntri * 2 + q] = w * (double)psee[q] / FIX;
-        free(psee);
-    }
-    r->hits[s][k] = cnt[0];
-    r->backface_hits += cnt[1];
-    r->lost += cnt[2];
-    r->steps += cnt[3];
-    r->max_energy_err = fmax(r->max_energy_err, eerr);
+    component_end(st, &x, s, k, gamma, psee, ppat, priv, cnt, eerr);
     return MOTE_OK;
 }
 
