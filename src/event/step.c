@@ -90,6 +90,122 @@ static inline __attribute__((always_inline)) double list_expiry(const mote_ev *e
  * Each pair is solved from the later of the two local times, t0, not from the clock: both fly
  * straight from t0 on, and after a collision (the common case) t0 is the clock anyway. A list
  * expiry thus re-predicts exactly what was predicted before it, without extra rounding. */
+/* What scan_pairs keeps for particle i while it looks at its neighbours: its position and
+ * velocity at its local time ti (x and y also in one SSE2 register), and the minimum image's
+ * half lengths and lengths without branches (an axis without its wrap bit gets an infinite
+ * half length, so its shift is always zero: the shift is +len, -len or +0, and subtracting +0
+ * changes no value). */
+typedef struct {
+    double ri[3], vi[3], half[3], len[3], now, ti;
+    unsigned wrap;
+    v2d rixy, vixy, hxy, lxy, hz, lz, nhxy, nlxy, nhz, nlz;
+} pair_frame;
+
+/* The pair i, j (pj) from the later of the two local times t0: the relative velocity dv, b = dr
+ * . dv and |dr|^2 with the minimum image chosen at the clock. */
+static inline __attribute__((always_inline)) void
+pair_relative(const mote_ev *ev, const pair_frame *f, const mote_particle *pj, const int minimg,
+              double dv[3], double *pb_out, double *dr2_out, double *t0_out, const int D,
+              const int FIELD)
+{
+    const double *ri = f->ri, *vi = f->vi, ti = f->ti, tj = pj->t;
+    double b = 0, dr2 = 0, t0;
+    if (!FIELD && D == 3) {
+        /* straight flights with x and y in one SSE2 register: the same operations in the same
+         * order as the scalar code of the 2D and field builds below */
+        v2d rj, vj, pb, pr;
+        memcpy(&rj, pj->r, sizeof rj);
+        memcpy(&vj, pj->v, sizeof vj);
+        double dz, vz = vi[2] - pj->v[2];
+        v2d dvxy = f->vixy - vj, drxy;
+        if (tj <= ti) {
+            const double dtj = ti - tj;
+            t0 = ti;
+            drxy = f->rixy - (rj + vj * dtj);
+            dz = ri[2] - (pj->r[2] + pj->v[2] * dtj);
+        } else {
+            const double dti = tj - ti;
+            t0 = tj;
+            drxy = (f->rixy + f->vixy * dti) - rj;
+            dz = (ri[2] + vi[2] * dti) - pj->r[2];
+        }
+        if (minimg) { /* as in the scalar code below, with lane masks (z in a lane of its own) */
+            const double tn = f->now - t0;
+            const v2d dn = drxy + dvxy * tn;
+            const v2i up = dn > f->hxy, down = dn < f->nhxy;
+            drxy -= (v2d)(((v2i)f->lxy & up) | ((v2i)f->nlxy & down));
+            const double dzn = dz + vz * tn;
+            const v2d dz2 = {dzn, dzn};
+            const v2i zup = dz2 > f->hz, zdown = dz2 < f->nhz;
+            dz -= ((v2d)(((v2i)f->lz & zup) | ((v2i)f->nlz & zdown)))[0];
+        }
+        pb = drxy * dvxy;
+        pr = drxy * drxy;
+        b = (pb[0] + pb[1]) + dz * vz;
+        dr2 = (pr[0] + pr[1]) + dz * dz;
+        dv[0] = dvxy[0];
+        dv[1] = dvxy[1];
+        dv[2] = vz;
+    } else {
+        double dr[3];
+        if (FIELD) {
+            /* both in the same field: bring the earlier one to the later local time along its
+             * parabola; from there the relative motion is straight */
+            const double *g = ev->field->g;
+            if (tj <= ti) {
+                const double dtj = ti - tj;
+                t0 = ti;
+                FOR_AXES(a) {
+                    dr[a] = ri[a] - (pj->r[a] + (pj->v[a] + 0.5 * g[a] * dtj) * dtj);
+                    dv[a] = vi[a] - (pj->v[a] + g[a] * dtj);
+                }
+            } else {
+                const double dti = tj - ti;
+                t0 = tj;
+                FOR_AXES(a) {
+                    dr[a] = (ri[a] + (vi[a] + 0.5 * g[a] * dti) * dti) - pj->r[a];
+                    dv[a] = (vi[a] + g[a] * dti) - pj->v[a];
+                }
+            }
+        } else {
+            if (tj <= ti) {
+                const double dtj = ti - tj;
+                t0 = ti;
+                FOR_AXES(a)
+                    dr[a] = ri[a] - (pj->r[a] + pj->v[a] * dtj);
+            } else {
+                const double dti = tj - ti;
+                t0 = tj;
+                FOR_AXES(a)
+                    dr[a] = (ri[a] + vi[a] * dti) - pj->r[a];
+            }
+            FOR_AXES(a)
+                dv[a] = vi[a] - pj->v[a];
+        }
+        if (minimg) {
+            /* the image is chosen at the clock, where both lists are valid and so the pair's
+             * minimum image is the one it can touch through; t0 may be long before */
+            const double tn = f->now - t0;
+            FOR_AXES(a) {
+                if (!(f->wrap >> a & 1u))
+                    continue;
+                double dn = dr[a] + dv[a] * tn;
+                if (dn > f->half[a])
+                    dr[a] -= f->len[a];
+                else if (dn < -f->half[a])
+                    dr[a] += f->len[a];
+            }
+        }
+        FOR_AXES(a) {
+            b += dr[a] * dv[a];
+            dr2 += dr[a] * dr[a];
+        }
+    }
+    *pb_out = b;
+    *dr2_out = dr2;
+    *t0_out = t0;
+}
+
 static inline __attribute__((always_inline)) int
 scan_pairs(const mote_ev *ev, uint32_t i, const int poly, const int minimg, double *best,
            uint32_t *partner, uint32_t *pcount, const int D, const int FIELD)
@@ -98,33 +214,43 @@ scan_pairs(const mote_ev *ev, uint32_t i, const int poly, const int minimg, doub
     const mote_particle *pi = &P[i];
     const uint32_t *L = ev->nbr + (size_t)i * ev->nbr_cap;
     const uint32_t nn = pi->nnbr;
-    const double now = ev->clock, ti = pi->t;
-    const unsigned wrap = pi->flags / MOTE_EV_WRAP_X; /* bit a: minimum image along a */
-    double ri[3] = {0, 0, 0}, vi[3] = {0, 0, 0}, half[3] = {0, 0, 0}, len[3] = {0, 0, 0};
+    pair_frame f;
+    f.now = ev->clock;
+    f.ti = pi->t;
+    f.wrap = pi->flags / MOTE_EV_WRAP_X; /* bit a: minimum image along a */
+    const double now = f.now;
     FOR_AXES(a) {
-        ri[a] = pi->r[a];
-        vi[a] = pi->v[a];
-        len[a] = ev->len[a];
-        half[a] = 0.5 * ev->len[a];
+        f.ri[a] = pi->r[a];
+        f.vi[a] = pi->v[a];
+        f.len[a] = ev->len[a];
+        f.half[a] = 0.5 * ev->len[a];
     }
+    for (int a = D; a < 3; a++)
+        f.ri[a] = f.vi[a] = f.len[a] = f.half[a] = 0;
+    const double *vi = f.vi;
     const double Ri = poly ? ev->radius[i] : ev->radius0;
     const double sig_mono = 2 * ev->radius0, sig2_mono = sig_mono * sig_mono;
-    /* the 3D build of hard particles pairs x and y in SSE2 registers (below) */
-    const v2d rixy = {ri[0], ri[1]}, vixy = {vi[0], vi[1]};
-    /* the minimum image without branches: an axis without its wrap bit gets an infinite half
-     * length, so its shift is always zero (the shift is +len, -len or +0, and subtracting +0
-     * changes no value) */
-    v2d hxy = {INFINITY, INFINITY}, lxy = {0, 0}, hz = {INFINITY, INFINITY}, lz = {0, 0};
+    /* the 3D build of hard particles pairs x and y in SSE2 registers (pair_relative) */
+    f.rixy = (v2d){f.ri[0], f.ri[1]};
+    f.vixy = (v2d){f.vi[0], f.vi[1]};
+    f.hxy = (v2d){INFINITY, INFINITY};
+    f.lxy = (v2d){0, 0};
+    f.hz = (v2d){INFINITY, INFINITY};
+    f.lz = (v2d){0, 0};
     if (minimg) { /* chosen by index, not by branch: which axes wrap is a coin toss too */
-        const double hx[2] = {INFINITY, half[0]}, hy[2] = {INFINITY, half[1]},
-                     hzz[2] = {INFINITY, half[2]}, lx[2] = {0, len[0]}, ly[2] = {0, len[1]},
-                     lzz[2] = {0, len[2]};
-        hxy = (v2d){hx[wrap & 1u], hy[wrap >> 1 & 1u]};
-        lxy = (v2d){lx[wrap & 1u], ly[wrap >> 1 & 1u]};
-        hz = (v2d){hzz[wrap >> 2 & 1u], hzz[wrap >> 2 & 1u]};
-        lz = (v2d){lzz[wrap >> 2 & 1u], lzz[wrap >> 2 & 1u]};
+        const unsigned wrap = f.wrap;
+        const double hx[2] = {INFINITY, f.half[0]}, hy[2] = {INFINITY, f.half[1]},
+                     hzz[2] = {INFINITY, f.half[2]}, lx[2] = {0, f.len[0]}, ly[2] = {0, f.len[1]},
+                     lzz[2] = {0, f.len[2]};
+        f.hxy = (v2d){hx[wrap & 1u], hy[wrap >> 1 & 1u]};
+        f.lxy = (v2d){lx[wrap & 1u], ly[wrap >> 1 & 1u]};
+        f.hz = (v2d){hzz[wrap >> 2 & 1u], hzz[wrap >> 2 & 1u]};
+        f.lz = (v2d){lzz[wrap >> 2 & 1u], lzz[wrap >> 2 & 1u]};
     }
-    const v2d nlxy = -lxy, nhxy = -hxy, nlz = -lz, nhz = -hz;
+    f.nlxy = -f.lxy;
+    f.nhxy = -f.hxy;
+    f.nlz = -f.lz;
+    f.nhz = -f.hz;
     int found = 0;
     /* in large systems each neighbour's record is a cache miss: ask for the next ones early,
      * PREFETCH_AHEAD entries ahead, in one loop without a bounds test (past the end of the
@@ -135,99 +261,8 @@ scan_pairs(const mote_ev *ev, uint32_t i, const int poly, const int minimg, doub
         prefetch_record(P, L[k + PREFETCH_AHEAD]);
         const uint32_t j = L[k];
         const mote_particle *pj = &P[j];
-        const double tj = pj->t;
-        double dv[3], b = 0, dr2 = 0, t0;
-        if (!FIELD && D == 3) {
-            /* straight flights with x and y in one SSE2 register: the same operations in the
-             * same order as the scalar code of the 2D and field builds below */
-            v2d rj, vj, pb, pr;
-            memcpy(&rj, pj->r, sizeof rj);
-            memcpy(&vj, pj->v, sizeof vj);
-            double dz, vz = vi[2] - pj->v[2];
-            v2d dvxy = vixy - vj, drxy;
-            if (tj <= ti) {
-                const double dtj = ti - tj;
-                t0 = ti;
-                drxy = rixy - (rj + vj * dtj);
-                dz = ri[2] - (pj->r[2] + pj->v[2] * dtj);
-            } else {
-                const double dti = tj - ti;
-                t0 = tj;
-                drxy = (rixy + vixy * dti) - rj;
-                dz = (ri[2] + vi[2] * dti) - pj->r[2];
-            }
-            if (minimg) { /* as in the scalar code below, with lane masks (z in a lane of its own) */
-                const double tn = now - t0;
-                const v2d dn = drxy + dvxy * tn;
-                const v2i up = dn > hxy, down = dn < nhxy;
-                drxy -= (v2d)(((v2i)lxy & up) | ((v2i)nlxy & down));
-                const double dzn = dz + vz * tn;
-                const v2d dz2 = {dzn, dzn};
-                const v2i zup = dz2 > hz, zdown = dz2 < nhz;
-                dz -= ((v2d)(((v2i)lz & zup) | ((v2i)nlz & zdown)))[0];
-            }
-            pb = drxy * dvxy;
-            pr = drxy * drxy;
-            b = (pb[0] + pb[1]) + dz * vz;
-            dr2 = (pr[0] + pr[1]) + dz * dz;
-            dv[0] = dvxy[0];
-            dv[1] = dvxy[1];
-            dv[2] = vz;
-        } else {
-            double dr[3];
-            if (FIELD) {
-                /* both in the same field: bring the earlier one to the later local time along
-                 * its parabola; from there the relative motion is straight */
-                const double *g = ev->field->g;
-                if (tj <= ti) {
-                    const double dtj = ti - tj;
-                    t0 = ti;
-                    FOR_AXES(a) {
-                        dr[a] = ri[a] - (pj->r[a] + (pj->v[a] + 0.5 * g[a] * dtj) * dtj);
-                        dv[a] = vi[a] - (pj->v[a] + g[a] * dtj);
-                    }
-                } else {
-                    const double dti = tj - ti;
-                    t0 = tj;
-                    FOR_AXES(a) {
-                        dr[a] = (ri[a] + (vi[a] + 0.5 * g[a] * dti) * dti) - pj->r[a];
-                        dv[a] = (vi[a] + g[a] * dti) - pj->v[a];
-                    }
-                }
-            } else {
-                if (tj <= ti) {
-                    const double dtj = ti - tj;
-                    t0 = ti;
-                    FOR_AXES(a)
-                        dr[a] = ri[a] - (pj->r[a] + pj->v[a] * dtj);
-                } else {
-                    const double dti = tj - ti;
-                    t0 = tj;
-                    FOR_AXES(a)
-                        dr[a] = (ri[a] + vi[a] * dti) - pj->r[a];
-                }
-                FOR_AXES(a)
-                    dv[a] = vi[a] - pj->v[a];
-            }
-            if (minimg) {
-                /* the image is chosen at the clock, where both lists are valid and so the pair's
-                 * minimum image is the one it can touch through; t0 may be long before */
-                const double tn = now - t0;
-                FOR_AXES(a) {
-                    if (!(wrap >> a & 1u))
-                        continue;
-                    double dn = dr[a] + dv[a] * tn;
-                    if (dn > half[a])
-                        dr[a] -= len[a];
-                    else if (dn < -half[a])
-                        dr[a] += len[a];
-                }
-            }
-            FOR_AXES(a) {
-                b += dr[a] * dv[a];
-                dr2 += dr[a] * dr[a];
-            }
-        }
+        double dv[3], b, dr2, t0;
+        pair_relative(ev, &f, pj, minimg, dv, &b, &dr2, &t0, D, FIELD);
         double sig2 = sig2_mono;
         if (poly) {
             double sig = Ri + ev->radius[j];
@@ -273,122 +308,9 @@ scan_pairs(const mote_ev *ev, uint32_t i, const int poly, const int minimg, doub
     return found;
 }
 
-/* ---- field mode: walls, faces and corners under a uniform field ---------------------------------- */
-
-/* The earliest time in [0, tmax] at which c0 + c1 t + ... (the gap to a surface) closes, for a
- * particle at or beyond contact: one touching and moving in hits now; one touching and moving
- * out (just reflected, or rounding) is looked at again from an infinitesimal gap, so it can
- * only hit after coming back. */
-static double gap_closes(double *c, int deg, double tmax)
-{
-    if (!(c[0] > 0)) {
-        if (c[1] < 0 || (c[1] == 0 && deg >= 2 && c[2] < 0))
-            return 0;
-        c[0] = 0x1p-1000;
-    }
-    return mote_first_root(c, deg, tmax);
-}
-
-/* Wall, segment and corner hits of i in field mode, earlier than *best; the particle's list
- * reference bounds where it can be before *best, which selects the surfaces worth solving. */
-static inline __attribute__((always_inline)) void
-predict_field(const mote_ev *ev, uint32_t i, double *best, uint32_t *kind, uint32_t *partner)
-{
-    const int D = 2; /* field mode is 2D */
-    const mote_particle *pi = &ev->p[i];
-    const mote_ev_cold *ci = &ev->pc[i];
-    const mote_ev_field *f = ev->field;
-    const double now = ev->clock, ti = pi->t, Ri = mote_ev_radius(ev, i);
-    const double reach = 0.5 * ev->shell;
-    const double *g = f->g;
-    FOR_AXES(a) {
-        for (int side = 0; side < 2; side++) {
-            double gap0 = side ? ev->len[a] - Ri - ci->r_ref[a] : ci->r_ref[a] - Ri;
-            if (gap0 > reach)
-                continue;
-            double sg = side ? -1 : 1;
-            double c[3] = {sg * (pi->r[a] - (side ? ev->len[a] - Ri : Ri)), sg * pi->v[a],
-                           0.5 * sg * g[a]};
-            double dt = gap_closes(c, 2, *best - ti);
-            double t = ti + dt;
-            if (t < now)
-                t = now;
-            if (t < *best) {
-                *best = t;
-                *kind = MOTE_EV_WALL;
-                *partner = (uint32_t)(2 * a + side);
-            }
-        }
-    }
-    for (int k = 0; k < f->nseg; k++) {
-        const mote_ev_segment *sk = &f->seg[k];
-        double ux = sk->b[0] - sk->a[0], uy = sk->b[1] - sk->a[1];
-        double len = sqrt(ux * ux + uy * uy);
-        ux /= len;
-        uy /= len;
-        /* distance from the list reference to the segment */
-        double px = ci->r_ref[0] - sk->a[0], py = ci->r_ref[1] - sk->a[1];
-        double along = px * ux + py * uy, cl = along < 0 ? 0 : along > len ? len : along;
-        double qx = px - cl * ux, qy = py - cl * uy;
-        if (qx * qx + qy * qy > (Ri + reach) * (Ri + reach))
-            continue;
-        /* the centre's distance from the face's plane at the particle's local time ti, which
-         * may lie long before the clock: the particle may then have been anywhere along its
-         * flight, behind the plane or beside the face as well as in front of it */
-        double s0 = (pi->r[0] - sk->a[0]) * sk->n[0] + (pi->r[1] - sk->a[1]) * sk->n[1];
-        double c[3] = {s0 - Ri, pi->v[0] * sk->n[0] + pi->v[1] * sk->n[1],
-                       0.5 * (g[0] * sk->n[0] + g[1] * sk->n[1])};
-        double dt;
-        if (c[0] > 0) {
-            dt = mote_first_root(c, 2, *best - ti);
-        } else {
-            /* within a radius of the plane or behind it: touching the face (over it, not
-             * behind its plane), or a flight that must rise above the contact plane before
-             * it can come down onto the face (a parabola over the obstacle's corner) */
-            double at0 = (pi->r[0] - sk->a[0]) * ux + (pi->r[1] - sk->a[1]) * uy;
-            if (s0 >= -Ri && at0 >= 0 && at0 <= len)
-                dt = gap_closes(c, 2, *best - ti);
-            else
-                dt = mote_first_entry(c, 2, *best - ti);
-        }
-        if (!(dt < INFINITY))
-            continue;
-        /* the contact point must lie on the segment (beyond its ends the corners take over) */
-        double x = pi->r[0] + (pi->v[0] + 0.5 * g[0] * dt) * dt - sk->a[0];
-        double y = pi->r[1] + (pi->v[1] + 0.5 * g[1] * dt) * dt - sk->a[1];
-        double at = x * ux + y * uy;
-        if (at < 0 || at > len)
-            continue;
-        double t = ti + dt;
-        if (t < now)
-            t = now;
-        if (t < *best) {
-            *best = t;
-            *kind = MOTE_EV_SEG;
-            *partner = (uint32_t)k;
-        }
-    }
-    for (int k = 0; k < f->ncorner; k++) {
-        const double *cc = f->corner[k];
-        double ex = ci->r_ref[0] - cc[0], ey = ci->r_ref[1] - cc[1];
-        if (ex * ex + ey * ey > (Ri + reach) * (Ri + reach))
-            continue;
-        double dx = pi->r[0] - cc[0], dy = pi->r[1] - cc[1];
-        double vx = pi->v[0], vy = pi->v[1];
-        double c[5] = {dx * dx + dy * dy - Ri * Ri, 2 * (dx * vx + dy * vy),
-                       vx * vx + vy * vy + dx * g[0] + dy * g[1], vx * g[0] + vy * g[1],
-                       0.25 * (g[0] * g[0] + g[1] * g[1])};
-        double dt = gap_closes(c, 4, *best - ti);
-        double t = ti + dt;
-        if (t < now)
-            t = now;
-        if (t < *best) {
-            *best = t;
-            *kind = MOTE_EV_CORNER;
-            *partner = (uint32_t)k;
-        }
-    }
-}
+/* ---- field mode: walls, faces and corners under a uniform field (field.inc: the same unit,
+ * its own file) ------------------------------------------------------------------------------ */
+#include "field.inc"
 
 /* Predict the earliest event of particle i from the current clock and store it in p[i].
  * Candidates: its list expiry, the walls it can reach before that (reference within half a
@@ -735,6 +657,180 @@ static void field_pair(mote_ev *ev, uint32_t i, uint32_t j, const double dr[3], 
     }
 }
 
+/* The events of the loop (run), each its own function, inlined into every build of it. */
+#define EV_INLINE static inline __attribute__((always_inline))
+
+/* A pair collision of i with its partner at te, or, when the partner changed course since the
+ * prediction, the prediction renewed (a stale event). */
+EV_INLINE void pair_event(mote_ev *ev, mote_particle *P, mote_ev_cold *C, uint32_t i, double te,
+                          const int D, const int FIELD, const int has_obs_pair,
+                          const int has_obs_event, uint64_t *since_pair)
+{
+    mote_particle *pi = &P[i];
+    mote_ev_cold *ci = &C[i];
+    uint32_t j = ci->partner;
+    mote_particle *pj = &P[j];
+    advance(ev, pi, te, D, FIELD);
+    if (pj->count != ci->partner_count) { /* j changed course: stale */
+        ev->stale_events++;
+        predict_v(ev, i, D, FIELD);
+        cal_insert(ev, i);
+        return;
+    }
+    advance(ev, pj, te, D, FIELD);
+    double dr[3] = {0, 0, 0}, dv[3] = {0, 0, 0}, b = 0, dr2 = 0;
+    FOR_AXES(a) {
+        double d = pi->r[a] - pj->r[a];
+        if (ev->periodic[a]) {
+            double half = 0.5 * ev->len[a];
+            if (d > half)
+                d -= ev->len[a];
+            else if (d < -half)
+                d += ev->len[a];
+        }
+        dr[a] = d;
+        dv[a] = pi->v[a] - pj->v[a];
+        b += d * dv[a];
+        dr2 += d * d;
+    }
+    if (FIELD) {
+        field_pair(ev, i, j, dr, b, dr2, te, has_obs_pair);
+    } else if (ev->mass) {
+        double mi = ev->mass[i], mj = ev->mass[j];
+        double f = -2.0 * mi * mj / (mi + mj) * b / dr2; /* J = f r */
+        double J[3] = {0, 0, 0};
+        FOR_AXES(a) {
+            J[a] = f * dr[a];
+            pi->v[a] += J[a] / mi;
+            pj->v[a] -= J[a] / mj;
+        }
+        if (has_obs_pair)
+            ev->obs.on_pair(ev->obs.ctx, i, j, dr, J, te);
+    } else {
+        double f = b / dr2;
+        FOR_AXES(a) {
+            pi->v[a] -= f * dr[a];
+            pj->v[a] += f * dr[a];
+        }
+        if (has_obs_pair) {
+            double J[3] = {0, 0, 0};
+            FOR_AXES(a)
+                J[a] = -ev->mass0 * f * dr[a];
+            ev->obs.on_pair(ev->obs.ctx, i, j, dr, J, te);
+        }
+    }
+    pi->count++;
+    pj->count++;
+    ev->collisions++;
+    *since_pair = 0;
+    cal_remove(ev, j);
+    { /* ask for j's neighbours now: they arrive while i's are scanned */
+        const uint32_t *Lj = nbr_list(ev, j);
+        for (uint32_t k = 0; k < pj->nnbr; k++)
+            __builtin_prefetch(&P[Lj[k]]);
+    }
+    predict_v(ev, i, D, FIELD);
+    cal_insert(ev, i);
+    predict_v(ev, j, D, FIELD);
+    cal_insert(ev, j);
+    if (has_obs_event) {
+        ev->obs.on_event(ev->obs.ctx, i);
+        ev->obs.on_event(ev->obs.ctx, j);
+    }
+}
+
+/* A wall collision of i at te: the wall's rule (a reflection without a field). */
+EV_INLINE void wall_event(mote_ev *ev, mote_particle *P, mote_ev_cold *C, uint32_t i, double te,
+                          const int D, const int FIELD, const int has_obs_wall,
+                          const int has_obs_event)
+{
+    mote_particle *pi = &P[i];
+    mote_ev_cold *ci = &C[i];
+    int a = (int)(ci->partner >> 1), side = (int)(ci->partner & 1);
+    advance(ev, pi, te, D, FIELD);
+    double m = mote_ev_mass(ev, i);
+    double mom = 2.0 * m * fabs(pi->v[a]);
+    if (!FIELD) {
+        pi->v[a] = -pi->v[a];
+    } else if (ev->field->rules.wall) {
+        ev->field->rules.wall(ev->field->rules.ctx, ci->label, a, side, pi->v,
+                              ev->time_total + te);
+    } else if (side ? pi->v[a] > 0 : pi->v[a] < 0) {
+        /* reflect only a particle moving into the wall (rounding can put one that
+         * just left it here) */
+        pi->v[a] = -pi->v[a];
+    }
+    pi->count++;
+    ev->wall_collisions++;
+    if (has_obs_wall)
+        ev->obs.on_wall(ev->obs.ctx, i, a, side, mom, te);
+    predict_v(ev, i, D, FIELD);
+    cal_insert(ev, i);
+    if (has_obs_event)
+        ev->obs.on_event(ev->obs.ctx, i);
+}
+
+/* i meets an obstacle's face or corner at te (field mode only). */
+EV_INLINE int obstacle_event(mote_ev *ev, mote_particle *P, mote_ev_cold *C, uint32_t i,
+                             double te, mote_err *err, const int D, const int FIELD,
+                             const int has_obs_event)
+{
+    mote_particle *pi = &P[i];
+    mote_ev_cold *ci = &C[i];
+    if (!FIELD) { /* never scheduled without a field */
+        cal_insert(ev, i);
+        return mote_fail(err, MOTE_ERUNTIME, "internal: particle %u has an obstacle event",
+                         i);
+    }
+    advance(ev, pi, te, D, FIELD);
+    double n[2];
+    if (pi->kind == MOTE_EV_SEG) {
+        const mote_ev_segment *sk = &ev->field->seg[ci->partner];
+        n[0] = sk->n[0];
+        n[1] = sk->n[1];
+    } else {
+        const double *cc = ev->field->corner[ci->partner];
+        double dx = pi->r[0] - cc[0], dy = pi->r[1] - cc[1], d = sqrt(dx * dx + dy * dy);
+        n[0] = dx / d;
+        n[1] = dy / d;
+    }
+    double vn = pi->v[0] * n[0] + pi->v[1] * n[1];
+    if (vn < 0) { /* moving in (rounding can put one that just left it here) */
+        const mote_ev_rules *R = &ev->field->rules;
+        int changed = 1;
+        if (R->face) {
+            changed = R->face(R->ctx, ci->label, pi->kind, ci->partner, n, pi->v,
+                              ev->time_total + te);
+        } else {
+            pi->v[0] -= 2 * vn * n[0];
+            pi->v[1] -= 2 * vn * n[1];
+        }
+        if (changed)
+            pi->count++;
+    }
+    predict_v(ev, i, D, FIELD);
+    cal_insert(ev, i);
+    if (has_obs_event)
+        ev->obs.on_event(ev->obs.ctx, i);
+    return MOTE_OK;
+}
+
+/* i's neighbour list renewed (it moved half the shell from its reference). */
+EV_INLINE int nbr_event(mote_ev *ev, uint32_t i, mote_err *err, const int D, const int FIELD,
+                        const int has_obs_event)
+{
+    ev->renewals++;
+    if (refresh(ev, i, D, FIELD)) {
+        cal_insert(ev, i); /* keep the calendar whole for the caller */
+        return mote_fail(err, MOTE_ENOMEM, "out of memory growing the neighbour lists");
+    }
+    predict_v(ev, i, D, FIELD);
+    cal_insert(ev, i);
+    if (has_obs_event)
+        ev->obs.on_event(ev->obs.ctx, i);
+    return MOTE_OK;
+}
+
 static inline __attribute__((always_inline)) int run(mote_ev *ev, uint64_t ncoll, double t_stop,
                                                       mote_err *err, const int D, const int FIELD)
 {
@@ -800,152 +896,23 @@ static inline __attribute__((always_inline)) int run(mote_ev *ev, uint64_t ncoll
         ev->clock = te;
         ev->events++;
         switch (pi->kind) {
-        case MOTE_EV_PAIR: {
-            uint32_t j = ci->partner;
-            mote_particle *pj = &P[j];
-            advance(ev, pi, te, D, FIELD);
-            if (pj->count != ci->partner_count) { /* j changed course: stale */
-                ev->stale_events++;
-                predict_v(ev, i, D, FIELD);
-                cal_insert(ev, i);
-                break;
-            }
-            advance(ev, pj, te, D, FIELD);
-            double dr[3] = {0, 0, 0}, dv[3] = {0, 0, 0}, b = 0, dr2 = 0;
-            FOR_AXES(a) {
-                double d = pi->r[a] - pj->r[a];
-                if (ev->periodic[a]) {
-                    double half = 0.5 * ev->len[a];
-                    if (d > half)
-                        d -= ev->len[a];
-                    else if (d < -half)
-                        d += ev->len[a];
-                }
-                dr[a] = d;
-                dv[a] = pi->v[a] - pj->v[a];
-                b += d * dv[a];
-                dr2 += d * d;
-            }
-            if (FIELD) {
-                field_pair(ev, i, j, dr, b, dr2, te, has_obs_pair);
-            } else if (ev->mass) {
-                double mi = ev->mass[i], mj = ev->mass[j];
-                double f = -2.0 * mi * mj / (mi + mj) * b / dr2; /* J = f r */
-                double J[3] = {0, 0, 0};
-                FOR_AXES(a) {
-                    J[a] = f * dr[a];
-                    pi->v[a] += J[a] / mi;
-                    pj->v[a] -= J[a] / mj;
-                }
-                if (has_obs_pair)
-                    ev->obs.on_pair(ev->obs.ctx, i, j, dr, J, te);
-            } else {
-                double f = b / dr2;
-                FOR_AXES(a) {
-                    pi->v[a] -= f * dr[a];
-                    pj->v[a] += f * dr[a];
-                }
-                if (has_obs_pair) {
-                    double J[3] = {0, 0, 0};
-                    FOR_AXES(a)
-                        J[a] = -ev->mass0 * f * dr[a];
-                    ev->obs.on_pair(ev->obs.ctx, i, j, dr, J, te);
-                }
-            }
-            pi->count++;
-            pj->count++;
-            ev->collisions++;
-            since_pair = 0;
-            cal_remove(ev, j);
-            { /* ask for j's neighbours now: they arrive while i's are scanned */
-                const uint32_t *Lj = nbr_list(ev, j);
-                for (uint32_t k = 0; k < pj->nnbr; k++)
-                    __builtin_prefetch(&P[Lj[k]]);
-            }
-            predict_v(ev, i, D, FIELD);
-            cal_insert(ev, i);
-            predict_v(ev, j, D, FIELD);
-            cal_insert(ev, j);
-            if (has_obs_event) {
-                ev->obs.on_event(ev->obs.ctx, i);
-                ev->obs.on_event(ev->obs.ctx, j);
-            }
+        case MOTE_EV_PAIR:
+            pair_event(ev, P, C, i, te, D, FIELD, has_obs_pair, has_obs_event, &since_pair);
             break;
-        }
-        case MOTE_EV_WALL: {
-            int a = (int)(ci->partner >> 1), side = (int)(ci->partner & 1);
-            advance(ev, pi, te, D, FIELD);
-            double m = mote_ev_mass(ev, i);
-            double mom = 2.0 * m * fabs(pi->v[a]);
-            if (!FIELD) {
-                pi->v[a] = -pi->v[a];
-            } else if (ev->field->rules.wall) {
-                ev->field->rules.wall(ev->field->rules.ctx, ci->label, a, side, pi->v,
-                                      ev->time_total + te);
-            } else if (side ? pi->v[a] > 0 : pi->v[a] < 0) {
-                /* reflect only a particle moving into the wall (rounding can put one that
-                 * just left it here) */
-                pi->v[a] = -pi->v[a];
-            }
-            pi->count++;
-            ev->wall_collisions++;
-            if (has_obs_wall)
-                ev->obs.on_wall(ev->obs.ctx, i, a, side, mom, te);
-            predict_v(ev, i, D, FIELD);
-            cal_insert(ev, i);
-            if (has_obs_event)
-                ev->obs.on_event(ev->obs.ctx, i);
+        case MOTE_EV_WALL:
+            wall_event(ev, P, C, i, te, D, FIELD, has_obs_wall, has_obs_event);
             break;
-        }
         case MOTE_EV_SEG:
         case MOTE_EV_CORNER: {
-            if (!FIELD) { /* never scheduled without a field */
-                cal_insert(ev, i);
-                return mote_fail(err, MOTE_ERUNTIME, "internal: particle %u has an obstacle event",
-                                 i);
-            }
-            advance(ev, pi, te, D, FIELD);
-            double n[2];
-            if (pi->kind == MOTE_EV_SEG) {
-                const mote_ev_segment *sk = &ev->field->seg[ci->partner];
-                n[0] = sk->n[0];
-                n[1] = sk->n[1];
-            } else {
-                const double *cc = ev->field->corner[ci->partner];
-                double dx = pi->r[0] - cc[0], dy = pi->r[1] - cc[1], d = sqrt(dx * dx + dy * dy);
-                n[0] = dx / d;
-                n[1] = dy / d;
-            }
-            double vn = pi->v[0] * n[0] + pi->v[1] * n[1];
-            if (vn < 0) { /* moving in (rounding can put one that just left it here) */
-                const mote_ev_rules *R = &ev->field->rules;
-                int changed = 1;
-                if (R->face) {
-                    changed = R->face(R->ctx, ci->label, pi->kind, ci->partner, n, pi->v,
-                                      ev->time_total + te);
-                } else {
-                    pi->v[0] -= 2 * vn * n[0];
-                    pi->v[1] -= 2 * vn * n[1];
-                }
-                if (changed)
-                    pi->count++;
-            }
-            predict_v(ev, i, D, FIELD);
-            cal_insert(ev, i);
-            if (has_obs_event)
-                ev->obs.on_event(ev->obs.ctx, i);
+            int rc = obstacle_event(ev, P, C, i, te, err, D, FIELD, has_obs_event);
+            if (rc)
+                return rc;
             break;
         }
         case MOTE_EV_NBR: {
-            ev->renewals++;
-            if (refresh(ev, i, D, FIELD)) {
-                cal_insert(ev, i); /* keep the calendar whole for the caller */
-                return mote_fail(err, MOTE_ENOMEM, "out of memory growing the neighbour lists");
-            }
-            predict_v(ev, i, D, FIELD);
-            cal_insert(ev, i);
-            if (has_obs_event)
-                ev->obs.on_event(ev->obs.ctx, i);
+            int rc = nbr_event(ev, i, err, D, FIELD, has_obs_event);
+            if (rc)
+                return rc;
             break;
         }
         default:
