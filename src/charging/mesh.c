@@ -665,11 +665,9 @@ static int cmp_u32x3(const void *x, const void *y)
     return 0;
 }
 
-/* Repair the soup and add it to the body. */
-static int repair_add(mote_ch_body *b, soup *s, const char *path, mote_ch_load_report *rep,
-                      mote_err *err)
+/* The length of the soup's bounding box's diagonal. */
+static double soup_extent(const soup *s)
 {
-    rep->read = (uint32_t)s->n;
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (size_t i = 0; i < s->n; i++)
         for (int j = 0; j < 3; j++)
@@ -680,21 +678,19 @@ static int repair_add(mote_ch_body *b, soup *s, const char *path, mote_ch_load_r
     double L = 0;
     for (int a = 0; a < 3; a++)
         L += (hi[a] - lo[a]) * (hi[a] - lo[a]);
-    L = sqrt(L);
-    if (!(L > 0) || !isfinite(L))
-        return mote_fail(err, MOTE_EFORMAT, "%s: no triangle with a non-zero extent", path);
-    uint32_t *vid = malloc((s->n ? 3 * s->n : 1) * sizeof *vid), npos = 0;
-    double(*pos)[3] = NULL;
-    if (!vid || weld(s, 1e-9 * L, vid, &pos, &npos, &rep->welded)) {
-        free(vid);
-        return mote_fail(err, MOTE_ENOMEM, "mesh: out of memory");
-    }
-    /* keep: not degenerate, not a duplicate (same vertex set) */
-    uint8_t *keep = calloc(s->n ? s->n : 1, 1);
+    return sqrt(L);
+}
+
+/* keep[i]: triangle i (welded vertices vid) is not degenerate and not a duplicate of an earlier
+ * one (the same vertex set). 1 when out of memory. */
+static int keep_triangles(const soup *s, const uint32_t *vid, const double (*pos)[3], double L,
+                          uint8_t *keep, mote_ch_load_report *rep)
+{
     uint32_t(*key)[4] = malloc((s->n ? s->n : 1) * sizeof *key);
-    int rc = keep && key ? MOTE_OK : mote_fail(err, MOTE_ENOMEM, "mesh: out of memory");
+    if (!key)
+        return 1;
     size_t nk = 0;
-    for (size_t i = 0; !rc && i < s->n; i++) {
+    for (size_t i = 0; i < s->n; i++) {
         const uint32_t *t = vid + 3 * i;
         double e1[3], e2[3], c[3];
         for (int a = 0; a < 3; a++) {
@@ -722,156 +718,218 @@ static int repair_add(mote_ch_body *b, soup *s, const char *path, mote_ch_load_r
         key[nk][2] = q[2];
         key[nk++][3] = (uint32_t)i;
     }
-    if (!rc) {
-        qsort(key, nk, sizeof *key, cmp_u32x3);
-        for (size_t k = 0; k < nk; k++) {
-            if (k > 0 && !memcmp(key[k], key[k - 1], 3 * sizeof key[k][0])) {
-                rep->duplicates++;
-                continue;
-            }
-            keep[key[k][3]] = 1;
+    qsort(key, nk, sizeof *key, cmp_u32x3);
+    for (size_t k = 0; k < nk; k++) {
+        if (k > 0 && !memcmp(key[k], key[k - 1], 3 * sizeof key[k][0])) {
+            rep->duplicates++;
+            continue;
         }
+        keep[key[k][3]] = 1;
     }
     free(key);
-    /* the kept triangles, their edges, components and orientation */
+    return 0;
+}
+
+/* The kept triangles' mesh: tri (kept -> soup index), their edges sorted by their ends, the
+ * components across shared edges (up, union-find) and which are open (an edge not shared by
+ * exactly two triangles opens its component), and each triangle's flip for a consistent
+ * orientation. */
+typedef struct {
+    const uint32_t *vid, *tri;
+    const double (*pos)[3];
+    size_t nt;
+    edge *e;
+    uint32_t *up, *queue;
+    int8_t *flip;
+    uint8_t *open, *seen;
+} kept_mesh;
+
+static void mesh_components(kept_mesh *m)
+{
+    const size_t nt = m->nt;
+    edge *e = m->e;
+    for (size_t k = 0; k < nt; k++) {
+        const uint32_t *t = m->vid + 3 * (size_t)m->tri[k];
+        for (int j = 0; j < 3; j++) {
+            uint32_t p = t[j], q = t[(j + 1) % 3];
+            edge *x = &e[3 * k + (size_t)j];
+            x->a = p < q ? p : q;
+            x->b = p < q ? q : p;
+            x->tri = (uint32_t)k;
+            x->forward = p < q;
+        }
+        m->up[k] = (uint32_t)k;
+    }
+    qsort(e, 3 * nt, sizeof *e, cmp_edge);
+    for (size_t i = 0; i < 3 * nt;) {
+        size_t j = i;
+        while (j < 3 * nt && e[j].a == e[i].a && e[j].b == e[i].b)
+            j++;
+        for (size_t k = i + 1; k < j; k++) {
+            uint32_t r1 = find(m->up, e[i].tri), r2 = find(m->up, e[k].tri);
+            if (r1 != r2)
+                m->up[r1 > r2 ? r1 : r2] = r1 < r2 ? r1 : r2;
+        }
+        if (j - i != 2)
+            for (size_t k = i; k < j; k++)
+                m->open[e[k].tri] = 1;
+        i = j;
+    }
+    for (size_t k = 0; k < nt; k++)
+        if (m->open[k])
+            m->open[find(m->up, (uint32_t)k)] = 1;
+}
+
+/* Orient the component of triangle start: across each edge shared by two triangles the
+ * directions must differ; walk it breadth first from start. Its triangles are left in
+ * queue[0 .. return). */
+static size_t orient_component(kept_mesh *m, size_t start)
+{
+    const size_t nt = m->nt;
+    const edge *e = m->e;
+    size_t head = 0, tail = 0;
+    m->queue[tail++] = (uint32_t)start;
+    m->seen[start] = 1;
+    while (head < tail) {
+        const uint32_t t = m->queue[head++];
+        const uint32_t *v = m->vid + 3 * (size_t)m->tri[t];
+        for (int j = 0; j < 3; j++) {
+            uint32_t p = v[j], q = v[(j + 1) % 3];
+            edge probe = {p < q ? p : q, p < q ? q : p, 0, 0};
+            /* the edge's group: the first record with these ends */
+            size_t lo2 = 0, hi2 = 3 * nt;
+            while (lo2 < hi2) {
+                size_t mid = (lo2 + hi2) / 2;
+                if (e[mid].a < probe.a || (e[mid].a == probe.a && e[mid].b < probe.b))
+                    lo2 = mid + 1;
+                else
+                    hi2 = mid;
+            }
+            size_t end = lo2;
+            while (end < 3 * nt && e[end].a == probe.a && e[end].b == probe.b)
+                end++;
+            if (end - lo2 != 2)
+                continue;
+            const edge *mine = e[lo2].tri == t ? &e[lo2] : &e[lo2 + 1];
+            const edge *other = e[lo2].tri == t ? &e[lo2 + 1] : &e[lo2];
+            if (m->seen[other->tri])
+                continue;
+            /* consistent when the two run the edge in opposite directions */
+            const int mine_fwd = mine->forward ^ m->flip[t];
+            m->flip[other->tri] = (int8_t)(other->forward == mine_fwd);
+            m->seen[other->tri] = 1;
+            m->queue[tail++] = other->tri;
+        }
+    }
+    return tail;
+}
+
+/* Every component oriented; a closed one with negative signed volume turned inside out. */
+static void mesh_orient(kept_mesh *m, mote_ch_load_report *rep)
+{
+    for (size_t start = 0; start < m->nt; start++) {
+        if (m->seen[start])
+            continue;
+        const size_t tail = orient_component(m, start);
+        if (m->open[find(m->up, (uint32_t)start)]) {
+            rep->open_components++;
+            continue;
+        }
+        double vol = 0;
+        for (size_t h = 0; h < tail; h++) {
+            const uint32_t q = m->queue[h];
+            const uint32_t *v = m->vid + 3 * (size_t)m->tri[q];
+            const double *p0 = m->pos[v[0]], *p1 = m->pos[v[m->flip[q] ? 2 : 1]],
+                         *p2 = m->pos[v[m->flip[q] ? 1 : 2]];
+            vol += p0[0] * (p1[1] * p2[2] - p1[2] * p2[1]) -
+                   p0[1] * (p1[0] * p2[2] - p1[2] * p2[0]) +
+                   p0[2] * (p1[0] * p2[1] - p1[1] * p2[0]);
+        }
+        if (vol < 0)
+            for (size_t h = 0; h < tail; h++)
+                m->flip[m->queue[h]] ^= 1;
+        rep->closed_components++;
+    }
+}
+
+/* The triangles as repaired into the body; the parts by name, made when a kept triangle needs
+ * them. */
+static int mesh_add(mote_ch_body *b, const soup *s, const kept_mesh *m, mote_ch_load_report *rep,
+                    mote_err *err)
+{
+    int *pmap = malloc((size_t)(s->nnames ? s->nnames : 1) * sizeof *pmap);
+    if (!pmap)
+        return mote_fail(err, MOTE_ENOMEM, "mesh: out of memory");
+    for (int k = 0; k < s->nnames; k++)
+        pmap[k] = -1;
+    int rc = MOTE_OK;
+    for (size_t k = 0; !rc && k < m->nt; k++) {
+        const uint32_t *v = m->vid + 3 * (size_t)m->tri[k];
+        int *pm = &pmap[s->part[m->tri[k]]];
+        if (*pm < 0 && (*pm = ch_body_part(b, s->names[s->part[m->tri[k]]], err)) < 0) {
+            rc = err->code;
+            break;
+        }
+        const double *p0 = m->pos[v[0]], *p1 = m->pos[v[m->flip[k] ? 2 : 1]],
+                     *p2 = m->pos[v[m->flip[k] ? 1 : 2]];
+        const uint32_t before = b->ntri;
+        rc = ch_add_tri(b, p0, p1, p2, NULL, !m->open[find(m->up, (uint32_t)k)], *pm, err);
+        if (!rc && b->ntri == before)
+            rep->degenerate++;
+        if (!rc && m->flip[k] && b->ntri > before) /* flipped: against the file's own winding */
+            rep->flipped++;
+    }
+    free(pmap);
+    return rc;
+}
+
+/* Repair the soup and add it to the body. */
+static int repair_add(mote_ch_body *b, soup *s, const char *path, mote_ch_load_report *rep,
+                      mote_err *err)
+{
+    rep->read = (uint32_t)s->n;
+    const double L = soup_extent(s);
+    if (!(L > 0) || !isfinite(L))
+        return mote_fail(err, MOTE_EFORMAT, "%s: no triangle with a non-zero extent", path);
+    uint32_t *vid = malloc((s->n ? 3 * s->n : 1) * sizeof *vid), npos = 0;
+    double(*pos)[3] = NULL;
+    if (!vid || weld(s, 1e-9 * L, vid, &pos, &npos, &rep->welded)) {
+        free(vid);
+        return mote_fail(err, MOTE_ENOMEM, "mesh: out of memory");
+    }
+    uint8_t *keep = calloc(s->n ? s->n : 1, 1);
+    int rc = keep && !keep_triangles(s, vid, (const double(*)[3])pos, L, keep, rep)
+                 ? MOTE_OK
+                 : mote_fail(err, MOTE_ENOMEM, "mesh: out of memory");
     size_t nt = 0;
     uint32_t *tri = malloc((s->n ? s->n : 1) * sizeof *tri); /* kept -> soup index */
     for (size_t i = 0; !rc && tri && i < s->n; i++)
         if (keep[i])
             tri[nt++] = (uint32_t)i;
-    edge *e = malloc((nt ? 3 * nt : 1) * sizeof *e);
-    uint32_t *up = malloc((nt ? nt : 1) * sizeof *up);
-    int8_t *flip = calloc(nt ? nt : 1, 1);
-    uint8_t *open = calloc(nt ? nt : 1, 1), *seen = calloc(nt ? nt : 1, 1);
-    uint32_t *queue = malloc((nt ? nt : 1) * sizeof *queue);
-    if (!rc && (!tri || !e || !up || !flip || !open || !seen || !queue))
+    kept_mesh m = {.vid = vid, .tri = tri, .pos = (const double(*)[3])pos, .nt = nt};
+    m.e = malloc((nt ? 3 * nt : 1) * sizeof *m.e);
+    m.up = malloc((nt ? nt : 1) * sizeof *m.up);
+    m.flip = calloc(nt ? nt : 1, 1);
+    m.open = calloc(nt ? nt : 1, 1);
+    m.seen = calloc(nt ? nt : 1, 1);
+    m.queue = malloc((nt ? nt : 1) * sizeof *m.queue);
+    if (!rc && (!tri || !m.e || !m.up || !m.flip || !m.open || !m.seen || !m.queue))
         rc = mote_fail(err, MOTE_ENOMEM, "mesh: out of memory");
     if (!rc) {
-        for (size_t k = 0; k < nt; k++) {
-            const uint32_t *t = vid + 3 * (size_t)tri[k];
-            for (int j = 0; j < 3; j++) {
-                uint32_t p = t[j], q = t[(j + 1) % 3];
-                edge *x = &e[3 * k + (size_t)j];
-                x->a = p < q ? p : q;
-                x->b = p < q ? q : p;
-                x->tri = (uint32_t)k;
-                x->forward = p < q;
-            }
-            up[k] = (uint32_t)k;
-        }
-        qsort(e, 3 * nt, sizeof *e, cmp_edge);
-        /* components across shared edges; an edge not shared by exactly two opens its component */
-        for (size_t i = 0; i < 3 * nt;) {
-            size_t j = i;
-            while (j < 3 * nt && e[j].a == e[i].a && e[j].b == e[i].b)
-                j++;
-            for (size_t k = i + 1; k < j; k++) {
-                uint32_t r1 = find(up, e[i].tri), r2 = find(up, e[k].tri);
-                if (r1 != r2)
-                    up[r1 > r2 ? r1 : r2] = r1 < r2 ? r1 : r2;
-            }
-            if (j - i != 2)
-                for (size_t k = i; k < j; k++)
-                    open[e[k].tri] = 1;
-            i = j;
-        }
-        for (size_t k = 0; k < nt; k++)
-            if (open[k])
-                open[find(up, (uint32_t)k)] = 1;
-        /* orientation: across each edge shared by two triangles the directions must differ;
-         * walk each component breadth first from its first triangle */
-        for (size_t start = 0; start < nt; start++) {
-            if (seen[start])
-                continue;
-            size_t head = 0, tail = 0;
-            queue[tail++] = (uint32_t)start;
-            seen[start] = 1;
-            while (head < tail) {
-                const uint32_t t = queue[head++];
-                const uint32_t *v = vid + 3 * (size_t)tri[t];
-                for (int j = 0; j < 3; j++) {
-                    uint32_t p = v[j], q = v[(j + 1) % 3];
-                    edge probe = {p < q ? p : q, p < q ? q : p, 0, 0};
-                    /* the edge's group: the first record with these ends */
-                    size_t lo2 = 0, hi2 = 3 * nt;
-                    while (lo2 < hi2) {
-                        size_t mid = (lo2 + hi2) / 2;
-                        if (e[mid].a < probe.a || (e[mid].a == probe.a && e[mid].b < probe.b))
-                            lo2 = mid + 1;
-                        else
-                            hi2 = mid;
-                    }
-                    size_t end = lo2;
-                    while (end < 3 * nt && e[end].a == probe.a && e[end].b == probe.b)
-                        end++;
-                    if (end - lo2 != 2)
-                        continue;
-                    const edge *mine = e[lo2].tri == t ? &e[lo2] : &e[lo2 + 1];
-                    const edge *other = e[lo2].tri == t ? &e[lo2 + 1] : &e[lo2];
-                    if (seen[other->tri])
-                        continue;
-                    /* consistent when the two run the edge in opposite directions */
-                    const int mine_fwd = mine->forward ^ flip[t];
-                    flip[other->tri] = (int8_t)(other->forward == mine_fwd);
-                    seen[other->tri] = 1;
-                    queue[tail++] = other->tri;
-                }
-            }
-            /* a closed component with negative signed volume is turned inside out */
-            const uint32_t root = find(up, (uint32_t)start);
-            if (!open[root]) {
-                double vol = 0;
-                for (size_t h = 0; h < tail; h++) {
-                    const uint32_t *v = vid + 3 * (size_t)tri[queue[h]];
-                    const double *p0 = pos[v[0]], *p1 = pos[v[flip[queue[h]] ? 2 : 1]],
-                                 *p2 = pos[v[flip[queue[h]] ? 1 : 2]];
-                    vol += p0[0] * (p1[1] * p2[2] - p1[2] * p2[1]) -
-                           p0[1] * (p1[0] * p2[2] - p1[2] * p2[0]) +
-                           p0[2] * (p1[0] * p2[1] - p1[1] * p2[0]);
-                }
-                if (vol < 0)
-                    for (size_t h = 0; h < tail; h++)
-                        flip[queue[h]] ^= 1;
-                rep->closed_components++;
-            } else {
-                rep->open_components++;
-            }
-        }
-        /* the triangles as repaired; the parts by name */
-        int *pmap = malloc((size_t)(s->nnames ? s->nnames : 1) * sizeof *pmap);
-        if (!pmap)
-            rc = mote_fail(err, MOTE_ENOMEM, "mesh: out of memory");
-        for (int k = 0; !rc && k < s->nnames; k++)
-            pmap[k] = -1; /* parts are made when a kept triangle needs them */
-        for (size_t k = 0; !rc && k < nt; k++) {
-            const uint32_t *v = vid + 3 * (size_t)tri[k];
-            int *pm = &pmap[s->part[tri[k]]];
-            if (*pm < 0 && (*pm = ch_body_part(b, s->names[s->part[tri[k]]], err)) < 0) {
-                rc = err->code;
-                break;
-            }
-            const double *p0 = pos[v[0]], *p1 = pos[v[flip[k] ? 2 : 1]], *p2 = pos[v[flip[k] ? 1 : 2]];
-            const uint32_t before = b->ntri;
-            rc = ch_add_tri(b, p0, p1, p2, NULL, !open[find(up, (uint32_t)k)],
-                            pmap[s->part[tri[k]]], err);
-            if (!rc && b->ntri == before)
-                rep->degenerate++;
-            /* flipped: against the file's own winding */
-            if (!rc && flip[k] && b->ntri > before)
-                rep->flipped++;
-        }
-        free(pmap);
+        mesh_components(&m);
+        mesh_orient(&m, rep);
+        rc = mesh_add(b, s, &m, rep, err);
     }
     free(vid);
     free(pos);
     free(keep);
     free(tri);
-    free(e);
-    free(up);
-    free(flip);
-    free(open);
-    free(seen);
-    free(queue);
+    free(m.e);
+    free(m.up);
+    free(m.flip);
+    free(m.open);
+    free(m.seen);
+    free(m.queue);
     return rc;
 }
 
