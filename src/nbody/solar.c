@@ -44,6 +44,169 @@ void mote_nb_solar_free(mote_nb_solar *s)
     s->n = 0;
 }
 
+/* The reader of a solar-system file: the file's units (length L in m, time T in s, G for the
+ * mass form) and the Earth/Moon mass ratio of an EMB row's split. */
+typedef struct {
+    const char *path;
+    long ln;
+    int have_units, mass_form, cap;
+    double L, T, G, emrat;
+} solar_rd;
+
+/* A comment line: '# units: ...' and '# emrat: R' are read, the others are notes. */
+static int solar_comment(solar_rd *r, const char *line, mote_err *err)
+{
+    if (strncmp(line, "# units:", 8) == 0) {
+        char a[32], b[32], c[32], d[64], extra;
+        int k = sscanf(line + 8, "%31s %31s %31s %63s %c", a, b, c, d, &extra);
+        if (k == 3 && !strcmp(a, "km") && !strcmp(b, "s") && !strcmp(c, "GM")) {
+            r->L = 1e3;
+            r->T = 1;
+        } else if (k == 3 && !strcmp(a, "AU") && !strcmp(b, "day") && !strcmp(c, "GM")) {
+            r->L = MOTE_NB_AU;
+            r->T = 86400;
+        } else if (k == 4 && !strcmp(a, "AU") && !strcmp(b, "day") && !strcmp(c, "Msun") &&
+                   !strncmp(d, "G=", 2) && !parse_real(d + 2, &r->G) && r->G > 0) {
+            r->L = MOTE_NB_AU;
+            r->T = 86400;
+            r->mass_form = 1;
+        } else {
+            return mote_fail(err, MOTE_EFORMAT, "%s:%ld: expected '# units: km s GM', '# units: "
+                             "AU day GM' or '# units: AU day Msun G=<value>'", r->path, r->ln);
+        }
+        r->have_units = 1;
+    } else if (strncmp(line, "# emrat:", 8) == 0) {
+        char extra;
+        if (sscanf(line + 8, "%lf %c", &r->emrat, &extra) != 1 || !(r->emrat > 0) ||
+            !isfinite(r->emrat))
+            return mote_fail(err, MOTE_EFORMAT, "%s:%ld: expected '# emrat: R' with the "
+                             "Earth/Moon mass ratio R > 0", r->path, r->ln);
+    }
+    return MOTE_OK;
+}
+
+/* A body's name tok into b: NAME, or NAME@CENTRE (the state relative to an earlier body: its
+ * index in *centre), or Moon@Earth after an EMB row (the barycentre split, spec 9.3: the EMB
+ * row's index in *split). */
+static int solar_name(solar_rd *r, const mote_nb_solar *s, mote_nb_sbody *b, const char *tok,
+                      int *centre, int *split, mote_err *err)
+{
+    *centre = *split = -1;
+    if (strlen(tok) >= sizeof b->name)
+        return mote_fail(err, MOTE_EFORMAT, "%s:%ld: body name longer than %d characters",
+                         r->path, r->ln, (int)sizeof b->name - 1);
+    strcpy(b->name, tok);
+    char *at = strchr(b->name, '@');
+    if (at) {
+        *at++ = '\0';
+        for (int j = 0; j < s->n; j++)
+            if (strcmp(s->b[j].name, at) == 0)
+                *centre = j;
+        for (int j = 0; j < s->n && *centre < 0 && !strcmp(b->name, "Moon") &&
+                        !strcmp(at, "Earth");
+             j++)
+            if (strcmp(s->b[j].name, "EMB") == 0)
+                *split = j;
+        if (*split >= 0 && !(r->emrat > 0))
+            return mote_fail(err, MOTE_EFORMAT, "%s:%ld: Moon@Earth after an EMB row needs the "
+                             "Earth/Moon mass ratio ('# emrat: R') before it", r->path, r->ln);
+        if (!b->name[0] || (*centre < 0 && *split < 0))
+            return mote_fail(err, MOTE_EFORMAT, "%s:%ld: %s@%s: expected NAME@CENTRE with the "
+                             "centre on an earlier line", r->path, r->ln, b->name, at);
+    }
+    if (!mote_nb_name_ok(b->name))
+        return mote_fail(err, MOTE_EFORMAT, "%s:%ld: '%s' is not a valid body name (a letter "
+                         "first, then letters, digits and _ . + -; at most %d characters)",
+                         r->path, r->ln, b->name, MOTE_NB_NAME - 1);
+    return MOTE_OK;
+}
+
+/* The body b from its numbers v (GM or mass, x y z, vx vy vz, radius in km) in SI units, moved
+ * by its centre, or splitting the EMB row into Earth and Moon. */
+static int solar_place(solar_rd *r, mote_nb_solar *s, mote_nb_sbody *b, const double v[8],
+                       int centre, int split, mote_err *err)
+{
+    const double L = r->L, T = r->T;
+    b->gm = (r->mass_form ? r->G * v[0] : v[0]) * L * L * L / (T * T);
+    for (int a = 0; a < 3; a++) {
+        b->x[a] = v[1 + a] * L;
+        b->v[a] = v[4 + a] * L / T;
+    }
+    b->ra = v[7] * 1e3;
+    if (centre >= 0)
+        for (int a = 0; a < 3; a++) {
+            b->x[a] += s->b[centre].x[a];
+            b->v[a] += s->b[centre].v[a];
+        }
+    if (split < 0)
+        return MOTE_OK;
+    /* EMB and the geocentric Moon r: Earth = EMB - r/(1+R), Moon = Earth + r */
+    mote_nb_sbody *e = &s->b[split];
+    const double f = 1 / (1 + r->emrat);
+    for (int a = 0; a < 3; a++) {
+        e->x[a] -= f * b->x[a];
+        e->v[a] -= f * b->v[a];
+        b->x[a] += e->x[a];
+        b->v[a] += e->v[a];
+    }
+    e->gm -= b->gm;
+    strcpy(e->name, "Earth");
+    for (int j = 0; j < s->n; j++)
+        if (j != split && strcmp(s->b[j].name, "Earth") == 0)
+            return mote_fail(err, MOTE_EFORMAT, "%s:%ld: an EMB row and an Earth row", r->path,
+                             r->ln);
+    return MOTE_OK;
+}
+
+/* A body row: its name, its eight numbers, the body placed. */
+static int solar_row(solar_rd *r, mote_nb_solar *s, char *line, mote_err *err)
+{
+    const char *path = r->path;
+    const long ln = r->ln;
+    char *save = NULL, *tok = strtok_r(line, " \t", &save);
+    if (!tok)
+        return MOTE_OK;
+    if (!r->have_units)
+        return mote_fail(err, MOTE_EFORMAT, "%s:%ld: a body before the '# units:' line", path,
+                         ln);
+    if (s->n == r->cap) {
+        r->cap = r->cap ? 2 * r->cap : 16;
+        mote_nb_sbody *p = realloc(s->b, (size_t)r->cap * sizeof *p);
+        if (!p)
+            return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", path);
+        s->b = p;
+    }
+    mote_nb_sbody *b = &s->b[s->n];
+    memset(b, 0, sizeof *b);
+    b->line = ln;
+    int centre, split;
+    int rc = solar_name(r, s, b, tok, &centre, &split, err);
+    if (rc)
+        return rc;
+    double v[8];
+    int k = 0;
+    for (; k < 8 && (tok = strtok_r(NULL, " \t", &save)); k++)
+        if (k == 0 && split >= 0 && strcmp(tok, "-") == 0) /* the GM from the split */
+            v[0] = s->b[split].gm / (1 + r->emrat) / (r->L * r->L * r->L / (r->T * r->T));
+        else if (parse_real(tok, &v[k]))
+            return mote_fail(err, MOTE_EFORMAT, "%s:%ld: %s: column %d: expected a number, "
+                             "found '%.40s'", path, ln, b->name, k + 2, tok);
+    if (k < 8 || strtok_r(NULL, " \t", &save))
+        return mote_fail(err, MOTE_EFORMAT, "%s:%ld: %s: expected 8 numbers (%s x y z vx vy vz "
+                         "radius_km)", path, ln, b->name, r->mass_form ? "mass" : "GM");
+    if (!(v[0] > 0) || v[7] < 0)
+        return mote_fail(err, MOTE_EFORMAT, "%s:%ld: %s: need %s > 0 and radius >= 0", path, ln,
+                         b->name, r->mass_form ? "mass" : "GM");
+    for (int j = 0; j < s->n; j++)
+        if (strcmp(s->b[j].name, b->name) == 0)
+            return mote_fail(err, MOTE_EFORMAT, "%s:%ld: %s is also on line %ld", path, ln,
+                             b->name, s->b[j].line);
+    if ((rc = solar_place(r, s, b, v, centre, split, err)))
+        return rc;
+    s->n++;
+    return MOTE_OK;
+}
+
 int mote_nb_solar_read(const char *path, mote_nb_solar *s, mote_err *err)
 {
     memset(s, 0, sizeof *s);
@@ -51,167 +214,19 @@ int mote_nb_solar_read(const char *path, mote_nb_solar *s, mote_err *err)
     int rc = mote_lines_open(&in, path, err);
     if (rc)
         return rc;
+    solar_rd r = {.path = path};
     char *line;
-    int have_units = 0, mass_form = 0, cap = 0;
-    double L = 0, T = 0, G = 0; /* length (m) and time (s) of the file, G for the mass form */
-    double emrat = 0;           /* '# emrat:': the Earth/Moon mass ratio of an EMB row's split */
     while (!rc && (line = mote_lines_next(&in)) != NULL) {
-        const long ln = in.line;
-        if (ln == 1) {
+        r.ln = in.line;
+        if (r.ln == 1) {
             if (strcmp(line, SOLAR_FORMAT) != 0)
                 rc = mote_fail(err, MOTE_EFORMAT, "%s:1: expected '%s', found '%.60s'", path,
                                SOLAR_FORMAT, line);
-            continue;
+        } else if (line[0] == '#') {
+            rc = solar_comment(&r, line, err);
+        } else {
+            rc = solar_row(&r, s, line, err);
         }
-        if (line[0] == '#') {
-            if (strncmp(line, "# units:", 8) == 0) {
-                char a[32], b[32], c[32], d[64], extra;
-                int k = sscanf(line + 8, "%31s %31s %31s %63s %c", a, b, c, d, &extra);
-                if (k == 3 && !strcmp(a, "km") && !strcmp(b, "s") && !strcmp(c, "GM")) {
-                    L = 1e3;
-                    T = 1;
-                    have_units = 1;
-                } else if (k == 3 && !strcmp(a, "AU") && !strcmp(b, "day") && !strcmp(c, "GM")) {
-                    L = MOTE_NB_AU;
-                    T = 86400;
-                    have_units = 1;
-                } else if (k == 4 && !strcmp(a, "AU") && !strcmp(b, "day") && !strcmp(c, "Msun") &&
-                           !strncmp(d, "G=", 2) && !parse_real(d + 2, &G) && G > 0) {
-                    L = MOTE_NB_AU;
-                    T = 86400;
-                    mass_form = have_units = 1;
-                } else {
-                    rc = mote_fail(err, MOTE_EFORMAT,
-                                   "%s:%ld: expected '# units: km s GM', '# units: AU day GM' or "
-                                   "'# units: AU day Msun G=<value>'",
-                                   path, ln);
-                }
-            } else if (strncmp(line, "# emrat:", 8) == 0) {
-                char extra;
-                if (sscanf(line + 8, "%lf %c", &emrat, &extra) != 1 || !(emrat > 0) ||
-                    !isfinite(emrat))
-                    rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: expected '# emrat: R' with the "
-                                   "Earth/Moon mass ratio R > 0", path, ln);
-            }
-            continue;
-        }
-        char *save = NULL, *tok = strtok_r(line, " \t", &save);
-        if (!tok)
-            continue;
-        if (!have_units) {
-            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: a body before the '# units:' line", path, ln);
-            break;
-        }
-        if (s->n == cap) {
-            cap = cap ? 2 * cap : 16;
-            mote_nb_sbody *p = realloc(s->b, (size_t)cap * sizeof *p);
-            if (!p) {
-                rc = mote_fail(err, MOTE_ENOMEM, "%s: out of memory", path);
-                break;
-            }
-            s->b = p;
-        }
-        mote_nb_sbody *b = &s->b[s->n];
-        memset(b, 0, sizeof *b);
-        if (strlen(tok) >= sizeof b->name) {
-            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: body name longer than %d characters", path,
-                           ln, (int)sizeof b->name - 1);
-            break;
-        }
-        strcpy(b->name, tok);
-        b->line = ln;
-        int centre = -1; /* 'Moon@Earth': the state is relative to an earlier body */
-        int split = -1;  /* 'Moon@Earth' after an 'EMB' row: the barycentre is split (spec 9.3) */
-        char *at = strchr(b->name, '@');
-        if (at) {
-            *at++ = '\0';
-            for (int j = 0; j < s->n; j++)
-                if (strcmp(s->b[j].name, at) == 0)
-                    centre = j;
-            for (int j = 0; j < s->n && centre < 0 && !strcmp(b->name, "Moon") &&
-                            !strcmp(at, "Earth");
-                 j++)
-                if (strcmp(s->b[j].name, "EMB") == 0)
-                    split = j;
-            if (split >= 0 && !(emrat > 0)) {
-                rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: Moon@Earth after an EMB row needs the "
-                               "Earth/Moon mass ratio ('# emrat: R') before it", path, ln);
-                break;
-            }
-            if (!b->name[0] || (centre < 0 && split < 0)) {
-                rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: %s@%s: expected NAME@CENTRE with the "
-                               "centre on an earlier line", path, ln, b->name, at);
-                break;
-            }
-        }
-        if (!mote_nb_name_ok(b->name)) {
-            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: '%s' is not a valid body name (a letter "
-                           "first, then letters, digits and _ . + -; at most %d characters)",
-                           path, ln, b->name, MOTE_NB_NAME - 1);
-            break;
-        }
-        double v[8];
-        int k = 0;
-        for (; k < 8 && (tok = strtok_r(NULL, " \t", &save)); k++)
-            if (k == 0 && split >= 0 && strcmp(tok, "-") == 0) /* the GM from the split */
-                v[0] = s->b[split].gm / (1 + emrat) / (L * L * L / (T * T));
-            else if (parse_real(tok, &v[k])) {
-                rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: %s: column %d: expected a number, found "
-                               "'%.40s'", path, ln, b->name, k + 2, tok);
-                break;
-            }
-        if (rc)
-            break;
-        if (k < 8 || strtok_r(NULL, " \t", &save)) {
-            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: %s: expected 8 numbers (%s x y z vx vy vz "
-                           "radius_km)", path, ln, b->name, mass_form ? "mass" : "GM");
-            break;
-        }
-        if (!(v[0] > 0) || v[7] < 0) {
-            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: %s: need %s > 0 and radius >= 0", path, ln,
-                           b->name, mass_form ? "mass" : "GM");
-            break;
-        }
-        for (int j = 0; j < s->n; j++)
-            if (strcmp(s->b[j].name, b->name) == 0) {
-                rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: %s is also on line %ld", path, ln,
-                               b->name, s->b[j].line);
-                break;
-            }
-        if (rc)
-            break;
-        b->gm = (mass_form ? G * v[0] : v[0]) * L * L * L / (T * T);
-        for (int a = 0; a < 3; a++) {
-            b->x[a] = v[1 + a] * L;
-            b->v[a] = v[4 + a] * L / T;
-        }
-        b->ra = v[7] * 1e3;
-        if (centre >= 0)
-            for (int a = 0; a < 3; a++) {
-                b->x[a] += s->b[centre].x[a];
-                b->v[a] += s->b[centre].v[a];
-            }
-        if (split >= 0) { /* EMB and the geocentric Moon r: Earth = EMB - r/(1+R), Moon = Earth + r */
-            mote_nb_sbody *e = &s->b[split];
-            const double f = 1 / (1 + emrat);
-            for (int a = 0; a < 3; a++) {
-                e->x[a] -= f * b->x[a];
-                e->v[a] -= f * b->v[a];
-                b->x[a] += e->x[a];
-                b->v[a] += e->v[a];
-            }
-            e->gm -= b->gm;
-            strcpy(e->name, "Earth");
-            for (int j = 0; j < s->n; j++)
-                if (j != split && strcmp(s->b[j].name, "Earth") == 0) {
-                    rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: an EMB row and an Earth row",
-                                   path, ln);
-                    break;
-                }
-            if (rc)
-                break;
-        }
-        s->n++;
     }
     const long lines = in.line;
     int crc = mote_lines_close(&in, err);
