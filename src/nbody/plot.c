@@ -89,6 +89,97 @@ static int traj_find(const mote_table *t, const traj_body *b, int n, const char 
 }
 
 
+/* The bodies drawn (bodies=LIST, or all but the one the view is centred on) into pick[0 ..
+ * *nbod) and relative_to=BODY's index in *rel (-1: none): names or numbers of bodies the file
+ * holds. */
+static int orbit_selection(const mote_table *t, const traj_body *all, int nall, const char *in,
+                           const mote_call *c, int *pick, int *nbod, int *rel, mote_err *err)
+{
+    const mote_arg *sel = c ? mote_call_opt(c, "bodies") : NULL;
+    const mote_arg *ra = c ? mote_call_opt(c, "relative_to") : NULL;
+    *nbod = 0;
+    *rel = -1;
+    if (ra && (*rel = traj_find(t, all, nall, ra->text)) < 0)
+        return mote_call_fail(err, c, mote_call_opt_index(c, "relative_to"), MOTE_EINVAL,
+                              "plot: relative_to: %s holds no body '%s'", in, ra->text);
+    if (!sel) {
+        for (int k = 0; k < nall; k++)
+            if (k != *rel) /* the body the view is centred on stays at the origin */
+                pick[(*nbod)++] = k;
+        if (!*nbod)
+            pick[(*nbod)++] = *rel;
+        return MOTE_OK;
+    }
+    for (const char *p = sel->text;;) {
+        char tok[64];
+        size_t len = strcspn(p, ",");
+        snprintf(tok, sizeof tok, "%.*s", (int)(len < 63 ? len : 63), p);
+        int k = traj_find(t, all, nall, tok);
+        if (k < 0)
+            return mote_call_fail(err, c, mote_call_opt_index(c, "bodies"), MOTE_EINVAL,
+                                  "plot: bodies: %s holds no body '%s'", in, tok);
+        pick[(*nbod)++] = k;
+        if (!p[len] || *nbod == nall)
+            return MOTE_OK;
+        p += len + 1;
+    }
+}
+
+/* The plane's two unit vectors and the axes' names: xy, xz, yz, or the invariable plane (the
+ * header's total angular momentum at the start; xy when there is none). */
+static void orbit_plane(const mote_table *t, const char *plane, double e1[3], double e2[3],
+                        const char **lx, const char **ly)
+{
+    static const double x[3] = {1, 0, 0}, y[3] = {0, 1, 0};
+    memcpy(e1, x, sizeof x);
+    memcpy(e2, y, sizeof y);
+    *lx = "x";
+    *ly = "y";
+    if (strcmp(plane, "xz") == 0) {
+        e2[1] = 0;
+        e2[2] = 1;
+        *ly = "z";
+    } else if (strcmp(plane, "yz") == 0) {
+        e1[0] = 0;
+        e1[1] = 1;
+        e2[1] = 0;
+        e2[2] = 1;
+        *lx = "y";
+        *ly = "z";
+    } else if (strcmp(plane, "invariable") == 0) {
+        double n[3] = {mote_table_key(t, "Lx0"), mote_table_key(t, "Ly0"),
+                       mote_table_key(t, "Lz0")};
+        double nn = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        if (!(nn > 0) || !isfinite(nn)) { /* no angular momentum: the xy plane */
+            n[0] = n[1] = 0;
+            n[2] = 1;
+        } else {
+            unit(n);
+        }
+        plane_basis(n, e1, e2);
+        *lx = "x'";
+        *ly = "y'";
+    }
+}
+
+/* The title: the bodies, the time span (in years when the file carries the time scale), the
+ * plane, the centre. */
+static void orbit_title(char *title, size_t size, const mote_table *t, int nbod,
+                        const char *plane, const char *centre)
+{
+    double t0 = t->rows ? mote_table_at(t, 0, 0) : 0;
+    double t1 = t->rows ? mote_table_at(t, t->rows - 1, 0) : 0;
+    double kt = mote_table_has(t, "kt") ? mote_table_key(t, "kt") : 0;
+    char span[96];
+    if (kt > 0 && isfinite(kt))
+        snprintf(span, sizeof span, "t = %.6g to %.6g years", t0 / (kt * 31557600.0),
+                 t1 / (kt * 31557600.0));
+    else
+        snprintf(span, sizeof span, "T = %.6g to %.6g", t0, t1);
+    snprintf(title, size, "orbits of %d bod%s, %s (%s plane)%s%s", nbod, nbod == 1 ? "y" : "ies",
+             span, plane, centre ? ", relative to " : "", centre ? centre : "");
+}
+
 static int plot_orbits(const mote_table *t, const char *in, const char *png, const mote_call *c,
                        mote_err *err)
 {
@@ -112,67 +203,13 @@ static int plot_orbits(const mote_table *t, const char *in, const char *png, con
                            t->line[r], t->ncolnames, t->ncol[r]);
             goto done;
         }
-    /* bodies=LIST and relative_to=BODY: names or numbers of bodies the file holds */
-    const mote_arg *sel = c ? mote_call_opt(c, "bodies") : NULL;
-    const mote_arg *ra = c ? mote_call_opt(c, "relative_to") : NULL;
-    if (ra && (rel = traj_find(t, all, nall, ra->text)) < 0) {
-        rc = mote_call_fail(err, c, mote_call_opt_index(c, "relative_to"), MOTE_EINVAL,
-                            "plot: relative_to: %s holds no body '%s'", in, ra->text);
+    if ((rc = orbit_selection(t, all, nall, in, c, pick, &nbod, &rel, err)))
         goto done;
-    }
-    if (sel) {
-        for (const char *p = sel->text;;) {
-            char tok[64];
-            size_t len = strcspn(p, ",");
-            snprintf(tok, sizeof tok, "%.*s", (int)(len < 63 ? len : 63), p);
-            int k = traj_find(t, all, nall, tok);
-            if (k < 0) {
-                rc = mote_call_fail(err, c, mote_call_opt_index(c, "bodies"), MOTE_EINVAL,
-                                    "plot: bodies: %s holds no body '%s'", in, tok);
-                goto done;
-            }
-            pick[nbod++] = k;
-            if (!p[len] || nbod == nall)
-                break;
-            p += len + 1;
-        }
-    } else {
-        for (int k = 0; k < nall; k++)
-            if (k != rel) /* the body the view is centred on stays at the origin */
-                pick[nbod++] = k;
-        if (!nbod)
-            pick[nbod++] = rel;
-    }
-    /* the plane: its two unit vectors */
     const char *plane = c && mote_call_opt(c, "plane") ? mote_call_opt(c, "plane")->text
                                                         : "invariable";
-    double e1[3] = {1, 0, 0}, e2[3] = {0, 1, 0};
-    const char *lx = "x", *ly = "y";
-    if (strcmp(plane, "xz") == 0) {
-        e2[1] = 0;
-        e2[2] = 1;
-        ly = "z";
-    } else if (strcmp(plane, "yz") == 0) {
-        e1[0] = 0;
-        e1[1] = 1;
-        e2[1] = 0;
-        e2[2] = 1;
-        lx = "y";
-        ly = "z";
-    } else if (strcmp(plane, "invariable") == 0) {
-        double n[3] = {mote_table_key(t, "Lx0"), mote_table_key(t, "Ly0"),
-                       mote_table_key(t, "Lz0")};
-        double nn = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-        if (!(nn > 0) || !isfinite(nn)) { /* no angular momentum: the xy plane */
-            n[0] = n[1] = 0;
-            n[2] = 1;
-        } else {
-            unit(n);
-        }
-        plane_basis(n, e1, e2);
-        lx = "x'";
-        ly = "y'";
-    }
+    double e1[3], e2[3];
+    const char *lx, *ly;
+    orbit_plane(t, plane, e1, e2, &lx, &ly);
     /* lengths in AU (or m) when the file carries the length scale */
     double Am = mote_table_has(t, "Am") ? mote_table_key(t, "Am") : 0, scale = 1;
     const char *unit_name = "dimensionless length";
@@ -233,18 +270,7 @@ static int plot_orbits(const mote_table *t, const char *in, const char *png, con
         half *= scale;
     }
     char title[400], xl[64], yl[64];
-    double t0 = t->rows ? mote_table_at(t, 0, 0) : 0, t1 = t->rows ? mote_table_at(t, t->rows - 1, 0) : 0;
-    /* the time span in years (Julian) when the file carries the time scale */
-    double kt = mote_table_has(t, "kt") ? mote_table_key(t, "kt") : 0;
-    char span[96];
-    if (kt > 0 && isfinite(kt))
-        snprintf(span, sizeof span, "t = %.6g to %.6g years", t0 / (kt * 31557600.0),
-                 t1 / (kt * 31557600.0));
-    else
-        snprintf(span, sizeof span, "T = %.6g to %.6g", t0, t1);
-    snprintf(title, sizeof title, "orbits of %d bod%s, %s (%s plane)%s%s", nbod,
-             nbod == 1 ? "y" : "ies", span, plane, rel >= 0 ? ", relative to " : "",
-             rel >= 0 ? all[rel].label : "");
+    orbit_title(title, sizeof title, t, nbod, plane, rel >= 0 ? all[rel].label : NULL);
     snprintf(xl, sizeof xl, "%s (%s)", lx, unit_name);
     snprintf(yl, sizeof yl, "%s (%s)", ly, unit_name);
     mote_plot_opts o;
