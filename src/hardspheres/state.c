@@ -268,6 +268,99 @@ static int check_version(reader *r, mote_err *err)
     return MOTE_OK;
 }
 
+/* The 'particles' line: the columns of a system of dimension dim. */
+static int particles_line(reader *r, int dim, mote_err *err)
+{
+    const char *want3 = "particles x y z vx vy vz radius mass";
+    const char *want2 = "particles x y vx vy radius mass";
+    char *ptok[12];
+    char copy[256];
+    snprintf(copy, sizeof copy, "%s", r->buf);
+    int np = split(copy, ptok, 12);
+    char joined[256] = "";
+    for (int k = 0; k < np && k < 12; k++) {
+        if (k)
+            strcat(joined, " ");
+        strncat(joined, ptok[k], sizeof joined - strlen(joined) - 2);
+    }
+    if (strcmp(joined, dim == 3 ? want3 : want2) != 0) {
+        char msg[128];
+        snprintf(msg, sizeof msg, "expected '%s'", dim == 3 ? want3 : want2);
+        return rd_fail(r, err, msg, r->buf);
+    }
+    return MOTE_OK;
+}
+
+/* The header's n is not trusted with memory: count the lines that follow first. */
+static int enough_lines(reader *r, uint64_t n64, mote_err *err)
+{
+    long here = ftell(r->f);
+    if (here < 0)
+        return MOTE_OK;
+    uint64_t lines = 0;
+    int c, last = '\n';
+    while ((c = getc(r->f)) != EOF) {
+        lines += c == '\n';
+        last = c;
+    }
+    lines += last != '\n';
+    if (fseek(r->f, here, SEEK_SET) != 0)
+        return mote_fail(err, MOTE_EIO, "%s: cannot read the particles again: %s", r->path,
+                         strerror(errno));
+    if (lines < n64) {
+        char msg[200];
+        snprintf(msg, sizeof msg,
+                 "file ends early: n = %llu, but only %llu lines follow the 'particles' line",
+                 (unsigned long long)n64, (unsigned long long)lines);
+        r->line += (long)lines + (last == '\n'); /* the cut line, or the first missing */
+        return rd_fail(r, err, msg, NULL);
+    }
+    return MOTE_OK;
+}
+
+/* The particle rows into ev (its n, of dimension dim), then 'end' and nothing after it. */
+static int particle_rows(reader *r, mote_ev *ev, int dim, mote_err *err)
+{
+    for (uint32_t i = 0; i < ev->n; i++) {
+        if (!next_line(r)) {
+            r->line++;
+            char msg[160];
+            snprintf(msg, sizeof msg, "file ends early: expected particle %u of %u", i, ev->n);
+            return rd_fail(r, err, msg, NULL);
+        }
+        hs_row w = {{0, 0, 0}, {0, 0, 0}, 0, 0};
+        int rc = dim == 3 ? mote_sf_parse_line(r, r->buf, ROW3, NF(ROW3), &w, 1, err)
+                          : mote_sf_parse_line(r, r->buf, ROW2, NF(ROW2), &w, 1, err);
+        if (rc) {
+            char why[sizeof err->msg];
+            const char *c = strchr(err->msg + strlen(r->path) + 1, ':');
+            snprintf(why, sizeof why, "%s", c && c[1] == ' ' ? c + 2 : err->msg);
+            char msg[sizeof err->msg + 32];
+            snprintf(msg, sizeof msg, "particle %u: %s", i, why);
+            return rd_fail(r, err, msg, NULL);
+        }
+        for (int a = 0; a < dim; a++) {
+            ev->p[i].r[a] = w.r[a];
+            ev->p[i].v[a] = w.v[a];
+        }
+        ev->radius[i] = w.radius;
+        ev->mass[i] = w.mass;
+        if (!(ev->radius[i] > 0) || !(ev->mass[i] > 0))
+            return rd_fail(r, err, "radius and mass must be > 0", NULL);
+    }
+    if (!next_line(r)) {
+        r->line++;
+        return rd_fail(r, err, "file ends early: expected 'end' (truncated file?)", NULL);
+    }
+    char *et[2];
+    if (split(r->buf, et, 2) != 1 || strcmp(et[0], "end") != 0)
+        return rd_fail(r, err, "expected 'end' after the particles", r->buf);
+    while (next_line(r))
+        if (split(r->buf, et, 1) != 0)
+            return rd_fail(r, err, "unexpected text after 'end'", r->buf);
+    return MOTE_OK;
+}
+
 static int load_mote(mote_hs *hs, reader *r, mote_err *err)
 {
     hs_head h;
@@ -289,104 +382,19 @@ static int load_mote(mote_hs *hs, reader *r, mote_err *err)
     memcpy(rng.s, h.rng, sizeof rng.s);
     if (!next_line(r))
         return r->line++, rd_fail(r, err, "file ends early: expected the 'particles' line", NULL);
-    const char *want3 = "particles x y z vx vy vz radius mass";
-    const char *want2 = "particles x y vx vy radius mass";
-    {
-        char *ptok[12];
-        char copy[256];
-        snprintf(copy, sizeof copy, "%s", r->buf);
-        int np = split(copy, ptok, 12);
-        char joined[256] = "";
-        for (int k = 0; k < np && k < 12; k++) {
-            if (k)
-                strcat(joined, " ");
-            strncat(joined, ptok[k], sizeof joined - strlen(joined) - 2);
-        }
-        if (strcmp(joined, dim == 3 ? want3 : want2) != 0) {
-            char msg[128];
-            snprintf(msg, sizeof msg, "expected '%s'", dim == 3 ? want3 : want2);
-            return rd_fail(r, err, msg, r->buf);
-        }
-    }
-
-    /* the header's n is not trusted with memory: count the lines that follow first */
-    long here = ftell(r->f);
-    if (here >= 0) {
-        uint64_t lines = 0;
-        int c, last = '\n';
-        while ((c = getc(r->f)) != EOF) {
-            lines += c == '\n';
-            last = c;
-        }
-        lines += last != '\n';
-        if (fseek(r->f, here, SEEK_SET) != 0)
-            return mote_fail(err, MOTE_EIO, "%s: cannot read the particles again: %s", r->path,
-                             strerror(errno));
-        if (lines < n64) {
-            char msg[200];
-            snprintf(msg, sizeof msg,
-                     "file ends early: n = %llu, but only %llu lines follow the 'particles' line",
-                     (unsigned long long)n64, (unsigned long long)lines);
-            r->line += (long)lines + (last == '\n'); /* the cut line, or the first missing */
-            return rd_fail(r, err, msg, NULL);
-        }
-    }
+    if ((rc = particles_line(r, dim, err)))
+        return rc;
+    if ((rc = enough_lines(r, n64, err)))
+        return rc;
     mote_ev ev;
     rc = mote_ev_init(&ev, (uint32_t)n64, dim, 1, err);
     if (rc)
         return rc;
     long first_line = r->line + 1;
-    for (uint32_t i = 0; i < ev.n; i++) {
-        if (!next_line(r)) {
-            r->line++;
-            char msg[160];
-            snprintf(msg, sizeof msg, "file ends early: expected particle %u of %u", i, ev.n);
-            mote_ev_free(&ev);
-            return rd_fail(r, err, msg, NULL);
-        }
-        hs_row w = {{0, 0, 0}, {0, 0, 0}, 0, 0};
-        rc = dim == 3 ? mote_sf_parse_line(r, r->buf, ROW3, NF(ROW3), &w, 1, err)
-                      : mote_sf_parse_line(r, r->buf, ROW2, NF(ROW2), &w, 1, err);
-        if (rc) {
-            char why[sizeof err->msg];
-            const char *c = strchr(err->msg + strlen(r->path) + 1, ':');
-            snprintf(why, sizeof why, "%s", c && c[1] == ' ' ? c + 2 : err->msg);
-            char msg[sizeof err->msg + 32];
-            snprintf(msg, sizeof msg, "particle %u: %s", i, why);
-            mote_ev_free(&ev);
-            return rd_fail(r, err, msg, NULL);
-        }
-        for (int a = 0; a < dim; a++) {
-            ev.p[i].r[a] = w.r[a];
-            ev.p[i].v[a] = w.v[a];
-        }
-        ev.radius[i] = w.radius;
-        ev.mass[i] = w.mass;
-        if (!(ev.radius[i] > 0) || !(ev.mass[i] > 0)) {
-            mote_ev_free(&ev);
-            return rd_fail(r, err, "radius and mass must be > 0", NULL);
-        }
-    }
-    if (!next_line(r)) {
-        r->line++;
+    if ((rc = particle_rows(r, &ev, dim, err))) {
         mote_ev_free(&ev);
-        return rd_fail(r, err, "file ends early: expected 'end' (truncated file?)", NULL);
+        return rc;
     }
-    {
-        char *et[2];
-        if (split(r->buf, et, 2) != 1 || strcmp(et[0], "end") != 0) {
-            mote_ev_free(&ev);
-            return rd_fail(r, err, "expected 'end' after the particles", r->buf);
-        }
-    }
-    while (next_line(r)) {
-        char *et[1];
-        if (split(r->buf, et, 1) != 0) {
-            mote_ev_free(&ev);
-            return rd_fail(r, err, "unexpected text after 'end'", r->buf);
-        }
-    }
-
     /* monodisperse systems use the fast equal-mass path */
     int mono = 1;
     for (uint32_t i = 1; i < ev.n; i++)
