@@ -256,12 +256,121 @@ static int sort_spatial(mote_ev *ev, double rmax, mote_err *err)
     return MOTE_OK;
 }
 
-int mote_ev_rebuild(mote_ev *ev, mote_err *err)
+/* The shell: SHELL_FRACTION of the contact distance, but small enough on short periodic axes
+ * that sigma_max + 2 shell < len / 2, so a listed pair is always seen through one image (its
+ * minimum image) until either list expires. */
+static double rebuild_shell(const mote_ev *ev)
+{
+    const int d = ev->dim;
+    double shell = SHELL_FRACTION * ev->sigma_max;
+    if (ev->field) {
+        /* field-mode systems are often dilute (a gas in a box): there a shell of half a
+         * diameter expires dozens of times per free flight. Widen it until a list holds about
+         * FIELD_NEIGHBOURS particles at the mean density, within a quarter of the box. */
+        double area = ev->len[0] * ev->len[1];
+        double wide = sqrt(FIELD_NEIGHBOURS * area / (MOTE_PI * ev->n)) - ev->sigma_max;
+        double cap = 0.25 * fmin(ev->len[0], ev->len[1]);
+        if (wide > cap)
+            wide = cap;
+        if (wide > shell)
+            shell = wide;
+    }
+    for (int a = 0; a < d; a++)
+        if (ev->periodic[a]) {
+            double cap = 0.5 * (0.5 * ev->len[a] - ev->sigma_max) * (1 - 1e-6);
+            if (shell > cap)
+                shell = cap;
+        }
+    return shell;
+}
+
+/* 3. Cells at least sigma_max + shell wide (at most a few per particle), each particle's
+ * reference, flags, counter and cell, the cells' blocks wide enough for the fullest cell with
+ * room to spare (they widen if needed). */
+static int rebuild_cells(mote_ev *ev, mote_err *err)
 {
     const int d = ev->dim;
     const uint32_t n = ev->n;
     mote_particle *P = ev->p;
     mote_ev_cold *C = ev->pc;
+    size_t ncells = 1;
+    const double wmin = ev->sigma_max + ev->shell;
+    for (int a = 0; a < 3; a++) {
+        if (a < d) {
+            double k = floor(ev->len[a] / wmin);
+            if (k < 1)
+                k = 1;
+            if (k > 1 << 20)
+                k = 1 << 20;
+            ev->ncell[a] = (int)k;
+            ev->cell_w[a] = ev->len[a] / ev->ncell[a];
+        } else {
+            ev->ncell[a] = 1;
+            ev->cell_w[a] = ev->len[a];
+        }
+        ev->cell_lo[a] = 0;
+        ev->len_grid[a] = ev->len[a];
+        ncells *= (size_t)ev->ncell[a];
+    }
+    while (ncells > 8 * (size_t)n + 64) {
+        int amax = 0;
+        for (int a = 1; a < d; a++)
+            if (ev->ncell[a] > ev->ncell[amax])
+                amax = a;
+        ev->ncell[amax] = (ev->ncell[amax] + 1) / 2;
+        ev->cell_w[amax] = ev->len[amax] / ev->ncell[amax];
+        ncells = (size_t)ev->ncell[0] * ev->ncell[1] * ev->ncell[2];
+    }
+    for (uint32_t i = 0; i < n; i++) {
+        for (int a = 0; a < 3; a++)
+            C[i].r_ref[a] = P[i].r[a];
+        P[i].flags = ref_flags(ev, i, C[i].r_ref);
+        P[i].count = 0;
+        C[i].cell = cell_index(ev, C[i].r_ref);
+    }
+    uint32_t *fill = calloc(ncells, sizeof *fill), most = 0;
+    if (!fill)
+        return mote_fail(err, MOTE_ENOMEM, "out of memory for %zu cells", ncells);
+    for (uint32_t i = 0; i < n; i++)
+        if (++fill[C[i].cell] > most)
+            most = fill[C[i].cell];
+    free(fill);
+    const uint32_t stride = most + most / 4 + 3; /* the count, the fullest cell, a margin */
+    if (ev_cell_blocks(ev, ncells, stride, 0))
+        return mote_fail(err, MOTE_ENOMEM, "out of memory for %zu cells", ncells);
+    for (size_t c = 0; c < ncells; c++)
+        ev->cell_block[c * stride] = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        uint32_t *B = cell_members(ev, C[i].cell);
+        B[++B[0]] = i;
+    }
+    return MOTE_OK;
+}
+
+/* The automatic rebuild horizon: 64 R / v_rms with v_rms from sum m v^2 / sum m, or 16 shells
+ * where the shell was widened (a dilute field-mode gas): tied to the radius alone, ten tiny
+ * fast disks in a large box rebuilt 10^11 times a simulated second, each rebuild costing more
+ * than the few events between two. */
+static double rebuild_horizon(const mote_ev *ev)
+{
+    mote_ksum mv2 = {0, 0}, msum = {0, 0};
+    for (uint32_t i = 0; i < ev->n; i++) {
+        double m = mote_ev_mass(ev, i), v2 = 0;
+        for (int a = 0; a < ev->dim; a++)
+            v2 += ev->p[i].v[a] * ev->p[i].v[a];
+        mote_ksum_add(&mv2, m * v2);
+        mote_ksum_add(&msum, m);
+    }
+    double vrms = sqrt(mote_ksum_value(&mv2) / mote_ksum_value(&msum));
+    const double horizon = fmax(32.0 * ev->sigma_max, 16.0 * ev->shell);
+    return vrms > 0 ? horizon / vrms : INFINITY;
+}
+
+int mote_ev_rebuild(mote_ev *ev, mote_err *err)
+{
+    const int d = ev->dim;
+    const uint32_t n = ev->n;
+    mote_particle *P = ev->p;
     ev->ready = 0; /* until every step below has succeeded */
     ev->canonical = 0;
 
@@ -312,104 +421,17 @@ int mote_ev_rebuild(mote_ev *ev, mote_err *err)
             return rc;
     }
 
-    /* the shell: SHELL_FRACTION of the contact distance, but small enough on short periodic
-     * axes that sigma_max + 2 shell < len / 2, so a listed pair is always seen through one
-     * image (its minimum image) until either list expires */
-    double shell = SHELL_FRACTION * ev->sigma_max;
-    if (ev->field) {
-        /* field-mode systems are often dilute (a gas in a box): there a shell of half a
-         * diameter expires dozens of times per free flight. Widen it until a list holds about
-         * FIELD_NEIGHBOURS particles at the mean density, within a quarter of the box. */
-        double area = ev->len[0] * ev->len[1];
-        double wide = sqrt(FIELD_NEIGHBOURS * area / (MOTE_PI * n)) - ev->sigma_max;
-        double cap = 0.25 * fmin(ev->len[0], ev->len[1]);
-        if (wide > cap)
-            wide = cap;
-        if (wide > shell)
-            shell = wide;
-    }
-    for (int a = 0; a < d; a++)
-        if (ev->periodic[a]) {
-            double cap = 0.5 * (0.5 * ev->len[a] - ev->sigma_max) * (1 - 1e-6);
-            if (shell > cap)
-                shell = cap;
-        }
+    const double shell = rebuild_shell(ev);
     ev->shell = shell;
     ev->nbr_reach = 0.5 * shell * (1 - 1e-9); /* expire a hair early: rounding never matters */
 
-    /* 3. cells at least sigma_max + shell wide (index order), counters, lists, calendar */
-    size_t ncells = 1;
-    const double wmin = ev->sigma_max + shell;
-    for (int a = 0; a < 3; a++) {
-        if (a < d) {
-            double k = floor(ev->len[a] / wmin);
-            if (k < 1)
-                k = 1;
-            if (k > 1 << 20)
-                k = 1 << 20;
-            ev->ncell[a] = (int)k;
-            ev->cell_w[a] = ev->len[a] / ev->ncell[a];
-        } else {
-            ev->ncell[a] = 1;
-            ev->cell_w[a] = ev->len[a];
-        }
-        ev->cell_lo[a] = 0;
-        ev->len_grid[a] = ev->len[a];
-        ncells *= (size_t)ev->ncell[a];
-    }
-    /* keep the grid at most a few cells per particle */
-    while (ncells > 8 * (size_t)n + 64) {
-        int amax = 0;
-        for (int a = 1; a < d; a++)
-            if (ev->ncell[a] > ev->ncell[amax])
-                amax = a;
-        ev->ncell[amax] = (ev->ncell[amax] + 1) / 2;
-        ev->cell_w[amax] = ev->len[amax] / ev->ncell[amax];
-        ncells = (size_t)ev->ncell[0] * ev->ncell[1] * ev->ncell[2];
-    }
-    /* blocks wide enough for the fullest cell with room to spare (they widen if needed) */
-    for (uint32_t i = 0; i < n; i++) {
-        for (int a = 0; a < 3; a++)
-            C[i].r_ref[a] = P[i].r[a];
-        P[i].flags = ref_flags(ev, i, C[i].r_ref);
-        P[i].count = 0;
-        C[i].cell = cell_index(ev, C[i].r_ref);
-    }
-    uint32_t *fill = calloc(ncells, sizeof *fill), most = 0;
-    if (!fill)
-        return mote_fail(err, MOTE_ENOMEM, "out of memory for %zu cells", ncells);
-    for (uint32_t i = 0; i < n; i++)
-        if (++fill[C[i].cell] > most)
-            most = fill[C[i].cell];
-    free(fill);
-    const uint32_t stride = most + most / 4 + 3; /* the count, the fullest cell, a margin */
-    if (ev_cell_blocks(ev, ncells, stride, 0))
-        return mote_fail(err, MOTE_ENOMEM, "out of memory for %zu cells", ncells);
-    for (size_t c = 0; c < ncells; c++)
-        ev->cell_block[c * stride] = 0;
-    for (uint32_t i = 0; i < n; i++) {
-        uint32_t *B = cell_members(ev, C[i].cell);
-        B[++B[0]] = i;
-    }
-    int rc = ev_nbr_build_all(ev, err);
+    int rc = rebuild_cells(ev, err);
     if (rc)
         return rc;
+    if ((rc = ev_nbr_build_all(ev, err)))
+        return rc;
 
-    /* automatic rebuild horizon: 64 R / v_rms with v_rms from sum m v^2 / sum m, or 16 shells
-     * where the shell was widened (a dilute field-mode gas): tied to the radius alone, ten
-     * tiny fast disks in a large box rebuilt 10^11 times a simulated second, each rebuild
-     * costing more than the few events between two */
-    mote_ksum mv2 = {0, 0}, msum = {0, 0};
-    for (uint32_t i = 0; i < n; i++) {
-        double m = mote_ev_mass(ev, i), v2 = 0;
-        for (int a = 0; a < d; a++)
-            v2 += P[i].v[a] * P[i].v[a];
-        mote_ksum_add(&mv2, m * v2);
-        mote_ksum_add(&msum, m);
-    }
-    double vrms = sqrt(mote_ksum_value(&mv2) / mote_ksum_value(&msum));
-    const double horizon = fmax(32.0 * ev->sigma_max, 16.0 * ev->shell);
-    ev->t_rebuild = vrms > 0 ? horizon / vrms : INFINITY;
+    ev->t_rebuild = rebuild_horizon(ev);
 
     /* 4. predict in index order, then fill the calendar in index order */
     for (uint32_t i = 0; i < n; i++)
