@@ -264,6 +264,60 @@ int ch_check_float(void *vm, const mote_call *c, mote_err *err)
     return rc ? rc : ch_note_prefixed(m, c, "_summary.txt", "charging-summary", err);
 }
 
+/* float roots=all (spec 6.5): the characteristic on a grid from 0 by 0.1 kT_min/e doubling, both
+ * ways, to twice the farthest of U_f, U0 and the OML root; each sign change is a root
+ * (interpolated linearly), stable where dI/dU < 0. */
+static int float_roots(ch_model *m, const mote_ch_tracer *t, const mote_ch_run_opts *o, double U,
+                       double oml, mote_progress *prog, mote_err *err)
+{
+    int rc = MOTE_OK;
+    double kTmin = INFINITY;
+    for (int sp = 0; sp < m->plasma.nsp; sp++)
+        for (int k = 0; k < m->plasma.sp[sp].ncomp; k++)
+            kTmin = fmin(kTmin, m->plasma.sp[sp].kT[k] / abs(m->plasma.sp[sp].Z));
+    const double far = 2 * fmax(fmax(fabs(U), fabs(o->U0)), fabs(oml));
+    double grid[200];
+    int ng = 0, nr = 0;
+    for (double step = 0.1 * kTmin; step < far && ng < 90; step *= 2)
+        grid[ng++] = -step;
+    for (int k = 0; k < ng / 2; k++) { /* ascending */
+        const double x = grid[k];
+        grid[k] = grid[ng - 1 - k];
+        grid[ng - 1 - k] = x;
+    }
+    grid[ng++] = 0;
+    for (double step = 0.1 * kTmin; step < far && ng < 190; step *= 2)
+        grid[ng++] = step;
+    double Iprev = 0;
+    for (int k = 0; k < ng && !rc; k++) {
+        mote_ch_run_opts ok = *o;
+        ok.potential = grid[k];
+        mote_ch_result rk;
+        rc = mote_ch_run(&m->plasma, &m->body, t, &ok, &rk, err);
+        if (rc)
+            break;
+        const double I = mote_ch_net(&rk, NULL);
+        mote_ch_result_free(&rk);
+        if (k > 0 && (I < 0) != (Iprev < 0)) {
+            const int here = U >= grid[k - 1] && U <= grid[k]; /* U_f's interval: U_f */
+            const double Ur = here ? U : (grid[k - 1] * I - grid[k] * Iprev) / (I - Iprev);
+            mote_progress_clear(prog);
+            if (m->log)
+                fprintf(m->log, "float: a root of I(U) between %g and %g V: %s %.6g V, %s "
+                                "(dI/dU %s 0)\n", grid[k - 1], grid[k],
+                        here ? "U_f =" : "about (linear)", Ur,
+                        I < Iprev ? "stable" : "unstable", I < Iprev ? "<" : ">");
+            nr++;
+        }
+        Iprev = I;
+    }
+    mote_progress_clear(prog);
+    if (!rc && m->log)
+        fprintf(m->log, "float: %d sign change%s of I(U) at %d potentials from %g to %g V\n",
+                nr, nr == 1 ? "" : "s", ng, grid[0], grid[ng - 1]);
+    return rc;
+}
+
 int ch_run_float(void *vm, const mote_call *c, mote_err *err)
 {
     ch_model *m = vm;
@@ -312,56 +366,9 @@ int ch_run_float(void *vm, const mote_call *c, mote_err *err)
                         (unsigned long long)ok.seed, Uk, sUk);
         }
     }
-    /* roots=all (spec 6.5): the characteristic on a grid from 0 by 0.1 kT_min/e doubling, both
-     * ways, to twice the farthest of U_f, U0 and the OML root; each sign change is a root
-     * (interpolated linearly), stable where dI/dU < 0 */
     enum { ROOTS_ONE, ROOTS_ALL }; /* roots=e{one|all} */
-    if (!rc && mote_call_word(c, "roots", ROOTS_ONE) == ROOTS_ALL) {
-        double kTmin = INFINITY;
-        for (int sp = 0; sp < m->plasma.nsp; sp++)
-            for (int k = 0; k < m->plasma.sp[sp].ncomp; k++)
-                kTmin = fmin(kTmin, m->plasma.sp[sp].kT[k] / abs(m->plasma.sp[sp].Z));
-        const double far = 2 * fmax(fmax(fabs(U), fabs(o.U0)), fabs(oml));
-        double grid[200];
-        int ng = 0, nr = 0;
-        for (double step = 0.1 * kTmin; step < far && ng < 90; step *= 2)
-            grid[ng++] = -step;
-        for (int k = 0; k < ng / 2; k++) { /* ascending */
-            const double x = grid[k];
-            grid[k] = grid[ng - 1 - k];
-            grid[ng - 1 - k] = x;
-        }
-        grid[ng++] = 0;
-        for (double step = 0.1 * kTmin; step < far && ng < 190; step *= 2)
-            grid[ng++] = step;
-        double Iprev = 0;
-        for (int k = 0; k < ng && !rc; k++) {
-            mote_ch_run_opts ok = o;
-            ok.potential = grid[k];
-            mote_ch_result rk;
-            rc = mote_ch_run(&m->plasma, &m->body, t, &ok, &rk, err);
-            if (rc)
-                break;
-            const double I = mote_ch_net(&rk, NULL);
-            mote_ch_result_free(&rk);
-            if (k > 0 && (I < 0) != (Iprev < 0)) {
-                const int here = U >= grid[k - 1] && U <= grid[k]; /* U_f's interval: U_f */
-                const double Ur = here ? U : (grid[k - 1] * I - grid[k] * Iprev) / (I - Iprev);
-                mote_progress_clear(&prog);
-                if (m->log)
-                    fprintf(m->log, "float: a root of I(U) between %g and %g V: %s %.6g V, %s "
-                                    "(dI/dU %s 0)\n", grid[k - 1], grid[k],
-                            here ? "U_f =" : "about (linear)", Ur,
-                            I < Iprev ? "stable" : "unstable", I < Iprev ? "<" : ">");
-                nr++;
-            }
-            Iprev = I;
-        }
-        mote_progress_clear(&prog);
-        if (!rc && m->log)
-            fprintf(m->log, "float: %d sign change%s of I(U) at %d potentials from %g to %g V\n",
-                    nr, nr == 1 ? "" : "s", ng, grid[0], grid[ng - 1]);
-    }
+    if (!rc && mote_call_word(c, "roots", ROOTS_ONE) == ROOTS_ALL)
+        rc = float_roots(m, t, &o, U, oml, &prog, err);
     double Uf = U, sUf = sU; /* what the command reports: replica 1, or the replicas' mean */
     if (!rc && reps > 1) {
         const double mean = sum / reps;
