@@ -43,6 +43,62 @@ static int bar_ticks(double lo, double hi, int log_scale, double *t)
     return n;
 }
 
+/* The key right of the frame: the legend of the classes (ncat > 0), or the colour bar over
+ * [vlo, vhi] (clo, chi: the same in display units) with its ticks and label. */
+static void draw_key(cairo_t *cr, const mote_rnd_style *stp, const mote_rnd_layout *layp,
+                     const mote_particles_opts *o, double bar_gap, double bar_w, double vlo,
+                     double vhi, double clo, double chi)
+{
+    const mote_rnd_style st = *stp;
+    const mote_rnd_layout lay = *layp;
+    const double bx = lay.left + lay.width + bar_gap, btop = lay.top, bh = lay.height;
+    mote_rnd_font(cr, st.tick_font, 0);
+    if (o->ncat > 0) {
+        const double row = 1.6 * st.tick_font;
+        for (int c = 0; c < o->ncat && c < 8; c++) {
+            const double *q = CLASS_RGB[c];
+            cairo_set_source_rgb(cr, q[0], q[1], q[2]);
+            cairo_arc(cr, bx + 0.5 * st.tick_font, btop + (c + 0.5) * row, 0.4 * st.tick_font, 0,
+                      2 * MOTE_PI);
+            cairo_fill(cr);
+            cairo_set_source_rgb(cr, 0, 0, 0);
+            mote_rnd_text(cr, bx + 1.5 * st.tick_font, btop + (c + 0.5) * row,
+                          o->cat_names && o->cat_names[c] ? o->cat_names[c] : "?", 0,
+                          MOTE_RND_MIDDLE);
+        }
+    } else {
+        const double bar_h = fmin(bh, fmax(0.5 * bh, 200 * st.scale));
+        const double top = btop + (o->bar_label ? 2 * st.tick_font : 0);
+        const double hh = fmin(bar_h, btop + bh - top);
+        for (int k = 0; k < (int)hh; k++) {
+            double rgb[3];
+            mote_viridis(1 - (k + 0.5) / hh, rgb);
+            cairo_set_source_rgb(cr, rgb[0], rgb[1], rgb[2]);
+            cairo_rectangle(cr, bx, top + k, bar_w, 1.5);
+            cairo_fill(cr);
+        }
+        cairo_set_source_rgb(cr, 0, 0, 0);
+        cairo_set_line_width(cr, fmax(1, st.scale));
+        cairo_rectangle(cr, bx, top, bar_w, hh);
+        cairo_stroke(cr);
+        const double unit = o->bar_unit > 0 ? o->bar_unit : 1;
+        double t[12];
+        const int nt = bar_ticks(vlo / unit, vhi / unit, o->log_scale, t);
+        for (int k = 0; k < nt; k++) {
+            const double cv = o->log_scale ? log(t[k] * unit) : t[k] * unit;
+            const double yy = top + hh * (1 - (cv - clo) / (chi - clo));
+            cairo_move_to(cr, bx + bar_w, yy);
+            cairo_line_to(cr, bx + bar_w + st.ticklen, yy);
+            cairo_stroke(cr);
+            char lab[32];
+            snprintf(lab, sizeof lab, "%g", t[k]);
+            mote_rnd_text(cr, bx + bar_w + st.ticklen + st.gap, yy, lab, 0, MOTE_RND_MIDDLE);
+        }
+        if (o->bar_label)
+            mote_rnd_text(cr, bx, btop, o->bar_label, 0, MOTE_RND_TOP);
+    }
+}
+
 int mote_particles_png(const char *path, const mote_particles_opts *o, const double *x,
                        const double *y, const double *r, const double *value, size_t n,
                        const double *rects, size_t nrect, mote_err *err)
@@ -144,53 +200,7 @@ int mote_particles_png(const char *path, const mote_particles_opts *o, const dou
     cairo_restore(cr);
     mote_rnd_draw_axes(cr, &st, &lay, &in);
 
-    /* the colour bar, or the legend of classes */
-    const double bx = lay.left + lay.width + bar_gap, btop = lay.top, bh = lay.height;
-    mote_rnd_font(cr, st.tick_font, 0);
-    if (o->ncat > 0) {
-        const double row = 1.6 * st.tick_font;
-        for (int c = 0; c < o->ncat && c < 8; c++) {
-            const double *q = CLASS_RGB[c];
-            cairo_set_source_rgb(cr, q[0], q[1], q[2]);
-            cairo_arc(cr, bx + 0.5 * st.tick_font, btop + (c + 0.5) * row, 0.4 * st.tick_font, 0,
-                      2 * MOTE_PI);
-            cairo_fill(cr);
-            cairo_set_source_rgb(cr, 0, 0, 0);
-            mote_rnd_text(cr, bx + 1.5 * st.tick_font, btop + (c + 0.5) * row,
-                          o->cat_names && o->cat_names[c] ? o->cat_names[c] : "?", 0,
-                          MOTE_RND_MIDDLE);
-        }
-    } else {
-        const double bar_h = fmin(bh, fmax(0.5 * bh, 200 * st.scale));
-        const double top = btop + (o->bar_label ? 2 * st.tick_font : 0);
-        const double hh = fmin(bar_h, btop + bh - top);
-        for (int k = 0; k < (int)hh; k++) {
-            double rgb[3];
-            mote_viridis(1 - (k + 0.5) / hh, rgb);
-            cairo_set_source_rgb(cr, rgb[0], rgb[1], rgb[2]);
-            cairo_rectangle(cr, bx, top + k, bar_w, 1.5);
-            cairo_fill(cr);
-        }
-        cairo_set_source_rgb(cr, 0, 0, 0);
-        cairo_set_line_width(cr, fmax(1, st.scale));
-        cairo_rectangle(cr, bx, top, bar_w, hh);
-        cairo_stroke(cr);
-        const double unit = o->bar_unit > 0 ? o->bar_unit : 1;
-        double t[12];
-        const int nt = bar_ticks(vlo / unit, vhi / unit, o->log_scale, t);
-        for (int k = 0; k < nt; k++) {
-            const double cv = o->log_scale ? log(t[k] * unit) : t[k] * unit;
-            const double yy = top + hh * (1 - (cv - clo) / (chi - clo));
-            cairo_move_to(cr, bx + bar_w, yy);
-            cairo_line_to(cr, bx + bar_w + st.ticklen, yy);
-            cairo_stroke(cr);
-            char lab[32];
-            snprintf(lab, sizeof lab, "%g", t[k]);
-            mote_rnd_text(cr, bx + bar_w + st.ticklen + st.gap, yy, lab, 0, MOTE_RND_MIDDLE);
-        }
-        if (o->bar_label)
-            mote_rnd_text(cr, bx, btop, o->bar_label, 0, MOTE_RND_TOP);
-    }
+    draw_key(cr, &st, &lay, o, bar_gap, bar_w, vlo, vhi, clo, chi);
     if (o->subtitle) {
         cairo_set_source_rgb(cr, 0, 0, 0);
         char fitted[512];
