@@ -235,6 +235,96 @@ int nb_state_load(mote_nb *nb, const char *path, mote_err *err)
 
 /* The pointers of t (a scratch system read into by the table, which overwrites every field the
  * file holds: they are kept apart and put back). */
+/* The n body lines into t, counted as read: nothing is allocated for lines that are not there. */
+static int read_bodies(mote_lines *l, mote_nb *t, uint32_t n, int version, mote_err *err)
+{
+    const char *path = l->path;
+    char *s;
+    int rc = MOTE_OK;
+    for (uint32_t i = 0; i < n && !rc; i++) {
+        s = mote_lines_next(l);
+        if (!s || strcmp(s, "end") == 0) {
+            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: file ends early: n = %u, but only %u body "
+                           "lines follow", path, s ? l->line : l->line + 1, n, i);
+            break;
+        }
+        nb_row w;
+        memset(&w, 0, sizeof w);
+        mote_err e2 = {0};
+        rc = mote_sf_parse_line(l, s, ROW, COUNT(ROW), &w, version, &e2);
+        if (!rc && w.name[0] && !mote_nb_name_ok(w.name))
+            rc = mote_fail(&e2, MOTE_EFORMAT, "'%s' is not a body name", w.name);
+        if (rc) {
+            const char *why = e2.msg; /* (the detail, without "PATH:LINE: ") */
+            const size_t pl = strlen(path);
+            if (strncmp(why, path, pl) == 0 && why[pl] == ':') {
+                const char *c = strchr(why + pl + 1, ':');
+                why = c && c[1] == ' ' ? c + 2 : why;
+            }
+            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: body %u: expected 23 numbers (m q active "
+                           "radius x y z vx vy vz cx cy cz cvx cvy cvz sx sy sz d5x d5y d5z Et), "
+                           "all finite%s (%s)", path, l->line, i + 1,
+                           version >= 2 ? ", and a name or -" : "", why);
+            break;
+        }
+        /* a merged-away body has mass 0: added with mass 1, then set (it stays inactive) */
+        rc = w.active == 0 && w.m == 0 ? mote_nb_add(t, 1, 0, w.x, w.v, 0, err)
+                                       : mote_nb_add(t, w.m, w.q, w.x, w.v, w.ra, err);
+        if (!rc && w.active == 0 && w.m == 0)
+            t->m[i] = t->q[i] = 0;
+        if (!rc)
+            t->et[i] = w.et;
+        if (!rc && w.name[0])
+            rc = mote_nb_set_name(t, i, w.name, err);
+        if (rc) {
+            char why[sizeof err->msg];
+            snprintf(why, sizeof why, "%s", err->msg);
+            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: %s", path, l->line, why);
+            break;
+        }
+        t->active[i] = (uint8_t)w.active;
+        for (int a = 0; a < 3; a++) {
+            t->xc[3 * i + a] = w.xc[a];
+            t->vc[3 * i + a] = w.vc[a];
+            t->sp[3 * i + a] = w.sp[a];
+            t->d5p[3 * i + a] = w.d5[a];
+        }
+    }
+    return rc;
+}
+
+/* The Wisdom-Holman map: a line per body (its room only now that the bodies were there), with
+ * the bodies it was synchronised to. */
+static int read_map(mote_lines *l, mote_nb *t, uint32_t n, int version, mote_err *err)
+{
+    const char *path = l->path;
+    char *s;
+    int rc = MOTE_OK;
+    s = mote_lines_next(l);
+    if (!s || strncmp(s, "map:", 4) != 0)
+        rc = fail(l, err, "'map: ...' (wh_live is 1: the Wisdom-Holman map follows)", s);
+    else if (!nb_wh_reserve(t))
+        rc = mote_fail(err, MOTE_ENOMEM, "%s: out of memory for %u bodies", path, n);
+    for (uint32_t i = 0; i < n && !rc; i++) {
+        nb_maprow w;
+        s = mote_lines_next(l);
+        if (!s || strcmp(s, "end") == 0)
+            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: file ends early: n = %u, but only %u "
+                           "map lines follow", path, s ? l->line : l->line + 1, n, i);
+        else if (mote_sf_parse_line(l, s, MAPROW, COUNT(MAPROW), &w, version, err))
+            rc = MOTE_EFORMAT;
+        else {
+            mote_real *p = nb_wh_map(t, i);
+            memcpy(p, w.q, sizeof w.q);
+            memcpy(p + 3, w.u, sizeof w.u);
+            memcpy(p + 6, t->x + 3 * (size_t)i, 3 * sizeof *p);
+            memcpy(p + 9, t->v + 3 * (size_t)i, 3 * sizeof *p);
+            p[12] = t->active[i] ? t->m[i] : 0;
+        }
+    }
+    return rc;
+}
+
 int nb_state_get(mote_nb *nb, mote_lines *l, int tail, mote_err *err)
 {
     const char *path = l->path;
@@ -283,82 +373,10 @@ int nb_state_get(mote_nb *nb, mote_lines *l, int tail, mote_err *err)
     /* mote_nb_add marks a restart and drops the reference: the file's values are put back after */
     const int file_restart = t.restart, file_ref = t.ref_set, file_live = t.wh_live;
     const mote_real file_dtp = t.dtp;
-    /* the bodies, counted as read: nothing is allocated for lines that are not there */
-    for (uint32_t i = 0; i < h.n && !rc; i++) {
-        s = mote_lines_next(l);
-        if (!s || strcmp(s, "end") == 0) {
-            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: file ends early: n = %u, but only %u body "
-                           "lines follow", path, s ? l->line : l->line + 1, h.n, i);
-            break;
-        }
-        nb_row w;
-        memset(&w, 0, sizeof w);
-        mote_err e2 = {0};
-        rc = mote_sf_parse_line(l, s, ROW, COUNT(ROW), &w, version, &e2);
-        if (!rc && w.name[0] && !mote_nb_name_ok(w.name))
-            rc = mote_fail(&e2, MOTE_EFORMAT, "'%s' is not a body name", w.name);
-        if (rc) {
-            const char *why = e2.msg; /* (the detail, without "PATH:LINE: ") */
-            const size_t pl = strlen(path);
-            if (strncmp(why, path, pl) == 0 && why[pl] == ':') {
-                const char *c = strchr(why + pl + 1, ':');
-                why = c && c[1] == ' ' ? c + 2 : why;
-            }
-            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: body %u: expected 23 numbers (m q active "
-                           "radius x y z vx vy vz cx cy cz cvx cvy cvz sx sy sz d5x d5y d5z Et), "
-                           "all finite%s (%s)", path, l->line, i + 1,
-                           version >= 2 ? ", and a name or -" : "", why);
-            break;
-        }
-        /* a merged-away body has mass 0: added with mass 1, then set (it stays inactive) */
-        rc = w.active == 0 && w.m == 0 ? mote_nb_add(&t, 1, 0, w.x, w.v, 0, err)
-                                       : mote_nb_add(&t, w.m, w.q, w.x, w.v, w.ra, err);
-        if (!rc && w.active == 0 && w.m == 0)
-            t.m[i] = t.q[i] = 0;
-        if (!rc)
-            t.et[i] = w.et;
-        if (!rc && w.name[0])
-            rc = mote_nb_set_name(&t, i, w.name, err);
-        if (rc) {
-            char why[sizeof err->msg];
-            snprintf(why, sizeof why, "%s", err->msg);
-            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: %s", path, l->line, why);
-            break;
-        }
-        t.active[i] = (uint8_t)w.active;
-        for (int a = 0; a < 3; a++) {
-            t.xc[3 * i + a] = w.xc[a];
-            t.vc[3 * i + a] = w.vc[a];
-            t.sp[3 * i + a] = w.sp[a];
-            t.d5p[3 * i + a] = w.d5[a];
-        }
-    }
-    /* the map: a line per body (its room only now that the bodies were there), with the bodies
-     * it was synchronised to */
-    if (!rc && file_live) {
-        s = mote_lines_next(l);
-        if (!s || strncmp(s, "map:", 4) != 0)
-            rc = fail(l, err, "'map: ...' (wh_live is 1: the Wisdom-Holman map follows)", s);
-        else if (!nb_wh_reserve(&t))
-            rc = mote_fail(err, MOTE_ENOMEM, "%s: out of memory for %u bodies", path, h.n);
-        for (uint32_t i = 0; i < h.n && !rc; i++) {
-            nb_maprow w;
-            s = mote_lines_next(l);
-            if (!s || strcmp(s, "end") == 0)
-                rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: file ends early: n = %u, but only %u "
-                               "map lines follow", path, s ? l->line : l->line + 1, h.n, i);
-            else if (mote_sf_parse_line(l, s, MAPROW, COUNT(MAPROW), &w, version, err))
-                rc = MOTE_EFORMAT;
-            else {
-                mote_real *p = nb_wh_map(&t, i);
-                memcpy(p, w.q, sizeof w.q);
-                memcpy(p + 3, w.u, sizeof w.u);
-                memcpy(p + 6, t.x + 3 * (size_t)i, 3 * sizeof *p);
-                memcpy(p + 9, t.v + 3 * (size_t)i, 3 * sizeof *p);
-                p[12] = t.active[i] ? t.m[i] : 0;
-            }
-        }
-    }
+    if (!rc)
+        rc = read_bodies(l, &t, h.n, version, err);
+    if (!rc && file_live)
+        rc = read_map(l, &t, h.n, version, err);
     if (!rc) {
         s = mote_lines_next(l);
         if (!s || strcmp(s, "end") != 0)
