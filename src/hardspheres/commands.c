@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "help.inc"
+#include "help_outputs.inc"
 #include "plot.h"
 
 /* The model as the script layer sees it: the system plus, in a dry (validation) run, what is

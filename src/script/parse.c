@@ -136,79 +136,6 @@ static int push_call(mote_script *s, const mote_call *c)
     return 0;
 }
 
-/* The options of a call: each key declared, given at most once, its value converted by its spec
- * (the token after the '='); every required option given. */
-static int convert_options(mote_script *s, const mote_cmd *def, const token *name,
-                           const token *const *opt, int nopts, mote_opt **out, mote_err *err)
-{
-    const char *file = s->ctx.script_path;
-    mote_opt *opts = NULL;
-    if (nopts > 0) {
-        opts = mote_arena_alloc(&s->arena, (size_t)nopts * sizeof *opts);
-        if (!opts)
-            return mote_script_fail_plain(err, MOTE_ENOMEM, "out of memory reading the script");
-    }
-    for (int k = 0; k < nopts; k++) {
-        const token *t = opt[k];
-        size_t klen = mote_option_key_len(t->text);
-        char *key = mote_arena_strndup(&s->arena, t->text, klen);
-        if (!key)
-            return mote_script_fail_plain(err, MOTE_ENOMEM, "out of memory reading the script");
-        mote_argspec sp;
-        if (mote_argspec_option(def->args, key, &sp)) {
-            mote_suggest sg;
-            mote_suggest_init(&sg, key);
-            char keys[512];
-            size_t used = 0;
-            keys[0] = '\0';
-            for (int q = 0; q < mote_argspec_noptions(def->args); q++) {
-                mote_argspec o;
-                if (mote_argspec_option_at(def->args, q, &o))
-                    continue;
-                int w = snprintf(keys + used, sizeof keys - used, "%s%s", used ? ", " : "", o.key);
-                if (w > 0 && (size_t)w < sizeof keys - used) {
-                    /* the suggestion points into keys, which stays put */
-                    mote_suggest_feed(&sg, keys + used + (used ? 2 : 0), strlen(o.key));
-                    used += (size_t)w;
-                }
-            }
-            char best[80];
-            if (mote_suggest_result(&sg, best, sizeof best))
-                return mote_script_fail_at(err, file, t->line, t->col, MOTE_EINVAL,
-                                           "%s: unknown option '%s'; did you mean '%s'? (options: %s)",
-                                           name->text, key, best, keys);
-            return mote_script_fail_at(err, file, t->line, t->col, MOTE_EINVAL,
-                                       "%s: unknown option '%s' (options: %s)", name->text, key,
-                                       keys);
-        }
-        for (int q = 0; q < k; q++)
-            if (strcmp(opts[q].key, key) == 0)
-                return mote_script_fail_at(err, file, t->line, t->col, MOTE_EINVAL,
-                                           "%s: option '%s' given twice", name->text, key);
-        token v = *t;
-        v.text = t->text + klen + 1;
-        v.col = t->col + (int)klen + 1;
-        opts[k].key = key;
-        int rc = mote_script_convert_arg(s, def, name->text, -1, key, &v, &opts[k].value, err);
-        if (rc)
-            return rc;
-    }
-    for (int q = 0; q < mote_argspec_noptions(def->args); q++) {
-        mote_argspec o;
-        if (mote_argspec_option_at(def->args, q, &o) || !o.required)
-            continue;
-        int given = 0;
-        for (int k = 0; k < nopts; k++)
-            given |= strcmp(opts[k].key, o.key) == 0;
-        if (!given)
-            return mote_script_fail_at(err, file, name->line, name->col, MOTE_EINVAL,
-                                       "%s: option %s= is required (%s)", name->text, o.key,
-                                       def->synopsis ? def->synopsis : def->name);
-    }
-    *out = opts;
-    return MOTE_OK;
-}
-
 /* The command a line names: a common command, the model's, or a row of the model's ("generate
  * ring": then *ptl becomes the tokens from the second on, in *rows); the model chosen first
  * when the script has no `model` line. */
@@ -420,7 +347,7 @@ static int parse_command(mote_script *s, const token_list *tl, const mote_model 
     }
     mote_opt *opts = NULL;
     if ((nopts > 0 || nopt_specs > 0) &&
-        (rc = convert_options(s, def, name, opt, nopts, &opts, err)))
+        (rc = mote_script_convert_options(s, def, name, opt, nopts, &opts, err)))
         return rc;
     c.file = file;
     c.line = name->line;

@@ -273,6 +273,11 @@ void mote_script_locate(mote_err *err, const mote_call *c);
 /* convert.c: argument i of a command (optkey: the option's key, or NULL for a positional one)
  * converted by its table type into a; the token as a message shows it (quoted, cut at cap); a
  * case-insensitive substring test. */
+/* The options of a call: each key declared, given at most once, its value converted by its
+ * spec (the token after the '='); every required option given (convert.c). */
+int mote_script_convert_options(mote_script *s, const mote_cmd *def, const token *name,
+                                const token *const *opt, int nopts, mote_opt **out,
+                                mote_err *err);
 int mote_script_convert_arg(mote_script *s, const mote_cmd *def, const char *written, int i,
                             const char *optkey, const token *t, mote_arg *a, mote_err *err);
 const char *mote_script_shown(const token *t, char *buf, size_t cap);
