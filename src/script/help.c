@@ -155,10 +155,26 @@ static const char *model_addendum(const mote_model *m, const mote_cmd *def)
     return NULL;
 }
 
+/* `threads`: which models use threads and which run on one, from the registry. */
+static void print_threaded(FILE *out, const mote_model *const *models, size_t nmodels,
+                           int markdown)
+{
+    for (int threaded = 1; threaded >= 0; threaded--) {
+        fprintf(out, "%s", threaded ? "\nModels that use threads:" : "\nModels on one thread:");
+        int k = 0;
+        for (size_t i = 0; i < nmodels; i++)
+            if (!models[i]->threaded == !threaded)
+                fprintf(out, markdown ? "%s `%s`" : "%s %s", k++ ? "," : "", models[i]->name);
+        fprintf(out, "%s.\n", k ? "" : " none");
+    }
+}
+
 /* markdown: headings name the model in backquotes */
 static void print_addenda(FILE *out, const mote_cmd *def, const mote_model *const *models,
                           size_t nmodels, int markdown)
 {
+    if (strcmp(def->name, "threads") == 0)
+        print_threaded(out, models, nmodels, markdown);
     for (size_t i = 0; i < nmodels; i++) {
         const char *add = model_addendum(models[i], def);
         const char *lines = strcmp(def->name, "plot") == 0 ? models[i]->plot_lines : NULL;
