@@ -352,5 +352,12 @@ out=$("$MOTE" run --quiet "$T/q.mote" 2>&1)
 n=$(printf '%s\n' "$out" | grep -c '^N=')
 if [ "$n" -eq 1 ] && printf '%s\n' "$out" | grep -q '^pressure: '; then ok "--quiet: one status line (after quiet off), results still printed"; else not_ok "--quiet" "$out"; fi
 
+# the threads help lists the models from the registry (which use threads, which run on one)
+th=$("$MOTE" help threads 2>&1)
+if printf '%s\n' "$th" | grep -q '^Models that use threads: nbody, charging, separator\.$' &&
+    printf '%s\n' "$th" | grep -q '^Models on one thread: hard-spheres, mixing-box\.$'; then
+    ok "help threads: the models listed from the registry"
+else not_ok "help threads" "$th"; fi
+
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ] && [ "$passed" -gt 0 ]
