@@ -170,15 +170,18 @@ class Simulation:
     species = property(lambda self: self._get("species"))
 
     def to_ase(self):
-        """The configuration as an ase.Atoms (ASE, Debian's python3-ase) for the hard-sphere,
-        mixing-box and separator models: positions (2D ones with z = 0), velocities, the radii
-        as the array "radius" and the species as tags; for hard spheres the box is the cell
-        (x across the slit; periodic axes as pbc), the others have no cell."""
+        """The configuration as an ase.Atoms (ASE, Debian's python3-ase) for every model whose
+        arrays are particles with radii (positions, velocities, radii: the hard-sphere,
+        mixing-box and separator models of this version): positions (2D ones with z = 0),
+        velocities, the radii as the array "radius" and the species as tags; for hard spheres
+        the box is the cell (x across the slit; periodic axes as pbc), the others have no
+        cell."""
         import ase
-        if self.model not in ("hard-spheres", "mixing-box", "separator"):
-            raise MoteError("to_ase: the %s model's bodies are not atoms (hard-spheres, "
-                            "mixing-box and separator configurations are)" % self.model)
         a = self.arrays()
+        if not all(k in a for k in ("positions", "velocities", "radii")):
+            raise MoteError("to_ase: the %s model's arrays are not particles with radii "
+                            "(ASE needs positions, velocities and radii; this model has %s)"
+                            % (self.model, ", ".join(sorted(a)) or "none"))
 
         def three(v):
             return _np.column_stack([v, _np.zeros(len(v))]) if v.shape[1] == 2 else v

@@ -116,6 +116,19 @@ def test_status_and_arrays():
     assert np.allclose(atoms.cell.lengths(), [st["L"], st["A"], st["A"]])
 
 
+def test_to_ase_by_the_arrays():
+    # to_ase follows the model's arrays (particles with radii), not a list of model names
+    sim = mote.Simulation("mixing-box")
+    sim.command("disks 10 10")
+    sim.command("place")
+    atoms = sim.to_ase()
+    assert len(atoms) == 20 and np.allclose(atoms.get_array("radius"), sim.radii)
+    nb = mote.Simulation("nbody")
+    nb.command("generate ring nb=4")
+    with pytest.raises(mote.MoteError, match="not particles with radii"):
+        nb.to_ase()
+
+
 def test_views_and_setters():
     sim = mote.Simulation("nbody")
     sim.command("generate ring nb=12")
