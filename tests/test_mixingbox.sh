@@ -170,4 +170,12 @@ cmp -s mp.dat mp.before && ok || bad "the complete mp.dat changed under a run th
 awk '/^# columns:/ { n = NF - 2 } !/^#/ { rows++; if (NF != n) bad = 1 } END { exit !(n == 21 && rows >= 5 && !bad) }' mp.dat.partial &&
     ok || bad "the stopped run's rows: $(head -c 600 mp.dat.partial)"
 
+# the parameter commands bound to the state's descriptors (mote_cmd_set): each sets the next
+# run's value that save writes ("next ..." lines), words by their place, and load gives it back
+printf 'model mixing-box\ndisks 20 20\nplace\nradius 0.02\nv_init 3\nloss 0.25\ngravity 2.5\nt_c 0.001\nintegrator timestep\ncollision_rule seed\nsave par.state\nload par.state\nsave par2.state\n' > par.mote
+if "$MOTE" run par.mote > par.out 2>&1; then ok; else bad "par.mote: $(tail -2 par.out)"; fi
+got=$(grep -E '^next (r|v_init|loss|g|t_c|integrator|collision_rule) ' par.state | tr '\n' ';')
+[ "$got" = "next r 0.02;next v_init 3;next loss 0.25;next g 2.5;next t_c 0.001;next integrator timestep;next collision_rule seed;" ] && ok || bad "bound parameters in the state file: $got"
+cmp -s par.state par2.state && ok || bad "bound parameters: save, load, save differ"
+
 mote_test_end

@@ -148,12 +148,8 @@ int mb_need_placed(mb_model *m, const mote_call *c, mote_err *err)
  * which later checks (place, run_collisions) read. */
 static int run_partition(void *vm, const mote_call *c, mote_err *err);
 static int run_slit(void *vm, const mote_call *c, mote_err *err);
-static int run_radius(void *vm, const mote_call *c, mote_err *err);
 static int run_disks(void *vm, const mote_call *c, mote_err *err);
-static int run_v_init(void *vm, const mote_call *c, mote_err *err);
 static int run_kicks(void *vm, const mote_call *c, mote_err *err);
-static int run_loss(void *vm, const mote_call *c, mote_err *err);
-static int run_t_c(void *vm, const mote_call *c, mote_err *err);
 static int run_box(void *vm, const mote_call *c, mote_err *err);
 
 static const char *const group_names[MB_P_NGROUPS] = {
@@ -230,12 +226,7 @@ static int run_slit(void *vm, const mote_call *c, mote_err *err)
 static int check_radius(void *vm, const mote_call *c, mote_err *err)
 {
     set_group(vm, c, MB_P_RADIUS);
-    return run_radius(vm, c, err);
-}
-static int run_radius(void *vm, const mote_call *c, mote_err *err)
-{
-    ((mb_model *)vm)->p.r = c->args[0].r;
-    return MOTE_OK;
+    return mote_cmd_set(vm, c, err);
 }
 
 static int check_disks(void *vm, const mote_call *c, mote_err *err)
@@ -262,12 +253,7 @@ static int run_disks(void *vm, const mote_call *c, mote_err *err)
 static int check_v_init(void *vm, const mote_call *c, mote_err *err)
 {
     set_group(vm, c, MB_P_VINIT);
-    return run_v_init(vm, c, err);
-}
-static int run_v_init(void *vm, const mote_call *c, mote_err *err)
-{
-    ((mb_model *)vm)->p.v_init = c->args[0].r;
-    return MOTE_OK;
+    return mote_cmd_set(vm, c, err);
 }
 
 /* Physics parameters apply from the next run; they need no warning. */
@@ -294,50 +280,17 @@ static int run_kicks(void *vm, const mote_call *c, mote_err *err)
 static int check_loss(void *vm, const mote_call *c, mote_err *err)
 {
     set_physics(vm, c, MB_P_LOSS);
-    return run_loss(vm, c, err);
-}
-static int run_loss(void *vm, const mote_call *c, mote_err *err)
-{
-    ((mb_model *)vm)->p.loss = c->args[0].r;
-    return MOTE_OK;
+    return mote_cmd_set(vm, c, err);
 }
 
-static int run_gravity(void *vm, const mote_call *c, mote_err *err)
-{
-    ((mb_model *)vm)->p.g = c->args[0].r;
-    return MOTE_OK;
-}
-static int check_gravity(void *vm, const mote_call *c, mote_err *err)
-{
-    return run_gravity(vm, c, err);
-}
 
 static int check_t_c(void *vm, const mote_call *c, mote_err *err)
 {
     set_physics(vm, c, MB_P_TC);
-    return run_t_c(vm, c, err);
-}
-static int run_t_c(void *vm, const mote_call *c, mote_err *err)
-{
-    ((mb_model *)vm)->p.t_c = c->args[0].r;
-    return MOTE_OK;
+    return mote_cmd_set(vm, c, err);
 }
 
-/* `integrator timestep|event`, `collision_rule restitution|seed`: the words' order is that of
- * the enums (MOTE_MB_TIMESTEP, MOTE_MB_EVENT; MOTE_MB_RESTITUTION, MOTE_MB_SEEDRULE) */
-static int set_integrator(void *vm, const mote_call *c, mote_err *err)
-{
-    (void)err;
-    ((mb_model *)vm)->p.integrator = (int)c->args[0].i;
-    return MOTE_OK;
-}
 
-static int set_rule(void *vm, const mote_call *c, mote_err *err)
-{
-    (void)err;
-    ((mb_model *)vm)->p.rule = (int)c->args[0].i;
-    return MOTE_OK;
-}
 
 /* ---- state files ---------------------------------------------------------------------------- */
 
@@ -644,6 +597,21 @@ static int model_plot(void *vm, const char *data_path, const char *png_path,
     return mb_plot_file(data_path, png_path, err);
 }
 
+/* The parameter commands bound to the next run's parameters (the state file's "next" lines,
+ * state.c): what such a command sets is what save writes and load reads (mote_cmd_set). */
+static const mote_param mb_params[] = {
+    {"radius", "next r"},         {"v_init", "next v_init"},
+    {"loss", "next loss"},        {"gravity", "next g"},
+    {"t_c", "next t_c"},          {"integrator", "next integrator"},
+    {"collision_rule", "next collision_rule"},
+};
+
+static void *model_state(void *vm, const struct mote_sf_field **f, size_t *n)
+{
+    *f = mb_next_fields(n);
+    return &((mb_model *)vm)->p;
+}
+
 /* ---- the table ----------------------------------------------------------------------------------- */
 
 static const mote_cmd mb_commands[] = {
@@ -654,24 +622,24 @@ static const mote_cmd mb_commands[] = {
     {"slit", NULL, "r r>=0", "slit X2_C b", "slit centre y and height (m); b = 0 closes it",
      MB_HELP_SLIT, check_slit, run_slit},
     {"radius", NULL, "r>0", "radius R", "disk radius (m)", MB_HELP_RADIUS, check_radius,
-     run_radius},
+     mote_cmd_set},
     {"disks", NULL, "ii", "disks nLeft nRight", "disk counts of the left and right chamber",
      MB_HELP_DISKS, check_disks, run_disks},
     {"v_init", NULL, "r[0,1e6]", "v_init V", "initial speed of every disk (m/s)", MB_HELP_VINIT,
-     check_v_init, run_v_init},
+     check_v_init, mote_cmd_set},
     {"kicks", NULL, "r>=0 r>=0 r>=0", "kicks dV_B dV_T dV_S",
      "speed added on bounces off bottom, top, side walls (m/s)", MB_HELP_KICKS, check_kicks,
      run_kicks},
     {"loss", NULL, "r[0,1]", "loss LOSS", "fraction of kinetic energy lost per disk-disk collision",
-     MB_HELP_LOSS, check_loss, run_loss},
+     MB_HELP_LOSS, check_loss, mote_cmd_set},
     {"gravity", NULL, "r[-1e100,1e100]", "gravity g", "gravitational acceleration in -y (m/s^2)",
-     MB_HELP_GRAVITY, check_gravity, run_gravity},
+     MB_HELP_GRAVITY, mote_cmd_set, mote_cmd_set},
     {"t_c", NULL, "r>=0", "t_c T", "TC-model time (s): collisions closer than T are elastic",
-     MB_HELP_TC, check_t_c, run_t_c},
+     MB_HELP_TC, check_t_c, mote_cmd_set},
     {"integrator", NULL, "e{timestep|event}", "integrator NAME", "event (exact, default) or timestep (the document's scheme)",
-     MB_HELP_INTEGRATOR, set_integrator, set_integrator},
+     MB_HELP_INTEGRATOR, mote_cmd_set, mote_cmd_set},
     {"collision_rule", NULL, "e{restitution|seed}", "collision_rule NAME",
-     "restitution (default) or seed (the document's rule)", MB_HELP_RULE, set_rule, set_rule},
+     "restitution (default) or seed (the document's rule)", MB_HELP_RULE, mote_cmd_set, mote_cmd_set},
     {"save", NULL, "f>state", "save FILE", "write the exact state to FILE", MB_HELP_SAVE, check_save,
      run_save},
     {"load", NULL, "f<state", "load FILE", "continue from a state written by save", MB_HELP_LOAD,
@@ -738,4 +706,7 @@ const mote_model mote_model_mixingbox = {
     .live = model_live,
     .arrays = model_arrays,
     .set_array = model_set_array,
+    .state = model_state,
+    .params = mb_params,
+    .nparams = sizeof mb_params / sizeof mb_params[0],
 };

@@ -162,4 +162,9 @@ int mb_frames_sample(void *ctx, void *subject, mote_err *err);
 int mb_plot_file(const char *in, const char *out, mote_err *err);
 
 
+/* state.c: the descriptors of the next run's parameters (offsets in mote_mb_params), for the
+ * parameter commands bound to them */
+struct mote_sf_field;
+const struct mote_sf_field *mb_next_fields(size_t *n);
+
 #endif

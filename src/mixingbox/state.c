@@ -100,6 +100,12 @@ static const mote_sf_field SYSTEM[] = {
 static const mote_sf_field PLACED[] = {MB_PARAMS("placed")};
 static const mote_sf_field NEXT[] = {MB_PARAMS("next")};
 
+const mote_sf_field *mb_next_fields(size_t *n)
+{
+    *n = sizeof NEXT / sizeof NEXT[0];
+    return NEXT;
+}
+
 /* a disk's line */
 typedef struct {
     double x, y, vx, vy;
