@@ -101,7 +101,7 @@ static void record_header(FILE *f, const void *vr, int growing)
     else
         fprintf(f, "# samples = %zu\n", r->nrows);
     fprintf(f,
-            "# A row per sample: t (s, exact sample time by DT); disks per chamber and colour (nL0 =\n"
+            "# A row per sample: t (s; with DT the exact sample times); disks per chamber and colour (nL0 =\n"
             "# colour 0 in the left chamber, ...; the chamber of a disk is the side of X1_C its\n"
             "# centre is on); m = (nR0 + nL1) / N; mixing entropy per chamber S = -sum x ln x\n"
             "# over its colour fractions (nats, ln 2 = even), S_mix = (nL S_left + nR S_right) /\n"
