@@ -403,6 +403,66 @@ static void test_csv(void)
           "mote_path_is_csv");
 }
 
+/* A monitor's rows (mote_rows): PATH.partial follows every row, PATH is written whole at the
+ * end and again after a later run, and memory stays bounded (rows past `spill` bytes move to
+ * the disk and are read back): the files hold every row, in order, whatever the spill. */
+static void rows_header(FILE *f, const void *arg, int growing)
+{
+    fprintf(f, "# %s %s\n", (const char *)arg, growing ? "growing" : "whole");
+}
+
+static void expect_rows(const char *path, const char *head, int n, const char *what)
+{
+    static char got[65536], want[65536];
+    read_all(path, got, sizeof got);
+    size_t k = (size_t)snprintf(want, sizeof want, "%s", head);
+    for (int i = 0; i < n && k < sizeof want; i++)
+        k += (size_t)snprintf(want + k, sizeof want - k, "row %d %g\n", i, 0.5 * i);
+    CHECK(strcmp(got, want) == 0, "%s: %d rows (%zu bytes read, %zu expected)", what, n,
+          strlen(got), strlen(want));
+}
+
+static void test_rows(void)
+{
+    printf("monitor rows: followed, written whole, bounded memory\n");
+    char path[512], part[600];
+    for (int spill = 0; spill <= 1; spill++) {
+        path_in(path, sizeof path, spill ? "rows/spilled.dat" : "rows/mon.dat");
+        snprintf(part, sizeof part, "%s.partial", path);
+        mote_err err = {0};
+        mote_rows r;
+        CHECK_INT(mote_rows_open(&r, path, rows_header, "mon", &err), 0);
+        r.spill = spill ? 200 : 0;
+        size_t most = 0;
+        int i = 0;
+        for (; i < 1500; i++) {
+            fprintf(r.text, "row %d %g\n", i, 0.5 * i);
+            CHECK_INT(i ? mote_rows_follow(&r, &err) : mote_rows_start(&r, &err), 0);
+            most = r.len > most ? r.len : most;
+            if (i == 0)
+                expect_rows(path, "# mon whole\n", 1, "PATH at the start");
+            if (i == 700)
+                expect_rows(part, "# mon growing\n", 701, "PATH.partial during the run");
+        }
+        expect_rows(path, "# mon whole\n", 1, "PATH before the end: the complete one kept");
+        CHECK_INT(mote_rows_write(&r, &err), 0);
+        expect_rows(path, "# mon whole\n", 1500, "PATH at the end");
+        CHECK(access(part, F_OK) != 0, "PATH.partial removed at the end");
+        for (; i < 1600; i++) { /* a later run: its partial file begins with every row so far */
+            fprintf(r.text, "row %d %g\n", i, 0.5 * i);
+            CHECK_INT(mote_rows_follow(&r, &err), 0);
+        }
+        expect_rows(part, "# mon growing\n", 1600, "PATH.partial of a later run");
+        CHECK_INT(mote_rows_write(&r, &err), 0);
+        expect_rows(path, "# mon whole\n", 1600, "PATH after a later run");
+        if (spill)
+            CHECK(most <= 200 + 16 && r.stored > 0, "rows in memory: at most %zu bytes", most);
+        else
+            CHECK(most >= 1600 * 8 && r.stored == 0, "below the spill: in memory (%zu)", most);
+        mote_rows_free(&r);
+    }
+}
+
 /* The run loop's observers (include/mote/loop.h): exact times t0 + k dt, the stop, once per
  * stop even when a step passes several times, a time a hair before the end taken at the end. */
 typedef struct {
@@ -689,6 +749,7 @@ int main(void)
     test_blocks_and_schedules();
     test_grid();
     test_csv();
+    test_rows();
     test_loop();
     test_loop_overshoot();
     test_statefile();

@@ -121,16 +121,22 @@ void mote_partial_keep(mote_partial *p);
  * stopped or fails leaves it, readable); PATH is written whole and atomically when a run ends
  * (mote_rows_write: also after a failure, every row so far), and when the output starts if
  * there is no PATH yet (mote_rows_start): an earlier complete PATH is replaced only by a
- * complete one. A .csv PATH becomes RFC 4180 CSV when written (mote_afile_commit). The
+ * complete one. Memory stays bounded: past `spill` bytes the rows move to an unnamed file in
+ * PATH's folder (the system's temporary folder when that fails; memory when both do), read back
+ * for PATH. A .csv PATH becomes RFC 4180 CSV when written (mote_afile_commit). The
  * model's header(f, arg, growing) writes the header lines (growing: for the partial file, whose
  * rows are still coming). */
+#define MOTE_ROWS_SPILL ((size_t)1 << 20)
 typedef struct {
     char *path;
-    FILE *text;   /* the model prints its rows here */
+    FILE *text;   /* the model prints its rows here (the same FILE for the whole output) */
     char *buf;    /* (the memory stream's bytes) */
     size_t len;
     size_t sent;  /* bytes of buf already in PATH.partial */
     size_t rows;  /* rows counted by mote_rows_follow */
+    FILE *store;  /* rows moved out of memory (an unnamed file beside PATH), when any */
+    size_t stored; /* bytes of rows in store (before those in buf) */
+    size_t spill; /* memory kept before rows move to store (0: MOTE_ROWS_SPILL) */
     mote_partial partial;
     void (*header)(FILE *f, const void *arg, int growing);
     const void *arg;

@@ -48,7 +48,7 @@ int mote_make_dir_of(const char *path)
 /* A temporary file for path's data, in its folder: unnamed (O_TMPFILE; *name then
  * /proc/self/fd/N, to read it back) where the file system has them, else path.tmp.XXXXXX. The
  * descriptor, or -1 with errno set; *name malloc'ed. */
-static int open_temp(const char *path, char **name, int *anon)
+static int open_temp(const char *path, char **name, int *anon, int mode)
 {
     const size_t n = strlen(path) + 32;
     *name = malloc(n);
@@ -63,7 +63,7 @@ static int open_temp(const char *path, char **name, int *anon)
         memcpy(dir, path, (size_t)(slash - path) + (slash == path));
         dir[(size_t)(slash - path) + (slash == path)] = '\0';
     }
-    int fd = slash && !dir ? -1 : open(dir ? dir : ".", O_TMPFILE | O_WRONLY | O_CLOEXEC, 0644);
+    int fd = slash && !dir ? -1 : open(dir ? dir : ".", O_TMPFILE | mode | O_CLOEXEC, 0644);
     free(dir);
     if (fd >= 0) {
         snprintf(*name, n, "/proc/self/fd/%d", fd);
@@ -127,7 +127,7 @@ int mote_afile_open(mote_afile *af, const char *path, mote_err *err)
     af->path = dup_str(path);
     if (!af->path)
         return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", path);
-    int fd = open_temp(path, &af->tmp, &af->anon);
+    int fd = open_temp(path, &af->tmp, &af->anon, O_WRONLY);
     if (fd < 0) {
         int e = errno;
         free(af->path);
@@ -191,7 +191,7 @@ static int convert_csv(mote_afile *af, mote_err *err)
         return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", af->path);
     free(tmp2);
     int anon2 = 0;
-    int fd = open_temp(af->path, &tmp2, &anon2);
+    int fd = open_temp(af->path, &tmp2, &anon2, O_WRONLY);
     FILE *out = fd >= 0 ? fdopen(fd, "w") : NULL;
     if (!out) {
         int e = errno;
@@ -366,6 +366,63 @@ int mote_rows_open(mote_rows *r, const char *path,
     return MOTE_OK;
 }
 
+/* The rows kept on the disk (a spilled memory stream): an unnamed file in PATH's folder, else
+ * the system's temporary one; NULL when neither can be made (the rows then stay in memory). */
+static FILE *rows_store(const char *path)
+{
+    char *name = NULL;
+    int anon = 0;
+    int fd = open_temp(path, &name, &anon, O_RDWR);
+    if (fd >= 0 && !anon)
+        unlink(name); /* (a named one: nameless from now on) */
+    free(name);
+    FILE *f = fd >= 0 ? fdopen(fd, "w+") : NULL;
+    if (!f && fd >= 0)
+        close(fd);
+    return f ? f : tmpfile();
+}
+
+/* Every row so far to f: those on the disk, then those in memory; 0 or an errno value. */
+static int rows_copy(mote_rows *r, FILE *f)
+{
+    char buf[65536];
+    for (off_t at = 0; at < (off_t)r->stored;) {
+        const size_t want = r->stored - (size_t)at < sizeof buf ? r->stored - (size_t)at : sizeof buf;
+        const ssize_t got = pread(fileno(r->store), buf, want, at);
+        if (got <= 0)
+            return got < 0 ? errno : EIO;
+        if (fwrite(buf, 1, (size_t)got, f) != (size_t)got)
+            return errno ? errno : EIO;
+        at += got;
+    }
+    if (r->len && fwrite(r->buf, 1, r->len, f) != r->len)
+        return errno ? errno : EIO;
+    return 0;
+}
+
+/* The rows in memory moved to the disk store once they pass r->spill bytes (memory stays
+ * bounded however long a run goes on); the memory stream is rewound, its FILE unchanged. A
+ * store that cannot be made or written leaves them in memory (tried again at the next row). */
+static void rows_spill(mote_rows *r)
+{
+    const size_t limit = r->spill ? r->spill : MOTE_ROWS_SPILL;
+    if (r->len < limit)
+        return;
+    if (!r->store && !(r->store = rows_store(r->path)))
+        return;
+    for (size_t done = 0; done < r->len;) {
+        const ssize_t put = pwrite(fileno(r->store), r->buf + done, r->len - done,
+                                   (off_t)(r->stored + done));
+        if (put <= 0)
+            return; /* (only the first r->stored bytes of the store count) */
+        done += (size_t)put;
+    }
+    r->stored += r->len;
+    fseeko(r->text, 0, SEEK_SET);
+    fflush(r->text); /* (len now 0; later rows overwrite the buffer) */
+    r->sent = 0;
+}
+
 int mote_rows_follow(mote_rows *r, mote_err *err)
 {
     if (!r->text)
@@ -377,13 +434,15 @@ int mote_rows_follow(mote_rows *r, mote_err *err)
     mote_partial *pt = &r->partial;
     if (!pt->f && !pt->path && mote_partial_open(pt, r->path) == 0) {
         r->header(pt->f, r->arg, 1);
-        r->sent = 0;
+        rows_copy(r, pt->f); /* (every row so far; a failed copy shows in the whole file) */
+        r->sent = r->len;
     }
     if (pt->f) { /* (a partial file that cannot be made: the complete file is the result) */
         fwrite(r->buf + r->sent, 1, r->len - r->sent, pt->f);
         r->sent = r->len;
         mote_partial_flush(pt);
     }
+    rows_spill(r);
     return MOTE_OK;
 }
 
@@ -404,7 +463,12 @@ int mote_rows_write(mote_rows *r, mote_err *err)
     if (rc)
         return rc;
     r->header(af.f, r->arg, 0);
-    fwrite(r->buf, 1, r->len, af.f);
+    const int e = rows_copy(r, af.f);
+    if (e) {
+        mote_afile_abort(&af);
+        return mote_fail(err, MOTE_EIO, "%s: reading back its rows failed: %s", r->path,
+                         strerror(e));
+    }
     rc = mote_afile_commit(&af, err);
     if (!rc)
         mote_partial_done(&r->partial);
@@ -418,6 +482,8 @@ void mote_rows_free(mote_rows *r)
     mote_partial_keep(&r->partial);
     if (r->text)
         fclose(r->text);
+    if (r->store)
+        fclose(r->store);
     free(r->buf);
     free(r->path);
     memset(r, 0, sizeof *r);
