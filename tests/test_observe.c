@@ -125,6 +125,29 @@ static void test_vocabulary(void)
         CHECK(model, "the listed difference %s %s %s= names no command", EXCEPTIONS[k].model,
               EXCEPTIONS[k].word, EXCEPTIONS[k].option);
     }
+    /* every output on a schedule stops with WORD_stop, the core's row (the same text in every
+     * model: MOTE_CMD_STOP) */
+    for (size_t w = 0; w < sizeof words / sizeof words[0]; w++) {
+        char stop[64];
+        snprintf(stop, sizeof stop, "%s_stop", words[w]);
+        const mote_cmd *first = NULL;
+        for (size_t i = 0; i < mote_nmodels; i++) {
+            const mote_cmd *c = find_cmd(mote_models[i], words[w]);
+            if (!c || !(has_option(c, "every") || has_option(c, "dt")))
+                continue;
+            const mote_cmd *s = find_cmd(mote_models[i], stop);
+            CHECK(s != NULL, "%s: %s has a schedule but no %s", mote_models[i]->name, words[w],
+                  stop);
+            if (!s)
+                continue;
+            CHECK(s->args && !s->args[0] && s->run, "%s: %s takes no arguments and runs",
+                  mote_models[i]->name, stop);
+            if (!first)
+                first = s;
+            CHECK(!strcmp(s->summary, first->summary) && !strcmp(s->help, first->help),
+                  "%s: %s says what the others' say", mote_models[i]->name, stop);
+        }
+    }
     /* the aliases are the earlier words, and every model's shared words are their names */
     static const struct {
         const char *model, *alias, *word;

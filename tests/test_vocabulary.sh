@@ -183,4 +183,61 @@ expect 0 "" w7a.mote "${NB}frames prefix=made/f every=1\n" check
 expect 1 "w7.mote:3:15: error: frames: the directory that would hold 'nodir/sub' does not exist" \
     w7.mote "${NB}frames prefix=nodir/sub/f every=1\n" check
 
+# the stops (one row made by the core, MOTE_CMD_STOP): every output a model starts on a
+# schedule has WORD_stop; after it a later run adds nothing to what was written (the files are
+# those of the same script ended at the stop), and the run itself is the same bit for bit
+data() { grep -v '^#' "$1"; }
+# same_rows A B WHAT: the same data rows in A and B (their first five columns: not the timings)
+same_rows() { [ "$(data "$1" | cut -d' ' -f1-5)" = "$(data "$2" | cut -d' ' -f1-5)" ] && [ -n "$(data "$1")" ] && ok || bad "$3: $1 $(data "$1" | wc -l) rows, $2 $(data "$2" | wc -l)"; }
+count() { ls "$1" 2>/dev/null | wc -l; }
+NBO='monitor every=5 file=OUT_m.dat\ntrajectory every=5 file=OUT_t.dat\nframes every=5 prefix=OUT_f/a\nsnapshot every=5 prefix=OUT_s/a\ncheckpoint every=5 file=OUT.ck\nintegrate steps=10\n'
+NBS='monitor_stop\ntrajectory_stop\nframes_stop\nsnapshot_stop\ncheckpoint_stop\n'
+run nbst "${NB}$(printf "%s" "$NBO" | sed s/OUT/nbst/g)${NBS}integrate steps=10\nsave nbst.state\n"
+run nbst0 "${NB}$(printf "%s" "$NBO" | sed s/OUT/nbst0/g)${NBS}"
+run nbst1 "${NB}integrate steps=20\nsave nbst1.state\n"
+same_rows nbst_m.dat nbst0_m.dat "nbody: monitor_stop"
+same_rows nbst_t.dat nbst0_t.dat "nbody: trajectory_stop"
+[ "$(count nbst_f)" = "$(count nbst0_f)" ] && [ "$(count nbst_s)" = "$(count nbst0_s)" ] && [ "$(count nbst_s)" -ge 2 ] && ok || bad "nbody: frames_stop, snapshot_stop: $(count nbst_f) frames, $(count nbst_s) snapshots; $(count nbst0_f) and $(count nbst0_s) without the later run"
+cmp -s nbst.ck nbst0.ck && ok || bad "nbody: checkpoint_stop: the checkpoint changed after it"
+cmp -s nbst.state nbst1.state && ok || bad "nbody: the run with stopped outputs is not the same"
+SPO='monitor file=OUT_m.dat every=50\nsnapshot every=100 prefix=OUT_s/a\nframes every=150 prefix=OUT_f/a movie=off\ntrajectory every=100 file=OUT_t.xyz\nrun 0.2\n'
+SPS='monitor_stop\nsnapshot_stop\nframes_stop\ntrajectory_stop\n'
+run sepst "${SEP_DILUTE}$(printf "%s" "$SPO" | sed s/OUT/sepst/g)${SPS}run 0.1\nsave sepst.state\n"
+run sepst0 "${SEP_DILUTE}$(printf "%s" "$SPO" | sed s/OUT/sepst0/g)${SPS}"
+run sepst1 "${SEP_DILUTE}run 0.2\nrun 0.1\nsave sepst1.state\n"
+same_rows sepst_m.dat sepst0_m.dat "separator: monitor_stop"
+cmp -s sepst_t.xyz sepst0_t.xyz && ok || bad "separator: trajectory_stop: frames added after it"
+[ "$(count sepst_f)" = "$(count sepst0_f)" ] && [ "$(count sepst_s)" = "$(count sepst0_s)" ] && [ "$(count sepst_s)" -ge 2 ] && ok || bad "separator: frames_stop, snapshot_stop: $(count sepst_f) and $(count sepst_s) files, $(count sepst0_f) and $(count sepst0_s) without the later run"
+cmp -s sepst.state sepst1.state && ok || bad "separator: the run with stopped outputs is not the same"
+run mbst "${MB}monitor every=100 file=mbst_m.dat\nrun_collisions 1000 100\nmonitor_stop\nrun_collisions 500 100\nsave mbst.state\n"
+run mbst0 "${MB}monitor every=100 file=mbst0_m.dat\nrun_collisions 1000 100\n"
+same_rows mbst_m.dat mbst0_m.dat "mixing box: monitor_stop"
+CHS='model charging faithful\nbody sphere radius=1\nrun particles=2e4\nmonitor dt=2.5e-5 file=OUT.csv\nevolve time=1e-4\n'
+run chst "$(printf "%s" "$CHS" | sed s/OUT/chst/)monitor_stop\nevolve time=2e-4\n"
+run chst0 "$(printf "%s" "$CHS" | sed s/OUT/chst0/)"
+cmp -s chst.csv chst0.csv && ok || bad "charging: monitor_stop: a later evolve wrote to the monitor's file"
+
+# checkpoint (the exact state on a schedule) in hard spheres: it only reads the run (the same
+# bits with and without); the file at a count is what `save` writes after a command that ends
+# there; `load` of it and the rest go on bit for bit as that split run
+HSC='model hard-spheres\nseed 5\nnew 2 0.35\n'
+run hsc "${HSC}checkpoint every=2 file=hsc.state\nstep 6\nsave hsc6.state\ncheckpoint_stop\nstep 2\n"
+run hsc0 "${HSC}step 6\nsave hsc0.state\n"
+run hsc1 "${HSC}step 4\nsave hsc1.state\nstep 2\nsave hsc1b.state\n"
+run hsc2 "${HSC}checkpoint every=2 file=hsc2.state\nstep 5\n"
+run hsc3 'model hard-spheres\nload hsc2.state\nstep 2\nsave hsc3.state\n'
+cmp -s hsc6.state hsc0.state && ok || bad "hard spheres: checkpoint changed the run"
+cmp -s hsc.state hsc0.state && ok || bad "hard spheres: the checkpoint at 6 is not save's state at 6 / checkpoint_stop"
+cmp -s hsc2.state hsc1.state && ok || bad "hard spheres: the checkpoint at 4 (mid-run) is not save's state after step 4"
+cmp -s hsc3.state hsc1b.state && ok || bad "hard spheres: load of a checkpoint does not continue as the split run"
+# checkpoint in the separator: only reads the run (the same bits with and without); the state
+# at a step, loaded, goes on step for step as the run that wrote it (its checkpoint K steps on
+# is the uninterrupted run's, bit for bit: the state at a loop's stop is complete)
+run sepc "${SEP_DILUTE}checkpoint every=100 file=sepc.state\nrun 0.25\nsave sepc_end.state\n"
+run sepc0 "${SEP_DILUTE}run 0.25\nsave sepc0_end.state\n"
+run sepc1 "${SEP_DILUTE}checkpoint every=100 file=sepc1.state\nrun 0.15\n"
+run sepc2 'model separator\nload sepc1.state\ncheckpoint every=100 file=sepc2.state\nrun 0.15\ncheckpoint_stop\nrun 0.1\n'
+cmp -s sepc_end.state sepc0_end.state && ok || bad "separator: checkpoint changed the run"
+cmp -s sepc2.state sepc.state && grep -q '^real t 0.2000' sepc2.state && ok || bad "separator: load of a checkpoint did not go on step for step ($(grep '^real t ' sepc2.state sepc.state | tr '\n' ' '))"
+
 mote_test_end

@@ -94,6 +94,20 @@ typedef struct mote_cmd {
     int (*run)(void *model, const mote_call *c, mote_err *err);
 } mote_cmd;
 
+/* The command that stops an output (`frames_stop`, `snapshot_stop`, `trajectory_stop`,
+ * `monitor_stop`, `checkpoint_stop`): one row made here, so its name, help and meaning are the same in every model;
+ * the model gives its check and run (which clear the output's schedule), ALIASES as above. */
+#define MOTE_STOPS_frames "the pictures of `frames`"
+#define MOTE_STOPS_snapshot "the series of `snapshot every=K|dt=T prefix=P`"
+#define MOTE_STOPS_trajectory "the particle paths of `trajectory`"
+#define MOTE_STOPS_monitor "the rows of `monitor`"
+#define MOTE_STOPS_checkpoint "the states of `checkpoint`"
+#define MOTE_CMD_STOP(WORD, ALIASES, CHECK, RUN)                                                 \
+    {#WORD "_stop", ALIASES, "", #WORD "_stop", "stop " MOTE_STOPS_##WORD,                      \
+     "    " #WORD "_stop\n\nStop " MOTE_STOPS_##WORD " in the commands that follow; what it "   \
+     "wrote stays as\nit is. Nothing happens when it is not on.\n",                             \
+     CHECK, RUN}
+
 /* A parameter command bound to a value of the model's state: the command's name and the key of
  * the value's descriptor (statefile.h) in the table the model's `state` hook gives ("gravity",
  * "real g"), listed in mote_model.params. The command's check and run are mote_cmd_set, which

@@ -26,6 +26,7 @@ typedef struct {
     struct hs_dump *snaps; /* the snapshots on a schedule (`snapshot every=|dt=`), or NULL */
     struct hs_dump *frames; /* the pictures on a schedule (`frames`), or NULL */
     struct hs_monitor *monitor; /* the monitor being written (`monitor`), or NULL */
+    struct hs_dump *ckpt; /* the state kept on a schedule (`checkpoint`), or NULL */
 } mote_hs;
 
 /* The scalar results of a measuring command (pressure, chempot, order, ...) are a mote_result
@@ -85,6 +86,9 @@ double mote_hs_target_length(const mote_hs *hs, double eta);
  * settles after A too. Settling a settled system changes nothing. */
 int mote_hs_settle(mote_hs *hs, mote_err *err);
 int mote_hs_save(mote_hs *hs, const char *path, mote_err *err);
+/* The file save writes, without synchronising the engine (each particle brought to the present
+ * in the file only: the same numbers; a run is not changed by it): the checkpoint's writer. */
+int mote_hs_write_state(const mote_hs *hs, const char *path, mote_err *err);
 int mote_hs_load(mote_hs *hs, const char *path, mote_err *err);
 /* Read just enough of a state file (either format) to know its geometry, dimension and N. */
 int mote_hs_peek(const char *path, int *geometry, int *dim, uint64_t *n, mote_err *err);
@@ -127,6 +131,13 @@ void mote_hs_snapshots_stop(mote_hs *hs);
 int mote_hs_frames_start(mote_hs *hs, uint64_t k, double dt, const char *prefix,
                          const char *origin, mote_err *err);
 void mote_hs_frames_stop(mote_hs *hs);
+/* The exact state on a schedule (`checkpoint every=K file=FILE`): written now and every k
+ * collisions per particle of every later step, compression or measurement, each time the file
+ * `save` would write (mote_hs_write_state; FILE replaced atomically). It only reads the run;
+ * `load` of it continues as a run split there into two commands. */
+int mote_hs_checkpoint_start(mote_hs *hs, uint64_t k, const char *path, const char *origin,
+                             mote_err *err);
+void mote_hs_checkpoint_stop(mote_hs *hs);
 
 /* ---- measurements (spec 8); `origin` names the generating command for file headers ---- */
 int mote_hs_image(mote_hs *hs, uint64_t k, int64_t p, const char *path, const char *origin,

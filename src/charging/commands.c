@@ -974,6 +974,7 @@ static const mote_cmd ch_commands[] = {
     {"monitor", NULL, "@dt=r>0! @file=f>timeseries!", "monitor dt=T file=FILE",
      "the time series of every later evolve into FILE, a row every T", HELP_MONITOR,
      ch_run_monitor, ch_run_monitor},
+    MOTE_CMD_STOP(monitor, NULL, ch_run_monitor_stop, ch_run_monitor_stop),
     {"evolve", NULL, "time=r>0! dt=r>0 dt_out=r>0 file=f>timeseries U0=r particles=r>=1",
      "evolve time=T [dt=D] [file=FILE] [U0=0] [particles=N]",
      "U(t) of faithful mode (constant currents)", HELP_EVOLVE, ch_check_evolve, ch_run_evolve},

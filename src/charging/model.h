@@ -112,6 +112,7 @@ int ch_note_prefixed(ch_model *m, const mote_call *c, const char *suffix, const 
 int ch_check_evolve(void *vm, const mote_call *c, mote_err *err);
 /* `monitor dt=T file=FILE` (checked and run alike: the dry model knows the file too) */
 int ch_run_monitor(void *vm, const mote_call *c, mote_err *err);
+int ch_run_monitor_stop(void *vm, const mote_call *c, mote_err *err);
 int ch_run_evolve(void *vm, const mote_call *c, mote_err *err);
 int ch_check_output(void *vm, const mote_call *c, mote_err *err);
 int ch_run_output(void *vm, const mote_call *c, mote_err *err);

@@ -37,6 +37,14 @@ int ch_run_monitor(void *vm, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
+int ch_run_monitor_stop(void *vm, const mote_call *c, mote_err *err)
+{
+    ch_model *m = vm;
+    free(m->monitor.path); /* (later evolves write no time series unless given file=) */
+    m->monitor.path = NULL;
+    return MOTE_OK;
+}
+
 int ch_check_evolve(void *vm, const mote_call *c, mote_err *err)
 {
     ch_model *m = vm;

@@ -591,6 +591,31 @@ static int run_dump(void *vm, const mote_call *c, mote_err *err)
     return run_scheduled(vm, c, "frame", mote_hs_dump_start_on, err);
 }
 
+/* `checkpoint every=K file=FILE` (the exact state on a schedule) and `checkpoint_stop`. */
+static int check_checkpoint(void *vm, const mote_call *c, mote_err *err)
+{
+    return need_system(vm, c, err);
+}
+static int run_checkpoint(void *vm, const mote_call *c, mote_err *err)
+{
+    hs_model *m = vm;
+    char *origin = mote_call_origin(c);
+    const uint64_t k = (uint64_t)mote_call_opt(c, "every")->i;
+    const char *path = mote_call_opt(c, "file")->path;
+    int rc = origin ? mote_hs_checkpoint_start(&m->hs, k, path, origin, err)
+                    : mote_fail(err, MOTE_ENOMEM, "out of memory");
+    free(origin);
+    if (!rc && m->hs.log)
+        fprintf(m->hs.log, "%s: the state in %s now and every %llu collisions per particle\n",
+                c->name, path, (unsigned long long)k);
+    return rc;
+}
+static int run_checkpoint_stop(void *vm, const mote_call *c, mote_err *err)
+{
+    mote_hs_checkpoint_stop(&((hs_model *)vm)->hs);
+    return MOTE_OK;
+}
+
 /* `monitor every=K|dt=T file=FILE` (the run's quantities over time) and `monitor_stop`. */
 static int check_monitor(void *vm, const mote_call *c, mote_err *err)
 {
@@ -692,19 +717,17 @@ static const mote_cmd hs_commands[] = {
     {"frames", NULL, "@every=i>=1 @prefix=f! dt=r>0", "frames every=K|dt=T prefix=P",
      "a picture now and every K collisions per particle or T of time: P_000000.png ...",
      HS_HELP_FRAMES, check_frames, run_frames},
-    {"frames_stop", NULL, "", "frames_stop", "stop writing the pictures of `frames`",
-     "    frames_stop\n\nStop the pictures of `frames`; its files stay.\n", NULL,
-     run_frames_stop},
-    {"snapshot_stop", NULL, "", "snapshot_stop", "stop the snapshots of `snapshot every=|dt=`",
-     "    snapshot_stop\n\nStop the series of `snapshot every=K|dt=T prefix=P`; its files stay.\n",
-     NULL, run_snapshot_stop},
-    {"trajectory_stop", "dump_stop", "", "trajectory_stop", "stop writing the frames of `trajectory` (`dump`)",
-     HS_HELP_DUMP_STOP, NULL, run_dump_stop},
+    MOTE_CMD_STOP(frames, NULL, NULL, run_frames_stop),
+    MOTE_CMD_STOP(snapshot, NULL, NULL, run_snapshot_stop),
+    MOTE_CMD_STOP(trajectory, "dump_stop", NULL, run_dump_stop),
     {"monitor", NULL, "@every=i>=1 @file=f>monitor! dt=r>0", "monitor every=K|dt=T file=FILE",
      "the run's time, collisions, temperature and pressure, a row every K collisions per "
      "particle or every T of time", HS_HELP_MONITOR, check_monitor, run_monitor},
-    {"monitor_stop", NULL, "", "monitor_stop", "stop writing the rows of `monitor`",
-     HS_HELP_MONITOR_STOP, NULL, run_monitor_stop},
+    MOTE_CMD_STOP(monitor, NULL, NULL, run_monitor_stop),
+    {"checkpoint", NULL, "every=i>=1! file=f>state!", "checkpoint every=K file=FILE",
+     "keep the exact state in FILE every K collisions per particle (load continues from it)",
+     HS_HELP_CHECKPOINT, check_checkpoint, run_checkpoint},
+    MOTE_CMD_STOP(checkpoint, NULL, NULL, run_checkpoint_stop),
     {"check", NULL, "", "check", "verify every invariant of the simulation", HS_HELP_CHECK,
      check_check, run_check},
 };

@@ -52,6 +52,7 @@ int hs_run_observed(mote_hs *hs, uint64_t ncoll, mote_observer *obs, size_t nobs
 /* The trajectory, the snapshot series and the frames as observers of the run loop, into
  * o[0..2]: how many (xyz.c). */
 size_t hs_dump_observer(mote_hs *hs, mote_observer *o);
+size_t hs_checkpoint_observer(mote_hs *hs, mote_observer *o); /* (the last observer) */
 /* monitor.c: the monitor's observer (0 or 1 filled), and its engine hooks on (1) for a run,
  * chained to those installed before, or off (0) again. */
 size_t hs_monitor_observer(mote_hs *hs, mote_observer *o);

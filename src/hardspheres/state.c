@@ -80,29 +80,52 @@ static const mote_sf_field ROW2[] = {
 };
 #define NF(t) (sizeof t / sizeof t[0])
 
+/* Particle i (a slot) now: its stored coordinates when the engine is synchronised, else brought
+ * to the present as the synchronisation would (the same arithmetic: the same bits). */
+static void particle_now(const mote_ev *ev, uint32_t i, double r[3], double v[3])
+{
+    const mote_particle *p = &ev->p[i];
+    if (ev->canonical) {
+        memcpy(r, p->r, sizeof p->r);
+        memcpy(v, p->v, sizeof p->v);
+        return;
+    }
+    mote_ev_position(ev, i, r);
+    mote_ev_velocity(ev, i, v);
+}
+
 int mote_hs_save(mote_hs *hs, const char *path, mote_err *err)
 {
     if (!hs->has_system)
         return mote_fail(err, MOTE_EINVAL, "save: no system to save");
-    mote_ev *ev = &hs->ev;
     int rc = mote_hs_settle(hs, err); /* synchronise: local times 0, coordinates wrapped */
-    if (rc)
-        return rc;
+    return rc ? rc : mote_hs_write_state(hs, path, err);
+}
+
+int mote_hs_write_state(const mote_hs *hs, const char *path, mote_err *err)
+{
+    if (!hs->has_system)
+        return mote_fail(err, MOTE_EINVAL, "save: no system to save");
+    const mote_ev *ev = &hs->ev;
     /* never a state that load refuses: finite positions, speeds up to 1e100 */
-    for (uint32_t i = 0; i < ev->n; i++)
+    for (uint32_t i = 0; i < ev->n; i++) {
+        double r[3], v[3];
+        particle_now(ev, i, r, v);
         for (int a = 0; a < ev->dim; a++)
-            if (!isfinite(ev->p[i].r[a]) || !(fabs(ev->p[i].v[a]) <= 1e100))
+            if (!isfinite(r[a]) || !(fabs(v[a]) <= 1e100))
                 return mote_fail(err, MOTE_ERUNTIME, "save: particle %u: %s%c = %.17g is not "
                                  "a state mote can continue (positions finite, speeds up to "
-                                 "1e100); %s is left as it was", i,
-                                 isfinite(ev->p[i].r[a]) ? "v" : "", "xyz"[a],
-                                 isfinite(ev->p[i].r[a]) ? ev->p[i].v[a] : ev->p[i].r[a], path);
+                                 "1e100); %s is left as it was", i, isfinite(r[a]) ? "v" : "",
+                                 "xyz"[a], isfinite(r[a]) ? v[a] : r[a], path);
+    }
     mote_afile af;
-    if ((rc = mote_afile_open(&af, path, err)))
+    int rc = mote_afile_open(&af, path, err);
+    if (rc)
         return rc;
     FILE *f = af.f;
     hs_head h = {0, ev->dim, hs->geometry == MOTE_HS_SLIT ? 0 : 1,
-                 {ev->len[0], ev->len[1], ev->len[2]}, ev->n, ev->time_total, ev->collisions,
+                 {ev->len[0], ev->len[1], ev->len[2]}, ev->n,
+                 ev->canonical ? ev->time_total : mote_ev_time(ev), ev->collisions,
                  ev->wall_collisions, {hs->rng.s[0], hs->rng.s[1], hs->rng.s[2], hs->rng.s[3]}};
     fprintf(f, "mote-state 1\n");
     mote_sf_write(f, HEAD_A, NF(HEAD_A), &h, 1);
@@ -113,9 +136,8 @@ int mote_hs_save(mote_hs *hs, const char *path, mote_err *err)
                             : "particles x y vx vy radius mass\n");
     for (uint32_t id = 0; id < ev->n; id++) { /* by particle number: the seed's or the file's */
         const uint32_t i = mote_ev_slot(ev, id);
-        const mote_particle *p = &ev->p[i];
-        hs_row w = {{p->r[0], p->r[1], p->r[2]}, {p->v[0], p->v[1], p->v[2]},
-                    mote_ev_radius(ev, i), mote_ev_mass(ev, i)};
+        hs_row w = {{0}, {0}, mote_ev_radius(ev, i), mote_ev_mass(ev, i)};
+        particle_now(ev, i, w.r, w.v);
         if (ev->dim == 3)
             mote_sf_write(f, ROW3, NF(ROW3), &w, 1);
         else

@@ -36,6 +36,7 @@ void mote_hs_free(mote_hs *hs)
     mote_hs_snapshots_stop(hs);
     mote_hs_frames_stop(hs);
     mote_hs_monitor_stop(hs);
+    mote_hs_checkpoint_stop(hs);
 }
 
 void mote_hs_seed(mote_hs *hs, uint64_t seed)
@@ -460,12 +461,13 @@ int hs_run_observed(mote_hs *hs, uint64_t ncoll, mote_observer *obs, size_t nobs
 {
     mote_ev *ev = &hs->ev;
     const uint64_t end = ncoll < UINT64_MAX - ev->collisions ? ev->collisions + ncoll : UINT64_MAX;
-    mote_observer all[7];
+    mote_observer all[8];
     size_t n = 0;
     for (; n < nobs && n < 3; n++)
         all[n] = obs[n];
     n += hs_dump_observer(hs, &all[n]);
     n += hs_monitor_observer(hs, &all[n]);
+    n += hs_checkpoint_observer(hs, &all[n]);
     const mote_runner r = {.what = what, .sys = hs, .ctx = hs->ctx, .clock = hs_clock,
                            .count = hs_count, .advance = hs_advance};
     hs_monitor_hooks(hs, 1);

@@ -18,7 +18,7 @@
 
 #include "measure.h"
 
-enum { SERIES_XYZ = 1, SERIES_PNG = 2 };
+enum { SERIES_XYZ = 1, SERIES_PNG = 2, SERIES_STATE = 3 };
 
 struct hs_dump {
     char *path, *origin;
@@ -27,7 +27,8 @@ struct hs_dump {
     uint64_t next_at; /* value of ev.collisions at which the next frame is written */
     uint64_t frames;  /* written so far (a series: the next file's number) */
     int series;       /* a series of files (path: the prefix), not a trajectory: SERIES_XYZ
-                       * (snapshots) or SERIES_PNG (frames) */
+                       * (snapshots) or SERIES_PNG (frames); SERIES_STATE: one file, the
+                       * state (path: the file; a checkpoint) */
 };
 
 /* One frame: the two header lines and N particle lines. */
@@ -115,6 +116,11 @@ static int frame_out(mote_hs *hs, struct hs_dump *d, mote_err *err)
 {
     if (!d->series)
         return d->frames ? append_frame(hs, d, err) : first_frame(hs, d, err);
+    if (d->series == SERIES_STATE) {
+        const int rc = mote_hs_write_state(hs, d->path, err);
+        d->frames += !rc;
+        return rc;
+    }
     const int png = d->series == SERIES_PNG;
     char *p = mote_series_path(d->path, d->frames, 6, png ? ".png" : ".xyz");
     if (!p)
@@ -151,6 +157,12 @@ void mote_hs_frames_stop(mote_hs *hs)
 {
     dump_free(hs->frames);
     hs->frames = NULL;
+}
+
+void mote_hs_checkpoint_stop(mote_hs *hs)
+{
+    dump_free(hs->ckpt);
+    hs->ckpt = NULL;
 }
 
 static uint64_t dump_interval(const mote_hs *hs, const struct hs_dump *d)
@@ -240,6 +252,19 @@ int mote_hs_frames_start(mote_hs *hs, uint64_t k, double dt, const char *prefix,
     return MOTE_OK;
 }
 
+int mote_hs_checkpoint_start(mote_hs *hs, uint64_t k, const char *path, const char *origin,
+                             mote_err *err)
+{
+    if (k < 1)
+        return mote_fail(err, MOTE_EINVAL, "checkpoint: K must be >= 1");
+    struct hs_dump *d = dump_new(hs, "checkpoint", k, 0, path, origin, SERIES_STATE, 0, err);
+    if (!d)
+        return err->code;
+    mote_hs_checkpoint_stop(hs);
+    hs->ckpt = d;
+    return MOTE_OK;
+}
+
 uint64_t mote_hs_dump_frames(const mote_hs *hs) { return hs->dump ? hs->dump->frames : 0; }
 
 /* A frame of a trajectory or a series, and the collision count of the next. */
@@ -261,6 +286,10 @@ static int snaps_fire(void *ctx, void *subject, mote_err *err)
 static int frames_fire(void *ctx, void *subject, mote_err *err)
 {
     return fire_of(ctx, ((mote_hs *)ctx)->frames, err);
+}
+static int ckpt_fire(void *ctx, void *subject, mote_err *err)
+{
+    return fire_of(ctx, ((mote_hs *)ctx)->ckpt, err);
 }
 
 static void observer_of(mote_hs *hs, struct hs_dump *d,
@@ -289,4 +318,13 @@ size_t hs_dump_observer(mote_hs *hs, mote_observer *o)
     if (hs->frames)
         observer_of(hs, hs->frames, frames_fire, &o[n++]);
     return n;
+}
+
+size_t hs_checkpoint_observer(mote_hs *hs, mote_observer *o)
+{
+    if (!hs->ckpt)
+        return 0;
+    observer_of(hs, hs->ckpt, ckpt_fire, o); /* (the last at its count: the others see the
+                                                 engine as a run without it would) */
+    return 1;
 }

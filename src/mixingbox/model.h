@@ -34,6 +34,8 @@ int mb_need_placed(mb_model *m, const mote_call *c, mote_err *err);
 /* outputs.c: monitor (record), density_y, snapshot, frames, trajectory, their stops, movie */
 int mb_check_record(void *vm, const mote_call *c, mote_err *err);
 int mb_run_record(void *vm, const mote_call *c, mote_err *err);
+int mb_check_record_stop(void *vm, const mote_call *c, mote_err *err);
+int mb_run_record_stop(void *vm, const mote_call *c, mote_err *err);
 int mb_check_density(void *vm, const mote_call *c, mote_err *err);
 int mb_run_density(void *vm, const mote_call *c, mote_err *err);
 int mb_check_snapshot(void *vm, const mote_call *c, mote_err *err);

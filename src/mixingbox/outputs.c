@@ -248,6 +248,16 @@ int mb_run_trajectory(void *vm, const mote_call *c, mote_err *err)
         fprintf(m->log, "trajectory: frame 0 in %s\n", t->path);
     return MOTE_OK;
 }
+int mb_check_record_stop(void *vm, const mote_call *c, mote_err *err)
+{
+    ((mb_model *)vm)->d_record_dt = 0;
+    return MOTE_OK;
+}
+int mb_run_record_stop(void *vm, const mote_call *c, mote_err *err)
+{
+    ((mb_model *)vm)->rec.active = 0; /* (FILE was written whole when the last run ended) */
+    return MOTE_OK;
+}
 int mb_check_trajectory_stop(void *vm, const mote_call *c, mote_err *err)
 {
     ((mb_model *)vm)->d_traj_dt = 0;

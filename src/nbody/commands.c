@@ -866,6 +866,8 @@ static const mote_cmd nb_commands[] = {
      "[velocities=on|off]",
      "record the positions of every body (plot draws the orbits)", HELP_TRAJECTORY,
      nb_check_trajectory, nb_run_trajectory},
+    MOTE_CMD_STOP(monitor, NULL, NULL, nb_run_monitor_stop),
+    MOTE_CMD_STOP(trajectory, NULL, NULL, nb_run_trajectory_stop),
     {"approaches", NULL, "body=s! every=i>=1! refine=e{on|off} file=f>approaches! "
      "format=e{native|galactica}",
      "approaches body=B every=K file=FILE [refine=on] [format=native|galactica]",
@@ -875,6 +877,7 @@ static const mote_cmd nb_commands[] = {
      "frames every=K|dt=T [unit=U] [prefix=frame_] [control=galacf26.dat]",
      "Galactica-style pictures every K steps or every T of time (spec 7.13)", HELP_FRAMES, nb_check_frames,
      nb_run_frames},
+    MOTE_CMD_STOP(frames, NULL, NULL, nb_run_frames_stop),
     {"integrate", NULL, "steps=i>=1 to=r for=r>0 unit=e{s|day|year|century}",
      "integrate [steps=N] [to=T] [for=D] [unit=U]",
      "advance by N steps, to the time T, or for the time D (ends exactly)", HELP_INTEGRATE,
@@ -886,6 +889,7 @@ static const mote_cmd nb_commands[] = {
     {"checkpoint", NULL, "file=f>state! every=i>=1!", "checkpoint file=FILE every=K",
      "keep the exact state in FILE every K steps (restart continues from it)", HELP_CHECKPOINT,
      nb_check_checkpoint, nb_run_checkpoint},
+    MOTE_CMD_STOP(checkpoint, NULL, NULL, nb_run_checkpoint_stop),
     {"restart", NULL, "file=f<state!", "restart file=FILE",
      "continue from a checkpoint (or a saved state)", HELP_RESTART, nb_check_restart, nb_run_restart},
     {"check", NULL, "e{ring}", "check ring", "compare with the exact ring solution", HELP_CHECK,
@@ -916,6 +920,7 @@ static const mote_cmd nb_commands[] = {
      "snapshot file=FILE|every=K|dt=T [unit=U] [prefix=P] [format=native|galactica]",
      "a snapshot now (file=), or every K steps (every T of time) of integrate", HELP_SNAPSHOT, nb_check_snapshot,
      nb_run_snapshot},
+    MOTE_CMD_STOP(snapshot, NULL, NULL, nb_run_snapshot_stop),
 };
 
 const mote_model mote_model_nbody = {

@@ -96,6 +96,14 @@ int nb_run_checkpoint(void *vm, const mote_call *c, mote_err *err)
     return nb_state_save(&m->nb, m->ckpt.path, err);
 }
 
+int nb_run_checkpoint_stop(void *vm, const mote_call *c, mote_err *err)
+{
+    nb_model *m = vm;
+    free(m->ckpt.path); /* (its file stays: the state at the last checkpoint) */
+    m->ckpt.path = NULL;
+    return MOTE_OK;
+}
+
 /* ---- write and read: snapshots and Galactica files (spec 10.2, 7.5, 7.6) -----------------  */
 
 /* write/read KIND: snapshot (spec 10.2) or galactica (Galactica's files, spec 7.5, 7.6) */

@@ -137,6 +137,11 @@ int nb_check_frames(void *vm, const mote_call *c, mote_err *err);
 int nb_run_frames(void *vm, const mote_call *c, mote_err *err);
 int nb_check_snapshot(void *vm, const mote_call *c, mote_err *err);
 int nb_run_snapshot(void *vm, const mote_call *c, mote_err *err);
+/* the stops of monitor, trajectory, frames, snapshot (and, in files.c, checkpoint) */
+int nb_run_monitor_stop(void *vm, const mote_call *c, mote_err *err);
+int nb_run_trajectory_stop(void *vm, const mote_call *c, mote_err *err);
+int nb_run_frames_stop(void *vm, const mote_call *c, mote_err *err);
+int nb_run_snapshot_stop(void *vm, const mote_call *c, mote_err *err);
 int nb_check_integrate(void *vm, const mote_call *c, mote_err *err);
 int nb_run_integrate(void *vm, const mote_call *c, mote_err *err);
 
@@ -150,6 +155,7 @@ int nb_check_restart(void *vm, const mote_call *c, mote_err *err);
 int nb_run_restart(void *vm, const mote_call *c, mote_err *err);
 int nb_check_checkpoint(void *vm, const mote_call *c, mote_err *err);
 int nb_run_checkpoint(void *vm, const mote_call *c, mote_err *err);
+int nb_run_checkpoint_stop(void *vm, const mote_call *c, mote_err *err);
 int nb_check_write(void *vm, const mote_call *c, mote_err *err);
 int nb_run_write(void *vm, const mote_call *c, mote_err *err);
 int nb_check_read(void *vm, const mote_call *c, mote_err *err);

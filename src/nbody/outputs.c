@@ -404,6 +404,32 @@ int nb_run_monitor(void *vm, const mote_call *c, mote_err *err)
     return rc ? rc : sampler_begin(m, &m->mon, 0, err);
 }
 
+/* The stops: the schedule off (what was written stays; a later start begins afresh). */
+int nb_run_monitor_stop(void *vm, const mote_call *c, mote_err *err)
+{
+    ((nb_model *)vm)->mon.on = 0;
+    return MOTE_OK;
+}
+int nb_run_trajectory_stop(void *vm, const mote_call *c, mote_err *err)
+{
+    ((nb_model *)vm)->traj.on = 0;
+    return MOTE_OK;
+}
+int nb_run_frames_stop(void *vm, const mote_call *c, mote_err *err)
+{
+    nb_model *m = vm;
+    m->frames.every = 0;
+    m->frames.dt = 0;
+    return MOTE_OK;
+}
+int nb_run_snapshot_stop(void *vm, const mote_call *c, mote_err *err)
+{
+    nb_model *m = vm;
+    m->snap.every = 0;
+    m->snap.dt = 0;
+    return MOTE_OK;
+}
+
 /* on|off option: 1 or 0 (dflt when not given) */
 int nb_opt_on_off(const mote_call *c, const char *key, int dflt)
 {

@@ -294,9 +294,11 @@ static const char VOCABULARY_HEAD[] =
     "FILE.partial as they are taken (`tail -f FILE.partial`; a run that is stopped leaves it,\n"
     "with every row so far), and FILE is written whole, atomically, when a command's run ends\n"
     "(and when the output starts, if there is no FILE yet), so an earlier complete FILE is\n"
-    "only ever replaced by a complete one. The same word means the\n"
-    "same thing in every model that has it (this table is made from the models' command\n"
-    "tables):\n"
+    "only ever replaced by a complete one (the rows past 1 MiB wait on the disk, not in\n"
+    "memory). Each output on a schedule ends with `WORD_stop` (`frames_stop`, `snapshot_stop`,\n"
+    "`trajectory_stop`, `monitor_stop`, `checkpoint_stop`): what it wrote stays. The same word\n"
+    "means the same thing in every model that has it (this table is made from the models'\n"
+    "command tables):\n"
     "\n";
 
 static const struct {

@@ -40,6 +40,7 @@ static void model_destroy(void *vm)
     free(m->snaps.prefix);
     mote_rows_free(&m->bal.out);
     free(m->traj.path);
+    free(m->ckpt.path);
     free(m->bal.origin);
     free(m->bal.row);
     free(m);
@@ -754,9 +755,14 @@ static const mote_cmd sep_commands[] = {
     {"trajectory", NULL, "@every=i>=1 @file=f>xyz! dt=r>0", "trajectory every=K|dt=T file=FILE.xyz",
      "particle paths: an XYZ frame every K steps or T s of the following runs, appended",
      HELP_TRAJECTORY, sep_trajectory, sep_trajectory},
-    {"trajectory_stop", NULL, "", "trajectory_stop", "stop the frames of `trajectory`",
-     "    trajectory_stop\n\nStop the frames of `trajectory`; its file stays.\n",
-     sep_trajectory_stop, sep_trajectory_stop},
+    MOTE_CMD_STOP(trajectory, NULL, sep_trajectory_stop, sep_trajectory_stop),
+    MOTE_CMD_STOP(frames, NULL, sep_frames_stop, sep_frames_stop),
+    MOTE_CMD_STOP(snapshot, NULL, sep_snapshot_stop, sep_snapshot_stop),
+    MOTE_CMD_STOP(monitor, NULL, sep_monitor_stop, sep_monitor_stop),
+    {"checkpoint", NULL, "every=i>=1! file=f>state!", "checkpoint every=K file=FILE",
+     "keep the exact state in FILE every K time steps (load continues from it)",
+     HELP_CHECKPOINT, sep_checkpoint, sep_checkpoint},
+    MOTE_CMD_STOP(checkpoint, NULL, sep_checkpoint_stop, sep_checkpoint_stop),
     {"save", NULL, "f>state", "save FILE", "write the whole state", HELP_SAVE, sep_check_ready, sep_save},
     {"load", NULL, "f<state", "load FILE", "continue from a saved state", HELP_SAVE, sep_check_load,
      sep_load},

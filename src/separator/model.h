@@ -54,6 +54,11 @@ typedef struct {
         double *row;   /* room for one row */
         mote_rows out; /* PATH.partial during a run, PATH after it (the core's policy) */
     } bal;
+    struct {
+        int on;
+        char *path; /* the state, replaced at each checkpoint */
+        sep_schedule when;
+    } ckpt;
     mote_loop *loop; /* during a run: the core's loop (the outputs above as observers, and the
                       * progress) */
     int prepared;    /* during a run: the system prepared at its first advance */
@@ -81,6 +86,11 @@ int sep_snapshots(void *vm, const mote_call *c, mote_err *err);
 int sep_balance(void *vm, const mote_call *c, mote_err *err);
 int sep_trajectory(void *vm, const mote_call *c, mote_err *err);
 int sep_trajectory_stop(void *vm, const mote_call *c, mote_err *err);
+int sep_frames_stop(void *vm, const mote_call *c, mote_err *err);
+int sep_snapshot_stop(void *vm, const mote_call *c, mote_err *err);
+int sep_monitor_stop(void *vm, const mote_call *c, mote_err *err);
+int sep_checkpoint(void *vm, const mote_call *c, mote_err *err);
+int sep_checkpoint_stop(void *vm, const mote_call *c, mote_err *err);
 /* the model's hooks */
 void sep_status(void *vm, FILE *out);
 void sep_model_live(void *vm, mote_buf *b);

@@ -132,16 +132,17 @@ int sep_run(void *vm, const mote_call *c, mote_err *err)
     if (!rc && m->snaps.on)
         rc = make_series_dir(m->snaps.prefix, ".xyz", err);
     /* the run loop: the scheduled outputs as observers, progress on a terminal */
-    mote_observer obs[4];
+    mote_observer obs[5];
     size_t nobs = 0;
-    sep_schedule *outs[4] = {m->frames.on ? &m->frames.when : NULL,
+    sep_schedule *outs[5] = {m->frames.on ? &m->frames.when : NULL,
                              m->snaps.on ? &m->snaps.when : NULL,
                              m->bal.on ? &m->bal.when : NULL,
-                             m->traj.on ? &m->traj.when : NULL};
-    for (int k = 0; k < 4; k++)
+                             m->traj.on ? &m->traj.when : NULL,
+                             m->ckpt.on ? &m->ckpt.when : NULL};
+    for (int k = 0; k < 5; k++)
         if (outs[k])
             obs[nobs++] = outs[k]->o;
-    for (int k = 0; k < 4 && !rc; k++) /* every=K: the first at the start, as dt='s */
+    for (int k = 0; k < 5 && !rc; k++) /* every=K: the first at the start, as dt='s */
         if (outs[k] && outs[k]->first) {
             outs[k]->first = 0;
             rc = outs[k]->o.fire(NULL, m, err);
@@ -497,9 +498,51 @@ int sep_trajectory(void *vm, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
+/* The exact state, as save writes it (at an observer's stop the pending half kick is done). */
+static int fire_checkpoint(void *ctx, void *subject, mote_err *err)
+{
+    sep_model *m = subject;
+    return mote_sep_save(&m->sys, m->seed, m->ckpt.path, err);
+}
+
+int sep_checkpoint(void *vm, const mote_call *c, mote_err *err)
+{
+    sep_model *m = vm;
+    char *p = strdup(mote_call_opt(c, "file")->path);
+    if (!p)
+        return mote_fail(err, MOTE_ENOMEM, "checkpoint: out of memory");
+    free(m->ckpt.path);
+    m->ckpt.path = p;
+    m->ckpt.on = 1;
+    schedule_set(&m->ckpt.when, c, &m->sys, fire_checkpoint);
+    m->ckpt.when.first = 0; /* (the first after K steps: the state is there once prepared) */
+    return MOTE_OK;
+}
+
+int sep_checkpoint_stop(void *vm, const mote_call *c, mote_err *err)
+{
+    ((sep_model *)vm)->ckpt.on = 0;
+    return MOTE_OK;
+}
+
 int sep_trajectory_stop(void *vm, const mote_call *c, mote_err *err)
 {
     ((sep_model *)vm)->traj.on = 0;
+    return MOTE_OK;
+}
+int sep_frames_stop(void *vm, const mote_call *c, mote_err *err)
+{
+    ((sep_model *)vm)->frames.on = 0; /* (the movie of the frames so far was made at run end) */
+    return MOTE_OK;
+}
+int sep_snapshot_stop(void *vm, const mote_call *c, mote_err *err)
+{
+    ((sep_model *)vm)->snaps.on = 0;
+    return MOTE_OK;
+}
+int sep_monitor_stop(void *vm, const mote_call *c, mote_err *err)
+{
+    ((sep_model *)vm)->bal.on = 0; /* (FILE was written whole when the last run ended) */
     return MOTE_OK;
 }
 
