@@ -240,4 +240,19 @@ run sepc2 'model separator\nload sepc1.state\ncheckpoint every=100 file=sepc2.st
 cmp -s sepc_end.state sepc0_end.state && ok || bad "separator: checkpoint changed the run"
 cmp -s sepc2.state sepc.state && grep -q '^real t 0.2000' sepc2.state && ok || bad "separator: load of a checkpoint did not go on step for step ($(grep '^real t ' sepc2.state sepc.state | tr '\n' ' '))"
 
+# checkpoint in the mixing box (both integrators): only reads the run; the file at a count is
+# save's after a run ending there; load of it goes on as the run split there
+for integ in event timestep; do
+    MBC="${MB}integrator ${integ}\n"
+    run mbc_$integ "${MBC}checkpoint every=200 file=mbc_$integ.state\nrun_collisions 1000 100\nsave mbc_${integ}_a.state\ncheckpoint_stop\nrun_collisions 200 100\n"
+    run mbc0_$integ "${MBC}run_collisions 1000 100\nsave mbc0_$integ.state\n"
+    run mbc1_$integ "${MBC}run_collisions 400 100\nsave mbc1_$integ.state\nrun_collisions 200 100\nsave mbc1b_$integ.state\n"
+    run mbc2_$integ "${MBC}checkpoint every=200 file=mbc2_$integ.state\nrun_collisions 500 100\n"
+    run mbc3_$integ "model mixing-box\nload mbc2_$integ.state\nrun_collisions 200 100\nsave mbc3_$integ.state\n"
+    cmp -s mbc_${integ}_a.state mbc0_$integ.state && ok || bad "mixing box ($integ): checkpoint changed the run"
+    cmp -s mbc_$integ.state mbc0_$integ.state && ok || bad "mixing box ($integ): the checkpoint at 1000 is not save's / checkpoint_stop"
+    cmp -s mbc2_$integ.state mbc1_$integ.state && ok || bad "mixing box ($integ): the checkpoint at 400 (mid-run) is not save's after 400"
+    cmp -s mbc3_$integ.state mbc1b_$integ.state && ok || bad "mixing box ($integ): load of a checkpoint does not continue as the split run"
+done
+
 mote_test_end

@@ -39,6 +39,7 @@ static void model_destroy(void *vm)
     free(m->snaps.prefix);
     free(m->snaps.origin);
     free(m->traj.path);
+    free(m->ckpt.path);
     free(m->traj.origin);
     free(m);
 }
@@ -344,11 +345,12 @@ static int run_load(void *vm, const mote_call *c, mote_err *err)
             }
     }
     if (!rc) { /* those by count go on from the loaded count */
-        mote_observer *s[4] = {m->rec.active ? &m->rec_s : NULL,
+        mote_observer *s[5] = {m->rec.active ? &m->rec_s : NULL,
                                m->frames.active ? &m->frames_s : NULL,
                                m->snaps.active ? &m->snaps_s : NULL,
-                               m->traj.active ? &m->traj_s : NULL};
-        for (int k = 0; k < 4; k++)
+                               m->traj.active ? &m->traj_s : NULL,
+                               m->ckpt.active ? &m->ckpt_s : NULL};
+        for (int k = 0; k < 5; k++)
             if (s[k] && !s[k]->at)
                 s[k]->from = m->sys.collisions;
     }
@@ -364,7 +366,7 @@ static void end_samplers(mb_model *m)
 {
     mb_record_free(&m->rec);
     mb_density_free(&m->dens);
-    m->frames.active = m->snaps.active = m->traj.active = 0;
+    m->frames.active = m->snaps.active = m->traj.active = m->ckpt.active = 0;
     m->d_record_dt = m->d_density_dt = m->d_frames_dt = m->d_snaps_dt = m->d_traj_dt = 0;
 }
 
@@ -503,7 +505,7 @@ static int do_run(mb_model *m, const mote_call *c, double t_end, uint64_t collis
 {
     mote_mb *s = &m->sys;
     apply_physics(m);
-    mote_observer samplers[5];
+    mote_observer samplers[6];
     size_t ns = 0;
     if (m->rec.active)
         samplers[ns++] = m->rec_s;
@@ -515,6 +517,8 @@ static int do_run(mb_model *m, const mote_call *c, double t_end, uint64_t collis
         samplers[ns++] = m->snaps_s;
     if (m->traj.active)
         samplers[ns++] = m->traj_s;
+    if (m->ckpt.active) /* (the last at its count) */
+        samplers[ns++] = m->ckpt_s;
     mote_progress prog;
     mote_progress_begin(&prog, c->ctx, c->name);
     const mote_loop loop = {samplers, ns, collisions_end, &prog, 0, 0, 0, 0};
@@ -640,6 +644,10 @@ static const mote_cmd mb_commands[] = {
      MB_HELP_INTEGRATOR, mote_cmd_set, mote_cmd_set},
     {"collision_rule", NULL, "e{restitution|seed}", "collision_rule NAME",
      "restitution (default) or seed (the document's rule)", MB_HELP_RULE, mote_cmd_set, mote_cmd_set},
+    {"checkpoint", NULL, "every=i>=1! file=f>state!", "checkpoint every=K file=FILE",
+     "keep the exact state in FILE every K collisions (load continues from it)",
+     MB_HELP_CHECKPOINT, mb_check_checkpoint, mb_run_checkpoint},
+    MOTE_CMD_STOP(checkpoint, NULL, NULL, mb_run_checkpoint_stop),
     {"save", NULL, "f>state", "save FILE", "write the exact state to FILE", MB_HELP_SAVE, check_save,
      run_save},
     {"load", NULL, "f<state", "load FILE", "continue from a state written by save", MB_HELP_LOAD,

@@ -199,8 +199,11 @@ static int advance_event(void *vr, mote_loop *loop, double t_stop, uint64_t n_st
                        mote_mb_live_time(sys) - l->t_begin, l->t_end - l->t_begin,
                        isinf(l->projected) ? "more than " : "about ",
                        isinf(l->projected) ? 1e300 : l->projected);
-    if (!rc)
+    if (!rc) {
         sync_back(l, sys->collisions >= n_stop ? x->t_offset + mote_ev_time(ev) : t_stop);
+        for (uint32_t i = 0; i < sys->n; i++) /* (the TC rule's clock too: the whole state) */
+            sys->t_last[i] = x->rules->t_last[i] + x->t_offset;
+    }
     return rc;
 }
 

@@ -24,8 +24,12 @@ typedef struct {
     mb_density dens;
     mb_frames frames, snaps; /* pictures; snapshots (xyz) on a schedule */
     mb_trajectory traj;
-    mote_observer rec_s, dens_s, frames_s, snaps_s, traj_s;
-    mote_schedule rec_at, dens_at, frames_at, snaps_at, traj_at; /* theirs */
+    struct {
+        int active;
+        char *path; /* the state, replaced at each checkpoint */
+    } ckpt;
+    mote_observer rec_s, dens_s, frames_s, snaps_s, traj_s, ckpt_s;
+    mote_schedule rec_at, dens_at, frames_at, snaps_at, traj_at, ckpt_at; /* theirs */
 } mb_model;
 
 /* A located error unless disks are placed (the commands that need a system). */
@@ -34,6 +38,9 @@ int mb_need_placed(mb_model *m, const mote_call *c, mote_err *err);
 /* outputs.c: monitor (record), density_y, snapshot, frames, trajectory, their stops, movie */
 int mb_check_record(void *vm, const mote_call *c, mote_err *err);
 int mb_run_record(void *vm, const mote_call *c, mote_err *err);
+int mb_check_checkpoint(void *vm, const mote_call *c, mote_err *err);
+int mb_run_checkpoint(void *vm, const mote_call *c, mote_err *err);
+int mb_run_checkpoint_stop(void *vm, const mote_call *c, mote_err *err);
 int mb_check_record_stop(void *vm, const mote_call *c, mote_err *err);
 int mb_run_record_stop(void *vm, const mote_call *c, mote_err *err);
 int mb_check_density(void *vm, const mote_call *c, mote_err *err);

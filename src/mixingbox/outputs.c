@@ -248,6 +248,43 @@ int mb_run_trajectory(void *vm, const mote_call *c, mote_err *err)
         fprintf(m->log, "trajectory: frame 0 in %s\n", t->path);
     return MOTE_OK;
 }
+/* `checkpoint every=K file=FILE`: the state as save writes it, now and every K disk-disk
+ * collisions of the following runs (at a stop of the run loop the arrays, the counters and the
+ * last collision times are the engine's: the same numbers a run ending there leaves). */
+static int mb_checkpoint_fire(void *ctx, void *subject, mote_err *err)
+{
+    mb_model *m = ctx;
+    return mb_save(&m->sys, &m->p, m->ckpt.path, err);
+}
+int mb_check_checkpoint(void *vm, const mote_call *c, mote_err *err)
+{
+    return mb_need_placed(vm, c, err);
+}
+int mb_run_checkpoint(void *vm, const mote_call *c, mote_err *err)
+{
+    mb_model *m = vm;
+    char *p = strdup(mote_call_opt(c, "file")->path);
+    if (!p)
+        return mote_fail(err, MOTE_ENOMEM, "checkpoint: out of memory");
+    free(m->ckpt.path);
+    m->ckpt.path = p;
+    m->ckpt.active = 0;
+    int rc = mb_save(&m->sys, &m->p, p, err); /* the first, now */
+    if (rc)
+        return rc;
+    m->ckpt.active = 1;
+    m->ckpt_s = mote_call_observer(c, &m->ckpt_at, m->sys.time, m->sys.collisions, 1, m,
+                                   mb_checkpoint_fire);
+    if (m->log)
+        fprintf(m->log, "checkpoint: the state in %s now and every %lld collisions\n", p,
+                (long long)mote_call_opt(c, "every")->i);
+    return MOTE_OK;
+}
+int mb_run_checkpoint_stop(void *vm, const mote_call *c, mote_err *err)
+{
+    ((mb_model *)vm)->ckpt.active = 0;
+    return MOTE_OK;
+}
 int mb_check_record_stop(void *vm, const mote_call *c, mote_err *err)
 {
     ((mb_model *)vm)->d_record_dt = 0;
