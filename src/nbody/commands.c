@@ -634,97 +634,126 @@ static void set_order(const mote_call *c, int *order)
 }
 
 /* `integrator galactica`, `integrator taylor` and `integrator wh`: one table row each, with its
- * own options */
-static int check_integrator(void *vm, const mote_call *c, mote_err *err)
+ * own options, checked and applied by the row's functions; what the plug-in (integrators.c)
+ * sets when it is chosen comes first (nb_integrator.chosen), the options after. */
+
+/* The step options galactica and taylor share (dt=, hmin=, hmax=, norm=, tol=). */
+static int check_step_options(const mote_call *c, const char *name, mote_err *err)
 {
-    (void)vm;
-    if (strcmp(c->name, "integrator wh") == 0) {
-        const mote_arg *k = mote_call_opt(c, "corrector");
-        if (k && k->i != 0 && k->i != 3 && k->i != 5 && k->i != 7 && k->i != 11 && k->i != 17)
-            return mote_call_fail(err, c, mote_call_opt_index(c, "corrector"), MOTE_EINVAL,
-                                  "integrator wh: corrector= must be 0, 3, 5, 7, 11 or 17 (the "
-                                  "orders of Wisdom, Holman and Touma's correctors), found %s",
-                                  k->text);
-        return MOTE_OK;
-    }
-    const int taylor = strcmp(c->name, "integrator taylor") == 0;
-    const char *name = taylor ? "taylor" : "galactica";
-    const mote_arg *norm = mote_call_opt(c, "norm");
-    if (norm && mote_call_opt(c, "dt"))
+    if (mote_call_opt(c, "norm") && mote_call_opt(c, "dt"))
         return mote_call_fail(err, c, mote_call_opt_index(c, "norm"), MOTE_EINVAL,
                               "integrator taylor: norm= is for the adaptive step (tol=), not "
                               "with dt=");
-    if (taylor && mote_call_opt(c, "dt") && mote_call_opt(c, "tol") &&
-        !(mote_call_opt(c, "order") && mote_call_opt(c, "order")->word))
-        return mote_call_fail(err, c, mote_call_opt_index(c, "tol"), MOTE_EINVAL,
-                              "integrator taylor: dt= fixes the step and tol= makes it adaptive; "
-                              "give one (tol= may come with order=auto)");
-    const mote_arg *st = mote_call_opt(c, "step");
-    const char *mode = st ? st->text : mote_call_opt(c, "tol") ? "adaptive" : "fixed";
-    if (!taylor && strcmp(mode, "adaptive") != 0 && mote_call_opt(c, "tol"))
-        return mote_call_fail(err, c, mote_call_opt_index(c, "tol"), MOTE_EINVAL,
-                              "integrator galactica: tol= is for step=adaptive (found step=%s)",
-                              mode);
-    if (!taylor && strcmp(mode, "doubling") == 0 && !mote_call_opt(c, "dt_max"))
-        return mote_call_fail(err, c, mote_call_opt_index(c, "step"), MOTE_EINVAL,
-                              "integrator galactica: step=doubling needs dt_max=");
-    if (!taylor && strcmp(mode, "fixed") == 0 && mote_call_opt(c, "dt_max"))
-        return mote_call_fail(err, c, mote_call_opt_index(c, "dt_max"), MOTE_EINVAL,
-                              "integrator galactica: dt_max= is for step=adaptive or doubling");
     const mote_arg *hmin = mote_call_opt(c, "hmin"), *hmax = mote_call_opt(c, "hmax");
     if (hmin && hmax && mote_real_parse(hmin->text, NULL) > mote_real_parse(hmax->text, NULL))
         return mote_call_fail(err, c, mote_call_opt_index(c, "hmin"), MOTE_EINVAL,
                               "integrator %s: hmin= (%s) is greater than hmax= (%s)", name,
                               hmin->text, hmax->text);
-    int order = 6;
-    set_order(c, &order);
-    if (!taylor && strcmp(mode, "adaptive") == 0 && mote_call_opt(c, "order") && order != 6)
-        return mote_call_fail(err, c, mote_call_opt_index(c, "tol"), MOTE_EINVAL,
-                              "integrator galactica: the adaptive step (tol=) needs order=6");
     return MOTE_OK;
 }
-static int run_integrator(void *vm, const mote_call *c, mote_err *err)
+
+/* The plug-in chosen, its own defaults set (the previous step stays: a restart continues as
+ * the run would have). */
+static mote_nb *choose(void *vm, int id)
 {
-    nb_model *m = vm;
-    if (strcmp(c->name, "integrator wh") == 0) {
-        m->nb.integrator = MOTE_NB_WH;
-        m->nb.dt = nb_opt_real_or(c, "dt", m->nb.dt);
-        const mote_arg *k = mote_call_opt(c, "corrector");
-        m->nb.wh_corrector = k ? (int)k->i : 17;
-        m->nb.adaptive = 0;
-        return MOTE_OK;
-    }
-    const int taylor = strcmp(c->name, "integrator taylor") == 0;
-    m->nb.integrator = taylor ? MOTE_NB_TAYLOR : MOTE_NB_GALACTICA;
-    m->nb.dt = nb_opt_real_or(c, "dt", m->nb.dt);
-    set_order(c, taylor ? &m->nb.taylor_order : &m->nb.order);
-    m->nb.first_step = nb_opt_real_or(c, "first_step", m->nb.first_step);
+    mote_nb *nb = &((nb_model *)vm)->nb;
+    nb->integrator = id;
+    nb_integrator_of(id)->chosen(nb);
+    return nb;
+}
+
+static int check_wh(void *vm, const mote_call *c, mote_err *err)
+{
+    const mote_arg *k = mote_call_opt(c, "corrector");
+    if (k && k->i != 0 && k->i != 3 && k->i != 5 && k->i != 7 && k->i != 11 && k->i != 17)
+        return mote_call_fail(err, c, mote_call_opt_index(c, "corrector"), MOTE_EINVAL,
+                              "integrator wh: corrector= must be 0, 3, 5, 7, 11 or 17 (the "
+                              "orders of Wisdom, Holman and Touma's correctors), found %s",
+                              k->text);
+    return MOTE_OK;
+}
+static int run_wh(void *vm, const mote_call *c, mote_err *err)
+{
+    mote_nb *nb = choose(vm, MOTE_NB_WH);
+    nb->dt = nb_opt_real_or(c, "dt", nb->dt);
+    const mote_arg *k = mote_call_opt(c, "corrector");
+    if (k)
+        nb->wh_corrector = (int)k->i;
+    return MOTE_OK;
+}
+
+static int check_taylor(void *vm, const mote_call *c, mote_err *err)
+{
+    if (mote_call_opt(c, "dt") && mote_call_opt(c, "tol") &&
+        !(mote_call_opt(c, "order") && mote_call_opt(c, "order")->word))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "tol"), MOTE_EINVAL,
+                              "integrator taylor: dt= fixes the step and tol= makes it adaptive; "
+                              "give one (tol= may come with order=auto)");
+    return check_step_options(c, "taylor", err);
+}
+
+/* The options galactica and taylor both apply. */
+static void step_options(mote_nb *nb, const mote_call *c, int *order)
+{
+    nb->dt = nb_opt_real_or(c, "dt", nb->dt);
+    set_order(c, order);
+    nb->tol = nb_opt_real_or(c, "tol", nb->tol);
+    nb->safety = nb_opt_real_or(c, "safety", nb->safety);
+    nb->hmin = nb_opt_real_or(c, "hmin", nb->hmin);
+    nb->hmax = nb_opt_real_or(c, "hmax", nb->hmax);
+}
+
+static int run_taylor(void *vm, const mote_call *c, mote_err *err)
+{
+    mote_nb *nb = choose(vm, MOTE_NB_TAYLOR);
+    nb->first_step = nb_opt_real_or(c, "first_step", nb->first_step);
     const mote_arg *mem = mote_call_opt(c, "memory");
     if (mem) /* store|recompute|auto */
-        m->nb.taylor_memory = mem->i == 0 ? 1 : mem->i == 1 ? 2 : 0;
-    /* adaptive: a Taylor run without dt=, a Galactica run with tol= */
+        nb->taylor_memory = mem->i == 0 ? 1 : mem->i == 1 ? 2 : 0;
+    nb->adaptive = mote_call_opt(c, "dt") == NULL; /* adaptive: without dt= */
+    enum { NORM_NEAREST, NORM_GLOBAL }; /* norm=e{nearest|global} */
+    if (nb->adaptive && mote_call_word(c, "norm", NORM_NEAREST) == NORM_GLOBAL)
+        nb->adaptive = MOTE_NB_NORM_GLOBAL;
+    step_options(nb, c, &nb->taylor_order);
+    return MOTE_OK;
+}
+
+static int check_galactica(void *vm, const mote_call *c, mote_err *err)
+{
+    const mote_arg *st = mote_call_opt(c, "step");
+    const char *mode = st ? st->text : mote_call_opt(c, "tol") ? "adaptive" : "fixed";
+    if (strcmp(mode, "adaptive") != 0 && mote_call_opt(c, "tol"))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "tol"), MOTE_EINVAL,
+                              "integrator galactica: tol= is for step=adaptive (found step=%s)",
+                              mode);
+    if (strcmp(mode, "doubling") == 0 && !mote_call_opt(c, "dt_max"))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "step"), MOTE_EINVAL,
+                              "integrator galactica: step=doubling needs dt_max=");
+    if (strcmp(mode, "fixed") == 0 && mote_call_opt(c, "dt_max"))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "dt_max"), MOTE_EINVAL,
+                              "integrator galactica: dt_max= is for step=adaptive or doubling");
+    int rc = check_step_options(c, "galactica", err);
+    int order = 6;
+    set_order(c, &order);
+    if (!rc && strcmp(mode, "adaptive") == 0 && mote_call_opt(c, "order") && order != 6)
+        return mote_call_fail(err, c, mote_call_opt_index(c, "tol"), MOTE_EINVAL,
+                              "integrator galactica: the adaptive step (tol=) needs order=6");
+    return rc;
+}
+static int run_galactica(void *vm, const mote_call *c, mote_err *err)
+{
+    mote_nb *nb = choose(vm, MOTE_NB_GALACTICA);
+    nb->first_step = nb_opt_real_or(c, "first_step", nb->first_step);
+    /* adaptive: with step=adaptive, or with tol= */
     enum { STEP_FIXED, STEP_ADAPTIVE, STEP_DOUBLING, STEP_NONE }; /* step=e{fixed|adaptive|doubling} */
     const int st = mote_call_word(c, "step", STEP_NONE);
-    m->nb.adaptive = taylor ? mote_call_opt(c, "dt") == NULL
-                            : st != STEP_NONE ? st == STEP_ADAPTIVE
-                                              : mote_call_opt(c, "tol") != NULL;
-    m->nb.doubling = !taylor && st == STEP_DOUBLING;
-    m->nb.dt_max = nb_opt_real_or(c, "dt_max", 0);
-    if (!taylor && m->nb.adaptive && mote_call_opt(c, "dt_max") && !mote_call_opt(c, "hmax"))
-        m->nb.hmax = m->nb.dt_max; /* dt_max bounds the adaptive step too */
-    m->nb.dbl_have = 0; /* the rule's blocks start afresh */
-    m->nb.dbl_count = 0;
-    m->nb.dbl_sum = 0;
-    m->nb.dbl_mean = -1;
-    enum { NORM_NEAREST, NORM_GLOBAL }; /* norm=e{nearest|global} */
-    if (taylor && m->nb.adaptive && mote_call_word(c, "norm", NORM_NEAREST) == NORM_GLOBAL)
-        m->nb.adaptive = MOTE_NB_NORM_GLOBAL;
-    /* without tol=, the integrator's default: Taylor's (issue 37), Galactica's spec 7.4 one */
-    m->nb.tol = nb_opt_real_or(c, "tol", taylor ? MOTE_NB_TAYLOR_TOL : MOTE_REAL_TOL);
-    m->nb.safety = nb_opt_real_or(c, "safety", m->nb.safety);
-    m->nb.hmin = nb_opt_real_or(c, "hmin", m->nb.hmin);
-    m->nb.hmax = nb_opt_real_or(c, "hmax", m->nb.hmax);
-    return MOTE_OK; /* (the previous step stays: a restart continues as the run would have) */
+    nb->adaptive = st != STEP_NONE ? st == STEP_ADAPTIVE : mote_call_opt(c, "tol") != NULL;
+    nb->doubling = st == STEP_DOUBLING;
+    nb->dt_max = nb_opt_real_or(c, "dt_max", 0);
+    if (nb->adaptive && mote_call_opt(c, "dt_max") && !mote_call_opt(c, "hmax"))
+        nb->hmax = nb->dt_max; /* dt_max bounds the adaptive step too */
+    step_options(nb, c, &nb->order);
+    return MOTE_OK;
 }
 
 static int run_merge(void *vm, const mote_call *c, mote_err *err)
@@ -834,17 +863,17 @@ static const mote_cmd nb_commands[] = {
      "integrator galactica [dt=H] [order=K] [first_step=F] [tol=E] [safety=S] [hmin=A] "
      "[hmax=B] [step=fixed|adaptive|doubling] [dt_max=D]",
      "Galactica's Taylor scheme (spec 4.2), fixed or adaptive", HELP_INTEGRATOR,
-     check_integrator, run_integrator},
+     check_galactica, run_galactica},
     {"integrator taylor", NULL,
      "dt=r>0 order=i[2,60]{auto} tol=r(0,1) memory=e{store|recompute|auto} safety=r>0 "
      "hmin=r>=0 hmax=r>0 norm=e{nearest|global}",
      "integrator taylor [dt=H] [order=P|auto] [tol=E] [memory=M] [safety=S] [hmin=A] "
      "[hmax=B] [norm=nearest|global]",
      "the general Taylor integrator of any order (spec 4.4)", HELP_INTEGRATOR,
-     check_integrator, run_integrator},
+     check_taylor, run_taylor},
     {"integrator wh", NULL, "dt=r>0! corrector=i[0,17]", "integrator wh dt=H [corrector=K]",
      "the Wisdom-Holman symplectic map for planetary systems", HELP_INTEGRATOR,
-     check_integrator, run_integrator},
+     check_wh, run_wh},
     {"softening", NULL, "eps=r>=0!", "softening eps=E",
      "Plummer softening of every pair's force and potential energy", HELP_SOFTENING, NULL,
      run_softening},

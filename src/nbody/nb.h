@@ -113,6 +113,10 @@ typedef struct nb_integrator {
     mote_real (*step)(mote_nb *nb, mote_real rest);
     int (*run)(mote_nb *nb, uint64_t max_steps, mote_real t_end, mote_err *err);
     int (*tree_blocks)(const mote_nb *nb);
+    /* its defaults, set when it is chosen (`integrator NAME`, before the command's options) */
+    void (*chosen)(mote_nb *nb);
+    /* its settings as `# KEY = VALUE` lines of the output headers (integrator = NAME first) */
+    void (*header)(FILE *f, const mote_nb *nb);
     int dense, synchronised, order_max;
 } nb_integrator;
 /* By its number (MOTE_NB_GALACTICA, MOTE_NB_TAYLOR, MOTE_NB_WH); its number by name, -1 none. */

@@ -21,23 +21,9 @@
 
 void nb_write_header(FILE *f, const mote_nb *nb)
 {
-    char b[2][MOTE_REAL_BUF];
     fprintf(f, "# interaction = %s\n# N = %u\n", nb->kind == MOTE_NB_GRAVITY ? "gravity" : "coulomb",
             nb->n);
-    if (nb->integrator == MOTE_NB_TAYLOR) {
-        fprintf(f, "# integrator = taylor\n# order = %d\n", nb->taylor_order);
-        if (nb->adaptive)
-            fprintf(f, "# tol = %s\n# safety = %s\n# norm = %s\n", mote_real_str(nb->tol, b[0]),
-                    mote_real_str(nb->safety, b[1]),
-                    nb->adaptive == MOTE_NB_NORM_GLOBAL ? "global" : "nearest");
-        else
-            fprintf(f, "# dt = %s\n", mote_real_str(nb->dt, b[0]));
-    } else if (nb->integrator == MOTE_NB_WH)
-        fprintf(f, "# integrator = wh\n# corrector = %d\n# dt = %s\n", nb->wh_corrector,
-                mote_real_str(nb->dt, b[0]));
-    else
-        fprintf(f, "# integrator = galactica\n# order = %d\n# dt = %s\n", nb->order,
-                mote_real_str(nb->dt, b[0]));
+    nb_integrator_of(nb->integrator)->header(f, nb);
     fprintf(f, "# compensated = %d\n", nb->compensated);
     if (nb->soft > 0) {
         char e[MOTE_REAL_BUF];
