@@ -111,9 +111,10 @@ typedef struct mote_cmd {
 /* A parameter command bound to a value of the model's state: the command's name and the key of
  * the value's descriptor (statefile.h) in the table the model's `state` hook gives ("gravity",
  * "real g"), listed in mote_model.params. The command's check and run are mote_cmd_set, which
- * writes its first argument there (a real into a double, an integer or the index of an e{...}
- * word into an int): it sets exactly the value that `save` writes and `load` reads, and the
- * model writes no setter of its own. */
+ * writes its first argument (or, without one, its only option) there (a real into a double or
+ * through the descriptor's codec, an integer or the index of an e{...} word into an int): it
+ * sets exactly the value that `save` writes and `load` reads, and the model writes no setter of
+ * its own. */
 typedef struct {
     const char *command, *key;
 } mote_param;

@@ -73,6 +73,9 @@ int mote_sf_read_head(mote_lines *in, const char *model, int vmax, int *version,
 
 /* Write the lines of f[0 .. n) for `version` (values newer than it are left out). */
 void mote_sf_write(FILE *out, const mote_sf_field *f, size_t n, const void *base, int version);
+/* The descriptor named by key: a line's key ("gravity"), or a line's key, a dot and the name of
+ * one of that line's values ("scheme.compensated"); its index, or n when there is none. */
+size_t mote_sf_find(const mote_sf_field *f, size_t n, const char *key);
 /* Read the lines of f[0 .. n) written by `version`, in their order, into base. On an error base
  * may hold part of the values: read into a scratch structure and keep it only on success. */
 int mote_sf_read(mote_lines *in, const mote_sf_field *f, size_t n, void *base, int version,

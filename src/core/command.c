@@ -626,18 +626,22 @@ int mote_cmd_set(void *model, const mote_call *c, mote_err *err)
     const mote_sf_field *f = NULL;
     size_t n = 0;
     char *base = key && m->state ? m->state(model, &f, &n) : NULL;
-    size_t k = 0;
-    while (base && k < n && !(f[k].key && strcmp(f[k].key, key) == 0))
-        k++;
-    if (!base || k == n || c->nargs < 1)
+    const size_t k = base ? mote_sf_find(f, n, key) : n;
+    /* the value: the first argument, or the command's one option (`softening eps=E`) */
+    const mote_arg *a = c->nargs >= 1 ? &c->args[0] : c->nopts == 1 ? &c->opts[0].value : NULL;
+    if (!base || k == n || !a)
         return mote_call_fail(err, c, -1, MOTE_EINVAL, "%s: not bound to a value of the "
                               "model's state (a defect of the model's command table)", c->name);
     void *at = base + f[k].offset;
-    const mote_arg *a = &c->args[0];
-    if (f[k].type == MOTE_SF_DOUBLE ||
-        (f[k].type == MOTE_SF_CODEC && f[k].codec->size == sizeof(double))) {
+    if (f[k].type == MOTE_SF_DOUBLE) {
         const double v = a->r;
         memcpy(at, &v, sizeof v);
+    } else if (f[k].type == MOTE_SF_CODEC) { /* (the model's number type, read from the text) */
+        _Alignas(16) char tmp[64];
+        if (f[k].codec->size > sizeof tmp || f[k].codec->get(a->text, tmp) == 0)
+            return mote_call_fail(err, c, c->nargs >= 1 ? 0 : -1, MOTE_EINVAL,
+                                  "%s: '%s' is not a value of its kind", c->name, a->text);
+        memcpy(at, tmp, f[k].codec->size);
     } else if (f[k].type == MOTE_SF_INT || f[k].type == MOTE_SF_ENUM) {
         const int v = (int)a->i;
         memcpy(at, &v, sizeof v);

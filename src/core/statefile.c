@@ -120,6 +120,21 @@ static void put_value(FILE *out, const mote_sf_field *f, const void *p)
     }
 }
 
+size_t mote_sf_find(const mote_sf_field *f, size_t n, const char *key)
+{
+    const char *dot = strchr(key, '.');
+    const size_t len = dot ? (size_t)(dot - key) : strlen(key);
+    size_t k = 0;
+    while (k < n && !(f[k].key && strlen(f[k].key) == len && !strncmp(f[k].key, key, len)))
+        k++;
+    if (!dot || k == n)
+        return k;
+    for (size_t j = k; j < n && (j == k || !f[j].key); j++) /* (the line's values) */
+        if (f[j].name && !strcmp(f[j].name, dot + 1))
+            return j;
+    return n;
+}
+
 void mote_sf_write(FILE *out, const mote_sf_field *f, size_t n, const void *base, int version)
 {
     for (size_t i = 0; i < n;) {

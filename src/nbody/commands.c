@@ -765,16 +765,16 @@ static int run_merge(void *vm, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
-static int run_compensated(void *vm, const mote_call *c, mote_err *err)
+/* The parameter commands bound to a value of the state (its descriptor in state.c's table:
+ * the line's key and the value's name): what they set is what save writes and load reads. */
+static const mote_param nb_params[] = {
+    {"compensated", "scheme.compensated"}, /* (its words off|on: 0, 1) */
+    {"softening", "taylor.softening"},
+};
+static void *nb_state_fields(void *vm, const struct mote_sf_field **f, size_t *n)
 {
-    ((nb_model *)vm)->nb.compensated = c->args[0].i == 0; /* on|off */
-    return MOTE_OK;
-}
-
-static int run_softening(void *vm, const mote_call *c, mote_err *err)
-{
-    ((nb_model *)vm)->nb.soft = nb_opt_real_or(c, "eps", 0);
-    return MOTE_OK;
+    *f = nb_state_table(n);
+    return &((nb_model *)vm)->nb;
 }
 
 /* forces direct (spec 6.1); the tree of spec 6.2 belongs to the large-N work */
@@ -875,10 +875,10 @@ static const mote_cmd nb_commands[] = {
      "the Wisdom-Holman symplectic map for planetary systems", HELP_INTEGRATOR,
      check_wh, run_wh},
     {"softening", NULL, "eps=r>=0!", "softening eps=E",
-     "Plummer softening of every pair's force and potential energy", HELP_SOFTENING, NULL,
-     run_softening},
-    {"compensated", NULL, "e{on|off}", "compensated on|off", "compensated summation (default on)",
-     HELP_COMPENSATED, NULL, run_compensated},
+     "Plummer softening of every pair's force and potential energy", HELP_SOFTENING,
+     mote_cmd_set, mote_cmd_set},
+    {"compensated", NULL, "e{off|on}", "compensated on|off", "compensated summation (default on)",
+     HELP_COMPENSATED, mote_cmd_set, mote_cmd_set},
     {"forces", NULL, "e{direct|tree} theta=r>=0", "forces direct|tree [theta=T]",
      "how forces are summed: every pair, or the approximate Barnes-Hut tree",
      HELP_FORCES, check_forces, run_forces},
@@ -967,6 +967,9 @@ const mote_model mote_model_nbody = {
     .plot_help = HELP_PLOT,
     .plot_lines = "nbody-monitor:T,dE",
     .plot_opts = "bodies=s relative_to=s plane=e{invariable|xy|xz|yz} size=i[64,8192]",
+    .state = nb_state_fields,
+    .params = nb_params,
+    .nparams = sizeof nb_params / sizeof nb_params[0],
     .plot_check = model_plot_check,
     .live = nb_model_live,
     .arrays = nb_model_arrays,

@@ -18,6 +18,8 @@ const char *nb_plot_time_unit(const mote_table *t, double t0, double t1, double 
 /* The state file (state.c): save, load (replacing nb on success only, which must have the
  * file's interaction), and the body count of a file's header (for validation). */
 int nb_state_save(const mote_nb *nb, const char *path, mote_err *err);
+/* The state file's descriptor table (its lines after the head), for the bound parameter commands. */
+const struct mote_sf_field *nb_state_table(size_t *n);
 int nb_state_load(mote_nb *nb, const char *path, mote_err *err);
 int nb_state_peek(const char *path, uint32_t *n, mote_err *err);
 /* The same on an open stream: write the state's lines to f; read them from l (tail: lines may

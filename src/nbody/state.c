@@ -104,6 +104,12 @@ static const mote_sf_field STATE[] = {
     SF_D(NULL, "Am_first", u.Am_first),
 };
 
+const mote_sf_field *nb_state_table(size_t *n)
+{
+    *n = sizeof STATE / sizeof STATE[0];
+    return STATE;
+}
+
 /* a body's line */
 typedef struct {
     mote_real m, q;
