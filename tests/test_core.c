@@ -398,6 +398,28 @@ static void test_csv(void)
     CHECK(commas == nf - 1 && size == 3 + 2L * nf + 1 + 3 && last[1] == '2' && last[2] == '\r' &&
               last[3] == '\n',
           "a 3 MiB row converted: %ld commas, %ld bytes", commas, size);
+    /* format=jsonl: one object a row, numbers as JSON reads them, nan null, words strings */
+    path_in(path, sizeof path, "rows.jsonl");
+    CHECK_INT(mote_datafile_open(&d, path, "probe", NULL, 7, &err), 0);
+    d.af.as = MOTE_AS_JSONL;
+    mote_datafile_columns(&d, "x rho name");
+    fprintf(d.f, "0.5 2.5e-3 left\n.5 1. a\"b\n+3 nan -inf\n-0 1E+2 x y\n");
+    CHECK_INT(mote_datafile_commit(&d, &err), 0);
+    read_all(path, buf, sizeof buf);
+    CHECK_STR(buf, "{\"format\":\"probe\",\"x\":0.5,\"rho\":2.5e-3,\"name\":\"left\"}\n"
+                   "{\"format\":\"probe\",\"x\":0.5,\"rho\":1,\"name\":\"a\\\"b\"}\n"
+                   "{\"format\":\"probe\",\"x\":3,\"rho\":null,\"name\":null}\n"
+                   "{\"format\":\"probe\",\"x\":-0,\"rho\":1E+2,\"name\":\"x\","
+                   "\"column_4\":\"y\"}\n");
+    path_in(path, sizeof path, "blocks.jsonl");
+    CHECK_INT(mote_datafile_open(&d, path, "probe", NULL, 7, &err), 0);
+    d.af.as = MOTE_AS_JSONL;
+    mote_datafile_columns(&d, "x");
+    fprintf(d.f, "1\n\n2\n");
+    CHECK_INT(mote_datafile_commit(&d, &err), 0);
+    read_all(path, buf, sizeof buf);
+    CHECK_STR(buf, "{\"format\":\"probe\",\"block\":0,\"x\":1}\n"
+                   "{\"format\":\"probe\",\"block\":1,\"x\":2}\n");
     CHECK(mote_path_is_csv("a.csv") && mote_path_is_csv("A.Csv") && !mote_path_is_csv("csv") &&
               !mote_path_is_csv("a.csvx") && !mote_path_is_csv(".cs"),
           "mote_path_is_csv");

@@ -278,7 +278,7 @@ expect 1 "ga2.mote:2:" ga2.mote 'model nbody gravity\ngenerate area origin=1,2\n
 expect 1 "ga3.mote:2:" ga3.mote 'model nbody coulomb\ngenerate area\n'
 
 # ---- frames in a script (spec 7.13): at the command and every K steps, 1024 x 768 ----------------
-printf 'model nbody gravity\nunits solar\ngenerate ring nb=30\nframes every=2500 prefix=rf_\nintegrate steps=10000\nframes every=5000 prefix=rc_ control=ring/galacf26.dat\nintegrate steps=10000\n' > fr.mote
+printf 'model nbody gravity\nunits solar\ngenerate ring nb=6\nframes every=2500 prefix=rf_\nintegrate steps=10000\nframes every=5000 prefix=rc_ control=ring/galacf26.dat\nintegrate steps=10000\n' > fr.mote
 "$MOTE" run fr.mote > out.txt 2> err.txt && ok || bad "frames failed: $(cat err.txt)"
 [ "$(ls rf_*.png | wc -l)" -eq 5 ] && [ "$(ls rc_*.png | wc -l)" -eq 3 ] && ok || bad "frames: $(ls rf_* rc_* | tr '\n' ' '), expected 5 and 3"
 [ "$(od -An -tu1 -j16 -N8 rc_000002.png | awk '{ print $3*256+$4, $7*256+$8 }')" = "1024 768" ] && ok || bad "a frame of the frames command is not 1024 x 768"
@@ -290,7 +290,7 @@ printf 'A                                                          x\n' > badctl
 expect 1 "fr2.mote:3:" fr2.mote 'model nbody gravity\nbody mass=1\nframes every=10 control=badctl.dat\n'
 
 # snapshot format=galactica: result files every K steps, the same layout as write galactica
-printf 'model nbody gravity\nunits solar\ngenerate ring nb=30\nsnapshot every=5000 prefix=gs_ format=galactica\nintegrate steps=10000\nwrite galactica file=end.dat\n' > gs.mote
+printf 'model nbody gravity\nunits solar\ngenerate ring nb=6\nsnapshot every=5000 prefix=gs_ format=galactica\nintegrate steps=10000\nwrite galactica file=end.dat\n' > gs.mote
 "$MOTE" run gs.mote > out.txt 2> err.txt && ok || bad "snapshot format=galactica failed: $(cat err.txt)"
 [ -e gs_0000005000.dat ] && cmp -s gs_0000010000.dat end.dat && ok || bad "snapshot format=galactica: $(ls gs_* | tr '\n' ' ') (the last should equal write galactica)"
 # snapshot file= format=galactica: one result file now, the same as write galactica

@@ -255,4 +255,35 @@ for integ in event timestep; do
     cmp -s mbc3_$integ.state mbc1b_$integ.state && ok || bad "mixing box ($integ): load of a checkpoint does not continue as the split run"
 done
 
+# format=table|csv|jsonl for every model's monitor (the core's rows: the partial file is the
+# table, FILE is written in the form asked; a .csv name is CSV): each JSON line an object with
+# the columns of the table file, the same values; CSV with the table's header row
+jsonl_ok() { # FILE TABLE WHAT: FILE's objects hold TABLE's rows (the table: the same run)
+    /usr/bin/python3 - "$1" "$2" <<'PY' && ok || bad "$3: $1 is not the JSON lines of $2"
+import json, sys
+rows = [json.loads(l) for l in open(sys.argv[1])]
+table = [l.split() for l in open(sys.argv[2]) if not l.startswith('#')]
+cols = [l.split()[2:] for l in open(sys.argv[2]) if l.startswith('# columns:')][0]
+def same(v, w):
+    return v is None and w in ('nan', 'inf', '-inf') or v is not None and float(w) == v
+assert len(rows) == len(table) > 1, (len(rows), len(table))
+for o, t in zip(rows, table):
+    assert list(o)[1:] == cols and all(same(o[c], w) for c, w in zip(cols, t)), (o, t)
+PY
+}
+run fmths 'model hard-spheres\nseed 5\nnew 2 0.35\nmonitor dt=0.5 file=fmt_hs.dat\nstep 4\n'
+run fmths2 'model hard-spheres\nseed 5\nnew 2 0.35\nmonitor dt=0.5 file=fmt_hs.json format=jsonl\nstep 4\n'
+jsonl_ok fmt_hs.json fmt_hs.dat "hard spheres: monitor format=jsonl"
+run fmtmb "${MB}monitor dt=0.25 file=fmt_mb.dat\nrun 1\n"
+run fmtmb2 "${MB}monitor dt=0.25 file=fmt_mb.json format=jsonl\nrun 1\nmonitor dt=0.25 file=fmt_mb2.txt format=csv\nrun 0.5\n"
+jsonl_ok fmt_mb.json fmt_mb.dat "mixing box: monitor format=jsonl"
+head -1 fmt_mb2.txt | grep -q '^t,nL0,nL1,' && [ "$(wc -l < fmt_mb2.txt)" -eq 4 ] && ok || bad "mixing box: monitor format=csv: $(head -2 fmt_mb2.txt)"
+run fmtsep "${SEP_DILUTE}monitor file=fmt_sep.dat dt=0.1\nrun 0.2\n"
+run fmtsep2 "${SEP_DILUTE}monitor file=fmt_sep.json dt=0.1 format=jsonl\nrun 0.2\n"
+jsonl_ok fmt_sep.json fmt_sep.dat "separator: monitor format=jsonl"
+CHF='model charging faithful\nbody sphere radius=1\nrun particles=2e4\n'
+run fmtch "${CHF}monitor dt=2.5e-5 file=fmt_ch.dat\nevolve time=1e-4\n"
+run fmtch2 "${CHF}monitor dt=2.5e-5 file=fmt_ch.json format=jsonl\nevolve time=1e-4\n"
+jsonl_ok fmt_ch.json fmt_ch.dat "charging: monitor format=jsonl"
+
 mote_test_end

@@ -90,7 +90,10 @@ typedef struct {
     char *path;
     char *tmp;   /* where the data is while written: a name, or /proc/self/fd/N (anon) */
     int anon;    /* the data has no name until commit (O_TMPFILE): a killed run leaves none */
+    int as;      /* a data file's form on the disk: MOTE_AS_NAME (CSV under a .csv name, else
+                  * as written; set by open), MOTE_AS_CSV or MOTE_AS_JSONL (a .csv name: CSV) */
 } mote_afile;
+enum { MOTE_AS_NAME, MOTE_AS_CSV, MOTE_AS_JSONL };
 
 int mote_afile_open(mote_afile *af, const char *path, mote_err *err);
 int mote_afile_commit(mote_afile *af, mote_err *err);
@@ -137,6 +140,8 @@ typedef struct {
     FILE *store;  /* rows moved out of memory (an unnamed file beside PATH), when any */
     size_t stored; /* bytes of rows in store (before those in buf) */
     size_t spill; /* memory kept before rows move to store (0: MOTE_ROWS_SPILL) */
+    int as;       /* PATH's form (mote_afile.as: format=table|csv|jsonl, their indexes); the
+                   * partial file is always the table */
     mote_partial partial;
     void (*header)(FILE *f, const void *arg, int growing);
     const void *arg;

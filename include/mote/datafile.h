@@ -74,6 +74,12 @@ int mote_path_is_csv(const char *path);
  * data-file form keeps them); a file of several blocks gets a first column "block" (0, 1, ...).
  * A file that is not a data file (its first line is not "# mote ...") is copied unchanged. */
 int mote_datafile_csv(const char *in_path, FILE *out, mote_err *err);
+/* The data file in_path as JSON lines (format=jsonl): one object per row, {"format":"KIND",
+ * "COLUMN":value, ...} in the columns' order (KIND from the first line; a file of several
+ * blocks adds "block"); a number is written as JSON reads it (as written when it is JSON's
+ * syntax, else to 17 digits), nan and inf as null, a word as a string; the header lines are
+ * left out. A file that is not a data file is copied unchanged. */
+int mote_datafile_jsonl(const char *in_path, FILE *out, mote_err *err);
 
 /* ---- reading ---------------------------------------------------------------------------------- */
 

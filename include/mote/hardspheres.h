@@ -26,6 +26,8 @@ typedef struct {
     struct hs_dump *snaps; /* the snapshots on a schedule (`snapshot every=|dt=`), or NULL */
     struct hs_dump *frames; /* the pictures on a schedule (`frames`), or NULL */
     struct hs_monitor *monitor; /* the monitor being written (`monitor`), or NULL */
+    int monitor_as;       /* its file's form (format=: MOTE_AS_NAME, _CSV, _JSONL), set before
+                           * mote_hs_monitor_start */
     struct hs_dump *ckpt; /* the state kept on a schedule (`checkpoint`), or NULL */
 } mote_hs;
 

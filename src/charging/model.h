@@ -70,6 +70,7 @@ typedef struct ch_model {
     struct {
         char *path;
         double dt;
+        int as; /* format= (MOTE_AS_NAME, _CSV, _JSONL) */
     } monitor;
 } ch_model;
 

@@ -31,6 +31,7 @@ int ch_run_monitor(void *vm, const mote_call *c, mote_err *err)
     free(m->monitor.path);
     m->monitor.path = p;
     m->monitor.dt = mote_call_opt(c, "dt")->r;
+    m->monitor.as = mote_call_word(c, "format", MOTE_AS_NAME);
     if (m->log && !m->dry)
         fprintf(m->log, "monitor: the time series of every later evolve into %s, a row every "
                         "%g s\n", p, m->monitor.dt);
@@ -160,6 +161,8 @@ static int open_timeseries(ch_model *m, const mote_call *c, ch_series *s, mote_e
     s->head = open_memstream(&s->head_buf, &s->head_len);
     *rc = !s->head ? mote_fail(err, MOTE_ENOMEM, "evolve: out of memory")
                    : mote_rows_open(&s->rows, given ? given : path, series_header, s, err);
+    if (!*rc && !f && given) /* (the monitor's file: its format=) */
+        s->rows.as = m->monitor.as;
     if (!*rc && m->log && !given)
         fprintf(m->log, "output: writing %s\n", path);
     free(path);

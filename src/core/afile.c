@@ -118,6 +118,7 @@ int mote_afile_open(mote_afile *af, const char *path, mote_err *err)
     af->f = NULL;
     af->path = af->tmp = NULL;
     af->anon = 0;
+    af->as = MOTE_AS_NAME;
     struct stat st;
     if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) /* a rename would replace a device */
         return mote_fail(err, MOTE_EIO,
@@ -169,21 +170,28 @@ void mote_afile_abort(mote_afile *af)
     afile_release(af);
 }
 
-/* A data file written under a name ending in .csv: is it one (its first line "# mote ")? */
-static int datafile_for_csv(const mote_afile *af)
+/* How a data file is converted when committed: RFC 4180 CSV under a .csv name or when asked,
+ * JSON lines when asked (NULL: kept as written; also a file that is not a data file, its first
+ * line not "# mote "). */
+typedef int (*converter)(const char *in_path, FILE *out, mote_err *err);
+static converter datafile_form(const mote_afile *af)
 {
-    if (!mote_path_is_csv(af->path))
-        return 0;
+    const converter conv = mote_path_is_csv(af->path) || af->as == MOTE_AS_CSV
+                               ? mote_datafile_csv
+                           : af->as == MOTE_AS_JSONL ? mote_datafile_jsonl
+                                                     : NULL;
+    if (!conv)
+        return NULL;
     FILE *in = fopen(af->tmp, "r");
     char head[8] = {0};
     int yes = in && fread(head, 1, 7, in) == 7 && memcmp(head, "# mote ", 7) == 0;
     if (in)
         fclose(in);
-    return yes;
+    return yes ? conv : NULL;
 }
 
-/* Replace the temporary file's data file by its RFC 4180 form, in a second temporary file. */
-static int convert_csv(mote_afile *af, mote_err *err)
+/* Replace the temporary file's data file by its converted form, in a second temporary file. */
+static int convert_datafile(mote_afile *af, converter conv, mote_err *err)
 {
     size_t n = strlen(af->path) + 32;
     char *tmp2 = malloc(n);
@@ -203,7 +211,7 @@ static int convert_csv(mote_afile *af, mote_err *err)
         free(tmp2);
         return mote_fail(err, MOTE_EIO, "cannot write '%s': %s", af->path, strerror(e));
     }
-    int rc = mote_datafile_csv(af->tmp, out, err);
+    int rc = conv(af->tmp, out, err);
     if (rc) {
         fclose(out);
         if (!anon2)
@@ -227,9 +235,10 @@ int mote_afile_commit(mote_afile *af, mote_err *err)
         return mote_fail(err, MOTE_EIO, "internal: commit of a file that is not open");
     int bad = ferror(af->f) != 0;
     int e = 0;
-    /* a data file named *.csv is written as CSV (RFC 4180) */
-    if (!bad && fflush(af->f) == 0 && datafile_for_csv(af)) {
-        int rc = convert_csv(af, err);
+    /* a data file named *.csv is written as CSV (RFC 4180); one asked for in JSON lines so */
+    converter conv = NULL;
+    if (!bad && fflush(af->f) == 0 && (conv = datafile_form(af))) {
+        int rc = convert_datafile(af, conv, err);
         if (rc) {
             mote_afile_abort(af);
             return rc;
@@ -462,6 +471,7 @@ int mote_rows_write(mote_rows *r, mote_err *err)
     int rc = mote_afile_open(&af, r->path, err);
     if (rc)
         return rc;
+    af.as = r->as;
     r->header(af.f, r->arg, 0);
     const int e = rows_copy(r, af.f);
     if (e) {

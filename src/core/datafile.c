@@ -221,6 +221,196 @@ int mote_datafile_csv(const char *in_path, FILE *out, mote_err *err)
     return mote_lines_close(&in, err);
 }
 
+/* ---- JSON lines ------------------------------------------------------------------------------ */
+
+/* Is [s, s+n) a number in JSON's syntax: -?(0|[1-9][0-9]*)(.[0-9]+)?([eE][+-]?[0-9]+)? */
+static int json_number(const char *s, size_t n)
+{
+    size_t k = 0;
+    if (k < n && s[k] == '-')
+        k++;
+    if (k < n && s[k] == '0')
+        k++;
+    else if (k < n && s[k] >= '1' && s[k] <= '9')
+        while (k < n && s[k] >= '0' && s[k] <= '9')
+            k++;
+    else
+        return 0;
+    if (k < n && s[k] == '.') {
+        const size_t d = ++k;
+        while (k < n && s[k] >= '0' && s[k] <= '9')
+            k++;
+        if (k == d)
+            return 0;
+    }
+    if (k < n && (s[k] == 'e' || s[k] == 'E')) {
+        k++;
+        if (k < n && (s[k] == '+' || s[k] == '-'))
+            k++;
+        const size_t d = k;
+        while (k < n && s[k] >= '0' && s[k] <= '9')
+            k++;
+        if (k == d)
+            return 0;
+    }
+    return k == n;
+}
+
+/* A string in JSON: quoted, with '"', '\\' and control characters escaped. */
+static void json_string(FILE *out, const char *s, size_t n)
+{
+    fputc('"', out);
+    for (size_t k = 0; k < n; k++) {
+        const unsigned char c = (unsigned char)s[k];
+        if (c == '"' || c == '\\')
+            fprintf(out, "\\%c", c);
+        else if (c < 0x20)
+            fprintf(out, "\\u%04x", c);
+        else
+            fputc(c, out);
+    }
+    fputc('"', out);
+}
+
+/* One value: a JSON number as written, another number to 17 digits, nan/inf null, a string. */
+static void json_value(FILE *out, const char *s, size_t n)
+{
+    char buf[128];
+    if (json_number(s, n)) {
+        fwrite(s, 1, n, out);
+        return;
+    }
+    if (n < sizeof buf) {
+        memcpy(buf, s, n);
+        buf[n] = '\0';
+        char *end;
+        const double x = strtod(buf, &end);
+        if (end == buf + n && n > 0) {
+            if (isfinite(x))
+                fprintf(out, "%.17g", x);
+            else
+                fputs("null", out);
+            return;
+        }
+    }
+    json_string(out, s, n);
+}
+
+/* The words of a line: starts and lengths, at most cap; their count. */
+static size_t split_words(const char *p, const char **w, size_t *len, size_t cap)
+{
+    size_t k = 0;
+    while (*p) {
+        while (*p == ' ' || *p == '\t')
+            p++;
+        if (!*p)
+            break;
+        const char *b = p;
+        while (*p && *p != ' ' && *p != '\t')
+            p++;
+        if (k < cap) {
+            w[k] = b;
+            len[k] = (size_t)(p - b);
+        }
+        k++;
+    }
+    return k;
+}
+
+/* How many blocks of rows a data file holds (0: not a data file, or no rows). */
+static int count_blocks(const char *in_path, long *blocks, mote_err *err)
+{
+    mote_lines in;
+    int rc = mote_lines_open(&in, in_path, err);
+    if (rc)
+        return rc;
+    in.max = CSV_LINE_MAX;
+    int gap = 1;
+    char *line;
+    *blocks = 0;
+    for (long k = 0; (line = mote_lines_next(&in)); k++) {
+        if (k == 0 && strncmp(line, "# mote ", 7) != 0)
+            break;
+        if (line[0] == '#')
+            continue;
+        if (blank(line))
+            gap = 1;
+        else if (gap) {
+            ++*blocks;
+            gap = 0;
+        }
+    }
+    return mote_lines_close(&in, err);
+}
+
+int mote_datafile_jsonl(const char *in_path, FILE *out, mote_err *err)
+{
+    long blocks = 0;
+    int rc = count_blocks(in_path, &blocks, err);
+    mote_lines in;
+    if (rc || (rc = mote_lines_open(&in, in_path, err)))
+        return rc;
+    in.max = CSV_LINE_MAX;
+    enum { MAXW = 4096 }; /* (words past these are in a line of 1 MiB: named column_N) */
+    const char **w = malloc(2 * MAXW * sizeof *w);
+    size_t *wl = malloc(2 * MAXW * sizeof *wl);
+    char *kind = NULL, *cols = NULL;
+    size_t nc = 0;
+    if (!w || !wl) {
+        free(w);
+        free(wl);
+        mote_lines_close(&in, NULL);
+        return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", in_path);
+    }
+    const char **cw = w + MAXW; /* the column names */
+    size_t *cl = wl + MAXW;
+    int datafile = 0, gap = 1;
+    long block = -1;
+    char *line;
+    for (long k = 0; (line = mote_lines_next(&in)); k++) {
+        if (k == 0 && strncmp(line, "# mote ", 7) == 0) {
+            datafile = 1;
+            kind = strndup(line + 7, strcspn(line + 7, " "));
+            continue;
+        }
+        if (!datafile) {
+            fputs(line, out);
+            fputc('\n', out);
+        } else if (strncmp(line, "# columns:", 10) == 0) {
+            free(cols);
+            cols = strdup(line + 10);
+            nc = cols ? split_words(cols, cw, cl, MAXW) : 0;
+        } else if (line[0] == '#') {
+            continue;
+        } else if (blank(line)) {
+            gap = 1;
+        } else {
+            block += gap;
+            gap = 0;
+            const size_t nw = split_words(line, w, wl, MAXW);
+            fputs("{\"format\":", out);
+            json_string(out, kind ? kind : "", kind ? strlen(kind) : 0);
+            if (blocks > 1)
+                fprintf(out, ",\"block\":%ld", block);
+            for (size_t j = 0; j < nw && j < MAXW; j++) {
+                fputc(',', out);
+                if (j < nc && j < MAXW)
+                    json_string(out, cw[j], cl[j]);
+                else
+                    fprintf(out, "\"column_%zu\"", j + 1);
+                fputc(':', out);
+                json_value(out, w[j], wl[j]);
+            }
+            fputs("}\n", out);
+        }
+    }
+    free(w);
+    free(wl);
+    free(kind);
+    free(cols);
+    return mote_lines_close(&in, err);
+}
+
 /* ---- reading ---------------------------------------------------------------------------------- */
 
 #define TABLE_MAX_BYTES ((long)1 << 30)

@@ -623,6 +623,7 @@ static int check_monitor(void *vm, const mote_call *c, mote_err *err)
 }
 static int run_monitor(void *vm, const mote_call *c, mote_err *err)
 {
+    ((hs_model *)vm)->hs.monitor_as = mote_call_word(c, "format", MOTE_AS_NAME);
     return run_scheduled(vm, c, "row", mote_hs_monitor_start, err);
 }
 static int run_monitor_stop(void *vm, const mote_call *c, mote_err *err)
@@ -720,7 +721,8 @@ static const mote_cmd hs_commands[] = {
     MOTE_CMD_STOP(frames, NULL, NULL, run_frames_stop),
     MOTE_CMD_STOP(snapshot, NULL, NULL, run_snapshot_stop),
     MOTE_CMD_STOP(trajectory, "dump_stop", NULL, run_dump_stop),
-    {"monitor", NULL, "@every=i>=1 @file=f>monitor! dt=r>0", "monitor every=K|dt=T file=FILE",
+    {"monitor", NULL, "@every=i>=1 @file=f>monitor! dt=r>0 format=e{table|csv|jsonl}",
+     "monitor every=K|dt=T file=FILE [format=table|csv|jsonl]",
      "the run's time, collisions, temperature and pressure, a row every K collisions per "
      "particle or every T of time", HS_HELP_MONITOR, check_monitor, run_monitor},
     MOTE_CMD_STOP(monitor, NULL, NULL, run_monitor_stop),

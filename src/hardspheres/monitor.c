@@ -112,6 +112,7 @@ int mote_hs_monitor_start(mote_hs *hs, uint64_t k, double dt, const char *path,
     /* the first row now: FILE.partial, and FILE when there is none yet */
     int rc = mote_rows_open(&m->out, path, header, hs, err);
     if (!rc) {
+        m->out.as = hs->monitor_as;
         row(m->out.text, hs);
         rc = mote_rows_start(&m->out, err);
     }

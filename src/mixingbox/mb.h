@@ -87,7 +87,7 @@ typedef struct {
 void mb_record_free(mb_record *r);
 /* Start recording into path: the first row now (into FILE.partial, and into FILE when there is
  * none yet). */
-int mb_record_start(mb_record *r, const mote_mb *sys, const char *path, mote_err *err);
+int mb_record_start(mb_record *r, const mote_mb *sys, const char *path, int as, mote_err *err);
 /* The run loop's observer: a row, streamed to FILE.partial (begun with the rows so far). */
 int mb_record_observe(void *ctx, void *subject, mote_err *err);
 

@@ -153,10 +153,11 @@ int mb_record_observe(void *ctx, void *subject, mote_err *err)
     return mote_rows_follow(&r->out, err);
 }
 
-int mb_record_start(mb_record *r, const mote_mb *sys, const char *path, mote_err *err)
+int mb_record_start(mb_record *r, const mote_mb *sys, const char *path, int as, mote_err *err)
 {
     r->sys = sys;
     int rc = mote_rows_open(&r->out, path, record_header, r, err);
+    r->out.as = as;
     if (!rc)
         rc = mb_record_sample(r, (void *)sys, err);
     if (!rc) {

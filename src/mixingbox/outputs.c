@@ -32,7 +32,8 @@ int mb_run_record(void *vm, const mote_call *c, mote_err *err)
     m->rec.every = m->rec.dt > 0 ? 0 : (uint64_t)mote_call_opt(c, "every")->i;
     /* the first row now, into FILE.partial, and into FILE when there is none yet: an earlier
      * complete FILE is replaced only by the complete file a run writes when it ends */
-    int rc = mb_record_start(&m->rec, &m->sys, mote_call_opt(c, "file")->path, err);
+    int rc = mb_record_start(&m->rec, &m->sys, mote_call_opt(c, "file")->path,
+                             mote_call_word(c, "format", MOTE_AS_NAME), err);
     if (rc) {
         mb_record_free(&m->rec);
         return rc;

@@ -426,6 +426,7 @@ int sep_balance(void *vm, const mote_call *c, mote_err *err)
     free(p);
     if (rc)
         return rc;
+    m->bal.out.as = mote_call_word(c, "format", MOTE_AS_NAME);
     m->bal.on = 1;
     schedule_set(&m->bal.when, c, &m->sys, fire_balance);
     m->bal.held = 1;
