@@ -56,6 +56,8 @@ tail -1 hss.dat | awk -v l="$pl" -v r="$pr" '{ exit !(l != "" && r != "" && ($6 
 "$MOTE" help --markdown > ref.md
 grep -q '^| the configuration (now, or on a schedule) | `snapshot every= dt= file= prefix=` | `snapshot every= dt= file= prefix=` | `snapshot every= dt= file= prefix= format=` | — | `snapshot every= dt= file= prefix=` |$' ref.md && ok || bad "table: $(grep '^| the configuration' ref.md)"
 grep -q '^| particle paths (a growing file) | `trajectory every= dt= file=` | `trajectory every= dt= file=` | `trajectory every= dt= file= format=` | — | `trajectory every= dt= file=` |$' ref.md && ok || bad "table: $(grep '^| particle paths' ref.md)"
+grep -q '^| the run.s quantities over time | `monitor every= dt= file= format=` | `monitor every= dt= file= format=` | `monitor every= dt= file= format=` | `monitor dt= file= format=` | `monitor every= dt= file= format=` |$' ref.md && ok || bad "table: $(grep '^| the run.s quantities' ref.md)"
+grep -q '^| the exact state on a schedule | `checkpoint every= file=` | `checkpoint every= file=` | `checkpoint every= file=` | — | `checkpoint every= file=` |$' ref.md && ok || bad "table: $(grep '^| the exact state on' ref.md)"
 grep -q "^Other names kept as aliases (.mote help. marks them): .dump. (hard-spheres's .trajectory.), .record. (mixing-box's .monitor.), .snapshots. (separator's .snapshot.), .balance. (separator's .monitor.).$" ref.md && ok || bad "aliases: $(grep '^Other names' ref.md)"
 
 # the mixing box: monitor dt= file= (record's other name), snapshot file=, frames dt= prefix=,
