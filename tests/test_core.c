@@ -420,6 +420,24 @@ static void test_csv(void)
     read_all(path, buf, sizeof buf);
     CHECK_STR(buf, "{\"format\":\"probe\",\"block\":0,\"x\":1}\n"
                    "{\"format\":\"probe\",\"block\":1,\"x\":2}\n");
+    /* a row of 5000 fields (wider than any fixed table of words): every one kept, in order */
+    path_in(path, sizeof path, "wide.jsonl");
+    CHECK_INT(mote_datafile_open(&d, path, "probe", NULL, 7, &err), 0);
+    d.af.as = MOTE_AS_JSONL;
+    mote_datafile_columns(&d, "a b");
+    for (int k = 0; k < 5000; k++)
+        fprintf(d.f, k ? " %d" : "%d", k);
+    fputc('\n', d.f);
+    CHECK_INT(mote_datafile_commit(&d, &err), 0);
+    FILE *wj = fopen(path, "rb");
+    char *wide = calloc(1, 1 << 18);
+    const size_t got = wj && wide ? fread(wide, 1, (1 << 18) - 1, wj) : 0;
+    if (wj)
+        fclose(wj);
+    CHECK(wide && got > 43 && memcmp(wide, "{\"format\":\"probe\",\"a\":0,\"b\":1,\"column_3\":2,", 43) == 0 &&
+              strstr(wide, ",\"column_5000\":4999}\n") != NULL,
+          "a row of 5000 fields as JSON: %.60s ... %s", wide, got > 40 ? wide + got - 40 : "");
+    free(wide);
     CHECK(mote_path_is_csv("a.csv") && mote_path_is_csv("A.Csv") && !mote_path_is_csv("csv") &&
               !mote_path_is_csv("a.csvx") && !mote_path_is_csv(".cs"),
           "mote_path_is_csv");

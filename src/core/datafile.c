@@ -296,25 +296,20 @@ static void json_value(FILE *out, const char *s, size_t n)
     json_string(out, s, n);
 }
 
-/* The words of a line: starts and lengths, at most cap; their count. */
-static size_t split_words(const char *p, const char **w, size_t *len, size_t cap)
+/* The next word at *p (blanks skipped), its length in *n, *p moved past it; NULL at the end. */
+static const char *next_word(const char **p, size_t *n)
 {
-    size_t k = 0;
-    while (*p) {
-        while (*p == ' ' || *p == '\t')
-            p++;
-        if (!*p)
-            break;
-        const char *b = p;
-        while (*p && *p != ' ' && *p != '\t')
-            p++;
-        if (k < cap) {
-            w[k] = b;
-            len[k] = (size_t)(p - b);
-        }
-        k++;
-    }
-    return k;
+    const char *q = *p;
+    while (*q == ' ' || *q == '\t')
+        q++;
+    if (!*q)
+        return NULL;
+    const char *b = q;
+    while (*q && *q != ' ' && *q != '\t')
+        q++;
+    *n = (size_t)(q - b);
+    *p = q;
+    return b;
 }
 
 /* How many blocks of rows a data file holds (0: not a data file, or no rows). */
@@ -351,19 +346,7 @@ int mote_datafile_jsonl(const char *in_path, FILE *out, mote_err *err)
     if (rc || (rc = mote_lines_open(&in, in_path, err)))
         return rc;
     in.max = CSV_LINE_MAX;
-    enum { MAXW = 4096 }; /* (words past these are in a line of 1 MiB: named column_N) */
-    const char **w = malloc(2 * MAXW * sizeof *w);
-    size_t *wl = malloc(2 * MAXW * sizeof *wl);
     char *kind = NULL, *cols = NULL;
-    size_t nc = 0;
-    if (!w || !wl) {
-        free(w);
-        free(wl);
-        mote_lines_close(&in, NULL);
-        return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", in_path);
-    }
-    const char **cw = w + MAXW; /* the column names */
-    size_t *cl = wl + MAXW;
     int datafile = 0, gap = 1;
     long block = -1;
     char *line;
@@ -379,7 +362,6 @@ int mote_datafile_jsonl(const char *in_path, FILE *out, mote_err *err)
         } else if (strncmp(line, "# columns:", 10) == 0) {
             free(cols);
             cols = strdup(line + 10);
-            nc = cols ? split_words(cols, cw, cl, MAXW) : 0;
         } else if (line[0] == '#') {
             continue;
         } else if (blank(line)) {
@@ -387,25 +369,25 @@ int mote_datafile_jsonl(const char *in_path, FILE *out, mote_err *err)
         } else {
             block += gap;
             gap = 0;
-            const size_t nw = split_words(line, w, wl, MAXW);
             fputs("{\"format\":", out);
             json_string(out, kind ? kind : "", kind ? strlen(kind) : 0);
             if (blocks > 1)
                 fprintf(out, ",\"block\":%ld", block);
-            for (size_t j = 0; j < nw && j < MAXW; j++) {
+            /* the row's words beside the columns' names, however many (column_N past them) */
+            const char *p = line, *c = cols ? cols : "", *w, *name;
+            size_t n, nn = 0;
+            for (size_t j = 1; (w = next_word(&p, &n)); j++) {
                 fputc(',', out);
-                if (j < nc && j < MAXW)
-                    json_string(out, cw[j], cl[j]);
+                if ((name = next_word(&c, &nn)))
+                    json_string(out, name, nn);
                 else
-                    fprintf(out, "\"column_%zu\"", j + 1);
+                    fprintf(out, "\"column_%zu\"", j);
                 fputc(':', out);
-                json_value(out, w[j], wl[j]);
+                json_value(out, w, n);
             }
             fputs("}\n", out);
         }
     }
-    free(w);
-    free(wl);
     free(kind);
     free(cols);
     return mote_lines_close(&in, err);
