@@ -33,6 +33,9 @@ stop() { kill "$PID" 2> /dev/null; wait "$PID" 2> /dev/null; }
 frames() { timeout 60 curl -s -N "${URL}stream" | grep -m "$1" '^data: ' > "$2"; }
 # wait_for FILE: until FILE exists (made by a helper in the background), within a minute
 wait_for() { for _ in $(seq 1 1200); do [ -f "$1" ] && return 0; sleep 0.05; done; return 1; }
+# last_frame FILE: the JSON of the last whole frame in FILE (a frame ends in a blank line; a
+# stream cut by timeout can end inside a frame, which is not a frame)
+last_frame() { awk '/^data: /{d=substr($0,7);next} /^$/{if(d!="")l=d;d=""} END{print l}' "$1"; }
 
 mb 100000 > long.mote
 start long.mote
@@ -53,7 +56,7 @@ n=$(grep -c '^data: {' stream.txt)
 [ "$n" -ge 1 ] && [ "$n" -le 64 ] && ok || bad "frames in 2 s: $n (expected at most 30 a second)"
 frames 10 stream10.txt
 [ "$(grep -c '^data: {' stream10.txt)" -eq 10 ] && ok || bad "the stream stopped: $(grep -c '^data: {' stream10.txt) frames"
-grep '^data: ' stream.txt | tail -1 | sed 's/^data: //' > frame.json
+last_frame stream.txt > frame.json
 python3 - frame.json <<'EOF' && ok || bad "the last frame is not a mixing box of 2000 disks inside the box"
 import json, sys
 f = json.load(open(sys.argv[1]))
@@ -156,12 +159,11 @@ start short.mote
 timeout 20 curl -s -N "${URL}stream" > all.txt &
 CURL=$!
 wait "$PID"
-kill "$CURL" 2> /dev/null
-wait "$CURL" 2> /dev/null
+wait "$CURL" 2> /dev/null # the run's end closes the stream; curl reads it to the end
 cmp -s plain.xyz end.xyz && ok || bad "the run differs with the live view"
 # the frame after the last command is the final state: the positions of end.xyz to the
 # frame's precision (5 significant digits of the 2 m box)
-grep '^data: ' all.txt | tail -1 | sed 's/^data: //' > last.json
+last_frame all.txt > last.json
 python3 - last.json end.xyz <<'EOF' && ok || bad "the last frame's positions are not the state's"
 import json, sys
 f = json.load(open(sys.argv[1]))
