@@ -6,6 +6,7 @@
 # Usage: sh tests/test_nbody.sh [BUILD_DIR]   (default: build)
 NAME=nbody
 DATA=$(cd "$(dirname "$0")/.." && pwd)/data/outer_solar_system.dat
+SRC=$(cd "$(dirname "$0")/.." && pwd)
 . "$(dirname "$0")/lib.sh"
 mote_test_start "$1"
 
@@ -58,14 +59,14 @@ printf '%bgenerate atom_ring\nsave a.state\n' "$C" > s4.mote
 expect 2 "s5.mote:2:1: error: a.state:3: the state is a Coulomb run, this script is a gravity run" s5.mote "${G}load a.state\n"
 sed 's/^mote-state [0-9]*$/mote-state 7/' c1.state > v7.state
 expect 1 "s6.mote:2:6: error: load: v7.state:1: unsupported state file version 7" s6.mote "${G}load v7.state\n"
-head -n 15 c1.state > cut.state
-expect 2 "s7.mote:2:1: error: cut.state:16: file ends early: n = 30, but only 2 body lines follow" s7.mote "${G}load cut.state\n"
-awk 'NR == 14 { $5 = "nan" } { print }' c1.state > nan.state
-expect 2 "s8.mote:2:1: error: nan.state:14: body 1: expected 23 numbers" s8.mote "${G}load nan.state\n"
-awk 'NR == 14 { $24 = "9lives" } { print }' c1.state > badname.state
-expect 2 "s8b.mote:2:1: error: badname.state:14: body 1: expected 23 numbers (m q active radius x y z vx vy vz cx cy cz cvx cvy cvz sx sy sz d5x d5y d5z Et), all finite, and a name or -" s8b.mote "${G}load badname.state\n"
+head -n 17 c1.state > cut.state
+expect 2 "s7.mote:2:1: error: cut.state:18: file ends early: n = 30, but only 2 body lines follow" s7.mote "${G}load cut.state\n"
+awk 'NR == 16 { $5 = "nan" } { print }' c1.state > nan.state
+expect 2 "s8.mote:2:1: error: nan.state:16: body 1: expected 23 numbers" s8.mote "${G}load nan.state\n"
+awk 'NR == 16 { $24 = "9lives" } { print }' c1.state > badname.state
+expect 2 "s8b.mote:2:1: error: badname.state:16: body 1: expected 23 numbers (m q active radius x y z vx vy vz cx cy cz cvx cvy cvz sx sy sz d5x d5y d5z Et), all finite, and a name or -" s8b.mote "${G}load badname.state\n"
 # a state file of the first version (no names) still loads, to the same run
-awk '/^mote-state/ { print "mote-state 1"; next } /^doubling / { next } /^taylor / { NF -= 5 } / -$/ { sub(/ -$/, "") } { print }' c1.state > v1.state
+awk -v to=1 -f "$SRC/tests/nbody_state.awk" c1.state > v1.state
 printf '%bload v1.state\nsave v1b.state\n' "$G" > s8c.mote
 "$MOTE" run s8c.mote > /dev/null 2>&1 && cmp -s c1.state v1b.state && ok || bad "a version-1 state did not load to the same state"
 sed 's/^n 30$/n -1/' c1.state > neg.state
@@ -166,7 +167,7 @@ printf '%b' "${G}merge on\n${HB}integrate steps=40\n" > ap2.mote
 "$MOTE" run ap2.mote > out.txt 2> err.txt && ! grep -q 'warning' out.txt && grep -q 'merges=1$' out.txt && ok || bad "approach control: $(cat out.txt err.txt)"
 expect 1 "b17.mote:2:13: error: merge: bt must be in (0, 1]" b17.mote "${G}merge on bt=0\n"
 awk '$1 == "merging" { $8 = 0 } { print }' ap.state > apbad.state
-expect 2 "s8.mote:2:1: error: apbad.state:10: merging: need 0 < bt <= 1" s8.mote "${G}load apbad.state\n"
+expect 2 "s8.mote:2:1: error: apbad.state:12: merging: need 0 < bt <= 1" s8.mote "${G}load apbad.state\n"
 expect 1 "s9.mote:2:1: error: solar_system: merge_inner needs the Sun" s9.mote "${G}generate solar_system data=km.dat bodies=Earth,Jupiter merge_inner=on\n"
 : > empty.dat
 expect 1 "s10.mote:2:1: error: empty.dat: empty file" s10.mote "${G}generate solar_system data=empty.dat\n"
@@ -351,20 +352,29 @@ cmp -s w0.state w1.state && ok || bad "wh: outputs, save and load changed the tr
 grep -q '^map: ' w1m.state && ok || bad "wh: the state file does not carry a live map: $(grep '^wh ' w1m.state)"
 grep -q '^# integrator = wh$' w1.mon && grep -q '^# corrector = 17$' w1.mon && ok || bad "wh: the monitor's header does not name the map"
 # a state file's map and softening: each fault at its line
-awk '/^taylor / { $NF = "-0.5" } { print }' w1m.state > wneg.state
-expect 2 "wb1.mote:2:1: error: wneg.state:8: taylor: need softening >= 0 and wh_h >= 0 (found -0.5, 0.005)" wb1.mote "${G}load wneg.state\n"
+awk '/^scheme / { $4 = "-0.5" } { print }' w1m.state > wneg.state
+expect 2 "wb1.mote:2:1: error: wneg.state:7: scheme: need softening >= 0 (found -0.5)" wb1.mote "${G}load wneg.state\n"
+awk '/^wh / { $4 = "-1" } { print }' w1m.state > wneg2.state
+expect 2 "wb1b.mote:2:1: error: wneg2.state:11: wh: need h >= 0 (found -1)" wb1b.mote "${G}load wneg2.state\n"
+# the same file as version 3 (one taylor line held the map's values and the softening): read
+# as before (version 2 files: test_states.sh's fixtures)
+awk -v to=3 -f "$SRC/tests/nbody_state.awk" w1m.state > w3.state
+printf '%bload w3.state\nsave w3b.state\n' "$G" > wv.mote
+"$MOTE" run wv.mote > wv.out 2>&1 && cmp -s w1m.state w3b.state && ok || bad "a version-3 state with a live map did not load to the same state: $(cat wv.out)"
+awk -v to=3 -f "$SRC/tests/nbody_state.awk" w1m.state | awk '/^taylor / { $NF = "-0.5" } { print }' > wneg3.state
+expect 2 "wb1c.mote:2:1: error: wneg3.state:8: taylor: need softening >= 0 and wh_h >= 0 (found -0.5, 0.005)" wb1c.mote "${G}load wneg3.state\n"
 sed '/^map:/,$d' w1m.state > wnomap.state && echo end >> wnomap.state
-expect 2 "wb2.mote:2:1: error: wnomap.state:20: expected 'map: ...' (wh_live is 1: the Wisdom-Holman map follows) (found 'end')" wb2.mote "${G}load wnomap.state\n"
-head -n 22 w1m.state > wcut.state
-expect 2 "wb3.mote:2:1: error: wcut.state:23: file ends early: n = 6, but only 2 map lines follow" wb3.mote "${G}load wcut.state\n"
+expect 2 "wb2.mote:2:1: error: wnomap.state:22: expected 'map: ...' (wh_live is 1: the Wisdom-Holman map follows) (found 'end')" wb2.mote "${G}load wnomap.state\n"
+head -n 24 w1m.state > wcut.state
+expect 2 "wb3.mote:2:1: error: wcut.state:25: file ends early: n = 6, but only 2 map lines follow" wb3.mote "${G}load wcut.state\n"
 awk '/^map:/ { print; getline; print "1 2 3"; next } { print }' w1m.state > wrow.state
-expect 2 "wb4.mote:2:1: error: wrow.state:21: expected 'jq[3] ju[3]': ju[0] is missing (found '1 2 3')" wb4.mote "${G}load wrow.state\n"
+expect 2 "wb4.mote:2:1: error: wrow.state:23: expected 'jq[3] ju[3]': ju[0] is missing (found '1 2 3')" wb4.mote "${G}load wrow.state\n"
 # a live map claimed for 10^8 bodies: refused where the body lines end, nothing allocated for
 # them first (under a 1 GiB address-space limit; the map alone would take 4.8 GB)
 sed 's/^n 6$/n 100000000/' w1m.state > whuge.state
 printf '%bload whuge.state\n' "$G" > wb5.mote
 if [ -n "${MOTE_SANITIZED:-}" ]; then "$MOTE" run wb5.mote > w.out 2>&1; else (ulimit -v 1048576 && exec "$MOTE" run wb5.mote) > w.out 2>&1; fi
-grep -q "^wb5.mote:2:1: error: whuge.state:20: body 7: expected 23 numbers .*found 'map:'" w.out && ok || bad "a huge map: $(cat w.out)"
+grep -q "^wb5.mote:2:1: error: whuge.state:22: body 7: expected 23 numbers .*found 'map:'" w.out && ok || bad "a huge map: $(cat w.out)"
 # an end time inside a step: that step alone, then the map afresh; a bad corrector and Coulomb
 printf '%b%b\nintegrate to=0.0123\nsave w2.state\n' "$G" "$W" > w2.mote
 "$MOTE" run w2.mote > w.out 2>&1 && grep -q '^time 0.0123 ' w2.state && ! grep -q '^map: ' w2.state && ok || bad "wh: to= inside a step: $(cat w.out; grep '^time\|^wh ' w2.state)"
@@ -490,7 +500,9 @@ done
 sn=$(sed -n 's/.* steps=\([0-9]*\) .*/\1/p' ng_nearest.txt | tail -1); sg=$(sed -n 's/.* steps=\([0-9]*\) .*/\1/p' ng_global.txt | tail -1)
 eg=$(sed -n 's/^check ring:.*error \([^,]*\),.*/\1/p' ng_global.txt)
 [ -n "$sg" ] && [ "$sg" -ne "$sn" ] && awk -v e="$eg" 'BEGIN { exit !(e != "" && e + 0 <= 1e-12) }' && ok || bad "norm=global: $sg steps (nearest $sn), error '$eg'"
-grep -q '^taylor 1 20 0 2 ' n_global.state && grep -q '^taylor 1 20 0 1 ' n_nearest.state && ok || bad "the state file does not keep norm= ($(grep '^taylor' n_global.state))"
+# (the step line's fifth value is the adaptive step's norm: 1 nearest, 2 global)
+awk '/^taylor / { o = $2 } /^step / { a = $6 } END { exit !(o == 20 && a == 2) }' n_global.state &&
+    awk '/^taylor / { o = $2 } /^step / { a = $6 } END { exit !(o == 20 && a == 1) }' n_nearest.state && ok || bad "the state file does not keep norm= ($(grep '^step\|^taylor' n_global.state))"
 printf '%bload n_global.state\nsave n_g2.state\n' "$G" > ng2.mote
 "$MOTE" run ng2.mote > /dev/null 2>&1 && cmp -s n_global.state n_g2.state && ok || bad "norm=global: load; save changed the state"
 expect 1 "ng3.mote:3:45: error: integrator taylor: expected 'nearest' or 'global' for norm, found 'max'" ng3.mote "${G}generate ring\nintegrator taylor order=auto tol=1e-16 norm=max\n"

@@ -11,16 +11,9 @@ NAME=states
 FX=$(cd "$(dirname "$0")" && pwd)/fixtures/states
 mote_test_start "$1"
 
-# An nbody state of version 3 (issue 37: the Wisdom-Holman map's and the softening's five
-# values end the taylor line, a map block follows the bodies while it is live) written as
-# version 2, when those values are the defaults a version-2 file loads with and no map follows:
-# the fixtures' fields must then come back byte for byte.
-nbody_v2() {
-    awk '/^mote-state 3$/ { print "mote-state 2"; next }
-         /^map:/ { print "(a map block: not a version-2 state)"; next }
-         /^taylor / && $(NF-4) == 0 && $(NF-3) == 0 && $(NF-2) == 0 && $(NF-1) == 0 && $NF == 0 { NF -= 5 }
-         { print }' "$1"
-}
+# An nbody state of version 4 (each integrator's own lines) written in the fixtures' version-2
+# layout (tests/nbody_state.awk): the fixtures' fields must then come back byte for byte.
+nbody_v2() { awk -v to=2 -f "$FX/../../nbody_state.awk" "$1"; }
 
 # state MODEL FILE RUN: load FILE, save it again (must be identical, an nbody state after
 # nbody_v2), then RUN a little

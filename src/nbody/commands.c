@@ -769,12 +769,14 @@ static int run_merge(void *vm, const mote_call *c, mote_err *err)
  * the line's key and the value's name): what they set is what save writes and load reads. */
 static const mote_param nb_params[] = {
     {"compensated", "scheme.compensated"}, /* (its words off|on: 0, 1) */
-    {"softening", "taylor.softening"},
+    {"softening", "scheme.softening"},
 };
 static void *nb_state_fields(void *vm, const struct mote_sf_field **f, size_t *n)
 {
-    *f = nb_state_table(n);
-    return &((nb_model *)vm)->nb;
+    nb_model *m = vm;
+    *n = nb_state_table(m->sf);
+    *f = m->sf;
+    return &m->nb;
 }
 
 /* forces direct (spec 6.1); the tree of spec 6.2 belongs to the large-N work */

@@ -16,6 +16,7 @@
 
 typedef struct nb_model {
     mote_nb nb;
+    mote_sf_field sf[NB_STATE_FIELDS]; /* the state file's table, for the bound parameters */
     mote_context *ctx;
     FILE *log;          /* ctx->out when running, NULL when validating */
     int dry;

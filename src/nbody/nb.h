@@ -4,7 +4,9 @@
 
 #include "mote/datafile.h"
 #include "mote/nbody.h"
+#include "mote/statefile.h"
 
+#include <stddef.h>
 #include <tgmath.h>
 #include <math.h> /* isfinite */
 
@@ -18,8 +20,20 @@ const char *nb_plot_time_unit(const mote_table *t, double t0, double t1, double 
 /* The state file (state.c): save, load (replacing nb on success only, which must have the
  * file's interaction), and the body count of a file's header (for validation). */
 int nb_state_save(const mote_nb *nb, const char *path, mote_err *err);
-/* The state file's descriptor table (its lines after the head), for the bound parameter commands. */
-const struct mote_sf_field *nb_state_table(size_t *n);
+/* The state file's descriptor table (its lines after the head: the common lines, then each
+ * integrator's own, nb_integrator.fields), made into out (NB_STATE_FIELDS entries); its length.
+ * For the bound parameter commands. */
+#define NB_STATE_FIELDS 96
+size_t nb_state_table(struct mote_sf_field *out);
+/* mote_real to the digits that read back the same (MOTE_REAL_DIG): the state file's number
+ * codec, and descriptors of mote_nb's values with it (an integrator's fields use them too) */
+extern const mote_sf_codec nb_real_codec;
+#define NB_SF_R(K, NAME, M)                                                                  \
+    {.key = K, .name = NAME, .type = MOTE_SF_CODEC, .offset = offsetof(mote_nb, M),          \
+     .codec = &nb_real_codec}
+#define NB_SF_I(K, NAME, M, LO, HI)                                                          \
+    {.key = K, .name = NAME, .type = MOTE_SF_INT, .offset = offsetof(mote_nb, M), .lo = LO,  \
+     .hi = HI}
 int nb_state_load(mote_nb *nb, const char *path, mote_err *err);
 int nb_state_peek(const char *path, uint32_t *n, mote_err *err);
 /* The same on an open stream: write the state's lines to f; read them from l (tail: lines may
@@ -120,7 +134,15 @@ typedef struct nb_integrator {
     /* its settings as `# KEY = VALUE` lines of the output headers (integrator = NAME first) */
     void (*header)(FILE *f, const mote_nb *nb);
     int dense, synchronised, order_max;
+    /* its own lines of the state file (version 4 on; every integrator's are written, in the
+     * order of their numbers, so a later choice finds its settings), and what is wrong with the
+     * values of its line `key` just read (nonzero: why, "KEY: need ...", into why) */
+    const struct mote_sf_field *fields;
+    size_t nfields;
+    int (*state_bad)(const mote_nb *nb, const char *key, char *why, size_t size);
 } nb_integrator;
+/* How many integrators there are (their numbers 0 .. NB_INTEGRATORS - 1). */
+#define NB_INTEGRATORS 3
 /* By its number (MOTE_NB_GALACTICA, MOTE_NB_TAYLOR, MOTE_NB_WH); its number by name, -1 none. */
 const nb_integrator *nb_integrator_of(int id);
 int nb_integrator_named(const char *name);

@@ -7,14 +7,15 @@
  * bodies before their lines are counted. */
 #include "mote/nbody.h"
 
+#include <assert.h>
 #include <errno.h>
 #include <tgmath.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#define NB_STATE_VERSION 3 /* 3: a wh line; 2: a name ends each body line, a doubling line
-                            * (1: neither) */
+#define NB_STATE_VERSION 4 /* 4: each integrator's own lines; 3: the map's values and a map
+                            * block; 2: a name ends each body line, a doubling line (1: neither) */
 
 #include "mote/statefile.h"
 
@@ -37,7 +38,8 @@ static size_t real_get(const char *t, void *v)
     return (size_t)(end - t);
 }
 static int real_finite(const void *v) { return isfinite(*(const mote_real *)v) != 0; }
-static const mote_sf_codec REAL = {sizeof(mote_real), real_put, real_get, real_finite};
+const mote_sf_codec nb_real_codec = {sizeof(mote_real), real_put, real_get, real_finite};
+#define REAL nb_real_codec
 
 /* the interaction and the count: the head, read alone by nb_state_peek */
 typedef struct {
@@ -51,14 +53,11 @@ static const mote_sf_field HEAD[] = {
      .hi = 1e8},
 };
 
-#define SF_R(K, NAME, M)                                                                     \
-    {.key = K, .name = NAME, .type = MOTE_SF_CODEC, .offset = offsetof(mote_nb, M), .codec = &REAL}
+#define SF_R NB_SF_R
+#define SF_I NB_SF_I
 #define SF_RS(K, NAME, M, S)                                                                 \
     {.key = K, .name = NAME, .type = MOTE_SF_CODEC, .offset = offsetof(mote_nb, M),          \
      .codec = &REAL, .since = S}
-#define SF_I(K, NAME, M, LO, HI)                                                             \
-    {.key = K, .name = NAME, .type = MOTE_SF_INT, .offset = offsetof(mote_nb, M), .lo = LO,  \
-     .hi = HI}
 #define SF_IS(K, NAME, M, LO, HI, S)                                                         \
     {.key = K, .name = NAME, .type = MOTE_SF_INT, .offset = offsetof(mote_nb, M), .lo = LO,  \
      .hi = HI, .since = S}
@@ -68,9 +67,39 @@ static const mote_sf_field HEAD[] = {
 #define SF_D(K, NAME, M)                                                                     \
     {.key = K, .name = NAME, .type = MOTE_SF_DOUBLE, .offset = offsetof(mote_nb, M),         \
      .lo = MOTE_SF_ANY}
+#define COUNT(t) (sizeof t / sizeof t[0])
 
-/* the run's state after the head, in the order of the file */
-static const mote_sf_field STATE[] = {
+/* The run's state after the head, in the order of the file (version 4): the common lines (the
+ * time, the step and its controller, the scheme: which integrator, the compensation, the
+ * softening, the restart and the step count), then every integrator's own lines
+ * (nb_integrator.fields, integrators.c), then the common lines of TAIL. */
+static const mote_sf_field COMMON[] = {
+    SF_R("time", "T", T), SF_R(NULL, "Tc", Tc),
+    SF_R("step", "dt", dt), SF_R(NULL, "dtp", dtp), SF_R(NULL, "first_step", first_step),
+    SF_R(NULL, "hlast", hlast), SF_I(NULL, "adaptive", adaptive, 0, MOTE_NB_NORM_GLOBAL),
+    SF_R(NULL, "tol", tol), SF_R(NULL, "safety", safety), SF_R(NULL, "hmin", hmin),
+    SF_R(NULL, "hmax", hmax), SF_R(NULL, "hprev", hprev),
+    SF_I("scheme", "integrator", integrator, MOTE_NB_GALACTICA, MOTE_NB_WH),
+    SF_I(NULL, "compensated", compensated, 0, 1), SF_R(NULL, "softening", soft),
+    SF_I(NULL, "restart", restart, 0, 1), SF_U64(NULL, "steps", steps),
+};
+static const mote_sf_field TAIL[] = {
+    SF_I("merging", "mode", merging, -1, 1), SF_U64(NULL, "merges", merges),
+    SF_U64(NULL, "warnings", approach_warnings), SF_R(NULL, "E_heat", e_heat),
+    SF_R(NULL, "E_spin", e_spin), SF_R(NULL, "dE_merge", de_merge), SF_R(NULL, "bt", bt),
+    SF_R(NULL, "hmin", bt_hmin), SF_R(NULL, "happ", happ), SF_R(NULL, "max_overlap", max_overlap),
+    SF_I("reference", "set", ref_set, 0, 1), SF_R(NULL, "E0", E0), SF_R(NULL, "Mza1", Mza1),
+    SF_R(NULL, "Lnorm1", Lnorm1),
+    /* (the first files of version 1 end the line before L1) */
+    {.name = "L1", .type = MOTE_SF_CODEC, .offset = offsetof(mote_nb, L1), .count = 3,
+     .codec = &REAL, .optional = 1},
+    SF_I("units", "set", u.set, 0, 1), SF_D(NULL, "M", u.M), SF_D(NULL, "Am", u.Am), SF_D(NULL, "kv", u.kv),
+    SF_D(NULL, "kt", u.kt), SF_D(NULL, "G", u.G), SF_D(NULL, "e2", u.e2), SF_D(NULL, "eps", u.eps),
+    SF_D(NULL, "Am_first", u.Am_first),
+};
+/* Versions 1 to 3 (read only): one scheme line and one taylor line held several integrators'
+ * values; these lines came before TAIL. */
+static const mote_sf_field OLD[] = {
     SF_R("time", "T", T), SF_R(NULL, "Tc", Tc),
     SF_R("step", "dt", dt), SF_R(NULL, "dtp", dtp), SF_R(NULL, "first_step", first_step),
     SF_R(NULL, "hlast", hlast),
@@ -90,25 +119,28 @@ static const mote_sf_field STATE[] = {
     SF_IS("doubling", "on", doubling, 0, 1, 2), SF_IS(NULL, "have", dbl_have, 0, 1, 2),
     SF_IS(NULL, "count", dbl_count, 0, 4, 2), SF_RS(NULL, "dt_max", dt_max, 2),
     SF_RS(NULL, "dMz_prev", dbl_prev, 2), SF_RS(NULL, "sum", dbl_sum, 2), SF_RS(NULL, "mean", dbl_mean, 2),
-    SF_I("merging", "mode", merging, -1, 1), SF_U64(NULL, "merges", merges),
-    SF_U64(NULL, "warnings", approach_warnings), SF_R(NULL, "E_heat", e_heat),
-    SF_R(NULL, "E_spin", e_spin), SF_R(NULL, "dE_merge", de_merge), SF_R(NULL, "bt", bt),
-    SF_R(NULL, "hmin", bt_hmin), SF_R(NULL, "happ", happ), SF_R(NULL, "max_overlap", max_overlap),
-    SF_I("reference", "set", ref_set, 0, 1), SF_R(NULL, "E0", E0), SF_R(NULL, "Mza1", Mza1),
-    SF_R(NULL, "Lnorm1", Lnorm1),
-    /* (the first files of version 1 end the line before L1) */
-    {.name = "L1", .type = MOTE_SF_CODEC, .offset = offsetof(mote_nb, L1), .count = 3,
-     .codec = &REAL, .optional = 1},
-    SF_I("units", "set", u.set, 0, 1), SF_D(NULL, "M", u.M), SF_D(NULL, "Am", u.Am), SF_D(NULL, "kv", u.kv),
-    SF_D(NULL, "kt", u.kt), SF_D(NULL, "G", u.G), SF_D(NULL, "e2", u.e2), SF_D(NULL, "eps", u.eps),
-    SF_D(NULL, "Am_first", u.Am_first),
 };
 
-const mote_sf_field *nb_state_table(size_t *n)
+static size_t append(mote_sf_field *out, size_t n, const mote_sf_field *f, size_t k)
 {
-    *n = sizeof STATE / sizeof STATE[0];
-    return STATE;
+    assert(n + k <= NB_STATE_FIELDS); /* (a new line's values: raise NB_STATE_FIELDS) */
+    memcpy(out + n, f, k * sizeof *f);
+    return n + k;
 }
+/* The table of a file of `version` into out (NB_STATE_FIELDS entries); its length. */
+static size_t table_of(int version, mote_sf_field *out)
+{
+    size_t n = 0;
+    if (version <= 3) {
+        n = append(out, n, OLD, COUNT(OLD));
+    } else {
+        n = append(out, n, COMMON, COUNT(COMMON));
+        for (int id = 0; id < NB_INTEGRATORS; id++)
+            n = append(out, n, nb_integrator_of(id)->fields, nb_integrator_of(id)->nfields);
+    }
+    return append(out, n, TAIL, COUNT(TAIL));
+}
+size_t nb_state_table(mote_sf_field *out) { return table_of(NB_STATE_VERSION, out); }
 
 /* a body's line */
 typedef struct {
@@ -138,14 +170,13 @@ static const mote_sf_field MAPROW[] = {
     {.name = "ju", .type = MOTE_SF_CODEC, .offset = offsetof(nb_maprow, u), .count = 3,
      .codec = &REAL},
 };
-#define COUNT(t) (sizeof t / sizeof t[0])
-
 void nb_state_put(FILE *f, const mote_nb *nb)
 {
     mote_sf_write_head(f, "nbody", NB_STATE_VERSION);
     nb_head h = {nb->kind, nb->n};
     mote_sf_write(f, HEAD, COUNT(HEAD), &h, NB_STATE_VERSION);
-    mote_sf_write(f, STATE, COUNT(STATE), nb, NB_STATE_VERSION);
+    mote_sf_field table[NB_STATE_FIELDS];
+    mote_sf_write(f, table, nb_state_table(table), nb, NB_STATE_VERSION);
     fprintf(f, "bodies: m q active radius x y z vx vy vz cx cy cz cvx cvy cvz sx sy sz d5x d5y "
                "d5z Et name\n");
     for (uint32_t i = 0; i < nb->n; i++) {
@@ -192,13 +223,47 @@ int nb_state_save(const mote_nb *nb, const char *path, mote_err *err)
 
 /* ---- reading ------------------------------------------------------------------------------------ */
 
-/* The index in STATE of the descriptor that starts the line `key`. */
-static size_t line_at(const char *key)
+/* What is wrong with the values of the line `key` of a file of `version` just read into t
+ * (nonzero: why into why): the common lines' checks here, an integrator's own lines' its own. */
+static int line_bad(const mote_nb *t, const char *key, int version, char *why, size_t size)
 {
-    size_t k = 0;
-    while (k < COUNT(STATE) && !(STATE[k].key && strcmp(STATE[k].key, key) == 0))
-        k++;
-    return k;
+    if (!strcmp(key, "step") && !(t->dt > 0 && t->dtp >= 0 && t->first_step > 0 &&
+                                  t->first_step <= 1))
+        return snprintf(why, size, "need dt > 0, dtp >= 0, 0 < first_step <= 1"), 1;
+    if (!strcmp(key, "scheme") && version >= 4 && !(t->soft >= 0))
+        return snprintf(why, size, "scheme: need softening >= 0 (found %g)", (double)t->soft), 1;
+    if (!strcmp(key, "taylor") && version == 3 && !(t->soft >= 0 && t->wh_h >= 0))
+        return snprintf(why, size, "taylor: need softening >= 0 and wh_h >= 0 (found %g, %g)",
+                        (double)t->soft, (double)t->wh_h), 1;
+    if (!strcmp(key, "merging") && !(t->bt > 0 && t->bt <= 1 && t->bt_hmin > 0 &&
+                                     t->bt_hmin <= 1 && t->happ >= 0 && t->max_overlap >= 0 &&
+                                     t->max_overlap <= 1))
+        return snprintf(why, size, "merging: need 0 < bt <= 1, 0 < hmin <= 1, happ >= 0, "
+                        "0 <= max_overlap <= 1"), 1;
+    for (int id = 0; id < NB_INTEGRATORS; id++) {
+        const nb_integrator *in = nb_integrator_of(id);
+        for (size_t k = 0; k < in->nfields; k++)
+            if (in->fields[k].key && !strcmp(in->fields[k].key, key))
+                return in->state_bad(t, key, why, size);
+    }
+    return 0;
+}
+
+/* The lines of f[0 .. n) into t, each line checked as it is read. */
+static int read_lines(mote_lines *l, const mote_sf_field *f, size_t n, mote_nb *t, int version,
+                      mote_err *err)
+{
+    for (size_t k = 0, e; k < n; k = e) {
+        for (e = k + 1; e < n && !f[e].key; e++)
+            ;
+        char why[200];
+        int rc = mote_sf_read(l, f + k, e - k, t, version, err);
+        if (!rc && line_bad(t, f[k].key, version, why, sizeof why))
+            rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: %s", l->path, l->line, why);
+        if (rc)
+            return rc;
+    }
+    return MOTE_OK;
 }
 
 static int fail(mote_lines *l, mote_err *err, const char *what, const char *found)
@@ -345,30 +410,11 @@ int nb_state_get(mote_nb *nb, mote_lines *l, int tail, mote_err *err)
         return rc;
     mote_nb t;
     mote_nb_init(&t, (mote_nb_interaction)h.kind);
-    /* the lines up to scheme, merging and reference, each group checked as it is read */
-    const size_t l_scheme = line_at("scheme"), l_merging = line_at("merging"),
-                 l_reference = line_at("reference");
-    rc = mote_sf_read(l, STATE, l_scheme, &t, version, err);
-    if (!rc && (!(t.dt > 0) || !(t.dtp >= 0) || !(t.first_step > 0 && t.first_step <= 1)))
-        rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: need dt > 0, dtp >= 0, 0 < first_step <= 1",
-                       path, l->line);
-    if (!rc)
-        rc = mote_sf_read(l, STATE + l_scheme, l_merging - l_scheme, &t, version, err);
-    if (!rc && version >= 2 && (!(t.dt_max >= 0) || !(t.dbl_sum >= 0) || !(t.dbl_mean >= -2)))
-        rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: doubling: need dt_max >= 0, sum >= 0, "
-                       "mean >= -2", path, l->line);
-    if (!rc && version >= 3 && (!(t.soft >= 0) || !(t.wh_h >= 0)))
-        rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: taylor: need softening >= 0 and wh_h >= 0 "
-                       "(found %g, %g)", path, l->line - 1, (double)t.soft, (double)t.wh_h);
-    if (!rc)
-        rc = mote_sf_read(l, STATE + l_merging, l_reference - l_merging, &t, version, err);
-    if (!rc && (!(t.bt > 0 && t.bt <= 1) || !(t.bt_hmin > 0 && t.bt_hmin <= 1) ||
-                !(t.happ >= 0) || !(t.max_overlap >= 0 && t.max_overlap <= 1)))
-        rc = mote_fail(err, MOTE_EFORMAT, "%s:%ld: merging: need 0 < bt <= 1, 0 < hmin <= 1, "
-                       "happ >= 0, 0 <= max_overlap <= 1", path, l->line);
+    /* the lines up to the bodies, each checked as it is read */
+    mote_sf_field table[NB_STATE_FIELDS];
+    const size_t nt = table_of(version, table);
     t.L1[0] = NAN; /* (stays NaN when the reference line ends before L1) */
-    if (!rc)
-        rc = mote_sf_read(l, STATE + l_reference, COUNT(STATE) - l_reference, &t, version, err);
+    rc = read_lines(l, table, nt, &t, version, err);
     const int l1_missing = isnan(t.L1[0]);
     char *s = NULL;
     if (!rc) {
