@@ -104,19 +104,22 @@ $(BUILD)/libmote.so.$(VERSION): $(PIC_OBJ)
 shared: $(BUILD)/libmote.so.$(VERSION)
 
 # The Python package (python/mote): its C extension linked with the library's PIC objects, for
-# Debian's python3 (PYTHON), with its headers (python3-dev) and NumPy's (python3-numpy).
+# Debian's python3 (PYTHON), with its headers (python3-dev) and NumPy's (python3-numpy); the
+# package's build (setup.py: pip install .) makes it for the Python that runs pip.
 PYTHON ?= $(shell [ -x /usr/bin/python3 ] && echo /usr/bin/python3 || echo python3)
 PY_EXT = $(shell $(PYTHON) -c 'import sysconfig; print(sysconfig.get_config_var("EXT_SUFFIX"))')
 PY_CFLAGS = $(shell $(PYTHON) -c 'import sysconfig, numpy; print("-I" + sysconfig.get_paths()["include"], "-I" + numpy.get_include())')
 PY_VER = $(shell $(PYTHON) -c 'import sysconfig; print(sysconfig.get_python_version())')
 PY_PKG := $(BUILD)/python/mote
-python: $(PY_PKG)/_mote.so.stamp
-$(PY_PKG)/_mote.so.stamp: python/mote/_mote.c python/mote/__init__.py $(PIC_OBJ) $(HDRS)
+PY_SRC := $(wildcard python/mote/*.py)
+python: $(PY_PKG)/_mote$(PY_EXT) $(PY_SRC:python/mote/%=$(PY_PKG)/%)
+$(PY_PKG)/_mote$(PY_EXT): python/mote/_mote.c $(PIC_OBJ) $(HDRS)
 	@mkdir -p $(PY_PKG)
 	$(CC) $(filter-out -Wmissing-prototypes -Wpedantic -Wstrict-prototypes,$(ALL_CFLAGS)) -fPIC -shared $(PY_CFLAGS) \
-	    python/mote/_mote.c $(PIC_OBJ) $(LDLIBS) -o $(PY_PKG)/_mote$(PY_EXT)
-	cp python/mote/__init__.py $(PY_PKG)/__init__.py
-	touch $@
+	    python/mote/_mote.c $(PIC_OBJ) $(LDLIBS) -o $@
+$(PY_PKG)/%.py: python/mote/%.py
+	@mkdir -p $(PY_PKG)
+	cp $< $@
 
 $(BUILD)/mote: $(CLI_OBJ) $(BUILD)/libmote.a
 	$(CC) $(EXE_CFLAGS) $(CLI_OBJ) $(BUILD)/libmote.a $(EXE_LIBS) -o $@
@@ -274,7 +277,7 @@ install: $(BUILD)/mote $(BUILD)/libmote.a $(BUILD)/libmote.so.$(VERSION) $(BUILD
 	install -m 644 examples/*.mote $(DESTDIR)$(docdir)/examples/
 	install -m 644 examples/c/*.c examples/c/Makefile $(DESTDIR)$(docdir)/examples/c/
 	install -d $(DESTDIR)$(pythondir)/mote $(DESTDIR)$(docdir)/examples/python
-	install -m 644 $(PY_PKG)/__init__.py $(PY_PKG)/_mote$(PY_EXT) $(DESTDIR)$(pythondir)/mote/
+	install -m 644 $(PY_SRC:python/mote/%=$(PY_PKG)/%) $(PY_PKG)/_mote$(PY_EXT) $(DESTDIR)$(pythondir)/mote/
 	install -m 644 examples/python/*.py $(DESTDIR)$(docdir)/examples/python/
 	install -d $(DESTDIR)$(docdir)/data
 	install -m 644 data/*.dat $(DESTDIR)$(docdir)/data/

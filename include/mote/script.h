@@ -131,6 +131,12 @@ int mote_script_main_io(int argc, char **argv, const mote_model *const *models, 
                         FILE *out, FILE *diag, int terminal);
 /* The same on stdout/stderr, with terminal = isatty(stdout): what main() calls. */
 int mote_script_main(int argc, char **argv, const mote_model *const *models, size_t nmodels);
+/* The model whose own program (mote_model.program, `mote galactica`) argv[1] names, or NULL. */
+const mote_model *mote_program_of(int argc, char **argv, const mote_model *const *models,
+                                  size_t nmodels);
+/* The `mote` program (without MPI): the model's own program that argv[1] names, else
+ * mote_script_main. The Python package's `python -m mote` is this. */
+int mote_main(int argc, char **argv, const mote_model *const *models, size_t nmodels);
 /* The same under mpirun: the ranks the ensembles spread their replicas over. */
 int mote_script_main_ranks(int argc, char **argv, const mote_model *const *models,
                            size_t nmodels, const mote_ranks *ranks);

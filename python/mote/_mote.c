@@ -475,7 +475,43 @@ static PyObject *py_models(PyObject *self, PyObject *unused)
     return l;
 }
 
+/* main(argv) -> exit status: the mote program (`python -m mote ...`), its output on the
+ * process's stdout and stderr (Python's own streams flushed first) */
+static PyObject *py_main(PyObject *self, PyObject *args)
+{
+    PyObject *list;
+    if (!PyArg_ParseTuple(args, "O!", &PyList_Type, &list))
+        return NULL;
+    const Py_ssize_t n = PyList_Size(list);
+    char **argv = calloc((size_t)n + 1, sizeof *argv);
+    if (!argv)
+        return PyErr_NoMemory();
+    int ok = 1;
+    for (Py_ssize_t i = 0; i < n && ok; i++) {
+        const char *a = PyUnicode_Check(PyList_GET_ITEM(list, i))
+                            ? PyUnicode_AsUTF8(PyList_GET_ITEM(list, i)) : NULL;
+        if (!a && !PyErr_Occurred())
+            PyErr_SetString(PyExc_TypeError, "main: the arguments must be strings");
+        ok = a && (argv[i] = strdup(a)) != NULL;
+        if (a && !ok)
+            PyErr_NoMemory();
+    }
+    int rc = 0;
+    if (ok) {
+        Py_BEGIN_ALLOW_THREADS
+        rc = mote_main((int)n, argv, mote_models, mote_nmodels);
+        fflush(stdout);
+        fflush(stderr);
+        Py_END_ALLOW_THREADS
+    }
+    for (Py_ssize_t i = 0; i < n; i++)
+        free(argv[i]);
+    free(argv);
+    return ok ? PyLong_FromLong(rc) : NULL;
+}
+
 static PyMethodDef methods[] = {
+    {"main", py_main, METH_VARARGS, "main(argv) -> exit status: the mote program"},
     {"run", (PyCFunction)(void (*)(void))py_run, METH_VARARGS | METH_KEYWORDS,
      "run(text, name, params=None, check_only=False, progress=None) -> (printed, warnings)"},
     {"models", py_models, METH_NOARGS, "the names of the models of this build"},

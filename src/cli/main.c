@@ -61,19 +61,10 @@ static char *allgather(const mote_ranks *r, const char *buf, size_t n, size_t *l
 }
 #endif
 
-/* The model whose own program argv[1] names, or NULL. */
-static const mote_model *program_of(int argc, char **argv)
-{
-    for (size_t k = 0; argc > 1 && k < mote_nmodels; k++)
-        if (mote_models[k]->program && strcmp(argv[1], mote_models[k]->program) == 0)
-            return mote_models[k];
-    return NULL;
-}
-
 int main(int argc, char **argv)
 {
-    const mote_model *prog = program_of(argc, argv);
 #ifdef MOTE_MPI
+    const mote_model *prog = mote_program_of(argc, argv, mote_models, mote_nmodels);
     MPI_Init(&argc, &argv);
     int rank = 0, size = 1;
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
@@ -108,8 +99,6 @@ int main(int argc, char **argv)
     MPI_Finalize();
     return rc;
 #else
-    if (prog)
-        return prog->program_main(argc - 1, argv + 1, stdout, stderr);
-    return mote_script_main(argc, argv, mote_models, mote_nmodels);
+    return mote_main(argc, argv, mote_models, mote_nmodels);
 #endif
 }

@@ -186,3 +186,20 @@ int mote_script_main(int argc, char **argv, const mote_model *const *models, siz
 {
     return mote_script_main_ranks(argc, argv, models, nmodels, NULL);
 }
+
+const mote_model *mote_program_of(int argc, char **argv, const mote_model *const *models,
+                                  size_t nmodels)
+{
+    for (size_t k = 0; argc > 1 && k < nmodels; k++)
+        if (models[k]->program && strcmp(argv[1], models[k]->program) == 0)
+            return models[k];
+    return NULL;
+}
+
+int mote_main(int argc, char **argv, const mote_model *const *models, size_t nmodels)
+{
+    const mote_model *prog = mote_program_of(argc, argv, models, nmodels);
+    if (prog)
+        return prog->program_main(argc - 1, argv + 1, stdout, stderr);
+    return mote_script_main(argc, argv, models, nmodels);
+}

@@ -1,5 +1,6 @@
-# pytest configuration for the Python package's tests (run by tests/test_python.sh, which puts
-# BUILD/python on PYTHONPATH and names the program in MOTE).
+# pytest configuration for the Python package's tests (run by tests/test_python.sh in a venv the
+# package was pip-installed into, or under the sanitizers with BUILD/python on PYTHONPATH; MOTE
+# names the program).
 import os
 import sys
 
