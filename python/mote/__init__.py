@@ -7,6 +7,7 @@
     sim.command("integrate to=0.01")
     sim.status()["dE"], sim.positions          # a dict; a NumPy array
     table = mote.read_data("out/p.dat")         # columns, header and rows of a data file
+    twin = copy.deepcopy(sim)                   # or pickle; mote.load("ring.state")
 
 The commands and scripts are mote's own (`mote help`, docs/commands.md): the package runs them
 through libmote, so its results are bit for bit those of `mote run` with the same lines. Errors
@@ -27,8 +28,8 @@ if "GOMP_SPINCOUNT" not in _os.environ and "OMP_WAIT_POLICY" not in _os.environ:
 from ._mote import MoteError, Session as _Session, models as _models, version as __version__
 from . import _mote
 
-__all__ = ["run", "run_file", "check", "Simulation", "read_data", "DataFile", "MoteError",
-           "models", "__version__"]
+__all__ = ["run", "run_file", "check", "Simulation", "load", "read_data", "DataFile",
+           "MoteError", "models", "__version__"]
 
 
 def models():
@@ -117,6 +118,51 @@ class Simulation:
 
     def __init__(self, model="hard-spheres", name="<python>"):
         self._s = _Session(model, name)
+        self._spec, self._name = model, name
+
+    # ---- persistence: the exact state file (`save`, `load`) ----
+
+    def state_bytes(self):
+        """The model's exact state file (what `save` writes) as bytes; MoteError for a model
+        that has no state file (charging)."""
+        import tempfile
+        with tempfile.TemporaryDirectory() as d:
+            path = _os.path.join(d, "state")
+            try:
+                self.command("save %s" % _quote(path))
+            except MoteError as e:
+                if "unknown command" in str(e):
+                    raise MoteError("the %s model has no state file (no save command): it "
+                                    "cannot be pickled or copied" % self.model) from None
+                raise
+            with open(path, "rb") as f:
+                return f.read()
+
+    def load_bytes(self, data):
+        """Replace the state by a state file's bytes (as `load` does)."""
+        import tempfile
+        with tempfile.TemporaryDirectory() as d:
+            path = _os.path.join(d, "state")
+            with open(path, "wb") as f:
+                f.write(data)
+            self.command("load %s" % _quote(path))
+
+    def __getstate__(self):
+        return {"model": self._spec, "name": self._name, "state": self.state_bytes()}
+
+    def __setstate__(self, st):
+        self.__init__(st["model"], st["name"])
+        self.load_bytes(st["state"])
+
+    def __deepcopy__(self, memo=None):
+        """A new simulation from this one's exact state file (continues bit for bit alike)."""
+        c = Simulation.__new__(Simulation)
+        c.__setstate__(self.__getstate__())
+        return c
+
+    def __copy__(self):
+        """As deepcopy: a copy shares nothing, each owns its model."""
+        return self.__deepcopy__()
 
     @property
     def model(self):
@@ -206,6 +252,35 @@ class Simulation:
 
     def __exit__(self, *exc):
         self.close()
+
+
+def _quote(path):
+    """A file name as a script word: in double quotes, with \\ and \" escaped."""
+    return '"%s"' % path.replace("\\", "\\\\").replace('"', '\\"')
+
+
+def load(path, name="<python>"):
+    """A Simulation from a state file written by `save` (or `checkpoint`), of whichever model
+    (and variant) the file names; continuing it is bit for bit as continuing the run that
+    wrote it."""
+    try:
+        with open(path, encoding="utf-8", errors="replace") as f:
+            head = [f.readline().strip() for _ in range(8)]
+    except OSError as e:
+        raise MoteError("%s: cannot open: %s" % (path, e.strerror or e)) from None
+    if len(head) < 2 or not head[0].startswith("mote-state") or not head[1].startswith("model "):
+        raise MoteError("%s:1: not a mote state file (it starts 'mote-state V', 'model NAME')"
+                        % path)
+    model = head[1].split()[1]
+    if model not in _models():
+        raise MoteError("%s:2: no model '%s' in this build (models: %s)"
+                        % (path, model, ", ".join(_models())))
+    variants = (_mote.variants(model) or "").split("|")
+    words = {w for line in head[2:] for w in line.split()[1:2]}
+    chosen = [v for v in variants[1:] if v in words]
+    sim = Simulation(model + (" " + chosen[0] if chosen else ""), name)
+    sim.command("load %s" % _quote(_os.path.abspath(path)))
+    return sim
 
 
 class DataFile:

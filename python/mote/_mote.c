@@ -510,7 +510,24 @@ static PyObject *py_main(PyObject *self, PyObject *args)
     return ok ? PyLong_FromLong(rc) : NULL;
 }
 
+/* variants(model) -> "a|b" (the first the default), or None */
+static PyObject *py_variants(PyObject *self, PyObject *args)
+{
+    const char *name;
+    if (!PyArg_ParseTuple(args, "s", &name))
+        return NULL;
+    for (size_t i = 0; i < mote_nmodels; i++)
+        if (strcmp(mote_models[i]->name, name) == 0) {
+            if (mote_models[i]->variants)
+                return PyUnicode_FromString(mote_models[i]->variants);
+            Py_RETURN_NONE;
+        }
+    PyErr_Format(MoteError, "no model '%s'", name);
+    return NULL;
+}
+
 static PyMethodDef methods[] = {
+    {"variants", py_variants, METH_VARARGS, "variants(model) -> 'a|b' or None"},
     {"main", py_main, METH_VARARGS, "main(argv) -> exit status: the mote program"},
     {"run", (PyCFunction)(void (*)(void))py_run, METH_VARARGS | METH_KEYWORDS,
      "run(text, name, params=None, check_only=False, progress=None) -> (printed, warnings)"},
