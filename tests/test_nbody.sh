@@ -331,6 +331,68 @@ expect 1 "bd1.mote:2:32: error: body: give radius= or density=, not both" bd1.mo
 expect 1 "bd2.mote:2:18: error: body: spin: expected three finite numbers SX,SY,SZ, found '1,2'" bd2.mote "${G}body mass=1 spin=1,2\n"
 expect 1 "bd3.mote:2:18: error: body: spin: expected three finite numbers SX,SY,SZ, found '1,nan,3'" bd3.mote "${G}body mass=1 spin=1,nan,3\n"
 
+# ---- a body from orbital elements (issue 54): the elements read back from the state's x and
+# v (the two-body orbit about the primary: the centre of mass of the bodies before it, or the
+# body primary= names; mu = m_primary + m) within 1e-12 ----
+printf '%bbody mass=1\nbody mass=1e-3 a=1 name=p\nbody mass=1e-3 a=2 e=0.3 inc=0.2 Omega=1 omega=0.5 M=2 name=q\nbody mass=1e-4 a=-1 e=1.5 inc=2.5 Omega=-2 omega=3 f=0.3 primary=1\nbody mass=1e-5 a=0.1 e=0.9 M=3.1 primary=q\nsave o.state\n' "$G" > o.mote
+"$MOTE" run o.mote > o.out 2>&1 && ok || bad "bodies from orbital elements: $(cat o.out)"
+python3 - o.state <<'EOF' && ok || bad "the bodies are not on the orbits their elements give"
+import math, sys
+rows = [l.split() for l in open(sys.argv[1]).read().split("bodies:")[1].split("\n")[1:] if l and l != "end"]
+m = [float(r[0]) for r in rows]
+x = [[float(v) for v in r[4:7]] for r in rows]
+v = [[float(v) for v in r[7:10]] for r in rows]
+def com(ks):
+    M = sum(m[k] for k in ks)
+    return M, [sum(m[k] * x[k][a] for k in ks) / M for a in range(3)], [sum(m[k] * v[k][a] for k in ks) / M for a in range(3)]
+cross = lambda p, q: [p[1] * q[2] - p[2] * q[1], p[2] * q[0] - p[0] * q[2], p[0] * q[1] - p[1] * q[0]]
+dot = lambda p, q: sum(a * b for a, b in zip(p, q))
+norm = lambda p: math.sqrt(dot(p, p))
+def elements(i, ks):
+    M, xp, vp = com(ks)
+    mu = M + m[i]
+    r = [x[i][a] - xp[a] for a in range(3)]
+    u = [v[i][a] - vp[a] for a in range(3)]
+    h = cross(r, u)
+    a = 1 / (2 / norm(r) - dot(u, u) / mu)
+    ev = [c / mu - r[k] / norm(r) for k, c in enumerate(cross(u, h))]
+    e = norm(ev)
+    inc = math.acos(h[2] / norm(h))
+    n = [-h[1], h[0], 0]
+    hh = [c / norm(h) for c in h]
+    if norm(n) == 0:  # in the plane z = 0: Omega 0, omega from the x axis
+        Om, om = 0, math.atan2(ev[1], ev[0])
+    else:
+        Om = math.atan2(h[0], -h[1])
+        om = math.atan2(dot(cross(n, ev), hh) / norm(n), dot(n, ev) / norm(n))
+    f = math.atan2(dot(cross(ev, r), hh), dot(ev, r))
+    return a, e, inc, Om, om, f
+def same(p, q, what):
+    d = abs(p - q) if what in ("a", "e", "inc") else abs(math.remainder(p - q, 2 * math.pi))
+    assert d < 1e-12 * max(1, abs(q)), (what, p, q)
+def check(i, ks, a, e, inc=0, Om=None, om=None, f=None, M=None):
+    got = elements(i, ks)
+    for w, p, q in zip(("a", "e", "inc", "Omega", "omega"), got, (a, e, inc, Om, om)):
+        if q is not None:
+            same(p, q, w)
+    if M is not None:  # the mean anomaly of the true anomaly
+        E = 2 * math.atan(math.sqrt((1 - e) / (1 + e)) * math.tan(got[5] / 2))
+        same(E - e * math.sin(E), M, "M")
+    if f is not None:
+        same(got[5], f, "f")
+# p: a circle about the Sun, x = 1, vy = sqrt(1.001), exactly as the formulas give
+assert x[1] == [1, 0, 0] and abs(v[1][1] - math.sqrt(1.001)) < 1e-15 and v[1][0] == v[1][2] == 0, (x[1], v[1])
+check(2, [0, 1], 2, 0.3, 0.2, 1, 0.5, M=2)   # about the centre of mass of the Sun and p
+check(3, [0], -1, 1.5, 2.5, -2, 3, f=0.3)     # a hyperbola about body 1
+check(4, [2], 0.1, 0.9, M=3.1)                # about q, near apocentre (Kepler at e = 0.9)
+EOF
+expect 1 "ob1.mote:3:" ob1.mote "${G}body mass=1\nbody mass=1e-3 a=1 x=2\n"
+expect 1 "ob2.mote:2:" ob2.mote "${G}body mass=1e-3 a=1\n"
+expect 1 "ob3.mote:3:" ob3.mote "${G}body mass=1\nbody mass=1e-3 a=1 e=1.2\n"
+expect 1 "ob4.mote:3:" ob4.mote "${G}body mass=1\nbody mass=1e-3 a=1 f=1 M=1\n"
+expect 2 "ob5.mote:3:28: error: body: primary=Moon: no body of that name or number" ob5.mote "${G}body mass=1\nbody mass=1e-3 a=1 primary=Moon\n"
+expect 1 "ob6.mote:3:" ob6.mote "model nbody coulomb\nbody mass=1 charge=1\nbody mass=1 charge=-1 a=1\n"
+
 # ---- checkpoint and restart (T16, native part): 2n steps = n + checkpoint + restart + n, bit for bit ----
 for integ in "integrator galactica dt=1e-6" "integrator taylor order=16 tol=1e-15" "integrator galactica dt=1e-6 tol=1e-14" "integrator wh dt=1e-6" "integrator wh dt=1e-6 corrector=0"; do
     printf '%bgenerate ring\n%s\nintegrate steps=20\nsave c0.state\n' "$G" "$integ" > k0.mote

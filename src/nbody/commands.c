@@ -176,6 +176,9 @@ static int check_body(void *vm, const mote_call *c, mote_err *err)
     if (m->nb.kind == MOTE_NB_GRAVITY && mote_call_opt(c, "charge"))
         return mote_call_fail(err, c, mote_call_opt_index(c, "charge"), MOTE_EINVAL,
                               "body: charge= is for the coulomb variant (model nbody coulomb)");
+    int rc = nb_body_elements_check(m, c, err);
+    if (rc)
+        return rc;
     m->d_bodies++;
     return MOTE_OK;
 }
@@ -199,12 +202,15 @@ static int run_body(void *vm, const mote_call *c, mote_err *err)
             sp[a] *= u->kv / (u->M * u->Am); /* m x v */
         }
     }
+    int rc = nb_body_elements(m, c, mass, x, v, err);
+    if (rc)
+        return rc;
     const mote_arg *nm = mote_call_opt(c, "name");
     if (nm && mote_nb_find(&m->nb, nm->text) >= 0)
         return mote_call_fail(err, c, mote_call_opt_index(c, "name"), MOTE_EINVAL,
                               "body: the name '%s' is taken by body %ld", nm->text,
                               mote_nb_find(&m->nb, nm->text) + 1);
-    int rc = mote_nb_add(&m->nb, mass, opt_real(c, "charge"), x, v, ra, err);
+    rc = mote_nb_add(&m->nb, mass, opt_real(c, "charge"), x, v, ra, err);
     if (!rc)
         for (int a = 0; a < 3; a++)
             m->nb.sp[3 * (size_t)(m->nb.n - 1) + a] = sp[a];
@@ -826,9 +832,11 @@ static int model_plot_check(void *vm, const mote_call *c, mote_err *err)
 
 static const mote_cmd nb_commands[] = {
     {"body", NULL,
-     "mass=r>0! x=r y=r z=r vx=r vy=r vz=r radius=r>=0 density=r>0 charge=r spin=s name=s",
+     "mass=r>0! x=r y=r z=r vx=r vy=r vz=r radius=r>=0 density=r>0 charge=r spin=s name=s "
+     "a=r e=r>=0 inc=r Omega=r omega=r f=r M=r primary=s",
      "body mass=M [x=X] [y=Y] [z=Z] [vx=VX] [vy=VY] [vz=VZ] [radius=R|density=RHO] [charge=Q] "
-     "[spin=SX,SY,SZ] [name=NAME]",
+     "[spin=SX,SY,SZ] [name=NAME] [a=A] [e=E] [inc=I] [Omega=O] [omega=W] [f=F|M=M] "
+     "[primary=BODY]",
      "add a body (dimensionless units)", HELP_BODY, check_body, run_body},
     {"units", NULL,
      "@preset=e{solar|atomic|dimensionless} mass=r>0{auto} length=r>0 time=r>0 "

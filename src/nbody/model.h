@@ -114,6 +114,11 @@ int nb_model_set_array(void *vm, const char *name, const double *v, size_t rows,
 void nb_settle_units(nb_model *m);
 mote_real nb_opt_real_or(const mote_call *c, const char *key, mote_real dflt);
 int nb_need_bodies(nb_model *m, const mote_call *c, mote_err *err);
+/* `body` with orbital elements (orbit.c): their options checked; the body's x and v (in the
+ * model's units, its mass already in them) from them when given, else x and v unchanged. */
+int nb_body_elements_check(const nb_model *m, const mote_call *c, mote_err *err);
+int nb_body_elements(nb_model *m, const mote_call *c, mote_real mass, mote_real x[3],
+                     mote_real v[3], mote_err *err);
 
 /* ---- outputs.c ---- */
 /* The words of format=e{native|galactica} (snapshot, approaches) by their place */

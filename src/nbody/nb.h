@@ -41,6 +41,16 @@ int nb_state_peek(const char *path, uint32_t *n, mote_err *err);
 void nb_state_put(FILE *f, const mote_nb *nb);
 int nb_state_get(mote_nb *nb, mote_lines *l, int tail, mote_err *err);
 
+/* Orbital elements (orbit.c): the semi-major axis a (< 0 for a hyperbola), the eccentricity
+ * e (not 1), the inclination, the longitude of the ascending node Omega, the argument of
+ * pericentre omega, and the true anomaly f or (mean) the mean anomaly M (e < 1); radians. */
+typedef struct {
+    mote_real a, e, inc, Omega, omega, f, M;
+    int mean;
+} nb_elements;
+/* The position and velocity relative to the primary on that orbit, mu = G (M_primary + m). */
+void nb_orbit_xv(const nb_elements *el, mote_real mu, mote_real x[3], mote_real v[3]);
+
 /* Galactica's initial-condition and result files (galfile.c, spec 7.5, 7.6): the header (24
  * numbers, Coulomb 25), the bodies (15 numbers each, Coulomb 16: om x y z u v w dUp(3) Sp(3) Ra
  * Et [Qo]) and the info line (date, k2, M_Ss, Am, k_v; info 0 none, 1 five numbers, 2 padded to
