@@ -28,8 +28,8 @@ if "GOMP_SPINCOUNT" not in _os.environ and "OMP_WAIT_POLICY" not in _os.environ:
 from ._mote import MoteError, Session as _Session, models as _models, version as __version__
 from . import _mote
 
-__all__ = ["run", "run_file", "check", "Simulation", "load", "read_data", "DataFile",
-           "MoteError", "models", "__version__"]
+__all__ = ["run", "run_file", "check", "Simulation", "NBody", "Particle", "load", "read_data",
+           "DataFile", "MoteError", "models", "__version__"]
 
 
 def models():
@@ -353,3 +353,6 @@ class DataFile:
 def read_data(path):
     """Read a mote data file (see DataFile)."""
     return DataFile(path)
+
+
+from .objects import NBody, Particle  # noqa: E402 (they build on Simulation)

@@ -39,3 +39,12 @@ def test_tromp(tmp_path, examples):
     assert list(u) == [0.8, 1.0, 1.2] and d50[0] < d50[1] < d50[2]
     assert abs(d50[1] / 151.84e-6 - 1) < 0.02
     assert (tmp_path / "tromp.png").stat().st_size > 0
+
+
+def test_orbits(tmp_path, examples):
+    t, dE, a = load(examples, "orbits").main(["--quick", "--out", str(tmp_path)])
+    # 20 time units (three orbits of b) at the default tolerance: the energy to rounding level;
+    # the planets' mutual pull moves the semi-major axes by about their mass ratio, 1e-3
+    assert t == 20 and abs(dE) < 1e-13
+    assert abs(a[0] - 1) < 5e-3 and abs(a[1] - 2.3) < 1e-2
+    assert (tmp_path / "orbits.png").stat().st_size > 0

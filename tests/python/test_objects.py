@@ -1,0 +1,84 @@
+"""The N-body model as objects (issue 54): mote.NBody's methods are the commands they name (the
+same bits as the script), orbital elements round trip, particles read and set the state, and
+errors are the commands' own MoteError."""
+import math
+
+import numpy as np
+import pytest
+
+import mote
+
+SCRIPT = ("model nbody\nbody mass=1\nbody mass=0.001 a=1.0 e=0.05\n"
+          "body mass=0.001 a=2.5 e=0.1 inc=0.02 M=1.2\nframe barycentric\nintegrate to=30.0\n")
+
+
+def three():
+    sim = mote.NBody()
+    sim.add(m=1)
+    sim.add(m=1e-3, a=1, e=0.05)
+    sim.add(m=1e-3, a=2.5, e=0.1, inc=0.02, M=1.2)
+    return sim
+
+
+def test_the_script_bit_for_bit(tmp_path):
+    sim = three()
+    sim.move_to_com()
+    sim.integrate(30)
+    mote.run(SCRIPT + "save %s\n" % (tmp_path / "s.state"))
+    assert sim.state_bytes() == (tmp_path / "s.state").read_bytes()
+    assert sim.t == 30 and sim.N == 3 and len(sim.particles) == 3
+    # the default (adaptive Taylor) integrator keeps the energy to rounding level
+    assert abs(sim.status()["dE"]) < 1e-13 and sim.energy() < 0
+
+
+def test_orbits_round_trip():
+    sim = three()
+    o1, o2 = sim.particles[1].orbit(), sim.particles[2].orbit()
+    assert abs(o1["a"] - 1) < 1e-13 and abs(o1["e"] - 0.05) < 1e-13
+    assert abs(o2["a"] - 2.5) < 1e-13 and abs(o2["e"] - 0.1) < 1e-13
+    assert abs(o2["inc"] - 0.02) < 1e-13 and abs(o2["M"] - 1.2) < 1e-12
+    assert abs(o1["P"] - 2 * math.pi * math.sqrt(1 / 1.001)) < 1e-12
+    # about a named primary (a Particle, an index or a name)
+    sim.add(m=1e-9, a=0.01, e=0.2, primary=sim.particles[1], name="moon")
+    sim.add(m=1e-9, a=0.02, primary="moon")
+    assert abs(sim.particles[3].orbit(primary=1)["a"] - 0.01) < 1e-12
+    assert abs(sim.particles[-1].orbit(primary=sim.particles[3])["a"] - 0.02) < 1e-12
+
+
+def test_particles_read_and_set():
+    sim = three()
+    x = sim.positions
+    p = sim.particles[1]
+    assert (p.x, p.y, p.z) == tuple(x[1]) and np.array_equal(p.xyz, x[1]) and p.m == 1e-3
+    p.vx = 0.25
+    assert sim.velocities[1, 0] == 0.25 and p.vx == 0.25
+    assert [q.index for q in sim.particles[1:]] == [1, 2]
+    with pytest.raises(IndexError):
+        sim.particles[3]
+    assert "mote.Particle 1" in repr(p)
+
+
+def test_integrators_and_steps():
+    sim = mote.NBody(integrator="wh", dt=0.01)
+    sim.add(m=1)
+    sim.add(m=1e-3, a=1)
+    sim.step(100)
+    assert sim.status()["steps"] == 100 and abs(sim.t - 1) < 1e-12
+
+
+def test_errors_are_the_commands():
+    sim = mote.NBody()
+    with pytest.raises(mote.MoteError, match=r"orbital elements need a primary"):
+        sim.add(m=1e-3, a=1)
+    sim.add(m=1)
+    with pytest.raises(mote.MoteError, match=r"unknown option 'bogus'"):
+        sim.add(m=1e-3, bogus=3)
+    with pytest.raises(mote.MoteError, match=r"a hyperbola \(e > 1\) needs a < 0"):
+        sim.add(m=1e-3, a=1, e=2)
+    with pytest.raises(mote.MoteError, match=r"give the mass"):
+        sim.add(x=1)
+    assert sim.N == 1  # nothing added by a refused line
+    with pytest.raises(mote.MoteError, match=r"orbital elements are for gravity runs"):
+        c = mote.NBody(coulomb=True)
+        c.add(m=1, charge=1)
+        c.add(m=1, charge=-1, a=1)
