@@ -120,6 +120,15 @@ class Simulation:
         self._s = _Session(model, name)
         self._spec, self._name = model, name
 
+    def _repr_html_(self):
+        """In a notebook: the model and its status line as a table."""
+        import html
+        rows = "".join("<tr><th style='text-align:left'>%s</th><td>%s</td></tr>"
+                       % (html.escape(str(k)), html.escape(str(v)))
+                       for k, v in self.status().items())
+        return ("<table><caption style='text-align:left'><b>mote %s</b></caption>%s</table>"
+                % (html.escape(self.model), rows))
+
     # ---- persistence: the exact state file (`save`, `load`) ----
 
     def state_bytes(self):

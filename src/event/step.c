@@ -880,6 +880,9 @@ static inline __attribute__((always_inline)) int run(mote_ev *ev, uint64_t ncoll
             int rc = mote_ev_rebuild(ev, err);
             if (rc)
                 return rc;
+            /* events follow: the stored coordinates stop being the present ones (a save
+             * after this run must synchronise again, not write them as they are) */
+            ev->canonical = 0;
             P = ev->p;
             continue;
         }

@@ -82,3 +82,13 @@ def test_errors_are_the_commands():
         c = mote.NBody(coulomb=True)
         c.add(m=1, charge=1)
         c.add(m=1, charge=-1, a=1)
+
+
+def test_notebook_html():
+    sim = three()
+    h = sim._repr_html_()
+    assert h.startswith("<table>") and "<b>mote nbody</b>" in h
+    assert "<th style='text-align:left'>N</th><td>3</td>" in h
+    s = mote.Simulation("hard-spheres")
+    s.command("new 2 0.3")
+    assert "<b>mote hard-spheres</b>" in s._repr_html_() and ">eta<" in s._repr_html_()

@@ -71,3 +71,24 @@ def test_load_errors(tmp_path):
     (tmp_path / "z.state").write_text("mote-state 1\nmodel nbody\ninteraction gravity\nn 2\n")
     with pytest.raises(mote.MoteError, match=r"z.state:5"):
         mote.load(str(tmp_path / "z.state"))
+
+
+def test_interrupted_then_saved_and_continued():
+    """Ctrl-C mid-command leaves a state that saves and continues as the original does."""
+    import os
+    import signal
+    sim = mote.Simulation()
+    sim.command("new 4 0.3")
+    sent = []
+
+    def first_report(label, fraction):
+        if not sent:
+            sent.append(fraction)
+            os.kill(os.getpid(), signal.SIGINT)
+
+    with pytest.raises(KeyboardInterrupt):
+        sim.command("step 1000000", progress=first_report)
+    twin = copy.deepcopy(sim)
+    sim.command("step 20")
+    twin.command("step 20")
+    assert sent and twin.state_bytes() == sim.state_bytes()
