@@ -15,3 +15,22 @@ def mote_bin():
 @pytest.fixture
 def examples():
     return os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "examples")
+
+
+@pytest.fixture
+def ctrl_c():
+    """A maker of (report, sent): a progress callback that sends SIGINT to this process at its
+    first call only, as one Ctrl-C while a command runs (a second, sent by a later report before
+    the command has stopped, would be raised after the test's `with` block), and the fractions
+    it was called with."""
+    import signal
+
+    def once():
+        sent = []
+
+        def report(label, fraction):
+            if not sent:
+                sent.append(fraction)
+                os.kill(os.getpid(), signal.SIGINT)
+        return report, sent
+    return once

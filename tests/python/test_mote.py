@@ -329,21 +329,13 @@ def test_byte_order_mark():
     assert sim.status()["N"] == 64
 
 
-def test_keyboard_interrupt():
+def test_keyboard_interrupt(ctrl_c):
     """Ctrl-C during a long command (issue 52: it arrived only when the command had finished):
     the command stops at its next safe point, KeyboardInterrupt is raised, and the state is
     consistent: it runs on."""
-    import os
-    import signal
+    first_report, sent = ctrl_c()
     sim = mote.Simulation()
     sim.command("new 4 0.3")
-    sent = []
-
-    def first_report(label, fraction):
-        if not sent:
-            sent.append(fraction)
-            os.kill(os.getpid(), signal.SIGINT)  # as Ctrl-C would, while the command runs
-
     with pytest.raises(KeyboardInterrupt):
         sim.command("step 1000000", progress=first_report)  # minutes if not stopped
     done = sim.status()["collisions"]
@@ -351,25 +343,10 @@ def test_keyboard_interrupt():
     sim.command("step 10")
     assert sim.status()["collisions"] > done
     with pytest.raises(KeyboardInterrupt):  # the same for a whole script
-        mote.run("new 4 0.3\nstep 1000000\n", progress=ctrl_c_once())
+        mote.run("new 4 0.3\nstep 1000000\n", progress=ctrl_c()[0])
 
 
-def ctrl_c_once():
-    """A progress callback that sends SIGINT at its first call only, as one Ctrl-C (a second,
-    sent by a later report before the command has stopped, would be raised after the test's
-    `with` block)."""
-    import os
-    import signal
-    sent = []
-
-    def report(label, fraction):
-        if not sent:
-            sent.append(fraction)
-            os.kill(os.getpid(), signal.SIGINT)
-    return report
-
-
-def test_keyboard_interrupt_charging_and_ensembles():
+def test_keyboard_interrupt_charging_and_ensembles(ctrl_c):
     """Ctrl-C stops a charging run (its threads at their next block) and an ensemble (every
     replica at its next safe point; the one on the script's thread asks Python): each command
     that would take minutes returns at once, and the simulation runs on."""
@@ -378,7 +355,7 @@ def test_keyboard_interrupt_charging_and_ensembles():
     ch = mote.Simulation("charging")
     ch.command("plasma preset single n=1e6 kT=10\nbody sphere radius=1")
     with pytest.raises(KeyboardInterrupt):
-        ch.command("run particles=1e12", progress=ctrl_c_once())  # hours if not stopped
+        ch.command("run particles=1e12", progress=ctrl_c()[0])  # hours if not stopped
     printed = ch.command("run particles=1000")
     assert "run: net I = " in printed
     # an ensemble reports only as replicas end: Ctrl-C comes from a timer, as from a user
