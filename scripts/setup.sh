@@ -19,6 +19,10 @@ pkg-config --exists libmicrohttpd 2>/dev/null || need="$need libmicrohttpd-dev"
 [ -f "$(/usr/bin/python3 -c 'import sysconfig; print(sysconfig.get_paths()["include"])' 2>/dev/null)/Python.h" ] ||
     need="$need python3-dev"
 /usr/bin/python3 -c 'import numpy' >/dev/null 2>&1 || need="$need python3-numpy"
+# pip install . --no-build-isolation into a venv (pyproject.toml, setup.py): Debian's setuptools
+# and venv (its pip for the venv)
+/usr/bin/python3 -c 'import setuptools' >/dev/null 2>&1 || need="$need python3-setuptools"
+dpkg-query -W -f='${Status}' python3-venv 2>/dev/null | grep -q 'ok installed' || need="$need python3-venv"
 # `setup.sh test` (make check): also what only the tests use
 if [ "${1:-}" = test ] || [ "${1:-}" = bench ]; then
     # Open MPI: the MPI build (make MPI=1), built and run with 2 ranks by make check
