@@ -187,3 +187,39 @@ class NBody(Simulation):
     def energy(self):
         """The total energy (the status line's E)."""
         return float(self.status()["E"])
+
+
+class HardSpheres(Simulation):
+    """The hard-sphere model (`model hard-spheres`) as an object: HardSpheres(N=4000, eta=0.45)
+    is `bulk N eta` (a periodic FCC cube, N = 4 n^3), HardSpheres(NN=4, eta=0.3) is `new NN
+    eta` (the slit between two walls, N = (4NN-1)(2NN-1)^2+1); step (`step k`), pressure
+    (`pressure K FILE`, its results as numbers), t, N, eta."""
+
+    def __init__(self, N=None, eta=None, NN=None, name="<python>"):
+        Simulation.__init__(self, "hard-spheres", name)
+        if (N is None) == (NN is None) and (N is not None or eta is not None):
+            raise MoteError("HardSpheres: give N= (a periodic box) or NN= (a slit), with eta=")
+        if NN is not None:
+            self.command("new %d %s" % (NN, _num(eta)))
+        elif N is not None:
+            self.command("bulk %d %s" % (N, _num(eta)))
+
+    def step(self, k=1, progress=None):
+        """`step k`: k collisions per particle."""
+        return self.command("step %d" % k, progress=progress)
+
+    def pressure(self, k=10, file=None, progress=None):
+        """`pressure k FILE` (FILE: a temporary file unless given): the measured values of the
+        file's header as {name: (value, standard error)} (omega, P_virial, Z, rho)."""
+        import os
+        import tempfile
+        from . import _quote, read_data
+        with tempfile.TemporaryDirectory() as d:
+            path = file or os.path.join(d, "pressure.dat")
+            self.command("pressure %d %s" % (k, _quote(path)), progress=progress)
+            h = read_data(path).header
+        return {key: v for key, v in h.items() if isinstance(v, tuple)}
+
+    t = property(lambda self: float(self.status()["t"]))
+    N = property(lambda self: int(self.status()["N"]))
+    eta = property(lambda self: float(self.status()["eta"]))

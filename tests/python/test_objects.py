@@ -92,3 +92,27 @@ def test_notebook_html():
     s = mote.Simulation("hard-spheres")
     s.command("new 2 0.3")
     assert "<b>mote hard-spheres</b>" in s._repr_html_() and ">eta<" in s._repr_html_()
+
+
+def test_hard_spheres_object(tmp_path):
+    hs = mote.HardSpheres(N=256, eta=0.3)
+    assert hs.N == 256 and hs.eta == 0.3 and hs.t == 0
+    hs.step(20)
+    p = hs.pressure(10, file=str(tmp_path / "p.dat"))
+    # the script with the same lines: the same file, byte for byte, and the same numbers
+    mote.run("model hard-spheres\nbulk 256 0.3\nstep 20\npressure 10 \"%s\"\nsave %s\n"
+             % (tmp_path / "q.dat", tmp_path / "q.state"))
+    # (each file's header names the command that wrote it, its own name in it)
+    assert ((tmp_path / "p.dat").read_text().replace("p.dat", "X") ==
+            (tmp_path / "q.dat").read_text().replace("q.dat", "X"))
+    assert hs.state_bytes() == (tmp_path / "q.state").read_bytes()
+    Z, dZ = p["Z"]
+    assert 0 < dZ < Z and set(p) >= {"Z", "P_virial", "omega", "rho"}
+    assert p == {k: v for k, v in mote.read_data(str(tmp_path / "q.dat")).header.items()
+                 if isinstance(v, tuple)}
+    slit = mote.HardSpheres(NN=2, eta=0.3)
+    assert slit.N == 7 * 9 + 1 and slit.status()["geometry"] == "slit"
+    with pytest.raises(mote.MoteError, match=r"give N= \(a periodic box\) or NN="):
+        mote.HardSpheres(eta=0.3)
+    with pytest.raises(mote.MoteError, match=r"N must be"):
+        mote.HardSpheres(N=100, eta=0.3)
