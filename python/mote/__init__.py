@@ -28,8 +28,8 @@ if "GOMP_SPINCOUNT" not in _os.environ and "OMP_WAIT_POLICY" not in _os.environ:
 from ._mote import MoteError, Session as _Session, models as _models, version as __version__
 from . import _mote
 
-__all__ = ["run", "run_file", "check", "Simulation", "NBody", "Particle", "HardSpheres", "load",
-           "read_data", "DataFile", "MoteError", "models", "__version__"]
+__all__ = ["run", "run_file", "check", "Simulation", "NBody", "Particle", "HardSpheres",
+           "Separator", "load", "read_data", "DataFile", "MoteError", "models", "__version__"]
 
 
 def models():
@@ -364,4 +364,4 @@ def read_data(path):
     return DataFile(path)
 
 
-from .objects import HardSpheres, NBody, Particle  # noqa: E402 (they build on Simulation)
+from .objects import HardSpheres, NBody, Particle, Separator  # noqa: E402 (on Simulation)

@@ -223,3 +223,39 @@ class HardSpheres(Simulation):
     t = property(lambda self: float(self.status()["t"]))
     N = property(lambda self: int(self.status()["N"]))
     eta = property(lambda self: float(self.status()["eta"]))
+
+
+class Separator(Simulation):
+    """The gravitational separator (`model separator`) as an object: set up by its commands
+    (Separator("channel 0.05 1\\ngas 1.5\\n..."), or sep.command(...) later), run (`run T`),
+    tromp (`tromp FILE`: the grade-efficiency curve as a pandas DataFrame when pandas is there,
+    its header's values (d50_m, kappa, ...) in .attrs; else the DataFile), t, N."""
+
+    def __init__(self, setup=None, name="<python>"):
+        Simulation.__init__(self, "separator", name)
+        if setup:
+            self.command(setup)
+
+    def run(self, t, progress=None):
+        """`run t`: t seconds more."""
+        return self.command("run " + _num(t), progress=progress)
+
+    def tromp(self, file=None):
+        """`tromp FILE` (a temporary file unless given), read back."""
+        import os
+        import tempfile
+        from . import _quote, read_data
+        with tempfile.TemporaryDirectory() as d:
+            path = file or os.path.join(d, "tromp.dat")
+            self.command("tromp %s" % _quote(path))
+            table = read_data(path)
+        try:
+            import pandas
+        except ImportError:
+            return table
+        df = pandas.DataFrame(table.data, columns=table.columns)
+        df.attrs.update(table.header)
+        return df
+
+    t = property(lambda self: float(self.status()["t"]))
+    N = property(lambda self: int(self.status()["N"]))

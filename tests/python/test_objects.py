@@ -116,3 +116,22 @@ def test_hard_spheres_object(tmp_path):
         mote.HardSpheres(eta=0.3)
     with pytest.raises(mote.MoteError, match=r"N must be"):
         mote.HardSpheres(N=100, eta=0.3)
+
+
+SEP = ("channel 0.05 1\ngas 1.5\ncollisions off\ntimestep 1e-3\nspecies quartz 2650\n"
+       "size quartz lognormal d50=150e-6 sigma=1.6 min=30e-6 max=600e-6\nfeed z=0.5 rate=2e-5\n")
+
+
+def test_separator_object(tmp_path):
+    pandas = pytest.importorskip("pandas")
+    sep = mote.Separator(SEP)
+    sep.run(0.3)
+    df = sep.tromp()
+    mote.run("model separator\n" + SEP + "run 0.3\ntromp %s\nsave %s\n"
+             % (tmp_path / "t.dat", tmp_path / "s.state"))
+    ref = mote.read_data(str(tmp_path / "t.dat"))
+    assert isinstance(df, pandas.DataFrame) and list(df.columns) == ref.columns
+    assert np.array_equal(df.to_numpy(), ref.data, equal_nan=True)
+    assert df.attrs["t_s"] == 0.3 and "d50_m" in df.attrs and "kappa" in df.attrs
+    assert sep.state_bytes() == (tmp_path / "s.state").read_bytes()
+    assert sep.t == 0.3 and sep.N > 0
