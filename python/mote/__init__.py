@@ -29,7 +29,8 @@ from ._mote import MoteError, Session as _Session, models as _models, version as
 from . import _mote
 
 __all__ = ["run", "run_file", "check", "Simulation", "NBody", "Particle", "HardSpheres",
-           "Separator", "load", "read_data", "DataFile", "MoteError", "models", "__version__"]
+           "MixingBox", "Charging", "Separator", "load", "read_data", "DataFile", "MoteError",
+           "models", "__version__"]
 
 
 def models():
@@ -364,4 +365,5 @@ def read_data(path):
     return DataFile(path)
 
 
-from .objects import HardSpheres, NBody, Particle, Separator  # noqa: E402 (on Simulation)
+from .objects import (Charging, HardSpheres, MixingBox, NBody, Particle,  # noqa: E402
+                      Separator)

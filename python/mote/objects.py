@@ -18,9 +18,15 @@ from . import MoteError, Simulation
 
 
 def _num(v):
-    """A number as the script reads it back exactly (Python's shortest round-trip repr)."""
+    """A value as the script reads it back exactly: integers as digits, reals as Python's
+    shortest round-trip repr, True/False as on/off, text as it is."""
+    import numbers
     if isinstance(v, str):
         return v
+    if isinstance(v, bool):
+        return "on" if v else "off"
+    if isinstance(v, numbers.Integral):
+        return str(int(v))
     return repr(float(v))
 
 
@@ -259,3 +265,57 @@ class Separator(Simulation):
 
     t = property(lambda self: float(self.status()["t"]))
     N = property(lambda self: int(self.status()["N"]))
+
+
+class MixingBox(Simulation):
+    """The mixing box (`model mixing-box`) as an object: set up by its commands (MixingBox("box
+    0 0.4 0 0.2\\n...\\nplace")), run (`run t`), t, N, and the chambers' counts (the status's
+    nL0 nL1 nR0 nR1: colour 0 and 1 left and right of the partition)."""
+
+    def __init__(self, setup=None, name="<python>"):
+        Simulation.__init__(self, "mixing-box", name)
+        if setup:
+            self.command(setup)
+
+    def run(self, t, progress=None):
+        """`run t`: t seconds more."""
+        return self.command("run " + _num(t), progress=progress)
+
+    def chambers(self):
+        """{"left": (colour 0, colour 1), "right": (colour 0, colour 1)}: the disks in each."""
+        st = self.status()
+        return {"left": (int(st["nL0"]), int(st["nL1"])), "right": (int(st["nR0"]), int(st["nR1"]))}
+
+    t = property(lambda self: float(self.status()["t"]))
+    N = property(lambda self: int(self.status()["N"]))
+
+
+class Charging(Simulation):
+    """Spacecraft charging (`model charging`; faithful=True: `model charging faithful`) as an
+    object: set up by its commands (Charging("plasma preset thesis-hot\\nbody sphere
+    radius=1")), run (`run particles=N ...`: the currents to the uncharged body), float
+    (`float ...`: the floating potential). The charging model has no state file, so it cannot
+    be pickled or copied."""
+
+    def __init__(self, setup=None, faithful=False, name="<python>"):
+        Simulation.__init__(self, "charging faithful" if faithful else "charging", name)
+        if setup:
+            self.command(setup)
+
+    def run(self, progress=None, **options):
+        """`run OPTIONS` (particles=N, ...): what it printed."""
+        return self.command(("run " + _options(options)).rstrip(), progress=progress)
+
+    def float(self, progress=None, **options):
+        """`float OPTIONS` (particles=, tolerance=, U0=, replicas=, roots=): {"U_f": volts,
+        "sigma_U": its standard error, "U_oml": the OML estimate for the equivalent sphere
+        without emission, "printed": what it printed}, the numbers as the command prints them
+        (6 significant digits, well inside sigma_U)."""
+        import re
+        printed = self.command(("float " + _options(options)).rstrip(), progress=progress)
+        m = re.search(r"^float: U_f = (\S+) V \+- (\S+) \(OML estimate, no emission, for the "
+                      r"equivalent sphere (\S+) V", printed, re.M)
+        if not m:
+            raise MoteError("float: no 'U_f = ...' line in its output:\n" + printed)
+        return {"U_f": float(m.group(1)), "sigma_U": float(m.group(2)),
+                "U_oml": float(m.group(3)), "printed": printed}

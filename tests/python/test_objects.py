@@ -135,3 +135,31 @@ def test_separator_object(tmp_path):
     assert df.attrs["t_s"] == 0.3 and "d50_m" in df.attrs and "kappa" in df.attrs
     assert sep.state_bytes() == (tmp_path / "s.state").read_bytes()
     assert sep.t == 0.3 and sep.N > 0
+
+
+MB = ("box 0 0.4 0 0.2\npartition 0.2 0.01\nslit 0.1 0.04\nradius 0.004\ndisks 30 20\nv_init 1\n"
+      "place\n")
+
+
+def test_mixing_box_object(tmp_path):
+    mb = mote.MixingBox(MB)
+    mb.run(0.2)
+    mote.run("model mixing-box\n" + MB + "run 0.2\nsave %s\n" % (tmp_path / "m.state"))
+    assert mb.state_bytes() == (tmp_path / "m.state").read_bytes()
+    c = mb.chambers()
+    assert sum(c["left"]) + sum(c["right"]) == mb.N == 50 and mb.t == 0.2
+
+
+def test_charging_object():
+    setup = "plasma preset thesis-hot\nbody sphere radius=1"
+    ch = mote.Charging(setup)
+    f = ch.float(particles=20000)
+    printed = mote.run("model charging\n" + setup + "\nfloat particles=20000\n")
+    assert "float: U_f = %g V +- %g" % (f["U_f"], f["sigma_U"]) in printed
+    # the floating potential of the thesis-hot plasma: the OML estimate within 3 sigma plus the
+    # few per cent the non-relativistic model warns of (spec 6.5)
+    assert f["sigma_U"] > 0 and abs(f["U_f"] / f["U_oml"] - 1) < 0.03
+    r3 = ch.float(particles=20000, replicas=3)
+    assert r3["sigma_U"] < f["sigma_U"] and "3 replicas: mean U_f" in r3["printed"]
+    with pytest.raises(mote.MoteError, match=r"unknown option 'bogus'"):
+        ch.float(bogus=1)
