@@ -34,6 +34,10 @@ if [ "${1:-}" = test ] || [ "${1:-}" = bench ]; then
     /usr/bin/python3 -c 'import ase.io' >/dev/null 2>&1 || need="$need python3-ase"
     # pytest (Debian's python3): the Python package's tests and examples (test_python)
     /usr/bin/python3 -c 'import pytest' >/dev/null 2>&1 || need="$need python3-pytest"
+    # nbclient, nbformat and ipykernel (Debian's python3): a notebook executed headless in the
+    # package's venv (test_python)
+    /usr/bin/python3 -c 'import nbclient, nbformat' >/dev/null 2>&1 || need="$need python3-nbclient python3-nbformat"
+    /usr/bin/python3 -c 'import ipykernel' >/dev/null 2>&1 || need="$need python3-ipykernel"
     # matplotlib (Debian's python3): pictures read back pixel by pixel (test_plot), and the
     # Python examples' plots
     /usr/bin/python3 -c 'import matplotlib.image' >/dev/null 2>&1 || need="$need python3-matplotlib"

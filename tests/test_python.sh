@@ -74,6 +74,25 @@ qrc=$?
 [ "$prc" -eq 1 ] && [ "$qrc" -eq "$prc" ] && cmp -s p.txt q.txt && ok || bad "python -m mote check: exit $qrc (the program's $prc), $(cat q.txt)"
 venv/bin/python -m mote help > h.txt 2>&1 && grep -q 'mote' h.txt && ok || bad "python -m mote help: $(head -n 3 h.txt)"
 
+# a notebook executed headless in the venv's own kernel (nbclient, ipykernel from Debian): the
+# simulation shows as its status table, the orbits as a PNG
+venv/bin/python -m ipykernel install --sys-prefix > kernel.txt 2>&1 && ok || bad "ipykernel install: $(cat kernel.txt)"
+mkdir nb && cp "$SRC/examples/python/orbits.ipynb" nb/
+(cd nb && ../venv/bin/python - orbits.ipynb > nb.txt 2>&1 <<'PYEOF'
+import sys
+import nbclient
+import nbformat
+nb = nbformat.read(sys.argv[1], as_version=4)
+nbclient.NotebookClient(nb, timeout=120, kernel_name="python3").execute()
+outs = [[o for o in c.get("outputs", [])] for c in nb.cells if c.cell_type == "code"]
+html = [o["data"]["text/html"] for o in outs[0] if "text/html" in o.get("data", {})]
+assert html and "<b>mote nbody</b>" in html[0], outs[0]
+assert "{1: 1.0" in outs[1][0]["data"]["text/plain"], outs[1]
+assert any("image/png" in o.get("data", {}) for o in outs[2]), outs[2]
+print("notebook ok")
+PYEOF
+) && grep -q "notebook ok" nb/nb.txt && [ -s nb/orbits.png ] && ok || bad "the notebook: $(tail -n 15 nb/nb.txt)"
+
 # the wheel: the extension (libmote inside it) and the modules, installable offline
 MOTE_BUILD_DIR="$BUILD" venv/bin/pip wheel --no-build-isolation --no-index --no-deps -w wheels ./tree > wheel.txt 2>&1 &&
     ok || bad "pip wheel: $(tail -n 20 wheel.txt)"
