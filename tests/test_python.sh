@@ -47,8 +47,11 @@ else
 fi
 [ -f tree/pyproject.toml ] && [ -f tree/setup.py ] && ok || bad "the copy of the source tree has no pyproject.toml and setup.py"
 "$PY" -m venv --system-site-packages venv > venv.txt 2>&1 && ok || bad "python3 -m venv: $(cat venv.txt)"
+touch before_pip
 MOTE_BUILD_DIR="$BUILD" venv/bin/pip install --no-build-isolation --no-index ./tree > pip.txt 2>&1 &&
     ok || bad "pip install: $(tail -n 20 pip.txt)"
+# (what the build folder holds is reused: nothing compiled again)
+[ -z "$(find "$BUILD" -name '*.o' -newer before_pip)" ] && ok || bad "pip install compiled again: $(find "$BUILD" -name '*.o' -newer before_pip | head -n 3)"
 # imported from the venv, not the tree or BUILD_DIR
 here=$PWD
 where=$(cd / && "$here/venv/bin/python" -c 'import mote; print(mote.__file__)' 2>&1)
