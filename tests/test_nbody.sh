@@ -393,6 +393,17 @@ expect 1 "ob4.mote:3:" ob4.mote "${G}body mass=1\nbody mass=1e-3 a=1 f=1 M=1\n"
 expect 2 "ob5.mote:3:28: error: body: primary=Moon: no body of that name or number" ob5.mote "${G}body mass=1\nbody mass=1e-3 a=1 primary=Moon\n"
 expect 1 "ob6.mote:3:" ob6.mote "model nbody coulomb\nbody mass=1 charge=1\nbody mass=1 charge=-1 a=1\n"
 
+# with SI input the semi-major axis is in metres, like x= (a Jupiter at pericentre: r = a (1 - e)
+# and v = sqrt(mu (1 + e) / (a (1 - e))) in the model's units); with mass=auto the scales are not
+# known yet: refused at its line
+printf 'model nbody\nunits mass=1.98847e30 length=1.495978707e11\nbody mass=1.98847e30\nbody mass=1.898e27 a=7.78e11 e=0.048\nsave si.state\n' > si.mote
+"$MOTE" run si.mote > si.out 2>&1 && ok || bad "orbital elements with SI input: $(cat si.out)"
+awk '/^bodies:/ { b = 1; next } b && ++k == 2 { a = 7.78e11 / 1.495978707e11; m = 1.898e27 / 1.98847e30
+     r = a * (1 - 0.048); v = sqrt((1 + m) * 1.048 / r)
+     exit !(($5 - r) ^ 2 < 1e-24 * r * r && ($9 - v) ^ 2 < 1e-24 * v * v && $6 == 0 && $8 == 0) }' si.state &&
+    ok || bad "SI orbital elements: $(sed -n '/^bodies:/,$p' si.state | sed -n 3p)"
+expect 2 "ob7.mote:4:1: error: body: orbital elements need the scales known" ob7.mote "model nbody\nunits solar\nbody mass=1.98847e30\nbody mass=1.898e27 a=7.78e11\n"
+
 # ---- checkpoint and restart (T16, native part): 2n steps = n + checkpoint + restart + n, bit for bit ----
 for integ in "integrator galactica dt=1e-6" "integrator taylor order=16 tol=1e-15" "integrator galactica dt=1e-6 tol=1e-14" "integrator wh dt=1e-6" "integrator wh dt=1e-6 corrector=0"; do
     printf '%bgenerate ring\n%s\nintegrate steps=20\nsave c0.state\n' "$G" "$integ" > k0.mote
