@@ -161,12 +161,12 @@ class Simulation:
         return {"model": self._spec, "name": self._name, "state": self.state_bytes()}
 
     def __setstate__(self, st):
-        self.__init__(st["model"], st["name"])
+        Simulation.__init__(self, st["model"], st["name"])  # (not a subclass's set-up)
         self.load_bytes(st["state"])
 
     def __deepcopy__(self, memo=None):
         """A new simulation from this one's exact state file (continues bit for bit alike)."""
-        c = Simulation.__new__(Simulation)
+        c = type(self).__new__(type(self))  # (mote.NBody stays an NBody)
         c.__setstate__(self.__getstate__())
         return c
 

@@ -231,20 +231,31 @@ class HardSpheres(Simulation):
     eta = property(lambda self: float(self.status()["eta"]))
 
 
-class Separator(Simulation):
-    """The gravitational separator (`model separator`) as an object: set up by its commands
-    (Separator("channel 0.05 1\\ngas 1.5\\n..."), or sep.command(...) later), run (`run T`),
-    tromp (`tromp FILE`: the grade-efficiency curve as a pandas DataFrame when pandas is there,
-    its header's values (d50_m, kappa, ...) in .attrs; else the DataFile), t, N."""
+class _TimedModel(Simulation):
+    """A model set up by its own command lines and advanced by `run T` (seconds): the mixing
+    box and the separator share this much."""
+    MODEL = None
 
     def __init__(self, setup=None, name="<python>"):
-        Simulation.__init__(self, "separator", name)
+        Simulation.__init__(self, self.MODEL, name)
         if setup:
             self.command(setup)
 
     def run(self, t, progress=None):
         """`run t`: t seconds more."""
         return self.command("run " + _num(t), progress=progress)
+
+    t = property(lambda self: float(self.status()["t"]))
+    N = property(lambda self: int(self.status()["N"]))
+
+
+class Separator(_TimedModel):
+    """The gravitational separator (`model separator`) as an object: set up by its commands
+    (Separator("channel 0.05 1\\ngas 1.5\\n..."), or sep.command(...) later), run (`run T`),
+    tromp (`tromp FILE`: the grade-efficiency curve as a pandas DataFrame when pandas is there,
+    its header's values (d50_m, kappa, ...) in .attrs; else the DataFile), t, N."""
+
+    MODEL = "separator"
 
     def tromp(self, file=None):
         """`tromp FILE` (a temporary file unless given), read back."""
@@ -263,31 +274,18 @@ class Separator(Simulation):
         df.attrs.update(table.header)
         return df
 
-    t = property(lambda self: float(self.status()["t"]))
-    N = property(lambda self: int(self.status()["N"]))
 
-
-class MixingBox(Simulation):
+class MixingBox(_TimedModel):
     """The mixing box (`model mixing-box`) as an object: set up by its commands (MixingBox("box
     0 0.4 0 0.2\\n...\\nplace")), run (`run t`), t, N, and the chambers' counts (the status's
     nL0 nL1 nR0 nR1: colour 0 and 1 left and right of the partition)."""
 
-    def __init__(self, setup=None, name="<python>"):
-        Simulation.__init__(self, "mixing-box", name)
-        if setup:
-            self.command(setup)
-
-    def run(self, t, progress=None):
-        """`run t`: t seconds more."""
-        return self.command("run " + _num(t), progress=progress)
+    MODEL = "mixing-box"
 
     def chambers(self):
         """{"left": (colour 0, colour 1), "right": (colour 0, colour 1)}: the disks in each."""
         st = self.status()
         return {"left": (int(st["nL0"]), int(st["nL1"])), "right": (int(st["nR0"]), int(st["nR1"]))}
-
-    t = property(lambda self: float(self.status()["t"]))
-    N = property(lambda self: int(self.status()["N"]))
 
 
 class Charging(Simulation):

@@ -163,3 +163,17 @@ def test_charging_object():
     assert r3["sigma_U"] < f["sigma_U"] and "3 replicas: mean U_f" in r3["printed"]
     with pytest.raises(mote.MoteError, match=r"unknown option 'bogus'"):
         ch.float(bogus=1)
+
+
+def test_objects_pickle_as_themselves():
+    """A model object pickled or copied is the same kind of object, continuing bit for bit."""
+    import copy
+    import pickle
+    sim = three()
+    mb = mote.MixingBox(MB)
+    for obj, more in ((sim, lambda s: s.integrate(5)), (mb, lambda s: s.run(0.05))):
+        for twin in (pickle.loads(pickle.dumps(obj)), copy.deepcopy(obj), copy.copy(obj)):
+            assert type(twin) is type(obj)
+            more(twin)
+        more(obj)
+        assert twin.state_bytes() == obj.state_bytes()
