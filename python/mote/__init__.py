@@ -275,7 +275,7 @@ def load(path, name="<python>"):
     wrote it."""
     try:
         with open(path, encoding="utf-8", errors="replace") as f:
-            head = [f.readline().strip() for _ in range(8)]
+            head = [f.readline(4096).strip() for _ in range(8)]  # (bounded: any file)
     except OSError as e:
         raise MoteError("%s: cannot open: %s" % (path, e.strerror or e)) from None
     if len(head) < 2 or not head[0].startswith("mote-state") or not head[1].startswith("model "):

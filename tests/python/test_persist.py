@@ -68,6 +68,12 @@ def test_load_errors(tmp_path):
     (tmp_path / "y.state").write_text("mote-state 1\nmodel warp-drive\n")
     with pytest.raises(mote.MoteError, match=r"y.state:2: no model 'warp-drive'"):
         mote.load(str(tmp_path / "y.state"))
+    # a file of one endless line (read 4 KiB at most, not whole) and a folder
+    (tmp_path / "w.state").write_bytes(b"m" * 20_000_000)
+    with pytest.raises(mote.MoteError, match=r"w.state:1: not a mote state file"):
+        mote.load(str(tmp_path / "w.state"))
+    with pytest.raises(mote.MoteError, match=r"cannot open"):
+        mote.load(str(tmp_path))
     (tmp_path / "z.state").write_text("mote-state 1\nmodel nbody\ninteraction gravity\nn 2\n")
     with pytest.raises(mote.MoteError, match=r"z.state:5"):
         mote.load(str(tmp_path / "z.state"))
