@@ -22,6 +22,7 @@ pkg-config --exists libmicrohttpd 2>/dev/null || need="$need libmicrohttpd-dev"
 # pip install . --no-build-isolation into a venv (pyproject.toml, setup.py): Debian's setuptools
 # and venv (its pip for the venv)
 /usr/bin/python3 -c 'import setuptools' >/dev/null 2>&1 || need="$need python3-setuptools"
+/usr/bin/python3 -c 'import wheel' >/dev/null 2>&1 || need="$need python3-wheel"
 dpkg-query -W -f='${Status}' python3-venv 2>/dev/null | grep -q 'ok installed' || need="$need python3-venv"
 # `setup.sh test` (make check): also what only the tests use
 if [ "${1:-}" = test ] || [ "${1:-}" = bench ]; then
