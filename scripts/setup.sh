@@ -15,6 +15,8 @@ pkg-config --exists cairo 2>/dev/null || need="$need libcairo2-dev"
 pkg-config --exists assimp 2>/dev/null || need="$need libassimp-dev"
 # libmicrohttpd: the live view's HTTP server (mote run --live)
 pkg-config --exists libmicrohttpd 2>/dev/null || need="$need libmicrohttpd-dev"
+# HDF5 (serial): the H5MD trajectories and snapshots (format=h5md)
+pkg-config --exists hdf5 2>/dev/null || need="$need libhdf5-dev"
 # the Python package (make python, make install): Debian's python3 with its headers and NumPy
 [ -f "$(/usr/bin/python3 -c 'import sysconfig; print(sysconfig.get_paths()["include"])' 2>/dev/null)/Python.h" ] ||
     need="$need python3-dev"
@@ -42,6 +44,8 @@ if [ "${1:-}" = test ] || [ "${1:-}" = bench ]; then
     # matplotlib (Debian's python3): pictures read back pixel by pixel (test_plot), and the
     # Python examples' plots
     /usr/bin/python3 -c 'import matplotlib.image' >/dev/null 2>&1 || need="$need python3-matplotlib"
+    # h5py (Debian's python3): the H5MD files read back as users read them
+    /usr/bin/python3 -c 'import h5py' >/dev/null 2>&1 || need="$need python3-h5py"
     # pandas (Debian's python3): the .csv files (RFC 4180) read back as users read them
     /usr/bin/python3 -c 'import pandas' >/dev/null 2>&1 || need="$need python3-pandas"
     # curl: the live view's protocol tests; Chromium (headless): its browser test

@@ -329,6 +329,13 @@ int mote_call_word(const mote_call *c, const char *key, int dflt);
 /* An e{on|off} option: 1 for on, 0 for off, `dflt` when not given. */
 int mote_call_on(const mote_call *c, const char *key, int dflt);
 
+/* The shared format= of `trajectory` and `snapshot` (h5md.h): is the output H5MD? Yes when
+ * format= gives the word of index h5md_word of the command's e{...} or, without format=, when
+ * the file of option file_key (NULL or absent: a series' prefix) ends in .h5 or .h5md. 1 or 0;
+ * -1 (err set, located at the option) when the two disagree: format=h5md and a file not named
+ * .h5/.h5md, or another format and a file so named. */
+int mote_call_h5md(const mote_call *c, const char *file_key, int h5md_word, mote_err *err);
+
 /* Resolve a file name given to a command: relative names are taken relative to ctx->output_dir
  * when one is set. Returns a malloc'ed string (NULL on allocation failure). */
 char *mote_ctx_path(const mote_context *ctx, const char *name);

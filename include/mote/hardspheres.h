@@ -100,6 +100,9 @@ int mote_hs_peek(const char *path, int *geometry, int *dim, uint64_t *n, mote_er
  * position, velocity, radius, and the local order of this configuration (3D q6 and the
  * crystal-like flag `solid`, 2D |psi6| and `ordered`, as `order` defines them). Atomic. */
 int mote_hs_snapshot(mote_hs *hs, const char *path, const char *origin, mote_err *err);
+/* A path ending in .h5 or .h5md (mote_path_is_h5md) is written as H5MD instead (h5md.h: the
+ * same positions, velocities, radius and local order, the box and its periodic axes, time and
+ * collisions as the step), here and in the trajectories and series below. */
 /* Write a frame now (atomically replacing path) and then one every k collisions per particle
  * (k N / 2 pair collisions) during every later step, compression or measurement, appended;
  * replaces an earlier dump. Frames only read the state: the run is the same with or without. */
@@ -127,6 +130,9 @@ uint64_t mote_hs_dump_frames(const mote_hs *hs);
  * series. */
 int mote_hs_snapshots_start(mote_hs *hs, uint64_t k, double dt, const char *prefix,
                             const char *origin, mote_err *err);
+/* The same with files P_000000.EXT (ext ".xyz" or ".h5"). */
+int mote_hs_snapshots_start_as(mote_hs *hs, uint64_t k, double dt, const char *prefix,
+                               const char *ext, const char *origin, mote_err *err);
 void mote_hs_snapshots_stop(mote_hs *hs);
 /* Pictures on a schedule (`frames every=K|dt=T prefix=P`), as the snapshots: P_000000.png on,
  * the box seen along z, each particle coloured by its local order (crystal-like or not). */

@@ -3,6 +3,7 @@
  * exist, located error and warning messages for a command, and a progress line on a terminal.
  * Everything works on the values passed in; nothing is kept between calls. */
 #include "mote/command.h"
+#include "mote/h5md.h"
 #include "mote/statefile.h"
 
 #include <stdarg.h>
@@ -500,6 +501,24 @@ int mote_call_on(const mote_call *c, const char *key, int dflt)
 {
     const mote_arg *a = mote_call_opt(c, key);
     return a ? a->i == 0 : dflt; /* (on|off: on is word 0) */
+}
+
+int mote_call_h5md(const mote_call *c, const char *file_key, int h5md_word, mote_err *err)
+{
+    const mote_arg *fmt = mote_call_opt(c, "format");
+    const mote_arg *file = file_key ? mote_call_opt(c, file_key) : NULL;
+    const int named = file && mote_path_is_h5md(file->text);
+    if (!fmt)
+        return named;
+    const int h5md = fmt->i == h5md_word;
+    if (file && h5md != named)
+        return mote_call_fail(err, c, mote_call_opt_index(c, file_key), MOTE_EINVAL,
+                              "%s: %s", c->name,
+                              h5md ? "format=h5md writes H5MD: name the file FILE.h5 or FILE.h5md"
+                                   : "a file named .h5 or .h5md is H5MD: give format=h5md or "
+                                     "another name"),
+               -1;
+    return h5md;
 }
 
 int mote_call_opt_index(const mote_call *c, const char *key)

@@ -472,13 +472,20 @@ static int run_check(void *vm, const mote_call *c, mote_err *err)
 /* ---- configurations for viewers ----------------------------------------------------------------- */
 
 /* file=: an extended XYZ name */
+/* A trajectory's or snapshot's file: FILE.xyz (extended XYZ) or FILE.h5|.h5md (H5MD), as
+ * format= says when given. */
+enum { FORMAT_XYZ, FORMAT_H5MD }; /* format=e{xyz|h5md} */
 static int check_xyz_name(const mote_call *c, mote_err *err)
 {
+    const int h5md = mote_call_h5md(c, "file", FORMAT_H5MD, err);
+    if (h5md < 0)
+        return err->code;
     const char *f = mote_call_opt(c, "file")->text;
     size_t n = strlen(f);
-    if (n < 4 || strcmp(f + n - 4, ".xyz") != 0)
+    if (!h5md && (n < 4 || strcmp(f + n - 4, ".xyz") != 0))
         return mote_call_fail(err, c, mote_call_opt_index(c, "file"), MOTE_EINVAL,
-                              "%s: FILE must end in .xyz (extended XYZ), found '%s'", c->name, f);
+                              "%s: FILE must end in .xyz (extended XYZ) or .h5 (H5MD), found "
+                              "'%s'", c->name, f);
     return MOTE_OK;
 }
 
@@ -497,6 +504,9 @@ static int check_schedule(hs_model *m, const mote_call *c, mote_err *err)
     return rc;
 }
 
+static int snapshots_h5md(mote_hs *hs, uint64_t k, double dt, const char *prefix,
+                          const char *origin, mote_err *err);
+
 /* Start a scheduled output (start: mote_hs_dump_start_on or mote_hs_monitor_start) and say so;
  * `what` is the first item's name ("frame", "row"). */
 static int run_scheduled(hs_model *m, const mote_call *c, const char *what,
@@ -513,7 +523,10 @@ static int run_scheduled(hs_model *m, const mote_call *c, const char *what,
     int rc = origin ? start(&m->hs, k, dt, path, origin, err)
                     : mote_fail(err, MOTE_ENOMEM, "out of memory");
     const char *in = file ? " in " : " as ";
-    const char *ext = file ? "" : start == mote_hs_frames_start ? "NNNNNN.png" : "NNNNNN.xyz";
+    const char *ext = file                          ? ""
+                      : start == mote_hs_frames_start ? "NNNNNN.png"
+                      : start == snapshots_h5md        ? "NNNNNN.h5"
+                                                       : "NNNNNN.xyz";
     const char *sep = file ? "" : mote_series_sep(path);
     if (!rc && m->hs.log && k)
         fprintf(m->hs.log, "%s: %s 0%s%s%s%s, then one every %llu collisions per particle\n",
@@ -544,15 +557,26 @@ static int check_snapshot(void *vm, const mote_call *c, mote_err *err)
         return mote_call_fail(err, c, -1, MOTE_EINVAL, "snapshot: a series needs prefix=P "
                               "(files P_000000.xyz, ...)");
     int rc = check_schedule(m, c, err);
+    const char *ext = mote_call_word(c, "format", FORMAT_XYZ) == FORMAT_H5MD ? ".h5" : ".xyz";
     return rc ? rc : mote_outputs_note_series(&c->ctx->outputs, c, mote_call_opt_index(c, "prefix"),
-                                              prefix->path, ".xyz", "xyz", MOTE_SERIES_MAKES_DIR, err);
+                                              prefix->path, ext, "xyz", MOTE_SERIES_MAKES_DIR, err);
+}
+/* (the series' starts, as run_scheduled calls them) */
+static int snapshots_h5md(mote_hs *hs, uint64_t k, double dt, const char *prefix,
+                          const char *origin, mote_err *err)
+{
+    return mote_hs_snapshots_start_as(hs, k, dt, prefix, ".h5", origin, err);
 }
 static int run_snapshot(void *vm, const mote_call *c, mote_err *err)
 {
     hs_model *m = vm;
     const mote_arg *file = mote_call_opt(c, "file");
     if (!file)
-        return run_scheduled(m, c, "snapshot", mote_hs_snapshots_start, err);
+        return run_scheduled(m, c, "snapshot",
+                             mote_call_word(c, "format", FORMAT_XYZ) == FORMAT_H5MD
+                                 ? snapshots_h5md
+                                 : mote_hs_snapshots_start,
+                             err);
     char *origin = mote_call_origin(c);
     int rc = origin ? mote_hs_snapshot(&m->hs, file->path, origin, err)
                     : mote_fail(err, MOTE_ENOMEM, "out of memory");
@@ -708,12 +732,15 @@ static const mote_cmd hs_commands[] = {
     {"msd", NULL, "i>=4 f>msd", "msd K FILE",
      "mean-squared displacement and the self-diffusion coefficient D over K collisions per particle",
      HS_HELP_MSD, check_measure, run_msd},
-    {"snapshot", NULL, "@file=f>xyz every=i>=1 dt=r>0 prefix=f",
-     "snapshot file=FILE.xyz|every=K|dt=T prefix=P",
-     "the current configuration as extended XYZ (OVITO, VMD, ASE), with local order; or a series",
+    {"snapshot", NULL, "@file=f>xyz every=i>=1 dt=r>0 prefix=f format=e{xyz|h5md}",
+     "snapshot file=FILE.xyz|every=K|dt=T prefix=P [format=xyz|h5md]",
+     "the current configuration as extended XYZ (OVITO, VMD, ASE) or H5MD, with local order; "
+     "or a series",
      HS_HELP_SNAPSHOT, check_snapshot, run_snapshot},
-    {"trajectory", "dump", "@every=i>=1 @file=f>xyz! dt=r>0", "trajectory every=K|dt=T file=FILE.xyz",
-     "a trajectory: an XYZ frame now and every K collisions per particle of later commands",
+    {"trajectory", "dump", "@every=i>=1 @file=f>xyz! dt=r>0 format=e{xyz|h5md}",
+     "trajectory every=K|dt=T file=FILE.xyz|FILE.h5 [format=xyz|h5md]",
+     "a trajectory: an XYZ (or H5MD) frame now and every K collisions per particle of later "
+     "commands",
      HS_HELP_DUMP, check_dump, run_dump},
     {"frames", NULL, "@every=i>=1 @prefix=f! dt=r>0", "frames every=K|dt=T prefix=P",
      "a picture now and every K collisions per particle or T of time: P_000000.png ...",

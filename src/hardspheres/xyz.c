@@ -11,6 +11,7 @@
  * trajectory. A snapshot is written atomically; a trajectory is the core's growing file of
  * frames (mote_frames_first, mote_frames_append). */
 #include "mote/hardspheres.h"
+#include "mote/h5md.h"
 
 #include <inttypes.h>
 #include <stdlib.h>
@@ -18,7 +19,7 @@
 
 #include "measure.h"
 
-enum { SERIES_XYZ = 1, SERIES_PNG = 2, SERIES_STATE = 3 };
+enum { SERIES_XYZ = 1, SERIES_PNG = 2, SERIES_STATE = 3, SERIES_H5MD = 4 };
 
 struct hs_dump {
     char *path, *origin;
@@ -27,7 +28,7 @@ struct hs_dump {
     uint64_t next_at; /* value of ev.collisions at which the next frame is written */
     uint64_t frames;  /* written so far (a series: the next file's number) */
     int series;       /* a series of files (path: the prefix), not a trajectory: SERIES_XYZ
-                       * (snapshots) or SERIES_PNG (frames); SERIES_STATE: one file, the
+                       * or SERIES_H5MD (snapshots) or SERIES_PNG (frames); SERIES_STATE: one file, the
                        * state (path: the file; a checkpoint) */
 };
 
@@ -84,10 +85,56 @@ static int write_frame(FILE *f, const void *arg, mote_err *err)
     return MOTE_OK;
 }
 
+/* The frame as H5MD (h5md.h): made anew (append 0) or added at the end. */
+static int h5md_frame(const mote_hs *hs, const char *path, const char *origin, int append,
+                      mote_err *err)
+{
+    const mote_ev *ev = &hs->ev;
+    const size_t n = ev->n, D = (size_t)ev->dim;
+    double *buf = malloc((n ? n : 1) * (2 * D + 2) * sizeof *buf);
+    float *local = malloc((n ? n : 1) * sizeof *local);
+    uint8_t *flag = malloc(n ? n : 1);
+    int rc = buf && local && flag ? hs_local_order(hs, local, flag, err)
+                                  : mote_fail(err, MOTE_ENOMEM, "out of memory for a frame of "
+                                                                "%zu particles", n);
+    if (!rc) {
+        double *pos = buf, *vel = buf + n * D, *rad = vel + n * D, *ord = rad + n;
+        for (uint32_t id = 0; id < ev->n; id++) {
+            const uint32_t i = mote_ev_slot(ev, id);
+            double r[3], v[3];
+            mote_ev_position(ev, i, r);
+            mote_ev_velocity(ev, i, v);
+            for (size_t a = 0; a < D; a++) {
+                pos[id * D + a] = r[a];
+                vel[id * D + a] = v[a];
+            }
+            rad[id] = mote_ev_radius(ev, i);
+            ord[id] = local[i];
+        }
+        mote_h5md_frame fr = {.model = "hard-spheres", .origin = origin, .seed = hs->seed,
+                              .dim = ev->dim, .n = n, .pos = pos, .vel = vel, .nscalar = 2,
+                              .has_box = 1, .time = mote_ev_time(ev),
+                              .step = (int64_t)ev->collisions};
+        fr.scalar[0] = (mote_h5md_scalar){"radius", NULL, rad};
+        fr.scalar[1] = (mote_h5md_scalar){ev->dim == 3 ? "q6" : "psi6", NULL, ord};
+        for (int a = 0; a < ev->dim; a++) {
+            fr.edges[a] = ev->len[a];
+            fr.periodic[a] = ev->periodic[a];
+        }
+        rc = append ? mote_h5md_append(path, &fr, err) : mote_h5md_first(path, &fr, err);
+    }
+    free(buf);
+    free(local);
+    free(flag);
+    return rc;
+}
+
 int mote_hs_snapshot(mote_hs *hs, const char *path, const char *origin, mote_err *err)
 {
     if (!hs->has_system)
         return mote_fail(err, MOTE_EINVAL, "snapshot: no system");
+    if (mote_path_is_h5md(path))
+        return h5md_frame(hs, path, origin, 0, err);
     const frame_of_hs x = {hs, origin};
     return mote_frames_first(path, write_frame, &x, err);
 }
@@ -105,7 +152,8 @@ static int first_frame(mote_hs *hs, struct hs_dump *d, mote_err *err)
 static int append_frame(mote_hs *hs, struct hs_dump *d, mote_err *err)
 {
     const frame_of_hs x = {hs, d->origin};
-    int rc = mote_frames_append(d->path, write_frame, &x, err);
+    int rc = mote_path_is_h5md(d->path) ? h5md_frame(hs, d->path, d->origin, 1, err)
+                                        : mote_frames_append(d->path, write_frame, &x, err);
     d->frames += !rc;
     return rc;
 }
@@ -122,7 +170,9 @@ static int frame_out(mote_hs *hs, struct hs_dump *d, mote_err *err)
         return rc;
     }
     const int png = d->series == SERIES_PNG;
-    char *p = mote_series_path(d->path, d->frames, 6, png ? ".png" : ".xyz");
+    char *p = mote_series_path(d->path, d->frames, 6, png                           ? ".png"
+                                                  : d->series == SERIES_H5MD ? ".h5"
+                                                                             : ".xyz");
     if (!p)
         return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", png ? "frames" : "snapshot");
     mote_make_dir_of(p);
@@ -229,9 +279,16 @@ int mote_hs_dump_start_on(mote_hs *hs, uint64_t k, double dt, const char *path,
 int mote_hs_snapshots_start(mote_hs *hs, uint64_t k, double dt, const char *prefix,
                             const char *origin, mote_err *err)
 {
+    return mote_hs_snapshots_start_as(hs, k, dt, prefix, ".xyz", origin, err);
+}
+
+int mote_hs_snapshots_start_as(mote_hs *hs, uint64_t k, double dt, const char *prefix,
+                               const char *ext, const char *origin, mote_err *err)
+{
     /* the same prefix again continues the numbering */
     const uint64_t first = hs->snaps && !strcmp(hs->snaps->path, prefix) ? hs->snaps->frames : 0;
-    struct hs_dump *d = dump_new(hs, "snapshot", k, dt, prefix, origin, SERIES_XYZ, first, err);
+    const int series = strcmp(ext, ".h5") ? SERIES_XYZ : SERIES_H5MD;
+    struct hs_dump *d = dump_new(hs, "snapshot", k, dt, prefix, origin, series, first, err);
     if (!d)
         return err->code;
     mote_hs_snapshots_stop(hs);

@@ -128,7 +128,11 @@ int mb_peek(const char *path, uint64_t *n, mote_err *err);
 
 /* A PNG of the disks in their colours, the partition (as grey disks) and the box as the frame. */
 int mb_snapshot_png(const mote_mb *sys, const char *path, mote_err *err);
-/* Extended XYZ (OVITO, VMD): one frame with species, positions, velocities, radius, colour. */
+/* Extended XYZ (OVITO, VMD): one frame with species, positions, velocities, radius, colour;
+ * H5MD (h5md.h) when path ends in .h5 or .h5md, here and in the trajectory. */
+enum { MB_SERIES_XYZ = 1, MB_SERIES_H5MD = 2 };
+/* the words of `snapshot` and `trajectory`'s format=e{xyz|h5md} */
+enum { MB_FORMAT_XYZ, MB_FORMAT_H5MD };
 int mb_snapshot_xyz(const mote_mb *sys, const char *path, const char *origin, mote_err *err);
 /* One extended XYZ frame of sys into f (a mote_frame_writer: arg is an mb_xyz_of). */
 typedef struct {
@@ -149,7 +153,8 @@ typedef struct {
     char *prefix;
     double dt;      /* by time (0: by count) */
     uint64_t every; /* by count: disk-disk collisions between frames (0: by time) */
-    int xyz;        /* extended XYZ snapshots (`snapshot every=|dt= prefix=`), not pictures */
+    int xyz;        /* snapshots (`snapshot every=|dt= prefix=`), not pictures: MB_SERIES_XYZ
+                     * (extended XYZ) or MB_SERIES_H5MD */
     char *origin;   /* xyz: the command (the files' comment line) */
     uint64_t next_index; /* frame number of the next PNG */
 } mb_frames;

@@ -4,6 +4,7 @@
  * numbered frames for a movie, the movie itself through ffmpeg when it is installed, and `plot`
  * of the model's data files (the mixing curve, the density profile with the barometric law). */
 #include "mb.h"
+#include "mote/h5md.h"
 
 #include "mote/datafile.h"
 #include "mote/render.h"
@@ -131,8 +132,46 @@ int mb_xyz_frame(FILE *f, const void *arg, mote_err *err)
     return MOTE_OK;
 }
 
+/* The frame as H5MD (h5md.h; SI units): made anew (append 0) or added at the end. The box's
+ * edges are its width and height; positions are the model's own (the box spans x_l..x_r,
+ * x_b..x_t). */
+static int mb_h5md(const mote_mb *sys, const char *path, const char *origin, int append,
+                   mote_err *err)
+{
+    const size_t n = sys->n;
+    double *buf = malloc((n ? n : 1) * 5 * sizeof *buf);
+    int32_t *species = malloc((n ? n : 1) * sizeof *species);
+    int rc;
+    if (!buf || !species) {
+        rc = mote_fail(err, MOTE_ENOMEM, "%s: out of memory for a frame of %zu disks", path, n);
+    } else {
+        double *pos = buf, *vel = buf + 2 * n, *rad = buf + 4 * n;
+        for (size_t i = 0; i < n; i++) {
+            pos[2 * i] = sys->x[i];
+            pos[2 * i + 1] = sys->y[i];
+            vel[2 * i] = sys->vx[i];
+            vel[2 * i + 1] = sys->vy[i];
+            rad[i] = sys->p.r;
+            species[i] = sys->colour[i];
+        }
+        mote_h5md_frame fr = {.model = "mixing-box", .origin = origin, .seed = sys->seed,
+                              .dim = 2, .n = n, .pos = pos, .vel = vel, .species = species,
+                              .nscalar = 1, .has_box = 1,
+                              .edges = {sys->p.x_r - sys->p.x_l, sys->p.x_t - sys->p.x_b},
+                              .time = sys->time, .step = (int64_t)sys->collisions,
+                              .length_unit = "m", .time_unit = "s"};
+        fr.scalar[0] = (mote_h5md_scalar){"radius", "m", rad};
+        rc = append ? mote_h5md_append(path, &fr, err) : mote_h5md_first(path, &fr, err);
+    }
+    free(buf);
+    free(species);
+    return rc;
+}
+
 int mb_snapshot_xyz(const mote_mb *sys, const char *path, const char *origin, mote_err *err)
 {
+    if (mote_path_is_h5md(path))
+        return mb_h5md(sys, path, origin, 0, err);
     const mb_xyz_of x = {sys, origin};
     return mote_frames_first(path, mb_xyz_frame, &x, err);
 }
@@ -140,6 +179,8 @@ int mb_snapshot_xyz(const mote_mb *sys, const char *path, const char *origin, mo
 int mb_trajectory_fire(void *ctx, void *subject, mote_err *err)
 {
     const mb_trajectory *t = ctx;
+    if (mote_path_is_h5md(t->path))
+        return mb_h5md(subject, t->path, t->origin, 1, err);
     const mb_xyz_of x = {subject, t->origin};
     return mote_frames_append(t->path, mb_xyz_frame, &x, err);
 }
@@ -155,7 +196,8 @@ int mb_frames_sample(void *ctx, void *subject, mote_err *err)
 {
     mote_mb *sys = subject;
     mb_frames *fr = ctx;
-    char *name = mote_series_path(fr->prefix, fr->next_index, 6, fr->xyz ? ".xyz" : ".png");
+    char *name = mote_series_path(fr->prefix, fr->next_index, 6,
+                                  fr->xyz == MB_SERIES_H5MD ? ".h5" : fr->xyz ? ".xyz" : ".png");
     if (name)
         mote_make_dir_of(name); /* (a prefix= makes its folder) */
     if (!name)

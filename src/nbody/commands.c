@@ -899,9 +899,9 @@ static const mote_cmd nb_commands[] = {
      "record energy, momenta and centre of mass every K steps or every T of time", HELP_MONITOR,
      nb_check_sampler, nb_run_monitor},
     {"trajectory", NULL,
-     "every=i>=1 dt=r>0 unit=e{s|day|year|century} format=e{table|csv|jsonl} "
+     "every=i>=1 dt=r>0 unit=e{s|day|year|century} format=e{table|csv|jsonl|h5md} "
      "file=f>trajectory! bodies=s velocities=e{on|off}",
-     "trajectory every=K|dt=T file=FILE [unit=U] [format=table|csv|jsonl] [bodies=LIST] "
+     "trajectory every=K|dt=T file=FILE [unit=U] [format=table|csv|jsonl|h5md] [bodies=LIST] "
      "[velocities=on|off]",
      "record the positions of every body (plot draws the orbits)", HELP_TRAJECTORY,
      nb_check_trajectory, nb_run_trajectory},

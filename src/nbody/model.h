@@ -42,7 +42,8 @@ typedef struct nb_model {
         double *rows;       /* cols per sample */
         size_t nrows, cap, cols;
         double L0[3];       /* trajectory: L + S when it started (the invariable plane) */
-        int on, format;     /* format: FMT_TABLE, FMT_CSV, FMT_JSONL (path NULL: the terminal) */
+        int on, format;     /* format: FMT_TABLE, FMT_CSV, FMT_JSONL, FMT_H5MD (path
+                             * NULL: the terminal) */
         mote_real dt, t0;   /* by time: samples at t0 + k dt (dt 0: every `every` steps) */
         mote_schedule at;   /* the same in double, the run loop's schedule */
         double ekmax, t_ekmax; /* monitor: the largest kinetic energy of a body so far */

@@ -1,6 +1,7 @@
 /* outputs.c: the N-body model's output commands (monitor, trajectory, approaches, frames,
  * snapshot every=K|dt=T): their options, files and samples; integrate (run.c) fires them as
  * observers of the core's run loop. */
+#include "mote/h5md.h"
 #include "mote/datafile.h"
 #include "mote/nbody.h"
 
@@ -27,7 +28,8 @@ static const char *const MON_NAME[MON_COLS] = {
 static int mon_integer(int c) { return c == 0 || c == 4 || c == 32; }
 static const int MON_TERM[] = {0, 1, 2, 4, 7, 8, 18, 19, 32};
 
-enum { FMT_TABLE, FMT_CSV, FMT_JSONL };
+/* the words of format=e{table|csv|jsonl|h5md} (monitor: the first three) */
+enum { FMT_TABLE, FMT_CSV, FMT_JSONL, FMT_H5MD };
 
 /* Room for one more sample row; returns it or NULL (out of memory). */
 static double *sampler_row(nb_sampler *s)
@@ -127,11 +129,55 @@ static int trajectory_sample(nb_model *m, const mote_nb *nb, mote_err *err)
     return MOTE_OK;
 }
 
+/* The trajectory's frame as H5MD (h5md.h): the bodies recorded that are still there (merged
+ * ones leave; id: the body's number from 0), positions, velocities with velocities=on, masses;
+ * in SI units (m, m/s, s, kg) when the run has physical scales, else dimensionless (no unit
+ * attributes). Made anew (append 0) or added at the end. */
+static int trajectory_h5md(nb_model *m, const mote_nb *nb, int append, mote_err *err)
+{
+    const nb_sampler *s = &m->traj;
+    const int si = nb->u.set;
+    const double L = si ? nb->u.Am : 1, V = si ? 1 / nb->u.kv : 1, T = si ? 1 / nb->u.kt : 1,
+                 M = si ? nb->u.M : 1;
+    const size_t cap = s->nsel ? s->nsel : 1;
+    double *buf = malloc(cap * 7 * sizeof *buf);
+    int64_t *id = malloc(cap * sizeof *id);
+    int rc;
+    if (!buf || !id) {
+        rc = mote_fail(err, MOTE_ENOMEM, "trajectory: out of memory");
+    } else {
+        double *pos = buf, *vel = buf + 3 * cap, *mass = buf + 6 * cap;
+        size_t n = 0;
+        for (uint32_t k = 0; k < s->nsel; k++) {
+            const uint32_t i = s->sel[k];
+            if (i >= nb->n || !nb->active[i])
+                continue;
+            for (int a = 0; a < 3; a++) {
+                pos[3 * n + a] = (double)nb->x[3 * (size_t)i + a] * L;
+                vel[3 * n + a] = (double)nb->v[3 * (size_t)i + a] * V;
+            }
+            mass[n] = (double)nb->m[i] * M;
+            id[n++] = i;
+        }
+        mote_h5md_frame fr = {.model = "nbody", .origin = s->origin, .dim = 3, .n = n,
+                              .pos = pos, .vel = s->vel ? vel : NULL, .id = id, .nscalar = 1,
+                              .time = (double)nb->T * T, .step = (int64_t)nb->steps,
+                              .length_unit = si ? "m" : NULL, .time_unit = si ? "s" : NULL};
+        fr.scalar[0] = (mote_h5md_scalar){"mass", si ? "kg" : NULL, mass};
+        rc = append ? mote_h5md_append(s->path, &fr, err) : mote_h5md_first(s->path, &fr, err);
+    }
+    free(buf);
+    free(id);
+    return rc;
+}
+
 static int sampler_stream(nb_model *m, nb_sampler *s, int traj, mote_err *err);
 
 /* A sample of the run (the row also to PATH.partial). */
 int nb_sample(nb_model *m, int traj, const mote_nb *nb, mote_err *err)
 {
+    if (traj && m->traj.format == FMT_H5MD)
+        return trajectory_h5md(m, nb, 1, err);
     const int rc = traj ? trajectory_sample(m, nb, err) : monitor_sample(m, nb, err);
     return rc ? rc : sampler_stream(m, traj ? &m->traj : &m->mon, traj, err);
 }
@@ -277,7 +323,7 @@ static int sampler_stream(nb_model *m, nb_sampler *s, int traj, mote_err *err)
  * file then removed; kept when the complete file could not be written. */
 int nb_sampler_finish(nb_model *m, nb_sampler *s, int traj, mote_err *err)
 {
-    if (!s->path)
+    if (!s->path || s->format == FMT_H5MD) /* (H5MD: every frame is in the file already) */
         return MOTE_OK;
     const int rc = mote_rows_write(&s->out, err);
     if (rc)
@@ -346,6 +392,8 @@ int nb_check_sampler(void *vm, const mote_call *c, mote_err *err)
     const mote_arg *file = mote_call_opt(c, "file");
     if (file && file->path) { /* (a .csv name is CSV whatever format= says) */
         const char *fmt = mote_path_is_csv(file->path) ? "csv" : f ? f->text : "table";
+        if (!strcmp(c->name, "trajectory") && mote_path_is_h5md(file->path))
+            fmt = "h5md";
         rc = mote_outputs_note_path(&m->formats, c, mote_call_opt_index(c, "file"), file->path,
                                     fmt, 1, err);
     }
@@ -359,7 +407,7 @@ static int sampler_start(nb_model *m, nb_sampler *s, const mote_call *c, size_t 
     nb_settle_units(m);
     free(s->path);
     free(s->origin);
-    const mote_arg *a = mote_call_opt(c, "file"), *f = mote_call_opt(c, "format");
+    const mote_arg *a = mote_call_opt(c, "file");
     s->path = a ? strdup(a->path) : NULL;
     s->origin = mote_call_origin(c);
     const mote_arg *ev = mote_call_opt(c, "every");
@@ -374,8 +422,9 @@ static int sampler_start(nb_model *m, nb_sampler *s, const mote_call *c, size_t 
     s->tscale = scale;
     s->t0 = m->nb.T;
     s->at = (mote_schedule){(double)s->t0, (double)s->dt, 1};
-    s->format = !f ? FMT_TABLE : f->text[0] == 'c' ? FMT_CSV : f->text[0] == 'j' ? FMT_JSONL
-                                                                                 : FMT_TABLE;
+    s->format = mote_call_word(c, "format", FMT_TABLE);
+    if (s == &m->traj && a && mote_path_is_h5md(a->path))
+        s->format = FMT_H5MD;
     s->on = 1;
     s->nrows = 0;
     s->cols = cols;
@@ -490,6 +539,13 @@ int nb_check_trajectory(void *vm, const mote_call *c, mote_err *err)
         rc = nb_need_bodies(vm, c, err);
     if (!rc && mote_call_opt(c, "bodies") && body_list(c, "bodies", NULL, m->d_bodies, NULL, err) < 0)
         return err->code;
+    const int h5md = rc ? 0 : mote_call_h5md(c, "file", FMT_H5MD, err);
+    if (h5md < 0)
+        return err->code;
+    if (h5md && mote_call_opt(c, "unit"))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "unit"), MOTE_EINVAL,
+                              "trajectory: unit= names the table's time column; an H5MD file "
+                              "carries SI units (seconds) when the run has physical scales");
     return rc;
 }
 int nb_run_trajectory(void *vm, const mote_call *c, mote_err *err)
@@ -515,6 +571,10 @@ int nb_run_trajectory(void *vm, const mote_call *c, mote_err *err)
     int rc = sampler_start(m, s, c, 3 + (s->vel ? 6 : 3) * (size_t)s->nsel, err);
     if (rc)
         return rc;
+    if (s->format == FMT_H5MD) { /* the first frame, atomically; the others appended */
+        mote_rows_free(&s->out);
+        return trajectory_h5md(m, &m->nb, 0, err);
+    }
     mote_nb_monitor mon;
     mote_nb_measure(&m->nb, &mon);
     for (int a = 0; a < 3; a++)

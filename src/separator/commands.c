@@ -40,6 +40,8 @@ static void model_destroy(void *vm)
     free(m->snaps.prefix);
     mote_rows_free(&m->bal.out);
     free(m->traj.path);
+    free(m->traj.origin);
+    free(m->snaps.origin);
     free(m->ckpt.path);
     free(m->bal.origin);
     free(m->bal.row);
@@ -746,14 +748,15 @@ static const mote_cmd sep_commands[] = {
     {"live_png", NULL, "@file=f>image! hz=r>0 px=i[16,16384] color=e{size|species}",
      "live_png file=FILE [hz=30]",
      "a picture rewritten while runs go on", HELP_LIVE, sep_live_png, sep_live_png},
-    {"snapshot", "snapshots", "@dir=f @dt=r>0 prefix=f every=i>=1 file=f>xyz",
-     "snapshot file=FILE|dt=DT|every=K [prefix=P|dir=DIR]",
-     "an extended XYZ snapshot now, or on a schedule",
+    {"snapshot", "snapshots", "@dir=f @dt=r>0 prefix=f every=i>=1 file=f>xyz format=e{xyz|h5md}",
+     "snapshot file=FILE|dt=DT|every=K [prefix=P|dir=DIR] [format=xyz|h5md]",
+     "an extended XYZ (or H5MD) snapshot now, or on a schedule",
      HELP_SNAPSHOTS, sep_snapshots, sep_snapshots},
     {"monitor", "balance", "@file=f>balance! @dt=r>0 every=i>=1 format=e{table|csv|jsonl}",
      "monitor file=FILE dt=DT|every=K [format=table|csv|jsonl]", "the bookkeeping time series",
      HELP_BALANCE, sep_balance, sep_balance},
-    {"trajectory", NULL, "@every=i>=1 @file=f>xyz! dt=r>0", "trajectory every=K|dt=T file=FILE.xyz",
+    {"trajectory", NULL, "@every=i>=1 @file=f>xyz! dt=r>0 format=e{xyz|h5md}",
+     "trajectory every=K|dt=T file=FILE.xyz|FILE.h5 [format=xyz|h5md]",
      "particle paths: an XYZ frame every K steps or T s of the following runs, appended",
      HELP_TRAJECTORY, sep_trajectory, sep_trajectory},
     MOTE_CMD_STOP(trajectory, NULL, sep_trajectory_stop, sep_trajectory_stop),

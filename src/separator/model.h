@@ -37,13 +37,16 @@ typedef struct {
     } live;
     struct {
         int on;
-        char *prefix; /* PREFIX_000000.xyz ... */
+        char *prefix; /* PREFIX_000000.xyz (or .h5) ... */
+        char *origin; /* the command (H5MD files keep it) */
+        int h5md;     /* format=h5md */
         sep_schedule when;
         uint64_t index;
     } snaps;
     struct {
         int on;
-        char *path;      /* FILE.xyz, the core's growing file of frames */
+        char *origin;
+        char *path;      /* FILE.xyz (or .h5: H5MD), the core's growing file of frames */
         uint64_t frames; /* written so far (0: the next replaces FILE) */
         sep_schedule when;
     } traj;

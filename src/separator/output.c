@@ -3,6 +3,7 @@
  * profiles along the height and their three-panel plot, the frames (channel, grids with their
  * holes, particles at true size coloured by diameter or species), extended XYZ snapshots that
  * OVITO and ASE read, and the mass balance time series. Every file is written atomically. */
+#include "mote/h5md.h"
 #include "mote/separator.h"
 
 #include <math.h>
@@ -436,6 +437,50 @@ int sep_xyz_frame(FILE *f, const void *vs, mote_err *err)
 int sep_write_xyz(const mote_sep_system *s, const char *path, mote_err *err)
 {
     return mote_frames_first(path, sep_xyz_frame, s, err);
+}
+
+int sep_write_h5md(const mote_sep_system *s, const char *path, const char *origin, uint64_t seed,
+                   int append, mote_err *err)
+{
+    const size_t n = s->n, D = (size_t)s->dim;
+    double *buf = malloc((n ? n : 1) * (2 * D + 1) * sizeof *buf);
+    int32_t *species = malloc((n ? n : 1) * sizeof *species);
+    int64_t *id = malloc((n ? n : 1) * sizeof *id);
+    int rc;
+    if (!buf || !species || !id) {
+        rc = mote_fail(err, MOTE_ENOMEM, "%s: out of memory for a frame of %zu particles", path,
+                       n);
+    } else {
+        double *pos = buf, *vel = buf + n * D, *dia = buf + 2 * n * D;
+        for (size_t i = 0; i < n; i++) { /* 2D: the plane x, z */
+            const double r[3] = {s->x[i], s->y[i], s->z[i]}, v[3] = {s->vx[i], s->vy[i], s->vz[i]};
+            for (size_t a = 0; a < D; a++) {
+                const size_t b = D == 3 ? a : 2 * a;
+                pos[i * D + a] = r[b];
+                vel[i * D + a] = v[b];
+            }
+            dia[i] = s->d[i];
+            species[i] = s->s[i];
+            id[i] = (int64_t)s->id[i];
+        }
+        const char *names[MOTE_SEP_MAX_SPECIES];
+        for (int k = 0; k < s->nsp; k++)
+            names[k] = s->sp[k].name;
+        mote_h5md_frame fr = {.model = "separator", .origin = origin, .seed = seed,
+                              .dim = s->dim, .n = n, .pos = pos, .vel = vel, .species = species,
+                              .species_names = names, .nspecies_names = s->nsp, .id = id,
+                              .nscalar = 1, .has_box = 1, .time = s->t,
+                              .step = (int64_t)s->steps, .length_unit = "m", .time_unit = "s"};
+        fr.scalar[0] = (mote_h5md_scalar){"diameter", "m", dia};
+        fr.edges[0] = s->W;
+        fr.edges[1] = s->dim == 3 ? s->D : s->H;
+        fr.edges[2] = s->H;
+        rc = append ? mote_h5md_append(path, &fr, err) : mote_h5md_first(path, &fr, err);
+    }
+    free(buf);
+    free(species);
+    free(id);
+    return rc;
 }
 
 /* ---- the balance ---------------------------------------------------------------------------- */

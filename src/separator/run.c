@@ -3,6 +3,7 @@
  * its observers, the status line, `tromp`, `profiles`, `save`, `load` and `summary`. A command
  * checked on the dry model (sep_check_*) runs on the real one only after the whole script
  * passed. */
+#include "mote/h5md.h"
 #include "mote/separator.h"
 
 #include <errno.h>
@@ -381,17 +382,57 @@ int sep_live_png(void *vm, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
+enum { FORMAT_XYZ, FORMAT_H5MD }; /* format=e{xyz|h5md} */
+
+/* A trajectory's or snapshot's file: FILE.xyz or FILE.h5|.h5md, as format= says when given;
+ * 1 for H5MD, 0 for XYZ, -1 after a located error. */
+static int particles_format(const mote_call *c, mote_err *err)
+{
+    const int h5md = mote_call_h5md(c, "file", FORMAT_H5MD, err);
+    const mote_arg *f = mote_call_opt(c, "file");
+    const size_t n = f ? strlen(f->text) : 0;
+    if (h5md == 0 && f && (n < 4 || strcmp(f->text + n - 4, ".xyz") != 0)) {
+        mote_call_fail(err, c, mote_call_opt_index(c, "file"), MOTE_EINVAL,
+                       "%s: FILE must end in .xyz (extended XYZ) or .h5 (H5MD), found '%s'",
+                       c->name, f->text);
+        return -1;
+    }
+    return h5md;
+}
+
+/* The command's text for the files it writes (the origin kept in *slot). */
+static int keep_origin(char **slot, const mote_call *c, mote_err *err)
+{
+    char *o = mote_call_origin(c);
+    if (!o)
+        return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", c->name);
+    free(*slot);
+    *slot = o;
+    return MOTE_OK;
+}
+
 int sep_snapshots(void *vm, const mote_call *c, mote_err *err)
 {
     sep_model *m = vm;
     const mote_arg *f = mote_call_opt(c, "file");
     const int sched = mote_call_opt(c, "dt") || mote_call_opt(c, "every");
+    const int h5md = particles_format(c, err);
+    if (h5md < 0)
+        return err->code;
     if (f) { /* the configuration now */
         if (sched || mote_call_opt(c, "dir") || mote_call_opt(c, "prefix"))
             return mote_call_fail(err, c, mote_call_opt_index(c, "file"), MOTE_EINVAL,
                                   "%s: file= writes one snapshot now; a series on a schedule "
                                   "takes dt= or every= and prefix= (or dir=), not file=", c->name);
-        return m->dry ? MOTE_OK : sep_write_xyz(&m->sys, f->path, err);
+        if (m->dry)
+            return MOTE_OK;
+        if (!h5md)
+            return sep_write_xyz(&m->sys, f->path, err);
+        char *o = mote_call_origin(c);
+        int rc = o ? sep_write_h5md(&m->sys, f->path, o, m->seed, 0, err)
+                   : mote_fail(err, MOTE_ENOMEM, "%s: out of memory", c->name);
+        free(o);
+        return rc;
     }
     if (!sched)
         return mote_call_fail(err, c, -1, MOTE_EINVAL, "%s: give file=FILE (one snapshot now) or "
@@ -399,9 +440,13 @@ int sep_snapshots(void *vm, const mote_call *c, mote_err *err)
     int rc = mote_call_check_every_dt(c, 1, err);
     if (rc)
         return rc;
-    rc = out_series(m, c, &m->snaps.prefix, &m->snaps.index, "snapshot", ".xyz", err);
+    rc = out_series(m, c, &m->snaps.prefix, &m->snaps.index, "snapshot", h5md ? ".h5" : ".xyz",
+                    err);
+    if (!rc)
+        rc = keep_origin(&m->snaps.origin, c, err);
     if (rc)
         return rc;
+    m->snaps.h5md = h5md;
     m->snaps.on = 1;
     schedule_set(&m->snaps.when, c, &m->sys, fire_snapshot);
     return MOTE_OK;
@@ -447,8 +492,11 @@ static int fire_frame(void *ctx, void *subject, mote_err *err)
 static int fire_snapshot(void *ctx, void *subject, mote_err *err)
 {
     sep_model *m = subject;
-    char *p = mote_series_path(m->snaps.prefix, m->snaps.index++, 6, ".xyz");
-    int rc = p ? sep_write_xyz(&m->sys, p, err) : mote_fail(err, MOTE_ENOMEM, "snapshots");
+    char *p = mote_series_path(m->snaps.prefix, m->snaps.index++, 6,
+                               m->snaps.h5md ? ".h5" : ".xyz");
+    int rc = !p              ? mote_fail(err, MOTE_ENOMEM, "snapshots")
+             : m->snaps.h5md ? sep_write_h5md(&m->sys, p, m->snaps.origin, m->seed, 0, err)
+                             : sep_write_xyz(&m->sys, p, err);
     free(p);
     return rc;
 }
@@ -470,8 +518,11 @@ static int fire_balance(void *ctx, void *subject, mote_err *err)
 static int fire_trajectory(void *ctx, void *subject, mote_err *err)
 {
     sep_model *m = subject;
-    int rc = m->traj.frames ? mote_frames_append(m->traj.path, sep_xyz_frame, &m->sys, err)
-                            : mote_frames_first(m->traj.path, sep_xyz_frame, &m->sys, err);
+    const int more = m->traj.frames > 0;
+    int rc = mote_path_is_h5md(m->traj.path)
+                 ? sep_write_h5md(&m->sys, m->traj.path, m->traj.origin, m->seed, more, err)
+             : more ? mote_frames_append(m->traj.path, sep_xyz_frame, &m->sys, err)
+                    : mote_frames_first(m->traj.path, sep_xyz_frame, &m->sys, err);
     m->traj.frames += !rc;
     return rc;
 }
@@ -483,14 +534,12 @@ int sep_trajectory(void *vm, const mote_call *c, mote_err *err)
     if (rc)
         return rc;
     const mote_arg *f = mote_call_opt(c, "file");
-    const size_t n = strlen(f->text);
-    if (n < 4 || strcmp(f->text + n - 4, ".xyz") != 0)
-        return mote_call_fail(err, c, mote_call_opt_index(c, "file"), MOTE_EINVAL,
-                              "trajectory: FILE must end in .xyz (extended XYZ), found '%s'",
-                              f->text);
-    char *p = strdup(f->path);
+    if (particles_format(c, err) < 0)
+        return err->code;
+    rc = keep_origin(&m->traj.origin, c, err);
+    char *p = rc ? NULL : strdup(f->path);
     if (!p)
-        return mote_fail(err, MOTE_ENOMEM, "trajectory: out of memory");
+        return rc ? rc : mote_fail(err, MOTE_ENOMEM, "trajectory: out of memory");
     free(m->traj.path);
     m->traj.path = p;
     m->traj.frames = 0;

@@ -104,6 +104,10 @@ int sep_plate_rects(const mote_sep_system *s, double **rects, size_t *n);
 int sep_frame_png(const mote_sep_system *s, const char *path, const sep_frame_opts *fo,
                   mote_err *err);
 int sep_write_xyz(const mote_sep_system *s, const char *path, mote_err *err);
+/* The same frame as H5MD (h5md.h; SI units; 2D: the plane x, z): made anew (append 0) or
+ * added at the end; id, species (with their names) and diameter per particle. */
+int sep_write_h5md(const mote_sep_system *s, const char *path, const char *origin, uint64_t seed,
+                   int append, mote_err *err);
 /* state.c: the descriptors of the state's scalar values (offsets in mote_sep_system), for the
  * parameter commands bound to them */
 const struct mote_sf_field *sep_scalar_fields(size_t *n);
