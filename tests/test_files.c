@@ -12,8 +12,15 @@
  *   record index named by line;
  * - atomic writes (9.4): a save into a missing directory or onto a directory fails and leaves
  *   nothing; a write that runs out of file space keeps the earlier file; abort and commit of
- *   mote_afile. */
+ *   mote_afile;
+ * - H5MD (h5md.h): the first frame replaces an earlier file only when complete (out of file
+ *   space: the earlier file kept); a frame that fails to append (one of another dimension, one
+ *   that runs out of file space) is cut off again: the file keeps its frames, and the next good
+ *   frame follows them; appending to a file that is not HDF5 names it. */
 #include "mote/hardspheres.h"
+#include "mote/h5md.h"
+
+#include <hdf5.h>
 
 #include <dirent.h>
 #include <signal.h>
@@ -809,6 +816,119 @@ static void test_atomic(void)
     mote_hs_free(&hs);
 }
 
+/* Frames in an H5MD file (the first dimension of position/value and of position/step, which
+ * must agree), or -1 when it cannot be read. */
+static long h5md_frames(const char *path)
+{
+    H5E_auto2_t fn;
+    void *data;
+    H5Eget_auto2(H5E_DEFAULT, &fn, &data);
+    H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+    long frames = -1;
+    hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+    hid_t v = f >= 0 ? H5Dopen2(f, "particles/all/position/value", H5P_DEFAULT) : -1;
+    hid_t st = f >= 0 ? H5Dopen2(f, "particles/all/position/step", H5P_DEFAULT) : -1;
+    if (v >= 0 && st >= 0) {
+        hsize_t dv[3], ds[1];
+        hid_t sv = H5Dget_space(v), ss = H5Dget_space(st);
+        if (H5Sget_simple_extent_dims(sv, dv, NULL) == 3 &&
+            H5Sget_simple_extent_dims(ss, ds, NULL) == 1 && dv[0] == ds[0]) {
+            double *buf = malloc(dv[0] * dv[1] * dv[2] * sizeof *buf + 1);
+            if (buf && H5Dread(v, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf) >= 0)
+                frames = (long)dv[0];
+            free(buf);
+        }
+        H5Sclose(sv);
+        H5Sclose(ss);
+    }
+    if (st >= 0)
+        H5Dclose(st);
+    if (v >= 0)
+        H5Dclose(v);
+    if (f >= 0)
+        H5Fclose(f);
+    H5Eset_auto2(H5E_DEFAULT, fn, data);
+    return frames;
+}
+
+static void test_h5md(void)
+{
+    printf("H5MD files: atomic first frame, appended frames cut back on failure\n");
+    mote_err err = {0};
+    enum { N = 400 };
+    static double pos[3 * N], vel[3 * N], rad[N];
+    for (int i = 0; i < 3 * N; i++) {
+        pos[i] = 0.01 * i;
+        vel[i] = 1 - 0.001 * i;
+    }
+    for (int i = 0; i < N; i++)
+        rad[i] = 0.5;
+    mote_h5md_frame fr = {.model = "test", .dim = 2, .n = N, .pos = pos, .vel = vel,
+                          .nscalar = 1, .has_box = 1, .edges = {20, 20}, .periodic = {1, 1}};
+    fr.scalar[0] = (mote_h5md_scalar){"radius", NULL, rad};
+    char path[512];
+    tmp_path(path, sizeof path, "t.h5");
+    write_text(path, "old content\n", 12);
+    int before = count_entries();
+
+    /* out of file space in the first frame: the earlier file stays */
+    struct rlimit saved, tiny;
+    getrlimit(RLIMIT_FSIZE, &saved);
+    tiny = saved;
+    tiny.rlim_cur = 4096;
+    void (*prev)(int) = signal(SIGXFSZ, SIG_IGN);
+    CHECK(setrlimit(RLIMIT_FSIZE, &tiny) == 0, "could not set RLIMIT_FSIZE");
+    int rc = mote_h5md_first(path, &fr, &err);
+    setrlimit(RLIMIT_FSIZE, &saved);
+    CHECK(rc == MOTE_EIO, "a first frame that runs out of space returned %d: %s", rc, err.msg);
+    char *now = read_text(path, NULL);
+    CHECK(now && strcmp(now, "old content\n") == 0, "the earlier file was damaged");
+    free(now);
+    CHECK(count_entries() == before, "a failed first frame left a temporary file");
+
+    /* two good frames */
+    CHECK(mote_h5md_first(path, &fr, &err) == MOTE_OK, "%s", err.msg);
+    fr.step = 1;
+    fr.time = 0.5;
+    CHECK(mote_h5md_append(path, &fr, &err) == MOTE_OK, "%s", err.msg);
+    CHECK_INT(h5md_frames(path), 2);
+
+    /* a frame of another dimension: refused after the step and time grew, cut back */
+    fr.dim = 3;
+    rc = mote_h5md_append(path, &fr, &err);
+    CHECK(rc == MOTE_EIO, "a 3D frame appended to a 2D file returned %d", rc);
+    CHECK_HAS(err.msg, "t.h5: cannot add a frame to the H5MD trajectory; it keeps the frames");
+    CHECK_INT(h5md_frames(path), 2);
+    fr.dim = 2;
+
+    /* out of file space while a frame is added (the frames are ~16 kB): cut back */
+    struct stat st;
+    stat(path, &st);
+    tiny.rlim_cur = (rlim_t)st.st_size + 2048;
+    CHECK(setrlimit(RLIMIT_FSIZE, &tiny) == 0, "could not set RLIMIT_FSIZE");
+    for (int i = 0; i < 3 * N; i++)
+        pos[i] = sin(1.7 * i) * 1e3; /* (no longer compressible) */
+    fr.step = 2;
+    rc = mote_h5md_append(path, &fr, &err);
+    setrlimit(RLIMIT_FSIZE, &saved);
+    signal(SIGXFSZ, prev);
+    CHECK(rc == MOTE_EIO, "a frame that runs out of space returned %d: %s", rc, err.msg);
+    CHECK_INT(h5md_frames(path), 2);
+    /* and the next frame follows the two */
+    CHECK(mote_h5md_append(path, &fr, &err) == MOTE_OK, "%s", err.msg);
+    CHECK_INT(h5md_frames(path), 3);
+
+    /* appending to a file that is not HDF5 */
+    char text[512];
+    tmp_path(text, sizeof text, "text.h5");
+    write_text(text, "not hdf5\n", 9);
+    rc = mote_h5md_append(text, &fr, &err);
+    CHECK(rc == MOTE_EIO, "appending to a text file returned %d", rc);
+    CHECK_HAS(err.msg, "text.h5: cannot open the H5MD trajectory to add a frame");
+    unlink(text);
+    unlink(path);
+}
+
 int main(void)
 {
     if (!test_tmpdir_make(tmpdir, sizeof tmpdir, "mote_test_files"))
@@ -819,6 +939,7 @@ int main(void)
     test_load_errors();
     test_original_format();
     test_atomic();
+    test_h5md();
     test_remove_tree(tmpdir);
     printf("test_files: %.1f s\n", mote_wall_seconds() - w0);
     return test_summary();

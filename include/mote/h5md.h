@@ -37,6 +37,16 @@
 #include <stddef.h>
 #include <stdint.h>
 
+/* The paragraph every model's `trajectory` and `snapshot` help gives (the same words in each). */
+#define MOTE_H5MD_HELP                                                                           \
+    "format=h5md (or a FILE named .h5 or .h5md) writes H5MD instead, HDF5 for\n"                  \
+    "molecular data (h5py, MDAnalysis, OVITO): /particles/all/position, velocity\n"                \
+    "and the model's per-particle numbers as value[frame][particle][axis] with their\n"            \
+    "step and time, the box with its boundary, units where the model has them;\n"                 \
+    "chunked and compressed. A trajectory's first frame makes the file atomically,\n"             \
+    "later frames are added at its end with the file closed after each, so a run\n"               \
+    "that is stopped keeps every frame so far (docs/file-formats.md, H5MD).\n"
+
 #define MOTE_H5MD_SCALARS 4
 
 typedef struct {

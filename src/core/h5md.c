@@ -2,10 +2,13 @@
 #include "mote/h5md.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <hdf5.h>
 
@@ -472,12 +475,44 @@ int mote_h5md_first(const char *path, const mote_h5md_frame *fr, mote_err *err)
     return rc;
 }
 
+/* Room on the disk for one more frame before HDF5 touches the file: a write that fails half
+ * way (disk full, a file size limit) would leave HDF5's records pointing past the file's end,
+ * so the space is taken first (posix_fallocate; HDF5 gives back what it did not use when it
+ * closes the file, truncating it to its end). need: the frame's numbers uncompressed, with
+ * room for the chunks' and the trees' records. */
+static int reserve(const char *path, const element *e, int ne, size_t n, mote_err *err)
+{
+    size_t need = 256 * 1024;
+    for (int k = 0; k < ne; k++)
+        need += (e[k].per_particle ? (n + 256) : 1) * (size_t)(e[k].width ? e[k].width : 1) * 8;
+    need += need / 16;
+    int fd = open(path, O_WRONLY | O_CLOEXEC);
+    struct stat st;
+    if (fd < 0 || fstat(fd, &st) != 0) {
+        const int e2 = errno;
+        if (fd >= 0)
+            close(fd);
+        return mote_fail(err, MOTE_EIO, "%s: cannot open the H5MD trajectory to add a frame: %s",
+                         path, strerror(e2));
+    }
+    const int rc = posix_fallocate(fd, st.st_size, (off_t)need);
+    if (rc)
+        (void)!ftruncate(fd, st.st_size); /* (whatever was taken, given back) */
+    close(fd);
+    if (rc)
+        return mote_fail(err, MOTE_EIO, "%s: no room for another frame (%zu bytes): %s; the "
+                         "file keeps the frames before", path, need, strerror(rc));
+    return MOTE_OK;
+}
+
 int mote_h5md_append(const char *path, const mote_h5md_frame *fr, mote_err *err)
 {
     if (frame_bad(path, fr, err))
         return err->code;
     element e[MAX_ELEMENTS];
     const int ne = elements_of(fr, e);
+    if (reserve(path, e, ne, fr->n, err))
+        return err->code;
     quiet q = quiet_on();
     int rc = MOTE_OK;
     hid_t f = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);

@@ -1,6 +1,7 @@
 /* commands.c: the hard-spheres model's script commands: the table the script language reads, the
  * validation of each command on a dry model (what system will exist, which files earlier commands
  * will write), and the calls into the model when the script runs. */
+#include "mote/h5md.h"
 #include "mote/hardspheres.h"
 
 #include <stdlib.h>

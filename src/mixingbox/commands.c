@@ -3,6 +3,7 @@
  * geometry at `place`, which files earlier commands write), and the calls into the model when
  * the script runs, with the recording, density and frame samplers kept across runs. */
 #include "model.h"
+#include "mote/h5md.h"
 #include "mote/render.h"
 
 #include <math.h>

@@ -4,6 +4,7 @@
  * compare with?) run on a dry model; argument ranges and files are the table's. The output
  * commands and integrate are in outputs.c, the files in files.c, the live view in live.c and
  * the help text in help.inc. */
+#include "mote/h5md.h"
 #include "mote/datafile.h"
 #include "mote/nbody.h"
 

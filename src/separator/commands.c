@@ -4,6 +4,7 @@
  * anything runs, on a dry model that follows the script's settings. (Decision: the optional
  * positional arguments of the spec's table are options here, e.g. `feed z=0.5 rate=0.01`,
  * as in the toolkit's other models.) */
+#include "mote/h5md.h"
 #include "mote/separator.h"
 
 #include <math.h>
