@@ -78,7 +78,8 @@ qrc=$?
 venv/bin/python -m mote help > h.txt 2>&1 && grep -q 'mote' h.txt && ok || bad "python -m mote help: $(head -n 3 h.txt)"
 
 # a notebook executed headless in the venv's own kernel (nbclient, ipykernel from Debian): the
-# simulation shows as its status table, the orbits as a PNG
+# simulation shows as its picture and status table (and a PNG), integrate as a progress bar
+# that ends at 100 %, the orbits as a PNG
 venv/bin/python -m ipykernel install --sys-prefix > kernel.txt 2>&1 && ok || bad "ipykernel install: $(cat kernel.txt)"
 mkdir nb && cp "$SRC/examples/python/orbits.ipynb" nb/
 (cd nb && ../venv/bin/python - orbits.ipynb > nb.txt 2>&1 <<'PYEOF'
@@ -89,8 +90,13 @@ nb = nbformat.read(sys.argv[1], as_version=4)
 nbclient.NotebookClient(nb, timeout=120, kernel_name="python3").execute()
 outs = [[o for o in c.get("outputs", [])] for c in nb.cells if c.cell_type == "code"]
 html = [o["data"]["text/html"] for o in outs[0] if "text/html" in o.get("data", {})]
-assert html and "<b>mote nbody</b>" in html[0], outs[0]
-assert "{1: 1.0" in outs[1][0]["data"]["text/plain"], outs[1]
+assert html and "<b>mote nbody</b>" in html[0] and "<img src='data:image/png" in html[0], outs[0]
+assert any("image/png" in o.get("data", {}) for o in outs[0]), outs[0]
+result = [o for o in outs[1] if o["output_type"] == "execute_result"]
+assert result and "{1: 1.0" in result[0]["data"]["text/plain"], outs[1]
+bars = [o for o in outs[1] if o["output_type"] in ("display_data", "update_display_data")
+        and "<progress value='1.0000'" in o.get("data", {}).get("text/html", "")]
+assert bars, outs[1]  # integrate's progress bar, ended at 100 %
 assert any("image/png" in o.get("data", {}) for o in outs[2]), outs[2]
 print("notebook ok")
 PYEOF

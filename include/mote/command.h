@@ -305,6 +305,11 @@ typedef struct mote_model {
     /* 1: under MPI (make MPI=1) the model shares its work among the ranks; 0: it is not offered
      * when there is more than one rank */
     int mpi;
+    /* `picture FILE.png` (a common command): a picture of the state now, drawn as the model
+     * draws its own pictures (NULL: none; the script refuses the command); picture_help says
+     * what it shows (for `mote help picture`). The notebook's picture of a simulation. */
+    int (*picture)(void *model, const char *png_path, mote_err *err);
+    const char *picture_help;
     /* The model's state as descriptors (statefile.h), for the commands bound to them
      * (mote_cmd.sets): returns the structure the offsets are in and sets the table (NULL: none). */
     void *(*state)(void *model, const struct mote_sf_field **fields, size_t *n);

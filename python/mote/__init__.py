@@ -16,6 +16,7 @@ runs when it does not check. Runs release the GIL.
 """
 import os as _os
 import re as _re
+import sys as _sys
 
 import numpy as _np
 
@@ -49,9 +50,12 @@ def run(script, name="<python>", progress=None, echo=False, **params):
     """Check, then run a script given as text; keyword arguments are its parameters (as
     `mote run SCRIPT NAME=VALUE`). Returns what it printed (also printed when echo is true);
     warnings go to the warnings module. progress(label, fraction) is called during long
-    commands (at most every quarter second). Raises MoteError (nothing runs when the script
-    does not check; its .printed holds what ran before an error while running)."""
-    printed, warnings_text = _mote.run(script, name, _params(params), False, progress)
+    commands (at most every quarter second); True: a bar (a line on stderr outside a
+    notebook); False: none; by default a bar in a notebook only. Raises MoteError (nothing
+    runs when the script does not check; its .printed holds what ran before an error while
+    running)."""
+    printed, warnings_text = _with_progress(
+        lambda bar: _mote.run(script, name, _params(params), False, bar), progress)
     _warn(warnings_text)
     if echo:
         print(printed, end="")
@@ -102,6 +106,79 @@ def _status_dict(line):
     return d
 
 
+# ---- progress: a bar in a notebook, a line on a terminal ----
+
+def _in_notebook():
+    """Inside a Jupyter kernel (IPython's ZMQ shell)? IPython is imported there already."""
+    ipy = _sys.modules.get("IPython")
+    shell = ipy.get_ipython() if ipy is not None and hasattr(ipy, "get_ipython") else None
+    return type(shell).__name__ == "ZMQInteractiveShell"
+
+
+class _Bar:
+    """progress=True (and the default in a notebook): the command's name and the fraction done,
+    drawn in place; `done()` when the command has returned."""
+
+    def __init__(self):
+        self._shown, self._label, self._fraction = False, "", 0.0
+        self._notebook = _in_notebook()
+        if self._notebook:
+            from IPython.display import HTML, display
+            self._HTML, self._display, self._handle = HTML, display, None
+
+    def _html(self, failed=False):
+        import html
+        colour = "#c0392b" if failed else "#2e86c1"
+        return ("<div><progress value='%.4f' max='1' style='width:24em;accent-color:%s'>"
+                "</progress> <code>%s</code> %3.0f%%</div>"
+                % (self._fraction, colour, html.escape(self._label), 100 * self._fraction))
+
+    def __call__(self, label, fraction):
+        self._label, self._fraction = label, fraction
+        if self._notebook:
+            if self._handle is None:
+                self._handle = self._display(self._HTML(self._html()), display_id=True)
+            else:
+                self._handle.update(self._HTML(self._html()))
+        else:
+            _sys.stderr.write("\r%s %3.0f%%" % (label, 100 * fraction))
+            _sys.stderr.flush()
+        self._shown = True
+
+    def done(self, failed=False):
+        if not self._shown:
+            return
+        if not failed:
+            self._fraction = 1.0
+        if self._notebook:
+            self._handle.update(self._HTML(self._html(failed)))
+        else:
+            _sys.stderr.write("\r%s %3.0f%%%s\n" % (self._label, 100 * self._fraction,
+                                                     " (stopped)" if failed else ""))
+            _sys.stderr.flush()
+
+
+def _progress(progress):
+    """What a command reports to: the caller's function; a bar for progress=True, and by
+    default inside a notebook; nothing for progress=False (or None outside a notebook)."""
+    if progress is True or (progress is None and _in_notebook()):
+        return _Bar()
+    return None if progress is None or progress is False else progress
+
+
+def _with_progress(call, progress):
+    bar = _progress(progress)
+    try:
+        out = call(bar)
+    except BaseException:
+        if isinstance(bar, _Bar):
+            bar.done(failed=True)
+        raise
+    if isinstance(bar, _Bar):
+        bar.done()
+    return out
+
+
 class Simulation:
     """One model driven command by command:
 
@@ -121,14 +198,41 @@ class Simulation:
         self._s = _Session(model, name)
         self._spec, self._name = model, name
 
+    def picture(self, path=None):
+        """The model's picture of its state now (the `picture FILE.png` command) as PNG bytes,
+        also kept in `path` when one is given; MoteError for a model without one (charging)
+        or with nothing to draw yet."""
+        import tempfile
+        with tempfile.TemporaryDirectory() as d:
+            tmp = _os.path.join(d, "picture.png")
+            self.command("picture %s" % _quote(tmp), progress=False)
+            with open(tmp, "rb") as f:
+                data = f.read()
+        if path is not None:
+            with open(path, "wb") as f:
+                f.write(data)
+        return data
+
+    def _repr_png_(self):
+        """In a notebook: the picture (None when the model has none, or nothing to draw)."""
+        try:
+            return self.picture()
+        except MoteError:
+            return None
+
     def _repr_html_(self):
-        """In a notebook: the model and its status line as a table."""
+        """In a notebook: the picture (where the model draws one) above the model's status
+        line as a table."""
+        import base64
         import html
         rows = "".join("<tr><th style='text-align:left'>%s</th><td>%s</td></tr>"
                        % (html.escape(str(k)), html.escape(str(v)))
                        for k, v in self.status().items())
-        return ("<table><caption style='text-align:left'><b>mote %s</b></caption>%s</table>"
-                % (html.escape(self.model), rows))
+        png = self._repr_png_()
+        img = ("<img src='data:image/png;base64,%s' style='max-width:48em'/><br/>"
+               % base64.b64encode(png).decode("ascii")) if png else ""
+        return ("%s<table><caption style='text-align:left'><b>mote %s</b></caption>%s</table>"
+                % (img, html.escape(self.model), rows))
 
     # ---- persistence: the exact state file (`save`, `load`) ----
 
@@ -179,8 +283,10 @@ class Simulation:
         return self._s.model
 
     def command(self, text, progress=None, echo=False):
-        """Read, check and run one or more lines; returns what they printed."""
-        printed = self._s.command(text, progress)
+        """Read, check and run one or more lines; returns what they printed. progress: a
+        function(label, fraction) called during long commands, True for a bar (in a notebook,
+        or a line on stderr), False for none; by default a bar in a notebook only."""
+        printed = _with_progress(lambda bar: self._s.command(text, bar), progress)
         if echo:
             print(printed, end="")
         return printed

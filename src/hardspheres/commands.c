@@ -9,6 +9,7 @@
 
 #include "help.inc"
 #include "help_outputs.inc"
+#include "measure.h"
 #include "plot.h"
 
 /* The model as the script layer sees it: the system plus, in a dry (validation) run, what is
@@ -762,6 +763,15 @@ static const mote_cmd hs_commands[] = {
      check_check, run_check},
 };
 
+/* `picture FILE.png`: the picture of `frames`, now. */
+static int model_picture(void *vm, const char *path, mote_err *err)
+{
+    const hs_model *m = vm;
+    if (!m->hs.has_system)
+        return mote_fail(err, MOTE_EINVAL, "no system exists yet");
+    return hs_frame_png(&m->hs, path, err);
+}
+
 const mote_model mote_model_hardspheres = {
     .name = "hard-spheres",
     .summary = "hard spheres (or disks) between two walls or in a periodic box; event-driven",
@@ -781,4 +791,7 @@ const mote_model mote_model_hardspheres = {
     .live = model_live,
     .arrays = model_arrays,
     .set_array = model_set_array,
+    .picture = model_picture,
+    .picture_help = "The picture of `frames`: the box seen along z, each particle a disc of its\n"
+                    "radius coloured by its local order (crystal-like or fluid-like).\n",
 };

@@ -696,6 +696,16 @@ static void model_live(void *vm, mote_buf *b)
     mb_live_frame(&m->sys, &m->p, b);
 }
 
+/* `picture FILE.png`: the picture of `snapshot FILE.png`, now. */
+static int model_picture(void *vm, const char *path, mote_err *err)
+{
+    const mb_model *m = vm;
+    if (!m->sys.placed)
+        return mote_fail(err, MOTE_EINVAL, "no disks are placed yet; set the parameters, then "
+                         "'place'");
+    return mb_snapshot_png(&m->sys, path, err);
+}
+
 const mote_model mote_model_mixingbox = {
     .name = "mixing-box",
     .summary = "2D disks of two colours mixing through a slit in a partition (spec mixing-box)",
@@ -716,4 +726,7 @@ const mote_model mote_model_mixingbox = {
     .state = model_state,
     .params = mb_params,
     .nparams = sizeof mb_params / sizeof mb_params[0],
+    .picture = model_picture,
+    .picture_help = "The picture of `snapshot FILE.png`: the box, the disks in their colours, the\n"
+                    "partition with its slit; the time, mixing fraction and counts in the title.\n",
 };

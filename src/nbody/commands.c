@@ -985,6 +985,9 @@ const mote_model mote_model_nbody = {
     .live = nb_model_live,
     .arrays = nb_model_arrays,
     .set_array = nb_model_set_array,
+    .picture = nb_picture,
+    .picture_help = "The picture of `frames` without a control file: the bodies seen from +z, the\n"
+                    "whole system in view, each with its velocity's arrow (Galactica's screen).\n",
     .program = "galactica",
     .program_main = mote_nb_galactica_main,
     .mpi = 1,

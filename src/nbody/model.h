@@ -142,6 +142,10 @@ int nb_check_approaches(void *vm, const mote_call *c, mote_err *err);
 int nb_run_approaches(void *vm, const mote_call *c, mote_err *err);
 int nb_check_frames(void *vm, const mote_call *c, mote_err *err);
 int nb_run_frames(void *vm, const mote_call *c, mote_err *err);
+/* The frames' default view (no control file): the whole system from +z, body 1's arrow yellow,
+ * the others green; and `picture FILE.png`, drawn with it now. */
+void nb_frame_default(const nb_model *m, nb_galctl *g, nb_frame_opts *f);
+int nb_picture(void *vm, const char *path, mote_err *err);
 int nb_check_snapshot(void *vm, const mote_call *c, mote_err *err);
 int nb_run_snapshot(void *vm, const mote_call *c, mote_err *err);
 /* the stops of monitor, trajectory, frames, snapshot (and, in files.c, checkpoint) */

@@ -713,28 +713,43 @@ int nb_run_frames(void *vm, const mote_call *c, mote_err *err)
         if (rc)
             return rc;
         nb_frame_from_ctl(&m->frames.f, &m->frames.ctl, m->have_galhead ? m->galhead : NULL);
-    } else { /* the whole system in view, seen from +z; body 1's arrow yellow, the others green */
-        nb_galctl *g = &m->frames.ctl;
-        g->ntrio = 1;
-        g->trio[0][0] = 14;
-        g->trio[0][1] = 10;
-        g->trio[0][2] = 1;
-        nb_frame_from_ctl(&m->frames.f, g, m->have_galhead ? m->galhead : NULL);
-        double R = 0;
-        for (uint32_t i = 0; i < m->nb.n; i++)
-            if (m->nb.active[i])
-                for (int k = 0; k < 3; k++)
-                    R = fmax(R, fabs((double)m->nb.x[3 * i + (uint32_t)k]));
-        nb_frame_opts *f = &m->frames.f;
-        f->Xe0 = 512;
-        f->Ye0 = 384;
-        f->aix = f->biy = R > 0 ? 0.45 * 768 / R : 150;
-        f->Rd = 0.08;
-        f->amv = 600 / f->aix; /* the fastest body's arrow 60 pixels long */
-        f->Kl14 = 1;
-        f->np = 1;
+    } else {
+        nb_frame_default(m, &m->frames.ctl, &m->frames.f);
     }
     return nb_frame_now(m, err);
+}
+
+void nb_frame_default(const nb_model *m, nb_galctl *g, nb_frame_opts *f)
+{
+    memset(g, 0, sizeof *g);
+    g->ntrio = 1;
+    g->trio[0][0] = 14;
+    g->trio[0][1] = 10;
+    g->trio[0][2] = 1;
+    nb_frame_from_ctl(f, g, m->have_galhead ? m->galhead : NULL);
+    double R = 0;
+    for (uint32_t i = 0; i < m->nb.n; i++)
+        if (m->nb.active[i])
+            for (int k = 0; k < 3; k++)
+                R = fmax(R, fabs((double)m->nb.x[3 * i + (uint32_t)k]));
+    f->Xe0 = 512;
+    f->Ye0 = 384;
+    f->aix = f->biy = R > 0 ? 0.45 * 768 / R : 150;
+    f->Rd = 0.08;
+    f->amv = 600 / f->aix; /* the fastest body's arrow 60 pixels long */
+    f->Kl14 = 1;
+    f->np = 1;
+}
+
+int nb_picture(void *vm, const char *path, mote_err *err)
+{
+    const nb_model *m = vm;
+    if (!m->nb.n)
+        return mote_fail(err, MOTE_EINVAL, "there are no bodies yet");
+    nb_galctl g;
+    nb_frame_opts f;
+    nb_frame_default(m, &g, &f);
+    return nb_frame_png(&m->nb, &f, path, m->nb.steps, err);
 }
 
 /* ---- snapshot every=K (spec 10.2) ------------------------------------------------------------ */

@@ -152,6 +152,8 @@ static const char *model_addendum(const mote_model *m, const mote_cmd *def)
         return m->seed ? m->seed_help : NULL;
     if (strcmp(def->name, "plot") == 0)
         return m->plot ? m->plot_help : NULL;
+    if (strcmp(def->name, "picture") == 0)
+        return m->picture ? m->picture_help : NULL;
     return NULL;
 }
 

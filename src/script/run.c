@@ -347,6 +347,36 @@ static int plot_run(void *model, const mote_call *c, mote_err *err)
     return rc;
 }
 
+/* `picture FILE.png`: the model's picture of its state now. */
+static int picture_check(void *model, const mote_call *c, mote_err *err)
+{
+    mote_script *s = model;
+    if (!s->model->picture)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL,
+                              "picture: the %s model draws no picture of its state (its files "
+                              "and `plot` do)", s->model->name);
+    const char *t = c->args[0].text;
+    const size_t n = strlen(t);
+    if (n < 5 || strcasecmp(t + n - 4, ".png") != 0)
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "picture: FILE must end in .png, found "
+                              "'%s'", t);
+    return MOTE_OK;
+}
+
+static int picture_run(void *model, const mote_call *c, mote_err *err)
+{
+    mote_script *s = model;
+    int rc = s->model->picture(s->instance, c->args[0].path, err);
+    if (rc && !err->located) { /* (the model's message, at the command) */
+        char msg[sizeof err->msg];
+        snprintf(msg, sizeof msg, "%s", err->msg);
+        rc = mote_call_fail(err, c, -1, err->code, "picture: %s", msg);
+    }
+    if (!rc)
+        fprintf(c->ctx->out, "picture: wrote %s\n", c->args[0].path);
+    return rc;
+}
+
 const mote_cmd mote_script_common_cmds[] = {
     {"model", NULL, "*", "model NAME [VARIANT]", "select the model; must be the first command",
      "Select the model the script drives (`mote help` lists the models of this\n"
@@ -517,6 +547,13 @@ const mote_cmd mote_script_common_cmds[] = {
      "and its results are the same with and without it. `mote run --live[=PORT] SCRIPT`\n"
      "starts it before the first command. See docs/live-view.md.\n",
      NULL, live_run},
+    {"picture", NULL, "f>png", "picture FILE.png", "a picture of the model's state now",
+     "    picture FILE.png\n"
+     "\n"
+     "Draw the state as it is now into FILE.png (written atomically), as the model\n"
+     "draws its own pictures (below). The same picture is what a Python notebook shows\n"
+     "for a simulation (docs/python.md). Prints `picture: wrote FILE`.\n",
+     picture_check, picture_run},
     {"plot", NULL, "f+ to=f>png labels=s x=s y=s",
      "plot DATAFILE... [PNGFILE] [to=PNGFILE] [labels=A,B,...] [x=COLUMN] [y=COLUMN]",
      "draw data files as a PNG: a model's picture, or lines with a legend",

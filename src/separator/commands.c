@@ -833,6 +833,14 @@ static int sep_model_set_array(void *vm, const char *name, const double *v, size
     return MOTE_OK;
 }
 
+/* `picture FILE.png`: the picture of `frames`, now, with its defaults. */
+static int model_picture(void *vm, const char *path, mote_err *err)
+{
+    const sep_model *m = vm;
+    const sep_frame_opts fo = {.px = 900};
+    return sep_frame_png(&m->sys, path, &fo, err);
+}
+
 const mote_model mote_model_separator = {
     .name = "separator",
     .summary = "gravitational separator: particles in a gas upflow, the grade-efficiency curve",
@@ -852,4 +860,8 @@ const mote_model mote_model_separator = {
     .state = sep_state_fields,
     .params = sep_params,
     .nparams = sizeof sep_params / sizeof sep_params[0],
+    .picture = model_picture,
+    .picture_help = "The picture of `frames` with its defaults: the channel seen from the front,\n"
+                    "each particle a disc of its size coloured by its diameter (log scale), the\n"
+                    "plates; the time and the counts fed and classified under the title.\n",
 };

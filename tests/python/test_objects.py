@@ -87,7 +87,7 @@ def test_errors_are_the_commands():
 def test_notebook_html():
     sim = three()
     h = sim._repr_html_()
-    assert h.startswith("<table>") and "<b>mote nbody</b>" in h
+    assert h.startswith("<img src=") and "<table>" in h and "<b>mote nbody</b>" in h
     assert "<th style='text-align:left'>N</th><td>3</td>" in h
     s = mote.Simulation("hard-spheres")
     s.command("new 2 0.3")
