@@ -288,4 +288,20 @@ run fmtch "${CHF}monitor dt=2.5e-5 file=fmt_ch.dat\nevolve time=1e-4\n"
 run fmtch2 "${CHF}monitor dt=2.5e-5 file=fmt_ch.json format=jsonl\nevolve time=1e-4\n"
 jsonl_ok fmt_ch.json fmt_ch.dat "charging: monitor format=jsonl"
 
+# `picture FILE.png`, common to every model that draws its state: the same picture as the
+# model's own (hard spheres' frames, the mixing box's snapshot FILE.png), in the size it has
+png_wh() { /usr/bin/python3 -c 'import sys; d = open(sys.argv[1], "rb").read(24); print(int.from_bytes(d[16:20], "big"), int.from_bytes(d[20:24], "big")) if d[:8] == b"\x89PNG\r\n\x1a\n" else print("not-png")' "$1"; }
+run pichs 'model hard-spheres\nseed 5\nnew 2 0.35\npicture pic_hs.png\nframes every=1 prefix=pf\n'
+cmp -s pic_hs.png pf_000000.png && ok || bad "hard spheres: picture is not the picture of frames"
+run picmb "${MB}picture pic_mb.png\nsnapshot pic_mb2.png\n"
+cmp -s pic_mb.png pic_mb2.png && ok || bad "mixing box: picture is not snapshot FILE.png"
+run picnb 'model nbody\nbody mass=1\nbody mass=1e-3 x=1 vy=1\npicture pic_nb.png\n'
+[ "$(png_wh pic_nb.png)" = "1024 768" ] && ok || bad "nbody: picture $(png_wh pic_nb.png)"
+run picsep "${SEP_DILUTE}run 0.05\npicture pic_sep.png\n"
+[ "$(png_wh pic_sep.png | cut -d" " -f2)" -ge 900 ] && ok || bad "separator: picture $(png_wh pic_sep.png)"
+grep -q "picture: wrote pic_sep.png" picsep.out && ok || bad "separator: picture printed $(tail -1 picsep.out)"
+expect 1 "picch.mote:3:1: error: picture: the charging model draws no picture of its state (its files and \`plot\` do)" picch.mote 'model charging\nbody sphere radius=1\npicture c.png\n'
+expect 1 "picext.mote:3:9: error: picture: FILE must end in .png, found 'p.jpg'" picext.mote 'model hard-spheres\nnew 2 0.3\npicture p.jpg\n'
+expect 2 "picnone.mote:2:1: error: picture: there are no bodies yet" picnone.mote 'model nbody\npicture p.png\n'
+
 mote_test_end
