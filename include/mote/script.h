@@ -112,6 +112,10 @@ int mote_script_run_file(const char *path, const mote_model *const *models, size
 
 /* `mote help`: the common commands and every model's commands, one line each. */
 void mote_help_list(FILE *out, const mote_model *const *models, size_t nmodels);
+/* The commands a script of model m can give (the Python package's generated methods): the
+ * common ones (model, seed, plot, picture, ...), then the model's own; the k-th, NULL past the
+ * end. (`plot` takes the model's plot_opts besides its own arguments.) */
+const mote_cmd *mote_script_command_at(const mote_model *m, size_t k);
 /* `mote help NAME`: the full documentation of a command (found by name or alias in any model)
  * or the command list of a model. Unknown names are reported on diag with a suggestion.
  * Returns an exit status (0 or 1). */

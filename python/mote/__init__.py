@@ -29,9 +29,32 @@ if "GOMP_SPINCOUNT" not in _os.environ and "OMP_WAIT_POLICY" not in _os.environ:
 from ._mote import MoteError, Session as _Session, models as _models, version as __version__
 from . import _mote
 
+
+# Failures that are also Python's own kinds, so that `except MoteError` catches every failure of
+# mote and Python's protocols (iteration, indexing, keyword arguments) still see theirs.
+class MoteIndexError(MoteError, IndexError):
+    """No such item (a body number past the last): a MoteError and an IndexError."""
+
+
+class MoteKeyError(MoteError, KeyError):
+    """No such key (a column a data file lacks): a MoteError and a KeyError."""
+
+    def __str__(self):  # (not KeyError's quoted repr)
+        return str(self.args[0]) if self.args else ""
+
+
+class MoteTypeError(MoteError, TypeError):
+    """Arguments that do not fit (options without what they belong to): a MoteError and a
+    TypeError."""
+
+
+def _os_error(path, what, e):
+    """An OSError as a MoteError naming the file."""
+    return MoteError("%s: cannot %s: %s" % (path, what, e.strerror or e))
+
 __all__ = ["run", "run_file", "check", "Simulation", "NBody", "Particle", "HardSpheres",
            "MixingBox", "Charging", "Separator", "load", "read_data", "DataFile", "MoteError",
-           "models", "__version__"]
+           "MoteIndexError", "MoteKeyError", "MoteTypeError", "models", "__version__"]
 
 
 def models():
@@ -65,8 +88,13 @@ def run(script, name="<python>", progress=None, echo=False, **params):
 def run_file(path, progress=None, echo=False, **params):
     """run() on a script file; its relative file names start from the script's folder, as
     with `mote run`."""
-    with open(path, encoding="utf-8") as f:
-        text = f.read()
+    try:
+        with open(path, encoding="utf-8") as f:
+            text = f.read()
+    except OSError as e:
+        raise _os_error(path, "read the script", e) from None
+    except UnicodeDecodeError as e:
+        raise MoteError("%s: not a script (not UTF-8 text: %s)" % (path, e.reason)) from None
     return run(text, name=path, progress=progress, echo=echo, **params)
 
 
@@ -209,8 +237,11 @@ class Simulation:
             with open(tmp, "rb") as f:
                 data = f.read()
         if path is not None:
-            with open(path, "wb") as f:
-                f.write(data)
+            try:
+                with open(path, "wb") as f:
+                    f.write(data)
+            except OSError as e:
+                raise _os_error(path, "write the picture", e) from None
         return data
 
     def _repr_png_(self):
@@ -259,7 +290,10 @@ class Simulation:
             path = _os.path.join(d, "state")
             with open(path, "wb") as f:
                 f.write(data)
-            self.command("load %s" % _quote(path))
+            try:
+                self.command("load %s" % _quote(path))
+            except MoteError as e:  # (the temporary file's name means nothing to the caller)
+                raise MoteError(str(e).replace(path, "<state bytes>")) from None
 
     def __getstate__(self):
         return {"model": self._spec, "name": self._name, "state": self.state_bytes()}
@@ -281,6 +315,14 @@ class Simulation:
     @property
     def model(self):
         return self._s.model
+
+    @property
+    def cmd(self):
+        """Every command of the model as a method, made from the same tables as `mote help`
+        (mote.commands): `sim.cmd.step(100)`, `sim.cmd.trajectory(every=1, file="t.h5")`;
+        help(sim.cmd.NAME) shows the command's documentation and signature."""
+        from .commands import Commands
+        return Commands(self)
 
     def command(self, text, progress=None, echo=False):
         """Read, check and run one or more lines; returns what they printed. progress: a
@@ -316,7 +358,11 @@ class Simulation:
 
     def set(self, name, values):
         """Replace a state array (shape and values checked by the model)."""
-        self._s.set_array(name, _np.asarray(values, dtype=float))
+        try:
+            a = _np.asarray(values, dtype=float)
+        except (TypeError, ValueError) as e:
+            raise MoteError("set %s: expected numbers (%s)" % (name, e)) from None
+        self._s.set_array(name, a)
 
     def _get(self, name):
         a = self.arrays()
@@ -458,7 +504,7 @@ class DataFile:
         for k, c in enumerate(self.columns):
             if c == name or c.split("[")[0] == name:
                 return self.data[:, k]
-        raise KeyError("%s has no column %s (its columns: %s)"
+        raise MoteKeyError("%s has no column %s (its columns: %s)"
                        % (self.path, name, ", ".join(self.columns)))
 
     def __repr__(self):

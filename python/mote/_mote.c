@@ -475,6 +475,36 @@ static PyObject *py_models(PyObject *self, PyObject *unused)
     return l;
 }
 
+/* commands(model) -> [(name, aliases, args, synopsis, summary, help)]: every command a script
+ * of the model can give, from the tables `mote help` prints (plot's args with the model's own
+ * options); the Python objects' generated methods are made from them */
+static PyObject *py_commands(PyObject *self, PyObject *args)
+{
+    const char *name;
+    if (!PyArg_ParseTuple(args, "s", &name))
+        return NULL;
+    const mote_model *m = NULL;
+    for (size_t i = 0; i < mote_nmodels; i++)
+        if (!strcmp(mote_models[i]->name, name))
+            m = mote_models[i];
+    if (!m)
+        return PyErr_Format(MoteError, "no model named '%s'", name);
+    PyObject *l = PyList_New(0);
+    const mote_cmd *c;
+    for (size_t k = 0; l && (c = mote_script_command_at(m, k)); k++) {
+        const int plot = !strcmp(c->name, "plot") && m->plot_opts;
+        PyObject *spec = plot ? PyUnicode_FromFormat("%s %s", c->args, m->plot_opts)
+                              : PyUnicode_FromString(c->args ? c->args : "");
+        PyObject *t = spec ? Py_BuildValue("(szNzzz)", c->name, c->aliases, spec, c->synopsis,
+                                           c->summary, c->help)
+                           : NULL;
+        if (!t || PyList_Append(l, t))
+            Py_CLEAR(l);
+        Py_XDECREF(t);
+    }
+    return l;
+}
+
 /* main(argv) -> exit status: the mote program (`python -m mote ...`), its output on the
  * process's stdout and stderr (Python's own streams flushed first) */
 static PyObject *py_main(PyObject *self, PyObject *args)
@@ -531,6 +561,9 @@ static PyMethodDef methods[] = {
     {"main", py_main, METH_VARARGS, "main(argv) -> exit status: the mote program"},
     {"run", (PyCFunction)(void (*)(void))py_run, METH_VARARGS | METH_KEYWORDS,
      "run(text, name, params=None, check_only=False, progress=None) -> (printed, warnings)"},
+    {"commands", py_commands, METH_VARARGS,
+     "commands(model) -> [(name, aliases, args, synopsis, summary, help)]: the commands of a "
+     "script of that model"},
     {"models", py_models, METH_NOARGS, "the names of the models of this build"},
     {NULL, NULL, 0, NULL},
 };

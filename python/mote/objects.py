@@ -14,7 +14,7 @@ import math
 
 import numpy as _np
 
-from . import MoteError, Simulation
+from . import MoteError, MoteIndexError, MoteTypeError, Simulation
 
 
 def _num(v):
@@ -128,7 +128,7 @@ class Particles:
             return [Particle(self._sim, k) for k in range(*i.indices(n))]
         k = i + n if i < 0 else i
         if not 0 <= k < n:
-            raise IndexError("body %d: there are %d" % (i, n))
+            raise MoteIndexError("body %d: there are %d" % (i, n))
         return Particle(self._sim, k)
 
     def __iter__(self):
@@ -149,7 +149,7 @@ class NBody(Simulation):
         if integrator is not None:
             self.set_integrator(integrator, **options)
         elif options:
-            raise TypeError("NBody: %s without integrator=" % ", ".join(sorted(options)))
+            raise MoteTypeError("NBody: %s without integrator=" % ", ".join(sorted(options)))
 
     def add(self, m=None, r=None, primary=None, name=None, **elements):
         """`body`: m (mass), and x, y, z, vx, vy, vz, or orbital elements a, e, inc, Omega,

@@ -618,6 +618,14 @@ const mote_cmd *mote_script_plot_def(mote_script *s)
 
 const mote_cmd *mote_script_common_model_cmd(void) { return &mote_script_common_cmds[0]; }
 
+const mote_cmd *mote_script_command_at(const mote_model *m, size_t k)
+{
+    if (k < mote_script_common_ncmds)
+        return &mote_script_common_cmds[k];
+    k -= mote_script_common_ncmds;
+    return m && k < m->ncmds ? &m->cmds[k] : NULL;
+}
+
 /* ---- validation and execution --------------------------------------------------------------- */
 
 static void reset_context(mote_context *ctx)
