@@ -1,5 +1,6 @@
 """The N-body model's exact tests from Python: the 30-body gravity ring against its exact motion,
-and the outer Solar System's energy error, each over time, driven command by command.
+and the outer Solar System's energy error, each over time, with mote.NBody (its generators and
+`check` through sim.cmd, the commands as methods).
 
     python3 ring.py [--quick] [--out DIR]      (writes DIR/errors.png)
 """
@@ -19,11 +20,13 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 def ring_errors(chunks, steps):
     """The ring (Galactica's scheme, dT = 1e-6): its largest relative position error against the
     exact solution after every `steps` steps."""
-    sim = mote.Simulation("nbody gravity")
-    sim.command("generate ring nb=30\nintegrator galactica dt=1e-6")
+    sim = mote.NBody()
+    sim.cmd.generate_ring(nb=30)
+    sim.set_integrator("galactica", dt=1e-6)
     T, err = [], []
     for _ in range(chunks):
-        printed = sim.command("integrate steps=%d\ncheck ring" % steps)
+        sim.step(steps)
+        printed = sim.cmd.check("ring")
         m = re.search(r"check ring: T = (\S+) .*: error (\S+),", printed)
         T.append(float(m.group(1)))
         err.append(float(m.group(2)))
@@ -32,11 +35,12 @@ def ring_errors(chunks, steps):
 
 def solar_errors(data, chunks, years):
     """The outer Solar System (Taylor, order 17): the relative energy error every `years`."""
-    sim = mote.Simulation("nbody gravity")
-    sim.command("generate solar_system data=%s\nintegrator taylor order=17 tol=3e-17" % data)
+    sim = mote.NBody()
+    sim.cmd.generate_solar_system(data=data)
+    sim.set_integrator("taylor", order=17, tol=3e-17)
     T, dE = [], []
     for k in range(1, chunks + 1):
-        sim.command("integrate to=%g unit=year" % (k * years))
+        sim.cmd.integrate(to=k * years, unit="year")
         st = sim.status()
         T.append(k * years)
         dE.append(abs(st["dE"]))

@@ -198,11 +198,13 @@ class NBody(Simulation):
 class HardSpheres(Simulation):
     """The hard-sphere model (`model hard-spheres`) as an object: HardSpheres(N=4000, eta=0.45)
     is `bulk N eta` (a periodic FCC cube, N = 4 n^3), HardSpheres(NN=4, eta=0.3) is `new NN
-    eta` (the slit between two walls, N = (4NN-1)(2NN-1)^2+1); step (`step k`), pressure
-    (`pressure K FILE`, its results as numbers), t, N, eta."""
+    eta` (the slit between two walls, N = (4NN-1)(2NN-1)^2+1), seed= the `seed` before it;
+    step (`step k`), pressure (`pressure K FILE`, its results as numbers), t, N, eta."""
 
-    def __init__(self, N=None, eta=None, NN=None, name="<python>"):
+    def __init__(self, N=None, eta=None, NN=None, seed=None, name="<python>"):
         Simulation.__init__(self, "hard-spheres", name)
+        if seed is not None:  # (before the system: its velocities are drawn)
+            self.command("seed %d" % seed)
         if (N is None) == (NN is None) and (N is not None or eta is not None):
             raise MoteError("HardSpheres: give N= (a periodic box) or NN= (a slit), with eta=")
         if NN is not None:
@@ -232,12 +234,14 @@ class HardSpheres(Simulation):
 
 
 class _TimedModel(Simulation):
-    """A model set up by its own command lines and advanced by `run T` (seconds): the mixing
-    box and the separator share this much."""
+    """A model set up by its own command lines (seed= the `seed` before them) and advanced by
+    `run T` (seconds): the mixing box and the separator share this much."""
     MODEL = None
 
-    def __init__(self, setup=None, name="<python>"):
+    def __init__(self, setup=None, seed=None, name="<python>"):
         Simulation.__init__(self, self.MODEL, name)
+        if seed is not None:  # (before the set-up, which may draw: place, insert)
+            self.command("seed %d" % seed)
         if setup:
             self.command(setup)
 
