@@ -17,6 +17,9 @@ pkg-config --exists assimp 2>/dev/null || need="$need libassimp-dev"
 pkg-config --exists libmicrohttpd 2>/dev/null || need="$need libmicrohttpd-dev"
 # HDF5 (serial): the H5MD trajectories and snapshots (format=h5md)
 pkg-config --exists hdf5 2>/dev/null || need="$need libhdf5-dev"
+# LAPACK (LAPACKE, with OpenBLAS's fast LAPACK): the charging model's boundary-element solve
+pkg-config --exists lapacke 2>/dev/null || need="$need liblapacke-dev"
+dpkg-query -W -f='${Status}' libopenblas-dev 2>/dev/null | grep -q 'ok installed' || need="$need libopenblas-dev"
 # the Python package (make python, make install): Debian's python3 with its headers and NumPy
 [ -f "$(/usr/bin/python3 -c 'import sysconfig; print(sysconfig.get_paths()["include"])' 2>/dev/null)/Python.h" ] ||
     need="$need python3-dev"

@@ -115,8 +115,36 @@ int mote_ch_body_load(mote_ch_body *b, const char *path, const mote_ch_load_opts
 typedef struct {
     double area, centre[3], r_bound, r_eq, capacitance;
     double r_field;        /* the field's radius R_f = C / (4 pi eps0) (spec 6.1) */
+    /* Rigorous bounds on the body's capacitance (capacitance grows with the body: a body
+     * inside another has the smaller): c_max = 4 pi eps0 R_bound, the ball about the centre
+     * that holds it; c_min the larger of 8 eps0 r_in, the disk inscribed in its largest
+     * triangle (Maxwell's 8 eps0 a), and, for closed components, 4 pi eps0 (3V / 4 pi)^(1/3),
+     * the sphere of their volume (Polya and Szego 1951: of all bodies of a volume the sphere
+     * has the least capacitance). */
+    double c_min, c_max;
+    double volume;         /* of the closed components (m^3) */
 } mote_ch_geometry;
 void mote_ch_body_geometry(const mote_ch_body *b, mote_ch_geometry *g);
+
+/* ---- the body's own field in vacuum: boundary elements (bem.c, issue 55) ------------------- */
+
+/* The panels a solve takes at most: its dense matrix is 8 n^2 bytes (16384: 2.1 GB). */
+#define MOTE_CH_BEM_MAX 16384u
+typedef struct {
+    uint32_t n;          /* panels: the body's triangles */
+    double *sigma;       /* each panel's surface charge density at U = 1 V (C/m^2; a sheet's:
+                          * both sides together) */
+    double capacitance;  /* Q / U: the sum of sigma_j A_j (F) */
+} mote_ch_bem;
+/* The conducting body at 1 V: the charge on its panels and its capacitance (bem.c has the
+ * method, its costs and accuracy). threads: the assembly's OpenMP threads. */
+int mote_ch_bem_solve(const mote_ch_body *b, int threads, mote_ch_bem *f, mote_err *err);
+/* The potential (V, per volt on the body) at x, anywhere (a direct sum over the panels). */
+double mote_ch_bem_potential(const mote_ch_body *b, const mote_ch_bem *f, const double x[3]);
+void mote_ch_bem_free(mote_ch_bem *f);
+size_t mote_ch_bem_bytes(uint32_t n);
+/* The integral of dS / |p - y| over the flat triangle t, exactly (Wilton et al. 1984). */
+double mote_ch_triangle_integral(double t[3][3], const double p[3]);
 
 /* ---- tracing and Monte Carlo (spec 5) ------------------------------------------------------- */
 

@@ -298,7 +298,42 @@ void mote_ch_body_geometry(const mote_ch_body *b, mote_ch_geometry *g)
             }
     }
     g->r_eq = sqrt(g->area / (4 * MOTE_CH_PI));
-    g->capacitance = b->capacitance > 0 && !b->sphere ? b->capacitance
-                                                      : 4 * MOTE_CH_PI * MOTE_CH_EPS0 * g->r_eq;
+    g->c_max = 4 * MOTE_CH_PI * MOTE_CH_EPS0 * g->r_bound;
+    if (b->sphere) {
+        g->c_min = g->capacitance = g->c_max;
+        g->r_field = g->r_bound;
+        g->volume = 4 * MOTE_CH_PI / 3 * b->sphere_r * b->sphere_r * b->sphere_r;
+        return;
+    }
+    double vol = 0, r_in = 0;
+    for (uint32_t i = 0; i < b->ntri; i++) {
+        double(*t)[3] = b->v[i];
+        double per = 0;
+        for (int j = 0; j < 3; j++) {
+            const double *p = t[j], *q = t[(j + 1) % 3];
+            per += sqrt((q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) +
+                        (q[2] - p[2]) * (q[2] - p[2]));
+        }
+        if (per > 0)
+            r_in = fmax(r_in, 2 * b->area[i] / per);
+        if (b->closed[i]) { /* (the divergence theorem, about the centre) */
+            double a[3], c[3], d[3];
+            for (int k = 0; k < 3; k++) {
+                a[k] = t[0][k] - g->centre[k];
+                c[k] = t[1][k] - g->centre[k];
+                d[k] = t[2][k] - g->centre[k];
+            }
+            vol += (a[0] * (c[1] * d[2] - c[2] * d[1]) - a[1] * (c[0] * d[2] - c[2] * d[0]) +
+                    a[2] * (c[0] * d[1] - c[1] * d[0])) / 6;
+        }
+    }
+    g->volume = fabs(vol);
+    g->c_min = fmax(8 * MOTE_CH_EPS0 * r_in,
+                    4 * MOTE_CH_PI * MOTE_CH_EPS0 * cbrt(3 * g->volume / (4 * MOTE_CH_PI)));
+    g->c_min = fmin(g->c_min, g->c_max); /* (rounding) */
+    /* auto: the sphere of equal area, held within the bounds (a thin or concave body's area
+     * makes R_eq larger than the ball that holds it) */
+    const double c_eq = 4 * MOTE_CH_PI * MOTE_CH_EPS0 * g->r_eq;
+    g->capacitance = b->capacitance > 0 ? b->capacitance : fmax(g->c_min, fmin(c_eq, g->c_max));
     g->r_field = g->capacitance / (4 * MOTE_CH_PI * MOTE_CH_EPS0);
 }

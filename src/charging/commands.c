@@ -238,7 +238,9 @@ static int body_kind(const mote_call *c)
     return k;
 }
 
-/* `body capacitance value=auto|F` (spec 4.3): the capacitance, F > 0, or 0 for auto */
+/* `body capacitance value=auto|solve|F` (spec 4.3): the capacitance, F > 0, or 0 for auto
+ * and solve (value=r>0{auto|solve}: word 1 auto, 2 solve) */
+enum { CAP_AUTO = 1, CAP_SOLVE = 2 };
 static double capacitance_value(const mote_call *c)
 {
     const mote_arg *a = mote_call_opt(c, "value");
@@ -291,7 +293,7 @@ static int check_body(void *vm, const mote_call *c, mote_err *err)
     if (k == 6) { /* the capacitance of the body there is (spec 4.3) */
         if (!m->have_body)
             return mote_call_fail(err, c, -1, MOTE_EINVAL, "body capacitance: give the body first");
-        if (m->have_sphere && capacitance_value(c) > 0)
+        if (m->have_sphere && mote_call_opt(c, "value")->word != CAP_AUTO)
             return mote_call_fail(err, c, -1, MOTE_EINVAL, "body capacitance: the exact sphere's "
                                   "capacitance is 4 pi eps0 a (its field is exact)");
         return MOTE_OK;
@@ -348,12 +350,53 @@ static int run_body(void *vm, const mote_call *c, mote_err *err)
     /* an integer option, or its default */
 #define OPT_I(key, dflt) ((a = mote_call_opt(c, key)) != NULL ? (int)a->i : (dflt))
     if (strcmp(kind, "capacitance") == 0) {
-        m->body.capacitance = capacitance_value(c);
+        double C = capacitance_value(c);
+        mote_ch_geometry g;
+        mote_ch_body_geometry(&m->body, &g);
+        if (mote_call_opt(c, "value")->word == CAP_SOLVE) {
+            mote_ch_bem f;
+            rc = mote_ch_bem_solve(&m->body, c->ctx->threads, &f, err);
+            if (rc) {
+                char why[sizeof err->msg];
+                snprintf(why, sizeof why, "%s", err->msg);
+                return mote_call_fail(err, c, mote_call_opt_index(c, "value"), (mote_status)rc,
+                                      "body capacitance: %s", why);
+            }
+            C = f.capacitance;
+            mote_ch_bem_free(&f);
+            if (m->log)
+                fprintf(m->log, "body capacitance: solved by boundary elements on %u panels: C "
+                                "= %.10g F = 4 pi eps0 x %.10g m (the equal-area sphere's: %.10g "
+                                "m)\n", m->body.ntri, C, C / (4 * MOTE_CH_PI * MOTE_CH_EPS0),
+                        g.r_eq);
+        }
+        const int vi = mote_call_opt_index(c, "value");
+        const int given = mote_call_opt(c, "value")->word == 0; /* (a solve has its own
+                                                                  * error, O(h^2): bem.c) */
+        if (given && C > g.c_max * (1 + 1e-12))
+            return mote_call_fail(err, c, vi, MOTE_EINVAL,
+                                  "body capacitance: C = %.6g F is above the body's rigorous "
+                                  "bound 4 pi eps0 R_bound = %.6g F (the ball of R_bound = %.6g "
+                                  "m about its centre holds it, and a body inside another has "
+                                  "the smaller capacitance)", C, g.c_max, g.r_bound);
+        const double c_vol = 4 * MOTE_CH_PI * MOTE_CH_EPS0 * cbrt(3 * g.volume / (4 * MOTE_CH_PI));
+        if (given && C < g.c_min * (1 - 1e-12))
+            return mote_call_fail(err, c, vi, MOTE_EINVAL,
+                                  "body capacitance: C = %.6g F is below the body's rigorous "
+                                  "bound %.6g F (%s)", C, g.c_min,
+                                  g.c_min > c_vol * (1 + 1e-12)
+                                      ? "8 eps0 r_in of the disk inscribed in its largest "
+                                        "triangle, which it holds"
+                                      : "the sphere of its volume, which has the least "
+                                        "capacitance of all bodies of that volume");
+        m->body.capacitance = C;
         if (m->log) {
-            mote_ch_geometry g;
             mote_ch_body_geometry(&m->body, &g);
             fprintf(m->log, "body: capacitance %.10g F (%s), field radius R_f %.10g m\n",
-                    g.capacitance, m->body.capacitance > 0 ? "given" : "auto: 4 pi eps0 R_eq",
+                    g.capacitance,
+                    mote_call_opt(c, "value")->word == CAP_SOLVE ? "solved"
+                    : m->body.capacitance > 0                    ? "given"
+                                                 : "auto: 4 pi eps0 R_eq, within the bounds",
                     g.r_field);
         }
         return MOTE_OK;
@@ -417,13 +460,14 @@ static int run_body(void *vm, const mote_call *c, mote_err *err)
         fprintf(m->log, "body: %u triangles, area %.10g m^2, R_eq %.10g m, R_bound %.10g m, "
                         "C %.10g F\n", m->body.sphere ? 0 : m->body.ntri, g.area, g.r_eq,
                 g.r_bound, g.capacitance);
-        if (!m->body.sphere && g.r_field > g.r_bound)
-            fprintf(m->log, "body: warning: the field's radius R_f = %.6g m exceeds R_bound = "
-                            "%.6g m (a thin or concave body: its area makes R_eq large), so the "
-                            "whole body lies inside the field-free sphere of R_f; charged runs "
-                            "then collect as that sphere's field allows and reach the body on "
-                            "straight chords (docs/charging.md); body capacitance value= sets "
-                            "C if it is known\n", g.r_field, g.r_bound);
+        if (!m->body.sphere && m->body.capacitance <= 0 && g.r_eq > g.r_bound)
+            fprintf(m->log, "body: warning: the sphere of equal area (R_eq = %.6g m) is larger "
+                            "than the ball of R_bound = %.6g m that holds the body (a thin or "
+                            "concave body), whose capacitance 4 pi eps0 R_bound = %.6g F bounds "
+                            "the body's: C is that bound, and the whole body lies inside the "
+                            "field-free sphere R_f = R_bound; charged runs reach it on straight "
+                            "chords (docs/charging.md); body capacitance value= sets C if it is "
+                            "known\n", g.r_eq, g.r_bound, g.c_max);
     }
     return MOTE_OK;
 }
@@ -736,6 +780,17 @@ static int dielectric(void *vm, const mote_call *c, mote_err *err)
     if (m->faithful && !mote_call_opt(c, "eps_r"))
         return mote_call_fail(err, c, -1, MOTE_EINVAL, "dielectric: faithful mode has no "
                               "materials: give eps_r=");
+    const double d = mote_call_opt(c, "thickness")->r;
+    if (!m->dry) { /* a layer thin against the body: its capacitance eps A / d holds */
+        mote_ch_geometry g;
+        mote_ch_body_geometry(&m->body, &g);
+        if (!(d <= 0.1 * g.r_bound))
+            return mote_call_fail(err, c, mote_call_opt_index(c, "thickness"), MOTE_EINVAL,
+                                  "dielectric: thickness %g m is not thin against the body "
+                                  "(R_bound %g m): the layer's capacitance eps0 eps_r A / d "
+                                  "holds for a layer much thinner than the body; at most "
+                                  "R_bound / 10 = %g m", d, g.r_bound, 0.1 * g.r_bound);
+    }
     int k = 0;
     while (k < m->ndiel && strcmp(m->diel[k].part, part->text))
         k++;
@@ -743,7 +798,7 @@ static int dielectric(void *vm, const mote_call *c, mote_err *err)
         return mote_call_fail(err, c, -1, MOTE_EINVAL, "dielectric: at most %d dielectric parts",
                               CH_MAX_PATCHES);
     snprintf(m->diel[k].part, sizeof m->diel[k].part, "%s", part->text);
-    m->diel[k].d = mote_call_opt(c, "thickness")->r;
+    m->diel[k].d = d;
     m->diel[k].eps_r = mote_call_opt_r(c, "eps_r", 0);
     m->diel[k].sigma = mote_call_opt_r(c, "sigma", -1); /* (-1: the part's material's) */
     if (k == m->ndiel)
@@ -923,7 +978,7 @@ static const mote_cmd ch_commands[] = {
      "rotate=s strict=e{yes|no}",
      "body load file=FILE [options]", "a mesh file (Assimp's formats, or plain triangles)",
      HELP_BODY, check_body, run_body},
-    {"body capacitance", NULL, "value=r>0{auto}!", "body capacitance value=auto|F",
+    {"body capacitance", NULL, "value=r>0{auto|solve}!", "body capacitance value=auto|solve|F",
      "the body's capacitance (spec 4.3)", HELP_BODY, check_body, run_body},
     {"injector", NULL, "e{sphere|box} radius=r>0{auto|debye|thesis} margin=r>0 margin_m=r>0",
      "injector sphere|box [options]",

@@ -290,6 +290,10 @@ static int box_injector(const mote_ch_body *b, const mote_ch_run_opts *o, double
     const double pad = o->margin_m > 0 ? o->margin_m : o->margin * sqrt(diag);
     if (!(pad > 0))
         return mote_fail(err, MOTE_EINVAL, "run: the box injector needs a margin > 0");
+    if (!(pad <= MOTE_CH_SIZE_MAX))
+        return mote_fail(err, MOTE_EINVAL, "run: the box injector's margin %g m is beyond %g m, "
+                         "where the rays' coordinates no longer trace (Embree works in single "
+                         "precision)", pad, MOTE_CH_SIZE_MAX);
     for (int a = 0; a < 3; a++) {
         blo[a] -= pad;
         bhi[a] += pad;
@@ -820,6 +824,11 @@ static int run_setup(mc_run_state *st, const mote_ch_tracer *t, mote_err *err)
     if (!o->box && !(R > g.r_bound))
         return mote_fail(err, MOTE_EINVAL, "run: the injection radius %.6g m must exceed the "
                          "body's bounding radius %.6g m", R, g.r_bound);
+    if (!o->box && !(R <= MOTE_CH_SIZE_MAX))
+        return mote_fail(err, MOTE_EINVAL, "run: the injection radius %.6g m is beyond %g m, "
+                         "where the rays' coordinates no longer trace (Embree works in single "
+                         "precision; a Debye length that long: give injector sphere radius=)",
+                         R, MOTE_CH_SIZE_MAX);
     const int field = o->field && o->potential != 0;
     const int curved = field && !b->sphere; /* a charged mesh: curved paths (spec 6.3) */
     if (curved && !(o->eta >= 0 && o->eta < 1))

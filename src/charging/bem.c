@@ -1,0 +1,164 @@
+/* bem.c: the body's own electrostatic field in vacuum (issue 55, item 1, its first part): the
+ * charge on a conducting body at the potential U = 1 V solved by the boundary-element method,
+ * and from it the body's capacitance C = Q / U.
+ *
+ * The method: the single-layer potential of a surface charge density sigma that is constant on
+ * each triangle (panel) j,
+ *
+ *     phi(x) = sum_j sigma_j / (4 pi eps0) * integral over T_j of dS / |x - y|,
+ *
+ * set equal to U at each panel's centroid (collocation); a two-sided sheet (an open component)
+ * carries the charge of both its sides in one sigma, as a single layer does. Each integral is
+ * the exact one of a flat triangle (Wilton, Rao, Glisson, Schaubert, Al-Bundak and Butler, IEEE
+ * Trans. Antennas Propag. 32 (1984) 276, eq. 5 for the scalar potential of a uniform triangle):
+ * no quadrature, so the self and near terms are as accurate as the far ones. The n x n system is
+ * solved by LU with partial pivoting (LAPACK's dgesv through LAPACKE; Debian's OpenBLAS where it
+ * is installed). Costs: the matrix n^2 entries (memory 8 n^2 bytes, the assembly O(n^2) on the
+ * model's threads), the solve O(n^3) (2/3 n^3 flops). Accuracy: flat panels on a smooth body
+ * give C with an error O(h^2) in the panel size h (tests/test_bem.c: the sphere); edges and
+ * corners (the cube, a disk's rim) make the charge singular there and the error larger, O(h)
+ * (tests/test_bem.c states each). */
+#include "mote/charging.h"
+
+#include <lapacke.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* integral over the flat triangle t of dS / |p - y| (Wilton et al. 1984) */
+double mote_ch_triangle_integral(double t[3][3], const double p[3])
+{
+    double e1[3], e2[3], n[3];
+    for (int k = 0; k < 3; k++) {
+        e1[k] = t[1][k] - t[0][k];
+        e2[k] = t[2][k] - t[0][k];
+    }
+    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    const double nn = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (!(nn > 0))
+        return 0;
+    for (int k = 0; k < 3; k++)
+        n[k] /= nn;
+    /* the height of p over the plane, and its foot there */
+    const double w = (p[0] - t[0][0]) * n[0] + (p[1] - t[0][1]) * n[1] + (p[2] - t[0][2]) * n[2];
+    const double aw = fabs(w);
+    double sum = 0;
+    for (int i = 0; i < 3; i++) {
+        const double *a = t[i], *b = t[(i + 1) % 3];
+        double s[3], len = 0;
+        for (int k = 0; k < 3; k++) {
+            s[k] = b[k] - a[k];
+            len += s[k] * s[k];
+        }
+        len = sqrt(len);
+        if (!(len > 0))
+            continue;
+        for (int k = 0; k < 3; k++)
+            s[k] /= len;
+        /* u: the edge's outward normal in the plane (s x n, the triangle counter-clockwise
+         * about n) */
+        const double u[3] = {s[1] * n[2] - s[2] * n[1], s[2] * n[0] - s[0] * n[2],
+                             s[0] * n[1] - s[1] * n[0]};
+        double ap[3], bp[3];
+        for (int k = 0; k < 3; k++) {
+            ap[k] = a[k] - p[k];
+            bp[k] = b[k] - p[k];
+        }
+        /* the foot's signed distance to the edge's line (positive inside), and the edge's ends
+         * measured along it from the foot */
+        const double P0 = ap[0] * u[0] + ap[1] * u[1] + ap[2] * u[2];
+        const double lm = ap[0] * s[0] + ap[1] * s[1] + ap[2] * s[2];
+        const double lp = bp[0] * s[0] + bp[1] * s[1] + bp[2] * s[2];
+        const double Rm = sqrt(ap[0] * ap[0] + ap[1] * ap[1] + ap[2] * ap[2]);
+        const double Rp = sqrt(bp[0] * bp[0] + bp[1] * bp[1] + bp[2] * bp[2]);
+        const double R02 = P0 * P0 + w * w;
+        if (fabs(P0) > 1e-14 * len) {
+            /* ln((R+ + l+) / (R- + l-)), written to keep its digits where l < 0 */
+            const double num = lp >= 0 ? Rp + lp : R02 / (Rp - lp);
+            const double den = lm >= 0 ? Rm + lm : R02 / (Rm - lm);
+            if (num > 0 && den > 0)
+                sum += P0 * log(num / den);
+        }
+        if (aw > 0)
+            sum -= aw * (atan(P0 * lp / (R02 + aw * Rp)) - atan(P0 * lm / (R02 + aw * Rm)));
+    }
+    return sum;
+}
+
+/* The centroid of triangle t. */
+static void centroid(double t[3][3], double c[3])
+{
+    for (int k = 0; k < 3; k++)
+        c[k] = (t[0][k] + t[1][k] + t[2][k]) / 3;
+}
+
+size_t mote_ch_bem_bytes(uint32_t n) { return (size_t)n * n * sizeof(double); }
+
+int mote_ch_bem_solve(const mote_ch_body *b, int threads, mote_ch_bem *f, mote_err *err)
+{
+    memset(f, 0, sizeof *f);
+    if (b->sphere)
+        return mote_fail(err, MOTE_EINVAL, "the exact sphere's field is exact already (no panels "
+                         "to solve)");
+    const uint32_t n = b->ntri;
+    if (n == 0)
+        return mote_fail(err, MOTE_EINVAL, "no body to solve");
+    if (n > MOTE_CH_BEM_MAX)
+        return mote_fail(err, MOTE_ENOMEM, "%u panels are more than the field's solve takes "
+                         "(at most %u: its matrix is 8 n^2 bytes, %.3g GB here); coarsen the "
+                         "mesh", n, (unsigned)MOTE_CH_BEM_MAX, 8.0 * n * (double)n / 1e9);
+    double *A = malloc(mote_ch_bem_bytes(n));
+    double *sigma = malloc((size_t)n * sizeof *sigma);
+    lapack_int *piv = malloc((size_t)n * sizeof *piv);
+    if (!A || !sigma || !piv) {
+        free(A);
+        free(sigma);
+        free(piv);
+        return mote_fail(err, MOTE_ENOMEM, "out of memory for the field's matrix of %u panels "
+                         "(%.3g GB)", n, 8.0 * n * (double)n / 1e9);
+    }
+    const double k = 1 / (4 * MOTE_CH_PI * MOTE_CH_EPS0);
+    /* row i: the potential at centroid i of unit charge density on each panel j (A row-major) */
+#pragma omp parallel for schedule(dynamic, 16) num_threads(threads > 0 ? threads : 1)
+    for (uint32_t i = 0; i < n; i++) {
+        double c[3];
+        centroid(b->v[i], c);
+        for (uint32_t j = 0; j < n; j++)
+            A[(size_t)i * n + j] = k * mote_ch_triangle_integral(b->v[j], c);
+    }
+    for (uint32_t i = 0; i < n; i++)
+        sigma[i] = 1; /* U = 1 V everywhere on the conductor */
+    const lapack_int info = LAPACKE_dgesv(LAPACK_ROW_MAJOR, (lapack_int)n, 1, A, (lapack_int)n,
+                                          piv, sigma, 1);
+    free(A);
+    free(piv);
+    if (info != 0) {
+        free(sigma);
+        return mote_fail(err, MOTE_EINVAL, "the field's system of %u panels is singular (LAPACK "
+                         "dgesv: %d): two panels in the same place (coincident conductors)?",
+                         n, (int)info);
+    }
+    double Q = 0;
+    for (uint32_t j = 0; j < n; j++)
+        Q += sigma[j] * b->area[j];
+    f->n = n;
+    f->sigma = sigma;
+    f->capacitance = Q; /* (U = 1 V) */
+    return MOTE_OK;
+}
+
+double mote_ch_bem_potential(const mote_ch_body *b, const mote_ch_bem *f, const double x[3])
+{
+    double phi = 0;
+    for (uint32_t j = 0; j < f->n; j++)
+        phi += f->sigma[j] * mote_ch_triangle_integral(b->v[j], x);
+    return phi / (4 * MOTE_CH_PI * MOTE_CH_EPS0);
+}
+
+void mote_ch_bem_free(mote_ch_bem *f)
+{
+    free(f->sigma);
+    memset(f, 0, sizeof *f);
+}
