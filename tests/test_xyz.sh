@@ -177,11 +177,11 @@ failed=$((failed + ${f:-0}))
 [ "$st" -eq 0 ] && ok || bad "check.py exited with $st"
 
 # bad names and arguments are refused before anything runs
-expect 1 "b1.mote:2:10: error: snapshot: FILE must end in .xyz (extended XYZ), found 'x.png'" \
+expect 1 "b1.mote:2:10: error: snapshot: FILE must end in .xyz (extended XYZ) or .h5 (H5MD), found 'x.png'" \
     b1.mote "new 2 0.3\nsnapshot x.png\n"
 expect 1 "b2.mote:2:6: error: trajectory: every must be >= 1, found 0" b2.mote "new 2 0.3\ndump 0 t.xyz\n"
 expect 1 "b3.mote:1:1: error: snapshot: no system exists yet" b3.mote "snapshot x.xyz\n"
-expect 1 "b4.mote:2:16: error: dump: too many arguments: expected 'trajectory every=K|dt=T file=FILE.xyz' (bare values fill every=, file= in this order, unless given as key=value), found 't.xyz' left over" \
+expect 1 "b4.mote:2:16: error: dump: too many arguments: expected 'trajectory every=K|dt=T file=FILE.xyz|FILE.h5 [format=xyz|h5md]' (bare values fill every=, file= in this order, unless given as key=value), found 't.xyz' left over" \
     b4.mote "new 2 0.3\ndump every=2 3 t.xyz\n"
 expect 1 "b5.mote:2:8: error: dump: too many arguments" b5.mote "new 2 0.3\ndump 2 t.xyz every=3\n"
 

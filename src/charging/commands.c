@@ -781,15 +781,14 @@ static int dielectric(void *vm, const mote_call *c, mote_err *err)
         return mote_call_fail(err, c, -1, MOTE_EINVAL, "dielectric: faithful mode has no "
                               "materials: give eps_r=");
     const double d = mote_call_opt(c, "thickness")->r;
-    if (!m->dry) { /* a layer thin against the body: its capacitance eps A / d holds */
+    if (!m->dry) { /* a layer over the surface, thinner than the body */
         mote_ch_geometry g;
         mote_ch_body_geometry(&m->body, &g);
-        if (!(d <= 0.1 * g.r_bound))
+        if (!(d < g.r_bound))
             return mote_call_fail(err, c, mote_call_opt_index(c, "thickness"), MOTE_EINVAL,
-                                  "dielectric: thickness %g m is not thin against the body "
+                                  "dielectric: thickness %g m is not smaller than the body "
                                   "(R_bound %g m): the layer's capacitance eps0 eps_r A / d "
-                                  "holds for a layer much thinner than the body; at most "
-                                  "R_bound / 10 = %g m", d, g.r_bound, 0.1 * g.r_bound);
+                                  "is that of a layer over the body's surface", d, g.r_bound);
     }
     int k = 0;
     while (k < m->ndiel && strcmp(m->diel[k].part, part->text))
