@@ -12,8 +12,8 @@
  * the exact one of a flat triangle (Wilton, Rao, Glisson, Schaubert, Al-Bundak and Butler, IEEE
  * Trans. Antennas Propag. 32 (1984) 276, eq. 5 for the scalar potential of a uniform triangle):
  * no quadrature, so the self and near terms are as accurate as the far ones. The n x n system is
- * solved by LU with partial pivoting (LAPACK's dgesv through LAPACKE; Debian's OpenBLAS where it
- * is installed). Costs: the matrix n^2 entries (memory 8 n^2 bytes, the assembly O(n^2) on the
+ * solved by LU with partial pivoting (LAPACK's dgetrf and dgetrs through LAPACKE, in place;
+ * Debian's OpenBLAS where it is installed). Costs: the matrix n^2 entries (memory 8 n^2 bytes, the assembly O(n^2) on the
  * model's threads), the solve O(n^3) (2/3 n^3 flops). Accuracy: flat panels on a smooth body
  * give C with an error O(h^2) in the panel size h (tests/test_bem.c: the sphere); edges and
  * corners (the cube, a disk's rim) make the charge singular there and the error larger, O(h)
@@ -130,14 +130,19 @@ int mote_ch_bem_solve(const mote_ch_body *b, int threads, mote_ch_bem *f, mote_e
     }
     for (uint32_t i = 0; i < n; i++)
         sigma[i] = 1; /* U = 1 V everywhere on the conductor */
-    const lapack_int info = LAPACKE_dgesv(LAPACK_ROW_MAJOR, (lapack_int)n, 1, A, (lapack_int)n,
-                                          piv, sigma, 1);
+    /* A row by row is, read column by column, A^T: LAPACK factors that in place (no copy of
+     * the matrix) and solves (A^T)^T sigma = 1 */
+    lapack_int info = LAPACKE_dgetrf(LAPACK_COL_MAJOR, (lapack_int)n, (lapack_int)n, A,
+                                     (lapack_int)n, piv);
+    if (info == 0)
+        info = LAPACKE_dgetrs(LAPACK_COL_MAJOR, 'T', (lapack_int)n, 1, A, (lapack_int)n, piv,
+                              sigma, (lapack_int)n);
     free(A);
     free(piv);
     if (info != 0) {
         free(sigma);
         return mote_fail(err, MOTE_EINVAL, "the field's system of %u panels is singular (LAPACK "
-                         "dgesv: %d): two panels in the same place (coincident conductors)?",
+                         "dgetrf: %d): two panels in the same place (coincident conductors)?",
                          n, (int)info);
     }
     double Q = 0;
