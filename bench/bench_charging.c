@@ -9,6 +9,10 @@
  *   mesh K [N [T]] the icosphere of level K (20 4^K triangles, K = 8: 1.3e6) from R = 3 m
  *   cubes [N [T]]  two cubes of 1 m, 0.5 m apart (a body that is not convex: Embree traces it,
  *                  not the walk of convex bodies) from R = 3 m
+ *   craft FILE K [N [T]]  a spacecraft's mesh file (examples/data/spacecraft.obj: a bus, two
+ *                  panels on yokes, a boom and a dish, 312 triangles) with each triangle cut
+ *                  into 4 K times (K = 3: 2.0e4, K = 5: 3.2e5 triangles), from the default
+ *                  injection sphere, R = 1.05 R_bound (not convex: Embree traces it)
  *   b3 [N [T]]     curved paths (spec 6.3, eta = 0.01): the B1 sphere at U = -10 kV in the
  *                  geo-worst-case plasma (four components, N histories each) from R = 3 m
  *
@@ -208,16 +212,53 @@ int main(int argc, char **argv)
 #endif
 }
 
+/* Each triangle of b cut into 4 at its edges' midpoints (the same surface, 4 times the
+ * triangles). */
+static int refine(mote_ch_body *b, mote_err *err)
+{
+    mote_ch_body r = {0};
+    for (uint32_t i = 0; i < b->ntri; i++) {
+        double m[3][3];
+        for (int j = 0; j < 3; j++)
+            for (int k = 0; k < 3; k++)
+                m[j][k] = 0.5 * (b->v[i][j][k] + b->v[i][(j + 1) % 3][k]);
+        const double *t[4][3] = {{b->v[i][0], m[0], m[2]},
+                                 {m[0], b->v[i][1], m[1]},
+                                 {m[2], m[1], b->v[i][2]},
+                                 {m[0], m[1], m[2]}};
+        for (int q = 0; q < 4; q++)
+            if (ch_add_tri(&r, t[q][0], t[q][1], t[q][2], NULL, b->closed[i], 0, err)) {
+                mote_ch_body_free(&r);
+                return err->code;
+            }
+    }
+    mote_ch_body_free(b);
+    *b = r;
+    return MOTE_OK;
+}
+
 static int run_main(int argc, char **argv)
 {
     const char *w = argc > 1 ? argv[1] : "b1";
-    int mesh = strcmp(w, "mesh") == 0, a = mesh ? 3 : 2;
+    int mesh = strcmp(w, "mesh") == 0, craft = strcmp(w, "craft") == 0;
+    int a = craft ? 4 : mesh ? 3 : 2;
     double n = argc > a ? atof(argv[a]) : 1e7;
     int threads = argc > a + 1 ? atoi(argv[a + 1]) : 1;
     mote_err err = {0};
     mote_ch_body b = {0};
     double R;
-    if (mesh) {
+    if (craft) {
+        mote_ch_load_opts lo = {.format = "auto", .scale = 1, .rot_axis = -1};
+        mote_ch_load_report rep;
+        int rc = argc > 3 ? mote_ch_body_load(&b, argv[2], &lo, &rep, &err) : -1;
+        for (int k = 0; !rc && k < atoi(argv[3]); k++)
+            rc = refine(&b, &err);
+        if (rc) {
+            fprintf(stderr, "bench_charging: %s\n", argc > 3 ? err.msg : "craft FILE K");
+            return 1;
+        }
+        R = 0; /* 1.05 R_bound */
+    } else if (mesh) {
         int level = argc > 2 ? atoi(argv[2]) : 8;
         if (mote_ch_body_icosphere(&b, 1, level, &err)) {
             fprintf(stderr, "bench_charging: %s\n", err.msg);
@@ -240,7 +281,7 @@ static int run_main(int argc, char **argv)
             R = 131.41;
         else {
             fprintf(stderr, "usage: bench_charging [b1|b2near|b2far|b3|cubes [N [THREADS]] | mesh K [N "
-                            "[THREADS]]]\n");
+                            "[THREADS]] | craft FILE K [N [THREADS]]]\n");
             return 2;
         }
     }

@@ -78,6 +78,9 @@ check "bench_charging b1 prints the plain Embree loop's rate beside mote's: $(he
 cb=$("$cbench" b3 2e3 2 2>"$tmp/err")
 check "bench_charging b3 reports curved paths: $(head -c 80 "$tmp/err")" \
     'echo "$cb" | grep -q "^workload=b3 triangles=9800 R_gen=3 histories=8000 threads=2 ranks=1 .* steps_per_history=[0-9.]* lost=0 max_energy_err="'
+cb=$("$cbench" craft examples/data/spacecraft.obj 1 2e4 2>"$tmp/err")
+check "bench_charging craft: the spacecraft, its triangles cut in four, against the plain loop: $(head -c 80 "$tmp/err")" \
+    'echo "$cb" | grep -q "^workload=craft triangles=1248 .* walk=0 plain_per_thread=[0-9.e+]* plain_hit_fraction=0.1[0-9]* mote_over_plain=[0-9.]*$"'
 "$cbench" nosuch >/dev/null 2>"$tmp/err"
 rc=$?
 check "bench_charging: an unknown workload fails (exit $rc)" '[ $rc -ne 0 ] && grep -q "usage: bench_charging" "$tmp/err"'

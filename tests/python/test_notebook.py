@@ -101,3 +101,23 @@ def test_h5md_from_python(tmp_path):
         assert x.shape == (11, 2, 3) and f["particles/all/velocity/value"].shape == (11, 2, 3)
         np.testing.assert_allclose(t, 0.5 * np.arange(11), rtol=0, atol=1e-12)
         np.testing.assert_array_equal(x[-1], sim.positions)
+
+
+def test_h5md_stopped_by_ctrl_c(tmp_path, ctrl_c):
+    """Ctrl-C stops the command at a safe point: the trajectory holds every frame so far, whole,
+    and goes on growing when the simulation runs on."""
+    h5py = pytest.importorskip("h5py")
+    first_report, sent = ctrl_c()
+    sim = mote.HardSpheres(N=500, eta=0.3)
+    path = str(tmp_path / "t.h5")
+    sim.command("trajectory every=1 file=%s format=h5md" % path)
+    with pytest.raises(KeyboardInterrupt):
+        sim.step(1000000, progress=first_report)  # minutes if not stopped
+    with h5py.File(path, "r") as f:
+        n = f["particles/all/position/value"].shape[0]
+        assert sent and n >= 2 and not np.isnan(f["particles/all/position/value"][:]).any()
+    sim.step(2)
+    with h5py.File(path, "r") as f:
+        x = f["particles/all/position/value"]
+        assert x.shape[0] == n + 2 and not np.isnan(x[:]).any()
+        np.testing.assert_array_equal(x[-1], sim.positions)
