@@ -17,9 +17,13 @@ pkg-config --exists assimp 2>/dev/null || need="$need libassimp-dev"
 pkg-config --exists libmicrohttpd 2>/dev/null || need="$need libmicrohttpd-dev"
 # HDF5 (serial): the H5MD trajectories and snapshots (format=h5md)
 pkg-config --exists hdf5 2>/dev/null || need="$need libhdf5-dev"
-# LAPACK (LAPACKE, with OpenBLAS's fast LAPACK): the charging model's boundary-element solve
+# LAPACK (LAPACKE, with OpenBLAS's fast LAPACK): the charging model's boundary-element solve.
+# OpenBLAS's OpenMP build: its threads are made when it first works, by the run's own thread,
+# so they keep the run's blocked signals (the pthread build starts its threads when it is
+# loaded, and one of them would take a Ctrl-C that `mote run` means to stop at a safe point)
 pkg-config --exists lapacke 2>/dev/null || need="$need liblapacke-dev"
-dpkg-query -W -f='${Status}' libopenblas-dev 2>/dev/null | grep -q 'ok installed' || need="$need libopenblas-dev"
+dpkg-query -W -f='${Status}' libopenblas-openmp-dev 2>/dev/null | grep -q 'ok installed' ||
+    need="$need libopenblas-openmp-dev"
 # the Python package (make python, make install): Debian's python3 with its headers and NumPy
 [ -f "$(/usr/bin/python3 -c 'import sysconfig; print(sysconfig.get_paths()["include"])' 2>/dev/null)/Python.h" ] ||
     need="$need python3-dev"

@@ -7,8 +7,9 @@
 # velocities, radii or diameters, species, ids, time, step and box, to the last bit where the
 # other file prints 17 digits. Also: a series of snapshots, a count of particles that grows
 # (the separator's feed: rows past a frame's N are NaN and id -1), the same file byte for byte
-# from the same run, and format= and a file's name must agree. (A command stopped by Ctrl-C
-# keeps whole frames: tests/python/test_notebook.py; failed appends: tests/test_files.c.)
+# from the same run, a run stopped by SIGINT (at a safe point) keeps whole frames, and format=
+# and a file's name must agree. (Python's Ctrl-C: tests/python/test_notebook.py; failed
+# appends: tests/test_files.c.)
 # Usage: sh tests/test_h5md.sh BUILD_DIR
 NAME=test_h5md
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
@@ -185,6 +186,12 @@ elif what == "nbody":
     r = np.linalg.norm(g["particles/all/position/value"][0, 1] - g["particles/all/position/value"][0, 0])
     if not 4.9 < r / 1.495978707e11 < 5.5:
         fail("Jupiter's distance from the Sun: %g au" % (r / 1.495978707e11))
+elif what == "stopped":
+    f = h5py.File("stop.h5", "r")
+    F = layout(f, "hard-spheres", 3, False)
+    p = f["particles/all/position/value"][:]
+    if F < 5 or np.isnan(p).any():
+        fail("the stopped run's trajectory: %d frames, NaN %s" % (F, np.isnan(p).any()))
 elif what == "series":
     for k in range(3):
         f = h5py.File("ser/p_%06d.h5" % k, "r")
@@ -251,6 +258,14 @@ check series
 cp slit.h5 slit.first
 run hs.mote
 cmp -s slit.h5 slit.first && ok || bad "the same run wrote a different slit.h5"
+
+# stopped with SIGINT after a few frames (the monitor's rows say how far it is): mote run stops
+# the command at a safe point, so the frames written so far are there and whole
+printf 'seed 3\nbulk 500 0.30\ntrajectory every=1 file=stop.h5\nmonitor every=1 file=stop.dat\nstep 100000\n' > stop.mote
+sigint_after_rows stop.mote stop.dat.partial 6 stop.out
+[ "$sigint_rc" -eq 130 ] && grep -q "stop.mote:5:1: error: step: interrupted; it stopped at a safe point" stop.out &&
+    grep -q "^mote: stopped by Ctrl-C (SIGINT)" stop.out && ok || bad "the run was not stopped at a safe point by SIGINT ($sigint_rc): $(cat stop.out)"
+check stopped
 
 # format= and the name must agree; a trajectory's name says what it is
 expect 1 "f1.mote:3:25: error: trajectory: format=h5md writes H5MD: name the file FILE.h5 or FILE.h5md" f1.mote 'seed 1\nnew 3 0.40\ntrajectory every=1 file=t.xyz format=h5md\n'

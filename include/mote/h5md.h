@@ -28,10 +28,10 @@
  * The first frame is written atomically (the whole file built in memory, then renamed over
  * PATH by mote_afile: an earlier file is replaced only by a complete one); later frames are
  * appended in place, the file opened and closed around each, so a run that fails (or a command
- * stopped at a safe point: Python's Ctrl-C) keeps every frame written so far, and a frame that
- * fails to write is cut off again; room for it is taken first, so a full disk refuses it before
- * the file is touched. A process killed while it adds a frame can leave the file unreadable:
- * HDF5 keeps no journal of its own records. */
+ * stopped at a safe point: Ctrl-C in `mote run` and in Python) keeps every frame written so
+ * far, and a frame that fails to write is cut off again; room for it is taken first, so a full
+ * disk refuses it before the file is touched. A process killed hard (SIGKILL, a second Ctrl-C)
+ * while it adds a frame can leave the file unreadable: HDF5 keeps no journal of its records. */
 #ifndef MOTE_H5MD_H
 #define MOTE_H5MD_H
 
@@ -48,9 +48,9 @@
     "step and time, the box with its boundary, units where the model has them;\n"                 \
     "chunked and compressed. A trajectory's first frame makes the file atomically,\n"             \
     "later frames are added at its end with the file closed after each: a run that\n"             \
-    "fails, or a Python command stopped by Ctrl-C, keeps every frame so far; the\n"               \
-    "program killed while it adds a frame can leave the file unreadable, as HDF5\n"               \
-    "keeps no journal (docs/file-formats.md, H5MD).\n"
+    "fails or is stopped by Ctrl-C (at a safe point) keeps every frame so far; only a\n"          \
+    "hard kill while it adds a frame can leave the file unreadable, as HDF5 keeps no\n"           \
+    "journal (docs/file-formats.md, H5MD).\n"
 
 #define MOTE_H5MD_SCALARS 4
 

@@ -102,6 +102,8 @@ typedef struct {
     const char *const *params; /* NAME=VALUE after the script's name (mote_script_load_params) */
     int nparams;
     const mote_ranks *ranks; /* under mpirun: the ranks (mote_context.ranks), else NULL */
+    int (*interrupt)(void *arg); /* the context's interrupt hook (mote_context), or NULL */
+    void *interrupt_arg;
 } mote_script_options;
 
 /* Load, validate and (unless check_only) execute a script, printing any error to opt->diag.

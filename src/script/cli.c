@@ -3,9 +3,14 @@
  * with their own registry and streams. */
 #include "script_internal.h"
 
+#include <poll.h>
+#include <pthread.h>
+#include <signal.h>
 #include <stdarg.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/signalfd.h>
 #include <unistd.h>
 
 const char mote_usage_text[] =
@@ -22,7 +27,8 @@ const char mote_usage_text[] =
             "       mote help --bash-completion  the bash completion of mote's commands\n"
             "       mote galactica [--help]      run the Galactica job of this folder (N-body)\n"
             "       mote --version\n"
-            "Exit status: 0 success, 1 usage or script error (nothing ran), 2 runtime error.\n";
+            "Exit status: 0 success, 1 usage or script error (nothing ran), 2 runtime error,\n"
+            "130 stopped by Ctrl-C (128 + the signal: SIGTERM 143, SIGHUP 129).\n";
 
 static void usage(FILE *f) { fputs(mote_usage_text, f); }
 
@@ -36,6 +42,111 @@ __attribute__((format(printf, 2, 3))) static int usage_error(FILE *diag, const c
     fputc('\n', diag);
     usage(diag);
     return 1;
+}
+
+/* ---- Ctrl-C: the run stops at a safe point ------------------------------------------------------
+ *
+ * While `mote run` runs a script, SIGINT, SIGTERM and SIGHUP are blocked in every thread (the
+ * run's threads are made after, and inherit the mask) and read by a watcher thread from a
+ * signalfd. The first one is handed to the run through the context's interrupt hook, which long
+ * commands ask at their progress updates (within about a tenth of a second): the command stops
+ * at a safe point, its outputs end as for a failure (written, or their rows so far left in
+ * FILE.partial, as each output says; an H5MD trajectory keeps every frame whole) and the
+ * program exits with 128 + the signal's number (130 for Ctrl-C), as a shell expects. A second
+ * signal, or a run that has not taken the first within 3 s (a command that never asks), ends
+ * the program at once, as the signal would have without mote. Everything lives in this struct
+ * on main_with's stack. */
+typedef struct {
+    sigset_t set, old;
+    int fd;              /* the signalfd (-1: no guard, the signals act as they would) */
+    int quit[2];         /* the watcher's stop: a byte written when the run is over */
+    pthread_t watcher;
+    atomic_int got;      /* the first signal (0: none yet) */
+    atomic_int taken;    /* the run took it (the interrupt hook said so) */
+} stop_guard;
+
+static int stop_asked(void *arg)
+{
+    stop_guard *g = arg;
+    if (!atomic_load(&g->got))
+        return 0;
+    atomic_store(&g->taken, 1);
+    return 1;
+}
+
+/* The signal's default action, now (the program ends as the signal would end it). */
+static void die_by(int sig)
+{
+    sigset_t one;
+    sigemptyset(&one);
+    sigaddset(&one, sig);
+    signal(sig, SIG_DFL);
+    pthread_sigmask(SIG_UNBLOCK, &one, NULL);
+    raise(sig);
+    _exit(128 + sig); /* (only if the signal did not end it) */
+}
+
+static void *watch(void *arg)
+{
+    stop_guard *g = arg;
+    struct pollfd p[2] = {{g->fd, POLLIN, 0}, {g->quit[0], POLLIN, 0}};
+    for (;;) {
+        const int first = atomic_load(&g->got) != 0;
+        /* after the first: 3 s for the run to take it, then nothing more to wait for */
+        const int r = poll(p, 2, first && !atomic_load(&g->taken) ? 3000 : -1);
+        if (r < 0)
+            continue;
+        if (p[1].revents)
+            return NULL;
+        if (r == 0) /* the run did not take the first signal */
+            die_by(atomic_load(&g->got));
+        if (p[0].revents) {
+            struct signalfd_siginfo si;
+            if (read(g->fd, &si, sizeof si) != (ssize_t)sizeof si)
+                continue;
+            if (first)
+                die_by((int)si.ssi_signo); /* a second signal */
+            atomic_store(&g->got, (int)si.ssi_signo);
+        }
+    }
+}
+
+static void guard_start(stop_guard *g)
+{
+    atomic_init(&g->got, 0);
+    atomic_init(&g->taken, 0);
+    g->fd = -1;
+    sigemptyset(&g->set);
+    sigaddset(&g->set, SIGINT);
+    sigaddset(&g->set, SIGTERM);
+    sigaddset(&g->set, SIGHUP);
+    if (pthread_sigmask(SIG_BLOCK, &g->set, &g->old) != 0)
+        return;
+    g->fd = signalfd(-1, &g->set, SFD_CLOEXEC);
+    if (g->fd >= 0 && pipe(g->quit) == 0) {
+        if (pthread_create(&g->watcher, NULL, watch, g) == 0)
+            return;
+        close(g->quit[0]);
+        close(g->quit[1]);
+    }
+    if (g->fd >= 0)
+        close(g->fd);
+    g->fd = -1;
+    pthread_sigmask(SIG_SETMASK, &g->old, NULL);
+}
+
+/* The watcher stopped, the mask as before; the signal the run stopped for (0: none). */
+static int guard_end(stop_guard *g)
+{
+    if (g->fd < 0)
+        return 0;
+    (void)!write(g->quit[1], "", 1);
+    pthread_join(g->watcher, NULL);
+    close(g->quit[0]);
+    close(g->quit[1]);
+    close(g->fd);
+    pthread_sigmask(SIG_SETMASK, &g->old, NULL);
+    return atomic_load(&g->got);
 }
 
 static int run_or_check_with(int argc, char **argv, const char **params,
@@ -83,7 +194,21 @@ static int run_or_check_with(int argc, char **argv, const char **params,
     }
     opt.params = params;
     opt.nparams = nparams;
-    return mote_script_run_file(script ? script : MOTE_DEFAULT_SCRIPT, models, nmodels, &opt);
+    if (opt.check_only)
+        return mote_script_run_file(script ? script : MOTE_DEFAULT_SCRIPT, models, nmodels, &opt);
+    stop_guard g;
+    guard_start(&g);
+    if (g.fd >= 0) {
+        opt.interrupt = stop_asked;
+        opt.interrupt_arg = &g;
+    }
+    int rc = mote_script_run_file(script ? script : MOTE_DEFAULT_SCRIPT, models, nmodels, &opt);
+    const int sig = guard_end(&g);
+    if (sig) {
+        fprintf(diag, "mote: stopped by %s\n", sig == SIGINT ? "Ctrl-C (SIGINT)" : strsignal(sig));
+        rc = 128 + sig;
+    }
+    return rc;
 }
 
 static int run_or_check(int argc, char **argv, const mote_model *const *models, size_t nmodels,

@@ -796,6 +796,8 @@ int mote_script_run_file(const char *path, const mote_model *const *models, size
     ctx->terminal = opt->terminal;
     ctx->quiet = opt->quiet;
     ctx->ranks = opt->ranks;
+    ctx->interrupt = opt->interrupt;
+    ctx->interrupt_arg = opt->interrupt_arg;
     if (s->ncalls == 0)
         fprintf(opt->diag, "%s: warning: the script has no commands\n", path);
     int status = 0;
