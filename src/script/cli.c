@@ -194,7 +194,9 @@ static int run_or_check_with(int argc, char **argv, const char **params,
     }
     opt.params = params;
     opt.nparams = nparams;
-    if (opt.check_only)
+    /* (under mpirun with several ranks the signals act as they always did: a rank stopped on
+     * its own would leave the others waiting in a collective) */
+    if (opt.check_only || (ranks && ranks->size > 1))
         return mote_script_run_file(script ? script : MOTE_DEFAULT_SCRIPT, models, nmodels, &opt);
     stop_guard g;
     guard_start(&g);
