@@ -1173,6 +1173,11 @@ static void test_ray_edges(void)
               mote_ch_trace(ts, nan3, down, tmin, &side, &d) == -1 &&
               mote_ch_occluded(ts, o1, nan3, tmin, 10) == 0,
           "a ray not finite met the sheet");
+    /* nor does one whose start overflows single precision (to Embree, an infinite one) */
+    const double huge[3] = {0, 0, 1e300};
+    CHECK(mote_ch_trace(ts, huge, down, tmin, &side, &d) == -1 &&
+              mote_ch_occluded(ts, huge, down, tmin, INFINITY) == 0,
+          "a ray from 1e300 m met the sheet");
     mote_ch_tracer_free(tb);
     mote_ch_tracer_free(ts);
     mote_ch_body_free(&box);

@@ -24,7 +24,8 @@ typedef enum {
     MOTE_EIO,      /* a file could not be opened, read or written */
     MOTE_EFORMAT,  /* a file was readable but malformed */
     MOTE_ENOMEM,   /* allocation failed */
-    MOTE_ERUNTIME  /* the simulation itself failed (stall, watchdog, failed check) */
+    MOTE_ERUNTIME, /* the simulation itself failed (stall, watchdog, failed check) */
+    MOTE_EINTR     /* stopped by the user (Ctrl-C) at a safe point: mote_interrupted */
 } mote_status;
 
 typedef struct {
@@ -159,6 +160,11 @@ int mote_rows_start(mote_rows *r, mote_err *err);
 int mote_rows_write(mote_rows *r, mote_err *err);
 /* A run that ended without writing PATH: PATH.partial closed and kept. */
 void mote_rows_keep(mote_rows *r);
+/* The end of a run whose result is rc: PATH whole (also after a failure: every row so far),
+ * PATH.partial kept when that cannot be written; a run stopped by the user (rc MOTE_EINTR)
+ * keeps its rows in PATH.partial and leaves an earlier PATH as it was, as a run killed would.
+ * Returns rc, or the write's error after a run that succeeded. */
+int mote_rows_end(mote_rows *r, int rc, mote_err *err);
 /* Freed (PATH.partial kept); a zeroed mote_rows may be freed. */
 void mote_rows_free(mote_rows *r);
 

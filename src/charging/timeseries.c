@@ -126,12 +126,9 @@ static int series_follow(ch_series *s, mote_err *err)
  * FILE.partial kept when it cannot be written. */
 static int series_end(ch_series *s, int rc, mote_err *err)
 {
-    mote_err werr = {0};
-    int wrc = mote_rows_write(&s->rows, rc ? &werr : err);
-    if (wrc)
-        mote_rows_keep(&s->rows);
+    rc = mote_rows_end(&s->rows, rc, err);
     series_free(s);
-    return rc ? rc : wrc;
+    return rc;
 }
 
 /* The time-series file of evolve (spec 8.1): file= if given, else the monitor's FILE, else

@@ -92,6 +92,12 @@ mote_ch_tracer *mote_ch_tracer_new(const mote_ch_body *b, mote_err *err)
     return t;
 }
 
+/* Does the ray's start fit single precision with room (|x| <= 1e30 m)? */
+static int ray_fits(const double o[3])
+{
+    return fabs(o[0]) <= 1e30 && fabs(o[1]) <= 1e30 && fabs(o[2]) <= 1e30;
+}
+
 /* The exact sphere: the smaller root s > tmin of |org + s dir - c|^2 = r^2 (dir a unit vector). */
 static long trace_sphere(const mote_ch_body *b, const double o[3], const double d[3], double tmin,
                          int *side, double *s)
@@ -133,8 +139,10 @@ long mote_ch_trace_seg(const mote_ch_tracer *t, const double org[3], const doubl
                        double tmin, double tmax, int *side, double *s)
 {
     const mote_ch_body *b = t->body;
-    /* a ray not finite meets nothing (Embree would stop the program on it) */
-    if (!isfinite(org[0] + org[1] + org[2] + dir[0] + dir[1] + dir[2]))
+    /* a ray not finite meets nothing (Embree would stop the program on it), nor one whose
+     * start overflows single precision (to Embree an infinite one; the body lies within
+     * MOTE_CH_SIZE_MAX of the origin) */
+    if (!isfinite(org[0] + org[1] + org[2] + dir[0] + dir[1] + dir[2]) || !ray_fits(org))
         return -1;
     if (b->sphere) {
         const long k = trace_sphere(b, org, dir, tmin, side, s);
@@ -194,7 +202,7 @@ int mote_ch_occluded(const mote_ch_tracer *t, const double org[3], const double 
                      double tmin, double tmax)
 {
     const mote_ch_body *b = t->body;
-    if (!isfinite(org[0] + org[1] + org[2] + dir[0] + dir[1] + dir[2]))
+    if (!isfinite(org[0] + org[1] + org[2] + dir[0] + dir[1] + dir[2]) || !ray_fits(org))
         return 0; /* as mote_ch_trace_seg: a ray not finite meets nothing */
     if (b->sphere) {
         int side;

@@ -499,6 +499,19 @@ void mote_rows_free(mote_rows *r)
     memset(r, 0, sizeof *r);
 }
 
+int mote_rows_end(mote_rows *r, int rc, mote_err *err)
+{
+    if (rc == MOTE_EINTR) {
+        mote_rows_keep(r);
+        return rc;
+    }
+    mote_err werr = {0};
+    const int wrc = mote_rows_write(r, rc ? &werr : err);
+    if (wrc)
+        mote_rows_keep(r); /* (its rows so far stay in PATH.partial) */
+    return rc ? rc : wrc;
+}
+
 /* ---- growing files of frames ------------------------------------------------------------------ */
 
 int mote_frames_first(const char *path, mote_frame_writer frame, const void *arg, mote_err *err)

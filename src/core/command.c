@@ -189,7 +189,7 @@ static void duration_text(char *buf, size_t cap, double seconds)
 
 int mote_interrupted(mote_err *err, const char *command)
 {
-    return mote_fail(err, MOTE_ERUNTIME, "%s: interrupted; it stopped at a safe point, and the "
+    return mote_fail(err, MOTE_EINTR, "%s: interrupted; it stopped at a safe point, and the "
                      "state is consistent (it can be saved or run on)", command);
 }
 

@@ -135,11 +135,7 @@ int hs_monitor_end(mote_hs *hs, int rc, mote_err *err)
 {
     if (!hs->monitor)
         return rc;
-    mote_err werr = {0};
-    const int wrc = mote_rows_write(&hs->monitor->out, rc ? &werr : err);
-    if (wrc)
-        mote_rows_keep(&hs->monitor->out); /* (its rows so far stay in FILE.partial) */
-    return rc ? rc : wrc;
+    return mote_rows_end(&hs->monitor->out, rc, err);
 }
 
 uint64_t mote_hs_monitor_rows(const mote_hs *hs) { return hs->monitor ? hs->monitor->out.rows : 0; }

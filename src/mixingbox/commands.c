@@ -484,15 +484,17 @@ static void apply_physics(mb_model *m)
     s->rule = m->p.rule;
 }
 
-static int write_outputs(mb_model *m, mote_err *err)
+/* The run's files, also after a failure (every sample so far); run_rc: the run's result (a run
+ * stopped by the user keeps the monitor's rows in FILE.partial, mote_rows_end, and writes no
+ * density profile). Returns run_rc, or a write's error after a run that succeeded. */
+static int write_outputs(mb_model *m, int run_rc, mote_err *err)
 {
-    int rc = MOTE_OK;
-    if (m->rec.active)
-        rc = mote_rows_write(&m->rec.out, err);
-    if (rc)
-        mote_rows_keep(&m->rec.out); /* (its rows so far stay in FILE.partial) */
-    if (!rc && m->dens.active)
-        rc = mb_density_write(&m->dens, &m->sys, err);
+    int rc = m->rec.active ? mote_rows_end(&m->rec.out, run_rc, err) : run_rc;
+    if (m->dens.active && run_rc != MOTE_EINTR && (!rc || run_rc)) {
+        mote_err werr = {0};
+        const int wrc = mb_density_write(&m->dens, &m->sys, run_rc ? &werr : err);
+        rc = rc ? rc : wrc;
+    }
     return rc;
 }
 
@@ -528,10 +530,9 @@ static int do_run(mb_model *m, const mote_call *c, double t_end, uint64_t collis
     int rc = mote_mb_run(s, t_end, &loop, err);
     mote_progress_end(&prog);
     /* Rewrite the files in any case: a failing run keeps every sample taken so far. */
-    mote_err werr = {0};
-    int wrc = write_outputs(m, rc ? &werr : err);
-    if (rc || wrc)
-        return rc ? rc : wrc;
+    rc = write_outputs(m, rc, err);
+    if (rc)
+        return rc;
     {
         mote_mb_tally t = mote_mb_counts(s);
         mote_call_result(c, "mixing_fraction", mote_mb_mixing_fraction(&t));

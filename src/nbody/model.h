@@ -126,7 +126,7 @@ int nb_body_elements(nb_model *m, const mote_call *c, mote_real mass, mote_real 
 enum { NB_FORMAT_NATIVE, NB_FORMAT_GALACTICA };
 /* outputs.c: what integrate (run.c) shares with the output commands */
 int nb_sample(nb_model *m, int traj, const mote_nb *nb, mote_err *err);
-int nb_sampler_finish(nb_model *m, nb_sampler *s, int traj, mote_err *err);
+int nb_sampler_finish(nb_model *m, nb_sampler *s, int traj, int rc, mote_err *err);
 int nb_frame_now(nb_model *m, mote_err *err);
 int nb_frame_of(nb_model *m, const mote_nb *nb, mote_err *err);
 int nb_approaches_write(nb_model *m, mote_err *err);

@@ -319,16 +319,14 @@ static int sampler_stream(nb_model *m, nb_sampler *s, int traj, mote_err *err)
     return mote_rows_follow(&s->out, err);
 }
 
-/* The end of a run: the complete file (also after a failure: every sample so far), the partial
- * file then removed; kept when the complete file could not be written. */
-int nb_sampler_finish(nb_model *m, nb_sampler *s, int traj, mote_err *err)
+/* The end of a run whose result is rc: the complete file (also after a failure: every sample
+ * so far), the partial file then removed; kept when the complete file could not be written,
+ * or when the run was stopped by the user (mote_rows_end). */
+int nb_sampler_finish(nb_model *m, nb_sampler *s, int traj, int rc, mote_err *err)
 {
     if (!s->path || s->format == FMT_H5MD) /* (H5MD: every frame is in the file already) */
-        return MOTE_OK;
-    const int rc = mote_rows_write(&s->out, err);
-    if (rc)
-        mote_rows_keep(&s->out);
-    return rc;
+        return rc;
+    return mote_rows_end(&s->out, rc, err);
 }
 
 /* At the command: the first sample into PATH.partial, and into PATH when there is none yet (an

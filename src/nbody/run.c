@@ -287,11 +287,8 @@ int nb_run_integrate(void *vm, const mote_call *c, mote_err *err)
     }
     /* the samples so far, even after a failure */
     nb_sampler *smp[2] = {&m->mon, &m->traj};
-    for (int k = 0; k < 2; k++) {
-        mote_err werr = {0};
-        int wrc = nb_sampler_finish(m, smp[k], k, rc ? &werr : err);
-        rc = rc ? rc : wrc;
-    }
+    for (int k = 0; k < 2; k++)
+        rc = nb_sampler_finish(m, smp[k], k, rc, err);
     return rc;
 }
 
