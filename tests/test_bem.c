@@ -182,6 +182,12 @@ static double series(double d_over_2a)
 static void test_two_spheres(void)
 {
     printf("two equal spheres: the classical series\n");
+    if (getenv("MOTE_SANITIZED")) { /* (2 x 1280 panels take a minute there: the same code
+                                     * as the sphere's, checked for its numbers in the plain
+                                     * pass) */
+        CHECK(fabs(two_spheres(1, 4, 1) / K4 / series(2) - 1) < 0.05, "d = 4a, 2 x 80 panels");
+        return;
+    }
     const double apart = two_spheres(1, 4, 3) / K4, exact = series(2);
     printf("  d = 4a: %.6f against %.6f\n", apart, exact);
     CHECK(fabs(apart / exact - 1) < 0.005, "d = 4a: %g against %g", apart, exact);
