@@ -16,7 +16,8 @@
  *   4 pi eps0 a), within 0.5 % at 2 x 1280 panels (measured 0.27 % and 0.26 %);
  * - a thin disk of radius a (an open sheet, both sides in one density; rings graded towards
  *   the rim): 8 eps0 a within 0.5 % at 1296 panels (measured 0.27 %);
- * - bad input: too many panels refused before any memory is taken; the exact sphere refused. */
+ * - bad input: too many panels refused before any memory is taken; the exact sphere refused;
+ *   two conductors in the same place (a singular system) refused, saying so. */
 #include "mote/charging.h"
 
 #include <math.h>
@@ -247,6 +248,14 @@ static void test_refusals(void)
     CHECK(mote_ch_body_icosphere(&b, 1, 7, &err) == MOTE_OK, "%s", err.msg); /* 327 680 */
     CHECK(mote_ch_bem_solve(&b, 1, &f, &err) == MOTE_ENOMEM, "327 680 panels were taken");
     CHECK_HAS(err.msg, "327680 panels are more than the field's solve takes (at most 16384");
+    mote_ch_body_free(&b);
+    /* two conductors in the same place: their panels' rows are the same, the system singular */
+    memset(&b, 0, sizeof b);
+    CHECK(mote_ch_body_icosphere(&b, 1, 1, &err) == MOTE_OK &&
+              mote_ch_body_icosphere(&b, 1, 1, &err) == MOTE_OK, "%s", err.msg);
+    CHECK(mote_ch_bem_solve(&b, 1, &f, &err) == MOTE_EINVAL, "coincident conductors solved");
+    CHECK_HAS(err.msg, "the field's system of 160 panels is singular");
+    CHECK_HAS(err.msg, "two panels in the same place (coincident conductors)?");
     mote_ch_body_free(&b);
 }
 
