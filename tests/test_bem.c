@@ -96,6 +96,140 @@ static void test_triangle_integral(void)
           mote_ch_triangle_integral(rev, c));
 }
 
+/* the gradient of the triangle's integral against central differences of the integral, and the
+ * value it returns against mote_ch_triangle_integral */
+static void test_triangle_gradient(void)
+{
+    printf("the gradient of the triangle's integral\n");
+    double t[3][3] = {{0, 0, 0}, {1, 0, 0}, {0.3, 0.8, 0}};
+    const double pts[][3] = {{0.4, 0.3, 0.5},  {0.4, 0.3, -0.2}, {2, 1, 0.1},  {-0.5, 0.2, 0.0},
+                             {1.5, 1.5, 0.0},  {0.5, -0.3, 0.05}, {0.4, 0.3, 1e-3}, {3, -2, 4}};
+    for (size_t k = 0; k < sizeof pts / sizeof pts[0]; k++) {
+        double g[3], p[3];
+        const double v = mote_ch_triangle_gradient(t, pts[k], g);
+        CHECK(fabs(v - mote_ch_triangle_integral(t, pts[k])) <= 1e-14 * fabs(v),
+              "point %zu: value %.15g", k, v);
+        for (int a = 0; a < 3; a++) {
+            /* central differences, step 1e-5 of the distance: error about 1e-10 relative */
+            const double h = 1e-5 * fmax(1e-2, fabs(pts[k][2]));
+            memcpy(p, pts[k], sizeof p);
+            p[a] += h;
+            const double up = mote_ch_triangle_integral(t, p);
+            p[a] -= 2 * h;
+            const double dn = mote_ch_triangle_integral(t, p);
+            const double fd = (up - dn) / (2 * h);
+            CHECK(fabs(g[a] - fd) <= 1e-6 * (fabs(g[0]) + fabs(g[1]) + fabs(g[2])),
+                  "point %zu, d/dx%d: %.12g against %.12g by differences", k, a, g[a], fd);
+        }
+    }
+}
+
+/* the direct sum of every panel's exact potential and field (per volt, times 4 pi eps0) */
+static void direct_field(const mote_ch_body *b, const double *sigma, const double x[3],
+                         double *phi, double E[3])
+{
+    *phi = 0;
+    E[0] = E[1] = E[2] = 0;
+    for (uint32_t j = 0; j < b->ntri; j++) {
+        double g[3];
+        *phi += sigma[j] * mote_ch_triangle_gradient(b->v[j], x, g);
+        for (int a = 0; a < 3; a++)
+            E[a] -= sigma[j] * g[a];
+    }
+    *phi /= K4;
+    for (int a = 0; a < 3; a++)
+        E[a] /= K4;
+}
+
+/* The treecode against the direct sum: a sphere with a boom beside it (two conductors at one
+ * potential, 1280 + 1040 panels), at 400 points from 0.02 to 8 radii off the surfaces */
+static void test_tree(void)
+{
+    printf("the field's treecode against the direct sum\n");
+    mote_err err = {0};
+    mote_ch_body b = {0};
+    const double size[3] = {4, 0.2, 0.2}, centre[3] = {3.3, 0, 0};
+    CHECK(mote_ch_body_icosphere(&b, 1, 3, &err) == MOTE_OK &&
+              mote_ch_body_box(&b, size, centre, 5, &err) == MOTE_OK, "%s", err.msg);
+    mote_ch_bem f;
+    CHECK(mote_ch_bem_solve(&b, 2, &f, &err) == MOTE_OK, "%s", err.msg);
+    const double theta[3] = {0.3, 0.4, 0.5};
+    double eph[3] = {0}, eEk[3] = {0};
+    for (int k = 0; k < 3 && f.sigma; k++) {
+        mote_ch_ftree *T = mote_ch_ftree_build(&b, f.sigma, theta[k], &err);
+        CHECK(T != NULL, "%s", err.msg);
+        if (!T)
+            break;
+        double ephi = 0, eE = 0;
+        uint64_t s = 12345;
+        for (int i = 0; i < 400; i++) {
+            double u[3], x[3];
+            for (int a = 0; a < 3; a++) {
+                s = s * 6364136223846793005ull + 1442695040888963407ull;
+                u[a] = (double)(s >> 11) / 9007199254740992.0;
+            }
+            /* about the sphere (i even) or the boom (odd), 0.02 to 8 off its surface */
+            const double d = 0.02 * pow(400, u[0]), z = 2 * u[1] - 1, ph = 2 * MOTE_CH_PI * u[2];
+            const double dir[3] = {sqrt(1 - z * z) * cos(ph), sqrt(1 - z * z) * sin(ph), z};
+            if (i % 2 == 0) {
+                for (int a = 0; a < 3; a++)
+                    x[a] = (1 + d) * dir[a];
+            } else { /* off the boom's side at (u[1]-spread) along it */
+                x[0] = 1.3 + 4 * u[1];
+                x[1] = (0.1 + d) * cos(ph);
+                x[2] = (0.1 + d) * sin(ph);
+            }
+            if (x[0] > 1.3 - 0.02 && x[0] < 5.3 + 0.02 && fabs(x[1]) < 0.12 && fabs(x[2]) < 0.12)
+                continue;
+            double p1, E1[3], p2, E2[3];
+            mote_ch_ftree_eval(T, x, &p1, E1);
+            direct_field(&b, f.sigma, x, &p2, E2);
+            const double dE = sqrt((E1[0] - E2[0]) * (E1[0] - E2[0]) +
+                                   (E1[1] - E2[1]) * (E1[1] - E2[1]) +
+                                   (E1[2] - E2[2]) * (E1[2] - E2[2]));
+            ephi = fmax(ephi, fabs(p1 / p2 - 1));
+            eE = fmax(eE, dE / sqrt(E2[0] * E2[0] + E2[1] * E2[1] + E2[2] * E2[2]));
+        }
+        printf("  theta %.1f: largest relative error phi %.2e, E %.2e (%zu bytes)\n", theta[k],
+               ephi, eE, mote_ch_ftree_bytes(T));
+        eph[k] = ephi;
+        eEk[k] = eE;
+        if (k == 1) { /* the default: what the help promises */
+            CHECK(ephi < 1e-3 && eE < 1e-2, "theta 0.4: phi %.3g, E %.3g", ephi, eE);
+            /* beyond the monopole radius the monopole's field is within 1e-3 (plus the tree's
+             * own error there, 1e-4: its expansions at several times their radius) */
+            const double c0[3] = {0, 0, 0};
+            const double rf = mote_ch_ftree_monopole_radius(T, c0, 1e-3);
+            double worst = 0;
+            for (int i = 0; i < 64; i++) {
+                const double z = -1 + (2 * i + 1) / 64.0, ph = 2.399963 * i;
+                const double x[3] = {rf * sqrt(1 - z * z) * cos(ph), rf * sqrt(1 - z * z) *
+                                     sin(ph), rf * z};
+                double p2, E2[3];
+                direct_field(&b, f.sigma, x, &p2, E2);
+                const double em = f.capacitance / K4 / (rf * rf * rf);
+                double d2 = 0, e2 = 0;
+                for (int a = 0; a < 3; a++) {
+                    d2 += (em * x[a] - E2[a]) * (em * x[a] - E2[a]);
+                    e2 += E2[a] * E2[a];
+                }
+                worst = fmax(worst, sqrt(d2 / e2));
+            }
+            printf("  the monopole from %.4g m (%.3g R_bound): its field within %.2e\n", rf,
+                   rf / 5.3, worst);
+            CHECK(worst < 1.1e-3 && rf < 1e4, "monopole at %g: %.3g", rf, worst);
+        }
+        mote_ch_ftree_free(T);
+    }
+    CHECK(eph[0] < eph[2] && eEk[0] < eEk[2], "the error does not fall with theta: %.3g %.3g, "
+          "%.3g %.3g", eph[0], eph[2], eEk[0], eEk[2]);
+    CHECK(mote_ch_ftree_build(&b, f.sigma, 1.0, &err) == NULL &&
+              strstr(err.msg, "theta must be in (0, 1), found 1") != NULL,
+          "theta 1 taken: %s", err.msg);
+    mote_ch_bem_free(&f);
+    mote_ch_body_free(&b);
+}
+
 static double solve_c(mote_ch_body *b)
 {
     mote_err err = {0};
@@ -265,6 +399,8 @@ int main(void)
     if (!test_tmpdir_make(dir, sizeof dir, "mote_test_bem"))
         return 1;
     test_triangle_integral();
+    test_triangle_gradient();
+    test_tree();
     test_sphere();
     test_cube();
     test_two_spheres();

@@ -168,7 +168,7 @@ printf '%bplasma preset geo-worst-case\nbody sphere radius=1\nrun particles=1000
 printf '%bplasma preset geo-worst-case\nbody sphere radius=1\nfield none\nrun particles=1e4\nrun particles=1e4 potential=-5000\n' "$G" > fn.mote
 "$MOTE" run fn.mote > out.txt 2> err.txt && [ "$(grep '^run: e ' out.txt | sort -u | wc -l)" -eq 1 ] && ok || bad "field none: $(grep '^run: e' out.txt)"
 expect 1 "fn2.mote:5:1: error: float: with field none the currents do not depend on U" fn2.mote "${G}plasma preset geo-worst-case\nbody sphere radius=1\nfield none\nfloat\n"
-expect 1 "fn3.mote:2:7: error: field: expected 'none' or 'sphere', found 'dipole'" fn3.mote "${G}field dipole\n"
+expect 1 "fn3.mote:2:7: error: field: expected 'none', 'sphere' or 'solved', found 'dipole'" fn3.mote "${G}field dipole\n"
 expect 1 "fn4.mote:2:7: error: field sphere: faithful mode has no field" fn4.mote "${F}field sphere\n"
 # relerr (spec 5.3): histories added until every species' relative error is below it, or the
 # limit; the count is whole blocks of 4096
@@ -204,6 +204,18 @@ printf '%bplasma preset single n=1e6 kT=1000\nbody icosphere radius=1 level=3\nb
     grep -q '^body: capacitance 1.10895.* F (solved), field radius R_f 0.99668' out.txt && ok || bad "capacitance: $(grep '^body' out.txt) $(cat err.txt)"
 expect 2 "cpb1.mote:3:24: error: body capacitance: C = 2.2253e-10 F is above the body's rigorous bound 4 pi eps0 R_bound = 1.11265e-10 F (the ball of R_bound = 1 m about its centre holds it" cpb1.mote "${G}body icosphere radius=1 level=3\nbody capacitance value=2.2253e-10\n"
 expect 2 "cpb2.mote:3:24: error: body capacitance: C = 1e-20 F is below the body's rigorous bound 1.10945e-10 F (the sphere of its volume, which has the least capacitance of all bodies of that volume)" cpb2.mote "${G}body icosphere radius=1 level=3\nbody capacitance value=1e-20\n"
+# field solved (issue 55): the body's own field, solved at the first run and kept until the body
+# changes (a triangle added: solved again, 321 panels), its capacitance the body's from then on;
+# theta= only with solved; none in faithful mode; too many panels refused before any work
+printf '%bplasma preset single n=1e6 kT=1000\nbody icosphere radius=1 level=2\nfield solved\nrun particles=2000 potential=1000\nrun particles=2000 potential=-1000\nbody load file=far.obj\nrun particles=1000 potential=1000\n' "$G" > fs.mote
+printf 'v 3 0 0\nv 4 0 0\nv 3 1 0\nf 1 2 3\n' > far.obj
+"$MOTE" run fs.mote > out.txt 2> err.txt && [ "$(grep -c '^field solved: ' out.txt)" -eq 2 ] &&
+    grep -q '^field solved: 320 panels, C = .* F (R_f 0.98' out.txt && grep -q '^field solved: 321 panels, C = ' out.txt &&
+    [ "$(grep -c '^run: curved paths: .* 0 lost' out.txt)" -eq 3 ] && ok || bad "field solved: $(cat out.txt err.txt)"
+expect 1 "fs1.mote:2:20: error: field sphere: theta= is the solved field's (field solved theta=)" fs1.mote "${G}field sphere theta=0.3\n"
+expect 1 "fs2.mote:2:20: error: field: theta must be in (0, 1), found 1" fs2.mote "${G}field solved theta=1\n"
+expect 1 "fs3.mote:2:7: error: field solved: faithful mode has no field (the thesis's scope, spec 1.2); use model charging" fs3.mote "model charging faithful\nfield solved\n"
+expect 2 "fs4.mote:5:1: error: run: the solved field (field solved): 327680 panels are more than the field's solve takes (at most 16384" fs4.mote "${G}plasma preset single n=1e6 kT=1000\nbody icosphere radius=1 level=7\nfield solved\nrun particles=1000 potential=1\n"
 # a sheet (no volume): the disk inscribed in its largest triangle bounds it below
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' > tri.obj
 expect 2 "cpb3.mote:3:24: error: body capacitance: C = 1e-20 F is below the body's rigorous bound 2.07467e-11 F (8 eps0 r_in of the disk inscribed in its largest triangle, which it holds)" cpb3.mote "${G}body load file=tri.obj\nbody capacitance value=1e-20\n"

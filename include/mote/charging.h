@@ -145,6 +145,28 @@ void mote_ch_bem_free(mote_ch_bem *f);
 size_t mote_ch_bem_bytes(uint32_t n);
 /* The integral of dS / |p - y| over the flat triangle t, exactly (Wilton et al. 1984). */
 double mote_ch_triangle_integral(double t[3][3], const double p[3]);
+/* The same integral, returned, and its gradient with respect to p in g (exact). */
+double mote_ch_triangle_gradient(double t[3][3], const double p[3], double g[3]);
+
+/* The potential and field of a boundary-element solution anywhere, by a treecode (ftree.c has
+ * the method, its error and costs): theta (0 < theta < 1) the opening angle, the panels' charge
+ * densities sigma (per volt). The tree refers to b: keep b unchanged while it is used. */
+typedef struct mote_ch_ftree mote_ch_ftree;
+mote_ch_ftree *mote_ch_ftree_build(const mote_ch_body *b, const double *sigma, double theta,
+                                   mote_err *err);
+/* phi (V) and E (V/m) at x, per volt of the solution */
+void mote_ch_ftree_eval(const mote_ch_ftree *T, const double x[3], double *phi, double E[3]);
+/* The whole body's moments (the root's): centre, charge, dipole, quadrupole (xx yy zz xy xz yz,
+ * traceless, per unit of the multipole series q / r + p.r / r^3 + r.Q.r / (2 r^5)), radius. */
+void mote_ch_ftree_moments(const mote_ch_ftree *T, double c[3], double *q, double p[3],
+                           double Q[6], double *r);
+/* The radius about c beyond which the monopole's field is within about tol of the whole
+ * (the dipole's and quadrupole's share below tol there; at least twice the panels' reach). */
+double mote_ch_ftree_monopole_radius(const mote_ch_ftree *T, const double c[3], double tol);
+/* The whole charge (C per volt: the capacitance of a one-conductor solution). */
+double mote_ch_ftree_charge(const mote_ch_ftree *T);
+size_t mote_ch_ftree_bytes(const mote_ch_ftree *T);
+void mote_ch_ftree_free(mote_ch_ftree *T);
 
 /* ---- tracing and Monte Carlo (spec 5) ------------------------------------------------------- */
 
@@ -263,6 +285,10 @@ typedef struct {
     const mote_context *progress_ctx;
     const char *progress_label;
     mote_progress *progress;
+    /* the solved field (`field solved`): the treecode of the body's boundary-element charge
+     * (per volt); a mesh's curved paths then follow it (its capacitance C replaces the body's
+     * for R_f and the injection); NULL: the equivalent sphere's */
+    const mote_ch_ftree *tree;
 } mote_ch_run_opts;
 
 /* OML current (spec 6.4) of one Maxwellian component (n, kT eV, m, Z) to a sphere of area A at

@@ -87,6 +87,11 @@ typedef struct {
     long max_steps;
     double overlap;        /* the chords' overlap (m), for Embree's single precision */
     double lo[3], hi[3];   /* the body's bounding box: rays only for chords that meet it */
+    /* the solved field (`field solved`, ftree.c): NULL for the equivalent sphere's */
+    const mote_ch_ftree *tree;
+    double qu;             /* q U / m: the acceleration is qu E1(x), E1 the field per volt */
+    double rfar;           /* beyond it (from c) the monopole k r / |r|^3 (its error there
+                            * below the tree's); rj is at least rfar */
 } ch_path;
 
 typedef struct {

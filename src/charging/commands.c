@@ -38,6 +38,7 @@ static void model_destroy(void *vm)
     ch_model *m = vm;
     if (!m)
         return;
+    ch_field_drop(m);
     mote_ch_body_free(&m->body);
     mote_ch_result_free(&m->res);
     free(m->prefix);
@@ -401,6 +402,7 @@ static int run_body(void *vm, const mote_call *c, mote_err *err)
         }
         return MOTE_OK;
     }
+    ch_field_drop(m); /* (a new body: its field is solved again when used) */
     if (strcmp(kind, "sphere") == 0)
         rc = mote_ch_body_sphere(&m->body, r, err);
     else if (strcmp(kind, "icosphere") == 0)
@@ -514,11 +516,62 @@ double ch_injection_radius(const ch_model *m, const mote_ch_geometry *g)
 
 static int apply_field(ch_model *m, const mote_call *c, mote_err *err)
 {
-    const char *w = c->args[0].text; /* none|sphere */
-    if (m->faithful && !strcmp(w, "sphere"))
-        return mote_call_fail(err, c, 0, MOTE_EINVAL, "field sphere: faithful mode has no field "
-                              "(the thesis's scope, spec 1.2); use model charging");
+    const char *w = c->args[0].text; /* none|sphere|solved */
+    if (m->faithful && strcmp(w, "none"))
+        return mote_call_fail(err, c, 0, MOTE_EINVAL, "field %s: faithful mode has no field "
+                              "(the thesis's scope, spec 1.2); use model charging", w);
+    if (strcmp(w, "solved") && mote_call_opt(c, "theta"))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "theta"), MOTE_EINVAL,
+                              "field %s: theta= is the solved field's (field solved theta=)", w);
     m->field_off = !strcmp(w, "none");
+    m->field_solved = !strcmp(w, "solved");
+    const double theta = mote_call_opt_r(c, "theta", 0.4);
+    if (theta != m->theta && m->ftree) { /* a new tree for the same solution */
+        mote_ch_ftree_free(m->ftree);
+        m->ftree = NULL;
+    }
+    m->theta = theta;
+    return MOTE_OK;
+}
+
+void ch_field_drop(ch_model *m)
+{
+    mote_ch_ftree_free(m->ftree);
+    m->ftree = NULL;
+    mote_ch_bem_free(&m->fbem);
+}
+
+int ch_field_prepare(ch_model *m, const mote_call *c, mote_err *err)
+{
+    if (!m->field_solved || m->field_off || m->faithful || m->body.sphere)
+        return MOTE_OK;
+    if (m->ftree) { /* (a later `body capacitance` does not replace the solved one) */
+        m->body.capacitance = m->fbem.capacitance;
+        return MOTE_OK;
+    }
+    double t0 = mote_wall_seconds(), t1 = t0;
+    if (!m->fbem.sigma) {
+        int rc = mote_ch_bem_solve(&m->body, c->ctx->threads, &m->fbem, err);
+        if (rc) {
+            char why[sizeof err->msg];
+            snprintf(why, sizeof why, "%s", err->msg);
+            return mote_call_fail(err, c, -1, (mote_status)rc, "%s: the solved field (field "
+                                  "solved): %s", c->name, why);
+        }
+        t1 = mote_wall_seconds();
+    }
+    m->ftree = mote_ch_ftree_build(&m->body, m->fbem.sigma, m->theta, err);
+    if (!m->ftree)
+        return mote_call_fail(err, c, -1, err->code, "%s: %s", c->name, err->msg);
+    m->body.capacitance = m->fbem.capacitance;
+    mote_ch_geometry g;
+    mote_ch_body_geometry(&m->body, &g);
+    if (m->log)
+        fprintf(m->log, "field solved: %u panels, C = %.10g F (R_f %.10g m; the equal-area "
+                        "sphere's R_eq %.10g m); solve %.3g s, %.3g MB; tree theta %g, %.3g s, "
+                        "%.3g MB\n", m->body.ntri, m->fbem.capacitance, g.r_field, g.r_eq,
+                t1 - t0, mote_ch_bem_bytes(m->body.ntri) / 1e6, m->theta,
+                mote_wall_seconds() - t1, mote_ch_ftree_bytes(m->ftree) / 1e6);
     return MOTE_OK;
 }
 static int check_field(void *vm, const mote_call *c, mote_err *err)
@@ -982,7 +1035,8 @@ static const mote_cmd ch_commands[] = {
     {"injector", NULL, "e{sphere|box} radius=r>0{auto|debye|thesis} margin=r>0 margin_m=r>0",
      "injector sphere|box [options]",
      "where histories start", HELP_INJECTOR, check_injector, run_injector},
-    {"field", NULL, "e{none|sphere}", "field none|sphere", "straight paths, or the equivalent sphere's field",
+    {"field", NULL, "e{none|sphere|solved} theta=r(0,1)", "field none|sphere|solved [theta=0.4]",
+     "straight paths, the equivalent sphere's field, or the body's own (solved)",
      HELP_FIELD, check_field, run_field},
     {"bfield", NULL, "B=r>=0!", "bfield B=T", "a magnetic field for the validity warnings only",
      HELP_BFIELD, NULL, run_bfield},

@@ -699,6 +699,7 @@ static int run_component(mc_run_state *st, int s, int k, int comp, mote_err *err
     double eerr = 0;
     x.pk = st->path;
     x.pk.k = sp->Z * MOTE_CH_E * o->potential * st->a_f / sp->m;
+    x.pk.qu = sp->Z * MOTE_CH_E * o->potential / sp->m;
     x.vscale = sqrt(2 * sp->kT[k] * MOTE_CH_E / sp->m); /* K = 1 kT */
     /* secondary emission by electron impacts (spec 6.7): each hit scores the expected yield
      * times the escape fraction; sums per block, added in block order (the same bits on any
@@ -837,10 +838,17 @@ static int run_setup(mc_run_state *st, const mote_ch_tracer *t, mote_err *err)
     /* the field (spec 6.1, 6.2): the equivalent sphere's radius, the potential on the
      * generation sphere */
     st->a_f = b->sphere ? b->sphere_r : g.r_field;
+    if (curved && o->tree) /* the solved field's own capacitance */
+        st->a_f = mote_ch_ftree_charge(o->tree) / (4 * MOTE_CH_PI * MOTE_CH_EPS0);
     if (curved && !(R > st->a_f))
         return mote_fail(err, MOTE_EINVAL, "run: the injection radius %.6g m must exceed the "
                          "field radius R_f = C/(4 pi eps0) = %.6g m", R, st->a_f);
     st->path = path_of(b, t, o, &g, st->a_f, curved);
+    if (curved && o->tree) { /* the monopole beyond where it is as good as the tree */
+        st->path.tree = o->tree;
+        st->path.rfar = mote_ch_ftree_monopole_radius(o->tree, g.centre, 1e-3);
+        st->path.rj = fmax(st->path.rj, st->path.rfar);
+    }
     r->nsp = st->p->nsp;
     r->ntri = st->ntri;
     r->histories = o->particles;

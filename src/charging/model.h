@@ -28,6 +28,10 @@ typedef struct ch_model {
     int box;                    /* the box injector (spec 5.2) */
     double margin, margin_m;
     int field_off;              /* `field none` (spec 6.1): straight paths whatever U */
+    int field_solved;           /* `field solved` (issue 55): the body's own field, solved */
+    double theta;               /* its treecode's opening angle */
+    mote_ch_bem fbem;           /* the solution for the body as it is (sigma NULL: none yet) */
+    mote_ch_ftree *ftree;       /* and its tree */
     double bfield;              /* `bfield B=` (spec 3.4, diagnostics only), T */
     int diagnosed;              /* the warnings of spec 3.4 printed for this plasma and body */
     char *warnings;             /* their text, for the summary files */
@@ -88,6 +92,11 @@ const char *ch_emitted_words(const ch_model *m, int s);
 void ch_report_paths(const ch_model *m, const char *cmd);
 ch_output ch_output_of(ch_model *m, const mote_ch_geometry *g, const mote_ch_run_opts *o,
                        double U);
+
+/* `field solved`: the body's field solved and its tree built when they are not yet (the
+ * capacitance then the solved one); ch_field_drop forgets them (the body changed). */
+int ch_field_prepare(ch_model *m, const mote_call *c, mote_err *err);
+void ch_field_drop(ch_model *m);
 
 /* The relative permittivity of part's material (0: none given). */
 double ch_part_eps(const ch_model *m, const char *part);

@@ -142,6 +142,101 @@ static int conic_to(const ch_path *P, double r[3], double v[3])
     return 0;
 }
 
+/* ---- the solved field (`field solved`): the treecode's field of the body's own charge ---- */
+
+/* The potential (per volt on the body) and the acceleration at c + r: the tree's within rfar,
+ * the monopole's beyond. */
+static double solved_at(const ch_path *P, const double r[3], double a[3])
+{
+    const double r2 = dot3(r, r);
+    if (r2 >= P->rfar * P->rfar) {
+        const double rho = sqrt(r2), f = P->k / (r2 * rho);
+        for (int i = 0; i < 3; i++)
+            a[i] = f * r[i];
+        return P->rf / rho;
+    }
+    const double x[3] = {P->c[0] + r[0], P->c[1] + r[1], P->c[2] + r[2]};
+    double phi, E[3];
+    mote_ch_ftree_eval(P->tree, x, &phi, E);
+    for (int i = 0; i < 3; i++)
+        a[i] = P->qu * E[i];
+    return phi;
+}
+
+static double solved_energy(const ch_path *P, const double r[3], const double v[3])
+{
+    double a[3];
+    return 0.5 * dot3(v, v) + P->qu * solved_at(P, r, a);
+}
+
+/* One RK4 step in the solved field from (r, v), whose acceleration a1 is known. */
+static void solved_rk4(const ch_path *P, const double r[3], const double v[3],
+                       const double a1[3], double dt, double r1[3], double v1[3])
+{
+    double a2[3], a3[3], a4[3], x[3], v2[3], v3[3], v4[3];
+    for (int i = 0; i < 3; i++) {
+        x[i] = r[i] + 0.5 * dt * v[i];
+        v2[i] = v[i] + 0.5 * dt * a1[i];
+    }
+    solved_at(P, x, a2);
+    for (int i = 0; i < 3; i++) {
+        x[i] = r[i] + 0.5 * dt * v2[i];
+        v3[i] = v[i] + 0.5 * dt * a2[i];
+    }
+    solved_at(P, x, a3);
+    for (int i = 0; i < 3; i++) {
+        x[i] = r[i] + dt * v3[i];
+        v4[i] = v[i] + dt * a3[i];
+    }
+    solved_at(P, x, a4);
+    for (int i = 0; i < 3; i++) {
+        r1[i] = r[i] + dt / 6 * (v[i] + 2 * v2[i] + 2 * v3[i] + v4[i]);
+        v1[i] = v[i] + dt / 6 * (a1[i] + 2 * a2[i] + 2 * a3[i] + a4[i]);
+    }
+}
+
+/* A path in the solved field: conics beyond rj (>= rfar), RK4 within, each step's chord traced.
+ * The step: dt = eta min(|r| / |v|, |v| / |a|) (the time to move eta |r|, and to turn the
+ * velocity by eta radians: small steps where the field is strong, near edges and booms),
+ * bounded below as in the sphere's field by the free fall from |r|. The speed at a hit from
+ * the energy: the body is at U (phi1 = 1 there). */
+static void follow_solved(const ch_path *P, double r[3], double v[3], ch_hit *out)
+{
+    double a0[3];
+    const double qphi = P->qu * solved_at(P, r, a0), e0 = 0.5 * dot3(v, v) + qphi;
+    const double scale = 0.5 * dot3(v, v) + fabs(qphi); /* (K_0 + |q phi_0|) / m */
+    const double R2 = P->R * P->R;
+    double x[3];
+    for (long n = 0; n < P->max_steps; n++) {
+        out->steps = n + 1;
+        double a[3], r1[3], v1[3];
+        solved_at(P, r, a);
+        const double rho = sqrt(dot3(r, r)), sp = sqrt(dot3(v, v)), am = sqrt(dot3(a, a));
+        double dt = P->eta * rho / fmax(sp, sqrt(fabs(P->k) / rho));
+        if (am > 0 && sp > 0)
+            dt = fmin(dt, P->eta * sp / am);
+        solved_rk4(P, r, v, a, dt, r1, v1);
+        const long tri = chord(P, r, r1, &out->side, x, out->dir);
+        if (tri >= 0) {
+            out->tri = tri;
+            out->v2 = fmax(0, 2 * (e0 - P->qu));
+            out->eerr = scale > 0 ? fabs(solved_energy(P, r, v) - e0) / scale : 0;
+            return;
+        }
+        for (int i = 0; i < 3; i++) {
+            r[i] = r1[i];
+            v[i] = v1[i];
+        }
+        const double rr2 = dot3(r, r);
+        if ((rr2 > R2 || rr2 > P->rj * P->rj) && dot3(r, v) > 0) {
+            out->eerr = scale > 0 ? fabs(solved_energy(P, r, v) - e0) / scale : 0;
+            return;
+        }
+    }
+    out->tri = -2;
+    out->eerr = scale > 0 ? fabs(solved_energy(P, r, v) - e0) / scale : 0;
+}
+
 void ch_path_follow(const ch_path *P, const double r_in[3], const double v_in[3], ch_hit *out)
 {
     double r[3] = {r_in[0], r_in[1], r_in[2]}, v[3] = {v_in[0], v_in[1], v_in[2]};
@@ -154,6 +249,10 @@ void ch_path_follow(const ch_path *P, const double r_in[3], const double v_in[3]
     out->eerr = 0;
     if (P->rj > 0 && dot3(r, r) > P->rj * P->rj && dot3(r, v) < 0 && conic_to(P, r, v))
         return; /* passes the body by */
+    if (P->tree) {
+        follow_solved(P, r, v, out);
+        return;
+    }
     double x[3];
     for (long n = 0; n < P->max_steps; n++) {
         out->steps = n + 1;

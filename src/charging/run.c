@@ -35,7 +35,8 @@ mote_ch_run_opts ch_run_opts(const ch_model *m, const mote_call *c, const mote_c
                           .eta = m->eta,
                           .max_steps = m->max_steps,
                           .progress_ctx = c->ctx,
-                          .progress_label = c->name};
+                          .progress_label = c->name,
+                          .tree = m->field_off ? NULL : m->ftree};
     return o;
 }
 
@@ -152,6 +153,8 @@ int ch_check_run(void *vm, const mote_call *c, mote_err *err)
 int ch_run_run(void *vm, const mote_call *c, mote_err *err)
 {
     ch_model *m = vm;
+    if (ch_field_prepare(m, c, err))
+        return err->code;
     mote_ch_geometry g;
     mote_ch_body_geometry(&m->body, &g);
     if (ch_build_tri_materials(m, err))
@@ -321,6 +324,8 @@ static int float_roots(ch_model *m, const mote_ch_tracer *t, const mote_ch_run_o
 int ch_run_float(void *vm, const mote_call *c, mote_err *err)
 {
     ch_model *m = vm;
+    if (ch_field_prepare(m, c, err))
+        return err->code;
     mote_ch_geometry g;
     mote_ch_body_geometry(&m->body, &g);
     if (ch_build_tri_materials(m, err))

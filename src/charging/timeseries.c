@@ -669,6 +669,8 @@ static int faithful_row(void *vx, void *subject, mote_err *err)
 int ch_run_evolve(void *vm, const mote_call *c, mote_err *err)
 {
     ch_model *m = vm;
+    if (ch_field_prepare(m, c, err))
+        return err->code;
     if (m->ndiel > 0) {
         if (!m->faithful)
             ch_diagnose(m, "evolve");
