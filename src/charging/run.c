@@ -36,7 +36,7 @@ mote_ch_run_opts ch_run_opts(const ch_model *m, const mote_call *c, const mote_c
                           .max_steps = m->max_steps,
                           .progress_ctx = c->ctx,
                           .progress_label = c->name,
-                          .tree = m->field_off ? NULL : m->ftree};
+                          .tree = m->field_solved && !m->field_off ? m->ftree : NULL};
     return o;
 }
 
