@@ -13,6 +13,10 @@
  *                  panels on yokes, a boom and a dish, 312 triangles) with each triangle cut
  *                  into 4 K times (K = 3: 2.0e4, K = 5: 3.2e5 triangles), from the default
  *                  injection sphere, R = 1.05 R_bound (not convex: Embree traces it)
+ *   field FILE K [T]  the solved field (issue 55) of a mesh file refined K times as craft:
+ *                  the boundary-element solve's time and matrix memory, the treecode's build
+ *                  time and memory, and its evaluation time (theta 0.4) at 1e5 points on
+ *                  spheres of 1.02 to 2 R_bound about the centre; T threads for the solve
  *   b3 [N [T]]     curved paths (spec 6.3, eta = 0.01): the B1 sphere at U = -10 kV in the
  *                  geo-worst-case plasma (four components, N histories each) from R = 3 m
  *
@@ -237,10 +241,60 @@ static int refine(mote_ch_body *b, mote_err *err)
     return MOTE_OK;
 }
 
+/* `field FILE K [T]`: the solved field's set-up and evaluation costs (one line). */
+static int bench_field(mote_ch_body *b, int threads)
+{
+    mote_err err = {0};
+    mote_ch_geometry g;
+    mote_ch_body_geometry(b, &g);
+    mote_ch_bem f;
+    double t0 = mote_wall_seconds();
+    if (mote_ch_bem_solve(b, threads, &f, &err)) {
+        fprintf(stderr, "bench_charging: %s\n", err.msg);
+        return 1;
+    }
+    const double t1 = mote_wall_seconds();
+    mote_ch_ftree *T = mote_ch_ftree_build(b, f.sigma, 0.4, &err);
+    const double t2 = mote_wall_seconds();
+    if (!T) {
+        fprintf(stderr, "bench_charging: %s\n", err.msg);
+        mote_ch_bem_free(&f);
+        return 1;
+    }
+    const int N = 100000;
+    double acc = 0;
+    uint64_t s = 1;
+    const double t3 = mote_wall_seconds();
+    for (int i = 0; i < N; i++) {
+        double u[3];
+        for (int k = 0; k < 3; k++) {
+            s = s * 6364136223846793005ull + 1442695040888963407ull;
+            u[k] = (double)(s >> 11) / 9007199254740992.0;
+        }
+        const double z = 2 * u[0] - 1, ph = 2 * MOTE_CH_PI * u[1];
+        const double r = g.r_bound * (1.02 + 0.98 * u[2]);
+        const double x[3] = {g.centre[0] + r * sqrt(1 - z * z) * cos(ph),
+                             g.centre[1] + r * sqrt(1 - z * z) * sin(ph), g.centre[2] + r * z};
+        double phi, E[3];
+        mote_ch_ftree_eval(T, x, &phi, E);
+        acc += phi;
+    }
+    const double t4 = mote_wall_seconds();
+    printf("bench=field panels=%u threads=%d solve_s=%.4g matrix_bytes=%zu tree_s=%.4g "
+           "tree_bytes=%zu eval_us=%.4g capacitance_F=%.10g mean_phi=%.6g peak_rss_bytes=%zu\n",
+           b->ntri, threads, t1 - t0, mote_ch_bem_bytes(b->ntri), t2 - t1,
+           mote_ch_ftree_bytes(T), (t4 - t3) / N * 1e6, f.capacitance, acc / N,
+           mote_peak_rss_bytes());
+    mote_ch_ftree_free(T);
+    mote_ch_bem_free(&f);
+    return 0;
+}
+
 static int run_main(int argc, char **argv)
 {
     const char *w = argc > 1 ? argv[1] : "b1";
-    int mesh = strcmp(w, "mesh") == 0, craft = strcmp(w, "craft") == 0;
+    int mesh = strcmp(w, "mesh") == 0, field = strcmp(w, "field") == 0;
+    int craft = field || strcmp(w, "craft") == 0;
     int a = craft ? 4 : mesh ? 3 : 2;
     double n = argc > a ? atof(argv[a]) : 1e7;
     int threads = argc > a + 1 ? atoi(argv[a + 1]) : 1;
@@ -258,6 +312,11 @@ static int run_main(int argc, char **argv)
             return 1;
         }
         R = 0; /* 1.05 R_bound */
+        if (field) {
+            const int rc2 = bench_field(&b, argc > 4 ? atoi(argv[4]) : 1);
+            mote_ch_body_free(&b);
+            return rc2;
+        }
     } else if (mesh) {
         int level = argc > 2 ? atoi(argv[2]) : 8;
         if (mote_ch_body_icosphere(&b, 1, level, &err)) {
@@ -281,7 +340,7 @@ static int run_main(int argc, char **argv)
             R = 131.41;
         else {
             fprintf(stderr, "usage: bench_charging [b1|b2near|b2far|b3|cubes [N [THREADS]] | mesh K [N "
-                            "[THREADS]] | craft FILE K [N [THREADS]]]\n");
+                            "[THREADS]] | craft FILE K [N [THREADS]] | field FILE K [THREADS]]\n");
             return 2;
         }
     }

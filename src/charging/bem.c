@@ -25,10 +25,15 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* integral over the flat triangle t of dS / |p - y| (Wilton et al. 1984) */
-double mote_ch_triangle_integral(double t[3][3], const double p[3])
+/* The integral of dS / |p - y| over the flat triangle t, exactly (Wilton et al. 1984, eq. 5: the
+ * sum over the edges of P0 times the edge's integral of 1/R, less |w| times the solid angle the
+ * triangle subtends at p, w the height of p over its plane), and its exact gradient with
+ * respect to p in g: in the plane, minus the sum of the edges' outward normals times their
+ * integrals of 1/R (the divergence theorem); across it, minus the signed solid angle. */
+double mote_ch_triangle_gradient(double t[3][3], const double p[3], double g[3])
 {
     double e1[3], e2[3], n[3];
+    g[0] = g[1] = g[2] = 0;
     for (int k = 0; k < 3; k++) {
         e1[k] = t[1][k] - t[0][k];
         e2[k] = t[2][k] - t[0][k];
@@ -41,10 +46,9 @@ double mote_ch_triangle_integral(double t[3][3], const double p[3])
         return 0;
     for (int k = 0; k < 3; k++)
         n[k] /= nn;
-    /* the height of p over the plane, and its foot there */
     const double w = (p[0] - t[0][0]) * n[0] + (p[1] - t[0][1]) * n[1] + (p[2] - t[0][2]) * n[2];
     const double aw = fabs(w);
-    double sum = 0;
+    double sum = 0, omega = 0;
     for (int i = 0; i < 3; i++) {
         const double *a = t[i], *b = t[(i + 1) % 3];
         double s[3], len = 0;
@@ -57,8 +61,6 @@ double mote_ch_triangle_integral(double t[3][3], const double p[3])
             continue;
         for (int k = 0; k < 3; k++)
             s[k] /= len;
-        /* u: the edge's outward normal in the plane (s x n, the triangle counter-clockwise
-         * about n) */
         const double u[3] = {s[1] * n[2] - s[2] * n[1], s[2] * n[0] - s[0] * n[2],
                              s[0] * n[1] - s[1] * n[0]};
         double ap[3], bp[3];
@@ -66,25 +68,33 @@ double mote_ch_triangle_integral(double t[3][3], const double p[3])
             ap[k] = a[k] - p[k];
             bp[k] = b[k] - p[k];
         }
-        /* the foot's signed distance to the edge's line (positive inside), and the edge's ends
-         * measured along it from the foot */
         const double P0 = ap[0] * u[0] + ap[1] * u[1] + ap[2] * u[2];
         const double lm = ap[0] * s[0] + ap[1] * s[1] + ap[2] * s[2];
         const double lp = bp[0] * s[0] + bp[1] * s[1] + bp[2] * s[2];
         const double Rm = sqrt(ap[0] * ap[0] + ap[1] * ap[1] + ap[2] * ap[2]);
         const double Rp = sqrt(bp[0] * bp[0] + bp[1] * bp[1] + bp[2] * bp[2]);
         const double R02 = P0 * P0 + w * w;
-        if (fabs(P0) > 1e-14 * len) {
-            /* ln((R+ + l+) / (R- + l-)), written to keep its digits where l < 0 */
-            const double num = lp >= 0 ? Rp + lp : R02 / (Rp - lp);
-            const double den = lm >= 0 ? Rm + lm : R02 / (Rm - lm);
-            if (num > 0 && den > 0)
-                sum += P0 * log(num / den);
-        }
+        /* the edge's integral of 1/R, ln((R+ + l+) / (R- + l-)), its digits kept where l < 0 */
+        const double num = lp >= 0 ? Rp + lp : R02 / (Rp - lp);
+        const double den = lm >= 0 ? Rm + lm : R02 / (Rm - lm);
+        const double f = num > 0 && den > 0 ? log(num / den) : 0; /* (0: p on the edge) */
+        sum += P0 * f;
+        for (int k = 0; k < 3; k++)
+            g[k] -= u[k] * f;
         if (aw > 0)
-            sum -= aw * (atan(P0 * lp / (R02 + aw * Rp)) - atan(P0 * lm / (R02 + aw * Rm)));
+            omega += atan(P0 * lp / (R02 + aw * Rp)) - atan(P0 * lm / (R02 + aw * Rm));
     }
-    return sum;
+    const double sg = w > 0 ? 1 : w < 0 ? -1 : 0;
+    for (int k = 0; k < 3; k++)
+        g[k] -= sg * omega * n[k];
+    return sum - aw * omega;
+}
+
+/* The integral alone (the boundary elements' matrix). */
+double mote_ch_triangle_integral(double t[3][3], const double p[3])
+{
+    double g[3];
+    return mote_ch_triangle_gradient(t, p, g);
 }
 
 /* The centroid of triangle t. */
