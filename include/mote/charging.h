@@ -198,7 +198,7 @@ typedef struct {
     double see_dmax, see_emax;  /* the electron yield curve: its peak and where (keV) */
     double photo_j;             /* photoemission current density at normal incidence, A/m^2 */
     double kT_s;                /* secondaries' temperature, eV */
-    int see_law;                /* 0 universal, 1 Sternglass */
+    int see_law;                /* 0 universal, 1 Sternglass, 2 NASCAP's range law */
     int see_angle;              /* 0 none, 1 sec (the universal law's angular form) */
     double ion_dmax, ion_emax;  /* the ion-impact yield (0: none), keV */
     double kT_ph;               /* photoelectrons' temperature, eV */
@@ -209,6 +209,10 @@ typedef struct {
     double sigma;               /* bulk conductivity, S/m (the library's dielectrics; 0: none
                                  * known, `dielectric sigma=` gives it) */
     char source[16];            /* where the values come from (data/materials.dat), or "" */
+    /* NASCAP's range law (see_law 2): the range R(E) = r1 E^n1 + r2 E^n2 (angstrom, E in keV)
+     * as {r1, n1, r2, n2} (r1 = r2 = 0: none given), and the constants c1 (1/keV) and c2
+     * (1/angstrom) that mote_ch_see_range_fit sets */
+    double see_r[4], see_c1, see_c2;
 } mote_ch_material;
 
 /* The presets of spec 6.9 (bare, aluminium, gold, kapton, teflon, cover-glass); -1 if unknown. */
@@ -221,6 +225,16 @@ const char *mote_ch_material_library(int k, mote_ch_material *m);
  * 2.28 cos_t x^1.35 in the exponent and the whole divided by cos_t), or Sternglass's
  * dmax x exp(2 - 2 sqrt(x)). */
 double mote_ch_see_yield(const mote_ch_material *m, double E_keV, double cos_t);
+/* NASCAP's range law (Katz, Parks, Mandell, Harvey, Schnuelle and Wang, NASA CR-135256 (1977);
+ * NASCAP-2K's documentation, Mandell et al. 2006): the primary loses energy along its range, at
+ * the rate dE/dx = 1 / R'(E), and a secondary made at depth x escapes with probability
+ * exp(-c2 x cos theta), so that
+ *     delta(E, theta) = c1 integral_0^R(E) (dE/dx) exp(-c2 x cos theta) dx
+ *                     = c1 integral_0^E exp(-c2 cos theta (R(E) - R(E'))) dE',
+ * c2 chosen so that the yield at normal incidence peaks at see_emax, c1 so that it is see_dmax
+ * there. Sets m->see_c1 and m->see_c2; an error when the range is not given (see_r) or gives no
+ * such peak (a range that is not convex near see_emax). */
+int mote_ch_see_range_fit(mote_ch_material *m, mote_err *err);
 /* The backscattered fraction of electrons of impact energy E (keV) at angle theta (cos_t) on a
  * material of atomic number m->Z (0 without it): at normal incidence, from 1 keV up, the fit
  * of Hunger & Kuechler (1979, phys. stat. sol. (a) 56, K45), eta0 = C E^mz with

@@ -26,6 +26,7 @@ int ch_add_tri(mote_ch_body *b, const double p[3], const double q[3], const doub
 typedef struct {
     double see_a, emax, ln_emax;   /* dmax K (universal) or dmax (Sternglass); 0: none */
     int law, angle;
+    double r[4], c1, c2;           /* the range law's (law 2) */
     double bs_C, bs_mz, bs_ln;     /* Hunger-Kuechler's C and m, ln(C / 0.891); C 0: none */
 } ch_yields;
 void ch_yields_prepare(const mote_ch_material *m, ch_yields *y);

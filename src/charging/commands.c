@@ -746,13 +746,23 @@ static int material_define(void *vm, const mote_call *c, mote_err *err)
         x.sigma = mote_call_opt_r(c, "sigma", x.sigma);
         snprintf(x.source, sizeof x.source, "defined"); /* (its values are the script's now) */
         const mote_arg *a;
-        if ((a = mote_call_opt(c, "see_law"))) /* universal|sternglass */
+        if ((a = mote_call_opt(c, "see_law"))) /* universal|sternglass|range */
             x.see_law = (int)a->i;
         if ((a = mote_call_opt(c, "see_angle"))) /* none|sec */
             x.see_angle = (int)a->i;
+        static const char *const rkey[4] = {"see_r1", "see_n1", "see_r2", "see_n2"};
+        for (int k = 0; k < 4; k++)
+            x.see_r[k] = mote_call_opt_r(c, rkey[k], x.see_r[k]);
         if (x.see_angle && x.see_law)
             return mote_call_fail(err, c, -1, MOTE_EINVAL, "material define: see_angle=sec is the "
-                                  "universal law's angular form, not Sternglass's");
+                                  "universal law's angular form, not %s",
+                                  x.see_law == 1 ? "Sternglass's" : "the range law's (its angle "
+                                  "is its own)");
+        if (x.see_law == 2 && mote_ch_see_range_fit(&x, err)) {
+            char why[sizeof err->msg];
+            snprintf(why, sizeof why, "%s", err->msg);
+            return mote_call_fail(err, c, -1, MOTE_EINVAL, "material define: %s", why);
+        }
         m->defined[m->ndefined++] = x;
         return MOTE_OK;
     }
@@ -917,7 +927,7 @@ int ch_build_tri_materials(ch_model *m, mote_err *err)
     m->tri_mat = malloc((size_t)n * sizeof *m->tri_mat);
     if (!m->tri_mat)
         return mote_fail(err, MOTE_ENOMEM, "out of memory for the materials");
-    static const mote_ch_material bare = {"bare", 0, 1, 0, 2, 0, 0, 0, 1, 2, 0, 0, 0, ""};
+    static const mote_ch_material bare = {"bare", 0, 1, 0, 2, 0, 0, 0, 1, 2, 0, 0, 0, "", {0, 0, 0, 0}, 0, 0};
     for (uint32_t i = 0; i < n; i++) {
         const mote_ch_material *x = part_material(m, PART_OF(i));
         m->tri_mat[i] = x ? x : &bare;
@@ -1056,7 +1066,7 @@ static const mote_cmd ch_commands[] = {
      "the floating potential of the charged body", HELP_FLOAT, ch_check_float,
      ch_run_float},
     {"material define", NULL,
-     "name=s! see_dmax=r>=0 see_emax=r>0 see_law=e{universal|sternglass} see_angle=e{none|sec} "
+     "name=s! see_dmax=r>=0 see_emax=r>0 see_law=e{universal|sternglass|range} see_angle=e{none|sec} see_r1=r>=0 see_n1=r>=0 see_r2=r>=0 see_n2=r>=0 "
      "see_kT=r>0 ion_dmax=r>=0 ion_emax=r>0 photo_j=r>=0 photo_kT=r>0 Z=r[0,100] eps_r=r>=1 "
      "sigma=r>=0",
      "material define name=NAME [options]", "define a material (spec 6.9)", HELP_MATERIAL,

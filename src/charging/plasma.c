@@ -79,7 +79,7 @@ double mote_ch_oml(double A, double U, double n, double kT, double m, int Z)
  * given there; the ion yield's peak d from its value at 1 keV, 2 d sqrt(1/E) / (1 + 1/E) = y1. */
 static const struct {
     const char *name;
-    double dmax, emax, Z, jph, eps_r, sigma, ion_y1, ion_emax;
+    double dmax, emax, Z, jph, eps_r, sigma, ion_y1, ion_emax, r1, n1, r2, n2;
     const char *source;
 } LIB[] = {
 #include "materials.inc"
@@ -98,6 +98,10 @@ const char *mote_ch_material_library(int k, mote_ch_material *m)
     m->Z = LIB[k].Z;
     m->eps_r = LIB[k].eps_r;
     m->sigma = LIB[k].sigma;
+    m->see_r[0] = LIB[k].r1;
+    m->see_r[1] = LIB[k].n1;
+    m->see_r[2] = LIB[k].r2;
+    m->see_r[3] = LIB[k].n2;
     m->ion_emax = LIB[k].ion_emax;
     m->ion_dmax = LIB[k].ion_y1 * (1 + 1 / LIB[k].ion_emax) * sqrt(LIB[k].ion_emax) / 2;
     m->kT_s = 2;
@@ -136,6 +140,97 @@ int mote_ch_material_preset(const char *name, mote_ch_material *m)
     return -1;
 }
 
+/* ---- NASCAP's range law ---- */
+
+static double range_of(const double r[4], double E)
+{
+    return r[0] * pow(E, r[1]) + r[2] * pow(E, r[3]);
+}
+
+/* integral_0^E exp(-u (R(E) - R(E'))) dE' (keV): with E' = E (1 - y), 8-point Gauss-Legendre
+ * rules on panels of y doubling from 1 / (1 + u E R'(E)) (the decay length of the integrand
+ * near E' = E), until the integrand is below e^-40 or y reaches 1; on the panel that reaches
+ * it, E' = E (1 - a) t^p, p = 2 / min(n1, n2, 1), which makes R(E') smooth in t where its
+ * powers below 1 are not at E' = 0. */
+static double range_integral(const double r[4], double E, double u)
+{
+    static const double gx[4] = {0.1834346424956498, 0.5255324099163290, 0.7966664774136267,
+                                 0.9602898564975363};
+    static const double gw[4] = {0.3626837833783620, 0.3137066661925261, 0.2223810344533745,
+                                 0.1012285362903763};
+    const double RE = range_of(r, E);
+    const double dR = r[0] * r[1] * pow(E, r[1] - 1) + r[2] * r[3] * pow(E, r[3] - 1);
+    double a = 0, h = 1 / (1 + u * E * fabs(dR)), sum = 0;
+    while (a < 1) {
+        const double b = fmin(1, a + h), mid = 0.5 * (a + b), half = 0.5 * (b - a);
+        double s = 0;
+        if (b < 1) {
+            for (int k = 0; k < 4; k++)
+                for (int sg = -1; sg <= 1; sg += 2) {
+                    const double y = mid + sg * half * gx[k];
+                    s += gw[k] * exp(-u * (RE - range_of(r, E * (1 - y))));
+                }
+            sum += s * half;
+        } else {
+            const double p = 2 / fmin(1, fmin(r[0] > 0 ? r[1] : 1, r[2] > 0 ? r[3] : 1));
+            for (int q = 0; q < 4; q++) /* (t in quarters) */
+                for (int k = 0; k < 4; k++)
+                    for (int sg = -1; sg <= 1; sg += 2) {
+                        const double t = 0.25 * (q + 0.5 + sg * 0.5 * gx[k]), tp = pow(t, p - 1);
+                        s += gw[k] * p * tp * exp(-u * (RE - range_of(r, E * (1 - a) * tp * t)));
+                    }
+            sum += 0.125 * s * (1 - a);
+        }
+        if (u * (RE - range_of(r, E * (1 - b))) > 40)
+            break;
+        a = b;
+        h *= 2;
+    }
+    return E * sum;
+}
+
+int mote_ch_see_range_fit(mote_ch_material *m, mote_err *err)
+{
+    const double *r = m->see_r, E = m->see_emax;
+    if (!(r[0] > 0 || r[2] > 0) || r[0] < 0 || r[2] < 0 || !(r[1] >= 0) || !(r[3] >= 0))
+        return mote_fail(err, MOTE_EINVAL, "material %s: the range law needs its range "
+                         "see_r1=, see_n1=, see_r2=, see_n2= (R = r1 E^n1 + r2 E^n2 angstrom, E in "
+                         "keV; none given, or negative)", m->name);
+    if (!(m->see_dmax > 0) || !(E > 0))
+        return mote_fail(err, MOTE_EINVAL, "material %s: the range law needs see_dmax > 0 and "
+                         "see_emax > 0", m->name);
+    /* the peak: d/dE of c1 f(E; c2) is c1 (1 - c2 R'(E) f(E; c2)), zero where F(c2) =
+     * c2 R'(E) f(E; c2) = 1; F rises from 0 and crosses 1 when R is convex there. In kappa =
+     * c2 E R'(E): scan up by factors of 2, then bisect. */
+    const double dR = r[0] * r[1] * pow(E, r[1] - 1) + r[2] * r[3] * pow(E, r[3] - 1);
+    if (!(dR > 0))
+        return mote_fail(err, MOTE_EINVAL, "material %s: the range law's range does not grow "
+                         "at see_emax", m->name);
+    double lo = 1e-3, hi = 0;
+    for (double k = 1e-3; k < 1e5; k *= 2) {
+        const double F = k / E * range_integral(r, E, k / (E * dR));
+        if (F > 1) {
+            hi = k;
+            break;
+        }
+        lo = k;
+    }
+    if (!(hi > 0))
+        return mote_fail(err, MOTE_EINVAL, "material %s: its range law gives no peak of the yield "
+                         "at see_emax = %g keV (the range must grow faster than linearly there)",
+                         m->name, E);
+    for (int it = 0; it < 100 && hi - lo > 1e-14 * hi; it++) {
+        const double k = 0.5 * (lo + hi);
+        if (k / E * range_integral(r, E, k / (E * dR)) > 1)
+            hi = k;
+        else
+            lo = k;
+    }
+    m->see_c2 = 0.5 * (lo + hi) / (E * dR);
+    m->see_c1 = m->see_dmax / range_integral(r, E, m->see_c2);
+    return MOTE_OK;
+}
+
 void ch_yields_prepare(const mote_ch_material *m, ch_yields *y)
 {
     memset(y, 0, sizeof *y);
@@ -145,6 +240,10 @@ void ch_yields_prepare(const mote_ch_material *m, ch_yields *y)
         y->ln_emax = log(m->see_emax);
         y->law = m->see_law;
         y->angle = m->see_angle;
+        for (int k = 0; k < 4; k++)
+            y->r[k] = m->see_r[k];
+        y->c1 = m->see_c1;
+        y->c2 = m->see_c2;
     }
     if (m->Z > 0) {
         const double lz = log(m->Z);
@@ -161,6 +260,8 @@ double ch_see_ln(const ch_yields *y, double E_keV, double lnE, double cos_t)
     const double x = E_keV / y->emax;
     if (y->law == 1)
         return y->see_a * x * exp(2 - 2 * sqrt(x));
+    if (y->law == 2) /* (grazing, cos 0: c1 E) */
+        return y->c1 * range_integral(y->r, E_keV, y->c2 * fmin(fmax(cos_t, 0), 1));
     const double t = exp(0.35 * (lnE - y->ln_emax)); /* x^0.35: x^-0.35 = 1/t, x^1.35 = x t */
     if (y->angle == 1) {
         const double c = fmax(cos_t, 1e-6); /* grazing: the limit dmax K x^0.65 2.28 */
