@@ -37,9 +37,10 @@ endif
 HDF5_CFLAGS := $(shell pkg-config --cflags hdf5 2>/dev/null)
 HDF5_LIBS   := $(shell pkg-config --libs hdf5 2>/dev/null || echo -lhdf5)
 # LAPACK through LAPACKE (Debian's liblapacke-dev; OpenBLAS's LAPACK where libopenblas is
-# installed): the charging model's boundary-element solve of the body's field
+# installed; its CBLAS for the blocked LU, the same package): the charging model's
+# boundary-element solve of the body's field
 LAPACKE_CFLAGS := $(shell pkg-config --cflags lapacke 2>/dev/null)
-LAPACKE_LIBS   := $(shell pkg-config --libs lapacke 2>/dev/null || echo -llapacke)
+LAPACKE_LIBS   := $(shell pkg-config --libs lapacke blas 2>/dev/null || echo -llapacke -lblas)
 ALL_CFLAGS := -std=c11 $(MPI_FLAGS) -D_POSIX_C_SOURCE=200809L $(PREC_FLAGS_$(PRECISION)) -Iinclude $(WARN) $(CFLAGS) $(SAN) $(OPENMP) $(CAIRO_CFLAGS) $(HDF5_CFLAGS) $(LAPACKE_CFLAGS)
 # the charging model: Embree (ray tracing; no pkg-config file in Debian) and Assimp (mesh files)
 ASSIMP_LIBS := $(shell pkg-config --libs assimp 2>/dev/null || echo -lassimp)
@@ -272,7 +273,7 @@ install: $(BUILD)/mote $(BUILD)/libmote.a $(BUILD)/libmote.so.$(VERSION) $(BUILD
 	ln -sf libmote.so.$(SOMAJOR) $(DESTDIR)$(libdir)/libmote.so
 	printf '%s\n' 'prefix=$(PREFIX)' 'libdir=$${prefix}/lib' 'includedir=$${prefix}/include' '' \
 	    'Name: mote' 'Description: particle-simulation toolkit (hard spheres, mixing box, N-body, spacecraft charging, gravitational separator)' \
-	    'Version: $(VERSION)' 'Requires.private: cairo assimp libmicrohttpd hdf5 lapacke' \
+	    'Version: $(VERSION)' 'Requires.private: cairo assimp libmicrohttpd hdf5 lapacke blas' \
 	    'Cflags: -I$${includedir}$(if $(PREC_FLAGS_$(PRECISION)), $(PREC_FLAGS_$(PRECISION)))' \
 	    'Libs: -L$${libdir} -lmote' 'Libs.private: -lembree3 -lpthread -lm $(OPENMP)' \
 	    > $(DESTDIR)$(libdir)/pkgconfig/mote.pc

@@ -249,7 +249,7 @@ static int bench_field(mote_ch_body *b, int threads)
     mote_ch_body_geometry(b, &g);
     mote_ch_bem f;
     double t0 = mote_wall_seconds();
-    if (mote_ch_bem_solve(b, threads, &f, &err)) {
+    if (mote_ch_bem_solve(b, threads, NULL, NULL, &f, &err)) {
         fprintf(stderr, "bench_charging: %s\n", err.msg);
         return 1;
     }

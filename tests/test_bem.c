@@ -152,7 +152,7 @@ static void test_tree(void)
     CHECK(mote_ch_body_icosphere(&b, 1, 3, &err) == MOTE_OK &&
               mote_ch_body_box(&b, size, centre, 5, &err) == MOTE_OK, "%s", err.msg);
     mote_ch_bem f;
-    CHECK(mote_ch_bem_solve(&b, 2, &f, &err) == MOTE_OK, "%s", err.msg);
+    CHECK(mote_ch_bem_solve(&b, 2, NULL, NULL, &f, &err) == MOTE_OK, "%s", err.msg);
     const double theta[3] = {0.3, 0.4, 0.5};
     double eph[3] = {0}, eEk[3] = {0};
     for (int k = 0; k < 3 && f.sigma; k++) {
@@ -234,7 +234,7 @@ static double solve_c(mote_ch_body *b)
 {
     mote_err err = {0};
     mote_ch_bem f;
-    int rc = mote_ch_bem_solve(b, 2, &f, &err);
+    int rc = mote_ch_bem_solve(b, 2, NULL, NULL, &f, &err);
     CHECK(rc == MOTE_OK, "solve: %s", err.msg);
     const double C = rc ? NAN : f.capacitance;
     mote_ch_bem_free(&f);
@@ -250,7 +250,7 @@ static void test_sphere(void)
         mote_err err = {0};
         CHECK(mote_ch_body_icosphere(&b, 2.0, level, &err) == MOTE_OK, "%s", err.msg);
         mote_ch_bem f;
-        CHECK(mote_ch_bem_solve(&b, 2, &f, &err) == MOTE_OK, "%s", err.msg);
+        CHECK(mote_ch_bem_solve(&b, 2, NULL, NULL, &f, &err) == MOTE_OK, "%s", err.msg);
         errs[level] = f.capacitance / (K4 * 2.0) - 1;
         printf("  %5u panels: C / (4 pi eps0 a) - 1 = %+.3e\n", b.ntri, errs[level]);
         if (level == 3) {
@@ -375,19 +375,19 @@ static void test_refusals(void)
     mote_ch_bem f;
     mote_ch_body b = {0};
     CHECK(mote_ch_body_sphere(&b, 1, &err) == MOTE_OK, "%s", err.msg);
-    CHECK(mote_ch_bem_solve(&b, 1, &f, &err) == MOTE_EINVAL, "the exact sphere was solved");
+    CHECK(mote_ch_bem_solve(&b, 1, NULL, NULL, &f, &err) == MOTE_EINVAL, "the exact sphere was solved");
     CHECK_HAS(err.msg, "the exact sphere's field is exact already");
     mote_ch_body_free(&b);
     memset(&b, 0, sizeof b);
     CHECK(mote_ch_body_icosphere(&b, 1, 7, &err) == MOTE_OK, "%s", err.msg); /* 327 680 */
-    CHECK(mote_ch_bem_solve(&b, 1, &f, &err) == MOTE_ENOMEM, "327 680 panels were taken");
+    CHECK(mote_ch_bem_solve(&b, 1, NULL, NULL, &f, &err) == MOTE_ENOMEM, "327 680 panels were taken");
     CHECK_HAS(err.msg, "327680 panels are more than the field's solve takes (at most 16384");
     mote_ch_body_free(&b);
     /* two conductors in the same place: their panels' rows are the same, the system singular */
     memset(&b, 0, sizeof b);
     CHECK(mote_ch_body_icosphere(&b, 1, 1, &err) == MOTE_OK &&
               mote_ch_body_icosphere(&b, 1, 1, &err) == MOTE_OK, "%s", err.msg);
-    CHECK(mote_ch_bem_solve(&b, 1, &f, &err) == MOTE_EINVAL, "coincident conductors solved");
+    CHECK(mote_ch_bem_solve(&b, 1, NULL, NULL, &f, &err) == MOTE_EINVAL, "coincident conductors solved");
     CHECK_HAS(err.msg, "the field's system of 160 panels is singular");
     CHECK_HAS(err.msg, "two panels in the same place (coincident conductors)?");
     mote_ch_body_free(&b);

@@ -579,7 +579,7 @@ static void test_curved_solved(void)
     mote_ch_geometry g;
     mote_ch_body_geometry(&b, &g);
     mote_ch_bem f;
-    CHECK(mote_ch_bem_solve(&b, 2, &f, &err) == MOTE_OK, "%s", err.msg);
+    CHECK(mote_ch_bem_solve(&b, 2, NULL, NULL, &f, &err) == MOTE_OK, "%s", err.msg);
     mote_ch_ftree *T = f.sigma ? mote_ch_ftree_build(&b, f.sigma, 0.4, &err) : NULL;
     CHECK(T != NULL, "%s", err.msg);
     b.capacitance = f.capacitance; /* (the equivalent sphere's R_f the solved one too) */

@@ -41,6 +41,8 @@ body sphere radius=1
 run particles=2e5
 
 X
+# the boundary-element solve of a body's field (issue 55): the assembly, then the LU by panels
+printf 'model charging\nbody icosphere radius=1 level=3\nbody capacitance value=solve\n' > bem.mote
 # commands of several runs keep one line for all of them: "float: run 3, 42.0%"
 cat > chf.mote <<'X'
 model charging
@@ -118,7 +120,7 @@ t = re.sub(r"\r +\r", "", t).replace("\r\n", "\n")
 sys.stdout.write(t)
 X
 
-for m in "hs step compress_left_wall" "mb run" "nb integrate" "gal galactica" "sep run" "ch run" "chf float+ evolve+"; do
+for m in "hs step compress_left_wall" "mb run" "nb integrate" "gal galactica" "sep run" "ch run" "chf float+ evolve+" "bem solve"; do
     set -- $m
     s=$1
     shift

@@ -137,8 +137,11 @@ typedef struct {
     double capacitance;  /* Q / U: the sum of sigma_j A_j (F) */
 } mote_ch_bem;
 /* The conducting body at 1 V: the charge on its panels and its capacitance (bem.c has the
- * method, its costs and accuracy). threads: the assembly's OpenMP threads. */
-int mote_ch_bem_solve(const mote_ch_body *b, int threads, mote_ch_bem *f, mote_err *err);
+ * method, its costs and accuracy). threads: the assembly's OpenMP threads. With a context
+ * (else NULL), a progress line under label, and its interrupt heard between blocks of the
+ * work (MOTE_EINTR, nothing kept). */
+int mote_ch_bem_solve(const mote_ch_body *b, int threads, const mote_context *ctx,
+                      const char *label, mote_ch_bem *f, mote_err *err);
 /* The potential (V, per volt on the body) at x, anywhere (a direct sum over the panels). */
 double mote_ch_bem_potential(const mote_ch_body *b, const mote_ch_bem *f, const double x[3]);
 void mote_ch_bem_free(mote_ch_bem *f);

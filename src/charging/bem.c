@@ -12,14 +12,16 @@
  * the exact one of a flat triangle (Wilton, Rao, Glisson, Schaubert, Al-Bundak and Butler, IEEE
  * Trans. Antennas Propag. 32 (1984) 276, eq. 5 for the scalar potential of a uniform triangle):
  * no quadrature, so the self and near terms are as accurate as the far ones. The n x n system is
- * solved by LU with partial pivoting (LAPACK's dgetrf and dgetrs through LAPACKE, in place;
- * Debian's OpenBLAS where it is installed). Costs: the matrix n^2 entries (memory 8 n^2 bytes, the assembly O(n^2) on the
+ * solved by LU with partial pivoting (LAPACK's blocked algorithm from its dgetrf, dlaswp and
+ * BLAS's dtrsm and dgemm, panel by panel so that progress and Ctrl-C are heard, then dgetrs;
+ * in place; Debian's OpenBLAS where it is installed). Costs: the matrix n^2 entries (memory 8 n^2 bytes, the assembly O(n^2) on the
  * model's threads), the solve O(n^3) (2/3 n^3 flops). Accuracy: flat panels on a smooth body
  * give C with an error O(h^2) in the panel size h (tests/test_bem.c: the sphere); edges and
  * corners (the cube, a disk's rim) make the charge singular there and the error larger, O(h)
  * (tests/test_bem.c states each). */
 #include "mote/charging.h"
 
+#include <cblas.h>
 #include <lapacke.h>
 #include <math.h>
 #include <stdlib.h>
@@ -106,7 +108,43 @@ static void centroid(double t[3][3], double c[3])
 
 size_t mote_ch_bem_bytes(uint32_t n) { return (size_t)n * n * sizeof(double); }
 
-int mote_ch_bem_solve(const mote_ch_body *b, int threads, mote_ch_bem *f, mote_err *err)
+/* The LU factors of the n x n column-major M in place, with partial pivoting (piv 1-based, as
+ * LAPACK's): LAPACK's own blocked algorithm, panel by panel (dgetrf on the panel, the rows
+ * swapped beside it, dtrsm and dgemm on the rest), so that the progress line moves and Ctrl-C
+ * is heard between panels. 0, the first zero pivot's column (1-based), or -1 when stopped. */
+static lapack_int blocked_lu(double *M, lapack_int n, lapack_int *piv, mote_progress *prog,
+                             double done0, double share)
+{
+    enum { NB = 128 };
+    lapack_int info = 0;
+    for (lapack_int j = 0; j < n; j += NB) {
+        const lapack_int jb = n - j < NB ? n - j : NB, rest = n - j - jb;
+        const lapack_int pinfo = LAPACKE_dgetrf(LAPACK_COL_MAJOR, n - j, jb, M + j + (size_t)j * n,
+                                                n, piv + j);
+        if (pinfo > 0 && info == 0)
+            info = pinfo + j;
+        for (lapack_int i = j; i < j + jb; i++)
+            piv[i] += j;
+        if (j > 0)
+            LAPACKE_dlaswp(LAPACK_COL_MAJOR, j, M, n, j + 1, j + jb, piv, 1);
+        if (rest > 0) {
+            double *right = M + (size_t)(j + jb) * n;
+            LAPACKE_dlaswp(LAPACK_COL_MAJOR, rest, right, n, j + 1, j + jb, piv, 1);
+            cblas_dtrsm(CblasColMajor, CblasLeft, CblasLower, CblasNoTrans, CblasUnit, jb, rest,
+                        1.0, M + j + (size_t)j * n, n, right + j, n);
+            cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, rest, rest, jb, -1.0,
+                        M + j + jb + (size_t)j * n, n, right + j, n, 1.0, right + j + jb, n);
+        }
+        /* the work done: 1 - (rest / n)^3 of the 2/3 n^3 flops */
+        const double left = (double)rest / (double)n;
+        if (prog && mote_progress_update(prog, done0 + share * (1 - left * left * left)))
+            return -1;
+    }
+    return info;
+}
+
+int mote_ch_bem_solve(const mote_ch_body *b, int threads, const mote_context *ctx,
+                      const char *label, mote_ch_bem *f, mote_err *err)
 {
     memset(f, 0, sizeof *f);
     if (b->sphere)
@@ -130,25 +168,44 @@ int mote_ch_bem_solve(const mote_ch_body *b, int threads, mote_ch_bem *f, mote_e
                          "(%.3g GB)", n, 8.0 * n * (double)n / 1e9);
     }
     const double k = 1 / (4 * MOTE_CH_PI * MOTE_CH_EPS0);
-    /* row i: the potential at centroid i of unit charge density on each panel j (A row-major) */
+    /* the progress line: the assembly its first share (n^2 integrals), the LU the rest (2/3 n^3
+     * flops), as they take about that on this kind of machine at a few thousand panels */
+    mote_progress own, *prog = NULL;
+    if (ctx) {
+        mote_progress_begin(&own, ctx, label ? label : "solve");
+        prog = &own;
+    }
+    const double share_a = 1 / (1 + (double)n / 3000);
+    int stopped = 0;
+    /* row i: the potential at centroid i of unit charge density on each panel j (A row-major),
+     * in blocks of rows, the progress between them */
+    for (uint32_t i0 = 0; i0 < n && !stopped; i0 += 256) {
+        const uint32_t i1 = n - i0 < 256 ? n : i0 + 256;
 #pragma omp parallel for schedule(dynamic, 16) num_threads(threads > 0 ? threads : 1)
-    for (uint32_t i = 0; i < n; i++) {
-        double c[3];
-        centroid(b->v[i], c);
-        for (uint32_t j = 0; j < n; j++)
-            A[(size_t)i * n + j] = k * mote_ch_triangle_integral(b->v[j], c);
+        for (uint32_t i = i0; i < i1; i++) {
+            double c[3];
+            centroid(b->v[i], c);
+            for (uint32_t j = 0; j < n; j++)
+                A[(size_t)i * n + j] = k * mote_ch_triangle_integral(b->v[j], c);
+        }
+        stopped = prog && mote_progress_update(prog, share_a * i1 / n);
     }
     for (uint32_t i = 0; i < n; i++)
         sigma[i] = 1; /* U = 1 V everywhere on the conductor */
     /* A row by row is, read column by column, A^T: LAPACK factors that in place (no copy of
      * the matrix) and solves (A^T)^T sigma = 1 */
-    lapack_int info = LAPACKE_dgetrf(LAPACK_COL_MAJOR, (lapack_int)n, (lapack_int)n, A,
-                                     (lapack_int)n, piv);
+    lapack_int info = stopped ? -1 : blocked_lu(A, (lapack_int)n, piv, prog, share_a, 1 - share_a);
     if (info == 0)
         info = LAPACKE_dgetrs(LAPACK_COL_MAJOR, 'T', (lapack_int)n, 1, A, (lapack_int)n, piv,
                               sigma, (lapack_int)n);
+    if (prog)
+        mote_progress_end(prog);
     free(A);
     free(piv);
+    if (info < 0) {
+        free(sigma);
+        return mote_interrupted(err, label ? label : "solve");
+    }
     if (info != 0) {
         free(sigma);
         return mote_fail(err, MOTE_EINVAL, "the field's system of %u panels is singular (LAPACK "

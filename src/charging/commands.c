@@ -356,7 +356,7 @@ static int run_body(void *vm, const mote_call *c, mote_err *err)
         mote_ch_body_geometry(&m->body, &g);
         if (mote_call_opt(c, "value")->word == CAP_SOLVE) {
             mote_ch_bem f;
-            rc = mote_ch_bem_solve(&m->body, c->ctx->threads, &f, err);
+            rc = mote_ch_bem_solve(&m->body, c->ctx->threads, c->ctx, "solve", &f, err);
             if (rc) {
                 char why[sizeof err->msg];
                 snprintf(why, sizeof why, "%s", err->msg);
@@ -551,7 +551,7 @@ int ch_field_prepare(ch_model *m, const mote_call *c, mote_err *err)
     }
     double t0 = mote_wall_seconds(), t1 = t0;
     if (!m->fbem.sigma) {
-        int rc = mote_ch_bem_solve(&m->body, c->ctx->threads, &m->fbem, err);
+        int rc = mote_ch_bem_solve(&m->body, c->ctx->threads, c->ctx, "solve", &m->fbem, err);
         if (rc) {
             char why[sizeof err->msg];
             snprintf(why, sizeof why, "%s", err->msg);
