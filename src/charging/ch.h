@@ -93,6 +93,7 @@ typedef struct {
     double qu;             /* q U / m: the acceleration is qu E1(x), E1 the field per volt */
     double rfar;           /* beyond it (from c) the monopole k r / |r|^3 (its error there
                             * below the tree's); rj is at least rfar */
+    int emitted;           /* 1: paths from the surface (bound ones turn back) */
 } ch_path;
 
 typedef struct {
@@ -101,6 +102,7 @@ typedef struct {
     double v2;             /* the speed squared at the hit (m^2/s^2) */
     double eerr;           /* |E_end - E_0| / (K_0 + |q phi_0|) at the last integrated point */
     double dir[3];         /* the last chord's unit direction (the impact direction) */
+    double x[3];           /* the hit point, from the field's centre */
     long steps;
 } ch_hit;
 

@@ -319,6 +319,10 @@ typedef struct {
     double chi, sigma, fmax_d, dq, ra2, phi_g, vscale, U_s, tmin, miss_below;
     ch_path pk;    /* the component's charge to mass */
     size_t nsee, pw;
+    /* the solved field (field solved): the emitted electrons followed from the surface in it,
+     * each secondary and backscattered electron scored only when it escapes */
+    int traced;
+    ch_path pe;    /* an electron's path constants */
 } mc_comp;
 
 /* A thread's tallies in a block: the hits logged (tallied when the block ends), the scores of
@@ -330,19 +334,60 @@ typedef struct {
     double eerr;
 } mc_tally;
 
-/* The emission (spec 6.7) and the patches (6.10) of a hit of energy e (eV) at |cos| c. */
-static void score(const mc_comp *x, mc_tally *y, long tri, int side, double e, double c)
+/* An electron of energy E (eV) emitted at the hit's point, from the side it was hit on, in a
+ * direction by the cosine law (draws u[0], u[1]), followed in the solved field: 1 when it
+ * escapes (out through the injection sphere), 0 when it lands on the body (re-collected) or is
+ * still going after max_steps. */
+static int emitted_escapes(const mc_comp *x, const ch_hit *hit, double E, const double u[2])
+{
+    const mote_ch_body *b = x->b;
+    const double sg = hit->side ? -1 : 1;
+    const double n[3] = {sg * b->nrm[hit->tri][0], sg * b->nrm[hit->tri][1],
+                         sg * b->nrm[hit->tri][2]};
+    double e1[3], e2[3], cs, sn;
+    perp_basis(n, e1, e2);
+    ch_cossin_turn(u[1], &cs, &sn);
+    const double ct = sqrt(u[0]), st = sqrt(fmax(0, 1 - u[0]));
+    const double speed = sqrt(2 * E * MOTE_CH_E / MOTE_CH_ME);
+    double r0[3], v0[3];
+    for (int a = 0; a < 3; a++) { /* (off the surface by twice the chords' overlap) */
+        r0[a] = hit->x[a] + 2 * x->pe.overlap * n[a];
+        v0[a] = speed * (ct * n[a] + st * (cs * e1[a] + sn * e2[a]));
+    }
+    ch_hit out;
+    ch_path_follow(&x->pe, r0, v0, &out);
+    return out.tri == -1;
+}
+
+/* The emission (spec 6.7) and the patches (6.10) of a hit of energy e (eV) at |cos| c; with
+ * the solved field (hit given) the emitted electrons followed, each yield scored when its
+ * electron escapes (draws 100 and 101 of history h) instead of the escape fractions. */
+static void score(const mc_comp *x, mc_tally *y, long tri, int side, double e, double c,
+                  uint64_t h, const ch_hit *hit)
 {
     const mote_ch_run_opts *o = x->o;
     if (x->see) {
         const mote_ch_material *mat = o->tri_material[tri];
-        const double esc = mote_ch_escape(x->U_s, mat->kT_s);
-        double sc = (x->sp->Z < 0 ? mote_ch_see_yield(mat, e / 1000, c)
-                                  : mote_ch_ion_yield(mat, e / 1000)) *
-                    esc;
-        if (o->backscatter && x->sp->Z < 0 && mat->Z > 0)
-            sc += mote_ch_backscatter_yield(mat, e / 1000, c) *
-                  mote_ch_backscatter_escape(x->U_s, e);
+        const int traced = x->traced && hit;
+        double u[4] = {0, 0, 0, 0}, w[4] = {0, 0, 0, 0};
+        if (traced) {
+            ch_uniforms4(x->key, h, x->comp, 100, u);
+            ch_uniforms4(x->key, h, x->comp, 101, w);
+        }
+        const double yield = x->sp->Z < 0 ? mote_ch_see_yield(mat, e / 1000, c)
+                                          : mote_ch_ion_yield(mat, e / 1000);
+        double sc = 0;
+        if (!traced) /* the escape fraction of a Maxwellian flux at kT_s */
+            sc = yield * mote_ch_escape(x->U_s, mat->kT_s);
+        else if (yield > 0) /* one secondary, its energy Gamma(2, kT_s) (the flux's) */
+            sc = yield * emitted_escapes(x, hit, -mat->kT_s * log(u[2] * u[3]), u);
+        if (o->backscatter && x->sp->Z < 0 && mat->Z > 0) {
+            const double bs = mote_ch_backscatter_yield(mat, e / 1000, c);
+            if (!traced)
+                sc += bs * mote_ch_backscatter_escape(x->U_s, e);
+            else if (bs > 0) /* its energy uniform on (0, e) */
+                sc += bs * emitted_escapes(x, hit, w[2] * e, w);
+        }
         const ch_i128 q = (ch_i128)llround(sc * FIX);
         y->msee[2 * (size_t)tri + (size_t)side] += q;
         y->msee[x->nsee - 2] += q;
@@ -361,7 +406,7 @@ static void straight_score(const mc_comp *x, mc_tally *y, uint64_t h, long tri, 
     double e[4];
     ch_uniforms4(x->key, h, x->comp, 7, e);
     score(x, y, tri, side, -x->sp->kT[x->k] * log(e[0] * e[1]),
-          hit_cos(x->b, tri, org, dir, dist));
+          hit_cos(x->b, tri, org, dir, dist), h, NULL);
 }
 
 /* A straight path's hit: counted, logged, scored (the energy and the angle only when they are
@@ -467,7 +512,7 @@ static void history_field(const mc_comp *x, mc_tally *y, uint64_t h, const doubl
         y->hitlog[y->nlog++] = 2 * (size_t)hit.tri + (size_t)hit.side;
         if (x->see || x->patchy)
             score(x, y, hit.tri, hit.side, 0.5 * sp->m * hit.v2 / MOTE_CH_E,
-                  fabs(dot3(hit.dir, x->b->nrm[hit.tri])));
+                  fabs(dot3(hit.dir, x->b->nrm[hit.tri])), h, &hit);
         return;
     }
     /* sin^2(theta) = 1 - u2 by the cosine law */
@@ -478,7 +523,7 @@ static void history_field(const mc_comp *x, mc_tally *y, uint64_t h, const doubl
         const double s2 = K + x->dq > 0 ? K * (1 - u[2]) * x->ra2 / (K + x->dq) : 0;
         if (x->see || x->patchy)
             score(x, y, 0, 0, sp->kT[x->k] * K + sp->Z * (x->phi_g - x->o->potential),
-                  sqrt(fmax(0, 1 - s2)));
+                  sqrt(fmax(0, 1 - s2)), h, NULL);
     }
 }
 
@@ -565,7 +610,7 @@ static void history_drift(const mc_comp *x, mc_tally *y, uint64_t h)
     y->hitlog[y->nlog++] = 2 * (size_t)tri + (size_t)side;
     if (x->see || x->patchy)
         score(x, y, tri, side, 0.5 * sp->m * len * len / MOTE_CH_E,
-              hit_cos(x->b, tri, org, dir, dist));
+              hit_cos(x->b, tri, org, dir, dist), h, NULL);
 }
 
 /* The histories h0 .. h1 - 1 of a block. */
@@ -700,6 +745,12 @@ static int run_component(mc_run_state *st, int s, int k, int comp, mote_err *err
     x.pk = st->path;
     x.pk.k = sp->Z * MOTE_CH_E * o->potential * st->a_f / sp->m;
     x.pk.qu = sp->Z * MOTE_CH_E * o->potential / sp->m;
+    /* the emitted electrons' paths (the solved field only) */
+    x.traced = x.pk.tree != NULL;
+    x.pe = st->path;
+    x.pe.k = -MOTE_CH_E * o->potential * st->a_f / MOTE_CH_ME;
+    x.pe.qu = -MOTE_CH_E * o->potential / MOTE_CH_ME;
+    x.pe.emitted = 1;
     x.vscale = sqrt(2 * sp->kT[k] * MOTE_CH_E / sp->m); /* K = 1 kT */
     /* secondary emission by electron impacts (spec 6.7): each hit scores the expected yield
      * times the escape fraction; sums per block, added in block order (the same bits on any

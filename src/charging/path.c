@@ -195,7 +195,8 @@ static void solved_rk4(const ch_path *P, const double r[3], const double v[3],
     }
 }
 
-/* A path in the solved field: conics beyond rj (>= rfar), RK4 within, each step's chord traced.
+/* A path in the solved field: conics beyond rj (>= rfar), RK4 within, each step's chord traced
+ * (an ambient particle from the injection sphere, or an electron emitted from the surface).
  * The step: dt = eta min(|r| / |v|, |v| / |a|) (the time to move eta |r|, and to turn the
  * velocity by eta radians: small steps where the field is strong, near edges and booms),
  * bounded below as in the sphere's field by the free fall from |r|. The speed at a hit from
@@ -219,6 +220,8 @@ static void follow_solved(const ch_path *P, double r[3], double v[3], ch_hit *ou
         const long tri = chord(P, r, r1, &out->side, x, out->dir);
         if (tri >= 0) {
             out->tri = tri;
+            for (int i = 0; i < 3; i++)
+                out->x[i] = x[i];
             out->v2 = fmax(0, 2 * (e0 - P->qu));
             out->eerr = scale > 0 ? fabs(solved_energy(P, r, v) - e0) / scale : 0;
             return;
@@ -227,8 +230,13 @@ static void follow_solved(const ch_path *P, double r[3], double v[3], ch_hit *ou
             r[i] = r1[i];
             v[i] = v1[i];
         }
+        /* out through the injection sphere, or beyond rj, moving outward: gone, unless it is
+         * an emitted electron that is bound (from a positive body with less than its
+         * potential energy: it turns back, and is followed on; an ambient particle came from
+         * infinity, though the injection's mean potential can make its energy a little
+         * negative here) */
         const double rr2 = dot3(r, r);
-        if ((rr2 > R2 || rr2 > P->rj * P->rj) && dot3(r, v) > 0) {
+        if ((e0 >= 0 || !P->emitted) && (rr2 > R2 || rr2 > P->rj * P->rj) && dot3(r, v) > 0) {
             out->eerr = scale > 0 ? fabs(solved_energy(P, r, v) - e0) / scale : 0;
             return;
         }
@@ -298,6 +306,8 @@ void ch_path_follow(const ch_path *P, const double r_in[3], const double v_in[3]
         const long tri = chord(P, r, r1, &out->side, x, out->dir);
         if (tri >= 0) { /* the speed at the hit from the energy (spec 6.7: phi(x_hit)) */
             out->tri = tri;
+            for (int i = 0; i < 3; i++)
+                out->x[i] = x[i];
             out->v2 = fmax(0, 2 * (e0 - P->k / fmax(sqrt(dot3(x, x)), P->rf)));
             out->eerr = scale > 0 ? fabs(energy(P, r, v) - e0) / scale : 0;
             return;
