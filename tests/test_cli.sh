@@ -360,18 +360,23 @@ if printf '%s\n' "$th" | grep -q '^Models that use threads: nbody, charging, sep
 else not_ok "help threads" "$th"; fi
 
 # Ctrl-C: the running command stops at a safe point and mote exits 128 + the signal, saying so
-# (SIGTERM as SIGINT); a command that does not stop within 3 s (the boundary-element solve of
-# 5 120 panels asks nobody) ends at once, as the signal would end it without mote. A background
-# job ignores SIGINT unless told otherwise (env --default-signal).
-printf 'bulk 500 0.3\necho stepping\nstep 100000\n' > "$T/long.mote"
-for sig in INT TERM; do
-    env --default-signal=INT "$MOTE" run "$T/long.mote" > "$T/long.out" 2> "$T/long.err" &
+# (SIGTERM as SIGINT); a command that does not stop within 3 s (one N-body step has no safe point
+# inside it) ends at once, as the signal would end it without mote. A background job ignores
+# SIGINT unless told otherwise (env --default-signal).
+# signalled NAME WORD SIG: run $T/NAME.mote in the background, send SIG once it has printed WORD;
+# its exit status in rc, its output in $T/NAME.out and .err
+signalled() {
+    env --default-signal=INT "$MOTE" run "$T/$1.mote" > "$T/$1.out" 2> "$T/$1.err" &
     pid=$!
     i=0
-    while ! grep -q stepping "$T/long.out" 2>/dev/null && [ $i -lt 1200 ]; do sleep 0.1; i=$((i + 1)); done
-    kill -$sig $pid
+    while ! grep -q "$2" "$T/$1.out" 2>/dev/null && [ $i -lt 1200 ]; do sleep 0.1; i=$((i + 1)); done
+    kill -"$3" $pid
     wait $pid
     rc=$?
+}
+printf 'bulk 500 0.3\necho stepping\nstep 100000\n' > "$T/long.mote"
+for sig in INT TERM; do
+    signalled long stepping $sig
     want=$([ $sig = INT ] && echo "130 Ctrl-C (SIGINT)" || echo "143 Terminated")
     if [ "$rc" -eq "${want%% *}" ] && grep -q "long.mote:3:1: error: step: interrupted; it stopped at a safe point" "$T/long.err" &&
         grep -q "^mote: stopped by ${want#* }$" "$T/long.err"; then
@@ -381,26 +386,14 @@ done
 # the boundary-element solve of a body's field (5 120 panels, seconds) hears Ctrl-C between its
 # blocks of rows and of the LU: a safe-point stop, nothing solved
 printf 'model charging\nbody icosphere radius=1 level=4\necho solving\nbody capacitance value=solve\n' > "$T/bem.mote"
-env --default-signal=INT "$MOTE" run "$T/bem.mote" > "$T/bem.out" 2> "$T/bem.err" &
-pid=$!
-i=0
-while ! grep -q solving "$T/bem.out" 2>/dev/null && [ $i -lt 1200 ]; do sleep 0.1; i=$((i + 1)); done
-kill -INT $pid
-wait $pid
-rc=$?
+signalled bem solving INT
 if [ "$rc" -eq 130 ] && grep -q "bem.mote:4:24: error: body capacitance: solve: interrupted; it stopped at a safe point" "$T/bem.err" &&
     grep -q "^mote: stopped by Ctrl-C (SIGINT)$" "$T/bem.err" && ! grep -q "solved" "$T/bem.out"; then
     ok "SIGINT stops the boundary-element solve at a safe point, exit 130"
 else not_ok "SIGINT in the boundary-element solve" "exit $rc: $(cat "$T/bem.err" "$T/bem.out")"; fi
 # one N-body step of 10^5 bodies (direct sums, tens of seconds) has no safe point inside it
 printf 'model nbody\ngenerate plummer n=100000\necho stepping\nintegrate steps=1\n' > "$T/hard.mote"
-env --default-signal=INT "$MOTE" run "$T/hard.mote" > "$T/hard.out" 2> "$T/hard.err" &
-pid=$!
-i=0
-while ! grep -q stepping "$T/hard.out" 2>/dev/null && [ $i -lt 1200 ]; do sleep 0.1; i=$((i + 1)); done
-kill -INT $pid
-wait $pid
-rc=$?
+signalled hard stepping INT
 if [ "$rc" -eq 130 ] && ! grep -q "stopped\|interrupted\|steps=1 " "$T/hard.err" "$T/hard.out"; then
     ok "a command that does not stop within 3 s ends as the signal would end it"
 else not_ok "a command that does not stop" "exit $rc: $(cat "$T/hard.err" "$T/hard.out")"; fi
