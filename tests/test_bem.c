@@ -13,11 +13,14 @@
  *   h^1.3, not h^2);
  * - two equal spheres at one potential, 4a apart and touching: the classical series
  *   C = 8 pi eps0 a sinh(b) sum (-1)^(n+1) / sinh(n b), cosh b = d / 2a (touching: 2 ln 2
- *   4 pi eps0 a), within 0.5 % at 2 x 1280 panels (measured 0.27 % and 0.26 %);
+ *   4 pi eps0 a), within 0.5 % at 2 x 1280 panels (measured 0.27 % and 0.26 %); as two
+ *   conductors 4a apart, the capacitance matrix: c11 = c22 within 0.5 %, c12 = c21 within 1 %
+ *   of the series, reciprocal (c12 = c21) within 1e-3, its sum the one conductor's;
  * - a thin disk of radius a (an open sheet, both sides in one density; rings graded towards
  *   the rim): 8 eps0 a within 0.5 % at 1296 panels (measured 0.27 %);
  * - bad input: too many panels refused before any memory is taken; the exact sphere refused;
- *   two conductors in the same place (a singular system) refused, saying so. */
+ *   two conductors in the same place (a singular system) refused, saying so; conductor labels
+ *   out of range or a conductor without panels refused. */
 #include "mote/charging.h"
 
 #include <math.h>
@@ -289,8 +292,9 @@ static void test_cube(void)
     CHECK(fabs(prev) < 0.01, "1728 panels: error %g", prev);
 }
 
-/* two spheres of radius a, centres d apart on x */
-static double two_spheres(double a, double d, int level)
+/* two spheres of radius a, centres d apart on x, as one conductor (C) and as two (their
+ * capacitance matrix into cm, when not NULL) */
+static double two_spheres(double a, double d, int level, double cm[4])
 {
     mote_ch_body b = {0};
     mote_err err = {0};
@@ -300,35 +304,89 @@ static double two_spheres(double a, double d, int level)
     for (uint32_t i = 0; i < b.ntri; i++)
         for (int j = 0; j < 3; j++)
             b.v[i][j][0] += i < half ? -d / 2 : d / 2;
-    const double C = solve_c(&b);
+    double C = NAN;
+    if (!cm) {
+        C = solve_c(&b);
+    } else {
+        int *cond = malloc(b.ntri * sizeof *cond);
+        for (uint32_t i = 0; cond && i < b.ntri; i++)
+            cond[i] = i >= half;
+        mote_ch_bem f;
+        CHECK(cond && mote_ch_bem_solve_conductors(&b, cond, 2, 2, NULL, NULL, &f, &err) == MOTE_OK,
+              "%s", err.msg);
+        if (cond && f.nc == 2) {
+            memcpy(cm, f.cmat, 4 * sizeof *cm);
+            C = f.capacitance;
+            double q = 0; /* the all-at-1-V density is the columns' sum */
+            for (uint32_t j = 0; j < b.ntri; j++)
+                q += f.sigma[j] * b.area[j];
+            CHECK(fabs(q / C - 1) < 1e-12, "the columns' sum: %.17g against %.17g", q, C);
+            mote_ch_bem_free(&f);
+        }
+        free(cond);
+    }
     mote_ch_body_free(&b);
     return C;
 }
 
+/* the classical series for two equal spheres, cosh b = d / 2a, per 4 pi eps0 a (Smythe,
+ * Static and Dynamic Electricity, 5.08): at one potential C = 2 sinh(b) sum (-1)^(n+1) /
+ * sinh(n b); the matrix c11 = sinh(b) sum 1 / sinh((2n - 1) b), c12 = -sinh(b) sum 1 /
+ * sinh(2n b) */
 static double series(double d_over_2a)
 {
     const double beta = acosh(d_over_2a);
     double s = 0;
     for (int n = 1; n < 2000; n++)
         s += (n % 2 ? 1 : -1) / sinh(n * beta) * sinh(beta);
-    return 2 * s; /* (C / (4 pi eps0 a)) */
+    return 2 * s;
+}
+
+static void series_matrix(double d_over_2a, double *c11, double *c12)
+{
+    const double beta = acosh(d_over_2a);
+    *c11 = *c12 = 0;
+    for (int n = 1; n < 2000; n++) {
+        *c11 += sinh(beta) / sinh((2 * n - 1) * beta);
+        *c12 -= sinh(beta) / sinh(2 * n * beta);
+    }
 }
 
 static void test_two_spheres(void)
 {
     printf("two equal spheres: the classical series\n");
+    double cm[4], c11, c12;
+    series_matrix(2, &c11, &c12);
     if (getenv("MOTE_SANITIZED")) { /* (2 x 1280 panels take a minute there: the same code
                                      * as the sphere's, checked for its numbers in the plain
                                      * pass) */
-        CHECK(fabs(two_spheres(1, 4, 1) / K4 / series(2) - 1) < 0.05, "d = 4a, 2 x 80 panels");
+        CHECK(fabs(two_spheres(1, 4, 1, NULL) / K4 / series(2) - 1) < 0.05, "d = 4a, 2 x 80 panels");
+        two_spheres(1, 4, 1, cm);
+        CHECK(fabs(cm[0] / K4 / c11 - 1) < 0.05 && fabs(cm[1] / K4 / c12 - 1) < 0.05,
+              "d = 4a, 2 x 80 panels: c11 %g c12 %g", cm[0] / K4, cm[1] / K4);
         return;
     }
-    const double apart = two_spheres(1, 4, 3) / K4, exact = series(2);
+    const double apart = two_spheres(1, 4, 3, NULL) / K4, exact = series(2);
     printf("  d = 4a: %.6f against %.6f\n", apart, exact);
     CHECK(fabs(apart / exact - 1) < 0.005, "d = 4a: %g against %g", apart, exact);
-    const double touching = two_spheres(1, 2, 3) / K4;
+    const double touching = two_spheres(1, 2, 3, NULL) / K4;
     printf("  touching: %.6f against 2 ln 2 = %.6f\n", touching, 2 * log(2));
     CHECK(fabs(touching / (2 * log(2)) - 1) < 0.005, "touching: %g", touching);
+    /* the capacitance matrix: each sphere its own conductor, both right-hand sides on one LU;
+     * c12 is the small difference of the induced charges, so its error is that of the
+     * potential (h^2) over c12 / c11 */
+    const double both = two_spheres(1, 4, 3, cm) / K4;
+    for (int q = 0; q < 4; q++)
+        cm[q] /= K4;
+    printf("  d = 4a as two conductors: c11 %.6f c22 %.6f (series %.6f), c12 %.6f c21 %.6f "
+           "(series %.6f)\n", cm[0], cm[3], c11, cm[1], cm[2], c12);
+    CHECK(fabs(cm[0] / c11 - 1) < 0.005 && fabs(cm[3] / c11 - 1) < 0.005, "c11 %g c22 %g "
+          "against %g", cm[0], cm[3], c11);
+    CHECK(fabs(cm[1] / c12 - 1) < 0.01 && fabs(cm[2] / c12 - 1) < 0.01, "c12 %g c21 %g "
+          "against %g", cm[1], cm[2], c12);
+    CHECK(fabs(cm[1] / cm[2] - 1) < 1e-3, "reciprocity: c12 %g c21 %g", cm[1], cm[2]);
+    CHECK(fabs(both / apart - 1) < 1e-12, "the matrix's sum %.17g against one conductor's %.17g",
+          both, apart);
 }
 
 static void test_disk(const char *dir)
@@ -390,6 +448,21 @@ static void test_refusals(void)
     CHECK(mote_ch_bem_solve(&b, 1, NULL, NULL, &f, &err) == MOTE_EINVAL, "coincident conductors solved");
     CHECK_HAS(err.msg, "the field's system of 160 panels is singular");
     CHECK_HAS(err.msg, "two panels in the same place (coincident conductors)?");
+    mote_ch_body_free(&b);
+    /* the conductors' labels: each panel on one of them, each of them with a panel */
+    memset(&b, 0, sizeof b);
+    CHECK(mote_ch_body_icosphere(&b, 1, 0, &err) == MOTE_OK, "%s", err.msg);
+    int cond[20] = {0};
+    cond[7] = 2;
+    CHECK(mote_ch_bem_solve_conductors(&b, cond, 2, 1, NULL, NULL, &f, &err) == MOTE_EINVAL,
+          "a label out of range taken");
+    CHECK_HAS(err.msg, "panel 8 is on conductor 2 (of 0 to 1)");
+    cond[7] = 0;
+    CHECK(mote_ch_bem_solve_conductors(&b, cond, 2, 1, NULL, NULL, &f, &err) == MOTE_EINVAL,
+          "a conductor without panels taken");
+    CHECK_HAS(err.msg, "conductor 1 has no panels");
+    CHECK(mote_ch_bem_solve_conductors(&b, NULL, 2, 1, NULL, NULL, &f, &err) == MOTE_EINVAL,
+          "two conductors without labels taken");
     mote_ch_body_free(&b);
 }
 

@@ -1700,6 +1700,92 @@ static void test_patches(void)
     mote_ch_body_free(&sph);
 }
 
+/* Issue 55, item 2: the patches' circuit with a capacitance matrix (diff.c). Constant currents
+ * J = (I_c, I_p) and no leak: the charges q = (Cv + layers) V grow as J t, so V(t) = M^-1 J t
+ * exactly (2 x 2 by Cramer's rule here), which the implicit integrator (exact for a line)
+ * must give to its tolerance; the whole charge sum Cv V = (I_c + I_p) t. With Cv = C on the
+ * conductor alone, the lumped circuit C dU/dt = I_c + I_p, C_p d(V_p - U)/dt = I_p, the same
+ * rows. A body under one coat (Cv on the outer surface alone, no current to the conductor
+ * beneath): the conductor stays neutral, so no field in the layer, V_p - U = 0 (the lumped
+ * circuit would give (C / C_p) U). */
+static int const_node(void *ctx, double U, double *Ic, double *sig, double *Ip, mote_err *err)
+{
+    (void)U;
+    (void)err;
+    const ch_patches *P = ctx;
+    *Ic = P->U0 == 0 ? -1e-6 : 0;
+    *sig = 0;
+    for (int g = 0; g < P->ndv; g++)
+        Ip[g] = -2e-7;
+    return MOTE_OK;
+}
+
+static void circuit_run(const double Cv[4], int have_cv, double Cl, double T, double y[2],
+                        double *Q)
+{
+    mote_err err = {0};
+    ch_patches P;
+    memset(&P, 0, sizeof P);
+    CHECK(ch_patches_init(&P, 1, 1000, 0, &err) == MOTE_OK, "%s", err.msg);
+    P.Cp[0] = Cl;
+    P.Rp[0] = INFINITY;
+    P.C = Cv[0];
+    P.have_cv = have_cv;
+    memcpy(P.Cv, Cv, 4 * sizeof *Cv);
+    P.node = const_node;
+    P.ctx = &P;
+    double t = 0, h = 1e-6;
+    y[0] = y[1] = 0;
+    CHECK(ch_patches_advance(&P, y, &h, T, &t, &err) == MOTE_OK, "%s", err.msg);
+    *Q = ch_patches_charge(&P, y);
+    ch_patches_free(&P);
+}
+
+static void test_patch_circuit(void)
+{
+    printf("issue 55: the patches' circuit with the capacitance matrix\n");
+    const double Cl = 5e-9, T = 0.01, Ic = -1e-6, Ip = -2e-7;
+    const double Cv[4] = {2e-10, -3e-11, -3e-11, 8e-11};
+    const double M[4] = {Cv[0] + Cl, Cv[1] - Cl, Cv[2] - Cl, Cv[3] + Cl};
+    const double det = M[0] * M[3] - M[1] * M[2];
+    const double V0 = (M[3] * Ic - M[1] * Ip) * T / det, V1 = (M[0] * Ip - M[2] * Ic) * T / det;
+    double y[2], Q;
+    circuit_run(Cv, 1, Cl, T, y, &Q);
+    printf("  U %.10g V (exact %.10g), V_p - U %.10g V (exact %.10g), Q %.10g C\n", y[0], V0,
+           y[1], V1 - V0, Q);
+    CHECK(fabs(y[0] / V0 - 1) < 1e-6 && fabs(y[1] / (V1 - V0) - 1) < 1e-6, "M^-1 J t: U %.12g "
+          "against %.12g, dV %.12g against %.12g", y[0], V0, y[1], V1 - V0);
+    CHECK(fabs(Q / ((Ic + Ip) * T) - 1) < 1e-6, "the whole charge %.12g against %.12g", Q,
+          (Ic + Ip) * T);
+    const double lumped[4] = {2.2e-10, 0, 0, 0};
+    double yl[2], yc[2], Ql, Qc;
+    circuit_run(lumped, 0, Cl, T, yl, &Ql);
+    circuit_run(lumped, 1, Cl, T, yc, &Qc);
+    CHECK(fabs(yc[0] / yl[0] - 1) < 1e-9 && fabs(yc[1] / yl[1] - 1) < 1e-9 &&
+              fabs(Qc / Ql - 1) < 1e-9, "Cv = C on the conductor: (%.12g, %.12g) against the "
+          "lumped (%.12g, %.12g)", yc[0], yc[1], yl[0], yl[1]);
+    CHECK(fabs(yl[0] / ((Ic + Ip) * T / 2.2e-10) - 1) < 1e-6 &&
+              fabs(yl[1] / (Ip * T / Cl) - 1) < 1e-6, "the lumped circuit: U %.12g dV %.12g",
+          yl[0], yl[1]);
+    /* under one coat: U0 = 1 tells const_node to give the conductor no current */
+    mote_err err = {0};
+    ch_patches P;
+    memset(&P, 0, sizeof P);
+    CHECK(ch_patches_init(&P, 1, 1000, 1, &err) == MOTE_OK, "%s", err.msg);
+    P.Cp[0] = Cl;
+    P.Rp[0] = INFINITY;
+    P.have_cv = 1;
+    P.Cv[3] = 1.1e-10;
+    P.node = const_node;
+    P.ctx = &P;
+    double t = 0, h = 1e-6, z[2] = {1, 0};
+    CHECK(ch_patches_advance(&P, z, &h, T, &t, &err) == MOTE_OK, "%s", err.msg);
+    printf("  under one coat: U %.10g V, V_p - U %.3g V\n", z[0], z[1]);
+    CHECK(fabs((z[0] - 1) / (Ip * T / 1.1e-10) - 1) < 1e-6 && fabs(z[1]) < 1e-9 * fabs(z[0]),
+          "one coat: U %.12g (exact %.12g), dV %.3g", z[0], 1 + Ip * T / 1.1e-10, z[1]);
+    ch_patches_free(&P);
+}
+
 /* Issue 55, item 3: NASCAP's range law. For every library row with a range (all but gr2k): the
  * yield at normal incidence peaks at see_emax (1 % either side lower) with see_dmax there; the
  * integral against Simpson's rule on 2e5 intervals (1e-6, far below any Monte Carlo error;
@@ -1866,6 +1952,7 @@ int main(void)
     test_backscatter();
     test_photo();
     test_patches();
+    test_patch_circuit();
     test_library();
     test_range_law();
     return test_summary();

@@ -212,6 +212,20 @@ printf 'v 3 0 0\nv 4 0 0\nv 3 1 0\nf 1 2 3\n' > far.obj
 "$MOTE" run fs.mote > out.txt 2> err.txt && [ "$(grep -c '^field solved: ' out.txt)" -eq 2 ] &&
     grep -q '^field solved: 320 panels, C = .* F (R_f 0.98' out.txt && grep -q '^field solved: 321 panels, C = ' out.txt &&
     [ "$(grep -c '^run: curved paths: .* 0 lost' out.txt)" -eq 3 ] && ok || bad "field solved: $(cat out.txt err.txt)"
+# with dielectric parts the solve takes the frame and each part as conductors (issue 55): the
+# capacitance matrix printed, reciprocal, the two hemispheres' alike (mirror images), its sum
+# the whole body's C; evolve's circuit takes it (# Cv_F). Under one coat (the body all one
+# dielectric part, so no current reaches the conductor beneath) the conductor stays neutral:
+# V_p - U = 0 (the lumped circuit of the sphere's field gives (C / C_p) U).
+printf '%bseed 3\nplasma preset single n=1e6 kT=1000\nbody uvsphere radius=1 nlon=24 nlat=12 parts=hemispheres\nfield solved\ndielectric part=south thickness=1e-3 eps_r=2\nevolve time=1e-4 dt_out=5e-5 file=fsd.txt particles=1000\n' "$G" > fsd.mote
+"$MOTE" run fsd.mote > out.txt 2> err.txt &&
+    awk '/^field solved: [0-9]+ panels, C = / { c = $7 } /^field solved: +frame / { a = $4; b = $5 } /^field solved: +south / { d = $4; e = $5 }
+         END { exit !(c > 1e-10 && (b / d - 1) ^ 2 < 1e-12 && (a / e - 1) ^ 2 < 1e-12 && b < 0 && ((a + b + d + e) / c - 1) ^ 2 < 1e-12) }' out.txt &&
+    grep -q '^# Cv_F = ' fsd.txt && ok || bad "the capacitance matrix of frame and south: $(grep '^field solved' out.txt) $(cat err.txt)"
+printf '%bseed 3\nplasma preset single n=1e6 kT=1000\nbody icosphere radius=1 level=2\nfield solved\ndielectric part=icosphere thickness=0.5 eps_r=1\nevolve time=1e-4 dt_out=5e-5 file=fsc.txt particles=1000\n' "$G" > fsc.mote
+"$MOTE" run fsc.mote > out.txt 2> err.txt &&
+    awk '!/^#/ && NF > 1 { n++; if (($6 - $3) ^ 2 > 1e-18 * $3 * $3) bad = 1; u = $3 } END { exit !(n == 3 && !bad && u < -5) }' fsc.txt &&
+    ok || bad "one coat in the solved field: V_p - U not 0: $(cat fsc.txt err.txt)"
 expect 1 "fs1.mote:2:20: error: field sphere: theta= is the solved field's (field solved theta=)" fs1.mote "${G}field sphere theta=0.3\n"
 expect 1 "fs2.mote:2:20: error: field: theta must be in (0, 1), found 1" fs2.mote "${G}field solved theta=1\n"
 expect 1 "fs3.mote:2:7: error: field solved: faithful mode has no field (the thesis's scope, spec 1.2); use model charging" fs3.mote "model charging faithful\nfield solved\n"

@@ -130,11 +130,18 @@ void mote_ch_body_geometry(const mote_ch_body *b, mote_ch_geometry *g);
 
 /* The panels a solve takes at most: its dense matrix is 8 n^2 bytes (16384: 2.1 GB). */
 #define MOTE_CH_BEM_MAX 16384u
+/* and the conductors (each with its own potential) */
+#define MOTE_CH_BEM_MAX_CONDUCTORS 64
 typedef struct {
     uint32_t n;          /* panels: the body's triangles */
-    double *sigma;       /* each panel's surface charge density at U = 1 V (C/m^2; a sheet's:
-                          * both sides together) */
-    double capacitance;  /* Q / U: the sum of sigma_j A_j (F) */
+    int nc;              /* conductors */
+    double *sigma;       /* each panel's surface charge density with every conductor at 1 V
+                          * (C/m^2; a sheet's: both sides together) */
+    double *basis;       /* nc > 1: n x nc, column l (basis + l n) the density with conductor l
+                          * at 1 V and the others at 0 (NULL: nc 1, sigma is it) */
+    double *cmat;        /* nc x nc, the capacitance matrix: cmat[k nc + l] the charge on
+                          * conductor k per volt on conductor l, the others at 0 (F) */
+    double capacitance;  /* Q / U, all at U: the sum of sigma_j A_j, of cmat's entries (F) */
 } mote_ch_bem;
 /* The conducting body at 1 V: the charge on its panels and its capacitance (bem.c has the
  * method, its costs and accuracy). threads: the assembly's OpenMP threads. With a context
@@ -142,6 +149,11 @@ typedef struct {
  * work (MOTE_EINTR, nothing kept). */
 int mote_ch_bem_solve(const mote_ch_body *b, int threads, const mote_context *ctx,
                       const char *label, mote_ch_bem *f, mote_err *err);
+/* The same for nc conductors, panel j on conductor cond[j] (0 .. nc - 1, each with a panel;
+ * cond NULL: one): the capacitance matrix, each column's charge on the one LU. */
+int mote_ch_bem_solve_conductors(const mote_ch_body *b, const int *cond, int nc, int threads,
+                                 const mote_context *ctx, const char *label, mote_ch_bem *f,
+                                 mote_err *err);
 /* The potential (V, per volt on the body) at x, anywhere (a direct sum over the panels). */
 double mote_ch_bem_potential(const mote_ch_body *b, const mote_ch_bem *f, const double x[3]);
 void mote_ch_bem_free(mote_ch_bem *f);

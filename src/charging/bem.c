@@ -146,6 +146,13 @@ static lapack_int blocked_lu(double *M, lapack_int n, lapack_int *piv, mote_prog
 int mote_ch_bem_solve(const mote_ch_body *b, int threads, const mote_context *ctx,
                       const char *label, mote_ch_bem *f, mote_err *err)
 {
+    return mote_ch_bem_solve_conductors(b, NULL, 1, threads, ctx, label, f, err);
+}
+
+int mote_ch_bem_solve_conductors(const mote_ch_body *b, const int *cond, int nc, int threads,
+                                 const mote_context *ctx, const char *label, mote_ch_bem *f,
+                                 mote_err *err)
+{
     memset(f, 0, sizeof *f);
     if (b->sphere)
         return mote_fail(err, MOTE_EINVAL, "the exact sphere's field is exact already (no panels "
@@ -153,16 +160,35 @@ int mote_ch_bem_solve(const mote_ch_body *b, int threads, const mote_context *ct
     const uint32_t n = b->ntri;
     if (n == 0)
         return mote_fail(err, MOTE_EINVAL, "no body to solve");
+    if (nc < 1 || nc > MOTE_CH_BEM_MAX_CONDUCTORS || (nc > 1 && !cond))
+        return mote_fail(err, MOTE_EINVAL, "%d conductors: give 1 to %d, each panel's", nc,
+                         MOTE_CH_BEM_MAX_CONDUCTORS);
+    if (cond) { /* every panel on a conductor, every conductor with a panel */
+        uint32_t count[MOTE_CH_BEM_MAX_CONDUCTORS] = {0};
+        for (uint32_t j = 0; j < n; j++) {
+            if (cond[j] < 0 || cond[j] >= nc)
+                return mote_fail(err, MOTE_EINVAL, "panel %u is on conductor %d (of 0 to %d)",
+                                 j + 1, cond[j], nc - 1);
+            count[cond[j]]++;
+        }
+        for (int k = 0; k < nc; k++)
+            if (count[k] == 0)
+                return mote_fail(err, MOTE_EINVAL, "conductor %d has no panels", k);
+    }
     if (n > MOTE_CH_BEM_MAX)
         return mote_fail(err, MOTE_ENOMEM, "%u panels are more than the field's solve takes "
                          "(at most %u: its matrix is 8 n^2 bytes, %.3g GB here); coarsen the "
                          "mesh", n, (unsigned)MOTE_CH_BEM_MAX, 8.0 * n * (double)n / 1e9);
     double *A = malloc(mote_ch_bem_bytes(n));
-    double *sigma = malloc((size_t)n * sizeof *sigma);
+    double *basis = malloc((size_t)n * (size_t)nc * sizeof *basis);
+    double *sigma = nc > 1 ? malloc((size_t)n * sizeof *sigma) : NULL;
+    double *cmat = malloc((size_t)nc * (size_t)nc * sizeof *cmat);
     lapack_int *piv = malloc((size_t)n * sizeof *piv);
-    if (!A || !sigma || !piv) {
+    if (!A || !basis || (nc > 1 && !sigma) || !cmat || !piv) {
         free(A);
+        free(basis);
         free(sigma);
+        free(cmat);
         free(piv);
         return mote_fail(err, MOTE_ENOMEM, "out of memory for the field's matrix of %u panels "
                          "(%.3g GB)", n, 8.0 * n * (double)n / 1e9);
@@ -190,34 +216,55 @@ int mote_ch_bem_solve(const mote_ch_body *b, int threads, const mote_context *ct
         }
         stopped = prog && mote_progress_update(prog, share_a * i1 / n);
     }
-    for (uint32_t i = 0; i < n; i++)
-        sigma[i] = 1; /* U = 1 V everywhere on the conductor */
+    /* the right-hand sides, one a conductor: 1 V on its panels, 0 on the others' */
+    for (int l = 0; l < nc; l++)
+        for (uint32_t i = 0; i < n; i++)
+            basis[(size_t)l * n + i] = !cond || cond[i] == l;
     /* A row by row is, read column by column, A^T: LAPACK factors that in place (no copy of
-     * the matrix) and solves (A^T)^T sigma = 1 */
+     * the matrix) and solves (A^T)^T sigma = rhs, all the right-hand sides on the one LU */
     lapack_int info = stopped ? -1 : blocked_lu(A, (lapack_int)n, piv, prog, share_a, 1 - share_a);
     if (info == 0)
-        info = LAPACKE_dgetrs(LAPACK_COL_MAJOR, 'T', (lapack_int)n, 1, A, (lapack_int)n, piv,
-                              sigma, (lapack_int)n);
+        info = LAPACKE_dgetrs(LAPACK_COL_MAJOR, 'T', (lapack_int)n, (lapack_int)nc, A,
+                              (lapack_int)n, piv, basis, (lapack_int)n);
     if (prog)
         mote_progress_end(prog);
     free(A);
     free(piv);
-    if (info < 0) {
-        free(sigma);
-        return mote_interrupted(err, label ? label : "solve");
-    }
     if (info != 0) {
+        free(basis);
         free(sigma);
+        free(cmat);
+        if (info < 0)
+            return mote_interrupted(err, label ? label : "solve");
         return mote_fail(err, MOTE_EINVAL, "the field's system of %u panels is singular (LAPACK "
                          "dgetrf: %d): two panels in the same place (coincident conductors)?",
                          n, (int)info);
     }
+    /* C[k][l]: the charge on conductor k with conductor l at 1 V and the others at 0 */
+    memset(cmat, 0, (size_t)nc * (size_t)nc * sizeof *cmat);
+    for (int l = 0; l < nc; l++)
+        for (uint32_t j = 0; j < n; j++)
+            cmat[(cond ? cond[j] : 0) * nc + l] += basis[(size_t)l * n + j] * b->area[j];
     double Q = 0;
-    for (uint32_t j = 0; j < n; j++)
-        Q += sigma[j] * b->area[j];
+    for (int q = 0; q < nc * nc; q++)
+        Q += cmat[q];
+    if (nc > 1) { /* all at 1 V: the sum of the columns */
+        for (uint32_t j = 0; j < n; j++) {
+            double s = 0;
+            for (int l = 0; l < nc; l++)
+                s += basis[(size_t)l * n + j];
+            sigma[j] = s;
+        }
+    } else {
+        sigma = basis;
+        basis = NULL;
+    }
     f->n = n;
+    f->nc = nc;
     f->sigma = sigma;
-    f->capacitance = Q; /* (U = 1 V) */
+    f->basis = basis;
+    f->cmat = cmat;
+    f->capacitance = Q; /* (all at U = 1 V) */
     return MOTE_OK;
 }
 
@@ -232,5 +279,7 @@ double mote_ch_bem_potential(const mote_ch_body *b, const mote_ch_bem *f, const 
 void mote_ch_bem_free(mote_ch_bem *f)
 {
     free(f->sigma);
+    free(f->basis);
+    free(f->cmat);
     memset(f, 0, sizeof *f);
 }

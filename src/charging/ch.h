@@ -177,6 +177,10 @@ typedef struct {
     int np, ndv;
     double scale, U0, C;                  /* the grid's scale (V), the first node, C (F) */
     double Cp[CH_MAX_PATCHES], Rp[CH_MAX_PATCHES]; /* F, ohm (INFINITY: no conduction) */
+    /* have_cv: the vacuum capacitance matrix of the conductor (0) and the patches' outer
+     * surfaces (1 + p), (np + 1)^2 row by row (F), in place of C alone on the conductor */
+    int have_cv;
+    double Cv[(CH_MAX_PATCHES + 1) * (CH_MAX_PATCHES + 1)];
     double *dv;                           /* [ndv] ascending, dv[ndv / 2] = 0 */
     int nn;                               /* nodes made: their lattice index, currents */
     int *node_j;
@@ -191,6 +195,8 @@ void ch_patches_free(ch_patches *P);
 /* The conductor's current, each patch's and the conductor's error at U and dV[np]. */
 int ch_patches_currents(ch_patches *P, double U, const double *dV, double *Ic, double *Ip,
                         double *sig, mote_err *err);
+/* The whole charge at y = (U, dV_1 ... dV_np): C U, or with the matrix sum_kl Cv_kl V_l. */
+double ch_patches_charge(const ch_patches *P, const double *y);
 /* Integrate y = (U, dV_1 ... dV_np) from *t to t1, *h the step to try (updated). */
 int ch_patches_advance(ch_patches *P, double *y, double *h, double t1, double *t, mote_err *err);
 

@@ -551,7 +551,36 @@ int ch_field_prepare(ch_model *m, const mote_call *c, mote_err *err)
     }
     double t0 = mote_wall_seconds(), t1 = t0;
     if (!m->fbem.sigma) {
-        int rc = mote_ch_bem_solve(&m->body, c->ctx->threads, c->ctx, "solve", &m->fbem, err);
+        /* the conductors: the frame (the triangles of no dielectric part), then each
+         * dielectric part, those with triangles */
+        int *cond = NULL, nc = 1;
+        if (m->ndiel > 0) {
+            int count[CH_MAX_PATCHES + 1] = {0}, idx[CH_MAX_PATCHES + 1];
+            if (!(cond = malloc((size_t)m->body.ntri * sizeof *cond)))
+                return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", c->name);
+            for (uint32_t i = 0; i < m->body.ntri; i++) {
+                const char *name = m->body.part_name[m->body.part[i]];
+                int s = 0;
+                for (int p = 0; p < m->ndiel && !s; p++)
+                    if (!strcmp(name, m->diel[p].part))
+                        s = 1 + p;
+                cond[i] = s;
+                count[s]++;
+            }
+            nc = 0;
+            for (int s = 0; s <= m->ndiel; s++)
+                if (count[s]) {
+                    idx[s] = nc;
+                    m->fstate[nc++] = s;
+                }
+            for (uint32_t i = 0; i < m->body.ntri; i++)
+                cond[i] = idx[cond[i]];
+        } else {
+            m->fstate[0] = 0;
+        }
+        int rc = mote_ch_bem_solve_conductors(&m->body, cond, nc, c->ctx->threads, c->ctx, "solve",
+                                              &m->fbem, err);
+        free(cond);
         if (rc) {
             char why[sizeof err->msg];
             snprintf(why, sizeof why, "%s", err->msg);
@@ -572,6 +601,21 @@ int ch_field_prepare(ch_model *m, const mote_call *c, mote_err *err)
                         "%.3g MB\n", m->body.ntri, m->fbem.capacitance, g.r_field, g.r_eq,
                 t1 - t0, mote_ch_bem_bytes(m->body.ntri) / 1e6, m->theta,
                 mote_wall_seconds() - t1, mote_ch_ftree_bytes(m->ftree) / 1e6);
+    if (m->log && m->ndiel > 0) { /* the conductors' capacitance matrix */
+        const int nc = m->fbem.nc;
+        fprintf(m->log, "field solved: the capacitance matrix (F; the charge on the row's "
+                        "conductor per volt on the column's, the others at 0):");
+        for (int k = 0; k < nc; k++)
+            fprintf(m->log, " %s", m->fstate[k] ? m->diel[m->fstate[k] - 1].part : "frame");
+        fputc('\n', m->log);
+        for (int k = 0; k < nc; k++) {
+            fprintf(m->log, "field solved:   %-12s",
+                    m->fstate[k] ? m->diel[m->fstate[k] - 1].part : "frame");
+            for (int l = 0; l < nc; l++)
+                fprintf(m->log, " %13.6e", m->fbem.cmat[k * nc + l]);
+            fputc('\n', m->log);
+        }
+    }
     return MOTE_OK;
 }
 static int check_field(void *vm, const mote_call *c, mote_err *err)
@@ -863,8 +907,11 @@ static int dielectric(void *vm, const mote_call *c, mote_err *err)
     m->diel[k].d = d;
     m->diel[k].eps_r = mote_call_opt_r(c, "eps_r", 0);
     m->diel[k].sigma = mote_call_opt_r(c, "sigma", -1); /* (-1: the part's material's) */
-    if (k == m->ndiel)
+    if (k == m->ndiel) {
         m->ndiel++;
+        if (!m->dry) /* (a new conductor in the solved field: solved again when used) */
+            ch_field_drop(m);
+    }
     return MOTE_OK;
 }
 

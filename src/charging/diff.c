@@ -4,7 +4,12 @@
  *     C   dU/dt    = I_c(U) + sum_p I_p(U, dV_p)           (the whole body)
  *     C_p dV_p/dt' = I_p(U, dV_p) - dV_p / R_p            (each patch; d(V_p - U)/dt)
  *
- * with C_p = eps0 eps_r A_p / d_p and R_p = d_p / (sigma_p A_p). The currents come from Monte
+ * with C_p = eps0 eps_r A_p / d_p and R_p = d_p / (sigma_p A_p). With the body's solved field
+ * (issue 55) the vacuum capacitance matrix Cv of the conductor (0) and the patches' outer
+ * surfaces (1 + p) replaces C: the charges q = M V, M = Cv + the layers (C_p between the
+ * patch's surface and the conductor beneath), change with the currents (the conductor's own
+ * and the leaks, each patch's less its leak), dV/dt = M^-1 dq/dt; with Cv = C on the conductor
+ * alone this is the circuit above. The currents come from Monte
  * Carlo runs at nodes U_j = U0 + s sinh(0.2 j) (s: the smallest temperature, in volts), made
  * when the solution first needs them; each run tallies every patch's net current at every dV
  * of a grid dV_g = s sinh(0.2 g) up to DV_MAX (mc.c). Between nodes and grid points the
@@ -169,6 +174,50 @@ int ch_patches_currents(ch_patches *P, double U, const double *dV, double *Ic, d
     return MOTE_OK;
 }
 
+/* Solve the n x n system J x = J[][n] in place by Gaussian elimination with partial
+ * pivoting (x into x); 1 when singular. */
+static int solve_small(int n, double J[][CH_MAX_PATCHES + 2], double *x)
+{
+    for (int c = 0; c < n; c++) {
+        int piv = c;
+        for (int r = c + 1; r < n; r++)
+            if (fabs(J[r][c]) > fabs(J[piv][c]))
+                piv = r;
+        if (!(fabs(J[piv][c]) > 0))
+            return 1;
+        if (piv != c)
+            for (int q = 0; q <= n; q++) {
+                const double tmp = J[c][q];
+                J[c][q] = J[piv][q];
+                J[piv][q] = tmp;
+            }
+        for (int r = c + 1; r < n; r++) {
+            const double m = J[r][c] / J[c][c];
+            for (int q = c; q <= n; q++)
+                J[r][q] -= m * J[c][q];
+        }
+    }
+    for (int r = n - 1; r >= 0; r--) {
+        double s = J[r][n];
+        for (int q = r + 1; q < n; q++)
+            s -= J[r][q] * x[q];
+        x[r] = s / J[r][r];
+    }
+    return 0;
+}
+
+double ch_patches_charge(const ch_patches *P, const double *y)
+{
+    if (!P->have_cv)
+        return P->C * y[0];
+    const int n = P->np + 1;
+    double Q = 0;
+    for (int k = 0; k < n; k++)
+        for (int l = 0; l < n; l++)
+            Q += P->Cv[k * n + l] * (y[0] + (l ? y[l] : 0));
+    return Q;
+}
+
 /* y' = F(y), y = (U, dV_1 ... dV_np). */
 static int rhs(ch_patches *P, const double *y, double *F, mote_err *err)
 {
@@ -176,6 +225,29 @@ static int rhs(ch_patches *P, const double *y, double *F, mote_err *err)
     int rc = ch_patches_currents(P, y[0], y + 1, &Ic, Ip, NULL, err);
     if (rc)
         return rc;
+    if (P->have_cv) { /* M dV/dt = dq/dt */
+        const int n = P->np + 1;
+        double M[CH_MAX_PATCHES + 1][CH_MAX_PATCHES + 2], dV[CH_MAX_PATCHES + 1];
+        for (int k = 0; k < n; k++)
+            for (int l = 0; l < n; l++)
+                M[k][l] = P->Cv[k * n + l];
+        M[0][n] = Ic;
+        for (int p = 0; p < P->np; p++) {
+            const double leak = isfinite(P->Rp[p]) ? y[1 + p] / P->Rp[p] : 0;
+            M[0][0] += P->Cp[p];
+            M[0][1 + p] -= P->Cp[p];
+            M[1 + p][0] -= P->Cp[p];
+            M[1 + p][1 + p] += P->Cp[p];
+            M[0][n] += leak;
+            M[1 + p][n] = Ip[p] - leak;
+        }
+        if (solve_small(n, M, dV))
+            return mote_fail(err, MOTE_ERUNTIME, "evolve: the capacitance matrix is singular");
+        F[0] = dV[0];
+        for (int p = 0; p < P->np; p++)
+            F[1 + p] = dV[1 + p] - dV[0];
+        return MOTE_OK;
+    }
     double I = Ic;
     for (int p = 0; p < P->np; p++) {
         I += Ip[p];
@@ -207,33 +279,9 @@ static int be_step(ch_patches *P, const double *y, double h, double *z, mote_err
         }
         for (int r = 0; r < n; r++)
             J[r][n] = -(z[r] - y[r] - h * F[r]);
-        /* Gaussian elimination with partial pivoting */
-        for (int c = 0; c < n; c++) {
-            int piv = c;
-            for (int r = c + 1; r < n; r++)
-                if (fabs(J[r][c]) > fabs(J[piv][c]))
-                    piv = r;
-            if (!(fabs(J[piv][c]) > 0))
-                return 1;
-            if (piv != c)
-                for (int q = 0; q <= n; q++) {
-                    const double tmp = J[c][q];
-                    J[c][q] = J[piv][q];
-                    J[piv][q] = tmp;
-                }
-            for (int r = c + 1; r < n; r++) {
-                const double m = J[r][c] / J[c][c];
-                for (int q = c; q <= n; q++)
-                    J[r][q] -= m * J[c][q];
-            }
-        }
         double dz[CH_MAX_PATCHES + 1], big = 0;
-        for (int r = n - 1; r >= 0; r--) {
-            double s = J[r][n];
-            for (int q = r + 1; q < n; q++)
-                s -= J[r][q] * dz[q];
-            dz[r] = s / J[r][r];
-        }
+        if (solve_small(n, J, dz))
+            return 1;
         for (int r = 0; r < n; r++) {
             z[r] += dz[r];
             big = fmax(big, fabs(dz[r]) / (ATOL + RTOL * fabs(z[r])));

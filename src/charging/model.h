@@ -31,6 +31,8 @@ typedef struct ch_model {
     int field_solved;           /* `field solved` (issue 55): the body's own field, solved */
     double theta;               /* its treecode's opening angle */
     mote_ch_bem fbem;           /* the solution for the body as it is (sigma NULL: none yet) */
+    int fstate[CH_MAX_PATCHES + 1]; /* its conductor k's place in the patches' circuit: 0 the
+                                     * conductor, 1 + p dielectric part p */
     mote_ch_ftree *ftree;       /* and its tree */
     double bfield;              /* `bfield B=` (spec 3.4, diagnostics only), T */
     int diagnosed;              /* the warnings of spec 3.4 printed for this plasma and body */

@@ -473,7 +473,7 @@ static int patch_row_at(patch_rows *r, double time, mote_err *err)
             const double slope = fabs(I2 - I) / e;
             sU = sig * fmin(time, slope > 0 ? C / slope : time) / C;
         }
-        fprintf(out, "%.10g %.10g %.10g %.10g %.10g", time, C * y[0], y[0], sU, I);
+        fprintf(out, "%.10g %.10g %.10g %.10g %.10g", time, ch_patches_charge(P, y), y[0], sU, I);
         for (int p = 0; p < np; p++)
             fprintf(out, " %.10g", y[0] + y[1 + p]);
         fprintf(out, " %.10g\n", dm);
@@ -556,6 +556,16 @@ static int evolve_patches(ch_model *m, const mote_call *c, mote_err *err)
     x.o.dv = P.dv;
     x.o.ndv = P.ndv;
     P.C = C;
+    if (m->ftree && !m->faithful) { /* the solved field: its capacitance matrix (symmetrized:
+                                     * collocation makes it reciprocal to the discretization's
+                                     * error) */
+        const int nc = m->fbem.nc, n = np + 1;
+        P.have_cv = 1;
+        for (int k = 0; k < nc; k++)
+            for (int l = 0; l < nc; l++)
+                P.Cv[m->fstate[k] * n + m->fstate[l]] =
+                    0.5 * (m->fbem.cmat[k * nc + l] + m->fbem.cmat[l * nc + k]);
+    }
     P.node = patch_node;
     P.ctx = &x;
     mote_progress prog; /* one line for all the runs */
@@ -569,6 +579,14 @@ static int evolve_patches(ch_model *m, const mote_call *c, mote_err *err)
                      "d(V_p - U)/dt = I_p - (V_p - U)/R_p; implicit Euler extrapolated, "
                      "tolerance 1e-7)\n# C_F = %.10g\n",
                 m->faithful ? "faithful" : "full", np, np > 1 ? "s" : "", C);
+        if (P.have_cv) {
+            fprintf(out, "# circuit: C replaced by the solved field's capacitance matrix Cv of the "
+                         "conductor and the parts' outer surfaces (issue 55): (Cv + layers) "
+                         "dV/dt = the currents\n# Cv_F =");
+            for (int q = 0; q < (np + 1) * (np + 1); q++)
+                fprintf(out, " %.10g", P.Cv[q]);
+            fputc('\n', out);
+        }
         for (int p = 0; p < np; p++)
             fprintf(out, "# A_%s_m2 = %.10g\n# C_p_%s_F = %.10g\n# R_p_%s_ohm = %.10g\n",
                     m->diel[p].part, area[p], m->diel[p].part, P.Cp[p], m->diel[p].part, P.Rp[p]);
