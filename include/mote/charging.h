@@ -345,6 +345,10 @@ typedef struct {
      * side [triangle][side] the current and the sunlit fraction (NULL: the sun is off) */
     double photo;
     double *tri_photo, *tri_sunlit;
+    /* the photoelectrons followed (the solved field): how many, and the standard error of
+     * photo they leave (0 with the escape fractions) */
+    uint64_t photo_paths;
+    double photo_sigma;
     /* curved paths (spec 6.3): histories that ran out of steps, the steps taken, and the
      * largest relative energy error |dE| / (K0 + |q phi_g|) of a path */
     uint64_t lost, steps;

@@ -213,9 +213,18 @@ void ch_mpi_sum128(int solo, ch_i128 *v, size_t n);
  * counters, the largest energy error, the secondary scores (n128 128-bit integers). */
 void ch_mpi_merge(int solo, uint64_t *tally, size_t ntally, uint64_t cnt[4], double *eerr,
                   ch_i128 *see, size_t n128);
+/* Photoelectrons followed (the solved field, mc.c): the share of n of them, histories first ..
+ * first + n - 1, emitted from triangle tri's side at temperature kT_ph, that escape. */
+typedef struct {
+    double (*escape)(void *ctx, uint32_t tri, int side, uint64_t first, uint64_t n, double kT_ph);
+    void *ctx;
+    uint64_t paths; /* how many in all */
+} ch_photo_tracer;
 /* Photoemission (spec 6.8): the sunlit triangles' photocurrents into r (patchy: also the
- * patches' rows of differential charging); no random numbers. */
+ * patches' rows of differential charging); no random numbers, unless tr (not NULL) follows
+ * the photoelectrons instead of the escape fraction of a sphere's field. */
 int ch_photoemission(const mote_ch_body *b, const mote_ch_tracer *t, const mote_ch_run_opts *o,
-                     mote_ch_result *r, uint32_t ntri, double U_s, int patchy, mote_err *err);
+                     mote_ch_result *r, uint32_t ntri, double U_s, int patchy,
+                     const ch_photo_tracer *tr, mote_err *err);
 
 #endif

@@ -21,7 +21,7 @@ static double oml_net(const mote_ch_plasma *p, double A, double U)
 
 double mote_ch_net(const mote_ch_result *r, double *sigma)
 {
-    double I = r->photo, v = 0;
+    double I = r->photo, v = r->photo_sigma * r->photo_sigma;
     for (int s = 0; s < r->nsp; s++) {
         I += r->current[s];
         v += r->sigma[s] * r->sigma[s];

@@ -359,6 +359,36 @@ static int emitted_escapes(const mc_comp *x, const ch_hit *hit, double E, const 
     return out.tri == -1;
 }
 
+/* The photoelectrons of triangle tri's side, histories first .. first + n - 1 of the photo
+ * stream (component CH_PHOTO_COMP): each from a point uniform on the triangle (draw 0), in a
+ * direction by the cosine law, with the energy of a Maxwellian flux at kT_ph, Gamma(2, kT_ph)
+ * (draw 1); the share that escapes. */
+#define CH_PHOTO_COMP 0x70686f74u
+static double photo_escapes(void *vx, uint32_t tri, int side, uint64_t first, uint64_t n,
+                            double kT_ph)
+{
+    const mc_comp *x = vx;
+    const mote_ch_body *b = x->b;
+    uint64_t out = 0;
+    for (uint64_t h = first; h < first + n; h++) {
+        double u[4], w[4];
+        ch_uniforms4(x->key, h, CH_PHOTO_COMP, 0, u);
+        ch_uniforms4(x->key, h, CH_PHOTO_COMP, 1, w);
+        double a = u[0], c = u[1];
+        if (a + c > 1) { /* (the other half of the parallelogram, folded back) */
+            a = 1 - a;
+            c = 1 - c;
+        }
+        ch_hit hit = {.tri = tri, .side = side};
+        for (int k = 0; k < 3; k++)
+            hit.x[k] = b->v[tri][0][k] + a * (b->v[tri][1][k] - b->v[tri][0][k]) +
+                       c * (b->v[tri][2][k] - b->v[tri][0][k]) - x->centre[k];
+        const double dir[2] = {w[0], w[1]};
+        out += (uint64_t)emitted_escapes(x, &hit, -kT_ph * log(u[2] * u[3]), dir);
+    }
+    return (double)out / (double)n;
+}
+
 /* The emission (spec 6.7) and the patches (6.10) of a hit of energy e (eV) at |cos| c; with
  * the solved field (hit given) the emitted electrons followed, each yield scored when its
  * electron escapes (draws 100 and 101 of history h) instead of the escape fractions. */
@@ -707,6 +737,17 @@ static void component_end(mc_run_state *st, const mc_comp *x, int s, int k, doub
     r->max_energy_err = fmax(r->max_energy_err, eerr);
 }
 
+/* The emitted electrons' paths (the solved field only: traced). */
+static void electron_paths(const mc_run_state *st, mc_comp *x)
+{
+    const double U = st->o->potential;
+    x->traced = st->path.tree != NULL;
+    x->pe = st->path;
+    x->pe.k = -MOTE_CH_E * U * st->a_f / MOTE_CH_ME;
+    x->pe.qu = -MOTE_CH_E * U / MOTE_CH_ME;
+    x->pe.emitted = 1;
+}
+
 /* Component k of species s (comp-th of the run): its histories, in blocks over the threads and
  * the ranks, tallied into r. */
 static int run_component(mc_run_state *st, int s, int k, int comp, mote_err *err)
@@ -745,12 +786,7 @@ static int run_component(mc_run_state *st, int s, int k, int comp, mote_err *err
     x.pk = st->path;
     x.pk.k = sp->Z * MOTE_CH_E * o->potential * st->a_f / sp->m;
     x.pk.qu = sp->Z * MOTE_CH_E * o->potential / sp->m;
-    /* the emitted electrons' paths (the solved field only) */
-    x.traced = x.pk.tree != NULL;
-    x.pe = st->path;
-    x.pe.k = -MOTE_CH_E * o->potential * st->a_f / MOTE_CH_ME;
-    x.pe.qu = -MOTE_CH_E * o->potential / MOTE_CH_ME;
-    x.pe.emitted = 1;
+    electron_paths(st, &x);
     x.vscale = sqrt(2 * sp->kT[k] * MOTE_CH_E / sp->m); /* K = 1 kT */
     /* secondary emission by electron impacts (spec 6.7): each hit scores the expected yield
      * times the escape fraction; sums per block, added in block order (the same bits on any
@@ -980,9 +1016,15 @@ static int mc_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_
                        "integrator max_steps= or eta=", (unsigned long long)r->lost,
                        (double)o->particles * (double)r->ncomp, st.path.max_steps,
                        o->potential);
-    if (!rc && o->sun && o->tri_material)
-        rc = ch_photoemission(b, t, o, r, st.ntri, st.base.field ? o->potential : 0, st.base.patchy,
-                           err);
+    if (!rc && o->sun && o->tri_material) {
+        /* in the solved field the photoelectrons are followed, as many as the histories of a
+         * component */
+        mc_comp xe = st.base;
+        electron_paths(&st, &xe);
+        const ch_photo_tracer tr = {photo_escapes, &xe, o->particles};
+        rc = ch_photoemission(b, t, o, r, st.ntri, st.base.field ? o->potential : 0,
+                              st.base.patchy, xe.traced ? &tr : NULL, err);
+    }
     if (rc) {
         mote_ch_result_free(r);
         return rc;

@@ -238,7 +238,12 @@ int ch_run_run(void *vm, const mote_call *c, mote_err *err)
         for (int k = 0; k < m->plasma.sp[s].ncomp; k++, ncomp++)
             hits += m->res.hits[s][k];
     }
-    if (m->res.tri_photo)
+    if (m->res.tri_photo && m->res.photo_paths)
+        fprintf(m->log, "run: photoelectrons I = %+.10g +- %.3g A (sun from %g,%g,%g, intensity "
+                        "%g; %llu followed in the solved field)\n", m->res.photo,
+                m->res.photo_sigma, m->sun_dir[0], m->sun_dir[1], m->sun_dir[2], m->sun_int,
+                (unsigned long long)m->res.photo_paths);
+    else if (m->res.tri_photo)
         fprintf(m->log, "run: photoelectrons I = %+.10g A (sun from %g,%g,%g, intensity %g)\n",
                 m->res.photo, m->sun_dir[0], m->sun_dir[1], m->sun_dir[2], m->sun_int);
     fprintf(m->log, "run: net I = %.10g A +- %.3g; %llu histories per component from R = %.6g m, "

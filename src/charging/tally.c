@@ -111,49 +111,90 @@ static void patch_photo(mote_ch_result *r, const mote_ch_run_opts *o, int pp, do
         r->patch_I[(size_t)pp * (size_t)o->ndv + (size_t)g] += I0 * mote_ch_escape(U_s + o->dv[g], kT_ph);
 }
 
-/* Photoemission (spec 6.8): the sunlit triangles' photocurrents; no random numbers. */
+/* Photoemission (spec 6.8): the sunlit triangles' photocurrents; no random numbers, unless the
+ * photoelectrons are traced (tr not NULL). */
 int ch_photoemission(const mote_ch_body *b, const mote_ch_tracer *t,
                      const mote_ch_run_opts *o, mote_ch_result *r, uint32_t ntri, double U_s,
-                     int patchy, mote_err *err)
+                     int patchy, const ch_photo_tracer *tr, mote_err *err)
 {
     r->tri_photo = calloc((size_t)ntri * 2, sizeof *r->tri_photo);
     r->tri_sunlit = calloc((size_t)ntri * 2, sizeof *r->tri_sunlit);
     int *side = b->sphere ? NULL : malloc((size_t)ntri * sizeof *side);
     double *frac = b->sphere ? NULL : malloc((size_t)ntri * sizeof *frac);
-    if (!r->tri_photo || !r->tri_sunlit || (!b->sphere && (!side || !frac))) {
+    double *I0 = b->sphere ? NULL : malloc((size_t)ntri * sizeof *I0);
+    double *esc = b->sphere ? NULL : malloc((size_t)ntri * sizeof *esc);
+    uint64_t *first = tr ? malloc(((size_t)ntri + 1) * sizeof *first) : NULL;
+    if (!r->tri_photo || !r->tri_sunlit ||
+        (!b->sphere && (!side || !frac || !I0 || !esc || (tr && !first)))) {
         free(side);
         free(frac);
+        free(I0);
+        free(esc);
+        free(first);
         return mote_fail(err, MOTE_ENOMEM, "run: out of memory for the photoemission");
     }
     const double inten = o->sun_intensity;
     if (b->sphere) { /* the lit half: the projected disc */
         const mote_ch_material *mat = o->tri_material[0];
         r->tri_sunlit[0] = 0.5;
-        const double I0 = mat->photo_j * inten * MOTE_CH_PI * b->sphere_r * b->sphere_r;
-        r->tri_photo[0] = I0 * mote_ch_escape(U_s, mat->kT_ph);
+        const double J0 = mat->photo_j * inten * MOTE_CH_PI * b->sphere_r * b->sphere_r;
+        r->tri_photo[0] = J0 * mote_ch_escape(U_s, mat->kT_ph);
         r->photo = r->tri_photo[0];
         if (patchy && o->tri_patch[0] >= 0)
-            patch_photo(r, o, o->tri_patch[0], I0, U_s, mat->kT_ph);
-    } else {
-        mote_ch_sunlit(b, t, o->sun_dir, frac, side, o->threads);
-        for (uint32_t i = 0; i < ntri; i++) {
-            if (side[i] < 0)
-                continue;
-            r->tri_sunlit[2 * (size_t)i + (size_t)side[i]] = frac[i];
-            const mote_ch_material *mat = o->tri_material[i];
-            const double *nr = b->nrm[i];
-            const double cs = fabs(nr[0] * o->sun_dir[0] + nr[1] * o->sun_dir[1] +
-                                   nr[2] * o->sun_dir[2]);
-            const double I0 = mat->photo_j * inten * b->area[i] * cs * frac[i];
-            const double I = I0 * mote_ch_escape(U_s, mat->kT_ph);
-            if (patchy && o->tri_patch[i] >= 0)
-                patch_photo(r, o, o->tri_patch[i], I0, U_s, mat->kT_ph);
-            r->tri_photo[2 * (size_t)i + (size_t)side[i]] = I;
-            r->photo += I;
-        }
+            patch_photo(r, o, o->tri_patch[0], J0, U_s, mat->kT_ph);
+        return MOTE_OK;
     }
+    mote_ch_sunlit(b, t, o->sun_dir, frac, side, o->threads);
+    double total = 0;
+    for (uint32_t i = 0; i < ntri; i++) {
+        I0[i] = 0;
+        if (side[i] < 0)
+            continue;
+        const double *nr = b->nrm[i];
+        const double cs = fabs(nr[0] * o->sun_dir[0] + nr[1] * o->sun_dir[1] +
+                               nr[2] * o->sun_dir[2]);
+        I0[i] = o->tri_material[i]->photo_j * inten * b->area[i] * cs * frac[i];
+        esc[i] = mote_ch_escape(U_s, o->tri_material[i]->kT_ph);
+        total += I0[i];
+    }
+    if (tr && total > 0) {
+        /* the photoelectrons followed: tr->paths of them shared among the sunlit triangles by
+         * their photocurrent (at least one each), each triangle's escaping share estimated
+         * from its own; the triangles' histories numbered in order, so that any number of
+         * threads gives the same bits */
+        first[0] = 0;
+        for (uint32_t i = 0; i < ntri; i++) {
+            uint64_t n = 0;
+            if (I0[i] > 0)
+                n = (uint64_t)fmax(1, llround((double)tr->paths * I0[i] / total));
+            first[i + 1] = first[i] + n;
+        }
+        const long n = (long)ntri;
+        const int nt = o->threads > 1 ? o->threads : 1;
+#pragma omp parallel for num_threads(nt) if (nt > 1) schedule(dynamic, 4)
+        for (long i = 0; i < n; i++)
+            if (first[i + 1] > first[i])
+                esc[i] = tr->escape(tr->ctx, (uint32_t)i, side[i], first[i], first[i + 1] - first[i],
+                                    o->tri_material[i]->kT_ph);
+        r->photo_paths = first[ntri];
+    }
+    for (uint32_t i = 0; i < ntri; i++) {
+        if (side[i] < 0)
+            continue;
+        r->tri_sunlit[2 * (size_t)i + (size_t)side[i]] = frac[i];
+        const double I = I0[i] * esc[i];
+        if (tr && first[i + 1] > first[i]) /* (binomial) */
+            r->photo_sigma += I0[i] * I0[i] * esc[i] * (1 - esc[i]) / (double)(first[i + 1] - first[i]);
+        if (patchy && o->tri_patch[i] >= 0)
+            patch_photo(r, o, o->tri_patch[i], I0[i], U_s, o->tri_material[i]->kT_ph);
+        r->tri_photo[2 * (size_t)i + (size_t)side[i]] = I;
+        r->photo += I;
+    }
+    r->photo_sigma = sqrt(r->photo_sigma);
     free(side);
     free(frac);
+    free(I0);
+    free(esc);
+    free(first);
     return MOTE_OK;
 }
-
