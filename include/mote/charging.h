@@ -318,6 +318,16 @@ typedef struct {
      * (per volt); a mesh's curved paths then follow it (its capacitance C replaces the body's
      * for R_f and the injection); NULL: the equivalent sphere's */
     const mote_ch_ftree *tree;
+    /* conductors at their own potentials in the solved field (issue 55): bem's nc conductors
+     * (frame and dielectric parts), triangle i on tri_cond[i], conductor k at cond_V[k] (V);
+     * the run builds its own tree (opening angle theta) of their charge, sum_k V_k times bem's
+     * column k, the paths follow it and an impact's energy is taken at its triangle's
+     * potential. potential is then the frame's (the field is there when some V_k is not 0).
+     * NULL: the body at potential everywhere. */
+    const mote_ch_bem *bem;
+    const int *tri_cond;
+    const double *cond_V;
+    double theta;
 } mote_ch_run_opts;
 
 /* OML current (spec 6.4) of one Maxwellian component (n, kT eV, m, Z) to a sphere of area A at

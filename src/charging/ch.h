@@ -94,6 +94,7 @@ typedef struct {
     double rfar;           /* beyond it (from c) the monopole k r / |r|^3 (its error there
                             * below the tree's); rj is at least rfar */
     int emitted;           /* 1: paths from the surface (bound ones turn back) */
+    const double *tri_phi; /* each triangle's potential per volt (NULL: 1, the body at U) */
 } ch_path;
 
 typedef struct {

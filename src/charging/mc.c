@@ -681,6 +681,12 @@ typedef struct {
     int asks;              /* the progress or the interrupt want to hear of blocks done */
     int stop;              /* the context's interrupt hook asked to stop (Python's Ctrl-C) */
     uint64_t blocks_done;
+    /* the field's scale (V): the body's potential, or with conductors at their own potentials
+     * the frame's (the largest in magnitude when it is 0); their tree, per volt of it, and each
+     * triangle's potential per volt */
+    double Uf;
+    mote_ch_ftree *own_tree;
+    double *tri_phi;
 } mc_run_state;
 
 /* The end of a component: the threads' tallies merged (integers: any order gives the same
@@ -740,7 +746,7 @@ static void component_end(mc_run_state *st, const mc_comp *x, int s, int k, doub
 /* The emitted electrons' paths (the solved field only: traced). */
 static void electron_paths(const mc_run_state *st, mc_comp *x)
 {
-    const double U = st->o->potential;
+    const double U = st->Uf;
     x->traced = st->path.tree != NULL;
     x->pe = st->path;
     x->pe.k = -MOTE_CH_E * U * st->a_f / MOTE_CH_ME;
@@ -774,7 +780,7 @@ static int run_component(mc_run_state *st, int s, int k, int comp, mote_err *err
     x.fmax_d = x.drift ? x.sigma * phi_n(ud / x.sigma) + ud * Phi_n(ud / x.sigma) : 0;
     /* the OML test (spec 6.3) in units of kT: hit when K + q phi_g - q U >= K sin^2 (R/a)^2, K
      * the kinetic energy at injection */
-    x.dq = field ? sp->Z * (x.phi_g - o->potential) / sp->kT[k] : 0;
+    x.dq = field ? sp->Z * (x.phi_g - st->Uf) / sp->kT[k] : 0;
     x.ra2 = field ? (x.R / st->a_f) * (x.R / st->a_f) : 0;
     r->weight[s][k] = sp->Z * MOTE_CH_E * gamma / (double)o->particles;
     const uint64_t nblocks = (o->particles + BLOCK - 1) / BLOCK;
@@ -784,8 +790,8 @@ static int run_component(mc_run_state *st, int s, int k, int comp, mote_err *err
     uint64_t hits = 0, back = 0, lost = 0, steps = 0;
     double eerr = 0;
     x.pk = st->path;
-    x.pk.k = sp->Z * MOTE_CH_E * o->potential * st->a_f / sp->m;
-    x.pk.qu = sp->Z * MOTE_CH_E * o->potential / sp->m;
+    x.pk.k = sp->Z * MOTE_CH_E * st->Uf * st->a_f / sp->m;
+    x.pk.qu = sp->Z * MOTE_CH_E * st->Uf / sp->m;
     electron_paths(st, &x);
     x.vscale = sqrt(2 * sp->kT[k] * MOTE_CH_E / sp->m); /* K = 1 kT */
     /* secondary emission by electron impacts (spec 6.7): each hit scores the expected yield
@@ -794,7 +800,7 @@ static int run_component(mc_run_state *st, int s, int k, int comp, mote_err *err
     x.see = o->tri_material && sp->Z < 0;
     for (uint32_t i = 0; o->tri_material && sp->Z > 0 && !x.see && i < ntri; i++)
         x.see = o->tri_material[i]->ion_dmax > 0;
-    x.U_s = field ? o->potential : 0;
+    x.U_s = field ? st->Uf : 0;
     /* scores in fixed point (2^-40) with 128-bit integers: sums that do not depend on the order
      * of addition (spec 5.6); per thread, per triangle and side, then the total and the sum of
      * squares */
@@ -897,6 +903,45 @@ static ch_path path_of(const mote_ch_body *b, const mote_ch_tracer *t, const mot
     return path;
 }
 
+/* Conductors at their own potentials (o->bem, o->tri_cond, o->cond_V): the field's scale Uf,
+ * the tree of their charge per volt of it, each triangle's potential per volt. */
+static int conductors_field(mc_run_state *st, const mote_ch_geometry *g, mote_err *err)
+{
+    const mote_ch_body *b = st->b;
+    const mote_ch_run_opts *o = st->o;
+    const mote_ch_bem *f = o->bem;
+    (void)g;
+    if (f->n != b->ntri)
+        return mote_fail(err, MOTE_EINVAL, "run: the conductors' solution has %u panels, the "
+                         "body %u", f->n, b->ntri);
+    double big = 0;
+    for (int k = 0; k < f->nc; k++)
+        if (fabs(o->cond_V[k]) > fabs(big))
+            big = o->cond_V[k];
+    st->Uf = o->potential != 0 ? o->potential : big;
+    if (st->Uf == 0) /* all at 0: no field */
+        return MOTE_OK;
+    double *sigma = malloc((size_t)f->n * sizeof *sigma);
+    st->tri_phi = malloc((size_t)f->n * sizeof *st->tri_phi);
+    if (!sigma || !st->tri_phi) {
+        free(sigma);
+        return mote_fail(err, MOTE_ENOMEM, "run: out of memory for the conductors' field");
+    }
+    for (uint32_t j = 0; j < f->n; j++) {
+        double s = 0;
+        if (f->nc == 1)
+            s = o->cond_V[0] * f->sigma[j];
+        else
+            for (int k = 0; k < f->nc; k++)
+                s += o->cond_V[k] * f->basis[(size_t)k * f->n + j];
+        sigma[j] = s / st->Uf;
+        st->tri_phi[j] = o->cond_V[o->tri_cond[j]] / st->Uf;
+    }
+    st->own_tree = mote_ch_ftree_build(b, sigma, o->theta > 0 ? o->theta : 0.4, err);
+    free(sigma);
+    return st->own_tree ? MOTE_OK : err->code;
+}
+
 /* The run's constants checked and set (st->base, the path, the tallies' room). */
 static int run_setup(mc_run_state *st, const mote_ch_tracer *t, mote_err *err)
 {
@@ -917,7 +962,14 @@ static int run_setup(mc_run_state *st, const mote_ch_tracer *t, mote_err *err)
                          "where the rays' coordinates no longer trace (Embree works in single "
                          "precision; a Debye length that long: give injector sphere radius=)",
                          R, MOTE_CH_SIZE_MAX);
-    const int field = o->field && o->potential != 0;
+    st->Uf = o->potential;
+    const mote_ch_ftree *tree = o->tree;
+    if (o->bem && o->cond_V && o->tri_cond && o->field && !b->sphere) {
+        if (conductors_field(st, &g, err))
+            return err->code;
+        tree = st->own_tree;
+    }
+    const int field = o->field && st->Uf != 0;
     const int curved = field && !b->sphere; /* a charged mesh: curved paths (spec 6.3) */
     if (curved && !(o->eta >= 0 && o->eta < 1))
         return mote_fail(err, MOTE_EINVAL, "run: eta must be in (0, 1), found %g", o->eta);
@@ -925,15 +977,16 @@ static int run_setup(mc_run_state *st, const mote_ch_tracer *t, mote_err *err)
     /* the field (spec 6.1, 6.2): the equivalent sphere's radius, the potential on the
      * generation sphere */
     st->a_f = b->sphere ? b->sphere_r : g.r_field;
-    if (curved && o->tree) /* the solved field's own capacitance */
-        st->a_f = mote_ch_ftree_charge(o->tree) / (4 * MOTE_CH_PI * MOTE_CH_EPS0);
-    if (curved && !(R > st->a_f))
+    if (curved && tree) /* the solved field's own capacitance (per volt of Uf) */
+        st->a_f = mote_ch_ftree_charge(tree) / (4 * MOTE_CH_PI * MOTE_CH_EPS0);
+    if (curved && !st->own_tree && !(R > st->a_f)) /* (conductors: any sign, any size) */
         return mote_fail(err, MOTE_EINVAL, "run: the injection radius %.6g m must exceed the "
                          "field radius R_f = C/(4 pi eps0) = %.6g m", R, st->a_f);
     st->path = path_of(b, t, o, &g, st->a_f, curved);
-    if (curved && o->tree) { /* the monopole beyond where it is as good as the tree */
-        st->path.tree = o->tree;
-        st->path.rfar = mote_ch_ftree_monopole_radius(o->tree, g.centre, 1e-3);
+    if (curved && tree) { /* the monopole beyond where it is as good as the tree */
+        st->path.tree = tree;
+        st->path.tri_phi = st->tri_phi;
+        st->path.rfar = mote_ch_ftree_monopole_radius(tree, g.centre, 1e-3);
         st->path.rj = fmax(st->path.rj, st->path.rfar);
     }
     r->nsp = st->p->nsp;
@@ -955,7 +1008,7 @@ static int run_setup(mc_run_state *st, const mote_ch_tracer *t, mote_err *err)
     x->field = field;
     x->curved = curved;
     x->box = o->box;
-    x->phi_g = field ? o->potential * st->a_f / R : 0;
+    x->phi_g = field ? st->Uf * st->a_f / R : 0;
     x->tmin = 1e-9 * (2 * g.r_bound);
     /* the bounding sphere about the centre, a little enlarged for rounding */
     const double rb = g.r_bound * (1 + 1e-9) / R;
@@ -984,6 +1037,8 @@ static int mc_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_
     mc_run_state st = {.p = p, .b = b, .o = o, .r = r};
     int rc = run_setup(&st, t, err);
     if (rc) {
+        mote_ch_ftree_free(st.own_tree);
+        free(st.tri_phi);
         mote_ch_result_free(r);
         return rc;
     }
@@ -1022,9 +1077,11 @@ static int mc_run(const mote_ch_plasma *p, const mote_ch_body *b, const mote_ch_
         mc_comp xe = st.base;
         electron_paths(&st, &xe);
         const ch_photo_tracer tr = {photo_escapes, &xe, o->particles};
-        rc = ch_photoemission(b, t, o, r, st.ntri, st.base.field ? o->potential : 0,
+        rc = ch_photoemission(b, t, o, r, st.ntri, st.base.field ? st.Uf : 0,
                               st.base.patchy, xe.traced ? &tr : NULL, err);
     }
+    mote_ch_ftree_free(st.own_tree);
+    free(st.tri_phi);
     if (rc) {
         mote_ch_result_free(r);
         return rc;

@@ -200,7 +200,7 @@ static void solved_rk4(const ch_path *P, const double r[3], const double v[3],
  * The step: dt = eta min(|r| / |v|, |v| / |a|) (the time to move eta |r|, and to turn the
  * velocity by eta radians: small steps where the field is strong, near edges and booms),
  * bounded below as in the sphere's field by the free fall from |r|. The speed at a hit from
- * the energy: the body is at U (phi1 = 1 there). */
+ * the energy: the body is at U (phi1 = 1 there), or its triangle at its own. */
 static void follow_solved(const ch_path *P, double r[3], double v[3], ch_hit *out)
 {
     double a0[3];
@@ -222,7 +222,7 @@ static void follow_solved(const ch_path *P, double r[3], double v[3], ch_hit *ou
             out->tri = tri;
             for (int i = 0; i < 3; i++)
                 out->x[i] = x[i];
-            out->v2 = fmax(0, 2 * (e0 - P->qu));
+            out->v2 = fmax(0, 2 * (e0 - P->qu * (P->tri_phi ? P->tri_phi[tri] : 1)));
             out->eerr = scale > 0 ? fabs(solved_energy(P, r, v) - e0) / scale : 0;
             return;
         }
