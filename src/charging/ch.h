@@ -189,6 +189,18 @@ typedef struct {
     int (*node)(void *ctx, double U, double *Ic, double *sig, double *Ip, mote_err *err);
     void *ctx;
     long steps;
+    /* direct (the solved field with the conductors at their own potentials, issue 55): no
+     * table, each state's currents from a run at its potentials: direct(ctx, V, J, sig) the
+     * conductor's (J[0]) and each patch's (J[1 + p]) net current at the absolute potentials V
+     * (np + 1) and the net current's error. The common mode (all potentials together, through
+     * the vacuum capacitance alone: fast) is floated at each step, the differentials V_p - U
+     * (through the layers: slow) advanced by steps that change none by more than dv_step.
+     * J, sig: the last state's; sigma_U the float's error, tau_c the common mode's time
+     * constant (sum Cv over |dI/dU|). */
+    int (*direct)(void *ctx, const double *V, double *J, double *sig, mote_err *err);
+    double dv_step;
+    double J[CH_MAX_PATCHES + 1], sig, sigma_U, tau_c;
+    long runs;
 } ch_patches;
 
 int ch_patches_init(ch_patches *P, int np, double scale, double U0, mote_err *err);
@@ -198,6 +210,8 @@ int ch_patches_currents(ch_patches *P, double U, const double *dV, double *Ic, d
                         double *sig, mote_err *err);
 /* The whole charge at y = (U, dV_1 ... dV_np): C U, or with the matrix sum_kl Cv_kl V_l. */
 double ch_patches_charge(const ch_patches *P, const double *y);
+/* direct: float the common mode of y (U, keeping dV_1 ... dV_np), P->J its currents. */
+int ch_patches_float(ch_patches *P, double *y, mote_err *err);
 /* Integrate y = (U, dV_1 ... dV_np) from *t to t1, *h the step to try (updated). */
 int ch_patches_advance(ch_patches *P, double *y, double *h, double t1, double *t, mote_err *err);
 

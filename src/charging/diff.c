@@ -143,6 +143,14 @@ static double patch_at(const ch_patches *P, int k, int p, double dV, int *off)
 int ch_patches_currents(ch_patches *P, double U, const double *dV, double *Ic, double *Ip,
                         double *sig, mote_err *err)
 {
+    if (P->direct) { /* the last state's (floated) */
+        *Ic = P->J[0];
+        for (int p = 0; p < P->np; p++)
+            Ip[p] = P->J[1 + p];
+        if (sig)
+            *sig = P->sig;
+        return MOTE_OK;
+    }
     const double x = asinh((U - P->U0) / P->scale) / DU_STEP;
     if (!isfinite(x))
         return mote_fail(err, MOTE_ERUNTIME, "evolve: the body's potential is not finite");
@@ -218,13 +226,10 @@ double ch_patches_charge(const ch_patches *P, const double *y)
     return Q;
 }
 
-/* y' = F(y), y = (U, dV_1 ... dV_np). */
-static int rhs(ch_patches *P, const double *y, double *F, mote_err *err)
+/* y' = F(y) from the currents Ic (the conductor's) and Ip (each patch's) at y. */
+static int rates(const ch_patches *P, const double *y, double Ic, const double *Ip, double *F,
+                 mote_err *err)
 {
-    double Ic, Ip[CH_MAX_PATCHES];
-    int rc = ch_patches_currents(P, y[0], y + 1, &Ic, Ip, NULL, err);
-    if (rc)
-        return rc;
     if (P->have_cv) { /* M dV/dt = dq/dt */
         const int n = P->np + 1;
         double M[CH_MAX_PATCHES + 1][CH_MAX_PATCHES + 2], dV[CH_MAX_PATCHES + 1];
@@ -255,6 +260,14 @@ static int rhs(ch_patches *P, const double *y, double *F, mote_err *err)
     }
     F[0] = I / P->C;
     return MOTE_OK;
+}
+
+/* y' = F(y), y = (U, dV_1 ... dV_np). */
+static int rhs(ch_patches *P, const double *y, double *F, mote_err *err)
+{
+    double Ic, Ip[CH_MAX_PATCHES];
+    int rc = ch_patches_currents(P, y[0], y + 1, &Ic, Ip, NULL, err);
+    return rc ? rc : rates(P, y, Ic, Ip, F, err);
 }
 
 /* One implicit Euler step z = y + h F(z) by Newton's method; 1 when it does not converge. */
@@ -294,8 +307,128 @@ static int be_step(ch_patches *P, const double *y, double h, double *z, mote_err
     return 1;
 }
 
+/* direct: the net current at U with the differentials of y, the currents into J. */
+static int direct_net(ch_patches *P, const double *y, double U, double *J, double *sig,
+                      double *I, mote_err *err)
+{
+    double V[CH_MAX_PATCHES + 1];
+    V[0] = U;
+    for (int p = 0; p < P->np; p++)
+        V[1 + p] = U + y[1 + p];
+    int rc = P->direct(P->ctx, V, J, sig, err);
+    if (rc)
+        return rc;
+    P->runs++;
+    *I = 0;
+    for (int k = 0; k <= P->np; k++)
+        *I += J[k];
+    return MOTE_OK;
+}
+
+int ch_patches_float(ch_patches *P, double *y, mote_err *err)
+{
+    const int n = P->np + 1;
+    double J0[CH_MAX_PATCHES + 1], J1[CH_MAX_PATCHES + 1], s0, s1, I0, I1;
+    double U0 = y[0], U1;
+    int rc = direct_net(P, y, U0, J0, &s0, &I0, err);
+    if (rc)
+        return rc;
+    /* the bracket: steps from U, doubling, the way the net current points (it falls as U
+     * rises: electrons gain, ions lose) */
+    double step = fmax(P->scale, 0.05 * fabs(U0));
+    for (int it = 0;; it++) {
+        U1 = U0 + (I0 > 0 ? step : -step);
+        if ((rc = direct_net(P, y, U1, J1, &s1, &I1, err)) != 0)
+            return rc;
+        if ((I0 > 0) != (I1 > 0) || I1 == 0)
+            break;
+        if (it == 40)
+            return mote_fail(err, MOTE_ERUNTIME, "evolve: the net current keeps its sign from "
+                             "%g V to %g V", y[0], U1);
+        U0 = U1;
+        I0 = I1;
+        s0 = s1;
+        memcpy(J0, J1, sizeof J0);
+        step *= 2;
+    }
+    /* the Illinois variant of the false position, to 3e-3 of the potential (or of kT) */
+    const double tol = 3e-3 * fmax(P->scale, fabs(U1));
+    int side = 0;
+    for (int it = 0; it < 30 && fabs(U1 - U0) > tol && I1 != 0; it++) {
+        const double U = U1 - I1 * (U1 - U0) / (I1 - I0);
+        double J[CH_MAX_PATCHES + 1], s, I;
+        if ((rc = direct_net(P, y, U, J, &s, &I, err)) != 0)
+            return rc;
+        if ((I > 0) == (I1 > 0)) { /* replaces the end of I1's sign */
+            if (side == 1)
+                I0 *= 0.5;
+            side = 1;
+        } else { /* the ends swap */
+            U0 = U1;
+            I0 = I1;
+            s0 = s1;
+            memcpy(J0, J1, sizeof J0);
+            if (side == -1)
+                I0 *= 0.5;
+            side = -1;
+        }
+        U1 = U;
+        I1 = I;
+        s1 = s;
+        memcpy(J1, J, sizeof J1);
+    }
+    /* the root and its currents (linear between the ends; the last evaluation when it is the
+     * root) */
+    const double f = I1 == 0 || I1 == I0 ? 1 : I0 / (I0 - I1);
+    y[0] = U0 + f * (U1 - U0);
+    for (int k = 0; k < n; k++)
+        P->J[k] = J0[k] + f * (J1[k] - J0[k]);
+    P->sig = s0 + f * (s1 - s0);
+    const double slope = U1 != U0 ? fabs((I1 - I0) / (U1 - U0)) : 0;
+    double Ct = 0;
+    for (int q = 0; P->have_cv && q < n * n; q++)
+        Ct += P->Cv[q];
+    if (!P->have_cv)
+        Ct = P->C;
+    P->sigma_U = slope > 0 ? P->sig / slope : 0;
+    P->tau_c = slope > 0 ? Ct / slope : INFINITY;
+    return MOTE_OK;
+}
+
+/* direct: explicit steps of the differentials, the common mode floated after each. */
+static int advance_direct(ch_patches *P, double *y, double *h, double t1, double *t,
+                          mote_err *err)
+{
+    while (*t < t1) {
+        double F[CH_MAX_PATCHES + 1];
+        int rc = rates(P, y, P->J[0], P->J + 1, F, err);
+        if (rc)
+            return rc;
+        /* no differential changes by more than dv_step (or 0.2 of itself, when more) */
+        double hh = t1 - *t;
+        if (P->steps > 0) /* (growing at most twofold a step) */
+            hh = fmin(hh, 2 * *h);
+        for (int p = 0; p < P->np; p++) {
+            const double lim = fmax(P->dv_step, 0.2 * fabs(y[1 + p]));
+            if (fabs(F[1 + p]) * hh > lim)
+                hh = lim / fabs(F[1 + p]);
+        }
+        const int last = hh >= t1 - *t;
+        for (int p = 0; p < P->np; p++)
+            y[1 + p] += hh * F[1 + p];
+        *t = last ? t1 : *t + hh;
+        *h = hh;
+        P->steps++;
+        if ((rc = ch_patches_float(P, y, err)) != 0)
+            return rc;
+    }
+    return MOTE_OK;
+}
+
 int ch_patches_advance(ch_patches *P, double *y, double *h, double t1, double *t, mote_err *err)
 {
+    if (P->direct)
+        return advance_direct(P, y, h, t1, t, err);
     const int n = P->np + 1;
     while (*t < t1) {
         double hh = fmin(*h, t1 - *t);

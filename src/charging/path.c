@@ -197,9 +197,10 @@ static void solved_rk4(const ch_path *P, const double r[3], const double v[3],
 
 /* A path in the solved field: conics beyond rj (>= rfar), RK4 within, each step's chord traced
  * (an ambient particle from the injection sphere, or an electron emitted from the surface).
- * The step: dt = eta min(|r| / |v|, |v| / |a|) (the time to move eta |r|, and to turn the
- * velocity by eta radians: small steps where the field is strong, near edges and booms),
- * bounded below as in the sphere's field by the free fall from |r|. The speed at a hit from
+ * The step: the time to move eta |r| (as in the sphere's field, bounded by the free fall from
+ * |r|, and counting the acceleration), and to turn the velocity by eta radians by the
+ * acceleration across it (small steps where the field bends paths, near edges and booms), but
+ * not shorter than a fall of eta^2 |r| from rest (turning points). The speed at a hit from
  * the energy: the body is at U (phi1 = 1 there), or its triangle at its own. */
 static void follow_solved(const ch_path *P, double r[3], double v[3], ch_hit *out)
 {
@@ -214,8 +215,17 @@ static void follow_solved(const ch_path *P, double r[3], double v[3], ch_hit *ou
         solved_at(P, r, a);
         const double rho = sqrt(dot3(r, r)), sp = sqrt(dot3(v, v)), am = sqrt(dot3(a, a));
         double dt = P->eta * rho / fmax(sp, sqrt(fabs(P->k) / rho));
-        if (am > 0 && sp > 0)
-            dt = fmin(dt, P->eta * sp / am);
+        if (am > 0) {
+            /* the chord at most eta rho long; the velocity turned by at most eta radians (by
+             * the acceleration across it), unless that is shorter than a fall of eta^2 rho
+             * from rest (a turning point) */
+            const double av = sp > 0 ? dot3(a, v) / sp : 0;
+            const double across = sqrt(fmax(0, am * am - av * av));
+            const double turn = across > 0 ? P->eta * sp / across : INFINITY;
+            const double fall = P->eta * sqrt(2 * rho / am);
+            dt = fmin(dt, 2 * P->eta * rho / (sp + sqrt(sp * sp + 2 * am * P->eta * rho)));
+            dt = fmin(dt, fmax(turn, fall));
+        }
         solved_rk4(P, r, v, a, dt, r1, v1);
         const long tri = chord(P, r, r1, &out->side, x, out->dir);
         if (tri >= 0) {

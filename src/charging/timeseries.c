@@ -353,6 +353,8 @@ typedef struct {
     const int *tri_patch;
     int runs;
     double Ic, sig, Ip[CH_MAX_PATCHES]; /* faithful: the run's constant currents */
+    int *tri_cond;                      /* direct: each triangle's conductor in m->fbem */
+    double cV[CH_MAX_PATCHES + 1];      /* and theirs potentials */
 } patch_node_ctx;
 
 /* The currents of the triangles of patch p (-1: the conductor) in a run: collected, emitted,
@@ -404,6 +406,36 @@ static int patch_node(void *vx, double U, double *Ic, double *sig, double *Ip, m
     mote_ch_net(&r, sig);
     *Ic = part_current(x->m, &r, x->tri_patch, -1);
     memcpy(Ip, r.patch_I, (size_t)x->m->ndiel * (size_t)q.ndv * sizeof *Ip);
+    mote_ch_result_free(&r);
+    return MOTE_OK;
+}
+
+/* The solved field with the conductors at their own potentials V (the state's order: the
+ * conductor, then the parts): a run there, each one's net current into J. */
+static int patch_direct(void *vx, const double *V, double *J, double *sig, mote_err *err)
+{
+    patch_node_ctx *x = vx;
+    const ch_model *m = x->m;
+    for (int k = 0; k < m->fbem.nc; k++)
+        x->cV[k] = V[m->fstate[k]];
+    mote_ch_run_opts q = x->o;
+    q.potential = V[0];
+    q.tree = NULL;
+    q.bem = &m->fbem;
+    q.tri_cond = x->tri_cond;
+    q.cond_V = x->cV;
+    q.theta = m->theta;
+    q.tri_patch = NULL;
+    q.npatch = q.ndv = 0;
+    q.dv = NULL;
+    mote_ch_result r;
+    int rc = mote_ch_run(&m->plasma, &m->body, x->tr, &q, &r, err);
+    if (rc)
+        return rc;
+    x->runs++;
+    mote_ch_net(&r, sig);
+    for (int p = -1; p < m->ndiel; p++)
+        J[1 + p] = part_current(m, &r, x->tri_patch, p);
     mote_ch_result_free(&r);
     return MOTE_OK;
 }
@@ -462,7 +494,9 @@ static int patch_row_at(patch_rows *r, double time, mote_err *err)
         /* sigma_U: the net current's error over min(t, tau), tau = C / |dI/dU| (faithful:
          * sigma_I t / C) */
         double sU = sig * time / C;
-        if (!m->faithful) {
+        if (P->direct) /* the float's */
+            sU = P->sigma_U;
+        else if (!m->faithful) {
             const double e = 1e-3 * P->scale;
             double Ic2, Ip2[CH_MAX_PATCHES], I2 = 0;
             if ((rc = ch_patches_currents(P, y[0] + e, y + 1, &Ic2, Ip2, NULL, err)) != 0)
@@ -558,13 +592,22 @@ static int evolve_patches(ch_model *m, const mote_call *c, mote_err *err)
     P.C = C;
     if (m->ftree && !m->faithful) { /* the solved field: its capacitance matrix (symmetrized:
                                      * collocation makes it reciprocal to the discretization's
-                                     * error) */
+                                     * error), the conductors at their own potentials */
         const int nc = m->fbem.nc, n = np + 1;
         P.have_cv = 1;
         for (int k = 0; k < nc; k++)
             for (int l = 0; l < nc; l++)
                 P.Cv[m->fstate[k] * n + m->fstate[l]] =
                     0.5 * (m->fbem.cmat[k * nc + l] + m->fbem.cmat[l * nc + k]);
+        int cond_of[CH_MAX_PATCHES + 1];
+        for (int k = 0; k < nc; k++)
+            cond_of[m->fstate[k]] = k;
+        if (!(x.tri_cond = malloc((size_t)ntri * sizeof *x.tri_cond)))
+            rc = mote_fail(err, MOTE_ENOMEM, "evolve: out of memory");
+        for (uint32_t i = 0; x.tri_cond && i < ntri; i++)
+            x.tri_cond[i] = cond_of[tri_patch[i] + 1];
+        P.direct = patch_direct;
+        P.dv_step = 5 * P.scale;
     }
     P.node = patch_node;
     P.ctx = &x;
@@ -575,14 +618,24 @@ static int evolve_patches(ch_model *m, const mote_call *c, mote_err *err)
     const int f = open_timeseries(m, c, &d, err, &rc);
     FILE *out = f ? d.head : m->log;
     if (f) {
-        fprintf(out, "# mode = %s with %d dielectric part%s (spec 6.10: C dU/dt = sum I, C_p "
-                     "d(V_p - U)/dt = I_p - (V_p - U)/R_p; implicit Euler extrapolated, "
-                     "tolerance 1e-7)\n# C_F = %.10g\n",
-                m->faithful ? "faithful" : "full", np, np > 1 ? "s" : "", C);
+        if (P.direct)
+            fprintf(out, "# mode = full with %d dielectric part%s in the solved field, the "
+                         "conductors at their own potentials (issue 55): (Cv + layers) dV/dt = "
+                         "the currents, each step's from runs at its potentials; the common mode "
+                         "floated at every step, the differentials by explicit steps of at most "
+                         "%g V or a fifth of themselves\n# C_F = %.10g\n", np, np > 1 ? "s" : "",
+                    P.dv_step, C);
+        else
+            fprintf(out, "# mode = %s with %d dielectric part%s (spec 6.10: C dU/dt = sum I, C_p "
+                         "d(V_p - U)/dt = I_p - (V_p - U)/R_p; implicit Euler extrapolated, "
+                         "tolerance 1e-7)\n# C_F = %.10g\n",
+                    m->faithful ? "faithful" : "full", np, np > 1 ? "s" : "", C);
         if (P.have_cv) {
-            fprintf(out, "# circuit: C replaced by the solved field's capacitance matrix Cv of the "
-                         "conductor and the parts' outer surfaces (issue 55): (Cv + layers) "
-                         "dV/dt = the currents\n# Cv_F =");
+            if (!P.direct)
+                fprintf(out, "# circuit: C replaced by the solved field's capacitance matrix Cv "
+                             "of the conductor and the parts' outer surfaces (issue 55): (Cv + "
+                             "layers) dV/dt = the currents\n");
+            fputs("# Cv_F =", out);
             for (int q = 0; q < (np + 1) * (np + 1); q++)
                 fprintf(out, " %.10g", P.Cv[q]);
             fputc('\n', out);
@@ -597,6 +650,14 @@ static int evolve_patches(ch_model *m, const mote_call *c, mote_err *err)
         out = series_rows(&d);
     }
     patch_rows r = {m, &P, C, f, out, np, {U0}, 0, 1e-9 * T, 0, 0, 0, -1, {0, dt, 0}};
+    if (!rc && P.direct) { /* the common mode floats at once */
+        rc = ch_patches_float(&P, r.y, err);
+        if (!rc && m->log)
+            fprintf(m->log, "evolve: the conductors at their own potentials in the solved field: "
+                            "the common mode floated at every step (at the start U = %.6g V, "
+                            "its time constant %.3g s), the differentials in steps of at most "
+                            "%g V or a fifth of themselves\n", r.y[0], P.tau_c, P.dv_step);
+    }
     if (!rc)
         rc = evolve_clock_run_with(c, patch_row, &r, f ? &d : NULL, &r.at, T, patch_advance, &r,
                                    err);
@@ -606,10 +667,15 @@ static int evolve_patches(ch_model *m, const mote_call *c, mote_err *err)
     double *y = r.y, dvmax = r.dvmax, t_dvmax = r.t_dvmax;
     const int p_dvmax = r.p_dvmax;
     mote_progress_end(&prog);
-    if (!rc && m->log) {
+    if (!rc && m->log && P.direct)
+        fprintf(m->log, "evolve: %d dielectric part%s; %ld steps, currents from %ld runs; the "
+                        "common mode's time constant at the end %.3g s\n", np, np > 1 ? "s" : "",
+                P.steps, P.runs, P.tau_c);
+    else if (!rc && m->log)
         fprintf(m->log, "evolve: %d dielectric part%s; %ld steps, currents from %d node%s%s\n", np,
                 np > 1 ? "s" : "", P.steps, P.nn, P.nn == 1 ? "" : "s",
                 m->faithful ? " (faithful: the last run's constant currents)" : "");
+    if (!rc && m->log) {
         for (int p = 0; p < np; p++) {
             const double tau = P.Cp[p] * P.Rp[p];
             fprintf(m->log, "evolve: dielectric %s: A = %.6g m^2, C_p = %.6g F, R_p = %.6g ohm, "
@@ -635,6 +701,7 @@ static int evolve_patches(ch_model *m, const mote_call *c, mote_err *err)
     }
     mote_ch_tracer_free(tr);
     free(tri_patch);
+    free(x.tri_cond);
     ch_patches_free(&P);
     return f ? series_end(&d, rc, err) : rc;
 }
