@@ -226,6 +226,27 @@ printf '%bseed 3\nplasma preset single n=1e6 kT=1000\nbody icosphere radius=1 le
 "$MOTE" run fsc.mote > out.txt 2> err.txt &&
     awk '!/^#/ && NF > 1 { n++; if (($6 - $3) ^ 2 > 1e-18 * $3 * $3) bad = 1; u = $3 } END { exit !(n == 3 && !bad && u < -5) }' fsc.txt &&
     ok || bad "one coat in the solved field: V_p - U not 0: $(cat fsc.txt err.txt)"
+# Barrier-limited charging (issue 55): the split sphere of examples/charging-differential.mote
+# (sunlit aluminium north the frame, shaded 127 um kapton south) in geo-worst-case, in the
+# solved field. At first the frame's photoelectrons hold both a few volts positive; the kapton
+# then charges negative against the frame, and its field closes a barrier over the frame that
+# turns the frame's photoelectrons back, so the frame follows it down. The frame then sits where
+# the barrier opens at the sunlit pole: for a sphere whose halves are at V_n and V_s the radial
+# field at the pole vanishes at V_n / V_s = 3 - 2 sqrt(2) = 0.1716 (the Poisson integral on the
+# axis; Besse and Rubin's monopole-dipole model, J. Geophys. Res. 85 (1980) 2324, gives 1/3).
+# The photocurrent balance needs the barrier open over part of the sunlit side, so V_n / V_s
+# lies just past the threshold: the slow suite evolves a minute (V_s about -650 V) and asks for
+# 0.95 to 1.25 times it (the coarse mesh's error at the pole a few per cent; measured 0.167 at
+# 60 s, 0.180 at 120 s). The regular suite takes two seconds: both start positive, the kapton
+# falls below the frame.
+if [ -n "${MOTE_SLOW:-}" ]; then bt=60; bn=300; else bt=2; bn=50; fi
+printf '%bseed 3\nplasma preset geo-worst-case\nbody uvsphere radius=1 nlon=16 nlat=8 parts=hemispheres\nmaterial assign part=north material=aluminium\nmaterial assign part=south material=kapton\nsun direction=0,0,1\nfield solved\ndielectric part=south thickness=127e-6\nevolve time=%s dt=%s file=bar.txt particles=%s\n' "$G" "$bt" "$bt" "$bn" > bar.mote
+"$MOTE" run bar.mote > out.txt 2> err.txt &&
+    grep -q '^evolve: the conductors at their own potentials in the solved field' out.txt &&
+    awk -v slow="${MOTE_SLOW:-}" '!/^#/ && NF > 1 { n++; if (n == 1) { u0 = $3; v0 = $6 } u = $3; v = $6 }
+         END { t = 3 - 2 * sqrt(2); if (slow) exit !(n == 2 && v < -300 && u / v > 0.95 * t && u / v < 1.25 * t)
+               exit !(n == 2 && u0 > 0 && v0 == u0 && v < u - 10) }' bar.txt &&
+    ok || bad "barrier-limited charging of the split sphere: $(grep -v '^#' bar.txt) $(cat err.txt)"
 expect 1 "fs1.mote:2:20: error: field sphere: theta= is the solved field's (field solved theta=)" fs1.mote "${G}field sphere theta=0.3\n"
 expect 1 "fs2.mote:2:20: error: field: theta must be in (0, 1), found 1" fs2.mote "${G}field solved theta=1\n"
 expect 1 "fs3.mote:2:7: error: field solved: faithful mode has no field (the thesis's scope, spec 1.2); use model charging" fs3.mote "model charging faithful\nfield solved\n"

@@ -199,7 +199,7 @@ typedef struct {
      * constant (sum Cv over |dI/dU|). */
     int (*direct)(void *ctx, const double *V, double *J, double *sig, mote_err *err);
     double dv_step;
-    double J[CH_MAX_PATCHES + 1], sig, sigma_U, tau_c;
+    double J[CH_MAX_PATCHES + 1], sig, sigma_U, tau_c, slope; /* (slope: |dI/dU|, 0: none) */
     long runs;
 } ch_patches;
 

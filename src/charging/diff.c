@@ -334,8 +334,11 @@ int ch_patches_float(ch_patches *P, double *y, mote_err *err)
     if (rc)
         return rc;
     /* the bracket: steps from U, doubling, the way the net current points (it falls as U
-     * rises: electrons gain, ions lose) */
+     * rises: electrons gain, ions lose); the first a little past the root the last float's
+     * slope predicts */
     double step = fmax(P->scale, 0.05 * fabs(U0));
+    if (P->slope > 0 && I0 != 0)
+        step = fmax(0.5 * P->scale, 1.2 * fabs(I0) / P->slope);
     for (int it = 0;; it++) {
         U1 = U0 + (I0 > 0 ? step : -step);
         if ((rc = direct_net(P, y, U1, J1, &s1, &I1, err)) != 0)
@@ -351,10 +354,14 @@ int ch_patches_float(ch_patches *P, double *y, mote_err *err)
         memcpy(J0, J1, sizeof J0);
         step *= 2;
     }
-    /* the Illinois variant of the false position, to 3e-3 of the potential (or of kT) */
-    const double tol = 3e-3 * fmax(P->scale, fabs(U1));
+    /* the Illinois variant of the false position, to 1e-2 of the potential (or of kT), or
+     * to a third of the statistical error the net current's gives U, or 12 runs */
     int side = 0;
-    for (int it = 0; it < 30 && fabs(U1 - U0) > tol && I1 != 0; it++) {
+    for (int it = 0; it < 12 && I1 != 0; it++) {
+        const double slope = fabs((I1 - I0) / (U1 - U0));
+        const double tol = fmax(1e-2 * fmax(P->scale, fabs(U1)), (s0 + s1) / 6 / slope);
+        if (!(fabs(U1 - U0) > tol))
+            break;
         const double U = U1 - I1 * (U1 - U0) / (I1 - I0);
         double J[CH_MAX_PATCHES + 1], s, I;
         if ((rc = direct_net(P, y, U, J, &s, &I, err)) != 0)
@@ -390,6 +397,8 @@ int ch_patches_float(ch_patches *P, double *y, mote_err *err)
         Ct += P->Cv[q];
     if (!P->have_cv)
         Ct = P->C;
+    if (slope > 0)
+        P->slope = slope;
     P->sigma_U = slope > 0 ? P->sig / slope : 0;
     P->tau_c = slope > 0 ? Ct / slope : INFINITY;
     return MOTE_OK;
@@ -409,7 +418,7 @@ static int advance_direct(ch_patches *P, double *y, double *h, double t1, double
         if (P->steps > 0) /* (growing at most twofold a step) */
             hh = fmin(hh, 2 * *h);
         for (int p = 0; p < P->np; p++) {
-            const double lim = fmax(P->dv_step, 0.2 * fabs(y[1 + p]));
+            const double lim = fmax(P->dv_step, 0.25 * fabs(y[1 + p]));
             if (fabs(F[1 + p]) * hh > lim)
                 hh = lim / fabs(F[1 + p]);
         }

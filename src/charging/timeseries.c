@@ -623,7 +623,7 @@ static int evolve_patches(ch_model *m, const mote_call *c, mote_err *err)
                          "conductors at their own potentials (issue 55): (Cv + layers) dV/dt = "
                          "the currents, each step's from runs at its potentials; the common mode "
                          "floated at every step, the differentials by explicit steps of at most "
-                         "%g V or a fifth of themselves\n# C_F = %.10g\n", np, np > 1 ? "s" : "",
+                         "%g V or a quarter of themselves\n# C_F = %.10g\n", np, np > 1 ? "s" : "",
                     P.dv_step, C);
         else
             fprintf(out, "# mode = %s with %d dielectric part%s (spec 6.10: C dU/dt = sum I, C_p "
@@ -656,7 +656,7 @@ static int evolve_patches(ch_model *m, const mote_call *c, mote_err *err)
             fprintf(m->log, "evolve: the conductors at their own potentials in the solved field: "
                             "the common mode floated at every step (at the start U = %.6g V, "
                             "its time constant %.3g s), the differentials in steps of at most "
-                            "%g V or a fifth of themselves\n", r.y[0], P.tau_c, P.dv_step);
+                            "%g V or a quarter of themselves\n", r.y[0], P.tau_c, P.dv_step);
     }
     if (!rc)
         rc = evolve_clock_run_with(c, patch_row, &r, f ? &d : NULL, &r.at, T, patch_advance, &r,
