@@ -235,16 +235,16 @@ printf '%bseed 3\nplasma preset single n=1e6 kT=1000\nbody icosphere radius=1 le
 # field at the pole vanishes at V_n / V_s = 3 - 2 sqrt(2) = 0.1716 (the Poisson integral on the
 # axis; Besse and Rubin's monopole-dipole model, J. Geophys. Res. 85 (1980) 2324, gives 1/3).
 # The photocurrent balance needs the barrier open over part of the sunlit side, so V_n / V_s
-# lies just past the threshold: the slow suite evolves a minute (V_s about -650 V) and asks for
-# 0.95 to 1.25 times it (the coarse mesh's error at the pole a few per cent; measured 0.167 at
-# 60 s, 0.180 at 120 s). The regular suite takes two seconds: both start positive, the kapton
-# falls below the frame.
-if [ -n "${MOTE_SLOW:-}" ]; then bt=60; bn=300; else bt=2; bn=50; fi
-printf '%bseed 3\nplasma preset geo-worst-case\nbody uvsphere radius=1 nlon=16 nlat=8 parts=hemispheres\nmaterial assign part=north material=aluminium\nmaterial assign part=south material=kapton\nsun direction=0,0,1\nfield solved\ndielectric part=south thickness=127e-6\nevolve time=%s dt=%s file=bar.txt particles=%s\n' "$G" "$bt" "$bt" "$bn" > bar.mote
+# lies just past the threshold: the slow suite evolves two minutes (V_s about -650 V at one,
+# -1300 V at two) and asks for 0.95 to 1.25 times it at both (the coarse mesh's error at the
+# pole a few per cent; measured 0.167 and 0.180). The regular suite takes two seconds: both
+# start positive, the kapton falls below the frame.
+if [ -n "${MOTE_SLOW:-}" ]; then bt=120; bd=60; bn=300; else bt=2; bd=2; bn=50; fi
+printf '%bseed 3\nplasma preset geo-worst-case\nbody uvsphere radius=1 nlon=16 nlat=8 parts=hemispheres\nmaterial assign part=north material=aluminium\nmaterial assign part=south material=kapton\nsun direction=0,0,1\nfield solved\ndielectric part=south thickness=127e-6\nevolve time=%s dt=%s file=bar.txt particles=%s\n' "$G" "$bt" "$bd" "$bn" > bar.mote
 "$MOTE" run bar.mote > out.txt 2> err.txt &&
     grep -q '^evolve: the conductors at their own potentials in the solved field' out.txt &&
-    awk -v slow="${MOTE_SLOW:-}" '!/^#/ && NF > 1 { n++; if (n == 1) { u0 = $3; v0 = $6 } u = $3; v = $6 }
-         END { t = 3 - 2 * sqrt(2); if (slow) exit !(n == 2 && v < -300 && u / v > 0.95 * t && u / v < 1.25 * t)
+    awk -v slow="${MOTE_SLOW:-}" '!/^#/ && NF > 1 { n++; if (n == 1) { u0 = $3; v0 = $6 } else if ($6 > -300 || $3 / $6 < 0.95 * t || $3 / $6 > 1.25 * t) far++; u = $3; v = $6 }
+         BEGIN { t = 3 - 2 * sqrt(2) } END { if (slow) exit !(n == 3 && !far)
                exit !(n == 2 && u0 > 0 && v0 == u0 && v < u - 10) }' bar.txt &&
     ok || bad "barrier-limited charging of the split sphere: $(grep -v '^#' bar.txt) $(cat err.txt)"
 expect 1 "fs1.mote:2:20: error: field sphere: theta= is the solved field's (field solved theta=)" fs1.mote "${G}field sphere theta=0.3\n"
