@@ -165,6 +165,19 @@ def test_charging_object():
         ch.float(bogus=1)
 
 
+def test_charging_solved_field():
+    """`field solved` from Python: the same run as the script's (the body's own field, its
+    capacitance matrix with a dielectric part, the paths in it), the same bits."""
+    setup = ("plasma preset single n=1e6 kT=1000\nbody uvsphere radius=1 nlon=12 nlat=6 "
+             "parts=hemispheres\nfield solved\ndielectric part=south thickness=1e-3 eps_r=2")
+    ch = mote.Charging(setup)
+    got = ch.run(particles=500, potential=-1000)
+    printed = mote.run("model charging\n" + setup + "\nrun particles=500 potential=-1000\n")
+    assert "field solved: the capacitance matrix" in got and "field solved:   frame " in got
+    lines = [l for l in got.splitlines() if l.startswith("run: e ") or l.startswith("run: H+")]
+    assert len(lines) == 2 and all(l in printed for l in lines)
+
+
 def test_objects_pickle_as_themselves():
     """A model object pickled or copied is the same kind of object, continuing bit for bit."""
     import copy
