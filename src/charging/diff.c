@@ -333,6 +333,12 @@ int ch_patches_float(ch_patches *P, double *y, mote_err *err)
     int rc = direct_net(P, y, U0, J0, &s0, &I0, err);
     if (rc)
         return rc;
+    if (P->slope > 0 && fabs(I0) <= s0 / 3) { /* there already, within the noise */
+        memcpy(P->J, J0, (size_t)n * sizeof *J0);
+        P->sig = s0;
+        P->sigma_U = s0 / P->slope;
+        return MOTE_OK;
+    }
     /* the bracket: steps from U, doubling, the way the net current points (it falls as U
      * rises: electrons gain, ions lose); the first a little past the root the last float's
      * slope predicts */
@@ -354,29 +360,35 @@ int ch_patches_float(ch_patches *P, double *y, mote_err *err)
         memcpy(J0, J1, sizeof J0);
         step *= 2;
     }
-    /* the Illinois variant of the false position, to 1e-2 of the potential (or of kT), or
-     * to a third of the statistical error the net current's gives U, or 12 runs */
-    int side = 0;
+    /* the Illinois variant of the false position, to 1e-2 of the potential, a quarter of
+     * the smallest kT, or a third of the statistical error the net current's gives U, or 12
+     * runs */
+    int side = 0, at = 0; /* at: U1 is the root (its net current within the noise) */
+    double w0 = I0;       /* the kept end's weight: its current, halved when kept twice */
     for (int it = 0; it < 12 && I1 != 0; it++) {
-        const double slope = fabs((I1 - I0) / (U1 - U0));
-        const double tol = fmax(1e-2 * fmax(P->scale, fabs(U1)), (s0 + s1) / 6 / slope);
-        if (!(fabs(U1 - U0) > tol))
+        if (fabs(I1) <= s1 / 3) {
+            at = 1;
             break;
-        const double U = U1 - I1 * (U1 - U0) / (I1 - I0);
+        }
+        const double slope = fabs((I1 - I0) / (U1 - U0));
+        const double tol = fmax(fmax(1e-2 * fabs(U1), 0.25 * P->scale), (s0 + s1) / 6 / slope);
+        const double lo = fmin(U0, U1), wd = fabs(U1 - U0);
+        if (!(wd > tol))
+            break;
+        /* (kept off the ends: a Monte Carlo current is flat in stretches) */
+        const double U = fmin(fmax(U1 - I1 * (U1 - U0) / (I1 - w0), lo + 0.1 * wd), lo + 0.9 * wd);
         double J[CH_MAX_PATCHES + 1], s, I;
         if ((rc = direct_net(P, y, U, J, &s, &I, err)) != 0)
             return rc;
-        if ((I > 0) == (I1 > 0)) { /* replaces the end of I1's sign */
+        if ((I > 0) == (I1 > 0)) { /* it replaces U1, U0 kept */
             if (side == 1)
-                I0 *= 0.5;
+                w0 *= 0.5;
             side = 1;
-        } else { /* the ends swap */
+        } else { /* U1 becomes the kept end */
             U0 = U1;
-            I0 = I1;
+            I0 = w0 = I1;
             s0 = s1;
             memcpy(J0, J1, sizeof J0);
-            if (side == -1)
-                I0 *= 0.5;
             side = -1;
         }
         U1 = U;
@@ -386,7 +398,7 @@ int ch_patches_float(ch_patches *P, double *y, mote_err *err)
     }
     /* the root and its currents (linear between the ends; the last evaluation when it is the
      * root) */
-    const double f = I1 == 0 || I1 == I0 ? 1 : I0 / (I0 - I1);
+    const double f = at || I1 == 0 || I1 == I0 ? 1 : I0 / (I0 - I1);
     y[0] = U0 + f * (U1 - U0);
     for (int k = 0; k < n; k++)
         P->J[k] = J0[k] + f * (J1[k] - J0[k]);
