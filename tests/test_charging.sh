@@ -237,7 +237,7 @@ printf '%bseed 3\nplasma preset single n=1e6 kT=1000\nbody icosphere radius=1 le
 # The photocurrent balance needs the barrier open over part of the sunlit side, so V_n / V_s
 # lies just past the threshold: the slow suite evolves two minutes (V_s about -650 V at one,
 # -1300 V at two) and asks for 0.95 to 1.25 times it at both (the coarse mesh's error at the
-# pole a few per cent; measured 0.167 and 0.180). The regular suite takes two seconds: both
+# pole a few per cent; measured 0.167 and 0.181). The regular suite takes two seconds: both
 # start positive, the kapton falls below the frame.
 if [ -n "${MOTE_SLOW:-}" ]; then bt=120; bd=60; bn=300; else bt=2; bd=2; bn=50; fi
 printf '%bseed 3\nplasma preset geo-worst-case\nbody uvsphere radius=1 nlon=16 nlat=8 parts=hemispheres\nmaterial assign part=north material=aluminium\nmaterial assign part=south material=kapton\nsun direction=0,0,1\nfield solved\ndielectric part=south thickness=127e-6\nevolve time=%s dt=%s file=bar.txt particles=%s\n' "$G" "$bt" "$bd" "$bn" > bar.mote
