@@ -333,7 +333,9 @@ int ch_patches_float(ch_patches *P, double *y, mote_err *err)
     int rc = direct_net(P, y, U0, J0, &s0, &I0, err);
     if (rc)
         return rc;
-    if (P->slope > 0 && fabs(I0) <= s0 / 3) { /* there already, within the noise */
+    if (P->slope > 0 && fabs(I0) <= s0 / 3) { /* there already, within the noise: the last
+                                                * slope's correction (no run) */
+        y[0] = U0 + I0 / P->slope;
         memcpy(P->J, J0, (size_t)n * sizeof *J0);
         P->sig = s0;
         P->sigma_U = s0 / P->slope;
