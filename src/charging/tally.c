@@ -159,14 +159,14 @@ int ch_photoemission(const mote_ch_body *b, const mote_ch_tracer *t,
     }
     if (tr && total > 0) {
         /* the photoelectrons followed: tr->paths of them shared among the sunlit triangles by
-         * their photocurrent (at least one each), each triangle's escaping share estimated
-         * from its own; the triangles' histories numbered in order, so that any number of
+         * their photocurrent (at least two each: the error of each share is estimated from
+         * its own), each triangle's escaping share estimated from its own; the triangles' histories numbered in order, so that any number of
          * threads gives the same bits */
         first[0] = 0;
         for (uint32_t i = 0; i < ntri; i++) {
             uint64_t n = 0;
             if (I0[i] > 0)
-                n = (uint64_t)fmax(1, llround((double)tr->paths * I0[i] / total));
+                n = (uint64_t)fmax(2, llround((double)tr->paths * I0[i] / total));
             first[i + 1] = first[i] + n;
         }
         const long n = (long)ntri;
@@ -183,8 +183,9 @@ int ch_photoemission(const mote_ch_body *b, const mote_ch_tracer *t,
             continue;
         r->tri_sunlit[2 * (size_t)i + (size_t)side[i]] = frac[i];
         const double I = I0[i] * esc[i];
-        if (tr && first[i + 1] > first[i]) /* (binomial) */
-            r->photo_sigma += I0[i] * I0[i] * esc[i] * (1 - esc[i]) / (double)(first[i + 1] - first[i]);
+        if (tr && first[i + 1] > first[i]) /* (binomial: the unbiased estimate, n >= 2) */
+            r->photo_sigma += I0[i] * I0[i] * esc[i] * (1 - esc[i]) /
+                              (double)(first[i + 1] - first[i] - 1);
         if (patchy && o->tri_patch[i] >= 0)
             patch_photo(r, o, o->tri_patch[i], I0[i], U_s, o->tri_material[i]->kT_ph);
         r->tri_photo[2 * (size_t)i + (size_t)side[i]] = I;
