@@ -247,6 +247,17 @@ printf '%bseed 3\nplasma preset geo-worst-case\nbody uvsphere radius=1 nlon=16 n
          BEGIN { t = 3 - 2 * sqrt(2) } END { if (slow) exit !(n == 3 && !far)
                exit !(n == 2 && u0 > 0 && v0 == u0 && v < u - 10) }' bar.txt &&
     ok || bad "barrier-limited charging of the split sphere: $(grep -v '^#' bar.txt) $(cat err.txt)"
+# the barrier run on two threads gives the same time series as on one (the runs' Philox streams
+# and the float's order do not depend on the threads)
+sed 's/^seed 3$/seed 3\nthreads 2/; s/file=bar.txt/file=bar2.txt/' bar.mote > bar2.mote
+"$MOTE" run bar2.mote > /dev/null 2> err.txt && [ "$(grep -v '^# command' bar.txt)" = "$(grep -v '^# command' bar2.txt)" ] &&
+    ok || bad "the barrier run: 1 and 2 threads differ: $(diff bar.txt bar2.txt | head -n 6) $(cat err.txt)"
+# `field sphere` after a solved run: evolve is the sphere field's circuit again (the tree kept
+# for a later `field solved` is not used)
+printf '%bseed 3\nplasma preset single n=1e6 kT=1000\nbody icosphere radius=1 level=2\ndielectric part=icosphere thickness=0.5 eps_r=1\nfield solved\nrun particles=200 potential=-100\nfield sphere\nevolve time=1e-4 dt=5e-5 file=fss.txt particles=200\n' "$G" > fss.mote
+"$MOTE" run fss.mote > out.txt 2> err.txt && ! grep -q 'conductors at their own potentials' out.txt &&
+    ! grep -q '^# Cv_F' fss.txt && grep -q '^# mode = full with 1 dielectric part (spec 6.10' fss.txt &&
+    ok || bad "field sphere after field solved: evolve still in the solved field: $(grep evolve out.txt) $(cat err.txt)"
 expect 1 "fs1.mote:2:20: error: field sphere: theta= is the solved field's (field solved theta=)" fs1.mote "${G}field sphere theta=0.3\n"
 expect 1 "fs2.mote:2:20: error: field: theta must be in (0, 1), found 1" fs2.mote "${G}field solved theta=1\n"
 expect 1 "fs3.mote:2:7: error: field solved: faithful mode has no field (the thesis's scope, spec 1.2); use model charging" fs3.mote "model charging faithful\nfield solved\n"

@@ -590,7 +590,9 @@ static int evolve_patches(ch_model *m, const mote_call *c, mote_err *err)
     x.o.dv = P.dv;
     x.o.ndv = P.ndv;
     P.C = C;
-    if (m->ftree && !m->faithful) { /* the solved field: its capacitance matrix (symmetrized:
+    if (m->field_solved && !m->field_off && m->ftree && !m->faithful) { /* the solved field
+                                     * (not a tree kept from before `field sphere`): its
+                                     * capacitance matrix (symmetrized:
                                      * collocation makes it reciprocal to the discretization's
                                      * error), the conductors at their own potentials */
         const int nc = m->fbem.nc, n = np + 1;
