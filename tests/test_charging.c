@@ -1794,6 +1794,173 @@ static void test_convex_walk(void)
     CHECK(proved_convex(&halves) == 1, "a UV sphere in two parts not taken as convex");
 }
 
+/* The early-exit boxes of a body that is not convex (trace.c): they hold every triangle, they
+ * save area against the one box about the body, and with them every ray gets exactly Embree's
+ * answer (the same triangle, side and distance), including rays along an axis (zero components),
+ * rays through a box's face plane, segments, rays from far away and the occlusion test. */
+static void boxes_against_embree(const char *name, const mote_ch_body *b, int nrays)
+{
+    mote_err err = {0};
+    mote_ch_tracer *t = mote_ch_tracer_new(b, &err);
+    if (!t) {
+        CHECK(0, "%s: tracer: %s", name, err.msg);
+        return;
+    }
+    double lo[8][3], hi[8][3], all_lo[3] = {INFINITY, INFINITY, INFINITY},
+                               all_hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    const int n = ch_tracer_boxes(t, lo, hi);
+    double area = 0;
+    for (int k = 0; k < n; k++) {
+        const double x = hi[k][0] - lo[k][0], y = hi[k][1] - lo[k][1], z = hi[k][2] - lo[k][2];
+        area += 2 * (x * y + y * z + z * x);
+    }
+    int outside = 0;
+    for (uint32_t f = 0; f < b->ntri; f++) {
+        int held = 0;
+        for (int k = 0; k < n && !held; k++) {
+            int in = 1;
+            for (int i = 0; i < 3; i++)
+                for (int a = 0; a < 3; a++)
+                    in &= b->v[f][i][a] >= lo[k][a] && b->v[f][i][a] <= hi[k][a];
+            held = in;
+        }
+        outside += !held;
+        for (int i = 0; i < 3; i++)
+            for (int a = 0; a < 3; a++) {
+                all_lo[a] = fmin(all_lo[a], b->v[f][i][a]);
+                all_hi[a] = fmax(all_hi[a], b->v[f][i][a]);
+            }
+    }
+    const double X = all_hi[0] - all_lo[0], Y = all_hi[1] - all_lo[1], Z = all_hi[2] - all_lo[2];
+    const double whole = 2 * (X * Y + Y * Z + Z * X);
+    printf("  %s: %d boxes, area %.4g against %.4g for one box; ", name, n, area, whole);
+    CHECK(n >= 1 && outside == 0, "%s: %d boxes, %d triangles outside every one", name, n,
+          outside);
+    mote_ch_geometry g;
+    mote_ch_body_geometry(b, &g);
+    const double L = g.r_bound;
+    uint64_t st = 777;
+    int same = 0, hits = 0, occl_same = 0;
+    for (int r = 0; r < nrays; r++) {
+        double o[3], d[3], tmax = INFINITY;
+        const int kind = r % 4;
+        if (kind == 0) { /* the Monte Carlo's rays */
+            double u[4] = {lcg_unit(&st), lcg_unit(&st), lcg_unit(&st), lcg_unit(&st)}, nrm[3];
+            ch_inject_dir(u, nrm, d);
+            for (int a = 0; a < 3; a++)
+                o[a] = g.centre[a] + 1.05 * L * nrm[a];
+        } else { /* segments and rays from near and far, some along axes or in a face's plane */
+            const double reach = kind == 3 ? 1e4 * L : 1.5 * L;
+            double dl = 0;
+            for (int a = 0; a < 3; a++) {
+                o[a] = g.centre[a] + (2 * lcg_unit(&st) - 1) * reach;
+                d[a] = 2 * lcg_unit(&st) - 1;
+            }
+            if (kind == 2) { /* one or two components zero; the start on a box's face plane */
+                const int a = (int)(lcg_unit(&st) * 3), k = (int)(lcg_unit(&st) * n);
+                d[a] = 0;
+                if (lcg_unit(&st) < 0.5)
+                    d[(a + 1) % 3] = 0;
+                o[a] = lcg_unit(&st) < 0.5 ? lo[k][a] : hi[k][a];
+            }
+            if (kind == 3) /* from far away, toward the body */
+                for (int a = 0; a < 3; a++)
+                    d[a] = g.centre[a] + (2 * lcg_unit(&st) - 1) * L - o[a];
+            for (int a = 0; a < 3; a++)
+                dl += d[a] * d[a];
+            for (int a = 0; a < 3; a++)
+                d[a] /= sqrt(dl);
+            if (kind == 1)
+                tmax = 3 * L * lcg_unit(&st);
+        }
+        int s1 = -1, s2 = -1;
+        double d1 = 0, d2 = 0;
+        ch_tracer_walk(t, 1);
+        const long f1 = mote_ch_trace_seg(t, o, d, 1e-9, tmax, &s1, &d1);
+        const int c1 = mote_ch_occluded(t, o, d, 1e-9, tmax);
+        ch_tracer_walk(t, 0);
+        const long f2 = mote_ch_trace_seg(t, o, d, 1e-9, tmax, &s2, &d2);
+        const int c2 = mote_ch_occluded(t, o, d, 1e-9, tmax);
+        hits += f1 >= 0;
+        same += f1 == f2 && (f1 < 0 || (s1 == s2 && d1 == d2));
+        occl_same += c1 == c2;
+    }
+    printf("%d rays, %d hits, the same answer %d, the same occlusion %d\n", nrays, hits, same,
+           occl_same);
+    CHECK(same == nrays && occl_same == nrays && hits > nrays / 20,
+          "%s: %d of %d rays answered otherwise with the boxes (occlusion: %d), %d hits", name,
+          nrays - same, nrays, nrays - occl_same, hits);
+    mote_ch_tracer_free(t);
+}
+
+static void test_early_boxes(void)
+{
+    printf("the early-exit boxes of bodies that are not convex\n");
+    mote_err err = {0};
+    mote_ch_body two = {0}, craft = {0};
+    CHECK(!mote_ch_body_twocubes(&two, 1, 0.5, &err), "two cubes: %s", err.msg);
+    boxes_against_embree("two cubes 0.5 apart", &two, 40000);
+    /* a bus (a 2 m cube) with two 1.5 x 4 m panels: the boxes must beat the one box */
+    const double size[3] = {2, 2, 2}, c0[3] = {0, 0, 0};
+    CHECK(!mote_ch_body_box(&craft, size, c0, 3, &err), "bus: %s", err.msg);
+    const int part = ch_body_part(&craft, "panels", &err);
+    for (int side = -1; side <= 1; side += 2)
+        for (int i = 0; i < 8; i++) { /* each panel cut into 8 strips of two triangles */
+            const double y0 = side * (1 + 0.5 * i), y1 = side * (1 + 0.5 * (i + 1));
+            const double p[4][3] = {{-0.75, y0, 0}, {0.75, y0, 0}, {0.75, y1, 0}, {-0.75, y1, 0}};
+            ch_add_tri(&craft, p[0], p[1], p[2], NULL, 0, part, &err);
+            ch_add_tri(&craft, p[0], p[2], p[3], NULL, 0, part, &err);
+        }
+    mote_ch_tracer *t = mote_ch_tracer_new(&craft, &err);
+    double lo[8][3], hi[8][3];
+    const int n = t ? ch_tracer_boxes(t, lo, hi) : 0;
+    mote_ch_tracer_free(t);
+    /* the one box is 2 x 10 x 2 (area 88); the bus's and the panels' own boxes 24 + 2 x 12 */
+    double area = 0;
+    for (int k = 0; k < n; k++) {
+        const double x = hi[k][0] - lo[k][0], y = hi[k][1] - lo[k][1], z = hi[k][2] - lo[k][2];
+        area += 2 * (x * y + y * z + z * x);
+    }
+    CHECK(n >= 3 && area < 0.6 * 88, "the bus with panels: %d boxes of area %.4g (one box 88)",
+          n, area);
+    boxes_against_embree("a bus with two panels", &craft, 40000);
+    /* the exact sphere and a convex body have none */
+    mote_ch_body ico = {0};
+    mote_ch_body_icosphere(&ico, 1, 2, &err);
+    t = mote_ch_tracer_new(&ico, &err);
+    CHECK(t && ch_tracer_boxes(t, lo, hi) == 0, "a convex body got early-exit boxes");
+    mote_ch_tracer_free(t);
+    mote_ch_body_free(&ico);
+    /* a short run is cut into blocks of fewer histories (at least 8 a thread, 64 or more a
+     * block): curved paths on the two cubes, 2 000 histories on 1, 2 and 3 threads (blocks of
+     * 250, 125 and 84) give the same tallies */
+    mote_ch_plasma gp;
+    mote_ch_plasma_preset(&gp, "geo-worst-case", 0, 0, &err);
+    mote_ch_result rt[3];
+    int ok = 1;
+    for (int k = 0; k < 3; k++) {
+        mote_ch_tracer *tt = mote_ch_tracer_new(&two, &err);
+        mote_ch_run_opts o = {.seed = 5, .particles = 2000, .threads = k + 1, .field = 1,
+                              .r_gen = 2, .potential = -3000, .eta = 0.01, .max_steps = 100000};
+        ok &= tt && mote_ch_run(&gp, &two, tt, &o, &rt[k], &err) == MOTE_OK;
+        mote_ch_tracer_free(tt);
+    }
+    CHECK(ok, "curved runs: %s", err.msg);
+    if (ok) {
+        const size_t nb = (size_t)rt[0].ncomp * two.ntri * 2 * sizeof *rt[0].tri_hits;
+        CHECK(rt[0].hits[0][1] > 100 && !memcmp(rt[0].tri_hits, rt[1].tri_hits, nb) &&
+                  !memcmp(rt[0].tri_hits, rt[2].tri_hits, nb) &&
+                  mote_ch_net(&rt[0], NULL) == mote_ch_net(&rt[1], NULL) &&
+                  mote_ch_net(&rt[0], NULL) == mote_ch_net(&rt[2], NULL),
+              "short curved runs differ between 1, 2 and 3 threads (%.17g %.17g %.17g)",
+              mote_ch_net(&rt[0], NULL), mote_ch_net(&rt[1], NULL), mote_ch_net(&rt[2], NULL));
+        for (int k = 0; k < 3; k++)
+            mote_ch_result_free(&rt[k]);
+    }
+    mote_ch_body_free(&two);
+    mote_ch_body_free(&craft);
+}
+
 /* cos(2 pi u) and sin(2 pi u) of the injection (mc.c) against libm's. libm's argument 2 pi u is
  * itself rounded (by up to 4.4e-16 at u near 1, as much again in the result), which bounds the
  * comparison; the quarter turns are exact. */
@@ -2098,6 +2265,7 @@ int main(void)
     test_ray_edges();
     test_convex_walk();
     test_cossin_turn();
+    test_early_boxes();
     test_meshes();
     test_sphere_current();
     test_hit_probability();

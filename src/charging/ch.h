@@ -75,6 +75,9 @@ void ch_trace_many(const mote_ch_tracer *t, int n, const double (*o)[3], const d
 /* Whether the tracer walks (the body proved convex); the walk turned off (tests and
  * benchmarks: Embree alone) or on again. */
 int ch_tracer_convex(const mote_ch_tracer *t);
+/* The early-exit boxes of a body that is not convex (trace.c), up to 8: their number, corners
+ * copied to lo[k], hi[k] (0 for the exact sphere and a convex body). */
+int ch_tracer_boxes(const mote_ch_tracer *t, double lo[][3], double hi[][3]);
 void ch_tracer_walk(mote_ch_tracer *t, int on);
 
 /* A curved path in the field of a charged mesh (path.c, spec 6.3). */
@@ -190,14 +193,14 @@ typedef struct {
     void *ctx;
     long steps;
     /* direct (the solved field with the conductors at their own potentials, issue 55): no
-     * table, each state's currents from a run at its potentials: direct(ctx, V, J, sig) the
+     * table, each state's currents from a run at its potentials: direct(ctx, V, J, sJ, sig) the
      * conductor's (J[0]) and each patch's (J[1 + p]) net current at the absolute potentials V
-     * (np + 1) and the net current's error. The common mode (all potentials together, through
-     * the vacuum capacitance alone: fast) is floated at each step, the differentials V_p - U
-     * (through the layers: slow) advanced by steps that change none by more than dv_step.
-     * J, sig: the last state's; sigma_U the float's error, tau_c the common mode's time
-     * constant (sum Cv over |dI/dU|). */
-    int (*direct)(void *ctx, const double *V, double *J, double *sig, mote_err *err);
+     * (np + 1), their errors sJ and the net current's error. The common mode (all potentials
+     * together, through the vacuum capacitance alone: fast) is floated at each step, the
+     * differentials V_p - U (through the layers: slow) advanced by steps that change none by
+     * more than dv_step. J, sig: the last state's; sigma_U the float's error, tau_c the common
+     * mode's time constant (sum Cv over |dI/dU|). */
+    int (*direct)(void *ctx, const double *V, double *J, double *sJ, double *sig, mote_err *err);
     double dv_step;
     double J[CH_MAX_PATCHES + 1], sig, sigma_U, tau_c, slope; /* (slope: |dI/dU|, 0: none) */
     long runs;
@@ -212,6 +215,14 @@ int ch_patches_currents(ch_patches *P, double U, const double *dV, double *Ic, d
 double ch_patches_charge(const ch_patches *P, const double *y);
 /* direct: float the common mode of y (U, keeping dV_1 ... dV_np), P->J its currents. */
 int ch_patches_float(ch_patches *P, double *y, mote_err *err);
+/* The steady state (float): y = (U, dV_1 ... dV_np) where the whole net current is zero and
+ * each patch's current equals its leak, by Newton's method from y (the Jacobian by differences;
+ * steps of at most 5 kT or half a potential), until each step is within tol of its potential
+ * (or, direct, within the noise); the Newton steps into *iters, the currents there into P->J
+ * (direct) and P->sig, the statistical errors of y into sy[np + 1] (direct: from each part's
+ * current's error through the Jacobian; NAN when the tables give none); P->sigma_U the common
+ * mode's. */
+int ch_patches_steady(ch_patches *P, double *y, double tol, int *iters, double *sy, mote_err *err);
 /* Integrate y = (U, dV_1 ... dV_np) from *t to t1, *h the step to try (updated). */
 int ch_patches_advance(ch_patches *P, double *y, double *h, double t1, double *t, mote_err *err);
 

@@ -821,6 +821,12 @@ static int check_backscatter(void *vm, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
+static int run_tracer(void *vm, const mote_call *c, mote_err *err)
+{
+    ((ch_model *)vm)->embree_only = c->args[0].i != 0; /* auto|embree */
+    return MOTE_OK;
+}
+
 static int run_backscatter(void *vm, const mote_call *c, mote_err *err)
 {
     if (check_backscatter(vm, c, err))
@@ -1118,6 +1124,9 @@ static const mote_cmd ch_commands[] = {
      "sigma=r>=0",
      "material define name=NAME [options]", "define a material (spec 6.9)", HELP_MATERIAL,
      material_define, material_define},
+    {"tracer", NULL, "e{auto|embree}", "tracer auto|embree",
+     "how paths meet the body: mote's walk and early exits, or Embree alone", HELP_TRACER, NULL,
+     run_tracer},
     {"backscatter", NULL, "e{on|off}", "backscatter on|off",
      "backscattered electrons in the emission (default on)", HELP_BACKSCATTER, check_backscatter,
      run_backscatter},

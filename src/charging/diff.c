@@ -307,15 +307,17 @@ static int be_step(ch_patches *P, const double *y, double h, double *z, mote_err
     return 1;
 }
 
-/* direct: the net current at U with the differentials of y, the currents into J. */
-static int direct_net(ch_patches *P, const double *y, double U, double *J, double *sig,
-                      double *I, mote_err *err)
+/* direct: the net current at U with the differentials of y, the currents into J (and their
+ * errors into sJ, unless NULL). */
+static int direct_net_s(ch_patches *P, const double *y, double U, double *J, double *sJ,
+                        double *sig, double *I, mote_err *err)
 {
     double V[CH_MAX_PATCHES + 1];
     V[0] = U;
     for (int p = 0; p < P->np; p++)
         V[1 + p] = U + y[1 + p];
-    int rc = P->direct(P->ctx, V, J, sig, err);
+    double sj[CH_MAX_PATCHES + 1];
+    int rc = P->direct(P->ctx, V, J, sJ ? sJ : sj, sig, err);
     if (rc)
         return rc;
     P->runs++;
@@ -323,6 +325,12 @@ static int direct_net(ch_patches *P, const double *y, double U, double *J, doubl
     for (int k = 0; k <= P->np; k++)
         *I += J[k];
     return MOTE_OK;
+}
+
+static int direct_net(ch_patches *P, const double *y, double U, double *J, double *sig,
+                      double *I, mote_err *err)
+{
+    return direct_net_s(P, y, U, J, NULL, sig, I, err);
 }
 
 int ch_patches_float(ch_patches *P, double *y, mote_err *err)
@@ -415,6 +423,144 @@ int ch_patches_float(ch_patches *P, double *y, mote_err *err)
         P->slope = slope;
     P->sigma_U = slope > 0 ? P->sig / slope : 0;
     P->tau_c = slope > 0 ? Ct / slope : INFINITY;
+    return MOTE_OK;
+}
+
+/* The steady state's residual at y: F[0] the whole net current, F[1 + p] patch p's net current
+ * less its leak (what charges its layer); *sig the net current's error. direct: a run at y's
+ * potentials (P->J, P->sig its currents). */
+static int steady_residual(ch_patches *P, const double *y, double *F, double *sig, double *sF,
+                           mote_err *err)
+{
+    double Ic, Ip[CH_MAX_PATCHES];
+    if (P->direct) {
+        double J[CH_MAX_PATCHES + 1], sJ[CH_MAX_PATCHES + 1], I;
+        const int rc = direct_net_s(P, y, y[0], J, sJ, sig, &I, err);
+        if (rc)
+            return rc;
+        memcpy(P->J, J, sizeof J);
+        P->sig = *sig;
+        Ic = J[0];
+        memcpy(Ip, J + 1, (size_t)P->np * sizeof *Ip);
+        if (sF)
+            memcpy(sF, sJ, (size_t)(P->np + 1) * sizeof *sF);
+    } else {
+        const int rc = ch_patches_currents(P, y[0], y + 1, &Ic, Ip, sig, err);
+        if (rc)
+            return rc;
+        if (sF)
+            for (int k = 0; k <= P->np; k++)
+                sF[k] = NAN; /* (the tables keep no part's error) */
+    }
+    F[0] = Ic;
+    for (int p = 0; p < P->np; p++) {
+        F[0] += Ip[p];
+        F[1 + p] = Ip[p] - (isfinite(P->Rp[p]) ? y[1 + p] / P->Rp[p] : 0);
+    }
+    return MOTE_OK;
+}
+
+/* The statistical errors of the potentials at a root of F from the currents' errors sF
+ * (sF[0] the conductor's, sF[1 + p] part p's, independent): dy = -J^-1 dF with F = B g, g the
+ * conductor's and the parts' currents (F[0] holds them all, F[1 + p] part p's); 1 when J is
+ * singular. */
+static int steady_errors(int n, double Jk[][CH_MAX_PATCHES + 1], const double *sF, double *sy)
+{
+    double Jinv[CH_MAX_PATCHES + 1][CH_MAX_PATCHES + 1];
+    for (int c = 0; c < n; c++) { /* column c of J^-1 */
+        double A[CH_MAX_PATCHES + 1][CH_MAX_PATCHES + 2], col[CH_MAX_PATCHES + 1];
+        for (int r = 0; r < n; r++) {
+            memcpy(A[r], Jk[r], (size_t)n * sizeof **Jk);
+            A[r][n] = r == c;
+        }
+        if (solve_small(n, A, col))
+            return 1;
+        for (int r = 0; r < n; r++)
+            Jinv[r][c] = col[r];
+    }
+    for (int c = 0; c < n; c++) {
+        double v = 0;
+        for (int k = 0; k < n; k++) {
+            const double a = Jinv[c][0] + (k > 0 ? Jinv[c][k] : 0); /* (J^-1 B)[c][k] */
+            v += a * a * sF[k] * sF[k];
+        }
+        sy[c] = sqrt(v);
+    }
+    return 0;
+}
+
+int ch_patches_steady(ch_patches *P, double *y, double tol, int *iters, double *sy, mote_err *err)
+{
+    const int n = P->np + 1;
+    double Jk[CH_MAX_PATCHES + 1][CH_MAX_PATCHES + 1];
+    /* the differences: tiny on the interpolated tables; in a direct run (common random numbers:
+     * the currents are steps, a history changing its fate at a time) wide enough to span many */
+    const double rel = P->direct ? 0.02 : 1e-6;
+    const double floor_ = P->direct ? 0.5 * P->scale : 1e-3 * P->scale;
+    double F[CH_MAX_PATCHES + 1], G[CH_MAX_PATCHES + 1], J[CH_MAX_PATCHES + 1][CH_MAX_PATCHES + 2];
+    double sF[CH_MAX_PATCHES + 1], sig = 0;
+    int it, done = 0;
+    for (int c = 0; c < n; c++)
+        sy[c] = NAN;
+    for (it = 0; it < 60 && !done; it++) {
+        int rc = steady_residual(P, y, F, &sig, sF, err);
+        if (rc)
+            return rc;
+        for (int c = 0; c < n; c++) { /* the Jacobian by forward differences */
+            const double V = y[0] + (c ? y[c] : 0), e = fmax(rel * fabs(V), floor_);
+            double yc[CH_MAX_PATCHES + 1], s;
+            memcpy(yc, y, (size_t)n * sizeof *y);
+            yc[c] += e;
+            if ((rc = steady_residual(P, yc, G, &s, NULL, err)) != 0)
+                return rc;
+            for (int r = 0; r < n; r++)
+                J[r][c] = (G[r] - F[r]) / e;
+        }
+        /* the slope of the net current in the common mode, the Jacobian kept for the errors */
+        P->slope = fabs(J[0][0]);
+        for (int r = 0; r < n; r++) {
+            memcpy(Jk[r], J[r], (size_t)n * sizeof **Jk);
+            J[r][n] = -F[r];
+        }
+        double dz[CH_MAX_PATCHES + 1];
+        if (solve_small(n, J, dz))
+            return mote_fail(err, MOTE_ERUNTIME, "float: the currents do not change with the "
+                             "potentials here (U = %g V): no steady state found", y[0]);
+        double sz[CH_MAX_PATCHES + 1];
+        const int have_err = isfinite(sF[0]) && !steady_errors(n, Jk, sF, sz);
+        /* no potential moves by more than 5 kT or half of itself in one step */
+        double shrink = 1;
+        for (int c = 0; c < n; c++) {
+            const double V = y[0] + (c ? y[c] : 0), lim = fmax(5 * P->scale, 0.5 * fabs(V));
+            if (fabs(dz[c]) * shrink > lim)
+                shrink = lim / fabs(dz[c]);
+        }
+        /* done when every step is within the tolerance of its potential, or (with errors)
+         * within its statistical error: Newton's step is then below what the noise decides */
+        int within_tol = shrink == 1, within_noise = shrink == 1 && have_err;
+        for (int c = 0; c < n; c++) {
+            const double V = y[0] + (c ? y[c] : 0), step = fabs(shrink * dz[c]);
+            within_tol &= step <= fmax(tol * fabs(V), 1e-3 * P->scale);
+            within_noise &= have_err && step <= sz[c];
+            y[c] += shrink * dz[c];
+        }
+        if (!isfinite(y[0]))
+            return mote_fail(err, MOTE_ERUNTIME, "float: the potentials ran off to infinity");
+        done = within_tol || within_noise;
+    }
+    if (!done)
+        return mote_fail(err, MOTE_ERUNTIME, "float: no steady state within 60 Newton steps "
+                         "(U = %g V)", y[0]);
+    /* the currents there, and the potentials' errors from theirs */
+    int rc = steady_residual(P, y, F, &sig, sF, err);
+    if (rc)
+        return rc;
+    P->sig = sig;
+    P->sigma_U = P->slope > 0 ? sig / P->slope : 0;
+    if (isfinite(sF[0]) && steady_errors(n, Jk, sF, sy))
+        for (int c = 0; c < n; c++)
+            sy[c] = NAN;
+    *iters = it;
     return MOTE_OK;
 }
 

@@ -42,6 +42,7 @@ typedef struct ch_model {
     double sun_dir[3], sun_int;
     double eta;                 /* `integrator` (spec 6.3): curved paths' step and limit */
     long max_steps;
+    int embree_only;            /* `tracer embree`: no walk, no early-exit boxes */
     /* materials (spec 6.9): the defined ones (presets are found by name) and the assignments,
      * in order (a later one wins) */
     mote_ch_material defined[32];
@@ -128,5 +129,10 @@ int ch_run_monitor_stop(void *vm, const mote_call *c, mote_err *err);
 int ch_run_evolve(void *vm, const mote_call *c, mote_err *err);
 int ch_check_output(void *vm, const mote_call *c, mote_err *err);
 int ch_run_output(void *vm, const mote_call *c, mote_err *err);
+
+/* float with dielectric parts: their steady state with the conductor (timeseries.c). */
+int ch_float_patches(ch_model *m, const mote_call *c, mote_err *err);
+/* The tracer of the model's body as `tracer` asks (run.c). */
+mote_ch_tracer *ch_model_tracer(const ch_model *m, mote_err *err);
 
 #endif

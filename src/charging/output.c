@@ -591,7 +591,10 @@ static int write_png(const ch_output *o, const char *path, mote_err *err)
     }
     char title[200], what[96], label[96];
     quantity_names(o, what, sizeof what, label, sizeof label);
-    if (o->png_q == CH_Q_VSURF && o->tri_V)
+    if (o->png_q == CH_Q_VSURF && o->tri_V && o->time < 0) /* float's */
+        snprintf(title, sizeof title, "%s in the steady state, U = %.6g V (%s mode)", what,
+                 o->potential, o->mode);
+    else if (o->png_q == CH_Q_VSURF && o->tri_V)
         snprintf(title, sizeof title, "%s at t = %.6g s, U = %.6g V (%s mode)", what, o->time,
                  o->potential, o->mode);
     else
@@ -747,8 +750,12 @@ int ch_write_potential(const ch_output *o, FILE *log, mote_err *err)
         mote_afile af;
         if (!(rc = mote_afile_open(&af, path, err))) {
             char title[160];
-            snprintf(title, sizeof title, "mote charging: surface potential at t = %.6g s, U = "
-                     "%.6g V", o->time, o->potential);
+            if (o->time < 0)
+                snprintf(title, sizeof title, "mote charging: surface potential in the steady "
+                         "state, U = %.6g V", o->potential);
+            else
+                snprintf(title, sizeof title, "mote charging: surface potential at t = %.6g s, "
+                         "U = %.6g V", o->time, o->potential);
             vtk_geometry(af.f, o, title, v);
             for (uint32_t i = 0; i < n; i++)
                 v[i] = o->tri_V[i];

@@ -72,6 +72,14 @@ int ch_check_test(void *vm, const mote_call *c, mote_err *err)
 
 /* Straight paths from the injector (the plasma does not matter): the share of histories that
  * hit, against A / (4 pi R^2) (Cauchy-Crofton: exact for a convex body) or A / A_box. */
+mote_ch_tracer *ch_model_tracer(const ch_model *m, mote_err *err)
+{
+    mote_ch_tracer *t = mote_ch_tracer_new(&m->body, err);
+    if (t && m->embree_only)
+        ch_tracer_walk(t, 0);
+    return t;
+}
+
 int ch_run_test(void *vm, const mote_call *c, mote_err *err)
 {
     ch_model *m = vm;
@@ -84,7 +92,7 @@ int ch_run_test(void *vm, const mote_call *c, mote_err *err)
     o.field = 0;
     o.tri_material = NULL;
     o.sun = 0;
-    mote_ch_tracer *t = mote_ch_tracer_new(&m->body, err);
+    mote_ch_tracer *t = ch_model_tracer(m, err);
     if (!t)
         return err->code;
     mote_ch_result r;
@@ -162,7 +170,7 @@ int ch_run_run(void *vm, const mote_call *c, mote_err *err)
     ch_diagnose(m, "run");
     mote_ch_run_opts o = ch_run_opts(m, c, &g);
     o.potential = mote_call_opt_r(c, "potential", 0);
-    mote_ch_tracer *t = mote_ch_tracer_new(&m->body, err);
+    mote_ch_tracer *t = ch_model_tracer(m, err);
     if (!t)
         return err->code;
     mote_ch_result_free(&m->res);
@@ -268,7 +276,15 @@ int ch_check_float(void *vm, const mote_call *c, mote_err *err)
     if (n && (n->r != floor(n->r) || n->r > 1e15))
         return mote_call_fail(err, c, mote_call_opt_index(c, "particles"), MOTE_EINVAL,
                               "float: particles must be a whole number (1 ... 1e15)");
+    if (m->ndiel > 0 && (mote_call_opt(c, "replicas") || mote_call_opt(c, "roots")))
+        return mote_call_fail(err, c, mote_call_opt_index(c, mote_call_opt(c, "replicas") ?
+                                                                 "replicas" : "roots"),
+                              MOTE_EINVAL, "float: replicas= and roots= are for a body that is "
+                              "one conductor; with dielectric parts float finds their steady "
+                              "state (particles=, tolerance=, U0=)");
     int rc = ch_need_setup(m, c, err);
+    if (m->ndiel > 0)
+        return rc;
     return rc ? rc : ch_note_prefixed(m, c, "_summary.txt", "charging-summary", err);
 }
 
@@ -331,6 +347,10 @@ int ch_run_float(void *vm, const mote_call *c, mote_err *err)
     ch_model *m = vm;
     if (ch_field_prepare(m, c, err))
         return err->code;
+    if (m->ndiel > 0) {
+        ch_diagnose(m, "float");
+        return ch_float_patches(m, c, err);
+    }
     mote_ch_geometry g;
     mote_ch_body_geometry(&m->body, &g);
     if (ch_build_tri_materials(m, err))
@@ -338,7 +358,7 @@ int ch_run_float(void *vm, const mote_call *c, mote_err *err)
     ch_diagnose(m, "float");
     mote_ch_run_opts o = ch_run_opts(m, c, &g); /* (the field on: full mode) */
     o.U0 = mote_call_opt_r(c, "U0", 0);
-    mote_ch_tracer *t = mote_ch_tracer_new(&m->body, err);
+    mote_ch_tracer *t = ch_model_tracer(m, err);
     if (!t)
         return err->code;
     double U, sU, oml;

@@ -297,7 +297,7 @@ static int evolve_full(ch_model *m, const mote_call *c, mote_err *err)
     if (ch_build_tri_materials(m, err))
         return err->code;
     mote_ch_run_opts o = ch_run_opts(m, c, &g); /* (the field on: full mode) */
-    mote_ch_tracer *tr = mote_ch_tracer_new(&m->body, err);
+    mote_ch_tracer *tr = ch_model_tracer(m, err);
     if (!tr)
         return err->code;
     ch_table t;
@@ -358,31 +358,53 @@ typedef struct {
 } patch_node_ctx;
 
 /* The currents of the triangles of patch p (-1: the conductor) in a run: collected, emitted,
- * photoelectrons. */
-static double part_current(const ch_model *m, const mote_ch_result *r, const int *tri_patch,
-                           int p)
+ * photoelectrons; with var, its variance: the collected current's binomial one, and the
+ * emitted and photoelectron currents' variances shared in proportion to the part's share of
+ * those currents (the run keeps them for the whole body only). */
+static double part_current_v(const ch_model *m, const mote_ch_result *r, const int *tri_patch,
+                             int p, double *var)
 {
     const uint32_t ntri = r->ntri;
-    double I = 0;
+    double I = 0, v = 0;
     int comp = 0;
     for (int s = 0; s < r->nsp; s++)
         for (int k = 0; k < m->plasma.sp[s].ncomp; k++, comp++) {
             uint64_t h = 0;
-            double see = 0;
+            double see = 0, see_all = 0;
             for (uint32_t i = 0; i < ntri; i++) {
+                const size_t q = (size_t)comp * ntri * 2 + 2 * (size_t)i;
+                const double si = r->tri_see ? r->tri_see[q] + r->tri_see[q + 1] : 0;
+                see_all += si;
                 if (tri_patch[i] != p)
                     continue;
-                const size_t q = (size_t)comp * ntri * 2 + 2 * (size_t)i;
                 h += r->tri_hits[q] + r->tri_hits[q + 1];
-                if (r->tri_see)
-                    see += r->tri_see[q] + r->tri_see[q + 1];
+                see += si;
             }
-            I += r->weight[s][k] * (double)h + see;
+            const double w = r->weight[s][k], N = (double)r->histories;
+            I += w * (double)h + see;
+            v += w * w * (double)h * (N > 0 ? 1 - (double)h / N : 1);
+            if (see_all != 0)
+                v += r->see_sigma[s][k] * r->see_sigma[s][k] * fabs(see / see_all);
         }
-    for (uint32_t i = 0; r->tri_photo && i < ntri; i++)
+    double ph = 0, ph_all = 0;
+    for (uint32_t i = 0; r->tri_photo && i < ntri; i++) {
+        const double x = r->tri_photo[2 * (size_t)i] + r->tri_photo[2 * (size_t)i + 1];
+        ph_all += x;
         if (tri_patch[i] == p)
-            I += r->tri_photo[2 * (size_t)i] + r->tri_photo[2 * (size_t)i + 1];
+            ph += x;
+    }
+    I += ph;
+    if (ph_all != 0)
+        v += r->photo_sigma * r->photo_sigma * fabs(ph / ph_all);
+    if (var)
+        *var = v;
     return I;
+}
+
+static double part_current(const ch_model *m, const mote_ch_result *r, const int *tri_patch,
+                           int p)
+{
+    return part_current_v(m, r, tri_patch, p, NULL);
 }
 
 static int patch_node(void *vx, double U, double *Ic, double *sig, double *Ip, mote_err *err)
@@ -412,7 +434,8 @@ static int patch_node(void *vx, double U, double *Ic, double *sig, double *Ip, m
 
 /* The solved field with the conductors at their own potentials V (the state's order: the
  * conductor, then the parts): a run there, each one's net current into J. */
-static int patch_direct(void *vx, const double *V, double *J, double *sig, mote_err *err)
+static int patch_direct(void *vx, const double *V, double *J, double *sJ, double *sig,
+                        mote_err *err)
 {
     patch_node_ctx *x = vx;
     const ch_model *m = x->m;
@@ -434,8 +457,11 @@ static int patch_direct(void *vx, const double *V, double *J, double *sig, mote_
         return rc;
     x->runs++;
     mote_ch_net(&r, sig);
-    for (int p = -1; p < m->ndiel; p++)
-        J[1 + p] = part_current(m, &r, x->tri_patch, p);
+    for (int p = -1; p < m->ndiel; p++) {
+        double v;
+        J[1 + p] = part_current_v(m, &r, x->tri_patch, p, &v);
+        sJ[1 + p] = sqrt(v);
+    }
     mote_ch_result_free(&r);
     return MOTE_OK;
 }
@@ -526,20 +552,43 @@ static int patch_row(void *vr, void *subject, mote_err *err)
     return patch_row_at(r, mote_schedule_next(&r->at), err);
 }
 
-static int evolve_patches(ch_model *m, const mote_call *c, mote_err *err)
+/* What evolve and float share for a body with dielectric parts: each triangle's part (-1: the
+ * conductor), the parts' areas, the circuit P (its layers, leaks, and in the solved field its
+ * capacitance matrix and the conductors' labels), the node's and the direct run's context x,
+ * and the tracer (none in faithful mode). */
+typedef struct {
+    ch_patches P;
+    patch_node_ctx x;
+    int *tri_patch;
+    mote_ch_tracer *tr;
+    double area[CH_MAX_PATCHES], C;
+    uint32_t ntri;
+} patch_setup;
+
+static void patches_close(patch_setup *s)
 {
+    mote_ch_tracer_free(s->tr);
+    free(s->tri_patch);
+    free(s->x.tri_cond);
+    ch_patches_free(&s->P);
+}
+
+static int patches_open(ch_model *m, const mote_call *c, const char *cmd, double U0,
+                        patch_setup *s, mote_err *err)
+{
+    memset(s, 0, sizeof *s);
     mote_ch_geometry g;
     mote_ch_body_geometry(&m->body, &g);
-    const double T = mote_call_opt(c, "time")->r, dt = evolve_dt(m, c, T);
-    const double U0 = m->faithful ? 0 : mote_call_opt_r(c, "U0", 0), C = g.capacitance;
+    const double C = g.capacitance;
     const uint32_t ntri = m->body.sphere ? 1 : m->body.ntri;
     const int np = m->ndiel;
-    int *tri_patch = malloc((size_t)ntri * sizeof *tri_patch);
+    ch_patches *P = &s->P;
+    double *area = s->area, eps[CH_MAX_PATCHES];
+    s->C = C;
+    s->ntri = ntri;
+    int *tri_patch = s->tri_patch = malloc((size_t)ntri * sizeof *tri_patch);
     if (!tri_patch)
-        return mote_fail(err, MOTE_ENOMEM, "evolve: out of memory");
-    ch_patches P;
-    memset(&P, 0, sizeof P);
-    double area[CH_MAX_PATCHES] = {0}, eps[CH_MAX_PATCHES];
+        return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", cmd);
     for (uint32_t i = 0; i < ntri; i++) {
         tri_patch[i] = -1;
         for (int p = 0; p < np; p++)
@@ -553,112 +602,152 @@ static int evolve_patches(ch_model *m, const mote_call *c, mote_err *err)
     for (int p = 0; p < np && !rc; p++) {
         eps[p] = m->diel[p].eps_r > 0 ? m->diel[p].eps_r : ch_part_eps(m, m->diel[p].part);
         if (!(eps[p] >= 1))
-            rc = mote_call_fail(err, c, -1, MOTE_EINVAL, "evolve: dielectric part '%s' has no "
+            rc = mote_call_fail(err, c, -1, MOTE_EINVAL, "%s: dielectric part '%s' has no "
                                 "permittivity: give eps_r= to dielectric, or assign it a "
-                                "material with one (kapton, teflon, cover-glass)",
+                                "material with one (kapton, teflon, cover-glass)", cmd,
                                 m->diel[p].part);
         else if (!(area[p] > 0))
-            rc = mote_call_fail(err, c, -1, MOTE_EINVAL, "evolve: dielectric part '%s' has no "
-                                "triangles", m->diel[p].part);
-        P.Cp[p] = MOTE_CH_EPS0 * eps[p] * area[p] / m->diel[p].d;
+            rc = mote_call_fail(err, c, -1, MOTE_EINVAL, "%s: dielectric part '%s' has no "
+                                "triangles", cmd, m->diel[p].part);
+        P->Cp[p] = MOTE_CH_EPS0 * eps[p] * area[p] / m->diel[p].d;
         const double sig = /* (sigma= of dielectric, else the part's material's) */
             m->diel[p].sigma >= 0 ? m->diel[p].sigma : ch_part_sigma(m, m->diel[p].part);
-        P.Rp[p] = sig > 0 ? m->diel[p].d / (sig * area[p]) : INFINITY;
+        P->Rp[p] = sig > 0 ? m->diel[p].d / (sig * area[p]) : INFINITY;
     }
     if (!rc)
-        rc = ch_patches_init(&P, np, ch_smallest_kT(m), U0, err);
+        rc = ch_patches_init(P, np, ch_smallest_kT(m), U0, err);
     if (!rc && !m->faithful)
         rc = ch_build_tri_materials(m, err);
-    patch_node_ctx x = {.m = m, .tri_patch = tri_patch};
-    mote_ch_tracer *tr = NULL;
+    patch_node_ctx *x = &s->x;
+    x->m = m;
+    x->tri_patch = tri_patch;
     if (!rc && m->faithful) { /* the last run's currents */
-        x.Ic = part_current(m, &m->res, tri_patch, -1);
+        x->Ic = part_current(m, &m->res, tri_patch, -1);
         for (int p = 0; p < np; p++)
-            x.Ip[p] = part_current(m, &m->res, tri_patch, p);
-        mote_ch_net(&m->res, &x.sig);
-    } else if (!rc && !(tr = mote_ch_tracer_new(&m->body, err)))
+            x->Ip[p] = part_current(m, &m->res, tri_patch, p);
+        mote_ch_net(&m->res, &x->sig);
+    } else if (!rc && !(s->tr = ch_model_tracer(m, err)))
         rc = err->code;
-    if (rc) {
-        free(tri_patch);
-        ch_patches_free(&P);
+    if (rc)
         return rc;
-    }
-    x.tr = tr;
-    x.o = ch_run_opts(m, c, &g);
-    x.o.tri_patch = tri_patch;
-    x.o.npatch = np;
-    x.o.dv = P.dv;
-    x.o.ndv = P.ndv;
-    P.C = C;
+    x->tr = s->tr;
+    x->o = ch_run_opts(m, c, &g);
+    x->o.tri_patch = tri_patch;
+    x->o.npatch = np;
+    x->o.dv = P->dv;
+    x->o.ndv = P->ndv;
+    P->C = C;
     if (m->field_solved && !m->field_off && m->ftree && !m->faithful) { /* the solved field
                                      * (not a tree kept from before `field sphere`): its
                                      * capacitance matrix (symmetrized:
                                      * collocation makes it reciprocal to the discretization's
                                      * error), the conductors at their own potentials */
         const int nc = m->fbem.nc, n = np + 1;
-        P.have_cv = 1;
+        P->have_cv = 1;
         for (int k = 0; k < nc; k++)
             for (int l = 0; l < nc; l++)
-                P.Cv[m->fstate[k] * n + m->fstate[l]] =
+                P->Cv[m->fstate[k] * n + m->fstate[l]] =
                     0.5 * (m->fbem.cmat[k * nc + l] + m->fbem.cmat[l * nc + k]);
         int cond_of[CH_MAX_PATCHES + 1];
         for (int k = 0; k < nc; k++)
             cond_of[m->fstate[k]] = k;
-        if (!(x.tri_cond = malloc((size_t)ntri * sizeof *x.tri_cond)))
-            rc = mote_fail(err, MOTE_ENOMEM, "evolve: out of memory");
-        for (uint32_t i = 0; x.tri_cond && i < ntri; i++)
-            x.tri_cond[i] = cond_of[tri_patch[i] + 1];
-        P.direct = patch_direct;
-        P.dv_step = 5 * P.scale;
+        if (!(x->tri_cond = malloc((size_t)ntri * sizeof *x->tri_cond)))
+            return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", cmd);
+        for (uint32_t i = 0; i < ntri; i++)
+            x->tri_cond[i] = cond_of[tri_patch[i] + 1];
+        P->direct = patch_direct;
+        P->dv_step = 5 * P->scale;
     }
-    P.node = patch_node;
-    P.ctx = &x;
+    P->node = patch_node;
+    P->ctx = x;
+    return MOTE_OK;
+}
+
+/* The map of the surface potential at the state y (time: the evolution's, or -1 for a steady
+ * state), when output asks for files (not the exact sphere). */
+static int patches_map(ch_model *m, const patch_setup *S, const double *y, double time,
+                       const char *cmd, mote_err *err)
+{
+    if (!m->prefix || m->body.sphere)
+        return MOTE_OK;
+    mote_ch_geometry g;
+    mote_ch_body_geometry(&m->body, &g);
+    double *V = malloc((size_t)S->ntri * sizeof *V);
+    if (!V)
+        return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", cmd);
+    for (uint32_t i = 0; i < S->ntri; i++)
+        V[i] = y[0] + (S->tri_patch[i] >= 0 ? y[1 + S->tri_patch[i]] : 0);
+    ch_output oo = ch_output_of(m, &g, &S->x.o, y[0]);
+    oo.tri_V = V;
+    oo.time = time;
+    const int rc = ch_write_potential(&oo, m->log, err);
+    free(V);
+    return rc;
+}
+
+static int evolve_patches(ch_model *m, const mote_call *c, mote_err *err)
+{
+    mote_ch_geometry g;
+    mote_ch_body_geometry(&m->body, &g);
+    const double T = mote_call_opt(c, "time")->r, dt = evolve_dt(m, c, T);
+    const double U0 = m->faithful ? 0 : mote_call_opt_r(c, "U0", 0);
+    const int np = m->ndiel;
+    patch_setup S;
+    int rc = patches_open(m, c, "evolve", U0, &S, err);
+    if (rc) {
+        patches_close(&S);
+        return rc;
+    }
+    ch_patches *P = &S.P;
+    patch_node_ctx *x = &S.x;
+    const double C = S.C;
     mote_progress prog; /* one line for all the runs */
     mote_progress_begin(&prog, c->ctx, c->name);
-    x.o.progress = &prog;
+    x->o.progress = &prog;
     ch_series d;
     const int f = open_timeseries(m, c, &d, err, &rc);
     FILE *out = f ? d.head : m->log;
     if (f) {
-        if (P.direct)
+        if (P->direct)
             fprintf(out, "# mode = full with %d dielectric part%s in the solved field, the "
                          "conductors at their own potentials (issue 55): (Cv + layers) dV/dt = "
                          "the currents, each step's from runs at its potentials; the common mode "
                          "floated at every step, the differentials by explicit steps of at most "
                          "%g V or a quarter of themselves\n# C_F = %.10g\n", np, np > 1 ? "s" : "",
-                    P.dv_step, C);
+                    P->dv_step, C);
         else
             fprintf(out, "# mode = %s with %d dielectric part%s (spec 6.10: C dU/dt = sum I, C_p "
                          "d(V_p - U)/dt = I_p - (V_p - U)/R_p; implicit Euler extrapolated, "
                          "tolerance 1e-7)\n# C_F = %.10g\n",
                     m->faithful ? "faithful" : "full", np, np > 1 ? "s" : "", C);
-        if (P.have_cv) {
-            if (!P.direct)
+        if (P->have_cv) {
+            if (!P->direct)
                 fprintf(out, "# circuit: C replaced by the solved field's capacitance matrix Cv "
                              "of the conductor and the parts' outer surfaces (issue 55): (Cv + "
                              "layers) dV/dt = the currents\n");
             fputs("# Cv_F =", out);
             for (int q = 0; q < (np + 1) * (np + 1); q++)
-                fprintf(out, " %.10g", P.Cv[q]);
+                fprintf(out, " %.10g", P->Cv[q]);
             fputc('\n', out);
         }
         for (int p = 0; p < np; p++)
             fprintf(out, "# A_%s_m2 = %.10g\n# C_p_%s_F = %.10g\n# R_p_%s_ohm = %.10g\n",
-                    m->diel[p].part, area[p], m->diel[p].part, P.Cp[p], m->diel[p].part, P.Rp[p]);
+                    m->diel[p].part, S.area[p], m->diel[p].part, P->Cp[p], m->diel[p].part,
+                    P->Rp[p]);
         fprintf(out, "# columns: t_s Q_C U_V sigma_U_V I_net_A");
         for (int p = 0; p < np; p++)
             fprintf(out, " V_%s_V", m->diel[p].part);
         fputs(" dV_max_V\n", out);
         out = series_rows(&d);
     }
-    patch_rows r = {m, &P, C, f, out, np, {U0}, 0, 1e-9 * T, 0, 0, 0, -1, {0, dt, 0}};
-    if (!rc && P.direct) { /* the common mode floats at once */
-        rc = ch_patches_float(&P, r.y, err);
+    patch_rows r = {m, P, C, f, out, np, {U0}, 0, 1e-9 * T, 0, 0, 0, -1, {0, dt, 0}};
+    if (!rc && P->direct) { /* the common mode floats at once */
+        rc = ch_patches_float(P, r.y, err);
         if (!rc && m->log)
             fprintf(m->log, "evolve: the conductors at their own potentials in the solved field: "
                             "the common mode floated at every step (at the start U = %.6g V, "
                             "its time constant %.3g s), the differentials in steps of at most "
-                            "%g V or a quarter of themselves\n", r.y[0], P.tau_c, P.dv_step);
+                            "%g V or a quarter of themselves\n", r.y[0], P->tau_c, P->dv_step);
     }
     if (!rc)
         rc = evolve_clock_run_with(c, patch_row, &r, f ? &d : NULL, &r.at, T, patch_advance, &r,
@@ -669,43 +758,101 @@ static int evolve_patches(ch_model *m, const mote_call *c, mote_err *err)
     double *y = r.y, dvmax = r.dvmax, t_dvmax = r.t_dvmax;
     const int p_dvmax = r.p_dvmax;
     mote_progress_end(&prog);
-    if (!rc && m->log && P.direct)
+    if (!rc && m->log && P->direct)
         fprintf(m->log, "evolve: %d dielectric part%s; %ld steps, currents from %ld runs; the "
                         "common mode's time constant at the end %.3g s\n", np, np > 1 ? "s" : "",
-                P.steps, P.runs, P.tau_c);
+                P->steps, P->runs, P->tau_c);
     else if (!rc && m->log)
         fprintf(m->log, "evolve: %d dielectric part%s; %ld steps, currents from %d node%s%s\n", np,
-                np > 1 ? "s" : "", P.steps, P.nn, P.nn == 1 ? "" : "s",
+                np > 1 ? "s" : "", P->steps, P->nn, P->nn == 1 ? "" : "s",
                 m->faithful ? " (faithful: the last run's constant currents)" : "");
     if (!rc && m->log) {
         for (int p = 0; p < np; p++) {
-            const double tau = P.Cp[p] * P.Rp[p];
+            const double tau = P->Cp[p] * P->Rp[p];
             fprintf(m->log, "evolve: dielectric %s: A = %.6g m^2, C_p = %.6g F, R_p = %.6g ohm, "
                             "tau_p = %.6g s; at t = %g s V_p = %.8g V, V_p - U = %.8g V\n",
-                    m->diel[p].part, area[p], P.Cp[p], P.Rp[p], tau, T, y[0] + y[1 + p],
+                    m->diel[p].part, S.area[p], P->Cp[p], P->Rp[p], tau, T, y[0] + y[1 + p],
                     y[1 + p]);
         }
         fprintf(m->log, "evolve: at t = %g s U = %.8g V; the largest |V_p - U| %.6g V (%s, at t "
                         "= %g s)\n", T, y[0], dvmax, m->diel[p_dvmax].part, t_dvmax);
     }
-    if (!rc && m->prefix && !m->body.sphere) { /* the map of the surface potential at T */
-        double *V = malloc((size_t)ntri * sizeof *V);
-        if (!V)
-            rc = mote_fail(err, MOTE_ENOMEM, "evolve: out of memory");
-        for (uint32_t i = 0; V && i < ntri; i++)
-            V[i] = y[0] + (tri_patch[i] >= 0 ? y[1 + tri_patch[i]] : 0);
-        ch_output oo = ch_output_of(m, &g, &x.o, y[0]);
-        oo.tri_V = V;
-        oo.time = T;
-        if (!rc)
-            rc = ch_write_potential(&oo, m->log, err);
-        free(V);
-    }
-    mote_ch_tracer_free(tr);
-    free(tri_patch);
-    free(x.tri_cond);
-    ch_patches_free(&P);
+    if (!rc)
+        rc = patches_map(m, &S, y, T, "evolve", err);
+    patches_close(&S);
     return f ? series_end(&d, rc, err) : rc;
+}
+
+/* float with dielectric parts (issue 55): the steady state of the conductor and the parts, where
+ * the whole net current is zero and each part's current equals its leak (none: zero). In the
+ * solved field each evaluation is a run with the conductors at their own potentials; otherwise
+ * the currents come from the tables evolve uses (spec 6.10). The capacitance matrix does not
+ * enter a steady state; evolve is what uses it. */
+int ch_float_patches(ch_model *m, const mote_call *c, mote_err *err)
+{
+    const double U0 = mote_call_opt_r(c, "U0", 0), tol = mote_call_opt_r(c, "tolerance", 1e-4);
+    const int np = m->ndiel;
+    patch_setup S;
+    int rc = patches_open(m, c, "float", U0, &S, err);
+    if (rc) {
+        patches_close(&S);
+        return rc;
+    }
+    ch_patches *P = &S.P;
+    mote_progress prog; /* one line for all the runs */
+    mote_progress_begin(&prog, c->ctx, c->name);
+    S.x.o.progress = &prog;
+    double y[CH_MAX_PATCHES + 1] = {U0}, sy[CH_MAX_PATCHES + 1];
+    int iters = 0;
+    if (P->direct) /* the common mode first: a start near the root */
+        rc = ch_patches_float(P, y, err);
+    if (!rc)
+        rc = ch_patches_steady(P, y, tol, &iters, sy, err);
+    double Ic = 0, Ip[CH_MAX_PATCHES] = {0}, sig = 0;
+    if (!rc)
+        rc = ch_patches_currents(P, y[0], y + 1, &Ic, Ip, &sig, err);
+    mote_progress_end(&prog);
+    if (!rc && m->log) {
+        fprintf(m->log, "float: the steady state of the conductor and %d dielectric part%s (%s): "
+                        "U = %.6g V +- %.3g; %d Newton steps, ",
+                np, np > 1 ? "s" : "",
+                P->direct ? "the solved field, each at its own potential"
+                          : "the patches' circuit of spec 6.10",
+                y[0], isfinite(sy[0]) ? sy[0] : P->sigma_U, iters);
+        if (P->direct)
+            fprintf(m->log, "%ld runs of %llu histories per component\n", P->runs,
+                    (unsigned long long)S.x.o.particles);
+        else
+            fprintf(m->log, "currents from %d node%s\n", P->nn, P->nn == 1 ? "" : "s");
+        double leaks = 0, I = Ic;
+        for (int p = 0; p < np; p++) {
+            leaks += isfinite(P->Rp[p]) ? y[1 + p] / P->Rp[p] : 0;
+            I += Ip[p];
+        }
+        fprintf(m->log, "float: conductor: I = %+.6g A", Ic);
+        if (leaks != 0)
+            fprintf(m->log, " and %+.6g A through the dielectrics", leaks);
+        fprintf(m->log, "; the whole net current %+.3g A +- %.3g\n", I, sig);
+        for (int p = 0; p < np; p++) {
+            fprintf(m->log, "float: dielectric %s: V_p = %.6g V, V_p - U = %.6g V", m->diel[p].part,
+                    y[0] + y[1 + p], y[1 + p]);
+            if (isfinite(sy[1 + p]))
+                fprintf(m->log, " +- %.3g", sy[1 + p]);
+            fprintf(m->log, "; its current %+.6g A, its leak %+.6g A\n", Ip[p],
+                    isfinite(P->Rp[p]) ? y[1 + p] / P->Rp[p] : 0.0);
+        }
+    }
+    if (!rc) {
+        mote_call_result(c, "U_f", y[0]);
+        for (int p = 0; p < np; p++) {
+            char key[64];
+            snprintf(key, sizeof key, "V_%s", m->diel[p].part);
+            mote_call_result(c, key, y[0] + y[1 + p]);
+        }
+        rc = patches_map(m, &S, y, -1, "float", err);
+    }
+    patches_close(&S);
+    return rc;
 }
 
 /* Faithful mode (spec 1.2): constant currents, Q = I t and U = Q / C. */
