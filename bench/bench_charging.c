@@ -9,10 +9,11 @@
  *   mesh K [N [T]] the icosphere of level K (20 4^K triangles, K = 8: 1.3e6) from R = 3 m
  *   cubes [N [T]]  two cubes of 1 m, 0.5 m apart (a body that is not convex: Embree traces it,
  *                  not the walk of convex bodies) from R = 3 m
- *   craft FILE K [N [T]]  a spacecraft's mesh file (examples/data/spacecraft.obj: a bus, two
- *                  panels on yokes, a boom and a dish, 312 triangles) with each triangle cut
- *                  into 4 K times (K = 3: 2.0e4, K = 5: 3.2e5 triangles), from the default
- *                  injection sphere, R = 1.05 R_bound (not convex: Embree traces it)
+ *   craft FILE K [N [T]]  a spacecraft's mesh file (examples/data/spacecraft.obj: a bus and two
+ *                  panels, 312 triangles; examples/data/spacecraft-full.obj: with yokes, a
+ *                  boom and a dish, 556) with each triangle cut into 4 K times (K = 3: 2.0e4,
+ *                  K = 5: 3.2e5 triangles of the first), from the default injection sphere,
+ *                  R = 1.05 R_bound (not convex: Embree traces it behind the early-exit boxes)
  *   field FILE K [T]  the solved field (issue 55) of a mesh file refined K times as craft:
  *                  the boundary-element solve's time and matrix memory, the treecode's build
  *                  time and memory, and its evaluation time (theta 0.4) at 1e5 points on
