@@ -98,8 +98,12 @@ static void *watch(void *arg)
             continue;
         if (p[1].revents)
             return NULL;
-        if (r == 0) /* the run did not take the first signal */
-            die_by(atomic_load(&g->got));
+        if (r == 0) { /* 3 s since the first signal: unless the run took it meanwhile (and is
+                       * still ending the command), it never will */
+            if (!atomic_load(&g->taken))
+                die_by(atomic_load(&g->got));
+            continue;
+        }
         if (p[0].revents) {
             struct signalfd_siginfo si;
             if (read(g->fd, &si, sizeof si) != (ssize_t)sizeof si)
