@@ -328,6 +328,9 @@ typedef struct {
     const int *tri_cond;
     const double *cond_V;
     double theta;
+    /* the solved field's cache for the paths (src/charging/fcache.c: bem's conductors, or the
+     * body at 1 V; NULL: the tree everywhere) */
+    const struct ch_fcache *fcache;
 } mote_ch_run_opts;
 
 /* OML current (spec 6.4) of one Maxwellian component (n, kT eV, m, Z) to a sphere of area A at

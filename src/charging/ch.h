@@ -98,6 +98,8 @@ typedef struct {
                             * below the tree's); rj is at least rfar */
     int emitted;           /* 1: paths from the surface (bound ones turn back) */
     const double *tri_phi; /* each triangle's potential per volt (NULL: 1, the body at U) */
+    const struct ch_fcache *cache; /* the field's cache (fcache.c; NULL: the tree alone) */
+    const double *coef;    /* its conductors' potentials per volt of U (NULL: all 1) */
 } ch_path;
 
 typedef struct {
@@ -149,6 +151,27 @@ int ch_write_outputs(const ch_output *o, FILE *log, mote_err *err);
 /* After `evolve` with dielectric parts: P_potential.png (a file per view) and P_potential.vtk,
  * the surface potential o->tri_V at o->time (png and vtk as o says; not the exact sphere). */
 int ch_write_potential(const ch_output *o, FILE *log, mote_err *err);
+
+/* The solved field's cache (fcache.c): an octree of cells over the cube of half-width half
+ * about centre, each with the potential and field per volt of each of f's conductors at its
+ * corners (trilinear between them) where that is within tol of the treecode (opening angle
+ * theta) at the centre and the face centres (tol absolute in the potential per volt, relative
+ * to |E| + 1/half in the field), cut down to cells of hmin; the cells that hold a triangle and
+ * those still off at hmin are left to the tree. eval: 0 and the value when the cache answers
+ * x (the conductors' fields combined with coef, NULL: all 1), 1 when the tree must. */
+typedef struct ch_fcache ch_fcache;
+/* the model's cache: over CH_FCACHE_REACH R_bound about the centre (the default injection
+ * sphere's 1.05), cells down to R_bound / CH_FCACHE_CELLS, within CH_FCACHE_TOL */
+#define CH_FCACHE_REACH 1.1
+#define CH_FCACHE_CELLS 32
+#define CH_FCACHE_TOL 1e-3
+ch_fcache *ch_fcache_build(const mote_ch_body *b, const mote_ch_bem *f, double theta,
+                           const double centre[3], double half, double hmin, double tol,
+                           int threads, mote_err *err);
+int ch_fcache_eval(const ch_fcache *c, const double *coef, const double x[3], double *phi,
+                   double E[3]);
+void ch_fcache_stats(const ch_fcache *c, long *cached, long *tree, size_t *bytes);
+void ch_fcache_free(ch_fcache *c);
 
 /* The net current's characteristic I(U) and the charging law it gives (evolve.c, spec 6.6). */
 typedef struct {

@@ -526,11 +526,16 @@ static int apply_field(ch_model *m, const mote_call *c, mote_err *err)
     m->field_off = !strcmp(w, "none");
     m->field_solved = !strcmp(w, "solved");
     const double theta = mote_call_opt_r(c, "theta", 0.4);
-    if (theta != m->theta && m->ftree) { /* a new tree for the same solution */
+    const int mode = mote_call_word(c, "cache", 0) == 1; /* off|on */
+    if ((theta != m->theta || mode != m->fcache_mode) && m->ftree) { /* a new tree and cache
+                                                                     * for the same solution */
         mote_ch_ftree_free(m->ftree);
         m->ftree = NULL;
+        ch_fcache_free(m->fcache);
+        m->fcache = NULL;
     }
     m->theta = theta;
+    m->fcache_mode = mode;
     return MOTE_OK;
 }
 
@@ -538,17 +543,47 @@ void ch_field_drop(ch_model *m)
 {
     mote_ch_ftree_free(m->ftree);
     m->ftree = NULL;
+    ch_fcache_free(m->fcache);
+    m->fcache = NULL;
     mote_ch_bem_free(&m->fbem);
+}
+
+/* The paths' cache of the solved field, over the default injection sphere (fcache.c). */
+static int field_cache(ch_model *m, const mote_call *c, mote_err *err)
+{
+    mote_ch_geometry g;
+    mote_ch_body_geometry(&m->body, &g);
+    const double t0 = mote_wall_seconds();
+    ch_fcache_free(m->fcache);
+    m->fcache = ch_fcache_build(&m->body, &m->fbem, m->theta, g.centre,
+                                CH_FCACHE_REACH * g.r_bound, g.r_bound / CH_FCACHE_CELLS,
+                                CH_FCACHE_TOL, c->ctx->threads, err);
+    if (!m->fcache)
+        return mote_call_fail(err, c, -1, err->code, "%s: %s", c->name, err->msg);
+    long nk, nt;
+    size_t bytes;
+    ch_fcache_stats(m->fcache, &nk, &nt, &bytes);
+    if (m->log)
+        fprintf(m->log, "field solved: the paths' cache: %ld cells interpolated, %ld left to "
+                        "the tree (cells of %.3g m and up, tolerance %g), %.3g s, %.3g MB\n", nk,
+                nt, g.r_bound / CH_FCACHE_CELLS, CH_FCACHE_TOL, mote_wall_seconds() - t0,
+                bytes / 1e6);
+    return MOTE_OK;
 }
 
 int ch_field_prepare(ch_model *m, const mote_call *c, mote_err *err)
 {
     if (!m->field_solved || m->field_off || m->faithful || m->body.sphere)
         return MOTE_OK;
-    if (m->ftree) { /* (a later `body capacitance` does not replace the solved one) */
+    /* the paths' cache: cache=on */
+    const int want_cache = m->fcache_mode == 1;
+    if (m->ftree && (m->fcache || !want_cache)) { /* (a later `body capacitance` does not
+                                                  * replace the solved one) */
         m->body.capacitance = m->fbem.capacitance;
         return MOTE_OK;
     }
+    if (m->ftree)
+        return field_cache(m, c, err);
     double t0 = mote_wall_seconds(), t1 = t0;
     if (!m->fbem.sigma) {
         /* the conductors: the frame (the triangles of no dielectric part), then each
@@ -601,6 +636,11 @@ int ch_field_prepare(ch_model *m, const mote_call *c, mote_err *err)
                         "%.3g MB\n", m->body.ntri, m->fbem.capacitance, g.r_field, g.r_eq,
                 t1 - t0, mote_ch_bem_bytes(m->body.ntri) / 1e6, m->theta,
                 mote_wall_seconds() - t1, mote_ch_ftree_bytes(m->ftree) / 1e6);
+    if (want_cache) {
+        const int rc = field_cache(m, c, err);
+        if (rc)
+            return rc;
+    }
     if (m->log && m->ndiel > 0) { /* the conductors' capacitance matrix */
         const int nc = m->fbem.nc;
         fprintf(m->log, "field solved: the capacitance matrix (F; the charge on the row's "
@@ -1098,7 +1138,8 @@ static const mote_cmd ch_commands[] = {
     {"injector", NULL, "e{sphere|box} radius=r>0{auto|debye|thesis} margin=r>0 margin_m=r>0",
      "injector sphere|box [options]",
      "where histories start", HELP_INJECTOR, check_injector, run_injector},
-    {"field", NULL, "e{none|sphere|solved} theta=r(0,1)", "field none|sphere|solved [theta=0.4]",
+    {"field", NULL, "e{none|sphere|solved} theta=r(0,1) cache=e{off|on}",
+     "field none|sphere|solved [theta=0.4] [cache=off|on]",
      "straight paths, the equivalent sphere's field, or the body's own (solved)",
      HELP_FIELD, check_field, run_field},
     {"bfield", NULL, "B=r>=0!", "bfield B=T", "a magnetic field for the validity warnings only",

@@ -711,6 +711,7 @@ typedef struct {
     double Uf;
     mote_ch_ftree *own_tree;
     double *tri_phi;
+    double fc_coef[MOTE_CH_BEM_MAX_CONDUCTORS]; /* the cache's conductors per volt of Uf */
 } mc_run_state;
 
 /* The end of a component: the threads' tallies merged (integers: any order gives the same
@@ -960,6 +961,8 @@ static int conductors_field(mc_run_state *st, const mote_ch_geometry *g, mote_er
         sigma[j] = s / st->Uf;
         st->tri_phi[j] = o->cond_V[o->tri_cond[j]] / st->Uf;
     }
+    for (int k = 0; k < f->nc; k++)
+        st->fc_coef[k] = o->cond_V[k] / st->Uf;
     st->own_tree = mote_ch_ftree_build(b, sigma, o->theta > 0 ? o->theta : 0.4, err);
     free(sigma);
     return st->own_tree ? MOTE_OK : err->code;
@@ -1009,6 +1012,8 @@ static int run_setup(mc_run_state *st, const mote_ch_tracer *t, mote_err *err)
     if (curved && tree) { /* the monopole beyond where it is as good as the tree */
         st->path.tree = tree;
         st->path.tri_phi = st->tri_phi;
+        st->path.cache = o->fcache;
+        st->path.coef = st->own_tree ? st->fc_coef : NULL;
         st->path.rfar = mote_ch_ftree_monopole_radius(tree, g.centre, 1e-3);
         st->path.rj = fmax(st->path.rj, st->path.rfar);
     }

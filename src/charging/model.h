@@ -34,6 +34,8 @@ typedef struct ch_model {
     int fstate[CH_MAX_PATCHES + 1]; /* its conductor k's place in the patches' circuit: 0 the
                                      * conductor, 1 + p dielectric part p */
     mote_ch_ftree *ftree;       /* and its tree */
+    ch_fcache *fcache;          /* and the paths' cache of it (NULL: none yet, or cache=off) */
+    int fcache_mode;            /* `field solved cache=`: 0 off, 1 on */
     double bfield;              /* `bfield B=` (spec 3.4, diagnostics only), T */
     int diagnosed;              /* the warnings of spec 3.4 printed for this plasma and body */
     char *warnings;             /* their text, for the summary files */

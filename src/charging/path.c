@@ -157,7 +157,8 @@ static double solved_at(const ch_path *P, const double r[3], double a[3])
     }
     const double x[3] = {P->c[0] + r[0], P->c[1] + r[1], P->c[2] + r[2]};
     double phi, E[3];
-    mote_ch_ftree_eval(P->tree, x, &phi, E);
+    if (!P->cache || ch_fcache_eval(P->cache, P->coef, x, &phi, E))
+        mote_ch_ftree_eval(P->tree, x, &phi, E);
     for (int i = 0; i < 3; i++)
         a[i] = P->qu * E[i];
     return phi;

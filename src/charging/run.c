@@ -36,7 +36,8 @@ mote_ch_run_opts ch_run_opts(const ch_model *m, const mote_call *c, const mote_c
                           .max_steps = m->max_steps,
                           .progress_ctx = c->ctx,
                           .progress_label = c->name,
-                          .tree = m->field_solved && !m->field_off ? m->ftree : NULL};
+                          .tree = m->field_solved && !m->field_off ? m->ftree : NULL,
+                          .fcache = m->field_solved && !m->field_off ? m->fcache : NULL};
     return o;
 }
 
