@@ -312,12 +312,24 @@ class Charging(Simulation):
         """`float OPTIONS` (particles=, tolerance=, U0=, replicas=, roots=): {"U_f": volts,
         "sigma_U": its standard error, "U_oml": the OML estimate for the equivalent sphere
         without emission, "printed": what it printed}, the numbers as the command prints them
-        (6 significant digits, well inside sigma_U)."""
+        (6 significant digits, well inside sigma_U). With dielectric parts, their steady state
+        with the frame: U_oml is None, and "V" maps each part's name to its potential V_p and
+        "sigma_dV" to the error of V_p - U (None where the command prints none)."""
         import re
         printed = self.command(("float " + _options(options)).rstrip(), progress=progress)
         m = re.search(r"^float: U_f = (\S+) V \+- (\S+) \(OML estimate, no emission, for the "
                       r"equivalent sphere (\S+) V", printed, re.M)
+        if m:
+            return {"U_f": float(m.group(1)), "sigma_U": float(m.group(2)),
+                    "U_oml": float(m.group(3)), "printed": printed}
+        m = re.search(r"^float: the steady state of the conductor and \d+ dielectric parts? .*: "
+                      r"U = (\S+) V \+- ([^;]+);", printed, re.M)
         if not m:
-            raise MoteError("float: no 'U_f = ...' line in its output:\n" + printed)
-        return {"U_f": float(m.group(1)), "sigma_U": float(m.group(2)),
-                "U_oml": float(m.group(3)), "printed": printed}
+            raise MoteError("float: no 'U_f = ...' or steady-state line in its output:\n" + printed)
+        V, sdV = {}, {}
+        for p in re.finditer(r"^float: dielectric (\S+): V_p = (\S+) V, V_p - U = \S+ V"
+                             r"(?: \+- ([^;]+))?;", printed, re.M):
+            V[p.group(1)] = float(p.group(2))
+            sdV[p.group(1)] = float(p.group(3)) if p.group(3) else None
+        return {"U_f": float(m.group(1)), "sigma_U": float(m.group(2)), "U_oml": None, "V": V,
+                "sigma_dV": sdV, "printed": printed}

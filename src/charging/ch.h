@@ -239,9 +239,10 @@ double ch_patches_charge(const ch_patches *P, const double *y);
 /* direct: float the common mode of y (U, keeping dV_1 ... dV_np), P->J its currents. */
 int ch_patches_float(ch_patches *P, double *y, mote_err *err);
 /* The steady state (float): y = (U, dV_1 ... dV_np) where the whole net current is zero and
- * each patch's current equals its leak, by Newton's method from y (the Jacobian by differences;
- * steps of at most 5 kT or half a potential), until each step is within tol of its potential
- * (or, direct, within the noise); the Newton steps into *iters, the currents there into P->J
+ * each patch's current equals its leak. The tables: by implicit Euler steps of the circuit
+ * growing to 10^15 s (the state time evolution from y reaches). direct: by Newton's method
+ * from y (the Jacobian by differences; steps of at most 5 kT or half a potential), until each
+ * step is within tol of its potential or within the noise; the Newton steps into *iters, the currents there into P->J
  * (direct) and P->sig, the statistical errors of y into sy[np + 1] (direct: from each part's
  * current's error through the Jacobian; NAN when the tables give none); P->sigma_U the common
  * mode's. */

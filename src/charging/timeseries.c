@@ -814,11 +814,12 @@ int ch_float_patches(ch_model *m, const mote_call *c, mote_err *err)
     mote_progress_end(&prog);
     if (!rc && m->log) {
         fprintf(m->log, "float: the steady state of the conductor and %d dielectric part%s (%s): "
-                        "U = %.6g V +- %.3g; %d Newton steps, ",
+                        "U = %.6g V +- %.3g; %d %s steps, ",
                 np, np > 1 ? "s" : "",
                 P->direct ? "the solved field, each at its own potential"
                           : "the patches' circuit of spec 6.10",
-                y[0], isfinite(sy[0]) ? sy[0] : P->sigma_U, iters);
+                y[0], isfinite(sy[0]) ? sy[0] : P->sigma_U, iters,
+                P->direct ? "Newton" : "implicit");
         if (P->direct)
             fprintf(m->log, "%ld runs of %llu histories per component\n", P->runs,
                     (unsigned long long)S.x.o.particles);

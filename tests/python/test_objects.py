@@ -178,6 +178,21 @@ def test_charging_solved_field():
     assert len(lines) == 2 and all(l in printed for l in lines)
 
 
+def test_charging_float_dielectric():
+    """float with a dielectric part from Python: the steady state of the frame and the part, the
+    numbers the script prints (the part conducting well: it floats with the frame)."""
+    setup = ("plasma preset geo-worst-case\nbody uvsphere radius=1 nlon=12 nlat=6 "
+             "parts=hemispheres\nmaterial assign part=* material=kapton\n"
+             "dielectric part=south thickness=127e-6 sigma=1")
+    ch = mote.Charging(setup)
+    f = ch.float(particles=3000)
+    printed = mote.run("model charging\n" + setup + "\nfloat particles=3000\n")
+    assert f["U_oml"] is None and set(f["V"]) == {"south"} and f["sigma_U"] > 0
+    assert "U = %g V +- %g;" % (f["U_f"], f["sigma_U"]) in printed
+    assert "V_p = %g V" % f["V"]["south"] in printed
+    assert abs(f["V"]["south"] - f["U_f"]) < 1e-3 and f["sigma_dV"]["south"] is None
+
+
 def test_objects_pickle_as_themselves():
     """A model object pickled or copied is the same kind of object, continuing bit for bit."""
     import copy
