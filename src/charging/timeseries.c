@@ -573,8 +573,8 @@ static void patches_close(patch_setup *s)
     ch_patches_free(&s->P);
 }
 
-static int patches_open(ch_model *m, const mote_call *c, const char *cmd, double U0,
-                        patch_setup *s, mote_err *err)
+static int patches_setup(ch_model *m, const mote_call *c, const char *cmd, double U0,
+                         patch_setup *s, mote_err *err)
 {
     memset(s, 0, sizeof *s);
     mote_ch_geometry g;
@@ -663,6 +663,16 @@ static int patches_open(ch_model *m, const mote_call *c, const char *cmd, double
     return MOTE_OK;
 }
 
+/* patches_setup, and on failure what it made freed */
+static int patches_open(ch_model *m, const mote_call *c, const char *cmd, double U0,
+                        patch_setup *s, mote_err *err)
+{
+    const int rc = patches_setup(m, c, cmd, U0, s, err);
+    if (rc)
+        patches_close(s);
+    return rc;
+}
+
 /* The map of the surface potential at the state y (time: the evolution's, or -1 for a steady
  * state), when output asks for files (not the exact sphere). */
 static int patches_map(ch_model *m, const patch_setup *S, const double *y, double time,
@@ -694,10 +704,8 @@ static int evolve_patches(ch_model *m, const mote_call *c, mote_err *err)
     const int np = m->ndiel;
     patch_setup S;
     int rc = patches_open(m, c, "evolve", U0, &S, err);
-    if (rc) {
-        patches_close(&S);
+    if (rc)
         return rc;
-    }
     ch_patches *P = &S.P;
     patch_node_ctx *x = &S.x;
     const double C = S.C;
@@ -794,10 +802,8 @@ int ch_float_patches(ch_model *m, const mote_call *c, mote_err *err)
     const int np = m->ndiel;
     patch_setup S;
     int rc = patches_open(m, c, "float", U0, &S, err);
-    if (rc) {
-        patches_close(&S);
+    if (rc)
         return rc;
-    }
     ch_patches *P = &S.P;
     mote_progress prog; /* one line for all the runs */
     mote_progress_begin(&prog, c->ctx, c->name);
