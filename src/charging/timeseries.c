@@ -840,6 +840,10 @@ int ch_float_patches(ch_model *m, const mote_call *c, mote_err *err)
         if (leaks != 0)
             fprintf(m->log, " and %+.6g A through the dielectrics", leaks);
         fprintf(m->log, "; the whole net current %+.3g A +- %.3g\n", I, sig);
+        if (fabs(I) > 3 * sig) /* (Newton stopped inside the noise of its steps, not of I) */
+            fprintf(m->log, "float: warning: the whole net current there is %.1f sigma from "
+                            "zero: the steady state is looser than its errors say; more "
+                            "particles= tighten it\n", fabs(I) / sig);
         for (int p = 0; p < np; p++) {
             fprintf(m->log, "float: dielectric %s: V_p = %.6g V, V_p - U = %.6g V", m->diel[p].part,
                     y[0] + y[1 + p], y[1 + p]);
