@@ -366,6 +366,10 @@ else not_ok "help threads" "$th"; fi
 # signalled NAME WORD SIG: run $T/NAME.mote in the background, send SIG once it has printed WORD;
 # its exit status in rc, its output in $T/NAME.out and .err
 signalled() {
+    # (the last run's output gone first: its WORD must not be taken for this run's, which may not
+    # have opened the file yet, and a signal before mote has started ends it as it would any
+    # program)
+    rm -f "$T/$1.out" "$T/$1.err"
     env --default-signal=INT "$MOTE" run "$T/$1.mote" > "$T/$1.out" 2> "$T/$1.err" &
     pid=$!
     i=0
