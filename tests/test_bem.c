@@ -271,7 +271,7 @@ static void test_fcache(void)
     mote_ch_geometry g;
     mote_ch_body_geometry(&b, &g);
     const double half = 1.1 * g.r_bound, coef[2] = {1, 0.5}, tol = 1e-3;
-    ch_fcache *c = ch_fcache_build(&b, &f, 0.4, g.centre, half, g.r_bound / 16, tol, 2, &err);
+    ch_fcache *c = ch_fcache_build(&b, &f, 0.4, g.centre, half, g.r_bound / 16, tol, 1e9, 2, &err);
     double *sig = malloc(b.ntri * sizeof *sig);
     for (uint32_t j = 0; sig && j < b.ntri; j++)
         sig[j] = coef[0] * f.basis[j] + coef[1] * f.basis[f.n + j];
@@ -318,6 +318,14 @@ static void test_fcache(void)
         CHECK(ch_fcache_eval(c, coef, far, &p, E) == 1 && ch_fcache_eval(c, coef, bad, &p, E) == 1,
               "the cache answered outside its cube");
     }
+    /* a cache over its memory bound is refused, saying so */
+    mote_err e2 = {0};
+    ch_fcache *small = ch_fcache_build(&b, &f, 0.4, g.centre, half, g.r_bound / 16, tol, 1e5, 2,
+                                       &e2);
+    CHECK(!small && e2.code == MOTE_ENOMEM && strstr(e2.msg, "more than 0 MB") &&
+              strstr(e2.msg, "use cache=off"),
+          "a cache over its bound: %s", small ? "built" : e2.msg);
+    ch_fcache_free(small);
     ch_fcache_free(c);
     mote_ch_ftree_free(T);
     free(sig);

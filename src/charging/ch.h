@@ -157,7 +157,8 @@ int ch_write_potential(const ch_output *o, FILE *log, mote_err *err);
  * corners (trilinear between them) where that is within tol of the treecode (opening angle
  * theta) at the centre and the face centres (tol absolute in the potential per volt, relative
  * to |E| + 1/half in the field), cut down to cells of hmin; the cells that hold a triangle and
- * those still off at hmin are left to the tree. eval: 0 and the value when the cache answers
+ * those still off at hmin are left to the tree; more than max_bytes of cells refused (an
+ * error saying so, nothing kept). eval: 0 and the value when the cache answers
  * x (the conductors' fields combined with coef, NULL: all 1), 1 when the tree must. */
 typedef struct ch_fcache ch_fcache;
 /* the model's cache: over CH_FCACHE_REACH R_bound about the centre (the default injection
@@ -165,9 +166,10 @@ typedef struct ch_fcache ch_fcache;
 #define CH_FCACHE_REACH 1.1
 #define CH_FCACHE_CELLS 32
 #define CH_FCACHE_TOL 1e-3
+#define CH_FCACHE_MAX_BYTES 1e9 /* refused beyond (a clear error: use cache=off) */
 ch_fcache *ch_fcache_build(const mote_ch_body *b, const mote_ch_bem *f, double theta,
                            const double centre[3], double half, double hmin, double tol,
-                           int threads, mote_err *err);
+                           double max_bytes, int threads, mote_err *err);
 int ch_fcache_eval(const ch_fcache *c, const double *coef, const double x[3], double *phi,
                    double E[3]);
 void ch_fcache_stats(const ch_fcache *c, long *cached, long *tree, size_t *bytes);

@@ -557,7 +557,7 @@ static int field_cache(ch_model *m, const mote_call *c, mote_err *err)
     ch_fcache_free(m->fcache);
     m->fcache = ch_fcache_build(&m->body, &m->fbem, m->theta, g.centre,
                                 CH_FCACHE_REACH * g.r_bound, g.r_bound / CH_FCACHE_CELLS,
-                                CH_FCACHE_TOL, c->ctx->threads, err);
+                                CH_FCACHE_TOL, CH_FCACHE_MAX_BYTES, c->ctx->threads, err);
     if (!m->fcache)
         return mote_call_fail(err, c, -1, err->code, "%s: %s", c->name, err->msg);
     long nk, nt;

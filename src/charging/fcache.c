@@ -11,6 +11,7 @@
 #include "ch.h"
 
 #include <math.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -39,6 +40,8 @@ typedef struct {
     mote_ch_ftree *const *trees;
     const double (*tlo)[3], (*thi)[3]; /* the triangles' bounding boxes */
     double tol, escale;
+    atomic_long *cells;   /* the cells made so far by every subtree, against max_cells */
+    long max_cells;
 } fc_build;
 
 static int grow(fc_arena *c, int nodes, int data)
@@ -192,6 +195,10 @@ static int build_node(const fc_build *B, size_t node, const double lo[3], double
         c->cached_leaves++;
         return 0;
     }
+    if (atomic_fetch_add(B->cells, 8) + 8 > B->max_cells) { /* the memory bound */
+        free(mine);
+        return -2;
+    }
     if (grow(c, 1, 0)) {
         free(mine);
         return -1;
@@ -212,7 +219,7 @@ static int build_node(const fc_build *B, size_t node, const double lo[3], double
 
 ch_fcache *ch_fcache_build(const mote_ch_body *b, const mote_ch_bem *f, double theta,
                            const double centre[3], double half, double hmin, double tol,
-                           int threads, mote_err *err)
+                           double max_bytes, int threads, mote_err *err)
 {
     const int nc = f->nc;
     enum { NSUB = 64 }; /* the subtrees two cuts below the root */
@@ -243,23 +250,35 @@ ch_fcache *ch_fcache_build(const mote_ch_body *b, const mote_ch_bem *f, double t
         /* the 64 subtrees side by side (the tree's evaluation is read-only), each from its
          * cell two cuts below the root, into its own arena */
         const double q = 0.25 * c->size;
-        int bad = 0;
+        /* at most max_bytes: a cell's values are nc 128 bytes, its node 8 */
+        const long max_cells = (long)(max_bytes / ((double)nc * 128 + 8));
+        atomic_long cells;
+        atomic_init(&cells, 0);
+        int bad = 0, over = 0;
 #pragma omp parallel for num_threads(threads > 1 ? threads : 1) schedule(dynamic, 1) \
-    reduction(| : bad)
+    reduction(| : bad, over)
         for (int k = 0; k < NSUB; k++) {
             fc_arena *A = &sub[k];
             A->nc = nc;
             A->levels = levels;
             const double lo[3] = {c->lo[0] + q * (k & 3), c->lo[1] + q * ((k >> 2) & 3),
                                   c->lo[2] + q * (k >> 4)};
-            fc_build B = {A, b, trees, (const double(*)[3])tlo, (const double(*)[3])thi, tol,
-                          1 / half};
+            fc_build B = {A,   b,        trees, (const double(*)[3])tlo, (const double(*)[3])thi,
+                          tol, 1 / half, &cells, max_cells};
             if (grow(A, 1, 0)) {
                 bad = 1;
                 continue;
             }
             A->nnodes = 1;
-            bad |= build_node(&B, 0, lo, q, FC_MIN_LEVEL, idx, b->ntri) != 0;
+            const int r = build_node(&B, 0, lo, q, FC_MIN_LEVEL, idx, b->ntri);
+            over |= r == -2;
+            bad |= r != 0;
+        }
+        if (over) {
+            rc = 1;
+            mote_fail(err, MOTE_ENOMEM, "field solved: the paths' cache would take more than "
+                      "%.0f MB (%d conductors' fields in every cell): use cache=off",
+                      max_bytes / 1e6, nc);
         }
         /* joined: the root, its 8 children, their 64, then each arena's own below its root */
         fc_arena *W = &c->a;
@@ -272,7 +291,7 @@ ch_fcache *ch_fcache_build(const mote_ch_body *b, const mote_ch_bem *f, double t
         }
         W->child = malloc(nn * sizeof *W->child);
         W->data = malloc(nn * sizeof *W->data);
-        rc = bad || !W->child || !W->data;
+        rc = rc || bad || !W->child || !W->data;
         if (!rc) {
             W->cap_nodes = W->nnodes = nn;
             W->cap_data = W->ndata = nd;
@@ -315,7 +334,7 @@ ch_fcache *ch_fcache_build(const mote_ch_body *b, const mote_ch_bem *f, double t
                     W->tree_leaves += A->tree_leaves;
                 }
         }
-        if (rc)
+        if (rc && !over)
             mote_fail(err, MOTE_ENOMEM, "field solved: out of memory for the field's cache");
     }
     for (int k = 0; sub && k < NSUB; k++) {
