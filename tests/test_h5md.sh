@@ -74,33 +74,10 @@ def exact(a, b, what, rtol=0.0):
     if rtol and not np.allclose(a, b, rtol=rtol, atol=0):
         fail("%s differ beyond %g" % (what, rtol))
 
-class Frame:
-    """A frame of the separator's XYZ (its species are mineral names, which ASE refuses)."""
-    def __init__(self, lines):
-        head = lines[1]
-        lat = [float(x) for x in head.split('Lattice="')[1].split('"')[0].split()]
-        self.cell = np.array(lat).reshape(3, 3)
-        self.pbc = np.array([p == "T" for p in head.split('pbc="')[1].split('"')[0].split()])
-        self.info = {"Time": float(head.split("Time=")[1].split()[0])}
-        rows = np.array([[float(x) for x in l.split()[1:]] for l in lines[2:]]).reshape(-1, 8)
-        self.positions = rows[:, 1:4]
-        self.arrays = {"id": rows[:, 0], "velo": rows[:, 4:7], "radius": rows[:, 7]}
-
-    def __len__(self):
-        return len(self.positions)
-
-def sep_frames(path):
-    lines, out, k = open(path).read().splitlines(), [], 0
-    while k < len(lines):
-        n = int(lines[k])
-        out.append(Frame(lines[k:k + n + 2]))
-        k += n + 2
-    return out
-
 def against_xyz(h5, xyz, model, dim, units, scalar, rtol=0.0, order=None, planes=None):
     f = h5py.File(h5, "r")
     F = layout(f, model, dim, units)
-    frames = sep_frames(xyz) if model == "separator" else ase.io.read(xyz, index=":")
+    frames = ase.io.read(xyz, index=":")
     if len(frames) != F:
         fail("%s: %d frames, %s has %d" % (h5, F, xyz, len(frames)))
     a = f["particles/all"]
@@ -150,10 +127,15 @@ elif what == "mb":
     if list(f["h5md/modules/units"].attrs["version"]) != [1, 0]:
         fail("mb units module")
 elif what == "sep":
-    # 2D: the plane x, z (XYZ columns 0 and 2); diameter = 2 radius; 10 digits in the XYZ
-    f = against_xyz("sep.h5", "sep.xyz", "separator", 2, True, ("diameter", 2), rtol=1e-9,
-                    planes=[0, 2])
+    # 2D: the plane x, z (XYZ columns 0 and 2); diameter = 2 radius; ASE reads the XYZ (the
+    # element X, the species' names in their own column)
+    f = against_xyz("sep.h5", "sep.xyz", "separator", 2, True, ("diameter", 2), planes=[0, 2])
     a = f["particles/all"]
+    last = ase.io.read("sep.xyz", index=-1)
+    names = ["quartz", "ore"]
+    if set(last.get_chemical_symbols()) != {"X"} or \
+            list(last.arrays["species_name"]) != [names[k] for k in a["species/value"][-1, :len(last)]]:
+        fail("the XYZ's species: %r" % (sorted(set(last.arrays["species_name"])),))
     n = [int(np.sum(a["id/value"][k] >= 0)) for k in range(a["id/value"].shape[0])]
     if not (n[0] == 0 and n[-1] > n[1] > 0):
         fail("the separator's count does not grow: %r" % n)
@@ -161,6 +143,58 @@ elif what == "sep":
         fail("species names %r" % a["species"].attrs["names"])
     if a["diameter/value"].attrs.get("unit") != b"m":
         fail("diameter unit")
+elif what == "vtk":
+    # VTK snapshots (legacy binary, read by VTK itself) against the H5MD ones of the same
+    # moment, in the three models that write them: the same numbers to the last bit under the
+    # same names; 2D positions and vectors with z = 0
+    from vtkmodules.vtkIOLegacy import vtkPolyDataReader
+    from vtkmodules.util.numpy_support import vtk_to_numpy as v2n
+    def vtk(path):
+        r = vtkPolyDataReader()
+        r.SetFileName(path)
+        r.ReadAllScalarsOn()
+        r.ReadAllVectorsOn()
+        r.ReadAllFieldsOn()
+        r.Update()
+        return r.GetOutput()
+    def same(vpath, hpath, names):
+        d = vtk(vpath)
+        a = h5py.File(hpath, "r")["particles/all"]
+        n, pd = d.GetNumberOfPoints(), d.GetPointData()
+        dim = a["position/value"].shape[2]
+        if n != a["position/value"].shape[1] or n < 20 or d.GetNumberOfVerts() != n:
+            fail("%s: %d points, %d vertices" % (vpath, n, d.GetNumberOfVerts()))
+        got = sorted(pd.GetArrayName(k) for k in range(pd.GetNumberOfArrays()))
+        if got != sorted(names):
+            fail("%s: arrays %r" % (vpath, got))
+        pts = v2n(d.GetPoints().GetData())
+        exact(pts[:, :dim], a["position/value"][0], vpath + " positions")
+        for name in names:
+            v = v2n(pd.GetArray(name))
+            h = a[name + "/value"][0]
+            exact(v[:, :dim] if v.ndim == 2 else v, h, "%s %s" % (vpath, name))
+            if v.ndim == 2 and dim == 2 and np.any(v[:, 2] != 0):
+                fail("%s: a 2D frame's %s has z" % (vpath, name))
+        if dim == 2 and np.any(pts[:, 2] != 0):
+            fail("%s: a 2D frame's z is not 0" % vpath)
+        fd = d.GetFieldData()
+        if fd.GetArray("TIME").GetValue(0) != a["position/time"][0] or \
+                fd.GetArray("STEP").GetValue(0) != a["position/step"][0]:
+            fail("%s: time/step" % vpath)
+        return d, a
+    d, a = same("vnow.vtk", "vnow.h5", ["velocity", "species", "id", "diameter", "contact_force"])
+    F = v2n(d.GetPointData().GetArray("contact_force"))
+    if np.count_nonzero(np.abs(F).sum(axis=1)) < 2:
+        fail("VTK: no particle is in contact")
+    if a["contact_force/value"].attrs.get("unit") != b"N":
+        fail("contact force unit")
+    same("hsnow.vtk", "hsnow.h5", ["velocity", "radius", "q6"])
+    same("mbnow.vtk", "mbnow.h5", ["velocity", "species", "radius"])
+    # series on a schedule: one file per snapshot, times increasing
+    for pre, k in (("vs/p", 3), ("hs_vs/p", 3), ("mb_vs/p", 3)):
+        times = [vtk("%s_%06d.vtk" % (pre, j)).GetFieldData().GetArray("TIME").GetValue(0) for j in range(k)]
+        if not times[0] < times[1] < times[2]:
+            fail("%s: VTK series times %r" % (pre, times))
 elif what == "nbody":
     f = h5py.File("nb.h5", "r")
     F = layout(f, "nbody", 3, False)
@@ -231,6 +265,39 @@ printf '%bspecies ore 4500\nsize ore lognormal d50=120e-6 sigma=1.6 min=30e-6 ma
 both sep.mote
 check sep
 
+# a VTK snapshot (format=vtk, or a .vtk name) holds what the H5MD snapshot of the same moment
+# holds, contact forces included (a bed on a plate, soft-sphere contacts); and a series
+cat > vt.mote <<'S'
+model separator
+seed 4
+channel 0.06 0.4
+gas 12
+species ore 3500
+size ore lognormal d50=4e-3 sigma=1.2 min=3e-3 max=5e-3
+species coke 900
+size coke lognormal d50=4e-3 sigma=1.2 min=3e-3 max=5e-3
+feed_fraction ore 0.5
+feed_fraction coke 0.5
+feed z=0.12 rate=0.1
+grid 0.1 0.004 pattern a=4.5e-3 p=9e-3 offset=0
+stiffness overlap=0.1 vimp=12
+run 0.08
+snapshot file=vnow.h5
+snapshot file=vnow.vtk
+snapshot every=1000 prefix=vs/p format=vtk
+run 0.002
+S
+run vt.mote
+printf 'seed 2\nnew 3 0.40\nstep 1\nsnapshot file=hsnow.h5\nsnapshot file=hsnow.vtk\nsnapshot every=1 prefix=hs_vs/p format=vtk\nstep 2\n' > hsv.mote
+run hsv.mote
+printf '%brun 0.05\nsnapshot file=mbnow.h5\nsnapshot file=mbnow.vtk\nsnapshot dt=0.01 prefix=mb_vs/p format=vtk\nrun 0.03\n' "$MB" > mbv.mote
+run mbv.mote
+check vtk
+expect 1 "v1.mote:9:25: error: trajectory: a VTK file holds one frame: write a series with snapshot every=K prefix=P format=vtk (or a trajectory .xyz or .h5)" v1.mote "${SEP_DILUTE}trajectory every=1 file=t.vtk\n"
+expect 1 "v2.mote:3:25: error: trajectory: a VTK file holds one frame: write a series with snapshot every=K prefix=P format=vtk (or a trajectory .xyz or .h5)" v2.mote 'seed 1\nnew 3 0.40\ntrajectory every=1 file=t.vtk\n'
+expect 1 "v3.mote:3:15: error: snapshot: format=vtk writes VTK: name the file FILE.vtk" v3.mote 'seed 1\nnew 3 0.40\nsnapshot file=t.xyz format=vtk\n'
+expect 1 "v4.mote:10:15: error: snapshot: a file named .vtk is VTK: give format=vtk or another name" v4.mote "${MB}snapshot file=t.vtk format=h5md\n"
+
 # N-body: dimensionless (no scales) against the table, velocities on; the Sun and Jupiter in
 # SI from the solar-system generator's scales
 cat > nb.mote <<'S'
@@ -274,6 +341,6 @@ expect 1 "f3.mote:3:25: error: trajectory: FILE must end in .xyz (extended XYZ) 
 expect 1 "f4.mote:3:35: error: trajectory: unit= names the table's time column; an H5MD file carries SI units (seconds) when the run has physical scales" f4.mote "${SOLAR}trajectory every=1 file=t.h5 unit=day\n"
 printf '%bsnapshot file=m.png format=xyz\n' "$MB" > f5.mote
 "$MOTE" run f5.mote > out.txt 2> err.txt
-grep -q "snapshot: format= is for the particle files (.xyz, .h5); a .png is a picture" err.txt && ok || bad "f5: $(cat err.txt)"
+grep -q "snapshot: format= is for the particle files (.xyz, .h5, .vtk); a .png is a picture" err.txt && ok || bad "f5: $(cat err.txt)"
 
 mote_test_end

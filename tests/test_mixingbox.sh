@@ -36,7 +36,7 @@ expect 1 "g5.mote:4:1: error: place: the right chamber is 0.0055 wide (X_R - X1_
 # order and outputs
 expect 1 "o1.mote:2:1: error: run: no disks are placed yet" o1.mote "${H}run 1\n"
 expect 1 "o2.mote:3:5: error: run: T must be > 0, found 0" o2.mote "${H}place\nrun 0\n"
-expect 1 "o3.mote:3:10: error: snapshot: FILE must end in .png (a picture), .xyz (extended XYZ) or .h5 (H5MD), found 'x.jpg'" o3.mote "${H}place\nsnapshot x.jpg\n"
+expect 1 "o3.mote:3:10: error: snapshot: FILE must end in .png (a picture), .xyz (extended XYZ), .h5 (H5MD) or .vtk (VTK), found 'x.jpg'" o3.mote "${H}place\nsnapshot x.jpg\n"
 expect 1 "o4.mote:3:12: error: monitor: the directory of output file 'nodir/m.dat' does not exist" o4.mote "${H}place\nrecord 0.1 nodir/m.dat\n"
 expect 1 "o5.mote:2:7: error: movie: no earlier 'frames' writes 'f_000000.png' and it does not exist" o5.mote "${H}movie f 25 m.mp4\n"
 expect 1 "o6.mote:2:6: error: plot: 'none.dat' does not exist and no earlier command writes it" o6.mote "${H}plot none.dat x.png\n"

@@ -75,8 +75,8 @@ if command -v ffmpeg > /dev/null 2>&1; then
 fi
 [ "$(ls sn/snapshot_*.xyz | wc -l)" -eq 4 ] && ok || bad "snapshots: $(ls sn)"
 # an extended XYZ: N, the lattice and properties line, N rows of 9 fields, ids unique
-awk 'NR == 1 { n = $1 } NR == 2 { ok = /^Lattice="0.05 0 0 0 [0-9.e-]+ 0 0 0 1" Properties=species:S:1:id:I:1:pos:R:3:velo:R:3:radius:R:1 Time=/ && index($0, " Time=" t2 " ") }
-     NR > 2 { rows++; if (NF != 9 || ($1 != "quartz" && $1 != "ore") || seen[$2]++) bad = 1 }
+awk 'NR == 1 { n = $1 } NR == 2 { ok = /^Lattice="0.05 0 0 0 [0-9.e-]+ 0 0 0 1" Properties=species:S:1:species_name:S:1:id:I:1:pos:R:3:velo:R:3:radius:R:1 Time=/; if (match($0, / Time=[^ ]+ /)) { t = substr($0, RSTART + 6, RLENGTH - 7) + 0; ok = ok && t > t2 - 1e-9 * t2 && t < t2 + 1e-9 * t2 } else ok = 0 }
+     NR > 2 { rows++; if (NF != 10 || $1 != "X" || ($2 != "quartz" && $2 != "ore") || seen[$3]++) bad = 1 }
      END { exit !(ok && rows == n && n > 100 && !bad) }' t2="$5" sn/snapshot_000002.xyz && ok || bad "xyz: $(head -3 sn/snapshot_000002.xyz)"
 awk '/^# invariant_held = 1$/ { h = 1 } !/^#/ { rows++ } END { exit !(h && rows == 31) }' bal.dat && ok || bad "balance: $(head -5 bal.dat)"
 # the balance's last row: fed_all = in_all + fines_all + coarse_all + lost_all
@@ -132,7 +132,7 @@ expect 1 "b5.mote:8:1: error: run: the time step 0.001 s is above the stability 
 expect 1 "b6.mote:5:1: error: run: no gas upflow" b6.mote "${S}channel 0.05 1\nspecies a 2500\nsize a mono d=1e-4\nrun 1\n"
 expect 0 "" sp1.mote "${S}species name=a density=2500\nspecies b 1500\nsize a mono d=1e-4\n" check
 expect 1 "sp2.mote:2:11: error: species: density must be > 0, found -1" sp2.mote "${S}species a -1\n"
-expect 1 "sp3.mote:2:9: error: species: a name without spaces, commas, '=' or '#'" sp3.mote "${S}species \"fine ore\" 2500\n"
+expect 1 "sp3.mote:2:9: error: species: a name without spaces, commas, '=', '#' or '\"'" sp3.mote "${S}species \"fine ore\" 2500\n"
 expect 1 "b7.mote:4:6: error: size: no species 'b'" b7.mote "${S}channel 0.05 1\nspecies a 2500\nsize b mono d=1e-4\n"
 expect 1 "b8.mote:3:8: error: size lognormal: give sigma=" b8.mote "${S}species a 2500\nsize a lognormal d50=1e-4 min=1e-5 max=1e-3\n"
 expect 1 "b9.mote:5:1: error: run: species a has no size distribution" b9.mote "${S}channel 0.05 1\ngas 1\nspecies a 2500\nrun 1\n"

@@ -177,7 +177,7 @@ failed=$((failed + ${f:-0}))
 [ "$st" -eq 0 ] && ok || bad "check.py exited with $st"
 
 # bad names and arguments are refused before anything runs
-expect 1 "b1.mote:2:10: error: snapshot: FILE must end in .xyz (extended XYZ) or .h5 (H5MD), found 'x.png'" \
+expect 1 "b1.mote:2:10: error: snapshot: FILE must end in .xyz (extended XYZ), .h5 (H5MD) or .vtk (VTK), found 'x.png'" \
     b1.mote "new 2 0.3\nsnapshot x.png\n"
 expect 1 "b2.mote:2:6: error: trajectory: every must be >= 1, found 0" b2.mote "new 2 0.3\ndump 0 t.xyz\n"
 expect 1 "b3.mote:1:1: error: snapshot: no system exists yet" b3.mote "snapshot x.xyz\n"

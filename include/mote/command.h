@@ -316,6 +316,11 @@ typedef struct mote_model {
     /* The parameter commands bound to it (mote_param) */
     const mote_param *params;
     size_t nparams;
+    /* The box the particles are in (NULL: none, as N-body's open space): its edges along x, y,
+     * z in the units of the positions (0 along an axis the positions lack), its lower corner,
+     * and which axes are periodic: Python's to_ase() cell, as the XYZ files' Lattice. Returns
+     * 0, or -1 when there is no box yet. */
+    int (*cell)(void *model, double edges[3], double origin[3], int periodic[3]);
 } mote_model;
 
 /* The registry: every model this build knows, in the order `mote help` lists them
@@ -340,6 +345,11 @@ int mote_call_on(const mote_call *c, const char *key, int dflt);
  * -1 (err set, located at the option) when the two disagree: format=h5md and a file not named
  * .h5/.h5md, or another format and a file so named. */
 int mote_call_h5md(const mote_call *c, const char *file_key, int h5md_word, mote_err *err);
+/* The VTK choice of `snapshot` (vtk.h), checked first: 1 when format= gives the word of index
+ * vtk_word or, without format=, the file of option file_key ends in .vtk; 0 otherwise; -1 (err
+ * set, located) when they disagree. vtk_word < 0 (a trajectory: a VTK file holds one frame): a
+ * .vtk file is refused, naming the series that writes one file a frame. */
+int mote_call_vtk(const mote_call *c, const char *file_key, int vtk_word, mote_err *err);
 
 /* Resolve a file name given to a command: relative names are taken relative to ctx->output_dir
  * when one is set. Returns a malloc'ed string (NULL on allocation failure). */

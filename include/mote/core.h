@@ -250,6 +250,9 @@ size_t mote_peak_rss_bytes(void);
 
 /* Format a double like "%.17g" but write negative zero as "0". buf must hold 32 bytes. */
 void mote_fmt_exact(char *buf, double x);
+/* The shortest of "%.15g", "%.16g" and "%.17g" that reads back as x (0.015, not
+ * 0.014999999999999999), negative zero as "0". buf must hold 32 bytes. */
+void mote_fmt_short(char *buf, double x);
 
 /* ---- threads that never spin on a busy machine ---------------------------------------------- */
 

@@ -53,6 +53,7 @@
     "journal (docs/file-formats.md, H5MD).\n"
 
 #define MOTE_H5MD_SCALARS 4
+#define MOTE_H5MD_VECTORS 2
 
 typedef struct {
     const char *name; /* "radius" */
@@ -75,6 +76,8 @@ typedef struct {
     const int64_t *id;  /* n, or NULL */
     int nscalar;
     mote_h5md_scalar scalar[MOTE_H5MD_SCALARS];
+    int nvector;        /* per-particle vectors (v: n * dim values): contact_force */
+    mote_h5md_scalar vector[MOTE_H5MD_VECTORS];
     int has_box;        /* edges[] holds the box's lengths */
     double edges[3];
     int periodic[3];    /* per axis: periodic, or "none" */

@@ -381,9 +381,11 @@ class Simulation:
         """The configuration as an ase.Atoms (ASE, Debian's python3-ase) for every model whose
         arrays are particles with radii (positions, velocities, radii: the hard-sphere,
         mixing-box and separator models of this version): positions (2D ones with z = 0),
-        velocities, the radii as the array "radius" and the species as tags; for hard spheres
-        the box is the cell (x across the slit; periodic axes as pbc), the others have no
-        cell."""
+        velocities, the radii as the array "radius" and the species as tags; the model's box as
+        the cell (as the Lattice of its XYZ files: the hard spheres' box with x across the slit,
+        the mixing box's walls, the separator's channel W x D x H; 0 along an axis the positions
+        lack), its lower corner as the cell's displacement (celldisp), its periodic axes as
+        pbc."""
         import ase
         a = self.arrays()
         if not all(k in a for k in ("positions", "velocities", "radii")):
@@ -399,11 +401,12 @@ class Simulation:
         atoms.set_array("radius", a["radii"])
         if "species" in a:
             atoms.set_tags(a["species"])
-        if self.model == "hard-spheres":
-            st = self.status()
-            d3 = st.get("d", 3) == 3
-            atoms.set_cell([st["L"], st["A"], st["A"] if d3 else 0.0])
-            atoms.set_pbc([st.get("geometry") == "periodic", True, d3])
+        box = self._s.cell()
+        if box is not None:
+            edges, corner, periodic = box
+            atoms.set_cell(list(edges))
+            atoms.set_celldisp(list(corner))
+            atoms.set_pbc(list(periodic))
         return atoms
 
     def close(self):

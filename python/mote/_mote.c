@@ -305,6 +305,20 @@ static PyObject *Session_status(Session *self, PyObject *unused)
     return r;
 }
 
+/* The model's box: ((ex, ey, ez), (ox, oy, oz), (px, py, pz)) or None */
+static PyObject *Session_cell(Session *self, PyObject *unused)
+{
+    if (need_open(self))
+        return NULL;
+    double e[3], o[3];
+    int p[3];
+    if (!self->model->cell || self->model->cell(mote_session_instance(self->s), e, o, p))
+        Py_RETURN_NONE;
+    return Py_BuildValue("((ddd)(ddd)(OOO))", e[0], e[1], e[2], o[0], o[1], o[2],
+                         p[0] ? Py_True : Py_False, p[1] ? Py_True : Py_False,
+                         p[2] ? Py_True : Py_False);
+}
+
 static void free_capsule(PyObject *cap) { free(PyCapsule_GetPointer(cap, NULL)); }
 
 /* The model's arrays: [(name, ndarray, unit, is_view)]; views are read-only (copy=False) */
@@ -433,6 +447,8 @@ static PyMethodDef Session_methods[] = {
      "command(text, progress=None) -> str: read, check and run the lines, return what they "
      "printed"},
     {"status", (PyCFunction)Session_status, METH_NOARGS, "the model's status line"},
+    {"cell", (PyCFunction)Session_cell, METH_NOARGS,
+     "the model's box: (edges, lower corner, periodic axes), or None"},
     {"arrays", (PyCFunction)(void (*)(void))Session_arrays, METH_VARARGS | METH_KEYWORDS,
      "arrays(copy=True) -> [(name, ndarray, unit, is_view)]"},
     {"set_array", (PyCFunction)Session_set_array, METH_VARARGS,

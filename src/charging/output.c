@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "ch.h"
+#include "mote/vtk.h"
 
 /* The current of species s on triangle i, side side, and its variance. */
 static double tri_current(const mote_ch_plasma *p, const mote_ch_result *r, int s, uint32_t i,
@@ -274,34 +275,10 @@ static int write_parts(const ch_output *o, const char *path, mote_err *err)
 
 
 
-/* Legacy VTK data: n values, as text or (vtk_format=binary) big-endian doubles or 32-bit ints
- * (is_int 1), followed by a newline; is_int 2: whole numbers kept as doubles (counts). */
+/* Legacy VTK data (vtk.h): text with 10 significant digits, or binary. */
 static void vtk_put(FILE *f, const double *v, size_t n, int binary, int is_int)
 {
-    for (size_t k = 0; k < n; k++) {
-        if (!binary) {
-            if (is_int)
-                fprintf(f, "%.0f\n", v[k]);
-            else
-                fprintf(f, "%.10g\n", v[k]);
-            continue;
-        }
-        unsigned char be[8];
-        if (is_int == 1) {
-            const uint32_t x = (uint32_t)(int32_t)v[k];
-            for (int q = 0; q < 4; q++)
-                be[q] = (unsigned char)(x >> (24 - 8 * q));
-            fwrite(be, 1, 4, f);
-        } else {
-            uint64_t x;
-            memcpy(&x, &v[k], 8);
-            for (int q = 0; q < 8; q++)
-                be[q] = (unsigned char)(x >> (56 - 8 * q));
-            fwrite(be, 1, 8, f);
-        }
-    }
-    if (binary)
-        fputc('\n', f);
+    mote_vtk_put(f, v, n, binary, is_int, 10);
 }
 
 static void vtk_scalars(FILE *f, const char *name, const double *v, size_t n, int binary,

@@ -4,6 +4,7 @@
  * Everything works on the values passed in; nothing is kept between calls. */
 #include "mote/command.h"
 #include "mote/h5md.h"
+#include "mote/vtk.h"
 #include "mote/statefile.h"
 
 #include <stdarg.h>
@@ -519,6 +520,27 @@ int mote_call_h5md(const mote_call *c, const char *file_key, int h5md_word, mote
                                      "another name"),
                -1;
     return h5md;
+}
+
+int mote_call_vtk(const mote_call *c, const char *file_key, int vtk_word, mote_err *err)
+{
+    const mote_arg *fmt = mote_call_opt(c, "format");
+    const mote_arg *file = file_key ? mote_call_opt(c, file_key) : NULL;
+    const int named = file && mote_path_is_vtk(file->text);
+    const int at = mote_call_opt_index(c, file_key ? file_key : "format");
+    if (named && vtk_word < 0)
+        return mote_call_fail(err, c, at, MOTE_EINVAL,
+                              "%s: a VTK file holds one frame: write a series with snapshot "
+                              "every=K prefix=P format=vtk (or a trajectory .xyz or .h5)",
+                              c->name),
+               -1;
+    const int vtk = fmt ? vtk_word >= 0 && fmt->i == vtk_word : named;
+    if (file && vtk != named)
+        return mote_call_fail(err, c, at, MOTE_EINVAL, "%s: %s", c->name,
+                              vtk ? "format=vtk writes VTK: name the file FILE.vtk"
+                                  : "a file named .vtk is VTK: give format=vtk or another name"),
+               -1;
+    return vtk;
 }
 
 int mote_call_opt_index(const mote_call *c, const char *key)

@@ -66,7 +66,7 @@ typedef struct {
     char unit[64];      /* "" when none */
 } element;
 
-#define MAX_ELEMENTS (6 + MOTE_H5MD_SCALARS)
+#define MAX_ELEMENTS (6 + MOTE_H5MD_SCALARS + MOTE_H5MD_VECTORS)
 
 static int elements_of(const mote_h5md_frame *fr, element *e)
 {
@@ -91,6 +91,13 @@ static int elements_of(const mote_h5md_frame *fr, element *e)
         snprintf(e[k].name, sizeof e[k].name, "%s", fr->scalar[s].name);
         if (fr->scalar[s].unit)
             snprintf(e[k].unit, sizeof e[k].unit, "%s", fr->scalar[s].unit);
+        k++;
+    }
+    for (int s = 0; s < fr->nvector && s < MOTE_H5MD_VECTORS; s++) {
+        e[k] = (element){"", K_DOUBLE, 1, fr->dim, fr->vector[s].v, ""};
+        snprintf(e[k].name, sizeof e[k].name, "%s", fr->vector[s].name);
+        if (fr->vector[s].unit)
+            snprintf(e[k].unit, sizeof e[k].unit, "%s", fr->vector[s].unit);
         k++;
     }
     if (fr->has_box) {

@@ -48,6 +48,18 @@ void mote_fmt_exact(char *buf, double x)
     snprintf(buf, 32, "%.17g", x);
 }
 
+void mote_fmt_short(char *buf, double x)
+{
+    if (x == 0.0)
+        x = 0.0;
+    for (int digits = 15; digits < 17; digits++) {
+        snprintf(buf, 32, "%.*g", digits, x);
+        if (strtod(buf, NULL) == x)
+            return;
+    }
+    snprintf(buf, 32, "%.17g", x);
+}
+
 int mote_read_line(char **buf, size_t *cap, size_t *len, FILE *f, size_t max)
 {
     size_t n = 0;

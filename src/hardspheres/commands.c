@@ -2,6 +2,7 @@
  * validation of each command on a dry model (what system will exist, which files earlier commands
  * will write), and the calls into the model when the script runs. */
 #include "mote/h5md.h"
+#include "mote/vtk.h"
 #include "mote/hardspheres.h"
 
 #include <stdlib.h>
@@ -474,11 +475,14 @@ static int run_check(void *vm, const mote_call *c, mote_err *err)
 /* ---- configurations for viewers ----------------------------------------------------------------- */
 
 /* file=: an extended XYZ name */
-/* A trajectory's or snapshot's file: FILE.xyz (extended XYZ) or FILE.h5|.h5md (H5MD), as
- * format= says when given. */
-enum { FORMAT_XYZ, FORMAT_H5MD }; /* format=e{xyz|h5md} */
-static int check_xyz_name(const mote_call *c, mote_err *err)
+/* A trajectory's or snapshot's file: FILE.xyz (extended XYZ), FILE.h5|.h5md (H5MD) or, a
+ * snapshot (vtk_ok), FILE.vtk (VTK), as format= says when given. */
+enum { FORMAT_XYZ, FORMAT_H5MD, FORMAT_VTK }; /* format=e{xyz|h5md|vtk} */
+static int check_xyz_name(const mote_call *c, int vtk_ok, mote_err *err)
 {
+    const int vtk = mote_call_vtk(c, "file", vtk_ok ? FORMAT_VTK : -1, err);
+    if (vtk)
+        return vtk < 0 ? err->code : MOTE_OK;
     const int h5md = mote_call_h5md(c, "file", FORMAT_H5MD, err);
     if (h5md < 0)
         return err->code;
@@ -486,8 +490,9 @@ static int check_xyz_name(const mote_call *c, mote_err *err)
     size_t n = strlen(f);
     if (!h5md && (n < 4 || strcmp(f + n - 4, ".xyz") != 0))
         return mote_call_fail(err, c, mote_call_opt_index(c, "file"), MOTE_EINVAL,
-                              "%s: FILE must end in .xyz (extended XYZ) or .h5 (H5MD), found "
-                              "'%s'", c->name, f);
+                              "%s: FILE must end in .xyz (extended XYZ)%s .h5 (H5MD)%s, found "
+                              "'%s'", c->name, vtk_ok ? "," : " or",
+                              vtk_ok ? " or .vtk (VTK)" : "", f);
     return MOTE_OK;
 }
 
@@ -508,6 +513,8 @@ static int check_schedule(hs_model *m, const mote_call *c, mote_err *err)
 
 static int snapshots_h5md(mote_hs *hs, uint64_t k, double dt, const char *prefix,
                           const char *origin, mote_err *err);
+static int snapshots_vtk(mote_hs *hs, uint64_t k, double dt, const char *prefix,
+                         const char *origin, mote_err *err);
 
 /* Start a scheduled output (start: mote_hs_dump_start_on or mote_hs_monitor_start) and say so;
  * `what` is the first item's name ("frame", "row"). */
@@ -528,6 +535,7 @@ static int run_scheduled(hs_model *m, const mote_call *c, const char *what,
     const char *ext = file                          ? ""
                       : start == mote_hs_frames_start ? "NNNNNN.png"
                       : start == snapshots_h5md        ? "NNNNNN.h5"
+                      : start == snapshots_vtk         ? "NNNNNN.vtk"
                                                        : "NNNNNN.xyz";
     const char *sep = file ? "" : mote_series_sep(path);
     if (!rc && m->hs.log && k)
@@ -553,13 +561,14 @@ static int check_snapshot(void *vm, const mote_call *c, mote_err *err)
                               "prefix=P (a series), %s", file ? "not both" : "one of them");
     if (file) {
         int rc = need_system(m, c, err);
-        return rc ? rc : check_xyz_name(c, err);
+        return rc ? rc : check_xyz_name(c, 1, err);
     }
     if (!prefix)
         return mote_call_fail(err, c, -1, MOTE_EINVAL, "snapshot: a series needs prefix=P "
                               "(files P_000000.xyz, ...)");
     int rc = check_schedule(m, c, err);
-    const char *ext = mote_call_word(c, "format", FORMAT_XYZ) == FORMAT_H5MD ? ".h5" : ".xyz";
+    const int fmt = mote_call_word(c, "format", FORMAT_XYZ);
+    const char *ext = fmt == FORMAT_H5MD ? ".h5" : fmt == FORMAT_VTK ? ".vtk" : ".xyz";
     return rc ? rc : mote_outputs_note_series(&c->ctx->outputs, c, mote_call_opt_index(c, "prefix"),
                                               prefix->path, ext, "xyz", MOTE_SERIES_MAKES_DIR, err);
 }
@@ -569,14 +578,20 @@ static int snapshots_h5md(mote_hs *hs, uint64_t k, double dt, const char *prefix
 {
     return mote_hs_snapshots_start_as(hs, k, dt, prefix, ".h5", origin, err);
 }
+static int snapshots_vtk(mote_hs *hs, uint64_t k, double dt, const char *prefix,
+                         const char *origin, mote_err *err)
+{
+    return mote_hs_snapshots_start_as(hs, k, dt, prefix, ".vtk", origin, err);
+}
 static int run_snapshot(void *vm, const mote_call *c, mote_err *err)
 {
     hs_model *m = vm;
     const mote_arg *file = mote_call_opt(c, "file");
     if (!file)
         return run_scheduled(m, c, "snapshot",
-                             mote_call_word(c, "format", FORMAT_XYZ) == FORMAT_H5MD
-                                 ? snapshots_h5md
+                             mote_call_word(c, "format", FORMAT_XYZ) == FORMAT_H5MD ? snapshots_h5md
+                             : mote_call_word(c, "format", FORMAT_XYZ) == FORMAT_VTK
+                                 ? snapshots_vtk
                                  : mote_hs_snapshots_start,
                              err);
     char *origin = mote_call_origin(c);
@@ -610,7 +625,7 @@ static int run_frames_stop(void *vm, const mote_call *c, mote_err *err)
 static int check_dump(void *vm, const mote_call *c, mote_err *err)
 {
     int rc = check_schedule(vm, c, err);
-    return rc ? rc : check_xyz_name(c, err);
+    return rc ? rc : check_xyz_name(c, 0, err);
 }
 static int run_dump(void *vm, const mote_call *c, mote_err *err)
 {
@@ -734,9 +749,9 @@ static const mote_cmd hs_commands[] = {
     {"msd", NULL, "i>=4 f>msd", "msd K FILE",
      "mean-squared displacement and the self-diffusion coefficient D over K collisions per particle",
      HS_HELP_MSD, check_measure, run_msd},
-    {"snapshot", NULL, "@file=f>xyz every=i>=1 dt=r>0 prefix=f format=e{xyz|h5md}",
-     "snapshot file=FILE.xyz|every=K|dt=T prefix=P [format=xyz|h5md]",
-     "the current configuration as extended XYZ (OVITO, VMD, ASE) or H5MD, with local order; "
+    {"snapshot", NULL, "@file=f>xyz every=i>=1 dt=r>0 prefix=f format=e{xyz|h5md|vtk}",
+     "snapshot file=FILE.xyz|every=K|dt=T prefix=P [format=xyz|h5md|vtk]",
+     "the current configuration as extended XYZ (OVITO, VMD, ASE), H5MD or VTK, with local order; "
      "or a series",
      HS_HELP_SNAPSHOT, check_snapshot, run_snapshot},
     {"trajectory", "dump", "@every=i>=1 @file=f>xyz! dt=r>0 format=e{xyz|h5md}",
@@ -772,6 +787,21 @@ static int model_picture(void *vm, const char *path, mote_err *err)
     return hs_frame_png(&m->hs, path, err);
 }
 
+/* The box: the slit's width L along x (walls at 0 and L, or periodic), the periodic sides. */
+static int model_cell(void *vm, double edges[3], double origin[3], int periodic[3])
+{
+    const hs_model *m = vm;
+    if (!m->hs.has_system)
+        return -1;
+    const mote_ev *ev = &m->hs.ev;
+    for (int a = 0; a < 3; a++) {
+        edges[a] = a < ev->dim ? ev->len[a] : 0;
+        origin[a] = 0;
+        periodic[a] = a < ev->dim && ev->periodic[a];
+    }
+    return 0;
+}
+
 const mote_model mote_model_hardspheres = {
     .name = "hard-spheres",
     .summary = "hard spheres (or disks) between two walls or in a periodic box; event-driven",
@@ -791,6 +821,7 @@ const mote_model mote_model_hardspheres = {
     .live = model_live,
     .arrays = model_arrays,
     .set_array = model_set_array,
+    .cell = model_cell,
     .picture = model_picture,
     .picture_help = "The picture of `frames`: the box seen along z, each particle a disc of its\n"
                     "radius coloured by its local order (crystal-like or fluid-like).\n",

@@ -12,6 +12,7 @@
  * frames (mote_frames_first, mote_frames_append). */
 #include "mote/hardspheres.h"
 #include "mote/h5md.h"
+#include "mote/vtk.h"
 
 #include <inttypes.h>
 #include <stdlib.h>
@@ -19,7 +20,7 @@
 
 #include "measure.h"
 
-enum { SERIES_XYZ = 1, SERIES_PNG = 2, SERIES_STATE = 3, SERIES_H5MD = 4 };
+enum { SERIES_XYZ = 1, SERIES_PNG = 2, SERIES_STATE = 3, SERIES_H5MD = 4, SERIES_VTK = 5 };
 
 struct hs_dump {
     char *path, *origin;
@@ -85,8 +86,8 @@ static int write_frame(FILE *f, const void *arg, mote_err *err)
     return MOTE_OK;
 }
 
-/* The frame as H5MD (h5md.h): made anew (append 0) or added at the end. */
-static int h5md_frame(const mote_hs *hs, const char *path, const char *origin, int append,
+/* The frame as H5MD (h5md.h): made anew (how 0) or added at the end (1); or as VTK (2, vtk.h). */
+static int h5md_frame(const mote_hs *hs, const char *path, const char *origin, int how,
                       mote_err *err)
 {
     const mote_ev *ev = &hs->ev;
@@ -121,7 +122,9 @@ static int h5md_frame(const mote_hs *hs, const char *path, const char *origin, i
             fr.edges[a] = ev->len[a];
             fr.periodic[a] = ev->periodic[a];
         }
-        rc = append ? mote_h5md_append(path, &fr, err) : mote_h5md_first(path, &fr, err);
+        rc = how == 2   ? mote_vtk_particles(path, &fr, err)
+             : how == 1 ? mote_h5md_append(path, &fr, err)
+                        : mote_h5md_first(path, &fr, err);
     }
     free(buf);
     free(local);
@@ -135,6 +138,8 @@ int mote_hs_snapshot(mote_hs *hs, const char *path, const char *origin, mote_err
         return mote_fail(err, MOTE_EINVAL, "snapshot: no system");
     if (mote_path_is_h5md(path))
         return h5md_frame(hs, path, origin, 0, err);
+    if (mote_path_is_vtk(path))
+        return h5md_frame(hs, path, origin, 2, err);
     const frame_of_hs x = {hs, origin};
     return mote_frames_first(path, write_frame, &x, err);
 }
@@ -172,6 +177,7 @@ static int frame_out(mote_hs *hs, struct hs_dump *d, mote_err *err)
     const int png = d->series == SERIES_PNG;
     char *p = mote_series_path(d->path, d->frames, 6, png                           ? ".png"
                                                   : d->series == SERIES_H5MD ? ".h5"
+                                                  : d->series == SERIES_VTK  ? ".vtk"
                                                                              : ".xyz");
     if (!p)
         return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", png ? "frames" : "snapshot");
@@ -287,7 +293,8 @@ int mote_hs_snapshots_start_as(mote_hs *hs, uint64_t k, double dt, const char *p
 {
     /* the same prefix again continues the numbering */
     const uint64_t first = hs->snaps && !strcmp(hs->snaps->path, prefix) ? hs->snaps->frames : 0;
-    const int series = strcmp(ext, ".h5") ? SERIES_XYZ : SERIES_H5MD;
+    const int series = !strcmp(ext, ".h5") ? SERIES_H5MD : !strcmp(ext, ".vtk") ? SERIES_VTK
+                                                                                : SERIES_XYZ;
     struct hs_dump *d = dump_new(hs, "snapshot", k, dt, prefix, origin, series, first, err);
     if (!d)
         return err->code;

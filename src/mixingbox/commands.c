@@ -4,6 +4,7 @@
  * the script runs, with the recording, density and frame samplers kept across runs. */
 #include "model.h"
 #include "mote/h5md.h"
+#include "mote/vtk.h"
 #include "mote/render.h"
 
 #include <math.h>
@@ -670,9 +671,9 @@ static const mote_cmd mb_commands[] = {
      "density_y dt=DT bins=NBINS file=FILE",
      "time-averaged density profile in y, sampled every DT s", MB_HELP_DENSITY, mb_check_density,
      mb_run_density},
-    {"snapshot", NULL, "@file=f>snapshot every=i>=1 dt=r>0 prefix=f format=e{xyz|h5md}",
-     "snapshot file=FILE|every=K|dt=T prefix=P [format=xyz|h5md]",
-     "picture (.png), extended XYZ (.xyz) or H5MD (.h5) of the state; or XYZ/H5MD on a schedule",
+    {"snapshot", NULL, "@file=f>snapshot every=i>=1 dt=r>0 prefix=f format=e{xyz|h5md|vtk}",
+     "snapshot file=FILE|every=K|dt=T prefix=P [format=xyz|h5md|vtk]",
+     "picture (.png), extended XYZ (.xyz), H5MD (.h5) or VTK (.vtk) of the state; or a series",
      MB_HELP_SNAPSHOT, mb_check_snapshot, mb_run_snapshot},
     {"frames", NULL, "@dt=r>0 @prefix=f! every=i>=1", "frames dt=DT|every=K prefix=PREFIX",
      "a picture every DT s (or K collisions): PREFIX_000000.png ...",
@@ -707,6 +708,22 @@ static int model_picture(void *vm, const char *path, mote_err *err)
     return mb_snapshot_png(&m->sys, path, err);
 }
 
+/* The box of the placed disks: x_l .. x_r by x_b .. x_t, walls on every side. */
+static int model_cell(void *vm, double edges[3], double origin[3], int periodic[3])
+{
+    const mb_model *m = vm;
+    if (!m->sys.placed)
+        return -1;
+    const mote_mb_params *p = &m->sys.p;
+    const double e[3] = {p->x_r - p->x_l, p->x_t - p->x_b, 0}, o[3] = {p->x_l, p->x_b, 0};
+    for (int a = 0; a < 3; a++) {
+        edges[a] = e[a];
+        origin[a] = o[a];
+        periodic[a] = 0;
+    }
+    return 0;
+}
+
 const mote_model mote_model_mixingbox = {
     .name = "mixing-box",
     .summary = "2D disks of two colours mixing through a slit in a partition (spec mixing-box)",
@@ -727,6 +744,7 @@ const mote_model mote_model_mixingbox = {
     .state = model_state,
     .params = mb_params,
     .nparams = sizeof mb_params / sizeof mb_params[0],
+    .cell = model_cell,
     .picture = model_picture,
     .picture_help = "The picture of `snapshot FILE.png`: the box, the disks in their colours, the\n"
                     "partition with its slit; the time, mixing fraction and counts in the title.\n",

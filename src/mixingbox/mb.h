@@ -129,10 +129,11 @@ int mb_peek(const char *path, uint64_t *n, mote_err *err);
 /* A PNG of the disks in their colours, the partition (as grey disks) and the box as the frame. */
 int mb_snapshot_png(const mote_mb *sys, const char *path, mote_err *err);
 /* Extended XYZ (OVITO, VMD): one frame with species, positions, velocities, radius, colour;
- * H5MD (h5md.h) when path ends in .h5 or .h5md, here and in the trajectory. */
-enum { MB_SERIES_XYZ = 1, MB_SERIES_H5MD = 2 };
-/* the words of `snapshot` and `trajectory`'s format=e{xyz|h5md} */
-enum { MB_FORMAT_XYZ, MB_FORMAT_H5MD };
+ * H5MD (h5md.h) when path ends in .h5 or .h5md, here and in the trajectory; VTK (vtk.h) when it
+ * ends in .vtk (a snapshot). */
+enum { MB_SERIES_XYZ = 1, MB_SERIES_H5MD = 2, MB_SERIES_VTK = 3 };
+/* the words of `snapshot`'s format=e{xyz|h5md|vtk} and `trajectory`'s e{xyz|h5md} */
+enum { MB_FORMAT_XYZ, MB_FORMAT_H5MD, MB_FORMAT_VTK };
 int mb_snapshot_xyz(const mote_mb *sys, const char *path, const char *origin, mote_err *err);
 /* One extended XYZ frame of sys into f (a mote_frame_writer: arg is an mb_xyz_of). */
 typedef struct {

@@ -3,6 +3,7 @@
  * each an observer of the core's run loop, kept across runs. */
 #include "model.h"
 #include "mote/h5md.h"
+#include "mote/vtk.h"
 #include "mote/loop.h"
 #include "mote/render.h"
 
@@ -119,24 +120,31 @@ int mb_check_snapshot(void *vm, const mote_call *c, mote_err *err)
         if ((rc = mote_call_check_every_dt(c, 1, err)))
             return rc;
         m->d_snaps_dt = mote_call_opt_r(c, "dt", 0);
-        const int h5md = mote_call_word(c, "format", MB_FORMAT_XYZ) == MB_FORMAT_H5MD;
+        const int fmt = mote_call_word(c, "format", MB_FORMAT_XYZ);
         return mote_outputs_note_series(&c->ctx->outputs, c, mote_call_opt_index(c, "prefix"),
-                                        prefix->path, h5md ? ".h5" : ".xyz", "snapshot", 0, err);
+                                        prefix->path,
+                                        fmt == MB_FORMAT_H5MD  ? ".h5"
+                                        : fmt == MB_FORMAT_VTK ? ".vtk"
+                                                               : ".xyz",
+                                        "snapshot", 0, err);
     }
+    const char *f = file->text;
+    const int png = ends_with(f, ".png");
+    if (png && mote_call_opt(c, "format"))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "format"), MOTE_EINVAL,
+                              "snapshot: format= is for the particle files (.xyz, .h5, .vtk); a "
+                              ".png is a picture");
+    const int vtk = png ? 0 : mote_call_vtk(c, "file", MB_FORMAT_VTK, err);
+    if (vtk)
+        return vtk < 0 ? err->code : MOTE_OK;
     const int h5md = mote_call_h5md(c, "file", MB_FORMAT_H5MD, err);
     if (h5md < 0)
         return err->code;
-    const char *f = file->text;
-    int png = ends_with(f, ".png"), xyz = ends_with(f, ".xyz");
-    if (!png && !xyz && !h5md)
+    if (!png && !ends_with(f, ".xyz") && !h5md)
         return mote_call_fail(err, c, mote_call_opt_index(c, "file"), MOTE_EINVAL,
                               "snapshot: FILE must end in .png (a picture), .xyz (extended "
-                              "XYZ) or .h5 (H5MD), found '%s'",
+                              "XYZ), .h5 (H5MD) or .vtk (VTK), found '%s'",
                               f);
-    if (png && mote_call_opt(c, "format"))
-        return mote_call_fail(err, c, mote_call_opt_index(c, "format"), MOTE_EINVAL,
-                              "snapshot: format= is for the particle files (.xyz, .h5); a .png "
-                              "is a picture");
     return MOTE_OK;
 }
 
@@ -168,7 +176,10 @@ static int start_series(mb_model *m, const mote_call *c, mb_frames *fr, int xyz,
         return rc;
     fr->active = 1;
     *obs = mote_call_observer(c, at, m->sys.time, m->sys.collisions, 1, fr, mb_frames_sample);
-    const char *ext = xyz == MB_SERIES_H5MD ? ".h5" : xyz ? ".xyz" : ".png";
+    const char *ext = xyz == MB_SERIES_H5MD  ? ".h5"
+                      : xyz == MB_SERIES_VTK ? ".vtk"
+                      : xyz                  ? ".xyz"
+                                             : ".png";
     if (m->log && fr->every)
         fprintf(m->log, "%s: every %llu collisions as %s%sNNNNNN%s from %06llu\n", c->name,
                 (unsigned long long)fr->every, fr->prefix, mote_series_sep(fr->prefix), ext,
@@ -188,6 +199,8 @@ int mb_run_snapshot(void *vm, const mote_call *c, mote_err *err)
         return start_series(m, c, &m->snaps,
                             mote_call_word(c, "format", MB_FORMAT_XYZ) == MB_FORMAT_H5MD
                                 ? MB_SERIES_H5MD
+                            : mote_call_word(c, "format", MB_FORMAT_XYZ) == MB_FORMAT_VTK
+                                ? MB_SERIES_VTK
                                 : MB_SERIES_XYZ,
                             &m->snaps_s, &m->snaps_at, err);
     const char *path = file->path;
@@ -195,7 +208,7 @@ int mb_run_snapshot(void *vm, const mote_call *c, mote_err *err)
     int rc;
     if (!origin)
         rc = mote_fail(err, MOTE_ENOMEM, "snapshot: out of memory");
-    else if (ends_with(path, ".xyz") || mote_path_is_h5md(path))
+    else if (ends_with(path, ".xyz") || mote_path_is_h5md(path) || mote_path_is_vtk(path))
         rc = mb_snapshot_xyz(&m->sys, path, origin, err);
     else
         rc = mb_snapshot_png(&m->sys, path, err);
@@ -233,6 +246,8 @@ int mb_check_trajectory(void *vm, const mote_call *c, mote_err *err)
     int rc = mb_need_placed(m, c, err);
     if (!rc)
         rc = mote_call_check_every_dt(c, 1, err);
+    if (!rc && mote_call_vtk(c, "file", -1, err) < 0)
+        rc = err->code;
     const int h5md = rc ? 0 : mote_call_h5md(c, "file", MB_FORMAT_H5MD, err);
     if (h5md < 0)
         rc = err->code;

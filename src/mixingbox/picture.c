@@ -5,6 +5,8 @@
  * of the model's data files (the mixing curve, the density profile with the barometric law). */
 #include "mb.h"
 #include "mote/h5md.h"
+#include "mote/vtk.h"
+#include "mote/vtk.h"
 
 #include "mote/datafile.h"
 #include "mote/render.h"
@@ -132,10 +134,10 @@ int mb_xyz_frame(FILE *f, const void *arg, mote_err *err)
     return MOTE_OK;
 }
 
-/* The frame as H5MD (h5md.h; SI units): made anew (append 0) or added at the end. The box's
- * edges are its width and height; positions are the model's own (the box spans x_l..x_r,
- * x_b..x_t). */
-static int mb_h5md(const mote_mb *sys, const char *path, const char *origin, int append,
+/* The frame as H5MD (h5md.h; SI units): made anew (how 0) or added at the end (1); or as VTK
+ * (2, vtk.h). The box's edges are its width and height; positions are the model's own (the box
+ * spans x_l..x_r, x_b..x_t). */
+static int mb_h5md(const mote_mb *sys, const char *path, const char *origin, int how,
                    mote_err *err)
 {
     const size_t n = sys->n;
@@ -161,7 +163,9 @@ static int mb_h5md(const mote_mb *sys, const char *path, const char *origin, int
                               .time = sys->time, .step = (int64_t)sys->collisions,
                               .length_unit = "m", .time_unit = "s"};
         fr.scalar[0] = (mote_h5md_scalar){"radius", "m", rad};
-        rc = append ? mote_h5md_append(path, &fr, err) : mote_h5md_first(path, &fr, err);
+        rc = how == 2   ? mote_vtk_particles(path, &fr, err)
+             : how == 1 ? mote_h5md_append(path, &fr, err)
+                        : mote_h5md_first(path, &fr, err);
     }
     free(buf);
     free(species);
@@ -172,6 +176,8 @@ int mb_snapshot_xyz(const mote_mb *sys, const char *path, const char *origin, mo
 {
     if (mote_path_is_h5md(path))
         return mb_h5md(sys, path, origin, 0, err);
+    if (mote_path_is_vtk(path))
+        return mb_h5md(sys, path, origin, 2, err);
     const mb_xyz_of x = {sys, origin};
     return mote_frames_first(path, mb_xyz_frame, &x, err);
 }
@@ -197,7 +203,10 @@ int mb_frames_sample(void *ctx, void *subject, mote_err *err)
     mote_mb *sys = subject;
     mb_frames *fr = ctx;
     char *name = mote_series_path(fr->prefix, fr->next_index, 6,
-                                  fr->xyz == MB_SERIES_H5MD ? ".h5" : fr->xyz ? ".xyz" : ".png");
+                                  fr->xyz == MB_SERIES_H5MD  ? ".h5"
+                                  : fr->xyz == MB_SERIES_VTK ? ".vtk"
+                                  : fr->xyz                  ? ".xyz"
+                                                             : ".png");
     if (name)
         mote_make_dir_of(name); /* (a prefix= makes its folder) */
     if (!name)

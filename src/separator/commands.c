@@ -5,6 +5,7 @@
  * positional arguments of the spec's table are options here, e.g. `feed z=0.5 rate=0.01`,
  * as in the toolkit's other models.) */
 #include "mote/h5md.h"
+#include "mote/vtk.h"
 #include "mote/separator.h"
 
 #include <math.h>
@@ -196,9 +197,9 @@ static int do_species(void *vm, const mote_call *c, mote_err *err)
     const int at = mote_call_opt_index(c, "name");
     if (sep_find_species(s, name) >= 0)
         return mote_call_fail(err, c, at, MOTE_EINVAL, "species: '%s' exists already", name);
-    if (strpbrk(name, " \t,=#"))
+    if (strpbrk(name, " \t,=#\""))
         return mote_call_fail(err, c, at, MOTE_EINVAL, "species: a name without spaces, commas, "
-                              "'=' or '#' (it names columns of the data files), found '%s'",
+                              "'=', '#' or '\"' (it names columns of the data files), found '%s'",
                               name);
     if (strlen(name) >= sizeof s->sp[0].name)
         return mote_call_fail(err, c, at, MOTE_EINVAL, "species: the name is longer than %d "
@@ -749,9 +750,9 @@ static const mote_cmd sep_commands[] = {
     {"live_png", NULL, "@file=f>image! hz=r>0 px=i[16,16384] color=e{size|species}",
      "live_png file=FILE [hz=30]",
      "a picture rewritten while runs go on", HELP_LIVE, sep_live_png, sep_live_png},
-    {"snapshot", "snapshots", "@dir=f @dt=r>0 prefix=f every=i>=1 file=f>xyz format=e{xyz|h5md}",
-     "snapshot file=FILE|dt=DT|every=K [prefix=P|dir=DIR] [format=xyz|h5md]",
-     "an extended XYZ (or H5MD) snapshot now, or on a schedule",
+    {"snapshot", "snapshots", "@dir=f @dt=r>0 prefix=f every=i>=1 file=f>xyz format=e{xyz|h5md|vtk}",
+     "snapshot file=FILE|dt=DT|every=K [prefix=P|dir=DIR] [format=xyz|h5md|vtk]",
+     "an extended XYZ (or H5MD, VTK) snapshot now, or on a schedule",
      HELP_SNAPSHOTS, sep_snapshots, sep_snapshots},
     {"monitor", "balance", "@file=f>balance! @dt=r>0 every=i>=1 format=e{table|csv|jsonl}",
      "monitor file=FILE dt=DT|every=K [format=table|csv|jsonl]", "the bookkeeping time series",
@@ -841,6 +842,23 @@ static int model_picture(void *vm, const char *path, mote_err *err)
     return sep_frame_png(&m->sys, path, &fo, err);
 }
 
+/* The channel: W wide, D deep (2D: the nominal depth, as the XYZ files' Lattice), H high. */
+static int model_cell(void *vm, double edges[3], double origin[3], int periodic[3])
+{
+    const mote_sep_system *s = &((sep_model *)vm)->sys;
+    if (!(s->W > 0 && s->H > 0))
+        return -1;
+    double dmin, dmax;
+    mote_sep_size_range(s, &dmin, &dmax);
+    const double e[3] = {s->W, s->dim == 3 ? s->D : s->D2 > 0 ? s->D2 : dmax, s->H};
+    for (int a = 0; a < 3; a++) {
+        edges[a] = e[a];
+        origin[a] = 0;
+        periodic[a] = 0;
+    }
+    return 0;
+}
+
 const mote_model mote_model_separator = {
     .name = "separator",
     .summary = "gravitational separator: particles in a gas upflow, the grade-efficiency curve",
@@ -860,6 +878,7 @@ const mote_model mote_model_separator = {
     .state = sep_state_fields,
     .params = sep_params,
     .nparams = sizeof sep_params / sizeof sep_params[0],
+    .cell = model_cell,
     .picture = model_picture,
     .picture_help = "The picture of `frames` with its defaults: the channel seen from the front,\n"
                     "each particle a disc of its size coloured by its diameter (log scale), the\n"

@@ -37,9 +37,9 @@ typedef struct {
     } live;
     struct {
         int on;
-        char *prefix; /* PREFIX_000000.xyz (or .h5) ... */
+        char *prefix; /* PREFIX_000000.xyz (or .h5, .vtk) ... */
         char *origin; /* the command (H5MD files keep it) */
-        int h5md;     /* format=h5md */
+        int h5md;     /* format=xyz|h5md|vtk (0, 1, 2) */
         sep_schedule when;
         uint64_t index;
     } snaps;

@@ -4,6 +4,7 @@
  * holes, particles at true size coloured by diameter or species), extended XYZ snapshots that
  * OVITO and ASE read, and the mass balance time series. Every file is written atomically. */
 #include "mote/h5md.h"
+#include "mote/vtk.h"
 #include "mote/separator.h"
 
 #include <math.h>
@@ -423,14 +424,27 @@ int sep_xyz_frame(FILE *f, const void *vs, mote_err *err)
     double dmin, dmax;
     mote_sep_size_range(s, &dmin, &dmax);
     const double D = s->dim == 3 ? s->D : s->D2 > 0 ? s->D2 : dmax;
+    /* the element column holds X (ASE's and OVITO's dummy element, as in the hard-sphere
+     * files): a species' own name is not an element; the name has its own column */
+    char w[32], dd[32], h[32], t[32];
+    mote_fmt_short(w, s->W);
+    mote_fmt_short(dd, D);
+    mote_fmt_short(h, s->H);
+    mote_fmt_short(t, s->t);
     fprintf(f, "%zu\n", s->n);
-    fprintf(f, "Lattice=\"%.10g 0 0 0 %.10g 0 0 0 %.10g\" Properties=species:S:1:id:I:1:"
-                  "pos:R:3:velo:R:3:radius:R:1 Time=%.10g pbc=\"F F F\"\n",
-            s->W, D, s->H, s->t);
-    for (size_t i = 0; i < s->n; i++)
-        fprintf(f, "%s %llu %.10g %.10g %.10g %.10g %.10g %.10g %.10g\n", s->sp[s->s[i]].name,
-                (unsigned long long)s->id[i], s->x[i], s->dim == 3 ? s->y[i] : 0.5 * D, s->z[i],
-                s->vx[i], s->vy[i], s->vz[i], 0.5 * s->d[i]);
+    fprintf(f, "Lattice=\"%s 0 0 0 %s 0 0 0 %s\" Properties=species:S:1:species_name:S:1:id:I:1:"
+               "pos:R:3:velo:R:3:radius:R:1 Time=%s pbc=\"F F F\" model=separator\n",
+            w, dd, h, t);
+    for (size_t i = 0; i < s->n; i++) {
+        const double v[7] = {s->x[i], s->dim == 3 ? s->y[i] : 0.5 * D, s->z[i], s->vx[i],
+                             s->vy[i], s->vz[i], 0.5 * s->d[i]};
+        fprintf(f, "X %s %llu", s->sp[s->s[i]].name, (unsigned long long)s->id[i]);
+        for (int k = 0; k < 7; k++) {
+            mote_fmt_short(w, v[k]);
+            fprintf(f, " %s", w);
+        }
+        fputc('\n', f);
+    }
     return MOTE_OK;
 }
 
@@ -439,11 +453,14 @@ int sep_write_xyz(const mote_sep_system *s, const char *path, mote_err *err)
     return mote_frames_first(path, sep_xyz_frame, s, err);
 }
 
-int sep_write_h5md(const mote_sep_system *s, const char *path, const char *origin, uint64_t seed,
-                   int append, mote_err *err)
+/* The particles as one frame (h5md.h): positions and velocities (2D: the plane x, z), species,
+ * ids, diameters and the last contact forces; written as H5MD (how 0: a new file, 1: appended)
+ * or VTK (how 2). */
+static int write_frame(const mote_sep_system *s, const char *path, const char *origin,
+                       uint64_t seed, int how, mote_err *err)
 {
     const size_t n = s->n, D = (size_t)s->dim;
-    double *buf = malloc((n ? n : 1) * (2 * D + 1) * sizeof *buf);
+    double *buf = malloc((n ? n : 1) * (3 * D + 1) * sizeof *buf);
     int32_t *species = malloc((n ? n : 1) * sizeof *species);
     int64_t *id = malloc((n ? n : 1) * sizeof *id);
     int rc;
@@ -451,13 +468,15 @@ int sep_write_h5md(const mote_sep_system *s, const char *path, const char *origi
         rc = mote_fail(err, MOTE_ENOMEM, "%s: out of memory for a frame of %zu particles", path,
                        n);
     } else {
-        double *pos = buf, *vel = buf + n * D, *dia = buf + 2 * n * D;
+        double *pos = buf, *vel = buf + n * D, *frc = buf + 2 * n * D, *dia = buf + 3 * n * D;
         for (size_t i = 0; i < n; i++) { /* 2D: the plane x, z */
-            const double r[3] = {s->x[i], s->y[i], s->z[i]}, v[3] = {s->vx[i], s->vy[i], s->vz[i]};
+            const double r[3] = {s->x[i], s->y[i], s->z[i]}, v[3] = {s->vx[i], s->vy[i], s->vz[i]},
+                         F[3] = {s->fx[i], s->fy[i], s->fz[i]};
             for (size_t a = 0; a < D; a++) {
                 const size_t b = D == 3 ? a : 2 * a;
                 pos[i * D + a] = r[b];
                 vel[i * D + a] = v[b];
+                frc[i * D + a] = s->dem ? F[b] : 0;
             }
             dia[i] = s->d[i];
             species[i] = s->s[i];
@@ -469,18 +488,32 @@ int sep_write_h5md(const mote_sep_system *s, const char *path, const char *origi
         mote_h5md_frame fr = {.model = "separator", .origin = origin, .seed = seed,
                               .dim = s->dim, .n = n, .pos = pos, .vel = vel, .species = species,
                               .species_names = names, .nspecies_names = s->nsp, .id = id,
-                              .nscalar = 1, .has_box = 1, .time = s->t,
+                              .nscalar = 1, .nvector = 1, .has_box = 1, .time = s->t,
                               .step = (int64_t)s->steps, .length_unit = "m", .time_unit = "s"};
         fr.scalar[0] = (mote_h5md_scalar){"diameter", "m", dia};
+        fr.vector[0] = (mote_h5md_scalar){"contact_force", "N", frc};
         fr.edges[0] = s->W;
         fr.edges[1] = s->dim == 3 ? s->D : s->H;
         fr.edges[2] = s->H;
-        rc = append ? mote_h5md_append(path, &fr, err) : mote_h5md_first(path, &fr, err);
+        rc = how == 2   ? mote_vtk_particles(path, &fr, err)
+             : how == 1 ? mote_h5md_append(path, &fr, err)
+                        : mote_h5md_first(path, &fr, err);
     }
     free(buf);
     free(species);
     free(id);
     return rc;
+}
+
+int sep_write_h5md(const mote_sep_system *s, const char *path, const char *origin, uint64_t seed,
+                   int append, mote_err *err)
+{
+    return write_frame(s, path, origin, seed, append ? 1 : 0, err);
+}
+
+int sep_write_vtk(const mote_sep_system *s, const char *path, mote_err *err)
+{
+    return write_frame(s, path, NULL, 0, 2, err);
 }
 
 /* ---- the balance ---------------------------------------------------------------------------- */

@@ -4,6 +4,7 @@
  * checked on the dry model (sep_check_*) runs on the real one only after the whole script
  * passed. */
 #include "mote/h5md.h"
+#include "mote/vtk.h"
 #include "mote/separator.h"
 
 #include <errno.h>
@@ -382,23 +383,30 @@ int sep_live_png(void *vm, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
-enum { FORMAT_XYZ, FORMAT_H5MD }; /* format=e{xyz|h5md} */
+enum { FORMAT_XYZ, FORMAT_H5MD, FORMAT_VTK }; /* format=e{xyz|h5md|vtk} (vtk: snapshot) */
 
-/* A trajectory's or snapshot's file: FILE.xyz or FILE.h5|.h5md, as format= says when given;
- * 1 for H5MD, 0 for XYZ, -1 after a located error. */
+/* A trajectory's or snapshot's file: FILE.xyz, FILE.h5|.h5md or (a snapshot) FILE.vtk, as
+ * format= says when given; 1 for H5MD, 2 for VTK, 0 for XYZ, -1 after a located error. */
 static int particles_format(const mote_call *c, mote_err *err)
 {
+    const int snapshot = strcmp(c->name, "trajectory") != 0;
+    const int vtk = mote_call_vtk(c, "file", snapshot ? FORMAT_VTK : -1, err);
+    if (vtk)
+        return vtk < 0 ? -1 : FORMAT_VTK;
     const int h5md = mote_call_h5md(c, "file", FORMAT_H5MD, err);
     const mote_arg *f = mote_call_opt(c, "file");
     const size_t n = f ? strlen(f->text) : 0;
     if (h5md == 0 && f && (n < 4 || strcmp(f->text + n - 4, ".xyz") != 0)) {
         mote_call_fail(err, c, mote_call_opt_index(c, "file"), MOTE_EINVAL,
-                       "%s: FILE must end in .xyz (extended XYZ) or .h5 (H5MD), found '%s'",
-                       c->name, f->text);
+                       "%s: FILE must end in .xyz (extended XYZ)%s .h5 (H5MD)%s, found '%s'",
+                       c->name, snapshot ? "," : " or", snapshot ? " or .vtk (VTK)" : "",
+                       f->text);
         return -1;
     }
     return h5md;
 }
+
+static const char *const format_ext[] = {".xyz", ".h5", ".vtk"};
 
 /* The command's text for the files it writes (the origin kept in *slot). */
 static int keep_origin(char **slot, const mote_call *c, mote_err *err)
@@ -426,8 +434,10 @@ int sep_snapshots(void *vm, const mote_call *c, mote_err *err)
                                   "takes dt= or every= and prefix= (or dir=), not file=", c->name);
         if (m->dry)
             return MOTE_OK;
-        if (!h5md)
+        if (h5md == FORMAT_XYZ)
             return sep_write_xyz(&m->sys, f->path, err);
+        if (h5md == FORMAT_VTK)
+            return sep_write_vtk(&m->sys, f->path, err);
         char *o = mote_call_origin(c);
         int rc = o ? sep_write_h5md(&m->sys, f->path, o, m->seed, 0, err)
                    : mote_fail(err, MOTE_ENOMEM, "%s: out of memory", c->name);
@@ -440,7 +450,7 @@ int sep_snapshots(void *vm, const mote_call *c, mote_err *err)
     int rc = mote_call_check_every_dt(c, 1, err);
     if (rc)
         return rc;
-    rc = out_series(m, c, &m->snaps.prefix, &m->snaps.index, "snapshot", h5md ? ".h5" : ".xyz",
+    rc = out_series(m, c, &m->snaps.prefix, &m->snaps.index, "snapshot", format_ext[h5md],
                     err);
     if (!rc)
         rc = keep_origin(&m->snaps.origin, c, err);
@@ -492,11 +502,12 @@ static int fire_frame(void *ctx, void *subject, mote_err *err)
 static int fire_snapshot(void *ctx, void *subject, mote_err *err)
 {
     sep_model *m = subject;
-    char *p = mote_series_path(m->snaps.prefix, m->snaps.index++, 6,
-                               m->snaps.h5md ? ".h5" : ".xyz");
-    int rc = !p              ? mote_fail(err, MOTE_ENOMEM, "snapshots")
-             : m->snaps.h5md ? sep_write_h5md(&m->sys, p, m->snaps.origin, m->seed, 0, err)
-                             : sep_write_xyz(&m->sys, p, err);
+    char *p = mote_series_path(m->snaps.prefix, m->snaps.index++, 6, format_ext[m->snaps.h5md]);
+    int rc = !p ? mote_fail(err, MOTE_ENOMEM, "snapshots")
+             : m->snaps.h5md == FORMAT_H5MD
+                 ? sep_write_h5md(&m->sys, p, m->snaps.origin, m->seed, 0, err)
+             : m->snaps.h5md == FORMAT_VTK ? sep_write_vtk(&m->sys, p, err)
+                                           : sep_write_xyz(&m->sys, p, err);
     free(p);
     return rc;
 }

@@ -108,6 +108,8 @@ int sep_write_xyz(const mote_sep_system *s, const char *path, mote_err *err);
  * added at the end; id, species (with their names) and diameter per particle. */
 int sep_write_h5md(const mote_sep_system *s, const char *path, const char *origin, uint64_t seed,
                    int append, mote_err *err);
+/* The same frame as a VTK file (vtk.h), atomically. */
+int sep_write_vtk(const mote_sep_system *s, const char *path, mote_err *err);
 /* state.c: the descriptors of the state's scalar values (offsets in mote_sep_system), for the
  * parameter commands bound to them */
 const struct mote_sf_field *sep_scalar_fields(size_t *n);

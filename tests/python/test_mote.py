@@ -123,6 +123,22 @@ def test_to_ase_by_the_arrays():
     sim.command("place")
     atoms = sim.to_ase()
     assert len(atoms) == 20 and np.allclose(atoms.get_array("radius"), sim.radii)
+    # the cell is the model's box, as its XYZ files' Lattice: the mixing box's walls (corner at
+    # x_l, x_b), the separator's channel W x D x H (2D: the nominal depth), no periodic axis
+    assert list(atoms.cell.lengths()) == [2.0, 1.0, 0.0] and not any(atoms.pbc)  # the default box
+    box = mote.MixingBox(setup="box 0.1 0.5 -0.2 0.3\npartition 0.3 0.01\nslit 0.05 0.04\n"
+                               "radius 0.004\ndisks 5 5\nplace")
+    a = box.to_ase()
+    assert list(a.cell.lengths()) == [0.4, 0.5, 0.0] and list(a.get_celldisp().ravel()) == [0.1, -0.2, 0.0]
+    assert np.all(a.positions[:, 0] >= 0.1) and np.all(a.positions[:, 1] >= -0.2)
+    sep = mote.Separator(setup="channel 0.05 1\ngas 1.5\ncollisions off\ntimestep 1e-3\n"
+                               "species quartz 2650\nsize quartz mono d=1e-4\nfeed z=0.5 rate=2e-5")
+    sep.run(0.05)
+    a = sep.to_ase()
+    assert len(a) > 0 and list(a.cell.lengths()) == [0.05, 1e-4, 1.0] and not any(a.pbc)
+    sep3 = mote.Separator(setup="dim 3\nchannel 0.02 0.08 D=0.015\ngas 1.5\n"
+                                "species glass 2500\nsize glass mono d=1e-3\nfeed z=0.04 rate=1e-3")
+    assert list(sep3.to_ase().cell.lengths()) == [0.02, 0.015, 0.08]
     nb = mote.Simulation("nbody")
     nb.command("generate ring nb=4")
     with pytest.raises(mote.MoteError, match="not particles with radii"):
