@@ -250,4 +250,22 @@ want=$(printf '%s\n' 'real g 7.5' 'real tau_eps 0.25' 'int coupling 0' 'int dem 
 [ "$got" = "$want" ] && ok || bad "bound parameters in the state file: $got, not $want"
 cmp -s par.state par2.state && ok || bad "bound parameters: save, load, save differ"
 
+# a run's estimate (check): its steps exactly (the run takes as many), the particles fed by the
+# feed's rate and mean mass, the time and memory; a warning, under `mote run` too, before
+# anything runs, when a run would take over an hour (a realistic sand feed: 20-500 um at
+# 1 g/s, the automatic step of its smallest contacts)
+printf '%bchannel 0.05 1\ngas 1.5\ncollisions off\ntimestep 1e-3\nspecies quartz 2650\nsize quartz mono d=1e-4\nfeed z=0.5 rate=1e-6\nrun 0.2\nrun 0.1\n' "$S" > est.mote
+"$MOTE" check est.mote > out.txt 2> err.txt && [ ! -s err.txt ] &&
+    grep -q "^est.mote:9:1: note: run 0.2 s: 200 steps of 0.001 s; 144 particles fed, about [0-9.]* in the channel on average" out.txt &&
+    grep -q "^est.mote:10:1: note: run 0.1 s: 100 steps of 0.001 s; 72.1 particles fed" out.txt && ok || bad "estimate: $(cat out.txt err.txt)"
+# (144 = 1e-6 kg/s x 0.2 s / (2650 pi (1e-4)^3 / 6 kg))
+"$MOTE" run est.mote > out.txt 2> err.txt && grep -q "^t=0.2 steps=200 " out.txt && grep -q "^t=0.3 steps=300 " out.txt && ok || bad "the estimated steps: $(grep '^t=' out.txt)"
+SAND="${S}channel 0.05 1\ngas 1\nspecies sand 2650\nsize sand lognormal d50=100e-6 sigma=1.8 min=20e-6 max=500e-6\nfeed z=0.5 rate=0.001\nrun 1\n"
+printf '%b' "$SAND" > sand.mote
+"$MOTE" check sand.mote > out.txt 2> err.txt &&
+    grep -q "^sand.mote:7:1: note: run 1 s: 8.6[0-9]e+07 steps of 1.16e-08 s; 2.9[0-9]e+06 particles fed" out.txt &&
+    grep -q "^sand.mote:7:1: warning: run 1 s would take about [0-9.e+]* days (8.6[0-9]e+07 steps of 1.16e-08 s" err.txt && ok || bad "the sand feed's estimate: $(cat out.txt err.txt)"
+expect 1 "sand2.mote:7:1: warning: run 1 s would take about" sand2.mote "${SAND}size nosuch mono d=1e-4\n"
+grep -q "sand2.mote:8:6: error: size: no species 'nosuch'" err.txt && ! grep -q "^t=" out.txt && ok || bad "the warning before a failed check: $(cat out.txt err.txt)"
+
 mote_test_end

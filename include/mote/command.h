@@ -181,6 +181,8 @@ typedef struct mote_context {
     char model_variant[32]; /* the variant the `model` line chose ("" when the model has none) */
     int threads;            /* set by the common `threads` command (0 = not set: one thread) */
     int terminal;           /* stdout is a terminal: show progress */
+    int check_only;         /* `mote check`: the script is only checked; a model may print
+                             * what each run would cost (mote_call_note) */
     int quiet;              /* no status line after each command (`quiet on`, --quiet) */
     FILE *out;              /* status lines (stdout) */
     FILE *diag;             /* warnings and errors (stderr) */
@@ -380,6 +382,8 @@ void mote_results_free(mote_results *r);
 
 /* Print a warning located at the call to ctx->diag: "FILE:LINE:COL: warning: <message>". */
 void mote_call_warn(const mote_call *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+/* Print a note located at the call to ctx->out: "FILE:LINE:COL: note: <message>". */
+void mote_call_note(const mote_call *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
 /* ---- the files a script writes (validation) -------------------------------------------------- */
 

@@ -157,6 +157,17 @@ void mote_call_warn(const mote_call *c, const char *fmt, ...)
     fputc('\n', diag);
 }
 
+void mote_call_note(const mote_call *c, const char *fmt, ...)
+{
+    FILE *out = c->ctx && c->ctx->out ? c->ctx->out : stdout;
+    fprintf(out, "%s:%d:%d: note: ", c->file ? c->file : "?", c->line, c->col);
+    va_list ap;
+    va_start(ap, fmt);
+    vfprintf(out, fmt, ap);
+    va_end(ap);
+    fputc('\n', out);
+}
+
 /* ---- progress ------------------------------------------------------------------------------- */
 
 enum { PROGRESS_PAD = 40 }; /* room for the percentage and time after the label */

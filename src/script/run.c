@@ -794,6 +794,7 @@ int mote_script_run_file(const char *path, const mote_model *const *models, size
     ctx->out = opt->out;
     ctx->diag = opt->diag;
     ctx->terminal = opt->terminal;
+    ctx->check_only = opt->check_only;
     ctx->quiet = opt->quiet;
     ctx->ranks = opt->ranks;
     ctx->interrupt = opt->interrupt;

@@ -601,7 +601,13 @@ static int check_insert(void *vm, const mote_call *c, mote_err *err)
     if (!(m->sys.zf > 0))
         return mote_call_fail(err, c, -1, MOTE_EINVAL, "%s: give the feed zone first (feed z=)",
                               c->name);
-    return sep_need_ready(m, c, err);
+    int rc = sep_need_ready(m, c, err);
+    if (!rc && m->dry) /* the estimates' account: the particles it adds */
+        m->est_n += strcmp(c->name, "insert") == 0
+                        ? (double)c->args[1].i
+                        : c->args[1].r /
+                              sep_mean_mass(&m->sys, sep_find_species(&m->sys, c->args[0].text));
+    return rc;
 }
 
 static int insert(sep_model *m, const mote_call *c, uint64_t count, double mass, mote_err *err)
@@ -734,7 +740,7 @@ static const mote_cmd sep_commands[] = {
      "the Tromp size classes", HELP_CLASSES, do_classes, do_classes},
     {"classes_file", NULL, "f<classes", "classes_file FILE", "the Tromp size classes from a file",
      HELP_CLASSES_FILE, do_classes_file, do_classes_file},
-    {"run", NULL, "r>0", "run T", "advance the simulated time", HELP_RUN, sep_check_ready, sep_run},
+    {"run", NULL, "r>0", "run T", "advance the simulated time", HELP_RUN, sep_check_run, sep_run},
     {"tromp", NULL, "@file=f>tromp!", "tromp file=FILE", "write the grade-efficiency curve", HELP_TROMP,
      sep_check_table, sep_tromp},
     {"profiles", NULL, "@file=f>profiles!", "profiles file=FILE", "write the profiles along the height",

@@ -11,7 +11,6 @@
 
 #include "sep.h"
 
-#define SEP_PI 3.14159265358979323846
 
 /* zeta(e) = -ln e / sqrt(pi^2 + ln^2 e): the damping ratio giving restitution e */
 static double zeta_of(double e)

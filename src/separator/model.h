@@ -20,6 +20,9 @@ typedef struct {
     FILE *log;
     mote_sep_system sys;
     int have_channel, have_gas;
+    /* the dry model's account for the estimates of `run` (check): the particles there may be
+     * (fed or inserted, none leaving: an upper bound) and the time the runs have reached */
+    double est_n, est_t;
     uint64_t seed;
     /* the outputs on a schedule (spec 3): frames, the live picture, snapshots, the balance */
     struct {
@@ -74,6 +77,11 @@ int sep_need_ready(sep_model *m, const mote_call *c, mote_err *err);
 
 /* run.c: the commands' check (on the dry model) and run functions */
 int sep_check_ready(void *vm, const mote_call *c, mote_err *err);
+/* `run T` checked: ready, and (the dry model) the run's estimate: its steps, particles, wall
+ * time and memory, printed by `mote check` and a warning when it would take over an hour. */
+int sep_check_run(void *vm, const mote_call *c, mote_err *err);
+/* The number-basis mean mass of species k's particles (kg). */
+double sep_mean_mass(const mote_sep_system *s, int k);
 int sep_check_table(void *vm, const mote_call *c, mote_err *err);
 int sep_run(void *vm, const mote_call *c, mote_err *err);
 int sep_tromp(void *vm, const mote_call *c, mote_err *err);

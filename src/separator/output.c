@@ -16,7 +16,6 @@
 #include "mote/buf.h"
 #include "sep.h"
 
-#define SEP_PI 3.14159265358979323846
 
 char *sep_png_name(const char *path)
 {

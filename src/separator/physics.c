@@ -7,7 +7,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define SEP_PI 3.14159265358979323846
 
 double mote_sep_drag_f(double Re)
 {

@@ -109,6 +109,108 @@ int sep_check_ready(void *vm, const mote_call *c, mote_err *err)
     return sep_need_ready(vm, c, err);
 }
 
+double sep_mean_mass(const mote_sep_system *s, int k)
+{
+    enum { M = 1024 }; /* the distribution's table at M midpoints of its number-basis CDF */
+    double sum = 0;
+    for (int i = 0; i < M; i++) {
+        const double d = mote_sep_dist_sample(&s->sp[k].dist, (i + 0.5) / M);
+        sum += d * d * d;
+    }
+    return s->sp[k].rho * SEP_PI / 6 * sum / M;
+}
+
+/* The cost model of a run's estimate, from this machine's measurements (bench/README.md, the
+ * separator; AMD EPYC, one thread, -O3): a step's fixed cost (the gas slices, the schedules:
+ * 10 particles, 1.7e5 steps in 1.09 s) and a particle-step's (the 2D reference case, 92.5 ns
+ * with contacts and coupling; the dilute mode costs about as much, 1e-7 s); the memory per
+ * particle (255 B in the reference case) and the program's own; a run over an hour is long. */
+#define SEP_EST_STEP_S 6.5e-6
+#define SEP_EST_PARTICLE_STEP_S 1.0e-7
+#define SEP_EST_BYTES 260.0
+#define SEP_EST_BASE_BYTES 3e7
+#define SEP_EST_LONG_S 3600.0
+
+/* A duration in words: "40 s", "12 min", "3.1 h", "17 days". */
+static void duration_words(double t, char *out, size_t cap)
+{
+    if (t < 120)
+        snprintf(out, cap, "%.2g s", t);
+    else if (t < 7200)
+        snprintf(out, cap, "%.2g min", t / 60);
+    else if (t < 2 * 86400)
+        snprintf(out, cap, "%.2g h", t / 3600);
+    else if (t < 2 * 365.25 * 86400)
+        snprintf(out, cap, "%.2g days", t / 86400);
+    else
+        snprintf(out, cap, "%.2g years", t / (365.25 * 86400));
+}
+
+int sep_check_run(void *vm, const mote_call *c, mote_err *err)
+{
+    sep_model *m = vm;
+    int rc = sep_need_ready(m, c, err);
+    if (rc || !m->dry)
+        return rc;
+    const mote_sep_system *s = &m->sys;
+    const double T = c->args[0].r;
+    const double steps = ceil(T / s->dt - 1e-9);
+    /* the particles fed in this run's time (the feed's window), by the feed's mass fractions,
+     * and how long each stays: from the feed to the exit its still-gas slip U0 - v_t(d) takes
+     * it to (for ever towards a closed end, or hovering at the cut size), at most the run */
+    double fed = 0, stay_avg = 0, stay_end = 0;
+    const double a = fmax(m->est_t, s->t_start), b = fmin(m->est_t + T, s->t_stop);
+    if (s->rate > 0 && b > a) {
+        double rho_g, mu_g;
+        mote_sep_gas_props(s, s->zf, &rho_g, &mu_g);
+        const double L = b - a;
+        enum { M = 256 };
+        for (int k = 0; k < s->nsp; k++) {
+            if (!(s->sp[k].w > 0 && s->sp[k].have_dist))
+                continue;
+            const double nk = s->rate * L * s->sp[k].w / sep_mean_mass(s, k);
+            double avg = 0, end = 0;
+            for (int i = 0; i < M; i++) {
+                const double d = mote_sep_dist_sample(&s->sp[k].dist, (i + 0.5) / M);
+                const double slip =
+                    s->U0 - mote_sep_terminal_velocity(d, s->sp[k].rho, rho_g, mu_g, s->g, NULL);
+                double tau = INFINITY;
+                if (slip > 0 && s->open_top)
+                    tau = (s->H - s->zf) / slip;
+                else if (slip < 0 && s->open_bottom)
+                    tau = s->zf / -slip;
+                /* fed uniformly over L: the mean count's share and the count at the end */
+                avg += tau < L ? tau - tau * tau / (2 * L) : L / 2;
+                end += fmin(tau, L);
+            }
+            fed += nk;
+            stay_avg += nk / L * avg / M;
+            stay_end += nk / L * end / M;
+        }
+    }
+    const double n0 = fmax(m->est_n, (double)s->n), nmax = n0 + stay_end, navg = n0 + stay_avg;
+    const int threads = c->ctx && c->ctx->threads > 1 ? c->ctx->threads : 1;
+    const double wall = steps * (SEP_EST_STEP_S + SEP_EST_PARTICLE_STEP_S * navg / threads);
+    const double mem = SEP_EST_BASE_BYTES + nmax * SEP_EST_BYTES;
+    m->est_n = nmax;
+    m->est_t += T;
+    char w[32];
+    duration_words(wall, w, sizeof w);
+    if (c->ctx && c->ctx->check_only)
+        mote_call_note(c, "run %g s: %.3g steps of %.3g s; %.3g particles fed, about %.3g in the "
+                          "channel on average, %.3g at the end; about %s on %d thread%s, "
+                          "about %.3g MB",
+                       T, steps, s->dt, fed, navg, nmax, w, threads, threads == 1 ? "" : "s",
+                       mem / 1e6);
+    if (wall > SEP_EST_LONG_S)
+        mote_call_warn(c, "run %g s would take about %s (%.3g steps of %.3g s, about %.3g "
+                          "particles); coarser sizes (size ... min=), a softer contact "
+                          "(stiffness overlap= vimp=), a lower feed rate or a shorter run "
+                          "shorten it (docs/separator.md, \"How long a run takes\")",
+                       T, w, steps, s->dt, navg);
+    return MOTE_OK;
+}
+
 /* `tromp` and `profiles`: also the picture beside the table (FILE's stem + .png), recorded so
  * that the check reports a later command that writes it again. */
 int sep_check_table(void *vm, const mote_call *c, mote_err *err)

@@ -5,6 +5,8 @@
 #include "mote/separator.h"
 #include "mote/buf.h"
 
+#define SEP_PI 3.14159265358979323846
+
 /* dem.c: rebuild the cell lists; the cell of particle i; the contact forces into fx, fy, fz
  * from the positions, with the dashpots on the predicted velocities v + dt/2 F_old/m. */
 int sep_cells_build(mote_sep_system *s, mote_err *err);
