@@ -268,4 +268,32 @@ printf '%b' "$SAND" > sand.mote
 expect 1 "sand2.mote:7:1: warning: run 1 s would take about" sand2.mote "${SAND}size nosuch mono d=1e-4\n"
 grep -q "sand2.mote:8:6: error: size: no species 'nosuch'" err.txt && ! grep -q "^t=" out.txt && ok || bad "the warning before a failed check: $(cat out.txt err.txt)"
 
+# parcels (dilute): 10 particles a parcel give the partition of one particle each, within the
+# statistical error: in each class the fraction of those classified that went to the coarse
+# (n_coarse / (n_fines + n_coarse), binomial) differs by at most 3 sigma, sigma^2 = p (1 - p)
+# (1/n_1 + 1/n_10) with the pooled p of Agresti and Coull (x + 2) / (n + 4) (counts of a few:
+# Am. Stat. 52, 119, 1998); a size range about the cut (d0* = 203 um) and strong dispersion,
+# so that most classes are neither all fines nor all coarse. Also the mass fed to within one
+# parcel (rate x time), the balance; refused with collisions; kept by save and load
+PW="${S}seed 7\nchannel 0.05 1\ngas 1.5\ncollisions off\ntimestep 1e-3\nspecies quartz 2650\nsize quartz loguniform min=150e-6 max=300e-6\nfeed z=0.5 rate=1e-5\ndispersion 0.05\nclasses 12 min=150e-6 max=300e-6\n"
+printf '%brun 2\nreset_stats\nrun 4\ntromp file=pw1.dat\nsummary\n' "$PW" > pw1.mote
+printf '%bparcel 10\nrun 2\nreset_stats\nrun 4\ntromp file=pw10.dat\nsummary\nsave pw10.state\n' "$PW" > pw10.mote
+"$MOTE" run pw1.mote > pw1.out 2> err.txt && "$MOTE" run pw10.mote > pw10.out 2>> err.txt && ok || bad "parcels: $(cat err.txt)"
+paste pw1.dat pw10.dat | awk '!/^#/ && NF == 22 { n++; f1 = $6; c1 = $7; f2 = $17; c2 = $18
+    n1 = f1 + c1; n2 = f2 + c2; if (n1 == 0 || n2 == 0) next
+    cmp++; p = (c1 + c2 + 2) / (n1 + n2 + 4); s = sqrt(p * (1 - p) * (1 / n1 + 1 / n2))
+    d = c1 / n1 - c2 / n2; if (d < 0) d = -d
+    if (d > 3 * s) { bad = 1; print "class", n, c1 "/" n1, c2 "/" n2 }
+    if (c1 > 0 && f1 > 0) mid++ } END { exit !(n == 12 && cmp == 12 && !bad && mid >= 3) }' > cmp.txt && ok || bad "parcel 10 against 1: $(cat cmp.txt; grep -v '^#' pw1.dat pw10.dat)"
+for w in 1 10; do
+    sed -n 's/^species quartz: fed \([0-9]*\) (\([^ ]*\) kg).*/\1 \2/p' pw$w.out | awk -v w=$w '{ mmax = 2650 * 3.14159265 / 6 * 3e-4 ^ 3; d = $2 - 1e-5 * 6; if (d < 0) d = -d; exit !(d <= w * mmax && $1 > 0) }' && ok || bad "parcel $w: the mass fed $(grep '^species' pw$w.out), not 6e-5 kg to within one parcel"
+    grep -q "^balance: fed = in channel + fines + coarse + lost holds" pw$w.out && ok || bad "parcel $w: the balance: $(cat pw$w.out)"
+done
+n1=$(sed -n 's/^species quartz: fed \([0-9]*\) .*/\1/p' pw1.out) n10=$(sed -n 's/^species quartz: fed \([0-9]*\) .*/\1/p' pw10.out)
+awk -v a="$n1" -v b="$n10" 'BEGIN { exit !(b > 0.08 * a && b < 0.12 * a) }' && ok || bad "parcel 10: $n10 parcels fed against $n1 particles"
+grep -q '^real parcel 10$' pw10.state && ok || bad "the state has no 'real parcel 10'"
+printf '%bload pw10.state\nsave pw10b.state\n' "$S" > pwl.mote
+"$MOTE" run pwl.mote > out.txt 2> err.txt && cmp -s pw10.state pw10b.state && ok || bad "parcel: load, save differ: $(cat err.txt)"
+expect 1 "pwd.mote:7:1: error: run: parcel 10 with collisions dem: a parcel would collide as one particle of its size" pwd.mote "${S}channel 0.05 1\ngas 1.5\nspecies quartz 2650\nsize quartz mono d=1e-4\nparcel 10\nrun 0.01\n" check
+
 mote_test_end

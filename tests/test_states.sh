@@ -3,7 +3,8 @@
 # tests/fixtures/states holds states written by mote as of 2026-11-27 (commit 5a2e365):
 # hard spheres in 3D and 2D, the mixing box, nbody and the separator, and a Galactica
 # checkpoint with its control file. Each must load, save again byte for byte (so every field is
-# read and written back the same; nbody's in its version-2 form, below), and run on; the checkpoint must be rewritten unchanged by
+# read and written back the same; nbody's in its version-2 form and the separator's in its
+# version-1 form, below), and run on; the checkpoint must be rewritten unchanged by
 # `galactica edit` with its own value and a relaunch must resume from it. Regenerate nothing:
 # a change of format must keep reading these files.
 NAME=states
@@ -14,6 +15,9 @@ mote_test_start "$1"
 # An nbody state of version 4 (each integrator's own lines) written in the fixtures' version-2
 # layout (tests/nbody_state.awk): the fixtures' fields must then come back byte for byte.
 nbody_v2() { awk -v to=2 -f "$FX/../../nbody_state.awk" "$1"; }
+# A separator state of version 2 in the fixture's version-1 layout: version 2 added one line,
+# `real parcel W` (1 when read from version 1: one particle each)
+sep_v1() { sed '1s/^mote-state 2$/mote-state 1/; /^real parcel 1$/d' "$1"; }
 
 # state MODEL FILE RUN: load FILE, save it again (must be identical, an nbody state after
 # nbody_v2), then RUN a little
@@ -24,6 +28,10 @@ state() {
     if "$MOTE" run "r_$f.mote" > "r_$f.out" 2>&1; then ok; else bad "$f: $(tail -3 "r_$f.out")"; fi
     if [ "$m" = "nbody gravity" ]; then
         nbody_v2 "re_$f" > "re2_$f" && mv "re2_$f" "re_$f"
+    fi
+    if [ "$m" = separator ]; then
+        grep -q '^real parcel 1$' "re_$f" && ok || bad "$f: saved again without 'real parcel 1'"
+        sep_v1 "re_$f" > "re2_$f" && mv "re2_$f" "re_$f"
     fi
     cmp -s "$FX/$f" "re_$f" && ok || bad "$f: saved again it differs: $(diff "$FX/$f" "re_$f" | head -4)"
 }

@@ -139,6 +139,10 @@ typedef struct {
     double D_t, T_gas;                   /* dispersion: turbulent coefficient (m^2/s), gas
                                           * temperature for Brownian diffusion (K; 0: none) */
     double e_pw;                         /* restitution at walls (-1: e_pp) */
+    double parcel;                       /* each particle stands for this many of its size and
+                                          * species (>= 1; the dilute mode only): the masses
+                                          * tallied, fed and held, the solids fraction and the
+                                          * drag on the gas count it; the counts are of parcels */
     double dt_user;                      /* the time step asked for (0: auto) */
     double dt;                           /* the time step in use (prepare) */
     /* the feed's backlog (spec 2.5): particles drawn but not yet placed */

@@ -605,8 +605,8 @@ static int check_insert(void *vm, const mote_call *c, mote_err *err)
     if (!rc && m->dry) /* the estimates' account: the particles it adds */
         m->est_n += strcmp(c->name, "insert") == 0
                         ? (double)c->args[1].i
-                        : c->args[1].r /
-                              sep_mean_mass(&m->sys, sep_find_species(&m->sys, c->args[0].text));
+                        : c->args[1].r / (m->sys.parcel * sep_mean_mass(&m->sys,
+                                                        sep_find_species(&m->sys, c->args[0].text)));
     return rc;
 }
 
@@ -672,6 +672,7 @@ static const mote_param sep_params[] = {
     {"coupling", "int coupling"}, /* (its words off|on: 0, 1) */
     {"collisions", "int dem"},    /* (off|dem) */
     {"neighbours", "int brute"},  /* (cells|brute) */
+    {"parcel", "real parcel"},
 };
 #define SET mote_cmd_set, mote_cmd_set
 
@@ -734,6 +735,8 @@ static const mote_cmd sep_commands[] = {
      HELP_STIFFNESS, do_stiffness, do_stiffness},
     {"neighbours", NULL, "e{cells|brute}", "neighbours cells|brute", "the neighbour search",
      HELP_NEIGHBOURS, SET},
+    {"parcel", NULL, "r>=1", "parcel W", "each particle stands for W of its size (dilute mode)",
+     HELP_PARCEL, SET},
     {"timestep", NULL, "r>0{auto} nc=i>=20", "timestep auto|DT [nc=50]", "the time step",
      HELP_TIMESTEP, do_timestep, do_timestep},
     {"classes", NULL, "i[2,1000] min=r>0 max=r>0", "classes K [min=A max=B]",

@@ -74,7 +74,7 @@ static int place(mote_sep_system *s, int k, double d, mote_err *err);
 static int add_particle(mote_sep_system *s, int k, int fifo, double *mass, mote_err *err)
 {
     const double d = mote_sep_dist_sample(&s->sp[k].dist, mote_rng_uniform(&s->rng));
-    *mass = s->sp[k].rho * SEP_PI * d * d * d / 6;
+    *mass = s->parcel * s->sp[k].rho * SEP_PI * d * d * d / 6; /* (the mass it stands for) */
     /* the feed is first in, first out: behind a backlog a new particle waits without trying
      * (a batch tries each) */
     const int rc = fifo && s->nback ? 0 : place(s, k, d, err);
@@ -143,7 +143,7 @@ static int place(mote_sep_system *s, int k, double d, mote_err *err)
         s->id[i] = s->next_id++;
         s->fx[i] = s->fy[i] = s->fz[i] = 0;
         s->cnt[k].fed++;
-        s->cnt[k].m_fed += m;
+        s->cnt[k].m_fed += s->parcel * m;
         if (s->dem && sep_cells_add(s, i, err))
             return -1;
         return 1;

@@ -58,7 +58,7 @@ int sep_write_tromp(const mote_sep_system *s, const char *path, const char *orig
         const double d = s->d[i];
         for (int c = 0; c < nc; c++)
             if (d >= s->class_edge[c] && d <= s->class_edge[c + 1]) {
-                hold[c] += s->m[i];
+                hold[c] += s->parcel * s->m[i];
                 break;
             }
     }
@@ -529,13 +529,14 @@ void sep_balance_row(const mote_sep_system *s, double *row)
     double in[MOTE_SEP_MAX_SPECIES + 1] = {0}, min[MOTE_SEP_MAX_SPECIES + 1] = {0};
     for (size_t i = 0; i < s->n; i++) {
         in[s->s[i]] += 1;
-        min[s->s[i]] += s->m[i];
+        min[s->s[i]] += s->parcel * s->m[i];
     }
     double back[MOTE_SEP_MAX_SPECIES + 1] = {0}, mback[MOTE_SEP_MAX_SPECIES + 1] = {0};
     for (size_t b = 0; b < s->nback; b++) {
         const int k = s->back_s[b];
         back[k] += 1;
-        mback[k] += s->sp[k].rho * SEP_PI * s->back_d[b] * s->back_d[b] * s->back_d[b] / 6;
+        mback[k] += s->parcel * s->sp[k].rho * SEP_PI * s->back_d[b] * s->back_d[b] *
+                    s->back_d[b] / 6;
     }
     double tot[12] = {0};
     for (int k = 0; k <= s->nsp; k++) {
@@ -630,7 +631,7 @@ int mote_sep_check_balance(const mote_sep_system *s)
     double min[MOTE_SEP_MAX_SPECIES] = {0};
     for (size_t i = 0; i < s->n; i++) {
         in[s->s[i]]++;
-        min[s->s[i]] += s->m[i];
+        min[s->s[i]] += s->parcel * s->m[i];
     }
     for (int k = 0; k < s->nsp; k++) {
         const mote_sep_count *c = &s->cnt[k];

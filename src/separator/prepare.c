@@ -264,6 +264,14 @@ int mote_sep_prepare(mote_sep_system *s, mote_err *err)
     /* the time step: with contacts, the contact time over N_c (spec 2.8), which a given step
      * must not exceed; in the dilute mode half a slice (the narrowest feature) per reference
      * speed U0 + v_t(d_max) + |v_f| */
+    if (!(s->parcel >= 1 && s->parcel <= 1e15))
+        return mote_fail(err, MOTE_EINVAL, "separator: parcel must be in [1, 1e15], found %g",
+                         s->parcel);
+    if (s->dem && s->parcel > 1)
+        return mote_fail(err, MOTE_EINVAL, "separator: parcel %g with collisions dem: a parcel "
+                         "would collide as one particle of its size, which needs a "
+                         "coarse-graining law this version does not have; use collisions off "
+                         "(parcels follow the gas independently) or parcel 1", s->parcel);
     if (s->dem) {
         if (s->nc < 20)
             return mote_fail(err, MOTE_EINVAL, "separator: N_c must be at least 20, found %d",

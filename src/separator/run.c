@@ -168,7 +168,7 @@ int sep_check_run(void *vm, const mote_call *c, mote_err *err)
         for (int k = 0; k < s->nsp; k++) {
             if (!(s->sp[k].w > 0 && s->sp[k].have_dist))
                 continue;
-            const double nk = s->rate * L * s->sp[k].w / sep_mean_mass(s, k);
+            const double nk = s->rate * L * s->sp[k].w / (s->parcel * sep_mean_mass(s, k));
             double avg = 0, end = 0;
             for (int i = 0; i < M; i++) {
                 const double d = mote_sep_dist_sample(&s->sp[k].dist, (i + 0.5) / M);
@@ -197,11 +197,11 @@ int sep_check_run(void *vm, const mote_call *c, mote_err *err)
     char w[32];
     duration_words(wall, w, sizeof w);
     if (c->ctx && c->ctx->check_only)
-        mote_call_note(c, "run %g s: %.3g steps of %.3g s; %.3g particles fed, about %.3g in the "
+        mote_call_note(c, "run %g s: %.3g steps of %.3g s; %.3g %s fed, about %.3g in the "
                           "channel on average, %.3g at the end; about %s on %d thread%s, "
                           "about %.3g MB",
-                       T, steps, s->dt, fed, navg, nmax, w, threads, threads == 1 ? "" : "s",
-                       mem / 1e6);
+                       T, steps, s->dt, fed, s->parcel > 1 ? "parcels" : "particles", navg, nmax,
+                       w, threads, threads == 1 ? "" : "s", mem / 1e6);
     if (wall > SEP_EST_LONG_S)
         mote_call_warn(c, "run %g s would take about %s (%.3g steps of %.3g s, about %.3g "
                           "particles); coarser sizes (size ... min=), a softer contact "

@@ -62,6 +62,12 @@ static const mote_sf_codec REAL = {sizeof(double), real_put, real_get, NULL};
 #define SU(K, NAME, M)                                                                       \
     {.key = K, .name = NAME, .type = MOTE_SF_U64, .offset = offsetof(mote_sep_system, M),    \
      .lo = MOTE_SF_ANY}
+/* the file's version: 2 added `real parcel` (read as 1 from version 1) */
+#define SEP_STATE_VERSION 2
+/* a value added in file version 2 (read as its default from version 1) */
+#define SR2(NAME, M)                                                                         \
+    {.key = "real " NAME, .name = NAME, .type = MOTE_SF_CODEC,                            \
+     .offset = offsetof(mote_sep_system, M), .codec = &REAL, .since = 2}
 static const mote_sf_field SCALARS[] = {
     SR("W", W), SR("H", H), SR("D", D), SR("D2", D2), SR("U0", U0), SR("rho_g", rho_g),
     SR("mu_g", mu_g), SR("g", g), SR("eps_gas_min", eps_gas_min), SR("chi", chi),
@@ -71,7 +77,7 @@ static const mote_sf_field SCALARS[] = {
     SR("t_start", t_start), SR("t_stop", t_stop), SR("fx1", fx1), SR("fx2", fx2),
     SR("fy1", fy1), SR("fy2", fy2), SR("vfx", vf[0]), SR("vfy", vf[1]), SR("vfz", vf[2]),
     SR("avg_from", avg_from), SR("prof_time", prof_time), SR("prof_wait", prof_wait),
-    SR("max_overlap", max_overlap), SR("t", t),
+    SR("max_overlap", max_overlap), SR("t", t), SR2("parcel", parcel),
     SI("dim", dim), SI("open_bottom", open_bottom), SI("open_top", open_top),
     SI("coupling", coupling), SI("K", K), SI("dem", dem), SI("brute", brute), SI("nc", nc),
     SI("nsort", nsort), SI("eps_r_valid", eps_r_valid),
@@ -245,7 +251,7 @@ static size_t slice_fields(mote_sf_field *f, int nsp)
 
 static void put_count(FILE *f, const mote_sf_field *d, uint64_t n)
 {
-    mote_sf_write(f, d, 1, &n, 1);
+    mote_sf_write(f, d, 1, &n, SEP_STATE_VERSION);
 }
 
 int mote_sep_save(const mote_sep_system *s, uint64_t seed, const char *path, mote_err *err)
@@ -259,13 +265,13 @@ int mote_sep_save(const mote_sep_system *s, uint64_t seed, const char *path, mot
         return rc;
     FILE *f = af.f;
     const int nsp = s->nsp;
-    mote_sf_write_head(f, "separator", 1);
-    mote_sf_write(f, SEED, NF(SEED), &seed, 1);
-    mote_sf_write(f, SCALARS, NF(SCALARS), s, 1);
+    mote_sf_write_head(f, "separator", SEP_STATE_VERSION);
+    mote_sf_write(f, SEED, NF(SEED), &seed, SEP_STATE_VERSION);
+    mote_sf_write(f, SCALARS, NF(SCALARS), s, SEP_STATE_VERSION);
     put_count(f, N_GAS, s->gp_n);
     for (size_t k = 0; k < s->gp_n; k++) {
         const gp_row g = {s->gp_z[k], s->gp_rho[k], s->gp_mu[k]};
-        mote_sf_write(f, GP, NF(GP), &g, 1);
+        mote_sf_write(f, GP, NF(GP), &g, SEP_STATE_VERSION);
     }
     put_count(f, N_SPECIES, (uint64_t)nsp);
     const mote_sf_field epair = reals_field("epair", "E", 0, nsp);
@@ -275,22 +281,22 @@ int mote_sep_save(const mote_sep_system *s, uint64_t seed, const char *path, mot
                     .rho = p->rho, .w = p->w, .a = p->dist.a, .b = p->dist.b, .lo = p->dist.lo,
                     .hi = p->dist.hi};
         memcpy(r.name, p->name, sizeof r.name);
-        mote_sf_write(f, SP, NF(SP), &r, 1);
+        mote_sf_write(f, SP, NF(SP), &r, SEP_STATE_VERSION);
         put_count(f, N_TABLE, (uint64_t)p->dist.tn);
         for (int j = 0; j < p->dist.tn; j++) {
             const table_row t = {p->dist.td[j], p->dist.tF[j]};
-            mote_sf_write(f, TROW, NF(TROW), &t, 1);
+            mote_sf_write(f, TROW, NF(TROW), &t, SEP_STATE_VERSION);
         }
-        mote_sf_write(f, COUNTS, NF(COUNTS), &s->cnt[k], 1);
-        mote_sf_write(f, &epair, 1, s->e_pair[k], 1);
+        mote_sf_write(f, COUNTS, NF(COUNTS), &s->cnt[k], SEP_STATE_VERSION);
+        mote_sf_write(f, &epair, 1, s->e_pair[k], SEP_STATE_VERSION);
     }
     put_count(f, N_PLATES, (uint64_t)s->nplate);
     for (int q = 0; q < s->nplate; q++) {
         const mote_sep_plate *p = &s->plate[q];
         const plate_row r = {p->nh, p->listed, p->dropped, p->zb, p->t};
-        mote_sf_write(f, PLATE, NF(PLATE), &r, 1);
+        mote_sf_write(f, PLATE, NF(PLATE), &r, SEP_STATE_VERSION);
         for (size_t h = 0; h < p->nh; h++)
-            mote_sf_write(f, HOLE, NF(HOLE), p->h + 4 * h, 1);
+            mote_sf_write(f, HOLE, NF(HOLE), p->h + 4 * h, SEP_STATE_VERSION);
     }
     put_count(f, N_CLASSES, (uint64_t)s->nclass);
     mote_sf_field ef[1 + 4 * (MOTE_SEP_MAX_SPECIES + 1)];
@@ -304,7 +310,7 @@ int mote_sep_save(const mote_sep_system *s, uint64_t seed, const char *path, mot
                 r.sp[k] = (tally){s->cls_nf[q], s->cls_nc[q], s->cls_mf[q], s->cls_mc[q]};
             }
         }
-        mote_sf_write(f, ef, edge_fields(ef, nsp, last), &r, 1);
+        mote_sf_write(f, ef, edge_fields(ef, nsp, last), &r, SEP_STATE_VERSION);
     }
     put_count(f, N_SLICES, (uint64_t)s->K);
     mote_sf_field sf[7];
@@ -313,23 +319,23 @@ int mote_sep_save(const mote_sep_system *s, uint64_t seed, const char *path, mot
         slice_row r = {s->eps_r[k], s->prof_n[k], s->prof_mvz[k], s->prof_m[k], s->prof_ug[k],
                        s->prof_fd[k], {0}};
         memcpy(r.eps, s->prof_eps + (size_t)k * MOTE_SEP_MAX_SPECIES, (size_t)nsp * sizeof(double));
-        mote_sf_write(f, sf, nsf, &r, 1);
+        mote_sf_write(f, sf, nsf, &r, SEP_STATE_VERSION);
     }
     put_count(f, N_BACKLOG, s->nback);
     for (size_t b = 0; b < s->nback; b++) {
         const back_row r = {s->back_s[b], s->back_d[b]};
-        mote_sf_write(f, BACK, NF(BACK), &r, 1);
+        mote_sf_write(f, BACK, NF(BACK), &r, SEP_STATE_VERSION);
     }
     /* the pair list when it still serves (nothing added or removed since its build), so that a
      * continued run sums the contact forces in the same order */
     const int live = s->list_ok && s->mods == s->list_mods && s->xref_cap >= 3 * s->n;
     const pairs_head ph = {live, s->mods, s->list_mods, s->list_builds, live ? s->npl : 0};
-    mote_sf_write(f, PAIRS, NF(PAIRS), &ph, 1);
+    mote_sf_write(f, PAIRS, NF(PAIRS), &ph, SEP_STATE_VERSION);
     for (size_t i = 0; live && i < s->n; i++)
         for (uint32_t q = s->nb_start[i]; q < s->nb_start[i + 1]; q++)
             if (s->nb[q] > i) { /* each pair once, i < j */
                 const uint32_t ab[2] = {(uint32_t)i, s->nb[q]};
-                mote_sf_write(f, PAIR, NF(PAIR), ab, 1);
+                mote_sf_write(f, PAIR, NF(PAIR), ab, SEP_STATE_VERSION);
             }
     put_count(f, N_PARTICLES, s->n);
     for (size_t i = 0; i < s->n; i++) {
@@ -337,7 +343,7 @@ int mote_sep_save(const mote_sep_system *s, uint64_t seed, const char *path, mot
                    s->vy[i], s->vz[i], s->fx[i], s->fy[i], s->fz[i]}, {0}};
         if (live)
             memcpy(r.xref, s->xref + 3 * i, sizeof r.xref);
-        mote_sf_write(f, P, NF(P) - !live, &r, 1);
+        mote_sf_write(f, P, NF(P) - !live, &r, SEP_STATE_VERSION);
     }
     fprintf(f, "end\n");
     return mote_afile_commit(&af, err);
@@ -636,7 +642,7 @@ static int read_particles(reader *r, mote_sep_system *s, int lok)
 
 static int read_body(reader *r, mote_sep_system *s, uint64_t *seed)
 {
-    int rc = mote_sf_read_head(&r->in, "separator", 1, &r->version, r->err);
+    int rc = mote_sf_read_head(&r->in, "separator", SEP_STATE_VERSION, &r->version, r->err);
     if (!rc)
         rc = row(r, SEED, NF(SEED), seed);
     if (!rc)

@@ -30,6 +30,7 @@ void mote_sep_init(mote_sep_system *s)
     s->coupling = 1;
     s->eps_gas_min = 0.35;
     s->e_pw = -1;
+    s->parcel = 1;
     s->e_pp = 0.5;
     s->dem = 1;
     s->delta_f = 0.05;
@@ -124,7 +125,7 @@ double mote_sep_cross_section(const mote_sep_system *s)
 static inline void deposit(const mote_sep_system *s, double *eps, size_t i)
 {
     const int K = s->K;
-    const double vol = SEP_PI * s->d[i] * s->d[i] * s->d[i] / 6;
+    const double vol = s->parcel * SEP_PI * s->d[i] * s->d[i] * s->d[i] / 6;
     const double q = s->z[i] / s->dz - 0.5;
     if (!(q > 0)) {
         eps[0] += vol;
@@ -244,7 +245,7 @@ static inline void sample_one(const mote_sep_system *s, size_t i, double dt, dou
                               double *eps, size_t stride, double *cnt, double *mvz, double *m)
 {
     const int K = s->K;
-    const double vol = SEP_PI * s->d[i] * s->d[i] * s->d[i] / 6 * scale;
+    const double vol = s->parcel * SEP_PI * s->d[i] * s->d[i] * s->d[i] / 6 * scale;
     const double q = s->z[i] / s->dz - 0.5;
     double *e = eps + s->s[i];
     if (!(q > 0)) {
@@ -259,8 +260,8 @@ static inline void sample_one(const mote_sep_system *s, size_t i, double dt, dou
     }
     const int k = slice_of(s, s->z[i]);
     cnt[k] += dt;
-    mvz[k] += dt * s->m[i] * s->vz[i];
-    m[k] += dt * s->m[i];
+    mvz[k] += dt * s->parcel * s->m[i] * s->vz[i];
+    m[k] += dt * s->parcel * s->m[i];
 }
 
 /* Add this step's slice values, weighted by dt: each species' solids fraction (cloud in cell,
@@ -361,7 +362,7 @@ static int note_exit(mote_sep_system *s, size_t i, int out, mote_err *err)
 static void tally_exit(mote_sep_system *s, size_t i, int out)
 {
     const int k = s->s[i];
-    const double m = s->m[i];
+    const double m = s->parcel * s->m[i];
     const int c = class_of(s, s->d[i]);
     const size_t cs = (size_t)c * MOTE_SEP_MAX_SPECIES + (size_t)k;
     if (out == 1) {
@@ -806,7 +807,7 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
     drift_view dv = {
         .x = s->x, .y = s->y, .z = s->z, .vx = s->vx, .vy = s->vy, .vz = s->vz, .fx = s->fx,
         .fy = s->fy, .fz = s->fz, .im = s->im, .d = s->d, .m = s->m, .sp = s->s, .dt = dt,
-        .half_dt = 0.5 * dt, .wdt = wdt, .g = s->g, .rho_g = s->rho_g, .mu_g = s->mu_g,
+        .half_dt = 0.5 * dt, .wdt = wdt * s->parcel, .g = s->g, .rho_g = s->rho_g, .mu_g = s->mu_g,
         .chi = s->chi, .W = s->W, .D = s->D, .H = s->H, .dim = s->dim, .dem = s->dem,
         .gp_n = s->gp_n != 0, .disperse = s->D_t > 0 || s->T_gas > 0,
         .open_top = s->open_top, .open_bottom = s->open_bottom, .nplate = s->nplate, .n = n,
