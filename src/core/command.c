@@ -146,26 +146,28 @@ int mote_call_fail(mote_err *err, const mote_call *c, int argi, mote_status code
     return (int)code;
 }
 
+/* "FILE:LINE:COL: KIND: <message>" to f */
+static void located(FILE *f, const mote_call *c, const char *kind, const char *fmt, va_list ap)
+{
+    fprintf(f, "%s:%d:%d: %s: ", c->file ? c->file : "?", c->line, c->col, kind);
+    vfprintf(f, fmt, ap);
+    fputc('\n', f);
+}
+
 void mote_call_warn(const mote_call *c, const char *fmt, ...)
 {
-    FILE *diag = c->ctx && c->ctx->diag ? c->ctx->diag : stderr;
-    fprintf(diag, "%s:%d:%d: warning: ", c->file ? c->file : "?", c->line, c->col);
     va_list ap;
     va_start(ap, fmt);
-    vfprintf(diag, fmt, ap);
+    located(c->ctx && c->ctx->diag ? c->ctx->diag : stderr, c, "warning", fmt, ap);
     va_end(ap);
-    fputc('\n', diag);
 }
 
 void mote_call_note(const mote_call *c, const char *fmt, ...)
 {
-    FILE *out = c->ctx && c->ctx->out ? c->ctx->out : stdout;
-    fprintf(out, "%s:%d:%d: note: ", c->file ? c->file : "?", c->line, c->col);
     va_list ap;
     va_start(ap, fmt);
-    vfprintf(out, fmt, ap);
+    located(c->ctx && c->ctx->out ? c->ctx->out : stdout, c, "note", fmt, ap);
     va_end(ap);
-    fputc('\n', out);
 }
 
 /* ---- progress ------------------------------------------------------------------------------- */

@@ -205,7 +205,8 @@ int sep_check_run(void *vm, const mote_call *c, mote_err *err)
     if (wall > SEP_EST_LONG_S)
         mote_call_warn(c, "run %g s would take about %s (%.3g steps of %.3g s, about %.3g "
                           "particles); coarser sizes (size ... min=), a softer contact "
-                          "(stiffness overlap= vimp=), a lower feed rate or a shorter run "
+                          "(stiffness overlap= vimp=), collisions off with parcels (parcel W) "
+                          "where the solids are dilute, a lower feed rate or a shorter run "
                           "shorten it (docs/separator.md, \"How long a run takes\")",
                        T, w, steps, s->dt, navg);
     return MOTE_OK;
