@@ -808,7 +808,8 @@ static int sep_model_arrays(void *vm, mote_array *out, int cap)
 
 /* set_array: positions or velocities (rows of x y z), finite (speeds up to MOTE_SEP_SPEED_MAX, as a
  * state file's), centres inside the channel (x in
- * [0, W], z in [0, H], in 3D y in [0, D]); new positions make the pair list be built again. */
+ * [0, W], z in [0, H], in 3D y in [0, D]), not inside a plate's solid; new positions make the pair
+ * list be built again. */
 static int sep_model_set_array(void *vm, const char *name, const double *v, size_t rows,
                                size_t cols, mote_err *err)
 {
@@ -833,6 +834,16 @@ static int sep_model_set_array(void *vm, const char *name, const double *v, size
             if (pos && (a != 1 || s->dim == 3) && !(x >= 0 && x <= hi[a]))
                 return mote_fail(err, MOTE_EINVAL, "set positions: particle %zu: %c = %g is "
                                  "outside the channel [0, %g]", i, "xyz"[a], x, hi[a]);
+        }
+    for (size_t i = 0; pos && i < rows; i++) /* a centre inside a plate's solid: no way out */
+        for (int q = 0; q < s->nplate; q++) {
+            const double c[3] = {v[3 * i], s->dim == 3 ? v[3 * i + 1] : 0, v[3 * i + 2]};
+            double delta[4], nrm[4][3];
+            if (mote_sep_plate_features(&s->plate[q], s->dim, c, 0.5 * s->d[i], delta, nrm) < 0)
+                return mote_fail(err, MOTE_EINVAL, "set positions: particle %zu: its centre "
+                                 "(x = %g, z = %g) is inside the solid of plate %d (z from %g "
+                                 "to %g), not in a hole", i, c[0], c[2], q + 1,
+                                 s->plate[q].zb, s->plate[q].zb + s->plate[q].t);
         }
     double *dst[3] = {pos ? s->x : s->vx, pos ? s->y : s->vy, pos ? s->z : s->vz};
     for (size_t i = 0; i < rows; i++)

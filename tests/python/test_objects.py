@@ -137,6 +137,25 @@ def test_separator_object(tmp_path):
     assert sep.t == 0.3 and sep.N > 0
 
 
+def test_separator_positions_inside_a_plate():
+    # a centre set inside a plate's solid is refused (no contact could push it out), one in a
+    # hole is not; nothing is changed by the refusal
+    sep = mote.Separator(SEP + "grid 0.2 0.004 pattern a=3e-3 p=5e-3 offset=1e-3\n")
+    sep.run(0.05)
+    x = sep.positions
+    assert len(x) > 0
+    y = x.copy()
+    y[0] = [2e-4, 0, 0.202]  # x = 0.2 mm: before the first hole (1 mm), in the solid
+    with pytest.raises(mote.MoteError, match=r"set positions: particle 0: its centre "
+                       r"\(x = 0.0002, z = 0.202\) is inside the solid of plate 1 "
+                       r"\(z from 0.2 to 0.204\), not in a hole"):
+        sep.set("positions", y)
+    assert np.array_equal(sep.positions, x)
+    y[0] = [2.5e-3, 0, 0.202]  # in the first hole (1 to 4 mm)
+    sep.set("positions", y)
+    assert sep.positions[0, 2] == 0.202
+
+
 MB = ("box 0 0.4 0 0.2\npartition 0.2 0.01\nslit 0.1 0.04\nradius 0.004\ndisks 30 20\nv_init 1\n"
       "place\n")
 
