@@ -7,6 +7,7 @@
 #include "draw.h"
 
 #include <math.h>
+#include <string.h>
 #include <stdlib.h>
 
 typedef struct {
@@ -279,13 +280,31 @@ static void backed_text(cairo_t *cr, double x, double y, const char *t, double h
     mote_rnd_text(cr, x0, y, t, 0.0, MOTE_RND_TOP);
 }
 
-/* Vertical marks (their x already on the axis's scale) and the note. */
+static double legend_cover(const mote_rnd_layout *lay, const double rect[4],
+                           const mote_series *series, size_t nseries, const mote_plot_opts *o);
+
+/* Vertical marks (their x already on the axis's scale) and the note. Each mark's label goes
+ * beside its line where it hides the least: right or left of the line, in one of three rows
+ * at the top or at the bottom of the frame, counting the data points and segments under it
+ * (legend_cover), the labels already placed and the note (each worth 100 points) and the
+ * other marks' lines (3: a label's white backing lets a line show through); ties keep
+ * the first of: its own top row (k mod 3, so neighbouring marks are staggered), right. */
 static void draw_marks(cairo_t *cr, const mote_rnd_style *st, const mote_rnd_layout *lay,
-                       const mote_plot_opts *o, const double *xm, int label_pass)
+                       const mote_plot_opts *o, const double *xm, int label_pass,
+                       const mote_series *series, size_t nseries)
 {
     cairo_save(cr);
     mote_rnd_font(cr, st->tick_font, 0);
     const double lh = mote_rnd_line_height(cr);
+    double placed[8][4], note[4] = {0, 0, -1, -1};
+    int nplaced = 0;
+    if (label_pass && o->note && *o->note) {
+        const double w = mote_rnd_text_width(cr, o->note);
+        note[2] = lay->left + lay->width - st->gap;
+        note[0] = note[2] - w;
+        note[1] = lay->top + lay->height - st->gap - lh;
+        note[3] = note[1] + lh;
+    }
     for (int k = 0; k < o->nxmark && k < 8; k++) {
         if (!isfinite(xm[k]))
             continue;
@@ -301,12 +320,40 @@ static void draw_marks(cairo_t *cr, const mote_rnd_style *st, const mote_rnd_lay
             cairo_line_to(cr, x, lay->top + lay->height);
             cairo_stroke(cr);
         } else if (o->xmark_label && o->xmark_label[k] && *o->xmark_label[k]) {
-            /* staggered rows so neighbouring marks' labels do not collide; right of the line,
-             * or left of it near the right edge */
             const double w = mote_rnd_text_width(cr, o->xmark_label[k]);
-            const int right = x + 4 + w < lay->left + lay->width - 2;
-            backed_text(cr, right ? x + 4 : x - 4, lay->top + st->gap + (k % 3) * (lh + 4),
-                        o->xmark_label[k], right ? 0.0 : 1.0);
+            double best = INFINITY, bx = x + 4, by = lay->top + st->gap, br[4] = {0, 0, 0, 0};
+            int bright = 1;
+            for (int c = 0; c < 12; c++) {
+                const int bottom = c / 6, row = (k + c / 2) % 3, right = c % 2 == 0;
+                const double tx = right ? x + 4 : x - 4,
+                             ty = bottom ? lay->top + lay->height - st->gap - (row + 1) * (lh + 4)
+                                         : lay->top + st->gap + row * (lh + 4);
+                const double r[4] = {right ? tx - 2 : tx - w - 2, ty - 1, right ? tx + w + 2 : tx + 2,
+                                     ty + lh + 1};
+                if (r[0] < lay->left || r[2] > lay->left + lay->width)
+                    continue;
+                double cover = legend_cover(lay, r, series, nseries, o);
+                for (int q = 0; q < nplaced; q++)
+                    if (r[0] < placed[q][2] && placed[q][0] < r[2] && r[1] < placed[q][3] &&
+                        placed[q][1] < r[3])
+                        cover += 100;
+                if (r[0] < note[2] && note[0] < r[2] && r[1] < note[3] && note[1] < r[3])
+                    cover += 100;
+                for (int q = 0; q < o->nxmark && q < 8; q++) { /* another mark's line */
+                    const double xq = round(mote_rnd_px(lay, xm[q])) + 0.5;
+                    if (q != k && isfinite(xq) && xq > r[0] && xq < r[2])
+                        cover += 3;
+                }
+                if (cover < best) {
+                    best = cover;
+                    bx = tx;
+                    by = ty;
+                    bright = right;
+                    memcpy(br, r, sizeof br);
+                }
+            }
+            backed_text(cr, bx, by, o->xmark_label[k], bright ? 0.0 : 1.0);
+            memcpy(placed[nplaced++], br, sizeof br);
         }
     }
     if (label_pass && o->note && *o->note)
@@ -674,7 +721,7 @@ static int plot_png(const char *path, const mote_plot_opts *opts, const mote_ser
     double box[4] = {lay.left - margin, lay.top - margin, lay.left + lay.width + margin,
                      lay.top + lay.height + margin};
     if (opts->nxmark > 0 && opts->xmark)
-        draw_marks(cr, &st, &lay, opts, opts->xmark, 0);
+        draw_marks(cr, &st, &lay, opts, opts->xmark, 0, series, nseries);
     cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
     cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
     cairo_set_line_width(cr, ss.line_width);
@@ -692,7 +739,7 @@ static int plot_png(const char *path, const mote_plot_opts *opts, const mote_ser
     cairo_set_dash(cr, NULL, 0, 0);
     draw_yref(cr, &st, &lay, opts, 1);
     if ((opts->nxmark > 0 && opts->xmark) || opts->note)
-        draw_marks(cr, &st, &lay, opts, opts->xmark, 1);
+        draw_marks(cr, &st, &lay, opts, opts->xmark, 1, series, nseries);
     cairo_restore(cr);
 
     mote_rnd_draw_axes(cr, &st, &lay, &in);
