@@ -153,13 +153,20 @@ int sep_check_run(void *vm, const mote_call *c, mote_err *err)
     if (rc || !m->dry)
         return rc;
     const mote_sep_system *s = &m->sys;
-    const double T = c->args[0].r;
+    const double T = c->args[0].r, t0 = fmax(m->est_t, s->t); /* (s->t: a state loaded) */
     const double steps = ceil(T / s->dt - 1e-9);
+    /* a run that cannot finish is refused before anything runs, as the run would refuse it */
+    if (!(T / s->dt <= SEP_STEPS_MAX))
+        return mote_call_fail(err, c, -1, MOTE_ERUNTIME,
+                              "run: the time step %.3g s would take %.2g steps to reach t = %g "
+                              "s: this run cannot finish (the gas speed, the stiffness or the "
+                              "sizes make the step this small; `timestep DT` sets it)",
+                              s->dt, T / s->dt, t0 + T);
     /* the particles fed in this run's time (the feed's window), by the feed's mass fractions,
      * and how long each stays: from the feed to the exit its still-gas slip U0 - v_t(d) takes
      * it to (for ever towards a closed end, or hovering at the cut size), at most the run */
     double fed = 0, stay_avg = 0, stay_end = 0;
-    const double a = fmax(m->est_t, s->t_start), b = fmin(m->est_t + T, s->t_stop);
+    const double a = fmax(t0, s->t_start), b = fmin(t0 + T, s->t_stop);
     if (s->rate > 0 && b > a) {
         double rho_g, mu_g;
         mote_sep_gas_props(s, s->zf, &rho_g, &mu_g);
@@ -193,7 +200,7 @@ int sep_check_run(void *vm, const mote_call *c, mote_err *err)
     const double wall = steps * (SEP_EST_STEP_S + SEP_EST_PARTICLE_STEP_S * navg / threads);
     const double mem = SEP_EST_BASE_BYTES + nmax * SEP_EST_BYTES;
     m->est_n = nmax;
-    m->est_t += T;
+    m->est_t = t0 + T;
     char w[32];
     duration_words(wall, w, sizeof w);
     if (c->ctx && c->ctx->check_only)

@@ -6,6 +6,8 @@
 #include "mote/buf.h"
 
 #define SEP_PI 3.14159265358979323846
+/* the most steps a run may take (some 10^4 years at 10^5 steps a second): more is refused */
+#define SEP_STEPS_MAX 1e13
 
 /* dem.c: rebuild the cell lists; the cell of particle i; the contact forces into fx, fy, fz
  * from the positions, with the dashpots on the predicted velocities v + dt/2 F_old/m. */

@@ -936,7 +936,6 @@ void mote_sep_complete(mote_sep_system *s)
     s->kick_h = 0;
 }
 
-#define SEP_STEPS_MAX 1e13
 
 int mote_sep_advance(mote_sep_system *s, double t_end, int (*need)(void *, const mote_sep_system *),
                      void *ctx, mote_err *err)
