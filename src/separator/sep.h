@@ -6,6 +6,22 @@
 #include "mote/buf.h"
 
 #define SEP_PI 3.14159265358979323846
+/* contact.c: the Hertz-Mindlin law with tangential history and Coulomb friction (issue 56).
+ * A material: Young's modulus (Pa) and Poisson's ratio. The constants of a pair (a wall: R2 and
+ * m2 infinite), restitution e and friction mu. sep_hm_force: the force on body 1 from body 2
+ * (n: unit normal from 2 to 1; v: the relative velocity of 1's contact point against 2's; xi:
+ * the tangential spring, updated) for overlap delta over a step dt; returns |F_n|. */
+typedef struct {
+    double E, nu;
+} sep_material;
+typedef struct {
+    double Y, G, R, m, beta, mu;
+} sep_hm;
+void sep_hm_pair(sep_hm *h, const sep_material *a, double R1, double m1, const sep_material *b,
+                 double R2, double m2, double e, double mu);
+double sep_hm_force(const sep_hm *h, double delta, const double n[3], const double v[3],
+                    double dt, double xi[3], double F[3]);
+
 /* the most steps a run may take (some 10^4 years at 10^5 steps a second): more is refused */
 #define SEP_STEPS_MAX 1e13
 
