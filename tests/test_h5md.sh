@@ -295,6 +295,9 @@ run mbv.mote
 check vtk
 expect 1 "v1.mote:9:25: error: trajectory: a VTK file holds one frame: write a series with snapshot every=K prefix=P format=vtk (or a trajectory .xyz or .h5)" v1.mote "${SEP_DILUTE}trajectory every=1 file=t.vtk\n"
 expect 1 "v2.mote:3:25: error: trajectory: a VTK file holds one frame: write a series with snapshot every=K prefix=P format=vtk (or a trajectory .xyz or .h5)" v2.mote 'seed 1\nnew 3 0.40\ntrajectory every=1 file=t.vtk\n'
+expect 1 "v5.mote:10:25: error: trajectory: a VTK file holds one frame: write a series with snapshot every=K prefix=P format=vtk (or a trajectory .xyz or .h5)" v5.mote "${MB}trajectory every=1 file=t.vtk\n"
+# (the separator's `snapshots`, the other name of `snapshot`, takes VTK as snapshot does)
+expect 1 "v6.mote:10:25: error: trajectory: a VTK file holds one frame" v6.mote "${SEP_DILUTE}snapshots every=5 prefix=p format=vtk\ntrajectory every=1 file=t.vtk\n"
 expect 1 "v3.mote:3:15: error: snapshot: format=vtk writes VTK: name the file FILE.vtk" v3.mote 'seed 1\nnew 3 0.40\nsnapshot file=t.xyz format=vtk\n'
 expect 1 "v4.mote:10:15: error: snapshot: a file named .vtk is VTK: give format=vtk or another name" v4.mote "${MB}snapshot file=t.vtk format=h5md\n"
 

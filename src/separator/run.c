@@ -497,9 +497,8 @@ enum { FORMAT_XYZ, FORMAT_H5MD, FORMAT_VTK }; /* format=e{xyz|h5md|vtk} (vtk: sn
 
 /* A trajectory's or snapshot's file: FILE.xyz, FILE.h5|.h5md or (a snapshot) FILE.vtk, as
  * format= says when given; 1 for H5MD, 2 for VTK, 0 for XYZ, -1 after a located error. */
-static int particles_format(const mote_call *c, mote_err *err)
+static int particles_format(const mote_call *c, int snapshot, mote_err *err)
 {
-    const int snapshot = strcmp(c->name, "trajectory") != 0;
     const int vtk = mote_call_vtk(c, "file", snapshot ? FORMAT_VTK : -1, err);
     if (vtk)
         return vtk < 0 ? -1 : FORMAT_VTK;
@@ -534,7 +533,7 @@ int sep_snapshots(void *vm, const mote_call *c, mote_err *err)
     sep_model *m = vm;
     const mote_arg *f = mote_call_opt(c, "file");
     const int sched = mote_call_opt(c, "dt") || mote_call_opt(c, "every");
-    const int h5md = particles_format(c, err);
+    const int h5md = particles_format(c, 1, err);
     if (h5md < 0)
         return err->code;
     if (f) { /* the configuration now */
@@ -655,7 +654,7 @@ int sep_trajectory(void *vm, const mote_call *c, mote_err *err)
     if (rc)
         return rc;
     const mote_arg *f = mote_call_opt(c, "file");
-    if (particles_format(c, err) < 0)
+    if (particles_format(c, 0, err) < 0)
         return err->code;
     rc = keep_origin(&m->traj.origin, c, err);
     char *p = rc ? NULL : strdup(f->path);
