@@ -608,7 +608,8 @@ static void test_first_sort(void)
 /* One case of the thread test: a channel open at both ends with a gas upflow felt by the solids
  * (coupling), a perforated plate, a feed, n particles to start; runs `steps` steps on nt
  * threads (used from 1 particle up) and writes its state to path. flags: 1 every row searched
- * (no_gap_skip), 2 every step completed (no_pending). */
+ * (no_gap_skip), 2 every step completed (no_pending), 4 contact hertz (friction, rolling
+ * friction, rotation; 8: stop half way, save, load and go on). */
 static void threads_case(mote_sep_system *s, int dim, size_t n, int steps, int nt, int disperse,
                          int flags, const char *path)
 {
@@ -648,6 +649,14 @@ static void threads_case(mote_sep_system *s, int dim, size_t n, int steps, int n
           err.msg);
     s->nplate = 1;
     s->nsort = 40; /* (reorders within the run) */
+    if (flags & 4) {
+        s->hertz = 1;
+        s->sp[0].E = 5e6;
+        s->sp[0].nu = 0.3;
+        s->mu_pp = 0.5;
+        s->mu_pw = 0.3;
+        s->mur_pp = 0.05;
+    }
     CHECK(mote_sep_prepare(s, &err) == MOTE_OK, "prepare: %s", err.msg);
     CHECK(mote_sep_insert(s, 0, n, 0, &err) == MOTE_OK, "insert: %s", err.msg);
     s->nback = 0;
@@ -668,7 +677,23 @@ static void threads_case(mote_sep_system *s, int dim, size_t n, int steps, int n
     s->threads_min_n = 1;
     s->no_gap_skip = flags & 1;
     s->no_pending = (flags & 2) != 0;
-    CHECK(mote_sep_run(s, steps * s->dt, &err) == MOTE_OK, "run: %s", err.msg);
+    if (flags & 4) { /* two halves (with 8 saved and loaded into a new system between) */
+        const double T = 0.5 * steps * s->dt;
+        CHECK(mote_sep_run(s, T, &err) == MOTE_OK, "run: %s", err.msg);
+        if (flags & 8) {
+            CHECK(mote_sep_save(s, 1, path, &err) == MOTE_OK, "save: %s", err.msg);
+            mote_sep_free(s);
+            mote_sep_init(s);
+            uint64_t seed;
+            CHECK(mote_sep_load(s, &seed, path, &err) == MOTE_OK, "load: %s", err.msg);
+            s->threads = nt;
+            s->threads_min_n = 1;
+            s->no_pending = (flags & 2) != 0;
+        }
+        CHECK(mote_sep_run(s, T, &err) == MOTE_OK, "run: %s", err.msg);
+    } else {
+        CHECK(mote_sep_run(s, steps * s->dt, &err) == MOTE_OK, "run: %s", err.msg);
+    }
     CHECK(mote_sep_save(s, 1, path, &err) == MOTE_OK, "save: %s", err.msg);
 }
 
@@ -688,6 +713,50 @@ static int same_file(const char *a, const char *b)
     if (g)
         fclose(g);
     return same;
+}
+
+/* contact hertz: the same bits on 1, 2 and 3 threads, with every step completed, and after a
+ * save and load half way (the springs of the pairs by id, the rotation and the wall springs in
+ * the state file); the run had sliding contacts, spin, rebuilds, reorders and exits. */
+static void test_hertz_threads(void)
+{
+    printf("contact hertz: the same bits on 1, 2, 3 threads, completed steps, save and load\n");
+    static const struct {
+        int dim;
+        size_t n;
+        int steps;
+    } cases[] = {{3, 4000, 160}, {2, 2000, 300}};
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        static const int how[5][2] = {{1, 4}, {2, 4}, {3, 4}, {1, 6}, {2, 12}};
+        char path[5][64];
+        mote_sep_system s[5];
+        for (int k = 0; k < 5; k++) {
+            snprintf(path[k], sizeof path[0], "/tmp/mote_sep_hertz_%d_%d.state", (int)c, k);
+            threads_case(&s[k], cases[c].dim, cases[c].n, cases[c].steps, how[k][0], 0, how[k][1],
+                         path[k]);
+        }
+        double spin = 0;
+        for (size_t i = 0; i < 3 * s[0].n; i++)
+            spin = fmax(spin, fabs(s[0].w[i]));
+        size_t springs = 0;
+        for (size_t e = 0; s[0].hist_ok && e < 3 * (size_t)s[0].nb_start[s[0].nb_n]; e++)
+            springs += s[0].hist[e] != 0;
+        CHECK(s[0].list_builds > 1 && s[0].last_sort > 0 && s[0].cnt[0].fines > 0 &&
+              s[0].contacts_pp > 0 && spin > 1 && springs > 0,
+              "case %zu exercises rebuilds (%llu), a reorder, exits, contacts (%llu), spin (%g "
+              "rad/s), springs (%zu)", c, (unsigned long long)s[0].list_builds,
+              (unsigned long long)s[0].contacts_pp, spin, springs);
+        for (int k = 1; k < 5; k++)
+            CHECK(same_file(path[0], path[k]), "case %zu (%dD): the state of way %d equals the "
+                  "one on 1 thread", c, cases[c].dim, k);
+        printf("  %dD N %zu: %llu list builds, %llu contacts, max spin %.3g rad/s\n",
+               cases[c].dim, s[0].n, (unsigned long long)s[0].list_builds,
+               (unsigned long long)s[0].contacts_pp, spin);
+        for (int k = 0; k < 5; k++) {
+            mote_sep_free(&s[k]);
+            if (!getenv("KEEP")) remove(path[k]);
+        }
+    }
 }
 
 /* The passes over the particles on 1, 2 and 3 threads give the same bits: the states written
@@ -940,7 +1009,8 @@ int main(int argc, char **argv)
                  {"grids", test_grids},           {"pair", test_pair_restitution},
                  {"tall", test_tall},             {"threads", test_threads},
                  {"first_sort", test_first_sort}, {"gap_skip", test_gap_skip},
-                 {"pending", test_pending},       {"lean_exits", test_lean_exits}};
+                 {"pending", test_pending},       {"lean_exits", test_lean_exits},
+                 {"hertz_threads", test_hertz_threads}};
     for (size_t k = 0; k < sizeof tests / sizeof tests[0]; k++)
         if (argc < 2 || !strcmp(argv[1], tests[k].name))
             tests[k].fn();

@@ -112,6 +112,8 @@ int mote_sep_plate_features(const mote_sep_plate *p, int dim, const double c[3],
 typedef struct {
     char name[32];
     double rho;          /* material density, kg/m^3 */
+    double E, nu;        /* Young's modulus (Pa; 0: not given) and Poisson's ratio (contact
+                          * hertz) */
     mote_sep_dist dist;
     int have_dist;
     double w;            /* feed mass fraction */
@@ -156,6 +158,40 @@ typedef struct {
     double e_pair[MOTE_SEP_MAX_SPECIES][MOTE_SEP_MAX_SPECIES]; /* overrides of e_pp (0: none) */
     int nc;
     double khat_used;                    /* the stiffness in use (prepare) */
+    /* the contact law (issue 56): 0 linear spring-dashpot, frictionless, no rotation (spec
+     * 2.8); 1 Hertz-Mindlin with tangential history, Coulomb friction, rotation and rolling
+     * friction (constant directional torque), the constants from the species' E and nu */
+    int hertz;
+    double mu_pp, mu_pw;                 /* sliding friction between particles, at walls and
+                                          * plates (-1: mu_pp) */
+    double mur_pp, mur_pw;               /* rolling friction (-1 at walls: mur_pp) */
+    double mu_pair[MOTE_SEP_MAX_SPECIES][MOTE_SEP_MAX_SPECIES];  /* overrides (-1: none) */
+    double mur_pair[MOTE_SEP_MAX_SPECIES][MOTE_SEP_MAX_SPECIES];
+    double E_w, nu_w;                    /* the walls' and plates' material (0: the particle's) */
+    int e_true;                          /* 1: the damping set so that a head-on rebound has the
+                                          * restitution given; 0: LIGGGHTS's beta(e) */
+    double hm_beta[MOTE_SEP_MAX_SPECIES * (MOTE_SEP_MAX_SPECIES + 1)]; /* (prepare) the damping
+                                          * of each species pair, then at the walls */
+    /* per particle with hertz (else NULL; s->cap each): angular velocity and torque (3 each),
+     * the other torques' array (the contacts' pass writes there and the two swap), and the
+     * tangential springs at walls and plates, one per axis (the axis of the contact's normal;
+     * 9 each) */
+    double *w, *tq, *tq2, *wh;
+    size_t rot_cap;
+    /* the tangential springs of the listed pairs, 3 per row entry (both copies of a pair, the
+     * same numbers: each made from the pair in the order lower id first); zero where the pair
+     * is not in contact */
+    double *hist;
+    size_t hist_cap;
+    int nb_idx_ok;                       /* the rows' indices still name the particles they were
+                                          * built for (no removal or reorder since), */
+    size_t nb_n;                         /* the particles with rows (at the build) */
+    int hist_ok;                         /* hist holds the springs of the present rows */
+    /* the springs by the ids of their pairs (lower first), sorted: kept across a removal,
+     * reorder or rebuild (hmap_pending: the list's entries are to be filled from it) */
+    struct sep_hrec *hmap;
+    size_t nhmap, hmap_cap;
+    int hmap_pending;
     double *fx, *fy, *fz;                /* last contact forces, per particle */
     /* the cells (the core grid, grid.h): edges >= d_max + skin, at most about one per
      * particle, on the axes x, (y,) z; a counting sort at each search */

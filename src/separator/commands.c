@@ -211,6 +211,8 @@ static int do_species(void *vm, const mote_call *c, mote_err *err)
     memset(sp, 0, sizeof *sp);
     snprintf(sp->name, sizeof sp->name, "%s", name);
     sp->rho = mote_call_opt_r(c, "density", 0);
+    sp->E = mote_call_opt_r(c, "E", 0);
+    sp->nu = mote_call_opt_r(c, "nu", 0.3);
     sp->w = s->nsp == 1 ? 1 : 0; /* one species: all the feed */
     if (s->nsp == 2)
         s->sp[0].w = 0; /* several: the fractions must be given */
@@ -491,6 +493,45 @@ static int do_restitution_pair(void *vm, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
+/* friction_pair / rolling_friction_pair A B MU */
+static int do_friction_pair(void *vm, const mote_call *c, mote_err *err)
+{
+    mote_sep_system *s = &((sep_model *)vm)->sys;
+    int k[2];
+    for (int q = 0; q < 2; q++) {
+        k[q] = sep_find_species(s, c->args[q].text);
+        if (k[q] < 0)
+            return mote_call_fail(err, c, q, MOTE_EINVAL, "%s: no species '%s'", c->name,
+                                  c->args[q].text);
+    }
+    double(*t)[MOTE_SEP_MAX_SPECIES] = strcmp(c->name, "friction_pair") ? s->mur_pair : s->mu_pair;
+    t[k[0]][k[1]] = t[k[1]][k[0]] = c->args[2].r;
+    return MOTE_OK;
+}
+
+static int do_contact(void *vm, const mote_call *c, mote_err *err)
+{
+    mote_sep_system *s = &((sep_model *)vm)->sys;
+    s->hertz = c->args[0].word == 2;
+    const mote_arg *r = mote_call_opt(c, "restitution");
+    if (r && !s->hertz)
+        return mote_call_fail(err, c, mote_call_opt_index(c, "restitution"), MOTE_EINVAL,
+                              "contact: restitution= goes with hertz (the linear law's "
+                              "restitution is exact)");
+    s->e_true = !r || r->word == 1;
+    return MOTE_OK;
+}
+
+static int do_wall_material(void *vm, const mote_call *c, mote_err *err)
+{
+    mote_sep_system *s = &((sep_model *)vm)->sys;
+    if (!mote_call_opt(c, "E"))
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "wall_material: give E=PASCAL [nu=RATIO]");
+    s->E_w = mote_call_opt_r(c, "E", 0);
+    s->nu_w = mote_call_opt_r(c, "nu", 0.3);
+    return MOTE_OK;
+}
+
 static int do_stiffness(void *vm, const mote_call *c, mote_err *err)
 {
     mote_sep_system *s = &((sep_model *)vm)->sys;
@@ -673,6 +714,10 @@ static const mote_param sep_params[] = {
     {"collisions", "int dem"},    /* (off|dem) */
     {"neighbours", "int brute"},  /* (cells|brute) */
     {"parcel", "real parcel"},
+    {"friction", "real mu_pp"},
+    {"friction_wall", "real mu_pw"},
+    {"rolling_friction", "real mur_pp"},
+    {"rolling_friction_wall", "real mur_pw"},
 };
 #define SET mote_cmd_set, mote_cmd_set
 
@@ -702,7 +747,8 @@ static const mote_cmd sep_commands[] = {
      HELP_DISPERSION, SET},
     {"brownian", NULL, "r>=0", "brownian T", "Brownian diffusion at gas temperature T",
      HELP_DISPERSION, SET},
-    {"species", NULL, "@name=s! @density=r>0!", "species name=S density=RHO", "a species", HELP_SPECIES, do_species,
+    {"species", NULL, "@name=s! @density=r>0! E=r>0 nu=r(-1,0.5)",
+     "species name=S density=RHO [E=PA nu=0.3]", "a species", HELP_SPECIES, do_species,
      do_species},
     {"size", NULL, "s e{mono|lognormal|rosin_rammler|loguniform|table} d=r>0 d50=r>0 sigma=r>=1 "
      "n=r>0 min=r>0 max=r>0 basis=e{mass|number} file=f<sizes",
@@ -730,6 +776,24 @@ static const mote_cmd sep_commands[] = {
     {"restitution_pair", NULL, "s s r(0,1]", "restitution_pair A B E",
      "restitution between two species", HELP_RESTITUTION, do_restitution_pair,
      do_restitution_pair},
+    {"contact", NULL, "e{linear|hertz} restitution=e{exact|liggghts}",
+     "contact linear|hertz [restitution=exact|liggghts]", "the contact law", HELP_CONTACT,
+     do_contact, do_contact},
+    {"friction", NULL, "r>=0", "friction MU", "sliding friction between particles",
+     HELP_FRICTION, SET},
+    {"friction_wall", NULL, "r>=0", "friction_wall MU", "sliding friction at walls and grids",
+     HELP_FRICTION, SET},
+    {"friction_pair", NULL, "s s r>=0", "friction_pair A B MU",
+     "sliding friction between two species", HELP_FRICTION, do_friction_pair, do_friction_pair},
+    {"rolling_friction", NULL, "r>=0", "rolling_friction MU_R",
+     "rolling friction between particles", HELP_FRICTION, SET},
+    {"rolling_friction_wall", NULL, "r>=0", "rolling_friction_wall MU_R",
+     "rolling friction at walls and grids", HELP_FRICTION, SET},
+    {"rolling_friction_pair", NULL, "s s r>=0", "rolling_friction_pair A B MU_R",
+     "rolling friction between two species", HELP_FRICTION, do_friction_pair, do_friction_pair},
+    {"wall_material", NULL, "E=r>0 nu=r(-1,0.5)", "wall_material E=PA [nu=0.3]",
+     "the walls' and grids' elastic constants", HELP_CONTACT, do_wall_material,
+     do_wall_material},
     {"stiffness", NULL, "overlap=r(0,0.1] vimp=r>0 khat=r>0",
      "stiffness [overlap=DF] [vimp=V] [khat=K]", "the contact stiffness",
      HELP_STIFFNESS, do_stiffness, do_stiffness},

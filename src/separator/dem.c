@@ -19,29 +19,64 @@ static double zeta_of(double e)
     return -l / sqrt(SEP_PI * SEP_PI + l * l);
 }
 
-double mote_sep_khat(const mote_sep_system *s)
+/* The impact speed the contacts are sized for: vimp=, else the largest of U0, the largest
+ * terminal velocity and the feed's speed, else 1 m/s. */
+static double impact_speed(const mote_sep_system *s)
 {
-    if (s->khat > 0)
-        return s->khat;
-    double rho_max = 0, vt = 0, dmin, dmax;
-    mote_sep_size_range(s, &dmin, &dmax);
+    double vt = 0;
     for (int k = 0; k < s->nsp; k++) {
-        rho_max = fmax(rho_max, s->sp[k].rho);
         const double v = mote_sep_terminal_velocity(mote_sep_dist_max(&s->sp[k].dist),
                                                     s->sp[k].rho, s->rho_g, s->mu_g, s->g, NULL);
         if (isfinite(v))
             vt = fmax(vt, v);
     }
     const double vf = sqrt(s->vf[0] * s->vf[0] + s->vf[1] * s->vf[1] + s->vf[2] * s->vf[2]);
-    double vimp = s->v_imp > 0 ? s->v_imp : fmax(fmax(s->U0, vt), vf);
-    if (!(vimp > 0))
-        vimp = 1; /* nothing moves: any stiffness; 1 m/s */
+    const double vimp = s->v_imp > 0 ? s->v_imp : fmax(fmax(s->U0, vt), vf);
+    return vimp > 0 ? vimp : 1; /* nothing moves: any stiffness; 1 m/s */
+}
+
+double mote_sep_khat(const mote_sep_system *s)
+{
+    if (s->khat > 0)
+        return s->khat;
+    double rho_max = 0;
+    for (int k = 0; k < s->nsp; k++)
+        rho_max = fmax(rho_max, s->sp[k].rho);
+    const double vimp = impact_speed(s);
     const double df = s->delta_f > 0 ? s->delta_f : 0.05;
     return SEP_PI * rho_max * vimp * vimp / (6 * df * df);
 }
 
+/* contact hertz: the shortest Hertz contact time at the impact speed, over the pairs of
+ * species (each at its smallest size) and each species at a wall. */
+static double hertz_tc_min(const mote_sep_system *s)
+{
+    const double v = impact_speed(s);
+    double tc = INFINITY;
+    for (int a = 0; a < s->nsp; a++) {
+        const sep_material A = {s->sp[a].E, s->sp[a].nu};
+        const double ra = 0.5 * mote_sep_dist_min(&s->sp[a].dist);
+        const double ma = s->sp[a].rho * SEP_PI / 6 * 8 * ra * ra * ra;
+        for (int b = a; b < s->nsp; b++) {
+            const sep_material B = {s->sp[b].E, s->sp[b].nu};
+            const double rb = 0.5 * mote_sep_dist_min(&s->sp[b].dist);
+            const double mb = s->sp[b].rho * SEP_PI / 6 * 8 * rb * rb * rb;
+            sep_hm h;
+            sep_hm_pair(&h, &A, ra, ma, &B, rb, mb, 1, 0);
+            tc = fmin(tc, sep_hm_contact_time(h.Y, h.R, h.m, v));
+        }
+        const sep_material Wm = {s->E_w > 0 ? s->E_w : A.E, s->E_w > 0 ? s->nu_w : A.nu};
+        sep_hm h;
+        sep_hm_pair(&h, &A, ra, ma, &Wm, INFINITY, INFINITY, 1, 0);
+        tc = fmin(tc, sep_hm_contact_time(h.Y, h.R, h.m, v));
+    }
+    return tc;
+}
+
 double mote_sep_dt_limit(const mote_sep_system *s)
 {
+    if (s->hertz)
+        return hertz_tc_min(s) / (s->nc > 0 ? s->nc : 50);
     double rho_min = INFINITY, dmin, dmax;
     mote_sep_size_range(s, &dmin, &dmax);
     for (int k = 0; k < s->nsp; k++)
@@ -286,10 +321,19 @@ size_t mote_sep_pairs(mote_sep_system *s, int brute, uint32_t *pairs, size_t cap
 
 /* ---- forces --------------------------------------------------------------------------------- */
 
+/* The Hertz-Mindlin constants of a species pair (or a species at the walls, hm_w): the law's
+ * (R and m per contact) and the rolling friction. */
 typedef struct {
-    double khat, half_dt;
+    sep_hm h;
+    double mur;
+} hm_pp;
+
+typedef struct {
+    double khat, half_dt, dt;
     double g_pp[MOTE_SEP_MAX_SPECIES * MOTE_SEP_MAX_SPECIES]; /* 2 zeta(e) per species pair */
     double *pvx, *pvy, *pvz;    /* predicted velocities */
+    int hertz;
+    hm_pp hm[MOTE_SEP_MAX_SPECIES * MOTE_SEP_MAX_SPECIES], hm_w[MOTE_SEP_MAX_SPECIES];
 } force_ctx;
 
 static inline void pair_force(mote_sep_system *s, size_t i, size_t j, const double dx[3], double d2,
@@ -432,6 +476,9 @@ static int list_build(mote_sep_system *s, mote_err *err)
     s->npl = total / 2;
     s->nb_w = list_width(s);
     s->gap_ok = 0;
+    s->hist_ok = 0;
+    s->nb_idx_ok = 1;
+    s->nb_n = n;
     s->list_ok = 1;
     s->list_mods = s->mods;
     s->list_builds++;
@@ -466,6 +513,9 @@ int sep_list_from_pairs(mote_sep_system *s, const uint32_t *pairs, size_t np, mo
     s->npl = np;
     s->nb_w = list_width(s);
     s->gap_ok = 0;
+    s->hist_ok = 0;
+    s->nb_idx_ok = 1;
+    s->nb_n = n;
     return MOTE_OK;
 }
 
@@ -530,6 +580,11 @@ typedef struct {
     const int *restrict sp;
     const uint32_t *restrict nb, *restrict nb_start;
     double *restrict gx, *restrict gy, *restrict gz;
+    /* hertz: ids, angular velocities, last torques, new torques, the springs of the row
+     * entries and of the walls */
+    const uint64_t *restrict id;
+    const double *restrict w, *restrict tq;
+    double *restrict tq2, *restrict hist, *restrict wh;
 } force_arrays;
 
 /* Particle j's predicted velocity v + dt/2 F_old/m (spec 2.10 step 6), made where a contact
@@ -586,6 +641,167 @@ static inline void row_force(const force_arrays *a, const force_ctx *c, size_t i
             *mo = ov;
         *contacts += j > i;
     }
+}
+
+/* Particle j's predicted angular velocity w + dt/2 T_old / I (as its velocity's). */
+static inline void pw_of(const force_arrays *a, const force_ctx *c, size_t j, double pw[3])
+{
+    const double h = c->half_dt * sep_inv_inertia(a->im[j], a->d[j]);
+    pw[0] = a->w[3 * j] + h * a->tq[3 * j];
+    pw[1] = a->w[3 * j + 1] + h * a->tq[3 * j + 1];
+    pw[2] = a->w[3 * j + 2] + h * a->tq[3 * j + 2];
+}
+
+static inline void cross3(const double a[3], const double b[3], double c[3])
+{
+    c[0] = a[1] * b[2] - a[2] * b[1];
+    c[1] = a[2] * b[0] - a[0] * b[2];
+    c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* Particle i's Hertz-Mindlin contacts with its listed neighbours, added to F and T in the
+ * row's order. Each pair is made in the order lower id first (p, then q), whichever row it is
+ * in: its spring (the row entry's, the same in both rows), its force on p and the cross product
+ * n x F come out the same bits in both rows, and i takes +F or -F: the forces are exact
+ * opposites; the torques -r_i n x F (+-) the rolling torque. A pair out of contact gets its
+ * spring zeroed. */
+static inline void row_force_hm(const force_arrays *a, const force_ctx *c, size_t i, int dim,
+                                double F[3], double T[3], double *mo, uint64_t *contacts)
+{
+    const uint32_t e0 = a->nb_start[i], e1 = a->nb_start[i + 1];
+    const uint64_t idi = a->id[i];
+    const double ri = 0.5 * a->d[i];
+    for (uint32_t e = e0; e < e1; e++) {
+        const size_t j = a->nb[e];
+        const int first = idi < a->id[j];
+        const size_t p = first ? i : j, q = first ? j : i;
+        double *xi = a->hist + 3 * (size_t)e;
+        const double dx[3] = {a->x[p] - a->x[q], dim == 3 ? a->y[p] - a->y[q] : 0,
+                              a->z[p] - a->z[q]};
+        const double d2 = dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2];
+        const double rp = 0.5 * a->d[p], rq = 0.5 * a->d[q], R = rp + rq;
+        const double dist = sqrt(d2);
+        if (!(d2 < R * R) || !(dist > 0)) {
+            xi[0] = xi[1] = xi[2] = 0;
+            continue;
+        }
+        const double delta = R - dist;
+        const double n[3] = {dx[0] / dist, dx[1] / dist, dx[2] / dist}; /* from q to p */
+        double vp[3], vq[3], wp[3], wq[3];
+        pv_of(a, c, p, vp);
+        pv_of(a, c, q, vq);
+        pw_of(a, c, p, wp);
+        pw_of(a, c, q, wq);
+        /* the contact points' velocities: v_p + w_p x (-r_p n) and v_q + w_q x (r_q n) */
+        double cp[3], cq[3];
+        cross3(wp, n, cp);
+        cross3(wq, n, cq);
+        const double v[3] = {vp[0] - vq[0] - rp * cp[0] - rq * cq[0],
+                             vp[1] - vq[1] - rp * cp[1] - rq * cq[1],
+                             vp[2] - vq[2] - rp * cp[2] - rq * cq[2]};
+        const int sp = a->sp[p], sq = a->sp[q];
+        const hm_pp *k = &c->hm[sp * MOTE_SEP_MAX_SPECIES + sq];
+        sep_hm h = k->h;
+        h.R = rp * rq / R;
+        h.m = a->m[p] * a->m[q] / (a->m[p] + a->m[q]);
+        double Fp[3], nf[3];
+        const double fn = sep_hm_force(&h, delta, n, v, c->dt, xi, Fp);
+        cross3(n, Fp, nf);
+        /* rolling friction on p: -mu_r R* |F_n| along the relative rotation */
+        double Tr[3] = {0, 0, 0};
+        if (k->mur > 0) {
+            const double wr[3] = {wp[0] - wq[0], wp[1] - wq[1], wp[2] - wq[2]};
+            const double wl = sqrt(wr[0] * wr[0] + wr[1] * wr[1] + wr[2] * wr[2]);
+            if (wl > 0) {
+                const double f = -k->mur * h.R * fn / wl;
+                Tr[0] = f * wr[0], Tr[1] = f * wr[1], Tr[2] = f * wr[2];
+            }
+        }
+        const double sgn = first ? 1 : -1;
+        for (int b = 0; b < 3; b++) {
+            F[b] += sgn * Fp[b];
+            T[b] += sgn * Tr[b] - ri * nf[b];
+        }
+        const double ov = delta / (2 * (rp < rq ? rp : rq));
+        if (ov > *mo)
+            *mo = ov;
+        *contacts += first;
+    }
+}
+
+/* One Hertz-Mindlin contact of particle i with a wall or plate at rest (n from the wall to the
+ * centre, overlap delta), its spring the one of the normal's axis: added to F and T. */
+static inline void wall_hm(const force_arrays *a, const force_ctx *c, size_t i, const double n[3],
+                           double delta, const double pv[3], const double pw[3], double F[3],
+                           double T[3], unsigned *used)
+{
+    const double r = 0.5 * a->d[i];
+    const double ax = fabs(n[0]), ay = fabs(n[1]), az = fabs(n[2]);
+    const int slot = ax >= ay && ax >= az ? 0 : ay >= az ? 1 : 2;
+    *used |= 1u << slot;
+    double cw[3], Fw[3], nf[3];
+    cross3(pw, n, cw);
+    const double v[3] = {pv[0] - r * cw[0], pv[1] - r * cw[1], pv[2] - r * cw[2]};
+    const hm_pp *k = &c->hm_w[a->sp[i]];
+    sep_hm h = k->h;
+    h.R = r;
+    h.m = a->m[i];
+    const double fn = sep_hm_force(&h, delta, n, v, c->dt, a->wh + 9 * i + 3 * slot, Fw);
+    cross3(n, Fw, nf);
+    for (int b = 0; b < 3; b++) {
+        F[b] += Fw[b];
+        T[b] -= r * nf[b];
+    }
+    const double wl = sqrt(pw[0] * pw[0] + pw[1] * pw[1] + pw[2] * pw[2]);
+    if (k->mur > 0 && wl > 0) {
+        const double f = -k->mur * r * fn / wl;
+        for (int b = 0; b < 3; b++)
+            T[b] += f * pw[b];
+    }
+}
+
+/* Particle i's walls and plates by Hertz-Mindlin; the springs of the axes not touched zeroed. */
+static inline void walls_hm(const mote_sep_system *s, const force_arrays *a, const force_ctx *c,
+                            size_t i, int wall, double F[3], double T[3], double *mo)
+{
+    unsigned used = 0;
+    if (wall || s->nplate) {
+        double pv[3], pw[3];
+        pv_of(a, c, i, pv);
+        pw_of(a, c, i, pw);
+        const double pos[3] = {a->x[i], a->y[i], a->z[i]}, r = 0.5 * a->d[i];
+        const double hi[3] = {s->W, s->D, s->H};
+        for (int ax = 0; wall && ax < 3; ax++) {
+            if (ax == 1 && s->dim == 2)
+                continue;
+            const int lo_wall = ax < 2 || !s->open_bottom, hi_wall = ax < 2 || !s->open_top;
+            const double dlo = r - pos[ax], dhi = pos[ax] + r - hi[ax];
+            double n[3] = {0, 0, 0};
+            if (lo_wall && dlo > 0) {
+                n[ax] = 1;
+                wall_hm(a, c, i, n, dlo, pv, pw, F, T, &used);
+                *mo = fmax(*mo, dlo / a->d[i]);
+            }
+            if (hi_wall && dhi > 0) {
+                n[ax] = -1;
+                wall_hm(a, c, i, n, dhi, pv, pw, F, T, &used);
+                *mo = fmax(*mo, dhi / a->d[i]);
+            }
+        }
+        for (int q = 0; q < s->nplate; q++) {
+            double delta[4], nrm[4][3];
+            const int nf = mote_sep_plate_features(&s->plate[q], s->dim, pos, r, delta, nrm);
+            for (int f = 0; f < nf; f++) {
+                wall_hm(a, c, i, nrm[f], delta[f], pv, pw, F, T, &used);
+                *mo = fmax(*mo, delta[f] / a->d[i]);
+            }
+        }
+    }
+    for (int slot = 0; slot < 3; slot++)
+        if (!(used >> slot & 1)) {
+            double *x = a->wh + 9 * i + 3 * slot;
+            x[0] = x[1] = x[2] = 0;
+        }
 }
 
 /* Each row's smallest gap at the build, from the build's positions (so a loaded list gets the
@@ -715,7 +931,8 @@ static void list_forces(mote_sep_system *s, const force_ctx *c, double g_w, int 
     const int nt = sep_threads(s), dim = s->dim, nplate = s->nplate;
     const force_arrays a = {s->x,  s->y,  s->z,  s->d,  s->m,  s->im,       s->vx,
                             s->vy, s->vz, s->fx, s->fy, s->fz, s->s, s->nb, s->nb_start,
-                            s->gx, s->gy, s->gz};
+                            s->gx, s->gy, s->gz, s->id, s->w, s->tq, s->tq2, s->hist, s->wh};
+    const int hertz = c->hertz;
     const double W = s->W, D = s->D, H = s->H;
     double mo = s->max_overlap;
     uint64_t contacts = 0, skips = 0;
@@ -731,6 +948,18 @@ static void list_forces(mote_sep_system *s, const force_ctx *c, double g_w, int 
          * decides), made by the drift when it knew the present positions */
         const int wall = exc ? exc[i] & SEP_EXC_WALL
                              : sep_near_wall(0.5 * a.d[i], a.x[i], a.y[i], a.z[i], W, D, H, dim);
+        if (hertz) { /* (the walls, neighbours and plates by Hertz-Mindlin; no row skipped) */
+            double T[3] = {0, 0, 0};
+            walls_hm(s, &a, c, i, wall, F, T, &mo);
+            row_force_hm(&a, c, i, dim, F, T, &mo, &contacts);
+            a.gx[i] = F[0];
+            a.gy[i] = F[1];
+            a.gz[i] = F[2];
+            a.tq2[3 * i] = T[0];
+            a.tq2[3 * i + 1] = T[1];
+            a.tq2[3 * i + 2] = T[2];
+            continue;
+        }
         if (wall) {
             double pvel[3];
             pv_of(&a, c, i, pvel);
@@ -762,6 +991,8 @@ static void list_forces(mote_sep_system *s, const force_ctx *c, double g_w, int 
     t = s->fx, s->fx = s->gx, s->gx = t;
     t = s->fy, s->fy = s->gy, s->gy = t;
     t = s->fz, s->fz = s->gz, s->gz = t;
+    if (hertz)
+        t = s->tq, s->tq = s->tq2, s->tq2 = t;
     s->g_cap = s->cap;
     s->kick_h = kick ? c->half_dt : 0;
     s->max_overlap = mo;
@@ -800,12 +1031,34 @@ int sep_pv_reserve(mote_sep_system *s, mote_err *err)
 int sep_contact_forces(mote_sep_system *s, double dt, int kick, int pred, mote_err *err)
 {
     const size_t n = s->n;
-    force_ctx c = {.khat = s->khat_used, .half_dt = 0.5 * dt};
+    force_ctx c = {.khat = s->khat_used, .half_dt = 0.5 * dt, .dt = dt, .hertz = s->hertz};
     for (int a = 0; a < s->nsp; a++)
         for (int b = 0; b < s->nsp; b++) {
             const double e = s->e_pair[a][b] > 0 ? s->e_pair[a][b] : s->e_pp;
             c.g_pp[a * MOTE_SEP_MAX_SPECIES + b] = e < 1 ? 2 * zeta_of(e) : 0;
         }
+    if (s->hertz) {
+        /* the pairs' constants (the damping from prepare) */
+        const int M = MOTE_SEP_MAX_SPECIES;
+        for (int a = 0; a < s->nsp; a++) {
+            const sep_material A = {s->sp[a].E, s->sp[a].nu};
+            for (int b = 0; b < s->nsp; b++) {
+                const sep_material B = {s->sp[b].E, s->sp[b].nu};
+                hm_pp *k = &c.hm[a * M + b];
+                const double mu = s->mu_pair[a][b] >= 0 ? s->mu_pair[a][b] : s->mu_pp;
+                sep_hm_pair(&k->h, &A, 1, 1, &B, 1, 1, 1, mu);
+                k->h.beta = s->hm_beta[a * M + b];
+                k->mur = s->mur_pair[a][b] >= 0 ? s->mur_pair[a][b] : s->mur_pp;
+            }
+            const sep_material Wm = {s->E_w > 0 ? s->E_w : A.E, s->E_w > 0 ? s->nu_w : A.nu};
+            hm_pp *k = &c.hm_w[a];
+            sep_hm_pair(&k->h, &A, 1, 1, &Wm, 1, 1, 1, s->mu_pw >= 0 ? s->mu_pw : s->mu_pp);
+            k->h.beta = s->hm_beta[M * M + a];
+            k->mur = s->mur_pw >= 0 ? s->mur_pw : s->mur_pp;
+        }
+        if (sep_rot_reserve(s, err))
+            return err->code;
+    }
     /* whether the pair list still holds (nothing added, removed or reordered, no particle moved
      * more than skin/2 since its build); without it, the predicted velocities */
     double dmin, dmax;
@@ -813,6 +1066,9 @@ int sep_contact_forces(mote_sep_system *s, double dt, int kick, int pred, mote_e
     const double skin0 = s->skin_used;
     s->skin_used = s->brute || s->skin < 0 ? 0 : s->skin > 0 ? s->skin : 0.3 * dmin;
     const int listed = !s->brute && s->skin_used > 0;
+    if (s->hertz && !listed)
+        return mote_fail(err, MOTE_EINVAL, "separator: contact hertz needs the pair list "
+                         "(neighbours cells)");
     const int can = listed && s->list_ok && s->mods == s->list_mods;
     const double lim = 0.25 * s->skin_used * s->skin_used;
     const double e_w = s->e_pw >= 0 ? s->e_pw : s->e_pp, g_w = e_w < 1 ? 2 * zeta_of(e_w) : 0;
@@ -861,8 +1117,8 @@ int sep_contact_forces(mote_sep_system *s, double dt, int kick, int pred, mote_e
             /* the periodic reorder by cells (spec 2.9) rides on a rebuild, and on the first:
              * particles placed at random have neighbours anywhere in the arrays, which costs
              * cache misses on one thread and the other thread's cache lines on two */
-            int rc = MOTE_OK;
-            if (s->nsort > 0 &&
+            int rc = sep_hist_stash(s, err);
+            if (!rc && s->nsort > 0 &&
                 (s->list_builds == 0 || s->steps - s->last_sort >= (uint64_t)s->nsort)) {
                 rc = sep_cells_build(s, err);
                 if (!rc)
@@ -874,6 +1130,8 @@ int sep_contact_forces(mote_sep_system *s, double dt, int kick, int pred, mote_e
             if (rc)
                 return rc;
         }
+        if (s->hertz && !s->hist_ok && sep_hist_fill(s, err))
+            return err->code;
         /* (the drift's wall tests hold for the particles as they are: checked, not reordered) */
         list_forces(s, &c, g_w, kick, !can || moved, checked && !reordered ? s->exc : NULL, dmin);
         return MOTE_OK;
@@ -950,10 +1208,142 @@ int sep_reorder(mote_sep_system *s, mote_err *err)
     PERMUTE(s, int);
     PERMUTE(id, uint64_t);
 #undef PERMUTE
+    /* the rotation's arrays: k values a particle */
+    double *rot[3] = {s->w, s->tq, s->wh};
+    const int kr[3] = {3, 3, 9};
+    for (int a = 0; a < 3 && s->w; a++) {
+        double *t_ = malloc((n ? n : 1) * (size_t)kr[a] * sizeof *t_);
+        if (!t_) {
+            free(tmp);
+            return mote_fail(err, MOTE_ENOMEM, "separator: out of memory to reorder");
+        }
+        for (size_t k = 0; k < n; k++)
+            memcpy(t_ + (size_t)kr[a] * k, rot[a] + (size_t)kr[a] * p[k], (size_t)kr[a] * sizeof *t_);
+        memcpy(rot[a], t_, n * (size_t)kr[a] * sizeof *t_);
+        free(t_);
+    }
+    s->nb_idx_ok = 0;
     /* (the predicted velocities are made where they are needed, after any reorder) */
     s->last_sort = s->steps;
     free(tmp);
     s->built_step = 0; /* the lists now point at the old order */
     s->list_ok = 0;
+    return MOTE_OK;
+}
+
+/* ---- rotation and the tangential springs (contact hertz) ------------------------------------ */
+
+int sep_rot_reserve(mote_sep_system *s, mote_err *err)
+{
+    const size_t cap = s->cap ? s->cap : 1;
+    if (s->w && s->rot_cap >= cap)
+        return MOTE_OK;
+    double **a[4] = {&s->w, &s->tq, &s->tq2, &s->wh};
+    const size_t k[4] = {3, 3, 3, 9};
+    const size_t old = s->w ? s->rot_cap : 0;
+    for (int q = 0; q < 4; q++) {
+        double *p = realloc(*a[q], cap * k[q] * sizeof *p);
+        if (!p)
+            return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the rotation of %zu "
+                             "particles", cap);
+        memset(p + old * k[q], 0, (cap - old) * k[q] * sizeof *p);
+        *a[q] = p;
+    }
+    s->rot_cap = cap;
+    return MOTE_OK;
+}
+
+static int cmp_hrec(const void *x, const void *y)
+{
+    const struct sep_hrec *a = x, *b = y;
+    return a->a != b->a ? (a->a > b->a) - (a->a < b->a) : (a->b > b->b) - (a->b < b->b);
+}
+
+/* The list's springs that are not zero, by id (each pair once: from the row of its lower id),
+ * appended to *out (of *cap), sorted. */
+static int hist_from_list(const mote_sep_system *s, struct sep_hrec **out, size_t *n,
+                          size_t *cap, mote_err *err)
+{
+    const size_t nr = s->nb_n < s->n ? s->nb_n : s->n;
+    for (size_t i = 0; i < nr; i++)
+        for (uint32_t e = s->nb_start[i]; e < s->nb_start[i + 1]; e++) {
+            const size_t j = s->nb[e];
+            const double *xi = s->hist + 3 * (size_t)e;
+            if (j >= s->n || !(s->id[i] < s->id[j]) || (xi[0] == 0 && xi[1] == 0 && xi[2] == 0))
+                continue;
+            if (sep_reserve((void **)out, cap, *n + 1, sizeof **out, err))
+                return err->code;
+            (*out)[(*n)++] = (struct sep_hrec){s->id[i], s->id[j], {xi[0], xi[1], xi[2]}};
+        }
+    if (*n > 1)
+        qsort(*out, *n, sizeof **out, cmp_hrec);
+    return MOTE_OK;
+}
+
+int sep_hist_stash(mote_sep_system *s, mote_err *err)
+{
+    if (!s->hertz || s->hmap_pending)
+        return MOTE_OK;
+    s->nhmap = 0;
+    if (s->hist_ok && s->nb_idx_ok && s->hist &&
+        hist_from_list(s, &s->hmap, &s->nhmap, &s->hmap_cap, err))
+        return err->code;
+    s->hmap_pending = 1;
+    return MOTE_OK;
+}
+
+int sep_hist_collect(const mote_sep_system *s, struct sep_hrec **out, size_t *n, mote_err *err)
+{
+    size_t cap = 0;
+    *out = NULL;
+    *n = 0;
+    if (!s->hertz)
+        return MOTE_OK;
+    if (s->hmap_pending) {
+        if (s->nhmap) {
+            *out = malloc(s->nhmap * sizeof **out);
+            if (!*out)
+                return mote_fail(err, MOTE_ENOMEM, "separator: out of memory");
+            memcpy(*out, s->hmap, s->nhmap * sizeof **out);
+            *n = s->nhmap;
+        }
+        return MOTE_OK;
+    }
+    if (s->hist_ok && s->nb_idx_ok && s->hist && hist_from_list(s, out, n, &cap, err)) {
+        free(*out);
+        *out = NULL;
+        return err->code;
+    }
+    return MOTE_OK;
+}
+
+int sep_hist_fill(mote_sep_system *s, mote_err *err)
+{
+    const size_t nr = s->nb_n, ne = s->nb_start ? s->nb_start[nr] : 0;
+    if (sep_reserve((void **)&s->hist, &s->hist_cap, 3 * ne + 3, sizeof *s->hist, err))
+        return err->code;
+    const struct sep_hrec *map = s->hmap_pending ? s->hmap : NULL;
+    const size_t nm = map ? s->nhmap : 0;
+    const int nt = sep_threads(s);
+    double *hist = s->hist;
+    const uint64_t *id = s->id;
+    const uint32_t *nb = s->nb, *start = s->nb_start;
+#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
+    for (size_t i = 0; i < nr; i++)
+        for (uint32_t e = start[i]; e < start[i + 1]; e++) {
+            double *xi = hist + 3 * (size_t)e;
+            xi[0] = xi[1] = xi[2] = 0;
+            if (!nm)
+                continue;
+            const size_t j = nb[e];
+            const struct sep_hrec key = {id[i] < id[j] ? id[i] : id[j],
+                                         id[i] < id[j] ? id[j] : id[i], {0, 0, 0}};
+            const struct sep_hrec *r = bsearch(&key, map, nm, sizeof *map, cmp_hrec);
+            if (r)
+                memcpy(xi, r->xi, sizeof r->xi);
+        }
+    s->hmap_pending = 0;
+    s->nhmap = 0;
+    s->hist_ok = 1;
     return MOTE_OK;
 }

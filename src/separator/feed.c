@@ -41,7 +41,17 @@ static int grow(mote_sep_system *s, size_t need, mote_err *err)
     GROW(fz);
 #undef GROW
     s->cap = cap;
-    return MOTE_OK;
+    return s->w ? sep_rot_reserve(s, err) : MOTE_OK; /* (the rotation's, with hertz) */
+}
+
+/* A new particle i at rest in rotation, its wall springs zero. */
+static void rot_zero(mote_sep_system *s, size_t i)
+{
+    if (!s->w)
+        return;
+    memset(s->w + 3 * i, 0, 3 * sizeof *s->w);
+    memset(s->tq + 3 * i, 0, 3 * sizeof *s->tq);
+    memset(s->wh + 9 * i, 0, 9 * sizeof *s->wh);
 }
 
 int sep_append(mote_sep_system *s, int k, uint64_t id, const double v[11], mote_err *err)
@@ -64,6 +74,7 @@ int sep_append(mote_sep_system *s, int k, uint64_t id, const double v[11], mote_
     s->fx[i] = v[8];
     s->fy[i] = v[9];
     s->fz[i] = v[10];
+    rot_zero(s, i);
     return MOTE_OK;
 }
 
@@ -130,6 +141,7 @@ static int place(mote_sep_system *s, int k, double d, mote_err *err)
             return -1;
         const size_t i = s->n++;
         s->mods++;
+        rot_zero(s, i);
         s->x[i] = px;
         s->y[i] = py;
         s->z[i] = pz;

@@ -149,6 +149,57 @@ int sep_profiles_alloc(mote_sep_system *s, mote_err *err)
     return MOTE_OK;
 }
 
+/* contact hertz: what it needs (collisions, the pair list, each species' E and nu, friction
+ * >= 0), and the damping of each pair and at the walls (the restitution's beta, once per
+ * distinct value). */
+static int prepare_hertz(mote_sep_system *s, mote_err *err)
+{
+    if (!s->dem)
+        return mote_fail(err, MOTE_EINVAL, "separator: contact hertz with collisions off: "
+                         "nothing would collide (collisions dem)");
+    if (s->brute)
+        return mote_fail(err, MOTE_EINVAL, "separator: contact hertz needs the cells' pair list "
+                         "(neighbours cells)");
+    for (int k = 0; k < s->nsp; k++) {
+        const mote_sep_species *p = &s->sp[k];
+        if (!(p->E > 0 && p->E < 1e15))
+            return mote_fail(err, MOTE_EINVAL, "separator: contact hertz: species %s has no "
+                             "Young's modulus (species name=%s density=%g E=PASCAL nu=RATIO)",
+                             p->name, p->name, p->rho);
+        if (!(p->nu > -1 && p->nu < 0.5))
+            return mote_fail(err, MOTE_EINVAL, "separator: species %s: Poisson's ratio %g is "
+                             "outside (-1, 0.5)", p->name, p->nu);
+    }
+    if (!(s->E_w == 0 || (s->E_w > 0 && s->E_w < 1e15)) || !(s->nu_w > -1 && s->nu_w < 0.5))
+        return mote_fail(err, MOTE_EINVAL, "separator: wall_material E=%g nu=%g: E > 0 and nu in "
+                         "(-1, 0.5)", s->E_w, s->nu_w);
+    const double mu[4] = {s->mu_pp, s->mur_pp, s->mu_pw, s->mur_pw};
+    const char *const mname[4] = {"friction", "rolling_friction", "friction_wall",
+                                   "rolling_friction_wall"};
+    for (int q = 0; q < 4; q++)
+        if (!(mu[q] >= 0 && mu[q] <= 1e6) && !(q >= 2 && mu[q] == -1))
+            return mote_fail(err, MOTE_EINVAL, "separator: %s %g: must be >= 0", mname[q], mu[q]);
+    const int M = MOTE_SEP_MAX_SPECIES;
+    double seen_e[M * (M + 1)], seen_b[M * (M + 1)];
+    int nseen = 0;
+    for (int a = 0; a < s->nsp; a++)
+        for (int b = 0; b <= s->nsp; b++) { /* (b == nsp: the walls) */
+            const double e = b == s->nsp ? (s->e_pw >= 0 ? s->e_pw : s->e_pp)
+                             : s->e_pair[a][b] > 0 ? s->e_pair[a][b] : s->e_pp;
+            double beta = NAN;
+            for (int q = 0; q < nseen; q++)
+                if (seen_e[q] == e)
+                    beta = seen_b[q];
+            if (isnan(beta)) {
+                beta = s->e_true ? sep_hm_beta_exact(e) : sep_hm_beta_liggghts(e);
+                seen_e[nseen] = e;
+                seen_b[nseen++] = beta;
+            }
+            s->hm_beta[b == s->nsp ? M * M + a : a * M + b] = beta;
+        }
+    return MOTE_OK;
+}
+
 int mote_sep_prepare(mote_sep_system *s, mote_err *err)
 {
     if (!(s->W > 0) || !(s->H > 0) || (s->dim == 3 && !(s->D > 0)))
@@ -272,6 +323,11 @@ int mote_sep_prepare(mote_sep_system *s, mote_err *err)
                          "would collide as one particle of its size, which needs a "
                          "coarse-graining law this version does not have; use collisions off "
                          "(parcels follow the gas independently) or parcel 1", s->parcel);
+    if (s->hertz) {
+        int rc = prepare_hertz(s, err);
+        if (rc)
+            return rc;
+    }
     if (s->dem) {
         if (s->nc < 20)
             return mote_fail(err, MOTE_EINVAL, "separator: N_c must be at least 20, found %d",

@@ -21,6 +21,37 @@ void sep_hm_pair(sep_hm *h, const sep_material *a, double R1, double m1, const s
                  double R2, double m2, double e, double mu);
 double sep_hm_force(const sep_hm *h, double delta, const double n[3], const double v[3],
                     double dt, double xi[3], double F[3]);
+/* The damping ratio beta (<= 0) of the law above for which a head-on impact rebounds with
+ * restitution e (0 < e <= 1): the rebound of this law depends on beta alone (not on the speed,
+ * sizes, masses or moduli), found by integrating the dimensionless impact and bisecting. */
+double sep_hm_beta_exact(double e);
+/* LIGGGHTS's beta(e) = ln e / sqrt(ln^2 e + pi^2). */
+double sep_hm_beta_liggghts(double e);
+/* The Hertz contact time of a head-on impact at speed v (the undamped law): 2.868 (m^2 /
+ * (R Y^2 v))^(1/5). */
+double sep_hm_contact_time(double Y, double R, double m, double v);
+
+/* A pair's tangential spring by the ids of the pair (a < b). */
+struct sep_hrec {
+    uint64_t a, b;
+    double xi[3];
+};
+/* dem.c: keep the listed pairs' springs by their ids (before a removal, reorder or rebuild of
+ * the list makes their places meaningless; nothing when there is nothing to keep or they are
+ * kept already). */
+int sep_hist_stash(mote_sep_system *s, mote_err *err);
+/* The springs of the list's entries from the ones kept (or zero); s->hist_ok after. */
+int sep_hist_fill(mote_sep_system *s, mote_err *err);
+/* The springs of the contacts now, as records sorted by id (malloc'ed; *n of them): the ones
+ * kept, or the list's (for the state file). */
+int sep_hist_collect(const mote_sep_system *s, struct sep_hrec **out, size_t *n, mote_err *err);
+/* The rotation arrays (hertz) for s->cap particles, the new ones zero. */
+int sep_rot_reserve(mote_sep_system *s, mote_err *err);
+/* 1 / the moment of inertia of a solid sphere of mass m (1 / m in im) and diameter d */
+static inline double sep_inv_inertia(double im, double d)
+{
+    return 10 * im / (d * d);
+}
 
 /* the most steps a run may take (some 10^4 years at 10^5 steps a second): more is refused */
 #define SEP_STEPS_MAX 1e13

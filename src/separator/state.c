@@ -62,12 +62,21 @@ static const mote_sf_codec REAL = {sizeof(double), real_put, real_get, NULL};
 #define SU(K, NAME, M)                                                                       \
     {.key = K, .name = NAME, .type = MOTE_SF_U64, .offset = offsetof(mote_sep_system, M),    \
      .lo = MOTE_SF_ANY}
-/* the file's version: 2 added `real parcel` (read as 1 from version 1) */
-#define SEP_STATE_VERSION 2
+/* the file's version: 2 added `real parcel` (read as 1 from version 1); 3 the contact law
+ * (hertz, friction, the species' E and nu, per-pair friction, the springs of the pairs, and
+ * per particle with hertz its rotation and wall springs; read from older files as the linear
+ * law) */
+#define SEP_STATE_VERSION 3
 /* a value added in file version 2 (read as its default from version 1) */
 #define SR2(NAME, M)                                                                         \
     {.key = "real " NAME, .name = NAME, .type = MOTE_SF_CODEC,                            \
      .offset = offsetof(mote_sep_system, M), .codec = &REAL, .since = 2}
+#define SR3(NAME, M)                                                                         \
+    {.key = "real " NAME, .name = NAME, .type = MOTE_SF_CODEC,                            \
+     .offset = offsetof(mote_sep_system, M), .codec = &REAL, .since = 3}
+#define SI3(NAME, M)                                                                         \
+    {.key = "int " NAME, .name = NAME, .type = MOTE_SF_INT,                               \
+     .offset = offsetof(mote_sep_system, M), .lo = 0, .hi = 1, .since = 3}
 static const mote_sf_field SCALARS[] = {
     SR("W", W), SR("H", H), SR("D", D), SR("D2", D2), SR("U0", U0), SR("rho_g", rho_g),
     SR("mu_g", mu_g), SR("g", g), SR("eps_gas_min", eps_gas_min), SR("chi", chi),
@@ -78,6 +87,8 @@ static const mote_sf_field SCALARS[] = {
     SR("fy1", fy1), SR("fy2", fy2), SR("vfx", vf[0]), SR("vfy", vf[1]), SR("vfz", vf[2]),
     SR("avg_from", avg_from), SR("prof_time", prof_time), SR("prof_wait", prof_wait),
     SR("max_overlap", max_overlap), SR("t", t), SR2("parcel", parcel),
+    SR3("mu_pp", mu_pp), SR3("mu_pw", mu_pw), SR3("mur_pp", mur_pp), SR3("mur_pw", mur_pw),
+    SR3("E_w", E_w), SR3("nu_w", nu_w), SI3("hertz", hertz), SI3("e_true", e_true),
     SI("dim", dim), SI("open_bottom", open_bottom), SI("open_top", open_top),
     SI("coupling", coupling), SI("K", K), SI("dem", dem), SI("brute", brute), SI("nc", nc),
     SI("nsort", nsort), SI("eps_r_valid", eps_r_valid),
@@ -125,13 +136,18 @@ typedef struct {
     char name[sizeof ((mote_sep_species *)0)->name];
     int have, type, basis;
     double rho, w, a, b, lo, hi;
+    double E, nu;
 } sp_row;
 static const mote_sf_field SP[] = {
     {.key = "sp", .name = "NAME", .type = MOTE_SF_WORD, .offset = offsetof(sp_row, name),
      .size = sizeof ((sp_row *)0)->name},
     IK(NULL, "HAVE", sp_row, have, 0, 1), IK(NULL, "TYPE", sp_row, type, 0, MOTE_SEP_LOGUNIFORM),
     IK(NULL, "BASIS", sp_row, basis, 0, 1), R("RHO", sp_row, rho), R("W", sp_row, w),
-    R("A", sp_row, a), R("B", sp_row, b), R("LO", sp_row, lo), R("HI", sp_row, hi)};
+    R("A", sp_row, a), R("B", sp_row, b), R("LO", sp_row, lo), R("HI", sp_row, hi),
+    {.name = "E", .type = MOTE_SF_CODEC, .offset = offsetof(sp_row, E), .codec = &REAL,
+     .since = 3},
+    {.name = "NU", .type = MOTE_SF_CODEC, .offset = offsetof(sp_row, nu), .codec = &REAL,
+     .since = 3}};
 
 typedef struct { double d, F; } table_row;
 static const mote_sf_field TROW[] = {RK("row", "D", table_row, d), R("F", table_row, F)};
@@ -214,21 +230,53 @@ static const mote_sf_field PAIR[] = {
     {.key = "l", .name = "I", .type = MOTE_SF_U32, .offset = 0, .lo = MOTE_SF_ANY},
     {.name = "J", .type = MOTE_SF_U32, .offset = sizeof(uint32_t), .lo = MOTE_SF_ANY}};
 
-/* A particle: id, species (any: checked against the species), d, m, x, y, z, vx, vy, vz, fx, fy, fz and, with a pair list that
- * still serves, the position where the list was built. */
+/* The tangential springs of the pairs in contact (contact hertz; version 3): the ids, lower
+ * first, and the spring. */
+static const mote_sf_field N_HIST[] = {{.key = "springs", .name = "N", .type = MOTE_SF_U64,
+                                        .lo = 0, .hi = 1e10, .since = 3}};
+static const mote_sf_field HREC[] = {
+    UK("h", "A", struct sep_hrec, a), UK(NULL, "B", struct sep_hrec, b),
+    {.name = "XI", .type = MOTE_SF_CODEC, .offset = offsetof(struct sep_hrec, xi), .count = 3,
+     .codec = &REAL}};
+
+/* A particle: id, species (any: checked against the species), d, m, x, y, z, vx, vy, vz, fx,
+ * fy, fz, with contact hertz its angular velocity, torque and wall springs (version 3), and,
+ * with a pair list that still serves, the position where the list was built. */
 typedef struct {
     uint64_t id;
     int s;
     double v[11];
+    double rot[15];
     double xref[3];
 } p_row;
 static const mote_sf_field P[] = {
     UK("p", "ID", p_row, id), IK(NULL, "SPECIES", p_row, s, 1, 0), R("D", p_row, v[0]),
     R("M", p_row, v[1]), R("X", p_row, v[2]), R("Y", p_row, v[3]), R("Z", p_row, v[4]),
     R("VX", p_row, v[5]), R("VY", p_row, v[6]), R("VZ", p_row, v[7]), R("FX", p_row, v[8]),
-    R("FY", p_row, v[9]), R("FZ", p_row, v[10]),
+    R("FY", p_row, v[9]), R("FZ", p_row, v[10])};
+static const mote_sf_field P_ROT[] = {
+    {.name = "W", .type = MOTE_SF_CODEC, .offset = offsetof(p_row, rot), .count = 3,
+     .codec = &REAL},
+    {.name = "TORQUE", .type = MOTE_SF_CODEC, .offset = offsetof(p_row, rot[3]), .count = 3,
+     .codec = &REAL},
+    {.name = "WALL_SPRINGS", .type = MOTE_SF_CODEC, .offset = offsetof(p_row, rot[6]),
+     .count = 9, .codec = &REAL}};
+static const mote_sf_field P_XREF[] = {
     {.name = "XREF", .type = MOTE_SF_CODEC, .offset = offsetof(p_row, xref), .count = 3,
      .codec = &REAL}};
+
+/* The particle line's descriptors: P, with rot the rotation's, with xref the list's. */
+static size_t p_fields(mote_sf_field *f, int rot, int xref)
+{
+    size_t n = 0;
+    for (size_t k = 0; k < NF(P); k++)
+        f[n++] = P[k];
+    for (size_t k = 0; rot && k < NF(P_ROT); k++)
+        f[n++] = P_ROT[k];
+    if (xref)
+        f[n++] = P_XREF[0];
+    return n;
+}
 
 /* The rows of nrows lines: the species' restitutions and a slice's values depend on the
  * number of species. */
@@ -259,10 +307,17 @@ int mote_sep_save(const mote_sep_system *s, uint64_t seed, const char *path, mot
     if (!s->class_edge || !s->eps_r || !s->prof_n)
         return mote_fail(err, MOTE_EINVAL, "%s: nothing to save before the system is prepared",
                          path);
+    /* the springs of the pairs in contact, by id (contact hertz) */
+    struct sep_hrec *hr = NULL;
+    size_t nh = 0;
+    if (sep_hist_collect(s, &hr, &nh, err))
+        return err->code;
     mote_afile af;
     int rc = mote_afile_open(&af, path, err);
-    if (rc)
+    if (rc) {
+        free(hr);
         return rc;
+    }
     FILE *f = af.f;
     const int nsp = s->nsp;
     mote_sf_write_head(f, "separator", SEP_STATE_VERSION);
@@ -275,11 +330,14 @@ int mote_sep_save(const mote_sep_system *s, uint64_t seed, const char *path, mot
     }
     put_count(f, N_SPECIES, (uint64_t)nsp);
     const mote_sf_field epair = reals_field("epair", "E", 0, nsp);
+    mote_sf_field mupair = reals_field("mupair", "MU", 0, nsp),
+                  murpair = reals_field("murpair", "MU_R", 0, nsp);
+    mupair.since = murpair.since = 3;
     for (int k = 0; k < nsp; k++) {
         const mote_sep_species *p = &s->sp[k];
         sp_row r = {.have = p->have_dist, .type = p->dist.type, .basis = p->dist.number_basis,
                     .rho = p->rho, .w = p->w, .a = p->dist.a, .b = p->dist.b, .lo = p->dist.lo,
-                    .hi = p->dist.hi};
+                    .hi = p->dist.hi, .E = p->E, .nu = p->nu};
         memcpy(r.name, p->name, sizeof r.name);
         mote_sf_write(f, SP, NF(SP), &r, SEP_STATE_VERSION);
         put_count(f, N_TABLE, (uint64_t)p->dist.tn);
@@ -289,6 +347,8 @@ int mote_sep_save(const mote_sep_system *s, uint64_t seed, const char *path, mot
         }
         mote_sf_write(f, COUNTS, NF(COUNTS), &s->cnt[k], SEP_STATE_VERSION);
         mote_sf_write(f, &epair, 1, s->e_pair[k], SEP_STATE_VERSION);
+        mote_sf_write(f, &mupair, 1, s->mu_pair[k], SEP_STATE_VERSION);
+        mote_sf_write(f, &murpair, 1, s->mur_pair[k], SEP_STATE_VERSION);
     }
     put_count(f, N_PLATES, (uint64_t)s->nplate);
     for (int q = 0; q < s->nplate; q++) {
@@ -337,13 +397,25 @@ int mote_sep_save(const mote_sep_system *s, uint64_t seed, const char *path, mot
                 const uint32_t ab[2] = {(uint32_t)i, s->nb[q]};
                 mote_sf_write(f, PAIR, NF(PAIR), ab, SEP_STATE_VERSION);
             }
+    put_count(f, N_HIST, nh);
+    for (size_t k = 0; k < nh; k++)
+        mote_sf_write(f, HREC, NF(HREC), &hr[k], SEP_STATE_VERSION);
+    free(hr);
     put_count(f, N_PARTICLES, s->n);
+    const int rot = s->hertz && s->w;
+    mote_sf_field pf[NF(P) + NF(P_ROT) + 1];
+    const size_t npf = p_fields(pf, rot, live);
     for (size_t i = 0; i < s->n; i++) {
         p_row r = {s->id[i], s->s[i], {s->d[i], s->m[i], s->x[i], s->y[i], s->z[i], s->vx[i],
-                   s->vy[i], s->vz[i], s->fx[i], s->fy[i], s->fz[i]}, {0}};
+                   s->vy[i], s->vz[i], s->fx[i], s->fy[i], s->fz[i]}, {0}, {0}};
+        if (rot) {
+            memcpy(r.rot, s->w + 3 * i, 3 * sizeof *r.rot);
+            memcpy(r.rot + 3, s->tq + 3 * i, 3 * sizeof *r.rot);
+            memcpy(r.rot + 6, s->wh + 9 * i, 9 * sizeof *r.rot);
+        }
         if (live)
             memcpy(r.xref, s->xref + 3 * i, sizeof r.xref);
-        mote_sf_write(f, P, NF(P) - !live, &r, SEP_STATE_VERSION);
+        mote_sf_write(f, pf, npf, &r, SEP_STATE_VERSION);
     }
     fprintf(f, "end\n");
     return mote_afile_commit(&af, err);
@@ -411,12 +483,16 @@ static int read_species(reader *r, mote_sep_system *s, int k, int nsp)
 {
     mote_sep_species *p = &s->sp[k];
     sp_row x;
+    x.E = 0;
+    x.nu = 0.3; /* (older files: none) */
     int rc = row(r, SP, NF(SP), &x);
     if (rc)
         return rc;
     memcpy(p->name, x.name, sizeof p->name);
     p->have_dist = x.have;
     p->rho = x.rho;
+    p->E = x.E;
+    p->nu = x.nu;
     p->w = x.w;
     p->dist = (mote_sep_dist){.type = x.type, .a = x.a, .b = x.b, .lo = x.lo, .hi = x.hi,
                               .number_basis = x.basis};
@@ -448,8 +524,19 @@ static int read_species(reader *r, mote_sep_system *s, int k, int nsp)
     if (!rc)
         rc = row(r, COUNTS, NF(COUNTS), &s->cnt[k]);
     const mote_sf_field epair = reals_field("epair", "E", 0, nsp);
+    mote_sf_field mupair = reals_field("mupair", "MU", 0, nsp),
+                  murpair = reals_field("murpair", "MU_R", 0, nsp);
+    mupair.since = murpair.since = 3;
     if (!rc)
         rc = row(r, &epair, 1, s->e_pair[k]);
+    if (!rc)
+        rc = row(r, &mupair, 1, s->mu_pair[k]);
+    if (!rc)
+        rc = row(r, &murpair, 1, s->mur_pair[k]);
+    for (int j = 0; !rc && j < nsp; j++)
+        if (!(s->mu_pair[k][j] == -1 || s->mu_pair[k][j] >= 0) ||
+            !(s->mur_pair[k][j] == -1 || s->mur_pair[k][j] >= 0))
+            rc = bad(r, "a pair's friction must be >= 0 (or -1: none)", NULL);
     return rc;
 }
 
@@ -605,14 +692,41 @@ static int read_pairs(reader *r, pairs_head *h, uint32_t **pairs, size_t *np)
     return rc;
 }
 
+/* The springs' table into s->hmap (kept for the list's entries: s->hmap_pending). */
+static int read_springs(reader *r, mote_sep_system *s)
+{
+    uint64_t n = 0;
+    int rc = r->version >= 3 ? count(r, N_HIST, &n) : MOTE_OK;
+    for (uint64_t k = 0; k < n && !rc; k++) {
+        struct sep_hrec h;
+        rc = row(r, HREC, NF(HREC), &h);
+        if (!rc && !(h.a < h.b))
+            rc = bad(r, "a spring's ids must be in increasing order", NULL);
+        if (!rc && k && !(h.a > s->hmap[k - 1].a ||
+                          (h.a == s->hmap[k - 1].a && h.b > s->hmap[k - 1].b)))
+            rc = bad(r, "the springs must be sorted by their ids, each pair once", NULL);
+        if (!rc && sep_reserve((void **)&s->hmap, &s->hmap_cap, k + 1, sizeof *s->hmap, r->err))
+            rc = r->err->code;
+        if (!rc)
+            s->hmap[s->nhmap++] = h;
+    }
+    if (!rc && n && !s->hertz)
+        rc = bad(r, "springs are kept only with contact hertz (int hertz 1)", NULL);
+    s->hmap_pending = s->hertz;
+    return rc;
+}
+
 static int read_particles(reader *r, mote_sep_system *s, int lok)
 {
     uint64_t n;
     int rc = count(r, N_PARTICLES, &n);
+    const int rot = s->hertz && r->version >= 3;
+    mote_sf_field pf[NF(P) + NF(P_ROT) + 1];
+    const size_t npf = p_fields(pf, rot, lok);
     /* the arrays grow as the lines come, so a false count allocates nothing large */
     for (uint64_t i = 0; i < n && !rc; i++) {
         p_row x;
-        rc = row(r, P, NF(P) - !lok, &x);
+        rc = row(r, pf, npf, &x);
         if (!rc)
             rc = species_ok(r, x.s, s->nsp);
         if (!rc && !(x.v[0] > 0 && x.v[1] > 0 && isfinite(x.v[0]) && isfinite(x.v[1])))
@@ -623,8 +737,19 @@ static int read_particles(reader *r, mote_sep_system *s, int lok)
         for (int q = 5; !rc && q < 8; q++)
             if (!(fabs(x.v[q]) <= MOTE_SEP_SPEED_MAX))
                 rc = bad(r, "a particle's velocity components must be up to 1e6 m/s", NULL);
+        for (int q = 0; !rc && rot && q < 15; q++)
+            if (!isfinite(x.rot[q]))
+                rc = bad(r, "a particle's rotation, torque and springs must be finite", NULL);
         if (!rc)
             rc = sep_append(s, x.s, x.id, x.v, r->err);
+        if (!rc && s->hertz) {
+            rc = sep_rot_reserve(s, r->err);
+            if (!rc) {
+                memcpy(s->w + 3 * i, x.rot, 3 * sizeof *x.rot);
+                memcpy(s->tq + 3 * i, x.rot + 3, 3 * sizeof *x.rot);
+                memcpy(s->wh + 9 * i, x.rot + 6, 9 * sizeof *x.rot);
+            }
+        }
         if (!rc && lok) {
             if (3 * (i + 1) > s->xref_cap) {
                 const size_t cap = 6 * (i + 1);
@@ -674,6 +799,8 @@ static int read_body(reader *r, mote_sep_system *s, uint64_t *seed)
     size_t np = 0;
     if (!rc)
         rc = read_pairs(r, &ph, &pairs, &np);
+    if (!rc)
+        rc = read_springs(r, s);
     if (!rc)
         rc = read_particles(r, s, ph.ok);
     /* sep_append counted the particles as additions: the counts of the file stand */

@@ -32,6 +32,11 @@ void mote_sep_init(mote_sep_system *s)
     s->e_pw = -1;
     s->parcel = 1;
     s->e_pp = 0.5;
+    s->mu_pw = s->mur_pw = -1;
+    s->e_true = 1;
+    for (int a = 0; a < MOTE_SEP_MAX_SPECIES; a++)
+        for (int b = 0; b < MOTE_SEP_MAX_SPECIES; b++)
+            s->mu_pair[a][b] = s->mur_pair[a][b] = -1;
     s->dem = 1;
     s->delta_f = 0.05;
     s->nc = 50;
@@ -91,6 +96,12 @@ void mote_sep_free(mote_sep_system *s)
     free(s->ex_c);
     free(s->back_s);
     free(s->back_d);
+    free(s->w);
+    free(s->tq);
+    free(s->tq2);
+    free(s->wh);
+    free(s->hist);
+    free(s->hmap);
     for (int k = 0; k < s->nsp; k++)
         mote_sep_dist_free(&s->sp[k].dist);
     for (int k = 0; k < s->nplate; k++)
@@ -561,6 +572,12 @@ static void remove_particle(mote_sep_system *s, size_t i)
     s->fx[i] = s->fx[l];
     s->fy[i] = s->fy[l];
     s->fz[i] = s->fz[l];
+    if (s->w) {
+        memcpy(s->w + 3 * i, s->w + 3 * l, 3 * sizeof *s->w);
+        memcpy(s->tq + 3 * i, s->tq + 3 * l, 3 * sizeof *s->tq);
+        memcpy(s->wh + 9 * i, s->wh + 9 * l, 9 * sizeof *s->wh);
+    }
+    s->nb_idx_ok = 0; /* (the rows' indices: sep_hist_stash kept the springs first) */
 }
 
 /* What the drift's pass reads and writes: the arrays and the settings, copied into each thread
@@ -781,6 +798,27 @@ drift_range(mote_sep_system *s, const drift_view *v, size_t lo, size_t hi, drift
     *r = (drift_sums){move2, {lx, ly, lz, hx, hy, hz}, moved, nexit};
 }
 
+/* The angular velocities' kicks w += h T / I with the last torques: h1 (the pending second
+ * half kick, 0: none), then h2 (0: none); one expression wherever they are made (the same bits
+ * whether a kick waits for the next step or not). */
+static void rot_kick(mote_sep_system *s, double h1, double h2)
+{
+    const size_t n = s->n;
+    const int nt = sep_threads(s);
+    double *w = s->w;
+    const double *tq = s->tq, *im = s->im, *d = s->d;
+#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
+    for (size_t i = 0; i < n; i++) {
+        const double iI = sep_inv_inertia(im[i], d[i]);
+        for (int a = 0; a < 3; a++) {
+            if (h1 > 0)
+                w[3 * i + a] += h1 * iI * tq[3 * i + a];
+            if (h2 > 0)
+                w[3 * i + a] += h2 * iI * tq[3 * i + a];
+        }
+    }
+}
+
 static int step(mote_sep_system *s, double dt, mote_err *err)
 {
     /* per particle: the half kick and the drift; the largest displacement is watched (spec
@@ -879,13 +917,18 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
     for (size_t i = 0; nexit && i < n; i++)
         if ((exc[i] & 15) && note_exit(s, i, exc[i] & 15, err))
             return err->code;
+    if (s->hertz && s->w)
+        rot_kick(s, s->kick_h, 0.5 * dt);
     s->kick_h = 0; /* (made in the drift) */
     if (s->dem && move2 > 0.0625 * 0.25 * dmin * dmin)
         s->fast_moves++;
     s->t += dt;
     s->steps++;
     /* exits and losses (spec 2.11), found in the drift's pass: the highest index first, so
-     * that the last particle, moved into each place, is never one that leaves */
+     * that the last particle, moved into each place, is never one that leaves (the springs
+     * kept by id first) */
+    if (s->nex && sep_hist_stash(s, err))
+        return err->code;
     for (size_t e = s->nex; e-- > 0;) {
         tally_exit(s, s->ex_i[e], s->ex_c[e]);
         remove_particle(s, s->ex_i[e]);
@@ -921,6 +964,8 @@ void mote_sep_complete(mote_sep_system *s)
 {
     if (!(s->kick_h > 0))
         return;
+    if (s->hertz && s->w)
+        rot_kick(s, s->kick_h, 0);
     const size_t n = s->n;
     const int nt = sep_threads(s);
     const double kh = s->kick_h;
