@@ -663,14 +663,13 @@ static inline void cross3(const double a[3], const double b[3], double c[3])
  * row's order. Each pair is made in the order lower id first (p, then q), whichever row it is
  * in: its spring (the row entry's, the same in both rows), its force on p and the cross product
  * n x F come out the same bits in both rows, and i takes +F or -F: the forces are exact
- * opposites; the torques -r_i n x F (+-) the rolling torque. A pair out of contact gets its
- * spring zeroed. */
+ * opposites; the torques -a_i n x F (+-) the rolling torque, a_i = r_i |r_ij| / (r_i + r_j)
+ * (the arm to the contact point). A pair out of contact gets its spring zeroed. */
 static inline void row_force_hm(const force_arrays *a, const force_ctx *c, size_t i, int dim,
                                 double F[3], double T[3], double *mo, uint64_t *contacts)
 {
     const uint32_t e0 = a->nb_start[i], e1 = a->nb_start[i + 1];
     const uint64_t idi = a->id[i];
-    const double ri = 0.5 * a->d[i];
     for (uint32_t e = e0; e < e1; e++) {
         const size_t j = a->nb[e];
         const int first = idi < a->id[j];
@@ -687,18 +686,21 @@ static inline void row_force_hm(const force_arrays *a, const force_ctx *c, size_
         }
         const double delta = R - dist;
         const double n[3] = {dx[0] / dist, dx[1] / dist, dx[2] / dist}; /* from q to p */
+        /* the arms to one contact point, dividing the distance as the radii: the forces' couple
+         * about it is zero, so the contact keeps the angular momentum */
+        const double ap = rp * (dist / R), aq = rq * (dist / R);
         double vp[3], vq[3], wp[3], wq[3];
         pv_of(a, c, p, vp);
         pv_of(a, c, q, vq);
         pw_of(a, c, p, wp);
         pw_of(a, c, q, wq);
-        /* the contact points' velocities: v_p + w_p x (-r_p n) and v_q + w_q x (r_q n) */
+        /* the contact point's velocities: v_p + w_p x (-a_p n) and v_q + w_q x (a_q n) */
         double cp[3], cq[3];
         cross3(wp, n, cp);
         cross3(wq, n, cq);
-        const double v[3] = {vp[0] - vq[0] - rp * cp[0] - rq * cq[0],
-                             vp[1] - vq[1] - rp * cp[1] - rq * cq[1],
-                             vp[2] - vq[2] - rp * cp[2] - rq * cq[2]};
+        const double v[3] = {vp[0] - vq[0] - ap * cp[0] - aq * cq[0],
+                             vp[1] - vq[1] - ap * cp[1] - aq * cq[1],
+                             vp[2] - vq[2] - ap * cp[2] - aq * cq[2]};
         const int sp = a->sp[p], sq = a->sp[q];
         const hm_pp *k = &c->hm[sp * MOTE_SEP_MAX_SPECIES + sq];
         sep_hm h = k->h;
@@ -717,10 +719,10 @@ static inline void row_force_hm(const force_arrays *a, const force_ctx *c, size_
                 Tr[0] = f * wr[0], Tr[1] = f * wr[1], Tr[2] = f * wr[2];
             }
         }
-        const double sgn = first ? 1 : -1;
+        const double sgn = first ? 1 : -1, ai = first ? ap : aq;
         for (int b = 0; b < 3; b++) {
             F[b] += sgn * Fp[b];
-            T[b] += sgn * Tr[b] - ri * nf[b];
+            T[b] += sgn * Tr[b] - ai * nf[b];
         }
         const double ov = delta / (2 * (rp < rq ? rp : rq));
         if (ov > *mo)
