@@ -296,4 +296,15 @@ printf '%bload pw10.state\nsave pw10b.state\n' "$S" > pwl.mote
 "$MOTE" run pwl.mote > out.txt 2> err.txt && cmp -s pw10.state pw10b.state && ok || bad "parcel: load, save differ: $(cat err.txt)"
 expect 1 "pwd.mote:7:1: error: run: parcel 10 with collisions dem: a parcel would collide as one particle of its size" pwd.mote "${S}channel 0.05 1\ngas 1.5\nspecies quartz 2650\nsize quartz mono d=1e-4\nparcel 10\nrun 0.01\n" check
 
+# contact hertz: bad input is a located error before anything runs, nothing written
+HZ="${S}dim 3\nchannel 0.02 0.06 D=0.02\nends closed closed\ngas 0 rho=0 mu=0\n"
+HZE="size glass mono d=2e-3\nfeed z=0.04 hf=0.02\ncontact hertz\ninsert glass 10\nrun 0.001\nsave hz.state\n"
+expect 1 "hz1.mote:6:42: error: species: nu must be in (-1, 0.5), found 0.5" hz1.mote "${HZ}species name=glass density=2500 E=5e6 nu=0.5\n$HZE"
+expect 1 "hz2.mote:10:1: error: insert: contact hertz: species glass has no Young's modulus (species name=glass density=2500 E=PASCAL nu=RATIO)" hz2.mote "${HZ}species name=glass density=2500\n$HZE"
+expect 1 "hz3.mote:7:10: error: friction: MU must be >= 0, found -0.1" hz3.mote "${HZ}species name=glass density=2500 E=5e6\nfriction -0.1\n$HZE"
+expect 1 "hz4.mote:7:27: error: friction_pair: MU must be >= 0, found -1" hz4.mote "${HZ}species name=glass density=2500 E=5e6\nfriction_pair glass glass -1\n$HZE"
+expect 1 "hz5.mote:7:24: error: wall_material: nu must be in (-1, 0.5), found 0.7" hz5.mote "${HZ}species name=glass density=2500 E=5e6\nwall_material E=1e9 nu=0.7\n$HZE"
+expect 1 "hz6.mote:11:1: error: insert: contact hertz with collisions off: nothing would collide (collisions dem)" hz6.mote "${HZ}species name=glass density=2500 E=5e6\ncollisions off\n$HZE"
+expect 1 "hz7.mote:7:28: error: contact: restitution= goes with hertz" hz7.mote "${HZ}species name=glass density=2500 E=5e6\ncontact linear restitution=liggghts\n$HZE"
+[ ! -e hz.state ] && ok || bad "a refused hertz script wrote its state"
 mote_test_end
