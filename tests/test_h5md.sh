@@ -183,6 +183,11 @@ elif what == "vtk":
             fail("%s: time/step" % vpath)
         return d, a
     d, a = same("vnow.vtk", "vnow.h5", ["velocity", "species", "id", "diameter", "contact_force"])
+    for dm in (3, 2):
+        hd, ha = same("hz%dnow.vtk" % dm, "hz%dnow.h5" % dm,
+                      ["velocity", "species", "id", "diameter", "contact_force", "angular_velocity"])
+        if not (abs(ha["angular_velocity/value"][0]).max() > 1):
+            fail("hz%d: no spin" % dm)
     F = v2n(d.GetPointData().GetArray("contact_force"))
     if np.count_nonzero(np.abs(F).sum(axis=1)) < 2:
         fail("VTK: no particle is in contact")
@@ -288,6 +293,12 @@ snapshot every=1000 prefix=vs/p format=vtk
 run 0.002
 S
 run vt.mote
+# contact hertz: the angular velocity too (3D: a vector; 2D: about y)
+for dm in 3 2; do
+    [ $dm = 3 ] && ch='channel 0.02 0.04 D=0.02' || ch='channel 0.02 0.04'
+    printf 'model separator\nseed 5\ndim %s\n%s\nends closed closed\ngas 0 rho=0 mu=0\nspecies name=glass density=2500 E=5e6 nu=0.3\nsize glass mono d=2e-3\nfeed z=0.02 hf=0.03\ncontact hertz\nfriction 0.5\ninsert glass 60\nrun 0.08\nsnapshot file=hz%snow.h5\nsnapshot file=hz%snow.vtk\n' $dm "$ch" $dm $dm > hz$dm.mote
+    run hz$dm.mote
+done
 printf 'seed 2\nnew 3 0.40\nstep 1\nsnapshot file=hsnow.h5\nsnapshot file=hsnow.vtk\nsnapshot every=1 prefix=hs_vs/p format=vtk\nstep 2\n' > hsv.mote
 run hsv.mote
 printf '%brun 0.05\nsnapshot file=mbnow.h5\nsnapshot file=mbnow.vtk\nsnapshot dt=0.01 prefix=mb_vs/p format=vtk\nrun 0.03\n' "$MB" > mbv.mote

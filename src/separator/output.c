@@ -454,7 +454,10 @@ static int write_frame(const mote_sep_system *s, const char *path, const char *o
                        uint64_t seed, int how, mote_err *err)
 {
     const size_t n = s->n, D = (size_t)s->dim;
-    double *buf = malloc((n ? n : 1) * (3 * D + 1) * sizeof *buf);
+    /* (with contact hertz also the angular velocity: a vector in 3D, its y component in 2D) */
+    const int rot = s->hertz && s->w;
+    const size_t nw = rot ? (D == 3 ? 3 : 1) : 0;
+    double *buf = malloc((n ? n : 1) * (3 * D + 1 + nw) * sizeof *buf);
     int32_t *species = malloc((n ? n : 1) * sizeof *species);
     int64_t *id = malloc((n ? n : 1) * sizeof *id);
     int rc;
@@ -463,6 +466,7 @@ static int write_frame(const mote_sep_system *s, const char *path, const char *o
                        n);
     } else {
         double *pos = buf, *vel = buf + n * D, *frc = buf + 2 * n * D, *dia = buf + 3 * n * D;
+        double *om = dia + n;
         for (size_t i = 0; i < n; i++) { /* 2D: the plane x, z */
             const double r[3] = {s->x[i], s->y[i], s->z[i]}, v[3] = {s->vx[i], s->vy[i], s->vz[i]},
                          F[3] = {s->fx[i], s->fy[i], s->fz[i]};
@@ -473,6 +477,8 @@ static int write_frame(const mote_sep_system *s, const char *path, const char *o
                 frc[i * D + a] = s->dem ? F[b] : 0;
             }
             dia[i] = s->d[i];
+            for (size_t a = 0; a < nw; a++)
+                om[i * nw + a] = s->w[3 * i + (nw == 3 ? a : 1)];
             species[i] = s->s[i];
             id[i] = (int64_t)s->id[i];
         }
@@ -486,6 +492,10 @@ static int write_frame(const mote_sep_system *s, const char *path, const char *o
                               .step = (int64_t)s->steps, .length_unit = "m", .time_unit = "s"};
         fr.scalar[0] = (mote_h5md_scalar){"diameter", "m", dia};
         fr.vector[0] = (mote_h5md_scalar){"contact_force", "N", frc};
+        if (nw == 3)
+            fr.vector[fr.nvector++] = (mote_h5md_scalar){"angular_velocity", "rad/s", om};
+        else if (nw == 1) /* (2D: about y, the axis out of the plane x, z) */
+            fr.scalar[fr.nscalar++] = (mote_h5md_scalar){"angular_velocity", "rad/s", om};
         fr.edges[0] = s->W;
         fr.edges[1] = s->dim == 3 ? s->D : s->H;
         fr.edges[2] = s->H;
