@@ -17,6 +17,9 @@
  *   poly N [STEPS]       its polydisperse version (bench/liggghts_poly.in): five sizes from
  *                        1.07 to 1.87 mm (ln d evenly spaced over 1 ... 2 mm), N / 5 of each, a
  *                        60 x 60 mm box; the pair stiffnesses and dampings printed for LIGGGHTS
+ *   bed N SETTLE STEPS   the contact-dominated case (issue 56, item 5; bench/liggghts_bed.in):
+ *                        the poly column with contact hertz, friction and rolling friction,
+ *                        settled for SETTLE steps (untimed), then STEPS timed
  *
  * One key=value line per run: steps_per_s, ns_per_particle_step, candidates and contacts per
  * particle, bytes_per_particle (the model's arrays, cells included) and the peak RSS. */
@@ -93,7 +96,13 @@ static double bytes_per_particle(const mote_sep_system *s)
                      (double)s->nhead_cap * sizeof(int32_t) +
                      (double)s->grid.cap_cells * sizeof(uint32_t) +
                      (double)s->grid.cap_n * (2 * sizeof(uint32_t) +
-                                              (s->grid.pos ? 3 * sizeof(double) : 0));
+                                              (s->grid.pos ? 3 * sizeof(double) : 0)) +
+                     /* contact hertz: rotation, torques (two sets), wall springs; the pairs'
+                      * springs, buffers, flags and mirrors */
+                     (s->w ? 18.0 * (double)s->rot_cap * sizeof(double) : 0) +
+                     (double)s->hist_cap * sizeof(double) + (double)s->pbuf_cap * sizeof(double) +
+                     (double)s->pact_cap + (double)s->mir_cap * sizeof(uint32_t) +
+                     (double)s->hmap_cap * (2 * sizeof(uint64_t) + 3 * sizeof(double));
     return s->n ? b / (double)s->n : 0;
 }
 
@@ -323,6 +332,58 @@ static int poly(size_t n, int steps, int nt)
     return 0;
 }
 
+/* The settled bed: the poly column (five sizes, N / 5 each, 60 x 60 mm, fraction 0.3 poured)
+ * with contact hertz: E 5 MPa, nu 0.3, e 0.5 (restitution=liggghts, as LIGGGHTS takes it),
+ * mu 0.5, mu_r 0.1 (walls alike), the automatic time step (printed: LIGGGHTS takes the same);
+ * SETTLE steps untimed, then STEPS timed. */
+static int bed(size_t n, int settle, int steps, int nt)
+{
+    mote_err err = {0};
+    mote_sep_system s;
+    double d[5], vol = 0;
+    for (int k = 0; k < 5; k++) {
+        d[k] = 1e-3 * pow(2, (k + 0.5) / 5);
+        vol += (double)(n / 5) * 3.14159265358979 / 6 * d[k] * d[k] * d[k];
+    }
+    if (gas_free_box(&s, 0.06, vol / (0.3 * 0.06 * 0.06) + 2 * d[4], 5, d, n / 5, &err)) {
+        fprintf(stderr, "bench_separator: %s\n", err.msg);
+        return 1;
+    }
+    s.hertz = 1;
+    s.e_true = 0;
+    for (int k = 0; k < 5; k++) {
+        s.sp[k].E = 5e6;
+        s.sp[k].nu = 0.3;
+    }
+    s.mu_pp = 0.5;
+    s.mur_pp = 0.1;
+    s.threads = nt;
+    if (mote_sep_prepare(&s, &err)) {
+        fprintf(stderr, "bench_separator: %s\n", err.msg);
+        return 1;
+    }
+    uint64_t contacts;
+    const double t0 = now();
+    const double rate = timed(&s, settle, steps, &contacts, &err);
+    const double total = now() - t0;
+    if (rate < 0) {
+        fprintf(stderr, "bench_separator: %s\n", err.msg);
+        return 1;
+    }
+    double ke = 0;
+    for (size_t i = 0; i < s.n; i++)
+        ke += 0.5 * s.m[i] * (s.vx[i] * s.vx[i] + s.vy[i] * s.vy[i] + s.vz[i] * s.vz[i]);
+    printf("workload=bed N=%zu box=%.4gx%.4gx%.6g dt=%.6g settle=%d steps=%d "
+           "settle_and_steps_s=%.2f steps_per_s=%.2f ns_per_particle_step=%.1f "
+           "contacts_per_particle=%.3f list_builds=%llu pairs_per_particle=%.2f kinetic_J=%.3g "
+           "bytes_per_particle=%.0f peak_rss_MB=%.1f threads=%d\n",
+           s.n, s.W, s.D, s.H, s.dt, settle, steps, total, rate, 1e9 / (rate * (double)s.n),
+           2.0 * (double)contacts / (double)s.n, (unsigned long long)s.list_builds,
+           (double)s.npl / (double)s.n, ke, bytes_per_particle(&s), peak_rss() / 1048576.0, nt);
+    mote_sep_free(&s);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     const char *w = argc > 1 ? argv[1] : "ref2d";
@@ -340,7 +401,11 @@ int main(int argc, char **argv)
         return column(a > 0 ? (size_t)a : 100000, b > 0 ? (int)b : 200, nt);
     if (!strcmp(w, "poly"))
         return poly(a > 0 ? (size_t)a : 100000, b > 0 ? (int)b : 200, nt);
+    if (!strcmp(w, "bed")) /* (bed N SETTLE STEPS [THREADS]) */
+        return bed(a > 0 ? (size_t)a : 20000, b > 0 ? (int)b : 30000,
+                   argc > 4 && atoi(argv[4]) > 0 ? atoi(argv[4]) : 1000,
+                   argc > 5 && atoi(argv[5]) > 1 ? atoi(argv[5]) : 1);
     fprintf(stderr, "bench_separator: unknown workload '%s' (ref2d, ref3d, scan2d, scan3d, "
-                    "column, poly)\n", w);
+                    "column, poly, bed)\n", w);
     return 2;
 }

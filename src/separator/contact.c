@@ -1,8 +1,10 @@
 /* contact.c: the Hertz-Mindlin contact law (no-slip) with a tangential spring history and
  * Coulomb friction (issue 56, item 1), as LIGGGHTS's `gran model hertz tangential history`
  * defines it (its documentation's formulas; the constants per pair from Young's moduli, Poisson
- * ratios, restitution and friction). A law only: the pair loop, the walls, rotation and the
- * state file take it in (dem.c); the tests drive it with a two-body integrator of their own.
+ * ratios, restitution and friction). The law itself, sep_hm_force, is inline in sep.h (the pair
+ * loop's cost is there); here the constants and the damping for a restitution. The pair loop,
+ * the walls, rotation and the state file take it in (dem.c); the tests drive it with a
+ * two-body integrator of their own.
  *
  *   Y* = 1 / ((1 - nu1^2)/E1 + (1 - nu2^2)/E2)      G* = 1 / (2 (2 - nu1)(1 + nu1)/E1 + ...)
  *   R* = R1 R2 / (R1 + R2)                          m* = m1 m2 / (m1 + m2)
@@ -34,8 +36,15 @@ void sep_hm_pair(sep_hm *h, const sep_material *a, double R1, double m1, const s
     h->G = 1 / (2 * (2 - a->nu) * (1 + a->nu) / a->E + 2 * (2 - b->nu) * (1 + b->nu) / b->E);
     h->R = isinf(R2) ? R1 : R1 * R2 / (R1 + R2);
     h->m = isinf(m2) ? m1 : m1 * m2 / (m1 + m2);
-    h->beta = sep_hm_beta_liggghts(e);
     h->mu = mu;
+    sep_hm_damping(h, sep_hm_beta_liggghts(e));
+}
+
+void sep_hm_damping(sep_hm *h, double beta)
+{
+    h->beta = beta;
+    h->cn = -2 * sqrt(5.0 / 6.0) * beta * sqrt(2 * h->Y);
+    h->gr = sqrt(4 * h->G / h->Y);
 }
 
 double sep_hm_beta_liggghts(double e)
@@ -93,52 +102,4 @@ double sep_hm_beta_exact(double e)
             hi = mid;
     }
     return -0.5 * (lo + hi) / (2 * sqrt(5.0 / 6.0));
-}
-
-static double dot3(const double a[3], const double b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-double sep_hm_force(const sep_hm *h, double delta, const double n[3], const double v[3],
-                    double dt, double xi[3], double F[3])
-{
-    const double sq = sqrt(h->R * delta), Sn = 2 * h->Y * sq, St = 8 * h->G * sq;
-    const double kn = 4.0 / 3.0 * h->Y * sq, kt = St;
-    const double c = -2 * sqrt(5.0 / 6.0) * h->beta;
-    const double gn = c * sqrt(Sn * h->m), gt = c * sqrt(St * h->m);
-    const double vn = dot3(v, n);
-    const double vt[3] = {v[0] - vn * n[0], v[1] - vn * n[1], v[2] - vn * n[2]};
-    /* the normal force: repulsive (a damped spring that pulls is cut to 0) */
-    double fn = kn * delta - gn * vn;
-    fn = fn > 0 ? fn : 0;
-    /* the history onto the present tangent plane (its length kept), then advanced */
-    const double xn = dot3(xi, n), x2 = dot3(xi, xi);
-    double xt[3] = {xi[0] - xn * n[0], xi[1] - xn * n[1], xi[2] - xn * n[2]};
-    const double xt2 = dot3(xt, xt);
-    if (xt2 > 0 && xt2 != x2) {
-        const double f = sqrt(x2 / xt2);
-        for (int a = 0; a < 3; a++)
-            xt[a] *= f;
-    }
-    for (int a = 0; a < 3; a++)
-        xt[a] += vt[a] * dt;
-    /* Coulomb's limit on the whole tangential force: beyond it the contact slides with
-     * F_t = mu |F_n| along the trial force, and the spring is set to carry that force alone
-     * (xi = -F_t / k_t: its direction stays against the sliding as k_t changes with the
-     * overlap; one set to balance the dashpot too would turn round as the dashpot shrinks) */
-    double ft[3] = {-kt * xt[0] - gt * vt[0], -kt * xt[1] - gt * vt[1], -kt * xt[2] - gt * vt[2]};
-    const double f2 = dot3(ft, ft), lim = h->mu * fn;
-    if (f2 > lim * lim) {
-        const double f = lim / sqrt(f2);
-        for (int a = 0; a < 3; a++) {
-            ft[a] *= f;
-            xt[a] = kt > 0 ? -ft[a] / kt : 0;
-        }
-    }
-    for (int a = 0; a < 3; a++) {
-        xi[a] = xt[a];
-        F[a] = fn * n[a] + ft[a];
-    }
-    return fn;
 }

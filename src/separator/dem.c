@@ -659,76 +659,68 @@ static inline void cross3(const double a[3], const double b[3], double c[3])
     c[2] = a[0] * b[1] - a[1] * b[0];
 }
 
-/* Particle i's Hertz-Mindlin contacts with its listed neighbours, added to F and T in the
- * row's order. Each pair is made in the order lower id first (p, then q), whichever row it is
- * in: its spring (the row entry's, the same in both rows), its force on p and the cross product
- * n x F come out the same bits in both rows, and i takes +F or -F: the forces are exact
- * opposites; the torques -a_i n x F (+-) the rolling torque, a_i = r_i |r_ij| / (r_i + r_j)
- * (the arm to the contact point). A pair out of contact gets its spring zeroed. */
-static inline void row_force_hm(const force_arrays *a, const force_ctx *c, size_t i, int dim,
-                                double F[3], double T[3], double *mo, uint64_t *contacts)
+/* The Hertz-Mindlin contact of the listed pair (i, j = nb[e]), i < j (e: i's entry, its
+ * "owner"), made once: the pair in the order lower id first (p, then q: its spring, kept at
+ * the owner entry, and the direction of everything follow the ids, not the places, which change
+ * at reorders); out: the force on i, the torque on i, the torque on j (the force on j is minus
+ * the one on i); 0 when the pair is not in contact (its spring then zeroed). pvw: each
+ * particle's predicted velocity and angular velocity (6). Torques: -a n x F
+ * with a_i = r_i |r_ij| / (r_i + r_j), the arm to the contact point, (+-) the rolling torque. */
+static inline int pair_hm(const force_arrays *a, const force_ctx *c, const double *restrict pvw,
+                          size_t i, uint32_t e, int dim, double out[9], double *mo)
 {
-    const uint32_t e0 = a->nb_start[i], e1 = a->nb_start[i + 1];
-    const uint64_t idi = a->id[i];
-    for (uint32_t e = e0; e < e1; e++) {
-        const size_t j = a->nb[e];
-        const int first = idi < a->id[j];
-        const size_t p = first ? i : j, q = first ? j : i;
-        double *xi = a->hist + 3 * (size_t)e;
-        const double dx[3] = {a->x[p] - a->x[q], dim == 3 ? a->y[p] - a->y[q] : 0,
-                              a->z[p] - a->z[q]};
-        const double d2 = dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2];
-        const double rp = 0.5 * a->d[p], rq = 0.5 * a->d[q], R = rp + rq;
-        const double dist = sqrt(d2);
-        if (!(d2 < R * R) || !(dist > 0)) {
-            xi[0] = xi[1] = xi[2] = 0;
-            continue;
-        }
-        const double delta = R - dist;
-        const double n[3] = {dx[0] / dist, dx[1] / dist, dx[2] / dist}; /* from q to p */
-        /* the arms to one contact point, dividing the distance as the radii: the forces' couple
-         * about it is zero, so the contact keeps the angular momentum */
-        const double ap = rp * (dist / R), aq = rq * (dist / R);
-        double vp[3], vq[3], wp[3], wq[3];
-        pv_of(a, c, p, vp);
-        pv_of(a, c, q, vq);
-        pw_of(a, c, p, wp);
-        pw_of(a, c, q, wq);
-        /* the contact point's velocities: v_p + w_p x (-a_p n) and v_q + w_q x (a_q n) */
-        double cp[3], cq[3];
-        cross3(wp, n, cp);
-        cross3(wq, n, cq);
-        const double v[3] = {vp[0] - vq[0] - ap * cp[0] - aq * cq[0],
-                             vp[1] - vq[1] - ap * cp[1] - aq * cq[1],
-                             vp[2] - vq[2] - ap * cp[2] - aq * cq[2]};
-        const int sp = a->sp[p], sq = a->sp[q];
-        const hm_pp *k = &c->hm[sp * MOTE_SEP_MAX_SPECIES + sq];
-        sep_hm h = k->h;
-        h.R = rp * rq / R;
-        h.m = a->m[p] * a->m[q] / (a->m[p] + a->m[q]);
-        double Fp[3], nf[3];
-        const double fn = sep_hm_force(&h, delta, n, v, c->dt, xi, Fp);
-        cross3(n, Fp, nf);
-        /* rolling friction on p: -mu_r R* |F_n| along the relative rotation */
-        double Tr[3] = {0, 0, 0};
-        if (k->mur > 0) {
-            const double wr[3] = {wp[0] - wq[0], wp[1] - wq[1], wp[2] - wq[2]};
-            const double wl = sqrt(wr[0] * wr[0] + wr[1] * wr[1] + wr[2] * wr[2]);
-            if (wl > 0) {
-                const double f = -k->mur * h.R * fn / wl;
-                Tr[0] = f * wr[0], Tr[1] = f * wr[1], Tr[2] = f * wr[2];
-            }
-        }
-        const double sgn = first ? 1 : -1, ai = first ? ap : aq;
-        for (int b = 0; b < 3; b++) {
-            F[b] += sgn * Fp[b];
-            T[b] += sgn * Tr[b] - ai * nf[b];
-        }
-        const double ov = delta / (2 * (rp < rq ? rp : rq));
-        if (ov > *mo)
-            *mo = ov;
-        *contacts += first;
+    const size_t j = a->nb[e];
+    const int first = a->id[i] < a->id[j];
+    const size_t p = first ? i : j, q = first ? j : i;
+    double *xi = a->hist + 3 * (size_t)e;
+    const double dx[3] = {a->x[p] - a->x[q], dim == 3 ? a->y[p] - a->y[q] : 0,
+                          a->z[p] - a->z[q]};
+    const double d2 = dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2];
+    const double rp = 0.5 * a->d[p], rq = 0.5 * a->d[q], R = rp + rq;
+    if (!(d2 < R * R) || !(d2 > 0)) {
+        xi[0] = xi[1] = xi[2] = 0;
+        return 0;
     }
+    const double dist = sqrt(d2), delta = R - dist, id = 1 / dist;
+    const double n[3] = {dx[0] * id, dx[1] * id, dx[2] * id}; /* from q to p */
+    /* the arms to one contact point, dividing the distance as the radii: the forces' couple
+     * about it is zero, so the contact keeps the angular momentum */
+    const double fr = dist / R, ap = rp * fr, aq = rq * fr;
+    const double *vp = pvw + 6 * p, *vq = pvw + 6 * q, *wp = vp + 3, *wq = vq + 3;
+    /* the contact point's velocities: v_p + w_p x (-a_p n) and v_q + w_q x (a_q n) */
+    double cp[3], cq[3];
+    cross3(wp, n, cp);
+    cross3(wq, n, cq);
+    const double v[3] = {vp[0] - vq[0] - ap * cp[0] - aq * cq[0],
+                         vp[1] - vq[1] - ap * cp[1] - aq * cq[1],
+                         vp[2] - vq[2] - ap * cp[2] - aq * cq[2]};
+    const hm_pp *k = &c->hm[a->sp[p] * MOTE_SEP_MAX_SPECIES + a->sp[q]];
+    sep_hm h = k->h;
+    h.R = rp * rq / R;
+    h.m = a->m[p] * a->m[q] / (a->m[p] + a->m[q]);
+    double Fp[3], nf[3];
+    const double fn = sep_hm_force(&h, delta, n, v, c->dt, xi, Fp);
+    cross3(n, Fp, nf);
+    /* rolling friction on p: -mu_r R* |F_n| along the relative rotation */
+    double Tr[3] = {0, 0, 0};
+    if (k->mur > 0) {
+        const double wr[3] = {wp[0] - wq[0], wp[1] - wq[1], wp[2] - wq[2]};
+        const double wl = sqrt(wr[0] * wr[0] + wr[1] * wr[1] + wr[2] * wr[2]);
+        if (wl > 0) {
+            const double f = -k->mur * h.R * fn / wl;
+            Tr[0] = f * wr[0], Tr[1] = f * wr[1], Tr[2] = f * wr[2];
+        }
+    }
+    const double sgn = first ? 1 : -1, ai = first ? ap : aq, aj = first ? aq : ap;
+    for (int b = 0; b < 3; b++) {
+        out[b] = sgn * Fp[b];
+        out[3 + b] = sgn * Tr[b] - ai * nf[b];
+        out[6 + b] = -sgn * Tr[b] - aj * nf[b];
+    }
+    const double ov = delta / (2 * (rp < rq ? rp : rq));
+    if (ov > *mo)
+        *mo = ov;
+    return 1;
 }
 
 /* One Hertz-Mindlin contact of particle i with a wall or plate at rest (n from the wall to the
@@ -907,6 +899,86 @@ static double window_reach(const double *box, size_t nblk, size_t b, size_t K, d
     return sqrt(d2) + margin;
 }
 
+/* contact hertz: the listed contacts in two passes on the threads. Each pair is made once, from
+ * its owner entry (the row of its lower index), into the pair buffer (s->pbuf: the force on the
+ * owner, its torque, the other's torque; s->pact: in contact); then each particle sums its walls
+ * and plates and its row's entries in the row's order (from the buffer: an owner entry's values,
+ * a mirror entry's (s->mir: the owner entry) with the force negated), so every sum is the same
+ * whatever the threads. The new forces and torques become the present ones; the second half
+ * kick is left pending (kick). */
+static void list_forces_hm(mote_sep_system *s, const force_ctx *c, int kick, const unsigned char *exc)
+{
+    const size_t n = s->n;
+    const int nt = sep_threads(s), dim = s->dim;
+    const force_arrays a = {s->x,  s->y,  s->z,  s->d,  s->m,  s->im,       s->vx,
+                            s->vy, s->vz, s->fx, s->fy, s->fz, s->s, s->nb, s->nb_start,
+                            s->gx, s->gy, s->gz, s->id, s->w, s->tq, s->tq2, s->hist, s->wh};
+    const uint32_t *start = s->nb_start, *nb = s->nb, *mir = s->mir;
+    double *restrict buf = s->pbuf;
+    unsigned char *restrict act = s->pact;
+    const double W = s->W, D = s->D, H = s->H;
+    double mo = s->max_overlap;
+    uint64_t contacts = 0;
+    double *restrict pvw = s->pv;
+#pragma omp parallel num_threads(nt) if (nt > 1) reduction(max : mo) reduction(+ : contacts)
+    {
+        /* the predicted velocities and angular velocities, once a particle */
+#pragma omp for schedule(static)
+        for (size_t i = 0; i < n; i++) {
+            pv_of(&a, c, i, pvw + 6 * i);
+            pw_of(&a, c, i, pvw + 6 * i + 3);
+        }
+#pragma omp for schedule(static)
+        for (size_t i = 0; i < n; i++)
+            for (uint32_t e = start[i]; e < start[i + 1]; e++)
+                if (nb[e] > i) {
+                    const int in = pair_hm(&a, c, pvw, i, e, dim, buf + 9 * (size_t)e, &mo);
+                    act[e] = (unsigned char)in;
+                    contacts += (uint64_t)in;
+                }
+        /* (the barrier: every pair made) */
+#pragma omp for schedule(static)
+        for (size_t i = 0; i < n; i++) {
+            double F[3] = {0, 0, 0}, T[3] = {0, 0, 0};
+            const int wall = exc ? exc[i] & SEP_EXC_WALL
+                                 : sep_near_wall(0.5 * a.d[i], a.x[i], a.y[i], a.z[i], W, D, H, dim);
+            walls_hm(s, &a, c, i, wall, F, T, &mo);
+            for (uint32_t e = start[i]; e < start[i + 1]; e++) {
+                if (nb[e] > i) {
+                    if (act[e]) {
+                        const double *b = buf + 9 * (size_t)e;
+                        F[0] += b[0], F[1] += b[1], F[2] += b[2];
+                        T[0] += b[3], T[1] += b[4], T[2] += b[5];
+                    }
+                } else {
+                    const uint32_t m = mir[e];
+                    if (act[m]) {
+                        const double *b = buf + 9 * (size_t)m;
+                        F[0] -= b[0], F[1] -= b[1], F[2] -= b[2];
+                        T[0] += b[6], T[1] += b[7], T[2] += b[8];
+                    }
+                }
+            }
+            a.gx[i] = F[0];
+            a.gy[i] = F[1];
+            a.gz[i] = F[2];
+            a.tq2[3 * i] = T[0];
+            a.tq2[3 * i + 1] = T[1];
+            a.tq2[3 * i + 2] = T[2];
+        }
+    }
+    double *t;
+    t = s->fx, s->fx = s->gx, s->gx = t;
+    t = s->fy, s->fy = s->gy, s->gy = t;
+    t = s->fz, s->fz = s->gz, s->gz = t;
+    t = s->tq, s->tq = s->tq2, s->tq2 = t;
+    s->g_cap = s->cap;
+    s->kick_h = kick ? c->half_dt : 0;
+    s->max_overlap = mo;
+    s->contacts_pp = contacts;
+    s->candidates = 2 * s->npl;
+}
+
 /* The listed contacts of every particle, on the threads: walls, neighbours, plates, into the
  * other forces' arrays, which then become the present ones; with kick, the second half kick
  * v += dt/2 F/m is left pending (s->kick_h). Each particle's force is its own sum, in a fixed
@@ -934,7 +1006,7 @@ static void list_forces(mote_sep_system *s, const force_ctx *c, double g_w, int 
     const force_arrays a = {s->x,  s->y,  s->z,  s->d,  s->m,  s->im,       s->vx,
                             s->vy, s->vz, s->fx, s->fy, s->fz, s->s, s->nb, s->nb_start,
                             s->gx, s->gy, s->gz, s->id, s->w, s->tq, s->tq2, s->hist, s->wh};
-    const int hertz = c->hertz;
+
     const double W = s->W, D = s->D, H = s->H;
     double mo = s->max_overlap;
     uint64_t contacts = 0, skips = 0;
@@ -950,18 +1022,6 @@ static void list_forces(mote_sep_system *s, const force_ctx *c, double g_w, int 
          * decides), made by the drift when it knew the present positions */
         const int wall = exc ? exc[i] & SEP_EXC_WALL
                              : sep_near_wall(0.5 * a.d[i], a.x[i], a.y[i], a.z[i], W, D, H, dim);
-        if (hertz) { /* (the walls, neighbours and plates by Hertz-Mindlin; no row skipped) */
-            double T[3] = {0, 0, 0};
-            walls_hm(s, &a, c, i, wall, F, T, &mo);
-            row_force_hm(&a, c, i, dim, F, T, &mo, &contacts);
-            a.gx[i] = F[0];
-            a.gy[i] = F[1];
-            a.gz[i] = F[2];
-            a.tq2[3 * i] = T[0];
-            a.tq2[3 * i + 1] = T[1];
-            a.tq2[3 * i + 2] = T[2];
-            continue;
-        }
         if (wall) {
             double pvel[3];
             pv_of(&a, c, i, pvel);
@@ -993,8 +1053,6 @@ static void list_forces(mote_sep_system *s, const force_ctx *c, double g_w, int 
     t = s->fx, s->fx = s->gx, s->gx = t;
     t = s->fy, s->fy = s->gy, s->gy = t;
     t = s->fz, s->fz = s->gz, s->gz = t;
-    if (hertz)
-        t = s->tq, s->tq = s->tq2, s->tq2 = t;
     s->g_cap = s->cap;
     s->kick_h = kick ? c->half_dt : 0;
     s->max_overlap = mo;
@@ -1049,13 +1107,13 @@ int sep_contact_forces(mote_sep_system *s, double dt, int kick, int pred, mote_e
                 hm_pp *k = &c.hm[a * M + b];
                 const double mu = s->mu_pair[a][b] >= 0 ? s->mu_pair[a][b] : s->mu_pp;
                 sep_hm_pair(&k->h, &A, 1, 1, &B, 1, 1, 1, mu);
-                k->h.beta = s->hm_beta[a * M + b];
+                sep_hm_damping(&k->h, s->hm_beta[a * M + b]);
                 k->mur = s->mur_pair[a][b] >= 0 ? s->mur_pair[a][b] : s->mur_pp;
             }
             const sep_material Wm = {s->E_w > 0 ? s->E_w : A.E, s->E_w > 0 ? s->nu_w : A.nu};
             hm_pp *k = &c.hm_w[a];
             sep_hm_pair(&k->h, &A, 1, 1, &Wm, 1, 1, 1, s->mu_pw >= 0 ? s->mu_pw : s->mu_pp);
-            k->h.beta = s->hm_beta[M * M + a];
+            sep_hm_damping(&k->h, s->hm_beta[M * M + a]);
             k->mur = s->mur_pw >= 0 ? s->mur_pw : s->mur_pp;
         }
         if (sep_rot_reserve(s, err))
@@ -1071,6 +1129,8 @@ int sep_contact_forces(mote_sep_system *s, double dt, int kick, int pred, mote_e
     if (s->hertz && !listed)
         return mote_fail(err, MOTE_EINVAL, "separator: contact hertz needs the pair list "
                          "(neighbours cells)");
+    if (s->hertz && sep_reserve((void **)&s->pv, &s->pv_cap, 6 * n + 6, sizeof *s->pv, err))
+        return err->code;
     const int can = listed && s->list_ok && s->mods == s->list_mods;
     const double lim = 0.25 * s->skin_used * s->skin_used;
     const double e_w = s->e_pw >= 0 ? s->e_pw : s->e_pp, g_w = e_w < 1 ? 2 * zeta_of(e_w) : 0;
@@ -1135,7 +1195,11 @@ int sep_contact_forces(mote_sep_system *s, double dt, int kick, int pred, mote_e
         if (s->hertz && !s->hist_ok && sep_hist_fill(s, err))
             return err->code;
         /* (the drift's wall tests hold for the particles as they are: checked, not reordered) */
-        list_forces(s, &c, g_w, kick, !can || moved, checked && !reordered ? s->exc : NULL, dmin);
+        if (s->hertz)
+            list_forces_hm(s, &c, kick, checked && !reordered ? s->exc : NULL);
+        else
+            list_forces(s, &c, g_w, kick, !can || moved, checked && !reordered ? s->exc : NULL,
+                        dmin);
         return MOTE_OK;
     }
     /* brute force, or no list (the cells as built for this step's feed serve when nothing was
@@ -1261,8 +1325,9 @@ static int cmp_hrec(const void *x, const void *y)
     return a->a != b->a ? (a->a > b->a) - (a->a < b->a) : (a->b > b->b) - (a->b < b->b);
 }
 
-/* The list's springs that are not zero, by id (each pair once: from the row of its lower id),
- * appended to *out (of *cap), sorted. */
+/* The list's springs that are not zero, by id (each pair once: from its owner entry, in the
+ * row of its lower index; the spring is in the order lower id first), appended to *out (of
+ * *cap), sorted. */
 static int hist_from_list(const mote_sep_system *s, struct sep_hrec **out, size_t *n,
                           size_t *cap, mote_err *err)
 {
@@ -1271,11 +1336,13 @@ static int hist_from_list(const mote_sep_system *s, struct sep_hrec **out, size_
         for (uint32_t e = s->nb_start[i]; e < s->nb_start[i + 1]; e++) {
             const size_t j = s->nb[e];
             const double *xi = s->hist + 3 * (size_t)e;
-            if (j >= s->n || !(s->id[i] < s->id[j]) || (xi[0] == 0 && xi[1] == 0 && xi[2] == 0))
+            if (j >= s->n || !(i < j) || (xi[0] == 0 && xi[1] == 0 && xi[2] == 0))
                 continue;
             if (sep_reserve((void **)out, cap, *n + 1, sizeof **out, err))
                 return err->code;
-            (*out)[(*n)++] = (struct sep_hrec){s->id[i], s->id[j], {xi[0], xi[1], xi[2]}};
+            const uint64_t ia = s->id[i], ib = s->id[j];
+            (*out)[(*n)++] = (struct sep_hrec){ia < ib ? ia : ib, ia < ib ? ib : ia,
+                                               {xi[0], xi[1], xi[2]}};
         }
     if (*n > 1)
         qsort(*out, *n, sizeof **out, cmp_hrec);
@@ -1322,7 +1389,10 @@ int sep_hist_collect(const mote_sep_system *s, struct sep_hrec **out, size_t *n,
 int sep_hist_fill(mote_sep_system *s, mote_err *err)
 {
     const size_t nr = s->nb_n, ne = s->nb_start ? s->nb_start[nr] : 0;
-    if (sep_reserve((void **)&s->hist, &s->hist_cap, 3 * ne + 3, sizeof *s->hist, err))
+    if (sep_reserve((void **)&s->hist, &s->hist_cap, 3 * ne + 3, sizeof *s->hist, err) ||
+        sep_reserve((void **)&s->pbuf, &s->pbuf_cap, 9 * ne + 9, sizeof *s->pbuf, err) ||
+        sep_reserve((void **)&s->pact, &s->pact_cap, ne + 1, 1, err) ||
+        sep_reserve((void **)&s->mir, &s->mir_cap, ne + 1, sizeof *s->mir, err))
         return err->code;
     const struct sep_hrec *map = s->hmap_pending ? s->hmap : NULL;
     const size_t nm = map ? s->nhmap : 0;
@@ -1330,10 +1400,25 @@ int sep_hist_fill(mote_sep_system *s, mote_err *err)
     double *hist = s->hist;
     const uint64_t *id = s->id;
     const uint32_t *nb = s->nb, *start = s->nb_start;
+    uint32_t *mir = s->mir;
 #pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
     for (size_t i = 0; i < nr; i++)
         for (uint32_t e = start[i]; e < start[i + 1]; e++) {
             double *xi = hist + 3 * (size_t)e;
+            /* the mirror of an owner entry (i, j > i): j's entry for i (rows sorted), which
+             * no other entry names */
+            const size_t jj = nb[e];
+            if (jj > i) {
+                uint32_t lo = start[jj], hi = start[jj + 1];
+                while (lo < hi) {
+                    const uint32_t mid = lo + (hi - lo) / 2;
+                    if (nb[mid] < i)
+                        lo = mid + 1;
+                    else
+                        hi = mid;
+                }
+                mir[lo] = e;
+            }
             xi[0] = xi[1] = xi[2] = 0;
             if (!nm)
                 continue;

@@ -5,6 +5,8 @@
 #include "mote/separator.h"
 #include "mote/buf.h"
 
+#include <math.h>
+
 #define SEP_PI 3.14159265358979323846
 /* contact.c: the Hertz-Mindlin law with tangential history and Coulomb friction (issue 56).
  * A material: Young's modulus (Pa) and Poisson's ratio. The constants of a pair (a wall: R2 and
@@ -16,11 +18,62 @@ typedef struct {
 } sep_material;
 typedef struct {
     double Y, G, R, m, beta, mu;
+    double cn, gr; /* (sep_hm_damping: -2 sqrt(5/6) beta sqrt(2 Y*), sqrt(4 G* / Y*)) */
 } sep_hm;
 void sep_hm_pair(sep_hm *h, const sep_material *a, double R1, double m1, const sep_material *b,
                  double R2, double m2, double e, double mu);
-double sep_hm_force(const sep_hm *h, double delta, const double n[3], const double v[3],
-                    double dt, double xi[3], double F[3]);
+/* Set the damping ratio beta of h (and the constants derived from it). */
+void sep_hm_damping(sep_hm *h, double beta);
+
+static inline double sep_dot3(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* The law (inline: the pair loop's cost is here). k_n = 4/3 Y* s, k_t = S_t = 8 G* s with
+ * s = sqrt(R* delta); gamma_n = -2 sqrt(5/6) beta sqrt(S_n m*) = cn sqrt(s m*), gamma_t =
+ * gamma_n sqrt(S_t / S_n) = gr gamma_n. */
+static inline double sep_hm_force(const sep_hm *h, double delta, const double n[3],
+                                  const double v[3], double dt, double xi[3], double F[3])
+{
+    const double sq = sqrt(h->R * delta);
+    const double kn = 4.0 / 3.0 * h->Y * sq, kt = 8 * h->G * sq;
+    const double gn = h->cn * sqrt(sq * h->m), gt = h->gr * gn;
+    const double vn = sep_dot3(v, n);
+    const double vt[3] = {v[0] - vn * n[0], v[1] - vn * n[1], v[2] - vn * n[2]};
+    /* the normal force: repulsive (a damped spring that pulls is cut to 0) */
+    double fn = kn * delta - gn * vn;
+    fn = fn > 0 ? fn : 0;
+    /* the history onto the present tangent plane (its length kept), then advanced */
+    const double xn = sep_dot3(xi, n), x2 = sep_dot3(xi, xi);
+    double xt[3] = {xi[0] - xn * n[0], xi[1] - xn * n[1], xi[2] - xn * n[2]};
+    const double xt2 = sep_dot3(xt, xt);
+    if (xt2 > 0 && xt2 != x2) {
+        const double f = sqrt(x2 / xt2);
+        for (int a = 0; a < 3; a++)
+            xt[a] *= f;
+    }
+    for (int a = 0; a < 3; a++)
+        xt[a] += vt[a] * dt;
+    /* Coulomb's limit on the whole tangential force: beyond it the contact slides with
+     * F_t = mu |F_n| along the trial force, and the spring is set to carry that force alone
+     * (xi = -F_t / k_t: its direction stays against the sliding as k_t changes with the
+     * overlap; one set to balance the dashpot too would turn round as the dashpot shrinks) */
+    double ft[3] = {-kt * xt[0] - gt * vt[0], -kt * xt[1] - gt * vt[1], -kt * xt[2] - gt * vt[2]};
+    const double f2 = sep_dot3(ft, ft), lim = h->mu * fn;
+    if (f2 > lim * lim) {
+        const double f = lim / sqrt(f2);
+        for (int a = 0; a < 3; a++) {
+            ft[a] *= f;
+            xt[a] = kt > 0 ? -ft[a] / kt : 0;
+        }
+    }
+    for (int a = 0; a < 3; a++) {
+        xi[a] = xt[a];
+        F[a] = fn * n[a] + ft[a];
+    }
+    return fn;
+}
 /* The damping ratio beta (<= 0) of the law above for which a head-on impact rebounds with
  * restitution e (0 < e <= 1): the rebound of this law depends on beta alone (not on the speed,
  * sizes, masses or moduli), found by integrating the dimensionless impact and bisecting. */
