@@ -617,7 +617,7 @@ static void test_first_sort(void)
  * (coupling), a perforated plate, a feed, n particles to start; runs `steps` steps on nt
  * threads (used from 1 particle up) and writes its state to path. flags: 1 every row searched
  * (no_gap_skip), 2 every step completed (no_pending), 4 contact hertz (friction, rolling
- * friction, rotation; 8: stop half way, save, load and go on). */
+ * friction, cohesion, rotation; 8: stop half way, save, load and go on). */
 static void threads_case(mote_sep_system *s, int dim, size_t n, int steps, int nt, int disperse,
                          int flags, const char *path)
 {
@@ -664,6 +664,7 @@ static void threads_case(mote_sep_system *s, int dim, size_t n, int steps, int n
         s->mu_pp = 0.5;
         s->mu_pw = 0.3;
         s->mur_pp = 0.05;
+        s->coh_pp = 1e4;
     }
     CHECK(mote_sep_prepare(s, &err) == MOTE_OK, "prepare: %s", err.msg);
     CHECK(mote_sep_insert(s, 0, n, 0, &err) == MOTE_OK, "insert: %s", err.msg);
@@ -901,6 +902,75 @@ static void test_hertz_momentum(void)
                0.14 * Ls);
         mote_sep_free(&s);
     }
+}
+
+/* The overlap where f(delta) = 0, f increasing through it on [lo, hi], by bisection. */
+static double root(double (*f)(double, const double *), const double *par, double lo, double hi)
+{
+    for (int k = 0; k < 200; k++) {
+        const double mid = 0.5 * (lo + hi);
+        if (f(mid, par) > 0)
+            hi = mid;
+        else
+            lo = mid;
+    }
+    return 0.5 * (lo + hi);
+}
+/* par: Y*, R*, k_c, r, m g: Hertz's force minus the cohesion (two spheres of radius r: the
+ * circle's area pi (r delta - delta^2 / 4); a sphere on a wall: pi (2 r delta - delta^2)), minus
+ * the weight */
+static double f_pair(double delta, const double *p)
+{
+    return 4.0 / 3.0 * p[0] * sqrt(p[1]) * delta * sqrt(delta) -
+           p[2] * PI * (p[3] * delta - 0.25 * delta * delta) - p[4];
+}
+static double f_wall(double delta, const double *p)
+{
+    return 4.0 / 3.0 * p[0] * sqrt(p[1]) * delta * sqrt(delta) -
+           p[2] * PI * (2 * p[3] * delta - delta * delta) - p[4];
+}
+
+/* contact hertz with cohesion (SJKR): two spheres set touching without gravity pull each
+ * other into the overlap where Hertz's repulsion equals k_c times the contact area; a sphere on
+ * the floor under gravity rests where Hertz's force is its weight plus the cohesion: both
+ * within 1e-9 d of the roots (the dashpots damp the rest away); without cohesion the pair, set
+ * 0.1 um into contact, is pushed apart. */
+static void test_hertz_cohesion(void)
+{
+    printf("contact hertz: cohesion's equilibrium overlaps\n");
+    const double E = 5e6, nu = 0.3, d = 3e-3, r = 0.5 * d, kc = 1e5;
+    const double Y = 1 / (2 * (1 - nu * nu) / E), m = 2500 * PI / 6 * d * d * d;
+    for (int wall = 0; wall < 2; wall++)
+        for (int coh = 0; coh < 2; coh++) {
+            mote_sep_system s;
+            vacuum_box(&s, 3, 0.02, 0.02, 0.02, 2500,
+                       (mote_sep_dist){.type = MOTE_SEP_MONO, .a = d});
+            s.hertz = 1;
+            s.sp[0].E = E;
+            s.sp[0].nu = nu;
+            s.mu_pp = 0.5;
+            s.coh_pp = coh ? kc : 0;
+            s.g = wall ? 9.81 : 0;
+            fill(&s, wall ? 1 : 2);
+            s.x[0] = s.y[0] = 0.01;
+            s.z[0] = wall ? r : 0.01;
+            s.vx[0] = s.vy[0] = s.vz[0] = 0;
+            if (!wall) {
+                s.x[1] = 0.01 + d - 1e-7, s.y[1] = 0.01, s.z[1] = 0.01; /* (touching) */
+                s.vx[1] = s.vy[1] = s.vz[1] = 0;
+            }
+            s.mods++;
+            mote_err err = {0};
+            CHECK(mote_sep_run(&s, 0.1, &err) == MOTE_OK, "run: %s", err.msg);
+            const double got = wall ? r - s.z[0] : d - fabs(s.x[1] - s.x[0]);
+            const double par[5] = {Y, wall ? r : 0.5 * r, coh ? kc : 0, r, wall ? m * 9.81 : 0};
+            const double want = !coh && !wall ? 0 : root(wall ? f_wall : f_pair, par, 1e-12, 0.5 * r);
+            CHECK(!coh && !wall ? got < 0 : fabs(got - want) <= 1e-9 * d, "%s, cohesion %g: overlap %.9g against %.9g",
+                  wall ? "on the floor" : "a pair", par[2], got, want);
+            printf("  %s, k_c %g J/m^3: overlap %.6e m (root %.6e)\n",
+                   wall ? "a sphere on the floor" : "two spheres", par[2], got, want);
+            mote_sep_free(&s);
+        }
 }
 
 /* contact hertz: the same bits on 1, 2 and 3 threads, with every step completed, and after a
@@ -1199,7 +1269,8 @@ int main(int argc, char **argv)
                  {"first_sort", test_first_sort}, {"gap_skip", test_gap_skip},
                  {"pending", test_pending},       {"lean_exits", test_lean_exits},
                  {"hertz_threads", test_hertz_threads}, {"hertz_impacts", test_hertz_impacts},
-                 {"hertz_momentum", test_hertz_momentum}};
+                 {"hertz_momentum", test_hertz_momentum},
+                 {"hertz_cohesion", test_hertz_cohesion}};
     for (size_t k = 0; k < sizeof tests / sizeof tests[0]; k++)
         if (argc < 2 || !strcmp(argv[1], tests[k].name))
             tests[k].fn();

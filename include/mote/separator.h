@@ -167,6 +167,10 @@ typedef struct {
     double mur_pp, mur_pw;               /* rolling friction (-1 at walls: mur_pp) */
     double mu_pair[MOTE_SEP_MAX_SPECIES][MOTE_SEP_MAX_SPECIES];  /* overrides (-1: none) */
     double mur_pair[MOTE_SEP_MAX_SPECIES][MOTE_SEP_MAX_SPECIES];
+    /* cohesion (SJKR: an attraction k_c times the contact area; J/m^3), between particles, at
+     * walls and grids (-1: coh_pp), per species pair (-1: none) */
+    double coh_pp, coh_pw;
+    double coh_pair[MOTE_SEP_MAX_SPECIES][MOTE_SEP_MAX_SPECIES];
     double E_w, nu_w;                    /* the walls' and plates' material (0: the particle's) */
     int e_true;                          /* 1: the damping set so that a head-on rebound has the
                                           * restitution given; 0: LIGGGHTS's beta(e) */

@@ -493,7 +493,7 @@ static int do_restitution_pair(void *vm, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
-/* friction_pair / rolling_friction_pair A B MU */
+/* friction_pair / rolling_friction_pair / cohesion_pair A B VALUE */
 static int do_friction_pair(void *vm, const mote_call *c, mote_err *err)
 {
     mote_sep_system *s = &((sep_model *)vm)->sys;
@@ -504,7 +504,9 @@ static int do_friction_pair(void *vm, const mote_call *c, mote_err *err)
             return mote_call_fail(err, c, q, MOTE_EINVAL, "%s: no species '%s'", c->name,
                                   c->args[q].text);
     }
-    double(*t)[MOTE_SEP_MAX_SPECIES] = strcmp(c->name, "friction_pair") ? s->mur_pair : s->mu_pair;
+    double(*t)[MOTE_SEP_MAX_SPECIES] = !strcmp(c->name, "friction_pair")   ? s->mu_pair
+                                       : !strcmp(c->name, "cohesion_pair") ? s->coh_pair
+                                                                           : s->mur_pair;
     t[k[0]][k[1]] = t[k[1]][k[0]] = c->args[2].r;
     return MOTE_OK;
 }
@@ -718,6 +720,8 @@ static const mote_param sep_params[] = {
     {"friction_wall", "real mu_pw"},
     {"rolling_friction", "real mur_pp"},
     {"rolling_friction_wall", "real mur_pw"},
+    {"cohesion", "real coh_pp"},
+    {"cohesion_wall", "real coh_pw"},
 };
 #define SET mote_cmd_set, mote_cmd_set
 
@@ -791,6 +795,12 @@ static const mote_cmd sep_commands[] = {
      "rolling friction at walls and grids", HELP_FRICTION, SET},
     {"rolling_friction_pair", NULL, "s s r>=0", "rolling_friction_pair A B MU_R",
      "rolling friction between two species", HELP_FRICTION, do_friction_pair, do_friction_pair},
+    {"cohesion", NULL, "r>=0", "cohesion K", "cohesion between particles (SJKR)",
+     HELP_COHESION, SET},
+    {"cohesion_wall", NULL, "r>=0", "cohesion_wall K", "cohesion at walls and grids",
+     HELP_COHESION, SET},
+    {"cohesion_pair", NULL, "s s r>=0", "cohesion_pair A B K", "cohesion between two species",
+     HELP_COHESION, do_friction_pair, do_friction_pair},
     {"wall_material", NULL, "E=r>0 nu=r(-1,0.5)", "wall_material E=PA [nu=0.3]",
      "the walls' and grids' elastic constants", HELP_CONTACT, do_wall_material,
      do_wall_material},

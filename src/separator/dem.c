@@ -325,7 +325,7 @@ size_t mote_sep_pairs(mote_sep_system *s, int brute, uint32_t *pairs, size_t cap
  * (R and m per contact) and the rolling friction. */
 typedef struct {
     sep_hm h;
-    double mur;
+    double mur, coh;
 } hm_pp;
 
 typedef struct {
@@ -701,6 +701,11 @@ static inline int pair_hm(const force_arrays *a, const force_ctx *c, const doubl
     double Fp[3], nf[3];
     const double fn = sep_hm_force(&h, delta, n, v, c->dt, xi, Fp);
     cross3(n, Fp, nf);
+    if (k->coh > 0) { /* SJKR: -k_c pi a^2, a the radius of the spheres' intersection circle */
+        const double A = SEP_PI / 4 * ((R - dist) * (dist + rp - rq) * (dist - rp + rq) * (dist + R)) / d2;
+        const double fc = -k->coh * A; /* (along -n: towards q) */
+        Fp[0] += fc * n[0], Fp[1] += fc * n[1], Fp[2] += fc * n[2];
+    }
     /* rolling friction on p: -mu_r R* |F_n| along the relative rotation */
     double Tr[3] = {0, 0, 0};
     if (k->mur > 0) {
@@ -742,6 +747,10 @@ static inline void wall_hm(const force_arrays *a, const force_ctx *c, size_t i, 
     h.m = a->m[i];
     const double fn = sep_hm_force(&h, delta, n, v, c->dt, a->wh + 9 * i + 3 * slot, Fw);
     cross3(n, Fw, nf);
+    if (k->coh > 0) { /* SJKR at a wall: the contact circle's area pi (2 r delta - delta^2) */
+        const double fc = -k->coh * SEP_PI * (2 * r - delta) * delta;
+        Fw[0] += fc * n[0], Fw[1] += fc * n[1], Fw[2] += fc * n[2];
+    }
     for (int b = 0; b < 3; b++) {
         F[b] += Fw[b];
         T[b] -= r * nf[b];
@@ -1109,12 +1118,14 @@ int sep_contact_forces(mote_sep_system *s, double dt, int kick, int pred, mote_e
                 sep_hm_pair(&k->h, &A, 1, 1, &B, 1, 1, 1, mu);
                 sep_hm_damping(&k->h, s->hm_beta[a * M + b]);
                 k->mur = s->mur_pair[a][b] >= 0 ? s->mur_pair[a][b] : s->mur_pp;
+                k->coh = s->coh_pair[a][b] >= 0 ? s->coh_pair[a][b] : s->coh_pp;
             }
             const sep_material Wm = {s->E_w > 0 ? s->E_w : A.E, s->E_w > 0 ? s->nu_w : A.nu};
             hm_pp *k = &c.hm_w[a];
             sep_hm_pair(&k->h, &A, 1, 1, &Wm, 1, 1, 1, s->mu_pw >= 0 ? s->mu_pw : s->mu_pp);
             sep_hm_damping(&k->h, s->hm_beta[M * M + a]);
             k->mur = s->mur_pw >= 0 ? s->mur_pw : s->mur_pp;
+            k->coh = s->coh_pw >= 0 ? s->coh_pw : s->coh_pp;
         }
         if (sep_rot_reserve(s, err))
             return err->code;

@@ -173,11 +173,11 @@ static int prepare_hertz(mote_sep_system *s, mote_err *err)
     if (!(s->E_w == 0 || (s->E_w > 0 && s->E_w < 1e15)) || !(s->nu_w > -1 && s->nu_w < 0.5))
         return mote_fail(err, MOTE_EINVAL, "separator: wall_material E=%g nu=%g: E > 0 and nu in "
                          "(-1, 0.5)", s->E_w, s->nu_w);
-    const double mu[4] = {s->mu_pp, s->mur_pp, s->mu_pw, s->mur_pw};
-    const char *const mname[4] = {"friction", "rolling_friction", "friction_wall",
-                                   "rolling_friction_wall"};
-    for (int q = 0; q < 4; q++)
-        if (!(mu[q] >= 0 && mu[q] <= 1e6) && !(q >= 2 && mu[q] == -1))
+    const double mu[6] = {s->mu_pp, s->mur_pp, s->coh_pp, s->mu_pw, s->mur_pw, s->coh_pw};
+    const char *const mname[6] = {"friction", "rolling_friction", "cohesion", "friction_wall",
+                                   "rolling_friction_wall", "cohesion_wall"};
+    for (int q = 0; q < 6; q++)
+        if (!(mu[q] >= 0 && mu[q] <= 1e15) && !(q >= 3 && mu[q] == -1))
             return mote_fail(err, MOTE_EINVAL, "separator: %s %g: must be >= 0", mname[q], mu[q]);
     const int M = MOTE_SEP_MAX_SPECIES;
     double seen_e[M * (M + 1)], seen_b[M * (M + 1)];

@@ -89,6 +89,7 @@ static const mote_sf_field SCALARS[] = {
     SR("max_overlap", max_overlap), SR("t", t), SR2("parcel", parcel),
     SR3("mu_pp", mu_pp), SR3("mu_pw", mu_pw), SR3("mur_pp", mur_pp), SR3("mur_pw", mur_pw),
     SR3("E_w", E_w), SR3("nu_w", nu_w), SI3("hertz", hertz), SI3("e_true", e_true),
+    SR3("coh_pp", coh_pp), SR3("coh_pw", coh_pw),
     SI("dim", dim), SI("open_bottom", open_bottom), SI("open_top", open_top),
     SI("coupling", coupling), SI("K", K), SI("dem", dem), SI("brute", brute), SI("nc", nc),
     SI("nsort", nsort), SI("eps_r_valid", eps_r_valid),
@@ -331,8 +332,9 @@ int mote_sep_save(const mote_sep_system *s, uint64_t seed, const char *path, mot
     put_count(f, N_SPECIES, (uint64_t)nsp);
     const mote_sf_field epair = reals_field("epair", "E", 0, nsp);
     mote_sf_field mupair = reals_field("mupair", "MU", 0, nsp),
-                  murpair = reals_field("murpair", "MU_R", 0, nsp);
-    mupair.since = murpair.since = 3;
+                  murpair = reals_field("murpair", "MU_R", 0, nsp),
+                  cohpair = reals_field("cohpair", "K", 0, nsp);
+    mupair.since = murpair.since = cohpair.since = 3;
     for (int k = 0; k < nsp; k++) {
         const mote_sep_species *p = &s->sp[k];
         sp_row r = {.have = p->have_dist, .type = p->dist.type, .basis = p->dist.number_basis,
@@ -349,6 +351,7 @@ int mote_sep_save(const mote_sep_system *s, uint64_t seed, const char *path, mot
         mote_sf_write(f, &epair, 1, s->e_pair[k], SEP_STATE_VERSION);
         mote_sf_write(f, &mupair, 1, s->mu_pair[k], SEP_STATE_VERSION);
         mote_sf_write(f, &murpair, 1, s->mur_pair[k], SEP_STATE_VERSION);
+        mote_sf_write(f, &cohpair, 1, s->coh_pair[k], SEP_STATE_VERSION);
     }
     put_count(f, N_PLATES, (uint64_t)s->nplate);
     for (int q = 0; q < s->nplate; q++) {
@@ -525,18 +528,22 @@ static int read_species(reader *r, mote_sep_system *s, int k, int nsp)
         rc = row(r, COUNTS, NF(COUNTS), &s->cnt[k]);
     const mote_sf_field epair = reals_field("epair", "E", 0, nsp);
     mote_sf_field mupair = reals_field("mupair", "MU", 0, nsp),
-                  murpair = reals_field("murpair", "MU_R", 0, nsp);
-    mupair.since = murpair.since = 3;
+                  murpair = reals_field("murpair", "MU_R", 0, nsp),
+                  cohpair = reals_field("cohpair", "K", 0, nsp);
+    mupair.since = murpair.since = cohpair.since = 3;
     if (!rc)
         rc = row(r, &epair, 1, s->e_pair[k]);
     if (!rc)
         rc = row(r, &mupair, 1, s->mu_pair[k]);
     if (!rc)
         rc = row(r, &murpair, 1, s->mur_pair[k]);
+    if (!rc)
+        rc = row(r, &cohpair, 1, s->coh_pair[k]);
     for (int j = 0; !rc && j < nsp; j++)
         if (!(s->mu_pair[k][j] == -1 || s->mu_pair[k][j] >= 0) ||
-            !(s->mur_pair[k][j] == -1 || s->mur_pair[k][j] >= 0))
-            rc = bad(r, "a pair's friction must be >= 0 (or -1: none)", NULL);
+            !(s->mur_pair[k][j] == -1 || s->mur_pair[k][j] >= 0) ||
+            !(s->coh_pair[k][j] == -1 || s->coh_pair[k][j] >= 0))
+            rc = bad(r, "a pair's friction and cohesion must be >= 0 (or -1: none)", NULL);
     return rc;
 }
 

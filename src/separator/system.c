@@ -32,11 +32,11 @@ void mote_sep_init(mote_sep_system *s)
     s->e_pw = -1;
     s->parcel = 1;
     s->e_pp = 0.5;
-    s->mu_pw = s->mur_pw = -1;
+    s->mu_pw = s->mur_pw = s->coh_pw = -1;
     s->e_true = 1;
     for (int a = 0; a < MOTE_SEP_MAX_SPECIES; a++)
         for (int b = 0; b < MOTE_SEP_MAX_SPECIES; b++)
-            s->mu_pair[a][b] = s->mur_pair[a][b] = -1;
+            s->mu_pair[a][b] = s->mur_pair[a][b] = s->coh_pair[a][b] = -1;
     s->dem = 1;
     s->delta_f = 0.05;
     s->nc = 50;
