@@ -284,18 +284,25 @@ static int column(size_t n, int steps, int nt)
     return 0;
 }
 
-/* The polydisperse column: as column, with five species of one size each (d_k = 1 mm
- * 2^((k + 1/2) / 5)), N / 5 particles of each, in a 60 x 60 mm box at fraction 0.3. */
-static int poly(size_t n, int steps, int nt)
+/* The polydisperse column's box: five species of one size each (d_k = 1 mm 2^((k + 1/2) / 5),
+ * into d), N / 5 particles of each, in a 60 x 60 mm box at fraction 0.3. */
+static int poly_box(mote_sep_system *s, size_t n, double d[5], mote_err *err)
 {
-    mote_err err = {0};
-    mote_sep_system s;
-    double d[5], vol = 0;
+    double vol = 0;
     for (int k = 0; k < 5; k++) {
         d[k] = 1e-3 * pow(2, (k + 0.5) / 5);
         vol += (double)(n / 5) * 3.14159265358979 / 6 * d[k] * d[k] * d[k];
     }
-    if (gas_free_box(&s, 0.06, vol / (0.3 * 0.06 * 0.06) + 2 * d[4], 5, d, n / 5, &err)) {
+    return gas_free_box(s, 0.06, vol / (0.3 * 0.06 * 0.06) + 2 * d[4], 5, d, n / 5, err);
+}
+
+/* The polydisperse column: as column, with the five sizes of poly_box. */
+static int poly(size_t n, int steps, int nt)
+{
+    mote_err err = {0};
+    mote_sep_system s;
+    double d[5];
+    if (poly_box(&s, n, d, &err)) {
         fprintf(stderr, "bench_separator: %s\n", err.msg);
         return 1;
     }
@@ -340,12 +347,8 @@ static int bed(size_t n, int settle, int steps, int nt)
 {
     mote_err err = {0};
     mote_sep_system s;
-    double d[5], vol = 0;
-    for (int k = 0; k < 5; k++) {
-        d[k] = 1e-3 * pow(2, (k + 0.5) / 5);
-        vol += (double)(n / 5) * 3.14159265358979 / 6 * d[k] * d[k] * d[k];
-    }
-    if (gas_free_box(&s, 0.06, vol / (0.3 * 0.06 * 0.06) + 2 * d[4], 5, d, n / 5, &err)) {
+    double d[5];
+    if (poly_box(&s, n, d, &err)) {
         fprintf(stderr, "bench_separator: %s\n", err.msg);
         return 1;
     }

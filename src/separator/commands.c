@@ -479,22 +479,9 @@ static int do_grid(void *vm, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
-static int do_restitution_pair(void *vm, const mote_call *c, mote_err *err)
-{
-    mote_sep_system *s = &((sep_model *)vm)->sys;
-    int k[2];
-    for (int q = 0; q < 2; q++) {
-        k[q] = sep_find_species(s, c->args[q].text);
-        if (k[q] < 0)
-            return mote_call_fail(err, c, q, MOTE_EINVAL, "restitution_pair: no species '%s'",
-                                  c->args[q].text);
-    }
-    s->e_pair[k[0]][k[1]] = s->e_pair[k[1]][k[0]] = c->args[2].r;
-    return MOTE_OK;
-}
-
-/* friction_pair / rolling_friction_pair / cohesion_pair A B VALUE */
-static int do_friction_pair(void *vm, const mote_call *c, mote_err *err)
+/* restitution_pair / friction_pair / rolling_friction_pair / cohesion_pair A B VALUE: the
+ * value of the species pair, both ways */
+static int do_pair(void *vm, const mote_call *c, mote_err *err)
 {
     mote_sep_system *s = &((sep_model *)vm)->sys;
     int k[2];
@@ -504,9 +491,10 @@ static int do_friction_pair(void *vm, const mote_call *c, mote_err *err)
             return mote_call_fail(err, c, q, MOTE_EINVAL, "%s: no species '%s'", c->name,
                                   c->args[q].text);
     }
-    double(*t)[MOTE_SEP_MAX_SPECIES] = !strcmp(c->name, "friction_pair")   ? s->mu_pair
-                                       : !strcmp(c->name, "cohesion_pair") ? s->coh_pair
-                                                                           : s->mur_pair;
+    double(*t)[MOTE_SEP_MAX_SPECIES] = !strcmp(c->name, "restitution_pair") ? s->e_pair
+                                       : !strcmp(c->name, "friction_pair")  ? s->mu_pair
+                                       : !strcmp(c->name, "cohesion_pair")  ? s->coh_pair
+                                                                            : s->mur_pair;
     t[k[0]][k[1]] = t[k[1]][k[0]] = c->args[2].r;
     return MOTE_OK;
 }
@@ -778,8 +766,7 @@ static const mote_cmd sep_commands[] = {
     {"restitution_wall", NULL, "r(0,1]", "restitution_wall E", "restitution at walls",
      HELP_RESTITUTION, SET},
     {"restitution_pair", NULL, "s s r(0,1]", "restitution_pair A B E",
-     "restitution between two species", HELP_RESTITUTION, do_restitution_pair,
-     do_restitution_pair},
+     "restitution between two species", HELP_RESTITUTION, do_pair, do_pair},
     {"contact", NULL, "e{linear|hertz} restitution=e{exact|liggghts}",
      "contact linear|hertz [restitution=exact|liggghts]", "the contact law", HELP_CONTACT,
      do_contact, do_contact},
@@ -788,19 +775,19 @@ static const mote_cmd sep_commands[] = {
     {"friction_wall", NULL, "r>=0", "friction_wall MU", "sliding friction at walls and grids",
      HELP_FRICTION, SET},
     {"friction_pair", NULL, "s s r>=0", "friction_pair A B MU",
-     "sliding friction between two species", HELP_FRICTION, do_friction_pair, do_friction_pair},
+     "sliding friction between two species", HELP_FRICTION, do_pair, do_pair},
     {"rolling_friction", NULL, "r>=0", "rolling_friction MU_R",
      "rolling friction between particles", HELP_FRICTION, SET},
     {"rolling_friction_wall", NULL, "r>=0", "rolling_friction_wall MU_R",
      "rolling friction at walls and grids", HELP_FRICTION, SET},
     {"rolling_friction_pair", NULL, "s s r>=0", "rolling_friction_pair A B MU_R",
-     "rolling friction between two species", HELP_FRICTION, do_friction_pair, do_friction_pair},
+     "rolling friction between two species", HELP_FRICTION, do_pair, do_pair},
     {"cohesion", NULL, "r>=0", "cohesion K", "cohesion between particles (SJKR)",
      HELP_COHESION, SET},
     {"cohesion_wall", NULL, "r>=0", "cohesion_wall K", "cohesion at walls and grids",
      HELP_COHESION, SET},
     {"cohesion_pair", NULL, "s s r>=0", "cohesion_pair A B K", "cohesion between two species",
-     HELP_COHESION, do_friction_pair, do_friction_pair},
+     HELP_COHESION, do_pair, do_pair},
     {"wall_material", NULL, "E=r>0 nu=r(-1,0.5)", "wall_material E=PA [nu=0.3]",
      "the walls' and grids' elastic constants", HELP_CONTACT, do_wall_material,
      do_wall_material},
