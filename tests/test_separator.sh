@@ -258,7 +258,11 @@ printf '%bchannel 0.05 1\ngas 1.5\ncollisions off\ntimestep 1e-3\nspecies quartz
 "$MOTE" check est.mote > out.txt 2> err.txt && [ ! -s err.txt ] &&
     grep -q "^est.mote:9:1: note: run 0.2 s: 200 steps of 0.001 s; 144 particles fed, about [0-9.]* in the channel on average" out.txt &&
     grep -q "^est.mote:10:1: note: run 0.1 s: 100 steps of 0.001 s; 72.1 particles fed" out.txt && ok || bad "estimate: $(cat out.txt err.txt)"
-# (144 = 1e-6 kg/s x 0.2 s / (2650 pi (1e-4)^3 / 6 kg))
+# (144 = 1e-6 kg/s x 0.2 s / (2650 pi (1e-4)^3 / 6 kg)); a closed channel whose feed stops half
+# way through the run keeps all it was fed: on average 3/4 of them over the run, all at its end
+printf '%bchannel 0.05 1\nends closed closed\ngas 1.5\ncollisions off\ntimestep 1e-3\nspecies quartz 2650\nsize quartz mono d=1e-4\nfeed z=0.5 rate=1e-6 stop=1\nrun 2\n' "$S" > estc.mote
+"$MOTE" check estc.mote > out.txt 2> err.txt &&
+    grep -q "^estc.mote:10:1: note: run 2 s: 2e+03 steps of 0.001 s; 721 particles fed, about 541 in the channel on average, 721 at the end" out.txt && ok || bad "estimate, closed: $(cat out.txt err.txt)"
 "$MOTE" run est.mote > out.txt 2> err.txt && grep -q "^t=0.2 steps=200 " out.txt && grep -q "^t=0.3 steps=300 " out.txt && ok || bad "the estimated steps: $(grep '^t=' out.txt)"
 SAND="${S}channel 0.05 1\ngas 1\nspecies sand 2650\nsize sand lognormal d50=100e-6 sigma=1.8 min=20e-6 max=500e-6\nfeed z=0.5 rate=0.001\nrun 1\n"
 printf '%b' "$SAND" > sand.mote
