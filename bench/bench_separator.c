@@ -101,7 +101,7 @@ static double bytes_per_particle(const mote_sep_system *s)
                       * springs, buffers, flags and mirrors */
                      (s->w ? 18.0 * (double)s->rot_cap * sizeof(double) : 0) +
                      (double)s->hist_cap * sizeof(double) + (double)s->pbuf_cap * sizeof(double) +
-                     (double)s->pact_cap + (double)s->mir_cap * sizeof(uint32_t) +
+                     (double)s->mir_cap * sizeof(uint32_t) +
                      (double)s->hmap_cap * (2 * sizeof(uint64_t) + 3 * sizeof(double));
     return s->n ? b / (double)s->n : 0;
 }

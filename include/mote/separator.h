@@ -187,13 +187,12 @@ typedef struct {
      * is not in contact */
     double *hist;
     size_t hist_cap;
-    /* the pairs made once each (contact hertz): per entry of the rows, at an owner entry (its
-     * row's index below its partner's) the force on the owner, its torque and the partner's
-     * (9), and whether in contact; at the other (mirror) entry the owner entry's index */
+    /* the pairs made once each (contact hertz): per entry of the rows the force and torque on
+     * its row's particle from that pair (6; zero out of contact); per owner entry (its row's
+     * index below its partner's) the index of the partner's entry for it */
     double *pbuf;
-    unsigned char *pact;
     uint32_t *mir;
-    size_t pbuf_cap, pact_cap, mir_cap;
+    size_t pbuf_cap, mir_cap;
     int nb_idx_ok;                       /* the rows' indices still name the particles they were
                                           * built for (no removal or reorder since), */
     size_t nb_n;                         /* the particles with rows (at the build) */

@@ -909,11 +909,10 @@ static double window_reach(const double *box, size_t nblk, size_t b, size_t K, d
 }
 
 /* contact hertz: the listed contacts in two passes on the threads. Each pair is made once, from
- * its owner entry (the row of its lower index), into the pair buffer (s->pbuf: the force on the
- * owner, its torque, the other's torque; s->pact: in contact); then each particle sums its walls
- * and plates and its row's entries in the row's order (from the buffer: an owner entry's values,
- * a mirror entry's (s->mir: the owner entry) with the force negated), so every sum is the same
- * whatever the threads. The new forces and torques become the present ones; the second half
+ * its owner entry (the row of its lower index), into the slots of its two entries (s->pbuf: the
+ * force and torque on that entry's particle; s->mir: the owner entry's partner entry); then
+ * each particle sums its walls and plates and its row's slots in the row's order, so every sum
+ * is the same whatever the threads. The new forces and torques become the present ones; the second half
  * kick is left pending (kick). */
 static void list_forces_hm(mote_sep_system *s, const force_ctx *c, int kick, const unsigned char *exc)
 {
@@ -924,7 +923,6 @@ static void list_forces_hm(mote_sep_system *s, const force_ctx *c, int kick, con
                             s->gx, s->gy, s->gz, s->id, s->w, s->tq, s->tq2, s->hist, s->wh};
     const uint32_t *start = s->nb_start, *nb = s->nb, *mir = s->mir;
     double *restrict buf = s->pbuf;
-    unsigned char *restrict act = s->pact;
     const double W = s->W, D = s->D, H = s->H;
     double mo = s->max_overlap;
     uint64_t contacts = 0;
@@ -937,15 +935,28 @@ static void list_forces_hm(mote_sep_system *s, const force_ctx *c, int kick, con
             pv_of(&a, c, i, pvw + 6 * i);
             pw_of(&a, c, i, pvw + 6 * i + 3);
         }
+        /* each pair from its owner entry: the force and torque on the owner into its entry's
+         * slot, those on the partner into the partner's entry (mir[e]: its place); zeros for a
+         * pair not in contact. Every slot has one writer. */
 #pragma omp for schedule(static)
         for (size_t i = 0; i < n; i++)
             for (uint32_t e = start[i]; e < start[i + 1]; e++)
                 if (nb[e] > i) {
-                    const int in = pair_hm(&a, c, pvw, i, e, dim, buf + 9 * (size_t)e, &mo);
-                    act[e] = (unsigned char)in;
-                    contacts += (uint64_t)in;
+                    double o[9];
+                    double *bi = buf + 6 * (size_t)e, *bj = buf + 6 * (size_t)mir[e];
+                    if (pair_hm(&a, c, pvw, i, e, dim, o, &mo)) {
+                        bi[0] = o[0], bi[1] = o[1], bi[2] = o[2];
+                        bi[3] = o[3], bi[4] = o[4], bi[5] = o[5];
+                        bj[0] = -o[0], bj[1] = -o[1], bj[2] = -o[2];
+                        bj[3] = o[6], bj[4] = o[7], bj[5] = o[8];
+                        contacts++;
+                    } else {
+                        for (int b = 0; b < 6; b++)
+                            bi[b] = bj[b] = 0;
+                    }
                 }
-        /* (the barrier: every pair made) */
+        /* (the barrier: every slot written) each particle: its walls and plates, then its
+         * row's slots in order */
 #pragma omp for schedule(static)
         for (size_t i = 0; i < n; i++) {
             double F[3] = {0, 0, 0}, T[3] = {0, 0, 0};
@@ -953,20 +964,9 @@ static void list_forces_hm(mote_sep_system *s, const force_ctx *c, int kick, con
                                  : sep_near_wall(0.5 * a.d[i], a.x[i], a.y[i], a.z[i], W, D, H, dim);
             walls_hm(s, &a, c, i, wall, F, T, &mo);
             for (uint32_t e = start[i]; e < start[i + 1]; e++) {
-                if (nb[e] > i) {
-                    if (act[e]) {
-                        const double *b = buf + 9 * (size_t)e;
-                        F[0] += b[0], F[1] += b[1], F[2] += b[2];
-                        T[0] += b[3], T[1] += b[4], T[2] += b[5];
-                    }
-                } else {
-                    const uint32_t m = mir[e];
-                    if (act[m]) {
-                        const double *b = buf + 9 * (size_t)m;
-                        F[0] -= b[0], F[1] -= b[1], F[2] -= b[2];
-                        T[0] += b[6], T[1] += b[7], T[2] += b[8];
-                    }
-                }
+                const double *b = buf + 6 * (size_t)e;
+                F[0] += b[0], F[1] += b[1], F[2] += b[2];
+                T[0] += b[3], T[1] += b[4], T[2] += b[5];
             }
             a.gx[i] = F[0];
             a.gy[i] = F[1];
@@ -1401,8 +1401,7 @@ int sep_hist_fill(mote_sep_system *s, mote_err *err)
 {
     const size_t nr = s->nb_n, ne = s->nb_start ? s->nb_start[nr] : 0;
     if (sep_reserve((void **)&s->hist, &s->hist_cap, 3 * ne + 3, sizeof *s->hist, err) ||
-        sep_reserve((void **)&s->pbuf, &s->pbuf_cap, 9 * ne + 9, sizeof *s->pbuf, err) ||
-        sep_reserve((void **)&s->pact, &s->pact_cap, ne + 1, 1, err) ||
+        sep_reserve((void **)&s->pbuf, &s->pbuf_cap, 6 * ne + 6, sizeof *s->pbuf, err) ||
         sep_reserve((void **)&s->mir, &s->mir_cap, ne + 1, sizeof *s->mir, err))
         return err->code;
     const struct sep_hrec *map = s->hmap_pending ? s->hmap : NULL;
@@ -1416,8 +1415,7 @@ int sep_hist_fill(mote_sep_system *s, mote_err *err)
     for (size_t i = 0; i < nr; i++)
         for (uint32_t e = start[i]; e < start[i + 1]; e++) {
             double *xi = hist + 3 * (size_t)e;
-            /* the mirror of an owner entry (i, j > i): j's entry for i (rows sorted), which
-             * no other entry names */
+            /* an owner entry's (i, j > i) partner entry: j's entry for i (rows sorted) */
             const size_t jj = nb[e];
             if (jj > i) {
                 uint32_t lo = start[jj], hi = start[jj + 1];
@@ -1428,7 +1426,7 @@ int sep_hist_fill(mote_sep_system *s, mote_err *err)
                     else
                         hi = mid;
                 }
-                mir[lo] = e;
+                mir[e] = lo;
             }
             xi[0] = xi[1] = xi[2] = 0;
             if (!nm)

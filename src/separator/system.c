@@ -103,7 +103,6 @@ void mote_sep_free(mote_sep_system *s)
     free(s->hist);
     free(s->hmap);
     free(s->pbuf);
-    free(s->pact);
     free(s->mir);
     for (int k = 0; k < s->nsp; k++)
         mote_sep_dist_free(&s->sp[k].dist);
