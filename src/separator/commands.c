@@ -847,7 +847,8 @@ static const mote_cmd sep_commands[] = {
 };
 
 /* The particles as arrays: positions and velocities (copies, rows of x y z), radii (d/2),
- * masses and species (views). */
+ * masses and species (views); with contact hertz the angular velocities (a view, rows of
+ * x y z; 2D: about y). */
 static int sep_model_arrays(void *vm, mote_array *out, int cap)
 {
     mote_sep_system *s = &((sep_model *)vm)->sys;
@@ -860,7 +861,10 @@ static int sep_model_arrays(void *vm, mote_array *out, int cap)
         !mote_array_gather(&out[k], "radii", "m", d, 1, s->n, 0.5) && ++k) {
         mote_array_view(&out[3], "masses", "kg", s->m, 'd', s->n, 1);
         mote_array_view(&out[4], "species", "index of `species`", s->s, 'i', s->n, 1);
-        return 5;
+        if (!(s->hertz && s->w && cap >= 6))
+            return 5;
+        mote_array_view(&out[5], "angular_velocities", "rad/s", s->w, 'd', s->n, 3);
+        return 6;
     }
     while (k-- > 0)
         free(out[k].data);

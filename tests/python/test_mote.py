@@ -383,3 +383,22 @@ def test_keyboard_interrupt_charging_and_ensembles(ctrl_c):
         with pytest.raises(KeyboardInterrupt):
             mote.run(script)
         timer.join()
+
+
+def test_separator_angular_velocities():
+    """contact hertz: the angular velocities as an array (rad/s, rows of x y z), spinning after
+    a pour with friction; absent with the linear law."""
+    sim = mote.Simulation("separator")
+    for line in ("dim 3", "channel 0.02 0.04 D=0.02", "ends closed closed", "gas 0 rho=0 mu=0",
+                 "species name=glass density=2500 E=5e6 nu=0.3", "size glass mono d=2e-3",
+                 "feed z=0.02 hf=0.03", "contact hertz", "friction 0.5", "insert glass 60",
+                 "run 0.05"):
+        sim.command(line)
+    w = sim.arrays()["angular_velocities"]
+    assert w.shape == (60, 3) and np.all(np.isfinite(w)) and np.abs(w).max() > 1
+    assert sim.units()["angular_velocities"] == "rad/s"
+    lin = mote.Simulation("separator")
+    for line in ("channel 0.02 0.04", "gas 0", "species glass 2500", "size glass mono d=2e-3",
+                 "feed z=0.02", "insert glass 5"):
+        lin.command(line)
+    assert "angular_velocities" not in lin.arrays()
