@@ -182,6 +182,8 @@ typedef struct {
      * 9 each) */
     double *w, *tq, *tq2, *wh;
     size_t rot_cap;
+    double rot_h1, rot_h2;               /* within a step: its angular kicks (the pending one and
+                                          * the first half), made by the contacts' pass */
     /* the tangential springs of the listed pairs, 3 per row entry (both copies of a pair, the
      * same numbers: each made from the pair in the order lower id first); zero where the pair
      * is not in contact */

@@ -583,7 +583,7 @@ typedef struct {
     /* hertz: ids, angular velocities, last torques, new torques, the springs of the row
      * entries and of the walls */
     const uint64_t *restrict id;
-    const double *restrict w, *restrict tq;
+    const double *w, *restrict tq; /* (w: kicked through s in the first loop) */
     double *restrict tq2, *restrict hist, *restrict wh;
 } force_arrays;
 
@@ -908,6 +908,22 @@ static double window_reach(const double *box, size_t nblk, size_t b, size_t K, d
     return sqrt(d2) + margin;
 }
 
+/* After a pass of the listed contacts: the new forces (in g) become the present ones, the
+ * second half kick is left pending (kick), the pass's largest overlap and contacts kept. */
+static void forces_done(mote_sep_system *s, const force_ctx *c, int kick, double mo,
+                        uint64_t contacts)
+{
+    double *t;
+    t = s->fx, s->fx = s->gx, s->gx = t;
+    t = s->fy, s->fy = s->gy, s->gy = t;
+    t = s->fz, s->fz = s->gz, s->gz = t;
+    s->g_cap = s->cap;
+    s->kick_h = kick ? c->half_dt : 0;
+    s->max_overlap = mo;
+    s->contacts_pp = contacts;
+    s->candidates = 2 * s->npl; /* (each row's entries tested) */
+}
+
 /* contact hertz: the listed contacts in two passes on the threads. Each pair is made once, from
  * its owner entry (the row of its lower index), into the slots of its two entries (s->pbuf: the
  * force and torque on that entry's particle; s->mir: the owner entry's partner entry); then
@@ -927,11 +943,16 @@ static void list_forces_hm(mote_sep_system *s, const force_ctx *c, int kick, con
     double mo = s->max_overlap;
     uint64_t contacts = 0;
     double *restrict pvw = s->pv;
+    const double h1 = s->rot_h1, h2 = s->rot_h2;
+    s->rot_h1 = s->rot_h2 = 0;
 #pragma omp parallel num_threads(nt) if (nt > 1) reduction(max : mo) reduction(+ : contacts)
     {
-        /* the predicted velocities and angular velocities, once a particle */
+        /* this step's angular kicks (step() left them here: one pass fewer), then the
+         * predicted velocities and angular velocities, once a particle */
 #pragma omp for schedule(static)
         for (size_t i = 0; i < n; i++) {
+            if (h1 > 0 || h2 > 0)
+                sep_rot_kick(s, i, h1, h2);
             pv_of(&a, c, i, pvw + 6 * i);
             pw_of(&a, c, i, pvw + 6 * i + 3);
         }
@@ -976,16 +997,9 @@ static void list_forces_hm(mote_sep_system *s, const force_ctx *c, int kick, con
             a.tq2[3 * i + 2] = T[2];
         }
     }
-    double *t;
-    t = s->fx, s->fx = s->gx, s->gx = t;
-    t = s->fy, s->fy = s->gy, s->gy = t;
-    t = s->fz, s->fz = s->gz, s->gz = t;
-    t = s->tq, s->tq = s->tq2, s->tq2 = t;
-    s->g_cap = s->cap;
-    s->kick_h = kick ? c->half_dt : 0;
-    s->max_overlap = mo;
-    s->contacts_pp = contacts;
-    s->candidates = 2 * s->npl;
+    double *t = s->tq;
+    s->tq = s->tq2, s->tq2 = t;
+    forces_done(s, c, kick, mo, contacts);
 }
 
 /* The listed contacts of every particle, on the threads: walls, neighbours, plates, into the
@@ -1058,16 +1072,8 @@ static void list_forces(mote_sep_system *s, const force_ctx *c, double g_w, int 
     }
     /* the new forces become the present ones; the second half kick waits for the next drift
      * (or mote_sep_complete) */
-    double *t;
-    t = s->fx, s->fx = s->gx, s->gx = t;
-    t = s->fy, s->fy = s->gy, s->gy = t;
-    t = s->fz, s->fz = s->gz, s->gz = t;
-    s->g_cap = s->cap;
-    s->kick_h = kick ? c->half_dt : 0;
-    s->max_overlap = mo;
-    s->contacts_pp = contacts;
     s->gap_skips += skips;
-    s->candidates = 2 * s->npl; /* (each row's entries tested) */
+    forces_done(s, c, kick, mo, contacts);
 }
 
 int sep_g_reserve(mote_sep_system *s, mote_err *err)
@@ -1429,9 +1435,9 @@ int sep_hist_fill(mote_sep_system *s, mote_err *err)
                 mir[e] = lo;
             }
             xi[0] = xi[1] = xi[2] = 0;
-            if (!nm)
+            if (!nm || jj < i) /* (a spring lives at its owner entry only) */
                 continue;
-            const size_t j = nb[e];
+            const size_t j = jj;
             const struct sep_hrec key = {id[i] < id[j] ? id[i] : id[j],
                                          id[i] < id[j] ? id[j] : id[i], {0, 0, 0}};
             const struct sep_hrec *r = bsearch(&key, map, nm, sizeof *map, cmp_hrec);

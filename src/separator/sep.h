@@ -105,6 +105,19 @@ static inline double sep_inv_inertia(double im, double d)
 {
     return 10 * im / (d * d);
 }
+/* Particle i's angular kicks w += h T / I with its last torque: h1 (a pending second half kick;
+ * 0: none), then h2 (0: none); one expression wherever they are made (the same bits whether a
+ * kick waits for the next step or not). */
+static inline void sep_rot_kick(mote_sep_system *s, size_t i, double h1, double h2)
+{
+    const double iI = sep_inv_inertia(s->im[i], s->d[i]);
+    for (int a = 0; a < 3; a++) {
+        if (h1 > 0)
+            s->w[3 * i + a] += h1 * iI * s->tq[3 * i + a];
+        if (h2 > 0)
+            s->w[3 * i + a] += h2 * iI * s->tq[3 * i + a];
+    }
+}
 
 /* the most steps a run may take (some 10^4 years at 10^5 steps a second): more is refused */
 #define SEP_STEPS_MAX 1e13

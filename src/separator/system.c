@@ -800,27 +800,6 @@ drift_range(mote_sep_system *s, const drift_view *v, size_t lo, size_t hi, drift
     *r = (drift_sums){move2, {lx, ly, lz, hx, hy, hz}, moved, nexit};
 }
 
-/* The angular velocities' kicks w += h T / I with the last torques: h1 (the pending second
- * half kick, 0: none), then h2 (0: none); one expression wherever they are made (the same bits
- * whether a kick waits for the next step or not). */
-static void rot_kick(mote_sep_system *s, double h1, double h2)
-{
-    const size_t n = s->n;
-    const int nt = sep_threads(s);
-    double *w = s->w;
-    const double *tq = s->tq, *im = s->im, *d = s->d;
-#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
-    for (size_t i = 0; i < n; i++) {
-        const double iI = sep_inv_inertia(im[i], d[i]);
-        for (int a = 0; a < 3; a++) {
-            if (h1 > 0)
-                w[3 * i + a] += h1 * iI * tq[3 * i + a];
-            if (h2 > 0)
-                w[3 * i + a] += h2 * iI * tq[3 * i + a];
-        }
-    }
-}
-
 static int step(mote_sep_system *s, double dt, mote_err *err)
 {
     /* per particle: the half kick and the drift; the largest displacement is watched (spec
@@ -919,8 +898,10 @@ static int step(mote_sep_system *s, double dt, mote_err *err)
     for (size_t i = 0; nexit && i < n; i++)
         if ((exc[i] & 15) && note_exit(s, i, exc[i] & 15, err))
             return err->code;
-    if (s->hertz && s->w)
-        rot_kick(s, s->kick_h, 0.5 * dt);
+    /* (contact hertz: the angular kicks of this step, the pending one and the first half,
+     * are made by the contacts' pass that follows, in its first loop over the particles) */
+    s->rot_h1 = s->hertz ? s->kick_h : 0;
+    s->rot_h2 = s->hertz ? 0.5 * dt : 0;
     s->kick_h = 0; /* (made in the drift) */
     if (s->dem && move2 > 0.0625 * 0.25 * dmin * dmin)
         s->fast_moves++;
@@ -966,9 +947,8 @@ void mote_sep_complete(mote_sep_system *s)
 {
     if (!(s->kick_h > 0))
         return;
-    if (s->hertz && s->w)
-        rot_kick(s, s->kick_h, 0);
     const size_t n = s->n;
+    const int rot = s->hertz && s->w;
     const int nt = sep_threads(s);
     const double kh = s->kick_h;
     double *vx = s->vx, *vy = s->vy, *vz = s->vz;
@@ -979,6 +959,8 @@ void mote_sep_complete(mote_sep_system *s)
         vx[i] += h * fx[i];
         vy[i] += h * fy[i];
         vz[i] += h * fz[i];
+        if (rot) /* (the angular velocities' half kick: the contacts' pass's expression) */
+            sep_rot_kick(s, i, kh, 0);
     }
     s->kick_h = 0;
 }
