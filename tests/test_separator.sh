@@ -311,4 +311,8 @@ expect 1 "hz5.mote:7:24: error: wall_material: nu must be in (-1, 0.5), found 0.
 expect 1 "hz6.mote:11:1: error: insert: contact hertz with collisions off: nothing would collide (collisions dem)" hz6.mote "${HZ}species name=glass density=2500 E=5e6\ncollisions off\n$HZE"
 expect 1 "hz7.mote:7:28: error: contact: restitution= goes with hertz" hz7.mote "${HZ}species name=glass density=2500 E=5e6\ncontact linear restitution=liggghts\n$HZE"
 [ ! -e hz.state ] && ok || bad "a refused hertz script wrote its state"
+# stiffness overlap= means nothing to contact hertz: a warning before anything runs, once
+printf '%bspecies name=glass density=2500 E=5e6\nstiffness overlap=0.1\n%brun 0.001\n' "$HZ" "$HZE" > hzw.mote
+"$MOTE" check hzw.mote > out.txt 2> err.txt && [ "$(grep -c 'warning: contact hertz takes its stiffness from the species' err.txt)" -eq 1 ] &&
+    grep -q "^hzw.mote:12:1: warning: contact hertz takes its stiffness from the species' E and nu: stiffness overlap= and khat= do not apply" err.txt && ok || bad "hertz and stiffness: $(cat out.txt err.txt)"
 mote_test_end

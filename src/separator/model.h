@@ -23,6 +23,7 @@ typedef struct {
     /* the dry model's account for the estimates of `run` (check): the particles there may be
      * (fed or inserted, none leaving: an upper bound) and the time the runs have reached */
     double est_n, est_t;
+    int warned_stiffness; /* (contact hertz with stiffness overlap= or khat=: said once) */
     uint64_t seed;
     /* the outputs on a schedule (spec 3): frames, the live picture, snapshots, the balance */
     struct {

@@ -157,6 +157,12 @@ int sep_check_run(void *vm, const mote_call *c, mote_err *err)
     if (rc || !m->dry)
         return rc;
     const mote_sep_system *s = &m->sys;
+    if (s->hertz && (s->khat > 0 || s->delta_f != 0.05) && !m->warned_stiffness) {
+        m->warned_stiffness = 1;
+        mote_call_warn(c, "contact hertz takes its stiffness from the species' E and nu: "
+                          "stiffness overlap= and khat= do not apply (vimp= still sets the "
+                          "impact speed of the time step)");
+    }
     const double T = c->args[0].r, t0 = fmax(m->est_t, s->t); /* (s->t: a state loaded) */
     const double steps = ceil(T / s->dt - 1e-9);
     /* a run that cannot finish is refused before anything runs, as the run would refuse it */
