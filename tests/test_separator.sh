@@ -311,6 +311,18 @@ expect 1 "hz5.mote:7:24: error: wall_material: nu must be in (-1, 0.5), found 0.
 expect 1 "hz6.mote:11:1: error: insert: contact hertz with collisions off: nothing would collide (collisions dem)" hz6.mote "${HZ}species name=glass density=2500 E=5e6\ncollisions off\n$HZE"
 expect 1 "hz7.mote:7:28: error: contact: restitution= goes with hertz" hz7.mote "${HZ}species name=glass density=2500 E=5e6\ncontact linear restitution=liggghts\n$HZE"
 [ ! -e hz.state ] && ok || bad "a refused hertz script wrote its state"
+# a hertz state: its springs and rotation read back exactly (save, load, save); a spring whose
+# ids are out of order, or springs in a state of the linear law: located errors, nothing run
+printf '%bspecies name=glass density=2500 E=5e6\nsize glass mono d=2e-3\nfeed z=0.02 hf=0.03\ncontact hertz\nfriction 0.5\ninsert glass 60\nrun 0.2\nsave hzs.state\n' "$HZ" > hzs.mote
+printf '%bload hzs.state\nsave hzs2.state\n' "$S" > hzs2.mote
+"$MOTE" run hzs.mote > /dev/null 2> err.txt && "$MOTE" run hzs2.mote > /dev/null 2>> err.txt && cmp -s hzs.state hzs2.state &&
+    grep -q '^springs [1-9]' hzs.state && ok || bad "hertz state: save, load, save: $(cat err.txt; grep '^springs' hzs.state)"
+line=$(grep -n '^h ' hzs.state | head -1 | cut -d: -f1)
+awk -v l="$line" 'NR == l { t = $2; $2 = $3; $3 = t } { print }' hzs.state > hzbad.state
+expect 1 "hzb1.mote:2:6: error: hzbad.state:$line: a spring's ids must be in increasing order" hzb1.mote "${S}load hzbad.state\nrun 0.001\n"
+sed 's/^int hertz 1$/int hertz 0/' hzs.state > hzlin.state
+expect 1 "hzb2.mote:2:6: error: hzlin.state:" hzb2.mote "${S}load hzlin.state\nrun 0.001\n"
+grep -q "springs are kept only with contact hertz" err.txt && ok || bad "springs in a linear state: $(cat err.txt)"
 # stiffness overlap= means nothing to contact hertz: a warning before anything runs, once
 printf '%bspecies name=glass density=2500 E=5e6\nstiffness overlap=0.1\n%brun 0.001\n' "$HZ" "$HZE" > hzw.mote
 "$MOTE" check hzw.mote > out.txt 2> err.txt && [ "$(grep -c 'warning: contact hertz takes its stiffness from the species' err.txt)" -eq 1 ] &&
