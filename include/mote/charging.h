@@ -7,6 +7,7 @@
 
 #include "mote/command.h"
 #include "mote/core.h"
+#include "mote/mesh.h"
 
 #include <stdint.h>
 
@@ -51,7 +52,7 @@ double mote_ch_debye(const mote_ch_plasma *p);
 
 /* Part names are kept whole up to MOTE_CH_NAME_LEN - 1 bytes; a longer name in a mesh file, part=
  * or material assign is refused (never cut, which could merge two parts). */
-#define MOTE_CH_NAME_LEN 256
+#define MOTE_CH_NAME_LEN MOTE_MESH_NAME_LEN
 /* The most triangles a body has (generated or loaded), and the memory one takes with its share
  * of the ray-tracing structure, for the estimate checked before a body is made. */
 #define MOTE_CH_MAX_TRI 100000000
@@ -92,21 +93,8 @@ int mote_ch_body_twocubes(mote_ch_body *b, double side, double gap, mote_err *er
  * original program's plain format (9 numbers per triangle); scaled, turned about an axis and
  * moved, then checked and repaired (degenerate and duplicate triangles dropped, vertices welded,
  * closed components oriented outward, open ones kept as two-sided sheets). */
-typedef struct {
-    const char *format;    /* "auto", "plain" or "assimp" */
-    double scale;          /* length of one file unit in m */
-    double offset[3];      /* m, added after scaling and turning */
-    int rot_axis;          /* -1: none; 0, 1, 2: x, y, z */
-    double rot_deg;
-    const char *part;      /* the part name when the file gives none (NULL: the file name) */
-    int strict;            /* plain format: an abandoned line is an error */
-} mote_ch_load_opts;
-
-typedef struct {
-    uint32_t read, degenerate, duplicates, welded, flipped, closed_components, open_components;
-    uint32_t abandoned_lines;
-    int trailing_numbers;  /* plain format: numbers of an unfinished last triangle (dropped) */
-} mote_ch_load_report;
+typedef mote_mesh_opts mote_ch_load_opts;
+typedef mote_mesh_report mote_ch_load_report;
 
 int mote_ch_body_load(mote_ch_body *b, const char *path, const mote_ch_load_opts *o,
                       mote_ch_load_report *rep, mote_err *err);

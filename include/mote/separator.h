@@ -107,6 +107,29 @@ long mote_sep_plate_hole_at(const mote_sep_plate *p, int dim, double x, double y
 int mote_sep_plate_features(const mote_sep_plate *p, int dim, const double c[3], double r,
                             double delta[4], double n[4][3]);
 
+/* ---- walls from meshes (issue 56; mesh.c) ------------------------------------------------- */
+
+#define MOTE_SEP_MAX_MESHES 16
+/* A rigid wall of triangles (from a mesh file, mesh.h), at rest or moving: translated at vel
+ * and turned at omega (rad/s, right-handed) about the axis through centre (where it is at t = 0,
+ * then moving with vel). Particles touch its faces, edges and vertices (both sides of an open
+ * sheet); a solid one (every component closed) also keeps particles out of its inside. The
+ * triangles' grid is in the wall's own frame (built for particles up to rmax). */
+typedef struct {
+    char name[64];           /* the file's base name (messages) */
+    size_t nv, nt;
+    double (*v)[3];          /* vertices at t = 0 (m) */
+    uint32_t (*t)[3];        /* triangles (closed components wound outward) */
+    int solid;
+    double vel[3], axis[3], omega, centre[3];
+    /* the grid: cells of edge h from lo, n[3] of them; cell c lists the triangles within
+     * rmax of any of its points: ctri[cstart[c] .. cstart[c + 1]) */
+    double lo[3], h, rmax;
+    int nc[3];
+    uint32_t *cstart, *ctri;
+} mote_sep_mesh;
+void mote_sep_mesh_free(mote_sep_mesh *w);
+
 /* ---- the system ----------------------------------------------------------------------------- */
 
 typedef struct {
@@ -276,6 +299,12 @@ typedef struct {
     mote_sep_species sp[MOTE_SEP_MAX_SPECIES];
     int nplate;
     mote_sep_plate plate[MOTE_SEP_MAX_PLATES];
+    int nmesh;
+    mote_sep_mesh mesh[MOTE_SEP_MAX_MESHES];
+    /* contact hertz with meshes: per particle SEP_MESH_SLOTS tangential springs at the walls'
+     * triangles (4 each: a key, 0 when free, then the spring) */
+    double *mh;
+    size_t mh_cap;
     /* the feed (spec 2.5): band centre and height (0: 2 d_max), mass rate, window, velocity */
     double zf, hf, rate, t_start, t_stop;
     double fx1, fx2, fy1, fy2;           /* window (fx2 <= fx1: the whole cross-section) */

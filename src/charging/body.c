@@ -337,3 +337,40 @@ void mote_ch_body_geometry(const mote_ch_body *b, mote_ch_geometry *g)
     g->capacitance = b->capacitance > 0 ? b->capacitance : fmax(g->c_min, fmin(c_eq, g->c_max));
     g->r_field = g->capacitance / (4 * MOTE_CH_PI * MOTE_CH_EPS0);
 }
+
+/* A mesh file's triangles (the core's reader and repairs, mesh.h) into the body, its parts by
+ * name, made when a kept triangle needs them. */
+int mote_ch_body_load(mote_ch_body *b, const char *path, const mote_ch_load_opts *o,
+                      mote_ch_load_report *rep, mote_err *err)
+{
+    memset(rep, 0, sizeof *rep);
+    if (b->sphere)
+        return mote_fail(err, MOTE_EINVAL, "body load: the body is the exact sphere, which takes "
+                         "no other parts");
+    mote_mesh m = {0};
+    int rc = mote_mesh_load(&m, path, o, rep, err);
+    if (rc)
+        return rc;
+    int *pmap = malloc((size_t)(m.nnames ? m.nnames : 1) * sizeof *pmap);
+    if (!pmap)
+        rc = mote_fail(err, MOTE_ENOMEM, "mesh: out of memory");
+    for (int k = 0; !rc && k < m.nnames; k++)
+        pmap[k] = -1;
+    for (size_t k = 0; !rc && k < m.nt; k++) {
+        int *pm = &pmap[m.part[k]];
+        if (*pm < 0 && (*pm = ch_body_part(b, m.names[m.part[k]], err)) < 0) {
+            rc = err->code;
+            break;
+        }
+        const uint32_t before = b->ntri;
+        rc = ch_add_tri(b, m.v[m.t[k][0]], m.v[m.t[k][1]], m.v[m.t[k][2]], NULL, m.closed[k], *pm,
+                        err);
+        if (!rc && b->ntri == before) { /* (too thin for the body's own test) */
+            rep->degenerate++;
+            rep->flipped -= m.flipped[k];
+        }
+    }
+    free(pmap);
+    mote_mesh_free(&m);
+    return rc;
+}

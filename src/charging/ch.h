@@ -8,14 +8,6 @@
 
 /* The index of the part called name, added when new; -1 with err when out of room. */
 int ch_body_part(mote_ch_body *b, const char *name, mote_err *err);
-/* The cheap checks of a mesh file made before Assimp reads it (OFF and PLY header counts against
- * the file's size, NUL bytes in a text header, a PLY header's end): 0, or "FILE: reason". Used
- * by `body load` at check time too, so a damaged header fails before anything runs. */
-int ch_mesh_precheck(const char *path, mote_err *err);
-/* Assimp's import of a mesh file, through mote's streaming reader (objio.c): an OBJ's object
- * names keep their blanks as '_' (`o panel left` is the part panel_left). */
-struct aiScene;
-const struct aiScene *ch_assimp_import(const char *path, unsigned flags);
 /* Add the triangle (p, q, r) of part `part`, turned so that its normal points away from `inside`
  * when that is given; a triangle of zero area is dropped. */
 int ch_add_tri(mote_ch_body *b, const double p[3], const double q[3], const double r[3],

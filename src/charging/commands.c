@@ -248,44 +248,6 @@ static double capacitance_value(const mote_call *c)
     return a->word ? 0 : a->r;
 }
 
-/* The options of `body load` (spec 7.1-7.3) into o; -1 and a located error when one is bad. */
-static int load_opts(const mote_call *c, mote_ch_load_opts *o, mote_err *err)
-{
-    memset(o, 0, sizeof *o);
-    o->format = "auto";
-    o->scale = 1;
-    o->rot_axis = -1;
-    const mote_arg *a;
-    if ((a = mote_call_opt(c, "format"))) /* auto|plain|assimp */
-        o->format = a->text;
-    if ((a = mote_call_opt(c, "units"))) {
-        static const double F[] = {1, 0.01, 0.001, 0.0254}; /* m|cm|mm|in */
-        const int k = (int)a->i;
-        if (mote_call_opt(c, "scale"))
-            return mote_call_fail(err, c, mote_call_opt_index(c, "scale"), MOTE_EINVAL,
-                                  "body load: give units= or scale=, not both");
-        o->scale = F[k];
-    }
-    o->scale = mote_call_opt_r(c, "scale", o->scale);
-    if ((a = mote_call_opt(c, "offset")))
-        memcpy(o->offset, a->v, sizeof a->v);
-    if ((a = mote_call_opt(c, "rotate"))) {
-        char *end;
-        const char ax = a->text[0];
-        double deg = a->text[0] && a->text[1] == ',' ? strtod(a->text + 2, &end) : NAN;
-        if ((ax != 'x' && ax != 'y' && ax != 'z') || !isfinite(deg) || *end)
-            return mote_call_fail(err, c, mote_call_opt_index(c, "rotate"), MOTE_EINVAL,
-                                  "body load: rotate: expected AXIS,DEGREES (x, y or z), found "
-                                  "'%s'", a->text);
-        o->rot_axis = ax - 'x';
-        o->rot_deg = deg;
-    }
-    if ((a = mote_call_opt(c, "strict"))) /* yes|no */
-        o->strict = a->i == 0;
-    o->part = (a = mote_call_opt(c, "part")) ? a->text : NULL;
-    return MOTE_OK;
-}
-
 static int check_body(void *vm, const mote_call *c, mote_err *err)
 {
     ch_model *m = vm;
@@ -304,11 +266,11 @@ static int check_body(void *vm, const mote_call *c, mote_err *err)
         if (m->have_sphere)
             return mote_call_fail(err, c, -1, MOTE_EINVAL, "body load: the body is the exact "
                                   "sphere, which takes no other parts");
-        int rc = load_opts(c, &o, err);
+        int rc = mote_mesh_call_opts(c, "body load", &o, err);
         if (rc)
             return rc;
         mote_err e2 = {0};
-        if (strcmp(o.format, "plain") != 0 && ch_mesh_precheck(mote_call_opt(c, "file")->path, &e2))
+        if (strcmp(o.format, "plain") != 0 && mote_mesh_precheck(mote_call_opt(c, "file")->path, &e2))
             return mote_call_fail(err, c, mote_call_opt_index(c, "file"), e2.code, "body load: %s",
                                   e2.msg);
         m->have_body = 1;
@@ -416,7 +378,7 @@ static int run_body(void *vm, const mote_call *c, mote_err *err)
     else if (strcmp(kind, "load") == 0) {
         mote_ch_load_opts o;
         mote_ch_load_report rep;
-        rc = load_opts(c, &o, err);
+        rc = mote_mesh_call_opts(c, "body load", &o, err);
         if (!rc)
             rc = mote_ch_body_load(&m->body, mote_call_opt(c, "file")->path, &o, &rep, err);
         if (rc) { /* the file's name and line are in the message; the command's place too */
@@ -426,16 +388,7 @@ static int run_body(void *vm, const mote_call *c, mote_err *err)
                                   "body load: %s", why);
         }
         if (m->log)
-            fprintf(m->log, "body load: %u triangles read; %u degenerate and %u duplicate dropped, "
-                            "%u vertices welded, %u turned to face outward; %u closed and %u "
-                            "open components (open ones are two-sided sheets)%s\n",
-                    rep.read, rep.degenerate, rep.duplicates, rep.welded, rep.flipped,
-                    rep.closed_components, rep.open_components,
-                    rep.abandoned_lines ? "; some lines abandoned (see strict=yes)" : "");
-        if (m->log && rep.trailing_numbers)
-            fprintf(m->log, "body load: warning: %s ends inside a triangle (%d of 9 numbers, "
-                            "dropped; strict=yes makes this an error)\n",
-                    mote_call_opt(c, "file")->path, rep.trailing_numbers);
+            mote_mesh_report_line(m->log, "body load", mote_call_opt(c, "file")->path, &rep);
     } else if (strcmp(kind, "box") == 0) {
         double centre[3] = {0, 0, 0};
         rc = mote_ch_body_box(&m->body, mote_call_opt(c, "size")->v, centre, OPT_I("subdiv", 1),
@@ -1129,8 +1082,7 @@ static const mote_cmd ch_commands[] = {
     {"body twocubes", NULL, "side=r>0 gap=r>=0", "body twocubes [side=1] [gap=1]",
      "two cubes side by side (the thesis's test body)", HELP_BODY, check_body, run_body},
     {"body load", NULL,
-     "file=f<mesh! format=e{auto|plain|assimp} units=e{m|cm|mm|in} scale=r>0 part=s offset=v3 "
-     "rotate=s strict=e{yes|no}",
+     "file=f<mesh! " MOTE_MESH_CALL_OPTS,
      "body load file=FILE [options]", "a mesh file (Assimp's formats, or plain triangles)",
      HELP_BODY, check_body, run_body},
     {"body capacitance", NULL, "value=r>0{auto|solve}!", "body capacitance value=auto|solve|F",

@@ -4,6 +4,7 @@
 
 #include "mote/separator.h"
 #include "mote/buf.h"
+#include "mote/mesh.h"
 
 #include <math.h>
 
@@ -118,6 +119,37 @@ static inline void sep_rot_kick(mote_sep_system *s, size_t i, double h1, double 
             s->w[3 * i + a] += h2 * iI * s->tq[3 * i + a];
     }
 }
+
+/* mesh.c: walls from meshes. A wall's place at time t: world x = C + R (x_b - c0) for x_b in
+ * its own frame (C = c0 + vel t); its velocity at x is vel + w x (x - C). */
+typedef struct {
+    double R[3][3], C[3], c0[3], vel[3], w[3];
+    int moving;
+} sep_mesh_frame;
+void sep_mesh_frame_at(const mote_sep_mesh *w, double t, sep_mesh_frame *f);
+/* A contact with a wall: unit normal n from the wall to the centre, overlap delta, the wall's
+ * velocity at the contact point and its angular velocity, and a key naming the wall and the
+ * triangle (the tangential spring's, contact hertz). */
+typedef struct {
+    double n[3], delta, vw[3], ww[3], key;
+} sep_mc;
+/* the most wall contacts a particle has at once (beyond them, none), and its springs' slots */
+#define SEP_MESH_MAXC 8
+#define SEP_MESH_SLOTS 6
+/* Add a wall from a repaired mesh (solid: every component must be closed). */
+int sep_mesh_add(mote_sep_system *s, const mote_mesh *m, const char *path, int solid,
+                 const double vel[3], const double axis[3], double omega, const double centre[3],
+                 mote_err *err);
+/* The wall's grid for particles up to radius rmax (nothing when built for it already). */
+int sep_mesh_grid(mote_sep_mesh *w, double rmax, mote_err *err);
+/* The contacts of the sphere (p, r) with every wall (frames fr: each wall's at this time),
+ * each face, edge or vertex once, in the walls' and triangles' order; how many (at most
+ * SEP_MESH_MAXC). */
+int sep_mesh_contacts(const mote_sep_system *s, const sep_mesh_frame *fr, const double p[3],
+                      double r, sep_mc *out);
+/* Whether the sphere (p, r) touches a wall at time t or lies inside a solid one: the wall's
+ * number from 1, or 0. */
+int sep_mesh_blocks(const mote_sep_system *s, double t, const double p[3], double r);
 
 /* the most steps a run may take (some 10^4 years at 10^5 steps a second): more is refused */
 #define SEP_STEPS_MAX 1e13

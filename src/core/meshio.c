@@ -1,4 +1,4 @@
-/* Files as Assimp reads them for the charging model's mesh reader.
+/* Files as Assimp reads them for the mesh reader (mesh.c).
  *
  * Assimp cuts an OBJ object name at its first blank: `o panel left` and `o panel right` both
  * become the part `panel`, and their materials cannot be told apart. An OBJ file is therefore
@@ -17,7 +17,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "ch.h"
+#include "mote/mesh.h"
 
 #define OBJ_REACH 4096
 
@@ -182,7 +182,7 @@ static void file_close(struct aiFileIO *io, struct aiFile *af)
     free(af);
 }
 
-const struct aiScene *ch_assimp_import(const char *path, unsigned flags)
+const struct aiScene *mote_mesh_assimp_import(const char *path, unsigned flags)
 {
     struct aiFileIO io = {file_open, file_close, NULL};
     return aiImportFileEx(path, flags, &io);

@@ -1,7 +1,7 @@
-/* mesh.c: the charging model's mesh files (spec 7.1-7.3) and their checks and repairs (spec
- * 4.2). Files are read through Assimp (STL ASCII and binary, OBJ, PLY, glTF and the rest; the
- * node tree is walked so that OBJ groups and STL solids become parts), or in the original
- * program's plain format: numbers as a stream, 9 per triangle, the rest of a line dropped after a
+/* mesh.c: mesh files (the charging spec 7.1-7.3) and their checks and repairs (its 4.2), for
+ * every model that takes them (mesh.h). Files are read through Assimp (STL ASCII and binary,
+ * OBJ, PLY, glTF and the rest; the node tree is walked so that OBJ groups and STL solids become
+ * parts), or in the original program's plain format: numbers as a stream, 9 per triangle, the rest of a line dropped after a
  * triangle's ninth number, a non-numeric token abandoning the partial triangle and its line,
  * `#` starting a comment. The triangles are scaled, turned and moved, then repaired as a whole:
  * triangles below 1e-12 L^2 dropped (L the bounding-box diagonal), vertices closer than 1e-9 L
@@ -9,7 +9,7 @@
  * edges, closed components (every edge shared by exactly two triangles) oriented consistently
  * and outward (positive signed volume, the right-hand rule), open ones kept as two-sided
  * sheets. Every count is reported. */
-#include "mote/charging.h"
+#include "mote/mesh.h"
 
 #include <assimp/cimport.h>
 #include <assimp/postprocess.h>
@@ -28,14 +28,13 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "ch.h"
 
 /* The triangles of one file before repair: vertices and part names. */
 typedef struct {
     size_t n, cap;
     double (*v)[3][3];
     int *part;              /* index into names */
-    char (*names)[MOTE_CH_NAME_LEN];
+    char (*names)[MOTE_MESH_NAME_LEN];
     int nnames;
 } soup;
 
@@ -55,7 +54,7 @@ static int soup_name(soup *s, const char *name, mote_err *err)
     if (strlen(name) >= sizeof s->names[0])
         return mote_fail(err, MOTE_EFORMAT, "the part name '%.40s...' is longer than %zu "
                          "characters", name, sizeof s->names[0] - 1), -1;
-    char(*p)[MOTE_CH_NAME_LEN] = realloc(s->names, (size_t)(s->nnames + 1) * sizeof *p);
+    char(*p)[MOTE_MESH_NAME_LEN] = realloc(s->names, (size_t)(s->nnames + 1) * sizeof *p);
     if (!p)
         return mote_fail(err, MOTE_ENOMEM, "out of memory"), -1;
     s->names = p;
@@ -325,7 +324,7 @@ static int precheck(const char *path, double size, mote_err *err)
     return MOTE_OK;
 }
 
-int ch_mesh_precheck(const char *path, mote_err *err) { return precheck(path, 0, err); }
+int mote_mesh_precheck(const char *path, mote_err *err) { return precheck(path, 0, err); }
 
 /* The child: read with Assimp, write the soup (or the error) to fd, and exit. Its time is
  * bounded too (a reader that loops for ever on a damaged file ends with SIGXCPU or SIGALRM):
@@ -360,7 +359,7 @@ static void assimp_child(int fd, const char *path, const char *fallback, double 
     mote_err e = {0};
     int32_t rc;
     const struct aiScene *sc =
-        ch_assimp_import(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);
+        mote_mesh_assimp_import(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);
     if (!sc || !sc->mRootNode) {
         rc = mote_fail(&e, MOTE_EFORMAT, "%s: not a mesh file Assimp reads (%s)", path,
                        aiGetErrorString());
@@ -407,10 +406,10 @@ static int assimp_receive(int fd, const char *path, soup *s, mote_err *err)
     if (read_all(fd, &n, sizeof n) || read_all(fd, &nn, sizeof nn) || nn < 0 || n > UINT32_MAX)
         return -1;
     int rcm = mote_mem_check((double)n * (sizeof s->v[0] + sizeof s->part[0]) * 4,
-                             "body load: the mesh's triangles", err);
+                             "mesh: the triangles", err);
     if (rcm)
         return rcm;
-    char(*names)[MOTE_CH_NAME_LEN] = malloc(((size_t)nn + 1) * sizeof *names);
+    char(*names)[MOTE_MESH_NAME_LEN] = malloc(((size_t)nn + 1) * sizeof *names);
     double(*v)[3][3] = malloc((n ? n : 1) * sizeof *v);
     int *part = malloc((n ? n : 1) * sizeof *part);
     if (!names || !v || !part) {
@@ -684,7 +683,7 @@ static double soup_extent(const soup *s)
 /* keep[i]: triangle i (welded vertices vid) is not degenerate and not a duplicate of an earlier
  * one (the same vertex set). 1 when out of memory. */
 static int keep_triangles(const soup *s, const uint32_t *vid, const double (*pos)[3], double L,
-                          uint8_t *keep, mote_ch_load_report *rep)
+                          uint8_t *keep, mote_mesh_report *rep)
 {
     uint32_t(*key)[4] = malloc((s->n ? s->n : 1) * sizeof *key);
     if (!key)
@@ -825,7 +824,7 @@ static size_t orient_component(kept_mesh *m, size_t start)
 }
 
 /* Every component oriented; a closed one with negative signed volume turned inside out. */
-static void mesh_orient(kept_mesh *m, mote_ch_load_report *rep)
+static void mesh_orient(kept_mesh *m, mote_mesh_report *rep)
 {
     for (size_t start = 0; start < m->nt; start++) {
         if (m->seen[start])
@@ -852,40 +851,70 @@ static void mesh_orient(kept_mesh *m, mote_ch_load_report *rep)
     }
 }
 
-/* The triangles as repaired into the body; the parts by name, made when a kept triangle needs
- * them. */
-static int mesh_add(mote_ch_body *b, const soup *s, const kept_mesh *m, mote_ch_load_report *rep,
+/* The kept triangles into m: the vertices they use (renumbered in order of first use), the
+ * windings with the flips made, parts, components numbered in order of their first triangle. */
+static int mesh_out(mote_mesh *out, const soup *s, const kept_mesh *m, mote_mesh_report *rep,
                     mote_err *err)
 {
-    int *pmap = malloc((size_t)(s->nnames ? s->nnames : 1) * sizeof *pmap);
-    if (!pmap)
-        return mote_fail(err, MOTE_ENOMEM, "mesh: out of memory");
-    for (int k = 0; k < s->nnames; k++)
-        pmap[k] = -1;
-    int rc = MOTE_OK;
-    for (size_t k = 0; !rc && k < m->nt; k++) {
-        const uint32_t *v = m->vid + 3 * (size_t)m->tri[k];
-        int *pm = &pmap[s->part[m->tri[k]]];
-        if (*pm < 0 && (*pm = ch_body_part(b, s->names[s->part[m->tri[k]]], err)) < 0) {
-            rc = err->code;
-            break;
+    const size_t nt = m->nt;
+    size_t npos = 0;
+    for (size_t k = 0; k < nt; k++)
+        for (int j = 0; j < 3; j++) {
+            const uint32_t v = m->vid[3 * (size_t)m->tri[k] + j];
+            npos = v + 1 > npos ? v + 1 : npos;
         }
-        const double *p0 = m->pos[v[0]], *p1 = m->pos[v[m->flip[k] ? 2 : 1]],
-                     *p2 = m->pos[v[m->flip[k] ? 1 : 2]];
-        const uint32_t before = b->ntri;
-        rc = ch_add_tri(b, p0, p1, p2, NULL, !m->open[find(m->up, (uint32_t)k)], *pm, err);
-        if (!rc && b->ntri == before)
-            rep->degenerate++;
-        if (!rc && m->flip[k] && b->ntri > before) /* flipped: against the file's own winding */
-            rep->flipped++;
+    uint32_t *vmap = malloc((npos ? npos : 1) * sizeof *vmap);
+    uint32_t *cmap = malloc((nt ? nt : 1) * sizeof *cmap);
+    out->v = malloc((npos ? npos : 1) * sizeof *out->v);
+    out->t = malloc((nt ? nt : 1) * sizeof *out->t);
+    out->part = malloc((nt ? nt : 1) * sizeof *out->part);
+    out->comp = malloc((nt ? nt : 1) * sizeof *out->comp);
+    out->closed = malloc(nt ? nt : 1);
+    out->flipped = malloc(nt ? nt : 1);
+    out->names = malloc((size_t)(s->nnames ? s->nnames : 1) * sizeof *out->names);
+    if (!vmap || !cmap || !out->v || !out->t || !out->part || !out->comp || !out->closed ||
+        !out->flipped || !out->names) {
+        free(vmap);
+        free(cmap);
+        return mote_fail(err, MOTE_ENOMEM, "mesh: out of memory");
     }
-    free(pmap);
-    return rc;
+    memcpy(out->names, s->names, (size_t)s->nnames * sizeof *out->names);
+    out->nnames = s->nnames;
+    for (size_t v = 0; v < npos; v++)
+        vmap[v] = UINT32_MAX;
+    for (size_t k = 0; k < nt; k++)
+        cmap[k] = UINT32_MAX;
+    size_t nv = 0, nc = 0;
+    for (size_t k = 0; k < nt; k++) {
+        const uint32_t *v = m->vid + 3 * (size_t)m->tri[k];
+        const uint32_t w[3] = {v[0], v[m->flip[k] ? 2 : 1], v[m->flip[k] ? 1 : 2]};
+        for (int j = 0; j < 3; j++) {
+            if (vmap[w[j]] == UINT32_MAX) {
+                memcpy(out->v[nv], m->pos[w[j]], sizeof out->v[0]);
+                vmap[w[j]] = (uint32_t)nv++;
+            }
+            out->t[k][j] = vmap[w[j]];
+        }
+        const uint32_t root = find(m->up, (uint32_t)k);
+        if (cmap[root] == UINT32_MAX)
+            cmap[root] = (uint32_t)nc++;
+        out->comp[k] = cmap[root];
+        out->part[k] = s->part[m->tri[k]];
+        out->closed[k] = !m->open[root];
+        out->flipped[k] = (uint8_t)(m->flip[k] != 0);
+        rep->flipped += out->flipped[k];
+    }
+    out->nv = nv;
+    out->nt = nt;
+    out->ncomp = nc;
+    free(vmap);
+    free(cmap);
+    return MOTE_OK;
 }
 
-/* Repair the soup and add it to the body. */
-static int repair_add(mote_ch_body *b, soup *s, const char *path, mote_ch_load_report *rep,
-                      mote_err *err)
+/* Repair the soup into out. */
+static int repair(mote_mesh *out, soup *s, const char *path, mote_mesh_report *rep,
+                  mote_err *err)
 {
     rep->read = (uint32_t)s->n;
     const double L = soup_extent(s);
@@ -918,7 +947,7 @@ static int repair_add(mote_ch_body *b, soup *s, const char *path, mote_ch_load_r
     if (!rc) {
         mesh_components(&m);
         mesh_orient(&m, rep);
-        rc = mesh_add(b, s, &m, rep, err);
+        rc = mesh_out(out, s, &m, rep, err);
     }
     free(vid);
     free(pos);
@@ -933,13 +962,33 @@ static int repair_add(mote_ch_body *b, soup *s, const char *path, mote_ch_load_r
     return rc;
 }
 
-int mote_ch_body_load(mote_ch_body *b, const char *path, const mote_ch_load_opts *o,
-                      mote_ch_load_report *rep, mote_err *err)
+void mote_mesh_free(mote_mesh *m)
+{
+    free(m->v);
+    free(m->t);
+    free(m->part);
+    free(m->comp);
+    free(m->closed);
+    free(m->flipped);
+    free(m->names);
+    memset(m, 0, sizeof *m);
+}
+
+int mote_mesh_is_plain(const char *path, const char *format)
+{
+    if (strcmp(format, "auto") != 0)
+        return strcmp(format, "plain") == 0;
+    /* extensions Assimp does not know: the plain format */
+    const char *base = strrchr(path, '/');
+    base = base ? base + 1 : path;
+    const char *dot = strrchr(base, '.');
+    return !dot || !strcmp(dot, ".txt") || !strcmp(dot, ".dat") || !strcmp(dot, ".tri");
+}
+
+int mote_mesh_load(mote_mesh *out, const char *path, const mote_mesh_opts *o,
+                   mote_mesh_report *rep, mote_err *err)
 {
     memset(rep, 0, sizeof *rep);
-    if (b->sphere)
-        return mote_fail(err, MOTE_EINVAL, "body load: the body is the exact sphere, which takes "
-                         "no other parts");
     /* the part name when the file gives none: part= or the file's base name */
     const char *base = strrchr(path, '/');
     base = base ? base + 1 : path;
@@ -948,18 +997,14 @@ int mote_ch_body_load(mote_ch_body *b, const char *path, const mote_ch_load_opts
     int fallback = soup_name(&s, o->part ? o->part : base, &e2);
     if (fallback < 0)
         return mote_fail(err, e2.code, "%s: %s", path, e2.msg);
-    int plain = strcmp(o->format, "plain") == 0;
-    if (strcmp(o->format, "auto") == 0) { /* extensions Assimp does not know: the plain format */
-        const char *dot = strrchr(base, '.');
-        plain = !dot || !strcmp(dot, ".txt") || !strcmp(dot, ".dat") || !strcmp(dot, ".tri");
-    }
-    int rc = plain ? read_plain(path, &s, fallback, o->strict, &rep->abandoned_lines,
+    int rc = mote_mesh_is_plain(path, o->format)
+                 ? read_plain(path, &s, fallback, o->strict, &rep->abandoned_lines,
                               &rep->trailing_numbers, err)
-                   : read_assimp(path, &s, s.names[fallback], err);
+                 : read_assimp(path, &s, s.names[fallback], err);
     if (!rc && s.n == 0)
         rc = mote_fail(err, MOTE_EFORMAT, "%s: no triangles", path);
-    /* scale, turn about the axis, move (spec 7.3) */
-    const double th = o->rot_deg * MOTE_CH_PI / 180, c = cos(th), sn = sin(th);
+    /* scale, turn about the axis, move */
+    const double th = o->rot_deg * 3.14159265358979323846 / 180, c = cos(th), sn = sin(th);
     for (size_t i = 0; !rc && i < s.n; i++)
         for (int j = 0; j < 3; j++) {
             double *p = s.v[i][j];
@@ -978,10 +1023,69 @@ int mote_ch_body_load(mote_ch_body *b, const char *path, const mote_ch_load_opts
             for (int a = 0; a < 3; a++)
                 p[a] += o->offset[a];
         }
+    mote_mesh m = {0};
     if (!rc)
-        rc = repair_add(b, &s, path, rep, err);
+        rc = repair(&m, &s, path, rep, err);
     if (!rc && rep->read == rep->degenerate + rep->duplicates)
         rc = mote_fail(err, MOTE_EFORMAT, "%s: every triangle is degenerate or a duplicate", path);
     soup_free(&s);
-    return rc;
+    if (rc) {
+        mote_mesh_free(&m);
+        return rc;
+    }
+    mote_mesh_free(out);
+    *out = m;
+    return MOTE_OK;
+}
+
+int mote_mesh_call_opts(const mote_call *c, const char *cmd, mote_mesh_opts *o, mote_err *err)
+{
+    memset(o, 0, sizeof *o);
+    o->format = "auto";
+    o->scale = 1;
+    o->rot_axis = -1;
+    const mote_arg *a;
+    if ((a = mote_call_opt(c, "format"))) /* auto|plain|assimp */
+        o->format = a->text;
+    if ((a = mote_call_opt(c, "units"))) {
+        static const double F[] = {1, 0.01, 0.001, 0.0254}; /* m|cm|mm|in */
+        const int k = (int)a->i;
+        if (mote_call_opt(c, "scale"))
+            return mote_call_fail(err, c, mote_call_opt_index(c, "scale"), MOTE_EINVAL,
+                                  "%s: give units= or scale=, not both", cmd);
+        o->scale = F[k];
+    }
+    o->scale = mote_call_opt_r(c, "scale", o->scale);
+    if ((a = mote_call_opt(c, "offset")))
+        memcpy(o->offset, a->v, sizeof a->v);
+    if ((a = mote_call_opt(c, "rotate"))) {
+        char *end = NULL;
+        const char ax = a->text[0];
+        double deg = a->text[0] && a->text[1] == ',' ? strtod(a->text + 2, &end) : NAN;
+        if ((ax != 'x' && ax != 'y' && ax != 'z') || !isfinite(deg) || *end)
+            return mote_call_fail(err, c, mote_call_opt_index(c, "rotate"), MOTE_EINVAL,
+                                  "%s: rotate: expected AXIS,DEGREES (x, y or z), found '%s'",
+                                  cmd, a->text);
+        o->rot_axis = ax - 'x';
+        o->rot_deg = deg;
+    }
+    if ((a = mote_call_opt(c, "strict"))) /* yes|no */
+        o->strict = a->i == 0;
+    o->part = (a = mote_call_opt(c, "part")) ? a->text : NULL;
+    return MOTE_OK;
+}
+
+void mote_mesh_report_line(FILE *log, const char *cmd, const char *path,
+                           const mote_mesh_report *rep)
+{
+    fprintf(log, "%s: %u triangles read; %u degenerate and %u duplicate dropped, %u vertices "
+                 "welded, %u turned to face outward; %u closed and %u open components (open "
+                 "ones are two-sided sheets)%s\n",
+            cmd, rep->read, rep->degenerate, rep->duplicates, rep->welded, rep->flipped,
+            rep->closed_components, rep->open_components,
+            rep->abandoned_lines ? "; some lines abandoned (see strict=yes)" : "");
+    if (rep->trailing_numbers)
+        fprintf(log, "%s: warning: %s ends inside a triangle (%d of 9 numbers, dropped; "
+                     "strict=yes makes this an error)\n",
+                cmd, path, rep->trailing_numbers);
 }
