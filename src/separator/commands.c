@@ -512,6 +512,58 @@ static int do_contact(void *vm, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
+/* wall_mesh file=FILE [the mesh options] [solid=yes] [velocity=] [omega= axis= centre=]: a wall
+ * of triangles, read and repaired by the core (mesh.h) on both the dry and the real model, so a
+ * bad file fails at check */
+static int do_wall_mesh(void *vm, const mote_call *c, mote_err *err)
+{
+    sep_model *m = vm;
+    mote_sep_system *s = &m->sys;
+    const int fi = mote_call_opt_index(c, "file");
+    const char *path = mote_call_opt(c, "file")->path;
+    if (s->nmesh == MOTE_SEP_MAX_MESHES)
+        return mote_call_fail(err, c, -1, MOTE_EINVAL, "wall_mesh: at most %d mesh walls",
+                              MOTE_SEP_MAX_MESHES);
+    mote_mesh_opts o;
+    int rc = mote_mesh_call_opts(c, "wall_mesh", &o, err);
+    if (rc)
+        return rc;
+    const mote_arg *a;
+    const double zero[3] = {0, 0, 0};
+    const double *vel = (a = mote_call_opt(c, "velocity")) ? a->v : zero;
+    const double *axis = (a = mote_call_opt(c, "axis")) ? a->v : zero;
+    const double *centre = (a = mote_call_opt(c, "centre")) ? a->v : zero;
+    const double omega = mote_call_opt_r(c, "omega", 0);
+    if (omega != 0 && (!mote_call_opt(c, "axis") || !mote_call_opt(c, "centre")))
+        return mote_call_fail(err, c, mote_call_opt_index(c, "omega"), MOTE_EINVAL,
+                              "wall_mesh: omega= turns the wall about a line: give axis=X,Y,Z "
+                              "and centre=X,Y,Z too");
+    if (omega == 0 && (mote_call_opt(c, "axis") || mote_call_opt(c, "centre")))
+        return mote_call_fail(err, c, mote_call_opt_index(c, mote_call_opt(c, "axis") ? "axis"
+                                                                                      : "centre"),
+                              MOTE_EINVAL, "wall_mesh: axis= and centre= go with omega=");
+    for (int q = 0; q < 3; q++)
+        if (!isfinite(vel[q]) || !isfinite(axis[q]) || !isfinite(centre[q]) ||
+            !isfinite(omega))
+            return mote_call_fail(err, c, -1, MOTE_EINVAL, "wall_mesh: velocity=, omega=, "
+                                  "axis= and centre= must be finite");
+    mote_mesh mesh = {0};
+    mote_mesh_report rep;
+    rc = mote_mesh_load(&mesh, path, &o, &rep, err);
+    if (!rc)
+        rc = sep_mesh_add(s, &mesh, path, (a = mote_call_opt(c, "solid")) && a->i == 1, vel,
+                          axis, omega, centre, err);
+    mote_mesh_free(&mesh);
+    if (rc) { /* (the file's name, and line, are in the message) */
+        char why[sizeof err->msg];
+        snprintf(why, sizeof why, "%s", err->msg);
+        return mote_call_fail(err, c, fi, (mote_status)rc, "wall_mesh: %s", why);
+    }
+    if (m->log && !m->dry)
+        mote_mesh_report_line(m->log, "wall_mesh", path, &rep);
+    return MOTE_OK;
+}
+
 static int do_wall_material(void *vm, const mote_call *c, mote_err *err)
 {
     mote_sep_system *s = &((sep_model *)vm)->sys;
@@ -788,6 +840,10 @@ static const mote_cmd sep_commands[] = {
      HELP_COHESION, SET},
     {"cohesion_pair", NULL, "s s r>=0", "cohesion_pair A B K", "cohesion between two species",
      HELP_COHESION, do_pair, do_pair},
+    {"wall_mesh", NULL,
+     "file=f<mesh! " MOTE_MESH_CALL_OPTS " solid=e{no|yes} velocity=v3 omega=r axis=v3 centre=v3",
+     "wall_mesh file=FILE [options]", "a wall of triangles from a mesh file", HELP_WALL_MESH,
+     do_wall_mesh, do_wall_mesh},
     {"wall_material", NULL, "E=r>0 nu=r(-1,0.5)", "wall_material E=PA [nu=0.3]",
      "the walls' and grids' elastic constants", HELP_CONTACT, do_wall_material,
      do_wall_material},
@@ -910,6 +966,14 @@ static int sep_model_set_array(void *vm, const char *name, const double *v, size
                                  "to %g), not in a hole", i, c[0], c[2], q + 1,
                                  s->plate[q].zb, s->plate[q].zb + s->plate[q].t);
         }
+    for (size_t i = 0; pos && i < rows; i++) { /* a centre inside a solid mesh wall */
+        const double c[3] = {v[3 * i], s->dim == 3 ? v[3 * i + 1] : 0, v[3 * i + 2]};
+        const int k = s->nmesh ? sep_mesh_blocks(s, s->t, c, 0) : 0;
+        if (k)
+            return mote_fail(err, MOTE_EINVAL, "set positions: particle %zu: its centre (%g, %g, "
+                             "%g) is inside the solid wall %d (%s)", i, c[0], c[1], c[2], k,
+                             s->mesh[k - 1].name);
+    }
     double *dst[3] = {pos ? s->x : s->vx, pos ? s->y : s->vy, pos ? s->z : s->vz};
     for (size_t i = 0; i < rows; i++)
         for (int a = 0; a < 3; a++)

@@ -334,6 +334,7 @@ typedef struct {
     double *pvx, *pvy, *pvz;    /* predicted velocities */
     int hertz;
     hm_pp hm[MOTE_SEP_MAX_SPECIES * MOTE_SEP_MAX_SPECIES], hm_w[MOTE_SEP_MAX_SPECIES];
+    sep_mesh_frame fr[MOTE_SEP_MAX_MESHES]; /* the mesh walls where they are now */
 } force_ctx;
 
 static inline void pair_force(mote_sep_system *s, size_t i, size_t j, const double dx[3], double d2,
@@ -569,6 +570,29 @@ static inline void plate_force(const mote_sep_system *s, size_t i, double khat, 
     }
 }
 
+/* The mesh walls on particle i (linear law): one contact per face, edge or vertex touched, the
+ * dashpot on the approach against the wall's own velocity there. */
+static inline void mesh_force(const mote_sep_system *s, const force_ctx *c, size_t i, double g_w,
+                              const double pvel[3], double F[3], double *mo)
+{
+    sep_mc mc[SEP_MESH_MAXC];
+    const double p[3] = {s->x[i], s->y[i], s->z[i]};
+    const int nm = sep_mesh_contacts(s, c->fr, p, 0.5 * s->d[i], mc);
+    if (!nm)
+        return;
+    const double k = c->khat * s->d[i], gam = g_w * sqrt(s->m[i] * k);
+    for (int q = 0; q < nm; q++) {
+        const double *n = mc[q].n, *vw = mc[q].vw;
+        const double vn = (pvel[0] - vw[0]) * n[0] + (pvel[1] - vw[1]) * n[1] +
+                          (pvel[2] - vw[2]) * n[2];
+        const double Fm = k * mc[q].delta - gam * vn;
+        F[0] += Fm * n[0];
+        F[1] += Fm * n[1];
+        F[2] += Fm * n[2];
+        *mo = fmax(*mo, mc[q].delta / s->d[i]);
+    }
+}
+
 /* The arrays the contacts' pass reads and writes, as restrict pointers: the compiler may keep a
  * particle's values in registers across the stores of its force. It reads the velocities (not
  * yet given the second half kick) and the last forces, for the predicted velocities, and
@@ -728,24 +752,24 @@ static inline int pair_hm(const force_arrays *a, const force_ctx *c, const doubl
     return 1;
 }
 
-/* One Hertz-Mindlin contact of particle i with a wall or plate at rest (n from the wall to the
- * centre, overlap delta), its spring the one of the normal's axis: added to F and T. */
-static inline void wall_hm(const force_arrays *a, const force_ctx *c, size_t i, const double n[3],
-                           double delta, const double pv[3], const double pw[3], double F[3],
-                           double T[3], unsigned *used)
+/* One Hertz-Mindlin contact of particle i with a wall (n from the wall to the centre, overlap
+ * delta; the wall's velocity vw at the contact point and its angular velocity ww; xi the
+ * contact's spring): added to F and T. */
+static inline void contact_wall_hm(const force_arrays *a, const force_ctx *c, size_t i,
+                                   const double n[3], double delta, const double pv[3],
+                                   const double pw[3], const double vw[3], const double ww[3],
+                                   double *xi, double F[3], double T[3])
 {
     const double r = 0.5 * a->d[i];
-    const double ax = fabs(n[0]), ay = fabs(n[1]), az = fabs(n[2]);
-    const int slot = ax >= ay && ax >= az ? 0 : ay >= az ? 1 : 2;
-    *used |= 1u << slot;
     double cw[3], Fw[3], nf[3];
     cross3(pw, n, cw);
-    const double v[3] = {pv[0] - r * cw[0], pv[1] - r * cw[1], pv[2] - r * cw[2]};
+    const double v[3] = {pv[0] - r * cw[0] - vw[0], pv[1] - r * cw[1] - vw[1],
+                         pv[2] - r * cw[2] - vw[2]};
     const hm_pp *k = &c->hm_w[a->sp[i]];
     sep_hm h = k->h;
     h.R = r;
     h.m = a->m[i];
-    const double fn = sep_hm_force(&h, delta, n, v, c->dt, a->wh + 9 * i + 3 * slot, Fw);
+    const double fn = sep_hm_force(&h, delta, n, v, c->dt, xi, Fw);
     cross3(n, Fw, nf);
     if (k->coh > 0) { /* SJKR at a wall: the contact circle's area pi (2 r delta - delta^2) */
         const double fc = -k->coh * SEP_PI * (2 * r - delta) * delta;
@@ -755,12 +779,78 @@ static inline void wall_hm(const force_arrays *a, const force_ctx *c, size_t i, 
         F[b] += Fw[b];
         T[b] -= r * nf[b];
     }
-    const double wl = sqrt(pw[0] * pw[0] + pw[1] * pw[1] + pw[2] * pw[2]);
+    const double wr[3] = {pw[0] - ww[0], pw[1] - ww[1], pw[2] - ww[2]};
+    const double wl = sqrt(wr[0] * wr[0] + wr[1] * wr[1] + wr[2] * wr[2]);
     if (k->mur > 0 && wl > 0) {
         const double f = -k->mur * r * fn / wl;
         for (int b = 0; b < 3; b++)
-            T[b] += f * pw[b];
+            T[b] += f * wr[b];
     }
+}
+
+/* A contact with a channel wall or a plate (at rest), its spring the one of the normal's axis. */
+static inline void wall_hm(const force_arrays *a, const force_ctx *c, size_t i, const double n[3],
+                           double delta, const double pv[3], const double pw[3], double F[3],
+                           double T[3], unsigned *used)
+{
+    const double ax = fabs(n[0]), ay = fabs(n[1]), az = fabs(n[2]);
+    const int slot = ax >= ay && ax >= az ? 0 : ay >= az ? 1 : 2;
+    *used |= 1u << slot;
+    static const double zero[3] = {0, 0, 0};
+    contact_wall_hm(a, c, i, n, delta, pv, pw, zero, zero, a->wh + 9 * i + 3 * slot, F, T);
+}
+
+/* The mesh walls on particle i (contact hertz). Each contact's spring is kept in one of the
+ * particle's slots under the contact's key (wall and triangle); a contact new to its triangle
+ * takes over a spring of the same wall that lost its own (a particle rolling from one triangle
+ * onto the next keeps its spring); springs left without a contact are zeroed. */
+static inline void meshes_hm(const mote_sep_system *s, const force_arrays *a, const force_ctx *c,
+                             size_t i, const double pv[3], const double pw[3], double F[3],
+                             double T[3], double *mo)
+{
+    sep_mc mc[SEP_MESH_MAXC];
+    const double p[3] = {a->x[i], a->y[i], a->z[i]};
+    const int nm = sep_mesh_contacts(s, c->fr, p, 0.5 * a->d[i], mc);
+    double *sl = s->mh + 4 * SEP_MESH_SLOTS * i;
+    int slot[SEP_MESH_MAXC];
+    unsigned used = 0;
+    for (int q = 0; q < nm; q++) { /* the same triangle */
+        slot[q] = -1;
+        for (int j = 0; j < SEP_MESH_SLOTS; j++)
+            if (!(used >> j & 1) && sl[4 * j] == mc[q].key) {
+                slot[q] = j;
+                used |= 1u << j;
+                break;
+            }
+    }
+    for (int pass = 0; pass < 3; pass++) /* the same wall's lost spring; a free slot; any */
+        for (int q = 0; q < nm; q++) {
+            if (slot[q] >= 0)
+                continue;
+            for (int j = 0; j < SEP_MESH_SLOTS; j++) {
+                const double kj = sl[4 * j];
+                if ((used >> j & 1) ||
+                    (pass == 0 && !(kj != 0 && floor(kj / 4294967296.0) ==
+                                                   floor(mc[q].key / 4294967296.0))) ||
+                    (pass == 1 && kj != 0))
+                    continue;
+                if (pass > 0)
+                    sl[4 * j + 1] = sl[4 * j + 2] = sl[4 * j + 3] = 0;
+                sl[4 * j] = mc[q].key;
+                slot[q] = j;
+                used |= 1u << j;
+                break;
+            }
+        }
+    for (int q = 0; q < nm; q++) {
+        double spare[3] = {0, 0, 0}; /* (more contacts than slots: no history) */
+        double *xi = slot[q] >= 0 ? sl + 4 * slot[q] + 1 : spare;
+        contact_wall_hm(a, c, i, mc[q].n, mc[q].delta, pv, pw, mc[q].vw, mc[q].ww, xi, F, T);
+        *mo = fmax(*mo, mc[q].delta / a->d[i]);
+    }
+    for (int j = 0; j < SEP_MESH_SLOTS; j++)
+        if (!(used >> j & 1))
+            sl[4 * j] = sl[4 * j + 1] = sl[4 * j + 2] = sl[4 * j + 3] = 0;
 }
 
 /* Particle i's walls and plates by Hertz-Mindlin; the springs of the axes not touched zeroed. */
@@ -768,7 +858,7 @@ static inline void walls_hm(const mote_sep_system *s, const force_arrays *a, con
                             size_t i, int wall, double F[3], double T[3], double *mo)
 {
     unsigned used = 0;
-    if (wall || s->nplate) {
+    if (wall || s->nplate || s->nmesh) {
         double pv[3], pw[3];
         pv_of(a, c, i, pv);
         pw_of(a, c, i, pw);
@@ -799,6 +889,8 @@ static inline void walls_hm(const mote_sep_system *s, const force_arrays *a, con
                 *mo = fmax(*mo, delta[f] / a->d[i]);
             }
         }
+        if (s->nmesh)
+            meshes_hm(s, a, c, i, pv, pw, F, T, mo);
     }
     for (int slot = 0; slot < 3; slot++)
         if (!(used >> slot & 1)) {
@@ -1025,7 +1117,7 @@ static void list_forces(mote_sep_system *s, const force_ctx *c, double g_w, int 
     const double *reach = gap && !local ? block_reach(s, fresh, dmin) : NULL;
     const double margin = 1e-6 * dmin, *ebox = s->ebox;
     const size_t n = s->n;
-    const int nt = sep_threads(s), dim = s->dim, nplate = s->nplate;
+    const int nt = sep_threads(s), dim = s->dim, nplate = s->nplate, nmesh = s->nmesh;
     const force_arrays a = {s->x,  s->y,  s->z,  s->d,  s->m,  s->im,       s->vx,
                             s->vy, s->vz, s->fx, s->fy, s->fz, s->s, s->nb, s->nb_start,
                             s->gx, s->gy, s->gz, s->id, s->w, s->tq, s->tq2, s->hist, s->wh};
@@ -1060,10 +1152,12 @@ static void list_forces(mote_sep_system *s, const force_ctx *c, double g_w, int 
             row_force(&a, c, i, 3, F, &mo, &contacts);
         else
             row_force(&a, c, i, 2, F, &mo, &contacts);
-        if (nplate) {
+        if (nplate || nmesh) {
             double pvel[3];
             pv_of(&a, c, i, pvel);
             plate_force(s, i, c->khat, g_w, pvel, F, &mo);
+            if (nmesh)
+                mesh_force(s, c, i, g_w, pvel, F, &mo);
         }
         a.gx[i] = F[0];
         a.gy[i] = F[1];
@@ -1107,6 +1201,8 @@ int sep_contact_forces(mote_sep_system *s, double dt, int kick, int pred, mote_e
 {
     const size_t n = s->n;
     force_ctx c = {.khat = s->khat_used, .half_dt = 0.5 * dt, .dt = dt, .hertz = s->hertz};
+    for (int k = 0; k < s->nmesh; k++)
+        sep_mesh_frame_at(&s->mesh[k], s->t, &c.fr[k]);
     for (int a = 0; a < s->nsp; a++)
         for (int b = 0; b < s->nsp; b++) {
             const double e = s->e_pair[a][b] > 0 ? s->e_pair[a][b] : s->e_pp;
@@ -1243,6 +1339,8 @@ int sep_contact_forces(mote_sep_system *s, double dt, int kick, int pred, mote_e
         double F[3] = {s->fx[i], s->fy[i], s->fz[i]};
         const double pvel[3] = {c.pvx[i], c.pvy[i], c.pvz[i]};
         plate_force(s, i, c.khat, g_w, pvel, F, &mo);
+        if (s->nmesh)
+            mesh_force(s, &c, i, g_w, pvel, F, &mo);
         s->fx[i] = F[0];
         s->fy[i] = F[1];
         s->fz[i] = F[2];
@@ -1292,9 +1390,11 @@ int sep_reorder(mote_sep_system *s, mote_err *err)
     PERMUTE(id, uint64_t);
 #undef PERMUTE
     /* the rotation's arrays: k values a particle */
-    double *rot[3] = {s->w, s->tq, s->wh};
-    const int kr[3] = {3, 3, 9};
-    for (int a = 0; a < 3 && s->w; a++) {
+    double *rot[4] = {s->w, s->tq, s->wh, s->mh};
+    const int kr[4] = {3, 3, 9, 4 * SEP_MESH_SLOTS};
+    for (int a = 0; a < 4 && s->w; a++) {
+        if (!rot[a])
+            continue;
         double *t_ = malloc((n ? n : 1) * (size_t)kr[a] * sizeof *t_);
         if (!t_) {
             free(tmp);
@@ -1319,6 +1419,16 @@ int sep_reorder(mote_sep_system *s, mote_err *err)
 int sep_rot_reserve(mote_sep_system *s, mote_err *err)
 {
     const size_t cap = s->cap ? s->cap : 1;
+    if (s->nmesh && s->mh_cap < cap) { /* (the walls' springs: 4 numbers a slot) */
+        const size_t k = 4 * SEP_MESH_SLOTS, old = s->mh ? s->mh_cap : 0;
+        double *p = realloc(s->mh, cap * k * sizeof *p);
+        if (!p)
+            return mote_fail(err, MOTE_ENOMEM, "separator: out of memory for the wall springs "
+                             "of %zu particles", cap);
+        memset(p + old * k, 0, (cap - old) * k * sizeof *p);
+        s->mh = p;
+        s->mh_cap = cap;
+    }
     if (s->w && s->rot_cap >= cap)
         return MOTE_OK;
     double **a[4] = {&s->w, &s->tq, &s->tq2, &s->wh};

@@ -52,6 +52,8 @@ static void rot_zero(mote_sep_system *s, size_t i)
     memset(s->w + 3 * i, 0, 3 * sizeof *s->w);
     memset(s->tq + 3 * i, 0, 3 * sizeof *s->tq);
     memset(s->wh + 9 * i, 0, 9 * sizeof *s->wh);
+    if (s->mh)
+        memset(s->mh + 4 * SEP_MESH_SLOTS * i, 0, 4 * SEP_MESH_SLOTS * sizeof *s->mh);
 }
 
 int sep_append(mote_sep_system *s, int k, uint64_t id, const double v[11], mote_err *err)
@@ -135,6 +137,7 @@ static int place(mote_sep_system *s, int k, double d, mote_err *err)
         const double zlo = s->open_bottom ? 0 : r, zhi = s->open_top ? s->H : s->H - r;
         if (px < r || px > s->W - r || (s->dim == 3 && (py < r || py > s->D - r)) || pz < zlo ||
             pz > zhi || sep_touches_plate(s, px, py, pz, r) ||
+            (s->nmesh && sep_mesh_blocks(s, s->t, (const double[3]){px, py, pz}, r)) ||
             (s->dem && sep_overlaps_any(s, px, py, pz, d)))
             continue;
         if (grow(s, s->n + 1, err))

@@ -42,6 +42,11 @@ int sep_mesh_add(mote_sep_system *s, const mote_mesh *m, const char *path, int s
     mote_sep_mesh w = {0};
     const char *base = strrchr(path, '/');
     snprintf(w.name, sizeof w.name, "%s", base ? base + 1 : path);
+    for (char *q = w.name; *q; q++) /* (one word in a state file) */
+        if (*q == ' ' || *q == '\t' || *q == '\n' || *q == '\r')
+            *q = '_';
+    if (!w.name[0])
+        snprintf(w.name, sizeof w.name, "mesh");
     w.nv = m->nv;
     w.nt = m->nt;
     w.v = malloc((m->nv ? m->nv : 1) * sizeof *w.v);
@@ -291,35 +296,36 @@ int sep_mesh_contacts(const mote_sep_system *s, const sep_mesh_frame *fr, const 
             x.dist = sqrt(d2);
             c[nc++] = x;
         }
-        /* each feature once: an edge's contact goes when a face beside it touches, or the same
-         * edge counted from its other triangle already; a vertex's when a face or edge of a
-         * triangle around it touches, or the same vertex counted already */
+        /* each feature once: a contact goes when an earlier one is at the same point (to
+         * rounding: an edge or vertex seen from each of its triangles, or a point on an edge
+         * that both triangles call their face's); an edge's when a face beside it touches, or
+         * a triangle with one of its ends comes nearer (the surface around the edge is nearer
+         * than the edge: a sheet's edges near a face contact on the same plane); a vertex's when
+         * a face or edge of a triangle around it touches */
+        const double tol2 = 1e-18 * r * r;
         for (int i = 0; i < nc && n < SEP_MESH_MAXC; i++) {
             const uint32_t *ti = w->t[c[i].tri];
             int keep = 1;
+            for (int j = 0; keep && j < i; j++) {
+                const double dq[3] = {c[i].q[0] - c[j].q[0], c[i].q[1] - c[j].q[1],
+                                      c[i].q[2] - c[j].q[2]};
+                keep = sep_dot3(dq, dq) > tol2;
+            }
             if (c[i].feat >= 1 && c[i].feat <= 3) {
                 const uint32_t u = ti[c[i].feat - 1], v = ti[c[i].feat % 3];
                 for (int j = 0; keep && j < nc; j++) {
                     const uint32_t *tj = w->t[c[j].tri];
-                    if (j == i || !has_vertex(tj, u) || !has_vertex(tj, v))
+                    const int hu = has_vertex(tj, u), hv = has_vertex(tj, v);
+                    if (j == i || !(hu || hv))
                         continue;
-                    if (c[j].feat == 0)
-                        keep = 0;
-                    else if (j < i && c[j].feat >= 1 && c[j].feat <= 3) {
-                        const uint32_t u2 = tj[c[j].feat - 1], v2 = tj[c[j].feat % 3];
-                        keep = !((u2 == u && v2 == v) || (u2 == v && v2 == u));
-                    }
+                    keep = !(c[j].feat == 0 && hu && hv) && !(c[j].dist < c[i].dist - 1e-9 * r);
                 }
             } else if (c[i].feat >= 4) {
                 const uint32_t u = ti[c[i].feat - 4];
                 for (int j = 0; keep && j < nc; j++) {
                     const uint32_t *tj = w->t[c[j].tri];
-                    if (j == i || !has_vertex(tj, u))
-                        continue;
-                    if (c[j].feat <= 3)
-                        keep = 0;
-                    else if (j < i && tj[c[j].feat - 4] == u)
-                        keep = 0;
+                    if (j != i && has_vertex(tj, u))
+                        keep = !(c[j].feat <= 3) && !(c[j].dist < c[i].dist - 1e-9 * r);
                 }
             }
             if (!keep)
@@ -375,9 +381,21 @@ int sep_mesh_blocks(const mote_sep_system *s, double t, const double p[3], doubl
         const double d[3] = {p[0] - f.C[0], p[1] - f.C[1], p[2] - f.C[2]};
         for (int a = 0; a < 3; a++)
             pb[a] = f.c0[a] + f.R[0][a] * d[0] + f.R[1][a] * d[1] + f.R[2][a] * d[2];
+        if (w->cstart && r <= w->rmax) { /* the touches through the grid (outside it: none) */
+            size_t cell = 0;
+            int in = 1;
+            for (int a = 2; a >= 0; a--) {
+                const double u = floor((pb[a] - w->lo[a]) / w->h);
+                in = in && u >= 0 && u < w->nc[a];
+                cell = in ? cell * (size_t)w->nc[a] + (size_t)u : 0;
+            }
+            for (uint32_t e = in ? w->cstart[cell] : 0; in && e < w->cstart[cell + 1]; e++)
+                if (dist2_to_tri(w, w->ctri[e], pb) <= r * r)
+                    return k + 1;
+        }
         double wind = 0;
         for (size_t q = 0; q < w->nt; q++) {
-            if (dist2_to_tri(w, q, pb) <= r * r)
+            if ((!w->cstart || r > w->rmax) && dist2_to_tri(w, q, pb) <= r * r)
                 return k + 1;
             if (w->solid) {
                 double a[3][3];

@@ -270,6 +270,18 @@ int mote_sep_prepare(mote_sep_system *s, mote_err *err)
                                  p->zb + p->t);
         }
     }
+    /* the mesh walls (DEM in 3D): their grids for the largest particle */
+    double dbig = dmax;
+    for (size_t i = 0; s->nmesh && i < s->n; i++)
+        dbig = fmax(dbig, s->d[i]);
+    for (int k = 0; k < s->nmesh; k++) {
+        if (s->dim != 3 || !s->dem)
+            return mote_fail(err, MOTE_EINVAL, "separator: wall_mesh (%s) needs dim 3 and "
+                             "collisions dem", s->mesh[k].name);
+        int rc = sep_mesh_grid(&s->mesh[k], 0.5 * dbig, err);
+        if (rc)
+            return rc;
+    }
     /* slices: about 4 d_max each, 10 ... 1000 */
     int K = s->K;
     if (K <= 0)

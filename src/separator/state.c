@@ -65,8 +65,9 @@ static const mote_sf_codec REAL = {sizeof(double), real_put, real_get, NULL};
 /* the file's version: 2 added `real parcel` (read as 1 from version 1); 3 the contact law
  * (hertz, friction, the species' E and nu, per-pair friction, the springs of the pairs, and
  * per particle with hertz its rotation and wall springs; read from older files as the linear
- * law) */
-#define SEP_STATE_VERSION 3
+ * law); 4 the mesh walls (their triangles and motion) and, with contact hertz, the particles'
+ * springs at them */
+#define SEP_STATE_VERSION 4
 /* a value added in file version 2 (read as its default from version 1) */
 #define SR2(NAME, M)                                                                         \
     {.key = "real " NAME, .name = NAME, .type = MOTE_SF_CODEC,                            \
@@ -173,6 +174,49 @@ static const mote_sf_field PLATE[] = {
     {.key = NULL, .name = "DROPPED", .type = MOTE_SF_I64, .offset = offsetof(plate_row, dropped),
      .lo = 0, .hi = 2e9},
     R("ZB", plate_row, zb), R("T", plate_row, t)};
+
+/* A mesh wall (version 4): its counts, whether solid, its motion and name, then its vertices
+ * and triangles. */
+static const mote_sf_field N_MESHES[] = {{.key = "meshes", .name = "N", .type = MOTE_SF_U64,
+                                          .lo = 0, .hi = MOTE_SEP_MAX_MESHES, .since = 4}};
+typedef struct {
+    uint64_t nv, nt;
+    int solid;
+    double vel[3], omega, axis[3], centre[3];
+    char name[64];
+} mesh_row;
+static const mote_sf_field MESH[] = {
+    {.key = "mesh", .name = "NV", .type = MOTE_SF_U64, .offset = offsetof(mesh_row, nv), .lo = 3,
+     .hi = 4e9},
+    {.name = "NT", .type = MOTE_SF_U64, .offset = offsetof(mesh_row, nt), .lo = 1, .hi = 4e9},
+    IK(NULL, "SOLID", mesh_row, solid, 0, 1),
+    {.name = "VELOCITY", .type = MOTE_SF_CODEC, .offset = offsetof(mesh_row, vel), .count = 3,
+     .codec = &REAL},
+    R("OMEGA", mesh_row, omega),
+    {.name = "AXIS", .type = MOTE_SF_CODEC, .offset = offsetof(mesh_row, axis), .count = 3,
+     .codec = &REAL},
+    {.name = "CENTRE", .type = MOTE_SF_CODEC, .offset = offsetof(mesh_row, centre), .count = 3,
+     .codec = &REAL},
+    {.name = "NAME", .type = MOTE_SF_WORD, .offset = offsetof(mesh_row, name),
+     .size = sizeof ((mesh_row *)0)->name}};
+static const mote_sf_field MV[] = {{.key = "mv", .name = "XYZ", .type = MOTE_SF_CODEC,
+                                    .offset = 0, .count = 3, .codec = &REAL}};
+static const mote_sf_field MT[] = {{.key = "mt", .name = "ABC", .type = MOTE_SF_U32,
+                                    .offset = 0, .count = 3, .lo = MOTE_SF_ANY}};
+/* The particles' springs at the mesh walls (contact hertz, version 4): the particle's id, the
+ * slot, the contact's key (wall and triangle) and the spring. */
+static const mote_sf_field N_WS[] = {{.key = "wall_springs", .name = "N", .type = MOTE_SF_U64,
+                                      .lo = 0, .hi = 1e11, .since = 4}};
+typedef struct {
+    uint64_t id;
+    int slot;
+    double k[4];
+} ws_row;
+static const mote_sf_field WS[] = {
+    UK("ws", "ID", ws_row, id), IK(NULL, "SLOT", ws_row, slot, 0, SEP_MESH_SLOTS - 1),
+    {.name = "KEY", .type = MOTE_SF_CODEC, .offset = offsetof(ws_row, k), .codec = &REAL},
+    {.name = "XI", .type = MOTE_SF_CODEC, .offset = offsetof(ws_row, k[1]), .count = 3,
+     .codec = &REAL}};
 
 typedef struct { double x1, x2, y1, y2; } hole_row;
 static const mote_sf_field HOLE[] = {RK("hole", "X1", hole_row, x1), R("X2", hole_row, x2),
@@ -361,6 +405,20 @@ int mote_sep_save(const mote_sep_system *s, uint64_t seed, const char *path, mot
         for (size_t h = 0; h < p->nh; h++)
             mote_sf_write(f, HOLE, NF(HOLE), p->h + 4 * h, SEP_STATE_VERSION);
     }
+    put_count(f, N_MESHES, (uint64_t)s->nmesh);
+    for (int q = 0; q < s->nmesh; q++) {
+        const mote_sep_mesh *w = &s->mesh[q];
+        mesh_row r = {w->nv, w->nt, w->solid, {0}, w->omega, {0}, {0}, ""};
+        memcpy(r.vel, w->vel, sizeof r.vel);
+        memcpy(r.axis, w->axis, sizeof r.axis);
+        memcpy(r.centre, w->centre, sizeof r.centre);
+        memcpy(r.name, w->name, sizeof r.name);
+        mote_sf_write(f, MESH, NF(MESH), &r, SEP_STATE_VERSION);
+        for (size_t v = 0; v < w->nv; v++)
+            mote_sf_write(f, MV, 1, w->v[v], SEP_STATE_VERSION);
+        for (size_t t = 0; t < w->nt; t++)
+            mote_sf_write(f, MT, 1, w->t[t], SEP_STATE_VERSION);
+    }
     put_count(f, N_CLASSES, (uint64_t)s->nclass);
     mote_sf_field ef[1 + 4 * (MOTE_SEP_MAX_SPECIES + 1)];
     for (int i = 0; i <= s->nclass; i++) {
@@ -420,6 +478,17 @@ int mote_sep_save(const mote_sep_system *s, uint64_t seed, const char *path, mot
             memcpy(r.xref, s->xref + 3 * i, sizeof r.xref);
         mote_sf_write(f, pf, npf, &r, SEP_STATE_VERSION);
     }
+    const size_t S = SEP_MESH_SLOTS;
+    uint64_t nws = 0;
+    for (size_t k = 0; s->mh && k < s->n * S; k++)
+        nws += s->mh[4 * k] != 0;
+    put_count(f, N_WS, nws);
+    for (size_t k = 0; s->mh && k < s->n * S; k++)
+        if (s->mh[4 * k] != 0) {
+            ws_row r = {s->id[k / S], (int)(k % S), {0}};
+            memcpy(r.k, s->mh + 4 * k, sizeof r.k);
+            mote_sf_write(f, WS, NF(WS), &r, SEP_STATE_VERSION);
+        }
     fprintf(f, "end\n");
     return mote_afile_commit(&af, err);
 }
@@ -569,6 +638,92 @@ static int read_plates(reader *r, mote_sep_system *s)
                 s->nplate = (int)q + 1;
         }
         free(h);
+    }
+    return rc;
+}
+
+static int read_meshes(reader *r, mote_sep_system *s)
+{
+    uint64_t nm = 0;
+    int rc = r->version >= 4 ? count(r, N_MESHES, &nm) : MOTE_OK;
+    for (uint64_t q = 0; q < nm && !rc; q++) {
+        mesh_row x;
+        rc = row(r, MESH, NF(MESH), &x);
+        if (rc)
+            break;
+        /* grown as the lines come: a false count allocates little */
+        mote_mesh m = {0};
+        size_t vcap = 0, tcap = 0;
+        for (uint64_t k = 0; k < x.nv && !rc; k++) {
+            if (sep_reserve((void **)&m.v, &vcap, (size_t)k + 1, sizeof *m.v, r->err))
+                rc = r->err->code;
+            if (!rc)
+                rc = row(r, MV, 1, m.v[k]);
+            for (int a = 0; !rc && a < 3; a++)
+                if (!isfinite(m.v[k][a]))
+                    rc = bad(r, "a mesh vertex must be finite", NULL);
+        }
+        for (uint64_t k = 0; k < x.nt && !rc; k++) {
+            if (sep_reserve((void **)&m.t, &tcap, (size_t)k + 1, sizeof *m.t, r->err))
+                rc = r->err->code;
+            if (!rc)
+                rc = row(r, MT, 1, m.t[k]);
+            for (int a = 0; !rc && a < 3; a++)
+                if (m.t[k][a] >= x.nv)
+                    rc = bad(r, "a triangle names a vertex beyond the mesh's", NULL);
+        }
+        m.nv = (size_t)x.nv;
+        m.nt = (size_t)x.nt;
+        m.closed = rc ? NULL : malloc(m.nt);
+        if (!rc && !m.closed)
+            rc = mote_fail(r->err, MOTE_ENOMEM, "%s: out of memory", r->in.path);
+        if (!rc)
+            memset(m.closed, 1, m.nt); /* (solid was checked when the wall was made) */
+        for (int a = 0; !rc && a < 3; a++)
+            if (!isfinite(x.vel[a]) || !isfinite(x.axis[a]) || !isfinite(x.centre[a]) ||
+                !isfinite(x.omega))
+                rc = bad(r, "a mesh wall's motion must be finite", NULL);
+        if (!rc) {
+            mote_err e2 = {0};
+            if (sep_mesh_add(s, &m, x.name, x.solid, x.vel, x.axis, x.omega, x.centre, &e2))
+                rc = bad(r, e2.msg, NULL);
+            else /* (the axis as written: normalised once, when the wall was made) */
+                memcpy(s->mesh[s->nmesh - 1].axis, x.axis, sizeof x.axis);
+        }
+        mote_mesh_free(&m);
+    }
+    return rc;
+}
+
+/* The particles' springs at the mesh walls, by id in the particles' order. */
+static int read_wall_springs(reader *r, mote_sep_system *s)
+{
+    uint64_t n = 0;
+    int rc = r->version >= 4 ? count(r, N_WS, &n) : MOTE_OK;
+    if (!rc && n && !(s->hertz && s->mh))
+        return bad(r, "wall springs are kept only with contact hertz and mesh walls", NULL);
+    size_t i = 0, last = SIZE_MAX;
+    for (uint64_t k = 0; k < n && !rc; k++) {
+        ws_row x;
+        rc = row(r, WS, NF(WS), &x);
+        while (!rc && i < s->n && s->id[i] != x.id)
+            i++;
+        if (!rc && i == s->n)
+            rc = bad(r, "a wall spring's particle is not among the particles (in their order)",
+                     NULL);
+        const size_t at = i * SEP_MESH_SLOTS + (size_t)x.slot;
+        if (!rc && last != SIZE_MAX && at <= last)
+            rc = bad(r, "the wall springs must be in the particles' and slots' order", NULL);
+        if (!rc && !(x.k[0] >= 4294967296.0 && x.k[0] == floor(x.k[0]) &&
+                     x.k[0] / 4294967296.0 < s->nmesh + 1))
+            rc = bad(r, "a wall spring's key must name a mesh wall and a triangle", NULL);
+        for (int a = 1; !rc && a < 4; a++)
+            if (!isfinite(x.k[a]))
+                rc = bad(r, "a wall spring must be finite", NULL);
+        if (!rc) {
+            memcpy(s->mh + 4 * at, x.k, sizeof x.k);
+            last = at;
+        }
     }
     return rc;
 }
@@ -796,6 +951,8 @@ static int read_body(reader *r, mote_sep_system *s, uint64_t *seed)
     if (!rc)
         rc = read_plates(r, s);
     if (!rc)
+        rc = read_meshes(r, s);
+    if (!rc)
         rc = read_classes(r, s);
     if (!rc)
         rc = read_slices(r, s);
@@ -810,6 +967,8 @@ static int read_body(reader *r, mote_sep_system *s, uint64_t *seed)
         rc = read_springs(r, s);
     if (!rc)
         rc = read_particles(r, s, ph.ok);
+    if (!rc)
+        rc = read_wall_springs(r, s);
     /* sep_append counted the particles as additions: the counts of the file stand */
     for (size_t k = 0; !rc && k < 2 * np; k++)
         if (pairs[k] >= s->n)

@@ -100,6 +100,7 @@ void mote_sep_free(mote_sep_system *s)
     free(s->tq);
     free(s->tq2);
     free(s->wh);
+    free(s->mh);
     free(s->hist);
     free(s->hmap);
     free(s->pbuf);
@@ -108,6 +109,8 @@ void mote_sep_free(mote_sep_system *s)
         mote_sep_dist_free(&s->sp[k].dist);
     for (int k = 0; k < s->nplate; k++)
         mote_sep_plate_free(&s->plate[k]);
+    for (int k = 0; k < s->nmesh; k++)
+        mote_sep_mesh_free(&s->mesh[k]);
     memset(s, 0, sizeof *s);
 }
 
@@ -579,6 +582,9 @@ static void remove_particle(mote_sep_system *s, size_t i)
         memcpy(s->tq + 3 * i, s->tq + 3 * l, 3 * sizeof *s->tq);
         memcpy(s->wh + 9 * i, s->wh + 9 * l, 9 * sizeof *s->wh);
     }
+    if (s->mh)
+        memcpy(s->mh + 4 * SEP_MESH_SLOTS * i, s->mh + 4 * SEP_MESH_SLOTS * l,
+               4 * SEP_MESH_SLOTS * sizeof *s->mh);
     s->nb_idx_ok = 0; /* (the rows' indices: sep_hist_stash kept the springs first) */
 }
 
