@@ -341,6 +341,176 @@ static void test_turntable(void)
     mote_sep_free(&s);
 }
 
+/* ---- keeping new particles out ---- */
+
+/* A closed cube of side 1 cm at (2, 2, 2) cm, solid, turned by 30 degrees about z through its
+ * centre (12 triangles wound outward): a centre inside it (the winding number, 1), a sphere
+ * touching a face, an edge or a vertex, are blocked; one clear of it is not; the same cube with
+ * a triangle missing is refused as solid; a wall turning at omega is found where it is at t. */
+static void test_blocks(void)
+{
+    printf("mesh walls: particles kept out of a solid wall\n");
+    mote_sep_system s;
+    box(&s, 0.04, 0.04, 0.04, 0, 1e-3, 1, 0.5, 0.3);
+    soup m = {0};
+    uint32_t v[8];
+    for (int k = 0; k < 8; k++)
+        v[k] = vtx(&m, 0.015 + 0.01 * (k & 1), 0.015 + 0.01 * (k >> 1 & 1),
+                   0.015 + 0.01 * (k >> 2 & 1));
+    static const int f[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                                {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    for (int k = 0; k < 6; k++) {
+        tri(&m, v[f[k][0]], v[f[k][1]], v[f[k][2]]);
+        tri(&m, v[f[k][0]], v[f[k][2]], v[f[k][3]]);
+    }
+    mote_mesh open = {.nv = m.nv, .nt = m.nt - 1, .v = m.v, .t = m.t};
+    open.closed = calloc(m.nt, 1);
+    mote_err err = {0};
+    const double zero[3] = {0, 0, 0};
+    CHECK(sep_mesh_add(&s, &open, "open.stl", 1, zero, zero, 0, zero, &err) != MOTE_OK &&
+              strstr(err.msg, "open.stl: solid=yes needs a closed mesh"),
+          "an open mesh as solid: '%s'", err.msg);
+    memset(open.closed, 1, m.nt);
+    open.nt = m.nt;
+    CHECK(sep_mesh_add(&s, &open, "cube.stl", 1, zero, (double[3]){0, 0, 1}, PI / 6 / 0.5,
+                       (double[3]){0.02, 0.02, 0.02}, &err) == MOTE_OK, "cube: %s", err.msg);
+    free(open.closed);
+    free(m.v);
+    free(m.t);
+    CHECK(mote_sep_prepare(&s, &err) == MOTE_OK, "prepare: %s", err.msg);
+    /* at t = 0.5 s the cube has turned 30 degrees: its corner (2.5, 2.5) cm is at radius
+     * 0.707 cm, angle 75 degrees about the centre */
+    const double t = 0.5, rc = 0.005 * sqrt(2.0), an = 75 * PI / 180;
+    const double corner[3] = {0.02 + rc * cos(an), 0.02 + rc * sin(an), 0.025};
+    static const struct {
+        double p[3], r;
+        int blocked;
+        const char *what;
+    } cases[] = {{{0.02, 0.02, 0.02}, 0, 1, "the centre"},
+                 {{0.024, 0.0205, 0.0199}, 0, 1, "inside near a face"},
+                 {{0.02, 0.02, 0.0254}, 5e-4, 1, "touching the top face"},
+                 {{0.02, 0.02, 0.0256}, 5e-4, 0, "clear of the top face"},
+                 {{0.0, 0.0, 0.0}, 0, 0, "far away"}};
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        const int b = sep_mesh_blocks(&s, t, cases[k].p, cases[k].r);
+        CHECK(b == cases[k].blocked, "%s: blocked %d", cases[k].what, b);
+    }
+    const double near[3] = {corner[0] + 4e-4 * cos(an), corner[1] + 4e-4 * sin(an), 0.025};
+    const double far[3] = {corner[0] + 6e-4 * cos(an), corner[1] + 6e-4 * sin(an), 0.025};
+    CHECK(sep_mesh_blocks(&s, t, near, 5e-4) == 1 && sep_mesh_blocks(&s, t, far, 5e-4) == 0 &&
+              sep_mesh_blocks(&s, 0, near, 5e-4) == 0,
+          "the turned corner: near %d, far %d, near at t = 0 %d", sep_mesh_blocks(&s, t, near, 5e-4),
+          sep_mesh_blocks(&s, t, far, 5e-4), sep_mesh_blocks(&s, 0, near, 5e-4));
+    mote_sep_free(&s);
+}
+
+/* ---- threads, save and load ---- */
+
+/* Whether two files hold the same bytes. */
+static int same_file(const char *a, const char *b)
+{
+    FILE *f = fopen(a, "rb"), *g = fopen(b, "rb");
+    int same = f && g;
+    while (same) {
+        const int x = fgetc(f), y = fgetc(g);
+        same = x == y;
+        if (x == EOF || y == EOF)
+            break;
+    }
+    if (f)
+        fclose(f);
+    if (g)
+        fclose(g);
+    return same;
+}
+
+/* A pour through a square hopper (an open sheet: four sloping sides from a 3.6 cm mouth at 3 cm
+ * up to a 1 cm outlet at 1.5 cm) turning at 5 rad/s about the vertical, fed from above with 1-2
+ * mm spheres placed inside it (clear of its sides), onto a tilted plate below it; the law linear or hertz (friction, rolling
+ * friction, cohesion); `steps` steps on nt threads (from 1 particle up), with save and load
+ * half way when reload; the state into path. */
+static void pour(int hertz, int nt, int reload, int steps, const char *path)
+{
+    mote_sep_system s;
+    box(&s, 0.04, 0.04, 0.05, 9.81, 1.5e-3, hertz, 0.5, 0.5);
+    s.sp[0].dist = (mote_sep_dist){.type = MOTE_SEP_LOGUNIFORM, .lo = 1e-3, .hi = 2e-3,
+                                   .number_basis = 1};
+    mote_err err = {0};
+    CHECK(mote_sep_dist_build(&s.sp[0].dist, &err) == MOTE_OK, "dist: %s", err.msg);
+    s.mur_pp = 0.05;
+    s.coh_pp = hertz ? 1e4 : 0;
+    s.zf = 0.024, s.hf = 0.006, s.rate = 0.1;
+    s.fx1 = 0.01, s.fx2 = 0.03, s.fy1 = 0.01, s.fy2 = 0.03;
+    s.vf[2] = -1;
+    s.nsort = 40;
+    s.v_imp = 2;
+    s.nc = 30;
+    soup m = {0};
+    const double c = 0.02, a = 0.018, b = 0.005, zt = 0.03, zb = 0.015;
+    uint32_t top[4], bot[4];
+    for (int k = 0; k < 4; k++) {
+        const double sx = k == 0 || k == 3 ? -1 : 1, sy = k < 2 ? -1 : 1;
+        top[k] = vtx(&m, c + sx * a, c + sy * a, zt);
+        bot[k] = vtx(&m, c + sx * b, c + sy * b, zb);
+    }
+    for (int k = 0; k < 4; k++) {
+        tri(&m, bot[k], bot[(k + 1) % 4], top[(k + 1) % 4]);
+        tri(&m, bot[k], top[(k + 1) % 4], top[k]);
+    }
+    add_wall(&s, &m, NULL, 5, (double[3]){0, 0, 1}, (double[3]){c, c, 0});
+    sheet(&m, 0.02, 0.02, 0.006, 0.03, 6, 0.3);
+    add_wall(&s, &m, NULL, 0, NULL, NULL);
+    CHECK(mote_sep_prepare(&s, &err) == MOTE_OK, "prepare: %s", err.msg);
+    s.threads = nt;
+    s.threads_min_n = 1;
+    const double half = 0.5 * steps * s.dt;
+    run(&s, half);
+    if (reload) {
+        CHECK(mote_sep_save(&s, 1, path, &err) == MOTE_OK, "save: %s", err.msg);
+        mote_sep_free(&s);
+        mote_sep_init(&s);
+        uint64_t seed;
+        CHECK(mote_sep_load(&s, &seed, path, &err) == MOTE_OK, "load: %s", err.msg);
+        s.threads = nt;
+        s.threads_min_n = 1;
+    }
+    run(&s, half);
+    CHECK(mote_sep_save(&s, 1, path, &err) == MOTE_OK, "save: %s", err.msg);
+    if (nt == 1 && !reload) {
+        size_t springs = 0, below = 0;
+        for (size_t k = 0; s.mh && k < 4 * SEP_MESH_SLOTS * s.n; k += 4)
+            springs += s.mh[k] != 0;
+        for (size_t i = 0; i < s.n; i++)
+            below += s.z[i] < zb;
+        CHECK(s.n > 200 && below > 20 && (!hertz || springs > 20),
+              "the pour exercises the walls: %zu particles, %zu through the hopper, %zu wall "
+              "springs", s.n, below, springs);
+        printf("  %s: %zu particles, %zu through the hopper, %zu wall springs, largest overlap "
+               "%.3f d\n", hertz ? "hertz" : "linear", s.n, below, springs, s.max_overlap);
+    }
+    mote_sep_free(&s);
+}
+
+static void test_threads(void)
+{
+    printf("mesh walls: a pour through a turning hopper, the same bits on 1, 2, 3 threads and "
+           "across save and load\n");
+    for (int hertz = 0; hertz < 2; hertz++) {
+        static const int how[4][2] = {{1, 0}, {2, 0}, {3, 0}, {2, 1}};
+        char path[4][64];
+        for (int k = 0; k < 4; k++) {
+            snprintf(path[k], sizeof path[0], "/tmp/mote_sep_mesh_%d_%d.state", hertz, k);
+            pour(hertz, how[k][0], how[k][1], 8000, path[k]);
+        }
+        for (int k = 1; k < 4; k++)
+            CHECK(same_file(path[0], path[k]), "%s: way %d's state equals the one on 1 thread",
+                  hertz ? "hertz" : "linear", k);
+        for (int k = 0; k < 4; k++)
+            if (!getenv("KEEP"))
+                remove(path[k]);
+    }
+}
+
 int main(int argc, char **argv)
 {
     static const struct {
@@ -348,7 +518,8 @@ int main(int argc, char **argv)
         void (*fn)(void);
     } tests[] = {{"impacts", test_impacts}, {"groove", test_groove},
                  {"incline", test_incline}, {"belt", test_belt},
-                 {"turntable", test_turntable}};
+                 {"turntable", test_turntable}, {"blocks", test_blocks},
+                 {"threads", test_threads}};
     for (size_t k = 0; k < sizeof tests / sizeof tests[0]; k++)
         if (argc < 2 || !strcmp(argv[1], tests[k].name))
             tests[k].fn();
