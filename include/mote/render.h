@@ -120,6 +120,10 @@ typedef struct {
     /* or, when ncat > 0, value is a class 0 .. ncat - 1 named in a legend (up to 8) */
     int ncat;
     const char *const *cat_names;
+    /* thin dark lines over the solids, under the particles (walls of triangles seen side on):
+     * nline segments of 4 numbers (x0 y0 x1 y1), or none */
+    const double *lines;
+    size_t nline;
 } mote_particles_opts;
 
 /* Particles in a walled frame, to scale: discs of radius r[i] at (x[i], y[i]) (at least one

@@ -173,6 +173,16 @@ int mote_particles_png(const char *path, const mote_particles_opts *o, const dou
         cairo_rectangle(cr, fmin(px0, px1), fmin(py0, py1), w, h);
     }
     cairo_fill(cr);
+    if (o->nline) {
+        cairo_set_source_rgba(cr, 0.25, 0.25, 0.3, 0.8);
+        cairo_set_line_width(cr, 1);
+        for (size_t k = 0; k < o->nline; k++) {
+            const double *q = o->lines + 4 * k;
+            cairo_move_to(cr, mote_rnd_px(&lay, q[0]), mote_rnd_py(&lay, q[1]));
+            cairo_line_to(cr, mote_rnd_px(&lay, q[2]), mote_rnd_py(&lay, q[3]));
+        }
+        cairo_stroke(cr);
+    }
     /* particles, in the order given (the caller sorts for depth) */
     cairo_set_tolerance(cr, 0.25);
     const double s = lay.width / (o->xmax - o->xmin);
