@@ -327,4 +327,33 @@ grep -q "springs are kept only with contact hertz" err.txt && ok || bad "springs
 printf '%bspecies name=glass density=2500 E=5e6\nstiffness overlap=0.1\n%brun 0.001\n' "$HZ" "$HZE" > hzw.mote
 "$MOTE" check hzw.mote > out.txt 2> err.txt && [ "$(grep -c 'warning: contact hertz takes its stiffness from the species' err.txt)" -eq 1 ] &&
     grep -q "^hzw.mote:12:1: warning: contact hertz takes its stiffness from the species' E and nu: stiffness overlap= and khat= do not apply" err.txt && ok || bad "hertz and stiffness: $(cat out.txt err.txt)"
+
+# wall_mesh: a ramp (an ASCII STL sheet of two triangles) catches a pour; the log reports the
+# mesh; the state keeps the wall and the springs at it (save, load, save: the same bytes)
+printf 'solid ramp\n' > ramp.stl
+for t in "0.0005 0.0005 0.03|0.0195 0.0005 0.02|0.0195 0.0195 0.02" "0.0005 0.0005 0.03|0.0195 0.0195 0.02|0.0005 0.0195 0.03"; do
+    printf 'facet normal 0 0 1\nouter loop\n' >> ramp.stl
+    echo "$t" | tr '|' '\n' | sed 's/^/vertex /' >> ramp.stl
+    printf 'endloop\nendfacet\n' >> ramp.stl
+done
+printf 'endsolid ramp\n' >> ramp.stl
+MW="${HZ}species name=glass density=2500 E=5e6\nsize glass mono d=2e-3\nfeed z=0.045 hf=0.02\ncontact hertz\nfriction 0.5\n"
+printf '%bwall_mesh file=ramp.stl\ninsert glass 60\nrun 0.2\nsave mw.state\n' "$MW" > mw.mote
+printf '%bload mw.state\nsave mw2.state\n' "$S" > mw2.mote
+"$MOTE" run mw.mote > out.txt 2> err.txt && "$MOTE" run mw2.mote > /dev/null 2>> err.txt && cmp -s mw.state mw2.state &&
+    grep -q '^mesh 4 2 0 ' mw.state && grep -q '^wall_springs [1-9]' mw.state &&
+    grep -q '^wall_mesh: 2 triangles read; .* 0 closed and 1 open components' out.txt && ok ||
+    bad "wall_mesh: a pour on a ramp, save, load, save: $(cat out.txt err.txt; grep '^mesh\|^wall_springs' mw.state)"
+# the particles rest on the ramp: none below it (at x the ramp is at z = 0.03 - x / 1.9)
+awk '$1 == "p" && $5 + 0 < 0.0295 - $3 / 1.9 { n++ } END { exit n > 0 }' mw.state && ok || bad "wall_mesh: particles fell through the ramp"
+# bad input: a located error at check, nothing run or written
+printf '0 0 0 1 0 0 0 1 0\n0 0 nan 1 1 0 0 1 1\n' > bad.tri
+MWE="insert glass 6\nrun 0.01\nsave mwe.state\n"
+expect 1 "mw1.mote:11:16: error: wall_mesh: ramp.stl: solid=yes needs a closed mesh (every edge shared by exactly two triangles); 2 of its 2 triangles are in open components" mw1.mote "${MW}wall_mesh file=ramp.stl solid=yes\n$MWE" check
+expect 1 "mw2.mote:11:16: error: wall_mesh: bad.tri:2: a coordinate that is not a finite number ('nan')" mw2.mote "${MW}wall_mesh file=bad.tri\n$MWE" check
+expect 1 "mw3.mote:11:31: error: wall_mesh: omega= turns the wall about a line: give axis=X,Y,Z and centre=X,Y,Z too" mw3.mote "${MW}wall_mesh file=ramp.stl omega=3\n$MWE" check
+expect 1 "mw4.mote:11:16: error: wall_mesh: ramp.stl: omega= needs an axis= of non-zero length" mw4.mote "${MW}wall_mesh file=ramp.stl omega=1 axis=0,0,0 centre=0,0,0\n$MWE" check
+expect 1 "mw5.mote:11:16: error: wall_mesh: 'nothere.stl' does not exist and no earlier command writes it" mw5.mote "${MW}wall_mesh file=nothere.stl\n$MWE" check
+expect 1 "mw6.mote:12:1: error: insert: wall_mesh (ramp.stl) needs dim 3 and collisions dem" mw6.mote "${MW}collisions off\nwall_mesh file=ramp.stl\n$MWE" check
+[ ! -e mwe.state ] && ok || bad "a refused wall_mesh script wrote its state"
 mote_test_end

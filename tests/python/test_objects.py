@@ -156,6 +156,28 @@ def test_separator_positions_inside_a_plate():
     assert sep.positions[0, 2] == 0.202
 
 
+def test_separator_positions_inside_a_solid_wall(tmp_path):
+    # a centre set inside a solid mesh wall (a closed cube, OBJ) is refused, one outside is not
+    cube = tmp_path / "cube.obj"
+    cube.write_text("".join("v %g %g %g\n" % (0.005 + 0.01 * (k & 1), 0.005 + 0.01 * (k >> 1 & 1),
+                                              0.01 + 0.01 * (k >> 2 & 1)) for k in range(8)) +
+                    "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n")
+    sep = mote.Separator("dim 3\nchannel 0.02 0.06 D=0.02\nends closed closed\ngas 0 rho=0 mu=0\n"
+                         "species name=glass density=2500\nsize glass mono d=1e-3\n"
+                         "feed z=0.04 hf=0.01\nwall_mesh file=%s solid=yes\ninsert glass 5\n" % cube)
+    sep.run(1e-4)
+    x = sep.positions
+    y = x.copy()
+    y[0] = [0.01, 0.01, 0.015]
+    with pytest.raises(mote.MoteError, match=r"set positions: particle 0: its centre "
+                       r"\(0.01, 0.01, 0.015\) is inside the solid wall 1 \(cube.obj\)"):
+        sep.set("positions", y)
+    assert np.array_equal(sep.positions, x)
+    y[0] = [0.01, 0.01, 0.025]
+    sep.set("positions", y)
+    assert sep.positions[0, 2] == 0.025
+
+
 MB = ("box 0 0.4 0 0.2\npartition 0.2 0.01\nslit 0.1 0.04\nradius 0.004\ndisks 30 20\nv_init 1\n"
       "place\n")
 
