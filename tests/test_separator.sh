@@ -345,7 +345,7 @@ printf '%bload mw.state\nsave mw2.state\n' "$S" > mw2.mote
     grep -q '^wall_mesh: 2 triangles read; .* 0 closed and 1 open components' out.txt && ok ||
     bad "wall_mesh: a pour on a ramp, save, load, save: $(cat out.txt err.txt; grep '^mesh\|^wall_springs' mw.state)"
 # the particles rest on the ramp: none below it (at x the ramp is at z = 0.03 - x / 1.9)
-awk '$1 == "p" && $5 + 0 < 0.0295 - $3 / 1.9 { n++ } END { exit n > 0 }' mw.state && ok || bad "wall_mesh: particles fell through the ramp"
+awk '$1 == "p" && $8 < 0.03 - ($6 - 0.0005) / 1.9 { n++ } END { exit n > 0 }' mw.state && ok || bad "wall_mesh: particles fell through the ramp"
 # bad input: a located error at check, nothing run or written
 printf '0 0 0 1 0 0 0 1 0\n0 0 nan 1 1 0 0 1 1\n' > bad.tri
 MWE="insert glass 6\nrun 0.01\nsave mwe.state\n"
@@ -354,6 +354,6 @@ expect 1 "mw2.mote:11:16: error: wall_mesh: bad.tri:2: a coordinate that is not 
 expect 1 "mw3.mote:11:31: error: wall_mesh: omega= turns the wall about a line: give axis=X,Y,Z and centre=X,Y,Z too" mw3.mote "${MW}wall_mesh file=ramp.stl omega=3\n$MWE" check
 expect 1 "mw4.mote:11:16: error: wall_mesh: ramp.stl: omega= needs an axis= of non-zero length" mw4.mote "${MW}wall_mesh file=ramp.stl omega=1 axis=0,0,0 centre=0,0,0\n$MWE" check
 expect 1 "mw5.mote:11:16: error: wall_mesh: 'nothere.stl' does not exist and no earlier command writes it" mw5.mote "${MW}wall_mesh file=nothere.stl\n$MWE" check
-expect 1 "mw6.mote:12:1: error: insert: wall_mesh (ramp.stl) needs dim 3 and collisions dem" mw6.mote "${MW}collisions off\nwall_mesh file=ramp.stl\n$MWE" check
+expect 1 "mw6.mote:13:1: error: insert: wall_mesh (ramp.stl) needs dim 3 and collisions dem" mw6.mote "${MW}collisions off\nwall_mesh file=ramp.stl\n$MWE" check
 [ ! -e mwe.state ] && ok || bad "a refused wall_mesh script wrote its state"
 mote_test_end
