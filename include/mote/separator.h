@@ -127,6 +127,10 @@ typedef struct {
     double lo[3], h, rmax;
     int nc[3];
     uint32_t *cstart, *ctri;
+    /* the edges a picture draws: an open edge, or one whose two triangles meet at more than
+     * 20 degrees (the outline, not a flat face's triangulation) */
+    uint32_t (*fe)[2];
+    size_t nfe;
 } mote_sep_mesh;
 void mote_sep_mesh_free(mote_sep_mesh *w);
 

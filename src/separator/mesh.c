@@ -16,7 +16,73 @@ void mote_sep_mesh_free(mote_sep_mesh *w)
     free(w->t);
     free(w->cstart);
     free(w->ctri);
+    free(w->fe);
     memset(w, 0, sizeof *w);
+}
+
+/* (an edge: its ends, lower first, and its triangle) */
+typedef struct {
+    uint32_t a, b, t;
+} edge_rec;
+
+static int cmp_edge_rec(const void *x, const void *y)
+{
+    const edge_rec *p = x, *q = y;
+    if (p->a != q->a)
+        return p->a < q->a ? -1 : 1;
+    if (p->b != q->b)
+        return p->b < q->b ? -1 : 1;
+    return (p->t > q->t) - (p->t < q->t);
+}
+
+static void tri_normal(const mote_sep_mesh *w, uint32_t t, double n[3])
+{
+    const double *a = w->v[w->t[t][0]], *b = w->v[w->t[t][1]], *c = w->v[w->t[t][2]];
+    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]},
+                 v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    n[0] = u[1] * v[2] - u[2] * v[1];
+    n[1] = u[2] * v[0] - u[0] * v[2];
+    n[2] = u[0] * v[1] - u[1] * v[0];
+    const double l = sqrt(sep_dot3(n, n));
+    for (int k = 0; k < 3; k++)
+        n[k] = l > 0 ? n[k] / l : 0;
+}
+
+/* The wall's outline for pictures (w->fe). */
+static int feature_edges(mote_sep_mesh *w)
+{
+    edge_rec *e = malloc((3 * w->nt + 1) * sizeof *e);
+    w->fe = malloc((3 * w->nt + 1) * sizeof *w->fe);
+    if (!e || !w->fe) {
+        free(e);
+        return -1;
+    }
+    for (size_t t = 0; t < w->nt; t++)
+        for (int j = 0; j < 3; j++) {
+            const uint32_t p = w->t[t][j], q = w->t[t][(j + 1) % 3];
+            e[3 * t + (size_t)j] = (edge_rec){p < q ? p : q, p < q ? q : p, (uint32_t)t};
+        }
+    qsort(e, 3 * w->nt, sizeof *e, cmp_edge_rec);
+    w->nfe = 0;
+    for (size_t i = 0; i < 3 * w->nt;) {
+        size_t j = i;
+        while (j < 3 * w->nt && e[j].a == e[i].a && e[j].b == e[i].b)
+            j++;
+        int keep = j - i != 2;
+        if (!keep) { /* (the normals' angle, whichever way the triangles are wound) */
+            double n1[3], n2[3];
+            tri_normal(w, e[i].t, n1);
+            tri_normal(w, e[i + 1].t, n2);
+            keep = fabs(sep_dot3(n1, n2)) < cos(20 * SEP_PI / 180);
+        }
+        if (keep) {
+            w->fe[w->nfe][0] = e[i].a;
+            w->fe[w->nfe++][1] = e[i].b;
+        }
+        i = j;
+    }
+    free(e);
+    return 0;
 }
 
 int sep_mesh_add(mote_sep_system *s, const mote_mesh *m, const char *path, int solid,
@@ -57,6 +123,10 @@ int sep_mesh_add(mote_sep_system *s, const mote_mesh *m, const char *path, int s
     }
     memcpy(w.v, m->v, m->nv * sizeof *w.v);
     memcpy(w.t, m->t, m->nt * sizeof *w.t);
+    if (feature_edges(&w)) {
+        mote_sep_mesh_free(&w);
+        return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", path);
+    }
     w.solid = solid;
     w.omega = omega;
     for (int a = 0; a < 3; a++) {

@@ -410,13 +410,13 @@ int sep_frame_png(const mote_sep_system *s, const char *path, const sep_frame_op
         o.ncat = s->nsp;
         o.cat_names = names;
     }
-    /* the mesh walls where they are now, their triangles' edges seen from the front (in 3D only
-     * the triangles that reach into the slice y1 ... y2 when one is asked for) */
-    size_t ntri = 0;
+    /* the mesh walls where they are now, their outlines seen from the front (in 3D only the
+     * edges that reach into the slice y1 ... y2 when one is asked for) */
+    size_t nfe = 0;
     for (int k = 0; k < s->nmesh; k++)
-        ntri += s->mesh[k].nt;
-    double *lines = ntri ? malloc(12 * ntri * sizeof *lines) : NULL;
-    if (ntri && !lines) {
+        nfe += s->mesh[k].nfe;
+    double *lines = nfe ? malloc(4 * nfe * sizeof *lines) : NULL;
+    if (nfe && !lines) {
         free(buf);
         free(key);
         free(rects);
@@ -426,10 +426,10 @@ int sep_frame_png(const mote_sep_system *s, const char *path, const sep_frame_op
         const mote_sep_mesh *w = &s->mesh[k];
         sep_mesh_frame f;
         sep_mesh_frame_at(w, s->t, &f);
-        for (size_t t = 0; t < w->nt; t++) {
-            double p[3][3], ylo = INFINITY, yhi = -INFINITY;
-            for (int j = 0; j < 3; j++) {
-                const double *q = w->v[w->t[t][j]];
+        for (size_t t = 0; t < w->nfe; t++) {
+            double p[2][3], ylo = INFINITY, yhi = -INFINITY;
+            for (int j = 0; j < 2; j++) {
+                const double *q = w->v[w->fe[t][j]];
                 const double d[3] = {q[0] - f.c0[0], q[1] - f.c0[1], q[2] - f.c0[2]};
                 for (int a = 0; a < 3; a++)
                     p[j][a] = f.C[a] + f.R[a][0] * d[0] + f.R[a][1] * d[1] + f.R[a][2] * d[2];
@@ -438,10 +438,8 @@ int sep_frame_png(const mote_sep_system *s, const char *path, const sep_frame_op
             }
             if (fo->y2 > fo->y1 && (yhi < fo->y1 || ylo > fo->y2))
                 continue;
-            for (int j = 0; j < 3; j++) {
-                double *l = lines + 4 * o.nline++;
-                l[0] = p[j][0], l[1] = p[j][2], l[2] = p[(j + 1) % 3][0], l[3] = p[(j + 1) % 3][2];
-            }
+            double *l = lines + 4 * o.nline++;
+            l[0] = p[0][0], l[1] = p[0][2], l[2] = p[1][0], l[3] = p[1][2];
         }
     }
     o.lines = lines;
