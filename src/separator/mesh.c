@@ -451,29 +451,31 @@ int sep_mesh_blocks(const mote_sep_system *s, double t, const double p[3], doubl
         const double d[3] = {p[0] - f.C[0], p[1] - f.C[1], p[2] - f.C[2]};
         for (int a = 0; a < 3; a++)
             pb[a] = f.c0[a] + f.R[0][a] * d[0] + f.R[1][a] * d[1] + f.R[2][a] * d[2];
-        if (w->cstart && r <= w->rmax) { /* the touches through the grid (outside it: none) */
-            size_t cell = 0;
-            int in = 1;
-            for (int a = 2; a >= 0; a--) {
-                const double u = floor((pb[a] - w->lo[a]) / w->h);
-                in = in && u >= 0 && u < w->nc[a];
-                cell = in ? cell * (size_t)w->nc[a] + (size_t)u : 0;
-            }
-            for (uint32_t e = in ? w->cstart[cell] : 0; in && e < w->cstart[cell + 1]; e++)
-                if (dist2_to_tri(w, w->ctri[e], pb) <= r * r)
-                    return k + 1;
+        /* touching: through the grid (outside it, nothing is near), else every triangle */
+        const int grid = w->cstart && r <= w->rmax;
+        size_t cell = 0;
+        int in = grid;
+        for (int a = 2; in && a >= 0; a--) {
+            const double u = floor((pb[a] - w->lo[a]) / w->h);
+            in = u >= 0 && u < w->nc[a];
+            cell = in ? cell * (size_t)w->nc[a] + (size_t)u : 0;
         }
+        for (uint32_t e = in ? w->cstart[cell] : 0; in && e < w->cstart[cell + 1]; e++)
+            if (dist2_to_tri(w, w->ctri[e], pb) <= r * r)
+                return k + 1;
+        for (size_t q = 0; !grid && q < w->nt; q++)
+            if (dist2_to_tri(w, q, pb) <= r * r)
+                return k + 1;
+        /* inside a solid one (outside its grid's box, which holds it, it is not) */
+        if (!w->solid || (grid && !in))
+            continue;
         double wind = 0;
         for (size_t q = 0; q < w->nt; q++) {
-            if ((!w->cstart || r > w->rmax) && dist2_to_tri(w, q, pb) <= r * r)
-                return k + 1;
-            if (w->solid) {
-                double a[3][3];
-                for (int j = 0; j < 3; j++)
-                    for (int x = 0; x < 3; x++)
-                        a[j][x] = w->v[w->t[q][j]][x] - pb[x];
-                wind += solid_angle(a[0], a[1], a[2]);
-            }
+            double a[3][3];
+            for (int j = 0; j < 3; j++)
+                for (int x = 0; x < 3; x++)
+                    a[j][x] = w->v[w->t[q][j]][x] - pb[x];
+            wind += solid_angle(a[0], a[1], a[2]);
         }
         if (w->solid && fabs(wind) > 2 * SEP_PI) /* (the winding number, 0 or 1: above 1/2) */
             return k + 1;
