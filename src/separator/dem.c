@@ -723,21 +723,26 @@ static inline int pair_hm(const force_arrays *a, const force_ctx *c, const doubl
     h.R = rp * rq / R;
     h.m = a->m[p] * a->m[q] / (a->m[p] + a->m[q]);
     double Fp[3], nf[3];
-    const double fn = sep_hm_force(&h, delta, n, v, c->dt, xi, Fp);
+    sep_hm_force(&h, delta, n, v, c->dt, xi, Fp);
     cross3(n, Fp, nf);
     if (k->coh > 0) { /* SJKR: -k_c pi a^2, a the radius of the spheres' intersection circle */
         const double A = SEP_PI / 4 * ((R - dist) * (dist + rp - rq) * (dist - rp + rq) * (dist + R)) / d2;
         const double fc = -k->coh * A; /* (along -n: towards q) */
         Fp[0] += fc * n[0], Fp[1] += fc * n[1], Fp[2] += fc * n[2];
     }
-    /* rolling friction on p: -mu_r R* |F_n| along the relative rotation */
+    /* rolling friction on p: -mu_r R* F_e w/|w| (w the relative rotation, F_e the Hertz force
+     * 4/3 Y* sqrt(R* delta) delta), its part in the tangent plane (a twist is not resisted),
+     * as LIGGGHTS's cdt */
     double Tr[3] = {0, 0, 0};
     if (k->mur > 0) {
         const double wr[3] = {wp[0] - wq[0], wp[1] - wq[1], wp[2] - wq[2]};
         const double wl = sqrt(wr[0] * wr[0] + wr[1] * wr[1] + wr[2] * wr[2]);
         if (wl > 0) {
-            const double f = -k->mur * h.R * fn / wl;
-            Tr[0] = f * wr[0], Tr[1] = f * wr[1], Tr[2] = f * wr[2];
+            const double fe = 4.0 / 3.0 * h.Y * sqrt(h.R * delta) * delta;
+            const double f = -k->mur * h.R * fe / wl, wn = sep_dot3(wr, n);
+            Tr[0] = f * (wr[0] - wn * n[0]);
+            Tr[1] = f * (wr[1] - wn * n[1]);
+            Tr[2] = f * (wr[2] - wn * n[2]);
         }
     }
     const double sgn = first ? 1 : -1, ai = first ? ap : aq, aj = first ? aq : ap;
@@ -769,7 +774,7 @@ static inline void contact_wall_hm(const force_arrays *a, const force_ctx *c, si
     sep_hm h = k->h;
     h.R = r;
     h.m = a->m[i];
-    const double fn = sep_hm_force(&h, delta, n, v, c->dt, xi, Fw);
+    sep_hm_force(&h, delta, n, v, c->dt, xi, Fw);
     cross3(n, Fw, nf);
     if (k->coh > 0) { /* SJKR at a wall: the contact circle's area pi (2 r delta - delta^2) */
         const double fc = -k->coh * SEP_PI * (2 * r - delta) * delta;
@@ -779,12 +784,15 @@ static inline void contact_wall_hm(const force_arrays *a, const force_ctx *c, si
         F[b] += Fw[b];
         T[b] -= r * nf[b];
     }
+    /* rolling friction: as between particles, the spin relative to the wall's (LIGGGHTS takes
+     * the particle's own, the same at a wall at rest) */
     const double wr[3] = {pw[0] - ww[0], pw[1] - ww[1], pw[2] - ww[2]};
     const double wl = sqrt(wr[0] * wr[0] + wr[1] * wr[1] + wr[2] * wr[2]);
     if (k->mur > 0 && wl > 0) {
-        const double f = -k->mur * r * fn / wl;
+        const double fe = 4.0 / 3.0 * h.Y * sqrt(h.R * delta) * delta;
+        const double f = -k->mur * r * fe / wl, wn = sep_dot3(wr, n);
         for (int b = 0; b < 3; b++)
-            T[b] += f * wr[b];
+            T[b] += f * (wr[b] - wn * n[b]);
     }
 }
 
