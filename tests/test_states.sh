@@ -15,12 +15,12 @@ mote_test_start "$1"
 # An nbody state of version 4 (each integrator's own lines) written in the fixtures' version-2
 # layout (tests/nbody_state.awk): the fixtures' fields must then come back byte for byte.
 nbody_v2() { awk -v to=2 -f "$FX/../../nbody_state.awk" "$1"; }
-# A separator state of version 3 in the fixture's version-1 layout: version 2 added one line,
+# A separator state of version 4 in the fixture's version-1 layout: version 2 added one line,
 # `real parcel W` (1 when read from version 1: one particle each); version 3 the contact law's
 # lines (read from older files as the linear law: no friction or cohesion, E 0 and nu 0.3 per
-# species, no pair overrides, no springs)
+# species, no pair overrides, no springs); version 4 the mesh walls and their springs (none)
 sep_v1() {
-    sed '1s/^mote-state 3$/mote-state 1/; /^real parcel 1$/d; /^real mu_pp 0$/d; /^real mu_pw -1$/d
+    sed '1s/^mote-state 4$/mote-state 1/; /^meshes 0$/d; /^wall_springs 0$/d; /^real parcel 1$/d; /^real mu_pp 0$/d; /^real mu_pw -1$/d
          /^real mur_pp 0$/d; /^real mur_pw -1$/d; /^real E_w 0$/d; /^real nu_w 0$/d
          /^int hertz 0$/d; /^int e_true 1$/d; /^real coh_pp 0$/d; /^real coh_pw -1$/d
          /^mupair -1/d; /^murpair -1/d; /^cohpair -1/d; /^springs 0$/d
