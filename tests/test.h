@@ -93,6 +93,24 @@ static inline int test_tmpdir_make(char *buf, size_t n, const char *name)
     return 1;
 }
 
+/* Whether two files hold the same bytes (both readable). */
+static inline int test_same_file(const char *a, const char *b)
+{
+    FILE *f = fopen(a, "rb"), *g = fopen(b, "rb");
+    int same = f && g;
+    while (same) {
+        const int x = fgetc(f), y = fgetc(g);
+        same = x == y;
+        if (x == EOF || y == EOF)
+            break;
+    }
+    if (f)
+        fclose(f);
+    if (g)
+        fclose(g);
+    return same;
+}
+
 /* Remove a file or a directory tree. */
 static inline void test_remove_tree(const char *p)
 {

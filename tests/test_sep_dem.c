@@ -706,24 +706,6 @@ static void threads_case(mote_sep_system *s, int dim, size_t n, int steps, int n
     CHECK(mote_sep_save(s, 1, path, &err) == MOTE_OK, "save: %s", err.msg);
 }
 
-/* Whether two files hold the same bytes. */
-static int same_file(const char *a, const char *b)
-{
-    FILE *f = fopen(a, "rb"), *g = fopen(b, "rb");
-    int same = f && g;
-    while (same) {
-        const int x = fgetc(f), y = fgetc(g);
-        same = x == y;
-        if (x == EOF || y == EOF)
-            break;
-    }
-    if (f)
-        fclose(f);
-    if (g)
-        fclose(g);
-    return same;
-}
-
 /* contact hertz: one sphere (d 2 mm, glass-like, E 5 MPa) hits the floor of a closed box in
  * vacuum without gravity at normal speed vn and tangential speed vt (x), spinning at w0 about y;
  * the velocities and spin after it leaves the floor into out[0..2] (vz, vx, wy). */
@@ -1005,7 +987,7 @@ static void test_hertz_threads(void)
               "rad/s), springs (%zu)", c, (unsigned long long)s[0].list_builds,
               (unsigned long long)s[0].contacts_pp, spin, springs);
         for (int k = 1; k < 5; k++)
-            CHECK(same_file(path[0], path[k]), "case %zu (%dD): the state of way %d equals the "
+            CHECK(test_same_file(path[0], path[k]), "case %zu (%dD): the state of way %d equals the "
                   "one on 1 thread", c, cases[c].dim, k);
         printf("  %dD N %zu: %llu list builds, %llu contacts, max spin %.3g rad/s\n",
                cases[c].dim, s[0].n, (unsigned long long)s[0].list_builds,
@@ -1042,7 +1024,7 @@ static void test_threads(void)
               c, (unsigned long long)s[0].list_builds, (unsigned long long)s[0].last_sort,
               (unsigned long long)s[0].contacts_pp);
         for (int k = 1; k < 3; k++)
-            CHECK(same_file(path[0], path[k]), "case %zu (%dD, N %zu): the state on %d threads "
+            CHECK(test_same_file(path[0], path[k]), "case %zu (%dD, N %zu): the state on %d threads "
                   "equals the one on 1", c, cases[c].dim, cases[c].n, k + 1);
         printf("  %dD N %zu -> %zu after %d steps: %llu list builds, %llu contacts at the end\n",
                cases[c].dim, cases[c].n, s[0].n, cases[c].steps,
@@ -1102,7 +1084,7 @@ static void test_gap_skip(void)
         CHECK(c < 3 || 2 * ((s[1].nb_w + SEP_EBLK_TEST - 1) / SEP_EBLK_TEST) + 1 > 32,
               "case 3: the rows' pairs far apart in the arrays (nb_w %zu)", s[1].nb_w);
         for (int k = 1; k < 3; k++)
-            CHECK(same_file(path[0], path[k]), "case %d: the state with the skip (%d threads) "
+            CHECK(test_same_file(path[0], path[k]), "case %d: the state with the skip (%d threads) "
                   "equals the one with every row searched", c, k);
         printf("  case %d: N %zu, %llu list builds, %.1f%% of the rows skipped, %llu contacts\n", c,
                s[1].n, (unsigned long long)s[1].list_builds,
@@ -1172,7 +1154,7 @@ static void test_pending(void)
         }
         CHECK(s[0].contacts_pp > 0 && s[0].cnt[0].fines > 0, "case %d has contacts and exits", c);
         for (int k = 1; k < 4; k++)
-            CHECK(same_file(path[0], path[k]), "case %d: run %d (%d threads, %s) equals every step "
+            CHECK(test_same_file(path[0], path[k]), "case %d: run %d (%d threads, %s) equals every step "
                   "completed on 1 thread", c, k, k < 2 ? 1 : 3,
                   k % 2 ? "kicks pending" : "every step completed");
         for (int k = 0; k < 4; k++) {
@@ -1211,7 +1193,7 @@ static void test_pending(void)
           "the hook saw %d of the %d steps it wanted (every 7th of 300), %d in all, %d with a "
           "kick pending", log.wanted, 300 / 7, log.calls, log.pending);
     CHECK(s[0].contacts_pp > 0, "the box has contacts (%llu)", (unsigned long long)s[0].contacts_pp);
-    CHECK(same_file(path[0], path[1]), "the run with the hook equals the plain run");
+    CHECK(test_same_file(path[0], path[1]), "the run with the hook equals the plain run");
     for (int k = 0; k < 2; k++) {
         mote_sep_free(&s[k]);
         remove(path[k]);

@@ -406,24 +406,6 @@ static void test_blocks(void)
 
 /* ---- threads, save and load ---- */
 
-/* Whether two files hold the same bytes. */
-static int same_file(const char *a, const char *b)
-{
-    FILE *f = fopen(a, "rb"), *g = fopen(b, "rb");
-    int same = f && g;
-    while (same) {
-        const int x = fgetc(f), y = fgetc(g);
-        same = x == y;
-        if (x == EOF || y == EOF)
-            break;
-    }
-    if (f)
-        fclose(f);
-    if (g)
-        fclose(g);
-    return same;
-}
-
 /* A pour through a square hopper (an open sheet: four sloping sides from a 3.6 cm mouth at 3 cm
  * up to a 1 cm outlet at 1.5 cm) turning at 5 rad/s about the vertical, fed from above with 1-2
  * mm spheres placed inside it (clear of its sides), onto a tilted plate below it; the law linear or hertz (friction, rolling
@@ -503,7 +485,7 @@ static void test_threads(void)
             pour(hertz, how[k][0], how[k][1], 8000, path[k]);
         }
         for (int k = 1; k < 4; k++)
-            CHECK(same_file(path[0], path[k]), "%s: way %d's state equals the one on 1 thread",
+            CHECK(test_same_file(path[0], path[k]), "%s: way %d's state equals the one on 1 thread",
                   hertz ? "hertz" : "linear", k);
         for (int k = 0; k < 4; k++)
             if (!getenv("KEEP"))
