@@ -214,7 +214,10 @@ int sep_check_run(void *vm, const mote_call *c, mote_err *err)
     const int threads = c->ctx && c->ctx->threads > 1 ? c->ctx->threads : 1;
     const double ps = s->hertz ? SEP_EST_HERTZ_PARTICLE_STEP_S : SEP_EST_PARTICLE_STEP_S;
     const double wall = steps * (SEP_EST_STEP_S + ps * navg / threads);
-    const double mem = SEP_EST_BASE_BYTES + nmax * (s->hertz ? SEP_EST_HERTZ_BYTES : SEP_EST_BYTES);
+    /* (with mesh walls and hertz, each particle's wall springs: 4 numbers a slot) */
+    const double wall_springs = s->hertz && s->nmesh ? 4.0 * SEP_MESH_SLOTS * sizeof(double) : 0;
+    const double mem = SEP_EST_BASE_BYTES +
+                       nmax * (s->hertz ? SEP_EST_HERTZ_BYTES + wall_springs : SEP_EST_BYTES);
     m->est_n = nmax;
     m->est_t = t0 + T;
     char w[32];
