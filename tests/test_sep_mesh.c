@@ -134,15 +134,16 @@ static void run(mote_sep_system *s, double T)
 /* A sphere (d 2 mm) at (x, y) falling at 1 m/s (and sliding at vt along x) onto: kind 0 the
  * box's floor, 1 a horizontal sheet 5 mm up (8 x 8 squares of 2.5 mm, a vertex at the box's
  * centre), 2 a roof (two faces sloping 30 degrees down from a ridge along y at 5 mm), 3 a
- * pyramid's apex (four faces); out: vz, vx, wy after it leaves. */
+ * pyramid's apex (four faces), 4 the sheet of 1 at 3 cm, hit from below (an open sheet's both
+ * sides are walls; out mirrored); out: vz, vx, wy after it leaves. */
 static void impact(int kind, int hertz, double x, double y, double vt, double out[3])
 {
     mote_sep_system s;
     box(&s, 0.04, 0.04, 0.04, 0, 2e-3, hertz, 0.5, 0.3);
     soup m = {0};
     double z0 = 0;
-    if (kind == 1) {
-        z0 = 0.005;
+    if (kind == 1 || kind == 4) {
+        z0 = kind == 1 ? 0.005 : 0.03;
         sheet(&m, 0.02, 0.02, z0, 0.02, 8, 0);
     } else if (kind == 2) {
         z0 = 0.005;
@@ -162,10 +163,11 @@ static void impact(int kind, int hertz, double x, double y, double vt, double ou
     }
     if (kind)
         add_wall(&s, &m, NULL, 0, NULL, NULL);
-    one(&s, (double[3]){x, y, z0 + 1e-3 + 1e-6}, (double[3]){vt, 0, -1});
+    const double up = kind == 4 ? -1 : 1; /* (kind 4: from below, upwards) */
+    one(&s, (double[3]){x, y, z0 + up * (1e-3 + 1e-6)}, (double[3]){vt, 0, -up});
     run(&s, 1e-6 + 4 * s.nc * s.dt);
-    CHECK(s.z[0] > z0 + 1e-3, "kind %d: the sphere left (z %.6g)", kind, s.z[0]);
-    out[0] = s.vz[0], out[1] = s.vx[0], out[2] = s.hertz ? s.w[1] : 0;
+    CHECK(up * (s.z[0] - z0) > 1e-3, "kind %d: the sphere left (z %.6g)", kind, s.z[0]);
+    out[0] = up * s.vz[0], out[1] = s.vx[0], out[2] = s.hertz ? up * s.w[1] : 0;
     mote_sep_free(&s);
 }
 
@@ -186,10 +188,11 @@ static void test_impacts(void)
                       {1, 0.02125, 0.02, "an edge's middle"},
                       {1, 0.02125, 0.02125, "a diagonal edge"},
                       {1, 0.0208, 0.0217, "a face"},
+                      {4, 0.0208, 0.0217, "a face from below"},
                       {2, 0.02, 0.02, "a roof's ridge"},
                       {3, 0.02, 0.02, "a pyramid's apex"}};
             for (size_t k = 0; k < sizeof at / sizeof at[0]; k++) {
-                if (slide && at[k].kind > 1)
+                if (slide && (at[k].kind == 2 || at[k].kind == 3))
                     continue; /* (sliding off a ridge is not the floor's case) */
                 impact(at[k].kind, hertz, at[k].x, at[k].y, vt, o);
                 CHECK(fabs(o[0] - ref[0]) <= 1e-9 && fabs(o[1] - ref[1]) <= 1e-9 &&
@@ -243,9 +246,19 @@ static void test_groove(void)
 
 /* ---- an incline: rolling and sliding ---- */
 
+static int every_step(void *ctx, const mote_sep_system *s)
+{
+    (void)ctx, (void)s;
+    return 1;
+}
+
 /* The speed down an incline of 20 degrees (a sheet of n x n squares) at t1 and t2 after a
- * sphere is put on it at rest, with friction mu (the rolling friction 0). */
-static void incline(int n, double mu, double v[2])
+ * sphere is put on it at rest, and the time between (v[0], v[1], v[2]), with friction mu (the
+ * rolling friction 0); *dev the largest departure of the contact's force along the slope from
+ * its range over the steps between (the spring's force holds the rolling sphere: lost where it
+ * crosses a triangle's edge, it would fall to zero there; the speeds would not show it, as the
+ * sphere's angular momentum about the contact point does not depend on the friction). */
+static void incline(int n, double mu, double v[3], double *dev)
 {
     mote_sep_system s;
     box(&s, 0.2, 0.04, 0.1, 9.81, 2e-3, 1, 0.5, mu);
@@ -259,8 +272,21 @@ static void incline(int n, double mu, double v[2])
     one(&s, p, (double[3]){0, 0, 0});
     run(&s, 0.05);
     v[0] = s.vx[0] * cos(th) - s.vz[0] * sin(th);
-    run(&s, 0.1);
+    const double t1 = s.t;
+    /* (step by step: the run's advance returns after each step the hook wants to see) */
+    mote_err err = {0};
+    const double t2 = s.t + 0.1;
+    double lo = INFINITY, hi = -INFINITY;
+    int rc = mote_sep_prepare(&s, &err);
+    while (!rc && s.t < t2 - 0.5 * s.dt) {
+        rc = mote_sep_advance(&s, t2, every_step, NULL, &err);
+        const double f = s.fx[0] * cos(th) - s.fz[0] * sin(th);
+        lo = fmin(lo, f), hi = fmax(hi, f);
+    }
+    CHECK(mote_sep_run_end(&s, rc, &err) == MOTE_OK, "run: %s", err.msg);
+    *dev = (hi - lo) / fmax(fabs(hi), fabs(lo));
     v[1] = s.vx[0] * cos(th) - s.vz[0] * sin(th);
+    v[2] = s.t - t1; /* (the time between) */
     mote_sep_free(&s);
 }
 
@@ -268,19 +294,22 @@ static void test_incline(void)
 {
     printf("mesh walls: down an incline of 20 degrees (over the triangles' edges)\n");
     const double th = 20 * PI / 180, g = 9.81;
-    double v[2], v2[2];
+    double v[3], v2[3], dev, dev2;
     /* rolling (mu 0.5 > 2/7 tan 20 = 0.104): a = 5/7 g sin */
-    incline(40, 0.5, v);
-    incline(1, 0.5, v2);
-    double a = (v[1] - v[0]) / 0.1, want = 5.0 / 7.0 * g * sin(th);
+    incline(40, 0.5, v, &dev);
+    incline(1, 0.5, v2, &dev2);
+    CHECK(dev < 1e-6 && dev2 < 1e-6, "the rolling sphere's friction force varies by %.3g (3200 "
+          "triangles) and %.3g (2) of itself", dev, dev2);
+    double a = (v[1] - v[0]) / v[2], want = 5.0 / 7.0 * g * sin(th);
     CHECK(fabs(a / want - 1) < 1e-9, "rolling: a %.6f against 5/7 g sin %.6f", a, want);
     CHECK(fabs(v2[1] / v[1] - 1) < 1e-9, "rolling on 2 triangles %.12f against on 3200 %.12f",
           v2[1], v[1]);
     printf("  rolling: a %.5f m/s^2 against 5/7 g sin(20) %.5f (%.1e); on 2 triangles as on "
-           "3200 to %.1e\n", a, want, fabs(a / want - 1), fabs(v2[1] / v[1] - 1));
+           "3200 to %.1e; its friction force steady to %.1e across the triangles' edges\n", a,
+           want, fabs(a / want - 1), fabs(v2[1] / v[1] - 1), dev);
     /* sliding (mu 0.05): a = g (sin - mu cos) */
-    incline(40, 0.05, v);
-    a = (v[1] - v[0]) / 0.1, want = g * (sin(th) - 0.05 * cos(th));
+    incline(40, 0.05, v, &dev);
+    a = (v[1] - v[0]) / v[2], want = g * (sin(th) - 0.05 * cos(th));
     CHECK(fabs(a / want - 1) < 1e-9, "sliding: a %.6f against g (sin - mu cos) %.6f", a, want);
     printf("  sliding: a %.5f m/s^2 against g (sin - mu cos) %.5f (%.1e)\n", a, want,
            fabs(a / want - 1));
@@ -377,6 +406,7 @@ static void test_blocks(void)
     free(open.closed);
     free(m.v);
     free(m.t);
+    memset(&m, 0, sizeof m);
     CHECK(mote_sep_prepare(&s, &err) == MOTE_OK, "prepare: %s", err.msg);
     /* at t = 0.5 s the cube has turned 30 degrees: its corner (2.5, 2.5) cm is at radius
      * 0.707 cm, angle 75 degrees about the centre */
@@ -401,6 +431,22 @@ static void test_blocks(void)
               sep_mesh_blocks(&s, 0, near, 5e-4) == 0,
           "the turned corner: near %d, far %d, near at t = 0 %d", sep_mesh_blocks(&s, t, near, 5e-4),
           sep_mesh_blocks(&s, t, far, 5e-4), sep_mesh_blocks(&s, 0, near, 5e-4));
+    mote_sep_free(&s);
+    /* the feed's placements: 300 spheres inserted into a zone that a tilted sheet cuts through,
+     * none touching it */
+    box(&s, 0.04, 0.04, 0.04, 0, 2e-3, 0, 0.5, 0);
+    sheet(&m, 0.02, 0.02, 0.02, 0.05, 5, 0.4);
+    add_wall(&s, &m, NULL, 0, NULL, NULL);
+    CHECK(mote_sep_prepare(&s, &err) == MOTE_OK, "prepare: %s", err.msg);
+    CHECK(mote_sep_insert(&s, 0, 300, 0, &err) == MOTE_OK, "insert: %s", err.msg);
+    size_t touching = 0, above = 0;
+    for (size_t i = 0; i < s.n; i++) {
+        touching += sep_mesh_blocks(&s, s.t, (double[3]){s.x[i], s.y[i], s.z[i]}, 1e-3) != 0;
+        above += s.z[i] - 0.02 > -tan(0.4) * (s.x[i] - 0.02);
+    }
+    CHECK(s.n + s.nback == 300 && touching == 0 && above > 50 && s.n - above > 50,
+          "300 inserted across a sheet: %zu placed (%zu waiting), %zu touching it, %zu above it",
+          s.n, s.nback, touching, above);
     mote_sep_free(&s);
 }
 
