@@ -254,8 +254,8 @@ static int every_step(void *ctx, const mote_sep_system *s)
 
 /* The speed down an incline of 20 degrees (a sheet of n x n squares) at t1 and t2 after a
  * sphere is put on it at rest, and the time between (v[0], v[1], v[2]), with friction mu (the
- * rolling friction 0); *dev the largest departure of the contact's force along the slope from
- * its range over the steps between (the spring's force holds the rolling sphere: lost where it
+ * rolling friction 0); *dev the spread of the contact's force along the slope over the steps
+ * between, relative to it (the spring's force holds the rolling sphere: lost where it
  * crosses a triangle's edge, it would fall to zero there; the speeds would not show it, as the
  * sphere's angular momentum about the contact point does not depend on the friction). */
 static void incline(int n, double mu, double v[3], double *dev)
