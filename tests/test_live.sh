@@ -156,7 +156,7 @@ stop
 mb 30 'snapshot end.xyz\n' > short.mote
 "$MOTE" run short.mote > plain.txt 2>&1 && mv end.xyz plain.xyz && ok || bad "the plain run failed"
 start short.mote
-timeout 20 curl -s -N "${URL}stream" > all.txt &
+timeout 300 curl -s -N "${URL}stream" > all.txt & # (the run's end closes it; the limit only guards a hang)
 CURL=$!
 wait "$PID"
 wait "$CURL" 2> /dev/null # the run's end closes the stream; curl reads it to the end
