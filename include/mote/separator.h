@@ -131,6 +131,8 @@ typedef struct {
      * 20 degrees (the outline, not a flat face's triangulation) */
     uint32_t (*fe)[2];
     size_t nfe;
+    double (*plane)[4];      /* each triangle's unit normal n and n . (a vertex): a sphere
+                              * farther from the plane than its radius cannot touch it */
 } mote_sep_mesh;
 void mote_sep_mesh_free(mote_sep_mesh *w);
 

@@ -17,6 +17,7 @@ void mote_sep_mesh_free(mote_sep_mesh *w)
     free(w->cstart);
     free(w->ctri);
     free(w->fe);
+    free(w->plane);
     memset(w, 0, sizeof *w);
 }
 
@@ -123,7 +124,12 @@ int sep_mesh_add(mote_sep_system *s, const mote_mesh *m, const char *path, int s
     }
     memcpy(w.v, m->v, m->nv * sizeof *w.v);
     memcpy(w.t, m->t, m->nt * sizeof *w.t);
-    if (feature_edges(&w)) {
+    w.plane = malloc((m->nt ? m->nt : 1) * sizeof *w.plane);
+    for (size_t t = 0; w.plane && t < m->nt; t++) {
+        tri_normal(&w, (uint32_t)t, w.plane[t]);
+        w.plane[t][3] = sep_dot3(w.plane[t], w.v[w.t[t][0]]);
+    }
+    if (!w.plane || feature_edges(&w)) {
         mote_sep_mesh_free(&w);
         return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", path);
     }
@@ -357,6 +363,9 @@ int sep_mesh_contacts(const mote_sep_system *s, const sep_mesh_frame *fr, const 
         int nc = 0;
         for (uint32_t e = w->cstart[cell]; e < w->cstart[cell + 1] && nc < MESH_CANDS; e++) {
             const uint32_t t = w->ctri[e];
+            const double *pl = w->plane[t];
+            if (!(fabs(sep_dot3(pl, pb) - pl[3]) < r))
+                continue; /* (the plane is out of reach, so is the triangle) */
             cand x = {.tri = t};
             x.feat = closest_on_tri(pb, w->v[w->t[t][0]], w->v[w->t[t][1]], w->v[w->t[t][2]], x.q);
             const double dq[3] = {pb[0] - x.q[0], pb[1] - x.q[1], pb[2] - x.q[2]};
