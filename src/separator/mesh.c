@@ -361,7 +361,7 @@ int sep_mesh_contacts(const mote_sep_system *s, const sep_mesh_frame *fr, const 
                             (size_t)ci[0];
         cand c[MESH_CANDS];
         int nc = 0;
-        for (uint32_t e = w->cstart[cell]; e < w->cstart[cell + 1] && nc < MESH_CANDS; e++) {
+        for (uint32_t e = w->cstart[cell]; e < w->cstart[cell + 1]; e++) {
             const uint32_t t = w->ctri[e];
             const double *pl = w->plane[t];
             if (!(fabs(sep_dot3(pl, pb) - pl[3]) < r))
@@ -373,8 +373,24 @@ int sep_mesh_contacts(const mote_sep_system *s, const sep_mesh_frame *fr, const 
             if (!(d2 < r * r) || !(d2 > 0))
                 continue; /* (a centre on the surface has no direction) */
             x.dist = sqrt(d2);
-            c[nc++] = x;
+            if (nc < MESH_CANDS) {
+                c[nc++] = x;
+                continue;
+            }
+            /* (more triangles within reach than room: the nearest are kept, so the contact's
+             * own face is never lost on a mesh finer than the contact) */
+            int far = 0;
+            for (int j = 1; j < nc; j++)
+                far = c[j].dist > c[far].dist ? j : far;
+            if (x.dist < c[far].dist)
+                c[far] = x;
         }
+        for (int i = 1; i < nc; i++) /* (in the triangles' order, as listed) */
+            for (int j = i; j > 0 && c[j - 1].tri > c[j].tri; j--) {
+                const cand y = c[j];
+                c[j] = c[j - 1];
+                c[j - 1] = y;
+            }
         /* each feature once: a contact goes when an earlier one is at the same point (to
          * rounding: an edge or vertex seen from each of its triangles, or a point on an edge
          * that both triangles call their face's); an edge's when a face beside it touches, or
