@@ -355,5 +355,7 @@ expect 1 "mw3.mote:11:31: error: wall_mesh: omega= turns the wall about a line: 
 expect 1 "mw4.mote:11:16: error: wall_mesh: ramp.stl: omega= needs an axis= of non-zero length" mw4.mote "${MW}wall_mesh file=ramp.stl omega=1 axis=0,0,0 centre=0,0,0\n$MWE" check
 expect 1 "mw5.mote:11:16: error: wall_mesh: 'nothere.stl' does not exist and no earlier command writes it" mw5.mote "${MW}wall_mesh file=nothere.stl\n$MWE" check
 expect 1 "mw6.mote:13:1: error: insert: wall_mesh (ramp.stl) needs dim 3 and collisions dem" mw6.mote "${MW}collisions off\nwall_mesh file=ramp.stl\n$MWE" check
+W17=$(for k in $(seq 1 17); do printf 'wall_mesh file=ramp.stl\\n'; done)
+expect 1 "mw7.mote:27:1: error: wall_mesh: at most 16 mesh walls" mw7.mote "${MW}${W17}$MWE" check
 [ ! -e mwe.state ] && ok || bad "a refused wall_mesh script wrote its state"
 mote_test_end
