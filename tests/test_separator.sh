@@ -358,4 +358,10 @@ expect 1 "mw6.mote:13:1: error: insert: wall_mesh (ramp.stl) needs dim 3 and col
 W17=$(for k in $(seq 1 17); do printf 'wall_mesh file=ramp.stl\\n'; done)
 expect 1 "mw7.mote:27:1: error: wall_mesh: at most 16 mesh walls" mw7.mote "${MW}${W17}$MWE" check
 [ ! -e mwe.state ] && ok || bad "a refused wall_mesh script wrote its state"
+# a solid wall in a state file: a triangle taken out makes the file refused at its line
+printf 'v 0.005 0.005 0.01\nv 0.015 0.005 0.01\nv 0.005 0.015 0.01\nv 0.015 0.015 0.01\nv 0.005 0.005 0.02\nv 0.015 0.005 0.02\nv 0.005 0.015 0.02\nv 0.015 0.015 0.02\nf 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n' > cube.obj
+printf '%bwall_mesh file=cube.obj solid=yes\ninsert glass 20\nrun 0.01\nsave mwc.state\n' "$MW" > mwc.mote
+"$MOTE" run mwc.mote > /dev/null 2> err.txt && grep -q '^mesh 8 12 1 ' mwc.state && ok || bad "a solid cube wall: $(cat err.txt)"
+awk '/^mesh 8 12 1 / { $3 = 11; l = NR } /^mt / { if (++t == 12) next } { print } END { print l > "mwc.line" }' mwc.state > mwc_open.state
+expect 1 "mwc2.mote:2:6: error: mwc_open.state:$(cat mwc.line): cube.obj: solid=yes needs a closed mesh (every edge shared by exactly two triangles); 3 of its edges are not" mwc2.mote "${S}load mwc_open.state\nrun 0.001\n"
 mote_test_end

@@ -49,8 +49,9 @@ static void tri_normal(const mote_sep_mesh *w, uint32_t t, double n[3])
         n[k] = l > 0 ? n[k] / l : 0;
 }
 
-/* The wall's outline for pictures (w->fe). */
-static int feature_edges(mote_sep_mesh *w)
+/* The wall's outline for pictures (w->fe), and how many of its edges are not shared by exactly
+ * two triangles (*open). */
+static int feature_edges(mote_sep_mesh *w, size_t *open)
 {
     edge_rec *e = malloc((3 * w->nt + 1) * sizeof *e);
     w->fe = malloc((3 * w->nt + 1) * sizeof *w->fe);
@@ -70,6 +71,7 @@ static int feature_edges(mote_sep_mesh *w)
         while (j < 3 * w->nt && e[j].a == e[i].a && e[j].b == e[i].b)
             j++;
         int keep = j - i != 2;
+        *open += keep;
         if (!keep) { /* (the normals' angle, whichever way the triangles are wound) */
             double n1[3], n2[3];
             tri_normal(w, e[i].t, n1);
@@ -129,9 +131,16 @@ int sep_mesh_add(mote_sep_system *s, const mote_mesh *m, const char *path, int s
         tri_normal(&w, (uint32_t)t, w.plane[t]);
         w.plane[t][3] = sep_dot3(w.plane[t], w.v[w.t[t][0]]);
     }
-    if (!w.plane || feature_edges(&w)) {
+    size_t open_edges = 0;
+    if (!w.plane || feature_edges(&w, &open_edges)) {
         mote_sep_mesh_free(&w);
         return mote_fail(err, MOTE_ENOMEM, "%s: out of memory", path);
+    }
+    if (solid && open_edges) { /* (a state file's wall, whose components are not known) */
+        mote_sep_mesh_free(&w);
+        return mote_fail(err, MOTE_EINVAL, "%s: solid=yes needs a closed mesh (every edge "
+                         "shared by exactly two triangles); %zu of its edges are not", path,
+                         open_edges);
     }
     w.solid = solid;
     w.omega = omega;
@@ -295,6 +304,11 @@ int sep_mesh_grid(mote_sep_mesh *w, double rmax, mote_err *err)
             for (size_t c = 0; c < ncell; c++)
                 start[c + 1] += start[c];
             total = start[ncell];
+            mote_err e2 = {0};
+            if (mote_mem_check((double)total * sizeof *list, "a mesh wall's grid", &e2)) {
+                free(start);
+                return mote_fail(err, e2.code, "%s: %s", w->name, e2.msg);
+            }
             list = malloc((total ? total : 1) * sizeof *list);
             if (!list) {
                 free(start);

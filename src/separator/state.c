@@ -651,6 +651,7 @@ static int read_meshes(reader *r, mote_sep_system *s)
         rc = row(r, MESH, NF(MESH), &x);
         if (rc)
             break;
+        const long at = r->in.line; /* (the wall's faults name its line) */
         /* grown as the lines come: a false count allocates little */
         mote_mesh m = {0};
         size_t vcap = 0, tcap = 0;
@@ -678,7 +679,7 @@ static int read_meshes(reader *r, mote_sep_system *s)
         if (!rc && !m.closed)
             rc = mote_fail(r->err, MOTE_ENOMEM, "%s: out of memory", r->in.path);
         if (!rc)
-            memset(m.closed, 1, m.nt); /* (solid was checked when the wall was made) */
+            memset(m.closed, 1, m.nt); /* (a solid one's edges are checked by sep_mesh_add) */
         for (int a = 0; !rc && a < 3; a++)
             if (!isfinite(x.vel[a]) || !isfinite(x.axis[a]) || !isfinite(x.centre[a]) ||
                 !isfinite(x.omega))
@@ -686,7 +687,7 @@ static int read_meshes(reader *r, mote_sep_system *s)
         if (!rc) {
             mote_err e2 = {0};
             if (sep_mesh_add(s, &m, x.name, x.solid, x.vel, x.axis, x.omega, x.centre, &e2))
-                rc = bad(r, e2.msg, NULL);
+                rc = mote_fail(r->err, MOTE_EINVAL, "%s:%ld: %s", r->in.path, at, e2.msg);
             else /* (the axis as written: normalised once, when the wall was made) */
                 memcpy(s->mesh[s->nmesh - 1].axis, x.axis, sizeof x.axis);
         }
