@@ -617,7 +617,8 @@ static void test_first_sort(void)
  * (coupling), a perforated plate, a feed, n particles to start; runs `steps` steps on nt
  * threads (used from 1 particle up) and writes its state to path. flags: 1 every row searched
  * (no_gap_skip), 2 every step completed (no_pending), 4 contact hertz (friction, rolling
- * friction, cohesion, rotation; 8: stop half way, save, load and go on). */
+ * friction, cohesion, rotation; 8: stop half way, save, load and go on; 16, 32: its law on
+ * at most 2, 4 lanes). */
 static void threads_case(mote_sep_system *s, int dim, size_t n, int steps, int nt, int disperse,
                          int flags, const char *path)
 {
@@ -686,6 +687,7 @@ static void threads_case(mote_sep_system *s, int dim, size_t n, int steps, int n
     s->threads_min_n = 1;
     s->no_gap_skip = flags & 1;
     s->no_pending = (flags & 2) != 0;
+    s->simd = flags & 16 ? 2 : flags & 32 ? 4 : 0;
     if (flags & 4) { /* two halves (with 8 saved and loaded into a new system between) */
         const double T = 0.5 * steps * s->dt;
         CHECK(mote_sep_run(s, T, &err) == MOTE_OK, "run: %s", err.msg);
@@ -698,6 +700,7 @@ static void threads_case(mote_sep_system *s, int dim, size_t n, int steps, int n
             s->threads = nt;
             s->threads_min_n = 1;
             s->no_pending = (flags & 2) != 0;
+            s->simd = flags & 16 ? 2 : flags & 32 ? 4 : 0;
         }
         CHECK(mote_sep_run(s, T, &err) == MOTE_OK, "run: %s", err.msg);
     } else {
@@ -957,20 +960,24 @@ static void test_hertz_cohesion(void)
 
 /* contact hertz: the same bits on 1, 2 and 3 threads, with every step completed, and after a
  * save and load half way (the springs of the pairs by id, the rotation and the wall springs in
- * the state file); the run had sliding contacts, spin, rebuilds, reorders and exits. */
+ * the state file), with the law on 2 and 4 lanes as on the widest the processor runs; the run
+ * had sliding contacts, spin, rebuilds, reorders and exits. */
 static void test_hertz_threads(void)
 {
-    printf("contact hertz: the same bits on 1, 2, 3 threads, completed steps, save and load\n");
+    printf("contact hertz: the same bits on 1, 2, 3 threads, completed steps, save and load, "
+           "2 and 4 lanes\n");
     static const struct {
         int dim;
         size_t n;
         int steps;
     } cases[] = {{3, 4000, 160}, {2, 2000, 300}};
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
-        static const int how[5][2] = {{1, 4}, {2, 4}, {3, 4}, {1, 6}, {2, 12}};
-        char path[5][64];
-        mote_sep_system s[5];
-        for (int k = 0; k < 5; k++) {
+        enum { WAYS = 7 };
+        static const int how[WAYS][2] = {{1, 4}, {2, 4}, {3, 4}, {1, 6}, {2, 12}, {1, 4 | 16},
+                                         {3, 4 | 32}};
+        char path[WAYS][64];
+        mote_sep_system s[WAYS];
+        for (int k = 0; k < WAYS; k++) {
             snprintf(path[k], sizeof path[0], "/tmp/mote_sep_hertz_%d_%d.state", (int)c, k);
             threads_case(&s[k], cases[c].dim, cases[c].n, cases[c].steps, how[k][0], 0, how[k][1],
                          path[k]);
@@ -986,13 +993,13 @@ static void test_hertz_threads(void)
               "case %zu exercises rebuilds (%llu), a reorder, exits, contacts (%llu), spin (%g "
               "rad/s), springs (%zu)", c, (unsigned long long)s[0].list_builds,
               (unsigned long long)s[0].contacts_pp, spin, springs);
-        for (int k = 1; k < 5; k++)
+        for (int k = 1; k < WAYS; k++)
             CHECK(test_same_file(path[0], path[k]), "case %zu (%dD): the state of way %d equals the "
                   "one on 1 thread", c, cases[c].dim, k);
         printf("  %dD N %zu: %llu list builds, %llu contacts, max spin %.3g rad/s\n",
                cases[c].dim, s[0].n, (unsigned long long)s[0].list_builds,
                (unsigned long long)s[0].contacts_pp, spin);
-        for (int k = 0; k < 5; k++) {
+        for (int k = 0; k < WAYS; k++) {
             mote_sep_free(&s[k]);
             if (!getenv("KEEP")) remove(path[k]);
         }

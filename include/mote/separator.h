@@ -218,12 +218,14 @@ typedef struct {
      * is not in contact */
     double *hist;
     size_t hist_cap;
-    /* the pairs made once each (contact hertz): per entry of the rows the force and torque on
-     * its row's particle from that pair (6; zero out of contact); per owner entry (its row's
-     * index below its partner's) the index of the partner's entry for it */
+    /* the pairs made once each (contact hertz): pbuf, per pair in contact a slot of 9 (the
+     * force on the owner, the lower index, the torques on the owner and on the partner; slot
+     * 0: zeros); cidx, per owner entry (its row's index below its partner's) its pair's slot
+     * (0: not in contact); mir, per entry the index of the same pair's entry in the partner's
+     * row; ostart, per row the owner entries of the rows before it */
     double *pbuf;
-    uint32_t *mir;
-    size_t pbuf_cap, mir_cap;
+    uint32_t *mir, *cidx, *ostart;
+    size_t pbuf_cap, mir_cap, cidx_cap, ostart_cap;
     int nb_idx_ok;                       /* the rows' indices still name the particles they were
                                           * built for (no removal or reorder since), */
     size_t nb_n;                         /* the particles with rows (at the build) */
@@ -270,6 +272,9 @@ typedef struct {
                                           * y z), then scratch for the blocks' reach */
     size_t ebox_cap;
     int no_gap_skip;                     /* search every row (tests: the same forces either way) */
+    int simd;                            /* lanes of the contact hertz law: 0 the widest the
+                                          * processor runs; 2, 4: at most that (tests: the
+                                          * same bits) */
     int no_pending;                      /* complete every step in a run (tests: the same bits
                                           * as a second half kick left for the next drift) */
     uint64_t gap_skips;                  /* rows not searched so far (diagnostic) */

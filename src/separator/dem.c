@@ -11,6 +11,10 @@
 
 #include "sep.h"
 
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
+
 
 /* zeta(e) = -ln e / sqrt(pi^2 + ln^2 e): the damping ratio giving restitution e */
 static double zeta_of(double e)
@@ -683,78 +687,58 @@ static inline void cross3(const double a[3], const double b[3], double c[3])
     c[2] = a[0] * b[1] - a[1] * b[0];
 }
 
-/* The Hertz-Mindlin contact of the listed pair (i, j = nb[e]), i < j (e: i's entry, its
- * "owner"), made once: the pair in the order lower id first (p, then q: its spring, kept at
- * the owner entry, and the direction of everything follow the ids, not the places, which change
- * at reorders); out: the force on i, the torque on i, the torque on j (the force on j is minus
- * the one on i); 0 when the pair is not in contact (its spring then zeroed). pvw: each
- * particle's predicted velocity and angular velocity (6). Torques: -a n x F
- * with a_i = r_i |r_ij| / (r_i + r_j), the arm to the contact point, (+-) the rolling torque. */
-static inline int pair_hm(const force_arrays *a, const force_ctx *c, const double *restrict pvw,
-                          size_t i, uint32_t e, int dim, double out[9], double *mo)
+/* The Hertz-Mindlin contacts of listed pairs, several at once: hm_lanes.inc, on 2, 4 and 8
+ * lanes (x86-64: SSE2, AVX2, AVX-512F, whichever the processor runs), every width giving every
+ * pair the same bits. */
+typedef double (*hm_kernel)(const force_arrays *a, const force_ctx *c, const double *restrict pvw,
+                            double *restrict slot, const uint32_t *ent, const uint32_t *own,
+                            int cnt, int dim);
+#define HM_LANES 2
+#define HM_KNAME hm_pairs2
+#define HM_KATTR
+#include "hm_lanes.inc"
+#undef HM_LANES
+#undef HM_KNAME
+#undef HM_KATTR
+#if defined(__x86_64__) && defined(__GNUC__)
+#define HM_WIDE 1
+#define HM_LANES 4
+#define HM_KNAME hm_pairs4
+#define HM_KATTR __attribute__((target("avx2")))
+#include "hm_lanes.inc"
+#undef HM_LANES
+#undef HM_KNAME
+#undef HM_KATTR
+#define HM_LANES 8
+#define HM_KNAME hm_pairs8
+#define HM_KATTR __attribute__((target("avx512f")))
+#include "hm_lanes.inc"
+#undef HM_LANES
+#undef HM_KNAME
+#undef HM_KATTR
+#endif
+
+/* The widest kernel the processor runs (at most s->simd lanes when that is set: tests), and its
+ * lanes. */
+static hm_kernel hm_pick(const mote_sep_system *s, int *lanes)
 {
-    const size_t j = a->nb[e];
-    const int first = a->id[i] < a->id[j];
-    const size_t p = first ? i : j, q = first ? j : i;
-    double *xi = a->hist + 3 * (size_t)e;
-    const double dx[3] = {a->x[p] - a->x[q], dim == 3 ? a->y[p] - a->y[q] : 0,
-                          a->z[p] - a->z[q]};
-    const double d2 = dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2];
-    const double rp = 0.5 * a->d[p], rq = 0.5 * a->d[q], R = rp + rq;
-    if (!(d2 < R * R) || !(d2 > 0)) {
-        xi[0] = xi[1] = xi[2] = 0;
-        return 0;
-    }
-    const double dist = sqrt(d2), delta = R - dist, id = 1 / dist;
-    const double n[3] = {dx[0] * id, dx[1] * id, dx[2] * id}; /* from q to p */
-    /* the arms to one contact point, dividing the distance as the radii: the forces' couple
-     * about it is zero, so the contact keeps the angular momentum */
-    const double fr = dist / R, ap = rp * fr, aq = rq * fr;
-    const double *vp = pvw + 6 * p, *vq = pvw + 6 * q, *wp = vp + 3, *wq = vq + 3;
-    /* the contact point's velocities: v_p + w_p x (-a_p n) and v_q + w_q x (a_q n) */
-    double cp[3], cq[3];
-    cross3(wp, n, cp);
-    cross3(wq, n, cq);
-    const double v[3] = {vp[0] - vq[0] - ap * cp[0] - aq * cq[0],
-                         vp[1] - vq[1] - ap * cp[1] - aq * cq[1],
-                         vp[2] - vq[2] - ap * cp[2] - aq * cq[2]};
-    const hm_pp *k = &c->hm[a->sp[p] * MOTE_SEP_MAX_SPECIES + a->sp[q]];
-    sep_hm h = k->h;
-    h.R = rp * rq / R;
-    h.m = a->m[p] * a->m[q] / (a->m[p] + a->m[q]);
-    double Fp[3], nf[3];
-    sep_hm_force(&h, delta, n, v, c->dt, xi, Fp);
-    cross3(n, Fp, nf);
-    if (k->coh > 0) { /* SJKR: -k_c pi a^2, a the radius of the spheres' intersection circle */
-        const double A = SEP_PI / 4 * ((R - dist) * (dist + rp - rq) * (dist - rp + rq) * (dist + R)) / d2;
-        const double fc = -k->coh * A; /* (along -n: towards q) */
-        Fp[0] += fc * n[0], Fp[1] += fc * n[1], Fp[2] += fc * n[2];
-    }
-    /* rolling friction on p: -mu_r R* F_e w/|w| (w the relative rotation, F_e the Hertz force
-     * 4/3 Y* sqrt(R* delta) delta), its part in the tangent plane (a twist is not resisted),
-     * as LIGGGHTS's cdt */
-    double Tr[3] = {0, 0, 0};
-    if (k->mur > 0) {
-        const double wr[3] = {wp[0] - wq[0], wp[1] - wq[1], wp[2] - wq[2]};
-        const double wl = sqrt(wr[0] * wr[0] + wr[1] * wr[1] + wr[2] * wr[2]);
-        if (wl > 0) {
-            const double fe = 4.0 / 3.0 * h.Y * sqrt(h.R * delta) * delta;
-            const double f = -k->mur * h.R * fe / wl, wn = sep_dot3(wr, n);
-            Tr[0] = f * (wr[0] - wn * n[0]);
-            Tr[1] = f * (wr[1] - wn * n[1]);
-            Tr[2] = f * (wr[2] - wn * n[2]);
-        }
-    }
-    const double sgn = first ? 1 : -1, ai = first ? ap : aq, aj = first ? aq : ap;
-    for (int b = 0; b < 3; b++) {
-        out[b] = sgn * Fp[b];
-        out[3 + b] = sgn * Tr[b] - ai * nf[b];
-        out[6 + b] = -sgn * Tr[b] - aj * nf[b];
-    }
-    const double ov = delta / (2 * (rp < rq ? rp : rq));
-    if (ov > *mo)
-        *mo = ov;
-    return 1;
+    int w = 2;
+#ifdef HM_WIDE
+    if (__builtin_cpu_supports("avx512f"))
+        w = 8;
+    else if (__builtin_cpu_supports("avx2"))
+        w = 4;
+#endif
+    if (s->simd > 0 && s->simd < w)
+        w = s->simd >= 4 ? 4 : 2;
+    *lanes = w;
+#ifdef HM_WIDE
+    if (w == 8)
+        return hm_pairs8;
+    if (w == 4)
+        return hm_pairs4;
+#endif
+    return hm_pairs2;
 }
 
 /* One Hertz-Mindlin contact of particle i with a wall (n from the wall to the centre, overlap
@@ -1025,11 +1009,13 @@ static void forces_done(mote_sep_system *s, const force_ctx *c, int kick, double
 }
 
 /* contact hertz: the listed contacts in two passes on the threads. Each pair is made once, from
- * its owner entry (the row of its lower index), into the slots of its two entries (s->pbuf: the
- * force and torque on that entry's particle; s->mir: the owner entry's partner entry); then
- * each particle sums its walls and plates and its row's slots in the row's order, so every sum
- * is the same whatever the threads. The new forces and torques become the present ones; the second half
- * kick is left pending (kick). */
+ * its owner entry (the row of its lower index): the pairs in contact, by blocks of the
+ * kernel's lanes, each into a slot of its own (s->pbuf: the force on the owner and the torques
+ * on both), its index at the owner entry (s->cidx; 0, the zero slot, out of contact); then
+ * each particle sums its walls and plates and its row's pairs in the row's order (a partner
+ * entry's pair through s->mir, with minus the force), so every sum is the same whatever the
+ * threads. The new forces and torques become the present ones; the second half kick is left
+ * pending (kick). */
 static void list_forces_hm(mote_sep_system *s, const force_ctx *c, int kick, const unsigned char *exc)
 {
     const size_t n = s->n;
@@ -1037,14 +1023,17 @@ static void list_forces_hm(mote_sep_system *s, const force_ctx *c, int kick, con
     const force_arrays a = {s->x,  s->y,  s->z,  s->d,  s->m,  s->im,       s->vx,
                             s->vy, s->vz, s->fx, s->fy, s->fz, s->s, s->nb, s->nb_start,
                             s->gx, s->gy, s->gz, s->id, s->w, s->tq, s->tq2, s->hist, s->wh};
-    const uint32_t *start = s->nb_start, *nb = s->nb, *mir = s->mir;
-    double *restrict buf = s->pbuf;
+    const uint32_t *start = s->nb_start, *nb = s->nb, *mir = s->mir, *ostart = s->ostart;
+    uint32_t *restrict cidx = s->cidx;
+    double *restrict slots = s->pbuf, *restrict hist = s->hist;
     const double W = s->W, D = s->D, H = s->H;
     double mo = s->max_overlap;
     uint64_t contacts = 0;
     double *restrict pvw = s->pv;
     const double h1 = s->rot_h1, h2 = s->rot_h2;
     s->rot_h1 = s->rot_h2 = 0;
+    int lanes;
+    const hm_kernel kern = hm_pick(s, &lanes);
 #pragma omp parallel num_threads(nt) if (nt > 1) reduction(max : mo) reduction(+ : contacts)
     {
         /* this step's angular kicks (step() left them here: one pass fewer), then the
@@ -1056,36 +1045,74 @@ static void list_forces_hm(mote_sep_system *s, const force_ctx *c, int kick, con
             pv_of(&a, c, i, pvw + 6 * i);
             pw_of(&a, c, i, pvw + 6 * i + 3);
         }
-        /* each pair from its owner entry: the force and torque on the owner into its entry's
-         * slot, those on the partner into the partner's entry (mir[e]: its place); zeros for a
-         * pair not in contact. Every slot has one writer. */
-#pragma omp for schedule(static)
-        for (size_t i = 0; i < n; i++)
-            for (uint32_t e = start[i]; e < start[i + 1]; e++)
-                if (nb[e] > i) {
-                    double o[9];
-                    double *bi = buf + 6 * (size_t)e, *bj = buf + 6 * (size_t)mir[e];
-                    if (pair_hm(&a, c, pvw, i, e, dim, o, &mo)) {
-                        bi[0] = o[0], bi[1] = o[1], bi[2] = o[2];
-                        bi[3] = o[3], bi[4] = o[4], bi[5] = o[5];
-                        bj[0] = -o[0], bj[1] = -o[1], bj[2] = -o[2];
-                        bj[3] = o[6], bj[4] = o[7], bj[5] = o[8];
-                        contacts++;
-                    } else {
-                        for (int b = 0; b < 6; b++)
-                            bi[b] = bj[b] = 0;
-                    }
+        /* the pairs from their owner entries (a row's last: j > i). A thread's slots follow
+         * the owner entries before its first row (one chunk a thread: no two share a slot). */
+        uint32_t ent[8], own[8], off[16];
+        int cnt = 0, noff = 0;
+        uint32_t next = 0, first = 0; /* (the next slot; the block's first) */
+        double mo_t = 0;
+#pragma omp for schedule(static) nowait
+        for (size_t i = 0; i < n; i++) {
+            if (!next)
+                next = first = 1 + ostart[i];
+            const double xi = a.x[i], yi = a.y[i], zi = a.z[i], ri = 0.5 * a.d[i];
+            for (uint32_t e = start[i + 1] - (ostart[i + 1] - ostart[i]); e < start[i + 1]; e++) {
+                const size_t j = nb[e];
+                /* (the kernel's d2 and R, bit for bit: a - b is -(b - a)) */
+                const double dx = a.x[j] - xi, dy = dim == 3 ? a.y[j] - yi : 0,
+                             dz = a.z[j] - zi;
+                const double d2 = dx * dx + dy * dy + dz * dz, R = ri + 0.5 * a.d[j];
+                const int in = (d2 < R * R) & (d2 > 0);
+                /* (both lists written, one counted: no branch to mispredict) */
+                ent[cnt] = e;
+                own[cnt] = (uint32_t)i;
+                off[noff] = e;
+                cidx[e] = in ? next : 0;
+                next += (uint32_t)in;
+                cnt += in;
+                noff += !in;
+                if (cnt == lanes) {
+                    const double m = kern(&a, c, pvw, slots + 9 * (size_t)first, ent, own, cnt, dim);
+                    mo_t = m > mo_t ? m : mo_t;
+                    contacts += (uint64_t)cnt;
+                    cnt = 0;
+                    first = next;
                 }
-        /* (the barrier: every slot written) each particle: its walls and plates, then its
-         * row's slots in order */
+                if (noff == 16) { /* (out of contact: the springs zero) */
+                    for (int k = 0; k < noff; k++) {
+                        double *h = hist + 3 * (size_t)off[k];
+                        h[0] = h[1] = h[2] = 0;
+                    }
+                    noff = 0;
+                }
+            }
+        }
+        if (cnt) {
+            const double m = kern(&a, c, pvw, slots + 9 * (size_t)first, ent, own, cnt, dim);
+            mo_t = m > mo_t ? m : mo_t;
+            contacts += (uint64_t)cnt;
+        }
+        for (int k = 0; k < noff; k++) {
+            double *h = hist + 3 * (size_t)off[k];
+            h[0] = h[1] = h[2] = 0;
+        }
+        mo = mo_t > mo ? mo_t : mo;
+#pragma omp barrier
+        /* each particle: its walls and plates, then its row's pairs in order */
 #pragma omp for schedule(static)
         for (size_t i = 0; i < n; i++) {
             double F[3] = {0, 0, 0}, T[3] = {0, 0, 0};
             const int wall = exc ? exc[i] & SEP_EXC_WALL
                                  : sep_near_wall(0.5 * a.d[i], a.x[i], a.y[i], a.z[i], W, D, H, dim);
             walls_hm(s, &a, c, i, wall, F, T, &mo);
-            for (uint32_t e = start[i]; e < start[i + 1]; e++) {
-                const double *b = buf + 6 * (size_t)e;
+            const uint32_t mid = start[i + 1] - (ostart[i + 1] - ostart[i]);
+            for (uint32_t e = start[i]; e < mid; e++) { /* (partner entries: j < i) */
+                const double *b = slots + 9 * (size_t)cidx[mir[e]];
+                F[0] -= b[0], F[1] -= b[1], F[2] -= b[2];
+                T[0] += b[6], T[1] += b[7], T[2] += b[8];
+            }
+            for (uint32_t e = mid; e < start[i + 1]; e++) {
+                const double *b = slots + 9 * (size_t)cidx[e];
                 F[0] += b[0], F[1] += b[1], F[2] += b[2];
                 T[0] += b[3], T[1] += b[4], T[2] += b[5];
             }
@@ -1525,9 +1552,24 @@ int sep_hist_fill(mote_sep_system *s, mote_err *err)
 {
     const size_t nr = s->nb_n, ne = s->nb_start ? s->nb_start[nr] : 0;
     if (sep_reserve((void **)&s->hist, &s->hist_cap, 3 * ne + 3, sizeof *s->hist, err) ||
-        sep_reserve((void **)&s->pbuf, &s->pbuf_cap, 6 * ne + 6, sizeof *s->pbuf, err) ||
-        sep_reserve((void **)&s->mir, &s->mir_cap, ne + 1, sizeof *s->mir, err))
+        sep_reserve((void **)&s->mir, &s->mir_cap, ne + 1, sizeof *s->mir, err) ||
+        sep_reserve((void **)&s->cidx, &s->cidx_cap, ne + 1, sizeof *s->cidx, err) ||
+        sep_reserve((void **)&s->ostart, &s->ostart_cap, nr + 1, sizeof *s->ostart, err))
         return err->code;
+    /* (rows sorted: a row's owner entries are its last) */
+    uint32_t *ostart = s->ostart;
+    ostart[0] = 0;
+    for (size_t i = 0; i < nr; i++) {
+        uint32_t e = s->nb_start[i + 1];
+        while (e > s->nb_start[i] && s->nb[e - 1] > i)
+            e--;
+        ostart[i + 1] = ostart[i] + (s->nb_start[i + 1] - e);
+    }
+    if (sep_reserve((void **)&s->pbuf, &s->pbuf_cap, 9 * ((size_t)ostart[nr] + 1),
+                    sizeof *s->pbuf, err))
+        return err->code;
+    for (int b = 0; b < 9; b++)
+        s->pbuf[b] = 0;
     const struct sep_hrec *map = s->hmap_pending ? s->hmap : NULL;
     const size_t nm = map ? s->nhmap : 0;
     const int nt = sep_threads(s);
@@ -1551,6 +1593,7 @@ int sep_hist_fill(mote_sep_system *s, mote_err *err)
                         hi = mid;
                 }
                 mir[e] = lo;
+                mir[lo] = (uint32_t)e; /* (its only writer) */
             }
             xi[0] = xi[1] = xi[2] = 0;
             if (!nm || jj < i) /* (a spring lives at its owner entry only) */
