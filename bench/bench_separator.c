@@ -98,10 +98,11 @@ static double bytes_per_particle(const mote_sep_system *s)
                      (double)s->grid.cap_n * (2 * sizeof(uint32_t) +
                                               (s->grid.pos ? 3 * sizeof(double) : 0)) +
                      /* contact hertz: rotation, torques (two sets), wall springs; the pairs'
-                      * springs, buffers, flags and mirrors */
+                      * springs, slots, slot indices, mirrors, owner counts; the walls' sums */
                      (s->w ? 18.0 * (double)s->rot_cap * sizeof(double) : 0) +
                      (double)s->hist_cap * sizeof(double) + (double)s->pbuf_cap * sizeof(double) +
-                     (double)s->mir_cap * sizeof(uint32_t) +
+                     (double)(s->mir_cap + s->cidx_cap + s->ostart_cap) * sizeof(uint32_t) +
+                     (double)s->wres_cap * sizeof(double) + (double)s->wflag_cap +
                      (double)s->hmap_cap * (2 * sizeof(uint64_t) + 3 * sizeof(double));
     return s->n ? b / (double)s->n : 0;
 }

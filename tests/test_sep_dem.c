@@ -618,7 +618,7 @@ static void test_first_sort(void)
  * threads (used from 1 particle up) and writes its state to path. flags: 1 every row searched
  * (no_gap_skip), 2 every step completed (no_pending), 4 contact hertz (friction, rolling
  * friction, cohesion, rotation; 8: stop half way, save, load and go on; 16, 32: its law on
- * at most 2, 4 lanes). */
+ * at most 2, 4 lanes; 64: no plate, so that the box's walls are made by lanes too). */
 static void threads_case(mote_sep_system *s, int dim, size_t n, int steps, int nt, int disperse,
                          int flags, const char *path)
 {
@@ -656,7 +656,7 @@ static void threads_case(mote_sep_system *s, int dim, size_t n, int steps, int n
         }
     CHECK(mote_sep_plate_list(&s->plate[0], 0.005, 1e-3, h, nh, &err) == MOTE_OK, "plate: %s",
           err.msg);
-    s->nplate = 1;
+    s->nplate = !(flags & 64);
     s->nsort = 40; /* (reorders within the run) */
     if (flags & 4) {
         s->hertz = 1;
@@ -960,8 +960,9 @@ static void test_hertz_cohesion(void)
 
 /* contact hertz: the same bits on 1, 2 and 3 threads, with every step completed, and after a
  * save and load half way (the springs of the pairs by id, the rotation and the wall springs in
- * the state file), with the law on 2 and 4 lanes as on the widest the processor runs; the run
- * had sliding contacts, spin, rebuilds, reorders and exits. */
+ * the state file), with the law on 2 and 4 lanes as on the widest the processor runs, with a
+ * plate and without (the box's walls then by lanes too); the run had sliding contacts, spin,
+ * rebuilds, reorders and exits. */
 static void test_hertz_threads(void)
 {
     printf("contact hertz: the same bits on 1, 2, 3 threads, completed steps, save and load, "
@@ -972,9 +973,11 @@ static void test_hertz_threads(void)
         int steps;
     } cases[] = {{3, 4000, 160}, {2, 2000, 300}};
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
-        enum { WAYS = 7 };
+        /* with the plate; without (the box's walls by lanes): each set the same bits */
+        enum { WAYS = 12, SET2 = 7 };
         static const int how[WAYS][2] = {{1, 4}, {2, 4}, {3, 4}, {1, 6}, {2, 12}, {1, 4 | 16},
-                                         {3, 4 | 32}};
+                                         {3, 4 | 32}, {1, 68}, {2, 68}, {3, 68 | 32},
+                                         {1, 68 | 16 | 8}, {2, 68 | 2}};
         char path[WAYS][64];
         mote_sep_system s[WAYS];
         for (int k = 0; k < WAYS; k++) {
@@ -982,6 +985,10 @@ static void test_hertz_threads(void)
             threads_case(&s[k], cases[c].dim, cases[c].n, cases[c].steps, how[k][0], 0, how[k][1],
                          path[k]);
         }
+        size_t lane_walls = 0;
+        for (size_t i = 0; i < s[SET2].n; i++)
+            lane_walls += s[SET2].wflag[i] == 1;
+        CHECK(lane_walls > 0, "case %zu: particles at the walls by lanes (%zu)", c, lane_walls);
         double spin = 0;
         for (size_t i = 0; i < 3 * s[0].n; i++)
             spin = fmax(spin, fabs(s[0].w[i]));
@@ -994,8 +1001,9 @@ static void test_hertz_threads(void)
               "rad/s), springs (%zu)", c, (unsigned long long)s[0].list_builds,
               (unsigned long long)s[0].contacts_pp, spin, springs);
         for (int k = 1; k < WAYS; k++)
-            CHECK(test_same_file(path[0], path[k]), "case %zu (%dD): the state of way %d equals the "
-                  "one on 1 thread", c, cases[c].dim, k);
+            CHECK(test_same_file(path[k < SET2 ? 0 : SET2], path[k]), "case %zu (%dD): the state "
+                  "of way %d equals the one on 1 thread", c, cases[c].dim, k);
+        CHECK(!test_same_file(path[0], path[SET2]), "case %zu: the plate makes a difference", c);
         printf("  %dD N %zu: %llu list builds, %llu contacts, max spin %.3g rad/s\n",
                cases[c].dim, s[0].n, (unsigned long long)s[0].list_builds,
                (unsigned long long)s[0].contacts_pp, spin);

@@ -226,6 +226,11 @@ typedef struct {
     double *pbuf;
     uint32_t *mir, *cidx, *ostart;
     size_t pbuf_cap, mir_cap, cidx_cap, ostart_cap;
+    /* per particle the sums of its contacts with the box's walls, made by lanes (6), and
+     * whether they were (wflag 1; 0 none; 2 made one by one) */
+    double *wres;
+    unsigned char *wflag;
+    size_t wres_cap, wflag_cap;
     int nb_idx_ok;                       /* the rows' indices still name the particles they were
                                           * built for (no removal or reorder since), */
     size_t nb_n;                         /* the particles with rows (at the build) */

@@ -671,15 +671,6 @@ static inline void row_force(const force_arrays *a, const force_ctx *c, size_t i
     }
 }
 
-/* Particle j's predicted angular velocity w + dt/2 T_old / I (as its velocity's). */
-static inline void pw_of(const force_arrays *a, const force_ctx *c, size_t j, double pw[3])
-{
-    const double h = c->half_dt * sep_inv_inertia(a->im[j], a->d[j]);
-    pw[0] = a->w[3 * j] + h * a->tq[3 * j];
-    pw[1] = a->w[3 * j + 1] + h * a->tq[3 * j + 1];
-    pw[2] = a->w[3 * j + 2] + h * a->tq[3 * j + 2];
-}
-
 static inline void cross3(const double a[3], const double b[3], double c[3])
 {
     c[0] = a[1] * b[2] - a[2] * b[1];
@@ -693,34 +684,43 @@ static inline void cross3(const double a[3], const double b[3], double c[3])
 typedef double (*hm_kernel)(const force_arrays *a, const force_ctx *c, const double *restrict pvw,
                             double *restrict slot, const uint32_t *ent, const uint32_t *own,
                             int cnt, int dim);
+typedef double (*hm_wkernel)(const force_arrays *a, const force_ctx *c, const double *restrict pvw,
+                             double *restrict res, const uint32_t *own, const int *ax,
+                             const double *sg, const double *dl, int cnt);
 #define HM_LANES 2
 #define HM_KNAME hm_pairs2
+#define HM_WNAME hm_walls2
 #define HM_KATTR
 #include "hm_lanes.inc"
 #undef HM_LANES
 #undef HM_KNAME
+#undef HM_WNAME
 #undef HM_KATTR
 #if defined(__x86_64__) && defined(__GNUC__)
 #define HM_WIDE 1
 #define HM_LANES 4
 #define HM_KNAME hm_pairs4
+#define HM_WNAME hm_walls4
 #define HM_KATTR __attribute__((target("avx2")))
 #include "hm_lanes.inc"
 #undef HM_LANES
 #undef HM_KNAME
+#undef HM_WNAME
 #undef HM_KATTR
 #define HM_LANES 8
 #define HM_KNAME hm_pairs8
+#define HM_WNAME hm_walls8
 #define HM_KATTR __attribute__((target("avx512f")))
 #include "hm_lanes.inc"
 #undef HM_LANES
 #undef HM_KNAME
+#undef HM_WNAME
 #undef HM_KATTR
 #endif
 
-/* The widest kernel the processor runs (at most s->simd lanes when that is set: tests), and its
- * lanes. */
-static hm_kernel hm_pick(const mote_sep_system *s, int *lanes)
+/* The widest kernels the processor runs (at most s->simd lanes when that is set: tests), and
+ * their lanes. */
+static int hm_pick(const mote_sep_system *s, hm_kernel *pairs, hm_wkernel *walls)
 {
     int w = 2;
 #ifdef HM_WIDE
@@ -731,14 +731,15 @@ static hm_kernel hm_pick(const mote_sep_system *s, int *lanes)
 #endif
     if (s->simd > 0 && s->simd < w)
         w = s->simd >= 4 ? 4 : 2;
-    *lanes = w;
+    *pairs = hm_pairs2;
+    *walls = hm_walls2;
 #ifdef HM_WIDE
     if (w == 8)
-        return hm_pairs8;
+        *pairs = hm_pairs8, *walls = hm_walls8;
     if (w == 4)
-        return hm_pairs4;
+        *pairs = hm_pairs4, *walls = hm_walls4;
 #endif
-    return hm_pairs2;
+    return w;
 }
 
 /* One Hertz-Mindlin contact of particle i with a wall (n from the wall to the centre, overlap
@@ -845,33 +846,45 @@ static inline void meshes_hm(const mote_sep_system *s, const force_arrays *a, co
             sl[4 * j] = sl[4 * j + 1] = sl[4 * j + 2] = sl[4 * j + 3] = 0;
 }
 
-/* Particle i's walls and plates by Hertz-Mindlin; the springs of the axes not touched zeroed. */
+/* The box's plane walls that particle i touches, in the order x, y, z, the lower wall first:
+ * their axes, the signs of their normals (into the box) and the overlaps; their number. */
+static inline int box_contacts(const mote_sep_system *s, const force_arrays *a, size_t i,
+                               int ax[6], double sg[6], double dl[6])
+{
+    const double pos[3] = {a->x[i], a->y[i], a->z[i]}, r = 0.5 * a->d[i];
+    const double hi[3] = {s->W, s->D, s->H};
+    int k = 0;
+    for (int b = 0; b < 3; b++) {
+        if (b == 1 && s->dim == 2)
+            continue;
+        const int lo_wall = b < 2 || !s->open_bottom, hi_wall = b < 2 || !s->open_top;
+        const double dlo = r - pos[b], dhi = pos[b] + r - hi[b];
+        if (lo_wall && dlo > 0)
+            ax[k] = b, sg[k] = 1, dl[k++] = dlo;
+        if (hi_wall && dhi > 0)
+            ax[k] = b, sg[k] = -1, dl[k++] = dhi;
+    }
+    return k;
+}
+
+/* Particle i's walls and plates by Hertz-Mindlin (pvw: the predicted velocities and angular
+ * velocities, 6 a particle); the springs of the axes not touched zeroed. */
 static inline void walls_hm(const mote_sep_system *s, const force_arrays *a, const force_ctx *c,
-                            size_t i, int wall, double F[3], double T[3], double *mo)
+                            const double *pvw, size_t i, int wall, double F[3], double T[3],
+                            double *mo)
 {
     unsigned used = 0;
     if (wall || s->nplate || s->nmesh) {
-        double pv[3], pw[3];
-        pv_of(a, c, i, pv);
-        pw_of(a, c, i, pw);
+        const double *pv = pvw + 6 * i, *pw = pv + 3;
         const double pos[3] = {a->x[i], a->y[i], a->z[i]}, r = 0.5 * a->d[i];
-        const double hi[3] = {s->W, s->D, s->H};
-        for (int ax = 0; wall && ax < 3; ax++) {
-            if (ax == 1 && s->dim == 2)
-                continue;
-            const int lo_wall = ax < 2 || !s->open_bottom, hi_wall = ax < 2 || !s->open_top;
-            const double dlo = r - pos[ax], dhi = pos[ax] + r - hi[ax];
+        int ax[6];
+        double sg[6], dl[6];
+        const int nw = wall ? box_contacts(s, a, i, ax, sg, dl) : 0;
+        for (int k = 0; k < nw; k++) {
             double n[3] = {0, 0, 0};
-            if (lo_wall && dlo > 0) {
-                n[ax] = 1;
-                wall_hm(a, c, i, n, dlo, pv, pw, F, T, &used);
-                *mo = fmax(*mo, dlo / a->d[i]);
-            }
-            if (hi_wall && dhi > 0) {
-                n[ax] = -1;
-                wall_hm(a, c, i, n, dhi, pv, pw, F, T, &used);
-                *mo = fmax(*mo, dhi / a->d[i]);
-            }
+            n[ax[k]] = sg[k];
+            wall_hm(a, c, i, n, dl[k], pv, pw, F, T, &used);
+            *mo = fmax(*mo, dl[k] / a->d[i]);
         }
         for (int q = 0; q < s->nplate; q++) {
             double delta[4], nrm[4][3];
@@ -1032,23 +1045,45 @@ static void list_forces_hm(mote_sep_system *s, const force_ctx *c, int kick, con
     double *restrict pvw = s->pv;
     const double h1 = s->rot_h1, h2 = s->rot_h2;
     s->rot_h1 = s->rot_h2 = 0;
-    int lanes;
-    const hm_kernel kern = hm_pick(s, &lanes);
+    hm_kernel kern;
+    hm_wkernel wkern;
+    const int lanes = hm_pick(s, &kern, &wkern);
+    /* the box's walls by lanes too where there are no plates or mesh walls (their springs share
+     * the walls' slots): per particle wflag 1, its walls' sums in wres; 2, a particle touching
+     * both walls of an axis (one spring), its walls made in the sums' pass */
+    const int lw = !s->nplate && !s->nmesh;
+    double *restrict wres = s->wres;
+    unsigned char *restrict wflag = s->wflag;
 #pragma omp parallel num_threads(nt) if (nt > 1) reduction(max : mo) reduction(+ : contacts)
     {
         /* this step's angular kicks (step() left them here: one pass fewer), then the
          * predicted velocities and angular velocities, once a particle */
 #pragma omp for schedule(static)
         for (size_t i = 0; i < n; i++) {
-            if (h1 > 0 || h2 > 0)
-                sep_rot_kick(s, i, h1, h2);
-            pv_of(&a, c, i, pvw + 6 * i);
-            pw_of(&a, c, i, pvw + 6 * i + 3);
+            /* (sep_rot_kick's and pv_of's expressions; the angular velocity predicted as the
+             * velocity, w + dt/2 T_old / I) */
+            const double iI = sep_inv_inertia(a.im[i], a.d[i]), hw = c->half_dt * iI;
+            const double hv = c->half_dt * a.im[i];
+            double *w = s->w + 3 * i, *o = pvw + 6 * i;
+            const double *tq = a.tq + 3 * i;
+            o[0] = a.vx[i] + hv * a.fx[i];
+            o[1] = a.vy[i] + hv * a.fy[i];
+            o[2] = a.vz[i] + hv * a.fz[i];
+            for (int b = 0; b < 3; b++) {
+                double wb = w[b];
+                if (h1 > 0)
+                    wb += h1 * iI * tq[b];
+                if (h2 > 0)
+                    wb += h2 * iI * tq[b];
+                w[b] = wb;
+                o[3 + b] = wb + hw * tq[b];
+            }
         }
         /* the pairs from their owner entries (a row's last: j > i). A thread's slots follow
          * the owner entries before its first row (one chunk a thread: no two share a slot). */
-        uint32_t ent[8], own[8], off[16];
-        int cnt = 0, noff = 0;
+        uint32_t ent[8], own[8], off[16], wown[8];
+        int cnt = 0, noff = 0, wcnt = 0, wax[8];
+        double wsg[8], wdl[8];
         uint32_t next = 0, first = 0; /* (the next slot; the block's first) */
         double mo_t = 0;
 #pragma omp for schedule(static) nowait
@@ -1056,6 +1091,41 @@ static void list_forces_hm(mote_sep_system *s, const force_ctx *c, int kick, con
             if (!next)
                 next = first = 1 + ostart[i];
             const double xi = a.x[i], yi = a.y[i], zi = a.z[i], ri = 0.5 * a.d[i];
+            if (lw) {
+                const int wall = exc ? exc[i] & SEP_EXC_WALL
+                                     : sep_near_wall(ri, xi, yi, zi, W, D, H, dim);
+                int bax[6], nw = 0;
+                double bsg[6], bdl[6];
+                unsigned used = 0, twice = 0;
+                if (wall)
+                    nw = box_contacts(s, &a, i, bax, bsg, bdl);
+                for (int k = 0; k < nw; k++) {
+                    twice |= used & 1u << bax[k];
+                    used |= 1u << bax[k];
+                }
+                wflag[i] = twice ? 2 : nw > 0;
+                if (!twice) {
+                    for (int b = 0; b < 3; b++)
+                        if (!(used >> b & 1)) {
+                            double *x = a.wh + 9 * i + 3 * b;
+                            x[0] = x[1] = x[2] = 0;
+                        }
+                    if (nw)
+                        for (int b = 0; b < 6; b++)
+                            wres[6 * i + b] = 0;
+                    for (int k = 0; k < nw; k++) {
+                        wown[wcnt] = (uint32_t)i;
+                        wax[wcnt] = bax[k];
+                        wsg[wcnt] = bsg[k];
+                        wdl[wcnt] = bdl[k];
+                        if (++wcnt == lanes) {
+                            const double m = wkern(&a, c, pvw, wres, wown, wax, wsg, wdl, wcnt);
+                            mo_t = m > mo_t ? m : mo_t;
+                            wcnt = 0;
+                        }
+                    }
+                }
+            }
             for (uint32_t e = start[i + 1] - (ostart[i + 1] - ostart[i]); e < start[i + 1]; e++) {
                 const size_t j = nb[e];
                 /* (the kernel's d2 and R, bit for bit: a - b is -(b - a)) */
@@ -1096,15 +1166,26 @@ static void list_forces_hm(mote_sep_system *s, const force_ctx *c, int kick, con
             double *h = hist + 3 * (size_t)off[k];
             h[0] = h[1] = h[2] = 0;
         }
+        if (wcnt) {
+            const double m = wkern(&a, c, pvw, wres, wown, wax, wsg, wdl, wcnt);
+            mo_t = m > mo_t ? m : mo_t;
+        }
         mo = mo_t > mo ? mo_t : mo;
 #pragma omp barrier
         /* each particle: its walls and plates, then its row's pairs in order */
 #pragma omp for schedule(static)
         for (size_t i = 0; i < n; i++) {
             double F[3] = {0, 0, 0}, T[3] = {0, 0, 0};
-            const int wall = exc ? exc[i] & SEP_EXC_WALL
-                                 : sep_near_wall(0.5 * a.d[i], a.x[i], a.y[i], a.z[i], W, D, H, dim);
-            walls_hm(s, &a, c, i, wall, F, T, &mo);
+            if (lw && wflag[i] == 1) {
+                const double *o = wres + 6 * i;
+                F[0] = o[0], F[1] = o[1], F[2] = o[2];
+                T[0] = o[3], T[1] = o[4], T[2] = o[5];
+            } else if (!lw || wflag[i] == 2) {
+                const int wall = lw || (exc ? exc[i] & SEP_EXC_WALL
+                                            : sep_near_wall(0.5 * a.d[i], a.x[i], a.y[i], a.z[i],
+                                                            W, D, H, dim));
+                walls_hm(s, &a, c, pvw, i, wall, F, T, &mo);
+            }
             const uint32_t mid = start[i + 1] - (ostart[i + 1] - ostart[i]);
             for (uint32_t e = start[i]; e < mid; e++) { /* (partner entries: j < i) */
                 const double *b = slots + 9 * (size_t)cidx[mir[e]];
@@ -1277,7 +1358,9 @@ int sep_contact_forces(mote_sep_system *s, double dt, int kick, int pred, mote_e
     if (s->hertz && !listed)
         return mote_fail(err, MOTE_EINVAL, "separator: contact hertz needs the pair list "
                          "(neighbours cells)");
-    if (s->hertz && sep_reserve((void **)&s->pv, &s->pv_cap, 6 * n + 6, sizeof *s->pv, err))
+    if (s->hertz && (sep_reserve((void **)&s->pv, &s->pv_cap, 6 * n + 6, sizeof *s->pv, err) ||
+                     sep_reserve((void **)&s->wres, &s->wres_cap, 6 * n + 6, sizeof *s->wres, err) ||
+                     sep_reserve((void **)&s->wflag, &s->wflag_cap, n + 1, 1, err)))
         return err->code;
     const int can = listed && s->list_ok && s->mods == s->list_mods;
     const double lim = 0.25 * s->skin_used * s->skin_used;

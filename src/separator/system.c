@@ -107,6 +107,8 @@ void mote_sep_free(mote_sep_system *s)
     free(s->mir);
     free(s->cidx);
     free(s->ostart);
+    free(s->wres);
+    free(s->wflag);
     for (int k = 0; k < s->nsp; k++)
         mote_sep_dist_free(&s->sp[k].dist);
     for (int k = 0; k < s->nplate; k++)
