@@ -10,6 +10,8 @@
 
 #include "test.h"
 
+#define SEP_TEST_PI 3.14159265358979323846
+
 /* (src/separator/sep.h's sep_rot_reserve: the rotation arrays) */
 int sep_rot_reserve(mote_sep_system *s, mote_err *err);
 static int sep_rot_reserve_for_test(mote_sep_system *s)
@@ -958,6 +960,73 @@ static void test_hertz_cohesion(void)
         }
 }
 
+/* contact hertz with two materials (E 5 and 20 MPa): head-on collisions a-a, a-b and b-b at
+ * once (one block of the law's lanes holding three sets of constants) each last the Hertz
+ * contact time of the pair's own Y* = 1 / ((1 - nu^2) / E_1 + (1 - nu^2) / E_2), R* and m*,
+ * t_c = 2.868 (m*^2 / (R* Y*^2 v))^(1/5) (e = 1: no damping), within 2 steps (a contact starts
+ * and ends between steps); a-b's is 17% from a-a's, so a pair given another pair's constants
+ * fails. */
+static void test_hertz_pairs(void)
+{
+    printf("contact hertz: two materials, the constants of each pair\n");
+    mote_sep_system s;
+    const double d = 2e-3, E[2] = {5e6, 2e7}, nu = 0.3, v = 1;
+    vacuum_box(&s, 3, 0.06, 0.02, 0.02, 2500, (mote_sep_dist){.type = MOTE_SEP_MONO, .a = d});
+    s.nsp = 2;
+    s.sp[1] = s.sp[0];
+    snprintf(s.sp[1].name, sizeof s.sp[1].name, "b");
+    s.sp[0].w = s.sp[1].w = 0.5;
+    s.hertz = 1;
+    s.e_pp = 1;
+    s.mu_pp = 0.5;
+    s.v_imp = v;
+    for (int k = 0; k < 2; k++) {
+        s.sp[k].E = E[k];
+        s.sp[k].nu = nu;
+    }
+    mote_err err = {0};
+    CHECK(mote_sep_prepare(&s, &err) == MOTE_OK, "prepare: %s", err.msg);
+    CHECK(mote_sep_insert(&s, 0, 3, 0, &err) == MOTE_OK &&
+          mote_sep_insert(&s, 1, 3, 0, &err) == MOTE_OK && s.n == 6, "insert: %s", err.msg);
+    /* the pairs (a, a), (a, b), (b, b) along x at x = 10, 30, 50 mm, closing at v */
+    static const int who[3][2] = {{0, 1}, {2, 3}, {4, 5}};
+    uint64_t id[6];
+    for (int p = 0; p < 3; p++)
+        for (int k = 0; k < 2; k++) {
+            const int i = who[p][k];
+            CHECK(s.s[i] == (i < 3 ? 0 : 1), "particle %d is of species %d", i, s.s[i]);
+            s.x[i] = 0.01 + 0.02 * p + (k ? 1 : -1) * (0.5 * d + 1e-6);
+            s.y[i] = s.z[i] = 0.01;
+            s.vx[i] = (k ? -0.5 : 0.5) * v;
+            s.vy[i] = s.vz[i] = 0;
+            id[i] = s.id[i];
+        }
+    s.mods++;
+    int steps[3] = {0, 0, 0};
+    for (int k = 0; k < 3000; k++) {
+        CHECK(mote_sep_run(&s, s.dt, &err) == MOTE_OK, "run: %s", err.msg);
+        for (int p = 0; p < 3; p++) {
+            size_t at[2] = {0, 0};
+            for (size_t i = 0; i < s.n; i++)
+                for (int q = 0; q < 2; q++)
+                    if (s.id[i] == id[who[p][q]])
+                        at[q] = i;
+            steps[p] += fabs(s.x[at[1]] - s.x[at[0]]) < d;
+        }
+    }
+    for (int p = 0; p < 3; p++) {
+        const int a = p == 2, b = p > 0;
+        const double Y = 1 / ((1 - nu * nu) / E[a] + (1 - nu * nu) / E[b]);
+        const double m = 2500 * SEP_TEST_PI / 6 * d * d * d, tc =
+            2.868 * pow(0.25 * m * m / (0.25 * d * Y * Y * v), 0.2);
+        CHECK(fabs(steps[p] * s.dt - tc) <= 2 * s.dt, "pair %d: contact for %d steps of %.4g s "
+              "(%.5g s) against t_c %.5g s", p, steps[p], s.dt, steps[p] * s.dt, tc);
+        printf("  E %g and %g MPa: %d steps (%.5g s), t_c %.5g s\n", E[a] / 1e6, E[b] / 1e6,
+               steps[p], steps[p] * s.dt, tc);
+    }
+    mote_sep_free(&s);
+}
+
 /* contact hertz: the same bits on 1, 2 and 3 threads, with every step completed, and after a
  * save and load half way (the springs of the pairs by id, the rotation and the wall springs in
  * the state file), with the law on 2 and 4 lanes as on the widest the processor runs, with a
@@ -1265,7 +1334,7 @@ int main(int argc, char **argv)
                  {"tall", test_tall},             {"threads", test_threads},
                  {"first_sort", test_first_sort}, {"gap_skip", test_gap_skip},
                  {"pending", test_pending},       {"lean_exits", test_lean_exits},
-                 {"hertz_threads", test_hertz_threads}, {"hertz_impacts", test_hertz_impacts},
+                 {"hertz_threads", test_hertz_threads}, {"hertz_pairs", test_hertz_pairs}, {"hertz_impacts", test_hertz_impacts},
                  {"hertz_momentum", test_hertz_momentum},
                  {"hertz_cohesion", test_hertz_cohesion}};
     for (size_t k = 0; k < sizeof tests / sizeof tests[0]; k++)

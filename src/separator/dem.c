@@ -338,6 +338,7 @@ typedef struct {
     double *pvx, *pvy, *pvz;    /* predicted velocities */
     int hertz;
     hm_pp hm[MOTE_SEP_MAX_SPECIES * MOTE_SEP_MAX_SPECIES], hm_w[MOTE_SEP_MAX_SPECIES];
+    int hm_one, hm_w_one; /* every species pair's constants (the walls') are hm[0]'s (hm_w[0]'s) */
     sep_mesh_frame fr[MOTE_SEP_MAX_MESHES]; /* the mesh walls where they are now */
 } force_ctx;
 
@@ -1344,6 +1345,13 @@ int sep_contact_forces(mote_sep_system *s, double dt, int kick, int pred, mote_e
             sep_hm_damping(&k->h, s->hm_beta[M * M + a]);
             k->mur = s->mur_pw >= 0 ? s->mur_pw : s->mur_pp;
             k->coh = s->coh_pw >= 0 ? s->coh_pw : s->coh_pp;
+        }
+        /* (one set of constants for all: the lanes take them once, not pair by pair) */
+        c.hm_one = c.hm_w_one = 1;
+        for (int a = 0; a < s->nsp; a++) {
+            c.hm_w_one &= !memcmp(&c.hm_w[a], &c.hm_w[0], sizeof c.hm_w[0]);
+            for (int b = 0; b < s->nsp; b++)
+                c.hm_one &= !memcmp(&c.hm[a * M + b], &c.hm[0], sizeof c.hm[0]);
         }
         if (sep_rot_reserve(s, err))
             return err->code;
