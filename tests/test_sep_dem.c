@@ -656,9 +656,11 @@ static void threads_case(mote_sep_system *s, int dim, size_t n, int steps, int n
             h[4 * nh + 3] = h[4 * nh + 2] + 2e-3;
             nh++;
         }
-    CHECK(mote_sep_plate_list(&s->plate[0], 0.005, 1e-3, h, nh, &err) == MOTE_OK, "plate: %s",
-          err.msg);
-    s->nplate = !(flags & 64);
+    if (!(flags & 64)) {
+        CHECK(mote_sep_plate_list(&s->plate[0], 0.005, 1e-3, h, nh, &err) == MOTE_OK,
+              "plate: %s", err.msg);
+        s->nplate = 1;
+    }
     s->nsort = 40; /* (reorders within the run) */
     if (flags & 4) {
         s->hertz = 1;
