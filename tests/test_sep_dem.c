@@ -962,6 +962,102 @@ static void test_hertz_cohesion(void)
         }
 }
 
+/* contact hertz at the box's walls: the walls made by lanes (no plate) give the bits of the
+ * walls made one by one (the same run with a plate far above the particles, which sends every
+ * wall to the scalar law): three spinning spheres dropped against a side wall and the floor,
+ * sliding and rolling, with cohesion and rolling friction. (A particle touching both walls of
+ * an axis, which share one spring and go one by one, needs a box narrower than the particle,
+ * which prepare refuses.) */
+static void hertz_walls_run(double W, int plate, const char *path, size_t *lanes, size_t *twice)
+{
+    mote_sep_system s;
+    const double d = 2e-3, H = 0.02;
+    vacuum_box(&s, 3, W, H, 0.01, 2500, (mote_sep_dist){.type = MOTE_SEP_MONO, .a = d});
+    s.g = 9.81;
+    s.hertz = 1;
+    s.sp[0].E = 5e6;
+    s.sp[0].nu = 0.3;
+    s.mu_pp = 0.3;
+    s.mur_pp = 0.05;
+    s.coh_pp = 1e3;
+    s.v_imp = 1;
+    mote_err err = {0};
+    if (plate) { /* (2 mm thick, 5 mm below the top, one hole) */
+        const double h[4] = {0, 3e-3, 0, 3e-3};
+        CHECK(mote_sep_plate_list(&s.plate[0], H - 5e-3, 2e-3, h, 1, &err) == MOTE_OK,
+              "plate: %s", err.msg);
+        s.nplate = 1;
+    }
+    const size_t n = W > d ? 3 : 1;
+    fill(&s, n);
+    CHECK(sep_rot_reserve_for_test(&s) == 0 && s.n == n, "particles and rotation");
+    for (size_t i = 0; i < n; i++) {
+        s.x[i] = W > d ? 0.5 * d + 2e-5 * (double)i : 0.5 * W;
+        s.y[i] = 2.5e-3 + 2.5e-3 * (double)i;
+        s.z[i] = 0.5 * d + 1e-4 + 1e-3 * (double)i;
+        s.vx[i] = -0.05 * (double)(i + 1);
+        s.vy[i] = 0.1;
+        s.vz[i] = -0.2;
+        s.w[3 * i] = 50, s.w[3 * i + 1] = -30, s.w[3 * i + 2] = 20;
+    }
+    s.mods++;
+    *lanes = *twice = 0;
+    for (int k = 0; k < 100; k++) {
+        CHECK(mote_sep_run(&s, 20 * s.dt, &err) == MOTE_OK, "run: %s", err.msg);
+        for (size_t i = 0; !plate && i < s.n; i++) { /* (wflag: the lanes' only) */
+            *lanes += s.wflag[i] == 1;
+            *twice += s.wflag[i] == 2;
+        }
+    }
+    CHECK(mote_sep_save(&s, 1, path, &err) == MOTE_OK, "save: %s", err.msg);
+    mote_sep_free(&s);
+}
+
+/* Whether two state files are the same but for their plates' lines (plates, plate, hole). */
+static int same_but_plates(const char *a, const char *b)
+{
+    FILE *f[2] = {fopen(a, "r"), fopen(b, "r")};
+    int same = f[0] && f[1];
+    char line[2][4096];
+    while (same) {
+        int got[2];
+        for (int k = 0; k < 2; k++)
+            do
+                got[k] = fgets(line[k], sizeof line[k], f[k]) != NULL;
+            while (got[k] && (!strncmp(line[k], "plates ", 7) || !strncmp(line[k], "plate ", 6) ||
+                              !strncmp(line[k], "hole ", 5)));
+        same = got[0] == got[1] && (!got[0] || !strcmp(line[0], line[1]));
+        if (!got[0] || !got[1])
+            break;
+    }
+    for (int k = 0; k < 2; k++)
+        if (f[k])
+            fclose(f[k]);
+    return same;
+}
+
+static void test_hertz_walls(void)
+{
+    printf("contact hertz: the box's walls by lanes give the bits of the walls one by one\n");
+    const double Ws[1] = {0.01};
+    for (int c = 0; c < 1; c++) {
+        char path[2][64];
+        size_t lanes[2], twice[2];
+        for (int p = 0; p < 2; p++) {
+            snprintf(path[p], sizeof path[p], "/tmp/mote_sep_hwalls_%d_%d.state", c, p);
+            hertz_walls_run(Ws[c], p, path[p], &lanes[p], &twice[p]);
+        }
+        CHECK(lanes[0] > 0, "W %g: walls by lanes %zu times", Ws[c], lanes[0]);
+        CHECK(same_but_plates(path[0], path[1]), "W %g: the state with the walls by lanes equals "
+              "the one with the walls one by one (but for the plate's lines)", Ws[c]);
+        printf("  W %g mm: %zu particle-steps at the walls by lanes (%zu both walls of an axis)\n",
+               Ws[c] * 1e3, lanes[0], twice[0]);
+        for (int p = 0; p < 2; p++)
+            if (!getenv("KEEP"))
+                remove(path[p]);
+    }
+}
+
 /* contact hertz with two materials (E 5 and 20 MPa): head-on collisions a-a, a-b and b-b at
  * once (one block of the law's lanes holding three sets of constants) each last the Hertz
  * contact time of the pair's own Y* = 1 / ((1 - nu^2) / E_1 + (1 - nu^2) / E_2), R* and m*,
@@ -1336,7 +1432,8 @@ int main(int argc, char **argv)
                  {"tall", test_tall},             {"threads", test_threads},
                  {"first_sort", test_first_sort}, {"gap_skip", test_gap_skip},
                  {"pending", test_pending},       {"lean_exits", test_lean_exits},
-                 {"hertz_threads", test_hertz_threads}, {"hertz_pairs", test_hertz_pairs}, {"hertz_impacts", test_hertz_impacts},
+                 {"hertz_threads", test_hertz_threads}, {"hertz_pairs", test_hertz_pairs},
+                 {"hertz_walls", test_hertz_walls}, {"hertz_impacts", test_hertz_impacts},
                  {"hertz_momentum", test_hertz_momentum},
                  {"hertz_cohesion", test_hertz_cohesion}};
     for (size_t k = 0; k < sizeof tests / sizeof tests[0]; k++)
