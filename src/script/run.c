@@ -522,9 +522,9 @@ const mote_cmd mote_script_common_cmds[] = {
      "in every model (its results never depend on N).\n"
      "Threads wait for each other without spinning for long (mote sets libgomp's\n"
      "GOMP_SPINCOUNT to 1000 unless GOMP_SPINCOUNT or OMP_WAIT_POLICY is set), so on a\n"
-     "machine whose other cores are busy two threads are not much slower than one:\n"
-     "faster in bench/threads.sh's runs, about 10% slower in the separator's contact\n"
-     "hertz at a few thousand particles (bench/README.md).\n",
+     "machine whose other cores are busy two threads are no slower than one in the\n"
+     "runs measured (bench/threads.sh; the separator's contact hertz at 7500\n"
+     "particles: bench/README.md, \"Threads on a busy machine\").\n",
      NULL, threads_run},
     {"seed", NULL, "u", "seed S", "restart the random stream from S (default 1)",
      "Restart the run's random stream from the unsigned 64-bit integer S\n"
