@@ -29,6 +29,13 @@ static int run_file(const mote_fuzz_target *t, const char *path, const char *nam
         free(buf);
         return 0;
     }
+    /* a slow-... input takes the reader's whole time bound (seconds of a child process running
+     * Assimp, which is not itself sanitized): the plain pass runs it, the sanitized one does not */
+    if (strncmp(name, "slow-", 5) == 0 && getenv("MOTE_SANITIZED")) {
+        free(buf);
+        (*count)++;
+        return 1;
+    }
     t->run(buf, n);
     if (strlen(name) == 40 && strspn(name, "0123456789abcdef") == 40) { /* a fuzzer's unit */
         free(buf);

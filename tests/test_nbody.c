@@ -1054,21 +1054,26 @@ static void test_png(void)
  * (Hairer, Lubich & Wanner's data) over 10^4 Julian years with the adaptive Taylor integrator. */
 static void test_longrun(void)
 {
-    printf("T11: gravity ring, Galactica scheme, 10 periods (100 000 steps)\n");
+    /* under the sanitizers (MOTE_SANITIZED) 2 periods and 10^3 years: the same code, the long
+     * runs' error bounds are the plain build's */
+    const int san = getenv("MOTE_SANITIZED") != NULL;
+    printf("T11: gravity ring, Galactica scheme, %d periods (%d steps)\n", san ? 2 : 10,
+           san ? 20000 : 100000);
     mote_nb nb;
     mote_nb_ring r;
     double plane;
-    double e = ring_run(MOTE_NB_GRAVITY, 1e-6, 100000, 6, &nb, &r, &plane);
+    double e = ring_run(MOTE_NB_GRAVITY, 1e-6, san ? 20000 : 100000, 6, &nb, &r, &plane);
     mote_nb_monitor mon;
     mote_nb_measure(&nb, &mon);
     printf("  T = %.6g periods: error %.3e, dE %.3e, dMz %.3e\n", nb.T / r.period, e, mon.dE,
            mon.dMz);
-    CHECK(e <= 1e-11, "error %.3g after 10 periods", e);
+    CHECK(e <= 1e-11, "error %.3g after %d periods", e, san ? 2 : 10);
     CHECK(fabs(mon.dE) <= 1e-13, "dE %.3g", mon.dE);
     CHECK(fabs(mon.dMz) <= 1e-14, "dMz %.3g", mon.dMz);
     mote_nb_free(&nb);
 
-    printf("T11: outer Solar System, adaptive Taylor (order 20, tol 1e-16), 10^4 years\n");
+    printf("T11: outer Solar System, adaptive Taylor (order 20, tol 1e-16), 10^%d years\n",
+           san ? 3 : 4);
     mote_nb_solar s;
     mote_err err = {0};
     if (mote_nb_solar_read("data/outer_solar_system.dat", &s, &err)) {
@@ -1083,7 +1088,7 @@ static void test_longrun(void)
     nb.adaptive = 1;
     nb.tol = 1e-16;
     mote_nb_set_reference(&nb);
-    const double t_end = 1e4 * 365.25 * 86400 * nb.u.kt;
+    const double t_end = (san ? 1e3 : 1e4) * 365.25 * 86400 * nb.u.kt;
     double worst = 0;
     for (int k = 1; k <= 100; k++) { /* |dE| sampled 100 times on the way */
         CHECK(mote_nb_integrate(&nb, UINT64_MAX, t_end * k / 100, &err) == MOTE_OK, "%s", err.msg);
@@ -1215,8 +1220,11 @@ static void test_tree(void)
     /* the approximation's statistics on N = 4000 bodies; its exactness at theta 0 (every node
      * opened: the cost of every pair, many times over) on 1000 of their own (MOTE_SLOW: both
      * on 30 000) */
-    const uint32_t N = getenv("MOTE_SLOW") ? 30000 : 4000;
-    const uint32_t N0 = getenv("MOTE_SLOW") ? N : 1000;
+    /* (under the sanitizers, MOTE_SANITIZED, 1500 and 400: the code paths are the same; the
+     * error statistics are checked at 4000 in the plain build) */
+    const int san = getenv("MOTE_SANITIZED") != NULL;
+    const uint32_t N = getenv("MOTE_SLOW") ? 30000 : san ? 1500 : 4000;
+    const uint32_t N0 = getenv("MOTE_SLOW") ? N : san ? 400 : 1000;
     printf("T18: tree forces on a Plummer sphere, N = %u (theta 0: N = %u)\n", N, N0);
     mote_nb nb;
     mote_nb_init(&nb, MOTE_NB_GRAVITY);
@@ -1226,9 +1234,10 @@ static void test_tree(void)
     double *ref, *ref5, med, p99, mx, d5rel;
     direct_reference(&nb, &ref, &ref5);
     tree_against(&nb, 0.5, ref, ref5, &med, &p99, &mx, &d5rel);
-    CHECK(med <= 2e-3 && p99 <= 1.5e-2, "theta 0.5: median %.3g, 99%% %.3g", med, p99);
+    /* (the bounds are for N = 4000: a smaller sphere has larger relative errors) */
+    CHECK(san || (med <= 2e-3 && p99 <= 1.5e-2), "theta 0.5: median %.3g, 99%% %.3g", med, p99);
     tree_against(&nb, 0.3, ref, ref5, &med, &p99, &mx, &d5rel);
-    CHECK(med <= 5e-4, "theta 0.3: median %.3g", med);
+    CHECK(san || med <= 5e-4, "theta 0.3: median %.3g", med);
     /* threads: the same bits */
     nb.theta = 0.5;
     nb.threads = 1;
