@@ -368,7 +368,7 @@ static int fuzz_live_http(const uint8_t *data, size_t size)
         const char *colon = strrchr(url, ':');
         port = colon ? atoi(colon + 1) : 0;
         static const char frame[] = "{\"model\":\"fuzz\",\"frame\":1}";
-        mote_live_publish(live, frame, sizeof frame - 1);
+        mote_live_publish(live, frame, sizeof frame - 1, 0);
     }
     int fd = socket(AF_INET, SOCK_STREAM, 0);
     if (fd < 0)

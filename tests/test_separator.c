@@ -380,8 +380,26 @@ static void test_dispersion(void)
         }
 }
 
+/* The pace of the outputs made for a watcher (live_png, and the live view's frames): hz a
+ * second while a picture is cheap, ten times its cost when it is not, so they take at most a
+ * tenth of the run. */
+static void test_live_pace(void)
+{
+    const double c[] = {0.001, 0.05, 0.05, NAN, -1, 0.03}; /* (-1: a clock that stepped back) */
+    const double g0[] = {1.0 / 30, 1.0 / 30, 0.5, 1.0 / 30, 1.0 / 30, 1.0 / 30};
+    const double want[] = {1.0 / 30, 0.5, 0.5, 1.0 / 30, 1.0 / 30, 0.3};
+    for (int i = 0; i < 6; i++) {
+        const double g = mote_pace_gap(g0[i], c[i]);
+        CHECK(fabs(g - want[i]) <= 1e-15, "gap(%g, %g) = %.17g, expected %.17g", g0[i], c[i], g,
+              want[i]);
+        CHECK(!(c[i] > 0) || c[i] / g <= 0.1 + 1e-15, "cost %g takes %g of the run", c[i],
+              c[i] / g);
+    }
+}
+
 int main(void)
 {
+    test_live_pace();
     test_reference();
     test_drag_factor();
     test_terminal();

@@ -244,6 +244,12 @@ int mote_mem_check(double bytes, const char *what, mote_err *err);
 
 /* Wall-clock seconds from a monotonic clock (for progress and rates only; never for results). */
 double mote_wall_seconds(void);
+/* The wall-clock gap before an output made for a watcher (the live picture, a live view's frame)
+ * is due again, when the last one took `cost` seconds to make: at least min_gap, and at least
+ * MOTE_PACE_SHARE_INV times the cost, so such outputs take at most a tenth of a run's time
+ * however large the system (a picture of 10^4 particles takes tens of milliseconds). */
+enum { MOTE_PACE_SHARE_INV = 10 };
+double mote_pace_gap(double min_gap, double cost);
 
 /* Peak resident set size of this process in bytes, or 0 if unknown. */
 size_t mote_peak_rss_bytes(void);

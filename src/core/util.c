@@ -18,6 +18,12 @@ double mote_wall_seconds(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+double mote_pace_gap(double min_gap, double cost)
+{
+    const double g = MOTE_PACE_SHARE_INV * cost;
+    return g > min_gap ? g : min_gap; /* (a NaN cost gives min_gap) */
+}
+
 size_t mote_peak_rss_bytes(void)
 {
     struct rusage ru;

@@ -52,6 +52,7 @@ struct mote_live {
     int closing;       /* the run is over: viewers get the last frame, then their stream ends */
     unsigned port;     /* the bound port, for the Host check */
     double last;       /* wall time of the last frame */
+    double gap;        /* the next frame's wait after it (mote_pace_gap; 0 before the first) */
     char *page;        /* the page, its lines joined */
     conn_rec *conns;   /* the open connections (under mu) */
     pthread_t watch;   /* the watchdog of slow request heads */
@@ -434,12 +435,13 @@ int mote_live_due(mote_live *l, int now)
     pthread_mutex_lock(&l->mu);
     const int v = l->viewers;
     pthread_mutex_unlock(&l->mu);
-    return v > 0 && (now || mote_wall_seconds() - l->last >= 1.0 / 30);
+    return v > 0 && (now || mote_wall_seconds() - l->last >= l->gap);
 }
 
-void mote_live_publish(mote_live *l, const char *json, size_t len)
+void mote_live_publish(mote_live *l, const char *json, size_t len, double cost)
 {
     l->last = mote_wall_seconds();
+    l->gap = mote_pace_gap(1.0 / 30, cost);
     pthread_mutex_lock(&l->mu);
     const size_t need = len + 9;
     if (need > l->cap) {

@@ -177,6 +177,7 @@ static void live_frame(mote_script *s, int now)
     if (!s->live || !s->instance)
         return;
     if (s->model->live && mote_live_due(s->live, now)) {
+        const double t0 = mote_wall_seconds();
         mote_buf *b = &s->frame;
         b->n = 0;
         b->failed = 0;
@@ -185,7 +186,7 @@ static void live_frame(mote_script *s, int now)
         s->model->live(s->instance, b);
         mote_buf_printf(b, "}");
         if (!b->failed) /* (a frame without memory is dropped) */
-            mote_live_publish(s->live, b->s, b->n);
+            mote_live_publish(s->live, b->s, b->n, mote_wall_seconds() - t0);
     }
     mote_live_hold(s->live);
 }
@@ -542,8 +543,9 @@ const mote_cmd mote_script_common_cmds[] = {
      "watch the run in a browser: a live view on PORT (8080)",
      "Start the live view: a small web server inside the run, on 127.0.0.1 unless\n"
      "bind=ADDRESS says otherwise, on PORT (default 8080; 0: any free port). Open the\n"
-     "address it prints: the page shows the system as it runs, up to 30 frames a second,\n"
-     "with the model's status line and a frame counter, and can pause and resume the run;\n"
+     "address it prints: the page shows the system as it runs, up to 30 frames a second\n"
+     "(fewer when making a frame would take more than a tenth of the run's time), with\n"
+     "the model's status line and a frame counter, and can pause and resume the run;\n"
      "nothing else on the page changes the simulation. The run never waits for the page\n"
      "and its results are the same with and without it. `mote run --live[=PORT] SCRIPT`\n"
      "starts it before the first command. See docs/live-view.md.\n",

@@ -36,7 +36,7 @@ typedef struct {
     struct {
         int on;
         char *path;
-        double hz, last;
+        double hz, last, gap; /* (gap: mote_pace_gap after the last picture) */
         sep_frame_opts fo;
     } live;
     struct {

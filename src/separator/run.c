@@ -509,6 +509,7 @@ int sep_live_png(void *vm, const mote_call *c, mote_err *err)
     m->live.on = 1;
     m->live.hz = fmin(mote_call_opt_r(c, "hz", 30), 30);
     m->live.last = -INFINITY;
+    m->live.gap = 1 / m->live.hz;
     return MOTE_OK;
 }
 
@@ -735,16 +736,19 @@ int sep_monitor_stop(void *vm, const mote_call *c, mote_err *err)
     return MOTE_OK;
 }
 
-/* The live picture, when one is due (wall-clock). */
+/* The live picture, when one is due (wall-clock: hz a second, and at most a tenth of the run's
+ * time however long a picture takes). */
 static int live_picture(sep_model *m, mote_err *err)
 {
     if (!m->live.on)
         return MOTE_OK;
     const double now = mote_wall_seconds();
-    if (now - m->live.last < 1 / m->live.hz)
+    if (now - m->live.last < m->live.gap)
         return MOTE_OK;
     m->live.last = now;
-    return sep_frame_png(&m->sys, m->live.path, &m->live.fo, err);
+    const int rc = sep_frame_png(&m->sys, m->live.path, &m->live.fo, err);
+    m->live.gap = mote_pace_gap(1 / m->live.hz, mote_wall_seconds() - now);
+    return rc;
 }
 
 /* Whether the loop wants to see the step just made: an output due at its end, a live view (its
@@ -757,7 +761,7 @@ static int run_need(void *vm, const mote_sep_system *s)
     if (mote_loop_due(m->loop, s->t) || s->steps >= m->n_stop || (m->ctx && m->ctx->tick))
         return 1;
     const double now = mote_wall_seconds();
-    if (m->live.on && now - m->live.last >= 1 / m->live.hz)
+    if (m->live.on && now - m->live.last >= m->live.gap)
         return 1;
     const mote_progress *p = m->loop->progress;
     return p && ((p->enabled && now - p->last >= p->interval) ||
