@@ -195,49 +195,17 @@ if command -v chromium > /dev/null 2>&1; then
         # time can run out while the run goes on)
         # (the screenshots: the page as a user opens it, no test parameter, 4 s after it loads, in a
         # 1200 x 800 window)
-        # colours.py PNG...: each screenshot shows many discs of both colours
+        # colours.py PNG...: each screenshot shows many discs of both colours (read by Debian's
+        # matplotlib, as test_plot.sh reads the PNGs)
         cat > colours.py <<'EOF'
-import struct, sys, zlib
-def pixels(path):
-    d = open(path, "rb").read()
-    assert d[:8] == b"\x89PNG\r\n\x1a\n"
-    pos, idat, w = 8, b"", 0
-    while pos < len(d):
-        n, t = struct.unpack(">I4s", d[pos:pos + 8])
-        c = d[pos + 8:pos + 8 + n]
-        if t == b"IHDR":
-            w, h, depth, ctype = struct.unpack(">IIBB", c[:10])
-            bpp = {2: 3, 6: 4}[ctype]
-        elif t == b"IDAT":
-            idat += c
-        pos += 12 + n
-    raw = zlib.decompress(idat)
-    stride, prev, rows = w * bpp, bytearray(w * bpp), []
-    for y in range(h):
-        f, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
-        for i in range(stride):
-            a = line[i - bpp] if i >= bpp else 0
-            b, c = prev[i], prev[i - bpp] if i >= bpp else 0
-            if f == 1: line[i] = (line[i] + a) & 255
-            elif f == 2: line[i] = (line[i] + b) & 255
-            elif f == 3: line[i] = (line[i] + (a + b) // 2) & 255
-            elif f == 4:
-                p = a + b - c
-                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-                line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
-        rows.append(line)
-        prev = line
-    return rows, bpp
+import sys
+import numpy as np
+import matplotlib.image as im
 for path in sys.argv[1:]:
-    rows, bpp = pixels(path)
+    a = np.rint(im.imread(path)[60:, :, :3] * 255).astype(int)
     # colour 0 and colour 1 as the PNGs draw them (mote_class_colour_hex: #0072b2, #d55e00)
-    near = lambda p, q: all(abs(x - y) <= 12 for x, y in zip(p, q))
-    c0 = c1 = 0
-    for line in rows[60:]:
-        for i in range(0, len(line), bpp):
-            p = (line[i], line[i + 1], line[i + 2])
-            c0 += near(p, (0x00, 0x72, 0xb2))
-            c1 += near(p, (0xd5, 0x5e, 0x00))
+    near = lambda q: (np.abs(a - np.array(q)) <= 12).all(axis=2).sum()
+    c0, c1 = near((0x00, 0x72, 0xb2)), near((0xd5, 0x5e, 0x00))
     assert c0 > 500 and c1 > 500, (path, c0, c1)
 EOF
         # (4 s after loading; on a loaded machine the browser may start slowly: again with 8 and
@@ -246,7 +214,7 @@ EOF
             for ms in 4000 8000 16000; do
                 timeout 60 chromium --headless=new --no-sandbox --disable-gpu --hide-scrollbars \
                     --window-size=1200,800 --timeout=$ms --screenshot="$PWD/$1" "$URL" > /dev/null 2>&1
-                python3 colours.py "$1" 2> /dev/null && return 0
+                /usr/bin/python3 colours.py "$1" 2> /dev/null && return 0
             done
             return 1
         }
@@ -264,7 +232,7 @@ EOF
         shot shot2.png
         stop
         [ -n "$c1" ] && [ -n "$c2" ] && [ "$c2" -gt "$c1" ] && ok || bad "the page's frame counter did not advance: '$c1' then '$c2'"
-        python3 colours.py shot1.png shot2.png && ok || bad "the screenshots do not show discs of both colours (those of the PNGs)"
+        /usr/bin/python3 colours.py shot1.png shot2.png && ok || bad "the screenshots do not show discs of both colours (those of the PNGs)"
         cp shot2.png "${TMPDIR:-/tmp}/mote-live-shot.png" 2> /dev/null
     fi
     # hard spheres in a 1200 x 800 window: the picture and the density panel side by side,
