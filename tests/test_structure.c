@@ -194,7 +194,9 @@ static void test_msd(void)
     mote_hs_init(&hs, NULL);
     mote_hs_seed(&hs, test_seed(34));
     const double eta = 0.05, sigma = 2;
-    const int64_t N = 4000;
+    /* (a third of the spheres under the sanitizers: the tolerance below is 3 standard errors
+     * at any size; the bound on the error itself is for 4000, checked in the plain build) */
+    const int64_t N = sanitized ? 1372 : 4000;
     CHECK(mote_hs_bulk(&hs, N, eta, &err) == 0, "%s", err.msg);
     CHECK(mote_hs_step(&hs, 20, &err) == 0, "%s", err.msg);
     char path[512];
@@ -209,7 +211,7 @@ static void test_msd(void)
         const double d_e = 3 / (8 * n * sigma * sigma) * sqrt(1 / MOTE_PI) / g;
         printf("msd eta 0.05, N %lld: D = %.4f +- %.4f, Enskog D_E = %.4f, D/D_E = %.4f +- %.4f\n",
                (long long)N, *D, de, d_e, *D / d_e, de / d_e);
-        CHECK(de > 0 && de < 0.01 * d_e, "D error %g", de);
+        CHECK(de > 0 && (sanitized || de < 0.01 * d_e), "D error %g", de);
         /* the model's tolerance (5%: Enskog's first approximation is exact only as eta -> 0)
          * plus 3 standard errors of the measurement */
         CHECK(fabs(*D / d_e - 1) < 0.05 + 3 * de / d_e, "D/D_E = %.4f +- %.4f", *D / d_e,
