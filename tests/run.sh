@@ -75,10 +75,11 @@ for s in tests/test_*.sh; do
     [ -f "$s" ] && all="$all $(basename "$s")"
 done
 [ -n "${MOTE_TEST_SKIP:-}" ] && echo "not run here (MOTE_TEST_SKIP):${MOTE_TEST_SKIP}"
-long="test_separator.sh test_nbody test_nbody.sh test_galactica.sh test_live.sh test_sep_dem
-      test_charging test_charging.sh test_fuzz test_readers.sh test_mpi.sh test_measure
-      test_python.sh test_mbevent test_script_limits.sh test_structure test_progress.sh
-      test_hardening.sh test_ensemble.sh"
+long="test_charging.sh test_charging test_structure test_measure test_sep_dem test_sep_mesh
+      test_mbevent test_python.sh test_mpi.sh test_live.sh test_fuzz test_separator.sh
+      test_galactica.sh test_readers.sh test_nbody.sh test_hardening.sh test_progress.sh test_bem
+      test_nbody test_separator test_field test_vocabulary.sh test_ensemble.sh
+      test_script_limits.sh"
 order=""
 for n in $long; do
     case " $all " in *" $n "*) order="$order $n" ;; esac
