@@ -84,6 +84,8 @@ awk '!/^#/ { last = $0 } /^# columns:/ { for (i = 3; i <= NF; i++) col[$i] = i -
      END { split(last, v, " "); exit !(v[col["fed_all"]] == v[col["in_all"]] + v[col["fines_all"]] + v[col["coarse_all"]] + v[col["lost_all"]] && v[col["fed_all"]] > 0) }' bal.dat && ok || bad "balance row: $(tail -1 bal.dat)"
 grep -q '^# columns: z_m eps_s eps_quartz eps_ore N v_z_m_s u_g_m_s rho_mix_kg_m3 minus_dp_dz_Pa_m p_minus_pH_Pa$' pr.dat && [ "$(grep -vc '^#' pr.dat)" -eq 50 ] && ok || bad "profiles: $(head -8 pr.dat)"
 grep -q '^# columns: d_lo_m .* holdup_kg T_quartz T_ore$' tr.dat && grep -q '^# d50_m quartz = ' tr.dat && ok || bad "tromp species: $(grep '^#' tr.dat)"
+# the live picture ends on the state the run ended in: the last frame's (same state, same options)
+cmp -s live.png fr/frame_000006.png && ok || bad "live.png is not the run's last state (the last frame)"
 for f in fr/frame_000006.png live.png tr.png pr.png; do
     [ "$(head -c 8 "$f" | od -An -tx1 | tr -d ' ')" = 89504e470d0a1a0a ] && ok || bad "$f is not a PNG"
 done

@@ -1,8 +1,9 @@
 /* live.h: the live view (issue 25): a small HTTP server inside a run (libmicrohttpd, one thread
  * per connection) that serves a built-in page and a Server-Sent-Events stream of frames, which
  * the page draws. The run publishes a frame when one is due (at most 30 a second of wall clock,
- * at most a tenth of the run's time, and only while a viewer is connected) by copying it into one slot; viewers take the newest
- * frame when they can, so a slow or vanished viewer drops frames and never holds the run up.
+ * at most a tenth of the run's time, and only while a viewer is connected) by copying it into
+ * one slot; viewers take the newest frame when they can, so a slow or vanished viewer drops
+ * frames and never holds the run up.
  * The page can pause and resume the run; nothing else it sends has an effect. Loopback only
  * unless another address is given; only "/", "/stream", "/pause" and "/resume" exist. */
 #ifndef MOTE_LIVE_H

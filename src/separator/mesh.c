@@ -387,7 +387,8 @@ int sep_mesh_contacts(const mote_sep_system *s, const sep_mesh_frame *fr, const 
             const double *v0 = w->v[w->t[t][0]], *v1 = w->v[w->t[t][1]], *v2 = w->v[w->t[t][2]];
             double b2 = 0;
             for (int a = 0; a < 3; a++) {
-                const double m01 = v0[a] < v1[a] ? v0[a] : v1[a], n01 = v0[a] < v1[a] ? v1[a] : v0[a];
+                const double m01 = v0[a] < v1[a] ? v0[a] : v1[a];
+                const double n01 = v0[a] < v1[a] ? v1[a] : v0[a];
                 const double lo = m01 < v2[a] ? m01 : v2[a], hi = n01 > v2[a] ? n01 : v2[a];
                 const double o = pb[a] < lo ? lo - pb[a] : pb[a] > hi ? pb[a] - hi : 0;
                 b2 += o * o;
@@ -395,7 +396,7 @@ int sep_mesh_contacts(const mote_sep_system *s, const sep_mesh_frame *fr, const 
             if (b2 > r * r * (1 + 1e-9))
                 continue;
             cand x = {.tri = t};
-            x.feat = closest_on_tri(pb, w->v[w->t[t][0]], w->v[w->t[t][1]], w->v[w->t[t][2]], x.q);
+            x.feat = closest_on_tri(pb, v0, v1, v2, x.q);
             const double dq[3] = {pb[0] - x.q[0], pb[1] - x.q[1], pb[2] - x.q[2]};
             const double d2 = sep_dot3(dq, dq);
             if (!(d2 < r * r) || !(d2 > 0))

@@ -294,6 +294,10 @@ int sep_run(void *vm, const mote_call *c, mote_err *err)
         m->prepared = 1;
     if (m->prepared) /* (outputs that failed before the first step: nothing ran) */
         rc = mote_sep_run_end(&m->sys, rc, err);
+    if (!rc && m->live.on) { /* (the live picture ends on the state the run ended in) */
+        m->live.last = -INFINITY;
+        rc = live_picture(m, err);
+    }
     if (!rc && lost_count(&m->sys) > lost_before)
         rc = mote_fail(err, MOTE_ERUNTIME, "run: %llu particles were lost by t = %g s (beyond a "
                        "side wall, inside a plate, or not finite: a speed or force that "
